@@ -1,0 +1,34 @@
+"""The pointwise CasADi base: values and declared sparse partials on a toy function."""
+
+import numpy as np
+import openmdao.api as om
+from openmdao.utils.assert_utils import assert_check_partials
+
+from wingmdao.components.pointwise import PointwiseCasadiComponent, Var
+
+
+class Toy(PointwiseCasadiComponent):
+    def pointwise_inputs(self):
+        return [Var("a", (), "m"), Var("b", (2, 3), "m")]
+
+    def pointwise_outputs(self):
+        return [Var("area", (), "m**2"), Var("bt", (3, 2), "m")]
+
+    def pointwise_expressions(self, sym):
+        a, b = sym["a"], sym["b"]
+        return {"area": a * b[0, 1] + b[1, 2] ** 2, "bt": a * b.T}
+
+
+def test_values_and_partials():
+    prob = om.Problem(reports=False)
+    prob.model.add_subsystem("toy", Toy(grid_shape=(4, 2)), promotes=["*"])
+    prob.setup(force_alloc_complex=False)
+    rng = np.random.default_rng(0)
+    a = rng.uniform(1, 2, (4, 2))
+    b = rng.uniform(1, 2, (4, 2, 2, 3))
+    prob["a"], prob["b"] = a, b
+    prob.run_model()
+    np.testing.assert_allclose(prob["area"], a * b[..., 0, 1] + b[..., 1, 2] ** 2, rtol=1e-14)
+    np.testing.assert_allclose(prob["bt"], a[..., None, None] * np.swapaxes(b, -1, -2), rtol=1e-14)
+    data = prob.check_partials(method="fd", form="central", out_stream=None)
+    assert_check_partials(data, atol=1e-6, rtol=1e-6)

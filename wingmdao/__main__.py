@@ -1,0 +1,5 @@
+import sys
+
+from wingmdao.cli import main
+
+sys.exit(main())

@@ -1,0 +1,139 @@
+"""Base class for components that evaluate the same CasADi expression at every point.
+
+Section properties (one point = one spanwise station) and stress recovery (one point =
+one station at one time step) are *pointwise*: the outputs at a point depend only on the
+inputs at that point. The Jacobian is then block diagonal, with the sparsity of one point
+repeated. This base class builds the expression once with CasADi SX symbols, maps it over
+all points, and declares exactly those sparse partials (analytic, from CasADi's AD).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import casadi as ca
+import numpy as np
+import openmdao.api as om
+
+
+@dataclass(frozen=True)
+class Var:
+    """One variable of a pointwise component: its shape *at one point*, units, description."""
+
+    name: str
+    shape: tuple = ()
+    units: str | None = None
+    desc: str = ""
+    val: float = 1.0
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def size(self) -> int:
+        return int(np.prod(self.shape)) if self.shape else 1
+
+
+class PointwiseCasadiComponent(om.ExplicitComponent):
+    """Explicit component whose outputs at each point are a CasADi function of its inputs there.
+
+    Subclasses implement
+
+    * ``pointwise_inputs()`` and ``pointwise_outputs()``: lists of :class:`Var`;
+    * ``pointwise_expressions(sym)``: given ``{input name: SX of shape Var.shape}``, return
+      ``{output name: SX expression}`` for one point;
+    * optionally ``check_inputs(inputs)`` to raise a clear ``ValueError`` on bad input.
+
+    The option ``grid_shape`` gives the leading shape of every variable, e.g.
+    ``(n_station,)`` or ``(n_time, n_station)``.
+    """
+
+    def initialize(self):
+        self.options.declare("grid_shape", types=tuple, desc="leading shape of all variables (points)")
+
+    # ----------------------------------------------------------------- subclass API
+    def pointwise_inputs(self) -> list[Var]:
+        raise NotImplementedError
+
+    def pointwise_outputs(self) -> list[Var]:
+        raise NotImplementedError
+
+    def pointwise_expressions(self, sym: dict) -> dict:
+        raise NotImplementedError
+
+    def check_inputs(self, inputs) -> None:
+        """Raise ``ValueError`` naming the input and point when an input is out of range."""
+
+    # ----------------------------------------------------------------- machinery
+    @property
+    def num_points(self) -> int:
+        return int(np.prod(self.options["grid_shape"]))
+
+    def setup(self):
+        grid = self.options["grid_shape"]
+        self._in_vars = self.pointwise_inputs()
+        self._out_vars = self.pointwise_outputs()
+        for v in self._in_vars:
+            self.add_input(v.name, val=v.val, shape=grid + v.shape, units=v.units, desc=v.desc)
+        for v in self._out_vars:
+            self.add_output(v.name, val=0.0, shape=grid + v.shape, units=v.units, desc=v.desc)
+        self._build_functions()
+
+    def _build_functions(self):
+        n = self.num_points
+        syms = {v.name: ca.SX.sym(v.name, v.size) for v in self._in_vars}
+        shaped = {}
+        for v in self._in_vars:
+            s = syms[v.name]
+            if len(v.shape) == 2:  # row-major (numpy) reshape of the flat symbol
+                s = ca.reshape(s, v.shape[1], v.shape[0]).T
+            shaped[v.name] = s
+        exprs = self.pointwise_expressions(shaped)
+        flat_out = []
+        for v in self._out_vars:
+            e = ca.SX(exprs[v.name])
+            if len(v.shape) == 2:
+                e = ca.reshape(e.T, v.size, 1)
+            else:
+                e = ca.reshape(e, v.size, 1)
+            flat_out.append(e)
+        in_list = [syms[v.name] for v in self._in_vars]
+        f = ca.Function(f"{self.__class__.__name__}_f", in_list, flat_out)
+        self._f = f.map(n, "serial") if n > 1 else f
+
+        jac_vals = []
+        self._pairs = []
+        for j, vo in enumerate(self._out_vars):
+            for vi in self._in_vars:
+                jac = ca.jacobian(flat_out[j], syms[vi.name])
+                sp = jac.sparsity()
+                if sp.nnz() == 0:
+                    continue
+                r, c = sp.get_triplet()
+                r = np.asarray(r, dtype=int)
+                c = np.asarray(c, dtype=int)
+                pts = np.arange(n)[:, None]
+                rows = (pts * vo.size + r[None, :]).ravel()
+                cols = (pts * vi.size + c[None, :]).ravel()
+                self.declare_partials(vo.name, vi.name, rows=rows, cols=cols)
+                self._pairs.append((vo.name, vi.name))
+                jac_vals.append(ca.vertcat(*jac.nonzeros()))
+        fj = ca.Function(f"{self.__class__.__name__}_jac", in_list, jac_vals)
+        self._fjac = fj.map(n, "serial") if n > 1 else fj
+
+    def _stacked_inputs(self, inputs):
+        n = self.num_points
+        return [np.asarray(inputs[v.name]).reshape(n, v.size).T for v in self._in_vars]
+
+    def compute(self, inputs, outputs):
+        self.check_inputs(inputs)
+        res = self._f(*self._stacked_inputs(inputs))
+        if not isinstance(res, (list, tuple)):
+            res = [res]
+        for v, val in zip(self._out_vars, res):
+            outputs[v.name] = np.asarray(val).T.reshape(outputs[v.name].shape)
+
+    def compute_partials(self, inputs, partials):
+        res = self._fjac(*self._stacked_inputs(inputs))
+        if not isinstance(res, (list, tuple)):
+            res = [res]
+        for (oname, iname), val in zip(self._pairs, res):
+            partials[oname, iname] = np.asarray(val).T.ravel()
