@@ -9,14 +9,14 @@ from wingmdao.components.pointwise import PointwiseCasadiComponent, Var
 
 class Toy(PointwiseCasadiComponent):
     def pointwise_inputs(self):
-        return [Var("a", (), "m"), Var("b", (2, 3), "m")]
+        return [Var("a", (), "m"), Var("b", (2, 3), "m"), Var("c", (), "m", per_last_axis=True)]
 
     def pointwise_outputs(self):
         return [Var("area", (), "m**2"), Var("bt", (3, 2), "m")]
 
     def pointwise_expressions(self, sym):
         a, b = sym["a"], sym["b"]
-        return {"area": a * b[0, 1] + b[1, 2] ** 2, "bt": a * b.T}
+        return {"area": a * b[0, 1] + b[1, 2] ** 2 * sym["c"], "bt": a * b.T}
 
 
 def test_values_and_partials():
@@ -26,9 +26,10 @@ def test_values_and_partials():
     rng = np.random.default_rng(0)
     a = rng.uniform(1, 2, (4, 2))
     b = rng.uniform(1, 2, (4, 2, 2, 3))
-    prob["a"], prob["b"] = a, b
+    c = rng.uniform(1, 2, 2)
+    prob["a"], prob["b"], prob["c"] = a, b, c
     prob.run_model()
-    np.testing.assert_allclose(prob["area"], a * b[..., 0, 1] + b[..., 1, 2] ** 2, rtol=1e-14)
+    np.testing.assert_allclose(prob["area"], a * b[..., 0, 1] + b[..., 1, 2] ** 2 * c[None, :], rtol=1e-14)
     np.testing.assert_allclose(prob["bt"], a[..., None, None] * np.swapaxes(b, -1, -2), rtol=1e-14)
     data = prob.check_partials(method="fd", form="central", out_stream=None)
     assert_check_partials(data, atol=1e-6, rtol=1e-6)

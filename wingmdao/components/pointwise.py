@@ -9,7 +9,7 @@ all points, and declares exactly those sparse partials (analytic, from CasADi's 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import casadi as ca
 import numpy as np
@@ -25,7 +25,10 @@ class Var:
     units: str | None = None
     desc: str = ""
     val: float = 1.0
-    extra: dict = field(default_factory=dict)
+    per_last_axis: bool = False
+    """Input only: the variable is shaped ``grid_shape[-1:] + shape`` and shared by every
+    point with the same last grid index (e.g. per-station section data used at every time
+    step of a (n_time, n_station) grid)."""
 
     @property
     def size(self) -> int:
@@ -72,7 +75,8 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
         self._in_vars = self.pointwise_inputs()
         self._out_vars = self.pointwise_outputs()
         for v in self._in_vars:
-            self.add_input(v.name, val=v.val, shape=grid + v.shape, units=v.units, desc=v.desc)
+            lead = grid[-1:] if v.per_last_axis else grid
+            self.add_input(v.name, val=v.val, shape=lead + v.shape, units=v.units, desc=v.desc)
         for v in self._out_vars:
             self.add_output(v.name, val=0.0, shape=grid + v.shape, units=v.units, desc=v.desc)
         self._build_functions()
@@ -111,8 +115,9 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
                 r = np.asarray(r, dtype=int)
                 c = np.asarray(c, dtype=int)
                 pts = np.arange(n)[:, None]
+                src = pts % self.options["grid_shape"][-1] if vi.per_last_axis else pts
                 rows = (pts * vo.size + r[None, :]).ravel()
-                cols = (pts * vi.size + c[None, :]).ravel()
+                cols = (src * vi.size + c[None, :]).ravel()
                 self.declare_partials(vo.name, vi.name, rows=rows, cols=cols)
                 self._pairs.append((vo.name, vi.name))
                 jac_vals.append(ca.vertcat(*jac.nonzeros()))
@@ -121,7 +126,16 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
 
     def _stacked_inputs(self, inputs):
         n = self.num_points
-        return [np.asarray(inputs[v.name]).reshape(n, v.size).T for v in self._in_vars]
+        n_last = self.options["grid_shape"][-1]
+        stacked = []
+        for v in self._in_vars:
+            if v.per_last_axis:
+                a = np.asarray(inputs[v.name]).reshape(n_last, v.size)
+                a = np.tile(a, (n // n_last, 1))
+            else:
+                a = np.asarray(inputs[v.name]).reshape(n, v.size)
+            stacked.append(a.T)
+        return stacked
 
     def compute(self, inputs, outputs):
         self.check_inputs(inputs)
