@@ -1,0 +1,79 @@
+"""Newton's method with a backtracking line search and sparse LU (Eq. 3.6-3.7).
+
+A solve that fails raises :class:`openmdao.api.AnalysisError` with the label of the solve
+(e.g. the time step), the residual norm and the worst equation, so that an optimizer can
+back off instead of receiving NaNs.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import openmdao.api as om
+import scipy.sparse.linalg as spla
+
+
+@dataclass
+class NewtonInfo:
+    iterations: int
+    residual_norm: float
+    converged: bool
+
+
+def _factor(jac, label):
+    try:
+        return spla.splu(jac.tocsc())
+    except RuntimeError as exc:  # exactly singular
+        raise om.AnalysisError(f"{label}: singular Jacobian ({exc})") from exc
+
+
+def newton_solve(residual, jacobian, x0, *, atol=1e-9, rtol=1e-12, xtol=1e-12, max_iter=30,
+                 max_backtracks=10, label="Newton solve", describe=None):
+    """Solve ``residual(x) = 0`` from ``x0``.
+
+    ``jacobian(x)`` returns the sparse Jacobian. Converged when ``max|R| <= atol`` or when
+    the relative Newton step is below ``xtol`` and ``max|R| <= rtol * max|R(x0)|``-ish
+    progress has been made. ``describe(i)`` names equation ``i`` in error messages.
+    Returns ``(x, NewtonInfo)``.
+    """
+    x = np.array(x0, dtype=float, copy=True)
+    r = residual(x)
+    norm0 = norm = float(np.max(np.abs(r))) if r.size else 0.0
+    if not np.isfinite(norm):
+        raise om.AnalysisError(f"{label}: residual is not finite at the initial guess")
+    for it in range(1, max_iter + 1):
+        if norm <= atol:
+            return x, NewtonInfo(it - 1, norm, True)
+        lu = _factor(jacobian(x), label)
+        dx = -lu.solve(r)
+        if not np.all(np.isfinite(dx)):
+            raise om.AnalysisError(f"{label}: Newton step is not finite (ill-conditioned Jacobian)")
+        step, merit = 1.0, float(r @ r)
+        for _ in range(max_backtracks + 1):
+            x_try = x + step * dx
+            r_try = residual(x_try)
+            merit_try = float(r_try @ r_try)
+            if np.isfinite(merit_try) and merit_try <= (1.0 - 1e-4 * step) * merit:
+                break
+            step *= 0.5
+        else:
+            # no decrease: accept a full step only if we are already at round-off level
+            if not (np.isfinite(merit_try) and norm <= max(atol, rtol * norm0) * 1e3):
+                _fail(label, it, norm, r, describe, "line search found no decrease")
+        x, r = x_try, r_try
+        norm = float(np.max(np.abs(r)))
+        small_step = step * np.max(np.abs(dx)) <= xtol * (1.0 + np.max(np.abs(x)))
+        if small_step and norm <= max(atol, rtol * max(norm0, 1.0)) * 1e3:
+            return x, NewtonInfo(it, norm, True)
+    if norm <= atol:
+        return x, NewtonInfo(max_iter, norm, True)
+    _fail(label, max_iter, norm, r, describe, f"no convergence in {max_iter} iterations")
+
+
+def _fail(label, it, norm, r, describe, why):
+    worst = int(np.argmax(np.abs(r)))
+    name = describe(worst) if describe else f"equation {worst}"
+    raise om.AnalysisError(
+        f"{label}: {why} (iteration {it}, max |residual| = {norm:.3e}, worst: {name})"
+    )
