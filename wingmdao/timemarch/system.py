@@ -87,7 +87,7 @@ class ResidualSystem:
 class _SparseJacobian:
     """Evaluate a CasADi Jacobian into a scipy CSC matrix with a fixed sparsity pattern."""
 
-    def __init__(self, fun: ca.Function, expr, wrt, args):
+    def __init__(self, fun: ca.Function, expr, wrt, args, tag: str):
         jac = ca.jacobian(expr, wrt)
         spty = jac.sparsity()
         colind, row = spty.get_ccs()
@@ -95,8 +95,7 @@ class _SparseJacobian:
         self.indptr = np.asarray(colind, dtype=np.int64)
         self.indices = np.asarray(row, dtype=np.int64)
         self.nnz = spty.nnz()
-        self.fun = ca.Function(f"{fun.name()}_jac_{wrt.name() if hasattr(wrt, 'name') else 'w'}",
-                               args, [jac])
+        self.fun = ca.Function(f"{fun.name()}_jac_{tag}", args, [jac])
 
     def __call__(self, *vals) -> sp.csc_matrix:
         data = np.asarray(self.fun(*vals).nonzeros(), dtype=float)
@@ -122,10 +121,10 @@ class CasadiResidualSystem(ResidualSystem):
             raise ValueError(f"residual has {R.numel()} equations for {self.n_state} states")
         args = [x, xdot, p, q]
         self._R = ca.Function(name, args, [R])
-        self._dx = _SparseJacobian(self._R, R, x, args)
-        self._dxdot = _SparseJacobian(self._R, R, xdot, args)
-        self._dp = _SparseJacobian(self._R, R, p, args)
-        self._dq = _SparseJacobian(self._R, R, q, args)
+        self._dx = _SparseJacobian(self._R, R, x, args, "x")
+        self._dxdot = _SparseJacobian(self._R, R, xdot, args, "xdot")
+        self._dp = _SparseJacobian(self._R, R, p, args, "p")
+        self._dq = _SparseJacobian(self._R, R, q, args, "q")
         self._describe = describe
 
     def residual(self, x, xdot, p, q):
