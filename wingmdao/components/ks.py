@@ -1,0 +1,96 @@
+"""Kreisselmeier-Steinhauser (KS) aggregation of constraint arrays over space and time.
+
+Dissertation Eq. 4.43-4.44 (space, then space-time) and Eq. 4.53-4.55 (box beam: four
+stress points j, n stations k, n_T + 1 time steps t, all in one sum):
+
+    KS(g) = m + ln( sum_k exp(rho_KS (g_k - m)) ) / rho_KS,      m = max_k g_k
+
+The max shift m keeps every exponent <= 0, so large rho_KS and large |g| cannot overflow.
+The sum runs over *every* entry of the array, whatever its shape. See ``docs/ks.md``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import openmdao.api as om
+
+
+def ks_value(g: np.ndarray, rho_ks: float) -> float:
+    """KS aggregate of all entries of ``g`` (Eq. 4.44), max-shifted."""
+    g = np.asarray(g, dtype=float).ravel()
+    m = np.max(g)
+    return float(m + np.log(np.sum(np.exp(rho_ks * (g - m)))) / rho_ks)
+
+
+def ks_gradient(g: np.ndarray, rho_ks: float) -> np.ndarray:
+    """dKS/dg_k = exp(rho_KS (g_k - m)) / sum_j exp(rho_KS (g_j - m)), flattened (softmax weights).
+
+    This is the ratio of sums that appears in Eq. 4.46-4.51, before the chain rule to the
+    design variables and states.
+    """
+    g = np.asarray(g, dtype=float).ravel()
+    w = np.exp(rho_ks * (g - np.max(g)))
+    return w / np.sum(w)
+
+
+def _check_finite(name: str, g: np.ndarray) -> None:
+    bad = ~np.isfinite(g)
+    if np.any(bad):
+        idx = np.unravel_index(int(np.flatnonzero(bad)[0]), g.shape)
+        raise ValueError(
+            f"{name}: non-finite value {g[idx]} at index {tuple(int(i) for i in idx)}; "
+            "constraint values must be finite real numbers"
+        )
+
+
+class KSAggregate(om.ExplicitComponent):
+    """KS aggregation of one or more constraint families (Eq. 4.44, 4.53-4.55).
+
+    ``KSAggregate(families={"vm": (n_time, n_station, 4), "ss_tension": (n_time, n_station, 4)},
+    rho_ks=50.0)`` has inputs ``g_vm``, ``g_ss_tension`` (unitless, ``g <= 0`` feasible) and
+    scalar outputs ``ks_vm``, ``ks_ss_tension``. Each output depends on its own family only;
+    its partials are one dense row, declared with rows/cols.
+    """
+
+    def initialize(self):
+        self.options.declare(
+            "families", types=dict, desc="{family name: shape of its constraint array g}"
+        )
+        self.options.declare(
+            "rho_ks", default=100.0, lower=0.0, desc="KS aggregation parameter rho_KS (> 0)"
+        )
+
+    def setup(self):
+        rho = self.options["rho_ks"]
+        if not rho > 0.0 or not np.isfinite(rho):
+            raise ValueError(f"KSAggregate: rho_ks = {rho}; allowed range (0, inf)")
+        if not self.options["families"]:
+            raise ValueError("KSAggregate: families is empty; give at least one {name: shape}")
+        for name, shape in self.options["families"].items():
+            shape = (int(shape),) if np.isscalar(shape) else tuple(int(s) for s in shape)
+            size = int(np.prod(shape)) if shape else 1
+            if size < 1:
+                raise ValueError(f"KSAggregate: family '{name}' has shape {shape} with no entries")
+            self.add_input(
+                f"g_{name}", val=0.0, shape=shape, units=None,
+                desc=f"'{name}' constraint values (feasible where <= 0)",
+            )
+            self.add_output(
+                f"ks_{name}", val=0.0, units=None,
+                desc=f"KS aggregate of all '{name}' constraints (space and time)",
+            )
+            self.declare_partials(
+                f"ks_{name}", f"g_{name}", rows=np.zeros(size, dtype=int), cols=np.arange(size)
+            )
+
+    def compute(self, inputs, outputs):
+        rho = self.options["rho_ks"]
+        for name in self.options["families"]:
+            g = np.asarray(inputs[f"g_{name}"])
+            _check_finite(f"g_{name}", g)
+            outputs[f"ks_{name}"] = ks_value(g, rho)
+
+    def compute_partials(self, inputs, partials):
+        rho = self.options["rho_ks"]
+        for name in self.options["families"]:
+            partials[f"ks_{name}", f"g_{name}"] = ks_gradient(inputs[f"g_{name}"], rho)
