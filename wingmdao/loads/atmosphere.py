@@ -1,0 +1,98 @@
+"""International Standard Atmosphere (ISO 2533 / ICAO), troposphere and lower stratosphere.
+
+Valid from 0 to 20 000 m geopotential altitude: a linear temperature lapse of -6.5 K/km up
+to the tropopause at 11 000 m, isothermal (216.65 K) above. SI throughout; the only
+non-SI entry point is :func:`altitude_ft_to_m`.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+FT = 0.3048  # m per international foot
+KNOT = 1852.0 / 3600.0  # m/s per knot
+LB = 0.45359237  # kg per pound (mass)
+G0 = 9.80665  # standard gravity, m/s^2
+R_AIR = 287.05287  # specific gas constant of dry air, J/(kg K)
+GAMMA_AIR = 1.4
+T0 = 288.15  # sea-level temperature, K
+P0 = 101325.0  # sea-level pressure, Pa
+RHO0 = P0 / (R_AIR * T0)  # sea-level density, 1.225 kg/m^3
+LAPSE = 0.0065  # troposphere lapse rate, K/m
+H_TROPOPAUSE = 11000.0  # m
+T_TROPOPAUSE = T0 - LAPSE * H_TROPOPAUSE  # 216.65 K
+P_TROPOPAUSE = P0 * (T_TROPOPAUSE / T0) ** (G0 / (R_AIR * LAPSE))  # 22632 Pa
+H_MAX = 20000.0  # m, top of the modelled layers
+
+
+class IsaState(NamedTuple):
+    temperature: np.ndarray  # K
+    pressure: np.ndarray  # Pa
+    density: np.ndarray  # kg/m^3
+    speed_of_sound: np.ndarray  # m/s
+
+
+def altitude_ft_to_m(altitude_ft):
+    """Feet to metres (edge conversion)."""
+    return np.asarray(altitude_ft, dtype=float) * FT
+
+
+def _checked_altitude(altitude_m) -> np.ndarray:
+    h = np.asarray(altitude_m, dtype=float)
+    bad = ~np.isfinite(h) | (h < 0.0) | (h > H_MAX)
+    if np.any(bad):
+        idx = int(np.flatnonzero(bad.ravel())[0])
+        raise ValueError(
+            f"altitude_m = {h.ravel()[idx]} at index {idx}; ISA model valid in [0, {H_MAX:.0f}] m"
+        )
+    return h
+
+
+def isa(altitude_m) -> IsaState:
+    """ISA temperature, pressure, density and speed of sound at geopotential altitude (m)."""
+    h = _checked_altitude(altitude_m)
+    tropo = h <= H_TROPOPAUSE
+    temperature = np.where(tropo, T0 - LAPSE * h, T_TROPOPAUSE)
+    p_tropo = P0 * (np.minimum(temperature, T0) / T0) ** (G0 / (R_AIR * LAPSE))
+    p_strato = P_TROPOPAUSE * np.exp(-G0 * (h - H_TROPOPAUSE) / (R_AIR * T_TROPOPAUSE))
+    pressure = np.where(tropo, p_tropo, p_strato)
+    density = pressure / (R_AIR * temperature)
+    a = np.sqrt(GAMMA_AIR * R_AIR * temperature)
+    return IsaState(temperature, pressure, density, a)
+
+
+def density(altitude_m):
+    """ISA density (kg/m^3)."""
+    return isa(altitude_m).density
+
+
+def temperature(altitude_m):
+    """ISA temperature (K)."""
+    return isa(altitude_m).temperature
+
+
+def pressure(altitude_m):
+    """ISA static pressure (Pa)."""
+    return isa(altitude_m).pressure
+
+
+def speed_of_sound(altitude_m):
+    """ISA speed of sound (m/s)."""
+    return isa(altitude_m).speed_of_sound
+
+
+def eas_to_tas(v_eas, altitude_m):
+    """True airspeed from equivalent airspeed: V_T = V_E sqrt(rho0 / rho) (same dynamic pressure)."""
+    return np.asarray(v_eas, dtype=float) * np.sqrt(RHO0 / density(altitude_m))
+
+
+def tas_to_eas(v_tas, altitude_m):
+    """Equivalent airspeed from true airspeed: V_E = V_T sqrt(rho / rho0)."""
+    return np.asarray(v_tas, dtype=float) * np.sqrt(density(altitude_m) / RHO0)
+
+
+def mach_to_tas(mach, altitude_m):
+    """True airspeed (m/s) for a Mach number at an ISA altitude."""
+    return np.asarray(mach, dtype=float) * speed_of_sound(altitude_m)
