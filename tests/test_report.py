@@ -1,0 +1,39 @@
+"""`wingmdao report` on a small recorded optimization: history printed, plots written."""
+
+import os
+
+import numpy as np
+import openmdao.api as om
+
+from wingmdao.cli import main
+from wingmdao.optimize import add_recorder, make_driver
+
+
+def _record(path):
+    prob = om.Problem(reports=False)
+    walls = ["t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar"]
+    expr = " + ".join(f"sum(({w} - 0.01*{k + 1})**2)" for k, w in enumerate(walls))
+    prob.model.add_subsystem("f", om.ExecComp(f"mass = {expr}", **{w: np.ones(3) for w in walls}),
+                             promotes=["*"])
+    for w in walls:
+        prob.model.add_design_var(w, lower=0.0, upper=1.0)
+    prob.model.add_objective("mass")
+    prob.driver, _ = make_driver("SLSQP", disp=False)
+    add_recorder(prob, path)
+    prob.setup()
+    prob.run_driver()
+    prob.cleanup()
+
+
+def test_report_prints_history_and_writes_plots(tmp_path, capsys):
+    rec = str(tmp_path / "run.sql")
+    _record(rec)
+    assert main(["report", rec, "--plots", str(tmp_path / "p")]) == 0
+    out = capsys.readouterr().out
+    assert "objective" in out and "iterations.png" in out
+    assert os.path.getsize(tmp_path / "p" / "thickness_final.png") > 1000
+
+
+def test_report_missing_file_is_a_clean_error(tmp_path, capsys):
+    assert main(["report", str(tmp_path / "nope.sql")]) == 2
+    assert "does not exist" in capsys.readouterr().err

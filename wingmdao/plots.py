@@ -1,0 +1,80 @@
+"""PNG plots a loads/stress engineer expects from a sizing run.
+
+Thickness of each wall along the span (several runs overlaid, as Fig. 5.5-5.6 compare static
+and gust sizing), the stress-constraint time history at the critical station, the load time
+history at a few stations, and the optimizer's iteration history. matplotlib is an optional
+dependency (``pip install wingmdao[plot]``); every function raises a clear ImportError without it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+WALLS = ("upper_skin", "lower_skin", "front_spar", "rear_spar")
+
+
+def _pyplot():
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError as exc:  # pragma: no cover - depends on the install
+        raise ImportError("plots need matplotlib: pip install 'wingmdao[plot]'") from exc
+    return plt
+
+
+def plot_thickness(span, runs: dict, path: str, title: str = "Wall thickness along the span"):
+    """Thickness of the four walls versus span; ``runs`` maps a label to ``{wall: (n,) m}``."""
+    plt = _pyplot()
+    fig, axes = plt.subplots(2, 2, figsize=(10, 7), sharex=True)
+    for ax, wall in zip(axes.ravel(), WALLS):
+        for label, thick in runs.items():
+            ax.plot(span, 1e3 * np.asarray(thick[wall]), marker="o", ms=3, label=label)
+        ax.set_title(wall.replace("_", " "))
+        ax.set_ylabel("thickness [mm]")
+        ax.grid(True, alpha=0.3)
+    for ax in axes[1]:
+        ax.set_xlabel("spanwise station y [m]")
+    axes[0, 0].legend()
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def plot_time_history(time, series: dict, path: str, ylabel: str, title: str):
+    """Curves over time; ``series`` maps a label to a (n_time,) array."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    for label, y in series.items():
+        ax.plot(time, y, label=label)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(True, alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def plot_iteration_history(objective, max_constraint, path: str):
+    """Objective and worst constraint per driver iteration."""
+    plt = _pyplot()
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    it = np.arange(len(objective))
+    a1.plot(it, objective, marker="o", ms=3)
+    a1.set_ylabel("mass [kg]")
+    a1.grid(True, alpha=0.3)
+    a2.plot(it, max_constraint, marker="o", ms=3, color="tab:red")
+    a2.axhline(0.0, color="k", lw=0.8)
+    a2.set_ylabel("max KS constraint [-]")
+    a2.set_xlabel("driver iteration")
+    a2.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path

@@ -1,0 +1,56 @@
+"""Read a sizing run's SQLite recording: iteration history, final design, plots."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import openmdao.api as om
+
+
+def read_history(path: str) -> dict:
+    """Objective, worst constraint and design variables of every recorded driver iteration."""
+    if not os.path.exists(path):
+        raise ValueError(f"recording {path!r} does not exist")
+    reader = om.CaseReader(path)
+    cases = reader.list_cases("driver", recurse=False, out_stream=None)
+    if not cases:
+        raise ValueError(f"recording {path!r} holds no driver iterations")
+    objective, worst, desvars = [], [], []
+    for cid in cases:
+        case = reader.get_case(cid)
+        obj = case.get_objectives()
+        objective.append(float(np.ravel(next(iter(obj.values())))[0]) if obj else np.nan)
+        cons = case.get_constraints()
+        worst.append(max((float(np.max(v)) for v in cons.values()), default=np.nan))
+        desvars.append({k: np.array(v) for k, v in case.get_design_vars().items()})
+    return {"iterations": len(cases), "objective": np.array(objective),
+            "max_constraint": np.array(worst), "design_vars": desvars}
+
+
+def format_history(hist: dict) -> str:
+    lines = [f"{'iter':>5} {'objective':>14} {'max constraint':>15}"]
+    for i, (f, g) in enumerate(zip(hist["objective"], hist["max_constraint"])):
+        lines.append(f"{i:5d} {f:14.6g} {g:15.4e}")
+    return "\n".join(lines)
+
+
+def write_report_plots(hist: dict, out_dir: str) -> list[str]:
+    """Iteration history PNG (and final thickness PNG when the design variables are wall thicknesses)."""
+    from wingmdao.plots import WALLS, plot_iteration_history, plot_thickness
+
+    os.makedirs(out_dir, exist_ok=True)
+    paths = [plot_iteration_history(hist["objective"], hist["max_constraint"],
+                                    os.path.join(out_dir, "iterations.png"))]
+    final = hist["design_vars"][-1]
+    thick = {}
+    for wall in WALLS:
+        match = [k for k in final if k.endswith(f"t_{wall}")]
+        if match:
+            thick[wall] = final[match[0]]
+    if len(thick) == len(WALLS):
+        n = len(thick["upper_skin"])
+        paths.append(plot_thickness(np.arange(n), {"final": thick},
+                                    os.path.join(out_dir, "thickness_final.png"),
+                                    title="Final thickness per station (index)"))
+    return paths
