@@ -70,14 +70,18 @@ def strip_line_loads(node_positions, chord, beam_axis_fraction, lift_per_unit_sp
     it is l dy/ds. Its point of action lies d = (cp_fraction - beam_axis_fraction) c aft of
     the beam axis, so the moment about the axis is r x f = (d, 0, 0) x (0, 0, f_z) =
     (0, -d f_z, 0): lift aft of the axis gives a nose-down (negative y) moment.
+    ``lift_per_unit_span`` is (n_node,) or (..., n_node) (e.g. one row per time step);
+    the results have one more trailing axis of length 3.
     """
     r, c, xb = check_strip_geometry(node_positions, chord, beam_axis_fraction, cp_fraction)
-    fz = np.asarray(lift_per_unit_span, dtype=float) * span_per_beam_length(r)
-    force = np.zeros((r.shape[0], 3))
-    force[:, 2] = fz
-    offset = (cp_fraction - xb) * c
+    lift = np.asarray(lift_per_unit_span, dtype=float)
+    if lift.shape[-1:] != (r.shape[0],):
+        raise ValueError(f"lift_per_unit_span: shape {lift.shape}; last axis must be n_node = {r.shape[0]}")
+    fz = lift * span_per_beam_length(r)
+    force = np.zeros(lift.shape + (3,))
+    force[..., 2] = fz
     moment = np.zeros_like(force)
-    moment[:, 1] = -offset * fz
+    moment[..., 1] = -(cp_fraction - xb) * c * fz
     return force, moment
 
 
