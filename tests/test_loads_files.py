@@ -71,3 +71,17 @@ def test_validation_messages(tmp_path):
     np.savez(tmp_path / "m.npz", time=h.time)
     with pytest.raises(ValueError, match="missing"):
         read_load_history(tmp_path / "m.npz")
+
+
+def test_resample_linear_and_as_forcing():
+    time = np.array([0.0, 1.0, 3.0])
+    f = np.zeros((3, 2, 3))
+    f[:, 1, 2] = [0.0, 10.0, 30.0]  # linear in time: 10 N/m per s
+    h = LoadHistory(time, f, -f)
+    r = h.resample(np.linspace(0.0, 3.0, 7))
+    np.testing.assert_allclose(r.force_per_length[:, 1, 2], 10.0 * np.linspace(0.0, 3.0, 7), rtol=1e-14)
+    np.testing.assert_allclose(r.moment_per_length, -r.force_per_length)
+    forcing = h.as_forcing()
+    assert set(forcing) == {"force_per_length", "moment_per_length"}
+    with pytest.raises(ValueError, match=r"new_time\[-1\] = 4.0 s; allowed range \[0, 3.0\] s"):
+        h.resample([0.0, 4.0])

@@ -169,3 +169,23 @@ def test_gust_with_kussner_lags_and_reduces_peak_and_adds_steady():
         g.gust_line_loads(r, chord, xb, time, **{**kw, "gust_gradient_m": 5.0})
     with pytest.raises(ValueError, match=r"time\[0\]"):
         g.gust_line_loads(r, chord, xb, time + 0.5, **kw)
+
+
+def test_total_gust_lift_equals_eas_form_without_delay():
+    # without penetration delay every strip peaks together; the half-wing lift increment is then
+    # 1/2 rho0 V_E U_E a S_half (EAS form: rho V_T U_T = rho0 V_E U_E), S_half = int c dy
+    r, chord, xb = _beam(n=9, b2=12.0, sweep_deg=15.0)
+    alt, v_tas, u_e = 7000.0, 170.0, 10.0
+    time = np.linspace(0.0, 1.0, 201)
+    h = 0.5 * v_tas * 1.0  # H reached at t = 0.5 s
+    hist = g.gust_line_loads(
+        r, chord, xb, time, gust_gradient_m=h, u_ds_eas=u_e, airspeed_tas=v_tas, altitude_m=alt,
+        penetration_delay=False,
+    )
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(r, axis=0), axis=1))])
+    fz = hist.force_per_length[100, :, 2]
+    total = np.sum(0.5 * (fz[1:] + fz[:-1]) * np.diff(s))
+    rho0 = 101325.0 / (287.05287 * 288.15)  # 1.2250 kg/m^3
+    v_e = v_tas * np.sqrt(float(density(alt)) / rho0)
+    s_half = 12.0 * (2.8 + 1.4) / 2.0
+    assert total == pytest.approx(0.5 * rho0 * v_e * u_e * 2 * np.pi * s_half, rel=1e-12)

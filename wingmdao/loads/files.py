@@ -52,6 +52,27 @@ class LoadHistory:
     def num_nodes(self) -> int:
         return self.force_per_length.shape[1]
 
+    def resample(self, new_time) -> "LoadHistory":
+        """Linear interpolation onto another time grid inside [0, time[-1]] (e.g. the beam's)."""
+        t = np.asarray(new_time, dtype=float)
+        zeros = np.zeros((t.size, 1, 3))
+        validate_load_history(t, zeros, zeros, source="new_time")
+        if t[-1] > self.time[-1] * (1.0 + 1e-12):
+            raise ValueError(
+                f"new_time[-1] = {t[-1]} s; allowed range [0, {self.time[-1]}] s (the recorded history)"
+            )
+
+        def interp(arr):
+            flat = arr.reshape(self.num_times, -1)
+            out = np.column_stack([np.interp(t, self.time, flat[:, j]) for j in range(flat.shape[1])])
+            return out.reshape((t.size,) + arr.shape[1:])
+
+        return LoadHistory(t, interp(self.force_per_length), interp(self.moment_per_length))
+
+    def as_forcing(self) -> dict:
+        """``{"force_per_length": ..., "moment_per_length": ...}`` for a beam load case."""
+        return {"force_per_length": self.force_per_length.copy(), "moment_per_length": self.moment_per_length.copy()}
+
 
 def validate_load_history(time, force_per_length, moment_per_length, source: str = "") -> None:
     """Raise ``ValueError`` on wrong shapes, non-finite values or a bad time axis."""
