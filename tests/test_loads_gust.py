@@ -189,3 +189,12 @@ def test_total_gust_lift_equals_eas_form_without_delay():
     v_e = v_tas * np.sqrt(float(density(alt)) / rho0)
     s_half = 12.0 * (2.8 + 1.4) / 2.0
     assert total == pytest.approx(0.5 * rho0 * v_e * u_e * 2 * np.pi * s_half, rel=1e-12)
+
+
+def test_duhamel_columns_with_own_semichord_grids():
+    t = np.linspace(0.0, 2.0, 301)
+    s = t[:, None] * np.array([[20.0, 35.0, 50.0]])
+    w = np.sin(3.0 * t)[:, None] * np.array([[1.0, -2.0, 0.5]])
+    both = g.kussner_lagged_velocity(s, w)
+    for j in range(3):
+        np.testing.assert_allclose(both[:, j], g.kussner_lagged_velocity(s[:, j], w[:, j]), rtol=1e-14, atol=1e-14)

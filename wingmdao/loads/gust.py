@@ -149,39 +149,42 @@ def kussner_sears(semichords):
     return 1.0 - a1 * np.exp(-b1 * s) - a2 * np.exp(-b2 * s)
 
 
-def _kussner_integral_between(u_hi, u_lo):
-    """int_{u_lo}^{u_hi} psi(u) du, written as differences to avoid cancellation."""
-    (a1, a2), (b1, b2) = _KUSSNER_A, _KUSSNER_B
-    return (
-        (u_hi - u_lo)
-        + a1 / b1 * (np.exp(-b1 * u_hi) - np.exp(-b1 * u_lo))
-        + a2 / b2 * (np.exp(-b2 * u_hi) - np.exp(-b2 * u_lo))
-    )
-
-
 def kussner_lagged_velocity(semichords, gust_velocity):
     """Effective (lagged) gust velocity by the Duhamel integral with Kussner's function.
 
         w_eff(s) = w(s_0) psi(s - s_0) + int_{s_0}^{s} dw/ds'(s') psi(s - s') ds'
 
-    discretised exactly for w piecewise linear between the samples: each segment j adds
-    (dw_j / ds_j) int_{s - s_j}^{s - s_(j-1)} psi(u) du. ``semichords`` (n,) increasing,
-    ``gust_velocity`` (n,) or (n, m) (columns lagged independently). Exact for a gust that
-    is piecewise linear between samples, e.g. a sharp-edged gust starting at s_0.
+    discretised exactly for w piecewise linear between the samples. With
+    psi = 1 - sum_i a_i exp(-b_i s) this is
+
+        w_eff(s_k) = w_0 psi(s_k - s_0) + (w_k - w_0) - sum_i a_i X_i(s_k),
+        X_i(s_k) = exp(-b_i ds_k) X_i(s_(k-1)) + (dw_k/ds_k) (1 - exp(-b_i ds_k)) / b_i,
+
+    a recursion that costs O(n) (no n x n Duhamel matrix). ``semichords`` (n,) or (n, m),
+    strictly increasing down the first axis; ``gust_velocity`` (n,) or (n, m) (columns are
+    independent strips). Exact for a gust that is piecewise linear between samples, e.g. a
+    sharp-edged gust already present at s_0.
     """
     s = np.asarray(semichords, dtype=float)
     w = np.asarray(gust_velocity, dtype=float)
     squeeze = w.ndim == 1
-    w = w.reshape(s.size, -1)
-    if s.ndim != 1 or np.any(np.diff(s) <= 0.0):
-        raise ValueError("semichords: must be a 1-D array increasing strictly")
-    lag = s[:, None] - s[None, :]  # (k, j): s_k - s_j
-    lower = np.tril(np.ones_like(lag, dtype=bool))
-    # segment j (from sample j-1 to j), j = 1..n-1: int_{s_k - s_j}^{s_k - s_{j-1}} psi
-    seg = _kussner_integral_between(np.maximum(lag[:, :-1], 0.0), np.maximum(lag[:, 1:], 0.0))
-    seg = np.where(lower[:, 1:], seg, 0.0)
-    slope = np.diff(w, axis=0) / np.diff(s)[:, None]
-    out = w[0][None, :] * kussner_sears(s - s[0])[:, None] + seg @ slope
+    w2 = w.reshape(w.shape[0], -1)
+    s2 = s.reshape(s.shape[0], -1)
+    if s2.shape[0] != w2.shape[0] or s2.shape[1] not in (1, w2.shape[1]):
+        raise ValueError(f"semichords {s.shape} and gust_velocity {w.shape}: incompatible shapes")
+    ds = np.diff(s2, axis=0)
+    if np.any(~(ds > 0.0)):
+        raise ValueError("semichords: must increase strictly along the first axis")
+    slope = np.diff(w2, axis=0) / ds
+    out = w2[0][None, :] * kussner_sears(s2 - s2[0])
+    out = out + (w2 - w2[0][None, :])
+    for a_i, b_i in zip(_KUSSNER_A, _KUSSNER_B):
+        decay = np.exp(-b_i * ds)
+        gain = slope * (-np.expm1(-b_i * ds)) / b_i
+        x = np.zeros(w2.shape[1])
+        for k in range(ds.shape[0]):
+            x = decay[k] * x + gain[k]
+            out[k + 1] -= a_i * x
     return out[:, 0] if squeeze else out
 
 
@@ -279,9 +282,7 @@ def gust_line_loads(
     distance = v * (t[:, None] - gust_start_time - delay[None, :])  # (n_t, n_node), m
     w = direction * one_minus_cosine(distance, gust_gradient_m, u_ds_tas)
     if kussner:
-        w = np.column_stack([
-            kussner_lagged_velocity(2.0 * v * t / c[i], w[:, i]) for i in range(c.size)
-        ])
+        w = kussner_lagged_velocity(2.0 * v * t[:, None] / c[None, :], w)
     lift = 0.5 * rho * v * c[None, :] * cl_alpha * w  # (n_t, n_node) N/m of span
     if not fuselage_carries_lift:
         lift[:, r[:, 1] < fuselage_half_width] = 0.0
