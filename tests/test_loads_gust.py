@@ -5,7 +5,7 @@ import pytest
 from scipy.integrate import quad
 
 from wingmdao.loads import gust as g
-from wingmdao.loads.atmosphere import FT, density
+from wingmdao.loads.atmosphere import density
 from wingmdao.loads.maneuver import maneuver_line_loads
 
 
