@@ -198,3 +198,13 @@ def test_duhamel_columns_with_own_semichord_grids():
     both = g.kussner_lagged_velocity(s, w)
     for j in range(3):
         np.testing.assert_allclose(both[:, j], g.kussner_lagged_velocity(s[:, j], w[:, j]), rtol=1e-14, atol=1e-14)
+
+
+def test_gust_fuselage_stations_carry_no_lift_when_asked():
+    r, chord, xb = _beam()
+    time = np.linspace(0.0, 0.6, 121)
+    kw = dict(gust_gradient_m=30.0, u_ds_eas=10.0, airspeed_tas=150.0, altitude_m=3000.0)
+    hist = g.gust_line_loads(r, chord, xb, time, fuselage_half_width=2.0, fuselage_carries_lift=False, **kw)
+    inside = r[:, 1] < 2.0
+    assert np.all(hist.force_per_length[:, inside] == 0.0)
+    assert np.all(hist.force_per_length[:, ~inside, 2].max(axis=0) > 0.0)

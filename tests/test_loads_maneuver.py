@@ -101,3 +101,18 @@ def test_maneuver_bad_input():
         maneuver_line_loads(r, 2.0, bad, 1e5, 2.5)
     with pytest.raises(ValueError, match="weight_N"):
         maneuver_line_loads(r, 2.0, 0.4, -1e5, 2.5)
+
+
+def test_pegasus_elliptic_root_bending_moment_closed_form():
+    # PEGASUS (App. D.2, Table D.3): TOGW 41 005 lb, span 80.58962 ft, 2.5 g (Sec. 5.1).
+    # Elliptic loading: root bending moment of the half wing = (L/2) * 4 b2 / (3 pi).
+    weight_N = 41005.0 * 0.45359237 * 9.80665
+    b2 = 0.5 * 80.58962 * 0.3048
+    y = b2 * np.sin(np.linspace(0.0, np.pi / 2, 2001))
+    r = np.column_stack([np.zeros_like(y), y, np.zeros_like(y)])
+    loads = maneuver_line_loads(r, np.full_like(y, 2.2), 0.465, weight_N, 2.5, distribution="elliptic")
+    fz = loads.force_per_length[:, 2]
+    root_moment = trapezoid(fz * y, y)
+    half_lift = 0.5 * 2.5 * weight_N  # 18 599.6 kg * 9.80665 * 1.25 = 227 999 N
+    assert half_lift == pytest.approx(227999.2, rel=1e-6)
+    assert root_moment == pytest.approx(half_lift * 4.0 * b2 / (3.0 * np.pi), rel=1e-5)
