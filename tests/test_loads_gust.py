@@ -208,3 +208,13 @@ def test_gust_fuselage_stations_carry_no_lift_when_asked():
     inside = r[:, 1] < 2.0
     assert np.all(hist.force_per_length[:, inside] == 0.0)
     assert np.all(hist.force_per_length[:, ~inside, 2].max(axis=0) > 0.0)
+
+
+def test_gust_finite_wing_correction_scales_lift():
+    r, chord, xb = _beam()
+    time = np.linspace(0.0, 0.8, 161)
+    kw = dict(gust_gradient_m=40.0, u_ds_eas=10.0, airspeed_tas=150.0, altitude_m=3000.0)
+    base = g.gust_line_loads(r, chord, xb, time, **kw)
+    ar6 = g.gust_line_loads(r, chord, xb, time, aspect_ratio=6.0, **kw)
+    # Helmbold A = 6: 4.52866 / 2 pi
+    np.testing.assert_allclose(ar6.force_per_length, base.force_per_length * 4.528664 / (2 * np.pi), rtol=1e-6)

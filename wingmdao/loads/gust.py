@@ -22,7 +22,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from wingmdao.loads.atmosphere import FT, RHO0, density
+from wingmdao.loads.atmosphere import FT, RHO0, density, speed_of_sound
 from wingmdao.loads.files import LoadHistory, validate_load_history
 from wingmdao.loads.maneuver import LineLoads, check_strip_geometry, strip_line_loads
 
@@ -233,6 +233,9 @@ def gust_line_loads(
     airspeed_tas: float,
     altitude_m: float,
     cl_alpha: float = 2.0 * np.pi,
+    aspect_ratio: float | None = None,
+    sweep_half_chord_rad: float = 0.0,
+    prandtl_glauert: bool = False,
     cp_fraction: float = 0.25,
     kussner: bool = False,
     gust_start_time: float = 0.0,
@@ -249,7 +252,9 @@ def gust_line_loads(
     ``beam_axis_fraction[i]`` of the chord). The gust front reaches the most forward leading
     edge at ``gust_start_time`` and a point at body x a further (x - x_front)/V later
     (``penetration_delay``). Quasi-steady, the strip sees the gust at its centre of pressure
-    (``cp_fraction``): dL' = 1/2 rho V c C_l_a U_TAS; with ``kussner`` the gust seen at the
+    (``cp_fraction``): dL' = 1/2 rho V c C_l_a U_TAS, C_l_a = ``cl_alpha`` (per rad) or, with
+    ``aspect_ratio`` and/or ``prandtl_glauert``, :func:`lift_curve_slope` of it at the flight
+    Mach number (finite-wing / compressibility corrections); with ``kussner`` the gust seen at the
     leading edge is lagged by Kussner's function (Duhamel sum in semichords 2 V t / c).
     ``u_ds_eas`` (m/s EAS, >= 0) is converted to true airspeed at ``altitude_m``;
     ``direction`` +1 (up) or -1 (down). With ``steady`` (the 1-g level-flight line loads,
@@ -271,6 +276,9 @@ def gust_line_loads(
         raise ValueError(f"gust_start_time = {gust_start_time} s must be finite")
     rho = float(density(altitude_m))
     v = float(airspeed_tas)
+    if aspect_ratio is not None or prandtl_glauert:
+        mach = v / float(speed_of_sound(altitude_m)) if prandtl_glauert else 0.0
+        cl_alpha = lift_curve_slope(cl_alpha, aspect_ratio, sweep_half_chord_rad, mach)
     u_ds_tas = u_ds_eas * np.sqrt(RHO0 / rho)
 
     x_axis = r[:, 0]
