@@ -83,6 +83,49 @@ class ResidualSystem:
         """Human-readable name of residual ``index`` (used in convergence diagnostics)."""
         return f"equation {index}"
 
+    # ---- optional fast paths; the defaults below only use the methods above -------------
+    def initial_guess(self, p, q) -> np.ndarray:
+        """Starting point of a static Newton solve (zeros unless the system knows better)."""
+        return np.zeros(self.n_state)
+
+    def residual_and_newton_matrix(self, x, xdot, p, q, alpha):
+        """``R`` and the Newton matrix ``dR/dx + alpha dR/dxdot`` (Eq. 3.7), sparse CSC."""
+        jx, jxd = self.jac_state(x, xdot, p, q)
+        return self.residual(x, xdot, p, q), sp.csc_matrix(jx + alpha * jxd)
+
+    def jacobian_patterns(self) -> dict:
+        """Fixed sparsity of the four Jacobians: ``{"x"|"xdot"|"p"|"q": (rows, cols, shape)}``.
+
+        The default declares them dense; CasADi systems return their exact patterns.
+        """
+        out = {}
+        for key, n in (("x", self.n_state), ("xdot", self.n_state), ("p", self.n_param),
+                       ("q", self.n_forcing)):
+            rows, cols = np.meshgrid(np.arange(self.n_state), np.arange(n), indexing="ij")
+            # column-major (CSC) order, like the CasADi patterns
+            out[key] = (rows.T.ravel(), cols.T.ravel(), (self.n_state, n))
+        return out
+
+    def residual_history(self, X, Xdot, p, Q) -> np.ndarray:
+        """Residuals at every instant: ``X, Xdot`` (n_time, n_state), ``Q`` (n_time, n_forcing)."""
+        return np.array([self.residual(X[i], Xdot[i], p, Q[i]) for i in range(X.shape[0])])
+
+    def jacobian_history(self, X, Xdot, p, Q) -> dict:
+        """Nonzeros of the four Jacobians at every instant, in :meth:`jacobian_patterns` order.
+
+        Returns ``{"x"|"xdot"|"p"|"q": array (n_time, nnz)}``.
+        """
+        pats = self.jacobian_patterns()
+        out = {k: np.zeros((X.shape[0], pats[k][0].size)) for k in pats}
+        for i in range(X.shape[0]):
+            jx, jxd = self.jac_state(X[i], Xdot[i], p, Q[i])
+            jp, jq = self.jac_inputs(X[i], Xdot[i], p, Q[i])
+            for key, mat in (("x", jx), ("xdot", jxd), ("p", jp), ("q", jq)):
+                rows, cols, _ = pats[key]
+                if rows.size:
+                    out[key][i] = np.asarray(sp.csr_matrix(mat)[rows, cols]).ravel()
+        return out
+
 
 class _SparseJacobian:
     """Evaluate a CasADi Jacobian into a scipy CSC matrix with a fixed sparsity pattern."""
@@ -95,11 +138,17 @@ class _SparseJacobian:
         self.indptr = np.asarray(colind, dtype=np.int64)
         self.indices = np.asarray(row, dtype=np.int64)
         self.nnz = spty.nnz()
+        self.expr = jac
         self.fun = ca.Function(f"{fun.name()}_jac_{tag}", args, [jac])
 
     def __call__(self, *vals) -> sp.csc_matrix:
         data = np.asarray(self.fun(*vals).nonzeros(), dtype=float)
         return sp.csc_matrix((data, self.indices, self.indptr), shape=self.shape)
+
+    def pattern(self):
+        """(rows, cols, shape) of the nonzeros in CSC order."""
+        cols = np.repeat(np.arange(self.shape[1]), np.diff(self.indptr))
+        return self.indices.copy(), cols, self.shape
 
 
 class CasadiResidualSystem(ResidualSystem):
@@ -110,7 +159,7 @@ class CasadiResidualSystem(ResidualSystem):
     """
 
     def __init__(self, x, xdot, p, q, R, *, param_specs, forcing_specs, state_shape=None,
-                 name="residual", describe=None):
+                 name="residual", describe=None, initial_guess=None):
         self.n_state = int(x.numel())
         self.state_shape = tuple(state_shape) if state_shape else (self.n_state,)
         self.param_specs = list(param_specs)
@@ -126,6 +175,23 @@ class CasadiResidualSystem(ResidualSystem):
         self._dp = _SparseJacobian(self._R, R, p, args, "p")
         self._dq = _SparseJacobian(self._R, R, q, args, "q")
         self._describe = describe
+        self._initial_guess = initial_guess
+        # one call per Newton iteration: residual and the Newton matrix dR/dx + alpha dR/dxdot
+        alpha = ca.SX.sym("alpha") if isinstance(x, ca.SX) else ca.MX.sym("alpha")
+        newton = ca.jacobian(R, x) + alpha * ca.jacobian(R, xdot)
+        spty = newton.sparsity()
+        colind, row = spty.get_ccs()
+        self._newton_pattern = (np.asarray(row, dtype=np.int64), np.asarray(colind, dtype=np.int64))
+        self._newton = ca.Function(f"{name}_newton", args + [alpha], [R, newton.nz[:]])
+        self._all_jac = ca.Function(f"{name}_jacobians", args,
+                                    [j.expr.nz[:] for j in (self._dx, self._dxdot, self._dp, self._dq)])
+        self._R_args = args
+        self._maps = {}
+
+    def _mapped(self, key, fun, n):
+        if (key, n) not in self._maps:
+            self._maps[(key, n)] = fun.map(n, "serial") if n > 1 else fun
+        return self._maps[(key, n)]
 
     def residual(self, x, xdot, p, q):
         return np.asarray(self._R(x, xdot, p, q)).ravel()
@@ -138,3 +204,33 @@ class CasadiResidualSystem(ResidualSystem):
 
     def describe_equation(self, index):
         return self._describe(index) if self._describe else super().describe_equation(index)
+
+    def initial_guess(self, p, q):
+        if self._initial_guess is not None:
+            return np.asarray(self._initial_guess(p, q), dtype=float).reshape(self.n_state)
+        return super().initial_guess(p, q)
+
+    def residual_and_newton_matrix(self, x, xdot, p, q, alpha):
+        r, nz = self._newton(x, xdot, p, q, alpha)
+        rows, indptr = self._newton_pattern
+        jac = sp.csc_matrix((np.asarray(nz).ravel(), rows, indptr), shape=(self.n_state, self.n_state))
+        return np.asarray(r).ravel(), jac
+
+    def jacobian_patterns(self):
+        return {"x": self._dx.pattern(), "xdot": self._dxdot.pattern(), "p": self._dp.pattern(),
+                "q": self._dq.pattern()}
+
+    def residual_history(self, X, Xdot, p, Q):
+        n = X.shape[0]
+        f = self._mapped("R", self._R, n)
+        out = f(X.T, Xdot.T, np.asarray(p, dtype=float).reshape(-1, 1), Q.T)
+        return np.asarray(out).reshape(self.n_state, n).T
+
+    def jacobian_history(self, X, Xdot, p, Q):
+        n = X.shape[0]
+        f = self._mapped("J", self._all_jac, n)
+        vals = f(X.T, Xdot.T, np.asarray(p, dtype=float).reshape(-1, 1), Q.T)
+        out = {}
+        for key, v, j in zip(("x", "xdot", "p", "q"), vals, (self._dx, self._dxdot, self._dp, self._dq)):
+            out[key] = np.asarray(v).reshape(j.nnz, n).T if j.nnz else np.zeros((n, 0))
+        return out

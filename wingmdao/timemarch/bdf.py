@@ -1,0 +1,277 @@
+"""BDF time marching and static solves of a :class:`~wingmdao.timemarch.system.ResidualSystem`.
+
+Discrete equations (Sec. 3.5.2, Eq. 3.4-3.7; derivation in ``docs/time-marching.md``):
+
+* step 0: static equilibrium ``R(x_0, 0, p, q_0) = 0`` (``initial="static"``) or a given
+  state ``x_0 - x_init = 0`` (``initial="state"``);
+* step 1: BDF1, ``xdot_1 = (x_1 - x_0) / dt``;
+* steps n >= 2: BDF2, ``xdot_n = (3 x_n - 4 x_{n-1} + x_{n-2}) / (2 dt)`` (Eq. 3.5);
+* each step: Newton on ``R(x_n, xdot(x_n), p, q_n) = 0`` with the matrix
+  ``dR/dx + alpha_0/dt dR/dxdot`` (Eq. 3.7), sparse LU.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import openmdao.api as om
+import scipy.sparse.linalg as spla
+
+from wingmdao.timemarch.newton import NewtonInfo, newton_solve
+
+BDF1 = (1.0, -1.0, 0.0)
+BDF2 = (1.5, -2.0, 0.5)
+
+
+def bdf_coefficients(step: int) -> tuple[float, float, float]:
+    """``(alpha_0, alpha_1, alpha_2)`` of step ``step`` (times 1/dt give Eq. 3.5); step 0 has none."""
+    if step <= 0:
+        return (0.0, 0.0, 0.0)
+    return BDF1 if step == 1 else BDF2
+
+
+def time_step(time) -> float:
+    """Validate a uniform time grid starting at 0 and return its step (s).
+
+    A single entry ``[0.0]`` is a static solve and returns ``0.0``.
+    """
+    t = np.asarray(time, dtype=float)
+    if t.ndim != 1 or t.size == 0:
+        raise ValueError(f"time must be a non-empty 1-D array, got shape {t.shape}")
+    if not np.all(np.isfinite(t)):
+        bad = int(np.flatnonzero(~np.isfinite(t))[0])
+        raise ValueError(f"time[{bad}] is not finite")
+    if t[0] != 0.0:
+        raise ValueError(f"time[0] must be 0 s, got {t[0]!r} s")
+    if t.size == 1:
+        return 0.0
+    steps = np.diff(t)
+    if np.any(steps <= 0.0):
+        bad = int(np.flatnonzero(steps <= 0.0)[0])
+        raise ValueError(f"time must be increasing: time[{bad + 1}] = {t[bad + 1]} s <= "
+                         f"time[{bad}] = {t[bad]} s")
+    dt = (t[-1] - t[0]) / (t.size - 1)
+    dev = np.abs(steps - dt)
+    if np.max(dev) > 1e-9 * dt + 1e-12 * abs(t[-1]):
+        bad = int(np.argmax(dev))
+        raise ValueError(f"time must be uniform: step {bad + 1} is {steps[bad]:.12g} s, the mean "
+                         f"step is {dt:.12g} s (allowed deviation {1e-9 * dt:.1e} s)")
+    return float(dt)
+
+
+def state_rates(states, dt) -> np.ndarray:
+    """BDF time derivatives of a state history (n_time, n_state); zero at step 0 (Eq. 3.5)."""
+    X = np.asarray(states, dtype=float)
+    xdot = np.zeros_like(X)
+    if X.shape[0] > 1:
+        xdot[1] = (X[1] - X[0]) / dt
+    if X.shape[0] > 2:
+        xdot[2:] = (1.5 * X[2:] - 2.0 * X[1:-1] + 0.5 * X[:-2]) / dt
+    return xdot
+
+
+@dataclass
+class TimeHistory:
+    """Result of :func:`march`: states and rates (n_time, n_state), Newton work per step."""
+
+    time: np.ndarray
+    states: np.ndarray
+    rates: np.ndarray
+    iterations: np.ndarray
+    factorizations: int = 0
+    info: dict = field(default_factory=dict)
+
+
+# ----------------------------------------------------------------------------- statics
+def solve_static(system, p, q, x0=None, *, load_steps=1, scaled=None, max_halvings=6,
+                 atol=1e-9, rtol=1e-12, xtol=1e-12, max_iter=30, label="static solve"):
+    """Static equilibrium ``R(x, 0, p, q) = 0`` with optional load stepping.
+
+    Parameters
+    ----------
+    system : ResidualSystem
+    p : array (n_param,)            time-invariant parameters (packed, see ``pack``)
+    q : array (n_forcing,)          forcing (packed)
+    x0 : array (n_state,) or None   initial guess; default ``system.initial_guess(p, q)``
+    load_steps : int                solve at q * k / load_steps, k = 1..load_steps, each from
+                                    the previous solution (continuation). A load step that fails
+                                    is bisected up to ``max_halvings`` times.
+    scaled : list of forcing names or None
+                                    forcing blocks that are stepped (default: all); the others
+                                    are applied in full from the first step.
+    atol, rtol, xtol, max_iter      Newton tolerances (see :func:`newton_solve`).
+
+    Returns ``(x, NewtonInfo)`` with the total number of Newton iterations. Raises
+    :class:`om.AnalysisError` naming the load fraction, residual norm and worst equation.
+    """
+    if int(load_steps) < 1:
+        raise ValueError(f"load_steps must be >= 1, got {load_steps}")
+    p = np.asarray(p, dtype=float).reshape(system.n_param)
+    q = np.asarray(q, dtype=float).reshape(system.n_forcing)
+    mask = _scale_mask(system, scaled)
+    x = system.initial_guess(p, q) if x0 is None else np.array(x0, dtype=float).reshape(system.n_state)
+    zero = np.zeros(system.n_state)
+    total_it = 0
+
+    def solve_at(frac, x_start):
+        qk = np.where(mask, q * frac, q)
+        return newton_solve(lambda z: system.residual(z, zero, p, qk),
+                            lambda z: system.jac_state(z, zero, p, qk)[0], x_start,
+                            atol=atol, rtol=rtol, xtol=xtol, max_iter=max_iter,
+                            label=f"{label} at load fraction {frac:.4g}",
+                            describe=system.describe_equation)
+
+    done, step = 0.0, 1.0 / int(load_steps)
+    halvings, info = 0, NewtonInfo(0, 0.0, True)
+    while done < 1.0 - 1e-14:
+        frac = min(1.0, done + step)
+        try:
+            x_new, info = solve_at(frac, x)
+        except om.AnalysisError:
+            if halvings >= max_halvings:
+                raise
+            halvings += 1
+            step *= 0.5
+            continue
+        total_it += info.iterations
+        x, done = x_new, frac
+    return x, NewtonInfo(total_it, info.residual_norm, True)
+
+
+def _scale_mask(system, scaled):
+    if scaled is None:
+        return np.ones(system.n_forcing, dtype=bool)
+    names = [s.name for s in system.forcing_specs]
+    mask = np.zeros(system.n_forcing, dtype=bool)
+    start = 0
+    unknown = set(scaled) - set(names)
+    if unknown:
+        raise ValueError(f"scaled: unknown forcing {sorted(unknown)}; forcing blocks are {names}")
+    for s in system.forcing_specs:
+        if s.name in scaled:
+            mask[start:start + s.size] = True
+        start += s.size
+    return mask
+
+
+# ----------------------------------------------------------------------------- marching
+class _StepSolver:
+    """Newton iterations of one BDF step, optionally reusing an LU (modified Newton)."""
+
+    def __init__(self, system, p, *, atol, xtol, max_iter, modified, contraction):
+        self.system, self.p = system, p
+        self.atol, self.xtol, self.max_iter = atol, xtol, max_iter
+        self.modified, self.contraction = modified, contraction
+        self.lu, self.lu_alpha, self.factorizations = None, None, 0
+
+    def _factor(self, jac, label):
+        try:
+            self.lu = spla.splu(jac, permc_spec="COLAMD")
+        except RuntimeError as exc:
+            raise om.AnalysisError(f"{label}: singular Newton matrix ({exc})") from exc
+        self.factorizations += 1
+
+    def solve(self, x_pred, hist, alpha, q, label):
+        """Solve R(x, alpha x + hist, p, q) = 0 from ``x_pred``; ``alpha`` already divided by dt."""
+        system, p = self.system, self.p
+        x = x_pred.copy()
+        reuse = self.modified and self.lu is not None and self.lu_alpha == alpha
+        prev_step = None
+        for it in range(1, self.max_iter + 1):
+            if reuse:
+                r = system.residual(x, alpha * x + hist, p, q)
+            else:
+                r, jac = system.residual_and_newton_matrix(x, alpha * x + hist, p, q, alpha)
+            norm = float(np.max(np.abs(r))) if r.size else 0.0
+            if not np.isfinite(norm):
+                self._fail(label, it, r, "residual is not finite")
+            if norm <= self.atol:
+                return x, it - 1
+            if not reuse:
+                self._factor(jac, label)
+                self.lu_alpha = alpha
+            dx = -self.lu.solve(r)
+            step = float(np.max(np.abs(dx)))
+            if not np.isfinite(step):
+                self._fail(label, it, r, "Newton step is not finite")
+            x = x + dx
+            if step <= self.xtol * (1.0 + float(np.max(np.abs(x)))):
+                return x, it
+            if self.modified:
+                # keep the LU while the iteration contracts well, refactor otherwise
+                reuse = prev_step is None or step <= self.contraction * prev_step
+                if not reuse:
+                    prev_step = None
+                    continue
+            prev_step = step
+        r = system.residual(x, alpha * x + hist, p, q)
+        self._fail(label, self.max_iter, r, f"no convergence in {self.max_iter} iterations")
+
+    def _fail(self, label, it, r, why):
+        finite = np.where(np.isfinite(r), np.abs(r), np.inf)
+        worst = int(np.argmax(finite))
+        norm = float(np.max(finite)) if r.size else 0.0
+        raise om.AnalysisError(f"{label}: {why} (iteration {it}, max |residual| = {norm:.3e}, "
+                               f"worst: {self.system.describe_equation(worst)})")
+
+
+def march(system, time, p, forcing, *, initial="static", x_init=None, x_guess=None,
+          modified_newton=False, contraction=0.3, atol=1e-10, xtol=1e-12, max_iter=25,
+          static_options=None, callback=None) -> TimeHistory:
+    """Time-march ``R(x, xdot, p, q(t)) = 0`` with BDF1 then BDF2 (Eq. 3.4-3.7, Alg. 1).
+
+    Parameters
+    ----------
+    system : ResidualSystem
+    time : array (n_time,)           uniform grid, time[0] = 0 (s)
+    p : array (n_param,)             parameters (packed)
+    forcing : array (n_time, n_forcing)  forcing at every instant (packed per row)
+    initial : "static" | "state"     step 0: static equilibrium under q_0, or ``x_init``
+    x_init : array (n_state,)        initial state (``initial="state"``)
+    x_guess : array (n_state,)       starting guess of the static solve (default
+                                     ``system.initial_guess``)
+    modified_newton : bool           reuse the LU across iterations and steps while the
+                                     step contracts by ``contraction`` or better
+    atol, xtol, max_iter             per-step convergence: max|R| <= atol, or Newton step
+                                     <= xtol (1 + max|x|)
+    static_options : dict            keyword arguments of :func:`solve_static` for step 0
+    callback : callable(step, t, x)  called after each converged step
+
+    Raises :class:`om.AnalysisError` naming the step, time, residual and worst equation.
+    """
+    t = np.asarray(time, dtype=float)
+    dt = time_step(t)
+    n_time = t.size
+    p = np.asarray(p, dtype=float).reshape(system.n_param)
+    Q = np.asarray(forcing, dtype=float).reshape(n_time, system.n_forcing)
+    X = np.zeros((n_time, system.n_state))
+    iters = np.zeros(n_time, dtype=int)
+    if initial == "static":
+        opts = dict(static_options or {})
+        X[0], info = solve_static(system, p, Q[0], x_guess, label="step 0 (t = 0 s, static)", **opts)
+        iters[0] = info.iterations
+    elif initial == "state":
+        if x_init is None:
+            raise ValueError('initial="state" needs x_init')
+        X[0] = np.asarray(x_init, dtype=float).reshape(system.n_state)
+    else:
+        raise ValueError(f'initial must be "static" or "state", got {initial!r}')
+    if callback:
+        callback(0, t[0], X[0])
+    solver = _StepSolver(system, p, atol=atol, xtol=xtol, max_iter=max_iter,
+                         modified=modified_newton, contraction=contraction)
+    for n in range(1, n_time):
+        a0, a1, a2 = bdf_coefficients(n)
+        hist = (a1 * X[n - 1] + (a2 * X[n - 2] if n >= 2 else 0.0)) / dt
+        if n == 1:
+            x_pred = X[0]
+        elif n == 2:
+            x_pred = 2.0 * X[1] - X[0]
+        else:
+            x_pred = 3.0 * X[n - 1] - 3.0 * X[n - 2] + X[n - 3]
+        X[n], iters[n] = solver.solve(x_pred, hist, a0 / dt, Q[n],
+                                      f"step {n} (t = {t[n]:.6g} s)")
+        if callback:
+            callback(n, t[n], X[n])
+    return TimeHistory(t, X, state_rates(X, dt), iters, solver.factorizations)
