@@ -151,6 +151,26 @@ class _SparseJacobian:
         return self.indices.copy(), cols, self.shape
 
 
+class _FastCall:
+    """Evaluate a CasADi function through preallocated buffers (~0.2 us instead of ~40 us a call)."""
+
+    def __init__(self, fun: ca.Function):
+        self.fun = fun
+        self.inp = [np.zeros(fun.nnz_in(i)) for i in range(fun.n_in())]
+        self.out = [np.zeros(fun.nnz_out(i)) for i in range(fun.n_out())]
+        self.buf, self.eval = fun.buffer()
+        for i, a in enumerate(self.inp):
+            self.buf.set_arg(i, memoryview(a))
+        for i, a in enumerate(self.out):
+            self.buf.set_res(i, memoryview(a))
+
+    def __call__(self, *args):
+        for dst, src in zip(self.inp, args):
+            dst[:] = np.ravel(src)
+        self.eval()
+        return [o.copy() for o in self.out]
+
+
 class CasadiResidualSystem(ResidualSystem):
     """A :class:`ResidualSystem` from symbolic CasADi expressions.
 
@@ -187,6 +207,8 @@ class CasadiResidualSystem(ResidualSystem):
                                     [j.expr.nz[:] for j in (self._dx, self._dxdot, self._dp, self._dq)])
         self._R_args = args
         self._maps = {}
+        self._fast_R = _FastCall(self._R)
+        self._fast_newton = _FastCall(self._newton)
 
     def _mapped(self, key, fun, n):
         if (key, n) not in self._maps:
@@ -194,7 +216,7 @@ class CasadiResidualSystem(ResidualSystem):
         return self._maps[(key, n)]
 
     def residual(self, x, xdot, p, q):
-        return np.asarray(self._R(x, xdot, p, q)).ravel()
+        return self._fast_R(x, xdot, p, q)[0]
 
     def jac_state(self, x, xdot, p, q):
         return self._dx(x, xdot, p, q), self._dxdot(x, xdot, p, q)
@@ -211,10 +233,10 @@ class CasadiResidualSystem(ResidualSystem):
         return super().initial_guess(p, q)
 
     def residual_and_newton_matrix(self, x, xdot, p, q, alpha):
-        r, nz = self._newton(x, xdot, p, q, alpha)
+        r, nz = self._fast_newton(x, xdot, p, q, alpha)
         rows, indptr = self._newton_pattern
-        jac = sp.csc_matrix((np.asarray(nz).ravel(), rows, indptr), shape=(self.n_state, self.n_state))
-        return np.asarray(r).ravel(), jac
+        jac = sp.csc_matrix((nz, rows, indptr), shape=(self.n_state, self.n_state))
+        return r, jac
 
     def jacobian_patterns(self):
         return {"x": self._dx.pattern(), "xdot": self._dxdot.pattern(), "p": self._dp.pattern(),

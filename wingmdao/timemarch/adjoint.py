@@ -1,0 +1,266 @@
+"""Generic discrete tangent and adjoint of the BDF time march (Eq. 3.9-3.11).
+
+Written once for any :class:`~wingmdao.timemarch.system.ResidualSystem`. The stacked
+equations of a history are ``G_n(x_0..x_n, p, q_n) = 0``, n = 0..N (see ``bdf.py``). Their
+Jacobian with respect to the stacked states is block lower-triangular with bandwidth 2::
+
+    dG_n/dx_n     = A_n   = dR_n/dx + alpha_0(n)/dt dR_n/dxdot
+    dG_n/dx_{n-k} = B_n,k =           alpha_k(n)/dt dR_n/dxdot      (k = 1, 2)
+
+(step 0: ``A_0 = dR_0/dx`` for a static start, ``I`` for a given state; no B blocks). The
+tangent sweep solves ``J dx = r`` forward in time; the adjoint sweep solves ``J^T lam = g``
+backward in time with transposed factors (the Jacobian is not symmetric). The gradient of
+a functional f(x(p, q), p, q) is then (OpenMDAO sign convention, ``lam = J^-T df/dx``)::
+
+    df/dp   = partial f/partial p   - sum_n lam_n^T dR_n/dp
+    df/dq_n = partial f/partial q_n - lam_n^T dR_n/dq_n
+
+The dissertation's multiplier (Eq. 3.9-3.11) is ``lambda_n = -lam_n / delta_n``. The full
+derivation is in ``docs/time-marching.md``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import openmdao.api as om
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from wingmdao.timemarch.bdf import bdf_coefficients, state_rates, time_step
+
+
+def _scatter(index, n_out):
+    """Sparse (len(index), n_out) matrix with a one at (i, index[i]): sums entries into slots."""
+    m = len(index)
+    return sp.csr_matrix((np.ones(m), (np.arange(m), index)), shape=(m, n_out))
+
+
+class LinearizedHistory:
+    """Per-step Jacobian blocks of a converged BDF history, with tangent and adjoint sweeps.
+
+    Parameters
+    ----------
+    system : ResidualSystem
+    time : (n_time,) uniform grid (s); states : (n_time, n_state) converged history
+    p : (n_param,) parameters; forcing : (n_time, n_forcing)
+    initial : "static" | "state" (how step 0 was defined)
+    store_factors : keep the LU factors of every ``A_n`` (fast repeated sweeps) or refactor
+        in each sweep (memory ~ one factor). ``"auto"`` keeps them below ``factor_memory`` bytes.
+
+    Identical consecutive ``A_n`` (linear systems) share one factorization.
+    """
+
+    def __init__(self, system, time, states, p, forcing, *, initial="static",
+                 store_factors="auto", factor_memory=2e9):
+        t = np.asarray(time, dtype=float)
+        self.dt = time_step(t)
+        self.system = system
+        self.initial = initial
+        self.n_time, self.n_state = t.size, system.n_state
+        X = np.asarray(states, dtype=float).reshape(self.n_time, self.n_state)
+        Q = np.asarray(forcing, dtype=float).reshape(self.n_time, system.n_forcing)
+        p = np.asarray(p, dtype=float).reshape(system.n_param)
+        Xdot = state_rates(X, self.dt) if self.n_time > 1 else np.zeros_like(X)
+        self.patterns = system.jacobian_patterns()
+        data = system.jacobian_history(X, Xdot, p, Q)
+        # coefficients alpha_k(n)/dt; row 0 all zero
+        self.coef = np.array([bdf_coefficients(n) for n in range(self.n_time)])
+        if self.n_time > 1:
+            self.coef /= self.dt
+        self.jx, self.jxd, self.jp, self.jq = data["x"], data["xdot"], data["p"], data["q"]
+        if initial == "state":  # step 0 is x_0 - x_init: identity, no p or q dependence
+            self.jx[0], self.jxd[0] = 0.0, 0.0
+            self.jp[0], self.jq[0] = 0.0, 0.0
+        elif initial != "static":
+            raise ValueError(f'initial must be "static" or "state", got {initial!r}')
+        self._build_newton_pattern()
+        self._store = store_factors
+        self._factor_memory = float(factor_memory)
+        self._factors = {}
+        self._keep = None
+        # steps with the same Newton matrix as the step before share one factorization
+        same = np.zeros(self.n_time, dtype=bool)
+        same[1:] = np.all(self.a_data[1:] == self.a_data[:-1], axis=1)
+        self._rep = np.maximum.accumulate(np.where(same, 0, np.arange(self.n_time)))
+
+    # ------------------------------------------------------------------ structure
+    def _build_newton_pattern(self):
+        n = self.n_state
+        rx, cx, _ = self.patterns["x"]
+        rd, cd, _ = self.patterns["xdot"]
+        eye = np.arange(n)
+        keys = np.unique(np.concatenate([cx * n + rx, cd * n + rd, eye * n + eye]))  # CSC order
+        self.a_rows, self.a_cols = keys % n, keys // n
+        self.a_indptr = np.searchsorted(self.a_cols, np.arange(n + 1))
+        pos_x = np.searchsorted(keys, cx * n + rx)
+        pos_d = np.searchsorted(keys, cd * n + rd)
+        pos_i = np.searchsorted(keys, eye * n + eye)
+        nnz = keys.size
+        self.a_data = (self.jx @ _scatter(pos_x, nnz) + (self.coef[:, :1] * self.jxd) @ _scatter(pos_d, nnz))
+        if self.initial == "state":
+            self.a_data[0, pos_i] = 1.0
+        self._scatter_rows = {k: _scatter(self.patterns[k][0], n) for k in self.patterns}
+        self._scatter_cols = {k: _scatter(self.patterns[k][1], self.patterns[k][2][1]) for k in self.patterns}
+
+    def newton_matrix(self, n) -> sp.csc_matrix:
+        """``A_n = dR_n/dx + alpha_0(n)/dt dR_n/dxdot`` (Eq. 3.7) as CSC."""
+        return sp.csc_matrix((self.a_data[n], self.a_rows, self.a_indptr), shape=(self.n_state,) * 2)
+
+    def _lu(self, n):
+        r = int(self._rep[n])
+        lu = self._factors.get(r)
+        if lu is None:
+            try:
+                lu = spla.splu(self.newton_matrix(r), permc_spec="COLAMD")
+            except RuntimeError as exc:
+                raise om.AnalysisError(f"linearized step {n}: singular Newton matrix ({exc})") from exc
+            self._factors[r] = lu
+        return lu
+
+    def _keep_factors(self, lu):
+        """Decide once (on the first factor) whether all factors fit in ``factor_memory``."""
+        if self._keep is None:
+            if self._store == "auto":
+                per = (lu.L.nnz + lu.U.nnz) * 12.0 + 16.0 * self.n_state
+                self._keep = per * self.n_time <= self._factor_memory
+            else:
+                self._keep = bool(self._store)
+        return self._keep
+
+    def _release(self, n, current):
+        """Free the factor of step ``n`` once the sweep has moved on to ``current``."""
+        r = int(self._rep[n])
+        lu = self._factors.get(r)
+        if lu is not None and r != self._rep[current] and not self._keep_factors(lu):
+            del self._factors[r]
+
+    # ------------------------------------------------------------------ products
+    def _rate_product(self, n, vec):
+        """``dR_n/dxdot @ vec``."""
+        rows, cols, _ = self.patterns["xdot"]
+        return np.bincount(rows, self.jxd[n] * vec[cols], minlength=self.n_state)
+
+    def _rate_product_t(self, n, vec):
+        """``dR_n/dxdot^T @ vec``."""
+        rows, cols, _ = self.patterns["xdot"]
+        return np.bincount(cols, self.jxd[n] * vec[rows], minlength=self.n_state)
+
+    def _hist_product(self, key, data, vec, transpose=False):
+        rows, cols, _ = self.patterns[key]
+        if transpose:
+            return (data * vec[:, rows]) @ self._scatter_cols[key]
+        return (data * vec[:, cols]) @ self._scatter_rows[key]
+
+    def apply(self, dx) -> np.ndarray:
+        """``J dx`` for a state perturbation history (n_time, n_state)."""
+        dx = np.asarray(dx, dtype=float).reshape(self.n_time, self.n_state)
+        out = np.asarray(self._hist_product("x", self.jx, dx))
+        rates = np.zeros_like(dx)
+        for k in range(3):
+            rates[k:] += self.coef[k:, k:k + 1] * dx[:self.n_time - k]
+        out += np.asarray(self._hist_product("xdot", self.jxd, rates))
+        if self.initial == "state":
+            out[0] = dx[0]
+        return out
+
+    def apply_transpose(self, lam) -> np.ndarray:
+        """``J^T lam`` for a residual-weight history (n_time, n_state)."""
+        lam = np.asarray(lam, dtype=float).reshape(self.n_time, self.n_state)
+        out = np.asarray(self._hist_product("x", self.jx, lam, transpose=True))
+        w = np.asarray(self._hist_product("xdot", self.jxd, lam, transpose=True))
+        for k in range(3):
+            out[:self.n_time - k] += self.coef[k:, k:k + 1] * w[k:]
+        if self.initial == "state":
+            out[0] += lam[0]
+        return out
+
+    def param_apply(self, dp) -> np.ndarray:
+        """``dR_n/dp @ dp`` for every step, (n_time, n_state)."""
+        dp = np.asarray(dp, dtype=float).reshape(1, -1)
+        return np.asarray(self._hist_product("p", self.jp, np.broadcast_to(dp, (self.n_time, dp.size))))
+
+    def param_product(self, lam) -> np.ndarray:
+        """``sum_n dR_n/dp^T lam_n`` (n_param,) (the sum in Eq. 3.11)."""
+        return np.asarray(self._hist_product("p", self.jp, lam, transpose=True)).sum(axis=0)
+
+    def forcing_apply(self, dq) -> np.ndarray:
+        """``dR_n/dq_n @ dq_n`` for every step, (n_time, n_state)."""
+        return np.asarray(self._hist_product("q", self.jq, np.asarray(dq, dtype=float)))
+
+    def forcing_product(self, lam) -> np.ndarray:
+        """``dR_n/dq_n^T lam_n`` for every step, (n_time, n_forcing)."""
+        return np.asarray(self._hist_product("q", self.jq, lam, transpose=True))
+
+    # ------------------------------------------------------------------ sweeps
+    def solve_tangent(self, rhs) -> np.ndarray:
+        """Forward sweep: solve ``J dx = rhs``, ``dx_n = A_n^-1 (rhs_n - sum_k B_n,k dx_n-k)``."""
+        rhs = np.asarray(rhs, dtype=float).reshape(self.n_time, self.n_state)
+        dx = np.zeros_like(rhs)
+        for n in range(self.n_time):
+            b = rhs[n].copy()
+            if n >= 1:
+                hist = self.coef[n, 1] * dx[n - 1] + (self.coef[n, 2] * dx[n - 2] if n >= 2 else 0.0)
+                b -= self._rate_product(n, hist)
+            dx[n] = self._lu(n).solve(b)
+            if n >= 1:
+                self._release(n - 1, n)
+        return dx
+
+    def solve_adjoint(self, rhs) -> np.ndarray:
+        """Reverse sweep: solve ``J^T lam = rhs`` backward in time with transposed factors.
+
+        ``lam_n = A_n^-T (rhs_n - B_n+1,1^T lam_n+1 - B_n+2,2^T lam_n+2)``; the BDF1 block of
+        step 1 enters through ``alpha_1(1) = -1/dt`` and ``B_2,2`` of step 2.
+        """
+        rhs = np.asarray(rhs, dtype=float).reshape(self.n_time, self.n_state)
+        lam = np.zeros_like(rhs)
+        N = self.n_time
+        for n in range(N - 1, -1, -1):
+            b = rhs[n].copy()
+            if n + 1 < N:
+                b -= self.coef[n + 1, 1] * self._rate_product_t(n + 1, lam[n + 1])
+            if n + 2 < N:
+                b -= self.coef[n + 2, 2] * self._rate_product_t(n + 2, lam[n + 2])
+            lam[n] = self._lu(n).solve(b, trans="T")
+            if n + 1 < N:
+                self._release(n + 1, n)
+        return lam
+
+    # ------------------------------------------------------------------ gradients
+    def rate_gradient_to_states(self, dfdxdot) -> np.ndarray:
+        """Chain ``df/dxdot_n`` through the BDF formulas onto the states (Eq. 3.10 F-terms)."""
+        h = np.asarray(dfdxdot, dtype=float).reshape(self.n_time, self.n_state)
+        out = np.zeros_like(h)
+        for k in range(3):
+            out[:self.n_time - k] += self.coef[k:, k:k + 1] * h[k:]
+        return out
+
+    def gradient(self, dfdx, dfdp=None, dfdq=None, dfdxdot=None):
+        """Total derivatives of a functional by one adjoint sweep (Eq. 3.10-3.11).
+
+        ``dfdx`` (n_time, n_state), optional ``dfdxdot`` likewise, explicit ``dfdp`` (n_param,)
+        and ``dfdq`` (n_time, n_forcing). Returns ``(df/dp, df/dq, lam)``; with a given
+        initial state, ``df/dx_init = lam_0``.
+        """
+        g = np.asarray(dfdx, dtype=float).reshape(self.n_time, self.n_state).copy()
+        if dfdxdot is not None:
+            g += self.rate_gradient_to_states(dfdxdot)
+        lam = self.solve_adjoint(g)
+        dp = -self.param_product(lam)
+        dq = -self.forcing_product(lam)
+        if dfdp is not None:
+            dp = dp + np.asarray(dfdp, dtype=float).reshape(dp.shape)
+        if dfdq is not None:
+            dq = dq + np.asarray(dfdq, dtype=float).reshape(dq.shape)
+        return dp, dq, lam
+
+    def tangent(self, dp=None, dq=None, dx_init=None) -> np.ndarray:
+        """State-history sensitivity to a parameter/forcing/initial-state direction (forward mode)."""
+        rhs = np.zeros((self.n_time, self.n_state))
+        if dp is not None:
+            rhs -= self.param_apply(dp)
+        if dq is not None:
+            rhs -= self.forcing_apply(dq)
+        if dx_init is not None:
+            rhs[0] += np.asarray(dx_init, dtype=float).reshape(self.n_state)
+        return self.solve_tangent(rhs)
