@@ -1,0 +1,131 @@
+"""TimeHistoryComponent: partials, totals in fwd/rev mode, static solve, input checks."""
+
+import numpy as np
+import openmdao.api as om
+import pytest
+from openmdao.utils.assert_utils import assert_check_partials
+
+from wingmdao.components.time_history import TimeHistoryComponent
+from wingmdao.timemarch.examples import (nonlinear_chain_system, spring_mass_damper_response,
+                                         spring_mass_damper_system)
+
+
+def _smd_problem(t, initial="state", matrix_free=False, mode="rev"):
+    prob = om.Problem(reports=False)
+    prob.model.add_subsystem("smd", TimeHistoryComponent(system=spring_mass_damper_system(), time=t,
+                                                         initial=initial, matrix_free=matrix_free),
+                             promotes=["*"])
+    prob.setup(mode=mode, force_alloc_complex=False)
+    prob.set_val("mass", 2.5)
+    prob.set_val("damping", 0.2)
+    prob.set_val("stiffness", 5.0)
+    if initial == "state":
+        prob.set_val("initial_state", [1.0, 0.0])
+    return prob
+
+
+def _chain_problem(n_time, initial="static", matrix_free=False, mode="rev", seed=0):
+    rng = np.random.default_rng(seed)
+    sysm = nonlinear_chain_system(3)
+    t = np.linspace(0.0, 0.3, n_time)
+    prob = om.Problem(reports=False)
+    model = prob.model
+    model.add_subsystem("chain", TimeHistoryComponent(system=sysm, time=t, initial=initial,
+                                                      matrix_free=matrix_free), promotes=["*"])
+    w = rng.uniform(0.5, 2.0, (n_time, 3, 2))
+    model.add_subsystem("energy", om.ExecComp("f = sum(w * states**2)", w={"val": w, "shape": w.shape},
+                                              states={"shape": (n_time, 3, 2)}), promotes=["*"])
+    prob.setup(mode=mode)
+    prob.set_val("mass", 1.1)
+    prob.set_val("damping", 0.35)
+    prob.set_val("hardening", 0.7)
+    prob.set_val("stiffness", rng.uniform(2.0, 4.0, 3))
+    prob.set_val("force", np.outer(1.0 + np.sin(9 * t), rng.uniform(0.5, 1.5, 3)))
+    if initial == "state":
+        prob.set_val("initial_state", rng.normal(scale=0.3, size=(3, 2)))
+    return prob
+
+
+def test_smd_solution_matches_closed_form():
+    t = np.linspace(0.0, 1.0, 401)
+    prob = _smd_problem(t)
+    prob.run_model()
+    x_exact, v_exact = spring_mass_damper_response(t, 2.5, 0.2, 5.0)
+    states = prob.get_val("states")
+    assert states.shape == (401, 2)
+    assert np.max(np.abs(states[:, 0] - x_exact)) < 3e-5  # BDF2, dt = 2.5 ms
+    assert np.max(np.abs(states[:, 1] - v_exact)) < 3e-5
+
+
+@pytest.mark.parametrize("matrix_free", [False, True])
+def test_check_partials_smd(matrix_free):
+    prob = _smd_problem(np.linspace(0.0, 0.05, 6), matrix_free=matrix_free)
+    prob.set_val("mass", 2.3)
+    prob.set_val("damping", 0.7)
+    prob.set_val("stiffness", 4.1)
+    prob.set_val("initial_state", [0.8, -0.3])
+    prob.run_model()
+    # perturb the states off the solution so the check is at a non-trivial point
+    prob.set_val("states", prob.get_val("states") + np.random.default_rng(2).normal(scale=0.1, size=(6, 2)))
+    data = prob.check_partials(method="fd", step=1e-7, form="central", out_stream=None)
+    assert_check_partials(data, atol=1e-6, rtol=1e-6)
+
+
+@pytest.mark.parametrize("initial", ["static", "state"])
+@pytest.mark.parametrize("matrix_free", [False, True])
+def test_check_partials_nonlinear_chain(initial, matrix_free):
+    prob = _chain_problem(5, initial=initial, matrix_free=matrix_free, seed=4)
+    prob.run_model()
+    prob.set_val("states", prob.get_val("states") + np.random.default_rng(5).normal(scale=0.2, size=(5, 3, 2)))
+    data = prob.check_partials(method="fd", step=1e-7, form="central", out_stream=None,
+                               includes=["chain"])
+    assert_check_partials(data, atol=1e-6, rtol=1e-6)
+
+
+@pytest.mark.parametrize("initial", ["static", "state"])
+@pytest.mark.parametrize("matrix_free", [False, True])
+def test_totals_fwd_and_rev_agree_and_match_central_differences(initial, matrix_free):
+    wrt = ["mass", "damping", "hardening", "stiffness", "force"] + (["initial_state"] if initial == "state" else [])
+    totals = {}
+    for mode in ("fwd", "rev"):
+        prob = _chain_problem(21, initial=initial, matrix_free=matrix_free, mode=mode, seed=1)
+        prob.run_model()
+        data = prob.check_totals(of=["f"], wrt=wrt, method="fd", form="central", step=1e-6,
+                                 out_stream=None)
+        for key, d in data.items():
+            j_fd = d["J_fd"]
+            j = d["J_fwd"] if mode == "fwd" else d["J_rev"]
+            scale = np.max(np.abs(j_fd))
+            np.testing.assert_allclose(j, j_fd, rtol=1e-6, atol=1e-6 * scale, err_msg=str(key))
+        totals[mode] = prob.compute_totals(of=["f"], wrt=wrt)
+    for key in totals["fwd"]:
+        np.testing.assert_allclose(totals["fwd"][key], totals["rev"][key], rtol=1e-10, atol=1e-12)
+
+
+def test_one_entry_time_is_a_static_solve():
+    prob = _chain_problem(1)
+    prob.set_val("hardening", 0.5)
+    prob.set_val("stiffness", [2.0, 1e6, 1e6])
+    prob.set_val("force", [[12.0, 0.0, 0.0]])
+    prob.run_model()
+    # k (u + g u^3) = F with k = 2, g = 0.5, F = 12 -> u = 2 (stiff outer springs carry no load)
+    assert prob.get_val("states")[0, 0, 0] == pytest.approx(2.0, rel=1e-10)
+    totals = prob.compute_totals(of=["f"], wrt=["stiffness"])
+    assert np.all(np.isfinite(totals["f", "stiffness"]))
+
+
+def test_non_finite_forcing_raises_value_error_naming_input_and_step():
+    prob = _chain_problem(4)
+    force = prob.get_val("force")
+    force[2, 1] = np.nan
+    prob.set_val("force", force)
+    with pytest.raises(ValueError, match=r"input 'force': entry 1 at time step 2 is not finite"):
+        prob.run_model()
+
+
+def test_bad_time_grid_is_rejected_at_setup():
+    prob = om.Problem(reports=False)
+    prob.model.add_subsystem("smd", TimeHistoryComponent(system=spring_mass_damper_system(),
+                                                         time=[0.0, 0.1, 0.3]))
+    with pytest.raises(ValueError, match="uniform"):
+        prob.setup()

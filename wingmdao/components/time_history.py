@@ -1,0 +1,294 @@
+"""OpenMDAO implicit component: the whole BDF time history of a residual system.
+
+The output is the state history ``x_0..x_N``; the residuals are the stacked discrete
+equations of ``wingmdao.timemarch.bdf`` (step 0 static or given state, BDF1, then BDF2,
+Eq. 3.4-3.7). The component solves itself (time marching), and its ``solve_linear`` is the
+discrete tangent sweep (fwd) or adjoint sweep (rev) of ``wingmdao.timemarch.adjoint``
+(Eq. 3.9-3.11), so a gradient costs one backward sweep, not a solve of the whole stacked
+system.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import openmdao.api as om
+
+from wingmdao.timemarch.adjoint import LinearizedHistory
+from wingmdao.timemarch.bdf import march, state_rates, time_step
+from wingmdao.timemarch.system import ResidualSystem, layout
+
+
+class TimeHistoryComponent(om.ImplicitComponent):
+    """Time history of any :class:`~wingmdao.timemarch.system.ResidualSystem` (Sec. 3.5.2).
+
+    Inputs: one per parameter ``VarSpec`` of the system (its shape, units, desc), one per
+    forcing ``VarSpec`` with a leading ``n_time`` axis, and ``initial_state`` when
+    ``initial="state"``. Output: ``state_name`` shaped ``(n_time,) + system.state_shape``.
+
+    ``solve_nonlinear`` time-marches; ``apply_nonlinear`` returns the stacked BDF residuals;
+    ``linearize`` stores the per-step Jacobian blocks; ``solve_linear`` runs the forward
+    (tangent) sweep in 'fwd' mode and the backward adjoint sweep in 'rev' mode.
+
+    Partials are declared sparse (rows/cols) for states, parameters and forcing. With
+    ``matrix_free=True`` the component instead provides ``apply_linear`` from the stored
+    blocks (no assembled Jacobian: use it for long histories of large systems, see
+    ``docs/time-marching.md``).
+
+    The parent group must use ``om.LinearRunOnce`` (the default) as its linear solver: a
+    ``DirectSolver`` above would assemble and factor the whole stacked Jacobian and bypass
+    this component's own sweeps. A one-entry ``time`` (``[0.0]``) is a static solve.
+    """
+
+    def initialize(self):
+        self.options.declare("system", types=ResidualSystem, desc="the residual system R(x, xdot, p, q)")
+        self.options.declare("time", desc="uniform time grid (s), time[0] = 0; [0.0] for a static solve")
+        self.options.declare("initial", default="static", values=("static", "state"),
+                             desc="step 0: static equilibrium under q_0, or the input initial_state")
+        self.options.declare("state_name", default="states", types=str, desc="name of the output")
+        self.options.declare("state_units", default=None, allow_none=True,
+                             desc="units of the state output (None: mixed)")
+        self.options.declare("modified_newton", default=False, types=bool,
+                             desc="reuse LU factors across Newton iterations and steps")
+        self.options.declare("atol", default=1e-10, desc="per-step absolute residual tolerance")
+        self.options.declare("xtol", default=1e-12, desc="per-step relative Newton-step tolerance")
+        self.options.declare("max_iter", default=25, types=int, desc="Newton iterations per step")
+        self.options.declare("static_options", default=None, allow_none=True, types=dict,
+                             desc="keyword arguments of solve_static for step 0 (e.g. load_steps)")
+        self.options.declare("matrix_free", default=False, types=bool,
+                             desc="apply_linear from stored blocks instead of declared partials")
+        self.options.declare("store_factors", default="auto",
+                             desc="keep every LU factor between sweeps (True/False/'auto')")
+
+    # ------------------------------------------------------------------ setup
+    def setup(self):
+        sysm = self.options["system"]
+        t = np.asarray(self.options["time"], dtype=float)
+        time_step(t)
+        self._time = t
+        self._n_time = n_time = t.size
+        name = self.options["state_name"]
+        names = [s.name for s in sysm.param_specs + sysm.forcing_specs]
+        if self.options["initial"] == "state":
+            names.append("initial_state")
+        if name in names or len(set(names)) != len(names):
+            raise ValueError(f"TimeHistoryComponent: variable names must be unique, got state "
+                             f"'{name}' and inputs {names}")
+        for s in sysm.param_specs:
+            self.add_input(s.name, val=1.0, shape=s.shape or (1,), units=s.units, desc=s.desc or s.name)
+        for s in sysm.forcing_specs:
+            self.add_input(s.name, val=0.0, shape=(n_time,) + tuple(s.shape), units=s.units,
+                           desc=(s.desc or s.name) + " (at every instant)")
+        if self.options["initial"] == "state":
+            self.add_input("initial_state", val=0.0, shape=sysm.state_shape, units=self.options["state_units"],
+                           desc="state at time 0")
+        self.add_output(name, val=0.0, shape=(n_time,) + tuple(sysm.state_shape),
+                        units=self.options["state_units"], desc="state history (n_time first)")
+        self._p_slices = layout(sysm.param_specs)
+        self._q_slices = layout(sysm.forcing_specs)
+        self._lin = None
+        self.matrix_free = self.options["matrix_free"]
+
+    def setup_partials(self):
+        if self.options["matrix_free"]:
+            return
+        sysm = self.options["system"]
+        n, N = sysm.n_state, self._n_time
+        name = self.options["state_name"]
+        pats = sysm.jacobian_patterns()
+        a_rows, a_cols = _newton_pattern(pats, n)
+        steps = np.arange(N)[:, None]
+        rd, cd, _ = pats["xdot"]
+        rows = [(steps * n + a_rows).ravel()]
+        cols = [(steps * n + a_cols).ravel()]
+        for k in (1, 2):
+            s = steps[k:]
+            rows.append((s * n + rd).ravel())
+            cols.append(((s - k) * n + cd).ravel())
+        self.declare_partials(name, name, rows=np.concatenate(rows), cols=np.concatenate(cols))
+        self._p_masks, self._q_masks = {}, {}
+        rp, cp, _ = pats["p"]
+        for spec in sysm.param_specs:
+            sl = self._p_slices[spec.name]
+            m = (cp >= sl.start) & (cp < sl.stop)
+            self._p_masks[spec.name] = m
+            if np.any(m):
+                self.declare_partials(name, spec.name, rows=(steps * n + rp[m]).ravel(),
+                                      cols=np.broadcast_to(cp[m] - sl.start, (N, int(m.sum()))).ravel())
+        rq, cq, _ = pats["q"]
+        for spec in sysm.forcing_specs:
+            sl = self._q_slices[spec.name]
+            m = (cq >= sl.start) & (cq < sl.stop)
+            self._q_masks[spec.name] = m
+            if np.any(m):
+                self.declare_partials(name, spec.name, rows=(steps * n + rq[m]).ravel(),
+                                      cols=(steps * spec.size + (cq[m] - sl.start)).ravel())
+        if self.options["initial"] == "state":
+            self.declare_partials(name, "initial_state", rows=np.arange(n), cols=np.arange(n), val=-1.0)
+
+    # ------------------------------------------------------------------ packing
+    def _params(self, inputs):
+        sysm = self.options["system"]
+        if not sysm.param_specs:
+            return np.zeros(0)
+        p = np.concatenate([np.asarray(inputs[s.name], dtype=float).ravel() for s in sysm.param_specs])
+        _check_finite(p, sysm.param_specs, self._p_slices, None)
+        return p
+
+    def _forcing(self, inputs):
+        sysm = self.options["system"]
+        N = self._n_time
+        if not sysm.forcing_specs:
+            return np.zeros((N, 0))
+        Q = np.hstack([np.asarray(inputs[s.name], dtype=float).reshape(N, s.size) for s in sysm.forcing_specs])
+        _check_finite(Q, sysm.forcing_specs, self._q_slices, N)
+        return Q
+
+    def _x_init(self, inputs):
+        if self.options["initial"] != "state":
+            return None
+        return np.asarray(inputs["initial_state"], dtype=float).ravel()
+
+    def _history(self, outputs):
+        n = self.options["system"].n_state
+        return np.asarray(outputs[self.options["state_name"]], dtype=float).reshape(self._n_time, n)
+
+    # ------------------------------------------------------------------ nonlinear
+    def solve_nonlinear(self, inputs, outputs):
+        sysm = self.options["system"]
+        p, Q = self._params(inputs), self._forcing(inputs)
+        guess = None
+        if self.options["initial"] == "static":
+            x0_prev = self._history(outputs)[0]
+            guess = x0_prev.copy() if np.any(x0_prev != 0.0) else None
+        h = march(sysm, self._time, p, Q, initial=self.options["initial"], x_init=self._x_init(inputs),
+                  x_guess=guess, modified_newton=self.options["modified_newton"],
+                  atol=self.options["atol"], xtol=self.options["xtol"], max_iter=self.options["max_iter"],
+                  static_options=self.options["static_options"])
+        outputs[self.options["state_name"]] = h.states.reshape(outputs[self.options["state_name"]].shape)
+        self.last_history = h
+
+    def apply_nonlinear(self, inputs, outputs, residuals):
+        sysm = self.options["system"]
+        X = self._history(outputs)
+        dt = time_step(self._time)
+        p, Q = self._params(inputs), self._forcing(inputs)
+        R = sysm.residual_history(X, state_rates(X, dt) if self._n_time > 1 else np.zeros_like(X), p, Q)
+        if self.options["initial"] == "state":
+            R[0] = X[0] - self._x_init(inputs)
+        residuals[self.options["state_name"]] = R.reshape(residuals[self.options["state_name"]].shape)
+
+    # ------------------------------------------------------------------ linear
+    def linearize(self, inputs, outputs, partials):
+        sysm = self.options["system"]
+        p, Q = self._params(inputs), self._forcing(inputs)
+        X = self._history(outputs)
+        lin = LinearizedHistory(sysm, self._time, X, p, Q,
+                                initial=self.options["initial"], store_factors=self.options["store_factors"])
+        self._lin = lin
+        self._lin_point = (X.copy(), p.copy(), Q.copy())
+        if self.options["matrix_free"]:
+            return
+        name = self.options["state_name"]
+        vals = [lin.a_data.ravel()]
+        for k in (1, 2):
+            vals.append((lin.coef[k:, k:k + 1] * lin.jxd[k:]).ravel())
+        partials[name, name] = np.concatenate(vals)
+        for spec in sysm.param_specs:
+            m = self._p_masks[spec.name]
+            if np.any(m):
+                partials[name, spec.name] = lin.jp[:, m].ravel()
+        for spec in sysm.forcing_specs:
+            m = self._q_masks[spec.name]
+            if np.any(m):
+                partials[name, spec.name] = lin.jq[:, m].ravel()
+
+    def solve_linear(self, d_outputs, d_residuals, mode):
+        name = self.options["state_name"]
+        shape = (self._n_time, self.options["system"].n_state)
+        if mode == "fwd":
+            rhs = np.asarray(d_residuals[name]).reshape(shape)
+            d_outputs[name] = self._lin.solve_tangent(rhs).reshape(d_outputs[name].shape)
+        else:
+            rhs = np.asarray(d_outputs[name]).reshape(shape)
+            d_residuals[name] = self._lin.solve_adjoint(rhs).reshape(d_residuals[name].shape)
+
+    def apply_linear(self, inputs, outputs, d_inputs, d_outputs, d_residuals, mode):
+        """Matrix-free products with the stored blocks (only with ``matrix_free=True``)."""
+        sysm = self.options["system"]
+        if not self._linearized_at(inputs, outputs):
+            self.linearize(inputs, outputs, None)
+        lin = self._lin
+        name = self.options["state_name"]
+        shape = (self._n_time, sysm.n_state)
+        if name not in d_residuals:
+            return
+        if mode == "fwd":
+            out = np.zeros(shape)
+            if name in d_outputs:
+                out += lin.apply(np.asarray(d_outputs[name]).reshape(shape))
+            dp = np.zeros(sysm.n_param)
+            for s in sysm.param_specs:
+                if s.name in d_inputs:
+                    dp[self._p_slices[s.name]] = np.asarray(d_inputs[s.name]).ravel()
+            if sysm.n_param and np.any(dp):
+                out += lin.param_apply(dp)
+            dq = np.zeros((self._n_time, sysm.n_forcing))
+            for s in sysm.forcing_specs:
+                if s.name in d_inputs:
+                    dq[:, self._q_slices[s.name]] = np.asarray(d_inputs[s.name]).reshape(self._n_time, s.size)
+            if sysm.n_forcing and np.any(dq):
+                out += lin.forcing_apply(dq)
+            if "initial_state" in d_inputs:
+                out[0] -= np.asarray(d_inputs["initial_state"]).ravel()
+            d_residuals[name] += out.reshape(d_residuals[name].shape)
+        else:
+            r = np.asarray(d_residuals[name]).reshape(shape)
+            if name in d_outputs:
+                d_outputs[name] += lin.apply_transpose(r).reshape(d_outputs[name].shape)
+            if sysm.n_param:
+                gp = lin.param_product(r)
+                for s in sysm.param_specs:
+                    if s.name in d_inputs:
+                        d_inputs[s.name] += gp[self._p_slices[s.name]].reshape(d_inputs[s.name].shape)
+            if sysm.n_forcing:
+                gq = lin.forcing_product(r)
+                for s in sysm.forcing_specs:
+                    if s.name in d_inputs:
+                        d_inputs[s.name] += gq[:, self._q_slices[s.name]].reshape(d_inputs[s.name].shape)
+            if "initial_state" in d_inputs:
+                d_inputs["initial_state"] -= r[0].reshape(d_inputs["initial_state"].shape)
+
+
+    def _linearized_at(self, inputs, outputs):
+        if self._lin is None:
+            return False
+        X, p, Q = self._lin_point
+        return (np.array_equal(X, self._history(outputs)) and np.array_equal(p, self._params(inputs))
+                and np.array_equal(Q, self._forcing(inputs)))
+
+
+def _newton_pattern(pats, n):
+    """Union pattern of dR/dx, dR/dxdot and the diagonal, CSC order (as LinearizedHistory)."""
+    rx, cx, _ = pats["x"]
+    rd, cd, _ = pats["xdot"]
+    eye = np.arange(n)
+    keys = np.unique(np.concatenate([cx * n + rx, cd * n + rd, eye * n + eye]))
+    return keys % n, keys // n
+
+
+def _check_finite(values, specs, slices, n_time):
+    """Raise ValueError naming the input and index of the first non-finite entry."""
+    bad = ~np.isfinite(values)
+    if not np.any(bad):
+        return
+    flat = np.flatnonzero(bad)[0]
+    if n_time is None:
+        step, col = None, int(flat)
+    else:
+        step, col = divmod(int(flat), values.shape[1])
+    for s in specs:
+        sl = slices[s.name]
+        if sl.start <= col < sl.stop:
+            where = f"entry {col - sl.start}" + (f" at time step {step}" if step is not None else "")
+            raise ValueError(f"input '{s.name}': {where} is not finite ({values.ravel()[flat]}); "
+                             f"it must be a finite real number in {s.units or 'its units'}")
