@@ -45,13 +45,16 @@ class LinearizedHistory:
     p : (n_param,) parameters; forcing : (n_time, n_forcing)
     initial : "static" | "state" (how step 0 was defined)
     store_factors : keep the LU factors of every ``A_n`` (fast repeated sweeps) or refactor
-        in each sweep (memory ~ one factor). ``"auto"`` keeps them below ``factor_memory`` bytes.
+        in each sweep (memory ~ one factor). ``"auto"`` keeps them when
+        ``n_time * n_state <= auto_limit``: SuperLU reserves ~170 kB per factor of a 360-state
+        beam-like system (8x its nonzeros), and touching that memory made a stored-factor sweep
+        5x slower than refactoring (measured, see ``docs/time-marching.md``).
 
     Identical consecutive ``A_n`` (linear systems) share one factorization.
     """
 
     def __init__(self, system, time, states, p, forcing, *, initial="static",
-                 store_factors="auto", factor_memory=2e9):
+                 store_factors="auto", auto_limit=100_000):
         t = np.asarray(time, dtype=float)
         self.dt = time_step(t)
         self.system = system
@@ -75,7 +78,7 @@ class LinearizedHistory:
             raise ValueError(f'initial must be "static" or "state", got {initial!r}')
         self._build_newton_pattern()
         self._store = store_factors
-        self._factor_memory = float(factor_memory)
+        self._auto_limit = int(auto_limit)
         self._factors = {}
         self._keep = None
         # steps with the same Newton matrix as the step before share one factorization
@@ -118,11 +121,10 @@ class LinearizedHistory:
         return lu
 
     def _keep_factors(self, lu):
-        """Decide once (on the first factor) whether all factors fit in ``factor_memory``."""
+        """Whether factors are kept between sweeps (decided once)."""
         if self._keep is None:
             if self._store == "auto":
-                per = (lu.L.nnz + lu.U.nnz) * 12.0 + 16.0 * self.n_state
-                self._keep = per * self.n_time <= self._factor_memory
+                self._keep = self.n_time * self.n_state <= self._auto_limit
             else:
                 self._keep = bool(self._store)
         return self._keep

@@ -212,7 +212,7 @@ class CasadiResidualSystem(ResidualSystem):
 
     def _mapped(self, key, fun, n):
         if (key, n) not in self._maps:
-            self._maps[(key, n)] = fun.map(n, "serial") if n > 1 else fun
+            self._maps[(key, n)] = _FastCall(fun.map(n, "serial") if n > 1 else fun)
         return self._maps[(key, n)]
 
     def residual(self, x, xdot, p, q):
@@ -245,14 +245,12 @@ class CasadiResidualSystem(ResidualSystem):
     def residual_history(self, X, Xdot, p, Q):
         n = X.shape[0]
         f = self._mapped("R", self._R, n)
-        out = f(X.T, Xdot.T, np.asarray(p, dtype=float).reshape(-1, 1), Q.T)
-        return np.asarray(out).reshape(self.n_state, n).T
+        (out,) = f(X, Xdot, np.tile(np.ravel(p), n), Q)  # C-order rows = CasADi columns
+        return out.reshape(n, self.n_state)
 
     def jacobian_history(self, X, Xdot, p, Q):
         n = X.shape[0]
         f = self._mapped("J", self._all_jac, n)
-        vals = f(X.T, Xdot.T, np.asarray(p, dtype=float).reshape(-1, 1), Q.T)
-        out = {}
-        for key, v, j in zip(("x", "xdot", "p", "q"), vals, (self._dx, self._dxdot, self._dp, self._dq)):
-            out[key] = np.asarray(v).reshape(j.nnz, n).T if j.nnz else np.zeros((n, 0))
-        return out
+        vals = f(X, Xdot, np.tile(np.ravel(p), n), Q)
+        return {key: v.reshape(n, j.nnz) for key, v, j in
+                zip(("x", "xdot", "p", "q"), vals, (self._dx, self._dxdot, self._dp, self._dq))}
