@@ -1,0 +1,79 @@
+"""Solid rectangular cantilever of Sec. 4.7.1 (Table 4.23): width and height per station.
+
+The dissertation does not state the beam length; we use 10 m (option ``--length``). The
+beam lies along +y (CONVENTIONS.md), clamped at y = 0, with the tip load along +z. Load
+cases: ``static`` (constant tip load 1 MN, static solve), ``sine`` (F_z = 1 MN sin(20 t),
+the load of Fig. 4.41a) and ``step`` (the same constant load applied suddenly at t > 0 to
+the beam at rest: the dynamic counterpart of ``static``, Table 4.25). Initial guesses
+``a``, ``b``, ``c`` stand for Fig. 4.40 (uniform, tapered, infeasible at the lower bounds).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from wingmdao.cases import CaseSetup
+
+NAME = "cantilever"
+HELP = "solid rectangular cantilever of Sec. 4.7.1 (width/height design variables, tip load)"
+
+#: Table 4.23
+E, SIGMA_Y, RHO = 70e9, 276e6, 2700.0
+BOUNDS = {"height": (0.4, 5.0), "width": (0.2, 5.0)}
+TIP_LOAD = 1.0e6  # N
+
+
+def add_arguments(p):
+    p.add_argument("--load", choices=["static", "sine", "step"], default="static",
+                   help="tip load history: constant static, 1 MN sin(20 t), or 1 MN applied suddenly")
+    p.add_argument("--guess", choices=["a", "b", "c"], default="b",
+                   help="initial design (Fig. 4.40): a uniform, b tapered, c infeasible (lower bounds)")
+    p.add_argument("--stations", type=int, default=10, help="number of stations (nodes)")
+    p.add_argument("--length", type=float, default=10.0, help="beam length [m]")
+    p.add_argument("--t-final", type=float, default=1.0, help="simulated time for dynamic loads [s]")
+    p.add_argument("--dt", type=float, default=0.01, help="time step for dynamic loads [s]")
+
+
+def initial_guess(kind: str, n: int) -> dict:
+    s = np.linspace(0.0, 1.0, n)
+    if kind == "a":
+        return {"width": np.full(n, 1.0), "height": np.full(n, 2.5)}
+    if kind == "b":
+        return {"width": 2.0 - 1.5 * s, "height": 4.0 - 3.0 * s}
+    return {"width": np.full(n, BOUNDS["width"][0]), "height": np.full(n, BOUNDS["height"][0])}
+
+
+def load_case(kind: str, n: int, t_final: float, dt: float):
+    from wingmdao.groups.load_case import LoadCase
+
+    if kind == "static":
+        f = np.zeros((1, n, 3))
+        f[0, -1, 2] = TIP_LOAD
+        return LoadCase("static", np.zeros(1), {"point_force": f}, ("ss_tension", "ss_compression"))
+    if not (t_final > 0 and 0 < dt <= t_final):
+        raise ValueError(f"--t-final ({t_final} s) and --dt ({dt} s) must satisfy 0 < dt <= t_final")
+    time = np.arange(0.0, t_final + 0.5 * dt, dt)
+    f = np.zeros((time.size, n, 3))
+    f[:, -1, 2] = TIP_LOAD * (np.sin(20.0 * time) if kind == "sine" else (time > 0))
+    return LoadCase(kind, time, {"point_force": f}, ("ss_tension", "ss_compression"))
+
+
+def build(args) -> CaseSetup:
+    from wingmdao.materials import Material
+    from wingmdao.sizing import SizingOptions, WingGeometry
+
+    n = int(args.stations)
+    if n < 3:
+        raise ValueError(f"--stations must be >= 3, got {n}")
+    if not args.length > 0:
+        raise ValueError(f"--length must be > 0 m, got {args.length}")
+    y = np.linspace(0.0, args.length, n)
+    geometry = WingGeometry(node_positions=np.column_stack([np.zeros(n), y, np.zeros(n)]),
+                            node_euler_angles=np.zeros((n, 3)), width=np.ones(n), height=np.ones(n))
+    material = Material("cantilever aluminium (Table 4.23)", E=E, rho=RHO, sigma_y=SIGMA_Y, nu=0.33)
+    options = SizingOptions(lower={k: v[0] for k, v in BOUNDS.items()},
+                            upper={k: v[1] for k, v in BOUNDS.items()},
+                            initial=initial_guess(args.guess, n), rho_ks=50.0)
+    case = load_case(args.load, n, args.t_final, args.dt)
+    return CaseSetup(geometry, [case], material, options, section="solid",
+                     notes=[f"beam length {args.length} m (not stated in the dissertation)"])

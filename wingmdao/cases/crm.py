@@ -1,0 +1,41 @@
+"""CRM wing (App. D.3, Tables D.5-D.6) sized for 2.5 g and -1.0 g maneuvers.
+
+Planform from Table D.5 as a single trapezoid (4444.38 ft^2, span 193.35 ft, taper 0.86031,
+leading-edge sweep 37 deg), spars at 17 % and 68 % chord, ribs from 10 % to 99.5 % semi-span
+at 32 in spacing (33 rib stations plus the centre-box station). The CRM's supercritical
+sections are stood in for by NACA 4-digit sections of similar thickness (14 % root, 10 % tip:
+an assumption, docs/cases.md); rib yaw (-10 deg) is not modelled (streamwise stations).
+Engine (assumption): 9000 kg per wing at 35 % semi-span, as a point mass.
+"""
+
+from __future__ import annotations
+
+from wingmdao.cases import CaseSetup
+from wingmdao.cases import pegasus as _pegasus
+from wingmdao.cases.planform import Planform
+
+NAME = "crm"
+HELP = "CRM wing (App. D.3): thickness sizing for the 2.5 g and -1.0 g maneuvers"
+
+PLANFORM = Planform(area_ft2=4444.38127, span_ft=193.34768, taper=0.86031, le_sweep_deg=37.0,
+                    front_spar=0.17, rear_spar=0.68, root_rib=0.10, tip_rib=0.995, num_ribs=33,
+                    airfoil_root="2414", airfoil_tip="2410")
+TOGW_LB = 650000.0
+ENGINES = ((9000.0, 0.35 * PLANFORM.semi_span),)
+
+
+def add_arguments(p):
+    p.add_argument("--load-factor", type=float, default=2.5, help="positive maneuver load factor")
+    p.add_argument("--negative-load-factor", type=float, default=-1.0, help="negative maneuver load factor")
+    p.add_argument("--families", default="vm", help="comma list of stress families constrained")
+
+
+def build(args) -> CaseSetup:
+    args.loads = "maneuver"
+    setup = _pegasus.build(args, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB)
+    for w in setup.options.upper:
+        setup.options.upper[w] = 0.1
+        setup.options.initial[w] = 0.02
+    setup.notes = ["airfoil NACA 2414 -> 2410 stand-in for the supercritical sections (assumed)",
+                   "engine as a point mass: 9000 kg at 35 % semi-span (assumed)"]
+    return setup

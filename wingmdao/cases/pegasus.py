@@ -1,0 +1,136 @@
+"""PEGASUS wing (App. D.2, Tables D.3-D.4) sized for 2.5 g / -1.0 g maneuvers and a 25.341 gust.
+
+Geometry: Table D.3 planform (586.33 ft^2, span 80.59 ft, taper 0.986) with spars at 18 % and
+75 % chord, stations 0-19 (0 = symmetry plane, a copy of the root rib section, i.e. the centre
+wingbox; 1 = root rib at 8 % semi-span; 19 = tip rib at 99.5 %). Stations 0 and 1 share their
+design variables, giving the 4 x 19 = 76 design variables of Table 5.1 (minimum gauge 1 mm).
+
+Airfoil (an assumption, documented in docs/cases.md): PEGASUS derives from the ATR 42 class,
+whose wing uses NACA 43-series sections about 18 % thick at the root and 13 % at the tip; we
+use NACA 43018 -> 43013 and derive box width/height per station with Eq. 4.11-4.12.
+Engines (assumptions): per wing a hybrid-electric engine of 600 kg at 35 % semi-span and a
+wing-tip electric motor of 150 kg, as point masses (smeared over the adjacent elements).
+Loads: maneuvers by Schrenk lift with the centre of pressure at 25 % chord and inertia
+relief from the beam's own mass (gravity + frame acceleration (n - 1) g); the gust of
+Table 5.3 (25000 ft, Mach 0.5, U_ref 30 ft/s, H 350 ft, 5 s) by strip theory on top of 1 g
+level flight, rigid-body plunge neglected (conservative).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from wingmdao.cases import CaseSetup
+from wingmdao.cases.planform import FT, G0, LB, Planform, wing_geometry
+
+NAME = "pegasus"
+HELP = "PEGASUS wing (App. D.2): 76 thickness variables, 2.5 g / -1.0 g maneuvers and/or a 25.341 gust"
+
+PLANFORM = Planform(area_ft2=586.3328, span_ft=80.58962, taper=0.986, le_sweep_deg=0.0,
+                    front_spar=0.18, rear_spar=0.75, root_rib=0.08, tip_rib=0.995, num_ribs=19,
+                    airfoil_root="43018", airfoil_tip="43013")
+TOGW_LB = 41005.0
+ENGINES = ((600.0, 0.35 * PLANFORM.semi_span), (150.0, PLANFORM.tip_rib * PLANFORM.semi_span))
+MANEUVER_ALTITUDE_FT, MANEUVER_MACH = 20000.0, 0.5
+GUST = {"altitude_ft": 25000.0, "mach": 0.5, "u_ref_fps": 30.0, "gradient_ft": 350.0, "t_final": 5.0}
+MIN_GAUGE = 1e-3  # m (Table 5.1)
+
+
+def add_arguments(p):
+    p.add_argument("--loads", choices=["maneuver", "gust", "all"], default="maneuver",
+                   help="load cases: the 2.5 g and -1.0 g maneuvers, the gust of Table 5.3, or all three")
+    p.add_argument("--load-factor", type=float, default=2.5,
+                   help="positive maneuver load factor (25.337 gives 2.57 at 41005 lb; the dissertation uses 2.5)")
+    p.add_argument("--negative-load-factor", type=float, default=-1.0, help="negative maneuver load factor")
+    p.add_argument("--families", default="vm",
+                   help="comma list of stress families constrained (vm, ss_tension, ss_compression, cent_pos, cent_neg)")
+    p.add_argument("--altitude-ft", type=float, default=GUST["altitude_ft"], help="gust altitude [ft]")
+    p.add_argument("--mach", type=float, default=GUST["mach"], help="gust flight Mach number")
+    p.add_argument("--u-ref-fps", type=float, default=GUST["u_ref_fps"],
+                   help="reference gust velocity [ft/s EAS] (Table 5.3: 30); 0 = the 25.341(a)(5) table value")
+    p.add_argument("--gust-gradient-ft", type=float, default=GUST["gradient_ft"], help="gust gradient H [ft], 30-350")
+    p.add_argument("--t-final", type=float, default=GUST["t_final"], help="gust simulation time [s]")
+    p.add_argument("--dt", type=float, default=0.02, help="time step [s]")
+    p.add_argument("--gust-start", type=float, default=0.2, help="time the gust front reaches the wing [s]")
+    p.add_argument("--kussner", action="store_true", help="lag the gust lift by the Kussner function")
+
+
+def parse_families(text: str) -> tuple:
+    from wingmdao.groups.load_case import STRESS_FAMILIES
+
+    fams = tuple(f.strip() for f in text.split(",") if f.strip())
+    bad = [f for f in fams if f not in STRESS_FAMILIES]
+    if bad or not fams:
+        raise ValueError(f"--families: unknown {bad or 'empty'}; valid: {', '.join(STRESS_FAMILIES)}")
+    return fams
+
+
+def maneuver_case(name, n_load, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
+    from wingmdao.groups.load_case import LoadCase
+    from wingmdao.loads.maneuver import maneuver_line_loads
+
+    loads = maneuver_line_loads(geometry.node_positions, chord, axis_frac, weight_lb * LB * G0, n_load,
+                                semi_span=pf.semi_span, fuselage_half_width=pf.root_rib * pf.semi_span)
+    forcing = {
+        "force_per_length": loads.force_per_length[None],
+        "moment_per_length": loads.moment_per_length[None],
+        "gravity": np.array([[0.0, 0.0, -G0]]),
+        "frame_acceleration": np.array([[0.0, 0.0, (n_load - 1.0) * G0]]),
+    }
+    return LoadCase(name, np.zeros(1), forcing, families, f"{n_load:+.2f} g symmetric maneuver")
+
+
+def gust_case(args, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
+    from wingmdao.groups.load_case import LoadCase
+    from wingmdao.loads.atmosphere import altitude_ft_to_m, mach_to_tas
+    from wingmdao.loads.gust import design_gust_velocity_eas, gust_line_loads
+    from wingmdao.loads.maneuver import maneuver_line_loads
+
+    if not 0.0 <= args.altitude_ft <= 60000.0:
+        raise ValueError(f"--altitude-ft {args.altitude_ft} outside the 25.341 table range 0-60000 ft")
+    if not 30.0 <= args.gust_gradient_ft <= 350.0:
+        raise ValueError(f"--gust-gradient-ft {args.gust_gradient_ft} outside 30-350 ft (25.341(a)(3))")
+    if not (0.0 < args.mach < 1.0):
+        raise ValueError(f"--mach {args.mach} outside (0, 1)")
+    if not (args.t_final > 0 and 0 < args.dt <= args.t_final / 10):
+        raise ValueError(f"--t-final ({args.t_final} s) and --dt ({args.dt} s): need 0 < 10 dt <= t_final")
+    alt = altitude_ft_to_m(args.altitude_ft)
+    if args.u_ref_fps > 0:
+        u_ds = args.u_ref_fps * FT * (args.gust_gradient_ft / 350.0) ** (1.0 / 6.0)
+    else:
+        u_ds = design_gust_velocity_eas(args.gust_gradient_ft, args.altitude_ft, 1.0)
+    time = np.arange(0.0, args.t_final + 0.5 * args.dt, args.dt)
+    steady = maneuver_line_loads(geometry.node_positions, chord, axis_frac, weight_lb * LB * G0, 1.0,
+                                 semi_span=pf.semi_span, fuselage_half_width=pf.root_rib * pf.semi_span)
+    hist = gust_line_loads(geometry.node_positions, chord, axis_frac, time,
+                           gust_gradient_m=args.gust_gradient_ft * FT, u_ds_eas=u_ds,
+                           airspeed_tas=float(mach_to_tas(args.mach, alt)), altitude_m=float(alt),
+                           kussner=args.kussner, gust_start_time=args.gust_start, steady=steady,
+                           fuselage_half_width=pf.root_rib * pf.semi_span)
+    forcing = {"force_per_length": hist.force_per_length, "moment_per_length": hist.moment_per_length,
+               "gravity": np.array([0.0, 0.0, -G0])}
+    return LoadCase("gust", time, forcing, families,
+                    f"1-cos gust U_ds = {u_ds / FT:.1f} ft/s EAS, H = {args.gust_gradient_ft:g} ft")
+
+
+def build(args, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB) -> CaseSetup:
+    from wingmdao.materials import ALUMINIUM
+    from wingmdao.sizing import WALL_VARS, SizingOptions
+
+    families = parse_families(args.families)
+    if args.load_factor <= 0:
+        raise ValueError(f"--load-factor must be > 0, got {args.load_factor}")
+    if args.negative_load_factor >= 0:
+        raise ValueError(f"--negative-load-factor must be < 0, got {args.negative_load_factor}")
+    geometry, chord, axis_frac = wing_geometry(pf, engines)
+    cases = []
+    if args.loads in ("gust", "all"):
+        cases.append(gust_case(args, geometry, chord, axis_frac, families, pf, weight_lb))
+    if args.loads in ("maneuver", "all"):
+        cases.insert(0, maneuver_case("maneuver_pos", args.load_factor, geometry, chord, axis_frac, families, pf, weight_lb))
+        cases.insert(1, maneuver_case("maneuver_neg", args.negative_load_factor, geometry, chord, axis_frac, families, pf, weight_lb))
+    options = SizingOptions(lower={w: MIN_GAUGE for w in WALL_VARS}, upper={w: 0.05 for w in WALL_VARS},
+                            initial={w: 0.01 for w in WALL_VARS}, rho_ks=100.0)
+    return CaseSetup(geometry, cases, ALUMINIUM, options, notes=[
+        "airfoil NACA 43018 -> 43013 (assumed, ATR 42 class)",
+        "engines as point masses: 600 kg at 35 % semi-span, 150 kg at the tip (assumed)"])

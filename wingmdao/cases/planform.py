@@ -1,0 +1,131 @@
+"""Trapezoidal wing planform -> beam mesh and box dimensions per rib station (Eq. 4.11-4.12).
+
+Stations follow App. D.2: station 0 at the symmetry plane (the centre wingbox, a copy of
+the root rib's section), stations 1..N at the ribs from the root rib to the tip rib, equally
+spaced between their normalised span positions. The beam axis joins the box centres. Box
+width (Eq. 4.11) is the mean of the upper and lower skin lengths between the spars; box
+height (Eq. 4.12) the mean of ten heights between the spars, from the airfoil coordinates.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+FT = 0.3048
+LB = 0.45359237
+G0 = 9.80665
+
+
+@dataclass(frozen=True)
+class Planform:
+    area_ft2: float
+    span_ft: float
+    taper: float
+    le_sweep_deg: float
+    front_spar: float  # fraction of chord
+    rear_spar: float
+    root_rib: float  # fraction of semi-span
+    tip_rib: float
+    num_ribs: int  # stations 1..num_ribs
+    airfoil_root: str  # NACA designation
+    airfoil_tip: str
+    dihedral_deg: float = 0.0
+
+    def __post_init__(self):
+        if not (0.0 < self.front_spar < self.rear_spar < 1.0):
+            raise ValueError(f"spar positions must satisfy 0 < front ({self.front_spar}) < rear ({self.rear_spar}) < 1")
+        if not (0.0 <= self.root_rib < self.tip_rib <= 1.0):
+            raise ValueError("rib span positions must satisfy 0 <= root < tip <= 1")
+        if not (0.0 < self.taper <= 1.0):
+            raise ValueError(f"taper ratio {self.taper} outside (0, 1]")
+
+    @property
+    def semi_span(self) -> float:
+        return 0.5 * self.span_ft * FT
+
+    @property
+    def root_chord(self) -> float:
+        """Centre-line chord of the trapezoid, m: S = b c_r (1 + taper) / 2."""
+        return 2.0 * self.area_ft2 * FT**2 / (self.span_ft * FT * (1.0 + self.taper))
+
+    def chord(self, y):
+        return self.root_chord * (1.0 - (1.0 - self.taper) * np.asarray(y) / self.semi_span)
+
+    def leading_edge_x(self, y):
+        return np.tan(np.radians(self.le_sweep_deg)) * np.asarray(y)
+
+    def station_y(self) -> np.ndarray:
+        ribs = np.linspace(self.root_rib, self.tip_rib, self.num_ribs) * self.semi_span
+        return np.concatenate([[0.0], ribs])
+
+
+def airfoil_surfaces(designation: str):
+    """(x -> z_upper/c, x -> z_lower/c) interpolants of a NACA 4/5-digit airfoil."""
+    from wingmdao.section.fe.airfoil import naca_coordinates
+
+    xy = np.asarray(naca_coordinates(designation, 201))
+    le = int(np.argmin(xy[:, 0]))
+    up, lo = xy[: le + 1][::-1], xy[le:]
+    return (lambda x: np.interp(x, up[:, 0], up[:, 1])), (lambda x: np.interp(x, lo[:, 0], lo[:, 1]))
+
+
+def box_dimensions(designation: str, chord: float, front: float, rear: float):
+    """Box width (Eq. 4.11) and height (Eq. 4.12) between the spars of an airfoil, m."""
+    upper, lower = airfoil_surfaces(designation)
+    xs = np.linspace(front, rear, 10)
+    height = chord * float(np.mean(upper(xs) - lower(xs)))
+    xf = np.linspace(front, rear, 200)
+    w_up = chord * float(np.sum(np.hypot(np.diff(xf), np.diff(upper(xf)))))
+    w_lo = chord * float(np.sum(np.hypot(np.diff(xf), np.diff(lower(xf)))))
+    return 0.5 * (w_up + w_lo), height
+
+
+def interpolate_designation(root: str, tip: str, fraction: float) -> str:
+    """NACA designation with the thickness (last two digits) interpolated root -> tip."""
+    t = round((1 - fraction) * int(root[-2:]) + fraction * int(tip[-2:]))
+    return root[:-2] + f"{t:02d}"
+
+
+def wing_geometry(pf: Planform, point_masses=()):
+    """Beam mesh (box centres), box width/height, chord and beam-axis chord fraction per station.
+
+    ``point_masses``: (mass kg, y m) pairs smeared as non-structural mass over the element
+    lengths next to the nearest station (their integral equals the mass).
+    Returns ``(WingGeometry, chord (n,), beam_axis_fraction (n,))``.
+    """
+    from wingmdao.sizing import WingGeometry
+
+    y = pf.station_y()
+    y_sec = np.where(y < pf.root_rib * pf.semi_span, pf.root_rib * pf.semi_span, y)  # centre box = root rib
+    chord = pf.chord(y_sec)
+    frac = (y_sec - y_sec[0]) / (y_sec[-1] - y_sec[0])
+    dims = [box_dimensions(interpolate_designation(pf.airfoil_root, pf.airfoil_tip, f), c,
+                           pf.front_spar, pf.rear_spar) for f, c in zip(frac, chord)]
+    width = np.array([d[0] for d in dims])
+    height = np.array([d[1] for d in dims])
+    axis_frac = np.full(y.size, 0.5 * (pf.front_spar + pf.rear_spar))
+    x = pf.leading_edge_x(y_sec) + axis_frac * chord
+    x[0] = x[1]  # the centre wingbox is a prismatic continuation of the root rib section
+    z = np.tan(np.radians(pf.dihedral_deg)) * y
+    pos = np.column_stack([x, y, z])
+    seg = np.diff(pos, axis=0)
+    # jig Euler angles (surface sequence): dihedral about x; sweep of the box-centre line about z
+    phi = np.arctan2(seg[:, 2], seg[:, 1])
+    psi = -np.arctan2(seg[:, 0], np.hypot(seg[:, 1], seg[:, 2]))
+    node_phi = np.concatenate([[phi[0]], 0.5 * (phi[1:] + phi[:-1]), [phi[-1]]])
+    node_psi = np.concatenate([[psi[0]], 0.5 * (psi[1:] + psi[:-1]), [psi[-1]]])
+    angles = np.column_stack([node_phi, node_psi, np.zeros(y.size)])
+    nsm = np.zeros(y.size)
+    ds = np.linalg.norm(seg, axis=1)
+    trib = np.zeros(y.size)
+    trib[:-1] += 0.5 * ds
+    trib[1:] += 0.5 * ds
+    for mass, y_m in point_masses:
+        k = int(np.argmin(np.abs(y - y_m)))
+        nsm[k] += mass / trib[k]
+    station_map = np.concatenate([[0], np.arange(y.size - 1)])  # centre box repeats the root rib
+    geo = WingGeometry(node_positions=pos, node_euler_angles=angles, width=width, height=height,
+                       nonstructural_mass_per_length=nsm, span_coordinate=y, station_map=station_map)
+    return geo, chord, axis_frac

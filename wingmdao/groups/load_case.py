@@ -1,0 +1,75 @@
+"""Load cases: what one WingStructure analyses (static maneuver or dynamic time history)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+STRESS_FAMILIES = ("vm", "ss_tension", "ss_compression", "cent_pos", "cent_neg")
+
+#: Forcing inputs of the beam, with their shape per instant (n = number of nodes) and units.
+FORCING_SHAPES = {
+    "force_per_length": ("n", 3),
+    "moment_per_length": ("n", 3),
+    "point_force": ("n", 3),
+    "point_moment": ("n", 3),
+    "gravity": (3,),
+    "frame_acceleration": (3,),
+    "frame_angular_velocity": (3,),
+    "frame_angular_acceleration": (3,),
+}
+
+
+@dataclass
+class LoadCase:
+    """One certification load case on the beam mesh.
+
+    ``time`` is the time grid (s, ``time[0] = 0``); a single entry means a static solve.
+    ``forcing`` maps beam forcing names (see :data:`FORCING_SHAPES`) to arrays shaped
+    ``(n_time, ...)`` in SI units; missing ones are zero. ``families`` are the stress
+    constraint families aggregated by KS for this case.
+    """
+
+    name: str
+    time: np.ndarray = field(default_factory=lambda: np.zeros(1))
+    forcing: dict = field(default_factory=dict)
+    families: tuple = ("vm",)
+    description: str = ""
+
+    def __post_init__(self):
+        self.time = np.atleast_1d(np.asarray(self.time, dtype=float))
+        if not self.name.isidentifier():
+            raise ValueError(f"load case name {self.name!r} must be a Python identifier (used in variable paths)")
+        if self.time[0] != 0.0:
+            raise ValueError(f"load case {self.name}: time must start at 0 s, got {self.time[0]} s")
+        if self.time.size > 1 and np.any(np.diff(self.time) <= 0):
+            raise ValueError(f"load case {self.name}: time must be strictly increasing")
+        bad = [f for f in self.families if f not in STRESS_FAMILIES]
+        if bad:
+            raise ValueError(f"load case {self.name}: unknown stress families {bad}; valid: {', '.join(STRESS_FAMILIES)}")
+        unknown = [k for k in self.forcing if k not in FORCING_SHAPES]
+        if unknown:
+            raise ValueError(f"load case {self.name}: unknown forcing {unknown}; valid: {', '.join(FORCING_SHAPES)}")
+
+    @property
+    def num_times(self) -> int:
+        return int(self.time.size)
+
+    @property
+    def is_static(self) -> bool:
+        return self.num_times == 1
+
+    def forcing_array(self, name: str, num_nodes: int) -> np.ndarray:
+        """The full (n_time, ...) array of forcing ``name`` (zeros when not given), validated."""
+        shape = (self.num_times,) + tuple(num_nodes if d == "n" else d for d in FORCING_SHAPES[name])
+        if name not in self.forcing:
+            return np.zeros(shape)
+        arr = np.asarray(self.forcing[name], dtype=float)
+        if arr.shape == shape[1:]:  # constant in time
+            arr = np.broadcast_to(arr, shape).copy()
+        if arr.shape != shape:
+            raise ValueError(f"load case {self.name}: forcing {name} has shape {arr.shape}, expected {shape}")
+        if not np.all(np.isfinite(arr)):
+            raise ValueError(f"load case {self.name}: forcing {name} has non-finite values")
+        return arr

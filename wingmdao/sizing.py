@@ -1,0 +1,148 @@
+"""Build, run and summarise a minimum-mass sizing problem (Sec. 4.7.2, 5.1, 5.2).
+
+Design variables: the four wall thicknesses at every station with minimum-gauge lower
+bounds (Table 5.1); constraints: the KS aggregate of every enabled stress family of every
+load case <= 0; objective: structural mass.
+"""
+
+from __future__ import annotations
+
+import time as _time
+from dataclasses import dataclass, field
+
+import numpy as np
+import openmdao.api as om
+
+from wingmdao.groups.wing import SECTION_KINDS, WingSizing
+from wingmdao.optimize import add_recorder, make_driver
+
+WALL_VARS = ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")
+
+
+@dataclass
+class WingGeometry:
+    """Beam mesh and box outer dimensions per node (SI)."""
+
+    node_positions: np.ndarray  # (n, 3) m, body axes
+    node_euler_angles: np.ndarray  # (n, 3) rad
+    width: np.ndarray  # (n,) m, box outer width
+    height: np.ndarray  # (n,) m, box outer height
+    section_to_csn: np.ndarray | None = None  # (n, 3, 3)
+    station_map: np.ndarray | None = None  # (n,) design index per station (None: one per station)
+    nonstructural_mass_per_length: np.ndarray | None = None  # (n,) kg/m
+    span_coordinate: np.ndarray | None = None  # (n,) m, for plots (default: y)
+
+    @property
+    def num_nodes(self) -> int:
+        return int(np.asarray(self.node_positions).shape[0])
+
+
+@dataclass
+class SizingOptions:
+    lower: dict = field(default_factory=lambda: {w: 1e-3 for w in WALL_VARS})  # m
+    upper: dict = field(default_factory=lambda: {w: 0.1 for w in WALL_VARS})  # m
+    initial: dict = field(default_factory=dict)  # m, default: upper bounds
+    optimizer: str = "SLSQP"
+    maxiter: int = 200
+    tol: float = 1e-6
+    rho_ks: float = 100.0
+    recording: str | None = None
+    mass_scale: float | None = None  # default: 1 / initial mass
+    disp: bool = True
+
+
+def build_problem(geometry: WingGeometry, load_cases, material, options: SizingOptions,
+                  *, driver=True, parallel=False, section="box") -> tuple[om.Problem, str]:
+    """Set up the sizing problem; returns ``(problem, driver description)``.
+
+    ``section`` is ``"box"`` (design variables: the four wall thicknesses) or ``"solid"``
+    (design variables: width and height of a solid rectangle, Sec. 4.7.1).
+    """
+    n = geometry.num_nodes
+    design_vars = SECTION_KINDS[section]["design_vars"]
+    prob = om.Problem(reports=False)
+    prob.model.add_subsystem("wing", WingSizing(num_nodes=n, load_cases=list(load_cases),
+                                                material=material, rho_ks=options.rho_ks,
+                                                parallel=parallel, section=section,
+                                                station_map=geometry.station_map), promotes=["*"])
+    desc = "none (analysis only)"
+    if driver:
+        prob.driver, desc = make_driver(options.optimizer, maxiter=options.maxiter, tol=options.tol,
+                                        disp=options.disp)
+        for w in design_vars:
+            prob.model.add_design_var(w, lower=options.lower[w], upper=options.upper[w], ref=options.upper[w])
+        prob.model.add_objective("mass", ref=options.mass_scale or 1.0)
+        for case in load_cases:
+            for fam in case.families:
+                prob.model.add_constraint(f"cases.{case.name}.ks_{fam}", upper=0.0)
+        if options.recording:
+            add_recorder(prob, options.recording)
+    prob.setup(mode="rev")
+    set_geometry(prob, geometry, section)
+    n_dv = n if geometry.station_map is None else int(np.max(geometry.station_map)) + 1
+    for w in design_vars:
+        prob.set_val(w, np.broadcast_to(options.initial.get(w, options.upper[w]), (n_dv,)))
+    return prob, desc
+
+
+def set_geometry(prob: om.Problem, geometry: WingGeometry, section: str = "box") -> None:
+    n = geometry.num_nodes
+    prob.set_val("node_positions", geometry.node_positions, units="m")
+    prob.set_val("node_euler_angles", geometry.node_euler_angles, units="rad")
+    if section == "box":
+        prob.set_val("width", geometry.width, units="m")
+        prob.set_val("height", geometry.height, units="m")
+    if geometry.section_to_csn is not None:
+        prob.set_val("section_to_csn", geometry.section_to_csn)
+    else:
+        prob.set_val("section_to_csn", np.broadcast_to(np.eye(3), (n, 3, 3)))
+    if geometry.nonstructural_mass_per_length is not None:
+        prob.set_val("nonstructural_mass_per_length", geometry.nonstructural_mass_per_length, units="kg/m")
+
+
+def run_sizing(prob: om.Problem, load_cases, driver_desc: str, *, optimize=True, section="box") -> dict:
+    """Run the driver (or the model) and return the JSON-ready summary."""
+    t0 = _time.perf_counter()
+    if optimize:
+        failed = prob.run_driver()
+        success = not (failed.success is False if hasattr(failed, "success") else bool(failed))
+    else:
+        prob.run_model()
+        success = True
+    wall = _time.perf_counter() - t0
+    return summarize(prob, load_cases, driver_desc, success=success, wall_s=wall, section=section)
+
+
+def station_values(prob, name: str) -> np.ndarray:
+    """Per-station values of design variable ``name`` (expanded when stations share variables)."""
+    try:
+        return prob.get_val(f"{name}_station", units="m")
+    except KeyError:
+        return prob.get_val(name, units="m")
+
+
+def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, section="box") -> dict:
+    ks = {c.name: {f: float(prob.get_val(f"cases.{c.name}.ks_{f}")[0]) for f in c.families}
+          for c in load_cases}
+    out = {
+        "success": bool(success),
+        "mass_kg": float(prob.get_val("mass", units="kg")[0]),
+        **({"thickness": {w[2:]: station_values(prob, w).tolist() for w in WALL_VARS}} if section == "box"
+           else {"width": station_values(prob, "width").tolist(),
+                 "height": station_values(prob, "height").tolist()}),
+        "ks": ks,
+        "driver": driver_desc,
+        "wall_s": float(wall_s),
+    }
+    res = getattr(prob.driver, "result", None)
+    if res is not None and hasattr(res, "nit"):
+        out["iterations"] = int(res.nit)
+        out["function_evaluations"] = int(getattr(res, "nfev", 0))
+        out["gradient_evaluations"] = int(getattr(res, "njev", 0))
+        out["message"] = str(getattr(res, "message", ""))
+    else:
+        out["iterations"] = int(getattr(prob.driver, "iter_count", 0))
+    worst = max((v for d in ks.values() for v in d.values()), default=np.nan)
+    out["active_constraints"] = [f"{c}.{f}" for c, d in ks.items() for f, v in d.items() if v > -1e-3]
+    out["max_ks"] = float(worst)
+    return out
