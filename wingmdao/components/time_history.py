@@ -18,6 +18,12 @@ from wingmdao.timemarch.bdf import march, state_rates, time_step
 from wingmdao.timemarch.system import ResidualSystem, layout
 
 
+#: Above this many stacked unknowns (n_time * n_state) the component is matrix-free by default:
+#: declared partials of a 360-state system over 4000 steps cost ~190 MB more memory and 0.8 s
+#: more setup than the matrix-free products (measured, docs/time-marching.md).
+MATRIX_FREE_ABOVE = 200_000
+
+
 class TimeHistoryComponent(om.ImplicitComponent):
     """Time history of any :class:`~wingmdao.timemarch.system.ResidualSystem` (Sec. 3.5.2).
 
@@ -30,9 +36,9 @@ class TimeHistoryComponent(om.ImplicitComponent):
     (tangent) sweep in 'fwd' mode and the backward adjoint sweep in 'rev' mode.
 
     Partials are declared sparse (rows/cols) for states, parameters and forcing. With
-    ``matrix_free=True`` the component instead provides ``apply_linear`` from the stored
-    blocks (no assembled Jacobian: use it for long histories of large systems, see
-    ``docs/time-marching.md``).
+    ``matrix_free=True`` (default for more than ``MATRIX_FREE_ABOVE`` stacked unknowns) the
+    component instead provides ``apply_linear`` from the stored blocks, with no assembled
+    Jacobian (memory, see ``docs/time-marching.md``).
 
     The parent group must use ``om.LinearRunOnce`` (the default) as its linear solver: a
     ``DirectSolver`` above would assemble and factor the whole stacked Jacobian and bypass
@@ -54,8 +60,9 @@ class TimeHistoryComponent(om.ImplicitComponent):
         self.options.declare("max_iter", default=25, types=int, desc="Newton iterations per step")
         self.options.declare("static_options", default=None, allow_none=True, types=dict,
                              desc="keyword arguments of solve_static for step 0 (e.g. load_steps)")
-        self.options.declare("matrix_free", default=False, types=bool,
-                             desc="apply_linear from stored blocks instead of declared partials")
+        self.options.declare("matrix_free", default=None, types=bool, allow_none=True,
+                             desc="apply_linear from stored blocks instead of declared partials; "
+                                  "None: when n_time * n_state > MATRIX_FREE_ABOVE")
         self.options.declare("store_factors", default="auto",
                              desc="keep every LU factor between sweeps (True/False/'auto')")
 
@@ -86,10 +93,12 @@ class TimeHistoryComponent(om.ImplicitComponent):
         self._p_slices = layout(sysm.param_specs)
         self._q_slices = layout(sysm.forcing_specs)
         self._lin = None
-        self.matrix_free = self.options["matrix_free"]
+        mf = self.options["matrix_free"]
+        self._matrix_free = bool(n_time * sysm.n_state > MATRIX_FREE_ABOVE) if mf is None else mf
+        self.matrix_free = self._matrix_free
 
     def setup_partials(self):
-        if self.options["matrix_free"]:
+        if self._matrix_free:
             return
         sysm = self.options["system"]
         n, N = sysm.n_state, self._n_time
@@ -186,7 +195,7 @@ class TimeHistoryComponent(om.ImplicitComponent):
                                 initial=self.options["initial"], store_factors=self.options["store_factors"])
         self._lin = lin
         self._lin_point = (X.copy(), p.copy(), Q.copy())
-        if self.options["matrix_free"]:
+        if self._matrix_free:
             return
         name = self.options["state_name"]
         vals = [lin.a_data.ravel()]
