@@ -146,3 +146,10 @@ def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, sectio
     out["active_constraints"] = [f"{c}.{f}" for c, d in ks.items() for f, v in d.items() if v > -1e-3]
     out["max_ks"] = float(worst)
     return out
+
+
+def size_case(setup, *, optimize: bool = True, parallel: bool = False):
+    """Build and run a :class:`wingmdao.cases.CaseSetup`; returns ``(problem, result dict)``."""
+    prob, desc = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
+                               driver=optimize, parallel=parallel, section=setup.section)
+    return prob, run_sizing(prob, setup.load_cases, desc, optimize=optimize, section=setup.section)

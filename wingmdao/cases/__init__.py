@@ -43,3 +43,17 @@ def available_cases() -> dict:
             if exc.name != mod:
                 raise
     return out
+
+
+def case_arguments(module, **overrides):
+    """The case's command-line defaults as a namespace, with ``overrides`` (for scripts)."""
+    import argparse
+
+    parser = argparse.ArgumentParser()
+    module.add_arguments(parser)
+    args = parser.parse_args([])
+    for key, value in overrides.items():
+        if not hasattr(args, key):
+            raise ValueError(f"{module.NAME} has no option {key!r}")
+        setattr(args, key, value)
+    return args

@@ -46,7 +46,7 @@ def register(subparsers):
 
 def run_size(args) -> int:
     from wingmdao.cli import write_json
-    from wingmdao.sizing import build_problem, run_sizing
+    from wingmdao.sizing import size_case
 
     setup = args.case_module.build(args)
     opts = setup.options
@@ -60,10 +60,7 @@ def run_size(args) -> int:
           f"[{', '.join(c.name for c in setup.load_cases)}], {setup.geometry.num_nodes} stations")
     for note in setup.notes:
         print(f"  note: {note}")
-    prob, desc = build_problem(setup.geometry, setup.load_cases, setup.material, opts,
-                               driver=not args.analysis_only, section=setup.section)
-    print(f"  driver: {desc}")
-    result = run_sizing(prob, setup.load_cases, desc, optimize=not args.analysis_only)
+    prob, result = size_case(setup, optimize=not args.analysis_only)
     result["case"] = args.case_module.NAME
     if opts.recording:
         result["recording"] = opts.recording
@@ -79,6 +76,7 @@ def run_size(args) -> int:
 
 
 def _print_summary(res):
+    print(f"  driver: {res['driver']}")
     print(f"  success: {res['success']}   mass: {res['mass_kg']:.2f} kg   wall time: {res['wall_s']:.1f} s"
           f"   iterations: {res.get('iterations')}")
     for case, fams in res["ks"].items():
