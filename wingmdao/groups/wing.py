@@ -71,7 +71,7 @@ class WingStructure(om.Group):
         self.options.declare("rho_ks", default=100.0, lower=0.0, desc="KS aggregation parameter")
         self.options.declare("section", default="box", values=tuple(SECTION_KINDS))
         self.options.declare("newton_options", default=None, allow_none=True, types=dict,
-                             desc="options passed to the beam's Newton solver")
+                             desc="extra BeamDynamics options (atol, max_iter, static_options, modified_newton, ...)")
 
     def setup(self):
         from wingmdao.components.beam import BeamDynamics
@@ -89,9 +89,7 @@ class WingStructure(om.Group):
         for name, (units, desc) in _FORCING_META.items():
             loads.add_output(name, val=case.forcing_array(name, n), units=units, desc=desc)
 
-        beam_kwargs = dict(num_nodes=n, time=case.time)
-        if self.options["newton_options"]:
-            beam_kwargs["newton_options"] = self.options["newton_options"]
+        beam_kwargs = dict(num_nodes=n, time=case.time, **(self.options["newton_options"] or {}))
         self.add_subsystem("beam", BeamDynamics(**beam_kwargs), promotes_inputs=[
             "node_positions", "node_euler_angles", *SECTION_TO_BEAM,
             "tension_axis", "shear_center", "mass_center"])
