@@ -24,9 +24,9 @@ from __future__ import annotations
 import numpy as np
 import openmdao.api as om
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from wingmdao.timemarch.bdf import bdf_coefficients, state_rates, time_step
+from wingmdao.timemarch.newton import factor
 
 
 def _scatter(index, n_out):
@@ -114,7 +114,7 @@ class LinearizedHistory:
         lu = self._factors.get(r)
         if lu is None:
             try:
-                lu = spla.splu(self.newton_matrix(r), permc_spec="COLAMD")
+                lu = factor(self.newton_matrix(r))
             except RuntimeError as exc:
                 raise om.AnalysisError(f"linearized step {n}: singular Newton matrix ({exc})") from exc
             self._factors[r] = lu

@@ -16,9 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import openmdao.api as om
-import scipy.sparse.linalg as spla
-
-from wingmdao.timemarch.newton import NewtonInfo, newton_solve
+from wingmdao.timemarch.newton import NewtonInfo, factor, newton_solve
 
 BDF1 = (1.0, -1.0, 0.0)
 BDF2 = (1.5, -2.0, 0.5)
@@ -167,7 +165,7 @@ class _StepSolver:
 
     def _factor(self, jac, label):
         try:
-            self.lu = spla.splu(jac, permc_spec="COLAMD")
+            self.lu = factor(jac)
         except RuntimeError as exc:
             raise om.AnalysisError(f"{label}: singular Newton matrix ({exc})") from exc
         self.factorizations += 1

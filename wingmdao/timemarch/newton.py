@@ -11,7 +11,38 @@ from dataclasses import dataclass
 
 import numpy as np
 import openmdao.api as om
+from scipy.linalg.lapack import dgetrf, dgetrs
+import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+
+#: Systems up to this size are factored densely (LAPACK), larger ones with SuperLU.
+DENSE_MAX = 40
+
+
+class _DenseLU:
+    """Dense LU with the ``solve(b, trans)`` interface of SuperLU (small systems)."""
+
+    def __init__(self, mat):
+        self.lu, self.piv, info = dgetrf(mat)
+        if info > 0 or not np.all(np.isfinite(self.lu)):
+            raise RuntimeError("Factor is exactly singular")
+
+    def solve(self, b, trans="N"):
+        x, _ = dgetrs(self.lu, self.piv, b, trans=0 if trans == "N" else 1)
+        return x
+
+
+def factor(jac):
+    """LU factors of a square matrix (sparse or dense ndarray) with ``.solve(b, trans='N'|'T')``.
+
+    Dense LAPACK below :data:`DENSE_MAX` unknowns (less overhead), SuperLU above. Raises
+    ``RuntimeError`` when the matrix is exactly singular.
+    """
+    if isinstance(jac, np.ndarray):
+        return _DenseLU(jac)
+    if jac.shape[0] <= DENSE_MAX:
+        return _DenseLU(jac.toarray())
+    return spla.splu(sp.csc_matrix(jac), permc_spec="COLAMD")
 
 
 @dataclass
@@ -23,7 +54,7 @@ class NewtonInfo:
 
 def _factor(jac, label):
     try:
-        return spla.splu(jac.tocsc())
+        return factor(jac)
     except RuntimeError as exc:  # exactly singular
         raise om.AnalysisError(f"{label}: singular Jacobian ({exc})") from exc
 

@@ -17,6 +17,10 @@ import numpy as np
 import scipy.sparse as sp
 
 
+#: CasADi systems up to this many states return a dense Newton matrix (less overhead).
+DENSE_NEWTON_MAX = 40
+
+
 @dataclass(frozen=True)
 class VarSpec:
     """A named block of a flat parameter or forcing vector (shape, units, description)."""
@@ -89,7 +93,10 @@ class ResidualSystem:
         return np.zeros(self.n_state)
 
     def residual_and_newton_matrix(self, x, xdot, p, q, alpha):
-        """``R`` and the Newton matrix ``dR/dx + alpha dR/dxdot`` (Eq. 3.7), sparse CSC."""
+        """``R`` and the Newton matrix ``dR/dx + alpha dR/dxdot`` (Eq. 3.7).
+
+        Sparse CSC, or a dense ndarray for systems of at most ``DENSE_NEWTON_MAX`` states.
+        """
         jx, jxd = self.jac_state(x, xdot, p, q)
         return self.residual(x, xdot, p, q), sp.csc_matrix(jx + alpha * jxd)
 
@@ -209,6 +216,7 @@ class CasadiResidualSystem(ResidualSystem):
         self._maps = {}
         self._fast_R = _FastCall(self._R)
         self._fast_newton = _FastCall(self._newton)
+        self._newton_dense_index = None
 
     def _mapped(self, key, fun, n):
         if (key, n) not in self._maps:
@@ -235,8 +243,14 @@ class CasadiResidualSystem(ResidualSystem):
     def residual_and_newton_matrix(self, x, xdot, p, q, alpha):
         r, nz = self._fast_newton(x, xdot, p, q, alpha)
         rows, indptr = self._newton_pattern
-        jac = sp.csc_matrix((nz, rows, indptr), shape=(self.n_state, self.n_state))
-        return r, jac
+        if self.n_state <= DENSE_NEWTON_MAX:  # small systems: dense, no sparse-matrix overhead
+            if self._newton_dense_index is None:
+                cols = np.repeat(np.arange(self.n_state), np.diff(indptr))
+                self._newton_dense_index = rows * self.n_state + cols
+            jac = np.zeros((self.n_state, self.n_state))
+            jac.ravel()[self._newton_dense_index] = nz
+            return r, jac
+        return r, sp.csc_matrix((nz, rows, indptr), shape=(self.n_state, self.n_state))
 
     def jacobian_patterns(self):
         return {"x": self._dx.pattern(), "xdot": self._dxdot.pattern(), "p": self._dp.pattern(),
