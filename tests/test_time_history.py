@@ -129,3 +129,22 @@ def test_bad_time_grid_is_rejected_at_setup():
                                                          time=[0.0, 0.1, 0.3]))
     with pytest.raises(ValueError, match="uniform"):
         prob.setup()
+
+
+def test_drop_time_axis_gives_plain_static_shapes_and_partials():
+    prob = om.Problem(reports=False)
+    prob.model.add_subsystem("chain", TimeHistoryComponent(system=nonlinear_chain_system(2), time=[0.0],
+                                                           drop_time_axis=True), promotes=["*"])
+    prob.setup()
+    prob.set_val("hardening", 0.5)
+    prob.set_val("stiffness", [2.0, 3.0])
+    prob.set_val("force", [2.0, 10.0])
+    prob.run_model()
+    states = prob.get_val("states")
+    assert states.shape == (2, 2)
+    # outer spring carries 10 N: 3 (s + 0.5 s^3) = 10; inner carries 12 N: u0 = 2
+    assert states[0, 0] == pytest.approx(2.0, rel=1e-10)
+    s = states[1, 0] - states[0, 0]
+    assert 3.0 * (s + 0.5 * s**3) == pytest.approx(10.0, rel=1e-10)
+    data = prob.check_partials(method="fd", step=1e-7, form="central", out_stream=None)
+    assert_check_partials(data, atol=1e-6, rtol=1e-6)

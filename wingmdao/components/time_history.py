@@ -65,6 +65,8 @@ class TimeHistoryComponent(om.ImplicitComponent):
                                   "None: when n_time * n_state > MATRIX_FREE_ABOVE")
         self.options.declare("store_factors", default="auto",
                              desc="keep every LU factor between sweeps (True/False/'auto')")
+        self.options.declare("drop_time_axis", default=False, types=bool,
+                             desc="one instant only: forcing inputs and the output without the time axis")
 
     # ------------------------------------------------------------------ setup
     def setup(self):
@@ -73,6 +75,10 @@ class TimeHistoryComponent(om.ImplicitComponent):
         time_step(t)
         self._time = t
         self._n_time = n_time = t.size
+        drop = self.options["drop_time_axis"]
+        if drop and n_time != 1:
+            raise ValueError(f"drop_time_axis needs a one-entry time, got {n_time} entries")
+        lead = () if drop else (n_time,)
         name = self.options["state_name"]
         names = [s.name for s in sysm.param_specs + sysm.forcing_specs]
         if self.options["initial"] == "state":
@@ -83,12 +89,12 @@ class TimeHistoryComponent(om.ImplicitComponent):
         for s in sysm.param_specs:
             self.add_input(s.name, val=1.0, shape=s.shape or (1,), units=s.units, desc=s.desc or s.name)
         for s in sysm.forcing_specs:
-            self.add_input(s.name, val=0.0, shape=(n_time,) + tuple(s.shape), units=s.units,
-                           desc=(s.desc or s.name) + " (at every instant)")
+            self.add_input(s.name, val=0.0, shape=(lead + tuple(s.shape)) or (1,), units=s.units,
+                           desc=(s.desc or s.name) + ("" if drop else " (at every instant)"))
         if self.options["initial"] == "state":
             self.add_input("initial_state", val=0.0, shape=sysm.state_shape, units=self.options["state_units"],
                            desc="state at time 0")
-        self.add_output(name, val=0.0, shape=(n_time,) + tuple(sysm.state_shape),
+        self.add_output(name, val=0.0, shape=lead + tuple(sysm.state_shape),
                         units=self.options["state_units"], desc="state history (n_time first)")
         self._p_slices = layout(sysm.param_specs)
         self._q_slices = layout(sysm.forcing_specs)
@@ -168,13 +174,18 @@ class TimeHistoryComponent(om.ImplicitComponent):
         guess = None
         if self.options["initial"] == "static":
             x0_prev = self._history(outputs)[0]
-            guess = x0_prev.copy() if np.any(x0_prev != 0.0) else None
+            guess = x0_prev.copy() if np.any(x0_prev != 0.0) else self.initial_guess(p, Q[0])
         h = march(sysm, self._time, p, Q, initial=self.options["initial"], x_init=self._x_init(inputs),
                   x_guess=guess, modified_newton=self.options["modified_newton"],
                   atol=self.options["atol"], xtol=self.options["xtol"], max_iter=self.options["max_iter"],
                   static_options=self.options["static_options"])
         outputs[self.options["state_name"]] = h.states.reshape(outputs[self.options["state_name"]].shape)
         self.last_history = h
+
+    def initial_guess(self, p, q0):
+        """Starting point of the static solve of step 0 (the previous solution is used when
+        there is one). Default: ``system.initial_guess``; subclasses may know better."""
+        return self.options["system"].initial_guess(p, q0)
 
     def apply_nonlinear(self, inputs, outputs, residuals):
         sysm = self.options["system"]
