@@ -177,16 +177,14 @@ class _StepSolver:
         reuse = self.modified and self.lu is not None and self.lu_alpha == alpha
         prev_step = None
         for it in range(1, self.max_iter + 1):
-            if reuse:
-                r = system.residual(x, alpha * x + hist, p, q)
-            else:
-                r, jac = system.residual_and_newton_matrix(x, alpha * x + hist, p, q, alpha)
+            r = system.residual(x, alpha * x + hist, p, q)
             norm = float(np.max(np.abs(r))) if r.size else 0.0
             if not np.isfinite(norm):
                 self._fail(label, it, r, "residual is not finite")
             if norm <= self.atol:
                 return x, it - 1
-            if not reuse:
+            if not reuse:  # new Newton matrix at the current iterate (Eq. 3.7)
+                r, jac = system.residual_and_newton_matrix(x, alpha * x + hist, p, q, alpha)
                 self._factor(jac, label)
                 self.lu_alpha = alpha
             dx = -self.lu.solve(r)
@@ -199,10 +197,7 @@ class _StepSolver:
             if self.modified:
                 # keep the LU while the iteration contracts well, refactor otherwise
                 reuse = prev_step is None or step <= self.contraction * prev_step
-                if not reuse:
-                    prev_step = None
-                    continue
-            prev_step = step
+                prev_step = step if reuse else None
         r = system.residual(x, alpha * x + hist, p, q)
         self._fail(label, self.max_iter, r, f"no convergence in {self.max_iter} iterations")
 
