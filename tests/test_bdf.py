@@ -103,3 +103,15 @@ def test_progress_callback_and_single_instant():
     sysm = nonlinear_chain_system(1)
     h = march(sysm, [0.0], [1.0, 0.1, 0.5, 2.0], [[12.0]], callback=lambda n, t, x: seen.append(n))
     assert seen == [0] and h.states[0, 0] == pytest.approx(2.0)
+
+
+def test_static_load_stepping_of_named_forcing_only():
+    sysm = nonlinear_chain_system(2)
+    p = [1.0, 0.1, 0.5, 2.0, 3.0]
+    x_all, _ = solve_static(sysm, p, [2.0, 10.0], load_steps=3)
+    x_named, _ = solve_static(sysm, p, [2.0, 10.0], load_steps=3, scaled=["force"])
+    np.testing.assert_allclose(x_named, x_all, rtol=1e-12)
+    with pytest.raises(ValueError, match="unknown forcing.*gust"):
+        solve_static(sysm, p, [2.0, 10.0], scaled=["gust"])
+    with pytest.raises(ValueError, match="load_steps"):
+        solve_static(sysm, p, [2.0, 10.0], load_steps=0)
