@@ -1,0 +1,120 @@
+"""Section property components: box (App. F) and solid rectangle (Sec. 4.7.1) per station.
+
+Both evaluate the functions of ``wingmdao.section.box`` / ``wingmdao.section.solid`` on
+CasADi symbols through :class:`PointwiseCasadiComponent`, so their partials are exact and
+block diagonal over the stations. Offsets are in m from the box's geometric centre (the
+beam reference axis); see docs/section.md.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from wingmdao.components.pointwise import PointwiseCasadiComponent, Var
+from wingmdao.section.box import box_properties, validate_box
+from wingmdao.section.solid import solid_properties, validate_solid
+
+#: Outputs shared by both section kinds: (name, shape at one station, units, description).
+SECTION_OUTPUTS = (
+    ("A", (), "m**2", "material area (Eq. F.1)"),
+    ("Ixx", (), "m**4", "second moment int (n - n_ea)^2 dA, vertical bending (Eq. F.6)"),
+    ("Izz", (), "m**4", "second moment int (c - c_ea)^2 dA, chordwise bending (Eq. F.7)"),
+    ("Ixz", (), "m**4", "product of area +int (c - c_ea)(n - n_ea) dA (Eq. F.8, sign in docs)"),
+    ("J", (), "m**4", "torsion constant (Bredt-Batho for the box, Eq. F.29 generalised)"),
+    ("EA", (), "N", "axial stiffness"),
+    ("GJ", (), "N*m**2", "torsional stiffness"),
+    ("EIxx", (), "N*m**2", "vertical bending stiffness E Ixx"),
+    ("EIzz", (), "N*m**2", "chordwise bending stiffness E Izz"),
+    ("c_ea", (), "m", "chordwise offset of the modulus-weighted centroid (Eq. F.25)"),
+    ("n_ea", (), "m", "normal offset of the modulus-weighted centroid (Eq. F.26)"),
+    ("c_sc", (), "m", "chordwise offset of the shear centre"),
+    ("n_sc", (), "m", "normal offset of the shear centre"),
+    ("c_cg", (), "m", "chordwise offset of the mass centre (Eq. F.34)"),
+    ("n_cg", (), "m", "normal offset of the mass centre (Eq. F.35)"),
+    ("Qx", (), "m**3", "first moment of the area above the centroid, vertical shear (Eq. F.32)"),
+    ("Qz", (), "m**3", "first moment of the area forward of the centroid, chordwise shear (Eq. F.33)"),
+    ("stiffness_csn", (3, 3), "N*m**2", "moment/curvature stiffness E in csn (Eq. A.6, F.30-F.31)"),
+    ("compliance_csn", (3,), "1/N", "diagonal of S: 1/(G K_c), 1/(E A), 1/(G K_n) (Eq. A.7)"),
+    ("mass_per_length", (), "kg/m", "mass per unit length incl. nonstructural mass"),
+    ("inertia_per_length", (3, 3), "kg*m", "rotary inertia per length about the mass centre, csn"),
+)
+
+
+class _SectionBase(PointwiseCasadiComponent):
+    """Common options, beam-data inputs and outputs of the section components."""
+
+    def initialize(self):
+        super().initialize()
+        self.options.declare("num_stations", types=int, lower=1, desc="number of beam stations")
+        self.options.declare("material", desc="wingmdao.materials.Material")
+        self.options.declare("grid_shape", types=tuple, default=(1,), desc="set from num_stations")
+
+    def setup(self):
+        self.options["grid_shape"] = (self.options["num_stations"],)
+        super().setup()
+
+    def _common_inputs(self):
+        n = self.options["num_stations"]
+        eye = np.broadcast_to(np.eye(3), (n, 3, 3)).copy()
+        return [
+            Var("section_to_csn", (3, 3), None, "rotation R from the section axes to csn (E_csn = R E R^T)", eye),
+            Var("nonstructural_mass_per_length", (), "kg/m", "nonstructural mass per length at the mass centre",
+                0.0),
+        ]
+
+    def pointwise_outputs(self):
+        return [Var(name, shape, units, desc) for name, shape, units, desc in SECTION_OUTPUTS]
+
+    def _select_outputs(self, props):
+        return {name: props[name] for name, *_ in SECTION_OUTPUTS}
+
+
+class BoxSection(_SectionBase):
+    """Box-beam section properties (App. F) at ``num_stations`` stations.
+
+    Inputs (per station, m): ``width``, ``height``, ``t_upper_skin``, ``t_lower_skin``,
+    ``t_front_spar``, ``t_rear_spar``; ``section_to_csn`` (3, 3), default identity;
+    ``nonstructural_mass_per_length`` (kg/m), default 0. Outputs: ``SECTION_OUTPUTS``.
+    """
+
+    def pointwise_inputs(self):
+        return [
+            Var("width", (), "m", "box outer width (chordwise, front to rear spar)"),
+            Var("height", (), "m", "box outer height (normal)", 0.3),
+            Var("t_upper_skin", (), "m", "upper skin thickness", 0.01),
+            Var("t_lower_skin", (), "m", "lower skin thickness", 0.01),
+            Var("t_front_spar", (), "m", "front spar web thickness", 0.01),
+            Var("t_rear_spar", (), "m", "rear spar web thickness", 0.01),
+        ] + self._common_inputs()
+
+    def pointwise_expressions(self, sym):
+        props = box_properties(sym["width"], sym["height"], sym["t_upper_skin"], sym["t_lower_skin"],
+                               sym["t_front_spar"], sym["t_rear_spar"], self.options["material"],
+                               sym["section_to_csn"], sym["nonstructural_mass_per_length"])
+        return self._select_outputs(props)
+
+    def check_inputs(self, inputs):
+        validate_box(inputs["width"], inputs["height"], inputs["t_upper_skin"], inputs["t_lower_skin"],
+                     inputs["t_front_spar"], inputs["t_rear_spar"], source=f"{self.pathname or 'BoxSection'}: ")
+
+
+class SolidRectSection(_SectionBase):
+    """Solid rectangular section properties (Sec. 4.7.1) at ``num_stations`` stations.
+
+    Inputs (per station, m): ``width``, ``height``; ``section_to_csn``,
+    ``nonstructural_mass_per_length`` as for :class:`BoxSection`. Same outputs.
+    """
+
+    def pointwise_inputs(self):
+        return [
+            Var("width", (), "m", "section width (chordwise)"),
+            Var("height", (), "m", "section height (normal)"),
+        ] + self._common_inputs()
+
+    def pointwise_expressions(self, sym):
+        props = solid_properties(sym["width"], sym["height"], self.options["material"],
+                                 sym["section_to_csn"], sym["nonstructural_mass_per_length"])
+        return self._select_outputs(props)
+
+    def check_inputs(self, inputs):
+        validate_solid(inputs["width"], inputs["height"], source=f"{self.pathname or 'SolidRectSection'}: ")
