@@ -1,0 +1,85 @@
+"""Box-section stress recovery and constraints over (time, station) (Sec. 4.4.2)."""
+
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+
+from wingmdao.components.pointwise import PointwiseCasadiComponent, Var
+from wingmdao.section.box import WALL_NAMES, validate_box
+from wingmdao.stress.box_stress import FAMILIES, box_stresses, check_families, stress_constraints
+
+_FAMILY_DESC = {
+    "vm": "mid-corner von Mises sigma_vm/sigma_y - 1, 8 points (Eq. 4.26)",
+    "ss_tension": "corner axial +sigma/sigma_y - 1, 4 corners (Eq. 4.27)",
+    "ss_compression": "corner axial -sigma/sigma_y - 1, 4 corners (Eq. 4.27)",
+    "cent_pos": "flange-centre shear +tau/sigma_y - 1, 4 flanges (Eq. 4.28)",
+    "cent_neg": "flange-centre shear -tau/sigma_y - 1, 4 flanges (Eq. 4.28)",
+}
+
+
+class BoxStress(PointwiseCasadiComponent):
+    """Stresses and stress constraints of box sections on the grid (num_times, num_stations).
+
+    Inputs: ``F_csn``, ``M_csn`` (nt, n, 3) in N and N*m (csn, about the box centre);
+    per station (n,) in m: ``width``, ``height``, ``t_upper_skin``, ``t_lower_skin``,
+    ``t_front_spar``, ``t_rear_spar``; ``section_to_csn`` (n, 3, 3), default identity.
+    Outputs: ``sigma_corner`` (nt, n, 4), ``sigma_vm`` (nt, n, 8), ``tau_cent`` (nt, n, 4) in
+    Pa and ``g_<family>`` for each selected family (points: see wingmdao.stress.box_stress).
+    """
+
+    def initialize(self):
+        super().initialize()
+        self.options.declare("num_times", types=int, lower=1, desc="number of time steps")
+        self.options.declare("num_stations", types=int, lower=1, desc="number of beam stations")
+        self.options.declare("material", desc="wingmdao.materials.Material (sigma_y used)")
+        self.options.declare("families", default=tuple(FAMILIES), types=tuple,
+                             desc=f"constraint families to output, from {', '.join(FAMILIES)}")
+        self.options.declare("grid_shape", types=tuple, default=(1, 1), desc="set from num_times, num_stations")
+
+    def setup(self):
+        check_families(self.options["families"])
+        self.options["grid_shape"] = (self.options["num_times"], self.options["num_stations"])
+        super().setup()
+
+    def pointwise_inputs(self):
+        n = self.options["num_stations"]
+        eye = np.broadcast_to(np.eye(3), (n, 3, 3)).copy()
+        return [
+            Var("F_csn", (3,), "N", "internal force [F_c, F_s (axial), F_n] on the inboard part, csn", 0.0),
+            Var("M_csn", (3,), "N*m", "internal moment [M_c, M_s (torsion), M_n] about the box centre, csn", 0.0),
+            Var("width", (), "m", "box outer width (chordwise)", per_last_axis=True),
+            Var("height", (), "m", "box outer height (normal)", 0.3, per_last_axis=True),
+            Var("t_upper_skin", (), "m", "upper skin thickness", 0.01, per_last_axis=True),
+            Var("t_lower_skin", (), "m", "lower skin thickness", 0.01, per_last_axis=True),
+            Var("t_front_spar", (), "m", "front spar web thickness", 0.01, per_last_axis=True),
+            Var("t_rear_spar", (), "m", "rear spar web thickness", 0.01, per_last_axis=True),
+            Var("section_to_csn", (3, 3), None, "rotation R from the section axes to csn", eye, per_last_axis=True),
+        ]
+
+    def pointwise_outputs(self):
+        out = [
+            Var("sigma_corner", (4,), "Pa", "outer-corner axial stress (Eq. 4.19 generalised)"),
+            Var("sigma_vm", (8,), "Pa", "mid-corner von Mises stress, skin then spar per corner"),
+            Var("tau_cent", (4,), "Pa", "flange-centre shear: upper, lower skin, front, rear spar"),
+        ]
+        return out + [Var(f"g_{f}", (FAMILIES[f],), None, _FAMILY_DESC[f]) for f in self.options["families"]]
+
+    def pointwise_expressions(self, sym):
+        stresses = box_stresses(sym["F_csn"], sym["M_csn"], sym["width"], sym["height"],
+                                *(sym[k] for k in WALL_NAMES), section_to_csn=sym["section_to_csn"])
+        g = stress_constraints(stresses, self.options["material"].sigma_y, self.options["families"])
+        out = {k: ca.vertcat(*v) for k, v in stresses.items()}
+        out.update({f"g_{f}": ca.vertcat(*v) for f, v in g.items()})
+        return out
+
+    def check_inputs(self, inputs):
+        source = f"{self.pathname or 'BoxStress'}: "
+        validate_box(inputs["width"], inputs["height"], *(inputs[k] for k in WALL_NAMES), source=source)
+        for name, units in (("F_csn", "N"), ("M_csn", "N*m")):
+            v = np.asarray(inputs[name])
+            bad = np.argwhere(~np.isfinite(v))
+            if bad.size:
+                t, i, k = bad[0]
+                raise ValueError(f"{source}{name}[{t}, {i}, {k}] = {v[t, i, k]} {units} at time index {t}, "
+                                 f"station {i}; allowed range (-inf, inf) {units} (finite)")

@@ -1,0 +1,126 @@
+"""Box-section stress recovery (Sec. 4.4.2, Eq. 4.19-4.28), for numpy and CasADi.
+
+Loads: the internal force F = [F_c, F_s, F_n] (N) and moment M = [M_c, M_s, M_n] (N m)
+that the outboard part exerts on the inboard part (CONVENTIONS.md), in the station's csn
+frame, about the box's geometric centre (the beam reference axis). With a ``section_to_csn``
+rotation R they are first brought to the section axes (R^T F, R^T M).
+
+Points (docs/stress.md):
+
+* ``corner`` (4): outer corners (c, n) = (+-w/2, +-h/2) in the order front-lower,
+  rear-lower, rear-upper, front-upper (``wingmdao.section.box.CORNERS``).
+* ``vm`` (8): the wall-midline corners, same corner order; at each corner first the skin,
+  then the spar that meets there (each wall has its own torsional shear).
+* ``cent`` (4): flange centres of the upper skin, lower skin, front spar, rear spar.
+"""
+
+from __future__ import annotations
+
+import casadi as ca
+
+from wingmdao.section.box import (CORNERS, _is_symbolic, box_area, box_centroid, box_enclosed_area,
+                                  box_first_moments, box_inertia, box_midline, box_shear_centre, sqrt)
+
+#: Constraint families (CONVENTIONS.md) and their number of points per station.
+FAMILIES = {"vm": 8, "ss_tension": 4, "ss_compression": 4, "cent_pos": 4, "cent_neg": 4}
+
+#: Added under the von Mises square root (Pa^2) so that its derivative stays finite at zero
+#: stress; it changes sigma_vm by at most 1 Pa (at zero stress), 5e-9 Pa at 100 MPa.
+VM_TINY = 1.0
+
+
+def _to_section(rot, vec):
+    """R^T v for a 3-vector (list of three scalars / arrays, or an SX column)."""
+    if rot is None:
+        return [vec[0], vec[1], vec[2]]
+    if _is_symbolic(rot, vec):
+        v = ca.mtimes(rot.T, vec)
+        return [v[0], v[1], v[2]]
+    return [sum(rot[..., j, i] * vec[j] for j in range(3)) for i in range(3)]
+
+
+def axial_stress(c, n, force, moment, geometry):
+    """Axial stress sigma_ss at (c, n) (Eq. 4.19 generalised to the unsymmetric section), Pa.
+
+    sigma = F_s / A + E (kappa_n (c - c_ea) - kappa_c (n - n_ea)) with the curvature
+    kappa = E^{-1} M about the centroid: M_c' = M_c + n_ea F_s, M_n' = M_n - c_ea F_s, so
+    sigma = F_s/A + [(Ixz M_c' + Ixx M_n')(c - c_ea) - (Izz M_c' + Ixz M_n')(n - n_ea)]
+            / (Ixx Izz - Ixz^2).
+    With Ixz = 0 and the centroid at the centre this is Eq. 4.19 (M_c compresses n > 0).
+    """
+    c0, n0 = box_centroid(*geometry)
+    i_xx, i_zz, i_xz = box_inertia(*geometry)
+    m_c = moment[0] + n0 * force[1]
+    m_n = moment[2] - c0 * force[1]
+    det = i_xx * i_zz - i_xz**2
+    return (force[1] / box_area(*geometry)
+            + ((i_xz * m_c + i_xx * m_n) * (c - c0) - (i_zz * m_c + i_xz * m_n) * (n - n0)) / det)
+
+
+def torsion_shear_flow(force, moment, geometry):
+    """Bredt shear flow q = T / (2 A_m) (Eq. 4.20 corrected), N/m, positive upper skin aft.
+
+    T is the torque about the shear centre: T = M_s - (n_sc F_c - c_sc F_n), so that the
+    transverse shear (through the shear centre) is handled by Eq. 4.22-4.23 alone.
+    """
+    c_sc, n_sc = box_shear_centre(*geometry)
+    torque = moment[1] - (n_sc * force[0] - c_sc * force[2])
+    return torque / (2.0 * box_enclosed_area(*geometry))
+
+
+def box_stresses(force, moment, w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar,
+                 section_to_csn=None) -> dict:
+    """Stresses at the recovery points (Pa): ``sigma_corner`` (4), ``sigma_vm`` (8), ``tau_cent`` (4).
+
+    * corner axial stress, Eq. 4.19 generalised (:func:`axial_stress`);
+    * mid-corner von Mises sigma_vm = sqrt(sigma^2 + 3 tau^2 + VM_TINY) with sigma the axial
+      stress at the midline corner and tau = q / t of the skin, then of the spar (Eq. 4.20-4.21
+      corrected: plane stress with one normal and one shear component);
+    * flange-centre shear, torsion + V Q / (I t) (Eq. 4.22-4.25), positive in the sense of a
+      positive torque (upper skin aft, rear spar down, lower skin forward, front spar up):
+      tau_c = F_c Qz / (Izz (t_u + t_l)), tau_n = F_n Qx / (Ixx (t_f + t_r)).
+    """
+    geometry = (w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar)
+    force = _to_section(section_to_csn, force)
+    moment = _to_section(section_to_csn, moment)
+    sigma_corner = [axial_stress(sc * 0.5 * w, sn * 0.5 * h, force, moment, geometry) for sc, sn in CORNERS]
+
+    q_t = torsion_shear_flow(force, moment, geometry)
+    c_front, c_rear, n_lower, n_upper = box_midline(*geometry)
+    sigma_vm = []
+    for sc, sn in CORNERS:
+        sigma = axial_stress(c_rear if sc > 0 else c_front, n_upper if sn > 0 else n_lower, force, moment, geometry)
+        for t_wall in (t_upper_skin if sn > 0 else t_lower_skin, t_rear_spar if sc > 0 else t_front_spar):
+            sigma_vm.append(sqrt(sigma**2 + 3.0 * (q_t / t_wall) ** 2 + VM_TINY))
+
+    i_xx, i_zz, _ = box_inertia(*geometry)
+    q_x, q_z = box_first_moments(*geometry)
+    tau_c = force[0] * q_z / (i_zz * (t_upper_skin + t_lower_skin))
+    tau_n = force[2] * q_x / (i_xx * (t_front_spar + t_rear_spar))
+    tau_cent = [q_t / t_upper_skin + tau_c, q_t / t_lower_skin - tau_c,
+                q_t / t_front_spar + tau_n, q_t / t_rear_spar - tau_n]
+    return {"sigma_corner": sigma_corner, "sigma_vm": sigma_vm, "tau_cent": tau_cent}
+
+
+def stress_constraints(stresses: dict, sigma_y: float, families=tuple(FAMILIES)) -> dict:
+    """Constraint values g = stress / sigma_y - 1 (Eq. 4.26-4.28), lists keyed by family.
+
+    ``ss_tension``/``ss_compression`` are the + and - forms of Eq. 4.27, ``cent_pos``/
+    ``cent_neg`` of Eq. 4.28. Shear is compared with sigma_y as in the dissertation.
+    """
+    check_families(families)
+    out = {
+        "vm": [s / sigma_y - 1.0 for s in stresses["sigma_vm"]],
+        "ss_tension": [s / sigma_y - 1.0 for s in stresses["sigma_corner"]],
+        "ss_compression": [-s / sigma_y - 1.0 for s in stresses["sigma_corner"]],
+        "cent_pos": [s / sigma_y - 1.0 for s in stresses["tau_cent"]],
+        "cent_neg": [-s / sigma_y - 1.0 for s in stresses["tau_cent"]],
+    }
+    return {f: out[f] for f in families}
+
+
+def check_families(families) -> None:
+    """Raise ``ValueError`` unless every name is one of ``FAMILIES``."""
+    bad = [f for f in families if f not in FAMILIES]
+    if bad or not len(families):
+        raise ValueError(f"unknown stress constraint families {bad or list(families)}; valid: {', '.join(FAMILIES)}")
