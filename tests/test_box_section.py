@@ -263,3 +263,15 @@ def test_bad_input(name, value, match):
     prob.set_val(name, value)
     with pytest.raises(ValueError, match=match):
         prob.run_model()
+
+
+def test_shear_centre_closed_form_equal_skins():
+    """Equal skins t_s, spars t_f != t_r: closed form from a hand (symbolic) integration of the
+    thin-walled flow, measured from the midline-rectangle centre (docs/section.md)."""
+    w, h, ts, tf, tr = 1.1, 0.42, 0.006, 0.018, 0.005
+    b, d = w - (tf + tr) / 2, h - ts
+    c_mid = b * d * (tr - tf) * (2 * b * tf * tr + 12 * b * ts**2 + d * ts * (tf + tr)) / (
+        2 * (6 * b * ts + d * (tf + tr)) * (2 * b * tf * tr + d * ts * (tf + tr)))
+    p = run_box(width=w, height=h, t_upper_skin=ts, t_lower_skin=ts, t_front_spar=tf, t_rear_spar=tr)
+    assert p.get_val("c_sc")[0] == pytest.approx(c_mid + (tf - tr) / 4, rel=1e-12)
+    assert abs(p.get_val("n_sc")[0]) < 1e-15
