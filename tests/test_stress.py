@@ -146,8 +146,10 @@ def test_check_partials_random_asymmetric():
     nt, n = 3, 4
     rng = np.random.default_rng(11)
     prob = om.Problem(reports=False)
-    prob.model.add_subsystem("s", BoxStress(num_times=nt, num_stations=n, material=ALUMINIUM), promotes=["*"])
+    prob.model.add_subsystem("s", BoxStress(num_times=nt, num_stations=n, material=ALUMINIUM, section_rotation=True),
+                             promotes=["*"])
     prob.setup()
+    assert "combined" in prob.model.s._fjac.name()  # the CSE'd combined Jacobian is in use
     prob.set_val("width", rng.uniform(0.6, 1.2, n))
     prob.set_val("height", rng.uniform(0.2, 0.4, n))
     for k in WALLS:
@@ -160,3 +162,19 @@ def test_check_partials_random_asymmetric():
     prob.run_model()
     data = prob.check_partials(method="fd", form="central", step=1e-5, step_calc="rel", out_stream=None)
     assert_check_partials(data, atol=1e-6, rtol=1e-6)
+
+
+def test_options_reduce_outputs_and_rotation_matches():
+    rot90 = np.array([[0.0, 0, -1], [0, 1, 0], [1, 0, 0]])  # section c axis = csn n axis
+    prob = om.Problem(reports=False)
+    prob.model.add_subsystem("s", BoxStress(num_times=1, num_stations=1, material=ALUMINIUM, families=("ss_tension",),
+                                            output_stresses=False, section_rotation=True), promotes=["*"])
+    prob.setup()
+    for k, v in SYM.items():
+        prob.set_val(k, v)
+    assert "sigma_corner" not in prob.model.s._var_rel2meta
+    prob.set_val("section_to_csn", rot90)
+    prob.set_val("M_csn", [[[0.0, 0, 3e5]]])  # R^T M: M_c = +3e5 in the section axes
+    prob.run_model()
+    hand = 3e5 * 0.25 / IXX
+    assert prob.get_val("g_ss_tension")[0, 0] == pytest.approx(np.array([hand, hand, -hand, -hand]) / SY - 1, rel=1e-12)

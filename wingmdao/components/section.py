@@ -8,6 +8,7 @@ beam reference axis); see docs/section.md.
 
 from __future__ import annotations
 
+import casadi as ca
 import numpy as np
 
 from wingmdao.components.pointwise import PointwiseCasadiComponent, Var
@@ -40,7 +41,51 @@ SECTION_OUTPUTS = (
 )
 
 
-class _SectionBase(PointwiseCasadiComponent):
+class CombinedJacobianMixin:
+    """Evaluate a :class:`PointwiseCasadiComponent`'s partials from one combined Jacobian.
+
+    The base class differentiates every (output, input) pair separately, so shared
+    subexpressions (centroid, inertia, shear centre) are re-evaluated once per pair. This
+    mixin rebuilds the same nonzeros, pair by pair and in the same order, as sub-blocks of
+    the Jacobian of all outputs with respect to all inputs, with common subexpressions
+    eliminated (``casadi.cse``): 5x fewer instructions for ``BoxStress``. The declared
+    sparsity is unchanged; the block patterns are checked against the per-pair structural
+    sparsity and the base function is kept if they ever differ.
+    """
+
+    def setup(self):
+        super().setup()
+        combined = self._combined_jacobian()
+        if combined is not None:
+            self._fjac = combined
+
+    def _combined_jacobian(self):
+        syms, shaped = {}, {}
+        for v in self._in_vars:
+            syms[v.name] = ca.SX.sym(v.name, v.size)
+            shaped[v.name] = ca.reshape(syms[v.name], v.shape[1], v.shape[0]).T if len(v.shape) == 2 else syms[v.name]
+        exprs = self.pointwise_expressions(shaped)
+        outs = {}
+        for v in self._out_vars:
+            e = ca.SX(exprs[v.name])
+            outs[v.name] = ca.reshape(e.T if len(v.shape) == 2 else e, v.size, 1)
+        out_vec = ca.vertcat(*outs.values())
+        in_list = [syms[v.name] for v in self._in_vars]
+        jac = ca.jacobian(out_vec, ca.vertcat(*in_list))
+        row0 = dict(zip(outs, np.cumsum([0] + [outs[k].numel() for k in outs])))
+        col0 = dict(zip(syms, np.cumsum([0] + [syms[k].numel() for k in syms])))
+        blocks = []
+        for oname, iname in self._pairs:
+            o, i = row0[oname], col0[iname]
+            blk = jac[o:o + outs[oname].numel(), i:i + syms[iname].numel()]
+            if blk.sparsity() != ca.jacobian_sparsity(outs[oname], syms[iname]):
+                return None
+            blocks.append(ca.vertcat(*blk.nonzeros()))
+        f = ca.Function(f"{self.__class__.__name__}_jac_combined", in_list, ca.cse(blocks))
+        return f.map(self.num_points, "serial") if self.num_points > 1 else f
+
+
+class _SectionBase(CombinedJacobianMixin, PointwiseCasadiComponent):
     """Common options, beam-data inputs and outputs of the section components."""
 
     def initialize(self):

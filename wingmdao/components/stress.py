@@ -6,6 +6,7 @@ import casadi as ca
 import numpy as np
 
 from wingmdao.components.pointwise import PointwiseCasadiComponent, Var
+from wingmdao.components.section import CombinedJacobianMixin
 from wingmdao.section.box import WALL_NAMES, validate_box
 from wingmdao.stress.box_stress import FAMILIES, box_stresses, check_families, stress_constraints
 
@@ -18,14 +19,16 @@ _FAMILY_DESC = {
 }
 
 
-class BoxStress(PointwiseCasadiComponent):
+class BoxStress(CombinedJacobianMixin, PointwiseCasadiComponent):
     """Stresses and stress constraints of box sections on the grid (num_times, num_stations).
 
     Inputs: ``F_csn``, ``M_csn`` (nt, n, 3) in N and N*m (csn, about the box centre);
     per station (n,) in m: ``width``, ``height``, ``t_upper_skin``, ``t_lower_skin``,
-    ``t_front_spar``, ``t_rear_spar``; ``section_to_csn`` (n, 3, 3), default identity.
-    Outputs: ``sigma_corner`` (nt, n, 4), ``sigma_vm`` (nt, n, 8), ``tau_cent`` (nt, n, 4) in
-    Pa and ``g_<family>`` for each selected family (points: see wingmdao.stress.box_stress).
+    ``t_front_spar``, ``t_rear_spar``; with ``section_rotation=True`` also ``section_to_csn``
+    (n, 3, 3), default identity (otherwise the section axes are the csn axes).
+    Outputs: ``g_<family>`` for each selected family (points: see wingmdao.stress.box_stress)
+    and, unless ``output_stresses=False``, ``sigma_corner`` (nt, n, 4), ``sigma_vm`` (nt, n, 8),
+    ``tau_cent`` (nt, n, 4) in Pa.
     """
 
     def initialize(self):
@@ -35,6 +38,10 @@ class BoxStress(PointwiseCasadiComponent):
         self.options.declare("material", desc="wingmdao.materials.Material (sigma_y used)")
         self.options.declare("families", default=tuple(FAMILIES), types=tuple,
                              desc=f"constraint families to output, from {', '.join(FAMILIES)}")
+        self.options.declare("output_stresses", default=True, types=bool,
+                             desc="also output sigma_corner, sigma_vm, tau_cent (Pa); False halves the Jacobian")
+        self.options.declare("section_rotation", default=False, types=bool,
+                             desc="add the input section_to_csn and rotate the loads to the section axes")
         self.options.declare("grid_shape", types=tuple, default=(1, 1), desc="set from num_times, num_stations")
 
     def setup(self):
@@ -54,22 +61,22 @@ class BoxStress(PointwiseCasadiComponent):
             Var("t_lower_skin", (), "m", "lower skin thickness", 0.01, per_last_axis=True),
             Var("t_front_spar", (), "m", "front spar web thickness", 0.01, per_last_axis=True),
             Var("t_rear_spar", (), "m", "rear spar web thickness", 0.01, per_last_axis=True),
-            Var("section_to_csn", (3, 3), None, "rotation R from the section axes to csn", eye, per_last_axis=True),
-        ]
+        ] + ([Var("section_to_csn", (3, 3), None, "rotation R from the section axes to csn", eye, per_last_axis=True)]
+             if self.options["section_rotation"] else [])
 
     def pointwise_outputs(self):
         out = [
             Var("sigma_corner", (4,), "Pa", "outer-corner axial stress (Eq. 4.19 generalised)"),
             Var("sigma_vm", (8,), "Pa", "mid-corner von Mises stress, skin then spar per corner"),
             Var("tau_cent", (4,), "Pa", "flange-centre shear: upper, lower skin, front, rear spar"),
-        ]
+        ] if self.options["output_stresses"] else []
         return out + [Var(f"g_{f}", (FAMILIES[f],), None, _FAMILY_DESC[f]) for f in self.options["families"]]
 
     def pointwise_expressions(self, sym):
         stresses = box_stresses(sym["F_csn"], sym["M_csn"], sym["width"], sym["height"],
-                                *(sym[k] for k in WALL_NAMES), section_to_csn=sym["section_to_csn"])
+                                *(sym[k] for k in WALL_NAMES), section_to_csn=sym.get("section_to_csn"))
         g = stress_constraints(stresses, self.options["material"].sigma_y, self.options["families"])
-        out = {k: ca.vertcat(*v) for k, v in stresses.items()}
+        out = {k: ca.vertcat(*v) for k, v in stresses.items()} if self.options["output_stresses"] else {}
         out.update({f"g_{f}": ca.vertcat(*v) for f, v in g.items()})
         return out
 

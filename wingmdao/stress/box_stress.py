@@ -39,7 +39,17 @@ def _to_section(rot, vec):
     return [sum(rot[..., j, i] * vec[j] for j in range(3)) for i in range(3)]
 
 
-def axial_stress(c, n, force, moment, geometry):
+def section_quantities(geometry) -> dict:
+    """Section quantities the stress recovery needs, computed once per station."""
+    c0, n0 = box_centroid(*geometry)
+    i_xx, i_zz, i_xz = box_inertia(*geometry)
+    c_sc, n_sc = box_shear_centre(*geometry)
+    q_x, q_z = box_first_moments(*geometry)
+    return {"A": box_area(*geometry), "c_ea": c0, "n_ea": n0, "Ixx": i_xx, "Izz": i_zz, "Ixz": i_xz,
+            "c_sc": c_sc, "n_sc": n_sc, "Qx": q_x, "Qz": q_z, "A_m": box_enclosed_area(*geometry)}
+
+
+def axial_stress(c, n, force, moment, sec):
     """Axial stress sigma_ss at (c, n) (Eq. 4.19 generalised to the unsymmetric section), Pa.
 
     sigma = F_s / A + E (kappa_n (c - c_ea) - kappa_c (n - n_ea)) with the curvature
@@ -47,25 +57,25 @@ def axial_stress(c, n, force, moment, geometry):
     sigma = F_s/A + [(Ixz M_c' + Ixx M_n')(c - c_ea) - (Izz M_c' + Ixz M_n')(n - n_ea)]
             / (Ixx Izz - Ixz^2).
     With Ixz = 0 and the centroid at the centre this is Eq. 4.19 (M_c compresses n > 0).
+    ``sec`` is :func:`section_quantities`.
     """
-    c0, n0 = box_centroid(*geometry)
-    i_xx, i_zz, i_xz = box_inertia(*geometry)
+    c0, n0 = sec["c_ea"], sec["n_ea"]
+    i_xx, i_zz, i_xz = sec["Ixx"], sec["Izz"], sec["Ixz"]
     m_c = moment[0] + n0 * force[1]
     m_n = moment[2] - c0 * force[1]
     det = i_xx * i_zz - i_xz**2
-    return (force[1] / box_area(*geometry)
+    return (force[1] / sec["A"]
             + ((i_xz * m_c + i_xx * m_n) * (c - c0) - (i_zz * m_c + i_xz * m_n) * (n - n0)) / det)
 
 
-def torsion_shear_flow(force, moment, geometry):
+def torsion_shear_flow(force, moment, sec):
     """Bredt shear flow q = T / (2 A_m) (Eq. 4.20 corrected), N/m, positive upper skin aft.
 
     T is the torque about the shear centre: T = M_s - (n_sc F_c - c_sc F_n), so that the
     transverse shear (through the shear centre) is handled by Eq. 4.22-4.23 alone.
     """
-    c_sc, n_sc = box_shear_centre(*geometry)
-    torque = moment[1] - (n_sc * force[0] - c_sc * force[2])
-    return torque / (2.0 * box_enclosed_area(*geometry))
+    torque = moment[1] - (sec["n_sc"] * force[0] - sec["c_sc"] * force[2])
+    return torque / (2.0 * sec["A_m"])
 
 
 def box_stresses(force, moment, w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar,
@@ -83,20 +93,19 @@ def box_stresses(force, moment, w, h, t_upper_skin, t_lower_skin, t_front_spar, 
     geometry = (w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar)
     force = _to_section(section_to_csn, force)
     moment = _to_section(section_to_csn, moment)
-    sigma_corner = [axial_stress(sc * 0.5 * w, sn * 0.5 * h, force, moment, geometry) for sc, sn in CORNERS]
+    sec = section_quantities(geometry)
+    sigma_corner = [axial_stress(sc * 0.5 * w, sn * 0.5 * h, force, moment, sec) for sc, sn in CORNERS]
 
-    q_t = torsion_shear_flow(force, moment, geometry)
+    q_t = torsion_shear_flow(force, moment, sec)
     c_front, c_rear, n_lower, n_upper = box_midline(*geometry)
     sigma_vm = []
     for sc, sn in CORNERS:
-        sigma = axial_stress(c_rear if sc > 0 else c_front, n_upper if sn > 0 else n_lower, force, moment, geometry)
+        sigma = axial_stress(c_rear if sc > 0 else c_front, n_upper if sn > 0 else n_lower, force, moment, sec)
         for t_wall in (t_upper_skin if sn > 0 else t_lower_skin, t_rear_spar if sc > 0 else t_front_spar):
             sigma_vm.append(sqrt(sigma**2 + 3.0 * (q_t / t_wall) ** 2 + VM_TINY))
 
-    i_xx, i_zz, _ = box_inertia(*geometry)
-    q_x, q_z = box_first_moments(*geometry)
-    tau_c = force[0] * q_z / (i_zz * (t_upper_skin + t_lower_skin))
-    tau_n = force[2] * q_x / (i_xx * (t_front_spar + t_rear_spar))
+    tau_c = force[0] * sec["Qz"] / (sec["Izz"] * (t_upper_skin + t_lower_skin))
+    tau_n = force[2] * sec["Qx"] / (sec["Ixx"] * (t_front_spar + t_rear_spar))
     tau_cent = [q_t / t_upper_skin + tau_c, q_t / t_lower_skin - tau_c,
                 q_t / t_front_spar + tau_n, q_t / t_rear_spar - tau_n]
     return {"sigma_corner": sigma_corner, "sigma_vm": sigma_vm, "tau_cent": tau_cent}
