@@ -83,3 +83,19 @@ def test_free_warping_root_gives_uniform_twist_rate():
     G = 70e9 / (2 * 1.33)
     bredt = 4 * (2.8 * 0.4) ** 2 * G / (2 * 2.8 / 0.1 + 2 * 0.4 / 0.2)
     assert 1e5 / rate.mean() == pytest.approx(bredt, rel=0.1)
+
+
+@pytest.mark.parametrize("shear", ["rigid", "webs", "flows"])
+def test_linear_beam_matches_closed_forms_on_the_prismatic_box(shear):
+    E, G, P, L = 70e9, 70e9 / 2.66, 1e5, 10.0
+    p = wb.box_beam_properties(3.0, 0.5, shear=shear)
+    y = np.array([3.0, 7.0, 10.0])
+    r = wb.linear_beam_solution("prismatic", tip_force=(0, 0, P), shear=shear)
+    assert np.allclose(r["displacement"][:, 2], P * y**2 * (3 * L - y) / (6 * E * p["I_c"]) + P * y / (G * p["K_n"]),
+                       rtol=1e-9)
+    assert np.allclose(r["rotation"][:, 0], P * (L * y - y**2 / 2) / (E * p["I_c"]), rtol=1e-9)
+    r = wb.linear_beam_solution("prismatic", tip_force=(0, 0, 0), tip_moment=(0, P, 0), shear=shear)
+    assert np.allclose(r["rotation"][:, 1], P * y / (G * p["J"]), rtol=1e-9)
+    # by hand: I_c = (3 * 0.5^3 - 2.6 * 0.3^3) / 12, Bredt J = 4 (2.8 * 0.4)^2 / (2 * 2.8 / 0.1 + 2 * 0.4 / 0.2)
+    assert p["I_c"] == pytest.approx(0.0254, rel=1e-12)
+    assert p["J"] == pytest.approx(4 * 1.12**2 / 60, rel=1e-12)

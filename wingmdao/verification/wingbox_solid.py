@@ -286,3 +286,118 @@ def solve_wingbox(geometry_name: str, tip_force=(0.0, 0.0, 1.0e5), tip_moment=(0
         "num_dof": mesh.num_dof, "num_elements": len(mesh.elements), "divisions": div,
         "solve_time": time.perf_counter() - t0,
     }
+
+
+# ----------------------------------------------------------------------------------------
+# an independent linear Timoshenko frame along the beam axis (for the mismatch analysis)
+# ----------------------------------------------------------------------------------------
+def box_beam_properties(width, height, t_spar=T_SPAR, t_skin=T_SKIN, shear="webs"):
+    """Linear-beam properties of a symmetric box cut (m, m^2, m^4): A, I_c (vertical bending,
+    about the chordwise axis), I_n (chordwise bending), J (Bredt, wall midlines), and the shear
+    areas K_n (vertical), K_c (chordwise).
+
+    shear: 'webs' (K_n = spar webs between the skins, K_c = skins: the choice of
+    wingmdao.section.box), 'flows' (thin-walled Jourawski shear flows in all walls, energy
+    equivalent: K = I^2 / integral (Q/t)^2 t ds) or 'rigid' (Euler-Bernoulli).
+    """
+    w, h, ts, tk = width, height, t_spar, t_skin
+    wi, hi = w - 2 * ts, h - 2 * tk
+    b, d = w - ts, h - tk                           # midline rectangle
+    props = {"A": w * h - wi * hi, "I_c": (w * h**3 - wi * hi**3) / 12,
+             "I_n": (h * w**3 - hi * wi**3) / 12,
+             "J": 4 * (b * d) ** 2 / (2 * b / tk + 2 * d / ts)}
+    if shear == "webs":
+        props["K_n"], props["K_c"] = 2 * ts * hi, 2 * tk * w
+    elif shear == "flows":
+        props["K_n"] = _flow_shear_area(props["I_c"], b, d, tk, ts)
+        props["K_c"] = _flow_shear_area(props["I_n"], d, b, ts, tk)
+    elif shear == "rigid":
+        props["K_n"] = props["K_c"] = np.inf
+    else:
+        raise ValueError(f"shear must be 'webs', 'flows' or 'rigid', got {shear!r}")
+    return props
+
+
+def _flow_shear_area(I, b, d, t_flange, t_web, n=2001):
+    """Energy-equivalent shear area of a symmetric thin-walled box for shear along d:
+    flanges of length b (thickness t_flange) at +-d/2, webs of height d (t_web); q = V Q / I."""
+    s = np.linspace(0.0, b / 2, n)
+    q_f = t_flange * d / 2 * s
+    z = np.linspace(0.0, d / 2, n)
+    q_w = q_f[-1] + t_web * (d**2 / 4 - z**2) / 2
+    energy = 4 * (np.trapezoid(q_f**2, s) / t_flange + np.trapezoid(q_w**2, z) / t_web)
+    return I**2 / energy
+
+
+def _timoshenko_element(L, EA, GJ, EI_y, EI_z, GA_y, GA_z):
+    """12x12 local stiffness (u, v, w, rx, ry, rz at both ends), x the axis; bending in x-y uses
+    EI_z and GA_y, in x-z uses EI_y and GA_z (exact for a uniform Timoshenko beam)."""
+    k = np.zeros((12, 12))
+    k[np.ix_([0, 6], [0, 6])] = EA / L * np.array([[1, -1], [-1, 1]])
+    k[np.ix_([3, 9], [3, 9])] = GJ / L * np.array([[1, -1], [-1, 1]])
+    for EI, GA, (v1, r1, v2, r2), sgn in ((EI_z, GA_y, (1, 5, 7, 11), 1.0), (EI_y, GA_z, (2, 4, 8, 10), -1.0)):
+        phi = 12 * EI / (GA * L**2)
+        c = EI / ((1 + phi) * L**3)
+        m = c * np.array([[12, 6 * L * sgn, -12, 6 * L * sgn],
+                          [6 * L * sgn, (4 + phi) * L**2, -6 * L * sgn, (2 - phi) * L**2],
+                          [-12, -6 * L * sgn, 12, -6 * L * sgn],
+                          [6 * L * sgn, (2 - phi) * L**2, -6 * L * sgn, (4 + phi) * L**2]])
+        k[np.ix_([v1, r1, v2, r2], [v1, r1, v2, r2])] = m
+    return k
+
+
+def linear_beam_solution(geometry_name: str, tip_force=(0.0, 0.0, 1.0e5), tip_moment=(0.0, 0.0, 0.0),
+                         *, elements_per_metre: int = 8, shear: str = "webs", section: str = "streamwise",
+                         t_spar: float = T_SPAR, t_skin: float = T_SKIN,
+                         E: float = E_ALUMINIUM, nu: float = NU_ALUMINIUM) -> dict:
+    """Linear Timoshenko frame along the axis through the section centres (root clamped).
+
+    An independent small-displacement reference for the beam of App. A (same axis and loads
+    as :func:`solve_wingbox`): lets the solid/beam mismatch be split into shear compliance
+    (``shear``), section definition (``section``: 'streamwise' uses the streamwise box cut
+    as if it were normal to the axis; 'normal' uses the cut normal to the axis, widths times
+    cos(sweep of the axis), heights times cos(dihedral)) and what no beam has (warping
+    restraint, distortion). Returns ``displacement`` and ``rotation`` (3, 3) at CS2..CS4.
+    """
+    tip_force, tip_moment = _check_load("tip_force (N)", tip_force), _check_load("tip_moment (N m)", tip_moment)
+    if section not in ("streamwise", "normal"):
+        raise ValueError(f"section must be 'streamwise' or 'normal', got {section!r}")
+    G = E / (2 * (1 + nu))
+    cs = box_sections(geometry_name)
+    per_segment = [max(2, int(round(d * elements_per_metre))) for d in SEGMENT_SPANS]
+    nodes = beam_axis_nodes(geometry_name, per_segment)
+    cs_nodes = np.concatenate([[0], np.cumsum(per_segment)])
+    n = len(nodes)
+    K = np.zeros((6 * n, 6 * n))
+    seg_of = np.repeat(np.arange(3), per_segment)
+    frac = np.concatenate([(np.arange(m) + 0.5) / m for m in per_segment])
+    for e in range(n - 1):
+        k_seg, t = seg_of[e], frac[e]
+        axis = nodes[e + 1] - nodes[e]
+        L = np.linalg.norm(axis)
+        s = axis / L
+        c = np.array([1.0, 0.0, 0.0]) - s[0] * s
+        c /= np.linalg.norm(c)
+        nrm = np.cross(c, s)
+        w = (1 - t) * cs[k_seg].width + t * cs[k_seg + 1].width
+        h = (1 - t) * cs[k_seg].height + t * cs[k_seg + 1].height
+        if section == "normal":
+            cos_sweep = np.hypot(s[1], s[2])               # axis angle in the xy plane w.r.t. y
+            cos_dih = np.hypot(s[0], s[1])
+            p = box_beam_properties(w * cos_sweep, h * cos_dih, t_spar * cos_sweep, t_skin * cos_dih, shear)
+        else:
+            p = box_beam_properties(w, h, t_spar, t_skin, shear)
+        # local x = s, y = n, z = c (right-handed: s x n = c)
+        k = _timoshenko_element(L, E * p["A"], G * p["J"], E * p["I_n"], E * p["I_c"],
+                                G * p["K_n"], G * p["K_c"])
+        R = np.array([s, nrm, c])
+        T = np.kron(np.eye(4), R)
+        dofs = np.concatenate([np.arange(6 * e, 6 * e + 6), np.arange(6 * e + 6, 6 * e + 12)])
+        K[np.ix_(dofs, dofs)] += T.T @ k @ T
+    f = np.zeros(6 * n)
+    f[-6:-3], f[-3:] = tip_force, tip_moment
+    u = np.zeros(6 * n)
+    u[6:] = np.linalg.solve(K[6:, 6:], f[6:])
+    u = u.reshape(n, 6)
+    return {"displacement": u[cs_nodes[1:], :3], "rotation": u[cs_nodes[1:], 3:],
+            "nodes": nodes, "shear": shear, "section": section}
