@@ -99,9 +99,10 @@ class WingStructure(om.Group):
         self.add_subsystem("internal_loads", BeamInternalLoads(num_times=nt, num_nodes=n))
         self.connect("beam.states", "internal_loads.states")
 
+        stress_kwargs = {"output_stresses": False} if kind == "box" else {}
         self.add_subsystem("stress", stress_cls(num_times=nt, num_stations=n,
                                                 material=self.options["material"],
-                                                families=tuple(case.families)),
+                                                families=tuple(case.families), **stress_kwargs),
                            promotes_inputs=list(SECTION_KINDS[kind]["stress_inputs"]))
         self.connect("internal_loads.F_csn", "stress.F_csn")
         self.connect("internal_loads.M_csn", "stress.M_csn")
