@@ -125,30 +125,37 @@ def section_lines(section: BoxCrossSection, t_spar: float, t_skin: float, divisi
     return x, z
 
 
-def default_divisions(mesh_size: float, t_spar: float = T_SPAR, t_skin: float = T_SKIN,
-                      sections=None, root_grading: float = 10.0) -> dict:
-    """Element counts from a target largest edge length ``mesh_size`` (m); each count >= 1.
+def default_divisions(mesh_size: float = 0.15, t_spar: float = T_SPAR, t_skin: float = T_SKIN,
+                      sections=None, span_size: float = 0.5, root_grading: float = 10.0) -> dict:
+    """Element counts of the structured mesh; every count >= 1 (quadratic elements).
 
-    ``span``: per segment; the root segment is graded (element lengths in geometric
-    progression, last/first = ``root_grading``) towards the clamp, whose edge singularity
-    otherwise dominates the discretisation error, with enough elements that its largest is
-    <= mesh_size. Cross-section counts are shared by all segments (structured mesh) and set by
-    the root section.
+    Cross-section (shared by all segments, set by the root section): ``mesh_size`` (m) is the
+    target largest edge: ``spar`` elements through a spar, ``skin`` through a skin, ``chord``
+    across the skin panel between the spars, ``web`` up the spar web between the skins.
+    Span: ``span_size`` (m) per segment; the root segment is graded towards the clamp (element
+    lengths in geometric progression, last/first = ``root_grading``; its edge singularity
+    otherwise dominates the error) with enough elements that its largest is <= span_size.
+    The convergence study behind the defaults is in docs/verification-solid3d.md.
     """
-    if not (np.isfinite(mesh_size) and mesh_size > 0.0):
-        raise ValueError(f"mesh_size must be finite and > 0 m, got {mesh_size}")
+    for label, v in (("mesh_size", mesh_size), ("span_size", span_size)):
+        if not (np.isfinite(v) and v > 0.0):
+            raise ValueError(f"{label} must be finite and > 0 m, got {v}")
     root = sections[0] if sections else BoxCrossSection((0.0, 0.0, 0.0), 3.0, 0.5)
-    n = lambda length: max(1, int(np.ceil(length / mesh_size - 1e-9)))
-    n_root = n(SEGMENT_SPANS[0])
+
+    def count(length, size):
+        return max(1, int(np.ceil(length / size - 1e-9)))
+
+    n_root = count(SEGMENT_SPANS[0], span_size)
     while n_root < 1000:
         t = _span_parameters(n_root, root_grading)
-        if SEGMENT_SPANS[0] * (t[-1] - t[-3]) <= mesh_size * (1.0 + 1e-9):
+        if SEGMENT_SPANS[0] * (t[-1] - t[-3]) <= span_size * (1.0 + 1e-9):
             break
         n_root += 1
-    return {"span": (n_root,) + tuple(n(d) for d in SEGMENT_SPANS[1:]),
+    return {"span": (n_root,) + tuple(count(d, span_size) for d in SEGMENT_SPANS[1:]),
             "root_grading": root_grading,
-            "spar": n(t_spar), "skin": n(t_skin),
-            "chord": n(root.width - 2.0 * t_spar), "web": n(root.height - 2.0 * t_skin)}
+            "spar": count(t_spar, mesh_size), "skin": count(t_skin, mesh_size),
+            "chord": count(root.width - 2.0 * t_spar, mesh_size),
+            "web": count(root.height - 2.0 * t_skin, mesh_size)}
 
 
 def _span_parameters(n_el: int, grading: float) -> np.ndarray:
@@ -235,7 +242,7 @@ def _check_load(label, v):
 
 
 def solve_wingbox(geometry_name: str, tip_force=(0.0, 0.0, 1.0e5), tip_moment=(0.0, 0.0, 0.0),
-                  mesh_size: float = 0.25, *, divisions: dict | None = None,
+                  mesh_size: float = 0.15, *, span_size: float = 0.5, divisions: dict | None = None,
                   t_spar: float = T_SPAR, t_skin: float = T_SKIN,
                   E: float = E_ALUMINIUM, nu: float = NU_ALUMINIUM,
                   tip_load: str = "diaphragm", root: str = "clamped") -> dict:
@@ -247,7 +254,8 @@ def solve_wingbox(geometry_name: str, tip_force=(0.0, 0.0, 1.0e5), tip_moment=(0
     linear normal traction; 'traction' spreads everything as the rigid-body-consistent
     traction (uniform for a force, linear for a moment); 'rigid' ties the face to a rigid
     master node. ``root``: 'clamped' (default) or 'free_warping' (diagnostic, pure torque
-    only). ``mesh_size`` (m): see :func:`default_divisions`.
+    only). ``mesh_size``, ``span_size`` (m): see :func:`default_divisions` (or give
+    ``divisions`` directly).
 
     Returns a dict: ``stations`` ["CS2", "CS3", "CS4"], ``y`` (m), ``centre`` (3, 3) section
     centres (m), ``displacement`` (3, 3) section-average displacements (m), ``rotation``
@@ -261,7 +269,8 @@ def solve_wingbox(geometry_name: str, tip_force=(0.0, 0.0, 1.0e5), tip_moment=(0
     if root == "free_warping" and (np.any(tip_force) or tip_moment[0] or tip_moment[2]):
         raise ValueError("root='free_warping' supports a pure tip torque (tip_moment y) only")
     sections = box_sections(geometry_name)
-    div = default_divisions(mesh_size, t_spar, t_skin, sections) if divisions is None else divisions
+    div = (default_divisions(mesh_size, t_spar, t_skin, sections, span_size)
+           if divisions is None else divisions)
     mesh, cs_index = box_mesh(sections, t_spar, t_skin, div)
     K = solid3d.assemble_stiffness(mesh, E, nu)
     fixed = _root_constraints(mesh, root, sections[0].centre)
@@ -401,3 +410,63 @@ def linear_beam_solution(geometry_name: str, tip_force=(0.0, 0.0, 1.0e5), tip_mo
     u = u.reshape(n, 6)
     return {"displacement": u[cs_nodes[1:], :3], "rotation": u[cs_nodes[1:], 3:],
             "nodes": nodes, "shear": shear, "section": section}
+
+
+# ----------------------------------------------------------------------------------------
+# beam vs solid comparison (App. E.3, Table E.3 style)
+# ----------------------------------------------------------------------------------------
+#: the comparison loads: a vertical tip force and a tip torque about y (linear regime)
+COMPARISON_LOADS = {
+    "tip force Fz = 1e5 N": {"tip_force": (0.0, 0.0, 1.0e5), "tip_moment": (0.0, 0.0, 0.0)},
+    "tip torque My = 1e5 N m": {"tip_force": (0.0, 0.0, 0.0), "tip_moment": (0.0, 1.0e5, 0.0)},
+}
+
+
+def compare_with_beam(beam_solver, geometries=None, loads=None, mesh_size: float = 0.15,
+                      stations=("CS2", "CS3"), solid_results: dict | None = None) -> list[dict]:
+    """Beam-axis vs solid section-average results at CS2/CS3 for each geometry and load.
+
+    beam_solver(geometry_name, tip_force, tip_moment) -> dict with ``displacement`` (3, 3):
+    the beam-axis displacement (m, body axes) at CS2, CS3, CS4, and optionally ``rotation``
+    (3, 3): the small-rotation vector (rad, body axes) there. Rows (dicts): geometry, load,
+    station, quantity ('|u|' displacement magnitude, 'u_z', and 'theta_y' under a torque when
+    the beam gives rotations; displacements below 1e-9 m, zero by symmetry, are skipped),
+    beam, solid, error_pct = 100 (beam - solid) / solid.
+    ``solid_results`` caches solid solutions keyed (geometry, load name).
+    """
+    geometries = geometry_names() if geometries is None else list(geometries)
+    loads = COMPARISON_LOADS if loads is None else loads
+    cache = {} if solid_results is None else solid_results
+    index = {"CS2": 0, "CS3": 1, "CS4": 2}
+    rows = []
+    for geo in geometries:
+        for load_name, load in loads.items():
+            key = (geo, load_name)
+            if key not in cache:
+                cache[key] = solve_wingbox(geo, mesh_size=mesh_size, **load)
+            solid = cache[key]
+            beam = beam_solver(geo, np.asarray(load["tip_force"], float), np.asarray(load["tip_moment"], float))
+            u_beam = np.asarray(beam["displacement"], float)
+            for st in stations:
+                i = index[st]
+                pairs = [("|u|", np.linalg.norm(u_beam[i]), np.linalg.norm(solid["displacement"][i])),
+                         ("u_z", u_beam[i, 2], solid["displacement"][i, 2])]
+                if "rotation" in beam and load["tip_moment"][1]:
+                    pairs.append(("theta_y", np.asarray(beam["rotation"], float)[i, 1], solid["rotation"][i, 1]))
+                for q, b, s in pairs:
+                    if q != "theta_y" and abs(s) < 1e-9:    # zero by symmetry (round-off only)
+                        continue
+                    rows.append({"geometry": geo, "load": load_name, "station": st, "quantity": q,
+                                 "beam": float(b), "solid": float(s),
+                                 "error_pct": float(100.0 * (b - s) / s) if s else float("nan")})
+    return rows
+
+
+def comparison_markdown(rows: list[dict]) -> str:
+    """A markdown table of :func:`compare_with_beam` rows."""
+    lines = ["| geometry | load | station | quantity | beam | solid | error (%) |",
+             "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['geometry']} | {r['load']} | {r['station']} | {r['quantity']} | "
+                     f"{r['beam']:.5e} | {r['solid']:.5e} | {r['error_pct']:+.2f} |")
+    return "\n".join(lines)
