@@ -1,0 +1,317 @@
+"""Geometrically nonlinear Timoshenko beam (App. A, ASWING form) as a CasADi residual system.
+
+Unknowns per node (CONVENTIONS.md), node-major: r (3), theta (3), F (3), M (3), u (3),
+omega (3); all vectors in body axes except the Euler angles theta = (phi, twist, psi) of
+:mod:`wingmdao.beam.rotations`. F_i, M_i are the resultants the outboard part exerts on the
+inboard part across a cut just inboard of node i (so a tip point load P gives F_tip = P and a
+point load at an interior node i enters the equilibrium of element i).
+
+Equations, 18 per node (derivations in docs/beam-theory.md):
+
+* element i (nodes i, i+1), rows 18 i .. 18 i + 11:
+  force equilibrium (Eq. A.10), moment equilibrium about node i (Eq. A.11),
+  moment-curvature (Eq. A.18-A.19) and strain-displacement (Eq. A.20), with the jig terms
+  subtracted so that the unloaded jig shape is an exact solution;
+* last node, rows 18 (n-1) .. 18 (n-1) + 11: root clamp r_1 = r0_1, theta_1 = theta0_1, and
+  tip conditions F_n = point_force_n, M_n = point_moment_n;
+* every node, rows 18 i + 12 .. 18 i + 17: u - dr/dt = 0 and
+  omega - T^T K(theta) dtheta/dt = 0.
+
+Distributed loads are per unit *undeformed* length (multiplied by ds0).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from wingmdao.beam.rotations import body_to_csn, rate_matrix
+from wingmdao.timemarch.system import CasadiResidualSystem, VarSpec, layout, pack
+
+#: Per-node state blocks (CONVENTIONS.md).
+STATE_BLOCKS = {"r": slice(0, 3), "theta": slice(3, 6), "F": slice(6, 9), "M": slice(9, 12),
+                "u": slice(12, 15), "omega": slice(15, 18)}
+N_STATE_PER_NODE = 18
+
+_ELEMENT_EQUATIONS = ("force equilibrium", "moment equilibrium", "moment-curvature",
+                      "strain-displacement")
+_NODAL_EQUATIONS = ("velocity u - dr/dt", "angular rate omega - Euler rates")
+_BC_EQUATIONS = ("root position clamp", "root angle clamp", "tip force", "tip moment")
+_BODY = "xyz"
+_ANGLES = ("phi", "twist", "psi")
+
+
+def param_specs(n: int) -> list[VarSpec]:
+    """Time-invariant parameters p of an n-node beam (per node, root first)."""
+    return [
+        VarSpec("node_positions", (n, 3), "m", "jig beam-axis node positions, body axes"),
+        VarSpec("node_euler_angles", (n, 3), "rad", "jig Euler angles (phi, twist, psi) of the csn frames"),
+        VarSpec("stiffness_csn", (n, 3, 3), "N*m**2", "moment/curvature stiffness E in csn (Eq. A.6)"),
+        VarSpec("compliance_csn", (n, 3), "1/N", "1/(G K_c), 1/(E A), 1/(G K_n) (Eq. A.7)"),
+        VarSpec("tension_axis", (n, 2), "m", "(c, n) of the tension axis from the beam axis"),
+        VarSpec("shear_center", (n, 2), "m", "(c, n) of the shear centre from the beam axis"),
+        VarSpec("mass_per_length", (n,), "kg/m", "mass per unit length"),
+        VarSpec("mass_center", (n, 2), "m", "(c, n) of the mass centre from the beam axis"),
+        VarSpec("inertia_per_length", (n, 3, 3), "kg*m", "rotary inertia per length about the mass centre, csn"),
+    ]
+
+
+def forcing_specs(n: int) -> list[VarSpec]:
+    """Forcing q at one instant (body axes)."""
+    return [
+        VarSpec("force_per_length", (n, 3), "N/m", "dead distributed force per undeformed length"),
+        VarSpec("moment_per_length", (n, 3), "N*m/m", "dead distributed moment per undeformed length"),
+        VarSpec("point_force", (n, 3), "N", "point force at each node"),
+        VarSpec("point_moment", (n, 3), "N*m", "point moment at each node"),
+        VarSpec("gravity", (3,), "m/s**2", "gravitational acceleration, body axes"),
+        VarSpec("frame_acceleration", (3,), "m/s**2", "acceleration A0 of the body-axes origin"),
+        VarSpec("frame_angular_velocity", (3,), "rad/s", "angular velocity Omega of the body axes"),
+        VarSpec("frame_angular_acceleration", (3,), "rad/s**2", "angular acceleration alpha0 of the body axes"),
+    ]
+
+
+# --------------------------------------------------------------------------- helpers
+def _node_block(vec, start, n, i, width):
+    """Entries of node i of a C-ordered (n, width) block starting at ``start`` of ``vec``."""
+    return vec[start + width * i: start + width * (i + 1)]
+
+
+def _mat3(v9):
+    """3x3 SX matrix from 9 C-ordered (row-major) entries."""
+    return ca.vertcat(*[ca.horzcat(v9[3 * r], v9[3 * r + 1], v9[3 * r + 2]) for r in range(3)])
+
+
+def offset_matrix(tension_axis, shear_center):
+    """D of Eq. A.8 as derived: M' = M_csn - D F_csn, strain = S F_csn - D^T kappa.
+
+    Bending (c, n) moments are taken about the tension axis (c_ta, n_ta), where the axial
+    force acts; torsion about the shear centre (c_sc, n_sc), where the shear forces act.
+    """
+    c_ta, n_ta = tension_axis[0], tension_axis[1]
+    c_sc, n_sc = shear_center[0], shear_center[1]
+    return ca.vertcat(ca.horzcat(0, -n_ta, 0), ca.horzcat(n_sc, 0, -c_sc), ca.horzcat(0, c_ta, 0))
+
+
+@dataclass
+class _Sym:
+    """Per-node symbolic inputs of one element function."""
+
+    x: ca.SX
+    xdot: ca.SX
+    p: ca.SX
+    q: ca.SX
+
+
+def _node_symbols():
+    return _Sym(ca.SX.sym("x", 18), ca.SX.sym("xdot", 18), ca.SX.sym("p", 33), ca.SX.sym("q", 12))
+
+
+#: Per-node parameter layout inside the element function (33 entries).
+_P_NODE = {"r0": slice(0, 3), "theta0": slice(3, 6), "E": slice(6, 15), "S": slice(15, 18),
+           "ta": slice(18, 20), "sc": slice(20, 22), "mu": slice(22, 23), "cg": slice(23, 25),
+           "i": slice(25, 34)}
+#: Per-node forcing layout (12 entries): f, m, P, Q.
+_Q_NODE = {"f": slice(0, 3), "m": slice(3, 6), "P": slice(6, 9), "Q": slice(9, 12)}
+
+
+def _avg(a, b, key, table):
+    return 0.5 * (a[table[key]] + b[table[key]])
+
+
+def nodal_acceleration(r, u, udot, frame):
+    """a_i = A0 + du/dt + alpha0 x r + Omega x (Omega x r) + 2 Omega x u (Alg. 2, line 6)."""
+    acc0, rate, alpha0 = frame
+    return acc0 + udot + ca.cross(alpha0, r) + ca.cross(rate, ca.cross(rate, r)) + 2 * ca.cross(rate, u)
+
+
+def _element_function(sequence):
+    """12 element residuals (force, moment, moment-curvature, strain-displacement) of one element."""
+    a, b = _node_symbols(), _node_symbols()
+    pa = ca.SX.sym("pa", 34)
+    pb = ca.SX.sym("pb", 34)
+    g = ca.SX.sym("g", 3)
+    frame = (ca.SX.sym("A0", 3), ca.SX.sym("Omega", 3), ca.SX.sym("alpha0", 3))
+    xa, xb = a.x, b.x
+    st = STATE_BLOCKS
+    r_a, r_b = xa[st["r"]], xb[st["r"]]
+    th_a, th_b = xa[st["theta"]], xb[st["theta"]]
+    F_a, F_b = xa[st["F"]], xb[st["F"]]
+    M_a, M_b = xa[st["M"]], xb[st["M"]]
+    u_a, u_b = xa[st["u"]], xb[st["u"]]
+    w_a, w_b = xa[st["omega"]], xb[st["omega"]]
+    r0_a, r0_b = pa[_P_NODE["r0"]], pb[_P_NODE["r0"]]
+    th0_a, th0_b = pa[_P_NODE["theta0"]], pb[_P_NODE["theta0"]]
+    ds0 = ca.norm_2(r0_b - r0_a)
+
+    # element averages (ASWING style)
+    theta_m = 0.5 * (th_a + th_b)
+    theta0_m = 0.5 * (th0_a + th0_b)
+    T = body_to_csn(theta_m, sequence)
+    T0 = body_to_csn(theta0_m, sequence)
+    E = _mat3(_avg(pa, pb, "E", _P_NODE))
+    S = ca.diag(_avg(pa, pb, "S", _P_NODE))
+    D = offset_matrix(_avg(pa, pb, "ta", _P_NODE), _avg(pa, pb, "sc", _P_NODE))
+    mu = _avg(pa, pb, "mu", _P_NODE)
+    cg = _avg(pa, pb, "cg", _P_NODE)
+    i_csn = _mat3(_avg(pa, pb, "i", _P_NODE))
+    F_m, M_m = 0.5 * (F_a + F_b), 0.5 * (M_a + M_b)
+    qa, qb = a.q, b.q
+    f_dead = _avg(qa, qb, "f", _Q_NODE)
+    m_dead = _avg(qa, qb, "m", _Q_NODE)
+
+    # inertial loads per undeformed length (Alg. 2-3)
+    acc_a = nodal_acceleration(r_a, u_a, a.xdot[st["u"]], frame)
+    acc_b = nodal_acceleration(r_b, u_b, b.xdot[st["u"]], frame)
+    w_tot = frame[1] + 0.5 * (w_a + w_b)
+    wdot_tot = frame[2] + 0.5 * (a.xdot[st["omega"]] + b.xdot[st["omega"]]) + ca.cross(frame[1], 0.5 * (w_a + w_b))
+    d_cg = T.T @ ca.vertcat(cg[0], 0, cg[1])
+    acc_cg = 0.5 * (acc_a + acc_b) + ca.cross(wdot_tot, d_cg) + ca.cross(w_tot, ca.cross(w_tot, d_cg))
+    f_inertial = mu * (g - acc_cg)
+    I_body = T.T @ i_csn @ T
+    m_inertial = ca.cross(d_cg, f_inertial) - (I_body @ wdot_tot + ca.cross(w_tot, I_body @ w_tot))
+    f_tot = f_dead + f_inertial
+    m_tot = m_dead + m_inertial
+
+    # equilibrium of the element between the cut inboard of node a and the cut inboard of node b
+    dr = r_b - r_a
+    P_a, Q_a = qa[_Q_NODE["P"]], qa[_Q_NODE["Q"]]
+    R_force = F_b - F_a + f_tot * ds0 + P_a
+    R_moment = M_b - M_a + m_tot * ds0 + Q_a + ca.cross(dr, F_b + 0.5 * ds0 * f_tot)
+
+    # constitutive relations with offsets (Eq. A.18-A.20 as derived)
+    F_csn, M_csn = T @ F_m, T @ M_m
+    kappa = ca.solve(E, M_csn - D @ F_csn)  # elastic curvature change E^-1 M'
+    strain = S @ F_csn - D.T @ kappa
+    R_curv = (rate_matrix(theta_m, sequence) @ (th_b - th_a)
+              - rate_matrix(theta0_m, sequence) @ (th0_b - th0_a) - ds0 * kappa)
+    e_s = ca.DM([0.0, 1.0, 0.0])
+    R_strain = dr - (r0_b - r0_a) - ds0 * (T.T @ (e_s + strain) - T0.T @ e_s)
+
+    out = ca.vertcat(R_force, R_moment, R_curv, R_strain)
+    return ca.Function("beam_element", [a.x, b.x, a.xdot, b.xdot, pa, pb, a.q, b.q, g, *frame], [out])
+
+
+def _nodal_function(sequence):
+    x, xdot = ca.SX.sym("x", 18), ca.SX.sym("xdot", 18)
+    st = STATE_BLOCKS
+    T = body_to_csn(x[st["theta"]], sequence)
+    K = rate_matrix(x[st["theta"]], sequence)
+    out = ca.vertcat(x[st["u"]] - xdot[st["r"]], x[st["omega"]] - T.T @ (K @ xdot[st["theta"]]))
+    return ca.Function("beam_nodal", [x, xdot], [out])
+
+
+def _node_params(p, lay, i):
+    """The 34 per-node parameters of node i (element-function layout)."""
+    parts = []
+    for name, width in (("node_positions", 3), ("node_euler_angles", 3), ("stiffness_csn", 9),
+                        ("compliance_csn", 3), ("tension_axis", 2), ("shear_center", 2),
+                        ("mass_per_length", 1), ("mass_center", 2), ("inertia_per_length", 9)):
+        parts.append(_node_block(p, lay[name].start, None, i, width))
+    return ca.vertcat(*parts)
+
+
+def _node_forcing(q, lay, i):
+    return ca.vertcat(*[_node_block(q, lay[name].start, None, i, 3) for name in
+                        ("force_per_length", "moment_per_length", "point_force", "point_moment")])
+
+
+def describe_equation(index: int, num_nodes: int) -> str:
+    """Name of residual ``index``, e.g. 'node 5, moment equilibrium z'."""
+    node, k = divmod(int(index), N_STATE_PER_NODE)
+    if not 0 <= node < num_nodes:
+        raise ValueError(f"equation index must be in [0, {N_STATE_PER_NODE * num_nodes}), got {index}")
+    comp = k % 3
+    if k >= 12:
+        kind = _NODAL_EQUATIONS[(k - 12) // 3]
+        return f"node {node}, {kind} {_BODY[comp]}"
+    if node == num_nodes - 1:
+        kind = _BC_EQUATIONS[k // 3]
+        label = _ANGLES[comp] if kind == "root angle clamp" else _BODY[comp]
+        where = "root node 0" if k < 6 else f"tip node {node}"
+        return f"{where}, {kind} {label}"
+    kind = _ELEMENT_EQUATIONS[k // 3]
+    label = "csn"[comp] if kind == "moment-curvature" else _BODY[comp]
+    return f"node {node} (element {node}-{node + 1}), {kind} {label}"
+
+
+def jig_state(p_values, num_nodes: int | None = None) -> np.ndarray:
+    """Unloaded jig state (n, 18): r = node_positions, theta = node_euler_angles, rest zero.
+
+    ``p_values`` is a dict of parameter arrays or the packed parameter vector (then
+    ``num_nodes`` is required).
+    """
+    if isinstance(p_values, dict):
+        r0 = np.asarray(p_values["node_positions"], dtype=float).reshape(-1, 3)
+        th0 = np.asarray(p_values["node_euler_angles"], dtype=float).reshape(-1, 3)
+    else:
+        if num_nodes is None:
+            raise ValueError("num_nodes is required with a packed parameter vector")
+        lay = layout(param_specs(num_nodes))
+        p = np.asarray(p_values, dtype=float)
+        r0 = p[lay["node_positions"]].reshape(num_nodes, 3)
+        th0 = p[lay["node_euler_angles"]].reshape(num_nodes, 3)
+    x = np.zeros((r0.shape[0], N_STATE_PER_NODE))
+    x[:, STATE_BLOCKS["r"]] = r0
+    x[:, STATE_BLOCKS["theta"]] = th0
+    return x
+
+
+def unpack_state(x, num_nodes: int | None = None) -> dict:
+    """Split a state (flat or (n, 18)) into ``{'r', 'theta', 'F', 'M', 'u', 'omega'}`` (n, 3) arrays."""
+    x = np.asarray(x, dtype=float)
+    x = x.reshape(-1, N_STATE_PER_NODE) if num_nodes is None else x.reshape(num_nodes, N_STATE_PER_NODE)
+    return {k: x[:, s].copy() for k, s in STATE_BLOCKS.items()}
+
+
+def build_beam_system(num_nodes: int, *, euler_sequence: str = "surface") -> CasadiResidualSystem:
+    """The App. A beam of ``num_nodes`` nodes (root first) as a :class:`CasadiResidualSystem`.
+
+    ``state_shape = (num_nodes, 18)``; parameters and forcing as in :func:`param_specs` and
+    :func:`forcing_specs`. The element equations are built once symbolically and called per
+    element; Jacobians are exact and sparse. The initial guess is the jig state.
+    """
+    n = int(num_nodes)
+    if n < 2:
+        raise ValueError(f"num_nodes must be >= 2, got {num_nodes}")
+    t_start = time.perf_counter()
+    pspecs, qspecs = param_specs(n), forcing_specs(n)
+    play, qlay = layout(pspecs), layout(qspecs)
+    x = ca.SX.sym("x", 18 * n)
+    xdot = ca.SX.sym("xdot", 18 * n)
+    p = ca.SX.sym("p", sum(s.size for s in pspecs))
+    q = ca.SX.sym("q", sum(s.size for s in qspecs))
+    elem = _element_function(euler_sequence)
+    nodal = _nodal_function(euler_sequence)
+    g = q[qlay["gravity"]]
+    frame = (q[qlay["frame_acceleration"]], q[qlay["frame_angular_velocity"]],
+             q[qlay["frame_angular_acceleration"]])
+    xs = [x[18 * i: 18 * (i + 1)] for i in range(n)]
+    xds = [xdot[18 * i: 18 * (i + 1)] for i in range(n)]
+    ps = [_node_params(p, play, i) for i in range(n)]
+    qs = [_node_forcing(q, qlay, i) for i in range(n)]
+    st = STATE_BLOCKS
+    blocks = []
+    for i in range(n):
+        if i < n - 1:
+            blocks.append(elem(xs[i], xs[i + 1], xds[i], xds[i + 1], ps[i], ps[i + 1], qs[i], qs[i + 1],
+                               g, *frame))
+        else:
+            blocks.append(ca.vertcat(
+                xs[0][st["r"]] - ps[0][_P_NODE["r0"]],
+                xs[0][st["theta"]] - ps[0][_P_NODE["theta0"]],
+                xs[i][st["F"]] - qs[i][_Q_NODE["P"]],
+                xs[i][st["M"]] - qs[i][_Q_NODE["Q"]]))
+        blocks.append(nodal(xs[i], xds[i]))
+    R = ca.vertcat(*blocks)
+
+    def guess(p_val, q_val):
+        return jig_state(p_val, n).ravel()
+
+    system = CasadiResidualSystem(x, xdot, p, q, R, param_specs=pspecs, forcing_specs=qspecs,
+                                  state_shape=(n, 18), name=f"beam{n}",
+                                  describe=lambda k: describe_equation(k, n), initial_guess=guess)
+    system.build_time = time.perf_counter() - t_start
+    return system

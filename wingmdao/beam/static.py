@@ -1,0 +1,123 @@
+"""Convenience layer: fill the beam parameters/forcing from section data and solve statics.
+
+``beam_parameters`` builds the parameter dict of :func:`wingmdao.beam.residual.param_specs`
+from uniform or per-node section data; ``beam_forcing`` the forcing dict; ``solve_beam_static``
+packs both, runs :func:`wingmdao.timemarch.bdf.solve_static` (Newton with load stepping) and
+returns the state as ``{'r', 'theta', 'F', 'M', 'u', 'omega'}``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from wingmdao.beam.residual import (build_beam_system, forcing_specs, jig_state, param_specs,
+                                    unpack_state)
+from wingmdao.timemarch.system import pack
+
+_SYSTEMS: dict = {}
+
+
+def cached_beam_system(num_nodes: int, euler_sequence: str = "surface"):
+    """:func:`build_beam_system`, built once per (num_nodes, sequence)."""
+    key = (int(num_nodes), euler_sequence)
+    if key not in _SYSTEMS:
+        _SYSTEMS[key] = build_beam_system(*key[:1], euler_sequence=euler_sequence)
+    return _SYSTEMS[key]
+
+
+def _per_node(value, n, shape, name):
+    arr = np.asarray(value, dtype=float)
+    if arr.shape == tuple(shape):
+        arr = np.broadcast_to(arr, (n, *shape)).copy()
+    if arr.shape != (n, *shape):
+        raise ValueError(f"{name} must have shape {tuple(shape)} or {(n, *shape)}, got {arr.shape}")
+    return arr
+
+
+def beam_parameters(node_positions, node_euler_angles, *, EI_cc, GJ, EI_nn, EA, GK_c=None, GK_n=None,
+                    EI_cn=0.0, tension_axis=(0.0, 0.0), shear_center=(0.0, 0.0), mass_per_length=0.0,
+                    mass_center=(0.0, 0.0), inertia_per_length=None) -> dict:
+    """Parameter dict of an n-node beam from uniform (scalar / per-node) section data, SI units.
+
+    ``GK_c``/``GK_n`` default to 1e6 EA (shear-rigid, Euler-Bernoulli limit);
+    ``inertia_per_length`` defaults to zero (3x3 in csn, or per node (n, 3, 3)).
+    Stiffnesses must be positive: a ``ValueError`` names the input and the node otherwise.
+    """
+    r0 = np.asarray(node_positions, dtype=float)
+    n = r0.shape[0]
+    th0 = _per_node(node_euler_angles, n, (3,), "node_euler_angles")
+    vals = {}
+    for name, v in (("EI_cc", EI_cc), ("GJ", GJ), ("EI_nn", EI_nn), ("EA", EA)):
+        vals[name] = np.broadcast_to(np.asarray(v, dtype=float), (n,)).copy()
+    vals["GK_c"] = vals["EA"] * 1e6 if GK_c is None else np.broadcast_to(np.asarray(GK_c, float), (n,)).copy()
+    vals["GK_n"] = vals["EA"] * 1e6 if GK_n is None else np.broadcast_to(np.asarray(GK_n, float), (n,)).copy()
+    for name, arr in vals.items():
+        bad = np.flatnonzero(~(arr > 0.0))
+        if bad.size:
+            raise ValueError(f"{name} must be > 0 (SI units) at every node; node {bad[0]} has {arr[bad[0]]}")
+    ei_cn = np.broadcast_to(np.asarray(EI_cn, dtype=float), (n,))
+    E = np.zeros((n, 3, 3))
+    E[:, 0, 0], E[:, 1, 1], E[:, 2, 2] = vals["EI_cc"], vals["GJ"], vals["EI_nn"]
+    E[:, 0, 2] = E[:, 2, 0] = ei_cn
+    inertia = np.zeros((3, 3)) if inertia_per_length is None else inertia_per_length
+    return {
+        "node_positions": r0,
+        "node_euler_angles": th0,
+        "stiffness_csn": E,
+        "compliance_csn": np.column_stack([1.0 / vals["GK_c"], 1.0 / vals["EA"], 1.0 / vals["GK_n"]]),
+        "tension_axis": _per_node(tension_axis, n, (2,), "tension_axis"),
+        "shear_center": _per_node(shear_center, n, (2,), "shear_center"),
+        "mass_per_length": np.broadcast_to(np.asarray(mass_per_length, dtype=float), (n,)).copy(),
+        "mass_center": _per_node(mass_center, n, (2,), "mass_center"),
+        "inertia_per_length": _per_node(inertia, n, (3, 3), "inertia_per_length"),
+    }
+
+
+def beam_forcing(n: int, **values) -> dict:
+    """Forcing dict of an n-node beam: zeros except the given blocks (see ``forcing_specs``)."""
+    out = {s.name: np.zeros(s.shape) for s in forcing_specs(n)}
+    for name, v in values.items():
+        if name not in out:
+            raise ValueError(f"unknown forcing {name!r}; allowed: {sorted(out)}")
+        out[name] = np.broadcast_to(np.asarray(v, dtype=float), out[name].shape).copy()
+    return out
+
+
+@dataclass
+class BeamModel:
+    """A beam's parameters with a cached residual system; ``solve(**forcing)`` gives statics."""
+
+    params: dict
+    euler_sequence: str = "surface"
+    system: object = field(init=False, repr=False)
+
+    def __post_init__(self):
+        self.num_nodes = np.asarray(self.params["node_positions"]).shape[0]
+        self.system = cached_beam_system(self.num_nodes, self.euler_sequence)
+        self.p = pack(param_specs(self.num_nodes), self.params)
+
+    def jig(self) -> np.ndarray:
+        return jig_state(self.params)
+
+    def solve(self, *, load_steps=1, x0=None, max_iter=30, **forcing) -> dict:
+        """Static equilibrium under the given forcing blocks; returns :func:`unpack_state` plus 'x'."""
+        from wingmdao.timemarch.bdf import solve_static
+
+        q = pack(forcing_specs(self.num_nodes), beam_forcing(self.num_nodes, **forcing))
+        x, info = solve_static(self.system, self.p, q, x0, load_steps=load_steps, max_iter=max_iter)
+        out = unpack_state(x, self.num_nodes)
+        out["x"] = x
+        out["iterations"] = info.iterations
+        return out
+
+
+def straight_beam(n, length, direction=(0.0, 1.0, 0.0)):
+    """Node positions and jig angles of a straight beam from the origin along ``direction``."""
+    from wingmdao.beam.rotations import euler_from_axis
+
+    d = np.asarray(direction, dtype=float)
+    d = d / np.linalg.norm(d)
+    r0 = np.outer(np.linspace(0.0, length, n), d)
+    return r0, np.tile(euler_from_axis(d), (n, 1))
