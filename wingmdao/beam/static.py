@@ -45,7 +45,7 @@ def beam_parameters(node_positions, node_euler_angles, *, EI_cc, GJ, EI_nn, EA, 
     ``inertia_per_length`` defaults to zero (3x3 in csn, or per node (n, 3, 3)).
     Stiffnesses must be positive: a ``ValueError`` names the input and the node otherwise.
     """
-    r0 = np.asarray(node_positions, dtype=float)
+    r0 = np.array(node_positions, dtype=float)  # a copy: callers may edit the dict
     n = r0.shape[0]
     th0 = _per_node(node_euler_angles, n, (3,), "node_euler_angles")
     vals = {}
@@ -85,6 +85,38 @@ def beam_forcing(n: int, **values) -> dict:
     return out
 
 
+def check_beam_parameters(params: dict) -> None:
+    """Raise a ``ValueError`` naming the input, the node and the allowed range for bad beam data.
+
+    Checks: finite values; distinct consecutive nodes (element length > 0 m); symmetric
+    positive-definite ``stiffness_csn`` (N*m**2); ``compliance_csn`` > 0 (1/N);
+    ``mass_per_length`` >= 0 (kg/m); symmetric positive semi-definite ``inertia_per_length``.
+    """
+    for name, arr in params.items():
+        a = np.asarray(arr, dtype=float)
+        bad = ~np.isfinite(a.reshape(a.shape[0], -1)).all(axis=1) if a.ndim else ~np.isfinite(a)
+        if np.any(bad):
+            raise ValueError(f"{name} must be finite; node {int(np.flatnonzero(bad)[0])} is not")
+    r0 = np.asarray(params["node_positions"], dtype=float)
+    ds0 = np.linalg.norm(np.diff(r0, axis=0), axis=1)
+    for i in np.flatnonzero(ds0 <= 1e-9 * max(1.0, np.max(np.abs(r0)))):
+        raise ValueError(f"node_positions: nodes {i} and {i + 1} coincide (element length must be > 0 m)")
+    E = np.asarray(params["stiffness_csn"], dtype=float)
+    for i, Ei in enumerate(E):
+        if not np.allclose(Ei, Ei.T, rtol=1e-9, atol=0.0) or np.min(np.linalg.eigvalsh(Ei)) <= 0.0:
+            raise ValueError(f"stiffness_csn at node {i} must be symmetric positive definite (N*m**2)")
+    S = np.asarray(params["compliance_csn"], dtype=float)
+    for i in np.flatnonzero(np.any(S <= 0.0, axis=1)):
+        raise ValueError(f"compliance_csn at node {i} must be > 0 (1/N), got {S[i]}")
+    mu = np.asarray(params["mass_per_length"], dtype=float)
+    for i in np.flatnonzero(mu < 0.0):
+        raise ValueError(f"mass_per_length at node {i} must be >= 0 kg/m, got {mu[i]}")
+    inertia = np.asarray(params["inertia_per_length"], dtype=float)
+    for i, Ii in enumerate(inertia):
+        if not np.allclose(Ii, Ii.T, atol=1e-12) or np.min(np.linalg.eigvalsh(0.5 * (Ii + Ii.T))) < -1e-12:
+            raise ValueError(f"inertia_per_length at node {i} must be symmetric positive semi-definite (kg*m)")
+
+
 @dataclass
 class BeamModel:
     """A beam's parameters with a cached residual system; ``solve(**forcing)`` gives statics."""
@@ -94,6 +126,7 @@ class BeamModel:
     system: object = field(init=False, repr=False)
 
     def __post_init__(self):
+        check_beam_parameters(self.params)
         self.num_nodes = np.asarray(self.params["node_positions"]).shape[0]
         self.system = cached_beam_system(self.num_nodes, self.euler_sequence)
         self.p = pack(param_specs(self.num_nodes), self.params)
