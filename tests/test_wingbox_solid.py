@@ -99,3 +99,54 @@ def test_linear_beam_matches_closed_forms_on_the_prismatic_box(shear):
     # by hand: I_c = (3 * 0.5^3 - 2.6 * 0.3^3) / 12, Bredt J = 4 (2.8 * 0.4)^2 / (2 * 2.8 / 0.1 + 2 * 0.4 / 0.2)
     assert p["I_c"] == pytest.approx(0.0254, rel=1e-12)
     assert p["J"] == pytest.approx(4 * 1.12**2 / 60, rel=1e-12)
+
+
+# --------------------------------------------------------------------------- beam vs solid
+@pytest.fixture(scope="module")
+def app_a_solver():
+    pytest.importorskip("wingmdao.beam.static")
+    pytest.importorskip("wingmdao.section.box")
+    return wb.app_a_beam_solver
+
+
+@pytest.mark.parametrize("name", ["prismatic", "combined"])
+def test_app_a_beam_agrees_with_the_independent_linear_frame(app_a_solver, name):
+    """Small load: the nonlinear beam of App. A and the linear Timoshenko frame (same section data:
+    streamwise box cut, shear in the spar webs) agree; differences come from the frame at the kinks."""
+    for force, moment in (((0, 0, 1e5), (0, 0, 0)), ((0, 0, 0), (0, 1e5, 0))):
+        b = app_a_solver(name, np.array(force, float), np.array(moment, float))
+        lin = wb.linear_beam_solution(name, force, moment, shear="webs")
+        scale = np.abs(lin["displacement"]).max()
+        assert np.max(np.abs(b["displacement"] - lin["displacement"])) <= 0.015 * scale + 1e-12
+        assert np.allclose(b["rotation"][:, 1] if moment[1] else b["rotation"][:, 0],
+                           lin["rotation"][:, 1] if moment[1] else lin["rotation"][:, 0], rtol=5e-3)
+
+
+@pytest.fixture(scope="module")
+def comparison(app_a_solver):
+    return wb.compare_with_beam(app_a_solver)
+
+
+@pytest.mark.slow
+def test_beam_vs_solid_table_is_complete_and_errors_have_the_analysed_causes(comparison):
+    """Table E.3 analogue (docs/verification-solid3d.md): every geometry, both loads, CS2 and CS3.
+
+    Vertical force: the beam (shear area = spar webs) is stiffer than the solid, which also shears
+    in its wide skins: error between -8 % and 0 at CS2 and smaller at CS3 (|e| < 3.5 %).
+    Tip torque: the beam has no warping restraint at the clamp, so it twists more than the solid,
+    most near the root (CS2 error > CS3 error > 0).
+    """
+    rows = {(r["geometry"], r["load"], r["station"], r["quantity"]): r["error_pct"] for r in comparison}
+    force, torque = list(wb.COMPARISON_LOADS)
+    for geo in wb.geometry_names():
+        e2, e3 = rows[(geo, force, "CS2", "u_z")], rows[(geo, force, "CS3", "u_z")]
+        assert -8.0 < e2 < 0.0 and abs(e3) < 3.5 and abs(e3) < abs(e2)
+        t2, t3 = rows[(geo, torque, "CS2", "theta_y")], rows[(geo, torque, "CS3", "theta_y")]
+        assert t2 > t3 > 0.0
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(reason="goal of the issue, not met: skin shear compliance and clamp warping restraint "
+                          "(docs/verification-solid3d.md, section 5)", strict=True)
+def test_beam_within_one_percent_of_solid_at_cs2_cs3(comparison):
+    assert all(abs(r["error_pct"]) < 1.0 for r in comparison if r["quantity"] in ("u_z", "theta_y"))

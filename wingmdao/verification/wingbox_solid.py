@@ -470,3 +470,49 @@ def comparison_markdown(rows: list[dict]) -> str:
         lines.append(f"| {r['geometry']} | {r['load']} | {r['station']} | {r['quantity']} | "
                      f"{r['beam']:.5e} | {r['solid']:.5e} | {r['error_pct']:+.2f} |")
     return "\n".join(lines)
+
+
+def app_a_beam_solver(geometry_name: str, tip_force, tip_moment, *, elements_per_metre: float = 3.0,
+                      load_steps: int = 1) -> dict:
+    """The App. A nonlinear beam (``wingmdao.beam``) on the box-beam axis, for :func:`compare_with_beam`.
+
+    Nodes on the straight segments through the section centres (``elements_per_metre`` along
+    y), jig frames from the segment directions (at CS2/CS3 the bisector of the two segments),
+    section data from ``wingmdao.section.box.box_properties`` of the streamwise cut at each node
+    (aluminium, identity ``section_to_csn``), tip force/moment (body axes) at the tip node.
+    Returns ``displacement`` and small-rotation ``rotation`` (3, 3) at CS2, CS3, CS4 (body axes).
+    """
+    from wingmdao.beam.rotations import body_to_csn, euler_from_axis
+    from wingmdao.beam.static import BeamModel, beam_parameters
+    from wingmdao.materials import ALUMINIUM
+    from wingmdao.section.box import box_properties
+
+    per_segment = [max(2, int(round(d * elements_per_metre))) for d in SEGMENT_SPANS]
+    nodes = beam_axis_nodes(geometry_name, per_segment)
+    cs_nodes = np.concatenate([[0], np.cumsum(per_segment)])
+    n = len(nodes)
+    seg_dir = np.diff(nodes, axis=0)
+    seg_dir /= np.linalg.norm(seg_dir, axis=1)[:, None]
+    tangents = np.empty((n, 3))
+    tangents[0], tangents[-1] = seg_dir[0], seg_dir[-1]
+    tangents[1:-1] = seg_dir[:-1] + seg_dir[1:]
+    angles = np.array([euler_from_axis(t) for t in tangents])
+    cs = box_sections(geometry_name)
+    y = nodes[:, 1]
+    width = np.interp(y, [c.y for c in cs], [c.width for c in cs])
+    height = np.interp(y, [c.y for c in cs], [c.height for c in cs])
+    t_spar, t_skin = np.full(n, T_SPAR), np.full(n, T_SKIN)
+    props = box_properties(width, height, t_skin, t_skin, t_spar, t_spar, ALUMINIUM)
+    stiff, comp = np.asarray(props["stiffness_csn"]), np.asarray(props["compliance_csn"])
+    params = beam_parameters(nodes, angles, EI_cc=stiff[:, 0, 0], GJ=stiff[:, 1, 1], EI_nn=stiff[:, 2, 2],
+                             EA=1.0 / comp[:, 1], GK_c=1.0 / comp[:, 0], GK_n=1.0 / comp[:, 2],
+                             EI_cn=stiff[:, 0, 2])
+    point_force, point_moment = np.zeros((n, 3)), np.zeros((n, 3))
+    point_force[-1], point_moment[-1] = tip_force, tip_moment
+    out = BeamModel(params).solve(point_force=point_force, point_moment=point_moment, load_steps=load_steps)
+    rotation = []
+    for i in cs_nodes[1:]:
+        Q = body_to_csn(out["theta"][i]).T @ body_to_csn(angles[i])   # jig frame -> deformed frame
+        rotation.append(0.5 * np.array([Q[2, 1] - Q[1, 2], Q[0, 2] - Q[2, 0], Q[1, 0] - Q[0, 1]]))
+    return {"displacement": out["r"][cs_nodes[1:]] - nodes[cs_nodes[1:]], "rotation": np.array(rotation),
+            "num_nodes": n}
