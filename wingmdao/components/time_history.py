@@ -55,7 +55,7 @@ class TimeHistoryComponent(om.ImplicitComponent):
                              desc="units of the state output (None: mixed)")
         self.options.declare("modified_newton", default=False, types=bool,
                              desc="reuse LU factors across Newton iterations and steps")
-        self.options.declare("atol", default=1e-10, desc="per-step absolute residual tolerance")
+        self.options.declare("atol", default=0.0, desc="per-step absolute residual tolerance (0: converge on the step)")
         self.options.declare("xtol", default=1e-12, desc="per-step relative Newton-step tolerance")
         self.options.declare("max_iter", default=25, types=int, desc="Newton iterations per step")
         self.options.declare("static_options", default=None, allow_none=True, types=dict,

@@ -83,7 +83,7 @@ class TimeHistory:
 
 # ----------------------------------------------------------------------------- statics
 def solve_static(system, p, q, x0=None, *, load_steps=1, scaled=None, max_halvings=6,
-                 atol=1e-9, rtol=1e-12, xtol=1e-12, max_iter=30, label="static solve"):
+                 atol=0.0, rtol=1e-12, xtol=1e-12, max_iter=30, label="static solve"):
     """Static equilibrium ``R(x, 0, p, q) = 0`` with optional load stepping.
 
     Parameters
@@ -98,7 +98,8 @@ def solve_static(system, p, q, x0=None, *, load_steps=1, scaled=None, max_halvin
     scaled : list of forcing names or None
                                     forcing blocks that are stepped (default: all); the others
                                     are applied in full from the first step.
-    atol, rtol, xtol, max_iter      Newton tolerances (see :func:`newton_solve`).
+    atol, rtol, xtol, max_iter      Newton tolerances (see :func:`newton_solve`); the default
+                                    ``atol=0`` converges on the Newton step (residuals mix units)
 
     Returns ``(x, NewtonInfo)`` with the total number of Newton iterations. Raises
     :class:`om.AnalysisError` naming the load fraction, residual norm and worst equation.
@@ -175,7 +176,7 @@ class _StepSolver:
         system, p = self.system, self.p
         x = x_pred.copy()
         reuse = self.modified and self.lu is not None and self.lu_alpha == alpha
-        prev_step = None
+        prev_step, prev_norm = None, np.inf
         for it in range(1, self.max_iter + 1):
             r = system.residual(x, alpha * x + hist, p, q)
             norm = float(np.max(np.abs(r))) if r.size else 0.0
@@ -183,6 +184,12 @@ class _StepSolver:
                 self._fail(label, it, r, "residual is not finite")
             if norm <= self.atol:
                 return x, it - 1
+            # round-off floor: the residual stopped decreasing after a step that was already
+            # within 1000 xtol (stiff, mixed-unit systems jitter there instead of converging)
+            if (norm >= 0.5 * prev_norm and prev_step is not None
+                    and prev_step <= 1e3 * self.xtol * (1.0 + float(np.max(np.abs(x))))):
+                return x, it - 1
+            prev_norm = norm
             if not reuse:  # new Newton matrix at the current iterate (Eq. 3.7)
                 r, jac = system.residual_and_newton_matrix(x, alpha * x + hist, p, q, alpha)
                 self._factor(jac, label)
@@ -197,7 +204,7 @@ class _StepSolver:
             if self.modified:
                 # keep the LU while the iteration contracts well, refactor otherwise
                 reuse = prev_step is None or step <= self.contraction * prev_step
-                prev_step = step if reuse else None
+            prev_step = step
         r = system.residual(x, alpha * x + hist, p, q)
         self._fail(label, self.max_iter, r, f"no convergence in {self.max_iter} iterations")
 
@@ -210,7 +217,7 @@ class _StepSolver:
 
 
 def march(system, time, p, forcing, *, initial="static", x_init=None, x_guess=None,
-          modified_newton=False, contraction=0.3, atol=1e-10, xtol=1e-12, max_iter=25,
+          modified_newton=False, contraction=0.3, atol=0.0, xtol=1e-12, max_iter=25,
           static_options=None, callback=None) -> TimeHistory:
     """Time-march ``R(x, xdot, p, q(t)) = 0`` with BDF1 then BDF2 (Eq. 3.4-3.7, Alg. 1).
 
@@ -227,7 +234,9 @@ def march(system, time, p, forcing, *, initial="static", x_init=None, x_guess=No
     modified_newton : bool           reuse the LU across iterations and steps while the
                                      step contracts by ``contraction`` or better
     atol, xtol, max_iter             per-step convergence: max|R| <= atol, or Newton step
-                                     <= xtol (1 + max|x|)
+                                     <= xtol (1 + max|x|). The default atol = 0 always takes
+                                     at least one Newton step: an absolute residual test is
+                                     unreliable when residuals mix units (forces, curvatures).
     static_options : dict            keyword arguments of :func:`solve_static` for step 0
     callback : callable(step, t, x)  called after each converged step
 

@@ -63,10 +63,13 @@ def newton_solve(residual, jacobian, x0, *, atol=1e-9, rtol=1e-12, xtol=1e-12, m
                  max_backtracks=10, label="Newton solve", describe=None):
     """Solve ``residual(x) = 0`` from ``x0``.
 
-    ``jacobian(x)`` returns the sparse Jacobian. Converged when ``max|R| <= atol`` or when
-    the relative Newton step is below ``xtol`` and ``max|R| <= rtol * max|R(x0)|``-ish
-    progress has been made. ``describe(i)`` names equation ``i`` in error messages.
-    Returns ``(x, NewtonInfo)``.
+    ``jacobian(x)`` returns the sparse Jacobian. Converged when ``max|R| <= atol``, or when
+    a full Newton step is at most ``xtol (1 + max|x|)`` (the step is then applied: with an exact
+    Jacobian the remaining error is of the order of its square), or when the relative Newton
+    step is below ``xtol`` and ``max|R| <= rtol * max|R(x0)|``-ish progress has been made.
+    Residuals of mixed units (forces, curvatures) make ``atol`` alone unreliable: pass
+    ``atol=0`` to converge on the step. ``describe(i)`` names equation ``i`` in error
+    messages. Returns ``(x, NewtonInfo)``.
     """
     x = np.array(x0, dtype=float, copy=True)
     r = residual(x)
@@ -80,6 +83,11 @@ def newton_solve(residual, jacobian, x0, *, atol=1e-9, rtol=1e-12, xtol=1e-12, m
         dx = -lu.solve(r)
         if not np.all(np.isfinite(dx)):
             raise om.AnalysisError(f"{label}: Newton step is not finite (ill-conditioned Jacobian)")
+        dx_max, scale = float(np.max(np.abs(dx))), 1.0 + float(np.max(np.abs(x)))
+        if dx_max <= xtol * scale:
+            x = x + dx
+            r = residual(x)
+            return x, NewtonInfo(it, float(np.max(np.abs(r))), True)
         step, merit = 1.0, float(r @ r)
         for _ in range(max_backtracks + 1):
             x_try = x + step * dx
@@ -89,7 +97,11 @@ def newton_solve(residual, jacobian, x0, *, atol=1e-9, rtol=1e-12, xtol=1e-12, m
                 break
             step *= 0.5
         else:
-            # no decrease: accept a full step only if we are already at round-off level
+            # no decrease: at the round-off floor (a step within 1000 xtol that cannot reduce
+            # the residual) the current point is the solution
+            if dx_max <= 1e3 * xtol * scale:
+                return x, NewtonInfo(it, norm, True)
+            # otherwise accept a full step only if we are already at round-off level
             if not (np.isfinite(merit_try) and norm <= max(atol, rtol * norm0) * 1e3):
                 _fail(label, it, norm, r, describe, "line search found no decrease")
         x, r = x_try, r_try
