@@ -290,3 +290,11 @@ def test_bad_parameters_raise_clear_errors():
     params["mass_per_length"][4] = np.nan
     with pytest.raises(ValueError, match="mass_per_length.*node 4"):
         BeamModel(params)
+
+
+def test_unpack_state_blocks():
+    x = np.arange(2 * 18.0)
+    out = unpack_state(x)
+    assert set(out) == {"r", "theta", "F", "M", "u", "omega"}
+    np.testing.assert_array_equal(out["M"][1], [27.0, 28.0, 29.0])
+    np.testing.assert_array_equal(out["omega"][0], [15.0, 16.0, 17.0])

@@ -29,7 +29,7 @@ import casadi as ca
 import numpy as np
 
 from wingmdao.beam.rotations import body_to_csn, rate_matrix
-from wingmdao.timemarch.system import CasadiResidualSystem, VarSpec, layout, pack
+from wingmdao.timemarch.system import CasadiResidualSystem, VarSpec, layout
 
 #: Per-node state blocks (CONVENTIONS.md).
 STATE_BLOCKS = {"r": slice(0, 3), "theta": slice(3, 6), "F": slice(6, 9), "M": slice(9, 12),
@@ -97,19 +97,18 @@ def offset_matrix(tension_axis, shear_center):
 
 @dataclass
 class _Sym:
-    """Per-node symbolic inputs of one element function."""
+    """Per-node symbolic state, state rate and forcing of one element function."""
 
     x: ca.SX
     xdot: ca.SX
-    p: ca.SX
     q: ca.SX
 
 
 def _node_symbols():
-    return _Sym(ca.SX.sym("x", 18), ca.SX.sym("xdot", 18), ca.SX.sym("p", 33), ca.SX.sym("q", 12))
+    return _Sym(ca.SX.sym("x", 18), ca.SX.sym("xdot", 18), ca.SX.sym("q", 12))
 
 
-#: Per-node parameter layout inside the element function (33 entries).
+#: Per-node parameter layout inside the element function (34 entries).
 _P_NODE = {"r0": slice(0, 3), "theta0": slice(3, 6), "E": slice(6, 15), "S": slice(15, 18),
            "ta": slice(18, 20), "sc": slice(20, 22), "mu": slice(22, 23), "cg": slice(23, 25),
            "i": slice(25, 34)}

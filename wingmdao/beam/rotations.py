@@ -74,7 +74,7 @@ def rate_matrix(theta, sequence="surface"):
     Columns: C_y C_z e_x (phi rate), e_y (twist rate), C_y e_z (psi rate).
     """
     _check_sequence(sequence)
-    phi, twist, psi = theta[0], theta[1], theta[2]
+    twist, psi = theta[1], theta[2]
     m = _lib(twist)
     cv, sv, cp, sp = m.cos(twist), m.sin(twist), m.cos(psi), m.sin(psi)
     # C_y(vt) C_z(psi) e_x = C_y(vt) (cos psi, -sin psi, 0);  C_y(vt) e_z = (-sin vt, 0, cos vt)
