@@ -125,6 +125,14 @@ def station_rotations(theta, theta0) -> np.ndarray:
     return Rotation.from_matrix(np.array(mats)).as_rotvec()
 
 
+def comparison_solver(geometry_name, tip_force, tip_moment) -> dict:
+    """Adapter for ``wingmdao.verification.wingbox_solid.compare_with_beam``: beam-axis
+    displacement (3, 3) and rotation vectors (3, 3) at CS2, CS3, CS4 (body axes, SI)."""
+    res = solve_wing_box(geometry_name, tip_force=tip_force, tip_moment=tip_moment)
+    return {"displacement": np.asarray(res["station_displacement"])[1:],
+            "rotation": np.asarray(res["station_rotation"])[1:]}
+
+
 if __name__ == "__main__":
     name = sys.argv[1] if len(sys.argv) > 1 else "combined"
     print(solve_wing_box(name, tip_force=(0.0, 0.0, 1.0e5)))
