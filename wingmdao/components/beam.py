@@ -27,10 +27,11 @@ STATE_BLOCKS = {"r": slice(0, 3), "theta": slice(3, 6), "F": slice(6, 9), "M": s
 
 @lru_cache(maxsize=16)
 def beam_system(num_nodes: int, euler_sequence: str = "surface") -> ResidualSystem:
-    """The beam residual system for ``num_nodes`` nodes, built once per size (CasADi build cached)."""
-    from wingmdao.beam.residual import build_beam_system
+    """The beam residual system for ``num_nodes`` nodes, built once per size (CasADi build cached,
+    shared with ``wingmdao.beam.static``)."""
+    from wingmdao.beam.static import cached_beam_system
 
-    return build_beam_system(int(num_nodes), euler_sequence=euler_sequence)
+    return cached_beam_system(int(num_nodes), euler_sequence)
 
 
 def jig_guess(system, p) -> np.ndarray:
@@ -70,14 +71,17 @@ class BeamDynamics(_BeamMixin, TimeHistoryComponent):
 
     Options: ``num_nodes``, ``time`` (uniform, s), ``initial`` ('static': equilibrium under the
     forcing at t = 0; 'state': input ``initial_state``), plus the TimeHistoryComponent solver
-    options (``atol``, ``max_iter``, ``modified_newton``, ``static_options`` e.g.
-    ``{"load_steps": 5}``, ``matrix_free``). A one-entry ``time`` is a static solve with the
+    options (``atol``, ``max_iter``, ``modified_newton`` (default True here), ``static_options``
+    e.g. ``{"load_steps": 5}``, ``matrix_free``). A one-entry ``time`` is a static solve with the
     time axis kept.
     """
 
     def initialize(self):
         super().initialize()
         self._declare_beam_options()
+        # modified Newton: 3.5x faster march of a 20-node beam (docs/time-marching.md)
+        self.options.declare("modified_newton", default=True, types=bool,
+                             desc="reuse LU factors across Newton iterations and steps")
 
     def setup(self):
         self._set_system()

@@ -199,8 +199,15 @@ class _StepSolver:
             if not np.isfinite(step):
                 self._fail(label, it, r, "Newton step is not finite")
             x = x + dx
-            if step <= self.xtol * (1.0 + float(np.max(np.abs(x)))):
+            tol = self.xtol * (1.0 + float(np.max(np.abs(x))))
+            if step <= tol:
                 return x, it
+            if prev_step is not None and step < prev_step:
+                # error estimate of the contracting iteration (Hairer & Wanner, IV.8):
+                # |x - x*| <= theta / (1 - theta) |dx|, theta = |dx_k| / |dx_k-1|
+                theta = step / prev_step
+                if theta / (1.0 - theta) * step <= tol:
+                    return x, it
             if self.modified:
                 # keep the LU while the iteration contracts well, refactor otherwise
                 reuse = prev_step is None or step <= self.contraction * prev_step

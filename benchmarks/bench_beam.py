@@ -1,0 +1,113 @@
+"""Beam time-march benchmark beside the dissertation's figures (Sec. 4.5-4.6).
+
+    python benchmarks/bench_beam.py            # full: build, 20 x 500 forward + KS gradient, scaling
+    python benchmarks/bench_beam.py --quick    # fewer scaling points
+
+Thesis: model build 47.5 s; forward march 20 nodes x 500 steps 3.12 s; ~3.9 s per KS gradient.
+Goals on this machine: build <= 2 s, forward <= 0.5 s, gradient no slower than one forward
+solve, cost linear in nodes and steps.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+import openmdao.api as om
+
+from wingmdao.components.ks import KSAggregate
+
+THESIS = {"build": 47.5, "forward": 3.12, "gradient": 3.9}
+
+
+def cantilever_inputs(n, nt, dt):
+    """Uniform aluminium-like cantilever along +y, 10 m, with a gust-like tip and running load."""
+    L, EI, mu = 10.0, 2.0e6, 20.0
+    y = np.linspace(0.0, L, n)
+    t = np.arange(nt) * dt
+    gust = np.sin(np.pi * np.clip(t / 0.2, 0.0, 1.0)) ** 2
+    flp = np.zeros((nt, n, 3))
+    flp[:, :, 2] = 2e3 * gust[:, None] * (1.0 - (y / L) ** 2)[None, :]
+    return t, {
+        "node_positions": np.column_stack([np.zeros(n), y, np.zeros(n)]),
+        "node_euler_angles": np.zeros((n, 3)),
+        "stiffness_csn": np.tile(np.diag([EI, 0.8 * EI, 5 * EI]), (n, 1, 1)),
+        "compliance_csn": np.tile([1e-9, 1e-9, 1e-9], (n, 1)),
+        "tension_axis": np.zeros((n, 2)),
+        "shear_center": np.zeros((n, 2)),
+        "mass_per_length": np.full(n, mu),
+        "mass_center": np.zeros((n, 2)),
+        "inertia_per_length": np.tile(np.diag([0.1, 0.2, 0.1]), (n, 1, 1)),
+        "force_per_length": flp,
+        "gravity": np.tile([0.0, 0.0, -9.81], (nt, 1)),
+    }
+
+
+def build_problem(n, nt, dt=2e-3, ks=True, **beam_opts):
+    from wingmdao.components.beam import BeamDynamics
+
+    t, vals = cantilever_inputs(n, nt, dt)
+    prob = om.Problem(reports=False)
+    model = prob.model
+    model.add_subsystem("beam", BeamDynamics(num_nodes=n, time=t, **beam_opts), promotes=["*"])
+    if ks:
+        w = np.zeros((nt, n, 18))
+        w[:, 0, 9:12] = 1e-5  # root moments (N m), normalised
+        model.add_subsystem("pick", om.ExecComp("g = w * states", w={"val": w, "shape": w.shape},
+                                                states={"shape": w.shape}, g={"shape": w.shape},
+                                                has_diag_partials=True), promotes=["*"])
+        model.add_subsystem("ks", KSAggregate(families={"root": (nt, n, 18)}, rho_ks=50.0))
+        model.connect("g", "ks.g_root")
+    prob.setup(mode="rev")
+    for k, v in vals.items():
+        prob.set_val(k, v)
+    prob.final_setup()
+    return prob
+
+
+def timed(fun, repeat=1):
+    best = np.inf
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fun()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--quick", action="store_true", help="fewer scaling points")
+    ap.add_argument("--modified-newton", action="store_true", help="reuse LU factors between steps")
+    args = ap.parse_args(argv)
+    from wingmdao.beam.residual import build_beam_system
+
+    opts = {"modified_newton": args.modified_newton}
+    t_build = timed(lambda: build_beam_system(20))
+    prob = build_problem(20, 500, **opts)
+    t_fwd = timed(prob.run_model, repeat=2)
+    t_grad = timed(lambda: prob.compute_totals(of=["ks.ks_root"], wrt=["stiffness_csn", "mass_per_length"]),
+                   repeat=2)
+    print("20 nodes x 500 steps (time in s)")
+    print(f"{'':28s}{'this machine':>14s}{'thesis':>10s}{'goal':>10s}")
+    print(f"{'model build':28s}{t_build:14.3f}{THESIS['build']:10.2f}{2.0:10.2f}")
+    print(f"{'forward time march':28s}{t_fwd:14.3f}{THESIS['forward']:10.2f}{0.5:10.2f}")
+    print(f"{'KS gradient (adjoint)':28s}{t_grad:14.3f}{THESIS['gradient']:10.2f}{t_fwd:10.2f}")
+
+    nodes = [10, 20, 40, 80] if args.quick else [10, 20, 40, 80, 160]
+    steps = [100, 500, 1000] if args.quick else [100, 500, 1000, 2000, 4000]
+    print("\nscaling with nodes (500 steps): nodes, build s, forward s, forward s per node")
+    for n in nodes:
+        tb = timed(lambda: build_beam_system(n))
+        p = build_problem(n, 500, ks=False, **opts)
+        tf = timed(p.run_model)
+        print(f"{n:6d}{tb:10.3f}{tf:10.3f}{tf / n:12.5f}")
+    print("\nscaling with steps (20 nodes): steps, forward s, forward ms per step")
+    for nt in steps:
+        p = build_problem(20, nt, ks=False, **opts)
+        tf = timed(p.run_model)
+        print(f"{nt:6d}{tf:10.3f}{1e3 * tf / nt:12.4f}")
+
+
+if __name__ == "__main__":
+    main()
