@@ -71,7 +71,8 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
                                         disp=options.disp)
         for w in design_vars:
             prob.model.add_design_var(w, lower=options.lower[w], upper=options.upper[w], ref=options.upper[w])
-        prob.model.add_objective("mass", ref=options.mass_scale or 1.0)
+        ref = options.mass_scale or initial_mass(geometry, material, options, section)
+        prob.model.add_objective("mass", ref=ref)
         for case in load_cases:
             for fam in case.families:
                 prob.model.add_constraint(f"cases.{case.name}.ks_{fam}", upper=0.0)
@@ -83,6 +84,29 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     for w in design_vars:
         prob.set_val(w, np.broadcast_to(options.initial.get(w, options.upper[w]), (n_dv,)))
     return prob, desc
+
+
+def initial_mass(geometry: WingGeometry, material, options: SizingOptions, section: str = "box") -> float:
+    """Structural mass of the initial design (kg), to scale the objective to order one."""
+    from wingmdao.components.mass import StructuralMass
+    from wingmdao.groups.wing import _section_classes
+
+    n = geometry.num_nodes
+    p = om.Problem(reports=False)
+    p.model.add_subsystem("section", _section_classes(section)[0](num_stations=n, material=material),
+                          promotes=["*"])
+    p.model.add_subsystem("mass", StructuralMass(num_nodes=n, density=material.rho), promotes_inputs=["A", "node_positions"])
+    p.setup()
+    p.set_val("node_positions", geometry.node_positions)
+    if section == "box":
+        p.set_val("width", geometry.width)
+        p.set_val("height", geometry.height)
+    smap = np.arange(n) if geometry.station_map is None else np.asarray(geometry.station_map)
+    for w in SECTION_KINDS[section]["design_vars"]:
+        val = np.broadcast_to(options.initial.get(w, options.upper[w]), (int(smap.max()) + 1,))
+        p.set_val(w, np.asarray(val)[smap])
+    p.run_model()
+    return float(p.get_val("mass.mass")[0])
 
 
 def set_geometry(prob: om.Problem, geometry: WingGeometry, section: str = "box") -> None:
@@ -104,8 +128,8 @@ def run_sizing(prob: om.Problem, load_cases, driver_desc: str, *, optimize=True,
     """Run the driver (or the model) and return the JSON-ready summary."""
     t0 = _time.perf_counter()
     if optimize:
-        failed = prob.run_driver()
-        success = not (failed.success is False if hasattr(failed, "success") else bool(failed))
+        outcome = prob.run_driver()
+        success = bool(outcome.success) if hasattr(outcome, "success") else not bool(outcome)
     else:
         prob.run_model()
         success = True
@@ -134,14 +158,15 @@ def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, sectio
         "driver": driver_desc,
         "wall_s": float(wall_s),
     }
-    res = getattr(prob.driver, "result", None)
-    if res is not None and hasattr(res, "nit"):
-        out["iterations"] = int(res.nit)
-        out["function_evaluations"] = int(getattr(res, "nfev", 0))
-        out["gradient_evaluations"] = int(getattr(res, "njev", 0))
-        out["message"] = str(getattr(res, "message", ""))
+    stats = getattr(prob.driver, "result", None)
+    scipy_res = getattr(prob.driver, "_scipy_optimize_result", None)
+    if scipy_res is not None and hasattr(scipy_res, "nit"):
+        out["iterations"] = int(scipy_res.nit)
+        out["message"] = str(scipy_res.message)
     else:
-        out["iterations"] = int(getattr(prob.driver, "iter_count", 0))
+        out["iterations"] = int(getattr(stats, "iter_count", 0) or 0)
+    out["function_evaluations"] = int(getattr(stats, "model_evals", 0) or 0)
+    out["gradient_evaluations"] = int(getattr(stats, "deriv_evals", 0) or 0)
     worst = max((v for d in ks.values() for v in d.values()), default=np.nan)
     out["active_constraints"] = [f"{c}.{f}" for c, d in ks.items() for f, v in d.items() if v > -1e-3]
     out["max_ks"] = float(worst)

@@ -179,6 +179,14 @@ class WingSizing(om.Group):
                            promotes_inputs=["A", "node_positions"],
                            promotes_outputs=["mass"])
 
+        # inputs shared by several components get one default (units and shape)
+        self.set_input_defaults("node_positions", val=np.zeros((n, 3)), units="m")
+        self.set_input_defaults("node_euler_angles", val=np.zeros((n, 3)), units="rad")
+        n_dv = n if self.options["station_map"] is None else int(np.max(self.options["station_map"])) + 1
+        for name in SECTION_KINDS[kind]["stress_inputs"]:
+            shape = (n_dv,) if (name in design and alias) else (n,)
+            self.set_input_defaults(name, val=np.ones(shape), units="m")
+
         cases = self.add_subsystem("cases", om.ParallelGroup() if self.options["parallel"] else om.Group(),
                                    promotes_inputs=["*"])
         for case in self.options["load_cases"]:
