@@ -93,3 +93,16 @@ def test_wing_box_bad_thickness():
         wing_box.wing_box_beam("prismatic", t_skin=0.3)
     with pytest.raises(ValueError, match="geometry must be one of"):
         wing_box.section_centres("delta")
+
+
+def test_streamwise_section_to_csn_rotates_stiffness():
+    """Unswept, 5 deg dihedral: bending about x stays EI_cc; the s axis is tilted up by 5 deg."""
+    from wingmdao.beam.geometry import streamwise_section_to_csn
+
+    geo = polyline_beam(swept_dihedral_points([3.0], 0.0, 5.0), [2])
+    R = streamwise_section_to_csn(geo.node_euler_angles)
+    np.testing.assert_allclose(R[0] @ [0, np.cos(np.radians(5)), np.sin(np.radians(5))], [0, 1, 0], atol=1e-14)
+    E_sec = np.diag([2.0, 1.0, 5.0])
+    E_csn = R[1] @ E_sec @ R[1].T
+    assert E_csn[0, 0] == pytest.approx(2.0)
+    np.testing.assert_allclose(np.linalg.eigvalsh(E_csn), [1.0, 2.0, 5.0])

@@ -121,3 +121,14 @@ def streamwise_to_normal(width, height, t_spar, t_skin, axis):
     s = s / np.linalg.norm(s)
     cos_sweep, cos_dih = np.hypot(s[1], s[2]), np.hypot(s[0], s[1])
     return width * cos_sweep, height * cos_dih, t_spar * cos_sweep, t_skin * cos_dih
+
+
+def streamwise_section_to_csn(node_euler_angles) -> np.ndarray:
+    """Rotation R (n, 3, 3) from streamwise-section axes to csn, for ``E_csn = R E_sec R^T`` (Eq. F.31).
+
+    A streamwise cut is parallel to the root (x-z) plane, so its axes (chordwise, normal,
+    vertical) are the body axes (x, y, z) and R = T(theta0) of each node. This is the
+    alternative to :func:`streamwise_to_normal` (docs/beam-theory.md, section 9).
+    """
+    angles = np.asarray(node_euler_angles, dtype=float).reshape(-1, 3)
+    return np.array([body_to_csn(a) for a in angles])
