@@ -215,7 +215,7 @@ def _root_constraints(mesh: solid3d.HexMesh, root: str, centre) -> np.ndarray:
     return np.sort(np.concatenate([3 * nodes, 3 * nodes + 2, 3 * nodes[on_axis] + 1]))
 
 
-def _tip_system(mesh, K, tip_nodes, tip_faces, centre, force, moment, tip_load):
+def _tip_system(mesh, tip_nodes, tip_faces, centre, force, moment, tip_load):
     """(T, f): u = T v and the load vector on v for the tip-load mode (T None: v = u)."""
     if tip_load == "traction":
         return None, solid3d.face_load_vector(mesh, tip_faces, force, moment, ref_point=centre)
@@ -274,7 +274,7 @@ def solve_wingbox(geometry_name: str, tip_force=(0.0, 0.0, 1.0e5), tip_moment=(0
     mesh, cs_index = box_mesh(sections, t_spar, t_skin, div)
     K = solid3d.assemble_stiffness(mesh, E, nu)
     fixed = _root_constraints(mesh, root, sections[0].centre)
-    T, f = _tip_system(mesh, K, mesh.slice_nodes(cs_index[-1]), mesh.slice_faces(cs_index[-1]),
+    T, f = _tip_system(mesh, mesh.slice_nodes(cs_index[-1]), mesh.slice_faces(cs_index[-1]),
                        np.asarray(sections[-1].centre), tip_force, tip_moment, tip_load)
     if T is None:
         u = solid3d.solve_linear(K, f, fixed)
