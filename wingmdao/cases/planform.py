@@ -63,11 +63,12 @@ class Planform:
 
 def airfoil_surfaces(designation: str):
     """(x -> z_upper/c, x -> z_lower/c) interpolants of a NACA 4/5-digit airfoil."""
-    from wingmdao.section.fe.airfoil import naca_coordinates
+    from wingmdao.cases.airfoil import naca_coordinates
 
-    xy = np.asarray(naca_coordinates(designation, 201))
-    le = int(np.argmin(xy[:, 0]))
-    up, lo = xy[: le + 1][::-1], xy[le:]
+    npts = 201
+    xy = np.asarray(naca_coordinates(designation, npts))
+    up, lo = xy[: npts][::-1], xy[npts - 1:]  # leading edge at index npts - 1
+    up, lo = up[np.argsort(up[:, 0])], lo[np.argsort(lo[:, 0])]
     return (lambda x: np.interp(x, up[:, 0], up[:, 1])), (lambda x: np.interp(x, lo[:, 0], lo[:, 1]))
 
 
@@ -95,6 +96,7 @@ def wing_geometry(pf: Planform, point_masses=()):
     lengths next to the nearest station (their integral equals the mass).
     Returns ``(WingGeometry, chord (n,), beam_axis_fraction (n,))``.
     """
+    from wingmdao.beam.geometry import polyline_beam
     from wingmdao.sizing import WingGeometry
 
     y = pf.station_y()
@@ -110,13 +112,9 @@ def wing_geometry(pf: Planform, point_masses=()):
     x[0] = x[1]  # the centre wingbox is a prismatic continuation of the root rib section
     z = np.tan(np.radians(pf.dihedral_deg)) * y
     pos = np.column_stack([x, y, z])
+    beam = polyline_beam(pos, np.ones(y.size - 1, dtype=int))  # jig Euler angles per node
+    angles = beam.node_euler_angles
     seg = np.diff(pos, axis=0)
-    # jig Euler angles (surface sequence): dihedral about x; sweep of the box-centre line about z
-    phi = np.arctan2(seg[:, 2], seg[:, 1])
-    psi = -np.arctan2(seg[:, 0], np.hypot(seg[:, 1], seg[:, 2]))
-    node_phi = np.concatenate([[phi[0]], 0.5 * (phi[1:] + phi[:-1]), [phi[-1]]])
-    node_psi = np.concatenate([[psi[0]], 0.5 * (psi[1:] + psi[:-1]), [psi[-1]]])
-    angles = np.column_stack([node_phi, node_psi, np.zeros(y.size)])
     nsm = np.zeros(y.size)
     ds = np.linalg.norm(seg, axis=1)
     trib = np.zeros(y.size)
