@@ -175,3 +175,13 @@ def test_beam_vs_solid_table_is_complete_and_errors_have_the_analysed_causes(com
                           "(docs/verification-solid3d.md, section 5)", strict=True)
 def test_beam_within_one_percent_of_solid_at_cs2_cs3(comparison):
     assert all(abs(r["error_pct"]) < 1.0 for r in comparison if r["quantity"] in ("u_z", "theta_y"))
+
+
+@pytest.mark.parametrize("tip_load", wb.TIP_LOAD_MODES)
+def test_root_reactions_balance_the_tip_load(tip_load):
+    """Global equilibrium for every load introduction: R = -F, M_R = -(M + (r_tip - r_root) x F)."""
+    F, M = np.array([2e4, -3e4, 1e5]), np.array([5e4, 1e5, -2e4])
+    r = wb.solve_wingbox("combined", tip_force=F, tip_moment=M, mesh_size=0.5, span_size=1.0, tip_load=tip_load)
+    arm = np.array(wb.box_sections("combined")[-1].centre)
+    assert np.allclose(r["root_reaction_force"], -F, rtol=0, atol=1e-6 * np.abs(F).max())
+    assert np.allclose(r["root_reaction_moment"], -(M + np.cross(arm, F)), rtol=0, atol=1e-6 * 1e6)

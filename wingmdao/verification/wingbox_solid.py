@@ -259,8 +259,9 @@ def solve_wingbox(geometry_name: str, tip_force=(0.0, 0.0, 1.0e5), tip_moment=(0
 
     Returns a dict: ``stations`` ["CS2", "CS3", "CS4"], ``y`` (m), ``centre`` (3, 3) section
     centres (m), ``displacement`` (3, 3) section-average displacements (m), ``rotation``
-    (3, 3) least-squares rigid rotations of the cuts (rad), ``num_dof``, ``divisions``,
-    ``solve_time`` (s).
+    (3, 3) least-squares rigid rotations of the cuts (rad), ``root_reaction_force`` (N) and
+    ``root_reaction_moment`` (N m, about the CS1 centre) exerted by the clamp, ``num_dof``,
+    ``divisions``, ``solve_time`` (s).
     """
     t0 = time.perf_counter()
     tip_force, tip_moment = _check_load("tip_force (N)", tip_force), _check_load("tip_moment (N m)", tip_moment)
@@ -283,7 +284,14 @@ def solve_wingbox(geometry_name: str, tip_force=(0.0, 0.0, 1.0e5), tip_moment=(0
         col = np.asarray(T[fixed].argmax(axis=1)).ravel()
         u = T @ solid3d.solve_linear((T.T @ K @ T).tocsr(), f, col)
     cuts = [solid3d.cut_average(mesh, mesh.slice_faces(i), u) for i in cs_index[1:]]
+    # support reactions (no external load acts on the root DOFs): force and moment about CS1's centre
+    reaction = (K @ u)[fixed]
+    r_fixed = mesh.nodes[fixed // 3] - np.asarray(sections[0].centre)
+    f_fixed = np.zeros((len(fixed), 3))
+    f_fixed[np.arange(len(fixed)), fixed % 3] = reaction
     return {
+        "root_reaction_force": f_fixed.sum(axis=0),
+        "root_reaction_moment": np.cross(r_fixed, f_fixed).sum(axis=0),
         "geometry": geometry_name,
         "stations": ["CS2", "CS3", "CS4"],
         "y": np.array([s.y for s in sections[1:]]),
