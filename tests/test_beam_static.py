@@ -329,3 +329,26 @@ def test_objectivity_large_deflection_of_rotated_beam():
     assert d_fine < 2e-4 * L
     assert d_coarse / d_fine > 3.5
     assert max(f_coarse, f_fine) < 1e-9  # forces are exact: F = P everywhere
+
+
+def test_interior_point_loads_jump_F_and_M():
+    """Point force P at y = a (node k): F = P inboard of node k, 0 outboard; tip deflection
+    P a^2 (3 L - a) / (6 EI); a point moment Q there: M = Q inboard, Q a (L - a/2) / EI at the tip."""
+    n, k = 21, 8
+    a = L * k / (n - 1)
+    model = cantilever(n)
+    P = 1e-4 * EI / L**2
+    pf = np.zeros((n, 3))
+    pf[k, 2] = P
+    out = model.solve(point_force=pf)
+    np.testing.assert_allclose(out["F"][: k + 1, 2], P, rtol=1e-12)
+    np.testing.assert_allclose(out["F"][k + 1:], 0.0, atol=1e-12)
+    assert out["M"][0, 0] == pytest.approx(P * a, rel=1e-4)
+    assert out["r"][-1, 2] == pytest.approx(P * a**2 * (3 * L - a) / (6 * EI), rel=5e-3)
+    pm = np.zeros((n, 3))
+    pm[k, 0] = P * L
+    out = model.solve(point_moment=pm)
+    np.testing.assert_allclose(out["M"][: k + 1, 0], P * L, rtol=1e-12)
+    np.testing.assert_allclose(out["M"][k + 1:], 0.0, atol=1e-12)
+    # constant curvature Q/EI up to a, then straight: w_tip = Q a^2 / (2 EI) + Q a / EI (L - a)
+    assert out["r"][-1, 2] == pytest.approx(P * L * (a**2 / 2 + a * (L - a)) / EI, rel=5e-3)

@@ -11,7 +11,8 @@ Equations, 18 per node (derivations in docs/beam-theory.md):
 * element i (nodes i, i+1), rows 18 i .. 18 i + 11:
   force equilibrium (Eq. A.10), moment equilibrium about node i (Eq. A.11),
   moment-curvature (Eq. A.18-A.19) and strain-displacement (Eq. A.20), with the jig terms
-  subtracted so that the unloaded jig shape is an exact solution;
+  subtracted so that the unloaded jig shape is an exact solution; the constitutive averages
+  use the resultants just outboard of node i (F_i - P_i, M_i - Q_i);
 * last node, rows 18 (n-1) .. 18 (n-1) + 11: root clamp r_1 = r0_1, theta_1 = theta0_1, and
   tip conditions F_n = point_force_n, M_n = point_moment_n;
 * every node, rows 18 i + 12 .. 18 i + 17: u - dr/dt = 0 and
@@ -156,8 +157,10 @@ def _element_function(sequence):
     mu = _avg(pa, pb, "mu", _P_NODE)
     cg = _avg(pa, pb, "cg", _P_NODE)
     i_csn = _mat3(_avg(pa, pb, "i", _P_NODE))
-    F_m, M_m = 0.5 * (F_a + F_b), 0.5 * (M_a + M_b)
     qa, qb = a.q, b.q
+    # resultants just outboard of node a (the cut value F_a, M_a includes node a's point loads)
+    F_m = 0.5 * (F_a - qa[_Q_NODE["P"]] + F_b)
+    M_m = 0.5 * (M_a - qa[_Q_NODE["Q"]] + M_b)
     f_dead = _avg(qa, qb, "f", _Q_NODE)
     m_dead = _avg(qa, qb, "m", _Q_NODE)
 
