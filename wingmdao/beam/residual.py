@@ -151,7 +151,7 @@ def _element_function(sequence):
     theta0_m = 0.5 * (th0_a + th0_b)
     T = body_to_csn(theta_m, sequence)
     T0 = body_to_csn(theta0_m, sequence)
-    E = _mat3(_avg(pa, pb, "E", _P_NODE))
+    E_a, E_b = _mat3(pa[_P_NODE["E"]]), _mat3(pb[_P_NODE["E"]])
     S = ca.diag(_avg(pa, pb, "S", _P_NODE))
     D = offset_matrix(_avg(pa, pb, "ta", _P_NODE), _avg(pa, pb, "sc", _P_NODE))
     mu = _avg(pa, pb, "mu", _P_NODE)
@@ -185,7 +185,8 @@ def _element_function(sequence):
 
     # constitutive relations with offsets (Eq. A.18-A.20 as derived)
     F_csn, M_csn = T @ F_m, T @ M_m
-    kappa = ca.solve(E, M_csn - D @ F_csn)  # elastic curvature change E^-1 M'
+    M_prime = M_csn - D @ F_csn
+    kappa = 0.5 * (ca.solve(E_a, M_prime) + ca.solve(E_b, M_prime))  # (E_i^-1 + E_i+1^-1)/2 M' (Alg. 6)
     strain = S @ F_csn - D.T @ kappa
     R_curv = (rate_matrix(theta_m, sequence) @ (th_b - th_a)
               - rate_matrix(theta0_m, sequence) @ (th0_b - th0_a) - ds0 * kappa)
