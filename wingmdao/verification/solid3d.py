@@ -328,20 +328,53 @@ def face_load_vector(mesh: HexMesh, faces: np.ndarray, force=(0.0, 0.0, 0.0),
     return f
 
 
+def _cut_statistics(r: np.ndarray, ug: np.ndarray, dA: np.ndarray) -> dict:
+    """Area, centroid, mean displacement and least-squares rotation from quadrature data."""
+    area = dA.sum()
+    centroid = np.einsum("fgi,fg->i", r, dA) / area
+    rho = r - centroid
+    inertia = (np.einsum("fgk,fgk,fg->", rho, rho, dA) * np.eye(3)
+               - np.einsum("fgi,fgj,fg->ij", rho, rho, dA))
+    mean = np.einsum("fgi,fg->i", ug, dA) / area
+    rotation = np.linalg.solve(inertia, np.einsum("fgi,fg->i", np.cross(rho, ug), dA))
+    return {"area": area, "centroid": centroid, "displacement": mean, "rotation": rotation}
+
+
 def cut_average(mesh: HexMesh, faces: np.ndarray, u: np.ndarray) -> dict:
     """Area-weighted mean displacement (3,) and least-squares rigid rotation (3,) over a cut.
 
     rotation omega minimises integral |u - u_mean - omega x (r - r_c)|^2 dA, i.e.
     I omega = integral (r - r_c) x u dA (small rotations, rad).
     """
-    geo = face_geometry(mesh, faces)
     r, N, dA = _face_quadrature(mesh, faces)
     ug = np.einsum("ga,fai->fgi", N, u.reshape(-1, 3)[faces])
-    mean = np.einsum("fgi,fg->i", ug, dA) / geo["area"]
-    h = np.einsum("fgi,fg->i", np.cross(r - geo["centroid"], ug), dA)
-    rotation = np.linalg.solve(geo["inertia"], h)
-    return {"area": geo["area"], "centroid": geo["centroid"], "displacement": mean,
-            "rotation": rotation}
+    return _cut_statistics(r, ug, dA)
+
+
+def cut_average_at(mesh: HexMesh, y: float, u: np.ndarray) -> dict:
+    """:func:`cut_average` over the cut y = const of a structured mesh whose node slices are
+    planes y = const with midside slices halfway (as built by the wing-box mesher).
+
+    The FE field is evaluated inside the elements of the span row containing y at the
+    parametric eta with y(eta) = y, 3x3 Gauss points over each cell of the cut.
+    """
+    g = mesh.grid_node
+    y_slices = np.array([mesh.nodes[g[k][g[k] >= 0][0], 1] for k in range(g.shape[0])])
+    if not y_slices[0] <= y <= y_slices[-1]:
+        raise ValueError(f"y must be in [{y_slices[0]}, {y_slices[-1]}] m, got {y}")
+    row = min(int(np.searchsorted(y_slices[0::2], y, side="right")) - 1, (g.shape[0] - 1) // 2 - 1)
+    y0, y2 = y_slices[2 * row], y_slices[2 * row + 2]
+    eta = 2.0 * (y - y0) / (y2 - y0) - 1.0
+    n_cells = int(mesh.active.sum())
+    elements = mesh.elements[row * n_cells:(row + 1) * n_cells]
+    pts, w = _surface_rule()
+    N, dN = hex27_shape(pts[:, 0], np.full(len(pts), eta), pts[:, 1])      # (g, 27), (g, 27, 3)
+    X = mesh.nodes[elements]
+    r = np.einsum("ga,eai->egi", N, X)
+    dA = np.linalg.norm(np.cross(np.einsum("ga,eai->egi", dN[..., 0], X),
+                                 np.einsum("ga,eai->egi", dN[..., 2], X)), axis=-1) * w
+    ug = np.einsum("ga,eai->egi", N, u.reshape(-1, 3)[elements])
+    return _cut_statistics(r, ug, dA)
 
 
 # ----------------------------------------------------------------------------------------

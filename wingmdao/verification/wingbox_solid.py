@@ -245,7 +245,7 @@ def solve_wingbox(geometry_name: str, tip_force=(0.0, 0.0, 1.0e5), tip_moment=(0
                   mesh_size: float = 0.15, *, span_size: float = 0.5, divisions: dict | None = None,
                   t_spar: float = T_SPAR, t_skin: float = T_SKIN,
                   E: float = E_ALUMINIUM, nu: float = NU_ALUMINIUM,
-                  tip_load: str = "diaphragm", root: str = "clamped") -> dict:
+                  tip_load: str = "diaphragm", root: str = "clamped", cuts_y=()) -> dict:
     """Linear 3-D solid solution of a wing-like box beam, root (CS1) clamped, tip (CS4) loaded.
 
     tip_force (N) and tip_moment (N m, about the CS4 section centre) in body axes.
@@ -255,7 +255,8 @@ def solve_wingbox(geometry_name: str, tip_force=(0.0, 0.0, 1.0e5), tip_moment=(0
     traction (uniform for a force, linear for a moment); 'rigid' ties the face to a rigid
     master node. ``root``: 'clamped' (default) or 'free_warping' (diagnostic, pure torque
     only). ``mesh_size``, ``span_size`` (m): see :func:`default_divisions` (or give
-    ``divisions`` directly).
+    ``divisions`` directly). ``cuts_y``: extra streamwise cuts (y in m, e.g. the beam's
+    node stations), returned as ``cuts_displacement`` / ``cuts_rotation`` (n, 3).
 
     Returns a dict: ``stations`` ["CS2", "CS3", "CS4"], ``y`` (m), ``centre`` (3, 3) section
     centres (m), ``displacement`` (3, 3) section-average displacements (m), ``rotation``
@@ -284,12 +285,16 @@ def solve_wingbox(geometry_name: str, tip_force=(0.0, 0.0, 1.0e5), tip_moment=(0
         col = np.asarray(T[fixed].argmax(axis=1)).ravel()
         u = T @ solid3d.solve_linear((T.T @ K @ T).tocsr(), f, col)
     cuts = [solid3d.cut_average(mesh, mesh.slice_faces(i), u) for i in cs_index[1:]]
+    extra = [solid3d.cut_average_at(mesh, float(yc), u) for yc in np.atleast_1d(cuts_y)]
     # support reactions (no external load acts on the root DOFs): force and moment about CS1's centre
     reaction = (K @ u)[fixed]
     r_fixed = mesh.nodes[fixed // 3] - np.asarray(sections[0].centre)
     f_fixed = np.zeros((len(fixed), 3))
     f_fixed[np.arange(len(fixed)), fixed % 3] = reaction
     return {
+        "cuts_y": np.atleast_1d(np.asarray(cuts_y, float)),
+        "cuts_displacement": np.array([c["displacement"] for c in extra]).reshape(-1, 3),
+        "cuts_rotation": np.array([c["rotation"] for c in extra]).reshape(-1, 3),
         "root_reaction_force": f_fixed.sum(axis=0),
         "root_reaction_moment": np.cross(r_fixed, f_fixed).sum(axis=0),
         "geometry": geometry_name,
