@@ -54,9 +54,17 @@ def section_centres(name: str) -> np.ndarray:
 
 
 def wing_box_beam(name: str, elements_per_segment=(6, 8, 6), t_spar=T_SPAR, t_skin=T_SKIN,
-                  material=ALUMINIUM) -> tuple[dict, np.ndarray]:
-    """Beam parameters (``param_specs`` names) of the box and the node index of each station."""
+                  material=ALUMINIUM, section_mapping="normal") -> tuple[dict, np.ndarray]:
+    """Beam parameters (``param_specs`` names) of the box and the node index of each station.
+
+    ``section_mapping``: 'normal' (default) takes the box properties of the beam-normal cut;
+    'rotated' those of the streamwise cut rotated into csn (Eq. F.31, docs/beam-theory.md 9).
+    """
+    from wingmdao.beam.geometry import streamwise_section_to_csn
     from wingmdao.section.box import box_properties
+
+    if section_mapping not in ("normal", "rotated"):
+        raise ValueError(f"section_mapping must be 'normal' or 'rotated', got {section_mapping!r}")
 
     for label, v in (("t_spar", t_spar), ("t_skin", t_skin)):
         if not (np.isfinite(v) and v > 0.0):
@@ -70,9 +78,14 @@ def wing_box_beam(name: str, elements_per_segment=(6, 8, 6), t_spar=T_SPAR, t_sk
                          f"{height.min() / 2} m")
     T = geo.csn_axes()
     rows = []
+    R = streamwise_section_to_csn(geo.node_euler_angles)
     for i in range(geo.num_nodes):
-        w, h, ts, tk = streamwise_to_normal(width[i], height[i], t_spar, t_skin, T[i, 1])
-        rows.append(box_properties(w, h, tk, tk, ts, ts, material))
+        if section_mapping == "normal":
+            w, h, ts, tk = streamwise_to_normal(width[i], height[i], t_spar, t_skin, T[i, 1])
+            rows.append(box_properties(w, h, tk, tk, ts, ts, material))
+        else:
+            rows.append(box_properties(width[i], height[i], t_skin, t_skin, t_spar, t_spar, material,
+                                       section_to_csn=R[i]))
     n = geo.num_nodes
     params = {
         "node_positions": geo.node_positions,
@@ -89,11 +102,13 @@ def wing_box_beam(name: str, elements_per_segment=(6, 8, 6), t_spar=T_SPAR, t_sk
 
 
 def solve_wing_box(name: str, tip_force=(0.0, 0.0, 0.0), tip_moment=(0.0, 0.0, 0.0), gravity=False,
-                   t_spar=T_SPAR, t_skin=T_SKIN, elements_per_segment=(6, 8, 6), load_steps=1) -> dict:
+                   t_spar=T_SPAR, t_skin=T_SKIN, elements_per_segment=(6, 8, 6), load_steps=1,
+                   section_mapping="normal") -> dict:
     """Static response (root clamped at CS1): station displacements, tip displacement/rotation."""
     from wingmdao.beam.static import BeamModel
 
-    params, stations = wing_box_beam(name, elements_per_segment, t_spar, t_skin)
+    params, stations = wing_box_beam(name, elements_per_segment, t_spar, t_skin,
+                                     section_mapping=section_mapping)
     model = BeamModel(params)
     n = model.num_nodes
     pf, pm = np.zeros((n, 3)), np.zeros((n, 3))
@@ -125,10 +140,12 @@ def station_rotations(theta, theta0) -> np.ndarray:
     return Rotation.from_matrix(np.array(mats)).as_rotvec()
 
 
-def comparison_solver(geometry_name, tip_force, tip_moment) -> dict:
+def comparison_solver(geometry_name, tip_force, tip_moment, section_mapping="normal") -> dict:
     """Adapter for ``wingmdao.verification.wingbox_solid.compare_with_beam``: beam-axis
-    displacement (3, 3) and rotation vectors (3, 3) at CS2, CS3, CS4 (body axes, SI)."""
-    res = solve_wing_box(geometry_name, tip_force=tip_force, tip_moment=tip_moment)
+    displacement (3, 3) and rotation vectors (3, 3) at CS2, CS3, CS4 (body axes, SI).
+    Use ``functools.partial(comparison_solver, section_mapping="rotated")`` for the Eq. F.31 mapping."""
+    res = solve_wing_box(geometry_name, tip_force=tip_force, tip_moment=tip_moment,
+                         section_mapping=section_mapping)
     return {"displacement": np.asarray(res["station_displacement"])[1:],
             "rotation": np.asarray(res["station_rotation"])[1:]}
 

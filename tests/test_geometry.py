@@ -106,3 +106,14 @@ def test_streamwise_section_to_csn_rotates_stiffness():
     E_csn = R[1] @ E_sec @ R[1].T
     assert E_csn[0, 0] == pytest.approx(2.0)
     np.testing.assert_allclose(np.linalg.eigvalsh(E_csn), [1.0, 2.0, 5.0])
+
+
+def test_wing_box_section_mappings_agree_without_sweep_or_dihedral():
+    """Prismatic box: the normal cut is the streamwise cut, both mappings give the same beam."""
+    a, _ = wing_box.wing_box_beam("prismatic")
+    b, _ = wing_box.wing_box_beam("prismatic", section_mapping="rotated")
+    np.testing.assert_allclose(a["stiffness_csn"], b["stiffness_csn"], rtol=1e-12, atol=1e-3)
+    c, _ = wing_box.wing_box_beam("sweep", section_mapping="rotated")
+    assert abs(c["stiffness_csn"][10, 0, 1]) > 0.0  # rotated streamwise tensor couples bending and torsion
+    with pytest.raises(ValueError, match="section_mapping"):
+        wing_box.wing_box_beam("sweep", section_mapping="skewed")
