@@ -78,11 +78,12 @@ def timed(fun, repeat=1):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true", help="fewer scaling points")
-    ap.add_argument("--modified-newton", action="store_true", help="reuse LU factors between steps")
+    ap.add_argument("--full-newton", action="store_true",
+                    help="refactor every Newton iteration (default: modified Newton)")
     args = ap.parse_args(argv)
     from wingmdao.beam.residual import build_beam_system
 
-    opts = {"modified_newton": args.modified_newton}
+    opts = {"modified_newton": not args.full_newton}
     t_build = timed(lambda: build_beam_system(20))
     prob = build_problem(20, 500, **opts)
     t_fwd = timed(prob.run_model, repeat=2)
