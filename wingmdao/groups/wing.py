@@ -189,7 +189,12 @@ class WingSizing(om.Group):
 
         cases = self.add_subsystem("cases", om.ParallelGroup() if self.options["parallel"] else om.Group(),
                                    promotes_inputs=["*"])
+        alias_map = dict(alias)
+        case_inputs = [(v, alias_map[v]) if v in alias_map else v for v in SECTION_KINDS[kind]["stress_inputs"]]
+        case_inputs += ["node_positions", "node_euler_angles", *SECTION_TO_BEAM,
+                        "tension_axis", "shear_center", "mass_center"]
         for case in self.options["load_cases"]:
             cases.add_subsystem(case.name, WingStructure(
                 num_nodes=n, load_case=case, material=mat, rho_ks=self.options["rho_ks"],
-                section=kind, newton_options=self.options["newton_options"]), promotes_inputs=alias + ["*"])
+                section=kind, newton_options=self.options["newton_options"]),
+                promotes_inputs=case_inputs)
