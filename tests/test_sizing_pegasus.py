@@ -1,0 +1,67 @@
+"""PEGASUS sizing end to end (App. D.2, Sec. 5.1-5.2): 76 design variables, the maneuver optimum
+satisfies its constraints, and gust sizing thickens the outboard skins relative to maneuver-only
+sizing while the maneuvers size the inboard stations (Fig. 5.5-5.6)."""
+
+import numpy as np
+import pytest
+
+from wingmdao.cases import case_arguments, pegasus
+from wingmdao.cli import main
+from wingmdao.sizing import size_case
+
+
+def _size(**kw):
+    setup = pegasus.build(case_arguments(pegasus, **kw))
+    setup.options.disp = False
+    return setup, *size_case(setup)
+
+
+def _check_optimum(setup, prob, res):
+    assert res["success"], res.get("message")
+    ks = [v for d in res["ks"].values() for v in d.values()]
+    assert max(ks) <= 1e-6 and max(ks) > -1e-3
+    for w, vals in res["thickness"].items():
+        assert np.min(vals) >= pegasus.MIN_GAUGE - 1e-9 and np.max(vals) <= 0.05 + 1e-9
+
+
+@pytest.fixture(scope="module")
+def maneuver():
+    return _size(loads="maneuver")
+
+
+def test_76_design_variables(maneuver):
+    _, prob, _ = maneuver
+    dvs = prob.model.get_design_vars()
+    assert sum(meta["size"] for meta in dvs.values()) == 76
+
+
+def test_maneuver_optimum(maneuver):
+    _check_optimum(*maneuver)
+    res = maneuver[2]
+    assert res["ks"]["maneuver_pos"]["vm"] > res["ks"]["maneuver_neg"]["vm"]  # 2.5 g is critical
+
+
+@pytest.mark.slow
+def test_gust_sizing_thickens_outboard_skins(maneuver):
+    setup, prob, gust = _size(loads="gust", t_final=2.5, dt=0.05)
+    _check_optimum(setup, prob, gust)
+    static = maneuver[2]
+    y = setup.geometry.span_coordinate / setup.geometry.span_coordinate[-1]
+    outboard = (y > 0.45) & (y < 0.75)
+    inboard = y < 0.3
+    for wall in ("upper_skin", "lower_skin"):
+        d = np.asarray(gust["thickness"][wall]) - np.asarray(static["thickness"][wall])
+        assert np.mean(d[outboard]) > 0.0
+        assert np.mean(d[inboard]) < 0.0
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--families", "vm,buckling"], "unknown"),
+    (["--loads", "gust", "--altitude-ft", "70000"], "0-60000 ft"),
+    (["--loads", "gust", "--gust-gradient-ft", "400"], "30-350 ft"),
+    (["--negative-load-factor", "0.5"], "must be < 0"),
+    (["--load-factor", "-2.5"], "must be > 0"),
+])
+def test_wrong_options_fail_before_any_solve(argv, message, capsys, tmp_path):
+    assert main(["size", "pegasus", *argv, "--out", str(tmp_path)]) == 2
+    assert message in capsys.readouterr().err
