@@ -32,3 +32,21 @@ def test_paraboloid_minimum_recorded(tmp_path):
     assert abs(prob.get_val("x")[0] - 3.0) < 1e-4
     cr = om.CaseReader(str(tmp_path / "run.sql"))
     assert len(cr.list_cases("driver", out_stream=None)) >= 2
+
+
+def test_progress_printer_prints_one_line_per_evaluation():
+    import io
+
+    from wingmdao.optimize import ProgressPrinter
+
+    prob = om.Problem(reports=False)
+    prob.model.add_subsystem("f", om.ExecComp("mass = (x - 3.0)**2 + 1.0"), promotes=["*"])
+    prob.model.add_design_var("x", lower=-10, upper=10)
+    prob.model.add_objective("mass")
+    prob.driver, _ = make_driver("SLSQP", disp=False)
+    buf = io.StringIO()
+    prob.driver.add_recorder(ProgressPrinter(stream=buf))
+    prob.setup()
+    prob.run_driver()
+    lines = buf.getvalue().splitlines()
+    assert len(lines) == prob.driver.iter_count and "mass" in lines[-1] and "1.0000 kg" in lines[-1]

@@ -10,7 +10,12 @@ from __future__ import annotations
 
 import importlib.util
 
+import sys
+import time
+
+import numpy as np
 import openmdao.api as om
+from openmdao.recorders.case_recorder import CaseRecorder
 
 PYOPTSPARSE_OPTIMIZERS = ("SNOPT", "IPOPT", "SLSQP")
 
@@ -61,3 +66,54 @@ def add_recorder(prob: om.Problem, path: str) -> om.SqliteRecorder:
     opts["includes"] = ["*mass*", "*ks_*"]
     prob.driver.add_recorder(rec)
     return rec
+
+
+class ProgressPrinter(CaseRecorder):
+    """Prints one line per driver evaluation: objective, worst constraint, elapsed time.
+
+    Long optimizations (a gust sizing takes minutes) then show their progress as they run.
+    """
+
+    def __init__(self, stream=None, objective="mass", units="kg"):
+        super().__init__(record_viewer_data=False)
+
+        self._stream = stream or sys.stdout
+        self._t0 = time.perf_counter()
+        self._clock = time.perf_counter
+        self._objective, self._units = objective, units
+        self._count = 0
+
+    def startup(self, recording_requester, comm=None):
+        super().startup(recording_requester, comm)
+        self._t0 = self._clock()
+
+    def record_iteration_driver(self, recording_requester, data, metadata):
+        out = data.get("output") or data.get("out") or {}
+        obj = next((v for k, v in out.items() if k.endswith(self._objective)), None)
+        cons = [float(np.max(v)) for k, v in out.items() if ".ks_" in k or k.startswith("ks_")]
+        self._count += 1
+        obj_txt = f"{float(np.ravel(obj)[0]):12.4f} {self._units}" if obj is not None else ""
+        con_txt = f"max KS {max(cons):+.3e}" if cons else ""
+        print(f"  eval {self._count:4d}  {self._objective} {obj_txt}  {con_txt}  "
+              f"{self._clock() - self._t0:7.1f} s", file=self._stream, flush=True)
+
+    def record_iteration_system(self, recording_requester, data, metadata):  # pragma: no cover
+        pass
+
+    def record_iteration_solver(self, recording_requester, data, metadata):  # pragma: no cover
+        pass
+
+    def record_iteration_problem(self, recording_requester, data, metadata):  # pragma: no cover
+        pass
+
+    def record_derivatives_driver(self, recording_requester, data, metadata):  # pragma: no cover
+        pass
+
+    def record_metadata_system(self, system, run_number=None):  # pragma: no cover
+        pass
+
+    def record_metadata_solver(self, solver, run_number=None):  # pragma: no cover
+        pass
+
+    def record_viewer_data(self, model_viewer_data):  # pragma: no cover
+        pass

@@ -14,7 +14,7 @@ import numpy as np
 import openmdao.api as om
 
 from wingmdao.groups.wing import SECTION_KINDS, WingSizing
-from wingmdao.optimize import add_recorder, make_driver
+from wingmdao.optimize import ProgressPrinter, add_recorder, make_driver
 
 WALL_VARS = ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")
 
@@ -49,6 +49,7 @@ class SizingOptions:
     recording: str | None = None
     mass_scale: float | None = None  # default: 1 / initial mass
     disp: bool = True
+    progress: bool = False  # print a line per driver evaluation (objective, worst KS, time)
 
 
 def build_problem(geometry: WingGeometry, load_cases, material, options: SizingOptions,
@@ -78,6 +79,8 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
                 prob.model.add_constraint(f"cases.{case.name}.ks_{fam}", upper=0.0)
         if options.recording:
             add_recorder(prob, options.recording)
+        if options.progress:
+            prob.driver.add_recorder(ProgressPrinter())
     prob.setup(mode="rev")
     set_geometry(prob, geometry, section)
     n_dv = n if geometry.station_map is None else int(np.max(geometry.station_map)) + 1

@@ -18,6 +18,7 @@ def _add_common(p, *, sizing: bool):
         p.add_argument("--analysis-only", action="store_true",
                        help="analyse the initial design without optimizing")
         p.add_argument("--no-plots", action="store_true", help="do not write PNG plots")
+        p.add_argument("--quiet", action="store_true", help="no per-evaluation progress lines")
 
 
 def register(subparsers):
@@ -56,6 +57,7 @@ def run_size(args) -> int:
         opts.maxiter = args.maxiter
     stem = os.path.join(args.out, args.case_module.NAME.replace("-", "_"))
     opts.recording = None if args.analysis_only else stem + ".sql"
+    opts.progress = not args.quiet
     print(f"wingmdao size {args.case_module.NAME}: {len(setup.load_cases)} load case(s) "
           f"[{', '.join(c.name for c in setup.load_cases)}], {setup.geometry.num_nodes} stations")
     for note in setup.notes:
