@@ -275,11 +275,14 @@ def analysis_problem(geometry, load_case, walls: dict, material=ALUMINIUM, *, de
 
 def totals_max_rel_error(prob, load_case) -> float:
     """Largest relative difference between the adjoint totals of the KS outputs w.r.t. the wall
-    thicknesses and OpenMDAO's central finite differences (relative to each block's max |J|)."""
+    thicknesses and OpenMDAO's central finite differences (relative to each block's max |J|).
+
+    Step 1e-4 relative to the mean thickness: the truncation error is ~1e-8 and the Newton
+    round-off noise (~1e-14 in KS) stays below 1e-9 of the derivatives (1e-6 gives ~5e-6)."""
     from wingmdao.sizing import WALL_VARS
 
     of = [f"cases.{load_case.name}.ks_{f}" for f in load_case.families]
-    data = prob.check_totals(of=of, wrt=list(WALL_VARS), method="fd", form="central", step=1e-6,
+    data = prob.check_totals(of=of, wrt=list(WALL_VARS), method="fd", form="central", step=1e-4,
                              step_calc="rel_avg", out_stream=None)
     worst = 0.0
     for d in data.values():

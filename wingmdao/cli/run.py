@@ -1,15 +1,15 @@
-"""``wingmdao run wing-box``: static nonlinear beam response of the App. D.1 'wing-like' box.
+"""``wingmdao run wing-box``: response of the App. D.1 'wing-like' box on the sizing model.
 
-The box data live in ``cases/wing_box.py`` of the repository (Tables D.1, D.2, E.2). Body axes
-(x aft, y outboard, z up), SI units, aluminium (E = 70 GPa, nu = 0.33, rho = 2700 kg/m^3), root
-clamped at CS1, loads at the CS4 section centre. Later options (dynamic march, stresses, total-
-derivative checks) are meant to be added as further arguments handled in :func:`run_wing_box`.
+The box data and model builders live in :mod:`wingmdao.cases.wing_box` (Tables D.1, D.2, E.2).
+Body axes (x aft, y outboard, z up), SI units, aluminium (E = 70 GPa, nu = 0.33,
+rho = 2700 kg/m^3, sigma_y = 276 MPa), root clamped at CS1, loads at the CS4 section centre.
+The analysis runs on the OpenMDAO chain users size with (``WingSizing`` with one
+``LoadCase``: box section -> nonlinear beam (static or BDF2 time march) -> internal loads ->
+stress -> KS), with the four wall thicknesses per node as design variables; ``--check-totals``
+compares the adjoint totals of the KS outputs with central finite differences.
 """
 
 from __future__ import annotations
-
-import importlib.util
-from pathlib import Path
 
 import numpy as np
 
@@ -17,15 +17,19 @@ GEOMETRIES = ("prismatic", "taper", "sweep", "dihedral", "combined")
 
 
 def register(subparsers):
-    p = subparsers.add_parser("run", help="run a shipped analysis case (static beam response) and write JSON",
+    p = subparsers.add_parser("run", help="run a shipped analysis case (beam response, stresses) and write JSON",
                               description="Run an analysis case. SI units, body axes x aft, y outboard, z up.")
     cases = p.add_subparsers(dest="case", metavar="CASE", required=True)
     wb = cases.add_parser(
-        "wing-box", help="App. D.1 'wing-like' box beam under tip loads / self weight",
-        description="Static nonlinear Timoshenko-beam response of the App. D.1 box (root clamped at CS1, "
-        "aluminium E = 70 GPa, nu = 0.33, rho = 2700 kg/m^3). Output JSON: stations (CS1..CS4), displacement "
-        "(magnitude of the beam-axis displacement at each station, m), tip_displacement [dx, dy, dz] (m), "
-        "tip_rotation (rotation vector, rad, body axes).")
+        "wing-box", help="App. D.1 'wing-like' box beam under tip loads / self weight, static or dynamic",
+        description="Nonlinear Timoshenko-beam response of the App. D.1 box (root clamped at CS1, aluminium "
+        "E = 70 GPa, nu = 0.33, rho = 2700 kg/m^3, sigma_y = 276 MPa) on the OpenMDAO sizing model. Output "
+        "JSON: stations (CS1..CS4), displacement (magnitude of the beam-axis displacement at each station, m), "
+        "tip_displacement [dx, dy, dz] (m), tip_rotation (rotation vector, rad, body axes), max_von_mises "
+        "per station (Pa, max over the 8 mid-corner points and time), ks (KS values per stress family), "
+        "mass_kg; with --dynamic also time (s) and tip_displacement_history (n_time x 3, m); with "
+        "--check-totals also check_totals_max_rel_error. Dynamic runs: the load is applied suddenly at "
+        "t > 0 to the beam at rest in its unloaded shape; values without _history are at the last instant.")
     wb.add_argument("--geometry", choices=GEOMETRIES, required=True, help="Table D.2 geometry")
     wb.add_argument("--t-spar", type=float, default=0.2, metavar="M", help="spar thickness in the streamwise cut (m, default 0.2)")
     wb.add_argument("--t-skin", type=float, default=0.1, metavar="M", help="skin thickness in the streamwise cut (m, default 0.1)")
@@ -34,29 +38,29 @@ def register(subparsers):
     wb.add_argument("--tip-moment", type=float, nargs=3, default=(0.0, 0.0, 0.0), metavar=("MX", "MY", "MZ"),
                     help="tip moment, body axes (N*m)")
     wb.add_argument("--gravity", action="store_true", help="add self weight (g = 9.81 m/s^2 along -z)")
-    wb.add_argument("--load-steps", type=int, default=1, metavar="N", help="load steps of the Newton solve (default 1)")
+    wb.add_argument("--dynamic", action="store_true",
+                    help="BDF2 time march: tip load applied suddenly at t > 0 to the beam at rest")
+    wb.add_argument("--t-final", type=float, default=1.0, metavar="S", help="dynamic: simulated time (s, default 1)")
+    wb.add_argument("--dt", type=float, default=0.005, metavar="S", help="dynamic: time step (s, default 0.005)")
+    wb.add_argument("--check-totals", action="store_true",
+                    help="compare adjoint totals d(KS)/d(wall thicknesses) with central finite differences")
+    wb.add_argument("--load-steps", type=int, default=1, metavar="N", help="load steps of the static Newton solve (default 1)")
     wb.add_argument("--elements", type=int, nargs=3, default=(6, 8, 6), metavar=("N1", "N2", "N3"),
                     help="beam elements per segment CS1-CS2, CS2-CS3, CS3-CS4 (default 6 8 6)")
     wb.add_argument("--json", default="-", metavar="PATH", help="output file ('-' = standard output, the default)")
     wb.set_defaults(func=run_wing_box)
 
 
-def load_wing_box_case():
-    """Import ``cases/wing_box.py`` from the repository (ValueError if it is not there)."""
-    path = Path(__file__).resolve().parents[2] / "cases" / "wing_box.py"
-    if not path.is_file():
-        raise ValueError(f"case file {path} not found (the wing-box case ships with the repository)")
-    spec = importlib.util.spec_from_file_location("wingmdao_case_wing_box", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
 def _check_args(args):
-    for name in ("t_spar", "t_skin"):
+    from wingmdao.cases.wing_box import HEIGHTS, geometry_data
+
+    g = geometry_data(args.geometry)
+    limits = {"t_spar": 0.5 * min(g["widths"]), "t_skin": 0.5 * min(HEIGHTS)}
+    for name, high in limits.items():
         v = getattr(args, name)
-        if not (np.isfinite(v) and v > 0):
-            raise ValueError(f"--{name.replace('_', '-')} = {v} m; allowed range (0, inf) m")
+        if not (np.isfinite(v) and 0 < v < high):
+            raise ValueError(f"--{name.replace('_', '-')} = {v} m; allowed range (0, {high:g}) m "
+                             f"(two walls must fit in the {args.geometry} box)")
     for name in ("tip_load", "tip_moment"):
         if not np.all(np.isfinite(getattr(args, name))):
             raise ValueError(f"--{name.replace('_', '-')} must be finite")
@@ -70,18 +74,63 @@ def wing_box_result(args) -> dict:
     """The JSON-ready result of ``wingmdao run wing-box`` from the parsed arguments."""
     import openmdao.api as om
 
+    from wingmdao.cases import wing_box as case
+    from wingmdao.groups.load_case import STRESS_FAMILIES
+
     _check_args(args)
-    case = load_wing_box_case()
+    geometry, key, cos_sweep, cos_dih = case.wing_geometry(args.geometry, tuple(args.elements))
+    n = geometry.num_nodes
+    time = case.time_grid(args.t_final, args.dt) if args.dynamic else None
+    load = case.tip_load_case("run", n, args.tip_load, args.tip_moment, STRESS_FAMILIES, time=time,
+                              gravity=args.gravity)
+    walls = {"t_upper_skin": args.t_skin * cos_dih, "t_lower_skin": args.t_skin * cos_dih,
+             "t_front_spar": args.t_spar * cos_sweep, "t_rear_spar": args.t_spar * cos_sweep}
+    prob = case.analysis_problem(geometry, load, walls, design_vars=args.check_totals)
+    prob.model.wing.cases.run.beam.options["static_options"] = {"load_steps": args.load_steps}
     try:
-        res = case.solve_wing_box(args.geometry, tip_force=args.tip_load, tip_moment=args.tip_moment,
-                                  gravity=args.gravity, t_spar=args.t_spar, t_skin=args.t_skin,
-                                  elements_per_segment=tuple(args.elements), load_steps=args.load_steps)
+        prob.run_model()
     except om.AnalysisError as exc:
-        raise ValueError(f"the static solve did not converge ({exc}); try more --load-steps") from exc
+        raise ValueError(f"the beam solve did not converge ({exc}); try more --load-steps or a smaller --dt") from exc
+    res = _response(prob, geometry, key)
+    if args.dynamic:
+        res["time"] = load.time.tolist()
+        res["tip_displacement_history"] = res.pop("_tip_history").tolist()
+        res["peak_tip_displacement"] = float(np.max(np.linalg.norm(res["tip_displacement_history"], axis=1)))
+    else:
+        res.pop("_tip_history")
+    if args.check_totals:
+        res["check_totals_max_rel_error"] = case.totals_max_rel_error(prob, load)
+    res["geometry"] = args.geometry
     res["inputs"] = {"t_spar": args.t_spar, "t_skin": args.t_skin, "tip_load": list(args.tip_load),
                      "tip_moment": list(args.tip_moment), "gravity": bool(args.gravity),
-                     "units": "SI (m, N, N*m, rad); body axes x aft, y outboard, z up"}
+                     "dynamic": bool(args.dynamic), "elements": list(args.elements),
+                     "units": "SI (m, N, N*m, rad, Pa, s); body axes x aft, y outboard, z up"}
+    prob.cleanup()
     return res
+
+
+def _response(prob, geometry, key) -> dict:
+    """Station displacements/rotations (last instant), tip history, von Mises, KS and mass."""
+    from wingmdao.cases.wing_box import STATIONS, station_rotations
+
+    states = prob.get_val("cases.run.beam.states")
+    r0 = np.asarray(geometry.node_positions)
+    disp = states[-1, key, 0:3] - r0[key]
+    rot = station_rotations(states[-1, key, 3:6], np.asarray(geometry.node_euler_angles)[key])
+    vm = prob.get_val("vm_stress.sigma_vm", units="Pa")
+    fams = prob.model.wing.options["load_cases"][0].families
+    return {
+        "stations": list(STATIONS),
+        "displacement": np.linalg.norm(disp, axis=1).tolist(),
+        "station_displacement": disp.tolist(),
+        "tip_displacement": disp[-1].tolist(),
+        "station_rotation": rot.tolist(),
+        "tip_rotation": rot[-1].tolist(),
+        "max_von_mises": vm[:, key].max(axis=(0, 2)).tolist(),
+        "ks": {f: float(prob.get_val(f"cases.run.ks_{f}")[0]) for f in fams},
+        "mass_kg": float(prob.get_val("mass", units="kg")[0]),
+        "_tip_history": states[:, -1, 0:3] - r0[-1],
+    }
 
 
 def run_wing_box(args) -> int:
