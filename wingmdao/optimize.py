@@ -63,7 +63,6 @@ def add_recorder(prob: om.Problem, path: str) -> om.SqliteRecorder:
     opts["record_objectives"] = True
     opts["record_constraints"] = True
     opts["record_derivatives"] = True
-    opts["includes"] = ["*mass*", "*ks_*"]
     prob.driver.add_recorder(rec)
     return rec
 
