@@ -1,0 +1,54 @@
+"""Stiffness-matched rectangular box (dissertation Sec. 4.2.4, Eq. 4.13-4.14).
+
+The analytic thin-walled box below is a stand-in: swap it for wingmdao/section/box.py once that is settled.
+"""
+
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+from scipy.optimize import minimize
+
+
+def box_stiffness(width, height, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, E, G):
+    """Thin-walled box (width, height between wall midlines, m): [EI_cc, EI_nn, GJ] (N m^2).
+
+    EI about the chordwise axis through the neutral axis (skins as lines, webs t h^3/12 plus
+    parallel axis), and GJ by Bredt-Batho J = 4 A_m^2 / closed integral ds/t (Eq. 4.11-4.12).
+    Works on floats or CasADi symbols.
+    """
+    w, h = width, height
+    tu, tl, tf, tr = t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar
+    A = (tu + tl) * w + (tf + tr) * h
+    zn = (tu * w * h + (tf + tr) * h * h / 2) / A                       # neutral axis above lower skin
+    I_cc = tu * w * (h - zn) ** 2 + tl * w * zn ** 2 + (tf + tr) * (h ** 3 / 12 + h * (h / 2 - zn) ** 2)
+    xn = ((tu + tl) * w * w / 2 + tr * h * w) / A                       # neutral axis aft of front web
+    I_nn = (tu + tl) * (w ** 3 / 12 + w * (w / 2 - xn) ** 2) + tf * h * xn ** 2 + tr * h * (w - xn) ** 2
+    J = 4 * (w * h) ** 2 / (w / tu + w / tl + h / tf + h / tr)
+    return E * I_cc, E * I_nn, G * J
+
+
+def match_box(EI_cc, GJ, thicknesses, E, G, w0, h0, bounds=((1e-3, 100.0), (1e-3, 100.0)), EI_cs=0.0):
+    """Width and height of the box whose [EI_cc, EI_cs; EI_cs, GJ] best match the targets (Eq. 4.13-4.14).
+
+    Objective: squared Frobenius norm of the difference scaled by the target diagonal
+    (D^-1/2 (K_box - K) D^-1/2); the box has EI_cs = 0. Exact gradient from CasADi AD.
+    Returns dict(width, height, EI_cc, GJ, residual).
+    """
+    for name, v in (("EI_cc", EI_cc), ("GJ", GJ)):
+        if not np.isfinite(v) or v <= 0:
+            raise ValueError(f"target {name} must be > 0 N m^2, got {v}")
+    x = ca.SX.sym("x", 2)
+    EIc, _, GJb = box_stiffness(x[0], x[1], *thicknesses, E, G)
+    r = ca.vertcat((EIc - EI_cc) / EI_cc, (GJb - GJ) / GJ, 2 ** 0.5 * EI_cs / np.sqrt(EI_cc * GJ))
+    f = ca.sumsqr(r)
+    fun = ca.Function("f", [x], [f, ca.gradient(f, x)])
+
+    def obj(v):
+        val, g = fun(v)
+        return float(val), np.array(g).ravel()
+    res = minimize(obj, np.array([w0, h0]), jac=True, method="L-BFGS-B", bounds=bounds,
+                   options={"ftol": 1e-20, "gtol": 1e-14, "maxiter": 500})
+    w, h = res.x
+    EIc, _, GJb = box_stiffness(w, h, *thicknesses, E, G)
+    return {"width": float(w), "height": float(h), "EI_cc": float(EIc), "GJ": float(GJb), "residual": float(res.fun)}
