@@ -53,7 +53,7 @@ class SizingOptions:
 
 
 def build_problem(geometry: WingGeometry, load_cases, material, options: SizingOptions,
-                  *, driver=True, parallel=False, section="box") -> tuple[om.Problem, str]:
+                  *, driver=True, parallel=None, section="box") -> tuple[om.Problem, str]:
     """Set up the sizing problem; returns ``(problem, driver description)``.
 
     ``section`` is ``"box"`` (design variables: the four wall thicknesses) or ``"solid"``
@@ -176,7 +176,7 @@ def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, sectio
     return out
 
 
-def size_case(setup, *, optimize: bool = True, parallel: bool = False):
+def size_case(setup, *, optimize: bool = True, parallel: bool | None = None):
     """Build and run a :class:`wingmdao.cases.CaseSetup`; returns ``(problem, result dict)``."""
     prob, desc = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
                                driver=optimize, parallel=parallel, section=setup.section)

@@ -130,7 +130,8 @@ class WingSizing(om.Group):
     """Shared thickness design variables, box sections and mass; one WingStructure per load case.
 
     Options: ``num_nodes``; ``load_cases`` (list of :class:`LoadCase`); ``material``;
-    ``rho_ks``; ``parallel`` (put the cases in an ``om.ParallelGroup``, useful under MPI).
+    ``rho_ks``; ``parallel`` (put the cases in an ``om.ParallelGroup`` to run them side by side
+    under MPI; default: when mpi4py is installed, else a serial ``om.Group``).
     Inputs to set (promoted): ``t_upper_skin``, ``t_lower_skin``, ``t_front_spar``,
     ``t_rear_spar``, ``width``, ``height`` (per node, m), ``node_positions`` (n, 3) m,
     ``node_euler_angles`` (n, 3) rad, ``section_to_csn`` (n, 3, 3),
@@ -143,7 +144,8 @@ class WingSizing(om.Group):
         self.options.declare("load_cases", types=list)
         self.options.declare("material", desc="wingmdao.materials.Material")
         self.options.declare("rho_ks", default=100.0, lower=0.0)
-        self.options.declare("parallel", default=False, types=bool)
+        self.options.declare("parallel", default=None, allow_none=True, types=bool,
+                             desc="load cases in an om.ParallelGroup (None: when mpi4py imports)")
         self.options.declare("section", default="box", values=tuple(SECTION_KINDS))
         self.options.declare("station_map", default=None, allow_none=True,
                              desc="(n,) int: design-variable index of each station (None: one per station)")
@@ -187,7 +189,12 @@ class WingSizing(om.Group):
             shape = (n_dv,) if (name in design and alias) else (n,)
             self.set_input_defaults(name, val=np.ones(shape), units="m")
 
-        cases = self.add_subsystem("cases", om.ParallelGroup() if self.options["parallel"] else om.Group(),
+        parallel = self.options["parallel"]
+        if parallel is None:
+            import importlib.util
+
+            parallel = importlib.util.find_spec("mpi4py") is not None
+        cases = self.add_subsystem("cases", om.ParallelGroup() if parallel else om.Group(),
                                    promotes_inputs=["*"])
         alias_map = dict(alias)
         case_inputs = [(v, alias_map[v]) if v in alias_map else v for v in SECTION_KINDS[kind]["stress_inputs"]]
