@@ -1,0 +1,59 @@
+"""Stiffness-matched box (Sec. 4.2.4) on a PEGASUS-like NACA 23015 wingbox, and the section-fe CLI."""
+
+import json
+
+import numpy as np
+import pytest
+
+from wingmdao.section.fe import (airfoil_box_mesh, analyse_section, beam_properties_csn, box_stiffness, isotropic,
+                                 match_box)
+from wingmdao.section.fe.airfoil import naca_surfaces
+
+AL = isotropic(71e9, 0.33, 2810.0)
+
+
+def test_box_stiffness_closed_form_square_tube():
+    EIc, EIn, GJ = box_stiffness(1.0, 1.0, 0.01, 0.01, 0.01, 0.01, 1.0, 1.0)
+    assert EIc == pytest.approx(2 * 0.01 * 0.25 + 2 * 0.01 / 12)      # flanges + webs
+    assert EIn == pytest.approx(EIc)
+    assert GJ == pytest.approx(4 * 1.0 / (4 / 0.01))
+
+
+@pytest.mark.parametrize("th", [(0.004, 0.004, 0.006, 0.005), (0.003, 0.005, 0.008, 0.004)])
+def test_pegasus_box_match_to_1e3(th):
+    up, lo = naca_surfaces("23015")
+    walls = {k: {"thickness": t, "material": AL} for k, t in zip(("upper", "lower", "front", "rear"), th)}
+    sec = analyse_section(airfoil_box_mesh(up, lo, 2.0, 0.18, 0.75, walls))
+    K = beam_properties_csn(sec)["stiffness_csn"]
+    r = match_box(K[0, 0], K[1, 1], th, AL.E_ref, AL.G_ref, 1.1, 0.2, bounds=((0.1, 2.0), (0.02, 1.0)))
+    EIc, _, GJ = box_stiffness(r["width"], r["height"], *th, AL.E_ref, AL.G_ref)
+    assert EIc == pytest.approx(K[0, 0], rel=1e-3)
+    assert GJ == pytest.approx(K[1, 1], rel=1e-3)
+    assert 0.9 < r["width"] < 1.3 and 0.15 < r["height"] < 0.32      # near the real box (1.14 m x ~0.25 m)
+
+
+def test_match_box_rejects_bad_target():
+    with pytest.raises(ValueError, match="EI_cc"):
+        match_box(-1.0, 1.0, (0.01,) * 4, 1.0, 1.0, 1.0, 1.0)
+
+
+def test_cli_rectangle_and_file(tmp_path, capsys):
+    from wingmdao.cli import main
+    out = tmp_path / "r.json"
+    rc = main(["section-fe", "--rectangle", "0.1", "0.05", "--material", "70e9", "0.3", "2700", "--json", str(out)])
+    assert rc in (0, None)
+    d = json.loads(out.read_text())
+    assert np.array(d["stiffness_6x6"])[0, 0] == pytest.approx(70e9 * 0.005, rel=1e-10)
+    assert d["area"] == pytest.approx(0.005)
+    f = tmp_path / "c.json"
+    f.write_text(json.dumps({"materials": {"al": {"type": "isotropic", "E": 70e9, "nu": 0.3, "rho": 2700}},
+                             "section": {"shape": "airfoil", "naca": "2412", "chord": 1.0, "front_spar": 0.2,
+                                         "rear_spar": 0.7, "mesh_size": 0.04,
+                                         "walls": {k: {"thickness": 0.003, "material": "al"}
+                                                   for k in ("upper", "lower", "front", "rear")}}}))
+    out2 = tmp_path / "o.json"
+    assert main(["section-fe", str(f), "--json", str(out2)]) in (0, None)
+    d = json.loads(out2.read_text())
+    assert {"width", "height"} <= set(d["box_match"])
+    for k in ("mass_6x6", "shear_center", "tension_center", "mass_center"):
+        assert k in d
