@@ -203,16 +203,24 @@ def wing_geometry(name: str, elements_per_segment=(1, 1, 1)):
 
 
 def tip_load_case(name: str, num_nodes: int, tip_force, tip_moment, families, *, time=None,
-                  gravity=False):
+                  gravity=False, ramp_time=0.0):
     """A :class:`LoadCase` with a tip force/moment (body axes) at the last node.
 
-    ``time=None``: static. Otherwise the load is applied suddenly: zero at ``time[0]`` (the
-    static initial state is the unloaded jig) and constant for t > 0.
+    ``time=None``: static. Otherwise the load is zero at ``time[0]`` (the static initial state
+    is the unloaded jig) and applied suddenly for t > 0 (``ramp_time`` = 0), or raised
+    linearly to its full value over ``ramp_time`` seconds, then held constant.
     """
     from wingmdao.groups.load_case import LoadCase
 
+    if not (np.isfinite(ramp_time) and ramp_time >= 0):
+        raise ValueError(f"ramp time = {ramp_time} s; allowed range [0, inf) s")
     t = np.zeros(1) if time is None else np.asarray(time, dtype=float)
-    on = (t > 0.0) if t.size > 1 else np.ones(1, bool)
+    if t.size == 1:
+        on = np.ones(1)
+    elif ramp_time > 0:
+        on = np.clip(t / ramp_time, 0.0, 1.0)
+    else:
+        on = (t > 0.0).astype(float)
     pf = np.zeros((t.size, num_nodes, 3))
     pm = np.zeros((t.size, num_nodes, 3))
     pf[:, -1] = np.outer(on, tip_force)
@@ -220,7 +228,8 @@ def tip_load_case(name: str, num_nodes: int, tip_force, tip_moment, families, *,
     forcing = {"point_force": pf, "point_moment": pm}
     if gravity:
         forcing["gravity"] = np.array([0.0, 0.0, -9.81])
-    kind = "static" if t.size == 1 else f"suddenly applied, {t[-1]:g} s"
+    kind = ("static" if t.size == 1 else f"ramped over {ramp_time:g} s, {t[-1]:g} s" if ramp_time > 0
+            else f"suddenly applied, {t[-1]:g} s")
     return LoadCase(name, t, forcing, tuple(families), f"tip load {list(tip_force)} N, "
                     f"{list(tip_moment)} N*m ({kind})")
 
@@ -305,6 +314,8 @@ def add_arguments(p):
                    help="beam elements per segment (design variables at every node; 1 1 1: CS1..CS4)")
     p.add_argument("--t-final", type=float, default=5.0, help="study 3: simulated time [s]")
     p.add_argument("--dt", type=float, default=0.01, help="study 3: time step [s]")
+    p.add_argument("--ramp-time", type=float, default=0.0,
+                   help="study 3: raise the loads linearly over this time [s] (0: suddenly applied at t > 0)")
     p.add_argument("--rho-ks", type=float, default=100.0, help="KS aggregation parameter")
 
 
@@ -332,7 +343,8 @@ def build(args) -> CaseSetup:
     geometry, _, _, _ = wing_geometry(args.geometry, tuple(args.elements))
     force, moment = STUDY_LOADS[args.study]
     time = time_grid(args.t_final, args.dt) if args.study == 3 else None
-    case = tip_load_case(f"study{args.study}", geometry.num_nodes, force, moment, families, time=time)
+    case = tip_load_case(f"study{args.study}", geometry.num_nodes, force, moment, families, time=time,
+                         ramp_time=args.ramp_time if args.study == 3 else 0.0)
     options = SizingOptions(lower={w: b[0] for w, b in BOUNDS.items()},
                             upper={w: b[1] for w, b in BOUNDS.items()}, rho_ks=float(args.rho_ks))
     notes = [f"Eq. 4.57 skin upper bound 1.5 m capped at {SKIN_CAP} m (box height 0.5 m)",
