@@ -99,24 +99,28 @@ def test_first_bending_frequency_of_uniform_cantilever():
 
 
 def test_gravity_then_free_fall_returns_to_jig_shape():
-    """App. E.2: self-weight equilibrium, then free fall (gravity = frame acceleration = -g)."""
+    """App. E.2: from the jig, gravity on -> self-weight equilibrium; then free fall
+    (gravity = frame acceleration = -g) -> back to the jig shape."""
     EI, mu, L, n = 2.0e6, 20.0, 10.0, 11
     f1 = 1.8751**2 * np.sqrt(EI / (mu * L**4)) / (2 * np.pi)
-    dt = 1.0 / f1  # BDF2 with one step per period damps the released vibration quickly
-    nt = 61
+    dt = 1.0 / f1  # BDF2 with one step per period damps the vibration quickly
+    nt, n_fall = 121, 60
     t = np.arange(nt) * dt
     vals = uniform_cantilever(n, length=L, EI=EI, mu=mu)
     vals["gravity"] = np.tile([0.0, 0.0, -G], (nt, 1))
     acc = np.zeros((nt, 3))
-    acc[1:, 2] = -G  # from t > 0 the frame falls with gravity
+    acc[n_fall:, 2] = -G  # the frame falls with gravity from step 60
     vals["frame_acceleration"] = acc
-    prob = _problem(BeamDynamics(num_nodes=n, time=t), vals)
+    jig = np.zeros((n, 18))
+    jig[:, 0:3] = vals["node_positions"]
+    vals["initial_state"] = jig
+    prob = _problem(BeamDynamics(num_nodes=n, time=t, initial="state"), vals)
     prob.run_model()
     x = prob.get_val("states")
     sag = mu * G * L**4 / (8 * EI)
-    assert x[0, -1, 2] == pytest.approx(-sag, rel=0.02)  # self-weight tip deflection
-    jig = vals["node_positions"]
-    np.testing.assert_allclose(x[-1, :, 0:3], jig, atol=1e-3 * sag)
+    assert np.min(x[:n_fall, -1, 2]) < -1.03 * sag  # dynamic overshoot (damped by the large step)
+    assert x[n_fall - 1, -1, 2] == pytest.approx(-sag, rel=0.01)  # settled at the self-weight sag
+    np.testing.assert_allclose(x[-1, :, 0:3], vals["node_positions"], atol=1e-3 * sag)
     np.testing.assert_allclose(x[-1, :, 6:12], 0.0, atol=1e-3 * mu * G * L**2)
 
 
