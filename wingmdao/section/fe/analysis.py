@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 from .mesh import SectionMesh
 
@@ -110,15 +111,19 @@ def analyse_section(mesh: SectionMesh) -> Section:
     nn = mesh.nodes.shape[0]
     n = 3 * nn
     dofs = (3 * mesh.elements[:, :, None] + np.arange(3)).reshape(-1, 27)
-    QB = np.einsum("eij,egjk->egik", Q, B)
-    QS = np.einsum("eij,egjk->egik", Q, S)
-    QZ = np.einsum("eij,egjk->egik", Q, Z)
-    E = _assemble(mesh, np.einsum("eg,egia,egib->eab", wdet, B, QB), dofs, n)
-    C = _assemble(mesh, np.einsum("eg,egia,egib->eab", wdet, S, QB), dofs, n)   # int S^T Q B
-    M = _assemble(mesh, np.einsum("eg,egia,egib->eab", wdet, S, QS), dofs, n)
-    R = _assemble_rect(np.einsum("eg,egia,egib->eab", wdet, B, QZ), dofs, n, 6).toarray()
-    L = _assemble_rect(np.einsum("eg,egia,egib->eab", wdet, S, QZ), dofs, n, 6).toarray()
-    A = np.einsum("eg,egia,egib->ab", wdet, Z, QZ)
+    ne, ng = wdet.shape
+    wQ = Q[:, None] * wdet[:, :, None, None]                          # weighted material (ne, g, 6, 6)
+    QB = (wQ @ B).reshape(ne, ng * 6, 27)
+    QS = (wQ @ S).reshape(ne, ng * 6, 27)
+    QZ = (wQ @ Z).reshape(ne, ng * 6, 6)
+    Bt = B.reshape(ne, ng * 6, 27).transpose(0, 2, 1)
+    St = S.reshape(ne, ng * 6, 27).transpose(0, 2, 1)
+    E = _assemble(mesh, Bt @ QB, dofs, n)
+    C = _assemble(mesh, St @ QB, dofs, n)                              # int S^T Q B
+    M = _assemble(mesh, St @ QS, dofs, n)
+    R = _assemble_rect(Bt @ QZ, dofs, n, 6).toarray()
+    L = _assemble_rect(St @ QZ, dofs, n, 6).toarray()
+    A = (Z.reshape(ne, ng * 6, 6).transpose(0, 2, 1) @ QZ).sum(axis=0)
     # rigid-body warping constraints D^T w = 0 (nodal rigid motions)
     x2, x3 = mesh.nodes[:, 0], mesh.nodes[:, 1]
     D = np.zeros((nn, 3, 6))
@@ -128,8 +133,19 @@ def analyse_section(mesh: SectionMesh) -> Section:
     scale = np.sqrt(np.abs(E.diagonal()).mean())
     Ds = sp.csr_matrix(D * scale)
     Rs = sp.csr_matrix(R)
-    K = sp.bmat([[E, Rs, Ds], [Rs.T, sp.csr_matrix(A), None], [Ds.T, None, None]], format="csc")
-    lu = spla.splu(K, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+    # bandwidth-reducing order of the warping dofs; the 12 dense border rows/columns stay last
+    perm = reverse_cuthill_mckee(E.tocsr(), symmetric_mode=True)
+    perm = np.concatenate([perm, np.arange(n, n + 12)])
+    K = sp.bmat([[E, Rs, Ds], [Rs.T, sp.csr_matrix(A), None], [Ds.T, None, None]], format="csr")
+    K = K[perm][:, perm].tocsc()
+    lu_p = spla.splu(K, permc_spec="NATURAL", diag_pivot_thresh=0.0)
+    inv_perm = np.argsort(perm)
+
+    class _LU:
+        @staticmethod
+        def solve(b):
+            return lu_p.solve(np.ascontiguousarray(b[perm]))[inv_perm]
+    lu = _LU()
     T = np.zeros((6, 6)); T[4, 2] = 1.0; T[5, 1] = -1.0       # theta' = T theta (M2' = F3, M3' = -F2)
     rhs0 = np.zeros((n + 12, 6)); rhs0[n:n + 6] = np.eye(6)
     s0 = lu.solve(rhs0)

@@ -156,13 +156,16 @@ def box_mesh(width, height, walls, n_thick=5, mesh_size=None, open_walls=()):
     mask = np.zeros((ni, nj), bool)
     Q = np.zeros((ni, nj, 6, 6)); rho = np.zeros((ni, nj)); reg = np.zeros((ni, nj), int)
     normals = {"upper": (0.0, 1.0), "lower": (0.0, -1.0), "front": (-1.0, 0.0), "rear": (1.0, 0.0)}
+    cache = {}
     for i, (kx, lx) in enumerate(xc):
         for j, (ky, ly) in enumerate(yc):
             wall, lay = (ky, ly) if ky != "mid" else (kx, lx)
             if wall == "mid":
                 continue
+            if (wall, lay) not in cache:
+                cache[wall, lay] = _ply_Q(L[wall], lay, normals[wall])
             mask[i, j] = True
-            Q[i, j], rho[i, j] = _ply_Q(L[wall], lay, normals[wall])
+            Q[i, j], rho[i, j] = cache[wall, lay]
             reg[i, j] = names.index(wall)
     return _q9_from_grid(X, Y, mask, Q, rho, reg, names)
 
@@ -254,19 +257,24 @@ def airfoil_box_mesh(upper, lower, chord, front_spar, rear_spar, walls, twist_de
     slope_u = np.interp(xcell, xn, su); slope_l = np.interp(xcell, xn, sl)
     tw = np.radians(twist_deg)
     rot = np.array([[np.cos(tw), np.sin(tw)], [-np.sin(tw), np.cos(tw)]])   # nose-up: LE up = x2 decreasing... see docs
+    cells = {}
     for i, (kx, lx) in enumerate(xc):
         for j, (ky, ly) in enumerate(yc):
             wall, lay = (ky, ly) if ky != "mid" else (kx, lx)
-            if wall == "mid":
-                continue
-            if wall == "upper":
-                nrm = np.array([-slope_u[i], 1.0]) / np.hypot(slope_u[i], 1.0)
-            elif wall == "lower":
-                nrm = np.array([slope_l[i], -1.0]) / np.hypot(slope_l[i], 1.0)
-            else:
-                nrm = np.array([-1.0, 0.0]) if wall == "front" else np.array([1.0, 0.0])
-            mask[i, j] = True
-            Q[i, j], rho[i, j] = _ply_Q(L[wall], lay, rot @ nrm)
-            reg[i, j] = names.index(wall)
+            if wall != "mid":
+                cells.setdefault((wall, lay), []).append((i, j))
+    for (wall, lay), ij in cells.items():
+        ii, jj = np.array(ij).T
+        if wall == "upper":
+            nrm = np.column_stack([-slope_u[ii], np.ones(ii.size)]) / np.hypot(slope_u[ii], 1.0)[:, None]
+        elif wall == "lower":
+            nrm = np.column_stack([slope_l[ii], -np.ones(ii.size)]) / np.hypot(slope_l[ii], 1.0)[:, None]
+        else:
+            nrm = np.broadcast_to(np.array([-1.0, 0.0]) if wall == "front" else np.array([1.0, 0.0]), (ii.size, 2))
+        mask[ii, jj] = True
+        m, _, ang = L[wall][lay]
+        Q[ii, jj] = ply_stiffness(m, ang, nrm @ rot.T)
+        rho[ii, jj] = m.rho
+        reg[ii, jj] = names.index(wall)
     P = np.stack([Xn, Zn], axis=-1) @ rot.T
     return _q9_from_grid(P[..., 0], P[..., 1], mask, Q, rho, reg, names)
