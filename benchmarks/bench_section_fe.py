@@ -4,6 +4,7 @@ Goals: one section of ~2000 elements <= 0.5 s; 20 stations <= 5 s (dissertation:
 Run: python benchmarks/bench_section_fe.py
 """
 
+import os
 import time
 
 import numpy as np
@@ -34,8 +35,9 @@ def main():
     for ms in (0.05, 0.03, 0.0105, 0.006):
         ne, tm, ts, K = station(th, ms)
         print(f"{ms:12.4f} {ne:9d} {tm:8.3f} {ts:8.3f} {K[3, 3]:14.6e} {K[4, 4]:14.6e}")
-    ne, tm, ts, _ = station(th, 0.0105)
-    print(f"one section, {ne} elements: {tm + ts:.3f} s (goal <= 0.5 s)")
+    best = min(sum(station(th, 0.0075)[1:3]) for _ in range(3))
+    ne = station(th, 0.0075)[0]
+    print(f"one section, {ne} elements: {best:.3f} s best of 3 (goal <= 0.5 s); load average {os.getloadavg()[0]:.1f}")
     t0 = time.perf_counter()
     for k in range(20):
         f = 1.0 - 0.03 * k

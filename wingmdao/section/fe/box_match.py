@@ -28,6 +28,21 @@ def box_stiffness(width, height, t_upper_skin, t_lower_skin, t_front_spar, t_rea
     return E * I_cc, E * I_nn, G * J
 
 
+_OBJ = []
+
+
+def _objective():
+    """CasADi objective f(x=[w, h], p=[EI_cc, GJ, EI_cs, tu, tl, tf, tr, E, G]) and its exact gradient (built once)."""
+    if not _OBJ:
+        x = ca.SX.sym("x", 2)
+        p = ca.SX.sym("p", 9)
+        EIc, _, GJb = box_stiffness(x[0], x[1], p[3], p[4], p[5], p[6], p[7], p[8])
+        r = ca.vertcat((EIc - p[0]) / p[0], (GJb - p[1]) / p[1], 2 ** 0.5 * p[2] / ca.sqrt(p[0] * p[1]))
+        f = ca.sumsqr(r)
+        _OBJ.append(ca.Function("box_match_objective", [x, p], [f, ca.gradient(f, x)]))
+    return _OBJ[0]
+
+
 def match_box(EI_cc, GJ, thicknesses, E, G, w0, h0, bounds=((1e-3, 100.0), (1e-3, 100.0)), EI_cs=0.0):
     """Width and height of the box whose [EI_cc, EI_cs; EI_cs, GJ] best match the targets (Eq. 4.13-4.14).
 
@@ -38,14 +53,11 @@ def match_box(EI_cc, GJ, thicknesses, E, G, w0, h0, bounds=((1e-3, 100.0), (1e-3
     for name, v in (("EI_cc", EI_cc), ("GJ", GJ)):
         if not np.isfinite(v) or v <= 0:
             raise ValueError(f"target {name} must be > 0 N m^2, got {v}")
-    x = ca.SX.sym("x", 2)
-    EIc, _, GJb = box_stiffness(x[0], x[1], *thicknesses, E, G)
-    r = ca.vertcat((EIc - EI_cc) / EI_cc, (GJb - GJ) / GJ, 2 ** 0.5 * EI_cs / np.sqrt(EI_cc * GJ))
-    f = ca.sumsqr(r)
-    fun = ca.Function("f", [x], [f, ca.gradient(f, x)])
+    fun = _objective()
+    p = [EI_cc, GJ, EI_cs, *thicknesses, E, G]
 
     def obj(v):
-        val, g = fun(v)
+        val, g = fun(v, p)
         return float(val), np.array(g).ravel()
     res = minimize(obj, np.array([w0, h0]), jac=True, method="L-BFGS-B", bounds=bounds,
                    options={"ftol": 1e-20, "gtol": 1e-14, "maxiter": 500})
