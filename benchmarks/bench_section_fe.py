@@ -7,6 +7,9 @@ Run: python benchmarks/bench_section_fe.py
 import os
 import time
 
+os.environ.setdefault("OMP_NUM_THREADS", "1")   # BLAS threads only contend on small dense products
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 import numpy as np
 
 from wingmdao.section.fe import airfoil_box_mesh, analyse_section, beam_properties_csn, isotropic, match_box
