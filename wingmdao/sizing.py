@@ -49,6 +49,7 @@ class SizingOptions:
     recording: str | None = None
     mass_scale: float | None = None  # default: 1 / initial mass
     disp: bool = True
+    dv_ref: dict | None = None  # design-variable scaling (default: the upper bounds)
     progress: bool = False  # print a line per driver evaluation (objective, worst KS, time)
 
 
@@ -71,7 +72,8 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
         prob.driver, desc = make_driver(options.optimizer, maxiter=options.maxiter, tol=options.tol,
                                         disp=options.disp)
         for w in design_vars:
-            prob.model.add_design_var(w, lower=options.lower[w], upper=options.upper[w], ref=options.upper[w])
+            prob.model.add_design_var(w, lower=options.lower[w], upper=options.upper[w],
+                                      ref=options.dv_ref.get(w, options.upper[w]) if options.dv_ref else options.upper[w])
         ref = options.mass_scale or initial_mass(geometry, material, options, section)
         prob.model.add_objective("mass", ref=ref)
         for case in load_cases:

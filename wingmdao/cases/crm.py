@@ -33,6 +33,7 @@ def add_arguments(p):
 def build(args) -> CaseSetup:
     args.loads = "maneuver"
     setup = _pegasus.build(args, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB)
+    setup.options.maxiter = 1000  # 136 variables and one aggregated constraint: SLSQP needs ~700 iterations
     for w in setup.options.upper:
         setup.options.upper[w] = 0.1
         setup.options.initial[w] = 0.02
