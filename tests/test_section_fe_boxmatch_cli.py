@@ -57,3 +57,41 @@ def test_cli_rectangle_and_file(tmp_path, capsys):
     assert {"width", "height"} <= set(d["box_match"])
     for k in ("mass_6x6", "shear_center", "tension_center", "mass_center"):
         assert k in d
+
+
+def _naca_walls(t=0.003):
+    return {k: {"thickness": t, "material": AL} for k in ("upper", "lower", "front", "rear")}
+
+
+def test_selig_file_matches_generator(tmp_path):
+    up, lo = naca_surfaces("2412")
+    x = 0.5 * (1 - np.cos(np.linspace(0, np.pi, 161)))
+    rows = [(xi, up(xi)) for xi in x[::-1]] + [(xi, lo(xi)) for xi in x[1:]]
+    f = tmp_path / "naca2412.dat"
+    f.write_text("NACA 2412\n" + "\n".join(f"{a:.8f} {b:.8f}" for a, b in rows))
+    from wingmdao.section.fe.airfoil import selig_surfaces
+    su, sl = selig_surfaces(f)
+    k1 = analyse_section(airfoil_box_mesh(up, lo, 1.0, 0.2, 0.7, _naca_walls(), mesh_size=0.04)).stiffness
+    k2 = analyse_section(airfoil_box_mesh(su, sl, 1.0, 0.2, 0.7, _naca_walls(), mesh_size=0.04)).stiffness
+    assert np.allclose(k1, k2, rtol=1e-4, atol=1e-6 * np.abs(k1).max())
+
+
+def test_twist_rotates_the_section():
+    """Twisting by 10 deg is a rigid rotation: EA, torsion (condensed GJ) and the trace of the bending
+    block are invariant; the mass centre rotates about the origin."""
+    up, lo = naca_surfaces("23015")
+    s0 = analyse_section(airfoil_box_mesh(up, lo, 2.0, 0.18, 0.75, _naca_walls(), mesh_size=0.05))
+    s1 = analyse_section(airfoil_box_mesh(up, lo, 2.0, 0.18, 0.75, _naca_walls(), twist_deg=10.0, mesh_size=0.05))
+    b0, b1 = beam_properties_csn(s0)["stiffness_csn"], beam_properties_csn(s1)["stiffness_csn"]
+    assert b1[1, 1] == pytest.approx(b0[1, 1], rel=1e-6)
+    assert b1[0, 0] + b1[2, 2] == pytest.approx(b0[0, 0] + b0[2, 2], rel=1e-6)
+    assert np.linalg.norm(s1.mass_center) == pytest.approx(np.linalg.norm(s0.mass_center), rel=1e-9)
+    assert s1.mass_center[1] < s0.mass_center[1]          # nose-up about the leading edge lowers the aft box
+
+
+def test_cli_bad_shape_is_a_clean_error(tmp_path, capsys):
+    from wingmdao.cli import main
+    f = tmp_path / "bad.json"
+    f.write_text(json.dumps({"materials": {}, "section": {"shape": "hexagon"}}))
+    assert main(["section-fe", str(f)]) == 2
+    assert "shape" in capsys.readouterr().err

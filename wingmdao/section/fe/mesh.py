@@ -256,7 +256,7 @@ def airfoil_box_mesh(upper, lower, chord, front_spar, rear_spar, walls, twist_de
     xcell = xn[1::2]
     slope_u = np.interp(xcell, xn, su); slope_l = np.interp(xcell, xn, sl)
     tw = np.radians(twist_deg)
-    rot = np.array([[np.cos(tw), np.sin(tw)], [-np.sin(tw), np.cos(tw)]])   # nose-up: LE up = x2 decreasing... see docs
+    rot = np.array([[np.cos(tw), np.sin(tw)], [-np.sin(tw), np.cos(tw)]])   # nose-up about the LE: aft points move down
     cells = {}
     for i, (kx, lx) in enumerate(xc):
         for j, (ky, ly) in enumerate(yc):
