@@ -65,3 +65,16 @@ def test_gust_sizing_thickens_outboard_skins(maneuver):
 def test_wrong_options_fail_before_any_solve(argv, message, capsys, tmp_path):
     assert main(["size", "pegasus", *argv, "--out", str(tmp_path)]) == 2
     assert message in capsys.readouterr().err
+
+
+def test_gust_case_from_a_load_history_file(tmp_path):
+    from wingmdao.loads.files import LoadHistory, write_load_history
+
+    args = case_arguments(pegasus, loads="gust", t_final=0.5, dt=0.05)
+    computed = pegasus.build(args).load_cases[0]
+    hist = LoadHistory(computed.time, computed.forcing["force_per_length"], computed.forcing["moment_per_length"])
+    path = tmp_path / "gust.csv"
+    write_load_history(hist, path)
+    from_file = pegasus.build(case_arguments(pegasus, loads="gust", load_history=str(path))).load_cases[0]
+    np.testing.assert_allclose(from_file.forcing["force_per_length"], computed.forcing["force_per_length"], rtol=1e-12)
+    np.testing.assert_allclose(from_file.time, computed.time)

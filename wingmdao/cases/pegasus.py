@@ -53,6 +53,9 @@ def add_arguments(p):
     p.add_argument("--dt", type=float, default=0.02, help="time step [s]")
     p.add_argument("--gust-start", type=float, default=0.2, help="time the gust front reaches the wing [s]")
     p.add_argument("--kussner", action="store_true", help="lag the gust lift by the Kussner function")
+    p.add_argument("--load-history", metavar="FILE", default=None,
+                   help="gust case from a load time history file (.npz or .csv on the 20 beam nodes, "
+                        "format in docs/loads.md, e.g. exported from a Nastran SOL 146 run) instead of strip theory")
 
 
 def parse_families(text: str) -> tuple:
@@ -92,6 +95,8 @@ def gust_case(args, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb
         raise ValueError(f"--gust-gradient-ft {args.gust_gradient_ft} outside 30-350 ft (25.341(a)(3))")
     if not (0.0 < args.mach < 1.0):
         raise ValueError(f"--mach {args.mach} outside (0, 1)")
+    if getattr(args, "load_history", None):
+        return file_case(args.load_history, geometry, families)
     if not (args.t_final > 0 and 0 < args.dt <= args.t_final / 10):
         raise ValueError(f"--t-final ({args.t_final} s) and --dt ({args.dt} s): need 0 < 10 dt <= t_final")
     alt = altitude_ft_to_m(args.altitude_ft)
@@ -111,6 +116,18 @@ def gust_case(args, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb
                "gravity": np.array([0.0, 0.0, -G0])}
     return LoadCase("gust", time, forcing, families,
                     f"1-cos gust U_ds = {u_ds / FT:.1f} ft/s EAS, H = {args.gust_gradient_ft:g} ft")
+
+
+def file_case(path, geometry, families):
+    """Gust load case from a load-history file (time, force/moment per length on the beam nodes)."""
+    from wingmdao.groups.load_case import LoadCase
+    from wingmdao.loads.files import read_load_history
+
+    hist = read_load_history(path)
+    if hist.num_nodes != geometry.num_nodes:
+        raise ValueError(f"--load-history {path}: {hist.num_nodes} nodes, the beam has {geometry.num_nodes}")
+    forcing = dict(hist.as_forcing(), gravity=np.array([0.0, 0.0, -G0]))
+    return LoadCase("gust", hist.time, forcing, families, f"load history from {path}")
 
 
 def build(args, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB) -> CaseSetup:
