@@ -90,7 +90,9 @@ class WingStructure(om.Group):
             loads.add_output(name, val=case.forcing_array(name, n), units=units, desc=desc)
 
         beam_kwargs = dict(num_nodes=n, time=case.time, **(self.options["newton_options"] or {}))
-        self.add_subsystem("beam", BeamDynamics(**beam_kwargs), promotes_inputs=[
+        beam = BeamDynamics(**beam_kwargs)
+        beam.recording_options["options_excludes"] = ["system"]  # a CasADi object: not picklable
+        self.add_subsystem("beam", beam, promotes_inputs=[
             "node_positions", "node_euler_angles", *SECTION_TO_BEAM,
             "tension_axis", "shear_center", "mass_center"])
         for name in FORCING_SHAPES:
