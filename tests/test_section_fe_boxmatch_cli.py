@@ -95,3 +95,28 @@ def test_cli_bad_shape_is_a_clean_error(tmp_path, capsys):
     f.write_text(json.dumps({"materials": {}, "section": {"shape": "hexagon"}}))
     assert main(["section-fe", str(f)]) == 2
     assert "shape" in capsys.readouterr().err
+
+
+def test_stringers_add_their_area_and_stiffness():
+    """Six 4 mm x 30 mm blade stringers: area grows by 6 b h (the stringer top follows the curved inner
+    skin, 1e-4), EA = E A exactly (one isotropic material), EI_cc grows."""
+    up, lo = naca_surfaces("23015")
+    s0 = analyse_section(airfoil_box_mesh(up, lo, 2.0, 0.18, 0.75, _naca_walls(0.004), mesh_size=0.05))
+    st = [{"surface": sf, "x": x, "width": 0.004, "height": 0.03, "material": AL}
+          for sf in ("upper", "lower") for x in (0.3, 0.45, 0.6)]
+    s1 = analyse_section(airfoil_box_mesh(up, lo, 2.0, 0.18, 0.75, _naca_walls(0.004), mesh_size=0.05, stringers=st))
+    assert s1.area - s0.area == pytest.approx(6 * 0.004 * 0.03, rel=1e-4)
+    assert s1.stiffness[0, 0] == pytest.approx(AL.E_ref * s1.area, rel=1e-10)
+    assert s1.stiffness[4, 4] > 1.03 * s0.stiffness[4, 4]
+    with pytest.raises(ValueError, match="stringer 0"):
+        airfoil_box_mesh(up, lo, 2.0, 0.18, 0.75, _naca_walls(), stringers=[dict(st[0], x=0.1)])
+
+
+def test_midline_skin_offset_adds_half_thickness_outward():
+    """'midline' puts the OML on the skin midline: the box grows by about one skin thickness in depth,
+    so EI_cc rises by roughly 2 t / h (3 %) for a 0.25 m deep box with 4 mm skins."""
+    up, lo = naca_surfaces("23015")
+    k_in = analyse_section(airfoil_box_mesh(up, lo, 2.0, 0.18, 0.75, _naca_walls(0.004), mesh_size=0.05)).stiffness
+    k_mid = analyse_section(airfoil_box_mesh(up, lo, 2.0, 0.18, 0.75, _naca_walls(0.004), mesh_size=0.05,
+                                             skin_offset="midline")).stiffness
+    assert 1.02 < k_mid[4, 4] / k_in[4, 4] < 1.05

@@ -80,8 +80,14 @@ def build_mesh(desc):
             up, lo = selig_surfaces(sec["coordinates"])
         else:
             raise ValueError("airfoil section needs 'naca' or 'coordinates'")
+        stringers = []
+        for k, st in enumerate(sec.get("stringers") or []):
+            if st.get("material") not in mats:
+                raise ValueError(f"stringer {k}: unknown material {st.get('material')!r}; defined: {sorted(mats)}")
+            stringers.append({**st, "material": mats[st["material"]]})
         mesh = airfoil_box_mesh(up, lo, float(sec["chord"]), float(sec["front_spar"]), float(sec["rear_spar"]),
-                                walls, float(sec.get("twist_deg", 0.0)), n_thick, size)
+                                walls, float(sec.get("twist_deg", 0.0)), n_thick, size,
+                                sec.get("skin_offset", "inward"), stringers)
         return mesh, {"walls": walls, "chord": float(sec["chord"]),
                       "spars": (float(sec["front_spar"]), float(sec["rear_spar"]))}
     raise ValueError(f"section shape must be rectangle, tube, channel, box or airfoil, got {shape!r}")

@@ -203,14 +203,20 @@ def tube_mesh(diameter, wall, n_thick=5, n_around=None):
 
 
 def airfoil_box_mesh(upper, lower, chord, front_spar, rear_spar, walls, twist_deg=0.0,
-                     n_thick=5, mesh_size=None):
+                     n_thick=5, mesh_size=None, skin_offset="inward", stringers=()):
     """Wingbox of an airfoil between spars (mapped Q9 grid); origin at the leading edge, x2 aft along the chord.
 
     ``upper``/``lower``: functions z/c(x/c) of the outer mould line. Spar web midlines at
     ``front_spar``/``rear_spar`` (chord fractions). Skins are offset inward from the OML by their
-    thickness measured normal to the surface (Fig. 4.15). ``twist_deg`` rotates the section nose-up
-    about the origin. Walls as for :func:`box_mesh`.
+    thickness measured normal to the surface (``skin_offset='inward'``), or centred on it
+    (``'midline'``: the OML points are the skin midline, offset both ways, as in Fig. 4.15a).
+    ``twist_deg`` rotates the section nose-up about the origin. Walls as for :func:`box_mesh`.
+    ``stringers``: blade stringers (Fig. 4.17), each {'surface': 'upper'|'lower', 'x': chord fraction
+    of its centre, 'width', 'height' (m), 'material'} standing on the inner skin face; all stringers
+    on one surface share one height.
     """
+    if skin_offset not in ("inward", "midline"):
+        raise ValueError(f"skin_offset must be 'inward' or 'midline', got {skin_offset!r}")
     _check_positive(chord=chord)
     if not 0.0 < front_spar < rear_spar < 1.0:
         raise ValueError(f"need 0 < front_spar < rear_spar < 1 (chord fractions), got {front_spar}, {rear_spar}")
@@ -225,8 +231,30 @@ def airfoil_box_mesh(upper, lower, chord, front_spar, rear_spar, walls, twist_de
     a, b = xf + T["front"] / 2, xr - T["rear"] / 2
     if b <= a:
         raise ValueError("spar webs overlap: rear_spar - front_spar too small for the spar thicknesses")
-    n_mid = _n_span(b - a, h)
-    xs += list(np.linspace(a, b, n_mid + 1)[1:]); xc += [("mid", 0)] * n_mid
+    str_list = [dict(st) for st in stringers]
+    str_h = {"upper": 0.0, "lower": 0.0}
+    bps = [a, b]
+    for k, st in enumerate(str_list):
+        surf = st.get("surface")
+        if surf not in ("upper", "lower"):
+            raise ValueError(f"stringer {k}: surface must be 'upper' or 'lower', got {surf!r}")
+        _check_positive(**{f"stringer {k} width": st["width"], f"stringer {k} height": st["height"]})
+        x0, x1 = st["x"] * chord - st["width"] / 2, st["x"] * chord + st["width"] / 2
+        if x0 <= a or x1 >= b:
+            raise ValueError(f"stringer {k}: x = {st['x']} must place it between the spar webs "
+                             f"({a / chord:.4f} < x +- width/2 / chord < {b / chord:.4f})")
+        if str_h[surf] and abs(str_h[surf] - st["height"]) > 1e-12:
+            raise ValueError(f"stringer {k}: all {surf} stringers must share one height, got {st['height']} m")
+        str_h[surf] = float(st["height"])
+        st["x0"], st["x1"] = x0, x1
+        bps += [x0, x1]
+    bps = np.unique(bps)
+    for x0, x1 in zip(bps[:-1], bps[1:]):
+        xm = 0.5 * (x0 + x1)
+        on = {sf: next((k for k, st in enumerate(str_list) if st["surface"] == sf and st["x0"] < xm < st["x1"]), -1)
+              for sf in ("upper", "lower")}
+        n_iv = _n_span(x1 - x0, h, 2 if max(on.values()) >= 0 else 1)
+        xs += list(np.linspace(x0, x1, n_iv + 1)[1:]); xc += [("mid", (on["upper"], on["lower"]))] * n_iv
     e, lay = fr["rear"]; xs += list((xr + T["rear"] / 2 - e * T["rear"])[::-1][1:]); xc += [("rear", k) for k in lay[::-1]]
     xn = _refine_edges(xs)
     zu, zl = chord * upper(xn / chord), chord * lower(xn / chord)
@@ -234,22 +262,30 @@ def airfoil_box_mesh(upper, lower, chord, front_spar, rear_spar, walls, twist_de
     su = chord * (upper(xn / chord + d) - upper(xn / chord - d)) / (2 * d * chord)
     sl = chord * (lower(xn / chord + d) - lower(xn / chord - d)) / (2 * d * chord)
     tu_v, tl_v = T["upper"] * np.sqrt(1 + su ** 2), T["lower"] * np.sqrt(1 + sl ** 2)   # vertical offsets
+    if skin_offset == "midline":
+        zu, zl = zu + tu_v / 2, zl - tl_v / 2
     inner_u, inner_l = zu - tu_v, zl + tl_v
     if np.any(inner_u <= inner_l):
         raise ValueError("upper + lower skin thickness exceeds the airfoil depth between the spars")
     eL, layL = fr["lower"]; eU, layU = fr["upper"]
-    hmin = float(np.min(inner_u - inner_l))
+    hmin = float(np.min(inner_u - inner_l)) - str_h["upper"] - str_h["lower"]
+    if hmin <= 0:
+        raise ValueError("stringers taller than the space between the skins")
     n_midz = _n_span(hmin, h)
+    n_s = {sf: (4 if str_h[sf] else 0) for sf in ("upper", "lower")}
     # vertical fractions per node column: lower skin, interior, upper skin
     cols = []
     for k in range(xn.size):
         z = list(zl[k] + eL * tl_v[k])
-        z += list(np.linspace(inner_l[k], inner_u[k], n_midz + 1)[1:])
+        z += list(inner_l[k] + str_h["lower"] * np.arange(1, n_s["lower"] + 1) / max(n_s["lower"], 1))
+        z += list(np.linspace(inner_l[k] + str_h["lower"], inner_u[k] - str_h["upper"], n_midz + 1)[1:])
+        z += list(inner_u[k] - str_h["upper"] * np.arange(n_s["upper"] - 1, -1, -1) / max(n_s["upper"], 1))[:n_s["upper"]]
         z += list((zu[k] - eU * tu_v[k])[::-1][1:])
         cols.append(_refine_edges(z))
     Zn = np.array(cols)
     Xn = np.broadcast_to(xn[:, None], Zn.shape).copy()
-    yc = [("lower", k) for k in layL] + [("mid", 0)] * n_midz + [("upper", k) for k in layU[::-1]]
+    yc = ([("lower", k) for k in layL] + [("slower", 0)] * n_s["lower"] + [("mid", 0)] * n_midz
+          + [("supper", 0)] * n_s["upper"] + [("upper", k) for k in layU[::-1]])
     ni, nj = len(xc), len(yc)
     mask = np.zeros((ni, nj), bool)
     Q = np.zeros((ni, nj, 6, 6)); rho = np.zeros((ni, nj)); reg = np.zeros((ni, nj), int)
@@ -260,9 +296,17 @@ def airfoil_box_mesh(upper, lower, chord, front_spar, rear_spar, walls, twist_de
     cells = {}
     for i, (kx, lx) in enumerate(xc):
         for j, (ky, ly) in enumerate(yc):
-            wall, lay = (ky, ly) if ky != "mid" else (kx, lx)
-            if wall != "mid":
-                cells.setdefault((wall, lay), []).append((i, j))
+            if ky in ("upper", "lower"):
+                wall, lay = ky, ly
+            elif kx != "mid":
+                wall, lay = kx, lx
+            elif ky == "supper" and lx[0] >= 0:
+                wall, lay = "stringer", lx[0]
+            elif ky == "slower" and lx[1] >= 0:
+                wall, lay = "stringer", lx[1]
+            else:
+                continue
+            cells.setdefault((wall, lay), []).append((i, j))
     for (wall, lay), ij in cells.items():
         ii, jj = np.array(ij).T
         if wall == "upper":
@@ -270,11 +314,15 @@ def airfoil_box_mesh(upper, lower, chord, front_spar, rear_spar, walls, twist_de
         elif wall == "lower":
             nrm = np.column_stack([slope_l[ii], -np.ones(ii.size)]) / np.hypot(slope_l[ii], 1.0)[:, None]
         else:
-            nrm = np.broadcast_to(np.array([-1.0, 0.0]) if wall == "front" else np.array([1.0, 0.0]), (ii.size, 2))
+            nrm = np.broadcast_to(np.array({"front": [-1.0, 0.0], "rear": [1.0, 0.0]}.get(wall, [0.0, 1.0])),
+                                  (ii.size, 2))
         mask[ii, jj] = True
-        m, _, ang = L[wall][lay]
+        if wall == "stringer":
+            m, ang = str_list[lay]["material"], np.radians(float(str_list[lay].get("angle_deg", 0.0)))
+        else:
+            m, _, ang = L[wall][lay]
         Q[ii, jj] = ply_stiffness(m, ang, nrm @ rot.T)
         rho[ii, jj] = m.rho
-        reg[ii, jj] = names.index(wall)
+        reg[ii, jj] = (names + ["stringer"]).index(wall)
     P = np.stack([Xn, Zn], axis=-1) @ rot.T
-    return _q9_from_grid(P[..., 0], P[..., 1], mask, Q, rho, reg, names)
+    return _q9_from_grid(P[..., 0], P[..., 1], mask, Q, rho, reg, names + ["stringer"])
