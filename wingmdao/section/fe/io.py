@@ -21,7 +21,10 @@ def load_description(path):
     text = Path(path).read_text()
     if str(path).endswith(".json"):
         return json.loads(text)
-    import yaml
+    try:
+        import yaml
+    except ImportError:
+        raise ValueError(f"reading {path} needs pyyaml (pip install pyyaml), or give the description as .json") from None
     return yaml.safe_load(text)
 
 
