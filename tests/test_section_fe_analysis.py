@@ -158,17 +158,20 @@ def test_composite_box_beam_vs_published_vabs():
     0.005 in plies, all at -15 deg; E1 = 20.59 Msi, E2 = E3 = 1.42 Msi, G12 = G13 = 0.87 Msi,
     G23 = 0.696 Msi, nu12 = nu13 = 0.30, nu23 = 0.34. Published (VABS): S11 = 1.437e6 lb,
     S22 = 9.027e4 lb, S33 = 3.943e4 lb, S14 = 1.074e5 lb in, S25 = -5.201e4 lb in, S36 = -5.635e4 lb in.
-    Our values are 0.7-3.2 % lower (corner modelling and ply-angle/geometry details differ between
-    codes); tolerance 4 %, and every coupling sign must match."""
+    With the plies wrapping round the corners (mitred corners, the default) we are 0.05-0.4 % low
+    (tolerance 1 %); with the corner squares given to the skins we are 0.7-3.2 % low (tolerance 4 %):
+    the corners carry a visible share of this small box. Every coupling sign must match."""
     psi, inch, lb = 6894.757293168, 0.0254, 4.4482216152605
     ply = orthotropic(20.59e6 * psi, 1.42e6 * psi, 1.42e6 * psi, 0.87e6 * psi, 0.87e6 * psi, 0.696e6 * psi,
                       0.30, 0.30, 0.34, 1.0)
     lay = {k: {"layup": [(ply, 0.005 * inch, -15.0)] * 6} for k in ("upper", "lower", "front", "rear")}
-    K = analyse_section(box_mesh(0.953 * inch, 0.530 * inch, lay, n_thick=6, mesh_size=0.03 * inch)).stiffness
     published = {(0, 0): (1.437e6, lb), (1, 1): (9.027e4, lb), (2, 2): (3.943e4, lb),
                  (0, 3): (1.074e5, lb * inch), (1, 4): (-5.201e4, lb * inch), (2, 5): (-5.635e4, lb * inch)}
-    for (i, j), (value, unit) in published.items():
-        assert K[i, j] / unit == pytest.approx(value, rel=0.04), (i, j)
+    for corners, tol in (("mitre", 0.01), ("skins", 0.04)):
+        K = analyse_section(box_mesh(0.953 * inch, 0.530 * inch, lay, n_thick=6, mesh_size=0.03 * inch,
+                                     corners=corners)).stiffness
+        for (i, j), (value, unit) in published.items():
+            assert K[i, j] / unit == pytest.approx(value, rel=tol), (corners, i, j)
 
 
 def test_recover_stresses_torsion_of_thin_tube():

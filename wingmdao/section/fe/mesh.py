@@ -115,13 +115,16 @@ def _ply_Q(layers, layer_idx, normal):
     return ply_stiffness(m, ang, normal), m.rho
 
 
-def box_mesh(width, height, walls, n_thick=5, mesh_size=None, open_walls=()):
+def box_mesh(width, height, walls, n_thick=5, mesh_size=None, open_walls=(), corners="mitre"):
     """Rectangular box (outer width x height, centred on the origin) with walls 'upper', 'lower', 'front', 'rear'.
 
     Each wall: {'thickness': t, 'material': Material} or {'layup': [(Material, t, angle_deg), ...]} outer -> inner.
     Walls named in ``open_walls`` are left out (a channel is a box without its front wall).
-    Corner squares belong to the skins (upper/lower).
+    Corner squares belong to the skins (``corners='skins'``) or are split along their diagonal so that
+    each layer wraps round the corner (``corners='mitre'``, staircase on the element grid).
     """
+    if corners not in ("skins", "mitre"):
+        raise ValueError(f"corners must be 'skins' or 'mitre', got {corners!r}")
     _check_positive(width=width, height=height)
     names = [w for w in ("upper", "lower", "front", "rear") if w not in open_walls]
     L = {w: _layers(walls[w], w, n_thick) for w in names}
@@ -162,6 +165,13 @@ def box_mesh(width, height, walls, n_thick=5, mesh_size=None, open_walls=()):
             wall, lay = (ky, ly) if ky != "mid" else (kx, lx)
             if wall == "mid":
                 continue
+            if corners == "mitre" and ky != "mid" and kx != "mid":
+                # relative depth from the outer faces: layers wrap around the corner along its diagonal
+                xm, ym = 0.5 * (xs[i] + xs[i + 1]), 0.5 * (ys[j] + ys[j + 1])
+                d_web = (xm - x0) / tf if kx == "front" else (x1 - xm) / tr
+                d_skin = (ym - y0) / tl if ky == "lower" else (y1 - ym) / tu
+                if d_web < d_skin:
+                    wall, lay = kx, lx
             if (wall, lay) not in cache:
                 cache[wall, lay] = _ply_Q(L[wall], lay, normals[wall])
             mask[i, j] = True
