@@ -1,7 +1,6 @@
 """Cross-check against sectionproperties (independent FE code; test-only dependency:
 ``sectionproperties==3.10.2`` on PyPI). Isotropic sections: area, second moments, torsion constant, shear centre."""
 
-import numpy as np
 import pytest
 
 sp_lib = pytest.importorskip("sectionproperties.pre.library",
@@ -46,3 +45,18 @@ def test_channel_shear_center_vs_sectionproperties():
     assert e_fe == pytest.approx(-x_se, rel=1e-3)         # measured 7e-5
     GJ = beam_properties_csn(s)["stiffness_csn"][1, 1]   # torsion with zero shear force (about the shear centre)
     assert GJ / G == pytest.approx(ref.get_j(), rel=5e-3)
+
+
+def test_asymmetric_box_shear_center_vs_sectionproperties():
+    """Box with a thick front web (6 mm) and thin rear web (2 mm), 3 mm skins: shear centre moves forward."""
+    w, h, tf, tr, ts = 0.3, 0.1, 0.006, 0.002, 0.003
+    outer = sp_lib.rectangular_section(d=h, b=w)
+    inner = sp_lib.rectangular_section(d=h - 2 * ts, b=w - tf - tr).shift_section(x_offset=tf, y_offset=ts)
+    ref = _sp(outer - inner, 2e-6)
+    x_se, y_se = ref.get_sc()                        # origin at the outer lower-front corner
+    walls = {"upper": {"thickness": ts, "material": AL}, "lower": {"thickness": ts, "material": AL},
+             "front": {"thickness": tf, "material": AL}, "rear": {"thickness": tr, "material": AL}}
+    s = analyse_section(box_mesh(w, h, walls, mesh_size=0.005))
+    assert s.shear_center[0] + w / 2 == pytest.approx(x_se, rel=1e-4)     # measured 8e-6
+    assert s.shear_center[1] + h / 2 == pytest.approx(y_se, rel=1e-3)
+    assert x_se < w / 2                              # forward of the middle, towards the stiff web

@@ -5,7 +5,6 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import numpy as np
 
 from .airfoil import naca_surfaces, selig_surfaces
 from .analysis import analyse_section, beam_properties_csn
@@ -73,7 +72,8 @@ def build_mesh(desc):
     if shape == "tube":
         return tube_mesh(float(sec["diameter"]), _wall(sec, mats, "tube"), n_thick), None
     if shape == "box":
-        return box_mesh(float(sec["width"]), float(sec["height"]), walls, n_thick, size), None
+        return box_mesh(float(sec["width"]), float(sec["height"]), walls, n_thick, size,
+                        corners=sec.get("corners", "mitre")), None
     if shape == "channel":
         return channel_mesh(float(sec["width"]), float(sec["height"]), walls, n_thick, size), None
     if shape == "airfoil":
