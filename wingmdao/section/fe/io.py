@@ -90,7 +90,7 @@ def build_mesh(desc):
             stringers.append({**st, "material": mats[st["material"]]})
         mesh = airfoil_box_mesh(up, lo, float(sec["chord"]), float(sec["front_spar"]), float(sec["rear_spar"]),
                                 walls, float(sec.get("twist_deg", 0.0)), n_thick, size,
-                                sec.get("skin_offset", "inward"), stringers)
+                                sec.get("skin_offset", "inward"), stringers, sec.get("corners", "mitre"))
         return mesh, {"walls": walls, "chord": float(sec["chord"]),
                       "spars": (float(sec["front_spar"]), float(sec["rear_spar"]))}
     raise ValueError(f"section shape must be rectangle, tube, channel, box or airfoil, got {shape!r}")

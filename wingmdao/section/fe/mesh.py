@@ -213,7 +213,7 @@ def tube_mesh(diameter, wall, n_thick=5, n_around=None):
 
 
 def airfoil_box_mesh(upper, lower, chord, front_spar, rear_spar, walls, twist_deg=0.0,
-                     n_thick=5, mesh_size=None, skin_offset="inward", stringers=()):
+                     n_thick=5, mesh_size=None, skin_offset="inward", stringers=(), corners="mitre"):
     """Wingbox of an airfoil between spars (mapped Q9 grid); origin at the leading edge, x2 aft along the chord.
 
     ``upper``/``lower``: functions z/c(x/c) of the outer mould line. Spar web midlines at
@@ -223,8 +223,10 @@ def airfoil_box_mesh(upper, lower, chord, front_spar, rear_spar, walls, twist_de
     ``twist_deg`` rotates the section nose-up about the origin. Walls as for :func:`box_mesh`.
     ``stringers``: blade stringers (Fig. 4.17), each {'surface': 'upper'|'lower', 'x': chord fraction
     of its centre, 'width', 'height' (m), 'material'} standing on the inner skin face; all stringers
-    on one surface share one height.
+    on one surface share one height. ``corners``: as for :func:`box_mesh` ('mitre' or 'skins').
     """
+    if corners not in ("skins", "mitre"):
+        raise ValueError(f"corners must be 'skins' or 'mitre', got {corners!r}")
     if skin_offset not in ("inward", "midline"):
         raise ValueError(f"skin_offset must be 'inward' or 'midline', got {skin_offset!r}")
     _check_positive(chord=chord)
@@ -303,11 +305,28 @@ def airfoil_box_mesh(upper, lower, chord, front_spar, rear_spar, walls, twist_de
     slope_u = np.interp(xcell, xn, su); slope_l = np.interp(xcell, xn, sl)
     tw = np.radians(twist_deg)
     rot = np.array([[np.cos(tw), np.sin(tw)], [-np.sin(tw), np.cos(tw)]])   # nose-up about the LE: aft points move down
+    eF, eR = fr["front"][0], fr["rear"][0]
+    nF, nR, nLs = len(eF) - 1, len(eR) - 1, len(eL) - 1
+
+    def _web_depth(i):          # depth of x-cell i below the web's outer face, fraction of its thickness
+        if i < nF:
+            return 0.5 * (eF[i] + eF[i + 1])
+        k = ni - 1 - i
+        return 0.5 * (eR[k] + eR[k + 1])
+
+    def _skin_depth(j):
+        if j < nLs:
+            return 0.5 * (eL[j] + eL[j + 1])
+        k = nj - 1 - j
+        return 0.5 * (eU[k] + eU[k + 1])
+
     cells = {}
     for i, (kx, lx) in enumerate(xc):
         for j, (ky, ly) in enumerate(yc):
             if ky in ("upper", "lower"):
                 wall, lay = ky, ly
+                if corners == "mitre" and kx in ("front", "rear") and _web_depth(i) < _skin_depth(j):
+                    wall, lay = kx, lx
             elif kx != "mid":
                 wall, lay = kx, lx
             elif ky == "supper" and lx[0] >= 0:
