@@ -306,7 +306,7 @@ def airfoil_box_mesh(upper, lower, chord, front_spar, rear_spar, walls, twist_de
     tw = np.radians(twist_deg)
     rot = np.array([[np.cos(tw), np.sin(tw)], [-np.sin(tw), np.cos(tw)]])   # nose-up about the LE: aft points move down
     eF, eR = fr["front"][0], fr["rear"][0]
-    nF, nR, nLs = len(eF) - 1, len(eR) - 1, len(eL) - 1
+    nF, nLs = len(eF) - 1, len(eL) - 1
 
     def _web_depth(i):          # depth of x-cell i below the web's outer face, fraction of its thickness
         if i < nF:
