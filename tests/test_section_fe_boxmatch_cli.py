@@ -13,10 +13,11 @@ AL = isotropic(71e9, 0.33, 2810.0)
 
 
 def test_box_stiffness_closed_form_square_tube():
-    EIc, EIn, GJ = box_stiffness(1.0, 1.0, 0.01, 0.01, 0.01, 0.01, 1.0, 1.0)
-    assert EIc == pytest.approx(2 * 0.01 * 0.25 + 2 * 0.01 / 12)      # flanges + webs
-    assert EIn == pytest.approx(EIc)
-    assert GJ == pytest.approx(4 * 1.0 / (4 / 0.01))
+    # outer 1.01 m square, walls 0.01 m: I = (1.01^4 - 0.99^4) / 12; midline square 1 m: J = 4 A^2 / (4 / t)
+    EIc, EIn, GJ = box_stiffness(1.01, 1.01, 0.01, 0.01, 0.01, 0.01, 1.0, 1.0)
+    assert EIc == pytest.approx((1.01**4 - 0.99**4) / 12, rel=1e-12)
+    assert EIn == pytest.approx(EIc, rel=1e-12)
+    assert GJ == pytest.approx(4 * 1.0 / (4 / 0.01), rel=1e-12)
 
 
 @pytest.mark.parametrize("th", [(0.004, 0.004, 0.006, 0.005), (0.003, 0.005, 0.008, 0.004)])

@@ -61,20 +61,11 @@ class Planform:
         return np.concatenate([[0.0], ribs])
 
 
-def airfoil_surfaces(designation: str):
-    """(x -> z_upper/c, x -> z_lower/c) interpolants of a NACA 4/5-digit airfoil."""
-    from wingmdao.cases.airfoil import naca_coordinates
-
-    npts = 201
-    xy = np.asarray(naca_coordinates(designation, npts))
-    up, lo = xy[: npts][::-1], xy[npts - 1:]  # leading edge at index npts - 1
-    up, lo = up[np.argsort(up[:, 0])], lo[np.argsort(lo[:, 0])]
-    return (lambda x: np.interp(x, up[:, 0], up[:, 1])), (lambda x: np.interp(x, lo[:, 0], lo[:, 1]))
-
-
 def box_dimensions(designation: str, chord: float, front: float, rear: float):
     """Box width (Eq. 4.11) and height (Eq. 4.12) between the spars of an airfoil, m."""
-    upper, lower = airfoil_surfaces(designation)
+    from wingmdao.section.fe.airfoil import naca_surfaces
+
+    upper, lower = naca_surfaces(designation)
     xs = np.linspace(front, rear, 10)
     height = chord * float(np.mean(upper(xs) - lower(xs)))
     xf = np.linspace(front, rear, 200)

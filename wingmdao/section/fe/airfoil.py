@@ -18,14 +18,17 @@ def _camber4(x, m, p):
     return yc, dy
 
 
-_FIVE = {"210": (0.0580, 361.4), "220": (0.1260, 51.64), "230": (0.2025, 15.957),
-         "240": (0.2900, 6.643), "250": (0.3910, 3.230)}
+#: standard 5-digit mean lines (Abbott & von Doenhoff) for design lift coefficient 0.3 (L = 2):
+#: maximum-camber digit P -> (r, k1); other L scale k1 by the design lift coefficient 0.15 L.
+_FIVE = {1: (0.0580, 361.4), 2: (0.1260, 51.64), 3: (0.2025, 15.957), 4: (0.2900, 6.643), 5: (0.3910, 3.230)}
 
 
 def _camber5(x, code3):
-    if code3 not in _FIVE:
-        raise ValueError(f"NACA 5-digit camber line {code3} not supported; allowed: {sorted(_FIVE)}")
-    r, k1 = _FIVE[code3]
+    """Mean line of the 5-digit series LPQ with Q = 0 (standard, non-reflexed)."""
+    if code3[2] != "0" or int(code3[1]) not in _FIVE or code3[0] == "0":
+        raise ValueError(f"NACA 5-digit camber line {code3} not supported; allowed: L P 0 with L = 1..9, P = 1..5")
+    r, k1 = _FIVE[int(code3[1])]
+    k1 *= 0.15 * int(code3[0]) / 0.3
     yc = np.where(x < r, k1 / 6 * (x ** 3 - 3 * r * x ** 2 + r ** 2 * (3 - r) * x), k1 * r ** 3 / 6 * (1 - x))
     dy = np.where(x < r, k1 / 6 * (3 * x ** 2 - 6 * r * x + r ** 2 * (3 - r)), -k1 * r ** 3 / 6 * np.ones_like(x))
     return yc, dy

@@ -1,6 +1,7 @@
 """Stiffness-matched rectangular box (dissertation Sec. 4.2.4, Eq. 4.13-4.14).
 
-The analytic thin-walled box below is a stand-in: swap it for wingmdao/section/box.py once that is settled.
+The analytic box is the sizing model's own (``wingmdao.section.box``, App. F), so a matched
+width/height feeds ``BoxSection`` directly (outer dimensions).
 """
 
 from __future__ import annotations
@@ -11,21 +12,17 @@ from scipy.optimize import minimize
 
 
 def box_stiffness(width, height, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, E, G):
-    """Thin-walled box (width, height between wall midlines, m): [EI_cc, EI_nn, GJ] (N m^2).
+    """[EI_cc, EI_nn, GJ] (N m^2) of the analytic box of ``wingmdao.section.box`` (App. F).
 
-    EI about the chordwise axis through the neutral axis (skins as lines, webs t h^3/12 plus
-    parallel axis), and GJ by Bredt-Batho J = 4 A_m^2 / closed integral ds/t (Eq. 4.11-4.12).
-    Works on floats or CasADi symbols.
+    ``width`` and ``height`` are the box's *outer* dimensions (m), as ``BoxSection`` takes them;
+    EI about the centroid (exact rectangles, parallel axes), GJ by Bredt-Batho over the wall
+    midlines. Works on floats or CasADi symbols.
     """
-    w, h = width, height
-    tu, tl, tf, tr = t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar
-    A = (tu + tl) * w + (tf + tr) * h
-    zn = (tu * w * h + (tf + tr) * h * h / 2) / A                       # neutral axis above lower skin
-    I_cc = tu * w * (h - zn) ** 2 + tl * w * zn ** 2 + (tf + tr) * (h ** 3 / 12 + h * (h / 2 - zn) ** 2)
-    xn = ((tu + tl) * w * w / 2 + tr * h * w) / A                       # neutral axis aft of front web
-    I_nn = (tu + tl) * (w ** 3 / 12 + w * (w / 2 - xn) ** 2) + tf * h * xn ** 2 + tr * h * (w - xn) ** 2
-    J = 4 * (w * h) ** 2 / (w / tu + w / tl + h / tf + h / tr)
-    return E * I_cc, E * I_nn, G * J
+    from wingmdao.section.box import box_inertia, box_torsion_constant
+
+    walls = (t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar)
+    i_xx, i_zz, _ = box_inertia(width, height, *walls)
+    return E * i_xx, E * i_zz, G * box_torsion_constant(width, height, *walls)
 
 
 _OBJ = []
