@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from wingmdao.section.fe import analyse_section
-from wingmdao.section.smearing import (ALUMINIUM, PLATE_THICKNESS, PLATE_WIDTH, SPECIMENS, EquivalentPlate,
+from wingmdao.section.smearing import (ALUMINIUM, BOUNDS_METHOD2, PLATE_THICKNESS, PLATE_WIDTH, SPECIMENS, EquivalentPlate,
                                        Stiffener, beam_tip_displacements, builtup_stiffness, classical_stiffness,
                                        initial_guess, match_stiffness, stiffened_plate_mesh)
 
@@ -106,3 +106,23 @@ def test_bad_input():
         stiffened_plate_mesh((Stiffener(0.09, 0.01, 0.01),))
     with pytest.raises(ValueError, match="method"):
         match_stiffness(SPECIMENS[2], 4)
+
+
+def test_specimen2_method2_with_relaxed_c11_bound_matches_s44_and_load_case_3():
+    """Table 4.3 caps c11 at 10 E, below the ~14 E specimen 2 needs; with the cap raised S44 is matched
+    and the beam's out-of-plane tip deflection follows the closed form EI_b / EI_eq with the built-up
+    bending stiffness condensed at zero axial force (S44 - S14^2 / S11)."""
+    st = SPECIMENS[2]
+    eq = EquivalentPlate(st, **COARSE)
+    Sb, sec_b = builtup_stiffness(st, **COARSE)
+    lb, ub = BOUNDS_METHOD2[0], BOUNDS_METHOD2[1].copy()
+    ub[0] = 100.0
+    r = match_stiffness(st, 2, eq, Sb, bounds=(lb, ub))
+    assert r.stiffness[3, 3] == pytest.approx(Sb[3, 3], rel=1e-6)
+    assert 10.0 < r.params[0, 0] < 20.0
+    db = beam_tip_displacements(sec_b, n_nodes=6)
+    de = beam_tip_displacements(analyse_section(eq.section_mesh(r.params)), n_nodes=6)
+    expected = (Sb[3, 3] - Sb[0, 3] ** 2 / Sb[0, 0]) / r.stiffness[3, 3]
+    assert de[3][2] / db[3][2] == pytest.approx(expected, rel=5e-3)
+    with pytest.raises(ValueError, match="bounds"):
+        match_stiffness(st, 2, eq, Sb, bounds=(ub, lb))

@@ -313,10 +313,11 @@ def _objective(method, target):
 
 
 def match_stiffness(stiffeners, method, equivalent: EquivalentPlate | None = None, target=None, maxiter=200,
-                    **kw) -> MatchResult:
+                    bounds=None, **kw) -> MatchResult:
     """Stiffness matching of Sec. 4.1.2: Method 1 (analytic guess, Eq. 4.5-4.8), Method 2 (S44,
     Eq. 4.9, Table 4.3 bounds) or Method 3 (Frobenius norm of [S22 S24; S42 S44], Eq. 4.10,
-    Table 4.4 bounds), by SLSQP with exact CasADi gradients from the analytic guess clipped to the bounds."""
+    Table 4.4 bounds), by SLSQP with exact CasADi gradients from the analytic guess clipped to the bounds.
+    ``bounds=(lb, ub)`` (9 values each, over E) replaces the table's bounds."""
     if method not in (1, 2, 3):
         raise ValueError(f"method must be 1, 2 or 3, got {method}")
     stiffeners = tuple(stiffeners)
@@ -329,7 +330,10 @@ def match_stiffness(stiffeners, method, equivalent: EquivalentPlate | None = Non
     if method == 1:
         S = eq.stiffness(p0)
         return MatchResult(1, p0, S, target, float(abs(S[2, 2] / target[2, 2] - 1)), True, "analytic")
-    lb, ub = BOUNDS_METHOD2 if method == 2 else BOUNDS_METHOD3
+    lb, ub = bounds if bounds is not None else (BOUNDS_METHOD2 if method == 2 else BOUNDS_METHOD3)
+    lb, ub = np.asarray(lb, float), np.asarray(ub, float)
+    if lb.shape != (9,) or ub.shape != (9,) or np.any(~(lb <= ub)):
+        raise ValueError(f"bounds must be two arrays of 9 values {PARAM_NAMES} with lb <= ub (over E)")
     lb, ub = np.tile(lb, len(stiffeners)), np.tile(ub, len(stiffeners))
     x0 = np.clip(p0.ravel(), lb, ub)
     f = _objective(method, target)
