@@ -126,3 +126,13 @@ def test_specimen2_method2_with_relaxed_c11_bound_matches_s44_and_load_case_3():
     assert de[3][2] / db[3][2] == pytest.approx(expected, rel=5e-3)
     with pytest.raises(ValueError, match="bounds"):
         match_stiffness(st, 2, eq, Sb, bounds=(ub, lb))
+
+
+def test_bad_parameters_are_clean_errors():
+    eq = EquivalentPlate(SPECIMENS[2], **COARSE)
+    with pytest.raises(ValueError, match="params must be 1 x 9"):
+        eq.stiffness(np.ones(8))
+    with pytest.raises(ValueError, match="finite values"):
+        eq.section_mesh(np.full(9, np.nan))
+    with pytest.raises(ValueError, match="singular"):
+        eq.stiffness(np.zeros(9))                      # a void region: no stiffness, rigid motions free

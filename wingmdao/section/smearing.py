@@ -260,12 +260,28 @@ class EquivalentPlate:
 
     def stiffness(self, params) -> np.ndarray:
         """Classical 4x4 stiffness of the equivalent plate for parameters (n_region, 9)."""
-        return np.array(self._f(self._p(params)))
+        p = self._p(params)
+        try:
+            S = np.array(self._f(p))
+        except RuntimeError:
+            S = np.full((4, 4), np.nan)
+        return self._finite(S, params)
+
+    def _finite(self, S, params):
+        if not np.all(np.isfinite(S)):
+            raise ValueError("equivalent plate: the warping system is singular for parameters "
+                             f"{np.asarray(params).reshape(-1, 9).round(4).tolist()} ({PARAM_NAMES}, over E); "
+                             "use a material with a non-singular stiffness")
+        return S
 
     def jacobian(self, params):
         """(4x4 stiffness, d S / d p) with dS/dp shaped (4, 4, 9 n_region)."""
-        s, J = self._J(self._p(params))
-        S = np.array(s).reshape(4, 4, order="F")
+        p = self._p(params)
+        try:
+            s, J = self._J(p)
+        except RuntimeError:
+            s, J = np.full(16, np.nan), np.full((16, p.size), np.nan)
+        S = self._finite(np.array(s).reshape(4, 4, order="F"), params)
         return S, np.array(J).reshape(4, 4, -1, order="F")
 
     def section_mesh(self, params) -> SectionMesh:
