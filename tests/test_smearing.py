@@ -136,3 +136,12 @@ def test_bad_parameters_are_clean_errors():
         eq.section_mesh(np.full(9, np.nan))
     with pytest.raises(ValueError, match="singular"):
         eq.stiffness(np.zeros(9))                      # a void region: no stiffness, rigid motions free
+
+
+def test_specimen_out_of_plane_deflections_ordered_as_fig_4_6():
+    """Sec. 4.1.4 / Fig. 4.6: specimen 3 deflects least, then 4, then 2, all below the bare plate
+    (whose tip deflection is P L^3 / (3 E b t^3 / 12))."""
+    d = {k: beam_tip_displacements(builtup_stiffness(SPECIMENS[k], **COARSE)[1], n_nodes=11)[3][2] for k in SPECIMENS}
+    plate = 200.0 * 0.75 ** 3 / (3 * E * PLATE_WIDTH * PLATE_THICKNESS ** 3 / 12)
+    assert d[1] == pytest.approx(plate, rel=3e-3)                   # 11 beam nodes: -0.2 %
+    assert d[3] < d[4] < d[2] < d[1]
