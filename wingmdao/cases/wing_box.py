@@ -135,8 +135,12 @@ def solve_wing_box(name: str, tip_force=(0.0, 0.0, 0.0), tip_moment=(0.0, 0.0, 0
     out = model.solve(load_steps=load_steps, **forcing)
     disp = out["r"][stations] - params["node_positions"][stations]
     rot = station_rotations(out["theta"][stations], params["node_euler_angles"][stations])
+    return {"geometry": name, **station_summary(disp, rot)}
+
+
+def station_summary(disp, rot) -> dict:
+    """JSON keys of the CS1..CS4 response: displacement magnitudes, vectors and rotations."""
     return {
-        "geometry": name,
         "stations": list(STATIONS),
         "displacement": np.linalg.norm(disp, axis=1).tolist(),
         "station_displacement": disp.tolist(),

@@ -111,7 +111,7 @@ def wing_box_result(args) -> dict:
 
 def _response(prob, geometry, key) -> dict:
     """Station displacements/rotations (last instant), tip history, von Mises, KS and mass."""
-    from wingmdao.cases.wing_box import STATIONS, station_rotations
+    from wingmdao.cases.wing_box import station_rotations, station_summary
 
     states = prob.get_val("cases.run.beam.states")
     r0 = np.asarray(geometry.node_positions)
@@ -120,12 +120,7 @@ def _response(prob, geometry, key) -> dict:
     vm = prob.get_val("vm_stress.sigma_vm", units="Pa")
     fams = prob.model.wing.options["load_cases"][0].families
     return {
-        "stations": list(STATIONS),
-        "displacement": np.linalg.norm(disp, axis=1).tolist(),
-        "station_displacement": disp.tolist(),
-        "tip_displacement": disp[-1].tolist(),
-        "station_rotation": rot.tolist(),
-        "tip_rotation": rot[-1].tolist(),
+        **station_summary(disp, rot),
         "max_von_mises": vm[:, key].max(axis=(0, 2)).tolist(),
         "ks": {f: float(prob.get_val(f"cases.run.ks_{f}")[0]) for f in fams},
         "mass_kg": float(prob.get_val("mass", units="kg")[0]),
