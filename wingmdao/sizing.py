@@ -114,6 +114,29 @@ def initial_mass(geometry: WingGeometry, material, options: SizingOptions, secti
     return float(p.get_val("mass.mass")[0])
 
 
+def initial_frequencies(geometry: WingGeometry, material, options: SizingOptions, count: int = 3,
+                        section: str = "box") -> np.ndarray:
+    """Lowest natural frequencies (Hz) of the initial design's beam about its jig shape.
+
+    Used to place structural damping (:class:`~wingmdao.beam.residual.StrainRateDamping`) at the
+    first bending mode. Builds an analysis-only copy of the sizing model with one unloaded static case.
+    """
+    from wingmdao.beam.modes import natural_frequencies
+    from wingmdao.beam.static import beam_forcing
+    from wingmdao.groups.load_case import LoadCase
+    from wingmdao.timemarch.system import pack
+
+    prob, _ = build_problem(geometry, [LoadCase("modes")], material, options,
+                            driver=False, section=section)
+    prob.run_model()
+    beam = prob.model._get_subsystem("wing.cases.modes.beam")
+    system = beam.options["system"]
+    p = np.concatenate([np.asarray(prob.get_val(f"wing.cases.modes.beam.{s.name}"), dtype=float).ravel()
+                        for s in system.param_specs])
+    q = pack(system.forcing_specs, beam_forcing(geometry.num_nodes))
+    return natural_frequencies(system, p, q, count=count)
+
+
 def set_geometry(prob: om.Problem, geometry: WingGeometry, section: str = "box") -> None:
     n = geometry.num_nodes
     prob.set_val("node_positions", geometry.node_positions, units="m")

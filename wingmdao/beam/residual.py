@@ -18,11 +18,16 @@ Equations, 18 per node (derivations in docs/beam-theory.md):
 * every node, rows 18 i + 12 .. 18 i + 17: u - dr/dt = 0 and
   omega - T^T K(theta) dtheta/dt = 0.
 
+Optional Kelvin-Voigt strain-rate damping (Alg. 6, lines 6-7, time constants t_kappa and t_gamma;
+:class:`StrainRateDamping`) adds t_kappa * d(curvature)/dt to the moment-curvature rows and
+t_gamma * d(strain)/dt to the strain-displacement rows.
+
 Distributed loads are per unit *undeformed* length (multiplied by ds0).
 """
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 
@@ -127,7 +132,44 @@ def nodal_acceleration(r, u, udot, frame):
     return acc0 + udot + ca.cross(alpha0, r) + ca.cross(rate, ca.cross(rate, r)) + 2 * ca.cross(rate, u)
 
 
-def _element_function(sequence):
+@dataclass(frozen=True)
+class StrainRateDamping:
+    """Kelvin-Voigt strain-rate damping of Alg. 6 (lines 6-7): time constants in s.
+
+    ``curvature`` = (t_kappa_c, t_kappa_s, t_kappa_n) multiply the rates of the bending (c, n)
+    and twist (s) curvatures, ``strain`` = (t_gamma_c, t_gamma_s, t_gamma_n) those of the
+    shear (c, n) and axial (s) strains, so M = E (kappa + t_kappa dkappa/dt) per component.
+    A mode of circular frequency w governed by one of these strains gets the damping ratio
+    zeta = w t / 2 (docs/beam-theory.md, "Strain-rate damping").
+    """
+
+    curvature: tuple = (0.0, 0.0, 0.0)
+    strain: tuple = (0.0, 0.0, 0.0)
+
+    def __post_init__(self):
+        for name in ("curvature", "strain"):
+            vals = tuple(float(v) for v in getattr(self, name))
+            if len(vals) != 3 or not all(math.isfinite(v) and v >= 0.0 for v in vals):
+                raise ValueError(f"StrainRateDamping.{name} must be 3 finite time constants >= 0 s, got {vals}")
+            object.__setattr__(self, name, vals)
+
+    @classmethod
+    def from_damping_ratio(cls, zeta: float, frequency_hz: float) -> "StrainRateDamping":
+        """Time constant t = 2 zeta / w = zeta / (pi f) on every strain: damping ratio ``zeta`` at
+        ``frequency_hz`` (e.g. the first bending mode), proportionally more above it."""
+        if not (math.isfinite(zeta) and 0.0 <= zeta < 1.0):
+            raise ValueError(f"damping ratio zeta must be in [0, 1), got {zeta}")
+        if not (math.isfinite(frequency_hz) and frequency_hz > 0.0):
+            raise ValueError(f"reference frequency must be > 0 Hz, got {frequency_hz}")
+        t = zeta / (math.pi * frequency_hz)
+        return cls((t, t, t), (t, t, t))
+
+    @property
+    def is_zero(self) -> bool:
+        return not any(self.curvature) and not any(self.strain)
+
+
+def _element_function(sequence, damping: StrainRateDamping | None = None):
     """12 element residuals (force, moment, moment-curvature, strain-displacement) of one element."""
     a, b = _node_symbols(), _node_symbols()
     pa = ca.SX.sym("pa", 34)
@@ -192,6 +234,15 @@ def _element_function(sequence):
               - rate_matrix(theta0_m, sequence) @ (th0_b - th0_a) - ds0 * kappa)
     e_s = ca.DM([0.0, 1.0, 0.0])
     R_strain = dr - (r0_b - r0_a) - ds0 * (T.T @ (e_s + strain) - T0.T @ e_s)
+    if damping is not None and not damping.is_zero:
+        # Alg. 6 line 6: t_kappa * d/dt of the curvature term K(theta_m) (theta_b - theta_a)
+        th_ab = ca.vertcat(th_a, th_b)
+        thdot_ab = ca.vertcat(a.xdot[st["theta"]], b.xdot[st["theta"]])
+        curv_rate = ca.jtimes(rate_matrix(theta_m, sequence) @ (th_b - th_a), th_ab, thdot_ab)
+        R_curv = R_curv + ca.DM(damping.curvature) * curv_rate
+        # Alg. 6 line 7: t_gamma * d/dt(T dr) = T (du - omega_m x dr), damping applied in csn
+        strain_rate = T @ (u_b - u_a - ca.cross(0.5 * (w_a + w_b), dr))
+        R_strain = R_strain + T.T @ (ca.DM(damping.strain) * strain_rate)
 
     out = ca.vertcat(R_force, R_moment, R_curv, R_strain)
     return ca.Function("beam_element", [a.x, b.x, a.xdot, b.xdot, pa, pb, a.q, b.q, g, *frame], [out])
@@ -269,12 +320,14 @@ def unpack_state(x, num_nodes: int | None = None) -> dict:
     return {k: x[:, s].copy() for k, s in STATE_BLOCKS.items()}
 
 
-def build_beam_system(num_nodes: int, *, euler_sequence: str = "surface") -> CasadiResidualSystem:
+def build_beam_system(num_nodes: int, *, euler_sequence: str = "surface",
+                      damping: StrainRateDamping | None = None) -> CasadiResidualSystem:
     """The App. A beam of ``num_nodes`` nodes (root first) as a :class:`CasadiResidualSystem`.
 
     ``state_shape = (num_nodes, 18)``; parameters and forcing as in :func:`param_specs` and
     :func:`forcing_specs`. The element equations are built once symbolically and called per
     element; Jacobians are exact and sparse. The initial guess is the jig state.
+    ``damping``: optional :class:`StrainRateDamping` (none by default).
     """
     n = int(num_nodes)
     if n < 2:
@@ -286,7 +339,7 @@ def build_beam_system(num_nodes: int, *, euler_sequence: str = "surface") -> Cas
     xdot = ca.SX.sym("xdot", 18 * n)
     p = ca.SX.sym("p", sum(s.size for s in pspecs))
     q = ca.SX.sym("q", sum(s.size for s in qspecs))
-    elem = _element_function(euler_sequence)
+    elem = _element_function(euler_sequence, damping)
     nodal = _nodal_function(euler_sequence)
     g = q[qlay["gravity"]]
     frame = (q[qlay["frame_acceleration"]], q[qlay["frame_angular_velocity"]],

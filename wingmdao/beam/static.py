@@ -12,18 +12,21 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from wingmdao.beam.residual import (build_beam_system, forcing_specs, jig_state, param_specs,
-                                    unpack_state)
+from wingmdao.beam.residual import (StrainRateDamping, build_beam_system, forcing_specs, jig_state,
+                                    param_specs, unpack_state)
 from wingmdao.timemarch.system import pack
 
 _SYSTEMS: dict = {}
 
 
-def cached_beam_system(num_nodes: int, euler_sequence: str = "surface"):
-    """:func:`build_beam_system`, built once per (num_nodes, sequence)."""
-    key = (int(num_nodes), euler_sequence)
+def cached_beam_system(num_nodes: int, euler_sequence: str = "surface",
+                       damping: StrainRateDamping | None = None):
+    """:func:`build_beam_system`, built once per (num_nodes, sequence, damping)."""
+    if damping is not None and damping.is_zero:
+        damping = None
+    key = (int(num_nodes), euler_sequence, damping)
     if key not in _SYSTEMS:
-        _SYSTEMS[key] = build_beam_system(*key[:1], euler_sequence=euler_sequence)
+        _SYSTEMS[key] = build_beam_system(key[0], euler_sequence=euler_sequence, damping=damping)
     return _SYSTEMS[key]
 
 
@@ -123,12 +126,13 @@ class BeamModel:
 
     params: dict
     euler_sequence: str = "surface"
+    damping: StrainRateDamping | None = None
     system: object = field(init=False, repr=False)
 
     def __post_init__(self):
         check_beam_parameters(self.params)
         self.num_nodes = np.asarray(self.params["node_positions"]).shape[0]
-        self.system = cached_beam_system(self.num_nodes, self.euler_sequence)
+        self.system = cached_beam_system(self.num_nodes, self.euler_sequence, self.damping)
         self.p = pack(param_specs(self.num_nodes), self.params)
 
     def jig(self) -> np.ndarray:

@@ -53,6 +53,11 @@ def add_arguments(p):
     p.add_argument("--dt", type=float, default=0.02, help="time step [s]")
     p.add_argument("--gust-start", type=float, default=0.2, help="time the gust front reaches the wing [s]")
     p.add_argument("--kussner", action="store_true", help="lag the gust lift by the Kussner function")
+    p.add_argument("--damping-ratio", type=float, default=0.0,
+                   help="structural damping ratio of the gust case's beam (Kelvin-Voigt strain-rate damping, "
+                        "Alg. 6) at --damping-frequency-hz; 0 = undamped (default); Nastran practice: 0.02")
+    p.add_argument("--damping-frequency-hz", type=float, default=None,
+                   help="frequency at which --damping-ratio holds [Hz] (default: first mode of the initial design)")
     p.add_argument("--load-history", metavar="FILE", default=None,
                    help="gust case from a load time history file (.npz or .csv on the 20 beam nodes, "
                         "format in docs/loads.md, e.g. exported from a Nastran SOL 146 run) instead of strip theory")
@@ -139,15 +144,40 @@ def build(args, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB) -> CaseSetup:
         raise ValueError(f"--load-factor must be > 0, got {args.load_factor}")
     if args.negative_load_factor >= 0:
         raise ValueError(f"--negative-load-factor must be < 0, got {args.negative_load_factor}")
+    zeta = float(getattr(args, "damping_ratio", 0.0) or 0.0)
+    if not 0.0 <= zeta < 1.0:
+        raise ValueError(f"--damping-ratio must be in [0, 1), got {zeta}")
     geometry, chord, axis_frac = wing_geometry(pf, engines)
+    options = SizingOptions(lower={w: MIN_GAUGE for w in WALL_VARS}, upper={w: 0.05 for w in WALL_VARS},
+                            initial={w: 0.01 for w in WALL_VARS}, rho_ks=100.0)
+    notes = ["airfoil NACA 43018 -> 43013 (assumed, ATR 42 class)",
+             "engines as point masses: 600 kg at 35 % semi-span, 150 kg at the tip (assumed)"]
     cases = []
     if args.loads in ("gust", "all"):
-        cases.append(gust_case(args, geometry, chord, axis_frac, families, pf, weight_lb))
+        case = gust_case(args, geometry, chord, axis_frac, families, pf, weight_lb)
+        if zeta > 0.0:
+            case.damping, note = gust_damping(zeta, getattr(args, "damping_frequency_hz", None), geometry, options)
+            notes.append(note)
+        cases.append(case)
     if args.loads in ("maneuver", "all"):
         cases.insert(0, maneuver_case("maneuver_pos", args.load_factor, geometry, chord, axis_frac, families, pf, weight_lb))
         cases.insert(1, maneuver_case("maneuver_neg", args.negative_load_factor, geometry, chord, axis_frac, families, pf, weight_lb))
-    options = SizingOptions(lower={w: MIN_GAUGE for w in WALL_VARS}, upper={w: 0.05 for w in WALL_VARS},
-                            initial={w: 0.01 for w in WALL_VARS}, rho_ks=100.0)
-    return CaseSetup(geometry, cases, ALUMINIUM, options, notes=[
-        "airfoil NACA 43018 -> 43013 (assumed, ATR 42 class)",
-        "engines as point masses: 600 kg at 35 % semi-span, 150 kg at the tip (assumed)"])
+    return CaseSetup(geometry, cases, ALUMINIUM, options, notes=notes)
+
+
+def gust_damping(zeta, frequency_hz, geometry, options):
+    """Strain-rate damping with ratio ``zeta`` at ``frequency_hz`` (default: the initial design's first mode)."""
+    from wingmdao.beam.residual import StrainRateDamping
+    from wingmdao.materials import ALUMINIUM
+    from wingmdao.sizing import initial_frequencies
+
+    if frequency_hz is None:
+        frequency_hz = float(initial_frequencies(geometry, ALUMINIUM, options, count=1)[0])
+        where = "first mode of the initial design"
+    else:
+        where = "given"
+    if not frequency_hz > 0.0:
+        raise ValueError(f"--damping-frequency-hz must be > 0 Hz, got {frequency_hz}")
+    damping = StrainRateDamping.from_damping_ratio(zeta, frequency_hz)
+    return damping, (f"structural damping {zeta:g} at {frequency_hz:.3f} Hz ({where}): "
+                     f"strain-rate time constant {damping.curvature[0] * 1e3:.3f} ms")

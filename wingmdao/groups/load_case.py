@@ -28,7 +28,9 @@ class LoadCase:
     ``time`` is the time grid (s, ``time[0] = 0``); a single entry means a static solve.
     ``forcing`` maps beam forcing names (see :data:`FORCING_SHAPES`) to arrays shaped
     ``(n_time, ...)`` in SI units; missing ones are zero. ``families`` are the stress
-    constraint families aggregated by KS for this case.
+    constraint families aggregated by KS for this case. ``damping``: optional structural
+    damping of the beam (:class:`wingmdao.beam.residual.StrainRateDamping`, Alg. 6), e.g.
+    ``StrainRateDamping.from_damping_ratio(0.02, f_first_bending)``; none by default.
     """
 
     name: str
@@ -36,6 +38,7 @@ class LoadCase:
     forcing: dict = field(default_factory=dict)
     families: tuple = ("vm",)
     description: str = ""
+    damping: object = None
 
     def __post_init__(self):
         self.time = np.atleast_1d(np.asarray(self.time, dtype=float))
@@ -48,6 +51,11 @@ class LoadCase:
         bad = [f for f in self.families if f not in STRESS_FAMILIES]
         if bad:
             raise ValueError(f"load case {self.name}: unknown stress families {bad}; valid: {', '.join(STRESS_FAMILIES)}")
+        if self.damping is not None:
+            from wingmdao.beam.residual import StrainRateDamping
+
+            if not isinstance(self.damping, StrainRateDamping):
+                raise ValueError(f"load case {self.name}: damping must be a StrainRateDamping, got {self.damping!r}")
         unknown = [k for k in self.forcing if k not in FORCING_SHAPES]
         if unknown:
             raise ValueError(f"load case {self.name}: unknown forcing {unknown}; valid: {', '.join(FORCING_SHAPES)}")

@@ -90,6 +90,10 @@ class WingStructure(om.Group):
             loads.add_output(name, val=case.forcing_array(name, n), units=units, desc=desc)
 
         beam_kwargs = dict(num_nodes=n, time=case.time, **(self.options["newton_options"] or {}))
+        if case.damping is not None and not case.damping.is_zero:
+            from wingmdao.beam.static import cached_beam_system
+
+            beam_kwargs["system"] = cached_beam_system(n, beam_kwargs.get("euler_sequence", "surface"), case.damping)
         beam = BeamDynamics(**beam_kwargs)
         beam.recording_options["options_excludes"] = ["system"]  # a CasADi object: not picklable
         self.add_subsystem("beam", beam, promotes_inputs=[
