@@ -78,3 +78,33 @@ def test_gust_case_from_a_load_history_file(tmp_path):
     from_file = pegasus.build(case_arguments(pegasus, loads="gust", load_history=str(path))).load_cases[0]
     np.testing.assert_allclose(from_file.forcing["force_per_length"], computed.forcing["force_per_length"], rtol=1e-12)
     np.testing.assert_allclose(from_file.time, computed.time)
+
+
+def test_presize_is_fully_stressed_and_reaches_the_same_optimum(maneuver):
+    """FSD passes: every design station not at a bound ends at sigma_vm,max / sigma_allow = 1 (checked
+    by re-analysing), and SLSQP from there finds the optimum found from the uniform 10 mm start."""
+    from wingmdao.sizing import build_problem, presize_fully_stressed
+
+    setup = pegasus.build(case_arguments(pegasus, loads="maneuver"))
+    prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options, driver=False)
+    pre = presize_fully_stressed(prob, setup.load_cases, setup.geometry, setup.options, 6)
+    assert pre["history"][-1]["max_ratio"] == pytest.approx(1.0, abs=1e-4)
+    prob.run_model()
+    smap = np.asarray(setup.geometry.station_map)
+    ratio = np.zeros(smap.max() + 1)
+    for case in setup.load_cases:
+        g = prob.get_val(f"cases.{case.name}.stress.g_vm")
+        np.maximum.at(ratio, smap, (g + 1.0).max(axis=(0, 2)))
+    free = prob.get_val("t_upper_skin") > pegasus.MIN_GAUGE * (1 + 1e-6)
+    assert np.any(free)
+    np.testing.assert_allclose(ratio[free], 1.0, atol=1e-3)
+
+    setup = pegasus.build(case_arguments(pegasus, loads="maneuver"))
+    setup.options.disp = False
+    setup.options.presize = 0                       # uniform 10 mm start
+    _, cold = size_case(setup)
+    _check_optimum(setup, None, cold)
+    warm = maneuver[2]                              # the case default: 4 presize passes
+    assert warm["presize"]["passes"] == 4 and "presize" not in cold
+    assert warm["mass_kg"] == pytest.approx(cold["mass_kg"], rel=2e-3)
+    assert warm["iterations"] < cold["iterations"]

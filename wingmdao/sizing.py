@@ -51,6 +51,7 @@ class SizingOptions:
     disp: bool = True
     dv_ref: dict | None = None  # design-variable scaling (default: the upper bounds)
     progress: bool = False  # print a line per driver evaluation (objective, worst KS, time)
+    presize: int = 0  # fully-stressed-design passes before the optimizer (box sections, vm family)
 
 
 def build_problem(geometry: WingGeometry, load_cases, material, options: SizingOptions,
@@ -201,8 +202,55 @@ def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, sectio
     return out
 
 
+def presize_fully_stressed(prob, load_cases, geometry: WingGeometry, options: SizingOptions,
+                           passes: int, *, progress: bool = False) -> dict:
+    """Fully stressed design (FSD) passes that give the optimizer a near-feasible start.
+
+    Per design station k, r_k = max over load cases, time steps, stations mapped to k and
+    von Mises points of sigma_vm / sigma_allow (= g_vm + 1, Sec. 4.4.2); all four walls are
+    scaled t_k <- clip(t_k r_k, bounds), the classical stress-ratio resize for sigma ~ 1/t.
+    Why: SLSQP linearises sigma/sigma_allow - 1 (hyperbolic in t) and from an over-designed
+    start steps deep into the infeasible region, then needs ~100 evaluations to climb back
+    (PEGASUS: 95 -> 59 maneuver iterations, 99 -> 53 gust iterations, same optimum).
+    Box sections and load cases with the ``vm`` family only. Returns the pass history.
+    """
+    if passes <= 0:
+        return {"passes": 0}
+    cases = [c for c in load_cases if "vm" in c.families]
+    if not cases:
+        raise ValueError("presize: needs at least one load case with the 'vm' stress family")
+    smap = np.arange(geometry.num_nodes) if geometry.station_map is None else np.asarray(geometry.station_map)
+    t0 = _time.perf_counter()
+    history = []
+    for k in range(int(passes)):
+        prob.run_model()
+        ratio = np.zeros(int(smap.max()) + 1)
+        for case in cases:
+            g = np.asarray(prob.get_val(f"cases.{case.name}.stress.g_vm"))
+            np.maximum.at(ratio, smap, (g + 1.0).reshape(-1, g.shape[-2], g.shape[-1]).max(axis=(0, 2)))
+        for w in WALL_VARS:
+            prob.set_val(w, np.clip(prob.get_val(w) * ratio, options.lower[w], options.upper[w]))
+        history.append({"mass_kg": float(prob.get_val("mass", units="kg")[0]), "max_ratio": float(ratio.max())})
+        if progress:
+            print(f"  presize (fully stressed) pass {k + 1}/{passes}: mass {history[-1]['mass_kg']:.2f} kg "
+                  f"(before resize), max sigma/sigma_allow {ratio.max():.4f}", flush=True)
+    return {"passes": int(passes), "history": history, "wall_s": _time.perf_counter() - t0}
+
+
 def size_case(setup, *, optimize: bool = True, parallel: bool | None = None):
-    """Build and run a :class:`wingmdao.cases.CaseSetup`; returns ``(problem, result dict)``."""
+    """Build and run a :class:`wingmdao.cases.CaseSetup`; returns ``(problem, result dict)``.
+
+    With ``setup.options.presize > 0`` (and a box section) fully stressed design passes
+    (:func:`presize_fully_stressed`) set the optimizer's starting point; their time is in ``wall_s``.
+    """
     prob, desc = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
                                driver=optimize, parallel=parallel, section=setup.section)
-    return prob, run_sizing(prob, setup.load_cases, desc, optimize=optimize, section=setup.section)
+    pre = {"passes": 0}
+    if optimize and setup.options.presize > 0 and setup.section == "box":
+        pre = presize_fully_stressed(prob, setup.load_cases, setup.geometry, setup.options,
+                                     setup.options.presize, progress=setup.options.progress)
+    result = run_sizing(prob, setup.load_cases, desc, optimize=optimize, section=setup.section)
+    if pre["passes"]:
+        result["wall_s"] += pre["wall_s"]
+        result["presize"] = pre
+    return prob, result

@@ -149,7 +149,7 @@ def build(args, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB) -> CaseSetup:
         raise ValueError(f"--damping-ratio must be in [0, 1), got {zeta}")
     geometry, chord, axis_frac = wing_geometry(pf, engines)
     options = SizingOptions(lower={w: MIN_GAUGE for w in WALL_VARS}, upper={w: 0.05 for w in WALL_VARS},
-                            initial={w: 0.01 for w in WALL_VARS}, rho_ks=100.0)
+                            initial={w: 0.01 for w in WALL_VARS}, rho_ks=100.0, presize=4)
     notes = ["airfoil NACA 43018 -> 43013 (assumed, ATR 42 class)",
              "engines as point masses: 600 kg at 35 % semi-span, 150 kg at the tip (assumed)"]
     cases = []

@@ -15,6 +15,9 @@ def _add_common(p, *, sizing: bool):
                        help="optimizer (SNOPT/IPOPT need pyoptsparse; default SLSQP, via SciPy "
                             "when pyoptsparse does not import)")
         p.add_argument("--maxiter", type=int, default=None, help="maximum optimizer iterations")
+        p.add_argument("--presize", type=int, default=None, metavar="N",
+                       help="fully stressed design passes before the optimizer (box sections; "
+                            "default: the case's choice, 4 for pegasus and crm, 0 = off)")
         p.add_argument("--analysis-only", action="store_true",
                        help="analyse the initial design without optimizing")
         p.add_argument("--no-plots", action="store_true", help="do not write PNG plots")
@@ -55,6 +58,10 @@ def run_size(args) -> int:
     opts.optimizer = args.optimizer
     if args.maxiter:
         opts.maxiter = args.maxiter
+    if args.presize is not None:
+        if args.presize < 0:
+            raise ValueError(f"--presize must be >= 0 passes, got {args.presize}")
+        opts.presize = args.presize
     stem = os.path.join(args.out, args.case_module.NAME.replace("-", "_"))
     opts.recording = None if args.analysis_only else stem + ".sql"
     opts.progress = not args.quiet
