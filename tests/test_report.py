@@ -37,3 +37,14 @@ def test_report_prints_history_and_writes_plots(tmp_path, capsys):
 def test_report_missing_file_is_a_clean_error(tmp_path, capsys):
     assert main(["report", str(tmp_path / "nope.sql")]) == 2
     assert "does not exist" in capsys.readouterr().err
+
+
+def test_report_compares_several_recordings(tmp_path, capsys):
+    a, b = str(tmp_path / "maneuver.sql"), str(tmp_path / "gust.sql")
+    _record(a)
+    _record(b)
+    assert main(["report", a, b, "--plots", str(tmp_path / "p")]) == 0
+    out = capsys.readouterr().out
+    assert out.count("driver iterations") == 2
+    assert os.path.getsize(tmp_path / "p" / "thickness_comparison.png") > 1000
+    assert os.path.getsize(tmp_path / "p" / "gust" / "iterations.png") > 1000

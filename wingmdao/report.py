@@ -35,20 +35,49 @@ def format_history(hist: dict) -> str:
     return "\n".join(lines)
 
 
-def write_report_plots(hist: dict, out_dir: str) -> list[str]:
-    """Iteration history PNG (and final thickness PNG when the design variables are wall thicknesses)."""
-    from wingmdao.plots import WALLS, plot_iteration_history, plot_thickness
+def final_thickness(hist: dict) -> dict | None:
+    """``{wall: (n,) m}`` of the last recorded iteration, or None when the design variables are not walls."""
+    from wingmdao.plots import WALLS
 
-    os.makedirs(out_dir, exist_ok=True)
-    paths = [plot_iteration_history(hist["objective"], hist["max_constraint"],
-                                    os.path.join(out_dir, "iterations.png"))]
     final = hist["design_vars"][-1]
     thick = {}
     for wall in WALLS:
         match = [k for k in final if k.endswith(f"t_{wall}")]
         if match:
             thick[wall] = final[match[0]]
-    if len(thick) == len(WALLS):
+    return thick if len(thick) == len(WALLS) else None
+
+
+def write_comparison_plot(histories: dict, path: str) -> str:
+    """Final thicknesses of several recorded runs on one figure (Fig. 5.5-5.6: static vs gust sizing).
+
+    ``histories`` maps a label to :func:`read_history` output; all runs must size walls of the
+    same number of design stations.
+    """
+    from wingmdao.plots import plot_thickness
+
+    runs = {}
+    for label, hist in histories.items():
+        thick = final_thickness(hist)
+        if thick is None:
+            raise ValueError(f"recording {label!r}: design variables are not the four wall thicknesses")
+        runs[label] = thick
+    sizes = {len(t["upper_skin"]) for t in runs.values()}
+    if len(sizes) != 1:
+        raise ValueError(f"recordings have different numbers of design stations: {sorted(sizes)}")
+    n = sizes.pop()
+    return plot_thickness(np.arange(n), runs, path, title="Final thickness per design station (index)")
+
+
+def write_report_plots(hist: dict, out_dir: str) -> list[str]:
+    """Iteration history PNG (and final thickness PNG when the design variables are wall thicknesses)."""
+    from wingmdao.plots import plot_iteration_history, plot_thickness
+
+    os.makedirs(out_dir, exist_ok=True)
+    paths = [plot_iteration_history(hist["objective"], hist["max_constraint"],
+                                    os.path.join(out_dir, "iterations.png"))]
+    thick = final_thickness(hist)
+    if thick is not None:
         n = len(thick["upper_skin"])
         paths.append(plot_thickness(np.arange(n), {"final": thick},
                                     os.path.join(out_dir, "thickness_final.png"),

@@ -1,4 +1,5 @@
-"""``wingmdao report FILE.sql``: iteration history of a recorded sizing run, and plots."""
+"""``wingmdao report FILE.sql [FILE2.sql ...]``: iteration history of recorded sizing runs, plots,
+and with several recordings a thickness comparison (e.g. maneuver vs gust sizing, Fig. 5.5-5.6)."""
 
 from __future__ import annotations
 
@@ -10,20 +11,32 @@ def register(subparsers):
         "report",
         help="print the iteration history of a recorded sizing run and write plots",
         description="Read the SQLite recording of a sizing run (written by 'wingmdao size'), "
-        "print objective and worst KS constraint per driver iteration, and write PNG plots.",
+        "print objective and worst KS constraint per driver iteration, and write PNG plots. "
+        "With several recordings, also overlay their final thicknesses in thickness_comparison.png "
+        "(e.g. maneuver-only against gust sizing, as Fig. 5.5-5.6 of the dissertation).",
     )
-    p.add_argument("recording", metavar="FILE.sql", help="SQLite recording of a sizing run")
+    p.add_argument("recording", metavar="FILE.sql", nargs="+", help="SQLite recording(s) of sizing runs")
     p.add_argument("--plots", metavar="DIR", default=None,
-                   help="folder for the PNG plots (default: FILE_plots next to the recording)")
+                   help="folder for the PNG plots (default: FILE_plots next to the first recording)")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
-    from wingmdao.report import format_history, read_history, write_report_plots
+    from wingmdao.report import format_history, read_history, write_comparison_plot, write_report_plots
 
-    hist = read_history(args.recording)
-    print(format_history(hist))
-    out = args.plots or os.path.splitext(args.recording)[0] + "_plots"
-    for path in write_report_plots(hist, out):
-        print(f"wrote {path}")
+    histories = {}
+    for rec in args.recording:
+        hist = read_history(rec)
+        label = os.path.splitext(os.path.basename(rec))[0]
+        histories[label if label not in histories else rec] = hist
+        print(f"== {rec}: {hist['iterations']} driver iterations")
+        print(format_history(hist))
+    first = args.recording[0]
+    out = args.plots or os.path.splitext(first)[0] + "_plots"
+    for rec, hist in zip(args.recording, histories.values()):
+        sub = out if len(args.recording) == 1 else os.path.join(out, os.path.splitext(os.path.basename(rec))[0])
+        for path in write_report_plots(hist, sub):
+            print(f"wrote {path}")
+    if len(histories) > 1:
+        print(f"wrote {write_comparison_plot(histories, os.path.join(out, 'thickness_comparison.png'))}")
     return 0
