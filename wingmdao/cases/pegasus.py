@@ -55,9 +55,10 @@ def add_arguments(p):
     p.add_argument("--kussner", action="store_true", help="lag the gust lift by the Kussner function")
     p.add_argument("--damping-ratio", type=float, default=0.0,
                    help="structural damping ratio of the gust case's beam (Kelvin-Voigt strain-rate damping, "
-                        "Alg. 6) at --damping-frequency-hz; 0 = undamped (default); Nastran practice: 0.02")
+                        "Alg. 6) at --damping-frequency-hz; 0 = undamped; Nastran practice: 0.02")
     p.add_argument("--damping-frequency-hz", type=float, default=None,
-                   help="frequency at which --damping-ratio holds [Hz] (default: first mode of the initial design)")
+                   help="frequency at which --damping-ratio holds [Hz]; unset (%(default)s): the first mode "
+                        "of the initial design")
     p.add_argument("--load-history", metavar="FILE", default=None,
                    help="gust case from a load time history file (.npz or .csv on the 20 beam nodes, "
                         "format in docs/loads.md, e.g. exported from a Nastran SOL 146 run) instead of strip theory")

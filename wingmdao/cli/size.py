@@ -9,15 +9,15 @@ import os
 def _add_common(p, *, sizing: bool):
     p.add_argument("--json", metavar="PATH", default=None, help="write results as JSON (- = stdout)")
     p.add_argument("--out", metavar="DIR", default="results",
-                   help="folder for the recording and plots (default: results)")
+                   help="folder for the recording and plots")
     if sizing:
         p.add_argument("--optimizer", default="SLSQP", choices=["SLSQP", "SNOPT", "IPOPT"],
                        help="optimizer (SNOPT/IPOPT need pyoptsparse; default SLSQP, via SciPy "
                             "when pyoptsparse does not import)")
-        p.add_argument("--maxiter", type=int, default=None, help="maximum optimizer iterations")
+        p.add_argument("--maxiter", type=int, default=None, help="maximum optimizer iterations (unset (%(default)s): the case's choice)")
         p.add_argument("--presize", type=int, default=None, metavar="N",
-                       help="fully stressed design passes before the optimizer (box sections; "
-                            "default: the case's choice, 4 for pegasus and crm, 0 = off)")
+                       help="fully stressed design passes before the optimizer (box sections; 0 = off; "
+                            "unset (%(default)s): the case's choice, 4 for pegasus and crm)")
         p.add_argument("--analysis-only", action="store_true",
                        help="analyse the initial design without optimizing")
         p.add_argument("--no-plots", action="store_true", help="do not write PNG plots")
