@@ -44,13 +44,25 @@ def cantilever_inputs(n, nt, dt):
     }
 
 
-def build_problem(n, nt, dt=2e-3, ks=True, **beam_opts):
-    from wingmdao.components.beam import BeamDynamics
+def build_problem(n, nt, dt=2e-3, ks=True, jit=True, dv_force_entries=None, **beam_opts):
+    """Beam + KS of the root moments; ``jit=False``: interpreted CasADi functions only;
+    ``dv_force_entries``: that many entries of the load history as driver design variables."""
+    from wingmdao.components.beam import BeamDynamics, beam_system
 
     t, vals = cantilever_inputs(n, nt, dt)
     prob = om.Problem(reports=False)
     model = prob.model
-    model.add_subsystem("beam", BeamDynamics(num_nodes=n, time=t, **beam_opts), promotes=["*"])
+    if dv_force_entries:
+        model.add_subsystem("dv", om.IndepVarComp("force_per_length", val=vals["force_per_length"], units="N/m"),
+                            promotes=["*"])
+    if jit:
+        system = beam_system(n)
+    else:
+        from wingmdao.beam.residual import build_beam_system
+
+        system = build_beam_system(n)
+        system.set_jit_threshold(10 ** 15)
+    model.add_subsystem("beam", BeamDynamics(num_nodes=n, time=t, system=system, **beam_opts), promotes=["*"])
     if ks:
         w = np.zeros((nt, n, 18))
         w[:, 0, 9:12] = 1e-5  # root moments (N m), normalised
@@ -59,6 +71,9 @@ def build_problem(n, nt, dt=2e-3, ks=True, **beam_opts):
                                                 has_diag_partials=True), promotes=["*"])
         model.add_subsystem("ks", KSAggregate(families={"root": (nt, n, 18)}, rho_ks=50.0))
         model.connect("g", "ks.g_root")
+        if dv_force_entries:
+            model.add_design_var("force_per_length", indices=np.arange(dv_force_entries), flat_indices=True)
+            model.add_objective("ks.ks_root")
     prob.setup(mode="rev")
     for k, v in vals.items():
         prob.set_val(k, v)
@@ -83,29 +98,57 @@ def main(argv=None):
     args = ap.parse_args(argv)
     from wingmdao.beam.residual import build_beam_system
 
+    from wingmdao.components.beam import beam_system
+    from wingmdao.utils.casadi_cache import cache_dir, jit_enabled
+
     opts = {"modified_newton": not args.full_newton}
     t_build = timed(lambda: build_beam_system(20))
-    prob = build_problem(20, 500, **opts)
-    t_fwd = timed(prob.run_model, repeat=2)
-    t_grad = timed(lambda: prob.compute_totals(of=["ks.ks_root"], wrt=["stiffness_csn", "mass_per_length"]),
-                   repeat=2)
+    wrt = ["stiffness_csn", "mass_per_length"]
+    rows = {}
+    for jit in (False, True):
+        if jit:
+            if not jit_enabled():
+                break
+            t0 = time.perf_counter()
+            states = beam_system(20).compile(wait=True)
+            t_compile = time.perf_counter() - t0
+        prob = build_problem(20, 500, jit=jit, **opts)
+        prob.run_model()
+        t_fwd = timed(prob.run_model, repeat=3)
+        t_grad = timed(lambda: prob.compute_totals(of=["ks.ks_root"], wrt=wrt), repeat=3)
+        rows[jit] = (t_fwd, t_grad)
     print("20 nodes x 500 steps (time in s)")
-    print(f"{'':28s}{'this machine':>14s}{'thesis':>10s}{'goal':>10s}")
-    print(f"{'model build':28s}{t_build:14.3f}{THESIS['build']:10.2f}{2.0:10.2f}")
-    print(f"{'forward time march':28s}{t_fwd:14.3f}{THESIS['forward']:10.2f}{0.5:10.2f}")
-    print(f"{'KS gradient (adjoint)':28s}{t_grad:14.3f}{THESIS['gradient']:10.2f}{t_fwd:10.2f}")
+    print(f"{'':34s}{'this machine':>14s}{'thesis':>10s}{'goal':>10s}")
+    print(f"{'model build (symbolic)':34s}{t_build:14.3f}{THESIS['build']:10.2f}{2.0:10.2f}")
+    for jit, (t_fwd, t_grad) in rows.items():
+        tag = "compiled" if jit else "interpreted"
+        print(f"{'forward time march, ' + tag:34s}{t_fwd:14.3f}{THESIS['forward']:10.2f}{0.5:10.2f}")
+        print(f"{'all KS gradients (adjoint), ' + tag:34s}{t_grad:14.3f}{THESIS['gradient']:10.2f}{t_fwd:10.2f}")
+    if True in rows:
+        print(f"compile (gcc, once; cached in {cache_dir()}): {t_compile:.1f} s {states}")
+
+    print("\ngradient time against the number of design variables (Table 4.21), 20 nodes x 500 steps;")
+    print("design variables: entries of the load history; finite differences estimated as (k + 1) forward marches")
+    print(f"{'k':>6s}{'adjoint s':>11s}{'FD s (est.)':>13s}   thesis: adjoint 0.32 -> 5.34 s, FD 6.6 -> 7917 s")
+    for k in ([20, 100] if args.quick else [20, 100, 500, 1000]):
+        p = build_problem(20, 500, dv_force_entries=k, **opts)
+        p.run_model()
+        tf = timed(p.run_model)
+        tg = timed(lambda: p.compute_totals(), repeat=2)
+        print(f"{k:6d}{tg:11.3f}{(k + 1) * tf:13.1f}")
 
     nodes = [10, 20, 40, 80] if args.quick else [10, 20, 40, 80, 160]
     steps = [100, 500, 1000] if args.quick else [100, 500, 1000, 2000, 4000]
-    print("\nscaling with nodes (500 steps): nodes, build s, forward s, forward s per node")
+    print("\nscaling (interpreted CasADi functions throughout, so that sizes compare like with like)")
+    print("scaling with nodes (500 steps): nodes, build s, forward s, forward s per node")
     for n in nodes:
         tb = timed(lambda: build_beam_system(n))
-        p = build_problem(n, 500, ks=False, **opts)
+        p = build_problem(n, 500, ks=False, jit=False, **opts)
         tf = timed(p.run_model)
         print(f"{n:6d}{tb:10.3f}{tf:10.3f}{tf / n:12.5f}")
     print("\nscaling with steps (20 nodes): steps, forward s, forward ms per step")
     for nt in steps:
-        p = build_problem(20, nt, ks=False, **opts)
+        p = build_problem(20, nt, ks=False, jit=False, **opts)
         tf = timed(p.run_model)
         print(f"{nt:6d}{tf:10.3f}{1e3 * tf / nt:12.4f}")
 

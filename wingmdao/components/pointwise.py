@@ -102,6 +102,7 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
         in_list = [syms[v.name] for v in self._in_vars]
         f = ca.Function(f"{self.__class__.__name__}_f", in_list, flat_out)
         self._f = f.map(n, "serial") if n > 1 else f
+        self._jit_f = _PointJit(f, n)
 
         jac_vals = []
         self._pairs = []
@@ -123,6 +124,7 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
                 jac_vals.append(ca.vertcat(*jac.nonzeros()))
         fj = ca.Function(f"{self.__class__.__name__}_jac", in_list, jac_vals)
         self._fjac = fj.map(n, "serial") if n > 1 else fj
+        self._jit_fjac = _PointJit(fj, n)
 
     def _stacked_inputs(self, inputs):
         n = self.num_points
@@ -139,6 +141,7 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
 
     def compute(self, inputs, outputs):
         self.check_inputs(inputs)
+        self._f = self._jit_f.update(self._f)
         res = self._f(*self._stacked_inputs(inputs))
         if not isinstance(res, (list, tuple)):
             res = [res]
@@ -146,8 +149,32 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
             outputs[v.name] = np.asarray(val).T.reshape(outputs[v.name].shape)
 
     def compute_partials(self, inputs, partials):
+        self._fjac = self._jit_fjac.update(self._fjac)
         res = self._fjac(*self._stacked_inputs(inputs))
         if not isinstance(res, (list, tuple)):
             res = [res]
         for (oname, iname), val in zip(self._pairs, res):
             partials[oname, iname] = np.asarray(val).T.ravel()
+
+
+class _PointJit:
+    """Compiles the per-point function in the background after :data:`POINT_JIT_THRESHOLD`
+    calls (wingmdao.utils.casadi_cache) and maps the compiled version over the grid."""
+
+    def __init__(self, fun, num_points):
+        from wingmdao.utils.casadi_cache import JitFunction
+
+        self.jit = JitFunction(fun, threshold=POINT_JIT_THRESHOLD)
+        self.num_points = num_points
+
+    def update(self, mapped):
+        """``mapped``, or the compiled per-point function mapped over the points once ready."""
+        self.jit.count()
+        if self.jit.poll():
+            f = self.jit.current
+            return f.map(self.num_points, "serial") if self.num_points > 1 else f
+        return mapped
+
+
+#: Calls of a pointwise component's function (or Jacobian) after which it is compiled.
+POINT_JIT_THRESHOLD = 10

@@ -57,7 +57,10 @@ class CombinedJacobianMixin:
         super().setup()
         combined = self._combined_jacobian()
         if combined is not None:
-            self._fjac = combined
+            from wingmdao.components.pointwise import _PointJit
+
+            self._fjac = combined.map(self.num_points, "serial") if self.num_points > 1 else combined
+            self._jit_fjac = _PointJit(combined, self.num_points)   # compiles the combined Jacobian
 
     def _combined_jacobian(self):
         syms, shaped = {}, {}
@@ -81,8 +84,7 @@ class CombinedJacobianMixin:
             if blk.sparsity() != ca.jacobian_sparsity(outs[oname], syms[iname]):
                 return None
             blocks.append(ca.vertcat(*blk.nonzeros()))
-        f = ca.Function(f"{self.__class__.__name__}_jac_combined", in_list, ca.cse(blocks))
-        return f.map(self.num_points, "serial") if self.num_points > 1 else f
+        return ca.Function(f"{self.__class__.__name__}_jac_combined", in_list, ca.cse(blocks))
 
 
 class _SectionBase(CombinedJacobianMixin, PointwiseCasadiComponent):

@@ -99,7 +99,10 @@ class LinearizedHistory:
         pos_d = np.searchsorted(keys, cd * n + rd)
         pos_i = np.searchsorted(keys, eye * n + eye)
         nnz = keys.size
-        self.a_data = (self.jx @ _scatter(pos_x, nnz) + (self.coef[:, :1] * self.jxd) @ _scatter(pos_d, nnz))
+        # column scatter (each Jacobian nonzero has its own slot): no sparse products
+        self.a_data = np.zeros((self.n_time, nnz))
+        self.a_data[:, pos_x] = self.jx
+        self.a_data[:, pos_d] += self.coef[:, :1] * self.jxd
         if self.initial == "state":
             self.a_data[0, pos_i] = 1.0
         self._scatter_rows = {k: _scatter(self.patterns[k][0], n) for k in self.patterns}
@@ -183,7 +186,10 @@ class LinearizedHistory:
 
     def param_product(self, lam) -> np.ndarray:
         """``sum_n dR_n/dp^T lam_n`` (n_param,) (the sum in Eq. 3.11)."""
-        return np.asarray(self._hist_product("p", self.jp, lam, transpose=True)).sum(axis=0)
+        rows, cols, shape = self.patterns["p"]
+        lam = np.asarray(lam, dtype=float).reshape(self.n_time, self.n_state)
+        per_nonzero = np.einsum("ij,ij->j", self.jp, lam[:, rows])   # sum over time first
+        return np.bincount(cols, per_nonzero, minlength=shape[1])
 
     def forcing_apply(self, dq) -> np.ndarray:
         """``dR_n/dq_n @ dq_n`` for every step, (n_time, n_state)."""

@@ -179,6 +179,32 @@ class _FastCall:
         return [o.copy() for o in self.out] if self.copy_outputs else self.out
 
 
+class _JitCall:
+    """A :class:`_FastCall` whose function turns into compiled C after enough evaluations
+    (:class:`wingmdao.utils.casadi_cache.JitFunction`)."""
+
+    def __init__(self, fun: ca.Function, threshold: int, copy_outputs=True):
+        from wingmdao.utils.casadi_cache import JitFunction
+
+        self.jit = JitFunction(fun, threshold)
+        self.fast = _FastCall(fun, copy_outputs)
+
+    def refresh(self) -> _FastCall:
+        if self.jit.poll():
+            self.fast = _FastCall(self.jit.current, self.fast.copy_outputs)
+        return self.fast
+
+    def __call__(self, *args):
+        fast = self.refresh()
+        self.jit.count()
+        return fast(*args)
+
+
+#: Evaluations of a system function after which it is compiled in the background (module docs of
+#: wingmdao.utils.casadi_cache); about two 500-step marches of a beam.
+JIT_THRESHOLD = 2000
+
+
 class CasadiResidualSystem(ResidualSystem):
     """A :class:`ResidualSystem` from symbolic CasADi expressions.
 
@@ -214,10 +240,29 @@ class CasadiResidualSystem(ResidualSystem):
         self._all_jac = ca.Function(f"{name}_jacobians", args,
                                     [j.expr.nz[:] for j in (self._dx, self._dxdot, self._dp, self._dq)])
         self._R_args = args
-        self._maps = {}
-        self._fast_R = _FastCall(self._R)
-        self._fast_newton = _FastCall(self._newton)
         self._newton_dense_index = None
+        self.jit_threshold = JIT_THRESHOLD
+        self._fast_R = _JitCall(self._R, self.jit_threshold)
+        self._fast_newton = _JitCall(self._newton, self.jit_threshold)
+        self._maps = {"R": self._fast_R, "J": _JitCall(self._all_jac, self.jit_threshold)}
+
+    def set_jit_threshold(self, evaluations: int) -> None:
+        """Evaluations after which each function is compiled in the background (0: at first use)."""
+        self.jit_threshold = int(evaluations)
+        for call in (self._fast_R, self._fast_newton, *self._maps.values()):
+            call.jit.threshold = self.jit_threshold
+
+    def compile(self, wait: bool = True) -> dict:
+        """Compile (or load from the cache) the residual, Newton-matrix and Jacobian-history
+        functions now instead of after ``jit_threshold`` evaluations; returns their states."""
+        calls = {"residual": self._fast_R, "newton": self._fast_newton, "jacobians": self._maps["J"]}
+        for call in calls.values():          # start all (gcc runs in parallel), then wait
+            call.jit.start(wait=False)
+        for call in calls.values():
+            if wait:
+                call.jit.start(wait=True)
+            call.refresh()
+        return {name: call.jit.state for name, call in calls.items()}
 
     def _history(self, key, fun, X, Xdot, p, Q):
         """Evaluate ``fun(x, xdot, p, q)`` at every instant through one buffered evaluator.
@@ -226,9 +271,11 @@ class CasadiResidualSystem(ResidualSystem):
         the 20-node beam, more than the evaluations themselves.)
         """
         if key not in self._maps:
-            self._maps[key] = _FastCall(fun)
-        fc = self._maps[key]
+            self._maps[key] = _JitCall(fun, self.jit_threshold)
+        call = self._maps[key]
+        fc = call.refresh()
         n = X.shape[0]
+        call.jit.count(n)
         outs = [np.empty((n, fun.nnz_out(k))) for k in range(fun.n_out())]
         fc.inp[2][:] = np.ravel(p)
         x_buf, xd_buf, q_buf = fc.inp[0], fc.inp[1], fc.inp[3]

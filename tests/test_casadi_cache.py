@@ -1,0 +1,161 @@
+"""Compiled CasADi functions with an on-disk cache: same numbers, cache hits, clean fallbacks."""
+
+import subprocess
+
+import casadi as ca
+import numpy as np
+import pytest
+
+from wingmdao.utils import casadi_cache as cc
+
+pytestmark = pytest.mark.skipif(cc.compiler() is None, reason="needs gcc")
+
+
+@pytest.fixture
+def jit_env(tmp_path, monkeypatch):
+    monkeypatch.setenv(cc.ENV_JIT, "1")
+    monkeypatch.setenv(cc.ENV_CACHE, str(tmp_path / "cache"))
+    monkeypatch.setattr(cc, "_warned", False)
+    return tmp_path / "cache"
+
+
+def _function(name="f"):
+    x, y = ca.SX.sym("x", 4), ca.SX.sym("y", 2)
+    out = ca.vertcat(ca.sin(x[0]) * y[0] + x[1] ** 3, ca.exp(x[2] - y[1]) / (1 + x[3] ** 2), ca.sumsqr(x))
+    return ca.Function(name, [x, y], [out, ca.jacobian(out, x)])
+
+
+def _eval(f, x, y):
+    return [np.array(o.full()) for o in f(x, y)]
+
+
+def test_compiled_equals_interpreted_and_is_cached(jit_env):
+    f = _function()
+    g = cc.compiled(f)
+    assert g is not f and g.class_name() == "External"
+    rng = np.random.default_rng(1)
+    for _ in range(5):
+        x, y = rng.normal(size=4), rng.normal(size=2)
+        for a, b in zip(_eval(f, x, y), _eval(g, x, y)):
+            np.testing.assert_allclose(b, a, rtol=1e-13, atol=1e-15)
+    libs = list(jit_env.glob("f_*.so"))
+    assert len(libs) == 1
+
+
+def test_cache_hit_does_not_call_the_compiler(jit_env, monkeypatch):
+    f = _function()
+    cc.compiled(f)
+
+    def no_gcc(*args, **kwargs):
+        raise AssertionError("gcc called on a cache hit")
+
+    monkeypatch.setattr(subprocess, "Popen", no_gcc)
+    g = cc.compiled(_function())          # a new, identical function: same key
+    assert g.class_name() == "External"
+
+
+def test_different_function_different_key(jit_env):
+    x = ca.SX.sym("x")
+    f1, f2 = ca.Function("h", [x], [x ** 2]), ca.Function("h", [x], [x ** 3])
+    assert cc.function_key(f1) != cc.function_key(f2)
+
+
+def test_corrupt_library_is_rebuilt(jit_env):
+    f = _function()
+    path = cc.library_path(f)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_bytes(b"not a shared library")
+    assert cc.cached(f) is None
+    g = cc.compiled(f)
+    assert g.class_name() == "External"
+    np.testing.assert_allclose(_eval(g, np.ones(4), np.ones(2))[0], _eval(f, np.ones(4), np.ones(2))[0], rtol=1e-13)
+
+
+def test_missing_compiler_falls_back_with_one_warning(jit_env, monkeypatch):
+    monkeypatch.setattr(cc, "compiler", lambda: None)
+    f = _function()
+    with pytest.warns(RuntimeWarning, match="interpreted"):
+        assert cc.compiled(f) is f
+
+
+def test_disabled_by_environment(jit_env, monkeypatch):
+    monkeypatch.setenv(cc.ENV_JIT, "0")
+    f = _function()
+    assert cc.compiled(f) is f
+    jf = cc.JitFunction(f, threshold=0)
+    jf.count()
+    assert jf.state == "disabled" and jf.current is f
+
+
+def test_jit_function_switches_after_threshold(jit_env):
+    f = _function()
+    jf = cc.JitFunction(f, threshold=3)
+    jf.count(2)
+    assert jf.state == "interpreted" and not jf.poll()
+    jf.count(1)
+    jf.start(wait=True)
+    assert jf.poll() and jf.state == "compiled" and jf.current.class_name() == "External"
+
+
+def test_beam_system_compiled_matches_interpreted(jit_env):
+    from wingmdao.beam.residual import build_beam_system
+    from wingmdao.beam.static import beam_forcing, beam_parameters, straight_beam
+    from wingmdao.timemarch.system import pack
+
+    n = 3
+    interp, comp = build_beam_system(n), build_beam_system(n)
+    states = comp.compile(wait=True)
+    assert set(states.values()) == {"compiled"}
+    r0, th0 = straight_beam(n, 2.0)
+    p = pack(comp.param_specs, beam_parameters(r0, th0, EI_cc=5e4, GJ=4e4, EI_nn=2e5, EA=1e7, GK_c=1e7, GK_n=1e7,
+                                                mass_per_length=3.0, inertia_per_length=np.diag([0.01, 0.02, 0.01])))
+    rng = np.random.default_rng(2)
+    X, Xd = rng.normal(size=(4, 18 * n)), rng.normal(size=(4, 18 * n))
+    Q = np.tile(pack(comp.forcing_specs, beam_forcing(n, point_force=[1.0, 2.0, 3.0])), (4, 1))
+    np.testing.assert_allclose(comp.residual_history(X, Xd, p, Q), interp.residual_history(X, Xd, p, Q),
+                               rtol=1e-13, atol=1e-12)
+    ja, jb = comp.jacobian_history(X, Xd, p, Q), interp.jacobian_history(X, Xd, p, Q)
+    for k in ja:
+        np.testing.assert_allclose(ja[k], jb[k], rtol=1e-13, atol=1e-12)
+    ra, ma = comp.residual_and_newton_matrix(X[0], Xd[0], p, Q[0], 50.0)
+    rb, mb = interp.residual_and_newton_matrix(X[0], Xd[0], p, Q[0], 50.0)
+    np.testing.assert_allclose(ra, rb, rtol=1e-13, atol=1e-12)
+    np.testing.assert_allclose(np.asarray(ma.todense() if hasattr(ma, "todense") else ma),
+                               np.asarray(mb.todense() if hasattr(mb, "todense") else mb), rtol=1e-13, atol=1e-12)
+
+
+def test_pointwise_component_switches_to_compiled(jit_env, monkeypatch):
+    """A pointwise component (BoxStress) gives the same outputs and partials once compiled."""
+    import openmdao.api as om
+
+    from wingmdao.components import pointwise
+    from wingmdao.components.stress import BoxStress
+    from wingmdao.materials import ALUMINIUM
+
+    monkeypatch.setattr(pointwise, "POINT_JIT_THRESHOLD", 10 ** 9)   # compiled below, on demand
+    n, nt = 3, 2
+    rng = np.random.default_rng(4)
+    prob = om.Problem(reports=False)
+    prob.model.add_subsystem("s", BoxStress(num_times=nt, num_stations=n, material=ALUMINIUM), promotes=["*"])
+    prob.setup()
+    prob.set_val("width", rng.uniform(0.6, 1.2, n))
+    prob.set_val("height", rng.uniform(0.2, 0.4, n))
+    for k in ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar"):
+        prob.set_val(k, rng.uniform(0.003, 0.02, n))
+    prob.set_val("F_csn", rng.normal(0, 1e5, (nt, n, 3)))
+    prob.set_val("M_csn", rng.normal(0, 1e5, (nt, n, 3)))
+    prob.run_model()
+    comp = prob.model.s
+    out0 = {k: np.array(v) for k, v in comp._outputs.items()}
+    jac0 = comp._fjac(*comp._stacked_inputs(comp._inputs))
+    for jit in (comp._jit_f, comp._jit_fjac):
+        jit.jit.start(wait=True)
+    prob.run_model()
+    assert comp._jit_f.jit.state == "compiled" and comp._f.class_name() != "SXFunction"
+    for k, v in comp._outputs.items():
+        np.testing.assert_allclose(np.array(v), out0[k], rtol=1e-13, atol=1e-9)
+    comp._fjac = comp._jit_fjac.update(comp._fjac)
+    assert comp._jit_fjac.jit.state == "compiled"
+    jac1 = comp._fjac(*comp._stacked_inputs(comp._inputs))
+    for a, b in zip(jac1 if isinstance(jac1, (list, tuple)) else [jac1], jac0 if isinstance(jac0, (list, tuple)) else [jac0]):
+        np.testing.assert_allclose(np.array(a), np.array(b), rtol=1e-13, atol=1e-9)

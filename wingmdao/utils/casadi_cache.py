@@ -1,0 +1,233 @@
+"""Compiled CasADi functions: C code generation + gcc, cached on disk, compiled in the background.
+
+CasADi's virtual machine evaluates the beam's big SX functions (residual, Newton matrix,
+Jacobian history) 4-20x slower than the same expressions compiled to C (docs/time-marching.md,
+"Compiled functions"). Compiling the largest ones takes tens of seconds at -O1, so:
+
+* the shared library is cached, keyed by a SHA-256 of the function's serialized form, the CasADi
+  version and the compiler flags, in ``$WINGMDAO_CACHE`` (default ``~/.cache/wingmdao/casadi``);
+  a cache hit costs a hash and a ``dlopen``;
+* :class:`JitFunction` starts compiling only once a function has been evaluated often
+  (``threshold`` evaluations: long marches and optimizations, not short analyses), in a
+  background thread running gcc in a subprocess, and switches to the compiled code when it is
+  ready; until then (and whenever gcc is missing or fails, with one warning) the interpreted
+  function is used. Results are identical to round-off (same expression graph).
+* ``WINGMDAO_JIT=0`` disables all of it.
+
+Libraries are written to a temporary name and renamed atomically, so concurrent processes can
+share the cache.
+"""
+
+from __future__ import annotations
+
+import atexit
+import hashlib
+import os
+import shutil
+import subprocess
+import tempfile
+import threading
+import warnings
+from pathlib import Path
+
+import casadi as ca
+
+ENV_CACHE = "WINGMDAO_CACHE"
+ENV_JIT = "WINGMDAO_JIT"
+#: Compiler flags: -O1 is 10-20x faster than the CasADi VM on the beam functions; -O2/-O3 compile
+#: much longer for little more.
+DEFAULT_FLAGS = ("-O1",)
+
+_lock = threading.Lock()
+_running: set = set()          # gcc subprocesses to terminate at exit
+_warned = False
+
+
+class CompileError(RuntimeError):
+    """Code generation or compilation of a CasADi function failed."""
+
+
+def jit_enabled() -> bool:
+    """False when the environment variable ``WINGMDAO_JIT`` is 0/false/no/off."""
+    return os.environ.get(ENV_JIT, "1").strip().lower() not in ("0", "false", "no", "off")
+
+
+def cache_dir() -> Path:
+    """Folder of the compiled libraries (``$WINGMDAO_CACHE`` or ``~/.cache/wingmdao/casadi``)."""
+    env = os.environ.get(ENV_CACHE)
+    return Path(env).expanduser() if env else Path.home() / ".cache" / "wingmdao" / "casadi"
+
+
+def compiler() -> str | None:
+    """Path of the C compiler (``$CC`` or gcc), or None."""
+    return shutil.which(os.environ.get("CC", "gcc"))
+
+
+def function_key(fun: ca.Function, flags=DEFAULT_FLAGS) -> str:
+    """SHA-256 over the serialized function, the CasADi version and the flags."""
+    h = hashlib.sha256()
+    h.update(fun.serialize().encode())
+    h.update(ca.__version__.encode())
+    h.update(" ".join(flags).encode())
+    return h.hexdigest()[:32]
+
+
+def library_path(fun: ca.Function, flags=DEFAULT_FLAGS, key: str | None = None) -> Path:
+    return cache_dir() / f"{fun.name()}_{key or function_key(fun, flags)}.so"
+
+
+def load(fun: ca.Function, path: Path) -> ca.Function:
+    """The compiled library at ``path`` as a CasADi Function with ``fun``'s signature."""
+    ext = ca.external(fun.name(), str(path))
+    if ext.n_in() != fun.n_in() or ext.n_out() != fun.n_out():
+        raise CompileError(f"{path}: signature differs from {fun.name()}")
+    for i in range(fun.n_in()):
+        if ext.sparsity_in(i) != fun.sparsity_in(i):
+            raise CompileError(f"{path}: input {i} sparsity differs from {fun.name()}")
+    for i in range(fun.n_out()):
+        if ext.sparsity_out(i) != fun.sparsity_out(i):
+            raise CompileError(f"{path}: output {i} sparsity differs from {fun.name()}")
+    return ext
+
+
+def compile_library(fun: ca.Function, flags=DEFAULT_FLAGS, key: str | None = None,
+                    timeout: float = 900.0) -> Path:
+    """Generate C for ``fun``, compile it into the cache and return the library path."""
+    cc = compiler()
+    if cc is None:
+        raise CompileError("no C compiler (gcc) on PATH")
+    target = library_path(fun, flags, key)
+    if target.exists():
+        return target
+    target.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(prefix="wingmdao_jit_") as tmp:
+        src = Path(tmp) / f"{fun.name()}.c"
+        gen = ca.CodeGenerator(src.stem, {"with_header": False})
+        gen.add(fun)
+        gen.generate(str(Path(tmp)) + os.sep)
+        out = Path(tmp) / "lib.so"
+        cmd = [cc, "-shared", "-fPIC", *flags, str(src), "-o", str(out)]
+        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        with _lock:
+            _running.add(proc)
+        try:
+            _, err = proc.communicate(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            raise CompileError(f"compiling {fun.name()} took more than {timeout} s")
+        finally:
+            with _lock:
+                _running.discard(proc)
+        if proc.returncode != 0:
+            raise CompileError(f"gcc failed on {fun.name()}: {err.strip()[-300:]}")
+        partial = target.with_name(f".{target.name}.{os.getpid()}.{threading.get_ident()}")
+        shutil.copyfile(out, partial)
+        os.replace(partial, target)     # atomic: readers see the whole library or none
+    return target
+
+
+def cached(fun: ca.Function, flags=DEFAULT_FLAGS) -> ca.Function | None:
+    """The compiled version of ``fun`` if it is in the cache (and loads), else None."""
+    path = library_path(fun, flags)
+    if not path.exists():
+        return None
+    try:
+        return load(fun, path)
+    except Exception:           # corrupt or foreign library: ignore, it will be rebuilt
+        return None
+
+
+def compiled(fun: ca.Function, flags=DEFAULT_FLAGS) -> ca.Function:
+    """``fun`` compiled now (from the cache when present); ``fun`` itself if that fails."""
+    if not jit_enabled():
+        return fun
+    try:
+        key = function_key(fun, flags)
+        path = library_path(fun, flags, key)
+        if path.exists():
+            try:
+                return load(fun, path)
+            except Exception:
+                path.unlink(missing_ok=True)
+        return load(fun, compile_library(fun, flags, key))
+    except Exception as exc:    # noqa: BLE001 - any failure falls back to the interpreted function
+        _warn_once(exc)
+        return fun
+
+
+def _warn_once(exc):
+    global _warned
+    if not _warned:
+        _warned = True
+        warnings.warn(f"wingmdao: CasADi compilation unavailable, using the interpreted functions ({exc})",
+                      RuntimeWarning, stacklevel=3)
+
+
+@atexit.register
+def _terminate_compiles():
+    with _lock:
+        procs = list(_running)
+    for proc in procs:
+        try:
+            proc.kill()
+        except Exception:       # noqa: BLE001
+            pass
+
+
+class JitFunction:
+    """A CasADi function that switches itself to compiled C after ``threshold`` evaluations.
+
+    ``current`` is the function to call; :meth:`count` records evaluations and, at the threshold,
+    loads the cached library or starts a background compile; :meth:`poll` (cheap, call it
+    between evaluations) returns True once when the compiled function has replaced ``current``.
+    """
+
+    def __init__(self, fun: ca.Function, threshold: int = 2000, flags=DEFAULT_FLAGS):
+        self.interpreted = fun
+        self.current = fun
+        self.threshold = threshold
+        self.flags = tuple(flags)
+        self.evaluations = 0
+        self.state = "interpreted"   # -> "compiling" -> "compiled" | "failed" | "disabled"
+        self._ready = None
+        self._thread = None
+
+    def count(self, n: int = 1) -> None:
+        self.evaluations += n
+        if self.state == "interpreted" and self.evaluations >= self.threshold:
+            self.start()
+
+    def start(self, wait: bool = False) -> None:
+        """Load from the cache or compile (in the background unless ``wait``)."""
+        if self.state not in ("interpreted", "compiling"):
+            return
+        if not jit_enabled() or compiler() is None:
+            self.state = "disabled"
+            return
+        if self.state == "interpreted":
+            hit = cached(self.interpreted, self.flags)
+            if hit is not None:
+                self._ready = hit
+                self.state = "compiling"
+                return
+            self.state = "compiling"
+            self._thread = threading.Thread(target=self._compile, daemon=True,
+                                            name=f"jit-{self.interpreted.name()}")
+            self._thread.start()
+        if wait and self._thread is not None:
+            self._thread.join()
+
+    def _compile(self):
+        try:
+            path = compile_library(self.interpreted, self.flags)
+            self._ready = load(self.interpreted, path)
+        except Exception as exc:    # noqa: BLE001
+            _warn_once(exc)
+            self.state = "failed"
+
+    def poll(self) -> bool:
+        if self._ready is not None:
+            self.current, self._ready = self._ready, None
+            self.state = "compiled"
+            return True
+        return False
