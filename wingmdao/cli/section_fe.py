@@ -16,6 +16,9 @@ def register(subparsers):
                    help="solid rectangle width and height (m) instead of a file")
     p.add_argument("--material", nargs=3, type=float, metavar=("E", "NU", "RHO"),
                    help="isotropic material for --rectangle: E (Pa), nu, rho (kg/m^3)")
+    p.add_argument("--mesher", choices=["gmsh", "structured"], default=None,
+                   help="mesher of airfoil wingboxes (overrides the file's section.mesher; default gmsh, "
+                        "or the built-in structured mesher when gmsh is missing or the section has stringers)")
     p.add_argument("--json", default="-", metavar="PATH", help="output file ('-' = standard output)")
     p.set_defaults(func=run)
 
@@ -34,5 +37,7 @@ def run(args) -> int:
         desc = load_description(args.file)
     else:
         raise ValueError("give a section description FILE or --rectangle W H --material E NU RHO")
+    if args.mesher:
+        desc.setdefault("section", {})["mesher"] = args.mesher
     write_json(analyse_description(desc), args.json)
     return 0

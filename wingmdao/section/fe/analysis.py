@@ -237,3 +237,36 @@ def beam_properties_csn(section: Section) -> dict:
     return {"stiffness_csn": K_csn, "compliance_csn": np.array([fc @ F @ fc, 1.0 / EA, fn @ F @ fn]),
             "tension_center_cn": section.tension_center.copy(), "shear_center_cn": section.shear_center.copy(),
             "mass_per_length": m, "mass_center_cn": section.mass_center.copy(), "inertia_csn": inertia}
+
+
+_JOBS: list = []   # jobs of analyse_sections, inherited by forked workers (closures need not pickle)
+
+
+def _run_job(k):
+    job = _JOBS[k]
+    return analyse_section(job() if callable(job) else job)
+
+
+def analyse_sections(jobs, processes: int | None = None) -> list:
+    """:func:`analyse_section` of many sections (e.g. all stations of a wing) on worker processes.
+
+    ``jobs``: meshes, or zero-argument callables that build a mesh (then meshing runs in the
+    workers too). ``processes``: default the CPU count; 1 = serial in this process. Workers are
+    forked (they inherit the jobs, so closures such as airfoil surface functions are fine);
+    where fork is unavailable the jobs run serially.
+    """
+    import multiprocessing as mp
+    import os
+    from concurrent.futures import ProcessPoolExecutor
+
+    global _JOBS
+    jobs = list(jobs)
+    n_proc = min(len(jobs), processes or os.cpu_count() or 1)
+    if n_proc <= 1 or "fork" not in mp.get_all_start_methods():
+        return [analyse_section(j() if callable(j) else j) for j in jobs]
+    _JOBS = jobs
+    try:
+        with ProcessPoolExecutor(max_workers=n_proc, mp_context=mp.get_context("fork")) as pool:
+            return list(pool.map(_run_job, range(len(jobs))))
+    finally:
+        _JOBS = []

@@ -10,6 +10,7 @@ from .airfoil import naca_surfaces, selig_surfaces
 from .analysis import analyse_section, beam_properties_csn
 from .box_match import match_box
 from .materials import isotropic, orthotropic
+from .gmsh_mesh import airfoil_box_mesh_gmsh
 from .mesh import airfoil_box_mesh, box_mesh, channel_mesh, rectangle_mesh, tube_mesh
 
 _ORTHO_KEYS = ("E1", "E2", "E3", "G12", "G13", "G23", "nu12", "nu13", "nu23", "rho")
@@ -55,6 +56,13 @@ def _wall(spec, mats, name):
             "angle_deg": float(spec.get("angle_deg", 0.0))}
 
 
+def default_airfoil_mesher(stringers=()) -> str:
+    """'gmsh' when it imports and there are no stringers (not supported by it), else 'structured'."""
+    from .gmsh_mesh import gmsh_available
+
+    return "gmsh" if gmsh_available() and not stringers else "structured"
+
+
 def build_mesh(desc):
     """Mesh from a description dict; returns (mesh, context) where context carries airfoil box data."""
     mats = build_materials(desc.get("materials"))
@@ -88,10 +96,14 @@ def build_mesh(desc):
             if st.get("material") not in mats:
                 raise ValueError(f"stringer {k}: unknown material {st.get('material')!r}; defined: {sorted(mats)}")
             stringers.append({**st, "material": mats[st["material"]]})
-        mesh = airfoil_box_mesh(up, lo, float(sec["chord"]), float(sec["front_spar"]), float(sec["rear_spar"]),
-                                walls, float(sec.get("twist_deg", 0.0)), n_thick, size,
-                                sec.get("skin_offset", "inward"), stringers, sec.get("corners", "mitre"))
-        return mesh, {"walls": walls, "chord": float(sec["chord"]),
+        mesher = sec.get("mesher") or default_airfoil_mesher(stringers)
+        if mesher not in ("gmsh", "structured"):
+            raise ValueError(f"section.mesher must be 'gmsh' or 'structured', got {mesher!r}")
+        build = airfoil_box_mesh_gmsh if mesher == "gmsh" else airfoil_box_mesh
+        mesh = build(up, lo, float(sec["chord"]), float(sec["front_spar"]), float(sec["rear_spar"]),
+                     walls, float(sec.get("twist_deg", 0.0)), n_thick, size,
+                     sec.get("skin_offset", "inward"), stringers, sec.get("corners", "mitre"))
+        return mesh, {"walls": walls, "chord": float(sec["chord"]), "mesher": mesher,
                       "spars": (float(sec["front_spar"]), float(sec["rear_spar"]))}
     raise ValueError(f"section shape must be rectangle, tube, channel, box or airfoil, got {shape!r}")
 
@@ -103,6 +115,8 @@ def analyse_description(desc) -> dict:
     out = {"stiffness_6x6": sec.stiffness, "mass_6x6": sec.mass, "shear_center": sec.shear_center,
            "tension_center": sec.tension_center, "mass_center": sec.mass_center, "area": sec.area,
            "n_elements": int(mesh.elements.shape[0])}
+    if ctx is not None:
+        out["mesher"] = ctx["mesher"]
     vbs = beam_properties_csn(sec)
     out["beam_csn"] = vbs
     if ctx is not None:
