@@ -23,9 +23,9 @@ import casadi as ca
 import numpy as np
 import scipy.optimize as so
 
-from wingmdao.section.fe.analysis import _assemble, _assemble_rect, _element_operators, analyse_section
+from wingmdao.section.fe.analysis import analyse_section, assemble, assemble_rect, element_operators
 from wingmdao.section.fe.materials import Material, isotropic
-from wingmdao.section.fe.mesh import SectionMesh, _q9_from_grid, _refine_edges
+from wingmdao.section.fe.mesh import SectionMesh, q9_from_grid, refine_edges
 
 #: names of the 9 orthotropic parameters of Eq. 4.4 (VABS strain order 11, 12, 13, 22, 23, 33)
 PARAM_NAMES = ("c11", "c14", "c16", "c22", "c33", "c44", "c46", "c55", "c66")
@@ -129,9 +129,9 @@ def stiffened_plate_mesh(stiffeners=(), width=PLATE_WIDTH, thickness=PLATE_THICK
     Qs = [material.C] + [material.C if region_Q is None else np.asarray(region_Q[k]) for k in range(len(stiffeners))]
     Q = np.array(Qs)[region]
     rho = np.full(XM.shape, material.rho)
-    X, Y = np.meshgrid(_refine_edges(xe), _refine_edges(ye), indexing="ij")
+    X, Y = np.meshgrid(refine_edges(xe), refine_edges(ye), indexing="ij")
     names = ["plate"] + [f"stiffener {k}" for k in range(len(stiffeners))]
-    return _q9_from_grid(X, Y, mask, Q, rho, region, names)
+    return q9_from_grid(X, Y, mask, Q, rho, region, names)
 
 
 def classical_stiffness(section) -> np.ndarray:
@@ -171,7 +171,7 @@ def initial_guess(stiffener: Stiffener, thickness=PLATE_THICKNESS, nu=0.33) -> n
 
 def _matrices(mesh, Q):
     """Assembled E, C, M (sparse) and R, L, A (dense) of the FE analysis for element stiffnesses Q."""
-    B, S, Z, wdet, _ = _element_operators(mesh)
+    B, S, Z, wdet, _ = element_operators(mesh)
     nn = mesh.nodes.shape[0]
     n = 3 * nn
     dofs = (3 * mesh.elements[:, :, None] + np.arange(3)).reshape(-1, 27)
@@ -182,8 +182,8 @@ def _matrices(mesh, Q):
     QS = (wQ @ S).reshape(ne, ng * 6, 27)
     Bt = B.reshape(ne, ng * 6, 27).transpose(0, 2, 1)
     St = S.reshape(ne, ng * 6, 27).transpose(0, 2, 1)
-    return (_assemble(mesh, Bt @ QB, dofs, n), _assemble(mesh, St @ QB, dofs, n), _assemble(mesh, St @ QS, dofs, n),
-            _assemble_rect(Bt @ QZ, dofs, n, 6).toarray(), _assemble_rect(St @ QZ, dofs, n, 6).toarray(),
+    return (assemble(mesh, Bt @ QB, dofs, n), assemble(mesh, St @ QB, dofs, n), assemble(mesh, St @ QS, dofs, n),
+            assemble_rect(Bt @ QZ, dofs, n, 6).toarray(), assemble_rect(St @ QZ, dofs, n, 6).toarray(),
             (Z.reshape(ne, ng * 6, 6).transpose(0, 2, 1) @ QZ).sum(axis=0))
 
 

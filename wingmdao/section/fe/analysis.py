@@ -92,6 +92,22 @@ def _element_operators(mesh):
     return B.reshape(ne, ng, 6, 27), S.reshape(ne, ng, 6, 27), Z, wdet, pts
 
 
+def assemble(mesh, Ke, dofs, n):
+    """Sparse (n, n) matrix from element matrices Ke (ne, 27, 27) on element dofs (ne, 27)."""
+    return _assemble(mesh, Ke, dofs, n)
+
+
+def assemble_rect(Ke, dofs, n, m):
+    """Sparse (n, m) matrix from element blocks Ke (ne, 27, m) on element dofs (ne, 27)."""
+    return _assemble_rect(Ke, dofs, n, m)
+
+
+def element_operators(mesh):
+    """Strain operators B, S (ne, g, 6, 27), rigid-section operator Z (ne, g, 6, 6), weights (ne, g)
+    and Gauss points (ne, g, 2) of every element (Giavotto/BECAS form, docs/cross-section-fe.md)."""
+    return _element_operators(mesh)
+
+
 def _assemble(mesh, Ke, dofs, n):
     rows = np.broadcast_to(dofs[:, :, None], Ke.shape).ravel()
     cols = np.broadcast_to(dofs[:, None, :], Ke.shape).ravel()

@@ -61,6 +61,16 @@ def _wall_fractions(layers, n_thick):
     return np.array(edges), np.array(layer_of_cell)
 
 
+def q9_from_grid(X, Y, mask, cell_Q, cell_rho, cell_region, names, periodic_i=False) -> "SectionMesh":
+    """Q9 mesh from a node grid (2 ni + 1, 2 nj + 1) and a cell mask (ni, nj) with per-cell material."""
+    return _q9_from_grid(X, Y, mask, cell_Q, cell_rho, cell_region, names, periodic_i)
+
+
+def refine_edges(edges):
+    """Element edge coordinates (k + 1,) -> Q9 node lines (2 k + 1,) (midpoints inserted)."""
+    return _refine_edges(edges)
+
+
 def _q9_from_grid(X, Y, mask, cell_Q, cell_rho, cell_region, names, periodic_i=False):
     """Build a Q9 mesh from a node grid (2*ni+1, 2*nj+1) (or 2*ni with periodic_i) and a cell mask (ni, nj)."""
     ni, nj = mask.shape
