@@ -24,6 +24,7 @@ import atexit
 import hashlib
 import os
 import shutil
+import signal
 import subprocess
 import tempfile
 import threading
@@ -39,7 +40,7 @@ ENV_JIT = "WINGMDAO_JIT"
 DEFAULT_FLAGS = ("-O1",)
 
 _lock = threading.Lock()
-_running: set = set()          # gcc subprocesses to terminate at exit
+_running: dict = {}            # gcc process -> its temporary folder, cleaned up at exit
 _warned = False
 
 
@@ -100,16 +101,18 @@ def compile_library(fun: ca.Function, flags=DEFAULT_FLAGS, key: str | None = Non
     if target.exists():
         return target
     target.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(prefix="wingmdao_jit_") as tmp:
+    with tempfile.TemporaryDirectory(prefix="wingmdao_jit_", ignore_cleanup_errors=True) as tmp:
         src = Path(tmp) / f"{fun.name()}.c"
         gen = ca.CodeGenerator(src.stem, {"with_header": False})
         gen.add(fun)
         gen.generate(str(Path(tmp)) + os.sep)
         out = Path(tmp) / "lib.so"
         cmd = [cc, "-shared", "-fPIC", *flags, str(src), "-o", str(out)]
-        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        # own process group, so that exit can stop gcc *and* its cc1/as children
+        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                start_new_session=True)
         with _lock:
-            _running.add(proc)
+            _running[proc] = tmp
         try:
             _, err = proc.communicate(timeout=timeout)
         except subprocess.TimeoutExpired:
@@ -117,7 +120,7 @@ def compile_library(fun: ca.Function, flags=DEFAULT_FLAGS, key: str | None = Non
             raise CompileError(f"compiling {fun.name()} took more than {timeout} s")
         finally:
             with _lock:
-                _running.discard(proc)
+                _running.pop(proc, None)
         if proc.returncode != 0:
             raise CompileError(f"gcc failed on {fun.name()}: {err.strip()[-300:]}")
         partial = target.with_name(f".{target.name}.{os.getpid()}.{threading.get_ident()}")
@@ -165,13 +168,19 @@ def _warn_once(exc):
 
 @atexit.register
 def _terminate_compiles():
+    """Stop unfinished compiles (their process groups) and remove their temporary folders."""
     with _lock:
-        procs = list(_running)
-    for proc in procs:
+        running = list(_running.items())
+    for proc, tmp in running:
         try:
-            proc.kill()
+            os.killpg(proc.pid, signal.SIGKILL)
+        except Exception:       # noqa: BLE001 - already gone
+            pass
+        try:
+            proc.wait(timeout=5)
         except Exception:       # noqa: BLE001
             pass
+        shutil.rmtree(tmp, ignore_errors=True)
 
 
 class JitFunction:
