@@ -74,13 +74,15 @@ def wing_box_beam(name: str, elements_per_segment=(6, 8, 6), t_spar=T_SPAR, t_sk
     """Beam parameters (``param_specs`` names) of the box and the node index of each station.
 
     ``section_mapping``: 'normal' (default) takes the box properties of the beam-normal cut;
-    'rotated' those of the streamwise cut rotated into csn (Eq. F.31, docs/beam-theory.md 9).
+    'rotated' those of the streamwise cut rotated into csn (Eq. F.31, docs/beam-theory.md 9);
+    'fe' the section FE (Giavotto/BECAS, ``wingmdao.section.fe``) of the beam-normal cut: the
+    dissertation's "VbS" beam on the detailed section (thick-wall torsion, FE shear stiffness).
     """
     from wingmdao.beam.geometry import streamwise_section_to_csn
     from wingmdao.section.box import box_properties
 
-    if section_mapping not in ("normal", "rotated"):
-        raise ValueError(f"section_mapping must be 'normal' or 'rotated', got {section_mapping!r}")
+    if section_mapping not in ("normal", "rotated", "fe"):
+        raise ValueError(f"section_mapping must be 'normal', 'rotated' or 'fe', got {section_mapping!r}")
 
     for label, v in (("t_spar", t_spar), ("t_skin", t_skin)):
         if not (np.isfinite(v) and v > 0.0):
@@ -96,7 +98,9 @@ def wing_box_beam(name: str, elements_per_segment=(6, 8, 6), t_spar=T_SPAR, t_sk
     rows = []
     R = streamwise_section_to_csn(geo.node_euler_angles)
     for i in range(geo.num_nodes):
-        if section_mapping == "normal":
+        if section_mapping == "fe":
+            rows.append(_fe_box_row(*streamwise_to_normal(width[i], height[i], t_spar, t_skin, T[i, 1]), material))
+        elif section_mapping == "normal":
             w, h, ts, tk = streamwise_to_normal(width[i], height[i], t_spar, t_skin, T[i, 1])
             rows.append(box_properties(w, h, tk, tk, ts, ts, material))
         else:
@@ -115,6 +119,28 @@ def wing_box_beam(name: str, elements_per_segment=(6, 8, 6), t_spar=T_SPAR, t_sk
         "inertia_per_length": np.array([r["inertia_per_length"] for r in rows]).reshape(n, 3, 3),
     }
     return params, geo.key_nodes
+
+
+_FE_ROWS: dict = {}
+
+
+def _fe_box_row(w, h, t_spar, t_skin, material, mesh_size=0.05):
+    """Beam data of a w x h box (spars t_spar, skins t_skin) from the section FE, in the
+    ``box_properties`` row format (cached per distinct cut)."""
+    from wingmdao.section.fe import analyse_section, beam_properties_csn, box_mesh, isotropic
+
+    key = tuple(round(float(v), 12) for v in (w, h, t_spar, t_skin)) + (material.name,)
+    if key not in _FE_ROWS:
+        mat = isotropic(material.E, material.nu, material.rho)
+        walls = {"upper": {"thickness": t_skin, "material": mat}, "lower": {"thickness": t_skin, "material": mat},
+                 "front": {"thickness": t_spar, "material": mat}, "rear": {"thickness": t_spar, "material": mat}}
+        props = beam_properties_csn(analyse_section(box_mesh(w, h, walls, mesh_size=mesh_size, corners="skins")))
+        (c_ea, n_ea), (c_sc, n_sc), (c_cg, n_cg) = (props["tension_center_cn"], props["shear_center_cn"],
+                                                    props["mass_center_cn"])
+        _FE_ROWS[key] = {"stiffness_csn": props["stiffness_csn"], "compliance_csn": props["compliance_csn"],
+                         "c_ea": c_ea, "n_ea": n_ea, "c_sc": c_sc, "n_sc": n_sc, "c_cg": c_cg, "n_cg": n_cg,
+                         "mass_per_length": props["mass_per_length"], "inertia_per_length": props["inertia_csn"]}
+    return _FE_ROWS[key]
 
 
 def solve_wing_box(name: str, tip_force=(0.0, 0.0, 0.0), tip_moment=(0.0, 0.0, 0.0), gravity=False,
