@@ -111,8 +111,8 @@ def test_presize_is_fully_stressed_and_reaches_the_same_optimum(maneuver):
 
 
 def test_gust_damping_option_sets_strain_rate_damping_at_the_first_mode():
-    """--damping-ratio: t = zeta / (pi f1) with f1 the initial design's first mode (here ~2.2 Hz,
-    checked against a 1-DOF-free estimate: between 1 and 5 Hz for this 12 m aluminium wing)."""
+    """--damping-ratio: t = zeta / (pi f1) with f1 the initial design's first mode (2.2 Hz; only a
+    plausibility range is asserted here: the frequency itself is tested in test_beam_damping)."""
     from wingmdao.sizing import build_problem
 
     setup = pegasus.build(case_arguments(pegasus, loads="gust", damping_ratio=0.02, t_final=0.5, dt=0.05))
