@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .mesh import SectionMesh, _check_positive, _layers, _n_span, _wall_fractions
+from .mesh import SectionMesh, _n_span, airfoil_box_walls
 from .materials import ply_stiffness
 
 #: gmsh QUA9 node order -> tensor order 3 * j + i of wingmdao.section.fe.analysis.
@@ -75,17 +75,7 @@ def airfoil_box_mesh_gmsh(upper, lower, chord, front_spar, rear_spar, walls, twi
     """
     if stringers:
         raise ValueError("stringers: not supported by the gmsh mesher; use mesher='structured'")
-    if corners not in ("skins", "mitre"):
-        raise ValueError(f"corners must be 'skins' or 'mitre', got {corners!r}")
-    if skin_offset not in ("inward", "midline"):
-        raise ValueError(f"skin_offset must be 'inward' or 'midline', got {skin_offset!r}")
-    _check_positive(chord=chord)
-    if not 0.0 < front_spar < rear_spar < 1.0:
-        raise ValueError(f"need 0 < front_spar < rear_spar < 1 (chord fractions), got {front_spar}, {rear_spar}")
-    names = ["upper", "lower", "front", "rear"]
-    L = {w: _layers(walls[w], w, n_thick) for w in names}
-    T = {w: sum(t for _, t, _ in L[w]) for w in names}
-    fr = {w: _wall_fractions(L[w], n_thick) for w in names}
+    names, L, T, fr = airfoil_box_walls(walls, chord, front_spar, rear_spar, n_thick, skin_offset, corners)
     xf, xr = front_spar * chord, rear_spar * chord
     h = mesh_size or chord / 60
     z_up, z_lo, t_up, t_lo, s_up, s_lo = _surface_functions(upper, lower, chord, T, skin_offset)

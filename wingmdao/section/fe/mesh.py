@@ -222,6 +222,23 @@ def tube_mesh(diameter, wall, n_thick=5, n_around=None):
     return _q9_from_grid(X, Y, mask, Q, rho, np.zeros((n_around, nr), int), ["tube"], periodic_i=True)
 
 
+def airfoil_box_walls(walls, chord, front_spar, rear_spar, n_thick, skin_offset, corners):
+    """Checked options and wall data of an airfoil wingbox (shared by the structured and gmsh meshers):
+    wall names, layers per wall (outer -> inner), wall thicknesses and element-edge fractions."""
+    if corners not in ("skins", "mitre"):
+        raise ValueError(f"corners must be 'skins' or 'mitre', got {corners!r}")
+    if skin_offset not in ("inward", "midline"):
+        raise ValueError(f"skin_offset must be 'inward' or 'midline', got {skin_offset!r}")
+    _check_positive(chord=chord)
+    if not 0.0 < front_spar < rear_spar < 1.0:
+        raise ValueError(f"need 0 < front_spar < rear_spar < 1 (chord fractions), got {front_spar}, {rear_spar}")
+    names = ["upper", "lower", "front", "rear"]
+    L = {w: _layers(walls[w], w, n_thick) for w in names}
+    T = {w: sum(t for _, t, _ in L[w]) for w in names}
+    fr = {w: _wall_fractions(L[w], n_thick) for w in names}
+    return names, L, T, fr
+
+
 def airfoil_box_mesh(upper, lower, chord, front_spar, rear_spar, walls, twist_deg=0.0,
                      n_thick=5, mesh_size=None, skin_offset="inward", stringers=(), corners="mitre"):
     """Wingbox of an airfoil between spars (mapped Q9 grid); origin at the leading edge, x2 aft along the chord.
@@ -235,17 +252,7 @@ def airfoil_box_mesh(upper, lower, chord, front_spar, rear_spar, walls, twist_de
     of its centre, 'width', 'height' (m), 'material'} standing on the inner skin face; all stringers
     on one surface share one height. ``corners``: as for :func:`box_mesh` ('mitre' or 'skins').
     """
-    if corners not in ("skins", "mitre"):
-        raise ValueError(f"corners must be 'skins' or 'mitre', got {corners!r}")
-    if skin_offset not in ("inward", "midline"):
-        raise ValueError(f"skin_offset must be 'inward' or 'midline', got {skin_offset!r}")
-    _check_positive(chord=chord)
-    if not 0.0 < front_spar < rear_spar < 1.0:
-        raise ValueError(f"need 0 < front_spar < rear_spar < 1 (chord fractions), got {front_spar}, {rear_spar}")
-    names = ["upper", "lower", "front", "rear"]
-    L = {w: _layers(walls[w], w, n_thick) for w in names}
-    T = {w: sum(t for _, t, _ in L[w]) for w in names}
-    fr = {w: _wall_fractions(L[w], n_thick) for w in names}
+    names, L, T, fr = airfoil_box_walls(walls, chord, front_spar, rear_spar, n_thick, skin_offset, corners)
     xf, xr = front_spar * chord, rear_spar * chord
     h = mesh_size or chord / 60
     xs, xc = [], []
