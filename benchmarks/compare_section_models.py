@@ -9,8 +9,6 @@ reference (no shell model in this repository).
 
 import time
 
-import numpy as np
-
 from wingmdao.verification.section_models import compare_1g
 
 t0 = time.perf_counter()
