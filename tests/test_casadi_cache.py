@@ -159,3 +159,28 @@ def test_pointwise_component_switches_to_compiled(jit_env, monkeypatch):
     jac1 = comp._fjac(*comp._stacked_inputs(comp._inputs))
     for a, b in zip(jac1 if isinstance(jac1, (list, tuple)) else [jac1], jac0 if isinstance(jac0, (list, tuple)) else [jac0]):
         np.testing.assert_allclose(np.array(a), np.array(b), rtol=1e-13, atol=1e-9)
+
+
+def test_compile_running_at_exit_finishes_and_fills_the_cache(jit_env):
+    """A background compile still running when the program exits completes detached; the next run
+    finds the library (and no temporary files are left)."""
+    import sys
+    import time
+
+    script = (
+        "import casadi as ca\n"
+        "from wingmdao.utils.casadi_cache import JitFunction\n"
+        "x = ca.SX.sym('x', 30)\n"
+        "f = ca.Function('exit_case', [x], [ca.sumsqr(ca.sin(x)) * ca.exp(x[0])])\n"
+        "JitFunction(f, threshold=0).start()\n"
+        "import time; time.sleep(0.5)\n"
+    )
+    subprocess.run([sys.executable, "-c", script], check=True, timeout=120)
+    for _ in range(240):
+        libs = list(jit_env.glob("exit_case_*.so"))
+        if libs:
+            break
+        time.sleep(0.25)
+    assert len(libs) == 1
+    time.sleep(0.5)
+    assert not list(jit_env.glob(".*"))                   # sources, partial libraries, logs removed

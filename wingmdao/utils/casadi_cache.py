@@ -15,14 +15,15 @@ Jacobian history) 4-20x slower than the same expressions compiled to C (docs/tim
 * ``WINGMDAO_JIT=0`` disables all of it.
 
 Libraries are written to a temporary name and renamed atomically, so concurrent processes can
-share the cache.
+share the cache. gcc runs detached: a compile still running when the program ends finishes on
+its own (in well under a minute) and the next run finds the library.
 """
 
 from __future__ import annotations
 
-import atexit
 import hashlib
 import os
+import shlex
 import shutil
 import signal
 import subprocess
@@ -39,8 +40,6 @@ ENV_JIT = "WINGMDAO_JIT"
 #: much longer for little more.
 DEFAULT_FLAGS = ("-O1",)
 
-_lock = threading.Lock()
-_running: dict = {}            # gcc process -> its temporary folder, cleaned up at exit
 _warned = False
 
 
@@ -93,7 +92,12 @@ def load(fun: ca.Function, path: Path) -> ca.Function:
 
 def compile_library(fun: ca.Function, flags=DEFAULT_FLAGS, key: str | None = None,
                     timeout: float = 900.0) -> Path:
-    """Generate C for ``fun``, compile it into the cache and return the library path."""
+    """Generate C for ``fun``, compile it into the cache and return the library path.
+
+    gcc runs detached (own session, output to a log file) from a shell that also moves the
+    library into place: a compile still running when Python exits finishes on its own and
+    fills the cache for the next run.
+    """
     cc = compiler()
     if cc is None:
         raise CompileError("no C compiler (gcc) on PATH")
@@ -101,31 +105,30 @@ def compile_library(fun: ca.Function, flags=DEFAULT_FLAGS, key: str | None = Non
     if target.exists():
         return target
     target.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(prefix="wingmdao_jit_", ignore_cleanup_errors=True) as tmp:
-        src = Path(tmp) / f"{fun.name()}.c"
-        gen = ca.CodeGenerator(src.stem, {"with_header": False})
+    stem = f".{target.stem}.{os.getpid()}.{threading.get_ident()}"
+    src, partial, log = (target.with_name(stem + ext) for ext in (".c", ".so", ".log"))
+    with tempfile.TemporaryDirectory(prefix="wingmdao_jit_") as tmp:
+        gen = ca.CodeGenerator(fun.name(), {"with_header": False})
         gen.add(fun)
         gen.generate(str(Path(tmp)) + os.sep)
-        out = Path(tmp) / "lib.so"
-        cmd = [cc, "-shared", "-fPIC", *flags, str(src), "-o", str(out)]
-        # own process group, so that exit can stop gcc *and* its cc1/as children
-        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                                start_new_session=True)
-        with _lock:
-            _running[proc] = tmp
-        try:
-            _, err = proc.communicate(timeout=timeout)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            raise CompileError(f"compiling {fun.name()} took more than {timeout} s")
-        finally:
-            with _lock:
-                _running.pop(proc, None)
-        if proc.returncode != 0:
-            raise CompileError(f"gcc failed on {fun.name()}: {err.strip()[-300:]}")
-        partial = target.with_name(f".{target.name}.{os.getpid()}.{threading.get_ident()}")
-        shutil.copyfile(out, partial)
-        os.replace(partial, target)     # atomic: readers see the whole library or none
+        shutil.move(str(Path(tmp) / f"{fun.name()}.c"), src)
+    compile_cmd = " ".join(shlex.quote(a) for a in [cc, "-shared", "-fPIC", *flags, str(src), "-o", str(partial)])
+    # the mv is atomic on one file system: readers see the whole library or none
+    script = (f"{compile_cmd} && mv -f {shlex.quote(str(partial))} {shlex.quote(str(target))} "
+              f"&& rm -f {shlex.quote(str(log))}; "   # the log is kept only when gcc failed
+              f"status=$?; rm -f {shlex.quote(str(src))} {shlex.quote(str(partial))}; exit $status")
+    with open(log, "w") as log_file:
+        proc = subprocess.Popen(["sh", "-c", script], stdin=subprocess.DEVNULL, stdout=log_file,
+                                stderr=subprocess.STDOUT, start_new_session=True)
+    try:
+        proc.wait(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        raise CompileError(f"compiling {fun.name()} took more than {timeout} s")
+    err = log.read_text(errors="replace") if log.exists() else ""
+    log.unlink(missing_ok=True)
+    if proc.returncode != 0 or not target.exists():
+        raise CompileError(f"gcc failed on {fun.name()}: {err.strip()[-300:]}")
     return target
 
 
@@ -164,23 +167,6 @@ def _warn_once(exc):
         _warned = True
         warnings.warn(f"wingmdao: CasADi compilation unavailable, using the interpreted functions ({exc})",
                       RuntimeWarning, stacklevel=3)
-
-
-@atexit.register
-def _terminate_compiles():
-    """Stop unfinished compiles (their process groups) and remove their temporary folders."""
-    with _lock:
-        running = list(_running.items())
-    for proc, tmp in running:
-        try:
-            os.killpg(proc.pid, signal.SIGKILL)
-        except Exception:       # noqa: BLE001 - already gone
-            pass
-        try:
-            proc.wait(timeout=5)
-        except Exception:       # noqa: BLE001
-            pass
-        shutil.rmtree(tmp, ignore_errors=True)
 
 
 class JitFunction:
