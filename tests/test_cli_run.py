@@ -87,3 +87,28 @@ def test_run_wing_box_bad_input(capsys):
     assert "--dt" in capsys.readouterr().err
     with pytest.raises(SystemExit):
         main(["run", "wing-box", "--geometry", "delta"])
+
+
+def test_run_wing_box_solid_model(tmp_path):
+    """``--model solid``: the 3-D solid's cut averages in the beam run's JSON keys."""
+    from wingmdao.verification.wingbox_solid import solve_wingbox
+
+    data = _run(tmp_path, "--geometry", "taper", "--model", "solid", "--tip-load", "0", "0", str(P),
+                "--tip-moment", "0", str(P), "0", "--mesh-size", "0.5", "--span-size", "1.0")
+    ref = solve_wingbox("taper", (0, 0, P), (0, P, 0), 0.5, span_size=1.0)
+    assert data["model"] == "solid" and data["stations"] == ["CS1", "CS2", "CS3", "CS4"]
+    assert data["displacement"][0] == 0.0
+    np.testing.assert_allclose(data["station_displacement"][1:], ref["displacement"], rtol=1e-12)
+    np.testing.assert_allclose(data["tip_rotation"], ref["rotation"][-1], rtol=1e-12)
+    assert len(data["max_von_mises"]) == len(data["mean_von_mises"]) == 4
+    assert all(m >= a > 0 for m, a in zip(data["max_von_mises"], data["mean_von_mises"]))
+    # the clamp carries the tip load: R = -F, M = -(M_tip + r_tip x F)
+    np.testing.assert_allclose(data["root_reaction_force"], [0, 0, -P], atol=1e-6 * P)
+    assert data["mesh"]["num_dof"] > 0
+
+
+def test_run_wing_box_solid_rejects_beam_only_options(capsys):
+    assert main(["run", "wing-box", "--geometry", "prismatic", "--model", "solid", "--dynamic"]) == 2
+    assert "--dynamic" in capsys.readouterr().err
+    assert main(["run", "wing-box", "--geometry", "prismatic", "--model", "solid", "--mesh-size", "0"]) == 2
+    assert "--mesh-size" in capsys.readouterr().err

@@ -1,4 +1,5 @@
-"""``wingmdao run wing-box``: response of the App. D.1 'wing-like' box on the sizing model.
+"""``wingmdao run wing-box``: response of the App. D.1 'wing-like' box on the sizing model
+(``--model beam``, default) or on the independent 3-D solid model (``--model solid``).
 
 The box data and model builders live in :mod:`wingmdao.cases.wing_box` (Tables D.1, D.2, E.2).
 Body axes (x aft, y outboard, z up), SI units, aluminium (E = 70 GPa, nu = 0.33,
@@ -47,6 +48,19 @@ def register(subparsers):
     wb.add_argument("--load-steps", type=int, default=1, metavar="N", help="load steps of the static Newton solve (default 1)")
     wb.add_argument("--elements", type=int, nargs=3, default=(6, 8, 6), metavar=("N1", "N2", "N3"),
                     help="beam elements per segment CS1-CS2, CS2-CS3, CS3-CS4 (default 6 8 6)")
+    wb.add_argument("--model", choices=("beam", "solid"), default="beam",
+                    help="beam: the sizing model (default). solid: the independent linear 3-D solid (hex27) "
+                    "model of the same box (wingmdao.verification.wingbox_solid; root face clamped, load on a "
+                    "tip rib), with the same JSON keys: cut-average displacements and rotations of the "
+                    "streamwise cuts CS1..CS4, and max_von_mises / mean_von_mises over each cut; static, "
+                    "tip loads only")
+    wb.add_argument("--mesh-size", type=float, default=0.15, metavar="M",
+                    help="solid: cross-section element size (m, default 0.15: CS2/CS3 within 0.06 %% (force) and "
+                    "0.2 %% (torque) of the finest mesh, docs/verification-solid3d.md)")
+    wb.add_argument("--span-size", type=float, default=0.5, metavar="M", help="solid: element length along the span (m, default 0.5)")
+    wb.add_argument("--tip-introduction", choices=("diaphragm", "traction", "rigid"), default="diaphragm",
+                    help="solid: how the tip load enters: a rigid tip rib free to warp (default), the "
+                    "rigid-body-consistent traction, or a fully rigid tip face")
     wb.add_argument("--json", default="-", metavar="PATH", help="output file ('-' = standard output, the default)")
     wb.set_defaults(func=run_wing_box)
 
@@ -68,6 +82,15 @@ def _check_args(args):
         raise ValueError(f"--load-steps = {args.load_steps}; allowed range >= 1")
     if min(args.elements) < 1:
         raise ValueError(f"--elements = {list(args.elements)}; each must be >= 1")
+    if getattr(args, "model", "beam") == "solid":
+        bad = [flag for flag, on in (("--dynamic", args.dynamic), ("--check-totals", args.check_totals),
+                                      ("--gravity", args.gravity)) if on]
+        if bad:
+            raise ValueError(f"--model solid is a static tip-load analysis; it does not take {', '.join(bad)}")
+        for name, low, high in (("mesh_size", 0.02, 1.0), ("span_size", 0.05, 3.0)):
+            v = getattr(args, name)
+            if not (np.isfinite(v) and low <= v <= high):
+                raise ValueError(f"--{name.replace('_', '-')} = {v} m; allowed range [{low}, {high}] m")
 
 
 def wing_box_result(args) -> dict:
@@ -78,6 +101,8 @@ def wing_box_result(args) -> dict:
     from wingmdao.groups.load_case import STRESS_FAMILIES
 
     _check_args(args)
+    if getattr(args, "model", "beam") == "solid":
+        return solid_result(args)
     geometry, key, cos_sweep, cos_dih = case.wing_geometry(args.geometry, tuple(args.elements))
     n = geometry.num_nodes
     time = case.time_grid(args.t_final, args.dt) if args.dynamic else None
@@ -101,12 +126,42 @@ def wing_box_result(args) -> dict:
     if args.check_totals:
         res["check_totals_max_rel_error"] = case.totals_max_rel_error(prob, load)
     res["geometry"] = args.geometry
+    res["model"] = "beam"
     res["inputs"] = {"t_spar": args.t_spar, "t_skin": args.t_skin, "tip_load": list(args.tip_load),
                      "tip_moment": list(args.tip_moment), "gravity": bool(args.gravity),
                      "dynamic": bool(args.dynamic), "elements": list(args.elements),
                      "units": "SI (m, N, N*m, rad, Pa, s); body axes x aft, y outboard, z up"}
     prob.cleanup()
     return res
+
+
+def solid_result(args) -> dict:
+    """``wingmdao run wing-box --model solid``: the 3-D solid model's response in the JSON keys
+    of the beam run (CS1 is the clamped root face: zero displacement)."""
+    from wingmdao.cases.wing_box import station_summary
+    from wingmdao.verification.wingbox_solid import solve_wingbox
+
+    sol = solve_wingbox(args.geometry, args.tip_load, args.tip_moment, args.mesh_size,
+                        span_size=args.span_size, t_spar=args.t_spar, t_skin=args.t_skin,
+                        tip_load=args.tip_introduction)
+    disp = np.vstack([np.zeros(3), sol["displacement"]])
+    rot = np.vstack([np.zeros(3), sol["rotation"]])
+    return {
+        **station_summary(disp, rot),
+        "max_von_mises": sol["max_von_mises"].tolist(),
+        "mean_von_mises": sol["mean_von_mises"].tolist(),
+        "root_reaction_force": sol["root_reaction_force"].tolist(),
+        "root_reaction_moment": sol["root_reaction_moment"].tolist(),
+        "geometry": args.geometry,
+        "model": "solid",
+        "mesh": {"num_dof": int(sol["num_dof"]), "num_elements": int(sol["num_elements"]),
+                 "mesh_size": args.mesh_size, "span_size": args.span_size,
+                 "tip_introduction": args.tip_introduction, "element": "hex27 (triquadratic), linear elastic"},
+        "solve_time": float(sol["solve_time"]),
+        "inputs": {"t_spar": args.t_spar, "t_skin": args.t_skin, "tip_load": list(args.tip_load),
+                   "tip_moment": list(args.tip_moment),
+                   "units": "SI (m, N, N*m, rad, Pa, s); body axes x aft, y outboard, z up"},
+    }
 
 
 def _response(prob, geometry, key) -> dict:

@@ -26,7 +26,16 @@ import openmdao.api as om
 import scipy.sparse as sp
 
 from wingmdao.timemarch.bdf import bdf_coefficients, state_rates, time_step
-from wingmdao.timemarch.newton import factor
+from wingmdao.timemarch.newton import DENSE_MAX, factor
+from wingmdao.timemarch import static_lu
+
+
+#: Shortest history for which ``lu="auto"`` builds the static-pivot LU (its generation costs ~0.7 s
+#: once per pattern, 20-node beam).
+STATIC_LU_MIN_STEPS = 100
+#: Accepted componentwise backward error of a refined static-pivot solve (one refinement gives
+#: ~1e-16; SuperLU's unrefined solves reach 1e-11 to 2e-9 on the 20-node beam).
+STATIC_LU_TOL = 1e-12
 
 
 def _scatter(index, n_out):
@@ -50,11 +59,20 @@ class LinearizedHistory:
         beam-like system (8x its nonzeros), and touching that memory made a stored-factor sweep
         5x slower than refactoring (measured, see ``docs/time-marching.md``).
 
-    Identical consecutive ``A_n`` (linear systems) share one factorization.
+    lu : "superlu" | "static" | "auto". ``"static"`` factors the steps n >= 1 with one pivot
+        order and compiled code (:mod:`wingmdao.timemarch.static_lu`), each solve checked by its
+        componentwise backward error, refined, and redone with SuperLU if that fails. ``"auto"``
+        uses it when compiled CasADi functions are available and the history is long
+        (``n_time >= STATIC_LU_MIN_STEPS``, ``n_state > DENSE_MAX``).
+
+    Identical consecutive ``A_n`` (linear systems) share one factorization. Entries of the
+    Jacobian pattern that are zero at every step are dropped from ``A_n`` before factoring
+    (CasADi patterns are structural: 64 % of the 20-node beam's entries are zero for an
+    initially straight beam; SuperLU is 2.5x faster without them).
     """
 
     def __init__(self, system, time, states, p, forcing, *, initial="static",
-                 store_factors="auto", auto_limit=100_000):
+                 store_factors="auto", auto_limit=100_000, lu="auto"):
         t = np.asarray(time, dtype=float)
         self.dt = time_step(t)
         self.system = system
@@ -83,34 +101,86 @@ class LinearizedHistory:
         self._keep = None
         # steps with the same Newton matrix as the step before share one factorization
         same = np.zeros(self.n_time, dtype=bool)
-        same[1:] = np.all(self.a_data[1:] == self.a_data[:-1], axis=1)
+        same[1:] = np.all(self.m_data[1:] == self.m_data[:-1], axis=1)
         self._rep = np.maximum.accumulate(np.where(same, 0, np.arange(self.n_time)))
+        if lu not in ("auto", "superlu", "static"):
+            raise ValueError(f'lu must be "auto", "superlu" or "static", got {lu!r}')
+        if lu == "auto":
+            lu = "static" if (static_lu.compiled_available() and self.n_time >= STATIC_LU_MIN_STEPS
+                              and self.n_state > DENSE_MAX) else "superlu"
+        self.lu_method = lu if self.n_time > 1 else "superlu"
+        self._static = None           # (StaticPivotLU, factors of every step) once computed
+        self.static_stats = {"refined": 0, "fallback": 0}
 
     # ------------------------------------------------------------------ structure
-    def _build_newton_pattern(self):
+    def _newton_pattern(self):
+        """Union pattern of dR/dx, dR/dxdot and the diagonal (CSC order), with the slots of each
+        Jacobian's nonzeros in it and the scatter matrices; cached on the system (fixed there)."""
+        cached = getattr(self.system, "_linearized_history_pattern", None)
+        if cached is not None:
+            return cached
         n = self.n_state
         rx, cx, _ = self.patterns["x"]
         rd, cd, _ = self.patterns["xdot"]
         eye = np.arange(n)
         keys = np.unique(np.concatenate([cx * n + rx, cd * n + rd, eye * n + eye]))  # CSC order
-        self.a_rows, self.a_cols = keys % n, keys // n
-        self.a_indptr = np.searchsorted(self.a_cols, np.arange(n + 1))
-        pos_x = np.searchsorted(keys, cx * n + rx)
-        pos_d = np.searchsorted(keys, cd * n + rd)
-        pos_i = np.searchsorted(keys, eye * n + eye)
-        nnz = keys.size
-        # column scatter (each Jacobian nonzero has its own slot): no sparse products
-        self.a_data = np.zeros((self.n_time, nnz))
-        self.a_data[:, pos_x] = self.jx
-        self.a_data[:, pos_d] += self.coef[:, :1] * self.jxd
+        rows, cols = keys % n, keys // n
+        pat = {
+            "rows": rows, "cols": cols, "indptr": np.searchsorted(cols, np.arange(n + 1)),
+            "pos_x": np.searchsorted(keys, cx * n + rx), "pos_d": np.searchsorted(keys, cd * n + rd),
+            "pos_i": np.searchsorted(keys, eye * n + eye),
+            "scatter_rows": {k: _scatter(self.patterns[k][0], n) for k in self.patterns},
+            "scatter_cols": {k: _scatter(self.patterns[k][1], self.patterns[k][2][1]) for k in self.patterns},
+        }
+        try:
+            self.system._linearized_history_pattern = pat
+        except AttributeError:      # a system that takes no attributes: recompute next time
+            pass
+        return pat
+
+    def _build_newton_pattern(self):
+        """``A_n`` of every step on the pattern of entries that are nonzero at some step."""
+        n = self.n_state
+        pat = self._newton_pattern()
+        self.a_rows, self.a_cols, self.a_indptr = pat["rows"], pat["cols"], pat["indptr"]
+        pos_x, pos_d, pos_i = pat["pos_x"], pat["pos_d"], pat["pos_i"]
+        # drop entries that are zero at every step (structural zeros of the CasADi patterns)
+        x_nz = np.any(self.jx != 0.0, axis=0)
+        d_nz = np.any(self.jxd != 0.0, axis=0)
+        used = np.zeros(self.a_rows.size, dtype=bool)
+        used[pos_x[x_nz]] = True
+        used[pos_d[d_nz]] = True
         if self.initial == "state":
-            self.a_data[0, pos_i] = 1.0
-        self._scatter_rows = {k: _scatter(self.patterns[k][0], n) for k in self.patterns}
-        self._scatter_cols = {k: _scatter(self.patterns[k][1], self.patterns[k][2][1]) for k in self.patterns}
+            used[pos_i] = True
+        slot = np.cumsum(used) - 1                  # position of a used union slot in m_data
+        self._used = used
+        self.m_rows = self.a_rows[used]
+        self.m_cols = self.a_cols[used]
+        self.m_indptr = np.searchsorted(self.m_cols, np.arange(n + 1))
+        self.m_data = np.zeros((self.n_time, self.m_rows.size))
+        self.m_data[:, slot[pos_x[x_nz]]] = self.jx[:, x_nz]
+        self.m_data[:, slot[pos_d[d_nz]]] += self.coef[:, :1] * self.jxd[:, d_nz]
+        if self.initial == "state":
+            self.m_data[0, slot[pos_i]] = 1.0
+        # dR/dxdot likewise, for the history products of the sweeps
+        rd, cd, _ = self.patterns["xdot"]
+        self._xd = (rd[d_nz], cd[d_nz], np.ascontiguousarray(self.jxd[:, d_nz]))
+        self._scatter_rows = pat["scatter_rows"]
+        self._scatter_cols = pat["scatter_cols"]
+        self._a_data = None
+
+    @property
+    def a_data(self) -> np.ndarray:
+        """Nonzeros of every ``A_n`` on the full union pattern ``a_rows, a_indptr`` (n_time, nnz)."""
+        if self._a_data is None:
+            self._a_data = np.zeros((self.n_time, self.a_rows.size))
+            self._a_data[:, self._used] = self.m_data
+        return self._a_data
 
     def newton_matrix(self, n) -> sp.csc_matrix:
         """``A_n = dR_n/dx + alpha_0(n)/dt dR_n/dxdot`` (Eq. 3.7) as CSC."""
-        return sp.csc_matrix((self.a_data[n], self.a_rows, self.a_indptr), shape=(self.n_state,) * 2)
+        return sp.csc_matrix((self.m_data[n], self.m_rows, self.m_indptr),
+                             shape=(self.n_state,) * 2)
 
     def _lu(self, n):
         r = int(self._rep[n])
@@ -122,6 +192,43 @@ class LinearizedHistory:
                 raise om.AnalysisError(f"linearized step {n}: singular Newton matrix ({exc})") from exc
             self._factors[r] = lu
         return lu
+
+    def _static_lu(self):
+        """The compiled static-pivot LU of this pattern and the factors of every step n >= 1."""
+        if self._static is None:
+            vals = self.m_data
+            ref = self.n_time // 2
+            slu = static_lu.for_pattern(self.n_state, self.m_rows, self.m_indptr, vals[ref])
+            if slu is None:
+                self.lu_method = "superlu"
+                return None
+            self._static = (slu, slu.factor_many(vals))
+        return self._static
+
+    def _solve_step(self, n, b, trans="N"):
+        """``A_n x = b`` (or ``A_n^T x = b``) with the step's factors."""
+        if self.lu_method == "static" and n >= 1:
+            st = self._static_lu()
+            if st is not None:
+                return self._solve_static(st, n, b, trans)
+        return self._lu(n).solve(b, trans=trans)
+
+    def _solve_static(self, st, n, b, trans, first=None):
+        """Static-pivot solve (compiled), accepted when its componentwise backward error
+        max_i |b - A x|_i / (|A| |x| + |b|)_i is at most ``STATIC_LU_TOL``, else refined once;
+        a step that still fails is solved with SuperLU. ``first``: (x, residual, berr) of a solve
+        already made."""
+        slu, factors = st
+        r = int(self._rep[n])
+        x, res, berr = first if first is not None else slu.solve(factors[r], self.m_data[r], b, trans)
+        if berr <= STATIC_LU_TOL:
+            return x
+        self.static_stats["refined"] += 1
+        x = x + slu.solve(factors[r], self.m_data[r], res, trans)[0]
+        if slu.backward_error(self.m_data[r], x, b, trans) <= STATIC_LU_TOL:
+            return x
+        self.static_stats["fallback"] += 1
+        return self._lu(n).solve(b, trans=trans)
 
     def _keep_factors(self, lu):
         """Whether factors are kept between sweeps (decided once)."""
@@ -142,13 +249,13 @@ class LinearizedHistory:
     # ------------------------------------------------------------------ products
     def _rate_product(self, n, vec):
         """``dR_n/dxdot @ vec``."""
-        rows, cols, _ = self.patterns["xdot"]
-        return np.bincount(rows, self.jxd[n] * vec[cols], minlength=self.n_state)
+        rows, cols, data = self._xd
+        return np.bincount(rows, data[n] * vec[cols], minlength=self.n_state)
 
     def _rate_product_t(self, n, vec):
         """``dR_n/dxdot^T @ vec``."""
-        rows, cols, _ = self.patterns["xdot"]
-        return np.bincount(cols, self.jxd[n] * vec[rows], minlength=self.n_state)
+        rows, cols, data = self._xd
+        return np.bincount(cols, data[n] * vec[rows], minlength=self.n_state)
 
     def _hist_product(self, key, data, vec, transpose=False):
         rows, cols, _ = self.patterns[key]
@@ -209,7 +316,7 @@ class LinearizedHistory:
             if n >= 1:
                 hist = self.coef[n, 1] * dx[n - 1] + (self.coef[n, 2] * dx[n - 2] if n >= 2 else 0.0)
                 b -= self._rate_product(n, hist)
-            dx[n] = self._lu(n).solve(b)
+            dx[n] = self._solve_step(n, b)
             if n >= 1:
                 self._release(n - 1, n)
         return dx
@@ -221,6 +328,8 @@ class LinearizedHistory:
         step 1 enters through ``alpha_1(1) = -1/dt`` and ``B_2,2`` of step 2.
         """
         rhs = np.asarray(rhs, dtype=float).reshape(self.n_time, self.n_state)
+        if self.lu_method == "static" and self._static_lu() is not None:
+            return self._solve_adjoint_static(rhs)
         lam = np.zeros_like(rhs)
         N = self.n_time
         for n in range(N - 1, -1, -1):
@@ -229,9 +338,37 @@ class LinearizedHistory:
                 b -= self.coef[n + 1, 1] * self._rate_product_t(n + 1, lam[n + 1])
             if n + 2 < N:
                 b -= self.coef[n + 2, 2] * self._rate_product_t(n + 2, lam[n + 2])
-            lam[n] = self._lu(n).solve(b, trans="T")
+            lam[n] = self._solve_step(n, b, trans="T")
             if n + 1 < N:
                 self._release(n + 1, n)
+        return lam
+
+    def _solve_adjoint_static(self, rhs):
+        """The adjoint sweep with one compiled call per step (static-pivot LU, right-hand side
+        and backward error inside; see ``StaticPivotLU.adjoint_step``); step 0 with SuperLU."""
+        st = self._static_lu()
+        slu, factors = st
+        rows, cols, jxd = self._xd
+        step = slu.adjoint_step(rows, cols)
+        N, lam = self.n_time, np.zeros_like(rhs)
+        zero_rate, zero = np.zeros(rows.size), np.zeros(self.n_state)
+        for n in range(N - 1, 0, -1):
+            r = int(self._rep[n])
+            lam1, r1, c1 = (lam[n + 1], jxd[n + 1], self.coef[n + 1, 1]) if n + 1 < N else (zero, zero_rate, 0.0)
+            lam2, r2, c2 = (lam[n + 2], jxd[n + 2], self.coef[n + 2, 2]) if n + 2 < N else (zero, zero_rate, 0.0)
+            x, res, berr = step(factors[r], self.m_data[r], rhs[n], lam1, r1, c1, lam2, r2, c2)
+            if not berr[0] <= STATIC_LU_TOL:      # (also NaN) rare: refine, or SuperLU
+                b = rhs[n] - c1 * self._rate_product_t(n + 1, lam1) if n + 1 < N else rhs[n].copy()
+                if n + 2 < N:
+                    b -= c2 * self._rate_product_t(n + 2, lam2)
+                x = self._solve_static(st, n, b, "T", first=(x.copy(), res.copy(), float(berr[0])))
+            lam[n] = x
+        b = rhs[0].copy()
+        if N > 1:
+            b -= self.coef[1, 1] * self._rate_product_t(1, lam[1])
+        if N > 2:
+            b -= self.coef[2, 2] * self._rate_product_t(2, lam[2])
+        lam[0] = self._lu(0).solve(b, trans="T")
         return lam
 
     # ------------------------------------------------------------------ gradients

@@ -260,7 +260,9 @@ def solve_wingbox(geometry_name: str, tip_force=(0.0, 0.0, 1.0e5), tip_moment=(0
 
     Returns a dict: ``stations`` ["CS2", "CS3", "CS4"], ``y`` (m), ``centre`` (3, 3) section
     centres (m), ``displacement`` (3, 3) section-average displacements (m), ``rotation``
-    (3, 3) least-squares rigid rotations of the cuts (rad), ``root_reaction_force`` (N) and
+    (3, 3) least-squares rigid rotations of the cuts (rad), ``mean_von_mises`` and
+    ``max_von_mises`` (4,) over the cuts CS1..CS4 (Pa; :func:`solid3d.cut_stress_at`; CS1 is
+    the clamp's stress singularity and CS4 the load introduction), ``root_reaction_force`` (N) and
     ``root_reaction_moment`` (N m, about the CS1 centre) exerted by the clamp, ``num_dof``,
     ``divisions``, ``solve_time`` (s).
     """
@@ -286,6 +288,7 @@ def solve_wingbox(geometry_name: str, tip_force=(0.0, 0.0, 1.0e5), tip_moment=(0
         u = T @ solid3d.solve_linear((T.T @ K @ T).tocsr(), f, col)
     cuts = [solid3d.cut_average(mesh, mesh.slice_faces(i), u) for i in cs_index[1:]]
     extra = [solid3d.cut_average_at(mesh, float(yc), u) for yc in np.atleast_1d(cuts_y)]
+    stress = [solid3d.cut_stress_at(mesh, s.y, u, E, nu) for s in sections]
     # support reactions (no external load acts on the root DOFs): force and moment about CS1's centre
     reaction = (K @ u)[fixed]
     r_fixed = mesh.nodes[fixed // 3] - np.asarray(sections[0].centre)
@@ -304,6 +307,8 @@ def solve_wingbox(geometry_name: str, tip_force=(0.0, 0.0, 1.0e5), tip_moment=(0
         "cut_centroid": np.array([c["centroid"] for c in cuts]),
         "displacement": np.array([c["displacement"] for c in cuts]),
         "rotation": np.array([c["rotation"] for c in cuts]),
+        "mean_von_mises": np.array([c["mean_von_mises"] for c in stress]),
+        "max_von_mises": np.array([c["max_von_mises"] for c in stress]),
         "tip_force": tip_force, "tip_moment": tip_moment, "tip_load": tip_load, "root": root,
         "num_dof": mesh.num_dof, "num_elements": len(mesh.elements), "divisions": div,
         "solve_time": time.perf_counter() - t0,
