@@ -351,6 +351,19 @@ def cut_average(mesh: HexMesh, faces: np.ndarray, u: np.ndarray) -> dict:
     return _cut_statistics(r, ug, dA)
 
 
+def _cut_row(mesh: HexMesh, y: float):
+    """Elements of the span row containing the cut y = const (the outboard row at a node slice,
+    the last row at the tip) and the parametric eta with y(eta) = y."""
+    g = mesh.grid_node
+    y_slices = np.array([mesh.nodes[g[k][g[k] >= 0][0], 1] for k in range(g.shape[0])])
+    if not y_slices[0] <= y <= y_slices[-1]:
+        raise ValueError(f"y must be in [{y_slices[0]}, {y_slices[-1]}] m, got {y}")
+    row = min(int(np.searchsorted(y_slices[0::2], y, side="right")) - 1, (g.shape[0] - 1) // 2 - 1)
+    y0, y2 = y_slices[2 * row], y_slices[2 * row + 2]
+    n_cells = int(mesh.active.sum())
+    return mesh.elements[row * n_cells:(row + 1) * n_cells], 2.0 * (y - y0) / (y2 - y0) - 1.0
+
+
 def cut_average_at(mesh: HexMesh, y: float, u: np.ndarray) -> dict:
     """:func:`cut_average` over the cut y = const of a structured mesh whose node slices are
     planes y = const with midside slices halfway (as built by the wing-box mesher).
@@ -358,15 +371,7 @@ def cut_average_at(mesh: HexMesh, y: float, u: np.ndarray) -> dict:
     The FE field is evaluated inside the elements of the span row containing y at the
     parametric eta with y(eta) = y, 3x3 Gauss points over each cell of the cut.
     """
-    g = mesh.grid_node
-    y_slices = np.array([mesh.nodes[g[k][g[k] >= 0][0], 1] for k in range(g.shape[0])])
-    if not y_slices[0] <= y <= y_slices[-1]:
-        raise ValueError(f"y must be in [{y_slices[0]}, {y_slices[-1]}] m, got {y}")
-    row = min(int(np.searchsorted(y_slices[0::2], y, side="right")) - 1, (g.shape[0] - 1) // 2 - 1)
-    y0, y2 = y_slices[2 * row], y_slices[2 * row + 2]
-    eta = 2.0 * (y - y0) / (y2 - y0) - 1.0
-    n_cells = int(mesh.active.sum())
-    elements = mesh.elements[row * n_cells:(row + 1) * n_cells]
+    elements, eta = _cut_row(mesh, y)
     pts, w = _surface_rule()
     N, dN = hex27_shape(pts[:, 0], np.full(len(pts), eta), pts[:, 1])      # (g, 27), (g, 27, 3)
     X = mesh.nodes[elements]
@@ -389,15 +394,7 @@ def cut_stress_at(mesh: HexMesh, y: float, u: np.ndarray, E: float, nu: float) -
     stress of the span row containing y (the outboard row at a node slice, the last row at the
     tip) at 3x3 Gauss points of each cell. Returns ``mean_von_mises`` (area average),
     ``max_von_mises`` (over the points; Pa) and ``area`` (m^2)."""
-    g = mesh.grid_node
-    y_slices = np.array([mesh.nodes[g[k][g[k] >= 0][0], 1] for k in range(g.shape[0])])
-    if not y_slices[0] <= y <= y_slices[-1]:
-        raise ValueError(f"y must be in [{y_slices[0]}, {y_slices[-1]}] m, got {y}")
-    row = min(int(np.searchsorted(y_slices[0::2], y, side="right")) - 1, (g.shape[0] - 1) // 2 - 1)
-    y0, y2 = y_slices[2 * row], y_slices[2 * row + 2]
-    eta = 2.0 * (y - y0) / (y2 - y0) - 1.0
-    n_cells = int(mesh.active.sum())
-    elements = mesh.elements[row * n_cells:(row + 1) * n_cells]
+    elements, eta = _cut_row(mesh, y)
     pts, w = _surface_rule()
     _, dN = hex27_shape(pts[:, 0], np.full(len(pts), eta), pts[:, 1])      # (g, 27, 3)
     X = mesh.nodes[elements]
