@@ -321,6 +321,15 @@ class LinearizedHistory:
                 self._release(n - 1, n)
         return dx
 
+    def _adjoint_rhs(self, n, rhs, lam):
+        """``rhs_n - B_n+1,1^T lam_n+1 - B_n+2,2^T lam_n+2``: the right-hand side of step n of the
+        adjoint sweep, with ``B_m,k = alpha_k(m)/dt dR_m/dxdot`` (zero past the last step)."""
+        b = rhs[n].copy()
+        for k in (1, 2):
+            if n + k < self.n_time:
+                b -= self.coef[n + k, k] * self._rate_product_t(n + k, lam[n + k])
+        return b
+
     def solve_adjoint(self, rhs) -> np.ndarray:
         """Reverse sweep: solve ``J^T lam = rhs`` backward in time with transposed factors.
 
@@ -331,44 +340,34 @@ class LinearizedHistory:
         if self.lu_method == "static" and self._static_lu() is not None:
             return self._solve_adjoint_static(rhs)
         lam = np.zeros_like(rhs)
-        N = self.n_time
-        for n in range(N - 1, -1, -1):
-            b = rhs[n].copy()
-            if n + 1 < N:
-                b -= self.coef[n + 1, 1] * self._rate_product_t(n + 1, lam[n + 1])
-            if n + 2 < N:
-                b -= self.coef[n + 2, 2] * self._rate_product_t(n + 2, lam[n + 2])
-            lam[n] = self._solve_step(n, b, trans="T")
-            if n + 1 < N:
+        for n in range(self.n_time - 1, -1, -1):
+            lam[n] = self._solve_step(n, self._adjoint_rhs(n, rhs, lam), trans="T")
+            if n + 1 < self.n_time:
                 self._release(n + 1, n)
         return lam
 
     def _solve_adjoint_static(self, rhs):
-        """The adjoint sweep with one compiled call per step (static-pivot LU, right-hand side
-        and backward error inside; see ``StaticPivotLU.adjoint_step``); step 0 with SuperLU."""
-        st = self._static_lu()
-        slu, factors = st
+        """The adjoint sweep of :meth:`solve_adjoint` with one compiled call per step n >= 1: the
+        right-hand side :meth:`_adjoint_rhs`, the static-pivot solve and its backward error
+        (``StaticPivotLU.adjoint_step``). A step whose error is too large is redone from the same
+        right-hand side by :meth:`_solve_static` (refine or SuperLU); step 0 uses SuperLU."""
+        slu, factors = self._static_lu()
         rows, cols, jxd = self._xd
         step = slu.adjoint_step(rows, cols)
         N, lam = self.n_time, np.zeros_like(rhs)
-        zero_rate, zero = np.zeros(rows.size), np.zeros(self.n_state)
+        none = (np.zeros(self.n_state), np.zeros(rows.size), 0.0)   # a step past the end
+
+        def later(m, k):
+            return (lam[m], jxd[m], self.coef[m, k]) if m < N else none
+
         for n in range(N - 1, 0, -1):
             r = int(self._rep[n])
-            lam1, r1, c1 = (lam[n + 1], jxd[n + 1], self.coef[n + 1, 1]) if n + 1 < N else (zero, zero_rate, 0.0)
-            lam2, r2, c2 = (lam[n + 2], jxd[n + 2], self.coef[n + 2, 2]) if n + 2 < N else (zero, zero_rate, 0.0)
-            x, res, berr = step(factors[r], self.m_data[r], rhs[n], lam1, r1, c1, lam2, r2, c2)
+            x, res, berr = step(factors[r], self.m_data[r], rhs[n], *later(n + 1, 1), *later(n + 2, 2))
             if not berr[0] <= STATIC_LU_TOL:      # (also NaN) rare: refine, or SuperLU
-                b = rhs[n] - c1 * self._rate_product_t(n + 1, lam1) if n + 1 < N else rhs[n].copy()
-                if n + 2 < N:
-                    b -= c2 * self._rate_product_t(n + 2, lam2)
-                x = self._solve_static(st, n, b, "T", first=(x.copy(), res.copy(), float(berr[0])))
+                x = self._solve_static((slu, factors), n, self._adjoint_rhs(n, rhs, lam), "T",
+                                       first=(x.copy(), res.copy(), float(berr[0])))
             lam[n] = x
-        b = rhs[0].copy()
-        if N > 1:
-            b -= self.coef[1, 1] * self._rate_product_t(1, lam[1])
-        if N > 2:
-            b -= self.coef[2, 2] * self._rate_product_t(2, lam[2])
-        lam[0] = self._lu(0).solve(b, trans="T")
+        lam[0] = self._lu(0).solve(self._adjoint_rhs(0, rhs, lam), trans="T")
         return lam
 
     # ------------------------------------------------------------------ gradients

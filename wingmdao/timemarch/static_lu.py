@@ -30,7 +30,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from wingmdao.timemarch.system import _JitCall
+from wingmdao.utils.casadi_cache import JitCall, compile_calls, compiler, jit_enabled
 
 
 def symbolic_lu(n, rows, indptr):
@@ -170,7 +170,7 @@ class StaticPivotLU:
         cols = np.repeat(np.arange(n), np.diff(self.indptr))
         self.solve_fun = self._checked(name + "_solve", raw_solve, f, a, b, self.rows, cols)
         self.solve_t_fun = self._checked(name + "_solve_t", raw_solve_t, f, a, b, cols, self.rows)
-        self._calls = {k: _JitCall(fun, threshold, copy_outputs=False)
+        self._calls = {k: JitCall(fun, threshold, copy_outputs=False)
                        for k, fun in (("factor", self.factor_fun), ("solve", self.solve_fun),
                                       ("solve_t", self.solve_t_fun))}
 
@@ -212,7 +212,7 @@ class StaticPivotLU:
             cols = np.repeat(np.arange(n), np.diff(self.indptr))
             fun = self._checked(f"{self._name}_adjoint_{key}", self._raw_t, f, a, g, cols, self.rows,
                                 extra_inputs=(lam1, r1, c1, lam2, r2, c2), rhs=b)
-            call = self._steps[key] = _JitCall(fun, self._threshold, copy_outputs=False)
+            call = self._steps[key] = JitCall(fun, self._threshold, copy_outputs=False)
         return call
 
     def key(self) -> str:
@@ -225,14 +225,7 @@ class StaticPivotLU:
     # ------------------------------------------------------------------ evaluation
     def compile(self, wait=True) -> dict:
         """Compile (or load from the cache) all functions made so far now; returns their states."""
-        calls = {**self._calls, **{f"adjoint_{k}": c for k, c in self._steps.items()}}
-        for call in calls.values():
-            call.jit.start(wait=False)
-        for call in calls.values():
-            if wait:
-                call.jit.start(wait=True)
-            call.refresh()
-        return {k: call.jit.state for k, call in calls.items()}
+        return compile_calls({**self._calls, **{f"adjoint_{k}": c for k, c in self._steps.items()}}, wait)
 
     def factor(self, values) -> np.ndarray:
         """Factors of one matrix (nonzeros in CSC order) -> (n_lu,)."""
@@ -275,8 +268,6 @@ CACHE_SIZE = 8
 def compiled_available() -> bool:
     """Whether compiled CasADi functions can be used (JIT enabled and a C compiler present);
     interpreted, the static-pivot LU is no faster than SuperLU."""
-    from wingmdao.utils.casadi_cache import compiler, jit_enabled
-
     return jit_enabled() and compiler() is not None
 
 

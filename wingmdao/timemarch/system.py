@@ -16,6 +16,8 @@ import casadi as ca
 import numpy as np
 import scipy.sparse as sp
 
+from wingmdao.utils.casadi_cache import JitCall, compile_calls
+
 
 #: CasADi systems up to this many states return a dense Newton matrix (less overhead).
 DENSE_NEWTON_MAX = 40
@@ -158,48 +160,6 @@ class _SparseJacobian:
         return self.indices.copy(), cols, self.shape
 
 
-class _FastCall:
-    """Evaluate a CasADi function through preallocated buffers (~0.2 us instead of ~40 us a call)."""
-
-    def __init__(self, fun: ca.Function, copy_outputs=True):
-        self.fun = fun
-        self.copy_outputs = copy_outputs
-        self.inp = [np.zeros(fun.nnz_in(i)) for i in range(fun.n_in())]
-        self.out = [np.zeros(fun.nnz_out(i)) for i in range(fun.n_out())]
-        self.buf, self.eval = fun.buffer()
-        for i, a in enumerate(self.inp):
-            self.buf.set_arg(i, memoryview(a))
-        for i, a in enumerate(self.out):
-            self.buf.set_res(i, memoryview(a))
-
-    def __call__(self, *args):
-        for dst, src in zip(self.inp, args):
-            dst[:] = np.ravel(src)
-        self.eval()
-        return [o.copy() for o in self.out] if self.copy_outputs else self.out
-
-
-class _JitCall:
-    """A :class:`_FastCall` whose function turns into compiled C after enough evaluations
-    (:class:`wingmdao.utils.casadi_cache.JitFunction`)."""
-
-    def __init__(self, fun: ca.Function, threshold: int, copy_outputs=True):
-        from wingmdao.utils.casadi_cache import JitFunction
-
-        self.jit = JitFunction(fun, threshold)
-        self.fast = _FastCall(fun, copy_outputs)
-
-    def refresh(self) -> _FastCall:
-        if self.jit.poll():
-            self.fast = _FastCall(self.jit.current, self.fast.copy_outputs)
-        return self.fast
-
-    def __call__(self, *args):
-        fast = self.refresh()
-        self.jit.count()
-        return fast(*args)
-
-
 #: Evaluations of a system function after which it is compiled in the background (module docs of
 #: wingmdao.utils.casadi_cache); about two 500-step marches of a beam.
 JIT_THRESHOLD = 2000
@@ -242,9 +202,9 @@ class CasadiResidualSystem(ResidualSystem):
         self._R_args = args
         self._newton_dense_index = None
         self.jit_threshold = JIT_THRESHOLD
-        self._fast_R = _JitCall(self._R, self.jit_threshold)
-        self._fast_newton = _JitCall(self._newton, self.jit_threshold)
-        self._maps = {"R": self._fast_R, "J": _JitCall(self._all_jac, self.jit_threshold)}
+        self._fast_R = JitCall(self._R, self.jit_threshold)
+        self._fast_newton = JitCall(self._newton, self.jit_threshold)
+        self._maps = {"R": self._fast_R, "J": JitCall(self._all_jac, self.jit_threshold)}
 
     def set_jit_threshold(self, evaluations: int) -> None:
         """Evaluations after which each function is compiled in the background (0: at first use)."""
@@ -255,14 +215,8 @@ class CasadiResidualSystem(ResidualSystem):
     def compile(self, wait: bool = True) -> dict:
         """Compile (or load from the cache) the residual, Newton-matrix and Jacobian-history
         functions now instead of after ``jit_threshold`` evaluations; returns their states."""
-        calls = {"residual": self._fast_R, "newton": self._fast_newton, "jacobians": self._maps["J"]}
-        for call in calls.values():          # start all (gcc runs in parallel), then wait
-            call.jit.start(wait=False)
-        for call in calls.values():
-            if wait:
-                call.jit.start(wait=True)
-            call.refresh()
-        return {name: call.jit.state for name, call in calls.items()}
+        return compile_calls({"residual": self._fast_R, "newton": self._fast_newton,
+                              "jacobians": self._maps["J"]}, wait)
 
     def _history(self, key, fun, X, Xdot, p, Q):
         """Evaluate ``fun(x, xdot, p, q)`` at every instant through one buffered evaluator.
@@ -271,7 +225,7 @@ class CasadiResidualSystem(ResidualSystem):
         the 20-node beam, more than the evaluations themselves.)
         """
         if key not in self._maps:
-            self._maps[key] = _JitCall(fun, self.jit_threshold)
+            self._maps[key] = JitCall(fun, self.jit_threshold)
         call = self._maps[key]
         fc = call.refresh()
         n = X.shape[0]

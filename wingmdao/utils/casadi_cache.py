@@ -33,6 +33,7 @@ import warnings
 from pathlib import Path
 
 import casadi as ca
+import numpy as np
 
 ENV_CACHE = "WINGMDAO_CACHE"
 ENV_JIT = "WINGMDAO_JIT"
@@ -226,3 +227,63 @@ class JitFunction:
             self.state = "compiled"
             return True
         return False
+
+
+class FastCall:
+    """Evaluate a CasADi function through preallocated buffers (~0.2 us instead of ~40 us a call).
+
+    ``inp``/``out`` are the buffers (flat nonzeros); ``eval()`` evaluates in place. With
+    ``copy_outputs=False`` a call returns the output buffers themselves (overwritten next call).
+    """
+
+    def __init__(self, fun: ca.Function, copy_outputs=True):
+        self.fun = fun
+        self.copy_outputs = copy_outputs
+        self.inp = [np.zeros(fun.nnz_in(i)) for i in range(fun.n_in())]
+        self.out = [np.zeros(fun.nnz_out(i)) for i in range(fun.n_out())]
+        self.buf, self.eval = fun.buffer()
+        for i, a in enumerate(self.inp):
+            self.buf.set_arg(i, memoryview(a))
+        for i, a in enumerate(self.out):
+            self.buf.set_res(i, memoryview(a))
+
+    def __call__(self, *args):
+        for dst, src in zip(self.inp, args):
+            dst[:] = np.ravel(src)
+        self.eval()
+        return [o.copy() for o in self.out] if self.copy_outputs else self.out
+
+
+class JitCall:
+    """A :class:`FastCall` whose function turns into compiled C after ``threshold`` evaluations
+    (:class:`JitFunction`). Call :meth:`refresh` before using ``fast`` directly."""
+
+    def __init__(self, fun: ca.Function, threshold: int, copy_outputs=True):
+        self.jit = JitFunction(fun, threshold)
+        self.fast = FastCall(fun, copy_outputs)
+
+    def refresh(self) -> FastCall:
+        """The current evaluator (switched to the compiled function once that is ready)."""
+        if self.jit.poll():
+            self.fast = FastCall(self.jit.current, self.fast.copy_outputs)
+        return self.fast
+
+    def __call__(self, *args):
+        fast = self.refresh()
+        self.jit.count()
+        return fast(*args)
+
+
+def compile_calls(calls: dict, wait: bool = True) -> dict:
+    """Compile (or load from the cache) every :class:`JitCall` of ``{name: call}`` now.
+
+    All compiles start first, so gcc runs them in parallel; with ``wait`` this returns once they
+    have finished and the calls use them. Returns ``{name: state}`` (see :class:`JitFunction`).
+    """
+    for call in calls.values():
+        call.jit.start(wait=False)
+    for call in calls.values():
+        if wait:
+            call.jit.start(wait=True)
+        call.refresh()
+    return {name: call.jit.state for name, call in calls.items()}
