@@ -177,30 +177,51 @@ def test_elastica_dead_tip_load(load, v_ref, u_ref):
 
 
 def bathe_bolourchi(n=33, GJ=None, GK=None, EI=None):
-    """45-degree arc, R = 100, in the x-y plane, unit square section, E = 1e7, nu = 0."""
+    """45-degree arc, R = 100, in the x-y plane, unit square section, E = 1e7, nu = 0.
+
+    The benchmark's section data (Bathe & Bolourchi 1979; Simo & Vu-Quoc 1986): A = 1,
+    I = 1/12, J = 1/6, G = E/2, so GJ = EI = 8.333e5 (J is the polar moment, not the St Venant
+    constant 0.1406 of a square: with that, z at P = 300 moves by 0.3).
+    """
     R, E = 100.0, 1e7
     G = E / 2.0
     alpha = np.linspace(0.0, np.pi / 4, n)
     r0 = np.column_stack([R * (1 - np.cos(alpha)), R * np.sin(alpha), np.zeros(n)])
     th0 = np.array([euler_from_axis([np.sin(a), np.cos(a), 0.0]) for a in alpha])
     EI = E / 12.0 if EI is None else EI
-    GJ = G * 0.140577 if GJ is None else GJ  # unit square: St Venant J = 0.1406
+    GJ = G / 6.0 if GJ is None else GJ
     GK = G * 5 / 6 if GK is None else GK
     return BeamModel(beam_parameters(r0, th0, EI_cc=EI, EI_nn=EI, GJ=GJ, EA=E, GK_c=GK, GK_n=GK))
 
 
-@pytest.mark.parametrize("load,ref", [(300.0, (22.5, 59.2, 39.5)), (450.0, (18.6, 52.3, 48.4)),
-                                      (600.0, (15.9, 47.2, 53.4))])
-def test_bathe_bolourchi_45_degree_bend(load, ref):
-    """Simo & Vu-Quoc (1986) tip positions, 8 elements: every component within 1 % of R.
-
-    Our converged (32-element) values differ from these by up to 0.98 (z at P = 300): the
-    published values are coarse-mesh results (see the converged check below).
-    """
+def _bathe_bolourchi_tip(load):
     model = bathe_bolourchi()
-    n = model.num_nodes
-    out = model.solve(point_force=tip(n, [0.0, 0.0, load]), load_steps=int(load // 50))
-    assert np.max(np.abs(out["r"][-1] - ref)) < 1.0
+    out = model.solve(point_force=tip(model.num_nodes, [0.0, 0.0, load]), load_steps=int(load // 50))
+    return out["r"][-1]
+
+
+#: Published tip positions (x, y, z) of the 45-degree bend under a tip load P along z.
+BATHE_BOLOURCHI = {300.0: (22.33, 58.84, 40.08), 600.0: (15.79, 47.23, 53.37)}   # 1979, 8 elements
+CARDONA_GERADIN = {300.0: (22.14, 58.64, 40.35), 600.0: (15.55, 47.04, 53.50)}   # 1988
+SIMO_VU_QUOC = {300.0: (22.5, 59.2, 39.5), 450.0: (18.6, 52.3, 48.4), 600.0: (15.9, 47.2, 53.4)}  # 1986
+
+
+@pytest.mark.parametrize("load", [300.0, 600.0])
+def test_bathe_bolourchi_45_degree_bend(load):
+    """Every tip coordinate within 1 % of Bathe & Bolourchi's and of Cardona & Geradin's
+    (measured: 0.38 / 0.66 % and 0.48 / 0.87 % at P = 300 / 600)."""
+    r = _bathe_bolourchi_tip(load)
+    for ref in (BATHE_BOLOURCHI[load], CARDONA_GERADIN[load]):
+        np.testing.assert_allclose(r, ref, rtol=1e-2)
+
+
+@pytest.mark.parametrize("load", [300.0, 450.0, 600.0])
+def test_bathe_bolourchi_simo_vu_quoc(load):
+    """Simo & Vu-Quoc's positions (8 elements) lie 0.9 % (P = 300) from Bathe & Bolourchi's
+    themselves; ours are within 1.2 % of |r| (measured 1.13, 0.20, 0.32 %)."""
+    r = _bathe_bolourchi_tip(load)
+    ref = np.asarray(SIMO_VU_QUOC[load])
+    assert np.linalg.norm(r - ref) < 1.2e-2 * np.linalg.norm(ref)
 
 
 def test_bathe_bolourchi_converged_reference():
@@ -270,7 +291,7 @@ def test_mass_center_offset_twists_under_gravity():
 def test_newton_failure_names_worst_equation():
     n = 11
     model = cantilever(n)
-    with pytest.raises(om.AnalysisError, match=r"worst: .*(node|tip|root)"):
+    with pytest.raises(om.AnalysisError, match=r"max \|residual\| = \d\.\d{3}e[+-]\d+, worst: .*(node|tip|root)"):
         model.solve(point_moment=tip(n, [40 * np.pi * EI / L, 0.0, 0.0]), max_iter=1)
 
 

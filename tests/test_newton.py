@@ -20,5 +20,5 @@ def test_converges_quadratically_on_nonlinear_system():
 def test_failure_raises_analysis_error_naming_worst_equation():
     res = lambda x: np.array([x[0] ** 2 + 1.0])  # no real root
     jac = lambda x: sp.csc_matrix(np.array([[2 * x[0] + 1e-3]]))
-    with pytest.raises(om.AnalysisError, match=r"step 7.*lift balance"):
+    with pytest.raises(om.AnalysisError, match=r"step 7.*max \|residual\| = \d\.\d{3}e[+-]\d+, worst: lift balance"):
         newton_solve(res, jac, [1.0], max_iter=8, label="step 7", describe=lambda i: "lift balance")

@@ -272,14 +272,16 @@ def time_grid(t_final: float, dt: float) -> np.ndarray:
 
 
 def analysis_problem(geometry, load_case, walls: dict, material=ALUMINIUM, *, design_vars=False,
-                     rho_ks=100.0):
+                     rho_ks=100.0, mode="rev"):
     """Set up (not run) the sizing model of one load case plus a von Mises output.
 
     The chain is :class:`WingSizing` (section, mass, beam, internal loads, stress, KS) with an
     extra :class:`BoxStress` (``output_stresses=True``) on the case's internal loads, whose
     ``vm_stress.sigma_vm`` (nt, n, 8) Pa are the mid-corner von Mises stresses. ``walls`` maps
     the four wall names to per-node thicknesses (m). With ``design_vars`` the thicknesses are
-    design variables and the case's KS outputs constraints (for ``check_totals``).
+    design variables and the case's KS outputs constraints (for ``check_totals``); ``mode`` is
+    OpenMDAO's derivative mode ("rev": one adjoint sweep per KS output, "fwd": one tangent
+    sweep per thickness).
     """
     import openmdao.api as om
 
@@ -305,7 +307,7 @@ def analysis_problem(geometry, load_case, walls: dict, material=ALUMINIUM, *, de
         for fam in load_case.families:
             prob.model.add_constraint(f"cases.{load_case.name}.ks_{fam}", upper=0.0)
         prob.model.add_objective("mass")
-    prob.setup(mode="rev")
+    prob.setup(mode=mode)
     set_geometry(prob, geometry)
     for w in WALL_VARS:
         prob.set_val(w, np.broadcast_to(walls[w], (n,)), units="m")
