@@ -15,24 +15,19 @@ import casadi as ca
 import numpy as np
 import openmdao.api as om
 
+from wingmdao.timemarch.system import VarSpec
+
 
 @dataclass(frozen=True)
-class Var:
-    """One variable of a pointwise component: its shape *at one point*, units, description."""
+class Var(VarSpec):
+    """One variable of a pointwise component: its shape *at one point*, units, description
+    (:class:`~wingmdao.timemarch.system.VarSpec`), plus a default value and sharing rule."""
 
-    name: str
-    shape: tuple = ()
-    units: str | None = None
-    desc: str = ""
     val: float = 1.0
     per_last_axis: bool = False
     """Input only: the variable is shaped ``grid_shape[-1:] + shape`` and shared by every
     point with the same last grid index (e.g. per-station section data used at every time
     step of a (n_time, n_station) grid)."""
-
-    @property
-    def size(self) -> int:
-        return int(np.prod(self.shape)) if self.shape else 1
 
 
 class PointwiseCasadiComponent(om.ExplicitComponent):

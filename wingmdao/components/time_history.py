@@ -121,25 +121,33 @@ class TimeHistoryComponent(om.ImplicitComponent):
             rows.append((s * n + rd).ravel())
             cols.append(((s - k) * n + cd).ravel())
         self.declare_partials(name, name, rows=np.concatenate(rows), cols=np.concatenate(cols))
-        self._p_masks, self._q_masks = {}, {}
-        rp, cp, _ = pats["p"]
-        for spec in sysm.param_specs:
-            sl = self._p_slices[spec.name]
-            m = (cp >= sl.start) & (cp < sl.stop)
-            self._p_masks[spec.name] = m
-            if np.any(m):
-                self.declare_partials(name, spec.name, rows=(steps * n + rp[m]).ravel(),
-                                      cols=np.broadcast_to(cp[m] - sl.start, (N, int(m.sum()))).ravel())
-        rq, cq, _ = pats["q"]
-        for spec in sysm.forcing_specs:
-            sl = self._q_slices[spec.name]
-            m = (cq >= sl.start) & (cq < sl.stop)
-            self._q_masks[spec.name] = m
-            if np.any(m):
-                self.declare_partials(name, spec.name, rows=(steps * n + rq[m]).ravel(),
-                                      cols=(steps * spec.size + (cq[m] - sl.start)).ravel())
+        # dR/dp: every step's rows against the (time-invariant) parameter block;
+        # dR/dq: step n's rows against step n's forcing entries
+        self._p_masks = self._declare_input_partials(
+            name, sysm.param_specs, self._p_slices, pats["p"], steps,
+            lambda spec, c: np.broadcast_to(c, (N, c.size)))
+        self._q_masks = self._declare_input_partials(
+            name, sysm.forcing_specs, self._q_slices, pats["q"], steps,
+            lambda spec, c: steps * spec.size + c)
         if self.options["initial"] == "state":
             self.declare_partials(name, "initial_state", rows=np.arange(n), cols=np.arange(n), val=-1.0)
+
+    def _declare_input_partials(self, name, specs, slices, pattern, steps, cols_of):
+        """Declare d(states residual)/d(input) for each input block of ``specs`` from the system's
+        Jacobian ``pattern`` (rows, cols, shape at one step) repeated over ``steps``;
+        ``cols_of(spec, local_cols)`` maps a step's columns into the input's flat index.
+        Returns ``{input name: mask of the pattern's nonzeros that belong to it}``."""
+        n = self.options["system"].n_state
+        rows, cols, _ = pattern
+        masks = {}
+        for spec in specs:
+            sl = slices[spec.name]
+            m = (cols >= sl.start) & (cols < sl.stop)
+            masks[spec.name] = m
+            if np.any(m):
+                self.declare_partials(name, spec.name, rows=(steps * n + rows[m]).ravel(),
+                                      cols=np.asarray(cols_of(spec, cols[m] - sl.start)).ravel())
+        return masks
 
     # ------------------------------------------------------------------ packing
     def _params(self, inputs):
