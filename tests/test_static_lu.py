@@ -130,3 +130,52 @@ def test_lu_option_is_checked():
     sysm, t, X, p, Q = _chain_history(n_time=5)
     with pytest.raises(ValueError, match="lu must be"):
         LinearizedHistory(sysm, t, X, p, Q, lu="klu")
+
+
+def test_beam_totals_with_the_static_lu_equal_the_superlu_totals():
+    """BeamDynamics (10 nodes, 120 steps, gust-like tip load): the KS-of-root-moment gradient with
+    respect to the section stiffness through the static-pivot LU equals the SuperLU one."""
+    import openmdao.api as om
+
+    from wingmdao.components.beam import BeamDynamics
+    from wingmdao.components.ks import KSAggregate
+
+    n, nt = 10, 120
+    t = np.linspace(0.0, 0.6, nt)
+    y = np.linspace(0.0, 8.0, n)
+    rng = np.random.default_rng(3)
+    vals = {
+        "node_positions": np.column_stack([np.zeros(n), y, 0.05 * y]),
+        "node_euler_angles": np.zeros((n, 3)),
+        "stiffness_csn": np.tile(np.diag([2e6, 1.5e6, 1e7]), (n, 1, 1)) * rng.uniform(0.8, 1.2, (n, 1, 1)),
+        "compliance_csn": np.tile([1e-9, 1e-9, 1e-9], (n, 1)),
+        "mass_per_length": np.full(n, 20.0),
+        "inertia_per_length": np.tile(np.diag([0.1, 0.2, 0.1]), (n, 1, 1)),
+    }
+    pf = np.zeros((nt, n, 3))
+    pf[:, -1, 2] = 3e3 * np.sin(np.pi * np.clip(t / 0.3, 0.0, 1.0)) ** 2
+    pf[:, -1, 0] = 400.0 * t
+    vals["point_force"] = pf
+    grads, stats = {}, {}
+    for lu in ("superlu", "static"):
+        prob = om.Problem(reports=False)
+        prob.model.add_subsystem("beam", BeamDynamics(num_nodes=n, time=t, lu=lu), promotes=["*"])
+        w = np.zeros((nt, n, 18))
+        w[:, 0, 9:12] = 1e-4
+        prob.model.add_subsystem("pick", om.ExecComp("g = w * states", w={"val": w, "shape": w.shape},
+                                                     states={"shape": w.shape}, g={"shape": w.shape},
+                                                     has_diag_partials=True), promotes=["*"])
+        prob.model.add_subsystem("ks", KSAggregate(families={"root": (nt, n, 18)}, rho_ks=20.0))
+        prob.model.connect("g", "ks.g_root")
+        prob.setup(mode="rev")
+        for k, v in vals.items():
+            prob.set_val(k, v)
+        prob.run_model()
+        grads[lu] = prob.compute_totals(of=["ks.ks_root"], wrt=["stiffness_csn"])["ks.ks_root", "stiffness_csn"]
+        lin = prob.model.beam._lin
+        stats[lu] = (lin.lu_method, dict(lin.static_stats))
+    assert stats["static"][0] == "static" and stats["superlu"][0] == "superlu"
+    assert stats["static"][1]["fallback"] == 0
+    scale = np.max(np.abs(grads["superlu"]))
+    assert scale > 0
+    np.testing.assert_allclose(grads["static"], grads["superlu"], rtol=0, atol=1e-10 * scale)

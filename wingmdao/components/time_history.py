@@ -66,6 +66,9 @@ class TimeHistoryComponent(om.ImplicitComponent):
                                   "None: when n_time * n_state > MATRIX_FREE_ABOVE")
         self.options.declare("store_factors", default="auto",
                              desc="keep every LU factor between sweeps (True/False/'auto')")
+        self.options.declare("lu", default="auto", values=("auto", "superlu", "static"),
+                             desc="sparse LU of the tangent/adjoint sweeps: SuperLU per step, or the "
+                             "static-pivot compiled LU (wingmdao.timemarch.static_lu); auto picks")
         self.options.declare("drop_time_axis", default=False, types=bool,
                              desc="one instant only: forcing inputs and the output without the time axis")
 
@@ -212,7 +215,8 @@ class TimeHistoryComponent(om.ImplicitComponent):
         p, Q = self._params(inputs), self._forcing(inputs)
         X = self._history(outputs)
         lin = LinearizedHistory(sysm, self._time, X, p, Q,
-                                initial=self.options["initial"], store_factors=self.options["store_factors"])
+                                initial=self.options["initial"], store_factors=self.options["store_factors"],
+                                lu=self.options["lu"])
         self._lin = lin
         self._lin_point = (X.copy(), p.copy(), Q.copy())
         if self._matrix_free:
