@@ -179,3 +179,20 @@ def test_beam_totals_with_the_static_lu_equal_the_superlu_totals():
     scale = np.max(np.abs(grads["superlu"]))
     assert scale > 0
     np.testing.assert_allclose(grads["static"], grads["superlu"], rtol=0, atol=1e-10 * scale)
+
+
+def test_nonzero_pattern_only_grows_across_histories():
+    """An entry that is zero in one history but not in an earlier one of the same system stays in
+    the pattern (no new pattern, so no new static-pivot LU, when a design change zeroes it): here
+    the couplings of masses 4 and 5 through spring 5, zero once that spring is removed."""
+    sysm, t, X, p, Q = _chain_history(n_time=10)
+    spring_removed = p.copy()
+    spring_removed[3 + 5] = 0.0
+    first = LinearizedHistory(sysm, t, X, p, Q, lu="superlu")
+    second = LinearizedHistory(sysm, t, X, spring_removed, Q, lu="superlu")
+    assert np.array_equal(second.m_rows, first.m_rows) and np.array_equal(second.m_indptr, first.m_indptr)
+    fresh = type(sysm).__new__(type(sysm))       # the same system without the memory of `first`
+    fresh.__dict__.update({k: v for k, v in sysm.__dict__.items() if k != "_linearized_history_nonzeros"})
+    alone = LinearizedHistory(fresh, t, X, spring_removed, Q, lu="superlu")
+    assert alone.m_rows.size == first.m_rows.size - 2      # dR_4/du_5 and dR_5/du_4 dropped
+    np.testing.assert_array_equal(second.newton_matrix(3).toarray(), alone.newton_matrix(3).toarray())

@@ -66,9 +66,10 @@ class TimeHistoryComponent(om.ImplicitComponent):
                                   "None: when n_time * n_state > MATRIX_FREE_ABOVE")
         self.options.declare("store_factors", default="auto",
                              desc="keep every LU factor between sweeps (True/False/'auto')")
-        self.options.declare("lu", default="auto", values=("auto", "superlu", "static"),
+        self.options.declare("lu", default="superlu", values=("superlu", "static"),
                              desc="sparse LU of the tangent/adjoint sweeps: SuperLU per step, or the "
-                             "static-pivot compiled LU (wingmdao.timemarch.static_lu); auto picks")
+                             "static-pivot generated LU (wingmdao.timemarch.static_lu: faster sweeps "
+                             "for long fixed-pattern histories once compiled)")
         self.options.declare("drop_time_axis", default=False, types=bool,
                              desc="one instant only: forcing inputs and the output without the time axis")
 

@@ -26,13 +26,10 @@ import openmdao.api as om
 import scipy.sparse as sp
 
 from wingmdao.timemarch.bdf import bdf_coefficients, state_rates, time_step
-from wingmdao.timemarch.newton import DENSE_MAX, factor
+from wingmdao.timemarch.newton import factor
 from wingmdao.timemarch import static_lu
 
 
-#: Shortest history for which ``lu="auto"`` builds the static-pivot LU (its generation costs ~0.7 s
-#: once per pattern, 20-node beam).
-STATIC_LU_MIN_STEPS = 100
 #: Accepted componentwise backward error of a refined static-pivot solve (one refinement gives
 #: ~1e-16; SuperLU's unrefined solves reach 1e-11 to 2e-9 on the 20-node beam).
 STATIC_LU_TOL = 1e-12
@@ -59,20 +56,24 @@ class LinearizedHistory:
         beam-like system (8x its nonzeros), and touching that memory made a stored-factor sweep
         5x slower than refactoring (measured, see ``docs/time-marching.md``).
 
-    lu : "superlu" | "static" | "auto". ``"static"`` factors the steps n >= 1 with one pivot
-        order and compiled code (:mod:`wingmdao.timemarch.static_lu`), each solve checked by its
-        componentwise backward error, refined, and redone with SuperLU if that fails. ``"auto"``
-        uses it when compiled CasADi functions are available and the history is long
-        (``n_time >= STATIC_LU_MIN_STEPS``, ``n_state > DENSE_MAX``).
+    lu : "superlu" (default) | "static". ``"static"`` factors the steps n >= 1 with one pivot
+        order and generated code (:mod:`wingmdao.timemarch.static_lu`; compiled after
+        ``JIT_THRESHOLD`` evaluations), each solve checked by its componentwise backward error,
+        refined, and redone with SuperLU if that fails. It pays for long histories whose
+        nonzero pattern stays fixed (2.4-3x faster sweeps once compiled, 20-node beams), not by
+        default: generating it costs 6-8 s of Python per pattern (20 nodes), an optimization
+        changes the pattern as the design moves, and interpreted it is slower than SuperLU
+        (docs/time-marching.md, "The static-pivot LU").
 
     Identical consecutive ``A_n`` (linear systems) share one factorization. Entries of the
-    Jacobian pattern that are zero at every step are dropped from ``A_n`` before factoring
+    Jacobian pattern that are zero at every step (of this and of every earlier history of the
+    same system object) are dropped from ``A_n`` before factoring
     (CasADi patterns are structural: 64 % of the 20-node beam's entries are zero for an
     initially straight beam; SuperLU is 2.5x faster without them).
     """
 
     def __init__(self, system, time, states, p, forcing, *, initial="static",
-                 store_factors="auto", auto_limit=100_000, lu="auto"):
+                 store_factors="auto", auto_limit=100_000, lu="superlu"):
         t = np.asarray(time, dtype=float)
         self.dt = time_step(t)
         self.system = system
@@ -103,14 +104,14 @@ class LinearizedHistory:
         same = np.zeros(self.n_time, dtype=bool)
         same[1:] = np.all(self.m_data[1:] == self.m_data[:-1], axis=1)
         self._rep = np.maximum.accumulate(np.where(same, 0, np.arange(self.n_time)))
-        if lu not in ("auto", "superlu", "static"):
-            raise ValueError(f'lu must be "auto", "superlu" or "static", got {lu!r}')
-        if lu == "auto":
-            lu = "static" if (static_lu.compiled_available() and self.n_time >= STATIC_LU_MIN_STEPS
-                              and self.n_state > DENSE_MAX) else "superlu"
+        if lu not in ("superlu", "static"):
+            raise ValueError(f'lu must be "superlu" or "static", got {lu!r}')
         self.lu_method = lu if self.n_time > 1 else "superlu"
+        self._static_solver = None    # StaticPivotLU of the pattern, once made
         self._static = None           # (StaticPivotLU, factors of every step) once computed
         self.static_stats = {"refined": 0, "fallback": 0}
+        #: LU the last tangent ("N") and adjoint ("T") sweep ran on: "superlu" or "static"
+        self.sweep_lu = {"N": None, "T": None}
 
     # ------------------------------------------------------------------ structure
     def _newton_pattern(self):
@@ -147,6 +148,17 @@ class LinearizedHistory:
         # drop entries that are zero at every step (structural zeros of the CasADi patterns)
         x_nz = np.any(self.jx != 0.0, axis=0)
         d_nz = np.any(self.jxd != 0.0, axis=0)
+        # ... or at some step of an earlier history of this system: the pattern only grows, so a
+        # design change that makes an entry exactly zero (e.g. a symmetric section's couplings)
+        # does not make a new pattern (a new static-pivot LU to generate and compile)
+        seen = getattr(self.system, "_linearized_history_nonzeros", None)
+        if seen is not None and seen[0].shape == x_nz.shape and seen[1].shape == d_nz.shape:
+            x_nz |= seen[0]
+            d_nz |= seen[1]
+        try:
+            self.system._linearized_history_nonzeros = (x_nz.copy(), d_nz.copy())
+        except AttributeError:
+            pass
         used = np.zeros(self.a_rows.size, dtype=bool)
         used[pos_x[x_nz]] = True
         used[pos_d[d_nz]] = True
@@ -193,24 +205,35 @@ class LinearizedHistory:
             self._factors[r] = lu
         return lu
 
-    def _static_lu(self):
-        """The compiled static-pivot LU of this pattern and the factors of every step n >= 1."""
-        if self._static is None:
-            vals = self.m_data
+    def _static_pivot_solver(self):
+        """The :class:`StaticPivotLU` of this pattern (made once per pattern), or None."""
+        if self._static_solver is None and self.lu_method == "static":
             ref = self.n_time // 2
-            slu = static_lu.for_pattern(self.n_state, self.m_rows, self.m_indptr, vals[ref])
+            slu = static_lu.for_pattern(self.n_state, self.m_rows, self.m_indptr, self.m_data[ref])
             if slu is None:
                 self.lu_method = "superlu"
+            self._static_solver = slu
+        return self._static_solver
+
+    def _static_lu(self):
+        """The static-pivot LU of this pattern and the factors of every step n >= 1."""
+        if self._static is None:
+            slu = self._static_pivot_solver()
+            if slu is None:
                 return None
-            self._static = (slu, slu.factor_many(vals))
+            self._static = (slu, slu.factor_many(self.m_data))
         return self._static
 
-    def _solve_step(self, n, b, trans="N"):
-        """``A_n x = b`` (or ``A_n^T x = b``) with the step's factors."""
-        if self.lu_method == "static" and n >= 1:
-            st = self._static_lu()
-            if st is not None:
-                return self._solve_static(st, n, b, trans)
+    def _sweep_lu(self, trans):
+        """``(StaticPivotLU, factors)`` if this sweep runs on the static-pivot LU, else None."""
+        st = self._static_lu() if self.lu_method == "static" else None
+        self.sweep_lu[trans] = "superlu" if st is None else "static"
+        return st
+
+    def _solve_step(self, n, b, trans="N", st=None):
+        """``A_n x = b`` (or ``A_n^T x = b``) with the step's factors (``st``: static-pivot LU)."""
+        if st is not None and n >= 1:
+            return self._solve_static(st, n, b, trans)
         return self._lu(n).solve(b, trans=trans)
 
     def _solve_static(self, st, n, b, trans, first=None):
@@ -311,12 +334,13 @@ class LinearizedHistory:
         """Forward sweep: solve ``J dx = rhs``, ``dx_n = A_n^-1 (rhs_n - sum_k B_n,k dx_n-k)``."""
         rhs = np.asarray(rhs, dtype=float).reshape(self.n_time, self.n_state)
         dx = np.zeros_like(rhs)
+        st = self._sweep_lu("N")
         for n in range(self.n_time):
             b = rhs[n].copy()
             if n >= 1:
                 hist = self.coef[n, 1] * dx[n - 1] + (self.coef[n, 2] * dx[n - 2] if n >= 2 else 0.0)
                 b -= self._rate_product(n, hist)
-            dx[n] = self._solve_step(n, b)
+            dx[n] = self._solve_step(n, b, st=st)
             if n >= 1:
                 self._release(n - 1, n)
         return dx
@@ -337,8 +361,9 @@ class LinearizedHistory:
         step 1 enters through ``alpha_1(1) = -1/dt`` and ``B_2,2`` of step 2.
         """
         rhs = np.asarray(rhs, dtype=float).reshape(self.n_time, self.n_state)
-        if self.lu_method == "static" and self._static_lu() is not None:
-            return self._solve_adjoint_static(rhs)
+        st = self._sweep_lu("T")
+        if st is not None:
+            return self._solve_adjoint_static(rhs, st)
         lam = np.zeros_like(rhs)
         for n in range(self.n_time - 1, -1, -1):
             lam[n] = self._solve_step(n, self._adjoint_rhs(n, rhs, lam), trans="T")
@@ -346,12 +371,12 @@ class LinearizedHistory:
                 self._release(n + 1, n)
         return lam
 
-    def _solve_adjoint_static(self, rhs):
+    def _solve_adjoint_static(self, rhs, st):
         """The adjoint sweep of :meth:`solve_adjoint` with one compiled call per step n >= 1: the
         right-hand side :meth:`_adjoint_rhs`, the static-pivot solve and its backward error
         (``StaticPivotLU.adjoint_step``). A step whose error is too large is redone from the same
         right-hand side by :meth:`_solve_static` (refine or SuperLU); step 0 uses SuperLU."""
-        slu, factors = self._static_lu()
+        slu, factors = st
         rows, cols, jxd = self._xd
         step = slu.adjoint_step(rows, cols)
         N, lam = self.n_time, np.zeros_like(rhs)

@@ -30,7 +30,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from wingmdao.utils.casadi_cache import JitCall, compile_calls, compiler, jit_enabled
+from wingmdao.utils.casadi_cache import JitCall, compile_calls
 
 
 def symbolic_lu(n, rows, indptr):
@@ -263,12 +263,6 @@ class StaticPivotLU:
 _CACHE: dict = {}
 #: Patterns kept by :func:`for_pattern` (each holds three CasADi functions).
 CACHE_SIZE = 8
-
-
-def compiled_available() -> bool:
-    """Whether compiled CasADi functions can be used (JIT enabled and a C compiler present);
-    interpreted, the static-pivot LU is no faster than SuperLU."""
-    return jit_enabled() and compiler() is not None
 
 
 def for_pattern(n, rows, indptr, reference):

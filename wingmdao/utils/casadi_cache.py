@@ -113,7 +113,10 @@ def compile_library(fun: ca.Function, flags=DEFAULT_FLAGS, key: str | None = Non
         gen.add(fun)
         gen.generate(str(Path(tmp)) + os.sep)
         shutil.move(str(Path(tmp) / f"{fun.name()}.c"), src)
-    compile_cmd = " ".join(shlex.quote(a) for a in [cc, "-shared", "-fPIC", *flags, str(src), "-o", str(partial)])
+    # at low priority: compiles run in the background of an optimization and must not slow it
+    nice = ["nice", "-n", "10"] if shutil.which("nice") else []
+    compile_cmd = " ".join(shlex.quote(a) for a in [*nice, cc, "-shared", "-fPIC", *flags, str(src), "-o",
+                                                    str(partial)])
     # the mv is atomic on one file system: readers see the whole library or none
     script = (f"{compile_cmd} && mv -f {shlex.quote(str(partial))} {shlex.quote(str(target))} "
               f"&& rm -f {shlex.quote(str(log))}; "   # the log is kept only when gcc failed
