@@ -14,6 +14,8 @@ import pytest
 from wingmdao.cases.wing_box import analysis_problem, tip_load_case, wing_geometry
 from wingmdao.sizing import WALL_VARS
 
+pytestmark = pytest.mark.filterwarnings("ignore::openmdao.utils.om_warnings.DerivativesWarning")  # fwd on purpose
+
 FAMILIES = ("vm", "ss_tension", "cent_pos")
 N_STEPS = 200
 
@@ -32,7 +34,6 @@ def _problem(mode):
 
 
 @pytest.fixture(scope="module")
-@pytest.mark.filterwarnings("ignore::openmdao.utils.om_warnings.DerivativesWarning")
 def derivatives():
     of = [f"cases.dyn.ks_{f}" for f in FAMILIES]
     out = {}

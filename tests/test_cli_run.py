@@ -51,8 +51,13 @@ def test_run_wing_box_gravity_stdout(capsys):
 
 
 def test_run_wing_box_dynamic_suddenly_applied_load(tmp_path):
-    """Undamped dynamic amplification of a suddenly applied load is 2 (the first peak, at half the
-    first bending period ~0.19 s; BDF2 damps it slightly)."""
+    """Dynamic amplification of a suddenly applied tip load, undamped.
+
+    Modally, u_tip(t) = sum_k u_k (1 - cos w_k t) with every u_k = phi_k(L)^2 / (m_k w_k^2) > 0
+    and sum_k u_k the static deflection, so the peak ratio is at most 2; at t = pi / w1 (the first
+    peak, ~0.09 s here) it is at least 2 u_1 / u_static - (small), and the first mode carries
+    97 % of a cantilever's static tip deflection (Euler-Bernoulli: 0.9707), so >= 1.94. BDF2 at
+    ~95 steps per half period damps it by < 1e-4. Measured 1.961."""
     data = _run(tmp_path, "--geometry", "prismatic", "--tip-load", "0", "0", str(P), "--dynamic",
                 "--t-final", "0.2", "--dt", "0.002")
     t = np.asarray(data["time"])
@@ -60,7 +65,7 @@ def test_run_wing_box_dynamic_suddenly_applied_load(tmp_path):
     assert t[0] == 0.0 and t.size == 101 and hist.shape == (101, 3)
     assert np.allclose(hist[0], 0.0, atol=1e-12)  # at rest in the jig at t = 0
     ratio = hist[:, 2].max() / _static_tip_deflection()
-    assert 1.6 < ratio < 2.05, ratio
+    assert 1.93 < ratio <= 2.0 + 5e-3, ratio   # + the beam's 0.5 % difference from the closed form
     assert data["tip_displacement"] == pytest.approx(hist[-1].tolist())
     # the peak root stress over time is amplified too; higher modes add more to the root moment
     # than to the tip deflection (each mode peaks at twice its static share, not all at once),
