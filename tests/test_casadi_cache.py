@@ -97,6 +97,30 @@ def test_jit_function_switches_after_threshold(jit_env):
     assert jf.poll() and jf.state == "compiled" and jf.current.class_name() == "External"
 
 
+def test_warm_cache_serves_from_the_first_evaluation(jit_env):
+    """A library already in the cache is used from the first evaluation, not after the threshold;
+    a cold cache waits for the threshold."""
+    f = _function()
+    cold = cc.JitFunction(f, threshold=10**9)
+    cold.count()
+    assert cold.state == "interpreted" and not cold.poll()
+    cc.compiled(f)                                   # another run compiled it meanwhile
+    warm = cc.JitFunction(_function(), threshold=10**9)
+    warm.count()
+    assert warm.poll() and warm.state == "compiled" and warm.current.class_name() == "External"
+
+
+def test_a_corrupt_cached_library_is_recompiled_by_the_jit_function(jit_env):
+    f = _function()
+    path = cc.library_path(f)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_bytes(b"not a shared library")
+    jf = cc.JitFunction(f, threshold=1)
+    jf.count()
+    jf.start(wait=True)
+    assert jf.poll() and jf.current.class_name() == "External"
+
+
 def test_beam_system_compiled_matches_interpreted(jit_env):
     from wingmdao.beam.residual import build_beam_system
     from wingmdao.beam.static import beam_forcing, beam_parameters, straight_beam

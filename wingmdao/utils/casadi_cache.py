@@ -190,11 +190,35 @@ class JitFunction:
         self.state = "interpreted"   # -> "compiling" -> "compiled" | "failed" | "disabled"
         self._ready = None
         self._thread = None
+        self._key = None              # function_key, computed once (0.3 s for the largest)
+
+    def key(self) -> str:
+        if self._key is None:
+            self._key = function_key(self.interpreted, self.flags)
+        return self._key
 
     def count(self, n: int = 1) -> None:
+        """Record ``n`` evaluations. At the first, a library already in the cache is loaded (a
+        warm cache serves from the start); at ``threshold``, compilation starts."""
+        first = self.evaluations == 0
         self.evaluations += n
+        if self.state != "interpreted":
+            return
+        if first and jit_enabled():
+            self._load_cached()
         if self.state == "interpreted" and self.evaluations >= self.threshold:
             self.start()
+
+    def _load_cached(self) -> bool:
+        path = library_path(self.interpreted, self.flags, self.key())
+        if not path.exists():
+            return False
+        try:
+            self._ready = load(self.interpreted, path)
+        except Exception:       # corrupt or foreign library: rebuilt when compiled
+            return False
+        self.state = "compiling"
+        return True
 
     def start(self, wait: bool = False) -> None:
         """Load from the cache or compile (in the background unless ``wait``)."""
@@ -204,10 +228,7 @@ class JitFunction:
             self.state = "disabled"
             return
         if self.state == "interpreted":
-            hit = cached(self.interpreted, self.flags)
-            if hit is not None:
-                self._ready = hit
-                self.state = "compiling"
+            if self._load_cached():
                 return
             self.state = "compiling"
             self._thread = threading.Thread(target=self._compile, daemon=True,
@@ -218,7 +239,9 @@ class JitFunction:
 
     def _compile(self):
         try:
-            path = compile_library(self.interpreted, self.flags)
+            path = library_path(self.interpreted, self.flags, self.key())
+            path.unlink(missing_ok=True)      # here only if it is absent or failed to load
+            path = compile_library(self.interpreted, self.flags, self.key())
             self._ready = load(self.interpreted, path)
         except Exception as exc:    # noqa: BLE001
             _warn_once(exc)
