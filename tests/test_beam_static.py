@@ -200,28 +200,33 @@ def _bathe_bolourchi_tip(load):
     return out["r"][-1]
 
 
-#: Published tip positions (x, y, z) of the 45-degree bend under a tip load P along z.
-BATHE_BOLOURCHI = {300.0: (22.33, 58.84, 40.08), 600.0: (15.79, 47.23, 53.37)}   # 1979, 8 elements
-CARDONA_GERADIN = {300.0: (22.14, 58.64, 40.35), 600.0: (15.55, 47.04, 53.50)}   # 1988
-SIMO_VU_QUOC = {300.0: (22.5, 59.2, 39.5), 450.0: (18.6, 52.3, 48.4), 600.0: (15.9, 47.2, 53.4)}  # 1986
+#: Published tip positions (x, y, z) of the 45-degree bend under a tip load P along z (our axes).
+#: Bathe & Bolourchi's own (1979, 8 elements; P = 600 as quoted in the Kynema/BeamDyn test docs:
+#: displacement (-13.4, 53.4, -23.5) in their axes).
+BATHE_BOLOURCHI = {300.0: (22.5, 59.2, 39.5), 450.0: (18.6, 52.3, 48.4), 600.0: (15.9, 47.2, 53.4)}
+#: Later refined solutions as tabulated in comparisons of 3-D beam elements (Simo & Vu-Quoc 1986,
+#: Cardona & Geradin 1988; attribution from those tables, not checked against the originals here).
+SIMO_VU_QUOC = {300.0: (22.33, 58.84, 40.08), 600.0: (15.79, 47.23, 53.37)}
+CARDONA_GERADIN = {300.0: (22.14, 58.64, 40.35), 600.0: (15.55, 47.04, 53.50)}
+
+
+@pytest.mark.parametrize("load,tol", [(300.0, 1.2e-2), (450.0, 1e-2), (600.0, 1e-2)])
+def test_bathe_bolourchi_45_degree_bend(load, tol):
+    """Bathe & Bolourchi's tip positions: distance within 1 % of |r| at P = 450 and 600 (measured
+    0.20, 0.32 %) and 1.2 % at P = 300 (measured 1.13 %; the refined solutions below are 0.94 and
+    1.45 % from their P = 300 value themselves: it is a coarse 8-element result)."""
+    r = _bathe_bolourchi_tip(load)
+    ref = np.asarray(BATHE_BOLOURCHI[load])
+    assert np.linalg.norm(r - ref) < tol * np.linalg.norm(ref)
 
 
 @pytest.mark.parametrize("load", [300.0, 600.0])
-def test_bathe_bolourchi_45_degree_bend(load):
-    """Every tip coordinate within 1 % of Bathe & Bolourchi's and of Cardona & Geradin's
-    (measured: 0.38 / 0.66 % and 0.48 / 0.87 % at P = 300 / 600)."""
+def test_bathe_bolourchi_refined_solutions(load):
+    """Every tip coordinate within 1 % of the refined solutions (measured 0.38 / 0.66 % and
+    0.48 / 0.87 % at P = 300 / 600)."""
     r = _bathe_bolourchi_tip(load)
-    for ref in (BATHE_BOLOURCHI[load], CARDONA_GERADIN[load]):
+    for ref in (SIMO_VU_QUOC[load], CARDONA_GERADIN[load]):
         np.testing.assert_allclose(r, ref, rtol=1e-2)
-
-
-@pytest.mark.parametrize("load", [300.0, 450.0, 600.0])
-def test_bathe_bolourchi_simo_vu_quoc(load):
-    """Simo & Vu-Quoc's positions (8 elements) lie 0.9 % (P = 300) from Bathe & Bolourchi's
-    themselves; ours are within 1.2 % of |r| (measured 1.13, 0.20, 0.32 %)."""
-    r = _bathe_bolourchi_tip(load)
-    ref = np.asarray(SIMO_VU_QUOC[load])
-    assert np.linalg.norm(r - ref) < 1.2e-2 * np.linalg.norm(ref)
 
 
 def test_bathe_bolourchi_converged_reference():
