@@ -107,11 +107,8 @@ class LinearizedHistory:
         if lu not in ("superlu", "static"):
             raise ValueError(f'lu must be "superlu" or "static", got {lu!r}')
         self.lu_method = lu if self.n_time > 1 else "superlu"
-        self._static_solver = None    # StaticPivotLU of the pattern, once made
         self._static = None           # (StaticPivotLU, factors of every step) once computed
         self.static_stats = {"refined": 0, "fallback": 0}
-        #: LU the last tangent ("N") and adjoint ("T") sweep ran on: "superlu" or "static"
-        self.sweep_lu = {"N": None, "T": None}
 
     # ------------------------------------------------------------------ structure
     def _newton_pattern(self):
@@ -205,30 +202,16 @@ class LinearizedHistory:
             self._factors[r] = lu
         return lu
 
-    def _static_pivot_solver(self):
-        """The :class:`StaticPivotLU` of this pattern (made once per pattern), or None."""
-        if self._static_solver is None and self.lu_method == "static":
-            ref = self.n_time // 2
-            slu = static_lu.for_pattern(self.n_state, self.m_rows, self.m_indptr, self.m_data[ref])
+    def _static_lu(self):
+        """``(StaticPivotLU, factors of every step)`` when ``lu_method == "static"``, else None
+        (also when the pattern's reference step cannot be factored: then SuperLU from here on)."""
+        if self._static is None and self.lu_method == "static":
+            slu = static_lu.for_pattern(self.n_state, self.m_rows, self.m_indptr, self.m_data[self.n_time // 2])
             if slu is None:
                 self.lu_method = "superlu"
-            self._static_solver = slu
-        return self._static_solver
-
-    def _static_lu(self):
-        """The static-pivot LU of this pattern and the factors of every step n >= 1."""
-        if self._static is None:
-            slu = self._static_pivot_solver()
-            if slu is None:
                 return None
             self._static = (slu, slu.factor_many(self.m_data))
         return self._static
-
-    def _sweep_lu(self, trans):
-        """``(StaticPivotLU, factors)`` if this sweep runs on the static-pivot LU, else None."""
-        st = self._static_lu() if self.lu_method == "static" else None
-        self.sweep_lu[trans] = "superlu" if st is None else "static"
-        return st
 
     def _solve_step(self, n, b, trans="N", st=None):
         """``A_n x = b`` (or ``A_n^T x = b``) with the step's factors (``st``: static-pivot LU)."""
@@ -334,7 +317,7 @@ class LinearizedHistory:
         """Forward sweep: solve ``J dx = rhs``, ``dx_n = A_n^-1 (rhs_n - sum_k B_n,k dx_n-k)``."""
         rhs = np.asarray(rhs, dtype=float).reshape(self.n_time, self.n_state)
         dx = np.zeros_like(rhs)
-        st = self._sweep_lu("N")
+        st = self._static_lu()
         for n in range(self.n_time):
             b = rhs[n].copy()
             if n >= 1:
@@ -361,7 +344,7 @@ class LinearizedHistory:
         step 1 enters through ``alpha_1(1) = -1/dt`` and ``B_2,2`` of step 2.
         """
         rhs = np.asarray(rhs, dtype=float).reshape(self.n_time, self.n_state)
-        st = self._sweep_lu("T")
+        st = self._static_lu()
         if st is not None:
             return self._solve_adjoint_static(rhs, st)
         lam = np.zeros_like(rhs)

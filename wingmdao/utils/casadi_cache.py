@@ -136,14 +136,16 @@ def compile_library(fun: ca.Function, flags=DEFAULT_FLAGS, key: str | None = Non
     return target
 
 
-def cached(fun: ca.Function, flags=DEFAULT_FLAGS) -> ca.Function | None:
-    """The compiled version of ``fun`` if it is in the cache (and loads), else None."""
-    path = library_path(fun, flags)
+def cached(fun: ca.Function, flags=DEFAULT_FLAGS, key: str | None = None) -> ca.Function | None:
+    """The compiled version of ``fun`` if it is in the cache and loads, else None. A library that
+    does not load (corrupt, foreign) is removed, so the next compile rebuilds it."""
+    path = library_path(fun, flags, key)
     if not path.exists():
         return None
     try:
         return load(fun, path)
-    except Exception:           # corrupt or foreign library: ignore, it will be rebuilt
+    except Exception:       # noqa: BLE001
+        path.unlink(missing_ok=True)
         return None
 
 
@@ -153,13 +155,8 @@ def compiled(fun: ca.Function, flags=DEFAULT_FLAGS) -> ca.Function:
         return fun
     try:
         key = function_key(fun, flags)
-        path = library_path(fun, flags, key)
-        if path.exists():
-            try:
-                return load(fun, path)
-            except Exception:
-                path.unlink(missing_ok=True)
-        return load(fun, compile_library(fun, flags, key))
+        hit = cached(fun, flags, key)
+        return hit if hit is not None else load(fun, compile_library(fun, flags, key))
     except Exception as exc:    # noqa: BLE001 - any failure falls back to the interpreted function
         _warn_once(exc)
         return fun
@@ -210,14 +207,10 @@ class JitFunction:
             self.start()
 
     def _load_cached(self) -> bool:
-        path = library_path(self.interpreted, self.flags, self.key())
-        if not path.exists():
+        hit = cached(self.interpreted, self.flags, self.key())
+        if hit is None:
             return False
-        try:
-            self._ready = load(self.interpreted, path)
-        except Exception:       # corrupt or foreign library: rebuilt when compiled
-            return False
-        self.state = "compiling"
+        self._ready, self.state = hit, "compiling"
         return True
 
     def start(self, wait: bool = False) -> None:
@@ -239,8 +232,6 @@ class JitFunction:
 
     def _compile(self):
         try:
-            path = library_path(self.interpreted, self.flags, self.key())
-            path.unlink(missing_ok=True)      # here only if it is absent or failed to load
             path = compile_library(self.interpreted, self.flags, self.key())
             self._ready = load(self.interpreted, path)
         except Exception as exc:    # noqa: BLE001
