@@ -60,7 +60,7 @@ def derivatives():
         for o in of:
             fd[o, w] = cols[o]
     out["fd"] = fd
-    assert prob.get_val("cases.dyn.beam.states").shape[0] == N_STEPS
+    assert prob.get_val("cases.dyn.states").shape[0] == N_STEPS
     return out
 
 

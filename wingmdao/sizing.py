@@ -13,10 +13,11 @@ from dataclasses import dataclass, field
 import numpy as np
 import openmdao.api as om
 
-from wingmdao.groups.wing import SECTION_KINDS, WingSizing
+from wingmdao.groups.wing import SECTION_KINDS, WingSizing, set_case_loads
 from wingmdao.optimize import ProgressPrinter, add_recorder, make_driver
+from wingmdao.section.box import WALL_NAMES
 
-WALL_VARS = ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")
+WALL_VARS = WALL_NAMES  # the one table of wall names: wingmdao.section.box
 
 
 @dataclass
@@ -63,11 +64,15 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     """
     n = geometry.num_nodes
     design_vars = SECTION_KINDS[section]["design_vars"]
+    load_cases = list(load_cases)
     prob = om.Problem(reports=False)
-    prob.model.add_subsystem("wing", WingSizing(num_nodes=n, load_cases=list(load_cases),
+    mass_ref = (options.mass_scale or initial_mass(geometry, material, options, section)) if driver else 1.0
+    prob.model.add_subsystem("wing", WingSizing(num_nodes=n, load_cases=load_cases,
                                                 material=material, rho_ks=options.rho_ks,
                                                 parallel=parallel, section=section,
-                                                station_map=geometry.station_map), promotes=["*"])
+                                                station_map=geometry.station_map,
+                                                add_constraints=driver, add_objective=driver,
+                                                mass_ref=mass_ref), promotes=["*"])
     desc = "none (analysis only)"
     if driver:
         prob.driver, desc = make_driver(options.optimizer, maxiter=options.maxiter, tol=options.tol,
@@ -75,17 +80,14 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
         for w in design_vars:
             prob.model.add_design_var(w, lower=options.lower[w], upper=options.upper[w],
                                       ref=options.dv_ref.get(w, options.upper[w]) if options.dv_ref else options.upper[w])
-        ref = options.mass_scale or initial_mass(geometry, material, options, section)
-        prob.model.add_objective("mass", ref=ref)
-        for case in load_cases:
-            for fam in case.families:
-                prob.model.add_constraint(f"cases.{case.name}.ks_{fam}", upper=0.0)
         if options.recording:
             add_recorder(prob, options.recording)
         if options.progress:
             prob.driver.add_recorder(ProgressPrinter())
     prob.setup(mode="rev")
     set_geometry(prob, geometry, section)
+    for case in load_cases:
+        set_case_loads(prob, case, n, f"cases.{case.name}")
     n_dv = n if geometry.station_map is None else int(np.max(geometry.station_map)) + 1
     for w in design_vars:
         prob.set_val(w, np.broadcast_to(options.initial.get(w, options.upper[w]), (n_dv,)))
@@ -124,15 +126,15 @@ def initial_frequencies(geometry: WingGeometry, material, options: SizingOptions
     """
     from wingmdao.beam.modes import natural_frequencies
     from wingmdao.beam.static import beam_forcing
+    from wingmdao.components.beam import beam_system
     from wingmdao.groups.load_case import LoadCase
     from wingmdao.timemarch.system import pack
 
     prob, _ = build_problem(geometry, [LoadCase("modes")], material, options,
                             driver=False, section=section)
     prob.run_model()
-    beam = prob.model._get_subsystem("wing.cases.modes.beam")
-    system = beam.options["system"]
-    p = np.concatenate([np.asarray(prob.get_val(f"wing.cases.modes.beam.{s.name}"), dtype=float).ravel()
+    system = beam_system(geometry.num_nodes)
+    p = np.concatenate([np.asarray(prob.get_val(s.name, units=s.units), dtype=float).ravel()
                         for s in system.param_specs])
     q = pack(system.forcing_specs, beam_forcing(geometry.num_nodes))
     return natural_frequencies(system, p, q, count=count)

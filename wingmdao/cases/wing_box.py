@@ -272,7 +272,7 @@ def time_grid(t_final: float, dt: float) -> np.ndarray:
 
 
 def analysis_problem(geometry, load_case, walls: dict, material=ALUMINIUM, *, design_vars=False,
-                     rho_ks=100.0, mode="rev"):
+                     rho_ks=100.0, mode="rev", newton_options=None):
     """Set up (not run) the sizing model of one load case plus a von Mises output.
 
     The chain is :class:`WingSizing` (section, mass, beam, internal loads, stress, KS) with an
@@ -286,13 +286,15 @@ def analysis_problem(geometry, load_case, walls: dict, material=ALUMINIUM, *, de
     import openmdao.api as om
 
     from wingmdao.components.stress import BoxStress
-    from wingmdao.groups.wing import WingSizing
+    from wingmdao.groups.wing import WingSizing, set_case_loads
     from wingmdao.sizing import WALL_VARS, set_geometry
 
     n = geometry.num_nodes
     prob = om.Problem(reports=False)
     prob.model.add_subsystem("wing", WingSizing(num_nodes=n, load_cases=[load_case], material=material,
-                                                rho_ks=rho_ks), promotes=["*"])
+                                                rho_ks=rho_ks, newton_options=newton_options,
+                                                add_constraints=design_vars, add_objective=design_vars),
+                             promotes=["*"])
     prob.model.add_subsystem("vm_stress", BoxStress(num_times=load_case.num_times, num_stations=n,
                                                     material=material, families=("vm",)),
                              promotes_inputs=["width", "height", *WALL_VARS])
@@ -304,11 +306,9 @@ def analysis_problem(geometry, load_case, walls: dict, material=ALUMINIUM, *, de
     if design_vars:
         for w in WALL_VARS:
             prob.model.add_design_var(w)
-        for fam in load_case.families:
-            prob.model.add_constraint(f"cases.{load_case.name}.ks_{fam}", upper=0.0)
-        prob.model.add_objective("mass")
     prob.setup(mode=mode)
     set_geometry(prob, geometry)
+    set_case_loads(prob, load_case, n, f"cases.{load_case.name}")
     for w in WALL_VARS:
         prob.set_val(w, np.broadcast_to(walls[w], (n,)), units="m")
     return prob

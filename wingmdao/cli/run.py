@@ -110,8 +110,8 @@ def wing_box_result(args) -> dict:
                               gravity=args.gravity)
     walls = {"t_upper_skin": args.t_skin * cos_dih, "t_lower_skin": args.t_skin * cos_dih,
              "t_front_spar": args.t_spar * cos_sweep, "t_rear_spar": args.t_spar * cos_sweep}
-    prob = case.analysis_problem(geometry, load, walls, design_vars=args.check_totals)
-    prob.model.wing.cases.run.beam.options["static_options"] = {"load_steps": args.load_steps}
+    prob = case.analysis_problem(geometry, load, walls, design_vars=args.check_totals,
+                                 newton_options={"static_options": {"load_steps": args.load_steps}})
     try:
         prob.run_model()
     except om.AnalysisError as exc:
@@ -168,7 +168,7 @@ def _response(prob, geometry, key) -> dict:
     """Station displacements/rotations (last instant), tip history, von Mises, KS and mass."""
     from wingmdao.cases.wing_box import station_rotations, station_summary
 
-    states = prob.get_val("cases.run.beam.states")
+    states = prob.get_val("cases.run.states")
     r0 = np.asarray(geometry.node_positions)
     disp = states[-1, key, 0:3] - r0[key]
     rot = station_rotations(states[-1, key, 3:6], np.asarray(geometry.node_euler_angles)[key])

@@ -34,10 +34,12 @@ def ks_gradient(g: np.ndarray, rho_ks: float) -> np.ndarray:
 
 
 def _check_finite(name: str, g: np.ndarray) -> None:
+    """A non-finite constraint value comes from a failed upstream analysis: ``om.AnalysisError``,
+    so a driver backs off instead of stopping."""
     bad = ~np.isfinite(g)
     if np.any(bad):
         idx = np.unravel_index(int(np.flatnonzero(bad)[0]), g.shape)
-        raise ValueError(
+        raise om.AnalysisError(
             f"{name}: non-finite value {g[idx]} at index {tuple(int(i) for i in idx)}; "
             "constraint values must be finite real numbers"
         )
@@ -49,7 +51,8 @@ class KSAggregate(om.ExplicitComponent):
     ``KSAggregate(families={"vm": (n_time, n_station, 4), "ss_tension": (n_time, n_station, 4)},
     rho_ks=50.0)`` has inputs ``g_vm``, ``g_ss_tension`` (unitless, ``g <= 0`` feasible) and
     scalar outputs ``ks_vm``, ``ks_ss_tension``. Each output depends on its own family only;
-    its partials are one dense row, declared with rows/cols.
+    its partials are one dense row, declared with rows/cols. With ``add_constraints=True``
+    every ``ks_<family>`` is added as a constraint ``ks <= 0``.
     """
 
     def initialize(self):
@@ -58,6 +61,10 @@ class KSAggregate(om.ExplicitComponent):
         )
         self.options.declare(
             "rho_ks", default=100.0, lower=0.0, desc="KS aggregation parameter rho_KS (> 0)"
+        )
+        self.options.declare(
+            "add_constraints", default=False, types=bool,
+            desc="add each ks_<family> as a constraint ks <= 0 (like om.KSComp's add_constraint)",
         )
 
     def setup(self):
@@ -82,6 +89,8 @@ class KSAggregate(om.ExplicitComponent):
             self.declare_partials(
                 f"ks_{name}", f"g_{name}", rows=np.zeros(size, dtype=int), cols=np.arange(size)
             )
+            if self.options["add_constraints"]:
+                self.add_constraint(f"ks_{name}", upper=0.0)
 
     def compute(self, inputs, outputs):
         rho = self.options["rho_ks"]

@@ -24,6 +24,11 @@ class SolidRectStress(PointwiseCasadiComponent):
     (n_station,) m. Outputs ``g_ss_tension`` and ``g_ss_compression`` (n_time, n_station, 4).
     """
 
+    @staticmethod
+    def points_per_station(family: str) -> int:
+        """Constraint points per station of stress family ``family`` (last axis of ``g_<family>``)."""
+        return 4
+
     def initialize(self):
         super().initialize()
         self.options.declare("num_times", types=int, lower=1)

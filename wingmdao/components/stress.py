@@ -31,6 +31,11 @@ class BoxStress(CombinedJacobianMixin, PointwiseCasadiComponent):
     ``tau_cent`` (nt, n, 4) in Pa.
     """
 
+    @staticmethod
+    def points_per_station(family: str) -> int:
+        """Constraint points per station of stress family ``family`` (last axis of ``g_<family>``)."""
+        return FAMILIES[family]
+
     def initialize(self):
         super().initialize()
         self.options.declare("num_times", types=int, lower=1, desc="number of time steps")

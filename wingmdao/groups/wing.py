@@ -7,7 +7,13 @@ adds the mass objective. Promoted names follow the chain so the N2 diagram reads
     design  (t_upper_skin, ..., width, height, node_positions, node_euler_angles)
     section (BoxSection: stiffness_csn, compliance_csn, offsets, mass_per_length, ...)
     mass    (StructuralMass: mass)
-    cases.<case>.loads -> beam -> internal_loads -> stress -> ks   (ks_<family>)
+    cases.<case>: forcing inputs (force_per_length, ..., promoted) -> beam (states)
+                  -> internal_loads -> stress -> ks   (ks_<family>)
+
+Loads are inputs: ``cases.<case>.force_per_length`` etc. are set by
+:func:`set_case_loads` (``wingmdao.sizing.build_problem`` does it) or connected from any
+upstream component, e.g. an aerodynamic solver; ``cases`` promotes only the inputs shared by
+every case.
 
 Every group uses ``LinearRunOnce`` (OpenMDAO's default): the beam solves its own linear
 systems (forward and adjoint sweeps over the time history); a ``DirectSolver`` above it
@@ -19,11 +25,14 @@ from __future__ import annotations
 import numpy as np
 import openmdao.api as om
 
+from wingmdao.beam.residual import forcing_specs
 from wingmdao.groups.load_case import FORCING_SHAPES, LoadCase
+from wingmdao.materials import Material
+from wingmdao.section.box import WALL_NAMES
 
 #: Inputs the beam takes from the section, with the section output that feeds it.
 SECTION_TO_BEAM = ("stiffness_csn", "compliance_csn", "mass_per_length", "inertia_per_length")
-WALLS = ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")
+WALLS = WALL_NAMES
 
 #: Section kinds: the per-station inputs of the stress component (also the design variables
 #: of a sizing problem are the thicknesses for a box, width and height for a solid section).
@@ -47,31 +56,52 @@ def _section_classes(kind):
     raise ValueError(f"section must be one of {', '.join(SECTION_KINDS)}, got {kind!r}")
 
 
-def _stress_points(kind, families, num_times, num_nodes, material):
-    """Shapes of each family's constraint array, read from a stand-alone stress component."""
-    stress_cls = _section_classes(kind)[1]
-    probe = om.Problem(reports=False)
-    probe.model.add_subsystem("s", stress_cls(num_times=1, num_stations=1, material=material,
-                                              families=tuple(families)))
-    probe.setup()
-    shapes = {}
-    for fam in families:
-        k = probe.model.s._var_rel2meta[f"g_{fam}"]["shape"][-1]
-        shapes[fam] = (num_times, num_nodes, k)
-    return shapes
+def stress_points(kind, families) -> dict:
+    """Constraint points per station of each stress family of section ``kind`` (no Problem built)."""
+    return {fam: _section_classes(kind)[1].points_per_station(fam) for fam in families}
+
+
+#: Units and description of each forcing input of a load case (the beam's forcing blocks,
+#: wingmdao.beam.residual.forcing_specs; shapes per instant: FORCING_SHAPES).
+FORCING_META = {s.name: (s.units, s.desc) for s in forcing_specs(1)}
+
+
+def set_case_loads(prob: om.Problem, case: LoadCase, num_nodes: int, path: str = "") -> None:
+    """Set the forcing inputs of ``case`` at ``path`` (the WingStructure's promoted prefix,
+    e.g. ``"cases.gust"``) from its arrays; forcing it does not give is set to zero."""
+    prefix = f"{path}." if path else ""
+    for name, (units, _) in FORCING_META.items():
+        prob.set_val(prefix + name, case.forcing_array(name, num_nodes), units=units)
 
 
 class WingStructure(om.Group):
-    """One load case: beam (static or BDF2 time march) -> csn internal loads -> stress -> KS."""
+    """One load case: beam (static or BDF2 time march) -> csn internal loads -> stress -> KS.
+
+    Promoted inputs: the forcing of the case, ``force_per_length``, ``moment_per_length``,
+    ``point_force``, ``point_moment`` ((n_time, n, 3) in N/m, N*m/m, N, N*m, body axes),
+    ``gravity``, ``frame_acceleration`` ((n_time, 3) m/s**2), ``frame_angular_velocity``
+    (rad/s), ``frame_angular_acceleration`` (rad/s**2): connect any component to them, or set
+    them with :func:`set_case_loads` (``loads_component=True`` instead adds an ``loads``
+    IndepVarComp holding the case's arrays, for stand-alone use); the beam parameters and
+    section inputs (``node_positions``, ``stiffness_csn``, ..., ``width``, ``t_upper_skin``, ...).
+    Promoted outputs: ``ks_<family>`` per stress family of the case (``add_constraints=True``
+    makes each an upper-bounded-by-0 constraint, like ``om.KSComp``), and ``states``.
+    """
 
     def initialize(self):
-        self.options.declare("num_nodes", types=int, lower=2)
-        self.options.declare("load_case", types=LoadCase)
-        self.options.declare("material", desc="wingmdao.materials.Material")
+        self.options.declare("num_nodes", types=int, lower=2, desc="number of beam nodes (root first)")
+        self.options.declare("load_case", types=LoadCase, desc="time grid, stress families, damping (and loads)")
+        self.options.declare("material", types=Material, desc="wall material (E, G, rho, sigma_y)")
         self.options.declare("rho_ks", default=100.0, lower=0.0, desc="KS aggregation parameter")
-        self.options.declare("section", default="box", values=tuple(SECTION_KINDS))
+        self.options.declare("section", default="box", values=tuple(SECTION_KINDS),
+                             desc="section kind: box (wall thicknesses) or solid (width, height)")
         self.options.declare("newton_options", default=None, allow_none=True, types=dict,
                              desc="extra BeamDynamics options (atol, max_iter, static_options, modified_newton, ...)")
+        self.options.declare("loads_component", default=False, types=bool,
+                             desc="hold the load case's forcing arrays in a 'loads' IndepVarComp "
+                                  "(False: promoted inputs, set or connected from outside)")
+        self.options.declare("add_constraints", default=False, types=bool,
+                             desc="add every ks_<family> as a constraint ks <= 0")
 
     def setup(self):
         from wingmdao.components.beam import BeamDynamics
@@ -85,9 +115,10 @@ class WingStructure(om.Group):
         case = self.options["load_case"]
         nt = case.num_times
 
-        loads = self.add_subsystem("loads", om.IndepVarComp())
-        for name, (units, desc) in _FORCING_META.items():
-            loads.add_output(name, val=case.forcing_array(name, n), units=units, desc=desc)
+        if self.options["loads_component"]:
+            loads = self.add_subsystem("loads", om.IndepVarComp())
+            for name, (units, desc) in FORCING_META.items():
+                loads.add_output(name, val=case.forcing_array(name, n), units=units, desc=desc)
 
         beam_kwargs = dict(num_nodes=n, time=case.time, **(self.options["newton_options"] or {}))
         if case.damping is not None and not case.damping.is_zero:
@@ -96,14 +127,16 @@ class WingStructure(om.Group):
             beam_kwargs["system"] = cached_beam_system(n, beam_kwargs.get("euler_sequence", "surface"), case.damping)
         beam = BeamDynamics(**beam_kwargs)
         beam.recording_options["options_excludes"] = ["system"]  # a CasADi object: not picklable
+        forcing = [] if self.options["loads_component"] else list(FORCING_SHAPES)
         self.add_subsystem("beam", beam, promotes_inputs=[
             "node_positions", "node_euler_angles", *SECTION_TO_BEAM,
-            "tension_axis", "shear_center", "mass_center"])
-        for name in FORCING_SHAPES:
-            self.connect(f"loads.{name}", f"beam.{name}")
+            "tension_axis", "shear_center", "mass_center", *forcing], promotes_outputs=["states"])
+        if self.options["loads_component"]:
+            for name in FORCING_SHAPES:
+                self.connect(f"loads.{name}", f"beam.{name}")
 
-        self.add_subsystem("internal_loads", BeamInternalLoads(num_times=nt, num_nodes=n))
-        self.connect("beam.states", "internal_loads.states")
+        self.add_subsystem("internal_loads", BeamInternalLoads(num_times=nt, num_nodes=n),
+                           promotes_inputs=["states"])
 
         stress_kwargs = {"output_stresses": False} if kind == "box" else {}
         self.add_subsystem("stress", stress_cls(num_times=nt, num_stations=n,
@@ -113,49 +146,46 @@ class WingStructure(om.Group):
         self.connect("internal_loads.F_csn", "stress.F_csn")
         self.connect("internal_loads.M_csn", "stress.M_csn")
 
-        shapes = _stress_points(kind, case.families, nt, n, self.options["material"])
-        self.add_subsystem("ks", KSAggregate(families=shapes, rho_ks=self.options["rho_ks"]),
+        points = stress_points(kind, case.families)
+        shapes = {fam: (nt, n, k) for fam, k in points.items()}
+        self.add_subsystem("ks", KSAggregate(families=shapes, rho_ks=self.options["rho_ks"],
+                                             add_constraints=self.options["add_constraints"]),
                            promotes_outputs=[f"ks_{f}" for f in case.families])
         for fam in case.families:
             self.connect(f"stress.g_{fam}", f"ks.g_{fam}")
 
 
-_FORCING_META = {
-    "force_per_length": ("N/m", "distributed force per unit undeformed length, body axes"),
-    "moment_per_length": ("N*m/m", "distributed moment per unit undeformed length, body axes"),
-    "point_force": ("N", "point forces at the nodes, body axes"),
-    "point_moment": ("N*m", "point moments at the nodes, body axes"),
-    "gravity": ("m/s**2", "gravitational acceleration in body axes"),
-    "frame_acceleration": ("m/s**2", "acceleration of the body frame origin"),
-    "frame_angular_velocity": ("rad/s", "angular velocity of the body frame"),
-    "frame_angular_acceleration": ("rad/s**2", "angular acceleration of the body frame"),
-}
-
-
 class WingSizing(om.Group):
     """Shared thickness design variables, box sections and mass; one WingStructure per load case.
 
-    Options: ``num_nodes``; ``load_cases`` (list of :class:`LoadCase`); ``material``;
-    ``rho_ks``; ``parallel`` (put the cases in an ``om.ParallelGroup`` to run them side by side
-    under MPI; default: when mpi4py is installed, else a serial ``om.Group``).
     Inputs to set (promoted): ``t_upper_skin``, ``t_lower_skin``, ``t_front_spar``,
     ``t_rear_spar``, ``width``, ``height`` (per node, m), ``node_positions`` (n, 3) m,
     ``node_euler_angles`` (n, 3) rad, ``section_to_csn`` (n, 3, 3),
-    ``nonstructural_mass_per_length`` (n,) kg/m. Outputs: ``mass`` (kg) and
-    ``cases.<case>.ks_<family>``.
+    ``nonstructural_mass_per_length`` (n,) kg/m; per load case the forcing inputs
+    ``cases.<case>.force_per_length`` ... (see :class:`WingStructure`; set them with
+    :func:`set_case_loads` or connect them). Outputs: ``mass`` (kg) and
+    ``cases.<case>.ks_<family>``. ``add_constraints`` / ``add_objective`` declare the KS
+    constraints (<= 0) and the mass objective themselves.
     """
 
     def initialize(self):
-        self.options.declare("num_nodes", types=int, lower=2)
-        self.options.declare("load_cases", types=list)
-        self.options.declare("material", desc="wingmdao.materials.Material")
-        self.options.declare("rho_ks", default=100.0, lower=0.0)
+        self.options.declare("num_nodes", types=int, lower=2, desc="number of beam nodes (root first)")
+        self.options.declare("load_cases", types=list, desc="list of wingmdao.groups.load_case.LoadCase")
+        self.options.declare("material", types=Material, desc="wall material (E, G, rho, sigma_y)")
+        self.options.declare("rho_ks", default=100.0, lower=0.0, desc="KS aggregation parameter")
         self.options.declare("parallel", default=None, allow_none=True, types=bool,
                              desc="load cases in an om.ParallelGroup (None: when mpi4py imports)")
-        self.options.declare("section", default="box", values=tuple(SECTION_KINDS))
+        self.options.declare("section", default="box", values=tuple(SECTION_KINDS),
+                             desc="section kind: box (wall thicknesses) or solid (width, height)")
         self.options.declare("station_map", default=None, allow_none=True,
                              desc="(n,) int: design-variable index of each station (None: one per station)")
-        self.options.declare("newton_options", default=None, allow_none=True, types=dict)
+        self.options.declare("newton_options", default=None, allow_none=True, types=dict,
+                             desc="extra BeamDynamics options of every case")
+        self.options.declare("add_constraints", default=False, types=bool,
+                             desc="add every case's ks_<family> as a constraint ks <= 0")
+        self.options.declare("add_objective", default=False, types=bool,
+                             desc="add the structural mass as the objective")
+        self.options.declare("mass_ref", default=1.0, lower=0.0, desc="objective scaling reference (kg)")
 
     def setup(self):
         from wingmdao.components.mass import StructuralMass
@@ -165,6 +195,11 @@ class WingSizing(om.Group):
         kind = self.options["section"]
         section_cls = _section_classes(kind)[0]
         mat = self.options["material"]
+        if not self.options["load_cases"]:
+            raise ValueError("WingSizing: load_cases is empty; give at least one LoadCase")
+        bad = [c for c in self.options["load_cases"] if not isinstance(c, LoadCase)]
+        if bad:
+            raise ValueError(f"WingSizing: load_cases must be LoadCase objects, got {type(bad[0]).__name__}")
         names = [c.name for c in self.options["load_cases"]]
         if len(set(names)) != len(names):
             raise ValueError(f"load case names must be unique, got {names}")
@@ -200,14 +235,19 @@ class WingSizing(om.Group):
             import importlib.util
 
             parallel = importlib.util.find_spec("mpi4py") is not None
-        cases = self.add_subsystem("cases", om.ParallelGroup() if parallel else om.Group(),
-                                   promotes_inputs=["*"])
         alias_map = dict(alias)
         case_inputs = [(v, alias_map[v]) if v in alias_map else v for v in SECTION_KINDS[kind]["stress_inputs"]]
         case_inputs += ["node_positions", "node_euler_angles", *SECTION_TO_BEAM,
                         "tension_axis", "shear_center", "mass_center"]
+        # only the shared inputs leave 'cases'; each case's forcing stays cases.<case>.<forcing>
+        shared = sorted({v[1] if isinstance(v, tuple) else v for v in case_inputs})
+        cases = self.add_subsystem("cases", om.ParallelGroup() if parallel else om.Group(),
+                                   promotes_inputs=shared)
         for case in self.options["load_cases"]:
             cases.add_subsystem(case.name, WingStructure(
                 num_nodes=n, load_case=case, material=mat, rho_ks=self.options["rho_ks"],
-                section=kind, newton_options=self.options["newton_options"]),
+                section=kind, newton_options=self.options["newton_options"],
+                add_constraints=self.options["add_constraints"]),
                 promotes_inputs=case_inputs)
+        if self.options["add_objective"]:
+            self.add_objective("mass", ref=self.options["mass_ref"])
