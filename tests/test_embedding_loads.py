@@ -158,3 +158,20 @@ def test_readme_groups_snippet_runs():
     scope = {}
     exec(compile(code, "README.md (groups)", "exec"), scope)
     assert 300.0 < scope["result"]["mass_kg"] < 400.0
+
+
+def test_components_cite_the_dissertation(prob):
+    from wingmdao import DISSERTATION
+
+    cited = {type(s).__name__ for s in prob.model.system_iter(recurse=True) if getattr(s, "cite", "") == DISSERTATION}
+    assert {"BoxSection", "BeamDynamics", "BeamInternalLoads", "BoxStress", "KSAggregate", "StructuralMass"} <= cited
+
+
+def test_project_names_no_file_outside_the_repository():
+    root = Path(__file__).resolve().parents[1]
+    offenders = []
+    for path in [root / "README.md", *root.glob("docs/**/*.md"), *root.glob("wingmdao/**/*.py")]:
+        text = path.read_text(encoding="utf-8")
+        if "../shared" in text or "CONVENTIONS.md" in text or "dissertation.txt" in text:
+            offenders.append(str(path.relative_to(root)))
+    assert not offenders

@@ -1,6 +1,6 @@
 """Geometrically nonlinear Timoshenko beam (App. A, ASWING form) as a CasADi residual system.
 
-Unknowns per node (CONVENTIONS.md), node-major: r (3), theta (3), F (3), M (3), u (3),
+Unknowns per node (docs/conventions.md), node-major: r (3), theta (3), F (3), M (3), u (3),
 omega (3); all vectors in body axes except the Euler angles theta = (phi, twist, psi) of
 :mod:`wingmdao.beam.rotations`. F_i, M_i are the resultants the outboard part exerts on the
 inboard part across a cut just inboard of node i (so a tip point load P gives F_tip = P and a
@@ -37,7 +37,7 @@ import numpy as np
 from wingmdao.beam.rotations import body_to_csn, rate_matrix
 from wingmdao.timemarch.system import CasadiResidualSystem, VarSpec, layout
 
-#: Per-node state blocks (CONVENTIONS.md).
+#: Per-node state blocks (docs/conventions.md).
 STATE_BLOCKS = {"r": slice(0, 3), "theta": slice(3, 6), "F": slice(6, 9), "M": slice(9, 12),
                 "u": slice(12, 15), "omega": slice(15, 18)}
 N_STATE_PER_NODE = 18

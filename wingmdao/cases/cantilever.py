@@ -1,7 +1,7 @@
 """Solid rectangular cantilever of Sec. 4.7.1 (Table 4.23): width and height per station.
 
 The dissertation does not state the beam length; we use 10 m (option ``--length``). The
-beam lies along +y (CONVENTIONS.md), clamped at y = 0, with the tip load along +z. Load
+beam lies along +y (docs/conventions.md), clamped at y = 0, with the tip load along +z. Load
 cases: ``static`` (constant tip load 1 MN, static solve), ``sine`` (F_z = 1 MN sin(20 t),
 the load of Fig. 4.41a) and ``step`` (the same constant load applied suddenly at t > 0 to
 the beam at rest: the dynamic counterpart of ``static``, Table 4.25). Initial guesses

@@ -2,7 +2,7 @@
 
 Both are :class:`~wingmdao.components.time_history.TimeHistoryComponent` instances over the
 beam residual system of ``wingmdao.beam.residual.build_beam_system`` (App. A): 18 states per
-node (r, theta, F, M, u, omega; CONVENTIONS.md). Inputs are the beam's parameter blocks
+node (r, theta, F, M, u, omega; docs/conventions.md). Inputs are the beam's parameter blocks
 (``node_positions``, ``node_euler_angles``, ``stiffness_csn``, ``compliance_csn``, ...) and
 forcing blocks (``force_per_length``, ``point_force``, ``gravity``, ...); the output is
 ``states``, ``(n_time, n_node, 18)`` for ``BeamDynamics`` and ``(n_node, 18)`` for
@@ -17,12 +17,9 @@ from functools import lru_cache
 
 import numpy as np
 
+from wingmdao.beam.residual import STATE_BLOCKS  # per-node state layout (docs/conventions.md)
 from wingmdao.components.time_history import TimeHistoryComponent
 from wingmdao.timemarch.system import ResidualSystem, layout
-
-#: Per-node state layout (CONVENTIONS.md).
-STATE_BLOCKS = {"r": slice(0, 3), "theta": slice(3, 6), "F": slice(6, 9), "M": slice(9, 12),
-                "u": slice(12, 15), "omega": slice(15, 18)}
 
 
 @lru_cache(maxsize=16)

@@ -2,7 +2,7 @@
 
 At every time and node: ``F_csn = T(theta) F`` and ``M_csn = T(theta) M`` (Eq. A.1), with F, M
 the body-axes resultants of the beam state (the outboard part acting on the inboard part,
-CONVENTIONS.md). Components: force [F_c shear, F_s axial, F_n shear], moment [M_c bending,
+docs/conventions.md). Components: force [F_c shear, F_s axial, F_n shear], moment [M_c bending,
 M_s torsion, M_n bending]. The component is pointwise over the (n_time, n_node) grid, so its
 partials are exact and block diagonal (CasADi AD via PointwiseCasadiComponent).
 """
@@ -13,6 +13,7 @@ import numpy as np
 
 from wingmdao.beam.rotations import body_to_csn
 from wingmdao.components.pointwise import PointwiseCasadiComponent, Var
+from wingmdao import DISSERTATION
 
 
 class BeamInternalLoads(PointwiseCasadiComponent):
@@ -23,6 +24,7 @@ class BeamInternalLoads(PointwiseCasadiComponent):
 
     def initialize(self):
         super().initialize()
+        self.cite = DISSERTATION  # OpenMDAO lists it in its citations report
         self.options.declare("num_times", types=int, lower=1, desc="number of time instants")
         self.options.declare("num_nodes", types=int, lower=2, desc="number of beam nodes")
         self.options.declare("euler_sequence", default="surface", types=str, desc="Euler sequence of the beam")

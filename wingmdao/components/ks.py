@@ -14,6 +14,8 @@ from __future__ import annotations
 import numpy as np
 import openmdao.api as om
 
+from wingmdao import DISSERTATION
+
 
 def ks_value(g: np.ndarray, rho_ks: float) -> float:
     """KS aggregate of all entries of ``g`` (Eq. 4.44), max-shifted."""
@@ -56,6 +58,7 @@ class KSAggregate(om.ExplicitComponent):
     """
 
     def initialize(self):
+        self.cite = DISSERTATION  # OpenMDAO lists it in its citations report
         self.options.declare(
             "families", types=dict, desc="{family name: shape of its constraint array g}"
         )

@@ -13,6 +13,8 @@ from __future__ import annotations
 import numpy as np
 import openmdao.api as om
 
+from wingmdao import DISSERTATION
+
 
 def element_lengths(node_positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Element lengths s_i = |r_{i+1} - r_i| and unit vectors e_i along each element."""
@@ -38,6 +40,7 @@ class StructuralMass(om.ExplicitComponent):
     """
 
     def initialize(self):
+        self.cite = DISSERTATION  # OpenMDAO lists it in its citations report
         self.options.declare("num_nodes", types=int, lower=2, desc="number of beam nodes")
         self.options.declare(
             "density", default=None, allow_none=True, desc="material density (kg/m^3)"

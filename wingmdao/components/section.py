@@ -14,6 +14,7 @@ import numpy as np
 from wingmdao.components.pointwise import PointwiseCasadiComponent, Var
 from wingmdao.section.box import box_properties, validate_box
 from wingmdao.section.solid import solid_properties, validate_solid
+from wingmdao import DISSERTATION
 
 #: Outputs shared by both section kinds: (name, shape at one station, units, description).
 SECTION_OUTPUTS = (
@@ -92,6 +93,7 @@ class _SectionBase(CombinedJacobianMixin, PointwiseCasadiComponent):
 
     def initialize(self):
         super().initialize()
+        self.cite = DISSERTATION  # OpenMDAO lists it in its citations report
         self.options.declare("num_stations", types=int, lower=1, desc="number of beam stations")
         self.options.declare("material", desc="wingmdao.materials.Material")
         self.options.declare("grid_shape", types=tuple, default=(1,), desc="set from num_stations")

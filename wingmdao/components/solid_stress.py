@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from wingmdao.components.pointwise import PointwiseCasadiComponent, Var
+from wingmdao import DISSERTATION
 
 #: corner order: (c, n) signs of (front-lower, rear-lower, rear-upper, front-upper)
 CORNERS = ((-1, -1), (1, -1), (1, 1), (-1, 1))
@@ -31,6 +32,7 @@ class SolidRectStress(PointwiseCasadiComponent):
 
     def initialize(self):
         super().initialize()
+        self.cite = DISSERTATION  # OpenMDAO lists it in its citations report
         self.options.declare("num_times", types=int, lower=1)
         self.options.declare("num_stations", types=int, lower=1)
         self.options.declare("material", desc="wingmdao.materials.Material (sigma_y used)")

@@ -9,6 +9,7 @@ from wingmdao.components.pointwise import PointwiseCasadiComponent, Var
 from wingmdao.components.section import CombinedJacobianMixin
 from wingmdao.section.box import WALL_NAMES, validate_box
 from wingmdao.stress.box_stress import FAMILIES, box_stresses, check_families, stress_constraints
+from wingmdao import DISSERTATION
 
 _FAMILY_DESC = {
     "vm": "mid-corner von Mises sigma_vm/sigma_y - 1, 8 points (Eq. 4.26)",
@@ -38,6 +39,7 @@ class BoxStress(CombinedJacobianMixin, PointwiseCasadiComponent):
 
     def initialize(self):
         super().initialize()
+        self.cite = DISSERTATION  # OpenMDAO lists it in its citations report
         self.options.declare("num_times", types=int, lower=1, desc="number of time steps")
         self.options.declare("num_stations", types=int, lower=1, desc="number of beam stations")
         self.options.declare("material", desc="wingmdao.materials.Material (sigma_y used)")

@@ -16,6 +16,7 @@ import openmdao.api as om
 from wingmdao.timemarch.adjoint import LinearizedHistory
 from wingmdao.timemarch.bdf import march, state_rates, time_step
 from wingmdao.timemarch.system import ResidualSystem, layout
+from wingmdao import DISSERTATION
 
 
 #: Above this many stacked unknowns (n_time * n_state) the component is matrix-free by default:
@@ -47,6 +48,7 @@ class TimeHistoryComponent(om.ImplicitComponent):
     """
 
     def initialize(self):
+        self.cite = DISSERTATION  # OpenMDAO lists it in its citations report
         self.options.declare("system", types=ResidualSystem, desc="the residual system R(x, xdot, p, q)")
         self.options.declare("time", desc="uniform time grid (s), time[0] = 0; [0.0] for a static solve")
         self.options.declare("initial", default="static", values=("static", "state"),

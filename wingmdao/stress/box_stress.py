@@ -1,7 +1,7 @@
 """Box-section stress recovery (Sec. 4.4.2, Eq. 4.19-4.28), for numpy and CasADi.
 
 Loads: the internal force F = [F_c, F_s, F_n] (N) and moment M = [M_c, M_s, M_n] (N m)
-that the outboard part exerts on the inboard part (CONVENTIONS.md), in the station's csn
+that the outboard part exerts on the inboard part (docs/conventions.md), in the station's csn
 frame, about the box's geometric centre (the beam reference axis). With a ``section_to_csn``
 rotation R they are first brought to the section axes (R^T F, R^T M).
 
@@ -21,7 +21,7 @@ import casadi as ca
 from wingmdao.section.box import (CORNERS, _is_symbolic, box_area, box_centroid, box_enclosed_area,
                                   box_first_moments, box_inertia, box_midline, box_shear_centre, sqrt)
 
-#: Constraint families (CONVENTIONS.md) and their number of points per station.
+#: Constraint families (docs/conventions.md) and their number of points per station.
 FAMILIES = {"vm": 8, "ss_tension": 4, "ss_compression": 4, "cent_pos": 4, "cent_neg": 4}
 
 #: Added under the von Mises square root (Pa^2) so that its derivative stays finite at zero
