@@ -29,8 +29,8 @@ edge), with the relative air velocity at the reference point resolved in the sec
 
 For rigid harmonic motion these reduce exactly to Theodorsen's lift and moment with C(k) replaced
 by Jones' rational approximation ``C_J(k) = 1 - A_1 i k/(i k + beta_1) - A_2 i k/(i k + beta_2)``
-(:func:`theodorsen_jones`); its error against the exact C(k) is below 1.1 % in modulus for
-0.05 <= k <= 1 (tests/test_aero.py).
+(:func:`theodorsen_jones`); against the exact C(k) its modulus differs by at most 1.4 % and its
+phase by at most 0.023 rad for 0.05 <= k <= 0.5 (2.1 % in modulus at k = 1; tests/test_aero.py).
 """
 
 from __future__ import annotations
