@@ -42,10 +42,12 @@ class AeroelasticBeamDynamics(TimeHistoryComponent):
                              f"{self.options['num_nodes']}")
         super().setup()
 
-    def _params(self, inputs):
+    def solve_nonlinear(self, inputs, outputs):
+        # checked before the march (not in apply_nonlinear/linearize: finite-difference checks
+        # may step mach = 0 to a tiny negative value, where the equations are still defined)
         check_aero_parameters({k: np.asarray(inputs[k]) for k in
                                ("chord", "ref_point", "airspeed", "density", "mach", "lift_slope")})
-        return super()._params(inputs)
+        super().solve_nonlinear(inputs, outputs)
 
     def initial_guess(self, p, q0):
         return self.options["system"].initial_guess(p, q0)
