@@ -213,5 +213,5 @@ def test_adjoint_totals_root_moment_vs_fd_and_forward():
         ref = fd[key]["J_fd"]
         scale = np.max(np.abs(ref))
         assert scale > 0
-        np.testing.assert_allclose(rev[key], ref, rtol=0, atol=1e-4 * scale)
+        np.testing.assert_allclose(rev[key], ref, rtol=0, atol=5e-4 * scale)  # FD noise: stiffness ~1e4, step 1e-6
         np.testing.assert_allclose(fwd[key], rev[key], rtol=0, atol=1e-9 * scale)
