@@ -117,7 +117,8 @@ def _node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence):
 
 
 def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
-                             damping: StrainRateDamping | None = None) -> "AeroelasticBeamSystem":
+                             damping: StrainRateDamping | None = None,
+                             plunge: bool = False) -> "AeroelasticBeamSystem":
     """The App. A beam of ``num_nodes`` nodes (root clamped) with unsteady strip theory.
 
     Returns an :class:`AeroelasticBeamSystem` (a :class:`CasadiResidualSystem`):
@@ -125,25 +126,40 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     parameters + :func:`aero_param_specs`; ``forcing_specs`` = beam forcing +
     :func:`aero_forcing_specs`. ``system.section_loads(x, xdot, p, q)`` evaluates the lift and
     moment per length at every node.
+
+    ``plunge=True`` frees the aircraft in plunge (the clamped, wind-tunnel root otherwise): one
+    more state, the upward velocity w_p of the body axes (``state_shape = (22 num_nodes + 1,)``,
+    the node-major (n, 22) block first), one more parameter ``body_mass`` (kg, the aircraft mass
+    outside both wing halves), and the equation ``body_mass (dw_p/dt - g_z) = 2 F_root,z`` (the
+    two half-wings' root shear, which holds their lift and their own inertia). The body velocity
+    (0, 0, w_p) adds to ``frame_velocity`` in the aerodynamics and its rate to the beam's
+    ``frame_acceleration``.
     """
     n = int(num_nodes)
     if n < 2:
         raise ValueError(f"num_nodes must be >= 2, got {num_nodes}")
     t0 = _time.perf_counter()
     pspecs = beam_param_specs(n) + aero_param_specs(n)
+    if plunge:
+        pspecs.append(VarSpec("body_mass", (), "kg", "aircraft mass outside both wing halves (free plunge)"))
     qspecs = beam_forcing_specs(n) + aero_forcing_specs(n)
     play, qlay = layout(pspecs), layout(qspecs)
     W = N_AEROELASTIC_STATES
-    x = ca.SX.sym("x", W * n)
-    xdot = ca.SX.sym("xdot", W * n)
+    n_extra = 1 if plunge else 0
+    x = ca.SX.sym("x", W * n + n_extra)
+    xdot = ca.SX.sym("xdot", W * n + n_extra)
     p = ca.SX.sym("p", sum(s.size for s in pspecs))
     q = ca.SX.sym("q", sum(s.size for s in qspecs))
     elem = _element_function(euler_sequence, damping)
     nodal = _nodal_function(euler_sequence)
     g = q[qlay["gravity"]]
-    frame = (q[qlay["frame_acceleration"]], q[qlay["frame_angular_velocity"]],
-             q[qlay["frame_angular_acceleration"]])
-    aero_frame = (q[qlay["frame_velocity"]],) + frame
+    acc0, vf = q[qlay["frame_acceleration"]], q[qlay["frame_velocity"]]
+    if plunge:
+        e_z = ca.DM([0.0, 0.0, 1.0])
+        acc0 = acc0 + e_z * xdot[W * n]
+        vf = vf + e_z * x[W * n]
+    frame = (acc0, q[qlay["frame_angular_velocity"]], q[qlay["frame_angular_acceleration"]])
+    aero_frame = (vf,) + frame
     V, rho, mach = p[play["airspeed"]], p[play["density"]], p[play["mach"]]
 
     # one symbolic node function for the aerodynamics, called per node
@@ -182,19 +198,26 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
                 xb[st["M"]] - qs[i][_Q_NODE["Q"]]))
         blocks.append(nodal(xb, xdb))
         blocks.append(aero_out[i][0])
+    if plunge:
+        mb = p[play["body_mass"]]
+        blocks.append(mb * (xdot[W * n] - g[2]) - 2.0 * xs[0][st["F"]][2])
     R = ca.vertcat(*blocks)
     lifts = ca.vertcat(*[o[1] for o in aero_out])
     moments = ca.vertcat(*[o[2] for o in aero_out])
     system = AeroelasticBeamSystem(x, xdot, p, q, R, param_specs=pspecs, forcing_specs=qspecs,
-                                   state_shape=(n, W), name=f"aeroelastic_beam{n}",
+                                   state_shape=(W * n + 1,) if plunge else (n, W),
+                                   name=f"aeroelastic_beam{n}" + ("_plunge" if plunge else ""),
                                    describe=lambda k: describe_aeroelastic_equation(k, n))
     system.num_nodes = n
+    system.plunge = bool(plunge)
     system._loads = ca.Function("section_loads", [x, xdot, p, q], [lifts, moments])
     system.build_time = _time.perf_counter() - t0
     return system
 
 
 def describe_aeroelastic_equation(index: int, num_nodes: int) -> str:
+    if index == N_AEROELASTIC_STATES * num_nodes:
+        return "free plunge: body_mass (dw_p/dt - g_z) = 2 F_root,z"
     node, k = divmod(int(index), N_AEROELASTIC_STATES)
     if k < N_STATE_PER_NODE:
         return describe_equation(node * N_STATE_PER_NODE + k, num_nodes)
@@ -218,7 +241,7 @@ class AeroelasticBeamSystem(CasadiResidualSystem):
         bp = {s.name: np.asarray(p[play[s.name]]).reshape(s.shape) for s in beam_param_specs(n)}
         x = np.zeros((n, N_AEROELASTIC_STATES))
         x[:, self.BEAM] = jig_state(bp)
-        return x.ravel()
+        return np.concatenate([x.ravel(), np.zeros(self.n_state - x.size)])
 
     def section_loads(self, x, xdot, p, q):
         """(lift, moment) per unit length at every node (N/m along the section normal, N*m/m nose up)."""
@@ -240,11 +263,13 @@ _SYSTEMS: dict = {}
 
 
 def cached_aeroelastic_system(num_nodes: int, euler_sequence: str = "surface",
-                              damping: StrainRateDamping | None = None) -> AeroelasticBeamSystem:
-    """:func:`build_aeroelastic_system`, built once per (num_nodes, sequence, damping)."""
+                              damping: StrainRateDamping | None = None,
+                              plunge: bool = False) -> AeroelasticBeamSystem:
+    """:func:`build_aeroelastic_system`, built once per (num_nodes, sequence, damping, plunge)."""
     if damping is not None and damping.is_zero:
         damping = None
-    key = (int(num_nodes), euler_sequence, damping)
+    key = (int(num_nodes), euler_sequence, damping, bool(plunge))
     if key not in _SYSTEMS:
-        _SYSTEMS[key] = build_aeroelastic_system(key[0], euler_sequence=euler_sequence, damping=damping)
+        _SYSTEMS[key] = build_aeroelastic_system(key[0], euler_sequence=euler_sequence, damping=damping,
+                                                 plunge=key[3])
     return _SYSTEMS[key]

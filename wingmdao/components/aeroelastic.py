@@ -30,13 +30,16 @@ class AeroelasticBeamDynamics(TimeHistoryComponent):
                              desc="Euler-angle sequence of wingmdao.beam.residual")
         self.options.declare("system", default=None, allow_none=True, types=AeroelasticBeamSystem,
                              desc="built from num_nodes (leave unset)")
+        self.options.declare("plunge", default=False, types=bool,
+                             desc="free plunge of the aircraft (input body_mass); clamped root otherwise")
         self.options.declare("modified_newton", default=True, types=bool,
                              desc="reuse LU factors across Newton iterations and steps")
 
     def setup(self):
         if self.options["system"] is None:
             self.options["system"] = cached_aeroelastic_system(self.options["num_nodes"],
-                                                               self.options["euler_sequence"])
+                                                               self.options["euler_sequence"],
+                                                               plunge=self.options["plunge"])
         if self.options["system"].num_nodes != self.options["num_nodes"]:
             raise ValueError(f"system has {self.options['system'].num_nodes} nodes but num_nodes = "
                              f"{self.options['num_nodes']}")
