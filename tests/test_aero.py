@@ -51,7 +51,7 @@ def test_wagner_step_in_angle_of_attack():
     """Plunge-velocity step w0 (AoA step w0/V) on a very stiff wing: lift/length follows phi(s).
 
     Discretization: the step falls between t0 and t1 (ds = 0.1 semichord per step), BDF2; tolerance
-    1 % for s >= 1 (the lag states are exact for Jones' phi; the rest is the time step)."""
+    0.3 % for s >= 1 (ours 0.03 %)."""
     s, p, q, _ = _wing(3)
     t = np.arange(401) * 0.0025
     Q = np.tile(q, (t.size, 1))
@@ -60,13 +60,13 @@ def test_wagner_step_in_angle_of_attack():
     sv = V * t / 0.5  # backward differences: the forcing of step 1 acts over (t0, t1]
     ref = 0.5 * RHO * V ** 2 * 1.0 * 2 * np.pi * (1.0 / V) * wagner_jones(sv)
     m = sv >= 1.0
-    np.testing.assert_allclose(L[m, 1], ref[m], rtol=1e-2)
+    np.testing.assert_allclose(L[m, 1], ref[m], rtol=3e-3)
     assert abs(L[-1, 1] / ref[-1] - 1) < 2e-3
 
 
 def test_kussner_sharp_edged_gust():
-    """Sharp-edged gust w0 entering at t1 (same at every station): lift follows psi(s), within 1 %
-    for s >= 1 (Sears-Sparks states exact; time-step error)."""
+    """Sharp-edged gust w0 entering at t1 (same at every station): lift follows psi(s), within 0.3 %
+    for s >= 1 (ours 0.24 %)."""
     s, p, q, _ = _wing(3)
     t = np.arange(401) * 0.0025
     Q = np.tile(q, (t.size, 1))
@@ -75,7 +75,7 @@ def test_kussner_sharp_edged_gust():
     sv = V * t / 0.5  # backward differences: the forcing of step 1 acts over (t0, t1]
     ref = 0.5 * RHO * V ** 2 * 2 * np.pi * (1.0 / V) * kussner_sears_sparks(sv)
     m = sv >= 1.0
-    np.testing.assert_allclose(L[m, 1], ref[m], rtol=1e-2)
+    np.testing.assert_allclose(L[m, 1], ref[m], rtol=3e-3)
 
 
 def test_gust_penetration_delay():
@@ -86,8 +86,8 @@ def test_gust_penetration_delay():
 @pytest.mark.parametrize("k", [0.1, 0.3, 0.5])
 def test_harmonic_plunge_vs_theodorsen(k):
     """Harmonic plunge hdot = W sin(w t): lift amplitude and phase vs Theodorsen
-    L = pi rho b^2 hddot + 2 pi rho V b C(k) hdot. Against C(k) of Jones' approximation: 0.5 %,
-    2 mrad-ish (time step); against the exact C(k): within the Jones error plus the time step (2 %, 0.025 rad)."""
+    L = pi rho b^2 hddot + 2 pi rho V b C(k) hdot. Against C(k) of Jones. approximation: 0.1 %, 1 mrad
+    (ours <= 0.02 %); against the exact C(k): within the Jones error plus the time step (2 %, 0.025 rad)."""
     b, W = 0.5, 0.5
     w = k * V / b
     s, p, q, _ = _wing(2)
@@ -102,7 +102,7 @@ def test_harmonic_plunge_vs_theodorsen(k):
     A = np.column_stack([np.sin(w * t[m]), np.cos(w * t[m]), np.ones(m.sum())])
     coef = np.linalg.lstsq(A, L[m, 0], rcond=None)[0]
     ours = coef[0] + 1j * coef[1]  # L = Im(ours e^{iwt}) with sin -> 1, cos -> i
-    for C, rtol, atol_phase in ((theodorsen_jones(k), 5e-3, 5e-3), (theodorsen_exact(k), 2e-2, 2.5e-2)):
+    for C, rtol, atol_phase in ((theodorsen_jones(k), 1e-3, 1e-3), (theodorsen_exact(k), 2e-2, 2.5e-2)):
         ref = W * (np.pi * RHO * b ** 2 * 1j * w + 2 * np.pi * RHO * V * b * C)
         assert abs(abs(ours) / abs(ref) - 1) < rtol, (k, ours, ref)
         assert abs(np.angle(ours / ref)) < atol_phase, (k, ours, ref)
