@@ -2,7 +2,7 @@
 
 Per station (chord c = 2 b, reference point = beam axis at ``ref_point`` x c aft of the leading
 edge), with the relative air velocity at the reference point resolved in the section's csn frame
-(``v_c`` chordwise aft, ``v_n`` normal up; CONVENTIONS.md) and the section's pitch rate
+(``v_c`` chordwise aft, ``v_n`` normal up; docs/conventions.md) and the section's pitch rate
 ``w_s`` (nose up positive, about +s):
 
 * quasi-steady angle at the three-quarter chord (Theodorsen's downwash point)

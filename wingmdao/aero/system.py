@@ -7,7 +7,7 @@ per node: the 18 beam rows of that node, then the 4 lag-state equations of that 
 
 Coupling. At node i, with T = T(theta_i) (body -> csn), the air velocity relative to the section
 (body axes) is ``v_rel = (V, 0, 0) - frame_velocity - Omega x r_i - u_i`` (the free stream flows
-aft, +x, relative to the wing; CONVENTIONS.md), its csn components ``T v_rel`` give the
+aft, +x, relative to the wing; docs/conventions.md), its csn components ``T v_rel`` give the
 quasi-steady angle, and the pitch rate is ``w_s = (T (omega_i + Omega))_s``. The gust
 ``gust_velocity_i`` (body +z, upward) enters through its section-normal component. The section
 lift L (along the deformed section normal n) and moment M (about the deformed beam axis s) per
