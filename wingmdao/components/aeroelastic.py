@@ -29,21 +29,19 @@ class AeroelasticBeamDynamics(TimeHistoryComponent):
         self.options.declare("euler_sequence", default="surface", types=str,
                              desc="Euler-angle sequence of wingmdao.beam.residual")
         self.options.declare("system", default=None, allow_none=True, types=AeroelasticBeamSystem,
-                             desc="built from num_nodes (leave unset)")
+                             desc="a prebuilt aeroelastic system (None: built from num_nodes)")
         self.options.declare("plunge", default=False, types=bool,
                              desc="free plunge of the aircraft (input body_mass); clamped root otherwise")
         self.options.declare("modified_newton", default=True, types=bool,
                              desc="reuse LU factors across Newton iterations and steps")
 
-    def setup(self):
-        if self.options["system"] is None:
-            self.options["system"] = cached_aeroelastic_system(self.options["num_nodes"],
-                                                               self.options["euler_sequence"],
-                                                               plunge=self.options["plunge"])
-        if self.options["system"].num_nodes != self.options["num_nodes"]:
-            raise ValueError(f"system has {self.options['system'].num_nodes} nodes but num_nodes = "
-                             f"{self.options['num_nodes']}")
-        super().setup()
+    def build_system(self):
+        """The ``system`` option when given, else the aeroelastic beam of ``num_nodes`` nodes (cached)."""
+        system = self.options["system"] or cached_aeroelastic_system(
+            self.options["num_nodes"], self.options["euler_sequence"], plunge=self.options["plunge"])
+        if system.num_nodes != self.options["num_nodes"]:
+            raise ValueError(f"system has {system.num_nodes} nodes but num_nodes = {self.options['num_nodes']}")
+        return system
 
     def solve_nonlinear(self, inputs, outputs):
         # checked before the march (not in apply_nonlinear/linearize: finite-difference checks
@@ -53,4 +51,4 @@ class AeroelasticBeamDynamics(TimeHistoryComponent):
         super().solve_nonlinear(inputs, outputs)
 
     def initial_guess(self, p, q0):
-        return self.options["system"].initial_guess(p, q0)
+        return self.system.initial_guess(p, q0)

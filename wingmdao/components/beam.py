@@ -48,19 +48,20 @@ class _BeamMixin:
                              desc="Euler-angle sequence of wingmdao.beam.residual")
         # the system is built from num_nodes; do not require it as an option
         self.options.declare("system", default=None, allow_none=True, types=ResidualSystem,
-                             desc="built from num_nodes (leave unset)")
+                             desc="a prebuilt beam residual system (None: built from num_nodes)")
 
-    def _set_system(self):
-        if self.options["system"] is None:
-            self.options["system"] = beam_system(self.options["num_nodes"], self.options["euler_sequence"])
-        n_sys = self.options["system"].state_shape[0]
+    def build_system(self):
+        """The ``system`` option when given, else the beam of ``num_nodes`` nodes (cached)."""
+        system = self.options["system"] or beam_system(self.options["num_nodes"], self.options["euler_sequence"])
+        n_sys = system.state_shape[0]
         if n_sys != self.options["num_nodes"]:
             raise ValueError(f"system has {n_sys} nodes but num_nodes = {self.options['num_nodes']}")
+        return system
 
     def initial_guess(self, p, q0):
         """The jig state (the beam's unloaded shape) starts the static solve of step 0."""
-        guess = self.options["system"].initial_guess(p, q0)
-        return guess if np.any(guess != 0.0) else jig_guess(self.options["system"], p)
+        guess = self.system.initial_guess(p, q0)
+        return guess if np.any(guess != 0.0) else jig_guess(self.system, p)
 
 
 class BeamDynamics(_BeamMixin, TimeHistoryComponent):
@@ -80,9 +81,7 @@ class BeamDynamics(_BeamMixin, TimeHistoryComponent):
         self.options.declare("modified_newton", default=True, types=bool,
                              desc="reuse LU factors across Newton iterations and steps")
 
-    def setup(self):
-        self._set_system()
-        super().setup()
+
 
 
 class BeamStatic(_BeamMixin, TimeHistoryComponent):
@@ -99,7 +98,6 @@ class BeamStatic(_BeamMixin, TimeHistoryComponent):
         self.options.declare("drop_time_axis", default=True, types=bool, desc="fixed: True")
 
     def setup(self):
-        self._set_system()
         if np.asarray(self.options["time"]).size != 1:
             raise ValueError("BeamStatic solves one instant: leave the time option unset")
         super().setup()

@@ -28,10 +28,11 @@ class BeamInternalLoads(PointwiseCasadiComponent):
         self.options.declare("num_times", types=int, lower=1, desc="number of time instants")
         self.options.declare("num_nodes", types=int, lower=2, desc="number of beam nodes")
         self.options.declare("euler_sequence", default="surface", types=str, desc="Euler sequence of the beam")
-        self.options.declare("grid_shape", types=tuple, default=(1, 2), desc="set from num_times, num_nodes")
+
+    def point_grid(self):
+        return (self.options["num_times"], self.options["num_nodes"])
 
     def setup(self):
-        self.options["grid_shape"] = (self.options["num_times"], self.options["num_nodes"])
         super().setup()
 
     def pointwise_inputs(self):

@@ -45,7 +45,8 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
     """
 
     def initialize(self):
-        self.options.declare("grid_shape", types=tuple, desc="leading shape of all variables (points)")
+        self.options.declare("grid_shape", default=None, allow_none=True, types=tuple,
+                             desc="leading shape of all variables (points); subclasses derive it (point_grid)")
 
     # ----------------------------------------------------------------- subclass API
     def pointwise_inputs(self) -> list[Var]:
@@ -61,12 +62,19 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
         """Raise ``ValueError`` naming the input and point when an input is out of range."""
 
     # ----------------------------------------------------------------- machinery
+    def point_grid(self) -> tuple:
+        """Leading shape of every variable: the ``grid_shape`` option (subclasses derive it)."""
+        if self.options["grid_shape"] is None:
+            raise ValueError(f"{self.msginfo}: the 'grid_shape' option is not set")
+        return tuple(self.options["grid_shape"])
+
     @property
     def num_points(self) -> int:
-        return int(np.prod(self.options["grid_shape"]))
+        return int(np.prod(self.grid_shape))
 
     def setup(self):
-        grid = self.options["grid_shape"]
+        #: leading shape of every variable (derived in setup from the options)
+        self.grid_shape = grid = self.point_grid()
         self._in_vars = self.pointwise_inputs()
         self._out_vars = self.pointwise_outputs()
         for v in self._in_vars:
@@ -111,7 +119,7 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
                 r = np.asarray(r, dtype=int)
                 c = np.asarray(c, dtype=int)
                 pts = np.arange(n)[:, None]
-                src = pts % self.options["grid_shape"][-1] if vi.per_last_axis else pts
+                src = pts % self.grid_shape[-1] if vi.per_last_axis else pts
                 rows = (pts * vo.size + r[None, :]).ravel()
                 cols = (src * vi.size + c[None, :]).ravel()
                 self.declare_partials(vo.name, vi.name, rows=rows, cols=cols)
@@ -123,7 +131,7 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
 
     def _stacked_inputs(self, inputs):
         n = self.num_points
-        n_last = self.options["grid_shape"][-1]
+        n_last = self.grid_shape[-1]
         stacked = []
         for v in self._in_vars:
             if v.per_last_axis:

@@ -96,10 +96,11 @@ class _SectionBase(CombinedJacobianMixin, PointwiseCasadiComponent):
         self.cite = DISSERTATION  # OpenMDAO lists it in its citations report
         self.options.declare("num_stations", types=int, lower=1, desc="number of beam stations")
         self.options.declare("material", desc="wingmdao.materials.Material")
-        self.options.declare("grid_shape", types=tuple, default=(1,), desc="set from num_stations")
+
+    def point_grid(self):
+        return (self.options["num_stations"],)
 
     def setup(self):
-        self.options["grid_shape"] = (self.options["num_stations"],)
         super().setup()
 
     def _common_inputs(self):

@@ -37,13 +37,14 @@ class SolidRectStress(PointwiseCasadiComponent):
         self.options.declare("num_stations", types=int, lower=1)
         self.options.declare("material", desc="wingmdao.materials.Material (sigma_y used)")
         self.options.declare("families", default=("ss_tension", "ss_compression"), types=tuple)
-        self.options.declare("grid_shape", types=tuple, default=(1, 1))
+
+    def point_grid(self):
+        return (self.options["num_times"], self.options["num_stations"])
 
     def setup(self):
         bad = [f for f in self.options["families"] if f not in ("ss_tension", "ss_compression")]
         if bad:
             raise ValueError(f"SolidRectStress: unsupported families {bad}; valid: ss_tension, ss_compression")
-        self.options["grid_shape"] = (self.options["num_times"], self.options["num_stations"])
         super().setup()
 
     def pointwise_inputs(self):

@@ -49,11 +49,12 @@ class BoxStress(CombinedJacobianMixin, PointwiseCasadiComponent):
                              desc="also output sigma_corner, sigma_vm, tau_cent (Pa); False halves the Jacobian")
         self.options.declare("section_rotation", default=False, types=bool,
                              desc="add the input section_to_csn and rotate the loads to the section axes")
-        self.options.declare("grid_shape", types=tuple, default=(1, 1), desc="set from num_times, num_stations")
+
+    def point_grid(self):
+        return (self.options["num_times"], self.options["num_stations"])
 
     def setup(self):
         check_families(self.options["families"])
-        self.options["grid_shape"] = (self.options["num_times"], self.options["num_stations"])
         super().setup()
 
     def pointwise_inputs(self):

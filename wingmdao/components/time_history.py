@@ -76,8 +76,15 @@ class TimeHistoryComponent(om.ImplicitComponent):
                              desc="one instant only: forcing inputs and the output without the time axis")
 
     # ------------------------------------------------------------------ setup
+    def build_system(self) -> ResidualSystem:
+        """The residual system to march: the ``system`` option (subclasses build one from their options)."""
+        if self.options["system"] is None:
+            raise ValueError(f"{self.msginfo}: the 'system' option is not set")
+        return self.options["system"]
+
     def setup(self):
-        sysm = self.options["system"]
+        #: the residual system marched by this component (derived from the options in setup)
+        self.system = sysm = self.build_system()
         t = np.asarray(self.options["time"], dtype=float)
         time_step(t)
         self._time = t
@@ -113,7 +120,7 @@ class TimeHistoryComponent(om.ImplicitComponent):
     def setup_partials(self):
         if self._matrix_free:
             return
-        sysm = self.options["system"]
+        sysm = self.system
         n, N = sysm.n_state, self._n_time
         name = self.options["state_name"]
         pats = sysm.jacobian_patterns()
@@ -143,7 +150,7 @@ class TimeHistoryComponent(om.ImplicitComponent):
         Jacobian ``pattern`` (rows, cols, shape at one step) repeated over ``steps``;
         ``cols_of(spec, local_cols)`` maps a step's columns into the input's flat index.
         Returns ``{input name: mask of the pattern's nonzeros that belong to it}``."""
-        n = self.options["system"].n_state
+        n = self.system.n_state
         rows, cols, _ = pattern
         masks = {}
         for spec in specs:
@@ -157,7 +164,7 @@ class TimeHistoryComponent(om.ImplicitComponent):
 
     # ------------------------------------------------------------------ packing
     def _params(self, inputs):
-        sysm = self.options["system"]
+        sysm = self.system
         if not sysm.param_specs:
             return np.zeros(0)
         p = np.concatenate([np.asarray(inputs[s.name], dtype=float).ravel() for s in sysm.param_specs])
@@ -165,7 +172,7 @@ class TimeHistoryComponent(om.ImplicitComponent):
         return p
 
     def _forcing(self, inputs):
-        sysm = self.options["system"]
+        sysm = self.system
         N = self._n_time
         if not sysm.forcing_specs:
             return np.zeros((N, 0))
@@ -179,12 +186,12 @@ class TimeHistoryComponent(om.ImplicitComponent):
         return np.asarray(inputs["initial_state"], dtype=float).ravel()
 
     def _history(self, outputs):
-        n = self.options["system"].n_state
+        n = self.system.n_state
         return np.asarray(outputs[self.options["state_name"]], dtype=float).reshape(self._n_time, n)
 
     # ------------------------------------------------------------------ nonlinear
     def solve_nonlinear(self, inputs, outputs):
-        sysm = self.options["system"]
+        sysm = self.system
         p, Q = self._params(inputs), self._forcing(inputs)
         guess = None
         if self.options["initial"] == "static":
@@ -200,10 +207,10 @@ class TimeHistoryComponent(om.ImplicitComponent):
     def initial_guess(self, p, q0):
         """Starting point of the static solve of step 0 (the previous solution is used when
         there is one). Default: ``system.initial_guess``; subclasses may know better."""
-        return self.options["system"].initial_guess(p, q0)
+        return self.system.initial_guess(p, q0)
 
     def apply_nonlinear(self, inputs, outputs, residuals):
-        sysm = self.options["system"]
+        sysm = self.system
         X = self._history(outputs)
         dt = time_step(self._time)
         p, Q = self._params(inputs), self._forcing(inputs)
@@ -214,7 +221,7 @@ class TimeHistoryComponent(om.ImplicitComponent):
 
     # ------------------------------------------------------------------ linear
     def linearize(self, inputs, outputs, partials):
-        sysm = self.options["system"]
+        sysm = self.system
         p, Q = self._params(inputs), self._forcing(inputs)
         X = self._history(outputs)
         lin = LinearizedHistory(sysm, self._time, X, p, Q,
@@ -240,7 +247,7 @@ class TimeHistoryComponent(om.ImplicitComponent):
 
     def solve_linear(self, d_outputs, d_residuals, mode):
         name = self.options["state_name"]
-        shape = (self._n_time, self.options["system"].n_state)
+        shape = (self._n_time, self.system.n_state)
         if mode == "fwd":
             rhs = np.asarray(d_residuals[name]).reshape(shape)
             d_outputs[name] = self._lin.solve_tangent(rhs).reshape(d_outputs[name].shape)
@@ -250,7 +257,7 @@ class TimeHistoryComponent(om.ImplicitComponent):
 
     def apply_linear(self, inputs, outputs, d_inputs, d_outputs, d_residuals, mode):
         """Matrix-free products with the stored blocks (only with ``matrix_free=True``)."""
-        sysm = self.options["system"]
+        sysm = self.system
         if not self._linearized_at(inputs, outputs):
             self.linearize(inputs, outputs, None)
         lin = self._lin
