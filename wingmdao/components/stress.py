@@ -8,7 +8,9 @@ import numpy as np
 from wingmdao.components.pointwise import PointwiseCasadiComponent, Var
 from wingmdao.components.section import CombinedJacobianMixin
 from wingmdao.section.box import WALL_NAMES, validate_box
-from wingmdao.stress.box_stress import FAMILIES, box_stresses, check_families, stress_constraints
+from wingmdao.components.section import SECTION_OUTPUTS
+from wingmdao.stress.box_stress import (FAMILIES, SECTION_PROPERTIES, box_stresses, check_families,
+                                       stress_constraints)
 from wingmdao import DISSERTATION
 
 _FAMILY_DESC = {
@@ -20,13 +22,20 @@ _FAMILY_DESC = {
 }
 
 
+#: Defaults of the section-property inputs (nonzero where the stress divides by them).
+_SECTION_DEFAULTS = {"A": 1e-2, "Ixx": 1e-4, "Izz": 1e-3, "Qx": 1e-3, "Qz": 1e-3}
+
+
 class BoxStress(CombinedJacobianMixin, PointwiseCasadiComponent):
     """Stresses and stress constraints of box sections on the grid (num_times, num_stations).
 
     Inputs: ``F_csn``, ``M_csn`` (nt, n, 3) in N and N*m (csn, about the box centre);
     per station (n,) in m: ``width``, ``height``, ``t_upper_skin``, ``t_lower_skin``,
     ``t_front_spar``, ``t_rear_spar``; with ``section_rotation=True`` also ``section_to_csn``
-    (n, 3, 3), default identity (otherwise the section axes are the csn axes).
+    (n, 3, 3), default identity (otherwise the section axes are the csn axes); with
+    ``section_properties=True`` also the station's ``A``, ``c_ea``, ``n_ea``, ``Ixx``, ``Izz``,
+    ``Ixz``, ``c_sc``, ``n_sc``, ``Qx``, ``Qz`` (the BoxSection outputs), which are then not
+    recomputed at every time step.
     Outputs: ``g_<family>`` for each selected family (points: see wingmdao.stress.box_stress)
     and, unless ``output_stresses=False``, ``sigma_corner`` (nt, n, 4), ``sigma_vm`` (nt, n, 8),
     ``tau_cent`` (nt, n, 4) in Pa.
@@ -47,6 +56,9 @@ class BoxStress(CombinedJacobianMixin, PointwiseCasadiComponent):
                              desc=f"constraint families to output, from {', '.join(FAMILIES)}")
         self.options.declare("output_stresses", default=True, types=bool,
                              desc="also output sigma_corner, sigma_vm, tau_cent (Pa); False halves the Jacobian")
+        self.options.declare("section_properties", default=False, types=bool,
+                             desc="take A, c_ea, n_ea, Ixx, Izz, Ixz, c_sc, n_sc, Qx, Qz per station as inputs "
+                                  "(the BoxSection outputs) instead of recomputing them at every time step")
         self.options.declare("section_rotation", default=False, types=bool,
                              desc="add the input section_to_csn and rotate the loads to the section axes")
 
@@ -70,7 +82,10 @@ class BoxStress(CombinedJacobianMixin, PointwiseCasadiComponent):
             Var("t_front_spar", (), "m", "front spar web thickness", 0.01, per_last_axis=True),
             Var("t_rear_spar", (), "m", "rear spar web thickness", 0.01, per_last_axis=True),
         ] + ([Var("section_to_csn", (3, 3), None, "rotation R from the section axes to csn", eye, per_last_axis=True)]
-             if self.options["section_rotation"] else [])
+             if self.options["section_rotation"] else []) + (
+            [Var(name, (), units, desc, _SECTION_DEFAULTS.get(name, 0.0), per_last_axis=True)
+             for name, _, units, desc in SECTION_OUTPUTS if name in SECTION_PROPERTIES]
+            if self.options["section_properties"] else [])
 
     def pointwise_outputs(self):
         out = [
@@ -82,7 +97,8 @@ class BoxStress(CombinedJacobianMixin, PointwiseCasadiComponent):
 
     def pointwise_expressions(self, sym):
         stresses = box_stresses(sym["F_csn"], sym["M_csn"], sym["width"], sym["height"],
-                                *(sym[k] for k in WALL_NAMES), section_to_csn=sym.get("section_to_csn"))
+                                *(sym[k] for k in WALL_NAMES), section_to_csn=sym.get("section_to_csn"),
+                                section={k: sym[k] for k in SECTION_PROPERTIES} if self.options["section_properties"] else None)
         g = stress_constraints(stresses, self.options["material"].sigma_y, self.options["families"])
         out = {k: ca.vertcat(*v) for k, v in stresses.items()} if self.options["output_stresses"] else {}
         out.update({f"g_{f}": ca.vertcat(*v) for f, v in g.items()})

@@ -29,6 +29,7 @@ from wingmdao.beam.residual import forcing_specs
 from wingmdao.groups.load_case import FORCING_SHAPES, LoadCase
 from wingmdao.materials import Material
 from wingmdao.section.box import WALL_NAMES
+from wingmdao.stress.box_stress import SECTION_PROPERTIES
 
 #: Inputs the beam takes from the section, with the section output that feeds it.
 SECTION_TO_BEAM = ("stiffness_csn", "compliance_csn", "mass_per_length", "inertia_per_length")
@@ -37,8 +38,9 @@ WALLS = WALL_NAMES
 #: Section kinds: the per-station inputs of the stress component (also the design variables
 #: of a sizing problem are the thicknesses for a box, width and height for a solid section).
 SECTION_KINDS = {
-    "box": {"stress_inputs": ("width", "height") + WALLS, "design_vars": WALLS},
-    "solid": {"stress_inputs": ("width", "height"), "design_vars": ("width", "height")},
+    "box": {"stress_inputs": ("width", "height") + WALLS, "design_vars": WALLS,
+            "section_to_stress": SECTION_PROPERTIES},
+    "solid": {"stress_inputs": ("width", "height"), "design_vars": ("width", "height"), "section_to_stress": ()},
 }
 
 
@@ -138,11 +140,14 @@ class WingStructure(om.Group):
         self.add_subsystem("internal_loads", BeamInternalLoads(num_times=nt, num_nodes=n),
                            promotes_inputs=["states"])
 
-        stress_kwargs = {"output_stresses": False} if kind == "box" else {}
+        # the box stress takes the section properties from the section component (computed once
+        # per station, not at every time step)
+        stress_kwargs = {"output_stresses": False, "section_properties": True} if kind == "box" else {}
         self.add_subsystem("stress", stress_cls(num_times=nt, num_stations=n,
                                                 material=self.options["material"],
                                                 families=tuple(case.families), **stress_kwargs),
-                           promotes_inputs=list(SECTION_KINDS[kind]["stress_inputs"]))
+                           promotes_inputs=[*SECTION_KINDS[kind]["stress_inputs"],
+                                            *SECTION_KINDS[kind]["section_to_stress"]])
         self.connect("internal_loads.F_csn", "stress.F_csn")
         self.connect("internal_loads.M_csn", "stress.M_csn")
 
@@ -238,7 +243,7 @@ class WingSizing(om.Group):
         alias_map = dict(alias)
         case_inputs = [(v, alias_map[v]) if v in alias_map else v for v in SECTION_KINDS[kind]["stress_inputs"]]
         case_inputs += ["node_positions", "node_euler_angles", *SECTION_TO_BEAM,
-                        "tension_axis", "shear_center", "mass_center"]
+                        "tension_axis", "shear_center", "mass_center", *SECTION_KINDS[kind]["section_to_stress"]]
         # only the shared inputs leave 'cases'; each case's forcing stays cases.<case>.<forcing>
         shared = sorted({v[1] if isinstance(v, tuple) else v for v in case_inputs})
         cases = self.add_subsystem("cases", om.ParallelGroup() if parallel else om.Group(),

@@ -39,8 +39,16 @@ def _to_section(rot, vec):
     return [sum(rot[..., j, i] * vec[j] for j in range(3)) for i in range(3)]
 
 
-def section_quantities(geometry) -> dict:
-    """Section quantities the stress recovery needs, computed once per station."""
+#: Section properties the stress recovery takes from the section component (BoxSection outputs of
+#: the same names, App. F) when they are given instead of recomputed at every time and station.
+SECTION_PROPERTIES = ("A", "c_ea", "n_ea", "Ixx", "Izz", "Ixz", "c_sc", "n_sc", "Qx", "Qz")
+
+
+def section_quantities(geometry, given=None) -> dict:
+    """Section quantities the stress recovery needs (``given``: those of SECTION_PROPERTIES
+    already computed by the section component; only the enclosed midline area is added)."""
+    if given is not None:
+        return {**{k: given[k] for k in SECTION_PROPERTIES}, "A_m": box_enclosed_area(*geometry)}
     c0, n0 = box_centroid(*geometry)
     i_xx, i_zz, i_xz = box_inertia(*geometry)
     c_sc, n_sc = box_shear_centre(*geometry)
@@ -79,7 +87,7 @@ def torsion_shear_flow(force, moment, sec):
 
 
 def box_stresses(force, moment, w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar,
-                 section_to_csn=None) -> dict:
+                 section_to_csn=None, section=None) -> dict:
     """Stresses at the recovery points (Pa): ``sigma_corner`` (4), ``sigma_vm`` (8), ``tau_cent`` (4).
 
     * corner axial stress, Eq. 4.19 generalised (:func:`axial_stress`);
@@ -89,11 +97,13 @@ def box_stresses(force, moment, w, h, t_upper_skin, t_lower_skin, t_front_spar, 
     * flange-centre shear, torsion + V Q / (I t) (Eq. 4.22-4.25), positive in the sense of a
       positive torque (upper skin aft, rear spar down, lower skin forward, front spar up):
       tau_c = F_c Qz / (Izz (t_u + t_l)), tau_n = F_n Qx / (Ixx (t_f + t_r)).
+
+    ``section``: the SECTION_PROPERTIES of this station, when already computed (else recomputed).
     """
     geometry = (w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar)
     force = _to_section(section_to_csn, force)
     moment = _to_section(section_to_csn, moment)
-    sec = section_quantities(geometry)
+    sec = section_quantities(geometry, section)
     sigma_corner = [axial_stress(sc * 0.5 * w, sn * 0.5 * h, force, moment, sec) for sc, sn in CORNERS]
 
     q_t = torsion_shear_flow(force, moment, sec)
