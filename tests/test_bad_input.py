@@ -57,3 +57,50 @@ def test_report_into_a_closed_pipe_is_quiet(tmp_path):
     err = proc.stderr.read().decode()
     assert proc.wait(timeout=120) == 0
     assert "Traceback" not in err and "BrokenPipe" not in err
+
+
+_MAT = "materials:\n  m: {type: isotropic, E: 7e10, nu: 0.3, rho: 2700}\n"
+_WALLS = ("walls: {upper: %s, lower: {thickness: 0.01, material: m}, front: {thickness: 0.01, material: m}, "
+          "rear: {thickness: 0.01, material: m}}")
+
+
+@pytest.mark.parametrize("name, text, message", [
+    ("empty.yaml", "", "empty file"),
+    ("list.yaml", "[1, 2]", "must be a mapping"),
+    ("bad.yaml", "a: [", "malformed YAML"),
+    ("bad.json", "{", "malformed JSON"),
+    ("nokey.yaml", _MAT + "section: {shape: rectangle, width: 1}\n", "missing key 'height'"),
+    ("n0.yaml", _MAT + "section: {shape: rectangle, width: 1, height: 0.5, material: m, n: 0}\n",
+     "section n (elements per side) = 0; allowed range [1, 2000]"),
+    ("ms.yaml", _MAT + "section: {shape: rectangle, width: 1, height: 0.5, material: m, mesh_size: 0}\n",
+     "mesh_size (m) = 0; allowed range"),
+    ("nan.yaml", _MAT + "section: {shape: box, width: 1, height: 0.5, " + _WALLS % "{layup: [[m, 0.01, .nan]]}" + "}\n",
+     "wall upper ply 0 angle (deg) = nan"),
+    ("two.yaml", _MAT + "section: {shape: box, width: 1, height: 0.5, " + _WALLS % "{layup: [[m, 0.01]]}" + "}\n",
+     "each ply is [material, thickness (m), angle (deg)]"),
+    ("coord.yaml", _MAT + "section: {shape: airfoil, coordinates: nofile.dat, chord: 1, front_spar: 0.2, "
+     "rear_spar: 0.7}\n", "file 'nofile.dat' does not exist"),
+    ("huge.yaml", _MAT + "section: {shape: rectangle, width: 1.0e+30, height: 1.0e-30, material: m}\n",
+     "allowed range [1e-06, 10000.0]"),
+    ("strip.yaml", _MAT + "section: {shape: rectangle, width: 1, height: 1.0e-5, material: m}\n",
+     "aspect ratio 1e+05 > 1000"),
+])
+def test_section_fe_files(tmp_path, capsys, name, text, message):
+    pytest.importorskip("yaml")
+    path = tmp_path / name
+    path.write_text(text)
+    assert main(["section-fe", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert message in err and "Traceback" not in err
+
+
+def test_section_fe_missing_file(capsys):
+    assert main(["section-fe", "no_such_section.yaml"]) == 2
+    assert "no_such_section.yaml: no such file" in capsys.readouterr().err
+
+
+def test_section_fe_file_with_byte_order_mark(tmp_path, capsys):
+    path = tmp_path / "bom.json"
+    path.write_bytes(b"\xef\xbb\xbf" + b'{"materials": {"m": {"type": "isotropic", "E": 7e10, "nu": 0.3, "rho": 2700}},'
+                     b' "section": {"shape": "rectangle", "width": 1, "height": 0.5, "material": "m", "n": 4}}')
+    assert main(["section-fe", str(path)]) == 0
