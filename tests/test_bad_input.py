@@ -104,3 +104,41 @@ def test_section_fe_file_with_byte_order_mark(tmp_path, capsys):
     path.write_bytes(b"\xef\xbb\xbf" + b'{"materials": {"m": {"type": "isotropic", "E": 7e10, "nu": 0.3, "rho": 2700}},'
                      b' "section": {"shape": "rectangle", "width": 1, "height": 0.5, "material": "m", "n": 4}}')
     assert main(["section-fe", str(path)]) == 0
+
+
+def _history():
+    import numpy as np
+
+    from wingmdao.loads.files import LoadHistory
+
+    return LoadHistory(np.arange(3) * 0.1, np.ones((3, 4, 3)), np.zeros((3, 4, 3)))
+
+
+@pytest.mark.parametrize("name, make, message", [
+    ("empty.npz", lambda p, full: p.write_bytes(b""), "not a readable .npz archive"),
+    ("cut.npz", lambda p, full: p.write_bytes(full[: len(full) // 2]), "not a readable .npz archive"),
+    ("missing.npz", lambda p, full: None, "no such file"),
+    ("missing.csv", lambda p, full: None, "no such file"),
+    ("garbage.csv", lambda p, full: p.write_bytes(b"\x00\xff\xfegarbage\x89"), "not a UTF-8 text CSV"),
+])
+def test_bad_load_history_files_name_the_file(tmp_path, name, make, message):
+    from wingmdao.loads.files import read_load_history, write_load_history
+
+    full_path = tmp_path / "full.npz"
+    write_load_history(_history(), full_path)
+    path = tmp_path / name
+    make(path, full_path.read_bytes())
+    with pytest.raises(ValueError, match=message) as info:
+        read_load_history(path)
+    assert name in str(info.value)
+
+
+def test_csv_load_history_with_byte_order_mark_is_read(tmp_path):
+    import numpy as np
+
+    from wingmdao.loads.files import read_load_history, write_load_history
+
+    path = tmp_path / "h.csv"
+    write_load_history(_history(), path)
+    path.write_bytes(b"\xef\xbb\xbf" + path.read_bytes())
+    np.testing.assert_array_equal(read_load_history(path).force_per_length, _history().force_per_length)
