@@ -142,3 +142,18 @@ def test_csv_load_history_with_byte_order_mark_is_read(tmp_path):
     write_load_history(_history(), path)
     path.write_bytes(b"\xef\xbb\xbf" + path.read_bytes())
     np.testing.assert_array_equal(read_load_history(path).force_per_length, _history().force_per_length)
+
+
+@pytest.mark.slow
+def test_a_beam_that_fails_inside_sizing_is_a_clear_error_with_a_partial_json(tmp_path, capsys):
+    """The 185 m cantilever under its gravity cannot be solved from the initial guess: exit 1, one
+    line naming the failed solve, and a JSON marked success: false (not a traceback)."""
+    import json
+
+    out = tmp_path / "c.json"
+    rc = main(["size", "cantilever", "--guess", "c", "--length", "185", "--quiet", "--no-plots",
+               "--out", str(tmp_path), "--json", str(out)])
+    err = capsys.readouterr().err
+    assert rc == 1 and "the analysis failed" in err and "Traceback" not in err
+    res = json.loads(out.read_text())
+    assert res["success"] is False and "no convergence" in res["message"] and "ks" not in res

@@ -100,7 +100,9 @@ def run_size(args) -> int:
     optimize = not args.analysis_only
     prob, desc = sizing.build_problem(setup.geometry, setup.load_cases, setup.material, opts,
                                       driver=optimize, section=setup.section)
-    interrupted = False
+    import openmdao.api as om
+
+    interrupted = failed = False
     try:
         pre = {"passes": 0}
         if optimize and opts.presize > 0 and setup.section == "box":
@@ -114,12 +116,19 @@ def run_size(args) -> int:
         interrupted = True
         prob.cleanup()  # closes (and commits) the recording
         result = _interrupted_result(prob, setup, desc, recording)
+    except om.AnalysisError as exc:  # the beam failed (e.g. a load no design can carry): keep what we have
+        failed = True
+        prob.cleanup()
+        result = _interrupted_result(prob, setup, desc, recording, interrupted=False)
+        result["message"] = f"the analysis failed: {' '.join(str(exc).split())}"
+        for key in ("ks", "max_ks", "active_constraints"):  # from the unconverged solve: meaningless
+            result.pop(key, None)
     result["case"] = args.case_module.NAME
     if recording:
         result["recording"] = recording
     if args.json:  # the result first: a plotting failure must never lose it
         write_json(result, args.json)
-    if not args.no_plots and not interrupted:
+    if not args.no_plots and not (interrupted or failed):
         try:
             from wingmdao.results import write_case_plots
 
@@ -129,8 +138,12 @@ def run_size(args) -> int:
         else:
             if args.json and args.json != "-":
                 write_json(result, args.json)
-    _print_summary(result)
+    if not failed:
+        _print_summary(result)
     prob.cleanup()
+    if failed:
+        raise om.AnalysisError(result["message"][len("the analysis failed: "):]
+                               + (f" (partial result in {args.json})" if args.json else ""))
     if interrupted:
         say(f"wingmdao size {args.case_module.NAME}: interrupted; best design so far in "
             f"{args.json or 'the JSON (pass --json)'}" + (f", recording {recording}" if recording else ""))
@@ -138,8 +151,8 @@ def run_size(args) -> int:
     return 0 if result["success"] else 1
 
 
-def _interrupted_result(prob, setup, desc, recording) -> dict:
-    """Partial result after Ctrl-C: the design at the last evaluation and the best feasible
+def _interrupted_result(prob, setup, desc, recording, interrupted=True) -> dict:
+    """Partial result after Ctrl-C (or a failed analysis): the design at the last evaluation and the best feasible
     recorded iteration (lowest objective with every KS constraint <= 0)."""
     import numpy as np
 
@@ -149,7 +162,7 @@ def _interrupted_result(prob, setup, desc, recording) -> dict:
         result = sizing.summarize(prob, setup.load_cases, desc, success=False, section=setup.section)
     except Exception as exc:  # the interrupt may have come before the first evaluation finished
         result = {"success": False, "message": f"no evaluated design ({exc})"}
-    result.update(success=False, interrupted=True)
+    result.update(success=False, interrupted=interrupted)
     if recording and os.path.exists(recording):
         from wingmdao.report import read_history
 
