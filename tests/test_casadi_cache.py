@@ -208,3 +208,72 @@ def test_compile_running_at_exit_finishes_and_fills_the_cache(jit_env):
     assert len(libs) == 1
     time.sleep(0.5)
     assert not list(jit_env.glob(".*"))                   # sources, partial libraries, logs removed
+
+
+def test_manifest_records_size_and_hash(jit_env):
+    f = _function()
+    cc.compiled(f)
+    path = cc.library_path(f)
+    size, digest = cc.manifest_path(path).read_text().split()
+    assert (int(size), digest) == cc.file_digest(path)
+
+
+def test_truncated_library_is_detected_before_dlopen(jit_env, monkeypatch):
+    """A truncated library (full disk, killed copy) would SIGBUS inside dlopen: the size check
+    against the manifest rejects it first, and it is rebuilt."""
+    f = _function()
+    cc.compiled(f)
+    path = cc.library_path(f)
+    data = path.read_bytes()
+    path.write_bytes(data[: len(data) // 2])
+
+    def no_dlopen(*a, **k):
+        raise AssertionError("dlopen of a library that failed verification")
+
+    with monkeypatch.context() as m:
+        m.setattr(ca, "external", no_dlopen)
+        assert cc.cached(f) is None
+    assert not path.exists()
+    assert cc.compiled(f).class_name() == "External"
+
+
+def test_same_size_corruption_is_detected_by_the_hash(jit_env):
+    f = _function()
+    cc.compiled(f)
+    path = cc.library_path(f)
+    data = bytearray(path.read_bytes())
+    data[len(data) // 2] ^= 0xFF
+    path.write_bytes(bytes(data))
+    with pytest.raises(cc.CompileError, match="SHA-256"):
+        cc.verify(path)
+
+
+def test_library_without_manifest_is_not_loaded(jit_env):
+    f = _function()
+    cc.compiled(f)
+    path = cc.library_path(f)
+    cc.manifest_path(path).unlink()
+    assert cc.cached(f) is None and not path.exists()
+
+
+def test_folder_writable_by_others_is_refused_with_a_warning(jit_env):
+    f = _function()
+    cc.compiled(f)
+    jit_env.chmod(0o777)
+    try:
+        with pytest.raises(cc.UnsafeCache, match="writable by group or others"):
+            cc.verify(cc.library_path(f))
+        with pytest.warns(RuntimeWarning, match="writable by group or others"):
+            assert cc.compiled(_function()) is not None
+        assert cc.library_path(f).exists()  # not deleted: it may not be ours
+    finally:
+        jit_env.chmod(0o700)
+
+
+def test_library_owned_by_another_user_is_refused(jit_env, monkeypatch):
+    f = _function()
+    cc.compiled(f)
+    uid = cc.os.getuid()
+    monkeypatch.setattr(cc.os, "getuid", lambda: uid + 1)
+    with pytest.raises(cc.UnsafeCache, match="owned by user id"):
+        cc.verify(cc.library_path(f))

@@ -12,8 +12,13 @@ def read_history(path: str) -> dict:
     """Objective, worst constraint and design variables of every recorded driver iteration."""
     if not os.path.exists(path):
         raise ValueError(f"recording {path!r} does not exist")
-    reader = om.CaseReader(path)
-    cases = reader.list_cases("driver", recurse=False, out_stream=None)
+    if os.path.isdir(path):
+        raise ValueError(f"recording {path!r} is a folder, not an SQLite recording")
+    try:
+        reader = om.CaseReader(path)
+        cases = reader.list_cases("driver", recurse=False, out_stream=None)
+    except Exception as exc:  # not SQLite, or SQLite without OpenMDAO's tables
+        raise ValueError(f"{path!r} is not an OpenMDAO recording of a sizing run ({exc})") from exc
     if not cases:
         raise ValueError(f"recording {path!r} holds no driver iterations")
     objective, worst, desvars = [], [], []

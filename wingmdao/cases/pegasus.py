@@ -34,6 +34,7 @@ ENGINES = ((600.0, 0.35 * PLANFORM.semi_span), (150.0, PLANFORM.tip_rib * PLANFO
 MANEUVER_ALTITUDE_FT, MANEUVER_MACH = 20000.0, 0.5
 GUST = {"altitude_ft": 25000.0, "mach": 0.5, "u_ref_fps": 30.0, "gradient_ft": 350.0, "t_final": 5.0}
 MIN_GAUGE = 1e-3  # m (Table 5.1)
+MAX_STEPS = 100_000  # time steps of one gust march (states, adjoint and stresses are stored per step)
 
 
 def add_arguments(p):
@@ -103,8 +104,17 @@ def gust_case(args, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb
         raise ValueError(f"--mach {args.mach} outside (0, 1)")
     if getattr(args, "load_history", None):
         return file_case(args.load_history, geometry, families)
-    if not (args.t_final > 0 and 0 < args.dt <= args.t_final / 10):
-        raise ValueError(f"--t-final ({args.t_final} s) and --dt ({args.dt} s): need 0 < 10 dt <= t_final")
+    if not (np.isfinite(args.t_final) and args.t_final > 0 and 0 < args.dt <= args.t_final / 10):
+        raise ValueError(f"--t-final ({args.t_final} s) and --dt ({args.dt} s): need finite 0 < 10 dt <= t_final")
+    steps = int(args.t_final / args.dt) + 1
+    if steps > MAX_STEPS:
+        raise ValueError(f"--t-final / --dt = {steps} time steps; at most {MAX_STEPS} (the march stores "
+                         f"~{steps * 20 * 18 * 8 * 6 / 1e9:.1f} GB of states and their adjoint)")
+    if not (np.isfinite(args.u_ref_fps) and args.u_ref_fps >= 0):
+        raise ValueError(f"--u-ref-fps = {args.u_ref_fps} ft/s; allowed range [0, inf) ft/s "
+                         "(0 = the 25.341(a)(5) table value)")
+    if not (np.isfinite(args.gust_start) and 0.0 <= args.gust_start < args.t_final):
+        raise ValueError(f"--gust-start = {args.gust_start} s; allowed range [0, --t-final = {args.t_final}) s")
     alt = altitude_ft_to_m(args.altitude_ft)
     if args.u_ref_fps > 0:
         u_ds = args.u_ref_fps * FT * (args.gust_gradient_ft / 350.0) ** (1.0 / 6.0)
@@ -141,7 +151,10 @@ def build(args, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB) -> CaseSetup:
     from wingmdao.sizing import WALL_VARS, SizingOptions
 
     families = parse_families(args.families)
-    if args.load_factor <= 0:
+    if getattr(args, "load_history", None) and args.loads == "maneuver":
+        raise ValueError(f"--load-history {args.load_history} replaces the gust case; it does not apply to "
+                         "--loads maneuver (use --loads gust or all)")
+    if not np.isfinite(args.load_factor) or args.load_factor <= 0:
         raise ValueError(f"--load-factor must be > 0, got {args.load_factor}")
     if args.negative_load_factor >= 0:
         raise ValueError(f"--negative-load-factor must be < 0, got {args.negative_load_factor}")

@@ -10,13 +10,25 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import json
 import pkgutil
+import re
 import sys
 
-import numpy as np
-
 from wingmdao import __version__
+from wingmdao.cli._io import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_USAGE, jsonable as _jsonable  # noqa: F401
+from wingmdao.cli._io import stdout_to_stderr, write_json  # noqa: F401  (write_json: public API)
+
+
+class WingmdaoParser(argparse.ArgumentParser):
+    """ArgumentParser that shows defaults in every help text and reads negative numbers in
+    exponent notation (``--tip-load -1e6 0 1e7``) as values. Sub-parsers inherit the class."""
+
+    _NEGATIVE = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-inf$|^-nan$", re.IGNORECASE)
+
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("formatter_class", argparse.ArgumentDefaultsHelpFormatter)
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = self._NEGATIVE
 
 
 def _subcommand_modules():
@@ -26,7 +38,7 @@ def _subcommand_modules():
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = WingmdaoParser(
         prog="wingmdao",
         description=(
             "Size aircraft wingboxes for static maneuver and dynamic gust loads with a "
@@ -41,28 +53,6 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _jsonable(obj):
-    if isinstance(obj, dict):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, np.generic):
-        return obj.item()
-    return obj
-
-
-def write_json(data: dict, path: str) -> None:
-    """Write ``data`` as JSON to ``path`` (``-`` means standard output)."""
-    text = json.dumps(_jsonable(data), indent=2)
-    if path == "-":
-        sys.stdout.write(text + "\n")
-    else:
-        with open(path, "w", encoding="utf-8") as fh:
-            fh.write(text + "\n")
-
-
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -70,10 +60,36 @@ def main(argv=None) -> int:
         parser.print_help()
         return 0
     try:
-        return int(args.func(args) or 0)
+        with stdout_to_stderr(getattr(args, "json", None) == "-"):
+            return int(args.func(args) or 0)
     except ValueError as exc:  # bad user input: one clear line, no traceback
         print(f"wingmdao {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+        return EXIT_USAGE
+    except BrokenPipeError:  # e.g. `wingmdao report run.sql | head`: the reader left, not an error
+        _silence_stdout()
+        return 0
+    except KeyboardInterrupt:
+        print(f"wingmdao {args.command}: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except Exception as exc:
+        import openmdao.api as om
+
+        if isinstance(exc, om.AnalysisError):  # a solve failed: say so, no traceback
+            print(f"wingmdao {args.command}: error: the analysis failed: {exc}", file=sys.stderr)
+            return EXIT_FAILED
+        raise
+
+
+def _silence_stdout():
+    """Point standard output at /dev/null so the interpreter's final flush after a broken pipe
+    does not print a second error (Python docs, 'Note on SIGPIPE')."""
+    import os
+
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass
 
 
 if __name__ == "__main__":  # pragma: no cover

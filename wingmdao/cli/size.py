@@ -7,10 +7,13 @@ import os
 
 
 def _add_common(p, *, sizing: bool):
-    p.add_argument("--json", metavar="PATH", default=None, help="write results as JSON (- = stdout)")
     p.add_argument("--out", metavar="DIR", default="results",
                    help="folder for the recording and plots")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace an earlier run's outputs (recording, JSON, plots, N2) instead of refusing")
     if sizing:
+        p.add_argument("--json", metavar="PATH", default=None,
+                       help="write results as JSON (- = stdout; progress and summary then go to stderr)")
         p.add_argument("--optimizer", default="SLSQP", choices=["SLSQP", "SNOPT", "IPOPT"],
                        help="optimizer (SNOPT/IPOPT need pyoptsparse; default SLSQP, via SciPy "
                             "when pyoptsparse does not import)")
@@ -48,43 +51,139 @@ def register(subparsers):
         p.set_defaults(func=lambda a, p=p: (p.print_help(), 0)[1])
 
 
-def run_size(args) -> int:
-    from wingmdao.cli import write_json
-    from wingmdao.sizing import size_case
+def run_stem(args) -> str:
+    """File stem of a run's outputs in --out: the case name, plus the load set for cases that have
+    one (``pegasus_all``, ``pegasus_maneuver``), so runs of different load sets never clobber."""
+    stem = args.case_module.NAME.replace("-", "_")
+    loads = getattr(args, "loads", None)
+    return f"{stem}_{loads}" if loads else stem
 
+
+def _plot_paths(stem, setup):
+    paths = [f"{stem}_thickness.png"]
+    for case in setup.load_cases:
+        if getattr(case, "time", None) is not None:
+            paths += [f"{stem}_{case.name}_stress.png", f"{stem}_{case.name}_loads.png"]
+    return paths
+
+
+def run_size(args) -> int:
+    from wingmdao import sizing
+    from wingmdao.cli._io import (EXIT_INTERRUPTED, check_output_dir, check_output_file, refuse_existing,
+                                  say, warn, write_json)
+
+    if args.maxiter is not None and args.maxiter < 1:
+        raise ValueError(f"--maxiter = {args.maxiter}; allowed range >= 1 iteration "
+                         "(use --analysis-only to analyse without optimizing)")
+    if args.presize is not None and args.presize < 0:
+        raise ValueError(f"--presize must be >= 0 passes, got {args.presize}")
+    # every output is checked before the (possibly hour-long) run starts
+    check_output_dir(args.out, "--out")
+    stem = os.path.join(args.out, run_stem(args))
+    recording = None if args.analysis_only else stem + ".sql"
+    check_output_file(args.json, "--json", overwrite=args.overwrite, others={"recording": recording})
     setup = args.case_module.build(args)
+    plots = [] if args.no_plots else _plot_paths(stem, setup)
+    refuse_existing([recording, *plots], overwrite=args.overwrite, what="recording and plots")
     opts = setup.options
-    os.makedirs(args.out, exist_ok=True)
     opts.optimizer = args.optimizer
-    if args.maxiter:
+    if args.maxiter is not None:
         opts.maxiter = args.maxiter
     if args.presize is not None:
-        if args.presize < 0:
-            raise ValueError(f"--presize must be >= 0 passes, got {args.presize}")
         opts.presize = args.presize
-    stem = os.path.join(args.out, args.case_module.NAME.replace("-", "_"))
-    opts.recording = None if args.analysis_only else stem + ".sql"
+    opts.recording = recording
     opts.progress = not args.quiet
-    print(f"wingmdao size {args.case_module.NAME}: {len(setup.load_cases)} load case(s) "
-          f"[{', '.join(c.name for c in setup.load_cases)}], {setup.geometry.num_nodes} stations")
+    say(f"wingmdao size {args.case_module.NAME}: {len(setup.load_cases)} load case(s) "
+        f"[{', '.join(c.name for c in setup.load_cases)}], {setup.geometry.num_nodes} stations")
     for note in setup.notes:
-        print(f"  note: {note}")
-    prob, result = size_case(setup, optimize=not args.analysis_only)
-    result["case"] = args.case_module.NAME
-    if opts.recording:
-        result["recording"] = opts.recording
-    if not args.no_plots:
-        from wingmdao.results import write_case_plots
+        say(f"  note: {note}")
+    optimize = not args.analysis_only
+    prob, desc = sizing.build_problem(setup.geometry, setup.load_cases, setup.material, opts,
+                                      driver=optimize, section=setup.section)
+    import openmdao.api as om
 
-        result["plots"] = write_case_plots(prob, setup, stem)
-    _print_summary(result)
-    if args.json:
+    interrupted = failed = False
+    try:
+        pre = {"passes": 0}
+        if optimize and opts.presize > 0 and setup.section == "box":
+            pre = sizing.presize_fully_stressed(prob, setup.load_cases, setup.geometry, opts, opts.presize,
+                                                progress=opts.progress)
+        result = sizing.run_sizing(prob, setup.load_cases, desc, optimize=optimize, section=setup.section)
+        if pre["passes"]:
+            result["wall_s"] += pre["wall_s"]
+            result["presize"] = pre
+    except KeyboardInterrupt:
+        interrupted = True
+        prob.cleanup()  # closes (and commits) the recording
+        result = _interrupted_result(prob, setup, desc, recording)
+    except om.AnalysisError as exc:  # the beam failed (e.g. a load no design can carry): keep what we have
+        failed = True
+        prob.cleanup()
+        result = _interrupted_result(prob, setup, desc, recording, interrupted=False)
+        result["message"] = f"the analysis failed: {' '.join(str(exc).split())}"
+        for key in ("ks", "max_ks", "active_constraints"):  # from the unconverged solve: meaningless
+            result.pop(key, None)
+    result["case"] = args.case_module.NAME
+    if recording:
+        result["recording"] = recording
+    if args.json:  # the result first: a plotting failure must never lose it
         write_json(result, args.json)
+    if not args.no_plots and not (interrupted or failed):
+        try:
+            from wingmdao.results import write_case_plots
+
+            result["plots"] = write_case_plots(prob, setup, stem)
+        except ImportError as exc:
+            warn(f"plots skipped ({exc}); the JSON and the recording are written")
+        else:
+            if args.json and args.json != "-":
+                write_json(result, args.json)
+    if not failed:
+        _print_summary(result)
     prob.cleanup()
+    if failed:
+        raise om.AnalysisError(result["message"][len("the analysis failed: "):]
+                               + (f" (partial result in {args.json})" if args.json else ""))
+    if interrupted:
+        say(f"wingmdao size {args.case_module.NAME}: interrupted; best design so far in "
+            f"{args.json or 'the JSON (pass --json)'}" + (f", recording {recording}" if recording else ""))
+        return EXIT_INTERRUPTED
     return 0 if result["success"] else 1
 
 
+def _interrupted_result(prob, setup, desc, recording, interrupted=True) -> dict:
+    """Partial result after Ctrl-C (or a failed analysis): the design at the last evaluation and the best feasible
+    recorded iteration (lowest objective with every KS constraint <= 0)."""
+    import numpy as np
+
+    from wingmdao import sizing
+
+    try:
+        result = sizing.summarize(prob, setup.load_cases, desc, success=False, section=setup.section)
+    except Exception as exc:  # the interrupt may have come before the first evaluation finished
+        result = {"success": False, "message": f"no evaluated design ({exc})"}
+    result.update(success=False, interrupted=interrupted)
+    if recording and os.path.exists(recording):
+        from wingmdao.report import read_history
+
+        try:
+            hist = read_history(recording)
+        except ValueError:
+            return result
+        feasible = np.flatnonzero(np.nan_to_num(hist["max_constraint"], nan=np.inf) <= 1e-6)
+        pool = feasible if feasible.size else np.arange(hist["iterations"])
+        k = int(pool[np.nanargmin(hist["objective"][pool])])
+        result["best_design"] = {
+            "iteration": k, "objective": float(hist["objective"][k]),
+            "max_constraint": float(hist["max_constraint"][k]), "feasible": bool(feasible.size),
+            "design_vars": {n: np.asarray(v).tolist() for n, v in hist["design_vars"][k].items()}}
+    return result
+
+
 def _print_summary(res):
+    if "mass_kg" not in res:
+        print(f"  success: {res['success']}   {res.get('message', '')}")
+        return
     print(f"  driver: {res['driver']}")
     print(f"  success: {res['success']}   mass: {res['mass_kg']:.2f} kg   wall time: {res['wall_s']:.1f} s"
           f"   iterations: {res.get('iterations')}")
@@ -104,11 +203,14 @@ def run_n2(args) -> int:
 
     from wingmdao.sizing import build_problem
 
+    from wingmdao.cli._io import check_output_dir, refuse_existing, say
+
+    check_output_dir(args.out, "--out")
+    path = os.path.join(args.out, f"{args.case_module.NAME.replace('-', '_')}_n2.html")
+    refuse_existing([path], overwrite=args.overwrite, what="N2 diagram")
     setup = args.case_module.build(args)
-    os.makedirs(args.out, exist_ok=True)
     prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
                             driver=True, section=setup.section)
-    path = os.path.join(args.out, f"{args.case_module.NAME.replace('-', '_')}_n2.html")
     om.n2(prob, outfile=path, show_browser=False)
-    print(f"wrote {path}")
+    say(f"wrote {path}")
     return 0

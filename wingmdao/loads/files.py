@@ -115,11 +115,24 @@ def write_npz(history: LoadHistory, path) -> None:
 
 def read_npz(path) -> LoadHistory:
     """Read and validate an ``.npz`` load history."""
-    with np.load(path, allow_pickle=False) as data:
+    import zipfile
+
+    try:
+        data = np.load(path, allow_pickle=False)
+    except FileNotFoundError:
+        raise ValueError(f"load history {path}: no such file") from None
+    except (EOFError, OSError, ValueError, zipfile.BadZipFile) as exc:
+        raise ValueError(f"load history {path}: not a readable .npz archive (empty or truncated?): {exc}") from None
+    if not hasattr(data, "files"):
+        raise ValueError(f"load history {path}: a single .npy array, not an .npz archive")
+    with data:
         missing = [k for k in ("time", "force_per_length", "moment_per_length") if k not in data]
         if missing:
             raise ValueError(f"{path}: missing array(s) {missing}; expected time, force_per_length, moment_per_length")
-        arrays = [np.asarray(data[k], dtype=float) for k in ("time", "force_per_length", "moment_per_length")]
+        try:
+            arrays = [np.asarray(data[k], dtype=float) for k in ("time", "force_per_length", "moment_per_length")]
+        except (EOFError, OSError, ValueError, zipfile.BadZipFile) as exc:
+            raise ValueError(f"load history {path}: an array cannot be read (truncated?): {exc}") from None
     validate_load_history(*arrays, source=str(path))
     return LoadHistory(*arrays)
 
@@ -139,8 +152,13 @@ def write_csv(history: LoadHistory, path) -> None:
 
 
 def _parse_csv_rows(path):
-    with open(path, newline="", encoding="utf-8") as fh:
-        lines = [ln for ln in fh if ln.strip() and not ln.lstrip().startswith("#")]
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as fh:  # a byte-order mark is tolerated
+            lines = [ln for ln in fh if ln.strip() and not ln.lstrip().startswith("#")]
+    except FileNotFoundError:
+        raise ValueError(f"load history {path}: no such file") from None
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"load history {path}: not a UTF-8 text CSV ({exc})") from None
     if not lines:
         raise ValueError(f"{path}: empty file; expected header {','.join(CSV_COLUMNS)}")
     reader = csv.reader(lines)

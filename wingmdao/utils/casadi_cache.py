@@ -15,7 +15,12 @@ Jacobian history) 4-20x slower than the same expressions compiled to C (docs/tim
 * ``WINGMDAO_JIT=0`` disables all of it.
 
 Libraries are written to a temporary name and renamed atomically, so concurrent processes can
-share the cache. gcc runs detached: a compile still running when the program ends finishes on
+share the cache. Next to each library, a manifest ``NAME.so.sha256`` (written before the library
+is moved into place) holds its size and SHA-256; before every ``dlopen`` the library's size and
+hash are checked against it, so a truncated or corrupt file (full disk, killed copy) is rebuilt
+instead of crashing the process with SIGBUS. Only libraries owned by the current user, in a folder
+owned by the user and not writable by group or others, are loaded (a shared library runs with the
+user's rights); otherwise the cache is not used, with one warning. gcc runs detached: a compile still running when the program ends finishes on
 its own (in well under a minute) and the next run finds the library.
 """
 
@@ -24,6 +29,8 @@ from __future__ import annotations
 import hashlib
 import os
 import shlex
+import stat
+import sys
 import shutil
 import signal
 import subprocess
@@ -46,6 +53,10 @@ _warned = False
 
 class CompileError(RuntimeError):
     """Code generation or compilation of a CasADi function failed."""
+
+
+class UnsafeCache(CompileError):
+    """The cache folder or a library in it is not owned by the user or writable by others."""
 
 
 def jit_enabled() -> bool:
@@ -77,8 +88,57 @@ def library_path(fun: ca.Function, flags=DEFAULT_FLAGS, key: str | None = None) 
     return cache_dir() / f"{fun.name()}_{key or function_key(fun, flags)}.so"
 
 
+def manifest_path(path: Path) -> Path:
+    """The manifest (``size sha256``) of library ``path``."""
+    return path.with_name(path.name + ".sha256")
+
+
+def file_digest(path: Path) -> tuple[int, str]:
+    """``(size in bytes, SHA-256 hex)`` of ``path``."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return os.path.getsize(path), h.hexdigest()
+
+
+def check_safe(path: Path) -> None:
+    """Raise :class:`UnsafeCache` unless ``path`` (file or folder) is owned by the current user and
+    not writable by group or others (POSIX; no check where there are no user ids)."""
+    if not hasattr(os, "getuid"):  # pragma: no cover - Windows
+        return
+    st = os.stat(path)
+    if st.st_uid != os.getuid():
+        raise UnsafeCache(f"{path} is owned by user id {st.st_uid}, not by you ({os.getuid()})")
+    if st.st_mode & (stat.S_IWGRP | stat.S_IWOTH):
+        raise UnsafeCache(f"{path} is writable by group or others (mode {stat.filemode(st.st_mode)})")
+
+
+def verify(path: Path) -> None:
+    """Check library ``path`` before it is loaded: folder, library and manifest safe
+    (:func:`check_safe`), size and SHA-256 equal to the manifest written at compile time.
+    Raises :class:`UnsafeCache` or :class:`CompileError`."""
+    man = manifest_path(path)
+    for p in (path.parent, path):
+        check_safe(p)
+    if not man.exists():
+        raise CompileError(f"{path}: no manifest {man.name} (an old or foreign library)")
+    check_safe(man)
+    try:
+        size, digest = man.read_text().split()
+        size = int(size)
+    except ValueError as exc:
+        raise CompileError(f"{man}: unreadable manifest") from exc
+    if os.path.getsize(path) != size:
+        raise CompileError(f"{path}: {os.path.getsize(path)} bytes, compiled as {size} (truncated or corrupt)")
+    if file_digest(path)[1] != digest:
+        raise CompileError(f"{path}: SHA-256 differs from the one recorded at compile time")
+
+
 def load(fun: ca.Function, path: Path) -> ca.Function:
-    """The compiled library at ``path`` as a CasADi Function with ``fun``'s signature."""
+    """The compiled library at ``path`` (verified with :func:`verify`) as a CasADi Function with
+    ``fun``'s signature."""
+    verify(path)
     ext = ca.external(fun.name(), str(path))
     if ext.n_in() != fun.n_in() or ext.n_out() != fun.n_out():
         raise CompileError(f"{path}: signature differs from {fun.name()}")
@@ -105,7 +165,8 @@ def compile_library(fun: ca.Function, flags=DEFAULT_FLAGS, key: str | None = Non
     target = library_path(fun, flags, key)
     if target.exists():
         return target
-    target.parent.mkdir(parents=True, exist_ok=True)
+    target.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
+    check_safe(target.parent)  # never compile into (and later load from) a folder others can write
     stem = f".{target.stem}.{os.getpid()}.{threading.get_ident()}"
     src, partial, log = (target.with_name(stem + ext) for ext in (".c", ".so", ".log"))
     with tempfile.TemporaryDirectory(prefix="wingmdao_jit_") as tmp:
@@ -118,9 +179,16 @@ def compile_library(fun: ca.Function, flags=DEFAULT_FLAGS, key: str | None = Non
     compile_cmd = " ".join(shlex.quote(a) for a in [*nice, cc, "-shared", "-fPIC", *flags, str(src), "-o",
                                                     str(partial)])
     # the mv is atomic on one file system: readers see the whole library or none
-    script = (f"{compile_cmd} && mv -f {shlex.quote(str(partial))} {shlex.quote(str(target))} "
+    # the manifest (size and SHA-256 of the finished library) is in place before the library
+    man, man_partial = manifest_path(target), target.with_name(stem + ".sha256")
+    digest = ("import hashlib, os, sys; p = sys.argv[1]; open(sys.argv[2], 'w').write('%d %s\\n' % "
+              "(os.path.getsize(p), hashlib.sha256(open(p, 'rb').read()).hexdigest()))")
+    manifest_cmd = " ".join(shlex.quote(a) for a in [sys.executable, "-c", digest, str(partial), str(man_partial)])
+    script = (f"{compile_cmd} && {manifest_cmd} && mv -f {shlex.quote(str(man_partial))} {shlex.quote(str(man))} "
+              f"&& mv -f {shlex.quote(str(partial))} {shlex.quote(str(target))} "
               f"&& rm -f {shlex.quote(str(log))}; "   # the log is kept only when gcc failed
-              f"status=$?; rm -f {shlex.quote(str(src))} {shlex.quote(str(partial))}; exit $status")
+              f"status=$?; rm -f {shlex.quote(str(src))} {shlex.quote(str(partial))} "
+              f"{shlex.quote(str(man_partial))}; exit $status")
     with open(log, "w") as log_file:
         proc = subprocess.Popen(["sh", "-c", script], stdin=subprocess.DEVNULL, stdout=log_file,
                                 stderr=subprocess.STDOUT, start_new_session=True)
@@ -144,8 +212,12 @@ def cached(fun: ca.Function, flags=DEFAULT_FLAGS, key: str | None = None) -> ca.
         return None
     try:
         return load(fun, path)
+    except UnsafeCache as exc:  # not ours to delete: leave it, warn, run interpreted
+        _warn_once(exc)
+        return None
     except Exception:       # noqa: BLE001
         path.unlink(missing_ok=True)
+        manifest_path(path).unlink(missing_ok=True)
         return None
 
 

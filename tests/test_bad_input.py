@@ -1,0 +1,159 @@
+"""Bad input (issue 11): each fails before any solve with one line naming the input, its value and
+the allowed range (exit code 2), never a traceback or a silent replacement."""
+
+import os
+import subprocess
+import sys
+
+import pytest
+
+from wingmdao.cli import main
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["pegasus", "--loads", "gust", "--u-ref-fps", "-5"], "--u-ref-fps = -5.0 ft/s; allowed range [0, inf)"),
+    (["pegasus", "--loads", "gust", "--u-ref-fps", "nan"], "--u-ref-fps = nan"),
+    (["pegasus", "--maxiter", "0"], "--maxiter = 0; allowed range >= 1"),
+    (["pegasus", "--loads", "gust", "--gust-start", "10"], "--gust-start = 10.0 s; allowed range [0, --t-final = 5.0)"),
+    (["pegasus", "--loads", "gust", "--t-final", "inf"], "need finite"),
+    (["pegasus", "--loads", "gust", "--t-final", "1e7", "--dt", "0.01"], "time steps; at most 100000"),
+    (["pegasus", "--load-history", "x.npz"], "does not apply to --loads maneuver"),
+    (["pegasus", "--load-factor", "nan"], "--load-factor must be > 0"),
+])
+def test_size_options_fail_before_any_solve(argv, message, capsys, tmp_path):
+    assert main(["size", *argv, "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert message in err and "Traceback" not in err
+    assert not list(tmp_path.iterdir())  # nothing written
+
+
+def test_n2_takes_no_json(capsys, tmp_path):
+    with pytest.raises(SystemExit):
+        main(["n2", "pegasus", "--out", str(tmp_path), "--json", "-"])
+    assert "unrecognized arguments: --json" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("content", [b"hello", b"", None])
+def test_report_on_a_file_that_is_not_a_recording(tmp_path, capsys, content):
+    path = tmp_path / "x.sql"
+    if content is None:
+        path.mkdir()
+    else:
+        path.write_bytes(content)
+    assert main(["report", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "x.sql" in err and ("not an OpenMDAO recording" in err or "folder" in err)
+
+
+def test_report_into_a_closed_pipe_is_quiet(tmp_path):
+    assert main(["size", "cantilever", "--stations", "5", "--quiet", "--no-plots", "--out", str(tmp_path)]) == 0
+    env = dict(os.environ, PYTHONPATH=ROOT)
+    proc = subprocess.Popen([sys.executable, "-m", "wingmdao", "report", str(tmp_path / "cantilever.sql"),
+                             "--plots", str(tmp_path / "plots")],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)
+    proc.stdout.close()  # like `| head` that has already exited
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=120) == 0
+    assert "Traceback" not in err and "BrokenPipe" not in err
+
+
+_MAT = "materials:\n  m: {type: isotropic, E: 7e10, nu: 0.3, rho: 2700}\n"
+_WALLS = ("walls: {upper: %s, lower: {thickness: 0.01, material: m}, front: {thickness: 0.01, material: m}, "
+          "rear: {thickness: 0.01, material: m}}")
+
+
+@pytest.mark.parametrize("name, text, message", [
+    ("empty.yaml", "", "empty file"),
+    ("list.yaml", "[1, 2]", "must be a mapping"),
+    ("bad.yaml", "a: [", "malformed YAML"),
+    ("bad.json", "{", "malformed JSON"),
+    ("nokey.yaml", _MAT + "section: {shape: rectangle, width: 1}\n", "missing key 'height'"),
+    ("n0.yaml", _MAT + "section: {shape: rectangle, width: 1, height: 0.5, material: m, n: 0}\n",
+     "section n (elements per side) = 0; allowed range [1, 2000]"),
+    ("ms.yaml", _MAT + "section: {shape: rectangle, width: 1, height: 0.5, material: m, mesh_size: 0}\n",
+     "mesh_size (m) = 0; allowed range"),
+    ("nan.yaml", _MAT + "section: {shape: box, width: 1, height: 0.5, " + _WALLS % "{layup: [[m, 0.01, .nan]]}" + "}\n",
+     "wall upper ply 0 angle (deg) = nan"),
+    ("two.yaml", _MAT + "section: {shape: box, width: 1, height: 0.5, " + _WALLS % "{layup: [[m, 0.01]]}" + "}\n",
+     "each ply is [material, thickness (m), angle (deg)]"),
+    ("coord.yaml", _MAT + "section: {shape: airfoil, coordinates: nofile.dat, chord: 1, front_spar: 0.2, "
+     "rear_spar: 0.7}\n", "file 'nofile.dat' does not exist"),
+    ("huge.yaml", _MAT + "section: {shape: rectangle, width: 1.0e+30, height: 1.0e-30, material: m}\n",
+     "allowed range [1e-06, 10000.0]"),
+    ("strip.yaml", _MAT + "section: {shape: rectangle, width: 1, height: 1.0e-5, material: m}\n",
+     "aspect ratio 1e+05 > 1000"),
+])
+def test_section_fe_files(tmp_path, capsys, name, text, message):
+    pytest.importorskip("yaml")
+    path = tmp_path / name
+    path.write_text(text)
+    assert main(["section-fe", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert message in err and "Traceback" not in err
+
+
+def test_section_fe_missing_file(capsys):
+    assert main(["section-fe", "no_such_section.yaml"]) == 2
+    assert "no_such_section.yaml: no such file" in capsys.readouterr().err
+
+
+def test_section_fe_file_with_byte_order_mark(tmp_path, capsys):
+    path = tmp_path / "bom.json"
+    path.write_bytes(b"\xef\xbb\xbf" + b'{"materials": {"m": {"type": "isotropic", "E": 7e10, "nu": 0.3, "rho": 2700}},'
+                     b' "section": {"shape": "rectangle", "width": 1, "height": 0.5, "material": "m", "n": 4}}')
+    assert main(["section-fe", str(path)]) == 0
+
+
+def _history():
+    import numpy as np
+
+    from wingmdao.loads.files import LoadHistory
+
+    return LoadHistory(np.arange(3) * 0.1, np.ones((3, 4, 3)), np.zeros((3, 4, 3)))
+
+
+@pytest.mark.parametrize("name, make, message", [
+    ("empty.npz", lambda p, full: p.write_bytes(b""), "not a readable .npz archive"),
+    ("cut.npz", lambda p, full: p.write_bytes(full[: len(full) // 2]), "not a readable .npz archive"),
+    ("missing.npz", lambda p, full: None, "no such file"),
+    ("missing.csv", lambda p, full: None, "no such file"),
+    ("garbage.csv", lambda p, full: p.write_bytes(b"\x00\xff\xfegarbage\x89"), "not a UTF-8 text CSV"),
+])
+def test_bad_load_history_files_name_the_file(tmp_path, name, make, message):
+    from wingmdao.loads.files import read_load_history, write_load_history
+
+    full_path = tmp_path / "full.npz"
+    write_load_history(_history(), full_path)
+    path = tmp_path / name
+    make(path, full_path.read_bytes())
+    with pytest.raises(ValueError, match=message) as info:
+        read_load_history(path)
+    assert name in str(info.value)
+
+
+def test_csv_load_history_with_byte_order_mark_is_read(tmp_path):
+    import numpy as np
+
+    from wingmdao.loads.files import read_load_history, write_load_history
+
+    path = tmp_path / "h.csv"
+    write_load_history(_history(), path)
+    path.write_bytes(b"\xef\xbb\xbf" + path.read_bytes())
+    np.testing.assert_array_equal(read_load_history(path).force_per_length, _history().force_per_length)
+
+
+@pytest.mark.slow
+def test_a_beam_that_fails_inside_sizing_is_a_clear_error_with_a_partial_json(tmp_path, capsys):
+    """The 185 m cantilever under its gravity cannot be solved from the initial guess: exit 1, one
+    line naming the failed solve, and a JSON marked success: false (not a traceback)."""
+    import json
+
+    out = tmp_path / "c.json"
+    rc = main(["size", "cantilever", "--guess", "c", "--length", "185", "--quiet", "--no-plots",
+               "--out", str(tmp_path), "--json", str(out)])
+    err = capsys.readouterr().err
+    assert rc == 1 and "the analysis failed" in err and "Traceback" not in err
+    res = json.loads(out.read_text())
+    assert res["success"] is False and "no convergence" in res["message"] and "ks" not in res

@@ -1,0 +1,161 @@
+"""Shared input/output discipline of the ``wingmdao`` commands.
+
+Every command should use these helpers so the command-line contract holds everywhere:
+
+- :func:`write_json` / :func:`write_text_atomic`: results are written to a temporary file in the
+  destination folder and renamed over the target (``os.replace``), so a full disk, a crash or
+  Ctrl-C never leaves a truncated or emptied result. ``path == "-"`` writes to the real
+  standard output.
+- :func:`check_output_file` / :func:`check_output_dir`: called *before* a run starts, they raise
+  :class:`ValueError` (shown by :func:`wingmdao.cli.main` as one line, exit code 2) for a
+  missing parent folder, a read-only folder, a path that is a folder, two outputs on one path,
+  or an existing file without ``--overwrite``.
+- :func:`stdout_to_stderr`: while a command runs with ``--json -``, :func:`wingmdao.cli.main`
+  sends everything printed to ``sys.stdout`` (progress, notes, summaries, optimizer messages)
+  to ``sys.stderr``; only :func:`write_json` reaches the real standard output.
+- :func:`say`: human text of a command (always standard error when JSON goes to standard
+  output, else standard output).
+- :data:`EXIT_INTERRUPTED` (130, the shell's 128 + SIGINT) is the exit code of a command
+  stopped by Ctrl-C after it saved what it had.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import sys
+import tempfile
+
+import numpy as np
+
+EXIT_INTERRUPTED = 130
+EXIT_FAILED = 1
+EXIT_USAGE = 2
+
+_real_stdout = None  # the process's standard output while stdout_to_stderr() is active
+
+
+def jsonable(obj):
+    """``obj`` with NumPy arrays and scalars turned into lists and Python numbers (NaN/inf kept)."""
+    if isinstance(obj, dict):
+        return {str(k): jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, np.generic):
+        return obj.item()
+    return obj
+
+
+def json_stdout():
+    """The stream that JSON for ``--json -`` goes to (the real standard output)."""
+    return _real_stdout if _real_stdout is not None else sys.stdout
+
+
+def write_text_atomic(text: str, path: str) -> None:
+    """Write ``text`` to ``path`` atomically: a temporary file in the same folder, flushed and
+    fsynced, then ``os.replace`` (the target is either the old file or the complete new one)."""
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(path)}.", suffix=".tmp", dir=folder)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+
+
+def write_json(data: dict, path: str) -> None:
+    """Write ``data`` as JSON to ``path`` atomically (``-`` means the real standard output)."""
+    text = json.dumps(jsonable(data), indent=2) + "\n"
+    if path == "-":
+        out = json_stdout()
+        out.write(text)
+        out.flush()
+    else:
+        write_text_atomic(text, path)
+
+
+def check_output_file(path: str | None, option: str, *, overwrite: bool = False,
+                      others: dict | None = None) -> None:
+    """Raise ValueError now if ``path`` (given by ``option``, e.g. ``"--json"``) cannot be written
+    later: its parent folder is missing or not writable, it is a folder, it equals one of the
+    ``others`` outputs (``{description: path}``), or it exists and ``overwrite`` is false.
+    ``None`` and ``"-"`` (standard output) always pass."""
+    if path is None or path == "-":
+        return
+    full = os.path.abspath(path)
+    if os.path.isdir(full):
+        raise ValueError(f"{option} {path!r} is a folder; give a file path")
+    parent = os.path.dirname(full)
+    if not os.path.isdir(parent):
+        raise ValueError(f"{option} {path!r}: folder {parent!r} does not exist")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise ValueError(f"{option} {path!r}: folder {parent!r} is not writable")
+    for what, other in (others or {}).items():
+        if other and other != "-" and os.path.abspath(other) == full:
+            raise ValueError(f"{option} {path!r} is the same file as the {what}; choose another path")
+    if os.path.exists(full) and not overwrite:
+        raise ValueError(f"{option} {path!r} exists (an earlier run's output); pass --overwrite to "
+                         "replace it or choose another path")
+
+
+def check_output_dir(path: str, option: str, *, create: bool = True) -> None:
+    """Raise ValueError now if folder ``path`` (given by ``option``) is a file, is not writable, or
+    cannot be created under its nearest existing ancestor; create it when ``create``."""
+    full = os.path.abspath(path)
+    if os.path.exists(full) and not os.path.isdir(full):
+        raise ValueError(f"{option} {path!r} is a file, not a folder")
+    probe = full
+    while not os.path.exists(probe):
+        probe = os.path.dirname(probe)
+    if not os.path.isdir(probe):
+        raise ValueError(f"{option} {path!r}: {probe!r} is a file, not a folder")
+    if not os.access(probe, os.W_OK | os.X_OK):
+        raise ValueError(f"{option} {path!r}: folder {probe!r} is not writable")
+    if create:
+        os.makedirs(full, exist_ok=True)
+
+
+def refuse_existing(paths, *, overwrite: bool, what: str = "output") -> None:
+    """Raise ValueError if any of ``paths`` exists and ``overwrite`` is false (an earlier run's
+    recording or plots are never replaced silently)."""
+    if overwrite:
+        return
+    found = [p for p in paths if p and os.path.exists(p)]
+    if found:
+        raise ValueError(f"{', '.join(found)} exist(s) from an earlier run ({what}); pass --overwrite "
+                         "to replace, or choose another --out folder")
+
+
+@contextlib.contextmanager
+def stdout_to_stderr(enabled: bool = True):
+    """While active, ``print()`` to standard output goes to standard error; :func:`write_json`
+    with ``-`` still writes to the real standard output."""
+    global _real_stdout
+    if not enabled or _real_stdout is not None:
+        yield
+        return
+    _real_stdout = sys.stdout
+    try:
+        with contextlib.redirect_stdout(sys.stderr):
+            yield
+    finally:
+        _real_stdout = None
+
+
+def say(*parts, **kw) -> None:
+    """Print human text of a command (to standard error while JSON goes to standard output)."""
+    kw.setdefault("flush", True)
+    print(*parts, **kw)
+
+
+def warn(message: str) -> None:
+    """One line of warning on standard error."""
+    print(f"wingmdao: warning: {message}", file=sys.stderr, flush=True)
