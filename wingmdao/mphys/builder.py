@@ -154,7 +154,7 @@ class BeamDisplacements(om.ExplicitComponent):
         th0 = np.asarray(self.options["node_euler_angles"], dtype=float)
         n = th0.shape[0]
         x = np.asarray(inputs[STATES])
-        u = np.zeros((n, 6))
+        u = np.zeros((n, 6), dtype=np.result_type(x, inputs[X_STRUCT0]))
         u[:, :3] = x[:, :3] - np.asarray(inputs[X_STRUCT0]).reshape(n, 3)
         u[:, 3:] = np.einsum("nij,nj->ni", self._A, x[:, 3:6] - th0)
         outputs[U_STRUCT] = u.ravel()

@@ -171,7 +171,7 @@ class RigidLinkLoadTransfer(_LinkBase):
         links, m, n = self._sizes()
         mir = _MIRROR if self.options["mirror_y"] else np.ones(3)
         fa = np.asarray(inputs["f_aero"]).reshape(m, 3) * mir
-        out = np.zeros((n, 6))
+        out = np.zeros((n, 6), dtype=np.result_type(fa, inputs["x_struct0"]))
         np.add.at(out[:, :3], links, fa)
         np.add.at(out[:, 3:], links, np.cross(self._arms(inputs), fa))
         outputs["f_aero_struct"] = out.ravel()
@@ -186,6 +186,6 @@ class RigidLinkLoadTransfer(_LinkBase):
             [eye.ravel(), (_skew(self._arms(inputs)) * mir[None, None, :]).ravel()])
         skf = -_skew(fa)
         partials["f_aero_struct", "x_aero0"] = (skf * mir[None, None, :]).ravel()
-        blocks = np.zeros((n, 3, 3))
+        blocks = np.zeros((n, 3, 3), dtype=skf.dtype)
         np.add.at(blocks, links, -skf)
-        partials["f_aero_struct", "x_struct0"] = (-blocks).ravel()
+        partials["f_aero_struct", "x_struct0"] = blocks.ravel()
