@@ -254,8 +254,21 @@ def section_average(model: ShellBox, displacements: dict, j: int) -> np.ndarray:
     return (w[:, None] * u).sum(0) / w.sum()
 
 
+def section_rotation(model: ShellBox, displacements: dict, j: int) -> np.ndarray:
+    """Section rotation vector (rad): the weighted least-squares rigid rotation of the ring,
+    theta = J^-1 sum w_i r_i x (u_i - u_mean) (the distributing-coupling reference rotation)."""
+    w = model.ring_weights[j]
+    p = model.ring_points(j)
+    u = np.array([displacements[int(n)] for n in model.rings[j]])
+    r = p - (w[:, None] * p).sum(0) / w.sum()
+    du = u - (w[:, None] * u).sum(0) / w.sum()
+    J = sum(wi * (ri @ ri * np.eye(3) - np.outer(ri, ri)) for wi, ri in zip(w, r))
+    return np.linalg.pinv(J) @ (w[:, None] * np.cross(r, du)).sum(0)
+
+
 def solve_static(model: ShellBox, loads, stations_y, nlgeom=False, increments=10, keep_dir=None) -> dict:
-    """Static solve: section-average displacement (m, (k, 3)) at the span coordinates ``stations_y``."""
+    """Static solve: section-average displacement (m, (k, 3)) and rotation (rad, (k, 3)) at the
+    span coordinates ``stations_y``."""
     js = [line_index(model, y) for y in stations_y]
     model.deck.nsets["OUT"] = sorted({int(n) for j in js for n in model.rings[j]})
     text = model.deck.text([static_step(station_loads(model, loads), ["OUT"], nlgeom=nlgeom,
@@ -263,7 +276,8 @@ def solve_static(model: ShellBox, loads, stations_y, nlgeom=False, increments=10
     run = run_deck(text, keep_dir=keep_dir)
     d = parse_dat(run["dat"])["displacements"]["OUT"]
     disp = np.array([section_average(model, d, j) for j in js])
-    return {"displacement": disp, "time": run["time"], "num_nodes": len(model.deck.nodes),
+    rot = np.array([section_rotation(model, d, j) for j in js])
+    return {"displacement": disp, "rotation": rot, "time": run["time"], "num_nodes": len(model.deck.nodes),
             "num_elements": model.num_elements}
 
 
