@@ -1,0 +1,207 @@
+"""CalculiX (``ccx``) driver: find the solver, write Abaqus-style decks, run them in a temporary
+folder and read the ``.dat`` results.
+
+CalculiX: G. Dhondt, "CalculiX CrunchiX User's Manual", version 2.20, 2022 (the input keywords
+used here: *NODE, *ELEMENT, *NSET, *ELSET, *MATERIAL/*ELASTIC/*DENSITY, *SHELL SECTION,
+*SOLID SECTION, *MASS, *BOUNDARY, *STEP[, NLGEOM], *STATIC, *FREQUENCY, *CLOAD, *NODE PRINT).
+The solver is an optional dependency: a missing ``ccx`` raises :class:`CalculixNotFound` with
+the install command and nothing is imported at package import time.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import tempfile
+import time
+
+import numpy as np
+
+INSTALL_HINT = "install with: apt-get install -y calculix-ccx"
+
+
+class CalculixNotFound(RuntimeError):
+    """The CalculiX solver ``ccx`` is not on PATH."""
+
+
+class CalculixError(RuntimeError):
+    """ccx ran but reported an error or wrote no results."""
+
+
+def find_ccx() -> str:
+    """Path of ``ccx`` (``$WINGMDAO_CCX`` if set, else PATH); CalculixNotFound otherwise."""
+    exe = os.environ.get("WINGMDAO_CCX") or shutil.which("ccx")
+    if not exe or not (os.path.isfile(exe) or shutil.which(exe)):
+        raise CalculixNotFound(f"the CalculiX solver 'ccx' was not found on PATH; {INSTALL_HINT}")
+    return exe
+
+
+def run_deck(deck: str, job: str = "job", keep_dir: str | None = None, timeout: float = 1800.0) -> dict:
+    """Run ``ccx -i job`` on the deck text in a temporary folder (or ``keep_dir``).
+
+    Returns ``{"dat": text of job.dat, "log": solver output, "time": wall seconds, "dir": folder
+    or None}``. CalculixError when ccx fails or prints ``*ERROR``.
+    """
+    exe = find_ccx()
+    tmp = None
+    if keep_dir is None:
+        tmp = tempfile.TemporaryDirectory(prefix="wingmdao-ccx-")
+        folder = tmp.name
+    else:
+        folder = keep_dir
+        os.makedirs(folder, exist_ok=True)
+    try:
+        with open(os.path.join(folder, job + ".inp"), "w", encoding="ascii") as fh:
+            fh.write(deck)
+        env = dict(os.environ, OMP_NUM_THREADS=os.environ.get("OMP_NUM_THREADS", "1"))
+        t0 = time.perf_counter()
+        proc = subprocess.run([exe, "-i", job], cwd=folder, capture_output=True, text=True,
+                              timeout=timeout, env=env)
+        elapsed = time.perf_counter() - t0
+        log = proc.stdout + proc.stderr
+        dat_path = os.path.join(folder, job + ".dat")
+        if proc.returncode != 0 or "*ERROR" in log or not os.path.exists(dat_path):
+            tail = "\n".join(log.strip().splitlines()[-25:])
+            raise CalculixError(f"ccx failed (exit {proc.returncode}) on {job}.inp:\n{tail}")
+        with open(dat_path, encoding="ascii", errors="replace") as fh:
+            dat = fh.read()
+    finally:
+        if tmp is not None:
+            tmp.cleanup()
+    return {"dat": dat, "log": log, "time": elapsed, "dir": keep_dir}
+
+
+_FLOAT = r"[-+]?\d*\.?\d+(?:[eE][-+]?\d+)?"
+
+
+def parse_dat(text: str) -> dict:
+    """Read a ccx ``.dat`` file: ``{"displacements": {NSET: {node: (ux, uy, uz)}},
+    "frequencies_hz": array}`` (the last time of each set when a step prints several)."""
+    disp: dict = {}
+    freqs: list = []
+    lines = text.splitlines()
+    i = 0
+    while i < len(lines):
+        line = lines[i]
+        m = re.match(r"\s*displacements \(vx,vy,vz\) for set (\S+) and time", line)
+        if m:
+            name = m.group(1).upper()
+            block = {}
+            i += 1
+            while i < len(lines) and not lines[i].strip():
+                i += 1
+            while i < len(lines) and lines[i].strip():
+                parts = lines[i].split()
+                try:
+                    block[int(parts[0])] = tuple(float(v) for v in parts[1:4])
+                except (ValueError, IndexError):
+                    break
+                i += 1
+            disp[name] = block
+            continue
+        if "E I G E N V A L U E   O U T P U T" in line:
+            i += 1
+            # header lines, then rows: mode, eigenvalue, omega (rad/time), f (cycles/time), imag
+            while i < len(lines) and not re.match(r"\s*\d+\s+" + _FLOAT, lines[i]):
+                i += 1
+            while i < len(lines) and re.match(r"\s*\d+\s+" + _FLOAT, lines[i]):
+                parts = lines[i].split()
+                freqs.append(float(parts[3]))
+                i += 1
+            continue
+        i += 1
+    return {"displacements": disp, "frequencies_hz": np.array(freqs)}
+
+
+# --------------------------------------------------------------------------- deck writing
+def _rows(values, per_line=8):
+    vals = list(values)
+    return "\n".join(", ".join(str(v) for v in vals[k:k + per_line]) for k in range(0, len(vals), per_line))
+
+
+def distributing_forces(points, weights, centre, force, moment) -> np.ndarray:
+    """Nodal forces (n, 3) of a distributing coupling: the force and moment at ``centre`` spread
+    over the coupling nodes in proportion to the weights, f_i = w_i [F / W + (J^-1 M') x r_i],
+    r_i from the weighted centroid, J = sum w_i (|r_i|^2 I - r_i r_i^T), M' = M + (c - x_c) x F.
+    This is the distributing-coupling law of Abaqus ("Coupling constraints", Abaqus Analysis
+    User's Guide 2016, Sec. 35.3.2): the nodal forces are statically equivalent to (F, M)."""
+    p = np.asarray(points, float)
+    w = np.asarray(weights, float)
+    W = w.sum()
+    xc = (w[:, None] * p).sum(0) / W
+    r = p - xc
+    F, M = np.asarray(force, float), np.asarray(moment, float)
+    Mc = M + np.cross(np.asarray(centre, float) - xc, F)
+    J = sum(wi * (ri @ ri * np.eye(3) - np.outer(ri, ri)) for wi, ri in zip(w, r))
+    # a planar ring has J regular; guard a degenerate (collinear) set with a pseudo-inverse
+    a = np.linalg.pinv(J) @ Mc
+    return w[:, None] * (F / W + np.cross(a, r))
+
+
+class Deck:
+    """A small Abaqus/CalculiX input builder (nodes 1-based, SI units)."""
+
+    def __init__(self, heading="wingmdao"):
+        self.heading = heading
+        self.nodes: dict[int, tuple] = {}
+        self.elements: list[tuple[str, str, dict]] = []   # (type, elset, {id: conn})
+        self.nsets: dict[str, list] = {}
+        self.sections: list[str] = []
+        self.materials: list[str] = []
+        self.boundary: list[tuple] = []
+        self.model_extra: list[str] = []
+
+    def add_nodes(self, coords, start=None) -> np.ndarray:
+        start = (max(self.nodes) + 1) if (start is None and self.nodes) else (start or 1)
+        ids = np.arange(start, start + len(coords))
+        for i, c in zip(ids, np.asarray(coords, float)):
+            self.nodes[int(i)] = tuple(c)
+        return ids
+
+    def next_element_id(self):
+        ids = [max(b) for _, _, b in self.elements if b]
+        return (max(ids) + 1) if ids else 1
+
+    def add_elements(self, etype, elset, conns) -> list:
+        e0 = self.next_element_id()
+        block = {e0 + k: tuple(int(n) for n in c) for k, c in enumerate(conns)}
+        self.elements.append((etype, elset, block))
+        return list(block)
+
+    def material(self, name, material):
+        self.materials.append(f"*MATERIAL, NAME={name}\n*ELASTIC\n{material.E:.10g}, {material.nu:.10g}\n"
+                              f"*DENSITY\n{material.rho:.10g}")
+
+    def text(self, steps: list[str]) -> str:
+        out = [f"*HEADING\n{self.heading}", "*NODE"]
+        out += [f"{i}, {c[0]:.12g}, {c[1]:.12g}, {c[2]:.12g}" for i, c in sorted(self.nodes.items())]
+        for etype, elset, block in self.elements:
+            out.append(f"*ELEMENT, TYPE={etype}, ELSET={elset}")
+            out += [f"{e}, " + ", ".join(map(str, c)) for e, c in block.items()]
+        for name, ids in self.nsets.items():
+            out.append(f"*NSET, NSET={name}\n{_rows(ids)}")
+        out += self.materials + self.sections + self.model_extra
+        if self.boundary:
+            out.append("*BOUNDARY")
+            out += [f"{n}, {a}, {b}" for n, a, b in self.boundary]
+        out += steps
+        return "\n".join(out) + "\n"
+
+
+def static_step(cloads, print_nsets, nlgeom=False, increments=None) -> str:
+    """A *STATIC step with nodal loads [(node, dof, value)] and *NODE PRINT U of the sets."""
+    head = "*STEP" + (", NLGEOM, INC=1000" if nlgeom else "")
+    s = [head, "*STATIC" if not (nlgeom and increments) else f"*STATIC\n{1.0 / increments:g}, 1.0"]
+    if cloads:
+        s.append("*CLOAD")
+        s += [f"{n}, {d}, {v:.12g}" for n, d, v in cloads if v != 0.0]
+    s += [f"*NODE PRINT, NSET={n}\nU" for n in print_nsets]
+    s.append("*END STEP")
+    return "\n".join(s)
+
+
+def frequency_step(modes: int) -> str:
+    """A *FREQUENCY step extracting the lowest ``modes`` eigenfrequencies (printed to .dat)."""
+    return f"*STEP\n*FREQUENCY\n{int(modes)}\n*END STEP"
