@@ -117,3 +117,30 @@ def test_mac_identity_and_orthogonal():
 def test_bad_speeds(bad, match):
     with pytest.raises(ValueError, match=match):
         check_speeds(bad)
+
+
+@pytest.mark.parametrize("factor", [0.97, 1.03])
+def test_eigenvalue_matches_free_response_time_march(factor):
+    """Just below / above flutter: the BDF2 free response started on the critical eigenvector
+    decays / grows at the eigenvalue's rate and oscillates at its frequency (Prony fit of the
+    sampled response: h[k+2] = 2 Re z h[k+1] - |z|^2 h[k], z = exp(lambda dt))."""
+    from wingmdao.timemarch.bdf import march
+
+    system = typical_section_system()
+    Vf, _ = reference_flutter_speed()
+    V = factor * Vf
+    m = eigenmodes(system, *params_at(V))
+    j = int(np.argmax(m.damping))
+    lam, v = m.eigenvalues[j], m.vectors[:, j]
+    dt = 2e-4
+    t = np.arange(0.0, 4 * 2 * np.pi / abs(lam.imag), dt)
+    x_init = 1e-3 * np.real(v) / np.max(np.abs(v))
+    hist = march(system, t, np.array([V]), np.zeros((t.size, 0)), initial="state", x_init=x_init)
+    h = hist.states[:, 1]
+    A = np.column_stack([h[1:-1], h[:-2]])
+    c1, c2 = np.linalg.lstsq(A, h[2:], rcond=None)[0]
+    z = np.roots([1.0, -c1, -c2])
+    lam_march = np.log(z[np.argmax(z.imag)]) / dt
+    assert lam_march.imag == pytest.approx(lam.imag, rel=1e-3)
+    assert lam_march.real == pytest.approx(lam.real, abs=2e-3 * abs(lam))
+    assert np.sign(lam_march.real) == np.sign(lam.real) == (1 if factor > 1 else -1)
