@@ -1,0 +1,41 @@
+"""``wingmdao gust``: JSON keys, bad input, and the Pratt-Walker check on the stiffened PEGASUS wing."""
+
+import json
+
+import numpy as np
+import pytest
+
+from wingmdao.cli import main
+
+
+def test_gust_bad_gradient(capsys):
+    assert main(["gust", "pegasus", "--gradient-ft", "20", "--no-plots"]) == 2
+    err = capsys.readouterr().err
+    assert "--gradient-ft" in err and "30-350" in err and "20" in err
+
+
+def test_gust_bad_stiffness_scale(capsys):
+    assert main(["gust", "pegasus", "--stiffness-scale", "0", "--no-plots"]) == 2
+    assert "--stiffness-scale" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_gust_pegasus_stiff_free_plunge_pratt_walker(tmp_path, capsys):
+    """Stiffened (x1000) PEGASUS wing in free plunge, 1-cos gust of 12.5 mean chords: peak dn over
+    the quasi-steady dn = K_g = 0.88 mu / (5.3 + mu) (NACA Rep. 1206) within 5 % (ours +2.3 %)."""
+    mean_chord_ft = 586.3328 / 80.58962
+    out = tmp_path / "g.json"
+    rc = main(["gust", "pegasus", "--gradient-ft", f"{12.5 * mean_chord_ft:.4f}", "--stiffness-scale", "1000",
+               "--t-final", "1.5", "--dt", "0.005", "--json", str(out), "--out", str(tmp_path)])
+    assert rc == 0
+    res = json.loads(out.read_text())
+    for key in ("time", "load_factor", "peak_incremental_load_factor", "quasi_steady_incremental_load_factor",
+                "wing_lift_slope_per_rad", "mass_parameter", "mean_chord_m", "wing_loading_pa",
+                "root_bending_moment", "tip_displacement"):
+        assert key in res
+    assert len(res["load_factor"]) == len(res["time"]) == len(res["root_bending_moment"])
+    mu = res["mass_parameter"]
+    ratio = res["peak_incremental_load_factor"] / res["quasi_steady_incremental_load_factor"]
+    assert abs(ratio / (0.88 * mu / (5.3 + mu)) - 1) < 0.05
+    assert np.isclose(res["mean_chord_m"], mean_chord_ft * 0.3048, rtol=1e-9)
+    assert (tmp_path / "pegasus_gust.png").exists()

@@ -1,0 +1,275 @@
+"""``AeroelasticBeamSystem``: the App. A beam with unsteady strip-theory loads on its deformed sections.
+
+State per node (node-major, ``state_shape = (num_nodes, 22)``): the 18 beam states of
+:mod:`wingmdao.beam.residual` (r, theta, F, M, u, omega) followed by the 4 aerodynamic lag states
+of :mod:`wingmdao.aero.strip` (lambda_1, lambda_2 Wagner; mu_1, mu_2 Kuessner; rad). Residual rows
+per node: the 18 beam rows of that node, then the 4 lag-state equations of that station.
+
+Coupling. At node i, with T = T(theta_i) (body -> csn), the air velocity relative to the section
+(body axes) is ``v_rel = (V, 0, 0) - frame_velocity - Omega x r_i - u_i`` (the free stream flows
+aft, +x, relative to the wing; CONVENTIONS.md), its csn components ``T v_rel`` give the
+quasi-steady angle, and the pitch rate is ``w_s = (T (omega_i + Omega))_s``. The gust
+``gust_velocity_i`` (body +z, upward) enters through its section-normal component. The section
+lift L (along the deformed section normal n) and moment M (about the deformed beam axis s) per
+unit length are *follower* loads ``T^T (0, 0, L)`` and ``T^T (0, M, 0)`` added to the beam's
+distributed ``force_per_length`` / ``moment_per_length`` of node i. The apparent-mass terms use
+the exact time derivative of the midchord normal velocity and pitch rate (CasADi ``jtimes`` with
+xdot, plus ``frame_acceleration`` / ``frame_angular_acceleration`` for the frame terms, which
+must be the rates of ``frame_velocity`` / ``frame_angular_velocity``).
+
+Parameters: the beam's (:func:`wingmdao.beam.residual.param_specs`) then :func:`aero_param_specs`
+(chord, ref_point, lift_slope, alpha_zero_lift, cm0 per node; airspeed, density, mach).
+Forcing: the beam's (:func:`wingmdao.beam.residual.forcing_specs`) then ``gust_velocity`` (n,)
+m/s and ``frame_velocity`` (3,) m/s. Everything is differentiable (CasADi), so
+:class:`~wingmdao.components.time_history.TimeHistoryComponent` marches it and its discrete
+adjoint gives derivatives with respect to every parameter, airspeed and density included.
+"""
+
+from __future__ import annotations
+
+import time as _time
+
+import casadi as ca
+import numpy as np
+
+from wingmdao.aero.strip import AERO_STATE_NAMES, N_AERO_STATES, check_aero_inputs, section_model
+from wingmdao.beam.residual import (N_STATE_PER_NODE, STATE_BLOCKS, _P_NODE, _Q_NODE, _element_function,
+                                    _nodal_function, _node_forcing, _node_params, describe_equation,
+                                    forcing_specs as beam_forcing_specs, jig_state,
+                                    param_specs as beam_param_specs, StrainRateDamping)
+from wingmdao.beam.rotations import body_to_csn
+from wingmdao.timemarch.system import CasadiResidualSystem, VarSpec, layout
+
+#: states per node of the aeroelastic system: 18 beam + 4 aerodynamic
+N_AEROELASTIC_STATES = N_STATE_PER_NODE + N_AERO_STATES
+#: names of the aerodynamic parameters (their validation is check_aero_parameters)
+AERO_PARAMS = ("chord", "ref_point", "lift_slope", "alpha_zero_lift", "cm0", "airspeed", "density", "mach")
+
+
+def aero_param_specs(n: int) -> list[VarSpec]:
+    """Aerodynamic parameters of an n-node aeroelastic beam (appended to the beam's)."""
+    return [
+        VarSpec("chord", (n,), "m", "section chord at each node"),
+        VarSpec("ref_point", (n,), None, "beam-axis (reference point) position, fraction of chord aft of the leading edge"),
+        VarSpec("lift_slope", (n,), "1/rad", "incompressible section lift-curve slope (2 pi: thin airfoil)"),
+        VarSpec("alpha_zero_lift", (n,), "rad", "section zero-lift angle"),
+        VarSpec("cm0", (n,), None, "section moment coefficient about the quarter chord (nose up +)"),
+        VarSpec("airspeed", (), "m/s", "true airspeed V (free stream toward +x relative to the wing)"),
+        VarSpec("density", (), "kg/m**3", "air density"),
+        VarSpec("mach", (), None, "Mach number (Prandtl-Glauert factor on the lift slope)"),
+    ]
+
+
+def aero_forcing_specs(n: int) -> list[VarSpec]:
+    """Aerodynamic forcing at one instant (appended to the beam's)."""
+    return [
+        VarSpec("gust_velocity", (n,), "m/s", "gust velocity (body +z, up) at each station, penetration delay included"),
+        VarSpec("frame_velocity", (3,), "m/s", "velocity of the body-axes origin relative to the trimmed flight (e.g. plunge)"),
+    ]
+
+
+def aero_parameters(n: int, *, chord, ref_point=0.4, lift_slope=2 * np.pi, alpha_zero_lift=0.0, cm0=0.0,
+                    airspeed, density, mach=0.0) -> dict:
+    """Dict of the aerodynamic parameters (scalars broadcast to every node), validated."""
+    out = {}
+    for name, v in (("chord", chord), ("ref_point", ref_point), ("lift_slope", lift_slope),
+                    ("alpha_zero_lift", alpha_zero_lift), ("cm0", cm0)):
+        out[name] = np.broadcast_to(np.asarray(v, dtype=float), (n,)).copy()
+    out.update(airspeed=float(airspeed), density=float(density), mach=float(mach))
+    check_aero_parameters(out)
+    return out
+
+
+def check_aero_parameters(values: dict) -> None:
+    """ValueError (input, value, allowed range) for bad chord, ref_point, airspeed, density, mach."""
+    check_aero_inputs(**{k: values[k] for k in ("chord", "ref_point", "airspeed", "density", "mach",
+                                                 "lift_slope") if k in values})
+
+
+def _node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence):
+    """Follower aerodynamic force/moment per length (body) and the 4 lag residuals of one node."""
+    st = STATE_BLOCKS
+    xb, xdb = x[:18], xdot[:18]
+    r, th, u, w = xb[st["r"]], xb[st["theta"]], xb[st["u"]], xb[st["omega"]]
+    vf, acc0, rate, alpha0 = frame
+    chord, ref, a, azl, cm0, wg = (pa[k] for k in range(6))
+    T = body_to_csn(th, sequence)
+    free = ca.vertcat(V, 0, 0)
+
+    def kinematics(xb_, vf_, rate_):
+        T_ = body_to_csn(xb_[st["theta"]], sequence)
+        rel = T_ @ (free - vf_ - ca.cross(rate_, xb_[st["r"]]) - xb_[st["u"]])
+        ws = (T_ @ (xb_[st["omega"]] + rate_))[1]
+        return rel, ws
+
+    rel, ws = kinematics(xb, vf, rate)
+    w_mid = rel[2] + ws * chord * (0.5 - ref)
+    z = ca.vertcat(xb, vf, rate)
+    zdot = ca.vertcat(xdb, acc0, alpha0)
+    dw_mid = ca.jtimes(w_mid, z, zdot)
+    dws = ca.jtimes(ws, z, zdot)
+    gust_n = (T @ ca.vertcat(0, 0, wg))[2]
+    lift, moment, res, _ = section_model(rel, ws, dw_mid, dws, gust_n, x[18:], xdot[18:], chord, ref, a, azl,
+                                         cm0, V, rho, mach)
+    f = T.T @ ca.vertcat(0, 0, lift)
+    m = T.T @ ca.vertcat(0, moment, 0)
+    return f, m, res, lift, moment
+
+
+def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
+                             damping: StrainRateDamping | None = None,
+                             plunge: bool = False) -> "AeroelasticBeamSystem":
+    """The App. A beam of ``num_nodes`` nodes (root clamped) with unsteady strip theory.
+
+    Returns an :class:`AeroelasticBeamSystem` (a :class:`CasadiResidualSystem`):
+    ``state_shape = (num_nodes, 22)`` (18 beam + 4 lag states per node); ``param_specs`` = beam
+    parameters + :func:`aero_param_specs`; ``forcing_specs`` = beam forcing +
+    :func:`aero_forcing_specs`. ``system.section_loads(x, xdot, p, q)`` evaluates the lift and
+    moment per length at every node.
+
+    ``plunge=True`` frees the aircraft in plunge (the clamped, wind-tunnel root otherwise): one
+    more state, the upward velocity w_p of the body axes (``state_shape = (22 num_nodes + 1,)``,
+    the node-major (n, 22) block first), one more parameter ``body_mass`` (kg, the aircraft mass
+    outside both wing halves), and the equation ``body_mass (dw_p/dt - g_z) = 2 F_root,z`` (the
+    two half-wings' root shear, which holds their lift and their own inertia). The body velocity
+    (0, 0, w_p) adds to ``frame_velocity`` in the aerodynamics and its rate to the beam's
+    ``frame_acceleration``.
+    """
+    n = int(num_nodes)
+    if n < 2:
+        raise ValueError(f"num_nodes must be >= 2, got {num_nodes}")
+    t0 = _time.perf_counter()
+    pspecs = beam_param_specs(n) + aero_param_specs(n)
+    if plunge:
+        pspecs.append(VarSpec("body_mass", (), "kg", "aircraft mass outside both wing halves (free plunge)"))
+    qspecs = beam_forcing_specs(n) + aero_forcing_specs(n)
+    play, qlay = layout(pspecs), layout(qspecs)
+    W = N_AEROELASTIC_STATES
+    n_extra = 1 if plunge else 0
+    x = ca.SX.sym("x", W * n + n_extra)
+    xdot = ca.SX.sym("xdot", W * n + n_extra)
+    p = ca.SX.sym("p", sum(s.size for s in pspecs))
+    q = ca.SX.sym("q", sum(s.size for s in qspecs))
+    elem = _element_function(euler_sequence, damping)
+    nodal = _nodal_function(euler_sequence)
+    g = q[qlay["gravity"]]
+    acc0, vf = q[qlay["frame_acceleration"]], q[qlay["frame_velocity"]]
+    if plunge:
+        e_z = ca.DM([0.0, 0.0, 1.0])
+        acc0 = acc0 + e_z * xdot[W * n]
+        vf = vf + e_z * x[W * n]
+    frame = (acc0, q[qlay["frame_angular_velocity"]], q[qlay["frame_angular_acceleration"]])
+    aero_frame = (vf,) + frame
+    V, rho, mach = p[play["airspeed"]], p[play["density"]], p[play["mach"]]
+
+    # one symbolic node function for the aerodynamics, called per node
+    xs_ = ca.SX.sym("xn", W)
+    xds_ = ca.SX.sym("xdn", W)
+    pa_ = ca.SX.sym("pa", 6)
+    fr_ = [ca.SX.sym(nm, 3) for nm in ("vf", "A0", "Om", "al0")]
+    sc_ = ca.SX.sym("s", 3)
+    f_, m_, res_, L_, M_ = _node_aero(xs_, xds_, pa_, None, fr_, sc_[0], sc_[1], sc_[2], euler_sequence)
+    aero_fun = ca.Function("aero_node", [xs_, xds_, pa_, *fr_, sc_], [f_, m_, res_, L_, M_])
+
+    xs = [x[W * i: W * (i + 1)] for i in range(n)]
+    xds = [xdot[W * i: W * (i + 1)] for i in range(n)]
+    ps = [_node_params(p, play, i) for i in range(n)]
+    scal = ca.vertcat(V, rho, mach)
+    aero_out, qs = [], []
+    for i in range(n):
+        pa = ca.vertcat(*[p[play[k]][i] for k in ("chord", "ref_point", "lift_slope", "alpha_zero_lift", "cm0")],
+                        q[qlay["gust_velocity"]][i])
+        f_a, m_a, res_a, L_a, M_a = aero_fun(xs[i], xds[i], pa, *aero_frame, scal)
+        aero_out.append((res_a, L_a, M_a))
+        qb = _node_forcing(q, qlay, i)
+        qs.append(ca.vertcat(qb[_Q_NODE["f"]] + f_a, qb[_Q_NODE["m"]] + m_a, qb[_Q_NODE["P"]], qb[_Q_NODE["Q"]]))
+    st = STATE_BLOCKS
+    blocks = []
+    for i in range(n):
+        xb, xdb = xs[i][:18], xds[i][:18]
+        if i < n - 1:
+            blocks.append(elem(xb, xs[i + 1][:18], xdb, xds[i + 1][:18], ps[i], ps[i + 1], qs[i], qs[i + 1],
+                               g, *frame))
+        else:
+            blocks.append(ca.vertcat(
+                xs[0][st["r"]] - ps[0][_P_NODE["r0"]],
+                xs[0][st["theta"]] - ps[0][_P_NODE["theta0"]],
+                xb[st["F"]] - qs[i][_Q_NODE["P"]],
+                xb[st["M"]] - qs[i][_Q_NODE["Q"]]))
+        blocks.append(nodal(xb, xdb))
+        blocks.append(aero_out[i][0])
+    if plunge:
+        mb = p[play["body_mass"]]
+        blocks.append(mb * (xdot[W * n] - g[2]) - 2.0 * xs[0][st["F"]][2])
+    R = ca.vertcat(*blocks)
+    lifts = ca.vertcat(*[o[1] for o in aero_out])
+    moments = ca.vertcat(*[o[2] for o in aero_out])
+    system = AeroelasticBeamSystem(x, xdot, p, q, R, param_specs=pspecs, forcing_specs=qspecs,
+                                   state_shape=(W * n + 1,) if plunge else (n, W),
+                                   name=f"aeroelastic_beam{n}" + ("_plunge" if plunge else ""),
+                                   describe=lambda k: describe_aeroelastic_equation(k, n))
+    system.num_nodes = n
+    system.plunge = bool(plunge)
+    system._loads = ca.Function("section_loads", [x, xdot, p, q], [lifts, moments])
+    system.build_time = _time.perf_counter() - t0
+    return system
+
+
+def describe_aeroelastic_equation(index: int, num_nodes: int) -> str:
+    if index == N_AEROELASTIC_STATES * num_nodes:
+        return "free plunge: body_mass (dw_p/dt - g_z) = 2 F_root,z"
+    node, k = divmod(int(index), N_AEROELASTIC_STATES)
+    if k < N_STATE_PER_NODE:
+        return describe_equation(node * N_STATE_PER_NODE + k, num_nodes)
+    return f"node {node}, aerodynamic {AERO_STATE_NAMES[k - N_STATE_PER_NODE]}"
+
+
+class AeroelasticBeamSystem(CasadiResidualSystem):
+    """Beam + unsteady strip theory residual system; build with :func:`build_aeroelastic_system`.
+
+    Attributes: ``num_nodes``; ``state_shape = (num_nodes, 22)``; ``BEAM = slice(0, 18)`` and
+    ``AERO = slice(18, 22)`` index a node's row of the (n, 22) state.
+    """
+
+    BEAM = slice(0, N_STATE_PER_NODE)
+    AERO = slice(N_STATE_PER_NODE, N_AEROELASTIC_STATES)
+
+    def initial_guess(self, p, q):
+        """Jig beam state with zero aerodynamic states."""
+        n = self.num_nodes
+        play = layout(self.param_specs)
+        bp = {s.name: np.asarray(p[play[s.name]]).reshape(s.shape) for s in beam_param_specs(n)}
+        x = np.zeros((n, N_AEROELASTIC_STATES))
+        x[:, self.BEAM] = jig_state(bp)
+        return np.concatenate([x.ravel(), np.zeros(self.n_state - x.size)])
+
+    def section_loads(self, x, xdot, p, q):
+        """(lift, moment) per unit length at every node (N/m along the section normal, N*m/m nose up)."""
+        L, M = self._loads(np.ravel(x), np.ravel(xdot), np.ravel(p), np.ravel(q))
+        return np.asarray(L).ravel(), np.asarray(M).ravel()
+
+    def section_load_history(self, X, Xdot, p, Q):
+        """Lift and moment per length histories (n_time, n_node) for state/rate/forcing histories."""
+        out = [self.section_loads(X[i], Xdot[i], p, Q[i]) for i in range(X.shape[0])]
+        return np.array([o[0] for o in out]), np.array([o[1] for o in out])
+
+    def split_parameters(self, p):
+        """``{name: array}`` of a packed parameter vector."""
+        lay = layout(self.param_specs)
+        return {s.name: np.asarray(p[lay[s.name]]).reshape(s.shape) for s in self.param_specs}
+
+
+_SYSTEMS: dict = {}
+
+
+def cached_aeroelastic_system(num_nodes: int, euler_sequence: str = "surface",
+                              damping: StrainRateDamping | None = None,
+                              plunge: bool = False) -> AeroelasticBeamSystem:
+    """:func:`build_aeroelastic_system`, built once per (num_nodes, sequence, damping, plunge)."""
+    if damping is not None and damping.is_zero:
+        damping = None
+    key = (int(num_nodes), euler_sequence, damping, bool(plunge))
+    if key not in _SYSTEMS:
+        _SYSTEMS[key] = build_aeroelastic_system(key[0], euler_sequence=euler_sequence, damping=damping,
+                                                 plunge=key[3])
+    return _SYSTEMS[key]

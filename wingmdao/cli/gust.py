@@ -1,0 +1,260 @@
+"""``wingmdao gust CASE``: gust response of a case's wing with the coupled aeroelastic beam.
+
+Analysis only (docs/aeroelasticity.md): the case's wing (its box sections for the initial design
+or the thicknesses of a sizing result, ``--design``) becomes an
+:class:`~wingmdao.aero.system.AeroelasticBeamSystem` (unsteady strip theory on the deforming
+beam, Jones-Wagner and Sears-Sparks-Kuessner lag states, apparent mass, Prandtl-Glauert); a
+14 CFR 25.341 1-cos gust of gradient H (U_ds = U_ref (H/350 ft)^(1/6) EAS) crosses it with each
+station's penetration delay, the aircraft free in plunge (``--plunge``, default) or clamped at the
+symmetry plane (``--clamped``). The response is the increment on 1 g level flight (no trim: the
+steady 1 g state is not modelled; the load factor is 1 + total incremental lift / W, the lift
+integrated over both half-wings).
+
+JSON keys: time, load_factor, peak_incremental_load_factor, quasi_steady_incremental_load_factor
+(dn = rho0 U_de V_e a / (2 W/S), a the model's strip-theory wing lift slope), wing_lift_slope_per_rad,
+mass_parameter (mu = 2 (W/S) / (rho c a g)), mean_chord_m, wing_loading_pa, root_bending_moment
+(N m, M_x at the symmetry plane), root_torsion (N m, M_y), tip_displacement (m, z), and the inputs.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+import tempfile
+import time as _time
+
+import numpy as np
+
+CASES = ("pegasus", "crm")
+
+
+def register(subparsers):
+    p = subparsers.add_parser(
+        "gust", help="gust response (load factor, root loads, tip deflection) with the coupled aeroelastic beam",
+        description="1-cos gust response of a case's wing on the aeroelastic beam (unsteady strip theory on the "
+        "deforming wing, free plunge or clamped), increment on 1 g level flight. SI output.")
+    p.add_argument("case", choices=CASES, metavar="CASE", help="case: " + ", ".join(CASES))
+    p.add_argument("--aero", choices=("coupled",), default="coupled",
+                   help="aerodynamics: coupled (unsteady strip theory on the deforming beam; the precomputed "
+                        "strip loads are 'wingmdao size CASE --loads gust')")
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--plunge", dest="plunge", action="store_true", default=True,
+                   help="aircraft free in plunge (default)")
+    g.add_argument("--clamped", dest="plunge", action="store_false", help="root clamped (wind-tunnel wing)")
+    p.add_argument("--gradient-ft", type=float, default=None, metavar="H",
+                   help="gust gradient H (ft, 30-350; default: the case's)")
+    p.add_argument("--stiffness-scale", type=float, default=1.0, metavar="S",
+                   help="multiply all section stiffnesses by S (> 0; large S approaches a rigid wing)")
+    p.add_argument("--design", metavar="RESULT.json", default=None,
+                   help="thicknesses from a sizing result (its 'thickness' per station); default: the initial design")
+    p.add_argument("--altitude-ft", type=float, default=None, help="altitude (ft; default: the case's gust altitude)")
+    p.add_argument("--mach", type=float, default=None, help="Mach number (default: the case's)")
+    p.add_argument("--u-ref-fps", type=float, default=None, help="reference gust velocity (ft/s EAS; default: the case's)")
+    p.add_argument("--t-final", type=float, default=None, metavar="S", help="simulated time (s; default: the case's)")
+    p.add_argument("--dt", type=float, default=0.01, metavar="S", help="time step (s, default 0.01)")
+    p.add_argument("--gust-start", type=float, default=0.1, metavar="S", help="time the gust front reaches the wing (s)")
+    p.add_argument("--json", metavar="FILE", default=None, help="write the results as JSON (- = stdout)")
+    p.add_argument("--out", metavar="DIR", default="results", help="folder for the PNG plots")
+    p.add_argument("--no-plots", action="store_true", help="do not write PNG plots")
+    p.set_defaults(func=run)
+
+
+def _atomic_write_json(data, path):
+    text = json.dumps(data, indent=2)
+    if path == "-":
+        sys.stdout.write(text + "\n")
+        return
+    folder = os.path.dirname(os.path.abspath(path))
+    os.makedirs(folder, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=folder, suffix=".tmp")
+    with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        fh.write(text + "\n")
+    os.replace(tmp, path)
+
+
+def _beam_parameters(module, args):
+    """Beam parameter dict of the case's wing for the chosen design (through the sizing model)."""
+    from wingmdao.beam.residual import param_specs
+    from wingmdao.cases import case_arguments
+    from wingmdao.sizing import WALL_VARS, build_problem
+
+    setup = module.build(case_arguments(module, loads="maneuver"))
+    case = setup.load_cases[0]
+    prob, _ = build_problem(setup.geometry, [case], setup.material, setup.options, driver=False)
+    if args.design:
+        with open(args.design, encoding="utf-8") as fh:
+            res = json.load(fh)
+        if "thickness" not in res:
+            raise ValueError(f"--design {args.design}: no 'thickness' key (a box sizing result is needed)")
+        smap = setup.geometry.station_map
+        for w in WALL_VARS:
+            vals = np.asarray(res["thickness"][w[2:]], dtype=float)
+            if vals.size != setup.geometry.num_nodes:
+                raise ValueError(f"--design {args.design}: {w[2:]} has {vals.size} stations, the case has "
+                                 f"{setup.geometry.num_nodes}")
+            if smap is not None:
+                first = [int(np.flatnonzero(np.asarray(smap) == k)[0]) for k in range(int(np.max(smap)) + 1)]
+                vals = vals[first]
+            prob.set_val(w, vals)
+    prob.final_setup()
+    # section properties only: run the model once (the maneuver beam solve is cheap)
+    prob.run_model()
+    n = setup.geometry.num_nodes
+    out = {}
+    for spec in param_specs(n):
+        for name in (f"cases.{case.name}.beam.{spec.name}", f"cases.{case.name}.{spec.name}", spec.name):
+            try:
+                out[spec.name] = np.asarray(prob.get_val(name), dtype=float).reshape(spec.shape)
+                break
+            except KeyError:
+                continue
+        else:
+            raise RuntimeError(f"beam input {spec.name} not found in the sizing model")
+    return setup, out
+
+
+def run(args):
+    from wingmdao.aero import aero_parameters, cached_aeroelastic_system, station_gust_history
+    from wingmdao.cases import available_cases
+    from wingmdao.cases.planform import FT, G0, LB, wing_geometry
+    from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
+    from wingmdao.timemarch.bdf import march
+    from wingmdao.timemarch.system import layout, pack
+
+    t_wall = _time.perf_counter()
+    module = available_cases()[args.case]
+    base = __import__("wingmdao.cases.pegasus", fromlist=["GUST"])
+    gust = dict(base.GUST)
+    H_ft = gust["gradient_ft"] if args.gradient_ft is None else args.gradient_ft
+    if not 30.0 <= H_ft <= 350.0:
+        raise ValueError(f"--gradient-ft must be in 30-350 ft (14 CFR 25.341(a)(3)), got {H_ft}")
+    if not (np.isfinite(args.stiffness_scale) and args.stiffness_scale > 0):
+        raise ValueError(f"--stiffness-scale must be > 0, got {args.stiffness_scale}")
+    alt_ft = gust["altitude_ft"] if args.altitude_ft is None else args.altitude_ft
+    if not 0.0 <= alt_ft <= 60000.0:
+        raise ValueError(f"--altitude-ft must be in 0-60000 ft, got {alt_ft}")
+    mach = gust["mach"] if args.mach is None else args.mach
+    if not 0.0 < mach < 1.0:
+        raise ValueError(f"--mach must be in (0, 1), got {mach}")
+    u_ref = gust["u_ref_fps"] if args.u_ref_fps is None else args.u_ref_fps
+    if not u_ref > 0:
+        raise ValueError(f"--u-ref-fps must be > 0 ft/s, got {u_ref}")
+    t_final = gust["t_final"] if args.t_final is None else args.t_final
+    if not (t_final > 0 and 0 < args.dt <= t_final / 10):
+        raise ValueError(f"--t-final ({t_final} s) and --dt ({args.dt} s): need 0 < 10 dt <= t_final")
+
+    pf = module.PLANFORM
+    weight = module.TOGW_LB * LB * G0
+    setup, bp = _beam_parameters(module, args)
+    bp["stiffness_csn"] = bp["stiffness_csn"] * args.stiffness_scale
+    bp["compliance_csn"] = bp["compliance_csn"] / args.stiffness_scale
+    _, chord, axis_frac = wing_geometry(pf, getattr(module, "ENGINES", ()))
+    n = setup.geometry.num_nodes
+    alt = float(altitude_ft_to_m(alt_ft))
+    rho, rho0 = float(density(alt)), float(density(0.0))
+    V = float(mach_to_tas(mach, alt))
+    ap = aero_parameters(n, chord=chord, ref_point=axis_frac, airspeed=V, density=rho, mach=mach)
+    r0 = bp["node_positions"]
+    ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
+    half_wing_mass = float(np.sum(0.5 * (bp["mass_per_length"][1:] + bp["mass_per_length"][:-1]) * ds))
+    mass = weight / G0
+    body_mass = mass - 2 * half_wing_mass
+    if body_mass <= 0:
+        raise ValueError(f"aircraft mass {mass:.0f} kg is below twice the half-wing mass {half_wing_mass:.0f} kg")
+    system = cached_aeroelastic_system(n, plunge=args.plunge)
+    params = {**bp, **ap}
+    if args.plunge:
+        params["body_mass"] = body_mass
+    p = pack(system.param_specs, params)
+
+    # gust: 1-cos, U_ds EAS -> TAS, penetration from the most forward leading edge
+    H = H_ft * FT
+    u_eas = u_ref * FT * (H_ft / 350.0) ** (1.0 / 6.0)
+    u_tas = u_eas * np.sqrt(rho0 / rho)
+    t = np.arange(0.0, t_final + 0.5 * args.dt, args.dt)
+    x_le = r0[:, 0] - axis_frac * chord
+
+    def profile(tau):
+        d = V * (tau - args.gust_start)
+        return np.where((d >= 0) & (d <= 2 * H), 0.5 * u_tas * (1 - np.cos(np.pi * d / H)), 0.0)
+
+    wg = station_gust_history(t, x_le, V, profile)
+    ql = layout(system.forcing_specs)
+    Q = np.zeros((t.size, system.n_forcing))
+    Q[:, ql["gust_velocity"]] = wg
+    print(f"wingmdao gust {args.case}: {n} nodes, {t.size} steps, V = {V:.1f} m/s TAS, rho = {rho:.4f} kg/m^3, "
+          f"U_ds = {u_eas:.2f} m/s EAS, H = {H_ft:g} ft, {'free plunge' if args.plunge else 'clamped'}",
+          file=sys.stderr)
+    hist = march(system, t, p, Q, modified_newton=True)
+    X = hist.states[:, :22 * n].reshape(t.size, n, 22)
+    area = pf.area_ft2 * FT ** 2
+    wing_loading = weight / area
+    span = 2 * pf.semi_span
+    mean_chord = area / span
+    # strip-theory wing lift slope of the model: 2 * integral c a / beta dy / S
+    a_strip = ap["lift_slope"] / np.sqrt(1 - mach ** 2) * chord
+    a_wing = float(2 * np.sum(0.5 * (a_strip[1:] + a_strip[:-1]) * ds) / area)
+    from wingmdao.timemarch.bdf import state_rates
+
+    lift, _ = system.section_load_history(hist.states, state_rates(hist.states, args.dt), p, Q)
+    total_lift = 2 * np.sum(0.5 * (lift[:, 1:] + lift[:, :-1]) * ds, axis=1)
+    dn = total_lift / weight
+    V_e = V * np.sqrt(rho / rho0)
+    dn_qs = rho0 * u_eas * V_e * a_wing / (2 * wing_loading)
+    mu = 2 * wing_loading / (rho * mean_chord * a_wing * G0)
+    res = {
+        "case": args.case, "aero": args.aero, "plunge": bool(args.plunge), "gradient_ft": H_ft,
+        "stiffness_scale": args.stiffness_scale, "design": args.design, "altitude_ft": alt_ft, "mach": mach,
+        "airspeed_tas_m_s": V, "density_kg_m3": rho, "u_ds_eas_m_s": u_eas,
+        "time": t.tolist(),
+        "load_factor": (1.0 + dn).tolist(),
+        "peak_incremental_load_factor": float(np.max(np.abs(dn))),
+        "quasi_steady_incremental_load_factor": float(dn_qs),
+        "wing_lift_slope_per_rad": a_wing,
+        "mass_parameter": float(mu),
+        "pratt_walker_factor": float(0.88 * mu / (5.3 + mu)),
+        "mean_chord_m": float(mean_chord),
+        "wing_loading_pa": float(wing_loading),
+        "root_bending_moment": X[:, 0, 9].tolist(),
+        "root_torsion": X[:, 0, 10].tolist(),
+        "tip_displacement": (X[:, -1, 2] - r0[-1, 2]).tolist(),
+        "wall_s": _time.perf_counter() - t_wall,
+    }
+    print(f"peak dn = {res['peak_incremental_load_factor']:.4f}, quasi-steady dn = {dn_qs:.4f}, mu = {mu:.2f}, "
+          f"K_g = {res['pratt_walker_factor']:.3f}, {res['wall_s']:.1f} s", file=sys.stderr)
+    if not args.no_plots:
+        _plots(res, os.path.join(args.out, f"{args.case}_gust"))
+    if args.json:
+        _atomic_write_json(res, args.json)
+    return 0
+
+
+def _plots(res, stem):
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("matplotlib not installed: no plots", file=sys.stderr)
+        return
+    os.makedirs(os.path.dirname(os.path.abspath(stem)), exist_ok=True)
+    t = res["time"]
+    fig, axes = plt.subplots(3, 1, figsize=(7, 8), sharex=True)
+    axes[0].plot(t, res["load_factor"])
+    axes[0].set_ylabel("load factor")
+    axes[1].plot(t, np.asarray(res["root_bending_moment"]) / 1e3, label="bending M_x")
+    axes[1].plot(t, np.asarray(res["root_torsion"]) / 1e3, label="torsion M_y")
+    axes[1].set_ylabel("root moment (kN m)")
+    axes[1].legend()
+    axes[2].plot(t, res["tip_displacement"])
+    axes[2].set_ylabel("tip deflection (m)")
+    axes[2].set_xlabel("time (s)")
+    for ax in axes:
+        ax.grid(True)
+    tmp = stem + ".tmp.png"
+    fig.savefig(tmp, dpi=100)
+    plt.close(fig)
+    os.replace(tmp, stem + ".png")
+    print(f"wrote {stem}.png", file=sys.stderr)
