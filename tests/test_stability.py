@@ -144,3 +144,14 @@ def test_eigenvalue_matches_free_response_time_march(factor):
     assert lam_march.imag == pytest.approx(lam.imag, rel=1e-3)
     assert lam_march.real == pytest.approx(lam.real, abs=2e-3 * abs(lam))
     assert np.sign(lam_march.real) == np.sign(lam.real) == (1 if factor > 1 else -1)
+
+
+def test_det_sign_sparse_lu_matches_slogdet():
+    import scipy.sparse as sp
+    from wingmdao.stability.eigen import _det_sign
+
+    rng = np.random.default_rng(0)
+    for _ in range(5):
+        M = rng.normal(size=(80, 80)) + 5 * np.eye(80)
+        M[0] *= rng.choice([-1, 1])
+        assert _det_sign(sp.csc_matrix(M)) == np.linalg.slogdet(M)[0]

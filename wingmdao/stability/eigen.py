@@ -88,11 +88,11 @@ class Modes:
 
 def _det_sign(A) -> float:
     """Sign of det(A) from an LU factorisation (0 if exactly singular)."""
-    if A.shape[0] <= DENSE_MAX_STATES:
+    if A.shape[0] <= 60:
         sign, _ = np.linalg.slogdet(A.toarray())
         return float(sign)
     try:
-        lu = spla.splu(sp.csc_matrix(A), permc_spec="NATURAL", diag_pivot_thresh=1.0)
+        lu = spla.splu(sp.csc_matrix(A), permc_spec="NATURAL")
     except RuntimeError:
         return 0.0
     d = lu.U.diagonal()
@@ -129,8 +129,8 @@ def eigenmodes(system, p, q, x0=None, *, static=True, count=None, sigma=0.0, met
     p, q : packed parameter / forcing vectors
     x0 : state to linearise about, or the starting guess of the static solve (``static=True``)
     static : solve ``R(x, 0, p, q) = 0`` first (from ``x0`` or the system's initial guess)
-    count : number of eigenvalues kept (all finite ones by default with the dense solver;
-            ``sparse`` needs it: the ``count`` nearest to ``sigma``)
+    count : dense: keep the ``count`` smallest |lambda| (all finite ones by default);
+            sparse: the ``count`` eigenvalues nearest to ``sigma`` (12 by default)
     sigma : shift of the sparse solver (1/s, real or complex): the eigenvalues nearest to it
     method : "dense" | "sparse" | "auto" (dense up to ``DENSE_MAX_STATES`` states)
     max_abs : eigenvalues with |lambda| above this (1/s) are treated as infinite (spurious)
@@ -152,7 +152,8 @@ def eigenmodes(system, p, q, x0=None, *, static=True, count=None, sigma=0.0, met
     if method == "dense":
         lam, vec = sla.eig(-A.toarray(), B.toarray())
     else:
-        k = min(int(count or 20) * 2 + 4, n - 2)
+        k = min(int(count or 12), n - 2)
+        sigma = complex(sigma) if np.iscomplexobj(sigma) else float(sigma)
         shifted = sp.csc_matrix(A + sigma * B, dtype=complex if np.iscomplex(sigma) else float)
         lu = spla.splu(shifted)
         Bc = B
@@ -168,7 +169,7 @@ def eigenmodes(system, p, q, x0=None, *, static=True, count=None, sigma=0.0, met
     lam, vec = lam[upper], vec[:, upper]
     lam = np.where(np.abs(lam.imag) <= 1e-9 * scale, lam.real + 0j, lam)
     order = np.argsort(np.abs(lam))
-    if count is not None:
+    if count is not None and method == "dense":
         order = order[: int(count)]
     lam, vec = lam[order], vec[:, order]
     vec = vec / np.linalg.norm(vec, axis=0, keepdims=True)
@@ -298,7 +299,8 @@ def critical_speeds(result: StabilitySweep, *, refine=True, xtol=1e-4):
     for j in range(result.tracked.shape[1]):
         lam = result.tracked[:, j]
         for s in range(1, v.size):
-            if (lam[s - 1].real < 0.0 <= lam[s].real and abs(lam[s].imag) > min_f
+            eps = 1e-9 * max(abs(lam[s]), abs(lam[s - 1]))   # neutral (no-aero) modes sit at +-round-off
+            if (lam[s - 1].real < -eps and lam[s].real > eps and abs(lam[s].imag) > min_f
                     and abs(lam[s - 1].imag) > min_f):
                 if best is None or v[s] < v[best[1]] or (s == best[1] and lam[s].real > best[2]):
                     best = (j, s, lam[s].real)
