@@ -1,0 +1,68 @@
+"""The Goland wing: a uniform cantilever flutter benchmark (beam data only; no sizing).
+
+Data: M. Goland, "The flutter of a uniform cantilever wing", J. Applied Mechanics 12(4), 1945,
+as tabulated by M. J. Patil, D. H. Hodges, C. E. S. Cesnik, "Nonlinear aeroelastic analysis of
+complete aircraft in subsonic flow", J. Aircraft 37(5), 2000, and by R. Palacios, B. Epureanu,
+"An intrinsic description of the nonlinear aeroelasticity of very flexible wings", AIAA 2011-1917:
+semi-span 20 ft (6.096 m), chord 6 ft (1.8288 m), elastic axis at 33 % chord, centre of gravity at
+43 % chord, EI = 23.65e6 lb ft^2 (9.77e6 N m^2), GJ = 2.39e6 lb ft^2 (0.988e6 N m^2),
+m = 0.746 slug/ft (35.71 kg/m), I = 1.943 slug ft^2/ft (8.64 kg m). Goland gives I about the
+elastic axis (``inertia_axis="ea"``, the default: radius of gyration 25 % chord about the centre
+of gravity plus m d^2); some later tables label the same number "about the CG" (``"cg"``), which
+lowers the torsion frequency by 7 %;
+sea-level air density 1.225 kg/m^3 (strip-theory divergence at it, q_D = (pi/2)^2 GJ / (e c a L^2),
+is 252.4 m/s, the published 252.8 m/s).
+The in-plane (edgewise) stiffness and the extensional and shear stiffnesses are not part of the
+benchmark; they are set high (``EDGE_FACTOR`` x EI, rigid in extension and shear) so those modes
+stay out of the frequency range of interest.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+FT, SLUG, LBF = 0.3048, 14.59390294, 4.4482216152605
+
+SEMI_SPAN = 20.0 * FT
+CHORD = 6.0 * FT
+ELASTIC_AXIS = 0.33          # fraction of chord aft of the leading edge
+MASS_CENTRE = 0.43
+EI_FLAP = 23.65e6 * LBF * FT**2
+GJ = 2.39e6 * LBF * FT**2
+MASS = 0.746 * SLUG / FT
+INERTIA = 1.943 * SLUG * FT  # slug ft^2 / ft -> kg m
+DENSITY = 1.225
+EDGE_FACTOR = 100.0
+
+#: published strip-theory / exact values quoted in the comparison docs (docs/flutter.md)
+PUBLISHED = {
+    "source": "Patil, Hodges & Cesnik, J. Aircraft 37(5), 2000; Palacios & Epureanu, AIAA 2011-1917",
+    "natural_frequencies_rad_s": [49.6, 97.0, 248.9],   # 1st bending, 1st torsion, 2nd bending
+    "flutter_speed_m_s": 137.2, "flutter_frequency_rad_s": 70.7,
+    "divergence_speed_m_s": 252.8,
+}
+
+
+def beam_params(num_nodes: int = 21, *, inertia_axis: str = "ea") -> dict:
+    """Beam parameter dict (``wingmdao.beam.residual.param_specs``) of the Goland wing, SI.
+
+    Beam axis = elastic axis, along +y from the clamped root; mass centre 10 % chord aft of it.
+    """
+    from wingmdao.beam.static import beam_parameters, straight_beam
+
+    if inertia_axis not in ("cg", "ea"):
+        raise ValueError(f'inertia_axis must be "cg" or "ea", got {inertia_axis!r}')
+    if int(num_nodes) < 3:
+        raise ValueError(f"num_nodes must be >= 3, got {num_nodes}")
+    d = (MASS_CENTRE - ELASTIC_AXIS) * CHORD
+    i_ss = INERTIA if inertia_axis == "cg" else INERTIA - MASS * d**2
+    r0, th0 = straight_beam(int(num_nodes), SEMI_SPAN)
+    small = 1e-6 * i_ss
+    return beam_parameters(r0, th0, EI_cc=EI_FLAP, GJ=GJ, EI_nn=EDGE_FACTOR * EI_FLAP, EA=1e12,
+                           mass_per_length=MASS, mass_center=(d, 0.0),
+                           inertia_per_length=np.diag([small, i_ss, small]))
+
+
+def aero_data() -> dict:
+    """Aerodynamic data: chord (m), beam-axis position (fraction of chord), density (kg/m^3)."""
+    return {"chord": CHORD, "ref_point": ELASTIC_AXIS, "lift_slope": 2 * np.pi, "density": DENSITY}
