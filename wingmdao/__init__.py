@@ -8,3 +8,19 @@ Conventions (axes, signs, state order, names) are in ``docs/conventions.md``.
 """
 
 __version__ = "0.1.0"
+
+
+def _mpi_environment():
+    """Under ``mpirun -n P`` (P > 1) wingmdao distributes load cases itself (wingmdao.parallel) and
+    runs each rank's OpenMDAO problem serially, which needs no PETSc: ``OPENMDAO_USE_MPI=0``
+    unless the user set it. Must run before OpenMDAO is imported."""
+    import os
+
+    for var in ("OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "MPI_LOCALNRANKS"):
+        value = os.environ.get(var, "")
+        if value.isdigit() and int(value) > 1:
+            os.environ.setdefault("OPENMDAO_USE_MPI", "0")
+            return
+
+
+_mpi_environment()

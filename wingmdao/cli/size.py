@@ -49,9 +49,16 @@ def register(subparsers):
 
 
 def run_size(args) -> int:
+    import sys
+
     from wingmdao.cli import write_json
+    from wingmdao.parallel import launched_ranks, world_comm
     from wingmdao.sizing import size_case
 
+    comm = world_comm()
+    root = comm is None or comm.rank == 0
+    if not root:  # under mpirun only rank 0 prints, records and writes files
+        sys.stdout = open(os.devnull, "w")
     setup = args.case_module.build(args)
     opts = setup.options
     os.makedirs(args.out, exist_ok=True)
@@ -63,22 +70,25 @@ def run_size(args) -> int:
             raise ValueError(f"--presize must be >= 0 passes, got {args.presize}")
         opts.presize = args.presize
     stem = os.path.join(args.out, args.case_module.NAME.replace("-", "_"))
-    opts.recording = None if args.analysis_only else stem + ".sql"
+    opts.recording = None if (args.analysis_only or not root) else stem + ".sql"
     opts.progress = not args.quiet
     print(f"wingmdao size {args.case_module.NAME}: {len(setup.load_cases)} load case(s) "
           f"[{', '.join(c.name for c in setup.load_cases)}], {setup.geometry.num_nodes} stations")
     for note in setup.notes:
         print(f"  note: {note}")
-    prob, result = size_case(setup, optimize=not args.analysis_only)
+    if comm is not None:
+        print(f"  MPI: {comm.size} ranks share the {len(setup.load_cases)} load cases (wingmdao.parallel)")
+    prob, result = size_case(setup, optimize=not args.analysis_only, comm=comm or False)
     result["case"] = args.case_module.NAME
+    result["mpi_ranks"] = launched_ranks() if comm is not None else 1
     if opts.recording:
         result["recording"] = opts.recording
-    if not args.no_plots:
+    if not args.no_plots and root:
         from wingmdao.results import write_case_plots
 
         result["plots"] = write_case_plots(prob, setup, stem)
     _print_summary(result)
-    if args.json:
+    if args.json and root:
         write_json(result, args.json)
     prob.cleanup()
     return 0 if result["success"] else 1
