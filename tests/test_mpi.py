@@ -69,7 +69,11 @@ def test_mpirun_two_ranks_matches_serial(tmp_path):
             assert b["ks"][case][f] == pytest.approx(v, rel=1e-9, abs=1e-12)
     for w, t in a["thickness"].items():
         assert np.allclose(b["thickness"][w], t, rtol=1e-9, atol=1e-15)
+    assert [r["case"] for r in b["critical_cases"]] == [r["case"] for r in a["critical_cases"]]
+    assert np.allclose([r["g_max"] for r in b["critical_cases"]], [r["g_max"] for r in a["critical_cases"]],
+                       rtol=1e-9, atol=1e-12)  # the internal loads and stresses gathered from the ranks
     assert (tmp_path / "p" / "pegasus.sql").exists()  # rank 0 records
+    assert (tmp_path / "p" / "pegasus_envelope.npz").exists()
     assert par.stdout.count("wingmdao size pegasus:") == 1  # only rank 0 prints
 
 

@@ -21,6 +21,8 @@ def _add_common(p, *, sizing: bool):
         p.add_argument("--analysis-only", action="store_true",
                        help="analyse the initial design without optimizing")
         p.add_argument("--no-plots", action="store_true", help="do not write PNG plots")
+        p.add_argument("--potato-stations", metavar="I", type=int, nargs="+", default=None,
+                       help="station indices of the bending-torsion potato plots (default: root, mid, 3/4 span)")
         p.add_argument("--quiet", action="store_true", help="no per-evaluation progress lines")
 
 
@@ -87,6 +89,15 @@ def run_size(args) -> int:
         from wingmdao.results import write_case_plots
 
         result["plots"] = write_case_plots(prob, setup, stem)
+    if root and len(setup.load_cases) > 1:  # an envelope: critical case per station, envelopes, potato plots
+        from wingmdao.envelope import format_critical_table, write_envelope_outputs
+
+        env = write_envelope_outputs(prob, setup, stem, args.potato_stations, plots=not args.no_plots)
+        result["envelope_file"] = env["envelope_file"]
+        result["critical_cases"] = env["critical_cases"]
+        result.setdefault("plots", []).extend(env["plots"])
+        print("  critical load case per station:")
+        print("\n".join("    " + line for line in format_critical_table(env["critical_cases"]).splitlines()))
     _print_summary(result)
     if args.json and root:
         write_json(result, args.json)
