@@ -13,3 +13,18 @@ __version__ = "0.1.0"
 #: Citation of the method, attached to the components that implement its equations (``cite``).
 DISSERTATION = ("Structural analysis and optimization of aircraft wings through dimensional reduction. "
                 "PhD dissertation, Georgia Institute of Technology, 2021.")
+
+def _mpi_environment():
+    """Under ``mpirun -n P`` (P > 1) wingmdao distributes load cases itself (wingmdao.parallel) and
+    runs each rank's OpenMDAO problem serially, which needs no PETSc: ``OPENMDAO_USE_MPI=0``
+    unless the user set it. Must run before OpenMDAO is imported."""
+    import os
+
+    for var in ("OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "MPI_LOCALNRANKS"):
+        value = os.environ.get(var, "")
+        if value.isdigit() and int(value) > 1:
+            os.environ.setdefault("OPENMDAO_USE_MPI", "0")
+            return
+
+
+_mpi_environment()

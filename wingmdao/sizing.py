@@ -56,23 +56,29 @@ class SizingOptions:
 
 
 def build_problem(geometry: WingGeometry, load_cases, material, options: SizingOptions,
-                  *, driver=True, parallel=None, section="box") -> tuple[om.Problem, str]:
+                  *, driver=True, parallel=None, section="box", comm=False) -> tuple[om.Problem, str]:
     """Set up the sizing problem; returns ``(problem, driver description)``.
 
     ``section`` is ``"box"`` (design variables: the four wall thicknesses) or ``"solid"``
-    (design variables: width and height of a solid rectangle, Sec. 4.7.1).
+    (design variables: width and height of a solid rectangle, Sec. 4.7.1). ``comm``: an MPI
+    communicator with more than one rank spreads the load cases over its ranks
+    (:mod:`wingmdao.parallel`); False/None: all cases in this process.
     """
     n = geometry.num_nodes
     design_vars = SECTION_KINDS[section]["design_vars"]
     load_cases = list(load_cases)
+    distributed = comm is not None and comm is not False and comm.size > 1
     prob = om.Problem(reports=False)
     mass_ref = (options.mass_scale or initial_mass(geometry, material, options, section)) if driver else 1.0
-    prob.model.add_subsystem("wing", WingSizing(num_nodes=n, load_cases=load_cases,
-                                                material=material, rho_ks=options.rho_ks,
-                                                parallel=parallel, section=section,
-                                                station_map=geometry.station_map,
-                                                add_constraints=driver, add_objective=driver,
-                                                mass_ref=mass_ref), promotes=["*"])
+    wing_kwargs = dict(rho_ks=options.rho_ks, add_constraints=driver, add_objective=driver, mass_ref=mass_ref)
+    if distributed:
+        from wingmdao.parallel import distributed_wing_sizing
+
+        wing, _ = distributed_wing_sizing(geometry, load_cases, material, options, section, comm, **wing_kwargs)
+    else:
+        wing = WingSizing(num_nodes=n, load_cases=load_cases, material=material, parallel=parallel,
+                          section=section, station_map=geometry.station_map, **wing_kwargs)
+    prob.model.add_subsystem("wing", wing, promotes=["*"])
     desc = "none (analysis only)"
     if driver:
         prob.driver, desc = make_driver(options.optimizer, maxiter=options.maxiter, tol=options.tol,
@@ -85,9 +91,14 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
         if options.progress:
             prob.driver.add_recorder(ProgressPrinter())
     prob.setup(mode="rev")
-    set_geometry(prob, geometry, section)
-    for case in load_cases:
-        set_case_loads(prob, case, n, f"cases.{case.name}")
+    if distributed:  # the main problem holds only section and mass: set the geometry it has
+        from wingmdao.parallel import set_shared_geometry
+
+        set_shared_geometry(prob, geometry, section)
+    else:
+        set_geometry(prob, geometry, section)
+        for case in load_cases:
+            set_case_loads(prob, case, n, f"cases.{case.name}")
     n_dv = n if geometry.station_map is None else int(np.max(geometry.station_map)) + 1
     for w in design_vars:
         prob.set_val(w, np.broadcast_to(options.initial.get(w, options.upper[w]), (n_dv,)))
@@ -239,14 +250,20 @@ def presize_fully_stressed(prob, load_cases, geometry: WingGeometry, options: Si
     return {"passes": int(passes), "history": history, "wall_s": _time.perf_counter() - t0}
 
 
-def size_case(setup, *, optimize: bool = True, parallel: bool | None = None):
+def size_case(setup, *, optimize: bool = True, parallel: bool | None = None, comm=None):
     """Build and run a :class:`wingmdao.cases.CaseSetup`; returns ``(problem, result dict)``.
 
     With ``setup.options.presize > 0`` (and a box section) fully stressed design passes
     (:func:`presize_fully_stressed`) set the optimizer's starting point; their time is in ``wall_s``.
+    ``comm``: None = the MPI world when run under ``mpirun -n P > 1`` (cases spread over the
+    ranks, :mod:`wingmdao.parallel`), else serial; False = serial.
     """
+    if comm is None:
+        from wingmdao.parallel import world_comm
+
+        comm = world_comm()
     prob, desc = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
-                               driver=optimize, parallel=parallel, section=setup.section)
+                               driver=optimize, parallel=parallel, section=setup.section, comm=comm)
     pre = {"passes": 0}
     if optimize and setup.options.presize > 0 and setup.section == "box":
         pre = presize_fully_stressed(prob, setup.load_cases, setup.geometry, setup.options,

@@ -32,14 +32,18 @@ PLANFORM = Planform(area_ft2=586.3328, span_ft=80.58962, taper=0.986, le_sweep_d
 TOGW_LB = 41005.0
 ENGINES = ((600.0, 0.35 * PLANFORM.semi_span), (150.0, PLANFORM.tip_rib * PLANFORM.semi_span))
 MANEUVER_ALTITUDE_FT, MANEUVER_MACH = 20000.0, 0.5
+#: 25.341(a)(6) inputs (assumed, ATR 42-600 class: MTOW 18 600 kg, MLW 18 300 kg, MZFW 16 700 kg,
+#: ceiling 25 000 ft); F_g = 1 at and above Z_mo, so Table 5.3's 25 000 ft gust is unchanged.
+GUST_SET_DEFAULTS = {"z_mo_ft": 25000.0, "mlw_over_mtow": 18300.0 / 18600.0, "mzfw_over_mtow": 16700.0 / 18600.0}
 GUST = {"altitude_ft": 25000.0, "mach": 0.5, "u_ref_fps": 30.0, "gradient_ft": 350.0, "t_final": 5.0}
 MIN_GAUGE = 1e-3  # m (Table 5.1)
 MAX_STEPS = 100_000  # time steps of one gust march (states, adjoint and stresses are stored per step)
 
 
 def add_arguments(p):
-    p.add_argument("--loads", choices=["maneuver", "gust", "all"], default="maneuver",
-                   help="load cases: the 2.5 g and -1.0 g maneuvers, the gust of Table 5.3, or all three")
+    p.add_argument("--loads", choices=["maneuver", "gust", "all"], default=None,
+                   help="load cases: the 2.5 g and -1.0 g maneuvers, the gust of Table 5.3 (or the gust set), "
+                        "or all (default: maneuver, all with a gust set)")
     p.add_argument("--load-factor", type=float, default=2.5,
                    help="positive maneuver load factor (25.337 gives 2.57 at 41005 lb; the dissertation uses 2.5)")
     p.add_argument("--negative-load-factor", type=float, default=-1.0, help="negative maneuver load factor")
@@ -60,6 +64,15 @@ def add_arguments(p):
     p.add_argument("--damping-frequency-hz", type=float, default=None,
                    help="frequency at which --damping-ratio holds [Hz]; unset (%(default)s): the first mode "
                         "of the initial design")
+    g = p.add_argument_group("25.341(a) gust set (every gust is a load case with its own KS; see docs/gust-envelope.md)")
+    g.add_argument("--gust-set", metavar="FILE", default=None,
+                   help="gust set description (.json or .yaml): flight points x gradients x signs")
+    g.add_argument("--gust-gradients-ft", metavar="H", type=float, nargs="+", default=None,
+                   help="gust gradient distances [ft], 30-350, at the --altitude-ft/--mach flight point")
+    g.add_argument("--gust-gradient-count", metavar="N", type=int, default=None,
+                   help="N gradients log-spaced over 30-350 ft (instead of --gust-gradients-ft)")
+    g.add_argument("--gust-sign", choices=["up", "down", "both"], default=None,
+                   help="up and/or down gusts of the set (default: both with a set, up for the single gust)")
     p.add_argument("--load-history", metavar="FILE", default=None,
                    help="gust case from a load time history file (.npz or .csv on the 20 beam nodes, "
                         "format in docs/loads.md, e.g. exported from a Nastran SOL 146 run) instead of strip theory")
@@ -91,10 +104,8 @@ def maneuver_case(name, n_load, geometry, chord, axis_frac, families, pf=PLANFOR
 
 
 def gust_case(args, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
-    from wingmdao.groups.load_case import LoadCase
     from wingmdao.loads.atmosphere import altitude_ft_to_m, mach_to_tas
-    from wingmdao.loads.gust import design_gust_velocity_eas, gust_line_loads
-    from wingmdao.loads.maneuver import maneuver_line_loads
+    from wingmdao.loads.gust import design_gust_velocity_eas
 
     if not 0.0 <= args.altitude_ft <= 60000.0:
         raise ValueError(f"--altitude-ft {args.altitude_ft} outside the 25.341 table range 0-60000 ft")
@@ -104,6 +115,22 @@ def gust_case(args, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb
         raise ValueError(f"--mach {args.mach} outside (0, 1)")
     if getattr(args, "load_history", None):
         return file_case(args.load_history, geometry, families)
+    _check_time_grid(args)
+    alt = altitude_ft_to_m(args.altitude_ft)
+    if args.u_ref_fps > 0:
+        u_ds = args.u_ref_fps * FT * (args.gust_gradient_ft / 350.0) ** (1.0 / 6.0)
+    else:
+        u_ds = design_gust_velocity_eas(args.gust_gradient_ft, args.altitude_ft, 1.0)
+    direction = -1 if getattr(args, "gust_sign", None) == "down" else 1
+    return gust_history_case("gust", args, geometry, chord, axis_frac, families, gradient_ft=args.gust_gradient_ft,
+                             u_ds_eas=u_ds, airspeed_tas=float(mach_to_tas(args.mach, alt)), altitude_m=float(alt),
+                             direction=direction, weight_lb=weight_lb, pf=pf,
+                             description=f"1-cos gust U_ds = {u_ds / FT:.1f} ft/s EAS, H = {args.gust_gradient_ft:g} ft"
+                                         + (" (down)" if direction < 0 else ""))
+
+
+def _check_time_grid(args):
+    """Time grid, reference gust velocity and gust start of the dynamic cases, before any solve."""
     if not (np.isfinite(args.t_final) and args.t_final > 0 and 0 < args.dt <= args.t_final / 10):
         raise ValueError(f"--t-final ({args.t_final} s) and --dt ({args.dt} s): need finite 0 < 10 dt <= t_final")
     steps = int(args.t_final / args.dt) + 1
@@ -115,23 +142,73 @@ def gust_case(args, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb
                          "(0 = the 25.341(a)(5) table value)")
     if not (np.isfinite(args.gust_start) and 0.0 <= args.gust_start < args.t_final):
         raise ValueError(f"--gust-start = {args.gust_start} s; allowed range [0, --t-final = {args.t_final}) s")
-    alt = altitude_ft_to_m(args.altitude_ft)
-    if args.u_ref_fps > 0:
-        u_ds = args.u_ref_fps * FT * (args.gust_gradient_ft / 350.0) ** (1.0 / 6.0)
-    else:
-        u_ds = design_gust_velocity_eas(args.gust_gradient_ft, args.altitude_ft, 1.0)
+
+
+def gust_history_case(name, args, geometry, chord, axis_frac, families, *, gradient_ft, u_ds_eas, airspeed_tas,
+                      altitude_m, direction, weight_lb, pf, description):
+    """One strip-theory 1 - cos gust load case on top of 1 g level flight at ``weight_lb``."""
+    from wingmdao.groups.load_case import LoadCase
+    from wingmdao.loads.gust import gust_line_loads
+    from wingmdao.loads.maneuver import maneuver_line_loads
+
     time = np.arange(0.0, args.t_final + 0.5 * args.dt, args.dt)
     steady = maneuver_line_loads(geometry.node_positions, chord, axis_frac, weight_lb * LB * G0, 1.0,
                                  semi_span=pf.semi_span, fuselage_half_width=pf.root_rib * pf.semi_span)
     hist = gust_line_loads(geometry.node_positions, chord, axis_frac, time,
-                           gust_gradient_m=args.gust_gradient_ft * FT, u_ds_eas=u_ds,
-                           airspeed_tas=float(mach_to_tas(args.mach, alt)), altitude_m=float(alt),
+                           gust_gradient_m=gradient_ft * FT, u_ds_eas=u_ds_eas,
+                           airspeed_tas=airspeed_tas, altitude_m=altitude_m,
                            kussner=args.kussner, gust_start_time=args.gust_start, steady=steady,
-                           fuselage_half_width=pf.root_rib * pf.semi_span)
+                           direction=direction, fuselage_half_width=pf.root_rib * pf.semi_span)
     forcing = {"force_per_length": hist.force_per_length, "moment_per_length": hist.moment_per_length,
                "gravity": np.array([0.0, 0.0, -G0])}
-    return LoadCase("gust", time, forcing, families,
-                    f"1-cos gust U_ds = {u_ds / FT:.1f} ft/s EAS, H = {args.gust_gradient_ft:g} ft")
+    return LoadCase(name, time, forcing, families, description)
+
+
+def gust_set_of(args):
+    """The 25.341(a) gust set the options ask for, or None for the single gust of Table 5.3.
+
+    ``--gust-set FILE`` (defaults: :data:`GUST_SET_DEFAULTS`), or ``--gust-gradients-ft`` /
+    ``--gust-gradient-count`` at the ``--altitude-ft``, ``--mach`` flight point (U_ref from
+    ``--u-ref-fps``, 0 = the 25.341(a)(5) table) with ``--gust-sign`` (default both).
+    """
+    from wingmdao.loads.gust_set import FlightPoint, GustSet, log_spaced_gradients_ft, parse_signs, read_gust_set
+
+    path = getattr(args, "gust_set", None)
+    grads = getattr(args, "gust_gradients_ft", None)
+    count = getattr(args, "gust_gradient_count", None)
+    sign = getattr(args, "gust_sign", None)
+    if sum(x is not None for x in (path, grads, count)) > 1:
+        raise ValueError("give one of --gust-set, --gust-gradients-ft and --gust-gradient-count")
+    if path is not None:
+        gset = read_gust_set(path, defaults=GUST_SET_DEFAULTS)
+        if sign is not None:
+            from dataclasses import replace
+
+            gset = replace(gset, signs=parse_signs(sign))
+        return gset
+    if grads is None and count is None:
+        return None
+    if grads is not None and len(grads) == 0:
+        raise ValueError("--gust-gradients-ft: empty; give at least one gradient distance in [30, 350] ft")
+    fp = FlightPoint(altitude_ft=float(args.altitude_ft), mach=float(args.mach),
+                     u_ref_fps=float(args.u_ref_fps) if args.u_ref_fps > 0 else None)
+    h = grads if grads is not None else log_spaced_gradients_ft(count)
+    return GustSet((fp,), h, parse_signs(sign or "both"), **GUST_SET_DEFAULTS)
+
+
+def gust_set_cases(gset, args, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
+    """One load case per gust of ``gset`` (strip theory on top of 1 g at the flight point's weight)."""
+    if getattr(args, "load_history", None):
+        raise ValueError("--load-history and a gust set exclude each other")
+    _check_time_grid(args)
+    cases = []
+    for g in gset.gusts():
+        fp = g.flight_point
+        cases.append(gust_history_case(g.name, args, geometry, chord, axis_frac, families, gradient_ft=g.gradient_ft,
+                                       u_ds_eas=g.u_ds_eas, airspeed_tas=fp.airspeed_tas(), altitude_m=fp.altitude_m,
+                                       direction=g.sign, weight_lb=fp.weight_lb or weight_lb, pf=pf,
+                                       description=g.describe()))
+    return cases
 
 
 def file_case(path, geometry, families):
@@ -151,7 +228,9 @@ def build(args, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB) -> CaseSetup:
     from wingmdao.sizing import WALL_VARS, SizingOptions
 
     families = parse_families(args.families)
-    if getattr(args, "load_history", None) and args.loads == "maneuver":
+    gset = gust_set_of(args)
+    loads = args.loads or ("all" if gset is not None else "maneuver")
+    if getattr(args, "load_history", None) and loads == "maneuver":
         raise ValueError(f"--load-history {args.load_history} replaces the gust case; it does not apply to "
                          "--loads maneuver (use --loads gust or all)")
     if not np.isfinite(args.load_factor) or args.load_factor <= 0:
@@ -167,13 +246,19 @@ def build(args, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB) -> CaseSetup:
     notes = ["airfoil NACA 43018 -> 43013 (assumed, ATR 42 class)",
              "engines as point masses: 600 kg at 35 % semi-span, 150 kg at the tip (assumed)"]
     cases = []
-    if args.loads in ("gust", "all"):
-        case = gust_case(args, geometry, chord, axis_frac, families, pf, weight_lb)
+    if loads in ("gust", "all"):
+        gusts = ([gust_case(args, geometry, chord, axis_frac, families, pf, weight_lb)] if gset is None
+                 else gust_set_cases(gset, args, geometry, chord, axis_frac, families, pf, weight_lb))
+        if gset is not None:
+            notes.append(f"25.341(a) gust set: {len(gset)} gusts ({len(gset.flight_points)} flight point(s) x "
+                         f"{len(gset.gradients_ft)} gradient(s) x {len(gset.signs)} sign(s))")
         if zeta > 0.0:
-            case.damping, note = gust_damping(zeta, getattr(args, "damping_frequency_hz", None), geometry, options)
+            damping, note = gust_damping(zeta, getattr(args, "damping_frequency_hz", None), geometry, options)
+            for case in gusts:
+                case.damping = damping
             notes.append(note)
-        cases.append(case)
-    if args.loads in ("maneuver", "all"):
+        cases.extend(gusts)
+    if loads in ("maneuver", "all"):
         cases.insert(0, maneuver_case("maneuver_pos", args.load_factor, geometry, chord, axis_frac, families, pf, weight_lb))
         cases.insert(1, maneuver_case("maneuver_neg", args.negative_load_factor, geometry, chord, axis_frac, families, pf, weight_lb))
     return CaseSetup(geometry, cases, ALUMINIUM, options, notes=notes)

@@ -18,6 +18,8 @@ def register(subparsers):
     p.add_argument("recording", metavar="FILE.sql", nargs="+", help="SQLite recording(s) of sizing runs")
     p.add_argument("--plots", metavar="DIR", default=None,
                    help="folder for the PNG plots (default: FILE_plots next to the first recording)")
+    p.add_argument("--potato-stations", metavar="I", type=int, nargs="+", default=None,
+                   help="station indices of the potato plots of an envelope run (default: root, mid, 3/4 span)")
     p.set_defaults(func=run)
 
 
@@ -37,6 +39,18 @@ def run(args) -> int:
         sub = out if len(args.recording) == 1 else os.path.join(out, os.path.splitext(os.path.basename(rec))[0])
         for path in write_report_plots(hist, sub):
             print(f"wrote {path}")
+    for rec in args.recording:  # envelope runs: redraw critical-case, envelope and potato plots
+        env_file = os.path.splitext(rec)[0] + "_envelope.npz"
+        if os.path.exists(env_file):
+            from wingmdao.envelope import format_critical_table, critical_cases, load, write_plots
+
+            data = load(env_file)
+            print(f"== {env_file}: critical load case per station")
+            print(format_critical_table(critical_cases(data)))
+            sub = out if len(args.recording) == 1 else os.path.join(out, os.path.splitext(os.path.basename(rec))[0])
+            os.makedirs(sub, exist_ok=True)
+            for path in write_plots(data, os.path.join(sub, "envelope"), args.potato_stations):
+                print(f"wrote {path}")
     if len(histories) > 1:
         print(f"wrote {write_comparison_plot(histories, os.path.join(out, 'thickness_comparison.png'))}")
     return 0

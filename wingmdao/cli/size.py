@@ -24,6 +24,8 @@ def _add_common(p, *, sizing: bool):
         p.add_argument("--analysis-only", action="store_true",
                        help="analyse the initial design without optimizing")
         p.add_argument("--no-plots", action="store_true", help="do not write PNG plots")
+        p.add_argument("--potato-stations", metavar="I", type=int, nargs="+", default=None,
+                       help="station indices of the bending-torsion potato plots (default: root, mid, 3/4 span)")
         p.add_argument("--quiet", action="store_true", help="no per-evaluation progress lines")
 
 
@@ -68,9 +70,17 @@ def _plot_paths(stem, setup):
 
 
 def run_size(args) -> int:
+    import sys
+
     from wingmdao import sizing
     from wingmdao.cli._io import (EXIT_INTERRUPTED, check_output_dir, check_output_file, refuse_existing,
                                   say, warn, write_json)
+    from wingmdao.parallel import launched_ranks, world_comm
+
+    comm = world_comm()
+    root = comm is None or comm.rank == 0
+    if not root:  # under mpirun only rank 0 prints, records and writes files
+        sys.stdout = open(os.devnull, "w")
 
     if args.maxiter is not None and args.maxiter < 1:
         raise ValueError(f"--maxiter = {args.maxiter}; allowed range >= 1 iteration "
@@ -80,8 +90,9 @@ def run_size(args) -> int:
     # every output is checked before the (possibly hour-long) run starts
     check_output_dir(args.out, "--out")
     stem = os.path.join(args.out, run_stem(args))
-    recording = None if args.analysis_only else stem + ".sql"
-    check_output_file(args.json, "--json", overwrite=args.overwrite, others={"recording": recording})
+    recording = None if (args.analysis_only or not root) else stem + ".sql"
+    if root:
+        check_output_file(args.json, "--json", overwrite=args.overwrite, others={"recording": recording})
     setup = args.case_module.build(args)
     plots = [] if args.no_plots else _plot_paths(stem, setup)
     refuse_existing([recording, *plots], overwrite=args.overwrite, what="recording and plots")
@@ -97,9 +108,11 @@ def run_size(args) -> int:
         f"[{', '.join(c.name for c in setup.load_cases)}], {setup.geometry.num_nodes} stations")
     for note in setup.notes:
         say(f"  note: {note}")
+    if comm is not None:
+        say(f"  MPI: {comm.size} ranks share the {len(setup.load_cases)} load cases (wingmdao.parallel)")
     optimize = not args.analysis_only
     prob, desc = sizing.build_problem(setup.geometry, setup.load_cases, setup.material, opts,
-                                      driver=optimize, section=setup.section)
+                                      driver=optimize, section=setup.section, comm=comm or False)
     import openmdao.api as om
 
     interrupted = failed = False
@@ -124,19 +137,38 @@ def run_size(args) -> int:
         for key in ("ks", "max_ks", "active_constraints"):  # from the unconverged solve: meaningless
             result.pop(key, None)
     result["case"] = args.case_module.NAME
+    result["mpi_ranks"] = launched_ranks() if comm is not None else 1
     if recording:
         result["recording"] = recording
-    if args.json:  # the result first: a plotting failure must never lose it
+    plots_on = not args.no_plots and root and not (interrupted or failed)
+    if plots_on:
+        import importlib.util
+
+        if importlib.util.find_spec("matplotlib") is None:
+            warn("plots skipped (plots need matplotlib: pip install 'wingmdao[plot]'); "
+                 "the JSON and the recording are written")
+            plots_on = False
+    if root and len(setup.load_cases) > 1 and not (interrupted or failed):
+        # an envelope: critical case per station, envelopes, potato plots
+        from wingmdao.envelope import format_critical_table, write_envelope_outputs
+
+        env = write_envelope_outputs(prob, setup, stem, args.potato_stations, plots=plots_on)
+        result["envelope_file"] = env["envelope_file"]
+        result["critical_cases"] = env["critical_cases"]
+        result.setdefault("plots", []).extend(env["plots"])
+        say("  critical load case per station:")
+        say("\n".join("    " + line for line in format_critical_table(env["critical_cases"]).splitlines()))
+    if args.json and root:  # the result first: a plotting failure must never lose it
         write_json(result, args.json)
-    if not args.no_plots and not (interrupted or failed):
+    if plots_on:
         try:
             from wingmdao.results import write_case_plots
 
-            result["plots"] = write_case_plots(prob, setup, stem)
+            result["plots"] = write_case_plots(prob, setup, stem) + result.get("plots", [])
         except ImportError as exc:
             warn(f"plots skipped ({exc}); the JSON and the recording are written")
         else:
-            if args.json and args.json != "-":
+            if args.json and args.json != "-" and root:
                 write_json(result, args.json)
     if not failed:
         _print_summary(result)

@@ -191,6 +191,9 @@ class WingSizing(om.Group):
         self.options.declare("add_objective", default=False, types=bool,
                              desc="add the structural mass as the objective")
         self.options.declare("mass_ref", default=1.0, lower=0.0, desc="objective scaling reference (kg)")
+        self.options.declare("proxy_cases", default=False, types=bool,
+                             desc="a subclass adds the cases to cases_group itself (wingmdao.parallel); "
+                                  "load_cases may then be empty")
 
     def setup(self):
         from wingmdao.components.mass import StructuralMass
@@ -200,7 +203,7 @@ class WingSizing(om.Group):
         kind = self.options["section"]
         section_cls = _section_classes(kind)[0]
         mat = self.options["material"]
-        if not self.options["load_cases"]:
+        if not self.options["load_cases"] and not self.options["proxy_cases"]:
             raise ValueError("WingSizing: load_cases is empty; give at least one LoadCase")
         bad = [c for c in self.options["load_cases"] if not isinstance(c, LoadCase)]
         if bad:
@@ -246,8 +249,9 @@ class WingSizing(om.Group):
                         "tension_axis", "shear_center", "mass_center", *SECTION_KINDS[kind]["section_to_stress"]]
         # only the shared inputs leave 'cases'; each case's forcing stays cases.<case>.<forcing>
         shared = sorted({v[1] if isinstance(v, tuple) else v for v in case_inputs})
-        cases = self.add_subsystem("cases", om.ParallelGroup() if parallel else om.Group(),
-                                   promotes_inputs=shared)
+        #: the group of the load cases (``cases``), for subclasses that add cases themselves
+        self.cases_group = cases = self.add_subsystem("cases", om.ParallelGroup() if parallel else om.Group(),
+                                                      promotes_inputs=shared)
         for case in self.options["load_cases"]:
             cases.add_subsystem(case.name, WingStructure(
                 num_nodes=n, load_case=case, material=mat, rho_ks=self.options["rho_ks"],

@@ -273,9 +273,9 @@ class PostCoupling(om.Group):
                            promotes_inputs=["width", "height", *WALLS])
         self.connect("internal_loads.F_csn", "stress.F_csn")
         self.connect("internal_loads.M_csn", "stress.M_csn")
-        from wingmdao.groups.wing import _stress_points
+        from wingmdao.groups.wing import stress_points
 
-        shapes = _stress_points("box", b.families, 1, n, b.material)
+        shapes = {f: (1, n, k) for f, k in stress_points("box", b.families).items()}
         names = {f"ks_{f}" for f in b.families}
         self.add_subsystem("ks", _tagged(KSAggregate, names, "mphys_result")(families=shapes, rho_ks=b.rho_ks),
                            promotes_outputs=sorted(names))

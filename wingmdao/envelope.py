@@ -1,0 +1,237 @@
+"""Loads-engineer output of an envelope sizing: critical case per station, load envelopes, potato plots.
+
+From the internal loads of every load case (``cases.<name>.internal_loads.F_csn``/``M_csn``,
+(n_time, n, 3) in the local csn frame: c chordwise, s along the beam, n normal) and the stress
+constraints ``cases.<name>.stress.g_<family>`` (g = sigma/sigma_allow - 1):
+
+* **critical case per station**: the case (and time) with the largest g over time steps, stress
+  points and families at that station (a table, CSV, and a plot along the span);
+* **envelope** along the span of the shear F_n, the bending moment M_c (about the chordwise
+  axis, vertical bending) and the torsion M_s: maximum and minimum over all cases and time steps;
+* **potato plots** (correlated loads): M_c against M_s at chosen stations, every time step of every
+  case one point; the convex hull of all points is the envelope of simultaneous bending and
+  torsion that the section must carry, its extreme corners the design points. How to read
+  them: ``docs/gust-envelope.md``.
+
+The loads are saved to ``<stem>_envelope.npz`` (written atomically) so that
+``wingmdao report`` can redraw the plots from a finished run.
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+QUANTITIES = {  # name: (array, component, label, scale to plot units, unit)
+    "shear": ("F", 2, "shear F_n", 1e-3, "kN"),
+    "bending": ("M", 0, "bending M_c", 1e-3, "kN m"),
+    "torsion": ("M", 1, "torsion M_s", 1e-3, "kN m"),
+}
+
+
+def collect(prob, load_cases, span) -> dict:
+    """Internal loads and worst stress ratio per station of every case from a run problem."""
+    names, data = [], {}
+    for case in load_cases:
+        p = f"cases.{case.name}"
+        g = np.max(np.stack([np.asarray(prob.get_val(f"{p}.stress.g_{f}")).max(axis=2) for f in case.families]), axis=0)
+        data[f"F__{case.name}"] = np.asarray(prob.get_val(f"{p}.internal_loads.F_csn", units="N"))
+        data[f"M__{case.name}"] = np.asarray(prob.get_val(f"{p}.internal_loads.M_csn", units="N*m"))
+        data[f"g__{case.name}"] = g  # (nt, n)
+        data[f"t__{case.name}"] = np.asarray(case.time)
+        names.append(case.name)
+    data["case_names"] = np.array(names)
+    data["span"] = np.asarray(span, dtype=float)
+    return data
+
+
+def save(data: dict, path: str) -> str:
+    """Atomic NPZ write (temporary file in the same folder, then os.replace)."""
+    tmp = path + ".tmp.npz"
+    np.savez_compressed(tmp, **data)
+    os.replace(tmp, path)
+    return path
+
+
+def load(path: str) -> dict:
+    if not os.path.exists(path):
+        raise ValueError(f"envelope file {path!r} does not exist (written by 'wingmdao size')")
+    with np.load(path, allow_pickle=False) as z:
+        return {k: z[k] for k in z.files}
+
+
+def _names(data):
+    return [str(n) for n in data["case_names"]]
+
+
+def critical_cases(data: dict) -> list:
+    """Per station: the case, time and value of the largest stress ratio g over all cases."""
+    names = _names(data)
+    n = data["span"].size
+    rows = []
+    for i in range(n):
+        best = (-np.inf, None, 0.0)
+        for name in names:
+            g = data[f"g__{name}"][:, i]
+            k = int(np.argmax(g))
+            if g[k] > best[0]:
+                best = (float(g[k]), name, float(data[f"t__{name}"][k]))
+        rows.append({"station": i, "span_m": float(data["span"][i]), "case": best[1], "g_max": best[0],
+                     "time_s": best[2]})
+    return rows
+
+
+def envelope(data: dict) -> dict:
+    """``{quantity: {"max", "min" (n,) SI, "max_case", "min_case" (n,) names}}`` over cases and time."""
+    names = _names(data)
+    out = {}
+    for q, (arr, comp, *_rest) in QUANTITIES.items():
+        stack = [data[f"{arr}__{name}"][:, :, comp] for name in names]
+        hi = np.array([s.max(axis=0) for s in stack])  # (n_case, n)
+        lo = np.array([s.min(axis=0) for s in stack])
+        out[q] = {"max": hi.max(axis=0), "min": lo.min(axis=0),
+                  "max_case": [names[j] for j in hi.argmax(axis=0)],
+                  "min_case": [names[j] for j in lo.argmin(axis=0)]}
+    return out
+
+
+def format_critical_table(rows) -> str:
+    lines = [f"{'station':>7} {'y [m]':>7} {'critical case':<28} {'g max':>9} {'t [s]':>7}"]
+    for r in rows:
+        lines.append(f"{r['station']:7d} {r['span_m']:7.3f} {str(r['case']):<28} {r['g_max']:9.4f} {r['time_s']:7.3f}")
+    return "\n".join(lines)
+
+
+def _write_csv(rows, path):
+    tmp = path + ".tmp"
+    with open(tmp, "w", encoding="utf-8") as fh:
+        fh.write("station,span_m,critical_case,g_max,time_s\n")
+        for r in rows:
+            fh.write(f"{r['station']},{r['span_m']:.6g},{r['case']},{r['g_max']:.8g},{r['time_s']:.6g}\n")
+    os.replace(tmp, path)
+    return path
+
+
+def _hull(points):
+    """Convex hull (Andrew's monotone chain), counter-clockwise, closed."""
+    pts = sorted(set(map(tuple, np.round(points, 12))))
+    if len(pts) < 3:
+        return np.array(pts + pts[:1])
+
+    def cross(o, a, b):
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    lower, upper = [], []
+    for p in pts:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
+            lower.pop()
+        lower.append(p)
+    for p in reversed(pts):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
+            upper.pop()
+        upper.append(p)
+    hull = lower[:-1] + upper[:-1]
+    return np.array(hull + hull[:1])
+
+
+def default_stations(n: int) -> list:
+    return sorted({min(1, n - 1), n // 2, max(0, (3 * n) // 4)})
+
+
+def write_plots(data: dict, stem: str, stations=None) -> list:
+    """PNG plots (critical case, envelopes, potato plots) and the critical-case CSV next to ``stem``."""
+    from wingmdao.plots import _pyplot
+
+    plt = _pyplot()
+    names = _names(data)
+    span = data["span"]
+    paths = []
+    rows = critical_cases(data)
+    paths.append(_write_csv(rows, f"{stem}_critical_cases.csv"))
+
+    # critical case along the span
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 6.5), sharex=True, gridspec_kw={"height_ratios": [1, 1.3]})
+    a1.plot(span, [r["g_max"] for r in rows], marker="o", ms=3, color="k")
+    a1.axhline(0.0, color="tab:red", lw=0.8)
+    a1.set_ylabel("max g = sigma/sigma_allow - 1")
+    a1.grid(True, alpha=0.3)
+    idx = [names.index(r["case"]) for r in rows]
+    a2.scatter(span, idx, c=idx, cmap="tab20", vmin=0, vmax=max(len(names) - 1, 1), s=30)
+    a2.set_yticks(range(len(names)))
+    a2.set_yticklabels(names, fontsize=7)
+    a2.set_ylabel("critical load case")
+    a2.set_xlabel("spanwise station y [m]")
+    a2.grid(True, alpha=0.3)
+    fig.suptitle("Critical load case per station")
+    fig.tight_layout()
+    path = f"{stem}_critical_case.png"
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    paths.append(path)
+
+    # envelopes
+    env = envelope(data)
+    fig, axes = plt.subplots(3, 1, figsize=(9, 9), sharex=True)
+    for ax, (q, (arr, comp, label, scale, unit)) in zip(axes, QUANTITIES.items()):
+        for name in names:
+            x = data[f"{arr}__{name}"][:, :, comp] * scale
+            ax.plot(span, x.max(axis=0), color="0.75", lw=0.6)
+            ax.plot(span, x.min(axis=0), color="0.75", lw=0.6)
+        ax.fill_between(span, env[q]["min"] * scale, env[q]["max"] * scale, color="tab:blue", alpha=0.25,
+                        label="envelope (all cases, all time steps)")
+        ax.plot(span, env[q]["max"] * scale, color="tab:blue")
+        ax.plot(span, env[q]["min"] * scale, color="tab:blue")
+        ax.set_ylabel(f"{label} [{unit}]")
+        ax.grid(True, alpha=0.3)
+    axes[0].legend(fontsize=8)
+    axes[-1].set_xlabel("spanwise station y [m]")
+    fig.suptitle("Internal load envelope (grey: each case's max/min over time)")
+    fig.tight_layout()
+    path = f"{stem}_envelope.png"
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    paths.append(path)
+
+    # potato plots
+    stations = default_stations(span.size) if stations is None else list(stations)
+    for i in stations:
+        if not 0 <= i < span.size:
+            raise ValueError(f"potato station {i}; allowed range [0, {span.size - 1}]")
+    fig, axes = plt.subplots(1, len(stations), figsize=(5 * len(stations), 4.6), squeeze=False)
+    cmap = plt.get_cmap("tab20")
+    for ax, i in zip(axes[0], stations):
+        allpts = []
+        for j, name in enumerate(names):
+            mt = data[f"M__{name}"][:, i, 1] * 1e-3
+            mb = data[f"M__{name}"][:, i, 0] * 1e-3
+            allpts.append(np.column_stack([mt, mb]))
+            if mt.size == 1:
+                ax.plot(mt, mb, "s", color=cmap(j % 20), ms=6, label=name)
+            else:
+                ax.plot(mt, mb, "-", color=cmap(j % 20), lw=0.8, label=name)
+        hull = _hull(np.vstack(allpts))
+        ax.plot(hull[:, 0], hull[:, 1], "k--", lw=1.0, label="convex hull")
+        ax.set_xlabel("torsion M_s [kN m]")
+        ax.set_ylabel("bending M_c [kN m]")
+        ax.set_title(f"station {i}, y = {span[i]:.2f} m")
+        ax.grid(True, alpha=0.3)
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    fig.legend(handles, labels, fontsize=7, loc="lower center", ncol=min(6, len(labels)))
+    fig.suptitle("Correlated loads (potato plots): bending vs torsion, all cases and time steps")
+    fig.tight_layout(rect=(0, 0.06 + 0.03 * (len(labels) // 6), 1, 1))
+    path = f"{stem}_potato.png"
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    paths.append(path)
+    return paths
+
+
+def write_envelope_outputs(prob, setup, stem: str, stations=None, plots: bool = True) -> dict:
+    """Collect, save ``<stem>_envelope.npz`` and (``plots``) write the PNGs; returns paths and the table."""
+    from wingmdao.results import span_coordinate
+
+    data = collect(prob, setup.load_cases, span_coordinate(setup.geometry))
+    out = {"envelope_file": save(data, f"{stem}_envelope.npz"), "critical_cases": critical_cases(data)}
+    out["plots"] = write_plots(data, stem, stations) if plots else []
+    return out
