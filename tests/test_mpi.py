@@ -72,8 +72,8 @@ def test_mpirun_two_ranks_matches_serial(tmp_path):
     assert [r["case"] for r in b["critical_cases"]] == [r["case"] for r in a["critical_cases"]]
     assert np.allclose([r["g_max"] for r in b["critical_cases"]], [r["g_max"] for r in a["critical_cases"]],
                        rtol=1e-9, atol=1e-12)  # the internal loads and stresses gathered from the ranks
-    assert (tmp_path / "p" / "pegasus.sql").exists()  # rank 0 records
-    assert (tmp_path / "p" / "pegasus_envelope.npz").exists()
+    assert (tmp_path / "p" / "pegasus_all.sql").exists()  # rank 0 records (stem: case + load set)
+    assert (tmp_path / "p" / "pegasus_all_envelope.npz").exists()
     assert par.stdout.count("wingmdao size pegasus:") == 1  # only rank 0 prints
 
 

@@ -251,7 +251,7 @@ class WingSizing(om.Group):
         shared = sorted({v[1] if isinstance(v, tuple) else v for v in case_inputs})
         #: the group of the load cases (``cases``), for subclasses that add cases themselves
         self.cases_group = cases = self.add_subsystem("cases", om.ParallelGroup() if parallel else om.Group(),
-                                                      promotes_inputs=shared)
+                                                      promotes_inputs=["*"] if self.options["proxy_cases"] else shared)
         for case in self.options["load_cases"]:
             cases.add_subsystem(case.name, WingStructure(
                 num_nodes=n, load_case=case, material=mat, rho_ks=self.options["rho_ks"],
