@@ -33,6 +33,27 @@ class CaseSetup:
     notes: list = field(default_factory=list)
 
 
+#: Most time steps of one march: states, their adjoint, residual Jacobian blocks and stresses are
+#: stored per step (beyond this a run needs tens of GB and days).
+MAX_TIME_STEPS = 100_000
+
+
+def check_step_count(t_final: float, dt: float, num_nodes: int = 20) -> int:
+    """Number of time steps of ``0..t_final`` by ``dt``; ValueError before anything is allocated when
+    the values are not finite or the count exceeds :data:`MAX_TIME_STEPS` (with a memory estimate:
+    18 states per node, 8 bytes, ~6 stored copies per step)."""
+    import numpy as np
+
+    if not (np.isfinite(t_final) and np.isfinite(dt) and t_final > 0 and dt > 0):
+        raise ValueError(f"--t-final = {t_final} s, --dt = {dt} s; both must be finite and > 0")
+    steps = int(t_final / dt) + 1
+    if steps > MAX_TIME_STEPS:
+        gb = steps * num_nodes * 18 * 8 * 6 / 1e9
+        raise ValueError(f"--t-final / --dt = {steps} time steps (~{gb:.1f} GB stored); at most "
+                         f"{MAX_TIME_STEPS} steps")
+    return steps
+
+
 def available_cases() -> dict:
     """{name: module} of the cases whose modules import."""
     out = {}

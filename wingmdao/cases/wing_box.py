@@ -268,6 +268,9 @@ def time_grid(t_final: float, dt: float) -> np.ndarray:
     """Uniform grid 0..t_final (s); ValueError unless 0 < dt <= t_final / 2."""
     if not (np.isfinite(t_final) and np.isfinite(dt) and t_final > 0 and 0 < dt <= t_final / 2):
         raise ValueError(f"--t-final ({t_final} s) and --dt ({dt} s): allowed 0 < dt <= t_final / 2")
+    from wingmdao.cases import check_step_count
+
+    check_step_count(t_final, dt)
     return np.arange(0.0, t_final + 0.5 * dt, dt)
 
 
