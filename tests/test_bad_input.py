@@ -170,3 +170,11 @@ def test_huge_or_infinite_time_grids_are_refused_before_allocating(argv, capsys,
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert ("time steps (~" in err and "at most 100000 steps" in err) or "finite" in err
+
+
+def test_gust_options_with_maneuver_loads_are_reported():
+    from wingmdao.cases import build_case
+
+    notes = build_case("pegasus", loads="maneuver", mach=0.6, kussner=True).notes
+    assert any("ignored with --loads maneuver" in n and "--mach 0.6" in n and "--kussner" in n for n in notes)
+    assert not any("ignored" in n for n in build_case("pegasus", loads="maneuver").notes)

@@ -164,6 +164,14 @@ def build(args, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB) -> CaseSetup:
                             initial={w: 0.01 for w in WALL_VARS}, rho_ks=100.0, presize=4)
     notes = ["airfoil NACA 43018 -> 43013 (assumed, ATR 42 class)",
              "engines as point masses: 600 kg at 35 % semi-span, 150 kg at the tip (assumed)"]
+    if args.loads == "maneuver":
+        gust_only = {"altitude_ft": GUST["altitude_ft"], "mach": GUST["mach"], "u_ref_fps": GUST["u_ref_fps"],
+                     "gust_gradient_ft": GUST["gradient_ft"], "t_final": GUST["t_final"], "dt": 0.02,
+                     "gust_start": 0.2, "kussner": False, "damping_ratio": 0.0, "damping_frequency_hz": None}
+        ignored = [f"--{k.replace('_', '-')} {getattr(args, k)}" for k, d in gust_only.items()
+                   if hasattr(args, k) and getattr(args, k) != d]
+        if ignored:
+            notes.append(f"warning: ignored with --loads maneuver (gust options): {', '.join(ignored)}")
     cases = []
     if args.loads in ("gust", "all"):
         case = gust_case(args, geometry, chord, axis_frac, families, pf, weight_lb)
