@@ -18,7 +18,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     (["pegasus", "--maxiter", "0"], "--maxiter = 0; allowed range >= 1"),
     (["pegasus", "--loads", "gust", "--gust-start", "10"], "--gust-start = 10.0 s; allowed range [0, --t-final = 5.0)"),
     (["pegasus", "--loads", "gust", "--t-final", "inf"], "need finite"),
-    (["pegasus", "--loads", "gust", "--t-final", "1e7", "--dt", "0.01"], "time steps; at most 100000"),
+    (["pegasus", "--loads", "gust", "--t-final", "1e7", "--dt", "0.01"], "time steps (~"),
     (["pegasus", "--load-history", "x.npz"], "does not apply to --loads maneuver"),
     (["pegasus", "--load-factor", "nan"], "--load-factor must be > 0"),
 ])
@@ -157,3 +157,24 @@ def test_a_beam_that_fails_inside_sizing_is_a_clear_error_with_a_partial_json(tm
     assert rc == 1 and "the analysis failed" in err and "Traceback" not in err
     res = json.loads(out.read_text())
     assert res["success"] is False and "no convergence" in res["message"] and "ks" not in res
+
+
+@pytest.mark.parametrize("argv", [
+    ["size", "cantilever", "--load", "step", "--t-final", "1e9", "--dt", "1e-3"],
+    ["size", "cantilever", "--load", "step", "--t-final", "inf"],
+    ["run", "wing-box", "--geometry", "prismatic", "--dynamic", "--t-final", "1e7", "--dt", "0.01"],
+])
+def test_huge_or_infinite_time_grids_are_refused_before_allocating(argv, capsys, tmp_path):
+    if argv[0] == "size":
+        argv = [*argv, "--out", str(tmp_path)]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert ("time steps (~" in err and "at most 100000 steps" in err) or "finite" in err
+
+
+def test_gust_options_with_maneuver_loads_are_reported():
+    from wingmdao.cases import build_case
+
+    notes = build_case("pegasus", loads="maneuver", mach=0.6, kussner=True).notes
+    assert any("ignored with --loads maneuver" in n and "--mach 0.6" in n and "--kussner" in n for n in notes)
+    assert not any("ignored" in n for n in build_case("pegasus", loads="maneuver").notes)

@@ -156,3 +156,17 @@ def test_help_shows_defaults(capsys):
     out = capsys.readouterr().out
     assert "(default: None)" in out or "(default: " in out.split("--loads", 1)[1].split("--", 1)[0]
     assert "(default: 2.5)" in out  # --load-factor
+
+
+def test_material_means_the_same_on_section_and_section_fe(capsys):
+    """--material NAME names a built-in material on both commands (section-fe also takes E NU RHO)."""
+    from wingmdao.materials import get_material
+
+    al = get_material("aluminium")
+    assert main(["section-fe", "--rectangle", "0.1", "0.05", "--material", "aluminium", "--json", "-"]) == 0
+    by_name = json.loads(capsys.readouterr().out)
+    assert main(["section-fe", "--rectangle", "0.1", "0.05", "--material", str(al.E), str(al.nu), str(al.rho),
+                 "--json", "-"]) == 0
+    assert json.loads(capsys.readouterr().out)["stiffness_6x6"] == by_name["stiffness_6x6"]
+    assert main(["section-fe", "--rectangle", "0.1", "0.05", "--material", "1", "2"]) == 2
+    assert "built-in name or three numbers" in capsys.readouterr().err

@@ -55,6 +55,55 @@ class SizingOptions:
     presize: int = 0  # fully-stressed-design passes before the optimizer (box sections, vm family)
 
 
+#: Smallest KS parameter accepted: KS over N points exceeds the maximum by at most ln(N)/rho_KS
+#: (Kreisselmeier & Steinhauser 1979; Eq. 4.53-4.55), i.e. 0.5 of the allowable for N = 150 at
+#: rho_KS = 10; below, the constraint is meaningless.
+RHO_KS_MIN = 10.0
+
+
+def check_problem_inputs(geometry, load_cases, material, options, section="box") -> None:
+    """ValueError naming the argument for inputs :func:`build_problem` cannot use (before setup)."""
+    from wingmdao.groups.load_case import LoadCase
+    from wingmdao.materials import Material
+
+    if section not in SECTION_KINDS:
+        raise ValueError(f"section = {section!r}; allowed: {', '.join(SECTION_KINDS)}")
+    if not isinstance(material, Material):
+        raise ValueError(f"material must be a wingmdao.materials.Material (e.g. get_material('aluminium')), "
+                         f"got {type(material).__name__} {material!r}")
+    if isinstance(load_cases, LoadCase):
+        raise ValueError("load_cases must be a list of LoadCase, got a single LoadCase (wrap it in [ ])")
+    cases = list(load_cases)
+    if not cases:
+        raise ValueError("load_cases is empty; give at least one LoadCase")
+    bad = [type(c).__name__ for c in cases if not isinstance(c, LoadCase)]
+    if bad:
+        raise ValueError(f"load_cases must hold LoadCase objects, got {', '.join(bad)}")
+    names = [c.name for c in cases]
+    if len(set(names)) != len(names):
+        raise ValueError(f"load_cases: names must be unique, got {names}")
+    if not isinstance(options, SizingOptions):
+        raise ValueError(f"options must be a SizingOptions, got {type(options).__name__}")
+    rho = options.rho_ks
+    if isinstance(rho, bool) or not isinstance(rho, (int, float, np.integer, np.floating)) \
+            or not (np.isfinite(rho) and rho >= RHO_KS_MIN):
+        raise ValueError(f"options.rho_ks = {rho!r}; allowed range [{RHO_KS_MIN:g}, inf) (a number)")
+    if isinstance(options.maxiter, bool) or not isinstance(options.maxiter, (int, np.integer)) or options.maxiter < 1:
+        raise ValueError(f"options.maxiter = {options.maxiter!r}; allowed range >= 1 (an integer)")
+    n = geometry.num_nodes
+    if geometry.station_map is not None:
+        smap = np.asarray(geometry.station_map)
+        if smap.shape != (n,) or not np.issubdtype(smap.dtype, np.integer):
+            raise ValueError(f"geometry.station_map: shape {smap.shape} dtype {smap.dtype}; needs ({n},) integers "
+                             "(one design index per beam node)")
+        if smap.min() < 0 or set(np.unique(smap)) != set(range(int(smap.max()) + 1)):
+            raise ValueError(f"geometry.station_map = {smap.tolist()}; indices must cover 0..k without gaps")
+    for what in ("lower", "upper", "initial"):
+        for w, v in (getattr(options, what) or {}).items():
+            if isinstance(v, str) or not np.all(np.isfinite(np.asarray(v, dtype=float))):
+                raise ValueError(f"options.{what}[{w!r}] = {v!r}; must be finite numbers (m)")
+
+
 def build_problem(geometry: WingGeometry, load_cases, material, options: SizingOptions,
                   *, driver=True, parallel=None, section="box", comm=False) -> tuple[om.Problem, str]:
     """Set up the sizing problem; returns ``(problem, driver description)``.
@@ -64,6 +113,7 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     communicator with more than one rank spreads the load cases over its ranks
     (:mod:`wingmdao.parallel`); False/None: all cases in this process.
     """
+    check_problem_inputs(geometry, load_cases, material, options, section)
     n = geometry.num_nodes
     design_vars = SECTION_KINDS[section]["design_vars"]
     load_cases = list(load_cases)

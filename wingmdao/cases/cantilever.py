@@ -52,6 +52,9 @@ def load_case(kind: str, n: int, t_final: float, dt: float):
         return LoadCase("static", np.zeros(1), {"point_force": f}, ("ss_tension", "ss_compression"))
     if not (t_final > 0 and 0 < dt <= t_final):
         raise ValueError(f"--t-final ({t_final} s) and --dt ({dt} s) must satisfy 0 < dt <= t_final")
+    from wingmdao.cases import check_step_count
+
+    check_step_count(t_final, dt, n)
     time = np.arange(0.0, t_final + 0.5 * dt, dt)
     f = np.zeros((time.size, n, 3))
     f[:, -1, 2] = TIP_LOAD * (np.sin(20.0 * time) if kind == "sine" else (time > 0))

@@ -268,6 +268,9 @@ def time_grid(t_final: float, dt: float) -> np.ndarray:
     """Uniform grid 0..t_final (s); ValueError unless 0 < dt <= t_final / 2."""
     if not (np.isfinite(t_final) and np.isfinite(dt) and t_final > 0 and 0 < dt <= t_final / 2):
         raise ValueError(f"--t-final ({t_final} s) and --dt ({dt} s): allowed 0 < dt <= t_final / 2")
+    from wingmdao.cases import check_step_count
+
+    check_step_count(t_final, dt)
     return np.arange(0.0, t_final + 0.5 * dt, dt)
 
 
@@ -371,8 +374,13 @@ def build(args) -> CaseSetup:
     families = parse_constraints(args.constraints if args.constraints else default)
     if min(args.elements) < 1:
         raise ValueError(f"--elements = {list(args.elements)}; each must be >= 1")
-    if not (np.isfinite(args.rho_ks) and args.rho_ks > 0):
-        raise ValueError(f"--rho-ks = {args.rho_ks}; allowed range (0, inf)")
+    from wingmdao.sizing import RHO_KS_MIN
+
+    if args.study not in STUDY_LOADS:
+        raise ValueError(f"--study = {args.study!r}; allowed: {', '.join(map(str, STUDY_LOADS))}")
+    if not (np.isfinite(args.rho_ks) and args.rho_ks >= RHO_KS_MIN):
+        raise ValueError(f"--rho-ks = {args.rho_ks}; allowed range [{RHO_KS_MIN:g}, inf) (KS exceeds the "
+                         "maximum stress ratio by up to ln(N)/rho_KS)")
     geometry, _, _, _ = wing_geometry(args.geometry, tuple(args.elements))
     force, moment = STUDY_LOADS[args.study]
     time = time_grid(args.t_final, args.dt) if args.study == 3 else None

@@ -14,8 +14,9 @@ def register(subparsers):
     p.add_argument("file", nargs="?", help="section description (.yaml, .yml or .json)")
     p.add_argument("--rectangle", nargs=2, type=float, metavar=("W", "H"),
                    help="solid rectangle width and height (m) instead of a file")
-    p.add_argument("--material", nargs=3, type=float, metavar=("E", "NU", "RHO"),
-                   help="isotropic material for --rectangle: E (Pa), nu, rho (kg/m^3)")
+    p.add_argument("--material", nargs="+", metavar="NAME | E NU RHO",
+                   help="material of --rectangle: a built-in name as in 'wingmdao section --material' "
+                        "(e.g. aluminium; wingmdao.materials.MATERIALS) or isotropic E (Pa) NU RHO (kg/m^3)")
     p.add_argument("--mesher", choices=["gmsh", "structured"], default=None,
                    help="mesher of airfoil wingboxes (overrides the file's section.mesher; default gmsh, "
                         "or the built-in structured mesher when gmsh is missing or the section has stringers)")
@@ -29,7 +30,7 @@ def run(args) -> int:
     if args.rectangle:
         if not args.material:
             raise ValueError("--rectangle needs --material E NU RHO")
-        E, nu, rho = args.material
+        E, nu, rho = _material(args.material)
         desc = {"materials": {"m": {"type": "isotropic", "E": E, "nu": nu, "rho": rho}},
                 "section": {"shape": "rectangle", "width": args.rectangle[0], "height": args.rectangle[1],
                             "material": "m"}}
@@ -41,3 +42,18 @@ def run(args) -> int:
         desc.setdefault("section", {})["mesher"] = args.mesher
     write_json(analyse_description(desc), args.json)
     return 0
+
+
+def _material(tokens):
+    """``--material NAME`` (built-in, as ``wingmdao section``) or ``--material E NU RHO``."""
+    if len(tokens) == 1:
+        from wingmdao.materials import get_material
+
+        m = get_material(tokens[0])
+        return m.E, m.nu, m.rho
+    if len(tokens) != 3:
+        raise ValueError(f"--material {' '.join(tokens)}: give a built-in name or three numbers E NU RHO")
+    try:
+        return tuple(float(t) for t in tokens)
+    except ValueError:
+        raise ValueError(f"--material {' '.join(tokens)}: E NU RHO must be numbers (Pa, -, kg/m^3)") from None
