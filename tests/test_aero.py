@@ -27,7 +27,7 @@ def _wing(n, span=4.0, chord=1.0, GJ=1e9, EI=1e9, mass=1e-3, **aero):
     ap = aero_parameters(n, **kw)
     s = cached_aeroelastic_system(n)
     qd = beam_forcing(n)
-    qd.update(gust_velocity=np.zeros(n), frame_velocity=np.zeros(3))
+    qd.update(gust_velocity=np.zeros(n), frame_velocity=np.zeros(3), frame_velocity_rate=np.zeros(3))
     return s, pack(s.param_specs, {**bp, **ap}), pack(s.forcing_specs, qd), r0
 
 
@@ -97,6 +97,7 @@ def test_harmonic_plunge_vs_theodorsen(k):
     ql = layout(s.forcing_specs)
     Q[:, ql["frame_velocity"].start + 2] = -W * np.sin(w * t)
     Q[:, ql["frame_acceleration"].start + 2] = -W * w * np.cos(w * t)
+    Q[:, ql["frame_velocity_rate"].start + 2] = -W * w * np.cos(w * t)
     L, _ = _lift_history(s, t, p, Q)
     m = t >= (periods - 2) * 2 * np.pi / w
     A = np.column_stack([np.sin(w * t[m]), np.cos(w * t[m]), np.ones(m.sum())])
@@ -232,7 +233,7 @@ def test_free_plunge_pratt_walker_alleviation(mu):
     wing_loading = m * g / (2 * span * c)
     p = pack(s.param_specs, {**bp, **ap, "body_mass": m})
     qd = beam_forcing(n)
-    qd.update(gust_velocity=np.zeros(n), frame_velocity=np.zeros(3))
+    qd.update(gust_velocity=np.zeros(n), frame_velocity=np.zeros(3), frame_velocity_rate=np.zeros(3))
     q = pack(s.forcing_specs, qd)
     U, T = 1.0, 2 * 12.5 * c / V
     t = np.arange(int(4 * T / 0.002) + 1) * 0.002
@@ -243,3 +244,31 @@ def test_free_plunge_pratt_walker_alleviation(mu):
     dn = 2 * h.states[:, 8] / (m * g)
     ratio = dn.max() / (RHO * U * V * a / (2 * wing_loading))
     assert abs(ratio / (0.88 * mu / (5.3 + mu)) - 1) < 0.05
+
+
+def test_trim_static_lift_and_hold():
+    """Trim (free plunge, gravity): alpha_trim makes the lift of both halves n W; rigid wing closed
+    form alpha = n W / (q S a / sqrt(1 - M^2)); with trim_active = 0 after t = 0 the state holds."""
+    n, span, c, g, mach = 5, 4.0, 1.0, 9.81, 0.3
+    r0, th0 = straight_beam(n, span)
+    bp = beam_parameters(r0, th0, EI_cc=1e9, GJ=1e9, EI_nn=1e10, EA=1e11, mass_per_length=2.0)
+    ap = aero_parameters(n, chord=c, ref_point=0.25, airspeed=V, density=RHO, mach=mach)
+    s = cached_aeroelastic_system(n, plunge=True, trim=True)
+    m, n_load = 60.0, 1.5
+    p = pack(s.param_specs, {**bp, **ap, "body_mass": m - 2 * 2.0 * span, "trim_lift": n_load * m * g})
+    qd = beam_forcing(n, gravity=[0, 0, -g], frame_acceleration=[0, 0, (n_load - 1) * g])
+    qd.update(gust_velocity=np.zeros(n), frame_velocity=np.zeros(3), frame_velocity_rate=np.zeros(3), trim_active=1.0)
+    q = pack(s.forcing_specs, qd)
+    x, _ = solve_static(s, p, q)
+    q_dyn = 0.5 * RHO * V ** 2
+    alpha = n_load * m * g / (q_dyn * 2 * span * c * 2 * np.pi / np.sqrt(1 - mach ** 2))
+    np.testing.assert_allclose(x[s.trim_index], alpha, rtol=1e-9)
+    # 1 g level flight: trimmed at t = 0, alpha_trim held after; the state stays put
+    p1 = pack(s.param_specs, {**bp, **ap, "body_mass": m - 2 * 2.0 * span, "trim_lift": m * g})
+    qd["frame_acceleration"] = np.zeros(3)
+    t = np.arange(21) * 0.01
+    Q1 = np.tile(pack(s.forcing_specs, qd), (t.size, 1))
+    Q1[1:, layout(s.forcing_specs)["trim_active"]] = 0.0
+    h = march(s, t, p1, Q1)
+    assert np.max(np.abs(h.states - h.states[0])) < 1e-6
+    np.testing.assert_allclose(h.states[-1, s.trim_index], alpha / n_load, rtol=1e-9)
