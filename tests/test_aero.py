@@ -272,3 +272,25 @@ def test_trim_static_lift_and_hold():
     h = march(s, t, p1, Q1)
     assert np.max(np.abs(h.states - h.states[0])) < 1e-6
     np.testing.assert_allclose(h.states[-1, s.trim_index], alpha / n_load, rtol=1e-9)
+
+
+def test_lifting_line_slope_elliptic_and_quasi_steady_spanload():
+    """Elliptic planform: the lifting-line slope is uniform, a0 / (1 + a0 / (pi AR)) (Prandtl); used
+    as the strips' lift_slope, the rigid wing's quasi-steady root shear equals CL_alpha q S alpha / 2."""
+    from wingmdao.aero.lifting_line import lifting_line_lift_slope
+
+    s_span, c0, alpha, n = 5.0, 1.0, 0.02, 41
+    cf = lambda y: c0 * np.sqrt(np.clip(1 - (y / s_span) ** 2, 0, None))  # noqa: E731
+    y = np.linspace(0.0, 0.98 * s_span, n)
+    slope, cl_alpha = lifting_line_lift_slope(y, cf, s_span)
+    ref = 2 * np.pi / (1 + 2 * np.pi / (np.pi * 8 * s_span / (np.pi * c0)))
+    np.testing.assert_allclose(slope, ref, rtol=1e-10)
+    np.testing.assert_allclose(cl_alpha, ref, rtol=1e-10)
+    s, p, q, r0 = _wing(n, span=0.98 * s_span, chord=cf(y), lift_slope=slope, alpha_zero_lift=-alpha)
+    x, _ = solve_static(s, p, q)
+    # closed form of the half-wing lift up to y_end: q alpha a int c dy (elliptic chord integral)
+    ye = 0.98 * s_span
+    int_c = c0 * 0.5 * (ye * np.sqrt(1 - (ye / s_span) ** 2) + s_span * np.arcsin(ye / s_span))
+    np.testing.assert_allclose(x.reshape(n, 22)[0, 8], 0.5 * RHO * V ** 2 * alpha * ref * int_c, rtol=2e-3)
+    with pytest.raises(ValueError, match="semi_span"):
+        lifting_line_lift_slope(y, cf, 0.0)

@@ -55,6 +55,9 @@ def register(subparsers):
     p.add_argument("--t-final", type=float, default=None, metavar="S", help="simulated time (s; default: the case's)")
     p.add_argument("--dt", type=float, default=0.01, metavar="S", help="time step (s, default 0.01)")
     p.add_argument("--gust-start", type=float, default=0.1, metavar="S", help="time the gust front reaches the wing (s)")
+    p.add_argument("--lifting-line", action="store_true",
+                   help="tip-loss correction: strip lift slopes from Prandtl's lifting line of the planform "
+                        "(wingmdao.aero.lifting_line) instead of 2 pi")
     p.add_argument("--json", metavar="FILE", default=None, help="write the results as JSON (- = stdout)")
     p.add_argument("--out", metavar="DIR", default="results", help="folder for the PNG plots")
     p.add_argument("--no-plots", action="store_true", help="do not write PNG plots")
@@ -155,7 +158,14 @@ def run(args):
     alt = float(altitude_ft_to_m(alt_ft))
     rho, rho0 = float(density(alt)), float(density(0.0))
     V = float(mach_to_tas(mach, alt))
-    ap = aero_parameters(n, chord=chord, ref_point=axis_frac, airspeed=V, density=rho, mach=mach)
+    slope = 2 * np.pi
+    if args.lifting_line:
+        from wingmdao.aero.lifting_line import lifting_line_lift_slope
+
+        y_nodes = np.abs(bp["node_positions"][:, 1])
+        slope, _ = lifting_line_lift_slope(y_nodes, pf.chord, pf.semi_span)
+    ap = aero_parameters(n, chord=chord, ref_point=axis_frac, lift_slope=slope, airspeed=V, density=rho,
+                         mach=mach)
     r0 = bp["node_positions"]
     ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
     half_wing_mass = float(np.sum(0.5 * (bp["mass_per_length"][1:] + bp["mass_per_length"][:-1]) * ds))
@@ -209,7 +219,7 @@ def run(args):
     mu = 2 * wing_loading / (rho * mean_chord * a_wing * G0)
     res = {
         "case": args.case, "aero": args.aero, "plunge": bool(args.plunge), "gradient_ft": H_ft,
-        "stiffness_scale": args.stiffness_scale, "design": args.design, "altitude_ft": alt_ft, "mach": mach,
+        "stiffness_scale": args.stiffness_scale, "lifting_line": bool(args.lifting_line), "design": args.design, "altitude_ft": alt_ft, "mach": mach,
         "airspeed_tas_m_s": V, "density_kg_m3": rho, "u_ds_eas_m_s": u_eas,
         "time": t.tolist(),
         "load_factor": n_load.tolist(),
