@@ -32,6 +32,8 @@ class AeroelasticBeamDynamics(TimeHistoryComponent):
                              desc="built from num_nodes (leave unset)")
         self.options.declare("plunge", default=False, types=bool,
                              desc="free plunge of the aircraft (input body_mass); clamped root otherwise")
+        self.options.declare("trim", default=False, types=bool,
+                             desc="trim state alpha_trim (input trim_lift, forcing trim_active)")
         self.options.declare("modified_newton", default=True, types=bool,
                              desc="reuse LU factors across Newton iterations and steps")
 
@@ -39,7 +41,8 @@ class AeroelasticBeamDynamics(TimeHistoryComponent):
         if self.options["system"] is None:
             self.options["system"] = cached_aeroelastic_system(self.options["num_nodes"],
                                                                self.options["euler_sequence"],
-                                                               plunge=self.options["plunge"])
+                                                               plunge=self.options["plunge"],
+                                                               trim=self.options["trim"])
         if self.options["system"].num_nodes != self.options["num_nodes"]:
             raise ValueError(f"system has {self.options['system'].num_nodes} nodes but num_nodes = "
                              f"{self.options['num_nodes']}")
