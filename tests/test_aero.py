@@ -125,6 +125,7 @@ def test_static_spanload_rigid_tapered_wing_prandtl_glauert():
     np.testing.assert_allclose(X[0, 9], moment, rtol=2e-3)  # M_x about +x = lift outboard * y
 
 
+@pytest.mark.slow
 def test_static_aeroelastic_twist_vs_divergence_closed_form():
     """Uniform straight clamped wing, beam axis 0.15 c aft of the quarter chord, q = q_D / 2 with
     q_D = (pi/2)^2 GJ / (e c a s^2): tip twist alpha_r (1/cos(lam s) - 1) and lift effectiveness
@@ -228,6 +229,7 @@ def test_adjoint_totals_root_moment_vs_fd_and_forward(free):
         np.testing.assert_allclose(fwd[key], rev[key], rtol=0, atol=1e-9 * scale)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mu", [10.0, 50.0])
 def test_free_plunge_pratt_walker_alleviation(mu):
     """Free plunge, very stiff wing, 1-cos gust of gradient H = 12.5 c: peak incremental load
