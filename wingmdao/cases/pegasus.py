@@ -114,7 +114,7 @@ def gust_case(args, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb
         raise ValueError(f"--mach {args.mach} outside (0, 1)")
     if getattr(args, "load_history", None):
         return file_case(args.load_history, geometry, families)
-    _check_time_grid(args)
+    _check_time_grid(args, geometry.num_nodes)
     alt = altitude_ft_to_m(args.altitude_ft)
     if args.u_ref_fps > 0:
         u_ds = args.u_ref_fps * FT * (args.gust_gradient_ft / 350.0) ** (1.0 / 6.0)
@@ -128,13 +128,13 @@ def gust_case(args, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb
                                          + (" (down)" if direction < 0 else ""))
 
 
-def _check_time_grid(args):
+def _check_time_grid(args, num_nodes):
     """Time grid, reference gust velocity and gust start of the dynamic cases, before any solve."""
     if not (np.isfinite(args.t_final) and args.t_final > 0 and 0 < args.dt <= args.t_final / 10):
         raise ValueError(f"--t-final ({args.t_final} s) and --dt ({args.dt} s): need finite 0 < 10 dt <= t_final")
     from wingmdao.cases import check_step_count
 
-    check_step_count(args.t_final, args.dt, geometry.num_nodes)
+    check_step_count(args.t_final, args.dt, num_nodes)
     if not (np.isfinite(args.u_ref_fps) and args.u_ref_fps >= 0):
         raise ValueError(f"--u-ref-fps = {args.u_ref_fps} ft/s; allowed range [0, inf) ft/s "
                          "(0 = the 25.341(a)(5) table value)")
@@ -198,7 +198,7 @@ def gust_set_cases(gset, args, geometry, chord, axis_frac, families, pf=PLANFORM
     """One load case per gust of ``gset`` (strip theory on top of 1 g at the flight point's weight)."""
     if getattr(args, "load_history", None):
         raise ValueError("--load-history and a gust set exclude each other")
-    _check_time_grid(args)
+    _check_time_grid(args, geometry.num_nodes)
     cases = []
     for g in gset.gusts():
         fp = g.flight_point

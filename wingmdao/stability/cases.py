@@ -9,6 +9,11 @@ import numpy as np
 
 #: cases with beam + aerodynamic data (module in wingmdao.cases with beam_params and aero_data)
 FLUTTER_CASES = ("goland", "hale")
+#: sparse shift-invert settings: shift near the flutter frequency, eigenvalues kept, Arnoldi basis
+EIG_OPTIONS = {"goland": {"method": "sparse", "sigma": 60j, "count": 16},
+               "hale": {"method": "sparse", "sigma": 20j, "count": 16, "ncv": 60}}
+#: default speed sweeps (V0, V1, N), m/s
+SWEEPS = {"goland": (20.0, 300.0, 15), "hale": (2.0, 40.0, 12)}
 
 
 @dataclass
@@ -19,6 +24,12 @@ class FlutterProblem:
     aero: dict
     system: object
     published: dict
+    eig_options: dict
+
+    @property
+    def speeds(self):
+        """Default sweep (m/s)."""
+        return np.linspace(*SWEEPS[self.name])
 
     def params_at(self, V):
         """Packed (p, q) at airspeed V (m/s): clamped root, no gravity, zero angle of attack."""
@@ -55,4 +66,5 @@ def flutter_problem(name: str, num_nodes: int = 21) -> FlutterProblem:
 
     mod = importlib.import_module(f"wingmdao.cases.{name}")
     return FlutterProblem(name, int(num_nodes), mod.beam_params(int(num_nodes)), mod.aero_data(),
-                          cached_aeroelastic_system(int(num_nodes)), mod.PUBLISHED)
+                          cached_aeroelastic_system(int(num_nodes)), mod.PUBLISHED,
+                          dict(EIG_OPTIONS[name]))

@@ -120,7 +120,7 @@ def _perm_parity(perm) -> float:
 
 
 def eigenmodes(system, p, q, x0=None, *, static=True, count=None, sigma=0.0, method="auto",
-               max_abs=1e6, static_options=None) -> Modes:
+               max_abs=1e6, static_options=None, ncv=None) -> Modes:
     """Finite eigenvalues of ``lambda B v = -A v`` about a static state, sorted by |lambda|.
 
     Parameters
@@ -133,6 +133,7 @@ def eigenmodes(system, p, q, x0=None, *, static=True, count=None, sigma=0.0, met
             sparse: the ``count`` eigenvalues nearest to ``sigma`` (12 by default)
     sigma : shift of the sparse solver (1/s, real or complex): the eigenvalues nearest to it
     method : "dense" | "sparse" | "auto" (dense up to ``DENSE_MAX_STATES`` states)
+    ncv : Arnoldi basis size of the sparse solver (ARPACK default 2 count + 1)
     max_abs : eigenvalues with |lambda| above this (1/s) are treated as infinite (spurious)
     """
     p = np.asarray(p, dtype=float)
@@ -159,7 +160,7 @@ def eigenmodes(system, p, q, x0=None, *, static=True, count=None, sigma=0.0, met
         Bc = B
         op = spla.LinearOperator((n, n), matvec=lambda v: lu.solve(np.asarray(Bc @ v)),
                                  dtype=complex if np.iscomplex(sigma) else float)
-        mu, vec = spla.eigs(op, k=k, which="LM")
+        mu, vec = spla.eigs(op, k=k, which="LM", ncv=None if ncv is None else min(n - 1, int(ncv)))
         with np.errstate(divide="ignore"):
             lam = sigma - 1.0 / mu
     keep = np.isfinite(lam) & (np.abs(lam) < max_abs)

@@ -1,0 +1,187 @@
+"""``wingmdao flutter CASE``: flutter and divergence of a benchmark wing (docs/flutter.md).
+
+The case's beam (clamped root) with unsteady strip theory (:mod:`wingmdao.aero`) is linearised
+about its static state at each speed of the sweep; the eigenvalues of (dR/dxdot, dR/dx)
+(:mod:`wingmdao.stability`) give per-mode damping and frequency, tracked by MAC; the flutter and
+divergence speeds are refined between sweep points.
+
+JSON keys: case, num_nodes, density_kg_m3, flutter_speed_m_s, flutter_frequency_rad_s,
+divergence_speed_m_s (null when none within the sweep), natural_frequencies_rad_s (in vacuo,
+first six), speeds, damping (per tracked mode and speed, Re lambda 1/s), damping_ratio
+(g = 2 Re / |Im|), frequency_rad_s, published (the case's reference values), timings.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+import tempfile
+import time as _time
+
+import numpy as np
+
+from wingmdao.stability.cases import FLUTTER_CASES
+
+
+def register(subparsers):
+    p = subparsers.add_parser(
+        "flutter", help="flutter and divergence speeds, V-g / V-f sweep of a benchmark wing",
+        description="Linear stability of the aeroelastic beam (strip theory) over an airspeed sweep: flutter "
+        "and divergence speeds, in vacuo frequencies, V-g / V-f plot. SI output.")
+    p.add_argument("case", metavar="CASE", help="case with aerodynamic data: " + ", ".join(FLUTTER_CASES))
+    p.add_argument("--speeds", nargs=3, metavar=("V0", "V1", "N"), default=None,
+                   help="sweep from V0 to V1 m/s with N >= 2 speeds (default: the case's)")
+    p.add_argument("--num-nodes", type=int, default=21, help="beam nodes (>= 3, default 21)")
+    p.add_argument("--modes", type=int, default=4, help="number of tracked modes (>= 1, default 4)")
+    p.add_argument("--json", metavar="FILE", default=None, help="write the results as JSON (- = stdout)")
+    p.add_argument("--out", metavar="DIR", default="results", help="folder for the V-g / V-f PNG")
+    p.add_argument("--no-plots", action="store_true", help="do not write the PNG")
+    p.set_defaults(func=run)
+
+
+def parse_speeds(values):
+    """``(V0, V1, N)`` strings -> validated sweep; ValueError naming the input otherwise."""
+    from wingmdao.stability.eigen import check_speeds
+
+    try:
+        v0, v1, n = float(values[0]), float(values[1]), values[2]
+        n = int(float(n)) if float(n) == int(float(n)) else None
+    except (TypeError, ValueError):
+        raise ValueError(f"--speeds must be V0 V1 N (numbers, N an integer), got {values}") from None
+    if n is None or n < 2:
+        raise ValueError(f"--speeds N must be an integer >= 2, got {values[2]}")
+    if not (np.isfinite(v0) and np.isfinite(v1)) or v0 < 0.0:
+        raise ValueError(f"--speeds V0 must be >= 0 m/s and finite, got {values[0]}")
+    if not v1 > v0:
+        raise ValueError(f"--speeds V1 must be > V0 (an increasing sweep), got V0 = {v0} m/s, V1 = {v1} m/s")
+    return check_speeds(np.linspace(v0, v1, n))
+
+
+def _atomic_write_text(text, path):
+    folder = os.path.dirname(os.path.abspath(path))
+    os.makedirs(folder, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=folder, suffix=".tmp")
+    with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        fh.write(text)
+    os.replace(tmp, path)
+
+
+def _clean(x):
+    if isinstance(x, dict):
+        return {k: _clean(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_clean(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return _clean(x.tolist())
+    if isinstance(x, (float, np.floating)):
+        return None if not np.isfinite(x) else float(x)
+    if isinstance(x, np.integer):
+        return int(x)
+    return x
+
+
+def analyse(case, speeds=None, num_nodes=21, n_modes=4) -> dict:
+    """Run the flutter analysis; returns the JSON dict."""
+    from wingmdao.beam.residual import forcing_specs
+    from wingmdao.beam.static import BeamModel, beam_forcing
+    from wingmdao.stability import critical_speeds, eigenmodes, sweep
+    from wingmdao.stability.cases import flutter_problem
+    from wingmdao.timemarch.system import pack
+
+    if case not in FLUTTER_CASES:
+        raise ValueError(f"case {case!r} has no aerodynamic (flutter) data; allowed: {list(FLUTTER_CASES)}")
+    if int(n_modes) < 1:
+        raise ValueError(f"--modes must be >= 1, got {n_modes}")
+    if int(num_nodes) < 3:
+        raise ValueError(f"--num-nodes must be >= 3, got {num_nodes}")
+    t0 = _time.perf_counter()
+    prob = flutter_problem(case, int(num_nodes))
+    v = prob.speeds if speeds is None else np.asarray(speeds, dtype=float)
+    # in vacuo: the structural beam alone
+    beam = BeamModel(prob.beam)
+    n = beam.num_nodes
+    vac = eigenmodes(beam.system, beam.p, pack(forcing_specs(n), beam_forcing(n)), beam.jig().ravel())
+    osc = np.flatnonzero(vac.frequency > 1e-6)
+    natural = np.sort(vac.frequency[osc])[:6]
+    t1 = _time.perf_counter()
+    res = sweep(prob.system, prob.params_at, v, n_track=int(n_modes), weights=prob.beam_weights(),
+                **prob.eig_options)
+    t2 = _time.perf_counter()
+    crit = critical_speeds(res)
+    t3 = _time.perf_counter()
+    return _clean({
+        "case": case, "num_nodes": int(num_nodes), "density_kg_m3": prob.aero["density"],
+        "flutter_speed_m_s": crit["flutter_speed"], "flutter_frequency_rad_s": crit["flutter_frequency"],
+        "divergence_speed_m_s": crit["divergence_speed"],
+        "natural_frequencies_rad_s": natural,
+        "speeds": res.speeds, "damping": res.damping.T, "damping_ratio": res.damping_ratio.T,
+        "frequency_rad_s": res.frequency.T,
+        "published": prob.published,
+        "timings_s": {"setup_and_in_vacuo": t1 - t0, "sweep": t2 - t1, "per_speed": (t2 - t1) / v.size,
+                      "refinement": t3 - t2},
+    })
+
+
+def plot(result, path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    v = np.asarray(result["speeds"])
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 7), sharex=True)
+    for j, (g, w) in enumerate(zip(result["damping_ratio"], result["frequency_rad_s"])):
+        g = np.array([np.nan if x is None else x for x in g], dtype=float)
+        ax1.plot(v, g, "o-", ms=3, label=f"mode {j + 1}")
+        ax2.plot(v, w, "o-", ms=3)
+    for ax in (ax1, ax2):
+        if result["flutter_speed_m_s"]:
+            ax.axvline(result["flutter_speed_m_s"], color="r", ls="--", lw=0.8)
+        if result["divergence_speed_m_s"]:
+            ax.axvline(result["divergence_speed_m_s"], color="k", ls=":", lw=0.8)
+    ax1.axhline(0.0, color="k", lw=0.5)
+    ax1.set_ylabel("g = 2 Re / |Im|")
+    ax1.legend(fontsize=8)
+    ax2.set_ylabel("frequency (rad/s)")
+    ax2.set_xlabel("airspeed (m/s)")
+    ax1.set_title(f"{result['case']}: V-g / V-f (flutter {result['flutter_speed_m_s'] or float('nan'):.1f} m/s)")
+    fig.tight_layout()
+    folder = os.path.dirname(os.path.abspath(path))
+    os.makedirs(folder, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=folder, suffix=".png")
+    os.close(fd)
+    fig.savefig(tmp, dpi=110)
+    plt.close(fig)
+    os.replace(tmp, path)
+
+
+def run(args) -> int:
+    # all input checks before any solve
+    if args.case not in FLUTTER_CASES:
+        raise ValueError(f"case {args.case!r} has no aerodynamic (flutter) data; allowed: {list(FLUTTER_CASES)}")
+    speeds = parse_speeds(args.speeds) if args.speeds is not None else None
+    if args.num_nodes < 3:
+        raise ValueError(f"--num-nodes must be >= 3, got {args.num_nodes}")
+    if args.modes < 1:
+        raise ValueError(f"--modes must be >= 1, got {args.modes}")
+    result = analyse(args.case, speeds, args.num_nodes, args.modes)
+    msg = (f"{args.case}: flutter {result['flutter_speed_m_s']} m/s at {result['flutter_frequency_rad_s']} rad/s, "
+           f"divergence {result['divergence_speed_m_s']} m/s; in vacuo "
+           + ", ".join(f"{w:.2f}" for w in result["natural_frequencies_rad_s"]) + " rad/s")
+    print(msg, file=sys.stderr)
+    if not args.no_plots:
+        try:
+            path = os.path.join(args.out, f"flutter_{args.case}.png")
+            plot(result, path)
+            result["plot"] = path
+            print(f"wrote {path}", file=sys.stderr)
+        except ImportError:
+            print("matplotlib not installed: no plot", file=sys.stderr)
+    if args.json:
+        text = json.dumps(result, indent=2) + "\n"
+        if args.json == "-":
+            sys.stdout.write(text)
+        else:
+            _atomic_write_text(text, args.json)
+    return 0
