@@ -37,9 +37,12 @@ def rect_wingbox_surface(num_y=11, span=20.0, chord=2.0, t_over_c=0.12, spar=0.0
 
 
 def aerostruct_problem(surface, beam="wingmdao", mach=(0.3,), v=(100.0,), rho=(1.0,), re=(1e6,),
-                       load_factor=(1.0,), alpha_deg=(4.0,), W0=20000.0, iprint=-1):
+                       load_factor=(1.0,), alpha_deg=(4.0,), W0=20000.0, iprint=-1, extra=None, setup=True):
     """Set-up problem; points ``AS_point_<i>``; outputs per point ``CL``, ``fuelburn``, ``wing_perf.failure``,
-    geometry ``wing.structural_mass``, displacements ``AS_point_<i>.coupled.wing.disp`` (ny, 6)."""
+    geometry ``wing.structural_mass``, displacements ``AS_point_<i>.coupled.wing.disp`` (ny, 6).
+    ``extra(model)``: called before setup to add components (its return value is returned too,
+    as ``(prob, extra_result)``); ``setup=False`` leaves the problem to set up (and skips the
+    solver settings, see ``cases/run_aerostruct_crm.py``)."""
     from openaerostruct.integration.aerostruct_groups import AerostructGeometry, AerostructPoint
 
     from wingmdao.oas.point import wingmdao_aerostruct_point
@@ -87,9 +90,12 @@ def aerostruct_problem(surface, beam="wingmdao", mach=(0.3,), v=(100.0,), rho=(1
         prob.model.connect(f"{name}.structural_mass", f"{pt}.total_perf.{name}_structural_mass")
         for k in ("Qz", "J", "A_enc", "htop", "hbottom", "hfront", "hrear", "spar_thickness", "t_over_c"):
             prob.model.connect(f"{name}.{k}", perf + k)
+    extra_result = extra(prob.model) if extra is not None else None
+    if not setup:
+        return prob, extra_result
     prob.setup(mode="rev")
     for i in range(npt):
         cp = getattr(prob.model, f"AS_point_{i}").coupled
         cp.nonlinear_solver.options["iprint"] = iprint
         cp.linear_solver = om.LinearBlockGS(iprint=-1, maxiter=50, use_aitken=True, atol=1e-12, rtol=1e-12)
-    return prob
+    return (prob, extra_result) if extra is not None else prob
