@@ -111,7 +111,7 @@ def summary(prob, t, iters):
             "optimizer_iterations": iters, "wall_time_s": t}
 
 
-def run(beam, analysis_only, maxiter):
+def run(beam, analysis_only, maxiter, tol=1e-6):
     import openmdao.api as om
 
     prob, ks = build(beam)
@@ -125,10 +125,12 @@ def run(beam, analysis_only, maxiter):
     if analysis_only:
         prob.run_model()
     else:
-        prob.driver = om.ScipyOptimizeDriver(optimizer="SLSQP", tol=1e-2, maxiter=maxiter, disp=False)
+        prob.driver = om.ScipyOptimizeDriver(optimizer="SLSQP", tol=tol, maxiter=maxiter, disp=False)
         prob.run_driver()
         iters = int(prob.driver.iter_count)
     out = summary(prob, time.perf_counter() - t0, iters)
+    out["success"] = bool(getattr(prob.driver, "result", None) is None or prob.driver.result.success) \
+        if not analysis_only else True
     out["stress_constraint"] = float(prob.get_val(ks if ks else "AS_point_1.wing_perf.failure").max())
     return out
 
@@ -137,10 +139,11 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--analysis-only", action="store_true", help="one coupled analysis of the initial design")
     ap.add_argument("--json", metavar="FILE", help="write the results as JSON ('-' for stdout)")
-    ap.add_argument("--maxiter", type=int, default=30, help="SLSQP iterations (optimisation)")
+    ap.add_argument("--maxiter", type=int, default=40, help="SLSQP iterations (optimisation)")
+    ap.add_argument("--tol", type=float, default=1e-6, help="SLSQP tolerance")
     a = ap.parse_args(argv)
-    res = run("wingmdao", a.analysis_only, a.maxiter)
-    res["oas_beam"] = run("oas", a.analysis_only, a.maxiter)
+    res = run("wingmdao", a.analysis_only, a.maxiter, a.tol)
+    res["oas_beam"] = run("oas", a.analysis_only, a.maxiter, a.tol)
     text = json.dumps(res, indent=2)
     print(text if a.json != "-" else "", file=sys.stderr)
     if a.json == "-":

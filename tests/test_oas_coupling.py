@@ -140,3 +140,21 @@ def test_aerostruct_point_totals(points):
         J, F = v["J_rev"], v["J_fd"]
         nontrivial = np.abs(F) > 1e-6 * np.abs(F).max()
         assert np.all(np.abs(J - F)[nontrivial] <= 1e-4 * np.abs(F)[nontrivial]), key
+
+
+@pytest.mark.slow
+def test_crm_analysis_only_json(tmp_path):
+    import json
+    import runpy
+
+    mod = runpy.run_path(str(__import__("pathlib").Path(__file__).parents[1] / "cases" / "run_aerostruct_crm.py"),
+                         run_name="crm")
+    out = tmp_path / "crm.json"
+    mod["main"](["--analysis-only", "--json", str(out)])
+    res = json.loads(out.read_text())
+    for d in (res, res["oas_beam"]):
+        for k in ("fuelburn_kg", "wing_mass_kg", "tip_deflection_m"):
+            assert np.isfinite(d[k]) and d[k] > 0, k
+        assert max(d["coupled_iterations"]) < 25
+    assert res["wing_mass_kg"] == pytest.approx(res["oas_beam"]["wing_mass_kg"], rel=1e-12)  # same geometry
+    assert res["fuelburn_kg"] == pytest.approx(res["oas_beam"]["fuelburn_kg"], rel=0.03)
