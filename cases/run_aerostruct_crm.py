@@ -44,7 +44,8 @@ def crm_surface(num_y=15):
                  "spar_thickness_cp": np.array([0.004, 0.005, 0.008, 0.01]),
                  "skin_thickness_cp": np.array([0.005, 0.01, 0.015, 0.025]),
                  "yield": 420e6, "safety_factor": 1.5, "with_viscous": True, "with_wave": True,
-                 "wing_weight_ratio": 1.25, "CD0": 0.0078})
+                 "wing_weight_ratio": 1.25, "CD0": 0.0078,
+                 "wingmdao_box": "oas"})   # the box of each element from OpenAeroStruct's wingbox geometry
     return surf
 
 

@@ -3,12 +3,15 @@
 ``WingmdaoAerostructPoint`` is OpenAeroStruct's ``AerostructPoint`` whose per-surface coupled
 group solves the wingmdao nonlinear box beam (:class:`~wingmdao.oas.coupling.OASBeamStates`)
 instead of the linear spatial beam. Differences to connect: instead of
-``coupled.<surface>.local_stiff_transformed`` connect ``coupled.<surface>.spar_thickness`` and
-``coupled.<surface>.skin_thickness`` (from ``<surface>.spar_thickness`` / ``skin_thickness`` of
-``AerostructGeometry``). Still connect ``coupled.<surface>.nodes`` and ``coupled.<surface>.mesh``
-(the displacement transfer uses them). The beam's jig geometry (nodes at ``fem_origin``, box
-width between the first and last ``data_x_upper`` points, box height the mean spar height at
-the initial ``t_over_c``) is fixed when the point is set up; weight relief, fuel and point
+``coupled.<surface>.local_stiff_transformed`` connect ``coupled.<surface>.spar_thickness``,
+``skin_thickness``, ``htop``, ``hbottom``, ``hfront``, ``hrear`` (from the same outputs of
+``AerostructGeometry``): the box of each element is OpenAeroStruct's own (width hfront + hrear,
+height htop + hbottom) when the surface has ``wingmdao_box = "oas"``, so both beams see nearly
+the same section (htop and hbottom are OpenAeroStruct's KS-smoothed maxima, slightly above the
+true box height: 2.3 % stiffer on the rectangular test wing). Default (``"surface"``): the box
+from the surface dict (``box_geometry_from_surface``), exact for flat-topped "airfoils". Still connect ``coupled.<surface>.nodes`` and ``coupled.<surface>.mesh``
+(the displacement transfer uses them). The beam's jig axis (nodes at ``fem_origin``) is fixed
+when the point is set up; weight relief, fuel and point
 masses are not applied to our beam (surfaces must have ``struct_weight_relief`` and
 ``distributed_fuel_weight`` False and no ``n_point_masses``).
 """
@@ -40,6 +43,10 @@ def box_geometry_from_surface(surface):
     return nodes, width, np.broadcast_to(height, width.shape).copy()
 
 
+#: OpenAeroStruct wingbox geometry outputs the beam's box is built from (connect them).
+BOX_INPUTS = ("htop", "hbottom", "hfront", "hrear")
+
+
 def _coupled_as_class():
     from openaerostruct.integration.aerostruct_groups import CoupledAS
     from openaerostruct.aerodynamics.geometry import VLMGeometry
@@ -58,10 +65,12 @@ def _coupled_as_class():
             if "n_point_masses" in surface:
                 raise ValueError("WingmdaoAerostructPoint: point masses (n_point_masses) are not supported")
             nodes, width, height = box_geometry_from_surface(surface)
+            from_oas = surface.get("wingmdao_box", "surface") == "oas"
             self.add_subsystem("struct_states", OASBeamStates(
                 fem_nodes=nodes, width=width, height=height, material=surface["wingmdao_material"],
-                newton_options=surface.get("wingmdao_newton_options")),
-                promotes_inputs=["loads", "spar_thickness", "skin_thickness"], promotes_outputs=["disp"])
+                newton_options=surface.get("wingmdao_newton_options"), box_from_oas=from_oas),
+                promotes_inputs=["loads", "spar_thickness", "skin_thickness", *(BOX_INPUTS if from_oas else ())],
+                promotes_outputs=["disp"])
             self.add_subsystem("def_mesh", DisplacementTransferGroup(surface=surface),
                                promotes_inputs=["nodes", "mesh", "disp"], promotes_outputs=["def_mesh"])
             self.add_subsystem("aero_geom", VLMGeometry(surface=surface), promotes_inputs=["def_mesh"],

@@ -83,6 +83,8 @@ def aerostruct_problem(surface, beam="wingmdao", mach=(0.3,), v=(100.0,), rho=(1
         else:
             prob.model.connect(f"{name}.spar_thickness", f"{c}.spar_thickness")
             prob.model.connect(f"{name}.skin_thickness", f"{c}.skin_thickness")
+            for k in (("htop", "hbottom", "hfront", "hrear") if surface.get("wingmdao_box") == "oas" else ()):
+                prob.model.connect(f"{name}.{k}", f"{c}.{k}")
         prob.model.connect(f"{name}.nodes", f"{c}.nodes")
         prob.model.connect(f"{name}.mesh", f"{c}.mesh")
         prob.model.connect(f"{name}.nodes", perf + "nodes")
