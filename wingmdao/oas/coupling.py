@@ -144,6 +144,31 @@ class OASThicknessToBox(om.ExplicitComponent):
         outputs["t_front_spar"] = outputs["t_rear_spar"] = self._W @ inputs["spar_thickness"]
 
 
+class OASBoxDims(om.ExplicitComponent):
+    """OpenAeroStruct's wingbox distances from the element centroid (``htop``, ``hbottom``,
+    ``hfront``, ``hrear``, ny - 1, tip first) -> box ``width`` = hfront + hrear and ``height`` =
+    htop + hbottom per beam node (mean of adjacent elements). Linear, constant partials."""
+
+    def initialize(self):
+        self.options.declare("num_nodes", types=int, lower=2, desc="ny, number of FEM nodes")
+
+    def setup(self):
+        n = self.options["num_nodes"]
+        self._W = W = element_to_node_matrix(n)[:, ::-1]
+        rows, cols = np.nonzero(W)
+        for name, out in (("htop", "height"), ("hbottom", "height"), ("hfront", "width"), ("hrear", "width")):
+            self.add_input(name, val=0.1, shape=n - 1, units="m",
+                           desc=f"OpenAeroStruct wingbox {name} (centroid to wall) per element")
+        for out, ins in (("width", ("hfront", "hrear")), ("height", ("htop", "hbottom"))):
+            self.add_output(out, shape=n, units="m", desc=f"box {out} per beam node")
+            for i in ins:
+                self.declare_partials(out, i, rows=rows, cols=cols, val=W[rows, cols])
+
+    def compute(self, inputs, outputs):
+        outputs["width"] = self._W @ (inputs["hfront"] + inputs["hrear"])
+        outputs["height"] = self._W @ (inputs["htop"] + inputs["hbottom"])
+
+
 class OASBeamStates(om.Group):
     """Drop-in for OpenAeroStruct's ``struct_states``: ``loads`` (ny, 6) and ``spar_thickness``,
     ``skin_thickness`` (ny - 1) in, ``disp`` (ny, 6) out, through a box section (App. F) and the
@@ -161,6 +186,9 @@ class OASBeamStates(om.Group):
         self.options.declare("height", desc="(ny - 1,) box height per OAS element, m")
         self.options.declare("material", desc="wingmdao.materials.Material")
         self.options.declare("newton_options", default=None, allow_none=True, types=dict)
+        self.options.declare("box_from_oas", default=False, types=bool,
+                             desc="box width and height from the inputs htop, hbottom, hfront, hrear "
+                                  "(OpenAeroStruct's wingbox geometry) instead of the options")
 
     def setup(self):
         from wingmdao.components.beam import BeamStatic
@@ -179,6 +207,9 @@ class OASBeamStates(om.Group):
         W = element_to_node_matrix(n)[:, ::-1]
         geo = {}
         for k in ("width", "height"):
+            if self.options["box_from_oas"]:
+                geo[k] = np.ones(n)
+                continue
             v = np.asarray(self.options[k], dtype=float).ravel()
             if v.shape != (n - 1,) or not np.all(v > 0):
                 raise ValueError(f"OASBeamStates: {k} must be positive, shape ({n - 1},) m; got shape {v.shape}")
@@ -186,8 +217,11 @@ class OASBeamStates(om.Group):
         ivc = self.add_subsystem("jig", om.IndepVarComp(), promotes=["*"])
         ivc.add_output("node_positions", x0, units="m", desc="jig beam nodes, right wing, root first")
         ivc.add_output("node_euler_angles", th0, units="rad", desc="jig Euler angles")
-        ivc.add_output("width", geo["width"], units="m", desc="box width per node")
-        ivc.add_output("height", geo["height"], units="m", desc="box height per node")
+        if self.options["box_from_oas"]:
+            self.add_subsystem("box", OASBoxDims(num_nodes=n), promotes=["*"])
+        else:
+            ivc.add_output("width", geo["width"], units="m", desc="box width per node")
+            ivc.add_output("height", geo["height"], units="m", desc="box height per node")
         self.add_subsystem("thickness", OASThicknessToBox(num_nodes=n), promotes=["*"])
         self.add_subsystem("section", BoxSection(num_stations=n, material=self.options["material"]),
                            promotes_inputs=["width", "height", "t_upper_skin", "t_lower_skin", "t_front_spar",

@@ -1,0 +1,74 @@
+"""Coupled aerostructural analysis and total derivatives: the wingmdao nonlinear beam vs
+OpenAeroStruct's linear spatial beam in the same OpenAeroStruct AerostructPoint (same VLM mesh,
+same wingbox, same solvers: NonlinearBlockGS + LinearBlockGS with Aitken).
+
+    python benchmarks/bench_aerostruct.py           # rectangular wing, ny = 11
+    python benchmarks/bench_aerostruct.py --crm     # uCRM, 2 points (cases/run_aerostruct_crm.py)
+
+Prints the time of one coupled analysis (cold start from the jig) and one total-derivative
+evaluation (adjoint, CL, fuelburn, failure w.r.t. twist, thicknesses, alpha), best of
+``--repeat``, for both beams and the ratio ours/OAS. Goal (issue 12): ratio <= 2 in the coupled loop.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+
+import numpy as np
+
+
+def _problem(beam, crm):
+    if crm:
+        sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "cases"))
+        import openmdao.api as om
+        from run_aerostruct_crm import build
+
+        prob, ks = build(beam)
+        prob.setup(mode="rev")
+        for i in range(2):
+            pt = getattr(prob.model, f"AS_point_{i}")
+            pt.coupled.linear_solver = om.LinearBlockGS(iprint=-1, maxiter=50, use_aitken=True, atol=1e-10, rtol=1e-10)
+            pt.coupled.nonlinear_solver.options["iprint"] = -1
+        of = ["AS_point_0.fuelburn", "AS_point_0.CL", ks or "AS_point_1.wing_perf.failure"]
+    else:
+        from wingmdao.oas.problems import aerostruct_problem, rect_wingbox_surface
+
+        prob = aerostruct_problem(rect_wingbox_surface(), beam=beam)
+        of = ["AS_point_0.CL", "AS_point_0.fuelburn", "AS_point_0.wing_perf.failure"]
+    wrt = ["wing.twist_cp", "wing.spar_thickness_cp", "wing.skin_thickness_cp", "alpha"]
+    return prob, of, wrt
+
+
+def bench(beam, crm, repeat):
+    t_an, t_tot = [], []
+    for _ in range(repeat):
+        prob, of, wrt = _problem(beam, crm)
+        prob.final_setup()
+        t0 = time.perf_counter()
+        prob.run_model()
+        t_an.append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        prob.compute_totals(of=of, wrt=wrt)
+        t_tot.append(time.perf_counter() - t0)
+    return min(t_an), min(t_tot)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--crm", action="store_true", help="the uCRM two-point problem")
+    ap.add_argument("--repeat", type=int, default=3)
+    a = ap.parse_args(argv)
+    res = {b: bench(b, a.crm, a.repeat) for b in ("oas", "wingmdao")}
+    print(f"{'':24s}{'OAS beam':>12s}{'wingmdao':>12s}{'ratio':>8s}")
+    for i, label in enumerate(("coupled analysis (s)", "total derivatives (s)")):
+        o, w = res["oas"][i], res["wingmdao"][i]
+        print(f"{label:24s}{o:12.3f}{w:12.3f}{w / o:8.2f}")
+    return res
+
+
+if __name__ == "__main__":
+    np.seterr(all="ignore")
+    main()
