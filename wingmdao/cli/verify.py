@@ -202,3 +202,14 @@ def run_verify(args) -> int:
         return 2
     write_json(res, args.json)
     return 0
+
+
+def verify_args(geometry, tip_load=(0.0, 0.0, 0.0), tip_moment=(0.0, 0.0, 0.0), *, ribs=None, modes=0,
+                chord_elements=8, height_elements=2, span_size=0.5, rib_thickness=0.1, t_spar=0.2, t_skin=0.1):
+    """The parsed-argument namespace of ``verify wing-box`` (for scripts and tests)."""
+    import argparse
+
+    return argparse.Namespace(geometry=geometry, tip_load=tuple(tip_load), tip_moment=tuple(tip_moment),
+                              ribs=ribs, no_ribs=ribs is None, modes=modes, chord_elements=chord_elements,
+                              height_elements=height_elements, span_size=span_size, rib_thickness=rib_thickness,
+                              t_spar=t_spar, t_skin=t_skin, design=None, fidelity="shell", plot=None, json="-")
