@@ -79,7 +79,7 @@ def test_box_tube_bending_and_torsion():
 
 
 def test_box_tube_first_bending_frequency():
-    """First (vertical) bending frequency vs 1.875^2 / (2 pi) sqrt(EI / (m L^4)), within 4 %."""
+    """First (vertical) bending frequency vs 1.875^2 / (2 pi) sqrt(EI / (m L^4)), within 3 %."""
     from wingmdao.fe.box_model import solve_modes
 
     m = _tube(ribs_y=[])
@@ -88,7 +88,7 @@ def test_box_tube_first_bending_frequency():
     mass = MAT.rho * 2 * (a + b) * T
     f1 = 1.875104**2 / (2 * np.pi) * np.sqrt(MAT.E * I / (mass * L**4))
     f = solve_modes(m, 3)["frequencies_hz"]
-    assert f[0] == pytest.approx(f1, rel=0.04)
+    assert f[0] == pytest.approx(f1, rel=0.03)    # ccx: -1.5 %
 
 
 def test_missing_ccx_message(monkeypatch):

@@ -1,0 +1,46 @@
+"""``wingmdao export wing-box``: write the (sized) wing box as a CalculiX, Abaqus or Nastran deck
+(beam stick model or shell model), see :mod:`wingmdao.fe.export`."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def register(subparsers):
+    p = subparsers.add_parser("export", help="write a sized wing as a CalculiX / Abaqus / Nastran deck",
+                              description="Export a case as an FE deck (SI units: m, N, kg; body axes).")
+    cases = p.add_subparsers(dest="case", metavar="CASE", required=True)
+    wb = cases.add_parser("wing-box", help="App. D.1 box (Table E.2 walls, or --design)")
+    from wingmdao.cli.run import GEOMETRIES
+
+    wb.add_argument("--geometry", choices=GEOMETRIES, required=True, help="Table D.2 geometry")
+    wb.add_argument("--design", default=None, metavar="RESULT.json",
+                    help="wall thicknesses from a 'wingmdao size wing-box --elements 1 1 1' result")
+    wb.add_argument("--t-spar", type=float, default=0.2, metavar="M", help="spar thickness, streamwise (m)")
+    wb.add_argument("--t-skin", type=float, default=0.1, metavar="M", help="skin thickness, streamwise (m)")
+    wb.add_argument("--format", choices=("calculix", "nastran", "abaqus"), required=True)
+    wb.add_argument("--fidelity", choices=("beam", "shell"), default="beam")
+    wb.add_argument("--tip-load", type=float, nargs=3, default=(0.0, 0.0, 0.0), metavar=("FX", "FY", "FZ"))
+    wb.add_argument("--tip-moment", type=float, nargs=3, default=(0.0, 0.0, 0.0), metavar=("MX", "MY", "MZ"))
+    wb.add_argument("file", metavar="FILE", help="deck to write")
+    wb.set_defaults(func=run_export)
+
+
+def run_export(args) -> int:
+    import sys
+
+    from wingmdao.cases import wing_box as case
+    from wingmdao.cli.verify import _design_walls, wing_box_sections
+    from wingmdao.fe.export import beam_deck, shell_deck, write_atomic
+    from wingmdao.materials import ALUMINIUM
+
+    for name in ("tip_load", "tip_moment"):
+        if not np.all(np.isfinite(getattr(args, name))):
+            raise ValueError(f"--{name.replace('_', '-')} must be finite")
+    walls = _design_walls(args.design, case.NAME) if args.design else None
+    sec = wing_box_sections(args.geometry, args.t_spar, args.t_skin, walls)
+    build = beam_deck if args.fidelity == "beam" else shell_deck
+    text = build(sec, ALUMINIUM, args.format, tip_force=args.tip_load, tip_moment=args.tip_moment)
+    write_atomic(text, args.file)
+    print(f"wingmdao export: wrote {args.fidelity} model ({args.format}) to {args.file}", file=sys.stderr)
+    return 0

@@ -1,0 +1,215 @@
+"""``wingmdao verify wing-box``: the beam against a CalculiX shell model of the same box.
+
+The shell model (:mod:`wingmdao.fe.box_model`, S8R on the wall mid-surfaces, streamwise
+sections CS1..CS4 of App. D.1, wall thicknesses of the beam-normal cut as ``wingmdao run
+wing-box`` uses them, root ring clamped, the tip load at the CS4 centre entering a CS4 rib
+through a distributing coupling) is written, run in ``ccx`` and read; the beam is the project's
+nonlinear beam on the same box (:func:`wingmdao.cases.wing_box.solve_wing_box`). JSON:
+``stations``, ``displacement_beam``, ``displacement_fe`` (section-average displacement
+magnitude per station, m), ``difference_percent``, and with ``--modes N``
+``frequencies_beam_hz``, ``frequencies_fe_hz``, ``frequency_difference_percent``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+
+import numpy as np
+
+
+def register(subparsers):
+    p = subparsers.add_parser("verify", help="cross-check the beam against a CalculiX shell model",
+                              description="Beam vs CalculiX (ccx) shell model of a shipped case. SI units, body axes.")
+    cases = p.add_subparsers(dest="case", metavar="CASE", required=True)
+    wb = cases.add_parser("wing-box", help="App. D.1 box: beam vs CalculiX shell under tip loads, modes")
+    from wingmdao.cli.run import GEOMETRIES
+
+    wb.add_argument("--geometry", choices=GEOMETRIES, required=True, help="Table D.2 geometry")
+    wb.add_argument("--t-spar", type=float, default=0.2, metavar="M", help="spar thickness, streamwise cut (m)")
+    wb.add_argument("--t-skin", type=float, default=0.1, metavar="M", help="skin thickness, streamwise cut (m)")
+    wb.add_argument("--tip-load", type=float, nargs=3, default=(0.0, 0.0, 0.0), metavar=("FX", "FY", "FZ"),
+                    help="tip force at the CS4 centre, body axes (N)")
+    wb.add_argument("--tip-moment", type=float, nargs=3, default=(0.0, 0.0, 0.0), metavar=("MX", "MY", "MZ"),
+                    help="tip moment, body axes (N*m)")
+    wb.add_argument("--fidelity", choices=("shell",), default="shell",
+                    help="FE model: shell (S8R); the C3D20R solid option is not implemented yet")
+    g = wb.add_mutually_exclusive_group()
+    g.add_argument("--ribs", type=float, default=None, metavar="SPACING", help="ribs every SPACING m of span")
+    g.add_argument("--no-ribs", action="store_true", help="no ribs (only the CS4 load-introduction rib; default)")
+    wb.add_argument("--rib-thickness", type=float, default=0.1, metavar="M", help="rib thickness (m, default 0.1)")
+    wb.add_argument("--design", default=None, metavar="RESULT.json",
+                    help="wall thicknesses from a 'wingmdao size wing-box' result (4 stations CS1..CS4)")
+    wb.add_argument("--modes", type=int, default=0, metavar="N", help="also compare the first N frequencies")
+    wb.add_argument("--chord-elements", type=int, default=8, metavar="N", help="shell elements across the skins")
+    wb.add_argument("--height-elements", type=int, default=2, metavar="N", help="shell elements across the spars")
+    wb.add_argument("--span-size", type=float, default=0.5, metavar="M", help="shell element length along the span (m)")
+    wb.add_argument("--plot", default=None, metavar="PNG", help="write a beam-vs-FE displacement plot")
+    wb.add_argument("--json", default="-", metavar="PATH", help="output file ('-' = standard output)")
+    wb.set_defaults(func=run_verify)
+
+
+def _design_walls(path, case):
+    if not os.path.exists(path):
+        raise ValueError(f"--design {path!r}: no such file")
+    with open(path, encoding="utf-8") as fh:
+        data = json.load(fh)
+    if data.get("case") != case:
+        raise ValueError(f"--design {path!r} is a result of case {data.get('case')!r}, not {case!r}")
+    th = data.get("thickness") or {}
+    walls = {}
+    for w in ("upper_skin", "lower_skin", "front_spar", "rear_spar"):
+        v = np.asarray(th.get(w, []), float)
+        if v.shape != (4,):
+            raise ValueError(f"--design {path!r}: thickness.{w} must have 4 values (CS1..CS4, size with "
+                             f"--elements 1 1 1), got {v.size}")
+        walls["t_" + w] = v
+    return walls
+
+
+def wing_box_sections(geometry, t_spar, t_skin, walls=None):
+    """:class:`BoxSections` of CS1..CS4 with the beam-normal wall thicknesses of ``run wing-box``."""
+    from wingmdao.cases import wing_box as case
+    from wingmdao.fe.box_model import BoxSections
+
+    _, _, cos_sweep, cos_dih = case.wing_geometry(geometry, (1, 1, 1))
+    g = case.geometry_data(geometry)
+    if walls is None:
+        walls = {"t_upper_skin": t_skin * cos_dih, "t_lower_skin": t_skin * cos_dih,
+                 "t_front_spar": t_spar * cos_sweep, "t_rear_spar": t_spar * cos_sweep}
+    return BoxSections(case.section_centres(geometry), g["widths"], case.HEIGHTS, walls)
+
+
+def verify_wing_box(args) -> dict:
+    from wingmdao.cases import wing_box as case
+    from wingmdao.cli.run import _check_args
+    from wingmdao.fe.box_model import build_shell_box, solve_modes, solve_static
+    from wingmdao.fe.calculix import find_ccx
+
+    for name, val in (("dynamic", False), ("check_totals", False), ("gravity", False), ("load_steps", 1),
+                      ("elements", (6, 8, 6)), ("model", "beam")):
+        setattr(args, name, getattr(args, name, val))
+    _check_args(args)
+    find_ccx()
+    span = float(sum(case.SPANS))
+    if args.ribs is not None and not (np.isfinite(args.ribs) and 0 < args.ribs <= span):
+        raise ValueError(f"--ribs = {args.ribs} m; allowed range (0, {span:g}] m (the span)")
+    if args.modes < 0 or args.modes > 50:
+        raise ValueError(f"--modes = {args.modes}; allowed range [0, 50]")
+    for name, low in (("chord_elements", 1), ("height_elements", 1)):
+        if getattr(args, name) < low:
+            raise ValueError(f"--{name.replace('_', '-')} = {getattr(args, name)}; allowed >= {low}")
+    if not (np.isfinite(args.span_size) and 0.05 <= args.span_size <= 3.0):
+        raise ValueError(f"--span-size = {args.span_size} m; allowed range [0.05, 3] m")
+    walls = _design_walls(args.design, case.NAME) if args.design else None
+    sec = wing_box_sections(args.geometry, args.t_spar, args.t_skin, walls)
+    ribs = [] if args.ribs is None else list(np.arange(args.ribs, span + 1e-9, args.ribs))
+    ribs = sorted(set(np.round(ribs + [span], 9)))
+    model = build_shell_box(sec, _material(), chord_elements=args.chord_elements,
+                            height_elements=args.height_elements, span_element_size=args.span_size,
+                            ribs_y=ribs, rib_thickness=args.rib_thickness)
+    ys = sec.centres[:, 1]
+    fe = solve_static(model, [(span, sec.centres[-1], args.tip_load, args.tip_moment)], ys)
+    bwalls = None if walls is None else walls
+    if bwalls is None:
+        beam = case.solve_wing_box(args.geometry, tip_force=args.tip_load, tip_moment=args.tip_moment,
+                                   t_spar=args.t_spar, t_skin=args.t_skin)
+        d_beam = np.asarray(beam["displacement"])
+    else:
+        d_beam = None
+    d_fe = np.linalg.norm(fe["displacement"], axis=1)
+    res = {"case": case.NAME, "geometry": args.geometry, "fidelity": args.fidelity,
+           "stations": list(case.STATIONS), "station_y": ys.tolist(),
+           "displacement_fe": d_fe.tolist(), "station_displacement_fe": fe["displacement"].tolist(),
+           "station_rotation_fe": fe["rotation"].tolist(),
+           "ribs_y": ribs, "mesh": {"element": "S8R", "num_elements": fe["num_elements"],
+                                    "num_nodes": fe["num_nodes"], "chord_elements": args.chord_elements,
+                                    "height_elements": args.height_elements, "span_size": args.span_size},
+           "fe_time_s": fe["time"],
+           "units": "SI (m, N, N*m, rad, Hz); body axes x aft, y outboard, z up"}
+    if d_beam is not None:
+        res["displacement_beam"] = d_beam.tolist()
+        res["station_rotation_beam"] = beam["station_rotation"]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            diff = np.where(d_fe > 0, 100 * (d_beam - d_fe) / d_fe, 0.0)
+        res["difference_percent"] = diff.tolist()
+    else:
+        res["note"] = "beam side for --design runs: use 'wingmdao run wing-box' (not wired yet)"
+    if args.modes:
+        fm = solve_modes(model, args.modes)
+        res["frequencies_fe_hz"] = fm["frequencies_hz"].tolist()
+        fb = beam_frequencies(args.geometry, args.t_spar, args.t_skin, args.modes)
+        res["frequencies_beam_hz"] = fb.tolist()
+        k = min(len(fb), len(fm["frequencies_hz"]))
+        res["frequency_difference_percent"] = (100 * (fb[:k] - fm["frequencies_hz"][:k])
+                                               / fm["frequencies_hz"][:k]).tolist()
+    if args.plot:
+        _plot(res, args.plot)
+        res["plot"] = args.plot
+    return res
+
+
+def _material():
+    from wingmdao.materials import ALUMINIUM
+
+    return ALUMINIUM
+
+
+def beam_frequencies(geometry, t_spar, t_skin, count):
+    """Lowest natural frequencies (Hz) of the beam of ``run wing-box`` (jig state)."""
+    from wingmdao.beam.modes import natural_frequencies
+    from wingmdao.beam.residual import forcing_specs
+    from wingmdao.beam.static import BeamModel, beam_forcing
+    from wingmdao.cases.wing_box import wing_box_beam
+    from wingmdao.timemarch.system import pack
+
+    params, _ = wing_box_beam(geometry, t_spar=t_spar, t_skin=t_skin)
+    m = BeamModel(params)
+    n = m.num_nodes
+    return natural_frequencies(m.system, m.p, pack(forcing_specs(n), beam_forcing(n)), count=count)
+
+
+def _plot(res, path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(res["station_y"], res["displacement_fe"], "o-", label="CalculiX shell (S8R)")
+    if "displacement_beam" in res:
+        ax.plot(res["station_y"], res["displacement_beam"], "s--", label="beam")
+    ax.set_xlabel("span y (m)")
+    ax.set_ylabel("section-average displacement (m)")
+    ax.legend()
+    ax.grid(True)
+    tmp = path + ".tmp.png"
+    fig.savefig(tmp, dpi=120)
+    plt.close(fig)
+    os.replace(tmp, path)
+
+
+def run_verify(args) -> int:
+    import sys
+
+    from wingmdao.cli import write_json
+    from wingmdao.fe.calculix import CalculixNotFound
+
+    try:
+        res = verify_wing_box(args)
+    except CalculixNotFound as exc:
+        print(f"wingmdao verify: {exc}", file=sys.stderr)
+        return 2
+    write_json(res, args.json)
+    return 0
+
+
+def verify_args(geometry, tip_load=(0.0, 0.0, 0.0), tip_moment=(0.0, 0.0, 0.0), *, ribs=None, modes=0,
+                chord_elements=8, height_elements=2, span_size=0.5, rib_thickness=0.1, t_spar=0.2, t_skin=0.1):
+    """The parsed-argument namespace of ``verify wing-box`` (for scripts and tests)."""
+    import argparse
+
+    return argparse.Namespace(geometry=geometry, tip_load=tuple(tip_load), tip_moment=tuple(tip_moment),
+                              ribs=ribs, no_ribs=ribs is None, modes=modes, chord_elements=chord_elements,
+                              height_elements=height_elements, span_size=span_size, rib_thickness=rib_thickness,
+                              t_spar=t_spar, t_skin=t_skin, design=None, fidelity="shell", plot=None, json="-")
