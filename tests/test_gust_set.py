@@ -128,3 +128,17 @@ def test_down_gust_mirrors_up_gust_on_symmetric_section():
     assert g_up.max() > -0.999  # the gust loads the box
     assert ks_down == pytest.approx(ks_up, rel=1e-9, abs=1e-12)
     assert np.allclose(g_up, g_down, rtol=1e-8, atol=1e-12)
+
+
+def test_pegasus_gust_set_file_and_sign_override(tmp_path):
+    path = tmp_path / "set.yaml"
+    path.write_text("gradients_ft: [30, 350]\nflight_points:\n  - {name: a, altitude_ft: 10000, mach: 0.4}\n"
+                    "  - {name: b, altitude_ft: 20000, mach: 0.5, speed: VD, weight_lb: 35000}\n")
+    setup = pegasus.build(case_arguments(pegasus, gust_set=str(path), gust_sign="down", loads="gust",
+                                         t_final=0.5, dt=0.05))
+    assert [c.name for c in setup.load_cases] == ["gust_a_h30_down", "gust_a_h350_down",
+                                                  "gust_b_h30_down", "gust_b_h350_down"]
+    # the file's flight points use the (a)(5) table and the PEGASUS F_g inputs (F_g < 1 below Z_mo)
+    assert "F_g 0.9" in setup.load_cases[0].description and "(VD)" in setup.load_cases[2].description
+    with pytest.raises(ValueError, match="does not exist"):
+        pegasus.build(case_arguments(pegasus, gust_set=str(tmp_path / "none.json")))

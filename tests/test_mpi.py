@@ -86,3 +86,43 @@ def test_mpirun_more_ranks_than_cases_is_an_error(tmp_path):
                          capture_output=True, text=True, timeout=300)
     assert run.returncode != 0
     assert "2 ranks but only 1 load case(s)" in run.stderr
+
+
+class _OneRank:
+    """The part of an mpi4py communicator CaseExchange uses, for one rank in this process."""
+
+    size, rank = 1, 0
+
+    def allgather(self, obj):
+        return [obj]
+
+
+@pytest.mark.slow
+def test_case_proxy_partials_and_values_match_the_case():
+    """The proxy KS component (values and dense partials from the sub-problem's adjoint) against
+    finite differences and against the case evaluated in the ordinary serial model."""
+    import openmdao.api as om
+
+    from wingmdao.cases import case_arguments, pegasus
+    from wingmdao.parallel import CaseExchange, CaseKS
+    from wingmdao.sizing import WALL_VARS, build_problem
+
+    setup = pegasus.build(case_arguments(pegasus, loads="maneuver"))
+    rng = np.random.default_rng(3)
+    x = {w: rng.uniform(0.004, 0.012, 19) for w in WALL_VARS}
+    ex = CaseExchange(setup.geometry, setup.load_cases, setup.material, setup.options, "box", _OneRank(), WALL_VARS)
+    prob = om.Problem(reports=False)
+    prob.model.add_subsystem("ks", CaseKS(exchange=ex, case=setup.load_cases[0], dv_size=19), promotes=["*"])
+    prob.setup(force_alloc_complex=False)
+    for w in WALL_VARS:
+        prob.set_val(w, x[w])
+    prob.run_model()
+    data = prob.check_partials(method="fd", form="central", step=1e-8, out_stream=None)
+    for (of, wrt), d in data["ks"].items():
+        ref = np.abs(d["J_fd"]).max()
+        assert np.abs(d["J_fwd"] - d["J_fd"]).max() <= 1e-5 * max(ref, 1e-12), (of, wrt)
+    serial, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options, driver=False)
+    for w in WALL_VARS:
+        serial.set_val(w, x[w])
+    serial.run_model()
+    assert prob.get_val("ks_vm")[0] == serial.get_val("cases.maneuver_pos.ks_vm")[0]

@@ -308,10 +308,18 @@ def size_case(setup, *, optimize: bool = True, parallel: bool | None = None, com
     ``comm``: None = the MPI world when run under ``mpirun -n P > 1`` (cases spread over the
     ranks, :mod:`wingmdao.parallel`), else serial; False = serial.
     """
+    from wingmdao.limits import check_memory
+
     if comm is None:
         from wingmdao.parallel import world_comm
 
         comm = world_comm()
+    mine = setup.load_cases
+    if comm is not None and comm is not False and comm.size > 1:
+        from wingmdao.parallel import assign_cases
+
+        mine = [setup.load_cases[i] for i in assign_cases(setup.load_cases, comm.size)[comm.rank]]
+    check_memory(mine, setup.geometry.num_nodes)  # before any solve
     prob, desc = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
                                driver=optimize, parallel=parallel, section=setup.section, comm=comm)
     pre = {"passes": 0}

@@ -191,6 +191,8 @@ class TimeHistoryComponent(om.ImplicitComponent):
 
     # ------------------------------------------------------------------ nonlinear
     def solve_nonlinear(self, inputs, outputs):
+        from wingmdao.limits import march_progress
+
         sysm = self.system
         p, Q = self._params(inputs), self._forcing(inputs)
         guess = None
@@ -200,7 +202,8 @@ class TimeHistoryComponent(om.ImplicitComponent):
         h = march(sysm, self._time, p, Q, initial=self.options["initial"], x_init=self._x_init(inputs),
                   x_guess=guess, modified_newton=self.options["modified_newton"],
                   atol=self.options["atol"], xtol=self.options["xtol"], max_iter=self.options["max_iter"],
-                  static_options=self.options["static_options"])
+                  static_options=self.options["static_options"],
+                  callback=march_progress(len(self._time), self.pathname or "march"))
         outputs[self.options["state_name"]] = h.states.reshape(outputs[self.options["state_name"]].shape)
         self.last_history = h
 

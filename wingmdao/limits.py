@@ -1,0 +1,116 @@
+"""Memory and time-step limits of time-history sizing, checked before any solve.
+
+A dynamic load case stores, per time step, the states and the linearization the discrete
+adjoint sweep needs (residual Jacobian blocks, parameter and forcing partials) plus the stress
+history. Measured with ``benchmarks/bench_envelope.py rss`` (one PEGASUS gust case, 20 nodes,
+forward march + adjoint totals, peak RSS, this machine): 360 MB at 251 steps, 601 MB at 1001,
+1806 MB at 4001, i.e. 16.5-20.1 kB per node and time step (the slope grows slightly with the
+length). :func:`estimate_bytes` uses 24 kB per node-step and a 400 MB base, above every measurement.
+
+:func:`check_memory` raises a ValueError with the estimate and the largest step count that fits
+when the load cases of this process would exceed the memory it can have: MemAvailable of
+/proc/meminfo (and the cgroup limit when lower) shared by the MPI ranks of this host, or
+``WINGMDAO_MAX_MEMORY_MB``. ``WINGMDAO_SKIP_MEMORY_CHECK=1`` turns the check off.
+:func:`march_progress` prints progress of long marches (``WINGMDAO_PROGRESS_STEPS``, default
+2000 steps) to standard error.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+
+BYTES_PER_NODE_STEP = 24e3
+BASE_BYTES = 400e6
+PROGRESS_STEPS = 2000
+
+
+def estimate_bytes(num_nodes: int, steps) -> float:
+    """Peak memory (bytes) of one process holding dynamic cases with ``steps`` time steps each."""
+    return BASE_BYTES + BYTES_PER_NODE_STEP * num_nodes * float(sum(int(s) for s in steps if int(s) > 1))
+
+
+def _meminfo_available() -> float | None:
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return float(line.split()[1]) * 1024.0
+    except OSError:
+        return None
+    return None
+
+
+def _cgroup_limit() -> float | None:
+    for path in ("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"):
+        try:
+            text = open(path, encoding="ascii").read().strip()
+        except OSError:
+            continue
+        if text.isdigit() and int(text) < 1 << 60:
+            return float(text)
+    return None
+
+
+def available_bytes() -> float | None:
+    """Memory this process may use (bytes), None when unknown."""
+    env = os.environ.get("WINGMDAO_MAX_MEMORY_MB")
+    if env:
+        try:
+            value = float(env)
+        except ValueError:
+            raise ValueError(f"WINGMDAO_MAX_MEMORY_MB = {env!r}; allowed: a number of MB > 0") from None
+        if not value > 0:
+            raise ValueError(f"WINGMDAO_MAX_MEMORY_MB = {env!r}; allowed: a number of MB > 0")
+        return value * 1e6
+    vals = [v for v in (_meminfo_available(), _cgroup_limit()) if v]
+    if not vals:
+        return None
+    local = 1
+    for var in ("OMPI_COMM_WORLD_LOCAL_SIZE", "MPI_LOCALNRANKS", "PMI_LOCAL_SIZE"):
+        if os.environ.get(var, "").isdigit():
+            local = max(1, int(os.environ[var]))
+            break
+    return min(vals) / local
+
+
+def check_memory(load_cases, num_nodes: int, available: float | None = None) -> float:
+    """Raise ValueError before any solve when ``load_cases`` would not fit; returns the estimate (bytes)."""
+    steps = [int(c.num_times) for c in load_cases]
+    need = estimate_bytes(num_nodes, steps)
+    if os.environ.get("WINGMDAO_SKIP_MEMORY_CHECK") == "1":
+        return need
+    avail = available_bytes() if available is None else float(available)
+    if avail is None or need <= avail:
+        return need
+    dynamic = [s for s in steps if s > 1]
+    fit = int((avail - BASE_BYTES) / (BYTES_PER_NODE_STEP * num_nodes * max(len(dynamic), 1)))
+    hint = (f"the largest step count that fits is {fit} steps per dynamic case" if fit > 1 else
+            "even one step per case does not fit")
+    raise ValueError(
+        f"time histories: {len(dynamic)} dynamic case(s) x up to {max(dynamic, default=0)} steps x {num_nodes} "
+        f"nodes need an estimated {need / 1e6:.0f} MB ({BASE_BYTES / 1e6:.0f} MB + "
+        f"{BYTES_PER_NODE_STEP / 1e3:.0f} kB per node-step), {avail / 1e6:.0f} MB available; {hint} "
+        "(increase --dt, shorten --t-final, spread the cases over MPI ranks, or set WINGMDAO_MAX_MEMORY_MB)")
+
+
+def march_progress(n_time: int, label: str = "march"):
+    """A ``callback(step, t, x)`` printing progress every 10 % for marches of
+    ``WINGMDAO_PROGRESS_STEPS`` (default 2000) steps or more; None for shorter ones."""
+    try:
+        threshold = int(os.environ.get("WINGMDAO_PROGRESS_STEPS", PROGRESS_STEPS))
+    except ValueError:
+        threshold = PROGRESS_STEPS
+    if n_time < max(threshold, 2):
+        return None
+    t0 = time.perf_counter()
+    every = max(1, (n_time - 1) // 10)
+
+    def callback(step, t, x):
+        if step and (step % every == 0 or step == n_time - 1):
+            el = time.perf_counter() - t0
+            print(f"  {label}: step {step}/{n_time - 1} (t = {t:.4g} s), {el:.1f} s elapsed, "
+                  f"~{el * (n_time - 1 - step) / step:.1f} s to go", file=sys.stderr, flush=True)
+
+    return callback
