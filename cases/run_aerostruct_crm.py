@@ -54,7 +54,7 @@ def add_our_ks(prob_model, point, num_nodes, material, rho_ks=100.0):
     from wingmdao.components.beam_loads import BeamInternalLoads
     from wingmdao.components.ks import KSAggregate
     from wingmdao.components.stress import BoxStress
-    from wingmdao.groups.wing import _stress_points
+    from wingmdao.groups.wing import stress_points
 
     import openmdao.api as om
 
@@ -62,7 +62,7 @@ def add_our_ks(prob_model, point, num_nodes, material, rho_ks=100.0):
     g.add_subsystem("internal_loads", BeamInternalLoads(num_times=1, num_nodes=num_nodes))
     g.add_subsystem("stress", BoxStress(num_times=1, num_stations=num_nodes, material=material,
                                         families=("vm",), output_stresses=False))
-    g.add_subsystem("ks", KSAggregate(families=_stress_points("box", ("vm",), 1, num_nodes, material), rho_ks=rho_ks))
+    g.add_subsystem("ks", KSAggregate(families={f: (1, num_nodes, k) for f, k in stress_points("box", ("vm",)).items()}, rho_ks=rho_ks))
     g.connect("internal_loads.F_csn", "stress.F_csn")
     g.connect("internal_loads.M_csn", "stress.M_csn")
     g.connect("stress.g_vm", "ks.g_vm")
