@@ -14,13 +14,14 @@ lift L (along the deformed section normal n) and moment M (about the deformed be
 unit length are *follower* loads ``T^T (0, 0, L)`` and ``T^T (0, M, 0)`` added to the beam's
 distributed ``force_per_length`` / ``moment_per_length`` of node i. The apparent-mass terms use
 the exact time derivative of the midchord normal velocity and pitch rate (CasADi ``jtimes`` with
-xdot, plus ``frame_acceleration`` / ``frame_angular_acceleration`` for the frame terms, which
-must be the rates of ``frame_velocity`` / ``frame_angular_velocity``).
+xdot, plus ``frame_velocity_rate`` / ``frame_angular_acceleration`` for the frame terms, the rates
+of ``frame_velocity`` / ``frame_angular_velocity``). ``frame_acceleration`` acts on the beam's
+inertia only, so a quasi-static maneuver's (n - 1) g relief adds no apparent mass.
 
 Parameters: the beam's (:func:`wingmdao.beam.residual.param_specs`) then :func:`aero_param_specs`
 (chord, ref_point, lift_slope, alpha_zero_lift, cm0 per node; airspeed, density, mach).
 Forcing: the beam's (:func:`wingmdao.beam.residual.forcing_specs`) then ``gust_velocity`` (n,)
-m/s and ``frame_velocity`` (3,) m/s. Everything is differentiable (CasADi), so
+m/s, ``frame_velocity`` (3,) m/s and ``frame_velocity_rate`` (3,) m/s**2. Everything is differentiable (CasADi), so
 :class:`~wingmdao.components.time_history.TimeHistoryComponent` marches it and its discrete
 adjoint gives derivatives with respect to every parameter, airspeed and density included.
 """
@@ -65,6 +66,7 @@ def aero_forcing_specs(n: int) -> list[VarSpec]:
     return [
         VarSpec("gust_velocity", (n,), "m/s", "gust velocity (body +z, up) at each station, penetration delay included"),
         VarSpec("frame_velocity", (3,), "m/s", "velocity of the body-axes origin relative to the trimmed flight (e.g. plunge)"),
+        VarSpec("frame_velocity_rate", (3,), "m/s**2", "rate of frame_velocity (apparent mass; the beam's inertia uses frame_acceleration)"),
     ]
 
 
@@ -118,7 +120,7 @@ def _node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence):
 
 def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
                              damping: StrainRateDamping | None = None,
-                             plunge: bool = False) -> "AeroelasticBeamSystem":
+                             plunge: bool = False, trim: bool = False) -> "AeroelasticBeamSystem":
     """The App. A beam of ``num_nodes`` nodes (root clamped) with unsteady strip theory.
 
     Returns an :class:`AeroelasticBeamSystem` (a :class:`CasadiResidualSystem`):
@@ -134,18 +136,28 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     two half-wings' root shear, which holds their lift and their own inertia). The body velocity
     (0, 0, w_p) adds to ``frame_velocity`` in the aerodynamics and its rate to the beam's
     ``frame_acceleration``.
+
+    ``trim=True`` adds the aircraft angle of attack alpha_trim (rad, added to every station's
+    angle; the last state), the parameter ``trim_lift`` (N, the lift of both half-wings to trim
+    to, n W) and the forcing ``trim_active`` (1: solve for alpha_trim so that the integrated lift
+    of both halves equals ``trim_lift``; 0: hold it, d alpha_trim/dt = 0). Set ``trim_active`` = 1
+    at t = 0 only and the march starts from the trimmed state, the gust an increment on it.
     """
     n = int(num_nodes)
     if n < 2:
         raise ValueError(f"num_nodes must be >= 2, got {num_nodes}")
     t0 = _time.perf_counter()
     pspecs = beam_param_specs(n) + aero_param_specs(n)
+    qspecs = beam_forcing_specs(n) + aero_forcing_specs(n)
     if plunge:
         pspecs.append(VarSpec("body_mass", (), "kg", "aircraft mass outside both wing halves (free plunge)"))
-    qspecs = beam_forcing_specs(n) + aero_forcing_specs(n)
+    if trim:
+        pspecs.append(VarSpec("trim_lift", (), "N", "lift of both half-wings to trim to (n W)"))
+        qspecs.append(VarSpec("trim_active", (), None, "1: solve alpha_trim for trim_lift; 0: hold alpha_trim"))
     play, qlay = layout(pspecs), layout(qspecs)
     W = N_AEROELASTIC_STATES
-    n_extra = 1 if plunge else 0
+    n_extra = int(bool(plunge)) + int(bool(trim))
+    i_trim = W * n + int(bool(plunge))
     x = ca.SX.sym("x", W * n + n_extra)
     xdot = ca.SX.sym("xdot", W * n + n_extra)
     p = ca.SX.sym("p", sum(s.size for s in pspecs))
@@ -154,12 +166,14 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     nodal = _nodal_function(euler_sequence)
     g = q[qlay["gravity"]]
     acc0, vf = q[qlay["frame_acceleration"]], q[qlay["frame_velocity"]]
+    dvf = q[qlay["frame_velocity_rate"]]
     if plunge:
         e_z = ca.DM([0.0, 0.0, 1.0])
         acc0 = acc0 + e_z * xdot[W * n]
         vf = vf + e_z * x[W * n]
+        dvf = dvf + e_z * xdot[W * n]
     frame = (acc0, q[qlay["frame_angular_velocity"]], q[qlay["frame_angular_acceleration"]])
-    aero_frame = (vf,) + frame
+    aero_frame = (vf, dvf) + frame[1:]
     V, rho, mach = p[play["airspeed"]], p[play["density"]], p[play["mach"]]
 
     # one symbolic node function for the aerodynamics, called per node
@@ -177,8 +191,9 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     scal = ca.vertcat(V, rho, mach)
     aero_out, qs = [], []
     for i in range(n):
-        pa = ca.vertcat(*[p[play[k]][i] for k in ("chord", "ref_point", "lift_slope", "alpha_zero_lift", "cm0")],
-                        q[qlay["gust_velocity"]][i])
+        azl = p[play["alpha_zero_lift"]][i] - (x[i_trim] if trim else 0.0)
+        pa = ca.vertcat(p[play["chord"]][i], p[play["ref_point"]][i], p[play["lift_slope"]][i], azl,
+                        p[play["cm0"]][i], q[qlay["gust_velocity"]][i])
         f_a, m_a, res_a, L_a, M_a = aero_fun(xs[i], xds[i], pa, *aero_frame, scal)
         aero_out.append((res_a, L_a, M_a))
         qb = _node_forcing(q, qlay, i)
@@ -200,24 +215,41 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
         blocks.append(aero_out[i][0])
     if plunge:
         mb = p[play["body_mass"]]
-        blocks.append(mb * (xdot[W * n] - g[2]) - 2.0 * xs[0][st["F"]][2])
+        r_plunge = mb * (xdot[W * n] - g[2]) - 2.0 * xs[0][st["F"]][2]
+        if trim:  # while trimming the plunge velocity is zero (alpha_trim takes up the lift)
+            on = q[qlay["trim_active"]]
+            r_plunge = on * x[W * n] + (1.0 - on) * r_plunge
+        blocks.append(r_plunge)
+    if trim:
+        r0 = [ps[i][_P_NODE["r0"]] for i in range(n)]
+        total = 0
+        for i in range(n - 1):
+            total = total + ca.norm_2(r0[i + 1] - r0[i]) * 0.5 * (aero_out[i][1] + aero_out[i + 1][1])
+        target = p[play["trim_lift"]]
+        on = q[qlay["trim_active"]]
+        scale = ca.fmax(ca.fabs(target), 1.0)
+        blocks.append(on * (2.0 * total - target) / scale + (1.0 - on) * xdot[i_trim])
     R = ca.vertcat(*blocks)
     lifts = ca.vertcat(*[o[1] for o in aero_out])
     moments = ca.vertcat(*[o[2] for o in aero_out])
     system = AeroelasticBeamSystem(x, xdot, p, q, R, param_specs=pspecs, forcing_specs=qspecs,
-                                   state_shape=(W * n + 1,) if plunge else (n, W),
-                                   name=f"aeroelastic_beam{n}" + ("_plunge" if plunge else ""),
-                                   describe=lambda k: describe_aeroelastic_equation(k, n))
+                                   state_shape=(W * n + n_extra,) if n_extra else (n, W),
+                                   name=f"aeroelastic_beam{n}" + ("_plunge" if plunge else "") + ("_trim" if trim else ""),
+                                   describe=lambda k: describe_aeroelastic_equation(k, n, plunge))
     system.num_nodes = n
     system.plunge = bool(plunge)
+    system.trim = bool(trim)
+    system.trim_index = i_trim if trim else None
     system._loads = ca.Function("section_loads", [x, xdot, p, q], [lifts, moments])
     system.build_time = _time.perf_counter() - t0
     return system
 
 
-def describe_aeroelastic_equation(index: int, num_nodes: int) -> str:
-    if index == N_AEROELASTIC_STATES * num_nodes:
+def describe_aeroelastic_equation(index: int, num_nodes: int, plunge: bool = False) -> str:
+    if index == N_AEROELASTIC_STATES * num_nodes and plunge:
         return "free plunge: body_mass (dw_p/dt - g_z) = 2 F_root,z"
+    if index >= N_AEROELASTIC_STATES * num_nodes:
+        return "trim: integrated lift of both halves = trim_lift (or alpha_trim held)"
     node, k = divmod(int(index), N_AEROELASTIC_STATES)
     if k < N_STATE_PER_NODE:
         return describe_equation(node * N_STATE_PER_NODE + k, num_nodes)
@@ -264,12 +296,12 @@ _SYSTEMS: dict = {}
 
 def cached_aeroelastic_system(num_nodes: int, euler_sequence: str = "surface",
                               damping: StrainRateDamping | None = None,
-                              plunge: bool = False) -> AeroelasticBeamSystem:
-    """:func:`build_aeroelastic_system`, built once per (num_nodes, sequence, damping, plunge)."""
+                              plunge: bool = False, trim: bool = False) -> AeroelasticBeamSystem:
+    """:func:`build_aeroelastic_system`, built once per (num_nodes, sequence, damping, plunge, trim)."""
     if damping is not None and damping.is_zero:
         damping = None
-    key = (int(num_nodes), euler_sequence, damping, bool(plunge))
+    key = (int(num_nodes), euler_sequence, damping, bool(plunge), bool(trim))
     if key not in _SYSTEMS:
         _SYSTEMS[key] = build_aeroelastic_system(key[0], euler_sequence=euler_sequence, damping=damping,
-                                                 plunge=key[3])
+                                                 plunge=key[3], trim=key[4])
     return _SYSTEMS[key]

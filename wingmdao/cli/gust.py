@@ -6,12 +6,13 @@ or the thicknesses of a sizing result, ``--design``) becomes an
 beam, Jones-Wagner and Sears-Sparks-Kuessner lag states, apparent mass, Prandtl-Glauert); a
 14 CFR 25.341 1-cos gust of gradient H (U_ds = U_ref (H/350 ft)^(1/6) EAS) crosses it with each
 station's penetration delay, the aircraft free in plunge (``--plunge``, default) or clamped at the
-symmetry plane (``--clamped``). The response is the increment on 1 g level flight (no trim: the
-steady 1 g state is not modelled; the load factor is 1 + total incremental lift / W, the lift
-integrated over both half-wings).
+symmetry plane (``--clamped``). The march starts from the trimmed, deformed 1 g level-flight state
+(aircraft angle of attack solved so that the lift of both half-wings equals W, gravity on; the
+``trim`` option of :func:`~wingmdao.aero.system.build_aeroelastic_system`), the gust an increment
+on it; the load factor is the lift integrated over both half-wings over W.
 
 JSON keys: time, load_factor, peak_incremental_load_factor, quasi_steady_incremental_load_factor
-(dn = rho0 U_de V_e a / (2 W/S), a the model's strip-theory wing lift slope), wing_lift_slope_per_rad,
+(dn = rho0 U_de V_e a / (2 W/S), a the model's strip-theory wing lift slope), trim_alpha_rad, wing_lift_slope_per_rad,
 mass_parameter (mu = 2 (W/S) / (rho c a g)), mean_chord_m, wing_loading_pa, root_bending_moment
 (N m, M_x at the symmetry plane), root_torsion (N m, M_y), tip_displacement (m, z), and the inputs.
 """
@@ -33,7 +34,7 @@ def register(subparsers):
     p = subparsers.add_parser(
         "gust", help="gust response (load factor, root loads, tip deflection) with the coupled aeroelastic beam",
         description="1-cos gust response of a case's wing on the aeroelastic beam (unsteady strip theory on the "
-        "deforming wing, free plunge or clamped), increment on 1 g level flight. SI output.")
+        "deforming wing, free plunge or clamped), from the trimmed 1 g level flight. SI output.")
     p.add_argument("case", choices=CASES, metavar="CASE", help="case: " + ", ".join(CASES))
     p.add_argument("--aero", choices=("coupled",), default="coupled",
                    help="aerodynamics: coupled (unsteady strip theory on the deforming beam; the precomputed "
@@ -54,6 +55,9 @@ def register(subparsers):
     p.add_argument("--t-final", type=float, default=None, metavar="S", help="simulated time (s; default: the case's)")
     p.add_argument("--dt", type=float, default=0.01, metavar="S", help="time step (s, default 0.01)")
     p.add_argument("--gust-start", type=float, default=0.1, metavar="S", help="time the gust front reaches the wing (s)")
+    p.add_argument("--lifting-line", action="store_true",
+                   help="tip-loss correction: strip lift slopes from Prandtl's lifting line of the planform "
+                        "(wingmdao.aero.lifting_line) instead of 2 pi")
     p.add_argument("--json", metavar="FILE", default=None, help="write the results as JSON (- = stdout)")
     p.add_argument("--out", metavar="DIR", default="results", help="folder for the PNG plots")
     p.add_argument("--no-plots", action="store_true", help="do not write PNG plots")
@@ -154,7 +158,14 @@ def run(args):
     alt = float(altitude_ft_to_m(alt_ft))
     rho, rho0 = float(density(alt)), float(density(0.0))
     V = float(mach_to_tas(mach, alt))
-    ap = aero_parameters(n, chord=chord, ref_point=axis_frac, airspeed=V, density=rho, mach=mach)
+    slope = 2 * np.pi
+    if args.lifting_line:
+        from wingmdao.aero.lifting_line import lifting_line_lift_slope
+
+        y_nodes = np.abs(bp["node_positions"][:, 1])
+        slope, _ = lifting_line_lift_slope(y_nodes, pf.chord, pf.semi_span)
+    ap = aero_parameters(n, chord=chord, ref_point=axis_frac, lift_slope=slope, airspeed=V, density=rho,
+                         mach=mach)
     r0 = bp["node_positions"]
     ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
     half_wing_mass = float(np.sum(0.5 * (bp["mass_per_length"][1:] + bp["mass_per_length"][:-1]) * ds))
@@ -162,8 +173,8 @@ def run(args):
     body_mass = mass - 2 * half_wing_mass
     if body_mass <= 0:
         raise ValueError(f"aircraft mass {mass:.0f} kg is below twice the half-wing mass {half_wing_mass:.0f} kg")
-    system = cached_aeroelastic_system(n, plunge=args.plunge)
-    params = {**bp, **ap}
+    system = cached_aeroelastic_system(n, plunge=args.plunge, trim=True)
+    params = {**bp, **ap, "trim_lift": weight}
     if args.plunge:
         params["body_mass"] = body_mass
     p = pack(system.param_specs, params)
@@ -183,6 +194,8 @@ def run(args):
     ql = layout(system.forcing_specs)
     Q = np.zeros((t.size, system.n_forcing))
     Q[:, ql["gust_velocity"]] = wg
+    Q[:, ql["gravity"].start + 2] = -G0
+    Q[0, ql["trim_active"]] = 1.0
     print(f"wingmdao gust {args.case}: {n} nodes, {t.size} steps, V = {V:.1f} m/s TAS, rho = {rho:.4f} kg/m^3, "
           f"U_ds = {u_eas:.2f} m/s EAS, H = {H_ft:g} ft, {'free plunge' if args.plunge else 'clamped'}",
           file=sys.stderr)
@@ -199,16 +212,18 @@ def run(args):
 
     lift, _ = system.section_load_history(hist.states, state_rates(hist.states, args.dt), p, Q)
     total_lift = 2 * np.sum(0.5 * (lift[:, 1:] + lift[:, :-1]) * ds, axis=1)
-    dn = total_lift / weight
+    n_load = total_lift / weight
+    dn = n_load - n_load[0]
     V_e = V * np.sqrt(rho / rho0)
     dn_qs = rho0 * u_eas * V_e * a_wing / (2 * wing_loading)
     mu = 2 * wing_loading / (rho * mean_chord * a_wing * G0)
     res = {
         "case": args.case, "aero": args.aero, "plunge": bool(args.plunge), "gradient_ft": H_ft,
-        "stiffness_scale": args.stiffness_scale, "design": args.design, "altitude_ft": alt_ft, "mach": mach,
+        "stiffness_scale": args.stiffness_scale, "lifting_line": bool(args.lifting_line), "design": args.design, "altitude_ft": alt_ft, "mach": mach,
         "airspeed_tas_m_s": V, "density_kg_m3": rho, "u_ds_eas_m_s": u_eas,
         "time": t.tolist(),
-        "load_factor": (1.0 + dn).tolist(),
+        "load_factor": n_load.tolist(),
+        "trim_alpha_rad": float(hist.states[0, system.trim_index]),
         "peak_incremental_load_factor": float(np.max(np.abs(dn))),
         "quasi_steady_incremental_load_factor": float(dn_qs),
         "wing_lift_slope_per_rad": a_wing,
@@ -216,7 +231,7 @@ def run(args):
         "pratt_walker_factor": float(0.88 * mu / (5.3 + mu)),
         "mean_chord_m": float(mean_chord),
         "wing_loading_pa": float(wing_loading),
-        "root_bending_moment": X[:, 0, 9].tolist(),
+        "root_bending_moment": X[:, 0, 9].tolist(),  # total, 1 g included
         "root_torsion": X[:, 0, 10].tolist(),
         "tip_displacement": (X[:, -1, 2] - r0[-1, 2]).tolist(),
         "wall_s": _time.perf_counter() - t_wall,

@@ -32,13 +32,16 @@ class AeroelasticBeamDynamics(TimeHistoryComponent):
                              desc="a prebuilt aeroelastic system (None: built from num_nodes)")
         self.options.declare("plunge", default=False, types=bool,
                              desc="free plunge of the aircraft (input body_mass); clamped root otherwise")
+        self.options.declare("trim", default=False, types=bool,
+                             desc="trim state alpha_trim (input trim_lift, forcing trim_active)")
         self.options.declare("modified_newton", default=True, types=bool,
                              desc="reuse LU factors across Newton iterations and steps")
 
     def build_system(self):
         """The ``system`` option when given, else the aeroelastic beam of ``num_nodes`` nodes (cached)."""
         system = self.options["system"] or cached_aeroelastic_system(
-            self.options["num_nodes"], self.options["euler_sequence"], plunge=self.options["plunge"])
+            self.options["num_nodes"], self.options["euler_sequence"], plunge=self.options["plunge"],
+            trim=self.options["trim"])
         if system.num_nodes != self.options["num_nodes"]:
             raise ValueError(f"system has {system.num_nodes} nodes but num_nodes = {self.options['num_nodes']}")
         return system
