@@ -57,6 +57,9 @@ def add_arguments(p):
     p.add_argument("--t-final", type=float, default=GUST["t_final"], help="gust simulation time [s]")
     p.add_argument("--dt", type=float, default=0.02, help="time step [s]")
     p.add_argument("--gust-start", type=float, default=0.2, help="time the gust front reaches the wing [s]")
+    p.add_argument("--aero", choices=["strip", "coupled"], default="strip",
+                   help="gust aerodynamics: strip (precomputed rigid-wing strip-theory loads) or coupled (unsteady "
+                        "strip theory on the deforming beam, trimmed 1 g start, clamped root; docs/aeroelasticity.md)")
     p.add_argument("--kussner", action="store_true", help="lag the gust lift by the Kussner function")
     p.add_argument("--damping-ratio", type=float, default=0.0,
                    help="structural damping ratio of the gust case's beam (Kelvin-Voigt strain-rate damping, "
@@ -152,6 +155,10 @@ def gust_history_case(name, args, geometry, chord, axis_frac, families, *, gradi
     from wingmdao.loads.maneuver import maneuver_line_loads
 
     time = np.arange(0.0, args.t_final + 0.5 * args.dt, args.dt)
+    if getattr(args, "aero", "strip") == "coupled":
+        return coupled_gust_case(name, args, geometry, chord, axis_frac, families, time, gradient_ft=gradient_ft,
+                                 u_ds_eas=u_ds_eas, airspeed_tas=airspeed_tas, altitude_m=altitude_m,
+                                 direction=direction, weight_lb=weight_lb, description=description)
     steady = maneuver_line_loads(geometry.node_positions, chord, axis_frac, weight_lb * LB * G0, 1.0,
                                  semi_span=pf.semi_span, fuselage_half_width=pf.root_rib * pf.semi_span)
     hist = gust_line_loads(geometry.node_positions, chord, axis_frac, time,
@@ -194,6 +201,36 @@ def gust_set_of(args):
                      u_ref_fps=float(args.u_ref_fps) if args.u_ref_fps > 0 else None)
     h = grads if grads is not None else log_spaced_gradients_ft(count)
     return GustSet((fp,), h, parse_signs(sign or "both"), **GUST_SET_DEFAULTS)
+
+
+def coupled_gust_case(name, args, geometry, chord, axis_frac, families, time, *, gradient_ft, u_ds_eas,
+                      airspeed_tas, altitude_m, direction, weight_lb, description):
+    """The 1 - cos gust on the aeroelastic beam (``--aero coupled``): unsteady strip theory on the
+    deforming wing (wingmdao.aero), root clamped, the march starting from the trimmed 1 g state
+    (aircraft angle of attack solved at t = 0 so that both half-wings lift W, gravity on), the gust
+    velocity per station with its penetration delay from the most forward leading edge."""
+    from wingmdao.aero import station_gust_history
+    from wingmdao.aero.coupled import CoupledAero
+    from wingmdao.groups.load_case import LoadCase
+    from wingmdao.loads.atmosphere import density
+
+    rho, rho0 = float(density(altitude_m)), float(density(0.0))
+    V = float(airspeed_tas)
+    H = gradient_ft * FT
+    u_tas = direction * u_ds_eas * np.sqrt(rho0 / rho)
+    x_le = geometry.node_positions[:, 0] - np.asarray(axis_frac) * np.asarray(chord)
+
+    def profile(tau):
+        d = V * (tau - args.gust_start)
+        return np.where((d >= 0) & (d <= 2 * H), 0.5 * u_tas * (1 - np.cos(np.pi * d / H)), 0.0)
+
+    trim = np.zeros(time.size)
+    trim[0] = 1.0
+    forcing = {"gravity": np.array([0.0, 0.0, -G0]), "gust_velocity": station_gust_history(time, x_le, V, profile),
+               "trim_active": trim}
+    aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
+                       airspeed=V, density=rho, mach=float(args.mach), trim=True, trim_lift=weight_lb * LB * G0)
+    return LoadCase(name, time, forcing, families, description + " (coupled aeroelastic)", aero=aero)
 
 
 def gust_set_cases(gset, args, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
