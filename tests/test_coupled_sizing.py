@@ -64,3 +64,21 @@ def test_coupled_gust_ks_totals_vs_fd(coupled_gust):
         J = d["J_fwd"] if "J_fwd" in d else d["J_rev"]
         err = np.abs(J - d["J_fd"]).max() / np.abs(d["J_fd"]).max()
         assert err < 1e-5, (key, err)
+
+
+@pytest.mark.slow
+def test_coupled_maneuvers_trim_to_n_w_and_totals():
+    """--aero coupled maneuvers: static trim to n W; positive alpha at +2.5 g, negative at -1 g; KS totals vs FD."""
+    setup = pegasus.build(case_arguments(pegasus, loads="maneuver", aero="coupled"))
+    setup.options.disp = False
+    assert all(c.aero is not None and c.aero.trim for c in setup.load_cases)
+    prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options, driver=False)
+    prob.run_model()
+    a_pos = prob.get_val("cases.maneuver_pos.states").reshape(-1)[-1]
+    a_neg = prob.get_val("cases.maneuver_neg.states").reshape(-1)[-1]
+    assert a_pos > 0 > a_neg
+    data = prob.check_totals(of=["cases.maneuver_pos.ks_vm"], wrt=["t_upper_skin"], method="fd", form="central",
+                             step=1e-7, step_calc="rel_avg", out_stream=None)
+    for key, d in data.items():
+        J = d["J_fwd"] if "J_fwd" in d else d["J_rev"]
+        assert np.abs(J - d["J_fd"]).max() / np.abs(d["J_fd"]).max() < 1e-5, key

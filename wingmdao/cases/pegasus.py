@@ -106,6 +106,24 @@ def maneuver_case(name, n_load, geometry, chord, axis_frac, families, pf=PLANFOR
     return LoadCase(name, np.zeros(1), forcing, families, f"{n_load:+.2f} g symmetric maneuver")
 
 
+def coupled_maneuver_case(name, n_load, args, geometry, chord, axis_frac, families, weight_lb=TOGW_LB):
+    """Trimmed static aeroelastic maneuver (``--aero coupled``): the aircraft angle of attack solved
+    so that both half-wings lift n W on the deforming wing (strip theory, quasi-steady), at the
+    --altitude-ft / --mach flight point, inertia relief (n - 1) g as in :func:`maneuver_case`."""
+    from wingmdao.aero.coupled import CoupledAero
+    from wingmdao.groups.load_case import LoadCase
+    from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
+
+    alt = float(altitude_ft_to_m(args.altitude_ft))
+    forcing = {"gravity": np.array([[0.0, 0.0, -G0]]),
+               "frame_acceleration": np.array([[0.0, 0.0, (n_load - 1.0) * G0]]),
+               "trim_active": np.ones(1)}
+    aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
+                       airspeed=float(mach_to_tas(args.mach, alt)), density=float(density(alt)), mach=float(args.mach),
+                       trim=True, trim_lift=n_load * weight_lb * LB * G0)
+    return LoadCase(name, np.zeros(1), forcing, families, f"{n_load:+.2f} g trimmed aeroelastic maneuver", aero=aero)
+
+
 def gust_case(args, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
     from wingmdao.loads.atmosphere import altitude_ft_to_m, mach_to_tas
     from wingmdao.loads.gust import design_gust_velocity_eas
@@ -296,8 +314,16 @@ def build(args, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB) -> CaseSetup:
             notes.append(note)
         cases.extend(gusts)
     if loads in ("maneuver", "all"):
-        cases.insert(0, maneuver_case("maneuver_pos", args.load_factor, geometry, chord, axis_frac, families, pf, weight_lb))
-        cases.insert(1, maneuver_case("maneuver_neg", args.negative_load_factor, geometry, chord, axis_frac, families, pf, weight_lb))
+        if getattr(args, "aero", "strip") == "coupled":
+            cases.insert(0, coupled_maneuver_case("maneuver_pos", args.load_factor, args, geometry, chord, axis_frac,
+                                                  families, weight_lb))
+            cases.insert(1, coupled_maneuver_case("maneuver_neg", args.negative_load_factor, args, geometry, chord,
+                                                  axis_frac, families, weight_lb))
+        else:
+            cases.insert(0, maneuver_case("maneuver_pos", args.load_factor, geometry, chord, axis_frac, families, pf,
+                                          weight_lb))
+            cases.insert(1, maneuver_case("maneuver_neg", args.negative_load_factor, geometry, chord, axis_frac,
+                                          families, pf, weight_lb))
     return CaseSetup(geometry, cases, ALUMINIUM, options, notes=notes)
 
 
