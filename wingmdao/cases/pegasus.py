@@ -230,10 +230,11 @@ def coupled_gust_case(name, args, geometry, chord, axis_frac, families, time, *,
     from wingmdao.aero import station_gust_history
     from wingmdao.aero.coupled import CoupledAero
     from wingmdao.groups.load_case import LoadCase
-    from wingmdao.loads.atmosphere import density
+    from wingmdao.loads.atmosphere import density, speed_of_sound
 
     rho, rho0 = float(density(altitude_m)), float(density(0.0))
     V = float(airspeed_tas)
+    mach = V / float(speed_of_sound(altitude_m))  # the flight point's (a gust set may have several)
     H = gradient_ft * FT
     u_tas = direction * u_ds_eas * np.sqrt(rho0 / rho)
     x_le = geometry.node_positions[:, 0] - np.asarray(axis_frac) * np.asarray(chord)
@@ -247,7 +248,7 @@ def coupled_gust_case(name, args, geometry, chord, axis_frac, families, time, *,
     forcing = {"gravity": np.array([0.0, 0.0, -G0]), "gust_velocity": station_gust_history(time, x_le, V, profile),
                "trim_active": trim}
     aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
-                       airspeed=V, density=rho, mach=float(args.mach), trim=True, trim_lift=weight_lb * LB * G0)
+                       airspeed=V, density=rho, mach=mach, trim=True, trim_lift=weight_lb * LB * G0)
     return LoadCase(name, time, forcing, families, description + " (coupled aeroelastic)", aero=aero)
 
 
