@@ -1,6 +1,9 @@
 """PEGASUS sizing wall time beside the dissertation (Sec. 5.1-5.2, Tables 5.2 and 5.4).
 
-    python benchmarks/bench_sizing.py [--dt 0.02]
+    python benchmarks/bench_sizing.py [--dt 0.02] [--aero strip|coupled]
+
+``--aero coupled``: the gust case on the aeroelastic beam (unsteady strip theory on the deforming
+wing, trimmed 1 g start; docs/aeroelasticity.md) instead of the precomputed strip-theory loads.
 
 Thesis: 85.89 s beam static (maneuver) sizing, 409.52 s beam gust sizing, 656.4 s shell model
 with a commercial sizer (static). Goals on this 2-core machine: maneuver <= 10 s, gust <= 60 s.
@@ -21,16 +24,19 @@ GOAL = {"maneuver": 10.0, "gust": 60.0}
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--dt", type=float, default=0.02, help="gust time step [s] (5 s simulated)")
+    ap.add_argument("--aero", choices=("strip", "coupled"), default="strip",
+                    help="gust aerodynamics: precomputed strip loads or the coupled aeroelastic beam")
     args = ap.parse_args()
     print(f"{'case':10s} {'wall [s]':>9s} {'thesis [s]':>11s} {'goal [s]':>9s} {'iter':>5s} "
           f"{'f-evals':>8s} {'g-evals':>8s} {'mass [kg]':>10s}")
     for loads in ("maneuver", "gust"):
-        setup = pegasus.build(case_arguments(pegasus, loads=loads, dt=args.dt))
+        setup = pegasus.build(case_arguments(pegasus, loads=loads, dt=args.dt, aero=args.aero))
         setup.options.disp = False
         t0 = time.perf_counter()
         _, res = size_case(setup)
         wall = time.perf_counter() - t0
-        print(f"{loads:10s} {wall:9.1f} {THESIS[loads]:11.2f} {GOAL[loads]:9.1f} {res['iterations']:5d} "
+        label = loads if loads == "maneuver" or args.aero == "strip" else "gust-cpl"
+        print(f"{label:10s} {wall:9.1f} {THESIS[loads]:11.2f} {GOAL[loads]:9.1f} {res['iterations']:5d} "
               f"{res['function_evaluations']:8d} {res['gradient_evaluations']:8d} {res['mass_kg']:10.2f}"
               f"{'' if res['success'] else '  (not converged)'}")
     print("shell model + commercial sizer, static (thesis): 656.4 s")

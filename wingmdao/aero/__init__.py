@@ -2,14 +2,16 @@
 
 * :mod:`wingmdao.aero.strip` - section model: Jones' Wagner and Sears-Sparks Kuessner finite
   states, Theodorsen apparent mass, Prandtl-Glauert; C(k) exact and of the approximation;
-* :mod:`wingmdao.aero.system` - :func:`build_aeroelastic_system`, :class:`AeroelasticBeamSystem`.
+* :mod:`wingmdao.aero.system` - :func:`build_aeroelastic_system`, :class:`AeroelasticBeamSystem`;
+* :mod:`wingmdao.aero.coupled` - :class:`CoupledAero`, the aerodynamics of a coupled ``LoadCase``.
 """
 
+from wingmdao.aero.coupled import CoupledAero
 from wingmdao.aero.strip import (check_aero_inputs, kussner_sears_sparks, station_gust_history,
                                  theodorsen_exact, theodorsen_jones, wagner_jones)
 from wingmdao.aero.system import (AeroelasticBeamSystem, aero_forcing_specs, aero_param_specs, aero_parameters,
                                   build_aeroelastic_system, cached_aeroelastic_system)
 
-__all__ = ["AeroelasticBeamSystem", "build_aeroelastic_system", "cached_aeroelastic_system", "aero_param_specs",
+__all__ = ["CoupledAero", "AeroelasticBeamSystem", "build_aeroelastic_system", "cached_aeroelastic_system", "aero_param_specs",
            "aero_forcing_specs", "aero_parameters", "check_aero_inputs", "station_gust_history",
            "wagner_jones", "kussner_sears_sparks", "theodorsen_exact", "theodorsen_jones"]

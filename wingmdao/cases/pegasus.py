@@ -56,6 +56,9 @@ def add_arguments(p):
     p.add_argument("--t-final", type=float, default=GUST["t_final"], help="gust simulation time [s]")
     p.add_argument("--dt", type=float, default=0.02, help="time step [s]")
     p.add_argument("--gust-start", type=float, default=0.2, help="time the gust front reaches the wing [s]")
+    p.add_argument("--aero", choices=["strip", "coupled"], default="strip",
+                   help="gust aerodynamics: strip (precomputed rigid-wing strip-theory loads) or coupled (unsteady "
+                        "strip theory on the deforming beam, trimmed 1 g start, clamped root; docs/aeroelasticity.md)")
     p.add_argument("--kussner", action="store_true", help="lag the gust lift by the Kussner function")
     p.add_argument("--damping-ratio", type=float, default=0.0,
                    help="structural damping ratio of the gust case's beam (Kelvin-Voigt strain-rate damping, "
@@ -100,6 +103,24 @@ def maneuver_case(name, n_load, geometry, chord, axis_frac, families, pf=PLANFOR
         "frame_acceleration": np.array([[0.0, 0.0, (n_load - 1.0) * G0]]),
     }
     return LoadCase(name, np.zeros(1), forcing, families, f"{n_load:+.2f} g symmetric maneuver")
+
+
+def coupled_maneuver_case(name, n_load, args, geometry, chord, axis_frac, families, weight_lb=TOGW_LB):
+    """Trimmed static aeroelastic maneuver (``--aero coupled``): the aircraft angle of attack solved
+    so that both half-wings lift n W on the deforming wing (strip theory, quasi-steady), at the
+    --altitude-ft / --mach flight point, inertia relief (n - 1) g as in :func:`maneuver_case`."""
+    from wingmdao.aero.coupled import CoupledAero
+    from wingmdao.groups.load_case import LoadCase
+    from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
+
+    alt = float(altitude_ft_to_m(args.altitude_ft))
+    forcing = {"gravity": np.array([[0.0, 0.0, -G0]]),
+               "frame_acceleration": np.array([[0.0, 0.0, (n_load - 1.0) * G0]]),
+               "trim_active": np.ones(1)}
+    aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
+                       airspeed=float(mach_to_tas(args.mach, alt)), density=float(density(alt)), mach=float(args.mach),
+                       trim=True, trim_lift=n_load * weight_lb * LB * G0)
+    return LoadCase(name, np.zeros(1), forcing, families, f"{n_load:+.2f} g trimmed aeroelastic maneuver", aero=aero)
 
 
 def gust_case(args, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
@@ -150,6 +171,10 @@ def gust_history_case(name, args, geometry, chord, axis_frac, families, *, gradi
     from wingmdao.loads.maneuver import maneuver_line_loads
 
     time = np.arange(0.0, args.t_final + 0.5 * args.dt, args.dt)
+    if getattr(args, "aero", "strip") == "coupled":
+        return coupled_gust_case(name, args, geometry, chord, axis_frac, families, time, gradient_ft=gradient_ft,
+                                 u_ds_eas=u_ds_eas, airspeed_tas=airspeed_tas, altitude_m=altitude_m,
+                                 direction=direction, weight_lb=weight_lb, description=description)
     steady = maneuver_line_loads(geometry.node_positions, chord, axis_frac, weight_lb * LB * G0, 1.0,
                                  semi_span=pf.semi_span, fuselage_half_width=pf.root_rib * pf.semi_span)
     hist = gust_line_loads(geometry.node_positions, chord, axis_frac, time,
@@ -192,6 +217,37 @@ def gust_set_of(args):
                      u_ref_fps=float(args.u_ref_fps) if args.u_ref_fps > 0 else None)
     h = grads if grads is not None else log_spaced_gradients_ft(count)
     return GustSet((fp,), h, parse_signs(sign or "both"), **GUST_SET_DEFAULTS)
+
+
+def coupled_gust_case(name, args, geometry, chord, axis_frac, families, time, *, gradient_ft, u_ds_eas,
+                      airspeed_tas, altitude_m, direction, weight_lb, description):
+    """The 1 - cos gust on the aeroelastic beam (``--aero coupled``): unsteady strip theory on the
+    deforming wing (wingmdao.aero), root clamped, the march starting from the trimmed 1 g state
+    (aircraft angle of attack solved at t = 0 so that both half-wings lift W, gravity on), the gust
+    velocity per station with its penetration delay from the most forward leading edge."""
+    from wingmdao.aero import station_gust_history
+    from wingmdao.aero.coupled import CoupledAero
+    from wingmdao.groups.load_case import LoadCase
+    from wingmdao.loads.atmosphere import density, speed_of_sound
+
+    rho, rho0 = float(density(altitude_m)), float(density(0.0))
+    V = float(airspeed_tas)
+    mach = V / float(speed_of_sound(altitude_m))  # the flight point's (a gust set may have several)
+    H = gradient_ft * FT
+    u_tas = direction * u_ds_eas * np.sqrt(rho0 / rho)
+    x_le = geometry.node_positions[:, 0] - np.asarray(axis_frac) * np.asarray(chord)
+
+    def profile(tau):
+        d = V * (tau - args.gust_start)
+        return np.where((d >= 0) & (d <= 2 * H), 0.5 * u_tas * (1 - np.cos(np.pi * d / H)), 0.0)
+
+    trim = np.zeros(time.size)
+    trim[0] = 1.0
+    forcing = {"gravity": np.array([0.0, 0.0, -G0]), "gust_velocity": station_gust_history(time, x_le, V, profile),
+               "trim_active": trim}
+    aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
+                       airspeed=V, density=rho, mach=mach, trim=True, trim_lift=weight_lb * LB * G0)
+    return LoadCase(name, time, forcing, families, description + " (coupled aeroelastic)", aero=aero)
 
 
 def gust_set_cases(gset, args, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
@@ -265,8 +321,16 @@ def build(args, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB) -> CaseSetup:
             notes.append(note)
         cases.extend(gusts)
     if loads in ("maneuver", "all"):
-        cases.insert(0, maneuver_case("maneuver_pos", args.load_factor, geometry, chord, axis_frac, families, pf, weight_lb))
-        cases.insert(1, maneuver_case("maneuver_neg", args.negative_load_factor, geometry, chord, axis_frac, families, pf, weight_lb))
+        if getattr(args, "aero", "strip") == "coupled":
+            cases.insert(0, coupled_maneuver_case("maneuver_pos", args.load_factor, args, geometry, chord, axis_frac,
+                                                  families, weight_lb))
+            cases.insert(1, coupled_maneuver_case("maneuver_neg", args.negative_load_factor, args, geometry, chord,
+                                                  axis_frac, families, weight_lb))
+        else:
+            cases.insert(0, maneuver_case("maneuver_pos", args.load_factor, geometry, chord, axis_frac, families, pf,
+                                          weight_lb))
+            cases.insert(1, maneuver_case("maneuver_neg", args.negative_load_factor, geometry, chord, axis_frac,
+                                          families, pf, weight_lb))
     return CaseSetup(geometry, cases, ALUMINIUM, options, notes=notes)
 
 

@@ -39,6 +39,8 @@ class LoadCase:
     families: tuple = ("vm",)
     description: str = ""
     damping: object = None
+    #: optional :class:`wingmdao.aero.coupled.CoupledAero`: the case runs on the aeroelastic beam
+    aero: object = None
 
     def __post_init__(self):
         self.time = np.atleast_1d(np.asarray(self.time, dtype=float))
@@ -56,7 +58,12 @@ class LoadCase:
 
             if not isinstance(self.damping, StrainRateDamping):
                 raise ValueError(f"load case {self.name}: damping must be a StrainRateDamping, got {self.damping!r}")
-        unknown = [k for k in self.forcing if k not in FORCING_SHAPES]
+        if self.aero is not None:
+            from wingmdao.aero.coupled import CoupledAero
+
+            if not isinstance(self.aero, CoupledAero):
+                raise ValueError(f"load case {self.name}: aero must be a CoupledAero, got {type(self.aero).__name__}")
+        unknown = [k for k in self.forcing if k not in self._forcing_shapes()]
         if unknown:
             raise ValueError(f"load case {self.name}: unknown forcing {unknown}; valid: {', '.join(FORCING_SHAPES)}")
 
@@ -68,9 +75,16 @@ class LoadCase:
     def is_static(self) -> bool:
         return self.num_times == 1
 
+    def _forcing_shapes(self) -> dict:
+        if self.aero is None:
+            return FORCING_SHAPES
+        from wingmdao.aero.coupled import AERO_FORCING_SHAPES
+
+        return {**FORCING_SHAPES, **AERO_FORCING_SHAPES}
+
     def forcing_array(self, name: str, num_nodes: int) -> np.ndarray:
         """The full (n_time, ...) array of forcing ``name`` (zeros when not given), validated."""
-        shape = (self.num_times,) + tuple(num_nodes if d == "n" else d for d in FORCING_SHAPES[name])
+        shape = (self.num_times,) + tuple(num_nodes if d == "n" else d for d in self._forcing_shapes()[name])
         if name not in self.forcing:
             return np.zeros(shape)
         arr = np.asarray(self.forcing[name], dtype=float)

@@ -74,6 +74,13 @@ def set_case_loads(prob: om.Problem, case: LoadCase, num_nodes: int, path: str =
     prefix = f"{path}." if path else ""
     for name, (units, _) in FORCING_META.items():
         prob.set_val(prefix + name, case.forcing_array(name, num_nodes), units=units)
+    if case.aero is not None:  # coupled case: its aerodynamic forcing and parameters
+        from wingmdao.aero.coupled import AERO_FORCING_META
+
+        for name, (units, _) in AERO_FORCING_META.items():
+            prob.set_val(prefix + name, case.forcing_array(name, num_nodes), units=units)
+        for name, val in case.aero.parameters(num_nodes).items():
+            prob.set_val(prefix + name, val)
 
 
 class WingStructure(om.Group):
@@ -123,22 +130,53 @@ class WingStructure(om.Group):
                 loads.add_output(name, val=case.forcing_array(name, n), units=units, desc=desc)
 
         beam_kwargs = dict(num_nodes=n, time=case.time, **(self.options["newton_options"] or {}))
-        if case.damping is not None and not case.damping.is_zero:
-            from wingmdao.beam.static import cached_beam_system
+        aero = case.aero
+        if aero is not None:
+            # coupled case: the aeroelastic beam (unsteady strip theory) in place of BeamDynamics;
+            # its aerodynamic parameters and forcing are promoted inputs of the case
+            from wingmdao.aero.coupled import AERO_FORCING_SHAPES
+            from wingmdao.aero.system import aero_param_specs
+            from wingmdao.components.aeroelastic import AeroelasticBeamDynamics
 
-            beam_kwargs["system"] = cached_beam_system(n, beam_kwargs.get("euler_sequence", "surface"), case.damping)
-        beam = BeamDynamics(**beam_kwargs)
+            if case.damping is not None and not case.damping.is_zero:
+                raise ValueError(f"load case {case.name}: structural damping is not available with aero")
+            beam = AeroelasticBeamDynamics(num_nodes=n, time=case.time, plunge=bool(aero.plunge),
+                                           trim=bool(aero.trim))
+            for k, v in (self.options["newton_options"] or {}).items():
+                if k in beam.options:
+                    beam.options[k] = v
+            extra = [s.name for s in aero_param_specs(n)] + list(AERO_FORCING_SHAPES)
+            extra = [e for e in extra if aero.trim or e != "trim_active"]
+            extra += ["body_mass"] if aero.plunge else []
+            extra += ["trim_lift"] if aero.trim else []
+        else:
+            if case.damping is not None and not case.damping.is_zero:
+                from wingmdao.beam.static import cached_beam_system
+
+                beam_kwargs["system"] = cached_beam_system(n, beam_kwargs.get("euler_sequence", "surface"),
+                                                           case.damping)
+            beam = BeamDynamics(**beam_kwargs)
+            extra = []
         beam.recording_options["options_excludes"] = ["system"]  # a CasADi object: not picklable
         forcing = [] if self.options["loads_component"] else list(FORCING_SHAPES)
         self.add_subsystem("beam", beam, promotes_inputs=[
             "node_positions", "node_euler_angles", *SECTION_TO_BEAM,
-            "tension_axis", "shear_center", "mass_center", *forcing], promotes_outputs=["states"])
+            "tension_axis", "shear_center", "mass_center", *forcing, *extra], promotes_outputs=["states"])
         if self.options["loads_component"]:
             for name in FORCING_SHAPES:
                 self.connect(f"loads.{name}", f"beam.{name}")
 
-        self.add_subsystem("internal_loads", BeamInternalLoads(num_times=nt, num_nodes=n),
-                           promotes_inputs=["states"])
+        if aero is not None:
+            from wingmdao.components.state_slice import BeamStateSlice
+
+            shape = tuple(beam.build_system().state_shape)
+            self.add_subsystem("beam_states", BeamStateSlice(num_times=nt, num_nodes=n, state_shape=shape),
+                               promotes_inputs=["states"])
+            self.add_subsystem("internal_loads", BeamInternalLoads(num_times=nt, num_nodes=n))
+            self.connect("beam_states.beam_states", "internal_loads.states")
+        else:
+            self.add_subsystem("internal_loads", BeamInternalLoads(num_times=nt, num_nodes=n),
+                               promotes_inputs=["states"])
 
         # the box stress takes the section properties from the section component (computed once
         # per station, not at every time step)
