@@ -100,12 +100,13 @@ class StructInputs(om.ExplicitComponent):
         n = self.options["num_nodes"]
         for name, per, what in ((X_STRUCT0, 3, "3 coordinates per beam node"),
                                 (F_STRUCT, 6, "3 forces and 3 moments per beam node")):
-            if name not in self._var_rel2meta:
+            meta = self.get_io_metadata(metadata_keys=["size", "shape"], return_rel_names=True)
+            if name not in meta:
                 continue
-            size = self._var_rel2meta[name]["size"]
+            size = meta[name]["size"]
             if size != per * n:
                 raise ValueError(f"{self.pathname}: {name} has {size} entries, shape "
-                                 f"{self._var_rel2meta[name]['shape']}; expected {per * n} ({what}, "
+                                 f"{meta[name]['shape']}; expected {per * n} ({what}, "
                                  f"{n} beam nodes)")
         k = np.arange(3 * n)
         self.declare_partials("node_positions", X_STRUCT0, rows=k, cols=k, val=1.0)

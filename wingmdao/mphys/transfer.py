@@ -92,7 +92,7 @@ class _LinkBase(om.ExplicitComponent):
         return xa - xs[links]   # (m, 3), in the beam's frame
 
     def _check_size(self, name, expected, what):
-        size = self._var_rel2meta[name]["size"]
+        size = self.get_io_metadata(metadata_keys=["size"], return_rel_names=True)[name]["size"]
         if size != expected:
             raise ValueError(f"{self.pathname}: {name} has {size} entries; expected {expected} ({what})")
 
