@@ -111,6 +111,12 @@ def run_size(args) -> int:
     if comm is not None:
         say(f"  MPI: {comm.size} ranks share the {len(setup.load_cases)} load cases (wingmdao.parallel)")
     optimize = not args.analysis_only
+    from wingmdao.limits import check_memory
+    from wingmdao.parallel import assign_cases
+
+    mine = (setup.load_cases if comm is None else
+            [setup.load_cases[i] for i in assign_cases(setup.load_cases, comm.size)[comm.rank]])
+    check_memory(mine, setup.geometry.num_nodes)  # before any solve: this rank's marches must fit
     prob, desc = sizing.build_problem(setup.geometry, setup.load_cases, setup.material, opts,
                                       driver=optimize, section=setup.section, comm=comm or False)
     import openmdao.api as om
