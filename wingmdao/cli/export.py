@@ -11,17 +11,14 @@ def register(subparsers):
                               description="Export a case as an FE deck (SI units: m, N, kg; body axes).")
     cases = p.add_subparsers(dest="case", metavar="CASE", required=True)
     wb = cases.add_parser("wing-box", help="App. D.1 box (Table E.2 walls, or --design)")
-    from wingmdao.cli.run import GEOMETRIES
+    from wingmdao.cli.run import add_wing_box_arguments
 
-    wb.add_argument("--geometry", choices=GEOMETRIES, required=True, help="Table D.2 geometry")
+    add_wing_box_arguments(wb)
     wb.add_argument("--design", default=None, metavar="RESULT.json",
                     help="wall thicknesses from a 'wingmdao size wing-box --elements 1 1 1' result")
-    wb.add_argument("--t-spar", type=float, default=0.2, metavar="M", help="spar thickness, streamwise (m)")
-    wb.add_argument("--t-skin", type=float, default=0.1, metavar="M", help="skin thickness, streamwise (m)")
-    wb.add_argument("--format", choices=("calculix", "nastran", "abaqus"), required=True)
-    wb.add_argument("--fidelity", choices=("beam", "shell"), default="beam")
-    wb.add_argument("--tip-load", type=float, nargs=3, default=(0.0, 0.0, 0.0), metavar=("FX", "FY", "FZ"))
-    wb.add_argument("--tip-moment", type=float, nargs=3, default=(0.0, 0.0, 0.0), metavar=("MX", "MY", "MZ"))
+    wb.add_argument("--format", choices=("calculix", "nastran", "abaqus"), required=True, help="deck format")
+    wb.add_argument("--fidelity", choices=("beam", "shell"), default="beam",
+                    help="beam stick model or shell model of the walls")
     wb.add_argument("file", metavar="FILE", help="deck to write")
     wb.set_defaults(func=run_export)
 

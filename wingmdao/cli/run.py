@@ -17,6 +17,20 @@ import numpy as np
 GEOMETRIES = ("prismatic", "taper", "sweep", "dihedral", "combined")
 
 
+def add_wing_box_arguments(parser, *, walls=True, loads=True):
+    """The App. D.1 box flags shared by ``run``, ``verify`` and ``export wing-box``: ``--geometry``,
+    the streamwise wall thicknesses ``--t-spar``/``--t-skin`` (m), ``--tip-load``/``--tip-moment``."""
+    parser.add_argument("--geometry", choices=GEOMETRIES, required=True, help="Table D.2 geometry")
+    if walls:
+        parser.add_argument("--t-spar", type=float, default=0.2, metavar="M", help="spar thickness in the streamwise cut (m)")
+        parser.add_argument("--t-skin", type=float, default=0.1, metavar="M", help="skin thickness in the streamwise cut (m)")
+    if loads:
+        parser.add_argument("--tip-load", type=float, nargs=3, default=(0.0, 0.0, 0.0), metavar=("FX", "FY", "FZ"),
+                            help="tip force at the CS4 centre, body axes (N)")
+        parser.add_argument("--tip-moment", type=float, nargs=3, default=(0.0, 0.0, 0.0), metavar=("MX", "MY", "MZ"),
+                            help="tip moment, body axes (N*m)")
+
+
 def register(subparsers):
     p = subparsers.add_parser("run", help="run a shipped analysis case (beam response, stresses) and write JSON",
                               description="Run an analysis case. SI units, body axes x aft, y outboard, z up.")
@@ -31,13 +45,7 @@ def register(subparsers):
         "mass_kg; with --dynamic also time (s) and tip_displacement_history (n_time x 3, m); with "
         "--check-totals also check_totals_max_rel_error. Dynamic runs: the load is applied suddenly at "
         "t > 0 to the beam at rest in its unloaded shape; values without _history are at the last instant.")
-    wb.add_argument("--geometry", choices=GEOMETRIES, required=True, help="Table D.2 geometry")
-    wb.add_argument("--t-spar", type=float, default=0.2, metavar="M", help="spar thickness in the streamwise cut (m, default 0.2)")
-    wb.add_argument("--t-skin", type=float, default=0.1, metavar="M", help="skin thickness in the streamwise cut (m, default 0.1)")
-    wb.add_argument("--tip-load", type=float, nargs=3, default=(0.0, 0.0, 0.0), metavar=("FX", "FY", "FZ"),
-                    help="tip force at the CS4 centre, body axes (N)")
-    wb.add_argument("--tip-moment", type=float, nargs=3, default=(0.0, 0.0, 0.0), metavar=("MX", "MY", "MZ"),
-                    help="tip moment, body axes (N*m)")
+    add_wing_box_arguments(wb)
     wb.add_argument("--gravity", action="store_true", help="add self weight (g = 9.81 m/s^2 along -z)")
     wb.add_argument("--dynamic", action="store_true",
                     help="BDF2 time march: tip load applied suddenly at t > 0 to the beam at rest")

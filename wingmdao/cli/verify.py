@@ -23,15 +23,9 @@ def register(subparsers):
                               description="Beam vs CalculiX (ccx) shell model of a shipped case. SI units, body axes.")
     cases = p.add_subparsers(dest="case", metavar="CASE", required=True)
     wb = cases.add_parser("wing-box", help="App. D.1 box: beam vs CalculiX shell under tip loads, modes")
-    from wingmdao.cli.run import GEOMETRIES
+    from wingmdao.cli.run import add_wing_box_arguments
 
-    wb.add_argument("--geometry", choices=GEOMETRIES, required=True, help="Table D.2 geometry")
-    wb.add_argument("--t-spar", type=float, default=0.2, metavar="M", help="spar thickness, streamwise cut (m)")
-    wb.add_argument("--t-skin", type=float, default=0.1, metavar="M", help="skin thickness, streamwise cut (m)")
-    wb.add_argument("--tip-load", type=float, nargs=3, default=(0.0, 0.0, 0.0), metavar=("FX", "FY", "FZ"),
-                    help="tip force at the CS4 centre, body axes (N)")
-    wb.add_argument("--tip-moment", type=float, nargs=3, default=(0.0, 0.0, 0.0), metavar=("MX", "MY", "MZ"),
-                    help="tip moment, body axes (N*m)")
+    add_wing_box_arguments(wb)
     wb.add_argument("--fidelity", choices=("shell",), default="shell",
                     help="FE model: shell (S8R); the C3D20R solid option is not implemented yet")
     g = wb.add_mutually_exclusive_group()

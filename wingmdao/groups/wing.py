@@ -58,6 +58,24 @@ def _section_classes(kind):
     raise ValueError(f"section must be one of {', '.join(SECTION_KINDS)}, got {kind!r}")
 
 
+#: Beam offset inputs and the section outputs (c, n) that form them.
+SECTION_OFFSETS = {"tension_axis": ("c_ea", "n_ea"), "shear_center": ("c_sc", "n_sc"),
+                   "mass_center": ("c_cg", "n_cg")}
+
+
+def add_section_offsets(group: om.Group, num_nodes: int, *, source: str = "", mux=None, **promotes):
+    """Add an ``offsets`` MuxComp to ``group`` that stacks the section's (c, n) centres into the
+    beam's (n, 2) ``tension_axis``, ``shear_center``, ``mass_center`` inputs (SECTION_OFFSETS).
+    ``source``: prefix of the section outputs (e.g. ``"section."``; empty when promoted);
+    ``mux``: a MuxComp instance to use (e.g. a tagged subclass); ``promotes``: add_subsystem's."""
+    mux = group.add_subsystem("offsets", mux if mux is not None else om.MuxComp(vec_size=2), **promotes)
+    for out, (c, n) in SECTION_OFFSETS.items():
+        mux.add_var(out, shape=(num_nodes,), axis=1, units="m")
+        group.connect(f"{source}{c}", f"offsets.{out}_0")
+        group.connect(f"{source}{n}", f"offsets.{out}_1")
+    return mux
+
+
 def stress_points(kind, families) -> dict:
     """Constraint points per station of each stress family of section ``kind`` (no Problem built)."""
     return {fam: _section_classes(kind)[1].points_per_station(fam) for fam in families}
@@ -258,12 +276,7 @@ class WingSizing(om.Group):
             alias = [(d, f"{d}_station") for d in design]
         self.add_subsystem("section", section_cls(num_stations=n, material=mat),
                            promotes_inputs=alias + ["*"], promotes_outputs=["*"])
-        mux = self.add_subsystem("offsets", om.MuxComp(vec_size=2), promotes_outputs=["*"])
-        for out, (c, s) in {"tension_axis": ("c_ea", "n_ea"), "shear_center": ("c_sc", "n_sc"),
-                            "mass_center": ("c_cg", "n_cg")}.items():
-            mux.add_var(out, shape=(n,), axis=1, units="m")
-            self.connect(c, f"offsets.{out}_0")
-            self.connect(s, f"offsets.{out}_1")
+        add_section_offsets(self, n, promotes_outputs=["*"])
         self.add_subsystem("mass_calc", StructuralMass(num_nodes=n, density=mat.rho),
                            promotes_inputs=["A", "node_positions"],
                            promotes_outputs=["mass"])

@@ -31,11 +31,12 @@ import numpy as np
 import openmdao.api as om
 from mphys.core import Builder, MPhysVariables
 
+from wingmdao.groups import wing as _wing
 from wingmdao.mphys.transfer import RigidLinkDisplacementTransfer, RigidLinkLoadTransfer, rigid_links
+from wingmdao.section.box import WALL_NAMES as WALLS
 
-WALLS = ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")
-SECTION_TO_BEAM = ("stiffness_csn", "compliance_csn", "mass_per_length", "inertia_per_length",
-                   "tension_axis", "shear_center", "mass_center")
+#: beam inputs the pre-coupling passes to the coupling group (section properties and offsets)
+SECTION_TO_BEAM = _wing.SECTION_TO_BEAM + tuple(_wing.SECTION_OFFSETS)
 STATES = "wingmdao_states"
 X_STRUCT0 = MPhysVariables.Structures.COORDINATES
 U_STRUCT = MPhysVariables.Structures.DISPLACEMENTS
@@ -215,13 +216,10 @@ class PreCoupling(om.Group):
         self.add_subsystem("xs", StructInputs(num_nodes=n, loads=False), promotes=["*"])
         cls = _tagged(BoxSection, set(SECTION_TO_BEAM), "mphys_coupling")
         self.add_subsystem("section", cls(num_stations=n, material=b.material), promotes=["*"])
-        mux = self.add_subsystem("offsets", _tagged(om.MuxComp, set(SECTION_TO_BEAM), "mphys_coupling")(vec_size=2),
-                                 promotes_outputs=["*"])
-        for out, (c, s) in {"tension_axis": ("c_ea", "n_ea"), "shear_center": ("c_sc", "n_sc"),
-                            "mass_center": ("c_cg", "n_cg")}.items():
-            mux.add_var(out, shape=(n,), axis=1, units="m")
-            self.connect(c, f"offsets.{out}_0")
-            self.connect(s, f"offsets.{out}_1")
+        from wingmdao.groups.wing import add_section_offsets
+
+        add_section_offsets(self, n, mux=_tagged(om.MuxComp, set(SECTION_TO_BEAM), "mphys_coupling")(vec_size=2),
+                            promotes_outputs=["*"])
         self.add_subsystem("mass", _tagged(StructuralMass, {"mass"}, "mphys_result")(num_nodes=n, material=b.material),
                            promotes_inputs=["A", "node_positions"], promotes_outputs=[("mass", "struct_mass")])
 

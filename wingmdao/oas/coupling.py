@@ -226,12 +226,10 @@ class OASBeamStates(om.Group):
         self.add_subsystem("section", BoxSection(num_stations=n, material=self.options["material"]),
                            promotes_inputs=["width", "height", "t_upper_skin", "t_lower_skin", "t_front_spar",
                                             "t_rear_spar"])
-        mux = self.add_subsystem("offsets", om.MuxComp(vec_size=2))
-        for out, (c, s) in {"tension_axis": ("c_ea", "n_ea"), "shear_center": ("c_sc", "n_sc"),
-                            "mass_center": ("c_cg", "n_cg")}.items():
-            mux.add_var(out, shape=(n,), axis=1, units="m")
-            self.connect(f"section.{c}", f"offsets.{out}_0")
-            self.connect(f"section.{s}", f"offsets.{out}_1")
+        from wingmdao.groups.wing import SECTION_OFFSETS, add_section_offsets
+
+        add_section_offsets(self, n, source="section.")
+        for out in SECTION_OFFSETS:
             self.connect(f"offsets.{out}", f"beam.{out}")
         self.add_subsystem("to_beam", OASToBeamLoads(num_nodes=n), promotes_inputs=["loads"])
         beam = BeamStatic(num_nodes=n, state_name=STATES, **(self.options["newton_options"] or {}))
