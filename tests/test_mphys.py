@@ -190,3 +190,21 @@ def test_scenario_totals(coupled):
             continue
         nontrivial = np.abs(F) > 1e-6 * scale
         assert np.all(np.abs(J - F)[nontrivial] <= 1e-4 * np.abs(F)[nontrivial]), key
+
+
+def test_dv_split_partials_and_bad_thickness():
+    from wingmdao.mphys.builder import DvSplit
+
+    n = 3
+    dv = RNG.uniform(1e-3, 1e-2, 4 * n)
+    p = om.Problem(reports=False)
+    p.model.add_subsystem("d", DvSplit(num_nodes=n, initial=dv))
+    p.setup(force_alloc_complex=True)
+    p.run_model()
+    np.testing.assert_array_equal(p.get_val("d.t_front_spar"), dv[2 * n:3 * n])
+    for comp, d in p.check_partials(method="cs", out_stream=None).items():
+        for key, v in d.items():
+            assert v["abs error"].forward < 1e-12, (comp, key)
+    p.set_val("d.dv_struct", -dv)
+    with pytest.raises(om.AnalysisError, match="dv_struct"):
+        p.run_model()

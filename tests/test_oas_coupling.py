@@ -158,3 +158,24 @@ def test_crm_analysis_only_json(tmp_path):
         assert max(d["coupled_iterations"]) < 25
     assert res["wing_mass_kg"] == pytest.approx(res["oas_beam"]["wing_mass_kg"], rel=1e-12)  # same geometry
     assert res["fuelburn_kg"] == pytest.approx(res["oas_beam"]["fuelburn_kg"], rel=0.03)
+
+
+def test_box_dims_partials_and_values():
+    """OASBoxDims: width = hfront + hrear, height = htop + hbottom, element -> node averaging."""
+    from wingmdao.oas.coupling import OASBoxDims
+
+    n = 5
+    p = om.Problem(reports=False)
+    p.model.add_subsystem("b", OASBoxDims(num_nodes=n))
+    p.setup(force_alloc_complex=True)
+    h = {k: RNG.uniform(0.05, 0.3, n - 1) for k in ("htop", "hbottom", "hfront", "hrear")}
+    for k, v in h.items():
+        p.set_val(f"b.{k}", v)
+    p.run_model()
+    # OAS elements run tip first; node i (root first) averages its adjacent elements
+    w_el = (h["hfront"] + h["hrear"])[::-1]
+    ref = np.concatenate([[w_el[0]], 0.5 * (w_el[:-1] + w_el[1:]), [w_el[-1]]])
+    np.testing.assert_allclose(p.get_val("b.width"), ref, rtol=1e-12)
+    for comp, d in p.check_partials(method="cs", out_stream=None).items():
+        for key, v in d.items():
+            assert v["abs error"].forward < 1e-10, (comp, key)

@@ -212,30 +212,12 @@ class CaseHistory(_ProxyBase):
             outputs[name] = vals[name]
 
 
-class RankInfo(om.ExplicitComponent):
-    """Number of MPI ranks sharing the cases; takes the jig Euler angles, which the main problem
-    (section and mass only) otherwise would not use (the cases' sub-problems set their own)."""
-
-    def initialize(self):
-        self.options.declare("num_nodes", types=int)
-        self.options.declare("ranks", types=int)
-
-    def setup(self):
-        self.add_input("node_euler_angles", val=np.zeros((self.options["num_nodes"], 3)), units="rad",
-                       desc="jig Euler angles per node (used by the cases' sub-problems)")
-        self.add_output("mpi_ranks", val=float(self.options["ranks"]), desc="ranks sharing the load cases")
-
-    def compute(self, inputs, outputs):
-        outputs["mpi_ranks"] = float(self.options["ranks"])
-
-
 def add_case_proxies(cases, exchange, geometry, material, section, n_dv, add_constraints=False):
     """``<name>`` proxy groups (ks, stress, internal_loads) in group ``cases`` for every load case."""
     from wingmdao.groups.wing import SECTION_KINDS, stress_points
 
     design = list(SECTION_KINDS[section]["design_vars"])
     n = geometry.num_nodes
-    cases.add_subsystem("ranks", RankInfo(num_nodes=n, ranks=exchange.comm.size), promotes_inputs=["node_euler_angles"])
     for case in exchange.cases:
         grp = cases.add_subsystem(case.name, om.Group(), promotes_inputs=design)
         kw = dict(exchange=exchange, case=case, dv_size=n_dv)
@@ -277,7 +259,7 @@ def distributed_wing_sizing(geometry, load_cases, material, options, section, co
 def set_shared_geometry(prob, geometry, section="box"):
     """:func:`wingmdao.sizing.set_geometry` for a main problem whose cases live in sub-problems."""
     prob.set_val("node_positions", geometry.node_positions, units="m")
-    prob.set_val("node_euler_angles", geometry.node_euler_angles, units="rad")
+    # the jig Euler angles only enter the beams, which live in the cases' sub-problems
     if section == "box":
         prob.set_val("width", geometry.width, units="m")
         prob.set_val("height", geometry.height, units="m")

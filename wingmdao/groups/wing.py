@@ -283,7 +283,8 @@ class WingSizing(om.Group):
 
         # inputs shared by several components get one default (units and shape)
         self.set_input_defaults("node_positions", val=np.zeros((n, 3)), units="m")
-        self.set_input_defaults("node_euler_angles", val=np.zeros((n, 3)), units="rad")
+        if not self.options["proxy_cases"]:  # only the beams of the cases take the jig angles
+            self.set_input_defaults("node_euler_angles", val=np.zeros((n, 3)), units="rad")
         n_dv = n if self.options["station_map"] is None else int(np.max(self.options["station_map"])) + 1
         for name in SECTION_KINDS[kind]["stress_inputs"]:
             shape = (n_dv,) if (name in design and alias) else (n,)

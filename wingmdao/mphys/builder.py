@@ -183,8 +183,8 @@ class DvSplit(om.ExplicitComponent):
         bad = np.flatnonzero(~(dv > 0.0))
         if bad.size:
             i = int(bad[0])
-            raise ValueError(f"{self.pathname}: dv_struct[{i}] ({WALLS[i // n]} at node {i % n}) = {dv[i]} m; "
-                             "allowed range (0, inf) m")
+            raise om.AnalysisError(f"{self.pathname}: dv_struct[{i}] ({WALLS[i // n]} at node {i % n}) = {dv[i]} m; "
+                                   "allowed range (0, inf) m")
         for k, w in enumerate(WALLS):
             outputs[w] = dv[k * n:(k + 1) * n]
 
