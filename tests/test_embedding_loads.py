@@ -175,3 +175,17 @@ def test_project_names_no_file_outside_the_repository():
         if "../shared" in text or "CONVENTIONS.md" in text or "dissertation.txt" in text:
             offenders.append(str(path.relative_to(root)))
     assert not offenders
+
+
+def test_bad_design_inside_a_solve_is_an_analysis_error(prob):
+    """A thickness outside its range met while computing: ValueError (clear message) and
+    om.AnalysisError (a driver backs off)."""
+    t = prob.get_val("t_upper_skin").copy()
+    prob.set_val("t_upper_skin", -t)
+    try:
+        with pytest.raises(om.AnalysisError, match="t_upper_skin") as info:
+            prob.run_model()
+        assert isinstance(info.value, ValueError)
+    finally:
+        prob.set_val("t_upper_skin", t)
+        prob.run_model()

@@ -14,6 +14,7 @@ import numpy as np
 import openmdao.api as om
 
 from wingmdao import DISSERTATION
+from wingmdao.errors import InputRangeError
 
 
 def element_lengths(node_positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -86,17 +87,17 @@ class StructuralMass(om.ExplicitComponent):
         for name, arr in (("A", area), ("node_positions", pos), ("nonstructural_mass_per_length", mu)):
             bad = np.flatnonzero(~np.isfinite(arr.ravel()))
             if bad.size:
-                raise ValueError(f"StructuralMass: {name} is not finite at flat index {bad[0]}")
+                raise InputRangeError(f"StructuralMass: {name} is not finite at flat index {bad[0]}")
         bad = np.flatnonzero(area <= 0.0)
         if bad.size:
             i = bad[0]
-            raise ValueError(
+            raise InputRangeError(
                 f"StructuralMass: A[{i}] = {area[i]:.6g} m^2 at node {i}; allowed range (0, inf) m^2"
             )
         bad = np.flatnonzero(mu < 0.0)
         if bad.size:
             i = bad[0]
-            raise ValueError(
+            raise InputRangeError(
                 f"StructuralMass: nonstructural_mass_per_length[{i}] = {mu[i]:.6g} kg/m at node {i}; "
                 "allowed range [0, inf) kg/m"
             )
@@ -104,7 +105,7 @@ class StructuralMass(om.ExplicitComponent):
         bad = np.flatnonzero(s <= 0.0)
         if bad.size:
             i = bad[0]
-            raise ValueError(
+            raise InputRangeError(
                 f"StructuralMass: node_positions[{i}] and node_positions[{i + 1}] coincide; "
                 "element length must be in (0, inf) m"
             )

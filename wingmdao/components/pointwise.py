@@ -15,6 +15,8 @@ import casadi as ca
 import numpy as np
 import openmdao.api as om
 
+from wingmdao.errors import InputRangeError
+
 from wingmdao.timemarch.system import VarSpec
 
 
@@ -143,7 +145,10 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
         return stacked
 
     def compute(self, inputs, outputs):
-        self.check_inputs(inputs)
+        try:
+            self.check_inputs(inputs)
+        except ValueError as exc:  # inside a solve: also an AnalysisError, so drivers back off
+            raise InputRangeError(str(exc)) from None
         self._f = self._jit_f.update(self._f)
         res = self._f(*self._stacked_inputs(inputs))
         if not isinstance(res, (list, tuple)):
