@@ -82,8 +82,14 @@ class Modes:
     @property
     def damping_ratio(self) -> np.ndarray:
         """g = 2 Re / |Im| (NaN for real eigenvalues)."""
-        with np.errstate(divide="ignore", invalid="ignore"):
-            return np.where(self.frequency > 0, 2.0 * self.damping / self.frequency, np.nan)
+        return damping_ratio(self.eigenvalues)
+
+
+def damping_ratio(eigenvalues) -> np.ndarray:
+    """g = 2 Re(lambda) / |Im(lambda)| (NaN for real eigenvalues)."""
+    lam = np.asarray(eigenvalues)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(np.abs(lam.imag) > 0, 2.0 * lam.real / np.abs(lam.imag), np.nan)
 
 
 def _det_sign(A) -> float:
@@ -232,16 +238,18 @@ class StabilitySweep:
 
     @property
     def damping(self) -> np.ndarray:
+        """Re(lambda) per speed and tracked mode, 1/s."""
         return self.tracked.real
 
     @property
     def frequency(self) -> np.ndarray:
+        """|Im(lambda)| per speed and tracked mode, rad/s."""
         return np.abs(self.tracked.imag)
 
     @property
     def damping_ratio(self) -> np.ndarray:
-        with np.errstate(divide="ignore", invalid="ignore"):
-            return np.where(self.frequency > 0, 2.0 * self.damping / self.frequency, np.nan)
+        """g = 2 Re / |Im| per speed and tracked mode (NaN for real eigenvalues)."""
+        return damping_ratio(self.tracked)
 
 
 def check_speeds(speeds) -> np.ndarray:
