@@ -33,11 +33,11 @@ def _load():
 def rss_child(steps: int) -> None:
     import numpy as np
 
-    from wingmdao.cases import case_arguments, pegasus
+    from wingmdao.cases import pegasus
     from wingmdao.sizing import WALL_VARS, build_problem
 
     dt = 0.01
-    setup = pegasus.build(case_arguments(pegasus, loads="gust", t_final=steps * dt, dt=dt, gust_start=0.0))
+    setup = pegasus.build(loads="gust", t_final=steps * dt, dt=dt, gust_start=0.0)
     setup.options.disp = False
     os.environ["WINGMDAO_SKIP_MEMORY_CHECK"] = "1"
     before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss

@@ -14,7 +14,7 @@ from __future__ import annotations
 import argparse
 import time
 
-from wingmdao.cases import case_arguments, pegasus
+from wingmdao.cases import pegasus
 from wingmdao.sizing import size_case
 
 THESIS = {"maneuver": 85.89, "gust": 409.52}
@@ -30,7 +30,7 @@ def main():
     print(f"{'case':10s} {'wall [s]':>9s} {'thesis [s]':>11s} {'goal [s]':>9s} {'iter':>5s} "
           f"{'f-evals':>8s} {'g-evals':>8s} {'mass [kg]':>10s}")
     for loads in ("maneuver", "gust"):
-        setup = pegasus.build(case_arguments(pegasus, loads=loads, dt=args.dt, aero=args.aero))
+        setup = pegasus.build(loads=loads, dt=args.dt, aero=args.aero)
         setup.options.disp = False
         t0 = time.perf_counter()
         _, res = size_case(setup)

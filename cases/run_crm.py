@@ -5,11 +5,11 @@
 
 import os
 
-from wingmdao.cases import case_arguments, crm
+from wingmdao.cases import crm
 from wingmdao.results import write_case_plots
 from wingmdao.sizing import size_case
 
-setup = crm.build(case_arguments(crm))
+setup = crm.build()
 os.makedirs("results", exist_ok=True)
 setup.options.recording = "results/crm.sql"
 prob, result = size_case(setup)

@@ -11,7 +11,7 @@ import json
 import os
 import sys
 
-from wingmdao.cases import case_arguments, pegasus
+from wingmdao.cases import pegasus
 from wingmdao.plots import WALLS, plot_thickness
 from wingmdao.results import span_coordinate, write_case_plots
 from wingmdao.sizing import size_case, station_values
@@ -20,7 +20,7 @@ SUMMARY_KEYS = ("success", "mass_kg", "ks", "iterations", "wall_s", "driver")
 
 
 def size(loads):
-    setup = pegasus.build(case_arguments(pegasus, loads=loads))
+    setup = pegasus.build(loads=loads)
     setup.options.recording = f"results/pegasus_{loads}.sql"
     prob, result = size_case(setup)
     result["plots"] = write_case_plots(prob, setup, f"results/pegasus_{loads}")

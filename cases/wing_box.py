@@ -16,11 +16,10 @@ from wingmdao.cases.wing_box import (GEOMETRIES, STATIONS, comparison_solver, ge
 
 def run_problem(study: int = 1, **overrides) -> dict:
     """Size one Sec. 4.7.2 study with the case defaults (plus ``overrides``); returns the summary."""
-    from wingmdao.cases import case_arguments
-    from wingmdao.cases import wing_box as case
+    from wingmdao.cases.wing_box import build
     from wingmdao.sizing import size_case
 
-    setup = case.build(case_arguments(case, study=study, **overrides))
+    setup = build(study=study, **overrides)
     _, result = size_case(setup)
     return result
 

@@ -6,7 +6,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from wingmdao.cases import build_case, case_arguments, pegasus, wing_box
+from wingmdao.cases import build_case, options_from_namespace, pegasus, wing_box
 from wingmdao.sizing import build_problem
 
 
@@ -52,23 +52,61 @@ def test_unknown_case_and_option():
         build_case("pegasus", load_factr=2.5)
 
 
-def test_string_numbers_are_read_or_named():
-    assert case_arguments(pegasus, load_factor="3.5").load_factor == 3.5
-    with pytest.raises(ValueError, match="option load_factor = 'abc': not a valid float"):
-        case_arguments(pegasus, load_factor="abc")
-    with pytest.raises(ValueError, match=r"option loads = 'gusts'; allowed: maneuver, gust, all"):
-        case_arguments(pegasus, loads="gusts")
+def test_string_numbers_and_wrong_types_are_named():
+    """The keyword API takes numbers, not strings: a string is an error naming the option (no silent parse)."""
+    with pytest.raises(ValueError, match=r"pegasus option load_factor = '3.5' \(str\): must be a number"):
+        pegasus.PegasusOptions(load_factor="3.5")
+    with pytest.raises(ValueError, match=r"pegasus option loads = 'gusts'; allowed: maneuver, gust, all"):
+        pegasus.build(loads="gusts")
+    with pytest.raises(ValueError, match=r"cantilever option stations = 5.5 \(float\): must be an integer"):
+        build_case("cantilever", stations=5.5)
+    with pytest.raises(ValueError, match=r"wing-box option elements = \(1, 'x', 1\): must be a list of integers"):
+        wing_box.build(elements=(1, "x", 1))
+    with pytest.raises(ValueError, match=r"pegasus option kussner = 1 \(int\): must be True or False"):
+        pegasus.PegasusOptions(kussner=1)
+    with pytest.raises(ValueError, match="crm option families = None: must be a string"):
+        build_case("crm", families=None)
+
+
+def test_options_object_of_another_type():
+    with pytest.raises(ValueError, match="pegasus options must be a PegasusOptions"):
+        pegasus.build(wing_box.WingBoxOptions())
 
 
 def test_unknown_study():
-    with pytest.raises(ValueError, match="option study = 7; allowed: 1, 2, 3"):
-        case_arguments(wing_box, study=7)
+    with pytest.raises(ValueError, match="wing-box option study = 7; allowed: 1, 2, 3"):
+        wing_box.build(study=7)
+    with pytest.raises(ValueError, match="wing-box option study = 7; allowed: 1, 2, 3"):
+        build_case("wing-box", study=7)
+
+
+def test_options_are_immutable_and_lists_become_tuples():
+    opts = pegasus.PegasusOptions(gust_gradients_ft=[30.0, 350.0])
+    assert opts.gust_gradients_ft == (30.0, 350.0)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        opts.loads = "all"
+
+
+def test_parser_defaults_are_the_dataclass_defaults():
+    """One table of defaults: every case's command-line defaults come from its options dataclass."""
+    import argparse
+
+    from wingmdao.cases import available_cases
+
+    for name, module in available_cases().items():
+        parser = argparse.ArgumentParser()
+        module.add_arguments(parser)
+        from_cli = options_from_namespace(module.OPTIONS, parser.parse_args([]))
+        assert from_cli == module.OPTIONS(), name
+        dests = {a.dest for a in parser._actions} - {"help"}
+        assert dests == {f.name for f in dataclasses.fields(module.OPTIONS)}, name
 
 
 def test_build_case_from_keywords_matches_the_command_line_path():
     from wingmdao.cli import build_parser
 
     a = build_case("pegasus", loads="maneuver", load_factor=2.0)
-    b = pegasus.build(build_parser().parse_args(["size", "pegasus", "--load-factor", "2.0"]))
+    args = build_parser().parse_args(["size", "pegasus", "--load-factor", "2.0"])
+    b = pegasus.build(options_from_namespace(pegasus.PegasusOptions, args))
     np.testing.assert_array_equal(a.load_cases[0].forcing["force_per_length"],
                                   b.load_cases[0].forcing["force_per_length"])

@@ -8,7 +8,7 @@ import pytest
 from openmdao.utils.assert_utils import assert_check_partials
 
 from wingmdao.aero.coupled import CoupledAero
-from wingmdao.cases import case_arguments, pegasus
+from wingmdao.cases import pegasus
 from wingmdao.components.state_slice import BeamStateSlice
 from wingmdao.groups.load_case import LoadCase
 from wingmdao.sizing import build_problem
@@ -37,7 +37,7 @@ def test_bad_aero_inputs():
 
 @pytest.fixture(scope="module")
 def coupled_gust():
-    args = case_arguments(pegasus, loads="gust", aero="coupled", t_final=0.3, dt=0.03, gust_start=0.0)
+    args = pegasus.PegasusOptions(loads="gust", aero="coupled", t_final=0.3, dt=0.03, gust_start=0.0)
     setup = pegasus.build(args)
     setup.options.disp = False
     assert setup.load_cases[0].aero is not None
@@ -69,7 +69,7 @@ def test_coupled_gust_ks_totals_vs_fd(coupled_gust):
 @pytest.mark.slow
 def test_coupled_maneuvers_trim_to_n_w_and_totals():
     """--aero coupled maneuvers: static trim to n W; positive alpha at +2.5 g, negative at -1 g; KS totals vs FD."""
-    setup = pegasus.build(case_arguments(pegasus, loads="maneuver", aero="coupled"))
+    setup = pegasus.build(loads="maneuver", aero="coupled")
     setup.options.disp = False
     assert all(c.aero is not None and c.aero.trim for c in setup.load_cases)
     prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options, driver=False)

@@ -51,9 +51,9 @@ def test_wing_box_section_centres(name):
     c = wing_box.section_centres(name)
     g = wing_box.GEOMETRIES[name]
     np.testing.assert_allclose(c[:, 1], [0.0, 3.0, 7.0, 10.0])
-    np.testing.assert_allclose(c[:, 2], np.array([0, 3, 7, 10]) * np.tan(np.radians(g["dihedral"])), atol=1e-14)
+    np.testing.assert_allclose(c[:, 2], np.array([0, 3, 7, 10]) * np.tan(np.radians(g["dihedral_deg"])), atol=1e-14)
     front = c[:, 0] - 0.5 * np.array(g["widths"])
-    np.testing.assert_allclose(np.diff(front), np.array([3, 4, 3]) * np.tan(np.radians(g["sweeps"])), atol=1e-14)
+    np.testing.assert_allclose(np.diff(front), np.array([3, 4, 3]) * np.tan(np.radians(g["sweeps_deg"])), atol=1e-14)
     if name == "combined":  # CS2: 3 tan 10 deg - 0.25 = 0.27898 m aft, 3 tan 5 deg = 0.26247 m up
         np.testing.assert_allclose(c[1], [0.278981, 3.0, 0.262465], atol=1e-6)
 

@@ -14,7 +14,7 @@ import json
 import numpy as np
 import pytest
 
-from wingmdao.cases import case_arguments, pegasus
+from wingmdao.cases import pegasus
 from wingmdao.loads.gust_set import FlightPoint, GustSet, gust_set_from_dict, log_spaced_gradients_ft, read_gust_set
 
 FT = 0.3048
@@ -85,22 +85,22 @@ def test_bad_input(desc, message):
 
 
 def test_pegasus_cli_flags_make_one_case_per_gust():
-    args = case_arguments(pegasus, gust_gradients_ft=[30.0, 350.0], gust_sign="both", t_final=0.5, dt=0.05)
+    args = pegasus.PegasusOptions(gust_gradients_ft=[30.0, 350.0], gust_sign="both", t_final=0.5, dt=0.05)
     setup = pegasus.build(args)
     names = [c.name for c in setup.load_cases]
     assert names == ["maneuver_pos", "maneuver_neg", "gust_h30_up", "gust_h30_down", "gust_h350_up", "gust_h350_down"]
     up, down = setup.load_cases[2], setup.load_cases[3]
-    steady = pegasus.build(case_arguments(pegasus, loads="gust", gust_gradients_ft=[30.0], gust_sign="up",
-                                          t_final=0.5, dt=0.05)).load_cases[0]
+    steady = pegasus.build(loads="gust", gust_gradients_ft=[30.0], gust_sign="up",
+                           t_final=0.5, dt=0.05).load_cases[0]
     # same 1 g level flight; the gust increments are opposite
     f0 = up.forcing["force_per_length"][0]
     assert np.allclose(down.forcing["force_per_length"][0], f0)
     assert np.allclose(up.forcing["force_per_length"] - f0, -(down.forcing["force_per_length"] - f0), atol=1e-9)
     assert np.allclose(steady.forcing["force_per_length"], up.forcing["force_per_length"])
     with pytest.raises(ValueError, match="gradients_ft: H = 400 ft"):
-        pegasus.build(case_arguments(pegasus, gust_gradients_ft=[400.0]))
+        pegasus.build(gust_gradients_ft=[400.0])
     with pytest.raises(ValueError, match="one of --gust-set"):
-        pegasus.build(case_arguments(pegasus, gust_gradients_ft=[30.0], gust_gradient_count=3))
+        pegasus.build(gust_gradients_ft=[30.0], gust_gradient_count=3)
 
 
 def test_down_gust_mirrors_up_gust_on_symmetric_section():
@@ -110,7 +110,7 @@ def test_down_gust_mirrors_up_gust_on_symmetric_section():
     from wingmdao.groups.load_case import LoadCase
     from wingmdao.sizing import build_problem
 
-    args = case_arguments(pegasus, loads="gust", gust_gradients_ft=[60.0], t_final=0.3, dt=0.03, gust_start=0.0)
+    args = pegasus.PegasusOptions(loads="gust", gust_gradients_ft=[60.0], t_final=0.3, dt=0.03, gust_start=0.0)
     setup = pegasus.build(args)
     geom = setup.geometry
     assert np.allclose(geom.node_positions[:, 2], 0.0) and np.allclose(geom.node_euler_angles[:, 0], 0.0)
@@ -134,11 +134,11 @@ def test_pegasus_gust_set_file_and_sign_override(tmp_path):
     path = tmp_path / "set.yaml"
     path.write_text("gradients_ft: [30, 350]\nflight_points:\n  - {name: a, altitude_ft: 10000, mach: 0.4}\n"
                     "  - {name: b, altitude_ft: 20000, mach: 0.5, speed: VD, weight_lb: 35000}\n")
-    setup = pegasus.build(case_arguments(pegasus, gust_set=str(path), gust_sign="down", loads="gust",
-                                         t_final=0.5, dt=0.05))
+    setup = pegasus.build(gust_set=str(path), gust_sign="down", loads="gust",
+                          t_final=0.5, dt=0.05)
     assert [c.name for c in setup.load_cases] == ["gust_a_h30_down", "gust_a_h350_down",
                                                   "gust_b_h30_down", "gust_b_h350_down"]
     # the file's flight points use the (a)(5) table and the PEGASUS F_g inputs (F_g < 1 below Z_mo)
     assert "F_g 0.9" in setup.load_cases[0].description and "(VD)" in setup.load_cases[2].description
     with pytest.raises(ValueError, match="does not exist"):
-        pegasus.build(case_arguments(pegasus, gust_set=str(tmp_path / "none.json")))
+        pegasus.build(gust_set=str(tmp_path / "none.json"))

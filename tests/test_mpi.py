@@ -103,11 +103,11 @@ def test_case_proxy_partials_and_values_match_the_case():
     finite differences and against the case evaluated in the ordinary serial model."""
     import openmdao.api as om
 
-    from wingmdao.cases import case_arguments, pegasus
+    from wingmdao.cases import pegasus
     from wingmdao.parallel import CaseExchange, CaseKS
     from wingmdao.sizing import WALL_VARS, build_problem
 
-    setup = pegasus.build(case_arguments(pegasus, loads="maneuver"))
+    setup = pegasus.build(loads="maneuver")
     rng = np.random.default_rng(3)
     x = {w: rng.uniform(0.004, 0.012, 19) for w in WALL_VARS}
     ex = CaseExchange(setup.geometry, setup.load_cases, setup.material, setup.options, "box", _OneRank(), WALL_VARS)

@@ -4,14 +4,14 @@ Table 4.24) and static versus dynamic sizing under a suddenly applied load (Tabl
 import numpy as np
 import pytest
 
-from wingmdao.cases import cantilever, case_arguments
+from wingmdao.cases import cantilever
 from wingmdao.sizing import size_case
 
 pytestmark = pytest.mark.slow
 
 
 def _size(**kw):
-    setup = cantilever.build(case_arguments(cantilever, **kw))
+    setup = cantilever.build(**kw)
     setup.options.disp = False
     prob, res = size_case(setup)
     return setup, prob, res

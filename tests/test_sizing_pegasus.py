@@ -5,13 +5,13 @@ sizing while the maneuvers size the inboard stations (Fig. 5.5-5.6)."""
 import numpy as np
 import pytest
 
-from wingmdao.cases import case_arguments, pegasus
+from wingmdao.cases import pegasus
 from wingmdao.cli import main
 from wingmdao.sizing import size_case
 
 
 def _size(**kw):
-    setup = pegasus.build(case_arguments(pegasus, **kw))
+    setup = pegasus.build(**kw)
     setup.options.disp = False
     return setup, *size_case(setup)
 
@@ -70,12 +70,12 @@ def test_wrong_options_fail_before_any_solve(argv, message, capsys, tmp_path):
 def test_gust_case_from_a_load_history_file(tmp_path):
     from wingmdao.loads.files import LoadHistory, write_load_history
 
-    args = case_arguments(pegasus, loads="gust", t_final=0.5, dt=0.05)
+    args = pegasus.PegasusOptions(loads="gust", t_final=0.5, dt=0.05)
     computed = pegasus.build(args).load_cases[0]
     hist = LoadHistory(computed.time, computed.forcing["force_per_length"], computed.forcing["moment_per_length"])
     path = tmp_path / "gust.csv"
     write_load_history(hist, path)
-    from_file = pegasus.build(case_arguments(pegasus, loads="gust", load_history=str(path))).load_cases[0]
+    from_file = pegasus.build(loads="gust", load_history=str(path)).load_cases[0]
     np.testing.assert_allclose(from_file.forcing["force_per_length"], computed.forcing["force_per_length"], rtol=1e-12)
     np.testing.assert_allclose(from_file.time, computed.time)
 
@@ -85,7 +85,7 @@ def test_presize_is_fully_stressed_and_reaches_the_same_optimum(maneuver):
     by re-analysing), and SLSQP from there finds the optimum found from the uniform 10 mm start."""
     from wingmdao.sizing import build_problem, presize_fully_stressed
 
-    setup = pegasus.build(case_arguments(pegasus, loads="maneuver"))
+    setup = pegasus.build(loads="maneuver")
     prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options, driver=False)
     pre = presize_fully_stressed(prob, setup.load_cases, setup.geometry, setup.options, 6)
     assert pre["history"][-1]["max_ratio"] == pytest.approx(1.0, abs=1e-4)
@@ -99,7 +99,7 @@ def test_presize_is_fully_stressed_and_reaches_the_same_optimum(maneuver):
     assert np.any(free)
     np.testing.assert_allclose(ratio[free], 1.0, atol=1e-3)
 
-    setup = pegasus.build(case_arguments(pegasus, loads="maneuver"))
+    setup = pegasus.build(loads="maneuver")
     setup.options.disp = False
     setup.options.presize = 0                       # uniform 10 mm start
     _, cold = size_case(setup)
@@ -115,7 +115,7 @@ def test_gust_damping_option_sets_strain_rate_damping_at_the_first_mode():
     plausibility range is asserted here: the frequency itself is tested in test_beam_damping)."""
     from wingmdao.sizing import build_problem
 
-    setup = pegasus.build(case_arguments(pegasus, loads="gust", damping_ratio=0.02, t_final=0.5, dt=0.05))
+    setup = pegasus.build(loads="gust", damping_ratio=0.02, t_final=0.5, dt=0.05)
     damping = setup.load_cases[0].damping
     f1 = 0.02 / (np.pi * damping.curvature[0])
     assert 1.0 < f1 < 5.0 and any("structural damping 0.02" in n for n in setup.notes)
@@ -124,4 +124,4 @@ def test_gust_damping_option_sets_strain_rate_damping_at_the_first_mode():
     prob.run_model()
     assert np.isfinite(prob.get_val("cases.gust.ks_vm")).all()
     with pytest.raises(ValueError, match="damping-ratio"):
-        pegasus.build(case_arguments(pegasus, loads="gust", damping_ratio=1.5))
+        pegasus.build(loads="gust", damping_ratio=1.5)

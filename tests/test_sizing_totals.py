@@ -5,14 +5,14 @@ time history, through section, beam, internal loads, stress and KS."""
 import numpy as np
 import pytest
 
-from wingmdao.cases import case_arguments, pegasus
+from wingmdao.cases import pegasus
 from wingmdao.sizing import WALL_VARS, build_problem
 
 
 @pytest.fixture(scope="module")
 def problem():
-    args = case_arguments(pegasus, loads="all", t_final=0.4, dt=0.04, gust_start=0.0,
-                          families="vm,ss_tension,cent_pos")
+    args = pegasus.PegasusOptions(loads="all", t_final=0.4, dt=0.04, gust_start=0.0,
+                                  families="vm,ss_tension,cent_pos")
     setup = pegasus.build(args)
     rng = np.random.default_rng(7)
     setup.options.initial = {w: rng.uniform(0.004, 0.012, 19) for w in WALL_VARS}

@@ -8,7 +8,6 @@ with numbers produced by the same run.
 import numpy as np
 import pytest
 
-from wingmdao.cases import case_arguments
 from wingmdao.cases import wing_box
 from wingmdao.sizing import WALL_VARS, size_case
 
@@ -16,7 +15,7 @@ SPAR_MIN = wing_box.BOUNDS["t_front_spar"][0]
 
 
 def _size(**kw):
-    setup = wing_box.build(case_arguments(wing_box, **kw))
+    setup = wing_box.build(**kw)
     setup.options.disp = False
     _, res = size_case(setup)
     return res
@@ -93,15 +92,15 @@ def test_suddenly_applied_study3_loads_exceed_yield_at_the_upper_bounds():
     upper bounds (stress amplification ~2, more than the box's section modulus can grow); the
     same design is feasible statically."""
     for study, sign in ((2, -1), (3, 1)):
-        setup = wing_box.build(case_arguments(wing_box, study=study, constraints="ss", t_final=0.3,
-                                              ramp_time=0.0))
+        setup = wing_box.build(study=study, constraints="ss", t_final=0.3,
+                               ramp_time=0.0)
         _, res = size_case(setup, optimize=False)
         assert sign * res["ks"][f"study{study}"]["ss_tension"] > 0.1
 
 
 def test_bad_constraint_names():
     with pytest.raises(ValueError, match="valid: vm, ss, cent"):
-        wing_box.build(case_arguments(wing_box, constraints="vm,tsai-wu"))
+        wing_box.build(constraints="vm,tsai-wu")
     with pytest.raises(ValueError, match="--dt"):
-        wing_box.build(case_arguments(wing_box, study=3, dt=10.0))
+        wing_box.build(study=3, dt=10.0)
     assert wing_box.parse_constraints("vm, cent") == ("vm", "cent_pos", "cent_neg")

@@ -52,7 +52,7 @@ def test_mesh_volume_of_the_ruled_box(name):
 
 
 def test_bad_input_messages():
-    with pytest.raises(ValueError, match="geometry_name must be one of"):
+    with pytest.raises(ValueError, match="geometry must be one of"):
         wb.box_sections("delta")
     with pytest.raises(ValueError, match=r"t_spar must be in \(0, 0.75\) m"):
         wb.box_mesh(wb.box_sections("taper"), 0.8, 0.1, wb.default_divisions(0.5))

@@ -3,17 +3,26 @@
 Each case module defines
 
 * ``NAME`` and ``HELP``;
-* ``add_arguments(parser)``: its command-line options (units in the option names/help);
-* ``build(args) -> CaseSetup``: the beam geometry, load cases, material and sizing options,
-  validating the options *before* any solve.
+* ``OPTIONS``: its options dataclass (a :class:`CaseOptions`: fields, types and defaults);
+* ``add_arguments(parser)``: its command-line options (units in the option names/help), whose
+  defaults come from ``OPTIONS``;
+* ``build(options=None, **keywords) -> CaseSetup``: the beam geometry, load cases, material and
+  sizing options from an ``OPTIONS`` instance and/or keywords, validating them *before* any solve.
 
-The ``run_problem`` scripts in the repository's ``cases/`` folder call the same builders.
+The command line converts its namespace once (:func:`options_from_namespace`); the scripts in
+the repository's ``cases/`` folder call the same builders with keywords, without a parser.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import importlib
+import numbers
+import types
+import typing
 from dataclasses import dataclass, field
+
+import numpy as np
 
 CASE_MODULES = {
     "cantilever": "wingmdao.cases.cantilever",
@@ -66,41 +75,98 @@ def available_cases() -> dict:
     return out
 
 
-def case_arguments(module, **overrides):
-    """The case's command-line defaults as a namespace, with ``overrides`` (for scripts).
+class CaseOptions:
+    """Base of a case's options dataclass: every field is type-checked on construction.
 
-    Each override is checked like the command line would: an unknown name, a value the option's
-    type cannot read (``load_factor="abc"``), or a value outside the option's choices is a
-    ValueError naming the option; strings are converted (``"2.5"`` -> 2.5)."""
-    import argparse
+    A subclass is a ``@dataclass(frozen=True)`` whose fields are the case's options (the
+    command-line options with ``_`` for ``-``), annotated with their types (``float``, ``int``,
+    ``str``, ``bool``, ``tuple[float, ...]``, ``... | None``); ``metadata={"choices": ...}`` on a
+    field restricts its values. A wrong type (``load_factor="2.5"``) or a value outside the
+    choices is a ValueError naming the case and the option; the value ranges are checked by the
+    case's ``build``. ``CASE`` is the case name used in the messages.
+    """
 
-    parser = argparse.ArgumentParser()
-    module.add_arguments(parser)
-    args = parser.parse_args([])
-    actions = {a.dest: a for a in parser._actions}
-    for key, value in overrides.items():
-        if not hasattr(args, key):
-            raise ValueError(f"{module.NAME} has no option {key!r}; options: "
-                             f"{', '.join(sorted(k for k in actions if k != 'help'))}")
-        action = actions.get(key)
-        if action is not None and action.type is not None and value is not None and not hasattr(value, "ndim"):
-            many = isinstance(value, (list, tuple))
-            items = list(value) if many else [value]
-            if action.type is int and any(isinstance(v, float) and not float(v).is_integer() for v in items):
-                raise ValueError(f"{module.NAME} option {key} = {value!r}: must be an integer")
-            try:
-                conv = [action.type(v) if isinstance(v, str) or action.type in (int, float) else v
-                        for v in items]
-            except (TypeError, ValueError):
-                raise ValueError(f"{module.NAME} option {key} = {value!r}: not a valid "
-                                 f"{getattr(action.type, '__name__', 'value')}") from None
-            value = type(value)(conv) if many else conv[0]
-        if (action is not None and action.choices is not None and not isinstance(value, (list, tuple))
-                and value not in action.choices):
-            raise ValueError(f"{module.NAME} option {key} = {value!r}; allowed: "
-                             f"{', '.join(map(str, action.choices))}")
-        setattr(args, key, value)
-    return args
+    CASE = "case"
+
+    def __post_init__(self):
+        hints = typing.get_type_hints(type(self))
+        for f in dataclasses.fields(self):
+            value = getattr(self, f.name)
+            _check_option(self.CASE, f.name, value, hints[f.name], f.metadata.get("choices"))
+            if isinstance(value, (list, np.ndarray)):
+                object.__setattr__(self, f.name, tuple(value))  # the options stay immutable
+
+
+def _type_parts(hint):
+    """(base type, element type or None, optional) of an option annotation."""
+    args = typing.get_args(hint)
+    optional = False
+    if typing.get_origin(hint) in (typing.Union, types.UnionType):
+        optional = type(None) in args
+        hint = next(a for a in args if a is not type(None))
+        args = typing.get_args(hint)
+    origin = typing.get_origin(hint) or hint
+    return origin, (args[0] if origin is tuple and args else None), optional
+
+
+def _is(value, kind) -> bool:
+    if kind is float:
+        return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
+    if kind is int:
+        return isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_))
+    if kind is bool:
+        return isinstance(value, (bool, np.bool_))
+    return isinstance(value, kind)
+
+
+def _check_option(case, name, value, hint, choices) -> None:
+    kind, item, optional = _type_parts(hint)
+    what = {float: "a number", int: "an integer", bool: "True or False", str: "a string"}
+    if value is None:
+        if not optional:
+            raise ValueError(f"{case} option {name} = None: must be {what.get(kind, kind.__name__)}")
+        return
+    if kind is tuple:
+        ok = isinstance(value, (list, tuple, np.ndarray)) and all(_is(v, item) for v in value)
+        if not ok:
+            raise ValueError(f"{case} option {name} = {value!r}: must be a list of "
+                             f"{what.get(item, item.__name__).split(' ', 1)[1]}s")
+        return
+    if not _is(value, kind):
+        raise ValueError(f"{case} option {name} = {value!r} ({type(value).__name__}): must be "
+                         f"{what.get(kind, kind.__name__)}")
+    if choices is not None and value not in choices:
+        raise ValueError(f"{case} option {name} = {value!r}; allowed: {', '.join(map(str, choices))}")
+
+
+def case_options(cls, options=None, **overrides):
+    """An instance of the options dataclass ``cls``: ``options`` (an instance, or None for the
+    defaults) with ``overrides``; an unknown name or an object of another type is a ValueError."""
+    names = [f.name for f in dataclasses.fields(cls)]
+    unknown = [k for k in overrides if k not in names]
+    if unknown:
+        raise ValueError(f"{cls.CASE} has no option {unknown[0]!r}; options: {', '.join(sorted(names))}")
+    if options is None:
+        return cls(**overrides)
+    if not isinstance(options, cls):
+        raise ValueError(f"{cls.CASE} options must be a {cls.__name__} (or keyword options), got "
+                         f"{type(options).__name__}")
+    return dataclasses.replace(options, **overrides) if overrides else options
+
+
+def options_from_namespace(cls, namespace):
+    """The options dataclass ``cls`` from a parsed command line (the CLI's one conversion)."""
+    return cls(**{f.name: _plain(getattr(namespace, f.name)) for f in dataclasses.fields(cls)
+                  if hasattr(namespace, f.name)})
+
+
+def _plain(value):
+    return tuple(value) if isinstance(value, list) else value
+
+
+def set_parser_defaults(parser, cls) -> None:
+    """Take the defaults of a case's command-line options from its options dataclass (one table)."""
+    parser.set_defaults(**{f.name: f.default for f in dataclasses.fields(cls)})
 
 
 def build_case(name: str, **options) -> CaseSetup:
@@ -109,5 +175,4 @@ def build_case(name: str, **options) -> CaseSetup:
     cases = available_cases()
     if name not in cases:
         raise ValueError(f"unknown case {name!r}; available: {', '.join(cases)}")
-    module = cases[name]
-    return module.build(case_arguments(module, **options))
+    return cases[name].build(**options)

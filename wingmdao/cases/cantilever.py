@@ -10,9 +10,11 @@ the beam at rest: the dynamic counterpart of ``static``, Table 4.25). Initial gu
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+
 import numpy as np
 
-from wingmdao.cases import CaseSetup
+from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defaults
 
 NAME = "cantilever"
 HELP = "solid rectangular cantilever of Sec. 4.7.1 (width/height design variables, tip load)"
@@ -21,17 +23,36 @@ HELP = "solid rectangular cantilever of Sec. 4.7.1 (width/height design variable
 E, SIGMA_Y, RHO = 70e9, 276e6, 2700.0
 BOUNDS = {"height": (0.4, 5.0), "width": (0.2, 5.0)}
 TIP_LOAD = 1.0e6  # N
+LOAD_KINDS = ("static", "sine", "step")
+GUESSES = ("a", "b", "c")  # Fig. 4.40
+
+
+@dataclass(frozen=True)
+class CantileverOptions(CaseOptions):
+    """Options of the cantilever case (SI); ``wingmdao size cantilever --help`` describes each."""
+
+    CASE = NAME
+    load: str = field(default="static", metadata={"choices": LOAD_KINDS})
+    guess: str = field(default="b", metadata={"choices": GUESSES})
+    stations: int = 10
+    length: float = 10.0  # m
+    t_final: float = 1.0  # s
+    dt: float = 0.01  # s
+
+
+OPTIONS = CantileverOptions
 
 
 def add_arguments(p):
-    p.add_argument("--load", choices=["static", "sine", "step"], default="static",
+    p.add_argument("--load", choices=LOAD_KINDS,
                    help="tip load history: constant static, 1 MN sin(20 t), or 1 MN applied suddenly")
-    p.add_argument("--guess", choices=["a", "b", "c"], default="b",
+    p.add_argument("--guess", choices=GUESSES,
                    help="initial design (Fig. 4.40): a uniform, b tapered, c infeasible (lower bounds)")
-    p.add_argument("--stations", type=int, default=10, help="number of stations (nodes)")
-    p.add_argument("--length", type=float, default=10.0, help="beam length [m]")
-    p.add_argument("--t-final", type=float, default=1.0, help="simulated time for dynamic loads [s]")
-    p.add_argument("--dt", type=float, default=0.01, help="time step for dynamic loads [s]")
+    p.add_argument("--stations", type=int, help="number of stations (nodes)")
+    p.add_argument("--length", type=float, help="beam length [m]")
+    p.add_argument("--t-final", type=float, help="simulated time for dynamic loads [s]")
+    p.add_argument("--dt", type=float, help="time step for dynamic loads [s]")
+    set_parser_defaults(p, CantileverOptions)
 
 
 def initial_guess(kind: str, n: int) -> dict:
@@ -61,22 +82,25 @@ def load_case(kind: str, n: int, t_final: float, dt: float):
     return LoadCase(kind, time, {"point_force": f}, ("ss_tension", "ss_compression"))
 
 
-def build(args) -> CaseSetup:
+def build(options: CantileverOptions | None = None, **overrides) -> CaseSetup:
+    """Geometry, tip-load case, Table 4.23 material and bounds from a :class:`CantileverOptions`
+    and/or keyword options (``build(load="step", guess="a")``)."""
     from wingmdao.materials import Material
     from wingmdao.sizing import SizingOptions, WingGeometry
 
-    n = int(args.stations)
+    opts = case_options(CantileverOptions, options, **overrides)
+    n = opts.stations
     if n < 3:
         raise ValueError(f"--stations must be >= 3, got {n}")
-    if not args.length > 0:
-        raise ValueError(f"--length must be > 0 m, got {args.length}")
-    y = np.linspace(0.0, args.length, n)
+    if not (np.isfinite(opts.length) and opts.length > 0):
+        raise ValueError(f"--length must be > 0 m, got {opts.length}")
+    y = np.linspace(0.0, opts.length, n)
     geometry = WingGeometry(node_positions=np.column_stack([np.zeros(n), y, np.zeros(n)]),
                             node_euler_angles=np.zeros((n, 3)), width=np.ones(n), height=np.ones(n))
     material = Material("cantilever aluminium (Table 4.23)", E=E, rho=RHO, sigma_y=SIGMA_Y, nu=0.33)
-    options = SizingOptions(lower={k: v[0] for k, v in BOUNDS.items()},
-                            upper={k: v[1] for k, v in BOUNDS.items()},
-                            initial=initial_guess(args.guess, n), rho_ks=50.0)
-    case = load_case(args.load, n, args.t_final, args.dt)
-    return CaseSetup(geometry, [case], material, options, section="solid",
-                     notes=[f"beam length {args.length} m (not stated in the dissertation)"])
+    sizing = SizingOptions(lower={k: v[0] for k, v in BOUNDS.items()},
+                           upper={k: v[1] for k, v in BOUNDS.items()},
+                           initial=initial_guess(opts.guess, n), rho_ks=50.0)
+    case = load_case(opts.load, n, opts.t_final, opts.dt)
+    return CaseSetup(geometry, [case], material, sizing, section="solid",
+                     notes=[f"beam length {opts.length} m (not stated in the dissertation)"])

@@ -10,7 +10,9 @@ Engine (assumption): 9000 kg per wing at 35 % semi-span, as a point mass.
 
 from __future__ import annotations
 
-from wingmdao.cases import CaseSetup
+from dataclasses import dataclass
+
+from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defaults
 from wingmdao.cases import pegasus as _pegasus
 from wingmdao.cases.planform import Planform
 
@@ -24,15 +26,33 @@ TOGW_LB = 650000.0
 ENGINES = ((9000.0, 0.35 * PLANFORM.semi_span),)
 
 
+@dataclass(frozen=True)
+class CrmOptions(CaseOptions):
+    """Options of the CRM case; ``wingmdao size crm --help`` describes each."""
+
+    CASE = NAME
+    load_factor: float = 2.5
+    negative_load_factor: float = -1.0
+    families: str = "vm"
+
+
+OPTIONS = CrmOptions
+
+
 def add_arguments(p):
-    p.add_argument("--load-factor", type=float, default=2.5, help="positive maneuver load factor")
-    p.add_argument("--negative-load-factor", type=float, default=-1.0, help="negative maneuver load factor")
-    p.add_argument("--families", default="vm", help="comma list of stress families constrained")
+    p.add_argument("--load-factor", type=float, help="positive maneuver load factor")
+    p.add_argument("--negative-load-factor", type=float, help="negative maneuver load factor")
+    p.add_argument("--families", help="comma list of stress families constrained")
+    set_parser_defaults(p, CrmOptions)
 
 
-def build(args) -> CaseSetup:
-    args.loads = "maneuver"
-    setup = _pegasus.build(args, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB)
+def build(options: CrmOptions | None = None, **overrides) -> CaseSetup:
+    """The CRM geometry, its two maneuvers, material and bounds from a :class:`CrmOptions` and/or
+    keyword options (``build(load_factor=2.0)``)."""
+    opts = case_options(CrmOptions, options, **overrides)
+    maneuvers = _pegasus.PegasusOptions(loads="maneuver", load_factor=opts.load_factor,
+                                        negative_load_factor=opts.negative_load_factor, families=opts.families)
+    setup = _pegasus.build_wing(maneuvers, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB)
     setup.options.maxiter = 1000  # 136 variables and one aggregated constraint: SLSQP needs ~700 iterations
     for w in setup.options.upper:
         setup.options.upper[w] = 0.1

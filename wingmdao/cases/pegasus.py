@@ -18,9 +18,11 @@ level flight, rigid-body plunge neglected (conservative).
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+
 import numpy as np
 
-from wingmdao.cases import CaseSetup
+from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defaults
 from wingmdao.cases.planform import FT, G0, LB, Planform, wing_geometry
 
 NAME = "pegasus"
@@ -37,47 +39,84 @@ MANEUVER_ALTITUDE_FT, MANEUVER_MACH = 20000.0, 0.5
 GUST_SET_DEFAULTS = {"z_mo_ft": 25000.0, "mlw_over_mtow": 18300.0 / 18600.0, "mzfw_over_mtow": 16700.0 / 18600.0}
 GUST = {"altitude_ft": 25000.0, "mach": 0.5, "u_ref_fps": 30.0, "gradient_ft": 350.0, "t_final": 5.0}
 MIN_GAUGE = 1e-3  # m (Table 5.1)
+LOAD_SETS = ("maneuver", "gust", "all")
+AERO_MODELS = ("strip", "coupled")
+GUST_SIGNS = ("up", "down", "both")
+
+
+@dataclass(frozen=True)
+class PegasusOptions(CaseOptions):
+    """Options of the PEGASUS case (units in the names); ``wingmdao size pegasus --help`` describes each."""
+
+    CASE = NAME
+    loads: str | None = field(default=None, metadata={"choices": LOAD_SETS})  # None: maneuver, all with a gust set
+    load_factor: float = 2.5
+    negative_load_factor: float = -1.0
+    families: str = "vm"
+    altitude_ft: float = GUST["altitude_ft"]
+    mach: float = GUST["mach"]
+    u_ref_fps: float = GUST["u_ref_fps"]
+    gust_gradient_ft: float = GUST["gradient_ft"]
+    t_final: float = GUST["t_final"]  # s
+    dt: float = 0.02  # s
+    gust_start: float = 0.2  # s
+    aero: str = field(default="strip", metadata={"choices": AERO_MODELS})
+    kussner: bool = False
+    damping_ratio: float = 0.0
+    damping_frequency_hz: float | None = None
+    gust_set: str | None = None  # path of a .json/.yaml gust set
+    gust_gradients_ft: tuple[float, ...] | None = None
+    gust_gradient_count: int | None = None
+    gust_sign: str | None = field(default=None, metadata={"choices": GUST_SIGNS})
+    load_history: str | None = None  # path of a .npz/.csv load history
+
+
+OPTIONS = PegasusOptions
+#: the options only the gust cases use (a warning names those changed with --loads maneuver)
+GUST_ONLY_OPTIONS = ("altitude_ft", "mach", "u_ref_fps", "gust_gradient_ft", "t_final", "dt", "gust_start",
+                     "kussner", "damping_ratio", "damping_frequency_hz")
 
 
 def add_arguments(p):
-    p.add_argument("--loads", choices=["maneuver", "gust", "all"], default=None,
+    p.add_argument("--loads", choices=LOAD_SETS,
                    help="load cases: the 2.5 g and -1.0 g maneuvers, the gust of Table 5.3 (or the gust set), "
                         "or all (default: maneuver, all with a gust set)")
-    p.add_argument("--load-factor", type=float, default=2.5,
+    p.add_argument("--load-factor", type=float,
                    help="positive maneuver load factor (25.337 gives 2.57 at 41005 lb; the dissertation uses 2.5)")
-    p.add_argument("--negative-load-factor", type=float, default=-1.0, help="negative maneuver load factor")
-    p.add_argument("--families", default="vm",
+    p.add_argument("--negative-load-factor", type=float, help="negative maneuver load factor")
+    p.add_argument("--families",
                    help="comma list of stress families constrained (vm, ss_tension, ss_compression, cent_pos, cent_neg)")
-    p.add_argument("--altitude-ft", type=float, default=GUST["altitude_ft"], help="gust altitude [ft]")
-    p.add_argument("--mach", type=float, default=GUST["mach"], help="gust flight Mach number")
-    p.add_argument("--u-ref-fps", type=float, default=GUST["u_ref_fps"],
+    p.add_argument("--altitude-ft", type=float, help="gust altitude [ft]")
+    p.add_argument("--mach", type=float, help="gust flight Mach number")
+    p.add_argument("--u-ref-fps", type=float,
                    help="reference gust velocity [ft/s EAS] (Table 5.3: 30); 0 = the 25.341(a)(5) table value")
-    p.add_argument("--gust-gradient-ft", type=float, default=GUST["gradient_ft"], help="gust gradient H [ft], 30-350")
-    p.add_argument("--t-final", type=float, default=GUST["t_final"], help="gust simulation time [s]")
-    p.add_argument("--dt", type=float, default=0.02, help="time step [s]")
-    p.add_argument("--gust-start", type=float, default=0.2, help="time the gust front reaches the wing [s]")
-    p.add_argument("--aero", choices=["strip", "coupled"], default="strip",
+    p.add_argument("--gust-gradient-ft", type=float, help="gust gradient H [ft], 30-350")
+    p.add_argument("--t-final", type=float, help="gust simulation time [s]")
+    p.add_argument("--dt", type=float, help="time step [s]")
+    p.add_argument("--gust-start", type=float, help="time the gust front reaches the wing [s]")
+    p.add_argument("--aero", choices=AERO_MODELS,
                    help="gust aerodynamics: strip (precomputed rigid-wing strip-theory loads) or coupled (unsteady "
                         "strip theory on the deforming beam, trimmed 1 g start, clamped root; docs/aeroelasticity.md)")
     p.add_argument("--kussner", action="store_true", help="lag the gust lift by the Kussner function")
-    p.add_argument("--damping-ratio", type=float, default=0.0,
+    p.add_argument("--damping-ratio", type=float,
                    help="structural damping ratio of the gust case's beam (Kelvin-Voigt strain-rate damping, "
                         "Alg. 6) at --damping-frequency-hz; 0 = undamped; Nastran practice: 0.02")
-    p.add_argument("--damping-frequency-hz", type=float, default=None,
+    p.add_argument("--damping-frequency-hz", type=float,
                    help="frequency at which --damping-ratio holds [Hz]; unset (%(default)s): the first mode "
                         "of the initial design")
     g = p.add_argument_group("25.341(a) gust set (every gust is a load case with its own KS; see docs/gust-envelope.md)")
-    g.add_argument("--gust-set", metavar="FILE", default=None,
+    g.add_argument("--gust-set", metavar="FILE",
                    help="gust set description (.json or .yaml): flight points x gradients x signs")
-    g.add_argument("--gust-gradients-ft", metavar="H", type=float, nargs="+", default=None,
+    g.add_argument("--gust-gradients-ft", metavar="H", type=float, nargs="+",
                    help="gust gradient distances [ft], 30-350, at the --altitude-ft/--mach flight point")
-    g.add_argument("--gust-gradient-count", metavar="N", type=int, default=None,
+    g.add_argument("--gust-gradient-count", metavar="N", type=int,
                    help="N gradients log-spaced over 30-350 ft (instead of --gust-gradients-ft)")
-    g.add_argument("--gust-sign", choices=["up", "down", "both"], default=None,
+    g.add_argument("--gust-sign", choices=GUST_SIGNS,
                    help="up and/or down gusts of the set (default: both with a set, up for the single gust)")
-    p.add_argument("--load-history", metavar="FILE", default=None,
+    p.add_argument("--load-history", metavar="FILE",
                    help="gust case from a load time history file (.npz or .csv on the 20 beam nodes, "
                         "format in docs/loads.md, e.g. exported from a Nastran SOL 146 run) instead of strip theory")
+    set_parser_defaults(p, PegasusOptions)
 
 
 def parse_families(text: str) -> tuple:
@@ -105,7 +144,7 @@ def maneuver_case(name, n_load, geometry, chord, axis_frac, families, pf=PLANFOR
     return LoadCase(name, np.zeros(1), forcing, families, f"{n_load:+.2f} g symmetric maneuver")
 
 
-def coupled_maneuver_case(name, n_load, args, geometry, chord, axis_frac, families, weight_lb=TOGW_LB):
+def coupled_maneuver_case(name, n_load, opts, geometry, chord, axis_frac, families, weight_lb=TOGW_LB):
     """Trimmed static aeroelastic maneuver (``--aero coupled``): the aircraft angle of attack solved
     so that both half-wings lift n W on the deforming wing (strip theory, quasi-steady), at the
     --altitude-ft / --mach flight point, inertia relief (n - 1) g as in :func:`maneuver_case`."""
@@ -113,66 +152,66 @@ def coupled_maneuver_case(name, n_load, args, geometry, chord, axis_frac, famili
     from wingmdao.groups.load_case import LoadCase
     from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
 
-    alt = float(altitude_ft_to_m(args.altitude_ft))
+    alt = float(altitude_ft_to_m(opts.altitude_ft))
     forcing = {"gravity": np.array([[0.0, 0.0, -G0]]),
                "frame_acceleration": np.array([[0.0, 0.0, (n_load - 1.0) * G0]]),
                "trim_active": np.ones(1)}
     aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
-                       airspeed=float(mach_to_tas(args.mach, alt)), density=float(density(alt)), mach=float(args.mach),
+                       airspeed=float(mach_to_tas(opts.mach, alt)), density=float(density(alt)), mach=float(opts.mach),
                        trim=True, trim_lift=n_load * weight_lb * LB * G0)
     return LoadCase(name, np.zeros(1), forcing, families, f"{n_load:+.2f} g trimmed aeroelastic maneuver", aero=aero)
 
 
-def gust_case(args, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
+def gust_case(opts, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
     from wingmdao.loads.atmosphere import altitude_ft_to_m, mach_to_tas
     from wingmdao.loads.gust import design_gust_velocity_eas
 
-    if not 0.0 <= args.altitude_ft <= 60000.0:
-        raise ValueError(f"--altitude-ft {args.altitude_ft} outside the 25.341 table range 0-60000 ft")
-    if not 30.0 <= args.gust_gradient_ft <= 350.0:
-        raise ValueError(f"--gust-gradient-ft {args.gust_gradient_ft} outside 30-350 ft (25.341(a)(3))")
-    if not (0.0 < args.mach < 1.0):
-        raise ValueError(f"--mach {args.mach} outside (0, 1)")
-    if getattr(args, "load_history", None):
-        return file_case(args.load_history, geometry, families)
-    _check_time_grid(args, geometry.num_nodes)
-    alt = altitude_ft_to_m(args.altitude_ft)
-    if args.u_ref_fps > 0:
-        u_ds = args.u_ref_fps * FT * (args.gust_gradient_ft / 350.0) ** (1.0 / 6.0)
+    if not 0.0 <= opts.altitude_ft <= 60000.0:
+        raise ValueError(f"--altitude-ft {opts.altitude_ft} outside the 25.341 table range 0-60000 ft")
+    if not 30.0 <= opts.gust_gradient_ft <= 350.0:
+        raise ValueError(f"--gust-gradient-ft {opts.gust_gradient_ft} outside 30-350 ft (25.341(a)(3))")
+    if not (0.0 < opts.mach < 1.0):
+        raise ValueError(f"--mach {opts.mach} outside (0, 1)")
+    if opts.load_history:
+        return file_case(opts.load_history, geometry, families)
+    _check_time_grid(opts, geometry.num_nodes)
+    alt = altitude_ft_to_m(opts.altitude_ft)
+    if opts.u_ref_fps > 0:
+        u_ds = opts.u_ref_fps * FT * (opts.gust_gradient_ft / 350.0) ** (1.0 / 6.0)
     else:
-        u_ds = design_gust_velocity_eas(args.gust_gradient_ft, args.altitude_ft, 1.0)
-    direction = -1 if getattr(args, "gust_sign", None) == "down" else 1
-    return gust_history_case("gust", args, geometry, chord, axis_frac, families, gradient_ft=args.gust_gradient_ft,
-                             u_ds_eas=u_ds, airspeed_tas=float(mach_to_tas(args.mach, alt)), altitude_m=float(alt),
+        u_ds = design_gust_velocity_eas(opts.gust_gradient_ft, opts.altitude_ft, 1.0)
+    direction = -1 if opts.gust_sign == "down" else 1
+    return gust_history_case("gust", opts, geometry, chord, axis_frac, families, gradient_ft=opts.gust_gradient_ft,
+                             u_ds_eas=u_ds, airspeed_tas=float(mach_to_tas(opts.mach, alt)), altitude_m=float(alt),
                              direction=direction, weight_lb=weight_lb, pf=pf,
-                             description=f"1-cos gust U_ds = {u_ds / FT:.1f} ft/s EAS, H = {args.gust_gradient_ft:g} ft"
+                             description=f"1-cos gust U_ds = {u_ds / FT:.1f} ft/s EAS, H = {opts.gust_gradient_ft:g} ft"
                                          + (" (down)" if direction < 0 else ""))
 
 
-def _check_time_grid(args, num_nodes):
+def _check_time_grid(opts, num_nodes):
     """Time grid, reference gust velocity and gust start of the dynamic cases, before any solve."""
-    if not (np.isfinite(args.t_final) and args.t_final > 0 and 0 < args.dt <= args.t_final / 10):
-        raise ValueError(f"--t-final ({args.t_final} s) and --dt ({args.dt} s): need finite 0 < 10 dt <= t_final")
+    if not (np.isfinite(opts.t_final) and opts.t_final > 0 and 0 < opts.dt <= opts.t_final / 10):
+        raise ValueError(f"--t-final ({opts.t_final} s) and --dt ({opts.dt} s): need finite 0 < 10 dt <= t_final")
     from wingmdao.cases import check_step_count
 
-    check_step_count(args.t_final, args.dt, num_nodes)
-    if not (np.isfinite(args.u_ref_fps) and args.u_ref_fps >= 0):
-        raise ValueError(f"--u-ref-fps = {args.u_ref_fps} ft/s; allowed range [0, inf) ft/s "
+    check_step_count(opts.t_final, opts.dt, num_nodes)
+    if not (np.isfinite(opts.u_ref_fps) and opts.u_ref_fps >= 0):
+        raise ValueError(f"--u-ref-fps = {opts.u_ref_fps} ft/s; allowed range [0, inf) ft/s "
                          "(0 = the 25.341(a)(5) table value)")
-    if not (np.isfinite(args.gust_start) and 0.0 <= args.gust_start < args.t_final):
-        raise ValueError(f"--gust-start = {args.gust_start} s; allowed range [0, --t-final = {args.t_final}) s")
+    if not (np.isfinite(opts.gust_start) and 0.0 <= opts.gust_start < opts.t_final):
+        raise ValueError(f"--gust-start = {opts.gust_start} s; allowed range [0, --t-final = {opts.t_final}) s")
 
 
-def gust_history_case(name, args, geometry, chord, axis_frac, families, *, gradient_ft, u_ds_eas, airspeed_tas,
+def gust_history_case(name, opts, geometry, chord, axis_frac, families, *, gradient_ft, u_ds_eas, airspeed_tas,
                       altitude_m, direction, weight_lb, pf, description):
     """One strip-theory 1 - cos gust load case on top of 1 g level flight at ``weight_lb``."""
     from wingmdao.groups.load_case import LoadCase
     from wingmdao.loads.gust import gust_line_loads
     from wingmdao.loads.maneuver import maneuver_line_loads
 
-    time = np.arange(0.0, args.t_final + 0.5 * args.dt, args.dt)
-    if getattr(args, "aero", "strip") == "coupled":
-        return coupled_gust_case(name, args, geometry, chord, axis_frac, families, time, gradient_ft=gradient_ft,
+    time = np.arange(0.0, opts.t_final + 0.5 * opts.dt, opts.dt)
+    if opts.aero == "coupled":
+        return coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, gradient_ft=gradient_ft,
                                  u_ds_eas=u_ds_eas, airspeed_tas=airspeed_tas, altitude_m=altitude_m,
                                  direction=direction, weight_lb=weight_lb, description=description)
     steady = maneuver_line_loads(geometry.node_positions, chord, axis_frac, weight_lb * LB * G0, 1.0,
@@ -180,14 +219,14 @@ def gust_history_case(name, args, geometry, chord, axis_frac, families, *, gradi
     hist = gust_line_loads(geometry.node_positions, chord, axis_frac, time,
                            gust_gradient_m=gradient_ft * FT, u_ds_eas=u_ds_eas,
                            airspeed_tas=airspeed_tas, altitude_m=altitude_m,
-                           kussner=args.kussner, gust_start_time=args.gust_start, steady=steady,
+                           kussner=opts.kussner, gust_start_time=opts.gust_start, steady=steady,
                            direction=direction, fuselage_half_width=pf.root_rib * pf.semi_span)
     forcing = {"force_per_length": hist.force_per_length, "moment_per_length": hist.moment_per_length,
                "gravity": np.array([0.0, 0.0, -G0])}
     return LoadCase(name, time, forcing, families, description)
 
 
-def gust_set_of(args):
+def gust_set_of(opts):
     """The 25.341(a) gust set the options ask for, or None for the single gust of Table 5.3.
 
     ``--gust-set FILE`` (defaults: :data:`GUST_SET_DEFAULTS`), or ``--gust-gradients-ft`` /
@@ -196,10 +235,10 @@ def gust_set_of(args):
     """
     from wingmdao.loads.gust_set import FlightPoint, GustSet, log_spaced_gradients_ft, parse_signs, read_gust_set
 
-    path = getattr(args, "gust_set", None)
-    grads = getattr(args, "gust_gradients_ft", None)
-    count = getattr(args, "gust_gradient_count", None)
-    sign = getattr(args, "gust_sign", None)
+    path = opts.gust_set
+    grads = opts.gust_gradients_ft
+    count = opts.gust_gradient_count
+    sign = opts.gust_sign
     if sum(x is not None for x in (path, grads, count)) > 1:
         raise ValueError("give one of --gust-set, --gust-gradients-ft and --gust-gradient-count")
     if path is not None:
@@ -213,13 +252,13 @@ def gust_set_of(args):
         return None
     if grads is not None and len(grads) == 0:
         raise ValueError("--gust-gradients-ft: empty; give at least one gradient distance in [30, 350] ft")
-    fp = FlightPoint(altitude_ft=float(args.altitude_ft), mach=float(args.mach),
-                     u_ref_fps=float(args.u_ref_fps) if args.u_ref_fps > 0 else None)
+    fp = FlightPoint(altitude_ft=float(opts.altitude_ft), mach=float(opts.mach),
+                     u_ref_fps=float(opts.u_ref_fps) if opts.u_ref_fps > 0 else None)
     h = grads if grads is not None else log_spaced_gradients_ft(count)
     return GustSet((fp,), h, parse_signs(sign or "both"), **GUST_SET_DEFAULTS)
 
 
-def coupled_gust_case(name, args, geometry, chord, axis_frac, families, time, *, gradient_ft, u_ds_eas,
+def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *, gradient_ft, u_ds_eas,
                       airspeed_tas, altitude_m, direction, weight_lb, description):
     """The 1 - cos gust on the aeroelastic beam (``--aero coupled``): unsteady strip theory on the
     deforming wing (wingmdao.aero), root clamped, the march starting from the trimmed 1 g state
@@ -238,7 +277,7 @@ def coupled_gust_case(name, args, geometry, chord, axis_frac, families, time, *,
     x_le = geometry.node_positions[:, 0] - np.asarray(axis_frac) * np.asarray(chord)
 
     def profile(tau):
-        d = V * (tau - args.gust_start)
+        d = V * (tau - opts.gust_start)
         return np.where((d >= 0) & (d <= 2 * H), 0.5 * u_tas * (1 - np.cos(np.pi * d / H)), 0.0)
 
     trim = np.zeros(time.size)
@@ -250,15 +289,15 @@ def coupled_gust_case(name, args, geometry, chord, axis_frac, families, time, *,
     return LoadCase(name, time, forcing, families, description + " (coupled aeroelastic)", aero=aero)
 
 
-def gust_set_cases(gset, args, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
+def gust_set_cases(gset, opts, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
     """One load case per gust of ``gset`` (strip theory on top of 1 g at the flight point's weight)."""
-    if getattr(args, "load_history", None):
+    if opts.load_history:
         raise ValueError("--load-history and a gust set exclude each other")
-    _check_time_grid(args, geometry.num_nodes)
+    _check_time_grid(opts, geometry.num_nodes)
     cases = []
     for g in gset.gusts():
         fp = g.flight_point
-        cases.append(gust_history_case(g.name, args, geometry, chord, axis_frac, families, gradient_ft=g.gradient_ft,
+        cases.append(gust_history_case(g.name, opts, geometry, chord, axis_frac, families, gradient_ft=g.gradient_ft,
                                        u_ds_eas=g.u_ds_eas, airspeed_tas=fp.airspeed_tas(), altitude_m=fp.altitude_m,
                                        direction=g.sign, weight_lb=fp.weight_lb or weight_lb, pf=pf,
                                        description=g.describe()))
@@ -277,61 +316,67 @@ def file_case(path, geometry, families):
     return LoadCase("gust", hist.time, forcing, families, f"load history from {path}")
 
 
-def build(args, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB) -> CaseSetup:
+def build(options: PegasusOptions | None = None, **overrides) -> CaseSetup:
+    """The PEGASUS geometry, load cases, material and Table 5.1 bounds from a :class:`PegasusOptions`
+    and/or keyword options (``build(loads="all", load_factor=2.5)``)."""
+    return build_wing(case_options(PegasusOptions, options, **overrides))
+
+
+def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB) -> CaseSetup:
+    """:func:`build` for any trapezoidal wing ``pf`` with point masses ``engines`` ((kg, y m) pairs)
+    at take-off weight ``weight_lb`` (the CRM case reuses it)."""
     from wingmdao.materials import ALUMINIUM
     from wingmdao.sizing import WALL_VARS, SizingOptions
 
-    families = parse_families(args.families)
-    gset = gust_set_of(args)
-    loads = args.loads or ("all" if gset is not None else "maneuver")
-    if getattr(args, "load_history", None) and loads == "maneuver":
-        raise ValueError(f"--load-history {args.load_history} replaces the gust case; it does not apply to "
+    families = parse_families(opts.families)
+    gset = gust_set_of(opts)
+    loads = opts.loads or ("all" if gset is not None else "maneuver")
+    if opts.load_history and loads == "maneuver":
+        raise ValueError(f"--load-history {opts.load_history} replaces the gust case; it does not apply to "
                          "--loads maneuver (use --loads gust or all)")
-    if not np.isfinite(args.load_factor) or args.load_factor <= 0:
-        raise ValueError(f"--load-factor must be > 0, got {args.load_factor}")
-    if args.negative_load_factor >= 0:
-        raise ValueError(f"--negative-load-factor must be < 0, got {args.negative_load_factor}")
-    zeta = float(getattr(args, "damping_ratio", 0.0) or 0.0)
+    if not np.isfinite(opts.load_factor) or opts.load_factor <= 0:
+        raise ValueError(f"--load-factor must be > 0, got {opts.load_factor}")
+    if not (np.isfinite(opts.negative_load_factor) and opts.negative_load_factor < 0):
+        raise ValueError(f"--negative-load-factor must be < 0, got {opts.negative_load_factor}")
+    zeta = opts.damping_ratio
     if not 0.0 <= zeta < 1.0:
         raise ValueError(f"--damping-ratio must be in [0, 1), got {zeta}")
     geometry, chord, axis_frac = wing_geometry(pf, engines)
-    options = SizingOptions(lower={w: MIN_GAUGE for w in WALL_VARS}, upper={w: 0.05 for w in WALL_VARS},
-                            initial={w: 0.01 for w in WALL_VARS}, rho_ks=100.0, presize=4)
+    sizing = SizingOptions(lower={w: MIN_GAUGE for w in WALL_VARS}, upper={w: 0.05 for w in WALL_VARS},
+                           initial={w: 0.01 for w in WALL_VARS}, rho_ks=100.0, presize=4)
     notes = ["airfoil NACA 43018 -> 43013 (assumed, ATR 42 class)",
              "engines as point masses: 600 kg at 35 % semi-span, 150 kg at the tip (assumed)"]
-    if args.loads == "maneuver":
-        gust_only = {"altitude_ft": GUST["altitude_ft"], "mach": GUST["mach"], "u_ref_fps": GUST["u_ref_fps"],
-                     "gust_gradient_ft": GUST["gradient_ft"], "t_final": GUST["t_final"], "dt": 0.02,
-                     "gust_start": 0.2, "kussner": False, "damping_ratio": 0.0, "damping_frequency_hz": None}
-        ignored = [f"--{k.replace('_', '-')} {getattr(args, k)}" for k, d in gust_only.items()
-                   if hasattr(args, k) and getattr(args, k) != d]
+    if opts.loads == "maneuver":
+        default = PegasusOptions()
+        ignored = [f"--{k.replace('_', '-')} {getattr(opts, k)}" for k in GUST_ONLY_OPTIONS
+                   if getattr(opts, k) != getattr(default, k)]
         if ignored:
             notes.append(f"warning: ignored with --loads maneuver (gust options): {', '.join(ignored)}")
     cases = []
     if loads in ("gust", "all"):
-        gusts = ([gust_case(args, geometry, chord, axis_frac, families, pf, weight_lb)] if gset is None
-                 else gust_set_cases(gset, args, geometry, chord, axis_frac, families, pf, weight_lb))
+        gusts = ([gust_case(opts, geometry, chord, axis_frac, families, pf, weight_lb)] if gset is None
+                 else gust_set_cases(gset, opts, geometry, chord, axis_frac, families, pf, weight_lb))
         if gset is not None:
             notes.append(f"25.341(a) gust set: {len(gset)} gusts ({len(gset.flight_points)} flight point(s) x "
                          f"{len(gset.gradients_ft)} gradient(s) x {len(gset.signs)} sign(s))")
         if zeta > 0.0:
-            damping, note = gust_damping(zeta, getattr(args, "damping_frequency_hz", None), geometry, options)
+            damping, note = gust_damping(zeta, opts.damping_frequency_hz, geometry, sizing)
             for case in gusts:
                 case.damping = damping
             notes.append(note)
         cases.extend(gusts)
     if loads in ("maneuver", "all"):
-        if getattr(args, "aero", "strip") == "coupled":
-            cases.insert(0, coupled_maneuver_case("maneuver_pos", args.load_factor, args, geometry, chord, axis_frac,
+        if opts.aero == "coupled":
+            cases.insert(0, coupled_maneuver_case("maneuver_pos", opts.load_factor, opts, geometry, chord, axis_frac,
                                                   families, weight_lb))
-            cases.insert(1, coupled_maneuver_case("maneuver_neg", args.negative_load_factor, args, geometry, chord,
+            cases.insert(1, coupled_maneuver_case("maneuver_neg", opts.negative_load_factor, opts, geometry, chord,
                                                   axis_frac, families, weight_lb))
         else:
-            cases.insert(0, maneuver_case("maneuver_pos", args.load_factor, geometry, chord, axis_frac, families, pf,
+            cases.insert(0, maneuver_case("maneuver_pos", opts.load_factor, geometry, chord, axis_frac, families, pf,
                                           weight_lb))
-            cases.insert(1, maneuver_case("maneuver_neg", args.negative_load_factor, geometry, chord, axis_frac,
+            cases.insert(1, maneuver_case("maneuver_neg", opts.negative_load_factor, geometry, chord, axis_frac,
                                           families, pf, weight_lb))
-    return CaseSetup(geometry, cases, ALUMINIUM, options, notes=notes)
+    return CaseSetup(geometry, cases, ALUMINIUM, sizing, notes=notes)
 
 
 def gust_damping(zeta, frequency_hz, geometry, options):

@@ -80,10 +80,9 @@ def _atomic_write_json(data, path):
 def _beam_parameters(module, args):
     """Beam parameter dict of the case's wing for the chosen design (through the sizing model)."""
     from wingmdao.beam.residual import param_specs
-    from wingmdao.cases import case_arguments
     from wingmdao.sizing import WALL_VARS, build_problem
 
-    setup = module.build(case_arguments(module, loads="maneuver"))
+    setup = module.build(loads="maneuver")
     case = setup.load_cases[0]
     prob, _ = build_problem(setup.geometry, [case], setup.material, setup.options, driver=False)
     if args.design:

@@ -14,16 +14,16 @@ from __future__ import annotations
 
 import numpy as np
 
-GEOMETRIES = ("prismatic", "taper", "sweep", "dihedral", "combined")
+from wingmdao.cases.wing_box.geometry import GEOMETRIES, T_SKIN, T_SPAR
 
 
 def add_wing_box_arguments(parser, *, walls=True, loads=True):
     """The App. D.1 box flags shared by ``run``, ``verify`` and ``export wing-box``: ``--geometry``,
     the streamwise wall thicknesses ``--t-spar``/``--t-skin`` (m), ``--tip-load``/``--tip-moment``."""
-    parser.add_argument("--geometry", choices=GEOMETRIES, required=True, help="Table D.2 geometry")
+    parser.add_argument("--geometry", choices=list(GEOMETRIES), required=True, help="Table D.2 geometry")
     if walls:
-        parser.add_argument("--t-spar", type=float, default=0.2, metavar="M", help="spar thickness in the streamwise cut (m)")
-        parser.add_argument("--t-skin", type=float, default=0.1, metavar="M", help="skin thickness in the streamwise cut (m)")
+        parser.add_argument("--t-spar", type=float, default=T_SPAR, metavar="M", help="spar thickness in the streamwise cut (m)")
+        parser.add_argument("--t-skin", type=float, default=T_SKIN, metavar="M", help="skin thickness in the streamwise cut (m)")
     if loads:
         parser.add_argument("--tip-load", type=float, nargs=3, default=(0.0, 0.0, 0.0), metavar=("FX", "FY", "FZ"),
                             help="tip force at the CS4 centre, body axes (N)")

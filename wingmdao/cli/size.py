@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 import os
 
+from wingmdao.cases import options_from_namespace
+
 
 def _add_common(p, *, sizing: bool):
     p.add_argument("--out", metavar="DIR", default="results",
@@ -93,7 +95,7 @@ def run_size(args) -> int:
     recording = None if (args.analysis_only or not root) else stem + ".sql"
     if root:
         check_output_file(args.json, "--json", overwrite=args.overwrite, others={"recording": recording})
-    setup = args.case_module.build(args)
+    setup = args.case_module.build(options_from_namespace(args.case_module.OPTIONS, args))
     plots = [] if args.no_plots else _plot_paths(stem, setup)
     refuse_existing([recording, *plots], overwrite=args.overwrite, what="recording and plots")
     opts = setup.options
@@ -246,7 +248,7 @@ def run_n2(args) -> int:
     check_output_dir(args.out, "--out")
     path = os.path.join(args.out, f"{args.case_module.NAME.replace('-', '_')}_n2.html")
     refuse_existing([path], overwrite=args.overwrite, what="N2 diagram")
-    setup = args.case_module.build(args)
+    setup = args.case_module.build(options_from_namespace(args.case_module.OPTIONS, args))
     prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
                             driver=True, section=setup.section)
     om.n2(prob, outfile=path, show_browser=False)

@@ -25,29 +25,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from wingmdao.cases.wing_box.geometry import GEOMETRIES, HEIGHTS, T_SKIN, T_SPAR, geometry_data
+from wingmdao.cases.wing_box.geometry import SPANS as SEGMENT_SPANS
 from wingmdao.verification import solid3d
 
-#: Table D.1: spanwise (y) distances between the sections (m) and the section heights (m)
-SEGMENT_SPANS = (3.0, 4.0, 3.0)
-HEIGHTS = (0.5, 0.5, 0.5, 0.5)
-#: Table E.2: spar (front/rear wall) and skin (upper/lower wall) thicknesses (m)
-T_SPAR = 0.2
-T_SKIN = 0.1
+#: Tables D.1, D.2, E.2 (spans, heights, wall thicknesses, the five geometries) come from
+#: wingmdao.cases.wing_box.geometry, the one copy; the model below is independent of the beam's.
+
 #: aluminium of the validation study (Pa, -)
 E_ALUMINIUM = 70e9
 NU_ALUMINIUM = 0.33
 
 #: how the tip load enters the CS4 face (see solve_wingbox)
 TIP_LOAD_MODES = ("traction", "diaphragm", "rigid")
-
-#: Table D.2: widths (m), leading-edge sweeps per segment (deg), dihedral (deg)
-GEOMETRIES = {
-    "prismatic": {"widths": (3.0, 3.0, 3.0, 3.0), "sweeps_deg": (0.0, 0.0, 0.0), "dihedral_deg": 0.0},
-    "taper": {"widths": (3.0, 2.5, 2.0, 1.5), "sweeps_deg": (0.0, 0.0, 0.0), "dihedral_deg": 0.0},
-    "sweep": {"widths": (3.0, 3.0, 3.0, 3.0), "sweeps_deg": (10.0, 15.0, 20.0), "dihedral_deg": 0.0},
-    "dihedral": {"widths": (3.0, 3.0, 3.0, 3.0), "sweeps_deg": (0.0, 0.0, 0.0), "dihedral_deg": 5.0},
-    "combined": {"widths": (3.0, 2.5, 2.0, 1.5), "sweeps_deg": (10.0, 15.0, 20.0), "dihedral_deg": 5.0},
-}
 
 
 @dataclass(frozen=True)
@@ -68,15 +58,9 @@ def geometry_names() -> list[str]:
     return list(GEOMETRIES)
 
 
-def _geometry(name: str) -> dict:
-    if name not in GEOMETRIES:
-        raise ValueError(f"geometry_name must be one of {list(GEOMETRIES)}, got {name!r}")
-    return GEOMETRIES[name]
-
-
 def box_sections(name: str) -> list[BoxCrossSection]:
     """CS1..CS4 of geometry ``name``: centres (m), widths and heights (m) (App. D.1, as above)."""
-    g = _geometry(name)
+    g = geometry_data(name)
     widths = g["widths"]
     tan_dihedral = np.tan(np.radians(g["dihedral_deg"]))
     x, y, z = 0.0, 0.0, 0.0

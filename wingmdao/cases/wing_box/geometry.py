@@ -1,0 +1,47 @@
+"""App. D.1 'wing-like' box: the geometry tables (Tables D.1, D.2, E.2), defined once.
+
+Transcribed by hand from the dissertation (:data:`wingmdao.DISSERTATION`), SI:
+
+* Table D.1: spanwise (y) distances between the cross-sections CS1..CS4: d = 3, 4, 3 m;
+  heights h1..h4 = 0.5 m.
+* Table D.2: widths w1..w4, leading-edge sweeps lambda_1..3 per segment and one dihedral.
+* Table E.2: spar thickness 0.2 m, skin thickness 0.1 m (streamwise cut).
+
+The sections are streamwise cuts parallel to the root. Segment k's sweep is that of the
+leading edge (front face): from CS k to CS k+1 the box centre moves aft by
+d_k tan(lambda_k) - (w_k - w_{k+1}) / 2 and up by d_k tan(dihedral). Used by the beam case
+(this package) and by the independent solid model (:mod:`wingmdao.verification.wingbox_solid`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+SPANS = (3.0, 4.0, 3.0)                      # Table D.1, d1..d3 (m)
+HEIGHTS = (0.5, 0.5, 0.5, 0.5)               # Table D.1, h1..h4 (m)
+T_SPAR, T_SKIN = 0.2, 0.1                    # Table E.2 (m)
+STATIONS = ("CS1", "CS2", "CS3", "CS4")
+#: Table D.2: widths (m), leading-edge sweeps per segment (deg), dihedral (deg)
+GEOMETRIES = {
+    "prismatic": {"widths": (3.0, 3.0, 3.0, 3.0), "sweeps_deg": (0.0, 0.0, 0.0), "dihedral_deg": 0.0},
+    "taper": {"widths": (3.0, 2.5, 2.0, 1.5), "sweeps_deg": (0.0, 0.0, 0.0), "dihedral_deg": 0.0},
+    "sweep": {"widths": (3.0, 3.0, 3.0, 3.0), "sweeps_deg": (10.0, 15.0, 20.0), "dihedral_deg": 0.0},
+    "dihedral": {"widths": (3.0, 3.0, 3.0, 3.0), "sweeps_deg": (0.0, 0.0, 0.0), "dihedral_deg": 5.0},
+    "combined": {"widths": (3.0, 2.5, 2.0, 1.5), "sweeps_deg": (10.0, 15.0, 20.0), "dihedral_deg": 5.0},
+}
+
+
+def geometry_data(name: str) -> dict:
+    """The Table D.2 row of geometry ``name``; ValueError listing the names otherwise."""
+    if name not in GEOMETRIES:
+        raise ValueError(f"geometry must be one of {list(GEOMETRIES)}, got {name!r}")
+    return GEOMETRIES[name]
+
+
+def section_centres(name: str) -> np.ndarray:
+    """Centres of CS1..CS4 (4, 3), body axes, CS1 at the origin."""
+    from wingmdao.beam.geometry import swept_dihedral_points
+
+    g = geometry_data(name)
+    w = np.asarray(g["widths"])
+    return swept_dihedral_points(SPANS, g["sweeps_deg"], g["dihedral_deg"], offsets_x=-0.5 * (w[:-1] - w[1:]))

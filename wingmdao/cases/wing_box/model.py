@@ -1,0 +1,140 @@
+"""The App. D.1 box on the OpenMDAO sizing chain (section -> beam -> internal loads -> stress -> KS
+of :class:`wingmdao.groups.wing.WingSizing`) with one tip-load case: used by ``wingmdao run
+wing-box`` and by the Sec. 4.7.2 sizing studies (:mod:`wingmdao.cases.wing_box.sizing`).
+
+Design variables are the four wall thicknesses of the *beam-normal* section at every beam node
+(the default mesh of one element per segment puts the nodes at CS1..CS4).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from wingmdao.beam.geometry import polyline_beam
+from wingmdao.cases.wing_box.geometry import HEIGHTS, geometry_data, section_centres
+from wingmdao.materials import ALUMINIUM
+
+
+def wing_geometry(name: str, elements_per_segment=(1, 1, 1)):
+    """The box as a :class:`wingmdao.sizing.WingGeometry` (beam-normal width/height per node).
+
+    Returns ``(geometry, key_nodes, cos_sweep, cos_dihedral)``: the node indices of CS1..CS4
+    and, per node, the factors that take streamwise-cut chordwise/vertical dimensions to the
+    normal cut (:func:`streamwise_to_normal`).
+    """
+    from wingmdao.sizing import WingGeometry
+
+    g = geometry_data(name)
+    geo = polyline_beam(section_centres(name), elements_per_segment)
+    T = geo.csn_axes()
+    s = T[:, 1]
+    cos_sweep, cos_dih = np.hypot(s[:, 1], s[:, 2]), np.hypot(s[:, 0], s[:, 1])
+    width = geo.interpolate(g["widths"]) * cos_sweep
+    height = geo.interpolate(HEIGHTS) * cos_dih
+    wg = WingGeometry(node_positions=geo.node_positions, node_euler_angles=geo.node_euler_angles,
+                      width=width, height=height, span_coordinate=geo.node_positions[:, 1])
+    return wg, geo.key_nodes, cos_sweep, cos_dih
+
+
+def tip_load_case(name: str, num_nodes: int, tip_force, tip_moment, families, *, time=None,
+                  gravity=False, ramp_time=0.0):
+    """A :class:`LoadCase` with a tip force/moment (body axes) at the last node.
+
+    ``time=None``: static. Otherwise the load is zero at ``time[0]`` (the static initial state
+    is the unloaded jig) and applied suddenly for t > 0 (``ramp_time`` = 0), or raised
+    linearly to its full value over ``ramp_time`` seconds, then held constant.
+    """
+    from wingmdao.groups.load_case import LoadCase
+
+    if not (np.isfinite(ramp_time) and ramp_time >= 0):
+        raise ValueError(f"ramp time = {ramp_time} s; allowed range [0, inf) s")
+    t = np.zeros(1) if time is None else np.asarray(time, dtype=float)
+    if t.size == 1:
+        on = np.ones(1)
+    elif ramp_time > 0:
+        on = np.clip(t / ramp_time, 0.0, 1.0)
+    else:
+        on = (t > 0.0).astype(float)
+    pf = np.zeros((t.size, num_nodes, 3))
+    pm = np.zeros((t.size, num_nodes, 3))
+    pf[:, -1] = np.outer(on, tip_force)
+    pm[:, -1] = np.outer(on, tip_moment)
+    forcing = {"point_force": pf, "point_moment": pm}
+    if gravity:
+        forcing["gravity"] = np.array([0.0, 0.0, -9.81])
+    kind = ("static" if t.size == 1 else f"ramped over {ramp_time:g} s, {t[-1]:g} s" if ramp_time > 0
+            else f"suddenly applied, {t[-1]:g} s")
+    return LoadCase(name, t, forcing, tuple(families), f"tip load {list(tip_force)} N, "
+                    f"{list(tip_moment)} N*m ({kind})")
+
+
+def time_grid(t_final: float, dt: float) -> np.ndarray:
+    """Uniform grid 0..t_final (s); ValueError unless 0 < dt <= t_final / 2."""
+    if not (np.isfinite(t_final) and np.isfinite(dt) and t_final > 0 and 0 < dt <= t_final / 2):
+        raise ValueError(f"--t-final ({t_final} s) and --dt ({dt} s): allowed 0 < dt <= t_final / 2")
+    from wingmdao.cases import check_step_count
+
+    check_step_count(t_final, dt)
+    return np.arange(0.0, t_final + 0.5 * dt, dt)
+
+
+def analysis_problem(geometry, load_case, walls: dict, material=ALUMINIUM, *, design_vars=False,
+                     rho_ks=100.0, mode="rev", newton_options=None):
+    """Set up (not run) the sizing model of one load case plus a von Mises output.
+
+    The chain is :class:`WingSizing` (section, mass, beam, internal loads, stress, KS) with an
+    extra :class:`BoxStress` (``output_stresses=True``) on the case's internal loads, whose
+    ``vm_stress.sigma_vm`` (nt, n, 8) Pa are the mid-corner von Mises stresses. ``walls`` maps
+    the four wall names to per-node thicknesses (m). With ``design_vars`` the thicknesses are
+    design variables and the case's KS outputs constraints (for ``check_totals``); ``mode`` is
+    OpenMDAO's derivative mode ("rev": one adjoint sweep per KS output, "fwd": one tangent
+    sweep per thickness).
+    """
+    import openmdao.api as om
+
+    from wingmdao.components.stress import BoxStress
+    from wingmdao.groups.wing import WingSizing, set_case_loads
+    from wingmdao.sizing import WALL_VARS, set_geometry
+
+    n = geometry.num_nodes
+    prob = om.Problem(reports=False)
+    prob.model.add_subsystem("wing", WingSizing(num_nodes=n, load_cases=[load_case], material=material,
+                                                rho_ks=rho_ks, newton_options=newton_options,
+                                                add_constraints=design_vars, add_objective=design_vars),
+                             promotes=["*"])
+    prob.model.add_subsystem("vm_stress", BoxStress(num_times=load_case.num_times, num_stations=n,
+                                                    material=material, families=("vm",)),
+                             promotes_inputs=["width", "height", *WALL_VARS])
+    base = f"cases.{load_case.name}.internal_loads"
+    prob.model.connect(f"{base}.F_csn", "vm_stress.F_csn")
+    prob.model.connect(f"{base}.M_csn", "vm_stress.M_csn")
+    for name in ("width", "height", *WALL_VARS):
+        prob.model.set_input_defaults(name, val=np.ones(n), units="m")
+    if design_vars:
+        for w in WALL_VARS:
+            prob.model.add_design_var(w)
+    prob.setup(mode=mode)
+    set_geometry(prob, geometry)
+    set_case_loads(prob, load_case, n, f"cases.{load_case.name}")
+    for w in WALL_VARS:
+        prob.set_val(w, np.broadcast_to(walls[w], (n,)), units="m")
+    return prob
+
+
+def totals_max_rel_error(prob, load_case) -> float:
+    """Largest relative difference between the adjoint totals of the KS outputs w.r.t. the wall
+    thicknesses and OpenMDAO's central finite differences (relative to each block's max |J|).
+
+    Step 1e-4 relative to the mean thickness: the truncation error is ~1e-8 and the Newton
+    round-off noise (~1e-14 in KS) stays below 1e-9 of the derivatives (1e-6 gives ~5e-6)."""
+    from wingmdao.sizing import WALL_VARS
+
+    of = [f"cases.{load_case.name}.ks_{f}" for f in load_case.families]
+    data = prob.check_totals(of=of, wrt=list(WALL_VARS), method="fd", form="central", step=1e-4,
+                             step_calc="rel_avg", out_stream=None)
+    worst = 0.0
+    for d in data.values():
+        j_ad = d["J_rev"] if "J_rev" in d else d["J_fwd"]
+        ref = max(np.abs(d["J_fd"]).max(), 1e-12)
+        worst = max(worst, float(np.abs(j_ad - d["J_fd"]).max() / ref))
+    return worst

@@ -1,0 +1,104 @@
+"""Sizing studies 1-3 of Sec. 4.7.2 on the App. D.1 box (``wingmdao size wing-box``).
+
+Sizing (Eq. 4.57): the design variables are the four wall thicknesses of the *beam-normal*
+section at every beam node (the default mesh of one element per segment puts the nodes at
+CS1..CS4: 4 x 4 = 16 variables as in the dissertation; the beam's element properties blend the
+two end sections). Study 2's loads are given in the dissertation's axes (beam along x, 'drag'
+F_y, torsion M_x); in our body axes (beam along y, x aft) drag is +x and torsion is about +y.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defaults
+from wingmdao.cases.wing_box.geometry import GEOMETRIES
+from wingmdao.cases.wing_box.model import time_grid, tip_load_case, wing_geometry
+from wingmdao.materials import ALUMINIUM
+
+#: Eq. 4.57 bounds (m). The skins' upper bound of 1.5 m exceeds the 0.5 m box height of
+#: Table D.1 (two skins must leave a web), so it is capped at SKIN_CAP (docs/cases.md).
+SKIN_CAP = 0.2
+BOUNDS = {"t_front_spar": (0.003, 0.25), "t_rear_spar": (0.003, 0.25),
+          "t_upper_skin": (0.003, min(1.5, SKIN_CAP)), "t_lower_skin": (0.003, min(1.5, SKIN_CAP))}
+#: Tip loads (body axes, N and N*m). Study 2: the dissertation's drag F_y -> +x, torsion M_x -> +y.
+STUDY_LOADS = {1: ((0.0, 0.0, 2.0e6), (0.0, 0.0, 0.0)),
+               2: ((1.0e5, 0.0, 2.0e6), (0.0, 1.0e6, 0.0)),
+               3: ((1.0e5, 0.0, 2.0e6), (0.0, 1.0e6, 0.0))}
+#: --constraints names and the stress families they enable.
+CONSTRAINT_GROUPS = {"vm": ("vm",), "ss": ("ss_tension", "ss_compression"), "cent": ("cent_pos", "cent_neg")}
+
+
+@dataclass(frozen=True)
+class WingBoxOptions(CaseOptions):
+    """Options of the wing-box sizing studies (SI); ``wingmdao size wing-box --help`` describes each."""
+
+    CASE = "wing-box"
+    study: int = field(default=1, metadata={"choices": tuple(STUDY_LOADS)})
+    constraints: str | None = None  # default: "vm" for study 1, "vm,ss,cent" for studies 2 and 3
+    geometry: str = field(default="combined", metadata={"choices": tuple(GEOMETRIES)})
+    elements: tuple[int, ...] = (1, 1, 1)
+    t_final: float = 5.0  # s
+    dt: float = 0.01  # s
+    ramp_time: float = 0.25  # s
+    rho_ks: float = 100.0
+
+
+def add_arguments(p):
+    p.add_argument("--study", type=int, choices=list(STUDY_LOADS),
+                   help="Sec. 4.7.2 study: 1 static Fz = 2 MN (von Mises); 2 static Fx = 0.1 MN, "
+                        "Fz = 2 MN, My = 1 MN m (body axes); 3 the study-2 loads applied suddenly (dynamic)")
+    p.add_argument("--constraints",
+                   help="comma list of vm, ss (= ss_tension + ss_compression), cent (= cent_pos + "
+                        "cent_neg); default: vm for study 1, vm,ss,cent for studies 2 and 3")
+    p.add_argument("--geometry", choices=list(GEOMETRIES), help="Table D.2 geometry")
+    p.add_argument("--elements", type=int, nargs=3, metavar=("N1", "N2", "N3"),
+                   help="beam elements per segment (design variables at every node; 1 1 1: CS1..CS4)")
+    p.add_argument("--t-final", type=float, help="study 3: simulated time [s]")
+    p.add_argument("--dt", type=float, help="study 3: time step [s]")
+    p.add_argument("--ramp-time", type=float,
+                   help="study 3: raise the loads linearly over this time [s]; 0 applies them suddenly at t > 0, "
+                        "which no design within the bounds of Eq. 4.57 survives with all constraints (docs/cases.md)")
+    p.add_argument("--rho-ks", type=float, help="KS aggregation parameter")
+    set_parser_defaults(p, WingBoxOptions)
+
+
+def parse_constraints(text) -> tuple:
+    """Stress families of a --constraints list (vm, ss, cent); ValueError listing the valid names."""
+    names = [t.strip() for t in str(text).split(",") if t.strip()]
+    bad = [t for t in names if t not in CONSTRAINT_GROUPS]
+    if bad or not names:
+        raise ValueError(f"--constraints: unknown {bad or 'empty list'}; valid: {', '.join(CONSTRAINT_GROUPS)}")
+    fams = []
+    for t in names:
+        fams += [f for f in CONSTRAINT_GROUPS[t] if f not in fams]
+    return tuple(fams)
+
+
+def build(options: WingBoxOptions | None = None, **overrides) -> CaseSetup:
+    """The study's geometry, tip-load case, material and Eq. 4.57 bounds, from a
+    :class:`WingBoxOptions` and/or keyword options (``build(study=2, geometry="taper")``)."""
+    from wingmdao.sizing import RHO_KS_MIN, SizingOptions
+
+    opts = case_options(WingBoxOptions, options, **overrides)
+    default = "vm" if opts.study == 1 else "vm,ss,cent"
+    families = parse_constraints(opts.constraints if opts.constraints else default)
+    if len(opts.elements) != 3 or min(opts.elements) < 1:
+        raise ValueError(f"--elements = {list(opts.elements)}; three counts, each >= 1 (elements per segment)")
+    if not (np.isfinite(opts.rho_ks) and opts.rho_ks >= RHO_KS_MIN):
+        raise ValueError(f"--rho-ks = {opts.rho_ks}; allowed range [{RHO_KS_MIN:g}, inf) (KS exceeds the "
+                         "maximum stress ratio by up to ln(N)/rho_KS)")
+    geometry, _, _, _ = wing_geometry(opts.geometry, tuple(opts.elements))
+    force, moment = STUDY_LOADS[opts.study]
+    time = time_grid(opts.t_final, opts.dt) if opts.study == 3 else None
+    case = tip_load_case(f"study{opts.study}", geometry.num_nodes, force, moment, families, time=time,
+                         ramp_time=opts.ramp_time if opts.study == 3 else 0.0)
+    sizing = SizingOptions(lower={w: b[0] for w, b in BOUNDS.items()},
+                           upper={w: b[1] for w, b in BOUNDS.items()}, rho_ks=float(opts.rho_ks))
+    notes = [f"Eq. 4.57 skin upper bound 1.5 m capped at {SKIN_CAP} m (box height 0.5 m)",
+             "thickness design variables per beam node, beam-normal cut"]
+    if opts.study > 1:
+        notes.append("dissertation drag F_y = 1e5 N -> +x, torsion M_x = 1e6 N m -> +y (beam along y)")
+    return CaseSetup(geometry, [case], ALUMINIUM, sizing, notes=notes)
