@@ -93,3 +93,26 @@ def test_coincident_nodes_and_missing_density_raise():
     prob.model.add_subsystem("m", StructuralMass(num_nodes=4))
     with pytest.raises(ValueError, match="density"):
         prob.setup()
+
+
+def test_initial_mass_closed_form_without_a_problem(monkeypatch):
+    """initial_mass computes directly (no om.Problem). Cantilever guess b: w = 2 - 1.5 s, h = 4 - 3 s
+    (similar sections, so the frustum is exact): V = 8 L int_0^1 (1 - 0.75 s)^2 ds = 35 m^3 for L = 10 m,
+    m = 2700 kg/m^3 x 35 m^3 = 94 500 kg. Box: hollow 3 x 0.5 m prism, walls 0.02 m, length 10 m:
+    A = 3 x 0.5 - 2.96 x 0.46 = 0.1384 m^2, m = 2700 x 1.384 = 3736.8 kg."""
+    from wingmdao.cases import build_case
+    from wingmdao.materials import ALUMINIUM
+    from wingmdao.sizing import WALL_VARS, SizingOptions, WingGeometry, initial_mass
+
+    def no_problem(*a, **k):
+        raise AssertionError("initial_mass built an om.Problem")
+
+    monkeypatch.setattr(om, "Problem", no_problem)
+    s = build_case("cantilever", stations=7, guess="b")
+    assert initial_mass(s.geometry, s.material, s.options, s.section) == pytest.approx(94500.0, rel=1e-12)
+    n = 4
+    geo = WingGeometry(node_positions=np.column_stack([np.zeros(n), np.linspace(0, 10, n), np.zeros(n)]),
+                       node_euler_angles=np.zeros((n, 3)), width=np.full(n, 3.0), height=np.full(n, 0.5),
+                       nonstructural_mass_per_length=np.full(n, 50.0))  # not part of the scaling mass
+    opts = SizingOptions(initial={w: 0.02 for w in WALL_VARS})
+    assert initial_mass(geo, ALUMINIUM, opts) == pytest.approx(ALUMINIUM.rho * 1.384, rel=1e-12)

@@ -156,26 +156,26 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
 
 
 def initial_mass(geometry: WingGeometry, material, options: SizingOptions, section: str = "box") -> float:
-    """Structural mass of the initial design (kg), to scale the objective to order one."""
-    from wingmdao.components.mass import StructuralMass
-    from wingmdao.groups.wing import _section_classes
+    """Structural mass of the initial design (kg), to scale the objective to order one.
+
+    Computed directly (App. F.1 frustum volumes of the section areas, Eq. F.1-F.5 for the box,
+    w h for the solid rectangle), without the non-structural mass, as the sizing model's
+    section and mass components would for the initial design variables."""
+    from wingmdao.components.mass import beam_mass
 
     n = geometry.num_nodes
-    p = om.Problem(reports=False)
-    p.model.add_subsystem("section", _section_classes(section)[0](num_stations=n, material=material),
-                          promotes=["*"])
-    p.model.add_subsystem("mass", StructuralMass(num_nodes=n, density=material.rho), promotes_inputs=["A", "node_positions"])
-    p.setup()
-    p.set_val("node_positions", geometry.node_positions)
-    if section == "box":
-        p.set_val("width", geometry.width)
-        p.set_val("height", geometry.height)
     smap = np.arange(n) if geometry.station_map is None else np.asarray(geometry.station_map)
-    for w in SECTION_KINDS[section]["design_vars"]:
-        val = np.broadcast_to(options.initial.get(w, options.upper[w]), (int(smap.max()) + 1,))
-        p.set_val(w, np.asarray(val)[smap])
-    p.run_model()
-    return float(p.get_val("mass.mass")[0])
+    dv = {w: np.asarray(np.broadcast_to(np.asarray(options.initial.get(w, options.upper[w]), dtype=float),
+                                        (int(smap.max()) + 1,)))[smap]
+          for w in SECTION_KINDS[section]["design_vars"]}
+    if section == "box":
+        from wingmdao.section.box import box_area
+
+        area = box_area(np.asarray(geometry.width, dtype=float), np.asarray(geometry.height, dtype=float),
+                        *(dv[w] for w in WALL_VARS))
+    else:
+        area = dv["width"] * dv["height"]
+    return beam_mass(area, geometry.node_positions, material.rho)
 
 
 def initial_frequencies(geometry: WingGeometry, material, options: SizingOptions, count: int = 3,

@@ -31,6 +31,15 @@ def frustum_volumes(area: np.ndarray, length: np.ndarray) -> np.ndarray:
     return length / 3.0 * (a0 + a1 + np.sqrt(a0 * a1))
 
 
+def beam_mass(area, node_positions, density, nonstructural_mass_per_length=0.0) -> float:
+    """Structural mass rho sum_i V_i (App. F.1, frustum volumes) plus the trapezoid-rule
+    non-structural mass sum_i s_i (mu_i + mu_{i+1}) / 2, kg; no input checks (see StructuralMass)."""
+    area = np.asarray(area, dtype=float)
+    s, _ = element_lengths(node_positions)
+    mu = np.broadcast_to(np.asarray(nonstructural_mass_per_length, dtype=float), area.shape)
+    return float(density * np.sum(frustum_volumes(area, s)) + np.sum(0.5 * s * (mu[:-1] + mu[1:])))
+
+
 class StructuralMass(om.ExplicitComponent):
     """Beam structural mass (App. F.1 objective) plus non-structural mass per length.
 
@@ -112,10 +121,8 @@ class StructuralMass(om.ExplicitComponent):
         return area, mu, s, e
 
     def compute(self, inputs, outputs):
-        area, mu, s, _ = self._checked(inputs)
-        structural = self.density * np.sum(frustum_volumes(area, s))
-        nonstructural = np.sum(0.5 * s * (mu[:-1] + mu[1:]))
-        outputs["mass"] = structural + nonstructural
+        area, mu, _, _ = self._checked(inputs)
+        outputs["mass"] = beam_mass(area, inputs["node_positions"], self.density, mu)
 
     def compute_partials(self, inputs, partials):
         area, mu, s, e = self._checked(inputs)
