@@ -1,13 +1,12 @@
 """Structural mass (App. F.1): prismatic and tapered closed forms, partials, bad input."""
 
-from types import SimpleNamespace
-
 import numpy as np
 import openmdao.api as om
 import pytest
 from openmdao.utils.assert_utils import assert_check_partials
 
 from wingmdao.components.mass import StructuralMass
+from wingmdao.materials import Material
 
 
 def _run(area, pos, mu=None, **opts):
@@ -52,7 +51,7 @@ def test_nonstructural_mass_trapezoid_and_material_object():
     n = 4
     pos = _swept_line(n, 6.0)
     mu = np.linspace(30.0, 10.0, n)  # linear: trapezoid is exact
-    steel = SimpleNamespace(rho=7850.0)
+    steel = Material("steel", E=200e9, rho=7850.0, sigma_y=250e6)
     prob = _run(np.full(n, 1e-3), pos, mu, material=steel, density=1.0)
     assert prob["mass"].item() == pytest.approx(7850.0 * 1e-3 * 6.0 + 6.0 * (30.0 + 10.0) / 2, rel=1e-14)
 

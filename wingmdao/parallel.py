@@ -27,6 +27,8 @@ import os
 import numpy as np
 import openmdao.api as om
 
+from wingmdao.groups.load_case import LoadCase
+
 _SIZE_VARS = ("OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "MPI_LOCALNRANKS")
 
 
@@ -161,9 +163,10 @@ class CaseExchange:
 
 class _ProxyBase(om.ExplicitComponent):
     def initialize(self):
-        self.options.declare("exchange", types=CaseExchange, recordable=False)
-        self.options.declare("case", recordable=False, desc="wingmdao.groups.load_case.LoadCase")
-        self.options.declare("dv_size", types=int)
+        self.options.declare("exchange", types=CaseExchange, recordable=False,
+                             desc="the load-case exchange between the ranks")
+        self.options.declare("case", types=LoadCase, recordable=False, desc="wingmdao.groups.load_case.LoadCase")
+        self.options.declare("dv_size", types=int, desc="number of design-variable values per wall")
 
     def _add_design_inputs(self):
         for d in self.options["exchange"].design_vars:

@@ -94,7 +94,7 @@ class BeamStatic(_BeamMixin, TimeHistoryComponent):
     def initialize(self):
         super().initialize()
         self._declare_beam_options()
-        self.options.declare("time", default=np.zeros(1), desc="single instant (fixed)")
+        self.options.declare("time", default=np.zeros(1), types=np.ndarray, desc="single instant (fixed)")
         self.options.declare("drop_time_axis", default=True, types=bool, desc="fixed: True")
 
     def setup(self):

@@ -11,6 +11,8 @@ The sum runs over *every* entry of the array, whatever its shape. See ``docs/ks.
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 import openmdao.api as om
 
@@ -63,7 +65,7 @@ class KSAggregate(om.ExplicitComponent):
             "families", types=dict, desc="{family name: shape of its constraint array g}"
         )
         self.options.declare(
-            "rho_ks", default=100.0, lower=0.0, desc="KS aggregation parameter rho_KS (> 0)"
+            "rho_ks", default=100.0, lower=0.0, types=numbers.Real, desc="KS aggregation parameter rho_KS (> 0)"
         )
         self.options.declare(
             "add_constraints", default=False, types=bool,

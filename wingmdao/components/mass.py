@@ -10,11 +10,14 @@ box whose every wall scales with the same factor). Non-structural mass per lengt
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 import openmdao.api as om
 
 from wingmdao import DISSERTATION
 from wingmdao.errors import InputRangeError
+from wingmdao.materials import Material
 
 
 def element_lengths(node_positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -45,19 +48,19 @@ class StructuralMass(om.ExplicitComponent):
 
     Inputs ``A`` (n,) m^2, ``node_positions`` (n, 3) m (undeformed beam axis, body axes),
     ``nonstructural_mass_per_length`` (n,) kg/m (default 0). Output ``mass`` (kg).
-    Option ``density`` (kg/m^3) or ``material`` (any object with a ``rho`` attribute, e.g.
-    ``wingmdao.materials.Material``); ``material`` wins when given.
+    Option ``density`` (kg/m^3) or ``material`` (a ``wingmdao.materials.Material``);
+    ``material`` wins when given.
     """
 
     def initialize(self):
         self.cite = DISSERTATION  # OpenMDAO lists it in its citations report
         self.options.declare("num_nodes", types=int, lower=2, desc="number of beam nodes")
         self.options.declare(
-            "density", default=None, allow_none=True, desc="material density (kg/m^3)"
+            "density", default=None, allow_none=True, types=numbers.Real, desc="material density (kg/m^3)"
         )
         self.options.declare(
-            "material", default=None, allow_none=True,
-            desc="optional material object with attribute rho (kg/m^3); overrides density",
+            "material", default=None, allow_none=True, types=Material,
+            desc="optional wingmdao.materials.Material (its rho, kg/m^3, overrides density)",
         )
 
     @property

@@ -15,6 +15,7 @@ from wingmdao.components.pointwise import PointwiseCasadiComponent, Var
 from wingmdao.section.box import box_properties, validate_box
 from wingmdao.section.solid import solid_properties, validate_solid
 from wingmdao import DISSERTATION
+from wingmdao.materials import Material
 
 #: Outputs shared by both section kinds: (name, shape at one station, units, description).
 SECTION_OUTPUTS = (
@@ -95,7 +96,7 @@ class _SectionBase(CombinedJacobianMixin, PointwiseCasadiComponent):
         super().initialize()
         self.cite = DISSERTATION  # OpenMDAO lists it in its citations report
         self.options.declare("num_stations", types=int, lower=1, desc="number of beam stations")
-        self.options.declare("material", desc="wingmdao.materials.Material")
+        self.options.declare("material", types=Material, desc="wingmdao.materials.Material")
 
     def point_grid(self):
         return (self.options["num_stations"],)

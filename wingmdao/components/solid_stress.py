@@ -13,6 +13,7 @@ import numpy as np
 
 from wingmdao.components.pointwise import PointwiseCasadiComponent, Var
 from wingmdao import DISSERTATION
+from wingmdao.materials import Material
 
 #: corner order: (c, n) signs of (front-lower, rear-lower, rear-upper, front-upper)
 CORNERS = ((-1, -1), (1, -1), (1, 1), (-1, 1))
@@ -33,10 +34,11 @@ class SolidRectStress(PointwiseCasadiComponent):
     def initialize(self):
         super().initialize()
         self.cite = DISSERTATION  # OpenMDAO lists it in its citations report
-        self.options.declare("num_times", types=int, lower=1)
-        self.options.declare("num_stations", types=int, lower=1)
-        self.options.declare("material", desc="wingmdao.materials.Material (sigma_y used)")
-        self.options.declare("families", default=("ss_tension", "ss_compression"), types=tuple)
+        self.options.declare("num_times", types=int, lower=1, desc="number of time steps")
+        self.options.declare("num_stations", types=int, lower=1, desc="number of beam stations")
+        self.options.declare("material", types=Material, desc="wingmdao.materials.Material (sigma_y used)")
+        self.options.declare("families", default=("ss_tension", "ss_compression"), types=tuple,
+                             desc="constraint families to output (ss_tension, ss_compression)")
 
     def point_grid(self):
         return (self.options["num_times"], self.options["num_stations"])

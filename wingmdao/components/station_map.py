@@ -14,9 +14,9 @@ class StationMap(om.ExplicitComponent):
     """``<name>_station[i] = <name>[station_map[i]]`` for each name (a linear, sparse map)."""
 
     def initialize(self):
-        self.options.declare("station_map", desc="(n_station,) int: design index of each station")
+        self.options.declare("station_map", types=(np.ndarray, list, tuple), desc="(n_station,) int: design index of each station")
         self.options.declare("names", types=tuple, desc="variable names to expand")
-        self.options.declare("units", default="m")
+        self.options.declare("units", default="m", types=str, desc="units of the variables and their expansions")
 
     def setup(self):
         smap = np.asarray(self.options["station_map"], dtype=int)

@@ -12,6 +12,7 @@ from wingmdao.components.section import SECTION_OUTPUTS
 from wingmdao.stress.box_stress import (FAMILIES, SECTION_PROPERTIES, box_stresses, check_families,
                                        stress_constraints)
 from wingmdao import DISSERTATION
+from wingmdao.materials import Material
 
 _FAMILY_DESC = {
     "vm": "mid-corner von Mises sigma_vm/sigma_y - 1, 8 points (Eq. 4.26)",
@@ -51,7 +52,7 @@ class BoxStress(CombinedJacobianMixin, PointwiseCasadiComponent):
         self.cite = DISSERTATION  # OpenMDAO lists it in its citations report
         self.options.declare("num_times", types=int, lower=1, desc="number of time steps")
         self.options.declare("num_stations", types=int, lower=1, desc="number of beam stations")
-        self.options.declare("material", desc="wingmdao.materials.Material (sigma_y used)")
+        self.options.declare("material", types=Material, desc="wingmdao.materials.Material (sigma_y used)")
         self.options.declare("families", default=tuple(FAMILIES), types=tuple,
                              desc=f"constraint families to output, from {', '.join(FAMILIES)}")
         self.options.declare("output_stresses", default=True, types=bool,

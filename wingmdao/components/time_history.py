@@ -10,6 +10,8 @@ system.
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 import openmdao.api as om
 
@@ -50,23 +52,23 @@ class TimeHistoryComponent(om.ImplicitComponent):
     def initialize(self):
         self.cite = DISSERTATION  # OpenMDAO lists it in its citations report
         self.options.declare("system", types=ResidualSystem, desc="the residual system R(x, xdot, p, q)")
-        self.options.declare("time", desc="uniform time grid (s), time[0] = 0; [0.0] for a static solve")
+        self.options.declare("time", types=(np.ndarray, list, tuple), desc="uniform time grid (s), time[0] = 0; [0.0] for a static solve")
         self.options.declare("initial", default="static", values=("static", "state"),
                              desc="step 0: static equilibrium under q_0, or the input initial_state")
         self.options.declare("state_name", default="states", types=str, desc="name of the output")
-        self.options.declare("state_units", default=None, allow_none=True,
+        self.options.declare("state_units", default=None, allow_none=True, types=str,
                              desc="units of the state output (None: mixed)")
         self.options.declare("modified_newton", default=False, types=bool,
                              desc="reuse LU factors across Newton iterations and steps")
-        self.options.declare("atol", default=0.0, desc="per-step absolute residual tolerance (0: converge on the step)")
-        self.options.declare("xtol", default=1e-12, desc="per-step relative Newton-step tolerance")
+        self.options.declare("atol", default=0.0, types=numbers.Real, desc="per-step absolute residual tolerance (0: converge on the step)")
+        self.options.declare("xtol", default=1e-12, types=numbers.Real, desc="per-step relative Newton-step tolerance")
         self.options.declare("max_iter", default=25, types=int, desc="Newton iterations per step")
         self.options.declare("static_options", default=None, allow_none=True, types=dict,
                              desc="keyword arguments of solve_static for step 0 (e.g. load_steps)")
         self.options.declare("matrix_free", default=None, types=bool, allow_none=True,
                              desc="apply_linear from stored blocks instead of declared partials; "
                                   "None: when n_time * n_state > MATRIX_FREE_ABOVE")
-        self.options.declare("store_factors", default="auto",
+        self.options.declare("store_factors", default="auto", types=(bool, str),
                              desc="keep every LU factor between sweeps (True/False/'auto')")
         self.options.declare("lu", default="superlu", values=("superlu", "static"),
                              desc="sparse LU of the tangent/adjoint sweeps: SuperLU per step, or the "

@@ -22,6 +22,8 @@ would assemble the whole history matrix and bypass that.
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 import openmdao.api as om
 
@@ -119,7 +121,7 @@ class WingStructure(om.Group):
         self.options.declare("num_nodes", types=int, lower=2, desc="number of beam nodes (root first)")
         self.options.declare("load_case", types=LoadCase, desc="time grid, stress families, damping (and loads)")
         self.options.declare("material", types=Material, desc="wall material (E, G, rho, sigma_y)")
-        self.options.declare("rho_ks", default=100.0, lower=0.0, desc="KS aggregation parameter")
+        self.options.declare("rho_ks", default=100.0, lower=0.0, types=numbers.Real, desc="KS aggregation parameter")
         self.options.declare("section", default="box", values=tuple(SECTION_KINDS),
                              desc="section kind: box (wall thicknesses) or solid (width, height)")
         self.options.declare("newton_options", default=None, allow_none=True, types=dict,
@@ -233,12 +235,12 @@ class WingSizing(om.Group):
         self.options.declare("num_nodes", types=int, lower=2, desc="number of beam nodes (root first)")
         self.options.declare("load_cases", types=list, desc="list of wingmdao.groups.load_case.LoadCase")
         self.options.declare("material", types=Material, desc="wall material (E, G, rho, sigma_y)")
-        self.options.declare("rho_ks", default=100.0, lower=0.0, desc="KS aggregation parameter")
+        self.options.declare("rho_ks", default=100.0, lower=0.0, types=numbers.Real, desc="KS aggregation parameter")
         self.options.declare("parallel", default=None, allow_none=True, types=bool,
                              desc="load cases in an om.ParallelGroup (None: when mpi4py imports)")
         self.options.declare("section", default="box", values=tuple(SECTION_KINDS),
                              desc="section kind: box (wall thicknesses) or solid (width, height)")
-        self.options.declare("station_map", default=None, allow_none=True,
+        self.options.declare("station_map", default=None, allow_none=True, types=(np.ndarray, list, tuple),
                              desc="(n,) int: design-variable index of each station (None: one per station)")
         self.options.declare("newton_options", default=None, allow_none=True, types=dict,
                              desc="extra BeamDynamics options of every case")
@@ -246,7 +248,7 @@ class WingSizing(om.Group):
                              desc="add every case's ks_<family> as a constraint ks <= 0")
         self.options.declare("add_objective", default=False, types=bool,
                              desc="add the structural mass as the objective")
-        self.options.declare("mass_ref", default=1.0, lower=0.0, desc="objective scaling reference (kg)")
+        self.options.declare("mass_ref", default=1.0, lower=0.0, types=numbers.Real, desc="objective scaling reference (kg)")
         self.options.declare("proxy_cases", default=False, types=bool,
                              desc="a subclass adds the cases to cases_group itself (wingmdao.parallel); "
                                   "load_cases may then be empty")

@@ -129,7 +129,7 @@ class BeamDisplacements(om.ExplicitComponent):
     """Beam states -> ``u_struct`` (n*6): u = r - r0, rotation = A (theta - theta0). Linear."""
 
     def initialize(self):
-        self.options.declare("node_euler_angles", desc="(n, 3) jig Euler angles, rad")
+        self.options.declare("node_euler_angles", types=(np.ndarray, list, tuple), desc="(n, 3) jig Euler angles, rad")
 
     def setup(self):
         th0 = np.asarray(self.options["node_euler_angles"], dtype=float)
@@ -167,7 +167,7 @@ class DvSplit(om.ExplicitComponent):
 
     def initialize(self):
         self.options.declare("num_nodes", types=int, lower=2, desc="number of beam nodes")
-        self.options.declare("initial", desc="(4*n,) initial dv_struct, m")
+        self.options.declare("initial", types=(np.ndarray, list, tuple), desc="(4*n,) initial dv_struct, m")
 
     def setup(self):
         n = self.options["num_nodes"]
@@ -191,8 +191,8 @@ class DvSplit(om.ExplicitComponent):
 
 class _Geometry(om.IndepVarComp):
     def initialize(self):
-        self.options.declare("width", desc="(n,) box width, m")
-        self.options.declare("height", desc="(n,) box height, m")
+        self.options.declare("width", types=(np.ndarray, list, tuple), desc="(n,) box width, m")
+        self.options.declare("height", types=(np.ndarray, list, tuple), desc="(n,) box height, m")
 
     def setup(self):
         self.add_output("width", val=np.asarray(self.options["width"], float), units="m", desc="box width")
@@ -203,7 +203,8 @@ class PreCoupling(om.Group):
     """dv_struct -> BoxSection -> beam section inputs (tagged for MPhys promotion), struct_mass."""
 
     def initialize(self):
-        self.options.declare("builder", recordable=False)
+        self.options.declare("builder", types=WingmdaoBuilder, recordable=False,
+                             desc="the WingmdaoBuilder whose mesh, material and options this group uses")
 
     def setup(self):
         from wingmdao.components.mass import StructuralMass
@@ -228,7 +229,8 @@ class BeamCoupling(om.Group):
     """The coupling subsystem: f_aero_struct -> BeamStatic -> u_struct."""
 
     def initialize(self):
-        self.options.declare("builder", recordable=False)
+        self.options.declare("builder", types=WingmdaoBuilder, recordable=False,
+                             desc="the WingmdaoBuilder whose mesh, material and options this group uses")
 
     def setup(self):
         from wingmdao.components.beam import BeamStatic
@@ -251,7 +253,8 @@ class PostCoupling(om.Group):
     """States -> csn internal loads -> box stresses -> KS (``ks_<family>``)."""
 
     def initialize(self):
-        self.options.declare("builder", recordable=False)
+        self.options.declare("builder", types=WingmdaoBuilder, recordable=False,
+                             desc="the WingmdaoBuilder whose mesh, material and options this group uses")
 
     def setup(self):
         from wingmdao.components.beam_loads import BeamInternalLoads

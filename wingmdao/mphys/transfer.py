@@ -64,7 +64,7 @@ def _skew(v):
 
 class _LinkBase(om.ExplicitComponent):
     def initialize(self):
-        self.options.declare("links", desc="(n_aero,) int: beam node of each aerodynamic node")
+        self.options.declare("links", types=(np.ndarray, list, tuple), desc="(n_aero,) int: beam node of each aerodynamic node")
         self.options.declare("num_struct_nodes", types=int, lower=2, desc="number of beam nodes")
         self.options.declare("mirror_y", default=False, types=bool,
                              desc="aerodynamic mesh is the y-mirror image of the beam's wing")

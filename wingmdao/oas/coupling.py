@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 import openmdao.api as om
+from wingmdao.materials import Material
 
 POLAR = np.array([1.0, -1.0, 1.0])
 AXIAL = np.array([-1.0, 1.0, -1.0])
@@ -78,8 +79,8 @@ class BeamToOASDisp(om.ExplicitComponent):
     translations r - r0, rotations A(theta0)(theta - theta0), reflected and reversed. Linear."""
 
     def initialize(self):
-        self.options.declare("node_positions", desc="(ny, 3) jig beam nodes, right wing root first, m")
-        self.options.declare("node_euler_angles", desc="(ny, 3) jig Euler angles, rad")
+        self.options.declare("node_positions", types=(np.ndarray, list, tuple), desc="(ny, 3) jig beam nodes, right wing root first, m")
+        self.options.declare("node_euler_angles", types=(np.ndarray, list, tuple), desc="(ny, 3) jig Euler angles, rad")
 
     def setup(self):
         from wingmdao.mphys.builder import rotation_vector_map
@@ -181,11 +182,12 @@ class OASBeamStates(om.Group):
     """
 
     def initialize(self):
-        self.options.declare("fem_nodes", desc="(ny, 3) OpenAeroStruct FEM nodes, m")
-        self.options.declare("width", desc="(ny - 1,) box width per OAS element, m")
-        self.options.declare("height", desc="(ny - 1,) box height per OAS element, m")
-        self.options.declare("material", desc="wingmdao.materials.Material")
-        self.options.declare("newton_options", default=None, allow_none=True, types=dict)
+        self.options.declare("fem_nodes", types=(np.ndarray, list, tuple), desc="(ny, 3) OpenAeroStruct FEM nodes, m")
+        self.options.declare("width", types=(np.ndarray, list, tuple), desc="(ny - 1,) box width per OAS element, m")
+        self.options.declare("height", types=(np.ndarray, list, tuple), desc="(ny - 1,) box height per OAS element, m")
+        self.options.declare("material", types=Material, desc="wingmdao.materials.Material")
+        self.options.declare("newton_options", default=None, allow_none=True, types=dict,
+                             desc="BeamStatic options (Newton tolerances, load steps)")
         self.options.declare("box_from_oas", default=False, types=bool,
                              desc="box width and height from the inputs htop, hbottom, hfront, hrear "
                                   "(OpenAeroStruct's wingbox geometry) instead of the options")
