@@ -19,7 +19,8 @@ def _build(setup, **change):
     kw = dict(geometry=setup.geometry, load_cases=setup.load_cases, material=setup.material,
               options=setup.options)
     kw.update(change)
-    return build_problem(kw["geometry"], kw["load_cases"], kw["material"], kw["options"], driver=False)
+    return build_problem(kw["geometry"], kw["load_cases"], kw["material"], kw["options"], driver=False,
+                         section=setup.section)
 
 
 @pytest.mark.parametrize("change, message", [
@@ -110,3 +111,35 @@ def test_build_case_from_keywords_matches_the_command_line_path():
     b = pegasus.build(options_from_namespace(pegasus.PegasusOptions, args))
     np.testing.assert_array_equal(a.load_cases[0].forcing["force_per_length"],
                                   b.load_cases[0].forcing["force_per_length"])
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda s: dict(geometry={"x": 1}), "geometry must be a wingmdao.sizing.WingGeometry, got dict"),
+    (lambda s: dict(geometry=dataclasses.replace(s.geometry, node_positions=s.geometry.node_positions[:, :2])),
+     r"geometry.node_positions: shape \(5, 2\); needs \(5, 3\)"),
+    (lambda s: dict(geometry=dataclasses.replace(s.geometry, nonstructural_mass_per_length=np.ones(2))),
+     r"geometry.nonstructural_mass_per_length: shape \(2,\); needs \(5,\)"),
+    (lambda s: dict(options=dataclasses.replace(s.options, lower={})), "options.lower: no bound for width, height"),
+    (lambda s: dict(options=dataclasses.replace(s.options, lower={"width": 6.0, "height": 0.4})),
+     r"options.lower\['width'\] = 6.0 m, options.upper\['width'\] = 5.0 m; need 0 < lower <= upper"),
+    (lambda s: dict(options=dataclasses.replace(s.options, initial={"width": np.ones(3)})),
+     r"options.initial\['width'\]: 3 values; needs 1 or 5"),
+    (lambda s: dict(options=dataclasses.replace(s.options, initial={"widht": 1.0})),
+     r"options.initial\['widht'\]: not a design variable; allowed: width, height"),
+    (lambda s: dict(options=dataclasses.replace(s.options, tol="1e-6")), r"options.tol = '1e-6'"),
+    (lambda s: dict(options=dataclasses.replace(s.options, maxiter="200")), r"options.maxiter = '200'"),
+    (lambda s: dict(options=dataclasses.replace(s.options, mass_scale=-1.0)), r"options.mass_scale = -1.0 kg"),
+])
+def test_geometry_and_options_errors_name_the_field(setup, change, message):
+    """Shapes, bounds and types of the geometry and sizing options are checked before setup."""
+    with pytest.raises(ValueError, match=message):
+        _build(setup, **change(setup))
+
+
+def test_every_shipped_case_passes_the_input_checks():
+    from wingmdao.cases import available_cases
+    from wingmdao.sizing import check_problem_inputs
+
+    for name in available_cases():
+        s = build_case(name)
+        check_problem_inputs(s.geometry, s.load_cases, s.material, s.options, s.section)

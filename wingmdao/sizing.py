@@ -82,15 +82,84 @@ def check_problem_inputs(geometry, load_cases, material, options, section="box")
     names = [c.name for c in cases]
     if len(set(names)) != len(names):
         raise ValueError(f"load_cases: names must be unique, got {names}")
+    _check_options(options, SECTION_KINDS[section]["design_vars"])
+    _check_geometry(geometry, section)
+    _check_initial(options, SECTION_KINDS[section]["design_vars"], geometry)
+
+
+def _check_initial(options, design_vars, geometry) -> None:
+    """ValueError for an initial design that names no design variable or does not fit its size."""
+    smap = geometry.station_map
+    n_dv = geometry.num_nodes if smap is None else int(np.max(smap)) + 1
+    for w, v in (options.initial or {}).items():
+        if w not in design_vars:
+            raise ValueError(f"options.initial[{w!r}]: not a design variable; allowed: {', '.join(design_vars)}")
+        size = np.asarray(v, dtype=float).size
+        if size not in (1, n_dv):
+            raise ValueError(f"options.initial[{w!r}]: {size} values; needs 1 or {n_dv} (one per design station), m")
+
+
+def _number(value) -> bool:
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
+
+
+def _check_options(options, design_vars) -> None:
+    """ValueError naming the SizingOptions field that is not usable (type, range, bounds)."""
     if not isinstance(options, SizingOptions):
         raise ValueError(f"options must be a SizingOptions, got {type(options).__name__}")
     rho = options.rho_ks
-    if isinstance(rho, bool) or not isinstance(rho, (int, float, np.integer, np.floating)) \
-            or not (np.isfinite(rho) and rho >= RHO_KS_MIN):
+    if not (_number(rho) and np.isfinite(rho) and rho >= RHO_KS_MIN):
         raise ValueError(f"options.rho_ks = {rho!r}; allowed range [{RHO_KS_MIN:g}, inf) (a number)")
     if isinstance(options.maxiter, bool) or not isinstance(options.maxiter, (int, np.integer)) or options.maxiter < 1:
         raise ValueError(f"options.maxiter = {options.maxiter!r}; allowed range >= 1 (an integer)")
+    if not (_number(options.tol) and np.isfinite(options.tol) and options.tol > 0):
+        raise ValueError(f"options.tol = {options.tol!r}; allowed range (0, inf) (a number)")
+    if options.mass_scale is not None and not (_number(options.mass_scale) and np.isfinite(options.mass_scale)
+                                               and options.mass_scale > 0):
+        raise ValueError(f"options.mass_scale = {options.mass_scale!r} kg; allowed range (0, inf) kg, or None")
+    for what in ("lower", "upper", "initial"):
+        for w, v in (getattr(options, what) or {}).items():
+            if isinstance(v, str) or not np.all(np.isfinite(np.asarray(v, dtype=float))):
+                raise ValueError(f"options.{what}[{w!r}] = {v!r}; must be finite numbers (m)")
+    for what in ("lower", "upper"):
+        missing = [w for w in design_vars if w not in (getattr(options, what) or {})]
+        if missing:
+            raise ValueError(f"options.{what}: no bound for {', '.join(missing)}; give one per design "
+                             f"variable ({', '.join(design_vars)}), m")
+    for w in design_vars:
+        lo, up = np.asarray(options.lower[w], dtype=float), np.asarray(options.upper[w], dtype=float)
+        if np.any(lo <= 0) or np.any(lo > up):
+            raise ValueError(f"options.lower[{w!r}] = {options.lower[w]!r} m, options.upper[{w!r}] = "
+                             f"{options.upper[w]!r} m; need 0 < lower <= upper")
+
+
+def _check_geometry(geometry, section) -> None:
+    """ValueError naming the WingGeometry field whose shape or values do not fit ``num_nodes``."""
+    if not isinstance(geometry, WingGeometry):
+        raise ValueError(f"geometry must be a wingmdao.sizing.WingGeometry, got {type(geometry).__name__}")
     n = geometry.num_nodes
+    if n < 2:
+        raise ValueError(f"geometry.node_positions: {n} node(s); a beam needs at least 2")
+    shapes = {"node_positions": (n, 3), "node_euler_angles": (n, 3), "section_to_csn": (n, 3, 3),
+              "nonstructural_mass_per_length": (n,), "span_coordinate": (n,)}
+    if section == "box":
+        shapes.update(width=(n,), height=(n,))
+    for name, shape in shapes.items():
+        value = getattr(geometry, name)
+        if value is None and name not in ("node_positions", "node_euler_angles", "width", "height"):
+            continue
+        try:
+            arr = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError(f"geometry.{name}: not an array of numbers ({type(value).__name__})") from None
+        if arr.shape != shape:
+            raise ValueError(f"geometry.{name}: shape {arr.shape}; needs {shape} ({n} beam nodes)")
+        if not np.all(np.isfinite(arr)):
+            raise ValueError(f"geometry.{name}: not finite at flat index {int(np.flatnonzero(~np.isfinite(arr))[0])}")
+    if section == "box" and (np.any(np.asarray(geometry.width) <= 0) or np.any(np.asarray(geometry.height) <= 0)):
+        raise ValueError("geometry.width and geometry.height: box dimensions must be > 0 m at every node")
+    if geometry.nonstructural_mass_per_length is not None and np.any(np.asarray(geometry.nonstructural_mass_per_length) < 0):
+        raise ValueError("geometry.nonstructural_mass_per_length: allowed range [0, inf) kg/m")
     if geometry.station_map is not None:
         smap = np.asarray(geometry.station_map)
         if smap.shape != (n,) or not np.issubdtype(smap.dtype, np.integer):
@@ -98,10 +167,6 @@ def check_problem_inputs(geometry, load_cases, material, options, section="box")
                              "(one design index per beam node)")
         if smap.min() < 0 or set(np.unique(smap)) != set(range(int(smap.max()) + 1)):
             raise ValueError(f"geometry.station_map = {smap.tolist()}; indices must cover 0..k without gaps")
-    for what in ("lower", "upper", "initial"):
-        for w, v in (getattr(options, what) or {}).items():
-            if isinstance(v, str) or not np.all(np.isfinite(np.asarray(v, dtype=float))):
-                raise ValueError(f"options.{what}[{w!r}] = {v!r}; must be finite numbers (m)")
 
 
 def build_problem(geometry: WingGeometry, load_cases, material, options: SizingOptions,
