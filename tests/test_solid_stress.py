@@ -7,13 +7,15 @@ from openmdao.utils.assert_utils import assert_check_partials
 from wingmdao.components.solid_stress import SolidRectStress
 
 
-class _Mat:
-    sigma_y = 276e6
+def _material():
+    from wingmdao.materials import Material
+
+    return Material("test", E=70e9, rho=2700.0, sigma_y=276e6, nu=0.33)
 
 
 def _prob(nt=2, n=3):
     prob = om.Problem(reports=False)
-    prob.model.add_subsystem("s", SolidRectStress(num_times=nt, num_stations=n, material=_Mat()),
+    prob.model.add_subsystem("s", SolidRectStress(num_times=nt, num_stations=n, material=_material()),
                              promotes=["*"])
     prob.setup()
     return prob

@@ -141,7 +141,7 @@ def default_stations(n: int) -> list:
 
 def write_plots(data: dict, stem: str, stations=None) -> list:
     """PNG plots (critical case, envelopes, potato plots) and the critical-case CSV next to ``stem``."""
-    from wingmdao.plots import _pyplot
+    from wingmdao.plots import _pyplot, save_figure
 
     plt = _pyplot()
     names = _names(data)
@@ -164,11 +164,7 @@ def write_plots(data: dict, stem: str, stations=None) -> list:
     a2.set_xlabel("spanwise station y [m]")
     a2.grid(True, alpha=0.3)
     fig.suptitle("Critical load case per station")
-    fig.tight_layout()
-    path = f"{stem}_critical_case.png"
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    paths.append(path)
+    paths.append(save_figure(fig, f"{stem}_critical_case.png"))
 
     # envelopes
     env = envelope(data)
@@ -187,11 +183,7 @@ def write_plots(data: dict, stem: str, stations=None) -> list:
     axes[0].legend(fontsize=8)
     axes[-1].set_xlabel("spanwise station y [m]")
     fig.suptitle("Internal load envelope (grey: each case's max/min over time)")
-    fig.tight_layout()
-    path = f"{stem}_envelope.png"
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    paths.append(path)
+    paths.append(save_figure(fig, f"{stem}_envelope.png"))
 
     # potato plots
     stations = default_stations(span.size) if stations is None else list(stations)
@@ -219,11 +211,7 @@ def write_plots(data: dict, stem: str, stations=None) -> list:
     handles, labels = axes[0][0].get_legend_handles_labels()
     fig.legend(handles, labels, fontsize=7, loc="lower center", ncol=min(6, len(labels)))
     fig.suptitle("Correlated loads (potato plots): bending vs torsion, all cases and time steps")
-    fig.tight_layout(rect=(0, 0.06 + 0.03 * (len(labels) // 6), 1, 1))
-    path = f"{stem}_potato.png"
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    paths.append(path)
+    paths.append(save_figure(fig, f"{stem}_potato.png", rect=(0, 0.06 + 0.03 * (len(labels) // 6), 1, 1)))
     return paths
 
 

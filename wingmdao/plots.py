@@ -24,6 +24,15 @@ def _pyplot():
     return plt
 
 
+def save_figure(fig, path: str, **layout) -> str:
+    """Lay out (``tight_layout(**layout)``), write ``path`` at 120 dpi, close; returns ``path``."""
+    plt = _pyplot()
+    fig.tight_layout(**layout)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
 def plot_thickness(span, runs: dict, path: str, title: str = "Wall thickness along the span"):
     """Thickness of the four walls versus span; ``runs`` maps a label to ``{wall: (n,) m}``."""
     plt = _pyplot()
@@ -38,10 +47,7 @@ def plot_thickness(span, runs: dict, path: str, title: str = "Wall thickness alo
         ax.set_xlabel("spanwise station y [m]")
     axes[0, 0].legend()
     fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def plot_time_history(time, series: dict, path: str, ylabel: str, title: str):
@@ -55,10 +61,7 @@ def plot_time_history(time, series: dict, path: str, ylabel: str, title: str):
     ax.set_title(title)
     ax.grid(True, alpha=0.3)
     ax.legend()
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def plot_iteration_history(objective, max_constraint, path: str):
@@ -74,7 +77,4 @@ def plot_iteration_history(objective, max_constraint, path: str):
     a2.set_ylabel("max KS constraint [-]")
     a2.set_xlabel("driver iteration")
     a2.grid(True, alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)

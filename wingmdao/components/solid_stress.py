@@ -13,7 +13,7 @@ import numpy as np
 
 from wingmdao.components.pointwise import PointwiseCasadiComponent, Var
 from wingmdao import DISSERTATION
-from wingmdao.materials import Material
+from wingmdao.components.stress import declare_stress_grid_options
 
 #: corner order: (c, n) signs of (front-lower, rear-lower, rear-upper, front-upper)
 CORNERS = ((-1, -1), (1, -1), (1, 1), (-1, 1))
@@ -34,9 +34,7 @@ class SolidRectStress(PointwiseCasadiComponent):
     def initialize(self):
         super().initialize()
         self.cite = DISSERTATION  # OpenMDAO lists it in its citations report
-        self.options.declare("num_times", types=int, lower=1, desc="number of time steps")
-        self.options.declare("num_stations", types=int, lower=1, desc="number of beam stations")
-        self.options.declare("material", types=Material, desc="wingmdao.materials.Material (sigma_y used)")
+        declare_stress_grid_options(self.options)
         self.options.declare("families", default=("ss_tension", "ss_compression"), types=tuple,
                              desc="constraint families to output (ss_tension, ss_compression)")
 

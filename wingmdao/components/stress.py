@@ -27,6 +27,13 @@ _FAMILY_DESC = {
 _SECTION_DEFAULTS = {"A": 1e-2, "Ixx": 1e-4, "Izz": 1e-3, "Qx": 1e-3, "Qz": 1e-3}
 
 
+def declare_stress_grid_options(options) -> None:
+    """The options every stress component declares: its (num_times, num_stations) grid and material."""
+    options.declare("num_times", types=int, lower=1, desc="number of time steps")
+    options.declare("num_stations", types=int, lower=1, desc="number of beam stations")
+    options.declare("material", types=Material, desc="wingmdao.materials.Material (sigma_y used)")
+
+
 class BoxStress(CombinedJacobianMixin, PointwiseCasadiComponent):
     """Stresses and stress constraints of box sections on the grid (num_times, num_stations).
 
@@ -50,9 +57,7 @@ class BoxStress(CombinedJacobianMixin, PointwiseCasadiComponent):
     def initialize(self):
         super().initialize()
         self.cite = DISSERTATION  # OpenMDAO lists it in its citations report
-        self.options.declare("num_times", types=int, lower=1, desc="number of time steps")
-        self.options.declare("num_stations", types=int, lower=1, desc="number of beam stations")
-        self.options.declare("material", types=Material, desc="wingmdao.materials.Material (sigma_y used)")
+        declare_stress_grid_options(self.options)
         self.options.declare("families", default=tuple(FAMILIES), types=tuple,
                              desc=f"constraint families to output, from {', '.join(FAMILIES)}")
         self.options.declare("output_stresses", default=True, types=bool,

@@ -199,12 +199,21 @@ class _Geometry(om.IndepVarComp):
         self.add_output("height", val=np.asarray(self.options["height"], float), units="m", desc="box height")
 
 
-class PreCoupling(om.Group):
-    """dv_struct -> BoxSection -> beam section inputs (tagged for MPhys promotion), struct_mass."""
+class _BuilderGroup(om.Group):
+    """A group built from a :class:`WingmdaoBuilder` (option ``builder``)."""
 
     def initialize(self):
         self.options.declare("builder", types=WingmdaoBuilder, recordable=False,
                              desc="the WingmdaoBuilder whose mesh, material and options this group uses")
+
+    def add_design(self, b):
+        """``dv_struct`` split into the four wall thicknesses, and the box width/height per node."""
+        self.add_subsystem("dv", DvSplit(num_nodes=b.num_nodes, initial=b.get_initial_dvs()), promotes=["*"])
+        self.add_subsystem("geometry", _Geometry(width=b.width, height=b.height), promotes=["*"])
+
+
+class PreCoupling(_BuilderGroup):
+    """dv_struct -> BoxSection -> beam section inputs (tagged for MPhys promotion), struct_mass."""
 
     def setup(self):
         from wingmdao.components.mass import StructuralMass
@@ -212,8 +221,7 @@ class PreCoupling(om.Group):
 
         b = self.options["builder"]
         n = b.num_nodes
-        self.add_subsystem("dv", DvSplit(num_nodes=n, initial=b.get_initial_dvs()), promotes=["*"])
-        self.add_subsystem("geometry", _Geometry(width=b.width, height=b.height), promotes=["*"])
+        self.add_design(b)
         self.add_subsystem("xs", StructInputs(num_nodes=n, loads=False), promotes=["*"])
         cls = _tagged(BoxSection, set(SECTION_TO_BEAM), "mphys_coupling")
         self.add_subsystem("section", cls(num_stations=n, material=b.material), promotes=["*"])
@@ -225,12 +233,8 @@ class PreCoupling(om.Group):
                            promotes_inputs=["A", "node_positions"], promotes_outputs=[("mass", "struct_mass")])
 
 
-class BeamCoupling(om.Group):
+class BeamCoupling(_BuilderGroup):
     """The coupling subsystem: f_aero_struct -> BeamStatic -> u_struct."""
-
-    def initialize(self):
-        self.options.declare("builder", types=WingmdaoBuilder, recordable=False,
-                             desc="the WingmdaoBuilder whose mesh, material and options this group uses")
 
     def setup(self):
         from wingmdao.components.beam import BeamStatic
@@ -249,12 +253,8 @@ class BeamCoupling(om.Group):
         self.add_subsystem("disp", BeamDisplacements(node_euler_angles=b.node_euler_angles), promotes=["*"])
 
 
-class PostCoupling(om.Group):
+class PostCoupling(_BuilderGroup):
     """States -> csn internal loads -> box stresses -> KS (``ks_<family>``)."""
-
-    def initialize(self):
-        self.options.declare("builder", types=WingmdaoBuilder, recordable=False,
-                             desc="the WingmdaoBuilder whose mesh, material and options this group uses")
 
     def setup(self):
         from wingmdao.components.beam_loads import BeamInternalLoads
@@ -263,8 +263,7 @@ class PostCoupling(om.Group):
 
         b = self.options["builder"]
         n = b.num_nodes
-        self.add_subsystem("dv", DvSplit(num_nodes=n, initial=b.get_initial_dvs()), promotes=["*"])
-        self.add_subsystem("geometry", _Geometry(width=b.width, height=b.height), promotes=["*"])
+        self.add_design(b)
         il = self.add_subsystem("internal_loads",
                                 _tagged(BeamInternalLoads, {"states"}, "mphys_coupling")(num_times=1, num_nodes=n))
         self.promotes("internal_loads", inputs=[("states", STATES)], src_indices=np.arange(18 * n).reshape(1, n, 18),
