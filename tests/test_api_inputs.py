@@ -143,3 +143,29 @@ def test_every_shipped_case_passes_the_input_checks():
     for name in available_cases():
         s = build_case(name)
         check_problem_inputs(s.geometry, s.load_cases, s.material, s.options, s.section)
+
+
+@pytest.mark.parametrize("name, options", [("pegasus", {}), ("wing-box", {"elements": (2, 1, 2)}),
+                                           ("cantilever", {"stations": 5})])
+def test_design_beam_params_match_the_sizing_model(name, options, monkeypatch):
+    """The beam parameters initial_frequencies uses come without a Problem and equal what the sizing
+    model's section components feed its beam (station map, non-structural mass, sweep included)."""
+    import openmdao.api as om
+
+    from wingmdao.beam.residual import param_specs
+    from wingmdao.groups.load_case import LoadCase
+    from wingmdao.sizing import SECTION_KINDS, design_beam_params, initial_design
+
+    s = build_case(name, **options)
+    design = initial_design(s.options, SECTION_KINDS[s.section]["design_vars"])
+    with monkeypatch.context() as m:
+        m.setattr(om, "Problem", None)  # computed directly
+        direct = design_beam_params(s.geometry, s.material, design, s.section)
+    families = s.load_cases[0].families
+    prob, _ = build_problem(s.geometry, [LoadCase("still", families=families)], s.material, s.options,
+                            driver=False, section=s.section)
+    prob.run_model()
+    for spec in param_specs(s.geometry.num_nodes):
+        model = np.asarray(prob.get_val(spec.name, units=spec.units)).reshape(spec.shape)
+        np.testing.assert_allclose(direct[spec.name], model, rtol=1e-12, atol=1e-12 * np.abs(model).max(),
+                                   err_msg=spec.name)

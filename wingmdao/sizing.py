@@ -228,11 +228,8 @@ def initial_mass(geometry: WingGeometry, material, options: SizingOptions, secti
     section and mass components would for the initial design variables."""
     from wingmdao.components.mass import beam_mass
 
-    n = geometry.num_nodes
-    smap = np.arange(n) if geometry.station_map is None else np.asarray(geometry.station_map)
-    dv = {w: np.asarray(np.broadcast_to(np.asarray(options.initial.get(w, options.upper[w]), dtype=float),
-                                        (int(smap.max()) + 1,)))[smap]
-          for w in SECTION_KINDS[section]["design_vars"]}
+    design_vars = SECTION_KINDS[section]["design_vars"]
+    dv = station_design(geometry, initial_design(options, design_vars), design_vars)
     if section == "box":
         from wingmdao.section.box import box_area
 
@@ -243,25 +240,59 @@ def initial_mass(geometry: WingGeometry, material, options: SizingOptions, secti
     return beam_mass(area, geometry.node_positions, material.rho)
 
 
+def station_design(geometry: WingGeometry, design: dict, design_vars) -> dict:
+    """Per-node values ``{name: (n,)}`` of a design given per design station (1 or n_dv values each)."""
+    n = geometry.num_nodes
+    smap = np.arange(n) if geometry.station_map is None else np.asarray(geometry.station_map)
+    return {w: np.asarray(np.broadcast_to(np.asarray(design[w], dtype=float), (int(smap.max()) + 1,)))[smap]
+            for w in design_vars}
+
+
+def design_beam_params(geometry: WingGeometry, material, design: dict, section: str = "box") -> dict:
+    """Beam parameters of a design, computed directly from the section functions (App. A, F):
+    what the sizing model's section component feeds its beam. ``design`` maps the design
+    variables to values per design station (1 or n_dv values each)."""
+    from wingmdao.section.box import beam_params_from_rows, box_properties, validate_box
+    from wingmdao.section.solid import solid_properties, validate_solid
+
+    n = geometry.num_nodes
+    dv = station_design(geometry, design, SECTION_KINDS[section]["design_vars"])
+    if section == "box":
+        validate_box(geometry.width, geometry.height, *(dv[w] for w in WALL_VARS), source="design: ")
+    else:
+        validate_solid(dv["width"], dv["height"], source="design: ")
+    R = np.broadcast_to(np.eye(3), (n, 3, 3)) if geometry.section_to_csn is None else geometry.section_to_csn
+    nsm = np.zeros(n) if geometry.nonstructural_mass_per_length is None else geometry.nonstructural_mass_per_length
+    if section == "box":
+        rows = [box_properties(geometry.width[i], geometry.height[i], *(dv[w][i] for w in WALL_VARS), material,
+                               section_to_csn=R[i], nonstructural_mass_per_length=nsm[i]) for i in range(n)]
+    else:
+        rows = [solid_properties(dv["width"][i], dv["height"][i], material, section_to_csn=R[i],
+                                 nonstructural_mass_per_length=nsm[i]) for i in range(n)]
+    return beam_params_from_rows(rows, geometry.node_positions, geometry.node_euler_angles)
+
+
+def initial_design(options: SizingOptions, design_vars) -> dict:
+    """The starting design ``{name: values}``: ``options.initial``, else the upper bounds."""
+    return {w: options.initial.get(w, options.upper[w]) for w in design_vars}
+
+
 def initial_frequencies(geometry: WingGeometry, material, options: SizingOptions, count: int = 3,
                         section: str = "box") -> np.ndarray:
     """Lowest natural frequencies (Hz) of the initial design's beam about its jig shape.
 
     Used to place structural damping (:class:`~wingmdao.beam.residual.StrainRateDamping`) at the
-    first bending mode. Builds an analysis-only copy of the sizing model with one unloaded static case.
+    first bending mode; the beam parameters come directly from :func:`design_beam_params`.
     """
     from wingmdao.beam.modes import natural_frequencies
     from wingmdao.beam.static import beam_forcing
     from wingmdao.components.beam import beam_system
-    from wingmdao.groups.load_case import LoadCase
     from wingmdao.timemarch.system import pack
 
-    prob, _ = build_problem(geometry, [LoadCase("modes")], material, options,
-                            driver=False, section=section)
-    prob.run_model()
+    params = design_beam_params(geometry, material, initial_design(options, SECTION_KINDS[section]["design_vars"]),
+                                section)
     system = beam_system(geometry.num_nodes)
-    p = np.concatenate([np.asarray(prob.get_val(s.name, units=s.units), dtype=float).ravel()
-                        for s in system.param_specs])
+    p = np.concatenate([np.asarray(params[s.name], dtype=float).ravel() for s in system.param_specs])
     q = pack(system.forcing_specs, beam_forcing(geometry.num_nodes))
     return natural_frequencies(system, p, q, count=count)
 

@@ -78,13 +78,12 @@ def _atomic_write_json(data, path):
 
 
 def _beam_parameters(module, args):
-    """Beam parameter dict of the case's wing for the chosen design (through the sizing model)."""
-    from wingmdao.beam.residual import param_specs
-    from wingmdao.sizing import WALL_VARS, build_problem
+    """Beam parameter dict of the case's wing for the chosen design (the section functions the
+    sizing model uses, :func:`wingmdao.sizing.design_beam_params`; no model run)."""
+    from wingmdao.sizing import SECTION_KINDS, WALL_VARS, design_beam_params, initial_design
 
     setup = module.build(loads="maneuver")
-    case = setup.load_cases[0]
-    prob, _ = build_problem(setup.geometry, [case], setup.material, setup.options, driver=False)
+    design = initial_design(setup.options, SECTION_KINDS[setup.section]["design_vars"])
     if args.design:
         with open(args.design, encoding="utf-8") as fh:
             res = json.load(fh)
@@ -99,22 +98,8 @@ def _beam_parameters(module, args):
             if smap is not None:
                 first = [int(np.flatnonzero(np.asarray(smap) == k)[0]) for k in range(int(np.max(smap)) + 1)]
                 vals = vals[first]
-            prob.set_val(w, vals)
-    prob.final_setup()
-    # section properties only: run the model once (the maneuver beam solve is cheap)
-    prob.run_model()
-    n = setup.geometry.num_nodes
-    out = {}
-    for spec in param_specs(n):
-        for name in (f"cases.{case.name}.beam.{spec.name}", f"cases.{case.name}.{spec.name}", spec.name):
-            try:
-                out[spec.name] = np.asarray(prob.get_val(name), dtype=float).reshape(spec.shape)
-                break
-            except KeyError:
-                continue
-        else:
-            raise RuntimeError(f"beam input {spec.name} not found in the sizing model")
-    return setup, out
+            design[w] = vals
+    return setup, design_beam_params(setup.geometry, setup.material, design, setup.section)
 
 
 def run(args):

@@ -295,6 +295,23 @@ def box_properties(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, 
     return beam_data(props, material, section_to_csn, nonstructural_mass_per_length)
 
 
+def beam_params_from_rows(rows, node_positions, node_euler_angles) -> dict:
+    """Beam parameters (``param_specs`` names) from per-node section rows of ``box_properties`` /
+    ``solid_properties`` (stiffness, compliance, offsets, mass and inertia per length)."""
+    n = len(rows)
+    return {
+        "node_positions": np.asarray(node_positions, dtype=float),
+        "node_euler_angles": np.asarray(node_euler_angles, dtype=float),
+        "stiffness_csn": np.array([r["stiffness_csn"] for r in rows], dtype=float),
+        "compliance_csn": np.array([r["compliance_csn"] for r in rows], dtype=float),
+        "tension_axis": np.array([[r["c_ea"], r["n_ea"]] for r in rows], dtype=float),
+        "shear_center": np.array([[r["c_sc"], r["n_sc"]] for r in rows], dtype=float),
+        "mass_per_length": np.array([r["mass_per_length"] for r in rows], dtype=float),
+        "mass_center": np.array([[r["c_cg"], r["n_cg"]] for r in rows], dtype=float),
+        "inertia_per_length": np.array([r["inertia_per_length"] for r in rows], dtype=float).reshape(n, 3, 3),
+    }
+
+
 # --------------------------------------------------------------------------- validation
 def _station_error(name, values, bad, low, high, source):
     i = int(bad[0])

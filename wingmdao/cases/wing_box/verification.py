@@ -24,7 +24,7 @@ def wing_box_beam(name: str, elements_per_segment=(6, 8, 6), t_spar=T_SPAR, t_sk
     'fe' the section FE (Giavotto/BECAS, ``wingmdao.section.fe``) of the beam-normal cut: the
     dissertation's "VbS" beam on the detailed section (thick-wall torsion, FE shear stiffness).
     """
-    from wingmdao.section.box import box_properties
+    from wingmdao.section.box import beam_params_from_rows, box_properties
 
     if section_mapping not in ("normal", "rotated", "fe"):
         raise ValueError(f"section_mapping must be 'normal', 'rotated' or 'fe', got {section_mapping!r}")
@@ -51,18 +51,7 @@ def wing_box_beam(name: str, elements_per_segment=(6, 8, 6), t_spar=T_SPAR, t_sk
         else:
             rows.append(box_properties(width[i], height[i], t_skin, t_skin, t_spar, t_spar, material,
                                        section_to_csn=R[i]))
-    n = geo.num_nodes
-    params = {
-        "node_positions": geo.node_positions,
-        "node_euler_angles": geo.node_euler_angles,
-        "stiffness_csn": np.array([r["stiffness_csn"] for r in rows]),
-        "compliance_csn": np.array([r["compliance_csn"] for r in rows]),
-        "tension_axis": np.array([[r["c_ea"], r["n_ea"]] for r in rows]),
-        "shear_center": np.array([[r["c_sc"], r["n_sc"]] for r in rows]),
-        "mass_per_length": np.array([r["mass_per_length"] for r in rows]),
-        "mass_center": np.array([[r["c_cg"], r["n_cg"]] for r in rows]),
-        "inertia_per_length": np.array([r["inertia_per_length"] for r in rows]).reshape(n, 3, 3),
-    }
+    params = beam_params_from_rows(rows, geo.node_positions, geo.node_euler_angles)
     return params, geo.key_nodes
 
 
