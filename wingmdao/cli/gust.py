@@ -82,7 +82,10 @@ def _beam_parameters(module, args):
     sizing model uses, :func:`wingmdao.sizing.design_beam_params`; no model run)."""
     from wingmdao.sizing import SECTION_KINDS, WALL_VARS, design_beam_params, initial_design
 
-    setup = module.build(loads="maneuver")
+    import dataclasses
+
+    maneuvers = {"loads": "maneuver"} if "loads" in {f.name for f in dataclasses.fields(module.OPTIONS)} else {}
+    setup = module.build(**maneuvers)  # the CRM case has its maneuvers only
     design = initial_design(setup.options, SECTION_KINDS[setup.section]["design_vars"])
     if args.design:
         with open(args.design, encoding="utf-8") as fh:
