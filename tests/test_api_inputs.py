@@ -82,8 +82,10 @@ def test_unknown_study():
 
 
 def test_options_are_immutable_and_lists_become_tuples():
-    opts = pegasus.PegasusOptions(gust_gradients_ft=[30.0, 350.0])
-    assert opts.gust_gradients_ft == (30.0, 350.0)
+    import pathlib
+
+    opts = pegasus.PegasusOptions(gust_gradients_ft=[30.0, 350.0], load_history=pathlib.Path("h.npz"))
+    assert opts.gust_gradients_ft == (30.0, 350.0) and opts.load_history == "h.npz"
     with pytest.raises(dataclasses.FrozenInstanceError):
         opts.loads = "all"
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 import dataclasses
 import importlib
 import numbers
+import os
 import types
 import typing
 from dataclasses import dataclass, field
@@ -51,8 +52,6 @@ def check_step_count(t_final: float, dt: float, num_nodes: int = 20) -> int:
     """Number of time steps of ``0..t_final`` by ``dt``; ValueError before anything is allocated when
     the values are not finite or the count exceeds :data:`MAX_TIME_STEPS` (with a memory estimate:
     18 states per node, 8 bytes, ~6 stored copies per step)."""
-    import numpy as np
-
     if not (np.isfinite(t_final) and np.isfinite(dt) and t_final > 0 and dt > 0):
         raise ValueError(f"--t-final = {t_final} s, --dt = {dt} s; both must be finite and > 0")
     steps = int(t_final / dt) + 1
@@ -92,6 +91,9 @@ class CaseOptions:
         hints = typing.get_type_hints(type(self))
         for f in dataclasses.fields(self):
             value = getattr(self, f.name)
+            if isinstance(value, os.PathLike):  # a file option given as a pathlib.Path
+                value = os.fspath(value)
+                object.__setattr__(self, f.name, value)
             _check_option(self.CASE, f.name, value, hints[f.name], f.metadata.get("choices"))
             if isinstance(value, (list, np.ndarray)):
                 object.__setattr__(self, f.name, tuple(value))  # the options stay immutable
