@@ -209,7 +209,9 @@ def _interrupted_result(prob, setup, desc, recording, interrupted=True) -> dict:
         except ValueError:
             return result
         feasible = np.flatnonzero(np.nan_to_num(hist["max_constraint"], nan=np.inf) <= 1e-6)
-        pool = feasible if feasible.size else np.arange(hist["iterations"])
+        pool = feasible if feasible.size else np.flatnonzero(~hist["failed"])  # never a failed analysis
+        if not pool.size:
+            return result
         k = int(pool[np.nanargmin(hist["objective"][pool])])
         result["best_design"] = {
             "iteration": k, "objective": float(hist["objective"][k]),
@@ -225,6 +227,12 @@ def _print_summary(res):
     print(f"  driver: {res['driver']}")
     print(f"  success: {res['success']}   mass: {res['mass_kg']:.2f} kg   wall time: {res['wall_s']:.1f} s"
           f"   iterations: {res.get('iterations')}")
+    if not res["success"] and res.get("message"):
+        print(f"  message: {res['message']}")
+    if res.get("failed_evaluations"):
+        print(f"  failed analyses (SLSQP backed off): {len(res['failed_evaluations'])} "
+              f"(evaluations {', '.join(str(f['evaluation']) for f in res['failed_evaluations'][:10])}"
+              f"{', ...' if len(res['failed_evaluations']) > 10 else ''})")
     for case, fams in res["ks"].items():
         vals = ", ".join(f"{f} = {v:+.3e}" for f, v in fams.items())
         print(f"  KS {case}: {vals}")
