@@ -141,7 +141,7 @@ def default_stations(n: int) -> list:
 
 def write_plots(data: dict, stem: str, stations=None) -> list:
     """PNG plots (critical case, envelopes, potato plots) and the critical-case CSV next to ``stem``."""
-    from wingmdao.plots import _pyplot
+    from wingmdao.plots import _pyplot, save_figure
 
     plt = _pyplot()
     names = _names(data)
@@ -166,8 +166,7 @@ def write_plots(data: dict, stem: str, stations=None) -> list:
     fig.suptitle("Critical load case per station")
     fig.tight_layout()
     path = f"{stem}_critical_case.png"
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
     paths.append(path)
 
     # envelopes
@@ -189,8 +188,7 @@ def write_plots(data: dict, stem: str, stations=None) -> list:
     fig.suptitle("Internal load envelope (grey: each case's max/min over time)")
     fig.tight_layout()
     path = f"{stem}_envelope.png"
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
     paths.append(path)
 
     # potato plots
@@ -221,8 +219,7 @@ def write_plots(data: dict, stem: str, stations=None) -> list:
     fig.suptitle("Correlated loads (potato plots): bending vs torsion, all cases and time steps")
     fig.tight_layout(rect=(0, 0.06 + 0.03 * (len(labels) // 6), 1, 1))
     path = f"{stem}_potato.png"
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
     paths.append(path)
     return paths
 

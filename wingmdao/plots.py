@@ -13,6 +13,34 @@ import numpy as np
 WALLS = ("upper_skin", "lower_skin", "front_spar", "rear_spar")
 
 
+def save_figure(fig, path: str, dpi: int = 120) -> str:
+    """Write ``fig`` to ``path`` atomically and close it: a temporary file in the same folder
+    (same extension, so matplotlib picks the format), flushed and fsynced, then ``os.replace``;
+    an interrupted or failed write leaves the earlier file (or none), never a truncated image."""
+    import contextlib
+    import os
+    import tempfile
+
+    import matplotlib.pyplot as plt
+
+    folder = os.path.dirname(os.path.abspath(path))
+    ext = os.path.splitext(path)[1] or ".png"
+    fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(path)}.", suffix=ext, dir=folder)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fig.savefig(fh, dpi=dpi, format=ext[1:])
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+    finally:
+        plt.close(fig)
+    return path
+
+
 def _pyplot():
     try:
         import matplotlib
@@ -39,9 +67,7 @@ def plot_thickness(span, runs: dict, path: str, title: str = "Wall thickness alo
     axes[0, 0].legend()
     fig.suptitle(title)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def plot_time_history(time, series: dict, path: str, ylabel: str, title: str):
@@ -56,9 +82,7 @@ def plot_time_history(time, series: dict, path: str, ylabel: str, title: str):
     ax.grid(True, alpha=0.3)
     ax.legend()
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def plot_iteration_history(objective, max_constraint, path: str):
@@ -75,6 +99,4 @@ def plot_iteration_history(objective, max_constraint, path: str):
     a2.set_xlabel("driver iteration")
     a2.grid(True, alpha=0.3)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
