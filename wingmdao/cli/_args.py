@@ -74,6 +74,8 @@ class CaseArguments:
     def add_argument(self, *flags, **kwargs):
         renamed = [f for f in flags if f in CASE_RENAMES]
         if not renamed:
+            if any(f in CASE_RENAMES.values() for f in flags):
+                kwargs.setdefault("metavar", next(f for f in flags if f in CASE_RENAMES.values()).lstrip("-").upper())
             return self._parser.add_argument(*flags, **kwargs)
         old = renamed[0]
         kwargs.setdefault("dest", old.lstrip("-").replace("-", "_"))
