@@ -225,3 +225,12 @@ def test_command_plots_go_through_save_figure(tmp_path, monkeypatch, capsys):
                  "--json", str(out)]) == 0
     assert written == [str(tmp_path / "flutter_goland.png")]
     assert json.loads(out.read_text())["plot"] == written[0]
+
+
+def test_export_refuses_an_existing_deck_without_overwrite(tmp_path, capsys):
+    deck = tmp_path / "box.inp"
+    deck.write_text("earlier deck\n")
+    argv = ["export", "wing-box", "--geometry", "prismatic", "--format", "calculix", str(deck)]
+    assert main(argv) == 2
+    assert "--overwrite" in capsys.readouterr().err and deck.read_text() == "earlier deck\n"
+    assert main([*argv, "--overwrite"]) == 0 and deck.read_text() != "earlier deck\n"
