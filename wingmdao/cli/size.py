@@ -181,7 +181,8 @@ def run_size(args) -> int:
                                   f" (partial result in {args.json})" if args.json else ""))
     if interrupted:
         say(f"wingmdao size {args.case_module.NAME}: interrupted; best design so far in "
-            f"{args.json or 'the JSON (pass --json)'}" + (f", recording {recording}" if recording else ""))
+            f"{'the JSON on standard output' if args.json == '-' else args.json}"
+            + (f", recording {recording}" if recording else ""))
         return EXIT_INTERRUPTED
     return 0 if result["success"] else 1
 
