@@ -71,9 +71,10 @@ class BackoffSLSQPDriver(om.ScipyOptimizeDriver):
     While SLSQP runs, an ``om.AnalysisError`` raised by the model is not re-raised (as
     ``om.ScipyOptimizeDriver`` does, ending the run): the objective is returned as the last
     solved value plus ``failure_penalty`` (times max(1, |f|)) and the constraints as their last
-    solved values. SLSQP's L1 merit line search then shortens the step by its minimum factor 0.1
-    (Kraft 1988, DFVLR-FB 88-28, Sec. 2.3: alpha = max(h3 / (2 (h3 - h1)), 0.1)), so it steps back
-    towards the last solved design. Each failure is recorded (the recorded case has
+    solved values. SLSQP's L1-merit line search (D. Kraft, "A software package for sequential
+    quadratic programming", DFVLR-FB 88-28, 1988; SciPy's implementation: alpha <- max(h3 / (2 (h3 -
+    h1)), 0.1) while the merit does not decrease, at most 10 times) then shortens the step tenfold per
+    failure, back towards the accepted design. Each failure is recorded (the recorded case has
     ``success = 0`` and the error as ``msg``) and listed in :attr:`failed_evaluations`. After
     ``max_failures`` consecutive failures, or when SLSQP asks for derivatives at a design that
     was not solved, the run stops: :attr:`fail` is True, :attr:`stop_message` says why, and the
@@ -122,7 +123,7 @@ class BackoffSLSQPDriver(om.ScipyOptimizeDriver):
         """``scipy.optimize.OptimizeResult`` of the latest run; when the back-off stopped it:
         ``success = False``, ``message`` = :attr:`stop_message`, ``nit`` = gradient evaluations."""
         if self.stop_message is None:
-            return self._scipy_optimize_result
+            return self._scipy_optimize_result  # documented attribute of om.ScipyOptimizeDriver
         from scipy.optimize import OptimizeResult
 
         x = None if self._good is None else self._good[0]
