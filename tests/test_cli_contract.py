@@ -46,7 +46,7 @@ def test_help_shows_the_default_of_every_option(path):
     assert issubclass(parser.formatter_class, DefaultsHelpFormatter)
     fmt = parser.formatter_class(prog="wingmdao")
     for action in parser._actions:
-        if action.help == argparse.SUPPRESS or action.nargs == 0 or not action.option_strings:
+        if action.help == argparse.SUPPRESS or action.nargs == 0 or not action.option_strings or action.required:
             continue
         text = fmt._get_help_string(action)
         assert "default" in text.lower(), f"{' '.join(path)} {action.option_strings[0]}: {text!r}"

@@ -20,14 +20,17 @@ from wingmdao.cli._io import stdout_to_stderr, write_json  # noqa: F401  (write_
 
 
 class DefaultsHelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
-    """Adds ``(default: X)`` to every option that takes a value, unless its help already says what
-    the default is (``default`` in the text, e.g. "unset: the case's choice"); on/off flags are off
-    unless given, so they get no ``(default: False)``."""
+    """Adds ``(default: X)`` to every optional argument that takes a value (``(default: unset)``
+    when it is None), unless its help already says what the default is (``default`` in the text,
+    e.g. "default unset: the case's choice"); required arguments have none, and on/off flags are
+    off unless given, so they get no ``(default: False)``."""
 
     def _get_help_string(self, action):
         text = action.help or ""
-        if "default" in text.lower() or action.nargs == 0:
+        if "default" in text.lower() or action.nargs == 0 or action.required:
             return text
+        if action.default is None and (action.option_strings or action.nargs in ("?", "*")):
+            return f"{text} (default: unset)"
         return super()._get_help_string(action)
 
 
