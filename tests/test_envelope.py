@@ -1,6 +1,8 @@
 """Envelope output on hand-built load histories: critical case per station, max/min envelopes over
 cases and time, the convex hull of the potato plot, and the files (CSV, NPZ round trip, PNGs)."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -71,7 +73,8 @@ def test_size_and_report_write_envelope_outputs(tmp_path, capsys):
     assert rc in (0, 1)
     for name in ("critical_case.png", "envelope.png", "potato.png", "critical_cases.csv", "envelope.npz"):
         assert (out / f"pegasus_{name}").exists(), name
-    text = capsys.readouterr().out
-    assert "critical load case per station" in text
-    assert main(["report", str(out / "pegasus.sql"), "--plots", str(tmp_path / "rep")]) == 0
+    cap = capsys.readouterr()
+    assert "critical load case per station" in cap.err  # human text: standard error (JSON on stdout)
+    assert "critical_cases" in json.loads(cap.out)
+    assert main(["report", str(out / "pegasus.sql"), "--out", str(tmp_path / "rep")]) == 0
     assert (tmp_path / "rep" / "envelope_potato.png").exists()

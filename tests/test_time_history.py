@@ -149,3 +149,38 @@ def test_drop_time_axis_gives_plain_static_shapes_and_partials():
     assert 3.0 * (s + 0.5 * s**3) == pytest.approx(10.0, rel=1e-10)
     data = prob.check_partials(method="fd", step=1e-7, form="central", out_stream=None)
     assert_check_partials(data, atol=1e-6, rtol=1e-6)
+
+
+def test_static_solve_that_fails_from_the_warm_start_is_retried_from_the_cold_guess(monkeypatch):
+    """A static step-0 solve starts from the previous design's solution; when that Newton solve
+    fails (a design far from the previous one), it is retried once from the cold guess, and the
+    result equals a fresh problem's. A cold failure still raises."""
+    import wingmdao.components.time_history as th
+
+    prob = _chain_problem(4)
+    prob.run_model()
+    prob.set_val("hardening", 1.4)
+    fresh = _chain_problem(4)
+    fresh.set_val("hardening", 1.4)
+    fresh.run_model()
+    guesses = []
+    march = th.march
+
+    def warm_fails(*args, x_guess=None, **kw):
+        warm = x_guess is not None and np.any(x_guess != 0.0) and len(guesses) == 0
+        guesses.append("warm" if warm else "cold")
+        if warm:
+            raise om.AnalysisError("no convergence from the warm start (test)")
+        return march(*args, x_guess=x_guess, **kw)
+
+    monkeypatch.setattr(th, "march", warm_fails)
+    prob.run_model()
+    assert guesses == ["warm", "cold"]
+    np.testing.assert_allclose(prob.get_val("states"), fresh.get_val("states"), rtol=1e-9, atol=1e-12)
+
+    def always_fails(*args, **kw):
+        raise om.AnalysisError("no convergence (test)")
+
+    monkeypatch.setattr(th, "march", always_fails)
+    with pytest.raises(om.AnalysisError, match="no convergence"):
+        prob.run_model()

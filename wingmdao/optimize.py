@@ -4,6 +4,12 @@
 driver falls back to SciPy's SLSQP through :class:`openmdao.api.ScipyOptimizeDriver` when
 ``pyoptsparse`` does not import. The choice is reported in the results (``driver`` key).
 Every run records to SQLite so no iteration is lost.
+
+A design the analysis cannot solve (a beam whose Newton solve does not converge raises
+``om.AnalysisError``) does not end a SciPy run: :class:`BackoffSLSQPDriver` answers SLSQP's line
+search with a penalised objective so the step is shortened, records the failed evaluation, and
+after ``max_failures`` consecutive failures stops with ``success = False`` at the last design
+that was solved. pyOptSparse does the same natively (an AnalysisError becomes ``fail = 1``).
 """
 
 from __future__ import annotations
@@ -51,8 +57,137 @@ def make_driver(optimizer: str = "SLSQP", *, maxiter: int = 200, tol: float = 1e
         return driver, f"pyOptSparseDriver/{name}"
     if name != "SLSQP":
         raise ValueError(f"optimizer {name} needs pyoptsparse, which does not import here; use SLSQP")
-    driver = om.ScipyOptimizeDriver(optimizer="SLSQP", maxiter=maxiter, tol=tol, disp=disp)
+    driver = BackoffSLSQPDriver(maxiter=maxiter, tol=tol, disp=disp)
     return driver, "ScipyOptimizeDriver/SLSQP"
+
+
+class _StopBackoff(Exception):
+    """Ends an SLSQP run from inside a callback (caught by :meth:`BackoffSLSQPDriver.run`)."""
+
+
+class BackoffSLSQPDriver(om.ScipyOptimizeDriver):
+    """SciPy SLSQP that backs off from designs the analysis cannot solve.
+
+    While SLSQP runs, an ``om.AnalysisError`` raised by the model is not re-raised (as
+    ``om.ScipyOptimizeDriver`` does, ending the run): the objective is returned as the last
+    solved value plus ``failure_penalty`` (times max(1, |f|)) and the constraints as their last
+    solved values. SLSQP's L1-merit line search (D. Kraft, "A software package for sequential
+    quadratic programming", DFVLR-FB 88-28, 1988; SciPy's implementation: alpha <- max(h3 / (2 (h3 -
+    h1)), 0.1) while the merit does not decrease, at most 10 times) then shortens the step tenfold per
+    failure, back towards the accepted design. Each failure is recorded (the recorded case has
+    ``success = 0`` and the error as ``msg``) and listed in :attr:`failed_evaluations`. After
+    ``max_failures`` consecutive failures, or when SLSQP asks for derivatives at a design that
+    was not solved, the run stops: :attr:`fail` is True, :attr:`stop_message` says why, and the
+    model is left at (and the last recorded case is) the last solved design. A failure of the
+    initial design is raised as before (there is nothing to back off to).
+    """
+
+    def __init__(self, **kwargs):
+        super().__init__(optimizer="SLSQP", **kwargs)
+        self.failed_evaluations = []
+        self.stop_message = None
+        self._failure = None  # AnalysisError of the latest model evaluation
+        self._backing_off = False  # True inside SLSQP's callbacks
+        self._good = None  # (x, f) of the latest solved evaluation
+        self._good_cons = {}
+        self._consecutive = 0
+        self._gradients = 0
+
+    def _declare_options(self):
+        super()._declare_options()
+        self.options.declare("max_failures", default=10, types=int, lower=1,
+                             desc="consecutive failed analyses (om.AnalysisError) after which the run stops "
+                                  "at the last solved design")
+        self.options.declare("failure_penalty", default=1e6, types=float, lower=0.0,
+                             desc="added to the last solved objective (times max(1, |f|)) at a design whose "
+                                  "analysis failed, so that SLSQP's line search shortens the step")
+
+    # -- OpenMDAO hooks -------------------------------------------------------------------------
+    def run(self):
+        """Run SLSQP with back-off; returns the failure flag (True: not converged or stopped)."""
+        self.failed_evaluations, self.stop_message = [], None
+        self._failure, self._good, self._good_cons = None, None, {}
+        self._consecutive = self._gradients = 0
+        try:
+            fail = super().run()
+        except _StopBackoff as stop:
+            self.stop_message = str(stop)
+            fail = self.fail = True
+            print(f"Optimization FAILED.\n{self.stop_message}\n" + "-" * 35)
+        if self._failure is not None and self._good is not None:
+            self._objfunc(self._good[0])  # leave the model (and the last recorded case) at a solved design
+        return fail
+
+    @property
+    def optimize_result(self):
+        """``scipy.optimize.OptimizeResult`` of the latest run; when the back-off stopped it:
+        ``success = False``, ``message`` = :attr:`stop_message`, ``nit`` = gradient evaluations."""
+        if self.stop_message is None:
+            return self._scipy_optimize_result  # documented attribute of om.ScipyOptimizeDriver
+        from scipy.optimize import OptimizeResult
+
+        x = None if self._good is None else self._good[0]
+        return OptimizeResult(success=False, status=-1, message=self.stop_message, nit=self._gradients, x=x)
+
+    def _run_solve_nonlinear(self):
+        self._failure = None
+        try:
+            return super()._run_solve_nonlinear()
+        except om.AnalysisError as exc:
+            if not self._backing_off:
+                raise
+            self._failure = exc
+
+    def _get_recorder_metadata(self, case_name):
+        meta = super()._get_recorder_metadata(case_name)
+        if self._failure is not None:
+            meta["success"] = 0
+            meta["msg"] = f"analysis failed: {_one_line(self._failure)}"
+        return meta
+
+    # -- SLSQP callbacks ------------------------------------------------------------------------
+    def _objfunc(self, x_new):
+        self._backing_off = True
+        try:
+            f = super()._objfunc(x_new)
+        finally:
+            self._backing_off = False
+        if self._failure is None:
+            self._good, self._consecutive = (np.array(x_new, dtype=float), f), 0
+            return f
+        self._consecutive += 1
+        self.failed_evaluations.append({
+            "evaluation": int(self.iter_count), "message": _one_line(self._failure),
+            "design_vars": {k: np.asarray(v).tolist()
+                            for k, v in self.get_design_var_values(driver_scaling=False).items()}})
+        if self._good is None:  # cannot happen after a solved initial run; be safe
+            raise _StopBackoff(f"the analysis failed at the first SLSQP design: {_one_line(self._failure)}")
+        if self._consecutive >= self.options["max_failures"]:
+            raise _StopBackoff(
+                f"stopped after {self._consecutive} consecutive failed analyses (SLSQP shortened its step "
+                f"{self._consecutive} times from the last solved design); last error: {_one_line(self._failure)}")
+        f_good = float(np.ravel(self._good[1])[0])
+        return f_good + self.options["failure_penalty"] * max(1.0, abs(f_good))
+
+    def _confunc(self, x_new, name, dbl, idx):
+        key = (name, bool(dbl), int(idx))
+        if self._failure is not None:
+            return self._good_cons.get(key, 0.0)
+        value = super()._confunc(x_new, name, dbl, idx)
+        self._good_cons[key] = value
+        return value
+
+    def _gradfunc(self, x_new):
+        if self._failure is not None:
+            raise _StopBackoff(
+                f"SLSQP accepted a design whose analysis failed after {self._consecutive} shortened steps "
+                f"and asked for its derivatives; last error: {_one_line(self._failure)}")
+        self._gradients += 1
+        return super()._gradfunc(x_new)
+
+
+def _one_line(exc) -> str:
+    return " ".join(str(exc).split())
 
 
 def add_recorder(prob: om.Problem, path: str) -> om.SqliteRecorder:
@@ -91,6 +226,10 @@ class ProgressPrinter(CaseRecorder):
         obj = next((v for k, v in out.items() if k.endswith(self._objective)), None)
         cons = [float(np.max(v)) for k, v in out.items() if ".ks_" in k or k.startswith("ks_")]
         self._count += 1
+        if not metadata.get("success", 1):  # BackoffSLSQPDriver: the analysis failed, SLSQP backs off
+            print(f"  eval {self._count:4d}  {metadata.get('msg', 'analysis failed')} (backing off)  "
+                  f"{self._clock() - self._t0:7.1f} s", file=self._stream, flush=True)
+            return
         obj_txt = f"{float(np.ravel(obj)[0]):12.4f} {self._units}" if obj is not None else ""
         con_txt = f"max KS {max(cons):+.3e}" if cons else ""
         print(f"  eval {self._count:4d}  {self._objective} {obj_txt}  {con_txt}  "

@@ -24,12 +24,35 @@ def _pyplot():
     return plt
 
 
-def save_figure(fig, path: str, **layout) -> str:
-    """Lay out (``tight_layout(**layout)``), write ``path`` at 120 dpi, close; returns ``path``."""
+def save_figure(fig, path: str, dpi: int = 120, **layout) -> str:
+    """Lay out (``tight_layout(**layout)``) and write ``fig`` to ``path`` atomically, then close it.
+
+    A temporary file in the same folder (same extension, so matplotlib picks the format), flushed
+    and fsynced, then ``os.replace``: an interrupted or failed write leaves the earlier file (or
+    none), never a truncated image. Returns ``path``.
+    """
+    import contextlib
+    import os
+    import tempfile
+
     plt = _pyplot()
     fig.tight_layout(**layout)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    folder = os.path.dirname(os.path.abspath(path))
+    ext = os.path.splitext(path)[1] or ".png"
+    fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(path)}.", suffix=ext, dir=folder)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fig.savefig(fh, dpi=dpi, format=ext[1:])
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+    finally:
+        plt.close(fig)
     return path
 
 

@@ -21,22 +21,26 @@ def read_history(path: str) -> dict:
         raise ValueError(f"{path!r} is not an OpenMDAO recording of a sizing run ({exc})") from exc
     if not cases:
         raise ValueError(f"recording {path!r} holds no driver iterations")
-    objective, worst, desvars = [], [], []
+    objective, worst, desvars, failed = [], [], [], []
     for cid in cases:
         case = reader.get_case(cid)
+        # an evaluation whose analysis failed (wingmdao.optimize.BackoffSLSQPDriver records it with
+        # success = 0): its outputs are not a solution, so objective and constraint are NaN
+        failed.append(not case.success)
         obj = case.get_objectives()
-        objective.append(float(np.ravel(next(iter(obj.values())))[0]) if obj else np.nan)
+        objective.append(float(np.ravel(next(iter(obj.values())))[0]) if obj and case.success else np.nan)
         cons = case.get_constraints()
-        worst.append(max((float(np.max(v)) for v in cons.values()), default=np.nan))
+        worst.append(max((float(np.max(v)) for v in cons.values()), default=np.nan) if case.success else np.nan)
         desvars.append({k: np.array(v) for k, v in case.get_design_vars().items()})
     return {"iterations": len(cases), "objective": np.array(objective),
-            "max_constraint": np.array(worst), "design_vars": desvars}
+            "max_constraint": np.array(worst), "design_vars": desvars, "failed": np.array(failed, dtype=bool)}
 
 
 def format_history(hist: dict) -> str:
     lines = [f"{'iter':>5} {'objective':>14} {'max constraint':>15}"]
-    for i, (f, g) in enumerate(zip(hist["objective"], hist["max_constraint"])):
-        lines.append(f"{i:5d} {f:14.6g} {g:15.4e}")
+    failed = hist.get("failed", np.zeros(len(hist["objective"]), dtype=bool))
+    for i, (f, g, bad) in enumerate(zip(hist["objective"], hist["max_constraint"], failed)):
+        lines.append(f"{i:5d} {'analysis failed (SLSQP backed off)':>30}" if bad else f"{i:5d} {f:14.6g} {g:15.4e}")
     return "\n".join(lines)
 
 

@@ -347,12 +347,15 @@ def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, sectio
         "wall_s": float(wall_s),
     }
     stats = getattr(prob.driver, "result", None)
-    scipy_res = getattr(prob.driver, "_scipy_optimize_result", None)
+    scipy_res = getattr(prob.driver, "optimize_result", None)  # wingmdao.optimize.BackoffSLSQPDriver
     if scipy_res is not None and hasattr(scipy_res, "nit"):
         out["iterations"] = int(scipy_res.nit)
         out["message"] = str(scipy_res.message)
     else:
         out["iterations"] = int(getattr(stats, "iter_count", 0) or 0)
+    failed = getattr(prob.driver, "failed_evaluations", None)
+    if failed is not None:  # designs whose analysis failed; SLSQP backed off from them
+        out["failed_evaluations"] = failed
     out["function_evaluations"] = int(getattr(stats, "model_evals", 0) or 0)
     out["gradient_evaluations"] = int(getattr(stats, "deriv_evals", 0) or 0)
     worst = max((v for d in ks.values() for v in d.values()), default=np.nan)

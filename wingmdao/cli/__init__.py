@@ -19,6 +19,21 @@ from wingmdao.cli._io import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_USAGE, jsonable
 from wingmdao.cli._io import stdout_to_stderr, write_json  # noqa: F401  (write_json: public API)
 
 
+class DefaultsHelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
+    """Adds ``(default: X)`` to every optional argument that takes a value (``(default: unset)``
+    when it is None), unless its help already says what the default is (``default`` in the text,
+    e.g. "default unset: the case's choice"); required arguments have none, and on/off flags are
+    off unless given, so they get no ``(default: False)``."""
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        if "default" in text.lower() or action.nargs == 0 or action.required:
+            return text
+        if action.default is None and (action.option_strings or action.nargs in ("?", "*")):
+            return f"{text} (default: unset)"
+        return super()._get_help_string(action)
+
+
 class WingmdaoParser(argparse.ArgumentParser):
     """ArgumentParser that shows defaults in every help text and reads negative numbers in
     exponent notation (``--tip-load -1e6 0 1e7``) as values. Sub-parsers inherit the class."""
@@ -26,7 +41,7 @@ class WingmdaoParser(argparse.ArgumentParser):
     _NEGATIVE = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-inf$|^-nan$", re.IGNORECASE)
 
     def __init__(self, *args, **kwargs):
-        kwargs.setdefault("formatter_class", argparse.ArgumentDefaultsHelpFormatter)
+        kwargs.setdefault("formatter_class", DefaultsHelpFormatter)
         super().__init__(*args, **kwargs)
         self._negative_number_matcher = self._NEGATIVE
 

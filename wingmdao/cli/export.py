@@ -20,6 +20,7 @@ def register(subparsers):
     wb.add_argument("--fidelity", choices=("beam", "shell"), default="beam",
                     help="beam stick model or shell model of the walls")
     wb.add_argument("file", metavar="FILE", help="deck to write")
+    wb.add_argument("--overwrite", action="store_true", help="replace an existing FILE instead of refusing")
     wb.set_defaults(func=run_export)
 
 
@@ -31,9 +32,12 @@ def run_export(args) -> int:
     from wingmdao.fe.export import beam_deck, shell_deck, write_atomic
     from wingmdao.materials import ALUMINIUM
 
+    from wingmdao.cli._io import check_output_file
+
     for name in ("tip_load", "tip_moment"):
         if not np.all(np.isfinite(getattr(args, name))):
             raise ValueError(f"--{name.replace('_', '-')} must be finite")
+    check_output_file(args.file, "FILE", overwrite=args.overwrite)
     walls = _design_walls(args.design, case.NAME) if args.design else None
     sec = wing_box_sections(args.geometry, args.t_spar, args.t_skin, walls)
     build = beam_deck if args.fidelity == "beam" else shell_deck

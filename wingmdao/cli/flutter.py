@@ -13,10 +13,7 @@ first six), speeds, damping (per tracked mode and speed, Re lambda 1/s), damping
 
 from __future__ import annotations
 
-import json
-import os
 import sys
-import tempfile
 import time as _time
 
 import numpy as np
@@ -32,11 +29,11 @@ def register(subparsers):
     p.add_argument("case", metavar="CASE", help="case with aerodynamic data: " + ", ".join(FLUTTER_CASES))
     p.add_argument("--speeds", nargs=3, metavar=("V0", "V1", "N"), default=None,
                    help="sweep from V0 to V1 m/s with N >= 2 speeds (default: the case's)")
-    p.add_argument("--num-nodes", type=int, default=21, help="beam nodes (>= 3, default 21)")
-    p.add_argument("--modes", type=int, default=4, help="number of tracked modes (>= 1, default 4)")
-    p.add_argument("--json", metavar="FILE", default=None, help="write the results as JSON (- = stdout)")
-    p.add_argument("--out", metavar="DIR", default="results", help="folder for the V-g / V-f PNG")
-    p.add_argument("--no-plots", action="store_true", help="do not write the PNG")
+    p.add_argument("--num-nodes", type=int, default=21, help="beam nodes (>= 3)")
+    p.add_argument("--modes", type=int, default=4, help="number of tracked modes (>= 1)")
+    from wingmdao.cli._args import add_output_arguments
+
+    add_output_arguments(p, what="the V-g / V-f plot (flutter_CASE.png)")
     p.set_defaults(func=run)
 
 
@@ -56,15 +53,6 @@ def parse_speeds(values):
     if not v1 > v0:
         raise ValueError(f"--speeds V1 must be > V0 (an increasing sweep), got V0 = {v0} m/s, V1 = {v1} m/s")
     return check_speeds(np.linspace(v0, v1, n))
-
-
-def _atomic_write_text(text, path):
-    folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=folder, suffix=".tmp")
-    with os.fdopen(fd, "w", encoding="utf-8") as fh:
-        fh.write(text)
-    os.replace(tmp, path)
 
 
 def _clean(x):
@@ -147,13 +135,9 @@ def plot(result, path):
     ax2.set_xlabel("airspeed (m/s)")
     ax1.set_title(f"{result['case']}: V-g / V-f (flutter {result['flutter_speed_m_s'] or float('nan'):.1f} m/s)")
     fig.tight_layout()
-    folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=folder, suffix=".png")
-    os.close(fd)
-    fig.savefig(tmp, dpi=110)
-    plt.close(fig)
-    os.replace(tmp, path)
+    from wingmdao.plots import save_figure
+
+    save_figure(fig, path, dpi=110)
 
 
 def run(args) -> int:
@@ -165,23 +149,25 @@ def run(args) -> int:
         raise ValueError(f"--num-nodes must be >= 3, got {args.num_nodes}")
     if args.modes < 1:
         raise ValueError(f"--modes must be >= 1, got {args.modes}")
+    from wingmdao.cli._io import write_json
+    from wingmdao.cli.gust import _check_outputs
+
+    plot_path = _check_outputs(args, f"flutter_{args.case}.png")
     result = analyse(args.case, speeds, args.num_nodes, args.modes)
     msg = (f"{args.case}: flutter {result['flutter_speed_m_s']} m/s at {result['flutter_frequency_rad_s']} rad/s, "
            f"divergence {result['divergence_speed_m_s']} m/s; in vacuo "
            + ", ".join(f"{w:.2f}" for w in result["natural_frequencies_rad_s"]) + " rad/s")
     print(msg, file=sys.stderr)
-    if not args.no_plots:
+    write_json(result, args.json)  # the result first: a plotting failure must never lose it
+    if plot_path:
         try:
-            path = os.path.join(args.out, f"flutter_{args.case}.png")
-            plot(result, path)
-            result["plot"] = path
-            print(f"wrote {path}", file=sys.stderr)
+            plot(result, plot_path)
         except ImportError:
-            print("matplotlib not installed: no plot", file=sys.stderr)
-    if args.json:
-        text = json.dumps(result, indent=2) + "\n"
-        if args.json == "-":
-            sys.stdout.write(text)
+            from wingmdao.cli._io import warn
+
+            warn("plot skipped (plots need matplotlib: pip install 'wingmdao[plot]'); the JSON is written")
         else:
-            _atomic_write_text(text, args.json)
+            print(f"wrote {plot_path}", file=sys.stderr)
+            if args.json != "-":
+                write_json({**result, "plot": plot_path}, args.json)
     return 0

@@ -22,7 +22,6 @@ from __future__ import annotations
 import json
 import os
 import sys
-import tempfile
 import time as _time
 
 import numpy as np
@@ -53,28 +52,15 @@ def register(subparsers):
     p.add_argument("--mach", type=float, default=None, help="Mach number (default: the case's)")
     p.add_argument("--u-ref-fps", type=float, default=None, help="reference gust velocity (ft/s EAS; default: the case's)")
     p.add_argument("--t-final", type=float, default=None, metavar="S", help="simulated time (s; default: the case's)")
-    p.add_argument("--dt", type=float, default=0.01, metavar="S", help="time step (s, default 0.01)")
+    p.add_argument("--dt", type=float, default=0.01, metavar="S", help="time step (s)")
     p.add_argument("--gust-start", type=float, default=0.1, metavar="S", help="time the gust front reaches the wing (s)")
     p.add_argument("--lifting-line", action="store_true",
                    help="tip-loss correction: strip lift slopes from Prandtl's lifting line of the planform "
                         "(wingmdao.aero.lifting_line) instead of 2 pi")
-    p.add_argument("--json", metavar="FILE", default=None, help="write the results as JSON (- = stdout)")
-    p.add_argument("--out", metavar="DIR", default="results", help="folder for the PNG plots")
-    p.add_argument("--no-plots", action="store_true", help="do not write PNG plots")
+    from wingmdao.cli._args import add_output_arguments
+
+    add_output_arguments(p, what="the PNG plot (CASE_gust.png)")
     p.set_defaults(func=run)
-
-
-def _atomic_write_json(data, path):
-    text = json.dumps(data, indent=2)
-    if path == "-":
-        sys.stdout.write(text + "\n")
-        return
-    folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=folder, suffix=".tmp")
-    with os.fdopen(fd, "w", encoding="utf-8") as fh:
-        fh.write(text + "\n")
-    os.replace(tmp, path)
 
 
 def _beam_parameters(module, args):
@@ -106,6 +92,7 @@ def _beam_parameters(module, args):
 
 
 def run(args):
+    from wingmdao.cli._io import write_json
     from wingmdao.aero import aero_parameters, cached_aeroelastic_system, station_gust_history
     from wingmdao.cases import available_cases
     from wingmdao.cases.planform import FT, G0, LB, wing_geometry
@@ -134,6 +121,7 @@ def run(args):
     t_final = gust["t_final"] if args.t_final is None else args.t_final
     if not (t_final > 0 and 0 < args.dt <= t_final / 10):
         raise ValueError(f"--t-final ({t_final} s) and --dt ({args.dt} s): need 0 < 10 dt <= t_final")
+    plot_path = _check_outputs(args, f"{args.case}_gust.png")
 
     pf = module.PLANFORM
     weight = module.TOGW_LB * LB * G0
@@ -225,11 +213,23 @@ def run(args):
     }
     print(f"peak dn = {res['peak_incremental_load_factor']:.4f}, quasi-steady dn = {dn_qs:.4f}, mu = {mu:.2f}, "
           f"K_g = {res['pratt_walker_factor']:.3f}, {res['wall_s']:.1f} s", file=sys.stderr)
-    if not args.no_plots:
-        _plots(res, os.path.join(args.out, f"{args.case}_gust"))
-    if args.json:
-        _atomic_write_json(res, args.json)
+    write_json(res, args.json)  # the result first: a plotting failure must never lose it
+    if plot_path:
+        _plots(res, plot_path[:-len(".png")])
     return 0
+
+
+def _check_outputs(args, plot_name):
+    """Check --out, --json and the plot path before the run; the plot path (None: --no-plots)."""
+    from wingmdao.cli._io import check_output_dir, check_output_file, refuse_existing
+
+    plot = None
+    if not args.no_plots:
+        check_output_dir(args.out, "--out")
+        plot = os.path.join(args.out, plot_name)
+        refuse_existing([plot], overwrite=args.overwrite, what="plot")
+    check_output_file(args.json, "--json", overwrite=args.overwrite, others={"plot": plot})
+    return plot
 
 
 def _plots(res, stem):
@@ -241,7 +241,6 @@ def _plots(res, stem):
     except ImportError:
         print("matplotlib not installed: no plots", file=sys.stderr)
         return
-    os.makedirs(os.path.dirname(os.path.abspath(stem)), exist_ok=True)
     t = res["time"]
     fig, axes = plt.subplots(3, 1, figsize=(7, 8), sharex=True)
     axes[0].plot(t, res["load_factor"])
@@ -255,8 +254,7 @@ def _plots(res, stem):
     axes[2].set_xlabel("time (s)")
     for ax in axes:
         ax.grid(True)
-    tmp = stem + ".tmp.png"
-    fig.savefig(tmp, dpi=100)
-    plt.close(fig)
-    os.replace(tmp, stem + ".png")
+    from wingmdao.plots import save_figure
+
+    save_figure(fig, stem + ".png", dpi=100)
     print(f"wrote {stem}.png", file=sys.stderr)

@@ -16,8 +16,11 @@ def register(subparsers):
         "(e.g. maneuver-only against gust sizing, as Fig. 5.5-5.6 of the dissertation).",
     )
     p.add_argument("recording", metavar="FILE.sql", nargs="+", help="SQLite recording(s) of sizing runs")
-    p.add_argument("--plots", metavar="DIR", default=None,
-                   help="folder for the PNG plots (default: FILE_plots next to the first recording)")
+    from wingmdao.cli._args import add_deprecated_alias
+
+    p.add_argument("--out", metavar="DIR", default=None,
+                   help="folder for the PNG plots (unset (%(default)s): FILE_plots next to the first recording)")
+    add_deprecated_alias(p, "--plots", "--out", dest="out", metavar="DIR")
     p.add_argument("--potato-stations", metavar="I", type=int, nargs="+", default=None,
                    help="station indices of the potato plots of an envelope run (default: root, mid, 3/4 span)")
     p.set_defaults(func=run)
@@ -34,7 +37,7 @@ def run(args) -> int:
         print(f"== {rec}: {hist['iterations']} driver iterations")
         print(format_history(hist))
     first = args.recording[0]
-    out = args.plots or os.path.splitext(first)[0] + "_plots"
+    out = args.out or os.path.splitext(first)[0] + "_plots"
     for rec, hist in zip(args.recording, histories.values()):
         sub = out if len(args.recording) == 1 else os.path.join(out, os.path.splitext(os.path.basename(rec))[0])
         for path in write_report_plots(hist, sub):

@@ -32,6 +32,8 @@ def add_wing_box_arguments(parser, *, walls=True, loads=True):
 
 
 def register(subparsers):
+    from wingmdao.cli._args import add_json_argument
+
     p = subparsers.add_parser("run", help="run a shipped analysis case (beam response, stresses) and write JSON",
                               description="Run an analysis case. SI units, body axes x aft, y outboard, z up.")
     cases = p.add_subparsers(dest="case", metavar="CASE", required=True)
@@ -49,13 +51,13 @@ def register(subparsers):
     wb.add_argument("--gravity", action="store_true", help="add self weight (g = 9.81 m/s^2 along -z)")
     wb.add_argument("--dynamic", action="store_true",
                     help="BDF2 time march: tip load applied suddenly at t > 0 to the beam at rest")
-    wb.add_argument("--t-final", type=float, default=1.0, metavar="S", help="dynamic: simulated time (s, default 1)")
-    wb.add_argument("--dt", type=float, default=0.005, metavar="S", help="dynamic: time step (s, default 0.005)")
+    wb.add_argument("--t-final", type=float, default=1.0, metavar="S", help="dynamic: simulated time (s)")
+    wb.add_argument("--dt", type=float, default=0.005, metavar="S", help="dynamic: time step (s)")
     wb.add_argument("--check-totals", action="store_true",
                     help="compare adjoint totals d(KS)/d(wall thicknesses) with central finite differences")
-    wb.add_argument("--load-steps", type=int, default=1, metavar="N", help="load steps of the static Newton solve (default 1)")
+    wb.add_argument("--load-steps", type=int, default=1, metavar="N", help="load steps of the static Newton solve")
     wb.add_argument("--elements", type=int, nargs=3, default=(6, 8, 6), metavar=("N1", "N2", "N3"),
-                    help="beam elements per segment CS1-CS2, CS2-CS3, CS3-CS4 (default 6 8 6)")
+                    help="beam elements per segment CS1-CS2, CS2-CS3, CS3-CS4")
     wb.add_argument("--model", choices=("beam", "solid"), default="beam",
                     help="beam: the sizing model (default). solid: the independent linear 3-D solid (hex27) "
                     "model of the same box (wingmdao.verification.wingbox_solid; root face clamped, load on a "
@@ -65,11 +67,11 @@ def register(subparsers):
     wb.add_argument("--mesh-size", type=float, default=0.15, metavar="M",
                     help="solid: cross-section element size (m, default 0.15: CS2/CS3 within 0.06 %% (force) and "
                     "0.2 %% (torque) of the finest mesh, docs/verification-solid3d.md)")
-    wb.add_argument("--span-size", type=float, default=0.5, metavar="M", help="solid: element length along the span (m, default 0.5)")
+    wb.add_argument("--span-size", type=float, default=0.5, metavar="M", help="solid: element length along the span (m)")
     wb.add_argument("--tip-introduction", choices=("diaphragm", "traction", "rigid"), default="diaphragm",
                     help="solid: how the tip load enters: a rigid tip rib free to warp (default), the "
                     "rigid-body-consistent traction, or a fully rigid tip face")
-    wb.add_argument("--json", default="-", metavar="PATH", help="output file ('-' = standard output, the default)")
+    add_json_argument(wb)
     wb.set_defaults(func=run_wing_box)
 
 

@@ -19,17 +19,40 @@ def register(subparsers):
     )
     p.add_argument("--width", type=float, required=True, metavar="M", help="outer width, chordwise (m)")
     p.add_argument("--height", type=float, required=True, metavar="M", help="outer height, normal (m)")
+    p.add_argument("--t-skin", type=float, default=None, metavar="M",
+                   help="thickness of both skins (m), as on run/verify/export wing-box; or --t-upper/--t-lower")
+    p.add_argument("--t-spar", type=float, default=None, metavar="M",
+                   help="thickness of both spar webs (m), as on run/verify/export wing-box; or --t-front/--t-rear")
     for opt, _, what in _THICKNESS_OPTIONS:
         p.add_argument(f"--{opt.replace('_', '-')}", dest=opt, type=float, default=None, metavar="M",
-                       help=f"{what} thickness (m); required for a box, not allowed with --solid")
+                       help=f"{what} thickness (m), when it differs from the other "
+                            f"{'skin' if 'skin' in what else 'web'}; a box needs all four walls")
     p.add_argument("--solid", action="store_true", help="solid rectangle (only --width and --height)")
     p.add_argument("--material", default="aluminium",
                    help="built-in material name (default: aluminium, E = 70 GPa, rho = 2700 kg/m^3, "
                    "sigma_y = 276 MPa); see wingmdao.materials.MATERIALS")
     p.add_argument("--nonstructural-mass", type=float, default=0.0, metavar="KG_PER_M",
-                   help="nonstructural mass per length added to mass_per_length (kg/m, default 0)")
-    p.add_argument("--json", default="-", metavar="PATH", help="output file ('-' = standard output, the default)")
+                   help="nonstructural mass per length added to mass_per_length (kg/m)")
+    from wingmdao.cli._args import add_json_argument
+
+    add_json_argument(p)
     p.set_defaults(func=run)
+
+
+_FAMILY = {"t_upper": "t_skin", "t_lower": "t_skin", "t_front": "t_spar", "t_rear": "t_spar"}
+
+
+def _wall_thicknesses(args) -> dict:
+    """{wall: thickness or None}: a per-wall flag, else its family flag (--t-skin, --t-spar); giving
+    both for one wall is an error (which one was meant?)."""
+    out = {}
+    for opt, name, _ in _THICKNESS_OPTIONS:
+        own, family = getattr(args, opt), getattr(args, _FAMILY[opt], None)
+        if own is not None and family is not None:
+            raise ValueError(f"--{opt.replace('_', '-')} = {own} m and --{_FAMILY[opt].replace('_', '-')} = "
+                             f"{family} m both set the {name[2:].replace('_', ' ')}; give one")
+        out[name] = own if own is not None else family
+    return out
 
 
 def section_properties(args) -> dict:
@@ -41,9 +64,11 @@ def section_properties(args) -> dict:
     material = get_material(args.material)
     if not np.isfinite(args.nonstructural_mass) or args.nonstructural_mass < 0:
         raise ValueError(f"--nonstructural-mass = {args.nonstructural_mass} kg/m; allowed range [0, inf) kg/m")
-    given = {name: getattr(args, opt) for opt, name, _ in _THICKNESS_OPTIONS}
+    given = _wall_thicknesses(args)
     if args.solid:
-        extra = [f"--{opt.replace('_', '-')}" for opt, name, _ in _THICKNESS_OPTIONS if given[name] is not None]
+        extra = [flag for flag in ("--t-skin", "--t-spar", *(f"--{o.replace('_', '-')}" for o, _, _ in
+                                                             _THICKNESS_OPTIONS))
+                 if getattr(args, flag[2:].replace("-", "_"), None) is not None]
         if extra:
             raise ValueError(f"--solid takes only --width and --height, not {', '.join(extra)}")
         validate_solid(args.width, args.height)
@@ -53,7 +78,8 @@ def section_properties(args) -> dict:
     else:
         missing = [f"--{opt.replace('_', '-')}" for opt, name, _ in _THICKNESS_OPTIONS if given[name] is None]
         if missing:
-            raise ValueError(f"a box section needs {', '.join(missing)} (m), or use --solid")
+            raise ValueError(f"a box section needs {', '.join(missing)} (m) (--t-skin sets both skins, "
+                             "--t-spar both spar webs), or use --solid")
         validate_box(args.width, args.height, *given.values())
         props = box_properties(args.width, args.height, *given.values(), material,
                                nonstructural_mass_per_length=args.nonstructural_mass)

@@ -20,7 +20,9 @@ def register(subparsers):
     p.add_argument("--mesher", choices=["gmsh", "structured"], default=None,
                    help="mesher of airfoil wingboxes (overrides the file's section.mesher; default gmsh, "
                         "or the built-in structured mesher when gmsh is missing or the section has stringers)")
-    p.add_argument("--json", default="-", metavar="PATH", help="output file ('-' = standard output)")
+    from wingmdao.cli._args import add_json_argument
+
+    add_json_argument(p)
     p.set_defaults(func=run)
 
 

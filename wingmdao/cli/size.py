@@ -2,30 +2,26 @@
 
 from __future__ import annotations
 
-import argparse
 import os
 
 from wingmdao.cases import options_from_namespace
 
 
 def _add_common(p, *, sizing: bool):
-    p.add_argument("--out", metavar="DIR", default="results",
-                   help="folder for the recording and plots")
-    p.add_argument("--overwrite", action="store_true",
-                   help="replace an earlier run's outputs (recording, JSON, plots, N2) instead of refusing")
+    from wingmdao.cli._args import add_output_arguments
+
+    add_output_arguments(p, what="the recording and plots" if sizing else "the N2 diagram (CASE_n2.html)",
+                         plots=sizing, json=sizing)
     if sizing:
-        p.add_argument("--json", metavar="PATH", default=None,
-                       help="write results as JSON (- = stdout; progress and summary then go to stderr)")
         p.add_argument("--optimizer", default="SLSQP", choices=["SLSQP", "SNOPT", "IPOPT"],
-                       help="optimizer (SNOPT/IPOPT need pyoptsparse; default SLSQP, via SciPy "
+                       help="optimizer (SNOPT/IPOPT need pyoptsparse; SLSQP runs through SciPy "
                             "when pyoptsparse does not import)")
-        p.add_argument("--maxiter", type=int, default=None, help="maximum optimizer iterations (unset (%(default)s): the case's choice)")
+        p.add_argument("--maxiter", type=int, default=None, help="maximum optimizer iterations (default unset: the case's choice)")
         p.add_argument("--presize", type=int, default=None, metavar="N",
                        help="fully stressed design passes before the optimizer (box sections; 0 = off; "
-                            "unset (%(default)s): the case's choice, 4 for pegasus and crm)")
+                            "default unset: the case's choice, 4 for pegasus and crm)")
         p.add_argument("--analysis-only", action="store_true",
                        help="analyse the initial design without optimizing")
-        p.add_argument("--no-plots", action="store_true", help="do not write PNG plots")
         p.add_argument("--potato-stations", metavar="I", type=int, nargs="+", default=None,
                        help="station indices of the bending-torsion potato plots (default: root, mid, 3/4 span)")
         p.add_argument("--quiet", action="store_true", help="no per-evaluation progress lines")
@@ -33,6 +29,7 @@ def _add_common(p, *, sizing: bool):
 
 def register(subparsers):
     from wingmdao.cases import available_cases
+    from wingmdao.cli._args import CaseArguments
 
     cases = available_cases()
     for cmd, sizing in (("size", True), ("n2", False)):
@@ -47,9 +44,8 @@ def register(subparsers):
         )
         sub = p.add_subparsers(dest="case", metavar="CASE")
         for name, mod in cases.items():
-            cp = sub.add_parser(name, help=mod.HELP, description=mod.HELP,
-                                formatter_class=argparse.ArgumentDefaultsHelpFormatter)
-            mod.add_arguments(cp)
+            cp = sub.add_parser(name, help=mod.HELP, description=mod.HELP)
+            mod.add_arguments(CaseArguments(cp))  # one spelling per concept (wingmdao.cli._args)
             _add_common(cp, sizing=sizing)
             cp.set_defaults(func=run_size if sizing else run_n2, case_module=mod)
         p.set_defaults(func=lambda a, p=p: (p.print_help(), 0)[1])
@@ -183,10 +179,12 @@ def run_size(args) -> int:
     prob.cleanup()
     if failed:
         raise om.AnalysisError(result["message"][len("the analysis failed: "):]
-                               + (f" (partial result in {args.json})" if args.json else ""))
+                               + (" (partial result in the JSON on standard output)" if args.json == "-" else
+                                  f" (partial result in {args.json})" if args.json else ""))
     if interrupted:
         say(f"wingmdao size {args.case_module.NAME}: interrupted; best design so far in "
-            f"{args.json or 'the JSON (pass --json)'}" + (f", recording {recording}" if recording else ""))
+            f"{'the JSON on standard output' if args.json == '-' else args.json}"
+            + (f", recording {recording}" if recording else ""))
         return EXIT_INTERRUPTED
     return 0 if result["success"] else 1
 
@@ -211,7 +209,9 @@ def _interrupted_result(prob, setup, desc, recording, interrupted=True) -> dict:
         except ValueError:
             return result
         feasible = np.flatnonzero(np.nan_to_num(hist["max_constraint"], nan=np.inf) <= 1e-6)
-        pool = feasible if feasible.size else np.arange(hist["iterations"])
+        pool = feasible if feasible.size else np.flatnonzero(~hist["failed"])  # never a failed analysis
+        if not pool.size:
+            return result
         k = int(pool[np.nanargmin(hist["objective"][pool])])
         result["best_design"] = {
             "iteration": k, "objective": float(hist["objective"][k]),
@@ -227,6 +227,12 @@ def _print_summary(res):
     print(f"  driver: {res['driver']}")
     print(f"  success: {res['success']}   mass: {res['mass_kg']:.2f} kg   wall time: {res['wall_s']:.1f} s"
           f"   iterations: {res.get('iterations')}")
+    if not res["success"] and res.get("message"):
+        print(f"  message: {res['message']}")
+    if res.get("failed_evaluations"):
+        print(f"  failed analyses (SLSQP backed off): {len(res['failed_evaluations'])} "
+              f"(evaluations {', '.join(str(f['evaluation']) for f in res['failed_evaluations'][:10])}"
+              f"{', ...' if len(res['failed_evaluations']) > 10 else ''})")
     for case, fams in res["ks"].items():
         vals = ", ".join(f"{f} = {v:+.3e}" for f, v in fams.items())
         print(f"  KS {case}: {vals}")

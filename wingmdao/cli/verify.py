@@ -31,7 +31,7 @@ def register(subparsers):
     g = wb.add_mutually_exclusive_group()
     g.add_argument("--ribs", type=float, default=None, metavar="SPACING", help="ribs every SPACING m of span")
     g.add_argument("--no-ribs", action="store_true", help="no ribs (only the CS4 load-introduction rib; default)")
-    wb.add_argument("--rib-thickness", type=float, default=0.1, metavar="M", help="rib thickness (m, default 0.1)")
+    wb.add_argument("--rib-thickness", type=float, default=0.1, metavar="M", help="rib thickness (m)")
     wb.add_argument("--design", default=None, metavar="RESULT.json",
                     help="wall thicknesses from a 'wingmdao size wing-box' result (4 stations CS1..CS4)")
     wb.add_argument("--modes", type=int, default=0, metavar="N", help="also compare the first N frequencies")
@@ -39,7 +39,9 @@ def register(subparsers):
     wb.add_argument("--height-elements", type=int, default=2, metavar="N", help="shell elements across the spars")
     wb.add_argument("--span-size", type=float, default=0.5, metavar="M", help="shell element length along the span (m)")
     wb.add_argument("--plot", default=None, metavar="PNG", help="write a beam-vs-FE displacement plot")
-    wb.add_argument("--json", default="-", metavar="PATH", help="output file ('-' = standard output)")
+    from wingmdao.cli._args import add_json_argument
+
+    add_json_argument(wb)
     wb.set_defaults(func=run_verify)
 
 
@@ -177,10 +179,9 @@ def _plot(res, path):
     ax.set_ylabel("section-average displacement (m)")
     ax.legend()
     ax.grid(True)
-    tmp = path + ".tmp.png"
-    fig.savefig(tmp, dpi=120)
-    plt.close(fig)
-    os.replace(tmp, path)
+    from wingmdao.plots import save_figure
+
+    save_figure(fig, path)
 
 
 def run_verify(args) -> int:

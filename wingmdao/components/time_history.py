@@ -197,15 +197,25 @@ class TimeHistoryComponent(om.ImplicitComponent):
 
         sysm = self.system
         p, Q = self._params(inputs), self._forcing(inputs)
-        guess = None
-        if self.options["initial"] == "static":
+
+        def run(guess):
+            return march(sysm, self._time, p, Q, initial=self.options["initial"], x_init=self._x_init(inputs),
+                         x_guess=guess, modified_newton=self.options["modified_newton"],
+                         atol=self.options["atol"], xtol=self.options["xtol"], max_iter=self.options["max_iter"],
+                         static_options=self.options["static_options"],
+                         callback=march_progress(len(self._time), self.pathname or "march"))
+
+        if self.options["initial"] != "static":
+            h = run(None)
+        else:
             x0_prev = self._history(outputs)[0]
-            guess = x0_prev.copy() if np.any(x0_prev != 0.0) else self.initial_guess(p, Q[0])
-        h = march(sysm, self._time, p, Q, initial=self.options["initial"], x_init=self._x_init(inputs),
-                  x_guess=guess, modified_newton=self.options["modified_newton"],
-                  atol=self.options["atol"], xtol=self.options["xtol"], max_iter=self.options["max_iter"],
-                  static_options=self.options["static_options"],
-                  callback=march_progress(len(self._time), self.pathname or "march"))
+            if np.any(x0_prev != 0.0):  # warm start: the previous design's solution
+                try:
+                    h = run(x0_prev.copy())
+                except om.AnalysisError:  # far from the previous design: retry from the cold guess
+                    h = run(self.initial_guess(p, Q[0]))
+            else:
+                h = run(self.initial_guess(p, Q[0]))
         outputs[self.options["state_name"]] = h.states.reshape(outputs[self.options["state_name"]].shape)
         self.last_history = h
 

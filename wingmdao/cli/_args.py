@@ -1,0 +1,96 @@
+"""The command-line flags shared by several ``wingmdao`` commands, spelled once.
+
+One spelling per concept (docs/cli.md, "One spelling per concept"):
+
+- ``--json PATH``: the result as JSON; default ``-`` (standard output; human text then goes to
+  standard error) on every command that has a result;
+- ``--out DIR``: the folder of a command's files (recordings, plots, N2); default ``results``;
+- ``--overwrite``: replace an earlier run's outputs instead of refusing;
+- ``--no-plots``: do not write PNG plots;
+- ``--families LIST``: the constrained stress families of a sizing case;
+- ``--t-skin`` / ``--t-spar``: skin and spar-web thicknesses (m) of a box.
+
+An older spelling stays accepted as a deprecated alias (:func:`add_deprecated_alias`) that prints
+one warning line and stores into the same destination.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+JSON_HELP = ("write the result as JSON to PATH; - = standard output (progress and human text then go to "
+             "standard error)")
+
+
+def add_json_argument(parser) -> None:
+    """``--json PATH`` with the one default of every command: ``-`` (standard output)."""
+    parser.add_argument("--json", metavar="PATH", default="-", help=JSON_HELP)
+
+
+def add_output_arguments(parser, *, what: str, plots: bool = True, json: bool = True) -> None:
+    """``--out DIR`` (``what``: the files it holds), ``--overwrite``, ``--no-plots`` and ``--json``."""
+    parser.add_argument("--out", metavar="DIR", default="results", help=f"folder for {what}")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace an earlier run's outputs instead of refusing")
+    if plots:
+        parser.add_argument("--no-plots", action="store_true", help="do not write PNG plots")
+    if json:
+        add_json_argument(parser)
+
+
+class _DeprecatedAlias(argparse.Action):
+    """Stores like the new flag and warns once per use that the old spelling is deprecated."""
+
+    def __init__(self, option_strings, dest, new=None, **kwargs):
+        self.new = new
+        super().__init__(option_strings, dest, **kwargs)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from wingmdao.cli._io import warn
+
+        warn(f"{option_string} is deprecated; use {self.new} (same meaning)")
+        setattr(namespace, self.dest, values)
+
+
+def add_deprecated_alias(parser, old: str, new: str, *, dest: str, **kwargs) -> None:
+    """Accept ``old`` as a hidden, deprecated spelling of ``new`` storing into ``dest``."""
+    parser.add_argument(old, dest=dest, action=_DeprecatedAlias, new=new, default=argparse.SUPPRESS,
+                        help=argparse.SUPPRESS, **kwargs)
+
+
+#: older spelling of a case option -> the one spelling of the concept
+CASE_RENAMES = {"--constraints": "--families"}
+
+
+class CaseArguments:
+    """A parser (or argument group) as seen by a case's ``add_arguments``: every option keeps its
+    destination, options in :data:`CASE_RENAMES` take the one spelling, and the old flag stays a
+    deprecated alias. Everything else is the wrapped parser's."""
+
+    def __init__(self, parser, root=None):
+        self._parser = parser
+        self._root = root if root is not None else parser
+
+    def add_argument(self, *flags, **kwargs):
+        renamed = [f for f in flags if f in CASE_RENAMES]
+        if not renamed:
+            if any(f in CASE_RENAMES.values() for f in flags):
+                kwargs.setdefault("metavar", next(f for f in flags if f in CASE_RENAMES.values()).lstrip("-").upper())
+            return self._parser.add_argument(*flags, **kwargs)
+        old = renamed[0]
+        kwargs.setdefault("dest", old.lstrip("-").replace("-", "_"))
+        kwargs.setdefault("metavar", CASE_RENAMES[old].lstrip("-").upper())
+        new_flags = [CASE_RENAMES.get(f, f) for f in flags]
+        action = self._parser.add_argument(*new_flags, **kwargs)
+        extra = {k: kwargs[k] for k in ("type", "nargs", "metavar", "choices") if k in kwargs}
+        add_deprecated_alias(self._root, old, CASE_RENAMES[old], dest=kwargs["dest"], **extra)
+        return action
+
+    def add_argument_group(self, *args, **kwargs):
+        return CaseArguments(self._parser.add_argument_group(*args, **kwargs), self._root)
+
+    def add_mutually_exclusive_group(self, *args, **kwargs):
+        return CaseArguments(self._parser.add_mutually_exclusive_group(*args, **kwargs), self._root)
+
+    def __getattr__(self, name):
+        return getattr(self._parser, name)
