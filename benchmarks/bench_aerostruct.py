@@ -3,7 +3,7 @@ OpenAeroStruct's linear spatial beam in the same OpenAeroStruct AerostructPoint 
 same wingbox, same solvers: NonlinearBlockGS + LinearBlockGS with Aitken).
 
     python benchmarks/bench_aerostruct.py           # rectangular wing, ny = 11
-    python benchmarks/bench_aerostruct.py --crm     # uCRM, 2 points (cases/run_aerostruct_crm.py)
+    python benchmarks/bench_aerostruct.py --crm     # uCRM, 2 points (wingmdao.oas.crm, wingmdao size aerostruct-crm)
 
 Prints the time of one coupled analysis (cold start from the jig) and one total-derivative
 evaluation (adjoint, CL, fuelburn, failure w.r.t. twist, thicknesses, alpha), best of
@@ -13,8 +13,6 @@ evaluation (adjoint, CL, fuelburn, failure w.r.t. twist, thicknesses, alpha), be
 from __future__ import annotations
 
 import argparse
-import os
-import sys
 import time
 
 import numpy as np
@@ -22,17 +20,11 @@ import numpy as np
 
 def _problem(beam, crm):
     if crm:
-        sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "cases"))
-        import openmdao.api as om
-        from run_aerostruct_crm import build
+        from wingmdao.oas.crm import build_crm_problem, setup_crm_problem
 
-        prob, ks = build(beam)
-        prob.setup(mode="rev")
-        for i in range(2):
-            pt = getattr(prob.model, f"AS_point_{i}")
-            pt.coupled.linear_solver = om.LinearBlockGS(iprint=-1, maxiter=50, use_aitken=True, atol=1e-10, rtol=1e-10)
-            pt.coupled.nonlinear_solver.options["iprint"] = -1
-        of = ["AS_point_0.fuelburn", "AS_point_0.CL", ks or "AS_point_1.wing_perf.failure"]
+        prob, stress = build_crm_problem(beam, num_y=15)
+        setup_crm_problem(prob)
+        of = ["AS_point_0.fuelburn", "AS_point_0.CL", stress["maneuver"]]
     else:
         from wingmdao.oas.problems import aerostruct_problem, rect_wingbox_surface
 

@@ -42,7 +42,7 @@ def aerostruct_problem(surface, beam="wingmdao", mach=(0.3,), v=(100.0,), rho=(1
     geometry ``wing.structural_mass``, displacements ``AS_point_<i>.coupled.wing.disp`` (ny, 6).
     ``extra(model)``: called before setup to add components (its return value is returned too,
     as ``(prob, extra_result)``); ``setup=False`` leaves the problem to set up (and skips the
-    solver settings, see ``cases/run_aerostruct_crm.py``)."""
+    solver settings, see :func:`wingmdao.oas.crm.setup_crm_problem`)."""
     from openaerostruct.integration.aerostruct_groups import AerostructGeometry, AerostructPoint
 
     from wingmdao.oas.point import WingmdaoAerostructPoint
