@@ -195,9 +195,13 @@ def test_crm_analysis_only_json(tmp_path):
     for d in (res, res["oas_beam"]):
         for k in ("fuelburn_kg", "wing_mass_kg", "tip_deflection_m"):
             assert np.isfinite(d[k]) and d[k] > 0, k
-        assert max(d["coupled_iterations"]) < 25
+        assert max(d["coupled_iterations"].values()) < 25
     assert res["wing_mass_kg"] == pytest.approx(res["oas_beam"]["wing_mass_kg"], rel=1e-12)  # same geometry
     assert res["fuelburn_kg"] == pytest.approx(res["oas_beam"]["fuelburn_kg"], rel=0.03)
+    # unchanged by the public-API point (regression against commit 8742f6e's class-swapped point)
+    assert res["fuelburn_kg"] == pytest.approx(89412.16368701155, rel=1e-9)
+    assert res["wing_mass_kg"] == pytest.approx(25767.69436468528, rel=1e-12)
+    assert res["tip_deflection_m"] == pytest.approx(1.4362992228870846, rel=1e-8)
 
 
 def test_box_dims_partials_and_values():
