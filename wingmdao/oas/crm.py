@@ -157,7 +157,8 @@ def setup_crm_problem(prob, iprint=-1):
 def solve_crm(prob, counter=None, *, analysis_only=False, maxiter=40, tol=1e-6, recording=None, progress=False):
     """One coupled analysis, or SLSQP (``maxiter`` iterations, tolerance ``tol``) recorded to SQLite
     ``recording``; returns ``{success, message, iterations (gradient evaluations), evaluations
-    (model evaluations), wall_time_s}``."""
+    (model evaluations), wall_time_s, time_per_analysis_s, time_per_gradient_s}`` (the means of
+    OpenMDAO's DriverResult ``model_time`` and ``deriv_time``)."""
     t0 = time.perf_counter()
     if analysis_only:
         prob.run_model()
@@ -180,7 +181,9 @@ def solve_crm(prob, counter=None, *, analysis_only=False, maxiter=40, tol=1e-6, 
         f"SLSQP stopped at the iteration limit (maxiter {maxiter})" if res.deriv_evals >= maxiter
         else "SLSQP failed (see its message above)")
     return {"success": bool(res.success), "message": message, "iterations": int(res.deriv_evals),
-            "evaluations": int(res.model_evals), "wall_time_s": time.perf_counter() - t0}
+            "evaluations": int(res.model_evals), "wall_time_s": time.perf_counter() - t0,
+            "time_per_analysis_s": res.model_time / max(res.model_evals, 1),
+            "time_per_gradient_s": res.deriv_time / max(res.deriv_evals, 1)}
 
 
 def crm_summary(prob, stress, beam, counter=None):
