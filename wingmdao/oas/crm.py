@@ -148,7 +148,8 @@ def setup_crm_problem(prob, iprint=-1):
     solvers = {}
     for i, point in enumerate(CRM_POINTS):
         cp = getattr(prob.model, f"AS_point_{i}").coupled
-        cp.linear_solver = om.LinearBlockGS(iprint=-1, maxiter=LIN_MAXITER, use_aitken=True, atol=LIN_ATOL, rtol=LIN_RTOL)
+        cp.linear_solver = om.LinearBlockGS(iprint=-1, maxiter=LIN_MAXITER, use_aitken=True, atol=LIN_ATOL,
+                                            rtol=LIN_RTOL)
         cp.nonlinear_solver.options["iprint"] = iprint
         solvers[point[0]] = cp.nonlinear_solver
     return SolverIterationCounter(solvers, unrecorded=1)   # NonlinearBlockGS

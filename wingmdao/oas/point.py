@@ -10,8 +10,9 @@ spatial beam. Differences to connect: instead of
 height htop + hbottom) when the surface has ``wingmdao_box = "oas"``, so both beams see nearly
 the same section (htop and hbottom are OpenAeroStruct's KS-smoothed maxima, slightly above the
 true box height: 2.3 % stiffer on the rectangular test wing). Default (``"surface"``): the box
-from the surface dict (``box_geometry_from_surface``), exact for flat-topped "airfoils". Still connect ``coupled.<surface>.nodes`` and ``coupled.<surface>.mesh``
-(the displacement transfer uses them). The beam's jig axis (nodes at ``fem_origin``) is fixed
+from the surface dict (``box_geometry_from_surface``), exact for flat-topped "airfoils". Still
+connect ``coupled.<surface>.nodes`` and ``coupled.<surface>.mesh`` (the displacement transfer
+uses them). The beam's jig axis (nodes at ``fem_origin``) is fixed
 when the point is set up; weight relief, fuel and point
 masses are not applied to our beam (surfaces must have ``struct_weight_relief`` and
 ``distributed_fuel_weight`` False and no ``n_point_masses``).
