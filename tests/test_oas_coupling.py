@@ -131,6 +131,46 @@ def test_aerostruct_point_with_our_beam_matches_oas_beam(points):
     assert ours.get_val("AS_point_0.CL")[0] == pytest.approx(oas.get_val("AS_point_0.CL")[0], rel=5e-3)
 
 
+def test_point_wiring_matches_oas_aerostruct_point(points):
+    """WingmdaoAerostructPoint (composed from OpenAeroStruct's public components) feeds every input
+    outside the structural solver from the same source as OpenAeroStruct's own AerostructPoint."""
+    def inputs(model):
+        return {n for n, _ in model.list_inputs(out_stream=None) if ".struct_states." not in n}
+
+    def source(model, name):
+        s = model.get_source(name)
+        if s.startswith("_auto_ivc."):
+            return "auto_ivc"
+        head, sep, _ = s.partition(".struct_states.")
+        return head + sep + s.rsplit(".", 1)[1] if sep else s   # disp: the structural solver's output
+
+    ours, oas = points["wingmdao"].model, points["oas"].model
+    names = inputs(oas)
+    assert names == inputs(ours)
+    assert [n for n in names if source(ours, n) != source(oas, n)] == []
+
+
+def test_point_results_unchanged_by_public_api_rewrite(points):
+    """Regression against the earlier point (commit 8742f6e: OpenAeroStruct's AerostructPoint with
+    its coupled surface's class swapped through private OpenMDAO attributes), rectangular wing."""
+    p = points["wingmdao"]
+    assert p.get_val("AS_point_0.fuelburn")[0] == pytest.approx(20773.715045945657, rel=1e-9)
+    assert p.get_val("wing.structural_mass")[0] == pytest.approx(532.224, rel=1e-12)
+    assert p.get_val("AS_point_0.coupled.wing.disp")[0, 2] == pytest.approx(0.4725006922618921, rel=1e-8)
+    assert p.get_val("AS_point_0.CL")[0] == pytest.approx(0.3568561560838396, rel=1e-9)
+
+
+@pytest.mark.parametrize("key, value", [("struct_weight_relief", True), ("distributed_fuel_weight", True),
+                                        ("fem_model_type", "tube")])
+def test_point_rejects_unsupported_surface(key, value):
+    from wingmdao.oas.problems import aerostruct_problem, rect_wingbox_surface
+
+    surf = rect_wingbox_surface(num_y=3)
+    surf[key] = value
+    with pytest.raises(ValueError, match=key):
+        aerostruct_problem(surf, beam="wingmdao")
+
+
 def test_aerostruct_point_totals(points):
     p = points["wingmdao"]
     data = p.check_totals(of=["AS_point_0.CL", "AS_point_0.fuelburn", "AS_point_0.wing_perf.failure"],
@@ -155,9 +195,13 @@ def test_crm_analysis_only_json(tmp_path):
     for d in (res, res["oas_beam"]):
         for k in ("fuelburn_kg", "wing_mass_kg", "tip_deflection_m"):
             assert np.isfinite(d[k]) and d[k] > 0, k
-        assert max(d["coupled_iterations"]) < 25
+        assert max(d["coupled_iterations"].values()) < 25
     assert res["wing_mass_kg"] == pytest.approx(res["oas_beam"]["wing_mass_kg"], rel=1e-12)  # same geometry
     assert res["fuelburn_kg"] == pytest.approx(res["oas_beam"]["fuelburn_kg"], rel=0.03)
+    # unchanged by the public-API point (regression against commit 8742f6e's class-swapped point)
+    assert res["fuelburn_kg"] == pytest.approx(89412.16368701155, rel=1e-9)
+    assert res["wing_mass_kg"] == pytest.approx(25767.69436468528, rel=1e-12)
+    assert res["tip_deflection_m"] == pytest.approx(1.4362992228870846, rel=1e-8)
 
 
 def test_box_dims_partials_and_values():

@@ -48,3 +48,16 @@ def test_report_compares_several_recordings(tmp_path, capsys):
     assert out.count("driver iterations") == 2
     assert os.path.getsize(tmp_path / "p" / "thickness_comparison.png") > 1000
     assert os.path.getsize(tmp_path / "p" / "gust" / "iterations.png") > 1000
+
+
+def test_constraint_margin_of_equality_lower_and_upper_bounds():
+    """read_history's worst constraint: value - upper, lower - value, |value - equals| (<= 0 holds)."""
+    import numpy as np
+
+    from wingmdao.report import constraint_margin
+
+    np.testing.assert_allclose(constraint_margin([0.49, 0.5], {"equals": 0.5}), [0.01, 0.0], atol=1e-15)
+    np.testing.assert_allclose(constraint_margin([-0.2], {"upper": 0.0, "lower": -1e30}), [-0.2])
+    np.testing.assert_allclose(constraint_margin([3.0], {"lower": 1.0, "upper": 2.0}), [1.0])
+    np.testing.assert_allclose(constraint_margin([0.5], {"lower": 1.0}), [0.5])
+    np.testing.assert_allclose(constraint_margin([0.7], {}), [0.7])

@@ -255,3 +255,58 @@ class ProgressPrinter(CaseRecorder):
 
     def record_viewer_data(self, model_viewer_data):  # pragma: no cover
         pass
+
+
+class SolverIterationCounter(CaseRecorder):
+    """Iterations of the last solve of each watched nonlinear solver, through OpenMDAO's public
+    recording hooks: every solver iteration calls ``record_iteration_solver``; a driver
+    evaluation (``record_iteration_driver``) or :meth:`snapshot` closes the solves counted so far
+    into :attr:`last` (``{name: iterations}``).
+
+    ``solvers``: ``{name: solver}`` (set up, before ``final_setup``); attach to a driver with
+    ``driver.add_recorder(counter)`` so each evaluation is counted separately. ``unrecorded``:
+    iterations per solve that the solver does not record (1 for ``NonlinearBlockGS``, whose first
+    Gauss-Seidel pass runs unrecorded while it computes the initial norm, and counts).
+    """
+
+    def __init__(self, solvers: dict, unrecorded: int = 0):
+        super().__init__(record_viewer_data=False)
+        self._unrecorded = int(unrecorded)
+        self._names = {id(s): name for name, s in solvers.items()}
+        self._running = dict.fromkeys(solvers, 0)
+        self.last = dict.fromkeys(solvers, 0)
+        for solver in solvers.values():
+            solver.recording_options["record_inputs"] = False
+            solver.recording_options["record_outputs"] = False
+            solver.add_recorder(self)
+
+    def snapshot(self) -> dict:
+        """Close the solves counted since the last snapshot (kept as they were if none ran)."""
+        if any(self._running.values()):
+            self.last = {k: n + self._unrecorded if n else 0 for k, n in self._running.items()}
+            self._running = dict.fromkeys(self._running, 0)
+        return self.last
+
+    def record_iteration_solver(self, recording_requester, data, metadata):
+        self._running[self._names[id(recording_requester)]] += 1
+
+    def record_iteration_driver(self, recording_requester, data, metadata):
+        self.snapshot()
+
+    def record_iteration_system(self, recording_requester, data, metadata):  # pragma: no cover
+        pass
+
+    def record_iteration_problem(self, recording_requester, data, metadata):  # pragma: no cover
+        pass
+
+    def record_derivatives_driver(self, recording_requester, data, metadata):  # pragma: no cover
+        pass
+
+    def record_metadata_system(self, system, run_number=None):  # pragma: no cover
+        pass
+
+    def record_metadata_solver(self, solver, run_number=None):  # pragma: no cover
+        pass
+
+    def record_viewer_data(self, model_viewer_data):  # pragma: no cover
+        pass

@@ -8,8 +8,24 @@ import numpy as np
 import openmdao.api as om
 
 
+def constraint_margin(value, meta: dict) -> np.ndarray:
+    """Signed distance of a constraint value to its bounds (unscaled): ``value - upper``,
+    ``lower - value``, ``|value - equals|``; <= 0 where satisfied (equality: 0 only when met).
+    A KS constraint ``ks <= 0`` keeps its own value; without bounds the value itself."""
+    v = np.asarray(value, dtype=float).ravel()
+    terms = []
+    if meta.get("equals") is not None:
+        terms.append(np.abs(v - np.asarray(meta["equals"], dtype=float).ravel()))
+    for key, sign in (("upper", 1.0), ("lower", -1.0)):
+        b = meta.get(key)
+        if b is not None and np.all(np.abs(np.asarray(b, dtype=float)) < 1e29):   # OpenMDAO's "no bound" is +-1e30
+            terms.append(sign * (v - np.asarray(b, dtype=float).ravel()))
+    return np.max(terms, axis=0) if terms else v
+
+
 def read_history(path: str) -> dict:
-    """Objective, worst constraint and design variables of every recorded driver iteration."""
+    """Objective, worst constraint margin (:func:`constraint_margin`, <= 0 when every constraint
+    holds) and design variables of every recorded driver iteration."""
     if not os.path.exists(path):
         raise ValueError(f"recording {path!r} does not exist")
     if os.path.isdir(path):
@@ -21,6 +37,7 @@ def read_history(path: str) -> dict:
         raise ValueError(f"{path!r} is not an OpenMDAO recording of a sizing run ({exc})") from exc
     if not cases:
         raise ValueError(f"recording {path!r} holds no driver iterations")
+    meta = reader.problem_metadata.get("variables", {})
     objective, worst, desvars, failed = [], [], [], []
     for cid in cases:
         case = reader.get_case(cid)
@@ -30,10 +47,26 @@ def read_history(path: str) -> dict:
         obj = case.get_objectives()
         objective.append(float(np.ravel(next(iter(obj.values())))[0]) if obj and case.success else np.nan)
         cons = case.get_constraints()
-        worst.append(max((float(np.max(v)) for v in cons.values()), default=np.nan) if case.success else np.nan)
+        worst.append(max((float(np.max(constraint_margin(v, meta.get(k, {})))) for k, v in cons.items()),
+                         default=np.nan) if case.success else np.nan)
         desvars.append({k: np.array(v) for k, v in case.get_design_vars().items()})
     return {"iterations": len(cases), "objective": np.array(objective),
             "max_constraint": np.array(worst), "design_vars": desvars, "failed": np.array(failed, dtype=bool)}
+
+
+def best_design(hist: dict, tol: float = 1e-6) -> dict | None:
+    """The recorded iteration with the lowest objective among the feasible ones (every constraint
+    margin <= ``tol``), else among all whose analysis did not fail: iteration, objective, max
+    constraint, feasible, design variables; None when every recorded analysis failed."""
+    feasible = np.flatnonzero(np.nan_to_num(hist["max_constraint"], nan=np.inf) <= tol)
+    failed = hist.get("failed", np.zeros(hist["iterations"], dtype=bool))
+    pool = feasible if feasible.size else np.flatnonzero(~failed)  # never a failed analysis
+    if not pool.size:
+        return None
+    k = int(pool[np.nanargmin(hist["objective"][pool])])
+    return {"iteration": k, "objective": float(hist["objective"][k]),
+            "max_constraint": float(hist["max_constraint"][k]), "feasible": bool(feasible.size),
+            "design_vars": {n: np.asarray(v).tolist() for n, v in hist["design_vars"][k].items()}}
 
 
 def format_history(hist: dict) -> str:

@@ -48,6 +48,10 @@ def register(subparsers):
             mod.add_arguments(CaseArguments(cp))  # one spelling per concept (wingmdao.cli._args)
             _add_common(cp, sizing=sizing)
             cp.set_defaults(func=run_size if sizing else run_n2, case_module=mod)
+        if sizing:  # OpenAeroStruct's uCRM fuel burn: a problem of its own, not a WingSizing case
+            from wingmdao.cli._aerostruct import add_parser
+
+            add_parser(sub)
         p.set_defaults(func=lambda a, p=p: (p.print_help(), 0)[1])
 
 
@@ -192,8 +196,6 @@ def run_size(args) -> int:
 def _interrupted_result(prob, setup, desc, recording, interrupted=True) -> dict:
     """Partial result after Ctrl-C (or a failed analysis): the design at the last evaluation and the best feasible
     recorded iteration (lowest objective with every KS constraint <= 0)."""
-    import numpy as np
-
     from wingmdao import sizing
 
     try:
@@ -202,21 +204,15 @@ def _interrupted_result(prob, setup, desc, recording, interrupted=True) -> dict:
         result = {"success": False, "message": f"no evaluated design ({exc})"}
     result.update(success=False, interrupted=interrupted)
     if recording and os.path.exists(recording):
-        from wingmdao.report import read_history
+        from wingmdao.report import best_design, read_history
 
         try:
             hist = read_history(recording)
         except ValueError:
             return result
-        feasible = np.flatnonzero(np.nan_to_num(hist["max_constraint"], nan=np.inf) <= 1e-6)
-        pool = feasible if feasible.size else np.flatnonzero(~hist["failed"])  # never a failed analysis
-        if not pool.size:
-            return result
-        k = int(pool[np.nanargmin(hist["objective"][pool])])
-        result["best_design"] = {
-            "iteration": k, "objective": float(hist["objective"][k]),
-            "max_constraint": float(hist["max_constraint"][k]), "feasible": bool(feasible.size),
-            "design_vars": {n: np.asarray(v).tolist() for n, v in hist["design_vars"][k].items()}}
+        best = best_design(hist)
+        if best is not None:
+            result["best_design"] = best
     return result
 
 

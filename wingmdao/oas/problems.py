@@ -42,10 +42,10 @@ def aerostruct_problem(surface, beam="wingmdao", mach=(0.3,), v=(100.0,), rho=(1
     geometry ``wing.structural_mass``, displacements ``AS_point_<i>.coupled.wing.disp`` (ny, 6).
     ``extra(model)``: called before setup to add components (its return value is returned too,
     as ``(prob, extra_result)``); ``setup=False`` leaves the problem to set up (and skips the
-    solver settings, see ``cases/run_aerostruct_crm.py``)."""
+    solver settings, see :func:`wingmdao.oas.crm.setup_crm_problem`)."""
     from openaerostruct.integration.aerostruct_groups import AerostructGeometry, AerostructPoint
 
-    from wingmdao.oas.point import wingmdao_aerostruct_point
+    from wingmdao.oas.point import WingmdaoAerostructPoint
 
     if beam not in ("wingmdao", "oas"):
         raise ValueError(f"beam must be 'wingmdao' or 'oas', got {beam!r}")
@@ -68,7 +68,7 @@ def aerostruct_problem(surface, beam="wingmdao", mach=(0.3,), v=(100.0,), rho=(1
     prob.model.add_subsystem(name, AerostructGeometry(surface=surface))
     for i in range(npt):
         pt = f"AS_point_{i}"
-        point = (wingmdao_aerostruct_point if beam == "wingmdao" else AerostructPoint)(
+        point = (WingmdaoAerostructPoint if beam == "wingmdao" else AerostructPoint)(
             surfaces=[surface], internally_connect_fuelburn=False)
         prob.model.add_subsystem(pt, point)
         for k in ("v", "Mach_number", "re", "rho", "speed_of_sound", "load_factor", "alpha"):
