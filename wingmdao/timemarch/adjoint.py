@@ -41,6 +41,23 @@ def _scatter(index, n_out):
     return sp.csr_matrix((np.ones(m), (np.arange(m), index)), shape=(m, n_out))
 
 
+def block_bytes_per_step(system) -> float:
+    """Bytes of Jacobian blocks a :class:`LinearizedHistory` keeps per time step with full storage:
+    the nonzeros of dR/dx, dR/dxdot, dR/dp, dR/dq, the Newton matrix (at most those of dR/dx and
+    dR/dxdot) and dR/dxdot once more (its used entries), float64."""
+    nnz = {k: v[0].size for k, v in system.jacobian_patterns().items()}
+    return 8.0 * (2 * (nnz["x"] + nnz["xdot"]) + nnz["xdot"] + nnz["p"] + nnz["q"])
+
+
+def checkpoint_interval(system, n_time: int, budget_bytes: float):
+    """Segment length (steps) that keeps the Jacobian blocks within ``budget_bytes``, or None
+    when the whole history fits (full storage)."""
+    per_step = block_bytes_per_step(system)
+    if n_time * per_step <= budget_bytes:
+        return None
+    return int(max(1, min(n_time, budget_bytes // per_step)))
+
+
 class _Blocks:
     """Jacobian nonzeros of the steps ``off .. off + len - 1`` of a history; the sweeps loop over
     the steps ``lo .. hi - 1`` (the adjoint sweep reads two steps past ``hi``)."""
