@@ -49,6 +49,10 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
     def initialize(self):
         self.options.declare("grid_shape", default=None, allow_none=True, types=tuple,
                              desc="leading shape of all variables (points); subclasses derive it (point_grid)")
+        self.options.declare("matrix_free", default=None, types=bool, allow_none=True,
+                             desc="Jacobian-vector products from the per-point nonzeros instead of declared "
+                                  "partials (no row/column index arrays); None: above "
+                                  "POINTWISE_MATRIX_FREE_ABOVE Jacobian nonzeros")
 
     # ----------------------------------------------------------------- subclass API
     def pointwise_inputs(self) -> list[Var]:
@@ -111,6 +115,11 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
 
         jac_vals = []
         self._pairs = []
+        self._pair_patterns = []
+        per_point = sum(int(ca.jacobian_sparsity(e, syms[vi.name]).nnz()) for e in flat_out for vi in self._in_vars)
+        mf = self.options["matrix_free"]
+        self.matrix_free = bool(per_point * n > POINTWISE_MATRIX_FREE_ABOVE) if mf is None else mf
+        self._jac_point, self._jac_values = None, None
         for j, vo in enumerate(self._out_vars):
             for vi in self._in_vars:
                 jac = ca.jacobian(flat_out[j], syms[vi.name])
@@ -120,13 +129,16 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
                 r, c = sp.get_triplet()
                 r = np.asarray(r, dtype=int)
                 c = np.asarray(c, dtype=int)
+                self._pairs.append((vo.name, vi.name))
+                self._pair_patterns.append((r, c, _scatter(r, vo.size), _scatter(c, vi.size), vi.per_last_axis))
+                jac_vals.append(ca.vertcat(*jac.nonzeros()))
+                if self.matrix_free:
+                    continue
                 pts = np.arange(n)[:, None]
                 src = pts % self.grid_shape[-1] if vi.per_last_axis else pts
                 rows = (pts * vo.size + r[None, :]).ravel()
                 cols = (src * vi.size + c[None, :]).ravel()
                 self.declare_partials(vo.name, vi.name, rows=rows, cols=cols)
-                self._pairs.append((vo.name, vi.name))
-                jac_vals.append(ca.vertcat(*jac.nonzeros()))
         fj = ca.Function(f"{self.__class__.__name__}_jac", in_list, jac_vals)
         self._fjac = fj.map(n, "serial") if n > 1 else fj
         self._jit_fjac = _PointJit(fj, n)
@@ -156,13 +168,53 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
         for v, val in zip(self._out_vars, res):
             outputs[v.name] = np.asarray(val).T.reshape(outputs[v.name].shape)
 
-    def compute_partials(self, inputs, partials):
+    def _jacobian_nonzeros(self, inputs) -> list:
+        """Per-pair Jacobian nonzeros at every point, ``(num_points, nnz per point)`` each."""
         self._fjac = self._jit_fjac.update(self._fjac)
         res = self._fjac(*self._stacked_inputs(inputs))
         if not isinstance(res, (list, tuple)):
             res = [res]
-        for (oname, iname), val in zip(self._pairs, res):
-            partials[oname, iname] = np.asarray(val).T.ravel()
+        return [np.asarray(val).T for val in res]
+
+    def compute_partials(self, inputs, partials):
+        if self.matrix_free:
+            return
+        for (oname, iname), val in zip(self._pairs, self._jacobian_nonzeros(inputs)):
+            partials[oname, iname] = val.ravel()
+
+    def compute_jacvec_product(self, inputs, d_inputs, d_outputs, mode):
+        """Products with the block-diagonal Jacobian (``matrix_free``): per pair, the per-point
+        nonzeros ``J[p, r_k, c_k]`` times the input seeds at ``c_k`` summed into the outputs at
+        ``r_k`` ('fwd'), or the transpose ('rev'; shared per-station inputs summed over time)."""
+        point = {k: np.array(v) for k, v in inputs.items()}
+        if self._jac_point is None or any(not np.array_equal(point[k], v) for k, v in self._jac_point.items()):
+            self._jac_values = self._jacobian_nonzeros(inputs)
+            self._jac_point = point
+        n, n_last = self.num_points, self.grid_shape[-1]
+        for (oname, iname), val, (r, c, s_r, s_c, shared) in zip(self._pairs, self._jac_values,
+                                                                self._pair_patterns):
+            if oname not in d_outputs or iname not in d_inputs:
+                continue
+            if mode == "fwd":
+                din = np.asarray(d_inputs[iname]).reshape(n_last if shared else n, -1)
+                if shared:
+                    din = np.tile(din, (n // n_last, 1))
+                prod = np.asarray((val * din[:, c]) @ s_r)
+                d_outputs[oname] += prod.reshape(d_outputs[oname].shape)
+            else:
+                dout = np.asarray(d_outputs[oname]).reshape(n, -1)
+                prod = np.asarray((val * dout[:, r]) @ s_c)
+                if shared:
+                    prod = prod.reshape(n // n_last, n_last, -1).sum(axis=0)
+                d_inputs[iname] += prod.reshape(d_inputs[iname].shape)
+
+
+def _scatter(index, size):
+    """Sparse (len(index), size) matrix with a one at (k, index[k])."""
+    import scipy.sparse as sp
+
+    m = len(index)
+    return sp.csr_matrix((np.ones(m), (np.arange(m), index)), shape=(m, size))
 
 
 class _PointJit:
@@ -183,6 +235,12 @@ class _PointJit:
             return f.map(self.num_points, "serial") if self.num_points > 1 else f
         return mapped
 
+
+#: Jacobian nonzeros (all points) above which a pointwise component is matrix-free by default:
+#: declared partials keep 24 bytes per nonzero (value, row, column) and OpenMDAO allocates them
+#: again at final_setup; a 20-station stress history has ~2100 nonzeros per step (~500k at 251
+#: steps: declared; 8.4M at 4000 steps: matrix-free). docs/time-marching.md, "Memory".
+POINTWISE_MATRIX_FREE_ABOVE = 1_000_000
 
 #: Calls of a pointwise component's function (or Jacobian) after which it is compiled.
 POINT_JIT_THRESHOLD = 10
