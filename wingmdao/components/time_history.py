@@ -144,12 +144,13 @@ class TimeHistoryComponent(om.ImplicitComponent):
                 raise ValueError(f"{self.msginfo}: adjoint_memory='checkpoint' needs matrix_free=True "
                                  "(declared partials store every step's Jacobian blocks)")
             return None
-        auto = checkpoint_interval(self.system, self._n_time, budget)
-        if mode == "auto" and auto is None:
+        if mode == "auto" and checkpoint_interval(self.system, self._n_time, budget) is None:
             return None
         if k is not None:
             return k
-        return auto if auto is not None else max(1, self._n_time // 8)
+        # a segment gets a quarter of the budget: two are alive while the next one is built, and
+        # the Jacobian evaluation has its own buffers
+        return checkpoint_interval(self.system, self._n_time, budget / 4) or max(1, self._n_time // 8)
 
     def setup_partials(self):
         if self._matrix_free:
@@ -265,7 +266,7 @@ class TimeHistoryComponent(om.ImplicitComponent):
                                 initial=self.options["initial"], store_factors=self.options["store_factors"],
                                 lu=self.options["lu"], checkpoint_every=self.checkpoint_every)
         self._lin = lin
-        self._lin_point = (X.copy(), p.copy(), Q.copy())
+        self._lin_point = (lin.states, p.copy(), lin.forcing)    # the linearization's own copies
         if self._matrix_free:
             return
         name = self.options["state_name"]

@@ -118,10 +118,9 @@ class LinearizedHistory:
             raise ValueError(f'lu must be "superlu" or "static", got {lu!r}')
         self.n_time, self.n_state = t.size, system.n_state
         X = np.array(states, dtype=float).reshape(self.n_time, self.n_state)
-        self._X = X
-        self._Q = np.array(forcing, dtype=float).reshape(self.n_time, system.n_forcing)
+        self._X = self.states = X                   # (copies: the linearization point)
+        self._Q = self.forcing = np.array(forcing, dtype=float).reshape(self.n_time, system.n_forcing)
         self._p = np.array(p, dtype=float).reshape(system.n_param)
-        self._Xdot = state_rates(X, self.dt) if self.n_time > 1 else np.zeros_like(X)
         self.patterns = system.jacobian_patterns()
         # coefficients alpha_k(n)/dt; row 0 all zero
         self.coef = np.array([bdf_coefficients(n) for n in range(self.n_time)])
@@ -133,7 +132,9 @@ class LinearizedHistory:
                 raise ValueError(f"checkpoint_every must be an integer >= 1 (steps), got {checkpoint_every!r}")
             checkpoint_every = None if k >= self.n_time else k
         self.checkpoint_every = checkpoint_every
-        self._full = None
+        self._full = self._Xdot = None
+        # full storage keeps the rates; checkpointed sweeps recompute them per segment
+        self._Xdot = self._rates(0, self.n_time) if checkpoint_every is None else None
         if checkpoint_every is None:
             data = self._raw(0, self.n_time)
             x_nz, d_nz = np.any(data["x"] != 0.0, axis=0), np.any(data["xdot"] != 0.0, axis=0)
@@ -159,9 +160,18 @@ class LinearizedHistory:
         self._adjoint_cache = None    # (lam, sum_n dR_n/dp^T lam_n, dR_n/dq_n^T lam_n) of the last sweep
 
     # ------------------------------------------------------------------ blocks
+    def _rates(self, lo, hi):
+        """BDF rates of the steps lo..hi-1 (Eq. 3.5, as ``state_rates`` of the whole history)."""
+        if self._Xdot is not None:
+            return self._Xdot[lo:hi]
+        if self.n_time == 1:
+            return np.zeros_like(self._X)
+        a = max(lo - 2, 0)     # rows past the first two of a slice are BDF2 rates
+        return state_rates(self._X[a:hi], self.dt)[lo - a:]
+
     def _raw(self, lo, hi):
         """The four Jacobians' nonzeros at the steps lo..hi-1 (step 0 of a given state: none)."""
-        data = self.system.jacobian_history(self._X[lo:hi], self._Xdot[lo:hi], self._p, self._Q[lo:hi])
+        data = self.system.jacobian_history(self._X[lo:hi], self._rates(lo, hi), self._p, self._Q[lo:hi])
         if self.initial == "state" and lo == 0:   # step 0 is x_0 - x_init: identity, no p or q
             for v in data.values():
                 v[0] = 0.0
