@@ -1,6 +1,7 @@
 """The pointwise CasADi base: values and declared sparse partials on a toy function."""
 
 import numpy as np
+import pytest
 import openmdao.api as om
 from openmdao.utils.assert_utils import assert_check_partials
 
@@ -35,9 +36,15 @@ def test_values_and_partials():
     assert_check_partials(data, atol=1e-6, rtol=1e-6)
 
 
-def test_matrix_free_products_equal_declared_partials():
-    """matrix_free=True (Jacobian-vector products from the per-point nonzeros): check_partials
-    against central differences, and totals in fwd and rev equal the declared partials'."""
+@pytest.mark.parametrize("chunk, cache", [(4096, 64e6), (3, 0.0)])
+def test_matrix_free_products_equal_declared_partials(monkeypatch, chunk, cache):
+    """matrix_free=True (Jacobian-vector products from the per-point nonzeros, evaluated in
+    chunks of points, kept or re-evaluated): check_partials against central differences, and
+    totals in fwd and rev equal the declared partials'."""
+    from wingmdao.components import pointwise
+
+    monkeypatch.setattr(pointwise, "POINT_CHUNK", chunk)
+    monkeypatch.setattr(pointwise, "POINTWISE_JAC_CACHE_BYTES", cache)
     rng = np.random.default_rng(1)
     vals = {"a": rng.uniform(1, 2, (4, 2)), "b": rng.uniform(1, 2, (4, 2, 2, 3)), "c": rng.uniform(1, 2, 2)}
     totals = {}
