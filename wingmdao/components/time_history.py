@@ -240,6 +240,9 @@ class TimeHistoryComponent(om.ImplicitComponent):
                   static_options=self.options["static_options"],
                   callback=march_progress(len(self._time), self.pathname or "march"))
         outputs[self.options["state_name"]] = h.states.reshape(outputs[self.options["state_name"]].shape)
+        # Newton work of the last march (iterations per step, factorizations); the states are the
+        # output, so the history's own copies (states and rates: 2 x n_time x n_state) are dropped
+        h.states = h.rates = None
         self.last_history = h
 
     def initial_guess(self, p, q0):

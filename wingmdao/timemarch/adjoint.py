@@ -457,7 +457,7 @@ class LinearizedHistory:
 
     def _cached_products(self, lam):
         c = self._adjoint_cache
-        if c is not None and (c[0] is lam or np.array_equal(c[0], lam)):
+        if c is not None and np.array_equal(c[0], lam):
             return c
         return None
 
