@@ -128,3 +128,38 @@ def test_rate_dependent_functional_chains_through_bdf():
     e[4] = 1e-4
     fd = (f_of(p + e)[0] - f_of(p - e)[0]) / 2e-4
     assert dfdp[4] == pytest.approx(fd, rel=1e-6)
+
+
+@pytest.mark.parametrize("initial", ["static", "state"])
+@pytest.mark.parametrize("k", [1, 3, 7, 40])
+def test_checkpointed_history_equals_full_storage(initial, k):
+    """checkpoint_every=k keeps only the states and re-evaluates the Jacobians segment by segment:
+    gradients, tangents and every product equal the full storage's to round-off (1e-10)."""
+    sysm, t, p, Q, x_init = _chain_case(initial=initial)
+    h = march(sysm, t, p, Q, initial=initial, x_init=x_init)
+    f, dfdx = _chain_functional(h)
+    full = LinearizedHistory(sysm, t, h.states, p, Q, initial=initial)
+    lean = LinearizedHistory(sysm, t, h.states, p, Q, initial=initial, checkpoint_every=k)
+    assert lean.checkpoint_every == k and not hasattr(lean, "jp")    # no per-step blocks kept
+    for a, b in zip(lean.gradient(dfdx), full.gradient(dfdx)):
+        np.testing.assert_allclose(a, b, rtol=1e-10, atol=1e-10 * np.max(np.abs(b)))
+    v = np.random.default_rng(2).normal(size=h.states.shape)
+    for name in ("solve_tangent", "solve_adjoint", "apply", "apply_transpose", "param_product",
+                 "forcing_product"):
+        a, b = getattr(lean, name)(v), getattr(full, name)(v)
+        np.testing.assert_allclose(a, b, rtol=1e-10, atol=1e-10 * np.max(np.abs(b)), err_msg=name)
+    np.testing.assert_allclose(lean.param_apply(p), full.param_apply(p), rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(lean.forcing_apply(Q), full.forcing_apply(Q), rtol=1e-12, atol=1e-12)
+
+
+def test_checkpointed_history_with_static_lu_and_bad_interval():
+    sysm, t, p, Q, _ = _chain_case(n_time=30)
+    h = march(sysm, t, p, Q)
+    f, dfdx = _chain_functional(h)
+    ref = LinearizedHistory(sysm, t, h.states, p, Q).gradient(dfdx)
+    lean = LinearizedHistory(sysm, t, h.states, p, Q, lu="static", checkpoint_every=4)
+    for a, b in zip(lean.gradient(dfdx), ref):
+        np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-9 * np.max(np.abs(b)))
+    assert lean.lu_method == "static"
+    with pytest.raises(ValueError, match="checkpoint_every must be an integer >= 1"):
+        LinearizedHistory(sysm, t, h.states, p, Q, checkpoint_every=0)

@@ -82,3 +82,26 @@ def test_forward_and_reverse_mode_agree(derivatives):
     for key, rev in derivatives["rev"].items():
         fwd = derivatives["fwd"][key]
         assert np.max(np.abs(fwd - rev)) <= 1e-10 * np.max(np.abs(rev)), key
+
+
+def test_memory_lean_chain_gives_the_same_totals(monkeypatch):
+    """Checkpointed beam adjoint (Jacobians re-evaluated 30 steps at a time) and matrix-free
+    pointwise internal loads and stresses (Jacobians re-evaluated in chunks of 500 points): the KS
+    totals equal the default (full storage, declared partials) ones to 1e-10."""
+    from wingmdao.components import pointwise, time_history
+
+    of = [f"cases.dyn.ks_{f}" for f in FAMILIES]
+    ref = _problem("rev")[0].compute_totals(of=of, wrt=list(WALL_VARS))
+    monkeypatch.setattr(time_history, "MATRIX_FREE_ABOVE", 0)
+    monkeypatch.setattr(time_history, "ADJOINT_MEMORY_MB", 10.7)   # 89 kB per step: segments of 29 steps
+    monkeypatch.setattr(pointwise, "POINTWISE_MATRIX_FREE_ABOVE", 0)
+    monkeypatch.setattr(pointwise, "POINTWISE_JAC_CACHE_BYTES", 0.0)
+    monkeypatch.setattr(pointwise, "POINT_CHUNK", 500)
+    prob, _ = _problem("rev")
+    beam = next(s for s in prob.model.system_iter(recurse=True) if isinstance(s, time_history.TimeHistoryComponent))
+    assert beam.checkpoint_every is not None and beam.checkpoint_every < N_STEPS
+    stress = [s for s in prob.model.system_iter(recurse=True) if isinstance(s, pointwise.PointwiseCasadiComponent)]
+    assert stress and all(s.matrix_free for s in stress if s.num_points >= N_STEPS)
+    lean = prob.compute_totals(of=of, wrt=list(WALL_VARS))
+    for key, val in ref.items():
+        np.testing.assert_allclose(lean[key], val, rtol=1e-10, atol=1e-10 * np.max(np.abs(val)), err_msg=str(key))

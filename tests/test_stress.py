@@ -142,12 +142,14 @@ def test_zero_load_derivatives_finite():
     assert np.all(np.isfinite(totals))
 
 
-def test_check_partials_random_asymmetric():
+@pytest.mark.parametrize("matrix_free", [False, True])
+def test_check_partials_random_asymmetric(matrix_free):
+    """Declared partials, and the matrix-free products long histories use (pointwise base)."""
     nt, n = 3, 4
     rng = np.random.default_rng(11)
     prob = om.Problem(reports=False)
-    prob.model.add_subsystem("s", BoxStress(num_times=nt, num_stations=n, material=ALUMINIUM, section_rotation=True),
-                             promotes=["*"])
+    prob.model.add_subsystem("s", BoxStress(num_times=nt, num_stations=n, material=ALUMINIUM, section_rotation=True,
+                                            matrix_free=matrix_free), promotes=["*"])
     prob.setup()
     assert "combined" in prob.model.s._fjac.name()  # the CSE'd combined Jacobian is in use
     prob.set_val("width", rng.uniform(0.6, 1.2, n))
@@ -160,6 +162,7 @@ def test_check_partials_random_asymmetric():
     rot = np.array([[[np.cos(a), 0, -np.sin(a)], [0, 1, 0], [np.sin(a), 0, np.cos(a)]] for a in th])
     prob.set_val("section_to_csn", rot + rng.uniform(0.02, 0.05, (n, 3, 3)))
     prob.run_model()
+    assert prob.model.s.matrix_free is matrix_free
     data = prob.check_partials(method="fd", form="central", step=1e-5, step_calc="rel", out_stream=None)
     assert_check_partials(data, atol=1e-6, rtol=1e-6)
 

@@ -24,14 +24,14 @@ def _smd_problem(t, initial="state", matrix_free=False, mode="rev"):
     return prob
 
 
-def _chain_problem(n_time, initial="static", matrix_free=False, mode="rev", seed=0):
+def _chain_problem(n_time, initial="static", matrix_free=False, mode="rev", seed=0, **opts):
     rng = np.random.default_rng(seed)
     sysm = nonlinear_chain_system(3)
     t = np.linspace(0.0, 0.3, n_time)
     prob = om.Problem(reports=False)
     model = prob.model
     model.add_subsystem("chain", TimeHistoryComponent(system=sysm, time=t, initial=initial,
-                                                      matrix_free=matrix_free), promotes=["*"])
+                                                      matrix_free=matrix_free, **opts), promotes=["*"])
     w = rng.uniform(0.5, 2.0, (n_time, 3, 2))
     model.add_subsystem("energy", om.ExecComp("f = sum(w * states**2)", w={"val": w, "shape": w.shape},
                                               states={"shape": (n_time, 3, 2)}), promotes=["*"])
@@ -184,3 +184,35 @@ def test_static_solve_that_fails_from_the_warm_start_is_retried_from_the_cold_gu
     monkeypatch.setattr(th, "march", always_fails)
     with pytest.raises(om.AnalysisError, match="no convergence"):
         prob.run_model()
+
+
+@pytest.mark.parametrize("initial", ["static", "state"])
+def test_checkpointed_adjoint_totals_equal_full_storage_and_central_differences(initial):
+    """adjoint_memory='checkpoint' (states only, Jacobians re-evaluated 4 steps at a time):
+    totals equal the full storage's to 1e-10 and central differences to 1e-6."""
+    wrt = ["mass", "damping", "hardening", "stiffness", "force"] + (["initial_state"] if initial == "state" else [])
+    totals = {}
+    for memory in ("full", "checkpoint"):
+        prob = _chain_problem(21, initial=initial, matrix_free=True, seed=1, adjoint_memory=memory,
+                              checkpoint_every=4)
+        prob.run_model()
+        assert prob.model.chain.checkpoint_every == (4 if memory == "checkpoint" else None)
+        totals[memory] = prob.compute_totals(of=["f"], wrt=wrt)
+        if memory == "checkpoint":
+            data = prob.check_totals(of=["f"], wrt=wrt, method="fd", form="central", step=1e-6,
+                                     out_stream=None)
+            for key, d in data.items():
+                scale = np.max(np.abs(d["J_fd"]))
+                np.testing.assert_allclose(d["J_rev"], d["J_fd"], rtol=1e-6, atol=1e-6 * scale, err_msg=str(key))
+    for key in totals["full"]:
+        np.testing.assert_allclose(totals["checkpoint"][key], totals["full"][key], rtol=1e-10,
+                                   atol=1e-10 * np.max(np.abs(totals["full"][key])), err_msg=str(key))
+
+
+def test_adjoint_memory_auto_checkpoints_above_the_budget_and_needs_matrix_free():
+    prob = _chain_problem(21, matrix_free=True, adjoint_memory_mb=0.002)   # ~10 steps of blocks
+    assert 1 <= prob.model.chain.checkpoint_every < 21
+    prob = _chain_problem(21, matrix_free=True)                           # 100 MB: full storage
+    assert prob.model.chain.checkpoint_every is None
+    with pytest.raises(ValueError, match="adjoint_memory='checkpoint' needs matrix_free=True"):
+        _chain_problem(21, matrix_free=False, adjoint_memory="checkpoint")

@@ -49,6 +49,10 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
     def initialize(self):
         self.options.declare("grid_shape", default=None, allow_none=True, types=tuple,
                              desc="leading shape of all variables (points); subclasses derive it (point_grid)")
+        self.options.declare("matrix_free", default=None, types=bool, allow_none=True,
+                             desc="Jacobian-vector products from the per-point nonzeros instead of declared "
+                                  "partials (no row/column index arrays); None: above "
+                                  "POINTWISE_MATRIX_FREE_ABOVE Jacobian nonzeros")
 
     # ----------------------------------------------------------------- subclass API
     def pointwise_inputs(self) -> list[Var]:
@@ -111,6 +115,13 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
 
         jac_vals = []
         self._pairs = []
+        self._pair_patterns = []
+        per_point = sum(int(ca.jacobian_sparsity(e, syms[vi.name]).nnz()) for e in flat_out for vi in self._in_vars)
+        mf = self.options["matrix_free"]
+        self.matrix_free = bool(per_point * n > POINTWISE_MATRIX_FREE_ABOVE) if mf is None else mf
+        self._jac_point, self._jac_values, self._chunk_maps = None, None, {}
+        self._jac_bytes = 8.0 * per_point * n
+        self._shared = {v.name: v.per_last_axis for v in self._in_vars}
         for j, vo in enumerate(self._out_vars):
             for vi in self._in_vars:
                 jac = ca.jacobian(flat_out[j], syms[vi.name])
@@ -120,13 +131,16 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
                 r, c = sp.get_triplet()
                 r = np.asarray(r, dtype=int)
                 c = np.asarray(c, dtype=int)
+                self._pairs.append((vo.name, vi.name))
+                self._pair_patterns.append((r, c, _scatter(r, vo.size), _scatter(c, vi.size), vi.per_last_axis))
+                jac_vals.append(ca.vertcat(*jac.nonzeros()))
+                if self.matrix_free:
+                    continue
                 pts = np.arange(n)[:, None]
                 src = pts % self.grid_shape[-1] if vi.per_last_axis else pts
                 rows = (pts * vo.size + r[None, :]).ravel()
                 cols = (src * vi.size + c[None, :]).ravel()
                 self.declare_partials(vo.name, vi.name, rows=rows, cols=cols)
-                self._pairs.append((vo.name, vi.name))
-                jac_vals.append(ca.vertcat(*jac.nonzeros()))
         fj = ca.Function(f"{self.__class__.__name__}_jac", in_list, jac_vals)
         self._fjac = fj.map(n, "serial") if n > 1 else fj
         self._jit_fjac = _PointJit(fj, n)
@@ -156,13 +170,98 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
         for v, val in zip(self._out_vars, res):
             outputs[v.name] = np.asarray(val).T.reshape(outputs[v.name].shape)
 
-    def compute_partials(self, inputs, partials):
+    def _jacobian_nonzeros(self, inputs) -> list:
+        """Per-pair Jacobian nonzeros at every point, ``(num_points, nnz per point)`` each."""
         self._fjac = self._jit_fjac.update(self._fjac)
         res = self._fjac(*self._stacked_inputs(inputs))
         if not isinstance(res, (list, tuple)):
             res = [res]
-        for (oname, iname), val in zip(self._pairs, res):
-            partials[oname, iname] = np.asarray(val).T.ravel()
+        return [np.asarray(val).T for val in res]
+
+    def compute_partials(self, inputs, partials):
+        if self.matrix_free:
+            return
+        for (oname, iname), val in zip(self._pairs, self._jacobian_nonzeros(inputs)):
+            partials[oname, iname] = val.ravel()
+
+    def _jacobian_chunks(self, inputs):
+        """``(p0, p1, [per-pair nonzeros (p1 - p0, nnz per point)])`` over chunks of
+        ``POINT_CHUNK`` points (the per-point function mapped over a chunk; the last chunk padded
+        with copies of its last point), so no full-grid CasADi buffers are made."""
+        self._fjac = self._jit_fjac.update(self._fjac)       # counts calls, swaps in the compiled one
+        base = self._jit_fjac.jit.current
+        n = self.num_points
+        m = min(POINT_CHUNK, n)
+        key = (id(base), m)
+        if key not in self._chunk_maps:
+            self._chunk_maps = {key: base.map(m, "serial") if m > 1 else base}
+        fmap = self._chunk_maps[key]
+        stacked = self._stacked_inputs(inputs)
+        for p0 in range(0, n, m):
+            p1 = min(p0 + m, n)
+            args = [a[:, p0:p1] for a in stacked]
+            if p1 - p0 < m:
+                args = [np.pad(a, ((0, 0), (0, m - (p1 - p0))), mode="edge") for a in args]
+            res = fmap(*args)
+            if not isinstance(res, (list, tuple)):
+                res = [res]
+            yield p0, p1, [np.asarray(v).T[:p1 - p0] for v in res]
+
+    def _jacobian_values(self, inputs):
+        """The chunks of :meth:`_jacobian_chunks`, kept between calls at the same inputs when
+        they take at most ``POINTWISE_JAC_CACHE_BYTES`` (recomputed in every product otherwise)."""
+        point = {k: np.array(v) for k, v in inputs.items()}
+        if self._jac_point is not None and all(np.array_equal(point[k], v) for k, v in self._jac_point.items()):
+            return self._jac_values
+        self._jac_point, self._jac_values = None, None
+        if self._jac_bytes > POINTWISE_JAC_CACHE_BYTES:
+            return self._jacobian_chunks(inputs)
+        self._jac_values = list(self._jacobian_chunks(inputs))
+        self._jac_point = point
+        return self._jac_values
+
+    def compute_jacvec_product(self, inputs, d_inputs, d_outputs, mode):
+        """Products with the block-diagonal Jacobian (``matrix_free``): per pair, the per-point
+        nonzeros ``J[p, r_k, c_k]`` times the input seeds at ``c_k`` summed into the outputs at
+        ``r_k`` ('fwd'), or the transpose ('rev'; shared per-station inputs summed over time)."""
+        n, n_last = self.num_points, self.grid_shape[-1]
+        active = [(j, o, i) for j, (o, i) in enumerate(self._pairs) if o in d_outputs and i in d_inputs]
+        if not active:
+            return
+        src = np.arange(n) % n_last
+        seeds, acc = {}, {}
+        for j, oname, iname in active:
+            if mode == "fwd":
+                if iname not in seeds:
+                    din = np.asarray(d_inputs[iname]).reshape(n_last if self._shared[iname] else n, -1)
+                    seeds[iname] = din[src] if self._shared[iname] else din
+                acc.setdefault(oname, np.zeros((n, int(np.prod(d_outputs[oname].shape)) // n)))
+            else:
+                seeds.setdefault(oname, np.asarray(d_outputs[oname]).reshape(n, -1))
+                acc.setdefault(iname, np.zeros((n, int(np.prod(d_inputs[iname].shape)) // (n_last if self._shared[iname] else n))))
+        for p0, p1, vals in self._jacobian_values(inputs):
+            for j, oname, iname in active:
+                r, c, s_r, s_c, _ = self._pair_patterns[j]
+                if mode == "fwd":
+                    acc[oname][p0:p1] += np.asarray((vals[j] * seeds[iname][p0:p1, c]) @ s_r)
+                else:
+                    acc[iname][p0:p1] += np.asarray((vals[j] * seeds[oname][p0:p1, r]) @ s_c)
+        if mode == "fwd":
+            for oname, a in acc.items():
+                d_outputs[oname] += a.reshape(d_outputs[oname].shape)
+        else:
+            for iname, a in acc.items():
+                if self._shared[iname]:
+                    a = a.reshape(n // n_last, n_last, -1).sum(axis=0)
+                d_inputs[iname] += a.reshape(d_inputs[iname].shape)
+
+
+def _scatter(index, size):
+    """Sparse (len(index), size) matrix with a one at (k, index[k])."""
+    import scipy.sparse as sp
+
+    m = len(index)
+    return sp.csr_matrix((np.ones(m), (np.arange(m), index)), shape=(m, size))
 
 
 class _PointJit:
@@ -183,6 +282,17 @@ class _PointJit:
             return f.map(self.num_points, "serial") if self.num_points > 1 else f
         return mapped
 
+
+#: Jacobian nonzeros (all points) above which a pointwise component is matrix-free by default:
+#: declared partials keep 24 bytes per nonzero (value, row, column) and OpenMDAO allocates them
+#: again at final_setup. The 20-station PEGASUS stress history has ~4700 nonzeros per time step:
+#: declared up to ~430 steps, matrix-free above (docs/time-marching.md, "Memory").
+POINTWISE_MATRIX_FREE_ABOVE = 2_000_000
+
+#: Matrix-free: the Jacobian nonzeros are kept between products at one point when they take at
+#: most this (bytes), else re-evaluated in chunks of ``POINT_CHUNK`` points in every product.
+POINTWISE_JAC_CACHE_BYTES = 64e6
+POINT_CHUNK = 4096
 
 #: Calls of a pointwise component's function (or Jacobian) after which it is compiled.
 POINT_JIT_THRESHOLD = 10

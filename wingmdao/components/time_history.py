@@ -15,7 +15,7 @@ import numbers
 import numpy as np
 import openmdao.api as om
 
-from wingmdao.timemarch.adjoint import LinearizedHistory
+from wingmdao.timemarch.adjoint import LinearizedHistory, checkpoint_interval
 from wingmdao.timemarch.bdf import march, state_rates, time_step
 from wingmdao.timemarch.system import ResidualSystem, layout
 from wingmdao import DISSERTATION
@@ -26,6 +26,10 @@ from wingmdao import DISSERTATION
 #: the matrix-free products, and even at 500 steps the matrix-free gradient is 12 % faster
 #: (measured, docs/time-marching.md).
 MATRIX_FREE_ABOVE = 50_000
+
+#: Default budget (MB) of the Jacobian blocks kept for the adjoint (``adjoint_memory="auto"``):
+#: about 530 steps of a 20-node beam (188 kB per step); longer histories are checkpointed.
+ADJOINT_MEMORY_MB = 100.0
 
 
 class TimeHistoryComponent(om.ImplicitComponent):
@@ -74,6 +78,17 @@ class TimeHistoryComponent(om.ImplicitComponent):
                              desc="sparse LU of the tangent/adjoint sweeps: SuperLU per step, or the "
                              "static-pivot generated LU (wingmdao.timemarch.static_lu: faster sweeps "
                              "for long fixed-pattern histories once compiled)")
+        self.options.declare("adjoint_memory", default="auto", values=("auto", "full", "checkpoint"),
+                             desc="Jacobian blocks of the tangent/adjoint sweeps: 'full' keeps every step's; "
+                                  "'checkpoint' keeps only the states and re-evaluates checkpoint_every steps "
+                                  "at a time in each sweep (same totals to round-off); 'auto': checkpoint "
+                                  "when full storage would exceed adjoint_memory_mb (matrix-free only)")
+        self.options.declare("checkpoint_every", default=None, types=int, allow_none=True, lower=1,
+                             desc="segment length (steps) of the checkpointed sweeps; None: the longest "
+                                  "that fits adjoint_memory_mb")
+        self.options.declare("adjoint_memory_mb", default=ADJOINT_MEMORY_MB, types=(int, float), lower=0.0,
+                             desc="memory budget (MB) of the stored Jacobian blocks (adjoint_memory "
+                                  "'auto' and the default segment length)")
         self.options.declare("drop_time_axis", default=False, types=bool,
                              desc="one instant only: forcing inputs and the output without the time axis")
 
@@ -118,6 +133,26 @@ class TimeHistoryComponent(om.ImplicitComponent):
         mf = self.options["matrix_free"]
         self._matrix_free = bool(n_time * sysm.n_state > MATRIX_FREE_ABOVE) if mf is None else mf
         self.matrix_free = self._matrix_free
+        self.checkpoint_every = self._checkpoint_interval()
+
+    def _checkpoint_interval(self):
+        """Segment length of the checkpointed sweeps, None for full storage (docs/time-marching.md)."""
+        mode, k = self.options["adjoint_memory"], self.options["checkpoint_every"]
+        budget = 1e6 * float(self.options["adjoint_memory_mb"])
+        if mode == "full" or self._n_time == 1:
+            return None
+        if not self._matrix_free:
+            if mode == "checkpoint":
+                raise ValueError(f"{self.msginfo}: adjoint_memory='checkpoint' needs matrix_free=True "
+                                 "(declared partials store every step's Jacobian blocks)")
+            return None
+        if mode == "auto" and checkpoint_interval(self.system, self._n_time, budget) is None:
+            return None
+        if k is not None:
+            return k
+        # a segment gets a quarter of the budget: two are alive while the next one is built, and
+        # the Jacobian evaluation has its own buffers
+        return checkpoint_interval(self.system, self._n_time, budget / 4) or max(1, self._n_time // 8)
 
     def setup_partials(self):
         if self._matrix_free:
@@ -217,6 +252,9 @@ class TimeHistoryComponent(om.ImplicitComponent):
             else:
                 h = run(self.initial_guess(p, Q[0]))
         outputs[self.options["state_name"]] = h.states.reshape(outputs[self.options["state_name"]].shape)
+        # Newton work of the last march (iterations per step, factorizations); the states are the
+        # output, so the history's own copies (states and rates: 2 x n_time x n_state) are dropped
+        h.states = h.rates = None
         self.last_history = h
 
     def initial_guess(self, p, q0):
@@ -241,9 +279,9 @@ class TimeHistoryComponent(om.ImplicitComponent):
         X = self._history(outputs)
         lin = LinearizedHistory(sysm, self._time, X, p, Q,
                                 initial=self.options["initial"], store_factors=self.options["store_factors"],
-                                lu=self.options["lu"])
+                                lu=self.options["lu"], checkpoint_every=self.checkpoint_every)
         self._lin = lin
-        self._lin_point = (X.copy(), p.copy(), Q.copy())
+        self._lin_point = (lin.states, p.copy(), lin.forcing)    # the linearization's own copies
         if self._matrix_free:
             return
         name = self.options["state_name"]

@@ -41,6 +41,33 @@ def _scatter(index, n_out):
     return sp.csr_matrix((np.ones(m), (np.arange(m), index)), shape=(m, n_out))
 
 
+def block_bytes_per_step(system) -> float:
+    """Bytes of Jacobian blocks a :class:`LinearizedHistory` keeps per time step with full storage:
+    the nonzeros of dR/dx, dR/dxdot, dR/dp, dR/dq, the Newton matrix (at most those of dR/dx and
+    dR/dxdot) and dR/dxdot once more (its used entries), float64."""
+    nnz = {k: v[0].size for k, v in system.jacobian_patterns().items()}
+    return 8.0 * (2 * (nnz["x"] + nnz["xdot"]) + nnz["xdot"] + nnz["p"] + nnz["q"])
+
+
+def checkpoint_interval(system, n_time: int, budget_bytes: float):
+    """Segment length (steps) that keeps the Jacobian blocks within ``budget_bytes``, or None
+    when the whole history fits (full storage)."""
+    per_step = block_bytes_per_step(system)
+    if n_time * per_step <= budget_bytes:
+        return None
+    return int(max(1, min(n_time, budget_bytes // per_step)))
+
+
+class _Blocks:
+    """Jacobian nonzeros of the steps ``off .. off + len - 1`` of a history; the sweeps loop over
+    the steps ``lo .. hi - 1`` (the adjoint sweep reads two steps past ``hi``)."""
+
+    __slots__ = ("off", "lo", "hi", "jx", "jxd", "jp", "jq", "m_data", "xd", "factors")
+
+    def row(self, n):
+        return n - self.off
+
+
 class LinearizedHistory:
     """Per-step Jacobian blocks of a converged BDF history, with tangent and adjoint sweeps.
 
@@ -64,6 +91,13 @@ class LinearizedHistory:
         default: generating it costs 6-8 s of Python per pattern (20 nodes), an optimization
         changes the pattern as the design moves, and interpreted it is slower than SuperLU
         (docs/time-marching.md, "The static-pivot LU").
+    checkpoint_every : None (default) keeps the Jacobian nonzeros of every step (the arrays
+        ``jx, jxd, jp, jq, m_data``: ~170 kB per step of a 20-node beam). An integer k keeps
+        only the states (``states`` is the whole converged history, so every step is a
+        checkpoint) and re-evaluates the Jacobians of k steps at a time in every sweep and
+        product: memory ~ k steps of blocks, one extra Jacobian evaluation per step and sweep.
+        The sweeps are the same operations on the same values, so the results agree with the
+        full storage to round-off (only sums over time are grouped by segment).
 
     Identical consecutive ``A_n`` (linear systems) share one factorization. Entries of the
     Jacobian pattern that are zero at every step (of this and of every earlier history of the
@@ -73,42 +107,135 @@ class LinearizedHistory:
     """
 
     def __init__(self, system, time, states, p, forcing, *, initial="static",
-                 store_factors="auto", auto_limit=100_000, lu="superlu"):
+                 store_factors="auto", auto_limit=100_000, lu="superlu", checkpoint_every=None):
         t = np.asarray(time, dtype=float)
         self.dt = time_step(t)
         self.system = system
         self.initial = initial
+        if initial not in ("static", "state"):
+            raise ValueError(f'initial must be "static" or "state", got {initial!r}')
+        if lu not in ("superlu", "static"):
+            raise ValueError(f'lu must be "superlu" or "static", got {lu!r}')
         self.n_time, self.n_state = t.size, system.n_state
-        X = np.asarray(states, dtype=float).reshape(self.n_time, self.n_state)
-        Q = np.asarray(forcing, dtype=float).reshape(self.n_time, system.n_forcing)
-        p = np.asarray(p, dtype=float).reshape(system.n_param)
-        Xdot = state_rates(X, self.dt) if self.n_time > 1 else np.zeros_like(X)
+        X = np.array(states, dtype=float).reshape(self.n_time, self.n_state)
+        self._X = self.states = X                   # (copies: the linearization point)
+        self._Q = self.forcing = np.array(forcing, dtype=float).reshape(self.n_time, system.n_forcing)
+        self._p = np.array(p, dtype=float).reshape(system.n_param)
         self.patterns = system.jacobian_patterns()
-        data = system.jacobian_history(X, Xdot, p, Q)
         # coefficients alpha_k(n)/dt; row 0 all zero
         self.coef = np.array([bdf_coefficients(n) for n in range(self.n_time)])
         if self.n_time > 1:
             self.coef /= self.dt
-        self.jx, self.jxd, self.jp, self.jq = data["x"], data["xdot"], data["p"], data["q"]
-        if initial == "state":  # step 0 is x_0 - x_init: identity, no p or q dependence
-            self.jx[0], self.jxd[0] = 0.0, 0.0
-            self.jp[0], self.jq[0] = 0.0, 0.0
-        elif initial != "static":
-            raise ValueError(f'initial must be "static" or "state", got {initial!r}')
-        self._build_newton_pattern()
+        if checkpoint_every is not None:
+            k = int(checkpoint_every)
+            if k < 1:
+                raise ValueError(f"checkpoint_every must be an integer >= 1 (steps), got {checkpoint_every!r}")
+            checkpoint_every = None if k >= self.n_time else k
+        self.checkpoint_every = checkpoint_every
+        self._full = self._Xdot = None
+        # full storage keeps the rates; checkpointed sweeps recompute them per segment
+        self._Xdot = self._rates(0, self.n_time) if checkpoint_every is None else None
+        if checkpoint_every is None:
+            data = self._raw(0, self.n_time)
+            x_nz, d_nz = np.any(data["x"] != 0.0, axis=0), np.any(data["xdot"] != 0.0, axis=0)
+        else:
+            x_nz, d_nz, same = self._scan()
+        self._build_newton_pattern(x_nz, d_nz)
+        if checkpoint_every is None:
+            self._full = self._make_blocks(0, self.n_time, self.n_time, data)
+            self.jx, self.jxd, self.jp, self.jq = data["x"], data["xdot"], data["p"], data["q"]
+            self.m_data = self._full.m_data
+            self._xd = (self._xd_rows, self._xd_cols, self._full.xd)
+            # steps with the same Newton matrix as the step before share one factorization
+            same = np.zeros(self.n_time, dtype=bool)
+            same[1:] = np.all(self.m_data[1:] == self.m_data[:-1], axis=1)
         self._store = store_factors
         self._auto_limit = int(auto_limit)
         self._factors = {}
         self._keep = None
-        # steps with the same Newton matrix as the step before share one factorization
-        same = np.zeros(self.n_time, dtype=bool)
-        same[1:] = np.all(self.m_data[1:] == self.m_data[:-1], axis=1)
         self._rep = np.maximum.accumulate(np.where(same, 0, np.arange(self.n_time)))
-        if lu not in ("superlu", "static"):
-            raise ValueError(f'lu must be "superlu" or "static", got {lu!r}')
         self.lu_method = lu if self.n_time > 1 else "superlu"
-        self._static = None           # (StaticPivotLU, factors of every step) once computed
+        self._static = None           # (StaticPivotLU, factors of every step or None) once computed
         self.static_stats = {"refined": 0, "fallback": 0}
+        self._adjoint_cache = None    # (lam, sum_n dR_n/dp^T lam_n, dR_n/dq_n^T lam_n) of the last sweep
+
+    # ------------------------------------------------------------------ blocks
+    def _rates(self, lo, hi):
+        """BDF rates of the steps lo..hi-1 (Eq. 3.5, as ``state_rates`` of the whole history)."""
+        if self._Xdot is not None:
+            return self._Xdot[lo:hi]
+        if self.n_time == 1:
+            return np.zeros_like(self._X)
+        a = max(lo - 2, 0)     # rows past the first two of a slice are BDF2 rates
+        return state_rates(self._X[a:hi], self.dt)[lo - a:]
+
+    def _raw(self, lo, hi):
+        """The four Jacobians' nonzeros at the steps lo..hi-1 (step 0 of a given state: none)."""
+        data = self.system.jacobian_history(self._X[lo:hi], self._rates(lo, hi), self._p, self._Q[lo:hi])
+        if self.initial == "state" and lo == 0:   # step 0 is x_0 - x_init: identity, no p or q
+            for v in data.values():
+                v[0] = 0.0
+        return data
+
+    def _scan(self):
+        """Checkpointed mode: one pass over the history in segments for the entries that are
+        nonzero at some step and the steps whose Newton matrix equals the step before's (same
+        dR/dx, dR/dxdot and alpha_0)."""
+        k, N = self.checkpoint_every, self.n_time
+        x_nz = d_nz = None
+        same = np.zeros(N, dtype=bool)
+        prev = None
+        for lo in range(0, N, k):
+            d = self._raw(lo, min(lo + k, N))
+            jx, jxd = d["x"], d["xdot"]
+            if x_nz is None:
+                x_nz, d_nz = np.zeros(jx.shape[1], dtype=bool), np.zeros(jxd.shape[1], dtype=bool)
+            x_nz |= np.any(jx != 0.0, axis=0)
+            d_nz |= np.any(jxd != 0.0, axis=0)
+            px = np.vstack([prev[0], jx]) if prev is not None else jx
+            pd = np.vstack([prev[1], jxd]) if prev is not None else jxd
+            s = np.all(px[1:] == px[:-1], axis=1) & np.all(pd[1:] == pd[:-1], axis=1)
+            first = lo if prev is not None else lo + 1
+            same[first:lo + jx.shape[0]] = s
+            prev = (jx[-1:], jxd[-1:])
+        same[1:] &= self.coef[1:, 0] == self.coef[:-1, 0]
+        same[0] = False
+        return x_nz, d_nz, same
+
+    def _make_blocks(self, lo, hi, stop, data=None) -> _Blocks:
+        """Blocks of the steps lo..stop-1 (sweeps over lo..hi-1)."""
+        if data is None:
+            data = self._raw(lo, stop)
+        b = _Blocks()
+        b.off, b.lo, b.hi = lo, lo, hi
+        b.jx, b.jxd, b.jp, b.jq = data["x"], data["xdot"], data["p"], data["q"]
+        m = stop - lo
+        slot, pos_x, pos_d = self._slot, self._pos_x, self._pos_d
+        b.m_data = np.zeros((m, self.m_rows.size))
+        b.m_data[:, slot[pos_x[self._x_nz]]] = b.jx[:, self._x_nz]
+        b.m_data[:, slot[pos_d[self._d_nz]]] += self.coef[lo:stop, :1] * b.jxd[:, self._d_nz]
+        if self.initial == "state" and lo == 0:
+            b.m_data[0, slot[self._pos_i]] = 1.0
+        b.xd = np.ascontiguousarray(b.jxd[:, self._d_nz])
+        b.factors = None
+        return b
+
+    def _blocks(self, reverse=False):
+        """The blocks of the whole history, one segment at a time (all at once with full storage);
+        in reverse order for the adjoint sweep, each with the two steps after it."""
+        if self._full is not None:
+            yield self._full
+            return
+        k, N = self.checkpoint_every, self.n_time
+        starts = range(0, N, k)
+        for lo in (reversed(starts) if reverse else starts):
+            hi = min(lo + k, N)
+            yield self._make_blocks(lo, hi, min(hi + 2, N) if reverse else hi)
+
+    def _block_at(self, n) -> _Blocks:
+        if self._full is not None:
+            return self._full
+        return self._make_blocks(n, n + 1, n + 1)
 
     # ------------------------------------------------------------------ structure
     def _newton_pattern(self):
@@ -136,15 +263,12 @@ class LinearizedHistory:
             pass
         return pat
 
-    def _build_newton_pattern(self):
-        """``A_n`` of every step on the pattern of entries that are nonzero at some step."""
+    def _build_newton_pattern(self, x_nz, d_nz):
+        """The pattern of ``A_n``: entries of dR/dx, dR/dxdot that are nonzero at some step."""
         n = self.n_state
         pat = self._newton_pattern()
         self.a_rows, self.a_cols, self.a_indptr = pat["rows"], pat["cols"], pat["indptr"]
         pos_x, pos_d, pos_i = pat["pos_x"], pat["pos_d"], pat["pos_i"]
-        # drop entries that are zero at every step (structural zeros of the CasADi patterns)
-        x_nz = np.any(self.jx != 0.0, axis=0)
-        d_nz = np.any(self.jxd != 0.0, axis=0)
         # ... or at some step of an earlier history of this system: the pattern only grows, so a
         # design change that makes an entry exactly zero (e.g. a symmetric section's couplings)
         # does not make a new pattern (a new static-pivot LU to generate and compile)
@@ -161,80 +285,94 @@ class LinearizedHistory:
         used[pos_d[d_nz]] = True
         if self.initial == "state":
             used[pos_i] = True
-        slot = np.cumsum(used) - 1                  # position of a used union slot in m_data
+        self._slot = np.cumsum(used) - 1            # position of a used union slot in m_data
         self._used = used
+        self._x_nz, self._d_nz = x_nz, d_nz
+        self._pos_x, self._pos_d, self._pos_i = pos_x, pos_d, pos_i
         self.m_rows = self.a_rows[used]
         self.m_cols = self.a_cols[used]
         self.m_indptr = np.searchsorted(self.m_cols, np.arange(n + 1))
-        self.m_data = np.zeros((self.n_time, self.m_rows.size))
-        self.m_data[:, slot[pos_x[x_nz]]] = self.jx[:, x_nz]
-        self.m_data[:, slot[pos_d[d_nz]]] += self.coef[:, :1] * self.jxd[:, d_nz]
-        if self.initial == "state":
-            self.m_data[0, slot[pos_i]] = 1.0
-        # dR/dxdot likewise, for the history products of the sweeps
+        # dR/dxdot on its used entries, for the history products of the sweeps
         rd, cd, _ = self.patterns["xdot"]
-        self._xd = (rd[d_nz], cd[d_nz], np.ascontiguousarray(self.jxd[:, d_nz]))
+        self._xd_rows, self._xd_cols = rd[d_nz], cd[d_nz]
         self._scatter_rows = pat["scatter_rows"]
         self._scatter_cols = pat["scatter_cols"]
         self._a_data = None
 
     @property
     def a_data(self) -> np.ndarray:
-        """Nonzeros of every ``A_n`` on the full union pattern ``a_rows, a_indptr`` (n_time, nnz)."""
+        """Nonzeros of every ``A_n`` on the full union pattern ``a_rows, a_indptr`` (n_time, nnz);
+        full storage only."""
+        if self._full is None:
+            raise ValueError("a_data needs the full storage (checkpoint_every=None)")
         if self._a_data is None:
             self._a_data = np.zeros((self.n_time, self.a_rows.size))
             self._a_data[:, self._used] = self.m_data
         return self._a_data
 
-    def newton_matrix(self, n) -> sp.csc_matrix:
+    def newton_matrix(self, n, blk=None) -> sp.csc_matrix:
         """``A_n = dR_n/dx + alpha_0(n)/dt dR_n/dxdot`` (Eq. 3.7) as CSC."""
-        return sp.csc_matrix((self.m_data[n], self.m_rows, self.m_indptr),
+        blk = blk if blk is not None else self._block_at(n)
+        return sp.csc_matrix((blk.m_data[blk.row(n)], self.m_rows, self.m_indptr),
                              shape=(self.n_state,) * 2)
 
-    def _lu(self, n):
+    def _lu(self, n, blk=None):
+        """SuperLU factors of ``A_n``, shared by a run of identical matrices (``_rep``)."""
         r = int(self._rep[n])
         lu = self._factors.get(r)
         if lu is None:
             try:
-                lu = factor(self.newton_matrix(r))
+                lu = factor(self.newton_matrix(n, blk))    # A_n equals A_r
             except RuntimeError as exc:
                 raise om.AnalysisError(f"linearized step {n}: singular Newton matrix ({exc})") from exc
             self._factors[r] = lu
         return lu
 
     def _static_lu(self):
-        """``(StaticPivotLU, factors of every step)`` when ``lu_method == "static"``, else None
-        (also when the pattern's reference step cannot be factored: then SuperLU from here on)."""
+        """``(StaticPivotLU, factors of every step or None)`` when ``lu_method == "static"``, else
+        None (also when the pattern's reference step cannot be factored: then SuperLU from here
+        on). With checkpoints the factors are made per segment (``_static_factors``)."""
         if self._static is None and self.lu_method == "static":
-            slu = static_lu.for_pattern(self.n_state, self.m_rows, self.m_indptr, self.m_data[self.n_time // 2])
+            mid = self.n_time // 2
+            ref = self._block_at(mid)
+            slu = static_lu.for_pattern(self.n_state, self.m_rows, self.m_indptr, ref.m_data[ref.row(mid)])
             if slu is None:
                 self.lu_method = "superlu"
                 return None
-            self._static = (slu, slu.factor_many(self.m_data))
+            self._static = (slu, slu.factor_many(self.m_data) if self._full is not None else None)
         return self._static
 
-    def _solve_step(self, n, b, trans="N", st=None):
+    def _static_factors(self, st, blk):
+        """Static-pivot factors of the steps of ``blk`` (rows as ``blk.m_data``)."""
+        if self._full is not None:
+            return st[1]
+        if blk.factors is None:
+            blk.factors = st[0].factor_many(blk.m_data)
+        return blk.factors
+
+    def _solve_step(self, blk, n, b, trans="N", st=None):
         """``A_n x = b`` (or ``A_n^T x = b``) with the step's factors (``st``: static-pivot LU)."""
         if st is not None and n >= 1:
-            return self._solve_static(st, n, b, trans)
-        return self._lu(n).solve(b, trans=trans)
+            return self._solve_static(st, blk, n, b, trans)
+        return self._lu(n, blk).solve(b, trans=trans)
 
-    def _solve_static(self, st, n, b, trans, first=None):
+    def _solve_static(self, st, blk, n, b, trans, first=None):
         """Static-pivot solve (compiled), accepted when its componentwise backward error
         max_i |b - A x|_i / (|A| |x| + |b|)_i is at most ``STATIC_LU_TOL``, else refined once;
         a step that still fails is solved with SuperLU. ``first``: (x, residual, berr) of a solve
         already made."""
-        slu, factors = st
-        r = int(self._rep[n])
-        x, res, berr = first if first is not None else slu.solve(factors[r], self.m_data[r], b, trans)
+        slu = st[0]
+        factors = self._static_factors(st, blk)
+        i = blk.row(n)
+        x, res, berr = first if first is not None else slu.solve(factors[i], blk.m_data[i], b, trans)
         if berr <= STATIC_LU_TOL:
             return x
         self.static_stats["refined"] += 1
-        x = x + slu.solve(factors[r], self.m_data[r], res, trans)[0]
-        if slu.backward_error(self.m_data[r], x, b, trans) <= STATIC_LU_TOL:
+        x = x + slu.solve(factors[i], blk.m_data[i], res, trans)[0]
+        if slu.backward_error(blk.m_data[i], x, b, trans) <= STATIC_LU_TOL:
             return x
         self.static_stats["fallback"] += 1
-        return self._lu(n).solve(b, trans=trans)
+        return self._lu(n, blk).solve(b, trans=trans)
 
     def _keep_factors(self, lu):
         """Whether factors are kept between sweeps (decided once)."""
@@ -253,30 +391,40 @@ class LinearizedHistory:
             del self._factors[r]
 
     # ------------------------------------------------------------------ products
-    def _rate_product(self, n, vec):
+    def _rate_product(self, blk, n, vec):
         """``dR_n/dxdot @ vec``."""
-        rows, cols, data = self._xd
-        return np.bincount(rows, data[n] * vec[cols], minlength=self.n_state)
+        return np.bincount(self._xd_rows, blk.xd[blk.row(n)] * vec[self._xd_cols], minlength=self.n_state)
 
-    def _rate_product_t(self, n, vec):
+    def _rate_product_t(self, blk, n, vec):
         """``dR_n/dxdot^T @ vec``."""
-        rows, cols, data = self._xd
-        return np.bincount(cols, data[n] * vec[rows], minlength=self.n_state)
+        return np.bincount(self._xd_cols, blk.xd[blk.row(n)] * vec[self._xd_rows], minlength=self.n_state)
 
     def _hist_product(self, key, data, vec, transpose=False):
         rows, cols, _ = self.patterns[key]
         if transpose:
-            return (data * vec[:, rows]) @ self._scatter_cols[key]
-        return (data * vec[:, cols]) @ self._scatter_rows[key]
+            return np.asarray((data * vec[:, rows]) @ self._scatter_cols[key])
+        return np.asarray((data * vec[:, cols]) @ self._scatter_rows[key])
+
+    def _per_block(self, key, vec, transpose=False, width=None):
+        """``_hist_product`` of the Jacobian ``key`` with the rows of ``vec``, block by block."""
+        out = np.zeros((self.n_time, self.n_state if width is None else width))
+        attr = {"x": "jx", "xdot": "jxd", "p": "jp", "q": "jq"}[key]
+        for blk in self._blocks():
+            lo, hi = blk.lo, blk.hi
+            out[lo:hi] = self._hist_product(key, getattr(blk, attr)[:hi - lo], vec[lo:hi], transpose)
+        return out
 
     def apply(self, dx) -> np.ndarray:
         """``J dx`` for a state perturbation history (n_time, n_state)."""
         dx = np.asarray(dx, dtype=float).reshape(self.n_time, self.n_state)
-        out = np.asarray(self._hist_product("x", self.jx, dx))
         rates = np.zeros_like(dx)
         for k in range(3):
             rates[k:] += self.coef[k:, k:k + 1] * dx[:self.n_time - k]
-        out += np.asarray(self._hist_product("xdot", self.jxd, rates))
+        out = np.zeros_like(dx)
+        for blk in self._blocks():
+            lo, hi = blk.lo, blk.hi
+            out[lo:hi] = (self._hist_product("x", blk.jx[:hi - lo], dx[lo:hi])
+                          + self._hist_product("xdot", blk.jxd[:hi - lo], rates[lo:hi]))
         if self.initial == "state":
             out[0] = dx[0]
         return out
@@ -284,8 +432,11 @@ class LinearizedHistory:
     def apply_transpose(self, lam) -> np.ndarray:
         """``J^T lam`` for a residual-weight history (n_time, n_state)."""
         lam = np.asarray(lam, dtype=float).reshape(self.n_time, self.n_state)
-        out = np.asarray(self._hist_product("x", self.jx, lam, transpose=True))
-        w = np.asarray(self._hist_product("xdot", self.jxd, lam, transpose=True))
+        out, w = np.zeros_like(lam), np.zeros_like(lam)
+        for blk in self._blocks():
+            lo, hi = blk.lo, blk.hi
+            out[lo:hi] = self._hist_product("x", blk.jx[:hi - lo], lam[lo:hi], transpose=True)
+            w[lo:hi] = self._hist_product("xdot", blk.jxd[:hi - lo], lam[lo:hi], transpose=True)
         for k in range(3):
             out[:self.n_time - k] += self.coef[k:, k:k + 1] * w[k:]
         if self.initial == "state":
@@ -295,22 +446,40 @@ class LinearizedHistory:
     def param_apply(self, dp) -> np.ndarray:
         """``dR_n/dp @ dp`` for every step, (n_time, n_state)."""
         dp = np.asarray(dp, dtype=float).reshape(1, -1)
-        return np.asarray(self._hist_product("p", self.jp, np.broadcast_to(dp, (self.n_time, dp.size))))
+        return self._per_block("p", np.broadcast_to(dp, (self.n_time, dp.size)))
+
+    def _param_sum(self, blk, lam):
+        """``sum_n dR_n/dp^T lam_n`` over the steps of ``blk``."""
+        rows, cols, shape = self.patterns["p"]
+        lo, hi = blk.lo, blk.hi
+        per_nonzero = np.einsum("ij,ij->j", blk.jp[:hi - lo], lam[lo:hi, rows])   # sum over time first
+        return np.bincount(cols, per_nonzero, minlength=shape[1])
+
+    def _cached_products(self, lam):
+        c = self._adjoint_cache
+        if c is not None and np.array_equal(c[0], lam):
+            return c
+        return None
 
     def param_product(self, lam) -> np.ndarray:
         """``sum_n dR_n/dp^T lam_n`` (n_param,) (the sum in Eq. 3.11)."""
-        rows, cols, shape = self.patterns["p"]
         lam = np.asarray(lam, dtype=float).reshape(self.n_time, self.n_state)
-        per_nonzero = np.einsum("ij,ij->j", self.jp, lam[:, rows])   # sum over time first
-        return np.bincount(cols, per_nonzero, minlength=shape[1])
+        c = self._cached_products(lam)
+        if c is not None:
+            return c[1].copy()
+        return sum(self._param_sum(blk, lam) for blk in self._blocks())
 
     def forcing_apply(self, dq) -> np.ndarray:
         """``dR_n/dq_n @ dq_n`` for every step, (n_time, n_state)."""
-        return np.asarray(self._hist_product("q", self.jq, np.asarray(dq, dtype=float)))
+        return self._per_block("q", np.asarray(dq, dtype=float).reshape(self.n_time, -1))
 
     def forcing_product(self, lam) -> np.ndarray:
         """``dR_n/dq_n^T lam_n`` for every step, (n_time, n_forcing)."""
-        return np.asarray(self._hist_product("q", self.jq, lam, transpose=True))
+        lam = np.asarray(lam, dtype=float).reshape(self.n_time, self.n_state)
+        c = self._cached_products(lam)
+        if c is not None:
+            return c[2].copy()
+        return self._per_block("q", lam, transpose=True, width=self.system.n_forcing)
 
     # ------------------------------------------------------------------ sweeps
     def solve_tangent(self, rhs) -> np.ndarray:
@@ -318,65 +487,79 @@ class LinearizedHistory:
         rhs = np.asarray(rhs, dtype=float).reshape(self.n_time, self.n_state)
         dx = np.zeros_like(rhs)
         st = self._static_lu()
-        for n in range(self.n_time):
-            b = rhs[n].copy()
-            if n >= 1:
-                hist = self.coef[n, 1] * dx[n - 1] + (self.coef[n, 2] * dx[n - 2] if n >= 2 else 0.0)
-                b -= self._rate_product(n, hist)
-            dx[n] = self._solve_step(n, b, st=st)
-            if n >= 1:
-                self._release(n - 1, n)
+        for blk in self._blocks():
+            for n in range(blk.lo, blk.hi):
+                b = rhs[n].copy()
+                if n >= 1:
+                    hist = self.coef[n, 1] * dx[n - 1] + (self.coef[n, 2] * dx[n - 2] if n >= 2 else 0.0)
+                    b -= self._rate_product(blk, n, hist)
+                dx[n] = self._solve_step(blk, n, b, st=st)
+                if n >= 1:
+                    self._release(n - 1, n)
         return dx
 
-    def _adjoint_rhs(self, n, rhs, lam):
+    def _adjoint_rhs(self, blk, n, rhs, lam):
         """``rhs_n - B_n+1,1^T lam_n+1 - B_n+2,2^T lam_n+2``: the right-hand side of step n of the
         adjoint sweep, with ``B_m,k = alpha_k(m)/dt dR_m/dxdot`` (zero past the last step)."""
         b = rhs[n].copy()
         for k in (1, 2):
             if n + k < self.n_time:
-                b -= self.coef[n + k, k] * self._rate_product_t(n + k, lam[n + k])
+                b -= self.coef[n + k, k] * self._rate_product_t(blk, n + k, lam[n + k])
         return b
 
     def solve_adjoint(self, rhs) -> np.ndarray:
         """Reverse sweep: solve ``J^T lam = rhs`` backward in time with transposed factors.
 
         ``lam_n = A_n^-T (rhs_n - B_n+1,1^T lam_n+1 - B_n+2,2^T lam_n+2)``; the BDF1 block of
-        step 1 enters through ``alpha_1(1) = -1/dt`` and ``B_2,2`` of step 2.
+        step 1 enters through ``alpha_1(1) = -1/dt`` and ``B_2,2`` of step 2. With checkpoints
+        the products ``param_product(lam)`` and ``forcing_product(lam)`` are formed segment by
+        segment in the same sweep and kept for the next call with this ``lam``.
         """
         rhs = np.asarray(rhs, dtype=float).reshape(self.n_time, self.n_state)
         st = self._static_lu()
-        if st is not None:
-            return self._solve_adjoint_static(rhs, st)
         lam = np.zeros_like(rhs)
-        for n in range(self.n_time - 1, -1, -1):
-            lam[n] = self._solve_step(n, self._adjoint_rhs(n, rhs, lam), trans="T")
-            if n + 1 < self.n_time:
-                self._release(n + 1, n)
+        lean = self._full is None
+        dp = np.zeros(self.system.n_param)
+        dq = np.zeros((self.n_time, self.system.n_forcing)) if lean else None
+        for blk in self._blocks(reverse=True):
+            if st is not None:
+                self._adjoint_block_static(blk, rhs, lam, st)
+            else:
+                for n in range(blk.hi - 1, blk.lo - 1, -1):
+                    lam[n] = self._solve_step(blk, n, self._adjoint_rhs(blk, n, rhs, lam), trans="T")
+                    if n + 1 < self.n_time:
+                        self._release(n + 1, n)
+            if lean:
+                dp += self._param_sum(blk, lam)
+                lo, hi = blk.lo, blk.hi
+                dq[lo:hi] = self._hist_product("q", blk.jq[:hi - lo], lam[lo:hi], transpose=True)
+        self._adjoint_cache = (lam.copy(), dp, dq) if lean else None
         return lam
 
-    def _solve_adjoint_static(self, rhs, st):
-        """The adjoint sweep of :meth:`solve_adjoint` with one compiled call per step n >= 1: the
-        right-hand side :meth:`_adjoint_rhs`, the static-pivot solve and its backward error
-        (``StaticPivotLU.adjoint_step``). A step whose error is too large is redone from the same
-        right-hand side by :meth:`_solve_static` (refine or SuperLU); step 0 uses SuperLU."""
-        slu, factors = st
-        rows, cols, jxd = self._xd
-        step = slu.adjoint_step(rows, cols)
-        N, lam = self.n_time, np.zeros_like(rhs)
-        none = (np.zeros(self.n_state), np.zeros(rows.size), 0.0)   # a step past the end
+    def _adjoint_block_static(self, blk, rhs, lam, st):
+        """The adjoint sweep of :meth:`solve_adjoint` over the steps of ``blk`` with one compiled
+        call per step n >= 1: the right-hand side :meth:`_adjoint_rhs`, the static-pivot solve and
+        its backward error (``StaticPivotLU.adjoint_step``). A step whose error is too large is
+        redone from the same right-hand side by :meth:`_solve_static` (refine or SuperLU); step 0
+        uses SuperLU."""
+        slu = st[0]
+        factors = self._static_factors(st, blk)
+        step = slu.adjoint_step(self._xd_rows, self._xd_cols)
+        N = self.n_time
+        none = (np.zeros(self.n_state), np.zeros(self._xd_rows.size), 0.0)   # a step past the end
 
         def later(m, k):
-            return (lam[m], jxd[m], self.coef[m, k]) if m < N else none
+            return (lam[m], blk.xd[blk.row(m)], self.coef[m, k]) if m < N else none
 
-        for n in range(N - 1, 0, -1):
-            r = int(self._rep[n])
-            x, res, berr = step(factors[r], self.m_data[r], rhs[n], *later(n + 1, 1), *later(n + 2, 2))
+        for n in range(blk.hi - 1, max(blk.lo, 1) - 1, -1):
+            i = blk.row(n)
+            x, res, berr = step(factors[i], blk.m_data[i], rhs[n], *later(n + 1, 1), *later(n + 2, 2))
             if not berr[0] <= STATIC_LU_TOL:      # (also NaN) rare: refine, or SuperLU
-                x = self._solve_static((slu, factors), n, self._adjoint_rhs(n, rhs, lam), "T",
+                x = self._solve_static(st, blk, n, self._adjoint_rhs(blk, n, rhs, lam), "T",
                                        first=(x.copy(), res.copy(), float(berr[0])))
             lam[n] = x
-        lam[0] = self._lu(0).solve(self._adjoint_rhs(0, rhs, lam), trans="T")
-        return lam
+        if blk.lo == 0:
+            lam[0] = self._lu(0, blk).solve(self._adjoint_rhs(blk, 0, rhs, lam), trans="T")
 
     # ------------------------------------------------------------------ gradients
     def rate_gradient_to_states(self, dfdxdot) -> np.ndarray:
