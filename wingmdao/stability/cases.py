@@ -8,12 +8,15 @@ from dataclasses import dataclass
 import numpy as np
 
 #: cases with beam + aerodynamic data (module in wingmdao.cases with beam_params and aero_data)
-FLUTTER_CASES = ("goland", "hale")
+FLUTTER_CASES = ("goland", "hale", "pegasus")
 #: sparse shift-invert settings: shift near the flutter frequency, eigenvalues kept, Arnoldi basis
 EIG_OPTIONS = {"goland": {"method": "sparse", "sigma": 60j, "count": 16},
-               "hale": {"method": "sparse", "sigma": 20j, "count": 16, "ncv": 60}}
+               "hale": {"method": "sparse", "sigma": 20j, "count": 16, "ncv": 60},
+               "pegasus": {"method": "sparse", "sigma": 100j, "count": 16, "ncv": 60}}
 #: default speed sweeps (V0, V1, N), m/s
-SWEEPS = {"goland": (20.0, 300.0, 15), "hale": (2.0, 40.0, 12)}
+SWEEPS = {"goland": (20.0, 300.0, 15), "hale": (2.0, 40.0, 12), "pegasus": (20.0, 320.0, 16)}
+#: default number of beam nodes per case (PEGASUS: the 20-station sizing mesh)
+DEFAULT_NODES = {"goland": 21, "hale": 21, "pegasus": 20}
 
 
 @dataclass
@@ -25,6 +28,11 @@ class FlutterProblem:
     system: object
     published: dict
     eig_options: dict
+
+    @property
+    def dive_speed(self):
+        """Design dive speed V_D (TAS, m/s) of the case, None when it has none (benchmark wings)."""
+        return self.aero.get("dive_speed")
 
     @property
     def speeds(self):
@@ -40,12 +48,18 @@ class FlutterProblem:
 
         n = self.num_nodes
         a = aero_parameters(n, chord=self.aero["chord"], ref_point=self.aero["ref_point"],
-                            lift_slope=self.aero["lift_slope"], airspeed=V, density=self.aero["density"])
+                            lift_slope=self.aero["lift_slope"], airspeed=V, density=self.aero["density"],
+                            mach=self.mach_at(V))
         p = pack(self.system.param_specs, {**self.beam, **a})
         qv = beam_forcing(n)
         qv.update({s.name: np.zeros(s.shape) for s in aero_forcing_specs(n)})
         q = pack(self.system.forcing_specs, qv)
         return p, q
+
+    def mach_at(self, V):
+        """Mach number at airspeed V (m/s): V / a when the case has a speed of sound, else 0 (incompressible)."""
+        a = self.aero.get("speed_of_sound")
+        return 0.0 if a is None else float(V) / float(a)
 
     def beam_weights(self):
         """MAC weights: the beam's displacement and rotation states only."""
@@ -54,17 +68,28 @@ class FlutterProblem:
         return w.ravel()
 
 
-def flutter_problem(name: str, num_nodes: int = 21) -> FlutterProblem:
-    """The aeroelastic flutter problem of case ``name`` (one of :data:`FLUTTER_CASES`)."""
+def flutter_problem(name: str, num_nodes: int | None = None, thickness: dict | None = None) -> FlutterProblem:
+    """The aeroelastic flutter problem of case ``name`` (one of :data:`FLUTTER_CASES`).
+
+    ``num_nodes``: beam nodes (default :data:`DEFAULT_NODES`). ``thickness`` (PEGASUS only):
+    ``{wall: (num_nodes,) m}`` wall thicknesses per node (default: the sizing's initial design),
+    e.g. the ``thickness`` block of a ``wingmdao size pegasus`` JSON.
+    """
     import importlib
 
     if name not in FLUTTER_CASES:
         raise ValueError(f"case {name!r} has no aerodynamic (flutter) data; allowed: {list(FLUTTER_CASES)}")
-    if int(num_nodes) < 3:
+    n = DEFAULT_NODES[name] if num_nodes is None else int(num_nodes)
+    if n < 3:
         raise ValueError(f"num_nodes must be >= 3, got {num_nodes}")
+    if thickness is not None and name != "pegasus":
+        raise ValueError(f"thickness applies to the sized PEGASUS wing only, not to case {name!r}")
     from wingmdao.aero.system import cached_aeroelastic_system
 
     mod = importlib.import_module(f"wingmdao.cases.{name}")
-    return FlutterProblem(name, int(num_nodes), mod.beam_params(int(num_nodes)), mod.aero_data(),
-                          cached_aeroelastic_system(int(num_nodes)), mod.PUBLISHED,
+    if name == "pegasus":
+        beam, aero = mod.beam_params(n, thickness), mod.aero_data(n)
+    else:
+        beam, aero = mod.beam_params(n), mod.aero_data()
+    return FlutterProblem(name, n, beam, aero, cached_aeroelastic_system(n), mod.PUBLISHED,
                           dict(EIG_OPTIONS[name]))
