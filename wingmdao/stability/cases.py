@@ -14,7 +14,7 @@ EIG_OPTIONS = {"goland": {"method": "sparse", "sigma": 60j, "count": 16},
                "hale": {"method": "sparse", "sigma": 20j, "count": 16, "ncv": 60},
                "pegasus": {"method": "sparse", "sigma": 100j, "count": 16, "ncv": 60}}
 #: default speed sweeps (V0, V1, N), m/s
-SWEEPS = {"goland": (20.0, 300.0, 15), "hale": (2.0, 40.0, 12), "pegasus": (20.0, 320.0, 16)}
+SWEEPS = {"goland": (20.0, 300.0, 15), "hale": (2.0, 40.0, 12), "pegasus": (20.0, 300.0, 15)}
 #: default number of beam nodes per case (PEGASUS: the 20-station sizing mesh)
 DEFAULT_NODES = {"goland": 21, "hale": 21, "pegasus": 20}
 
@@ -93,3 +93,54 @@ def flutter_problem(name: str, num_nodes: int | None = None, thickness: dict | N
         beam, aero = mod.beam_params(n), mod.aero_data()
     return FlutterProblem(name, n, beam, aero, cached_aeroelastic_system(n), mod.PUBLISHED,
                           dict(EIG_OPTIONS[name]))
+
+
+#: fractions of F V_D at which the sizing constraint checks the damping (the first picks the modes)
+CONSTRAINT_SPEED_FRACTIONS = (0.25, 0.5, 0.75, 1.0)
+#: most flutter margin F accepted by the sizing constraint (25.629 asks for 1.15)
+MAX_FLUTTER_MARGIN = 3.0
+
+
+def sizing_flutter_options(name: str, num_nodes: int, margin: float, *, n_modes: int = 4,
+                           rho_ks: float = 100.0, margin: float = 0.0) -> dict:
+    """Options of :class:`wingmdao.components.flutter.FlutterDamping` for "flutter speed >= F V_D"
+    on sizing case ``name``: the damping constraint at the speeds F V_D x
+    :data:`CONSTRAINT_SPEED_FRACTIONS`. ValueError (before any solve) for a case without
+    aerodynamic data or V_D, or F outside (0, :data:`MAX_FLUTTER_MARGIN`]."""
+    import importlib
+
+    if name not in FLUTTER_CASES or not hasattr(importlib.import_module(f"wingmdao.cases.{name}"), "flight_point"):
+        allowed = [c for c in FLUTTER_CASES if hasattr(importlib.import_module(f"wingmdao.cases.{c}"), "flight_point")]
+        raise ValueError(f"--flutter-margin: case {name!r} has no aerodynamic data or dive speed V_D; "
+                         f"the flutter constraint applies to: {', '.join(allowed)}")
+    F = float(margin)
+    if not (np.isfinite(F) and 0.0 < F <= MAX_FLUTTER_MARGIN):
+        raise ValueError(f"--flutter-margin = {margin}; allowed range (0, {MAX_FLUTTER_MARGIN:g}] "
+                         "(a factor on V_D; 14 CFR 25.629: 1.15)")
+    mod = importlib.import_module(f"wingmdao.cases.{name}")
+    aero = mod.aero_data(int(num_nodes))
+    top = F * aero["dive_speed"]
+    a = aero.get("speed_of_sound")
+    if a is not None and not top < a:
+        raise ValueError(f"--flutter-margin = {margin}: F V_D = {top:.1f} m/s is not subsonic (a = {a:.1f} m/s); "
+                         f"allowed range (0, {a / aero['dive_speed']:.3f})")
+    return {"aero": aero, "speeds": top * np.asarray(CONSTRAINT_SPEED_FRACTIONS), "n_modes": int(n_modes),
+            "rho_ks": float(rho_ks), "margin": float(margin), "measure": "sigma",
+            "eig_options": dict(EIG_OPTIONS[name])}
+
+
+def flutter_search(name: str, num_nodes: int | None = None, thickness: dict | None = None, speeds=None,
+                   n_modes: int = 4) -> dict:
+    """Sweep and refined flutter / divergence speeds of case ``name`` (thicknesses: PEGASUS);
+    returns ``{"flutter_speed", "flutter_frequency", "divergence_speed", "sweep_max_speed", "sweep"}``
+    (speeds None when not reached below the sweep's end ``sweep_max_speed``, m/s)."""
+    from wingmdao.stability.eigen import critical_speeds, sweep
+
+    prob = flutter_problem(name, num_nodes, thickness)
+    v = prob.speeds if speeds is None else np.asarray(speeds, dtype=float)
+    res = sweep(prob.system, prob.params_at, v, n_track=int(n_modes), weights=prob.beam_weights(),
+                **prob.eig_options)
+    crit = critical_speeds(res)
+    return {"flutter_speed": crit["flutter_speed"], "flutter_frequency": crit["flutter_frequency"],
+            "divergence_speed": crit["divergence_speed"], "sweep_max_speed": float(v[-1]),
+            "dive_speed": prob.dive_speed, "sweep": res}

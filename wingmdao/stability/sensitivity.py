@@ -15,12 +15,18 @@ the gradient is reverse-mode AD of them, i.e. exact second derivatives of R, no 
 The static state moves with p: ``dx0/dp = -A^-1 dR/dp``, so the total numerator is
 ``ds/dp - (A^-T ds/dx)^T dR/dp`` (one extra solve with A^T per eigenvalue).
 
-Constraint (see docs/flutter.md). At airspeeds V_1 < ... < V_K up to F V_D, the damping ratio of
-each tracked mode ``zeta = -Re lambda / |lambda|``; the constraint is
+Constraint (see docs/flutter.md). At airspeeds V_1 < ... < V_K up to F V_D, per tracked mode
+either its damping ``sigma = Re lambda`` (1/s, ``measure="sigma"``, the default) or its damping
+ratio ``zeta = -Re lambda / |lambda|`` (``measure="ratio"``); the constraint is
 
-    KS_rho(zeta_min - zeta_kj) <= 0,   KS_rho(g) = g_max + ln(sum exp(rho (g - g_max))) / rho
+    KS_rho(g_kj) <= 0,  g = sigma + margin  or  g = margin - zeta,
+    KS_rho(g) = g_max + ln(sum exp(rho (g - g_max))) / rho
 
 (Kreisselmeier-Steinhauser; KS >= max g, so the aggregate is conservative by at most ln(N)/rho).
+sigma is the default because the damping ratios of an undamped structure are all small at the
+low speeds of the set (zeta ~ 1e-3 for a torsion mode at V_D / 4 on PEGASUS), below the KS
+over-estimate ln(N)/rho, which made ``measure="ratio"`` infeasible for every design; sigma of
+the same modes is ~0.2 1/s, far above ln(N)/rho = 0.03 1/s at rho = 100 s.
 Modes are chosen at V_1 as the lowest-frequency oscillatory modes that the air damps (zeta above
 ``neutral_ratio``: strip theory does not damp in-plane bending, whose zeta = 0 would make the KS
 infeasible for any design) and tracked to the higher speeds by MAC.
@@ -132,22 +138,28 @@ def ks_aggregate(g, rho):
 class DampingConstraint:
     """Value and gradient of the aggregated damping constraint, with what it aggregated."""
 
-    value: float                     # KS_rho(zeta_min - zeta), <= 0 when satisfied
+    value: float                     # KS_rho(g), <= 0 when satisfied
     gradient: np.ndarray             # d value / d p (packed parameters, summed over the speeds)
     speeds: np.ndarray               # m/s
     eigenvalues: np.ndarray          # (n_speed, n_mode) complex, tracked
     damping_ratio: np.ndarray        # (n_speed, n_mode)
 
 
-def damping_constraint(system, params_at, speeds, *, n_modes=4, rho_ks=200.0, min_damping_ratio=0.0,
+MEASURES = ("sigma", "ratio")
+
+
+def damping_constraint(system, params_at, speeds, *, n_modes=4, rho_ks=100.0, margin=0.0, measure="sigma",
                        neutral_ratio=1e-5, weights=None, static=True, gradient=True,
                        **eig_options) -> DampingConstraint:
-    """KS over speeds and tracked modes of ``min_damping_ratio - zeta`` (module docstring) and its
+    """KS over speeds and tracked modes of ``sigma + margin`` (1/s) or ``margin - zeta``
+    (``measure``; module docstring) and its
     exact gradient with respect to the packed parameters ``p`` (``params_at(V) -> (p, q)``; the
     gradient sums the speeds' contributions: meaningful for the entries common to every speed,
     e.g. the beam's)."""
     from wingmdao.stability.eigen import check_speeds, eigenmodes, linearize, track_modes
 
+    if measure not in MEASURES:
+        raise ValueError(f"measure = {measure!r}; allowed: {', '.join(MEASURES)}")
     v = check_speeds(speeds)
     modes, states, x = [], [], None
     for V in v:
@@ -163,7 +175,8 @@ def damping_constraint(system, params_at, speeds, *, n_modes=4, rho_ks=200.0, mi
     initial = cand[np.argsort(m0.frequency[cand])][: int(n_modes)]
     lam, idx = track_modes(modes, initial, weights)
     zeta = np.zeros(lam.shape)
-    dzeta = []
+    g = np.zeros(lam.shape)
+    dg = []
     for s, V in enumerate(v):
         p, q = params_at(float(V))
         A, B = linearize(system, p, q, modes[s].x0)
@@ -171,16 +184,12 @@ def damping_constraint(system, params_at, speeds, *, n_modes=4, rho_ks=200.0, mi
         for j in range(lam.shape[1]):
             vec, uvec, lj = left_right_vectors(A, B, lam[s, j])
             lam[s, j] = lj
+            zeta[s, j] = -lj.real / abs(lj)
+            g[s, j] = lj.real + margin if measure == "sigma" else margin - zeta[s, j]
             if gradient:
                 dl = eigenvalue_gradient(system, p, q, modes[s].x0, lj, vec, uvec, A=A, B=B, static=static)
-                zeta[s, j], dz = damping_ratio_gradient(lj, dl)
-                row.append(dz)
-            else:
-                zeta[s, j] = -lj.real / abs(lj)
-        dzeta.append(row)
-    value, w = ks_aggregate(min_damping_ratio - zeta, rho_ks)
-    grad = None
-    if gradient:
-        D = np.array(dzeta).reshape(zeta.size, -1)
-        grad = -(w @ D)
+                row.append(dl.real if measure == "sigma" else -damping_ratio_gradient(lj, dl)[1])
+        dg.append(row)
+    value, w = ks_aggregate(g, rho_ks)
+    grad = (w @ np.array(dg).reshape(g.size, -1)) if gradient else None
     return DampingConstraint(float(value), grad, v, lam, zeta)
