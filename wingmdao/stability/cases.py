@@ -12,7 +12,7 @@ FLUTTER_CASES = ("goland", "hale", "pegasus")
 #: sparse shift-invert settings: shift near the flutter frequency, eigenvalues kept, Arnoldi basis
 EIG_OPTIONS = {"goland": {"method": "sparse", "sigma": 60j, "count": 16},
                "hale": {"method": "sparse", "sigma": 20j, "count": 16, "ncv": 60},
-               "pegasus": {"method": "sparse", "sigma": 100j, "count": 16, "ncv": 60}}
+               "pegasus": {"method": "sparse", "sigma": 120j, "count": 40, "ncv": 100}}
 #: default speed sweeps (V0, V1, N), m/s
 SWEEPS = {"goland": (20.0, 300.0, 15), "hale": (2.0, 40.0, 12), "pegasus": (20.0, 300.0, 15)}
 #: default number of beam nodes per case (PEGASUS: the 20-station sizing mesh)
@@ -101,11 +101,11 @@ CONSTRAINT_SPEED_FRACTIONS = (0.25, 0.5, 0.75, 1.0)
 MAX_FLUTTER_MARGIN = 3.0
 
 
-def sizing_flutter_options(name: str, num_nodes: int, margin: float, *, n_modes: int = 4,
-                           rho_ks: float = 100.0, margin: float = 0.0) -> dict:
+def sizing_flutter_options(name: str, num_nodes: int, factor: float, *, n_modes: int = 4,
+                           rho_ks: float = 100.0, decay: float = 0.0) -> dict:
     """Options of :class:`wingmdao.components.flutter.FlutterDamping` for "flutter speed >= F V_D"
-    on sizing case ``name``: the damping constraint at the speeds F V_D x
-    :data:`CONSTRAINT_SPEED_FRACTIONS`. ValueError (before any solve) for a case without
+    on sizing case ``name`` (F = ``factor``): the damping constraint Re(lambda) + ``decay`` <= 0
+    (KS, 1/s) at the speeds F V_D x :data:`CONSTRAINT_SPEED_FRACTIONS`. ValueError (before any solve) for a case without
     aerodynamic data or V_D, or F outside (0, :data:`MAX_FLUTTER_MARGIN`]."""
     import importlib
 
@@ -113,19 +113,19 @@ def sizing_flutter_options(name: str, num_nodes: int, margin: float, *, n_modes:
         allowed = [c for c in FLUTTER_CASES if hasattr(importlib.import_module(f"wingmdao.cases.{c}"), "flight_point")]
         raise ValueError(f"--flutter-margin: case {name!r} has no aerodynamic data or dive speed V_D; "
                          f"the flutter constraint applies to: {', '.join(allowed)}")
-    F = float(margin)
+    F = float(factor)
     if not (np.isfinite(F) and 0.0 < F <= MAX_FLUTTER_MARGIN):
-        raise ValueError(f"--flutter-margin = {margin}; allowed range (0, {MAX_FLUTTER_MARGIN:g}] "
+        raise ValueError(f"--flutter-margin = {factor}; allowed range (0, {MAX_FLUTTER_MARGIN:g}] "
                          "(a factor on V_D; 14 CFR 25.629: 1.15)")
     mod = importlib.import_module(f"wingmdao.cases.{name}")
     aero = mod.aero_data(int(num_nodes))
     top = F * aero["dive_speed"]
     a = aero.get("speed_of_sound")
     if a is not None and not top < a:
-        raise ValueError(f"--flutter-margin = {margin}: F V_D = {top:.1f} m/s is not subsonic (a = {a:.1f} m/s); "
+        raise ValueError(f"--flutter-margin = {factor}: F V_D = {top:.1f} m/s is not subsonic (a = {a:.1f} m/s); "
                          f"allowed range (0, {a / aero['dive_speed']:.3f})")
     return {"aero": aero, "speeds": top * np.asarray(CONSTRAINT_SPEED_FRACTIONS), "n_modes": int(n_modes),
-            "rho_ks": float(rho_ks), "margin": float(margin), "measure": "sigma",
+            "rho_ks": float(rho_ks), "margin": float(decay), "measure": "sigma",
             "eig_options": dict(EIG_OPTIONS[name])}
 
 
