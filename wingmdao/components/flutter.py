@@ -3,8 +3,8 @@
 Inputs: the beam parameters of the sizing chain (``node_positions``, ``node_euler_angles``,
 ``stiffness_csn``, ``compliance_csn``, ``tension_axis``, ``shear_center``, ``mass_per_length``,
 ``mass_center``, ``inertia_per_length``, names and units of :func:`wingmdao.beam.residual.param_specs`).
-Output ``flutter_ks`` = KS over the speeds and tracked modes of (Re lambda + margin) in 1/s
-(``measure="sigma"``) or of (margin - damping ratio) (``measure="ratio"``); <= 0: every tracked
+Output ``flutter_ks`` = KS over the speeds and the aerodynamically loaded oscillatory modes of (Re lambda + margin) in 1/s
+(``measure="sigma"``) or of (margin - damping ratio) (``measure="ratio"``); <= 0: every such
 mode is damped at every speed of the set. From
 :func:`wingmdao.stability.sensitivity.damping_constraint` on the clamped beam with unsteady strip
 theory linearised about its static state at each speed (docs/flutter.md). Partials: exact,
@@ -29,8 +29,7 @@ class FlutterDamping(om.ExplicitComponent):
                              desc="strip aerodynamics: chord (n,) m, ref_point (n,) chord fraction, lift_slope "
                                   "1/rad, density kg/m**3, optional speed_of_sound m/s (Mach = V / a; else 0)")
         self.options.declare("speeds", types=(list, tuple, np.ndarray),
-                             desc="airspeeds of the constraint (m/s TAS, increasing; the first picks the modes)")
-        self.options.declare("n_modes", default=4, types=int, lower=1, desc="tracked modes")
+                             desc="airspeeds of the constraint (m/s TAS, increasing)")
         self.options.declare("rho_ks", default=100.0, lower=1.0,
                              desc="KS aggregation parameter (s with measure sigma)")
         self.options.declare("measure", default="sigma", values=("sigma", "ratio"),
@@ -57,7 +56,7 @@ class FlutterDamping(om.ExplicitComponent):
             self.add_input(s.name, val=0.0, shape=s.shape, units=s.units, desc=s.desc or s.name)
         units = "1/s" if self.options["measure"] == "sigma" else None
         self.add_output("flutter_ks", val=0.0, units=units,
-                        desc="KS over speeds and tracked modes of the damping measure; <= 0: no flutter")
+                        desc="KS over speeds and aerodynamically loaded modes of the damping measure; <= 0: no flutter")
         self._cache = None
 
     def setup_partials(self):
@@ -81,10 +80,10 @@ class FlutterDamping(om.ExplicitComponent):
             return self._cache[1]
         prob = self._problem(inputs)
         try:
-            res = damping_constraint(self._system, prob.params_at, self._speeds, n_modes=self.options["n_modes"],
+            res = damping_constraint(self._system, prob.params_at, self._speeds, aero_mask=prob.aero_mask(),
+                                     beam_mask=prob.beam_weights(),
                                      rho_ks=self.options["rho_ks"], margin=self.options["margin"],
-                                     measure=self.options["measure"],
-                                     weights=prob.beam_weights(), gradient=gradient, **prob.eig_options)
+                                     measure=self.options["measure"], gradient=gradient, **prob.eig_options)
         except (RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
             raise om.AnalysisError(f"{self.pathname}: flutter eigen-analysis failed: {exc}") from exc
         self._cache = (key, res)

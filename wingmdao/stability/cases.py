@@ -61,6 +61,12 @@ class FlutterProblem:
         a = self.aero.get("speed_of_sound")
         return 0.0 if a is None else float(V) / float(a)
 
+    def aero_mask(self):
+        """1 on the aerodynamic lag states, 0 on the beam's (which modes the air loads)."""
+        w = np.zeros(self.system.state_shape)
+        w[:, 18:22] = 1.0
+        return w.ravel()
+
     def beam_weights(self):
         """MAC weights: the beam's displacement and rotation states only."""
         w = np.zeros(self.system.state_shape)
@@ -101,8 +107,8 @@ CONSTRAINT_SPEED_FRACTIONS = (0.25, 0.5, 0.75, 1.0)
 MAX_FLUTTER_MARGIN = 3.0
 
 
-def sizing_flutter_options(name: str, num_nodes: int, factor: float, *, n_modes: int = 4,
-                           rho_ks: float = 100.0, decay: float = 0.0) -> dict:
+def sizing_flutter_options(name: str, num_nodes: int, factor: float, *, rho_ks: float = 100.0,
+                           decay: float = 0.0) -> dict:
     """Options of :class:`wingmdao.components.flutter.FlutterDamping` for "flutter speed >= F V_D"
     on sizing case ``name`` (F = ``factor``): the damping constraint Re(lambda) + ``decay`` <= 0
     (KS, 1/s) at the speeds F V_D x :data:`CONSTRAINT_SPEED_FRACTIONS`. ValueError (before any solve) for a case without
@@ -124,7 +130,7 @@ def sizing_flutter_options(name: str, num_nodes: int, factor: float, *, n_modes:
     if a is not None and not top < a:
         raise ValueError(f"--flutter-margin = {factor}: F V_D = {top:.1f} m/s is not subsonic (a = {a:.1f} m/s); "
                          f"allowed range (0, {a / aero['dive_speed']:.3f})")
-    return {"aero": aero, "speeds": top * np.asarray(CONSTRAINT_SPEED_FRACTIONS), "n_modes": int(n_modes),
+    return {"aero": aero, "speeds": top * np.asarray(CONSTRAINT_SPEED_FRACTIONS),
             "rho_ks": float(rho_ks), "margin": float(decay), "measure": "sigma",
             "eig_options": dict(EIG_OPTIONS[name])}
 
