@@ -219,3 +219,33 @@ def test_cli_flutter_margin_on_a_case_without_aero(tmp_path, capsys):
 
     assert main(["size", "cantilever", "--flutter-margin", "1.15", "--out", str(tmp_path), "--no-plots"]) == 2
     assert "no aerodynamic data" in capsys.readouterr().err
+
+
+#: wall thicknesses (mm) of the PEGASUS 2.5 g / -1 g strength optimum (`wingmdao size pegasus --loads maneuver`)
+STRENGTH_OPTIMUM_MM = {
+    "upper_skin": [10.10, 10.10, 7.50, 7.01, 6.14, 5.34, 4.57, 4.10, 3.37, 2.72, 2.14, 1.75, 1.27, 1.00, 1.00, 1.00,
+                   1.00, 1.00, 1.00, 1.00],
+    "lower_skin": [10.10, 10.10, 7.50, 7.02, 6.14, 5.34, 4.57, 4.10, 3.38, 2.73, 2.15, 1.77, 1.30, 1.00, 1.00, 1.00,
+                   1.00, 1.00, 1.00, 1.00],
+    "front_spar": [3.52, 3.52, 3.40, 3.55, 3.39, 3.14, 2.84, 2.67, 1.95, 1.67, 1.41, 1.27, 1.05, 1.00, 1.00, 1.00,
+                   1.00, 1.00, 1.00, 1.00],
+    "rear_spar": [1.00, 1.00, 1.00, 1.00, 1.00, 1.00, 1.00, 1.00, 1.39, 1.24, 1.08, 1.01, 1.00, 1.00, 1.00, 1.00,
+                  1.00, 1.00, 1.00, 1.00],
+}
+
+
+def test_constraint_sign_agrees_with_the_flutter_search():
+    """The damping constraint up to 0.98 V_F is satisfied and up to 1.02 V_F violated, V_F from the
+    independent sweep + Brent search (the MAC-tracked first version missed this flutter)."""
+    from wingmdao.stability.cases import CONSTRAINT_SPEED_FRACTIONS, flutter_search
+
+    t = {w: np.asarray(v) * 1e-3 for w, v in STRENGTH_OPTIMUM_MM.items()}
+    found = flutter_search("pegasus", 20, t)
+    v_f = found["flutter_speed"]
+    assert 1.2 * found["dive_speed"] < v_f < 1.45 * found["dive_speed"]
+    prob = flutter_problem("pegasus", 20, t)
+    for factor, sign in ((0.98, -1.0), (1.02, 1.0)):
+        res = damping_constraint(prob.system, prob.params_at, factor * v_f * np.asarray(CONSTRAINT_SPEED_FRACTIONS),
+                                 aero_mask=prob.aero_mask(), beam_mask=prob.beam_weights(), gradient=False,
+                                 **prob.eig_options)
+        assert np.sign(res.value) == sign, (factor, res.value)
