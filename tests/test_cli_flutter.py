@@ -84,3 +84,11 @@ def test_flutter_json_goland(tmp_path, capsys):
     assert len(d["natural_frequencies_rad_s"]) == 6
     assert d["flutter_speed_m_s"] == pytest.approx(137.2, rel=0.02)
     assert (tmp_path / "flutter_goland.png").exists()
+
+
+def test_json_dash_writes_only_json_to_stdout(capsys):
+    assert main(["flutter", "goland", "--num-nodes", "5", "--speeds", "100", "150", "2", "--json", "-",
+                 "--no-plots"]) == 0
+    cap = capsys.readouterr()
+    d = json.loads(cap.out)  # nothing else on stdout
+    assert d["case"] == "goland" and "flutter" in cap.err

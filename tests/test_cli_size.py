@@ -33,7 +33,6 @@ def test_box_case_json_has_thickness_per_wall(tmp_path):
     assert res["flutter_search_max_speed_m_s"] == 300.0
 
 
-@pytest.mark.slow
 def test_flutter_margin_analysis_json(tmp_path):
     """--flutter-margin adds flutter_ks (negative: the initial design does not flutter below 1.15 V_D)."""
     out = tmp_path / "p.json"

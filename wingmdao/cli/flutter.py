@@ -63,15 +63,6 @@ def parse_speeds(values):
     return check_speeds(np.linspace(v0, v1, n))
 
 
-def _atomic_write_text(text, path):
-    folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=folder, suffix=".tmp")
-    with os.fdopen(fd, "w", encoding="utf-8") as fh:
-        fh.write(text)
-    os.replace(tmp, path)
-
-
 def _clean(x):
     if isinstance(x, dict):
         return {k: _clean(v) for k, v in x.items()}
@@ -232,10 +223,8 @@ def run(args) -> int:
             print(f"wrote {path}", file=sys.stderr)
         except ImportError:
             print("matplotlib not installed: no plot", file=sys.stderr)
-    if args.json:
-        text = json.dumps(result, indent=2) + "\n"
-        if args.json == "-":
-            sys.stdout.write(text)
-        else:
-            _atomic_write_text(text, args.json)
+    if args.json:  # "-": the real standard output (main() sends prints to stderr then)
+        from wingmdao.cli._io import write_json
+
+        write_json(result, args.json)
     return 0
