@@ -10,7 +10,7 @@ from wingmdao.stability import eigenmodes, linearize
 from wingmdao.stability.cases import flutter_problem, sizing_flutter_options
 from wingmdao.stability.sensitivity import (damping_constraint, eigenvalue_gradient, ks_aggregate,
                                             left_right_vectors)
-from wingmdao.timemarch.system import layout, pack
+from wingmdao.timemarch.system import layout
 
 DENSE = {"method": "dense"}
 #: the 24 smallest |lambda| of the dense solve: lag roots and the lowest bending / torsion modes
@@ -94,7 +94,8 @@ def test_damping_constraint_gradient_matches_central_differences():
             beam = {kk: np.array(vv, dtype=float) for kk, vv in prob.beam.items()}
             beam[name].reshape(-1)[k] += sgn * h
             vals.append(damping_constraint(prob.system, params_with(beam), speeds, aero_mask=prob.aero_mask(),
-                                           beam_mask=prob.beam_weights(), rho_ks=20.0, gradient=False, **DENSE_FEW).value)
+                                           beam_mask=prob.beam_weights(), rho_ks=20.0, gradient=False,
+                                           **DENSE_FEW).value)
         fd = (vals[0] - vals[1]) / (2 * h)
         an = res.gradient[lay[name].start + k]
         assert an == pytest.approx(fd, rel=3e-3, abs=1e-9 / h), name

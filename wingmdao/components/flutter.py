@@ -3,7 +3,8 @@
 Inputs: the beam parameters of the sizing chain (``node_positions``, ``node_euler_angles``,
 ``stiffness_csn``, ``compliance_csn``, ``tension_axis``, ``shear_center``, ``mass_per_length``,
 ``mass_center``, ``inertia_per_length``, names and units of :func:`wingmdao.beam.residual.param_specs`).
-Output ``flutter_ks`` = KS over the speeds and the aerodynamically loaded oscillatory modes of (Re lambda + margin) in 1/s
+Output ``flutter_ks`` = KS over the speeds and the aerodynamically loaded oscillatory modes of
+(Re lambda + margin) in 1/s
 (``measure="sigma"``) or of (margin - damping ratio) (``measure="ratio"``); <= 0: every such
 mode is damped at every speed of the set. From
 :func:`wingmdao.stability.sensitivity.damping_constraint` on the clamped beam with unsteady strip

@@ -30,14 +30,14 @@ the same modes is ~0.2 1/s, far above ln(N)/rho = 0.03 1/s at rho = 100 s.
 The modes at each speed are every oscillatory eigenvalue of the eigen window whose eigenvector
 moves the aerodynamic states (strip theory does not load in-plane bending, whose Re lambda = 0
 would make the KS infeasible for any design); they are not tracked between speeds: MAC tracking
-over the coarse set of speeds swapped the PEGASUS flutter mode for a real root between 0.99 and
-1.33 V_D and the constraint missed a flutter it should have seen.
+over the coarse set of speeds swapped the PEGASUS flutter mode for a real root between 1.0 and
+1.33 V_D, and the constraint missed a flutter that the sweep finds at 1.31 V_D.
 
 Limits: the derivative is that of a simple eigenvalue. At a repeated eigenvalue (two modes
-coalescing) it does not exist and u^H B v -> 0; a mode-tracking swap between two speeds of the
-set changes nothing (no tracking), but the KS gradient jumps where two modes coalesce. Real eigenvalues (divergence, or an
-overdamped bending mode) are not in the constraint; a mode entering or leaving the eigen window
-changes the set (harmless when it is well damped: its KS weight is ~exp(-rho |g - g_max|)).
+coalescing) it does not exist and u^H B v -> 0: the KS value stays continuous, its gradient
+jumps. Real eigenvalues (divergence, or an overdamped bending mode) are not in the constraint;
+a mode entering or leaving the eigen window changes the set (harmless when it is well damped:
+its KS weight is ~exp(-rho |g - g_max|)).
 """
 
 from __future__ import annotations
