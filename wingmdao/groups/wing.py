@@ -225,8 +225,10 @@ class WingSizing(om.Group):
     ``nonstructural_mass_per_length`` (n,) kg/m; per load case the forcing inputs
     ``cases.<case>.force_per_length`` ... (see :class:`WingStructure`; set them with
     :func:`set_case_loads` or connect them). Outputs: ``mass`` (kg) and
-    ``cases.<case>.ks_<family>``. ``add_constraints`` / ``add_objective`` declare the KS
-    constraints (<= 0) and the mass objective themselves.
+    ``cases.<case>.ks_<family>``; with the ``flutter`` option also ``flutter_ks`` (1/s, the
+    flutter-damping constraint of :class:`~wingmdao.components.flutter.FlutterDamping` on the
+    section chain's beam parameters). ``add_constraints`` / ``add_objective`` declare the KS
+    constraints (<= 0, flutter_ks included) and the mass objective themselves.
     """
 
     def initialize(self):
