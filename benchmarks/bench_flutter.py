@@ -1,46 +1,90 @@
-"""Flutter benchmark: eigen-solve time per speed and the whole flutter search (Goland, HALE).
+"""Flutter benchmark: eigen-solve time per speed and the whole flutter search (Goland, HALE, PEGASUS),
+and the cost of the PEGASUS flutter-margin constraint (value and exact gradient).
 
-    PYTHONPATH=. python benchmarks/bench_flutter.py [goland|hale ...] [--num-nodes N]
+    PYTHONPATH=. python benchmarks/bench_flutter.py [goland|hale|pegasus ...] [--num-nodes N]
+        [--design RESULT.json] [--margin F]
 
 Prints, per case: the aeroelastic system build, one eigen-analysis (static solve + linearisation +
 sparse shift-invert + det sign) averaged over the sweep, the sweep, the refinement of the flutter
-and divergence speeds, and the results against the published values.
+and divergence speeds, and the results against the published values (PEGASUS: against V_D).
+For PEGASUS also the constraint: one evaluation of the KS damping constraint at its 4 speeds and
+one of its gradient (left/right vectors and eigenvalue derivatives of every aggregated mode).
+BLAS threads are pinned to one (``OMP_NUM_THREADS=1``): on this shared 2-core machine threaded
+BLAS in the small dense products made ARPACK 10-20x slower.
 """
 
 from __future__ import annotations
 
-import argparse
-import time
+import os
 
-import numpy as np
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-from wingmdao.stability import critical_speeds, sweep
-from wingmdao.stability.cases import FLUTTER_CASES, flutter_problem
+import argparse  # noqa: E402
+import time  # noqa: E402
+
+from wingmdao.stability import critical_speeds, sweep  # noqa: E402
+from wingmdao.stability.cases import DEFAULT_NODES, FLUTTER_CASES, flutter_problem  # noqa: E402
+
+
+def search(name, num_nodes, thickness):
+    t0 = time.perf_counter()
+    prob = flutter_problem(name, num_nodes or DEFAULT_NODES[name], thickness)
+    t1 = time.perf_counter()
+    v = prob.speeds
+    res = sweep(prob.system, prob.params_at, v, n_track=4, weights=prob.beam_weights(), **prob.eig_options)
+    t2 = time.perf_counter()
+    crit = critical_speeds(res)
+    t3 = time.perf_counter()
+    pub = prob.published
+    print(f"{name} ({prob.num_nodes} nodes, {prob.system.n_state} states, {v.size} speeds)")
+    print(f"  build {t1 - t0:.2f} s; eigen-analysis per speed {(t2 - t1) / v.size:.3f} s; "
+          f"sweep {t2 - t1:.2f} s; refinement {t3 - t2:.2f} s; whole search {t3 - t1:.2f} s")
+    for key, ref in (("flutter_speed", "flutter_speed_m_s"), ("flutter_frequency", "flutter_frequency_rad_s"),
+                     ("divergence_speed", "divergence_speed_m_s")):
+        ours = crit[key]
+        if ref in pub:
+            diff = "" if ours is None else f" ({100 * (ours / pub[ref] - 1):+.2f} %)"
+            print(f"  {key}: {ours} vs published {pub[ref]}{diff}")
+        else:
+            print(f"  {key}: {ours}" + (f" (V_D = {prob.dive_speed:.1f} m/s)" if prob.dive_speed else ""))
+    return prob
+
+
+def constraint_cost(prob, margin):
+    from wingmdao.stability.cases import sizing_flutter_options
+    from wingmdao.stability.sensitivity import damping_constraint
+
+    o = sizing_flutter_options("pegasus", prob.num_nodes, margin)
+    kw = dict(aero_mask=prob.aero_mask(), beam_mask=prob.beam_weights(), rho_ks=o["rho_ks"], margin=o["margin"], measure=o["measure"],
+              **prob.eig_options)
+    damping_constraint(prob.system, prob.params_at, o["speeds"], **kw)  # builds the CasADi gradient function
+    t0 = time.perf_counter()
+    val = damping_constraint(prob.system, prob.params_at, o["speeds"], gradient=False, **kw)
+    t1 = time.perf_counter()
+    damping_constraint(prob.system, prob.params_at, o["speeds"], **kw)
+    t2 = time.perf_counter()
+    print(f"  flutter constraint ({o['speeds'].size} speeds up to {margin:g} V_D = {o['speeds'][-1]:.1f} m/s, "
+          f"{sum(len(e) for e in val.eigenvalues)} mode-speed points): value {val.value:+.4f} 1/s in {t1 - t0:.2f} s; "
+          f"value + gradient {t2 - t1:.2f} s")
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("cases", nargs="*", default=list(FLUTTER_CASES))
-    ap.add_argument("--num-nodes", type=int, default=21)
+    ap.add_argument("--num-nodes", type=int, default=None)
+    ap.add_argument("--design", default=None, help="PEGASUS: a 'wingmdao size pegasus' JSON")
+    ap.add_argument("--margin", type=float, default=1.15, help="PEGASUS constraint factor F on V_D")
     args = ap.parse_args(argv)
     for name in args.cases:
-        t0 = time.perf_counter()
-        prob = flutter_problem(name, args.num_nodes)
-        t1 = time.perf_counter()
-        v = prob.speeds
-        res = sweep(prob.system, prob.params_at, v, n_track=4, weights=prob.beam_weights(), **prob.eig_options)
-        t2 = time.perf_counter()
-        crit = critical_speeds(res)
-        t3 = time.perf_counter()
-        pub = prob.published
-        print(f"{name} ({args.num_nodes} nodes, {prob.system.n_state} states, {v.size} speeds)")
-        print(f"  build {t1 - t0:.2f} s; eigen-analysis per speed {(t2 - t1) / v.size:.3f} s; "
-              f"sweep {t2 - t1:.2f} s; refinement {t3 - t2:.2f} s; whole search {t3 - t1:.2f} s")
-        for key, ref in (("flutter_speed", "flutter_speed_m_s"), ("flutter_frequency", "flutter_frequency_rad_s"),
-                         ("divergence_speed", "divergence_speed_m_s")):
-            ours = crit[key]
-            diff = "" if ours is None else f" ({100 * (ours / pub[ref] - 1):+.2f} %)"
-            print(f"  {key}: {ours} vs published {pub[ref]}{diff}")
+        thickness = None
+        if name == "pegasus" and args.design:
+            from wingmdao.cli.flutter import read_design
+
+            thickness = read_design(args.design, args.num_nodes or DEFAULT_NODES[name])
+        prob = search(name, args.num_nodes, thickness)
+        if name == "pegasus":
+            constraint_cost(prob, args.margin)
 
 
 if __name__ == "__main__":

@@ -26,8 +26,50 @@ def test_bad_input_exit_code_before_solve(capsys, monkeypatch):
     monkeypatch.setattr(fl, "analyse", lambda *a, **k: pytest.fail("solve started"))
     assert main(["flutter", "goland", "--speeds", "100", "100", "4"]) == 2
     assert "--speeds V1 must be > V0" in capsys.readouterr().err
-    assert main(["flutter", "pegasus"]) == 2
+    assert main(["flutter", "crm"]) == 2
     assert "no aerodynamic" in capsys.readouterr().err
+    assert main(["flutter", "pegasus", "--speeds", "20", "330", "3"]) == 2
+    assert "subsonic" in capsys.readouterr().err
+    assert main(["flutter", "goland", "--design", "x.json"]) == 2
+    assert "--design applies to the sized pegasus wing" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("content, match", [
+    ("not json", "not a JSON file"),
+    ('{"mass_kg": 1}', "not a box sizing result"),
+    ('{"case": "crm", "thickness": {"upper_skin": [0.01], "lower_skin": [0.01], "front_spar": [0.01], '
+     '"rear_spar": [0.01]}}', "case 'crm'"),
+    ('{"thickness": {"upper_skin": [0.01, 0.01], "lower_skin": [0.01], "front_spar": [0.01], '
+     '"rear_spar": [0.01]}}', "has 2 stations; the 20-node PEGASUS beam needs 20"),
+])
+def test_design_file_errors_before_solve(tmp_path, capsys, monkeypatch, content, match):
+    import wingmdao.cli.flutter as fl
+
+    monkeypatch.setattr(fl, "analyse", lambda *a, **k: pytest.fail("solve started"))
+    f = tmp_path / "r.json"
+    f.write_text(content)
+    assert main(["flutter", "pegasus", "--design", str(f)]) == 2
+    assert match in capsys.readouterr().err
+
+
+def test_design_file_thicknesses_reach_the_problem(tmp_path, monkeypatch):
+    """--design passes the JSON's per-station walls to the analysis (no solve here)."""
+    import wingmdao.cli.flutter as fl
+
+    seen = {}
+
+    def fake(case, speeds, num_nodes, n_modes, thickness):
+        seen.update(thickness)
+        raise SystemExit(0)
+
+    monkeypatch.setattr(fl, "analyse", fake)
+    walls = {w: [0.002 + 1e-4 * i for i in range(20)] for w in ("upper_skin", "lower_skin", "front_spar",
+                                                                  "rear_spar")}
+    f = tmp_path / "r.json"
+    f.write_text(json.dumps({"case": "pegasus", "thickness": walls, "mass_kg": 300.0}))
+    with pytest.raises(SystemExit):
+        main(["flutter", "pegasus", "--design", str(f), "--no-plots"])
+    assert list(seen["front_spar"]) == pytest.approx(walls["front_spar"])
 
 
 @pytest.mark.slow
@@ -42,3 +84,11 @@ def test_flutter_json_goland(tmp_path, capsys):
     assert len(d["natural_frequencies_rad_s"]) == 6
     assert d["flutter_speed_m_s"] == pytest.approx(137.2, rel=0.02)
     assert (tmp_path / "flutter_goland.png").exists()
+
+
+def test_json_dash_writes_only_json_to_stdout(capsys):
+    assert main(["flutter", "goland", "--num-nodes", "5", "--speeds", "100", "150", "2", "--json", "-",
+                 "--no-plots"]) == 0
+    cap = capsys.readouterr()
+    d = json.loads(cap.out)  # nothing else on stdout
+    assert d["case"] == "goland" and "flutter" in cap.err

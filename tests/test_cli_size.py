@@ -2,6 +2,8 @@
 
 import json
 
+import pytest
+
 from wingmdao.cli import main
 
 
@@ -23,6 +25,23 @@ def test_box_case_json_has_thickness_per_wall(tmp_path):
     res = json.loads(out.read_text())
     assert set(res["thickness"]) == {"upper_skin", "lower_skin", "front_spar", "rear_spar"}
     assert all(len(v) == 20 for v in res["thickness"].values())
+    # V_D = V_C / 0.8 (14 CFR 25.335(b)(1)), V_C = Mach 0.5 at 20 000 ft, ISA a = sqrt(1.4 R T)
+    t_isa = 288.15 - 0.0065 * 20000 * 0.3048
+    assert res["dive_speed_m_s"] == pytest.approx(0.5 * (1.4 * 287.053 * t_isa) ** 0.5 / 0.8, rel=1e-4)
+    # the 10 mm initial design: no flutter and no divergence below the search's end
+    assert res["flutter_speed_m_s"] is None and res["divergence_speed_m_s"] is None
+    assert res["flutter_search_max_speed_m_s"] == 300.0
+
+
+def test_flutter_margin_analysis_json(tmp_path):
+    """--flutter-margin adds flutter_ks (negative: the initial design does not flutter below 1.15 V_D)."""
+    out = tmp_path / "p.json"
+    assert main(["size", "pegasus", "--analysis-only", "--flutter-margin", "1.15", "--no-flutter-search",
+                 "--out", str(tmp_path), "--json", str(out), "--no-plots"]) == 0
+    res = json.loads(out.read_text())
+    assert res["flutter_ks"] < 0.0 and res["flutter_margin"] == 1.15
+    assert res["flutter_constraint_speeds_m_s"][-1] == pytest.approx(1.15 * res["dive_speed_m_s"])
+    assert "flutter_speed_m_s" not in res
 
 
 def test_n2_is_written(tmp_path, capsys):

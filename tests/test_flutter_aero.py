@@ -43,4 +43,4 @@ def test_flutter_and_divergence_vs_published(name, speeds, tol_v, tol_w):
 
 def test_case_without_aero_data():
     with pytest.raises(ValueError, match="no aerodynamic"):
-        flutter_problem("pegasus")
+        flutter_problem("crm")

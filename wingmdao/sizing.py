@@ -170,19 +170,24 @@ def _check_geometry(geometry, section) -> None:
 
 
 def build_problem(geometry: WingGeometry, load_cases, material, options: SizingOptions,
-                  *, driver=True, parallel=None, section="box", comm=False) -> tuple[om.Problem, str]:
+                  *, driver=True, parallel=None, section="box", comm=False,
+                  flutter: dict | None = None) -> tuple[om.Problem, str]:
     """Set up the sizing problem; returns ``(problem, driver description)``.
 
     ``section`` is ``"box"`` (design variables: the four wall thicknesses) or ``"solid"``
     (design variables: width and height of a solid rectangle, Sec. 4.7.1). ``comm``: an MPI
     communicator with more than one rank spreads the load cases over its ranks
-    (:mod:`wingmdao.parallel`); False/None: all cases in this process.
+    (:mod:`wingmdao.parallel`); False/None: all cases in this process. ``flutter``: options of
+    :class:`~wingmdao.components.flutter.FlutterDamping` (e.g. from
+    :func:`wingmdao.stability.cases.sizing_flutter_options`): adds the constraint flutter_ks <= 0.
     """
     check_problem_inputs(geometry, load_cases, material, options, section)
     n = geometry.num_nodes
     design_vars = SECTION_KINDS[section]["design_vars"]
     load_cases = list(load_cases)
     distributed = comm is not None and comm is not False and comm.size > 1
+    if flutter is not None and (distributed or section != "box"):
+        raise ValueError("the flutter constraint needs box sections in one process (no MPI distribution)")
     prob = om.Problem(reports=False)
     mass_ref = (options.mass_scale or initial_mass(geometry, material, options, section)) if driver else 1.0
     wing_kwargs = dict(rho_ks=options.rho_ks, add_constraints=driver, add_objective=driver, mass_ref=mass_ref)
@@ -192,7 +197,7 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
         wing, _ = distributed_wing_sizing(geometry, load_cases, material, options, section, comm, **wing_kwargs)
     else:
         wing = WingSizing(num_nodes=n, load_cases=load_cases, material=material, parallel=parallel,
-                          section=section, station_map=geometry.station_map, **wing_kwargs)
+                          section=section, station_map=geometry.station_map, flutter=flutter, **wing_kwargs)
     prob.model.add_subsystem("wing", wing, promotes=["*"])
     desc = "none (analysis only)"
     if driver:
@@ -360,8 +365,21 @@ def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, sectio
     out["gradient_evaluations"] = int(getattr(stats, "deriv_evals", 0) or 0)
     worst = max((v for d in ks.values() for v in d.values()), default=np.nan)
     out["active_constraints"] = [f"{c}.{f}" for c, d in ks.items() for f, v in d.items() if v > -1e-3]
+    flutter = _flutter_ks(prob)
+    if flutter is not None:
+        out["flutter_ks"] = flutter
+        if flutter > -1e-3:
+            out["active_constraints"].append("flutter_ks")
     out["max_ks"] = float(worst)
     return out
+
+
+def _flutter_ks(prob):
+    """The flutter-damping constraint's value when the model has one, else None."""
+    try:
+        return float(prob.get_val("flutter_ks")[0])
+    except KeyError:
+        return None
 
 
 def presize_fully_stressed(prob, load_cases, geometry: WingGeometry, options: SizingOptions,
@@ -420,7 +438,8 @@ def size_case(setup, *, optimize: bool = True, parallel: bool | None = None, com
         mine = [setup.load_cases[i] for i in assign_cases(setup.load_cases, comm.size)[comm.rank]]
     check_memory(mine, setup.geometry.num_nodes)  # before any solve
     prob, desc = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
-                               driver=optimize, parallel=parallel, section=setup.section, comm=comm)
+                               driver=optimize, parallel=parallel, section=setup.section, comm=comm,
+                               flutter=setup.flutter)
     pre = {"passes": 0}
     if optimize and setup.options.presize > 0 and setup.section == "box":
         pre = presize_fully_stressed(prob, setup.load_cases, setup.geometry, setup.options,

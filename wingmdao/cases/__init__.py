@@ -41,6 +41,7 @@ class CaseSetup:
     options: object  # wingmdao.sizing.SizingOptions
     section: str = "box"  # "box" or "solid"
     notes: list = field(default_factory=list)
+    flutter: dict | None = None  # FlutterDamping options (wingmdao.stability.cases.sizing_flutter_options)
 
 
 #: Most time steps of one march: states, their adjoint, residual Jacobian blocks and stresses are

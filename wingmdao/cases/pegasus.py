@@ -395,3 +395,89 @@ def gust_damping(zeta, frequency_hz, geometry, options):
     damping = StrainRateDamping.from_damping_ratio(zeta, frequency_hz)
     return damping, (f"structural damping {zeta:g} at {frequency_hz:.3f} Hz ({where}): "
                      f"strain-rate time constant {damping.curvature[0] * 1e3:.3f} ms")
+
+
+# --------------------------------------------------------------------------- flutter data
+#: Cruise point of Table D.3 (altitude 20 000 ft, Mach 0.5), taken as V_C / M_C.
+CRUISE_ALTITUDE_FT, CRUISE_MACH = 20000.0, 0.5
+#: 14 CFR 25.335(b)(1): V_D is chosen so that V_C / M_C is not greater than 0.8 V_D / M_D; the
+#: smallest admissible V_D of that rule is V_C / 0.8 (an assumption: the dissertation gives no V_D).
+VC_OVER_VD = 0.8
+#: flutter analyses of this wing start from no published value (none exists)
+PUBLISHED = {"source": "none published; V_D from 14 CFR 25.335(b)(1) with V_C = Mach 0.5 at 20 000 ft "
+                       "(Table D.3)"}
+
+
+def flight_point() -> dict:
+    """Flutter flight point (SI): altitude (m), density (kg/m^3), speed of sound (m/s), V_C and V_D (TAS, m/s).
+
+    V_C = M_C a(20 000 ft) with M_C = 0.5 (Table D.3); V_D = V_C / 0.8 (14 CFR 25.335(b)(1)), M_D = 0.625.
+    14 CFR 25.629(b) asks for freedom from flutter up to 1.15 V_D (the --flutter-margin of sizing).
+    """
+    from wingmdao.loads.atmosphere import altitude_ft_to_m, density, speed_of_sound
+
+    h = float(altitude_ft_to_m(CRUISE_ALTITUDE_FT))
+    a = float(speed_of_sound(h))
+    v_c = CRUISE_MACH * a
+    return {"altitude_m": h, "density": float(density(h)), "speed_of_sound": a, "cruise_speed": v_c,
+            "dive_speed": v_c / VC_OVER_VD}
+
+
+def flutter_planform(num_nodes: int = 20) -> Planform:
+    """The PEGASUS planform with ``num_nodes - 1`` ribs (20 nodes: the sizing mesh)."""
+    from dataclasses import replace
+
+    if int(num_nodes) < 3:
+        raise ValueError(f"num_nodes must be >= 3, got {num_nodes}")
+    return replace(PLANFORM, num_ribs=int(num_nodes) - 1)
+
+
+def initial_thickness(num_nodes: int = 20) -> dict:
+    """The sizing's initial design: every wall 10 mm at every node (m)."""
+    from wingmdao.sizing import WALL_VARS
+
+    return {w: np.full(int(num_nodes), 0.01) for w in WALL_VARS}
+
+
+def beam_params(num_nodes: int = 20, thickness: dict | None = None) -> dict:
+    """Beam parameter dict (``wingmdao.beam.residual.param_specs``) of the PEGASUS wing, SI.
+
+    ``thickness``: ``{wall: (num_nodes,) m}`` per node, walls ``t_upper_skin, t_lower_skin,
+    t_front_spar, t_rear_spar`` (keys without the ``t_`` prefix accepted, as a sizing JSON writes
+    them); default :func:`initial_thickness`. Sections from :func:`wingmdao.section.box.box_properties`
+    (aluminium, engines as smeared non-structural mass), the same as the sizing model's.
+    """
+    from wingmdao.materials import ALUMINIUM
+    from wingmdao.section.box import box_properties, validate_box
+    from wingmdao.sizing import WALL_VARS
+
+    n = int(num_nodes)
+    geo, _, _ = wing_geometry(flutter_planform(n), ENGINES)
+    t = initial_thickness(n) if thickness is None else thickness
+    walls = []
+    for w in WALL_VARS:
+        v = t.get(w, t.get(w[2:])) if isinstance(t, dict) else None
+        if v is None:
+            raise ValueError(f"thickness: missing wall {w!r}; needs {list(WALL_VARS)} (m)")
+        v = np.asarray(v, dtype=float).ravel()
+        if v.size != n:
+            raise ValueError(f"thickness {w!r}: {v.size} stations, the {n}-node PEGASUS beam needs {n}")
+        walls.append(v)
+    validate_box(geo.width, geo.height, *walls, source="thickness")
+    pr = box_properties(geo.width, geo.height, *walls, ALUMINIUM, None, geo.nonstructural_mass_per_length)
+    return {"node_positions": geo.node_positions, "node_euler_angles": geo.node_euler_angles,
+            "stiffness_csn": np.asarray(pr["stiffness_csn"]), "compliance_csn": np.asarray(pr["compliance_csn"]),
+            "tension_axis": np.column_stack([pr["c_ea"], pr["n_ea"]]),
+            "shear_center": np.column_stack([pr["c_sc"], pr["n_sc"]]),
+            "mass_per_length": np.asarray(pr["mass_per_length"], dtype=float),
+            "mass_center": np.column_stack([pr["c_cg"], pr["n_cg"]]),
+            "inertia_per_length": np.asarray(pr["inertia_per_length"])}
+
+
+def aero_data(num_nodes: int = 20) -> dict:
+    """Strip aerodynamics of the flutter problem: chord (m), beam-axis chord fraction, 2 pi lift slope,
+    density and speed of sound of :func:`flight_point` (Mach = V / a at each speed), V_D (m/s)."""
+    _, chord, frac = wing_geometry(flutter_planform(num_nodes), ENGINES)
+    fp = flight_point()
+    return {"chord": chord, "ref_point": frac, "lift_slope": 2 * np.pi, "density": fp["density"],
+            "speed_of_sound": fp["speed_of_sound"], "dive_speed": fp["dive_speed"]}

@@ -8,7 +8,8 @@ divergence speeds are refined between sweep points.
 JSON keys: case, num_nodes, density_kg_m3, flutter_speed_m_s, flutter_frequency_rad_s,
 divergence_speed_m_s (null when none within the sweep), natural_frequencies_rad_s (in vacuo,
 first six), speeds, damping (per tracked mode and speed, Re lambda 1/s), damping_ratio
-(g = 2 Re / |Im|), frequency_rad_s, published (the case's reference values), timings.
+(g = 2 Re / |Im|), frequency_rad_s, published (the case's reference values), timings; for
+PEGASUS also dive_speed_m_s (V_D) and design (the --design file, or "initial").
 """
 
 from __future__ import annotations
@@ -29,7 +30,11 @@ def register(subparsers):
     p.add_argument("case", metavar="CASE", help="case with aerodynamic data: " + ", ".join(FLUTTER_CASES))
     p.add_argument("--speeds", nargs=3, metavar=("V0", "V1", "N"), default=None,
                    help="sweep from V0 to V1 m/s with N >= 2 speeds (default: the case's)")
-    p.add_argument("--num-nodes", type=int, default=21, help="beam nodes (>= 3)")
+    p.add_argument("--num-nodes", type=int, default=None,
+                   help="beam nodes (>= 3; default 21, pegasus 20 = its sizing mesh)")
+    p.add_argument("--design", metavar="RESULT.json", default=None,
+                   help="pegasus: analyse the wall thicknesses of a 'wingmdao size pegasus' JSON "
+                        "(default: the sizing's initial design, 10 mm walls)")
     p.add_argument("--modes", type=int, default=4, help="number of tracked modes (>= 1)")
     from wingmdao.cli._args import add_output_arguments
 
@@ -69,8 +74,40 @@ def _clean(x):
     return x
 
 
-def analyse(case, speeds=None, num_nodes=21, n_modes=4) -> dict:
-    """Run the flutter analysis; returns the JSON dict."""
+def read_design(path, num_nodes=None) -> dict:
+    """Wall thicknesses ``{wall: (n,) m}`` of a ``wingmdao size`` JSON; ValueError naming the file and
+    what is wrong (not JSON, not a sizing result, another case, wrong number of stations)."""
+    from wingmdao.sizing import WALL_VARS
+
+    try:
+        with open(path, encoding="utf-8") as fh:
+            data = json.load(fh)
+    except OSError as exc:
+        raise ValueError(f"--design {path}: cannot read it ({exc.strerror})") from None
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise ValueError(f"--design {path}: not a JSON file ({exc})") from None
+    thick = data.get("thickness") if isinstance(data, dict) else None
+    walls = [w[2:] for w in WALL_VARS]
+    if not isinstance(thick, dict) or any(w not in thick for w in walls):
+        raise ValueError(f"--design {path}: not a box sizing result of 'wingmdao size' (needs a 'thickness' "
+                         f"object with {', '.join(walls)} per station, m)")
+    if data.get("case", "pegasus") != "pegasus":
+        raise ValueError(f"--design {path}: a sizing result of case {data['case']!r}; flutter --design "
+                         "takes pegasus results")
+    out = {}
+    for w in walls:
+        v = np.asarray(thick[w], dtype=float).ravel() if isinstance(thick[w], list) else np.zeros(0)
+        if num_nodes is not None and v.size != int(num_nodes):
+            raise ValueError(f"--design {path}: thickness {w!r} has {v.size} stations; the "
+                             f"{num_nodes}-node PEGASUS beam needs {num_nodes}")
+        if not np.all(np.isfinite(v) & (v > 0)):
+            raise ValueError(f"--design {path}: thickness {w!r} must hold finite values > 0 m")
+        out[w] = v
+    return out
+
+
+def analyse(case, speeds=None, num_nodes=None, n_modes=4, thickness=None) -> dict:
+    """Run the flutter analysis; returns the JSON dict (``thickness``: PEGASUS walls per node, m)."""
     from wingmdao.beam.residual import forcing_specs
     from wingmdao.beam.static import BeamModel, beam_forcing
     from wingmdao.stability import critical_speeds, eigenmodes, sweep
@@ -81,10 +118,10 @@ def analyse(case, speeds=None, num_nodes=21, n_modes=4) -> dict:
         raise ValueError(f"case {case!r} has no aerodynamic (flutter) data; allowed: {list(FLUTTER_CASES)}")
     if int(n_modes) < 1:
         raise ValueError(f"--modes must be >= 1, got {n_modes}")
-    if int(num_nodes) < 3:
+    if num_nodes is not None and int(num_nodes) < 3:
         raise ValueError(f"--num-nodes must be >= 3, got {num_nodes}")
     t0 = _time.perf_counter()
-    prob = flutter_problem(case, int(num_nodes))
+    prob = flutter_problem(case, num_nodes, thickness)
     v = prob.speeds if speeds is None else np.asarray(speeds, dtype=float)
     # in vacuo: the structural beam alone
     beam = BeamModel(prob.beam)
@@ -99,7 +136,8 @@ def analyse(case, speeds=None, num_nodes=21, n_modes=4) -> dict:
     crit = critical_speeds(res)
     t3 = _time.perf_counter()
     return _clean({
-        "case": case, "num_nodes": int(num_nodes), "density_kg_m3": prob.aero["density"],
+        "case": case, "num_nodes": prob.num_nodes, "density_kg_m3": prob.aero["density"],
+        **({"dive_speed_m_s": prob.dive_speed} if prob.dive_speed is not None else {}),
         "flutter_speed_m_s": crit["flutter_speed"], "flutter_frequency_rad_s": crit["flutter_frequency"],
         "divergence_speed_m_s": crit["divergence_speed"],
         "natural_frequencies_rad_s": natural,
@@ -145,7 +183,7 @@ def run(args) -> int:
     if args.case not in FLUTTER_CASES:
         raise ValueError(f"case {args.case!r} has no aerodynamic (flutter) data; allowed: {list(FLUTTER_CASES)}")
     speeds = parse_speeds(args.speeds) if args.speeds is not None else None
-    if args.num_nodes < 3:
+    if args.num_nodes is not None and args.num_nodes < 3:
         raise ValueError(f"--num-nodes must be >= 3, got {args.num_nodes}")
     if args.modes < 1:
         raise ValueError(f"--modes must be >= 1, got {args.modes}")
@@ -153,7 +191,23 @@ def run(args) -> int:
     from wingmdao.cli.gust import _check_outputs
 
     plot_path = _check_outputs(args, f"flutter_{args.case}.png")
-    result = analyse(args.case, speeds, args.num_nodes, args.modes)
+    thickness = None
+    if args.design is not None:
+        if args.case != "pegasus":
+            raise ValueError(f"--design applies to the sized pegasus wing, not to case {args.case!r}")
+        from wingmdao.stability.cases import DEFAULT_NODES
+
+        thickness = read_design(args.design, args.num_nodes or DEFAULT_NODES["pegasus"])
+    if args.case == "pegasus" and speeds is not None:
+        from wingmdao.cases.pegasus import flight_point
+
+        a = flight_point()["speed_of_sound"]
+        if speeds[-1] >= a:
+            raise ValueError(f"--speeds V1 = {speeds[-1]} m/s: pegasus flutter is subsonic (Mach = V / a, "
+                             f"a = {a:.1f} m/s at 20 000 ft); allowed range V1 < {a:.1f} m/s")
+    result = analyse(args.case, speeds, args.num_nodes, args.modes, thickness)
+    if args.case == "pegasus":
+        result["design"] = args.design or "initial"
     msg = (f"{args.case}: flutter {result['flutter_speed_m_s']} m/s at {result['flutter_frequency_rad_s']} rad/s, "
            f"divergence {result['divergence_speed_m_s']} m/s; in vacuo "
            + ", ".join(f"{w:.2f}" for w in result["natural_frequencies_rad_s"]) + " rad/s")

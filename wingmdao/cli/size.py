@@ -25,6 +25,12 @@ def _add_common(p, *, sizing: bool):
         p.add_argument("--potato-stations", metavar="I", type=int, nargs="+", default=None,
                        help="station indices of the bending-torsion potato plots (default: root, mid, 3/4 span)")
         p.add_argument("--quiet", action="store_true", help="no per-evaluation progress lines")
+        p.add_argument("--flutter-margin", metavar="F", type=float, default=None,
+                       help="add the constraint flutter speed >= F V_D (14 CFR 25.629: 1.15) as a damping "
+                            "constraint at speeds up to F V_D (cases with aerodynamic data: pegasus; docs/flutter.md)")
+        p.add_argument("--no-flutter-search", action="store_true",
+                       help="do not search the flutter speed of the result (flutter_speed_m_s, cases with "
+                            "aerodynamic data)")
 
 
 def register(subparsers):
@@ -96,6 +102,14 @@ def run_size(args) -> int:
     if root:
         check_output_file(args.json, "--json", overwrite=args.overwrite, others={"recording": recording})
     setup = args.case_module.build(options_from_namespace(args.case_module.OPTIONS, args))
+    if args.flutter_margin is not None:
+        from wingmdao.stability.cases import sizing_flutter_options
+
+        if comm is not None and comm.size > 1:
+            raise ValueError("--flutter-margin: the flutter constraint runs in one process (no mpirun)")
+        setup.flutter = sizing_flutter_options(args.case_module.NAME, setup.geometry.num_nodes, args.flutter_margin)
+        setup.notes.append(f"flutter constraint: KS of Re(lambda) <= 0 (rho 100 s) at {args.flutter_margin:g} V_D x "
+                           f"(0.25, 0.5, 0.75, 1) = {', '.join(f'{v:.1f}' for v in setup.flutter['speeds'])} m/s")
     plots = [] if args.no_plots else _plot_paths(stem, setup)
     refuse_existing([recording, *plots], overwrite=args.overwrite, what="recording and plots")
     opts = setup.options
@@ -120,7 +134,8 @@ def run_size(args) -> int:
             [setup.load_cases[i] for i in assign_cases(setup.load_cases, comm.size)[comm.rank]])
     check_memory(mine, setup.geometry.num_nodes)  # before any solve: this rank's marches must fit
     prob, desc = sizing.build_problem(setup.geometry, setup.load_cases, setup.material, opts,
-                                      driver=optimize, section=setup.section, comm=comm or False)
+                                      driver=optimize, section=setup.section, comm=comm or False,
+                                      flutter=setup.flutter)
     import openmdao.api as om
 
     interrupted = failed = False
@@ -156,6 +171,8 @@ def run_size(args) -> int:
             warn("plots skipped (plots need matplotlib: pip install 'wingmdao[plot]'); "
                  "the JSON and the recording are written")
             plots_on = False
+    if root and not (interrupted or failed):
+        _add_flutter_result(result, args, setup)
     if root and len(setup.load_cases) > 1 and not (interrupted or failed):
         # an envelope: critical case per station, envelopes, potato plots
         from wingmdao.envelope import format_critical_table, write_envelope_outputs
@@ -191,6 +208,38 @@ def run_size(args) -> int:
             + (f", recording {recording}" if recording else ""))
         return EXIT_INTERRUPTED
     return 0 if result["success"] else 1
+
+
+def _add_flutter_result(result, args, setup) -> None:
+    """``dive_speed_m_s`` and the result's ``flutter_speed_m_s`` (a sweep and refinement at the
+    design, :func:`wingmdao.stability.cases.flutter_search`) for cases with aerodynamic data."""
+    import time
+
+    from wingmdao.cli._io import say
+    from wingmdao.stability.cases import FLUTTER_CASES, flutter_search
+
+    name = args.case_module.NAME
+    if name not in FLUTTER_CASES or "thickness" not in result:
+        return
+    import importlib
+
+    result["dive_speed_m_s"] = float(importlib.import_module(f"wingmdao.cases.{name}").flight_point()["dive_speed"])
+    if setup.flutter is not None:
+        result["flutter_margin"] = float(args.flutter_margin)
+        result["flutter_constraint_speeds_m_s"] = [float(v) for v in setup.flutter["speeds"]]
+    if args.no_flutter_search:
+        return
+    t0 = time.perf_counter()
+    found = flutter_search(name, setup.geometry.num_nodes, result["thickness"])
+    result["flutter_speed_m_s"] = found["flutter_speed"]
+    result["flutter_frequency_rad_s"] = found["flutter_frequency"]
+    result["divergence_speed_m_s"] = found["divergence_speed"]
+    result["flutter_search_max_speed_m_s"] = found["sweep_max_speed"]
+    result["flutter_search_s"] = time.perf_counter() - t0
+    vf = found["flutter_speed"]
+    say(f"  flutter of the result: {'none' if vf is None else f'{vf:.1f} m/s'} below "
+        f"{found['sweep_max_speed']:.0f} m/s (V_D = {found['dive_speed']:.1f} m/s), "
+        f"{result['flutter_search_s']:.1f} s")
 
 
 def _interrupted_result(prob, setup, desc, recording, interrupted=True) -> dict:

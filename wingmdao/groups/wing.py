@@ -227,8 +227,10 @@ class WingSizing(om.Group):
     ``nonstructural_mass_per_length`` (n,) kg/m; per load case the forcing inputs
     ``cases.<case>.force_per_length`` ... (see :class:`WingStructure`; set them with
     :func:`set_case_loads` or connect them). Outputs: ``mass`` (kg) and
-    ``cases.<case>.ks_<family>``. ``add_constraints`` / ``add_objective`` declare the KS
-    constraints (<= 0) and the mass objective themselves.
+    ``cases.<case>.ks_<family>``; with the ``flutter`` option also ``flutter_ks`` (1/s, the
+    flutter-damping constraint of :class:`~wingmdao.components.flutter.FlutterDamping` on the
+    section chain's beam parameters). ``add_constraints`` / ``add_objective`` declare the KS
+    constraints (<= 0, flutter_ks included) and the mass objective themselves.
     """
 
     def initialize(self):
@@ -249,6 +251,9 @@ class WingSizing(om.Group):
         self.options.declare("add_objective", default=False, types=bool,
                              desc="add the structural mass as the objective")
         self.options.declare("mass_ref", default=1.0, lower=0.0, types=numbers.Real, desc="objective scaling reference (kg)")
+        self.options.declare("flutter", default=None, allow_none=True, types=dict,
+                             desc="options of components.flutter.FlutterDamping (aero, speeds, ...): adds the "
+                                  "flutter-damping constraint flutter_ks <= 0 (None: no flutter constraint)")
         self.options.declare("proxy_cases", default=False, types=bool,
                              desc="a subclass adds the cases to cases_group itself (wingmdao.parallel); "
                                   "load_cases may then be empty")
@@ -312,5 +317,21 @@ class WingSizing(om.Group):
                 section=kind, newton_options=self.options["newton_options"],
                 add_constraints=self.options["add_constraints"]),
                 promotes_inputs=case_inputs)
+        if self.options["flutter"] is not None:
+            self._add_flutter(n)
         if self.options["add_objective"]:
             self.add_objective("mass", ref=self.options["mass_ref"])
+
+    #: scaling reference of the flutter constraint (1/s: a decay rate)
+    FLUTTER_REF = 0.1
+
+    def _add_flutter(self, n):
+        """The flutter-damping constraint on the section chain's beam parameters (docs/flutter.md)."""
+        from wingmdao.components.flutter import FlutterDamping
+
+        self.add_subsystem("flutter", FlutterDamping(num_nodes=n, **self.options["flutter"]),
+                           promotes_inputs=["node_positions", "node_euler_angles", *SECTION_TO_BEAM,
+                                            *SECTION_OFFSETS],
+                           promotes_outputs=["flutter_ks"])
+        if self.options["add_constraints"]:
+            self.add_constraint("flutter_ks", upper=0.0, ref=self.FLUTTER_REF)

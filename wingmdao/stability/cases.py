@@ -8,12 +8,15 @@ from dataclasses import dataclass
 import numpy as np
 
 #: cases with beam + aerodynamic data (module in wingmdao.cases with beam_params and aero_data)
-FLUTTER_CASES = ("goland", "hale")
+FLUTTER_CASES = ("goland", "hale", "pegasus")
 #: sparse shift-invert settings: shift near the flutter frequency, eigenvalues kept, Arnoldi basis
 EIG_OPTIONS = {"goland": {"method": "sparse", "sigma": 60j, "count": 16},
-               "hale": {"method": "sparse", "sigma": 20j, "count": 16, "ncv": 60}}
+               "hale": {"method": "sparse", "sigma": 20j, "count": 16, "ncv": 60},
+               "pegasus": {"method": "sparse", "sigma": 120j, "count": 40, "ncv": 100}}
 #: default speed sweeps (V0, V1, N), m/s
-SWEEPS = {"goland": (20.0, 300.0, 15), "hale": (2.0, 40.0, 12)}
+SWEEPS = {"goland": (20.0, 300.0, 15), "hale": (2.0, 40.0, 12), "pegasus": (20.0, 300.0, 15)}
+#: default number of beam nodes per case (PEGASUS: the 20-station sizing mesh)
+DEFAULT_NODES = {"goland": 21, "hale": 21, "pegasus": 20}
 
 
 @dataclass
@@ -25,6 +28,11 @@ class FlutterProblem:
     system: object
     published: dict
     eig_options: dict
+
+    @property
+    def dive_speed(self):
+        """Design dive speed V_D (TAS, m/s) of the case, None when it has none (benchmark wings)."""
+        return self.aero.get("dive_speed")
 
     @property
     def speeds(self):
@@ -40,12 +48,24 @@ class FlutterProblem:
 
         n = self.num_nodes
         a = aero_parameters(n, chord=self.aero["chord"], ref_point=self.aero["ref_point"],
-                            lift_slope=self.aero["lift_slope"], airspeed=V, density=self.aero["density"])
+                            lift_slope=self.aero["lift_slope"], airspeed=V, density=self.aero["density"],
+                            mach=self.mach_at(V))
         p = pack(self.system.param_specs, {**self.beam, **a})
         qv = beam_forcing(n)
         qv.update({s.name: np.zeros(s.shape) for s in aero_forcing_specs(n)})
         q = pack(self.system.forcing_specs, qv)
         return p, q
+
+    def mach_at(self, V):
+        """Mach number at airspeed V (m/s): V / a when the case has a speed of sound, else 0 (incompressible)."""
+        a = self.aero.get("speed_of_sound")
+        return 0.0 if a is None else float(V) / float(a)
+
+    def aero_mask(self):
+        """1 on the aerodynamic lag states, 0 on the beam's (which modes the air loads)."""
+        w = np.zeros(self.system.state_shape)
+        w[:, 18:22] = 1.0
+        return w.ravel()
 
     def beam_weights(self):
         """MAC weights: the beam's displacement and rotation states only."""
@@ -54,17 +74,79 @@ class FlutterProblem:
         return w.ravel()
 
 
-def flutter_problem(name: str, num_nodes: int = 21) -> FlutterProblem:
-    """The aeroelastic flutter problem of case ``name`` (one of :data:`FLUTTER_CASES`)."""
+def flutter_problem(name: str, num_nodes: int | None = None, thickness: dict | None = None) -> FlutterProblem:
+    """The aeroelastic flutter problem of case ``name`` (one of :data:`FLUTTER_CASES`).
+
+    ``num_nodes``: beam nodes (default :data:`DEFAULT_NODES`). ``thickness`` (PEGASUS only):
+    ``{wall: (num_nodes,) m}`` wall thicknesses per node (default: the sizing's initial design),
+    e.g. the ``thickness`` block of a ``wingmdao size pegasus`` JSON.
+    """
     import importlib
 
     if name not in FLUTTER_CASES:
         raise ValueError(f"case {name!r} has no aerodynamic (flutter) data; allowed: {list(FLUTTER_CASES)}")
-    if int(num_nodes) < 3:
+    n = DEFAULT_NODES[name] if num_nodes is None else int(num_nodes)
+    if n < 3:
         raise ValueError(f"num_nodes must be >= 3, got {num_nodes}")
+    if thickness is not None and name != "pegasus":
+        raise ValueError(f"thickness applies to the sized PEGASUS wing only, not to case {name!r}")
     from wingmdao.aero.system import cached_aeroelastic_system
 
     mod = importlib.import_module(f"wingmdao.cases.{name}")
-    return FlutterProblem(name, int(num_nodes), mod.beam_params(int(num_nodes)), mod.aero_data(),
-                          cached_aeroelastic_system(int(num_nodes)), mod.PUBLISHED,
+    if name == "pegasus":
+        beam, aero = mod.beam_params(n, thickness), mod.aero_data(n)
+    else:
+        beam, aero = mod.beam_params(n), mod.aero_data()
+    return FlutterProblem(name, n, beam, aero, cached_aeroelastic_system(n), mod.PUBLISHED,
                           dict(EIG_OPTIONS[name]))
+
+
+#: fractions of F V_D at which the sizing constraint checks the damping (the first picks the modes)
+CONSTRAINT_SPEED_FRACTIONS = (0.25, 0.5, 0.75, 1.0)
+#: most flutter margin F accepted by the sizing constraint (25.629 asks for 1.15)
+MAX_FLUTTER_MARGIN = 3.0
+
+
+def sizing_flutter_options(name: str, num_nodes: int, factor: float, *, rho_ks: float = 100.0,
+                           decay: float = 0.0) -> dict:
+    """Options of :class:`wingmdao.components.flutter.FlutterDamping` for "flutter speed >= F V_D"
+    on sizing case ``name`` (F = ``factor``): the damping constraint Re(lambda) + ``decay`` <= 0
+    (KS, 1/s) at the speeds F V_D x :data:`CONSTRAINT_SPEED_FRACTIONS`. ValueError (before any solve) for a case without
+    aerodynamic data or V_D, or F outside (0, :data:`MAX_FLUTTER_MARGIN`]."""
+    import importlib
+
+    if name not in FLUTTER_CASES or not hasattr(importlib.import_module(f"wingmdao.cases.{name}"), "flight_point"):
+        allowed = [c for c in FLUTTER_CASES if hasattr(importlib.import_module(f"wingmdao.cases.{c}"), "flight_point")]
+        raise ValueError(f"--flutter-margin: case {name!r} has no aerodynamic data or dive speed V_D; "
+                         f"the flutter constraint applies to: {', '.join(allowed)}")
+    F = float(factor)
+    if not (np.isfinite(F) and 0.0 < F <= MAX_FLUTTER_MARGIN):
+        raise ValueError(f"--flutter-margin = {factor}; allowed range (0, {MAX_FLUTTER_MARGIN:g}] "
+                         "(a factor on V_D; 14 CFR 25.629: 1.15)")
+    mod = importlib.import_module(f"wingmdao.cases.{name}")
+    aero = mod.aero_data(int(num_nodes))
+    top = F * aero["dive_speed"]
+    a = aero.get("speed_of_sound")
+    if a is not None and not top < a:
+        raise ValueError(f"--flutter-margin = {factor}: F V_D = {top:.1f} m/s is not subsonic (a = {a:.1f} m/s); "
+                         f"allowed range (0, {a / aero['dive_speed']:.3f})")
+    return {"aero": aero, "speeds": top * np.asarray(CONSTRAINT_SPEED_FRACTIONS),
+            "rho_ks": float(rho_ks), "margin": float(decay), "measure": "sigma",
+            "eig_options": dict(EIG_OPTIONS[name])}
+
+
+def flutter_search(name: str, num_nodes: int | None = None, thickness: dict | None = None, speeds=None,
+                   n_modes: int = 4) -> dict:
+    """Sweep and refined flutter / divergence speeds of case ``name`` (thicknesses: PEGASUS);
+    returns ``{"flutter_speed", "flutter_frequency", "divergence_speed", "sweep_max_speed", "sweep"}``
+    (speeds None when not reached below the sweep's end ``sweep_max_speed``, m/s)."""
+    from wingmdao.stability.eigen import critical_speeds, sweep
+
+    prob = flutter_problem(name, num_nodes, thickness)
+    v = prob.speeds if speeds is None else np.asarray(speeds, dtype=float)
+    res = sweep(prob.system, prob.params_at, v, n_track=int(n_modes), weights=prob.beam_weights(),
+                **prob.eig_options)
+    crit = critical_speeds(res)
+    return {"flutter_speed": crit["flutter_speed"], "flutter_frequency": crit["flutter_frequency"],
+            "divergence_speed": crit["divergence_speed"], "sweep_max_speed": float(v[-1]),
+            "dive_speed": prob.dive_speed, "sweep": res}

@@ -245,6 +245,12 @@ class CasadiResidualSystem(ResidualSystem):
     def residual(self, x, xdot, p, q):
         return self._fast_R(x, xdot, p, q)[0]
 
+    @property
+    def residual_function(self) -> ca.Function:
+        """The CasADi function ``R(x, xdot, p, q)`` (for derived symbolic quantities, e.g. the
+        eigenvalue derivatives of :mod:`wingmdao.stability.sensitivity`)."""
+        return self._R
+
     def jac_state(self, x, xdot, p, q):
         return self._dx(x, xdot, p, q), self._dxdot(x, xdot, p, q)
 

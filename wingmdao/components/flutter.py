@@ -1,0 +1,109 @@
+"""``FlutterDamping``: the aggregated flutter-damping constraint of the aeroelastic beam.
+
+Inputs: the beam parameters of the sizing chain (``node_positions``, ``node_euler_angles``,
+``stiffness_csn``, ``compliance_csn``, ``tension_axis``, ``shear_center``, ``mass_per_length``,
+``mass_center``, ``inertia_per_length``, names and units of :func:`wingmdao.beam.residual.param_specs`).
+Output ``flutter_ks`` = KS over the speeds and the aerodynamically loaded oscillatory modes of
+(Re lambda + margin) in 1/s
+(``measure="sigma"``) or of (margin - damping ratio) (``measure="ratio"``); <= 0: every such
+mode is damped at every speed of the set. From
+:func:`wingmdao.stability.sensitivity.damping_constraint` on the clamped beam with unsteady strip
+theory linearised about its static state at each speed (docs/flutter.md). Partials: exact,
+from the eigenvalue derivatives (left/right vectors, CasADi second derivatives of the residual),
+declared dense (one row).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import openmdao.api as om
+
+from wingmdao.beam.residual import param_specs as beam_param_specs
+
+
+class FlutterDamping(om.ExplicitComponent):
+    """KS damping constraint of the aeroelastic beam over a set of airspeeds (see module docs)."""
+
+    def initialize(self):
+        self.options.declare("num_nodes", types=int, lower=3, desc="number of beam nodes (root first)")
+        self.options.declare("aero", types=dict,
+                             desc="strip aerodynamics: chord (n,) m, ref_point (n,) chord fraction, lift_slope "
+                                  "1/rad, density kg/m**3, optional speed_of_sound m/s (Mach = V / a; else 0)")
+        self.options.declare("speeds", types=(list, tuple, np.ndarray),
+                             desc="airspeeds of the constraint (m/s TAS, increasing)")
+        self.options.declare("rho_ks", default=100.0, lower=1.0,
+                             desc="KS aggregation parameter (s with measure sigma)")
+        self.options.declare("measure", default="sigma", values=("sigma", "ratio"),
+                             desc="sigma: g = Re(lambda) + margin (1/s); ratio: g = margin - damping ratio")
+        self.options.declare("margin", default=0.0, types=float,
+                             desc="required decay rate -Re(lambda) (1/s, sigma) or damping ratio (ratio)")
+        self.options.declare("eig_options", default=None, allow_none=True, types=dict,
+                             desc="options of wingmdao.stability.eigenmodes (method, sigma, count, ncv)")
+
+    def setup(self):
+        from wingmdao.aero.system import cached_aeroelastic_system
+        from wingmdao.stability.eigen import check_speeds
+
+        n = self.options["num_nodes"]
+        self._speeds = check_speeds(self.options["speeds"])
+        aero = self.options["aero"]
+        missing = [k for k in ("chord", "ref_point", "lift_slope", "density") if k not in aero]
+        if missing:
+            raise ValueError(f"FlutterDamping: aero lacks {missing} (chord m, ref_point, lift_slope 1/rad, "
+                             "density kg/m**3)")
+        self._system = cached_aeroelastic_system(n)
+        self._specs = beam_param_specs(n)
+        for s in self._specs:
+            self.add_input(s.name, val=0.0, shape=s.shape, units=s.units, desc=s.desc or s.name)
+        units = "1/s" if self.options["measure"] == "sigma" else None
+        self.add_output("flutter_ks", val=0.0, units=units,
+                        desc="KS over speeds and aerodynamically loaded modes of the damping measure; <= 0: no flutter")
+        self._cache = None
+
+    def setup_partials(self):
+        for s in self._specs:
+            size = int(np.prod(s.shape))
+            self.declare_partials("flutter_ks", s.name, rows=np.zeros(size, int), cols=np.arange(size))
+
+    def _problem(self, inputs):
+        from wingmdao.stability.cases import FlutterProblem
+
+        beam = {s.name: np.asarray(inputs[s.name], dtype=float).reshape(s.shape) for s in self._specs}
+        return FlutterProblem("sizing", self.options["num_nodes"], beam, dict(self.options["aero"]),
+                              self._system, {}, dict(self.options["eig_options"] or {}))
+
+    def _evaluate(self, inputs, gradient):
+        from wingmdao.stability.sensitivity import damping_constraint
+
+        key = np.concatenate([np.asarray(inputs[s.name], dtype=float).ravel() for s in self._specs])
+        if self._cache is not None and np.array_equal(self._cache[0], key) and (
+                self._cache[1].gradient is not None or not gradient):
+            return self._cache[1]
+        prob = self._problem(inputs)
+        try:
+            res = damping_constraint(self._system, prob.params_at, self._speeds, aero_mask=prob.aero_mask(),
+                                     beam_mask=prob.beam_weights(),
+                                     rho_ks=self.options["rho_ks"], margin=self.options["margin"],
+                                     measure=self.options["measure"], gradient=gradient, **prob.eig_options)
+        except (RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
+            raise om.AnalysisError(f"{self.pathname}: flutter eigen-analysis failed: {exc}") from exc
+        self._cache = (key, res)
+        return res
+
+    def compute(self, inputs, outputs):
+        # the gradient with the value: it adds ~15 % (left/right vectors, one CasADi evaluation and
+        # one A^T solve per mode) to the eigen-analyses, which compute_partials would otherwise repeat
+        outputs["flutter_ks"] = self._evaluate(inputs, gradient=True).value
+
+    def compute_partials(self, inputs, partials):
+        from wingmdao.timemarch.system import layout
+
+        res = self._evaluate(inputs, gradient=True)
+        lay = layout(self._system.param_specs)
+        for s in self._specs:
+            partials["flutter_ks", s.name] = res.gradient[lay[s.name]]
+
+    @property
+    def last_result(self):
+        """The :class:`~wingmdao.stability.sensitivity.DampingConstraint` of the last evaluation."""
+        return None if self._cache is None else self._cache[1]
