@@ -103,17 +103,21 @@ def _static_continued(system, params_at, V0, x0, V1, depth=4):
         return _static_continued(system, params_at, mid, x_mid, V1, depth - 1)
 
 
-def _unstable(modes, min_frequency) -> bool:
-    """A mode with non-zero frequency and Re > round-off (the test of :func:`critical_speeds`)."""
-    lam = modes.eigenvalues
+def _tracked_unstable(tracked, min_frequency) -> bool:
+    """A tracked mode of non-zero frequency with Re > round-off at the last speed (the test of
+    :func:`critical_speeds`)."""
+    lam = tracked[-1]
     eps = 1e-9 * np.abs(lam)
     return bool(np.any((lam.real > eps) & (np.abs(lam.imag) > min_frequency)))
 
 
 def deformed_sweep(prob, params_at, speeds, *, n_track=4, load_steps=8, min_frequency=1e-3):
-    """Eigen-analysis about the static state at each speed, continued in speed, stopping one speed
-    after the first unstable oscillatory mode (the flutter bracket) or where no static solution is
-    found (``stopped_at``, m/s, else None). Returns ``(StabilitySweep, stopped_at)``."""
+    """Eigen-analysis about the static state at each speed, continued in speed, stopping at the
+    first speed where a tracked mode (the ``n_track`` lowest-frequency modes of the first speed,
+    followed by MAC) is unstable (the flutter bracket) or where no static solution is found
+    (``stopped_at``, m/s, else None). Untracked modes are ignored: about a lifting, bent state the
+    in-plane (lag) mode, without drag or structural damping, can sit at Re ~ +1e-4 |lambda|.
+    Returns ``(StabilitySweep, stopped_at)``."""
     import openmdao.api as om
 
     from wingmdao.stability.eigen import StabilitySweep, eigenmodes, track_modes
@@ -132,16 +136,17 @@ def deformed_sweep(prob, params_at, speeds, *, n_track=4, load_steps=8, min_freq
                 break
         p, q = params_at(float(V))
         m = eigenmodes(system, p, q, x, static=False, **opts)
-        m.x0 = x
         modes.append(m)
-        if _unstable(m, min_frequency) and k:
+        if k == 0:
+            osc = np.flatnonzero(m.frequency > min_frequency)
+            if osc.size == 0:
+                raise ValueError(f"no oscillatory mode at the first speed {v[0]} m/s")
+            initial = osc[np.argsort(m.frequency[osc])][: int(n_track)]
+        tracked, idx = track_modes(modes, initial, prob.beam_weights())
+        if k and _tracked_unstable(tracked, min_frequency):
             break
     if len(modes) < 2:
         raise om.AnalysisError(f"deformed flutter sweep: no static solution beyond {v[0]} m/s")
-    m0 = modes[0]
-    osc = np.flatnonzero(m0.frequency > min_frequency)
-    initial = osc[np.argsort(m0.frequency[osc])][: int(n_track)]
-    tracked, idx = track_modes(modes, initial, prob.beam_weights())
     vv = v[: len(modes)]
     res = StabilitySweep(vv, modes, tracked, idx, params_at, system,
                          dict(opts, static=True, weights=prob.beam_weights(), min_frequency=min_frequency))
