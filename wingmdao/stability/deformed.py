@@ -27,7 +27,7 @@ from wingmdao.stability.eigen import check_speeds, critical_speeds, static_state
 
 #: default speed sweeps (V0, V1, N) about the deformed state, m/s: finer than the undeformed ones
 #: (the static deflection of the HALE wing changes quickly near flutter)
-DEFORMED_SWEEPS = {"goland": (20.0, 300.0, 57), "hale": (5.0, 36.0, 63)}
+DEFORMED_SWEEPS = {"goland": (20.0, 300.0, 57), "hale": (18.0, 36.0, 37)}
 #: root angles of attack accepted (deg): beyond ~10 deg attached-flow strip theory is meaningless
 MAX_ROOT_AOA_DEG = 10.0
 
