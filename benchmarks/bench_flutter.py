@@ -22,6 +22,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("cases", nargs="*", default=list(FLUTTER_CASES))
     ap.add_argument("--num-nodes", type=int, default=21)
+    ap.add_argument("--deformed", action="store_true", help="also time the HALE deformed sweep (root 2 deg)")
     args = ap.parse_args(argv)
     for name in args.cases:
         t0 = time.perf_counter()
@@ -41,6 +42,16 @@ def main(argv=None):
             ours = crit[key]
             diff = "" if ours is None else f" ({100 * (ours / pub[ref] - 1):+.2f} %)"
             print(f"  {key}: {ours} vs published {pub[ref]}{diff}")
+        if name == "hale" and args.deformed:
+            from wingmdao.stability.deformed import deformed_flutter
+
+            t4 = time.perf_counter()
+            rows = deformed_flutter(prob, [2.0])
+            t5 = time.perf_counter()
+            r = rows[0]
+            print(f"  deformed (root 2 deg, g): {r.speeds.size} speeds in {t5 - t4:.2f} s "
+                  f"({(t5 - t4) / r.speeds.size:.3f} s per speed): flutter {r.flutter_speed:.2f} m/s, "
+                  f"tip {r.tip_deflection:.2f} m")
 
 
 if __name__ == "__main__":
