@@ -75,6 +75,7 @@ def main(argv=None):
     ap.add_argument("--num-nodes", type=int, default=None)
     ap.add_argument("--design", default=None, help="PEGASUS: a 'wingmdao size pegasus' JSON")
     ap.add_argument("--margin", type=float, default=1.15, help="PEGASUS constraint factor F on V_D")
+    ap.add_argument("--deformed", action="store_true", help="also time the HALE deformed sweep (root 2 deg)")
     args = ap.parse_args(argv)
     for name in args.cases:
         thickness = None
@@ -85,6 +86,16 @@ def main(argv=None):
         prob = search(name, args.num_nodes, thickness)
         if name == "pegasus":
             constraint_cost(prob, args.margin)
+        if name == "hale" and args.deformed:
+            from wingmdao.stability.deformed import deformed_flutter
+
+            t4 = time.perf_counter()
+            rows = deformed_flutter(prob, [2.0])
+            t5 = time.perf_counter()
+            r = rows[0]
+            print(f"  deformed (root 2 deg, g): {r.speeds.size} speeds in {t5 - t4:.2f} s "
+                  f"({(t5 - t4) / r.speeds.size:.3f} s per speed): flutter {r.flutter_speed:.2f} m/s, "
+                  f"tip {r.tip_deflection:.2f} m")
 
 
 if __name__ == "__main__":

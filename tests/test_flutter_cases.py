@@ -4,12 +4,15 @@ References: the closed forms of a uniform cantilever (bending 1.8751^2 sqrt(EI /
 torsion pi/2 sqrt(GJ / (I L^2))), a Rayleigh-Ritz solution of the coupled bending-torsion
 cantilever written here (polynomial bending and sine torsion shapes; M. Goland, "The flutter of a
 uniform cantilever wing", J. Appl. Mech. 12(4), 1945, solves the same equations exactly) and the
-published HALE frequencies (M. J. Patil, D. H. Hodges, C. E. S. Cesnik, J. Aircraft 38(1), 2001).
+published HALE frequencies (M. J. Patil, D. H. Hodges, C. E. S. Cesnik, J. Aircraft 38(1), 2001),
+and the exact solution of the coupled bending-torsion cantilever (Goland 1945; Bisplinghoff,
+Ashley & Halfman, "Aeroelasticity", 1955): its transcendental frequency equation solved here.
 """
 
 import numpy as np
 import pytest
 import scipy.linalg as sla
+import scipy.optimize as sopt
 
 from wingmdao.beam.residual import forcing_specs
 from wingmdao.beam.static import BeamModel, beam_forcing
@@ -62,6 +65,49 @@ def test_goland_in_vacuo_vs_rayleigh_ritz_and_closed_forms():
     bend = 1.8751**2 * np.sqrt(goland.EI_FLAP / (goland.MASS * L**4))
     tors = np.pi / 2 * np.sqrt(goland.GJ / (goland.INERTIA * L**2))
     assert w[0] < bend and w[1] > tors
+
+
+def exact_bending_torsion_matrix(w, L, EI, GJ, m, I_ea, d):
+    """Boundary-condition matrix of the exact coupled bending-torsion cantilever at frequency w.
+
+    EI W'''' - m w^2 W + m d w^2 T = 0 and -GJ T'' - I_ea w^2 T + m d w^2 W = 0 (mass centre d aft
+    of the elastic axis, W up, T nose up); W, T ~ exp(s y) with
+    -EI GJ s^6 - EI I_ea w^2 s^4 + m GJ w^2 s^2 + (m I_ea - m^2 d^2) w^4 = 0 and
+    T / W = -(EI s^4 - m w^2) / (m d w^2); clamped root W = W' = T = 0, free tip W'' = W''' = T' = 0.
+    Columns scaled to unit norm (the exponentials span many decades).
+    """
+    z = np.roots([-EI * GJ, -EI * I_ea * w**2, m * GJ * w**2, (m * I_ea - (m * d) ** 2) * w**4]).astype(complex)
+    s = np.concatenate([np.sqrt(z), -np.sqrt(z)])
+    beta = -(EI * s**4 - m * w**2) / (m * d * w**2)
+    e = np.exp(s * L)
+    M = np.array([np.ones(6), s, beta, s**2 * e, s**3 * e, beta * s * e])
+    return M / np.linalg.norm(M, axis=0)
+
+
+def exact_bending_torsion_frequencies(L, EI, GJ, m, I_ea, d, w_max, count):
+    """The first ``count`` zeros (rad/s) of the smallest singular value of the BC matrix."""
+    def smin(w):
+        return np.linalg.svd(exact_bending_torsion_matrix(w, L, EI, GJ, m, I_ea, d), compute_uv=False)[-1]
+
+    ws = np.linspace(0.02 * w_max, w_max, 1500)
+    vals = np.array([smin(w) for w in ws])
+    out = []
+    for i in np.flatnonzero((vals[1:-1] < vals[:-2]) & (vals[1:-1] < vals[2:])) + 1:
+        r = sopt.minimize_scalar(smin, bracket=(ws[i - 1], ws[i], ws[i + 1]), tol=1e-12)
+        assert r.fun < 1e-8                        # a true zero, not a shallow dip
+        out.append(r.x)
+    return np.array(out[:count])
+
+
+def test_goland_in_vacuo_vs_exact_transcendental_solution():
+    d = (goland.MASS_CENTRE - goland.ELASTIC_AXIS) * goland.CHORD
+    exact = exact_bending_torsion_frequencies(goland.SEMI_SPAN, goland.EI_FLAP, goland.GJ, goland.MASS,
+                                              goland.INERTIA, d, 300.0, 3)
+    assert exact.size == 3
+    # the case's quoted exact values (48.16 / 95.72 / 243.8 rad/s = 7.66 / 15.23 / 38.80 Hz)
+    np.testing.assert_allclose(exact, goland.EXACT_FREQUENCIES_RAD_S, rtol=1e-3)
+    w = beam_frequencies(goland.beam_params(21))
+    np.testing.assert_allclose(w[:3], exact, rtol=0.01)
 
 
 def test_goland_zero_offset_is_uncoupled_closed_form():

@@ -34,10 +34,19 @@ INERTIA = 1.943 * SLUG * FT  # slug ft^2 / ft -> kg m
 DENSITY = 1.225
 EDGE_FACTOR = 100.0
 
-#: published strip-theory / exact values quoted in the comparison docs (docs/flutter.md)
+#: gravity of the deformed-state flutter study (the Goland benchmark has none), m/s^2
+GRAVITY = 0.0
+#: in vacuo 1st bending, 1st torsion, 2nd bending (rad/s) of the exact coupled bending-torsion
+#: solution of these data (its transcendental frequency equation, solved in
+#: tests/test_flutter_cases.py): 7.66 / 15.23 / 38.80 Hz
+EXACT_FREQUENCIES_RAD_S = (48.16, 95.72, 243.77)
+
+#: values quoted in the comparison docs (docs/flutter.md); not confirmed against the papers
+#: themselves (not available here): see the table there
 PUBLISHED = {
-    "source": "Patil, Hodges & Cesnik, J. Aircraft 37(5), 2000; Palacios & Epureanu, AIAA 2011-1917",
-    "natural_frequencies_rad_s": [49.6, 97.0, 248.9],   # 1st bending, 1st torsion, 2nd bending
+    "source": "Patil, Hodges & Cesnik, J. Aircraft 37(5), 2000; Palacios & Epureanu, AIAA 2011-1917 "
+              "(as quoted; unconfirmed)",
+    "natural_frequencies_rad_s": [49.6, 97.0, 248.9],   # as quoted; the exact solution: EXACT_FREQUENCIES_RAD_S
     "flutter_speed_m_s": 137.2, "flutter_frequency_rad_s": 70.7,
     "divergence_speed_m_s": 252.8,
 }

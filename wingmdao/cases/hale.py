@@ -22,6 +22,8 @@ GJ = 1.0e4
 MASS = 0.75
 INERTIA = 0.1
 DENSITY = 0.0889
+#: gravity of the deformed-state (nonlinear) flutter study, m/s^2 (the undeformed benchmark has none)
+GRAVITY = 9.807
 
 #: published values (Patil, Hodges & Cesnik 2001, Tables 2-3), quoted in docs/flutter.md
 PUBLISHED = {
@@ -47,3 +49,34 @@ def beam_params(num_nodes: int = 21) -> dict:
 def aero_data() -> dict:
     """Aerodynamic data: chord (m), beam-axis position (fraction of chord), density (kg/m^3)."""
     return {"chord": CHORD, "ref_point": ELASTIC_AXIS, "lift_slope": 2 * np.pi, "density": DENSITY}
+
+
+#: Published nonlinear-flutter curves of this wing (Patil, Hodges & Cesnik 2001: flutter about the
+#: static state at a root angle of attack, with gravity; and flutter speed vs static tip
+#: displacement set by a tip load), as digitised from the paper's figures in AeroBeams.jl
+#: (github.com/luizpancini/AeroBeams.jl, test/referenceData/SMW/flutterSpeedVsRootAoA.txt,
+#: flutterFreqVsRootAoA.txt, flutterTipDispVsRootAoA.txt, flutterSpeedVsTipDisp.txt). Root angles
+#: from 0.63 deg up (below it the drooping wing flutters on another branch at ~23 m/s); digitising
+#: error ~1 %.
+PUBLISHED_DEFORMED = {
+    "source": "Patil, Hodges & Cesnik, J. Aircraft 38(1), 2001 (figures; digitised in AeroBeams.jl "
+              "test/referenceData/SMW)",
+    "speed_vs_root_aoa": {  # root angle of attack (deg) -> flutter speed (m/s)
+        "root_aoa_deg": [0.629, 0.806, 1.002, 1.248, 1.542, 1.876, 2.200, 2.564, 2.908, 3.261, 3.625,
+                         3.949, 4.204, 4.479],
+        "flutter_speed_m_s": [30.32, 29.36, 28.40, 27.23, 26.06, 25.03, 24.07, 23.24, 22.49, 21.80,
+                              21.18, 20.70, 20.35, 19.94]},
+    "frequency_vs_root_aoa": {  # root angle of attack (deg) -> flutter frequency (rad/s)
+        "root_aoa_deg": [0.629, 0.884, 1.110, 1.474, 1.837, 2.269, 2.721, 3.212, 3.674, 4.067, 4.479],
+        "flutter_frequency_rad_s": [21.52, 20.84, 20.15, 19.32, 18.70, 18.22, 17.67, 17.26, 16.78,
+                                    16.64, 16.30]},
+    "tip_vs_root_aoa": {  # root angle of attack (deg) -> static tip displacement at flutter (m)
+        "root_aoa_deg": [0.648, 0.827, 1.124, 1.541, 1.868, 2.344, 2.869, 3.365, 3.801, 4.138, 4.484],
+        "tip_deflection_m": [0.535, 0.704, 0.892, 1.101, 1.219, 1.368, 1.506, 1.595, 1.694, 1.733,
+                             1.762]},
+    "speed_vs_tip_load_deflection": {  # static tip displacement (m, by a tip load) -> flutter speed
+        "tip_deflection_m": [0.005, 0.149, 0.298, 0.471, 0.633, 0.800, 0.955, 1.134, 1.307, 1.456,
+                             1.600, 1.731],
+        "flutter_speed_m_s": [32.15, 31.94, 31.67, 30.70, 29.52, 28.41, 27.16, 25.77, 24.38, 23.41,
+                              22.51, 22.31]},
+}

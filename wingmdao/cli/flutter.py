@@ -10,10 +10,15 @@ divergence_speed_m_s (null when none within the sweep), natural_frequencies_rad_
 first six), speeds, damping (per tracked mode and speed, Re lambda 1/s), damping_ratio
 (g = 2 Re / |Im|), frequency_rad_s, published (the case's reference values), timings; for
 PEGASUS also dive_speed_m_s (V_D) and design (the --design file, or "initial").
+With ``--deformed``: ``deformed`` (gravity_m_s2 and, per root angle of attack, the flutter speed,
+frequency and static tip deflection at flutter, the sweep's speeds and tip deflections,
+:mod:`wingmdao.stability.deformed`), ``deformed_published`` and a flutter speed vs tip
+deflection PNG.
 """
 
 from __future__ import annotations
 
+import json
 import sys
 import time as _time
 
@@ -39,6 +44,13 @@ def register(subparsers):
     from wingmdao.cli._args import add_output_arguments
 
     add_output_arguments(p, what="the V-g / V-f plot (flutter_CASE.png)")
+    p.add_argument("--deformed", action="store_true",
+                   help="also flutter about the static state at each --root-aoa-deg under gravity "
+                        "(nonlinear flutter vs tip deflection; the sweep is --speeds or a fine default)")
+    p.add_argument("--root-aoa-deg", type=float, nargs="+", metavar="A", default=None,
+                   help="root angles of attack for --deformed, deg, |A| <= 10 (default: 1 2 3)")
+    p.add_argument("--gravity", type=float, default=None,
+                   help="gravity for --deformed, m/s^2 >= 0 (default: the case's; HALE 9.807, Goland 0)")
     p.set_defaults(func=run)
 
 
@@ -149,6 +161,71 @@ def analyse(case, speeds=None, num_nodes=None, n_modes=4, thickness=None) -> dic
     })
 
 
+DEFAULT_ROOT_AOA_DEG = (1.0, 2.0, 3.0)
+
+
+def analyse_deformed(case, root_aoa_deg, speeds=None, num_nodes=21, n_modes=4, gravity=None) -> dict:
+    """Flutter about the deformed state per root angle of attack; returns the JSON dict."""
+    import importlib
+
+    from wingmdao.stability.cases import flutter_problem
+    from wingmdao.stability.deformed import deformed_flutter
+
+    t0 = _time.perf_counter()
+    prob = flutter_problem(case, int(num_nodes))
+    if gravity is None:
+        gravity = float(getattr(importlib.import_module(f"wingmdao.cases.{case}"), "GRAVITY", 0.0))
+    rows = deformed_flutter(prob, root_aoa_deg, speeds, gravity=gravity, n_track=int(n_modes))
+    out = {"gravity_m_s2": gravity, "cases": [{
+        "root_aoa_deg": r.root_aoa_deg, "flutter_speed_m_s": r.flutter_speed,
+        "flutter_frequency_rad_s": r.flutter_frequency, "tip_deflection_m": r.tip_deflection,
+        "divergence_speed_m_s": r.divergence_speed, "static_failure_speed_m_s": r.static_failure_speed,
+        "speeds": r.speeds, "tip_deflections_m": r.tip_deflections, "damping": r.damping.T,
+        "frequency_rad_s": r.frequency.T} for r in rows],
+        "time_s": _time.perf_counter() - t0}
+    return _clean(out)
+
+
+def plot_deformed(result, path):
+    """Flutter speed and frequency vs static tip deflection at flutter (and the published curves)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rows = [r for r in result["deformed"]["cases"] if r["flutter_speed_m_s"] is not None]
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 7), sharex=True)
+    tip = [r["tip_deflection_m"] for r in rows]
+    ax1.plot(tip, [r["flutter_speed_m_s"] for r in rows], "o-", label="wingmdao (root angle of attack)")
+    ax2.plot(tip, [r["flutter_frequency_rad_s"] for r in rows], "o-")
+    for r in rows:
+        ax1.annotate(f"{r['root_aoa_deg']:g} deg", (r["tip_deflection_m"], r["flutter_speed_m_s"]), fontsize=7)
+    pub = result.get("deformed_published")
+    if pub:
+        a = np.asarray(pub["speed_vs_root_aoa"]["root_aoa_deg"])
+        t = np.interp(a, pub["tip_vs_root_aoa"]["root_aoa_deg"], pub["tip_vs_root_aoa"]["tip_deflection_m"])
+        ax1.plot(t, pub["speed_vs_root_aoa"]["flutter_speed_m_s"], "k--", label="Patil et al. 2001 (root angle)")
+        c = pub["speed_vs_tip_load_deflection"]
+        ax1.plot(c["tip_deflection_m"], c["flutter_speed_m_s"], "k:", label="Patil et al. 2001 (tip load)")
+        f = pub["frequency_vs_root_aoa"]
+        ax2.plot(np.interp(f["root_aoa_deg"], pub["tip_vs_root_aoa"]["root_aoa_deg"],
+                           pub["tip_vs_root_aoa"]["tip_deflection_m"]), f["flutter_frequency_rad_s"], "k--")
+    ax1.set_ylabel("flutter speed (m/s)")
+    ax1.legend(fontsize=8)
+    ax2.set_ylabel("flutter frequency (rad/s)")
+    ax2.set_xlabel("static tip deflection at flutter (m)")
+    ax1.set_title(f"{result['case']}: flutter about the deformed state "
+                  f"(g = {result['deformed']['gravity_m_s2']:g} m/s^2)")
+    fig.tight_layout()
+    _save_figure(fig, path)
+
+
+def _save_figure(fig, path):
+    from wingmdao.plots import save_figure
+
+    save_figure(fig, path, dpi=110)
+
+
 def plot(result, path):
     import matplotlib
 
@@ -178,6 +255,22 @@ def plot(result, path):
     save_figure(fig, path, dpi=110)
 
 
+def check_deformed_args(args):
+    """Validated root angles of attack (deg) for ``--deformed`` (None without it); ValueError otherwise."""
+    from wingmdao.stability.deformed import check_root_aoa
+
+    if not args.deformed:
+        if args.root_aoa_deg is not None or args.gravity is not None:
+            raise ValueError("--root-aoa-deg and --gravity need --deformed")
+        return None
+    if args.gravity is not None and not (np.isfinite(args.gravity) and args.gravity >= 0.0):
+        raise ValueError(f"--gravity must be finite and >= 0 m/s^2, got {args.gravity}")
+    try:
+        return check_root_aoa(DEFAULT_ROOT_AOA_DEG if args.root_aoa_deg is None else args.root_aoa_deg)
+    except ValueError as e:
+        raise ValueError(f"--root-aoa-deg: {e}") from None
+
+
 def run(args) -> int:
     # all input checks before any solve
     if args.case not in FLUTTER_CASES:
@@ -191,6 +284,12 @@ def run(args) -> int:
     from wingmdao.cli.gust import _check_outputs
 
     plot_path = _check_outputs(args, f"flutter_{args.case}.png")
+    deformed_plot = None
+    angles = check_deformed_args(args)
+    if args.deformed:
+        if args.case == "pegasus":
+            raise ValueError("--deformed: the deformed-state sweep is set up for goland and hale, not pegasus")
+        deformed_plot = _check_outputs(args, f"flutter_{args.case}_deformed.png")
     thickness = None
     if args.design is not None:
         if args.case != "pegasus":
@@ -208,6 +307,18 @@ def run(args) -> int:
     result = analyse(args.case, speeds, args.num_nodes, args.modes, thickness)
     if args.case == "pegasus":
         result["design"] = args.design or "initial"
+    if args.deformed:
+        import importlib
+
+        from wingmdao.stability.cases import DEFAULT_NODES
+
+        result["deformed"] = analyse_deformed(args.case, angles, speeds, args.num_nodes or DEFAULT_NODES[args.case],
+                                              args.modes, args.gravity)
+        result["deformed_published"] = getattr(importlib.import_module(f"wingmdao.cases.{args.case}"),
+                                               "PUBLISHED_DEFORMED", None)
+        for r in result["deformed"]["cases"]:
+            print(f"{args.case} deformed, root angle {r['root_aoa_deg']:g} deg: flutter {r['flutter_speed_m_s']} m/s "
+                  f"at {r['flutter_frequency_rad_s']} rad/s, tip deflection {r['tip_deflection_m']} m", file=sys.stderr)
     msg = (f"{args.case}: flutter {result['flutter_speed_m_s']} m/s at {result['flutter_frequency_rad_s']} rad/s, "
            f"divergence {result['divergence_speed_m_s']} m/s; in vacuo "
            + ", ".join(f"{w:.2f}" for w in result["natural_frequencies_rad_s"]) + " rad/s")
@@ -222,6 +333,11 @@ def run(args) -> int:
             warn("plot skipped (plots need matplotlib: pip install 'wingmdao[plot]'); the JSON is written")
         else:
             print(f"wrote {plot_path}", file=sys.stderr)
+            result["plot"] = plot_path
+            if deformed_plot:
+                plot_deformed(result, deformed_plot)
+                result["plot_deformed"] = deformed_plot
+                print(f"wrote {deformed_plot}", file=sys.stderr)
             if args.json != "-":
-                write_json({**result, "plot": plot_path}, args.json)
+                write_json(result, args.json)
     return 0
