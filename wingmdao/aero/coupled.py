@@ -27,9 +27,13 @@ class CoupledAero:
 
     ``chord`` (m), ``ref_point`` (beam axis, fraction of chord aft of the leading edge),
     ``lift_slope`` (1/rad), ``alpha_zero_lift`` (rad), ``cm0`` per node (scalars broadcast);
-    ``airspeed`` (m/s TAS), ``density`` (kg/m**3), ``mach``; ``plunge`` frees the aircraft in
-    plunge (``body_mass`` kg outside both half-wings), ``trim`` solves the aircraft angle of
-    attack for ``trim_lift`` (N, both half-wings) wherever the forcing ``trim_active`` is 1.
+    ``airspeed`` (m/s TAS), ``density`` (kg/m**3), ``mach``; ``trim`` solves the aircraft angle
+    of attack for ``trim_lift`` (N, both half-wings) wherever the forcing ``trim_active`` is 1.
+    ``plunge`` frees the aircraft in plunge: the case then has the input ``aircraft_mass`` (kg,
+    the whole aircraft, set from this field; connect an aircraft model to it), the model forms
+    the plunge state's mass ``aircraft_mass - 2 m_half`` (:mod:`wingmdao.aero.plunge`) and, with
+    ``trim``, ``trim_lift = n g0 aircraft_mass`` at the load factor n = trim_lift / (g0 aircraft_mass)
+    of the values given here (:func:`trim_load_factor`).
     """
 
     chord: object
@@ -42,8 +46,18 @@ class CoupledAero:
     mach: float = 0.0
     plunge: bool = False
     trim: bool = False
-    body_mass: float = 0.0
+    aircraft_mass: float = 0.0
     trim_lift: float = 0.0
+
+    def trim_load_factor(self) -> float:
+        """n = trim_lift / (g0 aircraft_mass): the trimmed load factor of a free-plunge case."""
+        from wingmdao.cases.planform import G0
+
+        return float(self.trim_lift) / (G0 * float(self.aircraft_mass))
+
+    def model_inputs(self) -> dict:
+        """Inputs of the case that are not aerodynamic parameters: ``aircraft_mass`` (kg) with plunge."""
+        return {"aircraft_mass": float(self.aircraft_mass)} if self.plunge else {}
 
     def parameters(self, num_nodes: int) -> dict:
         """The aerodynamic input values (validated; ValueError naming a bad input)."""
@@ -52,12 +66,12 @@ class CoupledAero:
         out = aero_parameters(num_nodes, chord=self.chord, ref_point=self.ref_point, lift_slope=self.lift_slope,
                               alpha_zero_lift=self.alpha_zero_lift, cm0=self.cm0, airspeed=self.airspeed,
                               density=self.density, mach=self.mach)
-        if self.plunge:
-            if not (np.isfinite(self.body_mass) and self.body_mass > 0):
-                raise ValueError(f"CoupledAero: body_mass must be > 0 kg with plunge=True, got {self.body_mass}")
-            out["body_mass"] = float(self.body_mass)
+        if self.plunge and not (np.isfinite(self.aircraft_mass) and self.aircraft_mass > 0):
+            raise ValueError(f"CoupledAero: aircraft_mass = {self.aircraft_mass} kg with plunge=True; "
+                             "allowed range (0, inf) kg")
         if self.trim:
             if not np.isfinite(self.trim_lift):
                 raise ValueError(f"CoupledAero: trim_lift must be finite (N), got {self.trim_lift}")
-            out["trim_lift"] = float(self.trim_lift)
+            if not self.plunge:  # with plunge the model forms trim_lift from aircraft_mass
+                out["trim_lift"] = float(self.trim_lift)
         return out

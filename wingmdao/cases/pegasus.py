@@ -59,6 +59,9 @@ def add_arguments(p):
     p.add_argument("--aero", choices=["strip", "coupled"], default="strip",
                    help="gust aerodynamics: strip (precomputed rigid-wing strip-theory loads) or coupled (unsteady "
                         "strip theory on the deforming beam, trimmed 1 g start, clamped root; docs/aeroelasticity.md)")
+    p.add_argument("--plunge", choices=["clamped", "free"], default="clamped",
+                   help="coupled gust (--aero coupled): root clamped (wind-tunnel wing, no alleviation) or the "
+                        "aircraft free in plunge (mass = the TOGW, gust alleviation by the aircraft's response)")
     p.add_argument("--kussner", action="store_true", help="lag the gust lift by the Kussner function")
     p.add_argument("--damping-ratio", type=float, default=0.0,
                    help="structural damping ratio of the gust case's beam (Kelvin-Voigt strain-rate damping, "
@@ -222,9 +225,11 @@ def gust_set_of(args):
 def coupled_gust_case(name, args, geometry, chord, axis_frac, families, time, *, gradient_ft, u_ds_eas,
                       airspeed_tas, altitude_m, direction, weight_lb, description):
     """The 1 - cos gust on the aeroelastic beam (``--aero coupled``): unsteady strip theory on the
-    deforming wing (wingmdao.aero), root clamped, the march starting from the trimmed 1 g state
+    deforming wing (wingmdao.aero), root clamped or free plunge, the march starting from the trimmed 1 g state
     (aircraft angle of attack solved at t = 0 so that both half-wings lift W, gravity on), the gust
-    velocity per station with its penetration delay from the most forward leading edge."""
+    velocity per station with its penetration delay from the most forward leading edge.
+    ``--plunge free``: the aircraft (``weight_lb``) free in plunge, its mass the case input
+    ``aircraft_mass``; clamped root otherwise."""
     from wingmdao.aero import station_gust_history
     from wingmdao.aero.coupled import CoupledAero
     from wingmdao.groups.load_case import LoadCase
@@ -245,9 +250,12 @@ def coupled_gust_case(name, args, geometry, chord, axis_frac, families, time, *,
     trim[0] = 1.0
     forcing = {"gravity": np.array([0.0, 0.0, -G0]), "gust_velocity": station_gust_history(time, x_le, V, profile),
                "trim_active": trim}
+    free = getattr(args, "plunge", "clamped") == "free"
     aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
-                       airspeed=V, density=rho, mach=mach, trim=True, trim_lift=weight_lb * LB * G0)
-    return LoadCase(name, time, forcing, families, description + " (coupled aeroelastic)", aero=aero)
+                       airspeed=V, density=rho, mach=mach, trim=True, trim_lift=weight_lb * LB * G0,
+                       plunge=free, aircraft_mass=weight_lb * LB)
+    return LoadCase(name, time, forcing, families,
+                    description + f" (coupled aeroelastic, {'free plunge' if free else 'clamped root'})", aero=aero)
 
 
 def gust_set_cases(gset, args, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
@@ -291,6 +299,9 @@ def build(args, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB) -> CaseSetup:
         raise ValueError(f"--load-factor must be > 0, got {args.load_factor}")
     if args.negative_load_factor >= 0:
         raise ValueError(f"--negative-load-factor must be < 0, got {args.negative_load_factor}")
+    if getattr(args, "plunge", "clamped") == "free" and getattr(args, "aero", "strip") != "coupled":
+        raise ValueError(f"--plunge free needs --aero coupled (the strip-theory loads are precomputed on a "
+                         f"clamped wing), got --aero {getattr(args, 'aero', 'strip')}")
     zeta = float(getattr(args, "damping_ratio", 0.0) or 0.0)
     if not 0.0 <= zeta < 1.0:
         raise ValueError(f"--damping-ratio must be in [0, 1), got {zeta}")
