@@ -75,3 +75,49 @@ class CoupledAero:
             if not self.plunge:  # with plunge the model forms trim_lift from aircraft_mass
                 out["trim_lift"] = float(self.trim_lift)
         return out
+
+
+def load_case_response(prob, case, num_nodes: int, weight: float) -> dict:
+    """Load factor and root loads of an analysed load case of a sizing problem (``cases.<name>``).
+
+    ``weight`` (N): the aircraft weight W. Returns ``time``, ``load_factor`` (lift of both
+    half-wings / W: for a coupled case from its section lift, :meth:`total_lift_history`; for a
+    strip case the z-sum of its applied line and point forces), ``root_bending_moment`` and
+    ``root_torsion`` (N m, M_x and M_y at the root node, body axes), ``tip_displacement`` (m, z),
+    and the peaks ``peak_load_factor``, ``peak_root_bending_moment`` (largest magnitudes).
+    """
+    from wingmdao.aero.system import N_AEROELASTIC_STATES, cached_aeroelastic_system
+    from wingmdao.timemarch.system import pack
+
+    n, path = int(num_nodes), f"cases.{case.name}"
+    t = case.time
+
+    def value(name):  # the beam input under its promoted name (case, model) or its own
+        for full in (f"{path}.{name}", name, f"{path}.beam.{name}"):
+            try:
+                return np.asarray(prob.get_val(full))
+            except KeyError:
+                continue
+        raise KeyError(f"beam input {name} of load case {case.name} not found")
+
+    X = np.asarray(prob.get_val(f"{path}.states")).reshape(t.size, -1)
+    r0 = value("node_positions").reshape(n, 3)
+    ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
+    if case.aero is not None:
+        beam = X[:, :N_AEROELASTIC_STATES * n].reshape(t.size, n, N_AEROELASTIC_STATES)[:, :, :18]
+        system = cached_aeroelastic_system(n, plunge=bool(case.aero.plunge), trim=bool(case.aero.trim))
+        p = pack(system.param_specs, {s.name: value(s.name) for s in system.param_specs})
+        Q = np.concatenate([value(s.name).reshape(t.size, -1) for s in system.forcing_specs], axis=1)
+        dt = float(t[1] - t[0]) if t.size > 1 else 1.0
+        lift = system.total_lift_history(X, dt, p, Q)
+    else:
+        beam = X.reshape(t.size, n, 18)
+        f = case.forcing_array("force_per_length", n)[:, :, 2]
+        lift = 2.0 * (np.sum(0.5 * (f[:, 1:] + f[:, :-1]) * ds, axis=1)
+                      + case.forcing_array("point_force", n)[:, :, 2].sum(axis=1))
+    n_load = lift / float(weight)
+    rbm = beam[:, 0, 9]
+    return {"time": t.tolist(), "load_factor": n_load.tolist(), "root_bending_moment": rbm.tolist(),
+            "root_torsion": beam[:, 0, 10].tolist(), "tip_displacement": (beam[:, -1, 2] - r0[-1, 2]).tolist(),
+            "peak_load_factor": float(n_load[np.argmax(np.abs(n_load))]),
+            "peak_root_bending_moment": float(rbm[np.argmax(np.abs(rbm))])}

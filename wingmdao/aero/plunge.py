@@ -16,28 +16,28 @@ import numpy as np
 
 
 def half_wing_mass(mass_per_length, node_positions):
-    """(m_half kg, d m_half / d mu (n,), d m_half / d node_positions (n, 3)) by the trapezoid rule."""
-    mu = np.asarray(mass_per_length, dtype=float)
-    r = np.asarray(node_positions, dtype=float)
+    """(m_half kg, d m_half / d mu (n,), d m_half / d node_positions (n, 3)) by the trapezoid rule
+    (complex-step safe)."""
+    mu, r = np.asarray(mass_per_length), np.asarray(node_positions)
     d = np.diff(r, axis=0)
-    s = np.linalg.norm(d, axis=1)
-    if np.any(s <= 0):
+    s = np.sqrt(np.sum(d * d, axis=1))
+    if np.any(np.real(s) <= 0):
         raise ValueError("node_positions: element lengths must be > 0 m")
     mbar = 0.5 * (mu[1:] + mu[:-1])
-    dmu = np.zeros(mu.size)
+    dmu = np.zeros(mu.size, dtype=s.dtype)
     dmu[:-1] += 0.5 * s
     dmu[1:] += 0.5 * s
     g = (mbar / s)[:, None] * d  # d (mbar s) / d r_{i+1}
-    dr = np.zeros_like(r)
+    dr = np.zeros(r.shape, dtype=g.dtype)
     dr[1:] += g
     dr[:-1] -= g
-    return float(np.sum(mbar * s)), dmu, dr
+    return np.sum(mbar * s), dmu, dr
 
 
-def body_mass(aircraft_mass: float, half_mass: float) -> float:
+def body_mass(aircraft_mass, half_mass):
     """Mass outside both wing halves, ``aircraft_mass - 2 half_mass`` (kg); ValueError unless > 0."""
-    m = float(aircraft_mass) - 2.0 * float(half_mass)
-    if not (np.isfinite(aircraft_mass) and m > 0.0):
-        raise ValueError(f"aircraft_mass = {aircraft_mass} kg; allowed range (2 x half-wing mass = "
-                         f"{2.0 * half_mass:.6g} kg, inf): the free-plunge body mass must be > 0")
+    m = aircraft_mass - 2.0 * half_mass
+    if not (np.isfinite(np.real(aircraft_mass)) and np.real(m) > 0.0):
+        raise ValueError(f"aircraft_mass = {np.real(aircraft_mass)} kg; allowed range (2 x half-wing mass = "
+                         f"{2.0 * np.real(half_mass):.6g} kg, inf): the free-plunge body mass must be > 0")
     return m

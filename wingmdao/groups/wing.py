@@ -96,7 +96,8 @@ def set_case_loads(prob: om.Problem, case: LoadCase, num_nodes: int, path: str =
         from wingmdao.aero.coupled import AERO_FORCING_META
 
         for name, (units, _) in AERO_FORCING_META.items():
-            prob.set_val(prefix + name, case.forcing_array(name, num_nodes), units=units)
+            if name != "trim_active" or case.aero.trim:
+                prob.set_val(prefix + name, case.forcing_array(name, num_nodes), units=units)
         for name, val in {**case.aero.parameters(num_nodes), **case.aero.model_inputs()}.items():
             prob.set_val(prefix + name, val)
 
