@@ -59,9 +59,10 @@ def add_arguments(p):
     p.add_argument("--aero", choices=["strip", "coupled"], default="strip",
                    help="gust aerodynamics: strip (precomputed rigid-wing strip-theory loads) or coupled (unsteady "
                         "strip theory on the deforming beam, trimmed 1 g start, clamped root; docs/aeroelasticity.md)")
-    p.add_argument("--plunge", choices=["clamped", "free"], default="clamped",
-                   help="coupled gust (--aero coupled): root clamped (wind-tunnel wing, no alleviation) or the "
-                        "aircraft free in plunge (mass = the TOGW, gust alleviation by the aircraft's response)")
+    p.add_argument("--plunge", choices=["clamped", "free"], nargs="?", const="free", default="clamped",
+                   help="coupled gust (--aero coupled): clamped (root clamped, wind-tunnel wing, no alleviation; "
+                        "default) or free (the aircraft free in plunge, its mass the TOGW: gust alleviation by "
+                        "the aircraft's response; '--plunge' alone = free)")
     p.add_argument("--kussner", action="store_true", help="lag the gust lift by the Kussner function")
     p.add_argument("--damping-ratio", type=float, default=0.0,
                    help="structural damping ratio of the gust case's beam (Kelvin-Voigt strain-rate damping, "
