@@ -52,6 +52,10 @@ def test_plunge_body_mass_bad_input():
         CoupledAero(chord=1.0, airspeed=100.0, density=1.0, plunge=True).parameters(3)
     with pytest.raises(ValueError, match="--plunge free needs --aero coupled"):
         pegasus.build(case_arguments(pegasus, loads="gust", plunge="free"))
+    from wingmdao.cases import crm
+
+    with pytest.raises(ValueError, match="--aero coupled is not available for the crm case"):
+        crm.build(case_arguments(crm, aero="coupled"))
 
 
 def _stiff_box_wing_gust(mu, n=3, span=2.0, c=1.0, V=100.0, rho=1.225, dt=0.002):
