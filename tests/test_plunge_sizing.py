@@ -137,3 +137,21 @@ def test_pegasus_free_plunge_lower_peak_than_clamped():
     dn = {k: max(r["load_factor"]) - 1.0 for k, r in out.items()}
     assert 0.3 < dn["free"] < 0.9 * dn["clamped"], dn
     assert max(out["free"]["root_bending_moment"]) < max(out["clamped"]["root_bending_moment"])
+
+
+def test_size_cli_free_plunge_short(tmp_path):
+    """`wingmdao size pegasus --aero coupled --plunge free`: a short free-plunge gust, 1 SLSQP iteration;
+    the JSON holds each case's peak load factor and root bending moment."""
+    import json
+    import subprocess
+    import sys
+
+    out = tmp_path / "r.json"
+    proc = subprocess.run([sys.executable, "-m", "wingmdao", "size", "pegasus", "--loads", "gust", "--aero", "coupled",
+                           "--plunge", "free", "--t-final", "0.3", "--dt", "0.03", "--gust-start", "0", "--maxiter",
+                           "1", "--presize", "0", "--out", str(tmp_path), "--no-plots", "--json", str(out)],
+                          capture_output=True, text=True)
+    assert out.exists(), proc.stderr[-2000:]
+    res = json.loads(out.read_text())
+    r = res["load_case_response"]["gust"]
+    assert 1.0 < r["peak_load_factor"] < 3.0 and r["peak_root_bending_moment_n_m"] > 0
