@@ -139,6 +139,7 @@ def test_pegasus_free_plunge_lower_peak_than_clamped():
     assert max(out["free"]["root_bending_moment"]) < max(out["clamped"]["root_bending_moment"])
 
 
+@pytest.mark.slow
 def test_size_cli_free_plunge_short(tmp_path):
     """`wingmdao size pegasus --aero coupled --plunge free`: a short free-plunge gust, 1 SLSQP iteration;
     the JSON holds each case's peak load factor and root bending moment."""
