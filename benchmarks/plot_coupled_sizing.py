@@ -19,6 +19,16 @@ LABELS = {0: "strip gust / Schrenk maneuvers", 1: "coupled, clamped root", 2: "c
 WALLS = ("upper_skin", "lower_skin", "front_spar", "rear_spar")
 
 
+def _span(res):
+    """Station span coordinates (m): from the envelope of a multi-case run, else the PEGASUS mesh."""
+    if "critical_cases" in res:
+        return np.array([c["span_m"] for c in res["critical_cases"]])
+    from wingmdao.cases import pegasus
+    from wingmdao.cases.planform import wing_geometry
+
+    return wing_geometry(pegasus.PLANFORM, pegasus.ENGINES)[0].node_positions[:, 1]
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("results", nargs="+", help="sizing result JSON files (wingmdao size --json)")
@@ -35,7 +45,7 @@ def main(argv=None):
     for k, path in enumerate(args.results):
         with open(path, encoding="utf-8") as fh:
             res = json.load(fh)
-        y = np.array([c["span_m"] for c in res["critical_cases"]])
+        y = _span(res)
         label = args.labels[k] if args.labels else LABELS.get(k, os.path.basename(path))
         for ax, w in zip(axes.ravel(), WALLS):
             ax.step(y, np.asarray(res["thickness"][w]) * 1e3, where="mid", linestyle=("-", "--", ":", "-.")[k % 4],
@@ -44,6 +54,7 @@ def main(argv=None):
         ax.set_title(w.replace("_", " "))
         ax.set_ylabel("thickness (mm)")
         ax.grid(True)
+        ax.ticklabel_format(axis="y", useOffset=False)
     for ax in axes[1]:
         ax.set_xlabel("span y (m)")
     axes[0, 0].legend(fontsize=8)
