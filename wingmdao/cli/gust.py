@@ -9,7 +9,9 @@ station's penetration delay, the aircraft free in plunge (``--plunge``, default)
 symmetry plane (``--clamped``). The march starts from the trimmed, deformed 1 g level-flight state
 (aircraft angle of attack solved so that the lift of both half-wings equals W, gravity on; the
 ``trim`` option of :func:`~wingmdao.aero.system.build_aeroelastic_system`), the gust an increment
-on it; the load factor is the lift integrated over both half-wings over W.
+on it; the load factor is the lift integrated over both half-wings over W. ``--aero strip``
+instead applies the sizing's precomputed rigid-wing strip-theory gust loads (on the Schrenk 1 g
+spanload) to the structural beam, root clamped; the JSON keys are the same (trim_alpha_rad null).
 
 JSON keys: time, load_factor, peak_incremental_load_factor, quasi_steady_incremental_load_factor
 (dn = rho0 U_de V_e a / (2 W/S), a the model's strip-theory wing lift slope), trim_alpha_rad, wing_lift_slope_per_rad,
@@ -32,9 +34,10 @@ CASES = ("pegasus", "crm")
 
 def register(subparsers):
     p = subparsers.add_parser(
-        "gust", help="gust response (load factor, root loads, tip deflection) with the coupled aeroelastic beam",
-        description="1-cos gust response of a case's wing on the aeroelastic beam (unsteady strip theory on the "
-        "deforming wing, free plunge or clamped), from the trimmed 1 g level flight. SI output.")
+        "gust", help="gust response (load factor, root loads, tip deflection), coupled aeroelastic or strip loads",
+        description="1-cos gust response of a case's wing: on the aeroelastic beam (--aero coupled: unsteady strip "
+        "theory on the deforming wing, free plunge or clamped, from the trimmed 1 g level flight) or with the "
+        "sizing's precomputed strip-theory loads on the clamped beam (--aero strip). SI output.")
     p.add_argument("case", choices=CASES, metavar="CASE", help="case: " + ", ".join(CASES))
     p.add_argument("--aero", choices=("strip", "coupled"), default="coupled",
                    help="aerodynamics: coupled (unsteady strip theory on the deforming beam, default) or strip "
