@@ -39,3 +39,28 @@ def test_gust_pegasus_stiff_free_plunge_pratt_walker(tmp_path, capsys):
     assert abs(ratio / (0.88 * mu / (5.3 + mu)) - 1) < 0.05
     assert np.isclose(res["mean_chord_m"], mean_chord_ft * 0.3048, rtol=1e-9)
     assert (tmp_path / "pegasus_gust.png").exists()
+
+
+def test_gust_strip_peak_equals_quasi_steady_closed_form(tmp_path):
+    """--aero strip: the sizing's rigid-wing quasi-steady strip loads on the clamped beam; on the
+    unswept PEGASUS wing (one leading-edge x, no penetration lag) the peak incremental load factor is
+    the closed form rho0 U_de V_e a / (2 W/S) with a = 2 int 2 pi c dy / S (Pratt-Walker without K_g)."""
+    out = tmp_path / "s.json"
+    rc = main(["gust", "pegasus", "--aero", "strip", "--t-final", "1.6", "--dt", "0.02", "--no-plots",
+               "--json", str(out)])
+    assert rc == 0
+    res = json.loads(out.read_text())
+    assert res["aero"] == "strip" and res["plunge"] is False and res["trim_alpha_rad"] is None
+    np.testing.assert_allclose(res["load_factor"][0], 1.0, rtol=1e-9)  # Schrenk 1 g start
+    rho0, V_e = 1.225, res["airspeed_tas_m_s"] * np.sqrt(res["density_kg_m3"] / 1.225)
+    dn = rho0 * res["u_ds_eas_m_s"] * V_e * res["wing_lift_slope_per_rad"] / (2 * res["wing_loading_pa"])
+    np.testing.assert_allclose(res["peak_incremental_load_factor"], dn, rtol=1e-3)
+    assert max(res["root_bending_moment"]) > 1.5 * res["root_bending_moment"][0]
+
+
+def test_gust_plunge_spelling_and_strip_plunge_error(capsys):
+    assert main(["gust", "pegasus", "--aero", "strip", "--plunge", "free", "--no-plots"]) == 2
+    err = capsys.readouterr().err
+    assert "--plunge free needs --aero coupled" in err
+    assert main(["gust", "pegasus", "--aero", "strip", "--lifting-line", "--no-plots"]) == 2
+    assert "--lifting-line" in capsys.readouterr().err

@@ -27,9 +27,13 @@ class CoupledAero:
 
     ``chord`` (m), ``ref_point`` (beam axis, fraction of chord aft of the leading edge),
     ``lift_slope`` (1/rad), ``alpha_zero_lift`` (rad), ``cm0`` per node (scalars broadcast);
-    ``airspeed`` (m/s TAS), ``density`` (kg/m**3), ``mach``; ``plunge`` frees the aircraft in
-    plunge (``body_mass`` kg outside both half-wings), ``trim`` solves the aircraft angle of
-    attack for ``trim_lift`` (N, both half-wings) wherever the forcing ``trim_active`` is 1.
+    ``airspeed`` (m/s TAS), ``density`` (kg/m**3), ``mach``; ``trim`` solves the aircraft angle
+    of attack for ``trim_lift`` (N, both half-wings) wherever the forcing ``trim_active`` is 1.
+    ``plunge`` frees the aircraft in plunge: the case then has the input ``aircraft_mass`` (kg,
+    the whole aircraft, set from this field; connect an aircraft model to it), the model forms
+    the plunge state's mass ``aircraft_mass - 2 m_half`` (:mod:`wingmdao.aero.plunge`) and, with
+    ``trim``, ``trim_lift = n g0 aircraft_mass`` at the load factor n = trim_lift / (g0 aircraft_mass)
+    of the values given here (:func:`trim_load_factor`).
     """
 
     chord: object
@@ -42,8 +46,18 @@ class CoupledAero:
     mach: float = 0.0
     plunge: bool = False
     trim: bool = False
-    body_mass: float = 0.0
+    aircraft_mass: float = 0.0
     trim_lift: float = 0.0
+
+    def trim_load_factor(self) -> float:
+        """n = trim_lift / (g0 aircraft_mass): the trimmed load factor of a free-plunge case."""
+        from wingmdao.cases.planform import G0
+
+        return float(self.trim_lift) / (G0 * float(self.aircraft_mass))
+
+    def model_inputs(self) -> dict:
+        """Inputs of the case that are not aerodynamic parameters: ``aircraft_mass`` (kg) with plunge."""
+        return {"aircraft_mass": float(self.aircraft_mass)} if self.plunge else {}
 
     def parameters(self, num_nodes: int) -> dict:
         """The aerodynamic input values (validated; ValueError naming a bad input)."""
@@ -52,12 +66,58 @@ class CoupledAero:
         out = aero_parameters(num_nodes, chord=self.chord, ref_point=self.ref_point, lift_slope=self.lift_slope,
                               alpha_zero_lift=self.alpha_zero_lift, cm0=self.cm0, airspeed=self.airspeed,
                               density=self.density, mach=self.mach)
-        if self.plunge:
-            if not (np.isfinite(self.body_mass) and self.body_mass > 0):
-                raise ValueError(f"CoupledAero: body_mass must be > 0 kg with plunge=True, got {self.body_mass}")
-            out["body_mass"] = float(self.body_mass)
+        if self.plunge and not (np.isfinite(self.aircraft_mass) and self.aircraft_mass > 0):
+            raise ValueError(f"CoupledAero: aircraft_mass = {self.aircraft_mass} kg with plunge=True; "
+                             "allowed range (0, inf) kg")
         if self.trim:
             if not np.isfinite(self.trim_lift):
                 raise ValueError(f"CoupledAero: trim_lift must be finite (N), got {self.trim_lift}")
-            out["trim_lift"] = float(self.trim_lift)
+            if not self.plunge:  # with plunge the model forms trim_lift from aircraft_mass
+                out["trim_lift"] = float(self.trim_lift)
         return out
+
+
+def load_case_response(prob, case, num_nodes: int, weight: float) -> dict:
+    """Load factor and root loads of an analysed load case of a sizing problem (``cases.<name>``).
+
+    ``weight`` (N): the aircraft weight W. Returns ``time``, ``load_factor`` (lift of both
+    half-wings / W: for a coupled case from its section lift, :meth:`total_lift_history`; for a
+    strip case the z-sum of its applied line and point forces), ``root_bending_moment`` and
+    ``root_torsion`` (N m, M_x and M_y at the root node, body axes), ``tip_displacement`` (m, z),
+    and the peaks ``peak_load_factor``, ``peak_root_bending_moment`` (largest magnitudes).
+    """
+    from wingmdao.aero.system import N_AEROELASTIC_STATES, cached_aeroelastic_system
+    from wingmdao.timemarch.system import pack
+
+    n, path = int(num_nodes), f"cases.{case.name}"
+    t = case.time
+
+    def value(name):  # the beam input under its promoted name (case, model) or its own
+        for full in (f"{path}.{name}", name, f"{path}.beam.{name}"):
+            try:
+                return np.asarray(prob.get_val(full))
+            except KeyError:
+                continue
+        raise KeyError(f"beam input {name} of load case {case.name} not found")
+
+    X = np.asarray(prob.get_val(f"{path}.states")).reshape(t.size, -1)
+    r0 = value("node_positions").reshape(n, 3)
+    ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
+    if case.aero is not None:
+        beam = X[:, :N_AEROELASTIC_STATES * n].reshape(t.size, n, N_AEROELASTIC_STATES)[:, :, :18]
+        system = cached_aeroelastic_system(n, plunge=bool(case.aero.plunge), trim=bool(case.aero.trim))
+        p = pack(system.param_specs, {s.name: value(s.name) for s in system.param_specs})
+        Q = np.concatenate([value(s.name).reshape(t.size, -1) for s in system.forcing_specs], axis=1)
+        dt = float(t[1] - t[0]) if t.size > 1 else 1.0
+        lift = system.total_lift_history(X, dt, p, Q)
+    else:
+        beam = X.reshape(t.size, n, 18)
+        f = case.forcing_array("force_per_length", n)[:, :, 2]
+        lift = 2.0 * (np.sum(0.5 * (f[:, 1:] + f[:, :-1]) * ds, axis=1)
+                      + case.forcing_array("point_force", n)[:, :, 2].sum(axis=1))
+    n_load = lift / float(weight)
+    rbm = beam[:, 0, 9]
+    return {"time": t.tolist(), "load_factor": n_load.tolist(), "root_bending_moment": rbm.tolist(),
+            "root_torsion": beam[:, 0, 10].tolist(), "tip_displacement": (beam[:, -1, 2] - r0[-1, 2]).tolist(),
+            "peak_load_factor": float(n_load[np.argmax(np.abs(n_load))]),
+            "peak_root_bending_moment": float(rbm[np.argmax(np.abs(rbm))])}

@@ -285,6 +285,16 @@ class AeroelasticBeamSystem(CasadiResidualSystem):
         out = [self.section_loads(X[i], Xdot[i], p, Q[i]) for i in range(X.shape[0])]
         return np.array([o[0] for o in out]), np.array([o[1] for o in out])
 
+    def total_lift_history(self, X, dt, p, Q):
+        """Lift of both half-wings (N) at every instant: 2 x the trapezoid of the section lift over
+        the undeformed beam (states X (n_time, n_state), BDF rates at step ``dt``, forcing Q)."""
+        from wingmdao.timemarch.bdf import state_rates
+
+        lift, _ = self.section_load_history(X, state_rates(X, dt), p, Q)
+        r0 = self.split_parameters(p)["node_positions"]
+        ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
+        return 2.0 * np.sum(0.5 * (lift[:, 1:] + lift[:, :-1]) * ds, axis=1)
+
     def split_parameters(self, p):
         """``{name: array}`` of a packed parameter vector."""
         lay = layout(self.param_specs)

@@ -41,6 +41,8 @@ GUST = {"altitude_ft": 25000.0, "mach": 0.5, "u_ref_fps": 30.0, "gradient_ft": 3
 MIN_GAUGE = 1e-3  # m (Table 5.1)
 LOAD_SETS = ("maneuver", "gust", "all")
 AERO_MODELS = ("strip", "coupled")
+#: the coupled gust's root: clamped (wind-tunnel wing) or the aircraft free in plunge
+PLUNGE_MODES = ("clamped", "free")
 GUST_SIGNS = ("up", "down", "both")
 
 
@@ -61,6 +63,7 @@ class PegasusOptions(CaseOptions):
     dt: float = 0.02  # s
     gust_start: float = 0.2  # s
     aero: str = field(default="strip", metadata={"choices": AERO_MODELS})
+    plunge: str = field(default="clamped", metadata={"choices": PLUNGE_MODES})  # coupled gust: root clamped or free
     kussner: bool = False
     damping_ratio: float = 0.0
     damping_frequency_hz: float | None = None
@@ -74,7 +77,7 @@ class PegasusOptions(CaseOptions):
 OPTIONS = PegasusOptions
 #: the options only the gust cases use (a warning names those changed with --loads maneuver)
 GUST_ONLY_OPTIONS = ("altitude_ft", "mach", "u_ref_fps", "gust_gradient_ft", "t_final", "dt", "gust_start",
-                     "kussner", "damping_ratio", "damping_frequency_hz")
+                     "kussner", "damping_ratio", "damping_frequency_hz", "plunge")
 
 
 def add_arguments(p):
@@ -97,6 +100,10 @@ def add_arguments(p):
     p.add_argument("--aero", choices=AERO_MODELS,
                    help="gust aerodynamics: strip (precomputed rigid-wing strip-theory loads) or coupled (unsteady "
                         "strip theory on the deforming beam, trimmed 1 g start, clamped root; docs/aeroelasticity.md)")
+    p.add_argument("--plunge", choices=PLUNGE_MODES, nargs="?", const="free",
+                   help="coupled gust (--aero coupled): clamped (root clamped, wind-tunnel wing, no alleviation; "
+                        "default) or free (the aircraft free in plunge, its mass the TOGW: gust alleviation by "
+                        "the aircraft's response; '--plunge' alone = free)")
     p.add_argument("--kussner", action="store_true", help="lag the gust lift by the Kussner function")
     p.add_argument("--damping-ratio", type=float,
                    help="structural damping ratio of the gust case's beam (Kelvin-Voigt strain-rate damping, "
@@ -261,9 +268,11 @@ def gust_set_of(opts):
 def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *, gradient_ft, u_ds_eas,
                       airspeed_tas, altitude_m, direction, weight_lb, description):
     """The 1 - cos gust on the aeroelastic beam (``--aero coupled``): unsteady strip theory on the
-    deforming wing (wingmdao.aero), root clamped, the march starting from the trimmed 1 g state
+    deforming wing (wingmdao.aero), root clamped or free plunge, the march starting from the trimmed 1 g state
     (aircraft angle of attack solved at t = 0 so that both half-wings lift W, gravity on), the gust
-    velocity per station with its penetration delay from the most forward leading edge."""
+    velocity per station with its penetration delay from the most forward leading edge.
+    ``--plunge free``: the aircraft (``weight_lb``) free in plunge, its mass the case input
+    ``aircraft_mass``; clamped root otherwise."""
     from wingmdao.aero import station_gust_history
     from wingmdao.aero.coupled import CoupledAero
     from wingmdao.groups.load_case import LoadCase
@@ -284,9 +293,12 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
     trim[0] = 1.0
     forcing = {"gravity": np.array([0.0, 0.0, -G0]), "gust_velocity": station_gust_history(time, x_le, V, profile),
                "trim_active": trim}
+    free = opts.plunge == "free"
     aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
-                       airspeed=V, density=rho, mach=mach, trim=True, trim_lift=weight_lb * LB * G0)
-    return LoadCase(name, time, forcing, families, description + " (coupled aeroelastic)", aero=aero)
+                       airspeed=V, density=rho, mach=mach, trim=True, trim_lift=weight_lb * LB * G0,
+                       plunge=free, aircraft_mass=weight_lb * LB)
+    return LoadCase(name, time, forcing, families,
+                    description + f" (coupled aeroelastic, {'free plunge' if free else 'clamped root'})", aero=aero)
 
 
 def gust_set_cases(gset, opts, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
@@ -338,6 +350,9 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
         raise ValueError(f"--load-factor must be > 0, got {opts.load_factor}")
     if not (np.isfinite(opts.negative_load_factor) and opts.negative_load_factor < 0):
         raise ValueError(f"--negative-load-factor must be < 0, got {opts.negative_load_factor}")
+    if opts.plunge == "free" and opts.aero != "coupled":
+        raise ValueError(f"--plunge free needs --aero coupled (the strip-theory loads are precomputed on a "
+                         f"clamped wing), got --aero {opts.aero}")
     zeta = opts.damping_ratio
     if not 0.0 <= zeta < 1.0:
         raise ValueError(f"--damping-ratio must be in [0, 1), got {zeta}")

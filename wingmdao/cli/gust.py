@@ -9,7 +9,9 @@ station's penetration delay, the aircraft free in plunge (``--plunge``, default)
 symmetry plane (``--clamped``). The march starts from the trimmed, deformed 1 g level-flight state
 (aircraft angle of attack solved so that the lift of both half-wings equals W, gravity on; the
 ``trim`` option of :func:`~wingmdao.aero.system.build_aeroelastic_system`), the gust an increment
-on it; the load factor is the lift integrated over both half-wings over W.
+on it; the load factor is the lift integrated over both half-wings over W. ``--aero strip``
+instead applies the sizing's precomputed rigid-wing strip-theory gust loads (on the Schrenk 1 g
+spanload) to the structural beam, root clamped; the JSON keys are the same (trim_alpha_rad null).
 
 JSON keys: time, load_factor, peak_incremental_load_factor, quasi_steady_incremental_load_factor
 (dn = rho0 U_de V_e a / (2 W/S), a the model's strip-theory wing lift slope), trim_alpha_rad, wing_lift_slope_per_rad,
@@ -31,17 +33,21 @@ CASES = ("pegasus", "crm")
 
 def register(subparsers):
     p = subparsers.add_parser(
-        "gust", help="gust response (load factor, root loads, tip deflection) with the coupled aeroelastic beam",
-        description="1-cos gust response of a case's wing on the aeroelastic beam (unsteady strip theory on the "
-        "deforming wing, free plunge or clamped), from the trimmed 1 g level flight. SI output.")
+        "gust", help="gust response (load factor, root loads, tip deflection), coupled aeroelastic or strip loads",
+        description="1-cos gust response of a case's wing: on the aeroelastic beam (--aero coupled: unsteady strip "
+        "theory on the deforming wing, free plunge or clamped, from the trimmed 1 g level flight) or with the "
+        "sizing's precomputed strip-theory loads on the clamped beam (--aero strip). SI output.")
     p.add_argument("case", choices=CASES, metavar="CASE", help="case: " + ", ".join(CASES))
-    p.add_argument("--aero", choices=("coupled",), default="coupled",
-                   help="aerodynamics: coupled (unsteady strip theory on the deforming beam; the precomputed "
-                        "strip loads are 'wingmdao size CASE --loads gust')")
+    p.add_argument("--aero", choices=("strip", "coupled"), default="coupled",
+                   help="aerodynamics: coupled (unsteady strip theory on the deforming beam, default) or strip "
+                        "(the sizing's precomputed rigid-wing strip-theory gust loads on the structural beam, "
+                        "clamped root; as 'wingmdao size CASE --aero strip')")
     g = p.add_mutually_exclusive_group()
-    g.add_argument("--plunge", dest="plunge", action="store_true", default=True,
-                   help="aircraft free in plunge (default)")
-    g.add_argument("--clamped", dest="plunge", action="store_false", help="root clamped (wind-tunnel wing)")
+    g.add_argument("--plunge", dest="plunge", nargs="?", const="free", choices=("free", "clamped"), default=None,
+                   help="free (aircraft free in plunge; default with --aero coupled; '--plunge' alone = free) or "
+                        "clamped (root clamped; the only choice with --aero strip)")
+    g.add_argument("--clamped", dest="plunge", action="store_const", const="clamped",
+                   help="root clamped (wind-tunnel wing): the same as --plunge clamped")
     p.add_argument("--gradient-ft", type=float, default=None, metavar="H",
                    help="gust gradient H (ft, 30-350; default: the case's)")
     p.add_argument("--stiffness-scale", type=float, default=1.0, metavar="S",
@@ -93,14 +99,20 @@ def _beam_parameters(module, args):
 
 def run(args):
     from wingmdao.cli._io import write_json
-    from wingmdao.aero import aero_parameters, cached_aeroelastic_system, station_gust_history
+    from wingmdao.aero import aero_parameters
+    from wingmdao.aero.plunge import body_mass as plunge_body_mass, half_wing_mass
     from wingmdao.cases import available_cases
     from wingmdao.cases.planform import FT, G0, LB, wing_geometry
     from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
-    from wingmdao.timemarch.bdf import march
-    from wingmdao.timemarch.system import layout, pack
 
     t_wall = _time.perf_counter()
+    plunge = args.plunge or ("free" if args.aero == "coupled" else "clamped")
+    if args.aero == "strip" and plunge == "free":
+        raise ValueError("--plunge free needs --aero coupled (the strip-theory gust loads are precomputed on a "
+                         "clamped wing); use --aero strip --clamped or --aero coupled --plunge free")
+    if args.aero == "strip" and args.lifting_line:
+        raise ValueError("--lifting-line applies to --aero coupled (the strip-theory loads use 2 pi)")
+    args.plunge = plunge == "free"
     module = available_cases()[args.case]
     base = __import__("wingmdao.cases.pegasus", fromlist=["GUST"])
     gust = dict(base.GUST)
@@ -142,52 +154,23 @@ def run(args):
     ap = aero_parameters(n, chord=chord, ref_point=axis_frac, lift_slope=slope, airspeed=V, density=rho,
                          mach=mach)
     r0 = bp["node_positions"]
-    ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
-    half_wing_mass = float(np.sum(0.5 * (bp["mass_per_length"][1:] + bp["mass_per_length"][:-1]) * ds))
-    mass = weight / G0
-    body_mass = mass - 2 * half_wing_mass
-    if body_mass <= 0:
-        raise ValueError(f"aircraft mass {mass:.0f} kg is below twice the half-wing mass {half_wing_mass:.0f} kg")
-    system = cached_aeroelastic_system(n, plunge=args.plunge, trim=True)
-    params = {**bp, **ap, "trim_lift": weight}
-    if args.plunge:
-        params["body_mass"] = body_mass
-    p = pack(system.param_specs, params)
-
-    # gust: 1-cos, U_ds EAS -> TAS, penetration from the most forward leading edge
+    body_mass = plunge_body_mass(weight / G0, half_wing_mass(bp["mass_per_length"], r0)[0])
     H = H_ft * FT
     u_eas = u_ref * FT * (H_ft / 350.0) ** (1.0 / 6.0)
     u_tas = u_eas * np.sqrt(rho0 / rho)
     t = np.arange(0.0, t_final + 0.5 * args.dt, args.dt)
-    x_le = r0[:, 0] - axis_frac * chord
-
-    def profile(tau):
-        d = V * (tau - args.gust_start)
-        return np.where((d >= 0) & (d <= 2 * H), 0.5 * u_tas * (1 - np.cos(np.pi * d / H)), 0.0)
-
-    wg = station_gust_history(t, x_le, V, profile)
-    ql = layout(system.forcing_specs)
-    Q = np.zeros((t.size, system.n_forcing))
-    Q[:, ql["gust_velocity"]] = wg
-    Q[:, ql["gravity"].start + 2] = -G0
-    Q[0, ql["trim_active"]] = 1.0
     print(f"wingmdao gust {args.case}: {n} nodes, {t.size} steps, V = {V:.1f} m/s TAS, rho = {rho:.4f} kg/m^3, "
-          f"U_ds = {u_eas:.2f} m/s EAS, H = {H_ft:g} ft, {'free plunge' if args.plunge else 'clamped'}",
-          file=sys.stderr)
-    hist = march(system, t, p, Q, modified_newton=True)
-    X = hist.states[:, :22 * n].reshape(t.size, n, 22)
+          f"U_ds = {u_eas:.2f} m/s EAS, H = {H_ft:g} ft, --aero {args.aero}, "
+          f"{'free plunge' if args.plunge else 'clamped'}", file=sys.stderr)
+    flight = dict(V=V, rho=rho, mach=mach, alt=alt, H=H, u_eas=u_eas, u_tas=u_tas, weight=weight)
+    if args.aero == "coupled":
+        n_load, X, a_wing, trim_alpha = _coupled_history(args, t, bp, chord, axis_frac, ap, flight, body_mass)
+    else:
+        n_load, X, a_wing, trim_alpha = _strip_history(args, module, setup.geometry, t, bp, chord, axis_frac, flight)
     area = pf.area_ft2 * FT ** 2
     wing_loading = weight / area
     span = 2 * pf.semi_span
     mean_chord = area / span
-    # strip-theory wing lift slope of the model: 2 * integral c a / beta dy / S
-    a_strip = ap["lift_slope"] / np.sqrt(1 - mach ** 2) * chord
-    a_wing = float(2 * np.sum(0.5 * (a_strip[1:] + a_strip[:-1]) * ds) / area)
-    from wingmdao.timemarch.bdf import state_rates
-
-    lift, _ = system.section_load_history(hist.states, state_rates(hist.states, args.dt), p, Q)
-    total_lift = 2 * np.sum(0.5 * (lift[:, 1:] + lift[:, :-1]) * ds, axis=1)
-    n_load = total_lift / weight
     dn = n_load - n_load[0]
     V_e = V * np.sqrt(rho / rho0)
     dn_qs = rho0 * u_eas * V_e * a_wing / (2 * wing_loading)
@@ -198,7 +181,7 @@ def run(args):
         "airspeed_tas_m_s": V, "density_kg_m3": rho, "u_ds_eas_m_s": u_eas,
         "time": t.tolist(),
         "load_factor": n_load.tolist(),
-        "trim_alpha_rad": float(hist.states[0, system.trim_index]),
+        "trim_alpha_rad": trim_alpha,
         "peak_incremental_load_factor": float(np.max(np.abs(dn))),
         "quasi_steady_incremental_load_factor": float(dn_qs),
         "wing_lift_slope_per_rad": a_wing,
@@ -206,7 +189,7 @@ def run(args):
         "pratt_walker_factor": float(0.88 * mu / (5.3 + mu)),
         "mean_chord_m": float(mean_chord),
         "wing_loading_pa": float(wing_loading),
-        "root_bending_moment": X[:, 0, 9].tolist(),  # total, 1 g included
+        "root_bending_moment": X[:, 0, 9].tolist(),  # total, 1 g included (X: the 18 beam states per node)
         "root_torsion": X[:, 0, 10].tolist(),
         "tip_displacement": (X[:, -1, 2] - r0[-1, 2]).tolist(),
         "wall_s": _time.perf_counter() - t_wall,
@@ -230,6 +213,91 @@ def _check_outputs(args, plot_name):
         refuse_existing([plot], overwrite=args.overwrite, what="plot")
     check_output_file(args.json, "--json", overwrite=args.overwrite, others={"plot": plot})
     return plot
+
+
+def _gust_profile(args, flight):
+    """1-cos gust velocity (m/s TAS, up) at the leading edge reached first, as a function of time."""
+    V, H, u_tas = flight["V"], flight["H"], flight["u_tas"]
+
+    def profile(tau):
+        d = V * (np.asarray(tau) - args.gust_start)
+        return np.where((d >= 0) & (d <= 2 * H), 0.5 * u_tas * (1 - np.cos(np.pi * d / H)), 0.0)
+
+    return profile
+
+
+def _wing_slope(section_slope, chord, r0, area):
+    """Wing lift slope of strips of slope ``section_slope`` (per rad): 2 int c a dy / S (trapezoid)."""
+    a = np.asarray(section_slope) * np.asarray(chord)
+    ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
+    return float(2 * np.sum(0.5 * (a[1:] + a[:-1]) * ds) / area)
+
+
+def _coupled_history(args, t, bp, chord, axis_frac, ap, flight, body_mass):
+    """--aero coupled: march the aeroelastic beam from the trimmed 1 g state; (n(t), beam states
+    (n_time, n, 18), wing lift slope of the strips with Prandtl-Glauert, trim angle)."""
+    from wingmdao.aero import cached_aeroelastic_system, station_gust_history
+    from wingmdao.cases.planform import G0
+    from wingmdao.timemarch.bdf import march
+    from wingmdao.timemarch.system import layout, pack
+
+    n = chord.size
+    system = cached_aeroelastic_system(n, plunge=args.plunge, trim=True)
+    params = {**bp, **ap, "trim_lift": flight["weight"]}
+    if args.plunge:
+        params["body_mass"] = body_mass
+    p = pack(system.param_specs, params)
+    r0 = bp["node_positions"]
+    x_le = r0[:, 0] - axis_frac * chord  # penetration from the most forward leading edge
+    ql = layout(system.forcing_specs)
+    Q = np.zeros((t.size, system.n_forcing))
+    Q[:, ql["gust_velocity"]] = station_gust_history(t, x_le, flight["V"], _gust_profile(args, flight))
+    Q[:, ql["gravity"].start + 2] = -G0
+    Q[0, ql["trim_active"]] = 1.0
+    hist = march(system, t, p, Q, modified_newton=True)
+    X = hist.states[:, :22 * n].reshape(t.size, n, 22)[:, :, :18]
+    n_load = system.total_lift_history(hist.states, args.dt, p, Q) / flight["weight"]
+    a_wing = _wing_slope(ap["lift_slope"] / np.sqrt(1 - flight["mach"] ** 2), chord, r0, _area(args))
+    return n_load, X, a_wing, float(hist.states[0, system.trim_index])
+
+
+def _strip_history(args, module, geometry, t, bp, chord, axis_frac, flight):
+    """--aero strip: the sizing's precomputed loads (rigid-wing quasi-steady strip theory, 2 pi, on the
+    Schrenk 1 g loads; wingmdao.loads.gust.gust_line_loads as ``wingmdao size CASE --aero strip``) on
+    the structural beam, root clamped; (n(t) = applied lift / W, beam states, wing lift slope, None)."""
+    from wingmdao.beam.static import cached_beam_system
+    from wingmdao.cases.planform import G0
+    from wingmdao.loads.gust import gust_line_loads
+    from wingmdao.loads.maneuver import maneuver_line_loads
+    from wingmdao.timemarch.bdf import march
+    from wingmdao.timemarch.system import layout, pack
+
+    pf, n, r0 = module.PLANFORM, chord.size, bp["node_positions"]
+    fus = pf.root_rib * pf.semi_span
+    steady = maneuver_line_loads(r0, chord, axis_frac, flight["weight"], 1.0, semi_span=pf.semi_span,
+                                 fuselage_half_width=fus)
+    loads = gust_line_loads(r0, chord, axis_frac, t, gust_gradient_m=flight["H"], u_ds_eas=flight["u_eas"],
+                            airspeed_tas=flight["V"], altitude_m=flight["alt"], gust_start_time=args.gust_start,
+                            steady=steady, fuselage_half_width=fus)
+    system = cached_beam_system(n)
+    p = pack(system.param_specs, bp)
+    ql = layout(system.forcing_specs)
+    Q = np.zeros((t.size, system.n_forcing))
+    Q[:, ql["force_per_length"]] = loads.force_per_length.reshape(t.size, -1)
+    Q[:, ql["moment_per_length"]] = loads.moment_per_length.reshape(t.size, -1)
+    Q[:, ql["gravity"].start + 2] = -G0
+    hist = march(system, t, p, Q, modified_newton=True)
+    fz = loads.force_per_length[:, :, 2]
+    ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
+    n_load = 2 * np.sum(0.5 * (fz[:, 1:] + fz[:, :-1]) * ds, axis=1) / flight["weight"]
+    return n_load, hist.states.reshape(t.size, n, 18), _wing_slope(2 * np.pi, chord, r0, _area(args)), None
+
+
+def _area(args):
+    from wingmdao.cases import available_cases
+    from wingmdao.cases.planform import FT
+
+    return available_cases()[args.case].PLANFORM.area_ft2 * FT ** 2
 
 
 def _plots(res, stem):

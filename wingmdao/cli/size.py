@@ -163,6 +163,8 @@ def run_size(args) -> int:
     result["mpi_ranks"] = launched_ranks() if comm is not None else 1
     if recording:
         result["recording"] = recording
+    if comm is None and not (interrupted or failed) and hasattr(args.case_module, "TOGW_LB"):
+        result["load_case_response"] = _case_responses(prob, setup, args.case_module.TOGW_LB)
     plots_on = not args.no_plots and root and not (interrupted or failed)
     if plots_on:
         import importlib.util
@@ -242,6 +244,20 @@ def _add_flutter_result(result, args, setup) -> None:
         f"{result['flutter_search_s']:.1f} s")
 
 
+def _case_responses(prob, setup, togw_lb) -> dict:
+    """Per load case of the final design: peak load factor (lift of both halves / TOGW weight) and
+    peak root bending moment (N m), :func:`wingmdao.aero.coupled.load_case_response`."""
+    from wingmdao.aero.coupled import load_case_response
+    from wingmdao.cases.planform import G0, LB
+
+    out = {}
+    for case in setup.load_cases:
+        r = load_case_response(prob, case, setup.geometry.num_nodes, togw_lb * LB * G0)
+        out[case.name] = {"peak_load_factor": r["peak_load_factor"],
+                          "peak_root_bending_moment_n_m": r["peak_root_bending_moment"]}
+    return out
+
+
 def _interrupted_result(prob, setup, desc, recording, interrupted=True) -> dict:
     """Partial result after Ctrl-C (or a failed analysis): the design at the last evaluation and the best feasible
     recorded iteration (lowest objective with every KS constraint <= 0)."""
@@ -281,6 +297,9 @@ def _print_summary(res):
     for case, fams in res["ks"].items():
         vals = ", ".join(f"{f} = {v:+.3e}" for f, v in fams.items())
         print(f"  KS {case}: {vals}")
+    for case, r in res.get("load_case_response", {}).items():
+        print(f"  {case}: peak load factor {r['peak_load_factor']:+.3f}, "
+              f"peak root bending {r['peak_root_bending_moment_n_m'] / 1e3:.1f} kN m")
     if res.get("active_constraints"):
         print(f"  active: {', '.join(res['active_constraints'])}")
     for p in res.get("plots", []):

@@ -15,9 +15,13 @@ Aerodynamic inputs are checked before any solve (ValueError naming the input, va
 from __future__ import annotations
 
 import numpy as np
+import openmdao.api as om
 
+from wingmdao.aero.plunge import body_mass, half_wing_mass
 from wingmdao.aero.system import AeroelasticBeamSystem, cached_aeroelastic_system, check_aero_parameters
+from wingmdao.cases.planform import G0
 from wingmdao.components.time_history import TimeHistoryComponent
+from wingmdao.errors import InputRangeError
 
 
 class AeroelasticBeamDynamics(TimeHistoryComponent):
@@ -55,3 +59,46 @@ class AeroelasticBeamDynamics(TimeHistoryComponent):
 
     def initial_guess(self, p, q0):
         return self.system.initial_guess(p, q0)
+
+
+class PlungeBodyMass(om.ExplicitComponent):
+    """Mass of the free-plunge state: ``body_mass = aircraft_mass - 2 m_half`` (wingmdao.aero.plunge).
+
+    Inputs ``aircraft_mass`` (kg, the whole aircraft; connect an aircraft model to it),
+    ``mass_per_length`` (n,) kg/m and ``node_positions`` (n, 3) m of the beam. Output
+    ``body_mass`` (kg); with the option ``trim_load_factor`` n also ``trim_lift = n g0
+    aircraft_mass`` (N, the lift of both half-wings the trim solves for). Analytic partials.
+    A body mass <= 0 raises InputRangeError.
+    """
+
+    def initialize(self):
+        self.options.declare("num_nodes", types=int, lower=2, desc="number of beam nodes")
+        self.options.declare("trim_load_factor", default=None, allow_none=True, types=(int, float),
+                             desc="load factor n of the output trim_lift = n g0 aircraft_mass (None: no output)")
+
+    def setup(self):
+        n = self.options["num_nodes"]
+        self.add_input("aircraft_mass", val=1.0, units="kg", desc="aircraft mass (both wing halves included)")
+        self.add_input("mass_per_length", val=0.0, shape=(n,), units="kg/m", desc="beam mass per unit length")
+        self.add_input("node_positions", val=0.0, shape=(n, 3), units="m", desc="undeformed beam nodes, body axes")
+        self.add_output("body_mass", val=1.0, units="kg", desc="aircraft mass outside both wing halves")
+        self.declare_partials("body_mass", "aircraft_mass", val=1.0)
+        self.declare_partials("body_mass", "mass_per_length", rows=np.zeros(n, int), cols=np.arange(n))
+        self.declare_partials("body_mass", "node_positions", rows=np.zeros(3 * n, int), cols=np.arange(3 * n))
+        if self.options["trim_load_factor"] is not None:
+            self.add_output("trim_lift", val=1.0, units="N", desc="lift of both half-wings to trim to, n g0 aircraft_mass")
+            self.declare_partials("trim_lift", "aircraft_mass", val=float(self.options["trim_load_factor"]) * G0)
+
+    def compute(self, inputs, outputs):
+        m_half, _, _ = half_wing_mass(inputs["mass_per_length"], inputs["node_positions"])
+        try:
+            outputs["body_mass"] = body_mass(inputs["aircraft_mass"][0], m_half)
+        except ValueError as exc:
+            raise InputRangeError(str(exc)) from None
+        if self.options["trim_load_factor"] is not None:
+            outputs["trim_lift"] = float(self.options["trim_load_factor"]) * G0 * inputs["aircraft_mass"]
+
+    def compute_partials(self, inputs, partials):
+        _, dmu, dr = half_wing_mass(inputs["mass_per_length"], inputs["node_positions"])
+        partials["body_mass", "mass_per_length"] = -2.0 * dmu
+        partials["body_mass", "node_positions"] = -2.0 * dr.ravel()

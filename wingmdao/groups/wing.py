@@ -98,8 +98,9 @@ def set_case_loads(prob: om.Problem, case: LoadCase, num_nodes: int, path: str =
         from wingmdao.aero.coupled import AERO_FORCING_META
 
         for name, (units, _) in AERO_FORCING_META.items():
-            prob.set_val(prefix + name, case.forcing_array(name, num_nodes), units=units)
-        for name, val in case.aero.parameters(num_nodes).items():
+            if name != "trim_active" or case.aero.trim:
+                prob.set_val(prefix + name, case.forcing_array(name, num_nodes), units=units)
+        for name, val in {**case.aero.parameters(num_nodes), **case.aero.model_inputs()}.items():
             prob.set_val(prefix + name, val)
 
 
@@ -113,6 +114,9 @@ class WingStructure(om.Group):
     them with :func:`set_case_loads` (``loads_component=True`` instead adds an ``loads``
     IndepVarComp holding the case's arrays, for stand-alone use); the beam parameters and
     section inputs (``node_positions``, ``stiffness_csn``, ..., ``width``, ``t_upper_skin``, ...).
+    A coupled case (``LoadCase.aero``) also promotes the aerodynamic parameters and forcing
+    (``chord``, ..., ``gust_velocity``, ...) and, in free plunge, ``aircraft_mass`` (kg), from
+    which ``plunge_mass`` (PlungeBodyMass) forms the plunge state's mass (and the trim lift).
     Promoted outputs: ``ks_<family>`` per stress family of the case (``add_constraints=True``
     makes each an upper-bounded-by-0 constraint, like ``om.KSComp``), and ``states``.
     """
@@ -167,8 +171,16 @@ class WingStructure(om.Group):
                     beam.options[k] = v
             extra = [s.name for s in aero_param_specs(n)] + list(AERO_FORCING_SHAPES)
             extra = [e for e in extra if aero.trim or e != "trim_active"]
-            extra += ["body_mass"] if aero.plunge else []
-            extra += ["trim_lift"] if aero.trim else []
+            extra += ["trim_lift"] if aero.trim and not aero.plunge else []
+            if aero.plunge:  # the plunge mass (and trim lift) from the promoted input aircraft_mass
+                from wingmdao.components.aeroelastic import PlungeBodyMass
+
+                n_trim = aero.trim_load_factor() if aero.trim else None
+                self.add_subsystem("plunge_mass", PlungeBodyMass(num_nodes=n, trim_load_factor=n_trim),
+                                   promotes_inputs=["aircraft_mass", "mass_per_length", "node_positions"])
+                self.connect("plunge_mass.body_mass", "beam.body_mass")
+                if aero.trim:
+                    self.connect("plunge_mass.trim_lift", "beam.trim_lift")
         else:
             if case.damping is not None and not case.damping.is_zero:
                 from wingmdao.beam.static import cached_beam_system

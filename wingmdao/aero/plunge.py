@@ -1,0 +1,43 @@
+"""Free plunge of the aircraft: the mass the plunge state carries (docs/aeroelasticity.md).
+
+The plunge row of :func:`wingmdao.aero.system.build_aeroelastic_system` is
+``body_mass (dw_p/dt - g_z) = 2 F_root,z``: the root shear of the two half-wings already holds
+their own inertia, so the plunge state carries the aircraft mass *outside* the wing halves,
+
+    body_mass = aircraft_mass - 2 m_half,   m_half = sum_i s_i (mu_i + mu_{i+1}) / 2
+
+with mu the beam's mass per length (structure + non-structural + smeared point masses) and
+s_i the element lengths (trapezoid rule, as the wing mass of :mod:`wingmdao.components.mass`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def half_wing_mass(mass_per_length, node_positions):
+    """(m_half kg, d m_half / d mu (n,), d m_half / d node_positions (n, 3)) by the trapezoid rule
+    (complex-step safe)."""
+    mu, r = np.asarray(mass_per_length), np.asarray(node_positions)
+    d = np.diff(r, axis=0)
+    s = np.sqrt(np.sum(d * d, axis=1))
+    if np.any(np.real(s) <= 0):
+        raise ValueError("node_positions: element lengths must be > 0 m")
+    mbar = 0.5 * (mu[1:] + mu[:-1])
+    dmu = np.zeros(mu.size, dtype=s.dtype)
+    dmu[:-1] += 0.5 * s
+    dmu[1:] += 0.5 * s
+    g = (mbar / s)[:, None] * d  # d (mbar s) / d r_{i+1}
+    dr = np.zeros(r.shape, dtype=g.dtype)
+    dr[1:] += g
+    dr[:-1] -= g
+    return np.sum(mbar * s), dmu, dr
+
+
+def body_mass(aircraft_mass, half_mass):
+    """Mass outside both wing halves, ``aircraft_mass - 2 half_mass`` (kg); ValueError unless > 0."""
+    m = aircraft_mass - 2.0 * half_mass
+    if not (np.isfinite(np.real(aircraft_mass)) and np.real(m) > 0.0):
+        raise ValueError(f"aircraft_mass = {np.real(aircraft_mass)} kg; allowed range (2 x half-wing mass = "
+                         f"{2.0 * np.real(half_mass):.6g} kg, inf): the free-plunge body mass must be > 0")
+    return m
