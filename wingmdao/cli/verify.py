@@ -103,7 +103,8 @@ def verify_wing_box(args) -> dict:
                             height_elements=args.height_elements, span_element_size=args.span_size,
                             ribs_y=ribs, rib_thickness=args.rib_thickness)
     ys = sec.centres[:, 1]
-    fe = solve_static(model, [(span, sec.centres[-1], args.tip_load, args.tip_moment)], ys)
+    loads = [(span, sec.centres[-1], args.tip_load, args.tip_moment)]
+    fe = solve_static(model, loads, ys, stress=True)
     bwalls = None if walls is None else walls
     if bwalls is None:
         beam = case.solve_wing_box(args.geometry, tip_force=args.tip_load, tip_moment=args.tip_moment,
@@ -129,6 +130,7 @@ def verify_wing_box(args) -> dict:
         res["difference_percent"] = diff.tolist()
     else:
         res["note"] = "beam side for --design runs: use 'wingmdao run wing-box' (not wired yet)"
+    res["von_mises"] = von_mises_table(model, sec, fe["stresses"], loads, args.geometry)
     if args.modes:
         fm = solve_modes(model, args.modes)
         res["frequencies_fe_hz"] = fm["frequencies_hz"].tolist()
@@ -141,6 +143,34 @@ def verify_wing_box(args) -> dict:
         _plot(res, args.plot)
         res["plot"] = args.plot
     return res
+
+
+def segment_axes(geometry):
+    """``axes_at(y)``: the beam's csn axes T (rows c, s, n, body axes) of the segment holding y."""
+    from wingmdao.beam.geometry import polyline_beam
+    from wingmdao.cases import wing_box as case
+
+    centres = case.section_centres(geometry)
+    T = polyline_beam(centres, (2,) * (len(centres) - 1)).csn_axes()[1::2]
+    ys = centres[:, 1]
+    return lambda y: T[int(np.clip(np.searchsorted(ys, y) - 1, 0, len(T) - 1))]
+
+
+def von_mises_table(model, sections, stresses, loads, geometry) -> dict:
+    """JSON block: von Mises (Pa) at POINTS per span row, beam vs FE, differences in per cent of
+    the FE value and of the row's largest FE value (a point near zero stress has a large
+    relative difference and no weight)."""
+    from wingmdao.fe.stress_points import POINTS, compare_von_mises
+
+    c = compare_von_mises(model, sections, stresses, loads, segment_axes(geometry))
+    fe, beam = c["fe"], c["beam"]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = np.where(fe > 0, 100 * (beam - fe) / fe, 0.0)
+        of_max = np.where(fe.max(1, keepdims=True) > 0, 100 * (beam - fe) / fe.max(1, keepdims=True), 0.0)
+    return {"points": list(POINTS), "y": c["y"].tolist(), "fe_pa": fe.tolist(), "beam_pa": beam.tolist(),
+            "difference_percent": rel.tolist(), "difference_percent_of_row_max": of_max.tolist(),
+            "note": "FE: mean stress of the corner / mid-flange elements (S8R expanded to C3D20R); beam: "
+                    "Sec. 4.4.2 recovery at the same points, internal loads by statics of the jig"}
 
 
 def _material():
@@ -169,14 +199,27 @@ def _plot(res, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(6, 4))
-    ax.plot(res["station_y"], res["displacement_fe"], "o-", label="CalculiX shell (S8R)")
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4))
+    label = f"CalculiX {res['fidelity']}"
+    ax.plot(res["station_y"], res["displacement_fe"], "o-", label=label)
     if "displacement_beam" in res:
         ax.plot(res["station_y"], res["displacement_beam"], "s--", label="beam")
     ax.set_xlabel("span y (m)")
     ax.set_ylabel("section-average displacement (m)")
     ax.legend()
     ax.grid(True)
+    vm = res.get("von_mises")
+    if vm:
+        fe, beam = np.array(vm["fe_pa"]) / 1e6, np.array(vm["beam_pa"]) / 1e6
+        for k, point in enumerate(vm["points"]):
+            if point in ("front-upper skin", "front-upper spar", "upper skin centre", "front spar centre"):
+                line, = bx.plot(vm["y"], fe[:, k], "-", label=f"{point} FE")
+                bx.plot(vm["y"], beam[:, k], "--", color=line.get_color(), label=f"{point} beam")
+        bx.set_xlabel("span y (m)")
+        bx.set_ylabel("von Mises (MPa)")
+        bx.legend(fontsize=7)
+        bx.grid(True)
+    fig.tight_layout()
     tmp = path + ".tmp.png"
     fig.savefig(tmp, dpi=120)
     plt.close(fig)
