@@ -99,3 +99,47 @@ def test_von_mises_mid_span_against_bending_formula():
     assert abs(vm["fe_pa"][j][k] / sigma - 1) < 0.03
     assert abs(vm["beam_pa"][j][k] / sigma - 1) < 0.03
     assert len(vm["fe_pa"][0]) == len(vm["points"]) == 12
+
+
+def _coarse(geometry, F=(0, 0, 0), M=(0, 0, 0), **kw):
+    from wingmdao.cli.verify import verify_args
+
+    a = verify_args(geometry, F, M, chord_elements=4, height_elements=1, span_size=1.0)
+    for k, v in kw.items():
+        setattr(a, k, v)
+    return a
+
+
+def test_design_file_drives_beam_and_shell(tmp_path):
+    """A design of uniform walls equal to the defaults gives the default run (beam and shell); a
+    design with thinner outboard walls is more flexible on both sides."""
+    from wingmdao.cli.verify import verify_wing_box
+
+    def design(scale):
+        th = {"upper_skin": 0.1 * scale, "lower_skin": 0.1 * scale, "front_spar": 0.2 * scale,
+              "rear_spar": 0.2 * scale}
+        p = tmp_path / f"d{scale[-1]}.json"
+        p.write_text(json.dumps({"case": "wing-box", "thickness": {k: list(v) for k, v in th.items()}}))
+        return str(p)
+
+    ref = verify_wing_box(_coarse("prismatic", (0, 0, 1e5)))
+    same = verify_wing_box(_coarse("prismatic", (0, 0, 1e5), design=design(np.ones(4))))
+    assert np.allclose(same["displacement_beam"], ref["displacement_beam"], rtol=1e-9)
+    assert np.allclose(same["displacement_fe"], ref["displacement_fe"], rtol=1e-9)
+    thin = verify_wing_box(_coarse("prismatic", (0, 0, 1e5), design=design(np.array([1.0, 0.8, 0.6, 0.5]))))
+    assert thin["displacement_beam"][-1] > 1.08 * ref["displacement_beam"][-1]
+    assert thin["displacement_fe"][-1] > 1.08 * ref["displacement_fe"][-1]
+    assert abs(thin["difference_percent"][-1]) < 8
+
+
+def test_named_loads_and_nlgeom():
+    """--loads d1-fz is the 1e5 N tip force; --nlgeom at that small load agrees with the linear
+    solve (0.1 %); named loads refuse extra --tip-load."""
+    from wingmdao.cli.verify import verify_wing_box
+
+    lin = verify_wing_box(_coarse("prismatic", (0, 0, 1e5)))
+    named = verify_wing_box(_coarse("prismatic", loads="d1-fz", nlgeom=True))
+    assert named["loads"]["tip_force"] == [0.0, 0.0, 1e5] and named["loads"]["nlgeom"]
+    assert np.allclose(named["displacement_fe"][1:], lin["displacement_fe"][1:], rtol=1e-3)
+    with pytest.raises(ValueError, match="--loads d1-my is a named load case"):
+        verify_wing_box(_coarse("prismatic", (0, 0, 1e5), loads="d1-my"))

@@ -27,13 +27,22 @@ def register(subparsers):
 
     add_wing_box_arguments(wb)
     wb.add_argument("--fidelity", choices=("shell",), default="shell",
-                    help="FE model: shell (S8R); the C3D20R solid option is not implemented yet")
+                    help="FE model: shell (S8R on the wall mid-surfaces; default shell)")
+    wb.add_argument("--loads", choices=LOAD_NAMES, default="tip",
+                    help="load case at the CS4 centre: tip (--tip-load/--tip-moment, default); d1-fz, d1-fx, "
+                    "d1-my (App. D.1 comparison: 1e5 N up, 1e5 N aft, 1e5 N m about y); study1 (Fz = 2e6 N), "
+                    "study2 (Fx = 1e5 N, Fz = 2e6 N, My = 1e6 N m): the Sec. 4.7.2 sizing tip loads")
+    wb.add_argument("--nlgeom", action="store_true",
+                    help="geometrically nonlinear FE solve (ccx NLGEOM, 10 increments); the beam is always nonlinear")
+    wb.add_argument("--load-steps", type=int, default=1, metavar="N",
+                    help="load steps of the beam's static Newton solve (default 1)")
     g = wb.add_mutually_exclusive_group()
     g.add_argument("--ribs", type=float, default=None, metavar="SPACING", help="ribs every SPACING m of span")
     g.add_argument("--no-ribs", action="store_true", help="no ribs (only the CS4 load-introduction rib; default)")
     wb.add_argument("--rib-thickness", type=float, default=0.1, metavar="M", help="rib thickness (m, default 0.1)")
     wb.add_argument("--design", default=None, metavar="RESULT.json",
-                    help="wall thicknesses from a 'wingmdao size wing-box' result (4 stations CS1..CS4)")
+                    help="wall thicknesses (beam-normal) from a 'wingmdao size wing-box --elements 1 1 1' result "
+                    "(4 stations CS1..CS4), for the FE model and the beam (default: --t-spar/--t-skin)")
     wb.add_argument("--modes", type=int, default=0, metavar="N", help="also compare the first N frequencies")
     wb.add_argument("--chord-elements", type=int, default=8, metavar="N", help="shell elements across the skins")
     wb.add_argument("--height-elements", type=int, default=2, metavar="N", help="shell elements across the spars")
@@ -74,18 +83,39 @@ def wing_box_sections(geometry, t_spar, t_skin, walls=None):
     return BoxSections(case.section_centres(geometry), g["widths"], case.HEIGHTS, walls)
 
 
-def verify_wing_box(args) -> dict:
-    from wingmdao.cases import wing_box as case
-    from wingmdao.cli.run import _check_args
-    from wingmdao.fe.box_model import build_shell_box, solve_modes, solve_static
-    from wingmdao.fe.calculix import find_ccx
+#: --loads: named load cases at the CS4 centre (force N, moment N m, body axes). d1-*: the three
+#: linear cases of the App. D.1 comparison (docs/verification-calculix.md); study1/study2: the
+#: Sec. 4.7.2 sizing tip loads (``wingmdao.cases.wing_box.STUDY_LOADS``; study 3 has study 2's).
+def named_loads():
+    from wingmdao.cases.wing_box import STUDY_LOADS
 
-    for name, val in (("dynamic", False), ("check_totals", False), ("gravity", False), ("load_steps", 1),
-                      ("elements", (6, 8, 6)), ("model", "beam")):
+    return {"d1-fz": ((0.0, 0.0, 1.0e5), (0.0, 0.0, 0.0)), "d1-fx": ((1.0e5, 0.0, 0.0), (0.0, 0.0, 0.0)),
+            "d1-my": ((0.0, 0.0, 0.0), (0.0, 1.0e5, 0.0)),
+            "study1": STUDY_LOADS[1], "study2": STUDY_LOADS[2]}
+
+
+LOAD_NAMES = ("tip", "d1-fz", "d1-fx", "d1-my", "study1", "study2")
+
+
+def _tip_loads(args):
+    """(force, moment) of ``--loads`` (``tip``: ``--tip-load``/``--tip-moment``)."""
+    name = getattr(args, "loads", "tip")
+    if name == "tip":
+        return tuple(args.tip_load), tuple(args.tip_moment)
+    if name not in LOAD_NAMES:
+        raise ValueError(f"--loads = {name!r}; allowed: {', '.join(LOAD_NAMES)}")
+    if np.any(args.tip_load) or np.any(args.tip_moment):
+        raise ValueError(f"--loads {name} is a named load case; drop --tip-load/--tip-moment")
+    return named_loads()[name]
+
+
+def _check_verify_args(args, span):
+    from wingmdao.cli.run import _check_args
+
+    for name, val in (("dynamic", False), ("check_totals", False), ("gravity", False), ("elements", (6, 8, 6)),
+                      ("model", "beam"), ("load_steps", 1), ("nlgeom", False), ("loads", "tip")):
         setattr(args, name, getattr(args, name, val))
     _check_args(args)
-    find_ccx()
-    span = float(sum(case.SPANS))
     if args.ribs is not None and not (np.isfinite(args.ribs) and 0 < args.ribs <= span):
         raise ValueError(f"--ribs = {args.ribs} m; allowed range (0, {span:g}] m (the span)")
     if args.modes < 0 or args.modes > 50:
@@ -95,46 +125,73 @@ def verify_wing_box(args) -> dict:
             raise ValueError(f"--{name.replace('_', '-')} = {getattr(args, name)}; allowed >= {low}")
     if not (np.isfinite(args.span_size) and 0.05 <= args.span_size <= 3.0):
         raise ValueError(f"--span-size = {args.span_size} m; allowed range [0.05, 3] m")
+    return _tip_loads(args)
+
+
+def percent_difference(beam, fe, scale) -> list:
+    """100 (beam - fe) / fe per station; None where |fe| <= 1e-6 ``scale`` (the clamped root, or
+    a displacement a pure torque does not produce)."""
+    return [None if abs(f) <= 1e-6 * scale or scale == 0 else float(100 * (b - f) / f)
+            for b, f in zip(np.asarray(beam, float), np.asarray(fe, float))]
+
+
+def build_fe_model(args, sec, ribs):
+    """The FE model of ``--fidelity`` on the sections ``sec``."""
+    from wingmdao.fe.box_model import build_shell_box
+
+    return build_shell_box(sec, _material(), chord_elements=args.chord_elements,
+                           height_elements=args.height_elements, span_element_size=args.span_size,
+                           ribs_y=ribs, rib_thickness=args.rib_thickness)
+
+
+def verify_wing_box(args) -> dict:
+    from wingmdao.cases import wing_box as case
+    from wingmdao.fe.box_model import solve_modes, solve_static
+    from wingmdao.fe.calculix import find_ccx
+
+    span = float(sum(case.SPANS))
+    force, moment = _check_verify_args(args, span)
+    find_ccx()
     walls = _design_walls(args.design, case.NAME) if args.design else None
     sec = wing_box_sections(args.geometry, args.t_spar, args.t_skin, walls)
     ribs = [] if args.ribs is None else list(np.arange(args.ribs, span + 1e-9, args.ribs))
     ribs = sorted(set(np.round(ribs + [span], 9)))
-    model = build_shell_box(sec, _material(), chord_elements=args.chord_elements,
-                            height_elements=args.height_elements, span_element_size=args.span_size,
-                            ribs_y=ribs, rib_thickness=args.rib_thickness)
+    model = build_fe_model(args, sec, ribs)
     ys = sec.centres[:, 1]
-    loads = [(span, sec.centres[-1], args.tip_load, args.tip_moment)]
-    fe = solve_static(model, loads, ys, stress=True)
-    bwalls = None if walls is None else walls
-    if bwalls is None:
-        beam = case.solve_wing_box(args.geometry, tip_force=args.tip_load, tip_moment=args.tip_moment,
-                                   t_spar=args.t_spar, t_skin=args.t_skin)
-        d_beam = np.asarray(beam["displacement"])
-    else:
-        d_beam = None
+    loads = [(span, sec.centres[-1], force, moment)]
+    fe = solve_static(model, loads, ys, nlgeom=args.nlgeom, stress=True)
+    import openmdao.api as om
+
+    try:
+        beam = case.solve_wing_box(args.geometry, tip_force=force, tip_moment=moment, t_spar=args.t_spar,
+                                   t_skin=args.t_skin, load_steps=args.load_steps, walls=walls)
+    except om.AnalysisError as exc:    # the beam's Newton solve
+        raise ValueError(f"the beam solve did not converge ({exc}); try more --load-steps") from exc
+    d_beam = np.asarray(beam["displacement"])
     d_fe = np.linalg.norm(fe["displacement"], axis=1)
+    r_beam = np.linalg.norm(beam["station_rotation"], axis=1)
+    r_fe = np.linalg.norm(fe["rotation"], axis=1)
     res = {"case": case.NAME, "geometry": args.geometry, "fidelity": args.fidelity,
+           "loads": {"name": args.loads, "tip_force": list(force), "tip_moment": list(moment),
+                     "nlgeom": bool(args.nlgeom), "design": args.design},
            "stations": list(case.STATIONS), "station_y": ys.tolist(),
-           "displacement_fe": d_fe.tolist(), "station_displacement_fe": fe["displacement"].tolist(),
-           "station_rotation_fe": fe["rotation"].tolist(),
-           "ribs_y": ribs, "mesh": {"element": "S8R", "num_elements": fe["num_elements"],
+           "displacement_beam": d_beam.tolist(), "displacement_fe": d_fe.tolist(),
+           "difference_percent": percent_difference(d_beam, d_fe, max(d_fe.max(), span * r_fe.max())),
+           "rotation_beam": r_beam.tolist(), "rotation_fe": r_fe.tolist(),
+           "rotation_difference_percent": percent_difference(r_beam, r_fe, max(r_fe.max(), d_fe.max() / span)),
+           "station_displacement_beam": beam["station_displacement"],
+           "station_displacement_fe": fe["displacement"].tolist(),
+           "station_rotation_beam": beam["station_rotation"], "station_rotation_fe": fe["rotation"].tolist(),
+           "ribs_y": ribs, "mesh": {"element": model.element, "num_elements": fe["num_elements"],
                                     "num_nodes": fe["num_nodes"], "chord_elements": args.chord_elements,
                                     "height_elements": args.height_elements, "span_size": args.span_size},
            "fe_time_s": fe["time"],
-           "units": "SI (m, N, N*m, rad, Hz); body axes x aft, y outboard, z up"}
-    if d_beam is not None:
-        res["displacement_beam"] = d_beam.tolist()
-        res["station_rotation_beam"] = beam["station_rotation"]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            diff = np.where(d_fe > 0, 100 * (d_beam - d_fe) / d_fe, 0.0)
-        res["difference_percent"] = diff.tolist()
-    else:
-        res["note"] = "beam side for --design runs: use 'wingmdao run wing-box' (not wired yet)"
+           "units": "SI (m, N, N*m, rad, Pa, Hz); body axes x aft, y outboard, z up"}
     res["von_mises"] = von_mises_table(model, sec, fe["stresses"], loads, args.geometry)
     if args.modes:
         fm = solve_modes(model, args.modes)
         res["frequencies_fe_hz"] = fm["frequencies_hz"].tolist()
-        fb = beam_frequencies(args.geometry, args.t_spar, args.t_skin, args.modes)
+        fb = beam_frequencies(args.geometry, args.t_spar, args.t_skin, args.modes, walls=walls)
         res["frequencies_beam_hz"] = fb.tolist()
         k = min(len(fb), len(fm["frequencies_hz"]))
         res["frequency_difference_percent"] = (100 * (fb[:k] - fm["frequencies_hz"][:k])
@@ -179,7 +236,7 @@ def _material():
     return ALUMINIUM
 
 
-def beam_frequencies(geometry, t_spar, t_skin, count):
+def beam_frequencies(geometry, t_spar, t_skin, count, walls=None):
     """Lowest natural frequencies (Hz) of the beam of ``run wing-box`` (jig state)."""
     from wingmdao.beam.modes import natural_frequencies
     from wingmdao.beam.residual import forcing_specs
@@ -187,7 +244,7 @@ def beam_frequencies(geometry, t_spar, t_skin, count):
     from wingmdao.cases.wing_box import wing_box_beam
     from wingmdao.timemarch.system import pack
 
-    params, _ = wing_box_beam(geometry, t_spar=t_spar, t_skin=t_skin)
+    params, _ = wing_box_beam(geometry, t_spar=t_spar, t_skin=t_skin, walls=walls)
     m = BeamModel(params)
     n = m.num_nodes
     return natural_frequencies(m.system, m.p, pack(forcing_specs(n), beam_forcing(n)), count=count)
@@ -249,4 +306,5 @@ def verify_args(geometry, tip_load=(0.0, 0.0, 0.0), tip_moment=(0.0, 0.0, 0.0), 
     return argparse.Namespace(geometry=geometry, tip_load=tuple(tip_load), tip_moment=tuple(tip_moment),
                               ribs=ribs, no_ribs=ribs is None, modes=modes, chord_elements=chord_elements,
                               height_elements=height_elements, span_size=span_size, rib_thickness=rib_thickness,
-                              t_spar=t_spar, t_skin=t_skin, design=None, fidelity="shell", plot=None, json="-")
+                              t_spar=t_spar, t_skin=t_skin, design=None, fidelity="shell", plot=None, json="-",
+                              loads="tip", nlgeom=False, load_steps=1)

@@ -76,6 +76,7 @@ class ShellBox:
     station_lines: dict = field(default_factory=dict)   # label -> span line index
     wall_elements: list = field(default_factory=list)    # per span row: element ids around the ring
     counts: tuple = (8, 2)                                # chord x height elements
+    element: str = "S8R"
 
     def ring_points(self, j):
         return np.array([self.deck.nodes[int(n)] for n in self.rings[j]])
@@ -214,7 +215,7 @@ def build_shell_box(sections: BoxSections, material, *, element="S8R", chord_ele
         nel += len(conns)
     deck.nsets["ROOT"] = list(rings[0])
     deck.boundary.append(("ROOT", 1, 6))
-    return ShellBox(deck, fine, rings, weights, nel, wall_elements=rows, counts=(nc, nh))
+    return ShellBox(deck, fine, rings, weights, nel, wall_elements=rows, counts=(nc, nh), element=element)
 
 
 def line_index(model: ShellBox, y: float) -> int:
