@@ -143,3 +143,20 @@ def test_named_loads_and_nlgeom():
     assert np.allclose(named["displacement_fe"][1:], lin["displacement_fe"][1:], rtol=1e-3)
     with pytest.raises(ValueError, match="--loads d1-my is a named load case"):
         verify_wing_box(_coarse("prismatic", (0, 0, 1e5), loads="d1-my"))
+
+
+#: docs/verification-calculix.md: 100 (beam - C3D20R solid) / solid at CS2, CS3, CS4 (default mesh)
+DOCUMENTED_SOLID = {"Fz": (-5.62, -1.68, -1.63), "My": (40.61, 13.46, 7.90)}
+
+
+@pytest.mark.parametrize("load", sorted(DOCUMENTED_SOLID))
+def test_prismatic_solid_matches_documented(load):
+    from wingmdao.cli.verify import verify_args, verify_wing_box
+
+    F, M = LOADS[load]
+    a = verify_args("prismatic", F, M)
+    a.fidelity = "solid"
+    res = verify_wing_box(a)
+    key = "rotation_difference_percent" if load == "My" else "difference_percent"
+    assert res["mesh"]["element"] == "C3D20R"
+    assert np.allclose(res[key][1:], DOCUMENTED_SOLID[load], atol=0.5)

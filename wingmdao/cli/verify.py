@@ -1,9 +1,11 @@
-"""``wingmdao verify wing-box``: the beam against a CalculiX shell model of the same box.
+"""``wingmdao verify wing-box``: the beam against a CalculiX shell or solid model of the same box.
 
 The shell model (:mod:`wingmdao.fe.box_model`, S8R on the wall mid-surfaces, streamwise
 sections CS1..CS4 of App. D.1, wall thicknesses of the beam-normal cut as ``wingmdao run
 wing-box`` uses them, root ring clamped, the tip load at the CS4 centre entering a CS4 rib
-through a distributing coupling) is written, run in ``ccx`` and read; the beam is the project's
+through a distributing coupling) or the solid model (:mod:`wingmdao.fe.solid_box`, C3D20R
+walls, same loads and clamp) is written, run in ``ccx`` and read; von Mises at the box corners
+and mid-flanges along the span (:mod:`wingmdao.fe.stress_points`); the beam is the project's
 nonlinear beam on the same box (:func:`wingmdao.cases.wing_box.solve_wing_box`). JSON:
 ``stations``, ``displacement_beam``, ``displacement_fe`` (section-average displacement
 magnitude per station, m), ``difference_percent``, and with ``--modes N``
@@ -19,15 +21,18 @@ import numpy as np
 
 
 def register(subparsers):
-    p = subparsers.add_parser("verify", help="cross-check the beam against a CalculiX shell model",
+    p = subparsers.add_parser("verify", help="cross-check the beam against a CalculiX shell or solid model",
                               description="Beam vs CalculiX (ccx) shell model of a shipped case. SI units, body axes.")
     cases = p.add_subparsers(dest="case", metavar="CASE", required=True)
-    wb = cases.add_parser("wing-box", help="App. D.1 box: beam vs CalculiX shell under tip loads, modes")
+    wb = cases.add_parser("wing-box", help="App. D.1 box: beam vs CalculiX shell/solid under tip loads, modes")
     from wingmdao.cli.run import add_wing_box_arguments
 
     add_wing_box_arguments(wb)
-    wb.add_argument("--fidelity", choices=("shell",), default="shell",
-                    help="FE model: shell (S8R on the wall mid-surfaces; default shell)")
+    wb.add_argument("--fidelity", choices=("shell", "solid"), default="shell",
+                    help="FE model: shell (S8R on the wall mid-surfaces, default) or solid (C3D20R walls, "
+                    "--through-elements through each wall thickness)")
+    wb.add_argument("--through-elements", type=int, default=2, metavar="N",
+                    help="solid: elements through each wall thickness (default 2)")
     wb.add_argument("--loads", choices=LOAD_NAMES, default="tip",
                     help="load case at the CS4 centre: tip (--tip-load/--tip-moment, default); d1-fz, d1-fx, "
                     "d1-my (App. D.1 comparison: 1e5 N up, 1e5 N aft, 1e5 N m about y); study1 (Fz = 2e6 N), "
@@ -113,14 +118,15 @@ def _check_verify_args(args, span):
     from wingmdao.cli.run import _check_args
 
     for name, val in (("dynamic", False), ("check_totals", False), ("gravity", False), ("elements", (6, 8, 6)),
-                      ("model", "beam"), ("load_steps", 1), ("nlgeom", False), ("loads", "tip")):
+                      ("model", "beam"), ("load_steps", 1), ("nlgeom", False), ("loads", "tip"),
+                      ("through_elements", 2), ("fidelity", "shell")):
         setattr(args, name, getattr(args, name, val))
     _check_args(args)
     if args.ribs is not None and not (np.isfinite(args.ribs) and 0 < args.ribs <= span):
         raise ValueError(f"--ribs = {args.ribs} m; allowed range (0, {span:g}] m (the span)")
     if args.modes < 0 or args.modes > 50:
         raise ValueError(f"--modes = {args.modes}; allowed range [0, 50]")
-    for name, low in (("chord_elements", 1), ("height_elements", 1)):
+    for name, low in (("chord_elements", 1), ("height_elements", 1), ("through_elements", 1)):
         if getattr(args, name) < low:
             raise ValueError(f"--{name.replace('_', '-')} = {getattr(args, name)}; allowed >= {low}")
     if not (np.isfinite(args.span_size) and 0.05 <= args.span_size <= 3.0):
@@ -136,9 +142,18 @@ def percent_difference(beam, fe, scale) -> list:
 
 
 def build_fe_model(args, sec, ribs):
-    """The FE model of ``--fidelity`` on the sections ``sec``."""
+    """The FE model of ``--fidelity`` on the sections ``sec`` (beam-normal wall thicknesses; the
+    solid takes the streamwise ones)."""
+    from wingmdao.cases import wing_box as case
     from wingmdao.fe.box_model import build_shell_box
+    from wingmdao.fe.solid_box import build_solid_box, streamwise_sections
 
+    if args.fidelity == "solid":
+        _, _, cos_sweep, cos_dih = case.wing_geometry(args.geometry, (1, 1, 1))
+        return build_solid_box(streamwise_sections(sec, cos_sweep, cos_dih), _material(),
+                               chord_elements=args.chord_elements, height_elements=args.height_elements,
+                               through=args.through_elements, span_element_size=args.span_size, ribs_y=ribs,
+                               rib_thickness=args.rib_thickness)
     return build_shell_box(sec, _material(), chord_elements=args.chord_elements,
                            height_elements=args.height_elements, span_element_size=args.span_size,
                            ribs_y=ribs, rib_thickness=args.rib_thickness)
@@ -184,7 +199,8 @@ def verify_wing_box(args) -> dict:
            "station_rotation_beam": beam["station_rotation"], "station_rotation_fe": fe["rotation"].tolist(),
            "ribs_y": ribs, "mesh": {"element": model.element, "num_elements": fe["num_elements"],
                                     "num_nodes": fe["num_nodes"], "chord_elements": args.chord_elements,
-                                    "height_elements": args.height_elements, "span_size": args.span_size},
+                                    "height_elements": args.height_elements, "span_size": args.span_size,
+                                    "through_elements": args.through_elements if args.fidelity == "solid" else None},
            "fe_time_s": fe["time"],
            "units": "SI (m, N, N*m, rad, Pa, Hz); body axes x aft, y outboard, z up"}
     res["von_mises"] = von_mises_table(model, sec, fe["stresses"], loads, args.geometry)
@@ -226,7 +242,8 @@ def von_mises_table(model, sections, stresses, loads, geometry) -> dict:
         of_max = np.where(fe.max(1, keepdims=True) > 0, 100 * (beam - fe) / fe.max(1, keepdims=True), 0.0)
     return {"points": list(POINTS), "y": c["y"].tolist(), "fe_pa": fe.tolist(), "beam_pa": beam.tolist(),
             "difference_percent": rel.tolist(), "difference_percent_of_row_max": of_max.tolist(),
-            "note": "FE: mean stress of the corner / mid-flange elements (S8R expanded to C3D20R); beam: "
+            "note": "FE: von Mises of the mean integration-point stress of the corner / mid-flange elements "
+                    "(shell: S8R expanded by ccx to C3D20R; solid: the elements through the wall); beam: "
                     "Sec. 4.4.2 recovery at the same points, internal loads by statics of the jig"}
 
 
@@ -256,15 +273,16 @@ def _plot(res, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4))
-    label = f"CalculiX {res['fidelity']}"
-    ax.plot(res["station_y"], res["displacement_fe"], "o-", label=label)
-    if "displacement_beam" in res:
-        ax.plot(res["station_y"], res["displacement_beam"], "s--", label="beam")
-    ax.set_xlabel("span y (m)")
-    ax.set_ylabel("section-average displacement (m)")
-    ax.legend()
-    ax.grid(True)
+    fig, (ax, rx, bx) = plt.subplots(1, 3, figsize=(15, 4))
+    label = f"CalculiX {res['fidelity']} ({res['mesh']['element']})"
+    for axis, key, name in ((ax, "displacement", "section-average displacement (m)"),
+                            (rx, "rotation", "section rotation magnitude (rad)")):
+        axis.plot(res["station_y"], res[f"{key}_fe"], "o-", label=label)
+        axis.plot(res["station_y"], res[f"{key}_beam"], "s--", label="beam")
+        axis.set_xlabel("span y (m)")
+        axis.set_ylabel(name)
+        axis.legend()
+        axis.grid(True)
     vm = res.get("von_mises")
     if vm:
         fe, beam = np.array(vm["fe_pa"]) / 1e6, np.array(vm["beam_pa"]) / 1e6
@@ -307,4 +325,4 @@ def verify_args(geometry, tip_load=(0.0, 0.0, 0.0), tip_moment=(0.0, 0.0, 0.0), 
                               ribs=ribs, no_ribs=ribs is None, modes=modes, chord_elements=chord_elements,
                               height_elements=height_elements, span_size=span_size, rib_thickness=rib_thickness,
                               t_spar=t_spar, t_skin=t_skin, design=None, fidelity="shell", plot=None, json="-",
-                              loads="tip", nlgeom=False, load_steps=1)
+                              loads="tip", nlgeom=False, load_steps=1, through_elements=2)

@@ -66,7 +66,8 @@ class BoxSections:
 
 @dataclass
 class ShellBox:
-    """The built model: the deck, the station rings (node ids, weights) and span positions."""
+    """The built model: the deck, the station rings (node ids, weights) and span positions
+    (also the solid model of :mod:`wingmdao.fe.solid_box`, whose rings are cross-sections)."""
 
     deck: Deck
     span_y: np.ndarray
@@ -77,6 +78,7 @@ class ShellBox:
     wall_elements: list = field(default_factory=list)    # per span row: element ids around the ring
     counts: tuple = (8, 2)                                # chord x height elements
     element: str = "S8R"
+    samples: list = None      # per span row: element ids of each stress point (stress_points.POINTS)
 
     def ring_points(self, j):
         return np.array([self.deck.nodes[int(n)] for n in self.rings[j]])

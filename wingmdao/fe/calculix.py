@@ -147,6 +147,13 @@ def _rows(values, per_line=8):
     return "\n".join(", ".join(str(v) for v in vals[k:k + per_line]) for k in range(0, len(vals), per_line))
 
 
+def _element_line(eid, conn) -> str:
+    """An element data line; more than 15 nodes continue on the next line (at most 16 entries
+    per line, the manual's *ELEMENT rule)."""
+    vals = [str(eid)] + [str(n) for n in conn]
+    return ",\n".join(", ".join(vals[k:k + 16]) for k in range(0, len(vals), 16))
+
+
 def distributing_forces(points, weights, centre, force, moment) -> np.ndarray:
     """Nodal forces (n, 3) of a distributing coupling: the force and moment at ``centre`` spread
     over the coupling nodes in proportion to the weights, f_i = w_i [F / W + (J^-1 M') x r_i],
@@ -206,7 +213,7 @@ class Deck:
         out += [f"{i}, {c[0]:.12g}, {c[1]:.12g}, {c[2]:.12g}" for i, c in sorted(self.nodes.items())]
         for etype, elset, block in self.elements:
             out.append(f"*ELEMENT, TYPE={etype}, ELSET={elset}")
-            out += [f"{e}, " + ", ".join(map(str, c)) for e, c in block.items()]
+            out += [_element_line(e, c) for e, c in block.items()]
         for name, ids in self.nsets.items():
             out.append(f"*NSET, NSET={name}\n{_rows(ids)}")
         for name, ids in self.elsets.items():

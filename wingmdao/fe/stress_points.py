@@ -45,7 +45,9 @@ def ring_sample_indices(nc: int, nh: int) -> list:
 
 def sample_elements(model) -> list:
     """Per span row of ``model`` (:class:`wingmdao.fe.box_model.ShellBox`): the element ids of
-    each of ``POINTS``."""
+    each of ``POINTS`` (the model's own ``samples`` when it has them: the solid)."""
+    if model.samples is not None:
+        return model.samples
     idx = ring_sample_indices(*model.counts)
     return [[[row[k] for k in ks] for ks in idx] for row in model.wall_elements]
 
