@@ -185,3 +185,36 @@ def test_beam_vs_calculix_solid_errors_have_the_analysed_causes():
         t = verify_wing_box(_coarse(geo, M=(0, 1e5, 0), fidelity="solid", through_elements=1))
         t2, t3 = t["rotation_difference_percent"][1:3]
         assert t2 > t3 > 0.0, (geo, t2, t3)
+
+
+def test_pegasus_1g_beam_vs_shell_and_ribs():
+    """PEGASUS at 1 g (coarse 4 x 1, 1 m shell): the beam's tip deflection within 3 % of the shell
+    with ribs (documented default mesh: +0.2 %); without ribs the box twists several times more
+    (Sec. 4.3.1 Test 2: 'the torsional rotation of the model without ribs is larger')."""
+    from wingmdao.cli._verify_pegasus import verify_pegasus, verify_pegasus_args
+
+    kw = dict(chord_elements=4, height_elements=1, span_size=1.0)
+    ribs = verify_pegasus(verify_pegasus_args(**kw))
+    assert len(ribs["stations"]) == 20 and len(ribs["ribs_y"]) == 19
+    assert abs(ribs["difference_percent"][-1]) < 3.0
+    bare = verify_pegasus(verify_pegasus_args(ribs=None, **kw))
+    assert bare["ribs_y"] == []
+    assert abs(bare["tip_twist_deg"]["fe"]) > 3 * abs(ribs["tip_twist_deg"]["fe"])
+
+
+def test_pegasus_bad_inputs(tmp_path):
+    from wingmdao.cli._verify_pegasus import verify_pegasus, verify_pegasus_args
+
+    with pytest.raises(ValueError, match="--ribs = 20.0 m; allowed range"):
+        verify_pegasus(verify_pegasus_args(ribs=20.0))
+    other = tmp_path / "wb.json"
+    other.write_text(json.dumps({"case": "wing-box", "thickness": {}}))
+    with pytest.raises(ValueError, match="case 'wing-box', not 'pegasus'"):
+        verify_pegasus(verify_pegasus_args(design=str(other)))
+    short = tmp_path / "short.json"
+    short.write_text(json.dumps({"case": "pegasus", "thickness": {w: [0.004] * 4 for w in
+                                                                  ("upper_skin", "lower_skin", "front_spar", "rear_spar")}}))
+    with pytest.raises(ValueError, match="must have 20 positive values"):
+        verify_pegasus(verify_pegasus_args(design=str(short)))
+    with pytest.raises(ValueError, match="--load-factor = 0.0"):
+        verify_pegasus(verify_pegasus_args(load_factor=0.0))

@@ -21,43 +21,53 @@ import numpy as np
 
 
 def register(subparsers):
+    from wingmdao.cli.run import add_wing_box_arguments
+    from wingmdao.cli._verify_pegasus import register_pegasus
+
     p = subparsers.add_parser("verify", help="cross-check the beam against a CalculiX shell or solid model",
-                              description="Beam vs CalculiX (ccx) shell model of a shipped case. SI units, body axes.")
+                              description="Beam vs CalculiX (ccx) shell or solid model of a shipped case. SI units, "
+                              "body axes.")
     cases = p.add_subparsers(dest="case", metavar="CASE", required=True)
     wb = cases.add_parser("wing-box", help="App. D.1 box: beam vs CalculiX shell/solid under tip loads, modes")
-    from wingmdao.cli.run import add_wing_box_arguments
-
     add_wing_box_arguments(wb)
-    wb.add_argument("--fidelity", choices=("shell", "solid"), default="shell",
-                    help="FE model: shell (S8R on the wall mid-surfaces, default) or solid (C3D20R walls, "
-                    "--through-elements through each wall thickness)")
-    wb.add_argument("--through-elements", type=int, default=2, metavar="N",
-                    help="solid: elements through each wall thickness (default 2)")
     wb.add_argument("--loads", choices=LOAD_NAMES, default="tip",
                     help="load case at the CS4 centre: tip (--tip-load/--tip-moment, default); d1-fz, d1-fx, "
                     "d1-my (App. D.1 comparison: 1e5 N up, 1e5 N aft, 1e5 N m about y); study1 (Fz = 2e6 N), "
                     "study2 (Fx = 1e5 N, Fz = 2e6 N, My = 1e6 N m): the Sec. 4.7.2 sizing tip loads")
-    wb.add_argument("--nlgeom", action="store_true",
-                    help="geometrically nonlinear FE solve (ccx NLGEOM, 10 increments); the beam is always nonlinear")
-    wb.add_argument("--load-steps", type=int, default=1, metavar="N",
-                    help="load steps of the beam's static Newton solve (default 1)")
-    g = wb.add_mutually_exclusive_group()
-    g.add_argument("--ribs", type=float, default=None, metavar="SPACING", help="ribs every SPACING m of span")
-    g.add_argument("--no-ribs", action="store_true", help="no ribs (only the CS4 load-introduction rib; default)")
-    wb.add_argument("--rib-thickness", type=float, default=0.1, metavar="M", help="rib thickness (m, default 0.1)")
-    wb.add_argument("--design", default=None, metavar="RESULT.json",
-                    help="wall thicknesses (beam-normal) from a 'wingmdao size wing-box --elements 1 1 1' result "
-                    "(4 stations CS1..CS4), for the FE model and the beam (default: --t-spar/--t-skin)")
-    wb.add_argument("--modes", type=int, default=0, metavar="N", help="also compare the first N frequencies")
-    wb.add_argument("--chord-elements", type=int, default=8, metavar="N", help="shell elements across the skins")
-    wb.add_argument("--height-elements", type=int, default=2, metavar="N", help="shell elements across the spars")
-    wb.add_argument("--span-size", type=float, default=0.5, metavar="M", help="shell element length along the span (m)")
-    wb.add_argument("--plot", default=None, metavar="PNG", help="write a beam-vs-FE displacement plot")
-    wb.add_argument("--json", default="-", metavar="PATH", help="output file ('-' = standard output)")
+    add_fe_arguments(wb, rib_thickness=0.1, no_ribs_help="no ribs (only the CS4 load-introduction rib; default)",
+                     design_help="wall thicknesses (beam-normal) from a 'wingmdao size wing-box --elements 1 1 1' "
+                     "result (4 stations CS1..CS4), for the FE model and the beam (default: --t-spar/--t-skin)")
     wb.set_defaults(func=run_verify)
+    register_pegasus(cases)
 
 
-def _design_walls(path, case):
+def add_fe_arguments(p, *, rib_thickness, no_ribs_help, design_help, ribs_help="ribs every SPACING m of span"):
+    """The FE-model flags shared by the ``verify`` cases."""
+    p.add_argument("--fidelity", choices=("shell", "solid"), default="shell",
+                   help="FE model: shell (S8R on the wall mid-surfaces, default) or solid (C3D20R walls, "
+                   "--through-elements through each wall thickness)")
+    p.add_argument("--through-elements", type=int, default=2, metavar="N",
+                   help="solid: elements through each wall thickness (default 2)")
+    p.add_argument("--nlgeom", action="store_true",
+                   help="geometrically nonlinear FE solve (ccx NLGEOM, 10 increments); the beam is always nonlinear")
+    p.add_argument("--load-steps", type=int, default=1, metavar="N",
+                   help="load steps of the beam's static Newton solve (default 1)")
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--ribs", type=float, default=None, metavar="SPACING", help=ribs_help)
+    g.add_argument("--no-ribs", action="store_true", help=no_ribs_help)
+    p.add_argument("--rib-thickness", type=float, default=rib_thickness, metavar="M",
+                   help=f"rib thickness (m, default {rib_thickness:g})")
+    p.add_argument("--design", default=None, metavar="RESULT.json", help=design_help)
+    p.add_argument("--modes", type=int, default=0, metavar="N", help="also compare the first N frequencies")
+    p.add_argument("--chord-elements", type=int, default=8, metavar="N", help="elements across the skins (default 8)")
+    p.add_argument("--height-elements", type=int, default=2, metavar="N", help="elements across the spars (default 2)")
+    p.add_argument("--span-size", type=float, default=0.5, metavar="M",
+                   help="element length along the span (m, default 0.5)")
+    p.add_argument("--plot", default=None, metavar="PNG", help="write beam-vs-FE displacement/rotation/stress plots")
+    p.add_argument("--json", default="-", metavar="PATH", help="output file ('-' = standard output, the default)")
+
+
+def _design_walls(path, case, count=4, how="size with --elements 1 1 1"):
     if not os.path.exists(path):
         raise ValueError(f"--design {path!r}: no such file")
     with open(path, encoding="utf-8") as fh:
@@ -68,9 +78,9 @@ def _design_walls(path, case):
     walls = {}
     for w in ("upper_skin", "lower_skin", "front_spar", "rear_spar"):
         v = np.asarray(th.get(w, []), float)
-        if v.shape != (4,):
-            raise ValueError(f"--design {path!r}: thickness.{w} must have 4 values (CS1..CS4, size with "
-                             f"--elements 1 1 1), got {v.size}")
+        if v.shape != (count,) or not np.all(np.isfinite(v) & (v > 0)):
+            raise ValueError(f"--design {path!r}: thickness.{w} must have {count} positive values in m "
+                             f"({how}), got {v.tolist()}")
         walls["t_" + w] = v
     return walls
 
@@ -122,6 +132,12 @@ def _check_verify_args(args, span):
                       ("through_elements", 2), ("fidelity", "shell")):
         setattr(args, name, getattr(args, name, val))
     _check_args(args)
+    check_fe_args(args, span)
+    return _tip_loads(args)
+
+
+def check_fe_args(args, span):
+    """The shared FE flags (ValueError naming the flag, its value and the allowed range)."""
     if args.ribs is not None and not (np.isfinite(args.ribs) and 0 < args.ribs <= span):
         raise ValueError(f"--ribs = {args.ribs} m; allowed range (0, {span:g}] m (the span)")
     if args.modes < 0 or args.modes > 50:
@@ -131,7 +147,10 @@ def _check_verify_args(args, span):
             raise ValueError(f"--{name.replace('_', '-')} = {getattr(args, name)}; allowed >= {low}")
     if not (np.isfinite(args.span_size) and 0.05 <= args.span_size <= 3.0):
         raise ValueError(f"--span-size = {args.span_size} m; allowed range [0.05, 3] m")
-    return _tip_loads(args)
+    if not (np.isfinite(args.rib_thickness) and 0 < args.rib_thickness <= 0.5):
+        raise ValueError(f"--rib-thickness = {args.rib_thickness} m; allowed range (0, 0.5] m")
+    if args.load_steps < 1:
+        raise ValueError(f"--load-steps = {args.load_steps}; allowed range >= 1")
 
 
 def percent_difference(beam, fe, scale) -> list:
@@ -141,15 +160,13 @@ def percent_difference(beam, fe, scale) -> list:
             for b, f in zip(np.asarray(beam, float), np.asarray(fe, float))]
 
 
-def build_fe_model(args, sec, ribs):
+def build_fe_model(args, sec, ribs, cos_sweep=1.0, cos_dih=1.0):
     """The FE model of ``--fidelity`` on the sections ``sec`` (beam-normal wall thicknesses; the
-    solid takes the streamwise ones)."""
-    from wingmdao.cases import wing_box as case
+    solid takes the streamwise ones, thickness / cos per section)."""
     from wingmdao.fe.box_model import build_shell_box
     from wingmdao.fe.solid_box import build_solid_box, streamwise_sections
 
     if args.fidelity == "solid":
-        _, _, cos_sweep, cos_dih = case.wing_geometry(args.geometry, (1, 1, 1))
         return build_solid_box(streamwise_sections(sec, cos_sweep, cos_dih), _material(),
                                chord_elements=args.chord_elements, height_elements=args.height_elements,
                                through=args.through_elements, span_element_size=args.span_size, ribs_y=ribs,
@@ -171,7 +188,7 @@ def verify_wing_box(args) -> dict:
     sec = wing_box_sections(args.geometry, args.t_spar, args.t_skin, walls)
     ribs = [] if args.ribs is None else list(np.arange(args.ribs, span + 1e-9, args.ribs))
     ribs = sorted(set(np.round(ribs + [span], 9)))
-    model = build_fe_model(args, sec, ribs)
+    model = build_fe_model(args, sec, ribs, *case.wing_geometry(args.geometry, (1, 1, 1))[2:])
     ys = sec.centres[:, 1]
     loads = [(span, sec.centres[-1], force, moment)]
     fe = solve_static(model, loads, ys, nlgeom=args.nlgeom, stress=True)
@@ -203,7 +220,7 @@ def verify_wing_box(args) -> dict:
                                     "through_elements": args.through_elements if args.fidelity == "solid" else None},
            "fe_time_s": fe["time"],
            "units": "SI (m, N, N*m, rad, Pa, Hz); body axes x aft, y outboard, z up"}
-    res["von_mises"] = von_mises_table(model, sec, fe["stresses"], loads, args.geometry)
+    res["von_mises"] = von_mises_table(model, sec, fe["stresses"], loads, segment_axes(args.geometry))
     if args.modes:
         fm = solve_modes(model, args.modes)
         res["frequencies_fe_hz"] = fm["frequencies_hz"].tolist()
@@ -229,13 +246,13 @@ def segment_axes(geometry):
     return lambda y: T[int(np.clip(np.searchsorted(ys, y) - 1, 0, len(T) - 1))]
 
 
-def von_mises_table(model, sections, stresses, loads, geometry) -> dict:
+def von_mises_table(model, sections, stresses, loads, axes_at) -> dict:
     """JSON block: von Mises (Pa) at POINTS per span row, beam vs FE, differences in per cent of
     the FE value and of the row's largest FE value (a point near zero stress has a large
     relative difference and no weight)."""
     from wingmdao.fe.stress_points import POINTS, compare_von_mises
 
-    c = compare_von_mises(model, sections, stresses, loads, segment_axes(geometry))
+    c = compare_von_mises(model, sections, stresses, loads, axes_at)
     fe, beam = c["fe"], c["beam"]
     with np.errstate(divide="ignore", invalid="ignore"):
         rel = np.where(fe > 0, 100 * (beam - fe) / fe, 0.0)
@@ -307,8 +324,13 @@ def run_verify(args) -> int:
     from wingmdao.cli import write_json
     from wingmdao.fe.calculix import CalculixNotFound
 
+    from wingmdao.cli._verify_pegasus import verify_pegasus
+
     try:
-        res = verify_wing_box(args)
+        res = verify_pegasus(args) if args.case == "pegasus" else verify_wing_box(args)
+        if args.case == "pegasus" and args.plot:
+            _plot(res, args.plot)
+            res["plot"] = args.plot
     except CalculixNotFound as exc:
         print(f"wingmdao verify: {exc}", file=sys.stderr)
         return 2
