@@ -1,7 +1,7 @@
 """Beam vs CalculiX shell and solid on the App. D.1 box: the tables of docs/verification-calculix.md.
 
 Run: ``PYTHONPATH=. python benchmarks/calculix_comparison.py [PART ...]`` with PART among
-shell, solid, stress, mesh, solid-mesh, ribs, rib-test1 (default: all; a few minutes; needs ccx).
+shell, solid, stress, mesh, solid-mesh, ribs, rib-test1, pegasus (default: all; a few minutes; needs ccx).
 """
 
 import sys
@@ -123,11 +123,33 @@ def rib_test1(geometry="prismatic", modes=6):
         out.flush()
 
 
+def pegasus(meshes=((4, 1, 1.0), (8, 2, 0.5), (16, 4, 0.25))):
+    """PEGASUS at 1 g: beam vs shell with ribs at the 19 rib stations and without ribs (Test 2),
+    tip displacement, tip twist, first frequencies; mesh convergence with ribs."""
+    from wingmdao.cli._verify_pegasus import verify_pegasus, verify_pegasus_args
+
+    out.write("\nPEGASUS 1 g (walls 4/4/5/4 mm, ribs 2 mm):\n\n| model | mesh | elements | tip |u| beam (m) | "
+              "tip |u| FE (m) | diff (%) | tip twist beam (deg) | tip twist FE (deg) | f1..f4 FE (Hz) | "
+              "f1..f4 beam (Hz) |\n|" + "---|" * 10 + "\n")
+    for ribs in ("stations", None):
+        for nc, nh, s in meshes:
+            modes = 4 if (nc, nh, s) == (8, 2, 0.5) else 0
+            r = verify_pegasus(verify_pegasus_args(ribs=ribs, chord_elements=nc, height_elements=nh, span_size=s,
+                                                   modes=modes))
+            fe = ", ".join(f"{x:.3f}" for x in r.get("frequencies_fe_hz", []))
+            fb = ", ".join(f"{x:.3f}" for x in r.get("frequencies_beam_hz", []))
+            out.write(f"| {'ribs at stations 1-19' if ribs else 'no ribs'} | {nc} x {nh}, {s} m | "
+                      f"{r['mesh']['num_elements']} | {r['displacement_beam'][-1]:.5f} | {r['displacement_fe'][-1]:.5f} | "
+                      f"{r['difference_percent'][-1]:+.2f} | {r['tip_twist_deg']['beam']:.3f} | "
+                      f"{r['tip_twist_deg']['fe']:.3f} | {fe} | {fb} |\n")
+            out.flush()
+
+
 PARTS = {"shell": lambda: table("shell"), "solid": lambda: table("solid"), "stress": stress_table,
          "mesh": lambda: mesh_study("shell", [(4, 1, 1.0), (8, 2, 0.5), (16, 4, 0.25), (24, 6, 0.125)]),
          "solid-mesh": lambda: mesh_study("solid", [(4, 1, 1.0, 1), (8, 2, 0.5, 2), (12, 3, 0.25, 2),
                                                     (16, 4, 0.25, 3)]),
-         "ribs": ribs, "rib-test1": rib_test1}
+         "ribs": ribs, "rib-test1": rib_test1, "pegasus": pegasus}
 
 
 def main(parts):

@@ -28,11 +28,11 @@ def register_pegasus(cases):
     p = cases.add_parser("pegasus", help="PEGASUS wing at n g: beam vs CalculiX shell/solid, with or without ribs")
     p.add_argument("--load-factor", type=float, default=1.0, metavar="N",
                    help="load factor n of the symmetric maneuver (lift n W, gravity 1 g plus (n-1) g frame "
-                   "acceleration on the masses; default 1)")
+                   "acceleration on the masses)")
     add_fe_arguments(p, rib_thickness=0.002, no_ribs_help="no ribs at all (Sec. 4.3.1 Test 2's rib-less model)",
-                     ribs_help="ribs every SPACING m instead of at the case's 19 rib stations (default)",
+                     ribs_help="ribs every SPACING m instead of at the case's 19 rib stations",
                      design_help="wall thicknesses from a 'wingmdao size pegasus' result (20 stations) "
-                     "(default: 4/4/5/4 mm upper/lower skin, front/rear spar)")
+                     "(unset: 4/4/5/4 mm upper/lower skin, front/rear spar)")
     p.set_defaults(func=run_verify, through_elements=2)
 
 

@@ -44,27 +44,27 @@ def register(subparsers):
 def add_fe_arguments(p, *, rib_thickness, no_ribs_help, design_help, ribs_help="ribs every SPACING m of span"):
     """The FE-model flags shared by the ``verify`` cases."""
     p.add_argument("--fidelity", choices=("shell", "solid"), default="shell",
-                   help="FE model: shell (S8R on the wall mid-surfaces, default) or solid (C3D20R walls, "
+                   help="FE model: shell (S8R on the wall mid-surfaces) or solid (C3D20R walls, "
                    "--through-elements through each wall thickness)")
     p.add_argument("--through-elements", type=int, default=2, metavar="N",
-                   help="solid: elements through each wall thickness (default 2)")
+                   help="solid: elements through each wall thickness")
     p.add_argument("--nlgeom", action="store_true",
                    help="geometrically nonlinear FE solve (ccx NLGEOM, 10 increments); the beam is always nonlinear")
     p.add_argument("--load-steps", type=int, default=1, metavar="N",
-                   help="load steps of the beam's static Newton solve (default 1)")
+                   help="load steps of the beam's static Newton solve")
     g = p.add_mutually_exclusive_group()
     g.add_argument("--ribs", type=float, default=None, metavar="SPACING", help=ribs_help)
     g.add_argument("--no-ribs", action="store_true", help=no_ribs_help)
     p.add_argument("--rib-thickness", type=float, default=rib_thickness, metavar="M",
-                   help=f"rib thickness (m, default {rib_thickness:g})")
+                   help="rib thickness (m)")
     p.add_argument("--design", default=None, metavar="RESULT.json", help=design_help)
     p.add_argument("--modes", type=int, default=0, metavar="N", help="also compare the first N frequencies")
-    p.add_argument("--chord-elements", type=int, default=8, metavar="N", help="elements across the skins (default 8)")
-    p.add_argument("--height-elements", type=int, default=2, metavar="N", help="elements across the spars (default 2)")
+    p.add_argument("--chord-elements", type=int, default=8, metavar="N", help="elements across the skins")
+    p.add_argument("--height-elements", type=int, default=2, metavar="N", help="elements across the spars")
     p.add_argument("--span-size", type=float, default=0.5, metavar="M",
-                   help="element length along the span (m, default 0.5)")
+                   help="element length along the span (m)")
     p.add_argument("--plot", default=None, metavar="PNG", help="write beam-vs-FE displacement/rotation/stress plots")
-    p.add_argument("--json", default="-", metavar="PATH", help="output file ('-' = standard output, the default)")
+    p.add_argument("--json", default="-", metavar="PATH", help="output file ('-' = standard output)")
 
 
 def _design_walls(path, case, count=4, how="size with --elements 1 1 1"):
