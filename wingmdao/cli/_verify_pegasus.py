@@ -81,37 +81,52 @@ def fe_loads(case, geo, sec, model, line, structural, n_load, G0):
     return loads + point_weights(sec, _engine_stations(case, geo), gravity=n_load * G0)
 
 
+def pegasus_ribs(args, y, span) -> list:
+    """Rib positions (m): the rib stations 1..19 (default), every ``--ribs`` m, or none."""
+    if args.no_ribs:
+        return []
+    if args.ribs is not None:
+        return [float(v) for v in np.arange(args.ribs, span + 1e-9, args.ribs)]
+    return [float(v) for v in y[1:]]
+
+
+def pegasus_setup(design, load_factor):
+    """(geometry, BoxSections, line loads, beam params, structural mass per length) of the PEGASUS
+    wing with the walls of ``design`` at load factor ``load_factor``."""
+    from wingmdao.cases import pegasus as case
+    from wingmdao.cases.planform import G0, LB, wing_geometry
+    from wingmdao.cli.verify import _material
+    from wingmdao.fe.box_model import BoxSections
+    from wingmdao.loads.maneuver import maneuver_line_loads
+
+    if not (np.isfinite(load_factor) and 0 < abs(load_factor) <= 10):
+        raise ValueError(f"--load-factor = {load_factor}; allowed range 0 < |n| <= 10")
+    pf = case.PLANFORM
+    walls = pegasus_walls(design)
+    geo, chord, axis_frac = wing_geometry(pf, case.ENGINES)
+    sec = BoxSections(geo.node_positions, geo.width, geo.height, walls)
+    line = maneuver_line_loads(geo.node_positions, chord, axis_frac, case.TOGW_LB * LB * G0, load_factor,
+                               semi_span=pf.semi_span, fuselage_half_width=pf.root_rib * pf.semi_span)
+    params, structural = beam_params(geo, walls, _material())
+    return geo, sec, line, params, structural, walls
+
+
 def verify_pegasus(args) -> dict:
     from wingmdao.beam.static import BeamModel
     from wingmdao.cases import pegasus as case
-    from wingmdao.cases.planform import G0, LB, wing_geometry
+    from wingmdao.cases.planform import G0
     from wingmdao.cases.wing_box import station_rotations
-    from wingmdao.cli.verify import (_material, build_fe_model, check_fe_args, percent_difference,
-                                     von_mises_table)
-    from wingmdao.fe.box_model import BoxSections, add_point_masses, solve_modes, solve_static
+    from wingmdao.cli.verify import build_fe_model, check_fe_args, percent_difference, von_mises_table
+    from wingmdao.fe.box_model import add_point_masses, solve_modes, solve_static
     from wingmdao.fe.calculix import find_ccx
-    from wingmdao.loads.maneuver import maneuver_line_loads
 
-    pf = case.PLANFORM
-    span = pf.semi_span
+    span = case.PLANFORM.semi_span
     check_fe_args(args, span)
-    if not (np.isfinite(args.load_factor) and 0 < abs(args.load_factor) <= 10):
-        raise ValueError(f"--load-factor = {args.load_factor}; allowed range 0 < |n| <= 10")
+    geo, sec, line, params, structural, walls = pegasus_setup(args.design, args.load_factor)
     find_ccx()
-    walls = pegasus_walls(args.design)
-    geo, chord, axis_frac = wing_geometry(pf, case.ENGINES)
     y = geo.span_coordinate
-    sec = BoxSections(geo.node_positions, geo.width, geo.height, walls)
-    if args.no_ribs:
-        ribs = []
-    elif args.ribs is not None:
-        ribs = list(np.arange(args.ribs, span + 1e-9, args.ribs))
-    else:
-        ribs = list(y[1:])
+    ribs = pegasus_ribs(args, y, span)
     model = build_fe_model(args, sec, ribs)
-    line = maneuver_line_loads(geo.node_positions, chord, axis_frac, case.TOGW_LB * LB * G0, args.load_factor,
-                               semi_span=span, fuselage_half_width=pf.root_rib * span)
-    params, structural = beam_params(geo, walls, _material())
     loads = fe_loads(case, geo, sec, model, line, structural, args.load_factor, G0)
     fe = solve_static(model, loads, y, nlgeom=args.nlgeom, stress=True)
     import openmdao.api as om
