@@ -218,3 +218,16 @@ def test_pegasus_bad_inputs(tmp_path):
         verify_pegasus(verify_pegasus_args(design=str(short)))
     with pytest.raises(ValueError, match="--load-factor = 0.0"):
         verify_pegasus(verify_pegasus_args(load_factor=0.0))
+
+
+def test_existing_outputs_are_not_overwritten(tmp_path):
+    from wingmdao.cli import main
+
+    out = tmp_path / "v.json"
+    out.write_text("{}")
+    assert main(["verify", "wing-box", "--geometry", "prismatic", "--json", str(out)]) == 2
+    assert out.read_text() == "{}"
+    deck = tmp_path / "d.inp"
+    deck.write_text("x")
+    assert main(["export", "pegasus", "--format", "calculix", str(deck)]) == 2
+    assert deck.read_text() == "x"

@@ -196,4 +196,4 @@ def verify_pegasus_args(*, ribs="stations", fidelity="shell", modes=0, chord_ele
                               nlgeom=False, load_steps=1, ribs=None if ribs in ("stations", None) else ribs,
                               no_ribs=ribs is None, rib_thickness=rib_thickness, design=design, modes=modes,
                               chord_elements=chord_elements, height_elements=height_elements, span_size=span_size,
-                              plot=None, json="-")
+                              plot=None, json="-", overwrite=False)

@@ -19,6 +19,7 @@ def register(subparsers):
     wb.add_argument("--format", choices=("calculix", "nastran", "abaqus"), required=True, help="deck format")
     wb.add_argument("--fidelity", choices=("beam", "shell"), default="beam",
                     help="beam stick model or shell model of the walls")
+    wb.add_argument("--overwrite", action="store_true", help="replace an existing FILE")
     wb.add_argument("file", metavar="FILE", help="deck to write")
     wb.set_defaults(func=run_export)
     pg = cases.add_parser("pegasus", help="PEGASUS wing at n g (4/4/5/4 mm walls, or --design)")
@@ -31,6 +32,7 @@ def register(subparsers):
                     help="load factor of the symmetric maneuver (lift n W and n g weight as nodal loads)")
     pg.add_argument("--no-ribs", action="store_true", help="shell: no ribs (default: ribs at the 19 rib stations)")
     pg.add_argument("--rib-thickness", type=float, default=0.002, metavar="M", help="shell: rib thickness (m)")
+    pg.add_argument("--overwrite", action="store_true", help="replace an existing FILE")
     pg.add_argument("file", metavar="FILE", help="deck to write")
     pg.set_defaults(func=run_export_pegasus)
 
@@ -43,6 +45,9 @@ def run_export(args) -> int:
     from wingmdao.fe.export import beam_deck, shell_deck, write_atomic
     from wingmdao.materials import ALUMINIUM
 
+    from wingmdao.cli._io import check_output_file
+
+    check_output_file(args.file, "FILE", overwrite=args.overwrite)
     for name in ("tip_load", "tip_moment"):
         if not np.all(np.isfinite(getattr(args, name))):
             raise ValueError(f"--{name.replace('_', '-')} must be finite")
@@ -85,8 +90,10 @@ def pegasus_deck(design, fmt, fidelity, load_factor=1.0, ribs=True, rib_thicknes
 def run_export_pegasus(args) -> int:
     import sys
 
+    from wingmdao.cli._io import check_output_file
     from wingmdao.fe.export import write_atomic
 
+    check_output_file(args.file, "FILE", overwrite=args.overwrite)
     text = pegasus_deck(args.design, args.format, args.fidelity, args.load_factor, not args.no_ribs,
                         args.rib_thickness)
     write_atomic(text, args.file)

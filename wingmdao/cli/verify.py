@@ -65,6 +65,7 @@ def add_fe_arguments(p, *, rib_thickness, no_ribs_help, design_help, ribs_help="
                    help="element length along the span (m)")
     p.add_argument("--plot", default=None, metavar="PNG", help="write beam-vs-FE displacement/rotation/stress plots")
     p.add_argument("--json", default="-", metavar="PATH", help="output file ('-' = standard output)")
+    p.add_argument("--overwrite", action="store_true", help="replace an earlier run's --json / --plot files")
 
 
 def _design_walls(path, case, count=4, how="size with --elements 1 1 1"):
@@ -324,8 +325,12 @@ def run_verify(args) -> int:
     from wingmdao.cli import write_json
     from wingmdao.fe.calculix import CalculixNotFound
 
+    from wingmdao.cli._io import check_output_file
     from wingmdao.cli._verify_pegasus import verify_pegasus
 
+    overwrite = getattr(args, "overwrite", False)
+    check_output_file(args.json, "--json", overwrite=overwrite, others={"--plot": args.plot})
+    check_output_file(args.plot, "--plot", overwrite=overwrite)
     try:
         res = verify_pegasus(args) if args.case == "pegasus" else verify_wing_box(args)
         if args.case == "pegasus" and args.plot:
@@ -347,4 +352,4 @@ def verify_args(geometry, tip_load=(0.0, 0.0, 0.0), tip_moment=(0.0, 0.0, 0.0), 
                               ribs=ribs, no_ribs=ribs is None, modes=modes, chord_elements=chord_elements,
                               height_elements=height_elements, span_size=span_size, rib_thickness=rib_thickness,
                               t_spar=t_spar, t_skin=t_skin, design=None, fidelity="shell", plot=None, json="-",
-                              loads="tip", nlgeom=False, load_steps=1, through_elements=2)
+                              loads="tip", nlgeom=False, load_steps=1, through_elements=2, overwrite=False)
