@@ -67,10 +67,14 @@ def _sample_cells(m, nc, nh):
 
 
 def build_solid_box(sections, material, *, chord_elements=8, height_elements=2, through=2,
-                    span_element_size=0.5, ribs_y=(), rib_thickness=0.1) -> ShellBox:
+                    span_element_size=0.5, ribs_y=(), rib_thickness=0.1, root="clamped") -> ShellBox:
     """Mesh the box walls with C3D20R (see module docstring). ``sections``: BoxSections with
     streamwise wall thicknesses; ``ribs_y``: rib positions (m; a rib at the tip lies inboard of
-    it, elsewhere it is centred)."""
+    it, elsewhere it is centred). ``root``: 'clamped' (all translations of the root section) or
+    'free_warping' (in-plane translations; the axial one only on the section's symmetry lines,
+    where the torsional warping of a doubly symmetric box vanishes: a pure-torque diagnostic)."""
+    if root not in ("clamped", "free_warping"):
+        raise ValueError(f"root must be 'clamped' or 'free_warping', got {root!r}")
     m, nc, nh = int(through), int(chord_elements), int(height_elements)
     if min(m, nc, nh) < 1:
         raise ValueError(f"through, chord and height elements must be >= 1, got {m}, {nc}, {nh}")
@@ -128,7 +132,13 @@ def build_solid_box(sections, material, *, chord_elements=8, height_elements=2, 
     samples = [[[eid[(i, k, j)] for i, k in pt] for pt in _sample_cells(m, nc, nh)]
                for j in range(len(lines) - 1)]
     deck.nsets["ROOT"] = list(rings[0])
-    deck.boundary.append(("ROOT", 1, 3))
+    if root == "clamped":
+        deck.boundary.append(("ROOT", 1, 3))
+    else:
+        NXq, NZq = 2 * (2 * m + nc), 2 * (2 * m + nh)
+        axis = [n for (jj, ii, kk), n in nodes.items() if jj == 0 and (ii == NXq // 2 or kk == NZq // 2)]
+        deck.nsets["ROOTAXIS"] = sorted(axis)
+        deck.boundary += [("ROOT", 1, 1), ("ROOT", 3, 3), ("ROOTAXIS", 2, 2)]
     box = ShellBox(deck, fine, rings, weights, len(conns), counts=(nc, nh), element="C3D20R")
     box.samples = samples
     return box
