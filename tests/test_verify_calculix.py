@@ -253,3 +253,18 @@ def test_vbs_beam_against_free_warping_calculix_solid():
     assert np.allclose(np.array(beam["rotation"])[:2, 1], fe, rtol=0.01)
     with pytest.raises(ValueError, match="root must be 'clamped' or 'free_warping'"):
         build_solid_box(sec, _material(), root="pinned")
+
+
+def test_pegasus_named_maneuver_scales_the_1g_response():
+    """--loads maneuver-neg is n = -1.0: the linear shell's tip deflection is -1 times the 1 g one
+    (all loads scale with n); naming a maneuver and a --load-factor is refused."""
+    from wingmdao.cli._verify_pegasus import verify_pegasus, verify_pegasus_args
+
+    kw = dict(chord_elements=4, height_elements=1, span_size=1.0)
+    one = verify_pegasus(verify_pegasus_args(**kw))
+    neg = verify_pegasus(verify_pegasus_args(loads="maneuver-neg", **kw))
+    assert neg["load_factor"] == -1.0
+    assert np.allclose(np.array(neg["station_displacement_fe"]), -np.array(one["station_displacement_fe"]),
+                       rtol=1e-6, atol=1e-9)
+    with pytest.raises(ValueError, match="--loads maneuver-pos sets the load factor"):
+        verify_pegasus(verify_pegasus_args(loads="maneuver-pos", load_factor=2.0, **kw))

@@ -18,6 +18,10 @@ from __future__ import annotations
 
 import numpy as np
 
+#: --loads: the load factor of each named case (the sizing maneuvers of ``wingmdao size pegasus``,
+#: ``--load-factor`` / ``--negative-load-factor`` defaults); '1g' takes ``--load-factor``.
+MANEUVERS = {"maneuver-pos": 2.5, "maneuver-neg": -1.0}
+
 #: Sized-like walls (upper skin, lower skin, front spar, rear spar), m: section_models.compare_1g's.
 DEFAULT_WALLS = (0.004, 0.004, 0.005, 0.004)
 
@@ -29,6 +33,9 @@ def register_pegasus(cases):
     p.add_argument("--load-factor", type=float, default=1.0, metavar="N",
                    help="load factor n of the symmetric maneuver (lift n W, gravity 1 g plus (n-1) g frame "
                    "acceleration on the masses)")
+    p.add_argument("--loads", choices=("1g", *MANEUVERS), default="1g",
+                   help="1g: the symmetric maneuver at --load-factor; maneuver-pos / maneuver-neg: the 2.5 g and "
+                   "-1.0 g sizing maneuvers of 'wingmdao size pegasus'")
     add_fe_arguments(p, rib_thickness=0.002, no_ribs_help="no ribs at all (Sec. 4.3.1 Test 2's rib-less model)",
                      ribs_help="ribs every SPACING m instead of at the case's 19 rib stations",
                      design_help="wall thicknesses from a 'wingmdao size pegasus' result (20 stations) "
@@ -122,6 +129,11 @@ def verify_pegasus(args) -> dict:
 
     span = case.PLANFORM.semi_span
     check_fe_args(args, span)
+    name = getattr(args, "loads", "1g")
+    if name in MANEUVERS:
+        if args.load_factor != 1.0:
+            raise ValueError(f"--loads {name} sets the load factor ({MANEUVERS[name]:g}); drop --load-factor")
+        args.load_factor = MANEUVERS[name]
     geo, sec, line, params, structural, walls = pegasus_setup(args.design, args.load_factor)
     find_ccx()
     y = geo.span_coordinate
@@ -142,7 +154,7 @@ def verify_pegasus(args) -> dict:
     d_b, d_f = np.linalg.norm(disp_b, axis=1), np.linalg.norm(fe["displacement"], axis=1)
     r_b, r_f = np.linalg.norm(rot_b, axis=1), np.linalg.norm(fe["rotation"], axis=1)
     T = np.array([_csn(t) for t in geo.node_euler_angles])
-    res = {"case": "pegasus", "fidelity": args.fidelity, "load_factor": args.load_factor,
+    res = {"case": "pegasus", "fidelity": args.fidelity, "loads": name, "load_factor": args.load_factor,
            "stations": [str(k) for k in range(y.size)], "station_y": y.tolist(),
            "ribs_y": [float(v) for v in ribs], "walls": {k: v.tolist() for k, v in walls.items()},
            "displacement_beam": d_b.tolist(), "displacement_fe": d_f.tolist(),
@@ -188,11 +200,11 @@ def _beam_frequencies(params, count):
 
 
 def verify_pegasus_args(*, ribs="stations", fidelity="shell", modes=0, chord_elements=8, height_elements=2,
-                        span_size=0.5, rib_thickness=0.002, load_factor=1.0, design=None):
+                        span_size=0.5, rib_thickness=0.002, load_factor=1.0, design=None, loads="1g"):
     """The parsed-argument namespace of ``verify pegasus`` (``ribs``: 'stations', None, or a spacing)."""
     import argparse
 
-    return argparse.Namespace(case="pegasus", load_factor=load_factor, fidelity=fidelity, through_elements=2,
+    return argparse.Namespace(case="pegasus", loads=loads, load_factor=load_factor, fidelity=fidelity, through_elements=2,
                               nlgeom=False, load_steps=1, ribs=None if ribs in ("stations", None) else ribs,
                               no_ribs=ribs is None, rib_thickness=rib_thickness, design=design, modes=modes,
                               chord_elements=chord_elements, height_elements=height_elements, span_size=span_size,
