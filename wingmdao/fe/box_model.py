@@ -78,7 +78,7 @@ class ShellBox:
     wall_elements: list = field(default_factory=list)    # per span row: element ids around the ring
     counts: tuple = (8, 2)                                # chord x height elements
     element: str = "S8R"
-    samples: list = None      # per span row: element ids of each stress point (stress_points.POINTS)
+    samples: list | None = None      # per span row: element ids of each stress point (stress_points.POINTS)
 
     def ring_points(self, j):
         return np.array([self.deck.nodes[int(n)] for n in self.rings[j]])
