@@ -99,3 +99,49 @@ def test_export_bad_design(tmp_path, capsys):
                  str(tmp_path / "x.inp")]) != 0
     assert "not 'wing-box'" in capsys.readouterr().err
     assert not (tmp_path / "x.inp").exists()
+
+
+def _pegasus_beam_tip():
+    """The project's beam at 1 g on the export's PEGASUS walls (independent of the decks)."""
+    from wingmdao.beam.static import BeamModel
+    from wingmdao.cases.planform import G0
+    from wingmdao.cli._verify_pegasus import pegasus_setup
+
+    geo, _, line, params, _, _ = pegasus_setup(None, 1.0)
+    sol = BeamModel(params).solve(force_per_length=line.force_per_length, moment_per_length=line.moment_per_length,
+                                  gravity=np.array([0.0, 0.0, -G0]))
+    return (sol["r"][-1] - geo.node_positions[-1])[2]
+
+
+@needs_ccx
+def test_pegasus_shell_export_reproduces_beam(tmp_path):
+    """`wingmdao export pegasus --fidelity shell` (ribs at the 19 stations, 1 g lift, weights and
+    engines as nodal loads): ccx's tip-ring deflection within 1 % of the beam (measured +0.2 %)."""
+    from wingmdao.cli import main
+    from wingmdao.fe.calculix import parse_dat, run_deck
+
+    path = tmp_path / "peg.inp"
+    assert main(["export", "pegasus", "--format", "calculix", "--fidelity", "shell", str(path)]) == 0
+    out = parse_dat(run_deck(path.read_text())["dat"])["displacements"]["TIP"]
+    uz = np.mean([v[2] for v in out.values()])
+    assert uz == pytest.approx(_pegasus_beam_tip(), rel=0.01)
+
+
+def test_pegasus_nastran_decks_reread(tmp_path):
+    """Nastran PEGASUS decks: 20 stations x 4 beam nodes, two CONM2 engines (600 + 150 kg), load
+    resultant = lift - weights of the beam model (sum of FORCE z); shell: CQUAD8 walls + ribs."""
+    from wingmdao.cases.planform import G0
+    from wingmdao.cli._verify_pegasus import pegasus_setup
+    from wingmdao.cli.export import pegasus_deck
+    from wingmdao.fe.wing_loads import lumping_lengths
+
+    geo, _, line, _, structural, _ = pegasus_setup(None, 1.0)
+    y = geo.span_coordinate
+    w = lumping_lengths(y)
+    expected = float(np.sum(w * (line.force_per_length[:, 2] - G0 * structural))) - 750 * G0
+    beam = read_bulk(pegasus_deck(None, "nastran", "beam"))
+    assert len(beam["GRID"]) == 19 * 4 + 1 and len(beam["CBAR"]) == 76
+    assert sorted(float(c[3]) for c in beam["CONM2"]) == [150.0, 600.0]
+    assert sum(float(c[6]) for c in beam["FORCE"]) == pytest.approx(expected, rel=1e-9)
+    shell = read_bulk(pegasus_deck(None, "nastran", "shell"))
+    assert len(shell["CQUAD8"]) > 500 and len(shell["CONM2"]) > 0

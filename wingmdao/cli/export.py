@@ -1,4 +1,4 @@
-"""``wingmdao export wing-box``: write the (sized) wing box as a CalculiX, Abaqus or Nastran deck
+"""``wingmdao export wing-box|pegasus``: write the (sized) wing box as a CalculiX, Abaqus or Nastran deck
 (beam stick model or shell model), see :mod:`wingmdao.fe.export`."""
 
 from __future__ import annotations
@@ -19,9 +19,22 @@ def register(subparsers):
     wb.add_argument("--format", choices=("calculix", "nastran", "abaqus"), required=True, help="deck format")
     wb.add_argument("--fidelity", choices=("beam", "shell"), default="beam",
                     help="beam stick model or shell model of the walls")
-    wb.add_argument("file", metavar="FILE", help="deck to write")
     wb.add_argument("--overwrite", action="store_true", help="replace an existing FILE instead of refusing")
+    wb.add_argument("file", metavar="FILE", help="deck to write")
     wb.set_defaults(func=run_export)
+    pg = cases.add_parser("pegasus", help="PEGASUS wing at n g (4/4/5/4 mm walls, or --design)")
+    pg.add_argument("--design", default=None, metavar="RESULT.json",
+                    help="wall thicknesses from a 'wingmdao size pegasus' result (20 stations)")
+    pg.add_argument("--format", choices=("calculix", "nastran", "abaqus"), required=True, help="deck format")
+    pg.add_argument("--fidelity", choices=("beam", "shell"), default="beam",
+                    help="beam stick model (one element per station interval) or shell model of the walls")
+    pg.add_argument("--load-factor", type=float, default=1.0, metavar="N",
+                    help="load factor of the symmetric maneuver (lift n W and n g weight as nodal loads)")
+    pg.add_argument("--no-ribs", action="store_true", help="shell: no ribs (default: ribs at the 19 rib stations)")
+    pg.add_argument("--rib-thickness", type=float, default=0.002, metavar="M", help="shell: rib thickness (m)")
+    pg.add_argument("--overwrite", action="store_true", help="replace an existing FILE instead of refusing")
+    pg.add_argument("file", metavar="FILE", help="deck to write")
+    pg.set_defaults(func=run_export_pegasus)
 
 
 def run_export(args) -> int:
@@ -34,14 +47,55 @@ def run_export(args) -> int:
 
     from wingmdao.cli._io import check_output_file
 
+    check_output_file(args.file, "FILE", overwrite=args.overwrite)
     for name in ("tip_load", "tip_moment"):
         if not np.all(np.isfinite(getattr(args, name))):
             raise ValueError(f"--{name.replace('_', '-')} must be finite")
-    check_output_file(args.file, "FILE", overwrite=args.overwrite)
     walls = _design_walls(args.design, case.NAME) if args.design else None
     sec = wing_box_sections(args.geometry, args.t_spar, args.t_skin, walls)
     build = beam_deck if args.fidelity == "beam" else shell_deck
     text = build(sec, ALUMINIUM, args.format, tip_force=args.tip_load, tip_moment=args.tip_moment)
     write_atomic(text, args.file)
     print(f"wingmdao export: wrote {args.fidelity} model ({args.format}) to {args.file}", file=sys.stderr)
+    return 0
+
+
+def pegasus_deck(design, fmt, fidelity, load_factor=1.0, ribs=True, rib_thickness=0.002) -> str:
+    """Deck text of the PEGASUS wing (``verify pegasus``'s model and loads, :mod:`wingmdao.fe.export`)."""
+    from wingmdao.cases import pegasus as case
+    from wingmdao.cases.planform import G0
+    from wingmdao.cli._verify_pegasus import _engine_stations, fe_loads, pegasus_setup
+    from wingmdao.fe.export import beam_deck, shell_deck
+    from wingmdao.fe.wing_loads import lumped_line_loads, point_weights
+    from wingmdao.materials import ALUMINIUM
+
+    if not (np.isfinite(rib_thickness) and 0 < rib_thickness <= 0.5):
+        raise ValueError(f"--rib-thickness = {rib_thickness} m; allowed range (0, 0.5] m")
+    geo, sec, line, _, structural, _ = pegasus_setup(design, load_factor)
+    y = geo.span_coordinate
+    engines = _engine_stations(case, geo)
+    if fidelity == "shell":
+        return shell_deck(sec, ALUMINIUM, fmt, ribs_y=list(y[1:]) if ribs else [], rib_thickness=rib_thickness,
+                          loads=lambda model: fe_loads(case, geo, sec, model, line, structural, load_factor, G0),
+                          point_masses=engines)
+    weight = np.zeros((y.size, 3))
+    weight[:, 2] = -load_factor * G0 * structural
+    loads = lumped_line_loads(sec, y, y, line.force_per_length + weight, line.moment_per_length)
+    loads += point_weights(sec, engines, gravity=load_factor * G0)
+    per = 4      # ccx's expanded B32R needs a few elements per interval (one: 20 % too stiff, four: 6 %)
+    masses = [(per * int(np.argmin(abs(y - ye))), m) for ye, m in engines]
+    return beam_deck(sec, ALUMINIUM, fmt, nodes_per_segment=per, loads=loads, point_masses=masses)
+
+
+def run_export_pegasus(args) -> int:
+    import sys
+
+    from wingmdao.cli._io import check_output_file
+    from wingmdao.fe.export import write_atomic
+
+    check_output_file(args.file, "FILE", overwrite=args.overwrite)
+    text = pegasus_deck(args.design, args.format, args.fidelity, args.load_factor, not args.no_ribs,
+                        args.rib_thickness)
+    write_atomic(text, args.file)
+    print(f"wingmdao export: wrote pegasus {args.fidelity} model ({args.format}) to {args.file}", file=sys.stderr)
     return 0

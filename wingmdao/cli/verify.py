@@ -1,9 +1,11 @@
-"""``wingmdao verify wing-box``: the beam against a CalculiX shell model of the same box.
+"""``wingmdao verify wing-box``: the beam against a CalculiX shell or solid model of the same box.
 
 The shell model (:mod:`wingmdao.fe.box_model`, S8R on the wall mid-surfaces, streamwise
 sections CS1..CS4 of App. D.1, wall thicknesses of the beam-normal cut as ``wingmdao run
 wing-box`` uses them, root ring clamped, the tip load at the CS4 centre entering a CS4 rib
-through a distributing coupling) is written, run in ``ccx`` and read; the beam is the project's
+through a distributing coupling) or the solid model (:mod:`wingmdao.fe.solid_box`, C3D20R
+walls, same loads and clamp) is written, run in ``ccx`` and read; von Mises at the box corners
+and mid-flanges along the span (:mod:`wingmdao.fe.stress_points`); the beam is the project's
 nonlinear beam on the same box (:func:`wingmdao.cases.wing_box.solve_wing_box`). JSON:
 ``stations``, ``displacement_beam``, ``displacement_fe`` (section-average displacement
 magnitude per station, m), ``difference_percent``, and with ``--modes N``
@@ -19,33 +21,56 @@ import numpy as np
 
 
 def register(subparsers):
-    p = subparsers.add_parser("verify", help="cross-check the beam against a CalculiX shell model",
-                              description="Beam vs CalculiX (ccx) shell model of a shipped case. SI units, body axes.")
-    cases = p.add_subparsers(dest="case", metavar="CASE", required=True)
-    wb = cases.add_parser("wing-box", help="App. D.1 box: beam vs CalculiX shell under tip loads, modes")
     from wingmdao.cli.run import add_wing_box_arguments
+    from wingmdao.cli._verify_pegasus import register_pegasus
 
+    p = subparsers.add_parser("verify", help="cross-check the beam against a CalculiX shell or solid model",
+                              description="Beam vs CalculiX (ccx) shell or solid model of a shipped case. SI units, "
+                              "body axes.")
+    cases = p.add_subparsers(dest="case", metavar="CASE", required=True)
+    wb = cases.add_parser("wing-box", help="App. D.1 box: beam vs CalculiX shell/solid under tip loads, modes")
     add_wing_box_arguments(wb)
-    wb.add_argument("--fidelity", choices=("shell",), default="shell",
-                    help="FE model: shell (S8R); the C3D20R solid option is not implemented yet")
-    g = wb.add_mutually_exclusive_group()
-    g.add_argument("--ribs", type=float, default=None, metavar="SPACING", help="ribs every SPACING m of span")
-    g.add_argument("--no-ribs", action="store_true", help="no ribs (only the CS4 load-introduction rib; default)")
-    wb.add_argument("--rib-thickness", type=float, default=0.1, metavar="M", help="rib thickness (m)")
-    wb.add_argument("--design", default=None, metavar="RESULT.json",
-                    help="wall thicknesses from a 'wingmdao size wing-box' result (4 stations CS1..CS4)")
-    wb.add_argument("--modes", type=int, default=0, metavar="N", help="also compare the first N frequencies")
-    wb.add_argument("--chord-elements", type=int, default=8, metavar="N", help="shell elements across the skins")
-    wb.add_argument("--height-elements", type=int, default=2, metavar="N", help="shell elements across the spars")
-    wb.add_argument("--span-size", type=float, default=0.5, metavar="M", help="shell element length along the span (m)")
-    wb.add_argument("--plot", default=None, metavar="PNG", help="write a beam-vs-FE displacement plot")
+    wb.add_argument("--loads", choices=LOAD_NAMES, default="tip",
+                    help="load case at the CS4 centre: tip (--tip-load/--tip-moment, default); d1-fz, d1-fx, "
+                    "d1-my (App. D.1 comparison: 1e5 N up, 1e5 N aft, 1e5 N m about y); study1 (Fz = 2e6 N), "
+                    "study2 (Fx = 1e5 N, Fz = 2e6 N, My = 1e6 N m): the Sec. 4.7.2 sizing tip loads")
+    add_fe_arguments(wb, rib_thickness=0.1, no_ribs_help="no ribs (only the CS4 load-introduction rib; default)",
+                     design_help="wall thicknesses (beam-normal) from a 'wingmdao size wing-box --elements 1 1 1' "
+                     "result (4 stations CS1..CS4), for the FE model and the beam (default: --t-spar/--t-skin)")
+    wb.set_defaults(func=run_verify)
+    register_pegasus(cases)
+
+
+def add_fe_arguments(p, *, rib_thickness, no_ribs_help, design_help, ribs_help="ribs every SPACING m of span"):
+    """The FE-model flags shared by the ``verify`` cases."""
+    p.add_argument("--fidelity", choices=("shell", "solid"), default="shell",
+                   help="FE model: shell (S8R on the wall mid-surfaces) or solid (C3D20R walls, "
+                   "--through-elements through each wall thickness)")
+    p.add_argument("--through-elements", type=int, default=2, metavar="N",
+                   help="solid: elements through each wall thickness")
+    p.add_argument("--nlgeom", action="store_true",
+                   help="geometrically nonlinear FE solve (ccx NLGEOM, 10 increments); the beam is always nonlinear")
+    p.add_argument("--load-steps", type=int, default=1, metavar="N",
+                   help="load steps of the beam's static Newton solve")
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--ribs", type=float, default=None, metavar="SPACING", help=ribs_help)
+    g.add_argument("--no-ribs", action="store_true", help=no_ribs_help)
+    p.add_argument("--rib-thickness", type=float, default=rib_thickness, metavar="M",
+                   help="rib thickness (m)")
+    p.add_argument("--design", default=None, metavar="RESULT.json", help=design_help)
+    p.add_argument("--modes", type=int, default=0, metavar="N", help="also compare the first N frequencies")
+    p.add_argument("--chord-elements", type=int, default=8, metavar="N", help="elements across the skins")
+    p.add_argument("--height-elements", type=int, default=2, metavar="N", help="elements across the spars")
+    p.add_argument("--span-size", type=float, default=0.5, metavar="M",
+                   help="element length along the span (m)")
+    p.add_argument("--plot", default=None, metavar="PNG", help="write beam-vs-FE displacement/rotation/stress plots")
     from wingmdao.cli._args import add_json_argument
 
-    add_json_argument(wb)
-    wb.set_defaults(func=run_verify)
+    add_json_argument(p)
+    p.add_argument("--overwrite", action="store_true", help="replace an earlier run's --json / --plot files")
 
 
-def _design_walls(path, case):
+def _design_walls(path, case, count=4, how="size with --elements 1 1 1"):
     if not os.path.exists(path):
         raise ValueError(f"--design {path!r}: no such file")
     with open(path, encoding="utf-8") as fh:
@@ -56,9 +81,9 @@ def _design_walls(path, case):
     walls = {}
     for w in ("upper_skin", "lower_skin", "front_spar", "rear_spar"):
         v = np.asarray(th.get(w, []), float)
-        if v.shape != (4,):
-            raise ValueError(f"--design {path!r}: thickness.{w} must have 4 values (CS1..CS4, size with "
-                             f"--elements 1 1 1), got {v.size}")
+        if v.shape != (count,) or not np.all(np.isfinite(v) & (v > 0)):
+            raise ValueError(f"--design {path!r}: thickness.{w} must have {count} positive values in m "
+                             f"({how}), got {v.tolist()}")
         walls["t_" + w] = v
     return walls
 
@@ -76,65 +101,133 @@ def wing_box_sections(geometry, t_spar, t_skin, walls=None):
     return BoxSections(case.section_centres(geometry), g["widths"], case.HEIGHTS, walls)
 
 
-def verify_wing_box(args) -> dict:
-    from wingmdao.cases import wing_box as case
-    from wingmdao.cli.run import _check_args
-    from wingmdao.fe.box_model import build_shell_box, solve_modes, solve_static
-    from wingmdao.fe.calculix import find_ccx
+#: --loads: named load cases at the CS4 centre (force N, moment N m, body axes). d1-*: the three
+#: linear cases of the App. D.1 comparison (docs/verification-calculix.md); study1/study2: the
+#: Sec. 4.7.2 sizing tip loads (``wingmdao.cases.wing_box.STUDY_LOADS``; study 3 has study 2's).
+def named_loads():
+    from wingmdao.cases.wing_box import STUDY_LOADS
 
-    for name, val in (("dynamic", False), ("check_totals", False), ("gravity", False), ("load_steps", 1),
-                      ("elements", (6, 8, 6)), ("model", "beam")):
+    return {"d1-fz": ((0.0, 0.0, 1.0e5), (0.0, 0.0, 0.0)), "d1-fx": ((1.0e5, 0.0, 0.0), (0.0, 0.0, 0.0)),
+            "d1-my": ((0.0, 0.0, 0.0), (0.0, 1.0e5, 0.0)),
+            "study1": STUDY_LOADS[1], "study2": STUDY_LOADS[2]}
+
+
+LOAD_NAMES = ("tip", "d1-fz", "d1-fx", "d1-my", "study1", "study2")
+
+
+def _tip_loads(args):
+    """(force, moment) of ``--loads`` (``tip``: ``--tip-load``/``--tip-moment``)."""
+    name = getattr(args, "loads", "tip")
+    if name == "tip":
+        return tuple(args.tip_load), tuple(args.tip_moment)
+    if name not in LOAD_NAMES:
+        raise ValueError(f"--loads = {name!r}; allowed: {', '.join(LOAD_NAMES)}")
+    if np.any(args.tip_load) or np.any(args.tip_moment):
+        raise ValueError(f"--loads {name} is a named load case; drop --tip-load/--tip-moment")
+    return named_loads()[name]
+
+
+def _check_verify_args(args, span):
+    from wingmdao.cli.run import _check_args
+
+    for name, val in (("dynamic", False), ("check_totals", False), ("gravity", False), ("elements", (6, 8, 6)),
+                      ("model", "beam"), ("load_steps", 1), ("nlgeom", False), ("loads", "tip"),
+                      ("through_elements", 2), ("fidelity", "shell")):
         setattr(args, name, getattr(args, name, val))
     _check_args(args)
-    find_ccx()
-    span = float(sum(case.SPANS))
+    check_fe_args(args, span)
+    return _tip_loads(args)
+
+
+def check_fe_args(args, span):
+    """The shared FE flags (ValueError naming the flag, its value and the allowed range)."""
     if args.ribs is not None and not (np.isfinite(args.ribs) and 0 < args.ribs <= span):
         raise ValueError(f"--ribs = {args.ribs} m; allowed range (0, {span:g}] m (the span)")
     if args.modes < 0 or args.modes > 50:
         raise ValueError(f"--modes = {args.modes}; allowed range [0, 50]")
-    for name, low in (("chord_elements", 1), ("height_elements", 1)):
+    for name, low in (("chord_elements", 1), ("height_elements", 1), ("through_elements", 1)):
         if getattr(args, name) < low:
             raise ValueError(f"--{name.replace('_', '-')} = {getattr(args, name)}; allowed >= {low}")
     if not (np.isfinite(args.span_size) and 0.05 <= args.span_size <= 3.0):
         raise ValueError(f"--span-size = {args.span_size} m; allowed range [0.05, 3] m")
+    if not (np.isfinite(args.rib_thickness) and 0 < args.rib_thickness <= 0.5):
+        raise ValueError(f"--rib-thickness = {args.rib_thickness} m; allowed range (0, 0.5] m")
+    if args.load_steps < 1:
+        raise ValueError(f"--load-steps = {args.load_steps}; allowed range >= 1")
+
+
+def percent_difference(beam, fe, scale) -> list:
+    """100 (beam - fe) / fe per station; None where |fe| <= 1e-6 ``scale`` (the clamped root, or
+    a displacement a pure torque does not produce)."""
+    return [None if abs(f) <= 1e-6 * scale or scale == 0 else float(100 * (b - f) / f)
+            for b, f in zip(np.asarray(beam, float), np.asarray(fe, float))]
+
+
+def build_fe_model(args, sec, ribs, cos_sweep=1.0, cos_dih=1.0):
+    """The FE model of ``--fidelity`` on the sections ``sec`` (beam-normal wall thicknesses; the
+    solid takes the streamwise ones, thickness / cos per section)."""
+    from wingmdao.fe.box_model import build_shell_box
+    from wingmdao.fe.solid_box import build_solid_box, streamwise_sections
+
+    if args.fidelity == "solid":
+        return build_solid_box(streamwise_sections(sec, cos_sweep, cos_dih), _material(),
+                               chord_elements=args.chord_elements, height_elements=args.height_elements,
+                               through=args.through_elements, span_element_size=args.span_size, ribs_y=ribs,
+                               rib_thickness=args.rib_thickness)
+    return build_shell_box(sec, _material(), chord_elements=args.chord_elements,
+                           height_elements=args.height_elements, span_element_size=args.span_size,
+                           ribs_y=ribs, rib_thickness=args.rib_thickness)
+
+
+def verify_wing_box(args) -> dict:
+    from wingmdao.cases import wing_box as case
+    from wingmdao.fe.box_model import solve_modes, solve_static
+    from wingmdao.fe.calculix import find_ccx
+
+    span = float(sum(case.SPANS))
+    force, moment = _check_verify_args(args, span)
+    find_ccx()
     walls = _design_walls(args.design, case.NAME) if args.design else None
     sec = wing_box_sections(args.geometry, args.t_spar, args.t_skin, walls)
     ribs = [] if args.ribs is None else list(np.arange(args.ribs, span + 1e-9, args.ribs))
     ribs = sorted(set(np.round(ribs + [span], 9)))
-    model = build_shell_box(sec, _material(), chord_elements=args.chord_elements,
-                            height_elements=args.height_elements, span_element_size=args.span_size,
-                            ribs_y=ribs, rib_thickness=args.rib_thickness)
+    model = build_fe_model(args, sec, ribs, *case.wing_geometry(args.geometry, (1, 1, 1))[2:])
     ys = sec.centres[:, 1]
-    fe = solve_static(model, [(span, sec.centres[-1], args.tip_load, args.tip_moment)], ys)
-    bwalls = None if walls is None else walls
-    if bwalls is None:
-        beam = case.solve_wing_box(args.geometry, tip_force=args.tip_load, tip_moment=args.tip_moment,
-                                   t_spar=args.t_spar, t_skin=args.t_skin)
-        d_beam = np.asarray(beam["displacement"])
-    else:
-        d_beam = None
+    loads = [(span, sec.centres[-1], force, moment)]
+    fe = solve_static(model, loads, ys, nlgeom=args.nlgeom, stress=True)
+    import openmdao.api as om
+
+    try:
+        beam = case.solve_wing_box(args.geometry, tip_force=force, tip_moment=moment, t_spar=args.t_spar,
+                                   t_skin=args.t_skin, load_steps=args.load_steps, walls=walls)
+    except om.AnalysisError as exc:    # the beam's Newton solve
+        raise ValueError(f"the beam solve did not converge ({exc}); try more --load-steps") from exc
+    d_beam = np.asarray(beam["displacement"])
     d_fe = np.linalg.norm(fe["displacement"], axis=1)
+    r_beam = np.linalg.norm(beam["station_rotation"], axis=1)
+    r_fe = np.linalg.norm(fe["rotation"], axis=1)
     res = {"case": case.NAME, "geometry": args.geometry, "fidelity": args.fidelity,
+           "loads": {"name": args.loads, "tip_force": list(force), "tip_moment": list(moment),
+                     "nlgeom": bool(args.nlgeom), "design": args.design},
            "stations": list(case.STATIONS), "station_y": ys.tolist(),
-           "displacement_fe": d_fe.tolist(), "station_displacement_fe": fe["displacement"].tolist(),
-           "station_rotation_fe": fe["rotation"].tolist(),
-           "ribs_y": ribs, "mesh": {"element": "S8R", "num_elements": fe["num_elements"],
+           "displacement_beam": d_beam.tolist(), "displacement_fe": d_fe.tolist(),
+           "difference_percent": percent_difference(d_beam, d_fe, max(d_fe.max(), span * r_fe.max())),
+           "rotation_beam": r_beam.tolist(), "rotation_fe": r_fe.tolist(),
+           "rotation_difference_percent": percent_difference(r_beam, r_fe, max(r_fe.max(), d_fe.max() / span)),
+           "station_displacement_beam": beam["station_displacement"],
+           "station_displacement_fe": fe["displacement"].tolist(),
+           "station_rotation_beam": beam["station_rotation"], "station_rotation_fe": fe["rotation"].tolist(),
+           "ribs_y": ribs, "mesh": {"element": model.element, "num_elements": fe["num_elements"],
                                     "num_nodes": fe["num_nodes"], "chord_elements": args.chord_elements,
-                                    "height_elements": args.height_elements, "span_size": args.span_size},
+                                    "height_elements": args.height_elements, "span_size": args.span_size,
+                                    "through_elements": args.through_elements if args.fidelity == "solid" else None},
            "fe_time_s": fe["time"],
-           "units": "SI (m, N, N*m, rad, Hz); body axes x aft, y outboard, z up"}
-    if d_beam is not None:
-        res["displacement_beam"] = d_beam.tolist()
-        res["station_rotation_beam"] = beam["station_rotation"]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            diff = np.where(d_fe > 0, 100 * (d_beam - d_fe) / d_fe, 0.0)
-        res["difference_percent"] = diff.tolist()
-    else:
-        res["note"] = "beam side for --design runs: use 'wingmdao run wing-box' (not wired yet)"
+           "units": "SI (m, N, N*m, rad, Pa, Hz); body axes x aft, y outboard, z up"}
+    res["von_mises"] = von_mises_table(model, sec, fe["stresses"], loads, segment_axes(args.geometry))
     if args.modes:
         fm = solve_modes(model, args.modes)
         res["frequencies_fe_hz"] = fm["frequencies_hz"].tolist()
-        fb = beam_frequencies(args.geometry, args.t_spar, args.t_skin, args.modes)
+        fb = beam_frequencies(args.geometry, args.t_spar, args.t_skin, args.modes, walls=walls)
         res["frequencies_beam_hz"] = fb.tolist()
         k = min(len(fb), len(fm["frequencies_hz"]))
         res["frequency_difference_percent"] = (100 * (fb[:k] - fm["frequencies_hz"][:k])
@@ -145,13 +238,42 @@ def verify_wing_box(args) -> dict:
     return res
 
 
+def segment_axes(geometry):
+    """``axes_at(y)``: the beam's csn axes T (rows c, s, n, body axes) of the segment holding y."""
+    from wingmdao.beam.geometry import polyline_beam
+    from wingmdao.cases import wing_box as case
+
+    centres = case.section_centres(geometry)
+    T = polyline_beam(centres, (2,) * (len(centres) - 1)).csn_axes()[1::2]
+    ys = centres[:, 1]
+    return lambda y: T[int(np.clip(np.searchsorted(ys, y) - 1, 0, len(T) - 1))]
+
+
+def von_mises_table(model, sections, stresses, loads, axes_at) -> dict:
+    """JSON block: von Mises (Pa) at POINTS per span row, beam vs FE, differences in per cent of
+    the FE value and of the row's largest FE value (a point near zero stress has a large
+    relative difference and no weight)."""
+    from wingmdao.fe.stress_points import POINTS, compare_von_mises
+
+    c = compare_von_mises(model, sections, stresses, loads, axes_at)
+    fe, beam = c["fe"], c["beam"]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = np.where(fe > 0, 100 * (beam - fe) / fe, 0.0)
+        of_max = np.where(fe.max(1, keepdims=True) > 0, 100 * (beam - fe) / fe.max(1, keepdims=True), 0.0)
+    return {"points": list(POINTS), "y": c["y"].tolist(), "fe_pa": fe.tolist(), "beam_pa": beam.tolist(),
+            "difference_percent": rel.tolist(), "difference_percent_of_row_max": of_max.tolist(),
+            "note": "FE: von Mises of the mean integration-point stress of the corner / mid-flange elements "
+                    "(shell: S8R expanded by ccx to C3D20R; solid: the elements through the wall); beam: "
+                    "Sec. 4.4.2 recovery at the same points, internal loads by statics of the jig"}
+
+
 def _material():
     from wingmdao.materials import ALUMINIUM
 
     return ALUMINIUM
 
 
-def beam_frequencies(geometry, t_spar, t_skin, count):
+def beam_frequencies(geometry, t_spar, t_skin, count, walls=None):
     """Lowest natural frequencies (Hz) of the beam of ``run wing-box`` (jig state)."""
     from wingmdao.beam.modes import natural_frequencies
     from wingmdao.beam.residual import forcing_specs
@@ -159,7 +281,7 @@ def beam_frequencies(geometry, t_spar, t_skin, count):
     from wingmdao.cases.wing_box import wing_box_beam
     from wingmdao.timemarch.system import pack
 
-    params, _ = wing_box_beam(geometry, t_spar=t_spar, t_skin=t_skin)
+    params, _ = wing_box_beam(geometry, t_spar=t_spar, t_skin=t_skin, walls=walls)
     m = BeamModel(params)
     n = m.num_nodes
     return natural_frequencies(m.system, m.p, pack(forcing_specs(n), beam_forcing(n)), count=count)
@@ -171,14 +293,27 @@ def _plot(res, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(6, 4))
-    ax.plot(res["station_y"], res["displacement_fe"], "o-", label="CalculiX shell (S8R)")
-    if "displacement_beam" in res:
-        ax.plot(res["station_y"], res["displacement_beam"], "s--", label="beam")
-    ax.set_xlabel("span y (m)")
-    ax.set_ylabel("section-average displacement (m)")
-    ax.legend()
-    ax.grid(True)
+    fig, (ax, rx, bx) = plt.subplots(1, 3, figsize=(15, 4))
+    label = f"CalculiX {res['fidelity']} ({res['mesh']['element']})"
+    for axis, key, name in ((ax, "displacement", "section-average displacement (m)"),
+                            (rx, "rotation", "section rotation magnitude (rad)")):
+        axis.plot(res["station_y"], res[f"{key}_fe"], "o-", label=label)
+        axis.plot(res["station_y"], res[f"{key}_beam"], "s--", label="beam")
+        axis.set_xlabel("span y (m)")
+        axis.set_ylabel(name)
+        axis.legend()
+        axis.grid(True)
+    vm = res.get("von_mises")
+    if vm:
+        fe, beam = np.array(vm["fe_pa"]) / 1e6, np.array(vm["beam_pa"]) / 1e6
+        for k, point in enumerate(vm["points"]):
+            if point in ("front-upper skin", "front-upper spar", "upper skin centre", "front spar centre"):
+                line, = bx.plot(vm["y"], fe[:, k], "-", label=f"{point} FE")
+                bx.plot(vm["y"], beam[:, k], "--", color=line.get_color(), label=f"{point} beam")
+        bx.set_xlabel("span y (m)")
+        bx.set_ylabel("von Mises (MPa)")
+        bx.legend(fontsize=7)
+        bx.grid(True)
     from wingmdao.plots import save_figure
 
     save_figure(fig, path)
@@ -190,8 +325,17 @@ def run_verify(args) -> int:
     from wingmdao.cli import write_json
     from wingmdao.fe.calculix import CalculixNotFound
 
+    from wingmdao.cli._io import check_output_file
+    from wingmdao.cli._verify_pegasus import verify_pegasus
+
+    overwrite = getattr(args, "overwrite", False)
+    check_output_file(args.json, "--json", overwrite=overwrite, others={"--plot": args.plot})
+    check_output_file(args.plot, "--plot", overwrite=overwrite)
     try:
-        res = verify_wing_box(args)
+        res = verify_pegasus(args) if args.case == "pegasus" else verify_wing_box(args)
+        if args.case == "pegasus" and args.plot:
+            _plot(res, args.plot)
+            res["plot"] = args.plot
     except CalculixNotFound as exc:
         print(f"wingmdao verify: {exc}", file=sys.stderr)
         return 2
@@ -207,4 +351,5 @@ def verify_args(geometry, tip_load=(0.0, 0.0, 0.0), tip_moment=(0.0, 0.0, 0.0), 
     return argparse.Namespace(geometry=geometry, tip_load=tuple(tip_load), tip_moment=tuple(tip_moment),
                               ribs=ribs, no_ribs=ribs is None, modes=modes, chord_elements=chord_elements,
                               height_elements=height_elements, span_size=span_size, rib_thickness=rib_thickness,
-                              t_spar=t_spar, t_skin=t_skin, design=None, fidelity="shell", plot=None, json="-")
+                              t_spar=t_spar, t_skin=t_skin, design=None, fidelity="shell", plot=None, json="-",
+                              loads="tip", nlgeom=False, load_steps=1, through_elements=2, overwrite=False)

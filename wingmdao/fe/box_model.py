@@ -66,7 +66,8 @@ class BoxSections:
 
 @dataclass
 class ShellBox:
-    """The built model: the deck, the station rings (node ids, weights) and span positions."""
+    """The built model: the deck, the station rings (node ids, weights) and span positions
+    (also the solid model of :mod:`wingmdao.fe.solid_box`, whose rings are cross-sections)."""
 
     deck: Deck
     span_y: np.ndarray
@@ -74,6 +75,10 @@ class ShellBox:
     ring_weights: list         # per span line: thickness x tributary length (P,)
     num_elements: int
     station_lines: dict = field(default_factory=dict)   # label -> span line index
+    wall_elements: list = field(default_factory=list)    # per span row: element ids around the ring
+    counts: tuple = (8, 2)                                # chord x height elements
+    element: str = "S8R"
+    samples: list | None = None      # per span row: element ids of each stress point (stress_points.POINTS)
 
     def ring_points(self, j):
         return np.array([self.deck.nodes[int(n)] for n in self.rings[j]])
@@ -154,7 +159,9 @@ def build_shell_box(sections: BoxSections, material, *, element="S8R", chord_ele
     P = len(rings[0])
     nel = 0
     step = q
+    rows = []
     for j in range(0, len(fine) - 1, step):
+        rows.append([])
         for i in range(0, P, step):
             r0, r1 = rings[j], rings[j + step]
             if q == 1:
@@ -165,7 +172,7 @@ def build_shell_box(sections: BoxSections, material, *, element="S8R", chord_ele
                         r0[(i + 1) % P], rm[(i + 2) % P], r1[(i + 1) % P], rm[i]]
             t = 0.5 * (walls_t[j][i] + walls_t[j + step][i])
             name = f"E{nel + 1}"
-            deck.add_elements(element, name, [conn])
+            rows[-1] += deck.add_elements(element, name, [conn])
             deck.sections.append(f"*SHELL SECTION, ELSET={name}, MATERIAL=MAT\n{t:.10g}")
             nel += 1
     # ribs: a structured shell grid in the rib plane sharing the ring nodes
@@ -210,7 +217,7 @@ def build_shell_box(sections: BoxSections, material, *, element="S8R", chord_ele
         nel += len(conns)
     deck.nsets["ROOT"] = list(rings[0])
     deck.boundary.append(("ROOT", 1, 6))
-    return ShellBox(deck, fine, rings, weights, nel)
+    return ShellBox(deck, fine, rings, weights, nel, wall_elements=rows, counts=(nc, nh), element=element)
 
 
 def line_index(model: ShellBox, y: float) -> int:
@@ -266,19 +273,28 @@ def section_rotation(model: ShellBox, displacements: dict, j: int) -> np.ndarray
     return np.linalg.pinv(J) @ (w[:, None] * np.cross(r, du)).sum(0)
 
 
-def solve_static(model: ShellBox, loads, stations_y, nlgeom=False, increments=10, keep_dir=None) -> dict:
+def solve_static(model: ShellBox, loads, stations_y, nlgeom=False, increments=10, keep_dir=None,
+                 stress=False) -> dict:
     """Static solve: section-average displacement (m, (k, 3)) and rotation (rad, (k, 3)) at the
-    span coordinates ``stations_y``."""
+    span coordinates ``stations_y``; with ``stress`` also the integration-point stresses of the
+    corner and mid-flange elements (``stresses``, :mod:`wingmdao.fe.stress_points`)."""
+    from wingmdao.fe.stress_points import sample_elements
+
     js = [line_index(model, y) for y in stations_y]
     model.deck.nsets["OUT"] = sorted({int(n) for j in js for n in model.rings[j]})
+    elsets = ()
+    if stress:
+        model.deck.elsets["VMOUT"] = sorted({e for row in sample_elements(model) for eids in row for e in eids})
+        elsets = ("VMOUT",)
     text = model.deck.text([static_step(station_loads(model, loads), ["OUT"], nlgeom=nlgeom,
-                                        increments=increments)])
+                                        increments=increments, stress_elsets=elsets)])
     run = run_deck(text, keep_dir=keep_dir)
-    d = parse_dat(run["dat"])["displacements"]["OUT"]
+    dat = parse_dat(run["dat"])
+    d = dat["displacements"]["OUT"]
     disp = np.array([section_average(model, d, j) for j in js])
     rot = np.array([section_rotation(model, d, j) for j in js])
     return {"displacement": disp, "rotation": rot, "time": run["time"], "num_nodes": len(model.deck.nodes),
-            "num_elements": model.num_elements}
+            "num_elements": model.num_elements, "stresses": dat["stresses"]}
 
 
 def solve_modes(model: ShellBox, modes: int, keep_dir=None) -> dict:

@@ -78,13 +78,18 @@ _FLOAT = r"[-+]?\d*\.?\d+(?:[eE][-+]?\d+)?"
 
 def parse_dat(text: str) -> dict:
     """Read a ccx ``.dat`` file: ``{"displacements": {NSET: {node: (ux, uy, uz)}},
+    "stresses": {element: (points, 6) array sxx, syy, szz, sxy, sxz, syz (Pa)},
     "frequencies_hz": array}`` (the last time of each set when a step prints several)."""
     disp: dict = {}
+    stress: dict = {}
     freqs: list = []
     lines = text.splitlines()
     i = 0
     while i < len(lines):
         line = lines[i]
+        if re.match(r"\s*stresses \(elem, integ.pnt.,sxx,syy,szz,sxy,sxz,syz\) for set", line):
+            i = _read_stress_block(lines, i + 1, stress)
+            continue
         m = re.match(r"\s*displacements \(vx,vy,vz\) for set (\S+) and time", line)
         if m:
             name = m.group(1).upper()
@@ -112,13 +117,41 @@ def parse_dat(text: str) -> dict:
                 i += 1
             continue
         i += 1
-    return {"displacements": disp, "frequencies_hz": np.array(freqs)}
+    return {"displacements": disp, "stresses": {e: np.array(v) for e, v in stress.items()},
+            "frequencies_hz": np.array(freqs)}
+
+
+def _read_stress_block(lines, i, out) -> int:
+    """Rows 'elem, integration point, sxx, syy, szz, sxy, sxz, syz' of an *EL PRINT S block into
+    ``out[elem]`` (a later time replaces an earlier one); returns the next line index."""
+    while i < len(lines) and not lines[i].strip():
+        i += 1
+    seen = set()
+    while i < len(lines) and lines[i].strip():
+        parts = lines[i].split()
+        try:
+            e, vals = int(parts[0]), [float(v) for v in parts[2:8]]
+        except (ValueError, IndexError):
+            break
+        if e not in seen:
+            out[e] = []
+            seen.add(e)
+        out[e].append(vals)
+        i += 1
+    return i
 
 
 # --------------------------------------------------------------------------- deck writing
 def _rows(values, per_line=8):
     vals = list(values)
     return "\n".join(", ".join(str(v) for v in vals[k:k + per_line]) for k in range(0, len(vals), per_line))
+
+
+def _element_line(eid, conn) -> str:
+    """An element data line; more than 15 nodes continue on the next line (at most 16 entries
+    per line, the manual's *ELEMENT rule)."""
+    vals = [str(eid)] + [str(n) for n in conn]
+    return ",\n".join(", ".join(vals[k:k + 16]) for k in range(0, len(vals), 16))
 
 
 def distributing_forces(points, weights, centre, force, moment) -> np.ndarray:
@@ -148,6 +181,7 @@ class Deck:
         self.nodes: dict[int, tuple] = {}
         self.elements: list[tuple[str, str, dict]] = []   # (type, elset, {id: conn})
         self.nsets: dict[str, list] = {}
+        self.elsets: dict[str, list] = {}
         self.sections: list[str] = []
         self.materials: list[str] = []
         self.boundary: list[tuple] = []
@@ -179,9 +213,11 @@ class Deck:
         out += [f"{i}, {c[0]:.12g}, {c[1]:.12g}, {c[2]:.12g}" for i, c in sorted(self.nodes.items())]
         for etype, elset, block in self.elements:
             out.append(f"*ELEMENT, TYPE={etype}, ELSET={elset}")
-            out += [f"{e}, " + ", ".join(map(str, c)) for e, c in block.items()]
+            out += [_element_line(e, c) for e, c in block.items()]
         for name, ids in self.nsets.items():
             out.append(f"*NSET, NSET={name}\n{_rows(ids)}")
+        for name, ids in self.elsets.items():
+            out.append(f"*ELSET, ELSET={name}\n{_rows(ids)}")
         out += self.materials + self.sections + self.model_extra
         if self.boundary:
             out.append("*BOUNDARY")
@@ -190,14 +226,16 @@ class Deck:
         return "\n".join(out) + "\n"
 
 
-def static_step(cloads, print_nsets, nlgeom=False, increments=None) -> str:
-    """A *STATIC step with nodal loads [(node, dof, value)] and *NODE PRINT U of the sets."""
+def static_step(cloads, print_nsets, nlgeom=False, increments=None, stress_elsets=()) -> str:
+    """A *STATIC step with nodal loads [(node, dof, value)], *NODE PRINT U of the node sets and
+    *EL PRINT S (integration-point stresses) of the element sets."""
     head = "*STEP" + (", NLGEOM, INC=1000" if nlgeom else "")
     s = [head, "*STATIC" if not (nlgeom and increments) else f"*STATIC\n{1.0 / increments:g}, 1.0"]
     if cloads:
         s.append("*CLOAD")
         s += [f"{n}, {d}, {v:.12g}" for n, d, v in cloads if v != 0.0]
     s += [f"*NODE PRINT, NSET={n}\nU" for n in print_nsets]
+    s += [f"*EL PRINT, ELSET={e}\nS" for e in stress_elsets]
     s.append("*END STEP")
     return "\n".join(s)
 

@@ -55,11 +55,28 @@ def _stick(sections: BoxSections, nodes_per_segment):
     return np.array(pts), np.array(mids)
 
 
+def _node_loads(pts, tip_force, tip_moment, loads):
+    """[(node index, force (3,), moment (3,))] of the stick nodes: the tip load, or the station
+    loads [(y, centre, F, M)] (each at the stick node at its y, moved from its centre)."""
+    if loads is None:
+        return [(len(pts) - 1, np.asarray(tip_force, float), np.asarray(tip_moment, float))]
+    out = []
+    for y, c, F, M in loads:
+        i = int(np.argmin(np.abs(pts[:, 1] - y)))
+        if abs(pts[i, 1] - y) > 1e-6:
+            raise ValueError(f"station load at y = {y} m is not at a stick node")
+        F = np.asarray(F, float)
+        out.append((i, F, np.asarray(M, float) + np.cross(np.asarray(c, float) - pts[i], F)))
+    return out
+
+
 def beam_deck(sections: BoxSections, material, fmt, *, tip_force=(0, 0, 0), tip_moment=(0, 0, 0),
-              point_masses=(), nodes_per_segment=4) -> str:
-    """Stick-model deck text (see module docstring). ``point_masses``: [(node index, kg)]."""
+              point_masses=(), nodes_per_segment=4, loads=None) -> str:
+    """Stick-model deck text (see module docstring). ``point_masses``: [(node index, kg)];
+    ``loads``: station loads [(y, centre, F, M)] at stick nodes instead of the tip load."""
     pts, mids = _stick(sections, nodes_per_segment)
     n = len(pts)
+    node_loads = _node_loads(pts, tip_force, tip_moment, loads)
     props = []
     for y in mids:
         _, w, h, t = sections.at(y)
@@ -82,9 +99,10 @@ def beam_deck(sections: BoxSections, material, fmt, *, tip_force=(0, 0, 0), tip_
         d.nsets["ROOT"] = [int(ids[0])]
         d.nsets["TIP"] = [int(ids[-1])]
         d.boundary.append(("ROOT", 1, 6))
-        loads = [(int(ids[-1]), k + 1, float(v)) for k, v in enumerate(tip_force)]
-        loads += [(int(ids[-1]), k + 4, float(v)) for k, v in enumerate(tip_moment)]
-        return d.text([static_step(loads, ["TIP"])])
+        # loads at the clamped root node go straight into the support (ccx refuses moments there)
+        rows = [(int(ids[i]), k + 1, float(v)) for i, F, M in node_loads if i > 0
+                for k, v in enumerate(np.concatenate([F, M]))]
+        return d.text([static_step(rows, ["TIP"])])
     if fmt != "nastran":
         raise ValueError(f"format must be one of {FORMATS}, got {fmt!r}")
     G = material.E / (2 * (1 + material.nu))
@@ -99,19 +117,29 @@ def beam_deck(sections: BoxSections, material, fmt, *, tip_force=(0, 0, 0), tip_
     for k, (i, m) in enumerate(point_masses):
         out.append(f"CONM2,{1000 + k},{i + 1},,{m:.10g}")
     out.append("SPC1,1,123456,1")
-    out.append(f"FORCE,1,{n},,1.,{tip_force[0]:.10g},{tip_force[1]:.10g},{tip_force[2]:.10g}")
-    out.append(f"MOMENT,1,{n},,1.,{tip_moment[0]:.10g},{tip_moment[1]:.10g},{tip_moment[2]:.10g}")
+    for i, F, M in node_loads:
+        out.append(f"FORCE,1,{i + 1},,1.,{F[0]:.10g},{F[1]:.10g},{F[2]:.10g}")
+        out.append(f"MOMENT,1,{i + 1},,1.,{M[0]:.10g},{M[1]:.10g},{M[2]:.10g}")
     out.append("ENDDATA")
     return "\n".join(out) + "\n"
 
 
 def shell_deck(sections: BoxSections, material, fmt, *, tip_force=(0, 0, 0), tip_moment=(0, 0, 0),
-               ribs_y=(), rib_thickness=0.1, **mesh) -> str:
-    """Shell-model deck text (S8R / CQUAD8), tip rib, tip load through a distributing coupling."""
+               ribs_y=(), rib_thickness=0.1, loads=None, point_masses=(), **mesh) -> str:
+    """Shell-model deck text (S8R / CQUAD8), tip rib, tip load through a distributing coupling.
+    ``loads``: a callable model -> station loads [(y, centre, F, M)] instead of the tip load (no
+    tip rib added); ``point_masses``: [(y, kg)] spread on their rings."""
+    from wingmdao.fe.box_model import add_point_masses
+
     span_end = sections.centres[-1, 1]
-    ribs = sorted(set(np.round(list(ribs_y) + [span_end], 9)))
+    ribs = sorted(set(np.round(list(ribs_y) + ([span_end] if loads is None else []), 9)))
     model = build_shell_box(sections, material, ribs_y=ribs, rib_thickness=rib_thickness, **mesh)
-    loads = station_loads(model, [(span_end, sections.centres[-1], tip_force, tip_moment)])
+    if point_masses:
+        add_point_masses(model, point_masses)
+    if loads is None:
+        loads = station_loads(model, [(span_end, sections.centres[-1], tip_force, tip_moment)])
+    else:
+        loads = station_loads(model, loads(model))
     d = model.deck
     d.nsets["TIP"] = [int(v) for v in model.rings[-1]]
     if fmt in ("calculix", "abaqus"):
@@ -127,9 +155,12 @@ def shell_deck(sections: BoxSections, material, fmt, *, tip_force=(0, 0, 0), tip
     for s in d.sections:
         head, val = s.split("\n")
         thick[head.split("ELSET=")[1].split(",")[0]] = float(val)
+    masses = {e.split("ELSET=")[1].split("\n")[0]: float(e.split("\n")[1]) for e in d.model_extra
+              if e.startswith("*MASS")}
     pid = 0
     for etype, elset, block in d.elements:
         if etype == "MASS":
+            out += [f"CONM2,{e},{conn[0]},,{masses[elset]:.10g}" for e, conn in block.items()]
             continue
         pid += 1
         out.append(f"PSHELL,{pid},1,{thick[elset]:.10g},1")

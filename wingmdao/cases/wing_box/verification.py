@@ -16,8 +16,12 @@ from wingmdao.materials import ALUMINIUM
 
 
 def wing_box_beam(name: str, elements_per_segment=(6, 8, 6), t_spar=T_SPAR, t_skin=T_SKIN,
-                  material=ALUMINIUM, section_mapping="normal") -> tuple[dict, np.ndarray]:
+                  material=ALUMINIUM, section_mapping="normal", walls=None) -> tuple[dict, np.ndarray]:
     """Beam parameters (``param_specs`` names) of the box and the node index of each station.
+
+    ``walls``: the four beam-normal wall thicknesses per station CS1..CS4 ({'t_upper_skin', ...:
+    (4,)} m, a ``wingmdao size wing-box --elements 1 1 1`` design), linear in arc length between
+    the stations, instead of the uniform ``t_spar``/``t_skin`` (normal mapping only).
 
     ``section_mapping``: 'normal' (default) takes the box properties of the beam-normal cut;
     'rotated' those of the streamwise cut rotated into csn (Eq. F.31, docs/beam-theory.md 9);
@@ -42,8 +46,17 @@ def wing_box_beam(name: str, elements_per_segment=(6, 8, 6), t_spar=T_SPAR, t_sk
     T = geo.csn_axes()
     rows = []
     R = streamwise_section_to_csn(geo.node_euler_angles)
+    if walls is not None and section_mapping != "normal":
+        raise ValueError(f"walls per station need section_mapping='normal', got {section_mapping!r}")
+    node_walls = None if walls is None else {k: geo.interpolate(walls[k]) for k in
+                                             ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")}
     for i in range(geo.num_nodes):
-        if section_mapping == "fe":
+        if node_walls is not None:
+            w, h = streamwise_to_normal(width[i], height[i], t_spar, t_skin, T[i, 1])[:2]
+            rows.append(box_properties(w, h, *(node_walls[k][i] for k in
+                                               ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")),
+                                       material))
+        elif section_mapping == "fe":
             rows.append(_fe_box_row(*streamwise_to_normal(width[i], height[i], t_spar, t_skin, T[i, 1]), material))
         elif section_mapping == "normal":
             w, h, ts, tk = streamwise_to_normal(width[i], height[i], t_spar, t_skin, T[i, 1])
@@ -79,12 +92,13 @@ def _fe_box_row(w, h, t_spar, t_skin, material, mesh_size=0.05):
 
 def solve_wing_box(name: str, tip_force=(0.0, 0.0, 0.0), tip_moment=(0.0, 0.0, 0.0), gravity=False,
                    t_spar=T_SPAR, t_skin=T_SKIN, elements_per_segment=(6, 8, 6), load_steps=1,
-                   section_mapping="normal") -> dict:
-    """Static response (root clamped at CS1): station displacements, tip displacement/rotation."""
+                   section_mapping="normal", walls=None) -> dict:
+    """Static response (root clamped at CS1): station displacements, tip displacement/rotation
+    (``walls``: per-station wall thicknesses, :func:`wing_box_beam`)."""
     from wingmdao.beam.static import BeamModel
 
     params, stations = wing_box_beam(name, elements_per_segment, t_spar, t_skin,
-                                     section_mapping=section_mapping)
+                                     section_mapping=section_mapping, walls=walls)
     model = BeamModel(params)
     n = model.num_nodes
     pf, pm = np.zeros((n, 3)), np.zeros((n, 3))

@@ -1,0 +1,211 @@
+"""``wingmdao verify pegasus``: the PEGASUS wing (App. D.2) at n g (1 g by default) on the beam and
+on a CalculiX shell or solid model with or without ribs (Sec. 4.3.1 Test 2, Sec. 4.2.5).
+
+Model: the 20 box sections of :func:`wingmdao.cases.planform.wing_geometry` (centres, outer
+width and height per station; station 0 is the centre box at the symmetry plane, clamped), wall
+thicknesses of a ``wingmdao size pegasus`` result (``--design``) or the sized-like 4/4/5/4 mm
+of ``wingmdao.verification.section_models.compare_1g``; ribs (shells / solid slabs) at the
+case's rib stations 1..19, every ``--ribs`` m, or none. Loads, the same on both models: the
+Schrenk lift and its torsion about the beam axis (``maneuver_line_loads``, centre of pressure
+at 25 % chord) and the self weight of the beam's mass per length, lumped at the FE's span lines
+(:mod:`wingmdao.fe.wing_loads`), and the engine weights at their stations, all entering through
+distributing couplings; the beam takes the same line loads, gravity on its mass and the
+engines as its non-structural mass. Modes: the engines as point masses spread on their
+station rings.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: --loads: the load factor of each named case (the sizing maneuvers of ``wingmdao size pegasus``,
+#: ``--load-factor`` / ``--negative-load-factor`` defaults); '1g' takes ``--load-factor``.
+MANEUVERS = {"maneuver-pos": 2.5, "maneuver-neg": -1.0}
+
+#: Sized-like walls (upper skin, lower skin, front spar, rear spar), m: section_models.compare_1g's.
+DEFAULT_WALLS = (0.004, 0.004, 0.005, 0.004)
+
+
+def register_pegasus(cases):
+    from wingmdao.cli.verify import add_fe_arguments, run_verify
+
+    p = cases.add_parser("pegasus", help="PEGASUS wing at n g: beam vs CalculiX shell/solid, with or without ribs")
+    p.add_argument("--load-factor", type=float, default=1.0, metavar="N",
+                   help="load factor n of the symmetric maneuver (lift n W, gravity 1 g plus (n-1) g frame "
+                   "acceleration on the masses)")
+    p.add_argument("--loads", choices=("1g", *MANEUVERS), default="1g",
+                   help="1g: the symmetric maneuver at --load-factor; maneuver-pos / maneuver-neg: the 2.5 g and "
+                   "-1.0 g sizing maneuvers of 'wingmdao size pegasus'")
+    add_fe_arguments(p, rib_thickness=0.002, no_ribs_help="no ribs at all (Sec. 4.3.1 Test 2's rib-less model)",
+                     ribs_help="ribs every SPACING m instead of at the case's 19 rib stations",
+                     design_help="wall thicknesses from a 'wingmdao size pegasus' result (20 stations) "
+                     "(unset: 4/4/5/4 mm upper/lower skin, front/rear spar)")
+    p.set_defaults(func=run_verify, through_elements=2)
+
+
+def pegasus_walls(path):
+    from wingmdao.cli.verify import _design_walls
+
+    if path:
+        return _design_walls(path, "pegasus", count=20, how="a 'wingmdao size pegasus' result")
+    return {k: np.full(20, v) for k, v in zip(("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar"),
+                                              DEFAULT_WALLS)}
+
+
+def beam_params(geo, walls, material):
+    """Beam parameters of the box per station (``box_properties``) with the engines' mass."""
+    from wingmdao.section.box import beam_data, box_properties
+
+    rows = [beam_data(box_properties(geo.width[k], geo.height[k], *(walls[w][k] for w in
+                                     ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")), material),
+                      material) for k in range(geo.num_nodes)]
+    stack = lambda key: np.array([np.asarray(r[key], float) for r in rows])   # noqa: E731
+    structural = stack("mass_per_length")
+    params = {"node_positions": geo.node_positions, "node_euler_angles": geo.node_euler_angles,
+              "stiffness_csn": stack("stiffness_csn"), "compliance_csn": stack("compliance_csn"),
+              "tension_axis": np.column_stack([stack("c_ea"), stack("n_ea")]),
+              "shear_center": np.column_stack([stack("c_sc"), stack("n_sc")]),
+              "mass_per_length": structural + geo.nonstructural_mass_per_length,
+              "mass_center": np.column_stack([stack("c_cg"), stack("n_cg")]),
+              "inertia_per_length": stack("inertia_per_length")}
+    return params, structural
+
+
+def _engine_stations(case, geo):
+    y = geo.span_coordinate
+    return [(float(y[int(np.argmin(abs(y - ym)))]), m) for m, ym in case.ENGINES]
+
+
+def fe_loads(case, geo, sec, model, line, structural, n_load, G0):
+    """Station loads on the FE lines: lift and torsion, self weight, engine weights (n g)."""
+    from wingmdao.fe.wing_loads import lumped_line_loads, point_weights
+
+    ys = model.span_y[::2]
+    y = geo.span_coordinate
+    weight = np.zeros((y.size, 3))
+    weight[:, 2] = -n_load * G0 * structural
+    loads = lumped_line_loads(sec, ys, y, line.force_per_length + weight, line.moment_per_length)
+    return loads + point_weights(sec, _engine_stations(case, geo), gravity=n_load * G0)
+
+
+def pegasus_ribs(args, y, span) -> list:
+    """Rib positions (m): the rib stations 1..19 (default), every ``--ribs`` m, or none."""
+    if args.no_ribs:
+        return []
+    if args.ribs is not None:
+        return [float(v) for v in np.arange(args.ribs, span + 1e-9, args.ribs)]
+    return [float(v) for v in y[1:]]
+
+
+def pegasus_setup(design, load_factor):
+    """(geometry, BoxSections, line loads, beam params, structural mass per length) of the PEGASUS
+    wing with the walls of ``design`` at load factor ``load_factor``."""
+    from wingmdao.cases import pegasus as case
+    from wingmdao.cases.planform import G0, LB, wing_geometry
+    from wingmdao.cli.verify import _material
+    from wingmdao.fe.box_model import BoxSections
+    from wingmdao.loads.maneuver import maneuver_line_loads
+
+    if not (np.isfinite(load_factor) and 0 < abs(load_factor) <= 10):
+        raise ValueError(f"--load-factor = {load_factor}; allowed range 0 < |n| <= 10")
+    pf = case.PLANFORM
+    walls = pegasus_walls(design)
+    geo, chord, axis_frac = wing_geometry(pf, case.ENGINES)
+    sec = BoxSections(geo.node_positions, geo.width, geo.height, walls)
+    line = maneuver_line_loads(geo.node_positions, chord, axis_frac, case.TOGW_LB * LB * G0, load_factor,
+                               semi_span=pf.semi_span, fuselage_half_width=pf.root_rib * pf.semi_span)
+    params, structural = beam_params(geo, walls, _material())
+    return geo, sec, line, params, structural, walls
+
+
+def verify_pegasus(args) -> dict:
+    from wingmdao.beam.static import BeamModel
+    from wingmdao.cases import pegasus as case
+    from wingmdao.cases.planform import G0
+    from wingmdao.cases.wing_box import station_rotations
+    from wingmdao.cli.verify import build_fe_model, check_fe_args, percent_difference, von_mises_table
+    from wingmdao.fe.box_model import add_point_masses, solve_modes, solve_static
+    from wingmdao.fe.calculix import find_ccx
+
+    span = case.PLANFORM.semi_span
+    check_fe_args(args, span)
+    name = getattr(args, "loads", "1g")
+    if name in MANEUVERS:
+        if args.load_factor != 1.0:
+            raise ValueError(f"--loads {name} sets the load factor ({MANEUVERS[name]:g}); drop --load-factor")
+        args.load_factor = MANEUVERS[name]
+    geo, sec, line, params, structural, walls = pegasus_setup(args.design, args.load_factor)
+    find_ccx()
+    y = geo.span_coordinate
+    ribs = pegasus_ribs(args, y, span)
+    model = build_fe_model(args, sec, ribs)
+    loads = fe_loads(case, geo, sec, model, line, structural, args.load_factor, G0)
+    fe = solve_static(model, loads, y, nlgeom=args.nlgeom, stress=True)
+    import openmdao.api as om
+
+    try:
+        sol = BeamModel(params).solve(force_per_length=line.force_per_length, moment_per_length=line.moment_per_length,
+                                      gravity=np.array([0.0, 0.0, -G0]), load_steps=args.load_steps,
+                                      frame_acceleration=np.array([0.0, 0.0, (args.load_factor - 1.0) * G0]))
+    except om.AnalysisError as exc:
+        raise ValueError(f"the beam solve did not converge ({exc}); try more --load-steps") from exc
+    disp_b = sol["r"] - geo.node_positions
+    rot_b = station_rotations(sol["theta"], geo.node_euler_angles)
+    d_b, d_f = np.linalg.norm(disp_b, axis=1), np.linalg.norm(fe["displacement"], axis=1)
+    r_b, r_f = np.linalg.norm(rot_b, axis=1), np.linalg.norm(fe["rotation"], axis=1)
+    T = np.array([_csn(t) for t in geo.node_euler_angles])
+    res = {"case": "pegasus", "fidelity": args.fidelity, "loads": name, "load_factor": args.load_factor,
+           "stations": [str(k) for k in range(y.size)], "station_y": y.tolist(),
+           "ribs_y": [float(v) for v in ribs], "walls": {k: v.tolist() for k, v in walls.items()},
+           "displacement_beam": d_b.tolist(), "displacement_fe": d_f.tolist(),
+           "difference_percent": percent_difference(d_b, d_f, max(d_f.max(), span * r_f.max())),
+           "rotation_beam": r_b.tolist(), "rotation_fe": r_f.tolist(),
+           "rotation_difference_percent": percent_difference(r_b, r_f, max(r_f.max(), d_f.max() / span)),
+           "station_displacement_beam": disp_b.tolist(), "station_displacement_fe": fe["displacement"].tolist(),
+           "station_rotation_beam": rot_b.tolist(), "station_rotation_fe": fe["rotation"].tolist(),
+           "tip_twist_deg": {"beam": float(np.degrees(rot_b[-1, 1])), "fe": float(np.degrees(fe["rotation"][-1, 1]))},
+           "mesh": {"element": model.element, "num_elements": fe["num_elements"], "num_nodes": fe["num_nodes"],
+                    "chord_elements": args.chord_elements, "height_elements": args.height_elements,
+                    "span_size": args.span_size},
+           "fe_time_s": fe["time"],
+           "units": "SI (m, N, N*m, rad, Pa, Hz); body axes x aft, y outboard, z up"}
+    ys = y
+    res["von_mises"] = von_mises_table(model, sec, fe["stresses"], loads,
+                                       lambda v: T[int(np.clip(np.searchsorted(ys, v) - 1, 0, len(T) - 1))])
+    if args.modes:
+        add_point_masses(model, _engine_stations(case, geo))
+        f_fe = solve_modes(model, args.modes)["frequencies_hz"]
+        f_b = _beam_frequencies(params, args.modes)
+        res["frequencies_fe_hz"], res["frequencies_beam_hz"] = f_fe.tolist(), f_b.tolist()
+        k = min(len(f_b), len(f_fe))
+        res["frequency_difference_percent"] = (100 * (f_b[:k] - f_fe[:k]) / f_fe[:k]).tolist()
+    return res
+
+
+def _csn(theta):
+    from wingmdao.beam.rotations import body_to_csn
+
+    return body_to_csn(theta)
+
+
+def _beam_frequencies(params, count):
+    from wingmdao.beam.modes import natural_frequencies
+    from wingmdao.beam.residual import forcing_specs
+    from wingmdao.beam.static import BeamModel, beam_forcing
+    from wingmdao.timemarch.system import pack
+
+    m = BeamModel(params)
+    n = m.num_nodes
+    return natural_frequencies(m.system, m.p, pack(forcing_specs(n), beam_forcing(n)), count=count)
+
+
+def verify_pegasus_args(*, ribs="stations", fidelity="shell", modes=0, chord_elements=8, height_elements=2,
+                        span_size=0.5, rib_thickness=0.002, load_factor=1.0, design=None, loads="1g"):
+    """The parsed-argument namespace of ``verify pegasus`` (``ribs``: 'stations', None, or a spacing)."""
+    import argparse
+
+    return argparse.Namespace(case="pegasus", loads=loads, load_factor=load_factor, fidelity=fidelity, through_elements=2,
+                              nlgeom=False, load_steps=1, ribs=None if ribs in ("stations", None) else ribs,
+                              no_ribs=ribs is None, rib_thickness=rib_thickness, design=design, modes=modes,
+                              chord_elements=chord_elements, height_elements=height_elements, span_size=span_size,
+                              plot=None, json="-", overwrite=False)
