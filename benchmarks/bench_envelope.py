@@ -1,11 +1,14 @@
 """Peak memory of a long history and the 25.341 envelope sizing, serial and under mpirun.
 
-    python benchmarks/bench_envelope.py rss --steps 500 1000 [--nodes 20]   # peak RSS, 20-node PEGASUS gust
+    python benchmarks/bench_envelope.py rss --steps 500 1000 [--memory lean full]   # peak RSS, 20-node PEGASUS gust
     python benchmarks/bench_envelope.py envelope [--ranks 2] [--dt 0.02] [--maxiter N]
 
 ``rss``: one sizing evaluation (forward march + adjoint totals of the KS) of a single PEGASUS gust
 case with N time steps, each in a fresh process; prints the peak resident set size (ru_maxrss)
-and the per-step slope, which :mod:`wingmdao.limits` uses for its memory check.
+and the per-step slope, which :mod:`wingmdao.limits` uses for its memory check. ``--memory lean``
+is the default model (checkpointed beam adjoint and matrix-free pointwise components above their
+thresholds); ``full`` forces full storage and declared partials (the model before issue 15) and
+the gradients of both are compared. Goal (issue 15): <= 500 MB at 20 nodes x 4000 steps.
 ``envelope``: the 20-gust (10 log-spaced gradients x up/down) + 2-maneuver PEGASUS sizing, wall
 time serial and with ``mpirun -n RANKS`` (needs mpirun; as root add --allow-run-as-root).
 The machine's load average is printed with every figure: report them together.
@@ -30,8 +33,17 @@ def _load():
     return " ".join(f"{x:.2f}" for x in os.getloadavg())
 
 
-def rss_child(steps: int) -> None:
+GOAL_MB = 500.0
+
+
+def rss_child(steps: int, memory: str = "lean") -> None:
     import numpy as np
+
+    if memory == "full":      # full storage, declared partials
+        from wingmdao.components import pointwise, time_history
+
+        time_history.ADJOINT_MEMORY_MB = 1e12
+        pointwise.POINTWISE_MATRIX_FREE_ABOVE = 1 << 62
 
     from wingmdao.cases import pegasus
     from wingmdao.sizing import WALL_VARS, build_problem
@@ -45,24 +57,36 @@ def rss_child(steps: int) -> None:
     t0 = time.perf_counter()
     prob.run_model()
     t1 = time.perf_counter()
-    prob.compute_totals(of=["cases.gust.ks_vm"], wrt=list(WALL_VARS))
+    tot = prob.compute_totals(of=["cases.gust.ks_vm"], wrt=list(WALL_VARS))
     t2 = time.perf_counter()
+    grad = np.concatenate([np.ravel(v) for _, v in sorted(tot.items())])
+    np.save(os.path.join(tempfile.gettempdir(), f"bench_envelope_grad_{steps}_{memory}.npy"), grad)
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    print(json.dumps({"steps": steps + 1, "nodes": setup.geometry.num_nodes, "peak_mb": peak / 1024.0,
+    print(json.dumps({"steps": steps + 1, "memory": memory, "nodes": setup.geometry.num_nodes, "peak_mb": peak / 1024.0,
                       "base_mb": before / 1024.0, "forward_s": t1 - t0, "gradient_s": t2 - t1,
                       "ks": float(np.asarray(prob.get_val("cases.gust.ks_vm"))[0])}))
 
 
 def rss(args) -> None:
+    import numpy as np
+
     rows = []
-    print(f"{'steps':>6} {'nodes':>5} {'peak RSS MB':>12} {'before build MB':>15} {'forward s':>9} {'grad s':>7}  load avg")
+    print(f"{'memory':>6} {'steps':>6} {'nodes':>5} {'peak RSS MB':>12} {'goal MB':>8} {'before build MB':>15} "
+          f"{'forward s':>9} {'grad s':>7}  load avg")
     for n in args.steps:
-        out = subprocess.run([sys.executable, __file__, "_rss_child", str(n)], capture_output=True, text=True,
-                             env=dict(os.environ, PYTHONPATH=ROOT), check=True)
-        r = json.loads(out.stdout.strip().splitlines()[-1])
-        rows.append(r)
-        print(f"{r['steps']:6d} {r['nodes']:5d} {r['peak_mb']:12.1f} {r['base_mb']:15.1f} {r['forward_s']:9.2f} "
-              f"{r['gradient_s']:7.2f}  {_load()}", flush=True)
+        for memory in args.memory:
+            out = subprocess.run([sys.executable, __file__, "_rss_child", str(n), memory], capture_output=True,
+                                 text=True, env=dict(os.environ, PYTHONPATH=ROOT), check=True)
+            r = json.loads(out.stdout.strip().splitlines()[-1])
+            if memory == args.memory[0]:
+                rows.append(r)
+            goal = f"{GOAL_MB:8.0f}" if r["steps"] >= 4001 else f"{'':8s}"
+            print(f"{memory:>6} {r['steps']:6d} {r['nodes']:5d} {r['peak_mb']:12.1f} {goal} {r['base_mb']:15.1f} "
+                  f"{r['forward_s']:9.2f} {r['gradient_s']:7.2f}  {_load()}", flush=True)
+        if len(args.memory) == 2:
+            g = [np.load(os.path.join(tempfile.gettempdir(), f"bench_envelope_grad_{n}_{m}.npy")) for m in args.memory]
+            print(f"       gradients {args.memory[0]} vs {args.memory[1]}: max relative difference "
+                  f"{np.max(np.abs(g[0] - g[1])) / np.max(np.abs(g[1])):.1e}")
     if len(rows) >= 2:
         a, b = rows[0], rows[-1]
         slope = (b["peak_mb"] - a["peak_mb"]) / (b["steps"] - a["steps"])
@@ -101,12 +125,14 @@ def envelope(args) -> None:
 
 
 def main():
-    if len(sys.argv) == 3 and sys.argv[1] == "_rss_child":
-        return rss_child(int(sys.argv[2]))
+    if len(sys.argv) in (3, 4) and sys.argv[1] == "_rss_child":
+        return rss_child(int(sys.argv[2]), *sys.argv[3:])
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="cmd", required=True)
     r = sub.add_parser("rss")
     r.add_argument("--steps", type=int, nargs="+", default=[500, 1000, 4000])
+    r.add_argument("--memory", nargs="+", default=["lean"], choices=["lean", "full"],
+                   help="lean: the default model; full: full adjoint storage and declared partials")
     e = sub.add_parser("envelope")
     e.add_argument("--ranks", type=int, default=2)
     e.add_argument("--dt", type=float, default=0.02)
