@@ -9,7 +9,7 @@ import pytest
 from openmdao.utils.assert_utils import assert_check_partials
 
 from wingmdao.aero.coupled import CoupledAero
-from wingmdao.cases import case_arguments, pegasus
+from wingmdao.cases import pegasus
 from wingmdao.cases.planform import G0, LB
 from wingmdao.components.aeroelastic import PlungeBodyMass
 from wingmdao.errors import InputRangeError
@@ -51,11 +51,11 @@ def test_plunge_body_mass_bad_input():
     with pytest.raises(ValueError, match="aircraft_mass = 0.0 kg with plunge=True"):
         CoupledAero(chord=1.0, airspeed=100.0, density=1.0, plunge=True).parameters(3)
     with pytest.raises(ValueError, match="--plunge free needs --aero coupled"):
-        pegasus.build(case_arguments(pegasus, loads="gust", plunge="free"))
+        pegasus.build(loads="gust", plunge="free")
     from wingmdao.cases import crm
 
     with pytest.raises(ValueError, match="--aero coupled is not available for the crm case"):
-        crm.build(case_arguments(crm, aero="coupled"))
+        crm.build(aero="coupled")
 
 
 def _stiff_box_wing_gust(mu, n=3, span=2.0, c=1.0, V=100.0, rho=1.225, dt=0.002):
@@ -94,9 +94,7 @@ def test_stiff_box_wing_free_plunge_pratt_walker(mu):
 
 
 def _pegasus_gust(plunge, t_final, dt):
-    args = case_arguments(pegasus, loads="gust", aero="coupled", plunge=plunge, t_final=t_final, dt=dt,
-                          gust_start=0.0)
-    setup = pegasus.build(args)
+    setup = pegasus.build(loads="gust", aero="coupled", plunge=plunge, t_final=t_final, dt=dt, gust_start=0.0)
     setup.options.disp = False
     prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options, driver=False)
     prob.run_model()

@@ -16,14 +16,15 @@ STEMS = {"wingmdao": "aerostruct_crm", "oas": "aerostruct_crm_oas_beam"}
 
 def add_parser(subparsers):
     p = subparsers.add_parser(
-        NAME, help=HELP, formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+        NAME, help=HELP,
         description=HELP + ". Minimises the Breguet fuel burn over twist, spar and skin thickness "
         "(SLSQP) with CL = 0.5 at cruise, L = W and the stress KS <= 0 at the maneuver. Each "
         "optimisation records to SQLite in --out (aerostruct_crm.sql, aerostruct_crm_oas_beam.sql); "
         "read them back with 'wingmdao report'. See docs/embedding.md.")
     p.add_argument("--out", metavar="DIR", default="results", help="folder for the recordings")
-    p.add_argument("--json", metavar="PATH", default=None,
-                   help="write results as JSON (- = stdout; progress and summary then go to stderr)")
+    from wingmdao.cli._args import add_json_argument
+
+    add_json_argument(p)
     p.add_argument("--overwrite", action="store_true",
                    help="replace an earlier run's outputs (recordings, JSON) instead of refusing")
     p.add_argument("--analysis-only", action="store_true",

@@ -15,6 +15,8 @@ declared dense (one row).
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 import openmdao.api as om
 
@@ -31,7 +33,7 @@ class FlutterDamping(om.ExplicitComponent):
                                   "1/rad, density kg/m**3, optional speed_of_sound m/s (Mach = V / a; else 0)")
         self.options.declare("speeds", types=(list, tuple, np.ndarray),
                              desc="airspeeds of the constraint (m/s TAS, increasing)")
-        self.options.declare("rho_ks", default=100.0, lower=1.0,
+        self.options.declare("rho_ks", default=100.0, lower=1.0, types=numbers.Real,
                              desc="KS aggregation parameter (s with measure sigma)")
         self.options.declare("measure", default="sigma", values=("sigma", "ratio"),
                              desc="sigma: g = Re(lambda) + margin (1/s); ratio: g = margin - damping ratio")
@@ -65,7 +67,7 @@ class FlutterDamping(om.ExplicitComponent):
             size = int(np.prod(s.shape))
             self.declare_partials("flutter_ks", s.name, rows=np.zeros(size, int), cols=np.arange(size))
 
-    def _problem(self, inputs):
+    def _flutter_problem(self, inputs):
         from wingmdao.stability.cases import FlutterProblem
 
         beam = {s.name: np.asarray(inputs[s.name], dtype=float).reshape(s.shape) for s in self._specs}
@@ -79,7 +81,7 @@ class FlutterDamping(om.ExplicitComponent):
         if self._cache is not None and np.array_equal(self._cache[0], key) and (
                 self._cache[1].gradient is not None or not gradient):
             return self._cache[1]
-        prob = self._problem(inputs)
+        prob = self._flutter_problem(inputs)
         try:
             res = damping_constraint(self._system, prob.params_at, self._speeds, aero_mask=prob.aero_mask(),
                                      beam_mask=prob.beam_weights(),
