@@ -171,3 +171,17 @@ def test_design_beam_params_match_the_sizing_model(name, options, monkeypatch):
         model = np.asarray(prob.get_val(spec.name, units=spec.units)).reshape(spec.shape)
         np.testing.assert_allclose(direct[spec.name], model, rtol=1e-12, atol=1e-12 * np.abs(model).max(),
                                    err_msg=spec.name)
+
+
+def test_one_family_vocabulary_for_every_case():
+    """``--families`` reads the same names and shorthands on every sizing case (issue 11: one
+    spelling per concept): family names, and ss / cent for both signs."""
+    from wingmdao.cases import pegasus, wing_box
+    from wingmdao.groups.load_case import parse_families
+
+    assert parse_families("vm,ss") == ("vm", "ss_tension", "ss_compression")
+    assert pegasus.parse_families("vm, cent") == ("vm", "cent_pos", "cent_neg")
+    assert wing_box.parse_constraints("ss_tension,vm,ss") == ("ss_tension", "vm", "ss_compression")
+    for parse in (pegasus.parse_families, wing_box.parse_constraints):
+        with pytest.raises(ValueError, match=r"--families: unknown \['vn'\]; valid: vm, ss_tension"):
+            parse("vm,vn")

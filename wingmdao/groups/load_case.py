@@ -7,6 +7,23 @@ from dataclasses import dataclass, field
 import numpy as np
 
 STRESS_FAMILIES = ("vm", "ss_tension", "ss_compression", "cent_pos", "cent_neg")
+#: shorthands accepted by every ``--families`` list: both signs of a family
+FAMILY_GROUPS = {"ss": ("ss_tension", "ss_compression"), "cent": ("cent_pos", "cent_neg")}
+
+
+def parse_families(text, option: str = "--families") -> tuple:
+    """Stress families of a comma list of :data:`STRESS_FAMILIES` names and :data:`FAMILY_GROUPS`
+    shorthands (``vm,ss`` = vm, ss_tension, ss_compression), in order, without repeats; ValueError
+    naming ``option`` and the valid names otherwise."""
+    names = [t.strip() for t in str(text).split(",") if t.strip()]
+    bad = [t for t in names if t not in STRESS_FAMILIES and t not in FAMILY_GROUPS]
+    if bad or not names:
+        raise ValueError(f"{option}: unknown {bad or 'empty list'}; valid: "
+                         f"{', '.join((*STRESS_FAMILIES, *FAMILY_GROUPS))}")
+    fams = []
+    for t in names:
+        fams += [f for f in FAMILY_GROUPS.get(t, (t,)) if f not in fams]
+    return tuple(fams)
 
 #: Forcing inputs of the beam, with their shape per instant (n = number of nodes) and units.
 FORCING_SHAPES = {

@@ -17,6 +17,7 @@ from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defa
 from wingmdao.cases.wing_box.geometry import GEOMETRIES
 from wingmdao.cases.wing_box.model import time_grid, tip_load_case, wing_geometry
 from wingmdao.materials import ALUMINIUM
+from wingmdao.groups.load_case import FAMILY_GROUPS
 
 #: Eq. 4.57 bounds (m). The skins' upper bound of 1.5 m exceeds the 0.5 m box height of
 #: Table D.1 (two skins must leave a web), so it is capped at SKIN_CAP (docs/cases.md).
@@ -27,8 +28,8 @@ BOUNDS = {"t_front_spar": (0.003, 0.25), "t_rear_spar": (0.003, 0.25),
 STUDY_LOADS = {1: ((0.0, 0.0, 2.0e6), (0.0, 0.0, 0.0)),
                2: ((1.0e5, 0.0, 2.0e6), (0.0, 1.0e6, 0.0)),
                3: ((1.0e5, 0.0, 2.0e6), (0.0, 1.0e6, 0.0))}
-#: --constraints names and the stress families they enable.
-CONSTRAINT_GROUPS = {"vm": ("vm",), "ss": ("ss_tension", "ss_compression"), "cent": ("cent_pos", "cent_neg")}
+#: --families shorthands and the stress families they enable (one table: wingmdao.groups.load_case)
+CONSTRAINT_GROUPS = {"vm": ("vm",), **FAMILY_GROUPS}
 
 
 @dataclass(frozen=True)
@@ -51,8 +52,8 @@ def add_arguments(p):
                    help="Sec. 4.7.2 study: 1 static Fz = 2 MN (von Mises); 2 static Fx = 0.1 MN, "
                         "Fz = 2 MN, My = 1 MN m (body axes); 3 the study-2 loads applied suddenly (dynamic)")
     p.add_argument("--constraints",
-                   help="comma list of vm, ss (= ss_tension + ss_compression), cent (= cent_pos + "
-                        "cent_neg); default: vm for study 1, vm,ss,cent for studies 2 and 3")
+                   help="comma list of stress families (vm, ss_tension, ss_compression, cent_pos, cent_neg; "
+                        "ss and cent: both signs); default: vm for study 1, vm,ss,cent for studies 2 and 3")
     p.add_argument("--geometry", choices=list(GEOMETRIES), help="Table D.2 geometry")
     p.add_argument("--elements", type=int, nargs=3, metavar=("N1", "N2", "N3"),
                    help="beam elements per segment (design variables at every node; 1 1 1: CS1..CS4)")
@@ -66,15 +67,11 @@ def add_arguments(p):
 
 
 def parse_constraints(text) -> tuple:
-    """Stress families of a --constraints list (vm, ss, cent); ValueError listing the valid names."""
-    names = [t.strip() for t in str(text).split(",") if t.strip()]
-    bad = [t for t in names if t not in CONSTRAINT_GROUPS]
-    if bad or not names:
-        raise ValueError(f"--constraints: unknown {bad or 'empty list'}; valid: {', '.join(CONSTRAINT_GROUPS)}")
-    fams = []
-    for t in names:
-        fams += [f for f in CONSTRAINT_GROUPS[t] if f not in fams]
-    return tuple(fams)
+    """Stress families of the ``--families`` list (the one vocabulary of every case,
+    :func:`wingmdao.groups.load_case.parse_families`: family names and the ss / cent shorthands)."""
+    from wingmdao.groups.load_case import parse_families
+
+    return parse_families(text)
 
 
 def build(options: WingBoxOptions | None = None, **overrides) -> CaseSetup:
