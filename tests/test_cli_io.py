@@ -170,3 +170,20 @@ def test_material_means_the_same_on_section_and_section_fe(capsys):
     assert json.loads(capsys.readouterr().out)["stiffness_6x6"] == by_name["stiffness_6x6"]
     assert main(["section-fe", "--rectangle", "0.1", "0.05", "--material", "1", "2"]) == 2
     assert "built-in name or three numbers" in capsys.readouterr().err
+
+
+def test_atomic_result_files_get_the_usual_mode_not_mkstemps_0600(tmp_path):
+    """A result written atomically (temporary file + rename) is readable like any file the user
+    writes: 0666 less the umask, not the 0600 of the temporary file."""
+    import os
+    import stat
+
+    from wingmdao.cli._io import write_json
+
+    old = os.umask(0o022)
+    try:
+        path = tmp_path / "r.json"
+        write_json({"a": 1}, str(path))
+        assert stat.S_IMODE(path.stat().st_mode) == 0o644
+    finally:
+        os.umask(old)

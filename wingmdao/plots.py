@@ -45,7 +45,9 @@ def save_figure(fig, path: str, dpi: int = 120, **layout) -> str:
             fig.savefig(fh, dpi=dpi, format=ext[1:])
             fh.flush()
             os.fsync(fh.fileno())
-        os.chmod(tmp, 0o644)
+        from wingmdao.cli._io import default_file_mode
+
+        os.chmod(tmp, default_file_mode())
         os.replace(tmp, path)
     except BaseException:
         with contextlib.suppress(OSError):

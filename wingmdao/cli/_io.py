@@ -64,6 +64,7 @@ def write_text_atomic(text: str, path: str) -> None:
             fh.write(text)
             fh.flush()
             os.fsync(fh.fileno())
+        os.chmod(tmp, default_file_mode())  # mkstemp makes 0600; a result file gets the usual mode
         os.replace(tmp, path)
     except BaseException:
         with contextlib.suppress(OSError):
@@ -159,3 +160,10 @@ def say(*parts, **kw) -> None:
 def warn(message: str) -> None:
     """One line of warning on standard error."""
     print(f"wingmdao: warning: {message}", file=sys.stderr, flush=True)
+
+
+def default_file_mode() -> int:
+    """The mode ``open(path, "w")`` would give a new file: 0666 less the process umask."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
