@@ -202,7 +202,36 @@ def add_recorder(prob: om.Problem, path: str) -> om.SqliteRecorder:
     return rec
 
 
-class ProgressPrinter(CaseRecorder):
+class _ListeningRecorder(CaseRecorder):
+    """A CaseRecorder that stores nothing: every recording hook is a no-op; subclasses override
+    the hooks they listen to (a driver's or a solver's iterations)."""
+
+    def record_iteration_driver(self, recording_requester, data, metadata):  # pragma: no cover
+        pass
+
+    def record_iteration_system(self, recording_requester, data, metadata):  # pragma: no cover
+        pass
+
+    def record_iteration_solver(self, recording_requester, data, metadata):  # pragma: no cover
+        pass
+
+    def record_iteration_problem(self, recording_requester, data, metadata):  # pragma: no cover
+        pass
+
+    def record_derivatives_driver(self, recording_requester, data, metadata):  # pragma: no cover
+        pass
+
+    def record_metadata_system(self, system, run_number=None):  # pragma: no cover
+        pass
+
+    def record_metadata_solver(self, solver, run_number=None):  # pragma: no cover
+        pass
+
+    def record_viewer_data(self, model_viewer_data):  # pragma: no cover
+        pass
+
+
+class ProgressPrinter(_ListeningRecorder):
     """Prints one line per driver evaluation: objective, worst constraint, elapsed time.
 
     Long optimizations (a gust sizing takes minutes) then show their progress as they run.
@@ -235,29 +264,8 @@ class ProgressPrinter(CaseRecorder):
         print(f"  eval {self._count:4d}  {self._objective} {obj_txt}  {con_txt}  "
               f"{self._clock() - self._t0:7.1f} s", file=self._stream, flush=True)
 
-    def record_iteration_system(self, recording_requester, data, metadata):  # pragma: no cover
-        pass
 
-    def record_iteration_solver(self, recording_requester, data, metadata):  # pragma: no cover
-        pass
-
-    def record_iteration_problem(self, recording_requester, data, metadata):  # pragma: no cover
-        pass
-
-    def record_derivatives_driver(self, recording_requester, data, metadata):  # pragma: no cover
-        pass
-
-    def record_metadata_system(self, system, run_number=None):  # pragma: no cover
-        pass
-
-    def record_metadata_solver(self, solver, run_number=None):  # pragma: no cover
-        pass
-
-    def record_viewer_data(self, model_viewer_data):  # pragma: no cover
-        pass
-
-
-class SolverIterationCounter(CaseRecorder):
+class SolverIterationCounter(_ListeningRecorder):
     """Iterations of the last solve of each watched nonlinear solver, through OpenMDAO's public
     recording hooks: every solver iteration calls ``record_iteration_solver``; a driver
     evaluation (``record_iteration_driver``) or :meth:`snapshot` closes the solves counted so far
@@ -292,21 +300,3 @@ class SolverIterationCounter(CaseRecorder):
 
     def record_iteration_driver(self, recording_requester, data, metadata):
         self.snapshot()
-
-    def record_iteration_system(self, recording_requester, data, metadata):  # pragma: no cover
-        pass
-
-    def record_iteration_problem(self, recording_requester, data, metadata):  # pragma: no cover
-        pass
-
-    def record_derivatives_driver(self, recording_requester, data, metadata):  # pragma: no cover
-        pass
-
-    def record_metadata_system(self, system, run_number=None):  # pragma: no cover
-        pass
-
-    def record_metadata_solver(self, solver, run_number=None):  # pragma: no cover
-        pass
-
-    def record_viewer_data(self, model_viewer_data):  # pragma: no cover
-        pass
