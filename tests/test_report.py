@@ -61,3 +61,17 @@ def test_constraint_margin_of_equality_lower_and_upper_bounds():
     np.testing.assert_allclose(constraint_margin([3.0], {"lower": 1.0, "upper": 2.0}), [1.0])
     np.testing.assert_allclose(constraint_margin([0.5], {"lower": 1.0}), [0.5])
     np.testing.assert_allclose(constraint_margin([0.7], {}), [0.7])
+
+
+def test_report_refuses_to_replace_earlier_plots_without_overwrite(tmp_path, capsys):
+    rec = str(tmp_path / "run.sql")
+    _record(rec)
+    out = tmp_path / "p"
+    assert main(["report", rec, "--out", str(out)]) == 0
+    before = os.path.getmtime(out / "iterations.png")
+    capsys.readouterr()
+    assert main(["report", rec, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "iterations.png" in err and "--overwrite" in err
+    assert os.path.getmtime(out / "iterations.png") == before
+    assert main(["report", rec, "--out", str(out), "--overwrite"]) == 0

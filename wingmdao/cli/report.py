@@ -21,12 +21,29 @@ def register(subparsers):
     p.add_argument("--out", metavar="DIR", default=None,
                    help="folder for the PNG plots (unset (%(default)s): FILE_plots next to the first recording)")
     add_deprecated_alias(p, "--plots", "--out", dest="out", metavar="DIR")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace plots an earlier report (or run) left in the --out folder instead of refusing")
     p.add_argument("--potato-stations", metavar="I", type=int, nargs="+", default=None,
                    help="station indices of the potato plots of an envelope run (default: root, mid, 3/4 span)")
     p.set_defaults(func=run)
 
 
+def planned_plots(out: str, subs: list[str], *, several: bool) -> list[str]:
+    """Files the report would write: per recording its history and thickness plots and any
+    envelope plots (``envelope*``), and the comparison plot of several recordings."""
+    import glob
+
+    paths = []
+    for sub in subs:
+        paths += [os.path.join(sub, "iterations.png"), os.path.join(sub, "thickness_final.png")]
+        paths += sorted(glob.glob(os.path.join(glob.escape(sub), "envelope_*")))
+    if several:
+        paths.append(os.path.join(out, "thickness_comparison.png"))
+    return paths
+
+
 def run(args) -> int:
+    from wingmdao.cli._io import refuse_existing
     from wingmdao.report import format_history, read_history, write_comparison_plot, write_report_plots
 
     histories = {}
@@ -38,8 +55,11 @@ def run(args) -> int:
         print(format_history(hist))
     first = args.recording[0]
     out = args.out or os.path.splitext(first)[0] + "_plots"
-    for rec, hist in zip(args.recording, histories.values()):
-        sub = out if len(args.recording) == 1 else os.path.join(out, os.path.splitext(os.path.basename(rec))[0])
+    subs = [out if len(args.recording) == 1 else os.path.join(out, os.path.splitext(os.path.basename(rec))[0])
+            for rec in args.recording]
+    refuse_existing(planned_plots(out, subs, several=len(histories) > 1), overwrite=args.overwrite,
+                    what="plots")
+    for sub, hist in zip(subs, histories.values()):
         for path in write_report_plots(hist, sub):
             print(f"wrote {path}")
     for rec in args.recording:  # envelope runs: redraw critical-case, envelope and potato plots
@@ -50,7 +70,7 @@ def run(args) -> int:
             data = load(env_file)
             print(f"== {env_file}: critical load case per station")
             print(format_critical_table(critical_cases(data)))
-            sub = out if len(args.recording) == 1 else os.path.join(out, os.path.splitext(os.path.basename(rec))[0])
+            sub = subs[args.recording.index(rec)]
             os.makedirs(sub, exist_ok=True)
             for path in write_plots(data, os.path.join(sub, "envelope"), args.potato_stations):
                 print(f"wrote {path}")
