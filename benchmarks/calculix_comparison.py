@@ -145,11 +145,32 @@ def pegasus(meshes=((4, 1, 1.0), (8, 2, 0.5), (16, 4, 0.25))):
             out.flush()
 
 
+def pegasus_noribs_mesh(meshes=((4, 1, 1.0), (8, 2, 0.5), (12, 3, 0.25), (16, 4, 0.25), (24, 6, 0.125))):
+    """Mesh refinement of the rib-less PEGASUS shell at 1 g: elements, tip |u|, tip twist, root
+    von Mises (largest of the corner / mid-flange points of the first span row), wall time."""
+    import time
+
+    from wingmdao.cli._verify_pegasus import verify_pegasus, verify_pegasus_args
+
+    out.write("\nPEGASUS 1 g, no ribs, shell mesh refinement:\n\n| mesh | elements | nodes | tip |u| FE (m) | "
+              "tip twist FE (deg) | root von Mises FE (MPa) | wall (s) | ccx (s) |\n|" + "---|" * 8 + "\n")
+    for nc, nh, s in meshes:
+        t0 = time.perf_counter()
+        r = verify_pegasus(verify_pegasus_args(ribs=None, chord_elements=nc, height_elements=nh, span_size=s))
+        wall = time.perf_counter() - t0
+        vm = max(r["von_mises"]["fe_pa"][0]) / 1e6
+        out.write(f"| {nc} x {nh}, {s} m | {r['mesh']['num_elements']} | {r['mesh']['num_nodes']} | "
+                  f"{r['displacement_fe'][-1]:.5f} | {r['tip_twist_deg']['fe']:.3f} | {vm:.2f} | {wall:.1f} | "
+                  f"{r['fe_time_s']:.1f} |\n")
+        out.flush()
+
+
 PARTS = {"shell": lambda: table("shell"), "solid": lambda: table("solid"), "stress": stress_table,
          "mesh": lambda: mesh_study("shell", [(4, 1, 1.0), (8, 2, 0.5), (16, 4, 0.25), (24, 6, 0.125)]),
          "solid-mesh": lambda: mesh_study("solid", [(4, 1, 1.0, 1), (8, 2, 0.5, 2), (12, 3, 0.25, 2),
                                                     (16, 4, 0.25, 3)]),
-         "ribs": ribs, "rib-test1": rib_test1, "pegasus": pegasus}
+         "ribs": ribs, "rib-test1": rib_test1, "pegasus": pegasus,
+         "pegasus-noribs-mesh": pegasus_noribs_mesh}
 
 
 def main(parts):

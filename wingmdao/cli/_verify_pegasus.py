@@ -33,9 +33,11 @@ def register_pegasus(cases):
     p.add_argument("--load-factor", type=float, default=1.0, metavar="N",
                    help="load factor n of the symmetric maneuver (lift n W, gravity 1 g plus (n-1) g frame "
                    "acceleration on the masses)")
-    p.add_argument("--loads", choices=("1g", *MANEUVERS), default="1g",
+    p.add_argument("--loads", choices=("1g", *MANEUVERS, GUST_PEAK), default="1g",
                    help="1g: the symmetric maneuver at --load-factor; maneuver-pos / maneuver-neg: the 2.5 g and "
-                   "-1.0 g sizing maneuvers of 'wingmdao size pegasus'")
+                   "-1.0 g sizing maneuvers of 'wingmdao size pegasus'; gust-peak: the equivalent static loads "
+                   "(aerodynamic + inertial -m a + weight) of the instant of peak root bending of the case's "
+                   "25.341 gust marched on the beam of --design (strip theory, clamped root)")
     add_fe_arguments(p, rib_thickness=0.002, no_ribs_help="no ribs at all (Sec. 4.3.1 Test 2's rib-less model)",
                      ribs_help="ribs every SPACING m instead of at the case's 19 rib stations",
                      design_help="wall thicknesses from a 'wingmdao size pegasus' result (20 stations) "
@@ -88,6 +90,79 @@ def fe_loads(case, geo, sec, model, line, structural, n_load, G0):
     return loads + point_weights(sec, _engine_stations(case, geo), gravity=n_load * G0)
 
 
+#: --loads gust-peak: the equivalent static loads of the peak instant of the case's 25.341 gust
+GUST_PEAK = "gust-peak"
+
+
+def gust_peak_loads(case, geo, params, *, dt=0.01, t_final=None, gust_start=0.1):
+    """Equivalent static loads of the instant of peak root bending of the case's 14 CFR 25.341
+    1-cos gust (``GUST``: altitude, Mach, U_ref, gradient H; U_ds = U_ref (H/350 ft)^(1/6) EAS),
+    on the beam of ``params`` (the --design), root clamped: the sizing's ``--aero strip`` loads
+    (:func:`wingmdao.loads.gust.gust_line_loads`, quasi-steady strip theory on the Schrenk 1 g
+    spanload, penetration delay) marched with BDF2 (:func:`wingmdao.timemarch.bdf.march`).
+
+    At the instant t* of the largest |M_x| at the root the loads are, per beam node: the
+    aerodynamic force and moment per length of t*, and the inertial load -m a* per length, a* the
+    BDF2 acceleration (rate of the velocity state u) of the node at t*, m the mass per length of
+    the beam (structural plus the engines' non-structural mass); gravity (1 g, -z) acts as well.
+    D'Alembert's principle makes the beam in static equilibrium under these loads the dynamic
+    state at t*, up to the inertia left out: the rotary inertia and the mass-centre offset of
+    the translational inertia (their size is the ``static_vs_dynamic`` difference reported)."""
+    from wingmdao.beam.static import cached_beam_system
+    from wingmdao.cases.planform import FT, G0, LB, wing_geometry
+    from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
+    from wingmdao.loads.gust import gust_line_loads
+    from wingmdao.loads.maneuver import maneuver_line_loads
+    from wingmdao.timemarch.bdf import march
+    from wingmdao.timemarch.system import layout, pack
+
+    pf, g = case.PLANFORM, case.GUST
+    _, chord, axis_frac = wing_geometry(pf, case.ENGINES)
+    alt = float(altitude_ft_to_m(g["altitude_ft"]))
+    V = float(mach_to_tas(g["mach"], alt))
+    H_ft = g["gradient_ft"]
+    u_eas = g["u_ref_fps"] * FT * (H_ft / 350.0) ** (1.0 / 6.0)
+    r0 = params["node_positions"]
+    n = r0.shape[0]
+    fus = pf.root_rib * pf.semi_span
+    steady = maneuver_line_loads(r0, chord, axis_frac, case.TOGW_LB * LB * G0, 1.0, semi_span=pf.semi_span,
+                                 fuselage_half_width=fus)
+    t = np.arange(0.0, (t_final or g["t_final"]) + 0.5 * dt, dt)
+    loads = gust_line_loads(r0, chord, axis_frac, t, gust_gradient_m=H_ft * FT, u_ds_eas=u_eas, airspeed_tas=V,
+                            altitude_m=alt, gust_start_time=gust_start, steady=steady, fuselage_half_width=fus)
+    system = cached_beam_system(n)
+    p = pack(system.param_specs, params)
+    ql = layout(system.forcing_specs)
+    Q = np.zeros((t.size, system.n_forcing))
+    Q[:, ql["force_per_length"]] = loads.force_per_length.reshape(t.size, -1)
+    Q[:, ql["moment_per_length"]] = loads.moment_per_length.reshape(t.size, -1)
+    Q[:, ql["gravity"].start + 2] = -G0
+    hist = march(system, t, p, Q, modified_newton=True)
+    X = hist.states.reshape(t.size, n, 18)
+    acc = hist.rates.reshape(t.size, n, 18)[:, :, 12:15]
+    k = int(np.argmax(np.abs(X[:, 0, 9])))
+    return {"time": float(t[k]), "index": k, "dt": dt, "gust_start": gust_start, "u_ds_eas": float(u_eas),
+            "airspeed_tas": V, "gradient_ft": H_ft, "root_bending_moment": X[:, 0, 9],
+            "force_per_length": loads.force_per_length[k], "moment_per_length": loads.moment_per_length[k],
+            "acceleration": acc[k], "dynamic_displacement": X[k, :, :3] - r0, "dynamic_theta": X[k, :, 3:6]}
+
+
+def gust_fe_loads(case, geo, sec, model, peak, structural, G0):
+    """Station loads on the FE lines of the gust peak: aerodynamic line loads plus the inertia
+    and weight of the structure -m_s (a* + g e_z) per length, and the engines' -m_e (a*(y_e) + g e_z)
+    at their stations (a* of the node there)."""
+    from wingmdao.fe.wing_loads import lumped_line_loads
+
+    y = geo.span_coordinate
+    a_eff = peak["acceleration"] + np.array([0.0, 0.0, G0])
+    line = peak["force_per_length"] - structural[:, None] * a_eff
+    loads = lumped_line_loads(sec, model.span_y[::2], y, line, peak["moment_per_length"])
+    for ye, m in _engine_stations(case, geo):
+        k = int(np.argmin(abs(y - ye)))
+        loads.append((float(ye), sec.at(ye)[0], -m * a_eff[k], np.zeros(3)))
+    return loads
+
+
 def pegasus_ribs(args, y, span) -> list:
     """Rib positions (m): the rib stations 1..19 (default), every ``--ribs`` m, or none."""
     if args.no_ribs:
@@ -134,19 +209,34 @@ def verify_pegasus(args) -> dict:
         if args.load_factor != 1.0:
             raise ValueError(f"--loads {name} sets the load factor ({MANEUVERS[name]:g}); drop --load-factor")
         args.load_factor = MANEUVERS[name]
+    gust = name == GUST_PEAK
+    if gust and args.load_factor != 1.0:
+        raise ValueError("--loads gust-peak sets its own loads (the gust's peak instant); drop --load-factor")
     geo, sec, line, params, structural, walls = pegasus_setup(args.design, args.load_factor)
     find_ccx()
     y = geo.span_coordinate
     ribs = pegasus_ribs(args, y, span)
     model = build_fe_model(args, sec, ribs)
-    loads = fe_loads(case, geo, sec, model, line, structural, args.load_factor, G0)
-    fe = solve_static(model, loads, y, nlgeom=args.nlgeom, stress=True)
     import openmdao.api as om
 
+    frame = np.array([0.0, 0.0, (args.load_factor - 1.0) * G0])
+    force, moment = line.force_per_length, line.moment_per_length
+    if gust:
+        try:
+            peak = gust_peak_loads(case, geo, params)
+        except om.AnalysisError as exc:
+            raise ValueError(f"the beam's gust march did not converge ({exc})") from exc
+        # the beam: aerodynamic + inertial -m a* line loads (m with the engines), gravity on its mass
+        force = peak["force_per_length"] - params["mass_per_length"][:, None] * peak["acceleration"]
+        moment, frame = peak["moment_per_length"], np.zeros(3)
+        loads = gust_fe_loads(case, geo, sec, model, peak, structural, G0)
+    else:
+        loads = fe_loads(case, geo, sec, model, line, structural, args.load_factor, G0)
+    fe = solve_static(model, loads, y, nlgeom=args.nlgeom, stress=True)
     try:
-        sol = BeamModel(params).solve(force_per_length=line.force_per_length, moment_per_length=line.moment_per_length,
+        sol = BeamModel(params).solve(force_per_length=force, moment_per_length=moment,
                                       gravity=np.array([0.0, 0.0, -G0]), load_steps=args.load_steps,
-                                      frame_acceleration=np.array([0.0, 0.0, (args.load_factor - 1.0) * G0]))
+                                      frame_acceleration=frame)
     except om.AnalysisError as exc:
         raise ValueError(f"the beam solve did not converge ({exc}); try more --load-steps") from exc
     disp_b = sol["r"] - geo.node_positions
@@ -169,6 +259,29 @@ def verify_pegasus(args) -> dict:
                     "span_size": args.span_size},
            "fe_time_s": fe["time"],
            "units": "SI (m, N, N*m, rad, Pa, Hz); body axes x aft, y outboard, z up"}
+    if gust:
+        from wingmdao.fe.wing_loads import lumping_lengths
+
+        dyn = peak["dynamic_displacement"]
+        lumped = np.sum([F for _, _, F, _ in loads], axis=0)
+        res["gust_peak"] = {
+            "time_s": peak["time"], "criterion": "max |M_x| at the root (beam march)", "dt_s": peak["dt"],
+            "gust_start_s": peak["gust_start"], "u_ds_eas_m_s": peak["u_ds_eas"], "gradient_ft": peak["gradient_ft"],
+            "root_bending_moment_peak_n_m": float(peak["root_bending_moment"][peak["index"]]),
+            "root_bending_moment_1g_n_m": float(peak["root_bending_moment"][0]),
+            "fe_load_resultant_n": lumped.tolist(),
+            "beam_aerodynamic_resultant_n": (lumping_lengths(y) @ peak["force_per_length"]).tolist(),
+            "beam_inertial_resultant_n": (lumping_lengths(y) @ (-params["mass_per_length"][:, None]
+                                                                * peak["acceleration"])).tolist(),
+            "tip_displacement_dynamic": dyn[-1].tolist(),
+            "tip_displacement_beam_static": disp_b[-1].tolist(),
+            "static_vs_dynamic_tip_percent": float(100 * (np.linalg.norm(disp_b[-1]) - np.linalg.norm(dyn[-1]))
+                                                   / np.linalg.norm(dyn[-1])),
+            "applied": "per beam node: aerodynamic force/moment per length at t* (strip theory, 1 g Schrenk + "
+                       "gust increment) and the inertial load -m a* (a* the BDF2 acceleration of the node at t*; "
+                       "m structural + engines), gravity 1 g; FE: the same line loads lumped at its span lines "
+                       "(structural mass), the engines as -m_e (a* + g) at their stations; rotary inertia and the "
+                       "mass-centre offset of the inertia left out (both models)"}
     ys = y
     res["von_mises"] = von_mises_table(model, sec, fe["stresses"], loads,
                                        lambda v: T[int(np.clip(np.searchsorted(ys, v) - 1, 0, len(T) - 1))])

@@ -82,7 +82,7 @@ def pegasus_deck(design, fmt, fidelity, load_factor=1.0, ribs=True, rib_thicknes
     weight[:, 2] = -load_factor * G0 * structural
     loads = lumped_line_loads(sec, y, y, line.force_per_length + weight, line.moment_per_length)
     loads += point_weights(sec, engines, gravity=load_factor * G0)
-    per = 4      # ccx's expanded B32R needs a few elements per interval (one: 20 % too stiff, four: 6 %)
+    per = 4      # 4 elements per station interval (ccx tip deflection: 0.81061 m with 1, 0.81035 m with 4)
     masses = [(per * int(np.argmin(abs(y - ye))), m) for ye, m in engines]
     return beam_deck(sec, ALUMINIUM, fmt, nodes_per_segment=per, loads=loads, point_masses=masses)
 
