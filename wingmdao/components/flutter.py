@@ -10,7 +10,11 @@ mode is damped at every speed of the set. From
 :func:`wingmdao.stability.sensitivity.damping_constraint` on the clamped beam with unsteady strip
 theory linearised about its static state at each speed (docs/flutter.md). Partials: exact,
 from the eigenvalue derivatives (left/right vectors, CasADi second derivatives of the residual),
-declared dense (one row).
+declared dense (one row). Cost: the value is computed in ``compute`` and the gradient, from
+the stored eigenvectors, only in ``compute_partials``; between evaluations the modes are warm
+started (:class:`wingmdao.stability.sensitivity.WarmStart`: refined from the previous design's
+vectors, the full eigen window again by its rules), ``warm_start=False`` for a cold window every
+time.
 """
 
 from __future__ import annotations
@@ -41,6 +45,14 @@ class FlutterDamping(om.ExplicitComponent):
                              desc="required decay rate -Re(lambda) (1/s, sigma) or damping ratio (ratio)")
         self.options.declare("eig_options", default=None, allow_none=True, types=dict,
                              desc="options of wingmdao.stability.eigenmodes (method, sigma, count, ncv)")
+        self.options.declare("warm_start", default=True, types=bool,
+                             desc="refine the previous evaluation's modes instead of a new eigen window "
+                                  "(WarmStart rules); False: full window every evaluation")
+        self.options.declare("refresh", default=20, types=int, lower=1,
+                             desc="warm start: full eigen window at least every this many evaluations")
+        self.options.declare("max_step", default=0.1, types=float, lower=1e-12,
+                             desc="warm start: full eigen window when a parameter moved more than this "
+                                  "(relative) from the last full-window design")
 
     def setup(self):
         from wingmdao.aero.system import cached_aeroelastic_system
@@ -61,6 +73,11 @@ class FlutterDamping(om.ExplicitComponent):
         self.add_output("flutter_ks", val=0.0, units=units,
                         desc="KS over speeds and aerodynamically loaded modes of the damping measure; <= 0: no flutter")
         self._cache = None
+        self._warm = None
+        if self.options["warm_start"]:
+            from wingmdao.stability.sensitivity import WarmStart
+
+            self._warm = WarmStart(refresh=self.options["refresh"], max_step=self.options["max_step"])
 
     def setup_partials(self):
         for s in self._specs:
@@ -75,27 +92,32 @@ class FlutterDamping(om.ExplicitComponent):
                               self._system, {}, dict(self.options["eig_options"] or {}))
 
     def _evaluate(self, inputs, gradient):
-        from wingmdao.stability.sensitivity import damping_constraint
+        from wingmdao.stability.sensitivity import constraint_gradient, damping_constraint
 
         key = np.concatenate([np.asarray(inputs[s.name], dtype=float).ravel() for s in self._specs])
-        if self._cache is not None and np.array_equal(self._cache[0], key) and (
-                self._cache[1].gradient is not None or not gradient):
-            return self._cache[1]
-        prob = self._flutter_problem(inputs)
-        try:
-            res = damping_constraint(self._system, prob.params_at, self._speeds, aero_mask=prob.aero_mask(),
-                                     beam_mask=prob.beam_weights(),
-                                     rho_ks=self.options["rho_ks"], margin=self.options["margin"],
-                                     measure=self.options["measure"], gradient=gradient, **prob.eig_options)
-        except (RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
-            raise om.AnalysisError(f"{self.pathname}: flutter eigen-analysis failed: {exc}") from exc
-        self._cache = (key, res)
+        if self._cache is not None and np.array_equal(self._cache[0], key):
+            res = self._cache[1]
+        else:
+            prob = self._flutter_problem(inputs)
+            try:
+                res = damping_constraint(self._system, prob.params_at, self._speeds, aero_mask=prob.aero_mask(),
+                                         beam_mask=prob.beam_weights(),
+                                         rho_ks=self.options["rho_ks"], margin=self.options["margin"],
+                                         measure=self.options["measure"], gradient=False,
+                                         warm_start=self._warm, **prob.eig_options)
+            except (RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
+                if self._warm is not None:
+                    self._warm.reset()
+                raise om.AnalysisError(f"{self.pathname}: flutter eigen-analysis failed: {exc}") from exc
+            self._cache = (key, res)
+        if gradient and res.gradient is None:
+            res.gradient = constraint_gradient(self._system, res)
         return res
 
     def compute(self, inputs, outputs):
-        # the gradient with the value: it adds ~15 % (left/right vectors, one CasADi evaluation and
-        # one A^T solve per mode) to the eigen-analyses, which compute_partials would otherwise repeat
-        outputs["flutter_ks"] = self._evaluate(inputs, gradient=True).value
+        # the value only; the gradient from the stored vectors in compute_partials (line-search
+        # evaluations of SLSQP never ask for it)
+        outputs["flutter_ks"] = self._evaluate(inputs, gradient=False).value
 
     def compute_partials(self, inputs, partials):
         from wingmdao.timemarch.system import layout
@@ -109,3 +131,8 @@ class FlutterDamping(om.ExplicitComponent):
     def last_result(self):
         """The :class:`~wingmdao.stability.sensitivity.DampingConstraint` of the last evaluation."""
         return None if self._cache is None else self._cache[1]
+
+    @property
+    def warm_start_state(self):
+        """The :class:`~wingmdao.stability.sensitivity.WarmStart` (counts of cold / warm evaluations), or None."""
+        return self._warm

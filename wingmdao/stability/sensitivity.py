@@ -137,6 +137,21 @@ def ks_aggregate(g, rho):
 
 
 @dataclass
+class SpeedModes:
+    """The aggregated modes at one speed: what the gradient needs and what a warm start refines."""
+
+    speed: float                     # m/s
+    p: np.ndarray                    # packed parameters at this speed
+    q: np.ndarray                    # packed forcing
+    x0: np.ndarray                   # static state linearised about
+    A: sp.csc_matrix                 # dR/dx at x0
+    B: sp.csc_matrix                 # dR/dxdot at x0
+    eigenvalues: np.ndarray          # complex (k,), two-sided Rayleigh quotients
+    right: np.ndarray                # (n, k) right vectors, unit 2-norm
+    left: np.ndarray                 # (n, k) left vectors, unit 2-norm
+
+
+@dataclass
 class DampingConstraint:
     """Value and gradient of the aggregated damping constraint, with what it aggregated."""
 
@@ -145,18 +160,167 @@ class DampingConstraint:
     speeds: np.ndarray               # m/s
     eigenvalues: list                # per speed: the aggregated eigenvalues (complex array)
     damping_ratio: np.ndarray        # every aggregated mode's zeta, speed by speed
+    modes: list = None               # per speed: SpeedModes (vectors and pencil, for the gradient)
+    weights: np.ndarray = None       # dKS/dg of every aggregated mode, speed by speed
+    measure: str = "sigma"
+    cold: bool = True                # True: full eigen window; False: warm-started refinement
 
 
 MEASURES = ("sigma", "ratio")
 
 
+def refine_pair(A, B, lam0, v0, u0, *, tol=1e-12, iterations=6, shifts=2, rel_shift=1e-10):
+    """Right / left vectors and the two-sided Rayleigh quotient of the eigenvalue of
+    ``(A + lambda B) v = 0`` nearest ``lam0``, by inverse iteration from ``v0, u0`` (the
+    previous design's vectors): one sparse LU of ``A + s B`` per shift s (first ``lam0``, then the
+    current quotient; at most ``shifts``), the left vector from the transposed solve with the same
+    LU. Converged when two quotients agree to ``tol`` relative. Returns ``(v, u, lam, converged)``.
+    (Two-sided Rayleigh-quotient iteration: B. N. Parlett, "The Rayleigh quotient iteration and
+    some generalizations for nonnormal matrices", Math. Comp. 28(127), 1974.)"""
+    BH = B.conj().T
+    v, u = np.asarray(v0, complex), np.asarray(u0, complex)
+    lam_old, lam = complex(lam0), complex(lam0)
+    for _ in range(int(shifts)):
+        s = lam * (1.0 + rel_shift) + rel_shift
+        lu = spla.splu(sp.csc_matrix(A + s * B, dtype=complex))
+        for _ in range(int(iterations)):
+            v = lu.solve(np.asarray(B @ v))
+            v /= np.linalg.norm(v)
+            u = lu.solve(np.asarray(BH @ u), trans="H")
+            u /= np.linalg.norm(u)
+            lam = complex(-np.vdot(u, A @ v) / np.vdot(u, B @ v))
+            if abs(lam - lam_old) <= tol * abs(lam):
+                return v, u, lam, True
+            lam_old = lam
+    return v, u, lam, False
+
+
+class WarmStart:
+    """History of :func:`damping_constraint` between evaluations (warm start; docs/flutter.md).
+
+    After a cold evaluation (the full sparse eigen window at every speed) it keeps, per speed, the
+    aggregated modes (eigenvalue, right and left vectors) and the window. The next evaluation
+    refines those modes by :func:`refine_pair` instead of a new window, unless a rule asks for the
+    full window again:
+
+    * no history, or the speeds / options changed;
+    * ``refresh`` evaluations since the last cold one;
+    * the design moved too far from the last cold one: some parameter block (e.g. the stiffness
+      matrices) changed by more than ``max_step`` of its largest entry;
+    * a refinement failed: not converged, its beam-weighted MAC with the previous vector below
+      ``min_mac``, the mode turned real or unloaded, it moved more than ``max_drift`` of its
+      distance to the nearest other eigenvalue of the cold window (it may have swapped with it),
+      two refined modes became the same eigenvalue, or it left the cold window's disc
+      ``|lambda - sigma| < r`` (the cold set would have dropped it).
+
+    A cold evaluation after a failed refinement redoes the whole evaluation, so the value is
+    always that of a converged set; the warm value equals the cold one to round-off when the
+    sets agree. Not detected: an oscillatory mode from outside the window entering it between
+    two cold evaluations (its KS weight is ~exp(-rho (g_max - g)); the next cold evaluation
+    picks it up).
+    """
+
+    def __init__(self, *, refresh=20, max_step=0.1, min_mac=0.9, max_drift=0.25, tol=1e-12):
+        if int(refresh) < 1:
+            raise ValueError(f"WarmStart refresh = {refresh}; allowed: an integer >= 1 (evaluations)")
+        if not (0.0 < float(max_step) and 0.0 < float(min_mac) <= 1.0 and 0.0 < float(max_drift) < 1.0):
+            raise ValueError(f"WarmStart: max_step = {max_step} (> 0), min_mac = {min_mac} (0, 1], "
+                             f"max_drift = {max_drift} (0, 1) out of range")
+        self.refresh, self.max_step, self.min_mac = int(refresh), float(max_step), float(min_mac)
+        self.max_drift, self.tol = float(max_drift), float(tol)
+        self.reset()
+
+    def reset(self):
+        """Forget the history: the next evaluation is cold."""
+        self.key = None              # (speeds, options) of the history
+        self.cold_p = None           # per speed: p of the last cold evaluation
+        self.cold_window = None      # per speed: (eigenvalues of the cold window, radius, sigma)
+        self.cold_lams = None        # per speed: the aggregated eigenvalues of the last cold evaluation
+        self.modes = None            # per speed: SpeedModes of the last evaluation
+        self.since_cold = 0
+        self.n_cold = 0
+        self.n_warm = 0
+        self.reasons = []            # why each cold evaluation was made
+
+    def step_too_large(self, system, p_list):
+        """True when some parameter block moved by more than ``max_step`` of its largest entry
+        (max-norm, relative) from the last cold design, at some speed."""
+        from wingmdao.timemarch.system import layout
+
+        for p, pc in zip(p_list, self.cold_p):
+            for sl in layout(system.param_specs).values():
+                scale = float(np.max(np.abs(pc[sl]), initial=0.0))
+                if np.max(np.abs(p[sl] - pc[sl]), initial=0.0) > self.max_step * scale + 1e-9:  # 1e-9: round-off of zero blocks (SI)
+                    return True
+        return False
+
+
+def _loaded(vectors, mask, bmask):
+    return np.linalg.norm(vectors * mask[:, None], axis=0) / np.linalg.norm(vectors * bmask[:, None], axis=0)
+
+
+def _cold_speed(system, p, q, x, V, mask, bmask, min_frequency, neutral_fraction, static, eig_options):
+    from wingmdao.stability.eigen import eigenmodes, linearize
+
+    m = eigenmodes(system, p, q, x, static=static, **eig_options)
+    share = _loaded(m.vectors, mask, bmask)
+    keep = np.flatnonzero((m.frequency > min_frequency) & (share > neutral_fraction))
+    if keep.size == 0:
+        raise ValueError(f"no aerodynamically loaded oscillatory mode at {V} m/s in the eigen window")
+    A, B = linearize(system, p, q, m.x0)
+    lams, vs, us = [], [], []
+    for j in keep:
+        vec, uvec, lj = left_right_vectors(A, B, m.eigenvalues[j])
+        lams.append(lj)
+        vs.append(vec)
+        us.append(uvec)
+    sm = SpeedModes(float(V), p, q, m.x0, A, B, np.array(lams), np.array(vs).T, np.array(us).T)
+    return sm, m.eigenvalues
+
+
+def _warm_speed(system, p, q, prev, window, cold_lams, warm, mask, bmask, min_frequency, neutral_fraction,
+                static, static_options):
+    """Refined modes at one speed, or a string saying why the refinement is not trusted."""
+    from wingmdao.stability.eigen import linearize, static_state
+
+    x = static_state(system, p, q, prev.x0, **(static_options or {})) if static else prev.x0
+    A, B = linearize(system, p, q, x)
+    win, radius, sigma = window
+    lams, vs, us = [], [], []
+    for j in range(prev.eigenvalues.size):
+        v, u, lam, ok = refine_pair(A, B, prev.eigenvalues[j], prev.right[:, j], prev.left[:, j], tol=warm.tol)
+        if not ok:
+            return f"refinement not converged at {prev.speed:.1f} m/s"
+        w = np.sqrt(bmask)
+        mac = abs(np.vdot(w * prev.right[:, j], w * v)) ** 2 / (np.linalg.norm(w * prev.right[:, j]) ** 2
+                                                                * np.linalg.norm(w * v) ** 2)
+        if mac < warm.min_mac:
+            return f"MAC {mac:.3f} < {warm.min_mac} at {prev.speed:.1f} m/s"
+        if abs(lam.imag) <= min_frequency or _loaded(v[:, None], mask, bmask)[0] <= neutral_fraction:
+            return f"mode {lam:.3f} turned real or unloaded at {prev.speed:.1f} m/s"
+        lc = cold_lams[j]
+        others = np.concatenate([win, win.conj()])
+        others = others[np.abs(others - lc) > 1e-8 * abs(lc)]
+        if abs(lam - lc) > warm.max_drift * float(np.min(np.abs(others - lc))):
+            return f"mode {lc:.3f} drifted to {lam:.3f} at {prev.speed:.1f} m/s"
+        if abs(lam - sigma) >= radius:
+            return f"mode {lam:.3f} left the eigen window at {prev.speed:.1f} m/s"
+        if any(abs(lam - lk) <= 1e-6 * abs(lam) for lk in lams):
+            return f"two modes refined to {lam:.3f} at {prev.speed:.1f} m/s"
+        lams.append(lam)
+        vs.append(v)
+        us.append(u)
+    return SpeedModes(prev.speed, p, q, x, A, B, np.array(lams), np.array(vs).T, np.array(us).T)
+
+
 def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_ks=100.0, margin=0.0,
                        measure="sigma", min_frequency=1e-3, neutral_fraction=1e-2, static=True, gradient=True,
-                       **eig_options) -> DampingConstraint:
+                       warm_start: WarmStart | None = None, **eig_options) -> DampingConstraint:
     """KS over speeds and modes of ``sigma + margin`` (1/s) or ``margin - zeta`` (``measure``;
     module docstring) and its exact gradient with respect to the packed parameters ``p``
     (``params_at(V) -> (p, q)``; the gradient sums the speeds' contributions: meaningful for the
-    entries common to every speed, e.g. the beam's).
+    entries common to every speed, e.g. the beam's). ``gradient=False``: the value only (the
+    gradient later from the result: :func:`constraint_gradient`).
 
     The modes at each speed: every oscillatory eigenvalue of the eigen window (|Im| >
     ``min_frequency`` rad/s) whose eigenvector's aerodynamic-state part (``aero_mask``: 1 on those
@@ -164,35 +328,100 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
     in-plane bending modes, which strip theory barely loads (Re lambda ~ 1e-7 1/s for every design;
     PEGASUS: ratio 5e-5 - 4e-4, loaded modes 0.19 - 0.53), are left out. No tracking between speeds
     (a coarse set of speeds is too far apart for MAC tracking near a coalescence).
+
+    ``warm_start``: a :class:`WarmStart` carried between calls (e.g. by an optimizer's
+    evaluations): the previous evaluation's modes are refined instead of a new eigen window
+    when its rules allow (same value to round-off; see :class:`WarmStart`).
     """
-    from wingmdao.stability.eigen import check_speeds, eigenmodes, linearize
+    from wingmdao.stability.eigen import check_speeds
 
     if measure not in MEASURES:
         raise ValueError(f"measure = {measure!r}; allowed: {', '.join(MEASURES)}")
     v = check_speeds(speeds)
     mask = np.asarray(aero_mask, dtype=float).ravel()
     bmask = np.asarray(beam_mask, dtype=float).ravel()
-    lams, zetas, gs, dgs, x = [], [], [], [], None
-    for V in v:
-        p, q = params_at(float(V))
-        m = eigenmodes(system, p, q, x, static=static, **eig_options)
-        x = m.x0
-        share = np.linalg.norm(m.vectors * mask[:, None], axis=0) / np.linalg.norm(m.vectors * bmask[:, None], axis=0)
-        keep = np.flatnonzero((m.frequency > min_frequency) & (share > neutral_fraction))
-        if keep.size == 0:
-            raise ValueError(f"no aerodynamically loaded oscillatory mode at {V} m/s in the eigen window")
-        A, B = linearize(system, p, q, m.x0)
-        row_l = []
-        for j in keep:
-            vec, uvec, lj = left_right_vectors(A, B, m.eigenvalues[j])
-            z = -lj.real / abs(lj)
-            row_l.append(lj)
-            zetas.append(z)
-            gs.append(lj.real + margin if measure == "sigma" else margin - z)
-            if gradient:
-                dl = eigenvalue_gradient(system, p, q, m.x0, lj, vec, uvec, A=A, B=B, static=static)
-                dgs.append(dl.real if measure == "sigma" else -damping_ratio_gradient(lj, dl)[1])
-        lams.append(np.array(row_l))
-    value, w = ks_aggregate(np.array(gs), rho_ks)
-    grad = (w @ np.array(dgs)) if gradient else None
-    return DampingConstraint(float(value), grad, v, lams, np.array(zetas))
+    pq = [params_at(float(V)) for V in v]
+    modes, cold = None, True
+    ws = warm_start
+    key = (tuple(v), rho_ks, margin, measure, min_frequency, neutral_fraction, static, repr(sorted(eig_options.items())))
+    if ws is not None:
+        reason = None
+        if ws.modes is None or ws.key != key:
+            reason = "no history"
+        elif ws.since_cold + 1 >= ws.refresh:
+            reason = f"refresh after {ws.refresh} evaluations"
+        elif ws.step_too_large(system, [p for p, _ in pq]):
+            reason = f"design step > {ws.max_step:g} relative"
+        else:
+            modes = []
+            for k, (p, q) in enumerate(pq):
+                sm = _warm_speed(system, p, q, ws.modes[k], ws.cold_window[k], ws.cold_lams[k], ws, mask, bmask,
+                                 min_frequency, neutral_fraction, static, eig_options.get("static_options"))
+                if isinstance(sm, str):
+                    reason, modes = sm, None
+                    break
+                modes.append(sm)
+        if modes is not None:
+            cold = False
+            ws.since_cold += 1
+            ws.n_warm += 1
+        else:
+            ws.reasons.append(reason)
+    if modes is None:
+        modes, windows, x = [], [], None
+        sigma = complex(eig_options.get("sigma", 0.0))
+        for (p, q), V in zip(pq, v):
+            sm, win = _cold_speed(system, p, q, x, V, mask, bmask, min_frequency, neutral_fraction, static,
+                                  eig_options)
+            x = sm.x0
+            modes.append(sm)
+            windows.append((win, float(np.max(np.abs(win - sigma))), sigma))
+        if ws is not None:
+            ws.key, ws.cold_p, ws.cold_window = key, [p for p, _ in pq], windows
+            ws.cold_lams = [sm.eigenvalues.copy() for sm in modes]
+            ws.since_cold, ws.n_cold = 0, ws.n_cold + 1
+    if ws is not None:
+        ws.modes = modes
+    lams = [sm.eigenvalues for sm in modes]
+    lam_all = np.concatenate(lams)
+    zetas = -lam_all.real / np.abs(lam_all)
+    gs = lam_all.real + margin if measure == "sigma" else margin - zetas
+    value, w = ks_aggregate(gs, rho_ks)
+    res = DampingConstraint(float(value), None, v, lams, zetas, modes, w, measure, cold)
+    if gradient:
+        res.gradient = constraint_gradient(system, res, static=static)
+    return res
+
+
+def constraint_gradient(system, res: DampingConstraint, *, static=True, min_weight=0.0) -> np.ndarray:
+    """d KS / d p of a :func:`damping_constraint` result from its stored modes: per speed one
+    ``dR/dp``, one LU of ``A`` (the static-state term, one ``A^T`` solve per mode) and one CasADi
+    second-derivative evaluation per mode (:func:`eigenvalue_gradient`). Modes whose KS weight is
+    at most ``min_weight`` are skipped (0: none; their contribution is that weight times the
+    eigenvalue derivative)."""
+    fun = pencil_gradient_function(system)
+    grad = np.zeros(system.n_param)
+    k = 0
+    for sm in res.modes:
+        nk = sm.eigenvalues.size
+        wk = res.weights[k:k + nk]
+        k += nk
+        use = np.flatnonzero(wk > min_weight)
+        if use.size == 0:
+            continue
+        xd = np.zeros_like(sm.x0)
+        lu = spla.splu(sp.csc_matrix(sm.A)) if static else None
+        Rp = sp.csc_matrix(system.jac_inputs(sm.x0, xd, sm.p, sm.q)[0]) if static else None
+        for j in use:
+            lam, v, u = sm.eigenvalues[j], sm.right[:, j], sm.left[:, j]
+            jp, jx = fun(sm.x0, xd, sm.p, sm.q, v.real, v.imag, u.real, u.imag, lam.real, lam.imag)
+            jp, jx = np.asarray(jp), np.asarray(jx)
+            ds = jp[0] + 1j * jp[1]
+            if static:
+                gx = jx[0] + 1j * jx[1]
+                wv = lu.solve(gx.real, trans="T") + 1j * lu.solve(gx.imag, trans="T")
+                ds = ds - Rp.T @ wv
+            dl = -ds / np.vdot(u, sm.B @ v)
+            dg = dl.real if res.measure == "sigma" else -damping_ratio_gradient(lam, dl)[1]
+            grad += wk[j] * dg
+    return grad
