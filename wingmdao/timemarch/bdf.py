@@ -207,7 +207,7 @@ class _StepSolver:
 
     def _factor(self, jac, label):
         try:
-            self.lu = factor(jac, copy=False)   # the Newton matrix is made for this factor
+            self.lu = factor(jac)
         except RuntimeError as exc:
             raise om.AnalysisError(f"{label()}: singular Newton matrix ({exc})") from exc
         self.factorizations += 1

@@ -36,18 +36,17 @@ class _DenseLU:
         return x
 
 
-def factor(jac, copy=True):
+def factor(jac):
     """LU factors of a square matrix (sparse or dense ndarray) with ``.solve(b, trans='N'|'T')``.
 
     Dense LAPACK below :data:`DENSE_MAX` unknowns (less overhead), SuperLU above. Raises
-    ``RuntimeError`` when the matrix is exactly singular. ``copy=False``: a CSC ``jac`` the
-    caller does not need any more is pruned in place instead of copied.
+    ``RuntimeError`` when the matrix is exactly singular.
     """
     if isinstance(jac, np.ndarray):
         return _DenseLU(jac)
     if jac.shape[0] <= DENSE_MAX:
         return _DenseLU(jac.toarray())
-    jac = sp.csc_matrix(jac, copy=copy)
+    jac = sp.csc_matrix(jac, copy=True)
     jac.eliminate_zeros()   # CasADi patterns are structural: many entries are zero (2.5x faster)
     return spla.splu(jac, permc_spec=PERMC_SPEC)
 
