@@ -212,20 +212,19 @@ class _StepSolver:
             raise om.AnalysisError(f"{label()}: singular Newton matrix ({exc})") from exc
         self.factorizations += 1
 
-    def _max_abs(self, v):
-        return float(np.abs(v, out=self._abs).max()) if v.size else 0.0
-
     def solve(self, x, hist, alpha, q, label):
         """Solve R(x, alpha x + hist, p, q) = 0 from ``x`` (updated in place and returned);
         ``alpha`` already divided by dt; ``label()`` names the step in error messages."""
-        system, p, residual, max_abs = self.system, self.p, self.residual, self._max_abs
+        system, p, residual, absbuf = self.system, self.p, self.residual, self._abs
+        if absbuf.size == 0:
+            return x, 0
         atol, xtol, max_iter, modified = self.atol, self.xtol, self.max_iter, self.modified
         residual.set_step(hist, alpha, q)
         reuse = modified and self.lu is not None and self.lu_alpha == alpha
         prev_step, prev_norm, x_max = None, np.inf, 0.0
         for it in range(1, max_iter + 1):
             r = residual(x)
-            norm = max_abs(r)
+            norm = float(np.abs(r, out=absbuf).max())
             if not isfinite(norm):
                 self._fail(label, it, r, "residual is not finite")
             if norm <= atol:
@@ -242,11 +241,11 @@ class _StepSolver:
                 self._factor(jac, label)
                 self.lu_alpha = alpha
             dx = self.lu.solve(r)
-            step = max_abs(dx)
+            step = float(np.abs(dx, out=absbuf).max())
             if not isfinite(step):
                 self._fail(label, it, r, "Newton step is not finite")
             x -= dx
-            x_max = max_abs(x)
+            x_max = float(np.abs(x, out=absbuf).max())
             tol = xtol * (1.0 + x_max)
             if step <= tol:
                 return x, it
