@@ -245,6 +245,11 @@ class CasadiResidualSystem(ResidualSystem):
     def residual(self, x, xdot, p, q):
         return self._fast_R(x, xdot, p, q)[0]
 
+    def residual_call(self) -> JitCall:
+        """The buffered evaluator of ``R`` (inputs ``x, xdot, p, q``), for loops that keep their
+        inputs in its buffers (the BDF march); call its ``refresh()`` and ``jit.count()``."""
+        return self._fast_R
+
     @property
     def residual_function(self) -> ca.Function:
         """The CasADi function ``R(x, xdot, p, q)`` (for derived symbolic quantities, e.g. the
