@@ -148,7 +148,16 @@ class _SparseJacobian:
         self.indices = np.asarray(row, dtype=np.int64)
         self.nnz = spty.nnz()
         self.expr = jac
-        self.fun = ca.Function(f"{fun.name()}_jac_{tag}", args, [jac])
+        self._fun, self._fun_def = None, (f"{fun.name()}_jac_{tag}", args)
+
+    @property
+    def fun(self) -> ca.Function:
+        """The CasADi function of this Jacobian, made at first use (the fused Newton and
+        Jacobian-history functions serve the solvers; making all four up front cost ~0.1 s)."""
+        if self._fun is None:
+            name, args = self._fun_def
+            self._fun = ca.Function(name, args, [self.expr])
+        return self._fun
 
     def __call__(self, *vals) -> sp.csc_matrix:
         data = np.asarray(self.fun(*vals).nonzeros(), dtype=float)
