@@ -277,3 +277,111 @@ def test_library_owned_by_another_user_is_refused(jit_env, monkeypatch):
     monkeypatch.setattr(cc.os, "getuid", lambda: uid + 1)
     with pytest.raises(cc.UnsafeCache, match="owned by user id"):
         cc.verify(cc.library_path(f))
+
+
+# ---------------------------------------------------------------- keys by definition (issue #15)
+def _no_serialize(monkeypatch):
+    def boom(self, *args, **kwargs):
+        raise AssertionError("Function.serialize() called although a definition key was given")
+
+    monkeypatch.setattr(ca.Function, "serialize", boom)
+
+
+def test_definition_key_changes_with_every_builder_argument():
+    from wingmdao.beam.residual import StrainRateDamping, beam_definition
+
+    base = beam_definition(21)
+    assert beam_definition(21) == base                        # deterministic
+    assert beam_definition(21, damping=StrainRateDamping()) == base   # zero damping builds the same system
+    others = [beam_definition(22), beam_definition(21, euler_sequence="aswing"),
+              beam_definition(21, damping=StrainRateDamping((1e-3, 0, 0), (0, 0, 0))),
+              beam_definition(21, damping=StrainRateDamping((2e-3, 0, 0), (0, 0, 0)))]
+    assert len({base, *others}) == 1 + len(others)
+
+
+def test_definition_key_includes_the_generating_source(tmp_path, monkeypatch):
+    import importlib
+    import os
+
+    mod_file = tmp_path / "gen_mod_s7.py"
+    mod_file.write_text("A = 1\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    mod = importlib.import_module("gen_mod_s7")
+    k1 = cc.definition_key("builder", (3,), [mod])
+    mod_file.write_text("A = 2  # edited\n")
+    os.utime(mod_file, ns=(1, 10 ** 18))                     # a new mtime even on coarse clocks
+    k2 = cc.definition_key("builder", (3,), [mod])
+    assert k1 != k2
+    assert cc.definition_key("builder", (4,), [mod]) != k2
+    assert cc.definition_key("other", (3,), [mod]) != k2
+
+
+def test_function_key_by_definition_does_not_serialize(monkeypatch):
+    f = _function("g")
+    by_def = cc.function_key(f, definition="d1")
+    assert by_def != cc.function_key(f)
+    _no_serialize(monkeypatch)
+    assert cc.function_key(f, definition="d1") == by_def
+    assert cc.function_key(f, definition="d2") != by_def
+    assert cc.function_key(f, ("-O2",), definition="d1") != by_def
+    x = ca.SX.sym("x", 4)
+    other_name = ca.Function("h", [x], [x])
+    assert cc.function_key(other_name, definition="d1") != by_def
+
+
+def test_warm_beam_cache_is_served_without_serializing(jit_env, monkeypatch):
+    """A second build of the same beam finds the compiled libraries by definition alone (no
+    Function.serialize) and gives the same numbers as the interpreted functions."""
+    from wingmdao.beam.residual import beam_definition, build_beam_system
+
+    n = 3
+    first = build_beam_system(n)
+    assert first.definition == beam_definition(n)
+    assert set(first.compile(wait=True).values()) == {"compiled"}
+    _no_serialize(monkeypatch)
+    monkeypatch.setattr(subprocess, "Popen", lambda *a, **k: (_ for _ in ()).throw(AssertionError("gcc")))
+    warm = build_beam_system(n)
+    assert set(warm.compile(wait=True).values()) == {"compiled"}
+    cold = build_beam_system(n)
+    cold.set_jit_threshold(10 ** 15)
+    monkeypatch.setenv(cc.ENV_JIT, "0")
+    rng = np.random.default_rng(3)
+    x, xd = rng.normal(size=18 * n), rng.normal(size=18 * n)
+    p, q = rng.normal(size=warm.n_param), rng.normal(size=warm.n_forcing)
+    ra, ma = warm.residual_and_newton_matrix(x, xd, p, q, 7.0)
+    rb, mb = cold.residual_and_newton_matrix(x, xd, p, q, 7.0)
+    np.testing.assert_allclose(ra, rb, rtol=1e-13, atol=1e-13)
+    np.testing.assert_allclose(ma.toarray(), mb.toarray(), rtol=1e-13, atol=1e-13)
+
+
+def test_newton_matrix_is_dx_plus_alpha_dxdot():
+    """The Newton function reuses the dR/dx, dR/dxdot expressions: same numbers as the separate
+    Jacobian functions (to round-off of one multiply-add)."""
+    from wingmdao.beam.residual import build_beam_system
+
+    s = build_beam_system(4)
+    rng = np.random.default_rng(4)
+    x, xd = rng.normal(size=s.n_state), rng.normal(size=s.n_state)
+    p, q = rng.normal(size=s.n_param), rng.normal(size=s.n_forcing)
+    r, m = s.residual_and_newton_matrix(x, xd, p, q, 3.5)
+    jx, jxd = s.jac_state(x, xd, p, q)
+    np.testing.assert_allclose(np.asarray(m.todense() if hasattr(m, "todense") else m),
+                               (jx + 3.5 * jxd).toarray(), rtol=1e-15, atol=1e-12)
+    np.testing.assert_array_equal(r, s.residual(x, xd, p, q))
+
+
+def test_static_lu_is_keyed_by_definition(jit_env, monkeypatch):
+    """The static-pivot LU functions are keyed by pattern + pivot order + source, not serialized."""
+    import scipy.sparse as sp
+
+    from wingmdao.timemarch.static_lu import StaticPivotLU
+
+    a = sp.random(12, 12, density=0.3, random_state=5, format="csc") + sp.identity(12, format="csc") * 4
+    a = sp.csc_matrix(a)
+    a.sort_indices()
+    lu = StaticPivotLU(12, a.indices, a.indptr, a.data)
+    _no_serialize(monkeypatch)
+    keys = {k: c.jit.key() for k, c in lu._calls.items()}
+    assert len(set(keys.values())) == len(keys)
+    step = lu.adjoint_step(a.indices, np.repeat(np.arange(12), np.diff(a.indptr)))
+    assert step.jit.key() not in keys.values()

@@ -320,6 +320,25 @@ def unpack_state(x, num_nodes: int | None = None) -> dict:
     return {k: x[:, s].copy() for k, s in STATE_BLOCKS.items()}
 
 
+#: Modules whose code generates the beam's CasADi expressions and functions (their source is part
+#: of the compiled-library key, :func:`beam_definition`).
+_GENERATING_MODULES = ("wingmdao.beam.residual", "wingmdao.beam.rotations", "wingmdao.timemarch.system")
+
+
+def beam_definition(num_nodes: int, euler_sequence: str = "surface",
+                    damping: StrainRateDamping | None = None) -> str:
+    """What defines the functions of :func:`build_beam_system` (the key of their compiled
+    libraries, :func:`wingmdao.utils.casadi_cache.definition_key`): its arguments, the source of
+    the generating modules and the CasADi version."""
+    from wingmdao.utils.casadi_cache import definition_key
+
+    if damping is not None and damping.is_zero:
+        damping = None
+    args = (int(num_nodes), str(euler_sequence),
+            None if damping is None else (damping.curvature, damping.strain))
+    return definition_key("wingmdao.beam.residual.build_beam_system", args, _GENERATING_MODULES)
+
+
 def build_beam_system(num_nodes: int, *, euler_sequence: str = "surface",
                       damping: StrainRateDamping | None = None) -> CasadiResidualSystem:
     """The App. A beam of ``num_nodes`` nodes (root first) as a :class:`CasadiResidualSystem`.
@@ -368,6 +387,7 @@ def build_beam_system(num_nodes: int, *, euler_sequence: str = "surface",
 
     system = CasadiResidualSystem(x, xdot, p, q, R, param_specs=pspecs, forcing_specs=qspecs,
                                   state_shape=(n, 18), name=f"beam{n}",
-                                  describe=lambda k: describe_equation(k, n), initial_guess=guess)
+                                  describe=lambda k: describe_equation(k, n), initial_guess=guess,
+                                  definition=beam_definition(n, euler_sequence, damping))
     system.build_time = time.perf_counter() - t_start
     return system

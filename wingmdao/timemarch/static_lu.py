@@ -30,7 +30,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from wingmdao.utils.casadi_cache import JitCall, compile_calls
+from wingmdao.utils.casadi_cache import JitCall, compile_calls, definition_key
 
 
 def symbolic_lu(n, rows, indptr):
@@ -170,7 +170,9 @@ class StaticPivotLU:
         cols = np.repeat(np.arange(n), np.diff(self.indptr))
         self.solve_fun = self._checked(name + "_solve", raw_solve, f, a, b, self.rows, cols)
         self.solve_t_fun = self._checked(name + "_solve_t", raw_solve_t, f, a, b, cols, self.rows)
-        self._calls = {k: JitCall(fun, threshold, copy_outputs=False)
+        # what defines the generated functions (key of their compiled libraries; no serialization)
+        self._definition = definition_key("StaticPivotLU", (self.n, self._pattern_digest()), (__name__,))
+        self._calls = {k: JitCall(fun, threshold, copy_outputs=False, definition=self._definition)
                        for k, fun in (("factor", self.factor_fun), ("solve", self.solve_fun),
                                       ("solve_t", self.solve_t_fun))}
 
@@ -199,7 +201,8 @@ class StaticPivotLU:
         h = hashlib.sha256()
         for arr in (rate_rows, rate_cols):
             h.update(np.ascontiguousarray(arr, dtype=np.int64).tobytes())
-        key = h.hexdigest()[:12]
+        full = h.hexdigest()
+        key = full[:12]
         call = self._steps.get(key)
         if call is None:
             n, m = self.n, len(rate_rows)
@@ -212,15 +215,20 @@ class StaticPivotLU:
             cols = np.repeat(np.arange(n), np.diff(self.indptr))
             fun = self._checked(f"{self._name}_adjoint_{key}", self._raw_t, f, a, g, cols, self.rows,
                                 extra_inputs=(lam1, r1, c1, lam2, r2, c2), rhs=b)
-            call = self._steps[key] = JitCall(fun, self._threshold, copy_outputs=False)
+            call = self._steps[key] = JitCall(fun, self._threshold, copy_outputs=False,
+                                              definition=f"{self._definition}:{full}")
         return call
 
-    def key(self) -> str:
-        """Hash of the pattern and pivot order (names the generated functions)."""
+    def _pattern_digest(self) -> str:
+        """SHA-256 of the pattern and pivot order."""
         h = hashlib.sha256()
         for arr in (self.rows, self.indptr, self.perm_r):
             h.update(np.ascontiguousarray(arr, dtype=np.int64).tobytes())
-        return h.hexdigest()[:12]
+        return h.hexdigest()
+
+    def key(self) -> str:
+        """Hash of the pattern and pivot order (names the generated functions)."""
+        return self._pattern_digest()[:12]
 
     # ------------------------------------------------------------------ evaluation
     def compile(self, wait=True) -> dict:

@@ -148,7 +148,16 @@ class _SparseJacobian:
         self.indices = np.asarray(row, dtype=np.int64)
         self.nnz = spty.nnz()
         self.expr = jac
-        self.fun = ca.Function(f"{fun.name()}_jac_{tag}", args, [jac])
+        self._fun, self._fun_def = None, (f"{fun.name()}_jac_{tag}", args)
+
+    @property
+    def fun(self) -> ca.Function:
+        """The CasADi function of this Jacobian, made at first use (the fused Newton and
+        Jacobian-history functions serve the solvers; making all four up front cost ~0.1 s)."""
+        if self._fun is None:
+            name, args = self._fun_def
+            self._fun = ca.Function(name, args, [self.expr])
+        return self._fun
 
     def __call__(self, *vals) -> sp.csc_matrix:
         data = np.asarray(self.fun(*vals).nonzeros(), dtype=float)
@@ -170,10 +179,12 @@ class CasadiResidualSystem(ResidualSystem):
 
     ``x, xdot, p, q`` are CasADi symbols (SX or MX column vectors) and ``R`` the residual
     expression. Jacobians are exact (CasADi AD) and sparse; their patterns are fixed once.
+    ``definition``: what defines the expressions (``wingmdao.utils.casadi_cache.definition_key``
+    of the builder), the key of their compiled libraries; None keys them by serialization.
     """
 
     def __init__(self, x, xdot, p, q, R, *, param_specs, forcing_specs, state_shape=None,
-                 name="residual", describe=None, initial_guess=None):
+                 name="residual", describe=None, initial_guess=None, definition=None):
         self.n_state = int(x.numel())
         self.state_shape = tuple(state_shape) if state_shape else (self.n_state,)
         self.param_specs = list(param_specs)
@@ -192,7 +203,7 @@ class CasadiResidualSystem(ResidualSystem):
         self._initial_guess = initial_guess
         # one call per Newton iteration: residual and the Newton matrix dR/dx + alpha dR/dxdot
         alpha = ca.SX.sym("alpha") if isinstance(x, ca.SX) else ca.MX.sym("alpha")
-        newton = ca.jacobian(R, x) + alpha * ca.jacobian(R, xdot)
+        newton = self._dx.expr + alpha * self._dxdot.expr   # the same Jacobians, not recomputed
         spty = newton.sparsity()
         colind, row = spty.get_ccs()
         self._newton_pattern = (np.asarray(row, dtype=np.int64), np.asarray(colind, dtype=np.int64))
@@ -202,9 +213,10 @@ class CasadiResidualSystem(ResidualSystem):
         self._R_args = args
         self._newton_dense_index = None
         self.jit_threshold = JIT_THRESHOLD
-        self._fast_R = JitCall(self._R, self.jit_threshold)
-        self._fast_newton = JitCall(self._newton, self.jit_threshold)
-        self._maps = {"R": self._fast_R, "J": JitCall(self._all_jac, self.jit_threshold)}
+        self.definition = definition
+        self._fast_R = JitCall(self._R, self.jit_threshold, definition=definition)
+        self._fast_newton = JitCall(self._newton, self.jit_threshold, definition=definition)
+        self._maps = {"R": self._fast_R, "J": JitCall(self._all_jac, self.jit_threshold, definition=definition)}
 
     def set_jit_threshold(self, evaluations: int) -> None:
         """Evaluations after which each function is compiled in the background (0: at first use)."""
@@ -225,7 +237,7 @@ class CasadiResidualSystem(ResidualSystem):
         the 20-node beam, more than the evaluations themselves.)
         """
         if key not in self._maps:
-            self._maps[key] = JitCall(fun, self.jit_threshold)
+            self._maps[key] = JitCall(fun, self.jit_threshold, definition=self.definition)
         call = self._maps[key]
         fc = call.refresh()
         n = X.shape[0]
