@@ -93,7 +93,7 @@ def test_memory_lean_chain_gives_the_same_totals(monkeypatch):
     of = [f"cases.dyn.ks_{f}" for f in FAMILIES]
     ref = _problem("rev")[0].compute_totals(of=of, wrt=list(WALL_VARS))
     monkeypatch.setattr(time_history, "MATRIX_FREE_ABOVE", 0)
-    monkeypatch.setattr(time_history, "ADJOINT_MEMORY_MB", 10.7)   # 89 kB per step: segments of 29 steps
+    monkeypatch.setattr(time_history, "ADJOINT_MEMORY_MB", 10.7)   # 89 kB per step: segments of 15 steps
     monkeypatch.setattr(pointwise, "POINTWISE_MATRIX_FREE_ABOVE", 0)
     monkeypatch.setattr(pointwise, "POINTWISE_JAC_CACHE_BYTES", 0.0)
     monkeypatch.setattr(pointwise, "POINT_CHUNK", 500)

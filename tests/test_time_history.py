@@ -212,7 +212,7 @@ def test_checkpointed_adjoint_totals_equal_full_storage_and_central_differences(
 def test_adjoint_memory_auto_checkpoints_above_the_budget_and_needs_matrix_free():
     prob = _chain_problem(21, matrix_free=True, adjoint_memory_mb=0.002)   # ~10 steps of blocks
     assert 1 <= prob.model.chain.checkpoint_every < 21
-    prob = _chain_problem(21, matrix_free=True)                           # 100 MB: full storage
+    prob = _chain_problem(21, matrix_free=True)                           # 200 MB: full storage
     assert prob.model.chain.checkpoint_every is None
     with pytest.raises(ValueError, match="adjoint_memory='checkpoint' needs matrix_free=True"):
         _chain_problem(21, matrix_free=False, adjoint_memory="checkpoint")

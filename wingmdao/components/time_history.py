@@ -28,8 +28,11 @@ from wingmdao import DISSERTATION
 MATRIX_FREE_ABOVE = 50_000
 
 #: Default budget (MB) of the Jacobian blocks kept for the adjoint (``adjoint_memory="auto"``):
-#: about 530 steps of a 20-node beam (188 kB per step); longer histories are checkpointed.
-ADJOINT_MEMORY_MB = 100.0
+#: about 1060 steps of a 20-node beam (188 kB per step) or 650 of the coupled aeroelastic one
+#: (288-308 kB per step), so 500-step gusts of both keep every block (checkpointing a history
+#: evaluates its Jacobians twice: the coupled adjoint cost 1.8-2.3x a structural step with the
+#: earlier 100 MB); longer histories are checkpointed in segments of an eighth of the budget.
+ADJOINT_MEMORY_MB = 200.0
 
 
 class TimeHistoryComponent(om.ImplicitComponent):
@@ -150,9 +153,10 @@ class TimeHistoryComponent(om.ImplicitComponent):
             return None
         if k is not None:
             return k
-        # a segment gets a quarter of the budget: two are alive while the next one is built, and
-        # the Jacobian evaluation has its own buffers
-        return checkpoint_interval(self.system, self._n_time, budget / 4) or max(1, self._n_time // 8)
+        # a segment gets an eighth of the budget (25 MB by default, as before the budget was
+        # raised for full storage): two are alive while the next one is built, and the Jacobian
+        # evaluation has its own buffers
+        return checkpoint_interval(self.system, self._n_time, budget / 8) or max(1, self._n_time // 8)
 
     def setup_partials(self):
         if self._matrix_free:
