@@ -166,7 +166,11 @@ def eigenmodes(system, p, q, x0=None, *, static=True, count=None, sigma=0.0, met
         Bc = B
         op = spla.LinearOperator((n, n), matvec=lambda v: lu.solve(np.asarray(Bc @ v)),
                                  dtype=complex if np.iscomplex(sigma) else float)
-        mu, vec = spla.eigs(op, k=k, which="LM", ncv=None if ncv is None else min(n - 1, int(ncv)))
+        # a fixed Arnoldi start vector: ARPACK's default is random, so eigenvector phases and the
+        # last digits of the eigenvalues changed from run to run
+        v0 = np.random.default_rng(0).standard_normal(n).astype(op.dtype)
+        mu, vec = spla.eigs(op, k=k, which="LM", v0=v0,
+                            ncv=None if ncv is None else min(n - 1, int(ncv)))
         with np.errstate(divide="ignore"):
             lam = sigma - 1.0 / mu
     keep = np.isfinite(lam) & (np.abs(lam) < max_abs)
