@@ -1,9 +1,9 @@
-"""Convenience layer: fill the beam parameters/forcing from section data and solve statics.
+"""Convenience layer: fill the beam parameters/forcing from section data.
 
 ``beam_parameters`` builds the parameter dict of :func:`wingmdao.beam.residual.param_specs`
-from uniform or per-node section data; ``beam_forcing`` the forcing dict; ``solve_beam_static``
-packs both, runs :func:`wingmdao.timemarch.bdf.solve_static` (Newton with load stepping) and
-returns the state as ``{'r', 'theta', 'F', 'M', 'u', 'omega'}``.
+from uniform or per-node section data; ``beam_forcing`` the forcing dict; ``cached_beam_system``
+builds a beam system once per size; ``march_line_loads`` marches a beam under histories of
+distributed loads (:func:`wingmdao.timemarch.bdf.march`).
 """
 
 from __future__ import annotations
@@ -158,3 +158,21 @@ def straight_beam(n, length, direction=(0.0, 1.0, 0.0)):
     d = d / np.linalg.norm(d)
     r0 = np.outer(np.linspace(0.0, length, n), d)
     return r0, np.tile(euler_from_axis(d), (n, 1))
+
+
+def march_line_loads(params: dict, time, force_per_length, moment_per_length, gravity=(0.0, 0.0, -9.80665)):
+    """BDF2 history (:func:`wingmdao.timemarch.bdf.march`, modified Newton) of the clamped beam of
+    ``params`` under dead line loads ``force_per_length`` / ``moment_per_length`` (n_time, n, 3)
+    N/m, N m/m, and constant ``gravity`` (m/s^2, body axes), starting from the static state of t[0]."""
+    from wingmdao.timemarch.bdf import march
+    from wingmdao.timemarch.system import layout
+
+    t = np.asarray(time, dtype=float)
+    n = np.asarray(params["node_positions"]).shape[0]
+    system = cached_beam_system(n)
+    ql = layout(system.forcing_specs)
+    Q = np.zeros((t.size, system.n_forcing))
+    Q[:, ql["force_per_length"]] = np.asarray(force_per_length, dtype=float).reshape(t.size, -1)
+    Q[:, ql["moment_per_length"]] = np.asarray(moment_per_length, dtype=float).reshape(t.size, -1)
+    Q[:, ql["gravity"]] = np.asarray(gravity, dtype=float)
+    return march(system, t, pack(system.param_specs, params), Q, modified_newton=True)

@@ -108,13 +108,11 @@ def gust_peak_loads(case, geo, params, *, dt=0.01, t_final=None, gust_start=0.1)
     D'Alembert's principle makes the beam in static equilibrium under these loads the dynamic
     state at t*, up to the inertia left out: the rotary inertia and the mass-centre offset of
     the translational inertia (their size is the ``static_vs_dynamic`` difference reported)."""
-    from wingmdao.beam.static import cached_beam_system
+    from wingmdao.beam.static import march_line_loads
     from wingmdao.cases.planform import FT, G0, LB, wing_geometry
-    from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
+    from wingmdao.loads.atmosphere import altitude_ft_to_m, mach_to_tas
     from wingmdao.loads.gust import gust_line_loads
     from wingmdao.loads.maneuver import maneuver_line_loads
-    from wingmdao.timemarch.bdf import march
-    from wingmdao.timemarch.system import layout, pack
 
     pf, g = case.PLANFORM, case.GUST
     _, chord, axis_frac = wing_geometry(pf, case.ENGINES)
@@ -130,14 +128,7 @@ def gust_peak_loads(case, geo, params, *, dt=0.01, t_final=None, gust_start=0.1)
     t = np.arange(0.0, (t_final or g["t_final"]) + 0.5 * dt, dt)
     loads = gust_line_loads(r0, chord, axis_frac, t, gust_gradient_m=H_ft * FT, u_ds_eas=u_eas, airspeed_tas=V,
                             altitude_m=alt, gust_start_time=gust_start, steady=steady, fuselage_half_width=fus)
-    system = cached_beam_system(n)
-    p = pack(system.param_specs, params)
-    ql = layout(system.forcing_specs)
-    Q = np.zeros((t.size, system.n_forcing))
-    Q[:, ql["force_per_length"]] = loads.force_per_length.reshape(t.size, -1)
-    Q[:, ql["moment_per_length"]] = loads.moment_per_length.reshape(t.size, -1)
-    Q[:, ql["gravity"].start + 2] = -G0
-    hist = march(system, t, p, Q, modified_newton=True)
+    hist = march_line_loads(params, t, loads.force_per_length, loads.moment_per_length, (0.0, 0.0, -G0))
     X = hist.states.reshape(t.size, n, 18)
     acc = hist.rates.reshape(t.size, n, 18)[:, :, 12:15]
     k = int(np.argmax(np.abs(X[:, 0, 9])))

@@ -265,12 +265,10 @@ def _strip_history(args, module, geometry, t, bp, chord, axis_frac, flight):
     """--aero strip: the sizing's precomputed loads (rigid-wing quasi-steady strip theory, 2 pi, on the
     Schrenk 1 g loads; wingmdao.loads.gust.gust_line_loads as ``wingmdao size CASE --aero strip``) on
     the structural beam, root clamped; (n(t) = applied lift / W, beam states, wing lift slope, None)."""
-    from wingmdao.beam.static import cached_beam_system
+    from wingmdao.beam.static import march_line_loads
     from wingmdao.cases.planform import G0
     from wingmdao.loads.gust import gust_line_loads
     from wingmdao.loads.maneuver import maneuver_line_loads
-    from wingmdao.timemarch.bdf import march
-    from wingmdao.timemarch.system import layout, pack
 
     pf, n, r0 = module.PLANFORM, chord.size, bp["node_positions"]
     fus = pf.root_rib * pf.semi_span
@@ -279,14 +277,7 @@ def _strip_history(args, module, geometry, t, bp, chord, axis_frac, flight):
     loads = gust_line_loads(r0, chord, axis_frac, t, gust_gradient_m=flight["H"], u_ds_eas=flight["u_eas"],
                             airspeed_tas=flight["V"], altitude_m=flight["alt"], gust_start_time=args.gust_start,
                             steady=steady, fuselage_half_width=fus)
-    system = cached_beam_system(n)
-    p = pack(system.param_specs, bp)
-    ql = layout(system.forcing_specs)
-    Q = np.zeros((t.size, system.n_forcing))
-    Q[:, ql["force_per_length"]] = loads.force_per_length.reshape(t.size, -1)
-    Q[:, ql["moment_per_length"]] = loads.moment_per_length.reshape(t.size, -1)
-    Q[:, ql["gravity"].start + 2] = -G0
-    hist = march(system, t, p, Q, modified_newton=True)
+    hist = march_line_loads(bp, t, loads.force_per_length, loads.moment_per_length, (0.0, 0.0, -G0))
     fz = loads.force_per_length[:, :, 2]
     ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
     n_load = 2 * np.sum(0.5 * (fz[:, 1:] + fz[:, :-1]) * ds, axis=1) / flight["weight"]
