@@ -36,7 +36,7 @@ def main(argv=None):
     from wingmdao.timemarch.system import pack
 
     params, stations = wing_box_beam("prismatic")
-    n = params["r0"].shape[0] if "r0" in params else len(next(iter(params.values())))
+    n = params["node_positions"].shape[0]
     system = cached_beam_system(n)
     if not args.interpreted:
         system.compile()

@@ -385,3 +385,26 @@ def test_static_lu_is_keyed_by_definition(jit_env, monkeypatch):
     assert len(set(keys.values())) == len(keys)
     step = lu.adjoint_step(a.indices, np.repeat(np.arange(12), np.diff(a.indptr)))
     assert step.jit.key() not in keys.values()
+
+
+def test_library_bytes_do_not_depend_on_the_compiling_process(jit_env, monkeypatch):
+    """Two compiles of one function (other pid / thread: other temporary names) give the same
+    bytes, so a reader between one compile's manifest and the other's library never sees a
+    hash mismatch. The cache folder may be given as a relative path."""
+    import hashlib
+    import os
+
+    monkeypatch.chdir(jit_env.parent)
+    monkeypatch.setenv(cc.ENV_CACHE, "cache")
+    f = _function("det")
+    digests = []
+    for pid in (1111, 2222):
+        path = cc.library_path(f)
+        for p in (path, cc.manifest_path(path)):
+            p.unlink(missing_ok=True)
+        monkeypatch.setattr(os, "getpid", lambda pid=pid: pid)
+        assert cc.compile_library(f) == path
+        digests.append(hashlib.sha256(path.read_bytes()).hexdigest())
+        cc.verify(path)
+    assert digests[0] == digests[1]
+    assert sorted(p.name for p in path.parent.iterdir()) == sorted([path.name, cc.manifest_path(path).name])

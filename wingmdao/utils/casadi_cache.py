@@ -214,7 +214,14 @@ def compile_library(fun: ca.Function, flags=DEFAULT_FLAGS, key: str | None = Non
     target.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
     check_safe(target.parent)  # never compile into (and later load from) a folder others can write
     stem = f".{target.stem}.{os.getpid()}.{threading.get_ident()}"
-    src, partial, log = (target.with_name(stem + ext) for ext in (".c", ".so", ".log"))
+    partial, log = (target.with_name(stem + ext) for ext in (".so", ".log"))
+    # the source keeps one name (the target's) in a folder of this compile: gcc writes the source
+    # file name into the library, so per-compile names made concurrent compiles of one function
+    # differ in bytes, and a reader between one compile's manifest and the other's library saw a
+    # hash mismatch (and ran interpreted)
+    src_dir = target.with_name(stem + ".d")
+    src_dir.mkdir(mode=0o700)
+    src = src_dir / f"{target.stem}.c"
     with tempfile.TemporaryDirectory(prefix="wingmdao_jit_") as tmp:
         gen = ca.CodeGenerator(fun.name(), {"with_header": False})
         gen.add(fun)
@@ -222,8 +229,9 @@ def compile_library(fun: ca.Function, flags=DEFAULT_FLAGS, key: str | None = Non
         shutil.move(str(Path(tmp) / f"{fun.name()}.c"), src)
     # at low priority: compiles run in the background of an optimization and must not slow it
     nice = ["nice", "-n", "10"] if shutil.which("nice") else []
-    compile_cmd = " ".join(shlex.quote(a) for a in [*nice, cc, "-shared", "-fPIC", *flags, str(src), "-o",
-                                                    str(partial)])
+    compile_cmd = (f"(cd {shlex.quote(str(src_dir))} && "
+                   + " ".join(shlex.quote(a) for a in [*nice, cc, "-shared", "-fPIC", *flags, src.name, "-o",
+                                                       str(partial.absolute())]) + ")")
     # the mv is atomic on one file system: readers see the whole library or none
     # the manifest (size and SHA-256 of the finished library) is in place before the library
     man, man_partial = manifest_path(target), target.with_name(stem + ".sha256")
@@ -233,7 +241,7 @@ def compile_library(fun: ca.Function, flags=DEFAULT_FLAGS, key: str | None = Non
     script = (f"{compile_cmd} && {manifest_cmd} && mv -f {shlex.quote(str(man_partial))} {shlex.quote(str(man))} "
               f"&& mv -f {shlex.quote(str(partial))} {shlex.quote(str(target))} "
               f"&& rm -f {shlex.quote(str(log))}; "   # the log is kept only when gcc failed
-              f"status=$?; rm -f {shlex.quote(str(src))} {shlex.quote(str(partial))} "
+              f"status=$?; rm -rf {shlex.quote(str(src_dir))}; rm -f {shlex.quote(str(partial))} "
               f"{shlex.quote(str(man_partial))}; exit $status")
     with open(log, "w") as log_file:
         proc = subprocess.Popen(["sh", "-c", script], stdin=subprocess.DEVNULL, stdout=log_file,
