@@ -272,9 +272,52 @@ class _StepSolver:
                                f"worst: {self.system.describe_equation(worst)})")
 
 
+class _CompiledStepSolver(_StepSolver):
+    """:class:`_StepSolver` whose iterations run in compiled code (:mod:`.fast_step`): same
+    tests and error messages; its own sparse LU instead of SuperLU (results equal to round-off)."""
+
+    def __init__(self, stepper, system, p, **opts):
+        super().__init__(system, p, **opts)
+        self.stepper = stepper
+
+    def solve(self, x, hist, alpha, q, label):
+        from wingmdao.timemarch import fast_step as fs
+
+        x = np.ascontiguousarray(x, dtype=float)
+        status, it = self.stepper.solve(x, hist, alpha, np.ascontiguousarray(q, dtype=float))
+        if status == fs.OK:
+            return x, it
+        fail_it, r = int(self.stepper.s.fail_iteration), self.stepper.r.copy()
+        if status == fs.SINGULAR:
+            raise om.AnalysisError(f"{label()}: singular Newton matrix (Factor is exactly singular)")
+        why = {fs.RES_NONFINITE: "residual is not finite", fs.STEP_NONFINITE: "Newton step is not finite",
+               fs.NO_CONVERGENCE: f"no convergence in {self.max_iter} iterations"}.get(
+                   status, f"compiled function failed (status {status})")
+        self._fail(label, fail_it, r, why)
+
+
+def _step_solver(system, p, fast, **opts):
+    """The compiled step solver when ``fast`` allows it and the system's functions are compiled
+    (``fast=None``: for systems above ``DENSE_MAX`` states), else the Python one."""
+    from wingmdao.timemarch.newton import DENSE_MAX
+
+    if fast is False or (fast is None and system.n_state <= DENSE_MAX):
+        return _StepSolver(system, p, **opts)
+    from wingmdao.timemarch.fast_step import FastStepper
+
+    stepper = FastStepper.create(system, p, atol=opts["atol"], xtol=opts["xtol"], max_iter=opts["max_iter"],
+                                 modified=opts["modified"], contraction=opts["contraction"])
+    if stepper is None:
+        if fast:
+            raise ValueError("fast=True: the system's residual and Newton functions are not compiled "
+                             "libraries (compile them with system.compile(); WINGMDAO_JIT must not be 0)")
+        return _StepSolver(system, p, **opts)
+    return _CompiledStepSolver(stepper, system, p, **opts)
+
+
 def march(system, time, p, forcing, *, initial="static", x_init=None, x_guess=None,
           modified_newton=False, contraction=0.3, atol=0.0, xtol=1e-12, max_iter=25,
-          static_options=None, callback=None) -> TimeHistory:
+          static_options=None, callback=None, fast=None) -> TimeHistory:
     """Time-march ``R(x, xdot, p, q(t)) = 0`` with BDF1 then BDF2 (Eq. 3.4-3.7, Alg. 1).
 
     Parameters
@@ -295,6 +338,12 @@ def march(system, time, p, forcing, *, initial="static", x_init=None, x_guess=No
                                      unreliable when residuals mix units (forces, curvatures).
     static_options : dict            keyword arguments of :func:`solve_static` for step 0
     callback : callable(step, t, x)  called after each converged step
+    fast : bool or None              the Newton iterations in compiled code
+                                     (:mod:`wingmdao.timemarch.fast_step`) when the system's
+                                     residual and Newton functions are compiled: None = when
+                                     available, for systems above ``newton.DENSE_MAX`` states;
+                                     False = never (the Python path, SuperLU); True = required
+                                     (ValueError when not available)
 
     Raises :class:`om.AnalysisError` naming the step, time, residual and worst equation.
     """
@@ -305,6 +354,10 @@ def march(system, time, p, forcing, *, initial="static", x_init=None, x_guess=No
     Q = np.asarray(forcing, dtype=float).reshape(n_time, system.n_forcing)
     X = np.zeros((n_time, system.n_state))
     iters = np.zeros(n_time, dtype=int)
+    if initial not in ("static", "state"):
+        raise ValueError(f'initial must be "static" or "state", got {initial!r}')
+    solver = _step_solver(system, p, fast, atol=atol, xtol=xtol, max_iter=max_iter,
+                          modified=modified_newton, contraction=contraction)
     if initial == "static":
         opts = dict(static_options or {})
         X[0], info = solve_static(system, p, Q[0], x_guess, label="step 0 (t = 0 s, static)", **opts)
@@ -317,8 +370,6 @@ def march(system, time, p, forcing, *, initial="static", x_init=None, x_guess=No
         raise ValueError(f'initial must be "static" or "state", got {initial!r}')
     if callback:
         callback(0, t[0], X[0])
-    solver = _StepSolver(system, p, atol=atol, xtol=xtol, max_iter=max_iter,
-                         modified=modified_newton, contraction=contraction)
     for n in range(1, n_time):
         a0, a1, a2 = bdf_coefficients(n)
         hist = (a1 * X[n - 1] + (a2 * X[n - 2] if n >= 2 else 0.0)) / dt
@@ -332,4 +383,6 @@ def march(system, time, p, forcing, *, initial="static", x_init=None, x_guess=No
                                       lambda n=n: f"step {n} (t = {t[n]:.6g} s)")
         if callback:
             callback(n, t[n], X[n])
-    return TimeHistory(t, X, state_rates(X, dt), iters, solver.factorizations)
+    n_factor = solver.stepper.factorizations if isinstance(solver, _CompiledStepSolver) else solver.factorizations
+    return TimeHistory(t, X, state_rates(X, dt), iters, n_factor,
+                       info={"compiled_steps": isinstance(solver, _CompiledStepSolver)})

@@ -262,6 +262,18 @@ class CasadiResidualSystem(ResidualSystem):
         inputs in its buffers (the BDF march); call its ``refresh()`` and ``jit.count()``."""
         return self._fast_R
 
+    def compiled_step_functions(self):
+        """``(residual JitFunction, Newton JitFunction, rows, indptr)`` of the Newton-matrix CSC
+        pattern when both functions are compiled libraries, else None: the entry points of the
+        compiled march (:mod:`wingmdao.timemarch.fast_step`)."""
+        for call in (self._fast_R, self._fast_newton):
+            call.jit.count(0)   # a warm cache is loaded at the first evaluation
+            call.refresh()
+        if self._fast_R.jit.state != "compiled" or self._fast_newton.jit.state != "compiled":
+            return None
+        rows, indptr = self._newton_pattern
+        return self._fast_R.jit, self._fast_newton.jit, rows, indptr
+
     @property
     def residual_function(self) -> ca.Function:
         """The CasADi function ``R(x, xdot, p, q)`` (for derived symbolic quantities, e.g. the

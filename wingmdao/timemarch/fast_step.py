@@ -1,0 +1,236 @@
+"""The BDF march's Newton iterations in compiled code (``bdf_step.c``), for compiled systems.
+
+:func:`wingmdao.timemarch.bdf.march` spends ~240 us per step of the 20-node beam in Python around
+compiled CasADi functions of ~5 us (docs/time-marching.md, Sec. 7). When the residual and Newton
+functions of a :class:`~wingmdao.timemarch.system.CasadiResidualSystem` are compiled libraries,
+:class:`FastStepper` calls them through their C entry points (``int NAME(const double** arg,
+double** res, long long* iw, double* w, int mem)``, sizes from ``NAME_work``) from a small C
+routine that runs the whole march: predictor and BDF history, the Newton iteration of
+``_StepSolver.solve`` (the same tests in the same floating-point order) and a sparse LU with
+partial pivoting of its own in place of SuperLU. Python is re-entered only between chunks of
+steps (a progress callback) and on failure, which is then reported with the messages of the
+interpreted path.
+
+The C source is compiled once per machine with gcc into the cache folder of
+:mod:`wingmdao.utils.casadi_cache` (keyed by its SHA-256 and the flags, written atomically, with
+the same manifest and ownership checks before loading).
+"""
+
+from __future__ import annotations
+
+import ctypes as C
+import hashlib
+import os
+import shlex
+import subprocess
+import threading
+from pathlib import Path
+
+import numpy as np
+
+from wingmdao.utils import casadi_cache as cc
+
+SOURCE = Path(__file__).with_name("bdf_step.c")
+#: -O2 (a 300-line file compiles in ~0.3 s); no fused multiply-adds, so the arithmetic of the
+#: convergence tests rounds like numpy's
+FLAGS = ("-O2", "-ffp-contract=off")
+#: status codes of ``wm_bdf_step``
+OK, RES_NONFINITE, STEP_NONFINITE, SINGULAR, NO_CONVERGENCE, CAPACITY, FUNCTION = range(7)
+
+_lib = None
+_lib_lock = threading.Lock()
+
+_p = C.c_void_p
+_i = C.c_int
+_d = C.c_double
+
+
+class _Step(C.Structure):
+    """Mirror of ``wm_step`` in bdf_step.c (same order)."""
+
+    _fields_ = [("n", _i),
+                ("res_f", _p), ("res_arg", _p), ("res_res", _p), ("res_iw", _p), ("res_w", _p),
+                ("jac_f", _p), ("jac_arg", _p), ("jac_res", _p), ("jac_iw", _p), ("jac_w", _p),
+                ("Ap", _p), ("Ai", _p), ("Ax", _p), ("p", _p), ("q", _p),
+                ("xdot", _p), ("r", _p), ("dx", _p), ("alpha_buf", _d),
+                ("Lp", _p), ("Li", _p), ("Up", _p), ("Ui", _p), ("pinv", _p), ("Lx", _p), ("Ux", _p),
+                ("cap_L", _i), ("cap_U", _i), ("work", _p), ("xi", _p), ("mark", _p), ("stamp", _i),
+                ("atol", _d), ("xtol", _d), ("contraction", _d), ("max_iter", _i), ("modified", _i),
+                ("lu_valid", _i), ("lu_alpha", _d), ("factorizations", _i),
+                ("iterations", _i), ("fail_iteration", _i)]
+
+
+def library() -> C.CDLL:
+    """The compiled ``bdf_step.c`` (compiled into the cache at first use, ~0.3 s)."""
+    global _lib
+    with _lib_lock:
+        if _lib is None:
+            _lib = C.CDLL(str(_compile()))
+            _lib.wm_bdf_step.argtypes = [C.POINTER(_Step), _p, _p, _d]
+            _lib.wm_bdf_step.restype = _i
+            _lib.wm_lu_test.argtypes = [C.POINTER(_Step), _p, _p]
+            _lib.wm_lu_test.restype = _i
+        return _lib
+
+
+def _compile() -> Path:
+    src = SOURCE.read_bytes()
+    key = hashlib.sha256(src + b"\0" + " ".join(FLAGS).encode()).hexdigest()[:32]
+    target = cc.cache_dir() / f"wm_bdf_step_{key}.so"
+    if target.exists():
+        try:
+            cc.verify(target)
+            return target
+        except cc.UnsafeCache:
+            raise
+        except cc.CompileError:
+            pass                 # corrupt: rebuilt below
+    gcc = cc.compiler()
+    if gcc is None:
+        raise cc.CompileError("no C compiler (gcc) on PATH")
+    target.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
+    cc.check_safe(target.parent)
+    stem = f".{target.stem}.{os.getpid()}.{threading.get_ident()}"
+    partial = target.with_name(stem + ".so")
+    man_partial = target.with_name(stem + ".sha256")
+    try:
+        run = subprocess.run([gcc, "-shared", "-fPIC", *FLAGS, str(SOURCE), "-o", str(partial), "-lm"],
+                             capture_output=True, text=True, timeout=120)
+        if run.returncode != 0:
+            raise cc.CompileError(f"gcc failed on {SOURCE.name}: {run.stderr.strip()[-300:]}")
+        size, digest = cc.file_digest(partial)
+        man_partial.write_text(f"{size} {digest}\n")
+        os.replace(man_partial, cc.manifest_path(target))   # manifest before the library
+        os.replace(partial, target)
+    finally:
+        for f in (partial, man_partial):
+            f.unlink(missing_ok=True)
+    cc.verify(target)
+    return target
+
+
+def _casadi_entry(jit: cc.JitFunction):
+    """``(function pointer, arg, res, iw, w arrays)`` of a compiled JitFunction's library, or
+    None when it is not compiled or its calling convention is not the one of bdf_step.c."""
+    if jit.state != "compiled":
+        return None
+    fun = jit.interpreted
+    for i in range(fun.n_in()):
+        if not fun.sparsity_in(i).is_dense():
+            return None
+    if not fun.sparsity_out(0).is_dense():
+        return None
+    path = cc.library_path(fun, jit.flags, jit.key())
+    try:
+        cc.verify(path)
+        lib = C.CDLL(str(path))
+        name = fun.name()
+        f = getattr(lib, name)
+        work = getattr(lib, name + "_work")
+        isize = getattr(lib, name + "_casadi_int_size")
+        rsize = getattr(lib, name + "_casadi_real_size")
+    except (OSError, AttributeError, cc.CompileError):
+        return None
+    if isize() != 8 or rsize() != 8:
+        return None
+    sz = [C.c_longlong() for _ in range(4)]
+    work.argtypes = [C.POINTER(C.c_longlong)] * 4
+    if work(*[C.byref(s) for s in sz]) != 0:
+        return None
+    n_arg, n_res, n_iw, n_w = (max(int(s.value), 1) for s in sz)
+    bufs = (np.zeros(max(n_arg, fun.n_in()), dtype=np.uintp), np.zeros(max(n_res, fun.n_out()), dtype=np.uintp),
+            np.zeros(n_iw, dtype=np.int64), np.zeros(n_w))
+    return (lib, C.cast(f, _p).value, *bufs)
+
+
+class FastStepper:
+    """State of the compiled march of one system (see the module docstring).
+
+    ``FastStepper.create(system, p, ...)`` returns None when the system's residual or Newton
+    function is not compiled (interpreted CasADi, ``WINGMDAO_JIT=0``), or bdf_step.c cannot be
+    compiled; the caller then uses the Python path.
+    """
+
+    def __init__(self, system, p, res_entry, jac_entry, rows, indptr, *, atol, xtol, max_iter,
+                 modified, contraction):
+        n = system.n_state
+        self.system, self.n, self.lib = system, n, library()
+        self._keep = [res_entry, jac_entry]           # libraries and their work arrays
+        self.p = np.ascontiguousarray(p, dtype=float).copy()
+        self.Ap = np.ascontiguousarray(indptr, dtype=np.int32)
+        self.Ai = np.ascontiguousarray(rows, dtype=np.int32)
+        nnz = self.Ai.size
+        self.Ax = np.zeros(nnz)
+        self.xdot, self.r, self.dx, self.work = (np.zeros(n) for _ in range(4))
+        self.Lp, self.Up, self.pinv = np.zeros(n + 1, np.int32), np.zeros(n + 1, np.int32), np.zeros(n, np.int32)
+        self.xi, self.mark = np.zeros(2 * n, np.int32), np.zeros(n, np.int32)
+        self.hist = np.zeros(n)
+        s = self.s = _Step()
+        s.n = n
+        s.res_f, s.jac_f = res_entry[1], jac_entry[1]
+        for pre, e in (("res", res_entry), ("jac", jac_entry)):
+            for name, arr in zip(("arg", "res", "iw", "w"), e[2:]):
+                setattr(s, f"{pre}_{name}", arr.ctypes.data)
+        for name in ("Ap", "Ai", "Ax", "p", "xdot", "r", "dx", "Lp", "Up", "pinv", "work", "xi", "mark"):
+            setattr(s, name, getattr(self, name).ctypes.data)
+        # worst case (dense triangles) for moderate sizes; larger systems grow on demand
+        self._set_capacity(n * (n + 1) // 2 if n <= 1200 else max(20 * nnz, 4 * n))
+        s.atol, s.xtol, s.contraction = float(atol), float(xtol), float(contraction)
+        s.max_iter, s.modified = int(max_iter), int(bool(modified))
+        s.stamp, s.lu_valid, s.lu_alpha, s.factorizations = 0, 0, 0.0, 0
+
+    @classmethod
+    def create(cls, system, p, **opts):
+        getter = getattr(system, "compiled_step_functions", None)
+        if getter is None:
+            return None
+        funcs = getter()
+        if funcs is None:
+            return None
+        res_jit, jac_jit, rows, indptr = funcs
+        res_entry, jac_entry = _casadi_entry(res_jit), _casadi_entry(jac_jit)
+        if res_entry is None or jac_entry is None:
+            return None
+        try:
+            library()
+        except (OSError, cc.CompileError) as exc:
+            cc._warn_once(exc)
+            return None
+        return cls(system, p, res_entry, jac_entry, rows, indptr, **opts)
+
+    def _set_capacity(self, cap):
+        self.Li, self.Ui = np.zeros(cap, np.int32), np.zeros(cap, np.int32)
+        self.Lx, self.Ux = np.zeros(cap), np.zeros(cap)
+        s = self.s
+        s.Li, s.Ui, s.Lx, s.Ux = (a.ctypes.data for a in (self.Li, self.Ui, self.Lx, self.Ux))
+        s.cap_L = s.cap_U = int(cap)
+
+    @property
+    def factorizations(self) -> int:
+        return int(self.s.factorizations)
+
+    def solve(self, x, hist, alpha, q):
+        """Newton iterations of one step from ``x`` (contiguous float array, updated in place);
+        returns ``(status, iterations)``; on failure ``self.r`` is the residual to report and
+        ``self.s.fail_iteration`` the iteration."""
+        s = self.s
+        s.q = q.ctypes.data
+        self.hist[:] = hist
+        x0 = x.copy()
+        while True:
+            status = self.lib.wm_bdf_step(C.byref(s), x.ctypes.data, self.hist.ctypes.data, float(alpha))
+            if status != CAPACITY:
+                return status, int(s.iterations)
+            # the factors did not fit: larger buffers, the step again from its start (the LU
+            # kept from earlier steps was overwritten, so this step refactors first)
+            self._set_capacity(2 * s.cap_L)
+            x[:] = x0
+            s.lu_valid = 0
+
+    def lu_test(self, values, b):
+        """Factor the Newton-matrix pattern with ``values`` and solve for ``b`` (tests)."""
+        self.Ax[:] = values
+        b = np.ascontiguousarray(b, dtype=float).copy()
+        out = np.zeros(self.n)
+        status = self.lib.wm_lu_test(C.byref(self.s), b.ctypes.data, out.ctypes.data)
+        return status, out
