@@ -12,12 +12,17 @@ Discrete equations (Sec. 3.5.2, Eq. 3.4-3.7; derivation in ``docs/time-marching.
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
 from math import isfinite
 
 import numpy as np
 import openmdao.api as om
 from wingmdao.timemarch.newton import NewtonInfo, factor, newton_solve
+
+#: ``WINGMDAO_COMPILED_STEPS=0`` makes ``march(fast=None)`` use the Python Newton iterations
+#: (SuperLU) even when the system's functions are compiled (benchmarks, debugging).
+ENV_COMPILED_STEPS = "WINGMDAO_COMPILED_STEPS"
 
 BDF1 = (1.0, -1.0, 0.0)
 BDF2 = (1.5, -2.0, 0.5)
@@ -301,6 +306,8 @@ def _step_solver(system, p, fast, **opts):
     (``fast=None``: for systems above ``DENSE_MAX`` states), else the Python one."""
     from wingmdao.timemarch.newton import DENSE_MAX
 
+    if fast is None and os.environ.get(ENV_COMPILED_STEPS, "1").strip().lower() in ("0", "false", "no", "off"):
+        fast = False
     if fast is False or (fast is None and system.n_state <= DENSE_MAX):
         return _StepSolver(system, p, **opts)
     from wingmdao.timemarch.fast_step import FastStepper
@@ -341,7 +348,8 @@ def march(system, time, p, forcing, *, initial="static", x_init=None, x_guess=No
     fast : bool or None              the Newton iterations in compiled code
                                      (:mod:`wingmdao.timemarch.fast_step`) when the system's
                                      residual and Newton functions are compiled: None = when
-                                     available, for systems above ``newton.DENSE_MAX`` states;
+                                     available, for systems above ``newton.DENSE_MAX`` states,
+                                     unless ``WINGMDAO_COMPILED_STEPS=0``;
                                      False = never (the Python path, SuperLU); True = required
                                      (ValueError when not available)
 

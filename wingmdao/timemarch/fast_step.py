@@ -109,18 +109,33 @@ def _compile() -> Path:
     return target
 
 
+_ENTRIES: dict = {}
+
+
 def _casadi_entry(jit: cc.JitFunction):
-    """``(function pointer, arg, res, iw, w arrays)`` of a compiled JitFunction's library, or
-    None when it is not compiled or its calling convention is not the one of bdf_step.c."""
+    """``(library, function pointer, arg, res, iw, w arrays)`` of a compiled JitFunction's
+    library (fresh work arrays), or None when it is not compiled or its calling convention is
+    not the one of bdf_step.c. The library is verified and opened once per process and path."""
     if jit.state != "compiled":
         return None
-    fun = jit.interpreted
+    path = cc.library_path(jit.interpreted, jit.flags, jit.key())
+    if path not in _ENTRIES:
+        _ENTRIES[path] = _open_entry(jit.interpreted, path)
+    entry = _ENTRIES[path]
+    if entry is None:
+        return None
+    lib, fptr, sizes = entry
+    n_arg, n_res, n_iw, n_w = sizes
+    return (lib, fptr, np.zeros(n_arg, dtype=np.uintp), np.zeros(n_res, dtype=np.uintp),
+            np.zeros(n_iw, dtype=np.int64), np.zeros(n_w))
+
+
+def _open_entry(fun, path):
     for i in range(fun.n_in()):
         if not fun.sparsity_in(i).is_dense():
             return None
     if not fun.sparsity_out(0).is_dense():
         return None
-    path = cc.library_path(fun, jit.flags, jit.key())
     try:
         cc.verify(path)
         lib = C.CDLL(str(path))
@@ -138,9 +153,7 @@ def _casadi_entry(jit: cc.JitFunction):
     if work(*[C.byref(s) for s in sz]) != 0:
         return None
     n_arg, n_res, n_iw, n_w = (max(int(s.value), 1) for s in sz)
-    bufs = (np.zeros(max(n_arg, fun.n_in()), dtype=np.uintp), np.zeros(max(n_res, fun.n_out()), dtype=np.uintp),
-            np.zeros(n_iw, dtype=np.int64), np.zeros(n_w))
-    return (lib, C.cast(f, _p).value, *bufs)
+    return lib, C.cast(f, _p).value, (max(n_arg, fun.n_in()), max(n_res, fun.n_out()), n_iw, n_w)
 
 
 class FastStepper:
