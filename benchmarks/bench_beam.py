@@ -2,6 +2,8 @@
 
     python benchmarks/bench_beam.py            # full: build, 20 x 500 forward + KS gradient, scaling
     python benchmarks/bench_beam.py --quick    # fewer scaling points
+    python benchmarks/bench_beam.py --forward  # only the compiled forward march: compiled Newton
+                                               # steps against the Python steps, interleaved
 
 Thesis: model build 47.5 s; forward march 20 nodes x 500 steps 3.12 s; ~3.9 s per KS gradient.
 Goals on this machine: build <= 2 s, forward <= 0.5 s, gradient no slower than one forward
@@ -106,12 +108,46 @@ def timed(fun, repeat=1):
     return best
 
 
+def forward_only(opts, rounds=5):
+    """20 x 500 forward march (``prob.run_model()``), compiled CasADi functions (warm cache):
+    compiled Newton steps (``wingmdao.timemarch.fast_step``) and the Python steps
+    (``WINGMDAO_COMPILED_STEPS=0``) in alternating rounds, best of 5 calls per round."""
+    from wingmdao.components.beam import beam_system
+    from wingmdao.timemarch.bdf import ENV_COMPILED_STEPS
+
+    os.environ.pop("WINGMDAO_JIT", None)
+    print("compile/load:", beam_system(20).compile(wait=True))
+    prob = build_problem(20, 500, jit=True, ks=True, **opts)
+    prob.run_model()
+    res = {"compiled steps": [], "python steps": []}
+    for _ in range(rounds):
+        for tag, env in (("compiled steps", "1"), ("python steps", "0")):
+            os.environ[ENV_COMPILED_STEPS] = env
+            res[tag].append(timed_both(prob.run_model, repeat=5))
+            h = prob.model.beam.last_history
+            assert h.info.get("compiled_steps", False) == (env == "1")
+    os.environ.pop(ENV_COMPILED_STEPS, None)
+    print(f"20 nodes x 500 steps, forward march + KS (prob.run_model), {rounds} interleaved rounds, "
+          f"best of 5 each; load average {os.getloadavg()[0]:.2f}")
+    print(f"{'':18s}{'process time s':>22s}{'wall s':>22s}{'goal':>8s}")
+    for tag, vals in res.items():
+        w, c = np.array(vals).T
+        print(f"{tag:18s}{c.min():10.4f} - {c.max():.4f}{w.min():12.4f} - {w.max():.4f}"
+              f"{FORWARD_GOAL_COMPILED:8.2f}")
+    h = prob.model.beam.last_history
+    print(f"Newton iterations {int(h.iterations[1:].sum())}, factorizations {h.factorizations}")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true", help="fewer scaling points")
     ap.add_argument("--full-newton", action="store_true",
                     help="refactor every Newton iteration (default: modified Newton)")
+    ap.add_argument("--forward", action="store_true",
+                    help="only the compiled forward march: compiled vs Python Newton steps, interleaved")
     args = ap.parse_args(argv)
+    if args.forward:
+        return forward_only({"modified_newton": not args.full_newton})
     from wingmdao.beam.residual import build_beam_system
 
     from wingmdao.components.beam import beam_system

@@ -58,6 +58,20 @@ def test_compiled_march_equals_python_march(chain, modified):
     assert march(chain, t, p, Q, modified_newton=modified).info["compiled_steps"]
 
 
+def test_callback_and_capacity_growth_in_march(chain, monkeypatch):
+    """Step by step (a callback) and with factor buffers far too small at first: the same march."""
+    t, p, Q = _case(300.0, 300.0, 61)
+    ref = march(chain, t, p, Q, modified_newton=True, fast=False)
+    monkeypatch.setattr(fs.FastStepper, "initial_capacity", chain.n_state)
+    seen = []
+    new = march(chain, t, p, Q, modified_newton=True, fast=True,
+                callback=lambda n, tn, x: seen.append((n, tn, x.copy())))
+    assert [s[0] for s in seen] == list(range(t.size))
+    np.testing.assert_array_equal(np.array([s[2] for s in seen]), new.states)
+    np.testing.assert_array_equal(new.iterations, ref.iterations)
+    np.testing.assert_allclose(new.states, ref.states, rtol=0, atol=1e-10 * np.abs(ref.states).max())
+
+
 def test_given_initial_state(chain):
     t, p, Q = _case(100.0, 100.0, 51)
     x0 = np.zeros(chain.n_state)

@@ -292,6 +292,20 @@ class _CompiledStepSolver(_StepSolver):
         status, it = self.stepper.solve(x, hist, alpha, np.ascontiguousarray(q, dtype=float))
         if status == fs.OK:
             return x, it
+        self._raise(status, label)
+
+    def march(self, X, Q, dt, iters, first, end, label):
+        """Steps ``first .. end - 1`` of :func:`march` in one compiled call (predictor, history
+        and Newton iterations); ``label(n)`` names step n in error messages."""
+        from wingmdao.timemarch import fast_step as fs
+
+        status, step = self.stepper.march(X, Q, dt, iters, first, end)
+        if status != fs.OK:
+            self._raise(status, lambda: label(step))
+
+    def _raise(self, status, label):
+        from wingmdao.timemarch import fast_step as fs
+
         fail_it, r = int(self.stepper.s.fail_iteration), self.stepper.r.copy()
         if status == fs.SINGULAR:
             raise om.AnalysisError(f"{label()}: singular Newton matrix (Factor is exactly singular)")
@@ -378,6 +392,17 @@ def march(system, time, p, forcing, *, initial="static", x_init=None, x_guess=No
         raise ValueError(f'initial must be "static" or "state", got {initial!r}')
     if callback:
         callback(0, t[0], X[0])
+    if isinstance(solver, _CompiledStepSolver) and n_time > 1:
+        Qc = np.ascontiguousarray(Q)
+        it64 = iters if iters.dtype == np.int64 else np.zeros(n_time, dtype=np.int64)
+        chunks = [(n, n + 1) for n in range(1, n_time)] if callback else [(1, n_time)]
+        for first, end in chunks:
+            solver.march(X, Qc, dt, it64, first, end, lambda n: f"step {n} (t = {t[n]:.6g} s)")
+            if callback:
+                callback(first, t[first], X[first])
+        iters[:] = it64
+        return TimeHistory(t, X, state_rates(X, dt), iters, solver.stepper.factorizations,
+                           info={"compiled_steps": True})
     for n in range(1, n_time):
         a0, a1, a2 = bdf_coefficients(n)
         hist = (a1 * X[n - 1] + (a2 * X[n - 2] if n >= 2 else 0.0)) / dt
@@ -391,6 +416,5 @@ def march(system, time, p, forcing, *, initial="static", x_init=None, x_guess=No
                                       lambda n=n: f"step {n} (t = {t[n]:.6g} s)")
         if callback:
             callback(n, t[n], X[n])
-    n_factor = solver.stepper.factorizations if isinstance(solver, _CompiledStepSolver) else solver.factorizations
-    return TimeHistory(t, X, state_rates(X, dt), iters, n_factor,
-                       info={"compiled_steps": isinstance(solver, _CompiledStepSolver)})
+    return TimeHistory(t, X, state_rates(X, dt), iters, solver.factorizations,
+                       info={"compiled_steps": False})

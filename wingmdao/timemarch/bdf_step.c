@@ -46,6 +46,7 @@ typedef struct {
     int factorizations;
     /* outputs of the last call */
     int iterations, fail_iteration;
+    double *hist;                 /* n: BDF history term of wm_march */
 } wm_step;
 
 enum { WM_OK = 0, WM_RES_NONFINITE = 1, WM_STEP_NONFINITE = 2, WM_SINGULAR = 3,
@@ -251,6 +252,38 @@ int wm_bdf_step(wm_step *s, double *x, const double *hist, double alpha) {
     s->fail_iteration = s->max_iter;
     if (eval_residual(s, x, hist, alpha)) return WM_FUNCTION;
     return WM_NO_CONVERGENCE;
+}
+
+/* Steps first..end-1 of a march (bdf.march: BDF1 at step 1, BDF2 after; predictor x_0, then
+ * linear, then quadratic extrapolation), the same floating-point operations as the Python loop.
+ * X: (n_time, n) states, rows < first known; Q: (n_time, nq) forcing; iters: (n_time,) ints.
+ * Returns WM_OK or the status of the failed step, whose index is stored in *failed. */
+int wm_march(wm_step *s, double *X, double *Q, int nq, double dt, int first, int end,
+             long long *iters, int *failed) {
+    int n = s->n;
+    for (int k = first; k < end; k++) {
+        double *x = X + (size_t)k * n, *x1 = x - n, *x2 = x - 2 * n, *x3 = x - 3 * n;
+        double a0 = (k == 1) ? 1.0 : 1.5, a1 = (k == 1) ? -1.0 : -2.0, a2 = 0.5;
+        double *h = s->hist;
+        if (k == 1) {
+            for (int i = 0; i < n; i++) { double t = a1 * x1[i]; h[i] = (t + 0.0) / dt; x[i] = x1[i]; }
+        } else {
+            for (int i = 0; i < n; i++) { double t = a1 * x1[i], u = a2 * x2[i]; h[i] = (t + u) / dt; }
+            if (k == 2) {
+                for (int i = 0; i < n; i++) { double t = 2.0 * x1[i]; x[i] = t - x2[i]; }
+            } else {
+                for (int i = 0; i < n; i++) {
+                    double t = 3.0 * x1[i], u = 3.0 * x2[i], v = t - u;
+                    x[i] = v + x3[i];
+                }
+            }
+        }
+        s->q = Q + (size_t)k * nq;
+        int st = wm_bdf_step(s, x, h, a0 / dt);
+        if (st != WM_OK) { *failed = k; return st; }
+        iters[k] = s->iterations;
+    }
+    return WM_OK;
 }
 
 /* the LU alone, for tests: factor the values Ax of the pattern, solve for b */

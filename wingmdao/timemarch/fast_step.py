@@ -57,7 +57,7 @@ class _Step(C.Structure):
                 ("cap_L", _i), ("cap_U", _i), ("work", _p), ("xi", _p), ("mark", _p), ("stamp", _i),
                 ("atol", _d), ("xtol", _d), ("contraction", _d), ("max_iter", _i), ("modified", _i),
                 ("lu_valid", _i), ("lu_alpha", _d), ("factorizations", _i),
-                ("iterations", _i), ("fail_iteration", _i)]
+                ("iterations", _i), ("fail_iteration", _i), ("hist", _p)]
 
 
 def library() -> C.CDLL:
@@ -68,6 +68,8 @@ def library() -> C.CDLL:
             _lib = C.CDLL(str(_compile()))
             _lib.wm_bdf_step.argtypes = [C.POINTER(_Step), _p, _p, _d]
             _lib.wm_bdf_step.restype = _i
+            _lib.wm_march.argtypes = [C.POINTER(_Step), _p, _p, _i, _d, _i, _i, _p, C.POINTER(_i)]
+            _lib.wm_march.restype = _i
             _lib.wm_lu_test.argtypes = [C.POINTER(_Step), _p, _p]
             _lib.wm_lu_test.restype = _i
         return _lib
@@ -164,6 +166,9 @@ class FastStepper:
     compiled; the caller then uses the Python path.
     """
 
+    #: entries of L and of U the buffers hold at first (None: n (n + 1) / 2 up to 1200 states)
+    initial_capacity = None
+
     def __init__(self, system, p, res_entry, jac_entry, rows, indptr, *, atol, xtol, max_iter,
                  modified, contraction):
         n = system.n_state
@@ -184,10 +189,11 @@ class FastStepper:
         for pre, e in (("res", res_entry), ("jac", jac_entry)):
             for name, arr in zip(("arg", "res", "iw", "w"), e[2:]):
                 setattr(s, f"{pre}_{name}", arr.ctypes.data)
-        for name in ("Ap", "Ai", "Ax", "p", "xdot", "r", "dx", "Lp", "Up", "pinv", "work", "xi", "mark"):
+        for name in ("Ap", "Ai", "Ax", "p", "xdot", "r", "dx", "Lp", "Up", "pinv", "work", "xi", "mark", "hist"):
             setattr(s, name, getattr(self, name).ctypes.data)
         # worst case (dense triangles) for moderate sizes; larger systems grow on demand
-        self._set_capacity(n * (n + 1) // 2 if n <= 1200 else max(20 * nnz, 4 * n))
+        cap = self.initial_capacity or (n * (n + 1) // 2 if n <= 1200 else max(20 * nnz, 4 * n))
+        self._set_capacity(cap)
         s.atol, s.xtol, s.contraction = float(atol), float(xtol), float(contraction)
         s.max_iter, s.modified = int(max_iter), int(bool(modified))
         s.stamp, s.lu_valid, s.lu_alpha, s.factorizations = 0, 0, 0.0, 0
@@ -239,6 +245,22 @@ class FastStepper:
             self._set_capacity(2 * s.cap_L)
             x[:] = x0
             s.lu_valid = 0
+
+    def march(self, X, Q, dt, iters, first, end):
+        """Steps ``first .. end - 1`` of a march into ``X`` (n_time, n) C-contiguous float, rows
+        before ``first`` known; ``Q`` (n_time, n_forcing) C-contiguous float; ``iters`` int64.
+        Returns ``(status, step)``: the failed step, or ``end`` on success."""
+        s, failed = self.s, _i(end)
+        while True:
+            status = self.lib.wm_march(C.byref(s), X.ctypes.data, Q.ctypes.data, int(Q.shape[1]), float(dt),
+                                       int(first), int(end), iters.ctypes.data, C.byref(failed))
+            if status != CAPACITY:
+                return status, (end if status == OK else int(failed.value))
+            # the factors did not fit: larger buffers, that step again from its predictor (the LU
+            # kept from earlier steps was overwritten, so the step refactors first)
+            self._set_capacity(2 * s.cap_L)
+            s.lu_valid = 0
+            first = int(failed.value)
 
     def lu_test(self, values, b):
         """Factor the Newton-matrix pattern with ``values`` and solve for ``b`` (tests)."""
