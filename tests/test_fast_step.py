@@ -156,3 +156,34 @@ def test_fast_true_needs_compiled_functions(monkeypatch):
     with pytest.raises(ValueError, match="fast=True"):
         march(sysm, t, p, Q, fast=True)
     assert not march(sysm, t, p, Q).info["compiled_steps"]    # default: the Python path
+
+
+def test_time_history_component_uses_compiled_steps(chain, monkeypatch):
+    """TimeHistoryComponent marches with the compiled steps by default; outputs and adjoint
+    totals equal those of the Python steps (the adjoint only reads the states)."""
+    from wingmdao.components.time_history import TimeHistoryComponent
+    from wingmdao.timemarch.bdf import ENV_COMPILED_STEPS
+
+    t, p, Q = _case(100.0, 100.0, 41)
+    res = {}
+    for env in ("1", "0"):
+        monkeypatch.setenv(ENV_COMPILED_STEPS, env)
+        prob = om.Problem(reports=False)
+        prob.model.add_subsystem("chain", TimeHistoryComponent(system=chain, time=t, modified_newton=True),
+                                 promotes=["*"])
+        prob.model.add_subsystem("f", om.ExecComp("f = sum(states**2)", states={"shape": (t.size, N_MASS, 2)}),
+                                 promotes=["*"])
+        prob.setup(mode="rev")
+        prob.set_val("mass", p[0])
+        prob.set_val("damping", p[1])
+        prob.set_val("hardening", p[2])
+        prob.set_val("stiffness", p[3:])
+        prob.set_val("force", Q)
+        prob.run_model()
+        assert prob.model.chain.last_history.info["compiled_steps"] == (env == "1")
+        tot = prob.compute_totals(of=["f"], wrt=["stiffness", "hardening"])
+        res[env] = (prob.get_val("states").copy(), tot)
+    (s1, t1), (s0, t0) = res["1"], res["0"]
+    np.testing.assert_allclose(s1, s0, rtol=0, atol=1e-10 * np.abs(s0).max())
+    for key in t0:
+        np.testing.assert_allclose(t1[key], t0[key], rtol=1e-9, atol=1e-12 * np.abs(t0[key]).max())

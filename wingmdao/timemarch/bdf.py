@@ -384,12 +384,10 @@ def march(system, time, p, forcing, *, initial="static", x_init=None, x_guess=No
         opts = dict(static_options or {})
         X[0], info = solve_static(system, p, Q[0], x_guess, label="step 0 (t = 0 s, static)", **opts)
         iters[0] = info.iterations
-    elif initial == "state":
+    else:
         if x_init is None:
             raise ValueError('initial="state" needs x_init')
         X[0] = np.asarray(x_init, dtype=float).reshape(system.n_state)
-    else:
-        raise ValueError(f'initial must be "static" or "state", got {initial!r}')
     if callback:
         callback(0, t[0], X[0])
     if isinstance(solver, _CompiledStepSolver) and n_time > 1:

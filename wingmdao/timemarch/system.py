@@ -265,7 +265,12 @@ class CasadiResidualSystem(ResidualSystem):
     def compiled_step_functions(self):
         """``(residual JitFunction, Newton JitFunction, rows, indptr)`` of the Newton-matrix CSC
         pattern when both functions are compiled libraries, else None: the entry points of the
-        compiled march (:mod:`wingmdao.timemarch.fast_step`)."""
+        compiled march (:mod:`wingmdao.timemarch.fast_step`). None as well for subclasses that
+        redefine the residual or the Newton matrix (the libraries would not be their equations)."""
+        cls = type(self)
+        if (cls.residual is not CasadiResidualSystem.residual
+                or cls.residual_and_newton_matrix is not CasadiResidualSystem.residual_and_newton_matrix):
+            return None
         for call in (self._fast_R, self._fast_newton):
             call.jit.count(0)   # a warm cache is loaded at the first evaluation
             call.refresh()
