@@ -23,6 +23,7 @@ import hashlib
 import os
 import shlex
 import subprocess
+import tempfile
 import threading
 from pathlib import Path
 
@@ -96,8 +97,12 @@ def _compile() -> Path:
     partial = target.with_name(stem + ".so")
     man_partial = target.with_name(stem + ".sha256")
     try:
-        run = subprocess.run([gcc, "-shared", "-fPIC", *FLAGS, str(SOURCE), "-o", str(partial), "-lm"],
-                             capture_output=True, text=True, timeout=120)
+        # compiled as one fixed relative name in a folder of its own: gcc writes the source's name
+        # into the library, so compiles from different checkouts give identical bytes
+        with tempfile.TemporaryDirectory(prefix="wingmdao_step_") as tmp:
+            (Path(tmp) / "wm_bdf_step.c").write_bytes(src)
+            run = subprocess.run([gcc, "-shared", "-fPIC", *FLAGS, "wm_bdf_step.c", "-o", str(partial.absolute()),
+                                  "-lm"], cwd=tmp, capture_output=True, text=True, timeout=120)
         if run.returncode != 0:
             raise cc.CompileError(f"gcc failed on {SOURCE.name}: {run.stderr.strip()[-300:]}")
         size, digest = cc.file_digest(partial)
