@@ -179,7 +179,7 @@ class FastStepper:
         n = system.n_state
         self.system, self.n, self.lib = system, n, library()
         self._keep = [res_entry, jac_entry]           # libraries and their work arrays
-        self.p = np.ascontiguousarray(p, dtype=float).copy()
+        self.p = np.array(p, dtype=float).reshape(system.n_param)
         self.Ap = np.ascontiguousarray(indptr, dtype=np.int32)
         self.Ai = np.ascontiguousarray(rows, dtype=np.int32)
         nnz = self.Ai.size
@@ -237,6 +237,10 @@ class FastStepper:
         """Newton iterations of one step from ``x`` (contiguous float array, updated in place);
         returns ``(status, iterations)``; on failure ``self.r`` is the residual to report and
         ``self.s.fail_iteration`` the iteration."""
+        for name, arr, size in (("x", x, self.n), ("q", q, self.system.n_forcing)):
+            if arr.dtype != np.float64 or arr.size != size or not arr.flags.c_contiguous:
+                raise ValueError(f"{name}: need a C-contiguous float64 array of {size} entries, "
+                                 f"got {arr.dtype} {arr.shape}")
         s = self.s
         s.q = q.ctypes.data
         self.hist[:] = hist
@@ -255,6 +259,15 @@ class FastStepper:
         """Steps ``first .. end - 1`` of a march into ``X`` (n_time, n) C-contiguous float, rows
         before ``first`` known; ``Q`` (n_time, n_forcing) C-contiguous float; ``iters`` int64.
         Returns ``(status, step)``: the failed step, or ``end`` on success."""
+        n_time = X.shape[0]
+        for name, arr, dtype, shape in (("X", X, np.float64, (n_time, self.n)),
+                                        ("Q", Q, np.float64, (n_time, self.system.n_forcing)),
+                                        ("iters", iters, np.int64, (n_time,))):
+            if arr.dtype != dtype or arr.shape != shape or not arr.flags.c_contiguous:
+                raise ValueError(f"{name}: need a C-contiguous {np.dtype(dtype).name} array of shape {shape}, "
+                                 f"got {arr.dtype} {arr.shape}")
+        if not 1 <= first <= end <= n_time:
+            raise ValueError(f"steps {first}..{end - 1}: need 1 <= first <= end <= {n_time}")
         s, failed = self.s, _i(end)
         while True:
             status = self.lib.wm_march(C.byref(s), X.ctypes.data, Q.ctypes.data, int(Q.shape[1]), float(dt),
