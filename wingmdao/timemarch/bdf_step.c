@@ -262,7 +262,8 @@ int wm_march(wm_step *s, double *X, double *Q, int nq, double dt, int first, int
              long long *iters, int *failed) {
     int n = s->n;
     for (int k = first; k < end; k++) {
-        double *x = X + (size_t)k * n, *x1 = x - n, *x2 = x - 2 * n, *x3 = x - 3 * n;
+        double *x = X + (size_t)k * n, *x1 = x - n;
+        double *x2 = (k >= 2) ? x1 - n : x1, *x3 = (k >= 3) ? x2 - n : x2;   /* used from steps 2, 3 */
         double a0 = (k == 1) ? 1.0 : 1.5, a1 = (k == 1) ? -1.0 : -2.0, a2 = 0.5;
         double *h = s->hist;
         if (k == 1) {
