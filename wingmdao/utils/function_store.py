@@ -24,6 +24,7 @@ from __future__ import annotations
 import hashlib
 import io
 import os
+import threading
 import warnings
 from pathlib import Path
 
@@ -151,7 +152,7 @@ def save(path: Path, key: str, data: dict) -> None:
     path.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
     check_safe(path.parent)
     header = f"{_MAGIC} {key} {len(payload)} {hashlib.sha256(payload).hexdigest()}\n".encode()
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.{threading.get_ident()}.tmp")
     try:
         with open(tmp, "wb") as fh:
             fh.write(header + payload)
