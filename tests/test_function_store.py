@@ -51,7 +51,7 @@ def test_get_builds_once_then_reads_memory_and_disk(store):
         calls.append(1)
         return _data()
 
-    key = cc.definition_key("test", (1,), ["wingmdao.utils.function_store"])
+    key = cc.definition_key("test", (1,), ["wingmdao.materials"])
     fs.get("t", key, build)
     assert len(calls) == 1 and len(list(store.glob("t_*.npz"))) == 1
     fs.get("t", key, build)                      # memory
@@ -71,7 +71,7 @@ def test_damaged_or_stale_file_is_rebuilt(store, damage):
         calls.append(1)
         return _data()
 
-    key = cc.definition_key("test", (2,), ["wingmdao.utils.function_store"])
+    key = cc.definition_key("test", (2,), ["wingmdao.materials"])
     fs.get("t", key, build)
     path = fs.path_for("t", key)
     raw = path.read_bytes()
@@ -92,7 +92,7 @@ def test_damaged_or_stale_file_is_rebuilt(store, damage):
 
 def test_disabled_store_writes_nothing(store, monkeypatch):
     monkeypatch.setenv(fs.ENV_STORE, "0")
-    fs.get("t", cc.definition_key("test", (3,), ["wingmdao.utils.function_store"]), _data)
+    fs.get("t", cc.definition_key("test", (3,), ["wingmdao.materials"]), _data)
     assert not store.exists() or not list(store.iterdir())
 
 
@@ -102,6 +102,7 @@ def test_module_closure_follows_wingmdao_imports():
               "wingmdao.stress.box_stress", "wingmdao.materials"):
         assert m in mods
     assert all(m.startswith("wingmdao") for m in mods)
+    assert "wingmdao.utils.function_store" not in mods and "wingmdao.utils.casadi_cache" not in mods
 
 
 def _stress_problem(**options):

@@ -109,8 +109,7 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
 
         cls = type(self)
         try:
-            mods = module_closure(__name__, "wingmdao.utils.function_store",
-                                  *(c.__module__ for c in cls.__mro__ if c.__module__.startswith("wingmdao")),
+            mods = module_closure(__name__, *(c.__module__ for c in cls.__mro__ if c.__module__.startswith("wingmdao")),
                                   cls.__module__)
             sig = ([(v.name, tuple(v.shape), v.per_last_axis) for v in self._in_vars],
                    [(v.name, tuple(v.shape)) for v in self._out_vars])

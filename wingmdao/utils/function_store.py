@@ -61,13 +61,18 @@ _FROM_IMPORT = re.compile(r"^\s*from\s+(wingmdao(?:\.\w+)*)\s+import\s+(\([^)]*\
 _IMPORT = re.compile(r"^\s*import\s+(wingmdao(?:\.\w+)*)", re.M)
 
 
+#: Infrastructure that generates no expressions, left out of :func:`module_closure` (the file
+#: format is versioned by the header instead): editing it must not invalidate every definition.
+_NOT_GENERATING = frozenset({__name__, "wingmdao.utils.casadi_cache"})
+
+
 def module_closure(*modules: str) -> tuple:
     """``modules`` and every ``wingmdao`` module they import, transitively (read from their
-    source text, imports inside functions included; ``ast`` took 0.2 s), sorted: the modules whose source
-    defines what a builder in ``modules`` generates."""
+    source text, imports inside functions included; ``ast`` took 0.2 s), except the caches
+    themselves, sorted: the modules whose source defines what a builder in ``modules`` generates."""
     import importlib.util
 
-    seen, todo = set(), list(modules)
+    seen, todo = set(_NOT_GENERATING), [m for m in modules if m not in _NOT_GENERATING]
     while todo:
         name = todo.pop()
         if name in seen:
@@ -86,7 +91,7 @@ def module_closure(*modules: str) -> tuple:
             _CLOSURES[name] = sorted(d for d in deps if d == "wingmdao" or d.startswith("wingmdao.")
                                      and _is_module(d))
         todo.extend(_CLOSURES[name])
-    return tuple(sorted(seen))
+    return tuple(sorted(seen - _NOT_GENERATING))
 
 
 def _is_module(name: str) -> bool:
@@ -213,6 +218,9 @@ def get(name: str, key: str | None, build) -> dict:
                 save(path, key, data)
             except Exception as exc:    # noqa: BLE001 - a read-only or full disk costs only time
                 _warn_once(exc)
+    for v in data.values():         # shared by every user of this definition: read-only
+        if isinstance(v, np.ndarray):
+            v.flags.writeable = False
     _MEMORY[(name, key)] = data
     return data
 
