@@ -27,6 +27,7 @@ Distributed loads are per unit *undeformed* length (multiplied by ds0).
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from dataclasses import dataclass
@@ -35,7 +36,7 @@ import casadi as ca
 import numpy as np
 
 from wingmdao.beam.rotations import body_to_csn, rate_matrix
-from wingmdao.timemarch.system import CasadiResidualSystem, VarSpec, layout
+from wingmdao.timemarch.system import JIT_THRESHOLD, CasadiResidualSystem, VarSpec, layout
 
 #: Per-node state blocks (docs/conventions.md).
 STATE_BLOCKS = {"r": slice(0, 3), "theta": slice(3, 6), "F": slice(6, 9), "M": slice(9, 12),
@@ -340,17 +341,196 @@ def beam_definition(num_nodes: int, euler_sequence: str = "surface",
 
 
 def build_beam_system(num_nodes: int, *, euler_sequence: str = "surface",
-                      damping: StrainRateDamping | None = None) -> CasadiResidualSystem:
+                      damping: StrainRateDamping | None = None, defer: bool = True) -> CasadiResidualSystem:
     """The App. A beam of ``num_nodes`` nodes (root first) as a :class:`CasadiResidualSystem`.
 
     ``state_shape = (num_nodes, 18)``; parameters and forcing as in :func:`param_specs` and
     :func:`forcing_specs`. The element equations are built once symbolically and called per
     element; Jacobians are exact and sparse. The initial guess is the jig state.
     ``damping``: optional :class:`StrainRateDamping` (none by default).
+
+    ``defer``: once a beam of this definition (:func:`beam_definition`) has been built on this
+    machine, its sparsity patterns come from :mod:`wingmdao.utils.function_store` and the CasADi
+    functions are made at first use (:class:`DeferredBeamSystem`): from the compiled-library
+    cache when all three are there, else built as here. ``defer=False`` builds now.
     """
     n = int(num_nodes)
     if n < 2:
         raise ValueError(f"num_nodes must be >= 2, got {num_nodes}")
+    if not defer:
+        return _build_beam_system(n, euler_sequence, damping)
+    from wingmdao.utils import function_store
+
+    t_start = time.perf_counter()
+    definition = beam_definition(n, euler_sequence, damping)
+    built = {}
+
+    def make():
+        built["system"] = _build_beam_system(n, euler_sequence, damping)
+        return _beam_data(built["system"])
+
+    data = function_store.get(f"beam{n}", definition, make)
+    if "system" in built:
+        return built["system"]
+    system = DeferredBeamSystem(data, functools.partial(_build_beam_system, n, euler_sequence, damping),
+                                n, definition)
+    system.build_time = time.perf_counter() - t_start
+    return system
+
+
+#: Functions of a beam system whose compiled libraries serve a deferred system (attribute of the
+#: JitCall, name suffix of the CasADi function).
+_COMPILED = (("_fast_R", ""), ("_fast_newton", "_newton"), ("_jacobians", "_jacobians"))
+
+
+def _beam_data(system) -> dict:
+    """What a :class:`DeferredBeamSystem` needs before its functions exist: Jacobian and Newton
+    patterns, the three solver functions' signatures and the built system's attribute names."""
+    data = {"attributes": np.array(sorted(system.__dict__), dtype=str)}
+    for k, (rows, cols, shape) in system.jacobian_patterns().items():
+        data[f"pattern_{k}_rows"], data[f"pattern_{k}_cols"] = rows, cols
+        data[f"pattern_{k}_shape"] = np.asarray(shape, dtype=np.int64)
+    data["newton_rows"], data["newton_indptr"] = system._newton_pattern
+    funs = {"_fast_R": system._fast_R, "_fast_newton": system._fast_newton, "_jacobians": system._maps["J"]}
+    for attr, _ in _COMPILED:
+        fun = funs[attr].jit.interpreted
+        data[f"{attr}_name"] = fun.name()
+        for i in range(fun.n_in()):
+            data[f"{attr}_in{i}"] = fun.sparsity_in(i)
+        for i in range(fun.n_out()):
+            data[f"{attr}_out{i}"] = fun.sparsity_out(i)
+        data[f"{attr}_n"] = np.array([fun.n_in(), fun.n_out()])
+    return data
+
+
+class _Signature:
+    """Name and input/output sparsity of a CasADi function that has not been made (what
+    :func:`wingmdao.utils.casadi_cache.cached` checks a compiled library against)."""
+
+    def __init__(self, data, attr):
+        self._name = str(data[f"{attr}_name"])
+        n_in, n_out = (int(v) for v in data[f"{attr}_n"])
+        self._in = [data[f"{attr}_in{i}"] for i in range(n_in)]
+        self._out = [data[f"{attr}_out{i}"] for i in range(n_out)]
+
+    def name(self):
+        return self._name
+
+    def n_in(self):
+        return len(self._in)
+
+    def n_out(self):
+        return len(self._out)
+
+    def sparsity_in(self, i):
+        return self._in[i]
+
+    def sparsity_out(self, i):
+        return self._out[i]
+
+
+class DeferredBeamSystem(CasadiResidualSystem):
+    """A beam :class:`CasadiResidualSystem` whose CasADi functions are made at first use.
+
+    Sizes, specs and the Jacobian patterns (what components declare at setup) come from the
+    persisted data of an earlier build of the same definition (:func:`_beam_data`). At the first
+    use of the residual, Newton or Jacobian-history evaluator, the compiled libraries of all
+    three are loaded from the compiled cache when they are there (a static analysis then never
+    builds the expression graphs); any other attribute of a built system (or a cache miss) builds
+    the system (:func:`_build_beam_system`) and takes over its attributes. Evaluations are those
+    of the built system: the same compiled libraries, or the same interpreted functions.
+    """
+
+    def __init__(self, data, build, num_nodes, definition):
+        n = int(num_nodes)
+        self.n_state = 18 * n
+        self.state_shape = (n, 18)
+        self.param_specs = param_specs(n)
+        self.forcing_specs = forcing_specs(n)
+        self._describe = functools.partial(describe_equation, num_nodes=n)
+        self._initial_guess = functools.partial(_jig_guess, num_nodes=n)
+        self.definition = definition
+        self.jit_threshold = JIT_THRESHOLD
+        self._newton_pattern = (data["newton_rows"], data["newton_indptr"])
+        self._newton_dense_index = None
+        self._deferred = (data, build, frozenset(str(a) for a in data["attributes"]))
+
+    def jacobian_patterns(self):
+        data = self._deferred[0] if self._deferred is not None else None
+        if data is None:
+            return super().jacobian_patterns()
+        return {k: (data[f"pattern_{k}_rows"].copy(), data[f"pattern_{k}_cols"].copy(),
+                    tuple(int(v) for v in data[f"pattern_{k}_shape"])) for k in ("x", "xdot", "p", "q")}
+
+    def set_jit_threshold(self, evaluations: int) -> None:
+        self.jit_threshold = int(evaluations)
+        if "_fast_R" in self.__dict__:
+            super().set_jit_threshold(evaluations)
+
+    def residual_history(self, X, Xdot, p, Q):
+        return self._history("R", self._maps["R"].jit.interpreted, X, Xdot, p, Q)[0]
+
+    def jacobian_history(self, X, Xdot, p, Q):
+        vals = self._history("J", self._maps["J"].jit.interpreted, X, Xdot, p, Q)
+        return dict(zip(("x", "xdot", "p", "q"), vals))
+
+    @property
+    def is_built(self) -> bool:
+        """True once the CasADi expressions have been built (False: deferred or compiled only)."""
+        return self._deferred is None
+
+    def __getattr__(self, name):
+        deferred = self.__dict__.get("_deferred")
+        if deferred is None or name not in deferred[2]:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        if name in ("_fast_R", "_fast_newton", "_maps") and "_fast_R" not in self.__dict__ \
+                and self._attach_compiled():
+            return self.__dict__[name]
+        self._materialize()
+        return getattr(self, name)
+
+    def _attach_compiled(self) -> bool:
+        """Use the cached compiled libraries of the three solver functions, if all load."""
+        from wingmdao.utils.casadi_cache import cached, function_key, jit_enabled, precompiled_call
+
+        if not jit_enabled():
+            return False
+        data = self._deferred[0]
+        ext = {}
+        for attr, _ in _COMPILED:
+            sig = _Signature(data, attr)
+            ext[attr] = cached(sig, key=function_key(sig, definition=self.definition))
+            if ext[attr] is None:
+                return False
+        calls = {attr: precompiled_call(f, self.jit_threshold, definition=self.definition)
+                 for attr, f in ext.items()}
+        self._fast_R, self._fast_newton = calls["_fast_R"], calls["_fast_newton"]
+        self._maps = {"R": self._fast_R, "J": calls["_jacobians"]}
+        return True
+
+    def _materialize(self) -> None:
+        """Build the system and take over every attribute this object does not have yet."""
+        data, build, _ = self._deferred
+        full = build()
+        patterns = self.jacobian_patterns()
+        for k, (rows, cols, shape) in full.jacobian_patterns().items():
+            if shape != patterns[k][2] or not (np.array_equal(rows, patterns[k][0])
+                                               and np.array_equal(cols, patterns[k][1])):
+                raise RuntimeError(f"{full._R.name()}: the built dR/d{k} pattern differs from the persisted one")
+        for k, v in full.__dict__.items():
+            if k not in ("_deferred", "_describe", "_initial_guess"):
+                self.__dict__.setdefault(k, v)
+        self._deferred = None
+        if full.jit_threshold != self.jit_threshold:
+            super().set_jit_threshold(self.jit_threshold)
+
+
+def _jig_guess(p_val, q_val, num_nodes):
+    return jig_state(p_val, num_nodes).ravel()
+
+
+def _build_beam_system(n: int, euler_sequence: str, damping) -> CasadiResidualSystem:
+    """Build the expressions and functions of :func:`build_beam_system` (no persisted data)."""
     t_start = time.perf_counter()
     pspecs, qspecs = param_specs(n), forcing_specs(n)
     play, qlay = layout(pspecs), layout(qspecs)
@@ -382,12 +562,10 @@ def build_beam_system(num_nodes: int, *, euler_sequence: str = "surface",
         blocks.append(nodal(xs[i], xds[i]))
     R = ca.vertcat(*blocks)
 
-    def guess(p_val, q_val):
-        return jig_state(p_val, n).ravel()
-
     system = CasadiResidualSystem(x, xdot, p, q, R, param_specs=pspecs, forcing_specs=qspecs,
                                   state_shape=(n, 18), name=f"beam{n}",
-                                  describe=lambda k: describe_equation(k, n), initial_guess=guess,
+                                  describe=functools.partial(describe_equation, num_nodes=n),
+                                  initial_guess=functools.partial(_jig_guess, num_nodes=n),
                                   definition=beam_definition(n, euler_sequence, damping))
     system.build_time = time.perf_counter() - t_start
     return system

@@ -35,6 +35,10 @@ class BeamInternalLoads(PointwiseCasadiComponent):
     def setup(self):
         super().setup()
 
+    def expression_options(self):
+        """The expressions depend on the Euler sequence (persisted, wingmdao.utils.function_store)."""
+        return (self.options["euler_sequence"],)
+
     def pointwise_inputs(self):
         return [Var("states", (18,), None, "beam state r, theta, F, M, u, omega (body axes; SI)", 0.0)]
 

@@ -90,8 +90,37 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
             self.add_output(v.name, val=0.0, shape=grid + v.shape, units=v.units, desc=v.desc)
         self._build_functions()
 
-    def _build_functions(self):
-        n = self.num_points
+    def expression_options(self):
+        """What, beside the inputs' and outputs' names and shapes, ``pointwise_expressions``
+        depends on (a ``repr``-stable value, e.g. a tuple of option values), or None (the
+        default): then the functions are built at every setup instead of being persisted
+        (:mod:`wingmdao.utils.function_store`)."""
+        return None
+
+    def _expression_key(self):
+        """Definition key of this component's functions (``definition_key`` of the class, the
+        variables, :meth:`expression_options` and the source of the class's modules and what
+        they import), or None when not persisted."""
+        opts = self.expression_options()
+        if opts is None:
+            return None
+        from wingmdao.utils.casadi_cache import definition_key
+        from wingmdao.utils.function_store import module_closure
+
+        cls = type(self)
+        try:
+            mods = module_closure(__name__, *(c.__module__ for c in cls.__mro__ if c.__module__.startswith("wingmdao")),
+                                  cls.__module__)
+            sig = ([(v.name, tuple(v.shape), v.per_last_axis) for v in self._in_vars],
+                   [(v.name, tuple(v.shape)) for v in self._out_vars])
+            return definition_key(f"{cls.__module__}.{cls.__qualname__}", (sig, opts), mods)
+        except Exception:   # noqa: BLE001 - e.g. a class defined interactively: build every time
+            return None
+
+    def _function_data(self) -> dict:
+        """Build the per-point function ``f``, the per-pair Jacobian nonzeros function ``jac``
+        and the pairs' sparsity (``pairs`` (k, 2) names, ``pair_r``/``pair_c`` concatenated
+        triplets in CasADi's column-major order, ``pair_ptr`` offsets)."""
         syms = {v.name: ca.SX.sym(v.name, v.size) for v in self._in_vars}
         shaped = {}
         for v in self._in_vars:
@@ -110,18 +139,7 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
             flat_out.append(e)
         in_list = [syms[v.name] for v in self._in_vars]
         f = ca.Function(f"{self.__class__.__name__}_f", in_list, flat_out)
-        self._f = f.map(n, "serial") if n > 1 else f
-        self._jit_f = _PointJit(f, n)
-
-        jac_vals = []
-        self._pairs = []
-        self._pair_patterns = []
-        per_point = sum(int(ca.jacobian_sparsity(e, syms[vi.name]).nnz()) for e in flat_out for vi in self._in_vars)
-        mf = self.options["matrix_free"]
-        self.matrix_free = bool(per_point * n > POINTWISE_MATRIX_FREE_ABOVE) if mf is None else mf
-        self._jac_point, self._jac_values, self._chunk_maps = None, None, {}
-        self._jac_bytes = 8.0 * per_point * n
-        self._shared = {v.name: v.per_last_axis for v in self._in_vars}
+        jac_vals, pairs, rs, cs = [], [], [], []
         for j, vo in enumerate(self._out_vars):
             for vi in self._in_vars:
                 jac = ca.jacobian(flat_out[j], syms[vi.name])
@@ -129,21 +147,51 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
                 if sp.nnz() == 0:
                     continue
                 r, c = sp.get_triplet()
-                r = np.asarray(r, dtype=int)
-                c = np.asarray(c, dtype=int)
-                self._pairs.append((vo.name, vi.name))
-                self._pair_patterns.append((r, c, _scatter(r, vo.size), _scatter(c, vi.size), vi.per_last_axis))
+                pairs.append((vo.name, vi.name))
+                rs.append(np.asarray(r, dtype=np.int64))
+                cs.append(np.asarray(c, dtype=np.int64))
                 jac_vals.append(ca.vertcat(*jac.nonzeros()))
-                if self.matrix_free:
-                    continue
-                pts = np.arange(n)[:, None]
-                src = pts % self.grid_shape[-1] if vi.per_last_axis else pts
-                rows = (pts * vo.size + r[None, :]).ravel()
-                cols = (src * vi.size + c[None, :]).ravel()
-                self.declare_partials(vo.name, vi.name, rows=rows, cols=cols)
+        self._pairs = pairs
         fj = ca.Function(f"{self.__class__.__name__}_jac", in_list, jac_vals)
+        ptr = np.cumsum([0] + [r.size for r in rs])
+        return {"f": f, "jac": fj, "pairs": np.array(pairs, dtype=str).reshape(len(pairs), 2),
+                "pair_ptr": ptr, "pair_r": np.concatenate(rs) if rs else np.zeros(0, np.int64),
+                "pair_c": np.concatenate(cs) if cs else np.zeros(0, np.int64)}
+
+    def _build_functions(self):
+        from wingmdao.utils import function_store
+
+        n = self.num_points
+        key = self._expression_key()
+        data = function_store.get(type(self).__name__, key, self._function_data)
+        f, fj = data["f"], data["jac"]
+        self._f = f.map(n, "serial") if n > 1 else f
+        self._jit_f = _PointJit(f, n, definition=key)
+
+        self._pairs = [(str(o), str(i)) for o, i in data["pairs"]]
+        self._pair_patterns = []
+        ptr = data["pair_ptr"]
+        per_point = int(ptr[-1])
+        mf = self.options["matrix_free"]
+        self.matrix_free = bool(per_point * n > POINTWISE_MATRIX_FREE_ABOVE) if mf is None else mf
+        self._jac_point, self._jac_values, self._chunk_maps = None, None, {}
+        self._jac_bytes = 8.0 * per_point * n
+        self._shared = {v.name: v.per_last_axis for v in self._in_vars}
+        sizes = {v.name: v.size for v in self._in_vars + self._out_vars}
+        pts = np.arange(n)[:, None]
+        for j, (oname, iname) in enumerate(self._pairs):
+            r, c = data["pair_r"][ptr[j]:ptr[j + 1]], data["pair_c"][ptr[j]:ptr[j + 1]]
+            shared = self._shared[iname]
+            if self.matrix_free:   # the scatter matrices serve the matrix-free products only
+                self._pair_patterns.append((r, c, _scatter(r, sizes[oname]), _scatter(c, sizes[iname]), shared))
+                continue
+            self._pair_patterns.append((r, c, None, None, shared))
+            src = pts % self.grid_shape[-1] if shared else pts
+            rows = (pts * sizes[oname] + r[None, :]).ravel()
+            cols = (src * sizes[iname] + c[None, :]).ravel()
+            self.declare_partials(oname, iname, rows=rows, cols=cols)
         self._fjac = fj.map(n, "serial") if n > 1 else fj
-        self._jit_fjac = _PointJit(fj, n)
+        self._jit_fjac = _PointJit(fj, n, definition=key)
 
     def _stacked_inputs(self, inputs):
         n = self.num_points
@@ -268,10 +316,10 @@ class _PointJit:
     """Compiles the per-point function in the background after :data:`POINT_JIT_THRESHOLD`
     calls (wingmdao.utils.casadi_cache) and maps the compiled version over the grid."""
 
-    def __init__(self, fun, num_points):
+    def __init__(self, fun, num_points, definition=None):
         from wingmdao.utils.casadi_cache import JitFunction
 
-        self.jit = JitFunction(fun, threshold=POINT_JIT_THRESHOLD)
+        self.jit = JitFunction(fun, threshold=POINT_JIT_THRESHOLD, definition=definition)
         self.num_points = num_points
 
     def update(self, mapped):

@@ -55,14 +55,12 @@ class CombinedJacobianMixin:
     sparsity and the base function is kept if they ever differ.
     """
 
-    def setup(self):
-        super().setup()
+    def _function_data(self):
+        data = super()._function_data()
         combined = self._combined_jacobian()
         if combined is not None:
-            from wingmdao.components.pointwise import _PointJit
-
-            self._fjac = combined.map(self.num_points, "serial") if self.num_points > 1 else combined
-            self._jit_fjac = _PointJit(combined, self.num_points)   # compiles the combined Jacobian
+            data["jac"] = combined   # replaces the per-pair Jacobian function (same nonzeros)
+        return data
 
     def _combined_jacobian(self):
         syms, shaped = {}, {}
@@ -101,8 +99,9 @@ class _SectionBase(CombinedJacobianMixin, PointwiseCasadiComponent):
     def point_grid(self):
         return (self.options["num_stations"],)
 
-    def setup(self):
-        super().setup()
+    def expression_options(self):
+        """The expressions depend on the material only (persisted, wingmdao.utils.function_store)."""
+        return (self.options["material"],)
 
     def _common_inputs(self):
         n = self.options["num_stations"]

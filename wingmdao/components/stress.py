@@ -75,6 +75,12 @@ class BoxStress(CombinedJacobianMixin, PointwiseCasadiComponent):
         check_families(self.options["families"])
         super().setup()
 
+    def expression_options(self):
+        """Options the expressions depend on (persisted, wingmdao.utils.function_store)."""
+        o = self.options
+        return (o["material"], tuple(o["families"]), o["output_stresses"], o["section_properties"],
+                o["section_rotation"])
+
     def pointwise_inputs(self):
         n = self.options["num_stations"]
         eye = np.broadcast_to(np.eye(3), (n, 3, 3)).copy()

@@ -420,6 +420,15 @@ class JitCall:
         return fast(*args)
 
 
+def precompiled_call(fun: ca.Function, threshold: int = 2000, copy_outputs=True,
+                     definition: str | None = None) -> JitCall:
+    """A :class:`JitCall` of an already compiled (loaded) function ``fun``: state "compiled"
+    from the start (a deferred system that found its libraries in the cache)."""
+    call = JitCall(fun, threshold, copy_outputs, definition)
+    call.jit.current, call.jit.state = fun, "compiled"
+    return call
+
+
 def compile_calls(calls: dict, wait: bool = True) -> dict:
     """Compile (or load from the cache) every :class:`JitCall` of ``{name: call}`` now.
 
