@@ -302,6 +302,10 @@ def test_kernel_products_and_assembly_equal_numpy(kernel_on):
     ref[:, lin._slot[lin._pos_x[lin._x_nz]]] = blk.jx[:, lin._x_nz]
     ref[:, lin._slot[lin._pos_d[lin._d_nz]]] += lin.coef[:, :1] * blk.jxd[:, lin._d_nz]
     np.testing.assert_array_equal(blk.m_data, ref)
+    np.testing.assert_array_equal(blk.same[1:], np.all(ref[1:] == ref[:-1], axis=1))
+    np.testing.assert_array_equal(static_lu.nonzero_columns(lin._lib, blk.jx), np.any(blk.jx != 0, axis=0))
+    steady = np.repeat(ref[:1], 4, axis=0)                # identical rows are found
+    assert static_lu.nonzero_columns(lin._lib, steady).sum() == np.count_nonzero(ref[0])
     rng = np.random.default_rng(3)
     lam = rng.standard_normal(X.shape)
     lib, lin._lib = lin._lib, None
@@ -310,3 +314,22 @@ def test_kernel_products_and_assembly_equal_numpy(kernel_on):
     kernel_products = (lin.apply(lam), lin.apply_transpose(lam), lin.param_product(lam), lin.forcing_product(lam))
     for a, b in zip(kernel_products, numpy_products):
         np.testing.assert_allclose(a, b, rtol=1e-13, atol=1e-13 * np.max(np.abs(b)))
+
+
+@needs_gcc
+def test_linear_system_shares_factors_and_matches_superlu(kernel_on):
+    """Spring-mass-damper (linear, 2 states): the Newton matrices of the BDF2 steps are identical
+    (the kernel's assembly flags them and factors once per run); the adjoint and tangent sweeps
+    through the kernel equal SuperLU's (dense LAPACK at this size)."""
+    from wingmdao.timemarch.examples import SMD_TABLE_4_18, spring_mass_damper_system
+
+    sysm = spring_mass_damper_system()
+    p = np.array([SMD_TABLE_4_18["mass"], SMD_TABLE_4_18["damping"], SMD_TABLE_4_18["stiffness"]])
+    t = np.linspace(0.0, 1.0, 101)
+    h = march(sysm, t, p, np.zeros((t.size, 1)), initial="state", x_init=[1.0, 0.0])
+    lin = LinearizedHistory(sysm, t, h.states, p, np.zeros((t.size, 1)), initial="state")
+    ref = LinearizedHistory(sysm, t, h.states, p, np.zeros((t.size, 1)), initial="state", lu="superlu")
+    assert lin.lu_method == "static" and lin._full.same[3:].all() and not lin._full.same[1]
+    g = np.random.default_rng(0).standard_normal(h.states.shape)
+    for sweep in ("solve_adjoint", "solve_tangent"):
+        np.testing.assert_allclose(getattr(lin, sweep)(g), getattr(ref, sweep)(g), rtol=1e-10, atol=1e-12)

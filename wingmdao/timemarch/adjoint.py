@@ -63,7 +63,7 @@ class _Blocks:
     """Jacobian nonzeros of the steps ``off .. off + len - 1`` of a history; the sweeps loop over
     the steps ``lo .. hi - 1`` (the adjoint sweep reads two steps past ``hi``)."""
 
-    __slots__ = ("off", "lo", "hi", "jx", "jxd", "jp", "jq", "m_data", "factors")
+    __slots__ = ("off", "lo", "hi", "jx", "jxd", "jp", "jq", "m_data", "factors", "same")
 
     def row(self, n):
         return n - self.off
@@ -143,7 +143,10 @@ class LinearizedHistory:
         self._Xdot = self._rates(0, self.n_time) if checkpoint_every is None else None
         if checkpoint_every is None:
             data = self._raw(0, self.n_time)
-            x_nz, d_nz = np.any(data["x"] != 0.0, axis=0), np.any(data["xdot"] != 0.0, axis=0)
+            if self._lib is not None:
+                x_nz, d_nz = (static_lu.nonzero_columns(self._lib, data[k]) for k in ("x", "xdot"))
+            else:
+                x_nz, d_nz = np.any(data["x"] != 0.0, axis=0), np.any(data["xdot"] != 0.0, axis=0)
         else:
             x_nz, d_nz, same = self._scan()
         self._build_newton_pattern(x_nz, d_nz)
@@ -152,8 +155,10 @@ class LinearizedHistory:
             self.jx, self.jxd, self.jp, self.jq = data["x"], data["xdot"], data["p"], data["q"]
             self.m_data = self._full.m_data
             # steps with the same Newton matrix as the step before share one factorization
-            same = np.zeros(self.n_time, dtype=bool)
-            same[1:] = np.all(self.m_data[1:] == self.m_data[:-1], axis=1)
+            same = self._full.same
+            if same is None:
+                same = np.zeros(self.n_time, dtype=bool)
+                same[1:] = np.all(self.m_data[1:] == self.m_data[:-1], axis=1)
         self._store = store_factors
         self._auto_limit = int(auto_limit)
         self._factors = {}
@@ -221,16 +226,21 @@ class LinearizedHistory:
         if lib is not None and b.jx.flags.c_contiguous and b.jxd.flags.c_contiguous:
             sx, dx, sd, dd = self._assembly
             c = np.ascontiguousarray(self.coef[lo:stop, 0])
+            same = np.zeros(m, dtype=np.uint8)     # row t equals row t - 1 (as NumPy's ==)
             lib.assemble_newton(m, b.jx.ctypes.data, b.jx.shape[1], sx.ctypes.data, dx.ctypes.data, sx.size,
                                 b.jxd.ctypes.data, b.jxd.shape[1], sd.ctypes.data, dd.ctypes.data, sd.size,
-                                c.ctypes.data, b.m_data.ctypes.data, b.m_data.shape[1])
+                                c.ctypes.data, b.m_data.ctypes.data, b.m_data.shape[1], same.ctypes.data)
+            b.same = same.view(bool)
         else:
+            b.same = None
             slot, pos_x, pos_d = self._slot, self._pos_x, self._pos_d
             b.m_data[:] = 0.0
             b.m_data[:, slot[pos_x[self._x_nz]]] = b.jx[:, self._x_nz]
             b.m_data[:, slot[pos_d[self._d_nz]]] += self.coef[lo:stop, :1] * b.jxd[:, self._d_nz]
         if self.initial == "state" and lo == 0:
             b.m_data[0, self._slot[self._pos_i]] = 1.0
+            if b.same is not None and m > 1:
+                b.same[1] = np.array_equal(b.m_data[1], b.m_data[0])
         b.factors = None
         return b
 

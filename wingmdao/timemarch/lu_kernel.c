@@ -25,7 +25,7 @@ typedef struct {
     const int *up, *ui; /* U strictly upper: column pointers (n + 1), rows (ascending) */
 } lu_pattern;
 
-int lu_kernel_version(void) { return 1; }
+int lu_kernel_version(void) { return 2; }
 
 /* Factors of m matrices with nonzeros a (m x nnz) into f (m x n_lu); work: n doubles, zero on
  * entry and on return. A zero pivot gives inf/NaN factors (caught by the backward error). */
@@ -267,10 +267,11 @@ void hist_product(int nt, int nnz, const double *data, const int *oi, const int 
 }
 
 /* Newton-matrix nonzeros of nt steps: out[t, dx[k]] = jx[t, sx[k]] (k < nx), then
- * out[t, dd[k]] += c[t] jd[t, sd[k]] (k < ndd); out nt x nout is overwritten. */
+ * out[t, dd[k]] += c[t] jd[t, sd[k]] (k < ndd); out nt x nout is overwritten. same[t] = 1 when
+ * row t equals row t - 1 (same[0] = 0). */
 void assemble_newton(int nt, const double *jx, int njx, const int *sx, const int *dxi, int nx,
                      const double *jd, int njd, const int *sd, const int *dd, int ndd,
-                     const double *c, double *out, int nout)
+                     const double *c, double *out, int nout, unsigned char *same)
 {
     for (int t = 0; t < nt; ++t) {
         const double *x = jx + (size_t)t * njx, *d = jd + (size_t)t * njd;
@@ -281,5 +282,19 @@ void assemble_newton(int nt, const double *jx, int njx, const int *sx, const int
         const double ct = c[t];
         for (int k = 0; k < ndd; ++k)
             o[dd[k]] += ct * d[sd[k]];
+        int eq = t > 0;
+        for (int k = 0; eq && k < nout; ++k)
+            eq = o[k] == o[k - nout];
+        same[t] = (unsigned char)eq;
+    }
+}
+
+/* out[k] |= (d[t, k] != 0) for t < nt (d nt x ncol). */
+void nonzero_columns(int nt, int ncol, const double *d, unsigned char *out)
+{
+    for (int t = 0; t < nt; ++t) {
+        const double *r = d + (size_t)t * ncol;
+        for (int k = 0; k < ncol; ++k)
+            out[k] |= r[k] != 0.0;
     }
 }

@@ -65,7 +65,8 @@ _SIGNATURES = {
     "adjoint_sweep": ([_P, _P, _I, _I, _P, _P, _P, _P, _P, _P], _I),
     "tangent_sweep": ([_P, _P, _I, _I, _P, _P, _P, _P, _P, _P], _I),
     "hist_product": ([_I, _I, _P, _P, _P, _P, _I, _P, _I, _I], None),
-    "assemble_newton": ([_I, _P, _I, _P, _P, _I, _P, _I, _P, _P, _I, _P, _P, _I], None),
+    "assemble_newton": ([_I, _P, _I, _P, _P, _I, _P, _I, _P, _P, _I, _P, _P, _I, _P], None),
+    "nonzero_columns": ([_I, _I, _P, _P], None),
 }
 
 
@@ -245,6 +246,14 @@ class StaticPivotLU:
     def rhs_buffer(self) -> np.ndarray:
         """The right-hand side of the step at which a sweep stopped."""
         return self._b
+
+
+def nonzero_columns(lib, data) -> np.ndarray:
+    """Columns of ``data`` (nt, m) with a nonzero in some row (bool, (m,)); the C kernel."""
+    data = _f64(data)
+    out = np.zeros(data.shape[1], dtype=np.uint8)
+    lib.nonzero_columns(data.shape[0], data.shape[1], _ptr(data), _ptr(out))
+    return out.view(bool)
 
 
 def hist_product(lib, data, out_idx, in_idx, vec, n_out, sum_time=False, out=None):
