@@ -333,3 +333,25 @@ def test_linear_system_shares_factors_and_matches_superlu(kernel_on):
     g = np.random.default_rng(0).standard_normal(h.states.shape)
     for sweep in ("solve_adjoint", "solve_tangent"):
         np.testing.assert_allclose(getattr(lin, sweep)(g), getattr(ref, sweep)(g), rtol=1e-10, atol=1e-12)
+
+
+@needs_gcc
+def test_new_nonzeros_found_in_the_assembly_pass_grow_the_pattern(kernel_on):
+    """With the kernel the pattern of earlier histories is checked during the assembly: a history
+    with nonzeros outside it (spring 5 back after a history without it) gets the grown pattern,
+    and its sweeps equal SuperLU's."""
+    sysm, t, X, p, Q = _chain_history(n_time=10)
+    spring_removed = p.copy()
+    spring_removed[3 + 5] = 0.0
+    fresh = type(sysm).__new__(type(sysm))
+    fresh.__dict__.update({k: v for k, v in sysm.__dict__.items() if k != "_linearized_history_nonzeros"})
+    small = LinearizedHistory(fresh, t, X, spring_removed, Q)
+    grown = LinearizedHistory(fresh, t, X, p, Q)
+    assert grown.m_rows.size == small.m_rows.size + 2
+    ref = LinearizedHistory(sysm, t, X, p, Q, lu="superlu")
+    np.testing.assert_array_equal(grown.m_rows, ref.m_rows)
+    np.testing.assert_array_equal(grown.m_data, ref.m_data)
+    again = LinearizedHistory(fresh, t, X, spring_removed, Q)       # the grown pattern stays
+    assert again.m_rows.size == grown.m_rows.size
+    g = np.random.default_rng(4).standard_normal(X.shape)
+    np.testing.assert_allclose(grown.solve_adjoint(g), ref.solve_adjoint(g), rtol=1e-9, atol=1e-10)

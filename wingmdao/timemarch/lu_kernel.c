@@ -25,7 +25,7 @@ typedef struct {
     const int *up, *ui; /* U strictly upper: column pointers (n + 1), rows (ascending) */
 } lu_pattern;
 
-int lu_kernel_version(void) { return 2; }
+int lu_kernel_version(void) { return 3; }
 
 /* Factors of m matrices with nonzeros a (m x nnz) into f (m x n_lu); work: n doubles, zero on
  * entry and on return. A zero pivot gives inf/NaN factors (caught by the backward error). */
@@ -268,14 +268,31 @@ void hist_product(int nt, int nnz, const double *data, const int *oi, const int 
 
 /* Newton-matrix nonzeros of nt steps: out[t, dx[k]] = jx[t, sx[k]] (k < nx), then
  * out[t, dd[k]] += c[t] jd[t, sd[k]] (k < ndd); out nt x nout is overwritten. same[t] = 1 when
- * row t equals row t - 1 (same[0] = 0). */
-void assemble_newton(int nt, const double *jx, int njx, const int *sx, const int *dxi, int nx,
-                     const double *jd, int njd, const int *sd, const int *dd, int ndd,
-                     const double *c, double *out, int nout, unsigned char *same)
+ * row t equals row t - 1 (same[0] = 0). With known_x (njx flags; known_d, njd) the whole rows of
+ * jx and jd are checked in the same pass (while in cache) for nonzeros outside the known columns:
+ * those are flagged in new_x, new_d and counted in the return value (0: the pattern holds). */
+int assemble_newton(int nt, const double *jx, int njx, const int *sx, const int *dxi, int nx,
+                    const double *jd, int njd, const int *sd, const int *dd, int ndd,
+                    const double *c, double *out, int nout, unsigned char *same,
+                    const unsigned char *known_x, const unsigned char *known_d,
+                    unsigned char *new_x, unsigned char *new_d)
 {
+    int found = 0;
     for (int t = 0; t < nt; ++t) {
         const double *x = jx + (size_t)t * njx, *d = jd + (size_t)t * njd;
         double *o = out + (size_t)t * nout;
+        if (known_x) {
+            for (int k = 0; k < njx; ++k)
+                if (x[k] != 0.0 && !known_x[k]) {
+                    new_x[k] = 1;
+                    ++found;
+                }
+            for (int k = 0; k < njd; ++k)
+                if (d[k] != 0.0 && !known_d[k]) {
+                    new_d[k] = 1;
+                    ++found;
+                }
+        }
         memset(o, 0, (size_t)nout * sizeof(double));
         for (int k = 0; k < nx; ++k)
             o[dxi[k]] = x[sx[k]];
@@ -287,6 +304,7 @@ void assemble_newton(int nt, const double *jx, int njx, const int *sx, const int
             eq = o[k] == o[k - nout];
         same[t] = (unsigned char)eq;
     }
+    return found;
 }
 
 /* out[k] |= (d[t, k] != 0) for t < nt (d nt x ncol). */

@@ -65,7 +65,7 @@ _SIGNATURES = {
     "adjoint_sweep": ([_P, _P, _I, _I, _P, _P, _P, _P, _P, _P], _I),
     "tangent_sweep": ([_P, _P, _I, _I, _P, _P, _P, _P, _P, _P], _I),
     "hist_product": ([_I, _I, _P, _P, _P, _P, _I, _P, _I, _I], None),
-    "assemble_newton": ([_I, _P, _I, _P, _P, _I, _P, _I, _P, _P, _I, _P, _P, _I, _P], None),
+    "assemble_newton": ([_I, _P, _I, _P, _P, _I, _P, _I, _P, _P, _I, _P, _P, _I, _P, _P, _P, _P, _P], _I),
     "nonzero_columns": ([_I, _I, _P, _P], None),
 }
 

@@ -25,7 +25,7 @@ from wingmdao.utils import casadi_cache as cc
 
 #: Flags of the kernels: small sources, so -O2 costs nothing; no FMA contraction, so the kernels
 #: round like the NumPy code they replace.
-C_FLAGS = ("-O2", "-ffp-contract=off")
+C_FLAGS = ("-O3", "-ffp-contract=off")
 
 _LOADED: dict = {}
 _warned = False
