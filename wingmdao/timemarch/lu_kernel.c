@@ -25,7 +25,7 @@ typedef struct {
     const int *up, *ui; /* U strictly upper: column pointers (n + 1), rows (ascending) */
 } lu_pattern;
 
-int lu_kernel_version(void) { return 3; }
+int lu_kernel_version(void) { return 4; }
 
 /* Factors of m matrices with nonzeros a (m x nnz) into f (m x n_lu); work: n doubles, zero on
  * entry and on return. A zero pivot gives inf/NaN factors (caught by the backward error). */
@@ -254,13 +254,25 @@ int tangent_sweep(const lu_pattern *p, const sweep_data *s, int lo, int hi, cons
 }
 
 /* out[t, oi[k]] += data[t, k] * vec[t, ii[k]] for t < nt, k < nnz (out nt x nout, vec nt x nin);
- * with sum_time, out is one row (the sum over t). */
+ * with sum_time, out is one row (the sum over t), summed per nonzero first in acc (nnz doubles,
+ * zero on entry): consecutive nonzeros of a CasADi pattern share their column, and adding them
+ * into one output element serialises the additions on its latency. */
 void hist_product(int nt, int nnz, const double *data, const int *oi, const int *ii,
-                  const double *vec, int nin, double *out, int nout, int sum_time)
+                  const double *vec, int nin, double *out, int nout, int sum_time, double *acc)
 {
+    if (sum_time) {
+        for (int t = 0; t < nt; ++t) {
+            const double *d = data + (size_t)t * nnz, *v = vec + (size_t)t * nin;
+            for (int k = 0; k < nnz; ++k)
+                acc[k] += d[k] * v[ii[k]];
+        }
+        for (int k = 0; k < nnz; ++k)
+            out[oi[k]] += acc[k];
+        return;
+    }
     for (int t = 0; t < nt; ++t) {
         const double *d = data + (size_t)t * nnz, *v = vec + (size_t)t * nin;
-        double *o = sum_time ? out : out + (size_t)t * nout;
+        double *o = out + (size_t)t * nout;
         for (int k = 0; k < nnz; ++k)
             o[oi[k]] += d[k] * v[ii[k]];
     }

@@ -64,7 +64,7 @@ _SIGNATURES = {
     "lu_solve_checked": ([_P, _P, _P, _P, _P, _P, _I, _P], ctypes.c_double),
     "adjoint_sweep": ([_P, _P, _I, _I, _P, _P, _P, _P, _P, _P], _I),
     "tangent_sweep": ([_P, _P, _I, _I, _P, _P, _P, _P, _P, _P], _I),
-    "hist_product": ([_I, _I, _P, _P, _P, _P, _I, _P, _I, _I], None),
+    "hist_product": ([_I, _I, _P, _P, _P, _P, _I, _P, _I, _I, _P], None),
     "assemble_newton": ([_I, _P, _I, _P, _P, _I, _P, _I, _P, _P, _I, _P, _P, _I, _P, _P, _P, _P, _P], _I),
     "nonzero_columns": ([_I, _I, _P, _P], None),
 }
@@ -263,8 +263,9 @@ def hist_product(lib, data, out_idx, in_idx, vec, n_out, sum_time=False, out=Non
     nt, nnz = data.shape
     if out is None:
         out = np.zeros(n_out if sum_time else (nt, n_out))
+    acc = np.zeros(nnz) if sum_time else None
     lib.hist_product(nt, nnz, _ptr(data), _ptr(out_idx), _ptr(in_idx), _ptr(vec), vec.shape[1], _ptr(out),
-                     n_out, 1 if sum_time else 0)
+                     n_out, 1 if sum_time else 0, None if acc is None else _ptr(acc))
     return out
 
 
