@@ -353,8 +353,10 @@ class LinearizedHistory:
         i32 = np.int32
         self._assembly = tuple(np.ascontiguousarray(v, dtype=i32) for v in (
             np.flatnonzero(x_nz), self._slot[pos_x[x_nz]], self._d_src, self._slot[pos_d[d_nz]]))
-        self._idx32 = {k: (np.ascontiguousarray(self.patterns[k][0], dtype=i32),
-                           np.ascontiguousarray(self.patterns[k][1], dtype=i32)) for k in self.patterns}
+        if "idx32" not in pat:              # the Jacobian patterns as the kernel's int32 (fixed per system)
+            pat["idx32"] = {k: (np.ascontiguousarray(self.patterns[k][0], dtype=i32),
+                                np.ascontiguousarray(self.patterns[k][1], dtype=i32)) for k in self.patterns}
+        self._idx32 = pat["idx32"]
         self._scatter_rows = pat["scatter_rows"]
         self._scatter_cols = pat["scatter_cols"]
         self._a_data = None

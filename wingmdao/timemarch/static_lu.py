@@ -39,9 +39,11 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from wingmdao.utils import c_library
+from wingmdao.utils import casadi_cache as cc
 
 SOURCE = Path(__file__).with_name("lu_kernel.c")
 ENV_KERNEL = "WINGMDAO_LU_KERNEL"
+_KERNELS: dict = {}
 
 _P = ctypes.c_void_p
 _I = ctypes.c_int
@@ -76,7 +78,10 @@ def kernel():
     env = os.environ.get(ENV_KERNEL, "").strip().lower()
     if env in ("0", "false", "no", "off"):
         return None
-    lib = c_library.load(SOURCE, "lu_kernel", force=env in ("1", "true", "yes", "on"))
+    key = (env, os.environ.get(cc.ENV_JIT), os.environ.get(cc.ENV_CACHE), os.environ.get("CC"))
+    if key in _KERNELS:                 # (c_library.load resolves paths: ~16 stat calls)
+        return _KERNELS[key]
+    lib = _KERNELS[key] = c_library.load(SOURCE, "lu_kernel", force=env in ("1", "true", "yes", "on"))
     if lib is not None and not getattr(lib, "_wingmdao_typed", False):
         for name, (args, res) in _SIGNATURES.items():
             fn = getattr(lib, name)
