@@ -145,7 +145,8 @@ class LinearizedHistory:
         if checkpoint_every is None:
             data = self._raw(0, self.n_time)
             seen = self._seen_nonzeros(data)
-            if self._lib is not None and seen is not None:
+            contiguous = data["x"].flags.c_contiguous and data["xdot"].flags.c_contiguous
+            if self._lib is not None and seen is not None and contiguous:
                 # the pattern of the earlier histories, checked in the assembly's pass over the
                 # Jacobians (one pass over ~25 MB instead of two, 20-node beam x 500 steps)
                 x_nz, d_nz = seen[0].copy(), seen[1].copy()
