@@ -152,7 +152,14 @@ def test_checkpointed_history_equals_full_storage(initial, k):
     np.testing.assert_allclose(lean.forcing_apply(Q), full.forcing_apply(Q), rtol=1e-12, atol=1e-12)
 
 
-def test_checkpointed_history_with_static_lu_and_bad_interval():
+def test_checkpointed_history_with_static_lu_and_bad_interval(tmp_path, monkeypatch):
+    from wingmdao.timemarch import static_lu
+    from wingmdao.utils import casadi_cache as cc
+
+    if cc.compiler() is None:
+        pytest.skip("needs gcc")
+    monkeypatch.setenv(static_lu.ENV_KERNEL, "1")      # the compiled static-pivot LU kernel
+    monkeypatch.setenv(cc.ENV_CACHE, str(tmp_path))
     sysm, t, p, Q, _ = _chain_case(n_time=30)
     h = march(sysm, t, p, Q)
     f, dfdx = _chain_functional(h)

@@ -370,23 +370,6 @@ def test_newton_matrix_is_dx_plus_alpha_dxdot():
     np.testing.assert_array_equal(r, s.residual(x, xd, p, q))
 
 
-def test_static_lu_is_keyed_by_definition(jit_env, monkeypatch):
-    """The static-pivot LU functions are keyed by pattern + pivot order + source, not serialized."""
-    import scipy.sparse as sp
-
-    from wingmdao.timemarch.static_lu import StaticPivotLU
-
-    a = sp.random(12, 12, density=0.3, random_state=5, format="csc") + sp.identity(12, format="csc") * 4
-    a = sp.csc_matrix(a)
-    a.sort_indices()
-    lu = StaticPivotLU(12, a.indices, a.indptr, a.data)
-    _no_serialize(monkeypatch)
-    keys = {k: c.jit.key() for k, c in lu._calls.items()}
-    assert len(set(keys.values())) == len(keys)
-    step = lu.adjoint_step(a.indices, np.repeat(np.arange(12), np.diff(a.indptr)))
-    assert step.jit.key() not in keys.values()
-
-
 def test_library_bytes_do_not_depend_on_the_compiling_process(jit_env, monkeypatch):
     """Two compiles of one function (other pid / thread: other temporary names) give the same
     bytes, so a reader between one compile's manifest and the other's library never sees a

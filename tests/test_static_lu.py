@@ -1,8 +1,10 @@
-"""Static-pivot sparse LU (``wingmdao.timemarch.static_lu``) and its use in the adjoint sweeps.
+"""Static-pivot sparse LU (``wingmdao.timemarch.static_lu``, C kernel ``lu_kernel.c``) and its
+use in the adjoint sweeps.
 
 References are independent: SciPy's SuperLU/spsolve on the same matrices, and the SuperLU
-sweeps of ``LinearizedHistory``. (The suite runs the CasADi functions interpreted; compiled
-and interpreted results agree to round-off, tests/test_casadi_cache.py.)
+sweeps of ``LinearizedHistory``. The suite runs with ``WINGMDAO_JIT=0`` (tests/conftest.py),
+where the static LU falls back to SuperLU; the fixture ``kernel_on`` compiles the kernel into a
+temporary cache and turns it on for these tests.
 """
 
 import numpy as np
@@ -13,7 +15,23 @@ import scipy.sparse.linalg as spla
 from wingmdao.timemarch.adjoint import LinearizedHistory
 from wingmdao.timemarch.bdf import march
 from wingmdao.timemarch.examples import nonlinear_chain_system
+from wingmdao.timemarch import adjoint as adjoint_module
+from wingmdao.timemarch import static_lu
 from wingmdao.timemarch.static_lu import StaticPivotLU, for_pattern, symbolic_lu
+from wingmdao.utils import c_library
+from wingmdao.utils import casadi_cache as cc
+
+needs_gcc = pytest.mark.skipif(cc.compiler() is None, reason="needs gcc")
+
+
+@pytest.fixture(scope="module")
+def kernel_on(tmp_path_factory):
+    """The compiled kernel on, in a cache folder of this module."""
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv(static_lu.ENV_KERNEL, "1")
+        mp.setenv(cc.ENV_CACHE, str(tmp_path_factory.mktemp("lu_kernel_cache")))
+        assert static_lu.kernel() is not None
+        yield
 
 
 def _family(n=30, m=6, seed=0):
@@ -46,7 +64,8 @@ def test_symbolic_structure_matches_a_dense_lu_without_pivoting():
         assert set(np.flatnonzero(np.abs(d[:j, j]) > 1e-14)) <= set(u_struct[j])
 
 
-def test_solves_agree_with_scipy_for_every_matrix_of_the_family():
+@needs_gcc
+def test_solves_agree_with_scipy_for_every_matrix_of_the_family(kernel_on):
     base, mats = _family()
     slu = StaticPivotLU(base.shape[0], base.indices, base.indptr, mats[0].data)
     factors = slu.factor_many(np.array([m.data for m in mats]))
@@ -62,7 +81,8 @@ def test_solves_agree_with_scipy_for_every_matrix_of_the_family():
     np.testing.assert_allclose(slu.factor(mats[2].data), factors[2])
 
 
-def test_a_pivot_that_vanishes_is_reported_by_the_backward_error():
+@needs_gcc
+def test_a_pivot_that_vanishes_is_reported_by_the_backward_error(kernel_on):
     """The reference's pivot order does not pivot; at another step that pivot is zero."""
     a0 = sp.csc_matrix(np.array([[4.0, 1.0, 0.0], [1.0, 3.0, 1.0], [0.0, 1.0, 4.0]]))
     a1 = sp.csc_matrix((np.where(np.arange(a0.nnz) == 0, 0.0, a0.data), a0.indices, a0.indptr), shape=(3, 3))
@@ -70,6 +90,7 @@ def test_a_pivot_that_vanishes_is_reported_by_the_backward_error():
     assert np.array_equal(slu.perm_r, [0, 1, 2])
     x, _, berr = slu.solve(slu.factor(a1.data), a1.data, np.ones(3))
     assert not berr <= 1e-12   # inf or NaN: the caller falls back
+    assert slu.solve(slu.factor(a0.data), a0.data, np.ones(3))[2] < 1e-15
 
 
 def _chain_history(n_time=60):
@@ -82,8 +103,9 @@ def _chain_history(n_time=60):
     return sysm, t, h.states, p, Q
 
 
+@needs_gcc
 @pytest.mark.parametrize("initial", ["static", "state"])
-def test_static_sweeps_equal_the_superlu_sweeps(initial):
+def test_static_sweeps_equal_the_superlu_sweeps(initial, kernel_on):
     sysm, t, X, p, Q = _chain_history()
     ref = LinearizedHistory(sysm, t, X, p, Q, initial=initial, lu="superlu")
     lin = LinearizedHistory(sysm, t, X, p, Q, initial=initial, lu="static")
@@ -99,16 +121,42 @@ def test_static_sweeps_equal_the_superlu_sweeps(initial):
     assert lin.static_stats["fallback"] == 0
 
 
-def test_static_sweep_falls_back_to_superlu_when_the_pivots_go_bad(monkeypatch):
+@needs_gcc
+def test_static_sweep_falls_back_to_superlu_when_every_solve_fails(kernel_on, monkeypatch):
     sysm, t, X, p, Q = _chain_history(n_time=30)
+    monkeypatch.setattr(adjoint_module, "STATIC_LU_TOL", -1.0)     # no backward error is accepted
     lin = LinearizedHistory(sysm, t, X, p, Q, lu="static")
-    slu, factors = lin._static_lu()
-    lin._static = (slu, np.full_like(factors, np.nan))      # every static solve fails
     ref = LinearizedHistory(sysm, t, X, p, Q, lu="superlu")
     g = np.random.default_rng(2).standard_normal(X.shape)
     np.testing.assert_allclose(lin.solve_adjoint(g), ref.solve_adjoint(g), rtol=1e-12, atol=1e-14)
     np.testing.assert_allclose(lin.solve_tangent(g), ref.solve_tangent(g), rtol=1e-12, atol=1e-14)
+    assert lin.lu_method == "static"
     assert lin.static_stats["fallback"] == 2 * (t.size - 1)
+    assert lin.static_stats["refined"] == 2 * (t.size - 1)
+
+
+@needs_gcc
+def test_a_bad_pivot_order_is_caught_per_step_and_the_sweeps_stay_exact(kernel_on):
+    """Static pivots chosen without pivoting (identity order) for a matrix family whose middle
+    steps have a vanishing (1, 1) entry: those steps fail the backward-error check and are
+    solved by SuperLU, the others by the kernel; both sweeps equal the SuperLU sweeps."""
+    sysm, t, X, p, Q = _chain_history(n_time=30)
+    lin = LinearizedHistory(sysm, t, X, p, Q, lu="static")
+    ref = LinearizedHistory(sysm, t, X, p, Q, lu="superlu")
+    n = lin.n_state
+    # the first diagonal entry of A_n scaled to ~0 at steps 10..14 (the same change for both)
+    first = lin.m_indptr[0] + np.flatnonzero(lin.m_rows[lin.m_indptr[0]:lin.m_indptr[1]] == 0)[0]
+    for h in (lin, ref):
+        h.m_data[10:15, first] = 1e-300
+        h._rep = np.arange(h.n_time)
+        h._factors.clear()
+    lin._static = StaticPivotLU(n, lin.m_rows, lin.m_indptr, perm_r=np.arange(n))
+    g = np.random.default_rng(5).standard_normal(X.shape)
+    a, b = lin.solve_adjoint(g), ref.solve_adjoint(g)
+    np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-10 * np.max(np.abs(b)))
+    assert 1 <= lin.static_stats["fallback"] <= 5
+    a, b = lin.solve_tangent(g), ref.solve_tangent(g)
+    np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-10 * np.max(np.abs(b)))
 
 
 def test_zero_entries_of_the_pattern_are_dropped_but_the_matrix_is_unchanged():
@@ -120,10 +168,13 @@ def test_zero_entries_of_the_pattern_are_dropped_but_the_matrix_is_unchanged():
         np.testing.assert_array_equal(lin.newton_matrix(n).toarray(), full.toarray())
 
 
-def test_patterns_share_one_generated_solver():
+@needs_gcc
+def test_patterns_share_one_solver_per_pivot_order(kernel_on):
     base, mats = _family(n=20, m=2, seed=5)
     a = for_pattern(20, base.indices, base.indptr, mats[0].data)
-    assert for_pattern(20, base.indices, base.indptr, mats[1].data) is a
+    assert for_pattern(20, base.indices, base.indptr, mats[0].data.copy()) is a
+    b = for_pattern(20, base.indices, base.indptr, mats[1].data)
+    assert (b is a) == np.array_equal(b.perm_r, a.perm_r)
 
 
 def test_lu_option_is_checked():
@@ -132,7 +183,8 @@ def test_lu_option_is_checked():
         LinearizedHistory(sysm, t, X, p, Q, lu="klu")
 
 
-def test_beam_totals_with_the_static_lu_equal_the_superlu_totals():
+@needs_gcc
+def test_beam_totals_with_the_static_lu_equal_the_superlu_totals(kernel_on):
     """BeamDynamics (10 nodes, 120 steps, gust-like tip load): the KS-of-root-moment gradient with
     respect to the section stiffness through the static-pivot LU equals the SuperLU one."""
     import openmdao.api as om
@@ -196,3 +248,110 @@ def test_nonzero_pattern_only_grows_across_histories():
     alone = LinearizedHistory(fresh, t, X, spring_removed, Q, lu="superlu")
     assert alone.m_rows.size == first.m_rows.size - 2      # dR_4/du_5 and dR_5/du_4 dropped
     np.testing.assert_array_equal(second.newton_matrix(3).toarray(), alone.newton_matrix(3).toarray())
+
+
+# ---------------------------------------------------------------- the kernel's library
+@needs_gcc
+def test_kernel_library_is_cached_verified_and_rebuilt(tmp_path, monkeypatch):
+    """One compile per source and flags; a second load (new process: cleared registry) calls no
+    compiler; a corrupted library fails its manifest check and is rebuilt."""
+    import subprocess
+
+    monkeypatch.setenv(cc.ENV_CACHE, str(tmp_path))
+    monkeypatch.setattr(c_library, "_LOADED", {})
+    path = c_library.compile_source(static_lu.SOURCE, "lu_kernel")
+    assert path.parent == tmp_path and cc.manifest_path(path).exists()
+    cc.verify(path)
+    assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []   # no leftovers
+
+    def no_gcc(*args, **kwargs):
+        raise AssertionError("gcc called on a cache hit")
+
+    monkeypatch.setattr(subprocess, "run", no_gcc)
+    assert c_library.compile_source(static_lu.SOURCE, "lu_kernel") == path
+    monkeypatch.undo()
+    monkeypatch.setenv(cc.ENV_CACHE, str(tmp_path))
+    path.write_bytes(path.read_bytes()[:100])       # truncated
+    with pytest.raises(cc.CompileError):
+        cc.verify(path)
+    assert c_library.compile_source(static_lu.SOURCE, "lu_kernel") == path
+    cc.verify(path)
+
+
+def test_without_the_kernel_the_static_lu_is_superlu_and_silent(monkeypatch, recwarn):
+    """WINGMDAO_LU_KERNEL=0 (or WINGMDAO_JIT=0, no gcc): lu="static" runs SuperLU, no warning."""
+    monkeypatch.setenv(static_lu.ENV_KERNEL, "0")
+    sysm, t, X, p, Q = _chain_history(n_time=12)
+    lin = LinearizedHistory(sysm, t, X, p, Q)          # the default lu="static"
+    ref = LinearizedHistory(sysm, t, X, p, Q, lu="superlu")
+    assert lin.lu_method == "superlu" and static_lu.kernel() is None
+    g = np.random.default_rng(1).standard_normal(X.shape)
+    np.testing.assert_array_equal(lin.solve_adjoint(g), ref.solve_adjoint(g))
+    assert not [w for w in recwarn if "kernel" in str(w.message)]
+
+
+@needs_gcc
+def test_kernel_products_and_assembly_equal_numpy(kernel_on):
+    """The kernel's Newton-matrix assembly and Jacobian-history products (used whenever it is
+    compiled) equal the NumPy code they replace."""
+    sysm, t, X, p, Q = _chain_history(n_time=20)
+    lin = LinearizedHistory(sysm, t, X, p, Q)
+    assert lin._lib is not None
+    blk = lin._make_blocks(0, lin.n_time, lin.n_time)
+    ref = np.zeros_like(blk.m_data)
+    ref[:, lin._slot[lin._pos_x[lin._x_nz]]] = blk.jx[:, lin._x_nz]
+    ref[:, lin._slot[lin._pos_d[lin._d_nz]]] += lin.coef[:, :1] * blk.jxd[:, lin._d_nz]
+    np.testing.assert_array_equal(blk.m_data, ref)
+    np.testing.assert_array_equal(blk.same[1:], np.all(ref[1:] == ref[:-1], axis=1))
+    np.testing.assert_array_equal(static_lu.nonzero_columns(lin._lib, blk.jx), np.any(blk.jx != 0, axis=0))
+    steady = np.repeat(ref[:1], 4, axis=0)                # identical rows are found
+    assert static_lu.nonzero_columns(lin._lib, steady).sum() == np.count_nonzero(ref[0])
+    rng = np.random.default_rng(3)
+    lam = rng.standard_normal(X.shape)
+    lib, lin._lib = lin._lib, None
+    numpy_products = (lin.apply(lam), lin.apply_transpose(lam), lin.param_product(lam), lin.forcing_product(lam))
+    lin._lib = lib
+    kernel_products = (lin.apply(lam), lin.apply_transpose(lam), lin.param_product(lam), lin.forcing_product(lam))
+    for a, b in zip(kernel_products, numpy_products):
+        np.testing.assert_allclose(a, b, rtol=1e-13, atol=1e-13 * np.max(np.abs(b)))
+
+
+@needs_gcc
+def test_linear_system_shares_factors_and_matches_superlu(kernel_on):
+    """Spring-mass-damper (linear, 2 states): the Newton matrices of the BDF2 steps are identical
+    (the kernel's assembly flags them and factors once per run); the adjoint and tangent sweeps
+    through the kernel equal SuperLU's (dense LAPACK at this size)."""
+    from wingmdao.timemarch.examples import SMD_TABLE_4_18, spring_mass_damper_system
+
+    sysm = spring_mass_damper_system()
+    p = np.array([SMD_TABLE_4_18["mass"], SMD_TABLE_4_18["damping"], SMD_TABLE_4_18["stiffness"]])
+    t = np.linspace(0.0, 1.0, 101)
+    h = march(sysm, t, p, np.zeros((t.size, 1)), initial="state", x_init=[1.0, 0.0])
+    lin = LinearizedHistory(sysm, t, h.states, p, np.zeros((t.size, 1)), initial="state")
+    ref = LinearizedHistory(sysm, t, h.states, p, np.zeros((t.size, 1)), initial="state", lu="superlu")
+    assert lin.lu_method == "static" and lin._full.same[3:].all() and not lin._full.same[1]
+    g = np.random.default_rng(0).standard_normal(h.states.shape)
+    for sweep in ("solve_adjoint", "solve_tangent"):
+        np.testing.assert_allclose(getattr(lin, sweep)(g), getattr(ref, sweep)(g), rtol=1e-10, atol=1e-12)
+
+
+@needs_gcc
+def test_new_nonzeros_found_in_the_assembly_pass_grow_the_pattern(kernel_on):
+    """With the kernel the pattern of earlier histories is checked during the assembly: a history
+    with nonzeros outside it (spring 5 back after a history without it) gets the grown pattern,
+    and its sweeps equal SuperLU's."""
+    sysm, t, X, p, Q = _chain_history(n_time=10)
+    spring_removed = p.copy()
+    spring_removed[3 + 5] = 0.0
+    fresh = type(sysm).__new__(type(sysm))
+    fresh.__dict__.update({k: v for k, v in sysm.__dict__.items() if k != "_linearized_history_nonzeros"})
+    small = LinearizedHistory(fresh, t, X, spring_removed, Q)
+    grown = LinearizedHistory(fresh, t, X, p, Q)
+    assert grown.m_rows.size == small.m_rows.size + 2
+    ref = LinearizedHistory(sysm, t, X, p, Q, lu="superlu")
+    np.testing.assert_array_equal(grown.m_rows, ref.m_rows)
+    np.testing.assert_array_equal(grown.m_data, ref.m_data)
+    again = LinearizedHistory(fresh, t, X, spring_removed, Q)       # the grown pattern stays
+    assert again.m_rows.size == grown.m_rows.size
+    g = np.random.default_rng(4).standard_normal(X.shape)
+    np.testing.assert_allclose(grown.solve_adjoint(g), ref.solve_adjoint(g), rtol=1e-9, atol=1e-10)

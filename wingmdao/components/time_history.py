@@ -77,10 +77,10 @@ class TimeHistoryComponent(om.ImplicitComponent):
                                   "None: when n_time * n_state > MATRIX_FREE_ABOVE")
         self.options.declare("store_factors", default="auto", types=(bool, str),
                              desc="keep every LU factor between sweeps (True/False/'auto')")
-        self.options.declare("lu", default="superlu", values=("superlu", "static"),
-                             desc="sparse LU of the tangent/adjoint sweeps: SuperLU per step, or the "
-                             "static-pivot generated LU (wingmdao.timemarch.static_lu: faster sweeps "
-                             "for long fixed-pattern histories once compiled)")
+        self.options.declare("lu", default="static", values=("static", "superlu"),
+                             desc="sparse LU of the tangent/adjoint sweeps: the static-pivot LU of the "
+                             "compiled C kernel (wingmdao.timemarch.static_lu; SuperLU without gcc or "
+                             "with WINGMDAO_JIT=0), or SuperLU per step")
         self.options.declare("adjoint_memory", default="auto", values=("auto", "full", "checkpoint"),
                              desc="Jacobian blocks of the tangent/adjoint sweeps: 'full' keeps every step's; "
                                   "'checkpoint' keeps only the states and re-evaluates checkpoint_every steps "

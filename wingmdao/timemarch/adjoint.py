@@ -63,10 +63,14 @@ class _Blocks:
     """Jacobian nonzeros of the steps ``off .. off + len - 1`` of a history; the sweeps loop over
     the steps ``lo .. hi - 1`` (the adjoint sweep reads two steps past ``hi``)."""
 
-    __slots__ = ("off", "lo", "hi", "jx", "jxd", "jp", "jq", "m_data", "xd", "factors")
+    __slots__ = ("off", "lo", "hi", "jx", "jxd", "jp", "jq", "m_data", "factors", "same")
 
     def row(self, n):
         return n - self.off
+
+    def xd(self, n, used):
+        """The used nonzeros of dR/dxdot at step n."""
+        return self.jxd[n - self.off, used]
 
 
 class LinearizedHistory:
@@ -84,14 +88,14 @@ class LinearizedHistory:
         beam-like system (8x its nonzeros), and touching that memory made a stored-factor sweep
         5x slower than refactoring (measured, see ``docs/time-marching.md``).
 
-    lu : "superlu" (default) | "static". ``"static"`` factors the steps n >= 1 with one pivot
-        order and generated code (:mod:`wingmdao.timemarch.static_lu`; compiled after
-        ``JIT_THRESHOLD`` evaluations), each solve checked by its componentwise backward error,
-        refined, and redone with SuperLU if that fails. It pays for long histories whose
-        nonzero pattern stays fixed (2.4-3x faster sweeps once compiled, 20-node beams), not by
-        default: generating it costs 6-8 s of Python per pattern (20 nodes), an optimization
-        changes the pattern as the design moves, and interpreted it is slower than SuperLU
-        (docs/time-marching.md, "The static-pivot LU").
+    lu : "static" (default) | "superlu". ``"static"`` factors the steps n >= 1 with one pivot
+        order (SuperLU's for the middle step) in the compiled C kernel of
+        :mod:`wingmdao.timemarch.static_lu` (symbolic analysis once per pattern and pivot order,
+        no code generation), one C call per sweep of a stretch of steps; each solve is checked by
+        its componentwise backward error, refined once, and redone with SuperLU if that fails.
+        Without the kernel (``WINGMDAO_JIT=0``, no gcc) it is SuperLU (``lu_method`` tells which
+        is used). ``"superlu"``: SuperLU for every step (docs/time-marching.md, "The static-pivot
+        LU").
     checkpoint_every : None (default) keeps the Jacobian nonzeros of every step (the arrays
         ``jx, jxd, jp, jq, m_data``: ~170 kB per step of a 20-node beam). An integer k keeps
         only the states (``states`` is the whole converged history, so every step is a
@@ -108,7 +112,7 @@ class LinearizedHistory:
     """
 
     def __init__(self, system, time, states, p, forcing, *, initial="static",
-                 store_factors="auto", auto_limit=100_000, lu="superlu", checkpoint_every=None):
+                 store_factors="auto", auto_limit=100_000, lu="static", checkpoint_every=None):
         t = np.asarray(time, dtype=float)
         self.dt = time_step(t)
         self.system = system
@@ -123,6 +127,7 @@ class LinearizedHistory:
         self._Q = self.forcing = np.array(forcing, dtype=float).reshape(self.n_time, system.n_forcing)
         self._p = np.array(p, dtype=float).reshape(system.n_param)
         self.patterns = system.jacobian_patterns()
+        self._lib = static_lu.kernel()    # the compiled C kernel (assembly, products, static LU) or None
         # coefficients alpha_k(n)/dt; row 0 all zero
         self.coef = np.array([bdf_coefficients(n) for n in range(self.n_time)])
         if self.n_time > 1:
@@ -136,27 +141,45 @@ class LinearizedHistory:
         self._full = self._Xdot = None
         # full storage keeps the rates; checkpointed sweeps recompute them per segment
         self._Xdot = self._rates(0, self.n_time) if checkpoint_every is None else None
+        full = None
         if checkpoint_every is None:
             data = self._raw(0, self.n_time)
-            x_nz, d_nz = np.any(data["x"] != 0.0, axis=0), np.any(data["xdot"] != 0.0, axis=0)
+            seen = self._seen_nonzeros(data)
+            contiguous = data["x"].flags.c_contiguous and data["xdot"].flags.c_contiguous
+            if self._lib is not None and seen is not None and contiguous:
+                # the pattern of the earlier histories, checked in the assembly's pass over the
+                # Jacobians (one pass over ~25 MB instead of two, 20-node beam x 500 steps)
+                x_nz, d_nz = seen[0].copy(), seen[1].copy()
+                self._build_newton_pattern(x_nz, d_nz)
+                full = self._make_blocks(0, self.n_time, self.n_time, data, check=True)
+                if full.factors is not None:        # new nonzeros: grow the pattern, assemble again
+                    x_nz, d_nz = x_nz | full.factors[0], d_nz | full.factors[1]
+                    full = None
+            elif self._lib is not None:
+                x_nz, d_nz = (static_lu.nonzero_columns(self._lib, data[k]) for k in ("x", "xdot"))
+            else:
+                x_nz, d_nz = np.any(data["x"] != 0.0, axis=0), np.any(data["xdot"] != 0.0, axis=0)
         else:
             x_nz, d_nz, same = self._scan()
-        self._build_newton_pattern(x_nz, d_nz)
+        if full is None:
+            self._build_newton_pattern(x_nz, d_nz)
         if checkpoint_every is None:
-            self._full = self._make_blocks(0, self.n_time, self.n_time, data)
+            self._full = full if full is not None else self._make_blocks(0, self.n_time, self.n_time, data)
             self.jx, self.jxd, self.jp, self.jq = data["x"], data["xdot"], data["p"], data["q"]
             self.m_data = self._full.m_data
-            self._xd = (self._xd_rows, self._xd_cols, self._full.xd)
             # steps with the same Newton matrix as the step before share one factorization
-            same = np.zeros(self.n_time, dtype=bool)
-            same[1:] = np.all(self.m_data[1:] == self.m_data[:-1], axis=1)
+            same = self._full.same
+            if same is None:
+                same = np.zeros(self.n_time, dtype=bool)
+                same[1:] = np.all(self.m_data[1:] == self.m_data[:-1], axis=1)
         self._store = store_factors
         self._auto_limit = int(auto_limit)
         self._factors = {}
         self._keep = None
         self._rep = np.maximum.accumulate(np.where(same, 0, np.arange(self.n_time)))
-        self.lu_method = lu if self.n_time > 1 else "superlu"
-        self._static = None           # (StaticPivotLU, factors of every step or None) once computed
+        self.lu_method = lu if self.n_time > 1 and self._lib is not None else "superlu"
+        self._static = None           # the StaticPivotLU once made
+        self._same = None             # uint8: A_n == A_{n-1} (the kernel's reuse of factors)
         self.static_stats = {"refined": 0, "fallback": 0}
         self._adjoint_cache = None    # (lam, sum_n dR_n/dp^T lam_n, dR_n/dq_n^T lam_n) of the last sweep
 
@@ -203,21 +226,51 @@ class LinearizedHistory:
         same[0] = False
         return x_nz, d_nz, same
 
-    def _make_blocks(self, lo, hi, stop, data=None) -> _Blocks:
-        """Blocks of the steps lo..stop-1 (sweeps over lo..hi-1)."""
+    def _seen_nonzeros(self, data):
+        """``(x_nz, d_nz)`` of the earlier histories of this system when they fit ``data``."""
+        seen = getattr(self.system, "_linearized_history_nonzeros", None)
+        if seen is not None and seen[0].shape == data["x"].shape[1:] and seen[1].shape == data["xdot"].shape[1:]:
+            return seen
+        return None
+
+    def _make_blocks(self, lo, hi, stop, data=None, check=False) -> _Blocks:
+        """Blocks of the steps lo..stop-1 (sweeps over lo..hi-1). ``check`` (kernel only): look
+        for nonzeros of dR/dx, dR/dxdot outside the pattern in the same pass; if any, the block's
+        ``factors`` holds their flags ``(x, xdot)`` (the block is then to be remade)."""
         if data is None:
             data = self._raw(lo, stop)
         b = _Blocks()
         b.off, b.lo, b.hi = lo, lo, hi
         b.jx, b.jxd, b.jp, b.jq = data["x"], data["xdot"], data["p"], data["q"]
         m = stop - lo
-        slot, pos_x, pos_d = self._slot, self._pos_x, self._pos_d
-        b.m_data = np.zeros((m, self.m_rows.size))
-        b.m_data[:, slot[pos_x[self._x_nz]]] = b.jx[:, self._x_nz]
-        b.m_data[:, slot[pos_d[self._d_nz]]] += self.coef[lo:stop, :1] * b.jxd[:, self._d_nz]
+        b.m_data = np.empty((m, self.m_rows.size))
+        lib = self._lib
+        if lib is not None and b.jx.flags.c_contiguous and b.jxd.flags.c_contiguous:
+            sx, dx, sd, dd = self._assembly
+            c = np.ascontiguousarray(self.coef[lo:stop, 0])
+            same = np.zeros(m, dtype=np.uint8)     # row t equals row t - 1 (as NumPy's ==)
+            flags = []
+            if check:
+                flags = [np.ascontiguousarray(self._x_nz, dtype=np.uint8), np.ascontiguousarray(self._d_nz, dtype=np.uint8),
+                         np.zeros(self._x_nz.size, dtype=np.uint8), np.zeros(self._d_nz.size, dtype=np.uint8)]
+            found = lib.assemble_newton(m, b.jx.ctypes.data, b.jx.shape[1], sx.ctypes.data, dx.ctypes.data, sx.size,
+                                        b.jxd.ctypes.data, b.jxd.shape[1], sd.ctypes.data, dd.ctypes.data, sd.size,
+                                        c.ctypes.data, b.m_data.ctypes.data, b.m_data.shape[1], same.ctypes.data,
+                                        *(f.ctypes.data for f in flags), *([None] * (4 - len(flags))))
+            b.same = same.view(bool)
+            if found:
+                b.factors = (flags[2].view(bool), flags[3].view(bool))
+                return b
+        else:
+            b.same = None
+            slot, pos_x, pos_d = self._slot, self._pos_x, self._pos_d
+            b.m_data[:] = 0.0
+            b.m_data[:, slot[pos_x[self._x_nz]]] = b.jx[:, self._x_nz]
+            b.m_data[:, slot[pos_d[self._d_nz]]] += self.coef[lo:stop, :1] * b.jxd[:, self._d_nz]
         if self.initial == "state" and lo == 0:
-            b.m_data[0, slot[self._pos_i]] = 1.0
-        b.xd = np.ascontiguousarray(b.jxd[:, self._d_nz])
+            b.m_data[0, self._slot[self._pos_i]] = 1.0
+            if b.same is not None and m > 1:
+                b.same[1] = np.array_equal(b.m_data[1], b.m_data[0])
         b.factors = None
         return b
 
@@ -296,6 +349,15 @@ class LinearizedHistory:
         # dR/dxdot on its used entries, for the history products of the sweeps
         rd, cd, _ = self.patterns["xdot"]
         self._xd_rows, self._xd_cols = rd[d_nz], cd[d_nz]
+        self._d_src = np.flatnonzero(d_nz)
+        # the kernel's assembly of A_n: source columns of dR/dx, dR/dxdot and their slots in m_data
+        i32 = np.int32
+        self._assembly = tuple(np.ascontiguousarray(v, dtype=i32) for v in (
+            np.flatnonzero(x_nz), self._slot[pos_x[x_nz]], self._d_src, self._slot[pos_d[d_nz]]))
+        if "idx32" not in pat:              # the Jacobian patterns as the kernel's int32 (fixed per system)
+            pat["idx32"] = {k: (np.ascontiguousarray(self.patterns[k][0], dtype=i32),
+                                np.ascontiguousarray(self.patterns[k][1], dtype=i32)) for k in self.patterns}
+        self._idx32 = pat["idx32"]
         self._scatter_rows = pat["scatter_rows"]
         self._scatter_cols = pat["scatter_cols"]
         self._a_data = None
@@ -347,9 +409,9 @@ class LinearizedHistory:
         return spla.splu(csc, permc_spec=PERMC_SPEC)     # SuperLU copies the values
 
     def _static_lu(self):
-        """``(StaticPivotLU, factors of every step or None)`` when ``lu_method == "static"``, else
-        None (also when the pattern's reference step cannot be factored: then SuperLU from here
-        on). With checkpoints the factors are made per segment (``_static_factors``)."""
+        """The :class:`~wingmdao.timemarch.static_lu.StaticPivotLU` of this history (pivot order of
+        the middle step) when ``lu_method == "static"``, else None (also when the reference step
+        cannot be factored: then SuperLU from here on)."""
         if self._static is None and self.lu_method == "static":
             mid = self.n_time // 2
             ref = self._block_at(mid)
@@ -357,40 +419,30 @@ class LinearizedHistory:
             if slu is None:
                 self.lu_method = "superlu"
                 return None
-            self._static = (slu, slu.factor_many(self.m_data) if self._full is not None else None)
+            self._static = slu
         return self._static
 
-    def _static_factors(self, st, blk):
-        """Static-pivot factors of the steps of ``blk`` (rows as ``blk.m_data``)."""
-        if self._full is not None:
-            return st[1]
+    def _sweep_data(self, slu, blk):
+        """The kernel's view of the steps of ``blk`` (kept on the block: one per block)."""
         if blk.factors is None:
-            blk.factors = st[0].factor_many(blk.m_data)
+            if self._same is None:
+                self._same = np.zeros(self.n_time, dtype=np.uint8)
+                self._same[1:] = self._rep[1:] == self._rep[:-1]
+            blk.factors = slu.sweep_data(self.n_time, blk.off, blk.m_data, blk.jxd, self._d_src, self._xd_rows,
+                                         self._xd_cols, self.coef, self._same, STATIC_LU_TOL)
         return blk.factors
 
-    def _solve_step(self, blk, n, b, trans="N", st=None):
-        """``A_n x = b`` (or ``A_n^T x = b``) with the step's factors (``st``: static-pivot LU)."""
-        if st is not None and n >= 1:
-            return self._solve_static(st, blk, n, b, trans)
+    def _solve_step(self, blk, n, b, trans="N"):
+        """``A_n x = b`` (or ``A_n^T x = b``) with the step's SuperLU factors."""
         return self._lu(n, blk).solve(b, trans=trans)
 
-    def _solve_static(self, st, blk, n, b, trans, first=None):
-        """Static-pivot solve (compiled), accepted when its componentwise backward error
-        max_i |b - A x|_i / (|A| |x| + |b|)_i is at most ``STATIC_LU_TOL``, else refined once;
-        a step that still fails is solved with SuperLU. ``first``: (x, residual, berr) of a solve
-        already made."""
-        slu = st[0]
-        factors = self._static_factors(st, blk)
-        i = blk.row(n)
-        x, res, berr = first if first is not None else slu.solve(factors[i], blk.m_data[i], b, trans)
-        if berr <= STATIC_LU_TOL:
-            return x
-        self.static_stats["refined"] += 1
-        x = x + slu.solve(factors[i], blk.m_data[i], res, trans)[0]
-        if slu.backward_error(blk.m_data[i], x, b, trans) <= STATIC_LU_TOL:
-            return x
+    def _fallback(self, n, b, trans, blk):
+        """SuperLU solve of a step whose static-pivot solve failed (after refinement)."""
         self.static_stats["fallback"] += 1
-        return self._lu(n, blk).solve(b, trans=trans)
+        x = self._lu(n, blk).solve(b, trans=trans)
+        if not self._keep_factors(None):
+            self._factors.pop(int(self._rep[n]), None)
+        return x
 
     def _keep_factors(self, lu):
         """Whether factors are kept between sweeps (decided once)."""
@@ -411,14 +463,19 @@ class LinearizedHistory:
     # ------------------------------------------------------------------ products
     def _rate_product(self, blk, n, vec):
         """``dR_n/dxdot @ vec``."""
-        return np.bincount(self._xd_rows, blk.xd[blk.row(n)] * vec[self._xd_cols], minlength=self.n_state)
+        return np.bincount(self._xd_rows, blk.xd(n, self._d_src) * vec[self._xd_cols], minlength=self.n_state)
 
     def _rate_product_t(self, blk, n, vec):
         """``dR_n/dxdot^T @ vec``."""
-        return np.bincount(self._xd_cols, blk.xd[blk.row(n)] * vec[self._xd_rows], minlength=self.n_state)
+        return np.bincount(self._xd_cols, blk.xd(n, self._d_src) * vec[self._xd_rows], minlength=self.n_state)
 
     def _hist_product(self, key, data, vec, transpose=False):
-        rows, cols, _ = self.patterns[key]
+        """Per step ``M_n @ vec_n`` (or ``M_n^T @ vec_n``) of the Jacobian ``key``, rows of ``data``."""
+        rows, cols, shape = self.patterns[key]
+        if self._lib is not None and data.flags.c_contiguous:
+            r32, c32 = self._idx32[key]
+            out_idx, in_idx, width = (c32, r32, shape[1]) if transpose else (r32, c32, shape[0])
+            return static_lu.hist_product(self._lib, data, out_idx, in_idx, vec, width)
         if transpose:
             return np.asarray((data * vec[:, rows]) @ self._scatter_cols[key])
         return np.asarray((data * vec[:, cols]) @ self._scatter_rows[key])
@@ -470,6 +527,9 @@ class LinearizedHistory:
         """``sum_n dR_n/dp^T lam_n`` over the steps of ``blk``."""
         rows, cols, shape = self.patterns["p"]
         lo, hi = blk.lo, blk.hi
+        if self._lib is not None and blk.jp.flags.c_contiguous:
+            r32, c32 = self._idx32["p"]
+            return static_lu.hist_product(self._lib, blk.jp[:hi - lo], c32, r32, lam[lo:hi], shape[1], sum_time=True)
         per_nonzero = np.einsum("ij,ij->j", blk.jp[:hi - lo], lam[lo:hi, rows])   # sum over time first
         return np.bincount(cols, per_nonzero, minlength=shape[1])
 
@@ -502,19 +562,38 @@ class LinearizedHistory:
     # ------------------------------------------------------------------ sweeps
     def solve_tangent(self, rhs) -> np.ndarray:
         """Forward sweep: solve ``J dx = rhs``, ``dx_n = A_n^-1 (rhs_n - sum_k B_n,k dx_n-k)``."""
-        rhs = np.asarray(rhs, dtype=float).reshape(self.n_time, self.n_state)
+        rhs = np.ascontiguousarray(np.asarray(rhs, dtype=float).reshape(self.n_time, self.n_state))
         dx = np.zeros_like(rhs)
         st = self._static_lu()
         for blk in self._blocks():
+            if st is not None:
+                self._tangent_block_static(blk, rhs, dx, st)
+                continue
             for n in range(blk.lo, blk.hi):
                 b = rhs[n].copy()
                 if n >= 1:
                     hist = self.coef[n, 1] * dx[n - 1] + (self.coef[n, 2] * dx[n - 2] if n >= 2 else 0.0)
                     b -= self._rate_product(blk, n, hist)
-                dx[n] = self._solve_step(blk, n, b, st=st)
+                dx[n] = self._solve_step(blk, n, b)
                 if n >= 1:
                     self._release(n - 1, n)
         return dx
+
+    def _tangent_block_static(self, blk, rhs, dx, slu):
+        """The tangent sweep over the steps of ``blk``: step 0 with SuperLU, the others in the C
+        kernel (right-hand side, factorization, checked and refined solve); a step whose solve
+        still fails is redone with SuperLU from the kernel's right-hand side."""
+        if blk.lo == 0:
+            dx[0] = self._lu(0, blk).solve(rhs[0])
+        data = self._sweep_data(slu, blk)
+        n, last = max(blk.lo, 1), blk.hi - 1
+        while n <= last:
+            stop, refined = slu.tangent_sweep(data, n, last, rhs, dx)
+            self.static_stats["refined"] += refined
+            if stop > last:
+                break
+            dx[stop] = self._fallback(stop, slu.rhs_buffer.copy(), "N", blk)
+            n = stop + 1
 
     def _adjoint_rhs(self, blk, n, rhs, lam):
         """``rhs_n - B_n+1,1^T lam_n+1 - B_n+2,2^T lam_n+2``: the right-hand side of step n of the
@@ -533,7 +612,7 @@ class LinearizedHistory:
         the products ``param_product(lam)`` and ``forcing_product(lam)`` are formed segment by
         segment in the same sweep and kept for the next call with this ``lam``.
         """
-        rhs = np.asarray(rhs, dtype=float).reshape(self.n_time, self.n_state)
+        rhs = np.ascontiguousarray(np.asarray(rhs, dtype=float).reshape(self.n_time, self.n_state))
         st = self._static_lu()
         lam = np.zeros_like(rhs)
         lean = self._full is None
@@ -554,28 +633,21 @@ class LinearizedHistory:
         self._adjoint_cache = (lam.copy(), dp, dq) if lean else None
         return lam
 
-    def _adjoint_block_static(self, blk, rhs, lam, st):
-        """The adjoint sweep of :meth:`solve_adjoint` over the steps of ``blk`` with one compiled
-        call per step n >= 1: the right-hand side :meth:`_adjoint_rhs`, the static-pivot solve and
-        its backward error (``StaticPivotLU.adjoint_step``). A step whose error is too large is
-        redone from the same right-hand side by :meth:`_solve_static` (refine or SuperLU); step 0
-        uses SuperLU."""
-        slu = st[0]
-        factors = self._static_factors(st, blk)
-        step = slu.adjoint_step(self._xd_rows, self._xd_cols)
-        N = self.n_time
-        none = (np.zeros(self.n_state), np.zeros(self._xd_rows.size), 0.0)   # a step past the end
-
-        def later(m, k):
-            return (lam[m], blk.xd[blk.row(m)], self.coef[m, k]) if m < N else none
-
-        for n in range(blk.hi - 1, max(blk.lo, 1) - 1, -1):
-            i = blk.row(n)
-            x, res, berr = step(factors[i], blk.m_data[i], rhs[n], *later(n + 1, 1), *later(n + 2, 2))
-            if not berr[0] <= STATIC_LU_TOL:      # (also NaN) rare: refine, or SuperLU
-                x = self._solve_static(st, blk, n, self._adjoint_rhs(blk, n, rhs, lam), "T",
-                                       first=(x.copy(), res.copy(), float(berr[0])))
-            lam[n] = x
+    def _adjoint_block_static(self, blk, rhs, lam, slu):
+        """The adjoint sweep of :meth:`solve_adjoint` over the steps n >= 1 of ``blk`` in the C
+        kernel: the right-hand side :meth:`_adjoint_rhs`, the factorization of ``A_n``, the
+        transposed solve, its backward error and one refinement
+        (``StaticPivotLU.adjoint_sweep``). A step whose solve still fails is redone with SuperLU
+        from the kernel's right-hand side; step 0 uses SuperLU."""
+        data = self._sweep_data(slu, blk)
+        n, first = blk.hi - 1, max(blk.lo, 1)
+        while n >= first:
+            stop, refined = slu.adjoint_sweep(data, n, first, rhs, lam)
+            self.static_stats["refined"] += refined
+            if stop < first:
+                break
+            lam[stop] = self._fallback(stop, slu.rhs_buffer.copy(), "T", blk)
+            n = stop - 1
         if blk.lo == 0:
             lam[0] = self._lu(0, blk).solve(self._adjoint_rhs(blk, 0, rhs, lam), trans="T")
 

@@ -1,4 +1,4 @@
-"""Sparse LU with a fixed pivot order, generated once per sparsity pattern and compiled.
+"""Sparse LU with a fixed pivot order: symbolic analysis once per pattern, numeric work in C.
 
 The adjoint (and tangent) sweep of a BDF history needs the exact factors of every step's
 Newton matrix ``A_n`` (Eq. 3.7; ``docs/time-marching.md``). All ``A_n`` share one sparsity
@@ -10,27 +10,97 @@ pattern and change slowly from step to step, but SuperLU redoes its whole analys
 1. *pivot order*: SuperLU's row permutation ``P`` of a reference matrix (partial pivoting,
    natural column order, which is banded for node-major systems);
 2. *symbolic factorization* of ``P A`` (left-looking, Gilbert-Peierls: the structure of column j
-   of L and U is the reach of A(:, j) in the graph of L);
-3. *numeric factorization and triangular solves* written out as CasADi SX expressions of the
-   nonzeros: ``factor(a) -> lu``, ``solve(lu, b)``, ``solve_t(lu, b)`` (``A^T x = b``), mapped over
-   all steps for the factorization and compiled to C like the residual functions
-   (:mod:`wingmdao.utils.casadi_cache`).
+   of L and U is the reach of A(:, j) in the graph of L), in Python (~20 ms, 20-node beam);
+3. *numeric factorization, triangular solves and backward errors* in one hand-written C file
+   (``lu_kernel.c``), compiled once per machine (:mod:`wingmdao.utils.c_library`) and driven by
+   the integer arrays of steps 1-2, so a new pattern costs no code generation; the whole sweep of
+   :class:`~wingmdao.timemarch.adjoint.LinearizedHistory` (right-hand sides, factorization,
+   checked solve, one refinement) runs in one C call per stretch of steps.
 
 Static pivoting is safe only while the pivots chosen for the reference stay good for every step.
-Callers check that a-posteriori with the componentwise backward error (Oettli-Prager) of the
-result and refine or fall back to SuperLU (:class:`~wingmdao.timemarch.adjoint.LinearizedHistory`).
+Each solve is checked a posteriori with the componentwise backward error (Oettli-Prager) of the
+result, refined once, and reported to the caller when still too large (the caller then uses
+SuperLU for that step: :class:`~wingmdao.timemarch.adjoint.LinearizedHistory`).
+
+Without the compiled kernel (``WINGMDAO_JIT=0``, no gcc) :func:`kernel` is None, :func:`for_pattern`
+returns None and the callers use SuperLU. ``WINGMDAO_LU_KERNEL=1`` turns the kernel on whatever
+``WINGMDAO_JIT`` says (the tests, which run the CasADi functions interpreted), ``=0`` off.
 """
 
 from __future__ import annotations
 
+import ctypes
 import hashlib
+import os
+from pathlib import Path
 
-import casadi as ca
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from wingmdao.utils.casadi_cache import JitCall, compile_calls, definition_key
+from wingmdao.utils import c_library
+from wingmdao.utils import casadi_cache as cc
+
+SOURCE = Path(__file__).with_name("lu_kernel.c")
+ENV_KERNEL = "WINGMDAO_LU_KERNEL"
+_KERNELS: dict = {}
+
+_P = ctypes.c_void_p
+_I = ctypes.c_int
+
+
+class _Pattern(ctypes.Structure):
+    _fields_ = [("n", _I), ("nnz", _I)] + [(k, _P) for k in ("indptr", "rows", "prow", "perm", "lp", "li", "up", "ui")]
+
+
+class _Sweep(ctypes.Structure):
+    _fields_ = [("n_time", _I), ("off", _I), ("nd", _I), ("njd", _I), ("a", _P), ("jd", _P),
+                ("src", _P), ("drow", _P), ("dcol", _P), ("coef", _P), ("same", _P), ("tol", ctypes.c_double)]
+
+
+_SIGNATURES = {
+    "lu_kernel_version": ([], _I),
+    "lu_factor": ([_P, _I, _P, _P, _P], None),
+    "lu_solve": ([_P, _P, _P, _I, _P], None),
+    "lu_berr": ([_P, _P, _P, _P, _I, _P, _P], ctypes.c_double),
+    "lu_solve_checked": ([_P, _P, _P, _P, _P, _P, _I, _P], ctypes.c_double),
+    "adjoint_sweep": ([_P, _P, _I, _I, _P, _P, _P, _P, _P, _P], _I),
+    "tangent_sweep": ([_P, _P, _I, _I, _P, _P, _P, _P, _P, _P], _I),
+    "hist_product": ([_I, _I, _P, _P, _P, _P, _I, _P, _I, _I, _P], None),
+    "assemble_newton": ([_I, _P, _I, _P, _P, _I, _P, _I, _P, _P, _I, _P, _P, _I, _P, _P, _P, _P, _P], _I),
+    "nonzero_columns": ([_I, _I, _P, _P], None),
+}
+
+
+def kernel():
+    """The compiled kernel (``ctypes.CDLL``), or None when compilation is off or impossible
+    (``WINGMDAO_LU_KERNEL``: 1 on, 0 off, unset: as ``WINGMDAO_JIT``)."""
+    env = os.environ.get(ENV_KERNEL, "").strip().lower()
+    if env in ("0", "false", "no", "off"):
+        return None
+    key = (env, os.environ.get(cc.ENV_JIT), os.environ.get(cc.ENV_CACHE), os.environ.get("CC"))
+    if key in _KERNELS:                 # (c_library.load resolves paths: ~16 stat calls)
+        return _KERNELS[key]
+    lib = _KERNELS[key] = c_library.load(SOURCE, "lu_kernel", force=env in ("1", "true", "yes", "on"))
+    if lib is not None and not getattr(lib, "_wingmdao_typed", False):
+        for name, (args, res) in _SIGNATURES.items():
+            fn = getattr(lib, name)
+            fn.argtypes, fn.restype = args, res
+        lib._wingmdao_typed = True
+    return lib
+
+
+def _ptr(a):
+    return a.ctypes.data
+
+
+def _i32(a):
+    return np.ascontiguousarray(a, dtype=np.int32)
+
+
+def _f64(a):
+    a = np.asarray(a, dtype=float)
+    return a if a.flags.c_contiguous else np.ascontiguousarray(a)
 
 
 def symbolic_lu(n, rows, indptr):
@@ -58,233 +128,176 @@ def symbolic_lu(n, rows, indptr):
     return l_struct, u_struct
 
 
-def _sparse_product(vals, x, out_idx, in_idx, n, absolute=False):
-    """SX ``M x`` for ``M`` with nonzeros ``vals`` at (out_idx[k], in_idx[k]); with ``absolute``
-    also ``|M| |x|``."""
-    terms = [[] for _ in range(n)]
-    for k, i in enumerate(out_idx):
-        terms[int(i)].append(k)
-    prod, absprod = [], []
-    for t in terms:
-        if not t:
-            prod.append(ca.SX(0))
-            absprod.append(ca.SX(0))
-            continue
-        vk = ca.vertcat(*[vals[k] for k in t])
-        xk = ca.vertcat(*[x[int(in_idx[k])] for k in t])
-        prod.append(ca.dot(vk, xk))
-        if absolute:
-            absprod.append(ca.dot(ca.fabs(vk), ca.fabs(xk)))
-    if absolute:
-        return ca.vertcat(*prod), ca.vertcat(*absprod)
-    return ca.vertcat(*prod)
+def pivot_order(n, rows, indptr, reference) -> np.ndarray:
+    """SuperLU's row permutation (partial pivoting, natural column order) of the reference
+    matrix: row i of A is row ``perm_r[i]`` of ``P A``. Raises RuntimeError when singular."""
+    ref = sp.csc_matrix((np.asarray(reference, dtype=float), rows, indptr), shape=(n, n))
+    return np.asarray(spla.splu(ref, permc_spec="NATURAL").perm_r, dtype=int)
 
 
 class StaticPivotLU:
-    """LU factors ``P A = L U`` of many matrices with one pattern, one pivot order.
+    """LU factors ``P A = L U`` of many matrices with one pattern, one pivot order (C kernel).
 
     Parameters
     ----------
     n : size; rows, indptr : CSC pattern (sorted rows per column)
     reference : nonzero values (CSC order) from which the row pivot order is chosen
-    threshold : evaluations before the functions are compiled (see ``JitFunction``)
+    perm_r : the row permutation itself instead of ``reference`` (see :func:`pivot_order`)
+
+    Raises RuntimeError without the compiled kernel (:func:`kernel`).
     """
 
-    def __init__(self, n, rows, indptr, reference, threshold=2000):
+    def __init__(self, n, rows, indptr, reference=None, perm_r=None):
+        self.lib = kernel()
+        if self.lib is None:
+            raise RuntimeError("the static-pivot LU kernel is not compiled (WINGMDAO_JIT=0 or no gcc)")
         self.n = int(n)
         self.rows = np.asarray(rows, dtype=int)
         self.indptr = np.asarray(indptr, dtype=int)
         self.nnz = self.rows.size
-        ref = sp.csc_matrix((np.asarray(reference, dtype=float), self.rows, self.indptr), shape=(n, n))
-        lu = spla.splu(ref, permc_spec="NATURAL")
-        self.perm_r = np.asarray(lu.perm_r, dtype=int)       # row i of A is row perm_r[i] of P A
-        self.inv_perm = np.argsort(self.perm_r)                # row r of P A is row inv_perm[r] of A
-        # pattern of P A: permute the row indices, keep the nonzero numbering of A
+        if perm_r is None:
+            perm_r = pivot_order(self.n, self.rows, self.indptr, reference)
+        self.perm_r = np.asarray(perm_r, dtype=int)         # row i of A is row perm_r[i] of P A
+        self.inv_perm = np.argsort(self.perm_r)               # row r of P A is row inv_perm[r] of A
         prow = self.perm_r[self.rows]
-        order = np.lexsort((prow, np.repeat(np.arange(n), np.diff(self.indptr))))
-        self._pa_rows = prow[order]
-        self._pa_source = order                                # PA nonzero k = A nonzero order[k]
-        self.l_struct, self.u_struct = symbolic_lu(n, self._pa_rows, self.indptr)
-        self._build_functions(threshold)
-
-    # ------------------------------------------------------------------ generation
-    def _build_functions(self, threshold):
-        n = self.n
-        a = ca.SX.sym("a", self.nnz)
-        # dense working column of SX (zeros where structurally zero), left-looking elimination
-        l_val, u_val, diag = [], [], []
-        for j in range(n):
-            x = {}
-            for k in range(self.indptr[j], self.indptr[j + 1]):
-                x[int(self._pa_rows[k])] = a[int(self._pa_source[k])]
-            for k in self.u_struct[j]:
-                xk = x.get(int(k), 0)
-                for i, lik in zip(self.l_struct[k], l_val[k]):
-                    x[int(i)] = x.get(int(i), 0) - lik * xk
-            piv = x[j]
-            diag.append(piv)
-            u_val.append([x.get(int(k), ca.SX(0)) for k in self.u_struct[j]])
-            l_val.append([x.get(int(i), ca.SX(0)) / piv for i in self.l_struct[j]])
+        order = np.lexsort((prow, np.repeat(np.arange(self.n), np.diff(self.indptr))))
+        self.l_struct, self.u_struct = symbolic_lu(self.n, prow[order], self.indptr)
         self._l_off = np.cumsum([0] + [len(s) for s in self.l_struct])
         self._u_off = np.cumsum([0] + [len(s) for s in self.u_struct])
-        lu = ca.vertcat(*[v for col in l_val for v in col], *[v for col in u_val for v in col], *diag)
-        self.n_lu = lu.shape[0]
-        name = "static_lu_" + self.key()
-        self.factor_fun = ca.Function(name + "_factor", [a], [lu])
+        self.n_lu = int(self._l_off[-1] + self._u_off[-1] + self.n)
+        # the kernel's arrays (kept alive with the structure that points to them)
+        self._arrays = {"indptr": _i32(self.indptr), "rows": _i32(self.rows), "prow": _i32(prow),
+                        "perm": _i32(self.perm_r), "lp": _i32(self._l_off),
+                        "li": _i32(np.concatenate([np.zeros(0, int), *self.l_struct])),
+                        "up": _i32(self._u_off), "ui": _i32(np.concatenate([np.zeros(0, int), *self.u_struct]))}
+        self._pattern = _Pattern(self.n, self.nnz, *(_ptr(self._arrays[k]) for k, _ in _Pattern._fields_[2:]))
+        self._pp = ctypes.addressof(self._pattern)
+        self._work = np.zeros(5 * self.n)
+        self._f = np.zeros(self.n_lu)
+        self._b = np.zeros(self.n)
 
-        # triangular solves on the symbolic factors
-        f = ca.SX.sym("lu", self.n_lu)
-        nl, nu = int(self._l_off[-1]), int(self._u_off[-1])
-        L = [f[int(self._l_off[j]):int(self._l_off[j + 1])] for j in range(n)]
-        U = [f[nl + int(self._u_off[j]):nl + int(self._u_off[j + 1])] for j in range(n)]
-        D = [f[nl + nu + j] for j in range(n)]
-        b = ca.SX.sym("b", n)
-        # A x = b:  L y = P b, U x = y
-        y = [b[int(self.inv_perm[r])] for r in range(n)]
-        for j in range(n):
-            for t, i in enumerate(self.l_struct[j]):
-                y[i] = y[i] - L[j][t] * y[j]
-        for j in range(n - 1, -1, -1):
-            y[j] = y[j] / D[j]
-            for t, i in enumerate(self.u_struct[j]):
-                y[i] = y[i] - U[j][t] * y[j]
-        raw_solve = ca.Function("raw_solve", [f, b], [ca.vertcat(*y)])
-        # A^T x = b:  U^T z = b, L^T w = z, x = P^T w
-        z = [b[j] for j in range(n)]
-        for j in range(n):
-            s = z[j]
-            for t, i in enumerate(self.u_struct[j]):
-                s = s - U[j][t] * z[i]
-            z[j] = s / D[j]
-        for j in range(n - 1, -1, -1):
-            s = z[j]
-            for t, i in enumerate(self.l_struct[j]):
-                s = s - L[j][t] * z[i]
-            z[j] = s
-        raw_solve_t = ca.Function("raw_solve_t", [f, b], [ca.vertcat(*[z[int(self.perm_r[i])] for i in range(n)])])
-        self._raw_t = raw_solve_t
-        self._name = name
-        self._threshold = threshold
-        self._steps = {}
-        a = ca.SX.sym("a", self.nnz)
-        cols = np.repeat(np.arange(n), np.diff(self.indptr))
-        self.solve_fun = self._checked(name + "_solve", raw_solve, f, a, b, self.rows, cols)
-        self.solve_t_fun = self._checked(name + "_solve_t", raw_solve_t, f, a, b, cols, self.rows)
-        # what defines the generated functions (key of their compiled libraries; no serialization)
-        self._definition = definition_key("StaticPivotLU", (self.n, self._pattern_digest()), (__name__,))
-        self._calls = {k: JitCall(fun, threshold, copy_outputs=False, definition=self._definition)
-                       for k, fun in (("factor", self.factor_fun), ("solve", self.solve_fun),
-                                      ("solve_t", self.solve_t_fun))}
-
-    def _checked(self, name, raw, f, a, b, out_idx, in_idx, extra_inputs=(), rhs=None):
-        """``(lu, a, b, *extra) -> (x, r, berr)``: the solve ``M x = rhs`` (``rhs`` defaults to
-        ``b``), its residual ``r = rhs - M x`` and its componentwise backward error
-        max_i |r_i| / (|M| |x| + |rhs|)_i, with M = A (``out_idx`` = rows, ``in_idx`` = cols) or
-        A^T (swapped)."""
-        rhs = b if rhs is None else rhs
-        x = raw(f, rhs)
-        prod, absprod = _sparse_product(a, x, out_idx, in_idx, self.n, absolute=True)
-        res = rhs - prod
-        scale = absprod + ca.fabs(rhs)
-        berr = ca.mmax(ca.if_else(scale > 0, ca.fabs(res) / ca.fmax(scale, 1e-300), ca.fabs(res) * 1e300))
-        return ca.Function(name, [f, a, b, *extra_inputs], [x, res, berr])
-
-    def adjoint_step(self, rate_rows, rate_cols):
-        """Compiled step of the BDF adjoint sweep (``LinearizedHistory.solve_adjoint``)::
-
-            (lu_n, a_n, g_n, lam1, r1, c1, lam2, r2, c2) -> (lam_n, residual, berr)
-            A_n^T lam_n = g_n - c1 R1^T lam1 - c2 R2^T lam2
-
-        with R1, R2 the rate Jacobians dR/dxdot of steps n+1, n+2 (nonzeros ``r1``, ``r2`` on the
-        pattern ``rate_rows, rate_cols``) and c1, c2 their BDF coefficients; the residual and
-        backward error are those of the ``A_n^T`` solve. Cached per rate pattern."""
-        h = hashlib.sha256()
-        for arr in (rate_rows, rate_cols):
-            h.update(np.ascontiguousarray(arr, dtype=np.int64).tobytes())
-        full = h.hexdigest()
-        key = full[:12]
-        call = self._steps.get(key)
-        if call is None:
-            n, m = self.n, len(rate_rows)
-            f, a, g = ca.SX.sym("lu", self.n_lu), ca.SX.sym("a", self.nnz), ca.SX.sym("g", n)
-            lam1, lam2 = ca.SX.sym("lam1", n), ca.SX.sym("lam2", n)
-            r1, r2 = ca.SX.sym("r1", m), ca.SX.sym("r2", m)
-            c1, c2 = ca.SX.sym("c1"), ca.SX.sym("c2")
-            b = (g - c1 * _sparse_product(r1, lam1, rate_cols, rate_rows, n)
-                 - c2 * _sparse_product(r2, lam2, rate_cols, rate_rows, n))
-            cols = np.repeat(np.arange(n), np.diff(self.indptr))
-            fun = self._checked(f"{self._name}_adjoint_{key}", self._raw_t, f, a, g, cols, self.rows,
-                                extra_inputs=(lam1, r1, c1, lam2, r2, c2), rhs=b)
-            call = self._steps[key] = JitCall(fun, self._threshold, copy_outputs=False,
-                                              definition=f"{self._definition}:{full}")
-        return call
-
-    def _pattern_digest(self) -> str:
-        """SHA-256 of the pattern and pivot order."""
+    def key(self) -> str:
+        """Hash of the pattern and pivot order."""
         h = hashlib.sha256()
         for arr in (self.rows, self.indptr, self.perm_r):
             h.update(np.ascontiguousarray(arr, dtype=np.int64).tobytes())
-        return h.hexdigest()
+        return h.hexdigest()[:12]
 
-    def key(self) -> str:
-        """Hash of the pattern and pivot order (names the generated functions)."""
-        return self._pattern_digest()[:12]
-
-    # ------------------------------------------------------------------ evaluation
-    def compile(self, wait=True) -> dict:
-        """Compile (or load from the cache) all functions made so far now; returns their states."""
-        return compile_calls({**self._calls, **{f"adjoint_{k}": c for k, c in self._steps.items()}}, wait)
-
+    # ------------------------------------------------------------------ single matrices
     def factor(self, values) -> np.ndarray:
-        """Factors of one matrix (nonzeros in CSC order) -> (n_lu,)."""
-        return self._calls["factor"](values)[0].copy()
+        """Factors of one matrix (nonzeros in CSC order) -> (n_lu,): L, U by columns, diag(U)."""
+        return self.factor_many(np.reshape(values, (1, -1)))[0]
 
     def factor_many(self, values) -> np.ndarray:
         """Factors of a stack of matrices (m, nnz) -> (m, n_lu)."""
-        values = np.asarray(values, dtype=float)
-        call = self._calls["factor"]
-        fast = call.refresh()
-        call.jit.count(values.shape[0])
+        values = _f64(values)
+        if values.ndim != 2 or values.shape[1] != self.nnz:
+            raise ValueError(f"values must have shape (m, {self.nnz}), got {values.shape}")
         out = np.empty((values.shape[0], self.n_lu))
-        arg, res = fast.inp[0], fast.out[0]
-        for k in range(values.shape[0]):
-            arg[:] = values[k]
-            fast.eval()
-            out[k] = res
+        self.lib.lu_factor(self._pp, values.shape[0], _ptr(values), _ptr(out), _ptr(self._work))
         return out
 
     def solve(self, lu, values, b, trans="N"):
         """``A x = b`` (``trans="N"``) or ``A^T x = b`` (``"T"``) with the factors ``lu`` of the
         matrix with nonzeros ``values``; returns ``(x, residual, backward_error)``."""
-        x, res, berr = self._calls["solve" if trans == "N" else "solve_t"](lu, values, b)
-        return x.copy(), res.copy(), float(berr[0])
+        lu, values, b = _f64(lu), _f64(values), _f64(b)
+        x, res = np.empty(self.n), np.empty(self.n)
+        berr = self.lib.lu_solve_checked(self._pp, _ptr(lu), _ptr(values), _ptr(b), _ptr(x), _ptr(res),
+                                         0 if trans == "N" else 1, _ptr(self._work))
+        return x, res, float(berr)
 
     def backward_error(self, values, x, b, trans="N") -> float:
         """Componentwise backward error max_i |b - M x|_i / (|M| |x| + |b|)_i (M = A or A^T)."""
-        cols = np.repeat(np.arange(self.n), np.diff(self.indptr))
-        out, inp = (self.rows, cols) if trans == "N" else (cols, self.rows)
-        res = b - np.bincount(out, values * x[inp], minlength=self.n)
-        scale = np.bincount(out, np.abs(values) * np.abs(x[inp]), minlength=self.n) + np.abs(b)
-        return float(np.max(np.abs(res) / np.where(scale > 0, scale, 1e-300)))
+        values, x, b = _f64(values), _f64(x), _f64(b)
+        res = np.empty(self.n)
+        return float(self.lib.lu_berr(self._pp, _ptr(values), _ptr(x), _ptr(b), 0 if trans == "N" else 1,
+                                      _ptr(res), _ptr(self._work)))
+
+    # ------------------------------------------------------------------ sweeps
+    def sweep_data(self, n_time, off, a, jd, src, drow, dcol, coef, same, tol):
+        """The history seen by :meth:`adjoint_sweep` and :meth:`tangent_sweep`: Newton-matrix
+        nonzeros ``a`` (steps off.., nnz), rate-Jacobian nonzeros ``jd`` (steps off..), of which
+        ``jd[:, src]`` sit at ``(drow, dcol)``; ``coef`` (n_time, 3) the BDF coefficients / dt,
+        ``same[n]``: ``A_n == A_{n-1}``; ``tol`` the accepted backward error. The returned object
+        keeps its arrays alive."""
+        keep = [_f64(a), _f64(jd), _i32(src), _i32(drow), _i32(dcol), _f64(coef),
+                np.ascontiguousarray(same, dtype=np.uint8)]
+        if keep[0].shape[1] != self.nnz:
+            raise ValueError(f"a must have {self.nnz} columns, got {keep[0].shape}")
+        s = _Sweep(int(n_time), int(off), int(keep[2].size), int(keep[1].shape[1]),
+                   *(_ptr(k) for k in keep), float(tol))
+        s._keep = keep
+        return s
+
+    def adjoint_sweep(self, data, hi, lo, rhs, lam):
+        """Steps ``hi, hi-1, .., lo`` (lo >= 1) of ``A_n^T lam_n = rhs_n - c(n+1,1) R_{n+1}^T
+        lam_{n+1} - c(n+2,2) R_{n+2}^T lam_{n+2}`` into ``lam`` (n_time, n; C-contiguous) in place.
+        Returns ``(stop, refined)``: the step whose refined solve failed (its right-hand side in
+        ``self.rhs_buffer``) or ``lo - 1``, and the number of refined steps."""
+        counts = (ctypes.c_int * 1)(0)
+        stop = self.lib.adjoint_sweep(self._pp, ctypes.addressof(data), int(hi), int(lo), _ptr(rhs), _ptr(lam),
+                                      _ptr(self._f), _ptr(self._b), _ptr(self._work), counts)
+        return int(stop), int(counts[0])
+
+    def tangent_sweep(self, data, lo, hi, rhs, dx):
+        """Steps ``lo..hi`` (lo >= 1) of ``A_n dx_n = rhs_n - R_n (c(n,1) dx_{n-1} + c(n,2)
+        dx_{n-2})`` into ``dx`` in place. Returns ``(stop, refined)`` (stop ``hi + 1``: all done)."""
+        counts = (ctypes.c_int * 1)(0)
+        stop = self.lib.tangent_sweep(self._pp, ctypes.addressof(data), int(lo), int(hi), _ptr(rhs), _ptr(dx),
+                                      _ptr(self._f), _ptr(self._b), _ptr(self._work), counts)
+        return int(stop), int(counts[0])
+
+    @property
+    def rhs_buffer(self) -> np.ndarray:
+        """The right-hand side of the step at which a sweep stopped."""
+        return self._b
+
+
+def nonzero_columns(lib, data) -> np.ndarray:
+    """Columns of ``data`` (nt, m) with a nonzero in some row (bool, (m,)); the C kernel."""
+    data = _f64(data)
+    out = np.zeros(data.shape[1], dtype=np.uint8)
+    lib.nonzero_columns(data.shape[0], data.shape[1], _ptr(data), _ptr(out))
+    return out.view(bool)
+
+
+def hist_product(lib, data, out_idx, in_idx, vec, n_out, sum_time=False, out=None):
+    """``out[t, out_idx[k]] += data[t, k] vec[t, in_idx[k]]`` (the C kernel; ``out`` zero if not
+    given); with ``sum_time`` one row summed over t. ``out_idx``, ``in_idx`` int32."""
+    data, vec = _f64(data), _f64(vec)
+    nt, nnz = data.shape
+    if out is None:
+        out = np.zeros(n_out if sum_time else (nt, n_out))
+    acc = np.zeros(nnz) if sum_time else None
+    lib.hist_product(nt, nnz, _ptr(data), _ptr(out_idx), _ptr(in_idx), _ptr(vec), vec.shape[1], _ptr(out),
+                     n_out, 1 if sum_time else 0, None if acc is None else _ptr(acc))
+    return out
 
 
 _CACHE: dict = {}
-#: Patterns kept by :func:`for_pattern` (each holds three CasADi functions).
-CACHE_SIZE = 8
+#: Patterns (with pivot orders) kept by :func:`for_pattern`.
+CACHE_SIZE = 16
 
 
 def for_pattern(n, rows, indptr, reference):
-    """The :class:`StaticPivotLU` of a pattern (cached per pattern; the first reference matrix
-    fixes the pivot order), or None when the reference cannot be factored."""
+    """The :class:`StaticPivotLU` of a pattern with the pivot order of ``reference`` (cached per
+    pattern and pivot order: a new reference with the same pivots costs one SuperLU factorization),
+    or None when the kernel is not compiled or the reference cannot be factored."""
+    if kernel() is None:
+        return None
+    try:
+        perm = pivot_order(int(n), np.asarray(rows), np.asarray(indptr), reference)
+    except RuntimeError:     # singular reference
+        return None
     h = hashlib.sha256()
-    for arr in (rows, indptr):
+    for arr in (rows, indptr, perm):
         h.update(np.ascontiguousarray(arr, dtype=np.int64).tobytes())
     key = (int(n), h.hexdigest())
     slu = _CACHE.get(key)
     if slu is None:
         try:
-            slu = StaticPivotLU(n, rows, indptr, reference)
-        except (RuntimeError, ValueError):   # singular reference or a structural zero pivot
+            slu = StaticPivotLU(n, rows, indptr, perm_r=perm)
+        except ValueError:   # a structural zero pivot
             return None
         if len(_CACHE) >= CACHE_SIZE:
             _CACHE.pop(next(iter(_CACHE)))

@@ -1,0 +1,330 @@
+/* Static-pivot sparse LU and the BDF tangent/adjoint sweeps of wingmdao.timemarch.adjoint.
+ *
+ * Data-driven: the symbolic structure of P A = L U (row permutation P, column structures of L
+ * and U, computed once per pattern in wingmdao/timemarch/static_lu.py) comes in as integer
+ * arrays, so one compiled library serves every pattern. Left-looking numeric factorization
+ * (Gilbert & Peierls, SIAM J. Sci. Stat. Comput. 9, 1988) with the pivots fixed; each solve is
+ * checked by its componentwise backward error (Oettli & Prager, Numer. Math. 6, 1964)
+ *     berr = max_i |b - M x|_i / (|M| |x| + |b|)_i,
+ * refined once when above the tolerance, and reported to the caller (which uses SuperLU for that
+ * step) when still above. Indices are int32, values double, arrays C-contiguous.
+ *
+ * Factor layout (n_lu = nl + nu + n doubles): L below the diagonal by columns, U above the
+ * diagonal by columns, then the diagonal of U. L has a unit diagonal.
+ */
+#include <math.h>
+#include <string.h>
+
+typedef struct {
+    int n, nnz;
+    const int *indptr;  /* n + 1: CSC column pointers of A */
+    const int *rows;    /* nnz: row of each nonzero of A */
+    const int *prow;    /* nnz: row of each nonzero in P A (perm[rows[k]]) */
+    const int *perm;    /* n: row i of A is row perm[i] of P A */
+    const int *lp, *li; /* L strictly lower: column pointers (n + 1), rows */
+    const int *up, *ui; /* U strictly upper: column pointers (n + 1), rows (ascending) */
+} lu_pattern;
+
+int lu_kernel_version(void) { return 4; }
+
+/* Factors of m matrices with nonzeros a (m x nnz) into f (m x n_lu); work: n doubles, zero on
+ * entry and on return. A zero pivot gives inf/NaN factors (caught by the backward error). */
+void lu_factor(const lu_pattern *p, int m, const double *a, double *f, double *work)
+{
+    const int n = p->n, nl = p->lp[n], nu = p->up[n], nlu = nl + nu + n;
+    for (int s = 0; s < m; ++s) {
+        const double *as = a + (size_t)s * p->nnz;
+        double *L = f + (size_t)s * nlu, *U = L + nl, *D = U + nu;
+        double *x = work;
+        for (int j = 0; j < n; ++j) {
+            for (int k = p->indptr[j]; k < p->indptr[j + 1]; ++k)
+                x[p->prow[k]] = as[k];
+            for (int t = p->up[j]; t < p->up[j + 1]; ++t) {      /* ascending: topological order */
+                const int k = p->ui[t];
+                const double xk = x[k];
+                U[t] = xk;
+                x[k] = 0.0;
+                if (xk != 0.0)
+                    for (int q = p->lp[k]; q < p->lp[k + 1]; ++q)
+                        x[p->li[q]] -= L[q] * xk;
+            }
+            const double piv = x[j];
+            D[j] = piv;
+            x[j] = 0.0;
+            for (int q = p->lp[j]; q < p->lp[j + 1]; ++q) {
+                L[q] = x[p->li[q]] / piv;
+                x[p->li[q]] = 0.0;
+            }
+        }
+    }
+}
+
+/* x := M^-1 b in place (M = A for trans = 0, A^T otherwise); work: n doubles. */
+void lu_solve(const lu_pattern *p, const double *f, double *x, int trans, double *work)
+{
+    const int n = p->n, nl = p->lp[n], nu = p->up[n];
+    const double *L = f, *U = f + nl, *D = U + nu;
+    double *y = work;
+    if (!trans) {           /* L U y = P b, x = y */
+        for (int i = 0; i < n; ++i)
+            y[p->perm[i]] = x[i];
+        for (int j = 0; j < n; ++j) {
+            const double yj = y[j];
+            if (yj != 0.0)
+                for (int q = p->lp[j]; q < p->lp[j + 1]; ++q)
+                    y[p->li[q]] -= L[q] * yj;
+        }
+        for (int j = n - 1; j >= 0; --j) {
+            const double yj = y[j] / D[j];
+            y[j] = yj;
+            if (yj != 0.0)
+                for (int t = p->up[j]; t < p->up[j + 1]; ++t)
+                    y[p->ui[t]] -= U[t] * yj;
+        }
+        memcpy(x, y, (size_t)n * sizeof(double));
+    } else {                /* U^T z = b, L^T w = z, x = P^T w */
+        for (int j = 0; j < n; ++j) {
+            double s = x[j];
+            for (int t = p->up[j]; t < p->up[j + 1]; ++t)
+                s -= U[t] * y[p->ui[t]];
+            y[j] = s / D[j];
+        }
+        for (int j = n - 1; j >= 0; --j) {
+            double s = y[j];
+            for (int q = p->lp[j]; q < p->lp[j + 1]; ++q)
+                s -= L[q] * y[p->li[q]];
+            y[j] = s;
+        }
+        for (int i = 0; i < n; ++i)
+            x[i] = y[p->perm[i]];
+    }
+}
+
+/* res = b - M x and the componentwise backward error (inf when a scale is zero but its residual
+ * is not, or for NaN); work: n doubles. */
+double lu_berr(const lu_pattern *p, const double *a, const double *x, const double *b, int trans,
+               double *res, double *work)
+{
+    const int n = p->n;
+    double berr = 0.0;
+    if (trans) {            /* (A^T x)_j = sum_k a_k x[rows_k] over column j */
+        for (int j = 0; j < n; ++j) {
+            double s = 0.0, sa = 0.0;
+            for (int k = p->indptr[j]; k < p->indptr[j + 1]; ++k) {
+                const double v = a[k] * x[p->rows[k]];
+                s += v;
+                sa += fabs(v);
+            }
+            res[j] = b[j] - s;
+            work[j] = sa + fabs(b[j]);
+        }
+    } else {
+        for (int i = 0; i < n; ++i) {
+            res[i] = b[i];
+            work[i] = fabs(b[i]);
+        }
+        for (int j = 0; j < n; ++j) {
+            const double xj = x[j];
+            for (int k = p->indptr[j]; k < p->indptr[j + 1]; ++k) {
+                const double v = a[k] * xj;
+                res[p->rows[k]] -= v;
+                work[p->rows[k]] += fabs(v);
+            }
+        }
+    }
+    for (int i = 0; i < n; ++i) {
+        const double r = fabs(res[i]), s = work[i];
+        double e = s > 0.0 ? r / s : (r == 0.0 ? 0.0 : INFINITY);
+        if (isnan(e))
+            e = INFINITY;
+        if (e > berr)
+            berr = e;
+    }
+    return berr;
+}
+
+/* Checked solve: x = M^-1 b, refined once when berr > tol. Returns the final backward error;
+ * *refined is set to 1 when a refinement was made. work: 3 n doubles. */
+static double checked_solve(const lu_pattern *p, const double *f, const double *a, const double *b,
+                            double *x, int trans, double tol, int *refined, double *work)
+{
+    const int n = p->n;
+    double *res = work + n, *d = work + 2 * n;
+    memcpy(x, b, (size_t)n * sizeof(double));
+    lu_solve(p, f, x, trans, work);
+    double berr = lu_berr(p, a, x, b, trans, res, work);
+    *refined = 0;
+    if (berr <= tol)
+        return berr;
+    *refined = 1;
+    memcpy(d, res, (size_t)n * sizeof(double));
+    lu_solve(p, f, d, trans, work);
+    for (int i = 0; i < n; ++i)
+        x[i] += d[i];
+    return lu_berr(p, a, x, b, trans, res, work);
+}
+
+/* Solve one matrix (nonzeros a, factors f): x = M^-1 b; returns berr, res = b - M x. */
+double lu_solve_checked(const lu_pattern *p, const double *f, const double *a, const double *b,
+                        double *x, double *res, int trans, double *work)
+{
+    memcpy(x, b, (size_t)p->n * sizeof(double));
+    lu_solve(p, f, x, trans, work);
+    return lu_berr(p, a, x, b, trans, res, work);
+}
+
+/* The history of the sweeps. Steps are absolute indices 0..n_time-1; the per-step arrays a
+ * (nonzeros of A_n, stride nnz) and jd (nonzeros of dR/dxdot, stride njd) start at step off.
+ * The rate Jacobian's used nonzeros are jd[src[k]] at (drow[k], dcol[k]), k < nd. */
+typedef struct {
+    int n_time, off, nd, njd;
+    const double *a, *jd;
+    const int *src, *drow, *dcol;
+    const double *coef;             /* n_time x 3: alpha_k(n)/dt */
+    const unsigned char *same;      /* n_time: A_n equals A_{n-1} */
+    double tol;
+} sweep_data;
+
+/* Adjoint sweep A_n^T lam_n = g_n - c(n+1,1) R_{n+1}^T lam_{n+1} - c(n+2,2) R_{n+2}^T lam_{n+2}
+ * for n = hi, hi-1, ..., lo (lo >= 1). rhs and lam are n_time x n. Returns the step at which a
+ * refined solve still failed (lam[step] not set; b holds its right-hand side), or lo - 1.
+ * f: n_lu doubles; work: 4 n; counts[0] += refined steps. */
+int adjoint_sweep(const lu_pattern *p, const sweep_data *s, int hi, int lo, const double *rhs,
+                  double *lam, double *f, double *b, double *work, int *counts)
+{
+    const int n = p->n;
+    int have = -1;                  /* step whose factors are in f */
+    for (int m = hi; m >= lo; --m) {
+        const double *am = s->a + (size_t)(m - s->off) * p->nnz;
+        memcpy(b, rhs + (size_t)m * n, (size_t)n * sizeof(double));
+        for (int k = 1; k <= 2; ++k) {
+            const int r = m + k;
+            if (r >= s->n_time)
+                break;
+            const double c = s->coef[3 * r + k];
+            if (c == 0.0)
+                continue;
+            const double *jd = s->jd + (size_t)(r - s->off) * s->njd, *lr = lam + (size_t)r * n;
+            for (int q = 0; q < s->nd; ++q)
+                b[s->dcol[q]] -= c * jd[s->src[q]] * lr[s->drow[q]];
+        }
+        if (!(have == m + 1 && s->same[m + 1])) {
+            lu_factor(p, 1, am, f, work);
+        }
+        have = m;
+        int refined;
+        double berr = checked_solve(p, f, am, b, lam + (size_t)m * n, 1, s->tol, &refined, work + n);
+        counts[0] += refined;
+        if (!(berr <= s->tol))
+            return m;
+    }
+    return lo - 1;
+}
+
+/* Tangent sweep A_n dx_n = r_n - R_n (c(n,1) dx_{n-1} + c(n,2) dx_{n-2}) for n = lo..hi
+ * (lo >= 1). Returns the step at which a refined solve still failed (b holds its right-hand
+ * side), or hi + 1. */
+int tangent_sweep(const lu_pattern *p, const sweep_data *s, int lo, int hi, const double *rhs,
+                  double *dx, double *f, double *b, double *work, int *counts)
+{
+    const int n = p->n;
+    int have = -1;
+    double *h = work + 4 * n;       /* history combination, n doubles */
+    for (int m = lo; m <= hi; ++m) {
+        const double *am = s->a + (size_t)(m - s->off) * p->nnz;
+        const double *jd = s->jd + (size_t)(m - s->off) * s->njd;
+        const double c1 = s->coef[3 * m + 1], c2 = m >= 2 ? s->coef[3 * m + 2] : 0.0;
+        const double *d1 = dx + (size_t)(m - 1) * n, *d2 = m >= 2 ? dx + (size_t)(m - 2) * n : d1;
+        for (int i = 0; i < n; ++i)
+            h[i] = c1 * d1[i] + c2 * d2[i];
+        memcpy(b, rhs + (size_t)m * n, (size_t)n * sizeof(double));
+        for (int q = 0; q < s->nd; ++q)
+            b[s->drow[q]] -= jd[s->src[q]] * h[s->dcol[q]];
+        if (!(have == m - 1 && s->same[m])) {
+            lu_factor(p, 1, am, f, work);
+        }
+        have = m;
+        int refined;
+        double berr = checked_solve(p, f, am, b, dx + (size_t)m * n, 0, s->tol, &refined, work + n);
+        counts[0] += refined;
+        if (!(berr <= s->tol))
+            return m;
+    }
+    return hi + 1;
+}
+
+/* out[t, oi[k]] += data[t, k] * vec[t, ii[k]] for t < nt, k < nnz (out nt x nout, vec nt x nin);
+ * with sum_time, out is one row (the sum over t), summed per nonzero first in acc (nnz doubles,
+ * zero on entry): consecutive nonzeros of a CasADi pattern share their column, and adding them
+ * into one output element serialises the additions on its latency. */
+void hist_product(int nt, int nnz, const double *data, const int *oi, const int *ii,
+                  const double *vec, int nin, double *out, int nout, int sum_time, double *acc)
+{
+    if (sum_time) {
+        for (int t = 0; t < nt; ++t) {
+            const double *d = data + (size_t)t * nnz, *v = vec + (size_t)t * nin;
+            for (int k = 0; k < nnz; ++k)
+                acc[k] += d[k] * v[ii[k]];
+        }
+        for (int k = 0; k < nnz; ++k)
+            out[oi[k]] += acc[k];
+        return;
+    }
+    for (int t = 0; t < nt; ++t) {
+        const double *d = data + (size_t)t * nnz, *v = vec + (size_t)t * nin;
+        double *o = out + (size_t)t * nout;
+        for (int k = 0; k < nnz; ++k)
+            o[oi[k]] += d[k] * v[ii[k]];
+    }
+}
+
+/* Newton-matrix nonzeros of nt steps: out[t, dx[k]] = jx[t, sx[k]] (k < nx), then
+ * out[t, dd[k]] += c[t] jd[t, sd[k]] (k < ndd); out nt x nout is overwritten. same[t] = 1 when
+ * row t equals row t - 1 (same[0] = 0). With known_x (njx flags; known_d, njd) the whole rows of
+ * jx and jd are checked in the same pass (while in cache) for nonzeros outside the known columns:
+ * those are flagged in new_x, new_d and counted in the return value (0: the pattern holds). */
+int assemble_newton(int nt, const double *jx, int njx, const int *sx, const int *dxi, int nx,
+                    const double *jd, int njd, const int *sd, const int *dd, int ndd,
+                    const double *c, double *out, int nout, unsigned char *same,
+                    const unsigned char *known_x, const unsigned char *known_d,
+                    unsigned char *new_x, unsigned char *new_d)
+{
+    int found = 0;
+    for (int t = 0; t < nt; ++t) {
+        const double *x = jx + (size_t)t * njx, *d = jd + (size_t)t * njd;
+        double *o = out + (size_t)t * nout;
+        if (known_x) {
+            for (int k = 0; k < njx; ++k)
+                if (x[k] != 0.0 && !known_x[k]) {
+                    new_x[k] = 1;
+                    ++found;
+                }
+            for (int k = 0; k < njd; ++k)
+                if (d[k] != 0.0 && !known_d[k]) {
+                    new_d[k] = 1;
+                    ++found;
+                }
+        }
+        memset(o, 0, (size_t)nout * sizeof(double));
+        for (int k = 0; k < nx; ++k)
+            o[dxi[k]] = x[sx[k]];
+        const double ct = c[t];
+        for (int k = 0; k < ndd; ++k)
+            o[dd[k]] += ct * d[sd[k]];
+        int eq = t > 0;
+        for (int k = 0; eq && k < nout; ++k)
+            eq = o[k] == o[k - nout];
+        same[t] = (unsigned char)eq;
+    }
+    return found;
+}
+
+/* out[k] |= (d[t, k] != 0) for t < nt (d nt x ncol). */
+void nonzero_columns(int nt, int ncol, const double *d, unsigned char *out)
+{
+    for (int t = 0; t < nt; ++t) {
+        const double *r = d + (size_t)t * ncol;
+        for (int k = 0; k < ncol; ++k)
+            out[k] |= r[k] != 0.0;
+    }
+}

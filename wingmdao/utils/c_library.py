@@ -1,0 +1,105 @@
+"""Hand-written C sources of the package compiled once with gcc, cached and loaded with ctypes.
+
+The sibling of :mod:`wingmdao.utils.casadi_cache` for plain C files (the static-pivot LU kernel
+``wingmdao/timemarch/lu_kernel.c``), with its cache folder and its safety rules: the library is
+keyed by a SHA-256 of the source, the flags and the compiler; compiled from a source of one fixed
+name (gcc writes the file name into the library, so concurrent compiles give identical bytes),
+to a temporary name; its manifest (size and SHA-256, :func:`casadi_cache.verify`) is written
+before the library is renamed into place atomically; a library that fails the check is rebuilt.
+``WINGMDAO_JIT=0`` or a missing compiler: :func:`load` returns None (callers use their
+pure-Python path, without a warning); a failing compiler warns once.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import hashlib
+import os
+import shutil
+import subprocess
+import threading
+import warnings
+from pathlib import Path
+
+from wingmdao.utils import casadi_cache as cc
+
+#: Flags of the kernels: small sources, so -O2 costs nothing; no FMA contraction, so the kernels
+#: round like the NumPy code they replace.
+C_FLAGS = ("-O3", "-ffp-contract=off")
+
+_LOADED: dict = {}
+_warned = False
+_lock = threading.Lock()
+
+
+def library_key(source: Path, flags=C_FLAGS) -> str:
+    """SHA-256 (32 hex digits) of the source's bytes, the flags and the compiler path."""
+    h = hashlib.sha256(Path(source).read_bytes())
+    h.update(b"\0" + " ".join(flags).encode() + b"\0" + str(cc.compiler()).encode())
+    return h.hexdigest()[:32]
+
+
+def compile_source(source: Path, name: str, flags=C_FLAGS, timeout: float = 120.0) -> Path:
+    """The cached shared library of the C file ``source`` (compiled now if absent or corrupt)."""
+    gcc = cc.compiler()
+    if gcc is None:
+        raise cc.CompileError("no C compiler (gcc) on PATH")
+    target = cc.cache_dir() / f"{name}_{library_key(source, flags)}.so"
+    if target.exists():
+        try:
+            cc.verify(target)
+            return target
+        except cc.UnsafeCache:
+            raise
+        except cc.CompileError:          # truncated or foreign: rebuild
+            target.unlink(missing_ok=True)
+            cc.manifest_path(target).unlink(missing_ok=True)
+    target.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
+    cc.check_safe(target.parent)
+    stem = f".{target.stem}.{os.getpid()}.{threading.get_ident()}"
+    partial, man_partial = target.with_name(stem + ".so"), target.with_name(stem + ".sha256")
+    src_dir = target.with_name(stem + ".d")
+    src_dir.mkdir(mode=0o700)
+    try:
+        shutil.copyfile(source, src_dir / f"{target.stem}.c")
+        proc = subprocess.run([gcc, "-shared", "-fPIC", *flags, f"{target.stem}.c", "-o", str(partial.absolute()),
+                               "-lm"], cwd=src_dir, stdin=subprocess.DEVNULL, capture_output=True,
+                              text=True, timeout=timeout)
+        if proc.returncode != 0 or not partial.exists():
+            raise cc.CompileError(f"gcc failed on {source.name}: {(proc.stderr or proc.stdout).strip()[-300:]}")
+        size, digest = cc.file_digest(partial)
+        man_partial.write_text(f"{size} {digest}\n")
+        os.replace(man_partial, cc.manifest_path(target))   # manifest first, then the library
+        os.replace(partial, target)
+    except subprocess.TimeoutExpired as exc:
+        raise cc.CompileError(f"compiling {source.name} took more than {timeout} s") from exc
+    finally:
+        shutil.rmtree(src_dir, ignore_errors=True)
+        partial.unlink(missing_ok=True)
+        man_partial.unlink(missing_ok=True)
+    return target
+
+
+def load(source: Path, name: str, flags=C_FLAGS, force: bool = False):
+    """``ctypes.CDLL`` of the compiled ``source`` (once per process and cache folder), or None
+    when compilation is off (``WINGMDAO_JIT=0``, unless ``force``), there is no compiler, or it
+    fails (one warning)."""
+    if not (force or cc.jit_enabled()) or cc.compiler() is None:
+        return None
+    key = (str(Path(source).resolve()), name, tuple(flags), str(cc.cache_dir()))
+    with _lock:
+        if key in _LOADED:
+            return _LOADED[key]
+        try:
+            path = compile_source(Path(source), name, flags)
+            cc.verify(path)
+            lib = ctypes.CDLL(str(path))
+        except Exception as exc:    # noqa: BLE001 - any failure: the caller's fallback
+            global _warned
+            if not _warned:
+                _warned = True
+                warnings.warn(f"wingmdao: C kernel {name} unavailable, using the fallback ({exc})",
+                              RuntimeWarning, stacklevel=3)
+            lib = None
+        _LOADED[key] = lib
+        return lib
