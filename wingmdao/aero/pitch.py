@@ -1,0 +1,172 @@
+"""Free pitch of the aircraft: rigid-body pitch states, horizontal tail, body pitch inertia (docs/aeroelasticity.md).
+
+With ``pitch=True`` :func:`wingmdao.aero.system.build_aeroelastic_system` frees the aircraft in
+plunge *and* pitch. Body axes (x aft, y outboard right, z up) are those of the aircraft, origin O
+at the symmetry plane; the rigid-body states are the upward velocity w_p of O (the plunge state),
+the pitch-attitude increment theta_p and the pitch rate q (nose up = + about y), optionally the
+lagged downwash angle e, and the tail incidence i_t (a trim unknown). The "body" is the aircraft
+outside both wing halves (fuselage, tail, payload): mass m_b, first moments s = m_b (x_b, z_b)
+about O and pitch inertia I_O about O's y axis. With the two half-wings' root force F and moment
+M (what the wing exerts on the body at the root node r_0, docs/conventions.md) and the tail lift
+L_t acting at x_t (Newton-Euler of a rigid body about the accelerating point O, small angles):
+
+    m_b (dw_p/dt - g_z) - s_x dq/dt - s_z q^2       = 2 F_z + L_t
+    I_O dq/dt - s_x dw_p/dt                          = s_z g_x - s_x g_z + 2 (z_0 F_x - x_0 F_z + M_y) - x_t L_t
+    dtheta_p/dt = q
+
+Tail (quasi-steady; Etkin & Reid, *Dynamics of Flight*, 3rd ed., 1996, Sec. 2.4; Nelson,
+*Flight Stability and Automatic Control*, 2nd ed., 1998, Sec. 2.4): ``L_t = 1/2 rho V^2 S_t a_t
+alpha_t`` with
+
+    alpha_t = alpha_trim + theta_p - w_p/V + q x_t / V + w_g,t / V - deps/dalpha e + i_t
+    e = alpha_w = alpha_trim + theta_p - w_p/V + w_g,root / V        (no lag), or
+    (x_t / V) de/dt + e = alpha_w                                     (tail_lag: first-order lag)
+
+(w_g,t the gust at the tail, w_g,root the gust at the root station). The pitch attitude adds to
+every wing station's angle (as alpha_trim does) and (0, q, 0), (0, dq/dt, 0) add to the frame's
+angular velocity and acceleration of the beam (its inertia) and of the aerodynamics (Omega x r,
+section pitch rate). Small angles: gravity stays fixed in body axes and the airspeed is constant
+(no surge/phugoid), the short-period assumptions of the references.
+
+The user gives the whole aircraft (mass M, CG (x_cg, z_cg) from O, pitch inertia I_yy about the
+CG); :func:`body_pitch_properties` removes both half-wings (their mass lumped at the nodes with
+the trapezoid weights of :func:`wingmdao.aero.plunge.half_wing_mass`; the sections' rotary
+inertia and mass-centre offsets are not removed, a small error for a thin wing):
+
+    m_b = M - 2 m_h,  s = M (x_cg, z_cg) - 2 sum_i m_i (x_i, z_i),
+    I_O = I_yy + M (x_cg^2 + z_cg^2) - 2 sum_i m_i (x_i^2 + z_i^2).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from wingmdao.timemarch.system import VarSpec
+
+#: rigid-body states after the plunge velocity (pitch attitude, pitch rate, [lagged downwash]) and the
+#: tail-incidence trim unknown; system.body_index maps them to their state indices
+PITCH_STATE_NAMES = ("pitch_angle", "pitch_rate")
+LAG_STATE_NAME = "downwash_lag"
+INCIDENCE_STATE_NAME = "tail_incidence"
+
+
+def pitch_param_specs() -> list[VarSpec]:
+    """Parameters of the free-pitch rows (appended after ``body_mass``)."""
+    return [
+        VarSpec("body_first_moment", (2,), "kg*m", "m_b (x_b, z_b): first moment of the body (aircraft outside both "
+                "wing halves) about the body-axes origin"),
+        VarSpec("body_pitch_inertia", (), "kg*m**2", "pitch inertia of the body about the body-axes origin (y axis)"),
+        VarSpec("tail_x", (), "m", "x of the horizontal tail's aerodynamic centre aft of the body-axes origin"),
+        VarSpec("tail_area", (), "m**2", "horizontal tail area S_t"),
+        VarSpec("tail_lift_slope", (), "1/rad", "horizontal tail lift-curve slope a_t (compressibility included)"),
+        VarSpec("downwash_gradient", (), None, "downwash gradient deps/dalpha at the tail"),
+    ]
+
+
+def pitch_forcing_specs() -> list[VarSpec]:
+    """Forcing of the free-pitch rows at one instant."""
+    return [VarSpec("tail_gust_velocity", (), "m/s", "gust velocity (body +z) at the tail, its penetration delay included")]
+
+
+def check_pitch_inputs(**values) -> None:
+    """ValueError (input, value, allowed range, SI) for bad free-pitch inputs; checks those given."""
+    rules = {"aircraft_pitch_inertia": ("kg*m**2", lambda v: v > 0, "(0, inf)"),
+             "body_pitch_inertia": ("kg*m**2", lambda v: v > 0, "(0, inf)"),
+             "tail_area": ("m**2", lambda v: v >= 0, "[0, inf)"),
+             "tail_lift_slope": ("1/rad", lambda v: v > 0, "(0, inf)"),
+             "downwash_gradient": ("", lambda v: 0 <= v < 1, "[0, 1)"),
+             "tail_arm": ("m", lambda v: v > 0, "(0, inf) (tail aft of the CG)"),
+             "tail_x": ("m", lambda v: v > 0, "(0, inf) (tail aft of the body-axes origin)")}
+    for name, v in values.items():
+        units, ok, rng = rules[name]
+        val = float(np.real(v))
+        if not (np.isfinite(val) and ok(val)):
+            raise ValueError(f"{name} = {val} {units}; allowed range {rng} {units}".rstrip())
+    if "cg" in values:
+        pass
+
+
+def half_wing_pitch_moments(mass_per_length, node_positions):
+    """(m_h, (S_x, S_z), I_O) of one half-wing: mass, first moments and pitch inertia about the
+    body-axes origin's y axis, mass lumped at the nodes with trapezoid weights (complex-step safe)."""
+    mu, r = np.asarray(mass_per_length), np.asarray(node_positions)
+    s = np.sqrt(np.sum(np.diff(r, axis=0) ** 2, axis=1))
+    if np.any(np.real(s) <= 0):
+        raise ValueError("node_positions: element lengths must be > 0 m")
+    w = np.zeros(mu.size, dtype=s.dtype)
+    w[:-1] += 0.5 * s
+    w[1:] += 0.5 * s
+    m = w * mu
+    x, z = r[:, 0], r[:, 2]
+    return np.sum(m), np.array([np.sum(m * x), np.sum(m * z)]), np.sum(m * (x * x + z * z))
+
+
+def body_pitch_properties(aircraft_mass, cg, aircraft_pitch_inertia, mass_per_length, node_positions):
+    """Body (aircraft outside both half-wings) mass, first moment (2,) and pitch inertia about the
+    origin from the whole aircraft's mass M (kg), CG (x, z) from the origin (m) and pitch inertia
+    about the CG (kg m^2); ValueError unless the body's own inertia about its CG is > 0."""
+    from wingmdao.aero.plunge import body_mass
+
+    check_pitch_inputs(aircraft_pitch_inertia=aircraft_pitch_inertia)
+    cg = np.asarray(cg)
+    if cg.shape != (2,) or not np.all(np.isfinite(np.real(cg))):
+        raise ValueError(f"cg = {np.real(cg)} m; allowed: two finite values (x, z) from the body-axes origin")
+    m_h, s_h, i_h = half_wing_pitch_moments(mass_per_length, node_positions)
+    mb = body_mass(aircraft_mass, m_h)
+    s = aircraft_mass * cg - 2.0 * s_h
+    i_o = aircraft_pitch_inertia + aircraft_mass * np.sum(cg * cg) - 2.0 * i_h
+    own = i_o - np.sum(s * s) / mb
+    if not np.real(own) > 0:
+        raise ValueError(f"aircraft_pitch_inertia = {np.real(aircraft_pitch_inertia)} kg*m**2; allowed range "
+                         f"({np.real(aircraft_pitch_inertia - own):.6g}, inf) kg*m**2: the body outside both wing "
+                         "halves must keep a positive pitch inertia about its own CG")
+    return mb, s, i_o
+
+
+def body_residuals(x_b, xd_b, *, w_p, dw_p, F0, M0, r0, alpha_trim, gust_root, gust_tail, V, rho, g, pars, body_mass,
+                   tail_lag, on):
+    """CasADi rows of the rigid body (see the module docstring): (translation row replacing the
+    plunge row, [theta row, q row, (lag row)], moment row of the tail-incidence trim unknown, L_t).
+
+    ``x_b``/``xd_b``: (theta_p, q, [e], i_t) and their rates; ``on`` the trim switch (1: theta_p
+    = q = w_p = 0 and i_t solves the static moment balance; 0: the dynamics, i_t held)."""
+    import casadi as ca
+
+    theta, qr = x_b[0], x_b[1]
+    it = x_b[-1]
+    s_x, s_z = pars["body_first_moment"][0], pars["body_first_moment"][1]
+    i_o, x_t = pars["body_pitch_inertia"], pars["tail_x"]
+    alpha_w = alpha_trim + theta - w_p / V + gust_root / V
+    e = x_b[2] if tail_lag else alpha_w
+    alpha_t = (alpha_trim + theta - w_p / V + qr * x_t / V + gust_tail / V - pars["downwash_gradient"] * e + it)
+    lift_t = 0.5 * rho * V * V * pars["tail_area"] * pars["tail_lift_slope"] * alpha_t
+    trans = body_mass * (dw_p - g[2]) - s_x * xd_b[1] - s_z * qr * qr - 2.0 * F0[2] - lift_t
+    moment = (i_o * xd_b[1] - s_x * dw_p - (s_z * g[0] - s_x * g[2])
+              - 2.0 * (r0[2] * F0[0] - r0[0] * F0[2] + M0[1]) + x_t * lift_t)
+    rows = [on * w_p + (1.0 - on) * trans,
+            on * theta + (1.0 - on) * (xd_b[0] - qr),
+            on * qr + (1.0 - on) * moment]
+    if tail_lag:
+        rows.append((x_t / V) * xd_b[2] + e - alpha_w)
+    rows.append(on * moment + (1.0 - on) * xd_b[-1])
+    return ca.vertcat(*rows), lift_t
+
+
+def short_period_closed_form(*, mass, pitch_inertia, airspeed, density, wing_area, wing_lift_slope, tail_area,
+                             tail_lift_slope, tail_arm, downwash_gradient, wing_ac_arm=0.0, tail_lag=False):
+    """Short-period eigenvalues (1/s, complex pair) of the rigid aircraft, Nelson (1998) Sec. 4.4 /
+    Etkin & Reid (1996) Sec. 6.3: ``lambda^2 - (Z_w + M_q + u0 M_wdot) lambda + Z_w M_q - u0 M_w = 0``.
+
+    Dimensional derivatives (per unit mass / inertia, w the normal velocity at the CG, down +
+    in the references, which leaves the characteristic equation unchanged), q_d = rho V^2 / 2:
+    Z_w = -q_d (S a_w + S_t a_t (1 - deps/dalpha)) / (m V) (lift only: no drag, no C_L0 term);
+    M_w = q_d (S a_w x_w - S_t a_t (1 - deps/dalpha) l_t) / (I V), x_w the wing aerodynamic centre
+    *ahead* of the CG (``wing_ac_arm``, m); M_q = -q_d S_t a_t l_t^2 / (I V) (tail only);
+    M_wdot = -q_d S_t a_t deps/dalpha l_t^2 / (I V^2) with the downwash lag, else 0."""
+    qd, m, I, V = 0.5 * density * airspeed ** 2, mass, pitch_inertia, airspeed
+    at = tail_area * tail_lift_slope
+    Zw = -qd * (wing_area * wing_lift_slope + at * (1 - downwash_gradient)) / (m * V)
+    Mw = qd * (wing_area * wing_lift_slope * wing_ac_arm - at * (1 - downwash_gradient) * tail_arm) / (I * V)
+    Mq = -qd * at * tail_arm ** 2 / (I * V)
+    Mwd = -qd * at * downwash_gradient * tail_arm ** 2 / (I * V * V) if tail_lag else 0.0
+    return np.roots([1.0, -(Zw + Mq + V * Mwd), Zw * Mq - V * Mw])
