@@ -301,6 +301,8 @@ def describe_aeroelastic_equation(index: int, num_nodes: int, plunge: bool = Fal
                 "pitch_rate": "body pitch moment about the origin (q = 0 in trim)",
                 "downwash_lag": "downwash lag (x_t/V) de/dt + e = alpha_w",
                 "tail_incidence": "static pitch-moment balance in trim (tail incidence), held otherwise"}[body_names[k_body]]
+    if index >= N_AEROELASTIC_STATES * num_nodes and body_names:
+        return "trim: integrated lift of both halves + tail lift = trim_lift (or alpha_trim held)"
     if index >= N_AEROELASTIC_STATES * num_nodes:
         return "trim: integrated lift of both halves = trim_lift (or alpha_trim held)"
     node, k = divmod(int(index), N_AEROELASTIC_STATES)
