@@ -6,7 +6,9 @@ or the thicknesses of a sizing result, ``--design``) becomes an
 beam, Jones-Wagner and Sears-Sparks-Kuessner lag states, apparent mass, Prandtl-Glauert); a
 14 CFR 25.341 1-cos gust of gradient H (U_ds = U_ref (H/350 ft)^(1/6) EAS) crosses it with each
 station's penetration delay, the aircraft free in plunge (``--plunge``, default) or clamped at the
-symmetry plane (``--clamped``). The march starts from the trimmed, deformed 1 g level-flight state
+symmetry plane (``--clamped``), and with ``--pitch free`` also in pitch with a horizontal tail
+(:mod:`wingmdao.aero.pitch`; the aircraft's pitch inertia, CG and tail are required flags, the
+load factor then (wing + tail lift) / W). The march starts from the trimmed, deformed 1 g level-flight state
 (aircraft angle of attack solved so that the lift of both half-wings equals W, gravity on; the
 ``trim`` option of :func:`~wingmdao.aero.system.build_aeroelastic_system`), the gust an increment
 on it; the load factor is the lift integrated over both half-wings over W. ``--aero strip``
@@ -16,7 +18,8 @@ spanload) to the structural beam, root clamped; the JSON keys are the same (trim
 JSON keys: time, load_factor, peak_incremental_load_factor, quasi_steady_incremental_load_factor
 (dn = rho0 U_de V_e a / (2 W/S), a the model's strip-theory wing lift slope), trim_alpha_rad, wing_lift_slope_per_rad,
 mass_parameter (mu = 2 (W/S) / (rho c a g)), mean_chord_m, wing_loading_pa, root_bending_moment
-(N m, M_x at the symmetry plane), root_torsion (N m, M_y), tip_displacement (m, z), and the inputs.
+(N m, M_x at the symmetry plane), root_torsion (N m, M_y), tip_displacement (m, z), peak_up/peak_down_incremental_load_factor, with --pitch free
+pitch_angle_rad, pitch_rate_rad_s, tail_lift_n, tail_incidence_rad, and the inputs.
 """
 
 from __future__ import annotations
