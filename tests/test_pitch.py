@@ -76,7 +76,7 @@ def test_short_period_eigenvalues_match_closed_form(cg_x, downwash):
     ref = ref[ref.imag > 0][0]
     assert abs(lam[0].real / ref.real - 1) < 0.02 and abs(lam[0].imag / ref.imag - 1) < 0.02
     # trim: the tail load balances the weight moment about the wing ac (x = 0, where the wing's mass is)
-    tail_lift = float(s._tail_lift(x, 0 * x, p, pack(s.forcing_specs, qd)))
+    tail_lift = s.tail_lift(x, 0 * x, p, pack(s.forcing_specs, qd))
     np.testing.assert_allclose(tail_lift, MASS * cg_x * G / (cg_x + TAIL_ARM), rtol=1e-8, atol=1e-8)
 
 

@@ -350,6 +350,12 @@ class AeroelasticBeamSystem(CasadiResidualSystem):
         ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
         return 2.0 * np.sum(0.5 * (lift[:, 1:] + lift[:, :-1]) * ds, axis=1)
 
+    def tail_lift(self, x, xdot, p, q) -> float:
+        """Horizontal-tail lift (N, body +z) of a free-pitch system at one state, rate and forcing."""
+        if not getattr(self, "pitch", False):
+            raise ValueError("tail_lift needs a system built with pitch=True")
+        return float(self._tail_lift(np.ravel(x), np.ravel(xdot), np.ravel(p), np.ravel(q)))
+
     def tail_lift_history(self, X, dt, p, Q):
         """Horizontal-tail lift (N) at every instant of a free-pitch system (``pitch=True``)."""
         from wingmdao.timemarch.bdf import state_rates
@@ -357,7 +363,7 @@ class AeroelasticBeamSystem(CasadiResidualSystem):
         if not getattr(self, "pitch", False):
             raise ValueError("tail_lift_history needs a system built with pitch=True")
         Xd = state_rates(X, dt)
-        return np.array([float(self._tail_lift(X[i], Xd[i], np.ravel(p), Q[i])) for i in range(X.shape[0])])
+        return np.array([self.tail_lift(X[i], Xd[i], p, Q[i]) for i in range(X.shape[0])])
 
     def split_parameters(self, p):
         """``{name: array}`` of a packed parameter vector."""
