@@ -263,9 +263,10 @@ def test_pitch_free_gust_totals_thickness_airspeed():
     assert np.max(np.abs(X[:, s.body_index["pitch_angle"]])) > 1e-5  # the aircraft pitches
     wrt = ["t_upper_skin", "t_front_spar", "airspeed", "aircraft_pitch_inertia"]
     rev = prob.compute_totals(of=["ks.ks"], wrt=wrt)
-    fd = prob.check_totals(of=["ks.ks"], wrt=wrt, method="fd", form="central", step=1e-7, out_stream=None)
+    fd = prob.check_totals(of=["ks.ks"], wrt=wrt, method="fd", form="central", step=1e-6, step_calc="rel_avg",
+                           out_stream=None)
     for w in wrt:
         ref = fd[("ks.ks", w)]["J_fd"]
         scale = np.max(np.abs(ref))
         assert scale > 0
-        np.testing.assert_allclose(rev[("ks.ks", w)], ref, atol=1e-4 * scale, err_msg=w)
+        np.testing.assert_allclose(rev[("ks.ks", w)], ref, atol=1e-6 * scale, err_msg=w)  # measured <= 2e-8
