@@ -14,11 +14,14 @@ import numpy as np
 
 #: Aerodynamic forcing of a coupled case, shapes per instant ("n" = number of nodes).
 AERO_FORCING_SHAPES = {"gust_velocity": ("n",), "frame_velocity": (3,), "frame_velocity_rate": (3,),
-                       "trim_active": ()}
+                       "trim_active": (), "tail_gust_velocity": ()}
 AERO_FORCING_META = {"gust_velocity": ("m/s", "gust velocity (body +z) at each station, penetration delay included"),
                      "frame_velocity": ("m/s", "velocity of the body-axes origin relative to the trimmed flight"),
                      "frame_velocity_rate": ("m/s**2", "rate of frame_velocity (apparent mass)"),
-                     "trim_active": (None, "1: solve alpha_trim for trim_lift; 0: hold alpha_trim")}
+                     "trim_active": (None, "1: solve alpha_trim for trim_lift; 0: hold alpha_trim"),
+                     "tail_gust_velocity": ("m/s", "gust velocity (body +z) at the tail, its penetration delay included")}
+#: forcing only a free-pitch case has (wingmdao.aero.pitch)
+PITCH_FORCING = ("tail_gust_velocity",)
 
 
 @dataclass
@@ -33,7 +36,11 @@ class CoupledAero:
     the whole aircraft, set from this field; connect an aircraft model to it), the model forms
     the plunge state's mass ``aircraft_mass - 2 m_half`` (:mod:`wingmdao.aero.plunge`) and, with
     ``trim``, ``trim_lift = n g0 aircraft_mass`` at the load factor n = trim_lift / (g0 aircraft_mass)
-    of the values given here (:func:`trim_load_factor`).
+    of the values given here (:func:`trim_load_factor`). ``pitch`` (needs ``plunge`` and ``trim``)
+    also frees the aircraft in pitch with a horizontal tail (:mod:`wingmdao.aero.pitch`): inputs
+    ``aircraft_cg`` (x, z m from the body-axes origin), ``aircraft_pitch_inertia`` (kg m^2, about the
+    CG), ``tail_arm`` (m), parameters ``tail_area`` (m^2), ``tail_lift_slope`` (1/rad),
+    ``downwash_gradient``; ``tail_lag`` the first-order downwash lag.
     """
 
     chord: object
@@ -48,6 +55,14 @@ class CoupledAero:
     trim: bool = False
     aircraft_mass: float = 0.0
     trim_lift: float = 0.0
+    pitch: bool = False
+    tail_lag: bool = False
+    aircraft_cg: tuple = (0.0, 0.0)
+    aircraft_pitch_inertia: float = 0.0
+    tail_arm: float = 0.0
+    tail_area: float = 0.0
+    tail_lift_slope: float = 0.0
+    downwash_gradient: float = 0.0
 
     def trim_load_factor(self) -> float:
         """n = trim_lift / (g0 aircraft_mass): the trimmed load factor of a free-plunge case."""
@@ -57,7 +72,11 @@ class CoupledAero:
 
     def model_inputs(self) -> dict:
         """Inputs of the case that are not aerodynamic parameters: ``aircraft_mass`` (kg) with plunge."""
-        return {"aircraft_mass": float(self.aircraft_mass)} if self.plunge else {}
+        out = {"aircraft_mass": float(self.aircraft_mass)} if self.plunge else {}
+        if self.pitch:
+            out.update(aircraft_cg=np.asarray(self.aircraft_cg, dtype=float),
+                       aircraft_pitch_inertia=float(self.aircraft_pitch_inertia), tail_arm=float(self.tail_arm))
+        return out
 
     def parameters(self, num_nodes: int) -> dict:
         """The aerodynamic input values (validated; ValueError naming a bad input)."""
@@ -74,6 +93,16 @@ class CoupledAero:
                 raise ValueError(f"CoupledAero: trim_lift must be finite (N), got {self.trim_lift}")
             if not self.plunge:  # with plunge the model forms trim_lift from aircraft_mass
                 out["trim_lift"] = float(self.trim_lift)
+        if self.pitch:
+            from wingmdao.aero.pitch import check_pitch_inputs
+
+            if not (self.plunge and self.trim):
+                raise ValueError("CoupledAero: pitch=True needs plunge=True and trim=True")
+            check_pitch_inputs(aircraft_pitch_inertia=self.aircraft_pitch_inertia, tail_arm=self.tail_arm,
+                               tail_area=self.tail_area, tail_lift_slope=self.tail_lift_slope,
+                               downwash_gradient=self.downwash_gradient)
+            out.update(tail_area=float(self.tail_area), tail_lift_slope=float(self.tail_lift_slope),
+                       downwash_gradient=float(self.downwash_gradient))
         return out
 
 
@@ -105,11 +134,15 @@ def load_case_response(prob, case, num_nodes: int, weight: float) -> dict:
     ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
     if case.aero is not None:
         beam = X[:, :N_AEROELASTIC_STATES * n].reshape(t.size, n, N_AEROELASTIC_STATES)[:, :, :18]
-        system = cached_aeroelastic_system(n, plunge=bool(case.aero.plunge), trim=bool(case.aero.trim))
+        pitch = bool(case.aero.pitch)
+        system = cached_aeroelastic_system(n, plunge=bool(case.aero.plunge), trim=bool(case.aero.trim), pitch=pitch,
+                                           tail_lag=pitch and bool(case.aero.tail_lag))
         p = pack(system.param_specs, {s.name: value(s.name) for s in system.param_specs})
         Q = np.concatenate([value(s.name).reshape(t.size, -1) for s in system.forcing_specs], axis=1)
         dt = float(t[1] - t[0]) if t.size > 1 else 1.0
         lift = system.total_lift_history(X, dt, p, Q)
+        if pitch:  # the aircraft's load factor: wing + tail lift
+            lift = lift + system.tail_lift_history(X, dt, p, Q)
     else:
         beam = X.reshape(t.size, n, 18)
         f = case.forcing_array("force_per_length", n)[:, :, 2]

@@ -24,6 +24,8 @@ Forcing: the beam's (:func:`wingmdao.beam.residual.forcing_specs`) then ``gust_v
 m/s, ``frame_velocity`` (3,) m/s and ``frame_velocity_rate`` (3,) m/s**2. Everything is differentiable (CasADi), so
 :class:`~wingmdao.components.time_history.TimeHistoryComponent` marches it and its discrete
 adjoint gives derivatives with respect to every parameter, airspeed and density included.
+Free plunge, trim and free pitch add trailing states (w_p; pitch_angle, pitch_rate, [downwash_lag],
+tail_incidence; alpha_trim last), see :func:`build_aeroelastic_system` and :mod:`wingmdao.aero.pitch`.
 """
 
 from __future__ import annotations
@@ -120,7 +122,8 @@ def _node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence):
 
 def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
                              damping: StrainRateDamping | None = None,
-                             plunge: bool = False, trim: bool = False) -> "AeroelasticBeamSystem":
+                             plunge: bool = False, trim: bool = False, pitch: bool = False,
+                             tail_lag: bool = False) -> "AeroelasticBeamSystem":
     """The App. A beam of ``num_nodes`` nodes (root clamped) with unsteady strip theory.
 
     Returns an :class:`AeroelasticBeamSystem` (a :class:`CasadiResidualSystem`):
@@ -142,22 +145,44 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     to, n W) and the forcing ``trim_active`` (1: solve for alpha_trim so that the integrated lift
     of both halves equals ``trim_lift``; 0: hold it, d alpha_trim/dt = 0). Set ``trim_active`` = 1
     at t = 0 only and the march starts from the trimmed state, the gust an increment on it.
+
+    ``pitch=True`` (needs ``plunge`` and ``trim``) also frees the aircraft in pitch with a
+    horizontal tail (:mod:`wingmdao.aero.pitch`): states pitch_angle, pitch_rate, [downwash_lag
+    with ``tail_lag``], tail_incidence after w_p (``system.body_index`` names their indices),
+    parameters :func:`~wingmdao.aero.pitch.pitch_param_specs`, forcing ``tail_gust_velocity``;
+    the trim then solves alpha_trim for "wing + tail lift = trim_lift" and tail_incidence for the
+    static pitch-moment balance.
     """
     n = int(num_nodes)
     if n < 2:
         raise ValueError(f"num_nodes must be >= 2, got {num_nodes}")
+    if pitch and not (plunge and trim):
+        raise ValueError(f"pitch=True needs plunge=True and trim=True (got plunge={plunge}, trim={trim}): free "
+                         "pitch starts from the trimmed 1 g state (tail incidence solved for pitch balance)")
+    if tail_lag and not pitch:
+        raise ValueError("tail_lag=True needs pitch=True")
     t0 = _time.perf_counter()
     pspecs = beam_param_specs(n) + aero_param_specs(n)
     qspecs = beam_forcing_specs(n) + aero_forcing_specs(n)
     if plunge:
         pspecs.append(VarSpec("body_mass", (), "kg", "aircraft mass outside both wing halves (free plunge)"))
+    n_body = 0
+    if pitch:
+        from wingmdao.aero.pitch import (INCIDENCE_STATE_NAME, LAG_STATE_NAME, PITCH_STATE_NAMES, body_residuals,
+                                         pitch_forcing_specs, pitch_param_specs)
+
+        body_names = PITCH_STATE_NAMES + ((LAG_STATE_NAME,) if tail_lag else ()) + (INCIDENCE_STATE_NAME,)
+        n_body = len(body_names)
+        pspecs += pitch_param_specs()
+        qspecs += pitch_forcing_specs()
     if trim:
         pspecs.append(VarSpec("trim_lift", (), "N", "lift of both half-wings to trim to (n W)"))
         qspecs.append(VarSpec("trim_active", (), None, "1: solve alpha_trim for trim_lift; 0: hold alpha_trim"))
     play, qlay = layout(pspecs), layout(qspecs)
     W = N_AEROELASTIC_STATES
-    n_extra = int(bool(plunge)) + int(bool(trim))
-    i_trim = W * n + int(bool(plunge))
+    n_extra = int(bool(plunge)) + n_body + int(bool(trim))
+    i_trim = W * n + int(bool(plunge)) + n_body
+    body = slice(W * n + 1, W * n + 1 + n_body)  # the pitch states (empty without pitch)
     x = ca.SX.sym("x", W * n + n_extra)
     xdot = ca.SX.sym("xdot", W * n + n_extra)
     p = ca.SX.sym("p", sum(s.size for s in pspecs))
@@ -173,6 +198,9 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
         vf = vf + e_z * x[W * n]
         dvf = dvf + e_z * xdot[W * n]
     frame = (acc0, q[qlay["frame_angular_velocity"]], q[qlay["frame_angular_acceleration"]])
+    if pitch:  # the pitch rate and its rate add to the frame's angular velocity / acceleration (about +y)
+        e_y = ca.DM([0.0, 1.0, 0.0])
+        frame = (acc0, frame[1] + e_y * x[body][1], frame[2] + e_y * xdot[body][1])
     aero_frame = (vf, dvf) + frame[1:]
     V, rho, mach = p[play["airspeed"]], p[play["density"]], p[play["mach"]]
 
@@ -192,6 +220,8 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     aero_out, qs = [], []
     for i in range(n):
         azl = p[play["alpha_zero_lift"]][i] - (x[i_trim] if trim else 0.0)
+        if pitch:  # the pitch attitude adds to every station's angle
+            azl = azl - x[body][0]
         pa = ca.vertcat(p[play["chord"]][i], p[play["ref_point"]][i], p[play["lift_slope"]][i], azl,
                         p[play["cm0"]][i], q[qlay["gust_velocity"]][i])
         f_a, m_a, res_a, L_a, M_a = aero_fun(xs[i], xds[i], pa, *aero_frame, scal)
@@ -219,6 +249,13 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
         if trim:  # while trimming the plunge velocity is zero (alpha_trim takes up the lift)
             on = q[qlay["trim_active"]]
             r_plunge = on * x[W * n] + (1.0 - on) * r_plunge
+        if pitch:  # the rigid-body rows of wingmdao.aero.pitch replace the plunge row
+            r_plunge, lift_tail = body_residuals(
+                x[body], xdot[body], w_p=x[W * n], dw_p=xdot[W * n], F0=xs[0][st["F"]], M0=xs[0][st["M"]],
+                r0=xs[0][st["r"]], alpha_trim=x[i_trim], gust_root=q[qlay["gust_velocity"]][0],
+                gust_tail=q[qlay["tail_gust_velocity"]], V=V, rho=rho, g=g, body_mass=mb, tail_lag=tail_lag,
+                on=q[qlay["trim_active"]], pars={k: p[play[k]] for k in ("body_first_moment", "body_pitch_inertia",
+                                                 "tail_x", "tail_area", "tail_lift_slope", "downwash_gradient")})
         blocks.append(r_plunge)
     if trim:
         r0 = [ps[i][_P_NODE["r0"]] for i in range(n)]
@@ -228,26 +265,46 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
         target = p[play["trim_lift"]]
         on = q[qlay["trim_active"]]
         scale = ca.fmax(ca.fabs(target), 1.0)
+        if pitch:  # wing + tail lift = trim_lift
+            total = total + 0.5 * lift_tail
         blocks.append(on * (2.0 * total - target) / scale + (1.0 - on) * xdot[i_trim])
     R = ca.vertcat(*blocks)
     lifts = ca.vertcat(*[o[1] for o in aero_out])
     moments = ca.vertcat(*[o[2] for o in aero_out])
     system = AeroelasticBeamSystem(x, xdot, p, q, R, param_specs=pspecs, forcing_specs=qspecs,
                                    state_shape=(W * n + n_extra,) if n_extra else (n, W),
-                                   name=f"aeroelastic_beam{n}" + ("_plunge" if plunge else "") + ("_trim" if trim else ""),
-                                   describe=lambda k: describe_aeroelastic_equation(k, n, plunge))
+                                   name=f"aeroelastic_beam{n}" + ("_plunge" if plunge else "") + ("_trim" if trim else "")
+                                   + ("_pitch" if pitch else "") + ("_lag" if tail_lag else ""),
+                                   describe=lambda k: describe_aeroelastic_equation(
+                                       k, n, plunge, body_names if pitch else ()))
     system.num_nodes = n
     system.plunge = bool(plunge)
     system.trim = bool(trim)
     system.trim_index = i_trim if trim else None
+    system.pitch = bool(pitch)
+    system.tail_lag = bool(tail_lag)
+    system.body_index = ({"plunge_velocity": W * n} if plunge else {}) | (
+        {nm: body.start + k for k, nm in enumerate(body_names)} if pitch else {})
+    if pitch:
+        system._tail_lift = ca.Function("tail_lift", [x, xdot, p, q], [lift_tail])
     system._loads = ca.Function("section_loads", [x, xdot, p, q], [lifts, moments])
     system.build_time = _time.perf_counter() - t0
     return system
 
 
-def describe_aeroelastic_equation(index: int, num_nodes: int, plunge: bool = False) -> str:
+def describe_aeroelastic_equation(index: int, num_nodes: int, plunge: bool = False, body_names=()) -> str:
     if index == N_AEROELASTIC_STATES * num_nodes and plunge:
+        if body_names:
+            return "free plunge + pitch: body translation (wingmdao.aero.pitch), or w_p = 0 in trim"
         return "free plunge: body_mass (dw_p/dt - g_z) = 2 F_root,z"
+    k_body = int(index) - N_AEROELASTIC_STATES * num_nodes - 1
+    if plunge and 0 <= k_body < len(body_names):
+        return {"pitch_angle": "dtheta_p/dt = q (theta_p = 0 in trim)",
+                "pitch_rate": "body pitch moment about the origin (q = 0 in trim)",
+                "downwash_lag": "downwash lag (x_t/V) de/dt + e = alpha_w",
+                "tail_incidence": "static pitch-moment balance in trim (tail incidence), held otherwise"}[body_names[k_body]]
+    if index >= N_AEROELASTIC_STATES * num_nodes and body_names:
+        return "trim: integrated lift of both halves + tail lift = trim_lift (or alpha_trim held)"
     if index >= N_AEROELASTIC_STATES * num_nodes:
         return "trim: integrated lift of both halves = trim_lift (or alpha_trim held)"
     node, k = divmod(int(index), N_AEROELASTIC_STATES)
@@ -295,6 +352,21 @@ class AeroelasticBeamSystem(CasadiResidualSystem):
         ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
         return 2.0 * np.sum(0.5 * (lift[:, 1:] + lift[:, :-1]) * ds, axis=1)
 
+    def tail_lift(self, x, xdot, p, q) -> float:
+        """Horizontal-tail lift (N, body +z) of a free-pitch system at one state, rate and forcing."""
+        if not getattr(self, "pitch", False):
+            raise ValueError("tail_lift needs a system built with pitch=True")
+        return float(self._tail_lift(np.ravel(x), np.ravel(xdot), np.ravel(p), np.ravel(q)))
+
+    def tail_lift_history(self, X, dt, p, Q):
+        """Horizontal-tail lift (N) at every instant of a free-pitch system (``pitch=True``)."""
+        from wingmdao.timemarch.bdf import state_rates
+
+        if not getattr(self, "pitch", False):
+            raise ValueError("tail_lift_history needs a system built with pitch=True")
+        Xd = state_rates(X, dt)
+        return np.array([self.tail_lift(X[i], Xd[i], p, Q[i]) for i in range(X.shape[0])])
+
     def split_parameters(self, p):
         """``{name: array}`` of a packed parameter vector."""
         lay = layout(self.param_specs)
@@ -306,12 +378,14 @@ _SYSTEMS: dict = {}
 
 def cached_aeroelastic_system(num_nodes: int, euler_sequence: str = "surface",
                               damping: StrainRateDamping | None = None,
-                              plunge: bool = False, trim: bool = False) -> AeroelasticBeamSystem:
-    """:func:`build_aeroelastic_system`, built once per (num_nodes, sequence, damping, plunge, trim)."""
+                              plunge: bool = False, trim: bool = False, pitch: bool = False,
+                              tail_lag: bool = False) -> AeroelasticBeamSystem:
+    """:func:`build_aeroelastic_system`, built once per (num_nodes, sequence, damping, plunge, trim, pitch, tail_lag)."""
     if damping is not None and damping.is_zero:
         damping = None
-    key = (int(num_nodes), euler_sequence, damping, bool(plunge), bool(trim))
+    key = (int(num_nodes), euler_sequence, damping, bool(plunge), bool(trim)) + (
+        (True, bool(tail_lag)) if pitch else ())
     if key not in _SYSTEMS:
         _SYSTEMS[key] = build_aeroelastic_system(key[0], euler_sequence=euler_sequence, damping=damping,
-                                                 plunge=key[3], trim=key[4])
+                                                 plunge=key[3], trim=key[4], pitch=bool(pitch), tail_lag=bool(tail_lag))
     return _SYSTEMS[key]

@@ -43,6 +43,10 @@ LOAD_SETS = ("maneuver", "gust", "all")
 AERO_MODELS = ("strip", "coupled")
 #: the coupled gust's root: clamped (wind-tunnel wing) or the aircraft free in plunge
 PLUNGE_MODES = ("clamped", "free")
+#: the coupled gust's pitch: fixed or free with a horizontal tail (wingmdao.aero.pitch; needs free plunge)
+PITCH_MODES = ("fixed", "free")
+#: the aircraft data free pitch needs (no defaults: the case has no tail, CG or pitch inertia)
+PITCH_REQUIRED = ("pitch_inertia", "cg_x", "tail_arm", "tail_area", "tail_lift_slope")
 GUST_SIGNS = ("up", "down", "both")
 
 
@@ -64,6 +68,15 @@ class PegasusOptions(CaseOptions):
     gust_start: float = 0.2  # s
     aero: str = field(default="strip", metadata={"choices": AERO_MODELS})
     plunge: str = field(default="clamped", metadata={"choices": PLUNGE_MODES})  # coupled gust: root clamped or free
+    pitch: str = field(default="fixed", metadata={"choices": PITCH_MODES})  # coupled gust: pitch fixed or free
+    pitch_inertia: float | None = None  # kg m^2, about the CG
+    cg_x: float | None = None  # m aft of the body-axes origin (root leading edge)
+    cg_z: float = 0.0  # m
+    tail_arm: float | None = None  # m, CG to tail aerodynamic centre
+    tail_area: float | None = None  # m^2
+    tail_lift_slope: float | None = None  # 1/rad
+    downwash_gradient: float | None = None  # None: 2 a_w / (pi AR)
+    tail_lag: bool = False
     kussner: bool = False
     damping_ratio: float = 0.0
     damping_frequency_hz: float | None = None
@@ -77,7 +90,8 @@ class PegasusOptions(CaseOptions):
 OPTIONS = PegasusOptions
 #: the options only the gust cases use (a warning names those changed with --loads maneuver)
 GUST_ONLY_OPTIONS = ("altitude_ft", "mach", "u_ref_fps", "gust_gradient_ft", "t_final", "dt", "gust_start",
-                     "kussner", "damping_ratio", "damping_frequency_hz", "plunge")
+                     "kussner", "damping_ratio", "damping_frequency_hz", "plunge", "pitch", "pitch_inertia", "cg_x",
+                     "cg_z", "tail_arm", "tail_area", "tail_lift_slope", "downwash_gradient", "tail_lag")
 
 
 def add_arguments(p):
@@ -105,6 +119,22 @@ def add_arguments(p):
                    help="coupled gust (--aero coupled): clamped (root clamped, wind-tunnel wing, no alleviation; "
                         "default) or free (the aircraft free in plunge, its mass the TOGW: gust alleviation by "
                         "the aircraft's response; '--plunge' alone = free)")
+    p.add_argument("--pitch", choices=PITCH_MODES, nargs="?", const="free",
+                   help="coupled gust with --plunge free: fixed (default) or free (the aircraft also free in pitch with "
+                        "a horizontal tail, docs/aeroelasticity.md; needs --pitch-inertia, --cg-x, --tail-arm, "
+                        "--tail-area, --tail-lift-slope; '--pitch' alone = free)")
+    t = p.add_argument_group("free pitch (--pitch free; SI, body axes: x aft, z up from the symmetry-plane origin)")
+    t.add_argument("--pitch-inertia", type=float, metavar="KG_M2", help="aircraft pitch inertia I_yy about its CG (kg m^2)")
+    t.add_argument("--cg-x", type=float, metavar="M", help="aircraft CG x (m aft of the body-axes origin)")
+    t.add_argument("--cg-z", type=float, metavar="M", help="aircraft CG z (m above the origin)")
+    t.add_argument("--tail-arm", type=float, metavar="M", help="CG to horizontal-tail aerodynamic centre (m, > 0)")
+    t.add_argument("--tail-area", type=float, metavar="M2", help="horizontal tail area (m^2, > 0)")
+    t.add_argument("--tail-lift-slope", type=float, metavar="PER_RAD",
+                   help="horizontal tail lift slope a_t (1/rad, compressibility included)")
+    t.add_argument("--downwash-gradient", type=float, metavar="D",
+                   help="deps/dalpha at the tail, [0, 1) (unset: 2 a_w / (pi AR), a_w the strips' wing lift slope)")
+    t.add_argument("--tail-lag", action="store_true",
+                   help="downwash lag: first-order lag of time constant x_t / V on the wing angle seen by the tail")
     p.add_argument("--kussner", action="store_true", help="lag the gust lift by the Kussner function")
     p.add_argument("--damping-ratio", type=float,
                    help="structural damping ratio of the gust case's beam (Kelvin-Voigt strain-rate damping, "
@@ -218,7 +248,7 @@ def gust_history_case(name, opts, geometry, chord, axis_frac, families, *, gradi
     if opts.aero == "coupled":
         return coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, gradient_ft=gradient_ft,
                                  u_ds_eas=u_ds_eas, airspeed_tas=airspeed_tas, altitude_m=altitude_m,
-                                 direction=direction, weight_lb=weight_lb, description=description)
+                                 direction=direction, weight_lb=weight_lb, description=description, pf=pf)
     steady = maneuver_line_loads(geometry.node_positions, chord, axis_frac, weight_lb * LB * G0, 1.0,
                                  semi_span=pf.semi_span, fuselage_half_width=pf.root_rib * pf.semi_span)
     hist = gust_line_loads(geometry.node_positions, chord, axis_frac, time,
@@ -264,13 +294,15 @@ def gust_set_of(opts):
 
 
 def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *, gradient_ft, u_ds_eas,
-                      airspeed_tas, altitude_m, direction, weight_lb, description):
+                      airspeed_tas, altitude_m, direction, weight_lb, description, pf=PLANFORM):
     """The 1 - cos gust on the aeroelastic beam (``--aero coupled``): unsteady strip theory on the
     deforming wing (wingmdao.aero), root clamped or free plunge, the march starting from the trimmed 1 g state
     (aircraft angle of attack solved at t = 0 so that both half-wings lift W, gravity on), the gust
     velocity per station with its penetration delay from the most forward leading edge.
     ``--plunge free``: the aircraft (``weight_lb``) free in plunge, its mass the case input
-    ``aircraft_mass``; clamped root otherwise."""
+    ``aircraft_mass``; clamped root otherwise. ``--pitch free`` (with free plunge): also free in pitch
+    with a horizontal tail (wingmdao.aero.pitch), the gust reaching the tail x_t / V after the first
+    leading edge, deps/dalpha by default 2 a_w / (pi AR)."""
     from wingmdao.aero import station_gust_history
     from wingmdao.aero.coupled import CoupledAero
     from wingmdao.groups.load_case import LoadCase
@@ -292,11 +324,26 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
     forcing = {"gravity": np.array([0.0, 0.0, -G0]), "gust_velocity": station_gust_history(time, x_le, V, profile),
                "trim_active": trim}
     free = opts.plunge == "free"
+    pitch = {}
+    if getattr(opts, "pitch", "fixed") == "free":  # the tail meets the gust x_t / V after the first leading edge
+        x_t = opts.cg_x + opts.tail_arm
+        forcing["tail_gust_velocity"] = profile(time - (x_t - x_le.min()) / V)
+        deps = opts.downwash_gradient
+        if deps is None:  # Etkin & Reid (1996) / Nelson (1998): deps/dalpha = 2 a_w / (pi AR)
+            area = pf.area_ft2 * FT ** 2  # a_w: the strips' wing slope, 2 int c a / beta dy / S (as wingmdao gust)
+            a_c = 2 * np.pi / np.sqrt(1 - mach ** 2) * np.asarray(chord, dtype=float)
+            ds = np.linalg.norm(np.diff(geometry.node_positions, axis=0), axis=1)
+            a_w = 2 * np.sum(0.5 * (a_c[1:] + a_c[:-1]) * ds) / area
+            deps = 2 * a_w / (np.pi * (2 * pf.semi_span) ** 2 / area)
+        pitch = dict(pitch=True, tail_lag=bool(opts.tail_lag), aircraft_cg=(float(opts.cg_x), float(opts.cg_z)),
+                     aircraft_pitch_inertia=float(opts.pitch_inertia), tail_arm=float(opts.tail_arm),
+                     tail_area=float(opts.tail_area), tail_lift_slope=float(opts.tail_lift_slope),
+                     downwash_gradient=float(deps))
     aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
                        airspeed=V, density=rho, mach=mach, trim=True, trim_lift=weight_lb * LB * G0,
-                       plunge=free, aircraft_mass=weight_lb * LB)
-    return LoadCase(name, time, forcing, families,
-                    description + f" (coupled aeroelastic, {'free plunge' if free else 'clamped root'})", aero=aero)
+                       plunge=free, aircraft_mass=weight_lb * LB, **pitch)
+    mode = ("free plunge + pitch" if pitch else "free plunge") if free else "clamped root"
+    return LoadCase(name, time, forcing, families, description + f" (coupled aeroelastic, {mode})", aero=aero)
 
 
 def gust_set_cases(gset, opts, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
@@ -351,6 +398,19 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
     if opts.plunge == "free" and opts.aero != "coupled":
         raise ValueError(f"--plunge free needs --aero coupled (the strip-theory loads are precomputed on a "
                          f"clamped wing), got --aero {opts.aero}")
+    if opts.pitch == "free":
+        if opts.aero != "coupled" or opts.plunge != "free":
+            raise ValueError("--pitch free needs --aero coupled and --plunge free (the aircraft free in plunge and "
+                             f"pitch), got --aero {opts.aero} --plunge {opts.plunge}")
+        missing = [f for f in PITCH_REQUIRED if getattr(opts, f) is None]
+        if missing:
+            raise ValueError("--pitch free needs " + ", ".join("--" + f.replace("_", "-") for f in missing)
+                             + " (the case has no published tail or pitch inertia)")
+        from wingmdao.aero.pitch import check_pitch_inputs
+
+        check_pitch_inputs(aircraft_pitch_inertia=opts.pitch_inertia, tail_arm=opts.tail_arm, tail_area=opts.tail_area,
+                           tail_lift_slope=opts.tail_lift_slope,
+                           **({} if opts.downwash_gradient is None else {"downwash_gradient": opts.downwash_gradient}))
     zeta = opts.damping_ratio
     if not 0.0 <= zeta < 1.0:
         raise ValueError(f"--damping-ratio must be in [0, 1), got {zeta}")

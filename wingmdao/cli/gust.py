@@ -6,7 +6,9 @@ or the thicknesses of a sizing result, ``--design``) becomes an
 beam, Jones-Wagner and Sears-Sparks-Kuessner lag states, apparent mass, Prandtl-Glauert); a
 14 CFR 25.341 1-cos gust of gradient H (U_ds = U_ref (H/350 ft)^(1/6) EAS) crosses it with each
 station's penetration delay, the aircraft free in plunge (``--plunge``, default) or clamped at the
-symmetry plane (``--clamped``). The march starts from the trimmed, deformed 1 g level-flight state
+symmetry plane (``--clamped``), and with ``--pitch free`` also in pitch with a horizontal tail
+(:mod:`wingmdao.aero.pitch`; the aircraft's pitch inertia, CG and tail are required flags, the
+load factor then (wing + tail lift) / W). The march starts from the trimmed, deformed 1 g level-flight state
 (aircraft angle of attack solved so that the lift of both half-wings equals W, gravity on; the
 ``trim`` option of :func:`~wingmdao.aero.system.build_aeroelastic_system`), the gust an increment
 on it; the load factor is the lift integrated over both half-wings over W. ``--aero strip``
@@ -16,7 +18,8 @@ spanload) to the structural beam, root clamped; the JSON keys are the same (trim
 JSON keys: time, load_factor, peak_incremental_load_factor, quasi_steady_incremental_load_factor
 (dn = rho0 U_de V_e a / (2 W/S), a the model's strip-theory wing lift slope), trim_alpha_rad, wing_lift_slope_per_rad,
 mass_parameter (mu = 2 (W/S) / (rho c a g)), mean_chord_m, wing_loading_pa, root_bending_moment
-(N m, M_x at the symmetry plane), root_torsion (N m, M_y), tip_displacement (m, z), and the inputs.
+(N m, M_x at the symmetry plane), root_torsion (N m, M_y), tip_displacement (m, z), peak_up/peak_down_incremental_load_factor, with --pitch free
+pitch_angle_rad, pitch_rate_rad_s, tail_lift_n, tail_incidence_rad, and the inputs.
 """
 
 from __future__ import annotations
@@ -48,6 +51,24 @@ def register(subparsers):
                         "clamped (root clamped; the only choice with --aero strip)")
     g.add_argument("--clamped", dest="plunge", action="store_const", const="clamped",
                    help="root clamped (wind-tunnel wing): the same as --plunge clamped")
+    p.add_argument("--pitch", dest="pitch", nargs="?", const="free", choices=("free", "fixed"), default="fixed",
+                   help="free (aircraft also free in pitch with a horizontal tail; needs --aero coupled, free plunge and "
+                        "--pitch-inertia, --cg-x, --tail-arm, --tail-area, --tail-lift-slope; '--pitch' alone = free) "
+                        "or fixed (default)")
+    t = p.add_argument_group("free pitch (--pitch free; SI, body axes: x aft, z up from the symmetry-plane origin)")
+    t.add_argument("--pitch-inertia", type=float, default=None, metavar="KG_M2",
+                   help="aircraft pitch inertia I_yy about its CG (kg m^2; required)")
+    t.add_argument("--cg-x", type=float, default=None, metavar="M", help="aircraft CG x (m aft of the body-axes origin; required)")
+    t.add_argument("--cg-z", type=float, default=0.0, metavar="M", help="aircraft CG z (m above the origin; default 0)")
+    t.add_argument("--tail-arm", type=float, default=None, metavar="M",
+                   help="CG to horizontal-tail aerodynamic centre (m, > 0; required)")
+    t.add_argument("--tail-area", type=float, default=None, metavar="M2", help="horizontal tail area (m^2, > 0; required)")
+    t.add_argument("--tail-lift-slope", type=float, default=None, metavar="PER_RAD",
+                   help="horizontal tail lift slope a_t (1/rad, compressibility included; required)")
+    t.add_argument("--downwash-gradient", type=float, default=None, metavar="D",
+                   help="deps/dalpha at the tail, [0, 1) (default: 2 a_w / (pi AR), a_w the strips' wing lift slope)")
+    t.add_argument("--tail-lag", action="store_true",
+                   help="downwash lag: first-order lag of time constant x_t / V on the wing angle seen by the tail")
     p.add_argument("--gradient-ft", type=float, default=None, metavar="H",
                    help="gust gradient H (ft, 30-350; default: the case's)")
     p.add_argument("--stiffness-scale", type=float, default=1.0, metavar="S",
@@ -113,6 +134,8 @@ def run(args):
     if args.aero == "strip" and args.lifting_line:
         raise ValueError("--lifting-line applies to --aero coupled (the strip-theory loads use 2 pi)")
     args.plunge = plunge == "free"
+    args.pitch = args.pitch == "free"
+    _check_pitch_args(args)
     module = available_cases()[args.case]
     base = __import__("wingmdao.cases.pegasus", fromlist=["GUST"])
     gust = dict(base.GUST)
@@ -155,16 +178,28 @@ def run(args):
                          mach=mach)
     r0 = bp["node_positions"]
     body_mass = plunge_body_mass(weight / G0, half_wing_mass(bp["mass_per_length"], r0)[0])
+    if args.pitch:
+        from wingmdao.aero.pitch import pitch_parameters
+
+        a_w = _wing_slope(ap["lift_slope"] / np.sqrt(1 - mach ** 2), chord, r0, _area(args))
+        if args.downwash_gradient is None:  # Etkin & Reid (1996) / Nelson (1998): deps/dalpha = 2 a_w / (pi AR)
+            args.downwash_gradient = 2 * a_w / (np.pi * (2 * pf.semi_span) ** 2 / (pf.area_ft2 * FT ** 2))
+        args.pitch_params = pitch_parameters(
+            aircraft_mass=weight / G0, cg=(args.cg_x, args.cg_z), aircraft_pitch_inertia=args.pitch_inertia,
+            tail_arm=args.tail_arm, tail_area=args.tail_area, tail_lift_slope=args.tail_lift_slope,
+            downwash_gradient=args.downwash_gradient, mass_per_length=bp["mass_per_length"], node_positions=r0)
     H = H_ft * FT
     u_eas = u_ref * FT * (H_ft / 350.0) ** (1.0 / 6.0)
     u_tas = u_eas * np.sqrt(rho0 / rho)
     t = np.arange(0.0, t_final + 0.5 * args.dt, args.dt)
     print(f"wingmdao gust {args.case}: {n} nodes, {t.size} steps, V = {V:.1f} m/s TAS, rho = {rho:.4f} kg/m^3, "
           f"U_ds = {u_eas:.2f} m/s EAS, H = {H_ft:g} ft, --aero {args.aero}, "
-          f"{'free plunge' if args.plunge else 'clamped'}", file=sys.stderr)
+          f"{'free plunge' if args.plunge else 'clamped'}{' + free pitch' if args.pitch else ''}", file=sys.stderr)
     flight = dict(V=V, rho=rho, mach=mach, alt=alt, H=H, u_eas=u_eas, u_tas=u_tas, weight=weight)
+    pitch_out = {}
     if args.aero == "coupled":
-        n_load, X, a_wing, trim_alpha = _coupled_history(args, t, bp, chord, axis_frac, ap, flight, body_mass)
+        n_load, X, a_wing, trim_alpha = _coupled_history(args, t, bp, chord, axis_frac, ap, flight, body_mass,
+                                                         pitch_out)
     else:
         n_load, X, a_wing, trim_alpha = _strip_history(args, module, setup.geometry, t, bp, chord, axis_frac, flight)
     area = pf.area_ft2 * FT ** 2
@@ -176,13 +211,15 @@ def run(args):
     dn_qs = rho0 * u_eas * V_e * a_wing / (2 * wing_loading)
     mu = 2 * wing_loading / (rho * mean_chord * a_wing * G0)
     res = {
-        "case": args.case, "aero": args.aero, "plunge": bool(args.plunge), "gradient_ft": H_ft,
+        "case": args.case, "aero": args.aero, "plunge": bool(args.plunge), "pitch": bool(args.pitch), "gradient_ft": H_ft,
         "stiffness_scale": args.stiffness_scale, "lifting_line": bool(args.lifting_line), "design": args.design, "altitude_ft": alt_ft, "mach": mach,
         "airspeed_tas_m_s": V, "density_kg_m3": rho, "u_ds_eas_m_s": u_eas,
         "time": t.tolist(),
         "load_factor": n_load.tolist(),
         "trim_alpha_rad": trim_alpha,
         "peak_incremental_load_factor": float(np.max(np.abs(dn))),
+        "peak_up_incremental_load_factor": float(np.max(dn)),
+        "peak_down_incremental_load_factor": float(np.min(dn)),
         "quasi_steady_incremental_load_factor": float(dn_qs),
         "wing_lift_slope_per_rad": a_wing,
         "mass_parameter": float(mu),
@@ -192,6 +229,7 @@ def run(args):
         "root_bending_moment": X[:, 0, 9].tolist(),  # total, 1 g included (X: the 18 beam states per node)
         "root_torsion": X[:, 0, 10].tolist(),
         "tip_displacement": (X[:, -1, 2] - r0[-1, 2]).tolist(),
+        **pitch_out,
         "wall_s": _time.perf_counter() - t_wall,
     }
     print(f"peak dn = {res['peak_incremental_load_factor']:.4f}, quasi-steady dn = {dn_qs:.4f}, mu = {mu:.2f}, "
@@ -233,19 +271,44 @@ def _wing_slope(section_slope, chord, r0, area):
     return float(2 * np.sum(0.5 * (a[1:] + a[:-1]) * ds) / area)
 
 
-def _coupled_history(args, t, bp, chord, axis_frac, ap, flight, body_mass):
+def _check_pitch_args(args):
+    """--pitch free needs --aero coupled, free plunge and the aircraft's pitch data (no PEGASUS defaults:
+    its tail and pitch inertia are not published with the case, docs/aeroelasticity.md)."""
+    if not args.pitch:
+        given = [f for f in ("pitch_inertia", "cg_x", "tail_arm", "tail_area", "tail_lift_slope", "downwash_gradient")
+                 if getattr(args, f) is not None] + (["tail_lag"] if args.tail_lag else [])
+        if given:
+            raise ValueError(f"--{given[0].replace('_', '-')} applies to --pitch free only")
+        return
+    if args.aero != "coupled" or not args.plunge:
+        raise ValueError("--pitch free needs --aero coupled and --plunge free (the aircraft free in plunge and pitch)")
+    missing = [f for f in ("pitch_inertia", "cg_x", "tail_arm", "tail_area", "tail_lift_slope") if getattr(args, f) is None]
+    if missing:
+        raise ValueError("--pitch free needs " + ", ".join("--" + f.replace("_", "-") for f in missing)
+                         + " (the case has no published tail or pitch inertia)")
+    for name in ("pitch_inertia", "cg_x", "cg_z", "tail_arm", "tail_area", "tail_lift_slope"):
+        if not np.isfinite(getattr(args, name)):
+            raise ValueError(f"--{name.replace('_', '-')} must be finite, got {getattr(args, name)}")
+
+
+def _coupled_history(args, t, bp, chord, axis_frac, ap, flight, body_mass, pitch_out=None):
     """--aero coupled: march the aeroelastic beam from the trimmed 1 g state; (n(t), beam states
-    (n_time, n, 18), wing lift slope of the strips with Prandtl-Glauert, trim angle)."""
+    (n_time, n, 18), wing lift slope of the strips with Prandtl-Glauert, trim angle). With --pitch
+    free the load factor is (wing + tail lift) / W and ``pitch_out`` gets the pitch histories."""
     from wingmdao.aero import cached_aeroelastic_system, station_gust_history
     from wingmdao.cases.planform import G0
     from wingmdao.timemarch.bdf import march
     from wingmdao.timemarch.system import layout, pack
 
     n = chord.size
-    system = cached_aeroelastic_system(n, plunge=args.plunge, trim=True)
+    pitch = bool(getattr(args, "pitch", False))
+    system = cached_aeroelastic_system(n, plunge=args.plunge, trim=True, pitch=pitch,
+                                       tail_lag=pitch and args.tail_lag)
     params = {**bp, **ap, "trim_lift": flight["weight"]}
     if args.plunge:
         params["body_mass"] = body_mass
+    if pitch:
+        params.update(args.pitch_params)
     p = pack(system.param_specs, params)
     r0 = bp["node_positions"]
     x_le = r0[:, 0] - axis_frac * chord  # penetration from the most forward leading edge
@@ -254,9 +317,24 @@ def _coupled_history(args, t, bp, chord, axis_frac, ap, flight, body_mass):
     Q[:, ql["gust_velocity"]] = station_gust_history(t, x_le, flight["V"], _gust_profile(args, flight))
     Q[:, ql["gravity"].start + 2] = -G0
     Q[0, ql["trim_active"]] = 1.0
+    if pitch:  # the gust reaches the tail's aerodynamic centre x_t / V after the most forward leading edge
+        x_t = params["tail_x"]
+        Q[:, ql["tail_gust_velocity"].start] = _gust_profile(args, flight)(t - (x_t - x_le.min()) / flight["V"])
     hist = march(system, t, p, Q, modified_newton=True)
     X = hist.states[:, :22 * n].reshape(t.size, n, 22)[:, :, :18]
-    n_load = system.total_lift_history(hist.states, args.dt, p, Q) / flight["weight"]
+    lift = system.total_lift_history(hist.states, args.dt, p, Q)
+    if pitch:
+        tail = system.tail_lift_history(hist.states, args.dt, p, Q)
+        lift = lift + tail
+        bi = system.body_index
+        pitch_out.update({
+            "pitch_angle_rad": hist.states[:, bi["pitch_angle"]].tolist(),
+            "pitch_rate_rad_s": hist.states[:, bi["pitch_rate"]].tolist(),
+            "tail_lift_n": tail.tolist(), "tail_incidence_rad": float(hist.states[0, bi["tail_incidence"]]),
+            "pitch_inertia_kg_m2": args.pitch_inertia, "cg_m": [args.cg_x, args.cg_z], "tail_arm_m": args.tail_arm,
+            "tail_area_m2": args.tail_area, "tail_lift_slope_per_rad": args.tail_lift_slope,
+            "downwash_gradient": float(args.downwash_gradient), "tail_lag": bool(args.tail_lag)})
+    n_load = lift / flight["weight"]
     a_wing = _wing_slope(ap["lift_slope"] / np.sqrt(1 - flight["mach"] ** 2), chord, r0, _area(args))
     return n_load, X, a_wing, float(hist.states[0, system.trim_index])
 

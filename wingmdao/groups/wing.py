@@ -98,7 +98,7 @@ def set_case_loads(prob: om.Problem, case: LoadCase, num_nodes: int, path: str =
         from wingmdao.aero.coupled import AERO_FORCING_META
 
         for name, (units, _) in AERO_FORCING_META.items():
-            if name != "trim_active" or case.aero.trim:
+            if (name != "trim_active" or case.aero.trim) and (name != "tail_gust_velocity" or case.aero.pitch):
                 prob.set_val(prefix + name, case.forcing_array(name, num_nodes), units=units)
         for name, val in {**case.aero.parameters(num_nodes), **case.aero.model_inputs()}.items():
             prob.set_val(prefix + name, val)
@@ -166,13 +166,27 @@ class WingStructure(om.Group):
                 raise ValueError(f"load case {case.name}: structural damping is not available with aero")
             beam = AeroelasticBeamDynamics(num_nodes=n, time=case.time, plunge=bool(aero.plunge),
                                            trim=bool(aero.trim))
+            if aero.pitch:  # free pitch (wingmdao.aero.pitch): the system with the pitch states and tail
+                from wingmdao.aero.system import cached_aeroelastic_system
+
+                beam.options["system"] = cached_aeroelastic_system(n, plunge=True, trim=True, pitch=True,
+                                                                   tail_lag=bool(aero.tail_lag))
             for k, v in (self.options["newton_options"] or {}).items():
                 if k in beam.options:
                     beam.options[k] = v
             extra = [s.name for s in aero_param_specs(n)] + list(AERO_FORCING_SHAPES)
-            extra = [e for e in extra if aero.trim or e != "trim_active"]
+            extra = [e for e in extra if (aero.trim or e != "trim_active") and (aero.pitch or e != "tail_gust_velocity")]
+            extra += ["tail_area", "tail_lift_slope", "downwash_gradient"] if aero.pitch else []
             extra += ["trim_lift"] if aero.trim and not aero.plunge else []
-            if aero.plunge:  # the plunge mass (and trim lift) from the promoted input aircraft_mass
+            if aero.pitch:  # body mass, first moment, pitch inertia, tail position from the aircraft inputs
+                from wingmdao.aero.pitch import PitchBodyProperties
+
+                self.add_subsystem("pitch_body", PitchBodyProperties(num_nodes=n, trim_load_factor=aero.trim_load_factor()),
+                                   promotes_inputs=["aircraft_mass", "aircraft_cg", "aircraft_pitch_inertia", "tail_arm",
+                                                    "mass_per_length", "node_positions"])
+                for k in ("body_mass", "body_first_moment", "body_pitch_inertia", "tail_x", "trim_lift"):
+                    self.connect(f"pitch_body.{k}", f"beam.{k}")
+            elif aero.plunge:  # the plunge mass (and trim lift) from the promoted input aircraft_mass
                 from wingmdao.components.aeroelastic import PlungeBodyMass
 
                 n_trim = aero.trim_load_factor() if aero.trim else None

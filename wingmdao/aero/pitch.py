@@ -1,0 +1,273 @@
+"""Free pitch of the aircraft: rigid-body pitch states, horizontal tail, body pitch inertia (docs/aeroelasticity.md).
+
+With ``pitch=True`` :func:`wingmdao.aero.system.build_aeroelastic_system` frees the aircraft in
+plunge *and* pitch. Body axes (x aft, y outboard right, z up) are those of the aircraft, origin O
+at the symmetry plane; the rigid-body states are the upward velocity w_p of O (the plunge state),
+the pitch-attitude increment theta_p and the pitch rate q (nose up = + about y), optionally the
+lagged downwash angle e, and the tail incidence i_t (a trim unknown). The "body" is the aircraft
+outside both wing halves (fuselage, tail, payload): mass m_b, first moments s = m_b (x_b, z_b)
+about O and pitch inertia I_O about O's y axis. With the two half-wings' root force F and moment
+M (what the wing exerts on the body at the root node r_0, docs/conventions.md) and the tail lift
+L_t acting at x_t (Newton-Euler of a rigid body about the accelerating point O, small angles):
+
+    m_b (dw_p/dt - g_z) - s_x dq/dt - s_z q^2       = 2 F_z + L_t
+    I_O dq/dt - s_x dw_p/dt                          = s_z g_x - s_x g_z + 2 (z_0 F_x - x_0 F_z + M_y) - x_t L_t
+    dtheta_p/dt = q
+
+Tail (quasi-steady; Etkin & Reid, *Dynamics of Flight*, 3rd ed., 1996, Sec. 2.4; Nelson,
+*Flight Stability and Automatic Control*, 2nd ed., 1998, Sec. 2.4): ``L_t = 1/2 rho V^2 S_t a_t
+alpha_t`` with
+
+    alpha_t = alpha_trim + theta_p - w_p/V + q x_t / V + w_g,t / V - deps/dalpha e + i_t
+    e = alpha_w = alpha_trim + theta_p - w_p/V + w_g,root / V        (no lag), or
+    (x_t / V) de/dt + e = alpha_w                                     (tail_lag: first-order lag)
+
+(w_g,t the gust at the tail, w_g,root the gust at the root station). The pitch attitude adds to
+every wing station's angle (as alpha_trim does) and (0, q, 0), (0, dq/dt, 0) add to the frame's
+angular velocity and acceleration of the beam (its inertia) and of the aerodynamics (Omega x r,
+section pitch rate). Small angles: gravity stays fixed in body axes and the airspeed is constant
+(no surge/phugoid), the short-period assumptions of the references.
+
+The user gives the whole aircraft (mass M, CG (x_cg, z_cg) from O, pitch inertia I_yy about the
+CG); :func:`body_pitch_properties` removes both half-wings (their mass lumped at the nodes with
+the trapezoid weights of :func:`wingmdao.aero.plunge.half_wing_mass`; the sections' rotary
+inertia and mass-centre offsets are not removed, a small error for a thin wing):
+
+    m_b = M - 2 m_h,  s = M (x_cg, z_cg) - 2 sum_i m_i (x_i, z_i),
+    I_O = I_yy + M (x_cg^2 + z_cg^2) - 2 sum_i m_i (x_i^2 + z_i^2).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import openmdao.api as om
+
+from wingmdao.timemarch.system import VarSpec
+
+#: rigid-body states after the plunge velocity (pitch attitude, pitch rate, [lagged downwash]) and the
+#: tail-incidence trim unknown; system.body_index maps them to their state indices
+PITCH_STATE_NAMES = ("pitch_angle", "pitch_rate")
+LAG_STATE_NAME = "downwash_lag"
+INCIDENCE_STATE_NAME = "tail_incidence"
+
+
+def pitch_param_specs() -> list[VarSpec]:
+    """Parameters of the free-pitch rows (appended after ``body_mass``)."""
+    return [
+        VarSpec("body_first_moment", (2,), "kg*m", "m_b (x_b, z_b): first moment of the body (aircraft outside both "
+                "wing halves) about the body-axes origin"),
+        VarSpec("body_pitch_inertia", (), "kg*m**2", "pitch inertia of the body about the body-axes origin (y axis)"),
+        VarSpec("tail_x", (), "m", "x of the horizontal tail's aerodynamic centre aft of the body-axes origin"),
+        VarSpec("tail_area", (), "m**2", "horizontal tail area S_t"),
+        VarSpec("tail_lift_slope", (), "1/rad", "horizontal tail lift-curve slope a_t (compressibility included)"),
+        VarSpec("downwash_gradient", (), None, "downwash gradient deps/dalpha at the tail"),
+    ]
+
+
+def pitch_forcing_specs() -> list[VarSpec]:
+    """Forcing of the free-pitch rows at one instant."""
+    return [VarSpec("tail_gust_velocity", (), "m/s", "gust velocity (body +z) at the tail, its penetration delay included")]
+
+
+def check_pitch_inputs(**values) -> None:
+    """ValueError (input, value, allowed range, SI) for bad free-pitch inputs; checks those given."""
+    rules = {"aircraft_pitch_inertia": ("kg*m**2", lambda v: v > 0, "(0, inf)"),
+             "body_pitch_inertia": ("kg*m**2", lambda v: v > 0, "(0, inf)"),
+             "tail_area": ("m**2", lambda v: v > 0, "(0, inf)"),
+             "tail_lift_slope": ("1/rad", lambda v: v > 0, "(0, inf)"),
+             "downwash_gradient": ("", lambda v: 0 <= v < 1, "[0, 1)"),
+             "tail_arm": ("m", lambda v: v > 0, "(0, inf) (tail aft of the CG)"),
+             "tail_x": ("m", lambda v: v > 0, "(0, inf) (tail aft of the body-axes origin)")}
+    for name, v in values.items():
+        units, ok, rng = rules[name]
+        val = float(np.real(v))
+        if not (np.isfinite(val) and ok(val)):
+            raise ValueError(f"{name} = {val} {units}; allowed range {rng} {units}".rstrip())
+
+
+def pitch_parameters(*, aircraft_mass, cg, aircraft_pitch_inertia, tail_arm, tail_area, tail_lift_slope,
+                     downwash_gradient, mass_per_length, node_positions) -> dict:
+    """Validated parameter dict of the free-pitch rows (``body_mass`` included) from the whole
+    aircraft: mass (kg), CG (x, z) m from the body-axes origin, pitch inertia about the CG (kg m^2),
+    tail arm CG -> tail aerodynamic centre (m), tail area (m^2), tail lift slope (1/rad), deps/dalpha."""
+    check_pitch_inputs(tail_arm=tail_arm, tail_area=tail_area, tail_lift_slope=tail_lift_slope,
+                       downwash_gradient=downwash_gradient)
+    mb, s, i_o = body_pitch_properties(aircraft_mass, np.asarray(cg, dtype=float), aircraft_pitch_inertia,
+                                       mass_per_length, node_positions)
+    return {"body_mass": float(mb), "body_first_moment": s, "body_pitch_inertia": float(i_o),
+            "tail_x": float(cg[0] + tail_arm), "tail_area": float(tail_area), "tail_lift_slope": float(tail_lift_slope),
+            "downwash_gradient": float(downwash_gradient)}
+
+
+def half_wing_pitch_moments(mass_per_length, node_positions):
+    """(m_h, (S_x, S_z), I_O) of one half-wing: mass, first moments and pitch inertia about the
+    body-axes origin's y axis, mass lumped at the nodes with trapezoid weights (complex-step safe)."""
+    mu, r = np.asarray(mass_per_length), np.asarray(node_positions)
+    s = np.sqrt(np.sum(np.diff(r, axis=0) ** 2, axis=1))
+    if np.any(np.real(s) <= 0):
+        raise ValueError("node_positions: element lengths must be > 0 m")
+    w = np.zeros(mu.size, dtype=s.dtype)
+    w[:-1] += 0.5 * s
+    w[1:] += 0.5 * s
+    m = w * mu
+    x, z = r[:, 0], r[:, 2]
+    return np.sum(m), np.array([np.sum(m * x), np.sum(m * z)]), np.sum(m * (x * x + z * z))
+
+
+def body_pitch_properties(aircraft_mass, cg, aircraft_pitch_inertia, mass_per_length, node_positions):
+    """Body (aircraft outside both half-wings) mass, first moment (2,) and pitch inertia about the
+    origin from the whole aircraft's mass M (kg), CG (x, z) from the origin (m) and pitch inertia
+    about the CG (kg m^2); ValueError unless the body's own inertia about its CG is > 0."""
+    from wingmdao.aero.plunge import body_mass
+
+    check_pitch_inputs(aircraft_pitch_inertia=aircraft_pitch_inertia)
+    cg = np.asarray(cg)
+    if cg.shape != (2,) or not np.all(np.isfinite(np.real(cg))):
+        raise ValueError(f"cg = {np.real(cg)} m; allowed: two finite values (x, z) from the body-axes origin")
+    m_h, s_h, i_h = half_wing_pitch_moments(mass_per_length, node_positions)
+    mb = body_mass(aircraft_mass, m_h)
+    s = aircraft_mass * cg - 2.0 * s_h
+    i_o = aircraft_pitch_inertia + aircraft_mass * np.sum(cg * cg) - 2.0 * i_h
+    own = i_o - np.sum(s * s) / mb
+    if not np.real(own) > 0:
+        raise ValueError(f"aircraft_pitch_inertia = {np.real(aircraft_pitch_inertia)} kg*m**2; allowed range "
+                         f"({np.real(aircraft_pitch_inertia - own):.6g}, inf) kg*m**2: the body outside both wing "
+                         "halves must keep a positive pitch inertia about its own CG")
+    return mb, s, i_o
+
+
+def body_residuals(x_b, xd_b, *, w_p, dw_p, F0, M0, r0, alpha_trim, gust_root, gust_tail, V, rho, g, pars, body_mass,
+                   tail_lag, on):
+    """CasADi rows of the rigid body (see the module docstring): (translation row replacing the
+    plunge row, [theta row, q row, (lag row)], moment row of the tail-incidence trim unknown, L_t).
+
+    ``x_b``/``xd_b``: (theta_p, q, [e], i_t) and their rates; ``on`` the trim switch (1: theta_p
+    = q = w_p = 0 and i_t solves the static moment balance; 0: the dynamics, i_t held)."""
+    import casadi as ca
+
+    theta, qr = x_b[0], x_b[1]
+    it = x_b[-1]
+    s_x, s_z = pars["body_first_moment"][0], pars["body_first_moment"][1]
+    i_o, x_t = pars["body_pitch_inertia"], pars["tail_x"]
+    alpha_w = alpha_trim + theta - w_p / V + gust_root / V
+    e = x_b[2] if tail_lag else alpha_w
+    alpha_t = (alpha_trim + theta - w_p / V + qr * x_t / V + gust_tail / V - pars["downwash_gradient"] * e + it)
+    lift_t = 0.5 * rho * V * V * pars["tail_area"] * pars["tail_lift_slope"] * alpha_t
+    trans = body_mass * (dw_p - g[2]) - s_x * xd_b[1] - s_z * qr * qr - 2.0 * F0[2] - lift_t
+    moment = (i_o * xd_b[1] - s_x * dw_p - (s_z * g[0] - s_x * g[2])
+              - 2.0 * (r0[2] * F0[0] - r0[0] * F0[2] + M0[1]) + x_t * lift_t)
+    rows = [on * w_p + (1.0 - on) * trans,
+            on * theta + (1.0 - on) * (xd_b[0] - qr),
+            on * qr + (1.0 - on) * moment]
+    if tail_lag:
+        rows.append((x_t / V) * xd_b[2] + e - alpha_w)
+    rows.append(on * moment + (1.0 - on) * xd_b[-1])
+    return ca.vertcat(*rows), lift_t
+
+
+def short_period_closed_form(*, mass, pitch_inertia, airspeed, density, wing_area, wing_lift_slope, tail_area,
+                             tail_lift_slope, tail_arm, downwash_gradient, wing_ac_arm=0.0, tail_lag=False):
+    """Short-period eigenvalues (1/s, complex pair) of the rigid aircraft, Nelson (1998) Sec. 4.4 /
+    Etkin & Reid (1996) Sec. 6.3: ``lambda^2 - (Z_w + M_q + u0 M_wdot) lambda + Z_w M_q - u0 M_w = 0``.
+
+    Dimensional derivatives (per unit mass / inertia, w the normal velocity at the CG, down +
+    in the references, which leaves the characteristic equation unchanged), q_d = rho V^2 / 2:
+    Z_w = -q_d (S a_w + S_t a_t (1 - deps/dalpha)) / (m V) (lift only: no drag, no C_L0 term);
+    M_w = q_d (S a_w x_w - S_t a_t (1 - deps/dalpha) l_t) / (I V), x_w the wing aerodynamic centre
+    *ahead* of the CG (``wing_ac_arm``, m); M_q = -q_d S_t a_t l_t^2 / (I V) (tail only);
+    M_wdot = -q_d S_t a_t deps/dalpha l_t^2 / (I V^2) with the downwash lag, else 0."""
+    qd, m, I, V = 0.5 * density * airspeed ** 2, mass, pitch_inertia, airspeed
+    at = tail_area * tail_lift_slope
+    Zw = -qd * (wing_area * wing_lift_slope + at * (1 - downwash_gradient)) / (m * V)
+    Mw = qd * (wing_area * wing_lift_slope * wing_ac_arm - at * (1 - downwash_gradient) * tail_arm) / (I * V)
+    Mq = -qd * at * tail_arm ** 2 / (I * V)
+    Mwd = -qd * at * downwash_gradient * tail_arm ** 2 / (I * V * V) if tail_lag else 0.0
+    return np.roots([1.0, -(Zw + Mq + V * Mwd), Zw * Mq - V * Mw])
+
+
+class PitchBodyProperties(om.ExplicitComponent):
+    """Body mass, first moment and pitch inertia of the free-pitch rows from the whole aircraft
+    (:func:`body_pitch_properties`), and the tail position ``tail_x = x_cg + tail_arm``.
+
+    Inputs ``aircraft_mass`` (kg), ``aircraft_cg`` (2,) m (x aft, z up from the body-axes origin),
+    ``aircraft_pitch_inertia`` (kg m^2, about the CG), ``tail_arm`` (m, CG to the tail's
+    aerodynamic centre), ``mass_per_length`` (n,) kg/m, ``node_positions`` (n, 3) m. Outputs
+    ``body_mass``, ``body_first_moment``, ``body_pitch_inertia``, ``tail_x``; with the option
+    ``trim_load_factor`` n also ``trim_lift = n g0 aircraft_mass`` (N). Partials: analytic in the
+    aircraft inputs and mass_per_length, complex step (exact) in node_positions. Bad values raise
+    InputRangeError (a ValueError) naming the input.
+    """
+
+    def initialize(self):
+        self.options.declare("num_nodes", types=int, lower=2, desc="number of beam nodes")
+        self.options.declare("trim_load_factor", default=None, allow_none=True, types=(int, float),
+                             desc="load factor n of the output trim_lift = n g0 aircraft_mass (None: no output)")
+
+    def setup(self):
+        n = self.options["num_nodes"]
+        self.add_input("aircraft_mass", val=1.0, units="kg", desc="aircraft mass (both wing halves included)")
+        self.add_input("aircraft_cg", val=np.zeros(2), units="m", desc="aircraft CG (x aft, z up) from the body-axes origin")
+        self.add_input("aircraft_pitch_inertia", val=1.0, units="kg*m**2", desc="aircraft pitch inertia about its CG")
+        self.add_input("tail_arm", val=1.0, units="m", desc="CG to horizontal-tail aerodynamic centre, along x (aft +)")
+        self.add_input("mass_per_length", val=0.0, shape=(n,), units="kg/m", desc="beam mass per unit length")
+        self.add_input("node_positions", val=0.0, shape=(n, 3), units="m", desc="undeformed beam nodes, body axes")
+        self.add_output("body_mass", val=1.0, units="kg", desc="aircraft mass outside both wing halves")
+        self.add_output("body_first_moment", val=np.zeros(2), units="kg*m", desc="m_b (x_b, z_b) about the origin")
+        self.add_output("body_pitch_inertia", val=1.0, units="kg*m**2", desc="body pitch inertia about the origin")
+        self.add_output("tail_x", val=1.0, units="m", desc="x of the tail aerodynamic centre from the origin")
+        self.declare_partials(["body_mass", "body_first_moment", "body_pitch_inertia"],
+                              ["aircraft_mass", "mass_per_length", "node_positions"])
+        self.declare_partials(["body_first_moment", "body_pitch_inertia"], "aircraft_cg")
+        self.declare_partials("body_pitch_inertia", "aircraft_pitch_inertia", val=1.0)
+        self.declare_partials("tail_x", "tail_arm", val=1.0)
+        self.declare_partials("tail_x", "aircraft_cg", rows=[0], cols=[0], val=1.0)
+        if self.options["trim_load_factor"] is not None:
+            from wingmdao.cases.planform import G0
+
+            self.add_output("trim_lift", val=1.0, units="N", desc="lift of wing + tail to trim to, n g0 aircraft_mass")
+            self.declare_partials("trim_lift", "aircraft_mass", val=float(self.options["trim_load_factor"]) * G0)
+
+    def _values(self, inputs, r=None):
+        return body_pitch_properties(inputs["aircraft_mass"][0], inputs["aircraft_cg"], inputs["aircraft_pitch_inertia"][0],
+                                     inputs["mass_per_length"], inputs["node_positions"] if r is None else r)
+
+    def compute(self, inputs, outputs):
+        from wingmdao.errors import InputRangeError
+
+        try:
+            check_pitch_inputs(tail_arm=inputs["tail_arm"][0])
+            outputs["body_mass"], outputs["body_first_moment"], outputs["body_pitch_inertia"] = self._values(inputs)
+        except ValueError as exc:
+            raise InputRangeError(str(exc)) from None
+        outputs["tail_x"] = inputs["aircraft_cg"][0] + inputs["tail_arm"]
+        if self.options["trim_load_factor"] is not None:
+            from wingmdao.cases.planform import G0
+
+            outputs["trim_lift"] = float(self.options["trim_load_factor"]) * G0 * inputs["aircraft_mass"]
+
+    def compute_partials(self, inputs, partials):
+        M, cg = inputs["aircraft_mass"][0], inputs["aircraft_cg"]
+        r = inputs["node_positions"]
+        s = np.linalg.norm(np.diff(r, axis=0), axis=1)
+        w = np.zeros(r.shape[0])
+        w[:-1] += 0.5 * s
+        w[1:] += 0.5 * s
+        x, z = r[:, 0], r[:, 2]
+        partials["body_mass", "aircraft_mass"] = 1.0
+        partials["body_first_moment", "aircraft_mass"] = cg
+        partials["body_pitch_inertia", "aircraft_mass"] = np.sum(cg * cg)
+        partials["body_first_moment", "aircraft_cg"] = M * np.eye(2)
+        partials["body_pitch_inertia", "aircraft_cg"] = 2.0 * M * cg
+        partials["body_mass", "mass_per_length"] = -2.0 * w
+        partials["body_first_moment", "mass_per_length"] = -2.0 * np.vstack([w * x, w * z])
+        partials["body_pitch_inertia", "mass_per_length"] = -2.0 * w * (x * x + z * z)
+        h = 1e-30
+        d = np.zeros((4, r.size))
+        for k in range(r.size):
+            rc = r.astype(complex).ravel()
+            rc[k] += 1j * h
+            mb, sb, io = self._values(inputs, rc.reshape(r.shape))
+            d[:, k] = np.imag(np.concatenate([[mb], sb, [io]])) / h
+        partials["body_mass", "node_positions"] = d[0]
+        partials["body_first_moment", "node_positions"] = d[1:3]
+        partials["body_pitch_inertia", "node_positions"] = d[3]
