@@ -255,7 +255,7 @@ def _coupled_history(args, t, bp, chord, axis_frac, ap, flight, body_mass):
     Q[:, ql["gravity"].start + 2] = -G0
     Q[0, ql["trim_active"]] = 1.0
     hist = march(system, t, p, Q, modified_newton=True)
-    X = hist.states[:, :22 * n].reshape(t.size, n, 22)[:, :, :18]
+    X = system.layout.beam_states(hist.states)
     n_load = system.total_lift_history(hist.states, args.dt, p, Q) / flight["weight"]
     a_wing = _wing_slope(ap["lift_slope"] / np.sqrt(1 - flight["mach"] ** 2), chord, r0, _area(args))
     return n_load, X, a_wing, float(hist.states[0, system.trim_index])

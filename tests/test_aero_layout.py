@@ -1,0 +1,92 @@
+"""State layout of the aeroelastic system (wingmdao.aero.system.state_layout) and its
+structural-only limit: at vanishing air density the coupled march and its adjoint totals are
+those of the structural beam (BeamDynamics' system), read through the layout's beam indices."""
+
+import numpy as np
+import pytest
+
+from wingmdao.aero.system import (N_AEROELASTIC_STATES, aero_parameters, build_aeroelastic_system,
+                                  cached_aeroelastic_system, describe_aeroelastic_equation, state_layout)
+from wingmdao.beam.residual import build_beam_system
+from wingmdao.beam.static import beam_parameters, straight_beam
+from wingmdao.timemarch.adjoint import LinearizedHistory
+from wingmdao.timemarch.bdf import march
+from wingmdao.timemarch.system import layout, pack
+
+
+@pytest.mark.parametrize("plunge,trim", [(False, False), (True, False), (False, True), (True, True)])
+def test_layout_matches_system(plunge, trim):
+    n = 4
+    lay = state_layout(n, plunge, trim)
+    system = cached_aeroelastic_system(n, plunge=plunge, trim=trim)
+    np.testing.assert_array_equal(system.layout.beam, lay.beam)
+    np.testing.assert_array_equal(system.layout.aero, lay.aero)
+    assert system.layout.body == lay.body and system.layout.size == lay.size
+    assert lay.size == system.n_state == N_AEROELASTIC_STATES * n + plunge + trim
+    # every state exactly once
+    every = np.concatenate([lay.beam.ravel(), lay.aero.ravel(), list(lay.body.values())])
+    np.testing.assert_array_equal(np.sort(every), np.arange(lay.size))
+    # equation names at the layout's positions (rows ordered as the states)
+    for i in range(n):
+        assert "aerodynamic" in describe_aeroelastic_equation(int(lay.aero[i, 0]), n, plunge)
+        assert "aerodynamic" not in describe_aeroelastic_equation(int(lay.beam[i, 0]), n, plunge)
+    if plunge:
+        assert "plunge" in describe_aeroelastic_equation(lay.body["plunge"], n, plunge)
+    if trim:
+        assert system.trim_index == lay.body["trim"]
+        assert "trim" in describe_aeroelastic_equation(lay.body["trim"], n, plunge)
+    # beam_states / aero_states of flat and (n, 22)-shaped histories
+    X = np.arange(3 * lay.size, dtype=float).reshape(3, lay.size)
+    np.testing.assert_array_equal(lay.beam_states(X)[:, 1, 9], X[:, 22 + 9])
+    np.testing.assert_array_equal(lay.aero_states(X)[:, 2, 0], X[:, 2 * 22 + 18])
+    if not (plunge or trim):
+        np.testing.assert_array_equal(lay.beam_states(X.reshape(3, n, 22)), lay.beam_states(X))
+    assert lay.mask("aero").sum() == 4 * n and lay.mask("beam").sum() == 18 * n
+
+
+def _histories(n=6, nt=40, dt=5e-3):
+    r0, th0 = straight_beam(n, 6.0)
+    bp = beam_parameters(r0, th0, EI_cc=2e5, GJ=1.6e5, EI_nn=1e6, EA=1e8, mass_per_length=8.0,
+                         inertia_per_length=np.diag([0.05, 0.1, 0.05]), shear_center=(0.02, 0.0),
+                         mass_center=(0.03, 0.01))
+    t = np.arange(nt) * dt
+    beam = build_beam_system(n)
+    aero = build_aeroelastic_system(n)
+    tip = np.zeros((nt, n, 3))
+    tip[:, -1] = np.array([20.0, 50.0, 300.0]) * np.sin(np.pi * np.clip(t / 0.1, 0, 1))[:, None] ** 2
+    out = {}
+    for key, system, extra in (("beam", beam, {}),
+                               ("aero", aero, aero_parameters(n, chord=0.5, airspeed=40.0, density=1e-12))):
+        p = pack(system.param_specs, {**bp, **extra})
+        ql = layout(system.forcing_specs)
+        Q = np.zeros((nt, system.n_forcing))
+        Q[:, ql["point_force"]] = tip.reshape(nt, -1)
+        Q[:, ql["gravity"].start + 2] = -9.81
+        X = march(system, t, p, Q, modified_newton=True).states
+        out[key] = (system, t, p, Q, X)
+    return out
+
+
+def test_structural_limit_history_and_totals():
+    """Coupled system at density 1e-12 kg/m^3 against the structural beam: same beam histories
+    and the same adjoint totals of sum_n M_x,root(t_n)^2 w.r.t. every beam parameter."""
+    h = _histories()
+    sb, t, pb, Qb, Xb = h["beam"]
+    sa, _, pa, Qa, Xa = h["aero"]
+    n = sa.num_nodes
+    beam_a = sa.layout.beam_states(Xa)
+    Xb3 = Xb.reshape(t.size, n, 18)
+    scale = np.max(np.abs(Xb3), axis=(0, 1))
+    assert np.max(np.abs(Xb3[:, -1, 2] - Xb3[0, -1, 2])) > 1e-3   # the tip moves
+    np.testing.assert_allclose(beam_a, Xb3, rtol=0, atol=1e-9 * max(scale.max(), 1.0))
+    assert np.max(np.abs(sa.layout.aero_states(Xa))) > 1e-3   # the lag states follow the motion (their loads ~ rho)
+
+    grads = {}
+    for key, system, p, Q, X, i_mx in (("beam", sb, pb, Qb, Xb, 9), ("aero", sa, pa, Qa, Xa, int(sa.layout.beam[0, 9]))):
+        lin = LinearizedHistory(system, t, X, p, Q)
+        dfdx = np.zeros_like(X)
+        dfdx[:, i_mx] = 2.0 * X[:, i_mx]
+        grads[key] = lin.gradient(dfdx)[0]
+    nb = sb.n_param
+    assert np.max(np.abs(grads["beam"])) > 0
+    np.testing.assert_allclose(grads["aero"][:nb], grads["beam"], rtol=0, atol=1e-7 * np.max(np.abs(grads["beam"])))
