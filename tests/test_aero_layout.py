@@ -90,3 +90,24 @@ def test_structural_limit_history_and_totals():
     nb = sb.n_param
     assert np.max(np.abs(grads["beam"])) > 0
     np.testing.assert_allclose(grads["aero"][:nb], grads["beam"], rtol=0, atol=1e-7 * np.max(np.abs(grads["beam"])))
+
+
+def test_jacobian_history_per_jacobian_equals_fused():
+    """AeroelasticBeamSystem.jacobian_history (one Jacobian at a time over the history) gives the
+    base class' fused four-output values, on a trimmed free-plunge system."""
+    from wingmdao.timemarch.system import CasadiResidualSystem
+
+    n, nt = 4, 5
+    system = build_aeroelastic_system(n, plunge=True, trim=True)
+    rng = np.random.default_rng(3)
+    X = system.initial_guess(np.zeros(system.n_param), None) + 0.01 * rng.normal(size=(nt, system.n_state))
+    Xd = rng.normal(size=(nt, system.n_state))
+    p = rng.uniform(0.5, 1.5, size=system.n_param)
+    Q = rng.normal(size=(nt, system.n_forcing))
+    mine = system.jacobian_history(X, Xd, p, Q)
+    fused = CasadiResidualSystem.jacobian_history(system, X, Xd, p, Q)
+    assert set(mine) == set(fused) == {"x", "xdot", "p", "q"}
+    for key in fused:
+        assert mine[key].shape == (nt, system.jacobian_patterns()[key][0].size)
+        np.testing.assert_allclose(mine[key], fused[key], rtol=1e-14, atol=1e-14)
+        assert np.any(mine[key] != 0)
