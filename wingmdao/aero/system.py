@@ -348,7 +348,7 @@ class AeroelasticBeamSystem(CasadiResidualSystem):
         """Nonzeros of dR/dx, dR/dxdot, dR/dp, dR/dq at every instant (as the base class), one
         Jacobian at a time over the whole history instead of the fused four-output function per
         instant: compiled, the fused function of the 20-node system is 3.0 MB of straight-line
-        code, more than a 2 MB L2 cache, and evaluated 3.4-4x slower than its four parts each
+        code, more than a 2 MB L2 cache, and evaluated 2.9-3.7x slower than its four parts each
         kept hot over the history (docs/aeroelasticity.md, "Speed")."""
         calls = self._jacobian_calls()
         return {key: self._history(f"J_{key}", getattr(self, attr).fun, X, Xdot, p, Q)[0]
