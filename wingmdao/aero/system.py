@@ -94,8 +94,9 @@ class StateLayout:
 
 
 def state_layout(num_nodes: int, plunge: bool = False, trim: bool = False) -> StateLayout:
-    """The :class:`StateLayout` of :func:`build_aeroelastic_system` (the one place that orders
-    the states: the system's symbols, initial guess, equation names and every consumer use it)."""
+    """The :class:`StateLayout` of :func:`build_aeroelastic_system`: the one place that states
+    the order (the build checks its symbols against it; the initial guess and every consumer
+    index through it). A new body state goes here, in the order the build appends it."""
     n = int(num_nodes)
     node = np.arange(n)[:, None] * N_AEROELASTIC_STATES
     body, k = {}, N_AEROELASTIC_STATES * n
@@ -350,9 +351,9 @@ class AeroelasticBeamSystem(CasadiResidualSystem):
         instant: compiled, the fused function of the 20-node system is 3.0 MB of straight-line
         code, more than a 2 MB L2 cache, and evaluated 2.9-3.7x slower than its four parts each
         kept hot over the history (docs/aeroelasticity.md, "Speed")."""
-        calls = self._jacobian_calls()
+        self._jacobian_calls()
         return {key: self._history(f"J_{key}", getattr(self, attr).fun, X, Xdot, p, Q)[0]
-                for key, attr in self._JACOBIANS if calls[key] is not None}
+                for key, attr in self._JACOBIANS}
 
     def compile(self, wait: bool = True) -> dict:
         """Compile (or load from the cache) the residual, the Newton-matrix function and the four
