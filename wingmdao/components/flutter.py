@@ -48,9 +48,9 @@ class FlutterDamping(om.ExplicitComponent):
         self.options.declare("warm_start", default=True, types=bool,
                              desc="refine the previous evaluation's modes instead of a new eigen window "
                                   "(WarmStart rules); False: full window every evaluation")
-        self.options.declare("refresh", default=20, types=int, lower=1,
+        self.options.declare("refresh", default=100, types=int, lower=1,
                              desc="warm start: full eigen window at least every this many evaluations")
-        self.options.declare("max_step", default=0.1, types=float, lower=1e-12,
+        self.options.declare("max_step", default=None, allow_none=True, types=float, lower=1e-12,
                              desc="warm start: full eigen window when a parameter moved more than this "
                                   "(relative) from the last full-window design")
 
