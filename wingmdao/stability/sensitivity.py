@@ -231,21 +231,31 @@ def refine_pair(A, B, lam0, v0, u0, *, tol=1e-12, iterations=6, shifts=3, rel_sh
     some generalizations for nonnormal matrices", Math. Comp. 28(127), 1974.)"""
     BH = B.conj().T
     v, u = np.asarray(v0, complex), np.asarray(u0, complex)
+    v, u = v / np.linalg.norm(v), u / np.linalg.norm(u)
     lam_old, lam = complex(lam0), complex(lam0)
     if quotient_start:
         den = np.vdot(u, B @ v)
         if abs(den) > 1e-12 * np.linalg.norm(B @ v) * np.linalg.norm(u):
             lam_old = lam = complex(-np.vdot(u, A @ v) / den)
+
+    def change(a, b):  # phase-aligned change of a unit vector
+        ph = np.vdot(b, a)
+        return np.linalg.norm(a - b * (ph / abs(ph) if ph != 0 else 1.0))
+
     for _ in range(int(shifts)):
         s = lam * (1.0 + rel_shift) + rel_shift
         lu = _lu(sp.csc_matrix(A + s * B, dtype=complex))
         for _ in range(int(iterations)):
-            v = lu.solve(np.asarray(B @ v))
-            v /= np.linalg.norm(v)
-            u = lu.solve(np.asarray(BH @ u), trans="H")
-            u /= np.linalg.norm(u)
+            v_new = lu.solve(np.asarray(B @ v))
+            v_new /= np.linalg.norm(v_new)
+            u_new = lu.solve(np.asarray(BH @ u), trans="H")
+            u_new /= np.linalg.norm(u_new)
+            dv = max(change(v_new, v), change(u_new, u))
+            v, u = v_new, u_new
             lam = complex(-np.vdot(u, A @ v) / np.vdot(u, B @ v))
-            if abs(lam - lam_old) <= tol * abs(lam):
+            # converged: the quotient to tol and the vectors (the gradient needs them; the
+            # quotient is second order in their errors) to sqrt(tol)
+            if abs(lam - lam_old) <= tol * abs(lam) and dv <= np.sqrt(tol):
                 return v, u, lam, True
             lam_old = lam
     return v, u, lam, False
@@ -384,7 +394,7 @@ def _warm_speed(system, p, q, prev, window, warm, bmask, min_frequency, static, 
                                                                 * np.linalg.norm(w * v) ** 2)
         if mac < warm.min_mac:
             return f"MAC {mac:.3f} < {warm.min_mac} ({prev.eigenvalues[j]:.3f} -> {lam:.3f}) at {prev.speed:.1f} m/s"
-        if abs(lam.imag) <= min_frequency or abs(lam - sigma) >= radius:
+        if abs(lam.imag) <= min_frequency or abs(lam - sigma) > radius * (1.0 + 1e-6):
             if negligible(lam) and negligible(prev.eigenvalues[j]):
                 warm.dropped += 1
                 continue
