@@ -310,6 +310,7 @@ class WarmStart:
         self.since_cold = 0
         self.n_cold = 0
         self.n_warm = 0
+        self.n_speed_retry = 0       # single speeds retried from the design's modes at another speed
         self.n_speed_cold = 0        # single speeds redone with the full window in a warm evaluation
         self.dropped = 0             # negligible modes dropped (turned real / left the window)
         self.reasons = []            # why each cold evaluation or cold speed was made
@@ -375,23 +376,40 @@ def _cold_speed(system, p, q, x, V, mask, bmask, min_frequency, neutral_fraction
     return sm, m.eigenvalues
 
 
-def _warm_speed(system, p, q, prev, window, warm, bmask, min_frequency, static, static_options, negligible):
+def _beam_mac(a, b, w):
+    return abs(np.vdot(w * a, w * b)) ** 2 / (np.linalg.norm(w * a) ** 2 * np.linalg.norm(w * b) ** 2)
+
+
+def _warm_speed(system, p, q, prev, window, warm, bmask, min_frequency, static, static_options, negligible,
+                other=None, x=None):
     """Every tracked mode refined at one speed, or a string saying why the refinement is not trusted.
     ``negligible(lam)``: True when the mode's KS weight is below round-off; such a mode that turns
-    real or leaves the window is dropped (the cold set drops it too) instead of failing."""
+    real or leaves the window is dropped (the cold set drops it too) instead of failing.
+    ``other``: this design's refined modes at another speed; a mode whose refinement from its
+    history fails is retried from the mode of ``other`` with the largest MAC with its history
+    (the modes change less with the speed than between SLSQP designs)."""
     from wingmdao.stability.eigen import linearize, static_state
 
-    x = static_state(system, p, q, prev.x0, **(static_options or {})) if static else prev.x0
+    if x is None:
+        x = static_state(system, p, q, prev.x0, **(static_options or {})) if static else prev.x0
     A, B = linearize(system, p, q, x)
     radius, sigma = window
     w = np.sqrt(bmask)
     lams, vs, us = [], [], []
     for j in range(prev.eigenvalues.size):
-        v, u, lam, ok = refine_pair(A, B, prev.eigenvalues[j], prev.right[:, j], prev.left[:, j], tol=warm.tol)
+        starts = [(prev.eigenvalues[j], prev.right[:, j], prev.left[:, j])]
+        if other is not None and other.eigenvalues.size:
+            i = int(np.argmax([_beam_mac(prev.right[:, j], other.right[:, k], w) for k in range(other.eigenvalues.size)]))
+            starts.append((other.eigenvalues[i], other.right[:, i], other.left[:, i]))
+        for lam0, v0, u0 in starts:
+            v, u, lam, ok = refine_pair(A, B, lam0, v0, u0, tol=warm.tol)
+            if lam.imag < 0.0:   # landed on the conjugate: A, B are real, (conj v, conj u) belong to conj lambda
+                v, u, lam = v.conj(), u.conj(), lam.conjugate()
+            mac = _beam_mac(prev.right[:, j], v, w) if ok else 0.0
+            if ok and mac >= warm.min_mac:
+                break
         if not ok:
             return f"refinement of {prev.eigenvalues[j]:.3f} not converged at {prev.speed:.1f} m/s"
-        mac = abs(np.vdot(w * prev.right[:, j], w * v)) ** 2 / (np.linalg.norm(w * prev.right[:, j]) ** 2
-                                                                * np.linalg.norm(w * v) ** 2)
         if mac < warm.min_mac:
             return f"MAC {mac:.3f} < {warm.min_mac} ({prev.eigenvalues[j]:.3f} -> {lam:.3f}) at {prev.speed:.1f} m/s"
         if abs(lam.imag) <= min_frequency or abs(lam - sigma) > radius * (1.0 + 1e-6):
@@ -457,9 +475,21 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
             def negligible(lam):
                 return float(_measure(np.atleast_1d(lam), measure, margin)[0]) < cut
 
+            sopt = eig_options.get("static_options")
             for k, (p, q) in enumerate(pq):
-                sm = _warm_speed(system, p, q, ws.tracked[k], ws.cold_window[k], ws, bmask, min_frequency, static,
-                                 eig_options.get("static_options"), negligible)
+                tracked.append(_warm_speed(system, p, q, ws.tracked[k], ws.cold_window[k], ws, bmask, min_frequency,
+                                           static, sopt, negligible))
+            good = [k for k, sm in enumerate(tracked) if not isinstance(sm, str)]
+            for k, (p, q) in enumerate(pq):
+                if not isinstance(tracked[k], str):
+                    continue
+                ws.reasons.append(tracked[k])
+                sm = tracked[k]
+                if good:   # retry from this design's modes at the nearest speed that worked
+                    near = tracked[min(good, key=lambda i: abs(i - k))]
+                    sm = _warm_speed(system, p, q, ws.tracked[k], ws.cold_window[k], ws, bmask, min_frequency,
+                                     static, sopt, negligible, other=near)
+                    ws.n_speed_retry += 1
                 if isinstance(sm, str):
                     # this speed only: the full window (the cold path's value there)
                     ws.reasons.append(sm)
@@ -469,7 +499,7 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
                     sigma = complex(eig_options.get("sigma", 0.0))
                     ws.cold_window[k] = (float(np.max(np.abs(win - sigma))), sigma)
                     ws.cold_p[k] = p
-                tracked.append(sm)
+                tracked[k] = sm
         if tracked is not None:
             cold = False
             ws.since_cold += 1
