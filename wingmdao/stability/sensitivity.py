@@ -283,13 +283,17 @@ class WarmStart:
       Since every oscillatory mode of the window is refined, a refinement that lands on another
       mode lands on one of these (a tracked mode: duplicate; a real root; outside the disc).
 
-    A cold evaluation after a failed refinement redoes the whole evaluation, so the value is
+    The history is the tracked set of the stored evaluation (the last ``keep``, since the last
+    full or single-speed window) nearest the new design (:meth:`distance`): SLSQP's line searches
+    jump back near earlier designs.
+
+    A failed speed is redone with the full window (after one retry), so the value is
     always that of a converged set. Not detected: an oscillatory mode entering the window between
     two cold evaluations from outside the disc or from two real roots (its KS weight is
     ~exp(-rho (g_max - g)); the next cold evaluation picks it up).
     """
 
-    def __init__(self, *, refresh=100, max_step=None, min_mac=0.5, tol=1e-12):
+    def __init__(self, *, refresh=100, max_step=None, min_mac=0.5, tol=1e-12, keep=6):
         if int(refresh) < 1:
             raise ValueError(f"WarmStart refresh = {refresh}; allowed: an integer >= 1 (evaluations)")
         if not ((max_step is None or 0.0 < float(max_step)) and 0.0 <= float(min_mac) <= 1.0):
@@ -298,6 +302,7 @@ class WarmStart:
         self.refresh, self.min_mac = int(refresh), float(min_mac)
         self.max_step = None if max_step is None else float(max_step)
         self.tol = float(tol)
+        self.keep = max(1, int(keep))
         self.reset()
 
     def reset(self):
@@ -307,6 +312,7 @@ class WarmStart:
         self.cold_window = None      # per speed: (radius, sigma) of the cold window's disc
         self.tracked = None          # per speed: SpeedModes of every oscillatory window mode, last evaluation
         self.modes = None            # per speed: SpeedModes of the aggregated modes, last evaluation
+        self.history = []            # (p at the first speed, tracked, modes) of the last ``keep`` evaluations
         self.since_cold = 0
         self.n_cold = 0
         self.n_warm = 0
@@ -314,6 +320,19 @@ class WarmStart:
         self.n_speed_cold = 0        # single speeds redone with the full window in a warm evaluation
         self.dropped = 0             # negligible modes dropped (turned real / left the window)
         self.reasons = []            # why each cold evaluation or cold speed was made
+
+    @staticmethod
+    def distance(system, p, ph):
+        """Largest relative change of a parameter block between ``ph`` and ``p`` (max-norm over
+        the block / its largest entry in ``ph``)."""
+        from wingmdao.timemarch.system import layout
+
+        d = 0.0
+        for sl in layout(system.param_specs).values():
+            scale = float(np.max(np.abs(ph[sl]), initial=0.0))
+            if scale > 0.0:
+                d = max(d, float(np.max(np.abs(p[sl] - ph[sl]))) / scale)
+        return d
 
     def step_too_large(self, system, p_list):
         """True when ``max_step`` is set and some parameter block moved by more than ``max_step``
@@ -468,6 +487,8 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
         elif ws.step_too_large(system, [p for p, _ in pq]):
             reason = f"design step > {ws.max_step:g} relative"
         else:
+            if len(ws.history) > 1:   # the stored design nearest this one (line searches jump back)
+                ws.tracked, ws.modes = min(ws.history, key=lambda h: ws.distance(system, pq[0][0], h[0]))[1:]
             tracked = []
             g_prev = np.concatenate([_measure(sm.eigenvalues, measure, margin) for sm in ws.modes])
             cut = float(np.max(g_prev)) - NEGLIGIBLE_KS / rho_ks
@@ -499,6 +520,7 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
                     sigma = complex(eig_options.get("sigma", 0.0))
                     ws.cold_window[k] = (float(np.max(np.abs(win - sigma))), sigma)
                     ws.cold_p[k] = p
+                    ws.history = []   # older designs' sets may lack a mode this window found
                 tracked[k] = sm
         if tracked is not None:
             cold = False
@@ -517,10 +539,12 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
             windows.append((float(np.max(np.abs(win - sigma))), sigma))
         if ws is not None:
             ws.key, ws.cold_p, ws.cold_window = key, [p for p, _ in pq], windows
+            ws.history = []
             ws.since_cold, ws.n_cold = 0, ws.n_cold + 1
     modes = [_aggregated(sm, V, mask, bmask, neutral_fraction) for sm, V in zip(tracked, v)]
     if ws is not None:
         ws.tracked, ws.modes = tracked, modes
+        ws.history = (ws.history + [(pq[0][0], tracked, modes)])[-ws.keep:]
     lams = [sm.eigenvalues for sm in modes]
     lam_all = np.concatenate(lams)
     zetas = -lam_all.real / np.abs(lam_all)
