@@ -60,7 +60,7 @@ class SizingOptions:
 #: variables (Kraft 1988), so its step is ~ the objective gradient: with the objective ~1 the full
 #: steps overshoot into the infeasible region (PEGASUS gust: KS jumps from 0.06 to 1-4) and the line
 #: search backtracks two or three times per iteration. A tenfold smaller objective, same optimum
-#: (PEGASUS, docs/stress.md "Sizing time"): gust 53 -> 45 iterations and 125 -> 87 analyses,
+#: (PEGASUS, docs/cases.md "Objective scaling"): gust 53 -> 45 iterations and 125 -> 87 analyses,
 #: maneuver 63 -> 52 and 130 -> 97; masses equal to 2e-6 (332.057 kg, 344.970 kg).
 OBJECTIVE_SCALE = 10.0
 
