@@ -306,6 +306,8 @@ class TimeHistoryComponent(om.ImplicitComponent):
         sysm = self.system
         p, Q = self._params(inputs), self._forcing(inputs)
         X = self._history(outputs)
+        # drop the previous design point's linearization first: the two are not alive together
+        self._lin = self._lin_point = None
         lin = LinearizedHistory(sysm, self._time, X, p, Q,
                                 initial=self.options["initial"], store_factors=self.store_factors,
                                 lu=self.options["lu"], checkpoint_every=self.checkpoint_every)
