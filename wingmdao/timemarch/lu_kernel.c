@@ -25,7 +25,7 @@ typedef struct {
     const int *up, *ui; /* U strictly upper: column pointers (n + 1), rows (ascending) */
 } lu_pattern;
 
-int lu_kernel_version(void) { return 4; }
+int lu_kernel_version(void) { return 5; }
 
 /* Factors of m matrices with nonzeros a (m x nnz) into f (m x n_lu); work: n doubles, zero on
  * entry and on return. A zero pivot gives inf/NaN factors (caught by the backward error). */
@@ -327,4 +327,27 @@ void nonzero_columns(int nt, int ncol, const double *d, unsigned char *out)
         for (int k = 0; k < ncol; ++k)
             out[k] |= r[k] != 0.0;
     }
+}
+
+/* A compiled CasADi function (C entry point of its generated code) at nt instants: input i of
+ * instant t is in[i] + t * istride[i] (stride 0: the same at every instant), output k is written
+ * straight to out[k] + t * ostride[k] (the rows of the caller's history arrays: no copies).
+ * arg, res, iw, w: the function's work arrays (sizes from NAME_work). Returns 0, or 1 + the
+ * instant at which the function reported a failure. */
+typedef int (*casadi_entry)(const double **arg, double **res, long long *iw, double *w, int mem);
+
+int eval_history(void *fun, int nt, int n_in, const double *const *in, const long long *istride,
+                 int n_out, double *const *out, const long long *ostride, const double **arg,
+                 double **res, long long *iw, double *w)
+{
+    casadi_entry f = (casadi_entry)fun;
+    for (int t = 0; t < nt; ++t) {
+        for (int i = 0; i < n_in; ++i)
+            arg[i] = in[i] + (size_t)t * (size_t)istride[i];
+        for (int k = 0; k < n_out; ++k)
+            res[k] = out[k] + (size_t)t * (size_t)ostride[k];
+        if (f(arg, res, iw, w, 0))
+            return t + 1;
+    }
+    return 0;
 }
