@@ -293,17 +293,24 @@ int assemble_newton(int nt, const double *jx, int njx, const int *sx, const int 
     for (int t = 0; t < nt; ++t) {
         const double *x = jx + (size_t)t * njx, *d = jd + (size_t)t * njd;
         double *o = out + (size_t)t * nout;
-        if (known_x) {
+        if (known_x) {      /* a branch-free (vectorised) test first; flags only when it finds one */
+            int any = 0;
             for (int k = 0; k < njx; ++k)
-                if (x[k] != 0.0 && !known_x[k]) {
-                    new_x[k] = 1;
-                    ++found;
-                }
+                any |= (x[k] != 0.0) & (known_x[k] == 0);
             for (int k = 0; k < njd; ++k)
-                if (d[k] != 0.0 && !known_d[k]) {
-                    new_d[k] = 1;
-                    ++found;
-                }
+                any |= (d[k] != 0.0) & (known_d[k] == 0);
+            if (any) {
+                for (int k = 0; k < njx; ++k)
+                    if (x[k] != 0.0 && !known_x[k]) {
+                        new_x[k] = 1;
+                        ++found;
+                    }
+                for (int k = 0; k < njd; ++k)
+                    if (d[k] != 0.0 && !known_d[k]) {
+                        new_d[k] = 1;
+                        ++found;
+                    }
+            }
         }
         memset(o, 0, (size_t)nout * sizeof(double));
         for (int k = 0; k < nx; ++k)
