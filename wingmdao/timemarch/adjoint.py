@@ -97,7 +97,10 @@ class LinearizedHistory:
         is used). ``"superlu"``: SuperLU for every step (docs/time-marching.md, "The static-pivot
         LU").
     checkpoint_every : None (default) keeps the Jacobian nonzeros of every step (the arrays
-        ``jx, jxd, jp, jq, m_data``: ~170 kB per step of a 20-node beam). An integer k keeps
+        ``jx, jxd, m_data``; ``jp, jq`` only once something needs them: the gradient uses the
+        system's reverse-mode products ``input_vjp_history`` instead when it has them, the
+        forward products and declared partials evaluate them; ~170 kB per step of a 20-node
+        beam with all of them, ~70 kB without dR/dp, dR/dq). An integer k keeps
         only the states (``states`` is the whole converged history, so every step is a
         checkpoint) and re-evaluates the Jacobians of k steps at a time in every sweep and
         product: memory ~ k steps of blocks, one extra Jacobian evaluation per step and sweep.
