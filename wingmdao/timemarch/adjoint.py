@@ -105,7 +105,10 @@ class LinearizedHistory:
         checkpoint) and re-evaluates the Jacobians of k steps at a time in every sweep and
         product: memory ~ k steps of blocks, one extra Jacobian evaluation per step and sweep.
         The sweeps are the same operations on the same values, so the results agree with the
-        full storage to round-off (only sums over time are grouped by segment).
+        full storage to round-off (only sums over time are grouped by segment). Segments evaluate
+        dR/dx, dR/dxdot only; the adjoint sweep forms ``param_product`` and ``forcing_product``
+        per segment by the system's reverse-mode products (dR/dp, dR/dq of a segment are evaluated
+        only for the forward products, or when the system has no such products).
 
     Identical consecutive ``A_n`` (linear systems) share one factorization. Entries of the
     Jacobian pattern that are zero at every step (of this and of every earlier history of the
@@ -235,10 +238,29 @@ class LinearizedHistory:
         return self._input_jacobians()[1]
 
     def _block_inputs(self, blk):
-        """``(jp, jq)`` of a block (the full block's at first use)."""
-        if blk.jp is None and blk is self._full:
-            self._input_jacobians()
+        """``(jp, jq)`` of a block, evaluated at first use (a checkpoint segment's: its steps)."""
+        if blk.jp is None:
+            if blk is self._full:
+                self._input_jacobians()
+            else:
+                lo, stop = blk.off, blk.off + blk.jx.shape[0]
+                data = dict(self.system.input_jacobian_history(self._X[lo:stop], self._rates(lo, stop), self._p,
+                                                               self._Q[lo:stop]))
+                if self.initial == "state" and lo == 0:
+                    for v in data.values():
+                        v[0] = 0.0
+                blk.jp, blk.jq = data["p"], data["q"]
         return blk.jp, blk.jq
+
+    def _segment_vjp(self, blk, lam):
+        """``(sum dR_n/dp^T lam_n, dR_n/dq_n^T lam_n)`` over the steps ``blk.lo .. blk.hi - 1`` by the
+        system's reverse-mode products, or None when it has none (checkpointed sweeps)."""
+        lo, hi = blk.lo, blk.hi
+        L = lam[lo:hi]
+        if self.initial == "state" and lo == 0:
+            L = L.copy()
+            L[0] = 0.0
+        return self.system.input_vjp_history(self._X[lo:hi], self._rates(lo, hi), self._p, self._Q[lo:hi], L)
 
     def _scan(self):
         """Checkpointed mode: one pass over the history in segments for the entries that are
@@ -249,7 +271,7 @@ class LinearizedHistory:
         same = np.zeros(N, dtype=bool)
         prev = None
         for lo in range(0, N, k):
-            d = self._raw(lo, min(lo + k, N))
+            d = self._raw(lo, min(lo + k, N), state_only=True)
             jx, jxd = d["x"], d["xdot"]
             if x_nz is None:
                 x_nz, d_nz = np.zeros(jx.shape[1], dtype=bool), np.zeros(jxd.shape[1], dtype=bool)
@@ -277,7 +299,7 @@ class LinearizedHistory:
         for nonzeros of dR/dx, dR/dxdot outside the pattern in the same pass; if any, the block's
         ``factors`` holds their flags ``(x, xdot)`` (the block is then to be remade)."""
         if data is None:
-            data = self._raw(lo, stop)
+            data = self._raw(lo, stop, state_only=True)
         b = _Blocks()
         b.off, b.lo, b.hi = lo, lo, hi
         b.jx, b.jxd, b.jp, b.jq = data["x"], data["xdot"], data.get("p"), data.get("q")
@@ -687,9 +709,15 @@ class LinearizedHistory:
                     if n + 1 < self.n_time:
                         self._release(n + 1, n)
             if lean:
-                dp += self._param_sum(blk, lam)
                 lo, hi = blk.lo, blk.hi
-                dq[lo:hi] = self._hist_product("q", blk.jq[:hi - lo], lam[lo:hi], transpose=True)
+                got = self._segment_vjp(blk, lam) if blk.jp is None else None   # reverse mode: no dR/dp
+                if got is not None:
+                    dp += got[0]
+                    dq[lo:hi] = got[1]
+                else:
+                    dp += self._param_sum(blk, lam)
+                    dq[lo:hi] = self._hist_product("q", self._block_inputs(blk)[1][:hi - lo], lam[lo:hi],
+                                                   transpose=True)
         self._adjoint_cache = (lam.copy(), dp, dq) if lean else None
         return lam
 
