@@ -1,14 +1,19 @@
 """Coupled aeroelastic march and adjoint beside the structural-only ones, per time step (issue 13
 speed goal: a coupled step at most 1.5x a structural step), 20 nodes x 500 steps.
 
-Three OpenMDAO problems of the same beam (BeamDynamics; AeroelasticBeamDynamics clamped;
-AeroelasticBeamDynamics free in plunge from the trimmed 1 g state), each followed by a KS of the
-root moments; the same 1-cos gust (the structural beam gets it as the precomputed rigid-strip
-lift). Timed: the forward march (run_model) and the discrete adjoint (compute_totals of the KS
-w.r.t. stiffness_csn and mass_per_length), best of 3, divided by the number of steps. CasADi
-functions compiled first (gcc; cached), or ``--interpreted`` (WINGMDAO_JIT=0).
+Four OpenMDAO problems of the same beam (BeamDynamics under the rigid-strip lift; BeamDynamics
+under the rigid-strip lift and its pitching moment about the beam axis, a bending-torsion
+response like the coupled one; AeroelasticBeamDynamics clamped; AeroelasticBeamDynamics free in
+plunge from the trimmed 1 g state), each followed by a KS of the root moments; the same 1-cos
+gust. Timed: the forward march (run_model) and the discrete adjoint (compute_totals of the KS
+w.r.t. stiffness_csn and mass_per_length), best of 3, divided by the number of steps; ratios to
+the first (the goal's reference) and to the second. ``--breakdown`` adds, per step, the parts
+of one adjoint linearization: Jacobian-history evaluation, the blocks of the Newton matrices
+(``LinearizedHistory`` set-up less the evaluation) and one SuperLU factorization, with the
+Newton-matrix and L+U nonzeros. CasADi functions compiled first (gcc; cached), or
+``--interpreted`` (WINGMDAO_JIT=0).
 
-    python benchmarks/bench_aero.py [--nodes 20] [--steps 500] [--interpreted]
+    python benchmarks/bench_aero.py [--nodes 20] [--steps 500] [--interpreted] [--breakdown]
 """
 
 from __future__ import annotations
@@ -42,11 +47,16 @@ def build(kind, n, nt, dt, compile_first=False):
     t, bp, gust = _inputs(n, nt, dt)
     prob = om.Problem(reports=False)
     vals = dict(bp)
-    if kind == "structural":
+    if kind.startswith("structural"):
         comp = BeamDynamics(num_nodes=n, time=t)
         flp = np.zeros((nt, n, 3))
-        flp[:, :, 2] = (0.5 * RHO * V ** 2 * CHORD * 2 * np.pi * gust / V)[:, None]
+        lift = 0.5 * RHO * V ** 2 * CHORD * 2 * np.pi * gust / V
+        flp[:, :, 2] = lift[:, None]
         vals["force_per_length"] = flp
+        if kind == "structural_torsion":  # lift at the quarter chord, beam axis at 0.4 chord: nose up
+            mlp = np.zeros((nt, n, 3))
+            mlp[:, :, 1] = (lift * (0.4 - 0.25) * CHORD)[:, None]
+            vals["moment_per_length"] = mlp
     else:
         free = kind == "plunge"
         comp = AeroelasticBeamDynamics(num_nodes=n, time=t, plunge=free, trim=free)
@@ -56,9 +66,11 @@ def build(kind, n, nt, dt, compile_first=False):
             vals.update(body_mass=2000.0, trim_lift=(2000.0 + 2 * 200.0) * G,
                         gravity=np.tile([0.0, 0.0, -G], (nt, 1)), trim_active=(t == 0).astype(float))
     prob.model.add_subsystem("beam", comp, promotes=["*"])
-    shape = (nt,) + tuple(comp.build_system().state_shape)
+    system = comp.build_system()
+    shape = (nt,) + tuple(system.state_shape)
     w = np.zeros(shape)
-    w.reshape(nt, -1)[:, 9:12] = 1e-5  # node 0 (root) moments, N m normalised; node-major in every layout
+    root_m = system.layout.beam[0, 9:12] if hasattr(system, "layout") else np.arange(9, 12)
+    w.reshape(nt, -1)[:, root_m] = 1e-5  # node 0 (root) moments, N m normalised
     prob.model.add_subsystem("pick", om.ExecComp("g = w * states", w={"val": w, "shape": shape},
                                                  states={"shape": shape}, g={"shape": shape},
                                                  has_diag_partials=True), promotes=["*"])
@@ -73,12 +85,39 @@ def build(kind, n, nt, dt, compile_first=False):
     return prob, int(np.prod(shape[1:]))
 
 
+def breakdown(prob, nt, dt):
+    """Per step (ms): Jacobian-history evaluation, Newton-matrix blocks, one SuperLU factorization
+    (best of 3 each); nonzeros of A_n and of its L + U (natural order)."""
+    import scipy.sparse.linalg as spla
+
+    from wingmdao.timemarch.adjoint import LinearizedHistory
+    from wingmdao.timemarch.newton import PERMC_SPEC
+    from wingmdao.timemarch.system import pack
+
+    system = prob.model.beam.build_system()
+    X = np.asarray(prob.get_val("states")).reshape(nt, -1)
+    p = pack(system.param_specs, {s.name: prob.get_val(s.name) for s in system.param_specs})
+    Q = np.concatenate([np.asarray(prob.get_val(s.name)).reshape(nt, -1) for s in system.forcing_specs], axis=1)
+    t = np.arange(nt) * dt
+    Xd = np.zeros_like(X)
+    t_jac = timed(lambda: system.jacobian_history(X, Xd, p, Q))
+    t_lin = timed(lambda: LinearizedHistory(system, t, X, p, Q))
+    lin = LinearizedHistory(system, t, X, p, Q)
+    A = lin.newton_matrix(nt // 2)
+    t_lu = timed(lambda: [spla.splu(A, permc_spec=PERMC_SPEC) for _ in range(50)]) / 50
+    lu = spla.splu(A, permc_spec=PERMC_SPEC)
+    return t_jac / nt * 1e3, max(t_lin - t_jac, 0.0) / nt * 1e3, t_lu * 1e3, A.nnz, lu.L.nnz + lu.U.nnz
+
+
+CLOCK = time.perf_counter
+
+
 def timed(fun, repeat=3):
     best = np.inf
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        t0 = CLOCK()
         fun()
-        best = min(best, time.perf_counter() - t0)
+        best = min(best, CLOCK() - t0)
     return best
 
 
@@ -88,28 +127,43 @@ def main(argv=None):
     ap.add_argument("--steps", type=int, default=500, help="time steps (default %(default)s)")
     ap.add_argument("--dt", type=float, default=2e-3, help="time step, s (default %(default)s)")
     ap.add_argument("--interpreted", action="store_true", help="interpreted CasADi functions (no compilation)")
+    ap.add_argument("--breakdown", action="store_true", help="also time the parts of one adjoint linearization")
+    ap.add_argument("--process-time", action="store_true",
+                    help="process (CPU) time instead of wall time: steadier on a shared machine")
     args = ap.parse_args(argv)
+    global CLOCK
+    CLOCK = time.process_time if args.process_time else time.perf_counter
     if args.interpreted:
         import os
 
         os.environ["WINGMDAO_JIT"] = "0"
     n, nt = args.nodes, args.steps
     wrt = ["stiffness_csn", "mass_per_length"]
-    rows = {}
-    for kind in ("structural", "coupled", "plunge"):
+    rows, parts = {}, {}
+    for kind in ("structural", "structural_torsion", "coupled", "plunge"):
         prob, n_state = build(kind, n, nt, args.dt, compile_first=not args.interpreted)
         prob.compute_totals(of=["ks.ks_root"], wrt=wrt)  # first gradient: factor storage, warm-up
         t_fwd = timed(prob.run_model)
         t_adj = timed(lambda: prob.compute_totals(of=["ks.ks_root"], wrt=wrt))
         rows[kind] = (n_state, t_fwd / nt * 1e3, t_adj / nt * 1e3)
-    base = rows["structural"]
-    print(f"{n} nodes x {nt} steps, dt = {args.dt} s, {'interpreted' if args.interpreted else 'compiled'}; per step, best of 3 (shared machine: indicative)")
-    print(f"{'model':24s} {'states':>7s} {'march ms/step':>14s} {'x struct':>9s} {'adjoint ms/step':>16s} "
-          f"{'x struct':>9s}")
-    labels = {"structural": "structural (BeamDynamics)", "coupled": "coupled, clamped",
-              "plunge": "coupled, free plunge+trim"}
+        if args.breakdown:
+            parts[kind] = breakdown(prob, nt, args.dt)
+    base, b3d = rows["structural"], rows["structural_torsion"]
+    print(f"{n} nodes x {nt} steps, dt = {args.dt} s, {'interpreted' if args.interpreted else 'compiled'}; per step, "
+          f"best of 3, {'process' if args.process_time else 'wall'} time (shared machine: indicative); "
+          "goal: coupled <= 1.5 x structural (lift only)")
+    print(f"{'model':30s} {'states':>7s} {'march ms/step':>14s} {'x struct':>9s} {'x torsion':>9s} "
+          f"{'adjoint ms/step':>16s} {'x struct':>9s} {'x torsion':>9s}")
+    labels = {"structural": "structural, lift", "structural_torsion": "structural, lift + moment",
+              "coupled": "coupled, clamped", "plunge": "coupled, free plunge+trim"}
     for kind, (ns, f, a) in rows.items():
-        print(f"{labels[kind]:24s} {ns:7d} {f:14.3f} {f / base[1]:9.2f} {a:16.3f} {a / base[2]:9.2f}")
+        print(f"{labels[kind]:30s} {ns:7d} {f:14.3f} {f / base[1]:9.2f} {f / b3d[1]:9.2f} {a:16.3f} "
+              f"{a / base[2]:9.2f} {a / b3d[2]:9.2f}")
+    if parts:
+        print(f"\nadjoint linearization per step [ms]: {'model':30s} {'jacobians':>10s} {'blocks':>8s} "
+              f"{'SuperLU':>8s} {'nnz A':>7s} {'nnz L+U':>8s}")
+        for kind, (tj, tb, tl, nz, nlu) in parts.items():
+            print(f"{'':37s}{labels[kind]:30s} {tj:10.3f} {tb:8.3f} {tl:8.3f} {nz:7d} {nlu:8d}")
 
 
 if __name__ == "__main__":

@@ -7,8 +7,10 @@ and the cost of the PEGASUS flutter-margin constraint (value and exact gradient)
 Prints, per case: the aeroelastic system build, one eigen-analysis (static solve + linearisation +
 sparse shift-invert + det sign) averaged over the sweep, the sweep, the refinement of the flutter
 and divergence speeds, and the results against the published values (PEGASUS: against V_D).
-For PEGASUS also the constraint: one evaluation of the KS damping constraint at its 4 speeds and
-one of its gradient (left/right vectors and eigenvalue derivatives of every aggregated mode).
+For PEGASUS also the constraint: one cold evaluation of the KS damping constraint at its 4 speeds
+and one of its gradient (left/right vectors and eigenvalue derivatives of every aggregated mode),
+and the warm-started evaluation (value + gradient) along a sequence of designs with SLSQP-sized
+steps, with its largest difference from the cold value.
 BLAS threads are pinned to one (``OMP_NUM_THREADS=1``): on this shared 2-core machine threaded
 BLAS in the small dense products made ARPACK 10-20x slower.
 """
@@ -23,8 +25,13 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import argparse  # noqa: E402
 import time  # noqa: E402
 
+import numpy as np  # noqa: E402
+
 from wingmdao.stability import critical_speeds, sweep  # noqa: E402
 from wingmdao.stability.cases import DEFAULT_NODES, FLUTTER_CASES, flutter_problem  # noqa: E402
+
+
+WALLS = ("upper_skin", "lower_skin", "front_spar", "rear_spar")
 
 
 def search(name, num_nodes, thickness):
@@ -51,7 +58,7 @@ def search(name, num_nodes, thickness):
     return prob
 
 
-def constraint_cost(prob, margin):
+def constraint_cost(prob, margin, thickness=None):
     from wingmdao.stability.cases import sizing_flutter_options
     from wingmdao.stability.sensitivity import damping_constraint
 
@@ -66,7 +73,45 @@ def constraint_cost(prob, margin):
     t2 = time.perf_counter()
     print(f"  flutter constraint ({o['speeds'].size} speeds up to {margin:g} V_D = {o['speeds'][-1]:.1f} m/s, "
           f"{sum(len(e) for e in val.eigenvalues)} mode-speed points): value {val.value:+.4f} 1/s in {t1 - t0:.2f} s; "
-          f"value + gradient {t2 - t1:.2f} s")
+          f"value + gradient {t2 - t1:.2f} s (cold: full eigen window)")
+    warm_sequence(prob, o, kw, thickness)
+
+
+def warm_sequence(prob, o, kw, thickness, n_designs=12, seed=0):
+    """Warm-started constraint (WarmStart, the sizing's default) along designs whose four wall
+    thicknesses jump by factors 0.6-1.5 per station (the size of SLSQP's steps in the sizing),
+    every other design a return near the previous one (line searches); value + gradient per
+    evaluation (process time) against the cold evaluation, and the largest |warm - cold| value."""
+    from wingmdao.stability.cases import flutter_problem
+    from wingmdao.stability.sensitivity import WarmStart, constraint_gradient, damping_constraint
+
+    rng = np.random.default_rng(seed)
+    from wingmdao.cases.pegasus import initial_thickness
+
+    th0 = initial_thickness(prob.num_nodes) if thickness is None else thickness
+    t0 = {w: np.asarray(th0.get(w, th0.get("t_" + w)), dtype=float) for w in WALLS}
+    ws = WarmStart()
+    designs, cur = [], t0
+    for i in range(n_designs):
+        f = rng.uniform(0.6, 1.5, (4, prob.num_nodes)) if i % 2 else rng.uniform(0.95, 1.05, (4, prob.num_nodes))
+        cur = {w: np.clip(t0[w] * f[k], 1e-3, 0.02) for k, w in enumerate(WALLS)}
+        designs.append(cur)
+    tw = tc = 0.0
+    worst = 0.0
+    for th in designs:
+        p = flutter_problem("pegasus", prob.num_nodes, th)
+        t = time.process_time()
+        rw = damping_constraint(p.system, p.params_at, o["speeds"], warm_start=ws, gradient=False, **kw)
+        constraint_gradient(p.system, rw)
+        tw += time.process_time() - t
+        t = time.process_time()
+        rc = damping_constraint(p.system, p.params_at, o["speeds"], **kw)
+        tc += time.process_time() - t
+        worst = max(worst, abs(rw.value - rc.value))
+    n = len(designs)
+    print(f"  warm start along {n} designs (steps x0.6-1.5): value + gradient {1e3 * tw / n:.1f} ms per evaluation "
+          f"(cold {1e3 * tc / n:.0f} ms; goal of issue #14: ~20-25 ms); full windows {ws.n_cold}, single-speed "
+          f"windows {ws.n_speed_cold}, retried speeds {ws.n_speed_retry}; max |warm - cold| {worst:.1e} 1/s")
 
 
 def main(argv=None):
@@ -85,7 +130,7 @@ def main(argv=None):
             thickness = read_design(args.design, args.num_nodes or DEFAULT_NODES[name])
         prob = search(name, args.num_nodes, thickness)
         if name == "pegasus":
-            constraint_cost(prob, args.margin)
+            constraint_cost(prob, args.margin, thickness)
         if name == "hale" and args.deformed:
             from wingmdao.stability.deformed import deformed_flutter
 

@@ -35,6 +35,36 @@ def test_paraboloid_minimum_recorded(tmp_path):
     assert len(cr.list_cases("driver", out_stream=None)) >= 2
 
 
+def test_recording_is_write_ahead_logged_while_running_and_one_plain_file_after(tmp_path):
+    """add_recorder's WalSqliteRecorder: WAL journal while the driver runs (no sync per record),
+    every case readable (also before cleanup, from the log), and after cleanup a plain SQLite file
+    in the default journal mode with no -wal file left."""
+    import sqlite3
+
+    from wingmdao.optimize import add_recorder
+
+    path = tmp_path / "run.sql"
+    prob = om.Problem(reports=False)
+    prob.model.add_subsystem("f", om.ExecComp("y = (x - 3.0)**2 + 1.0"), promotes=["*"])
+    prob.model.add_design_var("x", lower=-10, upper=10)
+    prob.model.add_objective("y")
+    prob.driver, _ = make_driver("SLSQP", disp=False)
+    rec = add_recorder(prob, str(path))
+    prob.setup()
+    prob.run_driver()
+    assert rec.connection.execute("PRAGMA journal_mode").fetchone()[0] == "wal"
+    assert rec.connection.execute("PRAGMA synchronous").fetchone()[0] == 1  # NORMAL
+    n_running = len(om.CaseReader(str(path)).list_cases("driver", out_stream=None))
+    assert n_running >= 2
+    prob.cleanup()
+    assert not (tmp_path / "run.sql-wal").exists()
+    with sqlite3.connect(path) as con:
+        assert con.execute("PRAGMA journal_mode").fetchone()[0] == "delete"
+    cr = om.CaseReader(str(path))
+    assert len(cr.list_cases("driver", out_stream=None)) == n_running
+    assert abs(cr.get_case(cr.list_cases("driver", out_stream=None)[-1]).get_val("x")[0] - 3.0) < 1e-4
+
+
 def test_progress_printer_prints_one_line_per_evaluation():
     import io
 

@@ -64,3 +64,39 @@ def test_matrix_free_products_equal_declared_partials(monkeypatch, chunk, cache)
     for key, ref in totals[False, "rev"].items():
         for variant in [(False, "fwd"), (True, "fwd"), (True, "rev")]:
             np.testing.assert_allclose(totals[variant][key], ref, rtol=1e-13, atol=1e-14, err_msg=str((key, variant)))
+
+
+class SparseOut(PointwiseCasadiComponent):
+    """An output with a structural zero (its CasADi sparsity is not dense) and a shared input."""
+
+    def pointwise_inputs(self):
+        return [Var("a", (), "m"), Var("c", (2,), "m", per_last_axis=True)]
+
+    def pointwise_outputs(self):
+        return [Var("s", (3,), "m**2")]
+
+    def pointwise_expressions(self, sym):
+        import casadi as ca
+
+        e = ca.SX(3, 1)  # entry 1 stays a structural zero
+        e[0] = sym["a"] * sym["c"][0]
+        e[2] = sym["a"] ** 2 + sym["c"][1]
+        return {"s": e}
+
+
+@pytest.mark.parametrize("mf", [False, True])
+def test_buffered_evaluation_sparse_output_and_repeated_calls(mf):
+    """The buffered evaluation scatters structurally sparse outputs into dense arrays, repeats the
+    per-station inputs over time, and gives fresh values at every call (buffers are reused)."""
+    prob = om.Problem(reports=False)
+    prob.model.add_subsystem("sp", SparseOut(grid_shape=(3, 2), matrix_free=mf), promotes=["*"])
+    prob.setup()
+    rng = np.random.default_rng(2)
+    for _ in range(2):
+        a, c = rng.uniform(1, 2, (3, 2)), rng.uniform(1, 2, (2, 2))
+        prob["a"], prob["c"] = a, c
+        prob.run_model()
+        want = np.stack([a * c[None, :, 0], np.zeros_like(a), a ** 2 + c[None, :, 1]], axis=-1)
+        np.testing.assert_allclose(prob["s"], want, rtol=1e-14)
+        data = prob.check_partials(method="fd", form="central", out_stream=None)
+        assert_check_partials(data, atol=1e-6, rtol=1e-6)

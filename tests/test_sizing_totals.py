@@ -32,3 +32,23 @@ def test_adjoint_totals_match_central_differences(problem):
             np.abs(d["J_rev"] - d["J_fd"]).max() / max(ref, 1e-12)
         worst = max(worst, err)
     assert worst < 2e-5, worst
+
+
+def test_serial_sizing_problem_does_not_import_mpi4py():
+    """Outside mpirun the sizing problem gets OpenMDAO's serial communicator: om.Problem() would
+    otherwise import mpi4py (~1 s) although it runs serially. Checked in a fresh interpreter."""
+    import subprocess
+    import sys
+
+    code = ("import sys\n"
+            "from wingmdao.cases import pegasus\n"
+            "from wingmdao.sizing import build_problem\n"
+            "s = pegasus.build(loads='maneuver')\n"
+            "prob, _ = build_problem(s.geometry, s.load_cases, s.material, s.options)\n"
+            "assert prob.comm.size == 1\n"
+            "print('mpi4py.MPI' in sys.modules)\n")
+    env = {k: v for k, v in __import__("os").environ.items() if not k.startswith(("OMPI_", "PMI_", "PMIX_"))}
+    env.pop("OPENMDAO_USE_MPI", None)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=600)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip().splitlines()[-1] == "False"

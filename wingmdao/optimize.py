@@ -190,9 +190,46 @@ def _one_line(exc) -> str:
     return " ".join(str(exc).split())
 
 
+class WalSqliteRecorder(om.SqliteRecorder):
+    """``om.SqliteRecorder`` whose database is written in SQLite's write-ahead-log mode.
+
+    ``om.SqliteRecorder`` commits every record; in SQLite's default rollback-journal mode each
+    commit syncs the journal and the database to disk (here 22 ms per commit on a busy disk,
+    ~240 commits = 5 s of a 20 s PEGASUS gust sizing). With ``journal_mode=WAL`` and
+    ``synchronous=NORMAL`` (https://www.sqlite.org/wal.html, https://www.sqlite.org/pragma.html
+    #pragma_synchronous) a commit appends to the log without a sync (0.02 ms): every commit is
+    still atomic and survives a crash of the process (the log is replayed when the file is next
+    opened); only a power loss or OS crash may drop the latest commits, never corrupt the file.
+    :meth:`shutdown` checkpoints the log into the database and switches it back to the default
+    journal mode, so the closed recording is one ordinary SQLite file.
+    """
+
+    PRAGMAS = ("PRAGMA journal_mode=WAL", "PRAGMA synchronous=NORMAL")
+
+    def startup(self, recording_requester, comm=None):
+        super().startup(recording_requester, comm)
+        for con in self._connections():
+            for pragma in self.PRAGMAS:
+                con.execute(pragma)
+
+    def shutdown(self):
+        import sqlite3
+
+        for con in self._connections():
+            try:  # checkpoints the log and removes the -wal file
+                con.execute("PRAGMA journal_mode=DELETE")
+            except sqlite3.Error:  # closed already, or another reader holds the file: it stays WAL (valid)
+                pass
+        super().shutdown()
+
+    def _connections(self):
+        return [c for c in dict.fromkeys((self.connection, self.metadata_connection)) if c is not None]
+
+
 def add_recorder(prob: om.Problem, path: str) -> om.SqliteRecorder:
-    """Record design variables, objectives, constraints and derivatives of every driver iteration."""
-    rec = om.SqliteRecorder(path)
+    """Record design variables, objectives, constraints and derivatives of every driver iteration
+    (:class:`WalSqliteRecorder`: no disk sync per record)."""
+    rec = WalSqliteRecorder(path)
     opts = prob.driver.recording_options
     opts["record_desvars"] = True
     opts["record_objectives"] = True

@@ -48,12 +48,21 @@ class SizingOptions:
     tol: float = 1e-6
     rho_ks: float = 100.0
     recording: str | None = None
-    mass_scale: float | None = None  # default: 1 / initial mass
+    mass_scale: float | None = None  # kg, objective = mass / mass_scale (default: OBJECTIVE_SCALE x initial mass)
     disp: bool = True
     dv_ref: dict | None = None  # design-variable scaling (default: the upper bounds)
     progress: bool = False  # print a line per driver evaluation (objective, worst KS, time)
     presize: int = 0  # fully-stressed-design passes before the optimizer (box sections, vm family)
 
+
+#: Default objective scaling: objective = mass / (OBJECTIVE_SCALE x initial mass), so ~0.03 at a
+#: sized design. SLSQP's first quadratic subproblem uses the identity as Hessian in the scaled design
+#: variables (Kraft 1988), so its step is ~ the objective gradient: with the objective ~1 the full
+#: steps overshoot into the infeasible region (PEGASUS gust: KS jumps from 0.06 to 1-4) and the line
+#: search backtracks two or three times per iteration. A tenfold smaller objective, same optimum
+#: (PEGASUS, docs/cases.md "Objective scaling"): gust 53 -> 45 iterations and 125 -> 87 analyses,
+#: maneuver 63 -> 52 and 130 -> 97; masses equal to 2e-6 (332.057 kg, 344.970 kg).
+OBJECTIVE_SCALE = 10.0
 
 #: Smallest KS parameter accepted: KS over N points exceeds the maximum by at most ln(N)/rho_KS
 #: (Kreisselmeier & Steinhauser 1979; Eq. 4.53-4.55), i.e. 0.5 of the allowable for N = 150 at
@@ -188,8 +197,9 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     distributed = comm is not None and comm is not False and comm.size > 1
     if flutter is not None and (distributed or section != "box"):
         raise ValueError("the flutter constraint needs box sections in one process (no MPI distribution)")
-    prob = om.Problem(reports=False)
-    mass_ref = (options.mass_scale or initial_mass(geometry, material, options, section)) if driver else 1.0
+    prob = om.Problem(comm=None if distributed else _serial_comm(), reports=False)
+    mass_ref = (options.mass_scale or OBJECTIVE_SCALE * initial_mass(geometry, material, options, section)) \
+        if driver else 1.0
     wing_kwargs = dict(rho_ks=options.rho_ks, add_constraints=driver, add_objective=driver, mass_ref=mass_ref)
     if distributed:
         from wingmdao.parallel import distributed_wing_sizing
@@ -225,8 +235,17 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     return prob, desc
 
 
+def _serial_comm():
+    """OpenMDAO's serial communicator when it runs without MPI (``openmdao.utils.mpi.MPI`` is None:
+    not under mpirun), else None (the default). ``om.Problem()`` imports mpi4py whenever it is
+    installed, ~1.2 s of a 20 s gust sizing here, although it then runs serially."""
+    from openmdao.utils.mpi import MPI, FakeComm
+
+    return FakeComm() if MPI is None else None
+
+
 def initial_mass(geometry: WingGeometry, material, options: SizingOptions, section: str = "box") -> float:
-    """Structural mass of the initial design (kg), to scale the objective to order one.
+    """Structural mass of the initial design (kg), to scale the objective (:data:`OBJECTIVE_SCALE`).
 
     Computed directly (App. F.1 frustum volumes of the section areas, Eq. F.1-F.5 for the box,
     w h for the solid rectangle), without the non-structural mass, as the sizing model's

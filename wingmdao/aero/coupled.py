@@ -115,7 +115,7 @@ def load_case_response(prob, case, num_nodes: int, weight: float) -> dict:
     ``root_torsion`` (N m, M_x and M_y at the root node, body axes), ``tip_displacement`` (m, z),
     and the peaks ``peak_load_factor``, ``peak_root_bending_moment`` (largest magnitudes).
     """
-    from wingmdao.aero.system import N_AEROELASTIC_STATES, cached_aeroelastic_system
+    from wingmdao.aero.system import cached_aeroelastic_system
     from wingmdao.timemarch.system import pack
 
     n, path = int(num_nodes), f"cases.{case.name}"
@@ -133,10 +133,10 @@ def load_case_response(prob, case, num_nodes: int, weight: float) -> dict:
     r0 = value("node_positions").reshape(n, 3)
     ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
     if case.aero is not None:
-        beam = X[:, :N_AEROELASTIC_STATES * n].reshape(t.size, n, N_AEROELASTIC_STATES)[:, :, :18]
         pitch = bool(case.aero.pitch)
         system = cached_aeroelastic_system(n, plunge=bool(case.aero.plunge), trim=bool(case.aero.trim), pitch=pitch,
                                            tail_lag=pitch and bool(case.aero.tail_lag))
+        beam = system.layout.beam_states(X)
         p = pack(system.param_specs, {s.name: value(s.name) for s in system.param_specs})
         Q = np.concatenate([value(s.name).reshape(t.size, -1) for s in system.forcing_specs], axis=1)
         dt = float(t[1] - t[0]) if t.size > 1 else 1.0

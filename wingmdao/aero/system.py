@@ -31,6 +31,7 @@ tail_incidence; alpha_trim last), see :func:`build_aeroelastic_system` and :mod:
 from __future__ import annotations
 
 import time as _time
+from dataclasses import dataclass
 
 import casadi as ca
 import numpy as np
@@ -47,6 +48,69 @@ from wingmdao.timemarch.system import CasadiResidualSystem, VarSpec, layout
 N_AEROELASTIC_STATES = N_STATE_PER_NODE + N_AERO_STATES
 #: names of the aerodynamic parameters (their validation is check_aero_parameters)
 AERO_PARAMS = ("chord", "ref_point", "lift_slope", "alpha_zero_lift", "cm0", "airspeed", "density", "mach")
+
+
+@dataclass(frozen=True, eq=False)
+class StateLayout:
+    """Where each state of the aeroelastic system sits in the flat state vector (flat indices).
+
+    ``beam`` (n, 18): r, theta, F, M, u, omega of node i (:data:`wingmdao.beam.residual.STATE_BLOCKS`
+    order); ``aero`` (n, 4): lambda_1, lambda_2, mu_1, mu_2 of station i; ``body``: the rigid-body
+    states after the node blocks, ``{"plunge": index, "trim": index}`` for those present (bordered
+    rows/columns, last so that the natural-order LU keeps the node-banded block fill-free);
+    ``size`` the number of states. Residual rows use the same positions (a node's beam rows, then
+    its lag equations; the body equations last).
+
+    The node-major order interleaves each station's lag states with its node's beam states, so the
+    Newton matrix is block-banded (block width 22: a node couples only to its neighbours).
+    Measured alternatives (20 nodes, natural-order SuperLU, docs/aeroelasticity.md "Speed"): lag
+    states before the beam's 13992 L+U nonzeros against 15253 at no measurable time gain; the best
+    of all 5040 block orders of a node (F, r, M, lag, u, omega, theta) 11714, 17 % faster
+    factorization but a beam-state order different from the structural beam's.
+    """
+
+    beam: np.ndarray
+    aero: np.ndarray
+    body: dict
+    size: int
+
+    def beam_states(self, X):
+        """The beam states (..., n, 18) of state vectors X (..., size) or (..., n, 22)."""
+        X = np.asarray(X)
+        if X.shape[-1] != self.size:
+            X = X.reshape(X.shape[:-2] + (-1,))
+        return X[..., self.beam]
+
+    def aero_states(self, X):
+        """The lag states (..., n, 4) of state vectors X (..., size) or (..., n, 22)."""
+        X = np.asarray(X)
+        if X.shape[-1] != self.size:
+            X = X.reshape(X.shape[:-2] + (-1,))
+        return X[..., self.aero]
+
+    def mask(self, part: str) -> np.ndarray:
+        """(size,) 1.0 on the ``beam`` or ``aero`` states, 0 elsewhere."""
+        w = np.zeros(self.size)
+        w[getattr(self, part).ravel()] = 1.0
+        return w
+
+
+def state_layout(num_nodes: int, plunge: bool = False, trim: bool = False, pitch_states=()) -> StateLayout:
+    """The :class:`StateLayout` of :func:`build_aeroelastic_system`: the one place that states
+    the order (the build checks its symbols against it; the initial guess and every consumer
+    index through it). A new body state goes here, in the order the build appends it: plunge,
+    the free-pitch states ``pitch_states`` (:mod:`wingmdao.aero.pitch`), trim last."""
+    n = int(num_nodes)
+    node = np.arange(n)[:, None] * N_AEROELASTIC_STATES
+    body, k = {}, N_AEROELASTIC_STATES * n
+    names = (("plunge", plunge),) + tuple((nm, True) for nm in pitch_states) + (("trim", trim),)
+    for name, on in names:
+        if on:
+            body[name] = k
+            k += 1
+    return StateLayout(beam=node + np.arange(N_STATE_PER_NODE), aero=node + np.arange(N_STATE_PER_NODE,
+                                                                                    N_AEROELASTIC_STATES),
+                       body=body, size=k)
 
 
 def aero_param_specs(n: int) -> list[VarSpec]:
@@ -280,11 +344,14 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     system.num_nodes = n
     system.plunge = bool(plunge)
     system.trim = bool(trim)
-    system.trim_index = i_trim if trim else None
     system.pitch = bool(pitch)
     system.tail_lag = bool(tail_lag)
-    system.body_index = ({"plunge_velocity": W * n} if plunge else {}) | (
-        {nm: body.start + k for k, nm in enumerate(body_names)} if pitch else {})
+    system.layout = state_layout(n, plunge, trim, body_names if pitch else ())
+    if system.layout.size != system.n_state or system.layout.body.get("trim", i_trim) != i_trim:
+        raise RuntimeError("state_layout does not match the states of build_aeroelastic_system")
+    system.trim_index = system.layout.body.get("trim")
+    system.body_index = ({"plunge_velocity": system.layout.body["plunge"]} if plunge else {}) | (
+        {nm: system.layout.body[nm] for nm in body_names} if pitch else {})
     if pitch:
         system._tail_lift = ca.Function("tail_lift", [x, xdot, p, q], [lift_tail])
     system._loads = ca.Function("section_loads", [x, xdot, p, q], [lifts, moments])
@@ -316,21 +383,54 @@ def describe_aeroelastic_equation(index: int, num_nodes: int, plunge: bool = Fal
 class AeroelasticBeamSystem(CasadiResidualSystem):
     """Beam + unsteady strip theory residual system; build with :func:`build_aeroelastic_system`.
 
-    Attributes: ``num_nodes``; ``state_shape = (num_nodes, 22)``; ``BEAM = slice(0, 18)`` and
-    ``AERO = slice(18, 22)`` index a node's row of the (n, 22) state.
+    Attributes: ``num_nodes``; ``state_shape = (num_nodes, 22)``; ``layout``, the
+    :class:`StateLayout` (flat indices of the beam, lag and body states: use it rather than
+    offsets); ``BEAM = slice(0, 18)`` and ``AERO = slice(18, 22)`` index a node's row of the
+    (n, 22) state.
     """
 
     BEAM = slice(0, N_STATE_PER_NODE)
     AERO = slice(N_STATE_PER_NODE, N_AEROELASTIC_STATES)
+    #: the four Jacobians of :meth:`jacobian_history`, each its own function evaluated over the whole history
+    _JACOBIANS = (("x", "_dx"), ("xdot", "_dxdot"), ("p", "_dp"), ("q", "_dq"))
+
+    def _jacobian_calls(self) -> dict:
+        """``{key: JitCall}`` of the four Jacobian functions (made at first use)."""
+        from wingmdao.utils.casadi_cache import JitCall
+
+        for key, attr in self._JACOBIANS:
+            if f"J_{key}" not in self._maps:
+                self._maps[f"J_{key}"] = JitCall(getattr(self, attr).fun, self.jit_threshold,
+                                                 definition=self.definition)
+        return {key: self._maps[f"J_{key}"] for key, _ in self._JACOBIANS}
+
+    def jacobian_history(self, X, Xdot, p, Q):
+        """Nonzeros of dR/dx, dR/dxdot, dR/dp, dR/dq at every instant (as the base class), one
+        Jacobian at a time over the whole history instead of the fused four-output function per
+        instant: compiled, the fused function of the 20-node system is 3.0 MB of straight-line
+        code, more than a 2 MB L2 cache, and evaluated 2.9-3.7x slower than its four parts each
+        kept hot over the history (docs/aeroelasticity.md, "Speed")."""
+        self._jacobian_calls()
+        return {key: self._history(f"J_{key}", getattr(self, attr).fun, X, Xdot, p, Q)[0]
+                for key, attr in self._JACOBIANS}
+
+    def compile(self, wait: bool = True) -> dict:
+        """Compile (or load from the cache) the residual, the Newton-matrix function and the four
+        Jacobian functions of :meth:`jacobian_history`; returns their states."""
+        from wingmdao.utils.casadi_cache import compile_calls
+
+        calls = {"residual": self._fast_R, "newton": self._fast_newton}
+        calls.update({f"jacobian_{k}": c for k, c in self._jacobian_calls().items()})
+        return compile_calls(calls, wait)
 
     def initial_guess(self, p, q):
         """Jig beam state with zero aerodynamic states."""
         n = self.num_nodes
         play = layout(self.param_specs)
         bp = {s.name: np.asarray(p[play[s.name]]).reshape(s.shape) for s in beam_param_specs(n)}
-        x = np.zeros((n, N_AEROELASTIC_STATES))
-        x[:, self.BEAM] = jig_state(bp)
-        return np.concatenate([x.ravel(), np.zeros(self.n_state - x.size)])
+        x = np.zeros(self.n_state)
+        x[self.layout.beam] = jig_state(bp)
+        return x
 
     def section_loads(self, x, xdot, p, q):
         """(lift, moment) per unit length at every node (N/m along the section normal, N*m/m nose up)."""

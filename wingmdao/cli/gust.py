@@ -321,7 +321,7 @@ def _coupled_history(args, t, bp, chord, axis_frac, ap, flight, body_mass, pitch
         x_t = params["tail_x"]
         Q[:, ql["tail_gust_velocity"].start] = _gust_profile(args, flight)(t - (x_t - x_le.min()) / flight["V"])
     hist = march(system, t, p, Q, modified_newton=True)
-    X = hist.states[:, :22 * n].reshape(t.size, n, 22)[:, :, :18]
+    X = system.layout.beam_states(hist.states)
     lift = system.total_lift_history(hist.states, args.dt, p, Q)
     if pitch:
         tail = system.tail_lift_history(hist.states, args.dt, p, Q)

@@ -5,7 +5,9 @@ A :class:`~wingmdao.components.time_history.TimeHistoryComponent` over
 beam parameter blocks (as ``BeamDynamics``), the aerodynamic parameters ``chord``, ``ref_point``,
 ``lift_slope``, ``alpha_zero_lift``, ``cm0``, ``airspeed``, ``density``, ``mach``, the beam forcing
 blocks and ``gust_velocity`` (n_time, n_node), ``frame_velocity`` (n_time, 3). Output ``states``
-(n_time, n_node, 22): 18 beam states then 4 aerodynamic lag states per node. Derivatives with
+(n_time, n_node, 22): 18 beam states then 4 aerodynamic lag states per node, the free-plunge and
+trim states after them (flat; read them through ``build_system().layout``,
+:func:`wingmdao.aero.system.state_layout`). Derivatives with
 respect to every input (chord, airspeed, density included) come from the generic discrete adjoint
 (or the forward tangent sweep), the same code as the structural beam.
 

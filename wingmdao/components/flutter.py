@@ -12,9 +12,10 @@ theory linearised about its static state at each speed (docs/flutter.md). Partia
 from the eigenvalue derivatives (left/right vectors, CasADi second derivatives of the residual),
 declared dense (one row). Cost: the value is computed in ``compute`` and the gradient, from
 the stored eigenvectors, only in ``compute_partials``; between evaluations the modes are warm
-started (:class:`wingmdao.stability.sensitivity.WarmStart`: refined from the previous design's
-vectors, the full eigen window again by its rules), ``warm_start=False`` for a cold window every
-time.
+started (:class:`wingmdao.stability.sensitivity.WarmStart`: every oscillatory mode of the last
+window refined on the new design's full pencil from the previous design's vectors; a speed whose
+refinement is not trusted is redone with the full eigen window), ``warm_start=False`` for a cold
+window every time.
 """
 
 from __future__ import annotations
@@ -48,11 +49,12 @@ class FlutterDamping(om.ExplicitComponent):
         self.options.declare("warm_start", default=True, types=bool,
                              desc="refine the previous evaluation's modes instead of a new eigen window "
                                   "(WarmStart rules); False: full window every evaluation")
-        self.options.declare("refresh", default=20, types=int, lower=1,
+        self.options.declare("refresh", default=100, types=int, lower=1,
                              desc="warm start: full eigen window at least every this many evaluations")
-        self.options.declare("max_step", default=0.1, types=float, lower=1e-12,
+        self.options.declare("max_step", default=None, allow_none=True, types=float, lower=1e-12,
                              desc="warm start: full eigen window when a parameter moved more than this "
-                                  "(relative) from the last full-window design")
+                                  "(relative) from the last full-window design; None: off (SLSQP steps "
+                                  "move the stiffnesses by 30-90 %; the refinement checks decide)")
 
     def setup(self):
         from wingmdao.aero.system import cached_aeroelastic_system

@@ -11,6 +11,8 @@ from __future__ import annotations
 import numpy as np
 import openmdao.api as om
 
+from wingmdao.aero.system import state_layout
+
 N_BEAM = 18
 N_AERO = 22
 
@@ -31,7 +33,7 @@ class BeamStateSlice(om.ExplicitComponent):
             raise ValueError(f"state_shape {shape} has fewer than 22 * num_nodes = {N_AERO * n} states")
         self.add_input("states", shape=(nt,) + shape, desc="aeroelastic states (beam, lag, plunge, trim)")
         self.add_output("beam_states", shape=(nt, n, N_BEAM), desc="beam states r, theta, F, M, u, omega per node")
-        cols_one = (np.arange(n)[:, None] * N_AERO + np.arange(N_BEAM)[None, :]).ravel()
+        cols_one = state_layout(n).beam.ravel()   # body states follow the node blocks
         cols = (np.arange(nt)[:, None] * size + cols_one[None, :]).ravel()
         rows = np.arange(nt * n * N_BEAM)
         self._cols_one, self._size = cols_one, size

@@ -63,15 +63,13 @@ class FlutterProblem:
 
     def aero_mask(self):
         """1 on the aerodynamic lag states, 0 on the beam's (which modes the air loads)."""
-        w = np.zeros(self.system.state_shape)
-        w[:, 18:22] = 1.0
-        return w.ravel()
+        return self.system.layout.mask("aero")
 
     def beam_weights(self):
         """MAC weights: the beam's displacement and rotation states only."""
-        w = np.zeros(self.system.state_shape)
-        w[:, 0:6] = 1.0
-        return w.ravel()
+        w = np.zeros(self.system.n_state)
+        w[self.system.layout.beam[:, 0:6].ravel()] = 1.0   # r, theta
+        return w
 
 
 def flutter_problem(name: str, num_nodes: int | None = None, thickness: dict | None = None) -> FlutterProblem:
