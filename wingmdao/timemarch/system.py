@@ -398,15 +398,28 @@ class CasadiResidualSystem(ResidualSystem):
         instant than its parts kept hot one at a time: docs/time-marching.md)."""
         return {k: self._eval_history(self._part_call(k), X, Xdot, p, Q)[0] for k in ("x", "xdot", "p", "q")}
 
+    def _own_history_parts(self) -> bool:
+        """False for subclasses that redefine :meth:`jacobian_history` (their Jacobians, and the
+        functions their ``compile`` prepares, are those): the state/input variants and the
+        reverse-mode products then defer to it."""
+        return type(self).jacobian_history is CasadiResidualSystem.jacobian_history
+
     def state_jacobian_history(self, X, Xdot, p, Q):
+        if not self._own_history_parts():
+            return self.jacobian_history(X, Xdot, p, Q)
         return {k: self._eval_history(self._part_call(k), X, Xdot, p, Q)[0] for k in ("x", "xdot")}
 
     def input_jacobian_history(self, X, Xdot, p, Q):
+        if not self._own_history_parts():
+            return self.jacobian_history(X, Xdot, p, Q)
         return {k: self._eval_history(self._part_call(k), X, Xdot, p, Q)[0] for k in ("p", "q")}
 
     def input_vjp_history(self, X, Xdot, p, Q, Lam):
         """Reverse-mode products of :meth:`ResidualSystem.input_vjp_history`: one evaluation of
-        the compiled ``jtimes`` function per instant, no dR/dp or dR/dq stored."""
+        the compiled ``jtimes`` function per instant, no dR/dp or dR/dq stored (None for a
+        subclass with its own :meth:`jacobian_history`)."""
+        if not self._own_history_parts():
+            return None
         gp, gq = self._eval_history(self._part_call("vjp"), X, Xdot, p, Q, np.ascontiguousarray(Lam, dtype=float))
         return gp.sum(axis=0), gq
 
