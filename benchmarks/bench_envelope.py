@@ -10,7 +10,8 @@ is the default model (checkpointed beam adjoint and matrix-free pointwise compon
 thresholds); ``full`` forces full storage and declared partials (the model before issue 15) and
 the gradients of both are compared. Goal (issue 15): <= 500 MB at 20 nodes x 4000 steps.
 ``envelope``: the 20-gust (10 log-spaced gradients x up/down) + 2-maneuver PEGASUS sizing, wall
-time serial and with ``mpirun -n RANKS`` (needs mpirun; as root add --allow-run-as-root).
+time and peak RSS (goal: 8 GB) serial and with ``mpirun -n RANKS`` (needs mpirun; as root add
+--allow-run-as-root; ``--ranks 1``: serial only).
 The machine's load average is printed with every figure: report them together.
 """
 
@@ -34,6 +35,7 @@ def _load():
 
 
 GOAL_MB = 500.0
+ENVELOPE_GOAL_GB = 8.0
 
 
 def rss_child(steps: int, memory: str = "lean") -> None:
@@ -110,14 +112,15 @@ def envelope(args) -> None:
             js = os.path.join(tmp, "r.json")
             load0 = _load()
             t0 = time.perf_counter()
-            subprocess.run([*cmd, *argv, "--out", tmp, "--json", js], env=env, check=False,
-                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            proc = subprocess.Popen([*cmd, *argv, "--out", tmp, "--json", js], env=env,
+                                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            _, _, usage = os.wait4(proc.pid, 0)     # peak RSS of this run (largest rank under mpirun)
             wall = time.perf_counter() - t0
             r = json.load(open(js))
             results[label] = (wall, r)
             print(f"{label:14s} wall {wall:7.1f} s (sizing {r['wall_s']:6.1f} s)  mass {r['mass_kg']:.4f} kg  "
-                  f"iterations {r['iterations']}  success {r['success']}  load avg before {load0}, after {_load()}",
-                  flush=True)
+                  f"iterations {r['iterations']}  success {r['success']}  peak RSS {usage.ru_maxrss / 1024**2:.2f} GB "
+                  f"(goal {ENVELOPE_GOAL_GB:g} GB per process)  load avg before {load0}, after {_load()}", flush=True)
     if len(results) == 2:
         (ws, rs), (wp, rp) = results.values()
         print(f"speed-up {ws / wp:.2f} (process wall), {rs['wall_s'] / rp['wall_s']:.2f} (sizing); "

@@ -216,3 +216,33 @@ def test_adjoint_memory_auto_checkpoints_above_the_budget_and_needs_matrix_free(
     assert prob.model.chain.checkpoint_every is None
     with pytest.raises(ValueError, match="adjoint_memory='checkpoint' needs matrix_free=True"):
         _chain_problem(21, matrix_free=False, adjoint_memory="checkpoint")
+
+
+def test_store_factors_auto_follows_the_factor_budget_and_keeps_the_totals(monkeypatch):
+    """'auto' keeps the LU factors between sweeps only when SuperLU's estimated reserve fits
+    FACTOR_MEMORY_MB (a 3-mass chain does, a zero budget does not); the totals of several
+    tangent sweeps at one linearization (fwd mode) are the same with and without kept factors."""
+    from wingmdao.components import time_history
+
+    wrt = ["mass", "damping", "hardening", "stiffness"]
+    totals = {}
+    for budget, keep in ((16.0, True), (0.0, False)):
+        monkeypatch.setattr(time_history, "FACTOR_MEMORY_MB", budget)
+        prob = _chain_problem(21, mode="fwd", seed=2)
+        assert prob.model.chain.store_factors is keep
+        prob.run_model()
+        totals[keep] = prob.compute_totals(of=["f"], wrt=wrt)
+    for key, val in totals[True].items():
+        np.testing.assert_allclose(totals[False][key], val, rtol=1e-12, atol=1e-14, err_msg=str(key))
+    with pytest.raises(ValueError, match="store_factors = 'yes'; allowed: True, False, 'auto'"):
+        _chain_problem(5, store_factors="yes")
+
+
+def test_store_factors_auto_does_not_keep_the_factors_of_a_beam_history():
+    """SuperLU reserves ~2.8 MB per factor of a 20-node beam: a 101-step history keeps none."""
+    from wingmdao.components.beam import BeamDynamics
+
+    prob = om.Problem(reports=False)
+    prob.model.add_subsystem("beam", BeamDynamics(num_nodes=20, time=np.linspace(0.0, 1.0, 101)))
+    prob.setup()
+    assert prob.model.beam.store_factors is False

@@ -3,9 +3,13 @@
 A dynamic load case stores, per time step, the states and the linearization the discrete
 adjoint sweep needs (residual Jacobian blocks, parameter and forcing partials) plus the stress
 history. Measured with ``benchmarks/bench_envelope.py rss`` (one PEGASUS gust case, 20 nodes,
-forward march + adjoint totals, peak RSS, this machine): 360 MB at 251 steps, 601 MB at 1001,
-1806 MB at 4001, i.e. 16.5-20.1 kB per node and time step (the slope grows slightly with the
-length). :func:`estimate_bytes` uses 24 kB per node-step and a 400 MB base, above every measurement.
+forward march + adjoint totals, peak RSS, this machine): with full storage 360 MB at 251 steps,
+601 MB at 1001, 1806 MB at 4001, i.e. 16.5-20.1 kB per node and time step; the default
+(checkpointed adjoint above 200 MB of blocks) 298 MB at 251, 581 MB at 1001, 787 MB at 4001
+(at most 18.9 kB per node-step, below ~1060 steps where every block is kept). Each case also
+costs a fixed part (its CasADi functions, OpenMDAO variables): 1, 2, 3 gusts of 101 steps over
+14 design points peaked at 287, 357, 426 MB (~70 MB per case). :func:`estimate_bytes` uses a
+400 MB base, 30 MB per case and 24 kB per node-step, above every measurement.
 
 :func:`check_memory` raises a ValueError with the estimate and the largest step count that fits
 when the load cases of this process would exceed the memory it can have: MemAvailable of
@@ -23,12 +27,19 @@ import time
 
 BYTES_PER_NODE_STEP = 24e3
 BASE_BYTES = 400e6
+#: per load case, static ones included (its CasADi section/stress/internal-load functions, the
+#: OpenMDAO variables that do not grow with the steps): 1-3 gust cases of 101 steps took ~70 MB each
+#: over 14 design points, 48 MB of which the per-step term covers
+PER_CASE_BYTES = 30e6
 PROGRESS_STEPS = 2000
 
 
 def estimate_bytes(num_nodes: int, steps) -> float:
-    """Peak memory (bytes) of one process holding dynamic cases with ``steps`` time steps each."""
-    return BASE_BYTES + BYTES_PER_NODE_STEP * num_nodes * float(sum(int(s) for s in steps if int(s) > 1))
+    """Peak memory (bytes) of one process holding load cases with ``steps`` time steps each
+    (1: a static case)."""
+    steps = [int(s) for s in steps]
+    return (BASE_BYTES + PER_CASE_BYTES * len(steps)
+            + BYTES_PER_NODE_STEP * num_nodes * float(sum(s for s in steps if s > 1)))
 
 
 def _meminfo_available() -> float | None:
@@ -85,13 +96,14 @@ def check_memory(load_cases, num_nodes: int, available: float | None = None) -> 
     if avail is None or need <= avail:
         return need
     dynamic = [s for s in steps if s > 1]
-    fit = int((avail - BASE_BYTES) / (BYTES_PER_NODE_STEP * num_nodes * max(len(dynamic), 1)))
+    fit = int((avail - BASE_BYTES - PER_CASE_BYTES * len(steps))
+              / (BYTES_PER_NODE_STEP * num_nodes * max(len(dynamic), 1)))
     hint = (f"the largest step count that fits is {fit} steps per dynamic case" if fit > 1 else
             "even one step per case does not fit")
     raise ValueError(
         f"time histories: {len(dynamic)} dynamic case(s) x up to {max(dynamic, default=0)} steps x {num_nodes} "
-        f"nodes need an estimated {need / 1e6:.0f} MB ({BASE_BYTES / 1e6:.0f} MB + "
-        f"{BYTES_PER_NODE_STEP / 1e3:.0f} kB per node-step), {avail / 1e6:.0f} MB available; {hint} "
+        f"nodes need an estimated {need / 1e6:.0f} MB ({BASE_BYTES / 1e6:.0f} MB + {PER_CASE_BYTES / 1e6:.0f} MB "
+        f"per case + {BYTES_PER_NODE_STEP / 1e3:.0f} kB per node-step), {avail / 1e6:.0f} MB available; {hint} "
         "(increase --dt, shorten --t-final, spread the cases over MPI ranks, or set WINGMDAO_MAX_MEMORY_MB)")
 
 

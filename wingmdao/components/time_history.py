@@ -34,6 +34,17 @@ MATRIX_FREE_ABOVE = 50_000
 #: earlier 100 MB); longer histories are checkpointed in segments of an eighth of the budget.
 ADJOINT_MEMORY_MB = 200.0
 
+#: Budget (MB) of the SuperLU factors kept between sweeps (``store_factors="auto"``). SuperLU
+#: reserves ~720 bytes per nonzero of ``A_n`` (2.8 MB per step of the 20-node beam, 3906 nonzeros;
+#: measured with mallinfo2), far more than it fills. Kept factors survive until the next
+#: linearization, and as every design point's factors land on other heap pages the resident
+#: memory grew by ~200 MB per 101-step gust case over an optimization (docs/gust-envelope.md,
+#: "Memory"); one adjoint sweep per linearization (a reverse-mode sizing with one KS per case) has
+#: no use for them. So "auto" keeps them only when they fit this budget (small systems).
+FACTOR_MEMORY_MB = 16.0
+#: SuperLU's reserve per nonzero of the Newton matrix (bytes, measured, see FACTOR_MEMORY_MB).
+SUPERLU_BYTES_PER_NONZERO = 720.0
+
 
 class TimeHistoryComponent(om.ImplicitComponent):
     """Time history of any :class:`~wingmdao.timemarch.system.ResidualSystem` (Sec. 3.5.2).
@@ -76,7 +87,8 @@ class TimeHistoryComponent(om.ImplicitComponent):
                              desc="apply_linear from stored blocks instead of declared partials; "
                                   "None: when n_time * n_state > MATRIX_FREE_ABOVE")
         self.options.declare("store_factors", default="auto", types=(bool, str),
-                             desc="keep every LU factor between sweeps (True/False/'auto')")
+                             desc="keep every LU factor between sweeps (True/False/'auto': when their "
+                                  "estimated reserve fits FACTOR_MEMORY_MB)")
         self.options.declare("lu", default="static", values=("static", "superlu"),
                              desc="sparse LU of the tangent/adjoint sweeps: the static-pivot LU of the "
                              "compiled C kernel (wingmdao.timemarch.static_lu; SuperLU without gcc or "
@@ -137,6 +149,19 @@ class TimeHistoryComponent(om.ImplicitComponent):
         self._matrix_free = bool(n_time * sysm.n_state > MATRIX_FREE_ABOVE) if mf is None else mf
         self.matrix_free = self._matrix_free
         self.checkpoint_every = self._checkpoint_interval()
+        self.store_factors = self._store_factors()
+
+    def _store_factors(self) -> bool:
+        """The ``store_factors`` option resolved: 'auto' keeps the factors of every step when
+        SuperLU's estimated reserve (:data:`SUPERLU_BYTES_PER_NONZERO` per nonzero of the union
+        pattern of dR/dx, dR/dxdot and the diagonal, an upper bound) fits :data:`FACTOR_MEMORY_MB`."""
+        store = self.options["store_factors"]
+        if store != "auto":
+            if not isinstance(store, bool):
+                raise ValueError(f"{self.msginfo}: store_factors = {store!r}; allowed: True, False, 'auto'")
+            return store
+        rows, _ = _newton_pattern(self.system.jacobian_patterns(), self.system.n_state)
+        return self._n_time * rows.size * SUPERLU_BYTES_PER_NONZERO <= 1e6 * FACTOR_MEMORY_MB
 
     def _checkpoint_interval(self):
         """Segment length of the checkpointed sweeps, None for full storage (docs/time-marching.md)."""
@@ -281,8 +306,10 @@ class TimeHistoryComponent(om.ImplicitComponent):
         sysm = self.system
         p, Q = self._params(inputs), self._forcing(inputs)
         X = self._history(outputs)
+        # drop the previous design point's linearization first: the two are not alive together
+        self._lin = self._lin_point = None
         lin = LinearizedHistory(sysm, self._time, X, p, Q,
-                                initial=self.options["initial"], store_factors=self.options["store_factors"],
+                                initial=self.options["initial"], store_factors=self.store_factors,
                                 lu=self.options["lu"], checkpoint_every=self.checkpoint_every)
         self._lin = lin
         self._lin_point = (lin.states, p.copy(), lin.forcing)    # the linearization's own copies
