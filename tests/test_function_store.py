@@ -203,6 +203,7 @@ def test_deferred_beam_system_equals_built(store, monkeypatch):
 @pytest.mark.skipif(cc.compiler() is None, reason="needs gcc")
 def test_deferred_beam_system_uses_compiled_libraries_without_building(store, monkeypatch):
     from wingmdao.beam.residual import DeferredBeamSystem, build_beam_system
+    from wingmdao.timemarch.system import HISTORY_PARTS
 
     monkeypatch.setenv(cc.ENV_JIT, "1")
     monkeypatch.setattr(cc, "_warned", False)
@@ -215,6 +216,7 @@ def test_deferred_beam_system_uses_compiled_libraries_without_building(store, mo
     for a, b in zip(_beam_eval(first, args), _beam_eval(deferred, args)):
         assert np.array_equal(a, b)                     # the same compiled libraries
     assert not deferred.is_built                         # solver functions only: no expression graph
-    assert {c.jit.state for c in (deferred._fast_R, deferred._fast_newton, deferred._maps["J"])} == {"compiled"}
+    assert {c.jit.state for c in (deferred._fast_R, deferred._fast_newton,
+                                  *(deferred._maps[f"H_{k}"] for k in HISTORY_PARTS))} == {"compiled"}
     deferred.residual_history(*(np.atleast_2d(a) for a in args[:2]), args[2], np.atleast_2d(args[3]))
     assert not deferred.is_built

@@ -36,7 +36,7 @@ import casadi as ca
 import numpy as np
 
 from wingmdao.beam.rotations import body_to_csn, rate_matrix
-from wingmdao.timemarch.system import JIT_THRESHOLD, CasadiResidualSystem, VarSpec, layout
+from wingmdao.timemarch.system import HISTORY_PARTS, JIT_THRESHOLD, CasadiResidualSystem, VarSpec, layout
 
 #: Per-node state blocks (docs/conventions.md).
 STATE_BLOCKS = {"r": slice(0, 3), "theta": slice(3, 6), "F": slice(6, 9), "M": slice(9, 12),
@@ -352,7 +352,7 @@ def build_beam_system(num_nodes: int, *, euler_sequence: str = "surface",
     ``defer``: once a beam of this definition (:func:`beam_definition`) has been built on this
     machine, its sparsity patterns come from :mod:`wingmdao.utils.function_store` and the CasADi
     functions are made at first use (:class:`DeferredBeamSystem`): from the compiled-library
-    cache when all three are there, else built as here. ``defer=False`` builds now.
+    cache when all of them are there, else built as here. ``defer=False`` builds now.
     """
     n = int(num_nodes)
     if n < 2:
@@ -378,21 +378,23 @@ def build_beam_system(num_nodes: int, *, euler_sequence: str = "surface",
     return system
 
 
-#: Functions of a beam system whose compiled libraries serve a deferred system (attribute of the
-#: JitCall, name suffix of the CasADi function).
-_COMPILED = (("_fast_R", ""), ("_fast_newton", "_newton"), ("_jacobians", "_jacobians"))
+#: Functions of a beam system whose compiled libraries serve a deferred system: the residual and
+#: Newton-matrix evaluators (attributes) and the history parts (keys ``H_*`` of ``_maps``: the four
+#: Jacobians and the input vector-Jacobian product, ``CasadiResidualSystem._part_call``).
+_COMPILED = ("_fast_R", "_fast_newton", *(f"H_{k}" for k in HISTORY_PARTS))
 
 
 def _beam_data(system) -> dict:
     """What a :class:`DeferredBeamSystem` needs before its functions exist: Jacobian and Newton
-    patterns, the three solver functions' signatures and the built system's attribute names."""
+    patterns, the solver and history functions' signatures and the built system's attribute names."""
     data = {"attributes": np.array(sorted(system.__dict__), dtype=str)}
     for k, (rows, cols, shape) in system.jacobian_patterns().items():
         data[f"pattern_{k}_rows"], data[f"pattern_{k}_cols"] = rows, cols
         data[f"pattern_{k}_shape"] = np.asarray(shape, dtype=np.int64)
     data["newton_rows"], data["newton_indptr"] = system._newton_pattern
-    funs = {"_fast_R": system._fast_R, "_fast_newton": system._fast_newton, "_jacobians": system._maps["J"]}
-    for attr, _ in _COMPILED:
+    funs = {"_fast_R": system._fast_R, "_fast_newton": system._fast_newton,
+            **{f"H_{k}": system._part_call(k) for k in HISTORY_PARTS}}
+    for attr in _COMPILED:
         fun = funs[attr].jit.interpreted
         data[f"{attr}_name"] = fun.name()
         for i in range(fun.n_in()):
@@ -434,8 +436,8 @@ class DeferredBeamSystem(CasadiResidualSystem):
 
     Sizes, specs and the Jacobian patterns (what components declare at setup) come from the
     persisted data of an earlier build of the same definition (:func:`_beam_data`). At the first
-    use of the residual, Newton or Jacobian-history evaluator, the compiled libraries of all
-    three are loaded from the compiled cache when they are there (a static analysis then never
+    use of the residual, Newton or history evaluators, the compiled libraries of all
+    of them (``_COMPILED``) are loaded from the compiled cache when they are there (a static analysis then never
     builds the expression graphs); any other attribute of a built system (or a cache miss) builds
     the system (:func:`_build_beam_system`) and takes over its attributes. Evaluations are those
     of the built system: the same compiled libraries, or the same interpreted functions.
@@ -470,10 +472,6 @@ class DeferredBeamSystem(CasadiResidualSystem):
     def residual_history(self, X, Xdot, p, Q):
         return self._history("R", self._maps["R"].jit.interpreted, X, Xdot, p, Q)[0]
 
-    def jacobian_history(self, X, Xdot, p, Q):
-        vals = self._history("J", self._maps["J"].jit.interpreted, X, Xdot, p, Q)
-        return dict(zip(("x", "xdot", "p", "q"), vals))
-
     @property
     def is_built(self) -> bool:
         """True once the CasADi expressions have been built (False: deferred or compiled only)."""
@@ -490,14 +488,14 @@ class DeferredBeamSystem(CasadiResidualSystem):
         return getattr(self, name)
 
     def _attach_compiled(self) -> bool:
-        """Use the cached compiled libraries of the three solver functions, if all load."""
+        """Use the cached compiled libraries of the solver and history functions, if all load."""
         from wingmdao.utils.casadi_cache import cached, function_key, jit_enabled, precompiled_call
 
         if not jit_enabled():
             return False
         data = self._deferred[0]
         ext = {}
-        for attr, _ in _COMPILED:
+        for attr in _COMPILED:
             sig = _Signature(data, attr)
             ext[attr] = cached(sig, key=function_key(sig, definition=self.definition))
             if ext[attr] is None:
@@ -505,7 +503,7 @@ class DeferredBeamSystem(CasadiResidualSystem):
         calls = {attr: precompiled_call(f, self.jit_threshold, definition=self.definition)
                  for attr, f in ext.items()}
         self._fast_R, self._fast_newton = calls["_fast_R"], calls["_fast_newton"]
-        self._maps = {"R": self._fast_R, "J": calls["_jacobians"]}
+        self._maps = {"R": self._fast_R, **{a: c for a, c in calls.items() if a.startswith("H_")}}
         return True
 
     def _materialize(self) -> None:

@@ -387,11 +387,21 @@ class TimeHistoryComponent(om.ImplicitComponent):
 
 
     def _linearized_at(self, inputs, outputs):
+        """Whether the stored linearization is at these inputs and outputs (compared block by
+        block against its copies: no packed vectors or finiteness checks made again)."""
         if self._lin is None:
             return False
         X, p, Q = self._lin_point
-        return (np.array_equal(X, self._history(outputs)) and np.array_equal(p, self._params(inputs))
-                and np.array_equal(Q, self._forcing(inputs)))
+        sysm, N = self.system, self._n_time
+        if not np.array_equal(X, self._history(outputs)):
+            return False
+        for s in sysm.param_specs:
+            if not np.array_equal(p[self._p_slices[s.name]], np.ravel(inputs[s.name])):
+                return False
+        for s in sysm.forcing_specs:
+            if not np.array_equal(Q[:, self._q_slices[s.name]], np.reshape(inputs[s.name], (N, s.size))):
+                return False
+        return True
 
 
 def _newton_pattern(pats, n):

@@ -97,12 +97,18 @@ class LinearizedHistory:
         is used). ``"superlu"``: SuperLU for every step (docs/time-marching.md, "The static-pivot
         LU").
     checkpoint_every : None (default) keeps the Jacobian nonzeros of every step (the arrays
-        ``jx, jxd, jp, jq, m_data``: ~170 kB per step of a 20-node beam). An integer k keeps
+        ``jx, jxd, m_data``; ``jp, jq`` only once something needs them: the gradient uses the
+        system's reverse-mode products ``input_vjp_history`` instead when it has them, the
+        forward products and declared partials evaluate them; ~170 kB per step of a 20-node
+        beam with all of them, ~70 kB without dR/dp, dR/dq). An integer k keeps
         only the states (``states`` is the whole converged history, so every step is a
         checkpoint) and re-evaluates the Jacobians of k steps at a time in every sweep and
         product: memory ~ k steps of blocks, one extra Jacobian evaluation per step and sweep.
         The sweeps are the same operations on the same values, so the results agree with the
-        full storage to round-off (only sums over time are grouped by segment).
+        full storage to round-off (only sums over time are grouped by segment). Segments evaluate
+        dR/dx, dR/dxdot only; the adjoint sweep forms ``param_product`` and ``forcing_product``
+        per segment by the system's reverse-mode products (dR/dp, dR/dq of a segment are evaluated
+        only for the forward products, or when the system has no such products).
 
     Identical consecutive ``A_n`` (linear systems) share one factorization. Entries of the
     Jacobian pattern that are zero at every step (of this and of every earlier history of the
@@ -139,11 +145,12 @@ class LinearizedHistory:
             checkpoint_every = None if k >= self.n_time else k
         self.checkpoint_every = checkpoint_every
         self._full = self._Xdot = None
+        self._jp = self._jq = None        # dR/dp, dR/dq of full storage (evaluated at first use)
         # full storage keeps the rates; checkpointed sweeps recompute them per segment
         self._Xdot = self._rates(0, self.n_time) if checkpoint_every is None else None
         full = None
         if checkpoint_every is None:
-            data = self._raw(0, self.n_time)
+            data = self._raw(0, self.n_time, state_only=True)
             seen = self._seen_nonzeros(data)
             contiguous = data["x"].flags.c_contiguous and data["xdot"].flags.c_contiguous
             if self._lib is not None and seen is not None and contiguous:
@@ -165,7 +172,8 @@ class LinearizedHistory:
             self._build_newton_pattern(x_nz, d_nz)
         if checkpoint_every is None:
             self._full = full if full is not None else self._make_blocks(0, self.n_time, self.n_time, data)
-            self.jx, self.jxd, self.jp, self.jq = data["x"], data["xdot"], data["p"], data["q"]
+            self.jx, self.jxd = data["x"], data["xdot"]
+            self._jp, self._jq = data.get("p"), data.get("q")     # None: evaluated at first use
             self.m_data = self._full.m_data
             # steps with the same Newton matrix as the step before share one factorization
             same = self._full.same
@@ -193,13 +201,66 @@ class LinearizedHistory:
         a = max(lo - 2, 0)     # rows past the first two of a slice are BDF2 rates
         return state_rates(self._X[a:hi], self.dt)[lo - a:]
 
-    def _raw(self, lo, hi):
-        """The four Jacobians' nonzeros at the steps lo..hi-1 (step 0 of a given state: none)."""
-        data = self.system.jacobian_history(self._X[lo:hi], self._rates(lo, hi), self._p, self._Q[lo:hi])
+    def _raw(self, lo, hi, state_only=False):
+        """The four Jacobians' nonzeros at the steps lo..hi-1 (step 0 of a given state: none);
+        ``state_only``: dR/dx and dR/dxdot (``system.state_jacobian_history``; "p", "q" only if
+        the system returns them anyway)."""
+        args = (self._X[lo:hi], self._rates(lo, hi), self._p, self._Q[lo:hi])
+        data = dict(self.system.state_jacobian_history(*args) if state_only else self.system.jacobian_history(*args))
         if self.initial == "state" and lo == 0:   # step 0 is x_0 - x_init: identity, no p or q
             for v in data.values():
                 v[0] = 0.0
         return data
+
+    def _input_jacobians(self):
+        """dR/dp, dR/dq of every step (full storage), evaluated at first use: the gradient needs
+        only their products with the adjoint (:meth:`param_product`, reverse mode), the forward
+        products and declared partials need them."""
+        if self._full is None:
+            raise AttributeError("dR/dp, dR/dq of every step are kept with full storage only (checkpoint_every=None)")
+        if self._jp is None:
+            data = dict(self.system.input_jacobian_history(self._X, self._Xdot, self._p, self._Q))
+            if self.initial == "state":
+                for v in data.values():
+                    v[0] = 0.0
+            self._jp, self._jq = data["p"], data["q"]
+            self._full.jp, self._full.jq = self._jp, self._jq
+        return self._jp, self._jq
+
+    @property
+    def jp(self) -> np.ndarray:
+        """Nonzeros of dR/dp at every step (n_time, nnz), full storage (evaluated at first use)."""
+        return self._input_jacobians()[0]
+
+    @property
+    def jq(self) -> np.ndarray:
+        """Nonzeros of dR/dq at every step (n_time, nnz), full storage (evaluated at first use)."""
+        return self._input_jacobians()[1]
+
+    def _block_inputs(self, blk):
+        """``(jp, jq)`` of a block, evaluated at first use (a checkpoint segment's: its steps)."""
+        if blk.jp is None:
+            if blk is self._full:
+                self._input_jacobians()
+            else:
+                lo, stop = blk.off, blk.off + blk.jx.shape[0]
+                data = dict(self.system.input_jacobian_history(self._X[lo:stop], self._rates(lo, stop), self._p,
+                                                               self._Q[lo:stop]))
+                if self.initial == "state" and lo == 0:
+                    for v in data.values():
+                        v[0] = 0.0
+                blk.jp, blk.jq = data["p"], data["q"]
+        return blk.jp, blk.jq
+
+    def _segment_vjp(self, blk, lam):
+        """``(sum dR_n/dp^T lam_n, dR_n/dq_n^T lam_n)`` over the steps ``blk.lo .. blk.hi - 1`` by the
+        system's reverse-mode products, or None when it has none (checkpointed sweeps)."""
+        lo, hi = blk.lo, blk.hi
+        L = lam[lo:hi]
+        if self.initial == "state" and lo == 0:
+            L = L.copy()
+            L[0] = 0.0
+        return self.system.input_vjp_history(self._X[lo:hi], self._rates(lo, hi), self._p, self._Q[lo:hi], L)
 
     def _scan(self):
         """Checkpointed mode: one pass over the history in segments for the entries that are
@@ -210,7 +271,7 @@ class LinearizedHistory:
         same = np.zeros(N, dtype=bool)
         prev = None
         for lo in range(0, N, k):
-            d = self._raw(lo, min(lo + k, N))
+            d = self._raw(lo, min(lo + k, N), state_only=True)
             jx, jxd = d["x"], d["xdot"]
             if x_nz is None:
                 x_nz, d_nz = np.zeros(jx.shape[1], dtype=bool), np.zeros(jxd.shape[1], dtype=bool)
@@ -238,10 +299,10 @@ class LinearizedHistory:
         for nonzeros of dR/dx, dR/dxdot outside the pattern in the same pass; if any, the block's
         ``factors`` holds their flags ``(x, xdot)`` (the block is then to be remade)."""
         if data is None:
-            data = self._raw(lo, stop)
+            data = self._raw(lo, stop, state_only=True)
         b = _Blocks()
         b.off, b.lo, b.hi = lo, lo, hi
-        b.jx, b.jxd, b.jp, b.jq = data["x"], data["xdot"], data["p"], data["q"]
+        b.jx, b.jxd, b.jp, b.jq = data["x"], data["xdot"], data.get("p"), data.get("q")
         m = stop - lo
         b.m_data = np.empty((m, self.m_rows.size))
         lib = self._lib
@@ -486,6 +547,8 @@ class LinearizedHistory:
         attr = {"x": "jx", "xdot": "jxd", "p": "jp", "q": "jq"}[key]
         for blk in self._blocks():
             lo, hi = blk.lo, blk.hi
+            if key in ("p", "q"):
+                self._block_inputs(blk)
             out[lo:hi] = self._hist_product(key, getattr(blk, attr)[:hi - lo], vec[lo:hi], transpose)
         return out
 
@@ -527,6 +590,7 @@ class LinearizedHistory:
         """``sum_n dR_n/dp^T lam_n`` over the steps of ``blk``."""
         rows, cols, shape = self.patterns["p"]
         lo, hi = blk.lo, blk.hi
+        self._block_inputs(blk)
         if self._lib is not None and blk.jp.flags.c_contiguous:
             r32, c32 = self._idx32["p"]
             return static_lu.hist_product(self._lib, blk.jp[:hi - lo], c32, r32, lam[lo:hi], shape[1], sum_time=True)
@@ -539,10 +603,28 @@ class LinearizedHistory:
             return c
         return None
 
+    def _vjp_products(self, lam):
+        """``(lam, param_product, forcing_product)`` by the system's reverse-mode products
+        (``input_vjp_history``: one evaluation per step, dR/dp and dR/dq never formed), kept for
+        the other product with the same ``lam``; None with checkpoints, with dR/dp already
+        evaluated (its stored products are cheaper) or when the system has no such products."""
+        if self._full is None or self._jp is not None:
+            return None
+        L = lam
+        if self.initial == "state":       # step 0 has no p or q (x_0 - x_init)
+            L = lam.copy()
+            L[0] = 0.0
+        got = self.system.input_vjp_history(self._X, self._Xdot, self._p, self._Q, L)
+        if got is None:
+            return None
+        self._adjoint_cache = (lam.copy(), np.asarray(got[0], dtype=float).reshape(self.system.n_param),
+                               np.asarray(got[1], dtype=float).reshape(self.n_time, self.system.n_forcing))
+        return self._adjoint_cache
+
     def param_product(self, lam) -> np.ndarray:
         """``sum_n dR_n/dp^T lam_n`` (n_param,) (the sum in Eq. 3.11)."""
         lam = np.asarray(lam, dtype=float).reshape(self.n_time, self.n_state)
-        c = self._cached_products(lam)
+        c = self._cached_products(lam) or self._vjp_products(lam)
         if c is not None:
             return c[1].copy()
         return sum(self._param_sum(blk, lam) for blk in self._blocks())
@@ -554,7 +636,7 @@ class LinearizedHistory:
     def forcing_product(self, lam) -> np.ndarray:
         """``dR_n/dq_n^T lam_n`` for every step, (n_time, n_forcing)."""
         lam = np.asarray(lam, dtype=float).reshape(self.n_time, self.n_state)
-        c = self._cached_products(lam)
+        c = self._cached_products(lam) or self._vjp_products(lam)
         if c is not None:
             return c[2].copy()
         return self._per_block("q", lam, transpose=True, width=self.system.n_forcing)
@@ -627,9 +709,15 @@ class LinearizedHistory:
                     if n + 1 < self.n_time:
                         self._release(n + 1, n)
             if lean:
-                dp += self._param_sum(blk, lam)
                 lo, hi = blk.lo, blk.hi
-                dq[lo:hi] = self._hist_product("q", blk.jq[:hi - lo], lam[lo:hi], transpose=True)
+                got = self._segment_vjp(blk, lam) if blk.jp is None else None   # reverse mode: no dR/dp
+                if got is not None:
+                    dp += got[0]
+                    dq[lo:hi] = got[1]
+                else:
+                    dp += self._param_sum(blk, lam)
+                    dq[lo:hi] = self._hist_product("q", self._block_inputs(blk)[1][:hi - lo], lam[lo:hi],
+                                                   transpose=True)
         self._adjoint_cache = (lam.copy(), dp, dq) if lean else None
         return lam
 

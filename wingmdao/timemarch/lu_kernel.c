@@ -25,7 +25,7 @@ typedef struct {
     const int *up, *ui; /* U strictly upper: column pointers (n + 1), rows (ascending) */
 } lu_pattern;
 
-int lu_kernel_version(void) { return 4; }
+int lu_kernel_version(void) { return 5; }
 
 /* Factors of m matrices with nonzeros a (m x nnz) into f (m x n_lu); work: n doubles, zero on
  * entry and on return. A zero pivot gives inf/NaN factors (caught by the backward error). */
@@ -293,17 +293,24 @@ int assemble_newton(int nt, const double *jx, int njx, const int *sx, const int 
     for (int t = 0; t < nt; ++t) {
         const double *x = jx + (size_t)t * njx, *d = jd + (size_t)t * njd;
         double *o = out + (size_t)t * nout;
-        if (known_x) {
+        if (known_x) {      /* a branch-free (vectorised) test first; flags only when it finds one */
+            int any = 0;
             for (int k = 0; k < njx; ++k)
-                if (x[k] != 0.0 && !known_x[k]) {
-                    new_x[k] = 1;
-                    ++found;
-                }
+                any |= (x[k] != 0.0) & (known_x[k] == 0);
             for (int k = 0; k < njd; ++k)
-                if (d[k] != 0.0 && !known_d[k]) {
-                    new_d[k] = 1;
-                    ++found;
-                }
+                any |= (d[k] != 0.0) & (known_d[k] == 0);
+            if (any) {
+                for (int k = 0; k < njx; ++k)
+                    if (x[k] != 0.0 && !known_x[k]) {
+                        new_x[k] = 1;
+                        ++found;
+                    }
+                for (int k = 0; k < njd; ++k)
+                    if (d[k] != 0.0 && !known_d[k]) {
+                        new_d[k] = 1;
+                        ++found;
+                    }
+            }
         }
         memset(o, 0, (size_t)nout * sizeof(double));
         for (int k = 0; k < nx; ++k)
@@ -327,4 +334,27 @@ void nonzero_columns(int nt, int ncol, const double *d, unsigned char *out)
         for (int k = 0; k < ncol; ++k)
             out[k] |= r[k] != 0.0;
     }
+}
+
+/* A compiled CasADi function (C entry point of its generated code) at nt instants: input i of
+ * instant t is in[i] + t * istride[i] (stride 0: the same at every instant), output k is written
+ * straight to out[k] + t * ostride[k] (the rows of the caller's history arrays: no copies).
+ * arg, res, iw, w: the function's work arrays (sizes from NAME_work). Returns 0, or 1 + the
+ * instant at which the function reported a failure. */
+typedef int (*casadi_entry)(const double **arg, double **res, long long *iw, double *w, int mem);
+
+int eval_history(void *fun, int nt, int n_in, const double *const *in, const long long *istride,
+                 int n_out, double *const *out, const long long *ostride, const double **arg,
+                 double **res, long long *iw, double *w)
+{
+    casadi_entry f = (casadi_entry)fun;
+    for (int t = 0; t < nt; ++t) {
+        for (int i = 0; i < n_in; ++i)
+            arg[i] = in[i] + (size_t)t * (size_t)istride[i];
+        for (int k = 0; k < n_out; ++k)
+            res[k] = out[k] + (size_t)t * (size_t)ostride[k];
+        if (f(arg, res, iw, w, 0))
+            return t + 1;
+    }
+    return 0;
 }

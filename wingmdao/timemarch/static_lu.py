@@ -69,6 +69,7 @@ _SIGNATURES = {
     "hist_product": ([_I, _I, _P, _P, _P, _P, _I, _P, _I, _I, _P], None),
     "assemble_newton": ([_I, _P, _I, _P, _P, _I, _P, _I, _P, _P, _I, _P, _P, _I, _P, _P, _P, _P, _P], _I),
     "nonzero_columns": ([_I, _I, _P, _P], None),
+    "eval_history": ([_P, _I, _I, _P, _P, _I, _P, _P, _P, _P, _P, _P], _I),
 }
 
 

@@ -135,6 +135,24 @@ class ResidualSystem:
                     out[key][i] = np.asarray(sp.csr_matrix(mat)[rows, cols]).ravel()
         return out
 
+    def state_jacobian_history(self, X, Xdot, p, Q) -> dict:
+        """Nonzeros of dR/dx and dR/dxdot at every instant (``{"x", "xdot"}``, as
+        :meth:`jacobian_history`): what the sweeps of
+        :class:`~wingmdao.timemarch.adjoint.LinearizedHistory` factor. The default is
+        :meth:`jacobian_history`, whose "p" and "q" entries the caller then keeps."""
+        return self.jacobian_history(X, Xdot, p, Q)
+
+    def input_jacobian_history(self, X, Xdot, p, Q) -> dict:
+        """Nonzeros of dR/dp and dR/dq at every instant (``{"p", "q"}``); default
+        :meth:`jacobian_history`."""
+        return self.jacobian_history(X, Xdot, p, Q)
+
+    def input_vjp_history(self, X, Xdot, p, Q, Lam):
+        """``(sum_n dR_n/dp^T lam_n, [dR_n/dq_n^T lam_n]_n)`` of weights ``Lam`` (n_time, n_state)
+        without forming dR/dp, dR/dq (reverse mode), or None when the system has no such product
+        (the caller then uses :meth:`input_jacobian_history`)."""
+        return None
+
 
 class _SparseJacobian:
     """Evaluate a CasADi Jacobian into a scipy CSC matrix with a fixed sparsity pattern."""
@@ -225,10 +243,42 @@ class CasadiResidualSystem(ResidualSystem):
             call.jit.threshold = self.jit_threshold
 
     def compile(self, wait: bool = True) -> dict:
-        """Compile (or load from the cache) the residual, Newton-matrix and Jacobian-history
-        functions now instead of after ``jit_threshold`` evaluations; returns their states."""
-        return compile_calls({"residual": self._fast_R, "newton": self._fast_newton,
-                              "jacobians": self._maps["J"]}, wait)
+        """Compile (or load from the cache) the residual, the Newton-matrix function and the
+        history functions (:data:`HISTORY_PARTS`: the four Jacobians and the input
+        vector-Jacobian product) now instead of after ``jit_threshold`` evaluations; returns their
+        states."""
+        calls = {"residual": self._fast_R, "newton": self._fast_newton}
+        calls.update({f"history_{k}": self._part_call(k) for k in HISTORY_PARTS})
+        return compile_calls(calls, wait)
+
+    def _part_function(self, key) -> ca.Function:
+        """The CasADi function of history part ``key`` (:data:`HISTORY_PARTS`): the nonzeros of one
+        Jacobian (dense vector, CSC order of :meth:`jacobian_patterns`), or for ``"vjp"``
+        ``(dR/dp^T lam, dR/dq^T lam)`` of ``(x, xdot, p, q, lam)`` by one reverse sweep of the
+        residual expression (CasADi ``jtimes``, transposed)."""
+        name = self._R.name()
+        args = self._R_args
+        if key != "vjp":
+            jac = {"x": self._dx, "xdot": self._dxdot, "p": self._dp, "q": self._dq}[key]
+            return ca.Function(f"{name}_jacobian_{key}", args, [jac.expr.nz[:]])
+        x, _, p, q = args
+        R = self._R(*args)
+        sym = ca.SX if isinstance(x, ca.SX) else ca.MX
+        lam = sym.sym("lam", self.n_state)
+        if sym is ca.SX:           # one reverse sweep for both (SX: a stack of symbols is an argument)
+            both = ca.densify(ca.jtimes(R, ca.vertcat(p, q), lam, True))
+            outs = [both[:p.numel()], both[p.numel():]]
+        else:
+            outs = [ca.densify(ca.jtimes(R, a, lam, True)) if a.numel() else sym(0, 1) for a in (p, q)]
+        return ca.Function(f"{name}_input_vjp", args + [lam], outs)
+
+    def _part_call(self, key) -> JitCall:
+        """The buffered evaluator of history part ``key`` (made at first use)."""
+        call = self._maps.get(f"H_{key}")
+        if call is None:
+            call = self._maps[f"H_{key}"] = JitCall(self._part_function(key), self.jit_threshold,
+                                                    definition=self.definition)
+        return call
 
     def _history(self, key, fun, X, Xdot, p, Q):
         """Evaluate ``fun(x, xdot, p, q)`` at every instant through one buffered evaluator.
@@ -249,6 +299,30 @@ class CasadiResidualSystem(ResidualSystem):
             x_buf[:] = X[i]
             xd_buf[:] = Xdot[i]
             q_buf[:] = Q[i]
+            fc.eval()
+            for out, res in zip(outs, fc.out):
+                out[i] = res
+        return outs
+
+    def _eval_history(self, call, X, Xdot, p, Q, extra=None):
+        """Outputs of ``call`` (a :class:`JitCall` of ``f(x, xdot, p, q[, extra])``) at every
+        instant, ``[array (n_time, nnz_out)]``. Compiled: one C loop over the instants that writes
+        each instant's outputs straight into the rows of the result (``eval_history`` of the
+        adjoint's C kernel, :mod:`wingmdao.timemarch.static_lu`); else one buffered evaluator."""
+        n = X.shape[0]
+        call.jit.count(n)          # (first count: a warm cache is loaded)
+        fc = call.refresh()
+        fun = call.jit.current
+        outs = [np.empty((n, fun.nnz_out(k))) for k in range(fun.n_out())]
+        ins = [X, Xdot, np.ravel(p), Q] + ([] if extra is None else [extra])
+        if n and _history_loop(call, ins, outs, n):
+            return outs
+        fc.inp[2][:] = np.ravel(p)
+        bufs = [fc.inp[0], fc.inp[1], fc.inp[3]] + ([] if extra is None else [fc.inp[4]])
+        rows = [X, Xdot, Q] + ([] if extra is None else [extra])
+        for i in range(n):
+            for b, r in zip(bufs, rows):
+                b[:] = r[i]
             fc.eval()
             for out, res in zip(outs, fc.out):
                 out[i] = res
@@ -319,5 +393,72 @@ class CasadiResidualSystem(ResidualSystem):
         return self._history("R", self._R, X, Xdot, p, Q)[0]
 
     def jacobian_history(self, X, Xdot, p, Q):
-        vals = self._history("J", self._all_jac, X, Xdot, p, Q)
-        return dict(zip(("x", "xdot", "p", "q"), vals))
+        """The four Jacobians, each its own function over the whole history (the fused
+        four-output function of the 20-node beam is 2 MB of compiled code and ran ~2x slower per
+        instant than its parts kept hot one at a time: docs/time-marching.md)."""
+        return {k: self._eval_history(self._part_call(k), X, Xdot, p, Q)[0] for k in ("x", "xdot", "p", "q")}
+
+    def _own_history_parts(self) -> bool:
+        """False for subclasses that redefine :meth:`jacobian_history` (their Jacobians, and the
+        functions their ``compile`` prepares, are those): the state/input variants and the
+        reverse-mode products then defer to it."""
+        return type(self).jacobian_history is CasadiResidualSystem.jacobian_history
+
+    def state_jacobian_history(self, X, Xdot, p, Q):
+        if not self._own_history_parts():
+            return self.jacobian_history(X, Xdot, p, Q)
+        return {k: self._eval_history(self._part_call(k), X, Xdot, p, Q)[0] for k in ("x", "xdot")}
+
+    def input_jacobian_history(self, X, Xdot, p, Q):
+        if not self._own_history_parts():
+            return self.jacobian_history(X, Xdot, p, Q)
+        return {k: self._eval_history(self._part_call(k), X, Xdot, p, Q)[0] for k in ("p", "q")}
+
+    def input_vjp_history(self, X, Xdot, p, Q, Lam):
+        """Reverse-mode products of :meth:`ResidualSystem.input_vjp_history`: one evaluation of
+        the compiled ``jtimes`` function per instant, no dR/dp or dR/dq stored (None for a
+        subclass with its own :meth:`jacobian_history`)."""
+        if not self._own_history_parts():
+            return None
+        gp, gq = self._eval_history(self._part_call("vjp"), X, Xdot, p, Q, np.ascontiguousarray(Lam, dtype=float))
+        return gp.sum(axis=0), gq
+
+
+#: The functions evaluated over a whole history, one at a time: the four Jacobians and the
+#: vector-Jacobian product with p and q (:meth:`CasadiResidualSystem._part_function`).
+HISTORY_PARTS = ("x", "xdot", "p", "q", "vjp")
+
+
+def _history_loop(call, ins, outs, n) -> bool:
+    """Evaluate the compiled library of ``call`` at ``n`` instants in one C call (inputs of one
+    instant: rows of the 2-D ``ins``, 1-D ones shared); False when it is not compiled, the C kernel
+    is off, or the library's calling convention is not the expected one."""
+    from wingmdao.timemarch import fast_step, static_lu
+
+    jit = call.jit
+    if jit.state != "compiled":
+        return False
+    lib = static_lu.kernel()
+    if lib is None:
+        return False
+    cached = getattr(call, "_history_entry", None)
+    if cached is None or cached[0] is not jit.current:
+        fun = jit.interpreted
+        ok = all(fun.sparsity_out(k).is_dense() for k in range(fun.n_out()))
+        entry = fast_step._casadi_entry(jit) if ok else None
+        cached = call._history_entry = (jit.current, entry)
+    entry = cached[1]
+    if entry is None:
+        return False
+    _, fptr, arg, res, iw, w = entry
+    ins = [np.ascontiguousarray(a, dtype=float) for a in ins]
+    in_ptr = np.array([a.ctypes.data for a in ins], dtype=np.uintp)
+    in_stride = np.array([a.shape[1] if a.ndim == 2 else 0 for a in ins], dtype=np.int64)
+    out_ptr = np.array([o.ctypes.data for o in outs], dtype=np.uintp)
+    out_stride = np.array([o.shape[1] for o in outs], dtype=np.int64)
+    status = lib.eval_history(fptr, n, len(ins), in_ptr.ctypes.data, in_stride.ctypes.data, len(outs),
+                              out_ptr.ctypes.data, out_stride.ctypes.data, arg.ctypes.data, res.ctypes.data,
+                              iw.ctypes.data, w.ctypes.data)
+    if status:
+        raise RuntimeError(f"{jit.interpreted.name()}: evaluation failed at instant {status - 1}")
+    return True
