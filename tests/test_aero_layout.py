@@ -93,9 +93,8 @@ def test_structural_limit_history_and_totals():
 
 
 def test_jacobian_history_per_jacobian_equals_fused():
-    """AeroelasticBeamSystem.jacobian_history (one Jacobian at a time over the history) gives the
-    base class' fused four-output values, on a trimmed free-plunge system."""
-    from wingmdao.timemarch.system import CasadiResidualSystem
+    """The aeroelastic system's jacobian_history (the base class': one Jacobian at a time over the
+    history) gives the fused four-output function's values, on a trimmed free-plunge system."""
 
     n, nt = 4, 5
     system = build_aeroelastic_system(n, plunge=True, trim=True)
@@ -105,7 +104,7 @@ def test_jacobian_history_per_jacobian_equals_fused():
     p = rng.uniform(0.5, 1.5, size=system.n_param)
     Q = rng.normal(size=(nt, system.n_forcing))
     mine = system.jacobian_history(X, Xd, p, Q)
-    fused = CasadiResidualSystem.jacobian_history(system, X, Xd, p, Q)
+    fused = dict(zip(("x", "xdot", "p", "q"), system._history("J", system._all_jac, X, Xd, p, Q)))
     assert set(mine) == set(fused) == {"x", "xdot", "p", "q"}
     for key in fused:
         assert mine[key].shape == (nt, system.jacobian_patterns()[key][0].size)
@@ -114,7 +113,7 @@ def test_jacobian_history_per_jacobian_equals_fused():
 
 
 def test_compiled_jacobian_history_matches_interpreted(tmp_path, monkeypatch):
-    """compile() compiles the residual, Newton and the four Jacobian functions; the compiled
+    """compile() compiles the residual, Newton and the history functions; the compiled
     jacobian_history equals the interpreted one (3-node clamped system, private cache)."""
     import wingmdao.utils.casadi_cache as cc
 
@@ -131,7 +130,9 @@ def test_compiled_jacobian_history_matches_interpreted(tmp_path, monkeypatch):
     a = interp.jacobian_history(X, Xd, p, Q)
     monkeypatch.setenv(cc.ENV_JIT, "1")
     states = comp.compile(wait=True)
-    assert set(states) == {"residual", "newton", "jacobian_x", "jacobian_xdot", "jacobian_p", "jacobian_q"}
+    from wingmdao.timemarch.system import HISTORY_PARTS
+
+    assert set(states) == {"residual", "newton", *(f"history_{k}" for k in HISTORY_PARTS)}
     assert set(states.values()) == {"compiled"}
     b = comp.jacobian_history(X, Xd, p, Q)
     for key in a:

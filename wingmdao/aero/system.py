@@ -391,37 +391,6 @@ class AeroelasticBeamSystem(CasadiResidualSystem):
 
     BEAM = slice(0, N_STATE_PER_NODE)
     AERO = slice(N_STATE_PER_NODE, N_AEROELASTIC_STATES)
-    #: the four Jacobians of :meth:`jacobian_history`, each its own function evaluated over the whole history
-    _JACOBIANS = (("x", "_dx"), ("xdot", "_dxdot"), ("p", "_dp"), ("q", "_dq"))
-
-    def _jacobian_calls(self) -> dict:
-        """``{key: JitCall}`` of the four Jacobian functions (made at first use)."""
-        from wingmdao.utils.casadi_cache import JitCall
-
-        for key, attr in self._JACOBIANS:
-            if f"J_{key}" not in self._maps:
-                self._maps[f"J_{key}"] = JitCall(getattr(self, attr).fun, self.jit_threshold,
-                                                 definition=self.definition)
-        return {key: self._maps[f"J_{key}"] for key, _ in self._JACOBIANS}
-
-    def jacobian_history(self, X, Xdot, p, Q):
-        """Nonzeros of dR/dx, dR/dxdot, dR/dp, dR/dq at every instant (as the base class), one
-        Jacobian at a time over the whole history instead of the fused four-output function per
-        instant: compiled, the fused function of the 20-node system is 3.0 MB of straight-line
-        code, more than a 2 MB L2 cache, and evaluated 2.9-3.7x slower than its four parts each
-        kept hot over the history (docs/aeroelasticity.md, "Speed")."""
-        self._jacobian_calls()
-        return {key: self._history(f"J_{key}", getattr(self, attr).fun, X, Xdot, p, Q)[0]
-                for key, attr in self._JACOBIANS}
-
-    def compile(self, wait: bool = True) -> dict:
-        """Compile (or load from the cache) the residual, the Newton-matrix function and the four
-        Jacobian functions of :meth:`jacobian_history`; returns their states."""
-        from wingmdao.utils.casadi_cache import compile_calls
-
-        calls = {"residual": self._fast_R, "newton": self._fast_newton}
-        calls.update({f"jacobian_{k}": c for k, c in self._jacobian_calls().items()})
-        return compile_calls(calls, wait)
 
     def initial_guess(self, p, q):
         """Jig beam state with zero aerodynamic states."""
