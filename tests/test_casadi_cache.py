@@ -391,3 +391,26 @@ def test_library_bytes_do_not_depend_on_the_compiling_process(jit_env, monkeypat
         cc.verify(path)
     assert digests[0] == digests[1]
     assert sorted(p.name for p in path.parent.iterdir()) == sorted([path.name, cc.manifest_path(path).name])
+
+
+def test_under_mpirun_no_compile_starts_mid_run_but_a_cached_library_loads(jit_env, monkeypatch):
+    """Under ``mpirun -n 2`` a JitFunction never starts a compile at its threshold (a compile ends at
+    a different evaluation on each rank, and the ranks' drivers would drift apart at round-off),
+    but a library already cached is loaded at the first evaluation, as in a serial run."""
+    monkeypatch.setenv("OMPI_COMM_WORLD_SIZE", "2")
+    assert cc.under_mpi()
+    jf = cc.JitFunction(_function("g_mpi"), threshold=3)
+    jf.count(5)
+    assert jf.state == "interpreted" and not jf.poll()      # no compile started
+    assert not list(jit_env.glob("g_mpi_*.so"))
+    monkeypatch.delenv("OMPI_COMM_WORLD_SIZE")
+    cc.compiled(_function("g_mpi"))                          # a serial run put it in the cache
+    monkeypatch.setenv("OMPI_COMM_WORLD_SIZE", "2")
+    jf2 = cc.JitFunction(_function("g_mpi"), threshold=3)
+    jf2.count(1)
+    assert jf2.poll() and jf2.state == "compiled"
+    monkeypatch.delenv("OMPI_COMM_WORLD_SIZE")
+    jf3 = cc.JitFunction(_function("h_serial"), threshold=3)
+    jf3.count(5)
+    assert jf3.state == "compiling"                          # serial: the compile starts at the threshold
+    jf3.start(wait=True)

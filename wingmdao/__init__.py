@@ -20,11 +20,10 @@ def _mpi_environment():
     unless the user set it. Must run before OpenMDAO is imported."""
     import os
 
-    for var in ("OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "MPI_LOCALNRANKS"):
-        value = os.environ.get(var, "")
-        if value.isdigit() and int(value) > 1:
-            os.environ.setdefault("OPENMDAO_USE_MPI", "0")
-            return
+    from wingmdao.utils.mpi_env import launched_ranks
+
+    if launched_ranks() > 1:
+        os.environ.setdefault("OPENMDAO_USE_MPI", "0")
 
 
 _mpi_environment()

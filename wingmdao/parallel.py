@@ -22,24 +22,13 @@ rank 0 records and writes files (:func:`is_root`).
 from __future__ import annotations
 
 import copy
-import os
 
 import numpy as np
 import openmdao.api as om
 
 from wingmdao.groups.load_case import LoadCase
+from wingmdao.utils.mpi_env import launched_ranks  # noqa: F401 - part of this module's API
 
-_SIZE_VARS = ("OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "MPI_LOCALNRANKS")
-
-
-def launched_ranks() -> int:
-    """Number of ranks the MPI launcher reports in the environment (1 when not under mpirun)."""
-    for var in _SIZE_VARS:
-        try:
-            return max(1, int(os.environ[var]))
-        except (KeyError, ValueError):
-            continue
-    return 1
 
 
 def world_comm():

@@ -68,6 +68,14 @@ def jit_enabled() -> bool:
     return os.environ.get(ENV_JIT, "1").strip().lower() not in ("0", "false", "no", "off")
 
 
+def under_mpi() -> bool:
+    """True when launched by ``mpirun -n P`` with P > 1 (the launcher's environment, no mpi4py
+    import; :func:`wingmdao.utils.mpi_env.launched_ranks`)."""
+    from wingmdao.utils.mpi_env import launched_ranks
+
+    return launched_ranks() > 1
+
+
 def cache_dir() -> Path:
     """Folder of the compiled libraries (``$WINGMDAO_CACHE`` or ``~/.cache/wingmdao/casadi``)."""
     env = os.environ.get(ENV_CACHE)
@@ -332,7 +340,12 @@ class JitFunction:
             return
         if first and jit_enabled():
             self._load_cached()
-        if self.state == "interpreted" and self.evaluations >= self.threshold:
+        if self.state == "interpreted" and self.evaluations >= self.threshold and not under_mpi():
+            # Under mpirun no compile starts mid-run: a background compile finishes at a different
+            # evaluation on each rank, and the compiled and interpreted functions differ at round-off,
+            # so the ranks' identical drivers would drift apart (seen: one rank's SLSQP stopped an
+            # iteration earlier and the other waited forever in its allgather). A library already in
+            # the cache is still loaded at the first evaluation, the same one on every rank.
             self.start()
 
     def _load_cached(self) -> bool:

@@ -1,0 +1,18 @@
+"""How many ranks the MPI launcher started, from its environment (no mpi4py or OpenMDAO import)."""
+
+from __future__ import annotations
+
+import os
+
+#: Environment variables in which OpenMPI, MPICH/Hydra and PMIx launchers give the world size.
+SIZE_VARS = ("OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "MPI_LOCALNRANKS")
+
+
+def launched_ranks() -> int:
+    """Number of ranks the MPI launcher reports in the environment (1 when not under mpirun)."""
+    for var in SIZE_VARS:
+        try:
+            return max(1, int(os.environ[var]))
+        except (KeyError, ValueError):
+            continue
+    return 1
