@@ -87,7 +87,9 @@ class _GradientFunctions:
         W = ca.SX.sym("W", n, 2)
         vjp = ca.densify(ca.jacobian(ca.mtimes(W.T, R), p))
         self.vjp_interpreted = ca.Function(f"{f.name()}_vjp_p", [x, xd, p, q, W], [vjp])
-        definition = getattr(system, "definition", None)
+        from wingmdao.stability.eigen import derived_definition
+
+        definition = derived_definition(system, "wingmdao.stability.sensitivity._GradientFunctions", __name__)
         self.pencil = JitCall(self.interpreted, GRADIENT_JIT_THRESHOLD, definition=definition)
         self.vjp = JitCall(self.vjp_interpreted, GRADIENT_JIT_THRESHOLD, definition=definition)
         self.n, self.npar = n, npar
