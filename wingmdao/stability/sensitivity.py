@@ -679,6 +679,7 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
                 if isinstance(sm, str):
                     sm = cold_at(k, sm)
                 tracked[k] = sm
+                good.append(k)   # later failed speeds retry from this one (a big step fails them all)
             # lazy refinement, second check: every skipped, possibly loaded mode must lie LAZY_KS / rho
             # below the exact g_max of the refined loaded modes (else refine it too and check again)
             for _ in range(len(pq) * 8):
