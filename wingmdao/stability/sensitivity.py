@@ -288,6 +288,11 @@ class WarmStart:
       Since every oscillatory mode of the window is refined, a refinement that lands on another
       mode lands on one of these (a tracked mode: duplicate; a real root; outside the disc).
 
+    ``lazy`` (default): a mode is refined only when it may matter: its two-sided Rayleigh-Ritz
+    estimate on the history's vectors (:func:`_ritz`, no LU) is not trusted, or may be loaded
+    and within ``LAZY_KS / rho`` of g_max at the upper end of its (empirical) error bound; a
+    second check against the exact g_max of the refined modes refines any skipped mode in reach.
+
     The history is the tracked set of the stored evaluation (the last ``keep``, since the last
     full or single-speed window) nearest the new design (:meth:`distance`): SLSQP's line searches
     jump back near earlier designs.
