@@ -3,6 +3,10 @@ and the cost of the PEGASUS flutter-margin constraint (value and exact gradient)
 
     PYTHONPATH=. python benchmarks/bench_flutter.py [goland|hale|pegasus ...] [--num-nodes N]
         [--design RESULT.json] [--margin F]
+    PYTHONPATH=. python benchmarks/bench_flutter.py --record SEQ.pkl     # run the PEGASUS maneuver sizing
+        with --flutter-margin F, recording every FlutterDamping input
+    PYTHONPATH=. python benchmarks/bench_flutter.py --replay SEQ.pkl [--no-cold] [--no-lazy]
+        # warm (WarmStart) against cold at every recorded design: largest differences, CPU per evaluation
 
 Prints, per case: the aeroelastic system build, one eigen-analysis (static solve + linearisation +
 sparse shift-invert + det sign) averaged over the sweep, the sweep, the refinement of the flutter
@@ -114,6 +118,86 @@ def warm_sequence(prob, o, kw, thickness, n_designs=12, seed=0):
           f"windows {ws.n_speed_cold}, retried speeds {ws.n_speed_retry}; max |warm - cold| {worst:.1e} 1/s")
 
 
+def record(path, margin):
+    """Run ``wingmdao size pegasus --loads maneuver --flutter-margin F`` and pickle every
+    ``FlutterDamping`` input (beam parameters, whether the gradient was asked) to ``path``."""
+    import pickle
+    import tempfile
+
+    from wingmdao.cli import main as cli
+    from wingmdao.components import flutter as fl
+
+    rec = []
+    orig = fl.FlutterDamping._evaluate
+
+    def evaluate(self, inputs, gradient):
+        rec.append(({s.name: np.array(inputs[s.name]) for s in self._specs}, gradient))
+        return orig(self, inputs, gradient)
+
+    fl.FlutterDamping._evaluate = evaluate
+    try:
+        with tempfile.TemporaryDirectory() as out:
+            cli(["size", "pegasus", "--loads", "maneuver", "--flutter-margin", str(margin), "--out", out,
+                 "--no-flutter-search"])
+    finally:
+        fl.FlutterDamping._evaluate = orig
+        tmp = path + ".tmp"
+        with open(tmp, "wb") as fh:
+            pickle.dump(rec, fh)
+        os.replace(tmp, path)
+    print(f"recorded {len(rec)} FlutterDamping evaluations to {path}")
+
+
+def replay(path, margin, cold=True, lazy=True, num_nodes=20):
+    """Replay a :func:`record` sequence: the warm-started constraint (as the component runs it: the
+    value at each new design, the gradient from the stored modes when asked) against the cold one
+    at every design; prints the largest value and gradient differences, process time per warm
+    evaluation (value + gradient when asked) and the warm start's counters."""
+    import pickle
+
+    from wingmdao.aero.system import cached_aeroelastic_system
+    from wingmdao.stability.cases import FlutterProblem, sizing_flutter_options
+    from wingmdao.stability.sensitivity import WarmStart, constraint_gradient, damping_constraint
+
+    with open(path, "rb") as fh:
+        rec = pickle.load(fh)
+    o = sizing_flutter_options("pegasus", num_nodes, margin)
+    system = cached_aeroelastic_system(num_nodes)
+    ws = WarmStart(refresh=10 ** 6, lazy=lazy)
+    tw = tc = worst = worst_g = 0.0
+    prev, rw, rc, n_grad = None, None, None, 0
+    for beam, grad in rec:
+        prob = FlutterProblem("sizing", num_nodes, beam, dict(o["aero"]), system, {}, dict(o["eig_options"]))
+        kw = dict(aero_mask=prob.aero_mask(), beam_mask=prob.beam_weights(), rho_ks=o["rho_ks"],
+                  margin=o["margin"], measure=o["measure"], **prob.eig_options)
+        key = np.concatenate([np.ravel(v) for v in beam.values()])
+        if prev is None or not np.array_equal(key, prev):
+            prev = key
+            t = time.process_time()
+            rw = damping_constraint(system, prob.params_at, o["speeds"], gradient=False, warm_start=ws, **kw)
+            tw += time.process_time() - t
+            if cold:
+                t = time.process_time()
+                rc = damping_constraint(system, prob.params_at, o["speeds"], gradient=False, **kw)
+                tc += time.process_time() - t
+                worst = max(worst, abs(rw.value - rc.value))
+        if grad and rw.gradient is None:
+            t = time.process_time()
+            rw.gradient = constraint_gradient(system, rw)
+            tw += time.process_time() - t
+            if cold:
+                gc = constraint_gradient(system, rc, min_weight=0.0)
+                worst_g = max(worst_g, float(np.abs(rw.gradient - gc).max() / np.abs(gc).max()))
+                n_grad += 1
+    n = ws.n_cold + ws.n_warm
+    print(f"replay of {len(rec)} calls ({n} designs, {n_grad} gradients compared), lazy={lazy}: warm {tw:.2f} s CPU, "
+          f"{1e3 * tw / n:.1f} ms per evaluation (goal of issue #14: ~20-25 ms)"
+          + (f"; cold {tc:.1f} s; max |warm - cold| value {worst:.1e} 1/s, gradient {worst_g:.1e} relative" if cold else ""))
+    print(f"  full windows {ws.n_cold}, single-speed windows {ws.n_speed_cold}, retried speeds {ws.n_speed_retry}, "
+          f"dropped {ws.dropped}; refinements {ws.n_refined}, lazy estimates {ws.n_skipped}, lazy re-checks "
+          f"{ws.n_lazy_redo}")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("cases", nargs="*", default=list(FLUTTER_CASES))
@@ -121,7 +205,17 @@ def main(argv=None):
     ap.add_argument("--design", default=None, help="PEGASUS: a 'wingmdao size pegasus' JSON")
     ap.add_argument("--margin", type=float, default=1.15, help="PEGASUS constraint factor F on V_D")
     ap.add_argument("--deformed", action="store_true", help="also time the HALE deformed sweep (root 2 deg)")
+    ap.add_argument("--record", default=None, help="record the sizing's FlutterDamping inputs to this pickle")
+    ap.add_argument("--replay", default=None, help="replay a --record pickle: warm vs cold at every design")
+    ap.add_argument("--no-cold", action="store_true", help="--replay: time the warm start only")
+    ap.add_argument("--no-lazy", action="store_true", help="--replay: refine every tracked mode")
     args = ap.parse_args(argv)
+    if args.record or args.replay:
+        if args.record:
+            record(args.record, args.margin)
+        if args.replay:
+            replay(args.replay, args.margin, cold=not args.no_cold, lazy=not args.no_lazy)
+        return
     for name in args.cases:
         thickness = None
         if name == "pegasus" and args.design:

@@ -29,6 +29,15 @@ def _eval(scale, ws):
                               rho_ks=20.0, warm_start=ws, **DENSE_FEW)
 
 
+def _same_eigenvalues(rw, rc):
+    """Refined eigenvalues equal the cold ones to 1e-10; lazy estimates within their error bound."""
+    for a, e, b in zip(rw.eigenvalues, rw.errors, rc.eigenvalues):
+        assert a.size == b.size
+        for lam, err in zip(a, e):
+            d = np.min(np.abs(b - lam))
+            assert d <= (1e-10 * abs(lam) if err == 0.0 else err), (lam, err, d)
+
+
 def test_warm_equals_cold_along_a_sequence_and_fallback():
     ws = WarmStart(refresh=1000, max_step=0.1)
     scales = [1.0, 1.01, 0.995, 1.02, 1.03, 1.3]   # the last step (> 10 %) must fall back
@@ -37,8 +46,7 @@ def test_warm_equals_cold_along_a_sequence_and_fallback():
         rc = _eval(s, None)
         assert rw.value == pytest.approx(rc.value, abs=1e-10)
         assert np.abs(rw.gradient - rc.gradient).max() <= 1e-5 * np.abs(rc.gradient).max()  # cold: QZ round-off
-        for a, b in zip(rw.eigenvalues, rc.eigenvalues):
-            assert np.sort_complex(a) == pytest.approx(np.sort_complex(b), rel=1e-10)
+        _same_eigenvalues(rw, rc)
     assert ws.n_warm == 4 and ws.n_cold == 2, (ws.n_warm, ws.n_cold, ws.reasons)
     assert "design step" in ws.reasons[-1]
 
@@ -126,3 +134,39 @@ def test_warm_start_bad_input():
         WarmStart(max_step=-1.0)
     with pytest.raises(ValueError, match="min_mac"):
         WarmStart(min_mac=1.5)
+
+
+def test_lazy_refinement_skips_and_second_check_catches(monkeypatch):
+    """Lazy refinement (modes far below the KS maximum left at their Ritz estimate): the value is
+    the cold one, some modes are skipped; and when the first pass's lower bound of g_max is wrong
+    (the leading mode's Ritz estimate made 2 1/s too high and every loaded estimate trusted, so
+    modes that matter are skipped), the second check against the exact g_max refines them: still
+    the cold value."""
+    import wingmdao.stability.sensitivity as S
+
+    seq = [(1, 1, 1, 1), (1.05, 1.0, 0.97, 1.02), (1.5, 1.4, 0.7, 1.2)]
+    ws = WarmStart(refresh=1000)
+    for s in seq:
+        assert _pegasus(s, ws).value == pytest.approx(_pegasus(s, None).value, abs=1e-10)
+    assert ws.n_skipped > 0 and ws.n_lazy_redo == 0, (ws.n_skipped, ws.reasons)
+    nolazy = WarmStart(refresh=1000, lazy=False)
+    for s in seq:
+        _pegasus(s, nolazy)
+    assert nolazy.n_skipped == 0 and nolazy.n_refined > ws.n_refined
+
+    orig = S._ritz
+
+    def too_high(A, B, prev, *args, **kw):
+        rz = orig(A, B, prev, *args, **kw)
+        j = int(np.argmax(np.where(rz.loaded > 0.1, rz.lam.real, -np.inf)))
+        rz.lam[j] += 2.0           # lower bound of g_max 2 1/s too high
+        sure = rz.loaded > 0.1     # and every loaded estimate trusted with a tiny bound: skipped unless checked
+        rz.error[sure], rz.trusted[sure] = 1e-9, True
+        return rz
+
+    ws2 = WarmStart(refresh=1000)
+    _pegasus(seq[0], ws2)
+    monkeypatch.setattr(S, "_ritz", too_high)
+    for s in seq[1:]:
+        assert _pegasus(s, ws2).value == pytest.approx(_pegasus(s, None).value, abs=1e-10)
+    assert ws2.n_lazy_redo >= 1, ws2.reasons

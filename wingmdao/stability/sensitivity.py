@@ -87,7 +87,9 @@ class _GradientFunctions:
         W = ca.SX.sym("W", n, 2)
         vjp = ca.densify(ca.jacobian(ca.mtimes(W.T, R), p))
         self.vjp_interpreted = ca.Function(f"{f.name()}_vjp_p", [x, xd, p, q, W], [vjp])
-        definition = getattr(system, "definition", None)
+        from wingmdao.stability.eigen import derived_definition
+
+        definition = derived_definition(system, "wingmdao.stability.sensitivity._GradientFunctions", __name__)
         self.pencil = JitCall(self.interpreted, GRADIENT_JIT_THRESHOLD, definition=definition)
         self.vjp = JitCall(self.vjp_interpreted, GRADIENT_JIT_THRESHOLD, definition=definition)
         self.n, self.npar = n, npar
@@ -197,6 +199,7 @@ class SpeedModes:
     eigenvalues: np.ndarray          # complex (k,), two-sided Rayleigh quotients
     right: np.ndarray                # (n, k) right vectors, unit 2-norm
     left: np.ndarray                 # (n, k) left vectors, unit 2-norm
+    error: np.ndarray = None         # (k,) 1/s: 0 refined; > 0 a lazy estimate (Ritz value, its error bound)
 
 
 @dataclass
@@ -212,6 +215,8 @@ class DampingConstraint:
     weights: np.ndarray = None       # dKS/dg of every aggregated mode, speed by speed
     measure: str = "sigma"
     cold: bool = True                # True: full eigen window; False: warm-started refinement
+    errors: list = None              # per speed: error estimate of each aggregated eigenvalue (1/s);
+                                     # 0: refined; > 0: a lazy Ritz estimate of a mode of negligible KS weight
 
 
 MEASURES = ("sigma", "ratio")
@@ -283,6 +288,11 @@ class WarmStart:
       Since every oscillatory mode of the window is refined, a refinement that lands on another
       mode lands on one of these (a tracked mode: duplicate; a real root; outside the disc).
 
+    ``lazy`` (default): a mode is refined only when it may matter: its two-sided Rayleigh-Ritz
+    estimate on the history's vectors (:func:`_ritz`, no LU) is not trusted, or may be loaded
+    and within ``LAZY_KS / rho`` of g_max at the upper end of its (empirical) error bound; a
+    second check against the exact g_max of the refined modes refines any skipped mode in reach.
+
     The history is the tracked set of the stored evaluation (the last ``keep``, since the last
     full or single-speed window) nearest the new design (:meth:`distance`): SLSQP's line searches
     jump back near earlier designs.
@@ -293,7 +303,7 @@ class WarmStart:
     ~exp(-rho (g_max - g)); the next cold evaluation picks it up).
     """
 
-    def __init__(self, *, refresh=100, max_step=None, min_mac=0.5, tol=1e-12, keep=6):
+    def __init__(self, *, refresh=100, max_step=None, min_mac=0.5, tol=1e-12, keep=6, lazy=True):
         if int(refresh) < 1:
             raise ValueError(f"WarmStart refresh = {refresh}; allowed: an integer >= 1 (evaluations)")
         if not ((max_step is None or 0.0 < float(max_step)) and 0.0 <= float(min_mac) <= 1.0):
@@ -303,6 +313,7 @@ class WarmStart:
         self.max_step = None if max_step is None else float(max_step)
         self.tol = float(tol)
         self.keep = max(1, int(keep))
+        self.lazy = bool(lazy)
         self.reset()
 
     def reset(self):
@@ -319,6 +330,9 @@ class WarmStart:
         self.n_speed_retry = 0       # single speeds retried from the design's modes at another speed
         self.n_speed_cold = 0        # single speeds redone with the full window in a warm evaluation
         self.dropped = 0             # negligible modes dropped (turned real / left the window)
+        self.n_refined = 0           # mode refinements (refine_pair from the history)
+        self.n_skipped = 0           # modes left at their Ritz estimate (lazy refinement)
+        self.n_lazy_redo = 0         # speeds refined again: a skipped mode came within reach of g_max
         self.reasons = []            # why each cold evaluation or cold speed was made
 
     @staticmethod
@@ -365,7 +379,7 @@ def _loaded(vectors, mask, bmask):
 
 def _subset(sm, keep):
     return SpeedModes(sm.speed, sm.p, sm.q, sm.x0, sm.A, sm.B, sm.eigenvalues[keep], sm.right[:, keep],
-                      sm.left[:, keep])
+                      sm.left[:, keep], None if sm.error is None else sm.error[keep])
 
 
 def _aggregated(sm, V, mask, bmask, neutral_fraction):
@@ -391,7 +405,7 @@ def _cold_speed(system, p, q, x, V, mask, bmask, min_frequency, neutral_fraction
         us.append(uvec)
     n = system.n_state
     sm = SpeedModes(float(V), p, q, m.x0, A, B, np.array(lams, dtype=complex),
-                    np.array(vs).T.reshape(n, len(vs)), np.array(us).T.reshape(n, len(us)))
+                    np.array(vs).T.reshape(n, len(vs)), np.array(us).T.reshape(n, len(us)), np.zeros(len(lams)))
     return sm, m.eigenvalues
 
 
@@ -399,24 +413,129 @@ def _beam_mac(a, b, w):
     return abs(np.vdot(w * a, w * b)) ** 2 / (np.linalg.norm(w * a) ** 2 * np.linalg.norm(w * b) ** 2)
 
 
+#: lazy refinement: a mode is left unrefined only when its KS exponent rho (g - g_max), with g at
+#: the upper end of its error bound, is below -this (weight < 1.3e-14, below the gradient's
+#: ``min_weight`` 1e-13; the value changes by < 1.3e-16 per skipped mode)
+LAZY_KS = 32.0
+#: lazy refinement: factor on the backward-error estimate of a Ritz value's error (:func:`_ritz`;
+#: the largest ratio seen over a replayed PEGASUS sizing was 1.6)
+LAZY_ERROR_FACTOR = 10.0
+
+
+@dataclass
+class _Ritz:
+    """Two-sided Rayleigh-Ritz estimates of the tracked modes of one speed on a new pencil, one per
+    history mode (same order): eigenvalue, unit right / left vectors, error bound (1/s, already
+    times :data:`LAZY_ERROR_FACTOR`), beam-weighted MAC with the history vector, loaded fraction and
+    whether the estimate may stand in for a refinement apart from its KS weight (``trusted``), and
+    whether it is surely out of the aggregate (``unloaded``)."""
+
+    lam: np.ndarray
+    right: np.ndarray
+    left: np.ndarray
+    error: np.ndarray
+    mac: np.ndarray
+    loaded: np.ndarray
+    trusted: np.ndarray
+    unloaded: np.ndarray
+
+
+def _ritz(A, B, prev, window, mask, bmask, min_frequency, min_mac, neutral_fraction, enrich=False):
+    """Petrov-Galerkin (two-sided Rayleigh-Ritz) projection of the new pencil ``(A, B)`` on the
+    span of the history's right vectors V (trial) and left vectors U (test): the k x k pencil
+    ``(U^H A V, U^H B V)``, solved dense; Ritz pairs ``x = V y``, ``w = U z``. Error estimate of
+    the Ritz value: ``LAZY_ERROR_FACTOR * max(eta_r, eta_l) * |theta|`` with the relative
+    backward errors ``eta_r = |(A + theta B) x| / (|A x| + |theta| |B x|)`` and ``eta_l`` likewise
+    for ``w^H`` (Higham & Higham, "Structured backward error and condition of generalized
+    eigenvalue problems", SIAM J. Matrix Anal. Appl. 20(2), 1998, for the backward error). This is
+    an *empirical* bound, not a rigorous one: the rigorous first-order bound ``|w| |r| / |w^H B x|``
+    was 1e4-1e11 1/s on PEGASUS (|u| |v| / |u^H B v| ~ 1e10, the states' mixed units); over a
+    replayed sizing (3826 estimates) ``|theta - lambda| <= 1.6 max(eta_r, eta_l) |theta|``, so the
+    factor 10 leaves a 6x margin (docs/flutter.md).
+    An estimate is ``trusted`` when the mode is isolated (bound < half the distance to every other
+    Ritz value), oscillatory, inside the cold window's disc with its bound, and its MAC with the
+    history vector is at least ``min_mac`` (Ritz pairs matched to the history modes by an optimal
+    assignment of the MAC). ``unloaded``: trusted, and the loaded fraction plus the vector's error
+    estimate (bound / gap) below half ``neutral_fraction`` (the mode stays out of the aggregate)."""
+    import scipy.linalg as sla
+    from scipy.optimize import linear_sum_assignment
+
+    V, U = prev.right, prev.left
+    k = V.shape[1]
+    if enrich:
+        # one block inverse-iteration step with one LU at the window's shift: the basis [V, (A + s B)^-1 B V]
+        # (and the left one alike) holds the new modes far better than the old vectors alone
+        lu = _lu(sp.csc_matrix(A + complex(window[1]) * B, dtype=complex))
+        V2 = lu.solve(np.asarray(B @ V, dtype=complex))
+        U2 = lu.solve(np.asarray(B.conj().T @ U, dtype=complex), trans="H")
+        V = np.linalg.qr(np.column_stack([V, V2]))[0]
+        U = np.linalg.qr(np.column_stack([U, U2]))[0]
+    AV, BV = A @ V, B @ V
+    UH = U.conj().T
+    th, zl, yr = sla.eig(-(UH @ AV), UH @ BV, left=True, right=True)
+    X, W = V @ yr, U @ zl
+    AX, BX = AV @ yr, BV @ yr
+    WA, WB = A.T @ W.conj(), B.T @ W.conj()          # columns: (w^H A)^T, (w^H B)^T
+    nx, nw = np.linalg.norm(X, axis=0), np.linalg.norm(W, axis=0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        eta_r = np.linalg.norm(AX + BX * th, axis=0) / (np.linalg.norm(AX, axis=0) + np.abs(th) * np.linalg.norm(BX, axis=0))
+        eta_l = np.linalg.norm(WA + WB * th, axis=0) / (np.linalg.norm(WA, axis=0) + np.abs(th) * np.linalg.norm(WB, axis=0))
+        err = LAZY_ERROR_FACTOR * np.maximum(eta_r, eta_l) * np.abs(th)
+    err = np.where(np.isfinite(err) & np.isfinite(th), err, np.inf)
+    X, W = X / nx, W / nw
+    w = np.sqrt(bmask)
+    wv, wx = prev.right * w[:, None], X * w[:, None]   # (k, k or 2k) MAC: history vs Ritz
+    mac = np.abs(wv.conj().T @ wx) ** 2 / np.outer(np.sum(np.abs(wv) ** 2, axis=0), np.sum(np.abs(wx) ** 2, axis=0))
+    rows, cols = linear_sum_assignment(-mac)
+    order = np.empty(k, dtype=int)
+    order[rows] = cols
+    th_all = th
+    th, X, W, err = th[order], X[:, order], W[:, order], err[order]
+    mac = mac[np.arange(k), order]
+    radius, sigma = window
+    gap = np.array([np.min(np.abs(np.delete(th_all, order[j]) - th[j]), initial=np.inf) for j in range(k)])
+    trusted = ((err < 0.5 * gap) & (th.imag - err > min_frequency) & (np.abs(th - sigma) + err < radius)
+               & (mac >= min_mac) & np.isfinite(th))
+    loaded = _loaded(X, mask, bmask)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        unloaded = trusted & (loaded + err / gap < 0.5 * neutral_fraction)
+    return _Ritz(th, X, W, err, mac, loaded, trusted, unloaded)
+
+
 def _warm_speed(system, p, q, prev, window, warm, bmask, min_frequency, static, static_options, negligible,
-                other=None, x=None):
+                other=None, x=None, A=None, B=None, skip=(), ritz=None):
     """Every tracked mode refined at one speed, or a string saying why the refinement is not trusted.
     ``negligible(lam)``: True when the mode's KS weight is below round-off; such a mode that turns
     real or leaves the window is dropped (the cold set drops it too) instead of failing.
     ``other``: this design's refined modes at another speed; a mode whose refinement from its
     history fails is retried from the mode of ``other`` with the largest MAC with its history
-    (the modes change less with the speed than between SLSQP designs)."""
+    (the modes change less with the speed than between SLSQP designs).
+    ``skip``: indices of history modes not refined: their :class:`_Ritz` estimates (``ritz``) stand
+    in (lazy refinement, :func:`damping_constraint`); a refined mode landing within a skipped
+    estimate's bound fails the speed. ``x, A, B``: the static state and pencil, if already made."""
     from wingmdao.stability.eigen import linearize, static_state
 
     if x is None:
         x = static_state(system, p, q, prev.x0, **(static_options or {})) if static else prev.x0
-    A, B = linearize(system, p, q, x)
+    if A is None:
+        A, B = linearize(system, p, q, x)
     radius, sigma = window
     w = np.sqrt(bmask)
-    lams, vs, us = [], [], []
+    lams, vs, us, errs = [], [], [], []
+    skip = set(int(j) for j in skip)
+    for j in sorted(skip):
+        lams.append(complex(ritz.lam[j]))
+        vs.append(ritz.right[:, j])
+        us.append(ritz.left[:, j])
+        errs.append(float(ritz.error[j]))
+        warm.n_skipped += 1
     for j in range(prev.eigenvalues.size):
+        if j in skip:
+            continue
+        warm.n_refined += 1
         starts = [(prev.eigenvalues[j], prev.right[:, j], prev.left[:, j])]
+        if ritz is not None and ritz.trusted[j]:   # the Ritz pair first: it follows the modes' mixing
+            starts.insert(0, (ritz.lam[j], ritz.right[:, j], ritz.left[:, j]))
         if other is not None and other.eigenvalues.size:
             i = int(np.argmax([_beam_mac(prev.right[:, j], other.right[:, k], w) for k in range(other.eigenvalues.size)]))
             starts.append((other.eigenvalues[i], other.right[:, i], other.left[:, i]))
@@ -437,14 +556,16 @@ def _warm_speed(system, p, q, prev, window, warm, bmask, min_frequency, static, 
                 continue
             what = "turned real" if abs(lam.imag) <= min_frequency else "left the eigen window"
             return f"mode {prev.eigenvalues[j]:.3f} {what} ({lam:.3f}) at {prev.speed:.1f} m/s"
-        if any(abs(lam - lk) <= 1e-6 * abs(lam) for lk in lams):
+        if any(abs(lam - lk) <= 1e-6 * abs(lam) + ek for lk, ek in zip(lams, errs)):
             return f"two modes refined to {lam:.3f} at {prev.speed:.1f} m/s"
         lams.append(lam)
         vs.append(v)
         us.append(u)
+        errs.append(0.0)
     n = system.n_state
     return SpeedModes(prev.speed, p, q, x, A, B, np.array(lams, dtype=complex),
-                      np.array(vs).T.reshape(n, len(vs)), np.array(us).T.reshape(n, len(us)))
+                      np.array(vs).T.reshape(n, len(vs)), np.array(us).T.reshape(n, len(us)),
+                      np.array(errs, dtype=float))
 
 
 def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_ks=100.0, margin=0.0,
@@ -497,31 +618,105 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
                 return float(_measure(np.atleast_1d(lam), measure, margin)[0]) < cut
 
             sopt = eig_options.get("static_options")
+            from wingmdao.stability.eigen import linearize, static_state
+
+            def g_up(lam, err):   # the measure at the upper end of an eigenvalue error bound
+                lam = np.atleast_1d(lam)
+                dg = err if measure == "sigma" else 2.0 * err / np.maximum(np.abs(lam) - err, 1e-300)
+                return _measure(lam, measure, margin) + dg
+
+            pre, skips = [], []
             for k, (p, q) in enumerate(pq):
+                prev = ws.tracked[k]
+                xk = static_state(system, p, q, prev.x0, **(sopt or {})) if static else prev.x0
+                Ak, Bk = linearize(system, p, q, xk)
+                rz = (_ritz(Ak, Bk, prev, ws.cold_window[k], mask, bmask, min_frequency, ws.min_mac, neutral_fraction)
+                      if ws.lazy and prev.eigenvalues.size else None)
+                pre.append((xk, Ak, Bk, rz))
+            if ws.lazy:
+                # a lower bound of g_max from the trusted estimates of clearly loaded modes; a mode is
+                # refined unless trusted and unloaded with its bound, or its g (upper end of its bound)
+                # is LAZY_KS / rho below that lower bound
+                low = -np.inf
+                for _, _, _, rz in pre:
+                    if rz is not None:
+                        sure = rz.trusted & (rz.loaded >= 10.0 * neutral_fraction)
+                        if np.any(sure):
+                            low = max(low, float(np.max(g_up(rz.lam[sure], -rz.error[sure]))))
+                for _, _, _, rz in pre:
+                    sk = set()
+                    if rz is not None:
+                        weak = g_up(rz.lam, rz.error) < low - LAZY_KS / rho_ks
+                        sk = set(np.flatnonzero(rz.trusted & (rz.unloaded | weak)).tolist())
+                    skips.append(sk)
+            else:
+                skips = [set() for _ in pq]
+            for k, (p, q) in enumerate(pq):
+                xk, Ak, Bk, rz = pre[k]
                 tracked.append(_warm_speed(system, p, q, ws.tracked[k], ws.cold_window[k], ws, bmask, min_frequency,
-                                           static, sopt, negligible))
+                                           static, sopt, negligible, x=xk, A=Ak, B=Bk, skip=skips[k], ritz=rz))
             good = [k for k, sm in enumerate(tracked) if not isinstance(sm, str)]
+
+            def cold_at(k, why):
+                # this speed only: the full window (the cold path's value there)
+                ws.reasons.append(why)
+                ws.n_speed_cold += 1
+                p, q = pq[k]
+                sm, win = _cold_speed(system, p, q, ws.tracked[k].x0, v[k], mask, bmask, min_frequency,
+                                      neutral_fraction, static, eig_options)
+                sigma = complex(eig_options.get("sigma", 0.0))
+                ws.cold_window[k] = (float(np.max(np.abs(win - sigma))), sigma)
+                ws.cold_p[k] = p
+                ws.history = []   # older designs' sets may lack a mode this window found
+                return sm
+
             for k, (p, q) in enumerate(pq):
                 if not isinstance(tracked[k], str):
                     continue
                 ws.reasons.append(tracked[k])
                 sm = tracked[k]
+                skips[k] = set()
                 if good:   # retry from this design's modes at the nearest speed that worked
                     near = tracked[min(good, key=lambda i: abs(i - k))]
                     sm = _warm_speed(system, p, q, ws.tracked[k], ws.cold_window[k], ws, bmask, min_frequency,
-                                     static, sopt, negligible, other=near)
+                                     static, sopt, negligible, other=near, x=pre[k][0], A=pre[k][1], B=pre[k][2])
                     ws.n_speed_retry += 1
                 if isinstance(sm, str):
-                    # this speed only: the full window (the cold path's value there)
-                    ws.reasons.append(sm)
-                    ws.n_speed_cold += 1
-                    sm, win = _cold_speed(system, p, q, ws.tracked[k].x0, v[k], mask, bmask, min_frequency,
-                                          neutral_fraction, static, eig_options)
-                    sigma = complex(eig_options.get("sigma", 0.0))
-                    ws.cold_window[k] = (float(np.max(np.abs(win - sigma))), sigma)
-                    ws.cold_p[k] = p
-                    ws.history = []   # older designs' sets may lack a mode this window found
+                    sm = cold_at(k, sm)
                 tracked[k] = sm
+                good.append(k)   # later failed speeds retry from this one (a big step fails them all)
+            # lazy refinement, second check: every skipped, possibly loaded mode must lie LAZY_KS / rho
+            # below the exact g_max of the refined loaded modes (else refine it too and check again)
+            for _ in range(len(pq) * 8):
+                if not any(skips):
+                    break
+                g_max = -np.inf
+                for sm in tracked:
+                    ref = (sm.error == 0.0) & (_loaded(sm.right, mask, bmask) > neutral_fraction)
+                    if np.any(ref):
+                        g_max = max(g_max, float(np.max(_measure(sm.eigenvalues[ref], measure, margin))))
+                redo = False
+                for k, sm in enumerate(tracked):
+                    if not skips[k]:
+                        continue
+                    rz = pre[k][3]
+                    bad = {j for j in skips[k] if not rz.unloaded[j]
+                           and float(g_up(rz.lam[j], rz.error[j])[0]) >= g_max - LAZY_KS / rho_ks}
+                    if not bad:
+                        continue
+                    redo = True
+                    ws.n_lazy_redo += 1
+                    skips[k] -= bad
+                    p, q = pq[k]
+                    sm = _warm_speed(system, p, q, ws.tracked[k], ws.cold_window[k], ws, bmask, min_frequency,
+                                     static, sopt, negligible, x=pre[k][0], A=pre[k][1], B=pre[k][2],
+                                     skip=skips[k], ritz=rz)
+                    if isinstance(sm, str):
+                        skips[k] = set()
+                        sm = cold_at(k, sm)
+                    tracked[k] = sm
+                if not redo:
+                    break
         if tracked is not None:
             cold = False
             ws.since_cold += 1
@@ -550,7 +745,8 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
     zetas = -lam_all.real / np.abs(lam_all)
     gs = _measure(lam_all, measure, margin)
     value, w = ks_aggregate(gs, rho_ks)
-    res = DampingConstraint(float(value), None, v, lams, zetas, modes, w, measure, cold)
+    errs = [np.zeros(sm.eigenvalues.size) if sm.error is None else sm.error for sm in modes]
+    res = DampingConstraint(float(value), None, v, lams, zetas, modes, w, measure, cold, errs)
     if gradient:
         res.gradient = constraint_gradient(system, res, static=static)
     return res
