@@ -154,6 +154,7 @@ def test_body_properties_hand_values_and_bad_inputs():
             pitch_parameters(**{**kw, name: bad})
     with pytest.raises(ValueError, match="pitch=True needs plunge=True and trim=True"):
         cached_aeroelastic_system(3, plunge=True, pitch=True)
+    cached_aeroelastic_system(3, plunge=True, trim=True)   # in the cache: the bad pair must not be served from it
     with pytest.raises(ValueError, match="tail_lag=True needs pitch=True"):
         cached_aeroelastic_system(3, plunge=True, trim=True, tail_lag=True)
 
