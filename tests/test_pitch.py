@@ -13,9 +13,9 @@ import pytest
 import scipy.linalg as sl
 
 from wingmdao.aero import aero_parameters, cached_aeroelastic_system, station_gust_history
-from wingmdao.aero.pitch import (PitchBodyProperties, body_pitch_properties, half_wing_pitch_moments,
-                                 pitch_parameters, short_period_closed_form)
+from wingmdao.aero.pitch import body_pitch_properties, half_wing_pitch_moments, pitch_parameters, short_period_closed_form
 from wingmdao.aero.plunge import body_mass, half_wing_mass
+from wingmdao.components.aeroelastic import PitchBodyProperties
 from wingmdao.beam.static import beam_forcing, beam_parameters, straight_beam
 from wingmdao.timemarch.bdf import march, solve_static
 from wingmdao.timemarch.system import layout, pack

@@ -40,7 +40,6 @@ inertia and mass-centre offsets are not removed, a small error for a thin wing):
 from __future__ import annotations
 
 import numpy as np
-import openmdao.api as om
 
 from wingmdao.timemarch.system import VarSpec
 
@@ -183,91 +182,3 @@ def short_period_closed_form(*, mass, pitch_inertia, airspeed, density, wing_are
     Mq = -qd * at * tail_arm ** 2 / (I * V)
     Mwd = -qd * at * downwash_gradient * tail_arm ** 2 / (I * V * V) if tail_lag else 0.0
     return np.roots([1.0, -(Zw + Mq + V * Mwd), Zw * Mq - V * Mw])
-
-
-class PitchBodyProperties(om.ExplicitComponent):
-    """Body mass, first moment and pitch inertia of the free-pitch rows from the whole aircraft
-    (:func:`body_pitch_properties`), and the tail position ``tail_x = x_cg + tail_arm``.
-
-    Inputs ``aircraft_mass`` (kg), ``aircraft_cg`` (2,) m (x aft, z up from the body-axes origin),
-    ``aircraft_pitch_inertia`` (kg m^2, about the CG), ``tail_arm`` (m, CG to the tail's
-    aerodynamic centre), ``mass_per_length`` (n,) kg/m, ``node_positions`` (n, 3) m. Outputs
-    ``body_mass``, ``body_first_moment``, ``body_pitch_inertia``, ``tail_x``; with the option
-    ``trim_load_factor`` n also ``trim_lift = n g0 aircraft_mass`` (N). Partials: analytic in the
-    aircraft inputs and mass_per_length, complex step (exact) in node_positions. Bad values raise
-    InputRangeError (a ValueError) naming the input.
-    """
-
-    def initialize(self):
-        self.options.declare("num_nodes", types=int, lower=2, desc="number of beam nodes")
-        self.options.declare("trim_load_factor", default=None, allow_none=True, types=(int, float),
-                             desc="load factor n of the output trim_lift = n g0 aircraft_mass (None: no output)")
-
-    def setup(self):
-        n = self.options["num_nodes"]
-        self.add_input("aircraft_mass", val=1.0, units="kg", desc="aircraft mass (both wing halves included)")
-        self.add_input("aircraft_cg", val=np.zeros(2), units="m", desc="aircraft CG (x aft, z up) from the body-axes origin")
-        self.add_input("aircraft_pitch_inertia", val=1.0, units="kg*m**2", desc="aircraft pitch inertia about its CG")
-        self.add_input("tail_arm", val=1.0, units="m", desc="CG to horizontal-tail aerodynamic centre, along x (aft +)")
-        self.add_input("mass_per_length", val=0.0, shape=(n,), units="kg/m", desc="beam mass per unit length")
-        self.add_input("node_positions", val=0.0, shape=(n, 3), units="m", desc="undeformed beam nodes, body axes")
-        self.add_output("body_mass", val=1.0, units="kg", desc="aircraft mass outside both wing halves")
-        self.add_output("body_first_moment", val=np.zeros(2), units="kg*m", desc="m_b (x_b, z_b) about the origin")
-        self.add_output("body_pitch_inertia", val=1.0, units="kg*m**2", desc="body pitch inertia about the origin")
-        self.add_output("tail_x", val=1.0, units="m", desc="x of the tail aerodynamic centre from the origin")
-        self.declare_partials(["body_mass", "body_first_moment", "body_pitch_inertia"],
-                              ["aircraft_mass", "mass_per_length", "node_positions"])
-        self.declare_partials(["body_first_moment", "body_pitch_inertia"], "aircraft_cg")
-        self.declare_partials("body_pitch_inertia", "aircraft_pitch_inertia", val=1.0)
-        self.declare_partials("tail_x", "tail_arm", val=1.0)
-        self.declare_partials("tail_x", "aircraft_cg", rows=[0], cols=[0], val=1.0)
-        if self.options["trim_load_factor"] is not None:
-            from wingmdao.cases.planform import G0
-
-            self.add_output("trim_lift", val=1.0, units="N", desc="lift of wing + tail to trim to, n g0 aircraft_mass")
-            self.declare_partials("trim_lift", "aircraft_mass", val=float(self.options["trim_load_factor"]) * G0)
-
-    def _values(self, inputs, r=None):
-        return body_pitch_properties(inputs["aircraft_mass"][0], inputs["aircraft_cg"], inputs["aircraft_pitch_inertia"][0],
-                                     inputs["mass_per_length"], inputs["node_positions"] if r is None else r)
-
-    def compute(self, inputs, outputs):
-        from wingmdao.errors import InputRangeError
-
-        try:
-            check_pitch_inputs(tail_arm=inputs["tail_arm"][0])
-            outputs["body_mass"], outputs["body_first_moment"], outputs["body_pitch_inertia"] = self._values(inputs)
-        except ValueError as exc:
-            raise InputRangeError(str(exc)) from None
-        outputs["tail_x"] = inputs["aircraft_cg"][0] + inputs["tail_arm"]
-        if self.options["trim_load_factor"] is not None:
-            from wingmdao.cases.planform import G0
-
-            outputs["trim_lift"] = float(self.options["trim_load_factor"]) * G0 * inputs["aircraft_mass"]
-
-    def compute_partials(self, inputs, partials):
-        M, cg = inputs["aircraft_mass"][0], inputs["aircraft_cg"]
-        r = inputs["node_positions"]
-        s = np.linalg.norm(np.diff(r, axis=0), axis=1)
-        w = np.zeros(r.shape[0])
-        w[:-1] += 0.5 * s
-        w[1:] += 0.5 * s
-        x, z = r[:, 0], r[:, 2]
-        partials["body_mass", "aircraft_mass"] = 1.0
-        partials["body_first_moment", "aircraft_mass"] = cg
-        partials["body_pitch_inertia", "aircraft_mass"] = np.sum(cg * cg)
-        partials["body_first_moment", "aircraft_cg"] = M * np.eye(2)
-        partials["body_pitch_inertia", "aircraft_cg"] = 2.0 * M * cg
-        partials["body_mass", "mass_per_length"] = -2.0 * w
-        partials["body_first_moment", "mass_per_length"] = -2.0 * np.vstack([w * x, w * z])
-        partials["body_pitch_inertia", "mass_per_length"] = -2.0 * w * (x * x + z * z)
-        h = 1e-30
-        d = np.zeros((4, r.size))
-        for k in range(r.size):
-            rc = r.astype(complex).ravel()
-            rc[k] += 1j * h
-            mb, sb, io = self._values(inputs, rc.reshape(r.shape))
-            d[:, k] = np.imag(np.concatenate([[mb], sb, [io]])) / h
-        partials["body_mass", "node_positions"] = d[0]
-        partials["body_first_moment", "node_positions"] = d[1:3]
-        partials["body_pitch_inertia", "node_positions"] = d[3]

@@ -179,7 +179,7 @@ class WingStructure(om.Group):
             extra += ["tail_area", "tail_lift_slope", "downwash_gradient"] if aero.pitch else []
             extra += ["trim_lift"] if aero.trim and not aero.plunge else []
             if aero.pitch:  # body mass, first moment, pitch inertia, tail position from the aircraft inputs
-                from wingmdao.aero.pitch import PitchBodyProperties
+                from wingmdao.components.aeroelastic import PitchBodyProperties
 
                 self.add_subsystem("pitch_body", PitchBodyProperties(num_nodes=n, trim_load_factor=aero.trim_load_factor()),
                                    promotes_inputs=["aircraft_mass", "aircraft_cg", "aircraft_pitch_inertia", "tail_arm",

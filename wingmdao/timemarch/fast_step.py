@@ -11,19 +11,14 @@ partial pivoting of its own in place of SuperLU. Python is re-entered only betwe
 steps (a progress callback) and on failure, which is then reported with the messages of the
 interpreted path.
 
-The C source is compiled once per machine with gcc into the cache folder of
-:mod:`wingmdao.utils.casadi_cache` (keyed by its SHA-256 and the flags, written atomically, with
-the same manifest and ownership checks before loading).
+The C source is compiled once per machine with gcc by :mod:`wingmdao.utils.c_library` (the
+cache folder and safety rules of :mod:`wingmdao.utils.casadi_cache`: keyed by its SHA-256, the
+flags and the compiler, written atomically, manifest and ownership checked before loading).
 """
 
 from __future__ import annotations
 
 import ctypes as C
-import hashlib
-import os
-import shlex
-import subprocess
-import tempfile
 import threading
 from pathlib import Path
 
@@ -77,43 +72,10 @@ def library() -> C.CDLL:
 
 
 def _compile() -> Path:
-    src = SOURCE.read_bytes()
-    key = hashlib.sha256(src + b"\0" + " ".join(FLAGS).encode()).hexdigest()[:32]
-    target = cc.cache_dir() / f"wm_bdf_step_{key}.so"
-    if target.exists():
-        try:
-            cc.verify(target)
-            return target
-        except cc.UnsafeCache:
-            raise
-        except cc.CompileError:
-            pass                 # corrupt: rebuilt below
-    gcc = cc.compiler()
-    if gcc is None:
-        raise cc.CompileError("no C compiler (gcc) on PATH")
-    target.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
-    cc.check_safe(target.parent)
-    stem = f".{target.stem}.{os.getpid()}.{threading.get_ident()}"
-    partial = target.with_name(stem + ".so")
-    man_partial = target.with_name(stem + ".sha256")
-    try:
-        # compiled as one fixed relative name in a folder of its own: gcc writes the source's name
-        # into the library, so compiles from different checkouts give identical bytes
-        with tempfile.TemporaryDirectory(prefix="wingmdao_step_") as tmp:
-            (Path(tmp) / "wm_bdf_step.c").write_bytes(src)
-            run = subprocess.run([gcc, "-shared", "-fPIC", *FLAGS, "wm_bdf_step.c", "-o", str(partial.absolute()),
-                                  "-lm"], cwd=tmp, capture_output=True, text=True, timeout=120)
-        if run.returncode != 0:
-            raise cc.CompileError(f"gcc failed on {SOURCE.name}: {run.stderr.strip()[-300:]}")
-        size, digest = cc.file_digest(partial)
-        man_partial.write_text(f"{size} {digest}\n")
-        os.replace(man_partial, cc.manifest_path(target))   # manifest before the library
-        os.replace(partial, target)
-    finally:
-        for f in (partial, man_partial):
-            f.unlink(missing_ok=True)
-    cc.verify(target)
-    return target
+    """The cached library of ``bdf_step.c`` (:func:`wingmdao.utils.c_library.compile_source`)."""
+    from wingmdao.utils.c_library import compile_source
+
+    return compile_source(SOURCE, "wm_bdf_step", FLAGS)
 
 
 _ENTRIES: dict = {}

@@ -1,7 +1,7 @@
 """Hand-written C sources of the package compiled once with gcc, cached and loaded with ctypes.
 
 The sibling of :mod:`wingmdao.utils.casadi_cache` for plain C files (the static-pivot LU kernel
-``wingmdao/timemarch/lu_kernel.c``), with its cache folder and its safety rules: the library is
+``wingmdao/timemarch/lu_kernel.c``, the compiled march ``wingmdao/timemarch/bdf_step.c``), with its cache folder and its safety rules: the library is
 keyed by a SHA-256 of the source, the flags and the compiler; compiled from a source of one fixed
 name (gcc writes the file name into the library, so concurrent compiles give identical bytes),
 to a temporary name; its manifest (size and SHA-256, :func:`casadi_cache.verify`) is written
@@ -23,7 +23,7 @@ from pathlib import Path
 
 from wingmdao.utils import casadi_cache as cc
 
-#: Flags of the kernels: small sources, so -O2 costs nothing; no FMA contraction, so the kernels
+#: Flags of the kernels: small sources, so -O3 costs little compile time; no FMA contraction, so the kernels
 #: round like the NumPy code they replace.
 C_FLAGS = ("-O3", "-ffp-contract=off")
 
