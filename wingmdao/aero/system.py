@@ -452,9 +452,8 @@ def cached_aeroelastic_system(num_nodes: int, euler_sequence: str = "surface",
     """:func:`build_aeroelastic_system`, built once per (num_nodes, sequence, damping, plunge, trim, pitch, tail_lag)."""
     if damping is not None and damping.is_zero:
         damping = None
-    key = (int(num_nodes), euler_sequence, damping, bool(plunge), bool(trim)) + (
-        (True, bool(tail_lag)) if pitch else ((False, True) if tail_lag else ()))   # bad pairs reach the build's check
+    key = (int(num_nodes), euler_sequence, damping, bool(plunge), bool(trim), bool(pitch), bool(tail_lag))
     if key not in _SYSTEMS:
         _SYSTEMS[key] = build_aeroelastic_system(key[0], euler_sequence=euler_sequence, damping=damping,
-                                                 plunge=key[3], trim=key[4], pitch=bool(pitch), tail_lag=bool(tail_lag))
+                                                 plunge=key[3], trim=key[4], pitch=key[5], tail_lag=key[6])
     return _SYSTEMS[key]
