@@ -19,11 +19,19 @@ import openmdao.api as om
 from wingmdao import DISSERTATION
 
 
-def ks_value(g: np.ndarray, rho_ks: float) -> float:
-    """KS aggregate of all entries of ``g`` (Eq. 4.44), max-shifted."""
+def _shifted_exp(g: np.ndarray, rho_ks: float):
+    """``(m, w, s)``: ``m = max g``, ``w_k = exp(rho_KS (g_k - m))`` and ``s = sum_k w_k`` over all
+    entries of ``g`` (flattened): the terms of Eq. 4.44, shared by the value and its gradient."""
     g = np.asarray(g, dtype=float).ravel()
     m = np.max(g)
-    return float(m + np.log(np.sum(np.exp(rho_ks * (g - m)))) / rho_ks)
+    w = np.exp(rho_ks * (g - m))
+    return m, w, np.sum(w)
+
+
+def ks_value(g: np.ndarray, rho_ks: float) -> float:
+    """KS aggregate of all entries of ``g`` (Eq. 4.44), max-shifted."""
+    m, _, s = _shifted_exp(g, rho_ks)
+    return float(m + np.log(s) / rho_ks)
 
 
 def ks_gradient(g: np.ndarray, rho_ks: float) -> np.ndarray:
@@ -32,9 +40,8 @@ def ks_gradient(g: np.ndarray, rho_ks: float) -> np.ndarray:
     This is the ratio of sums that appears in Eq. 4.46-4.51, before the chain rule to the
     design variables and states.
     """
-    g = np.asarray(g, dtype=float).ravel()
-    w = np.exp(rho_ks * (g - np.max(g)))
-    return w / np.sum(w)
+    _, w, s = _shifted_exp(g, rho_ks)
+    return w / s
 
 
 def _check_finite(name: str, g: np.ndarray) -> None:
@@ -78,6 +85,7 @@ class KSAggregate(om.ExplicitComponent):
             raise ValueError(f"KSAggregate: rho_ks = {rho}; allowed range (0, inf)")
         if not self.options["families"]:
             raise ValueError("KSAggregate: families is empty; give at least one {name: shape}")
+        self._terms = {}    # {family: (g, w, s)} of the last compute (see compute_partials)
         for name, shape in self.options["families"].items():
             shape = (int(shape),) if np.isscalar(shape) else tuple(int(s) for s in shape)
             size = int(np.prod(shape)) if shape else 1
@@ -99,12 +107,25 @@ class KSAggregate(om.ExplicitComponent):
 
     def compute(self, inputs, outputs):
         rho = self.options["rho_ks"]
+        self._terms = {}
         for name in self.options["families"]:
             g = np.asarray(inputs[f"g_{name}"])
             _check_finite(f"g_{name}", g)
-            outputs[f"ks_{name}"] = ks_value(g, rho)
+            m, w, s = _shifted_exp(g, rho)
+            outputs[f"ks_{name}"] = float(m + np.log(s) / rho)     # ks_value
+            # kept for compute_partials at the same g (run_model, then compute_totals): the
+            # weights w / s of ks_gradient without a second exp over the family (1.5 ms of a
+            # 20-node x 500-step beam gradient, 180 000 entries)
+            self._terms[name] = (g.ravel().copy(), w, s)
 
     def compute_partials(self, inputs, partials):
+        """dKS/dg (Eq. 4.46-4.51 before the chain rule): :func:`ks_gradient`, from the terms of the
+        last ``compute`` when ``g`` is the same (bitwise the same values)."""
         rho = self.options["rho_ks"]
         for name in self.options["families"]:
-            partials[f"ks_{name}", f"g_{name}"] = ks_gradient(inputs[f"g_{name}"], rho)
+            g = np.asarray(inputs[f"g_{name}"])
+            kept = self._terms.get(name)
+            if kept is not None and np.array_equal(kept[0], g.ravel()):
+                partials[f"ks_{name}", f"g_{name}"] = kept[1] / kept[2]
+            else:
+                partials[f"ks_{name}", f"g_{name}"] = ks_gradient(g, rho)

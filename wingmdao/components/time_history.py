@@ -144,7 +144,14 @@ class TimeHistoryComponent(om.ImplicitComponent):
                         units=self.options["state_units"], desc="state history (n_time first)")
         self._p_slices = layout(sysm.param_specs)
         self._q_slices = layout(sysm.forcing_specs)
+        # sizes once (``VarSpec.size`` and ``system.n_param`` are recomputed at every access)
+        self._p_sizes = [(s.name, s.size) for s in sysm.param_specs]
+        self._q_sizes = [(s.name, s.size) for s in sysm.forcing_specs]
+        self._n_param = sum(size for _, size in self._p_sizes)
+        self._n_forcing = sum(size for _, size in self._q_sizes)
+        self._n_state = sysm.n_state
         self._lin = None
+        self._lin_inputs = None     # copy of the input vector at the linearization
         mf = self.options["matrix_free"]
         self._matrix_free = bool(n_time * sysm.n_state > MATRIX_FREE_ABOVE) if mf is None else mf
         self.matrix_free = self._matrix_free
@@ -231,18 +238,18 @@ class TimeHistoryComponent(om.ImplicitComponent):
     # ------------------------------------------------------------------ packing
     def _params(self, inputs):
         sysm = self.system
-        if not sysm.param_specs:
+        if not self._p_sizes:
             return np.zeros(0)
-        p = np.concatenate([np.asarray(inputs[s.name], dtype=float).ravel() for s in sysm.param_specs])
+        p = np.concatenate([np.asarray(inputs[name], dtype=float).ravel() for name, _ in self._p_sizes])
         _check_finite(p, sysm.param_specs, self._p_slices, None)
         return p
 
     def _forcing(self, inputs):
         sysm = self.system
         N = self._n_time
-        if not sysm.forcing_specs:
+        if not self._q_sizes:
             return np.zeros((N, 0))
-        Q = np.hstack([np.asarray(inputs[s.name], dtype=float).reshape(N, s.size) for s in sysm.forcing_specs])
+        Q = np.hstack([np.asarray(inputs[name], dtype=float).reshape(N, size) for name, size in self._q_sizes])
         _check_finite(Q, sysm.forcing_specs, self._q_slices, N)
         return Q
 
@@ -307,12 +314,14 @@ class TimeHistoryComponent(om.ImplicitComponent):
         p, Q = self._params(inputs), self._forcing(inputs)
         X = self._history(outputs)
         # drop the previous design point's linearization first: the two are not alive together
-        self._lin = self._lin_point = None
+        self._lin = self._lin_inputs = None
         lin = LinearizedHistory(sysm, self._time, X, p, Q,
                                 initial=self.options["initial"], store_factors=self.store_factors,
                                 lu=self.options["lu"], checkpoint_every=self.checkpoint_every)
         self._lin = lin
-        self._lin_point = (lin.states, p.copy(), lin.forcing)    # the linearization's own copies
+        # the linearization point: the history is the linearization's own copy; the inputs are
+        # kept as one copy of the component's input vector (one comparison in apply_linear)
+        self._lin_inputs = inputs.asarray(copy=True)
         if self._matrix_free:
             return
         name = self.options["state_name"]
@@ -340,31 +349,34 @@ class TimeHistoryComponent(om.ImplicitComponent):
             d_residuals[name] = self._lin.solve_adjoint(rhs).reshape(d_residuals[name].shape)
 
     def apply_linear(self, inputs, outputs, d_inputs, d_outputs, d_residuals, mode):
-        """Matrix-free products with the stored blocks (only with ``matrix_free=True``)."""
-        sysm = self.system
+        """Matrix-free products with the stored blocks (only with ``matrix_free=True``); the
+        products with dR/dp and dR/dq are formed only when one of their inputs is in ``d_inputs``
+        (OpenMDAO leaves out the inputs no total depends on)."""
         if not self._linearized_at(inputs, outputs):
             self.linearize(inputs, outputs, None)
         lin = self._lin
         name = self.options["state_name"]
-        shape = (self._n_time, sysm.n_state)
+        shape = (self._n_time, self._n_state)
         if name not in d_residuals:
             return
+        p_in = [(n, self._p_slices[n]) for n, _ in self._p_sizes if n in d_inputs]
+        q_in = [(n, self._q_slices[n]) for n, _ in self._q_sizes if n in d_inputs]
         if mode == "fwd":
             out = np.zeros(shape)
             if name in d_outputs:
                 out += lin.apply(np.asarray(d_outputs[name]).reshape(shape))
-            dp = np.zeros(sysm.n_param)
-            for s in sysm.param_specs:
-                if s.name in d_inputs:
-                    dp[self._p_slices[s.name]] = np.asarray(d_inputs[s.name]).ravel()
-            if sysm.n_param and np.any(dp):
-                out += lin.param_apply(dp)
-            dq = np.zeros((self._n_time, sysm.n_forcing))
-            for s in sysm.forcing_specs:
-                if s.name in d_inputs:
-                    dq[:, self._q_slices[s.name]] = np.asarray(d_inputs[s.name]).reshape(self._n_time, s.size)
-            if sysm.n_forcing and np.any(dq):
-                out += lin.forcing_apply(dq)
+            if p_in:
+                dp = np.zeros(self._n_param)
+                for n, sl in p_in:
+                    dp[sl] = np.asarray(d_inputs[n]).ravel()
+                if np.any(dp):
+                    out += lin.param_apply(dp)
+            if q_in:
+                dq = np.zeros((self._n_time, self._n_forcing))
+                for n, sl in q_in:
+                    dq[:, sl] = np.asarray(d_inputs[n]).reshape(self._n_time, sl.stop - sl.start)
+                if np.any(dq):
+                    out += lin.forcing_apply(dq)
             if "initial_state" in d_inputs:
                 out[0] -= np.asarray(d_inputs["initial_state"]).ravel()
             d_residuals[name] += out.reshape(d_residuals[name].shape)
@@ -372,36 +384,25 @@ class TimeHistoryComponent(om.ImplicitComponent):
             r = np.asarray(d_residuals[name]).reshape(shape)
             if name in d_outputs:
                 d_outputs[name] += lin.apply_transpose(r).reshape(d_outputs[name].shape)
-            if sysm.n_param:
+            if p_in:
                 gp = lin.param_product(r)
-                for s in sysm.param_specs:
-                    if s.name in d_inputs:
-                        d_inputs[s.name] += gp[self._p_slices[s.name]].reshape(d_inputs[s.name].shape)
-            if sysm.n_forcing:
+                for n, sl in p_in:
+                    d_inputs[n] += gp[sl].reshape(d_inputs[n].shape)
+            if q_in:
                 gq = lin.forcing_product(r)
-                for s in sysm.forcing_specs:
-                    if s.name in d_inputs:
-                        d_inputs[s.name] += gq[:, self._q_slices[s.name]].reshape(d_inputs[s.name].shape)
+                for n, sl in q_in:
+                    d_inputs[n] += gq[:, sl].reshape(d_inputs[n].shape)
             if "initial_state" in d_inputs:
                 d_inputs["initial_state"] -= r[0].reshape(d_inputs["initial_state"].shape)
 
-
     def _linearized_at(self, inputs, outputs):
-        """Whether the stored linearization is at these inputs and outputs (compared block by
-        block against its copies: no packed vectors or finiteness checks made again)."""
-        if self._lin is None:
+        """Whether the stored linearization is at these inputs and outputs: the history against
+        the linearization's copy, the whole input vector against its copy made in ``linearize``
+        (two comparisons; no packing or finiteness checks made again)."""
+        if self._lin is None or self._lin_inputs is None:
             return False
-        X, p, Q = self._lin_point
-        sysm, N = self.system, self._n_time
-        if not np.array_equal(X, self._history(outputs)):
-            return False
-        for s in sysm.param_specs:
-            if not np.array_equal(p[self._p_slices[s.name]], np.ravel(inputs[s.name])):
-                return False
-        for s in sysm.forcing_specs:
-            if not np.array_equal(Q[:, self._q_slices[s.name]], np.reshape(inputs[s.name], (N, s.size))):
-                return False
-        return True
+        return (np.array_equal(self._lin.states, self._history(outputs))
+                and np.array_equal(self._lin_inputs, inputs.asarray()))
 
 
 def _newton_pattern(pats, n):
