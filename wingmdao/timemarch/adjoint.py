@@ -188,7 +188,7 @@ class LinearizedHistory:
         self.lu_method = lu if self.n_time > 1 and self._lib is not None else "superlu"
         self._static = None           # the StaticPivotLU once made
         self._same = None             # uint8: A_n == A_{n-1} (the kernel's reuse of factors)
-        self.static_stats = {"refined": 0, "fallback": 0}
+        self.static_stats = {"refined": 0, "fallback": 0, "factored": 0}
         self._adjoint_cache = None    # (lam, sum_n dR_n/dp^T lam_n, dR_n/dq_n^T lam_n) of the last sweep
 
     # ------------------------------------------------------------------ blocks
@@ -670,8 +670,9 @@ class LinearizedHistory:
         data = self._sweep_data(slu, blk)
         n, last = max(blk.lo, 1), blk.hi - 1
         while n <= last:
-            stop, refined = slu.tangent_sweep(data, n, last, rhs, dx)
+            stop, refined, factored = slu.tangent_sweep(data, n, last, rhs, dx)
             self.static_stats["refined"] += refined
+            self.static_stats["factored"] += factored
             if stop > last:
                 break
             dx[stop] = self._fallback(stop, slu.rhs_buffer.copy(), "N", blk)
@@ -730,8 +731,9 @@ class LinearizedHistory:
         data = self._sweep_data(slu, blk)
         n, first = blk.hi - 1, max(blk.lo, 1)
         while n >= first:
-            stop, refined = slu.adjoint_sweep(data, n, first, rhs, lam)
+            stop, refined, factored = slu.adjoint_sweep(data, n, first, rhs, lam)
             self.static_stats["refined"] += refined
+            self.static_stats["factored"] += factored
             if stop < first:
                 break
             lam[stop] = self._fallback(stop, slu.rhs_buffer.copy(), "T", blk)

@@ -25,7 +25,7 @@ typedef struct {
     const int *up, *ui; /* U strictly upper: column pointers (n + 1), rows (ascending) */
 } lu_pattern;
 
-int lu_kernel_version(void) { return 5; }
+int lu_kernel_version(void) { return 6; }
 
 /* Factors of m matrices with nonzeros a (m x nnz) into f (m x n_lu); work: n doubles, zero on
  * entry and on return. A zero pivot gives inf/NaN factors (caught by the backward error). */
@@ -56,6 +56,68 @@ void lu_factor(const lu_pattern *p, int m, const double *a, double *f, double *w
                 x[p->li[q]] = 0.0;
             }
         }
+    }
+}
+
+/* Matrices factored together by lu_factor_lanes (one SIMD lane each). */
+#define LU_W 4
+typedef double lu_v4 __attribute__((vector_size(32), aligned(8)));
+
+/* Factors of nw <= LU_W matrices at once, nonzeros a[w] into f[w] (n_lu each): the operations of
+ * lu_factor on each lane, in the same order (the lanes are the matrices; a lane of fewer than
+ * LU_W matrices repeats matrix 0), so the index loads and the loop control of the short columns
+ * are shared by LU_W matrices. Only an update by a zero multiplier, which lu_factor skips, is
+ * made (x - L 0 = x for finite factors). xw: n LU_W doubles, zero on entry and on return; fw:
+ * n_lu LU_W doubles (the interleaved factors, copied out to f at the end). */
+static void lu_factor_lanes(const lu_pattern *p, int nw, const double *const *a, double *const *f,
+                            double *xw, double *fw)
+{
+    const int n = p->n, nl = p->lp[n], nu = p->up[n], nlu = nl + nu + n;
+    lu_v4 *X = (lu_v4 *)xw, *L = (lu_v4 *)fw, *U = L + nl, *D = U + nu;
+    for (int j = 0; j < n; ++j) {
+        for (int k = p->indptr[j]; k < p->indptr[j + 1]; ++k) {
+            lu_v4 v;
+            for (int w = 0; w < LU_W; ++w)
+                v[w] = a[w < nw ? w : 0][k];
+            X[p->prow[k]] = v;
+        }
+        for (int t = p->up[j]; t < p->up[j + 1]; ++t) {      /* ascending: topological order */
+            const int k = p->ui[t];
+            const lu_v4 xk = X[k];
+            U[t] = xk;
+            X[k] = (lu_v4){0.0, 0.0, 0.0, 0.0};
+            for (int q = p->lp[k]; q < p->lp[k + 1]; ++q)
+                X[p->li[q]] -= L[q] * xk;
+        }
+        const lu_v4 piv = X[j];
+        D[j] = piv;
+        X[j] = (lu_v4){0.0, 0.0, 0.0, 0.0};
+        for (int q = p->lp[j]; q < p->lp[j + 1]; ++q) {
+            L[q] = X[p->li[q]] / piv;
+            X[p->li[q]] = (lu_v4){0.0, 0.0, 0.0, 0.0};
+        }
+    }
+    for (int w = 0; w < nw; ++w) {
+        double *fo = f[w];
+        for (int i = 0; i < nlu; ++i)
+            fo[i] = fw[(size_t)i * LU_W + w];
+    }
+}
+
+/* Factors of m matrices (as lu_factor), LU_W at a time; xw: n LU_W doubles, zero on entry and on
+ * return; fw: n_lu LU_W doubles. */
+void lu_factor_batch(const lu_pattern *p, int m, const double *a, double *f, double *xw, double *fw)
+{
+    const int n = p->n, nlu = p->lp[n] + p->up[n] + n;
+    for (int s = 0; s < m; s += LU_W) {
+        const int nw = m - s < LU_W ? m - s : LU_W;
+        const double *as[LU_W];
+        double *fs[LU_W];
+        for (int w = 0; w < nw; ++w) {
+            as[w] = a + (size_t)(s + w) * p->nnz;
+            fs[w] = f + (size_t)(s + w) * nlu;
+        }
+        lu_factor_lanes(p, nw, as, fs, xw, fw);
     }
 }
 
@@ -185,15 +247,67 @@ typedef struct {
     double tol;
 } sweep_data;
 
+/* The factors of the steps of a sweep, LU_W steps at a time (lu_factor_lanes): f holds LU_W
+ * factor slots (n_lu each) then the interleaved scratch (n_lu LU_W), xw n LU_W doubles (zero).
+ * Steps whose matrix equals the step before's (in sweep order) reuse its factors. */
+typedef struct {
+    const lu_pattern *p;
+    const sweep_data *s;
+    double *f, *fw, *xw;
+    int first, count, dir;          /* the slots hold steps first, first + dir, ... (count) */
+    int have;                       /* the step of the factors last used (-1: none) */
+    const double *cur;              /* its factors */
+    int factored;                   /* matrices factored (statistics) */
+} factor_feed;
+
+/* The factors of step m, the next step of the sweep (direction dir: -1 adjoint, +1 tangent);
+ * end: the last step of the sweep (a batch does not go past it). */
+static const double *feed_factors(factor_feed *ff, int m, int end)
+{
+    const lu_pattern *p = ff->p;
+    const sweep_data *s = ff->s;
+    const int nlu = p->lp[p->n] + p->up[p->n] + p->n;
+    /* A_m equals the matrix of the step before in sweep order */
+    const int prev = m - ff->dir;
+    if (ff->have == prev && ff->cur && s->same[ff->dir < 0 ? prev : m]) {
+        ff->have = m;
+        return ff->cur;
+    }
+    int slot = (m - ff->first) * ff->dir;
+    if (slot < 0 || slot >= ff->count) {
+        /* a new batch: steps m, m + dir, ..., at most LU_W, not past end; a step equal to its
+         * predecessor in sweep order ends the batch (it reuses that factor) */
+        const double *as[LU_W];
+        double *fs[LU_W];
+        int nw = 0;
+        for (int q = m; nw < LU_W && (q - end) * ff->dir <= 0; q += ff->dir) {
+            if (nw > 0 && s->same[ff->dir < 0 ? q - ff->dir : q])
+                break;
+            as[nw] = s->a + (size_t)(q - s->off) * p->nnz;
+            fs[nw] = ff->f + (size_t)nw * nlu;
+            ++nw;
+        }
+        lu_factor_lanes(p, nw, as, fs, ff->xw, ff->fw);
+        ff->factored += nw;
+        ff->first = m;
+        ff->count = nw;
+        slot = 0;
+    }
+    ff->have = m;
+    ff->cur = ff->f + (size_t)slot * nlu;
+    return ff->cur;
+}
+
 /* Adjoint sweep A_n^T lam_n = g_n - c(n+1,1) R_{n+1}^T lam_{n+1} - c(n+2,2) R_{n+2}^T lam_{n+2}
  * for n = hi, hi-1, ..., lo (lo >= 1). rhs and lam are n_time x n. Returns the step at which a
  * refined solve still failed (lam[step] not set; b holds its right-hand side), or lo - 1.
- * f: n_lu doubles; work: 4 n; counts[0] += refined steps. */
+ * f: (2 LU_W) n_lu doubles; work: (4 + LU_W) n, its last LU_W n zero; counts[0] += refined steps,
+ * counts[1] += factored matrices. */
 int adjoint_sweep(const lu_pattern *p, const sweep_data *s, int hi, int lo, const double *rhs,
                   double *lam, double *f, double *b, double *work, int *counts)
 {
-    const int n = p->n;
-    int have = -1;                  /* step whose factors are in f */
+    const int n = p->n, nlu = p->lp[n] + p->up[n] + n;
+    factor_feed ff = {p, s, f, f + (size_t)LU_W * nlu, work + 4 * n, 0, 0, -1, -1, 0, 0};
     for (int m = hi; m >= lo; --m) {
         const double *am = s->a + (size_t)(m - s->off) * p->nnz;
         memcpy(b, rhs + (size_t)m * n, (size_t)n * sizeof(double));
@@ -208,28 +322,29 @@ int adjoint_sweep(const lu_pattern *p, const sweep_data *s, int hi, int lo, cons
             for (int q = 0; q < s->nd; ++q)
                 b[s->dcol[q]] -= c * jd[s->src[q]] * lr[s->drow[q]];
         }
-        if (!(have == m + 1 && s->same[m + 1])) {
-            lu_factor(p, 1, am, f, work);
-        }
-        have = m;
+        const double *fm = feed_factors(&ff, m, lo);
         int refined;
-        double berr = checked_solve(p, f, am, b, lam + (size_t)m * n, 1, s->tol, &refined, work + n);
+        double berr = checked_solve(p, fm, am, b, lam + (size_t)m * n, 1, s->tol, &refined, work + n);
         counts[0] += refined;
-        if (!(berr <= s->tol))
+        if (!(berr <= s->tol)) {
+            counts[1] += ff.factored;
             return m;
+        }
     }
+    counts[1] += ff.factored;
     return lo - 1;
 }
 
 /* Tangent sweep A_n dx_n = r_n - R_n (c(n,1) dx_{n-1} + c(n,2) dx_{n-2}) for n = lo..hi
  * (lo >= 1). Returns the step at which a refined solve still failed (b holds its right-hand
- * side), or hi + 1. */
+ * side), or hi + 1. Buffers and counts as adjoint_sweep; work: (5 + LU_W) n, the LU_W n after
+ * the first 4 n zero. */
 int tangent_sweep(const lu_pattern *p, const sweep_data *s, int lo, int hi, const double *rhs,
                   double *dx, double *f, double *b, double *work, int *counts)
 {
-    const int n = p->n;
-    int have = -1;
-    double *h = work + 4 * n;       /* history combination, n doubles */
+    const int n = p->n, nlu = p->lp[n] + p->up[n] + n;
+    factor_feed ff = {p, s, f, f + (size_t)LU_W * nlu, work + 4 * n, 0, 0, 1, -1, 0, 0};
+    double *h = work + (4 + LU_W) * n;       /* history combination, n doubles */
     for (int m = lo; m <= hi; ++m) {
         const double *am = s->a + (size_t)(m - s->off) * p->nnz;
         const double *jd = s->jd + (size_t)(m - s->off) * s->njd;
@@ -240,16 +355,16 @@ int tangent_sweep(const lu_pattern *p, const sweep_data *s, int lo, int hi, cons
         memcpy(b, rhs + (size_t)m * n, (size_t)n * sizeof(double));
         for (int q = 0; q < s->nd; ++q)
             b[s->drow[q]] -= jd[s->src[q]] * h[s->dcol[q]];
-        if (!(have == m - 1 && s->same[m])) {
-            lu_factor(p, 1, am, f, work);
-        }
-        have = m;
+        const double *fm = feed_factors(&ff, m, hi);
         int refined;
-        double berr = checked_solve(p, f, am, b, dx + (size_t)m * n, 0, s->tol, &refined, work + n);
+        double berr = checked_solve(p, fm, am, b, dx + (size_t)m * n, 0, s->tol, &refined, work + n);
         counts[0] += refined;
-        if (!(berr <= s->tol))
+        if (!(berr <= s->tol)) {
+            counts[1] += ff.factored;
             return m;
+        }
     }
+    counts[1] += ff.factored;
     return hi + 1;
 }
 

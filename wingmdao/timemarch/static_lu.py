@@ -45,6 +45,9 @@ SOURCE = Path(__file__).with_name("lu_kernel.c")
 ENV_KERNEL = "WINGMDAO_LU_KERNEL"
 _KERNELS: dict = {}
 
+#: Matrices factored together (the SIMD lanes of ``lu_factor_lanes`` in lu_kernel.c, ``LU_W``).
+LANES = 4
+
 _P = ctypes.c_void_p
 _I = ctypes.c_int
 
@@ -61,6 +64,7 @@ class _Sweep(ctypes.Structure):
 _SIGNATURES = {
     "lu_kernel_version": ([], _I),
     "lu_factor": ([_P, _I, _P, _P, _P], None),
+    "lu_factor_batch": ([_P, _I, _P, _P, _P, _P], None),
     "lu_solve": ([_P, _P, _P, _I, _P], None),
     "lu_berr": ([_P, _P, _P, _P, _I, _P, _P], ctypes.c_double),
     "lu_solve_checked": ([_P, _P, _P, _P, _P, _P, _I, _P], ctypes.c_double),
@@ -173,9 +177,13 @@ class StaticPivotLU:
                         "up": _i32(self._u_off), "ui": _i32(np.concatenate([np.zeros(0, int), *self.u_struct]))}
         self._pattern = _Pattern(self.n, self.nnz, *(_ptr(self._arrays[k]) for k, _ in _Pattern._fields_[2:]))
         self._pp = ctypes.addressof(self._pattern)
-        self._work = np.zeros(5 * self.n)
-        self._f = np.zeros(self.n_lu)
+        # sweeps: checked solves 4 n, the lanes' work column LANES n (zero between calls), the
+        # tangent's history n; factors: LANES slots and the interleaved factors of LANES matrices
+        self._work = np.zeros((5 + LANES) * self.n)
+        self._f = np.zeros(2 * LANES * self.n_lu)
         self._b = np.zeros(self.n)
+        self._lanes_x = np.zeros(LANES * self.n)
+        self._lanes_f = np.zeros(LANES * self.n_lu)
 
     def key(self) -> str:
         """Hash of the pattern and pivot order."""
@@ -195,7 +203,8 @@ class StaticPivotLU:
         if values.ndim != 2 or values.shape[1] != self.nnz:
             raise ValueError(f"values must have shape (m, {self.nnz}), got {values.shape}")
         out = np.empty((values.shape[0], self.n_lu))
-        self.lib.lu_factor(self._pp, values.shape[0], _ptr(values), _ptr(out), _ptr(self._work))
+        self.lib.lu_factor_batch(self._pp, values.shape[0], _ptr(values), _ptr(out), _ptr(self._lanes_x),
+                                 _ptr(self._lanes_f))
         return out
 
     def solve(self, lu, values, b, trans="N"):
@@ -233,20 +242,22 @@ class StaticPivotLU:
     def adjoint_sweep(self, data, hi, lo, rhs, lam):
         """Steps ``hi, hi-1, .., lo`` (lo >= 1) of ``A_n^T lam_n = rhs_n - c(n+1,1) R_{n+1}^T
         lam_{n+1} - c(n+2,2) R_{n+2}^T lam_{n+2}`` into ``lam`` (n_time, n; C-contiguous) in place.
-        Returns ``(stop, refined)``: the step whose refined solve failed (its right-hand side in
-        ``self.rhs_buffer``) or ``lo - 1``, and the number of refined steps."""
-        counts = (ctypes.c_int * 1)(0)
+        Returns ``(stop, refined, factored)``: the step whose refined solve failed (its right-hand
+        side in ``self.rhs_buffer``) or ``lo - 1``, the number of refined steps and of factored
+        matrices (``LANES`` at a time; steps equal to the step before reuse its factors)."""
+        counts = (ctypes.c_int * 2)(0, 0)
         stop = self.lib.adjoint_sweep(self._pp, ctypes.addressof(data), int(hi), int(lo), _ptr(rhs), _ptr(lam),
                                       _ptr(self._f), _ptr(self._b), _ptr(self._work), counts)
-        return int(stop), int(counts[0])
+        return int(stop), int(counts[0]), int(counts[1])
 
     def tangent_sweep(self, data, lo, hi, rhs, dx):
         """Steps ``lo..hi`` (lo >= 1) of ``A_n dx_n = rhs_n - R_n (c(n,1) dx_{n-1} + c(n,2)
-        dx_{n-2})`` into ``dx`` in place. Returns ``(stop, refined)`` (stop ``hi + 1``: all done)."""
-        counts = (ctypes.c_int * 1)(0)
+        dx_{n-2})`` into ``dx`` in place. Returns ``(stop, refined, factored)`` (stop ``hi + 1``:
+        all done)."""
+        counts = (ctypes.c_int * 2)(0, 0)
         stop = self.lib.tangent_sweep(self._pp, ctypes.addressof(data), int(lo), int(hi), _ptr(rhs), _ptr(dx),
                                       _ptr(self._f), _ptr(self._b), _ptr(self._work), counts)
-        return int(stop), int(counts[0])
+        return int(stop), int(counts[0]), int(counts[1])
 
     @property
     def rhs_buffer(self) -> np.ndarray:
