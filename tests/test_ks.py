@@ -90,3 +90,18 @@ def test_bad_rho_raises():
     prob.model.add_subsystem("ks", KSAggregate(families={"vm": (2,)}, rho_ks=0.0))
     with pytest.raises(ValueError, match="rho_ks"):
         prob.setup()
+
+
+def test_partials_at_a_changed_input_without_compute():
+    """compute_partials reuses the exp terms of the last compute only at the same g: called with
+    another g it returns the closed-form softmax of that g (the component's methods called
+    directly, as OpenMDAO would after a transfer without a compute)."""
+    rng = np.random.default_rng(3)
+    g0, g1 = rng.uniform(-1.0, 0.5, 40), rng.uniform(-1.0, 0.5, 40)
+    comp = _problem({"vm": (40,)}, 30.0, {"vm": g0}).model.ks
+    for g in (g0, g1):
+        comp.compute({"g_vm": g0}, {})
+        partials = {}
+        comp.compute_partials({"g_vm": g}, partials)
+        w = np.exp(30.0 * (g - g.max()))
+        np.testing.assert_allclose(partials["ks_vm", "g_vm"], w / w.sum(), rtol=1e-12)
