@@ -27,47 +27,15 @@ typedef struct {
 
 int lu_kernel_version(void) { return 6; }
 
-/* Factors of m matrices with nonzeros a (m x nnz) into f (m x n_lu); work: n doubles, zero on
- * entry and on return. A zero pivot gives inf/NaN factors (caught by the backward error). */
-void lu_factor(const lu_pattern *p, int m, const double *a, double *f, double *work)
-{
-    const int n = p->n, nl = p->lp[n], nu = p->up[n], nlu = nl + nu + n;
-    for (int s = 0; s < m; ++s) {
-        const double *as = a + (size_t)s * p->nnz;
-        double *L = f + (size_t)s * nlu, *U = L + nl, *D = U + nu;
-        double *x = work;
-        for (int j = 0; j < n; ++j) {
-            for (int k = p->indptr[j]; k < p->indptr[j + 1]; ++k)
-                x[p->prow[k]] = as[k];
-            for (int t = p->up[j]; t < p->up[j + 1]; ++t) {      /* ascending: topological order */
-                const int k = p->ui[t];
-                const double xk = x[k];
-                U[t] = xk;
-                x[k] = 0.0;
-                if (xk != 0.0)
-                    for (int q = p->lp[k]; q < p->lp[k + 1]; ++q)
-                        x[p->li[q]] -= L[q] * xk;
-            }
-            const double piv = x[j];
-            D[j] = piv;
-            x[j] = 0.0;
-            for (int q = p->lp[j]; q < p->lp[j + 1]; ++q) {
-                L[q] = x[p->li[q]] / piv;
-                x[p->li[q]] = 0.0;
-            }
-        }
-    }
-}
-
 /* Matrices factored together by lu_factor_lanes (one SIMD lane each). */
 #define LU_W 4
 typedef double lu_v4 __attribute__((vector_size(32), aligned(8)));
 
-/* Factors of nw <= LU_W matrices at once, nonzeros a[w] into f[w] (n_lu each): the operations of
- * lu_factor on each lane, in the same order (the lanes are the matrices; a lane of fewer than
- * LU_W matrices repeats matrix 0), so the index loads and the loop control of the short columns
- * are shared by LU_W matrices. Only an update by a zero multiplier, which lu_factor skips, is
- * made (x - L 0 = x for finite factors). xw: n LU_W doubles, zero on entry and on return; fw:
+/* Factors of nw <= LU_W matrices at once, nonzeros a[w] into f[w] (n_lu each): a left-looking
+ * LU with the fixed pivots of the pattern on each lane (the lanes are the matrices; a lane of
+ * fewer than LU_W matrices repeats matrix 0), so the index loads and the loop control of the
+ * short columns are shared by LU_W matrices. A zero pivot gives inf/NaN factors (caught by the
+ * backward error). xw: n LU_W doubles, zero on entry and on return; fw:
  * n_lu LU_W doubles (the interleaved factors, copied out to f at the end). */
 static void lu_factor_lanes(const lu_pattern *p, int nw, const double *const *a, double *const *f,
                             double *xw, double *fw)
@@ -104,7 +72,7 @@ static void lu_factor_lanes(const lu_pattern *p, int nw, const double *const *a,
     }
 }
 
-/* Factors of m matrices (as lu_factor), LU_W at a time; xw: n LU_W doubles, zero on entry and on
+/* Factors of m matrices with nonzeros a (m x nnz) into f (m x n_lu), LU_W at a time; xw: n LU_W doubles, zero on entry and on
  * return; fw: n_lu LU_W doubles. */
 void lu_factor_batch(const lu_pattern *p, int m, const double *a, double *f, double *xw, double *fw)
 {

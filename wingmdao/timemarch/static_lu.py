@@ -63,7 +63,6 @@ class _Sweep(ctypes.Structure):
 
 _SIGNATURES = {
     "lu_kernel_version": ([], _I),
-    "lu_factor": ([_P, _I, _P, _P, _P], None),
     "lu_factor_batch": ([_P, _I, _P, _P, _P, _P], None),
     "lu_solve": ([_P, _P, _P, _I, _P], None),
     "lu_berr": ([_P, _P, _P, _P, _I, _P, _P], ctypes.c_double),
