@@ -86,8 +86,10 @@ def build(kind, n, nt, dt, compile_first=False):
 
 
 def breakdown(prob, nt, dt):
-    """Per step (ms): Jacobian-history evaluation, Newton-matrix blocks, one SuperLU factorization
-    (best of 3 each); nonzeros of A_n and of its L + U (natural order)."""
+    """Per step (ms): evaluation of the state Jacobians dR/dx, dR/dxdot (what the linearization
+    evaluates; dR/dp, dR/dq wait for their first use), the rest of the linearization (rates,
+    pattern, Newton-matrix blocks), one SuperLU factorization (best of 3 each); nonzeros of A_n
+    and of its L + U (natural order)."""
     import scipy.sparse.linalg as spla
 
     from wingmdao.timemarch.adjoint import LinearizedHistory
@@ -100,7 +102,7 @@ def breakdown(prob, nt, dt):
     Q = np.concatenate([np.asarray(prob.get_val(s.name)).reshape(nt, -1) for s in system.forcing_specs], axis=1)
     t = np.arange(nt) * dt
     Xd = np.zeros_like(X)
-    t_jac = timed(lambda: system.jacobian_history(X, Xd, p, Q))
+    t_jac = timed(lambda: system.state_jacobian_history(X, Xd, p, Q))
     t_lin = timed(lambda: LinearizedHistory(system, t, X, p, Q))
     lin = LinearizedHistory(system, t, X, p, Q)
     A = lin.newton_matrix(nt // 2)
