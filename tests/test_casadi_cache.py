@@ -414,3 +414,38 @@ def test_under_mpirun_no_compile_starts_mid_run_but_a_cached_library_loads(jit_e
     jf3.count(5)
     assert jf3.state == "compiling"                          # serial: the compile starts at the threshold
     jf3.start(wait=True)
+
+
+def test_aeroelastic_definition_changes_with_every_builder_argument():
+    from wingmdao.aero.system import aeroelastic_definition
+    from wingmdao.beam.residual import StrainRateDamping, beam_definition
+
+    base = aeroelastic_definition(20)
+    assert aeroelastic_definition(20) == base
+    assert aeroelastic_definition(20, damping=StrainRateDamping()) == base
+    others = [aeroelastic_definition(21), aeroelastic_definition(20, euler_sequence="aswing"),
+              aeroelastic_definition(20, damping=StrainRateDamping((1e-3, 0, 0), (0, 0, 0))),
+              aeroelastic_definition(20, plunge=True), aeroelastic_definition(20, trim=True),
+              aeroelastic_definition(20, plunge=True, trim=True, pitch=True),
+              aeroelastic_definition(20, plunge=True, trim=True, pitch=True, tail_lag=True),
+              beam_definition(20)]
+    assert len({base, *others}) == 1 + len(others)
+
+
+def test_a_march_counts_its_steps_towards_the_newton_compile(jit_env):
+    """Modified Newton evaluates the Newton matrix a few times per march; the compiled march uses
+    it at every step, so a march counts its steps and a system that is only marched gets
+    compiled (the coupled aeroelastic beam stayed interpreted before)."""
+    from wingmdao.timemarch.bdf import march
+    from wingmdao.timemarch.examples import nonlinear_chain_system
+
+    system = nonlinear_chain_system(3)
+    system.set_jit_threshold(100)
+    p = np.concatenate([[1.0, 0.1, 0.5], np.full(3, 10.0)])
+    t = np.linspace(0.0, 1.0, 61)
+    forcing = np.tile([0.0, 0.0, 1.0], (t.size, 1))
+    march(system, t, p, forcing, modified_newton=True, fast=False)
+    newton = system._fast_newton.jit
+    assert newton.evaluations >= 60 and newton.state == "interpreted"
+    march(system, t, p, forcing, modified_newton=True, fast=False)
+    assert newton.state in ("compiling", "compiled")

@@ -65,6 +65,31 @@ def test_symbolic_structure_matches_a_dense_lu_without_pivoting():
 
 
 @needs_gcc
+@pytest.mark.parametrize("seed, n, density", [(3, 40, 0.08), (5, 120, 0.03), (7, 7, 0.5)])
+def test_compiled_symbolic_structure_equals_the_python_reference(kernel_on, seed, n, density):
+    rng = np.random.default_rng(seed)
+    a = sp.csc_matrix(sp.random(n, n, density=density, random_state=rng) + sp.eye(n))
+    a.sort_indices()
+    l_struct, u_struct = symbolic_lu(n, a.indices, a.indptr)
+    # unsorted rows within columns (the C routine must not rely on their order)
+    rows = a.indices.copy()
+    for j in range(n):
+        seg = slice(a.indptr[j], a.indptr[j + 1])
+        rows[seg] = rng.permutation(rows[seg])
+    lp, li, up, ui = static_lu.symbolic_lu_compiled(static_lu.kernel(), n, rows, a.indptr)
+    for j in range(n):
+        assert li[lp[j]:lp[j + 1]].tolist() == l_struct[j].tolist()
+        assert ui[up[j]:up[j + 1]].tolist() == u_struct[j].tolist()
+
+
+@needs_gcc
+def test_compiled_symbolic_reports_a_structural_zero_pivot(kernel_on):
+    a = sp.csc_matrix(np.array([[0.0, 1.0], [1.0, 0.0]]))
+    with pytest.raises(ValueError, match="column 0: zero pivot"):
+        static_lu.symbolic_lu_compiled(static_lu.kernel(), 2, a.indices, a.indptr)
+
+
+@needs_gcc
 def test_solves_agree_with_scipy_for_every_matrix_of_the_family(kernel_on):
     base, mats = _family()
     slu = StaticPivotLU(base.shape[0], base.indices, base.indptr, mats[0].data)

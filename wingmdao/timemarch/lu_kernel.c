@@ -1,8 +1,8 @@
 /* Static-pivot sparse LU and the BDF tangent/adjoint sweeps of wingmdao.timemarch.adjoint.
  *
- * Data-driven: the symbolic structure of P A = L U (row permutation P, column structures of L
- * and U, computed once per pattern in wingmdao/timemarch/static_lu.py) comes in as integer
- * arrays, so one compiled library serves every pattern. Left-looking numeric factorization
+ * Data-driven: the symbolic structure of P A = L U (row permutation P from wingmdao/timemarch/
+ * static_lu.py, column structures of L and U from lu_symbolic below, once per pattern and pivot
+ * order) comes in as integer arrays, so one compiled library serves every pattern. Left-looking numeric factorization
  * (Gilbert & Peierls, SIAM J. Sci. Stat. Comput. 9, 1988) with the pivots fixed; each solve is
  * checked by its componentwise backward error (Oettli & Prager, Numer. Math. 6, 1964)
  *     berr = max_i |b - M x|_i / (|M| |x| + |b|)_i,
@@ -13,6 +13,7 @@
  * diagonal by columns, then the diagonal of U. L has a unit diagonal.
  */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 typedef struct {
@@ -25,7 +26,7 @@ typedef struct {
     const int *up, *ui; /* U strictly upper: column pointers (n + 1), rows (ascending) */
 } lu_pattern;
 
-int lu_kernel_version(void) { return 6; }
+int lu_kernel_version(void) { return 7; }
 
 /* Matrices factored together by lu_factor_lanes (one SIMD lane each). */
 #define LU_W 4
@@ -438,6 +439,107 @@ int eval_history(void *fun, int nt, int n_in, const double *const *in, const lon
             res[k] = out[k] + (size_t)t * (size_t)ostride[k];
         if (f(arg, res, iw, w, 0))
             return t + 1;
+    }
+    return 0;
+}
+
+/* Min-heap of row indices (symbolic factorization: the next-smallest k of a growing column). */
+static void heap_push(int *h, int *size, int v)
+{
+    int i = (*size)++;
+    while (i > 0) {
+        int parent = (i - 1) / 2;
+        if (h[parent] <= v)
+            break;
+        h[i] = h[parent];
+        i = parent;
+    }
+    h[i] = v;
+}
+
+static int heap_pop(int *h, int *size)
+{
+    int top = h[0], v = h[--(*size)], i = 0, n = *size;
+    for (;;) {
+        int c = 2 * i + 1;
+        if (c >= n)
+            break;
+        if (c + 1 < n && h[c + 1] < h[c])
+            ++c;
+        if (v <= h[c])
+            break;
+        h[i] = h[c];
+        i = c;
+    }
+    if (n > 0)
+        h[i] = v;
+    return top;
+}
+
+static int cmp_int(const void *a, const void *b)
+{
+    int x = *(const int *)a, y = *(const int *)b;
+    return (x > y) - (x < y);
+}
+
+/* Column structures of unit-lower L (strictly below the diagonal) and U (strictly above) of the
+ * CSC pattern (indptr, prow) of the row-permuted matrix P A, no further pivoting (the symbolic
+ * step of the left-looking LU of Gilbert & Peierls 1988): column j of L + U is A(:, j) closed under
+ * "row k < j present => rows of L(:, k) present", k taken in increasing order (a min-heap), which
+ * is also the order in which the numeric factorization applies the columns of L. Writes
+ * lp/up (n + 1) and li/ui (rows of L ascending, of U ascending) up to cap_l/cap_u entries.
+ * work: 3 n ints (heap, marks, column of L). Returns 0; 1 when a capacity is too small (the
+ * needed sizes are not known: the caller grows them and calls again); -1 - j when column j has a
+ * structurally zero pivot. */
+int lu_symbolic(int n, const int *indptr, const int *prow, int *lp, int *li, int cap_l,
+                int *up, int *ui, int cap_u, int *work)
+{
+    int *heap = work, *mark = work + n, *low = work + 2 * n;
+    int nl = 0, nu = 0;
+    for (int i = 0; i < n; ++i)
+        mark[i] = -1;
+    lp[0] = up[0] = 0;
+    for (int j = 0; j < n; ++j) {
+        int hs = 0, nlow = 0, diag = 0;
+        for (int k = indptr[j]; k < indptr[j + 1]; ++k) {
+            int i = prow[k];
+            if (mark[i] == j)
+                continue;
+            mark[i] = j;
+            if (i < j)
+                heap_push(heap, &hs, i);
+            else if (i > j)
+                low[nlow++] = i;
+            else
+                diag = 1;
+        }
+        while (hs > 0) {
+            int k = heap_pop(heap, &hs);
+            if (nu >= cap_u)
+                return 1;
+            ui[nu++] = k;
+            for (int t = lp[k]; t < lp[k + 1]; ++t) {
+                int i = li[t];
+                if (mark[i] == j)
+                    continue;
+                mark[i] = j;
+                if (i < j)
+                    heap_push(heap, &hs, i);
+                else if (i > j)
+                    low[nlow++] = i;
+                else
+                    diag = 1;
+            }
+        }
+        if (!diag)
+            return -1 - j;
+        if (nl + nlow > cap_l)
+            return 1;
+        qsort(low, (size_t)nlow, sizeof(int), cmp_int);
+        memcpy(li + nl, low, (size_t)nlow * sizeof(int));
+        nl += nlow;
+        lp[j + 1] = nl;
+        up[j + 1] = nu;
     }
     return 0;
 }

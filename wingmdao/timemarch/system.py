@@ -336,6 +336,15 @@ class CasadiResidualSystem(ResidualSystem):
         inputs in its buffers (the BDF march); call its ``refresh()`` and ``jit.count()``."""
         return self._fast_R
 
+    def count_march_steps(self, n_steps: int) -> None:
+        """Record a march of ``n_steps`` BDF steps towards the compile threshold of the residual and
+        Newton-matrix functions: the compiled march (:mod:`wingmdao.timemarch.fast_step`) uses
+        both at every step, but the Python march evaluates the Newton matrix only when modified
+        Newton refactors (a few times per march), so counting evaluations alone left a system
+        that is only marched (the coupled aeroelastic beam) interpreted for good."""
+        for call in (self._fast_R, self._fast_newton):
+            call.jit.count(int(n_steps))
+
     def compiled_step_functions(self):
         """``(residual JitFunction, Newton JitFunction, rows, indptr)`` of the Newton-matrix CSC
         pattern when both functions are compiled libraries, else None: the entry points of the
