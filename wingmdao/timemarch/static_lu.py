@@ -11,7 +11,7 @@ pattern and change slowly from step to step, but SuperLU redoes its whole analys
    natural column order, which is banded for node-major systems);
 2. *symbolic factorization* of ``P A`` (left-looking, Gilbert-Peierls: the structure of column j
    of L and U is the reach of A(:, j) in the graph of L), in the C kernel (``lu_symbolic``,
-   0.1 ms for the coupled aeroelastic beam; :func:`symbolic_lu` is the Python reference, 0.2 s:
+   0.7 ms for the coupled aeroelastic beam; :func:`symbolic_lu` is the Python reference, 0.17 s:
    a coupled sizing, whose pivot order changes from design to design, spent 5 s in it);
 3. *numeric factorization, triangular solves and backward errors* in one hand-written C file
    (``lu_kernel.c``), compiled once per machine (:mod:`wingmdao.utils.c_library`) and driven by
@@ -137,7 +137,7 @@ def symbolic_lu(n, rows, indptr):
 
 
 def symbolic_lu_compiled(lib, n, rows, indptr):
-    """:func:`symbolic_lu` in the C kernel (``lu_symbolic``, ~1000x faster: 0.2 s -> 0.1 ms for
+    """:func:`symbolic_lu` in the C kernel (``lu_symbolic``, ~250x faster: 0.17 s -> 0.7 ms for
     the 441-unknown coupled aeroelastic beam): ``(lp, li, up, ui)`` int32 arrays, the column
     pointers and rows of L (below the diagonal, ascending) and U (above, ascending)."""
     n = int(n)
