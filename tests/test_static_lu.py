@@ -382,3 +382,71 @@ def test_new_nonzeros_found_in_the_assembly_pass_grow_the_pattern(kernel_on):
     assert again.m_rows.size == grown.m_rows.size
     g = np.random.default_rng(4).standard_normal(X.shape)
     np.testing.assert_allclose(grown.solve_adjoint(g), ref.solve_adjoint(g), rtol=1e-9, atol=1e-10)
+
+
+@needs_gcc
+def test_a_column_order_gives_the_same_solutions(kernel_on):
+    """P A Q = L U with a random column order Q: solves (A and A^T) equal SciPy's."""
+    base, mats = _family(n=40, seed=11)
+    q = np.random.default_rng(5).permutation(40)
+    slu = StaticPivotLU(40, base.indices, base.indptr, mats[0].data, col_order=q)
+    assert np.array_equal(slu.col_order, q)
+    rng = np.random.default_rng(6)
+    for m, f in zip(mats, slu.factor_many(np.array([m.data for m in mats]))):
+        b = rng.standard_normal(40)
+        for trans, mat in (("N", m), ("T", m.T.tocsc())):
+            x, _, berr = slu.solve(f, m.data, b, trans)
+            if berr > 1e-12:       # static pivots: refine once, as the sweeps do
+                x = x + slu.solve(f, m.data, b - mat @ x, trans)[0]
+            np.testing.assert_allclose(x, spla.spsolve(mat, b), rtol=1e-8, atol=1e-10)
+    with pytest.raises(ValueError, match="permutation of 0..39"):
+        StaticPivotLU(40, base.indices, base.indptr, mats[0].data, col_order=np.zeros(40, int))
+
+
+def _aeroelastic_history(plunge, n=6, n_time=40):
+    """A 1-cos gust history of the coupled aeroelastic beam (clamped, or free plunge + trim)."""
+    from wingmdao.aero import aero_parameters, cached_aeroelastic_system
+    from wingmdao.beam.static import beam_forcing, beam_parameters, straight_beam
+    from wingmdao.timemarch.system import layout, pack
+
+    r0, th0 = straight_beam(n, 6.0)
+    bp = beam_parameters(r0, th0, EI_cc=2e5, GJ=1e5, EI_nn=2e6, EA=1e8, mass_per_length=5.0)
+    ap = aero_parameters(n, chord=1.0, ref_point=0.4, airspeed=30.0, density=1.2)
+    s = cached_aeroelastic_system(n, plunge=plunge, trim=plunge)
+    vals = {**bp, **ap}
+    qd = beam_forcing(n)
+    qd.update(gust_velocity=np.zeros(n), frame_velocity=np.zeros(3), frame_velocity_rate=np.zeros(3))
+    t = np.arange(n_time) * 0.005
+    if plunge:
+        vals.update(body_mass=200.0, trim_lift=(200.0 + 2 * 30.0) * 9.81)
+        qd.update(gravity=np.array([0.0, 0.0, -9.81]), trim_active=np.ones(1))
+    p = pack(s.param_specs, vals)
+    Q = np.tile(pack(s.forcing_specs, qd), (n_time, 1))
+    ql = layout(s.forcing_specs)
+    Q[:, ql["gust_velocity"]] = (1.0 - np.cos(2 * np.pi * t / t[-1]))[:, None]
+    if plunge:
+        Q[1:, ql["trim_active"]] = 0.0
+    return s, t, march(s, t, p, Q).states, p, Q
+
+
+@needs_gcc
+@pytest.mark.parametrize("plunge", [False, True])
+def test_coupled_sweeps_with_the_stored_column_order_equal_superlu(plunge, kernel_on):
+    """The aeroelastic system's LU column order (wingmdao.aero.system.LU_NODE_ORDER): the static
+    sweeps equal the SuperLU ones, and the order saves at least a third of the factorization's
+    multiply-adds against the natural order (half at 20 nodes, benchmarks/lu_column_order.py)."""
+    s, t, X, p, Q = _aeroelastic_history(plunge)
+    ref = LinearizedHistory(s, t, X, p, Q, lu="superlu")
+    lin = LinearizedHistory(s, t, X, p, Q, lu="static")
+    rng = np.random.default_rng(2)
+    g = rng.standard_normal(X.shape)
+    for sweep in ("solve_adjoint", "solve_tangent"):
+        a, b = getattr(lin, sweep)(g), getattr(ref, sweep)(g)
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-10 * np.max(np.abs(b)))
+    assert lin.static_stats["fallback"] == 0
+    slu = lin._static_lu()
+    assert slu is not None and np.array_equal(slu.col_order, s.lu_column_order())
+    a_mid = ref.newton_matrix(len(t) // 2).tocsc()
+    a_mid.sort_indices()
+    args = (s.n_state, a_mid.indices, a_mid.indptr, a_mid.data)
+    assert static_lu.factorization_work(*args, s.lu_column_order()) < 0.67 * static_lu.factorization_work(*args)

@@ -476,7 +476,8 @@ class LinearizedHistory:
         if self._static is None and self.lu_method == "static":
             mid = self.n_time // 2
             ref = self._block_at(mid)
-            slu = static_lu.for_pattern(self.n_state, self.m_rows, self.m_indptr, ref.m_data[ref.row(mid)])
+            slu = static_lu.for_pattern(self.n_state, self.m_rows, self.m_indptr, ref.m_data[ref.row(mid)],
+                                        self.system.lu_column_order())
             if slu is None:
                 self.lu_method = "superlu"
                 return None

@@ -10,7 +10,8 @@
  * step) when still above. Indices are int32, values double, arrays C-contiguous.
  *
  * Factor layout (n_lu = nl + nu + n doubles): L below the diagonal by columns, U above the
- * diagonal by columns, then the diagonal of U. L has a unit diagonal.
+ * diagonal by columns, then the diagonal of U. L has a unit diagonal. P A Q = L U: the column
+ * order Q (qcol) is a fill-reducing order given by the caller (identity: natural order).
  */
 #include <math.h>
 #include <stdlib.h>
@@ -24,9 +25,10 @@ typedef struct {
     const int *perm;    /* n: row i of A is row perm[i] of P A */
     const int *lp, *li; /* L strictly lower: column pointers (n + 1), rows */
     const int *up, *ui; /* U strictly upper: column pointers (n + 1), rows (ascending) */
+    const int *qcol;    /* n: column j of P A Q is column qcol[j] of A (fill-reducing order) */
 } lu_pattern;
 
-int lu_kernel_version(void) { return 7; }
+int lu_kernel_version(void) { return 8; }
 
 /* Matrices factored together by lu_factor_lanes (one SIMD lane each). */
 #define LU_W 4
@@ -44,7 +46,8 @@ static void lu_factor_lanes(const lu_pattern *p, int nw, const double *const *a,
     const int n = p->n, nl = p->lp[n], nu = p->up[n], nlu = nl + nu + n;
     lu_v4 *X = (lu_v4 *)xw, *L = (lu_v4 *)fw, *U = L + nl, *D = U + nu;
     for (int j = 0; j < n; ++j) {
-        for (int k = p->indptr[j]; k < p->indptr[j + 1]; ++k) {
+        const int c = p->qcol[j];
+        for (int k = p->indptr[c]; k < p->indptr[c + 1]; ++k) {
             lu_v4 v;
             for (int w = 0; w < LU_W; ++w)
                 v[w] = a[w < nw ? w : 0][k];
@@ -96,7 +99,7 @@ void lu_solve(const lu_pattern *p, const double *f, double *x, int trans, double
     const int n = p->n, nl = p->lp[n], nu = p->up[n];
     const double *L = f, *U = f + nl, *D = U + nu;
     double *y = work;
-    if (!trans) {           /* L U y = P b, x = y */
+    if (!trans) {           /* L U y = P b, x = Q y */
         for (int i = 0; i < n; ++i)
             y[p->perm[i]] = x[i];
         for (int j = 0; j < n; ++j) {
@@ -112,10 +115,11 @@ void lu_solve(const lu_pattern *p, const double *f, double *x, int trans, double
                 for (int t = p->up[j]; t < p->up[j + 1]; ++t)
                     y[p->ui[t]] -= U[t] * yj;
         }
-        memcpy(x, y, (size_t)n * sizeof(double));
-    } else {                /* U^T z = b, L^T w = z, x = P^T w */
+        for (int j = 0; j < n; ++j)
+            x[p->qcol[j]] = y[j];
+    } else {                /* U^T z = Q^T b, L^T w = z, x = P^T w */
         for (int j = 0; j < n; ++j) {
-            double s = x[j];
+            double s = x[p->qcol[j]];
             for (int t = p->up[j]; t < p->up[j + 1]; ++t)
                 s -= U[t] * y[p->ui[t]];
             y[j] = s / D[j];

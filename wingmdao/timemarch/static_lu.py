@@ -55,7 +55,8 @@ _I = ctypes.c_int
 
 
 class _Pattern(ctypes.Structure):
-    _fields_ = [("n", _I), ("nnz", _I)] + [(k, _P) for k in ("indptr", "rows", "prow", "perm", "lp", "li", "up", "ui")]
+    _fields_ = [("n", _I), ("nnz", _I)] + [(k, _P) for k in ("indptr", "rows", "prow", "perm", "lp", "li", "up", "ui",
+                                                            "qcol")]
 
 
 class _Sweep(ctypes.Structure):
@@ -157,11 +158,77 @@ def symbolic_lu_compiled(lib, n, rows, indptr):
         cap = min(4 * cap, n * n)
 
 
-def pivot_order(n, rows, indptr, reference) -> np.ndarray:
-    """SuperLU's row permutation (partial pivoting, natural column order) of the reference
-    matrix: row i of A is row ``perm_r[i]`` of ``P A``. Raises RuntimeError when singular."""
+def pivot_order(n, rows, indptr, reference, col_order=None) -> np.ndarray:
+    """SuperLU's row permutation (partial pivoting) of the reference matrix with its columns in
+    ``col_order`` (None: natural): row i of A is row ``perm_r[i]`` of ``P A Q``. Raises
+    RuntimeError when singular."""
     ref = sp.csc_matrix((np.asarray(reference, dtype=float), rows, indptr), shape=(n, n))
+    if col_order is not None:
+        ref = ref[:, np.asarray(col_order)]
     return np.asarray(spla.splu(ref, permc_spec="NATURAL").perm_r, dtype=int)
+
+
+def permuted_columns(indptr, col_order):
+    """``(indptr_q, take)`` of the CSC pattern with its columns in ``col_order``: column j of the
+    permuted pattern holds the nonzeros ``take[indptr_q[j]:indptr_q[j + 1]]`` of the original."""
+    indptr = np.asarray(indptr, dtype=np.int64)
+    q = np.asarray(col_order, dtype=np.int64)
+    counts = indptr[q + 1] - indptr[q]
+    indptr_q = np.concatenate([[0], np.cumsum(counts)])
+    take = np.repeat(indptr[q] - indptr_q[:-1], counts) + np.arange(indptr_q[-1])
+    return indptr_q, take
+
+
+def factorization_work(n, rows, indptr, reference, col_order=None) -> int:
+    """Multiply-adds of one numeric factorization ``P A Q = L U`` with the pivots of ``reference``
+    (``sum_j sum_{k in U(:, j)} |L(:, k)|``, what :class:`StaticPivotLU` spends per matrix)."""
+    lib = kernel()
+    if lib is None:
+        raise RuntimeError("the static-pivot LU kernel is not compiled (WINGMDAO_JIT=0 or no gcc)")
+    q = np.arange(int(n)) if col_order is None else check_column_order(int(n), col_order)
+    perm = pivot_order(int(n), np.asarray(rows), np.asarray(indptr), reference, q)
+    indptr_q, take = permuted_columns(indptr, q)
+    lp, _, up, ui = symbolic_lu_compiled(lib, int(n), perm[np.asarray(rows)][take], indptr_q)
+    return int(np.diff(lp)[ui].sum())
+
+
+def block_column_order(local, block, n):
+    """The column order that orders the unknowns of every full block of ``block`` consecutive
+    unknowns (a node of a node-major system) by the within-block permutation ``local``; the
+    unknowns after the last full block (body states) keep their place at the end."""
+    local = check_column_order(int(block), local)
+    n_full = int(n) // int(block)
+    return np.concatenate([local + b * int(block) for b in range(n_full)]
+                          + [np.arange(n_full * int(block), int(n))]).astype(np.int64)
+
+
+def search_block_order(n, rows, indptr, reference, block, passes=3, start=None):
+    """Within-block column order that lowers :func:`factorization_work`: greedy pairwise swaps
+    of the block-local permutation (applied to every block), first improvement, up to ``passes``
+    sweeps over the pairs. Returns ``(local, work)``. A design-time tool (seconds): its result
+    is stored as a system's ``lu_column_order`` (``benchmarks/lu_column_order.py``)."""
+    best = np.arange(block) if start is None else check_column_order(block, start)
+    work = factorization_work(n, rows, indptr, reference, block_column_order(best, block, n))
+    for _ in range(int(passes)):
+        improved = False
+        for i in range(block):
+            for j in range(i + 1, block):
+                cand = best.copy()
+                cand[i], cand[j] = cand[j], cand[i]
+                w = factorization_work(n, rows, indptr, reference, block_column_order(cand, block, n))
+                if w < work:
+                    best, work, improved = cand, w, True
+        if not improved:
+            break
+    return best, work
+
+
+def check_column_order(n, col_order) -> np.ndarray:
+    """``col_order`` as an int array, checked to be a permutation of 0..n-1 (ValueError)."""
+    q = np.asarray(col_order, dtype=np.int64).ravel()
+    if q.size != n or not np.array_equal(np.sort(q), np.arange(n)):
+        raise ValueError(f"col_order must be a permutation of 0..{n - 1} (got {q.size} entries)")
+    return q
 
 
 class StaticPivotLU:
@@ -172,11 +239,13 @@ class StaticPivotLU:
     n : size; rows, indptr : CSC pattern (sorted rows per column)
     reference : nonzero values (CSC order) from which the row pivot order is chosen
     perm_r : the row permutation itself instead of ``reference`` (see :func:`pivot_order`)
+    col_order : fill-reducing column order Q (``P A Q = L U``; None: natural), e.g. a system's
+        ``lu_column_order`` (:func:`block_column_order`)
 
     Raises RuntimeError without the compiled kernel (:func:`kernel`).
     """
 
-    def __init__(self, n, rows, indptr, reference=None, perm_r=None):
+    def __init__(self, n, rows, indptr, reference=None, perm_r=None, col_order=None):
         self.lib = kernel()
         if self.lib is None:
             raise RuntimeError("the static-pivot LU kernel is not compiled (WINGMDAO_JIT=0 or no gcc)")
@@ -184,17 +253,19 @@ class StaticPivotLU:
         self.rows = np.asarray(rows, dtype=int)
         self.indptr = np.asarray(indptr, dtype=int)
         self.nnz = self.rows.size
+        self.col_order = np.arange(self.n) if col_order is None else check_column_order(self.n, col_order)
         if perm_r is None:
-            perm_r = pivot_order(self.n, self.rows, self.indptr, reference)
-        self.perm_r = np.asarray(perm_r, dtype=int)         # row i of A is row perm_r[i] of P A
-        self.inv_perm = np.argsort(self.perm_r)               # row r of P A is row inv_perm[r] of A
+            perm_r = pivot_order(self.n, self.rows, self.indptr, reference, col_order)
+        self.perm_r = np.asarray(perm_r, dtype=int)         # row i of A is row perm_r[i] of P A Q
+        self.inv_perm = np.argsort(self.perm_r)               # row r of P A Q is row inv_perm[r] of A
         prow = self.perm_r[self.rows]
-        order = np.lexsort((prow, np.repeat(np.arange(self.n), np.diff(self.indptr))))
-        lp, li, up, ui = symbolic_lu_compiled(self.lib, self.n, prow[order], self.indptr)
+        indptr_q, take = permuted_columns(self.indptr, self.col_order)
+        lp, li, up, ui = symbolic_lu_compiled(self.lib, self.n, prow[take], indptr_q)
         self.n_lu = int(lp[-1] + up[-1] + self.n)
         # the kernel's arrays (kept alive with the structure that points to them)
         self._arrays = {"indptr": _i32(self.indptr), "rows": _i32(self.rows), "prow": _i32(prow),
-                        "perm": _i32(self.perm_r), "lp": lp, "li": li, "up": up, "ui": ui}
+                        "perm": _i32(self.perm_r), "lp": lp, "li": li, "up": up, "ui": ui,
+                        "qcol": _i32(self.col_order)}
         self._pattern = _Pattern(self.n, self.nnz, *(_ptr(self._arrays[k]) for k, _ in _Pattern._fields_[2:]))
         self._pp = ctypes.addressof(self._pattern)
         # sweeps: checked solves 4 n, the lanes' work column LANES n (zero between calls), the
@@ -208,7 +279,7 @@ class StaticPivotLU:
     def key(self) -> str:
         """Hash of the pattern and pivot order."""
         h = hashlib.sha256()
-        for arr in (self.rows, self.indptr, self.perm_r):
+        for arr in (self.rows, self.indptr, self.perm_r, self.col_order):
             h.update(np.ascontiguousarray(arr, dtype=np.int64).tobytes())
         return h.hexdigest()[:12]
 
@@ -311,24 +382,26 @@ _CACHE: dict = {}
 CACHE_SIZE = 16
 
 
-def for_pattern(n, rows, indptr, reference):
-    """The :class:`StaticPivotLU` of a pattern with the pivot order of ``reference`` (cached per
-    pattern and pivot order: a new reference with the same pivots costs one SuperLU factorization),
-    or None when the kernel is not compiled or the reference cannot be factored."""
+def for_pattern(n, rows, indptr, reference, col_order=None):
+    """The :class:`StaticPivotLU` of a pattern with the pivot order of ``reference`` and the
+    column order ``col_order`` (None: natural; cached per pattern, column and pivot order: a new
+    reference with the same pivots costs one SuperLU factorization), or None when the kernel is
+    not compiled or the reference cannot be factored."""
     if kernel() is None:
         return None
+    q = np.arange(int(n)) if col_order is None else check_column_order(int(n), col_order)
     try:
-        perm = pivot_order(int(n), np.asarray(rows), np.asarray(indptr), reference)
+        perm = pivot_order(int(n), np.asarray(rows), np.asarray(indptr), reference, q)
     except RuntimeError:     # singular reference
         return None
     h = hashlib.sha256()
-    for arr in (rows, indptr, perm):
+    for arr in (rows, indptr, perm, q):
         h.update(np.ascontiguousarray(arr, dtype=np.int64).tobytes())
     key = (int(n), h.hexdigest())
     slu = _CACHE.get(key)
     if slu is None:
         try:
-            slu = StaticPivotLU(n, rows, indptr, perm_r=perm)
+            slu = StaticPivotLU(n, rows, indptr, perm_r=perm, col_order=q)
         except ValueError:   # a structural zero pivot
             return None
         if len(_CACHE) >= CACHE_SIZE:

@@ -90,6 +90,13 @@ class ResidualSystem:
         return f"equation {index}"
 
     # ---- optional fast paths; the defaults below only use the methods above -------------
+    def lu_column_order(self):
+        """Fill-reducing column order Q of the adjoint's static-pivot LU of the Newton matrices,
+        ``P A Q = L U`` (:mod:`wingmdao.timemarch.static_lu`), an int array of the states; None:
+        natural order. Any permutation gives the same solutions (each solve is checked by its
+        backward error); a good one lowers the factorization work."""
+        return None
+
     def initial_guess(self, p, q) -> np.ndarray:
         """Starting point of a static Newton solve (zeros unless the system knows better)."""
         return np.zeros(self.n_state)
@@ -199,10 +206,11 @@ class CasadiResidualSystem(ResidualSystem):
     expression. Jacobians are exact (CasADi AD) and sparse; their patterns are fixed once.
     ``definition``: what defines the expressions (``wingmdao.utils.casadi_cache.definition_key``
     of the builder), the key of their compiled libraries; None keys them by serialization.
+    ``lu_column_order``: the column order of the adjoint's static LU (:meth:`lu_column_order`).
     """
 
     def __init__(self, x, xdot, p, q, R, *, param_specs, forcing_specs, state_shape=None,
-                 name="residual", describe=None, initial_guess=None, definition=None):
+                 name="residual", describe=None, initial_guess=None, definition=None, lu_column_order=None):
         self.n_state = int(x.numel())
         self.state_shape = tuple(state_shape) if state_shape else (self.n_state,)
         self.param_specs = list(param_specs)
@@ -219,6 +227,7 @@ class CasadiResidualSystem(ResidualSystem):
         self._dq = _SparseJacobian(self._R, R, q, args, "q")
         self._describe = describe
         self._initial_guess = initial_guess
+        self._lu_column_order = None if lu_column_order is None else np.asarray(lu_column_order, dtype=np.int64)
         # one call per Newton iteration: residual and the Newton matrix dR/dx + alpha dR/dxdot
         alpha = ca.SX.sym("alpha") if isinstance(x, ca.SX) else ca.MX.sym("alpha")
         newton = self._dx.expr + alpha * self._dxdot.expr   # the same Jacobians, not recomputed
@@ -344,6 +353,11 @@ class CasadiResidualSystem(ResidualSystem):
         that is only marched (the coupled aeroelastic beam) interpreted for good."""
         for call in (self._fast_R, self._fast_newton):
             call.jit.count(int(n_steps))
+
+    def lu_column_order(self):
+        """The ``lu_column_order`` given at construction (None: natural order); see
+        :meth:`ResidualSystem.lu_column_order`."""
+        return self.__dict__.get("_lu_column_order")
 
     def compiled_step_functions(self):
         """``(residual JitFunction, Newton JitFunction, rows, indptr)`` of the Newton-matrix CSC
