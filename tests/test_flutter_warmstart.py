@@ -170,3 +170,26 @@ def test_lazy_refinement_skips_and_second_check_catches(monkeypatch):
     for s in seq[1:]:
         assert _pegasus(s, ws2).value == pytest.approx(_pegasus(s, None).value, abs=1e-10)
     assert ws2.n_lazy_redo >= 1, ws2.reasons
+
+
+def test_distance_is_the_largest_relative_block_change():
+    """WarmStart.distance (vectorised over the parameter blocks) equals the block-by-block
+    definition: max over blocks of max|p - ph| / max|ph|, blocks with max|ph| = 0 left out."""
+    from wingmdao.timemarch.system import layout
+
+    prob = flutter_problem("goland", 5)
+    system = prob.system
+    rng = np.random.default_rng(3)
+    ph = rng.standard_normal(system.n_param)
+    lay = layout(system.param_specs)
+    first = next(sl for sl in lay.values() if sl.stop > sl.start)
+    ph[first] = 0.0                      # a zero block: no scale, not counted
+    for _ in range(5):
+        p = ph + rng.standard_normal(system.n_param) * rng.uniform(0.01, 1.0)
+        ref = 0.0
+        for sl in lay.values():
+            scale = float(np.max(np.abs(ph[sl]), initial=0.0))
+            if scale > 0.0:
+                ref = max(ref, float(np.max(np.abs(p[sl] - ph[sl]))) / scale)
+        assert WarmStart.distance(system, p, ph) == ref
+    assert WarmStart.distance(system, ph, ph) == 0.0

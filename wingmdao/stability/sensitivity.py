@@ -339,14 +339,13 @@ class WarmStart:
     def distance(system, p, ph):
         """Largest relative change of a parameter block between ``ph`` and ``p`` (max-norm over
         the block / its largest entry in ``ph``)."""
-        from wingmdao.timemarch.system import layout
-
-        d = 0.0
-        for sl in layout(system.param_specs).values():
-            scale = float(np.max(np.abs(ph[sl]), initial=0.0))
-            if scale > 0.0:
-                d = max(d, float(np.max(np.abs(p[sl] - ph[sl]))) / scale)
-        return d
+        starts = _block_starts(system)
+        if starts.size == 0:
+            return 0.0
+        scale = np.maximum.reduceat(np.abs(ph), starts)
+        diff = np.maximum.reduceat(np.abs(np.asarray(p) - ph), starts)
+        ok = scale > 0.0
+        return float(np.max(diff[ok] / scale[ok], initial=0.0))
 
     def step_too_large(self, system, p_list):
         """True when ``max_step`` is set and some parameter block moved by more than ``max_step``
@@ -361,6 +360,21 @@ class WarmStart:
                 if np.max(np.abs(p[sl] - pc[sl]), initial=0.0) > self.max_step * scale + 1e-9:  # 1e-9: round-off of zero blocks (SI)
                     return True
         return False
+
+
+_BLOCK_STARTS: dict = {}
+
+
+def _block_starts(system) -> np.ndarray:
+    """Start index of every non-empty parameter block of ``system`` (for ``np.maximum.reduceat``)."""
+    key = id(system)
+    hit = _BLOCK_STARTS.get(key)
+    if hit is None or hit[0] is not system:
+        from wingmdao.timemarch.system import layout
+
+        starts = np.array([sl.start for sl in layout(system.param_specs).values() if sl.stop > sl.start], dtype=np.intp)
+        hit = _BLOCK_STARTS[key] = (system, starts)
+    return hit[1]
 
 
 #: a warm-started mode whose KS exponent rho (g - g_max) is below -this (weight < 4e-18) of the
