@@ -377,14 +377,10 @@ def _mapped(fun, m):
 
 
 def _digest(inputs) -> tuple:
-    """Identity of an input point: per variable its name, shape and a BLAKE2b digest of its bytes."""
-    import hashlib
+    """Identity of an input point: per variable its name and :func:`~wingmdao.utils.digest.array_digest`."""
+    from wingmdao.utils.digest import array_digest
 
-    out = []
-    for k, v in inputs.items():
-        a = np.ascontiguousarray(v)
-        out.append((k, a.shape, a.dtype.str, hashlib.blake2b(a.reshape(-1).view(np.uint8), digest_size=16).digest()))
-    return tuple(out)
+    return tuple((k, array_digest(v)) for k, v in inputs.items())
 
 
 def _scatter(index, size):
