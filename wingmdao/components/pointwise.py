@@ -420,7 +420,7 @@ POINTWISE_MATRIX_FREE_ABOVE = 2_000_000
 #: ``POINT_CHUNK``: points per evaluation of a pointwise function (grids above it are evaluated
 #: in chunks of this many points; read at setup).
 POINTWISE_JAC_CACHE_BYTES = 64e6
-POINT_CHUNK = 4096
+POINT_CHUNK = 1024
 
 #: Calls of a pointwise component's function (or Jacobian) after which it is compiled.
 POINT_JIT_THRESHOLD = 10
