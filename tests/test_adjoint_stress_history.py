@@ -86,9 +86,9 @@ def test_forward_and_reverse_mode_agree(derivatives):
 
 def test_memory_lean_chain_gives_the_same_totals(monkeypatch):
     """Checkpointed beam adjoint (Jacobians re-evaluated 30 steps at a time) and matrix-free
-    pointwise internal loads and stresses (Jacobians re-evaluated in chunks of 500 points): the KS
-    totals equal the default (full storage, declared partials) ones to 1e-10."""
-    from wingmdao.components import pointwise, time_history
+    pointwise internal loads and stresses (Jacobians re-evaluated in chunks of 500 points) and
+    matrix-free KS: the KS totals equal the default (full storage, declared partials) ones to 1e-10."""
+    from wingmdao.components import ks, pointwise, time_history
 
     of = [f"cases.dyn.ks_{f}" for f in FAMILIES]
     ref = _problem("rev")[0].compute_totals(of=of, wrt=list(WALL_VARS))
@@ -97,11 +97,13 @@ def test_memory_lean_chain_gives_the_same_totals(monkeypatch):
     monkeypatch.setattr(pointwise, "POINTWISE_MATRIX_FREE_ABOVE", 0)
     monkeypatch.setattr(pointwise, "POINTWISE_JAC_CACHE_BYTES", 0.0)
     monkeypatch.setattr(pointwise, "POINT_CHUNK", 500)
+    monkeypatch.setattr(ks, "KS_MATRIX_FREE_ABOVE", 0)
     prob, _ = _problem("rev")
     beam = next(s for s in prob.model.system_iter(recurse=True) if isinstance(s, time_history.TimeHistoryComponent))
     assert beam.checkpoint_every is not None and beam.checkpoint_every < N_STEPS
     stress = [s for s in prob.model.system_iter(recurse=True) if isinstance(s, pointwise.PointwiseCasadiComponent)]
     assert stress and all(s.matrix_free for s in stress if s.num_points >= N_STEPS)
+    assert all(s.matrix_free for s in prob.model.system_iter(recurse=True) if isinstance(s, ks.KSAggregate))
     lean = prob.compute_totals(of=of, wrt=list(WALL_VARS))
     for key, val in ref.items():
         np.testing.assert_allclose(lean[key], val, rtol=1e-10, atol=1e-10 * np.max(np.abs(val)), err_msg=str(key))

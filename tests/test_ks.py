@@ -105,3 +105,29 @@ def test_partials_at_a_changed_input_without_compute():
         comp.compute_partials({"g_vm": g}, partials)
         w = np.exp(30.0 * (g - g.max()))
         np.testing.assert_allclose(partials["ks_vm", "g_vm"], w / w.sum(), rtol=1e-12)
+
+
+@pytest.mark.parametrize("mode", ["fwd", "rev"])
+def test_matrix_free_equals_declared_partials(mode):
+    """matrix_free=True (products with the softmax weights, no declared rows/columns; the default
+    above KS_MATRIX_FREE_ABOVE entries): check_partials, and totals equal to the declared ones."""
+    import openmdao.api as om
+
+    rng = np.random.default_rng(5)
+    vals = {"vm": rng.uniform(-1.5, 0.5, (6, 5, 4)), "ss_tension": rng.uniform(-3.0, 1.0, (7, 3))}
+    totals = {}
+    for mf in (False, True):
+        prob = om.Problem(reports=False)
+        prob.model.add_subsystem("ks", KSAggregate(families={k: v.shape for k, v in vals.items()}, rho_ks=40.0,
+                                                   matrix_free=mf), promotes=["*"])
+        prob.setup(mode=mode)
+        for k, v in vals.items():
+            prob.set_val(f"g_{k}", v)
+        prob.run_model()
+        assert prob.model.ks.matrix_free is mf
+        if mf:
+            data = prob.check_partials(method="fd", form="central", step=1e-7, out_stream=None)
+            assert_check_partials(data, atol=1e-7, rtol=1e-6)
+        totals[mf] = prob.compute_totals(of=["ks_vm", "ks_ss_tension"], wrt=["g_vm", "g_ss_tension"])
+    for key, ref in totals[False].items():
+        np.testing.assert_allclose(totals[True][key], ref, rtol=1e-14, atol=1e-16, err_msg=str(key))

@@ -4,27 +4,38 @@ import numpy as np
 import pytest
 
 from wingmdao.groups.load_case import LoadCase
-from wingmdao.limits import (BASE_BYTES, BYTES_PER_NODE_STEP, PER_CASE_BYTES, check_memory, estimate_bytes,
-                             march_progress)
+from wingmdao.limits import (BASE_BYTES, BYTES_PER_NODE_STEP, BYTES_PER_NODE_STEP_CHECKPOINTED, PER_CASE_BYTES,
+                             check_memory, estimate_bytes, fitting_steps, full_storage_steps, march_progress)
 
 
-def test_estimate_is_linear_in_nodes_and_steps():
+def test_estimate_is_piecewise_linear_in_steps_and_covers_the_measurements():
     assert estimate_bytes(20, [1, 1]) == BASE_BYTES + 2 * PER_CASE_BYTES  # static cases: no history
-    assert estimate_bytes(20, [4001]) == pytest.approx(BASE_BYTES + PER_CASE_BYTES + BYTES_PER_NODE_STEP * 20 * 4001)
-    # the benchmark's 20-node peaks (360 MB at 251 steps, 601 MB at 1001, 1806 MB at 4001) lie under it
-    assert estimate_bytes(20, [251]) > 360e6 and estimate_bytes(20, [1001]) > 601e6
-    assert estimate_bytes(20, [4001]) > 1806e6
+    full = full_storage_steps(20)
+    assert 1000 < full < 1100   # 200 MB of blocks at 188 kB per step
+    assert estimate_bytes(20, [4001]) == pytest.approx(BASE_BYTES + PER_CASE_BYTES + 20 * (
+        BYTES_PER_NODE_STEP * full + BYTES_PER_NODE_STEP_CHECKPOINTED * (4001 - full)))
+    # the benchmark's 20-node peaks (2026-12-03: 228 MB at 251 steps, 374 MB at 1001, 645 MB at
+    # 4001) lie under it, by at most 45 %
+    for steps, peak in ((251, 228e6), (1001, 374e6), (4001, 645e6)):
+        assert peak < estimate_bytes(20, [steps]) < 1.45 * peak
     # 1-3 gusts of 101 steps over 14 design points: 287, 357, 426 MB (bench_envelope.py, docs/gust-envelope.md)
     assert estimate_bytes(20, [101]) > 287e6 and estimate_bytes(20, [101] * 3) > 426e6
+
+
+def test_fitting_steps_is_the_largest_that_fits():
+    for avail in (0.5e9, 0.8e9, 1.2e9, 3e9):
+        fit = fitting_steps(20, 3, 2, avail)
+        assert estimate_bytes(20, [1, fit, fit]) <= avail < estimate_bytes(20, [1, fit + 1, fit + 1])
 
 
 def test_too_long_march_fails_before_it_starts_with_largest_fitting_steps(monkeypatch):
     monkeypatch.delenv("WINGMDAO_SKIP_MEMORY_CHECK", raising=False)
     cases = [LoadCase("m"), LoadCase("g1", np.arange(4001) * 1e-3), LoadCase("g2", np.arange(4001) * 1e-3)]
     avail = 1.2e9
-    fit = int((avail - BASE_BYTES - 3 * PER_CASE_BYTES) / (BYTES_PER_NODE_STEP * 20 * 2))  # 739 steps per case
-    with pytest.raises(ValueError, match=rf"need an estimated 4331 MB .* 1200 MB available; the largest step "
-                                         rf"count that fits is {fit} steps per dynamic case"):
+    fit = fitting_steps(20, 3, 2, avail)
+    need = estimate_bytes(20, [1, 4001, 4001])
+    with pytest.raises(ValueError, match=rf"need an estimated {need / 1e6:.0f} MB .* 1200 MB available; the largest "
+                                         rf"step count that fits is {fit} steps per dynamic case"):
         check_memory(cases, 20, available=avail)
     assert check_memory(cases[:1], 20, available=avail) == BASE_BYTES + PER_CASE_BYTES
     short = [LoadCase("g", np.arange(fit) * 1e-3)] * 2
@@ -40,7 +51,8 @@ def test_cli_memory_limit_error(monkeypatch, capsys):
                "--analysis-only"])
     assert rc != 0
     err = capsys.readouterr().err
-    assert "500 MB available" in err and "largest step count that fits is 145 steps" in err
+    fit = fitting_steps(20, 1, 1, 500e6)   # 1237 steps (was 145 with the 2026-12-02 estimate)
+    assert "500 MB available" in err and f"largest step count that fits is {fit} steps" in err
 
 
 def test_progress_of_long_marches(monkeypatch, capsys):

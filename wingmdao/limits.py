@@ -2,14 +2,17 @@
 
 A dynamic load case stores, per time step, the states and the linearization the discrete
 adjoint sweep needs (residual Jacobian blocks, parameter and forcing partials) plus the stress
-history. Measured with ``benchmarks/bench_envelope.py rss`` (one PEGASUS gust case, 20 nodes,
-forward march + adjoint totals, peak RSS, this machine): with full storage 360 MB at 251 steps,
-601 MB at 1001, 1806 MB at 4001, i.e. 16.5-20.1 kB per node and time step; the default
-(checkpointed adjoint above 200 MB of blocks) 298 MB at 251, 581 MB at 1001, 787 MB at 4001
-(at most 18.9 kB per node-step, below ~1060 steps where every block is kept). Each case also
-costs a fixed part (its CasADi functions, OpenMDAO variables): 1, 2, 3 gusts of 101 steps over
-14 design points peaked at 287, 357, 426 MB (~70 MB per case). :func:`estimate_bytes` uses a
-400 MB base, 30 MB per case and 24 kB per node-step, above every measurement.
+history. Up to the adjoint budget (``time_history.ADJOINT_MEMORY_MB``, 200 MB: ~1060 steps of a
+20-node beam at 188 kB of blocks per step) every block is kept; longer histories are checkpointed
+(segments re-evaluated in every sweep), so a step costs about half as much beyond that point.
+Measured with ``benchmarks/bench_envelope.py rss`` (one PEGASUS gust case, 20 nodes, forward
+march + adjoint totals, peak RSS, this machine, 2026-12-03): 228 MB at 251 steps, 374 MB at 1001,
+645 MB at 4001, i.e. 9.7 kB per node-step up to 1001 steps and 4.5 kB per node-step beyond.
+Each case also costs a fixed part (its CasADi functions, OpenMDAO variables): 1, 2, 3 gusts of
+101 steps over 14 design points peaked at 287, 357, 426 MB (~70 MB per case, before the
+2026-12-03 memory work). :func:`estimate_bytes` uses a 220 MB base, 50 MB per case,
+10 kB per node-step up to the full-storage limit and 5 kB per node-step beyond, above every
+measurement (by 5-45 %).
 
 :func:`check_memory` raises a ValueError with the estimate and the largest step count that fits
 when the load cases of this process would exceed the memory it can have: MemAvailable of
@@ -25,13 +28,35 @@ import os
 import sys
 import time
 
-BYTES_PER_NODE_STEP = 24e3
-BASE_BYTES = 400e6
+#: per node and time step of a history kept in full storage (states, OpenMDAO vectors, every
+#: Jacobian block), and beyond the full-storage limit (checkpointed adjoint)
+BYTES_PER_NODE_STEP = 10e3
+BYTES_PER_NODE_STEP_CHECKPOINTED = 5e3
+#: Jacobian blocks of the adjoint per node and step (188 kB per step of the 20-node beam): with
+#: ``time_history.ADJOINT_MEMORY_MB`` they set the step count up to which every block is kept
+BLOCK_BYTES_PER_NODE_STEP = 9.4e3
+BASE_BYTES = 220e6
 #: per load case, static ones included (its CasADi section/stress/internal-load functions, the
 #: OpenMDAO variables that do not grow with the steps): 1-3 gust cases of 101 steps took ~70 MB each
-#: over 14 design points, 48 MB of which the per-step term covers
-PER_CASE_BYTES = 30e6
+#: over 14 design points, 20 MB of which the per-step term covers
+PER_CASE_BYTES = 50e6
 PROGRESS_STEPS = 2000
+
+
+def full_storage_steps(num_nodes: int) -> int:
+    """Steps up to which a history keeps every Jacobian block (the adjoint budget of
+    :mod:`wingmdao.components.time_history` over :data:`BLOCK_BYTES_PER_NODE_STEP`)."""
+    from wingmdao.components.time_history import ADJOINT_MEMORY_MB
+
+    return int(ADJOINT_MEMORY_MB * 1e6 // (BLOCK_BYTES_PER_NODE_STEP * max(int(num_nodes), 1)))
+
+
+def history_bytes(num_nodes: int, steps: int) -> float:
+    """Bytes of one dynamic case of ``steps`` time steps beyond its fixed part: full-storage rate
+    up to :func:`full_storage_steps`, the checkpointed rate beyond."""
+    full = full_storage_steps(num_nodes)
+    return num_nodes * (BYTES_PER_NODE_STEP * min(steps, full)
+                        + BYTES_PER_NODE_STEP_CHECKPOINTED * max(steps - full, 0))
 
 
 def estimate_bytes(num_nodes: int, steps) -> float:
@@ -39,7 +64,16 @@ def estimate_bytes(num_nodes: int, steps) -> float:
     (1: a static case)."""
     steps = [int(s) for s in steps]
     return (BASE_BYTES + PER_CASE_BYTES * len(steps)
-            + BYTES_PER_NODE_STEP * num_nodes * float(sum(s for s in steps if s > 1)))
+            + sum(history_bytes(num_nodes, s) for s in steps if s > 1))
+
+
+def fitting_steps(num_nodes: int, num_cases: int, num_dynamic: int, available: float) -> int:
+    """Largest step count per dynamic case whose :func:`estimate_bytes` fits ``available``."""
+    per_case = (available - BASE_BYTES - PER_CASE_BYTES * num_cases) / max(num_dynamic, 1)
+    full = full_storage_steps(num_nodes)
+    if per_case <= history_bytes(num_nodes, full):
+        return int(per_case // (BYTES_PER_NODE_STEP * num_nodes))
+    return full + int((per_case - history_bytes(num_nodes, full)) // (BYTES_PER_NODE_STEP_CHECKPOINTED * num_nodes))
 
 
 def _meminfo_available() -> float | None:
@@ -96,14 +130,14 @@ def check_memory(load_cases, num_nodes: int, available: float | None = None) -> 
     if avail is None or need <= avail:
         return need
     dynamic = [s for s in steps if s > 1]
-    fit = int((avail - BASE_BYTES - PER_CASE_BYTES * len(steps))
-              / (BYTES_PER_NODE_STEP * num_nodes * max(len(dynamic), 1)))
+    fit = fitting_steps(num_nodes, len(steps), len(dynamic), avail)
     hint = (f"the largest step count that fits is {fit} steps per dynamic case" if fit > 1 else
             "even one step per case does not fit")
     raise ValueError(
         f"time histories: {len(dynamic)} dynamic case(s) x up to {max(dynamic, default=0)} steps x {num_nodes} "
         f"nodes need an estimated {need / 1e6:.0f} MB ({BASE_BYTES / 1e6:.0f} MB + {PER_CASE_BYTES / 1e6:.0f} MB "
-        f"per case + {BYTES_PER_NODE_STEP / 1e3:.0f} kB per node-step), {avail / 1e6:.0f} MB available; {hint} "
+        f"per case + {BYTES_PER_NODE_STEP / 1e3:.0f} kB per node-step up to {full_storage_steps(num_nodes)} steps, "
+        f"{BYTES_PER_NODE_STEP_CHECKPOINTED / 1e3:.0f} kB beyond), {avail / 1e6:.0f} MB available; {hint} "
         "(increase --dt, shorten --t-final, spread the cases over MPI ranks, or set WINGMDAO_MAX_MEMORY_MB)")
 
 

@@ -17,6 +17,12 @@ import numpy as np
 import openmdao.api as om
 
 from wingmdao import DISSERTATION
+from wingmdao.utils.digest import array_digest
+
+#: constraint entries (all families of a KSAggregate) above which it is matrix-free by default:
+#: declared partials keep a value, a row and a column index per entry, and OpenMDAO copies them
+#: (~10 MB for the 20-node x 4001-step PEGASUS vm history, 320 080 entries)
+KS_MATRIX_FREE_ABOVE = 100_000
 
 
 def _shifted_exp(g: np.ndarray, rho_ks: float):
@@ -78,6 +84,11 @@ class KSAggregate(om.ExplicitComponent):
             "add_constraints", default=False, types=bool,
             desc="add each ks_<family> as a constraint ks <= 0 (like om.KSComp's add_constraint)",
         )
+        self.options.declare(
+            "matrix_free", default=None, types=bool, allow_none=True,
+            desc="products with dKS/dg (compute_jacvec_product) instead of declared partials (no "
+                 "row/column arrays); None: above KS_MATRIX_FREE_ABOVE constraint entries in all",
+        )
 
     def setup(self):
         rho = self.options["rho_ks"]
@@ -85,12 +96,17 @@ class KSAggregate(om.ExplicitComponent):
             raise ValueError(f"KSAggregate: rho_ks = {rho}; allowed range (0, inf)")
         if not self.options["families"]:
             raise ValueError("KSAggregate: families is empty; give at least one {name: shape}")
-        self._terms = {}    # {family: (g, w, s)} of the last compute (see compute_partials)
+        self._terms = {}    # {family: (digest of g, w, s)} of the last compute (see compute_partials)
+        shapes = {}
         for name, shape in self.options["families"].items():
             shape = (int(shape),) if np.isscalar(shape) else tuple(int(s) for s in shape)
             size = int(np.prod(shape)) if shape else 1
             if size < 1:
                 raise ValueError(f"KSAggregate: family '{name}' has shape {shape} with no entries")
+            shapes[name] = shape, size
+        mf = self.options["matrix_free"]
+        self.matrix_free = sum(sz for _, sz in shapes.values()) > KS_MATRIX_FREE_ABOVE if mf is None else mf
+        for name, (shape, size) in shapes.items():
             self.add_input(
                 f"g_{name}", val=0.0, shape=shape, units=None,
                 desc=f"'{name}' constraint values (feasible where <= 0)",
@@ -99,9 +115,10 @@ class KSAggregate(om.ExplicitComponent):
                 f"ks_{name}", val=0.0, units=None,
                 desc=f"KS aggregate of all '{name}' constraints (space and time)",
             )
-            self.declare_partials(
-                f"ks_{name}", f"g_{name}", rows=np.zeros(size, dtype=int), cols=np.arange(size)
-            )
+            if not self.matrix_free:
+                self.declare_partials(
+                    f"ks_{name}", f"g_{name}", rows=np.zeros(size, dtype=int), cols=np.arange(size)
+                )
             if self.options["add_constraints"]:
                 self.add_constraint(f"ks_{name}", upper=0.0)
 
@@ -116,16 +133,34 @@ class KSAggregate(om.ExplicitComponent):
             # kept for compute_partials at the same g (run_model, then compute_totals): the
             # weights w / s of ks_gradient without a second exp over the family (1.5 ms of a
             # 20-node x 500-step beam gradient, 180 000 entries)
-            self._terms[name] = (g.ravel().copy(), w, s)
+            # (g recognised by its digest, wingmdao.utils.digest: no copy of the history)
+            self._terms[name] = (array_digest(g), w, s)
+
+    def _weights(self, name, inputs) -> np.ndarray:
+        """dKS/dg of family ``name``, flattened: :func:`ks_gradient`, from the terms of the last
+        ``compute`` when ``g`` is the same (bitwise the same values)."""
+        g = np.asarray(inputs[f"g_{name}"])
+        kept = self._terms.get(name)
+        if kept is not None and kept[0] == array_digest(g):
+            return kept[1] / kept[2]
+        return ks_gradient(g, self.options["rho_ks"])
 
     def compute_partials(self, inputs, partials):
-        """dKS/dg (Eq. 4.46-4.51 before the chain rule): :func:`ks_gradient`, from the terms of the
-        last ``compute`` when ``g`` is the same (bitwise the same values)."""
-        rho = self.options["rho_ks"]
+        """dKS/dg (Eq. 4.46-4.51 before the chain rule), :meth:`_weights`."""
+        if self.matrix_free:
+            return
         for name in self.options["families"]:
-            g = np.asarray(inputs[f"g_{name}"])
-            kept = self._terms.get(name)
-            if kept is not None and np.array_equal(kept[0], g.ravel()):
-                partials[f"ks_{name}", f"g_{name}"] = kept[1] / kept[2]
+            partials[f"ks_{name}", f"g_{name}"] = self._weights(name, inputs)
+
+    def compute_jacvec_product(self, inputs, d_inputs, d_outputs, mode):
+        """``matrix_free``: ``d ks = dKS/dg . d g`` ('fwd') or ``d g += d ks dKS/dg`` ('rev'), the
+        weights of :meth:`_weights` (the same values as the declared partials)."""
+        for name in self.options["families"]:
+            o, i = f"ks_{name}", f"g_{name}"
+            if o not in d_outputs or i not in d_inputs:
+                continue
+            wts = self._weights(name, inputs)
+            if mode == "fwd":
+                d_outputs[o] += np.dot(wts, np.ravel(d_inputs[i]))
             else:
-                partials[f"ks_{name}", f"g_{name}"] = ks_gradient(g, rho)
+                d_inputs[i] += (np.ravel(d_outputs[o])[0] * wts).reshape(d_inputs[i].shape)

@@ -165,8 +165,12 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
         key = self._expression_key()
         data = function_store.get(type(self).__name__, key, self._function_data)
         f, fj = data["f"], data["jac"]
-        self._f = f.map(n, "serial") if n > 1 else f
-        self._jit_f = _PointJit(f, n, definition=key)
+        #: points per evaluation: the per-point functions are mapped over this many points (all
+        #: of them up to POINT_CHUNK; longer grids are evaluated chunk by chunk, so no CasADi
+        #: function, sparsity or buffer spans the whole grid)
+        self._chunk = m = max(1, min(int(POINT_CHUNK), n))
+        self._f = _mapped(f, m)
+        self._jit_f = _PointJit(f, m, definition=key)
 
         self._pairs = [(str(o), str(i)) for o, i in data["pairs"]]
         self._pair_patterns = []
@@ -174,7 +178,7 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
         per_point = int(ptr[-1])
         mf = self.options["matrix_free"]
         self.matrix_free = bool(per_point * n > POINTWISE_MATRIX_FREE_ABOVE) if mf is None else mf
-        self._jac_point, self._jac_values, self._chunk_maps = None, None, {}
+        self._jac_point, self._jac_values = None, None
         self._fast_calls = {}  # role -> FastCall of the current mapped function (_evaluate)
         self._jac_bytes = 8.0 * per_point * n
         self._shared = {v.name: v.per_last_axis for v in self._in_vars}
@@ -191,8 +195,8 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
             rows = (pts * sizes[oname] + r[None, :]).ravel()
             cols = (src * sizes[iname] + c[None, :]).ravel()
             self.declare_partials(oname, iname, rows=rows, cols=cols)
-        self._fjac = fj.map(n, "serial") if n > 1 else fj
-        self._jit_fjac = _PointJit(fj, n, definition=key)
+        self._fjac = _mapped(fj, m)
+        self._jit_fjac = _PointJit(fj, m, definition=key)
 
     def _stacked_inputs(self, inputs):
         n = self.num_points
@@ -268,14 +272,41 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
         except ValueError as exc:  # inside a solve: also an AnalysisError, so drivers back off
             raise InputRangeError(str(exc)) from None
         self._f = self._jit_f.update(self._f)
-        for v, val in zip(self._out_vars, self._evaluate("f", self._f, inputs)):
-            outputs[v.name] = val.reshape(outputs[v.name].shape)
+        n = self.num_points
+        if self._chunk == n:
+            for v, val in zip(self._out_vars, self._evaluate("f", self._f, inputs)):
+                outputs[v.name] = val.reshape(outputs[v.name].shape)
+            return
+        dst = [outputs[v.name].reshape(n, v.size) for v in self._out_vars]  # views of the vector
+        for p0, p1, vals in self._chunks("f", self._f, inputs):
+            for d, val in zip(dst, vals):
+                d[p0:p1] = val
+
+    def _chunks(self, role, fun, inputs):
+        """``(p0, p1, [per-output values (p1 - p0, size)])`` of ``fun`` (mapped over
+        ``self._chunk`` points) over consecutive chunks of the grid, the last one padded with
+        copies of its last point; the values are views of evaluation buffers (valid until the
+        next chunk)."""
+        n, m = self.num_points, self._chunk
+        for p0 in range(0, n, m):
+            p1 = min(p0 + m, n)
+            points = np.minimum(np.arange(p0, p0 + m), p1 - 1)
+            yield p0, p1, [v[:p1 - p0] for v in self._evaluate(role, fun, inputs, points)]
 
     def _jacobian_nonzeros(self, inputs) -> list:
         """Per-pair Jacobian nonzeros at every point, ``(num_points, nnz per point)`` each (views
-        of evaluation buffers, valid until the next Jacobian evaluation)."""
+        of evaluation buffers, valid until the next Jacobian evaluation, when one chunk spans
+        the grid)."""
         self._fjac = self._jit_fjac.update(self._fjac)
-        return self._evaluate("jac", self._fjac, inputs)
+        if self._chunk == self.num_points:
+            return self._evaluate("jac", self._fjac, inputs)
+        full = None
+        for p0, p1, vals in self._chunks("jac", self._fjac, inputs):
+            if full is None:
+                full = [np.empty((self.num_points, v.shape[1])) for v in vals]
+            for d, v in zip(full, vals):
+                d[p0:p1] = v
+        return full
 
     def compute_partials(self, inputs, partials):
         if self.matrix_free:
@@ -283,35 +314,26 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
         for (oname, iname), val in zip(self._pairs, self._jacobian_nonzeros(inputs)):
             partials[oname, iname] = val.ravel()
 
-    def _jacobian_chunks(self, inputs):
+    def _jacobian_chunks(self, inputs, keep=False):
         """``(p0, p1, [per-pair nonzeros (p1 - p0, nnz per point)])`` over chunks of
-        ``POINT_CHUNK`` points (the per-point function mapped over a chunk; the last chunk padded
-        with copies of its last point), so no full-grid CasADi buffers are made."""
+        ``self._chunk`` points (:meth:`_chunks`: no full-grid CasADi buffers); ``keep``: copies,
+        else views valid until the next chunk."""
         self._fjac = self._jit_fjac.update(self._fjac)       # counts calls, swaps in the compiled one
-        base = self._jit_fjac.jit.current
-        n = self.num_points
-        m = min(POINT_CHUNK, n)
-        key = (id(base), m)
-        if key not in self._chunk_maps:
-            self._chunk_maps = {key: base.map(m, "serial") if m > 1 else base}
-        fmap = self._chunk_maps[key]
-        for p0 in range(0, n, m):
-            p1 = min(p0 + m, n)
-            points = np.minimum(np.arange(p0, p0 + m), p1 - 1)  # last chunk padded with its last point
-            yield p0, p1, [v[:p1 - p0].copy() for v in self._evaluate("jac_chunk", fmap, inputs, points)]
+        for p0, p1, vals in self._chunks("jac_chunk", self._fjac, inputs):
+            yield p0, p1, [v.copy() for v in vals] if keep else vals
 
     def _jacobian_values(self, inputs):
-        """The chunks of :meth:`_jacobian_chunks`, kept between calls at the same inputs when
-        they take at most ``POINTWISE_JAC_CACHE_BYTES`` (recomputed in every product otherwise)."""
-        point = {k: np.array(v) for k, v in inputs.items()}
-        if self._jac_point is not None and all(np.array_equal(point[k], v) for k, v in self._jac_point.items()):
-            return self._jac_values
-        self._jac_point, self._jac_values = None, None
-        if self._jac_bytes > POINTWISE_JAC_CACHE_BYTES:
+        """The chunks of :meth:`_jacobian_chunks`. A second product at the same inputs keeps
+        them (when they take at most ``POINTWISE_JAC_CACHE_BYTES``) for the following ones; a
+        single product (one reverse seed: one KS output per case) keeps nothing. The inputs are
+        recognised by a digest (:func:`_digest`), not a copy."""
+        point = _digest(inputs)
+        if point != self._jac_point:
+            self._jac_point, self._jac_values = point, None
             return self._jacobian_chunks(inputs)
-        self._jac_values = list(self._jacobian_chunks(inputs))
-        self._jac_point = point
-        return self._jac_values
+        if self._jac_values is None and self._jac_bytes <= POINTWISE_JAC_CACHE_BYTES:
+            self._jac_values = list(self._jacobian_chunks(inputs, keep=True))
+        return self._jac_values if self._jac_values is not None else self._jacobian_chunks(inputs)
 
     def compute_jacvec_product(self, inputs, d_inputs, d_outputs, mode):
         """Products with the block-diagonal Jacobian (``matrix_free``): per pair, the per-point
@@ -349,6 +371,18 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
                 d_inputs[iname] += a.reshape(d_inputs[iname].shape)
 
 
+def _mapped(fun, m):
+    """``fun`` mapped (serially) over ``m`` points."""
+    return fun.map(m, "serial") if m > 1 else fun
+
+
+def _digest(inputs) -> tuple:
+    """Identity of an input point: per variable its name and :func:`~wingmdao.utils.digest.array_digest`."""
+    from wingmdao.utils.digest import array_digest
+
+    return tuple((k, array_digest(v)) for k, v in inputs.items())
+
+
 def _scatter(index, size):
     """Sparse (len(index), size) matrix with a one at (k, index[k])."""
     import scipy.sparse as sp
@@ -371,8 +405,7 @@ class _PointJit:
         """``mapped``, or the compiled per-point function mapped over the points once ready."""
         self.jit.count()
         if self.jit.poll():
-            f = self.jit.current
-            return f.map(self.num_points, "serial") if self.num_points > 1 else f
+            return _mapped(self.jit.current, self.num_points)
         return mapped
 
 
@@ -382,10 +415,12 @@ class _PointJit:
 #: declared up to ~430 steps, matrix-free above (docs/time-marching.md, "Memory").
 POINTWISE_MATRIX_FREE_ABOVE = 2_000_000
 
-#: Matrix-free: the Jacobian nonzeros are kept between products at one point when they take at
-#: most this (bytes), else re-evaluated in chunks of ``POINT_CHUNK`` points in every product.
+#: Matrix-free: from the second product at one point on, the Jacobian nonzeros are kept when they
+#: take at most this (bytes), else re-evaluated in chunks in every product.
+#: ``POINT_CHUNK``: points per evaluation of a pointwise function (grids above it are evaluated
+#: in chunks of this many points; read at setup).
 POINTWISE_JAC_CACHE_BYTES = 64e6
-POINT_CHUNK = 4096
+POINT_CHUNK = 1024
 
 #: Calls of a pointwise component's function (or Jacobian) after which it is compiled.
 POINT_JIT_THRESHOLD = 10

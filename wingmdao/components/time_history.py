@@ -18,6 +18,7 @@ import openmdao.api as om
 from wingmdao.timemarch.adjoint import LinearizedHistory, checkpoint_interval
 from wingmdao.timemarch.bdf import march, state_rates, time_step
 from wingmdao.timemarch.system import ResidualSystem, layout
+from wingmdao.utils.digest import array_digest
 from wingmdao import DISSERTATION
 
 
@@ -151,7 +152,7 @@ class TimeHistoryComponent(om.ImplicitComponent):
         self._n_forcing = sum(size for _, size in self._q_sizes)
         self._n_state = sysm.n_state
         self._lin = None
-        self._lin_inputs = None     # copy of the input vector at the linearization
+        self._lin_inputs = None     # digest of the input vector at the linearization
         mf = self.options["matrix_free"]
         self._matrix_free = bool(n_time * sysm.n_state > MATRIX_FREE_ABOVE) if mf is None else mf
         self.matrix_free = self._matrix_free
@@ -320,8 +321,9 @@ class TimeHistoryComponent(om.ImplicitComponent):
                                 lu=self.options["lu"], checkpoint_every=self.checkpoint_every)
         self._lin = lin
         # the linearization point: the history is the linearization's own copy; the inputs are
-        # kept as one copy of the component's input vector (one comparison in apply_linear)
-        self._lin_inputs = inputs.asarray(copy=True)
+        # kept as a digest of the component's input vector (wingmdao.utils.digest; a copy would
+        # hold the whole forcing history again)
+        self._lin_inputs = array_digest(inputs.asarray())
         if self._matrix_free:
             return
         name = self.options["state_name"]
@@ -397,12 +399,12 @@ class TimeHistoryComponent(om.ImplicitComponent):
 
     def _linearized_at(self, inputs, outputs):
         """Whether the stored linearization is at these inputs and outputs: the history against
-        the linearization's copy, the whole input vector against its copy made in ``linearize``
+        the linearization's copy, the whole input vector against its digest made in ``linearize``
         (two comparisons; no packing or finiteness checks made again)."""
         if self._lin is None or self._lin_inputs is None:
             return False
         return (np.array_equal(self._lin.states, self._history(outputs))
-                and np.array_equal(self._lin_inputs, inputs.asarray()))
+                and self._lin_inputs == array_digest(inputs.asarray()))
 
 
 def _newton_pattern(pats, n):
