@@ -507,7 +507,8 @@ def _ritz(A, B, prev, window, mask, bmask, min_frequency, min_mac, neutral_fract
     th, X, W, err = th[order], X[:, order], W[:, order], err[order]
     mac = mac[np.arange(k), order]
     radius, sigma = window
-    gap = np.array([np.min(np.abs(np.delete(th_all, order[j]) - th[j]), initial=np.inf) for j in range(k)])
+    with np.errstate(invalid="ignore"):   # a non-finite estimate: NaN gap, so not trusted (below)
+        gap = np.array([np.min(np.abs(np.delete(th_all, order[j]) - th[j]), initial=np.inf) for j in range(k)])
     trusted = ((err < 0.5 * gap) & (th.imag - err > min_frequency) & (np.abs(th - sigma) + err < radius)
                & (mac >= min_mac) & np.isfinite(th))
     loaded = _loaded(X, mask, bmask)
