@@ -6,7 +6,7 @@ under the rigid-strip lift and its pitching moment about the beam axis, a bendin
 response like the coupled one; AeroelasticBeamDynamics clamped; AeroelasticBeamDynamics free in
 plunge from the trimmed 1 g state), each followed by a KS of the root moments; the same 1-cos
 gust. Timed: the forward march (run_model) and the discrete adjoint (compute_totals of the KS
-w.r.t. stiffness_csn and mass_per_length), best of 3, divided by the number of steps; ratios to
+w.r.t. stiffness_csn and mass_per_length), best of ``--repeat`` (3), divided by the number of steps; ratios to
 the first (the goal's reference) and to the second. ``--breakdown`` adds, per step, the parts
 of one adjoint linearization: Jacobian-history evaluation, the blocks of the Newton matrices
 (``LinearizedHistory`` set-up less the evaluation) and one SuperLU factorization, with the
@@ -130,6 +130,8 @@ def main(argv=None):
     ap.add_argument("--dt", type=float, default=2e-3, help="time step, s (default %(default)s)")
     ap.add_argument("--interpreted", action="store_true", help="interpreted CasADi functions (no compilation)")
     ap.add_argument("--breakdown", action="store_true", help="also time the parts of one adjoint linearization")
+    ap.add_argument("--repeat", type=int, default=3,
+                    help="timings per figure, the best kept (default %(default)s; more on a noisy machine)")
     ap.add_argument("--process-time", action="store_true",
                     help="process (CPU) time instead of wall time: steadier on a shared machine")
     args = ap.parse_args(argv)
@@ -145,14 +147,14 @@ def main(argv=None):
     for kind in ("structural", "structural_torsion", "coupled", "plunge"):
         prob, n_state = build(kind, n, nt, args.dt, compile_first=not args.interpreted)
         prob.compute_totals(of=["ks.ks_root"], wrt=wrt)  # first gradient: factor storage, warm-up
-        t_fwd = timed(prob.run_model)
-        t_adj = timed(lambda: prob.compute_totals(of=["ks.ks_root"], wrt=wrt))
+        t_fwd = timed(prob.run_model, args.repeat)
+        t_adj = timed(lambda: prob.compute_totals(of=["ks.ks_root"], wrt=wrt), args.repeat)
         rows[kind] = (n_state, t_fwd / nt * 1e3, t_adj / nt * 1e3)
         if args.breakdown:
             parts[kind] = breakdown(prob, nt, args.dt)
     base, b3d = rows["structural"], rows["structural_torsion"]
     print(f"{n} nodes x {nt} steps, dt = {args.dt} s, {'interpreted' if args.interpreted else 'compiled'}; per step, "
-          f"best of 3, {'process' if args.process_time else 'wall'} time (shared machine: indicative); "
+          f"best of {args.repeat}, {'process' if args.process_time else 'wall'} time (shared machine: indicative); "
           "goal: coupled <= 1.5 x structural (lift only)")
     print(f"{'model':30s} {'states':>7s} {'march ms/step':>14s} {'x struct':>9s} {'x torsion':>9s} "
           f"{'adjoint ms/step':>16s} {'x struct':>9s} {'x torsion':>9s}")
