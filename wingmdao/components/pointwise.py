@@ -18,6 +18,7 @@ import openmdao.api as om
 from wingmdao.errors import InputRangeError
 
 from wingmdao.timemarch.system import VarSpec
+from wingmdao.utils.digest import array_digest
 
 
 @dataclass(frozen=True)
@@ -378,8 +379,6 @@ def _mapped(fun, m):
 
 def _digest(inputs) -> tuple:
     """Identity of an input point: per variable its name and :func:`~wingmdao.utils.digest.array_digest`."""
-    from wingmdao.utils.digest import array_digest
-
     return tuple((k, array_digest(v)) for k, v in inputs.items())
 
 

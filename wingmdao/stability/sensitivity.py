@@ -362,19 +362,11 @@ class WarmStart:
         return False
 
 
-_BLOCK_STARTS: dict = {}
-
-
 def _block_starts(system) -> np.ndarray:
     """Start index of every non-empty parameter block of ``system`` (for ``np.maximum.reduceat``)."""
-    key = id(system)
-    hit = _BLOCK_STARTS.get(key)
-    if hit is None or hit[0] is not system:
-        from wingmdao.timemarch.system import layout
-
-        starts = np.array([sl.start for sl in layout(system.param_specs).values() if sl.stop > sl.start], dtype=np.intp)
-        hit = _BLOCK_STARTS[key] = (system, starts)
-    return hit[1]
+    sizes = np.array([spec.size for spec in system.param_specs], dtype=np.intp)
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.intp)
+    return starts[sizes > 0]
 
 
 #: a warm-started mode whose KS exponent rho (g - g_max) is below -this (weight < 4e-18) of the

@@ -378,9 +378,8 @@ def march(system, time, p, forcing, *, initial="static", x_init=None, x_guess=No
     iters = np.zeros(n_time, dtype=int)
     if initial not in ("static", "state"):
         raise ValueError(f'initial must be "static" or "state", got {initial!r}')
-    count_steps = getattr(system, "count_march_steps", None)
-    if count_steps is not None and n_time > 1:
-        count_steps(n_time - 1)
+    if n_time > 1:
+        system.count_march_steps(n_time - 1)
     solver = _step_solver(system, p, fast, atol=atol, xtol=xtol, max_iter=max_iter,
                           modified=modified_newton, contraction=contraction)
     if initial == "static":

@@ -486,6 +486,21 @@ static int cmp_int(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* Row i enters the structure of column j (once: mark): above the diagonal onto the heap of rows
+ * still to eliminate, below it into the column of L, on it as the pivot. */
+static void visit_row(int i, int j, int *mark, int *heap, int *hs, int *low, int *nlow, int *diag)
+{
+    if (mark[i] == j)
+        return;
+    mark[i] = j;
+    if (i < j)
+        heap_push(heap, hs, i);
+    else if (i > j)
+        low[(*nlow)++] = i;
+    else
+        *diag = 1;
+}
+
 /* Column structures of unit-lower L (strictly below the diagonal) and U (strictly above) of the
  * CSC pattern (indptr, prow) of the row-permuted matrix P A, no further pivoting (the symbolic
  * step of the left-looking LU of Gilbert & Peierls 1988): column j of L + U is A(:, j) closed under
@@ -505,35 +520,15 @@ int lu_symbolic(int n, const int *indptr, const int *prow, int *lp, int *li, int
     lp[0] = up[0] = 0;
     for (int j = 0; j < n; ++j) {
         int hs = 0, nlow = 0, diag = 0;
-        for (int k = indptr[j]; k < indptr[j + 1]; ++k) {
-            int i = prow[k];
-            if (mark[i] == j)
-                continue;
-            mark[i] = j;
-            if (i < j)
-                heap_push(heap, &hs, i);
-            else if (i > j)
-                low[nlow++] = i;
-            else
-                diag = 1;
-        }
+        for (int k = indptr[j]; k < indptr[j + 1]; ++k)
+            visit_row(prow[k], j, mark, heap, &hs, low, &nlow, &diag);
         while (hs > 0) {
             int k = heap_pop(heap, &hs);
             if (nu >= cap_u)
                 return 1;
             ui[nu++] = k;
-            for (int t = lp[k]; t < lp[k + 1]; ++t) {
-                int i = li[t];
-                if (mark[i] == j)
-                    continue;
-                mark[i] = j;
-                if (i < j)
-                    heap_push(heap, &hs, i);
-                else if (i > j)
-                    low[nlow++] = i;
-                else
-                    diag = 1;
-            }
+            for (int t = lp[k]; t < lp[k + 1]; ++t)
+                visit_row(li[t], j, mark, heap, &hs, low, &nlow, &diag);
         }
         if (!diag)
             return -1 - j;

@@ -257,7 +257,6 @@ class StaticPivotLU:
         if perm_r is None:
             perm_r = pivot_order(self.n, self.rows, self.indptr, reference, col_order)
         self.perm_r = np.asarray(perm_r, dtype=int)         # row i of A is row perm_r[i] of P A Q
-        self.inv_perm = np.argsort(self.perm_r)               # row r of P A Q is row inv_perm[r] of A
         prow = self.perm_r[self.rows]
         indptr_q, take = permuted_columns(self.indptr, self.col_order)
         lp, li, up, ui = symbolic_lu_compiled(self.lib, self.n, prow[take], indptr_q)
@@ -275,13 +274,6 @@ class StaticPivotLU:
         self._b = np.zeros(self.n)
         self._lanes_x = np.zeros(LANES * self.n)
         self._lanes_f = np.zeros(LANES * self.n_lu)
-
-    def key(self) -> str:
-        """Hash of the pattern and pivot order."""
-        h = hashlib.sha256()
-        for arr in (self.rows, self.indptr, self.perm_r, self.col_order):
-            h.update(np.ascontiguousarray(arr, dtype=np.int64).tobytes())
-        return h.hexdigest()[:12]
 
     # ------------------------------------------------------------------ single matrices
     def factor(self, values) -> np.ndarray:

@@ -90,6 +90,10 @@ class ResidualSystem:
         return f"equation {index}"
 
     # ---- optional fast paths; the defaults below only use the methods above -------------
+    def count_march_steps(self, n_steps: int) -> None:
+        """A march of ``n_steps`` steps is about to run (systems that compile their functions
+        after a number of evaluations count it; nothing here)."""
+
     def lu_column_order(self):
         """Fill-reducing column order Q of the adjoint's static-pivot LU of the Newton matrices,
         ``P A Q = L U`` (:mod:`wingmdao.timemarch.static_lu`), an int array of the states; None:
