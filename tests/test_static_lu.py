@@ -83,6 +83,18 @@ def test_compiled_symbolic_structure_equals_the_python_reference(kernel_on, seed
 
 
 @needs_gcc
+def test_factorization_work_of_a_dense_matrix_is_the_closed_form(kernel_on):
+    """Dense n x n, diagonally dominant (no row exchange): sum_k (n - 1 - k)^2 = (n-1) n (2n-1) / 6
+    multiply-adds, in any column order."""
+    n = 8
+    a = sp.csc_matrix(np.random.default_rng(1).uniform(0.1, 1.0, (n, n)) + n * np.eye(n))
+    a.sort_indices()
+    expected = (n - 1) * n * (2 * n - 1) // 6
+    assert static_lu.factorization_work(n, a.indices, a.indptr, a.data) == expected
+    assert static_lu.factorization_work(n, a.indices, a.indptr, a.data, np.arange(n)[::-1]) == expected
+
+
+@needs_gcc
 def test_compiled_symbolic_reports_a_structural_zero_pivot(kernel_on):
     a = sp.csc_matrix(np.array([[0.0, 1.0], [1.0, 0.0]]))
     with pytest.raises(ValueError, match="column 0: zero pivot"):

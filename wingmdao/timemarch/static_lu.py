@@ -187,9 +187,16 @@ def factorization_work(n, rows, indptr, reference, col_order=None) -> int:
         raise RuntimeError("the static-pivot LU kernel is not compiled (WINGMDAO_JIT=0 or no gcc)")
     q = np.arange(int(n)) if col_order is None else check_column_order(int(n), col_order)
     perm = pivot_order(int(n), np.asarray(rows), np.asarray(indptr), reference, q)
-    indptr_q, take = permuted_columns(indptr, q)
-    lp, _, up, ui = symbolic_lu_compiled(lib, int(n), perm[np.asarray(rows)][take], indptr_q)
+    _, (lp, _, up, ui) = permuted_symbolic(lib, int(n), rows, indptr, perm, q)
     return int(np.diff(lp)[ui].sum())
+
+
+def permuted_symbolic(lib, n, rows, indptr, perm_r, col_order):
+    """``(prow, (lp, li, up, ui))``: the rows of the nonzeros in ``P A`` and the structure of L
+    and U of ``P A Q`` (:func:`symbolic_lu_compiled` of the column-permuted pattern)."""
+    prow = np.asarray(perm_r)[np.asarray(rows)]
+    indptr_q, take = permuted_columns(indptr, col_order)
+    return prow, symbolic_lu_compiled(lib, n, prow[take], indptr_q)
 
 
 def block_column_order(local, block, n):
@@ -257,9 +264,8 @@ class StaticPivotLU:
         if perm_r is None:
             perm_r = pivot_order(self.n, self.rows, self.indptr, reference, col_order)
         self.perm_r = np.asarray(perm_r, dtype=int)         # row i of A is row perm_r[i] of P A Q
-        prow = self.perm_r[self.rows]
-        indptr_q, take = permuted_columns(self.indptr, self.col_order)
-        lp, li, up, ui = symbolic_lu_compiled(self.lib, self.n, prow[take], indptr_q)
+        prow, (lp, li, up, ui) = permuted_symbolic(self.lib, self.n, self.rows, self.indptr, self.perm_r,
+                                                   self.col_order)
         self.n_lu = int(lp[-1] + up[-1] + self.n)
         # the kernel's arrays (kept alive with the structure that points to them)
         self._arrays = {"indptr": _i32(self.indptr), "rows": _i32(self.rows), "prow": _i32(prow),
