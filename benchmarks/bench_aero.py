@@ -4,8 +4,9 @@ speed goal: a coupled step at most 1.5x a structural step), 20 nodes x 500 steps
 Four OpenMDAO problems of the same beam (BeamDynamics under the rigid-strip lift; BeamDynamics
 under the rigid-strip lift and its pitching moment about the beam axis, a bending-torsion
 response like the coupled one; AeroelasticBeamDynamics clamped; AeroelasticBeamDynamics free in
-plunge from the trimmed 1 g state), each followed by a KS of the root moments; the same 1-cos
-gust. Timed: the forward march (run_model) and the discrete adjoint (compute_totals of the KS
+plunge from the trimmed 1 g state), each followed by a KS of the root moments (selected by
+``bench_beam.WeightedStates``, constant partials declared: an ``ExecComp`` complex-stepped every
+entry of the history in each linearization); the same 1-cos gust. Timed: the forward march (run_model) and the discrete adjoint (compute_totals of the KS
 w.r.t. stiffness_csn and mass_per_length), best of ``--repeat`` (3), divided by the number of steps; ratios to
 the first (the goal's reference) and to the second. ``--breakdown`` adds, per step, the parts
 of one adjoint linearization: Jacobian-history evaluation, the blocks of the Newton matrices
@@ -29,6 +30,8 @@ from wingmdao.beam.static import beam_forcing, beam_parameters, straight_beam
 from wingmdao.components.aeroelastic import AeroelasticBeamDynamics
 from wingmdao.components.beam import BeamDynamics
 from wingmdao.components.ks import KSAggregate
+
+from bench_beam import WeightedStates  # g = w * states, constant partials declared (no complex step)
 
 V, RHO, CHORD, U_GUST, G = 60.0, 1.2, 1.0, 5.0, 9.81
 
@@ -71,9 +74,7 @@ def build(kind, n, nt, dt, compile_first=False):
     w = np.zeros(shape)
     root_m = system.layout.beam[0, 9:12] if hasattr(system, "layout") else np.arange(9, 12)
     w.reshape(nt, -1)[:, root_m] = 1e-5  # node 0 (root) moments, N m normalised
-    prob.model.add_subsystem("pick", om.ExecComp("g = w * states", w={"val": w, "shape": shape},
-                                                 states={"shape": shape}, g={"shape": shape},
-                                                 has_diag_partials=True), promotes=["*"])
+    prob.model.add_subsystem("pick", WeightedStates(weights=w), promotes=["*"])
     prob.model.add_subsystem("ks", KSAggregate(families={"root": shape}, rho_ks=50.0))
     prob.model.connect("g", "ks.g_root")
     if compile_first:  # compiled CasADi functions for every model (not only those in the cache)

@@ -56,7 +56,7 @@ class WeightedStates(om.ExplicitComponent):
     same (the zero weights add zeros)."""
 
     def initialize(self):
-        self.options.declare("weights", types=np.ndarray, desc="weights w (n_time, n_node, 18), 1/(N*m)")
+        self.options.declare("weights", types=np.ndarray, desc="weights w, shape (n_time,) + the state shape, 1/(N*m)")
 
     def setup(self):
         w = self.options["weights"]

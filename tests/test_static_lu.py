@@ -94,6 +94,36 @@ def test_factorization_work_of_a_dense_matrix_is_the_closed_form(kernel_on):
     assert static_lu.factorization_work(n, a.indices, a.indptr, a.data, np.arange(n)[::-1]) == expected
 
 
+def _arrowhead_blocks(n_block, block, hub, seed):
+    """Block-diagonal CSC matrix: in every block unknown ``hub`` couples to all the others, which
+    couple only to themselves (diagonally dominant: no row exchange)."""
+    rng = np.random.default_rng(seed)
+    b = np.eye(block) * 2.0 * block
+    b[hub, :] = b[:, hub] = rng.uniform(0.5, 1.0, block)
+    b[hub, hub] = 2.0 * block
+    a = sp.csc_matrix(sp.block_diag([b] * n_block))
+    a.eliminate_zeros()
+    a.sort_indices()
+    return a.shape[0], a.indices, a.indptr, a.data
+
+
+@needs_gcc
+def test_joint_column_order_search_finds_the_no_fill_order_of_arrowhead_blocks(kernel_on):
+    """Hub first fills its block: dense LU, (b-1) b (2b-1)/6 multiply-adds per block. Any order
+    with the hub unknowns last has no fill: one multiply-add per spoke. Two matrices with hubs 0
+    and 1: the joint search must reach b - 1 per block in both (b - 2 spokes plus the other hub)."""
+    n_block, block = 5, 4
+    mats = [_arrowhead_blocks(n_block, block, hub, seed) for hub, seed in ((0, 1), (1, 2))]
+    dense = (block - 1) * block * (2 * block - 1) // 6
+    assert static_lu.factorization_work(*mats[0]) == n_block * dense
+    local, works = static_lu.search_joint_block_order(mats, block, passes=4)
+    assert sorted(local.tolist()) == list(range(block))
+    assert works == [n_block * (block - 1)] * 2
+    assert set(local[-2:].tolist()) == {0, 1}
+    single, work = static_lu.search_block_order(*mats[0], block, passes=4)
+    assert work == n_block * (block - 1) and 0 in single[-2:]   # a hub second to last has one spoke left
+
+
 @needs_gcc
 def test_compiled_symbolic_reports_a_structural_zero_pivot(kernel_on):
     a = sp.csc_matrix(np.array([[0.0, 1.0], [1.0, 0.0]]))
@@ -444,7 +474,7 @@ def _aeroelastic_history(plunge, n=6, n_time=40):
 @needs_gcc
 @pytest.mark.parametrize("plunge", [False, True])
 def test_coupled_sweeps_with_the_stored_column_order_equal_superlu(plunge, kernel_on):
-    """The aeroelastic system's LU column order (wingmdao.aero.system.LU_NODE_ORDER): the static
+    """The aeroelastic system's LU column order (wingmdao.timemarch.lu_orders.AEROELASTIC_NODE_ORDER): the static
     sweeps equal the SuperLU ones, and the order saves at least a third of the factorization's
     multiply-adds against the natural order (half at 20 nodes, benchmarks/lu_column_order.py)."""
     s, t, X, p, Q = _aeroelastic_history(plunge)

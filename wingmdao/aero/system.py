@@ -42,6 +42,7 @@ from wingmdao.beam.residual import (N_STATE_PER_NODE, STATE_BLOCKS, _P_NODE, _Q_
                                     forcing_specs as beam_forcing_specs, jig_state,
                                     param_specs as beam_param_specs, StrainRateDamping)
 from wingmdao.beam.rotations import body_to_csn
+from wingmdao.timemarch import lu_orders
 from wingmdao.timemarch.system import CasadiResidualSystem, VarSpec, layout
 
 #: states per node of the aeroelastic system: 18 beam + 4 aerodynamic
@@ -189,23 +190,6 @@ def _node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence):
 _GENERATING_MODULES = ("wingmdao.aero.system", "wingmdao.aero.strip", "wingmdao.aero.pitch",
                        "wingmdao.aero.plunge", "wingmdao.beam.residual", "wingmdao.beam.rotations",
                        "wingmdao.timemarch.system")
-
-
-#: Order of a node's 22 unknowns (18 beam states, STATE_BLOCKS, then the 4 lag states) as columns
-#: of the adjoint's static-pivot LU of the Newton matrix (``P A Q = L U``; body states stay last),
-#: clamped root (False) and free plunge (True): from a greedy search over node-local permutations
-#: (``benchmarks/lu_column_order.py``, 20 nodes under a gust), about half the multiply-adds per
-#: factorization of the natural order (clamped 124 448 -> 59 150, free plunge + trim
-#: 155 459 -> 82 458).
-LU_NODE_ORDER = {False: (8, 10, 9, 15, 4, 5, 18, 7, 0, 1, 11, 21, 20, 19, 6, 2, 12, 13, 14, 3, 16, 17),
-                 True: (21, 20, 18, 9, 15, 1, 11, 10, 16, 17, 19, 2, 7, 0, 6, 8, 12, 13, 14, 3, 5, 4)}
-
-
-def aeroelastic_lu_column_order(num_nodes: int, n_state: int, plunge: bool) -> np.ndarray:
-    """Column order of the static LU of the aeroelastic system (:data:`LU_NODE_ORDER`)."""
-    from wingmdao.timemarch.static_lu import block_column_order
-
-    return block_column_order(LU_NODE_ORDER[bool(plunge)], N_AEROELASTIC_STATES, int(n_state))
 
 
 def aeroelastic_definition(num_nodes: int, euler_sequence: str = "surface",
@@ -384,7 +368,7 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
                                        k, n, plunge, body_names if pitch else ()),
                                    definition=aeroelastic_definition(n, euler_sequence, damping, plunge, trim,
                                                                      pitch, tail_lag),
-                                   lu_column_order=aeroelastic_lu_column_order(n, W * n + n_extra, plunge))
+                                   lu_column_order=lu_orders.aeroelastic_lu_column_order(W * n + n_extra))
     system.num_nodes = n
     system.plunge = bool(plunge)
     system.trim = bool(trim)

@@ -36,25 +36,13 @@ import casadi as ca
 import numpy as np
 
 from wingmdao.beam.rotations import body_to_csn, rate_matrix
+from wingmdao.timemarch import lu_orders
 from wingmdao.timemarch.system import HISTORY_PARTS, JIT_THRESHOLD, CasadiResidualSystem, VarSpec, layout
 
 #: Per-node state blocks (docs/conventions.md).
 STATE_BLOCKS = {"r": slice(0, 3), "theta": slice(3, 6), "F": slice(6, 9), "M": slice(9, 12),
                 "u": slice(12, 15), "omega": slice(15, 18)}
 N_STATE_PER_NODE = 18
-
-#: Order of a node's 18 unknowns (state indices, STATE_BLOCKS) as columns of the adjoint's
-#: static-pivot LU of the Newton matrix (``P A Q = L U``, node-major): from a greedy search over
-#: node-local permutations (``benchmarks/lu_column_order.py``), 25 % fewer multiply-adds per
-#: factorization than the natural order (20-node beam under a gust: 11 244 -> 8 450).
-LU_NODE_ORDER = (10, 9, 0, 15, 4, 5, 6, 7, 8, 1, 2, 11, 12, 13, 14, 3, 16, 17)
-
-
-def beam_lu_column_order(num_nodes: int) -> np.ndarray:
-    """Column order of the static LU for the ``num_nodes``-node beam (:data:`LU_NODE_ORDER`)."""
-    from wingmdao.timemarch.static_lu import block_column_order
-
-    return block_column_order(LU_NODE_ORDER, N_STATE_PER_NODE, N_STATE_PER_NODE * int(num_nodes))
 
 _ELEMENT_EQUATIONS = ("force equilibrium", "moment equilibrium", "moment-curvature",
                       "strain-displacement")
@@ -468,7 +456,7 @@ class DeferredBeamSystem(CasadiResidualSystem):
         self.jit_threshold = JIT_THRESHOLD
         self._newton_pattern = (data["newton_rows"], data["newton_indptr"])
         self._newton_dense_index = None
-        self._lu_column_order = beam_lu_column_order(n)
+        self._lu_column_order = lu_orders.beam_lu_column_order(n)
         self._deferred = (data, build, frozenset(str(a) for a in data["attributes"]))
 
     def jacobian_patterns(self):
@@ -579,6 +567,6 @@ def _build_beam_system(n: int, euler_sequence: str, damping) -> CasadiResidualSy
                                   describe=functools.partial(describe_equation, num_nodes=n),
                                   initial_guess=functools.partial(_jig_guess, num_nodes=n),
                                   definition=beam_definition(n, euler_sequence, damping),
-                                  lu_column_order=beam_lu_column_order(n))
+                                  lu_column_order=lu_orders.beam_lu_column_order(n))
     system.build_time = time.perf_counter() - t_start
     return system

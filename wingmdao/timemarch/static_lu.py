@@ -214,20 +214,36 @@ def search_block_order(n, rows, indptr, reference, block, passes=3, start=None):
     of the block-local permutation (applied to every block), first improvement, up to ``passes``
     sweeps over the pairs. Returns ``(local, work)``. A design-time tool (seconds): its result
     is stored as a system's ``lu_column_order`` (``benchmarks/lu_column_order.py``)."""
+    local, works = search_joint_block_order([(n, rows, indptr, reference)], block, passes, start)
+    return local, works[0]
+
+
+def search_joint_block_order(matrices, block, passes=3, start=None, scale=None):
+    """:func:`search_block_order` over several matrices ``[(n, rows, indptr, reference), ...]``
+    with one within-block order: minimises ``sum_k work_k / scale_k`` (``scale``: each matrix's
+    natural-order work when None), so no model's order is bought with another's fill. Returns
+    ``(local, [work_k])``."""
+    def works(loc):
+        return [factorization_work(n, r, ip, a, block_column_order(loc, block, n)) for n, r, ip, a in matrices]
+
+    if scale is None:
+        scale = works(np.arange(block))
+    score = lambda w: float(sum(wk / sk for wk, sk in zip(w, scale)))  # noqa: E731
     best = np.arange(block) if start is None else check_column_order(block, start)
-    work = factorization_work(n, rows, indptr, reference, block_column_order(best, block, n))
+    best_w = works(best)
+    best_s = score(best_w)
     for _ in range(int(passes)):
         improved = False
         for i in range(block):
             for j in range(i + 1, block):
                 cand = best.copy()
                 cand[i], cand[j] = cand[j], cand[i]
-                w = factorization_work(n, rows, indptr, reference, block_column_order(cand, block, n))
-                if w < work:
-                    best, work, improved = cand, w, True
+                w = works(cand)
+                if score(w) < best_s:
+                    best, best_w, best_s, improved = cand, w, score(w), True
         if not improved:
             break
-    return best, work
+    return best, best_w
 
 
 def check_column_order(n, col_order) -> np.ndarray:

@@ -1,0 +1,48 @@
+"""Within-node column orders of the adjoint's static-pivot LU (``P A Q = L U``), one table per model.
+
+The adjoint factors the Newton matrix of every time step (:mod:`wingmdao.timemarch.static_lu`).
+Node-major columns keep the matrix banded; the order of a node's unknowns inside the band sets
+the fill and so the multiply-adds of each factorization (``static_lu.factorization_work``). The
+orders below come from a greedy search over node-local permutations (pairwise swaps, first
+improvement; ``benchmarks/lu_column_order.py --search``) that minimises the summed relative work
+over several Newton matrices at once: the 20-node straight beam of ``benchmarks/bench_aero.py``
+under a 1-cos gust (clamped, and free in plunge with trim) and the PEGASUS wing under its
+Table 5.3 gust (swept, with dihedral: every structural entry of the pattern is nonzero). An
+order found on the straight beam alone halved the work there but left the PEGASUS coupled
+matrix at 149 386 multiply-adds; the joint order gives 76 787.
+
+This module is deliberately not one of the modules whose source keys the compiled CasADi
+libraries (``_GENERATING_MODULES`` of :mod:`wingmdao.beam.residual` and
+:mod:`wingmdao.aero.system`): a column order changes no generated function, so retuning it must
+not force a recompilation.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: Order of a beam node's 18 unknowns (state indices of ``STATE_BLOCKS``: r, theta, F, M, u,
+#: omega). Work per factorization, natural -> this order: straight beam (lift) 11 244 -> 8 277,
+#: straight beam (lift and moment) 39 993 -> 30 329, PEGASUS 45 772 -> 38 699.
+BEAM_NODE_ORDER = (10, 0, 11, 9, 15, 2, 17, 7, 8, 16, 6, 1, 4, 13, 14, 12, 3, 5)
+
+#: Order of an aeroelastic node's 22 unknowns (the 18 beam states, then the 4 lag states); body
+#: states (plunge, pitch, trim unknowns) stay last. Work per factorization, natural -> this order:
+#: straight beam clamped 124 448 -> 59 681, straight beam free plunge + trim 155 459 -> 79 469,
+#: PEGASUS clamped with trim 182 051 -> 76 787, PEGASUS free plunge + trim 199 997 -> 87 777.
+AEROELASTIC_NODE_ORDER = (11, 10, 9, 15, 5, 8, 1, 7, 16, 6, 19, 20, 18, 0, 21, 2, 12, 13, 14, 3, 4, 17)
+
+
+def beam_lu_column_order(num_nodes: int) -> np.ndarray:
+    """Column order of the static LU of the ``num_nodes``-node beam (:data:`BEAM_NODE_ORDER`)."""
+    from wingmdao.timemarch.static_lu import block_column_order
+
+    return block_column_order(BEAM_NODE_ORDER, len(BEAM_NODE_ORDER), len(BEAM_NODE_ORDER) * int(num_nodes))
+
+
+def aeroelastic_lu_column_order(n_state: int) -> np.ndarray:
+    """Column order of the static LU of an aeroelastic system of ``n_state`` unknowns
+    (:data:`AEROELASTIC_NODE_ORDER` per node, body states last)."""
+    from wingmdao.timemarch.static_lu import block_column_order
+
+    return block_column_order(AEROELASTIC_NODE_ORDER, len(AEROELASTIC_NODE_ORDER), int(n_state))
