@@ -15,11 +15,21 @@ Newton-matrix and L+U nonzeros. CasADi functions compiled first (gcc; cached), o
 ``--interpreted`` (WINGMDAO_JIT=0).
 
     python benchmarks/bench_aero.py [--nodes 20] [--steps 500] [--interpreted] [--breakdown]
+    python benchmarks/bench_aero.py --pegasus [--rounds 5]
+
+``--pegasus``: the same ratios inside the PEGASUS gust model itself (``wingmdao.sizing.build_problem``
+of the Table 5.3 gust, 20 nodes, 251 steps; strip-theory loads, coupled clamped with trim, coupled
+free plunge + trim): process time of the beam component alone (its ``solve_nonlinear`` for the
+march; ``linearize`` + ``solve_linear`` + ``apply_linear`` for the adjoint, read from a cProfile of
+``run_model`` + ``compute_totals`` of the case's KS w.r.t. the four wall thicknesses), the three
+models in interleaved rounds, best round per model. A swept wing with dihedral fills every
+structural entry of the Newton matrix, which the straight beam's does not.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import time
 
 import numpy as np
@@ -124,6 +134,50 @@ def timed(fun, repeat=3):
     return best
 
 
+def pegasus_rounds(rounds=5, repeat=3):
+    """Per-step process time (ms) of the beam component's march and adjoint in the PEGASUS gust
+    model (see the module docstring), ``{model: (steps, march, adjoint)}``, best of ``rounds``
+    interleaved rounds of ``repeat`` evaluations each."""
+    import cProfile
+    import pstats
+
+    from wingmdao.cases import pegasus
+    from wingmdao.components.time_history import TimeHistoryComponent
+    from wingmdao.sizing import WALL_VARS, build_problem
+
+    probs = {}
+    for label, aero, plunge in (("PEGASUS, strip-theory loads", "strip", "clamped"),
+                                ("PEGASUS, coupled clamped + trim", "coupled", "clamped"),
+                                ("PEGASUS, coupled free plunge + trim", "coupled", "free")):
+        setup = pegasus.build(loads="gust", aero=aero, plunge=plunge)
+        prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options, driver=False)
+        for comp in prob.model.system_iter(recurse=True, typ=TimeHistoryComponent):
+            comp.build_system().compile(wait=True)
+        of = [f"cases.{case.name}.ks_{fam}" for case in setup.load_cases for fam in case.families]
+        prob.run_model()
+        prob.compute_totals(of=of, wrt=list(WALL_VARS))
+        probs[label] = (prob, of, setup.load_cases[0].num_times)
+    best = {k: [np.inf, np.inf] for k in probs}
+    for _ in range(rounds):
+        for label, (prob, of, nt) in probs.items():
+            prof = cProfile.Profile(timer=time.process_time)
+            prof.enable()
+            for _ in range(repeat):
+                prob.run_model()
+                prob.compute_totals(of=of, wrt=list(WALL_VARS))
+            prof.disable()
+            stats = pstats.Stats(prof).stats
+
+            def cum(method):
+                return sum(v[3] for k, v in stats.items()
+                           if k[0].endswith("components/time_history.py") and k[2] == method) / repeat
+
+            march = cum("solve_nonlinear")
+            adjoint = cum("linearize") + cum("solve_linear") + cum("apply_linear")
+            best[label] = [min(best[label][0], march / nt * 1e3), min(best[label][1], adjoint / nt * 1e3)]
+    return {k: (probs[k][2], *v) for k, v in best.items()}
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--nodes", type=int, default=20, help="beam nodes (default %(default)s)")
@@ -135,12 +189,22 @@ def main(argv=None):
                     help="timings per figure, the best kept (default %(default)s; more on a noisy machine)")
     ap.add_argument("--process-time", action="store_true",
                     help="process (CPU) time instead of wall time: steadier on a shared machine")
+    ap.add_argument("--pegasus", action="store_true",
+                    help="per-step ratios inside the PEGASUS gust model (strip / coupled clamped / free plunge)")
+    ap.add_argument("--rounds", type=int, default=5, help="interleaved rounds of --pegasus (default %(default)s)")
     args = ap.parse_args(argv)
+    if args.pegasus:
+        rows = pegasus_rounds(args.rounds)
+        base = next(iter(rows.values()))
+        print(f"PEGASUS gust model, beam component only, process time per step, best of {args.rounds} interleaved "
+              f"rounds; load average {os.getloadavg()[0]:.1f}; goal: coupled <= 1.5 x strip")
+        print(f"{'model':36s} {'steps':>6s} {'march ms/step':>14s} {'x strip':>8s} {'adjoint ms/step':>16s} {'x strip':>8s}")
+        for label, (nt, f, a) in rows.items():
+            print(f"{label:36s} {nt:6d} {f:14.3f} {f / base[1]:8.2f} {a:16.3f} {a / base[2]:8.2f}")
+        return
     global CLOCK
     CLOCK = time.process_time if args.process_time else time.perf_counter
     if args.interpreted:
-        import os
-
         os.environ["WINGMDAO_JIT"] = "0"
     n, nt = args.nodes, args.steps
     wrt = ["stiffness_csn", "mass_per_length"]

@@ -5,7 +5,9 @@
  * CasADi-generated C functions (called through their pointers), the matrix factored by a sparse
  * left-looking LU with partial pivoting (Gilbert & Peierls, SIAM J. Sci. Stat. Comput. 9, 1988;
  * the formulation of T. A. Davis, Direct Methods for Sparse Linear Systems, SIAM 2006, Ch. 6:
- * depth-first reach, sparse triangular solve, pivot search per column), natural column order.
+ * depth-first reach, sparse triangular solve, pivot search per column), in the system's column
+ * order Q (P A Q = L U; natural when qcol is NULL): the fill-reducing node-local order of
+ * wingmdao.timemarch.lu_orders, which also shortens every back-substitution of the march.
  * Exact zeros of the Newton matrix (CasADi patterns are structural) are skipped.
  *
  * Compile: gcc -shared -fPIC -O2 -ffp-contract=off (no fused multiply-adds: the arithmetic of
@@ -47,6 +49,7 @@ typedef struct {
     /* outputs of the last call */
     int iterations, fail_iteration;
     double *hist;                 /* n: BDF history term of wm_march */
+    const int *qcol;              /* n: column order Q (column k of A Q is A(:, qcol[k])), or NULL */
 } wm_step;
 
 enum { WM_OK = 0, WM_RES_NONFINITE = 1, WM_STEP_NONFINITE = 2, WM_SINGULAR = 3,
@@ -96,12 +99,12 @@ static int factor(wm_step *s) {
         Up[k] = unz;
         /* pattern of L \ A(:, k): reach of its nonzero rows */
         if (++s->stamp == 0x7fffffff) { memset(s->mark, 0, (size_t)n * sizeof(int)); s->stamp = 1; }
-        int top = n;
-        for (int p = Ap[k]; p < Ap[k + 1]; p++) {
+        int top = n, c = s->qcol ? s->qcol[k] : k;      /* column k of A Q */
+        for (int p = Ap[c]; p < Ap[c + 1]; p++) {
             if (Ax[p] == 0.0) continue;
             if (s->mark[Ai[p]] != s->stamp) top = reach_dfs(s, Ai[p], top, xi, xi + n);
         }
-        for (int p = Ap[k]; p < Ap[k + 1]; p++) x[Ai[p]] = Ax[p];
+        for (int p = Ap[c]; p < Ap[c + 1]; p++) x[Ai[p]] = Ax[p];
         /* sparse triangular solve with the unit lower L (rows in original order) */
         for (int px = top; px < n; px++) {
             int j = xi[px], J = pinv[j];
@@ -126,7 +129,7 @@ static int factor(wm_step *s) {
             for (int px = top; px < n; px++) x[xi[px]] = 0.0;
             return WM_SINGULAR;
         }
-        if (pinv[k] < 0 && fabs(x[k]) >= a) ipiv = k;   /* the diagonal on ties */
+        if (pinv[c] < 0 && fabs(x[c]) >= a) ipiv = c;   /* the diagonal A(c, c) on ties */
         double pivot = x[ipiv];
         Ui[unz] = k;
         Ux[unz++] = pivot;
@@ -148,7 +151,7 @@ static int factor(wm_step *s) {
     return WM_OK;
 }
 
-/* dx = A^-1 b with the factors (b and dx may not alias) */
+/* dx = A^-1 b with the factors of P A Q (b and dx may not alias): L U y = P b, dx = Q y */
 static void lu_solve(const wm_step *s, const double *b, double *out) {
     int n = s->n;
     double *y = s->work;
@@ -166,7 +169,11 @@ static void lu_solve(const wm_step *s, const double *b, double *out) {
         if (xj == 0.0) continue;
         for (int p = Up[j]; p < Up[j + 1] - 1; p++) y[Ui[p]] -= Ux[p] * xj;
     }
-    memcpy(out, y, (size_t)n * sizeof(double));
+    if (s->qcol) {
+        for (int j = 0; j < n; j++) out[s->qcol[j]] = y[j];
+    } else {
+        memcpy(out, y, (size_t)n * sizeof(double));
+    }
 }
 
 /* max |v|; returns NaN when an entry is NaN (like numpy's max) */

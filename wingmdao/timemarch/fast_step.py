@@ -53,7 +53,7 @@ class _Step(C.Structure):
                 ("cap_L", _i), ("cap_U", _i), ("work", _p), ("xi", _p), ("mark", _p), ("stamp", _i),
                 ("atol", _d), ("xtol", _d), ("contraction", _d), ("max_iter", _i), ("modified", _i),
                 ("lu_valid", _i), ("lu_alpha", _d), ("factorizations", _i),
-                ("iterations", _i), ("fail_iteration", _i), ("hist", _p)]
+                ("iterations", _i), ("fail_iteration", _i), ("hist", _p), ("qcol", _p)]
 
 
 def library() -> C.CDLL:
@@ -150,6 +150,8 @@ class FastStepper:
         self.Lp, self.Up, self.pinv = np.zeros(n + 1, np.int32), np.zeros(n + 1, np.int32), np.zeros(n, np.int32)
         self.xi, self.mark = np.zeros(2 * n, np.int32), np.zeros(n, np.int32)
         self.hist = np.zeros(n)
+        order = system.lu_column_order()      # the adjoint's fill-reducing column order (None: natural)
+        self.qcol = None if order is None else np.ascontiguousarray(order, dtype=np.int32)
         s = self.s = _Step()
         s.n = n
         s.res_f, s.jac_f = res_entry[1], jac_entry[1]
@@ -158,6 +160,7 @@ class FastStepper:
                 setattr(s, f"{pre}_{name}", arr.ctypes.data)
         for name in ("Ap", "Ai", "Ax", "p", "xdot", "r", "dx", "Lp", "Up", "pinv", "work", "xi", "mark", "hist"):
             setattr(s, name, getattr(self, name).ctypes.data)
+        s.qcol = None if self.qcol is None else self.qcol.ctypes.data
         # worst case (dense triangles) for moderate sizes; larger systems grow on demand
         cap = self.initial_capacity or (n * (n + 1) // 2 if n <= 1200 else max(20 * nnz, 4 * n))
         self._set_capacity(cap)
