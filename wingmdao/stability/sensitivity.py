@@ -56,6 +56,14 @@ _FUNCTIONS: dict = {}
 GRADIENT_JIT_THRESHOLD = 20
 
 
+def _signature(name, inputs, outputs) -> ca.Function:
+    """A CasADi function named ``name`` with dense inputs and outputs of the given shapes (zero
+    outputs): what a compiled library's cache key (with a definition) and its signature check
+    (:func:`wingmdao.utils.casadi_cache.load`) read, without building the expressions."""
+    ins = [ca.MX.sym(f"in{k}", *shape) for k, shape in enumerate(inputs)]
+    return ca.Function(name, ins, [ca.MX.zeros(*shape) for shape in outputs])
+
+
 class _GradientFunctions:
     """CasADi functions of the eigenvalue derivative, built once per system and compiled to C after
     :data:`GRADIENT_JIT_THRESHOLD` evaluations (:class:`wingmdao.utils.casadi_cache.JitCall`):
@@ -64,35 +72,72 @@ class _GradientFunctions:
       [real; imaginary] rows, dense) of ``s = u^H (dR/dx v + lambda dR/dxdot v)``;
     * ``vjp_p``: ``(x, xdot, p, q, W) -> W^T dR/dp`` for W (n, 2) (the static-state term with the
       real and imaginary parts of the adjoint ``A^-T ds/dx``), reverse-mode AD, no dR/dp matrix.
+
+    With a warm compile cache the compiled libraries are loaded directly: their cache key is the
+    definition (:func:`wingmdao.stability.eigen.derived_definition`) and the function names, and
+    the library's signature check needs only the (dense) input and output shapes
+    (:func:`_signature`), so the interpreted second-derivative functions (0.9 s of CasADi
+    ``jacobian`` for the 20-node PEGASUS system) are built only when a library is missing, or on
+    demand (:attr:`interpreted`).
     """
 
     def __init__(self, system):
-        from wingmdao.utils.casadi_cache import JitCall
+        from wingmdao.stability.eigen import derived_definition
+        from wingmdao.utils import casadi_cache as cc
 
+        self.system = system
         f = system.residual_function
         n, npar, nq = system.n_state, system.n_param, system.n_forcing
-        x, xd = ca.SX.sym("x", n), ca.SX.sym("xdot", n)
-        p, q = ca.SX.sym("p", npar), ca.SX.sym("q", nq)
-        vr, vi, ur, ui = (ca.SX.sym(k, n) for k in ("vr", "vi", "ur", "ui"))
-        lr, li = ca.SX.sym("lr"), ca.SX.sym("li")
-        R = f(x, xd, p, q)
-        avr, avi = ca.jtimes(R, x, vr), ca.jtimes(R, x, vi)
-        bvr, bvi = ca.jtimes(R, xd, vr), ca.jtimes(R, xd, vi)
-        wr = avr + lr * bvr - li * bvi
-        wi = avi + lr * bvi + li * bvr
-        s = ca.vertcat(ca.dot(ur, wr) + ca.dot(ui, wi), ca.dot(ur, wi) - ca.dot(ui, wr))
-        jp = ca.densify(ca.jacobian(s, p))
-        jx = ca.densify(ca.jacobian(s, x))
-        self.interpreted = ca.Function(f"{f.name()}_pencil_gradient", [x, xd, p, q, vr, vi, ur, ui, lr, li], [jp, jx])
-        W = ca.SX.sym("W", n, 2)
-        vjp = ca.densify(ca.jacobian(ca.mtimes(W.T, R), p))
-        self.vjp_interpreted = ca.Function(f"{f.name()}_vjp_p", [x, xd, p, q, W], [vjp])
-        from wingmdao.stability.eigen import derived_definition
-
-        definition = derived_definition(system, "wingmdao.stability.sensitivity._GradientFunctions", __name__)
-        self.pencil = JitCall(self.interpreted, GRADIENT_JIT_THRESHOLD, definition=definition)
-        self.vjp = JitCall(self.vjp_interpreted, GRADIENT_JIT_THRESHOLD, definition=definition)
         self.n, self.npar = n, npar
+        self.names = (f"{f.name()}_pencil_gradient", f"{f.name()}_vjp_p")
+        self.definition = derived_definition(system, "wingmdao.stability.sensitivity._GradientFunctions", __name__)
+        vec = [(n, 1), (n, 1), (npar, 1), (nq, 1)]
+        stubs = (_signature(self.names[0], vec + [(n, 1)] * 4 + [(1, 1)] * 2, [(2, npar), (2, n)]),
+                 _signature(self.names[1], vec + [(n, 2)], [(2, npar)]))
+        hits = ([cc.cached(st, key=cc.function_key(st, definition=self.definition)) for st in stubs]
+                if cc.jit_enabled() else [None, None])
+        self._built = None
+        if all(h is not None for h in hits):
+            self.pencil = cc.precompiled_call(hits[0], GRADIENT_JIT_THRESHOLD, definition=self.definition)
+            self.vjp = cc.precompiled_call(hits[1], GRADIENT_JIT_THRESHOLD, definition=self.definition)
+        else:
+            pencil, vjp = self._build()
+            self.pencil = cc.JitCall(pencil, GRADIENT_JIT_THRESHOLD, definition=self.definition)
+            self.vjp = cc.JitCall(vjp, GRADIENT_JIT_THRESHOLD, definition=self.definition)
+
+    def _build(self):
+        """The interpreted functions (built once)."""
+        if self._built is None:
+            system = self.system
+            f = system.residual_function
+            n, npar, nq = system.n_state, system.n_param, system.n_forcing
+            x, xd = ca.SX.sym("x", n), ca.SX.sym("xdot", n)
+            p, q = ca.SX.sym("p", npar), ca.SX.sym("q", nq)
+            vr, vi, ur, ui = (ca.SX.sym(k, n) for k in ("vr", "vi", "ur", "ui"))
+            lr, li = ca.SX.sym("lr"), ca.SX.sym("li")
+            R = f(x, xd, p, q)
+            avr, avi = ca.jtimes(R, x, vr), ca.jtimes(R, x, vi)
+            bvr, bvi = ca.jtimes(R, xd, vr), ca.jtimes(R, xd, vi)
+            wr = avr + lr * bvr - li * bvi
+            wi = avi + lr * bvi + li * bvr
+            s = ca.vertcat(ca.dot(ur, wr) + ca.dot(ui, wi), ca.dot(ur, wi) - ca.dot(ui, wr))
+            jp = ca.densify(ca.jacobian(s, p))
+            jx = ca.densify(ca.jacobian(s, x))
+            pencil = ca.Function(self.names[0], [x, xd, p, q, vr, vi, ur, ui, lr, li], [jp, jx])
+            W = ca.SX.sym("W", n, 2)
+            vjp = ca.densify(ca.jacobian(ca.mtimes(W.T, R), p))
+            self._built = (pencil, ca.Function(self.names[1], [x, xd, p, q, W], [vjp]))
+        return self._built
+
+    @property
+    def interpreted(self) -> ca.Function:
+        """The interpreted ``pencil`` function (built on first use)."""
+        return self._build()[0]
+
+    @property
+    def vjp_interpreted(self) -> ca.Function:
+        """The interpreted ``vjp_p`` function (built on first use)."""
+        return self._build()[1]
 
     def ds(self, x, p, q, v, u, lam):
         """``(ds/dp, ds/dx)``, complex vectors."""
