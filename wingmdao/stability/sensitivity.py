@@ -323,7 +323,9 @@ class WarmStart:
     unless a rule asks for the full window again:
 
     * no history, or the speeds / options changed;
-    * ``refresh`` evaluations since the last cold one;
+    * ``refresh`` evaluations since the last window of every speed (a full or a single-speed
+      window; a speed whose own window is that old, while others had one since, gets a
+      single-speed window instead: the window of each speed is at most ``refresh`` old);
     * optional: some parameter block moved by more than ``max_step`` of its largest entry from
       the last cold design (default off: SLSQP steps of the sizing move the stiffnesses by
       30-90 % and the refinement checks alone kept the value equal to the cold one);
@@ -369,7 +371,8 @@ class WarmStart:
         self.tracked = None          # per speed: SpeedModes of every oscillatory window mode, last evaluation
         self.modes = None            # per speed: SpeedModes of the aggregated modes, last evaluation
         self.history = []            # (p at the first speed, tracked, modes) of the last ``keep`` evaluations
-        self.since_cold = 0
+        self.since_cold = 0          # evaluations since the last full cold evaluation
+        self.window_age = None       # per speed: evaluations since its last window (full or single-speed)
         self.n_cold = 0
         self.n_warm = 0
         self.n_speed_retry = 0       # single speeds retried from the design's modes at another speed
@@ -655,7 +658,7 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
         reason = None
         if ws.tracked is None or ws.key != key:
             reason = "no history"
-        elif ws.since_cold + 1 >= ws.refresh:
+        elif min(ws.window_age) + 1 >= ws.refresh:   # every speed's window is stale
             reason = f"refresh after {ws.refresh} evaluations"
         elif ws.step_too_large(system, [p for p, _ in pq]):
             reason = f"design step > {ws.max_step:g} relative"
@@ -677,8 +680,27 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
                 dg = err if measure == "sigma" else 2.0 * err / np.maximum(np.abs(lam) - err, 1e-300)
                 return _measure(lam, measure, margin) + dg
 
+            def cold_at(k, why):
+                # this speed only: the full window (the cold path's value there)
+                ws.reasons.append(why)
+                ws.n_speed_cold += 1
+                p, q = pq[k]
+                sm, win = _cold_speed(system, p, q, ws.tracked[k].x0, v[k], mask, bmask, min_frequency,
+                                      neutral_fraction, static, eig_options)
+                sigma = complex(eig_options.get("sigma", 0.0))
+                ws.cold_window[k] = (float(np.max(np.abs(win - sigma))), sigma)
+                ws.cold_p[k] = p
+                ws.window_age[k] = -1   # 0 after this evaluation
+                ws.history = []   # older designs' sets may lack a mode this window found
+                return sm
+
+            # a speed whose last window is `refresh` evaluations old gets a new one (the others stay warm)
+            stale = {k for k in range(len(pq)) if ws.window_age[k] + 1 >= ws.refresh}
             pre, skips = [], []
             for k, (p, q) in enumerate(pq):
+                if k in stale:
+                    pre.append((None, None, None, None))
+                    continue
                 prev = ws.tracked[k]
                 xk = static_state(system, p, q, prev.x0, **(sopt or {})) if static else prev.x0
                 Ak, Bk = linearize(system, p, q, xk)
@@ -704,23 +726,13 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
             else:
                 skips = [set() for _ in pq]
             for k, (p, q) in enumerate(pq):
+                if k in stale:
+                    tracked.append(cold_at(k, f"refresh of {v[k]:.1f} m/s after {ws.refresh} evaluations"))
+                    continue
                 xk, Ak, Bk, rz = pre[k]
                 tracked.append(_warm_speed(system, p, q, ws.tracked[k], ws.cold_window[k], ws, bmask, min_frequency,
                                            static, sopt, negligible, x=xk, A=Ak, B=Bk, skip=skips[k], ritz=rz))
             good = [k for k, sm in enumerate(tracked) if not isinstance(sm, str)]
-
-            def cold_at(k, why):
-                # this speed only: the full window (the cold path's value there)
-                ws.reasons.append(why)
-                ws.n_speed_cold += 1
-                p, q = pq[k]
-                sm, win = _cold_speed(system, p, q, ws.tracked[k].x0, v[k], mask, bmask, min_frequency,
-                                      neutral_fraction, static, eig_options)
-                sigma = complex(eig_options.get("sigma", 0.0))
-                ws.cold_window[k] = (float(np.max(np.abs(win - sigma))), sigma)
-                ws.cold_p[k] = p
-                ws.history = []   # older designs' sets may lack a mode this window found
-                return sm
 
             for k, (p, q) in enumerate(pq):
                 if not isinstance(tracked[k], str):
@@ -772,6 +784,7 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
         if tracked is not None:
             cold = False
             ws.since_cold += 1
+            ws.window_age = [a + 1 for a in ws.window_age]
             ws.n_warm += 1
         else:
             ws.reasons.append(reason)
@@ -788,6 +801,7 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
             ws.key, ws.cold_p, ws.cold_window = key, [p for p, _ in pq], windows
             ws.history = []
             ws.since_cold, ws.n_cold = 0, ws.n_cold + 1
+            ws.window_age = [0] * len(pq)
     modes = [_aggregated(sm, V, mask, bmask, neutral_fraction) for sm, V in zip(tracked, v)]
     if ws is not None:
         ws.tracked, ws.modes = tracked, modes
