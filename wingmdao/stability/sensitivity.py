@@ -282,10 +282,11 @@ def refine_pair(A, B, lam0, v0, u0, *, tol=1e-12, iterations=6, shifts=3, rel_sh
     BH = B.conj().T
     v, u = np.asarray(v0, complex), np.asarray(u0, complex)
     v, u = v / np.linalg.norm(v), u / np.linalg.norm(u)
+    Bv = B @ v
     lam_old, lam = complex(lam0), complex(lam0)
     if quotient_start:
-        den = np.vdot(u, B @ v)
-        if abs(den) > 1e-12 * np.linalg.norm(B @ v) * np.linalg.norm(u):
+        den = np.vdot(u, Bv)
+        if abs(den) > 1e-12 * np.linalg.norm(Bv) * np.linalg.norm(u):
             lam_old = lam = complex(-np.vdot(u, A @ v) / den)
 
     def change(a, b):  # phase-aligned change of a unit vector
@@ -296,13 +297,14 @@ def refine_pair(A, B, lam0, v0, u0, *, tol=1e-12, iterations=6, shifts=3, rel_sh
         s = lam * (1.0 + rel_shift) + rel_shift
         lu = _lu(sp.csc_matrix(A + s * B, dtype=complex))
         for _ in range(int(iterations)):
-            v_new = lu.solve(np.asarray(B @ v))
+            v_new = lu.solve(np.asarray(Bv))
             v_new /= np.linalg.norm(v_new)
             u_new = lu.solve(np.asarray(BH @ u), trans="H")
             u_new /= np.linalg.norm(u_new)
             dv = max(change(v_new, v), change(u_new, u))
             v, u = v_new, u_new
-            lam = complex(-np.vdot(u, A @ v) / np.vdot(u, B @ v))
+            Bv = B @ v        # the quotient's and the next step's
+            lam = complex(-np.vdot(u, A @ v) / np.vdot(u, Bv))
             # converged: the quotient to tol and the vectors (the gradient needs them; the
             # quotient is second order in their errors) to sqrt(tol)
             if abs(lam - lam_old) <= tol * abs(lam) and dv <= np.sqrt(tol):
@@ -494,7 +496,7 @@ class _Ritz:
     unloaded: np.ndarray
 
 
-def _ritz(A, B, prev, window, mask, bmask, min_frequency, min_mac, neutral_fraction, enrich=False):
+def _ritz(A, B, prev, window, mask, bmask, min_frequency, min_mac, neutral_fraction, enrich=False, basis=None):
     """Petrov-Galerkin (two-sided Rayleigh-Ritz) projection of the new pencil ``(A, B)`` on the
     span of the history's right vectors V (trial) and left vectors U (test): the k x k pencil
     ``(U^H A V, U^H B V)``, solved dense; Ritz pairs ``x = V y``, ``w = U z``. Error estimate of
@@ -514,8 +516,8 @@ def _ritz(A, B, prev, window, mask, bmask, min_frequency, min_mac, neutral_fract
     import scipy.linalg as sla
     from scipy.optimize import linear_sum_assignment
 
-    V, U = prev.right, prev.left
-    k = V.shape[1]
+    V, U = (prev.right, prev.left) if basis is None else basis
+    k = prev.right.shape[1]
     if enrich:
         # one block inverse-iteration step with one LU at the window's shift: the basis [V, (A + s B)^-1 B V]
         # (and the left one alike) holds the new modes far better than the old vectors alone
@@ -541,11 +543,13 @@ def _ritz(A, B, prev, window, mask, bmask, min_frequency, min_mac, neutral_fract
     wv, wx = prev.right * w[:, None], X * w[:, None]   # (k, k or 2k) MAC: history vs Ritz
     mac = np.abs(wv.conj().T @ wx) ** 2 / np.outer(np.sum(np.abs(wv) ** 2, axis=0), np.sum(np.abs(wx) ** 2, axis=0))
     rows, cols = linear_sum_assignment(-mac)
-    order = np.empty(k, dtype=int)
+    order = np.zeros(k, dtype=int)
     order[rows] = cols
+    matched = np.zeros(k, dtype=bool)    # a basis of fewer vectors than history modes leaves some unmatched
+    matched[rows] = True
     th_all = th
     th, X, W, err = th[order], X[:, order], W[:, order], err[order]
-    mac = mac[np.arange(k), order]
+    mac = np.where(matched, mac[np.arange(k), order], 0.0)
     radius, sigma = window
     with np.errstate(invalid="ignore"):   # a non-finite estimate: NaN gap, so not trusted (below)
         gap = np.array([np.min(np.abs(np.delete(th_all, order[j]) - th[j]), initial=np.inf) for j in range(k)])
@@ -555,6 +559,18 @@ def _ritz(A, B, prev, window, mask, bmask, min_frequency, min_mac, neutral_fract
     with np.errstate(divide="ignore", invalid="ignore"):
         unloaded = trusted & (loaded + err / gap < 0.5 * neutral_fraction)
     return _Ritz(th, X, W, err, mac, loaded, trusted, unloaded)
+
+
+def _best_ritz(a: _Ritz, b: _Ritz) -> _Ritz:
+    """Per history mode the estimate of ``a`` or ``b`` (two :func:`_ritz` projections on different
+    bases, same history modes): ``b``'s where it is trusted and ``a``'s is not or has a larger bound."""
+    use = b.trusted & (~a.trusted | (b.error < a.error))
+
+    def pick(x, y):
+        return np.where(use[None, :] if x.ndim == 2 else use, y, x)
+
+    return _Ritz(*(pick(getattr(a, f), getattr(b, f)) for f in
+                   ("lam", "right", "left", "error", "mac", "loaded", "trusted", "unloaded")))
 
 
 def _warm_speed(system, p, q, prev, window, warm, bmask, min_frequency, static, static_options, negligible,
@@ -707,6 +723,7 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
                 rz = (_ritz(Ak, Bk, prev, ws.cold_window[k], mask, bmask, min_frequency, ws.min_mac, neutral_fraction)
                       if ws.lazy and prev.eigenvalues.size else None)
                 pre.append((xk, Ak, Bk, rz))
+            low = -np.inf
             if ws.lazy:
                 # a lower bound of g_max from the trusted estimates of clearly loaded modes; a mode is
                 # refined unless trusted and unloaded with its bound, or its g (upper end of its bound)
@@ -717,19 +734,27 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
                         sure = rz.trusted & (rz.loaded >= 10.0 * neutral_fraction)
                         if np.any(sure):
                             low = max(low, float(np.max(g_up(rz.lam[sure], -rz.error[sure]))))
-                for _, _, _, rz in pre:
-                    sk = set()
-                    if rz is not None:
-                        weak = g_up(rz.lam, rz.error) < low - LAZY_KS / rho_ks
-                        sk = set(np.flatnonzero(rz.trusted & (rz.unloaded | weak)).tolist())
-                    skips.append(sk)
-            else:
-                skips = [set() for _ in pq]
+
+            def skip_set(rz):
+                if rz is None or not ws.lazy:
+                    return set()
+                weak = g_up(rz.lam, rz.error) < low - LAZY_KS / rho_ks
+                return set(np.flatnonzero(rz.trusted & (rz.unloaded | weak)).tolist())
+
+            skips = [skip_set(rz) for _, _, _, rz in pre]
             for k, (p, q) in enumerate(pq):
                 if k in stale:
                     tracked.append(cold_at(k, f"refresh of {v[k]:.1f} m/s after {ws.refresh} evaluations"))
                     continue
                 xk, Ak, Bk, rz = pre[k]
+                near = tracked[k - 1] if k > 0 else None
+                if rz is not None and isinstance(near, SpeedModes) and near.eigenvalues.size:
+                    # second estimate on this design's modes at the previous speed (the lightly loaded
+                    # in-plane modes barely change with the speed); per mode the better trusted one
+                    rz = _best_ritz(rz, _ritz(Ak, Bk, ws.tracked[k], ws.cold_window[k], mask, bmask, min_frequency,
+                                              ws.min_mac, neutral_fraction, basis=(near.right, near.left)))
+                    pre[k] = (xk, Ak, Bk, rz)
+                    skips[k] = skip_set(rz)
                 tracked.append(_warm_speed(system, p, q, ws.tracked[k], ws.cold_window[k], ws, bmask, min_frequency,
                                            static, sopt, negligible, x=xk, A=Ak, B=Bk, skip=skips[k], ritz=rz))
             good = [k for k, sm in enumerate(tracked) if not isinstance(sm, str)]
