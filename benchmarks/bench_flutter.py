@@ -5,7 +5,7 @@ and the cost of the PEGASUS flutter-margin constraint (value and exact gradient)
         [--design RESULT.json] [--margin F]
     PYTHONPATH=. python benchmarks/bench_flutter.py --record SEQ.pkl     # run the PEGASUS maneuver sizing
         with --flutter-margin F, recording every FlutterDamping input
-    PYTHONPATH=. python benchmarks/bench_flutter.py --replay SEQ.pkl [--no-cold] [--no-lazy]
+    PYTHONPATH=. python benchmarks/bench_flutter.py --replay SEQ.pkl [--no-cold] [--no-lazy] [--refresh N]
         # warm (WarmStart) against cold at every recorded design: largest differences, CPU per evaluation
 
 Prints, per case: the aeroelastic system build, one eigen-analysis (static solve + linearisation +
@@ -148,7 +148,7 @@ def record(path, margin):
     print(f"recorded {len(rec)} FlutterDamping evaluations to {path}")
 
 
-def replay(path, margin, cold=True, lazy=True, num_nodes=20):
+def replay(path, margin, cold=True, lazy=True, num_nodes=20, refresh=10 ** 6):
     """Replay a :func:`record` sequence: the warm-started constraint (as the component runs it: the
     value at each new design, the gradient from the stored modes when asked) against the cold one
     at every design; prints the largest value and gradient differences, process time per warm
@@ -163,7 +163,7 @@ def replay(path, margin, cold=True, lazy=True, num_nodes=20):
         rec = pickle.load(fh)
     o = sizing_flutter_options("pegasus", num_nodes, margin)
     system = cached_aeroelastic_system(num_nodes)
-    ws = WarmStart(refresh=10 ** 6, lazy=lazy)
+    ws = WarmStart(refresh=refresh, lazy=lazy)
     tw = tc = worst = worst_g = 0.0
     prev, rw, rc, n_grad = None, None, None, 0
     for beam, grad in rec:
@@ -193,7 +193,7 @@ def replay(path, margin, cold=True, lazy=True, num_nodes=20):
     print(f"replay of {len(rec)} calls ({n} designs, {n_grad} gradients compared), lazy={lazy}: warm {tw:.2f} s CPU, "
           f"{1e3 * tw / n:.1f} ms per evaluation (goal of issue #14: ~20-25 ms)"
           + (f"; cold {tc:.1f} s; max |warm - cold| value {worst:.1e} 1/s, gradient {worst_g:.1e} relative" if cold else ""))
-    print(f"  full windows {ws.n_cold}, single-speed windows {ws.n_speed_cold}, retried speeds {ws.n_speed_retry}, "
+    print(f"  refresh {refresh}: full windows {ws.n_cold}, single-speed windows {ws.n_speed_cold}, retried speeds {ws.n_speed_retry}, "
           f"dropped {ws.dropped}; refinements {ws.n_refined}, lazy estimates {ws.n_skipped}, lazy re-checks "
           f"{ws.n_lazy_redo}")
 
@@ -209,12 +209,14 @@ def main(argv=None):
     ap.add_argument("--replay", default=None, help="replay a --record pickle: warm vs cold at every design")
     ap.add_argument("--no-cold", action="store_true", help="--replay: time the warm start only")
     ap.add_argument("--no-lazy", action="store_true", help="--replay: refine every tracked mode")
+    ap.add_argument("--refresh", type=int, default=10 ** 6,
+                    help="--replay: WarmStart refresh (the sizing's is 100; default: off)")
     args = ap.parse_args(argv)
     if args.record or args.replay:
         if args.record:
             record(args.record, args.margin)
         if args.replay:
-            replay(args.replay, args.margin, cold=not args.no_cold, lazy=not args.no_lazy)
+            replay(args.replay, args.margin, cold=not args.no_cold, lazy=not args.no_lazy, refresh=args.refresh)
         return
     for name in args.cases:
         thickness = None

@@ -250,3 +250,33 @@ def test_constraint_sign_agrees_with_the_flutter_search():
                                  aero_mask=prob.aero_mask(), beam_mask=prob.beam_weights(), gradient=False,
                                  **prob.eig_options)
         assert np.sign(res.value) == sign, (factor, res.value)
+
+
+@pytest.mark.skipif(__import__("wingmdao.utils.casadi_cache", fromlist=["compiler"]).compiler() is None,
+                    reason="needs gcc")
+def test_gradient_functions_load_from_the_cache_without_building(monkeypatch, tmp_path):
+    """A warm compile cache serves the compiled second-derivative functions by their signature
+    stub: no interpreted function is built, and they give the interpreted ones' values."""
+    from wingmdao.stability import sensitivity as sens
+    from wingmdao.utils import casadi_cache as cc
+
+    monkeypatch.setenv(cc.ENV_JIT, "1")
+    monkeypatch.setenv(cc.ENV_CACHE, str(tmp_path))
+    prob = flutter_problem("goland", 3)
+    cold = sens._GradientFunctions(prob.system)            # cache miss: built, interpreted until compiled
+    assert cold._built is not None and cold.pencil.jit.state == "interpreted"
+    rng = np.random.default_rng(3)
+    n, npar, nq = prob.system.n_state, prob.system.n_param, prob.system.n_forcing
+    x, p, q = rng.standard_normal(n), rng.standard_normal(npar), rng.standard_normal(nq)
+    v, u = rng.standard_normal(n) + 1j * rng.standard_normal(n), rng.standard_normal(n) + 1j * rng.standard_normal(n)
+    ref_p, ref_x = cold.ds(x, p, q, v, u, 0.3 + 2.0j)      # interpreted
+    ref = cold.static_term(x, p, q, v)
+    assert cc.compile_calls({"pencil": cold.pencil, "vjp": cold.vjp}) == {"pencil": "compiled", "vjp": "compiled"}
+    warm = sens._GradientFunctions(prob.system)
+    assert warm._built is None and warm.pencil.jit.state == "compiled" and warm.vjp.jit.state == "compiled"
+    got_p, got_x = warm.ds(x, p, q, v, u, 0.3 + 2.0j)
+    np.testing.assert_allclose(got_p, ref_p, rtol=1e-12, atol=1e-12 * np.abs(ref_p).max())
+    np.testing.assert_allclose(got_x, ref_x, rtol=1e-12, atol=1e-12 * np.abs(ref_x).max())
+    np.testing.assert_allclose(warm.static_term(x, p, q, v), ref, rtol=1e-12, atol=1e-12 * np.abs(ref).max())
+    assert warm._built is None
+    assert warm.interpreted.name() == cold.interpreted.name()   # built on demand

@@ -63,7 +63,17 @@ def test_refresh_rule_and_wrong_mode_detected():
     ws = WarmStart(refresh=2)
     _eval(1.0, ws)
     assert not _eval(1.001, ws).cold
-    assert _eval(1.002, ws).cold and "refresh" in ws.reasons[-1]
+    # the refresh counts per speed since its last (full or single-speed) window: every speed stale
+    # -> a full cold evaluation; only some -> single-speed windows for those
+    ws.window_age = [1, 1, 1]
+    rw = _eval(1.002, ws)
+    assert rw.cold and ws.reasons[-1] == "refresh after 2 evaluations" and ws.window_age == [0, 0, 0]
+    ws.window_age = [1, 0, 0]
+    n = ws.n_speed_cold
+    rw = _eval(1.003, ws)
+    assert not rw.cold and ws.n_speed_cold >= n + 1 and ws.window_age[0] == 0
+    assert any(r.startswith("refresh of 60.0 m/s") for r in ws.reasons), ws.reasons
+    assert rw.value == pytest.approx(_eval(1.003, None).value, abs=1e-10)
     # a corrupted history (one mode's vectors replaced by another's): the two refine to one
     # eigenvalue; that speed is redone with the full window and the value is the cold one
     ws2 = WarmStart(refresh=1000)

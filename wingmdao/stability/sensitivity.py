@@ -56,6 +56,14 @@ _FUNCTIONS: dict = {}
 GRADIENT_JIT_THRESHOLD = 20
 
 
+def _signature(name, inputs, outputs) -> ca.Function:
+    """A CasADi function named ``name`` with dense inputs and outputs of the given shapes (zero
+    outputs): what a compiled library's cache key (with a definition) and its signature check
+    (:func:`wingmdao.utils.casadi_cache.load`) read, without building the expressions."""
+    ins = [ca.MX.sym(f"in{k}", *shape) for k, shape in enumerate(inputs)]
+    return ca.Function(name, ins, [ca.MX.zeros(*shape) for shape in outputs])
+
+
 class _GradientFunctions:
     """CasADi functions of the eigenvalue derivative, built once per system and compiled to C after
     :data:`GRADIENT_JIT_THRESHOLD` evaluations (:class:`wingmdao.utils.casadi_cache.JitCall`):
@@ -64,35 +72,72 @@ class _GradientFunctions:
       [real; imaginary] rows, dense) of ``s = u^H (dR/dx v + lambda dR/dxdot v)``;
     * ``vjp_p``: ``(x, xdot, p, q, W) -> W^T dR/dp`` for W (n, 2) (the static-state term with the
       real and imaginary parts of the adjoint ``A^-T ds/dx``), reverse-mode AD, no dR/dp matrix.
+
+    With a warm compile cache the compiled libraries are loaded directly: their cache key is the
+    definition (:func:`wingmdao.stability.eigen.derived_definition`) and the function names, and
+    the library's signature check needs only the (dense) input and output shapes
+    (:func:`_signature`), so the interpreted second-derivative functions (0.9 s of CasADi
+    ``jacobian`` for the 20-node PEGASUS system) are built only when a library is missing, or on
+    demand (:attr:`interpreted`).
     """
 
     def __init__(self, system):
-        from wingmdao.utils.casadi_cache import JitCall
+        from wingmdao.stability.eigen import derived_definition
+        from wingmdao.utils import casadi_cache as cc
 
+        self.system = system
         f = system.residual_function
         n, npar, nq = system.n_state, system.n_param, system.n_forcing
-        x, xd = ca.SX.sym("x", n), ca.SX.sym("xdot", n)
-        p, q = ca.SX.sym("p", npar), ca.SX.sym("q", nq)
-        vr, vi, ur, ui = (ca.SX.sym(k, n) for k in ("vr", "vi", "ur", "ui"))
-        lr, li = ca.SX.sym("lr"), ca.SX.sym("li")
-        R = f(x, xd, p, q)
-        avr, avi = ca.jtimes(R, x, vr), ca.jtimes(R, x, vi)
-        bvr, bvi = ca.jtimes(R, xd, vr), ca.jtimes(R, xd, vi)
-        wr = avr + lr * bvr - li * bvi
-        wi = avi + lr * bvi + li * bvr
-        s = ca.vertcat(ca.dot(ur, wr) + ca.dot(ui, wi), ca.dot(ur, wi) - ca.dot(ui, wr))
-        jp = ca.densify(ca.jacobian(s, p))
-        jx = ca.densify(ca.jacobian(s, x))
-        self.interpreted = ca.Function(f"{f.name()}_pencil_gradient", [x, xd, p, q, vr, vi, ur, ui, lr, li], [jp, jx])
-        W = ca.SX.sym("W", n, 2)
-        vjp = ca.densify(ca.jacobian(ca.mtimes(W.T, R), p))
-        self.vjp_interpreted = ca.Function(f"{f.name()}_vjp_p", [x, xd, p, q, W], [vjp])
-        from wingmdao.stability.eigen import derived_definition
-
-        definition = derived_definition(system, "wingmdao.stability.sensitivity._GradientFunctions", __name__)
-        self.pencil = JitCall(self.interpreted, GRADIENT_JIT_THRESHOLD, definition=definition)
-        self.vjp = JitCall(self.vjp_interpreted, GRADIENT_JIT_THRESHOLD, definition=definition)
         self.n, self.npar = n, npar
+        self.names = (f"{f.name()}_pencil_gradient", f"{f.name()}_vjp_p")
+        self.definition = derived_definition(system, "wingmdao.stability.sensitivity._GradientFunctions", __name__)
+        vec = [(n, 1), (n, 1), (npar, 1), (nq, 1)]
+        stubs = (_signature(self.names[0], vec + [(n, 1)] * 4 + [(1, 1)] * 2, [(2, npar), (2, n)]),
+                 _signature(self.names[1], vec + [(n, 2)], [(2, npar)]))
+        hits = ([cc.cached(st, key=cc.function_key(st, definition=self.definition)) for st in stubs]
+                if cc.jit_enabled() else [None, None])
+        self._built = None
+        if all(h is not None for h in hits):
+            self.pencil = cc.precompiled_call(hits[0], GRADIENT_JIT_THRESHOLD, definition=self.definition)
+            self.vjp = cc.precompiled_call(hits[1], GRADIENT_JIT_THRESHOLD, definition=self.definition)
+        else:
+            pencil, vjp = self._build()
+            self.pencil = cc.JitCall(pencil, GRADIENT_JIT_THRESHOLD, definition=self.definition)
+            self.vjp = cc.JitCall(vjp, GRADIENT_JIT_THRESHOLD, definition=self.definition)
+
+    def _build(self):
+        """The interpreted functions (built once)."""
+        if self._built is None:
+            system = self.system
+            f = system.residual_function
+            n, npar, nq = system.n_state, system.n_param, system.n_forcing
+            x, xd = ca.SX.sym("x", n), ca.SX.sym("xdot", n)
+            p, q = ca.SX.sym("p", npar), ca.SX.sym("q", nq)
+            vr, vi, ur, ui = (ca.SX.sym(k, n) for k in ("vr", "vi", "ur", "ui"))
+            lr, li = ca.SX.sym("lr"), ca.SX.sym("li")
+            R = f(x, xd, p, q)
+            avr, avi = ca.jtimes(R, x, vr), ca.jtimes(R, x, vi)
+            bvr, bvi = ca.jtimes(R, xd, vr), ca.jtimes(R, xd, vi)
+            wr = avr + lr * bvr - li * bvi
+            wi = avi + lr * bvi + li * bvr
+            s = ca.vertcat(ca.dot(ur, wr) + ca.dot(ui, wi), ca.dot(ur, wi) - ca.dot(ui, wr))
+            jp = ca.densify(ca.jacobian(s, p))
+            jx = ca.densify(ca.jacobian(s, x))
+            pencil = ca.Function(self.names[0], [x, xd, p, q, vr, vi, ur, ui, lr, li], [jp, jx])
+            W = ca.SX.sym("W", n, 2)
+            vjp = ca.densify(ca.jacobian(ca.mtimes(W.T, R), p))
+            self._built = (pencil, ca.Function(self.names[1], [x, xd, p, q, W], [vjp]))
+        return self._built
+
+    @property
+    def interpreted(self) -> ca.Function:
+        """The interpreted ``pencil`` function (built on first use)."""
+        return self._build()[0]
+
+    @property
+    def vjp_interpreted(self) -> ca.Function:
+        """The interpreted ``vjp_p`` function (built on first use)."""
+        return self._build()[1]
 
     def ds(self, x, p, q, v, u, lam):
         """``(ds/dp, ds/dx)``, complex vectors."""
@@ -237,10 +282,11 @@ def refine_pair(A, B, lam0, v0, u0, *, tol=1e-12, iterations=6, shifts=3, rel_sh
     BH = B.conj().T
     v, u = np.asarray(v0, complex), np.asarray(u0, complex)
     v, u = v / np.linalg.norm(v), u / np.linalg.norm(u)
+    Bv = B @ v
     lam_old, lam = complex(lam0), complex(lam0)
     if quotient_start:
-        den = np.vdot(u, B @ v)
-        if abs(den) > 1e-12 * np.linalg.norm(B @ v) * np.linalg.norm(u):
+        den = np.vdot(u, Bv)
+        if abs(den) > 1e-12 * np.linalg.norm(Bv) * np.linalg.norm(u):
             lam_old = lam = complex(-np.vdot(u, A @ v) / den)
 
     def change(a, b):  # phase-aligned change of a unit vector
@@ -251,13 +297,14 @@ def refine_pair(A, B, lam0, v0, u0, *, tol=1e-12, iterations=6, shifts=3, rel_sh
         s = lam * (1.0 + rel_shift) + rel_shift
         lu = _lu(sp.csc_matrix(A + s * B, dtype=complex))
         for _ in range(int(iterations)):
-            v_new = lu.solve(np.asarray(B @ v))
+            v_new = lu.solve(np.asarray(Bv))
             v_new /= np.linalg.norm(v_new)
             u_new = lu.solve(np.asarray(BH @ u), trans="H")
             u_new /= np.linalg.norm(u_new)
             dv = max(change(v_new, v), change(u_new, u))
             v, u = v_new, u_new
-            lam = complex(-np.vdot(u, A @ v) / np.vdot(u, B @ v))
+            Bv = B @ v        # the quotient's and the next step's
+            lam = complex(-np.vdot(u, A @ v) / np.vdot(u, Bv))
             # converged: the quotient to tol and the vectors (the gradient needs them; the
             # quotient is second order in their errors) to sqrt(tol)
             if abs(lam - lam_old) <= tol * abs(lam) and dv <= np.sqrt(tol):
@@ -278,7 +325,9 @@ class WarmStart:
     unless a rule asks for the full window again:
 
     * no history, or the speeds / options changed;
-    * ``refresh`` evaluations since the last cold one;
+    * ``refresh`` evaluations since the last window of every speed (a full or a single-speed
+      window; a speed whose own window is that old, while others had one since, gets a
+      single-speed window instead: the window of each speed is at most ``refresh`` old);
     * optional: some parameter block moved by more than ``max_step`` of its largest entry from
       the last cold design (default off: SLSQP steps of the sizing move the stiffnesses by
       30-90 % and the refinement checks alone kept the value equal to the cold one);
@@ -292,6 +341,9 @@ class WarmStart:
     estimate on the history's vectors (:func:`_ritz`, no LU) is not trusted, or may be loaded
     and within ``LAZY_KS / rho`` of g_max at the upper end of its (empirical) error bound; a
     second check against the exact g_max of the refined modes refines any skipped mode in reach.
+    At the speeds after the first, a second estimate on this design's modes at the previous speed
+    (refined or estimated just before; the in-plane modes barely change with the speed) replaces the
+    history one per mode when it is trusted with a smaller bound (:func:`_best_ritz`).
 
     The history is the tracked set of the stored evaluation (the last ``keep``, since the last
     full or single-speed window) nearest the new design (:meth:`distance`): SLSQP's line searches
@@ -324,7 +376,8 @@ class WarmStart:
         self.tracked = None          # per speed: SpeedModes of every oscillatory window mode, last evaluation
         self.modes = None            # per speed: SpeedModes of the aggregated modes, last evaluation
         self.history = []            # (p at the first speed, tracked, modes) of the last ``keep`` evaluations
-        self.since_cold = 0
+        self.since_cold = 0          # evaluations since the last full cold evaluation
+        self.window_age = None       # per speed: evaluations since its last window (full or single-speed)
         self.n_cold = 0
         self.n_warm = 0
         self.n_speed_retry = 0       # single speeds retried from the design's modes at another speed
@@ -446,7 +499,7 @@ class _Ritz:
     unloaded: np.ndarray
 
 
-def _ritz(A, B, prev, window, mask, bmask, min_frequency, min_mac, neutral_fraction, enrich=False):
+def _ritz(A, B, prev, window, mask, bmask, min_frequency, min_mac, neutral_fraction, enrich=False, basis=None):
     """Petrov-Galerkin (two-sided Rayleigh-Ritz) projection of the new pencil ``(A, B)`` on the
     span of the history's right vectors V (trial) and left vectors U (test): the k x k pencil
     ``(U^H A V, U^H B V)``, solved dense; Ritz pairs ``x = V y``, ``w = U z``. Error estimate of
@@ -462,12 +515,16 @@ def _ritz(A, B, prev, window, mask, bmask, min_frequency, min_mac, neutral_fract
     Ritz value), oscillatory, inside the cold window's disc with its bound, and its MAC with the
     history vector is at least ``min_mac`` (Ritz pairs matched to the history modes by an optimal
     assignment of the MAC). ``unloaded``: trusted, and the loaded fraction plus the vector's error
-    estimate (bound / gap) below half ``neutral_fraction`` (the mode stays out of the aggregate)."""
+    estimate (bound / gap) below half ``neutral_fraction`` (the mode stays out of the aggregate).
+    ``basis``: ``(V, U)`` to project on instead of the history's vectors (this design's modes at the
+    previous speed, :func:`damping_constraint`); the estimates are still matched to, and trusted by
+    their MAC with, the history modes ``prev`` (a history mode left unmatched is not trusted). Over
+    the replayed sizing these estimates' error was at most 0.026 max(eta_r, eta_l) |theta|."""
     import scipy.linalg as sla
     from scipy.optimize import linear_sum_assignment
 
-    V, U = prev.right, prev.left
-    k = V.shape[1]
+    V, U = (prev.right, prev.left) if basis is None else basis
+    k = prev.right.shape[1]
     if enrich:
         # one block inverse-iteration step with one LU at the window's shift: the basis [V, (A + s B)^-1 B V]
         # (and the left one alike) holds the new modes far better than the old vectors alone
@@ -493,11 +550,13 @@ def _ritz(A, B, prev, window, mask, bmask, min_frequency, min_mac, neutral_fract
     wv, wx = prev.right * w[:, None], X * w[:, None]   # (k, k or 2k) MAC: history vs Ritz
     mac = np.abs(wv.conj().T @ wx) ** 2 / np.outer(np.sum(np.abs(wv) ** 2, axis=0), np.sum(np.abs(wx) ** 2, axis=0))
     rows, cols = linear_sum_assignment(-mac)
-    order = np.empty(k, dtype=int)
+    order = np.zeros(k, dtype=int)
     order[rows] = cols
+    matched = np.zeros(k, dtype=bool)    # a basis of fewer vectors than history modes leaves some unmatched
+    matched[rows] = True
     th_all = th
     th, X, W, err = th[order], X[:, order], W[:, order], err[order]
-    mac = mac[np.arange(k), order]
+    mac = np.where(matched, mac[np.arange(k), order], 0.0)
     radius, sigma = window
     with np.errstate(invalid="ignore"):   # a non-finite estimate: NaN gap, so not trusted (below)
         gap = np.array([np.min(np.abs(np.delete(th_all, order[j]) - th[j]), initial=np.inf) for j in range(k)])
@@ -507,6 +566,18 @@ def _ritz(A, B, prev, window, mask, bmask, min_frequency, min_mac, neutral_fract
     with np.errstate(divide="ignore", invalid="ignore"):
         unloaded = trusted & (loaded + err / gap < 0.5 * neutral_fraction)
     return _Ritz(th, X, W, err, mac, loaded, trusted, unloaded)
+
+
+def _best_ritz(a: _Ritz, b: _Ritz) -> _Ritz:
+    """Per history mode the estimate of ``a`` or ``b`` (two :func:`_ritz` projections on different
+    bases, same history modes): ``b``'s where it is trusted and ``a``'s is not or has a larger bound."""
+    use = b.trusted & (~a.trusted | (b.error < a.error))
+
+    def pick(x, y):
+        return np.where(use[None, :] if x.ndim == 2 else use, y, x)
+
+    return _Ritz(*(pick(getattr(a, f), getattr(b, f)) for f in
+                   ("lam", "right", "left", "error", "mac", "loaded", "trusted", "unloaded")))
 
 
 def _warm_speed(system, p, q, prev, window, warm, bmask, min_frequency, static, static_options, negligible,
@@ -610,7 +681,7 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
         reason = None
         if ws.tracked is None or ws.key != key:
             reason = "no history"
-        elif ws.since_cold + 1 >= ws.refresh:
+        elif min(ws.window_age) + 1 >= ws.refresh:   # every speed's window is stale
             reason = f"refresh after {ws.refresh} evaluations"
         elif ws.step_too_large(system, [p for p, _ in pq]):
             reason = f"design step > {ws.max_step:g} relative"
@@ -632,38 +703,6 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
                 dg = err if measure == "sigma" else 2.0 * err / np.maximum(np.abs(lam) - err, 1e-300)
                 return _measure(lam, measure, margin) + dg
 
-            pre, skips = [], []
-            for k, (p, q) in enumerate(pq):
-                prev = ws.tracked[k]
-                xk = static_state(system, p, q, prev.x0, **(sopt or {})) if static else prev.x0
-                Ak, Bk = linearize(system, p, q, xk)
-                rz = (_ritz(Ak, Bk, prev, ws.cold_window[k], mask, bmask, min_frequency, ws.min_mac, neutral_fraction)
-                      if ws.lazy and prev.eigenvalues.size else None)
-                pre.append((xk, Ak, Bk, rz))
-            if ws.lazy:
-                # a lower bound of g_max from the trusted estimates of clearly loaded modes; a mode is
-                # refined unless trusted and unloaded with its bound, or its g (upper end of its bound)
-                # is LAZY_KS / rho below that lower bound
-                low = -np.inf
-                for _, _, _, rz in pre:
-                    if rz is not None:
-                        sure = rz.trusted & (rz.loaded >= 10.0 * neutral_fraction)
-                        if np.any(sure):
-                            low = max(low, float(np.max(g_up(rz.lam[sure], -rz.error[sure]))))
-                for _, _, _, rz in pre:
-                    sk = set()
-                    if rz is not None:
-                        weak = g_up(rz.lam, rz.error) < low - LAZY_KS / rho_ks
-                        sk = set(np.flatnonzero(rz.trusted & (rz.unloaded | weak)).tolist())
-                    skips.append(sk)
-            else:
-                skips = [set() for _ in pq]
-            for k, (p, q) in enumerate(pq):
-                xk, Ak, Bk, rz = pre[k]
-                tracked.append(_warm_speed(system, p, q, ws.tracked[k], ws.cold_window[k], ws, bmask, min_frequency,
-                                           static, sopt, negligible, x=xk, A=Ak, B=Bk, skip=skips[k], ritz=rz))
-            good = [k for k, sm in enumerate(tracked) if not isinstance(sm, str)]
-
             def cold_at(k, why):
                 # this speed only: the full window (the cold path's value there)
                 ws.reasons.append(why)
@@ -674,8 +713,58 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
                 sigma = complex(eig_options.get("sigma", 0.0))
                 ws.cold_window[k] = (float(np.max(np.abs(win - sigma))), sigma)
                 ws.cold_p[k] = p
+                ws.window_age[k] = -1   # 0 after this evaluation
                 ws.history = []   # older designs' sets may lack a mode this window found
                 return sm
+
+            # a speed whose last window is `refresh` evaluations old gets a new one (the others stay warm)
+            stale = {k for k in range(len(pq)) if ws.window_age[k] + 1 >= ws.refresh}
+            pre, skips = [], []
+            for k, (p, q) in enumerate(pq):
+                if k in stale:
+                    pre.append((None, None, None, None))
+                    continue
+                prev = ws.tracked[k]
+                xk = static_state(system, p, q, prev.x0, **(sopt or {})) if static else prev.x0
+                Ak, Bk = linearize(system, p, q, xk)
+                rz = (_ritz(Ak, Bk, prev, ws.cold_window[k], mask, bmask, min_frequency, ws.min_mac, neutral_fraction)
+                      if ws.lazy and prev.eigenvalues.size else None)
+                pre.append((xk, Ak, Bk, rz))
+            low = -np.inf
+            if ws.lazy:
+                # a lower bound of g_max from the trusted estimates of clearly loaded modes; a mode is
+                # refined unless trusted and unloaded with its bound, or its g (upper end of its bound)
+                # is LAZY_KS / rho below that lower bound
+                low = -np.inf
+                for _, _, _, rz in pre:
+                    if rz is not None:
+                        sure = rz.trusted & (rz.loaded >= 10.0 * neutral_fraction)
+                        if np.any(sure):
+                            low = max(low, float(np.max(g_up(rz.lam[sure], -rz.error[sure]))))
+
+            def skip_set(rz):
+                if rz is None or not ws.lazy:
+                    return set()
+                weak = g_up(rz.lam, rz.error) < low - LAZY_KS / rho_ks
+                return set(np.flatnonzero(rz.trusted & (rz.unloaded | weak)).tolist())
+
+            skips = [skip_set(rz) for _, _, _, rz in pre]
+            for k, (p, q) in enumerate(pq):
+                if k in stale:
+                    tracked.append(cold_at(k, f"refresh of {v[k]:.1f} m/s after {ws.refresh} evaluations"))
+                    continue
+                xk, Ak, Bk, rz = pre[k]
+                near = tracked[k - 1] if k > 0 else None
+                if rz is not None and isinstance(near, SpeedModes) and near.eigenvalues.size:
+                    # second estimate on this design's modes at the previous speed (the lightly loaded
+                    # in-plane modes barely change with the speed); per mode the better trusted one
+                    rz = _best_ritz(rz, _ritz(Ak, Bk, ws.tracked[k], ws.cold_window[k], mask, bmask, min_frequency,
+                                              ws.min_mac, neutral_fraction, basis=(near.right, near.left)))
+                    pre[k] = (xk, Ak, Bk, rz)
+                    skips[k] = skip_set(rz)
+                tracked.append(_warm_speed(system, p, q, ws.tracked[k], ws.cold_window[k], ws, bmask, min_frequency,
+                                           static, sopt, negligible, x=xk, A=Ak, B=Bk, skip=skips[k], ritz=rz))
+            good = [k for k, sm in enumerate(tracked) if not isinstance(sm, str)]
 
             for k, (p, q) in enumerate(pq):
                 if not isinstance(tracked[k], str):
@@ -727,6 +816,7 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
         if tracked is not None:
             cold = False
             ws.since_cold += 1
+            ws.window_age = [a + 1 for a in ws.window_age]
             ws.n_warm += 1
         else:
             ws.reasons.append(reason)
@@ -743,6 +833,7 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
             ws.key, ws.cold_p, ws.cold_window = key, [p for p, _ in pq], windows
             ws.history = []
             ws.since_cold, ws.n_cold = 0, ws.n_cold + 1
+            ws.window_age = [0] * len(pq)
     modes = [_aggregated(sm, V, mask, bmask, neutral_fraction) for sm, V in zip(tracked, v)]
     if ws is not None:
         ws.tracked, ws.modes = tracked, modes
