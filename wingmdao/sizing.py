@@ -199,7 +199,9 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
         raise ValueError("the flutter constraint needs box sections in one process (no MPI distribution)")
     mass_ref = (options.mass_scale or OBJECTIVE_SCALE * initial_mass(geometry, material, options, section)) \
         if driver else 1.0
-    wing_kwargs = dict(rho_ks=options.rho_ks, add_constraints=driver, add_objective=driver, mass_ref=mass_ref)
+    # the load cases' forcing histories are fixed data of the beams, not OpenMDAO variables (issue 15)
+    wing_kwargs = dict(rho_ks=options.rho_ks, add_constraints=driver, add_objective=driver, mass_ref=mass_ref,
+                       forcing_as_data=True)
     if distributed:
         from wingmdao.parallel import distributed_wing_sizing
 
@@ -229,7 +231,7 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     else:
         set_geometry(prob, geometry, section)
         for case in load_cases:
-            set_case_loads(prob, case, n, f"cases.{case.name}")
+            set_case_loads(prob, case, n, f"cases.{case.name}", forcing=False)
     n_dv = n if geometry.station_map is None else int(np.max(geometry.station_map)) + 1
     for w in design_vars:
         prob.set_val(w, np.broadcast_to(options.initial.get(w, options.upper[w]), (n_dv,)))
