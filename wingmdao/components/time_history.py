@@ -294,6 +294,7 @@ class TimeHistoryComponent(om.ImplicitComponent):
         from wingmdao.limits import march_progress
 
         sysm = self.system
+        self._lin = self._lin_inputs = None   # the linearization uses the states this solve changes
         p, Q = self._params(inputs), self._forcing(inputs)
 
         def run(guess):
@@ -342,14 +343,16 @@ class TimeHistoryComponent(om.ImplicitComponent):
         X = self._history(outputs)
         # drop the previous design point's linearization first: the two are not alive together
         self._lin = self._lin_inputs = None
+        # the linearization uses the output vector's states (no copy) and, when every forcing is
+        # data (forcing_data), keeps no forcing products; the linearization point is kept as
+        # digests of the states and of the input vector (wingmdao.utils.digest), and a new
+        # solve_nonlinear drops the linearization before it changes the states
         lin = LinearizedHistory(sysm, self._time, X, p, Q,
                                 initial=self.options["initial"], store_factors=self.store_factors,
-                                lu=self.options["lu"], checkpoint_every=self.checkpoint_every)
+                                lu=self.options["lu"], checkpoint_every=self.checkpoint_every,
+                                copy_states=False, keep_forcing_product=len(self._q_data) < len(self._q_sizes))
         self._lin = lin
-        # the linearization point: the history is the linearization's own copy; the inputs are
-        # kept as a digest of the component's input vector (wingmdao.utils.digest; a copy would
-        # hold the whole forcing history again)
-        self._lin_inputs = array_digest(inputs.asarray())
+        self._lin_inputs = (array_digest(X), array_digest(inputs.asarray()))
         if self._matrix_free:
             return
         name = self.options["state_name"]
@@ -424,13 +427,12 @@ class TimeHistoryComponent(om.ImplicitComponent):
                 d_inputs["initial_state"] -= r[0].reshape(d_inputs["initial_state"].shape)
 
     def _linearized_at(self, inputs, outputs):
-        """Whether the stored linearization is at these inputs and outputs: the history against
-        the linearization's copy, the whole input vector against its digest made in ``linearize``
-        (two comparisons; no packing or finiteness checks made again)."""
+        """Whether the stored linearization is at these inputs and outputs: the history and the
+        whole input vector against their digests made in ``linearize`` (no packing or finiteness
+        checks made again)."""
         if self._lin is None or self._lin_inputs is None:
             return False
-        return (np.array_equal(self._lin.states, self._history(outputs))
-                and self._lin_inputs == array_digest(inputs.asarray()))
+        return self._lin_inputs == (array_digest(self._history(outputs)), array_digest(inputs.asarray()))
 
 
 def _newton_pattern(pats, n):
