@@ -230,10 +230,10 @@ class WingStructure(om.Group):
             shape = tuple(beam.build_system().state_shape)
             self.add_subsystem("beam_states", BeamStateSlice(num_times=nt, num_nodes=n, state_shape=shape),
                                promotes_inputs=["states"])
-            self.add_subsystem("internal_loads", BeamInternalLoads(num_times=nt, num_nodes=n))
+            self.add_subsystem("internal_loads", BeamInternalLoads(num_times=nt, num_nodes=n, inputs_by_conn=True))
             self.connect("beam_states.beam_states", "internal_loads.states")
         else:
-            self.add_subsystem("internal_loads", BeamInternalLoads(num_times=nt, num_nodes=n),
+            self.add_subsystem("internal_loads", BeamInternalLoads(num_times=nt, num_nodes=n, inputs_by_conn=True),
                                promotes_inputs=["states"])
 
         # the box stress takes the section properties from the section component (computed once
@@ -241,7 +241,8 @@ class WingStructure(om.Group):
         stress_kwargs = {"output_stresses": False, "section_properties": True} if kind == "box" else {}
         self.add_subsystem("stress", stress_cls(num_times=nt, num_stations=n,
                                                 material=self.options["material"],
-                                                families=tuple(case.families), **stress_kwargs),
+                                                families=tuple(case.families), inputs_by_conn=True,
+                                                **stress_kwargs),
                            promotes_inputs=[*SECTION_KINDS[kind]["stress_inputs"],
                                             *SECTION_KINDS[kind]["section_to_stress"]])
         self.connect("internal_loads.F_csn", "stress.F_csn")
@@ -249,7 +250,9 @@ class WingStructure(om.Group):
 
         points = stress_points(kind, case.families)
         shapes = {fam: (nt, n, k) for fam, k in points.items()}
-        self.add_subsystem("ks", KSAggregate(families=shapes, rho_ks=self.options["rho_ks"],
+        # the per-step inputs of loads, stress and KS are shaped by their connections: no default
+        # value of their own (18 MB at 20 nodes x 4001 steps, docs/gust-envelope.md)
+        self.add_subsystem("ks", KSAggregate(families=shapes, rho_ks=self.options["rho_ks"], g_by_conn=True,
                                              add_constraints=self.options["add_constraints"]),
                            promotes_outputs=[f"ks_{f}" for f in case.families])
         for fam in case.families:
