@@ -47,3 +47,39 @@ def test_nan_state_raises():
     prob = _prob(2, 3, x)
     with pytest.raises(ValueError, match="time index 1, node 2, state 7"):
         prob.run_model()
+
+
+def _prob_by_conn(nt, n, states, shape=None, **opts):
+    """BeamInternalLoads with inputs_by_conn=True: its states input shaped by the connected IVC."""
+    prob = om.Problem(reports=False)
+    ivc = prob.model.add_subsystem("ivc", om.IndepVarComp())
+    ivc.add_output("states", val=np.zeros(shape or states.shape))
+    prob.model.add_subsystem("loads", BeamInternalLoads(num_times=nt, num_nodes=n, inputs_by_conn=True, **opts))
+    prob.model.connect("ivc.states", "loads.states")
+    prob.setup(force_alloc_complex=False)
+    if shape is None:
+        prob.set_val("ivc.states", states)
+    return prob
+
+
+@pytest.mark.parametrize("matrix_free", [False, True])
+def test_inputs_by_conn_give_the_same_loads_and_partials(matrix_free):
+    """inputs_by_conn (shape_by_conn per-point inputs, no default copy): same outputs bitwise,
+    check_partials passes with declared partials and matrix-free products."""
+    nt, n = 3, 4
+    rng = np.random.default_rng(7)
+    x = rng.normal(size=(nt, n, 18)) * np.r_[np.ones(3), 0.8 * np.ones(3), 1e3 * np.ones(6), np.ones(6)]
+    ref = _prob(nt, n, x)
+    ref.run_model()
+    prob = _prob_by_conn(nt, n, x, matrix_free=matrix_free)
+    prob.run_model()
+    for name in ("F_csn", "M_csn"):
+        np.testing.assert_array_equal(prob.get_val(f"loads.{name}"), ref.get_val(name))
+    data = prob.check_partials(method="fd", form="central", step=1e-6, out_stream=None, includes=["loads"])
+    assert_check_partials(data, atol=1e-6, rtol=1e-7)
+
+
+def test_inputs_by_conn_connected_with_the_wrong_shape_is_rejected():
+    prob = _prob_by_conn(3, 4, None, shape=(2, 4, 18))
+    with pytest.raises(ValueError, match="connected with shape"):
+        prob.final_setup()    # setup_partials checks the resolved shape

@@ -24,7 +24,7 @@ def _smd_problem(t, initial="state", matrix_free=False, mode="rev"):
     return prob
 
 
-def _chain_problem(n_time, initial="static", matrix_free=False, mode="rev", seed=0, **opts):
+def _chain_problem(n_time, initial="static", matrix_free=False, mode="rev", seed=0, set_force=True, **opts):
     rng = np.random.default_rng(seed)
     sysm = nonlinear_chain_system(3)
     t = np.linspace(0.0, 0.3, n_time)
@@ -40,7 +40,9 @@ def _chain_problem(n_time, initial="static", matrix_free=False, mode="rev", seed
     prob.set_val("damping", 0.35)
     prob.set_val("hardening", 0.7)
     prob.set_val("stiffness", rng.uniform(2.0, 4.0, 3))
-    prob.set_val("force", np.outer(1.0 + np.sin(9 * t), rng.uniform(0.5, 1.5, 3)))
+    force = np.outer(1.0 + np.sin(9 * t), rng.uniform(0.5, 1.5, 3))
+    if set_force:
+        prob.set_val("force", force)
     if initial == "state":
         prob.set_val("initial_state", rng.normal(scale=0.3, size=(3, 2)))
     return prob
@@ -246,3 +248,44 @@ def test_store_factors_auto_does_not_keep_the_factors_of_a_beam_history():
     prob.model.add_subsystem("beam", BeamDynamics(num_nodes=20, time=np.linspace(0.0, 1.0, 101)))
     prob.setup()
     assert prob.model.beam.store_factors is False
+
+
+def _chain_force(n_time, seed):
+    """The force history _chain_problem sets (same random stream)."""
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0.0, 0.3, n_time)
+    rng.uniform(0.5, 2.0, (n_time, 3, 2))
+    rng.uniform(2.0, 4.0, 3)
+    return np.outer(1.0 + np.sin(9 * t), rng.uniform(0.5, 1.5, 3))
+
+
+@pytest.mark.parametrize("mode", ["fwd", "rev"])
+@pytest.mark.parametrize("matrix_free", [False, True])
+def test_forcing_data_gives_the_states_and_totals_of_the_forcing_input(mode, matrix_free):
+    """A forcing given as data (option forcing_data, not an input): same history, same totals
+    with respect to the parameters (1e-12) and check_partials of the remaining inputs passes."""
+    n_time, seed = 9, 3
+    wrt = ["mass", "damping", "hardening", "stiffness"]
+    ref = _chain_problem(n_time, matrix_free=matrix_free, mode=mode, seed=seed)
+    ref.run_model()
+    force = _chain_force(n_time, seed)
+    np.testing.assert_array_equal(ref.get_val("force"), force)
+    prob = _chain_problem(n_time, matrix_free=matrix_free, mode=mode, seed=seed, forcing_data={"force": force},
+                          set_force=False)
+    prob.run_model()
+    assert "chain.force" not in prob.model.get_io_metadata(iotypes=("input",), return_rel_names=False)
+    np.testing.assert_array_equal(prob.get_val("states"), ref.get_val("states"))
+    t_ref, t_data = ref.compute_totals(of=["f"], wrt=wrt), prob.compute_totals(of=["f"], wrt=wrt)
+    for key in t_ref:
+        np.testing.assert_allclose(t_data[key], t_ref[key], rtol=1e-12, atol=0.0, err_msg=str(key))
+    prob.set_val("states", prob.get_val("states") + np.random.default_rng(5).normal(scale=0.2, size=(n_time, 3, 2)))
+    data = prob.check_partials(method="fd", step=1e-7, form="central", out_stream=None, includes=["chain"])
+    assert_check_partials(data, atol=1e-6, rtol=1e-6)
+
+
+def test_forcing_data_of_an_unknown_forcing_or_of_the_wrong_shape_is_rejected():
+    force = _chain_force(5, 0)
+    with pytest.raises(ValueError, match="not a forcing"):
+        _chain_problem(5, forcing_data={"push": force}, set_force=False)
+    with pytest.raises(ValueError, match="expected"):
+        _chain_problem(5, forcing_data={"force": force[1:]}, set_force=False)

@@ -197,10 +197,11 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     distributed = comm is not None and comm is not False and comm.size > 1
     if flutter is not None and (distributed or section != "box"):
         raise ValueError("the flutter constraint needs box sections in one process (no MPI distribution)")
-    prob = om.Problem(comm=None if distributed else _serial_comm(), reports=False)
     mass_ref = (options.mass_scale or OBJECTIVE_SCALE * initial_mass(geometry, material, options, section)) \
         if driver else 1.0
-    wing_kwargs = dict(rho_ks=options.rho_ks, add_constraints=driver, add_objective=driver, mass_ref=mass_ref)
+    # the load cases' forcing histories are fixed data of the beams, not OpenMDAO variables (issue 15)
+    wing_kwargs = dict(rho_ks=options.rho_ks, add_constraints=driver, add_objective=driver, mass_ref=mass_ref,
+                       forcing_as_data=True)
     if distributed:
         from wingmdao.parallel import distributed_wing_sizing
 
@@ -208,7 +209,9 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     else:
         wing = WingSizing(num_nodes=n, load_cases=load_cases, material=material, parallel=parallel,
                           section=section, station_map=geometry.station_map, flutter=flutter, **wing_kwargs)
-    prob.model.add_subsystem("wing", wing, promotes=["*"])
+    # the wing group is the model itself, not a subsystem of it: one group level less, so one
+    # LinearRunOnce copy of all the d_outputs less (27 MB at 20 nodes x 4001 steps, issue 15)
+    prob = om.Problem(model=wing, comm=None if distributed else _serial_comm(), reports=False)
     desc = "none (analysis only)"
     if driver:
         prob.driver, desc = make_driver(options.optimizer, maxiter=options.maxiter, tol=options.tol,
@@ -228,7 +231,7 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     else:
         set_geometry(prob, geometry, section)
         for case in load_cases:
-            set_case_loads(prob, case, n, f"cases.{case.name}")
+            set_case_loads(prob, case, n, f"cases.{case.name}", forcing=False)
     n_dv = n if geometry.station_map is None else int(np.max(geometry.station_map)) + 1
     for w in design_vars:
         prob.set_val(w, np.broadcast_to(options.initial.get(w, options.upper[w]), (n_dv,)))

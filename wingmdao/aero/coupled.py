@@ -129,6 +129,12 @@ def load_case_response(prob, case, num_nodes: int, weight: float) -> dict:
                 continue
         raise KeyError(f"beam input {name} of load case {case.name} not found")
 
+    def forcing(name):  # an input, or the case's own array when the beam holds it as data (forcing_as_data)
+        try:
+            return value(name)
+        except KeyError:
+            return np.asarray(case.forcing_array(name, n))
+
     X = np.asarray(prob.get_val(f"{path}.states")).reshape(t.size, -1)
     r0 = value("node_positions").reshape(n, 3)
     ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
@@ -138,7 +144,7 @@ def load_case_response(prob, case, num_nodes: int, weight: float) -> dict:
                                            tail_lag=pitch and bool(case.aero.tail_lag))
         beam = system.layout.beam_states(X)
         p = pack(system.param_specs, {s.name: value(s.name) for s in system.param_specs})
-        Q = np.concatenate([value(s.name).reshape(t.size, -1) for s in system.forcing_specs], axis=1)
+        Q = np.concatenate([forcing(s.name).reshape(t.size, -1) for s in system.forcing_specs], axis=1)
         dt = float(t[1] - t[0]) if t.size > 1 else 1.0
         lift = system.total_lift_history(X, dt, p, Q)
         if pitch:  # the aircraft's load factor: wing + tail lift

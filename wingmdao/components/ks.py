@@ -85,6 +85,12 @@ class KSAggregate(om.ExplicitComponent):
             desc="add each ks_<family> as a constraint ks <= 0 (like om.KSComp's add_constraint)",
         )
         self.options.declare(
+            "g_by_conn", default=False, types=bool,
+            desc="the g_<family> inputs take their shape from the connected output (shape_by_conn, "
+                 "checked against families in setup_partials): no default value of their own "
+                 "(memory, docs/gust-envelope.md); they must be connected",
+        )
+        self.options.declare(
             "matrix_free", default=None, types=bool, allow_none=True,
             desc="products with dKS/dg (compute_jacvec_product) instead of declared partials (no "
                  "row/column arrays); None: above KS_MATRIX_FREE_ABOVE constraint entries in all",
@@ -92,6 +98,7 @@ class KSAggregate(om.ExplicitComponent):
 
     def setup(self):
         rho = self.options["rho_ks"]
+        by_conn = self.options["g_by_conn"]
         if not rho > 0.0 or not np.isfinite(rho):
             raise ValueError(f"KSAggregate: rho_ks = {rho}; allowed range (0, inf)")
         if not self.options["families"]:
@@ -106,9 +113,10 @@ class KSAggregate(om.ExplicitComponent):
             shapes[name] = shape, size
         mf = self.options["matrix_free"]
         self.matrix_free = sum(sz for _, sz in shapes.values()) > KS_MATRIX_FREE_ABOVE if mf is None else mf
+        self._by_conn = {f"g_{name}": shape for name, (shape, _) in shapes.items()} if by_conn else {}
         for name, (shape, size) in shapes.items():
             self.add_input(
-                f"g_{name}", val=0.0, shape=shape, units=None,
+                f"g_{name}", val=0.0, **({"shape_by_conn": True} if by_conn else {"shape": shape}), units=None,
                 desc=f"'{name}' constraint values (feasible where <= 0)",
             )
             self.add_output(
@@ -121,6 +129,12 @@ class KSAggregate(om.ExplicitComponent):
                 )
             if self.options["add_constraints"]:
                 self.add_constraint(f"ks_{name}", upper=0.0)
+
+    def setup_partials(self):
+        """The g inputs shaped by their connection (``g_by_conn``) have the families' shapes."""
+        from wingmdao.components.pointwise import check_connected_shapes
+
+        check_connected_shapes(self, self._by_conn)
 
     def compute(self, inputs, outputs):
         rho = self.options["rho_ks"]

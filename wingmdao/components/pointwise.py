@@ -54,6 +54,11 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
                              desc="Jacobian-vector products from the per-point nonzeros instead of declared "
                                   "partials (no row/column index arrays); None: above "
                                   "POINTWISE_MATRIX_FREE_ABOVE Jacobian nonzeros")
+        self.options.declare("inputs_by_conn", default=False, types=bool,
+                             desc="the per-point inputs (not per_last_axis) take their shape from the "
+                                  "connected output (shape_by_conn; checked in setup_partials): no "
+                                  "default value of their own (memory, docs/gust-envelope.md); they must "
+                                  "be connected")
 
     # ----------------------------------------------------------------- subclass API
     def pointwise_inputs(self) -> list[Var]:
@@ -84,12 +89,23 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
         self.grid_shape = grid = self.point_grid()
         self._in_vars = self.pointwise_inputs()
         self._out_vars = self.pointwise_outputs()
+        by_conn = self.options["inputs_by_conn"]
+        #: {input name: expected shape} of the inputs shaped by their connection
+        self._by_conn = {}
         for v in self._in_vars:
             lead = grid[-1:] if v.per_last_axis else grid
-            self.add_input(v.name, val=v.val, shape=lead + v.shape, units=v.units, desc=v.desc)
+            if by_conn and not v.per_last_axis:
+                self._by_conn[v.name] = lead + v.shape
+                self.add_input(v.name, val=v.val, shape_by_conn=True, units=v.units, desc=v.desc)
+            else:
+                self.add_input(v.name, val=v.val, shape=lead + v.shape, units=v.units, desc=v.desc)
         for v in self._out_vars:
             self.add_output(v.name, val=0.0, shape=grid + v.shape, units=v.units, desc=v.desc)
         self._build_functions()
+
+    def setup_partials(self):
+        """The inputs shaped by their connection (``inputs_by_conn``) have the grid's shape."""
+        check_connected_shapes(self, self._by_conn)
 
     def expression_options(self):
         """What, beside the inputs' and outputs' names and shapes, ``pointwise_expressions``
@@ -423,3 +439,15 @@ POINT_CHUNK = 1024
 
 #: Calls of a pointwise component's function (or Jacobian) after which it is compiled.
 POINT_JIT_THRESHOLD = 10
+
+
+def check_connected_shapes(component, expected: dict) -> None:
+    """Raise ValueError when an input declared ``shape_by_conn`` got another shape than
+    ``expected[name]`` from its connection (public ``get_io_metadata``, after setup)."""
+    if not expected:
+        return
+    meta = component.get_io_metadata(iotypes=("input",), metadata_keys=["shape"])
+    for name, shape in expected.items():
+        got = tuple(meta[name]["shape"])
+        if got != tuple(shape):
+            raise ValueError(f"{component.msginfo}: input '{name}' connected with shape {got}, expected {tuple(shape)}")

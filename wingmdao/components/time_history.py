@@ -107,6 +107,12 @@ class TimeHistoryComponent(om.ImplicitComponent):
                                   "'auto' and the default segment length)")
         self.options.declare("drop_time_axis", default=False, types=bool,
                              desc="one instant only: forcing inputs and the output without the time axis")
+        self.options.declare("forcing_data", default=None, allow_none=True, types=dict,
+                             desc="{forcing name: its history, shape of the input}: forcing held as data of "
+                                  "the component, not declared as an input (a fixed load history: no "
+                                  "OpenMDAO vectors, transfers or default copies of it; no derivatives "
+                                  "with respect to it)")
+        self.recording_options["options_excludes"] = ["forcing_data"]   # large arrays
 
     # ------------------------------------------------------------------ setup
     def build_system(self) -> ResidualSystem:
@@ -135,9 +141,11 @@ class TimeHistoryComponent(om.ImplicitComponent):
                              f"'{name}' and inputs {names}")
         for s in sysm.param_specs:
             self.add_input(s.name, val=1.0, shape=s.shape or (1,), units=s.units, desc=s.desc or s.name)
+        self._q_data = self._forcing_data(sysm, lead)
         for s in sysm.forcing_specs:
-            self.add_input(s.name, val=0.0, shape=(lead + tuple(s.shape)) or (1,), units=s.units,
-                           desc=(s.desc or s.name) + ("" if drop else " (at every instant)"))
+            if s.name not in self._q_data:
+                self.add_input(s.name, val=0.0, shape=(lead + tuple(s.shape)) or (1,), units=s.units,
+                               desc=(s.desc or s.name) + ("" if drop else " (at every instant)"))
         if self.options["initial"] == "state":
             self.add_input("initial_state", val=0.0, shape=sysm.state_shape, units=self.options["state_units"],
                            desc="state at time 0")
@@ -158,6 +166,22 @@ class TimeHistoryComponent(om.ImplicitComponent):
         self.matrix_free = self._matrix_free
         self.checkpoint_every = self._checkpoint_interval()
         self.store_factors = self._store_factors()
+
+    def _forcing_data(self, sysm, lead):
+        """The ``forcing_data`` option checked against the forcing specs: {name: (n_time, size) floats}."""
+        data = self.options["forcing_data"] or {}
+        specs = {s.name: s for s in sysm.forcing_specs}
+        out = {}
+        for name, val in data.items():
+            if name not in specs:
+                raise ValueError(f"{self.msginfo}: forcing_data '{name}' is not a forcing of the system "
+                                 f"(forcing: {sorted(specs)})")
+            shape = (lead + tuple(specs[name].shape)) or (1,)
+            arr = np.asarray(val, dtype=float)
+            if arr.shape != shape:
+                raise ValueError(f"{self.msginfo}: forcing_data '{name}' has shape {arr.shape}, expected {shape}")
+            out[name] = arr.reshape(self._n_time, specs[name].size)
+        return out
 
     def _store_factors(self) -> bool:
         """The ``store_factors`` option resolved: 'auto' keeps the factors of every step when
@@ -214,7 +238,7 @@ class TimeHistoryComponent(om.ImplicitComponent):
             name, sysm.param_specs, self._p_slices, pats["p"], steps,
             lambda spec, c: np.broadcast_to(c, (N, c.size)))
         self._q_masks = self._declare_input_partials(
-            name, sysm.forcing_specs, self._q_slices, pats["q"], steps,
+            name, [s for s in sysm.forcing_specs if s.name not in self._q_data], self._q_slices, pats["q"], steps,
             lambda spec, c: steps * spec.size + c)
         if self.options["initial"] == "state":
             self.declare_partials(name, "initial_state", rows=np.arange(n), cols=np.arange(n), val=-1.0)
@@ -250,7 +274,9 @@ class TimeHistoryComponent(om.ImplicitComponent):
         N = self._n_time
         if not self._q_sizes:
             return np.zeros((N, 0))
-        Q = np.hstack([np.asarray(inputs[name], dtype=float).reshape(N, size) for name, size in self._q_sizes])
+        data = self._q_data
+        Q = np.hstack([data[name] if name in data else np.asarray(inputs[name], dtype=float).reshape(N, size)
+                       for name, size in self._q_sizes])
         _check_finite(Q, sysm.forcing_specs, self._q_slices, N)
         return Q
 
@@ -268,6 +294,7 @@ class TimeHistoryComponent(om.ImplicitComponent):
         from wingmdao.limits import march_progress
 
         sysm = self.system
+        self._lin = self._lin_inputs = None   # the linearization uses the states this solve changes
         p, Q = self._params(inputs), self._forcing(inputs)
 
         def run(guess):
@@ -316,14 +343,16 @@ class TimeHistoryComponent(om.ImplicitComponent):
         X = self._history(outputs)
         # drop the previous design point's linearization first: the two are not alive together
         self._lin = self._lin_inputs = None
+        # the linearization uses the output vector's states (no copy) and, when every forcing is
+        # data (forcing_data), keeps no forcing products; the linearization point is kept as
+        # digests of the states and of the input vector (wingmdao.utils.digest), and a new
+        # solve_nonlinear drops the linearization before it changes the states
         lin = LinearizedHistory(sysm, self._time, X, p, Q,
                                 initial=self.options["initial"], store_factors=self.store_factors,
-                                lu=self.options["lu"], checkpoint_every=self.checkpoint_every)
+                                lu=self.options["lu"], checkpoint_every=self.checkpoint_every,
+                                copy_states=False, keep_forcing_product=len(self._q_data) < len(self._q_sizes))
         self._lin = lin
-        # the linearization point: the history is the linearization's own copy; the inputs are
-        # kept as a digest of the component's input vector (wingmdao.utils.digest; a copy would
-        # hold the whole forcing history again)
-        self._lin_inputs = array_digest(inputs.asarray())
+        self._lin_inputs = (array_digest(X), array_digest(inputs.asarray()))
         if self._matrix_free:
             return
         name = self.options["state_name"]
@@ -336,8 +365,8 @@ class TimeHistoryComponent(om.ImplicitComponent):
             if np.any(m):
                 partials[name, spec.name] = lin.jp[:, m].ravel()
         for spec in sysm.forcing_specs:
-            m = self._q_masks[spec.name]
-            if np.any(m):
+            m = self._q_masks.get(spec.name)    # None: forcing_data, not an input
+            if m is not None and np.any(m):
                 partials[name, spec.name] = lin.jq[:, m].ravel()
 
     def solve_linear(self, d_outputs, d_residuals, mode):
@@ -398,13 +427,12 @@ class TimeHistoryComponent(om.ImplicitComponent):
                 d_inputs["initial_state"] -= r[0].reshape(d_inputs["initial_state"].shape)
 
     def _linearized_at(self, inputs, outputs):
-        """Whether the stored linearization is at these inputs and outputs: the history against
-        the linearization's copy, the whole input vector against its digest made in ``linearize``
-        (two comparisons; no packing or finiteness checks made again)."""
+        """Whether the stored linearization is at these inputs and outputs: the history and the
+        whole input vector against their digests made in ``linearize`` (no packing or finiteness
+        checks made again)."""
         if self._lin is None or self._lin_inputs is None:
             return False
-        return (np.array_equal(self._lin.states, self._history(outputs))
-                and self._lin_inputs == array_digest(inputs.asarray()))
+        return self._lin_inputs == (array_digest(self._history(outputs)), array_digest(inputs.asarray()))
 
 
 def _newton_pattern(pats, n):

@@ -88,11 +88,14 @@ def stress_points(kind, families) -> dict:
 FORCING_META = {s.name: (s.units, s.desc) for s in forcing_specs(1)}
 
 
-def set_case_loads(prob: om.Problem, case: LoadCase, num_nodes: int, path: str = "") -> None:
+def set_case_loads(prob: om.Problem, case: LoadCase, num_nodes: int, path: str = "", *,
+                   forcing: bool = True) -> None:
     """Set the forcing inputs of ``case`` at ``path`` (the WingStructure's promoted prefix,
-    e.g. ``"cases.gust"``) from its arrays; forcing it does not give is set to zero."""
+    e.g. ``"cases.gust"``) from its arrays; forcing it does not give is set to zero.
+    ``forcing=False``: the beam forcing (FORCING_META) is data of the beam (WingStructure
+    ``forcing_as_data``), only a coupled case's aerodynamic forcing and parameters are set."""
     prefix = f"{path}." if path else ""
-    for name, (units, _) in FORCING_META.items():
+    for name, (units, _) in (FORCING_META.items() if forcing else ()):
         prob.set_val(prefix + name, case.forcing_array(name, num_nodes), units=units)
     if case.aero is not None:  # coupled case: its aerodynamic forcing and parameters
         from wingmdao.aero.coupled import AERO_FORCING_META
@@ -135,6 +138,10 @@ class WingStructure(om.Group):
                                   "(False: promoted inputs, set or connected from outside)")
         self.options.declare("add_constraints", default=False, types=bool,
                              desc="add every ks_<family> as a constraint ks <= 0")
+        self.options.declare("forcing_as_data", default=False, types=bool,
+                             desc="the case's beam forcing arrays (FORCING_META) as data of the beam "
+                                  "(TimeHistoryComponent forcing_data), not promoted inputs: fixed loads "
+                                  "without OpenMDAO variables (100 MB less at 20 nodes x 4001 steps)")
 
     def setup(self):
         from wingmdao.components.beam import BeamDynamics
@@ -148,6 +155,9 @@ class WingStructure(om.Group):
         case = self.options["load_case"]
         nt = case.num_times
 
+        as_data = self.options["forcing_as_data"]
+        if as_data and self.options["loads_component"]:
+            raise ValueError("WingStructure: forcing_as_data and loads_component exclude each other")
         if self.options["loads_component"]:
             loads = self.add_subsystem("loads", om.IndepVarComp())
             for name, (units, desc) in FORCING_META.items():
@@ -203,8 +213,10 @@ class WingStructure(om.Group):
                                                            case.damping)
             beam = BeamDynamics(**beam_kwargs)
             extra = []
-        beam.recording_options["options_excludes"] = ["system"]  # a CasADi object: not picklable
-        forcing = [] if self.options["loads_component"] else list(FORCING_SHAPES)
+        beam.recording_options["options_excludes"] = ["system", "forcing_data"]  # CasADi object; large arrays
+        if as_data:
+            beam.options["forcing_data"] = {name: case.forcing_array(name, n) for name in FORCING_META}
+        forcing = [] if self.options["loads_component"] or as_data else list(FORCING_SHAPES)
         self.add_subsystem("beam", beam, promotes_inputs=[
             "node_positions", "node_euler_angles", *SECTION_TO_BEAM,
             "tension_axis", "shear_center", "mass_center", *forcing, *extra], promotes_outputs=["states"])
@@ -218,10 +230,10 @@ class WingStructure(om.Group):
             shape = tuple(beam.build_system().state_shape)
             self.add_subsystem("beam_states", BeamStateSlice(num_times=nt, num_nodes=n, state_shape=shape),
                                promotes_inputs=["states"])
-            self.add_subsystem("internal_loads", BeamInternalLoads(num_times=nt, num_nodes=n))
+            self.add_subsystem("internal_loads", BeamInternalLoads(num_times=nt, num_nodes=n, inputs_by_conn=True))
             self.connect("beam_states.beam_states", "internal_loads.states")
         else:
-            self.add_subsystem("internal_loads", BeamInternalLoads(num_times=nt, num_nodes=n),
+            self.add_subsystem("internal_loads", BeamInternalLoads(num_times=nt, num_nodes=n, inputs_by_conn=True),
                                promotes_inputs=["states"])
 
         # the box stress takes the section properties from the section component (computed once
@@ -229,7 +241,8 @@ class WingStructure(om.Group):
         stress_kwargs = {"output_stresses": False, "section_properties": True} if kind == "box" else {}
         self.add_subsystem("stress", stress_cls(num_times=nt, num_stations=n,
                                                 material=self.options["material"],
-                                                families=tuple(case.families), **stress_kwargs),
+                                                families=tuple(case.families), inputs_by_conn=True,
+                                                **stress_kwargs),
                            promotes_inputs=[*SECTION_KINDS[kind]["stress_inputs"],
                                             *SECTION_KINDS[kind]["section_to_stress"]])
         self.connect("internal_loads.F_csn", "stress.F_csn")
@@ -237,7 +250,9 @@ class WingStructure(om.Group):
 
         points = stress_points(kind, case.families)
         shapes = {fam: (nt, n, k) for fam, k in points.items()}
-        self.add_subsystem("ks", KSAggregate(families=shapes, rho_ks=self.options["rho_ks"],
+        # the per-step inputs of loads, stress and KS are shaped by their connections: no default
+        # value of their own (18 MB at 20 nodes x 4001 steps, docs/gust-envelope.md)
+        self.add_subsystem("ks", KSAggregate(families=shapes, rho_ks=self.options["rho_ks"], g_by_conn=True,
                                              add_constraints=self.options["add_constraints"]),
                            promotes_outputs=[f"ks_{f}" for f in case.families])
         for fam in case.families:
@@ -280,6 +295,9 @@ class WingSizing(om.Group):
         self.options.declare("flutter", default=None, allow_none=True, types=dict,
                              desc="options of components.flutter.FlutterDamping (aero, speeds, ...): adds the "
                                   "flutter-damping constraint flutter_ks <= 0 (None: no flutter constraint)")
+        self.options.declare("forcing_as_data", default=False, types=bool,
+                             desc="every case's beam forcing as data of its beam (WingStructure "
+                                  "forcing_as_data): set only the aerodynamic forcing, set_case_loads(forcing=False)")
         self.options.declare("proxy_cases", default=False, types=bool,
                              desc="a subclass adds the cases to cases_group itself (wingmdao.parallel); "
                                   "load_cases may then be empty")
@@ -341,7 +359,7 @@ class WingSizing(om.Group):
             cases.add_subsystem(case.name, WingStructure(
                 num_nodes=n, load_case=case, material=mat, rho_ks=self.options["rho_ks"],
                 section=kind, newton_options=self.options["newton_options"],
-                add_constraints=self.options["add_constraints"]),
+                add_constraints=self.options["add_constraints"], forcing_as_data=self.options["forcing_as_data"]),
                 promotes_inputs=case_inputs)
         if self.options["flutter"] is not None:
             self._add_flutter(n)

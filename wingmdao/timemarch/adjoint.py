@@ -119,7 +119,8 @@ class LinearizedHistory:
     """
 
     def __init__(self, system, time, states, p, forcing, *, initial="static",
-                 store_factors="auto", auto_limit=100_000, lu="static", checkpoint_every=None):
+                 store_factors="auto", auto_limit=100_000, lu="static", checkpoint_every=None,
+                 copy_states=True, keep_forcing_product=True):
         t = np.asarray(time, dtype=float)
         self.dt = time_step(t)
         self.system = system
@@ -129,8 +130,13 @@ class LinearizedHistory:
         if lu not in ("superlu", "static"):
             raise ValueError(f'lu must be "superlu" or "static", got {lu!r}')
         self.n_time, self.n_state = t.size, system.n_state
-        X = np.array(states, dtype=float).reshape(self.n_time, self.n_state)
-        self._X = self.states = X                   # (copies: the linearization point)
+        # the linearization point: a copy of the states, or (copy_states=False) the caller's
+        # array itself, which the caller must not change while this linearization is in use
+        X = (np.array if copy_states else np.asarray)(states, dtype=float).reshape(self.n_time, self.n_state)
+        self._X = self.states = X
+        #: False: the checkpointed adjoint sweep does not keep ``forcing_product(lam)`` (n_time x
+        #: n_forcing) for a later call (the caller needs no derivatives with respect to the forcing)
+        self.keep_forcing_product = bool(keep_forcing_product)
         self._Q = self.forcing = np.array(forcing, dtype=float).reshape(self.n_time, system.n_forcing)
         self._p = np.array(p, dtype=float).reshape(system.n_param)
         self.patterns = system.jacobian_patterns()
@@ -640,7 +646,9 @@ class LinearizedHistory:
     def forcing_product(self, lam) -> np.ndarray:
         """``dR_n/dq_n^T lam_n`` for every step, (n_time, n_forcing)."""
         lam = np.asarray(lam, dtype=float).reshape(self.n_time, self.n_state)
-        c = self._cached_products(lam) or self._vjp_products(lam)
+        c = self._cached_products(lam)
+        if c is None or c[2] is None:      # None: the sweep did not keep it (keep_forcing_product)
+            c = self._vjp_products(lam)
         if c is not None:
             return c[2].copy()
         return self._per_block("q", lam, transpose=True, width=self.system.n_forcing)
@@ -704,7 +712,7 @@ class LinearizedHistory:
         lam = np.zeros_like(rhs)
         lean = self._full is None
         dp = np.zeros(self.system.n_param)
-        dq = np.zeros((self.n_time, self.system.n_forcing)) if lean else None
+        dq = np.zeros((self.n_time, self.system.n_forcing)) if lean and self.keep_forcing_product else None
         for blk in self._blocks(reverse=True):
             if st is not None:
                 self._adjoint_block_static(blk, rhs, lam, st)
@@ -718,11 +726,13 @@ class LinearizedHistory:
                 got = self._segment_vjp(blk, lam) if blk.jp is None else None   # reverse mode: no dR/dp
                 if got is not None:
                     dp += got[0]
-                    dq[lo:hi] = got[1]
+                    if dq is not None:
+                        dq[lo:hi] = got[1]
                 else:
                     dp += self._param_sum(blk, lam)
-                    dq[lo:hi] = self._hist_product("q", self._block_inputs(blk)[1][:hi - lo], lam[lo:hi],
-                                                   transpose=True)
+                    if dq is not None:
+                        dq[lo:hi] = self._hist_product("q", self._block_inputs(blk)[1][:hi - lo], lam[lo:hi],
+                                                       transpose=True)
         self._adjoint_cache = (array_digest(lam), dp, dq) if lean else None
         return lam
 
