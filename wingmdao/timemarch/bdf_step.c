@@ -221,13 +221,16 @@ int wm_bdf_step(wm_step *s, double *x, const double *hist, double alpha) {
     if (n == 0) return WM_OK;
     int reuse = s->modified && s->lu_valid && s->lu_alpha == alpha;
     int have_prev = 0;
-    double prev_step = 0.0, prev_norm = INFINITY, x_max = 0.0;
+    double prev_step = 0.0, prev_norm = INFINITY, x_max = 0.0, first_norm = 0.0;
     for (int it = 1; it <= s->max_iter; it++) {
         if (eval_residual(s, x, hist, alpha)) { s->fail_iteration = it; return WM_FUNCTION; }
         double norm = max_abs(s->r, n);
         if (!isfinite(norm)) { s->fail_iteration = it; return WM_RES_NONFINITE; }
         if (norm <= s->atol) { s->iterations = it - 1; return WM_OK; }
-        if (have_prev && norm >= 0.5 * prev_norm && prev_step <= 1e3 * s->xtol * (1.0 + x_max)) {
+        if (it == 1) first_norm = norm;
+        /* round-off floor (bdf.FLOOR_RATIO = 1e-10) */
+        if (have_prev && norm >= 0.5 * prev_norm
+                && (prev_step <= 1e3 * s->xtol * (1.0 + x_max) || norm <= 1e-10 * first_norm)) {
             s->iterations = it - 1;
             return WM_OK;
         }
