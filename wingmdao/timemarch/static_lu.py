@@ -226,9 +226,11 @@ def search_joint_block_order(matrices, block, passes=3, start=None, scale=None):
     def works(loc):
         return [factorization_work(n, r, ip, a, block_column_order(loc, block, n)) for n, r, ip, a in matrices]
 
+    def score(w):
+        return float(sum(wk / sk for wk, sk in zip(w, scale)))
+
     if scale is None:
         scale = works(np.arange(block))
-    score = lambda w: float(sum(wk / sk for wk, sk in zip(w, scale)))  # noqa: E731
     best = np.arange(block) if start is None else check_column_order(block, start)
     best_w = works(best)
     best_s = score(best_w)
@@ -239,8 +241,9 @@ def search_joint_block_order(matrices, block, passes=3, start=None, scale=None):
                 cand = best.copy()
                 cand[i], cand[j] = cand[j], cand[i]
                 w = works(cand)
-                if score(w) < best_s:
-                    best, best_w, best_s, improved = cand, w, score(w), True
+                s = score(w)
+                if s < best_s:
+                    best, best_w, best_s, improved = cand, w, s, True
         if not improved:
             break
     return best, best_w

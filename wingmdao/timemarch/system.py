@@ -213,6 +213,9 @@ class CasadiResidualSystem(ResidualSystem):
     ``lu_column_order``: the column order of the adjoint's static LU (:meth:`lu_column_order`).
     """
 
+    #: the static LU's column order (None: natural; subclasses that build lazily set it themselves)
+    _lu_column_order = None
+
     def __init__(self, x, xdot, p, q, R, *, param_specs, forcing_specs, state_shape=None,
                  name="residual", describe=None, initial_guess=None, definition=None, lu_column_order=None):
         self.n_state = int(x.numel())
@@ -361,7 +364,7 @@ class CasadiResidualSystem(ResidualSystem):
     def lu_column_order(self):
         """The ``lu_column_order`` given at construction (None: natural order); see
         :meth:`ResidualSystem.lu_column_order`."""
-        return self.__dict__.get("_lu_column_order")
+        return self._lu_column_order
 
     def compiled_step_functions(self):
         """``(residual JitFunction, Newton JitFunction, rows, indptr)`` of the Newton-matrix CSC
