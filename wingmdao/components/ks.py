@@ -17,7 +17,7 @@ import numpy as np
 import openmdao.api as om
 
 from wingmdao import DISSERTATION
-from wingmdao.utils.digest import array_digest
+from wingmdao.utils.digest import ArrayStamp
 
 #: constraint entries (all families of a KSAggregate) above which it is matrix-free by default:
 #: declared partials keep a value, a row and a column index per entry, and OpenMDAO copies them
@@ -103,7 +103,7 @@ class KSAggregate(om.ExplicitComponent):
             raise ValueError(f"KSAggregate: rho_ks = {rho}; allowed range (0, inf)")
         if not self.options["families"]:
             raise ValueError("KSAggregate: families is empty; give at least one {name: shape}")
-        self._terms = {}    # {family: (digest of g, w, s)} of the last compute (see compute_partials)
+        self._terms = {}    # {family: (stamp of g, w, s)} of the last compute (see compute_partials)
         shapes = {}
         for name, shape in self.options["families"].items():
             shape = (int(shape),) if np.isscalar(shape) else tuple(int(s) for s in shape)
@@ -147,15 +147,15 @@ class KSAggregate(om.ExplicitComponent):
             # kept for compute_partials at the same g (run_model, then compute_totals): the
             # weights w / s of ks_gradient without a second exp over the family (1.5 ms of a
             # 20-node x 500-step beam gradient, 180 000 entries)
-            # (g recognised by its digest, wingmdao.utils.digest: no copy of the history)
-            self._terms[name] = (array_digest(g), w, s)
+            # (g recognised by its stamp, wingmdao.utils.digest: no copy of a long history)
+            self._terms[name] = (ArrayStamp(g), w, s)
 
     def _weights(self, name, inputs) -> np.ndarray:
         """dKS/dg of family ``name``, flattened: :func:`ks_gradient`, from the terms of the last
         ``compute`` when ``g`` is the same (bitwise the same values)."""
         g = np.asarray(inputs[f"g_{name}"])
         kept = self._terms.get(name)
-        if kept is not None and kept[0] == array_digest(g):
+        if kept is not None and kept[0].matches(g):
             return kept[1] / kept[2]
         return ks_gradient(g, self.options["rho_ks"])
 

@@ -18,7 +18,7 @@ import openmdao.api as om
 from wingmdao.errors import InputRangeError
 
 from wingmdao.timemarch.system import VarSpec
-from wingmdao.utils.digest import array_digest
+from wingmdao.utils.digest import ArrayStamp
 
 
 @dataclass(frozen=True)
@@ -343,10 +343,9 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
         """The chunks of :meth:`_jacobian_chunks`. A second product at the same inputs keeps
         them (when they take at most ``POINTWISE_JAC_CACHE_BYTES``) for the following ones; a
         single product (one reverse seed: one KS output per case) keeps nothing. The inputs are
-        recognised by a digest (:func:`_digest`), not a copy."""
-        point = _digest(inputs)
-        if point != self._jac_point:
-            self._jac_point, self._jac_values = point, None
+        recognised by their stamps (:func:`_same_point`), not a copy of a long history."""
+        if not _same_point(self._jac_point, inputs):
+            self._jac_point, self._jac_values = _stamp(inputs), None
             return self._jacobian_chunks(inputs)
         if self._jac_values is None and self._jac_bytes <= POINTWISE_JAC_CACHE_BYTES:
             self._jac_values = list(self._jacobian_chunks(inputs, keep=True))
@@ -393,9 +392,17 @@ def _mapped(fun, m):
     return fun.map(m, "serial") if m > 1 else fun
 
 
-def _digest(inputs) -> tuple:
-    """Identity of an input point: per variable its name and :func:`~wingmdao.utils.digest.array_digest`."""
-    return tuple((k, array_digest(v)) for k, v in inputs.items())
+def _stamp(inputs) -> dict:
+    """Identity of an input point: per variable name its :class:`~wingmdao.utils.digest.ArrayStamp`."""
+    return {k: ArrayStamp(v) for k, v in inputs.items()}
+
+
+def _same_point(stamp, inputs) -> bool:
+    """Whether ``inputs`` are the point of ``stamp`` (:func:`_stamp`; None: no point yet)."""
+    if stamp is None:
+        return False
+    items = list(inputs.items())
+    return [k for k, _ in items] == list(stamp) and all(stamp[k].matches(v) for k, v in items)
 
 
 def _scatter(index, size):

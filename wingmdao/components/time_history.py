@@ -18,7 +18,7 @@ import openmdao.api as om
 from wingmdao.timemarch.adjoint import LinearizedHistory, checkpoint_interval
 from wingmdao.timemarch.bdf import march, state_rates, time_step
 from wingmdao.timemarch.system import ResidualSystem, layout
-from wingmdao.utils.digest import array_digest
+from wingmdao.utils.digest import ArrayStamp
 from wingmdao import DISSERTATION
 
 
@@ -160,7 +160,7 @@ class TimeHistoryComponent(om.ImplicitComponent):
         self._n_forcing = sum(size for _, size in self._q_sizes)
         self._n_state = sysm.n_state
         self._lin = None
-        self._lin_inputs = None     # digest of the input vector at the linearization
+        self._lin_inputs = None     # stamps of the states and input vector at the linearization
         mf = self.options["matrix_free"]
         self._matrix_free = bool(n_time * sysm.n_state > MATRIX_FREE_ABOVE) if mf is None else mf
         self.matrix_free = self._matrix_free
@@ -345,14 +345,14 @@ class TimeHistoryComponent(om.ImplicitComponent):
         self._lin = self._lin_inputs = None
         # the linearization uses the output vector's states (no copy) and, when every forcing is
         # data (forcing_data), keeps no forcing products; the linearization point is kept as
-        # digests of the states and of the input vector (wingmdao.utils.digest), and a new
+        # stamps of the states and of the input vector (wingmdao.utils.digest), and a new
         # solve_nonlinear drops the linearization before it changes the states
         lin = LinearizedHistory(sysm, self._time, X, p, Q,
                                 initial=self.options["initial"], store_factors=self.store_factors,
                                 lu=self.options["lu"], checkpoint_every=self.checkpoint_every,
                                 copy_states=False, keep_forcing_product=len(self._q_data) < len(self._q_sizes))
         self._lin = lin
-        self._lin_inputs = (array_digest(X), array_digest(inputs.asarray()))
+        self._lin_inputs = (ArrayStamp(X), ArrayStamp(inputs.asarray()))
         if self._matrix_free:
             return
         name = self.options["state_name"]
@@ -428,11 +428,12 @@ class TimeHistoryComponent(om.ImplicitComponent):
 
     def _linearized_at(self, inputs, outputs):
         """Whether the stored linearization is at these inputs and outputs: the history and the
-        whole input vector against their digests made in ``linearize`` (no packing or finiteness
+        whole input vector against their stamps made in ``linearize`` (no packing or finiteness
         checks made again)."""
         if self._lin is None or self._lin_inputs is None:
             return False
-        return self._lin_inputs == (array_digest(self._history(outputs)), array_digest(inputs.asarray()))
+        states, vector = self._lin_inputs
+        return states.matches(self._history(outputs)) and vector.matches(inputs.asarray())
 
 
 def _newton_pattern(pats, n):

@@ -29,7 +29,7 @@ import scipy.sparse.linalg as spla
 from wingmdao.timemarch.bdf import bdf_coefficients, state_rates, time_step
 from wingmdao.timemarch.newton import DENSE_MAX, PERMC_SPEC, factor
 from wingmdao.timemarch import static_lu
-from wingmdao.utils.digest import array_digest
+from wingmdao.utils.digest import ArrayStamp
 
 
 #: Accepted componentwise backward error of a refined static-pivot solve (one refinement gives
@@ -196,8 +196,8 @@ class LinearizedHistory:
         self._static = None           # the StaticPivotLU once made
         self._same = None             # uint8: A_n == A_{n-1} (the kernel's reuse of factors)
         self.static_stats = {"refined": 0, "fallback": 0, "factored": 0}
-        # (digest of lam, sum_n dR_n/dp^T lam_n, dR_n/dq_n^T lam_n) of the last sweep (a digest,
-        # wingmdao.utils.digest, not a copy of lam: 11.5 MB at 20 nodes x 4001 steps)
+        # (stamp of lam, sum_n dR_n/dp^T lam_n, dR_n/dq_n^T lam_n) of the last sweep (a stamp,
+        # wingmdao.utils.digest: a digest, not a copy, of a long history's lam)
         self._adjoint_cache = None
 
     # ------------------------------------------------------------------ blocks
@@ -609,7 +609,7 @@ class LinearizedHistory:
 
     def _cached_products(self, lam):
         c = self._adjoint_cache
-        if c is not None and c[0] == array_digest(lam):
+        if c is not None and c[0].matches(lam):
             return c
         return None
 
@@ -627,7 +627,7 @@ class LinearizedHistory:
         got = self.system.input_vjp_history(self._X, self._Xdot, self._p, self._Q, L)
         if got is None:
             return None
-        self._adjoint_cache = (array_digest(lam), np.asarray(got[0], dtype=float).reshape(self.system.n_param),
+        self._adjoint_cache = (ArrayStamp(lam), np.asarray(got[0], dtype=float).reshape(self.system.n_param),
                                np.asarray(got[1], dtype=float).reshape(self.n_time, self.system.n_forcing))
         return self._adjoint_cache
 
@@ -733,7 +733,7 @@ class LinearizedHistory:
                     if dq is not None:
                         dq[lo:hi] = self._hist_product("q", self._block_inputs(blk)[1][:hi - lo], lam[lo:hi],
                                                        transpose=True)
-        self._adjoint_cache = (array_digest(lam), dp, dq) if lean else None
+        self._adjoint_cache = (ArrayStamp(lam), dp, dq) if lean else None
         return lam
 
     def _adjoint_block_static(self, blk, rhs, lam, slu):
