@@ -114,6 +114,7 @@ def test_section_wall_flags_t_skin_t_spar_match_the_four_walls(capsys):
 HAS_CCX = shutil.which("ccx") is not None
 #: fast inputs of every command that has --json (a new command with --json must be added here)
 JSON_RUNS = {
+    ("cache",): [],                   # a report only (no --prune): reads the user's cache, changes nothing
     ("section",): ["--width", "3", "--height", "0.5", "--t-skin", "0.1", "--t-spar", "0.2"],
     ("section-fe",): ["--rectangle", "1", "0.5", "--material", "aluminium"],
     ("run", "wing-box"): ["--geometry", "prismatic", "--tip-load", "0", "0", "-1e5"],

@@ -52,3 +52,28 @@ def test_serial_sizing_problem_does_not_import_mpi4py():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=600)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip().splitlines()[-1] == "False"
+
+
+def test_set_case_loads_follows_where_the_beam_forcing_lives(problem):
+    """build_problem makes the beam forcing data of the beams (forcing_as_data): set_case_loads
+    then sets no beam forcing by default and refuses to on request; a model that promotes the
+    forcing as inputs gets it set from the case's arrays."""
+    from wingmdao.cases import wing_box
+    from wingmdao.groups.wing import set_case_loads
+
+    args = pegasus.PegasusOptions(loads="all", t_final=0.4, dt=0.04, gust_start=0.0)
+    setup = pegasus.build(args)
+    case = setup.load_cases[0]
+    set_case_loads(problem, case, 19, f"cases.{case.name}")          # data: nothing to set, no error
+    with pytest.raises(ValueError, match="forcing_as_data"):
+        set_case_loads(problem, case, 19, f"cases.{case.name}", forcing=True)
+
+    geometry, _, _, _ = wing_box.wing_geometry("combined", (1, 1, 1))      # forcing promoted as inputs
+    n = geometry.num_nodes
+    box_case = wing_box.tip_load_case("tip", n, (2e4, 0.0, 3e5), (0.0, 1e5, 0.0), ("vm",),
+                                      time=np.linspace(0.0, 0.1, 5), ramp_time=0.05)
+    walls = {w: np.full(n, 0.1) for w in WALL_VARS}
+    box = wing_box.analysis_problem(geometry, box_case, walls)              # calls set_case_loads
+    np.testing.assert_array_equal(box.get_val("cases.tip.point_force", units="N"),
+                                  box_case.forcing_array("point_force", n))
+    assert np.abs(box.get_val("cases.tip.point_force")).max() > 1e4

@@ -231,7 +231,7 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     else:
         set_geometry(prob, geometry, section)
         for case in load_cases:
-            set_case_loads(prob, case, n, f"cases.{case.name}", forcing=False)
+            set_case_loads(prob, case, n, f"cases.{case.name}")
     n_dv = n if geometry.station_map is None else int(np.max(geometry.station_map)) + 1
     for w in design_vars:
         prob.set_val(w, np.broadcast_to(options.initial.get(w, options.upper[w]), (n_dv,)))

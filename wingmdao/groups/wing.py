@@ -89,12 +89,23 @@ FORCING_META = {s.name: (s.units, s.desc) for s in forcing_specs(1)}
 
 
 def set_case_loads(prob: om.Problem, case: LoadCase, num_nodes: int, path: str = "", *,
-                   forcing: bool = True) -> None:
+                   forcing: bool | None = None) -> None:
     """Set the forcing inputs of ``case`` at ``path`` (the WingStructure's promoted prefix,
     e.g. ``"cases.gust"``) from its arrays; forcing it does not give is set to zero.
-    ``forcing=False``: the beam forcing (FORCING_META) is data of the beam (WingStructure
-    ``forcing_as_data``), only a coupled case's aerodynamic forcing and parameters are set."""
+    ``forcing``: whether to set the beam forcing (FORCING_META); None (default) sets it when the
+    case promotes it as inputs and skips it when it is data of the beam (WingStructure
+    ``forcing_as_data``); a coupled case's aerodynamic forcing and parameters are always set."""
     prefix = f"{path}." if path else ""
+    promoted = {meta["prom_name"] for meta in
+                prob.model.get_io_metadata(iotypes="input", metadata_keys=[], get_remote=True).values()}
+    beam_inputs = [prefix + name in promoted for name in FORCING_META]
+    if forcing is None:
+        forcing = all(beam_inputs)
+    elif forcing and not all(beam_inputs):
+        missing = [prefix + name for name, have in zip(FORCING_META, beam_inputs) if not have]
+        raise ValueError(f"set_case_loads(forcing=True): {', '.join(missing)} are not inputs of the model "
+                         f"(the case's forcing is data of its beam, forcing_as_data=True, or path {path!r} "
+                         "is not a load case's prefix); use forcing=None")
     for name, (units, _) in (FORCING_META.items() if forcing else ()):
         prob.set_val(prefix + name, case.forcing_array(name, num_nodes), units=units)
     if case.aero is not None:  # coupled case: its aerodynamic forcing and parameters
@@ -297,7 +308,7 @@ class WingSizing(om.Group):
                                   "flutter-damping constraint flutter_ks <= 0 (None: no flutter constraint)")
         self.options.declare("forcing_as_data", default=False, types=bool,
                              desc="every case's beam forcing as data of its beam (WingStructure "
-                                  "forcing_as_data): set only the aerodynamic forcing, set_case_loads(forcing=False)")
+                                  "forcing_as_data; set_case_loads then sets only the aerodynamic forcing)")
         self.options.declare("proxy_cases", default=False, types=bool,
                              desc="a subclass adds the cases to cases_group itself (wingmdao.parallel); "
                                   "load_cases may then be empty")

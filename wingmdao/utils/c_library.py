@@ -94,6 +94,9 @@ def load(source: Path, name: str, flags=C_FLAGS, force: bool = False):
             path = compile_source(Path(source), name, flags)
             cc.verify(path)
             lib = ctypes.CDLL(str(path))
+            from wingmdao.utils.cache_admin import record_use
+
+            record_use(path)      # its last use, for `wingmdao cache --prune`
         except Exception as exc:    # noqa: BLE001 - any failure: the caller's fallback
             global _warned
             if not _warned:

@@ -202,6 +202,9 @@ def load(fun: ca.Function, path: Path) -> ca.Function:
     for i in range(fun.n_out()):
         if ext.sparsity_out(i) != fun.sparsity_out(i):
             raise CompileError(f"{path}: output {i} sparsity differs from {fun.name()}")
+    from wingmdao.utils.cache_admin import record_use
+
+    record_use(path)      # its last use, for `wingmdao cache --prune`
     return ext
 
 

@@ -184,7 +184,11 @@ def load(path: Path, key: str) -> dict:
         raise ValueError(f"{path}: written for another definition")
     if int(parts[3]) != len(payload) or hashlib.sha256(payload).hexdigest() != parts[4]:
         raise ValueError(f"{path}: payload size or SHA-256 differs from its header (truncated or corrupt)")
-    return decode(payload)
+    data = decode(payload)
+    from wingmdao.utils.cache_admin import record_use
+
+    record_use(path)          # its last use, for `wingmdao cache --prune`
+    return data
 
 
 def get(name: str, key: str | None, build) -> dict:
