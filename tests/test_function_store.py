@@ -220,3 +220,35 @@ def test_deferred_beam_system_uses_compiled_libraries_without_building(store, mo
                                   *(deferred._maps[f"H_{k}"] for k in HISTORY_PARTS))} == {"compiled"}
     deferred.residual_history(*(np.atleast_2d(a) for a in args[:2]), args[2], np.atleast_2d(args[3]))
     assert not deferred.is_built
+
+
+def test_coupled_system_from_stored_jacobians_equals_the_built_one(store):
+    """A later process's coupled aeroelastic system takes its Jacobians from the store
+    (wingmdao.aero.system.stored_jacobians) instead of forming them: same patterns, and the
+    residual, Jacobians and Newton matrix evaluate bit for bit as the first build's."""
+    from wingmdao.aero import system as aero_system
+
+    first = aero_system.build_aeroelastic_system(3, plunge=True, trim=True)
+    assert fs.stats["built"] >= 1 and len(list(store.glob("aeroelastic_beam3_jacobians_*.npz"))) == 1
+    fs.clear_memory()
+    formed = []
+    real = ca.jacobian
+    try:
+        aero_system.ca.jacobian = lambda *a: formed.append(1) or real(*a)
+        again = aero_system.build_aeroelastic_system(3, plunge=True, trim=True)
+    finally:
+        aero_system.ca.jacobian = real
+    assert not formed                                   # nothing formed, all read from the store
+    for k, (r1, c1, s1) in first.jacobian_patterns().items():
+        r2, c2, s2 = again.jacobian_patterns()[k]
+        assert s1 == s2 and np.array_equal(r1, r2) and np.array_equal(c1, c2), k
+    rng = np.random.default_rng(4)
+    x, xd = rng.normal(size=(2, first.n_state)) * 0.1
+    p, q = rng.uniform(0.5, 2.0, first.n_param), rng.normal(size=first.n_forcing) * 0.1
+    assert np.array_equal(first.residual(x, xd, p, q), again.residual(x, xd, p, q))
+    for a, b in zip(first.jac_state(x, xd, p, q) + first.jac_inputs(x, xd, p, q),
+                    again.jac_state(x, xd, p, q) + again.jac_inputs(x, xd, p, q)):
+        assert np.array_equal(a.toarray(), b.toarray())
+    r1, n1 = first.residual_and_newton_matrix(x, xd, p, q, 7.0)
+    r2, n2 = again.residual_and_newton_matrix(x, xd, p, q, 7.0)
+    assert np.array_equal(r1, r2) and np.array_equal(np.asarray(n1.todense()), np.asarray(n2.todense()))

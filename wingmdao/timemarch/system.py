@@ -168,8 +168,11 @@ class ResidualSystem:
 class _SparseJacobian:
     """Evaluate a CasADi Jacobian into a scipy CSC matrix with a fixed sparsity pattern."""
 
-    def __init__(self, fun: ca.Function, expr, wrt, args, tag: str):
-        jac = ca.jacobian(expr, wrt)
+    def __init__(self, fun: ca.Function, expr, wrt, args, tag: str, jac=None):
+        """``jac``: ``ca.jacobian(expr, wrt)`` when the caller has it already (a stored build)."""
+        jac = ca.jacobian(expr, wrt) if jac is None else jac
+        if jac.shape != (expr.numel(), wrt.numel()):
+            raise ValueError(f"dR/d{tag}: shape {jac.shape}, expected {(expr.numel(), wrt.numel())}")
         spty = jac.sparsity()
         colind, row = spty.get_ccs()
         self.shape = (spty.size1(), spty.size2())
@@ -211,13 +214,17 @@ class CasadiResidualSystem(ResidualSystem):
     ``definition``: what defines the expressions (``wingmdao.utils.casadi_cache.definition_key``
     of the builder), the key of their compiled libraries; None keys them by serialization.
     ``lu_column_order``: the column order of the adjoint's static LU (:meth:`lu_column_order`).
+    ``jacobians``: ``{"x", "xdot", "p", "q"}`` -> ``ca.jacobian(R, x)``, ... in these symbols, when
+    the builder has them already (stored by definition: the coupled aeroelastic beam's take 3.8 s
+    to form); None forms them here.
     """
 
     #: the static LU's column order (None: natural; subclasses that build lazily set it themselves)
     _lu_column_order = None
 
     def __init__(self, x, xdot, p, q, R, *, param_specs, forcing_specs, state_shape=None,
-                 name="residual", describe=None, initial_guess=None, definition=None, lu_column_order=None):
+                 name="residual", describe=None, initial_guess=None, definition=None, lu_column_order=None,
+                 jacobians=None):
         self.n_state = int(x.numel())
         self.state_shape = tuple(state_shape) if state_shape else (self.n_state,)
         self.param_specs = list(param_specs)
@@ -228,10 +235,11 @@ class CasadiResidualSystem(ResidualSystem):
             raise ValueError(f"residual has {R.numel()} equations for {self.n_state} states")
         args = [x, xdot, p, q]
         self._R = ca.Function(name, args, [R])
-        self._dx = _SparseJacobian(self._R, R, x, args, "x")
-        self._dxdot = _SparseJacobian(self._R, R, xdot, args, "xdot")
-        self._dp = _SparseJacobian(self._R, R, p, args, "p")
-        self._dq = _SparseJacobian(self._R, R, q, args, "q")
+        jac = jacobians or {}
+        self._dx = _SparseJacobian(self._R, R, x, args, "x", jac.get("x"))
+        self._dxdot = _SparseJacobian(self._R, R, xdot, args, "xdot", jac.get("xdot"))
+        self._dp = _SparseJacobian(self._R, R, p, args, "p", jac.get("p"))
+        self._dq = _SparseJacobian(self._R, R, q, args, "q", jac.get("q"))
         self._describe = describe
         self._initial_guess = initial_guess
         self._lu_column_order = None if lu_column_order is None else np.asarray(lu_column_order, dtype=np.int64)
