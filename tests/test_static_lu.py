@@ -474,9 +474,11 @@ def _aeroelastic_history(plunge, n=6, n_time=40):
 @needs_gcc
 @pytest.mark.parametrize("plunge", [False, True])
 def test_coupled_sweeps_with_the_stored_column_order_equal_superlu(plunge, kernel_on):
-    """The aeroelastic system's LU column order (wingmdao.timemarch.lu_orders.AEROELASTIC_NODE_ORDER): the static
-    sweeps equal the SuperLU ones, and the order saves at least a third of the factorization's
-    multiply-adds against the natural order (half at 20 nodes, benchmarks/lu_column_order.py)."""
+    """The aeroelastic system's LU orders (wingmdao.timemarch.lu_orders): the adjoint's (lag states
+    first with diagonal pivots, then AEROELASTIC_BEAM_ORDER per node) is the one the sweeps use,
+    whose results equal the SuperLU ones; the march's AEROELASTIC_NODE_ORDER saves at least a
+    third of the factorization's multiply-adds against the natural order (half at 20 nodes,
+    benchmarks/lu_column_order.py) and the adjoint's order no less."""
     s, t, X, p, Q = _aeroelastic_history(plunge)
     ref = LinearizedHistory(s, t, X, p, Q, lu="superlu")
     lin = LinearizedHistory(s, t, X, p, Q, lu="static")
