@@ -93,5 +93,7 @@ def adjoint_lu_order(system):
     lay = getattr(system, "layout", None)
     aero = getattr(lay, "aero", None)
     if aero is not None and getattr(lay, "size", None) == system.n_state and np.size(aero):
-        return aeroelastic_adjoint_lu_order(np.shape(aero)[0], system.n_state)
+        order, diagonal = aeroelastic_adjoint_lu_order(np.shape(aero)[0], system.n_state)
+        if np.array_equal(order[:diagonal], np.ravel(aero)):    # the layout this order assumes
+            return order, diagonal
     return system.lu_column_order(), 0
