@@ -7,7 +7,9 @@ The adjoint factors the Newton matrix of every time step (``wingmdao.timemarch.s
 and the order of the unknowns within a node sets the fill inside the band. For each model this
 prints the multiply-adds of one factorization (``static_lu.factorization_work``, Newton matrix
 of the middle step of a gust history) in the natural order and in the order stored in the
-package (``wingmdao.timemarch.lu_orders``). Models: the straight 20-node beam of
+package (``wingmdao.timemarch.lu_orders``; the march's ``lu_column_order``) and in the adjoint's
+order (``lu_orders.adjoint_lu_order``: for the aeroelastic models every lag state first with
+diagonal pivots, then the beam part). Models: the straight 20-node beam of
 ``benchmarks/bench_aero.py`` (lift; lift and moment; coupled clamped; coupled free plunge +
 trim) and, unless ``--no-pegasus``, the PEGASUS wing under its Table 5.3 gust (strip-theory
 loads; coupled clamped, with trim; coupled free plunge + trim). With ``--search`` it runs
@@ -47,22 +49,19 @@ def _middle(lin):
 
 
 def pegasus_matrix(aero, plunge):
-    """The same for the PEGASUS gust case (``--aero``, ``--plunge``) at its initial design."""
+    """The same for the PEGASUS gust case (``--aero``, ``--plunge``) at its initial design (the
+    beam component's own linearization, after one gradient)."""
     from wingmdao.cases import pegasus
     from wingmdao.components.time_history import TimeHistoryComponent
-    from wingmdao.sizing import build_problem
+    from wingmdao.sizing import WALL_VARS, build_problem
 
     setup = pegasus.build(loads="gust", aero=aero, plunge=plunge)
     prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options, driver=False)
     prob.run_model()
+    prob.compute_totals(of=[f"cases.{case.name}.ks_{fam}" for case in setup.load_cases for fam in case.families],
+                        wrt=list(WALL_VARS))
     beam = next(prob.model.system_iter(recurse=True, typ=TimeHistoryComponent))
-    system = beam.build_system()
-    X = np.asarray(beam.get_val("states")).reshape(len(beam.options["time"]), -1)
-    p = pack(system.param_specs, {s.name: beam.get_val(s.name) for s in system.param_specs})
-    Q = np.concatenate([np.asarray(beam.get_val(s.name)).reshape(X.shape[0], -1) for s in system.forcing_specs],
-                       axis=1)
-    lin = LinearizedHistory(system, beam.options["time"], X, p, Q, lu="superlu")
-    return (system,) + _middle(lin)
+    return (beam.build_system(),) + _middle(beam._lin)
 
 
 def main(argv=None):
@@ -80,14 +79,18 @@ def main(argv=None):
         models += [("structural", "PEGASUS, strip loads", lambda: pegasus_matrix("strip", "clamped")),
                    ("aero", "PEGASUS, coupled clamped + trim", lambda: pegasus_matrix("coupled", "clamped")),
                    ("aero", "PEGASUS, free plunge + trim", lambda: pegasus_matrix("coupled", "free"))]
-    print(f"{'model':34s} {'natural':>9s} {'stored':>9s} {'change':>7s}")
+    print(f"{'model':34s} {'natural':>9s} {'stored':>9s} {'change':>7s} {'adjoint':>9s} {'change':>7s}")
     groups = {"structural": [], "aero": []}
     for family, label, make in models:
         system, n, rows, indptr, a = make()
         natural = static_lu.factorization_work(n, rows, indptr, a)
         order = system.lu_column_order()
         stored = static_lu.factorization_work(n, rows, indptr, a, order) if order is not None else natural
-        print(f"{label:34s} {natural:9d} {stored:9d} {100 * (stored / natural - 1):+6.0f}%", flush=True)
+        adj_order, diagonal = lu_orders.adjoint_lu_order(system)
+        adjoint = (static_lu.factorization_work(n, rows, indptr, a, adj_order, diagonal)
+                   if adj_order is not None else natural)
+        print(f"{label:34s} {natural:9d} {stored:9d} {100 * (stored / natural - 1):+6.0f}% {adjoint:9d} "
+              f"{100 * (adjoint / natural - 1):+6.0f}%", flush=True)
         groups[family].append((label, (n, rows, indptr, a), natural))
     if args.search:
         for family, block, stored in (("structural", 18, lu_orders.BEAM_NODE_ORDER),

@@ -16,7 +16,7 @@ from wingmdao.timemarch.adjoint import LinearizedHistory
 from wingmdao.timemarch.bdf import march
 from wingmdao.timemarch.examples import nonlinear_chain_system
 from wingmdao.timemarch import adjoint as adjoint_module
-from wingmdao.timemarch import static_lu
+from wingmdao.timemarch import lu_orders, static_lu
 from wingmdao.timemarch.static_lu import StaticPivotLU, for_pattern, symbolic_lu
 from wingmdao.utils import c_library
 from wingmdao.utils import casadi_cache as cc
@@ -474,9 +474,11 @@ def _aeroelastic_history(plunge, n=6, n_time=40):
 @needs_gcc
 @pytest.mark.parametrize("plunge", [False, True])
 def test_coupled_sweeps_with_the_stored_column_order_equal_superlu(plunge, kernel_on):
-    """The aeroelastic system's LU column order (wingmdao.timemarch.lu_orders.AEROELASTIC_NODE_ORDER): the static
-    sweeps equal the SuperLU ones, and the order saves at least a third of the factorization's
-    multiply-adds against the natural order (half at 20 nodes, benchmarks/lu_column_order.py)."""
+    """The aeroelastic system's LU orders (wingmdao.timemarch.lu_orders): the adjoint's (lag states
+    first with diagonal pivots, then AEROELASTIC_BEAM_ORDER per node) is the one the sweeps use,
+    whose results equal the SuperLU ones; the march's AEROELASTIC_NODE_ORDER saves at least a
+    third of the factorization's multiply-adds against the natural order (half at 20 nodes,
+    benchmarks/lu_column_order.py) and the adjoint's order no less."""
     s, t, X, p, Q = _aeroelastic_history(plunge)
     ref = LinearizedHistory(s, t, X, p, Q, lu="superlu")
     lin = LinearizedHistory(s, t, X, p, Q, lu="static")
@@ -487,8 +489,88 @@ def test_coupled_sweeps_with_the_stored_column_order_equal_superlu(plunge, kerne
         np.testing.assert_allclose(a, b, rtol=0, atol=1e-10 * np.max(np.abs(b)))
     assert lin.static_stats["fallback"] == 0
     slu = lin._static_lu()
-    assert slu is not None and np.array_equal(slu.col_order, s.lu_column_order())
+    order, diagonal = lu_orders.adjoint_lu_order(s)
+    assert diagonal == 4 * s.num_nodes
+    assert slu is not None and np.array_equal(slu.col_order, order)
     a_mid = ref.newton_matrix(len(t) // 2).tocsc()
     a_mid.sort_indices()
     args = (s.n_state, a_mid.indices, a_mid.indptr, a_mid.data)
-    assert static_lu.factorization_work(*args, s.lu_column_order()) < 0.67 * static_lu.factorization_work(*args)
+    natural = static_lu.factorization_work(*args)
+    assert static_lu.factorization_work(*args, s.lu_column_order()) < 0.67 * natural
+    # the adjoint's lag-first order with diagonal lag pivots: no more work than the march's order
+    assert static_lu.factorization_work(*args, order, diagonal) <= static_lu.factorization_work(*args, s.lu_column_order())
+
+
+def _leading_block_family(n=30, k=6, m=4, seed=3):
+    """Matrices with one pattern whose rows/columns ``lead`` hold a diagonal block (like the lag
+    states of the aeroelastic beam), small against a coupling of 5 in another row of each of
+    those columns (partial pivoting would pick that row), the other rows needing pivoting."""
+    base, _ = _family(n=n, m=1, seed=seed)
+    rng = np.random.default_rng(seed + 1)
+    lead = np.sort(rng.choice(n, size=k, replace=False))
+    a = base.tolil()
+    for i in lead:
+        for j in lead:
+            a[i, j] = 0.0
+        a[i, i] = 1.0
+        a[int(rng.choice(np.setdiff1d(np.arange(n), lead))), i] = 5.0
+    a = sp.csc_matrix(a)
+    a.eliminate_zeros()
+    a.sort_indices()
+    mats = []
+    for _ in range(m):
+        vals = a.data * (1.0 + 0.05 * rng.standard_normal(a.nnz))
+        mats.append(sp.csc_matrix((vals, a.indices, a.indptr), shape=(n, n)))
+    return lead, mats
+
+
+@needs_gcc
+def test_leading_diagonal_pivots_are_the_schur_complement_pivoting(kernel_on):
+    """``pivot_order(..., diagonal=k)``: the first k columns of Q pivot on their own rows and the
+    other rows are SuperLU's partial pivoting of the explicitly formed Schur complement
+    ``A_22 - A_21 A_11^-1 A_12`` (the independent reference); the solves with that pivot order
+    equal SciPy's, and plain partial pivoting would have picked other rows."""
+    n, k = 30, 6
+    lead, mats = _leading_block_family(n, k)
+    a = mats[0]
+    assert all(a.nnz == m.nnz and np.array_equal(a.indices, m.indices) for m in mats)
+    rest = np.setdiff1d(np.arange(n), lead)
+    q = np.concatenate([lead, np.random.default_rng(7).permutation(rest)])
+    perm = static_lu.pivot_order(n, a.indices, a.indptr, a.data, q, k)
+    assert np.array_equal(perm[q[:k]], np.arange(k))
+    d = a[lead][:, lead].diagonal()
+    schur = (a[rest][:, rest] - a[rest][:, lead] @ sp.diags(1.0 / d) @ a[lead][:, rest]).tocsc()
+    cols = np.searchsorted(rest, q[k:])
+    ref = spla.splu(sp.csc_matrix(schur[:, cols]), permc_spec="NATURAL").perm_r
+    np.testing.assert_array_equal(perm[rest], k + ref)
+    plain = static_lu.pivot_order(n, a.indices, a.indptr, a.data, q)
+    assert not np.array_equal(plain[q[:k]], np.arange(k))      # partial pivoting goes elsewhere
+    slu = StaticPivotLU(n, a.indices, a.indptr, perm_r=perm, col_order=q)
+    rng = np.random.default_rng(8)
+    for m, f in zip(mats, slu.factor_many(np.array([m.data for m in mats]))):
+        b = rng.standard_normal(n)
+        for trans, mat in (("N", m), ("T", m.T.tocsc())):
+            x, _, berr = slu.solve(f, m.data, b, trans)
+            if berr > 1e-12:
+                x = x + slu.solve(f, m.data, b - mat @ x, trans)[0]
+            np.testing.assert_allclose(x, spla.spsolve(mat, b), rtol=1e-8, atol=1e-10)
+    assert for_pattern(n, a.indices, a.indptr, a.data, q, k).perm_r.tolist() == perm.tolist()
+
+
+def test_adjoint_lu_order_of_the_beam_and_of_the_aeroelastic_beam():
+    """The structural beam keeps its ``lu_column_order`` with partial pivoting; the aeroelastic
+    beam's adjoint order is a permutation with every lag state first (``layout.aero``), then the
+    beam states node by node, the body states last."""
+    from wingmdao.aero import cached_aeroelastic_system
+    from wingmdao.components.beam import beam_system
+
+    b = beam_system(4)
+    order, diagonal = lu_orders.adjoint_lu_order(b)
+    assert diagonal == 0 and np.array_equal(order, b.lu_column_order())
+    s = cached_aeroelastic_system(4, plunge=True, trim=True)
+    order, diagonal = lu_orders.adjoint_lu_order(s)
+    assert diagonal == 16
+    assert np.array_equal(np.sort(order), np.arange(s.n_state))
+    np.testing.assert_array_equal(order[:16], s.layout.aero.ravel())
+    np.testing.assert_array_equal(np.sort(order[16:88]), np.sort(s.layout.beam.ravel()))
+    np.testing.assert_array_equal(order[88:], [s.layout.body["plunge"], s.layout.body["trim"]])

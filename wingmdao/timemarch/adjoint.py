@@ -28,7 +28,7 @@ import scipy.sparse.linalg as spla
 
 from wingmdao.timemarch.bdf import bdf_coefficients, state_rates, time_step
 from wingmdao.timemarch.newton import DENSE_MAX, PERMC_SPEC, factor
-from wingmdao.timemarch import static_lu
+from wingmdao.timemarch import lu_orders, static_lu
 from wingmdao.utils.digest import ArrayStamp
 
 
@@ -480,13 +480,18 @@ class LinearizedHistory:
 
     def _static_lu(self):
         """The :class:`~wingmdao.timemarch.static_lu.StaticPivotLU` of this history (pivot order of
-        the middle step) when ``lu_method == "static"``, else None (also when the reference step
-        cannot be factored: then SuperLU from here on)."""
+        the middle step, column order and leading diagonal pivots of
+        :func:`wingmdao.timemarch.lu_orders.adjoint_lu_order`) when ``lu_method == "static"``, else
+        None (also when the reference step cannot be factored: then SuperLU from here on)."""
         if self._static is None and self.lu_method == "static":
             mid = self.n_time // 2
             ref = self._block_at(mid)
-            slu = static_lu.for_pattern(self.n_state, self.m_rows, self.m_indptr, ref.m_data[ref.row(mid)],
-                                        self.system.lu_column_order())
+            a_ref = ref.m_data[ref.row(mid)]
+            order, diagonal = lu_orders.adjoint_lu_order(self.system)
+            slu = static_lu.for_pattern(self.n_state, self.m_rows, self.m_indptr, a_ref, order, diagonal)
+            if slu is None and diagonal:     # a zero diagonal pivot: partial pivoting throughout
+                slu = static_lu.for_pattern(self.n_state, self.m_rows, self.m_indptr, a_ref,
+                                            self.system.lu_column_order())
             if slu is None:
                 self.lu_method = "superlu"
                 return None

@@ -46,3 +46,54 @@ def aeroelastic_lu_column_order(n_state: int) -> np.ndarray:
     from wingmdao.timemarch.static_lu import block_column_order
 
     return block_column_order(AEROELASTIC_NODE_ORDER, len(AEROELASTIC_NODE_ORDER), int(n_state))
+
+
+#: The adjoint's order of an aeroelastic node's 18 beam unknowns after all lag states (the beam
+#: entries of :data:`AEROELASTIC_NODE_ORDER` in their order; a greedy search of this part, lag
+#: states first, found orders within 0.3 % of it: ``benchmarks/lu_column_order.py --search``).
+AEROELASTIC_BEAM_ORDER = tuple(k for k in AEROELASTIC_NODE_ORDER if k < 18)
+
+
+def aeroelastic_adjoint_lu_order(num_nodes: int, n_state: int):
+    """``(col_order, diagonal)`` of the adjoint's static LU of an aeroelastic system of
+    ``num_nodes`` nodes (22 unknowns each, then the body states) and ``n_state`` unknowns: the
+    4 lag states of every station first, each pivoting on its own row (``diagonal`` =
+    4 ``num_nodes``, :func:`wingmdao.timemarch.static_lu.pivot_order`), then the beam unknowns
+    node by node in :data:`AEROELASTIC_BEAM_ORDER`, the body states last.
+
+    The lag rows hold a diagonal block (``A_aa = alpha_0/dt I + B_aa``, each lag state's own
+    decay) and couple to a few beam unknowns of their station, which the beam rows of the
+    section's loads depend on already: eliminating the lag states first (a Schur complement
+    ``A_bb - A_ba A_aa^-1 A_ab``) adds no fill, so the factorization is that of the beam part.
+    Partial pivoting in this order picks beam rows for the lag columns and fills the matrix
+    (about 2 million multiply-adds): the diagonal pivots are what make the order work. PEGASUS
+    coupled clamped 76 725 -> 63 075 multiply-adds per factorization, free plunge + trim
+    87 726 -> 71 797; straight beam 59 521 -> 48 905 and 79 442 -> 65 425."""
+    n, n_state = int(num_nodes), int(n_state)
+    w, nb = len(AEROELASTIC_NODE_ORDER), len(AEROELASTIC_BEAM_ORDER)
+    node = np.arange(n)[:, None] * w
+    lag = (node + np.arange(nb, w)).ravel()
+    beam = (node + np.asarray(AEROELASTIC_BEAM_ORDER)).ravel()
+    return np.concatenate([lag, beam, np.arange(w * n, n_state)]).astype(np.int64), lag.size
+
+
+def adjoint_lu_order(system):
+    """``(col_order, diagonal)`` of the adjoint's static LU of ``system``
+    (:class:`~wingmdao.timemarch.adjoint.LinearizedHistory`): the system's own
+    ``adjoint_lu_order()`` if it has one; for an aeroelastic system (a ``layout`` with ``aero``
+    lag states, :mod:`wingmdao.aero.system`) :func:`aeroelastic_adjoint_lu_order`; else its
+    ``lu_column_order()`` with partial pivoting throughout (``diagonal`` 0).
+
+    The compiled march keeps ``lu_column_order()``: its LU pivots by partial pivoting at every
+    refactorization, for which the lag-first order fills. This lookup lives here, outside the
+    modules that key the compiled libraries, so changing the adjoint's order recompiles nothing."""
+    own = getattr(system, "adjoint_lu_order", None)
+    if callable(own):
+        return own()
+    lay = getattr(system, "layout", None)
+    aero = getattr(lay, "aero", None)
+    if aero is not None and getattr(lay, "size", None) == system.n_state and np.size(aero):
+        order, diagonal = aeroelastic_adjoint_lu_order(np.shape(aero)[0], system.n_state)
+        if np.array_equal(order[:diagonal], np.ravel(aero)):    # the layout this order assumes
+            return order, diagonal
+    return system.lu_column_order(), 0

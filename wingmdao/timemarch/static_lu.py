@@ -158,13 +158,35 @@ def symbolic_lu_compiled(lib, n, rows, indptr):
         cap = min(4 * cap, n * n)
 
 
-def pivot_order(n, rows, indptr, reference, col_order=None) -> np.ndarray:
+#: Power of two on the rows of the leading block of :func:`pivot_order` (``diagonal``): exact
+#: scaling, large enough that partial pivoting takes their entries first in their columns.
+LEADING_ROW_SCALE = 2.0 ** 300
+
+
+def pivot_order(n, rows, indptr, reference, col_order=None, diagonal=0) -> np.ndarray:
     """SuperLU's row permutation (partial pivoting) of the reference matrix with its columns in
     ``col_order`` (None: natural): row i of A is row ``perm_r[i]`` of ``P A Q``. Raises
-    RuntimeError when singular."""
-    ref = sp.csc_matrix((np.asarray(reference, dtype=float), rows, indptr), shape=(n, n))
+    RuntimeError when singular.
+
+    ``diagonal`` = k > 0: the first k columns of ``P A Q`` pivot among the rows of the same k
+    unknowns (rows ``q[:k]``; on their own rows when that block ``A_11`` is diagonal, as for the
+    aerodynamic lag states), eliminated before the rest; the other rows are then SuperLU's
+    partial pivoting of what remains, the Schur complement ``S = A_22 - A_21 A_11^-1 A_12``.
+    Done by one SuperLU factorization with the rows ``q[:k]`` scaled by
+    :data:`LEADING_ROW_SCALE`: a power of two changes no rounding (``A_21 (s A_11)^-1 (s A_12)`` is
+    ``A_21 A_11^-1 A_12`` bit for bit), it only makes those rows win the pivot search in the
+    first k columns. The factors are the pivoted elimination of ``P A Q`` in this order, so any
+    k gives the same solutions (each solve is still checked by its backward error)."""
+    a = np.asarray(reference, dtype=float)
+    k = int(diagonal)
+    q = np.arange(n) if col_order is None else np.asarray(col_order)
+    if k > 0:
+        scale = np.ones(n)
+        scale[q[:k]] = LEADING_ROW_SCALE
+        a = a * scale[np.asarray(rows)]
+    ref = sp.csc_matrix((a, rows, indptr), shape=(n, n))
     if col_order is not None:
-        ref = ref[:, np.asarray(col_order)]
+        ref = ref[:, q]
     return np.asarray(spla.splu(ref, permc_spec="NATURAL").perm_r, dtype=int)
 
 
@@ -179,14 +201,15 @@ def permuted_columns(indptr, col_order):
     return indptr_q, take
 
 
-def factorization_work(n, rows, indptr, reference, col_order=None) -> int:
+def factorization_work(n, rows, indptr, reference, col_order=None, diagonal=0) -> int:
     """Multiply-adds of one numeric factorization ``P A Q = L U`` with the pivots of ``reference``
-    (``sum_j sum_{k in U(:, j)} |L(:, k)|``, what :class:`StaticPivotLU` spends per matrix)."""
+    (``sum_j sum_{k in U(:, j)} |L(:, k)|``, what :class:`StaticPivotLU` spends per matrix;
+    ``diagonal``: leading diagonal pivots, :func:`pivot_order`)."""
     lib = kernel()
     if lib is None:
         raise RuntimeError("the static-pivot LU kernel is not compiled (WINGMDAO_JIT=0 or no gcc)")
     q = np.arange(int(n)) if col_order is None else check_column_order(int(n), col_order)
-    perm = pivot_order(int(n), np.asarray(rows), np.asarray(indptr), reference, q)
+    perm = pivot_order(int(n), np.asarray(rows), np.asarray(indptr), reference, q, diagonal)
     _, (lp, _, up, ui) = permuted_symbolic(lib, int(n), rows, indptr, perm, q)
     return int(np.diff(lp)[ui].sum())
 
@@ -399,16 +422,17 @@ _CACHE: dict = {}
 CACHE_SIZE = 16
 
 
-def for_pattern(n, rows, indptr, reference, col_order=None):
+def for_pattern(n, rows, indptr, reference, col_order=None, diagonal=0):
     """The :class:`StaticPivotLU` of a pattern with the pivot order of ``reference`` and the
-    column order ``col_order`` (None: natural; cached per pattern, column and pivot order: a new
-    reference with the same pivots costs one SuperLU factorization), or None when the kernel is
-    not compiled or the reference cannot be factored."""
+    column order ``col_order`` (None: natural; ``diagonal``: leading columns pivoting on their own
+    rows, :func:`pivot_order`; cached per pattern, column and pivot order: a new reference with
+    the same pivots costs one SuperLU factorization), or None when the kernel is not compiled or
+    the reference cannot be factored."""
     if kernel() is None:
         return None
     q = np.arange(int(n)) if col_order is None else check_column_order(int(n), col_order)
     try:
-        perm = pivot_order(int(n), np.asarray(rows), np.asarray(indptr), reference, q)
+        perm = pivot_order(int(n), np.asarray(rows), np.asarray(indptr), reference, q, diagonal)
     except RuntimeError:     # singular reference
         return None
     h = hashlib.sha256()
