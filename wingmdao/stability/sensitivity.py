@@ -49,6 +49,8 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from wingmdao.stability import pencil_lu
+
 _FUNCTIONS: dict = {}
 
 
@@ -182,10 +184,18 @@ def left_right_vectors(A, B, lam, *, iterations=3, rel_shift=1e-10):
     A, B = sp.csc_matrix(A), sp.csc_matrix(B)
     n = A.shape[0]
     s = complex(lam) * (1.0 + rel_shift) + rel_shift
-    lu = _lu(sp.csc_matrix(A + s * B, dtype=complex))
     rng = np.random.default_rng(0)
     v = rng.standard_normal(n) + 1j * rng.standard_normal(n)
     u = v.copy()
+    pen = pencil_lu.pencil(A, B)
+    if pen is not None and pen.has_pivots:   # the static-pivot kernel (pencil_lu.c), never "converged"
+        step = pen.iterate(s, v / np.linalg.norm(v), u / np.linalg.norm(u), B @ (v / np.linalg.norm(v)), lam, lam,
+                           iterations, -1.0)
+        if step is not None:
+            return step[0], step[1], step[3]
+    lu = _lu(sp.csc_matrix(A + s * B, dtype=complex))
+    if pen is not None:
+        pen.repivot(lu.perm_r)
     BH = B.conj().T
     for _ in range(int(iterations)):
         v = lu.solve(np.asarray(B @ v))
@@ -279,7 +289,6 @@ def refine_pair(A, B, lam0, v0, u0, *, tol=1e-12, iterations=6, shifts=3, rel_sh
     other one).
     (Two-sided Rayleigh-quotient iteration: B. N. Parlett, "The Rayleigh quotient iteration and
     some generalizations for nonnormal matrices", Math. Comp. 28(127), 1974.)"""
-    BH = B.conj().T
     v, u = np.asarray(v0, complex), np.asarray(u0, complex)
     v, u = v / np.linalg.norm(v), u / np.linalg.norm(u)
     Bv = B @ v
@@ -293,9 +302,19 @@ def refine_pair(A, B, lam0, v0, u0, *, tol=1e-12, iterations=6, shifts=3, rel_sh
         ph = np.vdot(b, a)
         return np.linalg.norm(a - b * (ph / abs(ph) if ph != 0 else 1.0))
 
+    pen = pencil_lu.pencil(A, B)
     for _ in range(int(shifts)):
         s = lam * (1.0 + rel_shift) + rel_shift
+        step = pen.iterate(s, v, u, Bv, lam, lam_old, iterations, tol) if pen is not None and pen.has_pivots else None
+        if step is not None:      # the static-pivot kernel (pencil_lu.c): the same steps in C
+            v, u, Bv, lam, lam_old, ok = step
+            if ok:
+                return v, u, lam, True
+            continue
         lu = _lu(sp.csc_matrix(A + s * B, dtype=complex))
+        if pen is not None:       # no pivot order yet, or it failed this shift: take SuperLU's
+            pen.repivot(lu.perm_r)
+        BH = B.conj().T
         for _ in range(int(iterations)):
             v_new = lu.solve(np.asarray(Bv))
             v_new /= np.linalg.norm(v_new)
