@@ -104,16 +104,15 @@ def _c128(a):
 
 
 class _Structure:
-    """Union pattern of a pencil's A and B: CSC ``indptr``, ``rows`` and where A's and B's
-    nonzeros sit in it (``ia``, ``ib``), plus the symbolic factorizations of its pivot orders."""
+    """A CSC pattern (``indptr``, ``rows``; sorted linear ``keys`` = column n + row) holding the
+    patterns of pencils' A and B, and the symbolic factorizations of its pivot orders. The
+    pencils' patterns vary a little with the design (``linearize`` drops the Jacobians' numerical
+    zeros), so a structure is the growing union of the patterns seen: a pencil whose A and B fit in
+    one takes it (its other entries are zero), else a new one is the union of the two."""
 
-    def __init__(self, A, B):
-        n = A.shape[0]
+    def __init__(self, n, keys):
         self.n = n
-        ka = _keys(A)
-        kb = _keys(B)
-        keys = np.union1d(ka, kb)
-        self.ia, self.ib = np.searchsorted(keys, ka), np.searchsorted(keys, kb)
+        self.keys = keys
         cols = keys // n
         self.rows = np.ascontiguousarray(keys - cols * n, dtype=np.int32)
         self.indptr = np.ascontiguousarray(np.searchsorted(cols, np.arange(n + 1)), dtype=np.int32)
@@ -121,9 +120,16 @@ class _Structure:
         self.symbolic: dict = {}      # perm bytes -> _Symbolic
         self.current = None           # the _Symbolic in use (None: not chosen yet)
 
-    def values(self, M, where):
+    def locate(self, keys):
+        """Positions of ``keys`` in the structure, or None when one is not in it."""
+        at = np.searchsorted(self.keys, keys)
+        if at.size and (at[-1] >= self.nnz or not np.array_equal(self.keys[np.minimum(at, self.nnz - 1)], keys)):
+            return None
+        return at
+
+    def values(self, data, where):
         out = np.zeros(self.nnz)
-        out[where] = M.data
+        out[where] = data
         return out
 
     def use(self, perm_r):
@@ -140,6 +146,7 @@ class _Structure:
 
 
 def _keys(M):
+    """Sorted linear indices column n + row of the nonzeros of a canonical CSC matrix."""
     n = M.shape[0]
     cols = np.repeat(np.arange(n, dtype=np.int64), np.diff(M.indptr))
     return cols * n + M.indices.astype(np.int64)
@@ -160,31 +167,56 @@ class _Symbolic:
         self.buffers = _Buffers(st.n, st.nnz, self.n_lu)
 
 
-_STRUCTURES: dict = {}
+_STRUCTURES: list = []                # the structures, most recent last
+_MAPS: dict = {}                      # (A, B patterns) -> (structure, positions of A's, of B's nonzeros)
 _LAST: list = [None, None, None]      # (A, B, Pencil) of the last call: the same pencil is refined many times
+
+
+def _structure_for(A, B):
+    key = (A.shape, A.indptr.tobytes(), A.indices.tobytes(), B.indptr.tobytes(), B.indices.tobytes())
+    hit = _MAPS.get(key)
+    if hit is not None:
+        return hit
+    n = A.shape[0]
+    ka, kb = _keys(A), _keys(B)
+    for st in reversed(_STRUCTURES):
+        if st.n == n:
+            ia, ib = st.locate(ka), st.locate(kb)
+            if ia is not None and ib is not None:
+                break
+    else:
+        keys = np.union1d(ka, kb)
+        same = [s for s in _STRUCTURES if s.n == n]
+        if same:
+            keys = np.union1d(keys, same[-1].keys)
+        st = _Structure(n, keys)
+        _STRUCTURES.append(st)
+        if len(_STRUCTURES) > 8:
+            _STRUCTURES.pop(0)
+        ia, ib = st.locate(ka), st.locate(kb)
+    if len(_MAPS) >= 256:
+        _MAPS.pop(next(iter(_MAPS)))
+    hit = _MAPS[key] = (st, ia, ib)
+    return hit
 
 
 def pencil(A, B):
     """The :class:`Pencil` of the real sparse ``(A, B)`` (cached: the last pair by identity, the
-    union pattern by the two patterns), or None without the compiled kernel."""
+    structure by the two patterns), or None without the compiled kernel."""
     if _LAST[0] is A and _LAST[1] is B:
         return _LAST[2]
     lib = kernel()
     if lib is None:
         return None
     A0, B0 = A, B
-    A, B = sp.csc_matrix(A), sp.csc_matrix(B)
+    A = A if sp.isspmatrix_csc(A) else sp.csc_matrix(A)
+    B = B if sp.isspmatrix_csc(B) else sp.csc_matrix(B)
     if not (A.has_canonical_format and B.has_canonical_format):
         A, B = A.copy(), B.copy()
         A.sum_duplicates()
         B.sum_duplicates()
-    key = (A.shape, A.indptr.tobytes(), A.indices.tobytes(), B.indptr.tobytes(), B.indices.tobytes())
-    st = _STRUCTURES.get(key)
-    if st is None:
-        if len(_STRUCTURES) >= 8:
-            _STRUCTURES.pop(next(iter(_STRUCTURES)))
-        st = _STRUCTURES[key] = _Structure(A, B)
-    pen = Pencil(lib, st, st.values(A, st.ia), st.values(B, st.ib))
+    st, ia, ib = _structure_for(A, B)
+    pen = Pencil(lib, st, st.values(A.data, ia), st.values(B.data, ib))
     _LAST[:] = [A0, B0, pen]
     return pen
 
