@@ -434,11 +434,21 @@ class WarmStart:
         return False
 
 
+_STARTS: dict = {}
+
+
 def _block_starts(system) -> np.ndarray:
-    """Start index of every non-empty parameter block of ``system`` (for ``np.maximum.reduceat``)."""
-    sizes = np.array([spec.size for spec in system.param_specs], dtype=np.intp)
+    """Start index of every non-empty parameter block of ``system`` (for ``np.maximum.reduceat``;
+    cached per system and parameter layout)."""
+    specs = tuple(system.param_specs)
+    hit = _STARTS.get(id(system))
+    if hit is not None and hit[0] is system and hit[1] == specs:
+        return hit[2]
+    sizes = np.array([spec.size for spec in specs], dtype=np.intp)
     starts = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.intp)
-    return starts[sizes > 0]
+    starts = starts[sizes > 0]
+    _STARTS[id(system)] = (system, specs, starts)
+    return starts
 
 
 #: a warm-started mode whose KS exponent rho (g - g_max) is below -this (weight < 4e-18) of the
@@ -554,7 +564,7 @@ def _ritz(A, B, prev, window, mask, bmask, min_frequency, min_mac, neutral_fract
         U = np.linalg.qr(np.column_stack([U, U2]))[0]
     AV, BV = A @ V, B @ V
     UH = U.conj().T
-    th, zl, yr = sla.eig(-(UH @ AV), UH @ BV, left=True, right=True)
+    th, zl, yr = sla.eig(-(UH @ AV), UH @ BV, left=True, right=True, check_finite=False)
     X, W = V @ yr, U @ zl
     AX, BX = AV @ yr, BV @ yr
     WA, WB = A.T @ W.conj(), B.T @ W.conj()          # columns: (w^H A)^T, (w^H B)^T
@@ -578,7 +588,9 @@ def _ritz(A, B, prev, window, mask, bmask, min_frequency, min_mac, neutral_fract
     mac = np.where(matched, mac[np.arange(k), order], 0.0)
     radius, sigma = window
     with np.errstate(invalid="ignore"):   # a non-finite estimate: NaN gap, so not trusted (below)
-        gap = np.array([np.min(np.abs(np.delete(th_all, order[j]) - th[j]), initial=np.inf) for j in range(k)])
+        dist = np.abs(th_all[None, :] - th[:, None])     # every Ritz value but the mode's own
+        dist[np.arange(k), order] = np.inf
+        gap = np.min(dist, axis=1, initial=np.inf)
     trusted = ((err < 0.5 * gap) & (th.imag - err > min_frequency) & (np.abs(th - sigma) + err < radius)
                & (mac >= min_mac) & np.isfinite(th))
     loaded = _loaded(X, mask, bmask)
