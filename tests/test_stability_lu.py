@@ -180,3 +180,20 @@ def sla_eigs(A, B):
     lam = sla.eigvals(-A.toarray(), B.toarray())
     lam = lam[np.isfinite(lam) & (np.abs(lam) < 1e6)]
     return complex(lam[np.argmin(np.abs(lam - 1j))])
+
+
+@needs_gcc
+def test_products_and_shared_structure(kernel_on):
+    """``Pencil.products`` equals SciPy's sparse products bitwise (same summation order); a pencil
+    whose pattern is a subset of an earlier one (a numerical zero dropped) reuses its structure."""
+    A, B = _random_pencil(seed=6)
+    X = np.random.default_rng(7).standard_normal((A.shape[0], 5)) * (1 + 0.5j)
+    pen = pencil_lu.pencil(A, B)
+    for trans, (ya, yb) in ((False, (A @ X, B @ X)), (True, (A.T @ X, B.T @ X))):
+        ga, gb = pen.products(np.asfortranarray(X), trans=trans)
+        assert np.array_equal(ga, ya) and np.array_equal(gb, yb)
+    A2 = A.copy()
+    A2.data[3] = 0.0
+    A2.eliminate_zeros()
+    pen2 = pencil_lu.pencil(A2, B)
+    assert pen2.st is pen.st and pen2.a[pen.a != pen2.a].size == 1

@@ -329,3 +329,34 @@ int pencil_iterate(const pencil_pattern *p, const double *a, const double *b, co
     lam_old[1] = cimag(lo);
     return status;
 }
+
+/* YA = A X, YB = B X (trans = 0) or A^T X, B^T X (trans != 0) for the k columns of X (n x k,
+ * row-major, as YA and YB): the products of the two-sided Rayleigh-Ritz projection
+ * (sensitivity._ritz), in the summation order of SciPy's CSC / CSR products. */
+void pencil_products(const pencil_pattern *p, const double *a, const double *b, const cplx *X, int k,
+                     int trans, cplx *YA, cplx *YB)
+{
+    const int n = p->n;
+    memset(YA, 0, (size_t)n * k * sizeof(cplx));
+    memset(YB, 0, (size_t)n * k * sizeof(cplx));
+    for (int j = 0; j < n; ++j)
+        for (int q = p->indptr[j]; q < p->indptr[j + 1]; ++q) {
+            const int i = p->rows[q];
+            const double av = a[q], bv = b[q];
+            if (trans) {                /* (A^T X)[j] += a_q X[i] */
+                const cplx *x = X + (size_t)i * k;
+                cplx *ya = YA + (size_t)j * k, *yb = YB + (size_t)j * k;
+                for (int c = 0; c < k; ++c) {
+                    ya[c] += av * x[c];
+                    yb[c] += bv * x[c];
+                }
+            } else {                    /* (A X)[i] += a_q X[j] */
+                const cplx *x = X + (size_t)j * k;
+                cplx *ya = YA + (size_t)i * k, *yb = YB + (size_t)i * k;
+                for (int c = 0; c < k; ++c) {
+                    ya[c] += av * x[c];
+                    yb[c] += bv * x[c];
+                }
+            }
+        }
+}

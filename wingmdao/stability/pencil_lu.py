@@ -69,6 +69,7 @@ _SIGNATURES = {
     "pencil_solve": ([_P, _P, _P, _I, _P], None),
     "pencil_berr": ([_P, _P, _P, _P, _P, _I, _P, _P], _D),
     "pencil_solve_checked": ([_P, _P, _P, _P, _P, _P, _I, _D, _P], _D),
+    "pencil_products": ([_P, _P, _P, _P, _I, _I, _P, _P], None),
     "pencil_iterate": ([_P, _P, _P, _P, _P, _P, _P, _P, _P, _P, _P, _I, _D, _D, _I, _P, _P, _P], _I),
 }
 _KERNELS: dict = {}
@@ -117,6 +118,9 @@ class _Structure:
         self.rows = np.ascontiguousarray(keys - cols * n, dtype=np.int32)
         self.indptr = np.ascontiguousarray(np.searchsorted(cols, np.arange(n + 1)), dtype=np.int32)
         self.nnz = int(keys.size)
+        # the pattern alone (no pivots: for pencil_products)
+        self._plain = _Pattern(n, self.nnz, _ptr(self.indptr), _ptr(self.rows), *([None] * 6))
+        self.pp = ctypes.addressof(self._plain)
         self.symbolic: dict = {}      # perm bytes -> _Symbolic
         self.current = None           # the _Symbolic in use (None: not chosen yet)
 
@@ -242,6 +246,16 @@ class Pencil:
     def repivot(self, perm_r):
         """Use the row order of a SuperLU factorization of a matrix of this pattern from now on."""
         self.st.use(perm_r)
+
+    def products(self, X, trans=False):
+        """``(A X, B X)`` (``trans``: ``(A^T X, B^T X)``) of an (n, k) complex X, in C
+        (``pencil_products``: the summation order of SciPy's sparse products)."""
+        X = np.ascontiguousarray(X, dtype=complex)
+        k = X.shape[1]
+        YA, YB = np.empty((self.n, k), dtype=complex), np.empty((self.n, k), dtype=complex)
+        self.lib.pencil_products(self.st.pp, self._pa, self._pb, _ptr(X), int(k), 1 if trans else 0, _ptr(YA),
+                                 _ptr(YB))
+        return YA, YB
 
     def factor(self, s):
         """``(symbolic, factors, values of M, |values|)`` of ``M = A + s B`` with the current pivot

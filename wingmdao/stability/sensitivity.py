@@ -562,16 +562,20 @@ def _ritz(A, B, prev, window, mask, bmask, min_frequency, min_mac, neutral_fract
         U2 = lu.solve(np.asarray(B.conj().T @ U, dtype=complex), trans="H")
         V = np.linalg.qr(np.column_stack([V, V2]))[0]
         U = np.linalg.qr(np.column_stack([U, U2]))[0]
-    AV, BV = A @ V, B @ V
+    pen = pencil_lu.pencil(A, B)      # the sparse products in C (same summation order), else SciPy's
+    AV, BV = pen.products(V) if pen is not None else (A @ V, B @ V)
     UH = U.conj().T
     th, zl, yr = sla.eig(-(UH @ AV), UH @ BV, left=True, right=True, check_finite=False)
     X, W = V @ yr, U @ zl
     AX, BX = AV @ yr, BV @ yr
-    WA, WB = A.T @ W.conj(), B.T @ W.conj()          # columns: (w^H A)^T, (w^H B)^T
-    nx, nw = np.linalg.norm(X, axis=0), np.linalg.norm(W, axis=0)
+    # columns: (w^H A)^T, (w^H B)^T
+    WA, WB = pen.products(W.conj(), trans=True) if pen is not None else (A.T @ W.conj(), B.T @ W.conj())
+    # the eight column norms in one call
+    nx, nw, nrx, nax, nbx, nrw, naw, nbw = np.linalg.norm(
+        np.concatenate([X, W, AX + BX * th, AX, BX, WA + WB * th, WA, WB], axis=1), axis=0).reshape(8, -1)
     with np.errstate(divide="ignore", invalid="ignore"):
-        eta_r = np.linalg.norm(AX + BX * th, axis=0) / (np.linalg.norm(AX, axis=0) + np.abs(th) * np.linalg.norm(BX, axis=0))
-        eta_l = np.linalg.norm(WA + WB * th, axis=0) / (np.linalg.norm(WA, axis=0) + np.abs(th) * np.linalg.norm(WB, axis=0))
+        eta_r = nrx / (nax + np.abs(th) * nbx)
+        eta_l = nrw / (naw + np.abs(th) * nbw)
         err = LAZY_ERROR_FACTOR * np.maximum(eta_r, eta_l) * np.abs(th)
     err = np.where(np.isfinite(err) & np.isfinite(th), err, np.inf)
     X, W = X / nx, W / nw
