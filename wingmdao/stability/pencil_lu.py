@@ -207,11 +207,11 @@ def _structure_for(A, B):
 def pencil(A, B):
     """The :class:`Pencil` of the real sparse ``(A, B)`` (cached: the last pair by identity, the
     structure by the two patterns), or None without the compiled kernel."""
-    if _LAST[0] is A and _LAST[1] is B:
-        return _LAST[2]
     lib = kernel()
     if lib is None:
         return None
+    if _LAST[0] is A and _LAST[1] is B:
+        return _LAST[2]
     A0, B0 = A, B
     A = A if sp.isspmatrix_csc(A) else sp.csc_matrix(A)
     B = B if sp.isspmatrix_csc(B) else sp.csc_matrix(B)

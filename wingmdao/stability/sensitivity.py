@@ -188,9 +188,9 @@ def left_right_vectors(A, B, lam, *, iterations=3, rel_shift=1e-10):
     v = rng.standard_normal(n) + 1j * rng.standard_normal(n)
     u = v.copy()
     pen = pencil_lu.pencil(A, B)
-    if pen is not None and pen.has_pivots:   # the static-pivot kernel (pencil_lu.c), never "converged"
-        step = pen.iterate(s, v / np.linalg.norm(v), u / np.linalg.norm(u), B @ (v / np.linalg.norm(v)), lam, lam,
-                           iterations, -1.0)
+    if pen is not None and pen.has_pivots:   # the static-pivot kernel (pencil_lu.c); tol < 0: all steps
+        v0 = v / np.linalg.norm(v)
+        step = pen.iterate(s, v0, v0, B @ v0, lam, lam, iterations, -1.0)
         if step is not None:
             return step[0], step[1], step[3]
     lu = _lu(sp.csc_matrix(A + s * B, dtype=complex))
@@ -287,6 +287,8 @@ def refine_pair(A, B, lam0, v0, u0, *, tol=1e-12, iterations=6, shifts=3, rel_sh
     instead of ``lam0`` (it follows the mode's own change: the PEGASUS torsion and in-plane modes,
     1-3 rad/s apart, cross between SLSQP designs, and a shift at the old eigenvalue landed on the
     other one).
+    With the compiled kernel (:mod:`wingmdao.stability.pencil_lu`) each shift's factorization and
+    steps run in C with a static pivot order (checked; a shift it refuses runs here with SuperLU).
     (Two-sided Rayleigh-quotient iteration: B. N. Parlett, "The Rayleigh quotient iteration and
     some generalizations for nonnormal matrices", Math. Comp. 28(127), 1974.)"""
     v, u = np.asarray(v0, complex), np.asarray(u0, complex)
@@ -570,10 +572,10 @@ def _ritz(A, B, prev, window, mask, bmask, min_frequency, min_mac, neutral_fract
     AX, BX = AV @ yr, BV @ yr
     # columns: (w^H A)^T, (w^H B)^T
     WA, WB = pen.products(W.conj(), trans=True) if pen is not None else (A.T @ W.conj(), B.T @ W.conj())
-    # the eight column norms in one call
-    nx, nw, nrx, nax, nbx, nrw, naw, nbw = np.linalg.norm(
-        np.concatenate([X, W, AX + BX * th, AX, BX, WA + WB * th, WA, WB], axis=1), axis=0).reshape(8, -1)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore"):   # (a non-finite Ritz value: inf bound, below)
+        # the eight column norms in one call
+        nx, nw, nrx, nax, nbx, nrw, naw, nbw = np.linalg.norm(
+            np.concatenate([X, W, AX + BX * th, AX, BX, WA + WB * th, WA, WB], axis=1), axis=0).reshape(8, -1)
         eta_r = nrx / (nax + np.abs(th) * nbx)
         eta_l = nrw / (naw + np.abs(th) * nbw)
         err = LAZY_ERROR_FACTOR * np.maximum(eta_r, eta_l) * np.abs(th)
