@@ -49,6 +49,8 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from wingmdao.stability import pencil_lu
+
 _FUNCTIONS: dict = {}
 
 
@@ -182,10 +184,18 @@ def left_right_vectors(A, B, lam, *, iterations=3, rel_shift=1e-10):
     A, B = sp.csc_matrix(A), sp.csc_matrix(B)
     n = A.shape[0]
     s = complex(lam) * (1.0 + rel_shift) + rel_shift
-    lu = _lu(sp.csc_matrix(A + s * B, dtype=complex))
     rng = np.random.default_rng(0)
     v = rng.standard_normal(n) + 1j * rng.standard_normal(n)
     u = v.copy()
+    pen = pencil_lu.pencil(A, B)
+    if pen is not None and pen.has_pivots:   # the static-pivot kernel (pencil_lu.c); tol < 0: all steps
+        v0 = v / np.linalg.norm(v)
+        step = pen.iterate(s, v0, v0, B @ v0, lam, lam, iterations, -1.0)
+        if step is not None:
+            return step[0], step[1], step[3]
+    lu = _lu(sp.csc_matrix(A + s * B, dtype=complex))
+    if pen is not None:
+        pen.repivot(lu.perm_r)
     BH = B.conj().T
     for _ in range(int(iterations)):
         v = lu.solve(np.asarray(B @ v))
@@ -277,9 +287,10 @@ def refine_pair(A, B, lam0, v0, u0, *, tol=1e-12, iterations=6, shifts=3, rel_sh
     instead of ``lam0`` (it follows the mode's own change: the PEGASUS torsion and in-plane modes,
     1-3 rad/s apart, cross between SLSQP designs, and a shift at the old eigenvalue landed on the
     other one).
+    With the compiled kernel (:mod:`wingmdao.stability.pencil_lu`) each shift's factorization and
+    steps run in C with a static pivot order (checked; a shift it refuses runs here with SuperLU).
     (Two-sided Rayleigh-quotient iteration: B. N. Parlett, "The Rayleigh quotient iteration and
     some generalizations for nonnormal matrices", Math. Comp. 28(127), 1974.)"""
-    BH = B.conj().T
     v, u = np.asarray(v0, complex), np.asarray(u0, complex)
     v, u = v / np.linalg.norm(v), u / np.linalg.norm(u)
     Bv = B @ v
@@ -293,9 +304,19 @@ def refine_pair(A, B, lam0, v0, u0, *, tol=1e-12, iterations=6, shifts=3, rel_sh
         ph = np.vdot(b, a)
         return np.linalg.norm(a - b * (ph / abs(ph) if ph != 0 else 1.0))
 
+    pen = pencil_lu.pencil(A, B)
     for _ in range(int(shifts)):
         s = lam * (1.0 + rel_shift) + rel_shift
+        step = pen.iterate(s, v, u, Bv, lam, lam_old, iterations, tol) if pen is not None and pen.has_pivots else None
+        if step is not None:      # the static-pivot kernel (pencil_lu.c): the same steps in C
+            v, u, Bv, lam, lam_old, ok = step
+            if ok:
+                return v, u, lam, True
+            continue
         lu = _lu(sp.csc_matrix(A + s * B, dtype=complex))
+        if pen is not None:       # no pivot order yet, or it failed this shift: take SuperLU's
+            pen.repivot(lu.perm_r)
+        BH = B.conj().T
         for _ in range(int(iterations)):
             v_new = lu.solve(np.asarray(Bv))
             v_new /= np.linalg.norm(v_new)
@@ -415,11 +436,21 @@ class WarmStart:
         return False
 
 
+_STARTS: dict = {}
+
+
 def _block_starts(system) -> np.ndarray:
-    """Start index of every non-empty parameter block of ``system`` (for ``np.maximum.reduceat``)."""
-    sizes = np.array([spec.size for spec in system.param_specs], dtype=np.intp)
+    """Start index of every non-empty parameter block of ``system`` (for ``np.maximum.reduceat``;
+    cached per system and parameter layout)."""
+    specs = tuple(system.param_specs)
+    hit = _STARTS.get(id(system))
+    if hit is not None and hit[0] is system and hit[1] == specs:
+        return hit[2]
+    sizes = np.array([spec.size for spec in specs], dtype=np.intp)
     starts = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.intp)
-    return starts[sizes > 0]
+    starts = starts[sizes > 0]
+    _STARTS[id(system)] = (system, specs, starts)
+    return starts
 
 
 #: a warm-started mode whose KS exponent rho (g - g_max) is below -this (weight < 4e-18) of the
@@ -533,16 +564,20 @@ def _ritz(A, B, prev, window, mask, bmask, min_frequency, min_mac, neutral_fract
         U2 = lu.solve(np.asarray(B.conj().T @ U, dtype=complex), trans="H")
         V = np.linalg.qr(np.column_stack([V, V2]))[0]
         U = np.linalg.qr(np.column_stack([U, U2]))[0]
-    AV, BV = A @ V, B @ V
+    pen = pencil_lu.pencil(A, B)      # the sparse products in C (same summation order), else SciPy's
+    AV, BV = pen.products(V) if pen is not None else (A @ V, B @ V)
     UH = U.conj().T
-    th, zl, yr = sla.eig(-(UH @ AV), UH @ BV, left=True, right=True)
+    th, zl, yr = sla.eig(-(UH @ AV), UH @ BV, left=True, right=True, check_finite=False)
     X, W = V @ yr, U @ zl
     AX, BX = AV @ yr, BV @ yr
-    WA, WB = A.T @ W.conj(), B.T @ W.conj()          # columns: (w^H A)^T, (w^H B)^T
-    nx, nw = np.linalg.norm(X, axis=0), np.linalg.norm(W, axis=0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        eta_r = np.linalg.norm(AX + BX * th, axis=0) / (np.linalg.norm(AX, axis=0) + np.abs(th) * np.linalg.norm(BX, axis=0))
-        eta_l = np.linalg.norm(WA + WB * th, axis=0) / (np.linalg.norm(WA, axis=0) + np.abs(th) * np.linalg.norm(WB, axis=0))
+    # columns: (w^H A)^T, (w^H B)^T
+    WA, WB = pen.products(W.conj(), trans=True) if pen is not None else (A.T @ W.conj(), B.T @ W.conj())
+    with np.errstate(divide="ignore", invalid="ignore"):   # (a non-finite Ritz value: inf bound, below)
+        # the eight column norms in one call
+        nx, nw, nrx, nax, nbx, nrw, naw, nbw = np.linalg.norm(
+            np.concatenate([X, W, AX + BX * th, AX, BX, WA + WB * th, WA, WB], axis=1), axis=0).reshape(8, -1)
+        eta_r = nrx / (nax + np.abs(th) * nbx)
+        eta_l = nrw / (naw + np.abs(th) * nbw)
         err = LAZY_ERROR_FACTOR * np.maximum(eta_r, eta_l) * np.abs(th)
     err = np.where(np.isfinite(err) & np.isfinite(th), err, np.inf)
     X, W = X / nx, W / nw
@@ -559,7 +594,9 @@ def _ritz(A, B, prev, window, mask, bmask, min_frequency, min_mac, neutral_fract
     mac = np.where(matched, mac[np.arange(k), order], 0.0)
     radius, sigma = window
     with np.errstate(invalid="ignore"):   # a non-finite estimate: NaN gap, so not trusted (below)
-        gap = np.array([np.min(np.abs(np.delete(th_all, order[j]) - th[j]), initial=np.inf) for j in range(k)])
+        dist = np.abs(th_all[None, :] - th[:, None])     # every Ritz value but the mode's own
+        dist[np.arange(k), order] = np.inf
+        gap = np.min(dist, axis=1, initial=np.inf)
     trusted = ((err < 0.5 * gap) & (th.imag - err > min_frequency) & (np.abs(th - sigma) + err < radius)
                & (mac >= min_mac) & np.isfinite(th))
     loaded = _loaded(X, mask, bmask)

@@ -10,6 +10,7 @@ expose each piece as a named, unit-carrying input.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import casadi as ca
@@ -34,7 +35,7 @@ class VarSpec:
 
     @property
     def size(self) -> int:
-        return int(np.prod(self.shape)) if self.shape else 1
+        return math.prod(int(d) for d in self.shape) if self.shape else 1   # (np.prod: ~5 us per call)
 
 
 def layout(specs) -> dict[str, slice]:

@@ -1,0 +1,332 @@
+"""Static-pivot complex LU of shifted pencils ``A + s B`` and the inverse iteration on them, in C.
+
+The flutter constraint's warm start refines ~9 modes per evaluation (``refine_pair``: one LU of
+the complex ``A + s B`` per shift, then inverse-iteration steps with it and with its conjugate
+transpose). For the 441-state PEGASUS pencil SciPy's SuperLU spends 0.75-0.95 ms per
+factorization (its per-call analysis; the factors have only ~11k nonzeros) and the Python loop
+around the solves as much again. As :mod:`wingmdao.timemarch.static_lu` does for the real adjoint,
+:class:`Pencil` does the analysis once:
+
+1. *pattern*: the union of the patterns of A and B (``A + s B`` has it for every s, and the
+   CasADi Jacobians keep it for every design), with A's and B's values scattered onto it;
+2. *pivot order*: SuperLU's row permutation of the first matrix factored (partial pivoting,
+   natural column order, as ``sensitivity._lu``), kept while the solves' backward errors stay
+   small; *symbolic factorization* of the row-permuted pattern (``lu_symbolic`` of
+   ``lu_kernel.c``);
+3. *numeric factorization, checked solves with M and M^H, and the whole inverse-iteration loop of
+   one shift* in C (``pencil_lu.c``, C99 ``double complex``), compiled once per machine by
+   :mod:`wingmdao.utils.c_library`.
+
+Exactness: every solve's normwise backward error ``max |b - M x| / max (|M| |x| + |b|)`` must
+be at most :data:`BACKWARD_TOL` (after one step of iterative refinement), i.e. the solve is as
+backward stable as SuperLU's (whose errors on these pencils are 3e-17 - 8e-15; not the
+componentwise error of the real kernel: inverse iteration solves nearly singular systems, where
+SuperLU's componentwise errors are 1e-6 - 1e-2); a shift where one is not (bad static pivots) is redone with SuperLU by the
+caller, which then passes that factorization's row order here (:meth:`Pencil.repivot`) for the
+next shifts. Results agree with the SuperLU path to round-off (``tests/test_stability_lu.py``).
+
+Without the compiled kernels (``WINGMDAO_JIT=0``, no gcc; ``WINGMDAO_LU_KERNEL`` as in
+:mod:`~wingmdao.timemarch.static_lu`) :func:`pencil` returns None and the callers use SuperLU.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import os
+from pathlib import Path
+
+import numpy as np
+import scipy.sparse as sp
+
+from wingmdao.timemarch import static_lu
+from wingmdao.utils import c_library
+from wingmdao.utils import casadi_cache as cc
+
+SOURCE = Path(__file__).with_name("pencil_lu.c")
+#: ``-fcx-fortran-rules``: complex products and quotients without C99 Annex G's NaN/inf recovery
+#: (SuperLU's own complex arithmetic does none either).
+FLAGS = tuple(c_library.C_FLAGS) + ("-fcx-fortran-rules",)
+#: Largest accepted growth ``|| |L| |U| || / || A + s B ||`` (infinity norms) of a factorization:
+#: the backward error of every solve with it is at most ~n eps times this (Higham, "Accuracy and
+#: stability of numerical algorithms", 2nd ed., Thm 9.3).
+GROWTH_MAX = 1e3
+#: Accepted normwise backward error of a solve (SuperLU's: 3e-17 - 8e-15 on the PEGASUS pencils).
+BACKWARD_TOL = 1e-13
+
+_P = ctypes.c_void_p
+_I = ctypes.c_int
+_D = ctypes.c_double
+
+
+class _Pattern(ctypes.Structure):
+    _fields_ = [("n", _I), ("nnz", _I)] + [(k, _P) for k in ("indptr", "rows", "prow", "perm", "lp", "li", "up",
+                                                            "ui")]
+
+
+_SIGNATURES = {
+    "pencil_lu_version": ([], _I),
+    "pencil_factor": ([_P, _P, _P, _D, _D, _P, _P, _P, _P, _P], _I),
+    "pencil_solve": ([_P, _P, _P, _I, _P], None),
+    "pencil_berr": ([_P, _P, _P, _P, _P, _I, _P, _P], _D),
+    "pencil_solve_checked": ([_P, _P, _P, _P, _P, _P, _I, _D, _P], _D),
+    "pencil_products": ([_P, _P, _P, _P, _I, _I, _P, _P], None),
+    "pencil_iterate": ([_P, _P, _P, _P, _P, _P, _P, _P, _P, _P, _P, _I, _D, _D, _I, _P, _P, _P], _I),
+}
+_KERNELS: dict = {}
+
+
+def kernel():
+    """The compiled ``pencil_lu.c`` (``ctypes.CDLL``), or None (``WINGMDAO_LU_KERNEL``: 1 on, 0 off,
+    unset: as ``WINGMDAO_JIT``; None also when the real kernel, whose symbolic step it uses, is off)."""
+    env = os.environ.get(static_lu.ENV_KERNEL, "").strip().lower()
+    if env in ("0", "false", "no", "off"):
+        return None
+    key = (env, os.environ.get(cc.ENV_JIT), os.environ.get(cc.ENV_CACHE), os.environ.get("CC"))
+    if key in _KERNELS:
+        return _KERNELS[key]
+    lib = None
+    if static_lu.kernel() is not None:
+        lib = c_library.load(SOURCE, "pencil_lu", FLAGS, force=env in ("1", "true", "yes", "on"))
+    if lib is not None and not getattr(lib, "_wingmdao_typed", False):
+        for name, (args, res) in _SIGNATURES.items():
+            fn = getattr(lib, name)
+            fn.argtypes, fn.restype = args, res
+        lib._wingmdao_typed = True
+    _KERNELS[key] = lib
+    return lib
+
+
+def _ptr(a):
+    return a.ctypes.data
+
+
+def _c128(a):
+    return np.array(a, dtype=complex, order="C")      # a copy: the kernel writes in place
+
+
+class _Structure:
+    """A CSC pattern (``indptr``, ``rows``; sorted linear ``keys`` = column n + row) holding the
+    patterns of pencils' A and B, and the symbolic factorizations of its pivot orders. The
+    pencils' patterns vary a little with the design (``linearize`` drops the Jacobians' numerical
+    zeros), so a structure is the growing union of the patterns seen: a pencil whose A and B fit in
+    one takes it (its other entries are zero), else a new one is the union of the two."""
+
+    def __init__(self, n, keys):
+        self.n = n
+        self.keys = keys
+        cols = keys // n
+        self.rows = np.ascontiguousarray(keys - cols * n, dtype=np.int32)
+        self.indptr = np.ascontiguousarray(np.searchsorted(cols, np.arange(n + 1)), dtype=np.int32)
+        self.nnz = int(keys.size)
+        # the pattern alone (no pivots: for pencil_products)
+        self._plain = _Pattern(n, self.nnz, _ptr(self.indptr), _ptr(self.rows), *([None] * 6))
+        self.pp = ctypes.addressof(self._plain)
+        self.symbolic: dict = {}      # perm bytes -> _Symbolic
+        self.current = None           # the _Symbolic in use (None: not chosen yet)
+
+    def locate(self, keys):
+        """Positions of ``keys`` in the structure, or None when one is not in it."""
+        at = np.searchsorted(self.keys, keys)
+        if at.size and (at[-1] >= self.nnz or not np.array_equal(self.keys[np.minimum(at, self.nnz - 1)], keys)):
+            return None
+        return at
+
+    def values(self, data, where):
+        out = np.zeros(self.nnz)
+        out[where] = data
+        return out
+
+    def use(self, perm_r):
+        """Take the row order ``perm_r`` (SuperLU's ``perm_r`` of a matrix of this pattern)."""
+        perm = np.ascontiguousarray(perm_r, dtype=np.int32)
+        key = perm.tobytes()
+        sym = self.symbolic.get(key)
+        if sym is None:
+            if len(self.symbolic) >= 8:
+                self.symbolic.pop(next(iter(self.symbolic)))
+            sym = self.symbolic[key] = _Symbolic(self, perm)
+        self.current = sym
+        return sym
+
+
+def _keys(M):
+    """Sorted linear indices column n + row of the nonzeros of a canonical CSC matrix."""
+    n = M.shape[0]
+    cols = np.repeat(np.arange(n, dtype=np.int64), np.diff(M.indptr))
+    return cols * n + M.indices.astype(np.int64)
+
+
+class _Symbolic:
+    """Row order and the structures of L and U of ``P (A + s B)`` (the kernel's pattern struct)."""
+
+    def __init__(self, st: _Structure, perm):
+        lib = static_lu.kernel()
+        prow, (lp, li, up, ui) = static_lu.permuted_symbolic(lib, st.n, st.rows, st.indptr, perm, np.arange(st.n))
+        self.perm = perm
+        self.n_lu = int(lp[-1] + up[-1] + st.n)
+        self._arrays = {"indptr": st.indptr, "rows": st.rows, "prow": np.ascontiguousarray(prow, dtype=np.int32),
+                        "perm": perm, "lp": lp, "li": li, "up": up, "ui": ui}
+        self._pattern = _Pattern(st.n, st.nnz, *(_ptr(self._arrays[k]) for k, _ in _Pattern._fields_[2:]))
+        self.pp = ctypes.addressof(self._pattern)
+        self.buffers = _Buffers(st.n, st.nnz, self.n_lu)
+
+
+_STRUCTURES: list = []                # the structures, most recent last
+_MAPS: dict = {}                      # (A, B patterns) -> (structure, positions of A's, of B's nonzeros)
+_LAST: list = [None, None, None]      # (A, B, Pencil) of the last call: the same pencil is refined many times
+
+
+def _structure_for(A, B):
+    key = (A.shape, A.indptr.tobytes(), A.indices.tobytes(), B.indptr.tobytes(), B.indices.tobytes())
+    hit = _MAPS.get(key)
+    if hit is not None:
+        return hit
+    n = A.shape[0]
+    ka, kb = _keys(A), _keys(B)
+    for st in reversed(_STRUCTURES):
+        if st.n == n:
+            ia, ib = st.locate(ka), st.locate(kb)
+            if ia is not None and ib is not None:
+                break
+    else:
+        keys = np.union1d(ka, kb)
+        same = [s for s in _STRUCTURES if s.n == n]
+        if same:
+            keys = np.union1d(keys, same[-1].keys)
+        st = _Structure(n, keys)
+        _STRUCTURES.append(st)
+        if len(_STRUCTURES) > 8:
+            _STRUCTURES.pop(0)
+        ia, ib = st.locate(ka), st.locate(kb)
+    if len(_MAPS) >= 256:
+        _MAPS.pop(next(iter(_MAPS)))
+    hit = _MAPS[key] = (st, ia, ib)
+    return hit
+
+
+def pencil(A, B):
+    """The :class:`Pencil` of the real sparse ``(A, B)`` (cached: the last pair by identity, the
+    structure by the two patterns), or None without the compiled kernel."""
+    lib = kernel()
+    if lib is None:
+        return None
+    if _LAST[0] is A and _LAST[1] is B:
+        return _LAST[2]
+    A0, B0 = A, B
+    A = A if sp.isspmatrix_csc(A) else sp.csc_matrix(A)
+    B = B if sp.isspmatrix_csc(B) else sp.csc_matrix(B)
+    if not (A.has_canonical_format and B.has_canonical_format):
+        A, B = A.copy(), B.copy()
+        A.sum_duplicates()
+        B.sum_duplicates()
+    st, ia, ib = _structure_for(A, B)
+    pen = Pencil(lib, st, st.values(A.data, ia), st.values(B.data, ib))
+    _LAST[:] = [A0, B0, pen]
+    return pen
+
+
+class Pencil:
+    """``A + s B`` of one design and speed on its union pattern: factorizations and the
+    inverse iteration of :func:`wingmdao.stability.sensitivity.refine_pair` in C."""
+
+    def __init__(self, lib, st: _Structure, a, b):
+        self.lib, self.st = lib, st
+        self.n = st.n
+        self.a, self.b = a, b
+        self._pa, self._pb = _ptr(a), _ptr(b)
+        self._x = np.zeros(self.n, dtype=complex)
+        self._work = np.zeros(8 * self.n, dtype=complex)
+        self.berr = 0.0
+        self.growth = 0.0
+
+    @property
+    def has_pivots(self) -> bool:
+        return self.st.current is not None
+
+    def repivot(self, perm_r):
+        """Use the row order of a SuperLU factorization of a matrix of this pattern from now on."""
+        self.st.use(perm_r)
+
+    def products(self, X, trans=False):
+        """``(A X, B X)`` (``trans``: ``(A^T X, B^T X)``) of an (n, k) complex X, in C
+        (``pencil_products``: the summation order of SciPy's sparse products)."""
+        X = np.ascontiguousarray(X, dtype=complex)
+        k = X.shape[1]
+        YA, YB = np.empty((self.n, k), dtype=complex), np.empty((self.n, k), dtype=complex)
+        self.lib.pencil_products(self.st.pp, self._pa, self._pb, _ptr(X), int(k), 1 if trans else 0, _ptr(YA),
+                                 _ptr(YB))
+        return YA, YB
+
+    def factor(self, s):
+        """``(symbolic, factors, values of M, |values|)`` of ``M = A + s B`` with the current pivot
+        order, or None when a pivot is zero or not finite (or no pivot order is chosen yet)."""
+        sym = self.st.current
+        if sym is None:
+            return None
+        f = np.empty(sym.n_lu, dtype=complex)
+        m, ma = np.empty(self.st.nnz, dtype=complex), np.empty(self.st.nnz)
+        s = complex(s)
+        growth = np.zeros(1)
+        bad = self.lib.pencil_factor(sym.pp, _ptr(self.a), _ptr(self.b), s.real, s.imag, _ptr(f), _ptr(m), _ptr(ma),
+                                     _ptr(self._x), _ptr(growth))
+        self.growth = float(growth[0])
+        return None if bad or not self.growth <= GROWTH_MAX else (sym, f, m, ma)
+
+    def solve(self, lu, rhs, trans="N", tol=BACKWARD_TOL):
+        """``(x, berr)``: ``(A + s B) x = rhs`` (``trans="N"``) or ``(A + s B)^H x = rhs`` (``"H"``),
+        refined once when the backward error is above ``tol``."""
+        sym, f, m, ma = lu
+        rhs = _c128(rhs)
+        x = np.empty(self.n, dtype=complex)
+        e = self.lib.pencil_solve_checked(sym.pp, _ptr(m), _ptr(ma), _ptr(f), _ptr(rhs), _ptr(x),
+                                          0 if trans == "N" else 1, float(tol), _ptr(self._work))
+        return x, float(e)
+
+    def iterate(self, s, v, u, bv, lam, lam_old, iterations, tol, btol=BACKWARD_TOL, checked=1):
+        """One shift of ``refine_pair``: factor ``A + s B``, then up to ``iterations`` two-sided
+        inverse-iteration steps (``pencil_iterate`` in pencil_lu.c; the solves of the first ``checked``
+        steps checked a posteriori, every one bounded by the growth check). Returns ``(v, u, bv, lam,
+        lam_old, converged)`` (new arrays), or None when the static pivots are bad for this shift
+        (a zero pivot, growth above :data:`GROWTH_MAX` or a backward error above ``btol``): redo the
+        shift with SuperLU."""
+        sym = self.st.current
+        if sym is None:
+            return None
+        bf = sym.buffers
+        s = complex(s)
+        bad = self.lib.pencil_factor(sym.pp, self._pa, self._pb, s.real, s.imag, bf.pf, bf.pm, bf.pma, bf.px, bf.pg)
+        self.growth = float(bf.g[0])
+        if bad or not self.growth <= GROWTH_MAX:
+            return None
+        bf.v[:], bf.u[:], bf.bv[:] = v, u, bv
+        lam, lam_old = complex(lam), complex(lam_old)
+        bf.lam[:] = lam.real, lam.imag, lam_old.real, lam_old.imag
+        bf.berr[0] = 0.0
+        status = self.lib.pencil_iterate(sym.pp, self._pa, self._pb, bf.pm, bf.pma, bf.pf, bf.pv, bf.pu, bf.pbv,
+                                         bf.plam, bf.plo, int(iterations), float(tol), float(btol), int(checked),
+                                         bf.pw, bf.pberr, bf.steps)
+        if status < 0:
+            return None
+        self.berr = max(self.berr, float(bf.berr[0]))
+        lr = bf.lam
+        return (bf.v.copy(), bf.u.copy(), bf.bv.copy(), complex(lr[0], lr[1]), complex(lr[2], lr[3]),
+                status == 1)
+
+
+class _Buffers:
+    """The kernel's in / out arrays of one pattern and pivot order, with their addresses (taken
+    once: ``ndarray.ctypes`` costs ~5 us per array and call)."""
+
+    def __init__(self, n, nnz, n_lu):
+        self.f = np.zeros(n_lu, dtype=complex)
+        self.m, self.ma = np.zeros(nnz, dtype=complex), np.zeros(nnz)
+        self.x = np.zeros(n, dtype=complex)
+        self.g = np.zeros(1)
+        self.v, self.u, self.bv = (np.zeros(n, dtype=complex) for _ in range(3))
+        self.lam = np.zeros(4)
+        self.w = np.zeros(8 * n, dtype=complex)
+        self.berr = np.zeros(1)
+        self.steps = (ctypes.c_int * 1)(0)
+        for k in ("f", "m", "ma", "x", "g", "v", "u", "bv", "lam", "w", "berr"):
+            setattr(self, "p" + k, _ptr(getattr(self, k)))
+        self.plo = self.plam + 2 * 8
