@@ -197,3 +197,31 @@ def test_products_and_shared_structure(kernel_on):
     A2.eliminate_zeros()
     pen2 = pencil_lu.pencil(A2, B)
     assert pen2.st is pen.st and pen2.a[pen.a != pen2.a].size == 1
+
+
+@pytest.mark.skipif(cc.compiler() is None, reason="needs gcc")
+def test_pencil_function_from_a_warm_cache_forms_no_jacobian(tmp_path, monkeypatch):
+    """With its library cached, the pencil function loads it with the system's own patterns and
+    forms no Jacobian; (A, B) equal those of the function built from the residual."""
+    import casadi as ca
+
+    from wingmdao.stability import eigen
+    from wingmdao.stability.cases import flutter_problem
+
+    monkeypatch.setenv(cc.ENV_JIT, "1")
+    monkeypatch.setenv(cc.ENV_CACHE, str(tmp_path / "cache"))
+    prob = flutter_problem("goland", 4)
+    p, q = prob.params_at(120.0)
+    x0 = np.random.default_rng(6).normal(size=prob.system.n_state) * 1e-3
+    built = eigen._PencilFunction(prob.system)            # empty cache: built from the residual
+    assert isinstance(built.call.jit.interpreted, ca.Function) and built.call.jit.state == "interpreted"
+    built.call.jit.start(wait=True)
+    built.call.refresh()
+    A0, B0 = built(x0, p, q)
+    formed = []
+    real = ca.jacobian
+    monkeypatch.setattr(ca, "jacobian", lambda *a: formed.append(1) or real(*a))
+    warm = eigen._PencilFunction(prob.system)
+    assert not formed and warm.call.jit.state == "compiled"
+    A1, B1 = warm(x0, p, q)
+    assert (A1 != A0).nnz == 0 and (B1 != B0).nnz == 0 and A0.nnz > 0 and B0.nnz > 0

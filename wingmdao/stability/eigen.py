@@ -59,15 +59,51 @@ _PENCILS: dict = {}
 class _PencilFunction:
     """``(x, xdot, p, q) -> (dR/dx, dR/dxdot)`` as one CasADi function of both Jacobians' nonzeros,
     compiled to C after :data:`PENCIL_JIT_THRESHOLD` evaluations (:class:`wingmdao.utils.casadi_cache.JitCall`;
-    the interpreted ``jac_state`` of the aeroelastic beam costs ~3 ms, the compiled one ~0.1 ms)."""
+    the interpreted ``jac_state`` of the aeroelastic beam costs ~3 ms, the compiled one ~0.1 ms).
+
+    With a warm compile cache the library is loaded without forming the two Jacobians (0.35 s for
+    the 20-node PEGASUS system): the patterns are the system's own (``jacobian_patterns``: the
+    same residual, so the same sparsity) and the library's key and signature check need only the
+    dense input and output shapes (:func:`wingmdao.stability.sensitivity._signature`)."""
 
     def __init__(self, system):
+        from wingmdao.utils import casadi_cache as cc
+
+        f = system.residual_function
+        n, npar, nq = system.n_state, system.n_param, system.n_forcing
+        self.n = n
+        self.definition = derived_definition(system, "wingmdao.stability.eigen._PencilFunction", __name__)
+        self.name = f"{f.name()}_pencil"
+        pats = system.jacobian_patterns() if hasattr(system, "jacobian_patterns") else None
+        self.call = self._cached(pats, n, npar, nq) if pats is not None and cc.jit_enabled() else None
+        if self.call is None:
+            self._build(f, n, npar, nq)
+
+    def _cached(self, pats, n, npar, nq):
+        """The precompiled call from the cache and the patterns from ``pats``, or None (a miss)."""
+        from wingmdao.stability.sensitivity import _signature
+        from wingmdao.utils import casadi_cache as cc
+
+        patterns = []
+        for k in ("x", "xdot"):
+            rows, cols, shape = pats[k]
+            if tuple(shape) != (n, n):
+                return None
+            indptr = np.searchsorted(np.asarray(cols), np.arange(n + 1)).astype(np.int64)
+            patterns.append((np.asarray(rows, dtype=np.int64), indptr))
+        stub = _signature(self.name, [(n, 1), (n, 1), (npar, 1), (nq, 1)],
+                          [(patterns[0][0].size, 1), (patterns[1][0].size, 1)])
+        hit = cc.cached(stub, key=cc.function_key(stub, definition=self.definition))
+        if hit is None:
+            return None
+        self.patterns = patterns
+        return cc.precompiled_call(hit, PENCIL_JIT_THRESHOLD, definition=self.definition)
+
+    def _build(self, f, n, npar, nq):
         import casadi as ca
 
         from wingmdao.utils.casadi_cache import JitCall
 
-        f = system.residual_function
-        n, npar, nq = system.n_state, system.n_param, system.n_forcing
         x, xd = ca.SX.sym("x", n), ca.SX.sym("xdot", n)
         p, q = ca.SX.sym("p", npar), ca.SX.sym("q", nq)
         R = f(x, xd, p, q)
@@ -76,10 +112,8 @@ class _PencilFunction:
         for j in (ja, jb):
             colind, row = j.sparsity().get_ccs()
             self.patterns.append((np.asarray(row, dtype=np.int64), np.asarray(colind, dtype=np.int64)))
-        fun = ca.Function(f"{f.name()}_pencil", [x, xd, p, q], [ja.nz[:], jb.nz[:]])
-        self.call = JitCall(fun, PENCIL_JIT_THRESHOLD,
-                            definition=derived_definition(system, "wingmdao.stability.eigen._PencilFunction", __name__))
-        self.n = n
+        fun = ca.Function(self.name, [x, xd, p, q], [ja.nz[:], jb.nz[:]])
+        self.call = JitCall(fun, PENCIL_JIT_THRESHOLD, definition=self.definition)
 
     def __call__(self, x, p, q):
         a, b = self.call(x, np.zeros_like(x), p, q)
