@@ -222,6 +222,41 @@ def test_deferred_beam_system_uses_compiled_libraries_without_building(store, mo
     assert not deferred.is_built
 
 
+
+@pytest.mark.skipif(cc.compiler() is None, reason="needs gcc")
+def test_deferred_beam_runs_without_the_dr_dp_dr_dq_libraries(store, monkeypatch):
+    """dR/dp and dR/dq are evaluated only by forward products and declared partials, so a cache
+    may never hold their libraries: the march's and the adjoint's libraries alone serve a deferred
+    beam without building it (it was built, +20 MB at 4001 steps, whenever those two were
+    missing); dR/dp is made from the built system at its first use, equal to the first build's."""
+    from wingmdao.beam.residual import DeferredBeamSystem, build_beam_system
+
+    monkeypatch.setenv(cc.ENV_JIT, "1")
+    monkeypatch.setattr(cc, "_warned", False)
+    first = build_beam_system(3)
+    calls = {"residual": first._fast_R, "newton": first._fast_newton,
+             **{f"history_{k}": first._part_call(k) for k in ("x", "xdot", "vjp")}}
+    assert set(cc.compile_calls(calls, wait=True).values()) == {"compiled"}
+    fs.clear_memory()
+    deferred = build_beam_system(3)
+    assert isinstance(deferred, DeferredBeamSystem)
+    args = _beam_args(first, np.random.default_rng(7))
+    X, Xd, Q = np.atleast_2d(args[0]), np.atleast_2d(args[1]), np.atleast_2d(args[3])
+    lam = np.random.default_rng(8).normal(size=X.shape)
+
+    def march_and_adjoint(system):       # what a march and its gradient evaluate
+        r, jac = system.residual_and_newton_matrix(*args, 2.0)
+        return [r, np.asarray(jac.todense() if hasattr(jac, "todense") else jac),
+                *system.state_jacobian_history(X, Xd, args[2], Q).values(),
+                *system.input_vjp_history(X, Xd, args[2], Q, lam)]
+
+    for a, b in zip(march_and_adjoint(first), march_and_adjoint(deferred)):
+        assert np.array_equal(a, b)
+    assert not deferred.is_built and "H_p" not in deferred._maps
+    jp = deferred.input_jacobian_history(X, Xd, args[2], Q)["p"]        # no library: built now
+    assert deferred.is_built
+    np.testing.assert_array_equal(jp, first.input_jacobian_history(X, Xd, args[2], Q)["p"])
+
 def test_coupled_system_from_stored_jacobians_equals_the_built_one(store):
     """A later process's coupled aeroelastic system takes its Jacobians from the store
     (wingmdao.aero.system.stored_jacobians) instead of forming them: same patterns, and the

@@ -383,6 +383,11 @@ def build_beam_system(num_nodes: int, *, euler_sequence: str = "surface",
 #: Newton-matrix evaluators (attributes) and the history parts (keys ``H_*`` of ``_maps``: the four
 #: Jacobians and the input vector-Jacobian product, ``CasadiResidualSystem._part_call``).
 _COMPILED = ("_fast_R", "_fast_newton", *(f"H_{k}" for k in HISTORY_PARTS))
+#: Of those, the ones a deferred system needs compiled before it runs without building: the march
+#: and the adjoint (dR/dx, dR/dxdot, reverse-mode products). dR/dp and dR/dq are evaluated only
+#: by the forward products and declared partials, so they reach the compile threshold in few runs
+#: (a machine's cache may never hold them): attached when cached, else built when first used.
+_REQUIRED = ("_fast_R", "_fast_newton", "H_x", "H_xdot", "H_vjp")
 
 
 def _beam_data(system) -> dict:
@@ -437,9 +442,10 @@ class DeferredBeamSystem(CasadiResidualSystem):
 
     Sizes, specs and the Jacobian patterns (what components declare at setup) come from the
     persisted data of an earlier build of the same definition (:func:`_beam_data`). At the first
-    use of the residual, Newton or history evaluators, the compiled libraries of all
-    of them (``_COMPILED``) are loaded from the compiled cache when they are there (a static analysis then never
-    builds the expression graphs); any other attribute of a built system (or a cache miss) builds
+    use of the residual, Newton or history evaluators, the compiled libraries of
+    them (``_COMPILED``) are loaded from the compiled cache when those the march and the adjoint
+    use (``_REQUIRED``) are there (a static analysis, a march and its gradient then never build
+    the expression graphs; dR/dp or dR/dq without a library build them at first use); any other attribute of a built system (or a cache miss) builds
     the system (:func:`_build_beam_system`) and takes over its attributes. Evaluations are those
     of the built system: the same compiled libraries, or the same interpreted functions.
     """
@@ -490,7 +496,9 @@ class DeferredBeamSystem(CasadiResidualSystem):
         return getattr(self, name)
 
     def _attach_compiled(self) -> bool:
-        """Use the cached compiled libraries of the solver and history functions, if all load."""
+        """Use the cached compiled libraries of the solver and history functions, if those of
+        :data:`_REQUIRED` load (the others as far as they are cached; a missing one is made from
+        the built system at its first use: :meth:`_part_call`)."""
         from wingmdao.utils.casadi_cache import cached, function_key, jit_enabled, precompiled_call
 
         if not jit_enabled():
@@ -499,9 +507,11 @@ class DeferredBeamSystem(CasadiResidualSystem):
         ext = {}
         for attr in _COMPILED:
             sig = _Signature(data, attr)
-            ext[attr] = cached(sig, key=function_key(sig, definition=self.definition))
-            if ext[attr] is None:
+            hit = cached(sig, key=function_key(sig, definition=self.definition))
+            if hit is None and attr in _REQUIRED:
                 return False
+            if hit is not None:
+                ext[attr] = hit
         calls = {attr: precompiled_call(f, self.jit_threshold, definition=self.definition)
                  for attr, f in ext.items()}
         self._fast_R, self._fast_newton = calls["_fast_R"], calls["_fast_newton"]

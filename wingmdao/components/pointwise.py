@@ -393,8 +393,11 @@ def _mapped(fun, m):
 
 
 def _stamp(inputs) -> dict:
-    """Identity of an input point: per variable name its :class:`~wingmdao.utils.digest.ArrayStamp`."""
-    return {k: ArrayStamp(v) for k, v in inputs.items()}
+    """Identity of an input point: per variable name its :class:`~wingmdao.utils.digest.ArrayStamp`,
+    always a digest: the per-step inputs of a long history can each be below the copy limit
+    (internal loads of 20 stations x 4001 steps: 1.9 MB) but are many, and their copies would add
+    up at the size where memory counts."""
+    return {k: ArrayStamp(v, copy_below=0) for k, v in inputs.items()}
 
 
 def _same_point(stamp, inputs) -> bool:

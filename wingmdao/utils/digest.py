@@ -39,15 +39,17 @@ def _bits(a: np.ndarray) -> np.ndarray:
 
 class ArrayStamp:
     """The identity of an array's values (C order, shape and dtype): :meth:`matches` is True
-    exactly when another array has the same shape, dtype and bits. Small arrays are kept as a
-    copy, large ones as a SHA-256 digest (:data:`COPY_BELOW_BYTES`)."""
+    exactly when another array has the same shape, dtype and bits. Arrays of at most
+    ``copy_below`` bytes (default :data:`COPY_BELOW_BYTES`) are kept as a copy, larger ones as a
+    SHA-256 digest; ``copy_below=0``: always the digest (caches of many arrays, each below the
+    limit, whose copies would add up: the pointwise components' per-step inputs)."""
 
     __slots__ = ("shape", "dtype", "_copy", "_digest")
 
-    def __init__(self, a):
+    def __init__(self, a, copy_below: int = COPY_BELOW_BYTES):
         a = np.ascontiguousarray(a)
         self.shape, self.dtype = a.shape, a.dtype.str
-        if a.nbytes <= COPY_BELOW_BYTES:
+        if a.nbytes <= copy_below:
             self._copy, self._digest = a.copy(), None
         else:
             self._copy, self._digest = None, array_digest(a)[2]
