@@ -9,3 +9,22 @@ turns compilation on explicitly, with a temporary cache folder.
 import os
 
 os.environ.setdefault("WINGMDAO_JIT", "0")
+
+
+import pytest  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def kernel_on(tmp_path_factory):
+    """The compiled C kernels (the static-pivot LU of the adjoint, ``lu_kernel.c``, and the complex
+    pencil LU of the flutter refinements, ``pencil_lu.c``) on, compiled into a cache folder of the
+    test module (the suite otherwise runs with them off: WINGMDAO_JIT=0)."""
+    from wingmdao.stability import pencil_lu
+    from wingmdao.timemarch import static_lu
+    from wingmdao.utils import casadi_cache as cc
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv(static_lu.ENV_KERNEL, "1")
+        mp.setenv(cc.ENV_CACHE, str(tmp_path_factory.mktemp("kernel_cache")))
+        assert static_lu.kernel() is not None and pencil_lu.kernel() is not None
+        yield

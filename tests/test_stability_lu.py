@@ -4,7 +4,7 @@
 
 References are independent: SciPy's ``spsolve`` (SuperLU) on the same complex matrices and the
 SuperLU path of ``refine_pair`` (the kernel turned off). The suite runs with ``WINGMDAO_JIT=0``
-(tests/conftest.py), where the kernel is off; the fixture ``kernel_on`` compiles it into a
+(tests/conftest.py), where the kernel is off; the fixture ``kernel_on`` (tests/conftest.py) compiles it into a
 temporary cache and turns it on for these tests.
 """
 
@@ -19,16 +19,6 @@ from wingmdao.timemarch import static_lu
 from wingmdao.utils import casadi_cache as cc
 
 needs_gcc = pytest.mark.skipif(cc.compiler() is None, reason="needs gcc")
-
-
-@pytest.fixture(scope="module")
-def kernel_on(tmp_path_factory):
-    """The compiled kernels on, in a cache folder of this module."""
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv(static_lu.ENV_KERNEL, "1")
-        mp.setenv(cc.ENV_CACHE, str(tmp_path_factory.mktemp("pencil_lu_cache")))
-        assert pencil_lu.kernel() is not None
-        yield
 
 
 def _random_pencil(n=60, seed=0):

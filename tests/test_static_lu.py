@@ -3,7 +3,7 @@ use in the adjoint sweeps.
 
 References are independent: SciPy's SuperLU/spsolve on the same matrices, and the SuperLU
 sweeps of ``LinearizedHistory``. The suite runs with ``WINGMDAO_JIT=0`` (tests/conftest.py),
-where the static LU falls back to SuperLU; the fixture ``kernel_on`` compiles the kernel into a
+where the static LU falls back to SuperLU; the fixture ``kernel_on`` (tests/conftest.py) compiles the kernel into a
 temporary cache and turns it on for these tests.
 """
 
@@ -24,16 +24,6 @@ from wingmdao.utils import casadi_cache as cc
 needs_gcc = pytest.mark.skipif(cc.compiler() is None, reason="needs gcc")
 
 
-@pytest.fixture(scope="module")
-def kernel_on(tmp_path_factory):
-    """The compiled kernel on, in a cache folder of this module."""
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv(static_lu.ENV_KERNEL, "1")
-        mp.setenv(cc.ENV_CACHE, str(tmp_path_factory.mktemp("lu_kernel_cache")))
-        assert static_lu.kernel() is not None
-        yield
-
-
 def _family(n=30, m=6, seed=0):
     """Banded nonsymmetric matrices with one pattern and a row order that needs pivoting."""
     rng = np.random.default_rng(seed)
@@ -41,11 +31,13 @@ def _family(n=30, m=6, seed=0):
     base = base + sp.diags(rng.uniform(-1, 1, n - 1), -1) + sp.diags(np.full(n, 0.05))
     base = sp.csc_matrix(base)
     base.sort_indices()
-    mats = []
-    for _ in range(m):
-        vals = base.data * (1.0 + 0.05 * rng.standard_normal(base.nnz))
-        mats.append(sp.csc_matrix((vals, base.indices, base.indptr), shape=(n, n)))
-    return base, mats
+    return base, _perturbed(base, m, rng)
+
+
+def _perturbed(a, m, rng):
+    """``m`` matrices of ``a``'s pattern, each value scaled by 1 + 5 % noise."""
+    return [sp.csc_matrix((a.data * (1.0 + 0.05 * rng.standard_normal(a.nnz)), a.indices, a.indptr), shape=a.shape)
+            for _ in range(m)]
 
 
 def test_symbolic_structure_matches_a_dense_lu_without_pivoting():
@@ -517,11 +509,7 @@ def _leading_block_family(n=30, k=6, m=4, seed=3):
     a = sp.csc_matrix(a)
     a.eliminate_zeros()
     a.sort_indices()
-    mats = []
-    for _ in range(m):
-        vals = a.data * (1.0 + 0.05 * rng.standard_normal(a.nnz))
-        mats.append(sp.csc_matrix((vals, a.indices, a.indptr), shape=(n, n)))
-    return lead, mats
+    return lead, _perturbed(a, m, rng)
 
 
 @needs_gcc
