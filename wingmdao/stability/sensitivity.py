@@ -441,15 +441,14 @@ _STARTS: dict = {}
 
 def _block_starts(system) -> np.ndarray:
     """Start index of every non-empty parameter block of ``system`` (for ``np.maximum.reduceat``;
-    cached per system and parameter layout)."""
-    specs = tuple(system.param_specs)
+    cached per system: a system's parameter specs are fixed when it is built)."""
     hit = _STARTS.get(id(system))
-    if hit is not None and hit[0] is system and hit[1] == specs:
-        return hit[2]
-    sizes = np.array([spec.size for spec in specs], dtype=np.intp)
+    if hit is not None and hit[0] is system:
+        return hit[1]
+    sizes = np.array([spec.size for spec in system.param_specs], dtype=np.intp)
     starts = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.intp)
     starts = starts[sizes > 0]
-    _STARTS[id(system)] = (system, specs, starts)
+    _STARTS[id(system)] = (system, starts)
     return starts
 
 

@@ -79,17 +79,13 @@ def aeroelastic_adjoint_lu_order(num_nodes: int, n_state: int):
 
 def adjoint_lu_order(system):
     """``(col_order, diagonal)`` of the adjoint's static LU of ``system``
-    (:class:`~wingmdao.timemarch.adjoint.LinearizedHistory`): the system's own
-    ``adjoint_lu_order()`` if it has one; for an aeroelastic system (a ``layout`` with ``aero``
+    (:class:`~wingmdao.timemarch.adjoint.LinearizedHistory`): for an aeroelastic system (a ``layout`` with ``aero``
     lag states, :mod:`wingmdao.aero.system`) :func:`aeroelastic_adjoint_lu_order`; else its
     ``lu_column_order()`` with partial pivoting throughout (``diagonal`` 0).
 
     The compiled march keeps ``lu_column_order()``: its LU pivots by partial pivoting at every
     refactorization, for which the lag-first order fills. This lookup lives here, outside the
     modules that key the compiled libraries, so changing the adjoint's order recompiles nothing."""
-    own = getattr(system, "adjoint_lu_order", None)
-    if callable(own):
-        return own()
     lay = getattr(system, "layout", None)
     aero = getattr(lay, "aero", None)
     if aero is not None and getattr(lay, "size", None) == system.n_state and np.size(aero):
