@@ -43,8 +43,10 @@ def test_bad_inputs_raise():
                      (dict(mach=1.0), "mach")):
         args = dict(chord=1.0, airspeed=10.0, density=1.2)
         args.update(kw)
-        with pytest.raises(ValueError, match=name):
+        with pytest.raises(ValueError, match=name) as err:
             aero_parameters(3, **args)
+        value = float(next(iter(kw.values())))
+        assert f"got {value!r}" in str(err.value) and "np." not in str(err.value), str(err.value)
 
 
 def test_wagner_step_in_angle_of_attack():

@@ -97,7 +97,7 @@ def check_aero_inputs(*, chord=None, ref_point=None, airspeed=None, density=None
         if not np.all(good):
             i = int(np.flatnonzero(~good)[0])
             where = f" at station {i}" if a.size > 1 else ""
-            raise ValueError(f"{name} must be {allowed}; got {a[i]!r}{where}")
+            raise ValueError(f"{name} must be {allowed}; got {float(a[i])!r}{where}")
 
 
 def section_model(rel_csn, w_s, dw_mid_dt, dw_s_dt, gust_n, aero_x, aero_xdot, chord, ref_point,

@@ -47,7 +47,7 @@ def time_step(time) -> float:
         bad = int(np.flatnonzero(~np.isfinite(t))[0])
         raise ValueError(f"time[{bad}] is not finite")
     if t[0] != 0.0:
-        raise ValueError(f"time[0] must be 0 s, got {t[0]!r} s")
+        raise ValueError(f"time[0] must be 0 s, got {float(t[0])!r} s")
     if t.size == 1:
         return 0.0
     steps = np.diff(t)
