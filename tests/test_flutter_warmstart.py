@@ -101,6 +101,7 @@ def test_leading_mode_with_a_wrong_history_falls_back():
     assert rw.value == pytest.approx(r0.value, abs=1e-10)
 
 
+
 PEG_NODES = 8
 
 
@@ -131,6 +132,29 @@ def test_pegasus_warm_equals_cold_along_large_steps():
         # vectors (and the derivative) are determined to ~1e-7 relative by either path
         assert np.abs(gw - gc).max() <= 1e-4 * np.abs(gc).max()
     assert ws.n_cold == 1 and ws.n_warm == len(seq) - 1, ws.reasons
+
+
+def test_a_step_too_large_for_every_speed_costs_one_window():
+    """Every speed's history useless (random vectors, as after SLSQP's first step in the PEGASUS
+    sizing, which moves the stiffnesses ~8x): the first speed gets the full window and the others
+    track that window's modes over the speed (MAC with them) instead of a window each; the value is
+    the cold one and those speeds' window age restarts with the window they descend from."""
+    ws = WarmStart(refresh=1000)
+    _pegasus((1, 1, 1, 1), ws)
+    rng = np.random.default_rng(5)
+    for sm in ws.tracked:
+        n, k = sm.right.shape
+        sm.right[:] = rng.standard_normal((n, k)) + 1j * rng.standard_normal((n, k))
+        sm.left[:] = rng.standard_normal((n, k))
+    ws.history = ws.history[-1:]
+    s = (1.1, 1.05, 0.9, 1.1)
+    rw = _pegasus(s, ws)
+    rc = _pegasus(s, None)
+    assert rw.value == pytest.approx(rc.value, abs=1e-10), ws.reasons
+    n_speeds = len(rw.speeds)
+    assert ws.n_speed_cold == 1 and ws.n_speed_track == n_speeds - 1, ws.reasons
+    assert ws.window_age == [0] * n_speeds
+    assert any("from this design's window set at" in r for r in ws.reasons), ws.reasons
 
 
 def _sys():

@@ -3,7 +3,7 @@ beam and aerodynamic data, with ``params_at(V)`` for a speed sweep."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -28,6 +28,7 @@ class FlutterProblem:
     system: object
     published: dict
     eig_options: dict
+    _packed: tuple = field(default=None, init=False, repr=False, compare=False)   # (p, q, layout) of params_at
 
     @property
     def dive_speed(self):
@@ -40,11 +41,26 @@ class FlutterProblem:
         return np.linspace(*SWEEPS[self.name])
 
     def params_at(self, V):
-        """Packed (p, q) at airspeed V (m/s): clamped root, no gravity, zero angle of attack."""
+        """Packed (p, q) at airspeed V (m/s): clamped root, no gravity, zero angle of attack.
+        Only the airspeed and Mach number depend on V: the first call packs everything, later ones
+        copy that and set those two entries (new arrays each call)."""
+        from wingmdao.aero.strip import check_aero_inputs
+
+        if self._packed is None:
+            self._packed = self._pack_at(V)
+        p, q, lay = self._packed
+        V = float(V)
+        mach = self.mach_at(V)
+        check_aero_inputs(airspeed=V, mach=mach)
+        p = p.copy()
+        p[lay["airspeed"]] = V
+        p[lay["mach"]] = mach
+        return p, q.copy()
+
+    def _pack_at(self, V):
         from wingmdao.aero.system import aero_forcing_specs, aero_parameters
-        from wingmdao.beam.residual import forcing_specs as beam_forcing_specs
         from wingmdao.beam.static import beam_forcing
-        from wingmdao.timemarch.system import pack
+        from wingmdao.timemarch.system import layout, pack
 
         n = self.num_nodes
         a = aero_parameters(n, chord=self.aero["chord"], ref_point=self.aero["ref_point"],
@@ -54,7 +70,7 @@ class FlutterProblem:
         qv = beam_forcing(n)
         qv.update({s.name: np.zeros(s.shape) for s in aero_forcing_specs(n)})
         q = pack(self.system.forcing_specs, qv)
-        return p, q
+        return p, q, layout(self.system.param_specs)
 
     def mach_at(self, V):
         """Mach number at airspeed V (m/s): V / a when the case has a speed of sound, else 0 (incompressible)."""
