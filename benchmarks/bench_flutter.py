@@ -193,7 +193,8 @@ def replay(path, margin, cold=True, lazy=True, num_nodes=20, refresh=10 ** 6):
     print(f"replay of {len(rec)} calls ({n} designs, {n_grad} gradients compared), lazy={lazy}: warm {tw:.2f} s CPU, "
           f"{1e3 * tw / n:.1f} ms per evaluation (goal of issue #14: ~20-25 ms)"
           + (f"; cold {tc:.1f} s; max |warm - cold| value {worst:.1e} 1/s, gradient {worst_g:.1e} relative" if cold else ""))
-    print(f"  refresh {refresh}: full windows {ws.n_cold}, single-speed windows {ws.n_speed_cold}, retried speeds {ws.n_speed_retry}, tracked from a same-design window {ws.n_speed_track}, "
+    print(f"  refresh {refresh}: eigen windows {ws.n_windows} (cold evaluations {ws.n_cold}, single-speed windows "
+          f"{ws.n_speed_cold}), retried speeds {ws.n_speed_retry}, tracked from a same-design window {ws.n_speed_track}, "
           f"dropped {ws.dropped}; refinements {ws.n_refined}, lazy estimates {ws.n_skipped}, lazy re-checks "
           f"{ws.n_lazy_redo}")
 

@@ -135,12 +135,17 @@ def test_pegasus_warm_equals_cold_along_large_steps():
 
 
 def test_a_step_too_large_for_every_speed_costs_one_window():
-    """Every speed's history useless (random vectors, as after SLSQP's first step in the PEGASUS
+    """The first evaluation makes one window and tracks its modes over the speed. Then every speed's
+    history made useless (random vectors, as after SLSQP's first step in the PEGASUS
     sizing, which moves the stiffnesses ~8x): the first speed gets the full window and the others
     track that window's modes over the speed (MAC with them) instead of a window each; the value is
     the cold one and those speeds' window age restarts with the window they descend from."""
     ws = WarmStart(refresh=1000)
-    _pegasus((1, 1, 1, 1), ws)
+    r0 = _pegasus((1, 1, 1, 1), ws)
+    n_speeds = len(r0.speeds)
+    # the first evaluation: one window (lowest speed), the others tracked over the speed; the cold value
+    assert r0.value == pytest.approx(_pegasus((1, 1, 1, 1), None).value, abs=1e-10), ws.reasons
+    assert ws.n_windows == 1 and ws.n_speed_track == n_speeds - 1, ws.reasons
     rng = np.random.default_rng(5)
     for sm in ws.tracked:
         n, k = sm.right.shape
@@ -151,8 +156,7 @@ def test_a_step_too_large_for_every_speed_costs_one_window():
     rw = _pegasus(s, ws)
     rc = _pegasus(s, None)
     assert rw.value == pytest.approx(rc.value, abs=1e-10), ws.reasons
-    n_speeds = len(rw.speeds)
-    assert ws.n_speed_cold == 1 and ws.n_speed_track == n_speeds - 1, ws.reasons
+    assert ws.n_windows == 2 and ws.n_speed_cold == 1 and ws.n_speed_track == 2 * (n_speeds - 1), ws.reasons
     assert ws.window_age == [0] * n_speeds
     assert any("from this design's window set at" in r for r in ws.reasons), ws.reasons
 
