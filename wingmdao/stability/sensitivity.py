@@ -612,8 +612,9 @@ def _ritz(A, B, prev, window, mask, bmask, min_frequency, min_mac, neutral_fract
     WA, WB = pen.products(W.conj(), trans=True) if pen is not None else (A.T @ W.conj(), B.T @ W.conj())
     with np.errstate(divide="ignore", invalid="ignore"):   # (a non-finite Ritz value: inf bound, below)
         # the eight column norms in one call
-        nx, nw, nrx, nax, nbx, nrw, naw, nbw = np.linalg.norm(
-            np.concatenate([X, W, AX + BX * th, AX, BX, WA + WB * th, WA, WB], axis=1), axis=0).reshape(8, -1)
+        Z = np.concatenate([X, W, AX + BX * th, AX, BX, WA + WB * th, WA, WB], axis=1).view(float)
+        nx, nw, nrx, nax, nbx, nrw, naw, nbw = np.sqrt(np.einsum("ij,ij->j", Z, Z).reshape(-1, 2).sum(axis=1)
+                                                       ).reshape(8, -1)
         eta_r = nrx / (nax + np.abs(th) * nbx)
         eta_l = nrw / (naw + np.abs(th) * nbw)
         err = LAZY_ERROR_FACTOR * np.maximum(eta_r, eta_l) * np.abs(th)
