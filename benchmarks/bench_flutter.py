@@ -7,6 +7,8 @@ and the cost of the PEGASUS flutter-margin constraint (value and exact gradient)
         with --flutter-margin F, recording every FlutterDamping input
     PYTHONPATH=. python benchmarks/bench_flutter.py --replay SEQ.pkl [--no-cold] [--no-lazy] [--refresh N]
         # warm (WarmStart) against cold at every recorded design: largest differences, CPU per evaluation
+    PYTHONPATH=. python benchmarks/bench_flutter.py --sizing-cost ROUNDS [--margin F]
+        # what the constraint adds to the PEGASUS maneuver sizing (goal of issue #14: at most 30 %)
 
 Prints, per case: the aeroelastic system build, one eigen-analysis (static solve + linearisation +
 sparse shift-invert + det sign) averaged over the sweep, the sweep, the refinement of the flutter
@@ -199,6 +201,65 @@ def replay(path, margin, cold=True, lazy=True, num_nodes=20, refresh=10 ** 6):
           f"{ws.n_lazy_redo}")
 
 
+_CHILD = """
+import contextlib, io, json, os, sys, tempfile, time
+t0 = time.process_time()
+from wingmdao.cli import main as cli
+from wingmdao.components import flutter as fl
+spent = [0.0]
+orig = fl.FlutterDamping._evaluate
+def evaluate(self, inputs, gradient):
+    t = time.process_time()
+    try:
+        return orig(self, inputs, gradient)
+    finally:
+        spent[0] += time.process_time() - t
+fl.FlutterDamping._evaluate = evaluate
+with tempfile.TemporaryDirectory() as out:
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+        cli(["size", "pegasus", "--loads", "maneuver", "--no-plots", "--json", out + "/r.json", "--out", out]
+            + sys.argv[1:])
+    res = json.load(open(out + "/r.json"))
+print(json.dumps({"cpu_s": time.process_time() - t0, "constraint_s": spent[0], "mass_kg": res["mass_kg"],
+                  "iterations": res["iterations"]}))
+"""
+
+
+def sizing_cost(rounds, margin):
+    """CPU (process time, the child's own) of ``wingmdao size pegasus --loads maneuver --no-plots``
+    without and with ``--flutter-margin F``, one process each, the two alternating and the order
+    swapped every round (a run right after a margin run is 1-2 s slower on this machine), and the
+    constraint's own CPU (``FlutterDamping._evaluate``) in the margin runs: its ratio to the rest of
+    the same process is what it adds to the command, free of drifts between processes (the
+    aeroelastic build, paid by the no-margin run's flutter search, is in the margin run's set-up)."""
+    import json
+    import subprocess
+    import sys
+
+    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
+    runs = {"plain": [], "margin": []}
+    for r in range(int(rounds)):
+        for kind in (("plain", "margin") if r % 2 == 0 else ("margin", "plain")):
+            argv = ["--flutter-margin", str(margin)] if kind == "margin" else []
+            out = subprocess.run([sys.executable, "-c", _CHILD, *argv], env=env, capture_output=True, text=True,
+                                 check=True).stdout
+            res = json.loads(out.strip().splitlines()[-1])
+            runs[kind].append(res)
+            print(f"  round {r + 1} {kind:6s}: CPU {res['cpu_s']:.2f} s, constraint {res['constraint_s']:.2f} s, "
+                  f"{res['mass_kg']:.3f} kg, {res['iterations']} iterations", file=sys.stderr)
+    plain = np.array([x["cpu_s"] for x in runs["plain"]])
+    marg = np.array([x["cpu_s"] for x in runs["margin"]])
+    con = np.array([x["constraint_s"] for x in runs["margin"]])
+    diff = marg - plain
+    same = con / (marg - con)
+    print(f"PEGASUS maneuver sizing, {rounds} pairs: no margin {plain.min():.2f}-{plain.max():.2f} s CPU (mean "
+          f"{plain.mean():.2f}), --flutter-margin {margin:g} {marg.min():.2f}-{marg.max():.2f} s (mean {marg.mean():.2f})")
+    print(f"  constraint's cost: pair by pair {100 * (diff / plain).min():+.0f} ... {100 * (diff / plain).max():+.0f} %, "
+          f"mean {100 * diff.mean() / plain.mean():+.0f} %, median {100 * np.median(diff) / np.median(plain):+.0f} %; "
+          f"its own CPU {con.min():.2f}-{con.max():.2f} s = {100 * same.min():.0f}-{100 * same.max():.0f} % of the rest "
+          f"of its process (goal of issue #14: at most +30 %)")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("cases", nargs="*", default=list(FLUTTER_CASES))
@@ -212,7 +273,12 @@ def main(argv=None):
     ap.add_argument("--no-lazy", action="store_true", help="--replay: refine every tracked mode")
     ap.add_argument("--refresh", type=int, default=10 ** 6,
                     help="--replay: WarmStart refresh (the sizing's is 100; default: off)")
+    ap.add_argument("--sizing-cost", type=int, default=None, metavar="ROUNDS",
+                    help="time ROUNDS pairs of PEGASUS maneuver sizings without / with --flutter-margin")
     args = ap.parse_args(argv)
+    if args.sizing_cost:
+        sizing_cost(args.sizing_cost, args.margin)
+        return
     if args.record or args.replay:
         if args.record:
             record(args.record, args.margin)

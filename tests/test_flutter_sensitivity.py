@@ -184,6 +184,25 @@ def test_small_pegasus_sizing_check_totals():
         assert np.abs(J - fd).max() <= 3e-3 * np.abs(fd).max() + 1e-8, (key, J, fd)
 
 
+
+def test_paused_flutter_evaluates_nothing_and_resumes():
+    """The presizing passes run the model with the flutter constraint paused: no eigen-analysis,
+    flutter_ks left as it was; afterwards (also after an error inside) it evaluates again."""
+    from wingmdao.components.flutter import FlutterDamping, paused_flutter
+
+    prob = _small_pegasus_sizing(4)
+    comp = next(prob.model.system_iter(recurse=True, typ=FlutterDamping))
+    with paused_flutter(prob) as comps:
+        assert comps == [comp]
+        prob.run_model()
+        assert prob.get_val("flutter_ks")[0] == 0.0 and comp.last_result is None   # the initial value
+    prob.run_model()
+    assert np.isfinite(prob.get_val("flutter_ks")[0]) and comp.last_result is not None
+    with pytest.raises(RuntimeError):
+        with paused_flutter(prob):
+            raise RuntimeError("interrupted")
+    assert not comp.paused
+
 def test_pegasus_flutter_problem_inputs():
     prob = flutter_problem("pegasus")
     assert prob.num_nodes == 20

@@ -414,8 +414,12 @@ def presize_fully_stressed(prob, load_cases, geometry: WingGeometry, options: Si
     Why: SLSQP linearises sigma/sigma_allow - 1 (hyperbolic in t) and from an over-designed
     start steps deep into the infeasible region, then needs ~100 evaluations to climb back
     (PEGASUS: 95 -> 59 maneuver iterations, 99 -> 53 gust iterations, same optimum).
-    Box sections and load cases with the ``vm`` family only. Returns the pass history.
+    Box sections and load cases with the ``vm`` family only. A flutter constraint is paused in
+    these passes (:func:`~wingmdao.components.flutter.paused_flutter`: the optimizer never sees
+    their designs). Returns the pass history.
     """
+    from wingmdao.components.flutter import paused_flutter
+
     if passes <= 0:
         return {"passes": 0}
     cases = [c for c in load_cases if "vm" in c.families]
@@ -425,7 +429,8 @@ def presize_fully_stressed(prob, load_cases, geometry: WingGeometry, options: Si
     t0 = _time.perf_counter()
     history = []
     for k in range(int(passes)):
-        prob.run_model()
+        with paused_flutter(prob):   # strength only: no flutter eigen-analyses
+            prob.run_model()
         ratio = np.zeros(int(smap.max()) + 1)
         for case in cases:
             g = np.asarray(prob.get_val(f"cases.{case.name}.stress.g_vm"))

@@ -20,6 +20,7 @@ window every time.
 
 from __future__ import annotations
 
+import contextlib
 import numbers
 
 import numpy as np
@@ -76,6 +77,7 @@ class FlutterDamping(om.ExplicitComponent):
                         desc="KS over speeds and aerodynamically loaded modes of the damping measure; <= 0: no flutter")
         self._cache = None
         self._warm = None
+        self.paused = False   # True: compute() evaluates nothing: see paused_flutter()
         if self.options["warm_start"]:
             from wingmdao.stability.sensitivity import WarmStart
 
@@ -119,6 +121,8 @@ class FlutterDamping(om.ExplicitComponent):
     def compute(self, inputs, outputs):
         # the value only; the gradient from the stored vectors in compute_partials (line-search
         # evaluations of SLSQP never ask for it)
+        if self.paused:   # not evaluated: flutter_ks keeps its last value (paused_flutter)
+            return
         outputs["flutter_ks"] = self._evaluate(inputs, gradient=False).value
 
     def compute_partials(self, inputs, partials):
@@ -138,3 +142,19 @@ class FlutterDamping(om.ExplicitComponent):
     def warm_start_state(self):
         """The :class:`~wingmdao.stability.sensitivity.WarmStart` (counts of cold / warm evaluations), or None."""
         return self._warm
+
+
+@contextlib.contextmanager
+def paused_flutter(problem):
+    """Context in which every :class:`FlutterDamping` of ``problem`` evaluates nothing
+    (``flutter_ks`` keeps its last value, stale until the next evaluation), e.g. for the
+    strength-only fully stressed presizing passes, whose designs the optimizer never sees
+    (PEGASUS: 4 evaluations, ~0.5 s, the first of them the cold one)."""
+    comps = list(problem.model.system_iter(include_self=True, recurse=True, typ=FlutterDamping))
+    for c in comps:
+        c.paused = True
+    try:
+        yield comps
+    finally:
+        for c in comps:
+            c.paused = False
