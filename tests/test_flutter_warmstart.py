@@ -136,7 +136,7 @@ def test_pegasus_warm_equals_cold_along_large_steps():
 
 def test_a_step_too_large_for_every_speed_costs_one_window():
     """The first evaluation makes one window and tracks its modes over the speed. Then every speed's
-    history made useless (random vectors, as after SLSQP's first step in the PEGASUS
+    history made useless (random vectors, as after a fully stressed presizing pass in the PEGASUS
     sizing, which moves the stiffnesses ~8x): the first speed gets the full window and the others
     track that window's modes over the speed (MAC with them) instead of a window each; the value is
     the cold one and those speeds' window age restarts with the window they descend from."""

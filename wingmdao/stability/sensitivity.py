@@ -375,9 +375,10 @@ class WarmStart:
     set, the first window's disc: the window radius is set by the aerodynamic lag roots and barely
     changes with the speed, PEGASUS 120.2-122.9 1/s) and gets its own window only when that fails.
     A failed speed is retried from this design's modes at the nearest speed that worked, then, if
-    the step was too large for its history (SLSQP's first step), by tracking this design's window
-    set at the nearest speed that has one, and only then redone with the full window, so the value
-    is always that of a converged set (PEGASUS sizing: 2 windows instead of 8). Not detected: an oscillatory mode entering the window between
+    the step was too large for its history (a design moved ~8x, as a presizing pass does), by
+    tracking this design's window set at the nearest speed that has one, and only then redone with
+    the full window, so the value is always that of a converged set (PEGASUS maneuver sizing: one
+    window in all, eight before). Not detected: an oscillatory mode entering the window between
     two cold evaluations from outside the disc or from two real roots (its KS weight is
     ~exp(-rho (g_max - g)); the next cold evaluation picks it up).
     """
@@ -858,7 +859,7 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
                                      static, sopt, negligible, other=near, x=pre[k][0], A=pre[k][1], B=pre[k][2])
                     ws.n_speed_retry += 1
                 if isinstance(sm, str) and fresh:
-                    # a step too large for the history (SLSQP's first): track every oscillatory mode of this
+                    # a step too large for the history (~8x): track every oscillatory mode of this
                     # design's window set at the nearest such speed to this speed instead (mode tracking over
                     # the speed, as the flutter sweep does; MAC with that set's vectors)
                     j = min(fresh, key=lambda i: abs(i - k))
