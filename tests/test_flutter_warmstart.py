@@ -231,3 +231,51 @@ def test_distance_is_the_largest_relative_block_change():
                 ref = max(ref, float(np.max(np.abs(p[sl] - ph[sl]))) / scale)
         assert WarmStart.distance(system, p, ph) == ref
     assert WarmStart.distance(system, ph, ph) == 0.0
+
+
+def test_small_eig_is_scipy_eig_without_the_wrapper():
+    """``_small_eig`` (the Ritz pencil's QZ) gives SciPy's eigenvalues bitwise and its vectors up
+    to the normalisation; a singular B gives an infinite eigenvalue, as SciPy's."""
+    import scipy.linalg as sla
+
+    from wingmdao.stability.sensitivity import _small_eig
+
+    rng = np.random.default_rng(11)
+    for k in (1, 5, 6, 9):
+        a = rng.standard_normal((k, k)) + 1j * rng.standard_normal((k, k))
+        b = rng.standard_normal((k, k)) + 1j * rng.standard_normal((k, k))
+        if k == 6:
+            b[:, 0] = 0.0   # singular B: one infinite eigenvalue
+        w, vl, vr = _small_eig(a, b)
+        ws, vls, vrs = sla.eig(a, b, left=True, right=True)
+        assert np.array_equal(w, ws)
+        fin = np.isfinite(w)
+        assert np.allclose(vr[:, fin] / np.linalg.norm(vr[:, fin], axis=0), vrs[:, fin], atol=1e-13)
+        assert np.allclose(vl[:, fin] / np.linalg.norm(vl[:, fin], axis=0), vls[:, fin], atol=1e-13)
+        for j in np.flatnonzero(fin):   # a v = w b v, u^H a = w u^H b
+            v, u, tol = vr[:, j], vl[:, j].conj(), 1e-11 * (1 + abs(w[j]))
+            assert np.linalg.norm(a @ v - w[j] * (b @ v)) <= tol * np.linalg.norm(v)
+            assert np.linalg.norm(u @ a - w[j] * (u @ b)) <= tol * np.linalg.norm(u)
+        assert (k == 6) == (not fin.all())
+
+
+def test_params_at_packs_once_and_returns_fresh_arrays():
+    """``FlutterProblem.params_at`` sets only the airspeed and Mach number on a design packed once:
+    equal to the full packing at every speed, new arrays each call, bad speeds still refused."""
+    from wingmdao.timemarch.system import layout
+
+    prob = flutter_problem("pegasus", 5)
+    lay = layout(prob.system.param_specs)
+    for V in (40.0, 150.0, 240.0):
+        p, q = prob.params_at(V)
+        p_full, q_full, _ = prob._pack_at(V)
+        assert np.array_equal(p, p_full) and np.array_equal(q, q_full)
+        assert p[lay["airspeed"]][0] == V and p[lay["mach"]][0] == pytest.approx(prob.mach_at(V))
+        p[:] = np.nan
+        q[:] = np.nan
+    assert np.all(np.isfinite(prob.params_at(100.0)[0]))
+    for bad in (0.0, -10.0, float("nan")):
+        with pytest.raises(ValueError, match="airspeed"):
+            prob.params_at(bad)
+    with pytest.raises(ValueError, match="mach"):
+        prob.params_at(1e4)   # supersonic
