@@ -467,6 +467,13 @@ def size_case(setup, *, optimize: bool = True, parallel: bool | None = None, com
     prob, desc = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
                                driver=optimize, parallel=parallel, section=setup.section, comm=comm,
                                flutter=setup.flutter)
+    return prob, presize_and_size(prob, setup, desc, optimize=optimize)
+
+
+def presize_and_size(prob, setup, desc: str, *, optimize: bool = True) -> dict:
+    """The fully stressed presizing passes of ``setup.options.presize`` (box sections, when
+    optimizing; :func:`presize_fully_stressed`), then :func:`run_sizing`; the result dict has the
+    passes' time in ``wall_s`` and their history in ``presize``."""
     pre = {"passes": 0}
     if optimize and setup.options.presize > 0 and setup.section == "box":
         pre = presize_fully_stressed(prob, setup.load_cases, setup.geometry, setup.options,
@@ -475,4 +482,4 @@ def size_case(setup, *, optimize: bool = True, parallel: bool | None = None, com
     if pre["passes"]:
         result["wall_s"] += pre["wall_s"]
         result["presize"] = pre
-    return prob, result
+    return result

@@ -140,14 +140,7 @@ def run_size(args) -> int:
 
     interrupted = failed = False
     try:
-        pre = {"passes": 0}
-        if optimize and opts.presize > 0 and setup.section == "box":
-            pre = sizing.presize_fully_stressed(prob, setup.load_cases, setup.geometry, opts, opts.presize,
-                                                progress=opts.progress)
-        result = sizing.run_sizing(prob, setup.load_cases, desc, optimize=optimize, section=setup.section)
-        if pre["passes"]:
-            result["wall_s"] += pre["wall_s"]
-            result["presize"] = pre
+        result = sizing.presize_and_size(prob, setup, desc, optimize=optimize)
     except KeyboardInterrupt:
         interrupted = True
         prob.cleanup()  # closes (and commits) the recording
