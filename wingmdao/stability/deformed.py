@@ -53,8 +53,7 @@ def deformed_params_at(prob, alpha_root_deg: float, gravity: float):
     alpha = np.deg2rad(float(alpha_root_deg))
 
     def params_at(V):
-        p, q = prob.params_at(V)
-        p, q = p.copy(), q.copy()
+        p, q = prob.params_at(V)   # new arrays each call
         p[play["alpha_zero_lift"]] -= alpha
         q[qlay["gravity"]] = (0.0, 0.0, -float(gravity))
         return p, q

@@ -724,6 +724,18 @@ def _warm_speed(system, p, q, prev, window, warm, bmask, min_frequency, static, 
                       np.array(errs, dtype=float))
 
 
+def _track_over_speed(system, p, q, src, V, window, warm, bmask, min_frequency, static, static_options, negligible,
+                      x=None, A=None, B=None):
+    """Every oscillatory mode of ``src`` (this design's set at another speed) refined at speed ``V``
+    (:func:`_warm_speed` with ``src`` as the history: mode tracking over the speed, as the flutter
+    sweep does, MAC with ``src``'s vectors, inside ``window``), or a string saying why not."""
+    sm = _warm_speed(system, p, q, replace(src, speed=float(V)), window, warm, bmask, min_frequency, static,
+                     static_options, negligible, x=x, A=A, B=B)
+    if not isinstance(sm, str):
+        warm.n_speed_track += 1
+    return sm
+
+
 def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_ks=100.0, margin=0.0,
                        measure="sigma", min_frequency=1e-3, neutral_fraction=1e-2, static=True, gradient=True,
                        warm_start: WarmStart | None = None, **eig_options) -> DampingConstraint:
@@ -845,7 +857,7 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
                                            static, sopt, negligible, x=xk, A=Ak, B=Bk, skip=skips[k], ritz=rz))
             good = [k for k, sm in enumerate(tracked) if not isinstance(sm, str)]
             # speeds whose set this evaluation descends from a window of *this* design (below)
-            fresh = {k for k in stale}
+            fresh = set(stale)
 
             for k, (p, q) in enumerate(pq):
                 if not isinstance(tracked[k], str):
@@ -863,12 +875,11 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
                     # design's window set at the nearest such speed to this speed instead (mode tracking over
                     # the speed, as the flutter sweep does; MAC with that set's vectors)
                     j = min(fresh, key=lambda i: abs(i - k))
-                    src = replace(tracked[j], speed=float(v[k]))
                     ws.reasons.append(f"{v[k]:.1f} m/s from this design's window set at {v[j]:.1f} m/s")
-                    sm = _warm_speed(system, p, q, src, ws.cold_window[k], ws, bmask, min_frequency, static, sopt,
-                                     negligible, x=pre[k][0], A=pre[k][1], B=pre[k][2])
+                    sm = _track_over_speed(system, p, q, tracked[j], v[k], ws.cold_window[k], ws, bmask,
+                                           min_frequency, static, sopt, negligible, x=pre[k][0], A=pre[k][1],
+                                           B=pre[k][2])
                     if not isinstance(sm, str):
-                        ws.n_speed_track += 1
                         ws.window_age[k] = ws.window_age[j]
                         fresh.add(k)
                 if isinstance(sm, str):
@@ -926,14 +937,12 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
         for k, ((p, q), V) in enumerate(zip(pq, v)):
             sm = None
             if track and k > 0:
-                src = replace(tracked[k - 1], speed=float(V))
-                sm = _warm_speed(system, p, q, src, windows[k - 1], ws, bmask, min_frequency, static,
-                                 eig_options.get("static_options"), lambda lam: False)
+                sm = _track_over_speed(system, p, q, tracked[k - 1], V, windows[k - 1], ws, bmask, min_frequency,
+                                       static, eig_options.get("static_options"), lambda lam: False)
                 if isinstance(sm, str):
                     ws.reasons.append(sm)
                     sm = None
                 else:
-                    ws.n_speed_track += 1
                     windows.append(windows[k - 1])
             if sm is None:
                 sm, win = _cold_speed(system, p, q, x, V, mask, bmask, min_frequency, neutral_fraction, static,
