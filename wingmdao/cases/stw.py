@@ -248,16 +248,15 @@ def quarter_chord_sweep_deg() -> float:
 def aero_reference(y=None) -> AeroReference:
     """Planform data at span positions ``y`` (m, in [0, 14]; default: the 23 rib planes).
 
-    Area and MAC are integrated from the chord (S = int c dy, MAC = int c^2 dy / S); the
+    Area and MAC are the integrals of the linear chord (S = int c dy, MAC = int c^2 dy / S); the
     benchmark states 45.5 m^2 and 3.56 m."""
     y = rib_y() if y is None else _span_array(y)
     y = np.atleast_1d(y)
     c = chord(y)
     le = leading_edge_x(y)
-    yy = np.linspace(0.0, D.SEMI_SPAN, 2001)
-    cc = chord(yy)
-    area = float(np.trapezoid(cc, yy))
-    mac = float(np.trapezoid(cc**2, yy) / area)
+    cr, ct, b = D.ROOT_CHORD, D.TIP_CHORD, D.SEMI_SPAN
+    area = b * (cr + ct) / 2.0  # int c dy of the linear chord
+    mac = b * (cr * cr + cr * ct + ct * ct) / 3.0 / area  # int c^2 dy / S
     return AeroReference(y=y, chord=c, leading_edge_x=le, quarter_chord_x=le + 0.25 * c,
                          quarter_chord_sweep_deg=np.full(y.size, quarter_chord_sweep_deg()),
                          twist_deg=np.zeros(y.size), semi_span=D.SEMI_SPAN, area=area, mac=mac,
