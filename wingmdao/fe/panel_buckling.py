@@ -104,7 +104,7 @@ def _validate(length, width, skin_thickness, E, nu, n_stiffeners, stiffener_heig
     if mesh_size is None:
         size = short / DEFAULT_DIVISIONS
     else:
-        size = _positive("mesh_size", mesh_size, "m", upper=short / 2 + 1e-12)
+        size = _positive("mesh_size", mesh_size, "m", upper=short / 2 * (1 + 1e-9))   # half the span allowed
     if isinstance(n_modes, bool) or not isinstance(n_modes, numbers.Integral) or not (1 <= n_modes <= 50):
         raise ValueError(f"n_modes = {n_modes!r}; allowed: an integer in [1, 50]")
     return a, W, t, E, float(nu), n, h, ts, bf, nx, nxy, size, int(n_modes)
@@ -159,16 +159,11 @@ def build_panel(length, width, skin_thickness, E, nu, *, n_stiffeners=0, stiffen
         for y in yk:
             t_strip[np.abs(ymid - y) < bf / 2] = t + ts
     nel = 0
-    for thick, name in ((t, "SKIN"), (t + (ts or 0.0), "FLANGE")):
-        cols = [c for c in range(len(ymid)) if t_strip[c] == thick]
-        if not cols or (name == "FLANGE" and not bf):
-            continue
-        conns = []
-        for i in range(0, Ni, 2):
-            for c in cols:
-                j = 2 * c
-                conns.append([skin[i, j], skin[i + 2, j], skin[i + 2, j + 2], skin[i, j + 2], skin[i + 1, j],
-                              skin[i + 2, j + 1], skin[i + 1, j + 2], skin[i, j + 1]])
+    groups = [(t, "SKIN")] + ([(t + ts, "FLANGE")] if bf else [])
+    for thick, name in groups:
+        conns = [[skin[i, 2 * c], skin[i + 2, 2 * c], skin[i + 2, 2 * c + 2], skin[i, 2 * c + 2],
+                  skin[i + 1, 2 * c], skin[i + 2, 2 * c + 1], skin[i + 1, 2 * c + 2], skin[i, 2 * c + 1]]
+                 for i in range(0, Ni, 2) for c in range(len(ymid)) if t_strip[c] == thick]
         deck.add_elements("S8R", name, conns)
         deck.sections.append(f"*SHELL SECTION, ELSET={name}, MATERIAL=MAT\n{thick:.10g}")
         nel += len(conns)
