@@ -94,7 +94,7 @@ def _validate(length, width, skin_thickness, E, nu, n_stiffeners, stiffener_heig
             bf = _positive("flange_width", flange_width, "m", upper=p)
             if bf <= ts:
                 raise ValueError(f"flange_width = {flange_width!r} m; allowed range ({ts:.6g}, {p:.6g}) m "
-                                 "(wider than the web, narrower than the pitch width / n_stiffeners)")
+                                 "(wider than the web, narrower than the pitch p = width / n_stiffeners)")
     nx = _finite("nx", nx, "N/m")
     nxy = _finite("nxy", nxy, "N/m")
     if nx >= 0.0 and nxy == 0.0:
