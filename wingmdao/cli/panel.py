@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import math
 
 
@@ -17,12 +18,17 @@ def register(subparsers):
         "x is along the stiffeners. SI units; running loads in N/m, compression negative. See docs/panels.md.",
     )
     p.add_argument("--material", required=True,
-                   help="metal (aluminium, al2024-t3, al7075-t6, ti-6al-4v, steel-4130) or ply material "
+                   help="built-in metal (aluminium, al2024-t3, al7075-t6, ti-6al-4v, steel-4130) or ply material "
                         "(stw-cfrp, needs --ply-fractions)")
     p.add_argument("--ply-fractions", type=float, nargs="+", default=None, metavar="F",
                    help="F0 F45 FM45 F90: fractions of 0, +45, -45 and 90 deg plies (4 values in [0, 1], sum 1), laminates only "
                         "(default unset: a metal)")
-    p.add_argument("--skin-thickness", type=float, required=True, metavar="T", help="skin thickness t (m)")
+    p.add_argument("--t-skin", type=float, default=None, metavar="M",
+                   help="skin (or spar web) thickness t (m), the --t-skin of every command; required")
+    p.add_argument("--t-spar", type=float, default=None, metavar="M",
+                   help="instead of --t-skin: a spar web of this thickness (m); --width is then the web height")
+    # the spelling --skin-thickness is accepted too (hidden: docs/cli.md, one spelling per concept)
+    p.add_argument("--skin-thickness", dest="t_skin", type=float, default=argparse.SUPPRESS, help=argparse.SUPPRESS)
     p.add_argument("--width", type=float, required=True, metavar="B",
                    help="skin width b between stiffeners, or between spars (web height of a spar) when there "
                         "are no stiffeners (m)")
@@ -54,7 +60,10 @@ def panel_result(args) -> dict:
     from wingmdao.panels.laminate import check_ply_fractions
     from wingmdao.panels.stiffened import panel_analysis, panel_material
 
-    t = _positive("--skin-thickness", args.skin_thickness)
+    if (args.t_skin is None) == (args.t_spar is None):
+        raise ValueError("--t-skin (skin thickness, m) is required, or --t-spar (spar web thickness, m), not both; "
+                         "allowed range (0, inf) m")
+    t = _positive("--t-skin", args.t_skin) if args.t_spar is None else _positive("--t-spar", args.t_spar)
     b = _positive("--width", args.width)
     a = _positive("--length", args.length)
     h_given, ts_given = args.stiffener_height is not None, args.stiffener_thickness is not None
