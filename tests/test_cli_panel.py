@@ -64,8 +64,6 @@ def test_metal_bare_skin_to_file(tmp_path):
     (["--material", "wood"], r"--material = 'wood': unknown; valid: metals aluminium"),
 ])
 def test_bad_input_exit_2(extra, match, capsys):
-    if "--skin-thickness" in extra:  # the hidden spelling alone
-        extra = extra + []
     assert main(BASE + extra) == 2
     captured = capsys.readouterr()
     err = captured.err
