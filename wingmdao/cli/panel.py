@@ -7,8 +7,6 @@ import math
 
 
 def register(subparsers):
-    from wingmdao.panels.stiffened import DEFAULT_FLANGE_RATIO, STIFFENERS
-
     p = subparsers.add_parser(
         "panel",
         help="critical running loads and failure ratios of a stiffened skin panel or spar web (JSON)",
@@ -17,6 +15,15 @@ def register(subparsers):
         "material strength; critical running loads (N/m) and load-linear failure ratios (1 = failure). "
         "x is along the stiffeners. SI units; running loads in N/m, compression negative. See docs/panels.md.",
     )
+    add_panel_arguments(p)
+    p.set_defaults(func=run)
+
+
+def add_panel_arguments(p):
+    """The flags of ``wingmdao panel`` (material, thicknesses, sizes, stiffener, loads, ``--json``),
+    shared with ``wingmdao verify panel``."""
+    from wingmdao.panels.stiffened import DEFAULT_FLANGE_RATIO, STIFFENERS
+
     p.add_argument("--material", required=True,
                    help="built-in metal (aluminium, al2024-t3, al7075-t6, ti-6al-4v, steel-4130) or ply material "
                         "(stw-cfrp, needs --ply-fractions)")
@@ -46,7 +53,6 @@ def register(subparsers):
     from wingmdao.cli._args import add_json_argument
 
     add_json_argument(p)
-    p.set_defaults(func=run)
 
 
 def _positive(flag: str, value) -> float:

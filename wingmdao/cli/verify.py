@@ -23,6 +23,7 @@ import numpy as np
 def register(subparsers):
     from wingmdao.cli.run import add_wing_box_arguments
     from wingmdao.cli._verify_pegasus import register_pegasus
+    from wingmdao.cli._verify_panel import register_panel
 
     p = subparsers.add_parser("verify", help="cross-check the beam against a CalculiX shell or solid model",
                               description="Beam vs CalculiX (ccx) shell or solid model of a shipped case. SI units, "
@@ -39,6 +40,7 @@ def register(subparsers):
                      "result (4 stations CS1..CS4), for the FE model and the beam (default: --t-spar/--t-skin)")
     wb.set_defaults(func=run_verify)
     register_pegasus(cases)
+    register_panel(cases)
 
 
 def add_fe_arguments(p, *, rib_thickness, no_ribs_help, design_help, ribs_help="ribs every SPACING m of span"):
