@@ -122,3 +122,16 @@ def test_missing_ccx_one_line(capsys, monkeypatch):
     cap = capsys.readouterr()
     err = cap.err.strip().splitlines()
     assert cap.out == "" and len(err) == 1 and "ccx" in err[0]
+
+
+@needs_ccx
+def test_tee_panel_global(capsys):
+    """3 tees 20 x 2 mm (flange 20 x 2 mm, pitch 0.17 m), a = 0.6 m, 25 mm mesh: global in both;
+    the wide column is conservative (-7 %), the finite-width smeared plate within 2 % of CalculiX."""
+    r = _run(["--material", "aluminium", "--t-skin", "0.002", "--width", "0.15", "--length", "0.6",
+              "--stiffener-height", "0.02", "--stiffener-thickness", "0.002", "--stiffener", "tee",
+              "--nx", "-1000", "--mesh-size", "0.025"], capsys)
+    assert r["fe"]["pitch_m"] == pytest.approx(0.17) and r["fe"]["flange_width_m"] == pytest.approx(0.02)
+    assert r["model_mode"] == "global" and r["fe_mode"] == "global"
+    assert 0.85 <= r["model_buckling_factor"] / r["fe_buckling_factor"] <= 1.0
+    assert r["model_buckling_factor_finite_width"] == pytest.approx(r["fe_buckling_factor"], rel=0.02)
