@@ -17,7 +17,7 @@ def write_case_plots(prob, setup, stem: str) -> list[str]:
     """PNG plots next to ``stem``: thickness, and for dynamic cases stress and load histories."""
     span = span_coordinate(setup.geometry)
     paths = []
-    if setup.section == "box":
+    if setup.section in ("box", "stiffened"):
         from wingmdao.sizing import station_values
 
         thick = {w: station_values(prob, f"t_{w}") for w in

@@ -135,7 +135,7 @@ def run_size(args) -> int:
     check_memory(mine, setup.geometry.num_nodes)  # before any solve: this rank's marches must fit
     prob, desc = sizing.build_problem(setup.geometry, setup.load_cases, setup.material, opts,
                                       driver=optimize, section=setup.section, comm=comm or False,
-                                      flutter=setup.flutter)
+                                      flutter=setup.flutter, panels=setup.panels)
     import openmdao.api as om
 
     interrupted = failed = False
@@ -257,7 +257,8 @@ def _interrupted_result(prob, setup, desc, recording, interrupted=True) -> dict:
     from wingmdao import sizing
 
     try:
-        result = sizing.summarize(prob, setup.load_cases, desc, success=False, section=setup.section)
+        result = sizing.summarize(prob, setup.load_cases, desc, success=False, section=setup.section,
+                                  panels=setup.panels, geometry=setup.geometry)
     except Exception as exc:  # the interrupt may have come before the first evaluation finished
         result = {"success": False, "message": f"no evaluated design ({exc})"}
     result.update(success=False, interrupted=interrupted)
@@ -313,7 +314,7 @@ def run_n2(args) -> int:
     refuse_existing([path], overwrite=args.overwrite, what="N2 diagram")
     setup = args.case_module.build(options_from_namespace(args.case_module.OPTIONS, args))
     prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
-                            driver=True, section=setup.section)
+                            driver=True, section=setup.section, panels=setup.panels)
     om.n2(prob, outfile=path, show_browser=False)
     say(f"wrote {path}")
     return 0

@@ -1,0 +1,1 @@
+"""Stiffened panels: laminates, plate and column buckling, crippling, ribs (docs/panels.md)."""
