@@ -117,6 +117,8 @@ JSON_RUNS = {
     ("cache",): [],                   # a report only (no --prune): reads the user's cache, changes nothing
     ("section",): ["--width", "3", "--height", "0.5", "--t-skin", "0.1", "--t-spar", "0.2"],
     ("section-fe",): ["--rectangle", "1", "0.5", "--material", "aluminium"],
+    ("panel",): ["--material", "aluminium", "--t-skin", "0.004", "--width", "0.15", "--length", "0.6",
+                 "--stiffener-height", "0.04", "--stiffener-thickness", "0.003", "--nx", "-5e5"],
     ("run", "wing-box"): ["--geometry", "prismatic", "--tip-load", "0", "0", "-1e5"],
     ("verify", "wing-box"): ["--geometry", "prismatic", "--tip-load", "0", "0", "1e5", "--chord-elements", "2",
                              "--height-elements", "1", "--span-size", "2"],
@@ -154,7 +156,8 @@ def test_json_dash_writes_only_json_to_stdout(path, tmp_path, capsys):
 
 
 #: the arguments a command needs before any option can be parsed
-REQUIRED = {"section": ["--width", "1", "--height", "1"], "run": ["--geometry", "prismatic"],
+REQUIRED = {"section": ["--width", "1", "--height", "1"],
+            "panel": ["--material", "aluminium", "--t-skin", "1", "--width", "1", "--length", "1"], "run": ["--geometry", "prismatic"],
             "verify": ["--geometry", "prismatic"], "export": ["--geometry", "prismatic", "--format", "calculix", "f"],
             "gust": ["pegasus"], "flutter": ["goland"], "report": ["r.sql"],
             ("verify", "pegasus"): [], ("export", "pegasus"): ["--format", "calculix", "f"]}

@@ -3,7 +3,8 @@ folder and read the ``.dat`` results.
 
 CalculiX: G. Dhondt, "CalculiX CrunchiX User's Manual", version 2.20, 2022 (the input keywords
 used here: *NODE, *ELEMENT, *NSET, *ELSET, *MATERIAL/*ELASTIC/*DENSITY, *SHELL SECTION,
-*SOLID SECTION, *MASS, *BOUNDARY, *STEP[, NLGEOM], *STATIC, *FREQUENCY, *CLOAD, *NODE PRINT).
+*SOLID SECTION, *MASS, *BOUNDARY, *EQUATION, *STEP[, NLGEOM], *STATIC, *FREQUENCY, *BUCKLE,
+*CLOAD, *NODE PRINT).
 The solver is an optional dependency: a missing ``ccx`` raises :class:`CalculixNotFound` with
 the install command and nothing is imported at package import time.
 """
@@ -79,10 +80,12 @@ _FLOAT = r"[-+]?\d*\.?\d+(?:[eE][-+]?\d+)?"
 def parse_dat(text: str) -> dict:
     """Read a ccx ``.dat`` file: ``{"displacements": {NSET: {node: (ux, uy, uz)}},
     "stresses": {element: (points, 6) array sxx, syy, szz, sxy, sxz, syz (Pa)},
-    "frequencies_hz": array}`` (the last time of each set when a step prints several)."""
+    "frequencies_hz": array, "buckling_factors": array (in mode order)}`` (the last time of
+    each set when a step prints several)."""
     disp: dict = {}
     stress: dict = {}
     freqs: list = []
+    factors: list = []
     lines = text.splitlines()
     i = 0
     while i < len(lines):
@@ -116,9 +119,18 @@ def parse_dat(text: str) -> dict:
                 freqs.append(float(parts[3]))
                 i += 1
             continue
+        if "B U C K L I N G   F A C T O R   O U T P U T" in line:
+            i += 1
+            # header lines (MODE NO, BUCKLING FACTOR), then rows: mode, factor
+            while i < len(lines) and not re.match(r"\s*\d+\s+" + _FLOAT + r"\s*$", lines[i]):
+                i += 1
+            while i < len(lines) and re.match(r"\s*\d+\s+" + _FLOAT + r"\s*$", lines[i]):
+                factors.append(float(lines[i].split()[1]))
+                i += 1
+            continue
         i += 1
     return {"displacements": disp, "stresses": {e: np.array(v) for e, v in stress.items()},
-            "frequencies_hz": np.array(freqs)}
+            "frequencies_hz": np.array(freqs), "buckling_factors": np.array(factors)}
 
 
 def _read_stress_block(lines, i, out) -> int:
@@ -205,8 +217,14 @@ class Deck:
         return list(block)
 
     def material(self, name, material):
-        self.materials.append(f"*MATERIAL, NAME={name}\n*ELASTIC\n{material.E:.10g}, {material.nu:.10g}\n"
-                              f"*DENSITY\n{material.rho:.10g}")
+        self.isotropic(name, material.E, material.nu, material.rho)
+
+    def isotropic(self, name, E, nu, rho=None):
+        """An isotropic linear elastic *MATERIAL (Pa); *DENSITY (kg/m^3) only when ``rho`` is given."""
+        text = f"*MATERIAL, NAME={name}\n*ELASTIC\n{E:.10g}, {nu:.10g}"
+        if rho is not None:
+            text += f"\n*DENSITY\n{rho:.10g}"
+        self.materials.append(text)
 
     def text(self, steps: list[str]) -> str:
         out = [f"*HEADING\n{self.heading}", "*NODE"]
@@ -243,3 +261,26 @@ def static_step(cloads, print_nsets, nlgeom=False, increments=None, stress_elset
 def frequency_step(modes: int) -> str:
     """A *FREQUENCY step extracting the lowest ``modes`` eigenfrequencies (printed to .dat)."""
     return f"*STEP\n*FREQUENCY\n{int(modes)}\n*END STEP"
+
+
+def buckle_step(modes: int, cloads, print_nsets=()) -> str:
+    """A *BUCKLE step: the lowest ``modes`` buckling factors of the nodal loads [(node, dof,
+    value)] (printed to .dat), with *NODE PRINT U of the node sets (the mode shapes)."""
+    s = [f"*STEP\n*BUCKLE\n{int(modes)}", "*CLOAD"]
+    s += [f"{n}, {d}, {v:.12g}" for n, d, v in cloads if v != 0.0]
+    s += [f"*NODE PRINT, NSET={n}\nU" for n in print_nsets]
+    s.append("*END STEP")
+    return "\n".join(s)
+
+
+def quadratic_edge_forces(coords, intensity) -> np.ndarray:
+    """Consistent nodal forces of a line load along a row of quadratic element edges: ``coords``
+    (2n+1,) positions along the line (end, mid, end, mid, ...), ``intensity`` (n,) load per length,
+    constant on each edge; each edge of length L gives L q (1, 4, 1) / 6 to its three nodes."""
+    s = np.asarray(coords, float)
+    q = np.broadcast_to(np.asarray(intensity, float), ((len(s) - 1) // 2,))
+    f = np.zeros(len(s))
+    for k, qk in enumerate(q):
+        L = s[2 * k + 2] - s[2 * k]
+        f[2 * k:2 * k + 3] += L * qk * np.array([1.0, 4.0, 1.0]) / 6.0
+    return f
