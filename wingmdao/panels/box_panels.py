@@ -1,40 +1,37 @@
-"""Failure ratios of a wingbox wall's panel as the sizing uses them (interim isotropic forms)."""
+"""The failure ratios of a wingbox wall's panel, as the stiffened sizing uses them.
+
+A skin panel is the skin between two ribs (length = rib pitch) with its stiffeners at the
+layout's pitch; a spar web is an unstiffened plate as wide as the web height between the skins.
+Both go through :func:`wingmdao.panels.stiffened.panel_failure_ratios` (docs/panels.md), with
+running loads from :func:`wingmdao.stress.box_stress.panel_running_loads`.
+"""
 
 from __future__ import annotations
 
-import math
+from functools import lru_cache
 
-from wingmdao.panels.layout import stiffener_section
-from wingmdao.section.box import sqrt
+from wingmdao.panels.stiffened import panel_failure_ratios, panel_material, skin_width_from_pitch
 
-TINY = 1.0  # (N/m)^2 under square roots: finite derivatives at zero load
-
-
-def _interaction(r_c, r_s):
-    return 0.5 * (r_c + sqrt(r_c**2 + 4.0 * r_s**2 + 1e-12))
+#: the skin panel's modes the sizing constrains (material strength is the box's von Mises family)
+SKIN_MODES = ("skin_buckling", "panel_buckling", "stiffener_column", "stiffener_crippling")
 
 
-def skin_panel_ratios(material, t, h, ts, pitch, length, nx, nxy, shape="blade", flange_ratio=0.0):
-    E, nu = material.E, material.nu
-    D = E * t**3 / (12.0 * (1.0 - nu**2))
-    nxy_abs = sqrt(nxy**2 + TINY)
-    n_c = 4.0 * math.pi**2 * D / pitch**2
-    n_s = (5.35 + 4.0 * (pitch / length) ** 2) * math.pi**2 * D / pitch**2
-    skin = _interaction(-nx / n_c, nxy_abs / n_s)
-    area, z, i_own = stiffener_section(h, ts, shape, flange_ratio)
-    a_tot = area + pitch * t
-    zc = area * (t / 2 + z) / a_tot
-    i_tot = i_own + area * (t / 2 + z - zc) ** 2 + pitch * t**3 / 12 + pitch * t * zc**2
-    n_panel = math.pi**2 * E * i_tot / (pitch * length**2)
-    panel = _interaction(-nx / n_panel, nxy_abs / (4 * n_s))
-    column = -nx / n_panel
-    crip = -nx * pitch / a_tot / (0.9 * material.sigma_y)
-    return {"skin_buckling": skin, "panel_buckling": panel, "stiffener_column": column, "stiffener_crippling": crip}
+@lru_cache(maxsize=None)
+def _panel_material(material):
+    return panel_material(material)
+
+
+def skin_panel_ratios(material, t, h, ts, pitch, length, nx, nxy, shape="blade", flange_ratio=1.0) -> dict:
+    """{mode: ratio} of :data:`SKIN_MODES` for a stiffened skin: thickness ``t``, stiffeners
+    ``h`` x ``ts`` at ``pitch``, panel ``length`` (m), running loads ``nx``, ``nxy`` (N/m,
+    compression negative). Each ratio is load-linear, 1 = failure at these loads."""
+    b = skin_width_from_pitch(pitch, h, shape, flange_ratio)
+    r = panel_failure_ratios(_panel_material(material), t, b, length, h, ts, nx, nxy, shape, flange_ratio)
+    return {mode: r[mode] for mode in SKIN_MODES}
 
 
 def web_panel_ratio(material, t, b, length, nx, nxy):
-    E, nu = material.E, material.nu
-    D = E * t**3 / (12.0 * (1.0 - nu**2))
-    n_c = 4.0 * math.pi**2 * D / b**2
-    n_s = (5.35 + 4.0 * (b / length) ** 2) * math.pi**2 * D / b**2
-    return _interaction(-nx / n_c, sqrt(nxy**2 + TINY) / n_s)
+    """Combined compression-shear buckling ratio of an unstiffened spar web of thickness ``t``
+    and height ``b`` between ribs ``length`` apart (m) under ``nx``, ``nxy`` (N/m)."""
+    r = panel_failure_ratios(_panel_material(material), t, b, length, None, None, nx, nxy)
+    return r["skin_buckling"]

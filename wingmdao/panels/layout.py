@@ -12,6 +12,8 @@ Stiffener shapes (the web of height ``h`` and thickness ``ts`` standing normal t
 * ``"tee"``: the web standing on a flange of width ``flange_ratio * h`` and thickness ``ts``
   that lies on the skin (the flange width tied to the web height, as practitioners size them).
 
+The stiffener's elements and the panel modes are those of :mod:`wingmdao.panels.stiffened`.
+
 Every function here is plain arithmetic, so it evaluates on floats, numpy arrays and CasADi
 symbols alike (the OpenMDAO components take their exact partials from CasADi).
 """
@@ -23,40 +25,33 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from wingmdao.panels.stiffened import DEFAULT_FLANGE_RATIO, STIFFENERS, stiffener_elements
+
 #: design variables of the stiffeners, per station (m): web height and thickness on each skin
 STIFFENER_VARS = ("h_upper_stiffener", "t_upper_stiffener", "h_lower_stiffener", "t_lower_stiffener")
 #: the skins that carry stiffeners, with their stiffener variables (height, thickness)
 STIFFENED_SKINS = {"upper_skin": ("h_upper_stiffener", "t_upper_stiffener"),
                    "lower_skin": ("h_lower_stiffener", "t_lower_stiffener")}
-STIFFENER_SHAPES = ("blade", "tee")
+STIFFENER_SHAPES = STIFFENERS
 #: panel failure modes (constraint families of components.panels.PanelFailure) and their points
 #: per station: the skins at their front and rear edges (4), the spar webs (2)
 PANEL_FAMILIES = {"skin_buckling": 4, "panel_buckling": 4, "stiffener_column": 4, "stiffener_crippling": 4,
                   "web_buckling": 2}
 
 
-def stiffener_section(h, ts, shape: str = "blade", flange_ratio: float = 0.0):
-    """Area (m^2), centroid height above the skin's inner face (m) and own second moment of
-    area about that centroid, for bending out of the skin's plane (m^4), of one stiffener.
-
-    Blade: A = h ts, z = h/2, I = ts h^3/12. Tee: a flange b_f = flange_ratio h wide and ts
-    thick on the skin, the web on top of it: A = ts (b_f + h),
-    z = (b_f ts ts/2 + h ts (ts + h/2)) / A, I by the parallel-axis theorem.
-    """
-    if shape == "blade":
-        return h * ts, 0.5 * h, ts * h**3 / 12.0
-    if shape != "tee":
-        raise ValueError(f"stiffener shape {shape!r}; allowed: {', '.join(STIFFENER_SHAPES)}")
-    b_f = flange_ratio * h
-    a_f, z_f = b_f * ts, 0.5 * ts
-    a_w, z_w = h * ts, ts + 0.5 * h
-    area = a_f + a_w
-    z = (a_f * z_f + a_w * z_w) / area
-    i_own = b_f * ts**3 / 12.0 + a_f * (z_f - z) ** 2 + ts * h**3 / 12.0 + a_w * (z_w - z) ** 2
+def stiffener_section(h, ts, shape: str = "blade", flange_ratio: float = DEFAULT_FLANGE_RATIO):
+    """Area (m^2), centroid height above the skin's inner face (m) and own second moment of area
+    about that centroid for bending out of the skin's plane (m^4) of one stiffener, from its flat
+    elements (:func:`wingmdao.panels.stiffened.stiffener_elements`: the blade's web; the tee's
+    flange on the skin and the web on top of it), by the parallel-axis theorem."""
+    elements = stiffener_elements(h, ts, shape, flange_ratio)
+    area = sum(w * t for w, t, *_ in elements)
+    z = sum(w * t * zc for w, t, zc, *_ in elements) / area
+    i_own = sum(i + w * t * (zc - z) ** 2 for w, t, zc, i, _ in elements)
     return area, z, i_own
 
 
-def smeared_stringer(h, ts, pitch, shape: str = "blade", flange_ratio: float = 0.0):
+def smeared_stringer(h, ts, pitch, shape: str = "blade", flange_ratio: float = DEFAULT_FLANGE_RATIO):
     """``(a, d, i)`` per unit skin width for :func:`wingmdao.section.box.stringer_layers`: the
     stiffener area per width (m), its centroid's depth below the skin's inner face (m) and its
     own second moment per width (m^3)."""
@@ -117,7 +112,7 @@ class PanelLayout:
     rib_positions: tuple
     stiffener_pitch: float = 0.15
     shape: str = "blade"
-    flange_ratio: float = 0.0
+    flange_ratio: float = DEFAULT_FLANGE_RATIO
     safety_factor: float = 1.5
     rib_thickness: float = 0.002
 
