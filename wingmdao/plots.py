@@ -103,3 +103,64 @@ def plot_iteration_history(objective, max_constraint, path: str):
     a2.set_xlabel("driver iteration")
     a2.grid(True, alpha=0.3)
     return save_figure(fig, path)
+
+
+def plot_panels(span, panels: dict, path: str, title: str = "Stiffened panels along the span"):
+    """The stiffened design along the span (``panels``: the result JSON's ``panels`` block):
+    skin and equivalent thicknesses, stiffener heights and thicknesses, spar webs, and a map of
+    the critical mode of every wall at every station with its margin of safety."""
+    plt = _pyplot()
+    span = np.asarray(span, dtype=float)
+    fig, axes = plt.subplots(2, 2, figsize=(12, 8), sharex=True)
+    ax = axes[0, 0]
+    for wall, style in (("upper_skin", "-"), ("lower_skin", "--")):
+        b = panels[wall]
+        ax.plot(span, 1e3 * np.asarray(b["skin_thickness_m"]), style, marker="o", ms=3,
+                label=f"{wall.replace('_', ' ')}: skin")
+        ax.plot(span, 1e3 * np.asarray(b["equivalent_thickness_m"]), style, marker="s", ms=3,
+                label=f"{wall.replace('_', ' ')}: skin + stiffeners (area per width)")
+    ax.set_ylabel("thickness [mm]")
+    ax.set_title("skins")
+    ax.legend(fontsize=7)
+    ax = axes[0, 1]
+    for wall, style in (("upper_skin", "-"), ("lower_skin", "--")):
+        b = panels[wall]
+        ax.plot(span, 1e3 * np.asarray(b["stiffener_height_m"], dtype=float), style, marker="o", ms=3,
+                label=f"{wall.replace('_', ' ')}: web height")
+        ax.plot(span, 10e3 * np.asarray(b["stiffener_thickness_m"], dtype=float), style, marker="^", ms=3,
+                label=f"{wall.replace('_', ' ')}: web thickness x 10")
+    ax.set_ylabel("[mm]")
+    ax.set_title("stiffeners")
+    ax.legend(fontsize=7)
+    ax = axes[1, 0]
+    for wall in ("front_spar", "rear_spar"):
+        ax.plot(span, 1e3 * np.asarray(panels[wall]["skin_thickness_m"]), marker="o", ms=3,
+                label=wall.replace("_", " "))
+    ax.set_ylabel("web thickness [mm]")
+    ax.set_title("spar webs")
+    ax.legend(fontsize=7)
+    ax = axes[1, 1]
+    modes = sorted({m for b in panels.values() for m in b["critical_mode"]})
+    cmap = plt.get_cmap("tab10")
+    for k, wall in enumerate(WALLS):
+        b = panels[wall]
+        for j, mode in enumerate(modes):
+            pick = np.array([m == mode for m in b["critical_mode"]])
+            if pick.any():
+                ax.scatter(span[pick], np.full(pick.sum(), k), color=cmap(j % 10), s=60,
+                           label=mode if k == 0 or mode not in [m for w in WALLS[:k] for m in panels[w]["critical_mode"]]
+                           else None)
+        for x, ms in zip(span, b["margin_of_safety"]):
+            if ms < 10:
+                ax.annotate(f"{ms:+.2f}", (x, k), textcoords="offset points", xytext=(0, 7), fontsize=5, ha="center")
+    ax.set_yticks(range(len(WALLS)))
+    ax.set_yticklabels([w.replace("_", " ") for w in WALLS])
+    ax.set_ylim(-0.6, len(WALLS) - 0.3)
+    ax.set_title("critical mode and margin of safety")
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=3)
+    for ax in axes[1]:
+        ax.set_xlabel("spanwise station y [m]")
+    for ax in axes.ravel():
+        ax.grid(True, alpha=0.3)
+    fig.suptitle(title)
+    return save_figure(fig, path)

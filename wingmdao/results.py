@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from wingmdao.plots import plot_thickness, plot_time_history
+from wingmdao.plots import plot_panels, plot_thickness, plot_time_history
 
 
 def span_coordinate(geometry) -> np.ndarray:
@@ -13,16 +13,18 @@ def span_coordinate(geometry) -> np.ndarray:
     return np.asarray(geometry.node_positions)[:, 1]
 
 
-def write_case_plots(prob, setup, stem: str) -> list[str]:
+def write_case_plots(prob, setup, stem: str, result: dict | None = None) -> list[str]:
     """PNG plots next to ``stem``: thickness, and for dynamic cases stress and load histories."""
     span = span_coordinate(setup.geometry)
     paths = []
-    if setup.section == "box":
+    if setup.section in ("box", "stiffened"):
         from wingmdao.sizing import station_values
 
         thick = {w: station_values(prob, f"t_{w}") for w in
                  ("upper_skin", "lower_skin", "front_spar", "rear_spar")}
         paths.append(plot_thickness(span, {"sized": thick}, f"{stem}_thickness.png"))
+    if result is not None and "panels" in result:
+        paths.append(plot_panels(span, result["panels"], f"{stem}_panels.png"))
     for case in setup.load_cases:
         if case.is_static:
             continue

@@ -13,7 +13,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import openmdao.api as om
 
-from wingmdao.groups.wing import SECTION_KINDS, WingSizing, set_case_loads
+from wingmdao.groups.wing import BOX_KINDS, SECTION_KINDS, WingSizing, set_case_loads
+from wingmdao.panels.layout import PANEL_FAMILIES, PanelLayout, smeared_stringer
 from wingmdao.optimize import ProgressPrinter, add_recorder, make_driver
 from wingmdao.section.box import WALL_NAMES
 
@@ -151,7 +152,7 @@ def _check_geometry(geometry, section) -> None:
         raise ValueError(f"geometry.node_positions: {n} node(s); a beam needs at least 2")
     shapes = {"node_positions": (n, 3), "node_euler_angles": (n, 3), "section_to_csn": (n, 3, 3),
               "nonstructural_mass_per_length": (n,), "span_coordinate": (n,)}
-    if section == "box":
+    if section in BOX_KINDS:
         shapes.update(width=(n,), height=(n,))
     for name, shape in shapes.items():
         value = getattr(geometry, name)
@@ -165,7 +166,7 @@ def _check_geometry(geometry, section) -> None:
             raise ValueError(f"geometry.{name}: shape {arr.shape}; needs {shape} ({n} beam nodes)")
         if not np.all(np.isfinite(arr)):
             raise ValueError(f"geometry.{name}: not finite at flat index {int(np.flatnonzero(~np.isfinite(arr))[0])}")
-    if section == "box" and (np.any(np.asarray(geometry.width) <= 0) or np.any(np.asarray(geometry.height) <= 0)):
+    if section in BOX_KINDS and (np.any(np.asarray(geometry.width) <= 0) or np.any(np.asarray(geometry.height) <= 0)):
         raise ValueError("geometry.width and geometry.height: box dimensions must be > 0 m at every node")
     if geometry.nonstructural_mass_per_length is not None and np.any(np.asarray(geometry.nonstructural_mass_per_length) < 0):
         raise ValueError("geometry.nonstructural_mass_per_length: allowed range [0, inf) kg/m")
@@ -180,7 +181,7 @@ def _check_geometry(geometry, section) -> None:
 
 def build_problem(geometry: WingGeometry, load_cases, material, options: SizingOptions,
                   *, driver=True, parallel=None, section="box", comm=False,
-                  flutter: dict | None = None) -> tuple[om.Problem, str]:
+                  flutter: dict | None = None, panels: PanelLayout | None = None) -> tuple[om.Problem, str]:
     """Set up the sizing problem; returns ``(problem, driver description)``.
 
     ``section`` is ``"box"`` (design variables: the four wall thicknesses) or ``"solid"``
@@ -189,19 +190,29 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     (:mod:`wingmdao.parallel`); False/None: all cases in this process. ``flutter``: options of
     :class:`~wingmdao.components.flutter.FlutterDamping` (e.g. from
     :func:`wingmdao.stability.cases.sizing_flutter_options`): adds the constraint flutter_ks <= 0.
+    ``panels``: the stiffened panels and ribs (section ``"stiffened"``, and only there): adds the
+    stiffener design variables, the panel failure constraints, the ribs' mass and the sizing rules
+    (linear constraints; docs/panels.md).
     """
     check_problem_inputs(geometry, load_cases, material, options, section)
+    if (section == "stiffened") != (panels is not None):
+        raise ValueError(f"section = {section!r} with panels = {panels!r}: a PanelLayout goes with section "
+                         "'stiffened' and only with it")
     n = geometry.num_nodes
     design_vars = SECTION_KINDS[section]["design_vars"]
     load_cases = list(load_cases)
     distributed = comm is not None and comm is not False and comm.size > 1
-    if flutter is not None and (distributed or section != "box"):
+    if flutter is not None and (distributed or section not in BOX_KINDS):
         raise ValueError("the flutter constraint needs box sections in one process (no MPI distribution)")
-    mass_ref = (options.mass_scale or OBJECTIVE_SCALE * initial_mass(geometry, material, options, section)) \
+    mass_ref = (options.mass_scale or OBJECTIVE_SCALE * initial_mass(geometry, material, options, section, panels)) \
         if driver else 1.0
     # the load cases' forcing histories are fixed data of the beams, not OpenMDAO variables (issue 15)
     wing_kwargs = dict(rho_ks=options.rho_ks, add_constraints=driver, add_objective=driver, mass_ref=mass_ref,
                        forcing_as_data=True)
+    if panels is not None:
+        if distributed:
+            raise ValueError("stiffened panels (section 'stiffened') run in one process (no MPI distribution)")
+        wing_kwargs.update(panels=panels, rib_stations=rib_stations(geometry, panels))
     if distributed:
         from wingmdao.parallel import distributed_wing_sizing
 
@@ -219,6 +230,9 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
         for w in design_vars:
             prob.model.add_design_var(w, lower=options.lower[w], upper=options.upper[w],
                                       ref=options.dv_ref.get(w, options.upper[w]) if options.dv_ref else options.upper[w])
+        if panels is not None:
+            add_sizing_rules(prob.model, options, panels, design_vars,
+                             n if geometry.station_map is None else int(np.max(geometry.station_map)) + 1)
         if options.recording:
             add_recorder(prob, options.recording)
         if options.progress:
@@ -229,7 +243,7 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
 
         set_shared_geometry(prob, geometry, section)
     else:
-        set_geometry(prob, geometry, section)
+        set_geometry(prob, geometry, section, panels)
         for case in load_cases:
             set_case_loads(prob, case, n, f"cases.{case.name}")
     n_dv = n if geometry.station_map is None else int(np.max(geometry.station_map)) + 1
@@ -247,7 +261,8 @@ def _serial_comm():
     return FakeComm() if MPI is None else None
 
 
-def initial_mass(geometry: WingGeometry, material, options: SizingOptions, section: str = "box") -> float:
+def initial_mass(geometry: WingGeometry, material, options: SizingOptions, section: str = "box",
+                 panels: PanelLayout | None = None) -> float:
     """Structural mass of the initial design (kg), to scale the objective (:data:`OBJECTIVE_SCALE`).
 
     Computed directly (App. F.1 frustum volumes of the section areas, Eq. F.1-F.5 for the box,
@@ -257,14 +272,62 @@ def initial_mass(geometry: WingGeometry, material, options: SizingOptions, secti
 
     design_vars = SECTION_KINDS[section]["design_vars"]
     dv = station_design(geometry, initial_design(options, design_vars), design_vars)
-    if section == "box":
+    if section in BOX_KINDS:
         from wingmdao.section.box import box_area
 
         area = box_area(np.asarray(geometry.width, dtype=float), np.asarray(geometry.height, dtype=float),
-                        *(dv[w] for w in WALL_VARS))
+                        *(dv[w] for w in WALL_VARS), stringers=_stringers(dv, panels))
     else:
         area = dv["width"] * dv["height"]
     return beam_mass(area, geometry.node_positions, material.rho)
+
+
+def _stringers(dv: dict, panels: PanelLayout | None):
+    """The smeared stiffener layers of a per-station design (None without panels)."""
+    if panels is None:
+        return None
+    return tuple(smeared_stringer(dv[f"h_{s}_stiffener"], dv[f"t_{s}_stiffener"], panels.stiffener_pitch,
+                                  panels.shape, panels.flange_ratio) for s in ("upper", "lower"))
+
+
+def span_coordinate(geometry: WingGeometry) -> np.ndarray:
+    """The stations' spanwise coordinate (m): ``geometry.span_coordinate``, else body y."""
+    if geometry.span_coordinate is not None:
+        return np.asarray(geometry.span_coordinate, dtype=float)
+    return np.asarray(geometry.node_positions, dtype=float)[:, 1]
+
+
+def rib_stations(geometry: WingGeometry, panels: PanelLayout) -> list:
+    """Index of the station at each rib of ``panels`` (the ribs sit at stations; ValueError when a
+    rib is farther than 1 mm from every station). Ribs at a negative span coordinate belong to the
+    mirrored half-wing (they close the centre-box bay across the symmetry plane) and are not
+    listed: their mass is the other half-wing's."""
+    y = span_coordinate(geometry)
+    out = []
+    for r in (r for r in panels.rib_positions if r >= 0.0):
+        k = int(np.argmin(np.abs(y - r)))
+        if abs(y[k] - r) > 1e-3:
+            raise ValueError(f"rib at {r:.6g} m: no station within 1 mm (stations at {np.round(y, 4).tolist()} m); "
+                             "ribs must sit at stations")
+        out.append(k)
+    return out
+
+
+#: adjacency limits of the sizing rules between neighbouring design stations (m): thicknesses
+#: and stiffener heights
+ADJACENCY_THICKNESS, ADJACENCY_HEIGHT = 2.5e-3, 10e-3
+
+
+def add_sizing_rules(model, options: SizingOptions, panels: PanelLayout, design_vars, n_dv: int) -> None:
+    """The stiffened panels' sizing rules as linear constraints (components.panels.SizingRules):
+    web aspect 5 <= h/ts <= 30, ts <= 15 t_skin, and neighbouring stations within 2.5 mm
+    (thicknesses) and 10 mm (stiffener heights)."""
+    ref = options.upper.get("t_upper_skin", 0.01)
+    for name in ("stiffener_aspect_min", "stiffener_aspect_max", "stiffener_over_skin"):
+        model.add_constraint(f"rules.{name}", upper=0.0, linear=True, ref=ref)
+    for name in design_vars if n_dv > 1 else ():
+        limit = ADJACENCY_HEIGHT if name.startswith("h_") else ADJACENCY_THICKNESS
+        model.add_constraint(f"rules.adjacency_{name}", lower=-limit, upper=limit, linear=True, ref=limit)
 
 
 def station_design(geometry: WingGeometry, design: dict, design_vars) -> dict:
@@ -275,7 +338,8 @@ def station_design(geometry: WingGeometry, design: dict, design_vars) -> dict:
             for w in design_vars}
 
 
-def design_beam_params(geometry: WingGeometry, material, design: dict, section: str = "box") -> dict:
+def design_beam_params(geometry: WingGeometry, material, design: dict, section: str = "box",
+                       panels: PanelLayout | None = None) -> dict:
     """Beam parameters of a design, computed directly from the section functions (App. A, F):
     what the sizing model's section component feeds its beam. ``design`` maps the design
     variables to values per design station (1 or n_dv values each)."""
@@ -284,15 +348,19 @@ def design_beam_params(geometry: WingGeometry, material, design: dict, section: 
 
     n = geometry.num_nodes
     dv = station_design(geometry, design, SECTION_KINDS[section]["design_vars"])
-    if section == "box":
+    if section in BOX_KINDS:
         validate_box(geometry.width, geometry.height, *(dv[w] for w in WALL_VARS), source="design: ")
     else:
         validate_solid(dv["width"], dv["height"], source="design: ")
     R = np.broadcast_to(np.eye(3), (n, 3, 3)) if geometry.section_to_csn is None else geometry.section_to_csn
     nsm = np.zeros(n) if geometry.nonstructural_mass_per_length is None else geometry.nonstructural_mass_per_length
-    if section == "box":
+    if section in BOX_KINDS:
+        stringers = _stringers(dv, panels)
         rows = [box_properties(geometry.width[i], geometry.height[i], *(dv[w][i] for w in WALL_VARS), material,
-                               section_to_csn=R[i], nonstructural_mass_per_length=nsm[i]) for i in range(n)]
+                               section_to_csn=R[i], nonstructural_mass_per_length=nsm[i],
+                               stringers=None if stringers is None else tuple(tuple(np.asarray(x)[i] for x in layer)
+                                                                              for layer in stringers))
+                for i in range(n)]
     else:
         rows = [solid_properties(dv["width"][i], dv["height"][i], material, section_to_csn=R[i],
                                  nonstructural_mass_per_length=nsm[i]) for i in range(n)]
@@ -324,13 +392,16 @@ def initial_frequencies(geometry: WingGeometry, material, options: SizingOptions
     return natural_frequencies(system, p, q, count=count)
 
 
-def set_geometry(prob: om.Problem, geometry: WingGeometry, section: str = "box") -> None:
+def set_geometry(prob: om.Problem, geometry: WingGeometry, section: str = "box",
+                 panels: PanelLayout | None = None) -> None:
     n = geometry.num_nodes
     prob.set_val("node_positions", geometry.node_positions, units="m")
     prob.set_val("node_euler_angles", geometry.node_euler_angles, units="rad")
-    if section == "box":
+    if section in BOX_KINDS:
         prob.set_val("width", geometry.width, units="m")
         prob.set_val("height", geometry.height, units="m")
+    if panels is not None:
+        prob.set_val("panel_length", panels.panel_lengths(span_coordinate(geometry)), units="m")
     if geometry.section_to_csn is not None:
         prob.set_val("section_to_csn", geometry.section_to_csn)
     else:
@@ -339,7 +410,8 @@ def set_geometry(prob: om.Problem, geometry: WingGeometry, section: str = "box")
         prob.set_val("nonstructural_mass_per_length", geometry.nonstructural_mass_per_length, units="kg/m")
 
 
-def run_sizing(prob: om.Problem, load_cases, driver_desc: str, *, optimize=True, section="box") -> dict:
+def run_sizing(prob: om.Problem, load_cases, driver_desc: str, *, optimize=True, section="box", panels=None,
+               geometry=None) -> dict:
     """Run the driver (or the model) and return the JSON-ready summary."""
     t0 = _time.perf_counter()
     if optimize:
@@ -349,7 +421,8 @@ def run_sizing(prob: om.Problem, load_cases, driver_desc: str, *, optimize=True,
         prob.run_model()
         success = True
     wall = _time.perf_counter() - t0
-    return summarize(prob, load_cases, driver_desc, success=success, wall_s=wall, section=section)
+    return summarize(prob, load_cases, driver_desc, success=success, wall_s=wall, section=section, panels=panels,
+                     geometry=geometry)
 
 
 def station_values(prob, name: str) -> np.ndarray:
@@ -360,13 +433,14 @@ def station_values(prob, name: str) -> np.ndarray:
         return prob.get_val(name, units="m")
 
 
-def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, section="box") -> dict:
-    ks = {c.name: {f: float(prob.get_val(f"cases.{c.name}.ks_{f}")[0]) for f in c.families}
+def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, section="box", panels=None,
+              geometry=None) -> dict:
+    ks = {c.name: {f: float(prob.get_val(f"cases.{c.name}.ks_{f}")[0]) for f in case_families(c, section)}
           for c in load_cases}
     out = {
         "success": bool(success),
         "mass_kg": float(prob.get_val("mass", units="kg")[0]),
-        **({"thickness": {w[2:]: station_values(prob, w).tolist() for w in WALL_VARS}} if section == "box"
+        **({"thickness": {w[2:]: station_values(prob, w).tolist() for w in WALL_VARS}} if section in BOX_KINDS
            else {"width": station_values(prob, "width").tolist(),
                  "height": station_values(prob, "height").tolist()}),
         "ks": ks,
@@ -393,7 +467,20 @@ def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, sectio
         if flutter > -1e-3:
             out["active_constraints"].append("flutter_ks")
     out["max_ks"] = float(worst)
+    if panels is not None:
+        from wingmdao.panel_results import mass_breakdown, panel_summary
+
+        out["panels"] = panel_summary(prob, load_cases, panels)
+        out["mass_breakdown_kg"] = mass_breakdown(prob, geometry, panels)
     return out
+
+
+def case_families(case, section: str = "box") -> tuple:
+    """The KS families of a load case: its stress families, and with stiffened panels the panel
+    modes (components.panels.PANEL_FAMILIES)."""
+    if section != "stiffened":
+        return tuple(case.families)
+    return tuple(case.families) + tuple(f for f in PANEL_FAMILIES if f not in case.families)
 
 
 def _flutter_ks(prob):
@@ -466,7 +553,7 @@ def size_case(setup, *, optimize: bool = True, parallel: bool | None = None, com
     check_memory(mine, setup.geometry.num_nodes)  # before any solve
     prob, desc = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
                                driver=optimize, parallel=parallel, section=setup.section, comm=comm,
-                               flutter=setup.flutter)
+                               flutter=setup.flutter, panels=setup.panels)
     return prob, presize_and_size(prob, setup, desc, optimize=optimize)
 
 
@@ -475,10 +562,11 @@ def presize_and_size(prob, setup, desc: str, *, optimize: bool = True) -> dict:
     optimizing; :func:`presize_fully_stressed`), then :func:`run_sizing`; the result dict has the
     passes' time in ``wall_s`` and their history in ``presize``."""
     pre = {"passes": 0}
-    if optimize and setup.options.presize > 0 and setup.section == "box":
+    if optimize and setup.options.presize > 0 and setup.section in BOX_KINDS:
         pre = presize_fully_stressed(prob, setup.load_cases, setup.geometry, setup.options,
                                      setup.options.presize, progress=setup.options.progress)
-    result = run_sizing(prob, setup.load_cases, desc, optimize=optimize, section=setup.section)
+    result = run_sizing(prob, setup.load_cases, desc, optimize=optimize, section=setup.section, panels=setup.panels,
+                        geometry=setup.geometry)
     if pre["passes"]:
         result["wall_s"] += pre["wall_s"]
         result["presize"] = pre

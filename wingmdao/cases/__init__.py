@@ -39,9 +39,10 @@ class CaseSetup:
     load_cases: list
     material: object  # wingmdao.materials.Material
     options: object  # wingmdao.sizing.SizingOptions
-    section: str = "box"  # "box" or "solid"
+    section: str = "box"  # "box", "stiffened" (with panels) or "solid"
     notes: list = field(default_factory=list)
     flutter: dict | None = None  # FlutterDamping options (wingmdao.stability.cases.sizing_flutter_options)
+    panels: object = None  # wingmdao.panels.layout.PanelLayout with section "stiffened"
 
 
 #: Most time steps of one march: states, their adjoint, residual Jacobian blocks and stresses are

@@ -48,6 +48,8 @@ PITCH_MODES = ("fixed", "free")
 #: the aircraft data free pitch needs (no defaults: the case has no tail, CG or pitch inertia)
 PITCH_REQUIRED = ("pitch_inertia", "cg_x", "tail_arm", "tail_area", "tail_lift_slope")
 GUST_SIGNS = ("up", "down", "both")
+#: wall models: unstiffened plates (strength only) or stiffened skins with buckling and ribs
+PANEL_MODELS = ("unstiffened", "stiffened")
 
 
 @dataclass(frozen=True)
@@ -85,6 +87,8 @@ class PegasusOptions(CaseOptions):
     gust_gradient_count: int | None = None
     gust_sign: str | None = field(default=None, metadata={"choices": GUST_SIGNS})
     load_history: str | None = None  # path of a .npz/.csv load history
+    panels: str = field(default="unstiffened", metadata={"choices": PANEL_MODELS})
+    stiffener_pitch: float = 0.15  # m
 
 
 OPTIONS = PegasusOptions
@@ -154,6 +158,12 @@ def add_arguments(p):
     p.add_argument("--load-history", metavar="FILE",
                    help="gust case from a load time history file (.npz or .csv on the 20 beam nodes, "
                         "format in docs/loads.md, e.g. exported from a Nastran SOL 146 run) instead of strip theory")
+    s = p.add_argument_group("stiffened panels (docs/panels.md)")
+    s.add_argument("--panels", choices=PANEL_MODELS,
+                   help="wall model: unstiffened plates sized for strength (von Mises) or stiffened: blade "
+                        "stiffeners on both skins with skin, panel, stiffener and spar-web buckling (safety factor "
+                        "1.5 on the loads), ribs at the case's rib stations and the sizing rules")
+    s.add_argument("--stiffener-pitch", type=float, metavar="M", help="stiffener spacing on both skins (m)")
     set_parser_defaults(p, PegasusOptions)
 
 
@@ -449,7 +459,38 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
                                           weight_lb))
             cases.insert(1, maneuver_case("maneuver_neg", opts.negative_load_factor, geometry, chord, axis_frac,
                                           families, pf, weight_lb))
-    return CaseSetup(geometry, cases, ALUMINIUM, sizing, notes=notes)
+    setup = CaseSetup(geometry, cases, ALUMINIUM, sizing, notes=notes)
+    if opts.panels == "stiffened":
+        stiffen(setup, pf, opts.stiffener_pitch)
+    return setup
+
+
+#: stiffener bounds and start (m): web height and thickness (Niu, Airframe Structural Design,
+#: Ch. 14: the web aspect rule 5 <= h/ts <= 30 within these)
+STIFFENER_BOUNDS = {"h": (0.015, 0.10, 0.04), "t": (1e-3, 8e-3, 3e-3)}
+RIB_THICKNESS = 2e-3  # m (assumed)
+
+
+def stiffen(setup, pf=PLANFORM, pitch: float = 0.15):
+    """Make ``setup`` a stiffened sizing (in place): section ``"stiffened"``, blade stiffeners at
+    ``pitch`` on both skins, ribs at the planform's rib stations and a centreline rib (assumed:
+    it closes the centre-box bay and is counted whole in the half-wing's mass), all
+    :data:`RIB_THICKNESS` thick, safety factor 1.5 on buckling, the stiffener bounds of
+    :data:`STIFFENER_BOUNDS`."""
+    from wingmdao.panels.layout import STIFFENER_VARS, PanelLayout
+
+    if not (np.isfinite(pitch) and pitch > 0):
+        raise ValueError(f"--stiffener-pitch = {pitch} m; allowed range (0, inf) m")
+    ribs = pf.station_y()
+    setup.panels = PanelLayout(rib_positions=tuple(ribs), stiffener_pitch=float(pitch), shape="blade",
+                               safety_factor=1.5, rib_thickness=RIB_THICKNESS)
+    setup.section = "stiffened"
+    setup.options.maxiter = max(setup.options.maxiter, 400)   # 8 variables per station: SLSQP needs ~260
+    for name in STIFFENER_VARS:
+        lo, up, start = STIFFENER_BOUNDS[name[0]]
+        setup.options.lower[name], setup.options.upper[name], setup.options.initial[name] = lo, up, start
+    setup.notes.append(f"stiffened panels: blade stiffeners at {pitch * 1e3:.0f} mm on both skins, {len(ribs)} ribs "
+                       f"{RIB_THICKNESS * 1e3:.0f} mm thick (assumed), safety factor 1.5 on buckling")
 
 
 def gust_damping(zeta, frequency_hz, geometry, options):
@@ -512,13 +553,16 @@ def initial_thickness(num_nodes: int = 20) -> dict:
     return {w: np.full(int(num_nodes), 0.01) for w in WALL_VARS}
 
 
-def beam_params(num_nodes: int = 20, thickness: dict | None = None) -> dict:
+def beam_params(num_nodes: int = 20, thickness: dict | None = None, panels=None) -> dict:
     """Beam parameter dict (``wingmdao.beam.residual.param_specs``) of the PEGASUS wing, SI.
 
     ``thickness``: ``{wall: (num_nodes,) m}`` per node, walls ``t_upper_skin, t_lower_skin,
     t_front_spar, t_rear_spar`` (keys without the ``t_`` prefix accepted, as a sizing JSON writes
     them); default :func:`initial_thickness`. Sections from :func:`wingmdao.section.box.box_properties`
     (aluminium, engines as smeared non-structural mass), the same as the sizing model's.
+    ``panels`` (a :class:`~wingmdao.panels.layout.PanelLayout`): the design is stiffened and
+    ``thickness`` also holds the stiffener variables ``h_upper_stiffener`` ... (m per node),
+    smeared into the sections as the stiffened sizing does.
     """
     from wingmdao.materials import ALUMINIUM
     from wingmdao.section.box import box_properties, validate_box
@@ -537,7 +581,18 @@ def beam_params(num_nodes: int = 20, thickness: dict | None = None) -> dict:
             raise ValueError(f"thickness {w!r}: {v.size} stations, the {n}-node PEGASUS beam needs {n}")
         walls.append(v)
     validate_box(geo.width, geo.height, *walls, source="thickness")
-    pr = box_properties(geo.width, geo.height, *walls, ALUMINIUM, None, geo.nonstructural_mass_per_length)
+    stringers = None
+    if panels is not None:
+        from wingmdao.panels.layout import STIFFENER_VARS, smeared_stringer
+
+        missing = [k for k in STIFFENER_VARS if k not in t]
+        if missing:
+            raise ValueError(f"thickness: a stiffened design needs {', '.join(missing)} (m per node)")
+        st = {k: np.asarray(t[k], dtype=float).ravel() for k in STIFFENER_VARS}
+        stringers = tuple(smeared_stringer(st[f"h_{s}_stiffener"], st[f"t_{s}_stiffener"], panels.stiffener_pitch,
+                                           panels.shape, panels.flange_ratio) for s in ("upper", "lower"))
+    pr = box_properties(geo.width, geo.height, *walls, ALUMINIUM, None, geo.nonstructural_mass_per_length,
+                        stringers=stringers)
     return {"node_positions": geo.node_positions, "node_euler_angles": geo.node_euler_angles,
             "stiffness_csn": np.asarray(pr["stiffness_csn"]), "compliance_csn": np.asarray(pr["compliance_csn"]),
             "tension_axis": np.column_stack([pr["c_ea"], pr["n_ea"]]),

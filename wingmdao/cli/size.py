@@ -70,7 +70,7 @@ def run_stem(args) -> str:
 
 
 def _plot_paths(stem, setup):
-    paths = [f"{stem}_thickness.png"]
+    paths = [f"{stem}_thickness.png"] + ([f"{stem}_panels.png"] if setup.panels is not None else [])
     for case in setup.load_cases:
         if getattr(case, "time", None) is not None:
             paths += [f"{stem}_{case.name}_stress.png", f"{stem}_{case.name}_loads.png"]
@@ -135,7 +135,7 @@ def run_size(args) -> int:
     check_memory(mine, setup.geometry.num_nodes)  # before any solve: this rank's marches must fit
     prob, desc = sizing.build_problem(setup.geometry, setup.load_cases, setup.material, opts,
                                       driver=optimize, section=setup.section, comm=comm or False,
-                                      flutter=setup.flutter)
+                                      flutter=setup.flutter, panels=setup.panels)
     import openmdao.api as om
 
     interrupted = failed = False
@@ -167,7 +167,7 @@ def run_size(args) -> int:
                  "the JSON and the recording are written")
             plots_on = False
     if root and not (interrupted or failed):
-        _add_flutter_result(result, args, setup)
+        _add_flutter_result(result, args, setup, prob)
     if root and len(setup.load_cases) > 1 and not (interrupted or failed):
         # an envelope: critical case per station, envelopes, potato plots
         from wingmdao.envelope import format_critical_table, write_envelope_outputs
@@ -184,7 +184,7 @@ def run_size(args) -> int:
         try:
             from wingmdao.results import write_case_plots
 
-            result["plots"] = write_case_plots(prob, setup, stem) + result.get("plots", [])
+            result["plots"] = write_case_plots(prob, setup, stem, result) + result.get("plots", [])
         except ImportError as exc:
             warn(f"plots skipped ({exc}); the JSON and the recording are written")
         else:
@@ -205,7 +205,7 @@ def run_size(args) -> int:
     return 0 if result["success"] else 1
 
 
-def _add_flutter_result(result, args, setup) -> None:
+def _add_flutter_result(result, args, setup, prob) -> None:
     """``dive_speed_m_s`` and the result's ``flutter_speed_m_s`` (a sweep and refinement at the
     design, :func:`wingmdao.stability.cases.flutter_search`) for cases with aerodynamic data."""
     import time
@@ -225,7 +225,14 @@ def _add_flutter_result(result, args, setup) -> None:
     if args.no_flutter_search:
         return
     t0 = time.perf_counter()
-    found = flutter_search(name, setup.geometry.num_nodes, result["thickness"])
+    design = dict(result["thickness"])
+    if setup.panels is not None:   # the stiffened design: its stiffeners are in the sections too
+        from wingmdao.panels.layout import STIFFENER_VARS
+
+        from wingmdao.sizing import station_values
+
+        design.update({k: station_values(prob, k) for k in STIFFENER_VARS})
+    found = flutter_search(name, setup.geometry.num_nodes, design, panels=setup.panels)
     result["flutter_speed_m_s"] = found["flutter_speed"]
     result["flutter_frequency_rad_s"] = found["flutter_frequency"]
     result["divergence_speed_m_s"] = found["divergence_speed"]
@@ -257,7 +264,8 @@ def _interrupted_result(prob, setup, desc, recording, interrupted=True) -> dict:
     from wingmdao import sizing
 
     try:
-        result = sizing.summarize(prob, setup.load_cases, desc, success=False, section=setup.section)
+        result = sizing.summarize(prob, setup.load_cases, desc, success=False, section=setup.section,
+                                  panels=setup.panels, geometry=setup.geometry)
     except Exception as exc:  # the interrupt may have come before the first evaluation finished
         result = {"success": False, "message": f"no evaluated design ({exc})"}
     result.update(success=False, interrupted=interrupted)
@@ -313,7 +321,7 @@ def run_n2(args) -> int:
     refuse_existing([path], overwrite=args.overwrite, what="N2 diagram")
     setup = args.case_module.build(options_from_namespace(args.case_module.OPTIONS, args))
     prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
-                            driver=True, section=setup.section)
+                            driver=True, section=setup.section, panels=setup.panels)
     om.n2(prob, outfile=path, show_browser=False)
     say(f"wrote {path}")
     return 0

@@ -30,6 +30,7 @@ import openmdao.api as om
 from wingmdao.beam.residual import forcing_specs
 from wingmdao.groups.load_case import FORCING_SHAPES, LoadCase
 from wingmdao.materials import Material
+from wingmdao.panels.layout import STIFFENER_VARS, PanelLayout
 from wingmdao.section.box import WALL_NAMES
 from wingmdao.stress.box_stress import SECTION_PROPERTIES
 
@@ -43,7 +44,13 @@ SECTION_KINDS = {
     "box": {"stress_inputs": ("width", "height") + WALLS, "design_vars": WALLS,
             "section_to_stress": SECTION_PROPERTIES},
     "solid": {"stress_inputs": ("width", "height"), "design_vars": ("width", "height"), "section_to_stress": ()},
+    # the box with stiffened skins (wingmdao.panels): the stress of the box plus the panel modes
+    "stiffened": {"stress_inputs": ("width", "height") + WALLS, "design_vars": WALLS + STIFFENER_VARS,
+                  "section_to_stress": SECTION_PROPERTIES},
 }
+
+#: section kinds whose walls are a box's (thickness design variables, box stress recovery)
+BOX_KINDS = ("box", "stiffened")
 
 
 def _section_classes(kind):
@@ -52,6 +59,11 @@ def _section_classes(kind):
         from wingmdao.components.stress import BoxStress
 
         return BoxSection, BoxStress
+    if kind == "stiffened":
+        from wingmdao.components.panels import StiffenedBoxSection
+        from wingmdao.components.stress import BoxStress
+
+        return StiffenedBoxSection, BoxStress
     if kind == "solid":
         from wingmdao.components.section import SolidRectSection
         from wingmdao.components.solid_stress import SolidRectStress
@@ -149,6 +161,8 @@ class WingStructure(om.Group):
                                   "(False: promoted inputs, set or connected from outside)")
         self.options.declare("add_constraints", default=False, types=bool,
                              desc="add every ks_<family> as a constraint ks <= 0")
+        self.options.declare("panels", default=None, allow_none=True, types=PanelLayout,
+                             desc="stiffened panels (section 'stiffened'): pitch, shape, safety factor, ribs")
         self.options.declare("forcing_as_data", default=False, types=bool,
                              desc="the case's beam forcing arrays (FORCING_META) as data of the beam "
                                   "(TimeHistoryComponent forcing_data), not promoted inputs: fixed loads "
@@ -249,7 +263,7 @@ class WingStructure(om.Group):
 
         # the box stress takes the section properties from the section component (computed once
         # per station, not at every time step)
-        stress_kwargs = {"output_stresses": False, "section_properties": True} if kind == "box" else {}
+        stress_kwargs = {"output_stresses": False, "section_properties": True} if kind in BOX_KINDS else {}
         self.add_subsystem("stress", stress_cls(num_times=nt, num_stations=n,
                                                 material=self.options["material"],
                                                 families=tuple(case.families), inputs_by_conn=True,
@@ -260,14 +274,36 @@ class WingStructure(om.Group):
         self.connect("internal_loads.M_csn", "stress.M_csn")
 
         points = stress_points(kind, case.families)
+        if kind == "stiffened":
+            points.update(self._add_panel_failure(nt, n))
         shapes = {fam: (nt, n, k) for fam, k in points.items()}
         # the per-step inputs of loads, stress and KS are shaped by their connections: no default
         # value of their own (18 MB at 20 nodes x 4001 steps, docs/gust-envelope.md)
         self.add_subsystem("ks", KSAggregate(families=shapes, rho_ks=self.options["rho_ks"], g_by_conn=True,
                                              add_constraints=self.options["add_constraints"]),
-                           promotes_outputs=[f"ks_{f}" for f in case.families])
+                           promotes_outputs=[f"ks_{f}" for f in points])
         for fam in case.families:
             self.connect(f"stress.g_{fam}", f"ks.g_{fam}")
+        for fam in points:
+            if fam not in case.families:
+                self.connect(f"panels.g_{fam}", f"ks.g_{fam}")
+
+    def _add_panel_failure(self, nt, n) -> dict:
+        """The panel failure ratios of the stiffened box (PanelFailure); returns their families'
+        points per station."""
+        from wingmdao.components.panels import PANEL_FAMILIES, PanelFailure
+
+        layout = self.options["panels"]
+        if layout is None:
+            raise ValueError("WingStructure: section 'stiffened' needs the panels option (a PanelLayout)")
+        self.add_subsystem("panels", PanelFailure(
+            num_times=nt, num_stations=n, material=self.options["material"], safety_factor=layout.safety_factor,
+            stiffener_pitch=layout.stiffener_pitch, shape=layout.shape, flange_ratio=layout.flange_ratio,
+            inputs_by_conn=True),
+            promotes_inputs=["width", "height", *WALLS, *STIFFENER_VARS, "panel_length", *SECTION_PROPERTIES])
+        self.connect("internal_loads.F_csn", "panels.F_csn")
+        self.connect("internal_loads.M_csn", "panels.M_csn")
+        return dict(PANEL_FAMILIES)
 
 
 class WingSizing(om.Group):
@@ -309,6 +345,10 @@ class WingSizing(om.Group):
         self.options.declare("forcing_as_data", default=False, types=bool,
                              desc="every case's beam forcing as data of its beam (WingStructure "
                                   "forcing_as_data; set_case_loads then sets only the aerodynamic forcing)")
+        self.options.declare("panels", default=None, allow_none=True, types=PanelLayout,
+                             desc="stiffened panels and ribs (section 'stiffened'; wingmdao.panels.layout)")
+        self.options.declare("rib_stations", default=None, allow_none=True, types=(list, tuple, np.ndarray),
+                             desc="station index of each rib (section 'stiffened': the ribs' mass)")
         self.options.declare("proxy_cases", default=False, types=bool,
                              desc="a subclass adds the cases to cases_group itself (wingmdao.parallel); "
                                   "load_cases may then be empty")
@@ -336,21 +376,30 @@ class WingSizing(om.Group):
             self.add_subsystem("design_map", StationMap(station_map=self.options["station_map"], names=design),
                                promotes=["*"])
             alias = [(d, f"{d}_station") for d in design]
-        self.add_subsystem("section", section_cls(num_stations=n, material=mat),
+        layout = self.options["panels"]
+        if (kind == "stiffened") != (layout is not None):
+            raise ValueError("WingSizing: the panels option (a PanelLayout) goes with section 'stiffened' "
+                             f"and only with it; section = {kind!r}, panels = {layout!r}")
+        section_kwargs = {} if layout is None else dict(
+            stiffener_pitch=layout.stiffener_pitch, shape=layout.shape, flange_ratio=layout.flange_ratio)
+        self.add_subsystem("section", section_cls(num_stations=n, material=mat, **section_kwargs),
                            promotes_inputs=alias + ["*"], promotes_outputs=["*"])
         add_section_offsets(self, n, promotes_outputs=["*"])
         self.add_subsystem("mass_calc", StructuralMass(num_nodes=n, density=mat.rho),
                            promotes_inputs=["A", "node_positions"],
-                           promotes_outputs=["mass"])
+                           promotes_outputs=[("mass", "box_mass") if layout is not None else "mass"])
+        if layout is not None:
+            self._add_panel_parts(n, layout, design, bool(alias))
 
         # inputs shared by several components get one default (units and shape)
         self.set_input_defaults("node_positions", val=np.zeros((n, 3)), units="m")
         if not self.options["proxy_cases"]:  # only the beams of the cases take the jig angles
             self.set_input_defaults("node_euler_angles", val=np.zeros((n, 3)), units="rad")
         n_dv = n if self.options["station_map"] is None else int(np.max(self.options["station_map"])) + 1
-        for name in SECTION_KINDS[kind]["stress_inputs"]:
+        per_station = SECTION_KINDS[kind]["stress_inputs"] + (STIFFENER_VARS if layout is not None else ())
+        for name in per_station:
             shape = (n_dv,) if (name in design and alias) else (n,)
-            self.set_input_defaults(name, val=np.ones(shape), units="m")
+            self.set_input_defaults(name, val=np.ones(shape) * (0.01 if name in STIFFENER_VARS else 1.0), units="m")
 
         parallel = self.options["parallel"]
         if parallel is None:
@@ -358,7 +407,8 @@ class WingSizing(om.Group):
 
             parallel = importlib.util.find_spec("mpi4py") is not None
         alias_map = dict(alias)
-        case_inputs = [(v, alias_map[v]) if v in alias_map else v for v in SECTION_KINDS[kind]["stress_inputs"]]
+        case_inputs = [(v, alias_map[v]) if v in alias_map else v for v in per_station]
+        case_inputs += ["panel_length"] if layout is not None else []
         case_inputs += ["node_positions", "node_euler_angles", *SECTION_TO_BEAM,
                         "tension_axis", "shear_center", "mass_center", *SECTION_KINDS[kind]["section_to_stress"]]
         # only the shared inputs leave 'cases'; each case's forcing stays cases.<case>.<forcing>
@@ -369,13 +419,31 @@ class WingSizing(om.Group):
         for case in self.options["load_cases"]:
             cases.add_subsystem(case.name, WingStructure(
                 num_nodes=n, load_case=case, material=mat, rho_ks=self.options["rho_ks"],
-                section=kind, newton_options=self.options["newton_options"],
+                section=kind, newton_options=self.options["newton_options"], panels=layout,
                 add_constraints=self.options["add_constraints"], forcing_as_data=self.options["forcing_as_data"]),
                 promotes_inputs=case_inputs)
         if self.options["flutter"] is not None:
             self._add_flutter(n)
         if self.options["add_objective"]:
             self.add_objective("mass", ref=self.options["mass_ref"])
+
+    def _add_panel_parts(self, n, layout, design, mapped):
+        """Ribs' mass, total mass (box + ribs) and the linear sizing rules of the stiffened box."""
+        from wingmdao.components.panels import RibMass, SizingRules
+
+        ribs = self.options["rib_stations"] if self.options["rib_stations"] is not None else ()
+        self.add_subsystem("rib_mass_calc", RibMass(num_nodes=n, rib_stations=list(ribs),
+                                                    rib_thickness=layout.rib_thickness,
+                                                    density=self.options["material"].rho),
+                           promotes_inputs=["width", "height"], promotes_outputs=["rib_mass"])
+        total = om.AddSubtractComp()
+        total.add_equation("mass", ["box_mass", "rib_mass"], units="kg",
+                           desc="structural mass: box walls, stiffeners and ribs")
+        self.add_subsystem("mass_total", total, promotes=["*"])
+        n_dv = n if self.options["station_map"] is None else int(np.max(self.options["station_map"])) + 1
+        self.add_subsystem("rules", SizingRules(num_stations=n_dv, adjacency=tuple(design)),
+                           promotes_inputs=list(design))
+        self.set_input_defaults("panel_length", val=np.full(n, 0.5), units="m")
 
     #: scaling reference of the flutter constraint (1/s: a decay rate)
     FLUTTER_REF = 0.1

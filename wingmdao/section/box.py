@@ -48,16 +48,18 @@ def sqrt(x):
 
 
 # --------------------------------------------------------------------------- walls
-def box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar):
+def box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers=None):
     """The four wall rectangles (Eq. F.2-F.24): list of (area, c, n, i_own_nn, i_own_cc).
 
     ``i_own_nn`` = integral of (n - n_wall)^2 over the wall (its own vertical-bending second
     moment, e.g. w t^3/12 for a skin, Eq. F.9); ``i_own_cc`` = integral of (c - c_wall)^2
     (e.g. w^3 t/12, Eq. F.10). Order: upper skin, front spar, lower skin, rear spar (F: 1-4).
+    With ``stringers`` (:func:`stringer_layers`) the two smeared stiffener layers of the skins
+    follow (upper, lower).
     """
     h_web = h - t_upper_skin - t_lower_skin
     n_web = 0.5 * (t_lower_skin - t_upper_skin)
-    return [
+    walls = [
         (w * t_upper_skin, 0.0 * w, 0.5 * (h - t_upper_skin), w * t_upper_skin**3 / 12.0, w**3 * t_upper_skin / 12.0),
         (t_front_spar * h_web, 0.5 * (t_front_spar - w), n_web, t_front_spar * h_web**3 / 12.0,
          t_front_spar**3 * h_web / 12.0),
@@ -65,25 +67,42 @@ def box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar):
         (t_rear_spar * h_web, 0.5 * (w - t_rear_spar), n_web, t_rear_spar * h_web**3 / 12.0,
          t_rear_spar**3 * h_web / 12.0),
     ]
+    if stringers is not None:
+        walls += stringer_layers(w, h, t_upper_skin, t_lower_skin, stringers)
+    return walls
 
 
-def box_area(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar):
+def stringer_layers(w, h, t_upper_skin, t_lower_skin, stringers):
+    """The skins' stiffeners smeared into two layers across the box width (Sec. 4.1's smearing,
+    closed form): ``stringers = ((a_u, d_u, i_u), (a_l, d_l, i_l))`` gives, per skin, the
+    stiffener area per unit width a (m), the depth d of the stiffeners' centroid below the skin's
+    inner face (m) and their own second moment per unit width about that centroid i (m^3).
+    Each layer is (area, c, n, i_own_nn, i_own_cc) as in :func:`box_walls`: area w a at
+    n = +-(h/2 - t - d), own moments w i and w^3 a / 12. The layers carry axial stress and
+    bending only; shear flows stay in the skins and webs (torsion constant, shear areas and
+    shear centre of the bare box; docs/panels.md)."""
+    (a_u, d_u, i_u), (a_l, d_l, i_l) = stringers
+    return [(w * a_u, 0.0 * w, 0.5 * h - t_upper_skin - d_u, w * i_u, w**3 * a_u / 12.0),
+            (w * a_l, 0.0 * w, t_lower_skin + d_l - 0.5 * h, w * i_l, w**3 * a_l / 12.0)]
+
+
+def box_area(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers=None):
     """Material area A (Eq. F.1-F.5), m^2."""
-    return sum(a for a, *_ in box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar))
+    return sum(a for a, *_ in box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers))
 
 
-def box_centroid(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar):
+def box_centroid(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers=None):
     """Modulus-weighted centroid (c_ea, n_ea) from the box centre (Eq. F.25-F.26), m.
 
     One material, so E cancels and this is the area centroid; it is also the mass centre
     (Eq. F.34-F.35) and the tension axis.
     """
-    walls = box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar)
+    walls = box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers)
     area = sum(a for a, *_ in walls)
     return sum(a * c for a, c, *_ in walls) / area, sum(a * n for a, _, n, *_ in walls) / area
 
 
-def box_inertia(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar):
+def box_inertia(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers=None):
     """(Ixx, Izz, Ixz) about the centroid (Eq. F.6-F.8 corrected), m^4.
 
     Ixx = int (n - n_ea)^2 dA (vertical bending), Izz = int (c - c_ea)^2 dA (chordwise
@@ -92,7 +111,7 @@ def box_inertia(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar):
     parallel-axis term by the total area A_i; here each wall's own area is used (parallel-axis
     theorem), and F.8's leading minus (the tensor form) is moved to EI_cn = -E Ixz.
     """
-    walls = box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar)
+    walls = box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers)
     area = sum(a for a, *_ in walls)
     c0 = sum(a * c for a, c, *_ in walls) / area
     n0 = sum(a * n for a, _, n, *_ in walls) / area
@@ -190,7 +209,7 @@ def box_shear_centre(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar
     return -m_unit_vn, m_unit_vc
 
 
-def box_first_moments(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar):
+def box_first_moments(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers=None):
     """(Qx, Qz): first moments of area for the V Q / (I t) shear (Eq. F.32-F.33 corrected), m^3.
 
     Qx: area above the horizontal centroidal axis n = n_ea about that axis (vertical shear):
@@ -199,13 +218,20 @@ def box_first_moments(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spa
         t_f h_web (w/2 + c_ea - t_f/2) + (t_u + t_l)(w/2 + c_ea)^2 / 2, h_web = h - t_u - t_l
     (skins span the full width, Eq. F.2/F.4; the scan's F.33 uses h and t_left instead).
     Valid while the centroidal axes cross the webs and skins, i.e. for any practical box.
+    With ``stringers`` (:func:`stringer_layers`) the upper layer adds w a_u (n_u - n_ea) to Qx
+    (it lies above the axis) and both layers add (a_u + a_l)(w/2 + c_ea)^2 / 2 to Qz.
     """
-    c0, n0 = box_centroid(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar)
+    c0, n0 = box_centroid(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers)
     h_web = h - t_upper_skin - t_lower_skin
     q_x = (w * t_upper_skin * (0.5 * h - 0.5 * t_upper_skin - n0)
            + 0.5 * (t_front_spar + t_rear_spar) * (0.5 * h - t_upper_skin - n0) ** 2)
     q_z = (t_front_spar * h_web * (0.5 * w + c0 - 0.5 * t_front_spar)
            + 0.5 * (t_upper_skin + t_lower_skin) * (0.5 * w + c0) ** 2)
+    if stringers is not None:
+        (a_u, _, _), (a_l, _, _) = stringers
+        upper = stringer_layers(w, h, t_upper_skin, t_lower_skin, stringers)[0]
+        q_x = q_x + upper[0] * (upper[2] - n0)
+        q_z = q_z + 0.5 * (a_u + a_l) * (0.5 * w + c0) ** 2
     return q_x, q_z
 
 
@@ -281,15 +307,20 @@ def beam_data(props: dict, material, section_to_csn=None, nonstructural_mass_per
 
 
 def box_properties(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, material,
-                   section_to_csn=None, nonstructural_mass_per_length=0.0) -> dict:
-    """All box section outputs (names as in ``BoxSection``) for one material."""
+                   section_to_csn=None, nonstructural_mass_per_length=0.0, stringers=None) -> dict:
+    """All box section outputs (names as in ``BoxSection``) for one material.
+
+    ``stringers``: the skins' smeared stiffeners (:func:`stringer_layers`); they add to the area,
+    centroid, bending moments of area, first moments and mass; torsion constant, shear areas and
+    shear centre are those of the bare box (the stiffeners carry no shear flow).
+    """
     args = (w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar)
-    c_ea, n_ea = box_centroid(*args)
+    c_ea, n_ea = box_centroid(*args, stringers)
     c_sc, n_sc = box_shear_centre(*args)
-    i_xx, i_zz, i_xz = box_inertia(*args)
-    q_x, q_z = box_first_moments(*args)
+    i_xx, i_zz, i_xz = box_inertia(*args, stringers)
+    q_x, q_z = box_first_moments(*args, stringers)
     k_c, k_n = box_shear_areas(*args)
-    props = {"A": box_area(*args), "Ixx": i_xx, "Izz": i_zz, "Ixz": i_xz, "J": box_torsion_constant(*args),
+    props = {"A": box_area(*args, stringers), "Ixx": i_xx, "Izz": i_zz, "Ixz": i_xz, "J": box_torsion_constant(*args),
              "c_ea": c_ea, "n_ea": n_ea, "c_sc": c_sc, "n_sc": n_sc, "c_cg": c_ea, "n_cg": n_ea,
              "Qx": q_x, "Qz": q_z, "K_c": k_c, "K_n": k_n}
     return beam_data(props, material, section_to_csn, nonstructural_mass_per_length)

@@ -88,12 +88,14 @@ class FlutterProblem:
         return w
 
 
-def flutter_problem(name: str, num_nodes: int | None = None, thickness: dict | None = None) -> FlutterProblem:
+def flutter_problem(name: str, num_nodes: int | None = None, thickness: dict | None = None,
+                    panels=None) -> FlutterProblem:
     """The aeroelastic flutter problem of case ``name`` (one of :data:`FLUTTER_CASES`).
 
     ``num_nodes``: beam nodes (default :data:`DEFAULT_NODES`). ``thickness`` (PEGASUS only):
     ``{wall: (num_nodes,) m}`` wall thicknesses per node (default: the sizing's initial design),
-    e.g. the ``thickness`` block of a ``wingmdao size pegasus`` JSON.
+    e.g. the ``thickness`` block of a ``wingmdao size pegasus`` JSON; with ``panels`` (a stiffened
+    design's PanelLayout) it also holds the stiffener variables.
     """
     import importlib
 
@@ -108,7 +110,7 @@ def flutter_problem(name: str, num_nodes: int | None = None, thickness: dict | N
 
     mod = importlib.import_module(f"wingmdao.cases.{name}")
     if name == "pegasus":
-        beam, aero = mod.beam_params(n, thickness), mod.aero_data(n)
+        beam, aero = mod.beam_params(n, thickness, panels), mod.aero_data(n)
     else:
         beam, aero = mod.beam_params(n), mod.aero_data()
     return FlutterProblem(name, n, beam, aero, cached_aeroelastic_system(n), mod.PUBLISHED,
@@ -150,13 +152,13 @@ def sizing_flutter_options(name: str, num_nodes: int, factor: float, *, rho_ks: 
 
 
 def flutter_search(name: str, num_nodes: int | None = None, thickness: dict | None = None, speeds=None,
-                   n_modes: int = 4) -> dict:
+                   n_modes: int = 4, panels=None) -> dict:
     """Sweep and refined flutter / divergence speeds of case ``name`` (thicknesses: PEGASUS);
     returns ``{"flutter_speed", "flutter_frequency", "divergence_speed", "sweep_max_speed", "sweep"}``
     (speeds None when not reached below the sweep's end ``sweep_max_speed``, m/s)."""
     from wingmdao.stability.eigen import critical_speeds, sweep
 
-    prob = flutter_problem(name, num_nodes, thickness)
+    prob = flutter_problem(name, num_nodes, thickness, panels)
     v = prob.speeds if speeds is None else np.asarray(speeds, dtype=float)
     res = sweep(prob.system, prob.params_at, v, n_track=int(n_modes), weights=prob.beam_weights(),
                 **prob.eig_options)

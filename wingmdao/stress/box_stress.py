@@ -143,3 +143,43 @@ def check_families(families) -> None:
     bad = [f for f in families if f not in FAMILIES]
     if bad or not len(families):
         raise ValueError(f"unknown stress constraint families {bad or list(families)}; valid: {', '.join(FAMILIES)}")
+
+
+#: the panel points of :func:`panel_running_loads`: each skin at its front and rear edge (the
+#: midline corners), each spar web at mid-height
+SKIN_PANEL_POINTS = ("upper_front", "upper_rear", "lower_front", "lower_rear")
+WEB_PANEL_POINTS = ("front", "rear")
+
+
+def panel_running_loads(force, moment, w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar,
+                        skin_axial_thickness, section, section_to_csn=None) -> dict:
+    """Running loads (N/m) of the walls as panels: ``nx_skin``, ``nxy_skin`` at
+    :data:`SKIN_PANEL_POINTS` and ``nx_web``, ``nxy_web`` at :data:`WEB_PANEL_POINTS`.
+
+    N_x = sigma t_axial: the axial stress (:func:`axial_stress`, compression negative) at the
+    point times the wall's area per width (a skin's ``skin_axial_thickness`` = (upper, lower)
+    skin plus smeared stiffener area per width; a web's own thickness). N_xy = tau t: the
+    flange-centre shear of the wall (torsion plus transverse shear, :func:`box_stresses`) times
+    its thickness, i.e. the wall's peak shear flow, used along the whole wall. ``section`` is
+    the station's SECTION_PROPERTIES (the stiffened section's, so the stiffeners share the
+    bending).
+    """
+    geometry = (w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar)
+    stresses = box_stresses(force, moment, *geometry, section_to_csn=section_to_csn, section=section)
+    force = _to_section(section_to_csn, force)
+    moment = _to_section(section_to_csn, moment)
+    sec = section_quantities(geometry, section)
+    c_front, c_rear, n_lower, n_upper = box_midline(*geometry)
+    tau = stresses["tau_cent"]
+    t_axial = {"upper": skin_axial_thickness[0], "lower": skin_axial_thickness[1]}
+    nx_skin, nxy_skin = [], []
+    for skin, n_skin, tau_skin, t_skin in (("upper", n_upper, tau[0], t_upper_skin),
+                                           ("lower", n_lower, tau[1], t_lower_skin)):
+        for c in (c_front, c_rear):
+            nx_skin.append(axial_stress(c, n_skin, force, moment, sec) * t_axial[skin])
+            nxy_skin.append(tau_skin * t_skin)
+    n_mid = 0.5 * (n_lower + n_upper)
+    nx_web = [axial_stress(c, n_mid, force, moment, sec) * t for c, t in ((c_front, t_front_spar),
+                                                                         (c_rear, t_rear_spar))]
+    nxy_web = [tau[2] * t_front_spar, tau[3] * t_rear_spar]
+    return {"nx_skin": nx_skin, "nxy_skin": nxy_skin, "nx_web": nx_web, "nxy_web": nxy_web}

@@ -1,0 +1,159 @@
+"""The stiffened box: smeared stiffener layers against the discrete stiffened section
+(sectionproperties), the components' partials, the sizing rules, the ribs' mass and the rib pitch."""
+
+import numpy as np
+import openmdao.api as om
+import pytest
+from openmdao.utils.assert_utils import assert_check_partials
+
+from wingmdao.components.panels import PanelFailure, RibMass, SizingRules, StiffenedBoxSection
+from wingmdao.materials import ALUMINIUM
+from wingmdao.panels.layout import PANEL_FAMILIES, STIFFENER_VARS, PanelLayout, rib_pitch_at_stations, smeared_stringer
+from wingmdao.section.box import WALL_NAMES, box_properties
+from wingmdao.stress.box_stress import SECTION_PROPERTIES
+
+W, H, TU, TL, TF, TR = 0.9, 0.25, 0.006, 0.004, 0.005, 0.003
+HS, TS, PITCH, N_STIFF = 0.04, 0.003, 0.15, 6   # W = N_STIFF * PITCH
+
+
+def test_smeared_layers_equal_the_discrete_stiffened_box():
+    """Area, centroid height and vertical bending of the smeared box equal those of the box with
+    N_STIFF discrete blades per skin (sectionproperties geometry, independent of our formulas);
+    the chordwise bending differs only by the stiffeners' discrete positions (a few %)."""
+    geometry_mod = pytest.importorskip("sectionproperties.pre.geometry")
+    from sectionproperties.analysis.section import Section
+    from shapely.geometry import box as rect
+    from shapely.ops import unary_union
+
+    parts = [rect(-W / 2, H / 2 - TU, W / 2, H / 2), rect(-W / 2, -H / 2, W / 2, -H / 2 + TL),
+             rect(-W / 2, -H / 2 + TL, -W / 2 + TF, H / 2 - TU), rect(W / 2 - TR, -H / 2 + TL, W / 2, H / 2 - TU)]
+    for k in range(N_STIFF):
+        c = -W / 2 + (k + 0.5) * PITCH
+        parts.append(rect(c - TS / 2, H / 2 - TU - HS, c + TS / 2, H / 2 - TU))
+        parts.append(rect(c - TS / 2, -H / 2 + TL, c + TS / 2, -H / 2 + TL + HS))
+    geom = geometry_mod.Geometry(unary_union(parts))
+    geom.create_mesh(mesh_sizes=[2e-5])
+    sec = Section(geom)
+    sec.calculate_geometric_properties()
+    area = sec.get_area()
+    cx, cy = sec.get_c()
+    ixx, iyy, _ = sec.get_ic()
+    layer = smeared_stringer(HS, TS, PITCH)
+    props = box_properties(W, H, TU, TL, TF, TR, ALUMINIUM, stringers=(layer, layer))
+    assert props["A"] == pytest.approx(area, rel=1e-9)
+    assert props["n_ea"] == pytest.approx(cy, abs=1e-9)
+    assert props["Ixx"] == pytest.approx(ixx, rel=1e-6)
+    assert props["Izz"] == pytest.approx(iyy, rel=0.05)
+    # the bare box keeps its torsion constant (stiffeners carry no shear flow)
+    assert props["J"] == box_properties(W, H, TU, TL, TF, TR, ALUMINIUM)["J"]
+
+
+def _design(prob, n, rng):
+    prob.set_val("width", rng.uniform(0.6, 1.0, n))
+    prob.set_val("height", rng.uniform(0.15, 0.3, n))
+    for i, w in enumerate(WALL_NAMES):
+        prob.set_val(w, rng.uniform(2e-3, 9e-3, n) * (1 + 0.3 * i))
+    for name in STIFFENER_VARS:
+        prob.set_val(name, rng.uniform(0.03, 0.06, n) if name.startswith("h_") else rng.uniform(2e-3, 4e-3, n))
+
+
+@pytest.mark.parametrize("shape", ["blade", "tee"])
+def test_stiffened_section_partials(shape):
+    n = 3
+    prob = om.Problem(reports=False)
+    prob.model.add_subsystem("section", StiffenedBoxSection(num_stations=n, material=ALUMINIUM, shape=shape,
+                                                            flange_ratio=0.6), promotes=["*"])
+    prob.setup(force_alloc_complex=True)
+    _design(prob, n, np.random.default_rng(3))
+    prob.set_val("nonstructural_mass_per_length", [5.0, 4.0, 3.0])   # a relative fd step needs a nonzero value
+    prob.run_model()
+    data = prob.check_partials(method="fd", form="central", step=1e-6, step_calc="rel", out_stream=None)
+    assert_check_partials(data, atol=1e-6, rtol=1e-5)
+
+
+def test_panel_failure_partials_and_ratios_scale_with_load():
+    nt, n = 2, 3
+    prob = om.Problem(reports=False)
+    prob.model.add_subsystem("section", StiffenedBoxSection(num_stations=n, material=ALUMINIUM), promotes_inputs=["*"])
+    prob.model.add_subsystem("panels", PanelFailure(num_times=nt, num_stations=n, material=ALUMINIUM,
+                                                    safety_factor=1.0),
+                             promotes_inputs=["width", "height", *WALL_NAMES, *STIFFENER_VARS, "panel_length",
+                                              "F_csn", "M_csn"])
+    for name in SECTION_PROPERTIES:
+        prob.model.connect(f"section.{name}", f"panels.{name}")
+    prob.setup(force_alloc_complex=True)
+    rng = np.random.default_rng(5)
+    _design(prob, n, rng)
+    prob.set_val("nonstructural_mass_per_length", [5.0, 4.0, 3.0])   # a relative fd step needs a nonzero value
+    prob.set_val("panel_length", rng.uniform(0.4, 0.8, n))
+    F = rng.normal(0, 3e4, (nt, n, 3))
+    M = rng.normal(0, 1e5, (nt, n, 3))
+    prob.set_val("F_csn", F)
+    prob.set_val("M_csn", M)
+    prob.run_model()
+    data = prob.check_partials(method="fd", form="central", step=1e-6, step_calc="rel", out_stream=None)
+    # central differences of O(1) ratios: truncation and round-off ~1e-6 on the small Ixz
+    assert_check_partials(data, atol=1e-5, rtol=2e-4)
+    g1 = {f: prob.get_val(f"panels.g_{f}").copy() for f in PANEL_FAMILIES}
+    prob.set_val("F_csn", 2 * F)
+    prob.set_val("M_csn", 2 * M)
+    prob.run_model()
+    for f in PANEL_FAMILIES:   # R = g + 1 is homogeneous of degree 1 in the loads
+        np.testing.assert_allclose(prob.get_val(f"panels.g_{f}") + 1.0, 2.0 * (g1[f] + 1.0), rtol=1e-6, atol=1e-6)
+
+
+def test_sizing_rules_values_and_partials():
+    n = 4
+    prob = om.Problem(reports=False)
+    prob.model.add_subsystem("rules", SizingRules(num_stations=n, adjacency=("t_upper_skin", "h_lower_stiffener")),
+                             promotes=["*"])
+    prob.setup(force_alloc_complex=True)
+    rng = np.random.default_rng(1)
+    vals = {name: rng.uniform(1e-3, 5e-2, n) for name in WALL_NAMES + STIFFENER_VARS}
+    for k, v in vals.items():
+        prob.set_val(k, v)
+    prob.run_model()
+    np.testing.assert_allclose(prob.get_val("stiffener_aspect_min")[0], 5 * vals["t_upper_stiffener"] - vals["h_upper_stiffener"])
+    np.testing.assert_allclose(prob.get_val("stiffener_aspect_max")[1], vals["h_lower_stiffener"] - 30 * vals["t_lower_stiffener"])
+    np.testing.assert_allclose(prob.get_val("stiffener_over_skin")[1], vals["t_lower_stiffener"] - 15 * vals["t_lower_skin"])
+    np.testing.assert_allclose(prob.get_val("adjacency_t_upper_skin"), np.diff(vals["t_upper_skin"]))
+    assert_check_partials(prob.check_partials(method="cs", out_stream=None), atol=1e-12, rtol=1e-10)
+
+
+def test_rib_mass_by_hand_and_partials():
+    prob = om.Problem(reports=False)
+    prob.model.add_subsystem("ribs", RibMass(num_nodes=4, rib_stations=[1, 2, 3], rib_thickness=0.002, density=2700.0),
+                             promotes=["*"])
+    prob.setup(force_alloc_complex=True)
+    prob.set_val("width", [1.0, 0.9, 0.8, 0.7])
+    prob.set_val("height", [0.3, 0.28, 0.26, 0.24])
+    prob.run_model()
+    assert prob.get_val("rib_mass")[0] == pytest.approx(2700 * 0.002 * (0.9 * 0.28 + 0.8 * 0.26 + 0.7 * 0.24))
+    assert_check_partials(prob.check_partials(method="cs", out_stream=None), atol=1e-12, rtol=1e-10)
+
+
+def test_rib_pitch_at_stations():
+    ribs = [-1.0, 1.0, 1.5, 2.5, 4.0]
+    y = [0.0, 1.0, 1.2, 2.5, 3.0, 4.0]
+    np.testing.assert_allclose(rib_pitch_at_stations(y, ribs), [2.0, 2.0, 0.5, 1.5, 1.5, 1.5])
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(rib_positions=(0.0, 1.0), stiffener_pitch=0.0), "stiffener_pitch"),
+    (dict(rib_positions=(0.0, 1.0), stiffener_pitch=-0.1), "stiffener_pitch"),
+    (dict(rib_positions=(0.0, 1.0), shape="hat"), "shape"),
+    (dict(rib_positions=(0.0, 1.0), rib_thickness=float("nan")), "rib_thickness"),
+])
+def test_panel_layout_bad_input(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        PanelLayout(**kwargs)
+
+
+@pytest.mark.parametrize("ribs, y, match", [
+    ([0.0, 1.0, 1.0], [0.5], "increase strictly"),
+    ([0.0, 1.0], [0.5, 1.5], "outside the ribs"),
+    ([0.0], [0.0], "at least two"),
+])
+def test_rib_positions_bad_input(ribs, y, match):
+    with pytest.raises(ValueError, match=match):
+        rib_pitch_at_stations(y, ribs)

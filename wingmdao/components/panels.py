@@ -1,0 +1,306 @@
+"""Components of the stiffened wingbox: the smeared section, the panel failure ratios over the
+time history, the linear sizing rules and the ribs' mass (docs/panels.md).
+
+* :class:`StiffenedBoxSection`: the box of :class:`~wingmdao.components.section.BoxSection`
+  with the skins' stiffeners smeared into it (area, centroid, bending, mass).
+* :class:`PanelFailure`: per time step and station, the running loads of every wall and the
+  failure ratios of the panel modes (skin buckling between stiffeners, panel buckling between
+  ribs, stiffener column buckling and crippling, spar-web buckling), each ``SF * R - 1 <= 0``.
+* :class:`SizingRules`: the practitioners' rules (stiffener web aspect, stiffener over skin
+  thickness, adjacency of neighbouring stations), linear in the design variables.
+* :class:`RibMass`: the ribs' mass from their web areas.
+
+Partials: CasADi AD for the pointwise components, constant analytic ones for the linear rules.
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import casadi as ca
+import numpy as np
+import openmdao.api as om
+
+from wingmdao.components.pointwise import PointwiseCasadiComponent, Var
+from wingmdao.components.section import SECTION_OUTPUTS, CombinedJacobianMixin, _SectionBase
+from wingmdao.materials import Material
+from wingmdao.panels.layout import PANEL_FAMILIES, STIFFENER_SHAPES, STIFFENER_VARS, smeared_stringer
+from wingmdao.panels.box_panels import skin_panel_ratios, web_panel_ratio
+from wingmdao.section.box import WALL_NAMES, box_properties, validate_box
+from wingmdao.stress.box_stress import SECTION_PROPERTIES, panel_running_loads
+
+
+def _stiffener_inputs(default_h=0.04, default_t=0.003):
+    return [
+        Var("h_upper_stiffener", (), "m", "upper-skin stiffener web height", default_h),
+        Var("t_upper_stiffener", (), "m", "upper-skin stiffener web thickness", default_t),
+        Var("h_lower_stiffener", (), "m", "lower-skin stiffener web height", default_h),
+        Var("t_lower_stiffener", (), "m", "lower-skin stiffener web thickness", default_t),
+    ]
+
+
+def _declare_stiffener_options(options):
+    options.declare("stiffener_pitch", default=0.15, types=numbers.Real, lower=1e-6,
+                    desc="stiffener spacing on both skins (m)")
+    options.declare("shape", default="blade", values=STIFFENER_SHAPES, desc="stiffener shape (blade or tee)")
+    options.declare("flange_ratio", default=0.0, types=numbers.Real, lower=0.0,
+                    desc="tee flange width over web height (ignored for blades)")
+
+
+def stringers_of(sym, pitch, shape, flange_ratio):
+    """The two smeared stiffener layers (:func:`wingmdao.section.box.stringer_layers`) of the
+    stiffener variables in ``sym``."""
+    return tuple(smeared_stringer(sym[f"h_{s}_stiffener"], sym[f"t_{s}_stiffener"], pitch, shape, flange_ratio)
+                 for s in ("upper", "lower"))
+
+
+class StiffenedBoxSection(_SectionBase):
+    """Box section (App. F) with the skins' stiffeners smeared in, at ``num_stations`` stations.
+
+    Inputs (per station, m): ``width``, ``height``, the four wall thicknesses (skins and spar
+    webs), ``h_upper_stiffener``, ``t_upper_stiffener``, ``h_lower_stiffener``,
+    ``t_lower_stiffener``; ``section_to_csn``, ``nonstructural_mass_per_length`` as for
+    :class:`~wingmdao.components.section.BoxSection`. Outputs: ``SECTION_OUTPUTS`` and
+    ``stiffener_area`` (m^2, both skins' stiffeners, the box's width times their area per width).
+    The stiffeners add to the area, the centroid, the bending stiffness and the mass; the
+    torsion constant, shear areas and shear centre are the bare box's (the stiffeners carry no
+    shear flow; docs/panels.md).
+    """
+
+    def initialize(self):
+        super().initialize()
+        _declare_stiffener_options(self.options)
+
+    def expression_options(self):
+        o = self.options
+        return (o["material"], float(o["stiffener_pitch"]), o["shape"], float(o["flange_ratio"]))
+
+    def pointwise_inputs(self):
+        return [
+            Var("width", (), "m", "box outer width (chordwise, front to rear spar)"),
+            Var("height", (), "m", "box outer height (normal)", 0.3),
+            Var("t_upper_skin", (), "m", "upper skin thickness", 0.01),
+            Var("t_lower_skin", (), "m", "lower skin thickness", 0.01),
+            Var("t_front_spar", (), "m", "front spar web thickness", 0.01),
+            Var("t_rear_spar", (), "m", "rear spar web thickness", 0.01),
+        ] + _stiffener_inputs() + self._common_inputs()
+
+    def pointwise_outputs(self):
+        return super().pointwise_outputs() + [
+            Var("stiffener_area", (), "m**2", "area of both skins' stiffeners across the box width")]
+
+    def pointwise_expressions(self, sym):
+        o = self.options
+        stringers = stringers_of(sym, o["stiffener_pitch"], o["shape"], o["flange_ratio"])
+        props = box_properties(sym["width"], sym["height"], *(sym[k] for k in WALL_NAMES), o["material"],
+                               sym["section_to_csn"], sym["nonstructural_mass_per_length"], stringers=stringers)
+        out = self._select_outputs(props)
+        out["stiffener_area"] = sym["width"] * (stringers[0][0] + stringers[1][0])
+        return out
+
+    def check_inputs(self, inputs):
+        source = f"{self.pathname or 'StiffenedBoxSection'}: "
+        validate_box(inputs["width"], inputs["height"], *(inputs[k] for k in WALL_NAMES), source=source)
+        validate_stiffeners({k: inputs[k] for k in STIFFENER_VARS}, source)
+
+
+def validate_stiffeners(values: dict, source: str = "") -> None:
+    """Raise ``ValueError`` naming the variable, station and allowed range unless every stiffener
+    height and thickness is positive and finite."""
+    for name, v in values.items():
+        v = np.atleast_1d(np.asarray(v, dtype=float))
+        bad = np.flatnonzero(~(np.isfinite(v) & (v > 0.0)))
+        if bad.size:
+            i = int(bad[0])
+            raise ValueError(f"{source}{name} = {v[i]:.6g} m at station {i}; allowed range (0, inf) m")
+
+
+class SizingRules(om.ExplicitComponent):
+    """The stiffened panels' sizing rules as linear functions of the design variables, each <= 0.
+
+    Outputs (per design station unless noted), all in m:
+
+    * ``stiffener_aspect_min`` = 5 ts - h, ``stiffener_aspect_max`` = h - 30 ts
+      (web aspect 5 <= h/ts <= 30), per skin: shape (2, n);
+    * ``stiffener_over_skin`` = ts - 15 t_skin per skin: shape (2, n);
+    * ``adjacency_<var>`` = x_{i+1} - x_i for every design variable between neighbouring design
+      stations: shape (n - 1,); the driver bounds it by +-2.5 mm (thicknesses) and +-10 mm
+      (stiffener heights).
+
+    Every partial is constant (declared once, with values); the driver may treat the rules as
+    linear constraints.
+    """
+
+    ASPECT_MIN, ASPECT_MAX, STIFFENER_OVER_SKIN = 5.0, 30.0, 15.0
+
+    def initialize(self):
+        self.options.declare("num_stations", types=int, lower=1, desc="number of design stations")
+        self.options.declare("adjacency", default=(), types=tuple,
+                             desc="design variables whose neighbouring-station differences are output")
+
+    def setup(self):
+        n = self.options["num_stations"]
+        for name in WALL_NAMES + STIFFENER_VARS:
+            self.add_input(name, val=0.01, shape=(n,), units="m", desc=f"{name} per design station")
+        self.add_output("stiffener_aspect_min", shape=(2, n), units="m", desc="5 ts - h <= 0 (upper, lower skin)")
+        self.add_output("stiffener_aspect_max", shape=(2, n), units="m", desc="h - 30 ts <= 0 (upper, lower skin)")
+        self.add_output("stiffener_over_skin", shape=(2, n), units="m", desc="ts - 15 t_skin <= 0 (upper, lower)")
+        idx = np.arange(n)
+        for k, side in enumerate(("upper", "lower")):
+            rows = k * n + idx
+            h, ts, skin = f"h_{side}_stiffener", f"t_{side}_stiffener", f"t_{side}_skin"
+            self.declare_partials("stiffener_aspect_min", ts, rows=rows, cols=idx, val=self.ASPECT_MIN)
+            self.declare_partials("stiffener_aspect_min", h, rows=rows, cols=idx, val=-1.0)
+            self.declare_partials("stiffener_aspect_max", h, rows=rows, cols=idx, val=1.0)
+            self.declare_partials("stiffener_aspect_max", ts, rows=rows, cols=idx, val=-self.ASPECT_MAX)
+            self.declare_partials("stiffener_over_skin", ts, rows=rows, cols=idx, val=1.0)
+            self.declare_partials("stiffener_over_skin", skin, rows=rows, cols=idx, val=-self.STIFFENER_OVER_SKIN)
+        if n > 1:
+            d = np.arange(n - 1)
+            for name in self.options["adjacency"]:
+                self.add_output(f"adjacency_{name}", shape=(n - 1,), units="m",
+                                desc=f"{name} at station i + 1 minus station i")
+                self.declare_partials(f"adjacency_{name}", name, rows=np.r_[d, d], cols=np.r_[d + 1, d],
+                                      val=np.r_[np.ones(n - 1), -np.ones(n - 1)])
+
+    def compute(self, inputs, outputs):
+        for k, side in enumerate(("upper", "lower")):
+            h, ts, skin = inputs[f"h_{side}_stiffener"], inputs[f"t_{side}_stiffener"], inputs[f"t_{side}_skin"]
+            outputs["stiffener_aspect_min"][k] = self.ASPECT_MIN * ts - h
+            outputs["stiffener_aspect_max"][k] = h - self.ASPECT_MAX * ts
+            outputs["stiffener_over_skin"][k] = ts - self.STIFFENER_OVER_SKIN * skin
+        if self.options["num_stations"] > 1:
+            for name in self.options["adjacency"]:
+                outputs[f"adjacency_{name}"] = np.diff(inputs[name])
+
+
+class RibMass(om.ExplicitComponent):
+    """Mass of the ribs: each rib a web of the box's outer width times height at its station and
+    the rib thickness, rho t_rib sum_r w_r h_r (kg). Lightening holes, flanges and stiffeners of
+    the rib are not modelled (docs/panels.md).
+
+    Inputs ``width``, ``height`` (n,) m. Options: ``rib_stations`` (station index of each rib),
+    ``rib_thickness`` (m), ``density`` (kg/m^3). Output ``rib_mass`` (kg).
+    """
+
+    def initialize(self):
+        self.options.declare("num_nodes", types=int, lower=1, desc="number of beam stations")
+        self.options.declare("rib_stations", types=(list, tuple, np.ndarray), desc="station index of each rib")
+        self.options.declare("rib_thickness", types=numbers.Real, lower=0.0, desc="rib web thickness (m)")
+        self.options.declare("density", types=numbers.Real, lower=0.0, desc="rib material density (kg/m^3)")
+
+    def setup(self):
+        n = self.options["num_nodes"]
+        self.add_input("width", val=1.0, shape=(n,), units="m", desc="box outer width per station")
+        self.add_input("height", val=0.3, shape=(n,), units="m", desc="box outer height per station")
+        self.add_output("rib_mass", val=0.0, units="kg", desc="mass of all ribs")
+        ribs = np.asarray(self.options["rib_stations"], dtype=int)
+        if ribs.size and (ribs.min() < 0 or ribs.max() >= n):
+            raise ValueError(f"{self.msginfo}: rib_stations = {ribs.tolist()}; allowed range [0, {n - 1}]")
+        self._count = np.bincount(ribs, minlength=n).astype(float)
+        cols = np.flatnonzero(self._count)
+        self.declare_partials("rib_mass", ["width", "height"], rows=np.zeros(cols.size, int), cols=cols)
+
+    def compute(self, inputs, outputs):
+        k = self.options["density"] * self.options["rib_thickness"]
+        outputs["rib_mass"] = k * np.sum(self._count * inputs["width"] * inputs["height"])
+
+    def compute_partials(self, inputs, partials):
+        k = self.options["density"] * self.options["rib_thickness"]
+        cols = np.flatnonzero(self._count)
+        partials["rib_mass", "width"] = k * self._count[cols] * inputs["height"][cols]
+        partials["rib_mass", "height"] = k * self._count[cols] * inputs["width"][cols]
+
+
+_PANEL_DESC = {
+    "skin_buckling": "skin between stiffeners, compression-shear interaction (SF R - 1)",
+    "panel_buckling": "stiffened panel between ribs, compression-shear interaction (SF R - 1)",
+    "stiffener_column": "stiffener with its effective skin as a column between ribs (SF R - 1)",
+    "stiffener_crippling": "stiffener crippling (SF R - 1)",
+    "web_buckling": "spar web between the skins, compression-shear interaction (SF R - 1)",
+}
+
+
+class PanelFailure(CombinedJacobianMixin, PointwiseCasadiComponent):
+    """Failure ratios of the stiffened box's panels on the grid (num_times, num_stations).
+
+    Inputs: ``F_csn``, ``M_csn`` (nt, n, 3) N and N*m; per station the box geometry (``width``,
+    ``height``, the four wall thicknesses), the stiffener variables, ``panel_length`` (the rib
+    pitch, m) and the section properties A, c_ea, n_ea, Ixx, Izz, Ixz, c_sc, n_sc, Qx, Qz of
+    :class:`StiffenedBoxSection`. Outputs ``g_<family>`` for every family of
+    :data:`PANEL_FAMILIES`: ``safety_factor * R - 1`` with R the load-linear failure ratio of the
+    mode (1 = failure at these loads), at the skin points upper front, upper rear, lower front,
+    lower rear and the web points front, rear (:func:`wingmdao.stress.box_stress.panel_running_loads`).
+    """
+
+    @staticmethod
+    def points_per_station(family: str) -> int:
+        return PANEL_FAMILIES[family]
+
+    def initialize(self):
+        super().initialize()
+        self.options.declare("num_times", types=int, lower=1, desc="number of time steps")
+        self.options.declare("num_stations", types=int, lower=1, desc="number of beam stations")
+        self.options.declare("material", types=Material, desc="wall and stiffener material")
+        self.options.declare("safety_factor", default=1.5, types=numbers.Real, lower=0.0,
+                             desc="factor on the loads of every panel mode")
+        _declare_stiffener_options(self.options)
+
+    def point_grid(self):
+        return (self.options["num_times"], self.options["num_stations"])
+
+    def expression_options(self):
+        o = self.options
+        return (o["material"], float(o["safety_factor"]), float(o["stiffener_pitch"]), o["shape"],
+                float(o["flange_ratio"]))
+
+    def pointwise_inputs(self):
+        per = dict(per_last_axis=True)
+        return [
+            Var("F_csn", (3,), "N", "internal force [F_c, F_s (axial), F_n] on the inboard part, csn", 0.0),
+            Var("M_csn", (3,), "N*m", "internal moment [M_c, M_s (torsion), M_n] about the box centre, csn", 0.0),
+            Var("width", (), "m", "box outer width (chordwise)", **per),
+            Var("height", (), "m", "box outer height (normal)", 0.3, **per),
+            Var("t_upper_skin", (), "m", "upper skin thickness", 0.01, **per),
+            Var("t_lower_skin", (), "m", "lower skin thickness", 0.01, **per),
+            Var("t_front_spar", (), "m", "front spar web thickness", 0.01, **per),
+            Var("t_rear_spar", (), "m", "rear spar web thickness", 0.01, **per),
+        ] + [Var(v.name, v.shape, v.units, v.desc, v.val, **per) for v in _stiffener_inputs()] + [
+            Var("panel_length", (), "m", "panel length between ribs (rib pitch) at the station", 0.5, **per),
+        ] + [Var(name, (), units, desc, {"A": 1e-2, "Ixx": 1e-4, "Izz": 1e-3, "Qx": 1e-3, "Qz": 1e-3}.get(name, 0.0),
+                 **per) for name, _, units, desc in SECTION_OUTPUTS if name in SECTION_PROPERTIES]
+
+    def pointwise_outputs(self):
+        return [Var(f"g_{f}", (k,), None, _PANEL_DESC[f]) for f, k in PANEL_FAMILIES.items()]
+
+    def pointwise_expressions(self, sym):
+        o = self.options
+        stringers = stringers_of(sym, o["stiffener_pitch"], o["shape"], o["flange_ratio"])
+        walls = [sym[k] for k in WALL_NAMES]
+        t_axial = (walls[0] + stringers[0][0], walls[1] + stringers[1][0])
+        loads = panel_running_loads(sym["F_csn"], sym["M_csn"], sym["width"], sym["height"], *walls, t_axial,
+                                    {k: sym[k] for k in SECTION_PROPERTIES})
+        sf = float(o["safety_factor"])
+        out = {f: [] for f in PANEL_FAMILIES}
+        for k, side in enumerate(("upper", "upper", "lower", "lower")):
+            r = skin_panel_ratios(o["material"], sym[f"t_{side}_skin"], sym[f"h_{side}_stiffener"],
+                                  sym[f"t_{side}_stiffener"], o["stiffener_pitch"], sym["panel_length"],
+                                  loads["nx_skin"][k], loads["nxy_skin"][k], o["shape"], o["flange_ratio"])
+            for f in ("skin_buckling", "panel_buckling", "stiffener_column", "stiffener_crippling"):
+                out[f].append(sf * r[f] - 1.0)
+        h_web = sym["height"] - walls[0] - walls[1]
+        for k, t_web in enumerate((walls[2], walls[3])):
+            r = web_panel_ratio(o["material"], t_web, h_web, sym["panel_length"], loads["nx_web"][k],
+                                loads["nxy_web"][k])
+            out["web_buckling"].append(sf * r - 1.0)
+        return {f"g_{f}": ca.vertcat(*v) for f, v in out.items()}
+
+    def check_inputs(self, inputs):
+        source = f"{self.pathname or 'PanelFailure'}: "
+        validate_box(inputs["width"], inputs["height"], *(inputs[k] for k in WALL_NAMES), source=source)
+        validate_stiffeners({k: inputs[k] for k in STIFFENER_VARS}, source)
+        length = np.asarray(inputs["panel_length"])
+        bad = np.flatnonzero(~(np.isfinite(length) & (length > 0.0)))
+        if bad.size:
+            raise ValueError(f"{source}panel_length = {length[bad[0]]:.6g} m at station {bad[0]}; "
+                             "allowed range (0, inf) m (the rib pitch)")

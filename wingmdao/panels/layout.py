@@ -1,0 +1,138 @@
+"""Where the stiffened panels of a wingbox sit and how their stiffeners are shaped.
+
+A stiffened box (section kind ``"stiffened"``) has spanwise stiffeners on the inner faces of the
+upper and lower skins, at a pitch per skin, and ribs at given stations; the spar webs are
+unstiffened plates between the skins. Each station's panels are as long as the rib pitch there
+(the distance between the ribs on either side of the station), so no equality constraint ties
+the panel length to the rib positions.
+
+Stiffener shapes (the web of height ``h`` and thickness ``ts`` standing normal to the skin):
+
+* ``"blade"``: the web alone, bonded or riveted to the skin along its foot;
+* ``"tee"``: the web standing on a flange of width ``flange_ratio * h`` and thickness ``ts``
+  that lies on the skin (the flange width tied to the web height, as practitioners size them).
+
+The stiffener's elements and the panel modes are those of :mod:`wingmdao.panels.stiffened`.
+
+Every function here is plain arithmetic, so it evaluates on floats, numpy arrays and CasADi
+symbols alike (the OpenMDAO components take their exact partials from CasADi).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from wingmdao.panels.stiffened import DEFAULT_FLANGE_RATIO, STIFFENERS, stiffener_elements
+
+#: design variables of the stiffeners, per station (m): web height and thickness on each skin
+STIFFENER_VARS = ("h_upper_stiffener", "t_upper_stiffener", "h_lower_stiffener", "t_lower_stiffener")
+#: the skins that carry stiffeners, with their stiffener variables (height, thickness)
+STIFFENED_SKINS = {"upper_skin": ("h_upper_stiffener", "t_upper_stiffener"),
+                   "lower_skin": ("h_lower_stiffener", "t_lower_stiffener")}
+STIFFENER_SHAPES = STIFFENERS
+#: panel failure modes (constraint families of components.panels.PanelFailure) and their points
+#: per station: the skins at their front and rear edges (4), the spar webs (2)
+PANEL_FAMILIES = {"skin_buckling": 4, "panel_buckling": 4, "stiffener_column": 4, "stiffener_crippling": 4,
+                  "web_buckling": 2}
+
+
+def stiffener_section(h, ts, shape: str = "blade", flange_ratio: float = DEFAULT_FLANGE_RATIO):
+    """Area (m^2), centroid height above the skin's inner face (m) and own second moment of area
+    about that centroid for bending out of the skin's plane (m^4) of one stiffener, from its flat
+    elements (:func:`wingmdao.panels.stiffened.stiffener_elements`: the blade's web; the tee's
+    flange on the skin and the web on top of it), by the parallel-axis theorem."""
+    elements = stiffener_elements(h, ts, shape, flange_ratio)
+    area = sum(w * t for w, t, *_ in elements)
+    z = sum(w * t * zc for w, t, zc, *_ in elements) / area
+    i_own = sum(i + w * t * (zc - z) ** 2 for w, t, zc, i, _ in elements)
+    return area, z, i_own
+
+
+def smeared_stringer(h, ts, pitch, shape: str = "blade", flange_ratio: float = DEFAULT_FLANGE_RATIO):
+    """``(a, d, i)`` per unit skin width for :func:`wingmdao.section.box.stringer_layers`: the
+    stiffener area per width (m), its centroid's depth below the skin's inner face (m) and its
+    own second moment per width (m^3)."""
+    area, z, i_own = stiffener_section(h, ts, shape, flange_ratio)
+    return area / pitch, z, i_own / pitch
+
+
+def rib_pitch_at_stations(span_coordinate, rib_positions) -> np.ndarray:
+    """Panel length (m) at each station: the distance between the nearest rib at or inboard of
+    the station and the next rib outboard of it (the bay the station's panels sit in); a station
+    on a rib takes the longer of its two bays. ``span_coordinate`` (n,) and ``rib_positions``
+    (sorted, at least two) in m along the same spanwise coordinate."""
+    y = np.asarray(span_coordinate, dtype=float)
+    ribs = np.asarray(rib_positions, dtype=float)
+    if ribs.ndim != 1 or ribs.size < 2 or not np.all(np.isfinite(ribs)):
+        raise ValueError(f"rib positions: at least two finite values (m) needed, got {ribs.tolist()}")
+    if np.any(np.diff(ribs) <= 0.0):
+        raise ValueError(f"rib positions = {ribs.tolist()} m: must increase strictly (rib pitch > 0)")
+    tol = 1e-9 * max(1.0, float(np.max(np.abs(ribs))))
+    if y.min() < ribs[0] - tol or y.max() > ribs[-1] + tol:
+        bad = y[(y < ribs[0] - tol) | (y > ribs[-1] + tol)][0]
+        raise ValueError(f"station at {bad:.6g} m lies outside the ribs [{ribs[0]:.6g}, {ribs[-1]:.6g}] m; "
+                         "every station needs a rib bay (ribs must span the stations)")
+    bays = np.diff(ribs)
+    out = np.empty(y.size)
+    for k, yk in enumerate(y):
+        on = np.flatnonzero(np.abs(ribs - yk) <= tol)
+        if on.size:
+            j = int(on[0])
+            out[k] = max(bays[j - 1] if j > 0 else 0.0, bays[j] if j < bays.size else 0.0)
+        else:
+            j = int(np.searchsorted(ribs, yk) - 1)
+            out[k] = bays[j]
+    return out
+
+
+@dataclass(frozen=True)
+class PanelLayout:
+    """The stiffened panels of a wingbox (section kind ``"stiffened"``).
+
+    Parameters
+    ----------
+    rib_positions : sequence of float
+        Spanwise rib coordinates (m, the case's span coordinate), sorted, spanning the stations.
+    stiffener_pitch : float
+        Stiffener spacing on both skins (m).
+    shape : str
+        Stiffener shape, ``"blade"`` or ``"tee"`` (module docstring).
+    flange_ratio : float
+        Tee flange width over web height (ignored for blades).
+    safety_factor : float
+        Factor on the loads for buckling and crippling (the failure ratio times it must stay
+        <= 1); 1.5 is the ultimate factor of 14 CFR 25.303 when the loads are limit loads.
+    rib_thickness : float
+        Rib web thickness (m): the ribs' mass and their crushing check.
+    """
+
+    rib_positions: tuple
+    stiffener_pitch: float = 0.15
+    shape: str = "blade"
+    flange_ratio: float = DEFAULT_FLANGE_RATIO
+    safety_factor: float = 1.5
+    rib_thickness: float = 0.002
+
+    def __post_init__(self):
+        object.__setattr__(self, "rib_positions", tuple(float(r) for r in self.rib_positions))
+        for name in ("stiffener_pitch", "safety_factor", "rib_thickness"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0.0):
+                raise ValueError(f"PanelLayout: {name} = {v}; allowed range (0, inf)")
+        if self.shape not in STIFFENER_SHAPES:
+            raise ValueError(f"PanelLayout: shape = {self.shape!r}; allowed: {', '.join(STIFFENER_SHAPES)}")
+        if self.shape == "tee" and not (math.isfinite(self.flange_ratio) and self.flange_ratio > 0.0):
+            raise ValueError(f"PanelLayout: flange_ratio = {self.flange_ratio} for tee stiffeners; "
+                             "allowed range (0, inf)")
+
+    def panel_lengths(self, span_coordinate) -> np.ndarray:
+        """Panel length (rib pitch) at each station, m (:func:`rib_pitch_at_stations`)."""
+        return rib_pitch_at_stations(span_coordinate, self.rib_positions)
+
+    def max_stiffener_height(self) -> float:
+        """Largest web height whose tee flange still fits in the pitch (flange width <= pitch), m;
+        inf for blades."""
+        return self.stiffener_pitch / self.flange_ratio if self.shape == "tee" else math.inf
