@@ -111,7 +111,17 @@ def run_size(args) -> int:
         setup.notes.append(f"flutter constraint: KS of Re(lambda) <= 0 (rho 100 s) at {args.flutter_margin:g} V_D x "
                            f"(0.25, 0.5, 0.75, 1) = {', '.join(f'{v:.1f}' for v in setup.flutter['speeds'])} m/s")
     plots = [] if args.no_plots else _plot_paths(stem, setup)
-    refuse_existing([recording, *plots], overwrite=args.overwrite, what="recording and plots")
+    if len(setup.load_cases) > 1:  # an envelope: its loads file and plots are outputs too
+        from wingmdao.envelope import check_stations, output_paths
+
+        check_stations(args.potato_stations, setup.geometry.num_nodes)
+        plots += output_paths(stem, plots=not args.no_plots)
+    elif args.potato_stations is not None:
+        warn("--potato-stations ignored: potato plots are drawn for runs of several load cases")
+    if root:  # --json may not name any of the run's own outputs
+        check_output_file(args.json, "--json", overwrite=args.overwrite,
+                          others={"recording": recording, **{f"output {p}": p for p in plots}})
+    refuse_existing([recording, *plots], overwrite=args.overwrite, what="recording, envelope and plots")
     opts = setup.options
     opts.optimizer = args.optimizer
     if args.maxiter is not None:
@@ -156,12 +166,39 @@ def run_size(args) -> int:
     result["mpi_ranks"] = launched_ranks() if comm is not None else 1
     if recording:
         result["recording"] = recording
+    try:
+        return _finish(args, prob, setup, result, stem, recording, root=root, comm=comm,
+                       interrupted=interrupted, failed=failed)
+    except KeyboardInterrupt:  # Ctrl-C after the optimizer finished: its result is kept
+        if interrupted or failed or not root:
+            raise
+        prob.cleanup()
+        result["interrupted"] = True
+        result["message"] = (f"{result.get('message', '')}; interrupted while writing the outputs "
+                             "(plots, envelope, flutter search): the design is the optimizer's result").lstrip("; ")
+        best = _interrupted_result(prob, setup, desc, recording).get("best_design")
+        if best is not None:
+            result["best_design"] = best
+        if args.json:
+            write_json(result, args.json)
+        say(f"wingmdao size {args.case_module.NAME}: interrupted after the optimizer finished; its result in "
+            f"{'the JSON on standard output' if args.json == '-' else args.json}"
+            + (f", recording {recording}" if recording else ""))
+        return EXIT_INTERRUPTED
+
+
+def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupted, failed) -> int:
+    """The outputs after the solve: responses, flutter search, envelope, JSON, plots, summary."""
+    import importlib.util
+
+    import openmdao.api as om
+
+    from wingmdao.cli._io import EXIT_INTERRUPTED, say, warn, write_json
+
     if comm is None and not (interrupted or failed) and hasattr(args.case_module, "TOGW_LB"):
         result["load_case_response"] = _case_responses(prob, setup, args.case_module.TOGW_LB)
     plots_on = not args.no_plots and root and not (interrupted or failed)
     if plots_on:
-        import importlib.util
-
         if importlib.util.find_spec("matplotlib") is None:
             warn("plots skipped (plots need matplotlib: pip install 'wingmdao[plot]'); "
                  "the JSON and the recording are written")

@@ -66,7 +66,7 @@ def add_fe_arguments(p, *, rib_thickness, no_ribs_help, design_help, ribs_help="
     p.add_argument("--plot", default=None, metavar="PNG", help="write beam-vs-FE displacement/rotation/stress plots")
     from wingmdao.cli._args import add_json_argument
 
-    add_json_argument(p)
+    add_json_argument(p, overwrite=False)
     p.add_argument("--overwrite", action="store_true", help="replace an earlier run's --json / --plot files")
 
 
