@@ -148,3 +148,107 @@ def test_full_disk_says_where_the_result_is(tmp_path, monkeypatch, capsys):
     text = err[err.index("{"):err.rindex("}") + 1]
     assert json.loads(text)["mass_kg"] > 0  # the result itself is on standard error
     assert not out.exists()
+
+
+# --- no traceback: one line naming the flag or file, the value and what is allowed, exit 2 ------
+
+def _design(tmp_path, data, name="d.json"):
+    path = tmp_path / name
+    path.write_text(data if isinstance(data, str) else json.dumps(data))
+    return str(path)
+
+
+@pytest.mark.parametrize("data, match", [
+    (None, "no such file"),
+    ({"case": "pegasus", "thickness": {"upper_skin": [0.01] * 20}}, "not a box sizing result"),
+    ({"case": "pegasus", "thickness": {w: "thin" for w in ("upper_skin", "lower_skin", "front_spar", "rear_spar")}},
+     "has 0 stations"),
+    ([1, 2], "a JSON list"),
+    ("\"text\"", "a JSON str"),
+    ({"case": "crm", "thickness": {w: [0.01] * 20 for w in ("upper_skin", "lower_skin", "front_spar", "rear_spar")}},
+     "case 'crm'"),
+])
+def test_gust_design_bad_file(tmp_path, capsys, data, match):
+    path = str(tmp_path / "missing.json") if data is None else _design(tmp_path, data)
+    assert main(["gust", "pegasus", "--no-plots", "--design", path]) == 2
+    err = _err(capsys)
+    assert "--design" in err and match in err
+
+
+@pytest.mark.parametrize("command", [["export", "pegasus", "--format", "calculix", "deck.inp"],
+                                     ["verify", "pegasus", "--no-ribs"]], ids=lambda c: c[0])
+@pytest.mark.parametrize("data", [[1, 2], "\"text\"", {"case": "pegasus", "thickness": [1]}])
+def test_export_verify_pegasus_design_of_wrong_type(tmp_path, capsys, monkeypatch, command, data):
+    monkeypatch.chdir(tmp_path)
+    assert main([*command, "--design", _design(tmp_path, data)]) == 2
+    err = _err(capsys)
+    assert "--design" in err
+
+
+@pytest.mark.parametrize("name, text, match", [
+    ("g.json", "{\"gradients_ft\": [100,", "not valid JSON"),
+    ("g.yaml", "gradients_ft: [100, 200\nflight_points: [", "not a valid YAML"),
+    ("g.yaml", "gradients_ft:\n\t- 100\n", "not tabs"),
+    ("g.yaml", "gradients_ft: !!python/object:os.system [ls]\n", "not a valid YAML"),
+    ("g.yaml", "gradients_ft: [100]\nflight_points: 5\n", "flight_points = 5"),
+    ("g.yaml", "gradients_ft: [100]\nname_prefix: null\n"
+               "flight_points: [{altitude_ft: 20000, mach: 0.5}]\n", "name_prefix = None"),
+    ("g.json", "{\"gradients_ft\": [100], \"flight_points\": [{\"altitude_ft\": NaN, \"mach\": 0.5}]}",
+     "NaN is not standard JSON"),
+    ("folder.yaml", None, "is a folder"),
+])
+def test_gust_set_bad_files(tmp_path, capsys, name, text, match):
+    pytest.importorskip("yaml")
+    path = tmp_path / name
+    if text is None:
+        path.mkdir()
+    else:
+        path.write_text(text)
+    assert main(["size", "pegasus", "--analysis-only", "--out", str(tmp_path / "o"), "--gust-set", str(path)]) == 2
+    err = _err(capsys)
+    assert err.count("\n") == 1 and "--gust-set" in err and match in err, err
+
+
+def test_gust_t_final_step_cap(capsys):
+    assert main(["gust", "pegasus", "--no-plots", "--t-final", "1e6"]) == 2
+    err = _err(capsys)
+    assert "time steps" in err and "at most 100000" in err
+
+
+def test_cache_prune_meets_a_folder_named_like_a_library(tmp_path, monkeypatch, capsys):
+    from wingmdao.utils import casadi_cache as cc
+
+    monkeypatch.setenv(cc.ENV_CACHE, str(tmp_path))
+    (tmp_path / "odd.so").mkdir()
+    (tmp_path / "odd.so" / "keep.txt").write_text("x")
+    rc = main(["cache", "--prune", "--unused-days", "0", "--json", str(tmp_path / "c.json")])
+    _err(capsys)
+    assert rc == 0 and (tmp_path / "odd.so" / "keep.txt").exists()
+
+
+@pytest.mark.parametrize("flags", [["--width", "1e300"], ["--width", "1e-300"], ["--t-skin", "nan"],
+                                   ["--solid", "--width", "1e300"]])
+def test_section_dimensions_out_of_range(flags, capsys):
+    base = {"--width": "3", "--height": "0.5", "--t-skin": "0.1", "--t-spar": "0.2"}
+    if "--solid" in flags:
+        base = {"--width": "3", "--height": "0.5"}
+    argv = ["section"]
+    for k, v in base.items():
+        argv += [k, flags[flags.index(k) + 1] if k in flags else v]
+    argv += [f for f in flags if f == "--solid"]
+    assert main(argv) == 2
+    err = _err(capsys)
+    assert "allowed range [1e-06, 1000] m" in err and "NaN" not in capsys.readouterr().out
+
+
+# --- no silent wrong input -----------------------------------------------------------------------
+
+@pytest.mark.parametrize("flags, match", [
+    (["--gust-start", "nan"], "--gust-start = nan"), (["--gust-start", "-5"], "--gust-start = -5"),
+    (["--gust-start", "1e9"], "--gust-start = 1000000000"), (["--gust-start", "inf"], "--gust-start = inf"),
+    (["--u-ref-fps", "inf"], "--u-ref-fps = inf"), (["--stiffness-scale", "1e300"], "--stiffness-scale = 1e+300"),
+])
+def test_gust_inputs_checked_up_front(flags, match, capsys):
+    assert main(["gust", "pegasus", "--no-plots", *flags]) == 2
+    err = _err(capsys)
+    assert match in err and "allowed range" in err
