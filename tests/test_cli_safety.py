@@ -252,3 +252,58 @@ def test_gust_inputs_checked_up_front(flags, match, capsys):
     assert main(["gust", "pegasus", "--no-plots", *flags]) == 2
     err = _err(capsys)
     assert match in err and "allowed range" in err
+
+
+def test_flutter_modes_capped_with_a_warning(capsys):
+    assert main(["flutter", "goland", "--speeds", "100", "200", "3", "--num-nodes", "3", "--modes", "500",
+                 "--no-plots", "--json", "-"]) == 0
+    err = _err(capsys)
+    assert "wingmdao: warning: --modes 500: the goland model has" in err and "tracking" in err
+
+
+def _stop_before_build(monkeypatch):
+    from wingmdao import sizing
+
+    def stop(*a, **k):
+        raise ValueError("stopped before the model (test)")
+
+    monkeypatch.setattr(sizing, "build_problem", stop)
+
+
+@pytest.mark.parametrize("flags, warning", [
+    (["--loads", "maneuver", "--gust-gradient-count", "3"],
+     "wingmdao: warning: ignored with --loads maneuver (gust options): --gust-gradient-count 3"),
+    (["--loads", "maneuver", "--tail-lag", "--gust-start", "0.5"],
+     "wingmdao: warning: ignored with --loads maneuver (gust options): --gust-start 0.5, --tail-lag"),
+    (["--gust-sign", "down"], "wingmdao: warning: ignored without a gust set"),
+])
+def test_ignored_flags_warn(flags, warning, tmp_path, monkeypatch, capsys):
+    _stop_before_build(monkeypatch)
+    assert main(["size", "pegasus", "--analysis-only", "--out", str(tmp_path), *flags]) == 2
+    err = _err(capsys)
+    assert warning in err and "None" not in err
+
+
+def test_size_potato_stations_ignored_with_one_load_case(tmp_path, monkeypatch, capsys):
+    _stop_before_build(monkeypatch)
+    assert main([*CANTILEVER, "--out", str(tmp_path), "--potato-stations", "1"]) == 2
+    assert "wingmdao: warning: --potato-stations ignored" in _err(capsys)
+
+
+@pytest.mark.parametrize("argv, match", [
+    (["size", "pegasus", "--pitch", "free", "--aero", "coupled", "--plunge", "free", "--pitch-inertia", "1e5",
+      "--cg-x", "nan", "--tail-arm", "10", "--tail-area", "10", "--tail-lift-slope", "4"], "--cg-x = nan m"),
+    (["size", "pegasus", "--flutter-margin", "0.5"], "--flutter-margin = 0.5; allowed range [1, 2]"),
+    (["size", "pegasus", "--presize", "100"], "--presize = 100; allowed range [0, 20] passes"),
+    (["run", "wing-box", "--geometry", "prismatic", "--elements", "1000", "1", "1"], "sum <= 600 (1003 nodes: ~"),
+    (["run", "wing-box", "--geometry", "prismatic", "--load-steps", "100000"], "allowed range [1, 1000]"),
+    (["flutter", "goland", "--speeds", "100", "200", "1000000", "--no-plots"], "[2, 1000]"),
+    (["flutter", "goland", "--num-nodes", "5000", "--no-plots"], "[3, 200]; 5000 nodes: an eigenproblem of"),
+])
+def test_inputs_refused_up_front(argv, match, tmp_path, monkeypatch, capsys):
+    _stop_before_build(monkeypatch)
+    if argv[0] == "size":
+        argv = [*argv, "--analysis-only", "--out", str(tmp_path)]
+    assert main(argv) == 2
+    err = _err(capsys)
+    assert match in err and "stopped before the model" not in err

@@ -54,6 +54,16 @@ def register(subparsers):
     p.set_defaults(func=run)
 
 
+#: --speeds N and --num-nodes upper bounds
+MAX_SPEEDS = 1000
+MAX_NODES = 200
+
+
+def _states(num_nodes) -> int:
+    """Size of the flutter eigenproblem: 22 states per node (462 for the 21-node Goland wing)."""
+    return 22 * int(num_nodes)
+
+
 def parse_speeds(values):
     """``(V0, V1, N)`` strings -> validated sweep; ValueError naming the input otherwise."""
     from wingmdao.stability.eigen import check_speeds
@@ -65,6 +75,9 @@ def parse_speeds(values):
         raise ValueError(f"--speeds must be V0 V1 N (numbers, N an integer), got {values}") from None
     if n is None or n < 2:
         raise ValueError(f"--speeds N must be an integer >= 2, got {values[2]}")
+    if n > MAX_SPEEDS:
+        raise ValueError(f"--speeds N = {values[2]}; allowed an integer in [2, {MAX_SPEEDS}] (one eigen-analysis "
+                         f"per speed, ~1 s at 21 nodes, growing as nodes^3: {n} speeds ~{n / 60:.0f} min at 21 nodes)")
     if not (np.isfinite(v0) and np.isfinite(v1)) or v0 < 0.0:
         raise ValueError(f"--speeds V0 must be >= 0 m/s and finite, got {values[0]}")
     if not v1 > v0:
@@ -141,6 +154,11 @@ def analyse(case, speeds=None, num_nodes=None, n_modes=4, thickness=None) -> dic
     res = sweep(prob.system, prob.params_at, v, n_track=int(n_modes), weights=prob.beam_weights(),
                 **prob.eig_options)
     t2 = _time.perf_counter()
+    if res.tracked.shape[1] < int(n_modes):
+        from wingmdao.cli._io import warn
+
+        warn(f"--modes {n_modes}: the {case} model has {res.tracked.shape[1]} oscillatory modes at the first speed; "
+             f"tracking {res.tracked.shape[1]}")
     crit = critical_speeds(res)
     t3 = _time.perf_counter()
     return _clean({
@@ -272,8 +290,11 @@ def run(args) -> int:
     if args.case not in FLUTTER_CASES:
         raise ValueError(f"case {args.case!r} has no aerodynamic (flutter) data; allowed: {list(FLUTTER_CASES)}")
     speeds = parse_speeds(args.speeds) if args.speeds is not None else None
-    if args.num_nodes is not None and args.num_nodes < 3:
-        raise ValueError(f"--num-nodes must be >= 3, got {args.num_nodes}")
+    if args.num_nodes is not None and not 3 <= args.num_nodes <= MAX_NODES:
+        m = _states(args.num_nodes)
+        cost = (f"; {args.num_nodes} nodes: an eigenproblem of {m} states, ~{m ** 2 * 16 * 4 / 1e9:.1f} GB dense, "
+                f"~{(args.num_nodes / 21) ** 3:.0f} s per speed (21 nodes: ~1 s)" if args.num_nodes > MAX_NODES else "")
+        raise ValueError(f"--num-nodes = {args.num_nodes}; allowed range [3, {MAX_NODES}]{cost}")
     if args.modes < 1:
         raise ValueError(f"--modes must be >= 1, got {args.modes}")
     from wingmdao.cli._io import write_json

@@ -4,7 +4,14 @@ from __future__ import annotations
 
 import os
 
+import numpy as np
+
 from wingmdao.cases import options_from_namespace
+
+#: --presize upper bound (passes)
+MAX_PRESIZE = 20
+#: --flutter-margin range (x V_D): below 1 the constraint asks less than flutter-free up to V_D
+FLUTTER_MARGIN = (1.0, 2.0)
 
 
 def _add_common(p, *, sizing: bool):
@@ -93,8 +100,14 @@ def run_size(args) -> int:
     if args.maxiter is not None and args.maxiter < 1:
         raise ValueError(f"--maxiter = {args.maxiter}; allowed range >= 1 iteration "
                          "(use --analysis-only to analyse without optimizing)")
-    if args.presize is not None and args.presize < 0:
-        raise ValueError(f"--presize must be >= 0 passes, got {args.presize}")
+    if args.presize is not None and not 0 <= args.presize <= MAX_PRESIZE:
+        raise ValueError(f"--presize = {args.presize}; allowed range [0, {MAX_PRESIZE}] passes (each pass is a full "
+                         f"analysis of every load case: {args.presize} passes cost ~{args.presize} optimizer "
+                         "iterations)")
+    if args.flutter_margin is not None and not (np.isfinite(args.flutter_margin)
+                                                and FLUTTER_MARGIN[0] <= args.flutter_margin <= FLUTTER_MARGIN[1]):
+        raise ValueError(f"--flutter-margin = {args.flutter_margin}; allowed range [{FLUTTER_MARGIN[0]:g}, "
+                         f"{FLUTTER_MARGIN[1]:g}] x V_D (14 CFR 25.629 asks for 1.15)")
     # every output is checked before the (possibly hour-long) run starts
     check_output_dir(args.out, "--out")
     stem = os.path.join(args.out, run_stem(args))
@@ -133,7 +146,10 @@ def run_size(args) -> int:
     say(f"wingmdao size {args.case_module.NAME}: {len(setup.load_cases)} load case(s) "
         f"[{', '.join(c.name for c in setup.load_cases)}], {setup.geometry.num_nodes} stations")
     for note in setup.notes:
-        say(f"  note: {note}")
+        if note.startswith("warning: "):  # e.g. options the chosen load set ignores
+            warn(note[len("warning: "):])
+        else:
+            say(f"  note: {note}")
     if comm is not None:
         say(f"  MPI: {comm.size} ranks share the {len(setup.load_cases)} load cases (wingmdao.parallel)")
     optimize = not args.analysis_only
