@@ -85,6 +85,11 @@ def parse_speeds(values):
     return check_speeds(np.linspace(v0, v1, n))
 
 
+def _value(x, unit) -> str:
+    """A result value for human text: "none in the sweep" for a missing one (never a Python None)."""
+    return "none in the sweep" if x is None else f"{x:.4g} {unit}"
+
+
 def _clean(x):
     if isinstance(x, dict):
         return {k: _clean(v) for k, v in x.items()}
@@ -334,10 +339,12 @@ def run(args) -> int:
         result["deformed_published"] = getattr(importlib.import_module(f"wingmdao.cases.{args.case}"),
                                                "PUBLISHED_DEFORMED", None)
         for r in result["deformed"]["cases"]:
-            print(f"{args.case} deformed, root angle {r['root_aoa_deg']:g} deg: flutter {r['flutter_speed_m_s']} m/s "
-                  f"at {r['flutter_frequency_rad_s']} rad/s, tip deflection {r['tip_deflection_m']} m", file=sys.stderr)
-    msg = (f"{args.case}: flutter {result['flutter_speed_m_s']} m/s at {result['flutter_frequency_rad_s']} rad/s, "
-           f"divergence {result['divergence_speed_m_s']} m/s; in vacuo "
+            print(f"{args.case} deformed, root angle {r['root_aoa_deg']:g} deg: flutter "
+                  f"{_value(r['flutter_speed_m_s'], 'm/s')} at {_value(r['flutter_frequency_rad_s'], 'rad/s')}, "
+                  f"tip deflection {_value(r['tip_deflection_m'], 'm')}", file=sys.stderr)
+    msg = (f"{args.case}: flutter {_value(result['flutter_speed_m_s'], 'm/s')} at "
+           f"{_value(result['flutter_frequency_rad_s'], 'rad/s')}, "
+           f"divergence {_value(result['divergence_speed_m_s'], 'm/s')}; in vacuo "
            + ", ".join(f"{w:.2f}" for w in result["natural_frequencies_rad_s"]) + " rad/s")
     print(msg, file=sys.stderr)
     write_json(result, args.json)  # the result first: a plotting failure must never lose it

@@ -333,7 +333,7 @@ def _print_summary(res):
         return
     print(f"  driver: {res['driver']}")
     print(f"  success: {res['success']}   mass: {res['mass_kg']:.2f} kg   wall time: {res['wall_s']:.1f} s"
-          f"   iterations: {res.get('iterations')}")
+          + (f"   iterations: {res['iterations']}" if res.get("iterations") is not None else ""))
     if not res["success"] and res.get("message"):
         print(f"  message: {res['message']}")
     if res.get("failed_evaluations"):
