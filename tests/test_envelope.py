@@ -56,7 +56,7 @@ def test_files_round_trip(tmp_path):
     paths = env.write_plots(back, str(tmp_path / "run"), stations=[0, 1])
     assert all((tmp_path / p.split("/")[-1]).exists() for p in paths) and len(paths) == 4
     assert (tmp_path / "run_critical_cases.csv").read_text().splitlines()[2].startswith("1,1,b,")
-    with pytest.raises(ValueError, match="potato station 7; allowed range"):
+    with pytest.raises(ValueError, match="--potato-stations 7: station indices; allowed range"):
         env.write_plots(back, str(tmp_path / "run"), stations=[7])
     with pytest.raises(ValueError, match="does not exist"):
         env.load(str(tmp_path / "missing.npz"))

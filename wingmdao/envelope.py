@@ -139,10 +139,33 @@ def default_stations(n: int) -> list:
     return sorted({min(1, n - 1), n // 2, max(0, (3 * n) // 4)})
 
 
+def check_stations(stations, n: int) -> list:
+    """The potato-plot stations (``--potato-stations``) of a beam of ``n`` stations, checked before
+    anything is solved or drawn; the default (root, mid, 3/4 span) for None."""
+    if stations is None:
+        return default_stations(n)
+    bad = [i for i in stations if not 0 <= i <= n - 1]
+    if bad:
+        raise ValueError(f"--potato-stations {' '.join(str(i) for i in bad)}: station indices; allowed range "
+                         f"[0, {n - 1}] ({n} stations)")
+    return list(stations)
+
+
+def output_paths(stem: str, plots: bool = True) -> list:
+    """Files :func:`write_envelope_outputs` writes for ``stem``: the loads file and, with ``plots``,
+    the critical-case CSV and the PNGs."""
+    paths = [f"{stem}_envelope.npz"]
+    if plots:
+        paths += [f"{stem}_critical_cases.csv", f"{stem}_critical_case.png", f"{stem}_envelope.png",
+                  f"{stem}_potato.png"]
+    return paths
+
+
 def write_plots(data: dict, stem: str, stations=None) -> list:
     """PNG plots (critical case, envelopes, potato plots) and the critical-case CSV next to ``stem``."""
     from wingmdao.plots import _pyplot, save_figure
 
+    stations = check_stations(stations, data["span"].size)  # before anything is written
     plt = _pyplot()
     names = _names(data)
     span = data["span"]
@@ -186,10 +209,6 @@ def write_plots(data: dict, stem: str, stations=None) -> list:
     paths.append(save_figure(fig, f"{stem}_envelope.png"))
 
     # potato plots
-    stations = default_stations(span.size) if stations is None else list(stations)
-    for i in stations:
-        if not 0 <= i < span.size:
-            raise ValueError(f"potato station {i}; allowed range [0, {span.size - 1}]")
     fig, axes = plt.subplots(1, len(stations), figsize=(5 * len(stations), 4.6), squeeze=False)
     cmap = plt.get_cmap("tab20")
     for ax, i in zip(axes[0], stations):

@@ -95,7 +95,8 @@ OPTIONS = PegasusOptions
 #: the options only the gust cases use (a warning names those changed with --loads maneuver)
 GUST_ONLY_OPTIONS = ("altitude_ft", "mach", "u_ref_fps", "gust_gradient_ft", "t_final", "dt", "gust_start",
                      "kussner", "damping_ratio", "damping_frequency_hz", "plunge", "pitch", "pitch_inertia", "cg_x",
-                     "cg_z", "tail_arm", "tail_area", "tail_lift_slope", "downwash_gradient", "tail_lag")
+                     "cg_z", "tail_arm", "tail_area", "tail_lift_slope", "downwash_gradient", "tail_lag",
+                     "gust_set", "gust_gradients_ft", "gust_gradient_count", "gust_sign")
 
 
 def add_arguments(p):
@@ -389,6 +390,16 @@ def build(options: PegasusOptions | None = None, **overrides) -> CaseSetup:
     return build_wing(case_options(PegasusOptions, options, **overrides))
 
 
+def _flag_text(name, value) -> str:
+    """``--flag value`` as typed (a switch alone, a list space-separated)."""
+    flag = f"--{name.replace('_', '-')}"
+    if isinstance(value, bool):
+        return flag
+    if isinstance(value, (tuple, list)):
+        return f"{flag} {' '.join(f'{v:g}' for v in value)}"
+    return f"{flag} {value:g}" if isinstance(value, float) else f"{flag} {value}"
+
+
 def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB) -> CaseSetup:
     """:func:`build` for any trapezoidal wing ``pf`` with point masses ``engines`` ((kg, y m) pairs)
     at take-off weight ``weight_lb`` (the CRM case reuses it)."""
@@ -416,6 +427,9 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
         if missing:
             raise ValueError("--pitch free needs " + ", ".join("--" + f.replace("_", "-") for f in missing)
                              + " (the case has no published tail or pitch inertia)")
+        for f in ("cg_x", "cg_z"):
+            if not np.isfinite(getattr(opts, f)):
+                raise ValueError(f"--{f.replace('_', '-')} = {getattr(opts, f)} m; allowed a finite position (m)")
         from wingmdao.aero.pitch import check_pitch_inputs
 
         check_pitch_inputs(aircraft_pitch_inertia=opts.pitch_inertia, tail_arm=opts.tail_arm, tail_area=opts.tail_area,
@@ -431,10 +445,12 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
              "engines as point masses: 600 kg at 35 % semi-span, 150 kg at the tip (assumed)"]
     if opts.loads == "maneuver":
         default = PegasusOptions()
-        ignored = [f"--{k.replace('_', '-')} {getattr(opts, k)}" for k in GUST_ONLY_OPTIONS
-                   if getattr(opts, k) != getattr(default, k)]
+        ignored = [_flag_text(k, getattr(opts, k)) for k in GUST_ONLY_OPTIONS if getattr(opts, k) != getattr(default, k)]
         if ignored:
             notes.append(f"warning: ignored with --loads maneuver (gust options): {', '.join(ignored)}")
+    elif gset is None and opts.gust_sign is not None:
+        notes.append(f"warning: ignored without a gust set (--gust-set, --gust-gradients-ft or "
+                     f"--gust-gradient-count): --gust-sign {opts.gust_sign}")
     cases = []
     if loads in ("gust", "all"):
         gusts = ([gust_case(opts, geometry, chord, axis_frac, families, pf, weight_lb)] if gset is None

@@ -16,7 +16,8 @@ import sys
 
 from wingmdao import __version__
 from wingmdao.cli._io import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_USAGE, jsonable as _jsonable  # noqa: F401
-from wingmdao.cli._io import stdout_to_stderr, write_json  # noqa: F401  (write_json: public API)
+from wingmdao.cli._io import ResultWriteError, check_json_option, stdout_to_stderr
+from wingmdao.cli._io import write_json  # noqa: F401  (write_json: public API)
 
 
 class DefaultsHelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
@@ -75,8 +76,13 @@ def main(argv=None) -> int:
         parser.print_help()
         return 0
     try:
+        # every command's --json is checked before it starts (the command adds its own outputs)
+        check_json_option(args)
         with stdout_to_stderr(getattr(args, "json", None) == "-"):
             return int(args.func(args) or 0)
+    except ResultWriteError as exc:  # the result was computed but not written: where it still is
+        print(f"wingmdao {args.command}: error: {exc}", file=sys.stderr)
+        return EXIT_FAILED
     except ValueError as exc:  # bad user input: one clear line, no traceback
         print(f"wingmdao {args.command}: error: {exc}", file=sys.stderr)
         return EXIT_USAGE

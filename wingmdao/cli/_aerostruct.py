@@ -24,7 +24,7 @@ def add_parser(subparsers):
     p.add_argument("--out", metavar="DIR", default="results", help="folder for the recordings")
     from wingmdao.cli._args import add_json_argument
 
-    add_json_argument(p)
+    add_json_argument(p, overwrite=False)
     p.add_argument("--overwrite", action="store_true",
                    help="replace an earlier run's outputs (recordings, JSON) instead of refusing")
     p.add_argument("--analysis-only", action="store_true",

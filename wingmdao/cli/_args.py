@@ -22,20 +22,27 @@ JSON_HELP = ("write the result as JSON to PATH; - = standard output (progress an
              "standard error)")
 
 
-def add_json_argument(parser) -> None:
-    """``--json PATH`` with the one default of every command: ``-`` (standard output)."""
+def add_json_argument(parser, *, overwrite: bool = True) -> None:
+    """``--json PATH`` with the one default of every command: ``-`` (standard output), and
+    ``--overwrite`` (``overwrite``; commands with ``--out`` add it with their folder): an existing
+    PATH is refused before the run unless it is given (:func:`wingmdao.cli.main`)."""
     parser.add_argument("--json", metavar="PATH", default="-", help=JSON_HELP)
+    if overwrite:
+        add_overwrite_argument(parser)
+
+
+def add_overwrite_argument(parser, help="replace an earlier run's outputs instead of refusing") -> None:
+    parser.add_argument("--overwrite", action="store_true", help=help)
 
 
 def add_output_arguments(parser, *, what: str, plots: bool = True, json: bool = True) -> None:
     """``--out DIR`` (``what``: the files it holds), ``--overwrite``, ``--no-plots`` and ``--json``."""
     parser.add_argument("--out", metavar="DIR", default="results", help=f"folder for {what}")
-    parser.add_argument("--overwrite", action="store_true",
-                        help="replace an earlier run's outputs instead of refusing")
+    add_overwrite_argument(parser)
     if plots:
         parser.add_argument("--no-plots", action="store_true", help="do not write PNG plots")
     if json:
-        add_json_argument(parser)
+        add_json_argument(parser, overwrite=False)
 
 
 class _DeprecatedAlias(argparse.Action):

@@ -72,15 +72,56 @@ def write_text_atomic(text: str, path: str) -> None:
         raise
 
 
+class ResultWriteError(Exception):
+    """A result could not be written (full disk, I/O error); the message says where it still is.
+    :func:`wingmdao.cli.main` shows it as one line, exit code 1."""
+
+
 def write_json(data: dict, path: str) -> None:
-    """Write ``data`` as JSON to ``path`` atomically (``-`` means the real standard output)."""
+    """Write ``data`` as JSON to ``path`` atomically (``-`` means the real standard output).
+
+    When the file cannot be written (``OSError``: a full disk, an I/O error) the earlier file stays
+    whole, the JSON text goes to standard error so the result is not lost, and
+    :class:`ResultWriteError` says so (and names the recording when ``data`` has one)."""
     text = json.dumps(jsonable(data), indent=2) + "\n"
     if path == "-":
         out = json_stdout()
         out.write(text)
         out.flush()
-    else:
+        return
+    try:
         write_text_atomic(text, path)
+    except OSError as exc:
+        sys.stderr.write(text)
+        sys.stderr.flush()
+        where = "the JSON text is on standard error above"
+        if isinstance(data, dict) and data.get("recording"):
+            where += f"; the run is also in the recording {data['recording']}"
+        raise ResultWriteError(f"cannot write --json {path!r} ({exc.strerror or exc}); {where}") from None
+
+
+def read_json_object(path: str, option: str) -> dict:
+    """The JSON object (a dict) in file ``path`` given by ``option`` (e.g. ``"--design"``); ValueError
+    naming the option and file when it is missing, a folder, unreadable, not standard JSON (NaN and
+    Infinity are refused) or not an object."""
+    def _refuse(token):
+        raise ValueError(f"{option} {path!r}: {token} is not standard JSON; give finite numbers")
+
+    if os.path.isdir(path):
+        raise ValueError(f"{option} {path!r} is a folder; give a JSON file")
+    try:
+        with open(path, encoding="utf-8") as fh:
+            data = json.load(fh, parse_constant=_refuse)
+    except FileNotFoundError:
+        raise ValueError(f"{option} {path!r}: no such file") from None
+    except OSError as exc:
+        raise ValueError(f"{option} {path!r}: cannot read it ({exc.strerror or exc})") from None
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{option} {path!r}: not a JSON file ({exc})") from None
+    if not isinstance(data, dict):
+        raise ValueError(f"{option} {path!r}: a JSON {type(data).__name__}; a JSON object (a result of "
+                         "'wingmdao size') is needed")
+    return data
 
 
 def check_output_file(path: str | None, option: str, *, overwrite: bool = False,
@@ -105,6 +146,20 @@ def check_output_file(path: str | None, option: str, *, overwrite: bool = False,
     if os.path.exists(full) and not overwrite:
         raise ValueError(f"{option} {path!r} exists (an earlier run's output); pass --overwrite to "
                          "replace it or choose another path")
+
+
+def check_json_option(args) -> None:
+    """The check :func:`wingmdao.cli.main` makes of every command's ``--json`` before the command
+    starts (:func:`check_output_file`, ``--overwrite`` if the command has it); a path inside a
+    ``--out`` folder that does not exist yet is left to the command (it creates ``--out`` first)."""
+    path = getattr(args, "json", None)
+    if path is None or path == "-":
+        return
+    out = getattr(args, "out", None)
+    parent = os.path.dirname(os.path.abspath(path))
+    if out and parent == os.path.abspath(out) and not os.path.exists(parent):
+        return
+    check_output_file(path, "--json", overwrite=getattr(args, "overwrite", False))
 
 
 def check_output_dir(path: str, option: str, *, create: bool = True) -> None:

@@ -54,6 +54,16 @@ def register(subparsers):
     p.set_defaults(func=run)
 
 
+#: --speeds N and --num-nodes upper bounds
+MAX_SPEEDS = 1000
+MAX_NODES = 200
+
+
+def _states(num_nodes) -> int:
+    """Size of the flutter eigenproblem: 22 states per node (462 for the 21-node Goland wing)."""
+    return 22 * int(num_nodes)
+
+
 def parse_speeds(values):
     """``(V0, V1, N)`` strings -> validated sweep; ValueError naming the input otherwise."""
     from wingmdao.stability.eigen import check_speeds
@@ -65,11 +75,19 @@ def parse_speeds(values):
         raise ValueError(f"--speeds must be V0 V1 N (numbers, N an integer), got {values}") from None
     if n is None or n < 2:
         raise ValueError(f"--speeds N must be an integer >= 2, got {values[2]}")
+    if n > MAX_SPEEDS:
+        raise ValueError(f"--speeds N = {values[2]}; allowed an integer in [2, {MAX_SPEEDS}] (one eigen-analysis "
+                         f"per speed, ~1 s at 21 nodes, growing as nodes^3: {n} speeds ~{n / 60:.0f} min at 21 nodes)")
     if not (np.isfinite(v0) and np.isfinite(v1)) or v0 < 0.0:
         raise ValueError(f"--speeds V0 must be >= 0 m/s and finite, got {values[0]}")
     if not v1 > v0:
         raise ValueError(f"--speeds V1 must be > V0 (an increasing sweep), got V0 = {v0} m/s, V1 = {v1} m/s")
     return check_speeds(np.linspace(v0, v1, n))
+
+
+def _value(x, unit) -> str:
+    """A result value for human text: "none in the sweep" for a missing one (never a Python None)."""
+    return "none in the sweep" if x is None else f"{x:.4g} {unit}"
 
 
 def _clean(x):
@@ -86,32 +104,28 @@ def _clean(x):
     return x
 
 
-def read_design(path, num_nodes=None) -> dict:
-    """Wall thicknesses ``{wall: (n,) m}`` of a ``wingmdao size`` JSON; ValueError naming the file and
-    what is wrong (not JSON, not a sizing result, another case, wrong number of stations)."""
+def read_design(path, num_nodes=None, case="pegasus", command="flutter") -> dict:
+    """Wall thicknesses ``{wall: (n,) m}`` of a ``wingmdao size`` JSON of ``case``; ValueError naming the
+    file and what is wrong (missing, not JSON, not a sizing result, another case, wrong number of
+    stations, values not finite and > 0)."""
+    from wingmdao.cli._io import read_json_object
     from wingmdao.sizing import WALL_VARS
 
-    try:
-        with open(path, encoding="utf-8") as fh:
-            data = json.load(fh)
-    except OSError as exc:
-        raise ValueError(f"--design {path}: cannot read it ({exc.strerror})") from None
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise ValueError(f"--design {path}: not a JSON file ({exc})") from None
-    thick = data.get("thickness") if isinstance(data, dict) else None
+    data = read_json_object(path, "--design")
+    thick = data.get("thickness")
     walls = [w[2:] for w in WALL_VARS]
     if not isinstance(thick, dict) or any(w not in thick for w in walls):
         raise ValueError(f"--design {path}: not a box sizing result of 'wingmdao size' (needs a 'thickness' "
                          f"object with {', '.join(walls)} per station, m)")
-    if data.get("case", "pegasus") != "pegasus":
-        raise ValueError(f"--design {path}: a sizing result of case {data['case']!r}; flutter --design "
-                         "takes pegasus results")
+    if data.get("case", case) != case:
+        raise ValueError(f"--design {path}: a sizing result of case {data['case']!r}; {command} {case} --design "
+                         f"takes {case} results")
     out = {}
     for w in walls:
         v = np.asarray(thick[w], dtype=float).ravel() if isinstance(thick[w], list) else np.zeros(0)
         if num_nodes is not None and v.size != int(num_nodes):
             raise ValueError(f"--design {path}: thickness {w!r} has {v.size} stations; the "
-                             f"{num_nodes}-node PEGASUS beam needs {num_nodes}")
+                             f"{num_nodes}-node {case.upper() if case == 'pegasus' else case} beam needs {num_nodes}")
         if not np.all(np.isfinite(v) & (v > 0)):
             raise ValueError(f"--design {path}: thickness {w!r} must hold finite values > 0 m")
         out[w] = v
@@ -145,6 +159,11 @@ def analyse(case, speeds=None, num_nodes=None, n_modes=4, thickness=None) -> dic
     res = sweep(prob.system, prob.params_at, v, n_track=int(n_modes), weights=prob.beam_weights(),
                 **prob.eig_options)
     t2 = _time.perf_counter()
+    if res.tracked.shape[1] < int(n_modes):
+        from wingmdao.cli._io import warn
+
+        warn(f"--modes {n_modes}: the {case} model has {res.tracked.shape[1]} oscillatory modes at the first speed; "
+             f"tracking {res.tracked.shape[1]}")
     crit = critical_speeds(res)
     t3 = _time.perf_counter()
     return _clean({
@@ -276,8 +295,11 @@ def run(args) -> int:
     if args.case not in FLUTTER_CASES:
         raise ValueError(f"case {args.case!r} has no aerodynamic (flutter) data; allowed: {list(FLUTTER_CASES)}")
     speeds = parse_speeds(args.speeds) if args.speeds is not None else None
-    if args.num_nodes is not None and args.num_nodes < 3:
-        raise ValueError(f"--num-nodes must be >= 3, got {args.num_nodes}")
+    if args.num_nodes is not None and not 3 <= args.num_nodes <= MAX_NODES:
+        m = _states(args.num_nodes)
+        cost = (f"; {args.num_nodes} nodes: an eigenproblem of {m} states, ~{m ** 2 * 16 * 4 / 1e9:.1f} GB dense, "
+                f"~{(args.num_nodes / 21) ** 3:.0f} s per speed (21 nodes: ~1 s)" if args.num_nodes > MAX_NODES else "")
+        raise ValueError(f"--num-nodes = {args.num_nodes}; allowed range [3, {MAX_NODES}]{cost}")
     if args.modes < 1:
         raise ValueError(f"--modes must be >= 1, got {args.modes}")
     from wingmdao.cli._io import write_json
@@ -317,10 +339,12 @@ def run(args) -> int:
         result["deformed_published"] = getattr(importlib.import_module(f"wingmdao.cases.{args.case}"),
                                                "PUBLISHED_DEFORMED", None)
         for r in result["deformed"]["cases"]:
-            print(f"{args.case} deformed, root angle {r['root_aoa_deg']:g} deg: flutter {r['flutter_speed_m_s']} m/s "
-                  f"at {r['flutter_frequency_rad_s']} rad/s, tip deflection {r['tip_deflection_m']} m", file=sys.stderr)
-    msg = (f"{args.case}: flutter {result['flutter_speed_m_s']} m/s at {result['flutter_frequency_rad_s']} rad/s, "
-           f"divergence {result['divergence_speed_m_s']} m/s; in vacuo "
+            print(f"{args.case} deformed, root angle {r['root_aoa_deg']:g} deg: flutter "
+                  f"{_value(r['flutter_speed_m_s'], 'm/s')} at {_value(r['flutter_frequency_rad_s'], 'rad/s')}, "
+                  f"tip deflection {_value(r['tip_deflection_m'], 'm')}", file=sys.stderr)
+    msg = (f"{args.case}: flutter {_value(result['flutter_speed_m_s'], 'm/s')} at "
+           f"{_value(result['flutter_frequency_rad_s'], 'rad/s')}, "
+           f"divergence {_value(result['divergence_speed_m_s'], 'm/s')}; in vacuo "
            + ", ".join(f"{w:.2f}" for w in result["natural_frequencies_rad_s"]) + " rad/s")
     print(msg, file=sys.stderr)
     write_json(result, args.json)  # the result first: a plotting failure must never lose it

@@ -24,7 +24,6 @@ pitch_angle_rad, pitch_rate_rad_s, tail_lift_n, tail_incidence_rad, and the inpu
 
 from __future__ import annotations
 
-import json
 import os
 import sys
 import time as _time
@@ -32,6 +31,10 @@ import time as _time
 import numpy as np
 
 CASES = ("pegasus", "crm")
+#: --stiffness-scale range (a rigid wing is approached well before 1e6)
+STIFFNESS_SCALE = (1e-3, 1e6)
+#: --u-ref-fps upper bound (ft/s EAS)
+MAX_U_REF_FPS = 200.0
 
 
 def register(subparsers):
@@ -101,16 +104,12 @@ def _beam_parameters(module, args):
     setup = module.build(**maneuvers)  # the CRM case has its maneuvers only
     design = initial_design(setup.options, SECTION_KINDS[setup.section]["design_vars"])
     if args.design:
-        with open(args.design, encoding="utf-8") as fh:
-            res = json.load(fh)
-        if "thickness" not in res:
-            raise ValueError(f"--design {args.design}: no 'thickness' key (a box sizing result is needed)")
+        from wingmdao.cli.flutter import read_design
+
         smap = setup.geometry.station_map
+        walls = read_design(args.design, setup.geometry.num_nodes, case=args.case, command="gust")
         for w in WALL_VARS:
-            vals = np.asarray(res["thickness"][w[2:]], dtype=float)
-            if vals.size != setup.geometry.num_nodes:
-                raise ValueError(f"--design {args.design}: {w[2:]} has {vals.size} stations, the case has "
-                                 f"{setup.geometry.num_nodes}")
+            vals = walls[w[2:]]
             if smap is not None:
                 first = [int(np.flatnonzero(np.asarray(smap) == k)[0]) for k in range(int(np.max(smap)) + 1)]
                 vals = vals[first]
@@ -142,8 +141,9 @@ def run(args):
     H_ft = gust["gradient_ft"] if args.gradient_ft is None else args.gradient_ft
     if not 30.0 <= H_ft <= 350.0:
         raise ValueError(f"--gradient-ft must be in 30-350 ft (14 CFR 25.341(a)(3)), got {H_ft}")
-    if not (np.isfinite(args.stiffness_scale) and args.stiffness_scale > 0):
-        raise ValueError(f"--stiffness-scale must be > 0, got {args.stiffness_scale}")
+    if not (np.isfinite(args.stiffness_scale) and STIFFNESS_SCALE[0] <= args.stiffness_scale <= STIFFNESS_SCALE[1]):
+        raise ValueError(f"--stiffness-scale = {args.stiffness_scale}; allowed range [{STIFFNESS_SCALE[0]:g}, "
+                         f"{STIFFNESS_SCALE[1]:g}] (beyond it the beam's Newton solve loses its digits)")
     alt_ft = gust["altitude_ft"] if args.altitude_ft is None else args.altitude_ft
     if not 0.0 <= alt_ft <= 60000.0:
         raise ValueError(f"--altitude-ft must be in 0-60000 ft, got {alt_ft}")
@@ -151,11 +151,17 @@ def run(args):
     if not 0.0 < mach < 1.0:
         raise ValueError(f"--mach must be in (0, 1), got {mach}")
     u_ref = gust["u_ref_fps"] if args.u_ref_fps is None else args.u_ref_fps
-    if not u_ref > 0:
-        raise ValueError(f"--u-ref-fps must be > 0 ft/s, got {u_ref}")
+    if not (np.isfinite(u_ref) and 0 < u_ref <= MAX_U_REF_FPS):
+        raise ValueError(f"--u-ref-fps = {u_ref} ft/s; allowed range (0, {MAX_U_REF_FPS:g}] ft/s EAS "
+                         "(14 CFR 25.341(a)(5): 56 ft/s at sea level)")
     t_final = gust["t_final"] if args.t_final is None else args.t_final
-    if not (t_final > 0 and 0 < args.dt <= t_final / 10):
+    from wingmdao.cases import check_step_count
+
+    check_step_count(t_final, args.dt, 20)  # finite, > 0, at most MAX_TIME_STEPS (with the memory estimate)
+    if not args.dt <= t_final / 10:
         raise ValueError(f"--t-final ({t_final} s) and --dt ({args.dt} s): need 0 < 10 dt <= t_final")
+    if not (np.isfinite(args.gust_start) and 0.0 <= args.gust_start < t_final):
+        raise ValueError(f"--gust-start = {args.gust_start} s; allowed range [0, --t-final = {t_final}) s")
     plot_path = _check_outputs(args, f"{args.case}_gust.png")
 
     pf = module.PLANFORM

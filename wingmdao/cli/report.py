@@ -43,7 +43,7 @@ def planned_plots(out: str, subs: list[str], *, several: bool) -> list[str]:
 
 
 def run(args) -> int:
-    from wingmdao.cli._io import refuse_existing
+    from wingmdao.cli._io import check_output_dir, refuse_existing, warn
     from wingmdao.report import format_history, read_history, write_comparison_plot, write_report_plots
 
     histories = {}
@@ -57,23 +57,32 @@ def run(args) -> int:
     out = args.out or os.path.splitext(first)[0] + "_plots"
     subs = [out if len(args.recording) == 1 else os.path.join(out, os.path.splitext(os.path.basename(rec))[0])
             for rec in args.recording]
+    check_output_dir(out, "--out", create=False)
     refuse_existing(planned_plots(out, subs, several=len(histories) > 1), overwrite=args.overwrite,
                     what="plots")
+    envelopes = {}  # envelope runs: loaded and their --potato-stations checked before any plot is drawn
+    for rec in args.recording:
+        env_file = os.path.splitext(rec)[0] + "_envelope.npz"
+        if os.path.exists(env_file):
+            from wingmdao.envelope import check_stations, load
+
+            envelopes[rec] = (env_file, load(env_file))
+            check_stations(args.potato_stations, envelopes[rec][1]["span"].size)
+    if args.potato_stations is not None and not envelopes:
+        warn("--potato-stations ignored: none of the recordings has an envelope (*_envelope.npz)")
+    for sub in dict.fromkeys(subs):
+        check_output_dir(sub, "--out")
     for sub, hist in zip(subs, histories.values()):
         for path in write_report_plots(hist, sub):
             print(f"wrote {path}")
-    for rec in args.recording:  # envelope runs: redraw critical-case, envelope and potato plots
-        env_file = os.path.splitext(rec)[0] + "_envelope.npz"
-        if os.path.exists(env_file):
-            from wingmdao.envelope import format_critical_table, critical_cases, load, write_plots
+    for rec, (env_file, data) in envelopes.items():  # envelope runs: critical-case, envelope, potato plots
+        from wingmdao.envelope import critical_cases, format_critical_table, write_plots
 
-            data = load(env_file)
-            print(f"== {env_file}: critical load case per station")
-            print(format_critical_table(critical_cases(data)))
-            sub = subs[args.recording.index(rec)]
-            os.makedirs(sub, exist_ok=True)
-            for path in write_plots(data, os.path.join(sub, "envelope"), args.potato_stations):
-                print(f"wrote {path}")
+        print(f"== {env_file}: critical load case per station")
+        print(format_critical_table(critical_cases(data)))
+        sub = subs[args.recording.index(rec)]
+        for path in write_plots(data, os.path.join(sub, "envelope"), args.potato_stations):
+            print(f"wrote {path}")
     if len(histories) > 1:
         print(f"wrote {write_comparison_plot(histories, os.path.join(out, 'thickness_comparison.png'))}")
     return 0

@@ -17,6 +17,11 @@ import numpy as np
 from wingmdao.cases.wing_box.geometry import GEOMETRIES, T_SKIN, T_SPAR
 
 
+#: --load-steps and --elements (sum of the three segments) upper bounds
+MAX_LOAD_STEPS = 1000
+MAX_ELEMENTS = 600
+
+
 def add_wing_box_arguments(parser, *, walls=True, loads=True):
     """The App. D.1 box flags shared by ``run``, ``verify`` and ``export wing-box``: ``--geometry``,
     the streamwise wall thicknesses ``--t-spar``/``--t-skin`` (m), ``--tip-load``/``--tip-moment``."""
@@ -88,10 +93,17 @@ def _check_args(args):
     for name in ("tip_load", "tip_moment"):
         if not np.all(np.isfinite(getattr(args, name))):
             raise ValueError(f"--{name.replace('_', '-')} must be finite")
-    if args.load_steps < 1:
-        raise ValueError(f"--load-steps = {args.load_steps}; allowed range >= 1")
-    if min(args.elements) < 1:
-        raise ValueError(f"--elements = {list(args.elements)}; each must be >= 1")
+    if not 1 <= args.load_steps <= MAX_LOAD_STEPS:
+        raise ValueError(f"--load-steps = {args.load_steps}; allowed range [1, {MAX_LOAD_STEPS}] (each step is a "
+                         f"Newton solve of the whole beam: {args.load_steps} steps cost ~{args.load_steps} x one solve)")
+    if min(args.elements) < 1 or sum(args.elements) > MAX_ELEMENTS:
+        nodes = sum(args.elements) + 1
+        steps = int(args.t_final / args.dt) + 1 if args.dynamic and args.dt > 0 else 1
+        from wingmdao.limits import estimate_bytes
+
+        raise ValueError(f"--elements = {list(args.elements)}; each must be >= 1 and their sum <= {MAX_ELEMENTS} "
+                         f"({nodes} nodes: ~{estimate_bytes(nodes, [steps]) / 1e9:.1f} GB by wingmdao.limits' "
+                         "memory model)")
     if getattr(args, "model", "beam") == "solid":
         bad = [flag for flag, on in (("--dynamic", args.dynamic), ("--check-totals", args.check_totals),
                                       ("--gravity", args.gravity)) if on]

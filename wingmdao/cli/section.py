@@ -39,6 +39,9 @@ def register(subparsers):
     p.set_defaults(func=run)
 
 
+#: allowed range of every length input (m): beyond it the second moments over- or underflow
+LENGTH_RANGE = (1e-6, 1e3)
+
 _FAMILY = {"t_upper": "t_skin", "t_lower": "t_skin", "t_front": "t_spar", "t_rear": "t_spar"}
 
 
@@ -62,6 +65,11 @@ def section_properties(args) -> dict:
     from wingmdao.section.solid import solid_properties, validate_solid
 
     material = get_material(args.material)
+    for flag in ("--width", "--height", "--t-skin", "--t-spar", *(f"--{o.replace('_', '-')}" for o, _, _ in
+                                                                 _THICKNESS_OPTIONS)):
+        v = getattr(args, flag[2:].replace("-", "_"), None)
+        if v is not None and not (np.isfinite(v) and LENGTH_RANGE[0] <= v <= LENGTH_RANGE[1]):
+            raise ValueError(f"{flag} = {v} m; allowed range [{LENGTH_RANGE[0]:g}, {LENGTH_RANGE[1]:g}] m")
     if not np.isfinite(args.nonstructural_mass) or args.nonstructural_mass < 0:
         raise ValueError(f"--nonstructural-mass = {args.nonstructural_mass} kg/m; allowed range [0, inf) kg/m")
     given = _wall_thicknesses(args)
@@ -85,6 +93,10 @@ def section_properties(args) -> dict:
                                nonstructural_mass_per_length=args.nonstructural_mass)
         inputs = {"width": args.width, "height": args.height, **given}
     out = {"section": "solid" if args.solid else "box", "material": material.name, "units": "SI", "inputs": inputs}
+    bad = [k for k, v in props.items() if not np.all(np.isfinite(v))]
+    if bad:  # NaN/inf is not standard JSON: refuse the input rather than write it
+        raise ValueError(f"the section {inputs} gives non-finite {', '.join(bad)}; give dimensions of a "
+                         "real section (m)")
     out.update({k: np.asarray(v).tolist() for k, v in props.items()})
     return out
 

@@ -4,7 +4,14 @@ from __future__ import annotations
 
 import os
 
+import numpy as np
+
 from wingmdao.cases import options_from_namespace
+
+#: --presize upper bound (passes)
+MAX_PRESIZE = 20
+#: --flutter-margin range (x V_D): below 1 the constraint asks less than flutter-free up to V_D
+FLUTTER_MARGIN = (1.0, 2.0)
 
 
 def _add_common(p, *, sizing: bool):
@@ -93,8 +100,14 @@ def run_size(args) -> int:
     if args.maxiter is not None and args.maxiter < 1:
         raise ValueError(f"--maxiter = {args.maxiter}; allowed range >= 1 iteration "
                          "(use --analysis-only to analyse without optimizing)")
-    if args.presize is not None and args.presize < 0:
-        raise ValueError(f"--presize must be >= 0 passes, got {args.presize}")
+    if args.presize is not None and not 0 <= args.presize <= MAX_PRESIZE:
+        raise ValueError(f"--presize = {args.presize}; allowed range [0, {MAX_PRESIZE}] passes (each pass is a full "
+                         f"analysis of every load case: {args.presize} passes cost ~{args.presize} optimizer "
+                         "iterations)")
+    if args.flutter_margin is not None and not (np.isfinite(args.flutter_margin)
+                                                and FLUTTER_MARGIN[0] <= args.flutter_margin <= FLUTTER_MARGIN[1]):
+        raise ValueError(f"--flutter-margin = {args.flutter_margin}; allowed range [{FLUTTER_MARGIN[0]:g}, "
+                         f"{FLUTTER_MARGIN[1]:g}] x V_D (14 CFR 25.629 asks for 1.15)")
     # every output is checked before the (possibly hour-long) run starts
     check_output_dir(args.out, "--out")
     stem = os.path.join(args.out, run_stem(args))
@@ -111,7 +124,17 @@ def run_size(args) -> int:
         setup.notes.append(f"flutter constraint: KS of Re(lambda) <= 0 (rho 100 s) at {args.flutter_margin:g} V_D x "
                            f"(0.25, 0.5, 0.75, 1) = {', '.join(f'{v:.1f}' for v in setup.flutter['speeds'])} m/s")
     plots = [] if args.no_plots else _plot_paths(stem, setup)
-    refuse_existing([recording, *plots], overwrite=args.overwrite, what="recording and plots")
+    if len(setup.load_cases) > 1:  # an envelope: its loads file and plots are outputs too
+        from wingmdao.envelope import check_stations, output_paths
+
+        check_stations(args.potato_stations, setup.geometry.num_nodes)
+        plots += output_paths(stem, plots=not args.no_plots)
+    elif args.potato_stations is not None:
+        warn("--potato-stations ignored: potato plots are drawn for runs of several load cases")
+    if root:  # --json may not name any of the run's own outputs
+        check_output_file(args.json, "--json", overwrite=args.overwrite,
+                          others={"recording": recording, **{f"output {p}": p for p in plots}})
+    refuse_existing([recording, *plots], overwrite=args.overwrite, what="recording, envelope and plots")
     opts = setup.options
     opts.optimizer = args.optimizer
     if args.maxiter is not None:
@@ -123,7 +146,10 @@ def run_size(args) -> int:
     say(f"wingmdao size {args.case_module.NAME}: {len(setup.load_cases)} load case(s) "
         f"[{', '.join(c.name for c in setup.load_cases)}], {setup.geometry.num_nodes} stations")
     for note in setup.notes:
-        say(f"  note: {note}")
+        if note.startswith("warning: "):  # e.g. options the chosen load set ignores
+            warn(note[len("warning: "):])
+        else:
+            say(f"  note: {note}")
     if comm is not None:
         say(f"  MPI: {comm.size} ranks share the {len(setup.load_cases)} load cases (wingmdao.parallel)")
     optimize = not args.analysis_only
@@ -156,12 +182,39 @@ def run_size(args) -> int:
     result["mpi_ranks"] = launched_ranks() if comm is not None else 1
     if recording:
         result["recording"] = recording
+    try:
+        return _finish(args, prob, setup, result, stem, recording, root=root, comm=comm,
+                       interrupted=interrupted, failed=failed)
+    except KeyboardInterrupt:  # Ctrl-C after the optimizer finished: its result is kept
+        if interrupted or failed or not root:
+            raise
+        prob.cleanup()
+        result["interrupted"] = True
+        result["message"] = (f"{result.get('message', '')}; interrupted while writing the outputs "
+                             "(plots, envelope, flutter search): the design is the optimizer's result").lstrip("; ")
+        best = _interrupted_result(prob, setup, desc, recording).get("best_design")
+        if best is not None:
+            result["best_design"] = best
+        if args.json:
+            write_json(result, args.json)
+        say(f"wingmdao size {args.case_module.NAME}: interrupted after the optimizer finished; its result in "
+            f"{'the JSON on standard output' if args.json == '-' else args.json}"
+            + (f", recording {recording}" if recording else ""))
+        return EXIT_INTERRUPTED
+
+
+def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupted, failed) -> int:
+    """The outputs after the solve: responses, flutter search, envelope, JSON, plots, summary."""
+    import importlib.util
+
+    import openmdao.api as om
+
+    from wingmdao.cli._io import EXIT_INTERRUPTED, say, warn, write_json
+
     if comm is None and not (interrupted or failed) and hasattr(args.case_module, "TOGW_LB"):
         result["load_case_response"] = _case_responses(prob, setup, args.case_module.TOGW_LB)
     plots_on = not args.no_plots and root and not (interrupted or failed)
     if plots_on:
-        import importlib.util
-
         if importlib.util.find_spec("matplotlib") is None:
             warn("plots skipped (plots need matplotlib: pip install 'wingmdao[plot]'); "
                  "the JSON and the recording are written")
@@ -288,7 +341,7 @@ def _print_summary(res):
         return
     print(f"  driver: {res['driver']}")
     print(f"  success: {res['success']}   mass: {res['mass_kg']:.2f} kg   wall time: {res['wall_s']:.1f} s"
-          f"   iterations: {res.get('iterations')}")
+          + (f"   iterations: {res['iterations']}" if res.get("iterations") is not None else ""))
     if not res["success"] and res.get("message"):
         print(f"  message: {res['message']}")
     if res.get("failed_evaluations"):

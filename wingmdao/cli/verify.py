@@ -14,7 +14,6 @@ magnitude per station, m), ``difference_percent``, and with ``--modes N``
 
 from __future__ import annotations
 
-import json
 import os
 
 import numpy as np
@@ -68,18 +67,20 @@ def add_fe_arguments(p, *, rib_thickness, no_ribs_help, design_help, ribs_help="
     p.add_argument("--plot", default=None, metavar="PNG", help="write beam-vs-FE displacement/rotation/stress plots")
     from wingmdao.cli._args import add_json_argument
 
-    add_json_argument(p)
+    add_json_argument(p, overwrite=False)
     p.add_argument("--overwrite", action="store_true", help="replace an earlier run's --json / --plot files")
 
 
 def _design_walls(path, case, count=4, how="size with --elements 1 1 1"):
-    if not os.path.exists(path):
-        raise ValueError(f"--design {path!r}: no such file")
-    with open(path, encoding="utf-8") as fh:
-        data = json.load(fh)
+    from wingmdao.cli._io import read_json_object
+
+    data = read_json_object(path, "--design")
     if data.get("case") != case:
         raise ValueError(f"--design {path!r} is a result of case {data.get('case')!r}, not {case!r}")
-    th = data.get("thickness") or {}
+    th = data.get("thickness")
+    if not isinstance(th, dict):
+        raise ValueError(f"--design {path!r}: no 'thickness' object (upper_skin, lower_skin, front_spar, "
+                         f"rear_spar per station, m; {how})")
     walls = {}
     for w in ("upper_skin", "lower_skin", "front_spar", "rear_spar"):
         v = np.asarray(th.get(w, []), float)

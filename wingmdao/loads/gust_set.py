@@ -32,6 +32,7 @@ Description format (JSON or YAML, see ``docs/gust-envelope.md``)::
 from __future__ import annotations
 
 import json
+import math
 import os
 from dataclasses import dataclass, field
 
@@ -267,6 +268,15 @@ def gust_set_from_dict(d: dict, defaults: dict | None = None) -> GustSet:
         grads = log_spaced_gradients_ft(d["gradient_count"])
     else:
         raise ValueError("gust set: needs gradients_ft (list, ft) or gradient_count (log-spaced 30-350 ft)")
+    if not isinstance(d.get("flight_points", []), list):
+        raise ValueError(f"gust set: flight_points = {d['flight_points']!r}; allowed a list of mappings "
+                         "(altitude_ft and mach or v_tas_m_s each)")
+    if "name_prefix" in d and not (isinstance(d["name_prefix"], str) and d["name_prefix"].isidentifier()):
+        raise ValueError(f"gust set: name_prefix = {d['name_prefix']!r}; allowed a name (letters, digits, _) "
+                         "used in the case names")
+    for k in ("z_mo_ft", "mlw_over_mtow", "mzfw_over_mtow"):
+        if k in d and (isinstance(d[k], bool) or not isinstance(d[k], (int, float)) or not math.isfinite(d[k])):
+            raise ValueError(f"gust set: {k} = {d[k]!r}; allowed a finite number")
     fps = []
     for i, fp in enumerate(d.get("flight_points") or []):
         if not isinstance(fp, dict):
@@ -276,6 +286,13 @@ def gust_set_from_dict(d: dict, defaults: dict | None = None) -> GustSet:
             raise ValueError(f"gust set: flight_points[{i}]: unknown keys {sorted(bad)}; allowed {sorted(_FP_KEYS)}")
         if "altitude_ft" not in fp:
             raise ValueError(f"gust set: flight_points[{i}] needs altitude_ft")
+        for k, v in fp.items():
+            numeric = k in ("altitude_ft", "mach", "v_tas_m_s", "weight_lb", "u_ref_fps")
+            if numeric and v is not None and (isinstance(v, bool) or not isinstance(v, (int, float))
+                                              or not math.isfinite(v)):
+                raise ValueError(f"gust set: flight_points[{i}].{k} = {v!r}; allowed a finite number")
+            if k in ("name", "speed") and not isinstance(v, str):
+                raise ValueError(f"gust set: flight_points[{i}].{k} = {v!r}; allowed a string")
         fps.append(FlightPoint(**{k: (float(v) if k in ("altitude_ft", "mach", "v_tas_m_s", "weight_lb", "u_ref_fps")
                                       and v is not None else v) for k, v in fp.items()}))
     kwargs = {k: d[k] for k in ("z_mo_ft", "mlw_over_mtow", "mzfw_over_mtow", "name_prefix") if k in d}
@@ -286,20 +303,36 @@ def read_gust_set(path: str, defaults: dict | None = None) -> GustSet:
     """Read a gust set description from ``.json`` or ``.yaml``/``.yml`` (PyYAML, imported lazily)."""
     if not os.path.exists(path):
         raise ValueError(f"--gust-set {path!r} does not exist")
+    if os.path.isdir(path):
+        raise ValueError(f"--gust-set {path!r} is a folder; give a .json or .yaml file")
     ext = os.path.splitext(path)[1].lower()
-    with open(path, encoding="utf-8") as fh:
-        text = fh.read()
+    if ext not in (".json", ".yaml", ".yml"):
+        raise ValueError(f"--gust-set {path!r}: extension {ext!r}; allowed .json, .yaml, .yml")
+    try:
+        with open(path, encoding="utf-8") as fh:
+            text = fh.read()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ValueError(f"--gust-set {path!r}: cannot read it ({getattr(exc, 'strerror', None) or exc})") from None
     if ext == ".json":
-        data = json.loads(text)
-    elif ext in (".yaml", ".yml"):
+        def _refuse(token):
+            raise ValueError(f"{token} is not standard JSON; give finite numbers")
+
+        try:
+            data = json.loads(text, parse_constant=_refuse)
+        except ValueError as exc:  # json.JSONDecodeError is one
+            raise ValueError(f"--gust-set {path!r}: not valid JSON ({exc})") from None
+    else:
         try:
             import yaml
         except ImportError as exc:  # pragma: no cover - depends on the install
             raise ImportError("YAML gust sets need PyYAML: pip install pyyaml (or write the set as JSON)") from exc
-        data = yaml.safe_load(text)
-    else:
-        raise ValueError(f"--gust-set {path!r}: extension {ext!r}; allowed .json, .yaml, .yml")
+        try:
+            data = yaml.safe_load(text)
+        except yaml.YAMLError as exc:  # malformed, tab-indented, !!python/object tags (safe_load refuses them)
+            what = " ".join(str(exc).split())
+            hint = " (YAML indents with spaces, not tabs)" if "\t" in text else ""
+            raise ValueError(f"--gust-set {path!r}: not a valid YAML gust set ({what}){hint}") from None
     try:
         return gust_set_from_dict(data, defaults)
     except ValueError as exc:
-        raise ValueError(f"{path}: {exc}") from exc
+        raise ValueError(f"--gust-set {path!r}: {exc}") from None

@@ -64,20 +64,20 @@ def entries(folder) -> list[CacheEntry]:
     if not folder.is_dir():
         return out
     for lib in sorted(folder.glob("*.so")):
-        if lib.name.startswith("."):
+        if lib.name.startswith(".") or not lib.is_file():  # a folder named *.so is no entry: left alone
             continue
         man = lib.with_name(lib.name + ".sha256")
         files = (lib, man) if man.exists() else (lib,)
         stamp = (man if man.exists() else lib).stat().st_mtime
         out.append(CacheEntry("library", _name_of(lib.stem), files, sum(f.stat().st_size for f in files), stamp))
     for man in sorted(folder.glob("*.so.sha256")):     # a manifest whose library is gone
-        if not man.name.startswith(".") and not man.with_name(man.name[:-len(".sha256")]).exists():
+        if not man.name.startswith(".") and man.is_file() and not man.with_name(man.name[:-len(".sha256")]).exists():
             out.append(CacheEntry("library", _name_of(man.name[:-len(".so.sha256")]), (man,), man.stat().st_size,
                                   man.stat().st_mtime))
     functions = folder / "functions"
     if functions.is_dir():
         for f in sorted(functions.glob("*.npz")):
-            if not f.name.startswith("."):
+            if not f.name.startswith(".") and f.is_file():
                 st = f.stat()
                 out.append(CacheEntry("function", _name_of(f.stem), (f,), st.st_size, st.st_mtime))
     return out
