@@ -13,29 +13,12 @@ from dataclasses import dataclass, field
 import numpy as np
 import openmdao.api as om
 
+from wingmdao.beam.geometry import WingGeometry
 from wingmdao.groups.wing import SECTION_KINDS, WingSizing, set_case_loads
 from wingmdao.optimize import ProgressPrinter, add_recorder, make_driver
 from wingmdao.section.box import WALL_NAMES
 
 WALL_VARS = WALL_NAMES  # the one table of wall names: wingmdao.section.box
-
-
-@dataclass
-class WingGeometry:
-    """Beam mesh and box outer dimensions per node (SI)."""
-
-    node_positions: np.ndarray  # (n, 3) m, body axes
-    node_euler_angles: np.ndarray  # (n, 3) rad
-    width: np.ndarray  # (n,) m, box outer width
-    height: np.ndarray  # (n,) m, box outer height
-    section_to_csn: np.ndarray | None = None  # (n, 3, 3)
-    station_map: np.ndarray | None = None  # (n,) design index per station (None: one per station)
-    nonstructural_mass_per_length: np.ndarray | None = None  # (n,) kg/m
-    span_coordinate: np.ndarray | None = None  # (n,) m, for plots (default: y)
-
-    @property
-    def num_nodes(self) -> int:
-        return int(np.asarray(self.node_positions).shape[0])
 
 
 @dataclass
@@ -205,7 +188,8 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     if distributed:
         from wingmdao.parallel import distributed_wing_sizing
 
-        wing, _ = distributed_wing_sizing(geometry, load_cases, material, options, section, comm, **wing_kwargs)
+        wing, _ = distributed_wing_sizing(geometry, load_cases, material, options, section, comm,
+                                          build_problem=build_problem, **wing_kwargs)
     else:
         wing = WingSizing(num_nodes=n, load_cases=load_cases, material=material, parallel=parallel,
                           section=section, station_map=geometry.station_map, flutter=flutter, **wing_kwargs)

@@ -66,7 +66,7 @@ class CoupledAero:
 
     def trim_load_factor(self) -> float:
         """n = trim_lift / (g0 aircraft_mass): the trimmed load factor of a free-plunge case."""
-        from wingmdao.cases.planform import G0
+        from wingmdao.loads.atmosphere import G0
 
         return float(self.trim_lift) / (G0 * float(self.aircraft_mass))
 

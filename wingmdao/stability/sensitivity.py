@@ -50,20 +50,13 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from wingmdao.stability import pencil_lu
+from wingmdao.stability.eigen import _signature
 
 _FUNCTIONS: dict = {}
 
 
 #: evaluations after which the gradient functions are compiled (cached on disk)
 GRADIENT_JIT_THRESHOLD = 20
-
-
-def _signature(name, inputs, outputs) -> ca.Function:
-    """A CasADi function named ``name`` with dense inputs and outputs of the given shapes (zero
-    outputs): what a compiled library's cache key (with a definition) and its signature check
-    (:func:`wingmdao.utils.casadi_cache.load`) read, without building the expressions."""
-    ins = [ca.MX.sym(f"in{k}", *shape) for k, shape in enumerate(inputs)]
-    return ca.Function(name, ins, [ca.MX.zeros(*shape) for shape in outputs])
 
 
 class _GradientFunctions:
