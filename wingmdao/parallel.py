@@ -28,6 +28,7 @@ import openmdao.api as om
 
 from wingmdao.groups.load_case import LoadCase
 from wingmdao.utils.mpi_env import launched_ranks  # noqa: F401 - part of this module's API
+from wingmdao.groups.wing import SECTION_KINDS, WingSizing, stress_points
 
 
 
@@ -205,8 +206,6 @@ class CaseHistory(_ProxyBase):
 
 def add_case_proxies(cases, exchange, geometry, material, section, n_dv, add_constraints=False):
     """``<name>`` proxy groups (ks, stress, internal_loads) in group ``cases`` for every load case."""
-    from wingmdao.groups.wing import SECTION_KINDS, stress_points
-
     design = list(SECTION_KINDS[section]["design_vars"])
     n = geometry.num_nodes
     for case in exchange.cases:
@@ -229,8 +228,6 @@ def add_case_proxies(cases, exchange, geometry, material, section, n_dv, add_con
 def distributed_wing_sizing(geometry, load_cases, material, options, section, comm, *, build_problem, **wing_kwargs):
     """A :class:`~wingmdao.groups.wing.WingSizing` whose ``cases`` group holds proxies of the
     load cases, each computed on its rank (:class:`CaseExchange`, its sub-problem from ``build_problem``)."""
-    from wingmdao.groups.wing import SECTION_KINDS, WingSizing
-
     design = SECTION_KINDS[section]["design_vars"]
     exchange = CaseExchange(geometry, load_cases, material, options, section, comm, design,
                             build_problem=build_problem)
