@@ -113,7 +113,8 @@ def test_case_proxy_partials_and_values_match_the_case():
     setup = pegasus.build(loads="maneuver")
     rng = np.random.default_rng(3)
     x = {w: rng.uniform(0.004, 0.012, 19) for w in WALL_VARS}
-    ex = CaseExchange(setup.geometry, setup.load_cases, setup.material, setup.options, "box", _OneRank(), WALL_VARS)
+    ex = CaseExchange(setup.geometry, setup.load_cases, setup.material, setup.options, "box", _OneRank(), WALL_VARS,
+                      build_problem=build_problem)
     prob = om.Problem(reports=False)
     prob.model.add_subsystem("ks", CaseKS(exchange=ex, case=setup.load_cases[0], dv_size=19), promotes=["*"])
     prob.setup(force_alloc_complex=False)

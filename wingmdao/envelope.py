@@ -23,6 +23,8 @@ import os
 
 import numpy as np
 
+from wingmdao.results import span_coordinate
+
 QUANTITIES = {  # name: (array, component, label, scale to plot units, unit)
     "shear": ("F", 2, "shear F_n", 1e-3, "kN"),
     "bending": ("M", 0, "bending M_c", 1e-3, "kN m"),
@@ -236,8 +238,6 @@ def write_plots(data: dict, stem: str, stations=None) -> list:
 
 def write_envelope_outputs(prob, setup, stem: str, stations=None, plots: bool = True) -> dict:
     """Collect, save ``<stem>_envelope.npz`` and (``plots``) write the PNGs; returns paths and the table."""
-    from wingmdao.results import span_coordinate
-
     data = collect(prob, setup.load_cases, span_coordinate(setup.geometry))
     out = {"envelope_file": save(data, f"{stem}_envelope.npz"), "critical_cases": critical_cases(data)}
     out["plots"] = write_plots(data, stem, stations) if plots else []

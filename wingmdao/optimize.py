@@ -22,6 +22,7 @@ import time
 import numpy as np
 import openmdao.api as om
 from openmdao.recorders.case_recorder import CaseRecorder
+from scipy.optimize import OptimizeResult
 
 PYOPTSPARSE_OPTIMIZERS = ("SNOPT", "IPOPT", "SLSQP")
 
@@ -124,8 +125,6 @@ class BackoffSLSQPDriver(om.ScipyOptimizeDriver):
         ``success = False``, ``message`` = :attr:`stop_message`, ``nit`` = gradient evaluations."""
         if self.stop_message is None:
             return self._scipy_optimize_result  # documented attribute of om.ScipyOptimizeDriver
-        from scipy.optimize import OptimizeResult
-
         x = None if self._good is None else self._good[0]
         return OptimizeResult(success=False, status=-1, message=self.stop_message, nit=self._gradients, x=x)
 

@@ -28,6 +28,7 @@ import openmdao.api as om
 
 from wingmdao.groups.load_case import LoadCase
 from wingmdao.utils.mpi_env import launched_ranks  # noqa: F401 - part of this module's API
+from wingmdao.groups.wing import SECTION_KINDS, WingSizing, stress_points
 
 
 
@@ -75,9 +76,8 @@ def assign_cases(load_cases, size: int) -> list:
 class CaseExchange:
     """This rank's sub-problem and the gathered values/derivatives of all cases at one design."""
 
-    def __init__(self, geometry, load_cases, material, options, section, comm, design_vars):
-        from wingmdao.sizing import build_problem
-
+    def __init__(self, geometry, load_cases, material, options, section, comm, design_vars, *, build_problem):
+        """``build_problem``: :func:`wingmdao.sizing.build_problem`, which builds this rank's sub-problem."""
         self.comm = comm
         self.cases = list(load_cases)
         self.owned = assign_cases(self.cases, comm.size)
@@ -206,8 +206,6 @@ class CaseHistory(_ProxyBase):
 
 def add_case_proxies(cases, exchange, geometry, material, section, n_dv, add_constraints=False):
     """``<name>`` proxy groups (ks, stress, internal_loads) in group ``cases`` for every load case."""
-    from wingmdao.groups.wing import SECTION_KINDS, stress_points
-
     design = list(SECTION_KINDS[section]["design_vars"])
     n = geometry.num_nodes
     for case in exchange.cases:
@@ -227,13 +225,12 @@ def add_case_proxies(cases, exchange, geometry, material, section, n_dv, add_con
             promotes_inputs=design)
 
 
-def distributed_wing_sizing(geometry, load_cases, material, options, section, comm, **wing_kwargs):
+def distributed_wing_sizing(geometry, load_cases, material, options, section, comm, *, build_problem, **wing_kwargs):
     """A :class:`~wingmdao.groups.wing.WingSizing` whose ``cases`` group holds proxies of the
-    load cases, each computed on its rank (:class:`CaseExchange`)."""
-    from wingmdao.groups.wing import SECTION_KINDS, WingSizing
-
+    load cases, each computed on its rank (:class:`CaseExchange`, its sub-problem from ``build_problem``)."""
     design = SECTION_KINDS[section]["design_vars"]
-    exchange = CaseExchange(geometry, load_cases, material, options, section, comm, design)
+    exchange = CaseExchange(geometry, load_cases, material, options, section, comm, design,
+                            build_problem=build_problem)
     n = geometry.num_nodes
     n_dv = n if geometry.station_map is None else int(np.max(geometry.station_map)) + 1
 

@@ -7,6 +7,8 @@ import os
 import numpy as np
 import openmdao.api as om
 
+from wingmdao.plots import WALLS, plot_iteration_history, plot_thickness
+
 
 def constraint_margin(value, meta: dict) -> np.ndarray:
     """Signed distance of a constraint value to its bounds (unscaled): ``value - upper``,
@@ -79,8 +81,6 @@ def format_history(hist: dict) -> str:
 
 def final_thickness(hist: dict) -> dict | None:
     """``{wall: (n,) m}`` of the last recorded iteration, or None when the design variables are not walls."""
-    from wingmdao.plots import WALLS
-
     final = hist["design_vars"][-1]
     thick = {}
     for wall in WALLS:
@@ -96,8 +96,6 @@ def write_comparison_plot(histories: dict, path: str) -> str:
     ``histories`` maps a label to :func:`read_history` output; all runs must size walls of the
     same number of design stations.
     """
-    from wingmdao.plots import plot_thickness
-
     runs = {}
     for label, hist in histories.items():
         thick = final_thickness(hist)
@@ -113,8 +111,6 @@ def write_comparison_plot(histories: dict, path: str) -> str:
 
 def write_report_plots(hist: dict, out_dir: str) -> list[str]:
     """Iteration history PNG (and final thickness PNG when the design variables are wall thicknesses)."""
-    from wingmdao.plots import plot_iteration_history, plot_thickness
-
     os.makedirs(out_dir, exist_ok=True)
     paths = [plot_iteration_history(hist["objective"], hist["max_constraint"],
                                     os.path.join(out_dir, "iterations.png"))]

@@ -12,31 +12,25 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import openmdao.api as om
+from openmdao.utils.mpi import FakeComm, MPI
 
+from wingmdao.beam.geometry import WingGeometry
 from wingmdao.groups.wing import BOX_KINDS, SECTION_KINDS, WingSizing, set_case_loads
 from wingmdao.panels.layout import PANEL_FAMILIES, PanelLayout, smeared_stringer
 from wingmdao.optimize import ProgressPrinter, add_recorder, make_driver
-from wingmdao.section.box import WALL_NAMES
+from wingmdao.section.box import WALL_NAMES, beam_params_from_rows, box_properties, validate_box
+from wingmdao.beam.modes import natural_frequencies
+from wingmdao.beam.static import beam_forcing
+from wingmdao.components.beam import beam_system
+from wingmdao.components.flutter import paused_flutter
+from wingmdao.components.mass import beam_mass
+from wingmdao.groups.load_case import LoadCase
+from wingmdao.limits import check_memory
+from wingmdao.materials import Material
+from wingmdao.section.solid import solid_properties, validate_solid
+from wingmdao.timemarch.system import pack
 
 WALL_VARS = WALL_NAMES  # the one table of wall names: wingmdao.section.box
-
-
-@dataclass
-class WingGeometry:
-    """Beam mesh and box outer dimensions per node (SI)."""
-
-    node_positions: np.ndarray  # (n, 3) m, body axes
-    node_euler_angles: np.ndarray  # (n, 3) rad
-    width: np.ndarray  # (n,) m, box outer width
-    height: np.ndarray  # (n,) m, box outer height
-    section_to_csn: np.ndarray | None = None  # (n, 3, 3)
-    station_map: np.ndarray | None = None  # (n,) design index per station (None: one per station)
-    nonstructural_mass_per_length: np.ndarray | None = None  # (n,) kg/m
-    span_coordinate: np.ndarray | None = None  # (n,) m, for plots (default: y)
-
-    @property
-    def num_nodes(self) -> int:
-        return int(np.asarray(self.node_positions).shape[0])
 
 
 @dataclass
@@ -73,9 +67,6 @@ RHO_KS_MIN = 10.0
 
 def check_problem_inputs(geometry, load_cases, material, options, section="box") -> None:
     """ValueError naming the argument for inputs :func:`build_problem` cannot use (before setup)."""
-    from wingmdao.groups.load_case import LoadCase
-    from wingmdao.materials import Material
-
     if section not in SECTION_KINDS:
         raise ValueError(f"section = {section!r}; allowed: {', '.join(SECTION_KINDS)}")
     if not isinstance(material, Material):
@@ -216,7 +207,8 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     if distributed:
         from wingmdao.parallel import distributed_wing_sizing
 
-        wing, _ = distributed_wing_sizing(geometry, load_cases, material, options, section, comm, **wing_kwargs)
+        wing, _ = distributed_wing_sizing(geometry, load_cases, material, options, section, comm,
+                                          build_problem=build_problem, **wing_kwargs)
     else:
         wing = WingSizing(num_nodes=n, load_cases=load_cases, material=material, parallel=parallel,
                           section=section, station_map=geometry.station_map, flutter=flutter, **wing_kwargs)
@@ -256,8 +248,6 @@ def _serial_comm():
     """OpenMDAO's serial communicator when it runs without MPI (``openmdao.utils.mpi.MPI`` is None:
     not under mpirun), else None (the default). ``om.Problem()`` imports mpi4py whenever it is
     installed, ~1.2 s of a 20 s gust sizing here, although it then runs serially."""
-    from openmdao.utils.mpi import MPI, FakeComm
-
     return FakeComm() if MPI is None else None
 
 
@@ -268,8 +258,6 @@ def initial_mass(geometry: WingGeometry, material, options: SizingOptions, secti
     Computed directly (App. F.1 frustum volumes of the section areas, Eq. F.1-F.5 for the box,
     w h for the solid rectangle), without the non-structural mass, as the sizing model's
     section and mass components would for the initial design variables."""
-    from wingmdao.components.mass import beam_mass
-
     design_vars = SECTION_KINDS[section]["design_vars"]
     dv = station_design(geometry, initial_design(options, design_vars), design_vars)
     if section in BOX_KINDS:
@@ -343,9 +331,6 @@ def design_beam_params(geometry: WingGeometry, material, design: dict, section: 
     """Beam parameters of a design, computed directly from the section functions (App. A, F):
     what the sizing model's section component feeds its beam. ``design`` maps the design
     variables to values per design station (1 or n_dv values each)."""
-    from wingmdao.section.box import beam_params_from_rows, box_properties, validate_box
-    from wingmdao.section.solid import solid_properties, validate_solid
-
     n = geometry.num_nodes
     dv = station_design(geometry, design, SECTION_KINDS[section]["design_vars"])
     if section in BOX_KINDS:
@@ -379,11 +364,6 @@ def initial_frequencies(geometry: WingGeometry, material, options: SizingOptions
     Used to place structural damping (:class:`~wingmdao.beam.residual.StrainRateDamping`) at the
     first bending mode; the beam parameters come directly from :func:`design_beam_params`.
     """
-    from wingmdao.beam.modes import natural_frequencies
-    from wingmdao.beam.static import beam_forcing
-    from wingmdao.components.beam import beam_system
-    from wingmdao.timemarch.system import pack
-
     params = design_beam_params(geometry, material, initial_design(options, SECTION_KINDS[section]["design_vars"]),
                                 section)
     system = beam_system(geometry.num_nodes)
@@ -505,8 +485,6 @@ def presize_fully_stressed(prob, load_cases, geometry: WingGeometry, options: Si
     these passes (:func:`~wingmdao.components.flutter.paused_flutter`: the optimizer never sees
     their designs). Returns the pass history.
     """
-    from wingmdao.components.flutter import paused_flutter
-
     if passes <= 0:
         return {"passes": 0}
     cases = [c for c in load_cases if "vm" in c.families]
@@ -539,8 +517,6 @@ def size_case(setup, *, optimize: bool = True, parallel: bool | None = None, com
     ``comm``: None = the MPI world when run under ``mpirun -n P > 1`` (cases spread over the
     ranks, :mod:`wingmdao.parallel`), else serial; False = serial.
     """
-    from wingmdao.limits import check_memory
-
     if comm is None:
         from wingmdao.parallel import world_comm
 

@@ -12,6 +12,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from wingmdao.aero.system import aero_parameters, cached_aeroelastic_system
+from wingmdao.loads.atmosphere import G0
+from wingmdao.timemarch.system import pack
+
 #: Aerodynamic forcing of a coupled case, shapes per instant ("n" = number of nodes).
 AERO_FORCING_SHAPES = {"gust_velocity": ("n",), "frame_velocity": (3,), "frame_velocity_rate": (3,),
                        "trim_active": (), "tail_gust_velocity": ()}
@@ -66,8 +70,6 @@ class CoupledAero:
 
     def trim_load_factor(self) -> float:
         """n = trim_lift / (g0 aircraft_mass): the trimmed load factor of a free-plunge case."""
-        from wingmdao.cases.planform import G0
-
         return float(self.trim_lift) / (G0 * float(self.aircraft_mass))
 
     def model_inputs(self) -> dict:
@@ -80,8 +82,6 @@ class CoupledAero:
 
     def parameters(self, num_nodes: int) -> dict:
         """The aerodynamic input values (validated; ValueError naming a bad input)."""
-        from wingmdao.aero.system import aero_parameters
-
         out = aero_parameters(num_nodes, chord=self.chord, ref_point=self.ref_point, lift_slope=self.lift_slope,
                               alpha_zero_lift=self.alpha_zero_lift, cm0=self.cm0, airspeed=self.airspeed,
                               density=self.density, mach=self.mach)
@@ -115,9 +115,6 @@ def load_case_response(prob, case, num_nodes: int, weight: float) -> dict:
     ``root_torsion`` (N m, M_x and M_y at the root node, body axes), ``tip_displacement`` (m, z),
     and the peaks ``peak_load_factor``, ``peak_root_bending_moment`` (largest magnitudes).
     """
-    from wingmdao.aero.system import cached_aeroelastic_system
-    from wingmdao.timemarch.system import pack
-
     n, path = int(num_nodes), f"cases.{case.name}"
     t = case.time
 

@@ -42,6 +42,8 @@ from __future__ import annotations
 import numpy as np
 
 from wingmdao.timemarch.system import VarSpec
+import casadi as ca
+from wingmdao.aero.plunge import body_mass
 
 #: rigid-body states after the plunge velocity (pitch attitude, pitch rate, [lagged downwash]) and the
 #: tail-incidence trim unknown; system.body_index maps them to their state indices
@@ -117,8 +119,6 @@ def body_pitch_properties(aircraft_mass, cg, aircraft_pitch_inertia, mass_per_le
     """Body (aircraft outside both half-wings) mass, first moment (2,) and pitch inertia about the
     origin from the whole aircraft's mass M (kg), CG (x, z) from the origin (m) and pitch inertia
     about the CG (kg m^2); ValueError unless the body's own inertia about its CG is > 0."""
-    from wingmdao.aero.plunge import body_mass
-
     check_pitch_inputs(aircraft_pitch_inertia=aircraft_pitch_inertia)
     cg = np.asarray(cg)
     if cg.shape != (2,) or not np.all(np.isfinite(np.real(cg))):
@@ -142,8 +142,6 @@ def body_residuals(x_b, xd_b, *, w_p, dw_p, F0, M0, r0, alpha_trim, gust_root, g
 
     ``x_b``/``xd_b``: (theta_p, q, [e], i_t) and their rates; ``on`` the trim switch (1: theta_p
     = q = w_p = 0 and i_t solves the static moment balance; 0: the dynamics, i_t held)."""
-    import casadi as ca
-
     theta, qr = x_b[0], x_b[1]
     it = x_b[-1]
     s_x, s_z = pars["body_first_moment"][0], pars["body_first_moment"][1]

@@ -39,6 +39,7 @@ import math
 
 import casadi as ca
 import numpy as np
+from scipy.special import hankel2
 
 #: R. T. Jones' Wagner approximation (NACA Rep. 681): phi(s) = 1 - sum A_k exp(-beta_k s).
 WAGNER_A = (0.165, 0.335)
@@ -65,8 +66,6 @@ def kussner_sears_sparks(s):
 
 def theodorsen_exact(k):
     """Theodorsen's C(k) = H1(k) / (H1(k) + i H0(k)) (Hankel functions of the second kind)."""
-    from scipy.special import hankel2
-
     h1, h0 = hankel2(1, k), hankel2(0, k)
     return h1 / (h1 + 1j * h0)
 

@@ -44,6 +44,9 @@ from wingmdao.beam.residual import (N_STATE_PER_NODE, STATE_BLOCKS, _P_NODE, _Q_
 from wingmdao.beam.rotations import body_to_csn
 from wingmdao.timemarch import lu_orders
 from wingmdao.timemarch.system import CasadiResidualSystem, VarSpec, layout
+from wingmdao.timemarch.bdf import state_rates
+from wingmdao.utils import function_store
+from wingmdao.utils.casadi_cache import definition_key
 
 #: states per node of the aeroelastic system: 18 beam + 4 aerodynamic
 N_AEROELASTIC_STATES = N_STATE_PER_NODE + N_AERO_STATES
@@ -199,8 +202,6 @@ def aeroelastic_definition(num_nodes: int, euler_sequence: str = "surface",
     libraries, :func:`wingmdao.utils.casadi_cache.definition_key`): its arguments, the source of
     the generating modules and the CasADi version. Keying on this instead of the serialized
     functions saves ~0.7 s per process (the serialization of the large coupled functions)."""
-    from wingmdao.utils.casadi_cache import definition_key
-
     if damping is not None and damping.is_zero:
         damping = None
     args = (int(num_nodes), str(euler_sequence),
@@ -400,7 +401,6 @@ def stored_jacobians(name: str, definition: str, R, args) -> dict:
     """
     import zlib
 
-    from wingmdao.utils import function_store
 
     keys = ("x", "xdot", "p", "q")
     built = {}
@@ -474,8 +474,6 @@ class AeroelasticBeamSystem(CasadiResidualSystem):
     def total_lift_history(self, X, dt, p, Q):
         """Lift of both half-wings (N) at every instant: 2 x the trapezoid of the section lift over
         the undeformed beam (states X (n_time, n_state), BDF rates at step ``dt``, forcing Q)."""
-        from wingmdao.timemarch.bdf import state_rates
-
         lift, _ = self.section_load_history(X, state_rates(X, dt), p, Q)
         r0 = self.split_parameters(p)["node_positions"]
         ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
@@ -489,8 +487,6 @@ class AeroelasticBeamSystem(CasadiResidualSystem):
 
     def tail_lift_history(self, X, dt, p, Q):
         """Horizontal-tail lift (N) at every instant of a free-pitch system (``pitch=True``)."""
-        from wingmdao.timemarch.bdf import state_rates
-
         if not getattr(self, "pitch", False):
             raise ValueError("tail_lift_history needs a system built with pitch=True")
         Xd = state_rates(X, dt)

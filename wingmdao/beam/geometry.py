@@ -132,3 +132,21 @@ def streamwise_section_to_csn(node_euler_angles) -> np.ndarray:
     """
     angles = np.asarray(node_euler_angles, dtype=float).reshape(-1, 3)
     return np.array([body_to_csn(a) for a in angles])
+
+
+@dataclass
+class WingGeometry:
+    """Beam mesh and box outer dimensions per node (SI)."""
+
+    node_positions: np.ndarray  # (n, 3) m, body axes
+    node_euler_angles: np.ndarray  # (n, 3) rad
+    width: np.ndarray  # (n,) m, box outer width
+    height: np.ndarray  # (n,) m, box outer height
+    section_to_csn: np.ndarray | None = None  # (n, 3, 3)
+    station_map: np.ndarray | None = None  # (n,) design index per station (None: one per station)
+    nonstructural_mass_per_length: np.ndarray | None = None  # (n,) kg/m
+    span_coordinate: np.ndarray | None = None  # (n,) m, for plots (default: y)
+
+    @property
+    def num_nodes(self) -> int:
+        return int(np.asarray(self.node_positions).shape[0])

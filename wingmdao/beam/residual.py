@@ -38,6 +38,8 @@ import numpy as np
 from wingmdao.beam.rotations import body_to_csn, rate_matrix
 from wingmdao.timemarch import lu_orders
 from wingmdao.timemarch.system import HISTORY_PARTS, JIT_THRESHOLD, CasadiResidualSystem, VarSpec, layout
+from wingmdao.utils import function_store
+from wingmdao.utils.casadi_cache import cached, definition_key, function_key, jit_enabled, precompiled_call
 
 #: Per-node state blocks (docs/conventions.md).
 STATE_BLOCKS = {"r": slice(0, 3), "theta": slice(3, 6), "F": slice(6, 9), "M": slice(9, 12),
@@ -332,8 +334,6 @@ def beam_definition(num_nodes: int, euler_sequence: str = "surface",
     """What defines the functions of :func:`build_beam_system` (the key of their compiled
     libraries, :func:`wingmdao.utils.casadi_cache.definition_key`): its arguments, the source of
     the generating modules and the CasADi version."""
-    from wingmdao.utils.casadi_cache import definition_key
-
     if damping is not None and damping.is_zero:
         damping = None
     args = (int(num_nodes), str(euler_sequence),
@@ -360,8 +360,6 @@ def build_beam_system(num_nodes: int, *, euler_sequence: str = "surface",
         raise ValueError(f"num_nodes must be >= 2, got {num_nodes}")
     if not defer:
         return _build_beam_system(n, euler_sequence, damping)
-    from wingmdao.utils import function_store
-
     t_start = time.perf_counter()
     definition = beam_definition(n, euler_sequence, damping)
     built = {}
@@ -499,8 +497,6 @@ class DeferredBeamSystem(CasadiResidualSystem):
         """Use the cached compiled libraries of the solver and history functions, if those of
         :data:`_REQUIRED` load (the others as far as they are cached; a missing one is made from
         the built system at its first use: :meth:`_part_call`)."""
-        from wingmdao.utils.casadi_cache import cached, function_key, jit_enabled, precompiled_call
-
         if not jit_enabled():
             return False
         data = self._deferred[0]

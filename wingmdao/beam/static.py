@@ -14,7 +14,9 @@ import numpy as np
 
 from wingmdao.beam.residual import (StrainRateDamping, build_beam_system, forcing_specs, jig_state,
                                     param_specs, unpack_state)
-from wingmdao.timemarch.system import pack
+from wingmdao.timemarch.system import layout, pack
+from wingmdao.beam.rotations import euler_from_axis
+from wingmdao.timemarch.bdf import march, solve_static
 
 _SYSTEMS: dict = {}
 
@@ -140,8 +142,6 @@ class BeamModel:
 
     def solve(self, *, load_steps=1, x0=None, max_iter=30, **forcing) -> dict:
         """Static equilibrium under the given forcing blocks; returns :func:`unpack_state` plus 'x'."""
-        from wingmdao.timemarch.bdf import solve_static
-
         q = pack(forcing_specs(self.num_nodes), beam_forcing(self.num_nodes, **forcing))
         x, info = solve_static(self.system, self.p, q, x0, load_steps=load_steps, max_iter=max_iter)
         out = unpack_state(x, self.num_nodes)
@@ -152,8 +152,6 @@ class BeamModel:
 
 def straight_beam(n, length, direction=(0.0, 1.0, 0.0)):
     """Node positions and jig angles of a straight beam from the origin along ``direction``."""
-    from wingmdao.beam.rotations import euler_from_axis
-
     d = np.asarray(direction, dtype=float)
     d = d / np.linalg.norm(d)
     r0 = np.outer(np.linspace(0.0, length, n), d)
@@ -164,9 +162,6 @@ def march_line_loads(params: dict, time, force_per_length, moment_per_length, gr
     """BDF2 history (:func:`wingmdao.timemarch.bdf.march`, modified Newton) of the clamped beam of
     ``params`` under dead line loads ``force_per_length`` / ``moment_per_length`` (n_time, n, 3)
     N/m, N m/m, and constant ``gravity`` (m/s^2, body axes), starting from the static state of t[0]."""
-    from wingmdao.timemarch.bdf import march
-    from wingmdao.timemarch.system import layout
-
     t = np.asarray(time, dtype=float)
     n = np.asarray(params["node_positions"]).shape[0]
     system = cached_beam_system(n)

@@ -21,6 +21,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from wingmdao.beam.static import beam_parameters, straight_beam
+
 FT, SLUG, LBF = 0.3048, 14.59390294, 4.4482216152605
 
 SEMI_SPAN = 20.0 * FT
@@ -58,8 +60,6 @@ def beam_params(num_nodes: int = 21, *, inertia_axis: str = "ea") -> dict:
 
     Beam axis = elastic axis, along +y from the clamped root; mass centre 10 % chord aft of it.
     """
-    from wingmdao.beam.static import beam_parameters, straight_beam
-
     if inertia_axis not in ("cg", "ea"):
         raise ValueError(f'inertia_axis must be "cg" or "ea", got {inertia_axis!r}')
     if int(num_nodes) < 3:

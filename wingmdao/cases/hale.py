@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from wingmdao.beam.static import beam_parameters, straight_beam
+
 SEMI_SPAN = 16.0
 CHORD = 1.0
 ELASTIC_AXIS = 0.5
@@ -36,8 +38,6 @@ PUBLISHED = {
 
 def beam_params(num_nodes: int = 21) -> dict:
     """Beam parameter dict (``wingmdao.beam.residual.param_specs``) of the HALE wing, SI."""
-    from wingmdao.beam.static import beam_parameters, straight_beam
-
     if int(num_nodes) < 3:
         raise ValueError(f"num_nodes must be >= 3, got {num_nodes}")
     r0, th0 = straight_beam(int(num_nodes), SEMI_SPAN)

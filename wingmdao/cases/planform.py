@@ -13,9 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-FT = 0.3048
-LB = 0.45359237
-G0 = 9.80665
+from wingmdao.beam.geometry import WingGeometry, polyline_beam
+from wingmdao.loads.atmosphere import FT, G0, LB  # noqa: F401  (G0: public here too)
+from wingmdao.section.fe.airfoil import naca_surfaces
 
 
 @dataclass(frozen=True)
@@ -63,8 +63,6 @@ class Planform:
 
 def box_dimensions(designation: str, chord: float, front: float, rear: float):
     """Box width (Eq. 4.11) and height (Eq. 4.12) between the spars of an airfoil, m."""
-    from wingmdao.section.fe.airfoil import naca_surfaces
-
     upper, lower = naca_surfaces(designation)
     xs = np.linspace(front, rear, 10)
     height = chord * float(np.mean(upper(xs) - lower(xs)))
@@ -87,9 +85,6 @@ def wing_geometry(pf: Planform, point_masses=()):
     lengths next to the nearest station (their integral equals the mass).
     Returns ``(WingGeometry, chord (n,), beam_axis_fraction (n,))``.
     """
-    from wingmdao.beam.geometry import polyline_beam
-    from wingmdao.sizing import WingGeometry
-
     y = pf.station_y()
     y_sec = np.where(y < pf.root_rib * pf.semi_span, pf.root_rib * pf.semi_span, y)  # centre box = root rib
     chord = pf.chord(y_sec)

@@ -18,6 +18,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from wingmdao.cli._verify_fe import (_design_walls, _material, add_fe_arguments, build_fe_model, check_fe_args,
+                                     percent_difference, von_mises_table)
+
 #: --loads: the load factor of each named case (the sizing maneuvers of ``wingmdao size pegasus``,
 #: ``--load-factor`` / ``--negative-load-factor`` defaults); '1g' takes ``--load-factor``.
 MANEUVERS = {"maneuver-pos": 2.5, "maneuver-neg": -1.0}
@@ -27,8 +30,6 @@ DEFAULT_WALLS = (0.004, 0.004, 0.005, 0.004)
 
 
 def register_pegasus(cases):
-    from wingmdao.cli.verify import add_fe_arguments, run_verify
-
     p = cases.add_parser("pegasus", help="PEGASUS wing at n g: beam vs CalculiX shell/solid, with or without ribs")
     p.add_argument("--load-factor", type=float, default=1.0, metavar="N",
                    help="load factor n of the symmetric maneuver (lift n W, gravity 1 g plus (n-1) g frame "
@@ -42,12 +43,11 @@ def register_pegasus(cases):
                      ribs_help="ribs every SPACING m instead of at the case's 19 rib stations",
                      design_help="wall thicknesses from a 'wingmdao size pegasus' result (20 stations) "
                      "(unset: 4/4/5/4 mm upper/lower skin, front/rear spar)")
-    p.set_defaults(func=run_verify, through_elements=2)
+    p.set_defaults(through_elements=2)
+    return p
 
 
 def pegasus_walls(path):
-    from wingmdao.cli.verify import _design_walls
-
     if path:
         return _design_walls(path, "pegasus", count=20, how="a 'wingmdao size pegasus' result")
     return {k: np.full(20, v) for k, v in zip(("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar"),
@@ -168,7 +168,6 @@ def pegasus_setup(design, load_factor):
     wing with the walls of ``design`` at load factor ``load_factor``."""
     from wingmdao.cases import pegasus as case
     from wingmdao.cases.planform import G0, LB, wing_geometry
-    from wingmdao.cli.verify import _material
     from wingmdao.fe.box_model import BoxSections
     from wingmdao.loads.maneuver import maneuver_line_loads
 
@@ -189,7 +188,6 @@ def verify_pegasus(args) -> dict:
     from wingmdao.cases import pegasus as case
     from wingmdao.cases.planform import G0
     from wingmdao.cases.wing_box import station_rotations
-    from wingmdao.cli.verify import build_fe_model, check_fe_args, percent_difference, von_mises_table
     from wingmdao.fe.box_model import add_point_masses, solve_modes, solve_static
     from wingmdao.fe.calculix import find_ccx
 

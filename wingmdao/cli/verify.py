@@ -14,9 +14,11 @@ magnitude per station, m), ``difference_percent``, and with ``--modes N``
 
 from __future__ import annotations
 
-import os
 
 import numpy as np
+
+from wingmdao.cli._verify_fe import _design_walls, _material, add_fe_arguments, build_fe_model  # noqa: F401
+from wingmdao.cli._verify_fe import check_fe_args, percent_difference, von_mises_table  # noqa: F401
 
 
 def register(subparsers):
@@ -38,57 +40,8 @@ def register(subparsers):
                      design_help="wall thicknesses (beam-normal) from a 'wingmdao size wing-box --elements 1 1 1' "
                      "result (4 stations CS1..CS4), for the FE model and the beam (default: --t-spar/--t-skin)")
     wb.set_defaults(func=run_verify)
-    register_pegasus(cases)
+    register_pegasus(cases).set_defaults(func=run_verify)
     register_panel(cases)
-
-
-def add_fe_arguments(p, *, rib_thickness, no_ribs_help, design_help, ribs_help="ribs every SPACING m of span"):
-    """The FE-model flags shared by the ``verify`` cases."""
-    p.add_argument("--fidelity", choices=("shell", "solid"), default="shell",
-                   help="FE model: shell (S8R on the wall mid-surfaces) or solid (C3D20R walls, "
-                   "--through-elements through each wall thickness)")
-    p.add_argument("--through-elements", type=int, default=2, metavar="N",
-                   help="solid: elements through each wall thickness")
-    p.add_argument("--nlgeom", action="store_true",
-                   help="geometrically nonlinear FE solve (ccx NLGEOM, 10 increments); the beam is always nonlinear")
-    p.add_argument("--load-steps", type=int, default=1, metavar="N",
-                   help="load steps of the beam's static Newton solve")
-    g = p.add_mutually_exclusive_group()
-    g.add_argument("--ribs", type=float, default=None, metavar="SPACING", help=ribs_help)
-    g.add_argument("--no-ribs", action="store_true", help=no_ribs_help)
-    p.add_argument("--rib-thickness", type=float, default=rib_thickness, metavar="M",
-                   help="rib thickness (m)")
-    p.add_argument("--design", default=None, metavar="RESULT.json", help=design_help)
-    p.add_argument("--modes", type=int, default=0, metavar="N", help="also compare the first N frequencies")
-    p.add_argument("--chord-elements", type=int, default=8, metavar="N", help="elements across the skins")
-    p.add_argument("--height-elements", type=int, default=2, metavar="N", help="elements across the spars")
-    p.add_argument("--span-size", type=float, default=0.5, metavar="M",
-                   help="element length along the span (m)")
-    p.add_argument("--plot", default=None, metavar="PNG", help="write beam-vs-FE displacement/rotation/stress plots")
-    from wingmdao.cli._args import add_json_argument
-
-    add_json_argument(p, overwrite=False)
-    p.add_argument("--overwrite", action="store_true", help="replace an earlier run's --json / --plot files")
-
-
-def _design_walls(path, case, count=4, how="size with --elements 1 1 1"):
-    from wingmdao.cli._io import read_json_object
-
-    data = read_json_object(path, "--design")
-    if data.get("case") != case:
-        raise ValueError(f"--design {path!r} is a result of case {data.get('case')!r}, not {case!r}")
-    th = data.get("thickness")
-    if not isinstance(th, dict):
-        raise ValueError(f"--design {path!r}: no 'thickness' object (upper_skin, lower_skin, front_spar, "
-                         f"rear_spar per station, m; {how})")
-    walls = {}
-    for w in ("upper_skin", "lower_skin", "front_spar", "rear_spar"):
-        v = np.asarray(th.get(w, []), float)
-        if v.shape != (count,) or not np.all(np.isfinite(v) & (v > 0)):
-            raise ValueError(f"--design {path!r}: thickness.{w} must have {count} positive values in m "
-                             f"({how}), got {v.tolist()}")
-        walls["t_" + w] = v
-    return walls
 
 
 def wing_box_sections(geometry, t_spar, t_skin, walls=None):
@@ -140,46 +93,6 @@ def _check_verify_args(args, span):
     _check_args(args)
     check_fe_args(args, span)
     return _tip_loads(args)
-
-
-def check_fe_args(args, span):
-    """The shared FE flags (ValueError naming the flag, its value and the allowed range)."""
-    if args.ribs is not None and not (np.isfinite(args.ribs) and 0 < args.ribs <= span):
-        raise ValueError(f"--ribs = {args.ribs} m; allowed range (0, {span:g}] m (the span)")
-    if args.modes < 0 or args.modes > 50:
-        raise ValueError(f"--modes = {args.modes}; allowed range [0, 50]")
-    for name, low in (("chord_elements", 1), ("height_elements", 1), ("through_elements", 1)):
-        if getattr(args, name) < low:
-            raise ValueError(f"--{name.replace('_', '-')} = {getattr(args, name)}; allowed >= {low}")
-    if not (np.isfinite(args.span_size) and 0.05 <= args.span_size <= 3.0):
-        raise ValueError(f"--span-size = {args.span_size} m; allowed range [0.05, 3] m")
-    if not (np.isfinite(args.rib_thickness) and 0 < args.rib_thickness <= 0.5):
-        raise ValueError(f"--rib-thickness = {args.rib_thickness} m; allowed range (0, 0.5] m")
-    if args.load_steps < 1:
-        raise ValueError(f"--load-steps = {args.load_steps}; allowed range >= 1")
-
-
-def percent_difference(beam, fe, scale) -> list:
-    """100 (beam - fe) / fe per station; None where |fe| <= 1e-6 ``scale`` (the clamped root, or
-    a displacement a pure torque does not produce)."""
-    return [None if abs(f) <= 1e-6 * scale or scale == 0 else float(100 * (b - f) / f)
-            for b, f in zip(np.asarray(beam, float), np.asarray(fe, float))]
-
-
-def build_fe_model(args, sec, ribs, cos_sweep=1.0, cos_dih=1.0):
-    """The FE model of ``--fidelity`` on the sections ``sec`` (beam-normal wall thicknesses; the
-    solid takes the streamwise ones, thickness / cos per section)."""
-    from wingmdao.fe.box_model import build_shell_box
-    from wingmdao.fe.solid_box import build_solid_box, streamwise_sections
-
-    if args.fidelity == "solid":
-        return build_solid_box(streamwise_sections(sec, cos_sweep, cos_dih), _material(),
-                               chord_elements=args.chord_elements, height_elements=args.height_elements,
-                               through=args.through_elements, span_element_size=args.span_size, ribs_y=ribs,
-                               rib_thickness=args.rib_thickness)
-    return build_shell_box(sec, _material(), chord_elements=args.chord_elements,
-                           height_elements=args.height_elements, span_element_size=args.span_size,
-                           ribs_y=ribs, rib_thickness=args.rib_thickness)
 
 
 def verify_wing_box(args) -> dict:
@@ -250,30 +163,6 @@ def segment_axes(geometry):
     T = polyline_beam(centres, (2,) * (len(centres) - 1)).csn_axes()[1::2]
     ys = centres[:, 1]
     return lambda y: T[int(np.clip(np.searchsorted(ys, y) - 1, 0, len(T) - 1))]
-
-
-def von_mises_table(model, sections, stresses, loads, axes_at) -> dict:
-    """JSON block: von Mises (Pa) at POINTS per span row, beam vs FE, differences in per cent of
-    the FE value and of the row's largest FE value (a point near zero stress has a large
-    relative difference and no weight)."""
-    from wingmdao.fe.stress_points import POINTS, compare_von_mises
-
-    c = compare_von_mises(model, sections, stresses, loads, axes_at)
-    fe, beam = c["fe"], c["beam"]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        rel = np.where(fe > 0, 100 * (beam - fe) / fe, 0.0)
-        of_max = np.where(fe.max(1, keepdims=True) > 0, 100 * (beam - fe) / fe.max(1, keepdims=True), 0.0)
-    return {"points": list(POINTS), "y": c["y"].tolist(), "fe_pa": fe.tolist(), "beam_pa": beam.tolist(),
-            "difference_percent": rel.tolist(), "difference_percent_of_row_max": of_max.tolist(),
-            "note": "FE: von Mises of the mean integration-point stress of the corner / mid-flange elements "
-                    "(shell: S8R expanded by ccx to C3D20R; solid: the elements through the wall); beam: "
-                    "Sec. 4.4.2 recovery at the same points, internal loads by statics of the jig"}
-
-
-def _material():
-    from wingmdao.materials import ALUMINIUM
-
-    return ALUMINIUM
 
 
 def beam_frequencies(geometry, t_spar, t_skin, count, walls=None):

@@ -22,7 +22,7 @@ import openmdao.api as om
 from wingmdao.aero.pitch import body_pitch_properties, check_pitch_inputs
 from wingmdao.aero.plunge import body_mass, half_wing_mass
 from wingmdao.aero.system import AeroelasticBeamSystem, cached_aeroelastic_system, check_aero_parameters
-from wingmdao.cases.planform import G0
+from wingmdao.loads.atmosphere import G0
 from wingmdao.components.time_history import TimeHistoryComponent
 from wingmdao.errors import InputRangeError
 

@@ -20,14 +20,13 @@ import numpy as np
 from wingmdao.beam.residual import STATE_BLOCKS  # per-node state layout (docs/conventions.md)
 from wingmdao.components.time_history import TimeHistoryComponent
 from wingmdao.timemarch.system import ResidualSystem, layout
+from wingmdao.beam.static import cached_beam_system
 
 
 @lru_cache(maxsize=16)
 def beam_system(num_nodes: int, euler_sequence: str = "surface") -> ResidualSystem:
     """The beam residual system for ``num_nodes`` nodes, built once per size (CasADi build cached,
     shared with ``wingmdao.beam.static``)."""
-    from wingmdao.beam.static import cached_beam_system
-
     return cached_beam_system(int(num_nodes), euler_sequence)
 
 

@@ -27,6 +27,11 @@ import numpy as np
 import openmdao.api as om
 
 from wingmdao.beam.residual import param_specs as beam_param_specs
+from wingmdao.aero.system import cached_aeroelastic_system
+from wingmdao.stability.cases import FlutterProblem
+from wingmdao.stability.eigen import check_speeds
+from wingmdao.stability.sensitivity import constraint_gradient, damping_constraint
+from wingmdao.timemarch.system import layout
 
 
 class FlutterDamping(om.ExplicitComponent):
@@ -58,9 +63,6 @@ class FlutterDamping(om.ExplicitComponent):
                                   "move the stiffnesses by 30-90 %; the refinement checks decide)")
 
     def setup(self):
-        from wingmdao.aero.system import cached_aeroelastic_system
-        from wingmdao.stability.eigen import check_speeds
-
         n = self.options["num_nodes"]
         self._speeds = check_speeds(self.options["speeds"])
         aero = self.options["aero"]
@@ -89,15 +91,11 @@ class FlutterDamping(om.ExplicitComponent):
             self.declare_partials("flutter_ks", s.name, rows=np.zeros(size, int), cols=np.arange(size))
 
     def _flutter_problem(self, inputs):
-        from wingmdao.stability.cases import FlutterProblem
-
         beam = {s.name: np.asarray(inputs[s.name], dtype=float).reshape(s.shape) for s in self._specs}
         return FlutterProblem("sizing", self.options["num_nodes"], beam, dict(self.options["aero"]),
                               self._system, {}, dict(self.options["eig_options"] or {}))
 
     def _evaluate(self, inputs, gradient):
-        from wingmdao.stability.sensitivity import constraint_gradient, damping_constraint
-
         key = np.concatenate([np.asarray(inputs[s.name], dtype=float).ravel() for s in self._specs])
         if self._cache is not None and np.array_equal(self._cache[0], key):
             res = self._cache[1]
@@ -126,8 +124,6 @@ class FlutterDamping(om.ExplicitComponent):
         outputs["flutter_ks"] = self._evaluate(inputs, gradient=False).value
 
     def compute_partials(self, inputs, partials):
-        from wingmdao.timemarch.system import layout
-
         res = self._evaluate(inputs, gradient=True)
         lay = layout(self._system.param_specs)
         for s in self._specs:

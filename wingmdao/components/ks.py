@@ -18,6 +18,7 @@ import openmdao.api as om
 
 from wingmdao import DISSERTATION
 from wingmdao.utils.digest import ArrayStamp
+from wingmdao.components.pointwise import check_connected_shapes
 
 #: constraint entries (all families of a KSAggregate) above which it is matrix-free by default:
 #: declared partials keep a value, a row and a column index per entry, and OpenMDAO copies them
@@ -132,8 +133,6 @@ class KSAggregate(om.ExplicitComponent):
 
     def setup_partials(self):
         """The g inputs shaped by their connection (``g_by_conn``) have the families' shapes."""
-        from wingmdao.components.pointwise import check_connected_shapes
-
         check_connected_shapes(self, self._by_conn)
 
     def compute(self, inputs, outputs):

@@ -14,11 +14,15 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 import openmdao.api as om
+import scipy.sparse as sp
 
 from wingmdao.errors import InputRangeError
 
 from wingmdao.timemarch.system import VarSpec
 from wingmdao.utils.digest import ArrayStamp
+from wingmdao.utils import function_store
+from wingmdao.utils.casadi_cache import FastCall, JitFunction, definition_key
+from wingmdao.utils.function_store import module_closure
 
 
 @dataclass(frozen=True)
@@ -121,9 +125,6 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
         opts = self.expression_options()
         if opts is None:
             return None
-        from wingmdao.utils.casadi_cache import definition_key
-        from wingmdao.utils.function_store import module_closure
-
         cls = type(self)
         try:
             mods = module_closure(__name__, *(c.__module__ for c in cls.__mro__ if c.__module__.startswith("wingmdao")),
@@ -176,8 +177,6 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
                 "pair_c": np.concatenate(cs) if cs else np.zeros(0, np.int64)}
 
     def _build_functions(self):
-        from wingmdao.utils import function_store
-
         n = self.num_points
         key = self._expression_key()
         data = function_store.get(type(self).__name__, key, self._function_data)
@@ -246,8 +245,6 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
         DM is made for inputs or outputs, ~10x faster than a call with numpy arrays for the
         251 x 20 PEGASUS stress grid. Returns per output its dense values ``(points, size)``,
         views of the buffers (overwritten by the next evaluation of ``role``)."""
-        from wingmdao.utils.casadi_cache import FastCall
-
         fc = self._fast_calls.get(role)
         if fc is None or fc.fun is not fun:
             fc = FastCall(fun, copy_outputs=False)
@@ -410,8 +407,6 @@ def _same_point(stamp, inputs) -> bool:
 
 def _scatter(index, size):
     """Sparse (len(index), size) matrix with a one at (k, index[k])."""
-    import scipy.sparse as sp
-
     m = len(index)
     return sp.csr_matrix((np.ones(m), (np.arange(m), index)), shape=(m, size))
 
@@ -421,8 +416,6 @@ class _PointJit:
     calls (wingmdao.utils.casadi_cache) and maps the compiled version over the grid."""
 
     def __init__(self, fun, num_points, definition=None):
-        from wingmdao.utils.casadi_cache import JitFunction
-
         self.jit = JitFunction(fun, threshold=POINT_JIT_THRESHOLD, definition=definition)
         self.num_points = num_points
 

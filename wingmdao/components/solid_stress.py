@@ -14,6 +14,7 @@ import numpy as np
 from wingmdao.components.pointwise import PointwiseCasadiComponent, Var
 from wingmdao import DISSERTATION
 from wingmdao.components.stress import declare_stress_grid_options
+import casadi as ca
 
 #: corner order: (c, n) signs of (front-lower, rear-lower, rear-upper, front-upper)
 CORNERS = ((-1, -1), (1, -1), (1, 1), (-1, 1))
@@ -60,8 +61,6 @@ class SolidRectStress(PointwiseCasadiComponent):
                 for f in self.options["families"]]
 
     def pointwise_expressions(self, sym):
-        import casadi as ca
-
         w, h = sym["width"], sym["height"]
         f, m = sym["F_csn"], sym["M_csn"]
         area, i_cc, i_nn = w * h, w * h**3 / 12.0, h * w**3 / 12.0

@@ -18,6 +18,7 @@ import openmdao.api as om
 from wingmdao.timemarch.adjoint import LinearizedHistory, checkpoint_interval
 from wingmdao.timemarch.bdf import march, state_rates, time_step
 from wingmdao.timemarch.system import ResidualSystem, layout
+from wingmdao.limits import ADJOINT_MEMORY_MB, march_progress
 from wingmdao.utils.digest import ArrayStamp
 from wingmdao import DISSERTATION
 
@@ -27,13 +28,6 @@ from wingmdao import DISSERTATION
 #: the matrix-free products, and even at 500 steps the matrix-free gradient is 12 % faster
 #: (measured, docs/time-marching.md).
 MATRIX_FREE_ABOVE = 50_000
-
-#: Default budget (MB) of the Jacobian blocks kept for the adjoint (``adjoint_memory="auto"``):
-#: about 1060 steps of a 20-node beam (188 kB per step) or 650 of the coupled aeroelastic one
-#: (288-308 kB per step), so 500-step gusts of both keep every block (checkpointing a history
-#: evaluates its Jacobians twice: the coupled adjoint cost 1.8-2.3x a structural step with the
-#: earlier 100 MB); longer histories are checkpointed in segments of an eighth of the budget.
-ADJOINT_MEMORY_MB = 200.0
 
 #: Budget (MB) of the SuperLU factors kept between sweeps (``store_factors="auto"``). SuperLU
 #: reserves ~720 bytes per nonzero of ``A_n`` (2.8 MB per step of the 20-node beam, 3906 nonzeros;
@@ -291,8 +285,6 @@ class TimeHistoryComponent(om.ImplicitComponent):
 
     # ------------------------------------------------------------------ nonlinear
     def solve_nonlinear(self, inputs, outputs):
-        from wingmdao.limits import march_progress
-
         sysm = self.system
         self._lin = self._lin_inputs = None   # the linearization uses the states this solve changes
         p, Q = self._params(inputs), self._forcing(inputs)

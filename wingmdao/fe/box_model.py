@@ -22,8 +22,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from wingmdao.fe.calculix import Deck, distributing_forces, frequency_step, parse_dat, run_deck, static_step
+from wingmdao.fe.stress_points import sample_elements
+from wingmdao.section.box import WALL_NAMES
 
-WALLS = ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")
+WALLS = WALL_NAMES
 
 
 @dataclass
@@ -278,8 +280,6 @@ def solve_static(model: ShellBox, loads, stations_y, nlgeom=False, increments=10
     """Static solve: section-average displacement (m, (k, 3)) and rotation (rad, (k, 3)) at the
     span coordinates ``stations_y``; with ``stress`` also the integration-point stresses of the
     corner and mid-flange elements (``stresses``, :mod:`wingmdao.fe.stress_points`)."""
-    from wingmdao.fe.stress_points import sample_elements
-
     js = [line_index(model, y) for y in stations_y]
     model.deck.nsets["OUT"] = sorted({int(n) for j in js for n in model.rings[j]})
     elsets = ()

@@ -23,7 +23,7 @@ import os
 
 import numpy as np
 
-from wingmdao.fe.box_model import WALLS, BoxSections, build_shell_box, station_loads
+from wingmdao.fe.box_model import BoxSections, WALLS, add_point_masses, build_shell_box, station_loads
 from wingmdao.fe.calculix import Deck, static_step
 
 FORMATS = ("calculix", "abaqus", "nastran")
@@ -153,8 +153,6 @@ def shell_deck(sections: BoxSections, material, fmt, *, tip_force=(0, 0, 0), tip
     """Shell-model deck text (S8R / CQUAD8), tip rib, tip load through a distributing coupling.
     ``loads``: a callable model -> station loads [(y, centre, F, M)] instead of the tip load (no
     tip rib added); ``point_masses``: [(y, kg)] spread on their rings."""
-    from wingmdao.fe.box_model import add_point_masses
-
     span_end = sections.centres[-1, 1]
     ribs = sorted(set(np.round(list(ribs_y) + ([span_end] if loads is None else []), 9)))
     model = build_shell_box(sections, material, ribs_y=ribs, rib_thickness=rib_thickness, **mesh)

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from wingmdao.section.box import WALL_NAMES as WALLS
 from wingmdao.stress.box_stress import axial_stress, box_stresses, section_quantities, torsion_shear_flow
 
 #: Sample points; the wall index (0 upper skin, 1 lower skin, 2 front spar, 3 rear spar) of each.
@@ -104,8 +105,6 @@ def compare_von_mises(model, sections, stresses: dict, loads, axes_at) -> dict:
     """Per span row: ``y`` (m), ``fe`` and ``beam`` (rows x POINTS, Pa). ``sections``:
     :class:`~wingmdao.fe.box_model.BoxSections` (streamwise widths/heights, normal-cut wall
     thicknesses); ``axes_at(y)``: the beam's csn axes T (rows c, s, n in body axes) at y."""
-    from wingmdao.fe.box_model import WALLS
-
     ys, fe, beam = [], [], []
     for row in sample_elements(model):
         yc = float(np.mean([element_centroid(model.deck, eids)[1] for eids in row]))

@@ -33,6 +33,12 @@ from wingmdao.materials import Material
 from wingmdao.panels.layout import STIFFENER_VARS, PanelLayout
 from wingmdao.section.box import WALL_NAMES
 from wingmdao.stress.box_stress import SECTION_PROPERTIES
+from wingmdao.components.beam import BeamDynamics
+from wingmdao.components.beam_loads import BeamInternalLoads
+from wingmdao.components.flutter import FlutterDamping
+from wingmdao.components.ks import KSAggregate
+from wingmdao.components.mass import StructuralMass
+from wingmdao.components.station_map import StationMap
 
 #: Inputs the beam takes from the section, with the section output that feeds it.
 SECTION_TO_BEAM = ("stiffness_csn", "compliance_csn", "mass_per_length", "inertia_per_length")
@@ -169,10 +175,6 @@ class WingStructure(om.Group):
                                   "without OpenMDAO variables (100 MB less at 20 nodes x 4001 steps)")
 
     def setup(self):
-        from wingmdao.components.beam import BeamDynamics
-        from wingmdao.components.beam_loads import BeamInternalLoads
-        from wingmdao.components.ks import KSAggregate
-
         kind = self.options["section"]
         stress_cls = _section_classes(kind)[1]
 
@@ -354,9 +356,6 @@ class WingSizing(om.Group):
                                   "load_cases may then be empty")
 
     def setup(self):
-        from wingmdao.components.mass import StructuralMass
-        from wingmdao.components.station_map import StationMap
-
         n = self.options["num_nodes"]
         kind = self.options["section"]
         section_cls = _section_classes(kind)[0]
@@ -450,8 +449,6 @@ class WingSizing(om.Group):
 
     def _add_flutter(self, n):
         """The flutter-damping constraint on the section chain's beam parameters (docs/flutter.md)."""
-        from wingmdao.components.flutter import FlutterDamping
-
         self.add_subsystem("flutter", FlutterDamping(num_nodes=n, **self.options["flutter"]),
                            promotes_inputs=["node_positions", "node_euler_angles", *SECTION_TO_BEAM,
                                             *SECTION_OFFSETS],

@@ -45,6 +45,7 @@ from wingmdao.loads.gust import (
     flight_profile_alleviation_factor,
     reference_gust_velocity_eas,
 )
+from wingmdao.loads.atmosphere import mach_to_tas
 
 FT = 0.3048  # m per international foot
 SIGNS = {"up": (1,), "down": (-1,), "both": (1, -1)}
@@ -132,8 +133,6 @@ class FlightPoint:
         """True airspeed (m/s)."""
         if self.v_tas_m_s is not None:
             return float(self.v_tas_m_s)
-        from wingmdao.loads.atmosphere import mach_to_tas
-
         return float(mach_to_tas(self.mach, self.altitude_m))
 
 

@@ -34,6 +34,14 @@ from mphys.core import Builder, MPhysVariables
 from wingmdao.groups import wing as _wing
 from wingmdao.mphys.transfer import RigidLinkDisplacementTransfer, RigidLinkLoadTransfer, rigid_links
 from wingmdao.section.box import WALL_NAMES as WALLS
+from wingmdao.beam.rotations import body_to_csn, euler_from_axis, rate_matrix
+from wingmdao.components.beam import BeamStatic
+from wingmdao.components.beam_loads import BeamInternalLoads
+from wingmdao.components.ks import KSAggregate
+from wingmdao.components.mass import StructuralMass
+from wingmdao.components.section import BoxSection
+from wingmdao.components.stress import BoxStress
+from wingmdao.groups.wing import add_section_offsets, stress_points
 
 #: beam inputs the pre-coupling passes to the coupling group (section properties and offsets)
 SECTION_TO_BEAM = _wing.SECTION_TO_BEAM + tuple(_wing.SECTION_OFFSETS)
@@ -64,8 +72,6 @@ def _tagged(cls, names, tag):
 def jig_euler_angles(node_positions: np.ndarray) -> np.ndarray:
     """Surface-sequence Euler angles of a beam axis through ``node_positions`` (n, 3), zero twist:
     the s axis along the polyline (node tangents averaged from the adjacent elements)."""
-    from wingmdao.beam.rotations import euler_from_axis
-
     x = np.asarray(node_positions, dtype=float)
     t = np.gradient(x, axis=0)
     return np.array([euler_from_axis(ti) for ti in t])
@@ -73,8 +79,6 @@ def jig_euler_angles(node_positions: np.ndarray) -> np.ndarray:
 
 def rotation_vector_map(node_euler_angles: np.ndarray) -> np.ndarray:
     """(n, 3, 3) A = T(theta0)^T K(theta0): Euler-angle increments -> small body-axes rotation vector."""
-    from wingmdao.beam.rotations import body_to_csn, rate_matrix
-
     return np.array([body_to_csn(t).T @ rate_matrix(t) for t in np.asarray(node_euler_angles, dtype=float)])
 
 
@@ -216,17 +220,12 @@ class PreCoupling(_BuilderGroup):
     """dv_struct -> BoxSection -> beam section inputs (tagged for MPhys promotion), struct_mass."""
 
     def setup(self):
-        from wingmdao.components.mass import StructuralMass
-        from wingmdao.components.section import BoxSection
-
         b = self.options["builder"]
         n = b.num_nodes
         self.add_design(b)
         self.add_subsystem("xs", StructInputs(num_nodes=n, loads=False), promotes=["*"])
         cls = _tagged(BoxSection, set(SECTION_TO_BEAM), "mphys_coupling")
         self.add_subsystem("section", cls(num_stations=n, material=b.material), promotes=["*"])
-        from wingmdao.groups.wing import add_section_offsets
-
         add_section_offsets(self, n, mux=_tagged(om.MuxComp, set(SECTION_TO_BEAM), "mphys_coupling")(vec_size=2),
                             promotes_outputs=["*"])
         self.add_subsystem("mass", _tagged(StructuralMass, {"mass"}, "mphys_result")(num_nodes=n, material=b.material),
@@ -237,8 +236,6 @@ class BeamCoupling(_BuilderGroup):
     """The coupling subsystem: f_aero_struct -> BeamStatic -> u_struct."""
 
     def setup(self):
-        from wingmdao.components.beam import BeamStatic
-
         b = self.options["builder"]
         n = b.num_nodes
         self.add_subsystem("inputs", StructInputs(num_nodes=n), promotes=["*"])
@@ -257,10 +254,6 @@ class PostCoupling(_BuilderGroup):
     """States -> csn internal loads -> box stresses -> KS (``ks_<family>``)."""
 
     def setup(self):
-        from wingmdao.components.beam_loads import BeamInternalLoads
-        from wingmdao.components.ks import KSAggregate
-        from wingmdao.components.stress import BoxStress
-
         b = self.options["builder"]
         n = b.num_nodes
         self.add_design(b)
@@ -274,8 +267,6 @@ class PostCoupling(_BuilderGroup):
                            promotes_inputs=["width", "height", *WALLS])
         self.connect("internal_loads.F_csn", "stress.F_csn")
         self.connect("internal_loads.M_csn", "stress.M_csn")
-        from wingmdao.groups.wing import stress_points
-
         shapes = {f: (1, n, k) for f, k in stress_points("box", b.families).items()}
         names = {f"ks_{f}" for f in b.families}
         self.add_subsystem("ks", _tagged(KSAggregate, names, "mphys_result")(families=shapes, rho_ks=b.rho_ks),

@@ -12,6 +12,9 @@ from __future__ import annotations
 import numpy as np
 import openmdao.api as om
 
+from wingmdao.materials import ALUMINIUM
+from wingmdao.mphys.builder import BeamRigidLinkBuilder, WingmdaoBuilder
+
 
 def rect_wing_surface(num_y=9, span=10.0, root_chord=1.0):
     """OpenAeroStruct surface dict of a rectangular symmetric wing (aerodynamics only)."""
@@ -41,8 +44,6 @@ def aerostructural_problem(surface=None, width=0.4, height=0.12, thickness=0.003
     from mphys.scenarios import ScenarioAeroStructural
     from openaerostruct.mphys import AeroBuilder
 
-    from wingmdao.materials import ALUMINIUM
-    from wingmdao.mphys.builder import BeamRigidLinkBuilder, WingmdaoBuilder
 
     surface = surface or rect_wing_surface()
     material = material or ALUMINIUM

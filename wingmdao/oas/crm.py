@@ -24,6 +24,14 @@ import time
 import numpy as np
 import openmdao.api as om
 
+from wingmdao.components.beam_loads import BeamInternalLoads
+from wingmdao.components.ks import KSAggregate
+from wingmdao.components.stress import BoxStress
+from wingmdao.groups.wing import stress_points
+from wingmdao.materials import Material
+from wingmdao.oas.problems import aerostruct_problem, rect_wingbox_surface
+from wingmdao.optimize import SolverIterationCounter
+
 #: Flight points of the problem (OpenAeroStruct's wingbox multipoint example):
 #: name, Mach number, speed of sound (m/s), density (kg/m^3), dynamic viscosity (Pa s), load factor.
 CRM_POINTS = (
@@ -63,8 +71,6 @@ def crm_surface(num_y=15):
     """OpenAeroStruct wingbox surface dict of the uCRM wing, ``num_y`` spanwise points (full wing)."""
     from openaerostruct.meshing.mesh_generator import generate_mesh
 
-    from wingmdao.materials import Material
-    from wingmdao.oas.problems import rect_wingbox_surface
 
     check_num_y(num_y)
     mat = Material("al-crm", E=73.1e9, rho=2.78e3, sigma_y=420e6 / 1.5, G=73.1e9 / 2 / 1.33)
@@ -81,11 +87,6 @@ def crm_surface(num_y=15):
 def add_stress_ks(model, point, num_nodes, material, rho_ks=100.0):
     """Our box stress KS at one point (Eq. 4.44), from the beam states inside the point's coupled
     group; returns the KS output's path (``<point>_ks.ks.ks_vm``)."""
-    from wingmdao.components.beam_loads import BeamInternalLoads
-    from wingmdao.components.ks import KSAggregate
-    from wingmdao.components.stress import BoxStress
-    from wingmdao.groups.wing import stress_points
-
     n = num_nodes
     g = model.add_subsystem(f"{point}_ks", om.Group())
     g.add_subsystem("internal_loads", BeamInternalLoads(num_times=1, num_nodes=n))
@@ -107,8 +108,6 @@ def add_stress_ks(model, point, num_nodes, material, rho_ks=100.0):
 def build_crm_problem(beam="wingmdao", num_y=15):
     """(problem not yet set up, ``{point name: stress output path}``) with design variables,
     objective and constraints. Points ``AS_point_0`` (cruise) and ``AS_point_1`` (maneuver)."""
-    from wingmdao.oas.problems import aerostruct_problem
-
     if beam not in BEAMS:
         raise ValueError(f"beam = {beam!r}; allowed: {', '.join(BEAMS)}")
     surf = crm_surface(num_y)
@@ -142,8 +141,6 @@ def setup_crm_problem(prob, iprint=-1):
     NonlinearBlockGS (Aitken) and LinearBlockGS (Aitken, relative 1e-12: LIN_RTOL) for the adjoint. Returns the
     :class:`~wingmdao.optimize.SolverIterationCounter` of the two coupled solves (pass it to
     :func:`solve_crm` and :func:`crm_summary`)."""
-    from wingmdao.optimize import SolverIterationCounter
-
     prob.setup(mode="rev")
     solvers = {}
     for i, point in enumerate(CRM_POINTS):

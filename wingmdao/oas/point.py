@@ -23,6 +23,8 @@ from __future__ import annotations
 import numpy as np
 import openmdao.api as om
 
+from wingmdao.oas.coupling import OASBeamStates
+
 
 def box_geometry_from_surface(surface):
     """(fem_nodes (ny, 3), width (ny-1,), height (ny-1,)) in m from an OpenAeroStruct wingbox
@@ -65,7 +67,6 @@ class WingmdaoCoupledAS(om.Group):
         from openaerostruct.aerodynamics.geometry import VLMGeometry
         from openaerostruct.transfer.displacement_transfer_group import DisplacementTransferGroup
 
-        from wingmdao.oas.coupling import OASBeamStates
 
         surface = self.options["surface"]
         check_surface(surface)

@@ -11,13 +11,15 @@ from __future__ import annotations
 import numpy as np
 import openmdao.api as om
 
+from wingmdao.materials import ALUMINIUM
+from wingmdao.oas.point import WingmdaoAerostructPoint
+
 
 def rect_wingbox_surface(num_y=11, span=20.0, chord=2.0, t_over_c=0.12, spar=0.004, skin=0.004,
                          material=None):
     """Rectangular symmetric wing with a rectangular wingbox (10 % to 60 % chord)."""
     from openaerostruct.meshing.mesh_generator import generate_mesh
 
-    from wingmdao.materials import ALUMINIUM
 
     mat = material or ALUMINIUM
     mesh = generate_mesh({"num_y": 2 * num_y - 1, "num_x": 2, "wing_type": "rect", "symmetry": True,
@@ -45,7 +47,6 @@ def aerostruct_problem(surface, beam="wingmdao", mach=(0.3,), v=(100.0,), rho=(1
     solver settings, see :func:`wingmdao.oas.crm.setup_crm_problem`)."""
     from openaerostruct.integration.aerostruct_groups import AerostructGeometry, AerostructPoint
 
-    from wingmdao.oas.point import WingmdaoAerostructPoint
 
     if beam not in ("wingmdao", "oas"):
         raise ValueError(f"beam must be 'wingmdao' or 'oas', got {beam!r}")

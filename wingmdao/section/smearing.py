@@ -26,6 +26,8 @@ import scipy.optimize as so
 from wingmdao.section.fe.analysis import analyse_section, assemble, assemble_rect, element_operators
 from wingmdao.section.fe.materials import Material, isotropic
 from wingmdao.section.fe.mesh import SectionMesh, q9_from_grid, refine_edges
+from wingmdao.beam.static import BeamModel, beam_parameters, straight_beam
+from wingmdao.section.fe import beam_properties_csn
 
 #: names of the 9 orthotropic parameters of Eq. 4.4 (VABS strain order 11, 12, 13, 22, 23, 33)
 PARAM_NAMES = ("c11", "c14", "c16", "c22", "c33", "c44", "c46", "c55", "c66")
@@ -370,9 +372,6 @@ def match_stiffness(stiffeners, method, equivalent: EquivalentPlate | None = Non
 def beam_tip_displacements(section, length=PLATE_LENGTH, n_nodes=11, load_steps=2) -> dict:
     """Tip displacement (m) of a cantilever (wingmdao.beam, along body y) with this FE section,
     for each Table 4.8 load case: {case: [axial, in-plane (c = body x), out-of-plane (n = body z)]}."""
-    from wingmdao.beam.static import BeamModel, beam_parameters, straight_beam
-    from wingmdao.section.fe import beam_properties_csn
-
     bp = beam_properties_csn(section)
     K = bp["stiffness_csn"]
     comp = bp["compliance_csn"]

@@ -22,8 +22,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+import openmdao.api as om
 
-from wingmdao.stability.eigen import check_speeds, critical_speeds, static_state, sweep
+from wingmdao.stability.eigen import (StabilitySweep, check_speeds, critical_speeds, eigenmodes, static_state, sweep,
+                                      track_modes)
+from wingmdao.beam.residual import STATE_BLOCKS
+from wingmdao.timemarch.system import layout
 
 #: default speed sweeps (V0, V1, N) about the deformed state, m/s: finer than the undeformed ones
 #: (the static deflection of the HALE wing changes quickly near flutter)
@@ -47,8 +51,6 @@ def check_root_aoa(values) -> np.ndarray:
 def deformed_params_at(prob, alpha_root_deg: float, gravity: float):
     """``params_at(V)`` of ``prob`` (a :class:`~wingmdao.stability.cases.FlutterProblem`) with the
     root angle of attack ``alpha_root_deg`` (deg) and gravity ``gravity`` (m/s^2, along body -z)."""
-    from wingmdao.timemarch.system import layout
-
     play, qlay = layout(prob.system.param_specs), layout(prob.system.forcing_specs)
     alpha = np.deg2rad(float(alpha_root_deg))
 
@@ -63,8 +65,6 @@ def deformed_params_at(prob, alpha_root_deg: float, gravity: float):
 
 def tip_deflection(system, x) -> float:
     """Vertical (body z) displacement of the tip node from the jig, m (up +)."""
-    from wingmdao.beam.residual import STATE_BLOCKS
-
     n = system.num_nodes
     W = system.state_shape[-1] if len(system.state_shape) == 2 else None
     xs = np.asarray(x, dtype=float).ravel()[: n * W].reshape(n, W)
@@ -89,8 +89,6 @@ class DeformedFlutter:
 
 def _static_continued(system, params_at, V0, x0, V1, depth=4):
     """Static state at V1 continued from the state x0 at V0, halving the speed step on failure."""
-    import openmdao.api as om
-
     p, q = params_at(V1)
     try:
         return static_state(system, p, q, x0)
@@ -117,10 +115,6 @@ def deformed_sweep(prob, params_at, speeds, *, n_track=4, load_steps=8, min_freq
     (``stopped_at``, m/s, else None). Untracked modes are ignored: about a lifting, bent state the
     in-plane (lag) mode, without drag or structural damping, can sit at Re ~ +1e-4 |lambda|.
     Returns ``(StabilitySweep, stopped_at)``."""
-    import openmdao.api as om
-
-    from wingmdao.stability.eigen import StabilitySweep, eigenmodes, track_modes
-
     v = check_speeds(speeds)
     system, opts = prob.system, dict(prob.eig_options)
     p, q = params_at(float(v[0]))

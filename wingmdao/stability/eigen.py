@@ -32,6 +32,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import casadi as ca
 import numpy as np
 import scipy.linalg as sla
 import scipy.optimize as sopt
@@ -50,6 +51,14 @@ def static_state(system, p, q, x0=None, **options) -> np.ndarray:
     return x
 
 
+def _signature(name, inputs, outputs) -> ca.Function:
+    """A CasADi function named ``name`` with dense inputs and outputs of the given shapes (zero
+    outputs): what a compiled library's cache key (with a definition) and its signature check
+    (:func:`wingmdao.utils.casadi_cache.load`) read, without building the expressions."""
+    ins = [ca.MX.sym(f"in{k}", *shape) for k, shape in enumerate(inputs)]
+    return ca.Function(name, ins, [ca.MX.zeros(*shape) for shape in outputs])
+
+
 #: evaluations of the pencil function after which it is compiled (a PEGASUS sizing with the flutter
 #: constraint makes ~500, a 15-speed sweep 15-30; the compiled library is cached on disk)
 PENCIL_JIT_THRESHOLD = 40
@@ -64,7 +73,7 @@ class _PencilFunction:
     With a warm compile cache the library is loaded without forming the two Jacobians (0.35 s for
     the 20-node PEGASUS system): the patterns are the system's own (``jacobian_patterns``: the
     same residual, so the same sparsity) and the library's key and signature check need only the
-    dense input and output shapes (:func:`wingmdao.stability.sensitivity._signature`)."""
+    dense input and output shapes (:func:`_signature`)."""
 
     def __init__(self, system):
         from wingmdao.utils import casadi_cache as cc
@@ -81,7 +90,6 @@ class _PencilFunction:
 
     def _cached(self, pats, n, npar, nq):
         """The precompiled call from the cache and the patterns from ``pats``, or None (a miss)."""
-        from wingmdao.stability.sensitivity import _signature
         from wingmdao.utils import casadi_cache as cc
 
         patterns = []

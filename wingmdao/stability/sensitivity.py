@@ -48,22 +48,19 @@ import casadi as ca
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from scipy.linalg import lapack
+from scipy.optimize import linear_sum_assignment
 
 from wingmdao.stability import pencil_lu
+from wingmdao.stability.eigen import _signature, check_speeds, derived_definition, eigenmodes, linearize, static_state
+from wingmdao.timemarch.system import layout
+from wingmdao.utils import casadi_cache as cc
 
 _FUNCTIONS: dict = {}
 
 
 #: evaluations after which the gradient functions are compiled (cached on disk)
 GRADIENT_JIT_THRESHOLD = 20
-
-
-def _signature(name, inputs, outputs) -> ca.Function:
-    """A CasADi function named ``name`` with dense inputs and outputs of the given shapes (zero
-    outputs): what a compiled library's cache key (with a definition) and its signature check
-    (:func:`wingmdao.utils.casadi_cache.load`) read, without building the expressions."""
-    ins = [ca.MX.sym(f"in{k}", *shape) for k, shape in enumerate(inputs)]
-    return ca.Function(name, ins, [ca.MX.zeros(*shape) for shape in outputs])
 
 
 class _GradientFunctions:
@@ -84,9 +81,6 @@ class _GradientFunctions:
     """
 
     def __init__(self, system):
-        from wingmdao.stability.eigen import derived_definition
-        from wingmdao.utils import casadi_cache as cc
-
         self.system = system
         f = system.residual_function
         n, npar, nq = system.n_state, system.n_param, system.n_forcing
@@ -433,8 +427,6 @@ class WarmStart:
     def step_too_large(self, system, p_list):
         """True when ``max_step`` is set and some parameter block moved by more than ``max_step``
         of its largest entry (max-norm, relative) from the last cold design, at some speed."""
-        from wingmdao.timemarch.system import layout
-
         if self.max_step is None:
             return False
         for p, pc in zip(p_list, self.cold_p):
@@ -494,8 +486,6 @@ def _aggregated(sm, V, mask, bmask, neutral_fraction):
 def _cold_speed(system, p, q, x, V, mask, bmask, min_frequency, neutral_fraction, static, eig_options):
     """Every oscillatory mode of the full eigen window at one speed (refined right / left vectors)
     and the window's eigenvalues."""
-    from wingmdao.stability.eigen import eigenmodes, linearize
-
     m = eigenmodes(system, p, q, x, static=static, **eig_options)
     osc = np.flatnonzero(m.frequency > min_frequency)
     A, B = linearize(system, p, q, m.x0)
@@ -551,8 +541,6 @@ def _small_eig(a, b):
     workspace (queried once per size), so the same eigenvalues, without SciPy's per-call validation,
     workspace query and per-column normalisation (~0.2 ms of its ~0.26 ms). The vectors are **not
     normalised** (the caller normalises the Ritz vectors ``V y``, ``U z``)."""
-    from scipy.linalg import lapack
-
     a = np.asfortranarray(a, dtype=complex)
     b = np.asfortranarray(b, dtype=complex)
     n = a.shape[0]
@@ -591,8 +579,6 @@ def _ritz(A, B, prev, window, mask, bmask, min_frequency, min_mac, neutral_fract
     previous speed, :func:`damping_constraint`); the estimates are still matched to, and trusted by
     their MAC with, the history modes ``prev`` (a history mode left unmatched is not trusted). Over
     the replayed sizing these estimates' error was at most 0.026 max(eta_r, eta_l) |theta|."""
-    from scipy.optimize import linear_sum_assignment
-
     V, U = (prev.right, prev.left) if basis is None else basis
     k = prev.right.shape[1]
     if enrich:
@@ -669,8 +655,6 @@ def _warm_speed(system, p, q, prev, window, warm, bmask, min_frequency, static, 
     ``skip``: indices of history modes not refined: their :class:`_Ritz` estimates (``ritz``) stand
     in (lazy refinement, :func:`damping_constraint`); a refined mode landing within a skipped
     estimate's bound fails the speed. ``x, A, B``: the static state and pencil, if already made."""
-    from wingmdao.stability.eigen import linearize, static_state
-
     if x is None:
         x = static_state(system, p, q, prev.x0, **(static_options or {})) if static else prev.x0
     if A is None:
@@ -756,8 +740,6 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
     evaluations): the previous evaluation's modes are refined instead of a new eigen window
     when its rules allow (same value to round-off; see :class:`WarmStart`).
     """
-    from wingmdao.stability.eigen import check_speeds
-
     if measure not in MEASURES:
         raise ValueError(f"measure = {measure!r}; allowed: {', '.join(MEASURES)}")
     v = check_speeds(speeds)

@@ -18,7 +18,9 @@ from math import isfinite
 
 import numpy as np
 import openmdao.api as om
-from wingmdao.timemarch.newton import NewtonInfo, factor, newton_solve
+from wingmdao.timemarch.newton import DENSE_MAX, NewtonInfo, factor, newton_solve
+from wingmdao.timemarch import fast_step as fs
+from wingmdao.timemarch.fast_step import FastStepper
 
 #: ``WINGMDAO_COMPILED_STEPS=0`` makes ``march(fast=None)`` use the Python Newton iterations
 #: (SuperLU) even when the system's functions are compiled (benchmarks, debugging).
@@ -298,8 +300,6 @@ class _CompiledStepSolver(_StepSolver):
         self.stepper = stepper
 
     def solve(self, x, hist, alpha, q, label):
-        from wingmdao.timemarch import fast_step as fs
-
         x = np.ascontiguousarray(x, dtype=float)
         status, it = self.stepper.solve(x, hist, alpha, np.ascontiguousarray(q, dtype=float))
         if status == fs.OK:
@@ -309,15 +309,11 @@ class _CompiledStepSolver(_StepSolver):
     def march(self, X, Q, dt, iters, first, end, label):
         """Steps ``first .. end - 1`` of :func:`march` in one compiled call (predictor, history
         and Newton iterations); ``label(n)`` names step n in error messages."""
-        from wingmdao.timemarch import fast_step as fs
-
         status, step = self.stepper.march(X, Q, dt, iters, first, end)
         if status != fs.OK:
             self._raise(status, lambda: label(step))
 
     def _raise(self, status, label):
-        from wingmdao.timemarch import fast_step as fs
-
         fail_it, r = int(self.stepper.s.fail_iteration), self.stepper.r.copy()
         if status == fs.SINGULAR:
             raise om.AnalysisError(f"{label()}: singular Newton matrix (Factor is exactly singular)")
@@ -330,14 +326,10 @@ class _CompiledStepSolver(_StepSolver):
 def _step_solver(system, p, fast, **opts):
     """The compiled step solver when ``fast`` allows it and the system's functions are compiled
     (``fast=None``: for systems above ``DENSE_MAX`` states), else the Python one."""
-    from wingmdao.timemarch.newton import DENSE_MAX
-
     if fast is None and os.environ.get(ENV_COMPILED_STEPS, "1").strip().lower() in ("0", "false", "no", "off"):
         fast = False
     if fast is False or (fast is None and system.n_state <= DENSE_MAX):
         return _StepSolver(system, p, **opts)
-    from wingmdao.timemarch.fast_step import FastStepper
-
     stepper = FastStepper.create(system, p, atol=opts["atol"], xtol=opts["xtol"], max_iter=opts["max_iter"],
                                  modified=opts["modified"], contraction=opts["contraction"])
     if stepper is None:

@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from wingmdao.utils import casadi_cache as cc
+from wingmdao.utils.c_library import compile_source
 
 SOURCE = Path(__file__).with_name("bdf_step.c")
 #: -O2 (a 300-line file compiles in ~0.3 s); no fused multiply-adds, so the arithmetic of the
@@ -73,8 +74,6 @@ def library() -> C.CDLL:
 
 def _compile() -> Path:
     """The cached library of ``bdf_step.c`` (:func:`wingmdao.utils.c_library.compile_source`)."""
-    from wingmdao.utils.c_library import compile_source
-
     return compile_source(SOURCE, "wm_bdf_step", FLAGS)
 
 

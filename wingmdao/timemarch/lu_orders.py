@@ -21,6 +21,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from wingmdao.timemarch.static_lu import block_column_order
+
 #: Order of a beam node's 18 unknowns (state indices of ``STATE_BLOCKS``: r, theta, F, M, u,
 #: omega). Work per factorization, natural -> this order: straight beam (lift) 11 244 -> 8 277,
 #: straight beam (lift and moment) 39 993 -> 30 329, PEGASUS 45 772 -> 38 699.
@@ -35,16 +37,12 @@ AEROELASTIC_NODE_ORDER = (11, 10, 9, 15, 5, 8, 1, 7, 16, 6, 19, 20, 18, 0, 21, 2
 
 def beam_lu_column_order(num_nodes: int) -> np.ndarray:
     """Column order of the static LU of the ``num_nodes``-node beam (:data:`BEAM_NODE_ORDER`)."""
-    from wingmdao.timemarch.static_lu import block_column_order
-
     return block_column_order(BEAM_NODE_ORDER, len(BEAM_NODE_ORDER), len(BEAM_NODE_ORDER) * int(num_nodes))
 
 
 def aeroelastic_lu_column_order(n_state: int) -> np.ndarray:
     """Column order of the static LU of an aeroelastic system of ``n_state`` unknowns
     (:data:`AEROELASTIC_NODE_ORDER` per node, body states last)."""
-    from wingmdao.timemarch.static_lu import block_column_order
-
     return block_column_order(AEROELASTIC_NODE_ORDER, len(AEROELASTIC_NODE_ORDER), int(n_state))
 
 

@@ -18,6 +18,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from wingmdao.utils.casadi_cache import JitCall, compile_calls
+from wingmdao.timemarch import fast_step, static_lu
 
 
 #: CasADi systems up to this many states return a dense Newton matrix (less overhead).
@@ -472,8 +473,6 @@ def _history_loop(call, ins, outs, n) -> bool:
     """Evaluate the compiled library of ``call`` at ``n`` instants in one C call (inputs of one
     instant: rows of the 2-D ``ins``, 1-D ones shared); False when it is not compiled, the C kernel
     is off, or the library's calling convention is not the expected one."""
-    from wingmdao.timemarch import fast_step, static_lu
-
     jit = call.jit
     if jit.state != "compiled":
         return False

@@ -46,6 +46,9 @@ from pathlib import Path
 import casadi as ca
 import numpy as np
 
+from wingmdao.utils.cache_admin import record_use
+from wingmdao.utils.mpi_env import launched_ranks
+
 ENV_CACHE = "WINGMDAO_CACHE"
 ENV_JIT = "WINGMDAO_JIT"
 #: Compiler flags: -O1 is 10-20x faster than the CasADi VM on the beam functions; -O2/-O3 compile
@@ -71,8 +74,6 @@ def jit_enabled() -> bool:
 def under_mpi() -> bool:
     """True when launched by ``mpirun -n P`` with P > 1 (the launcher's environment, no mpi4py
     import; :func:`wingmdao.utils.mpi_env.launched_ranks`)."""
-    from wingmdao.utils.mpi_env import launched_ranks
-
     return launched_ranks() > 1
 
 
@@ -202,8 +203,6 @@ def load(fun: ca.Function, path: Path) -> ca.Function:
     for i in range(fun.n_out()):
         if ext.sparsity_out(i) != fun.sparsity_out(i):
             raise CompileError(f"{path}: output {i} sparsity differs from {fun.name()}")
-    from wingmdao.utils.cache_admin import record_use
-
     record_use(path)      # its last use, for `wingmdao cache --prune`
     return ext
 

@@ -30,6 +30,9 @@ from pathlib import Path
 
 import casadi as ca
 import numpy as np
+
+from wingmdao.utils.cache_admin import record_use
+from wingmdao.utils.casadi_cache import UnsafeCache, cache_dir, check_safe
 import re
 
 ENV_STORE = "WINGMDAO_FUNCTION_CACHE"
@@ -47,8 +50,6 @@ def store_enabled() -> bool:
 
 
 def store_dir() -> Path:
-    from wingmdao.utils.casadi_cache import cache_dir
-
     return cache_dir() / "functions"
 
 
@@ -151,8 +152,6 @@ def decode(payload: bytes) -> dict:
 
 def save(path: Path, key: str, data: dict) -> None:
     """Write ``data`` atomically: header ``MAGIC key size sha256`` then the payload."""
-    from wingmdao.utils.casadi_cache import check_safe
-
     payload = encode(data)
     path.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
     check_safe(path.parent)
@@ -171,8 +170,6 @@ def save(path: Path, key: str, data: dict) -> None:
 def load(path: Path, key: str) -> dict:
     """The data in ``path``; ``ValueError`` unless its header names this format and ``key`` and
     the payload has the recorded size and SHA-256 (``UnsafeCache`` for foreign files)."""
-    from wingmdao.utils.casadi_cache import check_safe
-
     check_safe(path.parent)
     check_safe(path)
     raw = path.read_bytes()
@@ -185,8 +182,6 @@ def load(path: Path, key: str) -> dict:
     if int(parts[3]) != len(payload) or hashlib.sha256(payload).hexdigest() != parts[4]:
         raise ValueError(f"{path}: payload size or SHA-256 differs from its header (truncated or corrupt)")
     data = decode(payload)
-    from wingmdao.utils.cache_admin import record_use
-
     record_use(path)          # its last use, for `wingmdao cache --prune`
     return data
 
@@ -194,8 +189,6 @@ def load(path: Path, key: str) -> dict:
 def get(name: str, key: str | None, build) -> dict:
     """``build()``'s data (a dict) for definition ``key``: from memory, disk (see the module
     docs) or built now and stored. ``key=None``: built every time, nothing stored."""
-    from wingmdao.utils.casadi_cache import UnsafeCache
-
     if key is None:
         stats["built"] += 1
         return build()

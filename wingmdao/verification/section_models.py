@@ -15,6 +15,11 @@ import numpy as np
 from wingmdao.beam.static import BeamModel
 from wingmdao.materials import ALUMINIUM
 from wingmdao.section.box import beam_data, box_properties
+from wingmdao.cases import pegasus
+from wingmdao.cases.planform import G0, LB, interpolate_designation, wing_geometry
+from wingmdao.loads.maneuver import maneuver_line_loads
+from wingmdao.section.fe import airfoil_box_mesh, analyse_section, beam_properties_csn, isotropic, match_box
+from wingmdao.section.fe.airfoil import naca_surfaces
 
 WALL_KEYS = ("upper", "lower", "front", "rear")
 
@@ -29,9 +34,6 @@ def _box_params(width, height, walls, material):
 
 def _detailed_params(designation, chord, front, rear, walls, material):
     """VbS: the FE section's stiffness and mass, offsets measured from the box centre."""
-    from wingmdao.section.fe import airfoil_box_mesh, analyse_section, beam_properties_csn, isotropic
-    from wingmdao.section.fe.airfoil import naca_surfaces
-
     fe_mat = isotropic(material.E, material.nu, material.rho)
     up, lo = naca_surfaces(designation)
     spec = {k: {"thickness": t, "material": fe_mat} for k, t in zip(WALL_KEYS, walls)}
@@ -57,11 +59,6 @@ def compare_1g(case_module=None, walls=(0.004, 0.004, 0.005, 0.004), material=AL
     "matched_dimensions": [(w, h), ...]}``; errors are of |tip displacement| against the detailed
     section beam.
     """
-    from wingmdao.cases import pegasus
-    from wingmdao.cases.planform import G0, LB, interpolate_designation, wing_geometry
-    from wingmdao.loads.maneuver import maneuver_line_loads
-    from wingmdao.section.fe import match_box
-
     mod = case_module or pegasus
     pf = mod.PLANFORM
     geo, chord, axis_frac = wing_geometry(pf)

@@ -28,6 +28,10 @@ import numpy as np
 from wingmdao.cases.wing_box.geometry import GEOMETRIES, HEIGHTS, T_SKIN, T_SPAR, geometry_data
 from wingmdao.cases.wing_box.geometry import SPANS as SEGMENT_SPANS
 from wingmdao.verification import solid3d
+from wingmdao.beam.rotations import body_to_csn, euler_from_axis
+from wingmdao.beam.static import BeamModel, beam_parameters
+from wingmdao.materials import ALUMINIUM
+from wingmdao.section.box import box_properties
 
 #: Tables D.1, D.2, E.2 (spans, heights, wall thicknesses, the five geometries) come from
 #: wingmdao.cases.wing_box.geometry, the one copy; the model below is independent of the beam's.
@@ -484,11 +488,6 @@ def app_a_beam_solver(geometry_name: str, tip_force, tip_moment, *, elements_per
     (aluminium, identity ``section_to_csn``), tip force/moment (body axes) at the tip node.
     Returns ``displacement`` and small-rotation ``rotation`` (3, 3) at CS2, CS3, CS4 (body axes).
     """
-    from wingmdao.beam.rotations import body_to_csn, euler_from_axis
-    from wingmdao.beam.static import BeamModel, beam_parameters
-    from wingmdao.materials import ALUMINIUM
-    from wingmdao.section.box import box_properties
-
     per_segment = [max(2, int(round(d * elements_per_metre))) for d in SEGMENT_SPANS]
     nodes = beam_axis_nodes(geometry_name, per_segment)
     cs_nodes = np.concatenate([[0], np.cumsum(per_segment)])

@@ -14,6 +14,7 @@ from .box_match import match_box
 from .materials import isotropic, orthotropic
 from .gmsh_mesh import airfoil_box_mesh_gmsh
 from .mesh import airfoil_box_mesh, box_mesh, channel_mesh, rectangle_mesh, tube_mesh
+from wingmdao.section.fe.gmsh_mesh import gmsh_available
 
 _ORTHO_KEYS = ("E1", "E2", "E3", "G12", "G13", "G23", "nu12", "nu13", "nu23", "rho")
 
@@ -114,8 +115,6 @@ def _wall(spec, mats, name):
 
 def default_airfoil_mesher(stringers=()) -> str:
     """'gmsh' when it imports and there are no stringers (not supported by it), else 'structured'."""
-    from .gmsh_mesh import gmsh_available
-
     return "gmsh" if gmsh_available() and not stringers else "structured"
 
 
