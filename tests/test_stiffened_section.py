@@ -8,7 +8,8 @@ from openmdao.utils.assert_utils import assert_check_partials
 
 from wingmdao.components.panels import PanelFailure, RibMass, SizingRules, StiffenedBoxSection
 from wingmdao.materials import ALUMINIUM
-from wingmdao.panels.layout import PANEL_FAMILIES, STIFFENER_VARS, PanelLayout, rib_pitch_at_stations, smeared_stringer
+from wingmdao.panels.layout import (PANEL_FAMILIES, STIFFENER_VARS, PanelLayout, rib_pitch_at_stations, rib_weights,
+                                    smeared_stringer)
 from wingmdao.section.box import WALL_NAMES, box_properties
 from wingmdao.stress.box_stress import SECTION_PROPERTIES
 
@@ -122,14 +123,22 @@ def test_sizing_rules_values_and_partials():
 
 def test_rib_mass_by_hand_and_partials():
     prob = om.Problem(reports=False)
-    prob.model.add_subsystem("ribs", RibMass(num_nodes=4, rib_stations=[1, 2, 3], rib_thickness=0.002, density=2700.0),
+    prob.model.add_subsystem("ribs", RibMass(num_nodes=4, rib_weights=[0.0, 1.0, 1.5, 0.5],
+                                                          rib_thickness=0.002, density=2700.0),
                              promotes=["*"])
     prob.setup(force_alloc_complex=True)
     prob.set_val("width", [1.0, 0.9, 0.8, 0.7])
     prob.set_val("height", [0.3, 0.28, 0.26, 0.24])
     prob.run_model()
-    assert prob.get_val("rib_mass")[0] == pytest.approx(2700 * 0.002 * (0.9 * 0.28 + 0.8 * 0.26 + 0.7 * 0.24))
+    assert prob.get_val("rib_mass")[0] == pytest.approx(2700 * 0.002 * (0.9 * 0.28 + 1.5 * 0.8 * 0.26 + 0.5 * 0.7 * 0.24))
     assert_check_partials(prob.check_partials(method="cs", out_stream=None), atol=1e-12, rtol=1e-10)
+
+
+def test_rib_weights_share_ribs_between_stations():
+    y = [0.0, 1.0, 2.0, 3.0]
+    np.testing.assert_allclose(rib_weights(y, [-1.0, 0.0, 1.0, 1.5, 2.75, 3.0]), [1.0, 1.5, 0.75, 1.75])
+    with pytest.raises(ValueError, match="outside the stations"):
+        rib_weights(y, [3.5])
 
 
 def test_rib_pitch_at_stations():

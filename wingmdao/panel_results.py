@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from wingmdao.panels.layout import PANEL_FAMILIES, smeared_stringer
+from wingmdao.panels.layout import PANEL_FAMILIES, rib_crushing_ratio, smeared_stringer
 from wingmdao.section.box import WALL_NAMES
 
 #: the walls of the result JSON, with their panel points in PanelFailure (skin points 0-3: upper
@@ -85,10 +85,11 @@ def _trapezoid(area, node_positions):
     return float(np.sum(0.5 * s * (area[:-1] + area[1:])))
 
 
-def mass_breakdown(prob, geometry, panels) -> dict:
+def mass_breakdown(prob, geometry, panels, rib_mass=None) -> dict:
     """``mass_breakdown_kg``: ``skins``, ``spars``, ``stiffeners``, ``ribs``; they sum to the
     structural mass. The box mass (frustum volumes of the total area, App. F.1) is split among
-    skins, spars and stiffeners in proportion to the trapezoid-rule volumes of their areas."""
+    skins, spars and stiffeners in proportion to the trapezoid-rule volumes of their areas;
+    ``rib_mass`` (kg): the sized ribs' (default: the model's ``rib_mass``)."""
     w = np.asarray(prob.get_val("width", units="m"))
     h = np.asarray(prob.get_val("height", units="m"))
     n = w.size
@@ -102,7 +103,7 @@ def mass_breakdown(prob, geometry, panels) -> dict:
     box = float(prob.get_val("box_mass", units="kg")[0])
     total_vol = sum(vols.values())
     out = {k: box * v / total_vol for k, v in vols.items()}
-    out["ribs"] = float(prob.get_val("rib_mass", units="kg")[0])
+    out["ribs"] = float(prob.get_val("rib_mass", units="kg")[0]) if rib_mass is None else float(rib_mass)
     return out
 
 
@@ -110,3 +111,50 @@ def _per_node(prob, name, geometry):
     v = np.asarray(prob.get_val(name, units="m"))
     smap = geometry.station_map
     return v if smap is None else v[np.asarray(smap)]
+
+
+def rib_summary(prob, load_cases, panels, geometry, material) -> dict:
+    """The ``ribs`` block of the result JSON, with the ribs sized by crushing: per rib its position
+    (m), its thickness (m: the layout's minimum, or thicker where the crushing load needs it,
+    safety_factor * ratio = 1), its largest crushing ratio over every load case and time step at
+    that thickness (:func:`wingmdao.panels.layout.rib_crushing_ratio`, unfactored) and the
+    margin of safety 1 / (safety_factor ratio) - 1; ``mass_kg`` of the sized ribs. The walls'
+    sizing does not depend on the ribs (the beam carries neither their stiffness nor their mass),
+    so sizing them after the walls is exact for this model. The cover load and curvature come from the vertical bending
+    moment at the rib (linear between stations): N = M_c (n_upper - n_ea) t_eq / Ixx on the upper
+    cover, kappa = M_c / (E Ixx); the spacing is the mean of the two bays beside the rib."""
+    y = geometry.span_coordinate if geometry.span_coordinate is not None else geometry.node_positions[:, 1]
+    y = np.asarray(y, dtype=float)
+    ribs = np.array([r for r in panels.rib_positions if r >= 0.0])
+    all_ribs = np.asarray(panels.rib_positions, dtype=float)
+    gaps = np.diff(all_ribs)
+    idx = np.searchsorted(all_ribs, ribs)
+    spacing = np.array([0.5 * ((gaps[i - 1] if i > 0 else gaps[i]) + (gaps[i] if i < gaps.size else gaps[i - 1]))
+                        for i in idx])
+    w = np.interp(ribs, y, np.asarray(prob.get_val("width", units="m")))
+    h = np.interp(ribs, y, np.asarray(prob.get_val("height", units="m")))
+    t_u = np.interp(ribs, y, _per_node(prob, "t_upper_skin", geometry))
+    a_u = smeared_stringer(_per_node(prob, "h_upper_stiffener", geometry), _per_node(prob, "t_upper_stiffener", geometry),
+                           panels.stiffener_pitch, panels.shape, panels.flange_ratio)[0]
+    t_eq = t_u + np.interp(ribs, y, a_u)
+    i_xx = np.interp(ribs, y, np.asarray(prob.get_val("Ixx")))
+    n_ea = np.interp(ribs, y, np.asarray(prob.get_val("n_ea")))
+    lever = 0.5 * h - 0.5 * t_u - n_ea
+    worst = np.zeros(ribs.size)
+    for case in load_cases:
+        m = np.asarray(prob.get_val(f"cases.{case.name}.internal_loads.M_csn"))[..., 0]   # (nt, n) M_c
+        m_rib = np.array([np.interp(ribs, y, row) for row in m.reshape(-1, y.size)])
+        cover = m_rib * lever * t_eq / i_xx
+        kappa = m_rib / (material.E * i_xx)
+        r = rib_crushing_ratio(material.E, material.nu, panels.rib_thickness, h - 2 * t_u, w, cover, kappa, spacing)
+        worst = np.maximum(worst, r.max(axis=0))
+    # the crushing ratio scales with t_rib^-3 (sigma ~ 1/t, sigma_cr ~ t^2): the thickness at which
+    # safety_factor * ratio = 1, never below the layout's minimum rib thickness
+    t0 = panels.rib_thickness
+    sized = np.maximum(t0, t0 * np.cbrt(panels.safety_factor * worst))
+    ratio = worst * (t0 / sized) ** 3
+    mass = float(material.rho * np.sum(sized * w * h))
+    return {"positions_m": ribs.tolist(), "minimum_thickness_m": t0, "thickness_m": sized.tolist(),
+            "crushing_ratio": ratio.tolist(),
+            "crushing_margin_of_safety": (1.0 / np.maximum(panels.safety_factor * ratio, 1e-300) - 1.0).tolist(),
+            "mass_kg": mass}

@@ -175,17 +175,20 @@ class SizingRules(om.ExplicitComponent):
 
 
 class RibMass(om.ExplicitComponent):
-    """Mass of the ribs: each rib a web of the box's outer width times height at its station and
-    the rib thickness, rho t_rib sum_r w_r h_r (kg). Lightening holes, flanges and stiffeners of
-    the rib are not modelled (docs/panels.md).
+    """Mass of the ribs: each rib a web of the box's outer width times height and the rib
+    thickness, rho t_rib sum_k c_k w_k h_k (kg), with c_k the ribs attributed to station k
+    (``rib_weights``: a rib between two stations is shared between them linearly,
+    :func:`wingmdao.panels.layout.rib_weights`). Lightening holes, flanges and stiffeners of the
+    rib are not modelled (docs/panels.md).
 
-    Inputs ``width``, ``height`` (n,) m. Options: ``rib_stations`` (station index of each rib),
-    ``rib_thickness`` (m), ``density`` (kg/m^3). Output ``rib_mass`` (kg).
+    Inputs ``width``, ``height`` (n,) m. Options: ``rib_weights`` (n,), ``rib_thickness`` (m),
+    ``density`` (kg/m^3). Output ``rib_mass`` (kg).
     """
 
     def initialize(self):
         self.options.declare("num_nodes", types=int, lower=1, desc="number of beam stations")
-        self.options.declare("rib_stations", types=(list, tuple, np.ndarray), desc="station index of each rib")
+        self.options.declare("rib_weights", types=(list, tuple, np.ndarray),
+                             desc="(n,) number of ribs attributed to each station")
         self.options.declare("rib_thickness", types=numbers.Real, lower=0.0, desc="rib web thickness (m)")
         self.options.declare("density", types=numbers.Real, lower=0.0, desc="rib material density (kg/m^3)")
 
@@ -194,12 +197,12 @@ class RibMass(om.ExplicitComponent):
         self.add_input("width", val=1.0, shape=(n,), units="m", desc="box outer width per station")
         self.add_input("height", val=0.3, shape=(n,), units="m", desc="box outer height per station")
         self.add_output("rib_mass", val=0.0, units="kg", desc="mass of all ribs")
-        ribs = np.asarray(self.options["rib_stations"], dtype=int)
-        if ribs.size and (ribs.min() < 0 or ribs.max() >= n):
-            raise ValueError(f"{self.msginfo}: rib_stations = {ribs.tolist()}; allowed range [0, {n - 1}]")
-        self._count = np.bincount(ribs, minlength=n).astype(float)
-        cols = np.flatnonzero(self._count)
-        self.declare_partials("rib_mass", ["width", "height"], rows=np.zeros(cols.size, int), cols=cols)
+        c = np.asarray(self.options["rib_weights"], dtype=float)
+        if c.shape != (n,) or not np.all(np.isfinite(c) & (c >= 0.0)):
+            raise ValueError(f"{self.msginfo}: rib_weights must be {n} finite values >= 0, got {c.tolist()}")
+        self._count = c
+        self._cols = np.flatnonzero(c)
+        self.declare_partials("rib_mass", ["width", "height"], rows=np.zeros(self._cols.size, int), cols=self._cols)
 
     def compute(self, inputs, outputs):
         k = self.options["density"] * self.options["rib_thickness"]
@@ -207,9 +210,9 @@ class RibMass(om.ExplicitComponent):
 
     def compute_partials(self, inputs, partials):
         k = self.options["density"] * self.options["rib_thickness"]
-        cols = np.flatnonzero(self._count)
-        partials["rib_mass", "width"] = k * self._count[cols] * inputs["height"][cols]
-        partials["rib_mass", "height"] = k * self._count[cols] * inputs["width"][cols]
+        c = self._cols
+        partials["rib_mass", "width"] = k * self._count[c] * inputs["height"][c]
+        partials["rib_mass", "height"] = k * self._count[c] * inputs["width"][c]
 
 
 _PANEL_DESC = {

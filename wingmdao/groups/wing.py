@@ -347,8 +347,9 @@ class WingSizing(om.Group):
                                   "forcing_as_data; set_case_loads then sets only the aerodynamic forcing)")
         self.options.declare("panels", default=None, allow_none=True, types=PanelLayout,
                              desc="stiffened panels and ribs (section 'stiffened'; wingmdao.panels.layout)")
-        self.options.declare("rib_stations", default=None, allow_none=True, types=(list, tuple, np.ndarray),
-                             desc="station index of each rib (section 'stiffened': the ribs' mass)")
+        self.options.declare("rib_weights", default=None, allow_none=True, types=(list, tuple, np.ndarray),
+                             desc="(n,) ribs attributed to each station (section 'stiffened': the ribs' mass; "
+                                  "wingmdao.panels.layout.rib_weights)")
         self.options.declare("proxy_cases", default=False, types=bool,
                              desc="a subclass adds the cases to cases_group itself (wingmdao.parallel); "
                                   "load_cases may then be empty")
@@ -431,8 +432,8 @@ class WingSizing(om.Group):
         """Ribs' mass, total mass (box + ribs) and the linear sizing rules of the stiffened box."""
         from wingmdao.components.panels import RibMass, SizingRules
 
-        ribs = self.options["rib_stations"] if self.options["rib_stations"] is not None else ()
-        self.add_subsystem("rib_mass_calc", RibMass(num_nodes=n, rib_stations=list(ribs),
+        ribs = self.options["rib_weights"] if self.options["rib_weights"] is not None else np.zeros(n)
+        self.add_subsystem("rib_mass_calc", RibMass(num_nodes=n, rib_weights=np.asarray(ribs, dtype=float),
                                                     rib_thickness=layout.rib_thickness,
                                                     density=self.options["material"].rho),
                            promotes_inputs=["width", "height"], promotes_outputs=["rib_mass"])

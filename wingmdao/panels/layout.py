@@ -88,6 +88,27 @@ def rib_pitch_at_stations(span_coordinate, rib_positions) -> np.ndarray:
     return out
 
 
+def rib_weights(span_coordinate, rib_positions) -> np.ndarray:
+    """(n,) ribs attributed to each station: a rib at a station counts 1 there; a rib between two
+    stations is shared between them in proportion to its distance from each (linear
+    interpolation of the box's width times height). Ribs at a negative span coordinate belong to
+    the mirrored half-wing (they close the centre-box bay across the symmetry plane) and are not
+    counted; ValueError for a rib outside the stations."""
+    y = np.asarray(span_coordinate, dtype=float)
+    out = np.zeros(y.size)
+    tol = 1e-9 * max(1.0, float(np.max(np.abs(y))))
+    for r in rib_positions:
+        if r < 0.0:
+            continue
+        if r < y[0] - tol or r > y[-1] + tol:
+            raise ValueError(f"rib at {r:.6g} m lies outside the stations [{y[0]:.6g}, {y[-1]:.6g}] m")
+        j = int(np.clip(np.searchsorted(y, r) - 1, 0, y.size - 2))
+        f = float(np.clip((r - y[j]) / (y[j + 1] - y[j]), 0.0, 1.0))
+        out[j] += 1.0 - f
+        out[j + 1] += f
+    return out
+
+
 @dataclass(frozen=True)
 class PanelLayout:
     """The stiffened panels of a wingbox (section kind ``"stiffened"``).
@@ -136,3 +157,25 @@ class PanelLayout:
         """Largest web height whose tee flange still fits in the pitch (flange width <= pitch), m;
         inf for blades."""
         return self.stiffener_pitch / self.flange_ratio if self.shape == "tee" else math.inf
+
+
+def rib_crushing_ratio(E, nu, rib_thickness, rib_depth, rib_width, cover_load, curvature, rib_spacing):
+    """Crushing ratio of a rib web (1 = buckling of the web), load-linear in the square of the
+    bending moment.
+
+    The covers of a bent box follow its curvature kappa; a cover carrying the running load N
+    (N/m, per unit chord) then presses on each rib with q = |N kappa| s per unit chord, s the
+    rib spacing (the crushing or Brazier load: Niu, *Airframe Structural Design*, Ch. 9, rib
+    crushing load; Brazier 1927). The compression cover pushes and the tension cover pulls
+    toward the neutral axis, so the rib web between them is compressed at sigma = q / t_rib.
+    Its elastic buckling stress, as a plate simply supported on all edges, loaded on its edges
+    of length ``rib_width`` w over the depth h (Timoshenko & Gere, *Theory of Elastic Stability*,
+    2nd ed., Sec. 9.2, m = 1): sigma_cr = pi^2 E t^2 / (12 (1 - nu^2) h^2) (1 + (h/w)^2)^2.
+    Returns sigma / sigma_cr. Rib stiffeners, lightening holes and the rib's shear are not
+    modelled.
+    """
+    q = np.abs(cover_load * curvature) * rib_spacing
+    sigma = q / rib_thickness
+    sigma_cr = (np.pi**2 * E * rib_thickness**2 / (12.0 * (1.0 - nu**2) * rib_depth**2)
+                * (1.0 + (rib_depth / rib_width) ** 2) ** 2)
+    return sigma / sigma_cr
