@@ -166,3 +166,20 @@ def test_panel_layout_bad_input(kwargs, match):
 def test_rib_positions_bad_input(ribs, y, match):
     with pytest.raises(ValueError, match=match):
         rib_pitch_at_stations(y, ribs)
+
+
+def test_rib_crushing_ratio_limits():
+    """A rib web much wider than deep buckles as a wide column: sigma_cr -> pi^2 E t^2 /
+    (12 (1 - nu^2) h^2) (Euler, pinned, unit width); a square web has (1 + 1)^2 = 4 times that.
+    The crushing stress is |N kappa| s / t (N the cover load, kappa the curvature, s the spacing)."""
+    from wingmdao.panels.layout import rib_crushing_ratio
+
+    E, nu, t, h = 70e9, 0.33, 2e-3, 0.3
+    euler = np.pi**2 * E * t**2 / (12 * (1 - nu**2) * h**2)
+    n_cover, kappa, s = 1e6, 1e-3, 0.5
+    sigma = n_cover * kappa * s / t
+    assert rib_crushing_ratio(E, nu, t, h, 1e3 * h, n_cover, kappa, s) == pytest.approx(sigma / euler, rel=1e-5)
+    assert rib_crushing_ratio(E, nu, t, h, h, n_cover, kappa, s) == pytest.approx(sigma / (4 * euler), rel=1e-12)
+    # the sign of the bending does not matter: both covers crush the rib
+    assert rib_crushing_ratio(E, nu, t, h, h, -n_cover, kappa, s) == rib_crushing_ratio(E, nu, t, h, h, n_cover,
+                                                                                         kappa, s)
