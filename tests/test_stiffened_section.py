@@ -183,3 +183,64 @@ def test_rib_crushing_ratio_limits():
     # the sign of the bending does not matter: both covers crush the rib
     assert rib_crushing_ratio(E, nu, t, h, h, -n_cover, kappa, s) == rib_crushing_ratio(E, nu, t, h, h, n_cover,
                                                                                          kappa, s)
+
+
+def test_transformed_section_equals_a_box_of_the_wall_material():
+    """Walls of titanium on an aluminium reference (transformed section) against the same box
+    computed in titanium: axial and bending stiffness and mass exactly (weighted walls), torsion
+    to the thin-wall approximation of the shear-scaled thicknesses (well under 1 % here)."""
+    from wingmdao.components.panels import transformed_section
+    from wingmdao.materials import TI_6AL_4V
+    from wingmdao.panels.stiffened import panel_material
+
+    layer = smeared_stringer(HS, TS, PITCH)
+    layout = PanelLayout((0.0, 1.0), skin_material=panel_material(TI_6AL_4V), spar_material=panel_material(TI_6AL_4V))
+    e_s, g_s, r_s, e_w, g_w, r_w = layout.wall_factors(ALUMINIUM)
+    assert e_s == pytest.approx(TI_6AL_4V.E / ALUMINIUM.E)
+
+    def props_of(weights=(1.0, 1.0), scale=(1.0, 1.0), rotate=True):
+        skin, web = scale
+        return box_properties(W, H, TU * skin, TL * skin, TF * web, TR * web, ALUMINIUM, None, 0.0,
+                              stringers=tuple((a * skin, d, i * skin) for a, d, i in (layer, layer)),
+                              weights=(weights[0], weights[0], weights[1], weights[1]))
+
+    got = transformed_section(props_of, (e_s, e_w), (g_s, g_w), (r_s, r_w), ALUMINIUM, None, 0.0)
+    ref = box_properties(W, H, TU, TL, TF, TR, TI_6AL_4V, stringers=(layer, layer))
+    for key in ("EA", "EIxx", "EIzz", "mass_per_length", "n_ea", "c_ea"):
+        assert got[key] == pytest.approx(ref[key], rel=1e-12), key
+    for key in ("Qx", "Qz"):   # modulus-weighted: Q / I (the shear flow) is the wall material's
+        assert got[key] / got["Ixx"] == pytest.approx(ref[key] / ref["Ixx"], rel=1e-12), key
+    assert got["GJ"] == pytest.approx(ref["GJ"], rel=0.01)
+
+
+def test_laminate_panel_failure_partials():
+    """Laminate skins and webs (the MDO Aeroelastic Benchmark's ply and fractions): the panel
+    component adds the Tsai-Wu family, and its partials are exact."""
+    from wingmdao.panels.laminate import STW_SKIN_FRACTIONS, STW_SPAR_FRACTIONS
+    from wingmdao.panels.stiffened import panel_material
+
+    skin, spar = panel_material("stw-cfrp", STW_SKIN_FRACTIONS), panel_material("stw-cfrp", STW_SPAR_FRACTIONS)
+    layout = PanelLayout((0.0, 1.0), shape="tee", skin_material=skin, spar_material=spar)
+    nt, n = 2, 2
+    prob = om.Problem(reports=False)
+    kw = dict(shape="tee", wall_factors=layout.wall_factors(ALUMINIUM))
+    prob.model.add_subsystem("section", StiffenedBoxSection(num_stations=n, material=ALUMINIUM, **kw),
+                             promotes_inputs=["*"])
+    prob.model.add_subsystem("panels", PanelFailure(num_times=nt, num_stations=n, material=ALUMINIUM,
+                                                    skin_material=skin, spar_material=spar, **kw),
+                             promotes_inputs=["width", "height", *WALL_NAMES, *STIFFENER_VARS, "panel_length",
+                                              "F_csn", "M_csn"])
+    for name in SECTION_PROPERTIES:
+        prob.model.connect(f"section.{name}", f"panels.{name}")
+    prob.setup()
+    rng = np.random.default_rng(8)
+    _design(prob, n, rng)
+    prob.set_val("nonstructural_mass_per_length", [5.0, 4.0])
+    prob.set_val("panel_length", [0.6, 0.7])
+    prob.set_val("F_csn", rng.normal(0, 3e4, (nt, n, 3)))
+    prob.set_val("M_csn", rng.normal(0, 1e5, (nt, n, 3)))
+    prob.run_model()
+    assert prob.get_val("panels.g_laminate_strength").shape == (nt, n, 6)
+    assert prob.get_val("section.mass_area")[0] < prob.get_val("section.A")[0] * 2   # density 1550 vs 2700
+    data = prob.check_partials(method="fd", form="central", step=1e-6, step_calc="rel", out_stream=None)
+    assert_check_partials(data, atol=1e-5, rtol=2e-4)

@@ -5,17 +5,17 @@ from __future__ import annotations
 
 import numpy as np
 
-from wingmdao.panels.layout import PANEL_FAMILIES, rib_crushing_ratio, smeared_stringer
+from wingmdao.panels.layout import panel_families, rib_crushing_ratio, smeared_stringer
 from wingmdao.section.box import WALL_NAMES
 
 #: the walls of the result JSON, with their panel points in PanelFailure (skin points 0-3: upper
 #: front, upper rear, lower front, lower rear; web points 0-1: front, rear) and their von Mises
 #: points in BoxStress (mid-corners: skin then spar at front-lower, rear-lower, rear-upper, front-upper)
 WALL_POINTS = {
-    "upper_skin": {"skin": (0, 1), "vm": (4, 6)},
-    "lower_skin": {"skin": (2, 3), "vm": (0, 2)},
-    "front_spar": {"web": (0,), "vm": (1, 7)},
-    "rear_spar": {"web": (1,), "vm": (3, 5)},
+    "upper_skin": {"skin": (0, 1), "vm": (4, 6), "laminate": (0, 1)},
+    "lower_skin": {"skin": (2, 3), "vm": (0, 2), "laminate": (2, 3)},
+    "front_spar": {"web": (0,), "vm": (1, 7), "laminate": (4,)},
+    "rear_spar": {"web": (1,), "vm": (3, 5), "laminate": (5,)},
 }
 SKIN_MODES = ("skin_buckling", "panel_buckling", "stiffener_column", "stiffener_crippling")
 
@@ -33,8 +33,9 @@ def worst_ratios(prob, load_cases, panels) -> dict:
     out = {wall: {} for wall in WALL_POINTS}
     for case in load_cases:
         path = f"cases.{case.name}"
-        g = {f: np.asarray(prob.get_val(f"{path}.panels.g_{f}")) for f in PANEL_FAMILIES}
+        g = {f: np.asarray(prob.get_val(f"{path}.panels.g_{f}")) for f in panel_families(panels.laminate)}
         vm = np.asarray(prob.get_val(f"{path}.stress.g_vm")) if "vm" in case.families else None
+        lam = g.get("laminate_strength")
         for wall, pts in WALL_POINTS.items():
             modes = {}
             if "skin" in pts:
@@ -42,7 +43,9 @@ def worst_ratios(prob, load_cases, panels) -> dict:
                     modes[f] = g[f][:, :, list(pts["skin"])].max(axis=(0, 2)) + 1.0
             else:
                 modes["web_buckling"] = g["web_buckling"][:, :, list(pts["web"])].max(axis=(0, 2)) + 1.0
-            if vm is not None:
+            if lam is not None:   # Tsai-Wu of the laminate (factored like the panel modes)
+                modes["material"] = lam[:, :, list(pts["laminate"])].max(axis=(0, 2)) + 1.0
+            elif vm is not None:
                 modes["material"] = vm[:, :, list(pts["vm"])].max(axis=(0, 2)) + 1.0
             for f, r in modes.items():
                 out[wall][f] = np.maximum(out[wall][f], r) if f in out[wall] else r
@@ -140,20 +143,22 @@ def rib_summary(prob, load_cases, panels, geometry, material) -> dict:
     i_xx = np.interp(ribs, y, np.asarray(prob.get_val("Ixx")))
     n_ea = np.interp(ribs, y, np.asarray(prob.get_val("n_ea")))
     lever = 0.5 * h - 0.5 * t_u - n_ea
+    e_skin = panels.wall_factors(material)[0]
+    rib_E, rib_nu, rib_rho = panels.rib_material(material)
     worst = np.zeros(ribs.size)
     for case in load_cases:
         m = np.asarray(prob.get_val(f"cases.{case.name}.internal_loads.M_csn"))[..., 0]   # (nt, n) M_c
         m_rib = np.array([np.interp(ribs, y, row) for row in m.reshape(-1, y.size)])
-        cover = m_rib * lever * t_eq / i_xx
+        cover = e_skin * m_rib * lever * t_eq / i_xx
         kappa = m_rib / (material.E * i_xx)
-        r = rib_crushing_ratio(material.E, material.nu, panels.rib_thickness, h - 2 * t_u, w, cover, kappa, spacing)
+        r = rib_crushing_ratio(rib_E, rib_nu, panels.rib_thickness, h - 2 * t_u, w, cover, kappa, spacing)
         worst = np.maximum(worst, r.max(axis=0))
     # the crushing ratio scales with t_rib^-3 (sigma ~ 1/t, sigma_cr ~ t^2): the thickness at which
     # safety_factor * ratio = 1, never below the layout's minimum rib thickness
     t0 = panels.rib_thickness
     sized = np.maximum(t0, t0 * np.cbrt(panels.safety_factor * worst))
     ratio = worst * (t0 / sized) ** 3
-    mass = float(material.rho * np.sum(sized * w * h))
+    mass = float(rib_rho * np.sum(sized * w * h))
     return {"positions_m": ribs.tolist(), "minimum_thickness_m": t0, "thickness_m": sized.tolist(),
             "crushing_ratio": ratio.tolist(),
             "crushing_margin_of_safety": (1.0 / np.maximum(panels.safety_factor * ratio, 1e-300) - 1.0).tolist(),

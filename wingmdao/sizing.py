@@ -14,7 +14,7 @@ import numpy as np
 import openmdao.api as om
 
 from wingmdao.groups.wing import BOX_KINDS, SECTION_KINDS, WingSizing, set_case_loads
-from wingmdao.panels.layout import PANEL_FAMILIES, PanelLayout, rib_weights, smeared_stringer
+from wingmdao.panels.layout import PanelLayout, panel_families, rib_weights, smeared_stringer
 from wingmdao.optimize import ProgressPrinter, add_recorder, make_driver
 from wingmdao.section.box import WALL_NAMES
 
@@ -419,7 +419,7 @@ def station_values(prob, name: str) -> np.ndarray:
 
 def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, section="box", panels=None,
               geometry=None, material=None) -> dict:
-    ks = {c.name: {f: float(prob.get_val(f"cases.{c.name}.ks_{f}")[0]) for f in case_families(c, section)}
+    ks = {c.name: {f: float(prob.get_val(f"cases.{c.name}.ks_{f}")[0]) for f in case_families(c, section, panels)}
           for c in load_cases}
     out = {
         "success": bool(success),
@@ -461,12 +461,13 @@ def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, sectio
     return out
 
 
-def case_families(case, section: str = "box") -> tuple:
+def case_families(case, section: str = "box", panels: PanelLayout | None = None) -> tuple:
     """The KS families of a load case: its stress families, and with stiffened panels the panel
-    modes (components.panels.PANEL_FAMILIES)."""
+    modes (:func:`wingmdao.panels.layout.panel_families`)."""
     if section != "stiffened":
         return tuple(case.families)
-    return tuple(case.families) + tuple(f for f in PANEL_FAMILIES if f not in case.families)
+    fams = panel_families(panels is not None and panels.laminate)
+    return tuple(case.families) + tuple(f for f in fams if f not in case.families)
 
 
 def _flutter_ks(prob):

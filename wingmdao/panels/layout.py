@@ -25,7 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from wingmdao.panels.stiffened import DEFAULT_FLANGE_RATIO, STIFFENERS, stiffener_elements
+from wingmdao.panels.laminate import laminate_moduli
+from wingmdao.panels.stiffened import DEFAULT_FLANGE_RATIO, STIFFENERS, PanelMaterial, stiffener_elements
 
 #: design variables of the stiffeners, per station (m): web height and thickness on each skin
 STIFFENER_VARS = ("h_upper_stiffener", "t_upper_stiffener", "h_lower_stiffener", "t_lower_stiffener")
@@ -37,6 +38,15 @@ STIFFENER_SHAPES = STIFFENERS
 #: per station: the skins at their front and rear edges (4), the spar webs (2)
 PANEL_FAMILIES = {"skin_buckling": 4, "panel_buckling": 4, "stiffener_column": 4, "stiffener_crippling": 4,
                   "web_buckling": 2}
+#: the strength family of laminate walls (Tsai-Wu first-ply failure at the 4 skin and 2 web points;
+#: metal walls keep the box's von Mises family instead)
+LAMINATE_FAMILIES = {"laminate_strength": 6}
+
+
+def panel_families(laminate: bool) -> dict:
+    """The panel constraint families and their points per station (laminate walls add the
+    laminate strength family)."""
+    return {**PANEL_FAMILIES, **(LAMINATE_FAMILIES if laminate else {})}
 
 
 def stiffener_section(h, ts, shape: str = "blade", flange_ratio: float = DEFAULT_FLANGE_RATIO):
@@ -127,7 +137,13 @@ class PanelLayout:
         Factor on the loads for buckling and crippling (the failure ratio times it must stay
         <= 1); 1.5 is the ultimate factor of 14 CFR 25.303 when the loads are limit loads.
     rib_thickness : float
-        Rib web thickness (m): the ribs' mass and their crushing check.
+        Minimum rib web thickness (m): the ribs' mass in the optimization; the result sizes each
+        rib for crushing from there.
+    skin_material, spar_material : PanelMaterial or None
+        Laminates (or metals) of the skins with their stiffeners and of the spar webs
+        (:class:`wingmdao.panels.stiffened.PanelMaterial`); None: the sizing's isotropic material.
+        The section then weights each wall by its membrane modulus, shear modulus and density
+        relative to the sizing's material (the transformed section, :meth:`wall_factors`).
     """
 
     rib_positions: tuple
@@ -136,6 +152,8 @@ class PanelLayout:
     flange_ratio: float = DEFAULT_FLANGE_RATIO
     safety_factor: float = 1.5
     rib_thickness: float = 0.002
+    skin_material: PanelMaterial | None = None
+    spar_material: PanelMaterial | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "rib_positions", tuple(float(r) for r in self.rib_positions))
@@ -148,6 +166,37 @@ class PanelLayout:
         if self.shape == "tee" and not (math.isfinite(self.flange_ratio) and self.flange_ratio > 0.0):
             raise ValueError(f"PanelLayout: flange_ratio = {self.flange_ratio} for tee stiffeners; "
                              "allowed range (0, inf)")
+
+    @property
+    def laminate(self) -> bool:
+        """Whether any wall is a laminate (then the laminate strength family replaces von Mises)."""
+        return any(m is not None and m.is_laminate for m in (self.skin_material, self.spar_material))
+
+    def wall_factors(self, material) -> tuple:
+        """(e, g, r) of the skins and of the spar webs against the isotropic ``material``: membrane
+        modulus E_x / E, shear modulus G_xy / G and density rho_wall / rho (1 for a wall of the
+        sizing's own material): six floats, skins first."""
+        out = []
+        for pm in (self.skin_material, self.spar_material):
+            if pm is None:
+                out += [1.0, 1.0, 1.0]
+            elif pm.is_laminate:
+                m = laminate_moduli(pm.base, pm.fractions)
+                out += [m["Ex"] / material.E, m["Gxy"] / material.G, pm.base.rho / material.rho]
+            else:
+                out += [pm.base.E / material.E, pm.base.G / material.G, pm.base.rho / material.rho]
+        return tuple(float(v) for v in out)
+
+    def rib_material(self, material) -> tuple:
+        """(E, nu, rho) of the ribs: the spar webs' material (a laminate by its membrane Ex and
+        nu_xy: the crushing check treats the rib web as isotropic), else ``material``."""
+        pm = self.spar_material
+        if pm is None:
+            return material.E, material.nu, material.rho
+        if pm.is_laminate:
+            m = laminate_moduli(pm.base, pm.fractions)
+            return m["Ex"], m["nu_xy"], pm.base.rho
+        return pm.base.E, pm.base.nu, pm.base.rho
 
     def panel_lengths(self, span_coordinate) -> np.ndarray:
         """Panel length (rib pitch) at each station, m (:func:`rib_pitch_at_stations`)."""
