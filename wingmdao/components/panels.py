@@ -105,15 +105,16 @@ class StiffenedBoxSection(_SectionBase):
         walls = [sym[k] for k in WALL_NAMES]
         e_s, g_s, r_s, e_w, g_w, r_w = (float(f) for f in o["wall_factors"])
 
-        def props_of(weights=(1.0, 1.0), scale=(1.0, 1.0), rotate=True):
-            """The box with wall weights (skin, web) or its walls' thicknesses and stiffener areas
-            scaled by (skin, web) factors."""
+        def props_of(weights=(1.0, 1.0), shear=(1.0, 1.0), scale=(1.0, 1.0), rotate=True):
+            """The box with wall weights, shear weights or its walls' thicknesses and stiffener
+            areas scaled, each by (skin, web) factors."""
             skin, web = scale
             return box_properties(sym["width"], sym["height"], walls[0] * skin, walls[1] * skin, walls[2] * web,
                                   walls[3] * web, o["material"], sym["section_to_csn"] if rotate else None,
                                   sym["nonstructural_mass_per_length"],
                                   stringers=tuple((a * skin, d, i * skin) for a, d, i in stringers),
-                                  weights=(weights[0], weights[0], weights[1], weights[1]))
+                                  weights=(weights[0], weights[0], weights[1], weights[1]),
+                                  shear_weights=(shear[0], shear[0], shear[1], shear[1]))
 
         if (e_s, g_s, r_s, e_w, g_w, r_w) == UNIT_FACTORS:   # one material: the plain stiffened box
             out = self._select_outputs(props_of())
@@ -137,14 +138,15 @@ def transformed_section(props_of, e, g, r, material, section_to_csn, nonstructur
     transformed section): area, axial and bending stiffness, centroid and first moments with each
     wall weighted by its membrane modulus ratio ``e`` (skins, webs), mass, mass centre and rotary
     inertia weighted by the density ratios ``r`` (both exact: :func:`~wingmdao.section.box.box_walls`
-    weights); torsion constant, shear areas and shear centre of the walls with their thicknesses
-    scaled by the shear modulus ratios ``g`` (thin walls: the scaled wall's midline moves by
-    (1 - g) t / 2, which is neglected). ``props_of(weights=..., scale=..., rotate=...)`` is the box
-    with wall weights (skin, web) or thickness factors (skin, web)."""
+    weights), torsion constant and shear areas with the shear modulus ratios ``g`` (exact); the
+    shear centre of the walls with their thicknesses scaled by ``g`` (thin walls: a scaled wall's
+    midline moves by (1 - g) t / 2, which is neglected). ``props_of(weights=, shear=, scale=,
+    rotate=)`` is the box with wall weights, shear weights or thickness factors, each (skin, web)."""
     ax, ms = props_of(weights=e, rotate=False), props_of(weights=r)
-    sh = props_of(scale=g, rotate=False)
+    sh, sc = props_of(shear=g, rotate=False), props_of(scale=g, rotate=False)
     base = {k: ax[k] for k in ("A", "Ixx", "Izz", "Ixz", "c_ea", "n_ea", "Qx", "Qz")}
-    base.update({k: sh[k] for k in ("J", "c_sc", "n_sc", "K_c", "K_n")})
+    base.update({k: sh[k] for k in ("J", "K_c", "K_n")})
+    base.update({k: sc[k] for k in ("c_sc", "n_sc")})
     base.update(c_cg=ax["c_ea"], n_cg=ax["n_ea"])
     out = beam_data(base, material, section_to_csn, nonstructural_mass_per_length)
     for k in ("mass_per_length", "inertia_per_length", "c_cg", "n_cg"):

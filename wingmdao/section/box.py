@@ -140,15 +140,17 @@ def box_enclosed_area(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spa
     return (w - 0.5 * (t_front_spar + t_rear_spar)) * (h - 0.5 * (t_upper_skin + t_lower_skin))
 
 
-def box_torsion_constant(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar):
+def box_torsion_constant(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, shear_weights=None):
     """Bredt-Batho torsion constant J = 4 A_m^2 / (closed integral of ds/t), m^4.
 
     Generalises Eq. F.29, which is this formula with the thickness pairs replaced by their
-    arithmetic means (docs/section.md).
+    arithmetic means (docs/section.md). ``shear_weights`` (upper, lower, front, rear): walls of
+    other shear moduli, G_wall / G in the loop integral (the transformed section, exact).
     """
+    g_u, g_l, g_f, g_r = (1.0, 1.0, 1.0, 1.0) if shear_weights is None else shear_weights
     b = w - 0.5 * (t_front_spar + t_rear_spar)
     d = h - 0.5 * (t_upper_skin + t_lower_skin)
-    loop = b / t_upper_skin + b / t_lower_skin + d / t_front_spar + d / t_rear_spar
+    loop = b / (t_upper_skin * g_u) + b / (t_lower_skin * g_l) + d / (t_front_spar * g_f) + d / (t_rear_spar * g_r)
     return 4.0 * (b * d) ** 2 / loop
 
 
@@ -243,10 +245,13 @@ def box_first_moments(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spa
     return q_x, q_z
 
 
-def box_shear_areas(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar):
+def box_shear_areas(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, shear_weights=None):
     """(K_c, K_n): shear areas of Eq. A.7, m^2. Chordwise shear is carried by the skins,
-    K_c = w (t_u + t_l); vertical shear by the spar webs, K_n = (h - t_u - t_l)(t_f + t_r)."""
-    return w * (t_upper_skin + t_lower_skin), (h - t_upper_skin - t_lower_skin) * (t_front_spar + t_rear_spar)
+    K_c = w (t_u + t_l); vertical shear by the spar webs, K_n = (h - t_u - t_l)(t_f + t_r);
+    ``shear_weights`` (upper, lower, front, rear) weight each wall by G_wall / G."""
+    g_u, g_l, g_f, g_r = (1.0, 1.0, 1.0, 1.0) if shear_weights is None else shear_weights
+    return (w * (t_upper_skin * g_u + t_lower_skin * g_l),
+            (h - t_upper_skin - t_lower_skin) * (t_front_spar * g_f + t_rear_spar * g_r))
 
 
 # --------------------------------------------------------------------------- beam data
@@ -315,21 +320,23 @@ def beam_data(props: dict, material, section_to_csn=None, nonstructural_mass_per
 
 
 def box_properties(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, material,
-                   section_to_csn=None, nonstructural_mass_per_length=0.0, stringers=None, weights=None) -> dict:
+                   section_to_csn=None, nonstructural_mass_per_length=0.0, stringers=None, weights=None,
+                   shear_weights=None) -> dict:
     """All box section outputs (names as in ``BoxSection``) for one material.
 
     ``stringers``: the skins' smeared stiffeners (:func:`stringer_layers`); they add to the area,
     centroid, bending moments of area, first moments and mass; torsion constant, shear areas and
     shear centre are those of the bare box (the stiffeners carry no shear flow). ``weights``:
-    factors on the walls' areas (:func:`box_walls`) for area, centroid, bending and first moments.
+    factors on the walls' areas (:func:`box_walls`) for area, centroid, bending and first moments;
+    ``shear_weights``: G_wall / G factors for the torsion constant and shear areas.
     """
     args = (w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar)
     c_ea, n_ea = box_centroid(*args, stringers, weights)
     c_sc, n_sc = box_shear_centre(*args)
     i_xx, i_zz, i_xz = box_inertia(*args, stringers, weights)
     q_x, q_z = box_first_moments(*args, stringers, weights)
-    k_c, k_n = box_shear_areas(*args)
-    props = {"A": box_area(*args, stringers, weights), "Ixx": i_xx, "Izz": i_zz, "Ixz": i_xz, "J": box_torsion_constant(*args),
+    k_c, k_n = box_shear_areas(*args, shear_weights)
+    props = {"A": box_area(*args, stringers, weights), "Ixx": i_xx, "Izz": i_zz, "Ixz": i_xz, "J": box_torsion_constant(*args, shear_weights),
              "c_ea": c_ea, "n_ea": n_ea, "c_sc": c_sc, "n_sc": n_sc, "c_cg": c_ea, "n_cg": n_ea,
              "Qx": q_x, "Qz": q_z, "K_c": k_c, "K_n": k_n}
     return beam_data(props, material, section_to_csn, nonstructural_mass_per_length)
