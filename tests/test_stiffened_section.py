@@ -8,7 +8,8 @@ from openmdao.utils.assert_utils import assert_check_partials
 
 from wingmdao.components.panels import PanelFailure, RibMass, SizingRules, StiffenedBoxSection
 from wingmdao.materials import ALUMINIUM
-from wingmdao.panels.layout import PANEL_FAMILIES, STIFFENER_VARS, PanelLayout, rib_pitch_at_stations, smeared_stringer
+from wingmdao.panels.layout import (PANEL_FAMILIES, STIFFENER_VARS, PanelLayout, rib_pitch_at_stations, rib_weights,
+                                    smeared_stringer)
 from wingmdao.section.box import WALL_NAMES, box_properties
 from wingmdao.stress.box_stress import SECTION_PROPERTIES
 
@@ -122,14 +123,22 @@ def test_sizing_rules_values_and_partials():
 
 def test_rib_mass_by_hand_and_partials():
     prob = om.Problem(reports=False)
-    prob.model.add_subsystem("ribs", RibMass(num_nodes=4, rib_stations=[1, 2, 3], rib_thickness=0.002, density=2700.0),
+    prob.model.add_subsystem("ribs", RibMass(num_nodes=4, rib_weights=[0.0, 1.0, 1.5, 0.5],
+                                                          rib_thickness=0.002, density=2700.0),
                              promotes=["*"])
     prob.setup(force_alloc_complex=True)
     prob.set_val("width", [1.0, 0.9, 0.8, 0.7])
     prob.set_val("height", [0.3, 0.28, 0.26, 0.24])
     prob.run_model()
-    assert prob.get_val("rib_mass")[0] == pytest.approx(2700 * 0.002 * (0.9 * 0.28 + 0.8 * 0.26 + 0.7 * 0.24))
+    assert prob.get_val("rib_mass")[0] == pytest.approx(2700 * 0.002 * (0.9 * 0.28 + 1.5 * 0.8 * 0.26 + 0.5 * 0.7 * 0.24))
     assert_check_partials(prob.check_partials(method="cs", out_stream=None), atol=1e-12, rtol=1e-10)
+
+
+def test_rib_weights_share_ribs_between_stations():
+    y = [0.0, 1.0, 2.0, 3.0]
+    np.testing.assert_allclose(rib_weights(y, [-1.0, 0.0, 1.0, 1.5, 2.75, 3.0]), [1.0, 1.5, 0.75, 1.75])
+    with pytest.raises(ValueError, match="outside the stations"):
+        rib_weights(y, [3.5])
 
 
 def test_rib_pitch_at_stations():
@@ -157,3 +166,84 @@ def test_panel_layout_bad_input(kwargs, match):
 def test_rib_positions_bad_input(ribs, y, match):
     with pytest.raises(ValueError, match=match):
         rib_pitch_at_stations(y, ribs)
+
+
+def test_rib_crushing_ratio_limits():
+    """A rib web much wider than deep buckles as a wide column: sigma_cr -> pi^2 E t^2 /
+    (12 (1 - nu^2) h^2) (Euler, pinned, unit width); a square web has (1 + 1)^2 = 4 times that.
+    The crushing stress is |N kappa| s / t (N the cover load, kappa the curvature, s the spacing)."""
+    from wingmdao.panels.layout import rib_crushing_ratio
+
+    E, nu, t, h = 70e9, 0.33, 2e-3, 0.3
+    euler = np.pi**2 * E * t**2 / (12 * (1 - nu**2) * h**2)
+    n_cover, kappa, s = 1e6, 1e-3, 0.5
+    sigma = n_cover * kappa * s / t
+    assert rib_crushing_ratio(E, nu, t, h, 1e3 * h, n_cover, kappa, s) == pytest.approx(sigma / euler, rel=1e-5)
+    assert rib_crushing_ratio(E, nu, t, h, h, n_cover, kappa, s) == pytest.approx(sigma / (4 * euler), rel=1e-12)
+    # the sign of the bending does not matter: both covers crush the rib
+    assert rib_crushing_ratio(E, nu, t, h, h, -n_cover, kappa, s) == rib_crushing_ratio(E, nu, t, h, h, n_cover,
+                                                                                         kappa, s)
+
+
+def test_transformed_section_equals_a_box_of_the_wall_material():
+    """Walls of titanium on an aluminium reference (transformed section) against the same box
+    computed in titanium: stiffnesses, torsion, shear areas and mass exactly (weighted walls), the
+    shear centre to the thin-wall approximation of the shear-scaled thicknesses."""
+    from wingmdao.components.panels import transformed_section
+    from wingmdao.materials import TI_6AL_4V
+    from wingmdao.panels.stiffened import panel_material
+
+    layer = smeared_stringer(HS, TS, PITCH)
+    layout = PanelLayout((0.0, 1.0), skin_material=panel_material(TI_6AL_4V), spar_material=panel_material(TI_6AL_4V))
+    e_s, g_s, r_s, e_w, g_w, r_w = layout.wall_factors(ALUMINIUM)
+    assert e_s == pytest.approx(TI_6AL_4V.E / ALUMINIUM.E)
+
+    def props_of(weights=(1.0, 1.0), shear=(1.0, 1.0), scale=(1.0, 1.0), rotate=True):
+        skin, web = scale
+        return box_properties(W, H, TU * skin, TL * skin, TF * web, TR * web, ALUMINIUM, None, 0.0,
+                              stringers=tuple((a * skin, d, i * skin) for a, d, i in (layer, layer)),
+                              weights=(weights[0], weights[0], weights[1], weights[1]),
+                              shear_weights=(shear[0], shear[0], shear[1], shear[1]))
+
+    got = transformed_section(props_of, (e_s, e_w), (g_s, g_w), (r_s, r_w), ALUMINIUM, None, 0.0)
+    ref = box_properties(W, H, TU, TL, TF, TR, TI_6AL_4V, stringers=(layer, layer))
+    for key in ("EA", "EIxx", "EIzz", "mass_per_length", "n_ea", "c_ea"):
+        assert got[key] == pytest.approx(ref[key], rel=1e-12), key
+    for key in ("Qx", "Qz"):   # modulus-weighted: Q / I (the shear flow) is the wall material's
+        assert got[key] / got["Ixx"] == pytest.approx(ref[key] / ref["Ixx"], rel=1e-12), key
+    for key in ("GJ", "compliance_csn"):
+        np.testing.assert_allclose(got[key], ref[key], rtol=1e-12)
+    assert got["n_sc"] == pytest.approx(ref["n_sc"], abs=1e-3)
+
+
+def test_laminate_panel_failure_partials():
+    """Laminate skins and webs (the MDO Aeroelastic Benchmark's ply and fractions): the panel
+    component adds the Tsai-Wu family, and its partials are exact."""
+    from wingmdao.panels.laminate import STW_SKIN_FRACTIONS, STW_SPAR_FRACTIONS
+    from wingmdao.panels.stiffened import panel_material
+
+    skin, spar = panel_material("stw-cfrp", STW_SKIN_FRACTIONS), panel_material("stw-cfrp", STW_SPAR_FRACTIONS)
+    layout = PanelLayout((0.0, 1.0), shape="tee", skin_material=skin, spar_material=spar)
+    nt, n = 2, 2
+    prob = om.Problem(reports=False)
+    kw = dict(shape="tee", wall_factors=layout.wall_factors(ALUMINIUM))
+    prob.model.add_subsystem("section", StiffenedBoxSection(num_stations=n, material=ALUMINIUM, **kw),
+                             promotes_inputs=["*"])
+    prob.model.add_subsystem("panels", PanelFailure(num_times=nt, num_stations=n, material=ALUMINIUM,
+                                                    skin_material=skin, spar_material=spar, **kw),
+                             promotes_inputs=["width", "height", *WALL_NAMES, *STIFFENER_VARS, "panel_length",
+                                              "F_csn", "M_csn"])
+    for name in SECTION_PROPERTIES:
+        prob.model.connect(f"section.{name}", f"panels.{name}")
+    prob.setup()
+    rng = np.random.default_rng(8)
+    _design(prob, n, rng)
+    prob.set_val("nonstructural_mass_per_length", [5.0, 4.0])
+    prob.set_val("panel_length", [0.6, 0.7])
+    prob.set_val("F_csn", rng.normal(0, 3e4, (nt, n, 3)))
+    prob.set_val("M_csn", rng.normal(0, 1e5, (nt, n, 3)))
+    prob.run_model()
+    assert prob.get_val("panels.g_laminate_strength").shape == (nt, n, 6)
+    assert prob.get_val("section.mass_area")[0] < prob.get_val("section.A")[0] * 2   # density 1550 vs 2700
+    data = prob.check_partials(method="fd", form="central", step=1e-6, step_calc="rel", out_stream=None)
+    assert_check_partials(data, atol=1e-5, rtol=2e-4)

@@ -66,3 +66,30 @@ def test_sized_stiffened_pegasus_physics():
     assert sum(res["mass_breakdown_kg"].values()) == pytest.approx(res["mass_kg"], rel=1e-9)
     for wall in ("upper_skin", "lower_skin", "front_spar", "rear_spar"):
         assert min(p[wall]["margin_of_safety"]) >= -0.01
+
+
+def test_result_blocks_and_report_margins(tmp_path):
+    """A few iterations of the stiffened maneuver sizing, recorded: the result's panels, ribs and
+    mass breakdown are consistent (parts sum to the mass; sized ribs meet SF * ratio <= 1 or keep
+    the minimum thickness) and the report's margins match the result's KS values."""
+    from wingmdao.report import format_margins, read_history
+
+    setup = pegasus.build(loads="maneuver", panels="stiffened")
+    setup.options.maxiter, setup.options.presize, setup.options.disp = 3, 1, False
+    setup.options.recording = str(tmp_path / "run.sql")
+    _, res = size_case(setup, comm=False)
+    assert sum(res["mass_breakdown_kg"].values()) == pytest.approx(res["mass_kg"], rel=1e-12)
+    ribs = res["ribs"]
+    sf = setup.panels.safety_factor
+    for t, r in zip(ribs["thickness_m"], ribs["crushing_ratio"]):
+        assert sf * r <= 1.0 + 1e-9 or t == ribs["minimum_thickness_m"]
+        assert t >= ribs["minimum_thickness_m"]
+    for wall in ("upper_skin", "lower_skin", "front_spar", "rear_spar"):
+        assert len(res["panels"][wall]["critical_mode"]) == setup.geometry.num_nodes
+    assert res["panels"]["front_spar"]["stiffener_height_m"][0] is None
+    hist = read_history(setup.options.recording)
+    table = format_margins(hist)
+    for fam in PANEL_FAMILIES:
+        assert f"cases.maneuver_pos.ks_{fam}" in table
+    g = hist["final_constraints"]["cases.maneuver_pos.ks_panel_buckling"]
+    assert g == pytest.approx(res["ks"]["maneuver_pos"]["panel_buckling"], rel=1e-9, abs=1e-12)

@@ -5,17 +5,17 @@ from __future__ import annotations
 
 import numpy as np
 
-from wingmdao.panels.layout import PANEL_FAMILIES, smeared_stringer
+from wingmdao.panels.layout import panel_families, rib_crushing_ratio, smeared_stringer
 from wingmdao.section.box import WALL_NAMES
 
 #: the walls of the result JSON, with their panel points in PanelFailure (skin points 0-3: upper
 #: front, upper rear, lower front, lower rear; web points 0-1: front, rear) and their von Mises
 #: points in BoxStress (mid-corners: skin then spar at front-lower, rear-lower, rear-upper, front-upper)
 WALL_POINTS = {
-    "upper_skin": {"skin": (0, 1), "vm": (4, 6)},
-    "lower_skin": {"skin": (2, 3), "vm": (0, 2)},
-    "front_spar": {"web": (0,), "vm": (1, 7)},
-    "rear_spar": {"web": (1,), "vm": (3, 5)},
+    "upper_skin": {"skin": (0, 1), "vm": (4, 6), "laminate": (0, 1)},
+    "lower_skin": {"skin": (2, 3), "vm": (0, 2), "laminate": (2, 3)},
+    "front_spar": {"web": (0,), "vm": (1, 7), "laminate": (4,)},
+    "rear_spar": {"web": (1,), "vm": (3, 5), "laminate": (5,)},
 }
 SKIN_MODES = ("skin_buckling", "panel_buckling", "stiffener_column", "stiffener_crippling")
 
@@ -33,8 +33,9 @@ def worst_ratios(prob, load_cases, panels) -> dict:
     out = {wall: {} for wall in WALL_POINTS}
     for case in load_cases:
         path = f"cases.{case.name}"
-        g = {f: np.asarray(prob.get_val(f"{path}.panels.g_{f}")) for f in PANEL_FAMILIES}
+        g = {f: np.asarray(prob.get_val(f"{path}.panels.g_{f}")) for f in panel_families(panels.laminate)}
         vm = np.asarray(prob.get_val(f"{path}.stress.g_vm")) if "vm" in case.families else None
+        lam = g.get("laminate_strength")
         for wall, pts in WALL_POINTS.items():
             modes = {}
             if "skin" in pts:
@@ -42,7 +43,9 @@ def worst_ratios(prob, load_cases, panels) -> dict:
                     modes[f] = g[f][:, :, list(pts["skin"])].max(axis=(0, 2)) + 1.0
             else:
                 modes["web_buckling"] = g["web_buckling"][:, :, list(pts["web"])].max(axis=(0, 2)) + 1.0
-            if vm is not None:
+            if lam is not None:   # Tsai-Wu of the laminate (factored like the panel modes)
+                modes["material"] = lam[:, :, list(pts["laminate"])].max(axis=(0, 2)) + 1.0
+            elif vm is not None:
                 modes["material"] = vm[:, :, list(pts["vm"])].max(axis=(0, 2)) + 1.0
             for f, r in modes.items():
                 out[wall][f] = np.maximum(out[wall][f], r) if f in out[wall] else r
@@ -85,10 +88,11 @@ def _trapezoid(area, node_positions):
     return float(np.sum(0.5 * s * (area[:-1] + area[1:])))
 
 
-def mass_breakdown(prob, geometry, panels) -> dict:
+def mass_breakdown(prob, geometry, panels, rib_mass=None) -> dict:
     """``mass_breakdown_kg``: ``skins``, ``spars``, ``stiffeners``, ``ribs``; they sum to the
     structural mass. The box mass (frustum volumes of the total area, App. F.1) is split among
-    skins, spars and stiffeners in proportion to the trapezoid-rule volumes of their areas."""
+    skins, spars and stiffeners in proportion to the trapezoid-rule volumes of their areas;
+    ``rib_mass`` (kg): the sized ribs' (default: the model's ``rib_mass``)."""
     w = np.asarray(prob.get_val("width", units="m"))
     h = np.asarray(prob.get_val("height", units="m"))
     n = w.size
@@ -102,7 +106,7 @@ def mass_breakdown(prob, geometry, panels) -> dict:
     box = float(prob.get_val("box_mass", units="kg")[0])
     total_vol = sum(vols.values())
     out = {k: box * v / total_vol for k, v in vols.items()}
-    out["ribs"] = float(prob.get_val("rib_mass", units="kg")[0])
+    out["ribs"] = float(prob.get_val("rib_mass", units="kg")[0]) if rib_mass is None else float(rib_mass)
     return out
 
 
@@ -110,3 +114,52 @@ def _per_node(prob, name, geometry):
     v = np.asarray(prob.get_val(name, units="m"))
     smap = geometry.station_map
     return v if smap is None else v[np.asarray(smap)]
+
+
+def rib_summary(prob, load_cases, panels, geometry, material) -> dict:
+    """The ``ribs`` block of the result JSON, with the ribs sized by crushing: per rib its position
+    (m), its thickness (m: the layout's minimum, or thicker where the crushing load needs it,
+    safety_factor * ratio = 1), its largest crushing ratio over every load case and time step at
+    that thickness (:func:`wingmdao.panels.layout.rib_crushing_ratio`, unfactored) and the
+    margin of safety 1 / (safety_factor ratio) - 1; ``mass_kg`` of the sized ribs. The walls'
+    sizing does not depend on the ribs (the beam carries neither their stiffness nor their mass),
+    so sizing them after the walls is exact for this model. The cover load and curvature come from the vertical bending
+    moment at the rib (linear between stations): N = M_c (n_upper - n_ea) t_eq / Ixx on the upper
+    cover, kappa = M_c / (E Ixx); the spacing is the mean of the two bays beside the rib."""
+    y = geometry.span_coordinate if geometry.span_coordinate is not None else geometry.node_positions[:, 1]
+    y = np.asarray(y, dtype=float)
+    ribs = np.array([r for r in panels.rib_positions if r >= 0.0])
+    all_ribs = np.asarray(panels.rib_positions, dtype=float)
+    gaps = np.diff(all_ribs)
+    idx = np.searchsorted(all_ribs, ribs)
+    spacing = np.array([0.5 * ((gaps[i - 1] if i > 0 else gaps[i]) + (gaps[i] if i < gaps.size else gaps[i - 1]))
+                        for i in idx])
+    w = np.interp(ribs, y, np.asarray(prob.get_val("width", units="m")))
+    h = np.interp(ribs, y, np.asarray(prob.get_val("height", units="m")))
+    t_u = np.interp(ribs, y, _per_node(prob, "t_upper_skin", geometry))
+    a_u = smeared_stringer(_per_node(prob, "h_upper_stiffener", geometry), _per_node(prob, "t_upper_stiffener", geometry),
+                           panels.stiffener_pitch, panels.shape, panels.flange_ratio)[0]
+    t_eq = t_u + np.interp(ribs, y, a_u)
+    i_xx = np.interp(ribs, y, np.asarray(prob.get_val("Ixx")))
+    n_ea = np.interp(ribs, y, np.asarray(prob.get_val("n_ea")))
+    lever = 0.5 * h - 0.5 * t_u - n_ea
+    e_skin = panels.wall_factors(material)[0]
+    rib_E, rib_nu, rib_rho = panels.rib_material(material)
+    worst = np.zeros(ribs.size)
+    for case in load_cases:
+        m = np.asarray(prob.get_val(f"cases.{case.name}.internal_loads.M_csn"))[..., 0]   # (nt, n) M_c
+        m_rib = np.array([np.interp(ribs, y, row) for row in m.reshape(-1, y.size)])
+        cover = e_skin * m_rib * lever * t_eq / i_xx
+        kappa = m_rib / (material.E * i_xx)
+        r = rib_crushing_ratio(rib_E, rib_nu, panels.rib_thickness, h - 2 * t_u, w, cover, kappa, spacing)
+        worst = np.maximum(worst, r.max(axis=0))
+    # the crushing ratio scales with t_rib^-3 (sigma ~ 1/t, sigma_cr ~ t^2): the thickness at which
+    # safety_factor * ratio = 1, never below the layout's minimum rib thickness
+    t0 = panels.rib_thickness
+    sized = np.maximum(t0, t0 * np.cbrt(panels.safety_factor * worst))
+    ratio = worst * (t0 / sized) ** 3
+    mass = float(rib_rho * np.sum(sized * w * h))
+    return {"positions_m": ribs.tolist(), "minimum_thickness_m": t0, "thickness_m": sized.tolist(),
+            "crushing_ratio": ratio.tolist(),
+            "crushing_margin_of_safety": (1.0 / np.maximum(panels.safety_factor * ratio, 1e-300) - 1.0).tolist(),
+            "mass_kg": mass}

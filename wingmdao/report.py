@@ -41,6 +41,7 @@ def read_history(path: str) -> dict:
         raise ValueError(f"recording {path!r} holds no driver iterations")
     meta = reader.problem_metadata.get("variables", {})
     objective, worst, desvars, failed = [], [], [], []
+    final = {}
     for cid in cases:
         case = reader.get_case(cid)
         # an evaluation whose analysis failed (wingmdao.optimize.BackoffSLSQPDriver records it with
@@ -52,8 +53,28 @@ def read_history(path: str) -> dict:
         worst.append(max((float(np.max(constraint_margin(v, meta.get(k, {})))) for k, v in cons.items()),
                          default=np.nan) if case.success else np.nan)
         desvars.append({k: np.array(v) for k, v in case.get_design_vars().items()})
+        if case.success:
+            final = {k: float(np.max(v)) for k, v in cons.items()}
     return {"iterations": len(cases), "objective": np.array(objective),
-            "max_constraint": np.array(worst), "design_vars": desvars, "failed": np.array(failed, dtype=bool)}
+            "max_constraint": np.array(worst), "design_vars": desvars, "failed": np.array(failed, dtype=bool),
+            "final_constraints": final}
+
+
+def format_margins(hist: dict) -> str:
+    """The KS constraints of the last successful iteration with their margins of safety.
+
+    Every stress and panel family is ``g = factor * ratio - 1`` (ratio 1 = failure), so its
+    margin of safety is 1 / (g + 1) - 1; KS lies above the largest ratio it aggregates, so this
+    margin is a lower bound of the design's. The flutter constraint (a decay rate) and the linear
+    sizing rules are listed with their values only."""
+    lines = [f"{'constraint':58s} {'value':>12s} {'margin of safety':>17s}"]
+    for name, g in sorted(hist.get("final_constraints", {}).items()):
+        if name.startswith("rules."):
+            continue
+        ratio_family = ".ks_" in name or name.startswith("ks_")
+        ms = f"{round(1.0 / (g + 1.0) - 1.0, 3) + 0.0:+17.3f}" if ratio_family and g > -1.0 else f"{'':>17s}"
+        lines.append(f"{name:58s} {g:+12.4e} {ms}")
+    return "\n".join(lines)
 
 
 def best_design(hist: dict, tol: float = 1e-6) -> dict | None:

@@ -16,7 +16,7 @@ from openmdao.utils.mpi import FakeComm, MPI
 
 from wingmdao.beam.geometry import WingGeometry
 from wingmdao.groups.wing import BOX_KINDS, SECTION_KINDS, WingSizing, set_case_loads
-from wingmdao.panels.layout import PANEL_FAMILIES, PanelLayout, smeared_stringer
+from wingmdao.panels.layout import PanelLayout, panel_families, rib_weights, smeared_stringer
 from wingmdao.optimize import ProgressPrinter, add_recorder, make_driver
 from wingmdao.section.box import WALL_NAMES, beam_params_from_rows, box_properties, validate_box
 from wingmdao.beam.modes import natural_frequencies
@@ -203,7 +203,7 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     if panels is not None:
         if distributed:
             raise ValueError("stiffened panels (section 'stiffened') run in one process (no MPI distribution)")
-        wing_kwargs.update(panels=panels, rib_stations=rib_stations(geometry, panels))
+        wing_kwargs.update(panels=panels, rib_weights=rib_weights(span_coordinate(geometry), panels.rib_positions))
     if distributed:
         from wingmdao.parallel import distributed_wing_sizing
 
@@ -283,22 +283,6 @@ def span_coordinate(geometry: WingGeometry) -> np.ndarray:
     if geometry.span_coordinate is not None:
         return np.asarray(geometry.span_coordinate, dtype=float)
     return np.asarray(geometry.node_positions, dtype=float)[:, 1]
-
-
-def rib_stations(geometry: WingGeometry, panels: PanelLayout) -> list:
-    """Index of the station at each rib of ``panels`` (the ribs sit at stations; ValueError when a
-    rib is farther than 1 mm from every station). Ribs at a negative span coordinate belong to the
-    mirrored half-wing (they close the centre-box bay across the symmetry plane) and are not
-    listed: their mass is the other half-wing's."""
-    y = span_coordinate(geometry)
-    out = []
-    for r in (r for r in panels.rib_positions if r >= 0.0):
-        k = int(np.argmin(np.abs(y - r)))
-        if abs(y[k] - r) > 1e-3:
-            raise ValueError(f"rib at {r:.6g} m: no station within 1 mm (stations at {np.round(y, 4).tolist()} m); "
-                             "ribs must sit at stations")
-        out.append(k)
-    return out
 
 
 #: adjacency limits of the sizing rules between neighbouring design stations (m): thicknesses
@@ -391,7 +375,7 @@ def set_geometry(prob: om.Problem, geometry: WingGeometry, section: str = "box",
 
 
 def run_sizing(prob: om.Problem, load_cases, driver_desc: str, *, optimize=True, section="box", panels=None,
-               geometry=None) -> dict:
+               geometry=None, material=None) -> dict:
     """Run the driver (or the model) and return the JSON-ready summary."""
     t0 = _time.perf_counter()
     if optimize:
@@ -402,7 +386,7 @@ def run_sizing(prob: om.Problem, load_cases, driver_desc: str, *, optimize=True,
         success = True
     wall = _time.perf_counter() - t0
     return summarize(prob, load_cases, driver_desc, success=success, wall_s=wall, section=section, panels=panels,
-                     geometry=geometry)
+                     geometry=geometry, material=material)
 
 
 def station_values(prob, name: str) -> np.ndarray:
@@ -414,8 +398,8 @@ def station_values(prob, name: str) -> np.ndarray:
 
 
 def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, section="box", panels=None,
-              geometry=None) -> dict:
-    ks = {c.name: {f: float(prob.get_val(f"cases.{c.name}.ks_{f}")[0]) for f in case_families(c, section)}
+              geometry=None, material=None) -> dict:
+    ks = {c.name: {f: float(prob.get_val(f"cases.{c.name}.ks_{f}")[0]) for f in case_families(c, section, panels)}
           for c in load_cases}
     out = {
         "success": bool(success),
@@ -448,19 +432,22 @@ def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, sectio
             out["active_constraints"].append("flutter_ks")
     out["max_ks"] = float(worst)
     if panels is not None:
-        from wingmdao.panel_results import mass_breakdown, panel_summary
+        from wingmdao.panel_results import mass_breakdown, panel_summary, rib_summary
 
         out["panels"] = panel_summary(prob, load_cases, panels)
-        out["mass_breakdown_kg"] = mass_breakdown(prob, geometry, panels)
+        out["ribs"] = rib_summary(prob, load_cases, panels, geometry, material)
+        out["mass_breakdown_kg"] = mass_breakdown(prob, geometry, panels, rib_mass=out["ribs"]["mass_kg"])
+        out["mass_kg"] = float(sum(out["mass_breakdown_kg"].values()))
     return out
 
 
-def case_families(case, section: str = "box") -> tuple:
+def case_families(case, section: str = "box", panels: PanelLayout | None = None) -> tuple:
     """The KS families of a load case: its stress families, and with stiffened panels the panel
-    modes (components.panels.PANEL_FAMILIES)."""
+    modes (:func:`wingmdao.panels.layout.panel_families`)."""
     if section != "stiffened":
         return tuple(case.families)
-    return tuple(case.families) + tuple(f for f in PANEL_FAMILIES if f not in case.families)
+    fams = panel_families(panels is not None and panels.laminate)
+    return tuple(case.families) + tuple(f for f in fams if f not in case.families)
 
 
 def _flutter_ks(prob):
@@ -542,7 +529,7 @@ def presize_and_size(prob, setup, desc: str, *, optimize: bool = True) -> dict:
         pre = presize_fully_stressed(prob, setup.load_cases, setup.geometry, setup.options,
                                      setup.options.presize, progress=setup.options.progress)
     result = run_sizing(prob, setup.load_cases, desc, optimize=optimize, section=setup.section, panels=setup.panels,
-                        geometry=setup.geometry)
+                        geometry=setup.geometry, material=setup.material)
     if pre["passes"]:
         result["wall_s"] += pre["wall_s"]
         result["presize"] = pre

@@ -89,6 +89,7 @@ class PegasusOptions(CaseOptions):
     load_history: str | None = None  # path of a .npz/.csv load history
     panels: str = field(default="unstiffened", metadata={"choices": PANEL_MODELS})
     stiffener_pitch: float = 0.15  # m
+    rib_pitch: float | None = None  # m; None: the ribs at the case's rib stations
 
 
 OPTIONS = PegasusOptions
@@ -165,6 +166,9 @@ def add_arguments(p):
                         "stiffeners on both skins with skin, panel, stiffener and spar-web buckling (safety factor "
                         "1.5 on the loads), ribs at the case's rib stations and the sizing rules")
     s.add_argument("--stiffener-pitch", type=float, metavar="M", help="stiffener spacing on both skins (m)")
+    s.add_argument("--rib-pitch", type=float, metavar="M",
+                   help="rib spacing (m) from the root rib to the tip rib, rounded to equal bays (default unset: "
+                        "the case's ribs, one at each station)")
     set_parser_defaults(p, PegasusOptions)
 
 
@@ -477,7 +481,12 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
                                           families, pf, weight_lb))
     setup = CaseSetup(geometry, cases, ALUMINIUM, sizing, notes=notes)
     if opts.panels == "stiffened":
-        stiffen(setup, pf, opts.stiffener_pitch)
+        stiffen(setup, pf, opts.stiffener_pitch, opts.rib_pitch)
+    elif opts.rib_pitch is not None or opts.stiffener_pitch != PegasusOptions.stiffener_pitch:
+        setup.notes.append("warning: ignored without --panels stiffened: "
+                           + ", ".join(f for f, v in (("--rib-pitch", opts.rib_pitch is not None),
+                                                       ("--stiffener-pitch", opts.stiffener_pitch
+                                                        != PegasusOptions.stiffener_pitch)) if v))
     return setup
 
 
@@ -487,7 +496,23 @@ STIFFENER_BOUNDS = {"h": (0.015, 0.10, 0.04), "t": (1e-3, 8e-3, 3e-3)}
 RIB_THICKNESS = 2e-3  # m (assumed)
 
 
-def stiffen(setup, pf=PLANFORM, pitch: float = 0.15):
+def rib_positions(pf=PLANFORM, rib_pitch: float | None = None) -> tuple:
+    """Spanwise rib positions (m): a centreline rib (assumed: it closes the centre-box bay) and
+    the planform's ribs at stations 1..num_ribs, or with ``rib_pitch`` equal bays of about that
+    length from the root rib to the tip rib."""
+    ribs = pf.station_y()
+    if rib_pitch is None:
+        return tuple(float(r) for r in ribs)
+    span = ribs[-1] - ribs[1]
+    if not (np.isfinite(rib_pitch) and rib_pitch > 0):
+        raise ValueError(f"--rib-pitch = {rib_pitch} m; allowed range (0, {span:.4g}] m")
+    if rib_pitch > span:
+        raise ValueError(f"--rib-pitch = {rib_pitch} m; allowed range (0, {span:.4g}] m (root to tip rib)")
+    bays = max(1, int(round(span / rib_pitch)))
+    return (0.0, *(float(r) for r in np.linspace(ribs[1], ribs[-1], bays + 1)))
+
+
+def stiffen(setup, pf=PLANFORM, pitch: float = 0.15, rib_pitch: float | None = None):
     """Make ``setup`` a stiffened sizing (in place): section ``"stiffened"``, blade stiffeners at
     ``pitch`` on both skins, ribs at the planform's rib stations and a centreline rib (assumed:
     it closes the centre-box bay and is counted whole in the half-wing's mass), all
@@ -497,8 +522,8 @@ def stiffen(setup, pf=PLANFORM, pitch: float = 0.15):
 
     if not (np.isfinite(pitch) and pitch > 0):
         raise ValueError(f"--stiffener-pitch = {pitch} m; allowed range (0, inf) m")
-    ribs = pf.station_y()
-    setup.panels = PanelLayout(rib_positions=tuple(ribs), stiffener_pitch=float(pitch), shape="blade",
+    ribs = rib_positions(pf, rib_pitch)
+    setup.panels = PanelLayout(rib_positions=ribs, stiffener_pitch=float(pitch), shape="blade",
                                safety_factor=1.5, rib_thickness=RIB_THICKNESS)
     setup.section = "stiffened"
     setup.options.maxiter = max(setup.options.maxiter, 400)   # 8 variables per station: SLSQP needs ~260

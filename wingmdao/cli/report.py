@@ -44,7 +44,7 @@ def planned_plots(out: str, subs: list[str], *, several: bool) -> list[str]:
 
 def run(args) -> int:
     from wingmdao.cli._io import check_output_dir, refuse_existing, warn
-    from wingmdao.report import format_history, read_history, write_comparison_plot, write_report_plots
+    from wingmdao.report import format_history, format_margins, read_history, write_comparison_plot, write_report_plots
 
     histories = {}
     for rec in args.recording:
@@ -53,6 +53,9 @@ def run(args) -> int:
         histories[label if label not in histories else rec] = hist
         print(f"== {rec}: {hist['iterations']} driver iterations")
         print(format_history(hist))
+        if hist.get("final_constraints"):
+            print(f"-- constraints at the last evaluated design of {rec}")
+            print(format_margins(hist))
     first = args.recording[0]
     out = args.out or os.path.splitext(first)[0] + "_plots"
     subs = [out if len(args.recording) == 1 else os.path.join(out, os.path.splitext(os.path.basename(rec))[0])

@@ -318,7 +318,7 @@ def _interrupted_result(prob, setup, desc, recording, interrupted=True) -> dict:
 
     try:
         result = sizing.summarize(prob, setup.load_cases, desc, success=False, section=setup.section,
-                                  panels=setup.panels, geometry=setup.geometry)
+                                  panels=setup.panels, geometry=setup.geometry, material=setup.material)
     except Exception as exc:  # the interrupt may have come before the first evaluation finished
         result = {"success": False, "message": f"no evaluated design ({exc})"}
     result.update(success=False, interrupted=interrupted)

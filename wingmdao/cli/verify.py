@@ -14,7 +14,6 @@ magnitude per station, m), ``difference_percent``, and with ``--modes N``
 
 from __future__ import annotations
 
-
 import numpy as np
 
 from wingmdao.cli._verify_fe import _design_walls, _material, add_fe_arguments, build_fe_model  # noqa: F401

@@ -24,9 +24,10 @@ import openmdao.api as om
 from wingmdao.components.pointwise import PointwiseCasadiComponent, Var
 from wingmdao.components.section import SECTION_OUTPUTS, CombinedJacobianMixin, _SectionBase
 from wingmdao.materials import Material
-from wingmdao.panels.layout import PANEL_FAMILIES, STIFFENER_SHAPES, STIFFENER_VARS, smeared_stringer
-from wingmdao.panels.box_panels import skin_panel_ratios, web_panel_ratio
-from wingmdao.section.box import WALL_NAMES, box_properties, validate_box
+from wingmdao.panels.layout import STIFFENER_SHAPES, STIFFENER_VARS, panel_families, smeared_stringer
+from wingmdao.panels.box_panels import SKIN_MODES, skin_panel_ratios, web_panel_ratio
+from wingmdao.panels.stiffened import PanelMaterial, material_ratio
+from wingmdao.section.box import WALL_NAMES, beam_data, box_properties, validate_box
 from wingmdao.stress.box_stress import SECTION_PROPERTIES, panel_running_loads
 
 
@@ -39,12 +40,18 @@ def _stiffener_inputs(default_h=0.04, default_t=0.003):
     ]
 
 
+UNIT_FACTORS = (1.0,) * 6
+
+
 def _declare_stiffener_options(options):
     options.declare("stiffener_pitch", default=0.15, types=numbers.Real, lower=1e-6,
                     desc="stiffener spacing on both skins (m)")
     options.declare("shape", default="blade", values=STIFFENER_SHAPES, desc="stiffener shape (blade or tee)")
-    options.declare("flange_ratio", default=0.0, types=numbers.Real, lower=0.0,
+    options.declare("flange_ratio", default=1.0, types=numbers.Real, lower=0.0,
                     desc="tee flange width over web height (ignored for blades)")
+    options.declare("wall_factors", default=UNIT_FACTORS, types=tuple,
+                    desc="(e, g, r) of the skins, then of the spar webs: membrane modulus, shear modulus and "
+                         "density over the material's (PanelLayout.wall_factors; 1 for a wall of that material)")
 
 
 def stringers_of(sym, pitch, shape, flange_ratio):
@@ -73,7 +80,8 @@ class StiffenedBoxSection(_SectionBase):
 
     def expression_options(self):
         o = self.options
-        return (o["material"], float(o["stiffener_pitch"]), o["shape"], float(o["flange_ratio"]))
+        return (o["material"], float(o["stiffener_pitch"]), o["shape"], float(o["flange_ratio"]),
+                tuple(float(f) for f in o["wall_factors"]))
 
     def pointwise_inputs(self):
         return [
@@ -87,14 +95,35 @@ class StiffenedBoxSection(_SectionBase):
 
     def pointwise_outputs(self):
         return super().pointwise_outputs() + [
-            Var("stiffener_area", (), "m**2", "area of both skins' stiffeners across the box width")]
+            Var("stiffener_area", (), "m**2", "area of both skins' stiffeners across the box width"),
+            Var("mass_area", (), "m**2", "area weighted by each wall's density over the material's (the mass "
+                                         "per length is rho mass_area; A itself is modulus weighted)")]
 
     def pointwise_expressions(self, sym):
         o = self.options
         stringers = stringers_of(sym, o["stiffener_pitch"], o["shape"], o["flange_ratio"])
-        props = box_properties(sym["width"], sym["height"], *(sym[k] for k in WALL_NAMES), o["material"],
-                               sym["section_to_csn"], sym["nonstructural_mass_per_length"], stringers=stringers)
-        out = self._select_outputs(props)
+        walls = [sym[k] for k in WALL_NAMES]
+        e_s, g_s, r_s, e_w, g_w, r_w = (float(f) for f in o["wall_factors"])
+
+        def props_of(weights=(1.0, 1.0), shear=(1.0, 1.0), scale=(1.0, 1.0), rotate=True):
+            """The box with wall weights, shear weights or its walls' thicknesses and stiffener
+            areas scaled, each by (skin, web) factors."""
+            skin, web = scale
+            return box_properties(sym["width"], sym["height"], walls[0] * skin, walls[1] * skin, walls[2] * web,
+                                  walls[3] * web, o["material"], sym["section_to_csn"] if rotate else None,
+                                  sym["nonstructural_mass_per_length"],
+                                  stringers=tuple((a * skin, d, i * skin) for a, d, i in stringers),
+                                  weights=(weights[0], weights[0], weights[1], weights[1]),
+                                  shear_weights=(shear[0], shear[0], shear[1], shear[1]))
+
+        if (e_s, g_s, r_s, e_w, g_w, r_w) == UNIT_FACTORS:   # one material: the plain stiffened box
+            out = self._select_outputs(props_of())
+            out["mass_area"] = out["A"]
+        else:   # transformed section: stiffness by modulus, torsion and shear by G, mass by density
+            props = transformed_section(props_of, (e_s, e_w), (g_s, g_w), (r_s, r_w), o["material"],
+                                        sym["section_to_csn"], sym["nonstructural_mass_per_length"])
+            out = self._select_outputs(props)
+            out["mass_area"] = props["mass_area"]
         out["stiffener_area"] = sym["width"] * (stringers[0][0] + stringers[1][0])
         return out
 
@@ -102,6 +131,28 @@ class StiffenedBoxSection(_SectionBase):
         source = f"{self.pathname or 'StiffenedBoxSection'}: "
         validate_box(inputs["width"], inputs["height"], *(inputs[k] for k in WALL_NAMES), source=source)
         validate_stiffeners({k: inputs[k] for k in STIFFENER_VARS}, source)
+
+
+def transformed_section(props_of, e, g, r, material, section_to_csn, nonstructural_mass_per_length) -> dict:
+    """Section outputs of a box whose walls are of other materials than ``material`` (the
+    transformed section): area, axial and bending stiffness, centroid and first moments with each
+    wall weighted by its membrane modulus ratio ``e`` (skins, webs), mass, mass centre and rotary
+    inertia weighted by the density ratios ``r`` (both exact: :func:`~wingmdao.section.box.box_walls`
+    weights), torsion constant and shear areas with the shear modulus ratios ``g`` (exact); the
+    shear centre of the walls with their thicknesses scaled by ``g`` (thin walls: a scaled wall's
+    midline moves by (1 - g) t / 2, which is neglected). ``props_of(weights=, shear=, scale=,
+    rotate=)`` is the box with wall weights, shear weights or thickness factors, each (skin, web)."""
+    ax, ms = props_of(weights=e, rotate=False), props_of(weights=r)
+    sh, sc = props_of(shear=g, rotate=False), props_of(scale=g, rotate=False)
+    base = {k: ax[k] for k in ("A", "Ixx", "Izz", "Ixz", "c_ea", "n_ea", "Qx", "Qz")}
+    base.update({k: sh[k] for k in ("J", "K_c", "K_n")})
+    base.update({k: sc[k] for k in ("c_sc", "n_sc")})
+    base.update(c_cg=ax["c_ea"], n_cg=ax["n_ea"])
+    out = beam_data(base, material, section_to_csn, nonstructural_mass_per_length)
+    for k in ("mass_per_length", "inertia_per_length", "c_cg", "n_cg"):
+        out[k] = ms[k]
+    out["mass_area"] = ms["A"]
+    return out
 
 
 def validate_stiffeners(values: dict, source: str = "") -> None:
@@ -175,17 +226,20 @@ class SizingRules(om.ExplicitComponent):
 
 
 class RibMass(om.ExplicitComponent):
-    """Mass of the ribs: each rib a web of the box's outer width times height at its station and
-    the rib thickness, rho t_rib sum_r w_r h_r (kg). Lightening holes, flanges and stiffeners of
-    the rib are not modelled (docs/panels.md).
+    """Mass of the ribs: each rib a web of the box's outer width times height and the rib
+    thickness, rho t_rib sum_k c_k w_k h_k (kg), with c_k the ribs attributed to station k
+    (``rib_weights``: a rib between two stations is shared between them linearly,
+    :func:`wingmdao.panels.layout.rib_weights`). Lightening holes, flanges and stiffeners of the
+    rib are not modelled (docs/panels.md).
 
-    Inputs ``width``, ``height`` (n,) m. Options: ``rib_stations`` (station index of each rib),
-    ``rib_thickness`` (m), ``density`` (kg/m^3). Output ``rib_mass`` (kg).
+    Inputs ``width``, ``height`` (n,) m. Options: ``rib_weights`` (n,), ``rib_thickness`` (m),
+    ``density`` (kg/m^3). Output ``rib_mass`` (kg).
     """
 
     def initialize(self):
         self.options.declare("num_nodes", types=int, lower=1, desc="number of beam stations")
-        self.options.declare("rib_stations", types=(list, tuple, np.ndarray), desc="station index of each rib")
+        self.options.declare("rib_weights", types=(list, tuple, np.ndarray),
+                             desc="(n,) number of ribs attributed to each station")
         self.options.declare("rib_thickness", types=numbers.Real, lower=0.0, desc="rib web thickness (m)")
         self.options.declare("density", types=numbers.Real, lower=0.0, desc="rib material density (kg/m^3)")
 
@@ -194,12 +248,12 @@ class RibMass(om.ExplicitComponent):
         self.add_input("width", val=1.0, shape=(n,), units="m", desc="box outer width per station")
         self.add_input("height", val=0.3, shape=(n,), units="m", desc="box outer height per station")
         self.add_output("rib_mass", val=0.0, units="kg", desc="mass of all ribs")
-        ribs = np.asarray(self.options["rib_stations"], dtype=int)
-        if ribs.size and (ribs.min() < 0 or ribs.max() >= n):
-            raise ValueError(f"{self.msginfo}: rib_stations = {ribs.tolist()}; allowed range [0, {n - 1}]")
-        self._count = np.bincount(ribs, minlength=n).astype(float)
-        cols = np.flatnonzero(self._count)
-        self.declare_partials("rib_mass", ["width", "height"], rows=np.zeros(cols.size, int), cols=cols)
+        c = np.asarray(self.options["rib_weights"], dtype=float)
+        if c.shape != (n,) or not np.all(np.isfinite(c) & (c >= 0.0)):
+            raise ValueError(f"{self.msginfo}: rib_weights must be {n} finite values >= 0, got {c.tolist()}")
+        self._count = c
+        self._cols = np.flatnonzero(c)
+        self.declare_partials("rib_mass", ["width", "height"], rows=np.zeros(self._cols.size, int), cols=self._cols)
 
     def compute(self, inputs, outputs):
         k = self.options["density"] * self.options["rib_thickness"]
@@ -207,9 +261,9 @@ class RibMass(om.ExplicitComponent):
 
     def compute_partials(self, inputs, partials):
         k = self.options["density"] * self.options["rib_thickness"]
-        cols = np.flatnonzero(self._count)
-        partials["rib_mass", "width"] = k * self._count[cols] * inputs["height"][cols]
-        partials["rib_mass", "height"] = k * self._count[cols] * inputs["width"][cols]
+        c = self._cols
+        partials["rib_mass", "width"] = k * self._count[c] * inputs["height"][c]
+        partials["rib_mass", "height"] = k * self._count[c] * inputs["width"][c]
 
 
 _PANEL_DESC = {
@@ -218,6 +272,7 @@ _PANEL_DESC = {
     "stiffener_column": "stiffener with its effective skin as a column between ribs (SF R - 1)",
     "stiffener_crippling": "stiffener crippling (SF R - 1)",
     "web_buckling": "spar web between the skins, compression-shear interaction (SF R - 1)",
+    "laminate_strength": "Tsai-Wu first-ply failure of skin, stiffener and web laminates (SF R - 1)",
 }
 
 
@@ -228,14 +283,11 @@ class PanelFailure(CombinedJacobianMixin, PointwiseCasadiComponent):
     ``height``, the four wall thicknesses), the stiffener variables, ``panel_length`` (the rib
     pitch, m) and the section properties A, c_ea, n_ea, Ixx, Izz, Ixz, c_sc, n_sc, Qx, Qz of
     :class:`StiffenedBoxSection`. Outputs ``g_<family>`` for every family of
-    :data:`PANEL_FAMILIES`: ``safety_factor * R - 1`` with R the load-linear failure ratio of the
+    :func:`~wingmdao.panels.layout.panel_families`: ``safety_factor * R - 1`` with R the load-linear failure ratio of the
     mode (1 = failure at these loads), at the skin points upper front, upper rear, lower front,
     lower rear and the web points front, rear (:func:`wingmdao.stress.box_stress.panel_running_loads`).
     """
 
-    @staticmethod
-    def points_per_station(family: str) -> int:
-        return PANEL_FAMILIES[family]
 
     def initialize(self):
         super().initialize()
@@ -244,6 +296,10 @@ class PanelFailure(CombinedJacobianMixin, PointwiseCasadiComponent):
         self.options.declare("material", types=Material, desc="wall and stiffener material")
         self.options.declare("safety_factor", default=1.5, types=numbers.Real, lower=0.0,
                              desc="factor on the loads of every panel mode")
+        self.options.declare("skin_material", default=None, allow_none=True, types=PanelMaterial,
+                             desc="laminate or metal of the skins and stiffeners (None: material)")
+        self.options.declare("spar_material", default=None, allow_none=True, types=PanelMaterial,
+                             desc="laminate or metal of the spar webs (None: material)")
         _declare_stiffener_options(self.options)
 
     def point_grid(self):
@@ -252,7 +308,18 @@ class PanelFailure(CombinedJacobianMixin, PointwiseCasadiComponent):
     def expression_options(self):
         o = self.options
         return (o["material"], float(o["safety_factor"]), float(o["stiffener_pitch"]), o["shape"],
-                float(o["flange_ratio"]))
+                float(o["flange_ratio"]), tuple(float(f) for f in o["wall_factors"]), o["skin_material"],
+                o["spar_material"])
+
+    def _materials(self):
+        o = self.options
+        pm = [o["skin_material"], o["spar_material"]]
+        return tuple(PanelMaterial(o["material"]) if m is None else m for m in pm)
+
+    @property
+    def families(self) -> dict:
+        """This component's families and points per station."""
+        return panel_families(any(m.is_laminate for m in self._materials()))
 
     def pointwise_inputs(self):
         per = dict(per_last_axis=True)
@@ -271,28 +338,35 @@ class PanelFailure(CombinedJacobianMixin, PointwiseCasadiComponent):
                  **per) for name, _, units, desc in SECTION_OUTPUTS if name in SECTION_PROPERTIES]
 
     def pointwise_outputs(self):
-        return [Var(f"g_{f}", (k,), None, _PANEL_DESC[f]) for f, k in PANEL_FAMILIES.items()]
+        return [Var(f"g_{f}", (k,), None, _PANEL_DESC[f]) for f, k in self.families.items()]
 
     def pointwise_expressions(self, sym):
         o = self.options
         stringers = stringers_of(sym, o["stiffener_pitch"], o["shape"], o["flange_ratio"])
         walls = [sym[k] for k in WALL_NAMES]
-        t_axial = (walls[0] + stringers[0][0], walls[1] + stringers[1][0])
-        loads = panel_running_loads(sym["F_csn"], sym["M_csn"], sym["width"], sym["height"], *walls, t_axial,
-                                    {k: sym[k] for k in SECTION_PROPERTIES})
+        e_skin, e_web = float(o["wall_factors"][0]), float(o["wall_factors"][3])
+        t_eq = (walls[0] + stringers[0][0], walls[1] + stringers[1][0])
+        loads = panel_running_loads(sym["F_csn"], sym["M_csn"], sym["width"], sym["height"], *walls,
+                                    (e_skin * t_eq[0], e_skin * t_eq[1]), {k: sym[k] for k in SECTION_PROPERTIES},
+                                    web_axial_thickness=(e_web * walls[2], e_web * walls[3]))
         sf = float(o["safety_factor"])
-        out = {f: [] for f in PANEL_FAMILIES}
+        skin_pm, web_pm = self._materials()
+        laminate = "laminate_strength" in self.families
+        out = {f: [] for f in self.families}
         for k, side in enumerate(("upper", "upper", "lower", "lower")):
-            r = skin_panel_ratios(o["material"], sym[f"t_{side}_skin"], sym[f"h_{side}_stiffener"],
-                                  sym[f"t_{side}_stiffener"], o["stiffener_pitch"], sym["panel_length"],
-                                  loads["nx_skin"][k], loads["nxy_skin"][k], o["shape"], o["flange_ratio"])
-            for f in ("skin_buckling", "panel_buckling", "stiffener_column", "stiffener_crippling"):
+            t, nx, nxy = sym[f"t_{side}_skin"], loads["nx_skin"][k], loads["nxy_skin"][k]
+            r = skin_panel_ratios(skin_pm, t, sym[f"h_{side}_stiffener"], sym[f"t_{side}_stiffener"],
+                                  o["stiffener_pitch"], sym["panel_length"], nx, nxy, o["shape"], o["flange_ratio"])
+            for f in SKIN_MODES:
                 out[f].append(sf * r[f] - 1.0)
+            if laminate:
+                out["laminate_strength"].append(sf * material_ratio(skin_pm, t, t_eq[k // 2], nx, nxy) - 1.0)
         h_web = sym["height"] - walls[0] - walls[1]
         for k, t_web in enumerate((walls[2], walls[3])):
-            r = web_panel_ratio(o["material"], t_web, h_web, sym["panel_length"], loads["nx_web"][k],
-                                loads["nxy_web"][k])
-            out["web_buckling"].append(sf * r - 1.0)
+            nx, nxy = loads["nx_web"][k], loads["nxy_web"][k]
+            out["web_buckling"].append(sf * web_panel_ratio(web_pm, t_web, h_web, sym["panel_length"], nx, nxy) - 1.0)
+            if laminate:
+                out["laminate_strength"].append(sf * material_ratio(web_pm, t_web, t_web, nx, nxy) - 1.0)
         return {f"g_{f}": ca.vertcat(*v) for f, v in out.items()}
 
     def check_inputs(self, inputs):

@@ -263,17 +263,18 @@ class WingStructure(om.Group):
             self.add_subsystem("internal_loads", BeamInternalLoads(num_times=nt, num_nodes=n, inputs_by_conn=True),
                                promotes_inputs=["states"])
 
-        # the box stress takes the section properties from the section component (computed once
-        # per station, not at every time step)
-        stress_kwargs = {"output_stresses": False, "section_properties": True} if kind in BOX_KINDS else {}
-        self.add_subsystem("stress", stress_cls(num_times=nt, num_stations=n,
-                                                material=self.options["material"],
-                                                families=tuple(case.families), inputs_by_conn=True,
-                                                **stress_kwargs),
-                           promotes_inputs=[*SECTION_KINDS[kind]["stress_inputs"],
-                                            *SECTION_KINDS[kind]["section_to_stress"]])
-        self.connect("internal_loads.F_csn", "stress.F_csn")
-        self.connect("internal_loads.M_csn", "stress.M_csn")
+        if case.families:   # laminate walls may leave the strength to the panels' Tsai-Wu family
+            # the box stress takes the section properties from the section component (computed once
+            # per station, not at every time step)
+            stress_kwargs = {"output_stresses": False, "section_properties": True} if kind in BOX_KINDS else {}
+            self.add_subsystem("stress", stress_cls(num_times=nt, num_stations=n,
+                                                    material=self.options["material"],
+                                                    families=tuple(case.families), inputs_by_conn=True,
+                                                    **stress_kwargs),
+                               promotes_inputs=[*SECTION_KINDS[kind]["stress_inputs"],
+                                                *SECTION_KINDS[kind]["section_to_stress"]])
+            self.connect("internal_loads.F_csn", "stress.F_csn")
+            self.connect("internal_loads.M_csn", "stress.M_csn")
 
         points = stress_points(kind, case.families)
         if kind == "stiffened":
@@ -293,19 +294,20 @@ class WingStructure(om.Group):
     def _add_panel_failure(self, nt, n) -> dict:
         """The panel failure ratios of the stiffened box (PanelFailure); returns their families'
         points per station."""
-        from wingmdao.components.panels import PANEL_FAMILIES, PanelFailure
+        from wingmdao.components.panels import PanelFailure
 
         layout = self.options["panels"]
         if layout is None:
             raise ValueError("WingStructure: section 'stiffened' needs the panels option (a PanelLayout)")
-        self.add_subsystem("panels", PanelFailure(
+        comp = self.add_subsystem("panels", PanelFailure(
             num_times=nt, num_stations=n, material=self.options["material"], safety_factor=layout.safety_factor,
             stiffener_pitch=layout.stiffener_pitch, shape=layout.shape, flange_ratio=layout.flange_ratio,
-            inputs_by_conn=True),
+            wall_factors=layout.wall_factors(self.options["material"]), skin_material=layout.skin_material,
+            spar_material=layout.spar_material, inputs_by_conn=True),
             promotes_inputs=["width", "height", *WALLS, *STIFFENER_VARS, "panel_length", *SECTION_PROPERTIES])
         self.connect("internal_loads.F_csn", "panels.F_csn")
         self.connect("internal_loads.M_csn", "panels.M_csn")
-        return dict(PANEL_FAMILIES)
+        return dict(comp.families)
 
 
 class WingSizing(om.Group):
@@ -349,8 +351,9 @@ class WingSizing(om.Group):
                                   "forcing_as_data; set_case_loads then sets only the aerodynamic forcing)")
         self.options.declare("panels", default=None, allow_none=True, types=PanelLayout,
                              desc="stiffened panels and ribs (section 'stiffened'; wingmdao.panels.layout)")
-        self.options.declare("rib_stations", default=None, allow_none=True, types=(list, tuple, np.ndarray),
-                             desc="station index of each rib (section 'stiffened': the ribs' mass)")
+        self.options.declare("rib_weights", default=None, allow_none=True, types=(list, tuple, np.ndarray),
+                             desc="(n,) ribs attributed to each station (section 'stiffened': the ribs' mass; "
+                                  "wingmdao.panels.layout.rib_weights)")
         self.options.declare("proxy_cases", default=False, types=bool,
                              desc="a subclass adds the cases to cases_group itself (wingmdao.parallel); "
                                   "load_cases may then be empty")
@@ -380,12 +383,13 @@ class WingSizing(om.Group):
             raise ValueError("WingSizing: the panels option (a PanelLayout) goes with section 'stiffened' "
                              f"and only with it; section = {kind!r}, panels = {layout!r}")
         section_kwargs = {} if layout is None else dict(
-            stiffener_pitch=layout.stiffener_pitch, shape=layout.shape, flange_ratio=layout.flange_ratio)
+            stiffener_pitch=layout.stiffener_pitch, shape=layout.shape, flange_ratio=layout.flange_ratio,
+            wall_factors=layout.wall_factors(mat))
         self.add_subsystem("section", section_cls(num_stations=n, material=mat, **section_kwargs),
                            promotes_inputs=alias + ["*"], promotes_outputs=["*"])
         add_section_offsets(self, n, promotes_outputs=["*"])
         self.add_subsystem("mass_calc", StructuralMass(num_nodes=n, density=mat.rho),
-                           promotes_inputs=["A", "node_positions"],
+                           promotes_inputs=[("A", "mass_area") if layout is not None else "A", "node_positions"],
                            promotes_outputs=[("mass", "box_mass") if layout is not None else "mass"])
         if layout is not None:
             self._add_panel_parts(n, layout, design, bool(alias))
@@ -430,10 +434,10 @@ class WingSizing(om.Group):
         """Ribs' mass, total mass (box + ribs) and the linear sizing rules of the stiffened box."""
         from wingmdao.components.panels import RibMass, SizingRules
 
-        ribs = self.options["rib_stations"] if self.options["rib_stations"] is not None else ()
-        self.add_subsystem("rib_mass_calc", RibMass(num_nodes=n, rib_stations=list(ribs),
+        ribs = self.options["rib_weights"] if self.options["rib_weights"] is not None else np.zeros(n)
+        self.add_subsystem("rib_mass_calc", RibMass(num_nodes=n, rib_weights=np.asarray(ribs, dtype=float),
                                                     rib_thickness=layout.rib_thickness,
-                                                    density=self.options["material"].rho),
+                                                    density=layout.rib_material(self.options["material"])[2]),
                            promotes_inputs=["width", "height"], promotes_outputs=["rib_mass"])
         total = om.AddSubtractComp()
         total.add_equation("mass", ["box_mass", "rib_mass"], units="kg",

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from functools import lru_cache
 
-from wingmdao.panels.stiffened import panel_failure_ratios, panel_material, skin_width_from_pitch
+from wingmdao.panels.stiffened import PanelMaterial, panel_failure_ratios, panel_material, skin_width_from_pitch
 
 #: the skin panel's modes the sizing constrains (material strength is the box's von Mises family)
 SKIN_MODES = ("skin_buckling", "panel_buckling", "stiffener_column", "stiffener_crippling")
@@ -18,7 +18,8 @@ SKIN_MODES = ("skin_buckling", "panel_buckling", "stiffener_column", "stiffener_
 
 @lru_cache(maxsize=None)
 def _panel_material(material):
-    return panel_material(material)
+    """A PanelMaterial as it is, an isotropic Material wrapped."""
+    return material if isinstance(material, PanelMaterial) else panel_material(material)
 
 
 def skin_panel_ratios(material, t, h, ts, pitch, length, nx, nxy, shape="blade", flange_ratio=1.0) -> dict:

@@ -25,7 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from wingmdao.panels.stiffened import DEFAULT_FLANGE_RATIO, STIFFENERS, stiffener_elements
+from wingmdao.panels.laminate import laminate_moduli
+from wingmdao.panels.stiffened import DEFAULT_FLANGE_RATIO, STIFFENERS, PanelMaterial, stiffener_elements
 
 #: design variables of the stiffeners, per station (m): web height and thickness on each skin
 STIFFENER_VARS = ("h_upper_stiffener", "t_upper_stiffener", "h_lower_stiffener", "t_lower_stiffener")
@@ -37,6 +38,15 @@ STIFFENER_SHAPES = STIFFENERS
 #: per station: the skins at their front and rear edges (4), the spar webs (2)
 PANEL_FAMILIES = {"skin_buckling": 4, "panel_buckling": 4, "stiffener_column": 4, "stiffener_crippling": 4,
                   "web_buckling": 2}
+#: the strength family of laminate walls (Tsai-Wu first-ply failure at the 4 skin and 2 web points;
+#: metal walls keep the box's von Mises family instead)
+LAMINATE_FAMILIES = {"laminate_strength": 6}
+
+
+def panel_families(laminate: bool) -> dict:
+    """The panel constraint families and their points per station (laminate walls add the
+    laminate strength family)."""
+    return {**PANEL_FAMILIES, **(LAMINATE_FAMILIES if laminate else {})}
 
 
 def stiffener_section(h, ts, shape: str = "blade", flange_ratio: float = DEFAULT_FLANGE_RATIO):
@@ -88,6 +98,27 @@ def rib_pitch_at_stations(span_coordinate, rib_positions) -> np.ndarray:
     return out
 
 
+def rib_weights(span_coordinate, rib_positions) -> np.ndarray:
+    """(n,) ribs attributed to each station: a rib at a station counts 1 there; a rib between two
+    stations is shared between them in proportion to its distance from each (linear
+    interpolation of the box's width times height). Ribs at a negative span coordinate belong to
+    the mirrored half-wing (they close the centre-box bay across the symmetry plane) and are not
+    counted; ValueError for a rib outside the stations."""
+    y = np.asarray(span_coordinate, dtype=float)
+    out = np.zeros(y.size)
+    tol = 1e-9 * max(1.0, float(np.max(np.abs(y))))
+    for r in rib_positions:
+        if r < 0.0:
+            continue
+        if r < y[0] - tol or r > y[-1] + tol:
+            raise ValueError(f"rib at {r:.6g} m lies outside the stations [{y[0]:.6g}, {y[-1]:.6g}] m")
+        j = int(np.clip(np.searchsorted(y, r) - 1, 0, y.size - 2))
+        f = float(np.clip((r - y[j]) / (y[j + 1] - y[j]), 0.0, 1.0))
+        out[j] += 1.0 - f
+        out[j + 1] += f
+    return out
+
+
 @dataclass(frozen=True)
 class PanelLayout:
     """The stiffened panels of a wingbox (section kind ``"stiffened"``).
@@ -106,7 +137,13 @@ class PanelLayout:
         Factor on the loads for buckling and crippling (the failure ratio times it must stay
         <= 1); 1.5 is the ultimate factor of 14 CFR 25.303 when the loads are limit loads.
     rib_thickness : float
-        Rib web thickness (m): the ribs' mass and their crushing check.
+        Minimum rib web thickness (m): the ribs' mass in the optimization; the result sizes each
+        rib for crushing from there.
+    skin_material, spar_material : PanelMaterial or None
+        Laminates (or metals) of the skins with their stiffeners and of the spar webs
+        (:class:`wingmdao.panels.stiffened.PanelMaterial`); None: the sizing's isotropic material.
+        The section then weights each wall by its membrane modulus, shear modulus and density
+        relative to the sizing's material (the transformed section, :meth:`wall_factors`).
     """
 
     rib_positions: tuple
@@ -115,6 +152,8 @@ class PanelLayout:
     flange_ratio: float = DEFAULT_FLANGE_RATIO
     safety_factor: float = 1.5
     rib_thickness: float = 0.002
+    skin_material: PanelMaterial | None = None
+    spar_material: PanelMaterial | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "rib_positions", tuple(float(r) for r in self.rib_positions))
@@ -128,6 +167,37 @@ class PanelLayout:
             raise ValueError(f"PanelLayout: flange_ratio = {self.flange_ratio} for tee stiffeners; "
                              "allowed range (0, inf)")
 
+    @property
+    def laminate(self) -> bool:
+        """Whether any wall is a laminate (then the laminate strength family replaces von Mises)."""
+        return any(m is not None and m.is_laminate for m in (self.skin_material, self.spar_material))
+
+    def wall_factors(self, material) -> tuple:
+        """(e, g, r) of the skins and of the spar webs against the isotropic ``material``: membrane
+        modulus E_x / E, shear modulus G_xy / G and density rho_wall / rho (1 for a wall of the
+        sizing's own material): six floats, skins first."""
+        out = []
+        for pm in (self.skin_material, self.spar_material):
+            if pm is None:
+                out += [1.0, 1.0, 1.0]
+            elif pm.is_laminate:
+                m = laminate_moduli(pm.base, pm.fractions)
+                out += [m["Ex"] / material.E, m["Gxy"] / material.G, pm.base.rho / material.rho]
+            else:
+                out += [pm.base.E / material.E, pm.base.G / material.G, pm.base.rho / material.rho]
+        return tuple(float(v) for v in out)
+
+    def rib_material(self, material) -> tuple:
+        """(E, nu, rho) of the ribs: the spar webs' material (a laminate by its membrane Ex and
+        nu_xy: the crushing check treats the rib web as isotropic), else ``material``."""
+        pm = self.spar_material
+        if pm is None:
+            return material.E, material.nu, material.rho
+        if pm.is_laminate:
+            m = laminate_moduli(pm.base, pm.fractions)
+            return m["Ex"], m["nu_xy"], pm.base.rho
+        return pm.base.E, pm.base.nu, pm.base.rho
+
     def panel_lengths(self, span_coordinate) -> np.ndarray:
         """Panel length (rib pitch) at each station, m (:func:`rib_pitch_at_stations`)."""
         return rib_pitch_at_stations(span_coordinate, self.rib_positions)
@@ -136,3 +206,25 @@ class PanelLayout:
         """Largest web height whose tee flange still fits in the pitch (flange width <= pitch), m;
         inf for blades."""
         return self.stiffener_pitch / self.flange_ratio if self.shape == "tee" else math.inf
+
+
+def rib_crushing_ratio(E, nu, rib_thickness, rib_depth, rib_width, cover_load, curvature, rib_spacing):
+    """Crushing ratio of a rib web (1 = buckling of the web), load-linear in the square of the
+    bending moment.
+
+    The covers of a bent box follow its curvature kappa; a cover carrying the running load N
+    (N/m, per unit chord) then presses on each rib with q = |N kappa| s per unit chord, s the
+    rib spacing (the crushing or Brazier load: Niu, *Airframe Structural Design*, Ch. 9, rib
+    crushing load; Brazier 1927). The compression cover pushes and the tension cover pulls
+    toward the neutral axis, so the rib web between them is compressed at sigma = q / t_rib.
+    Its elastic buckling stress, as a plate simply supported on all edges, loaded on its edges
+    of length ``rib_width`` w over the depth h (Timoshenko & Gere, *Theory of Elastic Stability*,
+    2nd ed., Sec. 9.2, m = 1): sigma_cr = pi^2 E t^2 / (12 (1 - nu^2) h^2) (1 + (h/w)^2)^2.
+    Returns sigma / sigma_cr. Rib stiffeners, lightening holes and the rib's shear are not
+    modelled.
+    """
+    q = np.abs(cover_load * curvature) * rib_spacing
+    sigma = q / rib_thickness
+    sigma_cr = (np.pi**2 * E * rib_thickness**2 / (12.0 * (1.0 - nu**2) * rib_depth**2)
+                * (1.0 + (rib_depth / rib_width) ** 2) ** 2)
+    return sigma / sigma_cr

@@ -48,14 +48,16 @@ def sqrt(x):
 
 
 # --------------------------------------------------------------------------- walls
-def box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers=None):
+def box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers=None, weights=None):
     """The four wall rectangles (Eq. F.2-F.24): list of (area, c, n, i_own_nn, i_own_cc).
 
     ``i_own_nn`` = integral of (n - n_wall)^2 over the wall (its own vertical-bending second
     moment, e.g. w t^3/12 for a skin, Eq. F.9); ``i_own_cc`` = integral of (c - c_wall)^2
     (e.g. w^3 t/12, Eq. F.10). Order: upper skin, front spar, lower skin, rear spar (F: 1-4).
     With ``stringers`` (:func:`stringer_layers`) the two smeared stiffener layers of the skins
-    follow (upper, lower).
+    follow (upper, lower). ``weights`` = (upper, lower, front, rear) factors on each wall's area
+    and own moments (a stiffener layer takes its skin's): the modulus- or density-weighted section
+    of walls of other materials (the transformed section; positions unchanged, so exact).
     """
     h_web = h - t_upper_skin - t_lower_skin
     n_web = 0.5 * (t_lower_skin - t_upper_skin)
@@ -69,6 +71,10 @@ def box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, strin
     ]
     if stringers is not None:
         walls += stringer_layers(w, h, t_upper_skin, t_lower_skin, stringers)
+    if weights is not None:
+        # walls are ordered upper skin, front spar, lower skin, rear spar, then the stiffener layers
+        f = [weights[0], weights[2], weights[1], weights[3], weights[0], weights[1]][: len(walls)]
+        walls = [(a * k, c, n, inn * k, icc * k) for (a, c, n, inn, icc), k in zip(walls, f)]
     return walls
 
 
@@ -86,23 +92,24 @@ def stringer_layers(w, h, t_upper_skin, t_lower_skin, stringers):
             (w * a_l, 0.0 * w, t_lower_skin + d_l - 0.5 * h, w * i_l, w**3 * a_l / 12.0)]
 
 
-def box_area(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers=None):
+def box_area(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers=None, weights=None):
     """Material area A (Eq. F.1-F.5), m^2."""
-    return sum(a for a, *_ in box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers))
+    return sum(a for a, *_ in box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers,
+                                        weights))
 
 
-def box_centroid(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers=None):
+def box_centroid(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers=None, weights=None):
     """Modulus-weighted centroid (c_ea, n_ea) from the box centre (Eq. F.25-F.26), m.
 
     One material, so E cancels and this is the area centroid; it is also the mass centre
     (Eq. F.34-F.35) and the tension axis.
     """
-    walls = box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers)
+    walls = box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers, weights)
     area = sum(a for a, *_ in walls)
     return sum(a * c for a, c, *_ in walls) / area, sum(a * n for a, _, n, *_ in walls) / area
 
 
-def box_inertia(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers=None):
+def box_inertia(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers=None, weights=None):
     """(Ixx, Izz, Ixz) about the centroid (Eq. F.6-F.8 corrected), m^4.
 
     Ixx = int (n - n_ea)^2 dA (vertical bending), Izz = int (c - c_ea)^2 dA (chordwise
@@ -111,7 +118,7 @@ def box_inertia(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, str
     parallel-axis term by the total area A_i; here each wall's own area is used (parallel-axis
     theorem), and F.8's leading minus (the tensor form) is moved to EI_cn = -E Ixz.
     """
-    walls = box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers)
+    walls = box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers, weights)
     area = sum(a for a, *_ in walls)
     c0 = sum(a * c for a, c, *_ in walls) / area
     n0 = sum(a * n for a, _, n, *_ in walls) / area
@@ -133,15 +140,17 @@ def box_enclosed_area(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spa
     return (w - 0.5 * (t_front_spar + t_rear_spar)) * (h - 0.5 * (t_upper_skin + t_lower_skin))
 
 
-def box_torsion_constant(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar):
+def box_torsion_constant(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, shear_weights=None):
     """Bredt-Batho torsion constant J = 4 A_m^2 / (closed integral of ds/t), m^4.
 
     Generalises Eq. F.29, which is this formula with the thickness pairs replaced by their
-    arithmetic means (docs/section.md).
+    arithmetic means (docs/section.md). ``shear_weights`` (upper, lower, front, rear): walls of
+    other shear moduli, G_wall / G in the loop integral (the transformed section, exact).
     """
+    g_u, g_l, g_f, g_r = (1.0, 1.0, 1.0, 1.0) if shear_weights is None else shear_weights
     b = w - 0.5 * (t_front_spar + t_rear_spar)
     d = h - 0.5 * (t_upper_skin + t_lower_skin)
-    loop = b / t_upper_skin + b / t_lower_skin + d / t_front_spar + d / t_rear_spar
+    loop = b / (t_upper_skin * g_u) + b / (t_lower_skin * g_l) + d / (t_front_spar * g_f) + d / (t_rear_spar * g_r)
     return 4.0 * (b * d) ** 2 / loop
 
 
@@ -209,7 +218,7 @@ def box_shear_centre(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar
     return -m_unit_vn, m_unit_vc
 
 
-def box_first_moments(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers=None):
+def box_first_moments(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers=None, weights=None):
     """(Qx, Qz): first moments of area for the V Q / (I t) shear (Eq. F.32-F.33 corrected), m^3.
 
     Qx: area above the horizontal centroidal axis n = n_ea about that axis (vertical shear):
@@ -221,24 +230,28 @@ def box_first_moments(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spa
     With ``stringers`` (:func:`stringer_layers`) the upper layer adds w a_u (n_u - n_ea) to Qx
     (it lies above the axis) and both layers add (a_u + a_l)(w/2 + c_ea)^2 / 2 to Qz.
     """
-    c0, n0 = box_centroid(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers)
+    c0, n0 = box_centroid(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers, weights)
+    f_u, f_l, f_f, f_r = (1.0, 1.0, 1.0, 1.0) if weights is None else weights
     h_web = h - t_upper_skin - t_lower_skin
-    q_x = (w * t_upper_skin * (0.5 * h - 0.5 * t_upper_skin - n0)
-           + 0.5 * (t_front_spar + t_rear_spar) * (0.5 * h - t_upper_skin - n0) ** 2)
-    q_z = (t_front_spar * h_web * (0.5 * w + c0 - 0.5 * t_front_spar)
-           + 0.5 * (t_upper_skin + t_lower_skin) * (0.5 * w + c0) ** 2)
+    q_x = (w * t_upper_skin * f_u * (0.5 * h - 0.5 * t_upper_skin - n0)
+           + 0.5 * (t_front_spar * f_f + t_rear_spar * f_r) * (0.5 * h - t_upper_skin - n0) ** 2)
+    q_z = (t_front_spar * f_f * h_web * (0.5 * w + c0 - 0.5 * t_front_spar)
+           + 0.5 * (t_upper_skin * f_u + t_lower_skin * f_l) * (0.5 * w + c0) ** 2)
     if stringers is not None:
         (a_u, _, _), (a_l, _, _) = stringers
         upper = stringer_layers(w, h, t_upper_skin, t_lower_skin, stringers)[0]
-        q_x = q_x + upper[0] * (upper[2] - n0)
-        q_z = q_z + 0.5 * (a_u + a_l) * (0.5 * w + c0) ** 2
+        q_x = q_x + f_u * upper[0] * (upper[2] - n0)
+        q_z = q_z + 0.5 * (a_u * f_u + a_l * f_l) * (0.5 * w + c0) ** 2
     return q_x, q_z
 
 
-def box_shear_areas(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar):
+def box_shear_areas(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, shear_weights=None):
     """(K_c, K_n): shear areas of Eq. A.7, m^2. Chordwise shear is carried by the skins,
-    K_c = w (t_u + t_l); vertical shear by the spar webs, K_n = (h - t_u - t_l)(t_f + t_r)."""
-    return w * (t_upper_skin + t_lower_skin), (h - t_upper_skin - t_lower_skin) * (t_front_spar + t_rear_spar)
+    K_c = w (t_u + t_l); vertical shear by the spar webs, K_n = (h - t_u - t_l)(t_f + t_r);
+    ``shear_weights`` (upper, lower, front, rear) weight each wall by G_wall / G."""
+    g_u, g_l, g_f, g_r = (1.0, 1.0, 1.0, 1.0) if shear_weights is None else shear_weights
+    return (w * (t_upper_skin * g_u + t_lower_skin * g_l),
+            (h - t_upper_skin - t_lower_skin) * (t_front_spar * g_f + t_rear_spar * g_r))
 
 
 # --------------------------------------------------------------------------- beam data
@@ -307,20 +320,23 @@ def beam_data(props: dict, material, section_to_csn=None, nonstructural_mass_per
 
 
 def box_properties(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, material,
-                   section_to_csn=None, nonstructural_mass_per_length=0.0, stringers=None) -> dict:
+                   section_to_csn=None, nonstructural_mass_per_length=0.0, stringers=None, weights=None,
+                   shear_weights=None) -> dict:
     """All box section outputs (names as in ``BoxSection``) for one material.
 
     ``stringers``: the skins' smeared stiffeners (:func:`stringer_layers`); they add to the area,
     centroid, bending moments of area, first moments and mass; torsion constant, shear areas and
-    shear centre are those of the bare box (the stiffeners carry no shear flow).
+    shear centre are those of the bare box (the stiffeners carry no shear flow). ``weights``:
+    factors on the walls' areas (:func:`box_walls`) for area, centroid, bending and first moments;
+    ``shear_weights``: G_wall / G factors for the torsion constant and shear areas.
     """
     args = (w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar)
-    c_ea, n_ea = box_centroid(*args, stringers)
+    c_ea, n_ea = box_centroid(*args, stringers, weights)
     c_sc, n_sc = box_shear_centre(*args)
-    i_xx, i_zz, i_xz = box_inertia(*args, stringers)
-    q_x, q_z = box_first_moments(*args, stringers)
-    k_c, k_n = box_shear_areas(*args)
-    props = {"A": box_area(*args, stringers), "Ixx": i_xx, "Izz": i_zz, "Ixz": i_xz, "J": box_torsion_constant(*args),
+    i_xx, i_zz, i_xz = box_inertia(*args, stringers, weights)
+    q_x, q_z = box_first_moments(*args, stringers, weights)
+    k_c, k_n = box_shear_areas(*args, shear_weights)
+    props = {"A": box_area(*args, stringers, weights), "Ixx": i_xx, "Izz": i_zz, "Ixz": i_xz, "J": box_torsion_constant(*args, shear_weights),
              "c_ea": c_ea, "n_ea": n_ea, "c_sc": c_sc, "n_sc": n_sc, "c_cg": c_ea, "n_cg": n_ea,
              "Qx": q_x, "Qz": q_z, "K_c": k_c, "K_n": k_n}
     return beam_data(props, material, section_to_csn, nonstructural_mass_per_length)

@@ -152,13 +152,16 @@ WEB_PANEL_POINTS = ("front", "rear")
 
 
 def panel_running_loads(force, moment, w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar,
-                        skin_axial_thickness, section, section_to_csn=None) -> dict:
+                        skin_axial_thickness, section, section_to_csn=None, web_axial_thickness=None) -> dict:
     """Running loads (N/m) of the walls as panels: ``nx_skin``, ``nxy_skin`` at
     :data:`SKIN_PANEL_POINTS` and ``nx_web``, ``nxy_web`` at :data:`WEB_PANEL_POINTS`.
 
     N_x = sigma t_axial: the axial stress (:func:`axial_stress`, compression negative) at the
     point times the wall's area per width (a skin's ``skin_axial_thickness`` = (upper, lower)
-    skin plus smeared stiffener area per width; a web's own thickness). N_xy = tau t: the
+    skin plus smeared stiffener area per width; a web's own thickness, or
+    ``web_axial_thickness`` = (front, rear)). For walls of another material than the section's
+    reference (transformed section) both are scaled by the wall's modulus ratio, so that N_x is
+    the wall's own running load. N_xy = tau t: the
     flange-centre shear of the wall (torsion plus transverse shear, :func:`box_stresses`) times
     its thickness, i.e. the wall's peak shear flow, used along the whole wall. ``section`` is
     the station's SECTION_PROPERTIES (the stiffened section's, so the stiffeners share the
@@ -179,7 +182,7 @@ def panel_running_loads(force, moment, w, h, t_upper_skin, t_lower_skin, t_front
             nx_skin.append(axial_stress(c, n_skin, force, moment, sec) * t_axial[skin])
             nxy_skin.append(tau_skin * t_skin)
     n_mid = 0.5 * (n_lower + n_upper)
-    nx_web = [axial_stress(c, n_mid, force, moment, sec) * t for c, t in ((c_front, t_front_spar),
-                                                                         (c_rear, t_rear_spar))]
+    t_web = (t_front_spar, t_rear_spar) if web_axial_thickness is None else web_axial_thickness
+    nx_web = [axial_stress(c, n_mid, force, moment, sec) * t for c, t in zip((c_front, c_rear), t_web)]
     nxy_web = [tau[2] * t_front_spar, tau[3] * t_rear_spar]
     return {"nx_skin": nx_skin, "nxy_skin": nxy_skin, "nx_web": nx_web, "nxy_web": nxy_web}
