@@ -16,9 +16,10 @@ from openmdao.utils.mpi import FakeComm, MPI
 
 from wingmdao.beam.geometry import WingGeometry
 from wingmdao.groups.wing import BOX_KINDS, SECTION_KINDS, WingSizing, set_case_loads
+from wingmdao.panel_results import mass_breakdown, panel_summary, rib_summary
 from wingmdao.panels.layout import PanelLayout, panel_families, rib_weights, smeared_stringer
 from wingmdao.optimize import ProgressPrinter, add_recorder, make_driver
-from wingmdao.section.box import WALL_NAMES, beam_params_from_rows, box_properties, validate_box
+from wingmdao.section.box import WALL_NAMES, beam_params_from_rows, box_area, box_properties, validate_box
 from wingmdao.beam.modes import natural_frequencies
 from wingmdao.beam.static import beam_forcing
 from wingmdao.components.beam import beam_system
@@ -261,8 +262,6 @@ def initial_mass(geometry: WingGeometry, material, options: SizingOptions, secti
     design_vars = SECTION_KINDS[section]["design_vars"]
     dv = station_design(geometry, initial_design(options, design_vars), design_vars)
     if section in BOX_KINDS:
-        from wingmdao.section.box import box_area
-
         area = box_area(np.asarray(geometry.width, dtype=float), np.asarray(geometry.height, dtype=float),
                         *(dv[w] for w in WALL_VARS), stringers=_stringers(dv, panels))
     else:
@@ -432,8 +431,6 @@ def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, sectio
             out["active_constraints"].append("flutter_ks")
     out["max_ks"] = float(worst)
     if panels is not None:
-        from wingmdao.panel_results import mass_breakdown, panel_summary, rib_summary
-
         out["panels"] = panel_summary(prob, load_cases, panels)
         out["ribs"] = rib_summary(prob, load_cases, panels, geometry, material)
         out["mass_breakdown_kg"] = mass_breakdown(prob, geometry, panels, rib_mass=out["ribs"]["mass_kg"])

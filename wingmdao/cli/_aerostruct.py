@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import argparse
 import os
+from wingmdao.cli._io import EXIT_FAILED, EXIT_INTERRUPTED, check_output_dir, check_output_file, refuse_existing, say, write_json
+from wingmdao.cli._args import add_json_argument
 
 NAME = "aerostruct-crm"
 HELP = ("uCRM multipoint aerostructural fuel burn (OpenAeroStruct VLM + the wingmdao beam, "
@@ -22,7 +24,6 @@ def add_parser(subparsers):
         "optimisation records to SQLite in --out (aerostruct_crm.sql, aerostruct_crm_oas_beam.sql); "
         "read them back with 'wingmdao report'. See docs/embedding.md.")
     p.add_argument("--out", metavar="DIR", default="results", help="folder for the recordings")
-    from wingmdao.cli._args import add_json_argument
 
     add_json_argument(p, overwrite=False)
     p.add_argument("--overwrite", action="store_true",
@@ -63,8 +64,6 @@ def openaerostruct_missing() -> str | None:
 def run(args) -> int:
     import sys
 
-    from wingmdao.cli._io import (EXIT_FAILED, EXIT_INTERRUPTED, check_output_dir, check_output_file,
-                                  refuse_existing, say, write_json)
 
     _check_args(args)
     missing = openaerostruct_missing()

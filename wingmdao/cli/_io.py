@@ -222,3 +222,33 @@ def default_file_mode() -> int:
     mask = os.umask(0)
     os.umask(mask)
     return 0o666 & ~mask
+
+
+def read_design(path, num_nodes=None, case="pegasus", command="flutter") -> dict:
+    """Wall thicknesses ``{wall: (n,) m}`` of a ``wingmdao size`` JSON of ``case``; ValueError naming the
+    file and what is wrong (missing, not JSON, not a sizing result, another case, wrong number of
+    stations, values not finite and > 0)."""
+    from wingmdao.section.box import WALL_NAMES as WALL_VARS
+
+    data = read_json_object(path, "--design")
+    thick = data.get("thickness")
+    walls = [w[2:] for w in WALL_VARS]
+    if not isinstance(thick, dict) or any(w not in thick for w in walls):
+        raise ValueError(f"--design {path}: not a box sizing result of 'wingmdao size' (needs a 'thickness' "
+                         f"object with {', '.join(walls)} per station, m)")
+    if "panels" in data:
+        raise ValueError(f"--design {path}: a stiffened sizing result (its stiffeners are part of the sections, "
+                         "which this command does not read); its flutter speed is the result's flutter_speed_m_s")
+    if data.get("case", case) != case:
+        raise ValueError(f"--design {path}: a sizing result of case {data['case']!r}; {command} {case} --design "
+                         f"takes {case} results")
+    out = {}
+    for w in walls:
+        v = np.asarray(thick[w], dtype=float).ravel() if isinstance(thick[w], list) else np.zeros(0)
+        if num_nodes is not None and v.size != int(num_nodes):
+            raise ValueError(f"--design {path}: thickness {w!r} has {v.size} stations; the "
+                             f"{num_nodes}-node {case.upper() if case == 'pegasus' else case} beam needs {num_nodes}")
+        if not np.all(np.isfinite(v) & (v > 0)):
+            raise ValueError(f"--design {path}: thickness {w!r} must hold finite values > 0 m")
+        out[w] = v
+    return out

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+from wingmdao.cli._args import add_json_argument
 
 DEFAULT_UNUSED_DAYS = 30.0
 
@@ -20,7 +21,6 @@ def register(subparsers):
     p.add_argument("--unused-days", type=float, default=DEFAULT_UNUSED_DAYS, metavar="DAYS",
                    help="an entry not loaded for more than DAYS days counts as unused (0: every entry)")
     p.add_argument("--prune", action="store_true", help="remove the unused entries (default: only report)")
-    from wingmdao.cli._args import add_json_argument
 
     add_json_argument(p)
     p.set_defaults(func=run)

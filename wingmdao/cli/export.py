@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import numpy as np
+from wingmdao.cli._io import check_output_file
 
 
 def register(subparsers):
@@ -45,7 +46,6 @@ def run_export(args) -> int:
     from wingmdao.fe.export import beam_deck, shell_deck, write_atomic
     from wingmdao.materials import ALUMINIUM
 
-    from wingmdao.cli._io import check_output_file
 
     check_output_file(args.file, "FILE", overwrite=args.overwrite)
     for name in ("tip_load", "tip_moment"):
@@ -90,7 +90,6 @@ def pegasus_deck(design, fmt, fidelity, load_factor=1.0, ribs=True, rib_thicknes
 def run_export_pegasus(args) -> int:
     import sys
 
-    from wingmdao.cli._io import check_output_file
     from wingmdao.fe.export import write_atomic
 
     check_output_file(args.file, "FILE", overwrite=args.overwrite)

@@ -25,6 +25,8 @@ import time as _time
 import numpy as np
 
 from wingmdao.stability.cases import FLUTTER_CASES
+from wingmdao.cli._io import read_design, warn, write_json
+from wingmdao.cli._args import add_output_arguments
 
 
 def register(subparsers):
@@ -41,7 +43,6 @@ def register(subparsers):
                    help="pegasus: analyse the wall thicknesses of a 'wingmdao size pegasus' JSON "
                         "(default: the sizing's initial design, 10 mm walls)")
     p.add_argument("--modes", type=int, default=4, help="number of tracked modes (>= 1)")
-    from wingmdao.cli._args import add_output_arguments
 
     add_output_arguments(p, what="the V-g / V-f plot (flutter_CASE.png)")
     p.add_argument("--deformed", action="store_true",
@@ -104,34 +105,6 @@ def _clean(x):
     return x
 
 
-def read_design(path, num_nodes=None, case="pegasus", command="flutter") -> dict:
-    """Wall thicknesses ``{wall: (n,) m}`` of a ``wingmdao size`` JSON of ``case``; ValueError naming the
-    file and what is wrong (missing, not JSON, not a sizing result, another case, wrong number of
-    stations, values not finite and > 0)."""
-    from wingmdao.cli._io import read_json_object
-    from wingmdao.sizing import WALL_VARS
-
-    data = read_json_object(path, "--design")
-    thick = data.get("thickness")
-    walls = [w[2:] for w in WALL_VARS]
-    if not isinstance(thick, dict) or any(w not in thick for w in walls):
-        raise ValueError(f"--design {path}: not a box sizing result of 'wingmdao size' (needs a 'thickness' "
-                         f"object with {', '.join(walls)} per station, m)")
-    if data.get("case", case) != case:
-        raise ValueError(f"--design {path}: a sizing result of case {data['case']!r}; {command} {case} --design "
-                         f"takes {case} results")
-    out = {}
-    for w in walls:
-        v = np.asarray(thick[w], dtype=float).ravel() if isinstance(thick[w], list) else np.zeros(0)
-        if num_nodes is not None and v.size != int(num_nodes):
-            raise ValueError(f"--design {path}: thickness {w!r} has {v.size} stations; the "
-                             f"{num_nodes}-node {case.upper() if case == 'pegasus' else case} beam needs {num_nodes}")
-        if not np.all(np.isfinite(v) & (v > 0)):
-            raise ValueError(f"--design {path}: thickness {w!r} must hold finite values > 0 m")
-        out[w] = v
-    return out
-
-
 def analyse(case, speeds=None, num_nodes=None, n_modes=4, thickness=None) -> dict:
     """Run the flutter analysis; returns the JSON dict (``thickness``: PEGASUS walls per node, m)."""
     from wingmdao.beam.residual import forcing_specs
@@ -160,7 +133,6 @@ def analyse(case, speeds=None, num_nodes=None, n_modes=4, thickness=None) -> dic
                 **prob.eig_options)
     t2 = _time.perf_counter()
     if res.tracked.shape[1] < int(n_modes):
-        from wingmdao.cli._io import warn
 
         warn(f"--modes {n_modes}: the {case} model has {res.tracked.shape[1]} oscillatory modes at the first speed; "
              f"tracking {res.tracked.shape[1]}")
@@ -302,7 +274,6 @@ def run(args) -> int:
         raise ValueError(f"--num-nodes = {args.num_nodes}; allowed range [3, {MAX_NODES}]{cost}")
     if args.modes < 1:
         raise ValueError(f"--modes must be >= 1, got {args.modes}")
-    from wingmdao.cli._io import write_json
     from wingmdao.cli.gust import _check_outputs
 
     plot_path = _check_outputs(args, f"flutter_{args.case}.png")
@@ -352,7 +323,6 @@ def run(args) -> int:
         try:
             plot(result, plot_path)
         except ImportError:
-            from wingmdao.cli._io import warn
 
             warn("plot skipped (plots need matplotlib: pip install 'wingmdao[plot]'); the JSON is written")
         else:

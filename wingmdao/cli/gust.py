@@ -29,6 +29,8 @@ import sys
 import time as _time
 
 import numpy as np
+from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, write_json
+from wingmdao.cli._args import add_output_arguments
 
 CASES = ("pegasus", "crm")
 #: --stiffness-scale range (a rigid wing is approached well before 1e6)
@@ -87,7 +89,6 @@ def register(subparsers):
     p.add_argument("--lifting-line", action="store_true",
                    help="tip-loss correction: strip lift slopes from Prandtl's lifting line of the planform "
                         "(wingmdao.aero.lifting_line) instead of 2 pi")
-    from wingmdao.cli._args import add_output_arguments
 
     add_output_arguments(p, what="the PNG plot (CASE_gust.png)")
     p.set_defaults(func=run)
@@ -104,7 +105,6 @@ def _beam_parameters(module, args):
     setup = module.build(**maneuvers)  # the CRM case has its maneuvers only
     design = initial_design(setup.options, SECTION_KINDS[setup.section]["design_vars"])
     if args.design:
-        from wingmdao.cli.flutter import read_design
 
         smap = setup.geometry.station_map
         walls = read_design(args.design, setup.geometry.num_nodes, case=args.case, command="gust")
@@ -118,7 +118,6 @@ def _beam_parameters(module, args):
 
 
 def run(args):
-    from wingmdao.cli._io import write_json
     from wingmdao.aero import aero_parameters
     from wingmdao.aero.plunge import body_mass as plunge_body_mass, half_wing_mass
     from wingmdao.cases import available_cases
@@ -248,7 +247,6 @@ def run(args):
 
 def _check_outputs(args, plot_name):
     """Check --out, --json and the plot path before the run; the plot path (None: --no-plots)."""
-    from wingmdao.cli._io import check_output_dir, check_output_file, refuse_existing
 
     plot = None
     if not args.no_plots:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from wingmdao.cli._args import add_json_argument
 
 
 def register(subparsers):
@@ -50,7 +51,6 @@ def add_panel_arguments(p):
     p.add_argument("--nx", type=float, default=0.0, metavar="NX",
                    help="running load along the stiffeners (N/m, compression negative)")
     p.add_argument("--nxy", type=float, default=0.0, metavar="NXY", help="shear running load (N/m)")
-    from wingmdao.cli._args import add_json_argument
 
     add_json_argument(p)
 

@@ -4,6 +4,8 @@ and with several recordings a thickness comparison (e.g. maneuver vs gust sizing
 from __future__ import annotations
 
 import os
+from wingmdao.cli._io import check_output_dir, refuse_existing, warn
+from wingmdao.cli._args import add_deprecated_alias
 
 
 def register(subparsers):
@@ -16,7 +18,6 @@ def register(subparsers):
         "(e.g. maneuver-only against gust sizing, as Fig. 5.5-5.6 of the dissertation).",
     )
     p.add_argument("recording", metavar="FILE.sql", nargs="+", help="SQLite recording(s) of sizing runs")
-    from wingmdao.cli._args import add_deprecated_alias
 
     p.add_argument("--out", metavar="DIR", default=None,
                    help="folder for the PNG plots (unset (%(default)s): FILE_plots next to the first recording)")
@@ -43,7 +44,6 @@ def planned_plots(out: str, subs: list[str], *, several: bool) -> list[str]:
 
 
 def run(args) -> int:
-    from wingmdao.cli._io import check_output_dir, refuse_existing, warn
     from wingmdao.report import format_history, format_margins, read_history, write_comparison_plot, write_report_plots
 
     histories = {}

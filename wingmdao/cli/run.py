@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from wingmdao.cases.wing_box.geometry import GEOMETRIES, T_SKIN, T_SPAR
+from wingmdao.cli._args import add_json_argument
 
 
 #: --load-steps and --elements (sum of the three segments) upper bounds
@@ -37,7 +38,6 @@ def add_wing_box_arguments(parser, *, walls=True, loads=True):
 
 
 def register(subparsers):
-    from wingmdao.cli._args import add_json_argument
 
     p = subparsers.add_parser("run", help="run a shipped analysis case (beam response, stresses) and write JSON",
                               description="Run an analysis case. SI units, body axes x aft, y outboard, z up.")

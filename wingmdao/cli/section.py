@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+from wingmdao.cli._args import add_json_argument
 
 _THICKNESS_OPTIONS = (("t_upper", "t_upper_skin", "upper skin"), ("t_lower", "t_lower_skin", "lower skin"),
                       ("t_front", "t_front_spar", "front spar web"), ("t_rear", "t_rear_spar", "rear spar web"))
@@ -33,7 +34,6 @@ def register(subparsers):
                    "sigma_y = 276 MPa); see wingmdao.materials.MATERIALS")
     p.add_argument("--nonstructural-mass", type=float, default=0.0, metavar="KG_PER_M",
                    help="nonstructural mass per length added to mass_per_length (kg/m)")
-    from wingmdao.cli._args import add_json_argument
 
     add_json_argument(p)
     p.set_defaults(func=run)

@@ -1,6 +1,7 @@
 """``wingmdao section-fe``: finite-element cross-section analysis of a section description file."""
 
 from __future__ import annotations
+from wingmdao.cli._args import add_json_argument
 
 
 def register(subparsers):
@@ -20,7 +21,6 @@ def register(subparsers):
     p.add_argument("--mesher", choices=["gmsh", "structured"], default=None,
                    help="mesher of airfoil wingboxes (overrides the file's section.mesher; default gmsh, "
                         "or the built-in structured mesher when gmsh is missing or the section has stringers)")
-    from wingmdao.cli._args import add_json_argument
 
     add_json_argument(p)
     p.set_defaults(func=run)

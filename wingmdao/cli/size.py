@@ -7,6 +7,8 @@ import os
 import numpy as np
 
 from wingmdao.cases import options_from_namespace
+from wingmdao.cli._io import EXIT_INTERRUPTED, check_output_dir, check_output_file, refuse_existing, say, warn, write_json
+from wingmdao.cli._args import CaseArguments, add_output_arguments
 
 #: --presize upper bound (passes)
 MAX_PRESIZE = 20
@@ -15,7 +17,6 @@ FLUTTER_MARGIN = (1.0, 2.0)
 
 
 def _add_common(p, *, sizing: bool):
-    from wingmdao.cli._args import add_output_arguments
 
     add_output_arguments(p, what="the recording and plots" if sizing else "the N2 diagram (CASE_n2.html)",
                          plots=sizing, json=sizing)
@@ -42,7 +43,6 @@ def _add_common(p, *, sizing: bool):
 
 def register(subparsers):
     from wingmdao.cases import available_cases
-    from wingmdao.cli._args import CaseArguments
 
     cases = available_cases()
     for cmd, sizing in (("size", True), ("n2", False)):
@@ -88,8 +88,6 @@ def run_size(args) -> int:
     import sys
 
     from wingmdao import sizing
-    from wingmdao.cli._io import (EXIT_INTERRUPTED, check_output_dir, check_output_file, refuse_existing,
-                                  say, warn, write_json)
     from wingmdao.parallel import launched_ranks, world_comm
 
     comm = world_comm()
@@ -209,7 +207,6 @@ def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupt
 
     import openmdao.api as om
 
-    from wingmdao.cli._io import EXIT_INTERRUPTED, say, warn, write_json
 
     if comm is None and not (interrupted or failed) and hasattr(args.case_module, "TOGW_LB"):
         result["load_case_response"] = _case_responses(prob, setup, args.case_module.TOGW_LB)
@@ -263,7 +260,6 @@ def _add_flutter_result(result, args, setup, prob) -> None:
     design, :func:`wingmdao.stability.cases.flutter_search`) for cases with aerodynamic data."""
     import time
 
-    from wingmdao.cli._io import say
     from wingmdao.stability.cases import FLUTTER_CASES, flutter_search
 
     name = args.case_module.NAME
@@ -367,7 +363,6 @@ def run_n2(args) -> int:
 
     from wingmdao.sizing import build_problem
 
-    from wingmdao.cli._io import check_output_dir, refuse_existing, say
 
     check_output_dir(args.out, "--out")
     path = os.path.join(args.out, f"{args.case_module.NAME.replace('-', '_')}_n2.html")

@@ -18,6 +18,7 @@ import numpy as np
 
 from wingmdao.cli._verify_fe import _design_walls, _material, add_fe_arguments, build_fe_model  # noqa: F401
 from wingmdao.cli._verify_fe import check_fe_args, percent_difference, von_mises_table  # noqa: F401
+from wingmdao.cli._io import check_output_file
 
 
 def register(subparsers):
@@ -216,7 +217,6 @@ def run_verify(args) -> int:
     from wingmdao.cli import write_json
     from wingmdao.fe.calculix import CalculixNotFound
 
-    from wingmdao.cli._io import check_output_file
     from wingmdao.cli._verify_pegasus import verify_pegasus
 
     overwrite = getattr(args, "overwrite", False)
