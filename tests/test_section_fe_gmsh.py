@@ -116,7 +116,7 @@ def test_description_file_and_cli_choose_the_mesher(tmp_path, capsys, monkeypatc
         assert out[mesher]["mesher"] == mesher
     assert io.analyse_description(desc)["mesher"] == "gmsh"          # the default
     np.testing.assert_allclose(out["gmsh"]["stiffness_6x6"][3][3], out["structured"]["stiffness_6x6"][3][3], rtol=1e-4)
-    monkeypatch.setattr("wingmdao.section.fe.gmsh_mesh.gmsh_available", lambda: False)
+    monkeypatch.setattr("wingmdao.section.fe.io.gmsh_available", lambda: False)   # the name io looks up
     assert io.default_airfoil_mesher() == "structured"
     assert io.default_airfoil_mesher(stringers=[{}]) == "structured"
     desc["section"]["mesher"] = "delaunay"
