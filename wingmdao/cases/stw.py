@@ -36,7 +36,7 @@ from wingmdao.cases import stw_data as D
 
 NAME = "stw"
 HELP = ("Simple Transonic Wing (MDO Aeroelastic Benchmark) Case 1: 14 m semi-span, 28 deg sweep, RAE 2822, "
-        "T-stiffened wingbox 15-65 % chord, 23 ribs; trimmed aeroelastic 2.5 g / -1 g maneuvers at sea level, "
+        "T-stiffened wingbox between spars at 0.15 and 0.65 chord, 23 ribs; trimmed aeroelastic 2.5 g / -1 g maneuvers at sea level, "
         "M 0.458, landing gross mass")
 
 CUTS = ("normal", "streamwise")
