@@ -111,7 +111,9 @@ def run_size(args) -> int:
         setup.notes.append(f"flutter constraint: KS of Re(lambda) <= 0 (rho 100 s) at {args.flutter_margin:g} V_D x "
                            f"(0.25, 0.5, 0.75, 1) = {', '.join(f'{v:.1f}' for v in setup.flutter['speeds'])} m/s")
     plots = [] if args.no_plots else _plot_paths(stem, setup)
-    refuse_existing([recording, *plots], overwrite=args.overwrite, what="recording and plots")
+    case_files = (args.case_module.output_files(stem, setup) if root and hasattr(args.case_module, "output_files")
+                  else [])  # a case's own outputs (e.g. stw: lift and twist CSV files)
+    refuse_existing([recording, *plots, *case_files], overwrite=args.overwrite, what="recording and plots" + (" and case files" if case_files else ""))
     opts = setup.options
     opts.optimizer = args.optimizer
     if args.maxiter is not None:
@@ -168,6 +170,8 @@ def run_size(args) -> int:
             plots_on = False
     if root and not (interrupted or failed):
         _add_flutter_result(result, args, setup, prob)
+    if case_files and not (interrupted or failed):
+        args.case_module.write_outputs(prob, setup, stem, result)
     if root and len(setup.load_cases) > 1 and not (interrupted or failed):
         # an envelope: critical case per station, envelopes, potato plots
         from wingmdao.envelope import format_critical_table, write_envelope_outputs
