@@ -288,17 +288,27 @@ STIFFENER_BOUNDS = {"h": (max(D.SIZING_RULES.min_stiffener_height, D.SIZING_RULE
                     "t": (D.SIZING_RULES.min_stiffener_thickness, 0.01, D.BASELINE_PANEL.stiffener_thickness)}
 
 
+def stw_laminates():
+    """The benchmark's laminates (``stw_data``; ply ``stw-cfrp``) as panel materials: (skins and
+    stiffeners, spar webs and ribs)."""
+    from wingmdao.panels.laminate import STW_SKIN_FRACTIONS, STW_SPAR_FRACTIONS
+    from wingmdao.panels.stiffened import panel_material
+
+    return panel_material("stw-cfrp", STW_SKIN_FRACTIONS), panel_material("stw-cfrp", STW_SPAR_FRACTIONS)
+
+
 def stw_material():
-    """The wall material of the STW sizing: THE ONE PLACE TO SWITCH TO THE BENCHMARK'S LAMINATE.
+    """The sizing's reference material: isotropic with the skin laminate's membrane modulus Ex and
+    the ply density (nu = 0.3 sets the reference G; every wall is weighted by its own laminate's
+    Ex, G_xy and density against it, the transformed section of ``PanelLayout.wall_factors``).
+    Strength is the laminates' Tsai-Wu first-ply failure (the panels' ``laminate_strength``
+    family), so this material's sigma_y enters no constraint."""
+    from wingmdao.materials import Material
+    from wingmdao.panels.laminate import laminate_moduli
 
-    The benchmark's walls are the composite laminates of ``stw_data.PLY`` (ply fractions
-    ``PLY_FRACTIONS_SKIN`` / ``PLY_FRACTIONS_SPAR_RIB``); the stiffened section has isotropic
-    walls only, so until it takes laminate walls (a ``PanelLayout`` field) the case is built
-    with :data:`wingmdao.materials.ALUMINIUM`. The sizing's material check uses this material's
-    sigma_y divided by the benchmark's safety factor 1.5 (:func:`build`)."""
-    from wingmdao.materials import ALUMINIUM
-
-    return ALUMINIUM
+    skin, _ = stw_laminates()
+    ex = laminate_moduli(skin.base, skin.fractions)["Ex"]
+    return Material("stw-cfrp (skin laminate Ex)", E=ex, rho=skin.base.rho, sigma_y=skin.compression_strength, nu=0.3)
 
 
 @dataclass(frozen=True)
@@ -340,8 +350,6 @@ def build(options: StwOptions | None = None, **overrides) -> CaseSetup:
     """The STW Case 1 sizing: beam, both trimmed maneuvers, material and bounds, from a
     :class:`StwOptions` and/or keyword options (``build(num_nodes=40)``); ValueError naming the
     option for bad input, before any solve."""
-    from dataclasses import replace
-
     from wingmdao.cases import stw_loads
     from wingmdao.groups.load_case import parse_families
     from wingmdao.panels.layout import STIFFENER_VARS, PanelLayout
@@ -354,7 +362,13 @@ def build(options: StwOptions | None = None, **overrides) -> CaseSetup:
         raise ValueError(f"--num-nodes = {opts.num_nodes}; allowed range {D.NUM_RIBS}-200")
     if opts.wingbox_mass is not None and not (np.isfinite(opts.wingbox_mass) and opts.wingbox_mass > 0):
         raise ValueError(f"--wingbox-mass = {opts.wingbox_mass} kg; allowed range (0, inf) kg")
-    families = parse_families(opts.families)
+    families = ()   # laminate walls: strength by the panels' Tsai-Wu family, not a metal's stress families
+    if opts.families != StwOptions.families:
+        parse_families(opts.families)
+        notes_families = [f"warning: --families {opts.families} ignored: the laminate walls' strength is the panels' "
+                          "Tsai-Wu family (laminate_strength)"]
+    else:
+        notes_families = []
     beam = beam_geometry(opts.num_nodes, cut=opts.cut, height_rule=opts.height_rule)
     material = stw_material()
     if opts.wingbox_mass is None:
@@ -370,22 +384,24 @@ def build(options: StwOptions | None = None, **overrides) -> CaseSetup:
     for name in STIFFENER_VARS:
         lo, up, start = STIFFENER_BOUNDS[name[0]]
         sizing.lower[name], sizing.upper[name], sizing.initial[name] = lo, up, start
-    factored = replace(material, name=f"{material.name} (sigma_y / {D.SAFETY_FACTOR:g})",
-                       sigma_y=material.sigma_y / D.SAFETY_FACTOR, G=None)  # nu kept, G derived again
+    skin_laminate, spar_laminate = stw_laminates()
     sp = stw_loads.strip_parameters(beam)
     notes = [f"loads: LGM {lgm:.0f} kg from a wingbox mass of {box_mass:.0f} kg per wing ({where})",
              f"aerodynamics: strip theory on the deforming beam, Weissinger lift slopes at M {D.PULL_UP.mach:g} "
              f"(CL_alpha {sp['CL_alpha']:.3f} /rad), RAE 2822 camber by thin-airfoil theory",
-             f"material: {material.name} in place of the benchmark's laminate (stw.stw_material), "
-             f"material check at sigma_y / {D.SAFETY_FACTOR:g}",
+             "walls: the benchmark's laminates (ply stw-cfrp; skins and stiffeners [0/+45/-45/90] = "
+             f"{'/'.join(f'{f:.4g}' for f in skin_laminate.fractions)}, spars "
+             f"{'/'.join(f'{f:.4g}' for f in spar_laminate.fractions)}), smeared, stacking ignored; Tsai-Wu "
+             f"first-ply failure at safety factor {D.SAFETY_FACTOR:g}",
              "root clamped at y = 0: the benchmark's side-of-body support (x, z held at y = 1.5 m) is not modelled",
              f"stiffened panels: tee stiffeners at {D.STIFFENER_PITCH * 1e3:.0f} mm, flange = web height, "
              f"{D.NUM_RIBS} ribs {RIB_THICKNESS * 1e3:.0f} mm thick (assumed), safety factor {D.SAFETY_FACTOR:g} "
-             "on buckling"]
-    setup = CaseSetup(beam.geometry, cases, factored, sizing, section="stiffened", notes=notes,
+             "on buckling"] + notes_families
+    setup = CaseSetup(beam.geometry, cases, material, sizing, section="stiffened", notes=notes,
                       panels=PanelLayout(rib_positions=tuple(beam.rib_y), stiffener_pitch=D.STIFFENER_PITCH,
                                          shape="tee", flange_ratio=1.0, safety_factor=D.SAFETY_FACTOR,
-                                         rib_thickness=RIB_THICKNESS))
+                                         rib_thickness=RIB_THICKNESS, skin_material=skin_laminate,
+                                         spar_material=spar_laminate))
     setup.stw = {"beam": beam, "wingbox_mass_kg": box_mass, "landing_gross_mass_kg": lgm, "wingbox_mass_source": where}
     return setup
 
