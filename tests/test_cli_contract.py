@@ -126,6 +126,7 @@ JSON_RUNS = {
     ("size", "wing-box"): ["--analysis-only", "--no-plots"],
     ("size", "pegasus"): ["--analysis-only", "--no-plots"],
     ("size", "crm"): ["--analysis-only", "--no-plots"],
+    ("size", "stw"): ["--analysis-only", "--no-plots"],
     ("flutter",): ["goland", "--speeds", "100", "200", "3", "--num-nodes", "5", "--modes", "2", "--no-plots"],
     ("gust",): ["pegasus", "--t-final", "0.2", "--dt", "0.02", "--no-plots"],
     ("size", "aerostruct-crm"): ["--analysis-only", "--num-y", "9", "--no-oas-beam", "--quiet"],

@@ -23,7 +23,7 @@ import os
 
 import numpy as np
 
-from wingmdao.results import span_coordinate
+from wingmdao.sizing import case_families, span_coordinate
 
 QUANTITIES = {  # name: (array, component, label, scale to plot units, unit)
     "shear": ("F", 2, "shear F_n", 1e-3, "kN"),
@@ -32,12 +32,15 @@ QUANTITIES = {  # name: (array, component, label, scale to plot units, unit)
 }
 
 
-def collect(prob, load_cases, span) -> dict:
-    """Internal loads and worst stress ratio per station of every case from a run problem."""
+def collect(prob, load_cases, span, families=None) -> dict:
+    """Internal loads and worst constraint value per station of every case from a run problem: every
+    family the case's KS aggregates (``families``: {case name: families}, default the case's stress
+    families; a stiffened box adds its panel modes, :func:`wingmdao.sizing.case_families`)."""
     names, data = [], {}
     for case in load_cases:
         p = f"cases.{case.name}"
-        g = np.max(np.stack([np.asarray(prob.get_val(f"{p}.stress.g_{f}")).max(axis=2) for f in case.families]), axis=0)
+        fams = case.families if families is None else families[case.name]
+        g = np.max(np.stack([np.asarray(prob.get_val(f"{p}.ks.g_{f}")).max(axis=2) for f in fams]), axis=0)
         data[f"F__{case.name}"] = np.asarray(prob.get_val(f"{p}.internal_loads.F_csn", units="N"))
         data[f"M__{case.name}"] = np.asarray(prob.get_val(f"{p}.internal_loads.M_csn", units="N*m"))
         data[f"g__{case.name}"] = g  # (nt, n)
@@ -238,7 +241,8 @@ def write_plots(data: dict, stem: str, stations=None) -> list:
 
 def write_envelope_outputs(prob, setup, stem: str, stations=None, plots: bool = True) -> dict:
     """Collect, save ``<stem>_envelope.npz`` and (``plots``) write the PNGs; returns paths and the table."""
-    data = collect(prob, setup.load_cases, span_coordinate(setup.geometry))
+    families = {c.name: case_families(c, setup.section, setup.panels) for c in setup.load_cases}
+    data = collect(prob, setup.load_cases, span_coordinate(setup.geometry), families)
     out = {"envelope_file": save(data, f"{stem}_envelope.npz"), "critical_cases": critical_cases(data)}
     out["plots"] = write_plots(data, stem, stations) if plots else []
     return out

@@ -5,12 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from wingmdao.plots import plot_panels, plot_thickness, plot_time_history
-
-
-def span_coordinate(geometry) -> np.ndarray:
-    if geometry.span_coordinate is not None:
-        return np.asarray(geometry.span_coordinate)
-    return np.asarray(geometry.node_positions)[:, 1]
+from wingmdao.sizing import span_coordinate  # noqa: F401  (also this module's public name)
 
 
 def write_case_plots(prob, setup, stem: str, result: dict | None = None) -> list[str]:

@@ -3,7 +3,9 @@
 * :mod:`wingmdao.aero.strip` - section model: Jones' Wagner and Sears-Sparks Kuessner finite
   states, Theodorsen apparent mass, Prandtl-Glauert; C(k) exact and of the approximation;
 * :mod:`wingmdao.aero.system` - :func:`build_aeroelastic_system`, :class:`AeroelasticBeamSystem`;
-* :mod:`wingmdao.aero.coupled` - :class:`CoupledAero`, the aerodynamics of a coupled ``LoadCase``.
+* :mod:`wingmdao.aero.coupled` - :class:`CoupledAero`, the aerodynamics of a coupled ``LoadCase``;
+* :mod:`wingmdao.aero.weissinger` - spanwise lift slopes of a swept, tapered planform (Weissinger's
+  vortex lattice, Prandtl-Glauert), for the strips' ``lift_slope``.
 """
 
 from wingmdao.aero.coupled import CoupledAero

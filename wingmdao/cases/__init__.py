@@ -1,4 +1,4 @@
-"""Sizing cases shipped with wingmdao (cantilever, wing-box, PEGASUS, CRM).
+"""Sizing cases shipped with wingmdao (cantilever, wing-box, PEGASUS, CRM, STW).
 
 Each case module defines
 
@@ -7,7 +7,10 @@ Each case module defines
 * ``add_arguments(parser)``: its command-line options (units in the option names/help), whose
   defaults come from ``OPTIONS``;
 * ``build(options=None, **keywords) -> CaseSetup``: the beam geometry, load cases, material and
-  sizing options from an ``OPTIONS`` instance and/or keywords, validating them *before* any solve.
+  sizing options from an ``OPTIONS`` instance and/or keywords, validating them *before* any solve;
+* optionally ``output_files(stem, setup)`` and ``write_outputs(prob, setup, stem, result)``: files
+  of its own that ``wingmdao size`` writes beside the JSON after the run (checked, like the
+  plots, before it; ``write_outputs`` may add keys to the result).
 
 The command line converts its namespace once (:func:`options_from_namespace`); the scripts in
 the repository's ``cases/`` folder call the same builders with keywords, without a parser.
@@ -30,6 +33,7 @@ CASE_MODULES = {
     "wing-box": "wingmdao.cases.wing_box",
     "pegasus": "wingmdao.cases.pegasus",
     "crm": "wingmdao.cases.crm",
+    "stw": "wingmdao.cases.stw",
 }
 
 

@@ -36,6 +36,9 @@ class CrmOptions(CaseOptions):
     negative_load_factor: float = -1.0
     families: str = "vm"
     aero: str = field(default="strip", metadata={"choices": AERO_MODELS})
+    panels: str = field(default="unstiffened", metadata={"choices": _pegasus.PANEL_MODELS})
+    stiffener_pitch: float = 0.15  # m
+    rib_pitch: float | None = None  # m; None: the ribs at the case's rib stations
 
 
 OPTIONS = CrmOptions
@@ -47,6 +50,7 @@ def add_arguments(p):
     p.add_argument("--families", help="comma list of stress families constrained")
     p.add_argument("--aero", choices=AERO_MODELS,
                    help="maneuver loads: strip (Schrenk spanload) or coupled (not available for crm: see docs)")
+    _pegasus.add_panel_arguments(p)
     set_parser_defaults(p, CrmOptions)
 
 
@@ -60,16 +64,21 @@ NO_COUPLED = ("--aero coupled is not available for the crm case: App. D.3 gives 
 def build(options: CrmOptions | None = None, **overrides) -> CaseSetup:
     """The CRM geometry, its two maneuvers, material and bounds from a :class:`CrmOptions` and/or
     keyword options (``build(load_factor=2.0)``)."""
+    from wingmdao.section.box import WALL_NAMES
+
     opts = case_options(CrmOptions, options, **overrides)
     if opts.aero == "coupled":
         raise ValueError(NO_COUPLED)
     maneuvers = _pegasus.PegasusOptions(loads="maneuver", load_factor=opts.load_factor,
-                                        negative_load_factor=opts.negative_load_factor, families=opts.families)
+                                        negative_load_factor=opts.negative_load_factor, families=opts.families,
+                                        panels=opts.panels, stiffener_pitch=opts.stiffener_pitch,
+                                        rib_pitch=opts.rib_pitch)
     setup = _pegasus.build_wing(maneuvers, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB)
     setup.options.maxiter = 1000  # 136 variables and one aggregated constraint: SLSQP needs ~700 iterations
-    for w in setup.options.upper:
+    for w in WALL_NAMES:
         setup.options.upper[w] = 0.1
         setup.options.initial[w] = 0.02
     setup.notes = ["airfoil NACA 2414 -> 2410 stand-in for the supercritical sections (assumed)",
-                   "engine as a point mass: 9000 kg at 35 % semi-span (assumed)"]
+                   "engine as a point mass: 9000 kg at 35 % semi-span (assumed)"] + [
+        n for n in setup.notes if n.startswith(("stiffened panels", "warning"))]
     return setup

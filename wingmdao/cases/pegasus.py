@@ -160,6 +160,12 @@ def add_arguments(p):
     p.add_argument("--load-history", metavar="FILE",
                    help="gust case from a load time history file (.npz or .csv on the 20 beam nodes, "
                         "format in docs/loads.md, e.g. exported from a Nastran SOL 146 run) instead of strip theory")
+    add_panel_arguments(p)
+    set_parser_defaults(p, PegasusOptions)
+
+
+def add_panel_arguments(p):
+    """``--panels``, ``--stiffener-pitch``, ``--rib-pitch`` (pegasus and the cases built on it)."""
     s = p.add_argument_group("stiffened panels (docs/panels.md)")
     s.add_argument("--panels", choices=PANEL_MODELS,
                    help="wall model: unstiffened plates sized for strength (von Mises) or stiffened: blade "
@@ -169,7 +175,6 @@ def add_arguments(p):
     s.add_argument("--rib-pitch", type=float, metavar="M",
                    help="rib spacing (m) from the root rib to the tip rib, rounded to equal bays (default unset: "
                         "the case's ribs, one at each station)")
-    set_parser_defaults(p, PegasusOptions)
 
 
 def parse_families(text: str) -> tuple:

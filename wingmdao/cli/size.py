@@ -129,10 +129,13 @@ def run_size(args) -> int:
         plots += output_paths(stem, plots=not args.no_plots)
     elif args.potato_stations is not None:
         warn("--potato-stations ignored: potato plots are drawn for runs of several load cases")
+    case_files = (args.case_module.output_files(stem, setup) if root and hasattr(args.case_module, "output_files")
+                  else [])  # a case's own outputs (e.g. stw: lift and twist CSV files)
     if root:  # --json may not name any of the run's own outputs
         check_output_file(args.json, "--json", overwrite=args.overwrite,
-                          others={"recording": recording, **{f"output {p}": p for p in plots}})
-    refuse_existing([recording, *plots], overwrite=args.overwrite, what="recording, envelope and plots")
+                          others={"recording": recording, **{f"output {p}": p for p in plots + case_files}})
+    refuse_existing([recording, *plots, *case_files], overwrite=args.overwrite,
+                    what="recording, envelope, plots" + (" and case files" if case_files else ""))
     opts = setup.options
     opts.optimizer = args.optimizer
     if args.maxiter is not None:
@@ -218,6 +221,8 @@ def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupt
             plots_on = False
     if root and not (interrupted or failed):
         _add_flutter_result(result, args, setup, prob)
+    if case_files and not (interrupted or failed):
+        args.case_module.write_outputs(prob, setup, stem, result)
     if root and len(setup.load_cases) > 1 and not (interrupted or failed):
         # an envelope: critical case per station, envelopes, potato plots
         from wingmdao.envelope import format_critical_table, write_envelope_outputs
