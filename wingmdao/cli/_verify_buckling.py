@@ -114,8 +114,10 @@ def model_buckling(setup, design, case_name) -> dict:
             "families": families, "safety_factor": sf, "mass_kg": mass}
 
 
-def fe_station_loads(setup, case_name, design, model_box, sections):
-    """Station loads [(y, centre, F, M)] of the load case on the FE's span lines."""
+def fe_station_loads(setup, case_name, design, model_box, sections, at_ribs=True):
+    """Station loads [(y, centre, F, M)] of the load case: trapezoid-lumped at the stations, where
+    the ribs are (``at_ribs``: the sizing beam's own nodal loads, entering the box through the
+    rib rings), or at every FE corner line (between the ribs too)."""
     from wingmdao.cases import pegasus
     from wingmdao.fe.wing_loads import lumped_line_loads
 
@@ -125,7 +127,8 @@ def fe_station_loads(setup, case_name, design, model_box, sections):
     accel = np.asarray(fo["gravity"])[0] - np.asarray(fo.get("frame_acceleration", np.zeros((1, 3))))[0]
     force = np.asarray(fo["force_per_length"])[0] + mpl[:, None] * accel[None, :]
     moment = np.asarray(fo["moment_per_length"])[0]
-    return lumped_line_loads(sections, model_box.span_y[::2], setup.geometry.span_coordinate, force, moment), \
+    at = np.asarray(setup.geometry.span_coordinate) if at_ribs else model_box.span_y[::2]
+    return lumped_line_loads(sections, at, setup.geometry.span_coordinate, force, moment), \
         {"load_factor": float(-accel[2] / 9.80665), "lift_n": float(np.trapezoid(
             np.asarray(fo["force_per_length"])[0][:, 2], setup.geometry.span_coordinate)),
          "description": case.description}
@@ -185,7 +188,8 @@ def verify_pegasus_buckling(args) -> dict:
     model, sec = build_model(data, setup, design, args, rib_t)
     mass = shell_mass(model.deck, _material().rho)
     mdl = model_buckling(setup, design, args.loads_case)
-    loads, info = fe_station_loads(setup, args.loads_case, design, model.box, sec)
+    loads, info = fe_station_loads(setup, args.loads_case, design, model.box, sec,
+                                   at_ribs=args.load_lines == "ribs")
     fe = solve_buckling(model, loads, modes=args.buckling_modes, keep_dir=args.keep_deck)
     y = setup.geometry.span_coordinate
 
@@ -203,7 +207,7 @@ def verify_pegasus_buckling(args) -> dict:
     fe_mass = dict(mass, stiffeners_above_skin_face=mass["stiffeners"] - overlap, total=mass["total"] - overlap)
     return {
         "case": "pegasus", "analysis": "buckling", "design": args.design, "loads_case": args.loads_case,
-        "loads": info,
+        "loads": dict(info, entering_at=args.load_lines),
         "fe_buckling_factor": fe["factor"], "fe_buckling_factors": fe["factors"], "fe_mode_number": fe["mode_number"],
         "fe_mode_location": modes[0],
         "fe_modes": modes,
@@ -248,6 +252,9 @@ def add_buckling_arguments(p):
                    help="--buckling: S8R elements over the stiffener height")
     g.add_argument("--stiffeners", type=int, default=None, metavar="N",
                    help="--buckling: blades per skin (default round(box width / pitch))")
+    g.add_argument("--load-lines", choices=("ribs", "all"), default="ribs",
+                   help="--buckling: the line loads lumped at the rib stations and entering through the rib rings "
+                   "(default), or at every FE corner line")
     g.add_argument("--keep-deck", default=None, metavar="DIR", help="--buckling: keep buckle.inp and its results")
 
 

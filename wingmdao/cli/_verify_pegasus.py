@@ -319,7 +319,7 @@ def _beam_frequencies(params, count):
 def verify_pegasus_args(*, ribs="stations", fidelity="shell", modes=0, chord_elements=8, height_elements=2,
                         span_size=0.5, rib_thickness=0.002, load_factor=1.0, design=None, loads="1g",
                         buckling=False, loads_case="maneuver_pos", buckling_modes=5, bay_elements=2, web_elements=1,
-                        stiffeners=None, keep_deck=None):
+                        stiffeners=None, keep_deck=None, load_lines="ribs"):
     """The parsed-argument namespace of ``verify pegasus`` (``ribs``: 'stations', None, or a spacing)."""
     import argparse
 
@@ -329,4 +329,4 @@ def verify_pegasus_args(*, ribs="stations", fidelity="shell", modes=0, chord_ele
                               chord_elements=chord_elements, height_elements=height_elements, span_size=span_size,
                               plot=None, json="-", overwrite=False, buckling=buckling, loads_case=loads_case,
                               buckling_modes=buckling_modes, bay_elements=bay_elements, web_elements=web_elements,
-                              stiffeners=stiffeners, keep_deck=keep_deck)
+                              stiffeners=stiffeners, keep_deck=keep_deck, load_lines=load_lines)
