@@ -116,8 +116,10 @@ def test_coarse_run_positive_factor(design_file, tmp_path, capsys):
     """A coarse run (0.5 m span elements, one element per bay) returns a positive first factor,
     the model's factor, where both are, and the counts."""
     out = tmp_path / "b.json"
+    png = tmp_path / "b.png"
     assert main(["verify", "pegasus", "--buckling", "--design", design_file, *COARSE, "--json", str(out),
-                 "--loads-case", "maneuver_neg"]) == 0
+                 "--loads-case", "maneuver_neg", "--plot", str(png)]) == 0
+    assert png.stat().st_size > 0
     r = json.loads(out.read_text())
     assert r["loads_case"] == "maneuver_neg" and r["loads"]["load_factor"] == pytest.approx(-1.0)
     assert r["fe_buckling_factor"] > 0 and r["fe_buckling_factor"] == min(f for f in r["fe_buckling_factors"] if f > 0)
@@ -129,6 +131,9 @@ def test_coarse_run_positive_factor(design_file, tmp_path, capsys):
     assert r["mesh"]["num_stiffener_strips"] == 16 and r["mesh"]["num_ribs"] == 20
     assert r["mesh"]["num_elements"] > 0 and r["mesh"]["num_nodes"] > 0 and r["fe_time_s"] > 0
     assert abs(r["mass_kg"]["difference_percent"]) < 1.0
+    by_station = r["model_factor_by_station"]
+    assert min(min(f for f in v if f is not None) for v in by_station.values()) == \
+        pytest.approx(r["model_buckling_factor"], rel=1e-9)
 
 
 def _fails(argv, capsys, flag):

@@ -101,9 +101,13 @@ def model_buckling(setup, design, case_name) -> dict:
     prob.run_model()
     sf = setup.panels.safety_factor
     families = {}
+    walls = {w: np.zeros(setup.geometry.num_nodes) for w in ("upper_skin", "lower_skin", "front_spar", "rear_spar")}
     for f in ELASTIC + OTHER:
         g = np.asarray(prob.get_val(f"cases.{case_name}.panels.g_{f}"))[0]   # (stations, points)
         R = (g + 1.0) / sf
+        if f in ELASTIC:
+            for k, w in enumerate(WEB_POINTS if f == "web_buckling" else SKIN_POINTS):
+                walls[w] = np.maximum(walls[w], R[:, k])
         st, pt = np.unravel_index(int(np.argmax(R)), R.shape)
         wall = (WEB_POINTS if f == "web_buckling" else SKIN_POINTS)[pt]
         families[f] = {"factor": float(1.0 / R.max()), "station": int(st), "wall": wall,
@@ -111,7 +115,8 @@ def model_buckling(setup, design, case_name) -> dict:
     worst = min(ELASTIC, key=lambda f: families[f]["factor"])
     mass = float(prob.get_val("box_mass", units="kg")[0] + prob.get_val("rib_mass", units="kg")[0])
     return {"factor": families[worst]["factor"], "critical": dict(families[worst], mode=worst),
-            "families": families, "safety_factor": sf, "mass_kg": mass}
+            "families": families, "safety_factor": sf, "mass_kg": mass,
+            "by_station": {w: [float(1.0 / r) if r > 0 else None for r in v] for w, v in walls.items()}}
 
 
 def fe_station_loads(setup, case_name, design, model_box, sections, at_ribs=True):
@@ -214,7 +219,8 @@ def verify_pegasus_buckling(args) -> dict:
         "fe_first_box_mode": box_modes[0] if box_modes else None,
         "rib_thickness_m": {"fe": rib_t, "design": setup.panels.rib_thickness},
         "model_buckling_factor": mdl["factor"], "model_critical": mdl["critical"],
-        "model_factors_by_mode": mdl["families"], "safety_factor": sf,
+        "model_factors_by_mode": mdl["families"], "safety_factor": sf, "station_y": y.tolist(),
+        "model_factor_by_station": mdl["by_station"],
         "fe_over_model": fe["factor"] / mdl["factor"], "fe_over_safety_factor": fe["factor"] / sf,
         "acceptance": {"fe_at_least_safety_factor": bool(fe["factor"] >= sf),
                        "fe_at_least_0p7_safety_factor": bool(fe["factor"] >= 0.7 * sf),
@@ -259,8 +265,8 @@ def add_buckling_arguments(p):
 
 
 def plot_buckling(res, path):
-    """The model's buckling load factor per station and mode with the FE's first factor and where
-    its mode peaks."""
+    """The model's buckling load factor per station and wall (elastic modes) with the CalculiX
+    factors of the extracted modes at the span position of their peaks, marked by part."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -268,16 +274,22 @@ def plot_buckling(res, path):
 
     from wingmdao.plots import save_figure
 
-    fig, ax = plt.subplots(figsize=(8, 4.5))
-    for f, v in res["model_factors_by_mode"].items():
-        ax.plot([v["span_y_m"]], [v["factor"]], "o", label=f"model {f} (min {v['factor']:.3g}, {v['wall']})")
-    loc = res["fe_mode_location"]
-    ax.axhline(res["fe_buckling_factor"], color="k", label=f"CalculiX first factor {res['fe_buckling_factor']:.3g}")
-    ax.plot([loc["span_y_m"]], [res["fe_buckling_factor"]], "k*", ms=14,
-            label=f"FE mode peak: {loc['wall']} at y = {loc['span_y_m']:.2f} m")
+    fig, ax = plt.subplots(figsize=(9, 5))
+    y = res["station_y"]
+    for w, v in res["model_factor_by_station"].items():
+        ax.plot(y, [np.nan if f is None else f for f in v], "-o", ms=3,
+                label=f"model {w} (elastic modes: skin, panel, web)")
+    markers = {"upper_skin": "^", "lower_skin": "v", "upper_stiffeners": "^", "lower_stiffeners": "v",
+               "front_spar": "s", "rear_spar": "s", "ribs": "x"}
+    seen = set()
+    for m in res["fe_modes"]:
+        lab = f"CalculiX mode: {m['wall']}" if m["wall"] not in seen else None
+        seen.add(m["wall"])
+        ax.plot([m["span_y_m"]], [m["factor"]], markers.get(m["wall"], "o"), color="k", ms=8, label=lab)
     ax.axhline(res["safety_factor"], color="r", ls="--", label=f"safety factor {res['safety_factor']:g}")
     ax.set_xlabel("span y (m)")
     ax.set_ylabel("buckling load factor on the limit loads")
+    ax.set_ylim(0, max(4.0, 1.2 * res["fe_buckling_factor"]))
     ax.set_title(f"PEGASUS stiffened box, {res['loads_case']}")
     ax.legend(fontsize=7)
     ax.grid(True)
