@@ -43,7 +43,11 @@ def register_pegasus(cases):
                      ribs_help="ribs every SPACING m instead of at the case's 19 rib stations",
                      design_help="wall thicknesses from a 'wingmdao size pegasus' result (20 stations) "
                      "(unset: 4/4/5/4 mm upper/lower skin, front/rear spar)")
-    p.set_defaults(through_elements=2)
+    from wingmdao.cli._verify_buckling import add_buckling_arguments
+
+    add_buckling_arguments(p)
+    # unset: 0.5 m and 2 (static), 0.1 m and 4 (--buckling)
+    p.set_defaults(through_elements=2, span_size=None, height_elements=None)
     return p
 
 
@@ -191,8 +195,17 @@ def verify_pegasus(args) -> dict:
     from wingmdao.fe.box_model import add_point_masses, solve_modes, solve_static
     from wingmdao.fe.calculix import find_ccx
 
+    buckling = getattr(args, "buckling", False)
+    if getattr(args, "span_size", None) is None:
+        args.span_size = 0.1 if buckling else 0.5
+    if getattr(args, "height_elements", None) is None:
+        args.height_elements = 4 if buckling else 2
     span = case.PLANFORM.semi_span
     check_fe_args(args, span)
+    if buckling:
+        from wingmdao.cli._verify_buckling import verify_pegasus_buckling
+
+        return verify_pegasus_buckling(args)
     name = getattr(args, "loads", "1g")
     if name in MANEUVERS:
         if args.load_factor != 1.0:
@@ -302,7 +315,9 @@ def _beam_frequencies(params, count):
 
 
 def verify_pegasus_args(*, ribs="stations", fidelity="shell", modes=0, chord_elements=8, height_elements=2,
-                        span_size=0.5, rib_thickness=0.002, load_factor=1.0, design=None, loads="1g"):
+                        span_size=0.5, rib_thickness=0.002, load_factor=1.0, design=None, loads="1g",
+                        buckling=False, loads_case="maneuver_pos", buckling_modes=5, bay_elements=2, web_elements=1,
+                        stiffeners=None, keep_deck=None, load_lines="ribs"):
     """The parsed-argument namespace of ``verify pegasus`` (``ribs``: 'stations', None, or a spacing)."""
     import argparse
 
@@ -310,4 +325,6 @@ def verify_pegasus_args(*, ribs="stations", fidelity="shell", modes=0, chord_ele
                               nlgeom=False, load_steps=1, ribs=None if ribs in ("stations", None) else ribs,
                               no_ribs=ribs is None, rib_thickness=rib_thickness, design=design, modes=modes,
                               chord_elements=chord_elements, height_elements=height_elements, span_size=span_size,
-                              plot=None, json="-", overwrite=False)
+                              plot=None, json="-", overwrite=False, buckling=buckling, loads_case=loads_case,
+                              buckling_modes=buckling_modes, bay_elements=bay_elements, web_elements=web_elements,
+                              stiffeners=stiffeners, keep_deck=keep_deck, load_lines=load_lines)

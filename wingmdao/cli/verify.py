@@ -224,7 +224,12 @@ def run_verify(args) -> int:
     check_output_file(args.plot, "--plot", overwrite=overwrite)
     try:
         res = verify_pegasus(args) if args.case == "pegasus" else verify_wing_box(args)
-        if args.case == "pegasus" and args.plot:
+        if args.case == "pegasus" and args.plot and res.get("analysis") == "buckling":
+            from wingmdao.cli._verify_buckling import plot_buckling
+
+            plot_buckling(res, args.plot)
+            res["plot"] = args.plot
+        elif args.case == "pegasus" and args.plot:
             _plot(res, args.plot)
             res["plot"] = args.plot
     except CalculixNotFound as exc:

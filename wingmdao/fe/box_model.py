@@ -86,12 +86,18 @@ class ShellBox:
         return np.array([self.deck.nodes[int(n)] for n in self.rings[j]])
 
 
-def _perimeter(c, a, b, nc, nh, q):
+def _perimeter(c, a, b, nc, nh, q, skin_x=None):
     """Mid-surface ring points (P, 3) at a section: lower skin front->rear, rear spar up, upper
     skin rear->front, front spar down; ``q`` = 2 for quadratic (mid-side) resolution. Also the
-    wall index of each point's following segment (0 upper, 1 lower, 2 front, 3 rear)."""
+    wall index of each point's following segment (0 upper, 1 lower, 2 front, 3 rear).
+    ``skin_x``: the skins' element boundaries (nc + 1 chordwise offsets from the centre, -a to
+    a; default nc equal elements)."""
     pts, wall = [], []
-    xs = np.linspace(-a, a, q * nc + 1)
+    if skin_x is None:
+        xs = np.linspace(-a, a, q * nc + 1)
+    else:
+        xb = np.asarray(skin_x, float)
+        xs = xb if q == 1 else np.sort(np.concatenate([xb, 0.5 * (xb[:-1] + xb[1:])]))
     zs = np.linspace(-b, b, q * nh + 1)
     for x in xs[:-1]:
         pts.append((x, -b)); wall.append(1)
@@ -118,8 +124,11 @@ def span_lines(sections: BoxSections, element_size: float, ribs_y=()) -> np.ndar
 
 
 def build_shell_box(sections: BoxSections, material, *, element="S8R", chord_elements=8, height_elements=2,
-                    span_element_size=0.5, ribs_y=(), rib_thickness=None) -> ShellBox:
-    """Mesh the box mid-surfaces (see module docstring); ``ribs_y``: rib span coordinates (m)."""
+                    span_element_size=0.5, ribs_y=(), rib_thickness=None, skin_breaks=None) -> ShellBox:
+    """Mesh the box mid-surfaces (see module docstring); ``ribs_y``: rib span coordinates (m);
+    ``skin_breaks``: ``f(a) -> (chord_elements + 1,)`` the skins' chordwise element boundaries
+    (offsets from the section centre, -a to a) at a section of mid-surface half-width a
+    (default: ``chord_elements`` equal elements)."""
     if element not in ("S8R", "S4R"):
         raise ValueError(f"element must be 'S8R' or 'S4R', got {element!r}")
     q = 2 if element == "S8R" else 1
@@ -137,7 +146,13 @@ def build_shell_box(sections: BoxSections, material, *, element="S8R", chord_ele
         c, w, h, t = sections.at(y)
         a = w / 2 - (t["t_front_spar"] + t["t_rear_spar"]) / 4
         b = h / 2 - (t["t_upper_skin"] + t["t_lower_skin"]) / 4
-        pts, wall = _perimeter(c, a, b, chord_elements, height_elements, q)
+        xb = None
+        if skin_breaks is not None:
+            xb = np.asarray(skin_breaks(a), float)
+            if xb.shape != (chord_elements + 1,) or abs(xb[0] + a) > 1e-9 or abs(xb[-1] - a) > 1e-9 \
+                    or np.any(np.diff(xb) <= 0):
+                raise ValueError(f"skin_breaks: {chord_elements + 1} increasing offsets from -a to a needed")
+        pts, wall = _perimeter(c, a, b, chord_elements, height_elements, q, xb)
         ids = deck.add_nodes(pts)
         rings.append(ids)
         tw = np.array([t[WALLS[k]] for k in wall])
@@ -184,7 +199,6 @@ def build_shell_box(sections: BoxSections, material, *, element="S8R", chord_ele
         c, w, h, t = sections.at(fine[j])
         ring = rings[j]
         pts = np.array([deck.nodes[int(n)] for n in ring])
-        xa, xb = pts[:, 0].min(), pts[:, 0].max()
         za, zb = pts[:, 2].min(), pts[:, 2].max()
         Ni, Nk = q * nc, q * nh
         grid = np.zeros((Ni + 1, Nk + 1), dtype=int)
@@ -201,7 +215,7 @@ def build_shell_box(sections: BoxSections, material, *, element="S8R", chord_ele
                 elif q == 2 and i % 2 == 1 and k % 2 == 1:
                     grid[i, k] = 0      # no centre node in S8R
                 else:
-                    x = xa + (xb - xa) * i / Ni
+                    x = pts[i, 0]       # the lower skin's chordwise positions
                     z = za + (zb - za) * k / Nk
                     grid[i, k] = deck.add_nodes([(x, fine[j], z)])[0]
         tr = rib_thickness if rib_thickness is not None else min(t.values())

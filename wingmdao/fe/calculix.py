@@ -133,6 +133,36 @@ def parse_dat(text: str) -> dict:
             "frequencies_hz": np.array(freqs), "buckling_factors": np.array(factors)}
 
 
+def mode_displacements(dat_text: str, mode: int, nset: str) -> dict:
+    """``{node: (ux, uy, uz)}`` of the node set ``nset`` in eigenmode ``mode`` (1-based) of a
+    *BUCKLE or *FREQUENCY step: the .dat prints each mode's blocks after the line
+    'E I G E N V A L U E   N U M B E R  k' (a *BUCKLE step prints the pre-buckling state first).
+    Empty when the mode or the set is not printed."""
+    lines = dat_text.splitlines()
+    head = f"displacements (vx,vy,vz) for set {nset}".lower()
+    i = next((k for k, line in enumerate(lines)
+              if re.match(r"\s*E I G E N V A L U E\s+N U M B E R\s+" + str(int(mode)) + r"\s*$", line)), None)
+    out: dict = {}
+    if i is None:
+        return out
+    i += 1
+    while i < len(lines) and not lines[i].strip().lower().startswith(head):
+        if re.match(r"\s*E I G E N V A L U E\s+N U M B E R\s+\d+\s*$", lines[i]):
+            return out      # the next mode began: this one printed no such set
+        i += 1
+    i += 1
+    while i < len(lines) and not lines[i].strip():
+        i += 1
+    while i < len(lines) and lines[i].strip():
+        parts = lines[i].split()
+        try:
+            out[int(parts[0])] = tuple(float(v) for v in parts[1:4])
+        except (ValueError, IndexError):
+            break
+        i += 1
+    return out
+
+
 def _read_stress_block(lines, i, out) -> int:
     """Rows 'elem, integration point, sxx, syy, szz, sxy, sxz, syz' of an *EL PRINT S block into
     ``out[elem]`` (a later time replaces an earlier one); returns the next line index."""

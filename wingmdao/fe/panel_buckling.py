@@ -35,11 +35,10 @@ from __future__ import annotations
 import math
 import numbers
 import os
-import re
 
 import numpy as np
 
-from wingmdao.fe.calculix import Deck, buckle_step, parse_dat, quadratic_edge_forces, run_deck
+from wingmdao.fe.calculix import Deck, buckle_step, mode_displacements, parse_dat, quadratic_edge_forces, run_deck
 
 #: elements per shortest half wave by default (mesh_size = min(a, p) / DEFAULT_DIVISIONS)
 DEFAULT_DIVISIONS = 8
@@ -237,28 +236,8 @@ def build_panel(length, width, skin_thickness, E, nu, *, n_stiffeners=0, stiffen
 
 
 def _mode_uz(dat_text, mode, nset="SKINOUT") -> dict:
-    """u_z of each node of ``nset`` in buckling mode ``mode`` (1-based): the .dat prints the
-    pre-buckling state, then 'E I G E N V A L U E   N U M B E R  k' and each mode's block."""
-    lines = dat_text.splitlines()
-    head = f"displacements (vx,vy,vz) for set {nset}".lower()
-    i = next((k for k, line in enumerate(lines)
-              if re.match(r"\s*E I G E N V A L U E\s+N U M B E R\s+" + str(mode) + r"\s*$", line)), None)
-    out: dict = {}
-    if i is None:
-        return out
-    while i < len(lines) and not lines[i].strip().lower().startswith(head):
-        i += 1
-    i += 1
-    while i < len(lines) and not lines[i].strip():
-        i += 1
-    while i < len(lines) and lines[i].strip():
-        parts = lines[i].split()
-        try:
-            out[int(parts[0])] = float(parts[3])
-        except (ValueError, IndexError):
-            break
-        i += 1
-    return out
+    """u_z of each node of ``nset`` in buckling mode ``mode`` (1-based)."""
+    return {n: u[2] for n, u in mode_displacements(dat_text, mode, nset).items()}
 
 
 def panel_buckling_factor(length, width, skin_thickness, E, nu, *, n_stiffeners=0, stiffener_height=None,

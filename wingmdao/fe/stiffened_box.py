@@ -1,0 +1,229 @@
+"""Shell model of a stiffened wingbox for CalculiX linear buckling (``*BUCKLE``).
+
+The box of :func:`wingmdao.fe.box_model.build_shell_box` (S8R on the skin and spar-web
+mid-surfaces, ribs as shells in the rib planes sharing the ring nodes, root ring clamped) with
+blade stiffeners on the inner faces of both skins:
+
+* **Count and positions.** ``count`` blades per skin (default round(mean outer width / pitch)),
+  the same along the span, at the design pitch p, centred on the box: chordwise offsets
+  (k - (count - 1) / 2) p from the section centre. The interior skin bays are p wide; the two
+  bays next to the spars take the rest of the width.
+* **Webs.** Each blade is a spanwise strip of S8R shells in the plane x = const, from the skin
+  mid-surface (sharing the skin's nodes on the stiffener line) inward to the skin's inner face
+  plus the web height h (the panel model of :mod:`wingmdao.fe.panel_buckling` does the same: the
+  part inside the skin half-thickness is counted twice). Height and thickness vary linearly
+  between the stations (the design's per-station values interpolated at every mesh line; each
+  element takes the mean thickness of its two ends).
+* **Area per width.** The sizing smears the stiffeners over the outer box width w at
+  a = h t_s / p per width, i.e. w / p blades, not an integer. The FE blades keep the design's h
+  and p; their thickness is t_s w / (count p) (``thickness_scale``, about 1.06 for PEGASUS), so the
+  stiffener area per width, mass, and axial and bending stiffness per width are the design's.
+* **Ribs.** The stiffener webs pass through the rib planes; there u_x (out of the web's plane)
+  of every web node equals u_x of its foot on the skin (``*EQUATION``), as a rib clip holds it.
+* **Mesh.** ``bay_elements`` S8R across each interior skin bay (the edge bays in proportion),
+  ``height_elements`` across each spar web, ``web_elements`` over the blade height, elements of
+  at most ``span_element_size`` along the span with a mesh line on every station and rib.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from wingmdao.fe.box_model import BoxSections, ShellBox, build_shell_box, station_loads
+from wingmdao.fe.calculix import buckle_step, mode_displacements, parse_dat, run_deck
+
+SKINS = ("upper", "lower")
+
+
+@dataclass
+class StiffenedBox:
+    """The built model: the shell box, the blade count and thickness scale, each node's part
+    (``upper_skin``, ``lower_skin``, ``front_spar``, ``rear_spar``, ``upper_stiffeners``,
+    ``lower_stiffeners``, ``ribs``) and the elements per part."""
+
+    box: ShellBox
+    count: int
+    pitch: float
+    thickness_scale: np.ndarray            # per station: w / (count p)
+    node_part: dict = field(default_factory=dict)
+    part_elements: dict = field(default_factory=dict)
+    num_webs: int = 0
+    num_ribs: int = 0
+    overlap_kg: float = 0.0                # web mass inside the skins' half thickness (counted twice)
+
+    @property
+    def deck(self):
+        return self.box.deck
+
+    @property
+    def num_elements(self) -> int:
+        return self.box.num_elements
+
+
+def _linspace_tail(a, b, n):
+    return list(np.linspace(a, b, n + 1)[1:])
+
+
+def build_stiffened_box(sections: BoxSections, material, stiffeners: dict, pitch: float, *, count=None,
+                        bay_elements=2, web_elements=1, height_elements=4, span_element_size=0.1, ribs_y=(),
+                        rib_thickness=0.002) -> StiffenedBox:
+    """Mesh the stiffened box (module docstring). ``stiffeners``: ``{"upper": (h, ts),
+    "lower": (h, ts)}``, web height and thickness per section (m, (n,) each)."""
+    n_sec = len(sections.centres)
+    dims = {}
+    for s in SKINS:
+        h, ts = (np.broadcast_to(np.asarray(v, float), (n_sec,)).copy() for v in stiffeners[s])
+        if not np.all(np.isfinite(h) & (h > 0) & np.isfinite(ts) & (ts > 0)):
+            raise ValueError(f"{s} stiffeners: heights and thicknesses must be positive (m), got {h}, {ts}")
+        dims[s] = (h, ts)
+    if not (math.isfinite(pitch) and pitch > 0):
+        raise ValueError(f"stiffener pitch = {pitch} m; allowed range (0, inf)")
+    for name, v in (("bay_elements", bay_elements), ("web_elements", web_elements),
+                    ("height_elements", height_elements)):
+        if int(v) < 1:
+            raise ValueError(f"{name} = {v}; allowed >= 1")
+    t = sections.thickness
+    a_mid = sections.widths / 2 - (t["t_front_spar"] + t["t_rear_spar"]) / 4
+    n = int(count) if count is not None else max(1, int(round(float(np.mean(sections.widths)) / pitch)))
+    offsets = (np.arange(n) - (n - 1) / 2) * pitch
+    edge = float(a_mid.min() - offsets[-1])
+    if n < 1 or edge <= 0.05 * pitch:
+        raise ValueError(f"{n} stiffeners at {pitch} m pitch do not fit in the box (mid-surface width "
+                         f"{2 * a_mid.min():.4g} m); allowed: count <= {int(2 * a_mid.min() / pitch)}")
+    ne = max(1, int(math.ceil(bay_elements * float(a_mid.max() - offsets[-1]) / pitch - 1e-9)))
+    nc = 2 * ne + (n - 1) * int(bay_elements)
+
+    def breaks(a):
+        xs = [-a] + _linspace_tail(-a, offsets[0], ne)
+        for k in range(n - 1):
+            xs += _linspace_tail(offsets[k], offsets[k + 1], int(bay_elements))
+        return np.array(xs + _linspace_tail(offsets[-1], a, ne))
+
+    box = build_shell_box(sections, material, element="S8R", chord_elements=nc, height_elements=int(height_elements),
+                          span_element_size=span_element_size, ribs_y=ribs_y, rib_thickness=rib_thickness,
+                          skin_breaks=breaks)
+    deck = box.deck
+    q = 2
+    Nc, Nh = q * nc, q * int(height_elements)
+    parts = {}
+    for ring in box.rings:      # ring order: lower skin, rear spar, upper skin, front spar
+        for i, nd in enumerate(ring):
+            parts[int(nd)] = ("lower_skin" if i < Nc else "rear_spar" if i < Nc + Nh
+                              else "upper_skin" if i < 2 * Nc + Nh else "front_spar")
+    # stiffener lines: break index jb = ne + k (n - 1 interior bays between the blades)
+    jbs = [ne + k * int(bay_elements) for k in range(n)]
+    ring_index = {"lower": [q * jb for jb in jbs], "upper": [Nc + Nh + (Nc - q * jb) for jb in jbs]}
+    ys = box.span_y
+    y_sec = sections.centres[:, 1]
+    scale = sections.widths / (n * pitch)
+    rib_lines = {int(np.argmin(np.abs(ys - yr))) for yr in ribs_y}
+    Nk = q * int(web_elements)
+    eqs = ["*EQUATION"]
+    part_elements = {}
+    nweb = 0
+    overlap = 0.0
+    for s in SKINS:
+        h = np.interp(ys, y_sec, dims[s][0])
+        ts = np.interp(ys, y_sec, dims[s][1] * scale)
+        tskin = np.interp(ys, y_sec, t[f"t_{s}_skin"])
+        inward = -1.0 if s == "upper" else 1.0
+        elems = []
+        for idx in ring_index[s]:
+            grid = np.zeros((len(ys), Nk + 1), dtype=int)
+            for j in range(len(ys)):
+                foot = int(box.rings[j][idx])
+                p0 = np.array(deck.nodes[foot])
+                top = tskin[j] / 2 + h[j]
+                grid[j, 0] = foot
+                for k in range(1, Nk + 1):
+                    if j % 2 and k % 2:
+                        continue            # no centre node in S8R
+                    nd = int(deck.add_nodes([p0 + np.array([0.0, 0.0, inward * top * k / Nk])])[0])
+                    grid[j, k] = nd
+                    parts[nd] = f"{s}_stiffeners"
+                    if j in rib_lines:
+                        eqs.append(f"2\n{nd}, 1, 1.0, {foot}, 1, -1.0")
+            for j in range(0, len(ys) - 1, q):
+                for k in range(0, Nk, q):
+                    conn = [grid[j, k], grid[j + 2, k], grid[j + 2, k + 2], grid[j, k + 2],
+                            grid[j + 1, k], grid[j + 2, k + 1], grid[j + 1, k + 2], grid[j, k + 1]]
+                    name = f"ST{s[0].upper()}{len(elems) + 1}"
+                    elems += deck.add_elements("S8R", name, [conn])
+                    tw = 0.5 * (ts[j] + ts[j + 2])
+                    deck.sections.append(f"*SHELL SECTION, ELSET={name}, MATERIAL=MAT\n{tw:.10g}")
+                    if k == 0:   # the skin half thickness, at the foot of the web
+                        overlap += tw * (ys[j + 2] - ys[j]) * 0.25 * (tskin[j] + tskin[j + 2]) * material.rho
+            nweb += 1
+        part_elements[f"{s}_stiffeners"] = elems
+    if len(eqs) > 1:
+        deck.model_extra.append("\n".join(eqs))
+    for nd in deck.nodes:
+        parts.setdefault(int(nd), "ribs")
+    box.num_elements += sum(len(v) for v in part_elements.values())
+    return StiffenedBox(box, n, float(pitch), scale, parts, part_elements, nweb, len(ribs_y), overlap)
+
+
+def _section_thickness(deck) -> dict:
+    out = {}
+    for text in deck.sections:
+        m = re.match(r"\*SHELL SECTION, ELSET=(\S+?), MATERIAL=\S+\n(\S+)", text)
+        if m:
+            out[m.group(1)] = float(m.group(2))
+    return out
+
+
+def shell_mass(deck, density: float) -> dict:
+    """Mass (kg) of the deck's shell elements, area (of the corner-node quadrilateral, half the
+    cross product of its diagonals) x section thickness x ``density``, by element set kind:
+    ``walls`` (skins and spar webs), ``stiffeners``, ``ribs``, and ``total``."""
+    thick = _section_thickness(deck)
+    out = {"walls": 0.0, "stiffeners": 0.0, "ribs": 0.0}
+    for etype, elset, block in deck.elements:
+        if not etype.startswith("S") or elset not in thick:
+            continue
+        kind = "ribs" if elset.startswith("RIB") else "stiffeners" if elset.startswith("ST") else "walls"
+        for conn in block.values():
+            p = np.array([deck.nodes[c] for c in conn[:4]])
+            area = 0.5 * np.linalg.norm(np.cross(p[2] - p[0], p[3] - p[1]))
+            out[kind] += area * thick[elset] * density
+    out["total"] = sum(out.values())
+    return out
+
+
+def solve_buckling(model: StiffenedBox, loads, modes: int = 5, keep_dir=None) -> dict:
+    """``*BUCKLE`` of the station loads [(y, centre, F, M)] (entering through the rings'
+    distributing couplings): the lowest positive factor (``factor``), all factors, and where the
+    first positive mode peaks: the part and position of the node with the largest displacement
+    magnitude (``peak_part``, ``peak_xyz``) and each part's largest displacement relative to it
+    (``part_peaks``); ``positive_modes``: the same for every positive mode, lowest first."""
+    if not (isinstance(modes, (int, np.integer)) and 1 <= modes <= 50):
+        raise ValueError(f"buckling modes = {modes!r}; allowed: an integer in [1, 50]")
+    deck = model.deck
+    deck.nsets["ALLN"] = sorted(deck.nodes)
+    run = run_deck(deck.text([buckle_step(modes, station_loads(model.box, loads), ["ALLN"])]), job="buckle",
+                   keep_dir=keep_dir)
+    factors = parse_dat(run["dat"])["buckling_factors"]
+    positive = [(k, f) for k, f in enumerate(factors) if f > 0]
+    if not positive:
+        raise ValueError(f"no positive buckling factor among the {len(factors)} extracted ({factors.tolist()}); "
+                         "ask for more modes")
+    modes_out = []
+    for k, f in sorted(positive, key=lambda kf: kf[1]):
+        u = mode_displacements(run["dat"], k + 1, "ALLN")
+        mags = {nd: float(np.linalg.norm(v)) for nd, v in u.items()}
+        peak = max(mags, key=mags.get) if mags else None
+        by_part: dict = {}
+        for nd, m in mags.items():
+            p = model.node_part.get(nd, "ribs")
+            by_part[p] = max(by_part.get(p, 0.0), m)
+        top = max(by_part.values()) if by_part else 1.0
+        modes_out.append({"mode_number": k + 1, "factor": float(f), "peak_node": peak,
+                          "peak_part": model.node_part.get(peak) if peak else None,
+                          "peak_xyz": list(deck.nodes[peak]) if peak else None,
+                          "part_peaks": {p: v / top for p, v in sorted(by_part.items())}})
+    first = modes_out[0]
+    return dict(first, factors=factors.tolist(), positive_modes=modes_out, time=run["time"])
