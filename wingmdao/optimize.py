@@ -2,7 +2,9 @@
 
 ``pyoptsparse`` is not installable from the package registry on every machine, so the
 driver falls back to SciPy's SLSQP through :class:`openmdao.api.ScipyOptimizeDriver` when
-``pyoptsparse`` does not import. The choice is reported in the results (``driver`` key).
+``pyoptsparse`` does not import, and IPOPT runs through ``cyipopt``
+(:class:`wingmdao.drivers.ipopt.IpoptDriver`) when ``cyipopt`` imports. The choice is reported
+in the results (``driver`` key).
 Every run records to SQLite so no iteration is lost.
 
 A design the analysis cannot solve (a beam whose Newton solve does not converge raises
@@ -36,9 +38,11 @@ def make_driver(optimizer: str = "SLSQP", *, maxiter: int = 200, tol: float = 1e
     """Return ``(driver, description)`` for ``optimizer``.
 
     With pyoptsparse importable and ``prefer_pyoptsparse``, an ``om.pyOptSparseDriver``
-    running ``optimizer`` (SNOPT, IPOPT or SLSQP); otherwise ``om.ScipyOptimizeDriver`` with
-    SLSQP (the only gradient-based SciPy method that handles our inequality constraints and
-    bounds well). Raises ``ValueError`` for an unknown optimizer name.
+    running ``optimizer`` (SNOPT, IPOPT or SLSQP); otherwise, for IPOPT,
+    :class:`wingmdao.drivers.ipopt.IpoptDriver` when ``cyipopt`` imports (the ``ipopt`` extra),
+    and for SLSQP ``om.ScipyOptimizeDriver`` with SLSQP (the only gradient-based SciPy method
+    that handles our inequality constraints and bounds well). Raises ``ValueError`` for an
+    unknown optimizer name, or one that nothing installed here can run.
     """
     name = optimizer.upper()
     if name not in PYOPTSPARSE_OPTIMIZERS:
@@ -55,6 +59,14 @@ def make_driver(optimizer: str = "SLSQP", *, maxiter: int = 200, tol: float = 1e
             driver.opt_settings["MAXIT"] = maxiter
             driver.opt_settings["ACC"] = tol
         return driver, f"pyOptSparseDriver/{name}"
+    if name == "IPOPT":
+        from wingmdao.drivers.ipopt import IpoptDriver, cyipopt_available
+
+        if cyipopt_available():
+            driver = IpoptDriver(max_iter=maxiter, tol=tol, disp=disp)
+            return driver, "IpoptDriver/IPOPT (cyipopt)"
+        raise ValueError("optimizer IPOPT needs pyoptsparse or cyipopt, and neither imports here; "
+                         "install the ipopt extra (pip install wingmdao[ipopt]) or use SLSQP")
     if name != "SLSQP":
         raise ValueError(f"optimizer {name} needs pyoptsparse, which does not import here; use SLSQP")
     driver = BackoffSLSQPDriver(maxiter=maxiter, tol=tol, disp=disp)
