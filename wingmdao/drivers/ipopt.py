@@ -158,6 +158,7 @@ class IpoptDriver(Driver):
         dv_bounds = self._autoscaler.get_bounds_scaling("design_var")
         lb = np.concatenate([_bound(dv_bounds[d].lower, sizes[d], -np.inf) for d in self._dvlist])
         ub = np.concatenate([_bound(dv_bounds[d].upper, sizes[d], np.inf) for d in self._dvlist])
+        lb, ub = np.minimum(lb, ub), np.maximum(lb, ub)  # a negative scaler swaps the scaled bounds
 
         # constraints: nonlinear first, then linear
         self._nlcons = [c for c, m in self._cons.items() if not m["linear"]]
@@ -171,6 +172,7 @@ class IpoptDriver(Driver):
                 lo = hi = _bound(b.equals, size, 0.0)
             else:
                 lo, hi = _bound(b.lower, size, -np.inf), _bound(b.upper, size, np.inf)
+                lo, hi = np.minimum(lo, hi), np.maximum(lo, hi)
             cl.append(lo)
             cu.append(hi)
             self._con_slices[name] = slice(r, r + size)
