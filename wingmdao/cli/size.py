@@ -22,7 +22,8 @@ def _add_common(p, *, sizing: bool):
                          plots=sizing, json=sizing)
     if sizing:
         p.add_argument("--optimizer", default="SLSQP", choices=["SLSQP", "SNOPT", "IPOPT"],
-                       help="optimizer (SNOPT/IPOPT need pyoptsparse; SLSQP runs through SciPy "
+                       help="optimizer (SNOPT needs pyoptsparse; IPOPT runs through pyoptsparse, else "
+                            "through cyipopt: pip install wingmdao[ipopt]; SLSQP runs through SciPy "
                             "when pyoptsparse does not import)")
         p.add_argument("--maxiter", type=int, default=None, help="maximum optimizer iterations (default unset: the case's choice)")
         p.add_argument("--presize", type=int, default=None, metavar="N",
