@@ -25,6 +25,12 @@ PENDING: set = set()
 #: documented ``_scipy_optimize_result``. (file, attribute) pairs:
 DRIVER_HOOKS = {("optimize.py", name) for name in
                 ("_declare_options", "_run_solve_nonlinear", "_get_recorder_metadata", "_scipy_optimize_result")}
+#: ``wingmdao.drivers.ipopt.IpoptDriver`` is an OpenMDAO Driver written as OpenMDAO's own drivers
+#: are (``om.pyOptSparseDriver`` uses the same names): its setup hook, the problem it drives, the
+#: relevance graph that gives the constraint Jacobian's structure, the output vector it reads
+#: values from after a failed evaluation, and the recorder metadata.
+DRIVER_HOOKS |= {(os.path.join("drivers", "ipopt.py"), name) for name in
+                 ("_setup_driver", "_problem", "_relevance", "_vectors", "_read_only", "_get_recorder_metadata")}
 #: the names the issue lists, matched as prefixes (``obj._var_rel2meta``, ``obj._subsystems_allprocs``, ...)
 LISTED = re.compile(r"^_(var_|subsystems|static_subsystems|problem_meta|outputs$|inputs$|residuals$|abs_|prom|"
                     r"conn_|setup_|design_vars|responses|owns_|problem$|vectors)")

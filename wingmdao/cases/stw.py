@@ -26,254 +26,24 @@ the lift and twist distributions of both maneuvers as CSV files beside the JSON.
 
 from __future__ import annotations
 
-import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defaults
 from wingmdao.cases import stw_data as D
+from wingmdao.cases import stw_loads
 
 NAME = "stw"
 HELP = ("Simple Transonic Wing (MDO Aeroelastic Benchmark) Case 1: 14 m semi-span, 28 deg sweep, RAE 2822, "
         "T-stiffened wingbox between spars at 0.15 and 0.65 chord, 23 ribs; trimmed aeroelastic 2.5 g / -1 g maneuvers at sea level, "
         "M 0.458, landing gross mass")
 
-CUTS = ("normal", "streamwise")
-HEIGHT_RULES = ("spars", "mean10")
+from wingmdao.cases.stw_geometry import (  # noqa: F401  (the case's geometry, re-exported)
+    CUTS, HEIGHT_RULES, _span_array, chord, leading_edge_x, spar_x, rib_y, airfoil_surfaces,
+    thickness_to_chord, StwBeam, _elements_per_bay, node_y, beam_geometry, AeroReference,
+    quarter_chord_sweep_deg, aero_reference)
 
-
-# ------------------------------------------------------------------------------------------------
-# Planform
-# ------------------------------------------------------------------------------------------------
-def _span_array(y, name="y") -> np.ndarray:
-    arr = np.asarray(y, dtype=float)
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite (m)")
-    if np.any(arr < 0.0) or np.any(arr > D.SEMI_SPAN):
-        raise ValueError(f"{name} must lie in [0, {D.SEMI_SPAN}] m (the nominal semi-span), got "
-                         f"{float(arr.min()):g} .. {float(arr.max()):g} m")
-    return arr
-
-
-def chord(y) -> np.ndarray:
-    """Streamwise chord at span position(s) ``y`` (m): linear from 5 m at y = 0 to 1.5 m at the tip."""
-    y = _span_array(y)
-    return D.ROOT_CHORD + (D.TIP_CHORD - D.ROOT_CHORD) * y / D.SEMI_SPAN
-
-
-def leading_edge_x(y) -> np.ndarray:
-    """x of the leading edge (m aft of the root leading edge): straight, 7.5 m aft at the tip."""
-    y = _span_array(y)
-    return D.TIP_LE_OFFSET * y / D.SEMI_SPAN
-
-
-def spar_x(y) -> tuple[np.ndarray, np.ndarray]:
-    """x of the front and rear spars (m). Outboard of the side of body at 15 % and 65 % of the
-    local chord; inboard the box is unswept: the spars keep their side-of-body x (wingGeometry.py)."""
-    y = _span_array(y)
-    ys = np.maximum(y, D.SOB_Y)
-    le, c = leading_edge_x(ys), chord(ys)
-    return le + D.FRONT_SPAR_FRACTION * c, le + D.REAR_SPAR_FRACTION * c
-
-
-def rib_y() -> np.ndarray:
-    """The 23 rib planes (m): 4 evenly spaced from the symmetry plane to the side of body (both
-    included), 19 evenly spaced outboard of it, the last at the tip (model.rst). The benchmark's
-    meshes put the end ribs 1 mm inside (``stw_data.RIB_Y_MESH``); here the nominal 0 and 14 m."""
-    inner = np.linspace(0.0, D.SOB_Y, D.NUM_RIBS_CENTRE)
-    outer = D.SOB_Y + (D.SEMI_SPAN - D.SOB_Y) * np.arange(1, D.NUM_RIBS_OUTER + 1) / D.NUM_RIBS_OUTER
-    return np.concatenate([inner, outer])
-
-
-# ------------------------------------------------------------------------------------------------
-# Airfoil
-# ------------------------------------------------------------------------------------------------
-def airfoil_surfaces():
-    """Functions upper(x), lower(x): z/c of the RAE 2822 surfaces at chord fraction x, linear
-    interpolation of the benchmark's coordinates (upper: first point to the leading edge)."""
-    xy = np.asarray(D.RAE2822_COORDINATES, dtype=float)
-    ile = int(np.argmin(xy[:, 0]))
-    up, lo = xy[: ile + 1][::-1], xy[ile:]
-    return (lambda x: np.interp(x, up[:, 0], up[:, 1])), (lambda x: np.interp(x, lo[:, 0], lo[:, 1]))
-
-
-def thickness_to_chord(x) -> np.ndarray:
-    """RAE 2822 thickness (upper minus lower surface) over chord at chord fraction(s) ``x``."""
-    x = np.asarray(x, dtype=float)
-    if np.any(x < 0.0) or np.any(x > 1.0) or not np.all(np.isfinite(x)):
-        raise ValueError("chord fractions must lie in [0, 1]")
-    upper, lower = airfoil_surfaces()
-    return upper(x) - lower(x)
-
-
-# ------------------------------------------------------------------------------------------------
-# Beam geometry
-# ------------------------------------------------------------------------------------------------
-@dataclass
-class StwBeam:
-    """The STW wingbox beam: the :class:`~wingmdao.sizing.WingGeometry` and the data behind it.
-
-    Per node (n,): ``y`` span position (m), ``chord`` streamwise chord (m), ``axis_fraction``
-    chord fraction of the beam axis in the streamwise section, ``front_spar_height`` and
-    ``rear_spar_height`` (m, airfoil thickness at the spars), ``width_streamwise`` (m, spar to
-    spar along x), ``sweep_deg`` (beam-axis sweep at the node; the mean of the two elements at
-    the side-of-body kink). ``rib_y`` (23,) m and ``rib_nodes`` (23,) their node indices.
-    """
-
-    geometry: object  # wingmdao.sizing.WingGeometry
-    y: np.ndarray
-    rib_y: np.ndarray
-    rib_nodes: np.ndarray
-    chord: np.ndarray
-    axis_fraction: np.ndarray
-    front_spar_height: np.ndarray
-    rear_spar_height: np.ndarray
-    width_streamwise: np.ndarray
-    sweep_deg: np.ndarray
-    cut: str
-    height_rule: str
-
-
-def _elements_per_bay(num_nodes: int, bay_length: np.ndarray) -> np.ndarray:
-    """Elements of every rib bay, >= 1 each, summing to num_nodes - 1, close to proportional to
-    the bay lengths (largest remainders)."""
-    total = num_nodes - 1
-    target = total * bay_length / bay_length.sum()
-    m = np.maximum(1, np.floor(target)).astype(int)
-    while m.sum() < total:
-        m[int(np.argmax(target - m))] += 1
-    while m.sum() > total:
-        k = np.flatnonzero(m > 1)
-        m[k[int(np.argmin((target - m)[k]))]] -= 1
-    return m
-
-
-def node_y(num_nodes: int = D.NUM_RIBS) -> tuple[np.ndarray, np.ndarray]:
-    """Span positions of ``num_nodes`` beam nodes (m) with a node on every rib, and the rib node
-    indices. ValueError for fewer nodes than ribs (23) or a non-integer count."""
-    if isinstance(num_nodes, (bool, np.bool_)) or not isinstance(num_nodes, numbers.Integral):
-        raise ValueError(f"stw num_nodes = {num_nodes!r}: must be an integer")
-    if num_nodes < D.NUM_RIBS:
-        raise ValueError(f"stw num_nodes = {num_nodes}: the beam needs a node at each of the "
-                         f"{D.NUM_RIBS} ribs, so at least {D.NUM_RIBS} nodes")
-    ribs = rib_y()
-    per_bay = _elements_per_bay(int(num_nodes), np.diff(ribs))
-    y = [ribs[0]]
-    for k, m in enumerate(per_bay):
-        y.extend(ribs[k] + (ribs[k + 1] - ribs[k]) * np.arange(1, m + 1) / m)
-    y = np.array(y)
-    y[-1] = ribs[-1]
-    rib_nodes = np.concatenate([[0], np.cumsum(per_bay)])
-    return y, rib_nodes
-
-
-def beam_geometry(num_nodes: int = D.NUM_RIBS, *, cut: str = "normal", height_rule: str = "spars") -> StwBeam:
-    """The wingbox beam with ``num_nodes`` nodes (>= 23: one per rib, more inside the bays).
-
-    Nodes lie on the mid-box line, halfway between the spars in the streamwise section (x),
-    in the chord plane (z = 0: no dihedral); outboard of the side of body the line is straight
-    (sweep atan(6.1 / 14) = 23.5 deg), inboard it is unswept along y. Jig Euler angles from the
-    polyline (``wingmdao.beam.geometry.polyline_beam``; the kink node takes the mean).
-
-    ``cut``: ``"normal"`` (default) gives the box dimensions in the section normal to the beam
-    axis, the streamwise spar-to-spar width times cos(sweep), the height unchanged (the
-    convention of the wing-box case, docs/cases.md); ``"streamwise"`` the streamwise section.
-    ``height_rule``: ``"spars"`` (default) the mean of the front and rear spar heights (airfoil
-    thickness at the spars, the box taken as the rectangle of the spar-to-spar trapezoid);
-    ``"mean10"`` the mean of ten heights between the spars (Eq. 4.12, as the PEGASUS and CRM
-    cases). No non-structural mass: the benchmark has none.
-    """
-    from wingmdao.beam.geometry import polyline_beam
-    from wingmdao.sizing import WingGeometry
-
-    if cut not in CUTS:
-        raise ValueError(f"stw cut = {cut!r}; allowed: {', '.join(CUTS)}")
-    if height_rule not in HEIGHT_RULES:
-        raise ValueError(f"stw height_rule = {height_rule!r}; allowed: {', '.join(HEIGHT_RULES)}")
-    y, rib_nodes = node_y(num_nodes)
-    c = chord(y)
-    le = leading_edge_x(y)
-    xf, xr = spar_x(y)
-    x_axis = 0.5 * (xf + xr)
-    f_front, f_rear = (xf - le) / c, (xr - le) / c
-    h_front = thickness_to_chord(f_front) * c
-    h_rear = thickness_to_chord(f_rear) * c
-    if height_rule == "spars":
-        height = 0.5 * (h_front + h_rear)
-    else:
-        fr = np.linspace(0.0, 1.0, 10)[None, :]
-        frac = f_front[:, None] + fr * (f_rear - f_front)[:, None]
-        height = np.mean(thickness_to_chord(frac), axis=1) * c
-    z = np.tan(np.radians(D.DIHEDRAL_DEG)) * y
-    pos = np.column_stack([x_axis, y, z])
-    beam = polyline_beam(pos, np.ones(y.size - 1, dtype=int))
-    angles = beam.node_euler_angles
-    sweep = -angles[:, 2]  # psi = atan2(-s_x, hypot(s_y, s_z)): minus the sweep
-    width_s = xr - xf
-    width = width_s * np.cos(sweep) if cut == "normal" else width_s.copy()
-    geo = WingGeometry(node_positions=pos, node_euler_angles=angles, width=width, height=height,
-                       nonstructural_mass_per_length=np.zeros(y.size), span_coordinate=y.copy())
-    return StwBeam(geometry=geo, y=y, rib_y=rib_y(), rib_nodes=rib_nodes, chord=c,
-                   axis_fraction=(x_axis - le) / c, front_spar_height=h_front, rear_spar_height=h_rear,
-                   width_streamwise=width_s, sweep_deg=np.degrees(sweep), cut=cut, height_rule=height_rule)
-
-
-# ------------------------------------------------------------------------------------------------
-# Aerodynamic reference data
-# ------------------------------------------------------------------------------------------------
-@dataclass
-class AeroReference:
-    """Planform data per station and for the wing, for strip or lifting-line models.
-
-    Per station (n,): ``y`` (m), ``chord`` (m, streamwise), ``leading_edge_x`` and
-    ``quarter_chord_x`` (m aft of the root leading edge), ``quarter_chord_sweep_deg`` (local
-    sweep of the quarter-chord line; constant: the planform is one trapezoid, the side-of-body
-    break is in the wingbox only), ``twist_deg`` (zero: untwisted). Wing: ``semi_span`` (m),
-    ``area`` (one wing, m^2), ``mac`` (m), ``aspect_ratio`` (2 b^2 / S), ``mach`` of the Case 1
-    maneuvers.
-    """
-
-    y: np.ndarray
-    chord: np.ndarray
-    leading_edge_x: np.ndarray
-    quarter_chord_x: np.ndarray
-    quarter_chord_sweep_deg: np.ndarray
-    twist_deg: np.ndarray
-    semi_span: float
-    area: float
-    mac: float
-    aspect_ratio: float
-    mach: float
-
-
-def quarter_chord_sweep_deg() -> float:
-    """Sweep of the quarter-chord line, deg (derived): atan((7.5 - 0.25 (5 - 1.5)) / 14) = 25.3 deg."""
-    return float(np.degrees(np.arctan((D.TIP_LE_OFFSET + 0.25 * (D.TIP_CHORD - D.ROOT_CHORD)) / D.SEMI_SPAN)))
-
-
-def aero_reference(y=None) -> AeroReference:
-    """Planform data at span positions ``y`` (m, in [0, 14]; default: the 23 rib planes).
-
-    Area and MAC are the integrals of the linear chord (S = int c dy, MAC = int c^2 dy / S); the
-    benchmark states 45.5 m^2 and 3.56 m."""
-    y = rib_y() if y is None else _span_array(y)
-    y = np.atleast_1d(y)
-    c = chord(y)
-    le = leading_edge_x(y)
-    cr, ct, b = D.ROOT_CHORD, D.TIP_CHORD, D.SEMI_SPAN
-    area = b * (cr + ct) / 2.0  # int c dy of the linear chord
-    mac = b * (cr * cr + cr * ct + ct * ct) / 3.0 / area  # int c^2 dy / S
-    return AeroReference(y=y, chord=c, leading_edge_x=le, quarter_chord_x=le + 0.25 * c,
-                         quarter_chord_sweep_deg=np.full(y.size, quarter_chord_sweep_deg()),
-                         twist_deg=np.zeros(y.size), semi_span=D.SEMI_SPAN, area=area, mac=mac,
-                         aspect_ratio=2.0 * D.SEMI_SPAN**2 / area, mach=D.PULL_UP.mach)
-
-
-# ------------------------------------------------------------------------------------------------
-# The sizing case: wingmdao size stw
-# ------------------------------------------------------------------------------------------------
-#: load sets: both Case 1 maneuvers (the only one)
 LOAD_SETS = ("maneuver",)
 #: maneuver load cases: (name, benchmark flight condition)
 MANEUVERS = (("pullup", D.PULL_UP), ("pushdown", D.PUSH_DOWN))
@@ -350,7 +120,6 @@ def build(options: StwOptions | None = None, **overrides) -> CaseSetup:
     """The STW Case 1 sizing: beam, both trimmed maneuvers, material and bounds, from a
     :class:`StwOptions` and/or keyword options (``build(num_nodes=40)``); ValueError naming the
     option for bad input, before any solve."""
-    from wingmdao.cases import stw_loads
     from wingmdao.groups.load_case import parse_families
     from wingmdao.panels.layout import STIFFENER_VARS, PanelLayout
     from wingmdao.sizing import WALL_VARS, SizingOptions
@@ -415,7 +184,6 @@ def write_outputs(prob, setup, stem: str, result: dict) -> list:
     """After the run: the lift and twist distributions of both maneuvers at the final design as
     CSV files (columns ``stw_loads.CSV_COLUMNS``) and, in ``result["maneuvers"]``, each maneuver's
     angle of attack, load factor, lift and root bending moment, and the loads' masses."""
-    from wingmdao.cases import stw_loads
     from wingmdao.cases.planform import G0
 
     info = setup.stw

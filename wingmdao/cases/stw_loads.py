@@ -50,7 +50,7 @@ def camber_coefficients(n: int = 2000) -> tuple[float, float]:
     """(alpha_zero_lift rad, cm about the quarter chord) of the RAE 2822 mean line by thin-airfoil
     theory: alpha_L0 = -1/pi int dz/dx (cos t - 1) dt, cm_c/4 = 1/2 int dz/dx (cos 2t - cos t) dt,
     x = (1 - cos t) / 2 (Abbott & von Doenhoff, Ch. 4)."""
-    from wingmdao.cases.stw import airfoil_surfaces
+    from wingmdao.cases.stw_geometry import airfoil_surfaces
 
     upper, lower = airfoil_surfaces()
     t = (np.arange(n) + 0.5) * np.pi / n
@@ -68,7 +68,7 @@ def spanwise_lift_slope(y, mach: float = D.PULL_UP.mach, n_panels: int = 60):
     """Effective strip lift slope a(y) (1/rad, compressible, per streamwise angle) at span
     positions ``y`` and the wing's CL_alpha, from the Weissinger solution of the STW planform."""
     from wingmdao.aero.weissinger import weissinger_lift_slope
-    from wingmdao.cases import stw
+    from wingmdao.cases import stw_geometry as stw
 
     slope, cl_alpha, _ = weissinger_lift_slope(y, stw.chord, stw.leading_edge_x, D.SEMI_SPAN, mach=mach,
                                                n_panels=n_panels)

@@ -64,7 +64,6 @@ def openaerostruct_missing() -> str | None:
 def run(args) -> int:
     import sys
 
-
     _check_args(args)
     missing = openaerostruct_missing()
     if missing:

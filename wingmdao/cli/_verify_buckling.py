@@ -164,7 +164,7 @@ def check_buckling_args(args):
 
 def build_model(data, setup, design, args, rib_t):
     """(StiffenedBox, BoxSections) of the design."""
-    from wingmdao.cli.verify import _material
+    from wingmdao.cli._verify_fe import _material
     from wingmdao.fe.box_model import BoxSections
     from wingmdao.fe.stiffened_box import build_stiffened_box
 
@@ -180,7 +180,7 @@ def build_model(data, setup, design, args, rib_t):
 
 
 def verify_pegasus_buckling(args) -> dict:
-    from wingmdao.cli.verify import _material
+    from wingmdao.cli._verify_fe import _material
     from wingmdao.fe.calculix import find_ccx
     from wingmdao.fe.stiffened_box import shell_mass, solve_buckling
 

@@ -46,7 +46,6 @@ def run_export(args) -> int:
     from wingmdao.fe.export import beam_deck, shell_deck, write_atomic
     from wingmdao.materials import ALUMINIUM
 
-
     check_output_file(args.file, "FILE", overwrite=args.overwrite)
     for name in ("tip_load", "tip_moment"):
         if not np.all(np.isfinite(getattr(args, name))):

@@ -211,7 +211,6 @@ def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupt
 
     import openmdao.api as om
 
-
     if comm is None and not (interrupted or failed) and hasattr(args.case_module, "TOGW_LB"):
         result["load_case_response"] = _case_responses(prob, setup, args.case_module.TOGW_LB)
     plots_on = not args.no_plots and root and not (interrupted or failed)
@@ -222,8 +221,8 @@ def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupt
             plots_on = False
     if root and not (interrupted or failed):
         _add_flutter_result(result, args, setup, prob)
-    if case_files and not (interrupted or failed):
-        args.case_module.write_outputs(prob, setup, stem, result)
+    if root and hasattr(args.case_module, "write_outputs") and not (interrupted or failed):
+        args.case_module.write_outputs(prob, setup, stem, result)   # a case's own files (e.g. stw's CSVs)
     if root and len(setup.load_cases) > 1 and not (interrupted or failed):
         # an envelope: critical case per station, envelopes, potato plots
         from wingmdao.envelope import format_critical_table, write_envelope_outputs
@@ -368,7 +367,6 @@ def run_n2(args) -> int:
     import openmdao.api as om
 
     from wingmdao.sizing import build_problem
-
 
     check_output_dir(args.out, "--out")
     path = os.path.join(args.out, f"{args.case_module.NAME.replace('-', '_')}_n2.html")
