@@ -40,7 +40,8 @@ def collect(prob, load_cases, span, families=None) -> dict:
     for case in load_cases:
         p = f"cases.{case.name}"
         fams = case.families if families is None else families[case.name]
-        g = np.max(np.stack([np.asarray(prob.get_val(f"{p}.ks.g_{f}")).max(axis=2) for f in fams]), axis=0)
+        g = np.max(np.stack([np.asarray(prob.get_val(f"{p}.{'stress' if f in case.families else 'panels'}.g_{f}"))
+                             .max(axis=2) for f in fams]), axis=0)
         data[f"F__{case.name}"] = np.asarray(prob.get_val(f"{p}.internal_loads.F_csn", units="N"))
         data[f"M__{case.name}"] = np.asarray(prob.get_val(f"{p}.internal_loads.M_csn", units="N*m"))
         data[f"g__{case.name}"] = g  # (nt, n)
