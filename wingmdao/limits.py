@@ -6,14 +6,12 @@ history. Up to the adjoint budget (``time_history.ADJOINT_MEMORY_MB``, 200 MB: ~
 20-node beam at 188 kB of blocks per step) every block is kept; longer histories are checkpointed
 (segments re-evaluated in every sweep), so a step costs about half as much beyond that point.
 Measured with ``benchmarks/bench_envelope.py rss`` (one PEGASUS gust case, 20 nodes, forward
-march + adjoint totals, peak RSS, this machine, 2026-12-03, after the session-12 cuts of
-docs/gust-envelope.md): 220 MB at 251 steps, 338 MB at 1001, 487-490 MB at 4001, i.e. 7.9 kB per
-node-step up to 1001 steps and 2.5 kB per node-step beyond (before: 228 / 374 / 645 MB).
-Each case also costs a fixed part (its CasADi functions, OpenMDAO variables): 1, 2, 3 gusts of
-101 steps over 14 design points peaked at 287, 357, 426 MB (~70 MB per case, before the
-2026-12-03 memory work). :func:`estimate_bytes` uses a 220 MB base, 50 MB per case,
+march + adjoint totals, peak RSS on a 2-core machine; docs/gust-envelope.md): 220 MB at 251
+steps, 338 MB at 1001, 487-490 MB at 4001, i.e. 7.9 kB per node-step up to 1001 steps and
+2.5 kB per node-step beyond. Each case also costs a fixed part (its CasADi functions, OpenMDAO
+variables). :func:`estimate_bytes` uses a 220 MB base, 50 MB per case,
 10 kB per node-step up to the full-storage limit and 5 kB per node-step beyond, above every
-measurement (by 5-45 % before these cuts, more now).
+measurement.
 
 :func:`check_memory` raises a ValueError with the estimate and the largest step count that fits
 when the load cases of this process would exceed the memory it can have: MemAvailable of
