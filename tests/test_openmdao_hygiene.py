@@ -31,6 +31,8 @@ DRIVER_HOOKS = {("optimize.py", name) for name in
 #: values from after a failed evaluation, and the recorder metadata.
 DRIVER_HOOKS |= {(os.path.join("drivers", "ipopt.py"), name) for name in
                  ("_setup_driver", "_problem", "_relevance", "_vectors", "_read_only", "_get_recorder_metadata")}
+#: the drivers' shared recording of a failed analysis (``wingmdao.drivers.failures``)
+DRIVER_HOOKS |= {(os.path.join("drivers", "failures.py"), "_get_recorder_metadata")}
 #: the names the issue lists, matched as prefixes (``obj._var_rel2meta``, ``obj._subsystems_allprocs``, ...)
 LISTED = re.compile(r"^_(var_|subsystems|static_subsystems|problem_meta|outputs$|inputs$|residuals$|abs_|prom|"
                     r"conn_|setup_|design_vars|responses|owns_|problem$|vectors)")

@@ -26,6 +26,8 @@ import openmdao.api as om
 from openmdao.recorders.case_recorder import CaseRecorder
 from scipy.optimize import OptimizeResult
 
+from wingmdao.drivers.failures import RecordsFailedAnalyses, one_line
+
 PYOPTSPARSE_OPTIMIZERS = ("SNOPT", "IPOPT", "SLSQP")
 
 
@@ -91,7 +93,7 @@ class _StopBackoff(Exception):
     """Ends an SLSQP run from inside a callback (caught by :meth:`BackoffSLSQPDriver.run`)."""
 
 
-class BackoffSLSQPDriver(om.ScipyOptimizeDriver):
+class BackoffSLSQPDriver(RecordsFailedAnalyses, om.ScipyOptimizeDriver):
     """SciPy SLSQP that backs off from designs the analysis cannot solve.
 
     While SLSQP runs, an ``om.AnalysisError`` raised by the model is not re-raised (as
@@ -162,13 +164,6 @@ class BackoffSLSQPDriver(om.ScipyOptimizeDriver):
                 raise
             self._failure = exc
 
-    def _get_recorder_metadata(self, case_name):
-        meta = super()._get_recorder_metadata(case_name)
-        if self._failure is not None:
-            meta["success"] = 0
-            meta["msg"] = f"analysis failed: {_one_line(self._failure)}"
-        return meta
-
     # -- SLSQP callbacks ------------------------------------------------------------------------
     def _objfunc(self, x_new):
         self._backing_off = True
@@ -181,15 +176,15 @@ class BackoffSLSQPDriver(om.ScipyOptimizeDriver):
             return f
         self._consecutive += 1
         self.failed_evaluations.append({
-            "evaluation": int(self.iter_count), "message": _one_line(self._failure),
+            "evaluation": int(self.iter_count), "message": one_line(self._failure),
             "design_vars": {k: np.asarray(v).tolist()
                             for k, v in self.get_design_var_values(driver_scaling=False).items()}})
         if self._good is None:  # cannot happen after a solved initial run; be safe
-            raise _StopBackoff(f"the analysis failed at the first SLSQP design: {_one_line(self._failure)}")
+            raise _StopBackoff(f"the analysis failed at the first SLSQP design: {one_line(self._failure)}")
         if self._consecutive >= self.options["max_failures"]:
             raise _StopBackoff(
                 f"stopped after {self._consecutive} consecutive failed analyses (SLSQP shortened its step "
-                f"{self._consecutive} times from the last solved design); last error: {_one_line(self._failure)}")
+                f"{self._consecutive} times from the last solved design); last error: {one_line(self._failure)}")
         f_good = float(np.ravel(self._good[1])[0])
         return f_good + self.options["failure_penalty"] * max(1.0, abs(f_good))
 
@@ -205,13 +200,9 @@ class BackoffSLSQPDriver(om.ScipyOptimizeDriver):
         if self._failure is not None:
             raise _StopBackoff(
                 f"SLSQP accepted a design whose analysis failed after {self._consecutive} shortened steps "
-                f"and asked for its derivatives; last error: {_one_line(self._failure)}")
+                f"and asked for its derivatives; last error: {one_line(self._failure)}")
         self._gradients += 1
         return super()._gradfunc(x_new)
-
-
-def _one_line(exc) -> str:
-    return " ".join(str(exc).split())
 
 
 class WalSqliteRecorder(om.SqliteRecorder):

@@ -22,7 +22,7 @@ import numpy as np
 import openmdao.api as om
 
 from wingmdao.components.pointwise import PointwiseCasadiComponent, Var
-from wingmdao.components.section import SECTION_OUTPUTS, CombinedJacobianMixin, _SectionBase
+from wingmdao.components.section import SECTION_OUTPUTS, BoxSection, CombinedJacobianMixin
 from wingmdao.materials import Material
 from wingmdao.panels.layout import STIFFENER_SHAPES, STIFFENER_VARS, panel_families, smeared_stringer
 from wingmdao.panels.box_panels import SKIN_MODES, skin_panel_ratios, web_panel_ratio
@@ -61,7 +61,7 @@ def stringers_of(sym, pitch, shape, flange_ratio):
                  for s in ("upper", "lower"))
 
 
-class StiffenedBoxSection(_SectionBase):
+class StiffenedBoxSection(BoxSection):
     """Box section (App. F) with the skins' stiffeners smeared in, at ``num_stations`` stations.
 
     Inputs (per station, m): ``width``, ``height``, the four wall thicknesses (skins and spar
@@ -84,14 +84,7 @@ class StiffenedBoxSection(_SectionBase):
                 tuple(float(f) for f in o["wall_factors"]))
 
     def pointwise_inputs(self):
-        return [
-            Var("width", (), "m", "box outer width (chordwise, front to rear spar)"),
-            Var("height", (), "m", "box outer height (normal)", 0.3),
-            Var("t_upper_skin", (), "m", "upper skin thickness", 0.01),
-            Var("t_lower_skin", (), "m", "lower skin thickness", 0.01),
-            Var("t_front_spar", (), "m", "front spar web thickness", 0.01),
-            Var("t_rear_spar", (), "m", "rear spar web thickness", 0.01),
-        ] + _stiffener_inputs() + self._common_inputs()
+        return super().pointwise_inputs() + _stiffener_inputs()
 
     def pointwise_outputs(self):
         return super().pointwise_outputs() + [
@@ -128,9 +121,8 @@ class StiffenedBoxSection(_SectionBase):
         return out
 
     def check_inputs(self, inputs):
-        source = f"{self.pathname or 'StiffenedBoxSection'}: "
-        validate_box(inputs["width"], inputs["height"], *(inputs[k] for k in WALL_NAMES), source=source)
-        validate_stiffeners({k: inputs[k] for k in STIFFENER_VARS}, source)
+        super().check_inputs(inputs)
+        validate_stiffeners({k: inputs[k] for k in STIFFENER_VARS}, f"{self.pathname or 'StiffenedBoxSection'}: ")
 
 
 def transformed_section(props_of, e, g, r, material, section_to_csn, nonstructural_mass_per_length) -> dict:

@@ -24,6 +24,8 @@ import numpy as np
 import openmdao.api as om
 from openmdao.core.driver import Driver, DriverResult, RecordingDebugging
 
+from wingmdao.drivers.failures import RecordsFailedAnalyses, one_line
+
 #: IPOPT return statuses counted as converged: Solve_Succeeded, Solved_To_Acceptable_Level
 SUCCESS_STATUSES = (0, 1)
 
@@ -47,7 +49,7 @@ class IpoptResult(dict):
         except KeyError as exc:
             raise AttributeError(name) from exc
 
-class IpoptDriver(Driver):
+class IpoptDriver(RecordsFailedAnalyses, Driver):
     """OpenMDAO driver running IPOPT through cyipopt.
 
     Options: ``max_iter``, ``tol``, ``print_level`` (IPOPT's own console output, 0 = none; it
@@ -235,13 +237,6 @@ class IpoptDriver(Driver):
         except om.AnalysisError as exc:
             self._failure = exc
 
-    def _get_recorder_metadata(self, case_name):
-        meta = super()._get_recorder_metadata(case_name)
-        if self._failure is not None:
-            meta["success"] = 0
-            meta["msg"] = f"analysis failed: {_one_line(self._failure)}"
-        return meta
-
     # -- evaluations ----------------------------------------------------------------------------
     def _dv_array(self, values):
         return np.concatenate([np.ravel(values[name]) for name in self._designvars]).astype(float)
@@ -259,7 +254,7 @@ class IpoptDriver(Driver):
         self._x_jac = None
         if self._failure is not None:
             self.failed_evaluations.append({
-                "evaluation": int(self.iter_count), "message": _one_line(self._failure),
+                "evaluation": int(self.iter_count), "message": one_line(self._failure),
                 "design_vars": {k: np.asarray(v).tolist()
                                 for k, v in self.get_design_var_values(driver_scaling=False).items()}})
             return False
@@ -279,7 +274,7 @@ class IpoptDriver(Driver):
         if self._x_model is None or not np.array_equal(x, self._x_model):
             self._evaluate(x)
         if self._failure is not None:
-            raise self._cyipopt.CyIpoptEvaluationError(f"analysis failed: {_one_line(self._failure)}")
+            raise self._cyipopt.CyIpoptEvaluationError(f"analysis failed: {one_line(self._failure)}")
 
     def _derivatives(self, x):
         self._at(x)
@@ -360,6 +355,3 @@ def _bound(arr, size, default):
     if arr is None:
         return np.full(size, default, dtype=float)
     return np.broadcast_to(np.asarray(arr, dtype=float), (size,)).copy()
-
-def _one_line(exc) -> str:
-    return " ".join(str(exc).split())
