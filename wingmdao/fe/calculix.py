@@ -95,19 +95,7 @@ def parse_dat(text: str) -> dict:
             continue
         m = re.match(r"\s*displacements \(vx,vy,vz\) for set (\S+) and time", line)
         if m:
-            name = m.group(1).upper()
-            block = {}
-            i += 1
-            while i < len(lines) and not lines[i].strip():
-                i += 1
-            while i < len(lines) and lines[i].strip():
-                parts = lines[i].split()
-                try:
-                    block[int(parts[0])] = tuple(float(v) for v in parts[1:4])
-                except (ValueError, IndexError):
-                    break
-                i += 1
-            disp[name] = block
+            disp[m.group(1).upper()], i = _vector_block(lines, i + 1)
             continue
         if "E I G E N V A L U E   O U T P U T" in line:
             i += 1
@@ -150,17 +138,24 @@ def mode_displacements(dat_text: str, mode: int, nset: str) -> dict:
         if re.match(r"\s*E I G E N V A L U E\s+N U M B E R\s+\d+\s*$", lines[i]):
             return out      # the next mode began: this one printed no such set
         i += 1
-    i += 1
+    out.update(_vector_block(lines, i + 1)[0])
+    return out
+
+
+def _vector_block(lines, i):
+    """``({node: (x, y, z)}, next line index)``: the rows of node ids and three values of a .dat
+    block whose header is the line before ``i`` (blank lines first, then rows until a blank line)."""
+    block = {}
     while i < len(lines) and not lines[i].strip():
         i += 1
     while i < len(lines) and lines[i].strip():
         parts = lines[i].split()
         try:
-            out[int(parts[0])] = tuple(float(v) for v in parts[1:4])
+            block[int(parts[0])] = tuple(float(v) for v in parts[1:4])
         except (ValueError, IndexError):
             break
         i += 1
-    return out
+    return block, i
 
 
 def _read_stress_block(lines, i, out) -> int:
