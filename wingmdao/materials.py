@@ -26,11 +26,13 @@ from dataclasses import dataclass
 DEFAULT_NU = 0.33
 
 
-def _check_positive(value, name: str, units: str) -> None:
+def check_positive(value, name: str, units: str, owner: str = "Material") -> None:
+    """ValueError naming ``owner``, the property, its value and the allowed range unless ``value``
+    is a finite real number > 0 (the material data classes' one check)."""
     if not isinstance(value, numbers.Real) or isinstance(value, bool):
-        raise ValueError(f"Material: {name} must be a number in {units}, got {value!r}")
+        raise ValueError(f"{owner}: {name} must be a number in {units}, got {value!r}")
     if not (math.isfinite(value) and value > 0.0):
-        raise ValueError(f"Material: {name} = {value} {units}; allowed range (0, inf) {units}")
+        raise ValueError(f"{owner}: {name} = {value} {units}; allowed range (0, inf) {units}")
 
 
 @dataclass(frozen=True)
@@ -45,14 +47,14 @@ class Material:
     nu: float | None = None
 
     def __post_init__(self):
-        _check_positive(self.E, "E (Young's modulus)", "Pa")
-        _check_positive(self.rho, "rho (density)", "kg/m^3")
-        _check_positive(self.sigma_y, "sigma_y (yield stress)", "Pa")
+        check_positive(self.E, "E (Young's modulus)", "Pa")
+        check_positive(self.rho, "rho (density)", "kg/m^3")
+        check_positive(self.sigma_y, "sigma_y (yield stress)", "Pa")
         if self.G is not None and self.nu is not None:
             raise ValueError(f"Material {self.name!r}: give only one of G and nu (the other is derived "
                              "from G = E / (2 (1 + nu)))")
         if self.G is not None:
-            _check_positive(self.G, "G (shear modulus)", "Pa")
+            check_positive(self.G, "G (shear modulus)", "Pa")
             object.__setattr__(self, "nu", self.E / (2.0 * self.G) - 1.0)
             if not (-1.0 < self.nu < 0.5):
                 raise ValueError(f"Material {self.name!r}: G = {self.G} Pa gives nu = E/(2G) - 1 = {self.nu:.4g}; "

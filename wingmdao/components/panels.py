@@ -22,6 +22,7 @@ import numpy as np
 import openmdao.api as om
 
 from wingmdao.components.pointwise import PointwiseCasadiComponent, Var
+from wingmdao.components.stress import SECTION_DEFAULTS
 from wingmdao.components.section import SECTION_OUTPUTS, BoxSection, CombinedJacobianMixin
 from wingmdao.materials import Material
 from wingmdao.panels.layout import STIFFENER_SHAPES, STIFFENER_VARS, panel_families, smeared_stringer
@@ -326,7 +327,7 @@ class PanelFailure(CombinedJacobianMixin, PointwiseCasadiComponent):
             Var("t_rear_spar", (), "m", "rear spar web thickness", 0.01, **per),
         ] + [Var(v.name, v.shape, v.units, v.desc, v.val, **per) for v in _stiffener_inputs()] + [
             Var("panel_length", (), "m", "panel length between ribs (rib pitch) at the station", 0.5, **per),
-        ] + [Var(name, (), units, desc, {"A": 1e-2, "Ixx": 1e-4, "Izz": 1e-3, "Qx": 1e-3, "Qz": 1e-3}.get(name, 0.0),
+        ] + [Var(name, (), units, desc, SECTION_DEFAULTS.get(name, 0.0),
                  **per) for name, _, units, desc in SECTION_OUTPUTS if name in SECTION_PROPERTIES]
 
     def pointwise_outputs(self):

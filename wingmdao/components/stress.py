@@ -24,7 +24,7 @@ _FAMILY_DESC = {
 
 
 #: Defaults of the section-property inputs (nonzero where the stress divides by them).
-_SECTION_DEFAULTS = {"A": 1e-2, "Ixx": 1e-4, "Izz": 1e-3, "Qx": 1e-3, "Qz": 1e-3}
+SECTION_DEFAULTS = {"A": 1e-2, "Ixx": 1e-4, "Izz": 1e-3, "Qx": 1e-3, "Qz": 1e-3}
 
 
 def declare_stress_grid_options(options) -> None:
@@ -95,7 +95,7 @@ class BoxStress(CombinedJacobianMixin, PointwiseCasadiComponent):
             Var("t_rear_spar", (), "m", "rear spar web thickness", 0.01, per_last_axis=True),
         ] + ([Var("section_to_csn", (3, 3), None, "rotation R from the section axes to csn", eye, per_last_axis=True)]
              if self.options["section_rotation"] else []) + (
-            [Var(name, (), units, desc, _SECTION_DEFAULTS.get(name, 0.0), per_last_axis=True)
+            [Var(name, (), units, desc, SECTION_DEFAULTS.get(name, 0.0), per_last_axis=True)
              for name, _, units, desc in SECTION_OUTPUTS if name in SECTION_PROPERTIES]
             if self.options["section_properties"] else [])
 

@@ -22,17 +22,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from wingmdao.materials import check_positive
+
 #: Ply angles (deg) of the four ply fractions, in this order everywhere.
 PLY_ANGLES = (0.0, 45.0, -45.0, 90.0)
 
 ABD_KEYS = ("A11", "A22", "A12", "A66", "A16", "A26", "D11", "D22", "D12", "D66", "D16", "D26")
 
 _QBAR_INDEX = {"11": (0, 0), "22": (1, 1), "12": (0, 1), "66": (2, 2), "16": (0, 2), "26": (1, 2)}
-
-
-def _positive(name, value, units, cls="PlyMaterial"):
-    if not isinstance(value, numbers.Real) or isinstance(value, bool) or not math.isfinite(value) or value <= 0:
-        raise ValueError(f"{cls}: {name} = {value!r} {units}; allowed range (0, inf) {units}")
 
 
 @dataclass(frozen=True)
@@ -67,10 +64,10 @@ class PlyMaterial:
     def __post_init__(self):
         for field, units in (("E11", "Pa"), ("E22", "Pa"), ("G12", "Pa"), ("rho", "kg/m^3"), ("Xt", "Pa"),
                              ("Xc", "Pa"), ("Yt", "Pa"), ("Yc", "Pa"), ("S12", "Pa"), ("ply_thickness", "m")):
-            _positive(f"{field} of {self.name!r}", getattr(self, field), units)
+            check_positive(getattr(self, field), f"{field} of {self.name!r}", units, "PlyMaterial")
         for field in ("eps1_t", "eps1_c", "eps2_t", "eps2_c", "gamma12"):
             if getattr(self, field) is not None:
-                _positive(f"{field} of {self.name!r}", getattr(self, field), "(strain)")
+                check_positive(getattr(self, field), f"{field} of {self.name!r}", "(strain)", "PlyMaterial")
         nu_max = math.sqrt(self.E11 / self.E22)
         if not (isinstance(self.nu12, numbers.Real) and math.isfinite(self.nu12) and 0.0 < self.nu12 < nu_max):
             raise ValueError(f"PlyMaterial: nu12 of {self.name!r} = {self.nu12!r}; allowed range "
