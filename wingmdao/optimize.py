@@ -98,7 +98,7 @@ class BackoffSLSQPDriver(RecordsFailedAnalyses, om.ScipyOptimizeDriver):
 
     While SLSQP runs, an ``om.AnalysisError`` raised by the model is not re-raised (as
     ``om.ScipyOptimizeDriver`` does, ending the run): the objective is returned as the last
-    solved value plus ``failure_penalty`` (times max(1, |f|)) and the constraints as their last
+    solved value plus ``failure_penalty`` (times ``max(1, |f|)``) and the constraints as their last
     solved values. SLSQP's L1-merit line search (D. Kraft, "A software package for sequential
     quadratic programming", DFVLR-FB 88-28, 1988; SciPy's implementation: alpha <- max(h3 / (2 (h3 -
     h1)), 0.1) while the merit does not decrease, at most 10 times) then shortens the step tenfold per

@@ -1,7 +1,7 @@
 """Small-vibration modes of the beam about a state (the jig by default).
 
 The residual R(x, xdot) linearised at a static state x0 gives (A + lambda B) v = 0 with
-A = dR/dx, B = dR/dxdot; the undamped natural frequencies are |Im lambda| / (2 pi). Used to set
+A = dR/dx, B = dR/dxdot; the undamped natural frequencies are ``|Im lambda| / (2 pi)``. Used to set
 structural damping at a reference frequency (:class:`~wingmdao.beam.residual.StrainRateDamping`)
 and to report the first bending mode.
 """

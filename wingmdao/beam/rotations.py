@@ -11,7 +11,7 @@ n axis (sweep / in-plane bending), then the twist vartheta about the new s axis:
 matrix K (Eq. A.3, derived in docs/beam-theory.md) gives the frame's angular velocity in
 csn components, ``omega_csn = K(theta) dtheta/dt``, and its curvature
 ``kappa_csn = K(theta) dtheta/ds``. det K = cos(psi): the sequence is singular only when
-the beam axis points chordwise (|psi| -> 90 deg); roll-up about x and twist are unlimited.
+the beam axis points chordwise (``|psi|`` -> 90 deg); roll-up about x and twist are unlimited.
 
 All functions work on numpy arrays and on CasADi SX/MX symbols.
 """

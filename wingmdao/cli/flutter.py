@@ -8,7 +8,7 @@ divergence speeds are refined between sweep points.
 JSON keys: case, num_nodes, density_kg_m3, flutter_speed_m_s, flutter_frequency_rad_s,
 divergence_speed_m_s (null when none within the sweep), natural_frequencies_rad_s (in vacuo,
 first six), speeds, damping (per tracked mode and speed, Re lambda 1/s), damping_ratio
-(g = 2 Re / |Im|), frequency_rad_s, published (the case's reference values), timings; for
+(``g = 2 Re / |Im|``), frequency_rad_s, published (the case's reference values), timings; for
 PEGASUS also dive_speed_m_s (V_D) and design (the --design file, or "initial").
 With ``--deformed``: ``deformed`` (gravity_m_s2 and, per root angle of attack, the flutter speed,
 frequency and static tip deflection at flutter, the sweep's speeds and tip deflections,

@@ -5,7 +5,7 @@ stress points j, n stations k, n_T + 1 time steps t, all in one sum):
 
     KS(g) = m + ln( sum_k exp(rho_KS (g_k - m)) ) / rho_KS,      m = max_k g_k
 
-The max shift m keeps every exponent <= 0, so large rho_KS and large |g| cannot overflow.
+The max shift m keeps every exponent <= 0, so large rho_KS and large ``|g|`` cannot overflow.
 The sum runs over *every* entry of the array, whatever its shape. See ``docs/ks.md``.
 """
 

@@ -21,7 +21,7 @@ from wingmdao.materials import Material
 
 
 def element_lengths(node_positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Element lengths s_i = |r_{i+1} - r_i| and unit vectors e_i along each element."""
+    """Element lengths ``s_i = |r_{i+1} - r_i|`` and unit vectors e_i along each element."""
     d = np.diff(np.asarray(node_positions, dtype=float), axis=0)
     s = np.linalg.norm(d, axis=1)
     with np.errstate(invalid="ignore", divide="ignore"):  # zero lengths are rejected by callers

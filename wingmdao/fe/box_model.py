@@ -6,7 +6,7 @@ reduction", PhD dissertation, Georgia Institute of Technology, 2021): centre (x,
 width (x) and height (z), and the four wall thicknesses normal to the walls (upper/lower skin,
 front/rear spar), linearly interpolated between sections. The mid-surface rectangle of a section
 has half-width w/2 - t_spar/2 and half-height h/2 - t_skin/2. Elements: S8R (default) or S4R
-shells, one *SHELL SECTION per element with its mean wall thickness; optional ribs (shells in
+shells, one ``*SHELL SECTION`` per element with its mean wall thickness; optional ribs (shells in
 the rib planes, sharing the ring nodes); root ring clamped (all six degrees of freedom); loads
 at a station enter as the nodal forces of a distributing coupling of the station ring
 (:func:`wingmdao.fe.calculix.distributing_forces`); point masses spread over a ring with the
@@ -244,7 +244,7 @@ def line_index(model: ShellBox, y: float) -> int:
 
 
 def station_loads(model: ShellBox, loads) -> list:
-    """*CLOAD rows of [(y, centre (3,), force (3,), moment (3,))] via distributing couplings."""
+    """``*CLOAD`` rows of [(y, centre (3,), force (3,), moment (3,))] via distributing couplings."""
     rows = []
     for y, centre, F, M in loads:
         j = line_index(model, y)
@@ -259,7 +259,7 @@ def station_loads(model: ShellBox, loads) -> list:
 
 
 def add_point_masses(model: ShellBox, masses) -> None:
-    """Point masses [(y, mass kg)] spread over the station ring with the ring weights (*MASS)."""
+    """Point masses [(y, mass kg)] spread over the station ring with the ring weights (``*MASS``)."""
     for k, (y, m) in enumerate(masses):
         if not (np.isfinite(m) and m >= 0):
             raise ValueError(f"point mass at y = {y} m must be >= 0 kg, got {m}")

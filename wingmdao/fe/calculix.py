@@ -2,9 +2,9 @@
 folder and read the ``.dat`` results.
 
 CalculiX: G. Dhondt, "CalculiX CrunchiX User's Manual", version 2.20, 2022 (the input keywords
-used here: *NODE, *ELEMENT, *NSET, *ELSET, *MATERIAL/*ELASTIC/*DENSITY, *SHELL SECTION,
-*SOLID SECTION, *MASS, *BOUNDARY, *EQUATION, *STEP[, NLGEOM], *STATIC, *FREQUENCY, *BUCKLE,
-*CLOAD, *NODE PRINT).
+used here: ``*NODE``, ``*ELEMENT``, ``*NSET``, ``*ELSET``, ``*MATERIAL``/``*ELASTIC``/``*DENSITY``,
+``*SHELL SECTION``, ``*SOLID SECTION``, ``*MASS``, ``*BOUNDARY``, ``*EQUATION``, ``*STEP[, NLGEOM]``,
+``*STATIC``, ``*FREQUENCY``, ``*BUCKLE``, ``*CLOAD``, ``*NODE PRINT``).
 The solver is an optional dependency: a missing ``ccx`` raises :class:`CalculixNotFound` with
 the install command and nothing is imported at package import time.
 """
@@ -123,8 +123,8 @@ def parse_dat(text: str) -> dict:
 
 def mode_displacements(dat_text: str, mode: int, nset: str) -> dict:
     """``{node: (ux, uy, uz)}`` of the node set ``nset`` in eigenmode ``mode`` (1-based) of a
-    *BUCKLE or *FREQUENCY step: the .dat prints each mode's blocks after the line
-    'E I G E N V A L U E   N U M B E R  k' (a *BUCKLE step prints the pre-buckling state first).
+    ``*BUCKLE`` or ``*FREQUENCY`` step: the .dat prints each mode's blocks after the line
+    'E I G E N V A L U E   N U M B E R  k' (a ``*BUCKLE`` step prints the pre-buckling state first).
     Empty when the mode or the set is not printed."""
     lines = dat_text.splitlines()
     head = f"displacements (vx,vy,vz) for set {nset}".lower()
@@ -193,8 +193,8 @@ def _element_line(eid, conn) -> str:
 
 def distributing_forces(points, weights, centre, force, moment) -> np.ndarray:
     """Nodal forces (n, 3) of a distributing coupling: the force and moment at ``centre`` spread
-    over the coupling nodes in proportion to the weights, f_i = w_i [F / W + (J^-1 M') x r_i],
-    r_i from the weighted centroid, J = sum w_i (|r_i|^2 I - r_i r_i^T), M' = M + (c - x_c) x F.
+    over the coupling nodes in proportion to the weights, ``f_i = w_i [F / W + (J^-1 M') x r_i]``,
+    r_i from the weighted centroid, ``J = sum w_i (|r_i|^2 I - r_i r_i^T)``, ``M' = M + (c - x_c) x F``.
     This is the distributing-coupling law of Abaqus ("Coupling constraints", Abaqus Analysis
     User's Guide 2016, Sec. 35.3.2): the nodal forces are statically equivalent to (F, M)."""
     p = np.asarray(points, float)
@@ -245,7 +245,7 @@ class Deck:
         self.isotropic(name, material.E, material.nu, material.rho)
 
     def isotropic(self, name, E, nu, rho=None):
-        """An isotropic linear elastic *MATERIAL (Pa); *DENSITY (kg/m^3) only when ``rho`` is given."""
+        """An isotropic linear elastic ``*MATERIAL`` (Pa); ``*DENSITY`` (kg/m^3) only when ``rho`` is given."""
         text = f"*MATERIAL, NAME={name}\n*ELASTIC\n{E:.10g}, {nu:.10g}"
         if rho is not None:
             text += f"\n*DENSITY\n{rho:.10g}"
@@ -270,8 +270,8 @@ class Deck:
 
 
 def static_step(cloads, print_nsets, nlgeom=False, increments=None, stress_elsets=()) -> str:
-    """A *STATIC step with nodal loads [(node, dof, value)], *NODE PRINT U of the node sets and
-    *EL PRINT S (integration-point stresses) of the element sets."""
+    """A ``*STATIC`` step with nodal loads [(node, dof, value)], ``*NODE PRINT`` U of the node sets and
+    ``*EL PRINT`` S (integration-point stresses) of the element sets."""
     head = "*STEP" + (", NLGEOM, INC=1000" if nlgeom else "")
     s = [head, "*STATIC" if not (nlgeom and increments) else f"*STATIC\n{1.0 / increments:g}, 1.0"]
     if cloads:
@@ -284,13 +284,13 @@ def static_step(cloads, print_nsets, nlgeom=False, increments=None, stress_elset
 
 
 def frequency_step(modes: int) -> str:
-    """A *FREQUENCY step extracting the lowest ``modes`` eigenfrequencies (printed to .dat)."""
+    """A ``*FREQUENCY`` step extracting the lowest ``modes`` eigenfrequencies (printed to .dat)."""
     return f"*STEP\n*FREQUENCY\n{int(modes)}\n*END STEP"
 
 
 def buckle_step(modes: int, cloads, print_nsets=()) -> str:
-    """A *BUCKLE step: the lowest ``modes`` buckling factors of the nodal loads [(node, dof,
-    value)] (printed to .dat), with *NODE PRINT U of the node sets (the mode shapes)."""
+    """A ``*BUCKLE`` step: the lowest ``modes`` buckling factors of the nodal loads [(node, dof,
+    value)] (printed to .dat), with ``*NODE PRINT`` U of the node sets (the mode shapes)."""
     s = [f"*STEP\n*BUCKLE\n{int(modes)}", "*CLOAD"]
     s += [f"{n}, {d}, {v:.12g}" for n, d, v in cloads if v != 0.0]
     s += [f"*NODE PRINT, NSET={n}\nU" for n in print_nsets]

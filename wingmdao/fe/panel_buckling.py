@@ -11,14 +11,14 @@ Model (docs/verification-calculix.md, "Stiffened-panel buckling (CalculiX)"):
   flange): its top is where the smeared model puts it (web from the skin face to h above it);
   the part inside the skin half-thickness (t/2 x t_s per web) is counted twice.
 * T stiffeners: the flange (width b_f, thickness t_s) is added to the skin thickness over its
-  footprint |y - y_k| < b_f/2 (skin elements there have t + t_s, symmetric about the skin
+  footprint ``|y - y_k| < b_f/2`` (skin elements there have t + t_s, symmetric about the skin
   mid-plane: no offset); the web then starts at the flange's top face.
 * Material: isotropic (E, nu).
 * Supports: u_z = 0 on all four skin edges (simple support, rotations free); in-plane only
   u_x at (0, 0) and u_y at (0, 0) and (a, 0) (the rigid-body motions; the applied loads are in
   equilibrium, so these reactions are zero). Web ends (x = 0 and x = a) are held out of their
   plane as ribs would: u_y of every web end node equals u_y of its skin junction node
-  (*EQUATION), which keeps the skin's in-plane motion (Poisson expansion, shear) free.
+  (``*EQUATION``), which keeps the skin's in-plane motion (Poisson expansion, shear) free.
 * Loads: N_x (N/m of panel width, compression negative) on the edges x = 0 and x = a, spread
   over the skin and the webs in proportion to their axial stiffness, so that the pre-buckling
   strain is uniform: eps = N_x W / (E A), A = the skin (with flanges) plus the webs' shell

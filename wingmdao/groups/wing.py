@@ -2,7 +2,7 @@
 
 ``WingStructure`` analyses one load case; ``WingSizing`` shares the thickness design
 variables and section properties among any number of static and dynamic load cases and
-adds the mass objective. Promoted names follow the chain so the N2 diagram reads like it:
+adds the mass objective. Promoted names follow the chain so the N2 diagram reads like it::
 
     design  (t_upper_skin, ..., width, height, node_positions, node_euler_angles)
     section (BoxSection: stiffness_csn, compliance_csn, offsets, mass_per_length, ...)

@@ -6,7 +6,7 @@
     gusts = flight points x gradient distances H x signs (up +1, down -1)
 
 and each gust becomes one load case of the sizing problem with its own KS constraints. Per
-flight point (altitude h, speed V_C or V_D, weight):
+flight point (altitude h, speed V_C or V_D, weight)::
 
     U_ref(h)  25.341(a)(5)(i): 56 ft/s EAS at sea level, 44 at 15 000 ft, 20.86 at 60 000 ft,
               linear in between; (a)(5)(ii): half of it at V_D

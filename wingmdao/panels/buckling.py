@@ -38,7 +38,7 @@ from wingmdao.section.box import select, sqrt
 #: derivative stays finite at zero load: it raises R by at most 5e-7 (at zero load).
 RATIO_TINY = 1e-12
 
-#: Added ((N/m)^2) under sqrt(N_xy^2 + NXY_TINY), the smooth |N_xy|: at most 1e-3 N/m.
+#: Added ((N/m)^2) under sqrt(N_xy^2 + NXY_TINY), the smooth ``|N_xy|``: at most 1e-3 N/m.
 NXY_TINY = 1e-6
 
 #: Largest number of half-waves m tried by :func:`plate_compression_ss` (see there).
@@ -143,7 +143,7 @@ def plate_shear_ss(D11, D22, D12, D66, a, b):
 
 # --------------------------------------------------------------------------- interaction
 def smooth_abs(x, tiny=NXY_TINY):
-    """sqrt(x^2 + tiny): |x| with a finite derivative at 0 (off by at most sqrt(tiny))."""
+    """sqrt(x^2 + tiny): ``|x|`` with a finite derivative at 0 (off by at most sqrt(tiny))."""
     return sqrt(x * x + tiny)
 
 
@@ -153,7 +153,7 @@ def compression_ratio(nx, nx_cr):
 
 
 def shear_ratio(nxy, nxy_cr):
-    """R_s = |N_xy| / N_xy,cr with the smooth |N_xy| of :func:`smooth_abs`."""
+    """``R_s = |N_xy| / N_xy,cr`` with the smooth ``|N_xy|`` of :func:`smooth_abs`."""
     return smooth_abs(nxy) / nxy_cr
 
 
@@ -162,7 +162,7 @@ def interaction_ratio(nx, nxy, nx_cr, nxy_cr):
 
     Interaction curve R_c + R_s^2 = 1 (Bruhn Ch. C5, combined compression and shear,
     after Batdorf & Stein, NACA TN 1223, 1947, for long plates; Niu Ch. 11) with R_c = -N_x / N_x,cr (signed) and
-    R_s = |N_xy| / N_xy,cr. The load factor lambda at which lambda (N_x, N_xy) reaches the
+    ``R_s = |N_xy| / N_xy,cr``. The load factor lambda at which lambda (N_x, N_xy) reaches the
     curve solves R_c/R + (R_s/R)^2 = 1 with R = 1/lambda:
 
         R = (R_c + sqrt(R_c^2 + 4 R_s^2 + RATIO_TINY)) / 2,

@@ -213,7 +213,7 @@ def rib_crushing_ratio(E, nu, rib_thickness, rib_depth, rib_width, cover_load, c
     bending moment.
 
     The covers of a bent box follow its curvature kappa; a cover carrying the running load N
-    (N/m, per unit chord) then presses on each rib with q = |N kappa| s per unit chord, s the
+    (N/m, per unit chord) then presses on each rib with ``q = |N kappa| s`` per unit chord, s the
     rib spacing (the crushing or Brazier load: Niu, *Airframe Structural Design*, Ch. 9, rib
     crushing load; Brazier 1927). The compression cover pushes and the tension cover pulls
     toward the neutral axis, so the rib web between them is compressed at sigma = q / t_rib.

@@ -330,7 +330,7 @@ def panel_failure_ratios(pm: PanelMaterial, t, b, a, h, ts, nx, nxy, stiffener: 
     """Failure ratios (applied / allowable, 1 = failure), each homogeneous of degree 1 in the loads.
 
     ``material`` (:func:`material_ratio`); ``skin_compression`` = -N_x / N_cr (signed: negative
-    in tension), ``skin_shear`` = |N_xy| / N_cr (smooth |.|), ``skin_buckling`` the combined
+    in tension), ``skin_shear`` = ``|N_xy| / N_cr`` (smooth ``|.|``), ``skin_buckling`` the combined
     :func:`interaction_ratio`; the same three for the panel (``panel_*``, ``panel_buckling``);
     ``stiffener_column``, ``stiffener_crippling`` = -N_x / N_cr (compression only, negative in
     tension). Modes that do not apply (unstiffened: ``h`` None) are None. ``critical``: the

@@ -225,6 +225,7 @@ def box_first_moments(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spa
         w t_u (h/2 - t_u/2 - n_ea) + (t_f + t_r)(h/2 - t_u - n_ea)^2 / 2.
     Qz: area forward of the vertical centroidal axis c = c_ea about that axis (chordwise shear):
         t_f h_web (w/2 + c_ea - t_f/2) + (t_u + t_l)(w/2 + c_ea)^2 / 2, h_web = h - t_u - t_l
+
     (skins span the full width, Eq. F.2/F.4; the scan's F.33 uses h and t_left instead).
     Valid while the centroidal axes cross the webs and skins, i.e. for any practical box.
     With ``stringers`` (:func:`stringer_layers`) the upper layer adds w a_u (n_u - n_ea) to Qx

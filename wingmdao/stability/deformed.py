@@ -113,7 +113,7 @@ def deformed_sweep(prob, params_at, speeds, *, n_track=4, load_steps=8, min_freq
     first speed where a tracked mode (the ``n_track`` lowest-frequency modes of the first speed,
     followed by MAC) is unstable (the flutter bracket) or where no static solution is found
     (``stopped_at``, m/s, else None). Untracked modes are ignored: about a lifting, bent state the
-    in-plane (lag) mode, without drag or structural damping, can sit at Re ~ +1e-4 |lambda|.
+    in-plane (lag) mode, without drag or structural damping, can sit at Re ~ +1e-4 ``|lambda|``.
     Returns ``(StabilitySweep, stopped_at)``."""
     v = check_speeds(speeds)
     system, opts = prob.system, dict(prob.eig_options)

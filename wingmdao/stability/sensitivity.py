@@ -37,7 +37,7 @@ Limits: the derivative is that of a simple eigenvalue. At a repeated eigenvalue 
 coalescing) it does not exist and u^H B v -> 0: the KS value stays continuous, its gradient
 jumps. Real eigenvalues (divergence, or an overdamped bending mode) are not in the constraint;
 a mode entering or leaving the eigen window changes the set (harmless when it is well damped:
-its KS weight is ~exp(-rho |g - g_max|)).
+its KS weight is ``~exp(-rho |g - g_max|)``).
 """
 
 from __future__ import annotations
@@ -729,7 +729,7 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
     entries common to every speed, e.g. the beam's). ``gradient=False``: the value only (the
     gradient later from the result: :func:`constraint_gradient`).
 
-    The modes at each speed: every oscillatory eigenvalue of the eigen window (|Im| >
+    The modes at each speed: every oscillatory eigenvalue of the eigen window (``|Im|`` >
     ``min_frequency`` rad/s) whose eigenvector's aerodynamic-state part (``aero_mask``: 1 on those
     states) is above ``neutral_fraction`` of its displacement / rotation part (``beam_mask``); the
     in-plane bending modes, which strip theory barely loads (Re lambda ~ 1e-7 1/s for every design;

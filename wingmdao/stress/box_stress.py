@@ -61,9 +61,11 @@ def axial_stress(c, n, force, moment, sec):
     """Axial stress sigma_ss at (c, n) (Eq. 4.19 generalised to the unsymmetric section), Pa.
 
     sigma = F_s / A + E (kappa_n (c - c_ea) - kappa_c (n - n_ea)) with the curvature
-    kappa = E^{-1} M about the centroid: M_c' = M_c + n_ea F_s, M_n' = M_n - c_ea F_s, so
-    sigma = F_s/A + [(Ixz M_c' + Ixx M_n')(c - c_ea) - (Izz M_c' + Ixz M_n')(n - n_ea)]
-            / (Ixx Izz - Ixz^2).
+    kappa = E^{-1} M about the centroid: M_c' = M_c + n_ea F_s, M_n' = M_n - c_ea F_s, so::
+
+        sigma = F_s/A + [(Ixz M_c' + Ixx M_n')(c - c_ea) - (Izz M_c' + Ixz M_n')(n - n_ea)]
+                / (Ixx Izz - Ixz^2)
+
     With Ixz = 0 and the centroid at the centre this is Eq. 4.19 (M_c compresses n > 0).
     ``sec`` is :func:`section_quantities`.
     """

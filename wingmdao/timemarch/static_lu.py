@@ -348,7 +348,7 @@ class StaticPivotLU:
         return x, res, float(berr)
 
     def backward_error(self, values, x, b, trans="N") -> float:
-        """Componentwise backward error max_i |b - M x|_i / (|M| |x| + |b|)_i (M = A or A^T)."""
+        """Componentwise backward error ``max_i |b - M x|_i / (|M| |x| + |b|)_i`` (M = A or A^T)."""
         values, x, b = _f64(values), _f64(x), _f64(b)
         res = np.empty(self.n)
         return float(self.lib.lu_berr(self._pp, _ptr(values), _ptr(x), _ptr(b), 0 if trans == "N" else 1,

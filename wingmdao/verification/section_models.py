@@ -56,7 +56,7 @@ def compare_1g(case_module=None, walls=(0.004, 0.004, 0.005, 0.004), material=AL
     """Tip displacement (m, body axes) of the box, matched-box and detailed-section beams at 1 g.
 
     Returns ``{"box": ..., "matched_box": ..., "detailed": ..., "error_percent": {...},
-    "matched_dimensions": [(w, h), ...]}``; errors are of |tip displacement| against the detailed
+    "matched_dimensions": [(w, h), ...]}``; errors are of ``|tip displacement|`` against the detailed
     section beam.
     """
     mod = case_module or pegasus

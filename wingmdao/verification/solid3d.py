@@ -291,7 +291,7 @@ def _face_quadrature(mesh: HexMesh, faces: np.ndarray):
 def face_geometry(mesh: HexMesh, faces: np.ndarray) -> dict:
     """Area (m^2), centroid (3,) and area inertia tensor about the centroid (3, 3; m^4) of faces.
 
-    I = integral(|rho|^2 1 - rho rho^T) dA with rho = r - centroid, so that
+    ``I = integral(|rho|^2 1 - rho rho^T) dA`` with rho = r - centroid, so that
     integral(rho x (omega x rho)) dA = I omega.
     """
     r, _, dA = _face_quadrature(mesh, faces)
@@ -343,7 +343,7 @@ def _cut_statistics(r: np.ndarray, ug: np.ndarray, dA: np.ndarray) -> dict:
 def cut_average(mesh: HexMesh, faces: np.ndarray, u: np.ndarray) -> dict:
     """Area-weighted mean displacement (3,) and least-squares rigid rotation (3,) over a cut.
 
-    rotation omega minimises integral |u - u_mean - omega x (r - r_c)|^2 dA, i.e.
+    rotation omega minimises ``integral |u - u_mean - omega x (r - r_c)|^2 dA``, i.e.
     I omega = integral (r - r_c) x u dA (small rotations, rad).
     """
     r, N, dA = _face_quadrature(mesh, faces)

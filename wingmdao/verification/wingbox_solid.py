@@ -435,7 +435,7 @@ def compare_with_beam(beam_solver, geometries=None, loads=None, mesh_size: float
     beam_solver(geometry_name, tip_force, tip_moment) -> dict with ``displacement`` (3, 3):
     the beam-axis displacement (m, body axes) at CS2, CS3, CS4, and optionally ``rotation``
     (3, 3): the small-rotation vector (rad, body axes) there. Rows (dicts): geometry, load,
-    station, quantity ('|u|' displacement magnitude, 'u_z', and 'theta_y' under a torque when
+    station, quantity (``'|u|'`` displacement magnitude, ``'u_z'``, and ``'theta_y'`` under a torque when
     the beam gives rotations; displacements below 1e-9 m, zero by symmetry, are skipped),
     beam, solid, error_pct = 100 (beam - solid) / solid.
     ``solid_results`` caches solid solutions keyed (geometry, load name).

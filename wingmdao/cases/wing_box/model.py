@@ -123,7 +123,7 @@ def analysis_problem(geometry, load_case, walls: dict, material=ALUMINIUM, *, de
 
 def totals_max_rel_error(prob, load_case) -> float:
     """Largest relative difference between the adjoint totals of the KS outputs w.r.t. the wall
-    thicknesses and OpenMDAO's central finite differences (relative to each block's max |J|).
+    thicknesses and OpenMDAO's central finite differences (relative to each block's max ``|J|``).
 
     Step 1e-4 relative to the mean thickness: the truncation error is ~1e-8 and the Newton
     round-off noise (~1e-14 in KS) stays below 1e-9 of the derivatives (1e-6 gives ~5e-6)."""
