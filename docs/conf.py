@@ -6,13 +6,20 @@ generated from the package's docstrings (autosummary + autodoc, numpydoc section
 ``docs/api/generated/`` at every build (not committed).
 """
 
+import fnmatch
 import os
+import re
+import shutil
 import sys
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, ROOT)   # document the checkout being built, not another installed copy
 
 import wingmdao  # noqa: E402
+
+# autosummary writes one page per module here at every build; clearing it first keeps a renamed
+# or removed module from leaving a stale page whose import fails.
+shutil.rmtree(os.path.join(os.path.dirname(__file__), "api", "generated"), ignore_errors=True)
 
 project = "wingmdao"
 author = "wingmdao contributors"
@@ -24,7 +31,7 @@ extensions = [
     "myst_parser",
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
-    "numpydoc",
+    "numpydoc",     # the reference renderer of the numpydoc format the package writes
     "sphinx.ext.mathjax",
 ]
 
@@ -46,3 +53,27 @@ autodoc_member_order = "bysource"
 # numpydoc lists class members in its own autosummary tables; autodoc's ``members`` already
 # documents them, and the tables would link every inherited OpenMDAO method.
 numpydoc_show_class_members = False
+
+
+def theory_pages_not_listed(index_text, pages):
+    """The pages of ``docs/`` that no toctree entry of ``index.md`` names (entries may be glob
+    patterns), in name order: the Theory section takes them, so a page added to ``docs/`` is in
+    the manual (and the ``-W`` build passes) without touching the index. Name a page in another
+    section's toctree to move it there."""
+    entries = re.findall(r"^([\w./*?-]+)[ \t]*$", index_text, re.M)
+    return sorted(p for p in pages if p != "index" and not any(fnmatch.fnmatch(p, e) for e in entries))
+
+
+def _append_unlisted_pages_to_theory(app, docname, source):
+    if docname != "index":
+        return
+    here = os.path.dirname(__file__)
+    pages = [name[:-3] for name in os.listdir(here) if name.endswith(".md")]
+    extra = theory_pages_not_listed(source[0], pages)
+    if extra:
+        source[0] = re.sub(r"(:caption: Theory\n.*?)(\n```)", lambda m: m.group(1) + "\n" + "\n".join(extra) + m.group(2),
+                           source[0], count=1, flags=re.S)
+
+
+def setup(app):
+    app.connect("source-read", _append_unlisted_pages_to_theory)
