@@ -1,8 +1,8 @@
 """Built CasADi functions and sparsity data persisted on disk, keyed by their definition.
 
-Problem setup used to rebuild the same symbolic expressions, Jacobians and sparsity patterns in
-every process (0.5 s of the 0.7 s setup of the 21-node wing-box case, docs/time-marching.md,
-"Build and setup time"). What a builder produces depends only on its *definition*
+Without a store, problem setup rebuilds the same symbolic expressions, Jacobians and sparsity
+patterns in every process (0.5 s of a 0.7 s setup of the 21-node wing-box case,
+docs/time-marching.md, "Build and setup time"). What a builder produces depends only on its *definition*
 (:func:`wingmdao.utils.casadi_cache.definition_key`: builder name and arguments, SHA-256 of the
 generating modules' source, CasADi version), so it is stored once under that key:
 
