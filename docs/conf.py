@@ -18,10 +18,6 @@ sys.path.insert(0, ROOT)   # document the checkout being built, not another inst
 
 import wingmdao  # noqa: E402
 
-# autosummary writes one page per module here at every build; clearing it first keeps a renamed
-# or removed module from leaving a stale page whose import fails.
-shutil.rmtree(os.path.join(os.path.dirname(__file__), "api", "generated"), ignore_errors=True)
-
 project = "wingmdao"
 author = "wingmdao contributors"
 copyright = "wingmdao contributors, Apache-2.0"
@@ -70,16 +66,34 @@ def theory_pages_not_listed(index_text, pages):
     return sorted(p for p in pages if p != "index" and not any(fnmatch.fnmatch(p, e) for e in entries))
 
 
+def index_with_unlisted_pages(index_text, pages):
+    """``index.md`` with :func:`theory_pages_not_listed` appended to its Theory toctree."""
+    extra = theory_pages_not_listed(index_text, pages)
+    if not extra:
+        return index_text
+    return re.sub(r"(:caption: Theory\n.*?)(\n```)", lambda m: m.group(1) + "\n" + "\n".join(extra) + m.group(2),
+                  index_text, count=1, flags=re.S)
+
+
 def _append_unlisted_pages_to_theory(app, docname, source):
-    if docname != "index":
-        return
-    here = os.path.dirname(__file__)
-    pages = [name[:-3] for name in os.listdir(here) if name.endswith(".md")]
-    extra = theory_pages_not_listed(source[0], pages)
-    if extra:
-        source[0] = re.sub(r"(:caption: Theory\n.*?)(\n```)", lambda m: m.group(1) + "\n" + "\n".join(extra) + m.group(2),
-                           source[0], count=1, flags=re.S)
+    if docname == "index":
+        pages = [name[:-3] for name in os.listdir(app.srcdir) if name.endswith(".md")]
+        source[0] = index_with_unlisted_pages(source[0], pages)
+
+
+def _clear_generated_api_pages(app):
+    """autosummary writes one page per module into ``api/generated`` at every build; clearing it
+    first (before autosummary, hence the priority) keeps a renamed or removed module from leaving
+    a stale page whose import fails."""
+    shutil.rmtree(os.path.join(app.srcdir, "api", "generated"), ignore_errors=True)
+
+
+def _reread_index_when_pages_change(app, env, added, changed, removed):
+    """An incremental build re-reads the index when pages come or go (its Theory list depends on them)."""
+    return ["index"] if added or removed else []
 
 
 def setup(app):
+    app.connect("builder-inited", _clear_generated_api_pages, priority=100)
     app.connect("source-read", _append_unlisted_pages_to_theory)
+    app.connect("env-get-outdated", _reread_index_when_pages_change)

@@ -45,3 +45,20 @@ def test_every_environment_switch_is_documented():
     table = (DOCS / "environment.md").read_text()
     assert names, "no WINGMDAO_ switch found: the scan is broken"
     assert {n for n in names if f"`{n}`" not in table} == set(), "add these to docs/environment.md"
+
+
+def test_new_pages_join_the_theory_section():
+    """A page added to docs/ without touching index.md lands under Theory (docs/conf.py), so the
+    -W build does not fail on "document isn't included in any toctree"; pages the index places
+    elsewhere stay there."""
+    spec = importlib.util.spec_from_file_location("wingmdao_docs_conf", DOCS / "conf.py")
+    conf = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(conf)
+    index = (DOCS / "index.md").read_text()
+    pages = ["index", "tutorial", "verification-calculix", "performance", "aerodynamics-3d", "turbulence"]
+    assert conf.theory_pages_not_listed(index, pages) == ["aerodynamics-3d", "turbulence"]
+    text = conf.index_with_unlisted_pages(index, pages)
+    theory = text.split(":caption: Theory", 1)[1].split("```", 1)[0].split()
+    verification = text.split(":caption: Verification", 1)[1].split("```", 1)[0].split()
+    assert theory[-2:] == ["aerodynamics-3d", "turbulence"] and "section" in theory
+    assert "verification-*" in verification and "tutorial" not in theory
