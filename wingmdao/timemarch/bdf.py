@@ -97,20 +97,38 @@ def solve_static(system, p, q, x0=None, *, load_steps=1, scaled=None, max_halvin
     Parameters
     ----------
     system : ResidualSystem
-    p : array (n_param,)            time-invariant parameters (packed, see ``pack``)
-    q : array (n_forcing,)          forcing (packed)
-    x0 : array (n_state,) or None   initial guess; default ``system.initial_guess(p, q)``
-    load_steps : int                solve at q * k / load_steps, k = 1..load_steps, each from
-                                    the previous solution (continuation). A load step that fails
-                                    is bisected up to ``max_halvings`` times.
-    scaled : list of forcing names or None
-                                    forcing blocks that are stepped (default: all); the others
-                                    are applied in full from the first step.
-    atol, rtol, xtol, max_iter      Newton tolerances (see :func:`newton_solve`); the default
-                                    ``atol=0`` converges on the Newton step (residuals mix units)
+        The system to solve.
+    p : ndarray, shape (n_param,)
+        Time-invariant parameters (packed, see ``pack``).
+    q : ndarray, shape (n_forcing,)
+        Forcing (packed).
+    x0 : ndarray, shape (n_state,), optional
+        Initial guess; default ``system.initial_guess(p, q)``.
+    load_steps : int
+        Solve at ``q * k / load_steps``, k = 1..load_steps, each from the previous solution
+        (continuation). A load step that fails is bisected up to ``max_halvings`` times.
+    scaled : list of str, optional
+        Forcing blocks that are stepped (default: all); the others are applied in full from the
+        first step.
+    max_halvings : int
+        Bisections of a failed load step.
+    atol, rtol, xtol, max_iter
+        Newton tolerances (see :func:`newton_solve`); the default ``atol=0`` converges on the
+        Newton step (residuals mix units).
+    label : str
+        Name of the solve in error messages.
 
-    Returns ``(x, NewtonInfo)`` with the total number of Newton iterations. Raises
-    :class:`om.AnalysisError` naming the load fraction, residual norm and worst equation.
+    Returns
+    -------
+    x : ndarray, shape (n_state,)
+        The equilibrium state.
+    info : NewtonInfo
+        With the total number of Newton iterations.
+
+    Raises
+    ------
+    om.AnalysisError
+        Naming the load fraction, residual norm and worst equation.
     """
     if int(load_steps) < 1:
         raise ValueError(f"load_steps must be >= 1, got {load_steps}")
@@ -348,30 +366,48 @@ def march(system, time, p, forcing, *, initial="static", x_init=None, x_guess=No
     Parameters
     ----------
     system : ResidualSystem
-    time : array (n_time,)           uniform grid, time[0] = 0 (s)
-    p : array (n_param,)             parameters (packed)
-    forcing : array (n_time, n_forcing)  forcing at every instant (packed per row)
-    initial : "static" | "state"     step 0: static equilibrium under q_0, or ``x_init``
-    x_init : array (n_state,)        initial state (``initial="state"``)
-    x_guess : array (n_state,)       starting guess of the static solve (default
-                                     ``system.initial_guess``)
-    modified_newton : bool           reuse the LU across iterations and steps while the
-                                     step contracts by ``contraction`` or better
-    atol, xtol, max_iter             per-step convergence: max|R| <= atol, or Newton step
-                                     <= xtol (1 + max|x|). The default atol = 0 always takes
-                                     at least one Newton step: an absolute residual test is
-                                     unreliable when residuals mix units (forces, curvatures).
-    static_options : dict            keyword arguments of :func:`solve_static` for step 0
-    callback : callable(step, t, x)  called after each converged step
-    fast : bool or None              the Newton iterations in compiled code
-                                     (:mod:`wingmdao.timemarch.fast_step`) when the system's
-                                     residual and Newton functions are compiled: None = when
-                                     available, for systems above ``newton.DENSE_MAX`` states,
-                                     unless ``WINGMDAO_COMPILED_STEPS=0``;
-                                     False = never (the Python path, SuperLU); True = required
-                                     (ValueError when not available)
+        The system to march.
+    time : ndarray, shape (n_time,)
+        Uniform grid, ``time[0] = 0`` (s).
+    p : ndarray, shape (n_param,)
+        Parameters (packed).
+    forcing : ndarray, shape (n_time, n_forcing)
+        Forcing at every instant (packed per row).
+    initial : {"static", "state"}
+        Step 0: static equilibrium under q_0, or ``x_init``.
+    x_init : ndarray, shape (n_state,), optional
+        Initial state (``initial="state"``).
+    x_guess : ndarray, shape (n_state,), optional
+        Starting guess of the static solve (default ``system.initial_guess``).
+    modified_newton : bool
+        Reuse the LU across iterations and steps while the step contracts by ``contraction`` or
+        better.
+    contraction : float
+        Modified Newton keeps its LU while each Newton step is at most ``contraction`` times the
+        previous one.
+    atol, xtol, max_iter
+        Per-step convergence: ``max|R| <= atol``, or Newton step ``<= xtol (1 + max|x|)``. The
+        default ``atol = 0`` always takes at least one Newton step: an absolute residual test is
+        unreliable when residuals mix units (forces, curvatures).
+    static_options : dict, optional
+        Keyword arguments of :func:`solve_static` for step 0.
+    callback : callable, optional
+        ``callback(step, t, x)``, called after each converged step.
+    fast : bool or None
+        The Newton iterations in compiled code (:mod:`wingmdao.timemarch.fast_step`) when the
+        system's residual and Newton functions are compiled. None: when available, for systems
+        above ``newton.DENSE_MAX`` states, unless ``WINGMDAO_COMPILED_STEPS=0``; False: never
+        (the Python path, SuperLU); True: required (ValueError when not available).
 
-    Raises :class:`om.AnalysisError` naming the step, time, residual and worst equation.
+    Returns
+    -------
+    TimeHistory
+        States and rates (n_time, n_state) and the Newton work per step.
+
+    Raises
+    ------
+    om.AnalysisError
+        Naming the step, time, residual and worst equation.
     """
     t = np.asarray(time, dtype=float)
     dt = time_step(t)
