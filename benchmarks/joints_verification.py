@@ -106,6 +106,28 @@ def l_frame():
               f"Richardson {rich[i]:.4f} ({_rel(rich[i], ref[i])}) | frequency equation {ref[i]:.4f} rad/s")
 
 
+def t_frame():
+    LR, LL, PR, PL = 4.0, 2.5, -10.0, 8.0
+    rc, thc = straight_beam(13, T.H, (0.0, 0.0, 1.0))
+    rr, thr = straight_beam(17, LR, (0.0, 1.0, 0.0))
+    rl, thl = straight_beam(11, LL, (0.0, -1.0, 0.0))
+    left = dict(EI_cc=0.6e6, EI_nn=2e6, GJ=0.5e6, EA=1e10)
+    model = JoinedBeamModel([Beam("column", 13), Beam("right", 17, root="free"), Beam("left", 11, root="free")],
+                            [Joint("column", -1, "right", 0), Joint("left", 0, "column", -1)],
+                            {"column": beam_parameters(rc, thc, **T.COLUMN),
+                             "right": beam_parameters(rr + [0.0, 0.0, T.H], thr, **T.ARM),
+                             "left": beam_parameters(rl + [0.0, 0.0, T.H], thl, **left)})
+    out = model.solve({"right": {"point_force": np.outer(np.eye(17)[-1], [0.0, 0.0, PR])},
+                       "left": {"point_force": np.outer(np.eye(11)[-1], [0.0, 0.0, PL])}})
+    phi = (LR * PR - LL * PL) * T.H / T.COLUMN["EI_cc"]
+    short = (PR + PL) * T.H / T.COLUMN["EA"]
+    right = PR * LR**3 / (3 * T.ARM["EI_cc"]) + phi * LR + short
+    lft = PL * LL**3 / (3 * left["EI_cc"]) - phi * LL + short
+    dr, dl = out["right"]["r"][-1, 2] - T.H, out["left"]["r"][-1, 2] - T.H
+    print(f"T-frame (12 + 16 + 10 elements, two joints on the column top), tips {PR:.0f} / {PL:+.0f} N: "
+          f"right z {dr:.6e} m | {right:.6e} ({_rel(dr, right)}), left z {dl:.6e} m | {lft:.6e} ({_rel(dl, lft)})")
+
+
 def hinges():
     k, M = 2.5e5, 6e4
     model = T._hinged_beam(k)
@@ -201,6 +223,7 @@ def main():
     split_cantilever()
     free_free()
     l_frame()
+    t_frame()
     hinges()
     adjoint()
     lu_work()

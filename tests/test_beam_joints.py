@@ -135,6 +135,34 @@ def test_l_frame_tip_loads_against_unit_load_method():
     assert tip[0] == pytest.approx(ref, rel=1e-3)
 
 
+def test_t_frame_two_joints_on_one_node_against_unit_load_method():
+    """Column along z (clamped) with a right arm (+y) and a left arm (-y) both joined to its top
+    node; tip loads -z (right) and +z (left). The column carries the net moment M = L_R P_R - L_L P_L about
+    x: its top turns by M H / EI_col, moving the arm tips by +-phi L; plus each arm's PL^3/3EI and
+    the column's shortening."""
+    LR, LL, PR, PL = 4.0, 2.5, -10.0, 8.0
+    rc, thc = straight_beam(13, H, (0.0, 0.0, 1.0))
+    rr, thr = straight_beam(17, LR, (0.0, 1.0, 0.0))
+    rl, thl = straight_beam(11, LL, (0.0, -1.0, 0.0))
+    left = dict(EI_cc=0.6e6, EI_nn=2e6, GJ=0.5e6, EA=1e10)
+    model = JoinedBeamModel([Beam("column", 13), Beam("right", 17, root="free"), Beam("left", 11, root="free")],
+                            [Joint("column", -1, "right", 0), Joint("left", 0, "column", -1)],
+                            {"column": beam_parameters(rc, thc, **COLUMN),
+                             "right": beam_parameters(rr + [0.0, 0.0, H], thr, **ARM),
+                             "left": beam_parameters(rl + [0.0, 0.0, H], thl, **left)})
+    loads = {"right": {"point_force": np.outer(np.eye(17)[-1], [0.0, 0.0, PR])},
+             "left": {"point_force": np.outer(np.eye(11)[-1], [0.0, 0.0, PL])}}
+    out = model.solve(loads)
+    phi = (LR * PR - LL * PL) * H / COLUMN["EI_cc"]
+    shortening = (PR + PL) * H / COLUMN["EA"]
+    dz_right = out["right"]["r"][-1, 2] - H
+    dz_left = out["left"]["r"][-1, 2] - H
+    assert dz_right == pytest.approx(PR * LR**3 / (3 * ARM["EI_cc"]) + phi * LR + shortening, rel=1e-3)
+    assert dz_left == pytest.approx(PL * LL**3 / (3 * left["EI_cc"]) - phi * LL + shortening, rel=1e-3)
+    assert out["column"]["theta"][-1, 0] - np.pi / 2 == pytest.approx(phi, rel=1e-4)   # (nonlinear: 3e-6)
+    np.testing.assert_allclose(out["column"]["F"][0], [0.0, 0.0, PR + PL], atol=1e-9)
+
+
 def _l_frame_frequency_equation(EI1, m1, EI2, m2, count=2):
     """Lowest in-plane circular frequencies of the clamped L-frame (column H, arm LA; Euler-
     Bernoulli, inextensible). Column lateral deflection v(z) (y), arm deflection w(y) (z); rotations
