@@ -18,7 +18,7 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests"))
 import test_beam_joints as T  # noqa: E402
 
-from wingmdao.beam.joints import Beam, Joint, JoinedBeamModel, build_joined_system  # noqa: E402
+from wingmdao.beam.joints import FUSELAGE_AXES, Beam, Joint, JoinedBeamModel, build_joined_system  # noqa: E402
 from wingmdao.beam.static import beam_parameters, straight_beam  # noqa: E402
 from wingmdao.timemarch import lu_orders, static_lu  # noqa: E402
 from wingmdao.timemarch.adjoint import LinearizedHistory  # noqa: E402
@@ -128,6 +128,28 @@ def t_frame():
           f"right z {dr:.6e} m | {right:.6e} ({_rel(dr, right)}), left z {dl:.6e} m | {lft:.6e} ({_rel(dl, lft)})")
 
 
+def fuselage():
+    Lf, a, Lw, P = 6.0, 4.0, 5.0, 10.0
+    fus = dict(EI_cc=4e6, EI_nn=7e6, GJ=3e6, EA=1e9, mass_per_length=50.0)
+    wing = dict(EI_cc=1e6, EI_nn=5e6, GJ=1e6, EA=1e9, mass_per_length=20.0)
+    R = np.array(FUSELAGE_AXES)
+    rf, thf = straight_beam(13, Lf)
+    rw, thw = straight_beam(21, Lw)
+    model = JoinedBeamModel([Beam("fuselage", 13, axes=FUSELAGE_AXES), Beam("wing", 21, root="free")],
+                            [Joint("fuselage", 8, "wing", 0)],
+                            {"fuselage": beam_parameters(rf, thf, **fus),
+                             "wing": beam_parameters(rw + R.T @ rf[8], thw, **wing)})
+    res = []
+    for load, axis, ref in (([0.0, 0.0, -P], 2, -P * (Lw**3 / (3 * wing["EI_cc"]) + a**3 / (3 * fus["EI_cc"])
+                                                         + Lw**2 * a / fus["GJ"])),
+                            ([P, 0.0, 0.0], 0, P * (Lw**3 / (3 * wing["EI_nn"]) + Lw**2 * a / fus["EI_nn"]
+                                                    + a / fus["EA"]))):
+        out = model.solve({"wing": {"point_force": np.outer(np.eye(21)[-1], load)}})
+        d = (out["wing"]["r"][-1] - model.params["wing"]["node_positions"][-1])[axis]
+        res.append(f"{'xyz'[axis]} {d:.6e} m | {ref:.6e} ({_rel(d, ref)})")
+    print(f"fuselage along x (own axes, 12 el.) with a wing (20 el.) at x = {a} m, tip {P:.0f} N: " + "; ".join(res))
+
+
 def hinges():
     k, M = 2.5e5, 6e4
     model = T._hinged_beam(k)
@@ -196,7 +218,7 @@ def figure(path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    beams = [Beam("fuselage", 9), Beam("wing", 7, root="free"), Beam("tail", 5, root="free")]
+    beams = [Beam("fuselage", 9, axes=FUSELAGE_AXES), Beam("wing", 7, root="free"), Beam("tail", 5, root="free")]
     joints = [Joint("fuselage", 3, "wing", 0), Joint("fuselage", -1, "tail", 0)]
     s = build_joined_system(beams, joints)
     rows, cols, shape = s.jacobian_patterns()["x"]
@@ -224,6 +246,7 @@ def main():
     free_free()
     l_frame()
     t_frame()
+    fuselage()
     hinges()
     adjoint()
     lu_work()

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import scipy.optimize as sopt
 
-from wingmdao.beam.joints import Beam, Joint, JoinedBeamModel, build_joined_system
+from wingmdao.beam.joints import FUSELAGE_AXES, Beam, Joint, JoinedBeamModel, build_joined_system
 from wingmdao.beam.static import BeamModel, beam_parameters, straight_beam
 from wingmdao.stability.eigen import eigenmodes
 from wingmdao.timemarch import lu_orders, static_lu
@@ -161,6 +161,38 @@ def test_t_frame_two_joints_on_one_node_against_unit_load_method():
     assert dz_left == pytest.approx(PL * LL**3 / (3 * left["EI_cc"]) - phi * LL + shortening, rel=1e-3)
     assert out["column"]["theta"][-1, 0] - np.pi / 2 == pytest.approx(phi, rel=1e-4)   # (nonlinear: 3e-6)
     np.testing.assert_allclose(out["column"]["F"][0], [0.0, 0.0, PR + PL], atol=1e-9)
+
+
+def test_fuselage_along_x_with_its_own_axes_and_a_wing_at_a_mid_node():
+    """A fuselage along body x (its own axes FUSELAGE_AXES: the Euler sequence is singular along
+    body x) clamped at the nose, a wing along y joined at the fuselage's node at x = a. Unit-load
+    method: tip load -z bends the wing (EI_cc), bends the fuselage vertically (EI_cc in its axes)
+    and twists it (GJ); tip load +x bends the wing in-plane (EI_nn), bends the fuselage laterally
+    (EI_nn) and stretches it. Under gravity the root reaction is the total weight (body axes)."""
+    Lf, a, Lw, P = 6.0, 4.0, 5.0, 10.0
+    fus = dict(EI_cc=4e6, EI_nn=7e6, GJ=3e6, EA=1e9, mass_per_length=50.0)
+    wing = dict(EI_cc=1e6, EI_nn=5e6, GJ=1e6, EA=1e9, mass_per_length=20.0)
+    R = np.array(FUSELAGE_AXES)
+    rf, thf = straight_beam(13, Lf)                      # along the fuselage's own y = body x
+    rw, thw = straight_beam(21, Lw)
+    model = JoinedBeamModel([Beam("fuselage", 13, axes=FUSELAGE_AXES), Beam("wing", 21, root="free")],
+                            [Joint("fuselage", 8, "wing", 0)],
+                            {"fuselage": beam_parameters(rf, thf, **fus),
+                             "wing": beam_parameters(rw + R.T @ rf[8], thw, **wing)})
+    for load, axis, ref in (([0.0, 0.0, -P], 2, -P * (Lw**3 / (3 * wing["EI_cc"]) + a**3 / (3 * fus["EI_cc"])
+                                                         + Lw**2 * a / fus["GJ"])),
+                            ([P, 0.0, 0.0], 0, P * (Lw**3 / (3 * wing["EI_nn"]) + Lw**2 * a / fus["EI_nn"]
+                                                    + a / fus["EA"]))):
+        out = model.solve({"wing": {"point_force": np.outer(np.eye(21)[-1], load)}}, load_steps=1)
+        tip = out["wing"]["r"][-1] - model.params["wing"]["node_positions"][-1]
+        assert tip[axis] == pytest.approx(ref, rel=1e-3)
+    g = 9.81
+    out = model.solve(gravity=[0.0, 0.0, -g])
+    weight = g * (fus["mass_per_length"] * Lf + wing["mass_per_length"] * Lw)
+    body = model.system.unpack(out["x"], body_axes=True)
+    np.testing.assert_allclose(body["fuselage"]["F"][0], [0.0, 0.0, -weight], rtol=1e-9, atol=1e-6)
+    np.testing.assert_allclose(out["fuselage"]["F"][0], R @ [0.0, 0.0, -weight], rtol=1e-9, atol=1e-6)
+    np.testing.assert_allclose(body["fuselage"]["r"][8], body["wing"]["r"][0], atol=1e-12)
 
 
 def _l_frame_frequency_equation(EI1, m1, EI2, m2, count=2):
@@ -380,6 +412,9 @@ def test_bad_joints_are_refused(kwargs, match):
     (dict(name="wing tip", num_nodes=3), r"beam name must be an identifier"),
     (dict(name="wing", num_nodes=1), r"beam 'wing': num_nodes must be an integer >= 2, got 1"),
     (dict(name="wing", num_nodes=3, root="pinned"), r"root must be one of \('clamped', 'free'\), got 'pinned'"),
+    (dict(name="fuselage", num_nodes=3, axes=((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, -1.0))),
+     r"beam 'fuselage': axes must be a 3 x 3 rotation matrix"),
+    (dict(name="fuselage", num_nodes=3, axes=(1.0, 0.0, 0.0)), r"axes must be a 3 x 3 rotation matrix"),
 ])
 def test_bad_beams_are_refused(kwargs, match):
     with pytest.raises(ValueError, match=match):

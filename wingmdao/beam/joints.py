@@ -1,16 +1,18 @@
 """Several App. A beams joined at nodes, as one CasADi residual system (a stick model's structure).
 
 Each beam keeps its own nodes, sections and stations and its 18 unknowns and 18 equations per
-node (:mod:`wingmdao.beam.residual`). A beam's root (node 0) is clamped or free; its tip is free.
+node (:mod:`wingmdao.beam.residual`), in its own axes (a constant rotation R of the body axes, e.g.
+:data:`FUSELAGE_AXES` for a beam along body x; identity by default). A beam's root (node 0) is
+clamped or free; its tip is free.
 A joint connects node ``i`` of beam A with node ``j`` of beam B (coincident in the jig) and adds
 12 unknowns and 12 equations (derivation: docs/stick-model.md):
 
 * unknowns: the force and moment the joint exerts on beam A's node (``f_A``, ``m_A``) and on beam
   B's node (``f_B``, ``m_B``), body axes; each enters its beam as a point load at the node;
 * equations: transfer of force and moment across the massless joint, ``f_A + f_B = 0`` and
-  ``m_A + m_B = 0``; equal positions ``r_B - r_A = 0``; and the orientation condition on the
-  relative rotation ``C = Lambda_A^T Lambda_B`` of the two node frames measured from the jig
-  (``Lambda = T(theta)^T T(theta_0)``), through its axial vector
+  ``m_A + m_B = 0``; equal positions ``R_B^T r_B - R_A^T r_A = 0``; and the orientation condition
+  on the relative rotation ``C = Lambda_A^T Lambda_B`` of the two node frames measured from the jig
+  (``Lambda = R^T T(theta)^T T(theta_0) R``, body components), through its axial vector
   ``w = axial(C - C^T) / 2``:
 
   - rigid joint: ``w = 0`` (3 rows);
@@ -28,6 +30,7 @@ stiffnesses; gravity and the motion of the body axes are shared by all beams.
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 import time
@@ -64,15 +67,26 @@ _GENERATING_MODULES = ("wingmdao.beam.joints", "wingmdao.beam.residual", "wingmd
 _XYZ = "xyz"
 
 
+#: Axes of a beam along the body x axis (a fuselage; the surface Euler sequence is singular there):
+#: the beam's own y (its axis direction) is body x (aft), its x is body -y, its z is body z.
+FUSELAGE_AXES = ((0.0, -1.0, 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0))
+
+
 @dataclass(frozen=True)
 class Beam:
     """One beam of a joined system: a ``name`` (a Python identifier, prefix of its parameter and
     forcing blocks), its ``num_nodes`` (>= 2, root first) and its ``root`` condition,
-    ``"clamped"`` (r, theta held at the jig) or ``"free"`` (no force or moment at the root)."""
+    ``"clamped"`` (r, theta held at the jig) or ``"free"`` (no force or moment at the root).
+
+    ``axes``: the beam's own axes as a rotation matrix R (3 x 3, rows = the beam's x, y, z in body
+    components; ``v_beam = R v_body``); None: the body axes. The beam's parameters, states and
+    loads are in its own axes, so a beam along body x (a fuselage, :data:`FUSELAGE_AXES`) runs
+    along its own y, away from the singular direction of the Euler sequence."""
 
     name: str
     num_nodes: int
     root: str = "clamped"
+    axes: tuple | None = None
 
     def __post_init__(self):
         if not (isinstance(self.name, str) and re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", self.name)):
@@ -82,6 +96,18 @@ class Beam:
         object.__setattr__(self, "num_nodes", int(self.num_nodes))
         if self.root not in ROOT_CONDITIONS:
             raise ValueError(f"beam {self.name!r}: root must be one of {ROOT_CONDITIONS}, got {self.root!r}")
+        if self.axes is not None:
+            R = np.asarray(self.axes, dtype=float)
+            if R.shape != (3, 3) or not np.all(np.isfinite(R)) or not np.allclose(R @ R.T, np.eye(3), atol=1e-9) \
+                    or np.linalg.det(R) <= 0.0:
+                raise ValueError(f"beam {self.name!r}: axes must be a 3 x 3 rotation matrix (orthonormal rows, "
+                                 f"determinant +1), got {self.axes}")
+            object.__setattr__(self, "axes", tuple(tuple(float(v) for v in row) for row in R))
+
+    @property
+    def rotation(self) -> np.ndarray:
+        """R: body components -> the beam's own components (identity without ``axes``)."""
+        return np.eye(3) if self.axes is None else np.array(self.axes, dtype=float)
 
 
 @dataclass(frozen=True)
@@ -218,14 +244,23 @@ def _normals(axis):
     return b1, np.cross(a, b1)
 
 
-def joint_equations(joint, x_a, x_b, th0_a, th0_b, loads, stiffness, sequence="surface"):
+def _node_rotation(theta, theta0, R, sequence):
+    """Lambda = R^T T(theta)^T T(theta_0) R: the rotation from the jig to the deformed frame of a
+    node, body components (``R``: body -> the beam's axes, DM)."""
+    lam = body_to_csn(theta, sequence).T @ body_to_csn(theta0, sequence)
+    return R.T @ lam @ R
+
+
+def joint_equations(joint, node_a, node_b, loads, stiffness, sequence="surface"):
     """The 12 residuals of ``joint`` (module docstring): force and moment transfer, equal positions,
-    orientation (rigid: 3 rows; hinge: 2 rows and the hinge law). ``x_a``, ``x_b``: the 18 states
-    of the two nodes; ``th0_a``, ``th0_b``: their jig Euler angles; ``loads``: the 12 joint
-    unknowns; ``stiffness``: the spring stiffness (hinges with a spring)."""
+    orientation (rigid: 3 rows; hinge: 2 rows and the hinge law). ``node_a``, ``node_b``:
+    ``(x, theta_0, R)`` of the two nodes: the 18 states and jig Euler angles in the beam's axes and
+    the beam's rotation R (body -> beam axes); ``loads``: the 12 joint unknowns (body axes);
+    ``stiffness``: the spring stiffness (hinges with a spring)."""
     st, jb = STATE_BLOCKS, JOINT_BLOCKS
-    lam_a = body_to_csn(x_a[st["theta"]], sequence).T @ body_to_csn(th0_a, sequence)
-    lam_b = body_to_csn(x_b[st["theta"]], sequence).T @ body_to_csn(th0_b, sequence)
+    (x_a, th0_a, R_a), (x_b, th0_b, R_b) = node_a, node_b
+    lam_a = _node_rotation(x_a[st["theta"]], th0_a, R_a, sequence)
+    lam_b = _node_rotation(x_b[st["theta"]], th0_b, R_b, sequence)
     C = lam_a.T @ lam_b
     w = _axial(C)
     if joint.kind == "rigid":
@@ -239,7 +274,7 @@ def joint_equations(joint, x_a, x_b, th0_a, th0_b, loads, stiffness, sequence="s
         orientation = ca.vertcat(ca.dot(ca.DM(b1), w), ca.dot(ca.DM(b2), w), law)
     return ca.vertcat(loads[jb["force_a"]] + loads[jb["force_b"]],
                       loads[jb["moment_a"]] + loads[jb["moment_b"]],
-                      x_b[st["r"]] - x_a[st["r"]],
+                      R_b.T @ x_b[st["r"]] - R_a.T @ x_a[st["r"]],
                       orientation)
 
 
@@ -268,15 +303,19 @@ class JoinedBeamSystem(CasadiResidualSystem):
             raise ValueError(f"beam {name!r} has nodes 0..{b.num_nodes - 1}, got node {node}")
         return self.offsets[name] + N_STATE_PER_NODE * (int(node) % b.num_nodes)
 
-    def unpack(self, x) -> dict:
-        """``{beam: {'r', 'theta', 'F', 'M', 'u', 'omega'} (n, 3) arrays}`` and
-        ``'joints'``: ``{'force_a', 'moment_a', 'force_b', 'moment_b'}`` (n_joint, 3) arrays."""
+    def unpack(self, x, body_axes: bool = False) -> dict:
+        """``{beam: {'r', 'theta', 'F', 'M', 'u', 'omega'} (n, 3) arrays}`` in each beam's axes (with
+        ``body_axes``: r, F, M, u, omega in body axes; theta stays the beam's Euler angles) and
+        ``'joints'``: ``{'force_a', 'moment_a', 'force_b', 'moment_b'}`` (n_joint, 3) arrays, body axes."""
         x = np.asarray(x, dtype=float).reshape(self.n_state)
         out = {}
         for b in self.beams:
             blk = x[self.offsets[b.name]: self.offsets[b.name] + N_STATE_PER_NODE * b.num_nodes]
             blk = blk.reshape(b.num_nodes, N_STATE_PER_NODE)
             out[b.name] = {k: blk[:, s].copy() for k, s in STATE_BLOCKS.items()}
+            if body_axes and b.axes is not None:
+                for k in ("r", "F", "M", "u", "omega"):
+                    out[b.name][k] = out[b.name][k] @ b.rotation
         jl = x[self.joint_offset:].reshape(len(self.joints), N_JOINT)
         out["joints"] = {k: jl[:, s].copy() for k, s in JOINT_BLOCKS.items()}
         return out
@@ -301,12 +340,12 @@ class JoinedBeamSystem(CasadiResidualSystem):
             for s in beam_param_specs(b.num_nodes):
                 values[f"{b.name}_{s.name}"] = prm[s.name]
         for jt in self.joints:
-            ra = np.asarray(beam_params[jt.beam_a]["node_positions"], dtype=float)[jt.node_a]
-            rb = np.asarray(beam_params[jt.beam_b]["node_positions"], dtype=float)[jt.node_b]
+            ra = self.beam(jt.beam_a).rotation.T @ np.asarray(beam_params[jt.beam_a]["node_positions"], float)[jt.node_a]
+            rb = self.beam(jt.beam_b).rotation.T @ np.asarray(beam_params[jt.beam_b]["node_positions"], float)[jt.node_b]
             gap = float(np.linalg.norm(ra - rb))
             if gap > POSITION_TOLERANCE:
                 raise ValueError(f"{jt.label}: the beams do not meet at the joint: the nodes are {gap:.6g} m "
-                                 f"apart in the jig ({ra} and {rb}); a joint needs coincident nodes "
+                                 f"apart in the jig ({ra} and {rb}, body axes); a joint needs coincident nodes "
                                  f"(within {POSITION_TOLERANCE} m)")
         values["joint_rotational_stiffness"] = [0.0 if jt.stiffness is None else jt.stiffness for jt in self.joints]
         return pack(self.param_specs, values)
@@ -338,7 +377,7 @@ class JoinedBeamSystem(CasadiResidualSystem):
         return _jig_guess(self, p, None)
 
 
-def _jig_guess(system, p, q):
+def _jig_guess(system, p, q=None):
     p = np.asarray(p, dtype=float)
     lay = layout(system.param_specs)
     x = np.zeros(system.n_state)
@@ -401,77 +440,86 @@ def build_joined_system(beams, joints, *, euler_sequence: str = "surface",
     if damping is not None and damping.is_zero:
         damping = None
     pspecs, qspecs = param_specs(beams, joints), forcing_specs(beams)
-    play, qlay = layout(pspecs), layout(qspecs)
     offsets, start = {}, 0
     for b in beams:
         offsets[b.name] = start
         start += N_STATE_PER_NODE * b.num_nodes
     joint_offset = start
     n_state = joint_offset + N_JOINT * len(joints)
-    x = ca.SX.sym("x", n_state)
-    xdot = ca.SX.sym("xdot", n_state)
+    x, xdot = ca.SX.sym("x", n_state), ca.SX.sym("xdot", n_state)
     p = ca.SX.sym("p", sum(s.size for s in pspecs))
     q = ca.SX.sym("q", sum(s.size for s in qspecs))
-    elem = _element_function(euler_sequence, damping)
-    nodal = _nodal_function(euler_sequence)
-    g = q[qlay["gravity"]]
-    frame = (q[qlay["frame_acceleration"]], q[qlay["frame_angular_velocity"]],
-             q[qlay["frame_angular_acceleration"]])
-    jl = [x[joint_offset + N_JOINT * j: joint_offset + N_JOINT * (j + 1)] for j in range(len(joints))]
-    stiff = p[play["joint_rotational_stiffness"]]
-
-    # per beam: node states, rates, parameters and forcing (with the joint loads as point loads)
-    xs, xds, ps, qs = {}, {}, {}, {}
-    for b in beams:
-        n, o = b.num_nodes, offsets[b.name]
-        xs[b.name] = [x[o + 18 * i: o + 18 * (i + 1)] for i in range(n)]
-        xds[b.name] = [xdot[o + 18 * i: o + 18 * (i + 1)] for i in range(n)]
-        blay = layout(beam_param_specs(n))
-        pb = ca.vertcat(*[p[play[f"{b.name}_{s.name}"]] for s in beam_param_specs(n)])
-        ps[b.name] = [_node_params(pb, blay, i) for i in range(n)]
-        flay = layout(beam_forcing_specs(n))
-        qb = ca.vertcat(*[q[qlay[f"{b.name}_{s.name}"]] if s.name in _BEAM_FORCING else ca.SX.zeros(s.size)
-                          for s in beam_forcing_specs(n)])
-        qs[b.name] = [_node_forcing(qb, flay, i) for i in range(n)]
-    jb = JOINT_BLOCKS
-    for j, jt in enumerate(joints):
+    nodes = {b.name: _beam_nodes(b, x, xdot, p, q, offsets[b.name], layout(pspecs), layout(qspecs)) for b in beams}
+    loads = [x[joint_offset + N_JOINT * j: joint_offset + N_JOINT * (j + 1)] for j in range(len(joints))]
+    for jt, jl in zip(joints, loads):         # the joint loads are point loads of their two nodes
         for name, node, f, m in ((jt.beam_a, jt.node_a, "force_a", "moment_a"),
                                  (jt.beam_b, jt.node_b, "force_b", "moment_b")):
-            qs[name][node] = qs[name][node] + ca.vertcat(ca.SX.zeros(6), jl[j][jb[f]], jl[j][jb[m]])
-
-    st = STATE_BLOCKS
-    blocks = []
-    for b in beams:
-        n, X, Xd, P, Q = b.num_nodes, xs[b.name], xds[b.name], ps[b.name], qs[b.name]
-        for i in range(n):
-            if i < n - 1:
-                blocks.append(elem(X[i], X[i + 1], Xd[i], Xd[i + 1], P[i], P[i + 1], Q[i], Q[i + 1], g, *frame))
-            else:
-                if b.root == "clamped":
-                    root = ca.vertcat(X[0][st["r"]] - P[0][_P_NODE["r0"]], X[0][st["theta"]] - P[0][_P_NODE["theta0"]])
-                else:
-                    root = ca.vertcat(X[0][st["F"]], X[0][st["M"]])
-                blocks.append(ca.vertcat(root, X[i][st["F"]] - Q[i][_Q_NODE["P"]], X[i][st["M"]] - Q[i][_Q_NODE["Q"]]))
-            blocks.append(nodal(X[i], Xd[i]))
-    for j, jt in enumerate(joints):
-        th0_a = ps[jt.beam_a][jt.node_a][_P_NODE["theta0"]]
-        th0_b = ps[jt.beam_b][jt.node_b][_P_NODE["theta0"]]
-        blocks.append(joint_equations(jt, xs[jt.beam_a][jt.node_a], xs[jt.beam_b][jt.node_b], th0_a, th0_b,
-                                      jl[j], stiff[j], euler_sequence))
-    R = ca.vertcat(*blocks)
-
-    describe = lambda k: describe_joined_equation(k, beams, joints, offsets, joint_offset)  # noqa: E731
+            R = ca.DM(next(b for b in beams if b.name == name).rotation)
+            nodes[name]["q"][node] = nodes[name]["q"][node] + ca.vertcat(
+                ca.SX.zeros(6), R @ jl[JOINT_BLOCKS[f]], R @ jl[JOINT_BLOCKS[m]])
+    elem = _element_function(euler_sequence, damping)
+    nodal = _nodal_function(euler_sequence)
+    blocks = [_beam_residual(b, nodes[b.name], elem, nodal) for b in beams]
+    stiffness = p[layout(pspecs)["joint_rotational_stiffness"]]
+    for j, (jt, jl) in enumerate(zip(joints, loads)):
+        ends = [(nodes[name]["x"][node], nodes[name]["p"][node][_P_NODE["theta0"]], nodes[name]["R"])
+                for name, node in ((jt.beam_a, jt.node_a), (jt.beam_b, jt.node_b))]
+        blocks.append(joint_equations(jt, ends[0], ends[1], jl, stiffness[j], euler_sequence))
+    describe = functools.partial(describe_joined_equation, beams=beams, joints=joints, offsets=offsets,
+                                 joint_offset=joint_offset)
+    first = {b.name: offsets[b.name] // N_STATE_PER_NODE for b in beams}
     order = lu_orders.joined_lu_column_order([b.num_nodes for b in beams],
-                                             [(offsets[jt.beam_a] // 18 + jt.node_a,
-                                               offsets[jt.beam_b] // 18 + jt.node_b) for jt in joints])
-    system = JoinedBeamSystem(beams, joints, offsets, joint_offset, x, xdot, p, q, R,
+                                             [(first[jt.beam_a] + jt.node_a, first[jt.beam_b] + jt.node_b)
+                                              for jt in joints])
+    system = JoinedBeamSystem(beams, joints, offsets, joint_offset, x, xdot, p, q, ca.vertcat(*blocks),
                               param_specs=pspecs, forcing_specs=qspecs, state_shape=(n_state,),
                               name=f"joined{len(beams)}b{len(joints)}j{n_state}", describe=describe,
-                              initial_guess=None, definition=joined_definition(beams, joints, euler_sequence, damping),
+                              definition=joined_definition(beams, joints, euler_sequence, damping),
                               lu_column_order=order)
-    system._initial_guess = lambda p_val, q_val: _jig_guess(system, p_val, q_val)
+    system._initial_guess = functools.partial(_jig_guess, system)
     system.build_time = time.perf_counter() - t_start
     return system
+
+
+def _beam_nodes(beam, x, xdot, p, q, offset, play, qlay) -> dict:
+    """Per-node symbols of one beam: states ``x``, rates ``xdot``, the 34 parameters ``p`` and 12
+    loads ``q`` of the element function (loads in the beam's axes), the shared gravity and frame
+    motion turned into the beam's axes (``g``, ``frame``) and its rotation ``R`` (DM)."""
+    n = beam.num_nodes
+    specs, fspecs = beam_param_specs(n), beam_forcing_specs(n)
+    pb = ca.vertcat(*[p[play[f"{beam.name}_{s.name}"]] for s in specs])
+    qb = ca.vertcat(*[q[qlay[f"{beam.name}_{s.name}"]] if s.name in _BEAM_FORCING else ca.SX.zeros(s.size)
+                      for s in fspecs])
+    R = ca.DM(beam.rotation)
+    blay, flay = layout(specs), layout(fspecs)
+    return {"x": [x[offset + 18 * i: offset + 18 * (i + 1)] for i in range(n)],
+            "xdot": [xdot[offset + 18 * i: offset + 18 * (i + 1)] for i in range(n)],
+            "p": [_node_params(pb, blay, i) for i in range(n)],
+            "q": [_node_forcing(qb, flay, i) for i in range(n)],
+            "g": R @ q[qlay["gravity"]],
+            "frame": tuple(R @ q[qlay[k]] for k in ("frame_acceleration", "frame_angular_velocity",
+                                                    "frame_angular_acceleration")),
+            "R": R}
+
+
+def _beam_residual(beam, nd, elem, nodal):
+    """The 18 n residuals of one beam in the single beam's row order: element rows, the root and
+    tip rows in the last node's block (clamped root: r, theta at the jig; free root: F = M = 0;
+    tip: F, M = the tip's point loads, joint loads included), the two kinematic rows per node."""
+    st, n = STATE_BLOCKS, beam.num_nodes
+    X, Xd, P, Q = nd["x"], nd["xdot"], nd["p"], nd["q"]
+    blocks = []
+    for i in range(n):
+        if i < n - 1:
+            blocks.append(elem(X[i], X[i + 1], Xd[i], Xd[i + 1], P[i], P[i + 1], Q[i], Q[i + 1], nd["g"], *nd["frame"]))
+        else:
+            if beam.root == "clamped":
+                root = ca.vertcat(X[0][st["r"]] - P[0][_P_NODE["r0"]], X[0][st["theta"]] - P[0][_P_NODE["theta0"]])
+            else:
+                root = ca.vertcat(X[0][st["F"]], X[0][st["M"]])
+            blocks.append(ca.vertcat(root, X[i][st["F"]] - Q[i][_Q_NODE["P"]], X[i][st["M"]] - Q[i][_Q_NODE["Q"]]))
+        blocks.append(nodal(X[i], Xd[i]))
+    return ca.vertcat(*blocks)
 
 
 class JoinedBeamModel:
