@@ -3,10 +3,12 @@
 Runs the cases of tests/test_beam_joints.py and prints ours / reference / difference: the split
 cantilever against the single beam and PL^3/3EI, the free-free beam of two joined beams
 (beta L = 4.7300, 7.8532), the L-frame under tip loads (unit-load method) and its in-plane
-frequencies (frequency equation), the hinge with a spring and the free hinge (pinned-free
+frequencies (frequency equation), the T-frame and the fuselage (own axes) with a wing under tip
+loads (unit-load method), the hinge with a spring and the free hinge (pinned-free
 beta L = 3.9266), the adjoint of a march against central differences, and the work of one
-factorization of the static-pivot LU in three column orders. ``--figure PATH`` draws the pattern
-of dR/dx of three joined beams (matplotlib). About 1 min.
+factorization of the static-pivot LU in three column orders. ``--compiled`` compares the compiled
+march with the Python march; ``--figure PATH`` draws the pattern of dR/dx of three joined beams
+(matplotlib). About 1 min (2 more with ``--compiled``, compiler cache cold).
 """
 
 import argparse
@@ -191,6 +193,21 @@ def adjoint():
         print(f"  df/d({name}): adjoint {g[j]:+.9e} | central difference {fd:+.9e} ({g[j] / fd - 1:+.1e})")
 
 
+def compiled():
+    """The compiled march (wingmdao.timemarch.fast_step) against the Python march, and the adjoint's
+    static-pivot LU statistics, on a 200-step march of the hinged L-frame (9 + 9 nodes)."""
+    system, _, p, Q = T._march_case(n1=9, n2=9, n_time=200)
+    t = np.linspace(0.0, 1.0, 200)
+    slow = march(system, t, p, Q, fast=False)
+    system.compile(wait=True)
+    fast = march(system, t, p, Q, fast=True)
+    lin = LinearizedHistory(system, t, fast.states, p, Q)
+    lin.gradient(T._tip_functional(system, fast.states)[1])
+    print(f"compiled march, {t.size} steps, {system.n_state} states: max |x_compiled - x_python| "
+          f"{np.max(np.abs(fast.states - slow.states)):.1e} (max |x| {np.max(np.abs(slow.states)):.3g}); adjoint LU "
+          f"{lin.lu_method}: {lin.static_stats}")
+
+
 def lu_work():
     if static_lu.kernel() is None:
         print("LU work: the static-pivot LU kernel is off (WINGMDAO_JIT=0 or no gcc)")
@@ -241,6 +258,8 @@ def figure(path):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--figure", default=None, help="write the dR/dx pattern of three joined beams here (default: none)")
+    parser.add_argument("--compiled", action="store_true",
+                        help="also compile the L-frame's functions and compare the compiled march (default: off)")
     args = parser.parse_args()
     split_cantilever()
     free_free()
@@ -250,6 +269,8 @@ def main():
     hinges()
     adjoint()
     lu_work()
+    if args.compiled:
+        compiled()
     if args.figure:
         figure(args.figure)
 
