@@ -59,6 +59,11 @@ ROOT_CONDITIONS = ("clamped", "free")
 JOINT_KINDS = ("rigid", "hinge")
 #: Largest distance (m) between the jig positions of the two nodes of a joint.
 POSITION_TOLERANCE = 1e-6
+#: Scale of a free root's rows ``F_0 = 0``, ``M_0 = 0``. A power of two changes no rounding; it makes
+#: partial pivoting take these rows for their own unknowns (unscaled, the tie with element 0's
+#: equilibrium rows gave pivots whose static reuse failed the backward-error check of the tangent
+#: sweep at every step of a march, docs/stick-model.md).
+FREE_ROOT_ROW_SCALE = 2.0
 #: Shared forcing blocks (one body frame for every beam).
 _SHARED_FORCING = ("gravity", "frame_acceleration", "frame_angular_velocity", "frame_angular_acceleration")
 _BEAM_FORCING = ("force_per_length", "moment_per_length", "point_force", "point_moment")
@@ -516,7 +521,7 @@ def _beam_residual(beam, nd, elem, nodal):
             if beam.root == "clamped":
                 root = ca.vertcat(X[0][st["r"]] - P[0][_P_NODE["r0"]], X[0][st["theta"]] - P[0][_P_NODE["theta0"]])
             else:
-                root = ca.vertcat(X[0][st["F"]], X[0][st["M"]])
+                root = FREE_ROOT_ROW_SCALE * ca.vertcat(X[0][st["F"]], X[0][st["M"]])
             blocks.append(ca.vertcat(root, X[i][st["F"]] - Q[i][_Q_NODE["P"]], X[i][st["M"]] - Q[i][_Q_NODE["Q"]]))
         blocks.append(nodal(X[i], Xd[i]))
     return ca.vertcat(*blocks)
