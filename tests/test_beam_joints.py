@@ -13,12 +13,14 @@ import numpy as np
 import pytest
 import scipy.optimize as sopt
 
-from wingmdao.beam.joints import FUSELAGE_AXES, Beam, Joint, JoinedBeamModel, build_joined_system
+from wingmdao.beam.joints import FUSELAGE_AXES, Beam, JoinedBeamModel, Joint, build_joined_system
+from wingmdao.beam.residual import StrainRateDamping, build_beam_system
 from wingmdao.beam.static import BeamModel, beam_parameters, straight_beam
 from wingmdao.stability.eigen import eigenmodes
 from wingmdao.timemarch import lu_orders, static_lu
 from wingmdao.timemarch.adjoint import LinearizedHistory
 from wingmdao.timemarch.bdf import march
+from wingmdao.timemarch.system import layout, pack
 
 ROT = np.diag([1e-9, 1e-3, 1e-9])   # small rotary inertia per length (kg m), csn
 
@@ -341,7 +343,6 @@ def test_adjoint_of_joined_march_against_central_differences(kernel_on):
         grads[lu] = lin.gradient(dfdx)[0]
         assert lin.lu_method == lu
     np.testing.assert_allclose(grads["static"], grads["superlu"], rtol=1e-8, atol=1e-12 * np.max(np.abs(grads["superlu"])))
-    from wingmdao.timemarch.system import layout
     lay = layout(system.param_specs)
     picks = {"arm EI_cc node 1": lay["arm_stiffness_csn"].start + 9 * 1,
              "column GJ node 2": lay["column_stiffness_csn"].start + 9 * 2 + 4,
@@ -451,3 +452,23 @@ def test_equation_names_of_a_joined_system():
     assert system.describe_equation(108 + 7) == "joint wing node 2 - tail node 0 (hinge), equal position y"
     assert system.describe_equation(108 + 11) == "joint wing node 2 - tail node 0 (hinge), hinge spring law"
     assert system.node_index("tail", -1) == 54 + 36
+
+
+def test_strain_rate_damping_passes_to_every_beam():
+    """With Kelvin-Voigt damping the split cantilever's complex eigenvalues are the single beam's."""
+    damping = StrainRateDamping.from_damping_ratio(0.02, 1.8)
+    n, k, L = 11, 4, 10.0
+    r0, th0 = straight_beam(n, L)
+    single = build_beam_system(n, damping=damping, defer=False)
+    p1 = pack(single.param_specs, beam_parameters(r0, th0, **SECTION))
+    joined = build_joined_system([Beam("inner", k + 1), Beam("outer", n - k, root="free")],
+                                 [Joint("inner", -1, "outer", 0)], damping=damping)
+    p2 = joined.pack_parameters({"inner": beam_parameters(r0[:k + 1], th0[:k + 1], **SECTION),
+                                 "outer": beam_parameters(r0[k:], th0[k:], **SECTION)})
+    lam = []
+    for system, p, q in ((single, p1, np.zeros(single.n_forcing)), (joined, p2, joined.pack_forcing())):
+        modes = eigenmodes(system, p, q, system.initial_guess(p, q), static=False, method="sparse", sigma=1.0, count=8)
+        lam.append(modes.eigenvalues[np.argsort(np.abs(modes.eigenvalues))][:4])
+    np.testing.assert_allclose(lam[1], lam[0], rtol=1e-7)
+    zeta = -lam[0][0].real / abs(lam[0][0])
+    assert 0.005 < zeta < 0.05          # damped
