@@ -289,6 +289,22 @@ def test_hinge_spring_tip_rotation_is_spring_plus_beam_compliance():
     assert tip == pytest.approx(ref, rel=2e-3)
 
 
+
+def test_torsion_hinge_about_the_beam_axis():
+    """Hinge about the beam axis y with a spring: tip torque T twists T (L1/GJ1 + 1/k + L2/GJ2)
+    (exact: constant torque); a bending moment about x passes the hinge rigidly."""
+    k, T_tip = 4e5, 2e5
+    model = _hinged_beam(k, axis=(0.0, 2.0, 0.0))          # any length: normalised
+    pm = np.zeros((13, 3))
+    pm[-1] = [0.0, T_tip, 0.0]
+    out = model.solve({"outboard": {"point_moment": pm}}, load_steps=2)
+    ref = T_tip * (4.0 / 2e6 + 1.0 / k + 6.0 / 1e6)
+    assert ref > 0.5
+    assert out["outboard"]["theta"][-1, 1] == pytest.approx(ref, rel=1e-9)
+    pm[-1] = [300.0, 0.0, 0.0]
+    phi = model.solve({"outboard": {"point_moment": pm}})["outboard"]["theta"][-1, 0]
+    assert phi == pytest.approx(300.0 * (4.0 / 3e6 + 6.0 / 1e6), rel=1e-9)
+
 def test_free_hinge_pinned_free_frequency():
     """A free hinge (no spring) on a stiff, light clamped stub: the outboard beam flaps as a
     pinned-free beam, beta L = 3.9266 (Blevins 1979, Table 8-1), after a zero-frequency hinge mode."""
