@@ -4,7 +4,9 @@
 * :mod:`wingmdao.beam.residual` - ``build_beam_system(num_nodes)``: the 18-unknowns-per-node
   CasADi residual system, ``jig_state``, ``unpack_state``;
 * :mod:`wingmdao.beam.static` - ``beam_parameters``, ``beam_forcing``, ``BeamModel`` (statics);
-* :mod:`wingmdao.beam.geometry` - straight, swept, dihedral, tapered multi-segment beams.
+* :mod:`wingmdao.beam.geometry` - straight, swept, dihedral, tapered multi-segment beams;
+* :mod:`wingmdao.beam.joints` - several beams joined at nodes (rigid joints, hinges) as one
+  residual system (docs/stick-model.md).
 
 Derivations: docs/beam-theory.md.
 """

@@ -91,3 +91,26 @@ def adjoint_lu_order(system):
         if np.array_equal(order[:diagonal], np.ravel(aero)):    # the layout this order assumes
             return order, diagonal
     return system.lu_column_order(), 0
+
+
+def joined_lu_column_order(node_counts, joint_nodes) -> np.ndarray:
+    """Column order of the static LU of joined beams (:mod:`wingmdao.beam.joints`): the beams'
+    node blocks in state order, each in :data:`BEAM_NODE_ORDER`, and the 12 unknowns of every joint
+    right after the later of its two nodes (``joint_nodes``: ``(node_a, node_b)`` counted over all
+    beams in state order; the joint unknowns follow the node blocks in the state, joint by joint).
+
+    Placed there, a joint's columns are eliminated next to the only two node blocks they couple,
+    instead of at the end of the matrix where the rows of the first beams' joint nodes would fill
+    the band of every node between them (docs/stick-model.md, "Sparsity and the LU order")."""
+    n_nodes = int(sum(int(n) for n in node_counts))
+    width = len(BEAM_NODE_ORDER)
+    after = [[] for _ in range(n_nodes)]
+    for j, (a, b) in enumerate(joint_nodes):
+        after[max(int(a), int(b))].append(j)
+    local = np.asarray(BEAM_NODE_ORDER, dtype=np.int64)
+    first_joint = width * n_nodes
+    parts = []
+    for g in range(n_nodes):
+        parts.append(local + width * g)
+        parts += [first_joint + 12 * j + np.arange(12) for j in after[g]]
+    return np.concatenate(parts).astype(np.int64)

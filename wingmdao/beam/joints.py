@@ -1,0 +1,551 @@
+"""Several App. A beams joined at nodes, as one CasADi residual system (a stick model's structure).
+
+Each beam keeps its own nodes, sections and stations and its 18 unknowns and 18 equations per
+node (:mod:`wingmdao.beam.residual`), in its own axes (a constant rotation R of the body axes, e.g.
+:data:`FUSELAGE_AXES` for a beam along body x; identity by default). A beam's root (node 0) is
+clamped or free; its tip is free.
+A joint connects node ``i`` of beam A with node ``j`` of beam B (coincident in the jig) and adds
+12 unknowns and 12 equations (derivation: docs/stick-model.md):
+
+* unknowns: the force and moment the joint exerts on beam A's node (``f_A``, ``m_A``) and on beam
+  B's node (``f_B``, ``m_B``), body axes; each enters its beam as a point load at the node;
+* equations: transfer of force and moment across the massless joint, ``f_A + f_B = 0`` and
+  ``m_A + m_B = 0``; equal positions ``R_B^T r_B - R_A^T r_A = 0``; and the orientation condition
+  on the relative rotation ``C = Lambda_A^T Lambda_B`` of the two node frames measured from the jig
+  (``Lambda = R^T T(theta)^T T(theta_0) R``, body components), through its axial vector
+  ``w = axial(C - C^T) / 2``:
+
+  - rigid joint: ``w = 0`` (3 rows);
+  - hinge about the unit axis ``a`` (body axes of the jig, carried by beam A): ``b_1 . w = 0`` and
+    ``b_2 . w = 0`` with ``b_1, b_2`` normal to ``a``, and the hinge law
+    ``(Lambda_A a) . m_B + k phi = 0``, ``phi = atan2(a . w, (tr C - 1) / 2)`` the hinge angle and
+    ``k`` the rotational spring stiffness (``joint_rotational_stiffness``; a free hinge has no
+    spring: ``(Lambda_A a) . m_B = 0``).
+
+State layout: the beams' node-major blocks in the order given (``offsets``), then 12 unknowns per
+joint. Parameters and forcing: every beam's blocks of :func:`wingmdao.beam.residual.param_specs`
+and :func:`~wingmdao.beam.residual.forcing_specs` named ``<beam>_<block>``, then the joints' spring
+stiffnesses; gravity and the motion of the body axes are shared by all beams.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import re
+import time
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from wingmdao.beam.residual import (N_STATE_PER_NODE, STATE_BLOCKS, StrainRateDamping, _P_NODE, _Q_NODE,
+                                    _element_function, _nodal_function, _node_forcing, _node_params,
+                                    describe_equation as beam_equation, forcing_specs as beam_forcing_specs,
+                                    jig_state as beam_jig_state, param_specs as beam_param_specs)
+from wingmdao.beam.rotations import body_to_csn
+from wingmdao.beam.static import beam_forcing, check_beam_parameters
+from wingmdao.timemarch import lu_orders
+from wingmdao.timemarch.bdf import solve_static
+from wingmdao.timemarch.system import CasadiResidualSystem, VarSpec, layout, pack
+from wingmdao.utils.casadi_cache import definition_key
+
+#: Unknowns (and equations) per joint.
+N_JOINT = 12
+#: Joint unknowns: load of the joint on beam A's node, then on beam B's node (body axes).
+JOINT_BLOCKS = {"force_a": slice(0, 3), "moment_a": slice(3, 6), "force_b": slice(6, 9),
+                "moment_b": slice(9, 12)}
+ROOT_CONDITIONS = ("clamped", "free")
+JOINT_KINDS = ("rigid", "hinge")
+#: Largest distance (m) between the jig positions of the two nodes of a joint.
+POSITION_TOLERANCE = 1e-6
+#: Scale of a free root's rows ``F_0 = 0``, ``M_0 = 0``. A power of two changes no rounding; it makes
+#: partial pivoting take these rows for their own unknowns (unscaled, the tie with element 0's
+#: equilibrium rows gave pivots whose static reuse failed the backward-error check of the tangent
+#: sweep at every step of a march, docs/stick-model.md).
+FREE_ROOT_ROW_SCALE = 2.0
+#: Shared forcing blocks (one body frame for every beam).
+_SHARED_FORCING = ("gravity", "frame_acceleration", "frame_angular_velocity", "frame_angular_acceleration")
+_BEAM_FORCING = ("force_per_length", "moment_per_length", "point_force", "point_moment")
+_GENERATING_MODULES = ("wingmdao.beam.joints", "wingmdao.beam.residual", "wingmdao.beam.rotations",
+                       "wingmdao.timemarch.system")
+_XYZ = "xyz"
+
+
+#: Axes of a beam along the body x axis (a fuselage; the surface Euler sequence is singular there):
+#: the beam's own y (its axis direction) is body x (aft), its x is body -y, its z is body z.
+FUSELAGE_AXES = ((0.0, -1.0, 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0))
+
+
+@dataclass(frozen=True)
+class Beam:
+    """One beam of a joined system: a ``name`` (a Python identifier, prefix of its parameter and
+    forcing blocks), its ``num_nodes`` (>= 2, root first) and its ``root`` condition,
+    ``"clamped"`` (r, theta held at the jig) or ``"free"`` (no force or moment at the root).
+
+    ``axes``: the beam's own axes as a rotation matrix R (3 x 3, rows = the beam's x, y, z in body
+    components; ``v_beam = R v_body``); None: the body axes. The beam's parameters, states and
+    loads are in its own axes, so a beam along body x (a fuselage, :data:`FUSELAGE_AXES`) runs
+    along its own y, away from the singular direction of the Euler sequence."""
+
+    name: str
+    num_nodes: int
+    root: str = "clamped"
+    axes: tuple | None = None
+
+    def __post_init__(self):
+        if not (isinstance(self.name, str) and re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", self.name)):
+            raise ValueError(f"beam name must be an identifier (letters, digits, _), got {self.name!r}")
+        if int(self.num_nodes) != self.num_nodes or int(self.num_nodes) < 2:
+            raise ValueError(f"beam {self.name!r}: num_nodes must be an integer >= 2, got {self.num_nodes!r}")
+        object.__setattr__(self, "num_nodes", int(self.num_nodes))
+        if self.root not in ROOT_CONDITIONS:
+            raise ValueError(f"beam {self.name!r}: root must be one of {ROOT_CONDITIONS}, got {self.root!r}")
+        if self.axes is not None:
+            R = np.asarray(self.axes, dtype=float)
+            if R.shape != (3, 3) or not np.all(np.isfinite(R)) or not np.allclose(R @ R.T, np.eye(3), atol=1e-9) \
+                    or np.linalg.det(R) <= 0.0:
+                raise ValueError(f"beam {self.name!r}: axes must be a 3 x 3 rotation matrix (orthonormal rows, "
+                                 f"determinant +1), got {self.axes}")
+            object.__setattr__(self, "axes", tuple(tuple(float(v) for v in row) for row in R))
+
+    @property
+    def rotation(self) -> np.ndarray:
+        """R: body components -> the beam's own components (identity without ``axes``)."""
+        return np.eye(3) if self.axes is None else np.array(self.axes, dtype=float)
+
+
+@dataclass(frozen=True)
+class Joint:
+    """A joint between node ``node_a`` of beam ``beam_a`` and node ``node_b`` of beam ``beam_b``
+    (node indices from the root, negative from the tip as in Python).
+
+    ``kind``: ``"rigid"`` (equal position and orientation) or ``"hinge"`` (equal position, free
+    rotation about ``axis``, a vector in body axes of the jig carried by beam A, against the
+    rotational spring ``stiffness`` in N*m/rad; None: no spring)."""
+
+    beam_a: str
+    node_a: int
+    beam_b: str
+    node_b: int
+    kind: str = "rigid"
+    axis: tuple | None = None
+    stiffness: float | None = None
+
+    def __post_init__(self):
+        if self.kind not in JOINT_KINDS:
+            raise ValueError(f"{self.label}: kind must be one of {JOINT_KINDS}, got {self.kind!r}")
+        for name in ("node_a", "node_b"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or int(v) != v:
+                raise ValueError(f"{self.label}: {name} must be an integer node index, got {v!r}")
+            object.__setattr__(self, name, int(v))
+        if self.kind == "rigid":
+            if self.axis is not None or self.stiffness is not None:
+                raise ValueError(f"{self.label}: a rigid joint takes no axis or stiffness "
+                                 f"(got axis={self.axis}, stiffness={self.stiffness}); use kind='hinge'")
+            return
+        axis = np.asarray(self.axis if self.axis is not None else (), dtype=float).ravel()
+        if axis.size != 3 or not np.all(np.isfinite(axis)) or np.linalg.norm(axis) <= 1e-12:
+            raise ValueError(f"{self.label}: a hinge needs an axis of 3 finite components and non-zero "
+                             f"length (body axes), got axis={self.axis}")
+        object.__setattr__(self, "axis", tuple(float(v) for v in axis / np.linalg.norm(axis)))
+        if self.stiffness is not None:
+            k = float(self.stiffness)
+            if not (math.isfinite(k) and k > 0.0):
+                raise ValueError(f"{self.label}: stiffness must be a finite rotational spring stiffness "
+                                 f"> 0 N*m/rad (or None for a free hinge), got {self.stiffness}")
+            object.__setattr__(self, "stiffness", k)
+
+    @property
+    def label(self) -> str:
+        return f"joint {self.beam_a} node {self.node_a} - {self.beam_b} node {self.node_b}"
+
+
+def _check_layout(beams, joints):
+    """Resolve negative node indices and check names, nodes, duplicates and connectivity."""
+    beams, joints = list(beams), list(joints)
+    if not beams:
+        raise ValueError("a joined system needs at least one beam")
+    by_name = {}
+    for b in beams:
+        if not isinstance(b, Beam):
+            raise TypeError(f"beams must be Beam objects, got {type(b).__name__}")
+        if b.name in by_name:
+            raise ValueError(f"beam name {b.name!r} is used twice")
+        by_name[b.name] = b
+    resolved, pairs = [], set()
+    for jt in joints:
+        if not isinstance(jt, Joint):
+            raise TypeError(f"joints must be Joint objects, got {type(jt).__name__}")
+        nodes = []
+        for which in ("a", "b"):
+            name, node = getattr(jt, f"beam_{which}"), getattr(jt, f"node_{which}")
+            if name not in by_name:
+                raise ValueError(f"{jt.label}: beam_{which} {name!r} is not a beam; beams are {sorted(by_name)}")
+            n = by_name[name].num_nodes
+            if not -n <= node < n:
+                raise ValueError(f"{jt.label}: node_{which} {node} does not exist: beam {name!r} has nodes "
+                                 f"0..{n - 1} (or -{n}..-1 from the tip)")
+            nodes.append(node % n)
+        if jt.beam_a == jt.beam_b:
+            raise ValueError(f"{jt.label}: a joint connects two different beams")
+        key = frozenset(((jt.beam_a, nodes[0]), (jt.beam_b, nodes[1])))
+        if key in pairs:
+            raise ValueError(f"{jt.label}: these two nodes are joined twice")
+        pairs.add(key)
+        resolved.append(Joint(jt.beam_a, nodes[0], jt.beam_b, nodes[1], jt.kind, jt.axis, jt.stiffness))
+    # connectivity: every beam reachable from the first through joints
+    if len(beams) > 1:
+        reached, frontier = {beams[0].name}, [beams[0].name]
+        while frontier:
+            name = frontier.pop()
+            for jt in resolved:
+                for a, b in ((jt.beam_a, jt.beam_b), (jt.beam_b, jt.beam_a)):
+                    if a == name and b not in reached:
+                        reached.add(b)
+                        frontier.append(b)
+        missing = [b.name for b in beams if b.name not in reached]
+        if missing:
+            raise ValueError(f"beams {missing} are joined to no other beam (every beam must be connected "
+                             f"to {beams[0].name!r} through joints)")
+    return beams, resolved
+
+
+def param_specs(beams, joints) -> list[VarSpec]:
+    """Parameters of the joined system: every beam's blocks (``<beam>_<block>``), then
+    ``joint_rotational_stiffness`` (one per joint; used by hinges with a spring)."""
+    specs = []
+    for b in beams:
+        specs += [VarSpec(f"{b.name}_{s.name}", s.shape, s.units, f"{b.name}: {s.desc}")
+                  for s in beam_param_specs(b.num_nodes)]
+    specs.append(VarSpec("joint_rotational_stiffness", (len(joints),), "N*m/rad",
+                         "rotational spring stiffness of each hinge (unused for rigid joints and free hinges)"))
+    return specs
+
+
+def forcing_specs(beams) -> list[VarSpec]:
+    """Forcing of the joined system: every beam's loads (``<beam>_<block>``), then gravity and the
+    motion of the body axes, shared by all beams."""
+    specs = []
+    for b in beams:
+        specs += [VarSpec(f"{b.name}_{s.name}", s.shape, s.units, f"{b.name}: {s.desc}")
+                  for s in beam_forcing_specs(b.num_nodes) if s.name in _BEAM_FORCING]
+    specs += [s for s in beam_forcing_specs(2) if s.name in _SHARED_FORCING]
+    return specs
+
+
+def _axial(C):
+    """Axial vector of (C - C^T) / 2: sin(angle) times the unit axis of the rotation C."""
+    return 0.5 * ca.vertcat(C[2, 1] - C[1, 2], C[0, 2] - C[2, 0], C[1, 0] - C[0, 1])
+
+
+def _normals(axis):
+    """Two unit vectors normal to ``axis`` and to each other."""
+    a = np.asarray(axis, dtype=float)
+    helper = np.eye(3)[int(np.argmin(np.abs(a)))]
+    b1 = np.cross(a, helper)
+    b1 /= np.linalg.norm(b1)
+    return b1, np.cross(a, b1)
+
+
+def _node_rotation(theta, theta0, R, sequence):
+    """Lambda = R^T T(theta)^T T(theta_0) R: the rotation from the jig to the deformed frame of a
+    node, body components (``R``: body -> the beam's axes, DM)."""
+    lam = body_to_csn(theta, sequence).T @ body_to_csn(theta0, sequence)
+    return R.T @ lam @ R
+
+
+def joint_equations(joint, node_a, node_b, loads, stiffness, sequence="surface"):
+    """The 12 residuals of ``joint`` (module docstring): force and moment transfer, equal positions,
+    orientation (rigid: 3 rows; hinge: 2 rows and the hinge law). ``node_a``, ``node_b``:
+    ``(x, theta_0, R)`` of the two nodes: the 18 states and jig Euler angles in the beam's axes and
+    the beam's rotation R (body -> beam axes); ``loads``: the 12 joint unknowns (body axes);
+    ``stiffness``: the spring stiffness (hinges with a spring)."""
+    st, jb = STATE_BLOCKS, JOINT_BLOCKS
+    (x_a, th0_a, R_a), (x_b, th0_b, R_b) = node_a, node_b
+    lam_a = _node_rotation(x_a[st["theta"]], th0_a, R_a, sequence)
+    lam_b = _node_rotation(x_b[st["theta"]], th0_b, R_b, sequence)
+    C = lam_a.T @ lam_b
+    w = _axial(C)
+    if joint.kind == "rigid":
+        orientation = w
+    else:
+        a = np.asarray(joint.axis, dtype=float)
+        b1, b2 = _normals(a)
+        hinge_angle = ca.atan2(ca.dot(ca.DM(a), w), 0.5 * (ca.trace(C) - 1.0))
+        spring = 0.0 if joint.stiffness is None else stiffness * hinge_angle
+        law = ca.dot(lam_a @ ca.DM(a), loads[jb["moment_b"]]) + spring
+        orientation = ca.vertcat(ca.dot(ca.DM(b1), w), ca.dot(ca.DM(b2), w), law)
+    return ca.vertcat(loads[jb["force_a"]] + loads[jb["force_b"]],
+                      loads[jb["moment_a"]] + loads[jb["moment_b"]],
+                      R_b.T @ x_b[st["r"]] - R_a.T @ x_a[st["r"]],
+                      orientation)
+
+
+class JoinedBeamSystem(CasadiResidualSystem):
+    """The residual system of :func:`build_joined_system` with its layout and packing helpers.
+
+    Attributes: ``beams``, ``joints`` (node indices resolved from the root), ``offsets``
+    (``{beam: first state index}``), ``joint_offset`` (first joint unknown).
+    """
+
+    def __init__(self, beams, joints, offsets, joint_offset, *args, **kwargs):
+        self.beams, self.joints = tuple(beams), tuple(joints)
+        self.offsets, self.joint_offset = dict(offsets), int(joint_offset)
+        super().__init__(*args, **kwargs)
+
+    def beam(self, name) -> Beam:
+        for b in self.beams:
+            if b.name == name:
+                return b
+        raise ValueError(f"no beam {name!r}; beams are {[b.name for b in self.beams]}")
+
+    def node_index(self, name, node) -> int:
+        """First state index of node ``node`` of beam ``name``."""
+        b = self.beam(name)
+        if not -b.num_nodes <= int(node) < b.num_nodes:
+            raise ValueError(f"beam {name!r} has nodes 0..{b.num_nodes - 1}, got node {node}")
+        return self.offsets[name] + N_STATE_PER_NODE * (int(node) % b.num_nodes)
+
+    def unpack(self, x, body_axes: bool = False) -> dict:
+        """``{beam: {'r', 'theta', 'F', 'M', 'u', 'omega'} (n, 3) arrays}`` in each beam's axes (with
+        ``body_axes``: r, F, M, u, omega in body axes; theta stays the beam's Euler angles) and
+        ``'joints'``: ``{'force_a', 'moment_a', 'force_b', 'moment_b'}`` (n_joint, 3) arrays, body axes."""
+        x = np.asarray(x, dtype=float).reshape(self.n_state)
+        out = {}
+        for b in self.beams:
+            blk = x[self.offsets[b.name]: self.offsets[b.name] + N_STATE_PER_NODE * b.num_nodes]
+            blk = blk.reshape(b.num_nodes, N_STATE_PER_NODE)
+            out[b.name] = {k: blk[:, s].copy() for k, s in STATE_BLOCKS.items()}
+            if body_axes and b.axes is not None:
+                for k in ("r", "F", "M", "u", "omega"):
+                    out[b.name][k] = out[b.name][k] @ b.rotation
+        jl = x[self.joint_offset:].reshape(len(self.joints), N_JOINT)
+        out["joints"] = {k: jl[:, s].copy() for k, s in JOINT_BLOCKS.items()}
+        return out
+
+    def pack_parameters(self, beam_params: dict) -> np.ndarray:
+        """Packed parameters from ``{beam: parameter dict}`` (:func:`wingmdao.beam.static.beam_parameters`)
+        and the joints' stiffnesses; checks every beam's data
+        (:func:`~wingmdao.beam.static.check_beam_parameters`) and that the two nodes of every joint
+        coincide in the jig (ValueError naming the joint and the distance)."""
+        unknown = set(beam_params) - {b.name for b in self.beams}
+        if unknown:
+            raise ValueError(f"parameters for unknown beams {sorted(unknown)}; beams are {[b.name for b in self.beams]}")
+        values = {}
+        for b in self.beams:
+            if b.name not in beam_params:
+                raise ValueError(f"no parameters for beam {b.name!r}")
+            prm = beam_params[b.name]
+            r0 = np.asarray(prm["node_positions"], dtype=float)
+            if r0.shape != (b.num_nodes, 3):
+                raise ValueError(f"beam {b.name!r}: node_positions must have shape {(b.num_nodes, 3)}, got {r0.shape}")
+            check_beam_parameters(prm)
+            for s in beam_param_specs(b.num_nodes):
+                values[f"{b.name}_{s.name}"] = prm[s.name]
+        for jt in self.joints:
+            ra = self.beam(jt.beam_a).rotation.T @ np.asarray(beam_params[jt.beam_a]["node_positions"], float)[jt.node_a]
+            rb = self.beam(jt.beam_b).rotation.T @ np.asarray(beam_params[jt.beam_b]["node_positions"], float)[jt.node_b]
+            gap = float(np.linalg.norm(ra - rb))
+            if gap > POSITION_TOLERANCE:
+                raise ValueError(f"{jt.label}: the beams do not meet at the joint: the nodes are {gap:.6g} m "
+                                 f"apart in the jig ({ra} and {rb}, body axes); a joint needs coincident nodes "
+                                 f"(within {POSITION_TOLERANCE} m)")
+        values["joint_rotational_stiffness"] = [0.0 if jt.stiffness is None else jt.stiffness for jt in self.joints]
+        return pack(self.param_specs, values)
+
+    def pack_forcing(self, beam_loads: dict | None = None, **shared) -> np.ndarray:
+        """Packed forcing from ``{beam: {block: array}}`` (blocks of
+        :func:`wingmdao.beam.static.beam_forcing`, zero if absent) and the shared blocks
+        (``gravity``, ``frame_acceleration``, ...)."""
+        beam_loads = beam_loads or {}
+        unknown = set(beam_loads) - {b.name for b in self.beams}
+        if unknown:
+            raise ValueError(f"loads for unknown beams {sorted(unknown)}; beams are {[b.name for b in self.beams]}")
+        values = {}
+        for b in self.beams:
+            loads = dict(beam_loads.get(b.name, {}))
+            bad = set(loads) - set(_BEAM_FORCING)
+            if bad:
+                raise ValueError(f"beam {b.name!r}: unknown loads {sorted(bad)}; allowed: {list(_BEAM_FORCING)}")
+            full = beam_forcing(b.num_nodes, **loads)
+            values.update({f"{b.name}_{k}": full[k] for k in _BEAM_FORCING})
+        bad = set(shared) - set(_SHARED_FORCING)
+        if bad:
+            raise ValueError(f"unknown shared forcing {sorted(bad)}; allowed: {list(_SHARED_FORCING)}")
+        values.update({k: np.asarray(shared.get(k, np.zeros(3)), dtype=float) for k in _SHARED_FORCING})
+        return pack(self.forcing_specs, values)
+
+    def jig_state(self, p) -> np.ndarray:
+        """The unloaded jig state (every beam's jig, joint loads zero)."""
+        return _jig_guess(self, p, None)
+
+
+def _jig_guess(system, p, q=None):
+    p = np.asarray(p, dtype=float)
+    lay = layout(system.param_specs)
+    x = np.zeros(system.n_state)
+    for b in system.beams:
+        prm = {k: p[lay[f"{b.name}_{k}"]] for k in ("node_positions", "node_euler_angles")}
+        x[system.offsets[b.name]: system.offsets[b.name] + N_STATE_PER_NODE * b.num_nodes] = \
+            beam_jig_state(prm).ravel()
+    return x
+
+
+def describe_joined_equation(index, beams, joints, offsets, joint_offset) -> str:
+    """Name of residual ``index`` of a joined system, e.g. 'beam wing: node 3 ..., moment equilibrium z'."""
+    index = int(index)
+    if index >= joint_offset:
+        j, k = divmod(index - joint_offset, N_JOINT)
+        if j >= len(joints):
+            raise ValueError(f"equation index must be in [0, {joint_offset + N_JOINT * len(joints)}), got {index}")
+        jt = joints[j]
+        names = ["force transfer", "moment transfer", "equal position"]
+        if k < 9:
+            kind = f"{names[k // 3]} {_XYZ[k % 3]}"
+        elif jt.kind == "rigid":
+            kind = f"equal orientation {_XYZ[k - 9]}"
+        else:
+            kind = ("hinge: no rotation normal to the axis", "hinge: no rotation normal to the axis",
+                    "hinge spring law" if jt.stiffness is not None else "hinge: no moment about the axis")[k - 9]
+        return f"{jt.label} ({jt.kind}), {kind}"
+    for b in beams:
+        start = offsets[b.name]
+        if start <= index < start + N_STATE_PER_NODE * b.num_nodes:
+            local = index - start
+            node, k = divmod(local, N_STATE_PER_NODE)
+            if b.root == "free" and node == b.num_nodes - 1 and k < 6:
+                return f"beam {b.name}: root node 0, free root {'force' if k < 3 else 'moment'} {_XYZ[k % 3]}"
+            return f"beam {b.name}: {beam_equation(local, b.num_nodes)}"
+    raise ValueError(f"equation index must be >= 0, got {index}")
+
+
+def joined_definition(beams, joints, euler_sequence="surface", damping=None) -> str:
+    """What defines the functions of :func:`build_joined_system` (key of their compiled libraries)."""
+    if damping is not None and damping.is_zero:
+        damping = None
+    args = (tuple(beams), tuple(joints), str(euler_sequence),
+            None if damping is None else (damping.curvature, damping.strain))
+    return definition_key("wingmdao.beam.joints.build_joined_system", args, _GENERATING_MODULES)
+
+
+def build_joined_system(beams, joints, *, euler_sequence: str = "surface",
+                        damping: StrainRateDamping | None = None) -> JoinedBeamSystem:
+    """The beams ``beams`` (:class:`Beam`) joined by ``joints`` (:class:`Joint`) as one
+    :class:`JoinedBeamSystem` (a :class:`~wingmdao.timemarch.system.CasadiResidualSystem`: the
+    BDF march, the static solve, the discrete adjoint and the stability linearization run on it).
+
+    Raises ValueError for an unknown beam, a node that does not exist, two joints on one node
+    pair, a beam connected to no other. The jig positions of the joined nodes are checked when the
+    parameters are packed (:meth:`JoinedBeamSystem.pack_parameters`).
+    """
+    t_start = time.perf_counter()
+    beams, joints = _check_layout(beams, joints)
+    if damping is not None and damping.is_zero:
+        damping = None
+    pspecs, qspecs = param_specs(beams, joints), forcing_specs(beams)
+    offsets, start = {}, 0
+    for b in beams:
+        offsets[b.name] = start
+        start += N_STATE_PER_NODE * b.num_nodes
+    joint_offset = start
+    n_state = joint_offset + N_JOINT * len(joints)
+    x, xdot = ca.SX.sym("x", n_state), ca.SX.sym("xdot", n_state)
+    p = ca.SX.sym("p", sum(s.size for s in pspecs))
+    q = ca.SX.sym("q", sum(s.size for s in qspecs))
+    nodes = {b.name: _beam_nodes(b, x, xdot, p, q, offsets[b.name], layout(pspecs), layout(qspecs)) for b in beams}
+    loads = [x[joint_offset + N_JOINT * j: joint_offset + N_JOINT * (j + 1)] for j in range(len(joints))]
+    for jt, jl in zip(joints, loads):         # the joint loads are point loads of their two nodes
+        for name, node, f, m in ((jt.beam_a, jt.node_a, "force_a", "moment_a"),
+                                 (jt.beam_b, jt.node_b, "force_b", "moment_b")):
+            R = ca.DM(next(b for b in beams if b.name == name).rotation)
+            nodes[name]["q"][node] = nodes[name]["q"][node] + ca.vertcat(
+                ca.SX.zeros(6), R @ jl[JOINT_BLOCKS[f]], R @ jl[JOINT_BLOCKS[m]])
+    elem = _element_function(euler_sequence, damping)
+    nodal = _nodal_function(euler_sequence)
+    blocks = [_beam_residual(b, nodes[b.name], elem, nodal) for b in beams]
+    stiffness = p[layout(pspecs)["joint_rotational_stiffness"]]
+    for j, (jt, jl) in enumerate(zip(joints, loads)):
+        ends = [(nodes[name]["x"][node], nodes[name]["p"][node][_P_NODE["theta0"]], nodes[name]["R"])
+                for name, node in ((jt.beam_a, jt.node_a), (jt.beam_b, jt.node_b))]
+        blocks.append(joint_equations(jt, ends[0], ends[1], jl, stiffness[j], euler_sequence))
+    describe = functools.partial(describe_joined_equation, beams=beams, joints=joints, offsets=offsets,
+                                 joint_offset=joint_offset)
+    first = {b.name: offsets[b.name] // N_STATE_PER_NODE for b in beams}
+    order = lu_orders.joined_lu_column_order([b.num_nodes for b in beams],
+                                             [(first[jt.beam_a] + jt.node_a, first[jt.beam_b] + jt.node_b)
+                                              for jt in joints])
+    system = JoinedBeamSystem(beams, joints, offsets, joint_offset, x, xdot, p, q, ca.vertcat(*blocks),
+                              param_specs=pspecs, forcing_specs=qspecs, state_shape=(n_state,),
+                              name=f"joined{len(beams)}b{len(joints)}j{n_state}", describe=describe,
+                              definition=joined_definition(beams, joints, euler_sequence, damping),
+                              lu_column_order=order)
+    system._initial_guess = functools.partial(_jig_guess, system)
+    system.build_time = time.perf_counter() - t_start
+    return system
+
+
+def _beam_nodes(beam, x, xdot, p, q, offset, play, qlay) -> dict:
+    """Per-node symbols of one beam: states ``x``, rates ``xdot``, the 34 parameters ``p`` and 12
+    loads ``q`` of the element function (loads in the beam's axes), the shared gravity and frame
+    motion turned into the beam's axes (``g``, ``frame``) and its rotation ``R`` (DM)."""
+    n = beam.num_nodes
+    specs, fspecs = beam_param_specs(n), beam_forcing_specs(n)
+    pb = ca.vertcat(*[p[play[f"{beam.name}_{s.name}"]] for s in specs])
+    qb = ca.vertcat(*[q[qlay[f"{beam.name}_{s.name}"]] if s.name in _BEAM_FORCING else ca.SX.zeros(s.size)
+                      for s in fspecs])
+    R = ca.DM(beam.rotation)
+    blay, flay = layout(specs), layout(fspecs)
+    return {"x": [x[offset + 18 * i: offset + 18 * (i + 1)] for i in range(n)],
+            "xdot": [xdot[offset + 18 * i: offset + 18 * (i + 1)] for i in range(n)],
+            "p": [_node_params(pb, blay, i) for i in range(n)],
+            "q": [_node_forcing(qb, flay, i) for i in range(n)],
+            "g": R @ q[qlay["gravity"]],
+            "frame": tuple(R @ q[qlay[k]] for k in ("frame_acceleration", "frame_angular_velocity",
+                                                    "frame_angular_acceleration")),
+            "R": R}
+
+
+def _beam_residual(beam, nd, elem, nodal):
+    """The 18 n residuals of one beam in the single beam's row order: element rows, the root and
+    tip rows in the last node's block (clamped root: r, theta at the jig; free root: F = M = 0;
+    tip: F, M = the tip's point loads, joint loads included), the two kinematic rows per node."""
+    st, n = STATE_BLOCKS, beam.num_nodes
+    X, Xd, P, Q = nd["x"], nd["xdot"], nd["p"], nd["q"]
+    blocks = []
+    for i in range(n):
+        if i < n - 1:
+            blocks.append(elem(X[i], X[i + 1], Xd[i], Xd[i + 1], P[i], P[i + 1], Q[i], Q[i + 1], nd["g"], *nd["frame"]))
+        else:
+            if beam.root == "clamped":
+                root = ca.vertcat(X[0][st["r"]] - P[0][_P_NODE["r0"]], X[0][st["theta"]] - P[0][_P_NODE["theta0"]])
+            else:
+                root = FREE_ROOT_ROW_SCALE * ca.vertcat(X[0][st["F"]], X[0][st["M"]])
+            blocks.append(ca.vertcat(root, X[i][st["F"]] - Q[i][_Q_NODE["P"]], X[i][st["M"]] - Q[i][_Q_NODE["Q"]]))
+        blocks.append(nodal(X[i], Xd[i]))
+    return ca.vertcat(*blocks)
+
+
+class JoinedBeamModel:
+    """Joined beams with their parameters: ``solve(loads, **shared)`` gives statics.
+
+    ``beam_params``: ``{beam: parameter dict}`` (:func:`wingmdao.beam.static.beam_parameters`).
+    """
+
+    def __init__(self, beams, joints, beam_params, *, euler_sequence="surface", damping=None):
+        self.system = build_joined_system(beams, joints, euler_sequence=euler_sequence, damping=damping)
+        self.params = beam_params
+        self.p = self.system.pack_parameters(beam_params)
+
+    def forcing(self, loads=None, **shared) -> np.ndarray:
+        return self.system.pack_forcing(loads, **shared)
+
+    def solve(self, loads=None, *, load_steps=1, x0=None, max_iter=30, **shared) -> dict:
+        """Static equilibrium under ``loads`` (``{beam: {block: array}}``) and the shared forcing;
+        returns :meth:`JoinedBeamSystem.unpack` of the state plus ``'x'`` and ``'iterations'``."""
+        q = self.forcing(loads, **shared)
+        x, info = solve_static(self.system, self.p, q, x0, load_steps=load_steps, max_iter=max_iter)
+        out = self.system.unpack(x)
+        out["x"], out["iterations"] = x, info.iterations
+        return out
