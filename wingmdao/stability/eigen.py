@@ -39,6 +39,8 @@ import scipy.optimize as sopt
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from wingmdao.timemarch.system import derived
+
 #: systems up to this many states use the dense QZ solver by default
 DENSE_MAX_STATES = 800
 
@@ -62,7 +64,6 @@ def _signature(name, inputs, outputs) -> ca.Function:
 #: evaluations of the pencil function after which it is compiled (a PEGASUS sizing with the flutter
 #: constraint makes ~500, a 15-speed sweep 15-30; the compiled library is cached on disk)
 PENCIL_JIT_THRESHOLD = 40
-_PENCILS: dict = {}
 
 
 class _PencilFunction:
@@ -150,12 +151,8 @@ def derived_definition(system, builder: str, module: str) -> str:
 def pencil_function(system):
     """The (compiled once evaluated often) pencil function of ``system``, or None for a system
     without a CasADi ``residual_function`` (those use ``jac_state``)."""
-    key = id(system)
-    if key in _PENCILS and _PENCILS[key][0] is system:
-        return _PENCILS[key][1]
-    fun = _PencilFunction(system) if hasattr(system, "residual_function") else None
-    _PENCILS[key] = (system, fun)
-    return fun
+    return derived(system, "pencil_function",
+                   lambda s: _PencilFunction(s) if hasattr(s, "residual_function") else None)
 
 
 def linearize(system, p, q, x0) -> tuple[sp.csc_matrix, sp.csc_matrix]:

@@ -10,7 +10,7 @@ around the solves as much again. As :mod:`wingmdao.timemarch.static_lu` does for
 1. *pattern*: the union of the patterns of A and B (``A + s B`` has it for every s, and the
    CasADi Jacobians keep it for every design), with A's and B's values scattered onto it;
 2. *pivot order*: SuperLU's row permutation of the first matrix factored (partial pivoting,
-   natural column order, as ``sensitivity._lu``), kept while the solves' backward errors stay
+   natural column order, as ``modes.sparse_lu``), kept while the solves' backward errors stay
    small; *symbolic factorization* of the row-permuted pattern (``lu_symbolic`` of
    ``lu_kernel.c``);
 3. *numeric factorization, checked solves with M and M^H, and the whole inverse-iteration loop of

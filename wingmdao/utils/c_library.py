@@ -18,17 +18,18 @@ import os
 import shutil
 import subprocess
 import threading
-import warnings
 from pathlib import Path
 
 from wingmdao.utils import casadi_cache as cc
+from wingmdao.utils.warn_once import WarnOnce
 
 #: Flags of the kernels: small sources, so -O3 costs little compile time; no FMA contraction, so the kernels
 #: round like the NumPy code they replace.
 C_FLAGS = ("-O3", "-ffp-contract=off")
 
 _LOADED: dict = {}
-_warned = False
+#: the one warning of a kernel that does not compile or load (the callers' fallback is used)
+_warn_once = WarnOnce("wingmdao: C kernel {} unavailable, using the fallback ({})")
 _lock = threading.Lock()
 
 
@@ -98,11 +99,7 @@ def load(source: Path, name: str, flags=C_FLAGS, force: bool = False):
 
             record_use(path)      # its last use, for `wingmdao cache --prune`
         except Exception as exc:    # noqa: BLE001 - any failure: the caller's fallback
-            global _warned
-            if not _warned:
-                _warned = True
-                warnings.warn(f"wingmdao: C kernel {name} unavailable, using the fallback ({exc})",
-                              RuntimeWarning, stacklevel=3)
+            _warn_once(name, exc, stacklevel=3)
             lib = None
         _LOADED[key] = lib
         return lib
