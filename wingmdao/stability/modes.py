@@ -14,18 +14,11 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
-from wingmdao.stability import pencil_lu
+from wingmdao.stability.pencil_lu import ShiftedPencil
 from wingmdao.stability.eigen import eigenmodes, linearize
 
 MEASURES = ("sigma", "ratio")
-
-
-def sparse_lu(M):
-    """Sparse LU of a pencil matrix (natural column order: the node-by-node beam ordering has
-    the fill of COLAMD's and factors ~2x faster, 0.9 ms for the 440-state PEGASUS pencil)."""
-    return spla.splu(sp.csc_matrix(M), permc_spec="NATURAL")
 
 
 def left_right_vectors(A, B, lam, *, iterations=3, rel_shift=1e-10):
@@ -37,25 +30,9 @@ def left_right_vectors(A, B, lam, *, iterations=3, rel_shift=1e-10):
     s = complex(lam) * (1.0 + rel_shift) + rel_shift
     rng = np.random.default_rng(0)
     v = rng.standard_normal(n) + 1j * rng.standard_normal(n)
-    u = v.copy()
-    pen = pencil_lu.pencil(A, B)
-    if pen is not None and pen.has_pivots:   # the static-pivot kernel (pencil_lu.c); tol < 0: all steps
-        v0 = v / np.linalg.norm(v)
-        step = pen.iterate(s, v0, v0, B @ v0, lam, lam, iterations, -1.0)
-        if step is not None:
-            return step[0], step[1], step[3]
-    lu = sparse_lu(sp.csc_matrix(A + s * B, dtype=complex))
-    if pen is not None:
-        pen.repivot(lu.perm_r)
-    BH = B.conj().T
-    for _ in range(int(iterations)):
-        v = lu.solve(np.asarray(B @ v))
-        v /= np.linalg.norm(v)
-        u = lu.solve(np.asarray(BH @ u), trans="H")
-        u /= np.linalg.norm(u)
-    lam_rq = -np.vdot(u, A @ v) / np.vdot(u, B @ v)
-    return v, u, complex(lam_rq)
-
+    v /= np.linalg.norm(v)
+    step = ShiftedPencil(A, B).refine(s, v, v, B @ v, lam, lam, iterations, -1.0)   # tol < 0: all steps
+    return step[0], step[1], step[3]
 
 
 @dataclass
@@ -74,7 +51,6 @@ class SpeedModes:
     error: np.ndarray = None         # (k,) 1/s: 0 refined; > 0 a lazy estimate (Ritz value, its error bound)
 
 
-
 def refine_pair(A, B, lam0, v0, u0, *, tol=1e-12, iterations=6, shifts=3, rel_shift=1e-10, quotient_start=True):
     """Right / left vectors and the two-sided Rayleigh quotient of the eigenvalue of
     ``(A + lambda B) v = 0`` nearest ``lam0``, by inverse iteration from ``v0, u0`` (the
@@ -85,8 +61,8 @@ def refine_pair(A, B, lam0, v0, u0, *, tol=1e-12, iterations=6, shifts=3, rel_sh
     instead of ``lam0`` (it follows the mode's own change: the PEGASUS torsion and in-plane modes,
     1-3 rad/s apart, cross between SLSQP designs, and a shift at the old eigenvalue landed on the
     other one).
-    With the compiled kernel (:mod:`wingmdao.stability.pencil_lu`) each shift's factorization and
-    steps run in C with a static pivot order (checked; a shift it refuses runs here with SuperLU).
+    Each shift's factorization and steps: :meth:`wingmdao.stability.pencil_lu.ShiftedPencil.refine`
+    (in C with a static pivot order when the kernel is on; a shift it refuses runs with SuperLU).
     (Two-sided Rayleigh-quotient iteration: B. N. Parlett, "The Rayleigh quotient iteration and
     some generalizations for nonnormal matrices", Math. Comp. 28(127), 1974.)"""
     v, u = np.asarray(v0, complex), np.asarray(u0, complex)
@@ -97,38 +73,12 @@ def refine_pair(A, B, lam0, v0, u0, *, tol=1e-12, iterations=6, shifts=3, rel_sh
         den = np.vdot(u, Bv)
         if abs(den) > 1e-12 * np.linalg.norm(Bv) * np.linalg.norm(u):
             lam_old = lam = complex(-np.vdot(u, A @ v) / den)
-
-    def change(a, b):  # phase-aligned change of a unit vector
-        ph = np.vdot(b, a)
-        return np.linalg.norm(a - b * (ph / abs(ph) if ph != 0 else 1.0))
-
-    pen = pencil_lu.pencil(A, B)
+    pencil = ShiftedPencil(A, B)
     for _ in range(int(shifts)):
         s = lam * (1.0 + rel_shift) + rel_shift
-        step = pen.iterate(s, v, u, Bv, lam, lam_old, iterations, tol) if pen is not None and pen.has_pivots else None
-        if step is not None:      # the static-pivot kernel (pencil_lu.c): the same steps in C
-            v, u, Bv, lam, lam_old, ok = step
-            if ok:
-                return v, u, lam, True
-            continue
-        lu = sparse_lu(sp.csc_matrix(A + s * B, dtype=complex))
-        if pen is not None:       # no pivot order yet, or it failed this shift: take SuperLU's
-            pen.repivot(lu.perm_r)
-        BH = B.conj().T
-        for _ in range(int(iterations)):
-            v_new = lu.solve(np.asarray(Bv))
-            v_new /= np.linalg.norm(v_new)
-            u_new = lu.solve(np.asarray(BH @ u), trans="H")
-            u_new /= np.linalg.norm(u_new)
-            dv = max(change(v_new, v), change(u_new, u))
-            v, u = v_new, u_new
-            Bv = B @ v        # the quotient's and the next step's
-            lam = complex(-np.vdot(u, A @ v) / np.vdot(u, Bv))
-            # converged: the quotient to tol and the vectors (the gradient needs them; the
-            # quotient is second order in their errors) to sqrt(tol)
-            if abs(lam - lam_old) <= tol * abs(lam) and dv <= np.sqrt(tol):
-                return v, u, lam, True
-            lam_old = lam
+        v, u, Bv, lam, lam_old, ok = pencil.refine(s, v, u, Bv, lam, lam_old, iterations, tol)
+        if ok:
+            return v, u, lam, True
     return v, u, lam, False
 
 

@@ -50,7 +50,8 @@ import scipy.sparse as sp
 
 from wingmdao.stability.eigen import _signature, check_speeds, derived_definition
 from wingmdao.stability.modes import (MEASURES, Selection, SpeedModes, aggregated, cold_set, left_right_vectors,
-                                      refine_pair, sparse_lu)
+                                      refine_pair)
+from wingmdao.stability.pencil_lu import superlu
 from wingmdao.stability.warmstart import WarmStart
 from wingmdao.timemarch.system import derived
 from wingmdao.utils import casadi_cache as cc
@@ -173,7 +174,7 @@ def eigenvalue_gradient(system, p, q, x0, lam, v, u, *, A=None, B=None, static=T
     fun = gradient_functions(system)
     ds, gx = fun.ds(x0, p, q, v, u, lam)
     if static:
-        lu = sparse_lu(A)
+        lu = superlu(A)
         w = lu.solve(gx.real, trans="T") + 1j * lu.solve(gx.imag, trans="T")
         ds = ds - fun.static_term(x0, p, q, w)
     return -ds / np.vdot(u, B @ v)
@@ -277,7 +278,7 @@ def constraint_gradient(system, res: DampingConstraint, *, static=True, min_weig
         use = np.flatnonzero(wk > min_weight)
         if use.size == 0:
             continue
-        lu = sparse_lu(sm.A) if static else None
+        lu = superlu(sm.A) if static else None
         for j in use:
             lam, v, u = sm.eigenvalues[j], sm.right[:, j], sm.left[:, j]
             ds, gx = fun.ds(sm.x0, sm.p, sm.q, v, u, lam)

@@ -12,14 +12,12 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-import scipy.sparse as sp
 from scipy.linalg import lapack
 from scipy.optimize import linear_sum_assignment
 
-from wingmdao.stability import pencil_lu
 from wingmdao.stability.eigen import linearize, static_state
-from wingmdao.stability.modes import (Selection, SpeedModes, cold_speed, loaded_fraction, refine_pair,
-                                      sparse_lu)
+from wingmdao.stability.modes import Selection, SpeedModes, cold_speed, loaded_fraction, refine_pair
+from wingmdao.stability.pencil_lu import ShiftedPencil
 from wingmdao.timemarch.system import derived, layout
 
 #: a warm-started mode whose KS exponent rho (g - g_max) is below -this (weight < 4e-18) of the
@@ -513,19 +511,19 @@ def _ritz(A, B, prev, window, sel, min_mac, enrich=False, basis=None):
     if enrich:
         # one block inverse-iteration step with one LU at the window's shift: the basis [V, (A + s B)^-1 B V]
         # (and the left one alike) holds the new modes far better than the old vectors alone
-        lu = sparse_lu(sp.csc_matrix(A + complex(window[1]) * B, dtype=complex))
-        V2 = lu.solve(np.asarray(B @ V, dtype=complex))
-        U2 = lu.solve(np.asarray(B.conj().T @ U, dtype=complex), trans="H")
+        lu = ShiftedPencil(A, B).factor(complex(window[1]))
+        V2 = lu.solve(B @ V)
+        U2 = lu.solve(B.conj().T @ U, trans="H")
         V = np.linalg.qr(np.column_stack([V, V2]))[0]
         U = np.linalg.qr(np.column_stack([U, U2]))[0]
-    pen = pencil_lu.pencil(A, B)      # the sparse products in C (same summation order), else SciPy's
-    AV, BV = pen.products(V) if pen is not None else (A @ V, B @ V)
+    pencil = ShiftedPencil(A, B)      # the sparse products (in C with the kernel: SciPy's summation order)
+    AV, BV = pencil.products(V)
     UH = U.conj().T
     th, zl, yr = _small_eig(-(UH @ AV), UH @ BV)
     X, W = V @ yr, U @ zl
     AX, BX = AV @ yr, BV @ yr
     # columns: (w^H A)^T, (w^H B)^T
-    WA, WB = pen.products(W.conj(), trans=True) if pen is not None else (A.T @ W.conj(), B.T @ W.conj())
+    WA, WB = pencil.products(W.conj(), trans=True)
     with np.errstate(divide="ignore", invalid="ignore"):   # (a non-finite Ritz value: inf bound, below)
         # the eight column norms in one call
         Z = np.concatenate([X, W, AX + BX * th, AX, BX, WA + WB * th, WA, WB], axis=1).view(float)
