@@ -30,6 +30,7 @@ refined by bisection on that sign.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import casadi as ca
@@ -191,16 +192,36 @@ class Modes:
         return np.abs(self.eigenvalues.imag)
 
     @property
+    def structural_damping(self) -> np.ndarray:
+        """g = 2 Re / |Im| (NaN for real eigenvalues; :func:`structural_damping`)."""
+        return structural_damping(self.eigenvalues)
+
+    @property
     def damping_ratio(self) -> np.ndarray:
-        """g = 2 Re / |Im| (NaN for real eigenvalues)."""
-        return damping_ratio(self.eigenvalues)
+        """Deprecated name of :attr:`structural_damping` (g, positive when unstable)."""
+        return _deprecated_damping_ratio(self.eigenvalues)
 
 
-def damping_ratio(eigenvalues) -> np.ndarray:
-    """g = 2 Re(lambda) / |Im(lambda)| (NaN for real eigenvalues)."""
+def structural_damping(eigenvalues) -> np.ndarray:
+    """The V-g method's structural damping g = 2 Re(lambda) / |Im(lambda)| (NaN for real
+    eigenvalues): positive when the mode is unstable, about -2 zeta for a lightly damped mode
+    (zeta = -Re lambda / |lambda|, the damping ratio of
+    :attr:`wingmdao.stability.sensitivity.DampingConstraint.damping_ratio` and
+    :meth:`wingmdao.beam.residual.StrainRateDamping.from_damping_ratio`)."""
     lam = np.asarray(eigenvalues)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(np.abs(lam.imag) > 0, 2.0 * lam.real / np.abs(lam.imag), np.nan)
+
+
+def damping_ratio(eigenvalues) -> np.ndarray:
+    """Deprecated name of :func:`structural_damping` (g = 2 Re / |Im|, not a damping ratio)."""
+    return _deprecated_damping_ratio(eigenvalues)
+
+
+def _deprecated_damping_ratio(eigenvalues) -> np.ndarray:
+    warnings.warn("wingmdao.stability.eigen: 'damping_ratio' (g = 2 Re / |Im|) is deprecated; use "
+                  "'structural_damping'", DeprecationWarning, stacklevel=3)
+    return structural_damping(eigenvalues)
 
 
 def _det_sign(A) -> float:
@@ -362,9 +383,14 @@ class StabilitySweep:
         return np.abs(self.tracked.imag)
 
     @property
+    def structural_damping(self) -> np.ndarray:
+        """g = 2 Re / |Im| per speed and tracked mode (NaN for real eigenvalues; :func:`structural_damping`)."""
+        return structural_damping(self.tracked)
+
+    @property
     def damping_ratio(self) -> np.ndarray:
-        """g = 2 Re / |Im| per speed and tracked mode (NaN for real eigenvalues)."""
-        return damping_ratio(self.tracked)
+        """Deprecated name of :attr:`structural_damping` (g, positive when unstable)."""
+        return _deprecated_damping_ratio(self.tracked)
 
 
 def check_speeds(speeds) -> np.ndarray:

@@ -55,6 +55,7 @@ from wingmdao.stability.pencil_lu import superlu
 from wingmdao.stability.warmstart import WarmStart
 from wingmdao.timemarch.system import derived
 from wingmdao.utils import casadi_cache as cc
+from wingmdao.utils.ks import ks_aggregate
 
 __all__ = ["DampingConstraint", "SpeedModes", "WarmStart", "constraint_gradient", "damping_constraint",
            "damping_ratio_gradient", "eigenvalue_gradient", "gradient_functions", "ks_aggregate",
@@ -186,14 +187,6 @@ def damping_ratio_gradient(lam, dlam):
     r = abs(lam)
     dr = (s * dlam.real + w * dlam.imag) / r
     return -s / r, -(dlam.real * r - s * dr) / r**2
-
-
-def ks_aggregate(g, rho):
-    """KS_rho(g) and d KS / d g (Kreisselmeier-Steinhauser, max-shifted)."""
-    g = np.asarray(g, dtype=float).ravel()
-    m = float(np.max(g))
-    e = np.exp(rho * (g - m))
-    return m + np.log(np.sum(e)) / rho, e / np.sum(e)
 
 
 @dataclass
