@@ -8,7 +8,7 @@ import pytest
 
 from wingmdao import units
 from wingmdao.section.box import beam_params_from_rows, beam_params_from_section
-from wingmdao.timemarch.system import derived
+from wingmdao.timemarch.system import ResidualSystem, derived
 from wingmdao.utils.ks import ks_aggregate, ks_gradient, ks_value
 from wingmdao.utils.warn_once import WarnOnce
 
@@ -79,3 +79,19 @@ def test_beam_params_from_section_of_rows_and_of_one_section():
         assert np.array_equal(full[k], np.array([o[k] for o in one])), k
     assert full["tension_axis"].shape == (4, 2) and full["inertia_per_length"].shape == (4, 3, 3)
     assert np.array_equal(full["shear_center"][2], [rows[2]["c_sc"], rows[2]["n_sc"]])
+
+
+def test_a_system_pickles_without_its_derived_objects():
+    """An OpenMDAO recorder pickles the components' options, which hold the system: the derived
+    objects (compiled functions, which do not pickle) stay out and are rebuilt on demand."""
+    import pickle
+    import threading
+
+    system = _Tiny()
+    lock = derived(system, "unpicklable", lambda s: threading.Lock())
+    copy = pickle.loads(pickle.dumps(system))
+    assert "_derived" not in vars(copy) and derived(system, "unpicklable", None) is lock
+
+
+class _Tiny(ResidualSystem):
+    n_state, state_shape, param_specs, forcing_specs = 1, (1,), [], []

@@ -26,7 +26,8 @@ NEGLIGIBLE_KS = 80.0
 
 
 class WarmStart:
-    """History of :func:`~wingmdao.stability.sensitivity.damping_constraint` between evaluations (warm start; docs/flutter.md).
+    """History of :func:`~wingmdao.stability.sensitivity.damping_constraint` between evaluations
+    (warm start; docs/flutter.md).
 
     After a cold evaluation (the full sparse eigen window at every speed) it keeps, per speed,
     **every oscillatory mode of the window** (eigenvalue, right and left vectors), loaded or not:
