@@ -95,3 +95,24 @@ def test_a_system_pickles_without_its_derived_objects():
 
 class _Tiny(ResidualSystem):
     n_state, state_shape, param_specs, forcing_specs = 1, (1,), [], []
+
+
+def test_a_shared_c_header_is_inserted_and_keys_the_library(tmp_path):
+    """``#include "file"`` of a package file is inserted into the compiled source and its bytes
+    key the library (an edit of ``timemarch/lu_triangular.h`` recompiles both LU kernels); the
+    real and complex kernels both include that one header."""
+    from wingmdao.stability import pencil_lu
+    from wingmdao.timemarch import static_lu
+    from wingmdao.utils import c_library
+
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "h.h").write_text("static int twice(int x) { return 2 * x; }\n")
+    src = tmp_path / "k.c"
+    src.write_text('#include <math.h>\n#include "sub/h.h"\nint f(int x) { return twice(x); }\n')
+    text = c_library.expanded_source(src).decode()
+    assert "return 2 * x" in text and "#include <math.h>" in text and '#include "sub/h.h"' not in text
+    key = c_library.library_key(src)
+    (tmp_path / "sub" / "h.h").write_text("static int twice(int x) { return x + x; }\n")
+    assert c_library.library_key(src) != key
+    for kernel in (static_lu.SOURCE, pencil_lu.SOURCE):
+        assert "static void LU_SOLVE(" in c_library.expanded_source(kernel).decode()
