@@ -15,7 +15,7 @@ pytestmark = pytest.mark.skipif(cc.compiler() is None, reason="needs gcc")
 def jit_env(tmp_path, monkeypatch):
     monkeypatch.setenv(cc.ENV_JIT, "1")
     monkeypatch.setenv(cc.ENV_CACHE, str(tmp_path / "cache"))
-    monkeypatch.setattr(cc, "_warned", False)
+    monkeypatch.setattr(cc._warn_once, "issued", False)
     return tmp_path / "cache"
 
 

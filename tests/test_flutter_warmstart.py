@@ -180,7 +180,7 @@ def test_lazy_refinement_skips_and_second_check_catches(monkeypatch):
     (the leading mode's Ritz estimate made 2 1/s too high and every loaded estimate trusted, so
     modes that matter are skipped), the second check against the exact g_max refines them: still
     the cold value."""
-    import wingmdao.stability.sensitivity as S
+    import wingmdao.stability.warmstart as S
 
     seq = [(1, 1, 1, 1), (1.05, 1.0, 0.97, 1.02), (1.5, 1.4, 0.7, 1.2)]
     ws = WarmStart(refresh=1000)
@@ -238,7 +238,7 @@ def test_small_eig_is_scipy_eig_without_the_wrapper():
     to the normalisation; a singular B gives an infinite eigenvalue, as SciPy's."""
     import scipy.linalg as sla
 
-    from wingmdao.stability.sensitivity import _small_eig
+    from wingmdao.stability.warmstart import _small_eig
 
     rng = np.random.default_rng(11)
     for k in (1, 5, 6, 9):

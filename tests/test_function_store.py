@@ -15,7 +15,7 @@ def store(tmp_path, monkeypatch):
     """An empty cache folder and an empty in-memory store (as in a fresh process)."""
     monkeypatch.setenv(cc.ENV_CACHE, str(tmp_path / "cache"))
     monkeypatch.setenv(fs.ENV_STORE, "1")
-    monkeypatch.setattr(fs, "_warned", False)
+    monkeypatch.setattr(fs._warn_once, "issued", False)
     fs.clear_memory()
     yield tmp_path / "cache" / "functions"
     fs.clear_memory()
@@ -206,7 +206,7 @@ def test_deferred_beam_system_uses_compiled_libraries_without_building(store, mo
     from wingmdao.timemarch.system import HISTORY_PARTS
 
     monkeypatch.setenv(cc.ENV_JIT, "1")
-    monkeypatch.setattr(cc, "_warned", False)
+    monkeypatch.setattr(cc._warn_once, "issued", False)
     first = build_beam_system(3)
     assert set(first.compile(wait=True).values()) == {"compiled"}
     fs.clear_memory()
@@ -232,7 +232,7 @@ def test_deferred_beam_runs_without_the_dr_dp_dr_dq_libraries(store, monkeypatch
     from wingmdao.beam.residual import DeferredBeamSystem, build_beam_system
 
     monkeypatch.setenv(cc.ENV_JIT, "1")
-    monkeypatch.setattr(cc, "_warned", False)
+    monkeypatch.setattr(cc._warn_once, "issued", False)
     first = build_beam_system(3)
     calls = {"residual": first._fast_R, "newton": first._fast_newton,
              **{f"history_{k}": first._part_call(k) for k in ("x", "xdot", "vjp")}}

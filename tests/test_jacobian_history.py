@@ -89,7 +89,7 @@ def compiled_beam(tmp_path, monkeypatch):
     monkeypatch.setenv(cc.ENV_JIT, "1")
     monkeypatch.setenv(static_lu.ENV_KERNEL, "1")
     monkeypatch.setenv(cc.ENV_CACHE, str(tmp_path / "cache"))
-    monkeypatch.setattr(cc, "_warned", False)
+    monkeypatch.setattr(cc._warn_once, "issued", False)
     system = build_beam_system(3, defer=False)
     states = system.compile(wait=True)
     assert states == {"residual": "compiled", "newton": "compiled",

@@ -103,7 +103,9 @@ def test_spring_mass_damper_eigenvalue_closed_form():
     ref = -c / (2 * mass) + 1j * np.sqrt(k / mass - (c / (2 * mass)) ** 2)
     assert m.eigenvalues.size == 1
     assert m.eigenvalues[0] == pytest.approx(ref, rel=1e-12)
-    assert m.damping_ratio[0] == pytest.approx(2 * ref.real / ref.imag, rel=1e-12)
+    assert m.structural_damping[0] == pytest.approx(2 * ref.real / ref.imag, rel=1e-12)
+    with pytest.deprecated_call():
+        assert m.damping_ratio[0] == m.structural_damping[0]
 
 
 def test_mac_identity_and_orthogonal():

@@ -146,8 +146,8 @@ def test_refine_pair_falls_back_to_superlu(kernel_on, monkeypatch, what):
     v0 = np.random.default_rng(5).standard_normal(A.shape[0]) + 0j
     ref = se.refine_pair(A, B, lam * (1 + 1e-4), v0, v0.copy(), quotient_start=False)
     calls = []
-    orig = se._lu
-    monkeypatch.setattr(se, "_lu", lambda M: calls.append(1) or orig(M))
+    orig = pencil_lu.superlu
+    monkeypatch.setattr(pencil_lu, "superlu", lambda M: calls.append(1) or orig(M))
     monkeypatch.setattr(pencil_lu, "GROWTH_MAX" if what == "growth" else "BACKWARD_TOL", 0.0)
     if what == "backward_error":     # the default argument was bound at definition
         monkeypatch.setattr(pencil_lu.Pencil.iterate, "__defaults__", (0.0, 1))
@@ -215,3 +215,28 @@ def test_pencil_function_from_a_warm_cache_forms_no_jacobian(tmp_path, monkeypat
     assert not formed and warm.call.jit.state == "compiled"
     A1, B1 = warm(x0, p, q)
     assert (A1 != A0).nnz == 0 and (B1 != B0).nnz == 0 and A0.nnz > 0 and B0.nnz > 0
+
+
+@pytest.mark.parametrize("kernel", ["1", "0"])
+def test_factor_solves_a_complex_matrix_with_m_its_transpose_and_adjoint(kernel_on, monkeypatch, kernel):
+    """``pencil_lu.factor`` (the LU interface: kernel or SuperLU, the caller does not branch) of a
+    complex sparse M solves M x = b, M^T x = b and M^H x = b as a dense solve does, for real and
+    complex right-hand sides, one or several; with the kernel on, its second factorization (the
+    first gives it SuperLU's pivot order) is the kernel's."""
+    monkeypatch.setenv(static_lu.ENV_KERNEL, kernel)
+    A, B = _random_pencil(n=30, seed=8)
+    M = sp.csc_matrix(A + (0.4 + 1.3j) * B)
+    rng = np.random.default_rng(9)
+    Md = M.toarray()
+    for attempt in range(2):
+        lu = pencil_lu.factor(M)
+        assert lu.compiled == (kernel == "1") or attempt == 0
+        for b in (rng.standard_normal(30), rng.standard_normal(30) + 1j * rng.standard_normal(30),
+                  rng.standard_normal((30, 3))):
+            for trans, Mt in (("N", Md), ("T", Md.T), ("H", Md.conj().T)):
+                x = lu.solve(b, trans)
+                np.testing.assert_allclose(x, np.linalg.solve(Mt, b), rtol=1e-10, atol=1e-12)
+    with pytest.raises(ValueError, match="trans"):
+        lu.solve(b, "C")
+    real = pencil_lu.factor(sp.csc_matrix(A))
+    np.testing.assert_allclose(real.solve(b[:, 0], "T"), np.linalg.solve(A.toarray().T, b[:, 0]), rtol=1e-10)

@@ -37,8 +37,9 @@ import casadi as ca
 import numpy as np
 
 from wingmdao.aero.strip import AERO_STATE_NAMES, N_AERO_STATES, check_aero_inputs, section_model
-from wingmdao.beam.residual import (N_STATE_PER_NODE, STATE_BLOCKS, _P_NODE, _Q_NODE, _element_function,
-                                    _nodal_function, _node_forcing, _node_params, describe_equation,
+from wingmdao.beam.residual import (N_STATE_PER_NODE, STATE_BLOCKS, NODE_FORCING as _Q_NODE, NODE_PARAMS as _P_NODE,
+                                    element_function as _element_function, nodal_function as _nodal_function,
+                                    node_forcing as _node_forcing, node_params as _node_params, describe_equation,
                                     forcing_specs as beam_forcing_specs, jig_state,
                                     param_specs as beam_param_specs, StrainRateDamping)
 from wingmdao.beam.rotations import body_to_csn

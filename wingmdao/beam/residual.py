@@ -119,11 +119,11 @@ def _node_symbols():
 
 
 #: Per-node parameter layout inside the element function (34 entries).
-_P_NODE = {"r0": slice(0, 3), "theta0": slice(3, 6), "E": slice(6, 15), "S": slice(15, 18),
-           "ta": slice(18, 20), "sc": slice(20, 22), "mu": slice(22, 23), "cg": slice(23, 25),
-           "i": slice(25, 34)}
+NODE_PARAMS = {"r0": slice(0, 3), "theta0": slice(3, 6), "E": slice(6, 15), "S": slice(15, 18),
+               "ta": slice(18, 20), "sc": slice(20, 22), "mu": slice(22, 23), "cg": slice(23, 25),
+               "i": slice(25, 34)}
 #: Per-node forcing layout (12 entries): f, m, P, Q.
-_Q_NODE = {"f": slice(0, 3), "m": slice(3, 6), "P": slice(6, 9), "Q": slice(9, 12)}
+NODE_FORCING = {"f": slice(0, 3), "m": slice(3, 6), "P": slice(6, 9), "Q": slice(9, 12)}
 
 
 def _avg(a, b, key, table):
@@ -173,8 +173,25 @@ class StrainRateDamping:
         return not any(self.curvature) and not any(self.strain)
 
 
-def _element_function(sequence, damping: StrainRateDamping | None = None):
-    """12 element residuals (force, moment, moment-curvature, strain-displacement) of one element."""
+def element_function(sequence, damping: StrainRateDamping | None = None):
+    """The CasADi function of one element's 12 residuals (force, moment, moment-curvature,
+    strain-displacement).
+
+    Parameters
+    ----------
+    sequence : str
+        Euler-angle sequence of the node rotations (``"surface"``, ...; :mod:`wingmdao.beam.rotations`).
+    damping : StrainRateDamping, optional
+        Kelvin-Voigt strain-rate damping (None: none).
+
+    Returns
+    -------
+    casadi.Function
+        ``beam_element(x_a, x_b, xdot_a, xdot_b, p_a, p_b, q_a, q_b, g, *frame) -> R (12)``: the
+        states (18 each, :data:`STATE_BLOCKS`), parameters (34 each, :data:`NODE_PARAMS`; a node's
+        from :func:`node_params`) and forcing (12 each, :data:`NODE_FORCING`; :func:`node_forcing`)
+        of the element's two nodes, gravity and the body frame.
+    """
     a, b = _node_symbols(), _node_symbols()
     pa = ca.SX.sym("pa", 34)
     pb = ca.SX.sym("pb", 34)
@@ -188,8 +205,8 @@ def _element_function(sequence, damping: StrainRateDamping | None = None):
     M_a, M_b = xa[st["M"]], xb[st["M"]]
     u_a, u_b = xa[st["u"]], xb[st["u"]]
     w_a, w_b = xa[st["omega"]], xb[st["omega"]]
-    r0_a, r0_b = pa[_P_NODE["r0"]], pb[_P_NODE["r0"]]
-    th0_a, th0_b = pa[_P_NODE["theta0"]], pb[_P_NODE["theta0"]]
+    r0_a, r0_b = pa[NODE_PARAMS["r0"]], pb[NODE_PARAMS["r0"]]
+    th0_a, th0_b = pa[NODE_PARAMS["theta0"]], pb[NODE_PARAMS["theta0"]]
     ds0 = ca.norm_2(r0_b - r0_a)
 
     # element averages (ASWING style)
@@ -197,18 +214,18 @@ def _element_function(sequence, damping: StrainRateDamping | None = None):
     theta0_m = 0.5 * (th0_a + th0_b)
     T = body_to_csn(theta_m, sequence)
     T0 = body_to_csn(theta0_m, sequence)
-    E_a, E_b = _mat3(pa[_P_NODE["E"]]), _mat3(pb[_P_NODE["E"]])
-    S = ca.diag(_avg(pa, pb, "S", _P_NODE))
-    D = offset_matrix(_avg(pa, pb, "ta", _P_NODE), _avg(pa, pb, "sc", _P_NODE))
-    mu = _avg(pa, pb, "mu", _P_NODE)
-    cg = _avg(pa, pb, "cg", _P_NODE)
-    i_csn = _mat3(_avg(pa, pb, "i", _P_NODE))
+    E_a, E_b = _mat3(pa[NODE_PARAMS["E"]]), _mat3(pb[NODE_PARAMS["E"]])
+    S = ca.diag(_avg(pa, pb, "S", NODE_PARAMS))
+    D = offset_matrix(_avg(pa, pb, "ta", NODE_PARAMS), _avg(pa, pb, "sc", NODE_PARAMS))
+    mu = _avg(pa, pb, "mu", NODE_PARAMS)
+    cg = _avg(pa, pb, "cg", NODE_PARAMS)
+    i_csn = _mat3(_avg(pa, pb, "i", NODE_PARAMS))
     qa, qb = a.q, b.q
     # resultants just outboard of node a (the cut value F_a, M_a includes node a's point loads)
-    F_m = 0.5 * (F_a - qa[_Q_NODE["P"]] + F_b)
-    M_m = 0.5 * (M_a - qa[_Q_NODE["Q"]] + M_b)
-    f_dead = _avg(qa, qb, "f", _Q_NODE)
-    m_dead = _avg(qa, qb, "m", _Q_NODE)
+    F_m = 0.5 * (F_a - qa[NODE_FORCING["P"]] + F_b)
+    M_m = 0.5 * (M_a - qa[NODE_FORCING["Q"]] + M_b)
+    f_dead = _avg(qa, qb, "f", NODE_FORCING)
+    m_dead = _avg(qa, qb, "m", NODE_FORCING)
 
     # inertial loads per undeformed length (Alg. 2-3)
     acc_a = nodal_acceleration(r_a, u_a, a.xdot[st["u"]], frame)
@@ -225,7 +242,7 @@ def _element_function(sequence, damping: StrainRateDamping | None = None):
 
     # equilibrium of the element between the cut inboard of node a and the cut inboard of node b
     dr = r_b - r_a
-    P_a, Q_a = qa[_Q_NODE["P"]], qa[_Q_NODE["Q"]]
+    P_a, Q_a = qa[NODE_FORCING["P"]], qa[NODE_FORCING["Q"]]
     R_force = F_b - F_a + f_tot * ds0 + P_a
     R_moment = M_b - M_a + m_tot * ds0 + Q_a + ca.cross(dr, F_b + 0.5 * ds0 * f_tot)
 
@@ -252,7 +269,9 @@ def _element_function(sequence, damping: StrainRateDamping | None = None):
     return ca.Function("beam_element", [a.x, b.x, a.xdot, b.xdot, pa, pb, a.q, b.q, g, *frame], [out])
 
 
-def _nodal_function(sequence):
+def nodal_function(sequence):
+    """The CasADi function ``beam_nodal(x, xdot) -> R (6)`` of one node's kinematic residuals
+    (velocity u - dr/dt, angular rate omega - Euler rates; ``sequence`` as :func:`element_function`)."""
     x, xdot = ca.SX.sym("x", 18), ca.SX.sym("xdot", 18)
     st = STATE_BLOCKS
     T = body_to_csn(x[st["theta"]], sequence)
@@ -261,8 +280,9 @@ def _nodal_function(sequence):
     return ca.Function("beam_nodal", [x, xdot], [out])
 
 
-def _node_params(p, lay, i):
-    """The 34 per-node parameters of node i (element-function layout)."""
+def node_params(p, lay, i):
+    """The 34 parameters of node ``i`` in the layout of :data:`NODE_PARAMS`, from the packed
+    parameters ``p`` (CasADi) with the slices ``lay`` of :func:`param_specs` (``layout``)."""
     parts = []
     for name, width in (("node_positions", 3), ("node_euler_angles", 3), ("stiffness_csn", 9),
                         ("compliance_csn", 3), ("tension_axis", 2), ("shear_center", 2),
@@ -271,7 +291,9 @@ def _node_params(p, lay, i):
     return ca.vertcat(*parts)
 
 
-def _node_forcing(q, lay, i):
+def node_forcing(q, lay, i):
+    """The 12 forcing entries of node ``i`` in the layout of :data:`NODE_FORCING`, from the packed
+    forcing ``q`` (CasADi) with the slices ``lay`` of :func:`forcing_specs` (``layout``)."""
     return ca.vertcat(*[_node_block(q, lay[name].start, None, i, 3) for name in
                         ("force_per_length", "moment_per_length", "point_force", "point_moment")])
 
@@ -544,15 +566,15 @@ def _build_beam_system(n: int, euler_sequence: str, damping) -> CasadiResidualSy
     xdot = ca.SX.sym("xdot", 18 * n)
     p = ca.SX.sym("p", sum(s.size for s in pspecs))
     q = ca.SX.sym("q", sum(s.size for s in qspecs))
-    elem = _element_function(euler_sequence, damping)
-    nodal = _nodal_function(euler_sequence)
+    elem = element_function(euler_sequence, damping)
+    nodal = nodal_function(euler_sequence)
     g = q[qlay["gravity"]]
     frame = (q[qlay["frame_acceleration"]], q[qlay["frame_angular_velocity"]],
              q[qlay["frame_angular_acceleration"]])
     xs = [x[18 * i: 18 * (i + 1)] for i in range(n)]
     xds = [xdot[18 * i: 18 * (i + 1)] for i in range(n)]
-    ps = [_node_params(p, play, i) for i in range(n)]
-    qs = [_node_forcing(q, qlay, i) for i in range(n)]
+    ps = [node_params(p, play, i) for i in range(n)]
+    qs = [node_forcing(q, qlay, i) for i in range(n)]
     st = STATE_BLOCKS
     blocks = []
     for i in range(n):
@@ -561,10 +583,10 @@ def _build_beam_system(n: int, euler_sequence: str, damping) -> CasadiResidualSy
                                g, *frame))
         else:
             blocks.append(ca.vertcat(
-                xs[0][st["r"]] - ps[0][_P_NODE["r0"]],
-                xs[0][st["theta"]] - ps[0][_P_NODE["theta0"]],
-                xs[i][st["F"]] - qs[i][_Q_NODE["P"]],
-                xs[i][st["M"]] - qs[i][_Q_NODE["Q"]]))
+                xs[0][st["r"]] - ps[0][NODE_PARAMS["r0"]],
+                xs[0][st["theta"]] - ps[0][NODE_PARAMS["theta0"]],
+                xs[i][st["F"]] - qs[i][NODE_FORCING["P"]],
+                xs[i][st["M"]] - qs[i][NODE_FORCING["Q"]]))
         blocks.append(nodal(xs[i], xds[i]))
     R = ca.vertcat(*blocks)
 

@@ -17,6 +17,7 @@ from wingmdao.beam.residual import (StrainRateDamping, build_beam_system, forcin
 from wingmdao.timemarch.system import layout, pack
 from wingmdao.beam.rotations import euler_from_axis
 from wingmdao.timemarch.bdf import march, solve_static
+from wingmdao.units import G0
 
 _SYSTEMS: dict = {}
 
@@ -158,7 +159,7 @@ def straight_beam(n, length, direction=(0.0, 1.0, 0.0)):
     return r0, np.tile(euler_from_axis(d), (n, 1))
 
 
-def march_line_loads(params: dict, time, force_per_length, moment_per_length, gravity=(0.0, 0.0, -9.80665)):
+def march_line_loads(params: dict, time, force_per_length, moment_per_length, gravity=(0.0, 0.0, -G0)):
     """BDF2 history (:func:`wingmdao.timemarch.bdf.march`, modified Newton) of the clamped beam of
     ``params`` under dead line loads ``force_per_length`` / ``moment_per_length`` (n_time, n, 3)
     N/m, N m/m, and constant ``gravity`` (m/s^2, body axes), starting from the static state of t[0]."""

@@ -16,6 +16,7 @@ from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defa
 from wingmdao.cases import pegasus as _pegasus
 from wingmdao.cases.pegasus import AERO_MODELS
 from wingmdao.cases.planform import Planform
+from wingmdao.section.box import WALL_NAMES
 
 NAME = "crm"
 HELP = "CRM wing (App. D.3): thickness sizing for the 2.5 g and -1.0 g maneuvers"
@@ -64,8 +65,6 @@ NO_COUPLED = ("--aero coupled is not available for the crm case: App. D.3 gives 
 def build(options: CrmOptions | None = None, **overrides) -> CaseSetup:
     """The CRM geometry, its two maneuvers, material and bounds from a :class:`CrmOptions` and/or
     keyword options (``build(load_factor=2.0)``)."""
-    from wingmdao.section.box import WALL_NAMES
-
     opts = case_options(CrmOptions, options, **overrides)
     if opts.aero == "coupled":
         raise ValueError(NO_COUPLED)

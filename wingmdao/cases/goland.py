@@ -22,8 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from wingmdao.beam.static import beam_parameters, straight_beam
-
-FT, SLUG, LBF = 0.3048, 14.59390294, 4.4482216152605
+from wingmdao.units import FT, LBF, SLUG
 
 SEMI_SPAN = 20.0 * FT
 CHORD = 6.0 * FT

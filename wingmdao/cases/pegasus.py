@@ -611,17 +611,16 @@ def beam_params(num_nodes: int = 20, thickness: dict | None = None, panels=None)
     smeared into the sections as the stiffened sizing does.
     """
     from wingmdao.materials import ALUMINIUM
-    from wingmdao.section.box import box_properties, validate_box
-    from wingmdao.sizing import WALL_VARS
+    from wingmdao.section.box import WALL_NAMES, beam_params_from_section, box_properties, validate_box
 
     n = int(num_nodes)
     geo, _, _ = wing_geometry(flutter_planform(n), ENGINES)
     t = initial_thickness(n) if thickness is None else thickness
     walls = []
-    for w in WALL_VARS:
+    for w in WALL_NAMES:
         v = t.get(w, t.get(w[2:])) if isinstance(t, dict) else None
         if v is None:
-            raise ValueError(f"thickness: missing wall {w!r}; needs {list(WALL_VARS)} (m)")
+            raise ValueError(f"thickness: missing wall {w!r}; needs {list(WALL_NAMES)} (m)")
         v = np.asarray(v, dtype=float).ravel()
         if v.size != n:
             raise ValueError(f"thickness {w!r}: {v.size} stations, the {n}-node PEGASUS beam needs {n}")
@@ -639,13 +638,7 @@ def beam_params(num_nodes: int = 20, thickness: dict | None = None, panels=None)
                                            panels.shape, panels.flange_ratio) for s in ("upper", "lower"))
     pr = box_properties(geo.width, geo.height, *walls, ALUMINIUM, None, geo.nonstructural_mass_per_length,
                         stringers=stringers)
-    return {"node_positions": geo.node_positions, "node_euler_angles": geo.node_euler_angles,
-            "stiffness_csn": np.asarray(pr["stiffness_csn"]), "compliance_csn": np.asarray(pr["compliance_csn"]),
-            "tension_axis": np.column_stack([pr["c_ea"], pr["n_ea"]]),
-            "shear_center": np.column_stack([pr["c_sc"], pr["n_sc"]]),
-            "mass_per_length": np.asarray(pr["mass_per_length"], dtype=float),
-            "mass_center": np.column_stack([pr["c_cg"], pr["n_cg"]]),
-            "inertia_per_length": np.asarray(pr["inertia_per_length"])}
+    return beam_params_from_section(pr, geo.node_positions, geo.node_euler_angles)
 
 
 def aero_data(num_nodes: int = 20) -> dict:

@@ -7,7 +7,7 @@ divergence speeds are refined between sweep points.
 
 JSON keys: case, num_nodes, density_kg_m3, flutter_speed_m_s, flutter_frequency_rad_s,
 divergence_speed_m_s (null when none within the sweep), natural_frequencies_rad_s (in vacuo,
-first six), speeds, damping (per tracked mode and speed, Re lambda 1/s), damping_ratio
+first six), speeds, damping (per tracked mode and speed, Re lambda 1/s), structural_damping
 (``g = 2 Re / |Im|``), frequency_rad_s, published (the case's reference values), timings; for
 PEGASUS also dive_speed_m_s (V_D) and design (the --design file, or "initial").
 With ``--deformed``: ``deformed`` (gravity_m_s2 and, per root angle of attack, the flutter speed,
@@ -144,7 +144,7 @@ def analyse(case, speeds=None, num_nodes=None, n_modes=4, thickness=None) -> dic
         "flutter_speed_m_s": crit["flutter_speed"], "flutter_frequency_rad_s": crit["flutter_frequency"],
         "divergence_speed_m_s": crit["divergence_speed"],
         "natural_frequencies_rad_s": natural,
-        "speeds": res.speeds, "damping": res.damping.T, "damping_ratio": res.damping_ratio.T,
+        "speeds": res.speeds, "damping": res.damping.T, "structural_damping": res.structural_damping.T,
         "frequency_rad_s": res.frequency.T,
         "published": prob.published,
         "timings_s": {"setup_and_in_vacuo": t1 - t0, "sweep": t2 - t1, "per_speed": (t2 - t1) / v.size,
@@ -225,7 +225,7 @@ def plot(result, path):
 
     v = np.asarray(result["speeds"])
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 7), sharex=True)
-    for j, (g, w) in enumerate(zip(result["damping_ratio"], result["frequency_rad_s"])):
+    for j, (g, w) in enumerate(zip(result["structural_damping"], result["frequency_rad_s"])):
         g = np.array([np.nan if x is None else x for x in g], dtype=float)
         ax1.plot(v, g, "o-", ms=3, label=f"mode {j + 1}")
         ax2.plot(v, w, "o-", ms=3)

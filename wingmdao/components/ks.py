@@ -6,7 +6,8 @@ stress points j, n stations k, n_T + 1 time steps t, all in one sum):
     KS(g) = m + ln( sum_k exp(rho_KS (g_k - m)) ) / rho_KS,      m = max_k g_k
 
 The max shift m keeps every exponent <= 0, so large rho_KS and large ``|g|`` cannot overflow.
-The sum runs over *every* entry of the array, whatever its shape. See ``docs/ks.md``.
+The sum runs over *every* entry of the array, whatever its shape. See ``docs/ks.md``; the
+formula itself: :mod:`wingmdao.utils.ks`.
 """
 
 from __future__ import annotations
@@ -18,37 +19,13 @@ import openmdao.api as om
 
 from wingmdao import DISSERTATION
 from wingmdao.utils.digest import ArrayStamp
+from wingmdao.utils.ks import ks_gradient, ks_value, shifted_exp  # noqa: F401 - ks_value: public here too
 from wingmdao.components.pointwise import check_connected_shapes
 
 #: constraint entries (all families of a KSAggregate) above which it is matrix-free by default:
 #: declared partials keep a value, a row and a column index per entry, and OpenMDAO copies them
 #: (~10 MB for the 20-node x 4001-step PEGASUS vm history, 320 080 entries)
 KS_MATRIX_FREE_ABOVE = 100_000
-
-
-def _shifted_exp(g: np.ndarray, rho_ks: float):
-    """``(m, w, s)``: ``m = max g``, ``w_k = exp(rho_KS (g_k - m))`` and ``s = sum_k w_k`` over all
-    entries of ``g`` (flattened): the terms of Eq. 4.44, shared by the value and its gradient."""
-    g = np.asarray(g, dtype=float).ravel()
-    m = np.max(g)
-    w = np.exp(rho_ks * (g - m))
-    return m, w, np.sum(w)
-
-
-def ks_value(g: np.ndarray, rho_ks: float) -> float:
-    """KS aggregate of all entries of ``g`` (Eq. 4.44), max-shifted."""
-    m, _, s = _shifted_exp(g, rho_ks)
-    return float(m + np.log(s) / rho_ks)
-
-
-def ks_gradient(g: np.ndarray, rho_ks: float) -> np.ndarray:
-    """dKS/dg_k = exp(rho_KS (g_k - m)) / sum_j exp(rho_KS (g_j - m)), flattened (softmax weights).
-
-    This is the ratio of sums that appears in Eq. 4.46-4.51, before the chain rule to the
-    design variables and states.
-    """
-    _, w, s = _shifted_exp(g, rho_ks)
-    return w / s
 
 
 def _check_finite(name: str, g: np.ndarray) -> None:
@@ -141,7 +118,7 @@ class KSAggregate(om.ExplicitComponent):
         for name in self.options["families"]:
             g = np.asarray(inputs[f"g_{name}"])
             _check_finite(f"g_{name}", g)
-            m, w, s = _shifted_exp(g, rho)
+            m, w, s = shifted_exp(g, rho)
             outputs[f"ks_{name}"] = float(m + np.log(s) / rho)     # ks_value
             # kept for compute_partials at the same g (run_model, then compute_totals): the
             # weights w / s of ks_gradient without a second exp over the family (1.5 ms of a

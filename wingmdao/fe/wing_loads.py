@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from wingmdao.units import G0
+
 
 def lumping_lengths(ys) -> np.ndarray:
     """Trapezoid weights (m) of the sorted span coordinates ``ys``."""
@@ -39,6 +41,6 @@ def lumped_line_loads(sections, ys, y_nodes, force_per_length, moment_per_length
     return out
 
 
-def point_weights(sections, masses, gravity=9.80665) -> list:
+def point_weights(sections, masses, gravity=G0) -> list:
     """Station loads of point masses [(y, kg)] under gravity -z (N) at their section centres."""
     return [(float(y), sections.at(y)[0], np.array([0.0, 0.0, -m * gravity]), np.zeros(3)) for y, m in masses]

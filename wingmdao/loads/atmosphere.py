@@ -11,10 +11,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-FT = 0.3048  # m per international foot
-KNOT = 1852.0 / 3600.0  # m/s per knot
-LB = 0.45359237  # kg per pound (mass)
-G0 = 9.80665  # standard gravity, m/s^2
+from wingmdao.units import FT, G0, KNOT, LB  # noqa: F401 - the unit constants' home (re-exported)
+
 R_AIR = 287.05287  # specific gas constant of dry air, J/(kg K)
 GAMMA_AIR = 1.4
 T0 = 288.15  # sea-level temperature, K

@@ -46,8 +46,8 @@ from wingmdao.loads.gust import (
     reference_gust_velocity_eas,
 )
 from wingmdao.loads.atmosphere import mach_to_tas
+from wingmdao.units import FT
 
-FT = 0.3048  # m per international foot
 SIGNS = {"up": (1,), "down": (-1,), "both": (1, -1)}
 _SIGN_NAME = {1: "up", -1: "down"}
 _MAX_GUSTS = 1000

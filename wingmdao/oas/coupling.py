@@ -30,6 +30,7 @@ from __future__ import annotations
 import numpy as np
 import openmdao.api as om
 from wingmdao.materials import Material
+from wingmdao.section.box import WALL_NAMES
 
 POLAR = np.array([1.0, -1.0, 1.0])
 AXIAL = np.array([-1.0, 1.0, -1.0])
@@ -226,8 +227,7 @@ class OASBeamStates(om.Group):
             ivc.add_output("height", geo["height"], units="m", desc="box height per node")
         self.add_subsystem("thickness", OASThicknessToBox(num_nodes=n), promotes=["*"])
         self.add_subsystem("section", BoxSection(num_stations=n, material=self.options["material"]),
-                           promotes_inputs=["width", "height", "t_upper_skin", "t_lower_skin", "t_front_spar",
-                                            "t_rear_spar"])
+                           promotes_inputs=["width", "height", *WALL_NAMES])
         from wingmdao.groups.wing import SECTION_OFFSETS, add_section_offsets
 
         add_section_offsets(self, n, source="section.")

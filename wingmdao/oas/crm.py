@@ -31,6 +31,7 @@ from wingmdao.groups.wing import stress_points
 from wingmdao.materials import Material
 from wingmdao.oas.problems import aerostruct_problem, rect_wingbox_surface
 from wingmdao.optimize import SolverIterationCounter
+from wingmdao.section.box import WALL_NAMES
 
 #: Flight points of the problem (OpenAeroStruct's wingbox multipoint example):
 #: name, Mach number, speed of sound (m/s), density (kg/m^3), dynamic viscosity (Pa s), load factor.
@@ -100,7 +101,7 @@ def add_stress_ks(model, point, num_nodes, material, rho_ks=100.0):
     ss = f"{point}.coupled.wing.struct_states"
     model.connect(f"{ss}.wingmdao_states", f"{point}_ks.internal_loads.states",
                   src_indices=np.arange(18 * n).reshape(1, n, 18), flat_src_indices=True)
-    for k in ("width", "height", "t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar"):
+    for k in ("width", "height") + WALL_NAMES:
         model.connect(f"{ss}.{k}", f"{point}_ks.stress.{k}")
     return f"{point}_ks.ks.ks_vm"
 

@@ -343,21 +343,50 @@ def box_properties(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, 
     return beam_data(props, material, section_to_csn, nonstructural_mass_per_length)
 
 
+#: the section properties a beam needs (:func:`beam_params_from_section`)
+SECTION_BEAM_KEYS = ("stiffness_csn", "compliance_csn", "c_ea", "n_ea", "c_sc", "n_sc", "mass_per_length",
+                     "c_cg", "n_cg", "inertia_per_length")
+
+
+def beam_params_from_section(props: dict, node_positions=None, node_euler_angles=None) -> dict:
+    """Beam parameters (``param_specs`` names of :mod:`wingmdao.beam.residual`) from section
+    properties: the one place where the parameter dict is built from a section.
+
+    Parameters
+    ----------
+    props : dict
+        :data:`SECTION_BEAM_KEYS` of one section (scalars, 3x3) or per node (arrays with a leading
+        node axis), e.g. ``box_properties`` of per-station walls.
+    node_positions, node_euler_angles : array_like, optional
+        (n, 3) each; left out of the result when None (the section part only).
+
+    Returns
+    -------
+    dict
+        ``stiffness_csn``, ``compliance_csn``, ``tension_axis`` (c_ea, n_ea), ``shear_center``
+        (c_sc, n_sc), ``mass_per_length``, ``mass_center`` (c_cg, n_cg), ``inertia_per_length``
+        (3 x 3 per node), float arrays; ``node_positions``, ``node_euler_angles`` first when given.
+    """
+    f = {k: np.asarray(props[k], dtype=float) for k in SECTION_BEAM_KEYS}
+    out = {} if node_positions is None else {"node_positions": np.asarray(node_positions, dtype=float),
+                                             "node_euler_angles": np.asarray(node_euler_angles, dtype=float)}
+    out.update({
+        "stiffness_csn": f["stiffness_csn"],
+        "compliance_csn": f["compliance_csn"],
+        "tension_axis": np.stack([f["c_ea"], f["n_ea"]], axis=-1),
+        "shear_center": np.stack([f["c_sc"], f["n_sc"]], axis=-1),
+        "mass_per_length": f["mass_per_length"],
+        "mass_center": np.stack([f["c_cg"], f["n_cg"]], axis=-1),
+        "inertia_per_length": f["inertia_per_length"].reshape(f["mass_per_length"].shape + (3, 3)),
+    })
+    return out
+
+
 def beam_params_from_rows(rows, node_positions, node_euler_angles) -> dict:
     """Beam parameters (``param_specs`` names) from per-node section rows of ``box_properties`` /
-    ``solid_properties`` (stiffness, compliance, offsets, mass and inertia per length)."""
-    n = len(rows)
-    return {
-        "node_positions": np.asarray(node_positions, dtype=float),
-        "node_euler_angles": np.asarray(node_euler_angles, dtype=float),
-        "stiffness_csn": np.array([r["stiffness_csn"] for r in rows], dtype=float),
-        "compliance_csn": np.array([r["compliance_csn"] for r in rows], dtype=float),
-        "tension_axis": np.array([[r["c_ea"], r["n_ea"]] for r in rows], dtype=float),
-        "shear_center": np.array([[r["c_sc"], r["n_sc"]] for r in rows], dtype=float),
-        "mass_per_length": np.array([r["mass_per_length"] for r in rows], dtype=float),
-        "mass_center": np.array([[r["c_cg"], r["n_cg"]] for r in rows], dtype=float),
-        "inertia_per_length": np.array([r["inertia_per_length"] for r in rows], dtype=float).reshape(n, 3, 3),
-    }
+    ``solid_properties`` (:func:`beam_params_from_section` of the rows stacked)."""
+    stacked = {k: np.array([r[k] for r in rows], dtype=float) for k in SECTION_BEAM_KEYS}
+    return beam_params_from_section(stacked, node_positions, node_euler_angles)
 
 
 # --------------------------------------------------------------------------- validation

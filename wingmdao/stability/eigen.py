@@ -11,15 +11,15 @@ aircraft", AIAA 99-1394, 1999) and the one of M. J. Patil, D. H. Hodges, C. E. S
 J. Aircraft 38(1), 2001.
 
 Per eigenvalue lambda = sigma + i omega: the *damping* sigma (1/s, < 0 stable), the frequency
-``|omega|`` (rad/s) and the damping ratio ``g = 2 sigma / |omega|`` of the V-g plot (for a lightly damped
-mode g is twice the fraction of critical damping, which is ``-sigma/|lambda|``).
+|omega| (rad/s) and the damping ratio g = 2 sigma / |omega| of the V-g plot (for a lightly damped
+mode g is twice the fraction of critical damping, which is -sigma/|lambda|).
 
 Two solvers: dense QZ (``scipy.linalg.eig``) for small systems, and sparse shift-invert Arnoldi
 (``scipy.sparse.linalg.eigs`` on ``(A + s B)^-1 B``, whose eigenvalues ``mu = 1 / (s - lambda)``
 map infinite lambda to mu = 0) for large ones.
 
 Mode tracking over a speed sweep pairs the modes at consecutive speeds by the modal assurance
-criterion ``MAC = |v_i^H w_j|^2 / (|v_i|^2 |w_j|^2)`` (R. J. Allemang, "The modal assurance criterion
+criterion MAC = |v_i^H w_j|^2 / (|v_i|^2 |w_j|^2) (R. J. Allemang, "The modal assurance criterion
 - twenty years of use and abuse", Sound and Vibration, 2003), with an optimal assignment.
 
 Flutter: the lowest speed at which a tracked mode with non-zero frequency has its damping cross
@@ -30,6 +30,7 @@ refined by bisection on that sign.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import casadi as ca
@@ -38,6 +39,8 @@ import scipy.linalg as sla
 import scipy.optimize as sopt
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+
+from wingmdao.timemarch.system import derived
 
 #: systems up to this many states use the dense QZ solver by default
 DENSE_MAX_STATES = 800
@@ -62,7 +65,6 @@ def _signature(name, inputs, outputs) -> ca.Function:
 #: evaluations of the pencil function after which it is compiled (a PEGASUS sizing with the flutter
 #: constraint makes ~500, a 15-speed sweep 15-30; the compiled library is cached on disk)
 PENCIL_JIT_THRESHOLD = 40
-_PENCILS: dict = {}
 
 
 class _PencilFunction:
@@ -150,12 +152,8 @@ def derived_definition(system, builder: str, module: str) -> str:
 def pencil_function(system):
     """The (compiled once evaluated often) pencil function of ``system``, or None for a system
     without a CasADi ``residual_function`` (those use ``jac_state``)."""
-    key = id(system)
-    if key in _PENCILS and _PENCILS[key][0] is system:
-        return _PENCILS[key][1]
-    fun = _PencilFunction(system) if hasattr(system, "residual_function") else None
-    _PENCILS[key] = (system, fun)
-    return fun
+    return derived(system, "pencil_function",
+                   lambda s: _PencilFunction(s) if hasattr(s, "residual_function") else None)
 
 
 def linearize(system, p, q, x0) -> tuple[sp.csc_matrix, sp.csc_matrix]:
@@ -190,20 +188,40 @@ class Modes:
 
     @property
     def frequency(self) -> np.ndarray:
-        """``|Im(lambda)|``, rad/s."""
+        """|Im(lambda)|, rad/s."""
         return np.abs(self.eigenvalues.imag)
 
     @property
+    def structural_damping(self) -> np.ndarray:
+        """``g = 2 Re / |Im|`` (NaN for real eigenvalues; :func:`structural_damping`)."""
+        return structural_damping(self.eigenvalues)
+
+    @property
     def damping_ratio(self) -> np.ndarray:
-        """``g = 2 Re / |Im|`` (NaN for real eigenvalues)."""
-        return damping_ratio(self.eigenvalues)
+        """Deprecated name of :attr:`structural_damping` (g, positive when unstable)."""
+        return _deprecated_damping_ratio(self.eigenvalues)
 
 
-def damping_ratio(eigenvalues) -> np.ndarray:
-    """``g = 2 Re(lambda) / |Im(lambda)|`` (NaN for real eigenvalues)."""
+def structural_damping(eigenvalues) -> np.ndarray:
+    """The V-g method's structural damping ``g = 2 Re(lambda) / |Im(lambda)|`` (NaN for real
+    eigenvalues): positive when the mode is unstable, about -2 zeta for a lightly damped mode
+    (zeta = -Re lambda / |lambda|, the damping ratio of
+    :attr:`wingmdao.stability.sensitivity.DampingConstraint.damping_ratio` and
+    :meth:`wingmdao.beam.residual.StrainRateDamping.from_damping_ratio`)."""
     lam = np.asarray(eigenvalues)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(np.abs(lam.imag) > 0, 2.0 * lam.real / np.abs(lam.imag), np.nan)
+
+
+def damping_ratio(eigenvalues) -> np.ndarray:
+    """Deprecated name of :func:`structural_damping` (g = 2 Re / |Im|, not a damping ratio)."""
+    return _deprecated_damping_ratio(eigenvalues)
+
+
+def _deprecated_damping_ratio(eigenvalues) -> np.ndarray:
+    warnings.warn("wingmdao.stability.eigen: 'damping_ratio' (g = 2 Re / |Im|) is deprecated; use "
+                  "'structural_damping'", DeprecationWarning, stacklevel=3)
+    return structural_damping(eigenvalues)
 
 
 def _det_sign(A) -> float:
@@ -241,7 +259,7 @@ def _perm_parity(perm) -> float:
 
 def eigenmodes(system, p, q, x0=None, *, static=True, count=None, sigma=0.0, method="auto",
                max_abs=1e6, static_options=None, ncv=None) -> Modes:
-    """Finite eigenvalues of ``lambda B v = -A v`` about a static state, sorted by ``|lambda|``.
+    """Finite eigenvalues of ``lambda B v = -A v`` about a static state, sorted by |lambda|.
 
     Parameters
     ----------
@@ -249,12 +267,12 @@ def eigenmodes(system, p, q, x0=None, *, static=True, count=None, sigma=0.0, met
     p, q : packed parameter / forcing vectors
     x0 : state to linearise about, or the starting guess of the static solve (``static=True``)
     static : solve ``R(x, 0, p, q) = 0`` first (from ``x0`` or the system's initial guess)
-    count : dense: keep the ``count`` smallest ``|lambda|`` (all finite ones by default);
+    count : dense: keep the ``count`` smallest |lambda| (all finite ones by default);
             sparse: the ``count`` eigenvalues nearest to ``sigma`` (12 by default)
     sigma : shift of the sparse solver (1/s, real or complex): the eigenvalues nearest to it
     method : "dense" | "sparse" | "auto" (dense up to ``DENSE_MAX_STATES`` states)
     ncv : Arnoldi basis size of the sparse solver (ARPACK default 2 count + 1)
-    max_abs : eigenvalues with ``|lambda|`` above this (1/s) are treated as infinite (spurious)
+    max_abs : eigenvalues with |lambda| above this (1/s) are treated as infinite (spurious)
     """
     p = np.asarray(p, dtype=float)
     q = np.asarray(q, dtype=float)
@@ -302,7 +320,7 @@ def eigenmodes(system, p, q, x0=None, *, static=True, count=None, sigma=0.0, met
 
 
 def mac_matrix(V, W, weights=None) -> np.ndarray:
-    """``MAC[i, j] = |v_i^H w_j|^2 / (|v_i|^2 |w_j|^2)``; ``weights`` scale the state entries first."""
+    """MAC[i, j] = |v_i^H w_j|^2 / (|v_i|^2 |w_j|^2); ``weights`` scale the state entries first."""
     V = np.asarray(V)
     W = np.asarray(W)
     if weights is not None:
@@ -361,13 +379,18 @@ class StabilitySweep:
 
     @property
     def frequency(self) -> np.ndarray:
-        """``|Im(lambda)|`` per speed and tracked mode, rad/s."""
+        """|Im(lambda)| per speed and tracked mode, rad/s."""
         return np.abs(self.tracked.imag)
 
     @property
+    def structural_damping(self) -> np.ndarray:
+        """``g = 2 Re / |Im|`` per speed and tracked mode (NaN for real eigenvalues; :func:`structural_damping`)."""
+        return structural_damping(self.tracked)
+
+    @property
     def damping_ratio(self) -> np.ndarray:
-        """``g = 2 Re / |Im|`` per speed and tracked mode (NaN for real eigenvalues)."""
-        return damping_ratio(self.tracked)
+        """Deprecated name of :attr:`structural_damping` (g, positive when unstable)."""
+        return _deprecated_damping_ratio(self.tracked)
 
 
 def check_speeds(speeds) -> np.ndarray:
@@ -387,7 +410,7 @@ def check_speeds(speeds) -> np.ndarray:
 def sweep(system, params_at, speeds, *, n_track=6, min_frequency=1e-3, weights=None, x0=None,
           static=True, **eig_options) -> StabilitySweep:
     """Eigen-analysis at each speed; tracks the ``n_track`` lowest-frequency oscillatory modes of
-    the first speed (``|Im|`` > ``min_frequency`` rad/s). ``params_at(V) -> (p, q)``."""
+    the first speed (|Im| > ``min_frequency`` rad/s). ``params_at(V) -> (p, q)``."""
     v = check_speeds(speeds)
     modes, x = [], x0
     for V in v:

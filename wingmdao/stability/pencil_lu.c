@@ -36,7 +36,7 @@ typedef struct {
     const int *up, *ui; /* U strictly upper: column pointers (n + 1), rows (ascending) */
 } pencil_pattern;
 
-int pencil_lu_version(void) { return 4; }
+int pencil_lu_version(void) { return 5; }
 
 static inline double abs1(cplx z) { return fabs(creal(z)) + fabs(cimag(z)); }
 
@@ -110,44 +110,15 @@ int pencil_factor(const pencil_pattern *p, const double *a, const double *b, dou
     return bad;
 }
 
+#define LU_T cplx
+#define LU_CONJ(z) conj(z)
+#define LU_SOLVE pencil_triangular_solve
+#include "../timemarch/lu_triangular.h"
+
 /* x := M^-1 x (trans = 0) or M^-H x (trans != 0) in place; y: n complex work. */
 void pencil_solve(const pencil_pattern *p, const cplx *f, cplx *x, int trans, cplx *y)
 {
-    const int n = p->n, nl = p->lp[n], nu = p->up[n];
-    const cplx *L = f, *U = f + nl, *D = U + nu;
-    if (!trans) {           /* L U x = P b */
-        for (int i = 0; i < n; ++i)
-            y[p->perm[i]] = x[i];
-        for (int j = 0; j < n; ++j) {
-            const cplx yj = y[j];
-            if (yj != 0.0)
-                for (int q = p->lp[j]; q < p->lp[j + 1]; ++q)
-                    y[p->li[q]] -= L[q] * yj;
-        }
-        for (int j = n - 1; j >= 0; --j) {
-            const cplx yj = y[j] / D[j];
-            y[j] = yj;
-            if (yj != 0.0)
-                for (int t = p->up[j]; t < p->up[j + 1]; ++t)
-                    y[p->ui[t]] -= U[t] * yj;
-        }
-        memcpy(x, y, (size_t)n * sizeof(cplx));
-    } else {                /* M^H = U^H L^H P: U^H z = b, L^H w = z, x = P^T w */
-        for (int j = 0; j < n; ++j) {
-            cplx s = x[j];
-            for (int t = p->up[j]; t < p->up[j + 1]; ++t)
-                s -= conj(U[t]) * y[p->ui[t]];
-            y[j] = s / conj(D[j]);
-        }
-        for (int j = n - 1; j >= 0; --j) {
-            cplx s = y[j];
-            for (int q = p->lp[j]; q < p->lp[j + 1]; ++q)
-                s -= conj(L[q]) * y[p->li[q]];
-            y[j] = s;
-        }
-        for (int i = 0; i < n; ++i)
-            x[i] = y[p->perm[i]];
-    }
+    pencil_triangular_solve(p->n, p->perm, NULL, p->lp, p->li, p->up, p->ui, f, x, trans, y);
 }
 
 /* res = rhs - M x (M^H x for trans) and the normwise backward error

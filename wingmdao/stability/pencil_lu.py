@@ -10,23 +10,41 @@ around the solves as much again. As :mod:`wingmdao.timemarch.static_lu` does for
 1. *pattern*: the union of the patterns of A and B (``A + s B`` has it for every s, and the
    CasADi Jacobians keep it for every design), with A's and B's values scattered onto it;
 2. *pivot order*: SuperLU's row permutation of the first matrix factored (partial pivoting,
-   natural column order, as ``sensitivity._lu``), kept while the solves' backward errors stay
+   natural column order, as :func:`superlu`), kept while the solves' backward errors stay
    small; *symbolic factorization* of the row-permuted pattern (``lu_symbolic`` of
    ``lu_kernel.c``);
 3. *numeric factorization, checked solves with M and M^H, and the whole inverse-iteration loop of
    one shift* in C (``pencil_lu.c``, C99 ``double complex``), compiled once per machine by
-   :mod:`wingmdao.utils.c_library`.
+   :mod:`wingmdao.utils.c_library`; its triangular solves are those of the real kernel
+   (``timemarch/lu_triangular.h``, one source for both scalar types).
 
 Exactness: every solve's normwise backward error ``max |b - M x| / max (|M| |x| + |b|)`` must
 be at most :data:`BACKWARD_TOL` (after one step of iterative refinement), i.e. the solve is as
 backward stable as SuperLU's (whose errors on these pencils are 3e-17 - 8e-15; not the
 componentwise error of the real kernel: inverse iteration solves nearly singular systems, where
-SuperLU's componentwise errors are 1e-6 - 1e-2); a shift where one is not (bad static pivots) is redone with SuperLU by the
-caller, which then passes that factorization's row order here (:meth:`Pencil.repivot`) for the
-next shifts. Results agree with the SuperLU path to round-off (``tests/test_stability_lu.py``).
+SuperLU's componentwise errors are 1e-6 - 1e-2); a shift where one is not (bad static pivots)
+is redone with SuperLU, whose row order the kernel takes for the next shifts
+(:meth:`Pencil.repivot`). Results agree with the SuperLU path to round-off
+(``tests/test_stability_lu.py``).
 
-Without the compiled kernels (``WINGMDAO_JIT=0``, no gcc; ``WINGMDAO_LU_KERNEL`` as in
-:mod:`~wingmdao.timemarch.static_lu`) :func:`pencil` returns None and the callers use SuperLU.
+Interface. Callers use :class:`ShiftedPencil` (``factor(s)`` -> :class:`ShiftLU`, whose
+``solve(b, trans)`` solves with M, M^T or M^H; ``refine``: the inverse-iteration steps of one
+shift; ``products``) and :func:`factor` for any real or complex sparse matrix: the kernel when it
+is compiled and its pivots hold, else SuperLU, and they never see which. Without the compiled
+kernels (``WINGMDAO_JIT=0``, no gcc; ``WINGMDAO_LU_KERNEL`` as in
+:mod:`~wingmdao.timemarch.static_lu`) everything runs on SuperLU; :class:`Pencil` and
+:func:`pencil` (None without the kernel) are the kernel's own layer.
+
+Why the kernel is kept. Replay of a recorded PEGASUS maneuver sizing's flutter constraint
+(``python benchmarks/bench_flutter.py --record SEQ.pkl``, then ``OMP_NUM_THREADS=1
+WINGMDAO_LU_KERNEL=1`` or ``=0 python benchmarks/bench_flutter.py --replay SEQ.pkl --no-cold
+--refresh 100``: 149 calls, 97 designs, 874 refinements, 1061 lazy estimates, the same on both
+paths): 5.28 and 4.23 s CPU with the kernel, 6.88 and 6.06 s with SuperLU (two runs each,
+alternated, on a shared machine), i.e. 1.6-1.8 s per sizing, 25-30 % of the constraint's time.
+With this interface keeping it costs the callers nothing (no branch on the kernel), and its C
+is only what is complex-specific (the numeric factorization with its growth check, the normwise
+backward error, the inverse-iteration loop, the sparse products): the triangular solves are the
+real kernel's source.
 """
 
 from __future__ import annotations
@@ -37,6 +55,7 @@ from pathlib import Path
 
 import numpy as np
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from wingmdao.timemarch import static_lu
 from wingmdao.utils import c_library
@@ -330,3 +349,134 @@ class _Buffers:
         for k in ("f", "m", "ma", "x", "g", "v", "u", "bv", "lam", "w", "berr"):
             setattr(self, "p" + k, _ptr(getattr(self, k)))
         self.plo = self.plam + 2 * 8
+
+
+# ---------------------------------------------------------------------- the interface of the callers
+def superlu(M):
+    """SciPy's SuperLU of a sparse matrix in natural column order (the node-by-node beam ordering
+    has the fill of COLAMD's and factors ~2x faster, 0.9 ms for the 440-state PEGASUS pencil)."""
+    return spla.splu(sp.csc_matrix(M), permc_spec="NATURAL")
+
+
+class ShiftLU:
+    """The LU factors of one ``M = A + s B`` (:meth:`ShiftedPencil.factor`, :func:`factor`):
+    :meth:`solve` with M, M^T or M^H, in the kernel when its static pivots are good for this
+    shift (every solve checked by its backward error), else with SuperLU. The caller does not
+    see which."""
+
+    def __init__(self, pencil: ShiftedPencil, s):
+        self.pencil, self.s = pencil, complex(s)
+        self._kernel = None if pencil._pen is None else pencil._pen.factor(self.s)
+        self._superlu = None
+        if self._kernel is None:
+            self._fallback()
+
+    def _fallback(self):
+        if self._superlu is None:
+            p = self.pencil
+            self._superlu = superlu(sp.csc_matrix(p.A + self.s * p.B, dtype=complex))
+            if p._pen is not None:     # its row order for the kernel's next factorizations
+                p._pen.repivot(self._superlu.perm_r)
+        return self._superlu
+
+    @property
+    def compiled(self) -> bool:
+        """True when the factors are the kernel's."""
+        return self._kernel is not None
+
+    def solve(self, b, trans: str = "N") -> np.ndarray:
+        """``x`` of ``M x = b`` (``trans`` "N"), ``M^T x = b`` ("T") or ``M^H x = b`` ("H"); ``b``
+        real or complex, (n,) or (n, k)."""
+        if trans not in ("N", "T", "H"):
+            raise ValueError(f"trans = {trans!r}; allowed: 'N', 'T', 'H'")
+        b = np.asarray(b, dtype=complex)
+        if b.ndim == 2:
+            return np.column_stack([self.solve(b[:, j], trans) for j in range(b.shape[1])]) if b.shape[1] else b
+        if self._kernel is not None:
+            pen = self.pencil._pen
+            if trans == "T":            # M^T x = b  <=>  M^H conj(x) = conj(b)
+                x, e = pen.solve(self._kernel, b.conj(), "H")
+                x = x.conj()
+            else:
+                x, e = pen.solve(self._kernel, b, trans)
+            if e <= BACKWARD_TOL:
+                return x
+        return self._fallback().solve(b, trans=trans)
+
+
+class ShiftedPencil:
+    """The real sparse pencil ``(A, B)`` of one design and speed, for the shifted matrices
+    ``A + s B`` (complex s): factorizations (:meth:`factor`), the inverse-iteration steps of one
+    shift (:meth:`refine`) and the products ``A X, B X`` (:meth:`products`). With the compiled
+    kernel they run in C with a static pivot order (:class:`Pencil`); a shift it refuses, and
+    every shift without the kernel, runs with SuperLU, whose row order the kernel then takes.
+    Callers never branch on the kernel."""
+
+    def __init__(self, A, B):
+        self.A, self.B = sp.csc_matrix(A), sp.csc_matrix(B)
+        self._pen = pencil(A, B)
+
+    @property
+    def compiled(self) -> bool:
+        """True when the kernel is on (a shift may still run with SuperLU)."""
+        return self._pen is not None
+
+    def factor(self, s) -> ShiftLU:
+        """The factors of ``A + s B``."""
+        return ShiftLU(self, s)
+
+    def products(self, X, trans=False):
+        """``(A X, B X)`` (``trans``: ``(A^T X, B^T X)``) of an (n, k) complex X (the kernel's
+        summation order is SciPy's)."""
+        if self._pen is not None:
+            return self._pen.products(X, trans=trans)
+        return (self.A @ X, self.B @ X) if not trans else (self.A.T @ X, self.B.T @ X)
+
+    def refine(self, s, v, u, bv, lam, lam_old, iterations, tol):
+        """Two-sided inverse iteration with the one shift ``s`` (the loop of
+        :func:`wingmdao.stability.modes.refine_pair`): up to ``iterations`` steps ``v <- (A + s
+        B)^-1 B v``, ``u <- (A + s B)^-H B^H u`` (unit 2-norm), each followed by the two-sided
+        Rayleigh quotient ``lam = -u^H A v / u^H B v``; converged when two quotients agree to
+        ``tol`` relative and the vectors to ``sqrt(tol)`` (``tol < 0``: every step). Returns
+        ``(v, u, B v, lam, lam_old, converged)``."""
+        pen = self._pen
+        if pen is not None and pen.has_pivots:    # the kernel: the same steps in C
+            step = pen.iterate(s, v, u, bv, lam, lam_old, iterations, tol)
+            if step is not None:
+                return step
+        lu = superlu(sp.csc_matrix(self.A + s * self.B, dtype=complex))
+        if pen is not None:       # no pivot order yet, or it failed this shift: take SuperLU's
+            pen.repivot(lu.perm_r)
+        A, B = self.A, self.B
+        BH = B.conj().T
+        for _ in range(int(iterations)):
+            v_new = lu.solve(np.asarray(bv))
+            v_new /= np.linalg.norm(v_new)
+            u_new = lu.solve(np.asarray(BH @ u), trans="H")
+            u_new /= np.linalg.norm(u_new)
+            dv = max(_change(v_new, v), _change(u_new, u))
+            v, u = v_new, u_new
+            bv = B @ v        # the quotient's and the next step's
+            lam = complex(-np.vdot(u, A @ v) / np.vdot(u, bv))
+            # converged: the quotient to tol and the vectors (the gradient needs them; the
+            # quotient is second order in their errors) to sqrt(tol)
+            if abs(lam - lam_old) <= tol * abs(lam) and dv <= np.sqrt(tol):
+                return v, u, bv, lam, lam_old, True
+            lam_old = lam
+        return v, u, bv, lam, lam_old, False
+
+
+def _change(a, b):
+    """Phase-aligned change of a unit vector."""
+    ph = np.vdot(b, a)
+    return np.linalg.norm(a - b * (ph / abs(ph) if ph != 0 else 1.0))
+
+
+def factor(M) -> ShiftLU:
+    """The LU of a sparse real or complex matrix ``M`` (``Re M + 1j Im M``: the pencil
+    ``(Re M, Im M)`` at the shift 1j), for repeated solves with M, M^T or M^H
+    (:meth:`ShiftLU.solve`): the kernel when it is on and its pivots hold, else SuperLU."""
+    M = sp.csc_matrix(M)
+    if np.iscomplexobj(M.data):
+        return ShiftedPencil(sp.csc_matrix(M.real), sp.csc_matrix(M.imag)).factor(1j)
+    return ShiftedPencil(M, sp.csc_matrix(M.shape)).factor(0.0)

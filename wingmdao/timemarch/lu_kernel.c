@@ -28,7 +28,7 @@ typedef struct {
     const int *qcol;    /* n: column j of P A Q is column qcol[j] of A (fill-reducing order) */
 } lu_pattern;
 
-int lu_kernel_version(void) { return 8; }
+int lu_kernel_version(void) { return 9; }
 
 /* Matrices factored together by lu_factor_lanes (one SIMD lane each). */
 #define LU_W 4
@@ -93,46 +93,15 @@ void lu_factor_batch(const lu_pattern *p, int m, const double *a, double *f, dou
     }
 }
 
+#define LU_T double
+#define LU_CONJ(z) (z)
+#define LU_SOLVE lu_triangular_solve
+#include "lu_triangular.h"
+
 /* x := M^-1 b in place (M = A for trans = 0, A^T otherwise); work: n doubles. */
 void lu_solve(const lu_pattern *p, const double *f, double *x, int trans, double *work)
 {
-    const int n = p->n, nl = p->lp[n], nu = p->up[n];
-    const double *L = f, *U = f + nl, *D = U + nu;
-    double *y = work;
-    if (!trans) {           /* L U y = P b, x = Q y */
-        for (int i = 0; i < n; ++i)
-            y[p->perm[i]] = x[i];
-        for (int j = 0; j < n; ++j) {
-            const double yj = y[j];
-            if (yj != 0.0)
-                for (int q = p->lp[j]; q < p->lp[j + 1]; ++q)
-                    y[p->li[q]] -= L[q] * yj;
-        }
-        for (int j = n - 1; j >= 0; --j) {
-            const double yj = y[j] / D[j];
-            y[j] = yj;
-            if (yj != 0.0)
-                for (int t = p->up[j]; t < p->up[j + 1]; ++t)
-                    y[p->ui[t]] -= U[t] * yj;
-        }
-        for (int j = 0; j < n; ++j)
-            x[p->qcol[j]] = y[j];
-    } else {                /* U^T z = Q^T b, L^T w = z, x = P^T w */
-        for (int j = 0; j < n; ++j) {
-            double s = x[p->qcol[j]];
-            for (int t = p->up[j]; t < p->up[j + 1]; ++t)
-                s -= U[t] * y[p->ui[t]];
-            y[j] = s / D[j];
-        }
-        for (int j = n - 1; j >= 0; --j) {
-            double s = y[j];
-            for (int q = p->lp[j]; q < p->lp[j + 1]; ++q)
-                s -= L[q] * y[p->li[q]];
-            y[j] = s;
-        }
-        for (int i = 0; i < n; ++i)
-            x[i] = y[p->perm[i]];
-    }
+    lu_triangular_solve(p->n, p->perm, p->qcol, p->lp, p->li, p->up, p->ui, f, x, trans, work);
 }
 
 /* res = b - M x and the componentwise backward error (inf when a scale is zero but its residual

@@ -55,6 +55,18 @@ def pack(specs, values: dict) -> np.ndarray:
     return np.concatenate([np.asarray(values[s.name], dtype=float).reshape(s.size) for s in specs])
 
 
+def derived(system, name: str, build):
+    """``build(system)``, made once per system and kept on it (in ``system._derived[name]``):
+    what is derived from a system (its pencil and eigenvalue-gradient functions, its parameter
+    blocks) lives and dies with the system, instead of in a module cache keyed by ``id``. A
+    :class:`ResidualSystem` pickles without them (an OpenMDAO recorder pickles the components'
+    options, which hold the system; compiled functions do not pickle)."""
+    store = vars(system).setdefault("_derived", {})
+    if name not in store:
+        store[name] = build(system)
+    return store[name]
+
+
 class ResidualSystem:
     """Interface of a first-order implicit system R(x, xdot, p, q) = 0 at one instant.
 
@@ -67,6 +79,11 @@ class ResidualSystem:
     state_shape: tuple
     param_specs: list
     forcing_specs: list
+
+    def __getstate__(self):
+        state = self.__dict__.copy()
+        state.pop("_derived", None)       # rebuilt on demand (:func:`derived`)
+        return state
 
     @property
     def n_param(self) -> int:

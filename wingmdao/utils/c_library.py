@@ -15,26 +15,47 @@ from __future__ import annotations
 import ctypes
 import hashlib
 import os
+import re
 import shutil
 import subprocess
 import threading
-import warnings
 from pathlib import Path
 
 from wingmdao.utils import casadi_cache as cc
+from wingmdao.utils.warn_once import WarnOnce
 
 #: Flags of the kernels: small sources, so -O3 costs little compile time; no FMA contraction, so the kernels
 #: round like the NumPy code they replace.
 C_FLAGS = ("-O3", "-ffp-contract=off")
 
 _LOADED: dict = {}
-_warned = False
+#: the one warning of a kernel that does not compile or load (the callers' fallback is used)
+_warn_once = WarnOnce("wingmdao: C kernel {} unavailable, using the fallback ({})")
 _lock = threading.Lock()
 
 
+#: a kernel's include of another file of the package (``#include "path"``, relative to the kernel)
+_LOCAL_INCLUDE = re.compile(r'^[ \t]*#[ \t]*include[ \t]*"([^"]+)"[ \t]*$', re.M)
+
+
+def expanded_source(source: Path) -> bytes:
+    """The C file ``source`` with each ``#include "path"`` (a file of the package, relative to
+    ``source``; one level) replaced by that file's text: what is compiled and what keys the
+    library, so a shared header such as ``timemarch/lu_triangular.h`` recompiles every kernel
+    that includes it."""
+    source = Path(source)
+    text = source.read_text()
+
+    def insert(m):
+        return f"/* {m.group(1)} */\n" + (source.parent / m.group(1)).read_text()
+
+    return _LOCAL_INCLUDE.sub(insert, text).encode()
+
+
 def library_key(source: Path, flags=C_FLAGS) -> str:
-    """SHA-256 (32 hex digits) of the source's bytes, the flags and the compiler path."""
-    h = hashlib.sha256(Path(source).read_bytes())
+    """SHA-256 (32 hex digits) of the expanded source (:func:`expanded_source`), the flags and the
+    compiler path."""
+    h = hashlib.sha256(expanded_source(source))
     h.update(b"\0" + " ".join(flags).encode() + b"\0" + str(cc.compiler()).encode())
     return h.hexdigest()[:32]
 
@@ -61,7 +82,7 @@ def compile_source(source: Path, name: str, flags=C_FLAGS, timeout: float = 120.
     src_dir = target.with_name(stem + ".d")
     src_dir.mkdir(mode=0o700)
     try:
-        shutil.copyfile(source, src_dir / f"{target.stem}.c")
+        (src_dir / f"{target.stem}.c").write_bytes(expanded_source(source))
         proc = subprocess.run([gcc, "-shared", "-fPIC", *flags, f"{target.stem}.c", "-o", str(partial.absolute()),
                                "-lm"], cwd=src_dir, stdin=subprocess.DEVNULL, capture_output=True,
                               text=True, timeout=timeout)
@@ -98,11 +119,7 @@ def load(source: Path, name: str, flags=C_FLAGS, force: bool = False):
 
             record_use(path)      # its last use, for `wingmdao cache --prune`
         except Exception as exc:    # noqa: BLE001 - any failure: the caller's fallback
-            global _warned
-            if not _warned:
-                _warned = True
-                warnings.warn(f"wingmdao: C kernel {name} unavailable, using the fallback ({exc})",
-                              RuntimeWarning, stacklevel=3)
+            _warn_once(name, exc, stacklevel=3)
             lib = None
         _LOADED[key] = lib
         return lib

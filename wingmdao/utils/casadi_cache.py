@@ -40,7 +40,6 @@ import signal
 import subprocess
 import tempfile
 import threading
-import warnings
 from pathlib import Path
 
 import casadi as ca
@@ -48,6 +47,7 @@ import numpy as np
 
 from wingmdao.utils.cache_admin import record_use
 from wingmdao.utils.mpi_env import launched_ranks
+from wingmdao.utils.warn_once import WarnOnce
 
 ENV_CACHE = "WINGMDAO_CACHE"
 ENV_JIT = "WINGMDAO_JIT"
@@ -55,7 +55,6 @@ ENV_JIT = "WINGMDAO_JIT"
 #: much longer for little more.
 DEFAULT_FLAGS = ("-O1",)
 
-_warned = False
 
 
 class CompileError(RuntimeError):
@@ -299,12 +298,8 @@ def compiled(fun: ca.Function, flags=DEFAULT_FLAGS, definition: str | None = Non
         return fun
 
 
-def _warn_once(exc):
-    global _warned
-    if not _warned:
-        _warned = True
-        warnings.warn(f"wingmdao: CasADi compilation unavailable, using the interpreted functions ({exc})",
-                      RuntimeWarning, stacklevel=3)
+#: the one warning of a failed compilation (the interpreted functions are used)
+_warn_once = WarnOnce("wingmdao: CasADi compilation unavailable, using the interpreted functions ({})")
 
 
 class JitFunction:

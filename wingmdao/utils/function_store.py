@@ -25,7 +25,6 @@ import hashlib
 import io
 import os
 import threading
-import warnings
 from pathlib import Path
 
 import casadi as ca
@@ -33,13 +32,13 @@ import numpy as np
 
 from wingmdao.utils.cache_admin import record_use
 from wingmdao.utils.casadi_cache import UnsafeCache, cache_dir, check_safe
+from wingmdao.utils.warn_once import WarnOnce
 import re
 
 ENV_STORE = "WINGMDAO_FUNCTION_CACHE"
 _MAGIC = "wingmdao-functions 1"
 
 _MEMORY: dict = {}
-_warned = False
 #: counters of this process (tests, benchmarks): data served from memory / disk, built
 stats = {"memory": 0, "disk": 0, "built": 0}
 
@@ -108,12 +107,8 @@ def _is_module(name: str) -> bool:
         return False
 
 
-def _warn_once(msg):
-    global _warned
-    if not _warned:
-        _warned = True
-        warnings.warn(f"wingmdao: persisted CasADi functions unavailable, building them ({msg})",
-                      RuntimeWarning, stacklevel=3)
+#: the one warning of an unusable function store (the functions are built instead)
+_warn_once = WarnOnce("wingmdao: persisted CasADi functions unavailable, building them ({})")
 
 
 def encode(data: dict) -> bytes:

@@ -14,7 +14,7 @@ import numpy as np
 
 from wingmdao.beam.static import BeamModel
 from wingmdao.materials import ALUMINIUM
-from wingmdao.section.box import beam_data, box_properties
+from wingmdao.section.box import beam_data, beam_params_from_section, box_properties
 from wingmdao.cases import pegasus
 from wingmdao.cases.planform import G0, LB, interpolate_designation, wing_geometry
 from wingmdao.loads.maneuver import maneuver_line_loads
@@ -25,11 +25,7 @@ WALL_KEYS = ("upper", "lower", "front", "rear")
 
 
 def _box_params(width, height, walls, material):
-    d = beam_data(box_properties(width, height, *walls, material), material)
-    return {"stiffness_csn": d["stiffness_csn"], "compliance_csn": d["compliance_csn"],
-            "tension_axis": (d["c_ea"], d["n_ea"]), "shear_center": (d["c_sc"], d["n_sc"]),
-            "mass_per_length": d["mass_per_length"], "mass_center": (d["c_cg"], d["n_cg"]),
-            "inertia_per_length": d["inertia_per_length"]}
+    return beam_params_from_section(beam_data(box_properties(width, height, *walls, material), material))
 
 
 def _detailed_params(designation, chord, front, rear, walls, material):

@@ -13,6 +13,7 @@ import numpy as np
 from wingmdao.beam.geometry import polyline_beam, streamwise_section_to_csn, streamwise_to_normal
 from wingmdao.cases.wing_box.geometry import HEIGHTS, STATIONS, T_SKIN, T_SPAR, geometry_data, section_centres
 from wingmdao.materials import ALUMINIUM
+from wingmdao.section.box import WALL_NAMES, beam_params_from_rows, box_properties
 
 
 def wing_box_beam(name: str, elements_per_segment=(6, 8, 6), t_spar=T_SPAR, t_skin=T_SKIN,
@@ -28,8 +29,6 @@ def wing_box_beam(name: str, elements_per_segment=(6, 8, 6), t_spar=T_SPAR, t_sk
     'fe' the section FE (Giavotto/BECAS, ``wingmdao.section.fe``) of the beam-normal cut: the
     dissertation's "VbS" beam on the detailed section (thick-wall torsion, FE shear stiffness).
     """
-    from wingmdao.section.box import beam_params_from_rows, box_properties
-
     if section_mapping not in ("normal", "rotated", "fe"):
         raise ValueError(f"section_mapping must be 'normal', 'rotated' or 'fe', got {section_mapping!r}")
 
@@ -48,14 +47,11 @@ def wing_box_beam(name: str, elements_per_segment=(6, 8, 6), t_spar=T_SPAR, t_sk
     R = streamwise_section_to_csn(geo.node_euler_angles)
     if walls is not None and section_mapping != "normal":
         raise ValueError(f"walls per station need section_mapping='normal', got {section_mapping!r}")
-    node_walls = None if walls is None else {k: geo.interpolate(walls[k]) for k in
-                                             ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")}
+    node_walls = None if walls is None else {k: geo.interpolate(walls[k]) for k in WALL_NAMES}
     for i in range(geo.num_nodes):
         if node_walls is not None:
             w, h = streamwise_to_normal(width[i], height[i], t_spar, t_skin, T[i, 1])[:2]
-            rows.append(box_properties(w, h, *(node_walls[k][i] for k in
-                                               ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")),
-                                       material))
+            rows.append(box_properties(w, h, *(node_walls[k][i] for k in WALL_NAMES), material))
         elif section_mapping == "fe":
             rows.append(_fe_box_row(*streamwise_to_normal(width[i], height[i], t_spar, t_skin, T[i, 1]), material))
         elif section_mapping == "normal":

@@ -1,0 +1,43 @@
+"""Kreisselmeier-Steinhauser (KS) aggregation, numerically: the one home of the formula.
+
+    KS_rho(g) = m + ln( sum_k exp(rho (g_k - m)) ) / rho,      m = max_k g_k
+
+(dissertation Eq. 4.44; G. Kreisselmeier and R. Steinhauser, "Systematic control design by
+optimizing a vector performance index", IFAC Proc. 12(7), 1979). The max shift m keeps every
+exponent <= 0, so large rho and large |g| cannot overflow; max g <= KS <= max g + ln(N) / rho.
+The sum runs over every entry of ``g``, whatever its shape. Used by the OpenMDAO component
+(:class:`wingmdao.components.ks.KSAggregate`) and the flutter-damping constraint
+(:func:`wingmdao.stability.sensitivity.damping_constraint`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def shifted_exp(g, rho_ks: float):
+    """``(m, w, s)``: ``m = max g``, ``w_k = exp(rho_KS (g_k - m))`` and ``s = sum_k w_k`` over all
+    entries of ``g`` (flattened): the terms shared by the value and its gradient."""
+    g = np.asarray(g, dtype=float).ravel()
+    m = np.max(g)
+    w = np.exp(rho_ks * (g - m))
+    return m, w, np.sum(w)
+
+
+def ks_value(g, rho_ks: float) -> float:
+    """KS aggregate of all entries of ``g``, max-shifted."""
+    m, _, s = shifted_exp(g, rho_ks)
+    return float(m + np.log(s) / rho_ks)
+
+
+def ks_gradient(g, rho_ks: float) -> np.ndarray:
+    """dKS/dg_k = exp(rho_KS (g_k - m)) / sum_j exp(rho_KS (g_j - m)), flattened (softmax weights;
+    the ratio of sums of Eq. 4.46-4.51, before the chain rule)."""
+    _, w, s = shifted_exp(g, rho_ks)
+    return w / s
+
+
+def ks_aggregate(g, rho_ks: float):
+    """``(KS, dKS/dg)`` of all entries of ``g`` (one exponential for both)."""
+    m, w, s = shifted_exp(g, rho_ks)
+    return float(m + np.log(s) / rho_ks), w / s
