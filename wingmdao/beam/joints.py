@@ -39,8 +39,8 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from wingmdao.beam.residual import (N_STATE_PER_NODE, STATE_BLOCKS, StrainRateDamping, _P_NODE, _Q_NODE,
-                                    _element_function, _nodal_function, _node_forcing, _node_params,
+from wingmdao.beam.residual import (N_STATE_PER_NODE, STATE_BLOCKS, StrainRateDamping, NODE_PARAMS, NODE_FORCING,
+                                    element_function, nodal_function, node_forcing, node_params,
                                     describe_equation as beam_equation, forcing_specs as beam_forcing_specs,
                                     jig_state as beam_jig_state, param_specs as beam_param_specs)
 from wingmdao.beam.rotations import body_to_csn
@@ -462,12 +462,12 @@ def build_joined_system(beams, joints, *, euler_sequence: str = "surface",
             R = ca.DM(next(b for b in beams if b.name == name).rotation)
             nodes[name]["q"][node] = nodes[name]["q"][node] + ca.vertcat(
                 ca.SX.zeros(6), R @ jl[JOINT_BLOCKS[f]], R @ jl[JOINT_BLOCKS[m]])
-    elem = _element_function(euler_sequence, damping)
-    nodal = _nodal_function(euler_sequence)
+    elem = element_function(euler_sequence, damping)
+    nodal = nodal_function(euler_sequence)
     blocks = [_beam_residual(b, nodes[b.name], elem, nodal) for b in beams]
     stiffness = p[layout(pspecs)["joint_rotational_stiffness"]]
     for j, (jt, jl) in enumerate(zip(joints, loads)):
-        ends = [(nodes[name]["x"][node], nodes[name]["p"][node][_P_NODE["theta0"]], nodes[name]["R"])
+        ends = [(nodes[name]["x"][node], nodes[name]["p"][node][NODE_PARAMS["theta0"]], nodes[name]["R"])
                 for name, node in ((jt.beam_a, jt.node_a), (jt.beam_b, jt.node_b))]
         blocks.append(joint_equations(jt, ends[0], ends[1], jl, stiffness[j], euler_sequence))
     describe = functools.partial(describe_joined_equation, beams=beams, joints=joints, offsets=offsets,
@@ -499,8 +499,8 @@ def _beam_nodes(beam, x, xdot, p, q, offset, play, qlay) -> dict:
     blay, flay = layout(specs), layout(fspecs)
     return {"x": [x[offset + 18 * i: offset + 18 * (i + 1)] for i in range(n)],
             "xdot": [xdot[offset + 18 * i: offset + 18 * (i + 1)] for i in range(n)],
-            "p": [_node_params(pb, blay, i) for i in range(n)],
-            "q": [_node_forcing(qb, flay, i) for i in range(n)],
+            "p": [node_params(pb, blay, i) for i in range(n)],
+            "q": [node_forcing(qb, flay, i) for i in range(n)],
             "g": R @ q[qlay["gravity"]],
             "frame": tuple(R @ q[qlay[k]] for k in ("frame_acceleration", "frame_angular_velocity",
                                                     "frame_angular_acceleration")),
@@ -519,10 +519,10 @@ def _beam_residual(beam, nd, elem, nodal):
             blocks.append(elem(X[i], X[i + 1], Xd[i], Xd[i + 1], P[i], P[i + 1], Q[i], Q[i + 1], nd["g"], *nd["frame"]))
         else:
             if beam.root == "clamped":
-                root = ca.vertcat(X[0][st["r"]] - P[0][_P_NODE["r0"]], X[0][st["theta"]] - P[0][_P_NODE["theta0"]])
+                root = ca.vertcat(X[0][st["r"]] - P[0][NODE_PARAMS["r0"]], X[0][st["theta"]] - P[0][NODE_PARAMS["theta0"]])
             else:
                 root = FREE_ROOT_ROW_SCALE * ca.vertcat(X[0][st["F"]], X[0][st["M"]])
-            blocks.append(ca.vertcat(root, X[i][st["F"]] - Q[i][_Q_NODE["P"]], X[i][st["M"]] - Q[i][_Q_NODE["Q"]]))
+            blocks.append(ca.vertcat(root, X[i][st["F"]] - Q[i][NODE_FORCING["P"]], X[i][st["M"]] - Q[i][NODE_FORCING["Q"]]))
         blocks.append(nodal(X[i], Xd[i]))
     return ca.vertcat(*blocks)
 

@@ -188,7 +188,7 @@ class Modes:
 
     @property
     def frequency(self) -> np.ndarray:
-        """|Im(lambda)|, rad/s."""
+        """``|Im(lambda)|``, rad/s."""
         return np.abs(self.eigenvalues.imag)
 
     @property
@@ -214,7 +214,7 @@ def structural_damping(eigenvalues) -> np.ndarray:
 
 
 def damping_ratio(eigenvalues) -> np.ndarray:
-    """Deprecated name of :func:`structural_damping` (g = 2 Re / |Im|, not a damping ratio)."""
+    """Deprecated name of :func:`structural_damping` (``g = 2 Re / |Im|``, not a damping ratio)."""
     return _deprecated_damping_ratio(eigenvalues)
 
 
@@ -379,7 +379,7 @@ class StabilitySweep:
 
     @property
     def frequency(self) -> np.ndarray:
-        """|Im(lambda)| per speed and tracked mode, rad/s."""
+        """``|Im(lambda)|`` per speed and tracked mode, rad/s."""
         return np.abs(self.tracked.imag)
 
     @property
@@ -410,7 +410,7 @@ def check_speeds(speeds) -> np.ndarray:
 def sweep(system, params_at, speeds, *, n_track=6, min_frequency=1e-3, weights=None, x0=None,
           static=True, **eig_options) -> StabilitySweep:
     """Eigen-analysis at each speed; tracks the ``n_track`` lowest-frequency oscillatory modes of
-    the first speed (|Im| > ``min_frequency`` rad/s). ``params_at(V) -> (p, q)``."""
+    the first speed (``|Im| > min_frequency`` rad/s). ``params_at(V) -> (p, q)``."""
     v = check_speeds(speeds)
     modes, x = [], x0
     for V in v:
