@@ -38,7 +38,8 @@ def register_pegasus(cases):
                    help="1g: the symmetric maneuver at --load-factor; maneuver-pos / maneuver-neg: the 2.5 g and "
                    "-1.0 g sizing maneuvers of 'wingmdao size pegasus'; gust-peak: the equivalent static loads "
                    "(aerodynamic + inertial -m a + weight) of the instant of peak root bending of the case's "
-                   "25.341 gust marched on the beam of --design (strip theory, clamped root)")
+                   "25.341 gust marched on the beam of --design (strip theory, clamped root); with --buckling: "
+                   "maneuver-pos (also for 1g) or maneuver-neg")
     add_fe_arguments(p, rib_thickness=0.002, no_ribs_help="no ribs at all (Sec. 4.3.1 Test 2's rib-less model)",
                      ribs_help="ribs every SPACING m instead of at the case's 19 rib stations",
                      design_help="wall thicknesses from a 'wingmdao size pegasus' result (20 stations) "

@@ -30,7 +30,7 @@ import time as _time
 
 import numpy as np
 from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, write_json
-from wingmdao.cli._args import add_output_arguments
+from wingmdao.cli._args import add_deprecated_alias, add_output_arguments
 
 CASES = ("pegasus", "crm")
 #: --stiffness-scale range (a rigid wing is approached well before 1e6)
@@ -74,18 +74,22 @@ def register(subparsers):
                    help="deps/dalpha at the tail, [0, 1) (default: 2 a_w / (pi AR), a_w the strips' wing lift slope)")
     t.add_argument("--tail-lag", action="store_true",
                    help="downwash lag: first-order lag of time constant x_t / V on the wing angle seen by the tail")
-    p.add_argument("--gradient-ft", type=float, default=None, metavar="H",
-                   help="gust gradient H (ft, 30-350; default: the case's)")
+    p.add_argument("--gust-gradient-ft", dest="gradient_ft", type=float, default=None, metavar="FT",
+                   help="gust gradient H (ft, 30-350; default: the case's, as on 'size')")
+    add_deprecated_alias(p, "--gradient-ft", "--gust-gradient-ft", dest="gradient_ft", type=float, metavar="FT")
     p.add_argument("--stiffness-scale", type=float, default=1.0, metavar="S",
                    help="multiply all section stiffnesses by S (> 0; large S approaches a rigid wing)")
     p.add_argument("--design", metavar="RESULT.json", default=None,
                    help="thicknesses from a sizing result (its 'thickness' per station); default: the initial design")
-    p.add_argument("--altitude-ft", type=float, default=None, help="altitude (ft; default: the case's gust altitude)")
-    p.add_argument("--mach", type=float, default=None, help="Mach number (default: the case's)")
-    p.add_argument("--u-ref-fps", type=float, default=None, help="reference gust velocity (ft/s EAS; default: the case's)")
-    p.add_argument("--t-final", type=float, default=None, metavar="S", help="simulated time (s; default: the case's)")
-    p.add_argument("--dt", type=float, default=0.01, metavar="S", help="time step (s)")
-    p.add_argument("--gust-start", type=float, default=0.1, metavar="S", help="time the gust front reaches the wing (s)")
+    p.add_argument("--altitude-ft", type=float, default=None, metavar="FT",
+                   help="gust altitude (ft, 0-60000; default: the case's)")
+    p.add_argument("--mach", type=float, default=None, metavar="MACH", help="gust flight Mach number (0-1; default: the case's)")
+    p.add_argument("--u-ref-fps", type=float, default=None, metavar="FPS",
+                   help=f"reference gust velocity (ft/s EAS, (0, {MAX_U_REF_FPS:g}]; default: the case's)")
+    p.add_argument("--t-final", type=float, default=None, metavar="S", help="gust simulation time (s; default: the case's)")
+    p.add_argument("--dt", type=float, default=None, metavar="S", help="time step (s; default: the case's, as on 'size')")
+    p.add_argument("--gust-start", type=float, default=None, metavar="S",
+                   help="time the gust front reaches the wing (s; default: the case's, as on 'size')")
     p.add_argument("--lifting-line", action="store_true",
                    help="tip-loss correction: strip lift slopes from Prandtl's lifting line of the planform "
                         "(wingmdao.aero.lifting_line) instead of 2 pi")
@@ -139,21 +143,25 @@ def run(args):
     gust = dict(base.GUST)
     H_ft = gust["gradient_ft"] if args.gradient_ft is None else args.gradient_ft
     if not 30.0 <= H_ft <= 350.0:
-        raise ValueError(f"--gradient-ft must be in 30-350 ft (14 CFR 25.341(a)(3)), got {H_ft}")
+        raise ValueError(f"--gust-gradient-ft = {H_ft} ft; allowed range [30, 350] ft (14 CFR 25.341(a)(3))")
     if not (np.isfinite(args.stiffness_scale) and STIFFNESS_SCALE[0] <= args.stiffness_scale <= STIFFNESS_SCALE[1]):
         raise ValueError(f"--stiffness-scale = {args.stiffness_scale}; allowed range [{STIFFNESS_SCALE[0]:g}, "
                          f"{STIFFNESS_SCALE[1]:g}] (beyond it the beam's Newton solve loses its digits)")
     alt_ft = gust["altitude_ft"] if args.altitude_ft is None else args.altitude_ft
     if not 0.0 <= alt_ft <= 60000.0:
-        raise ValueError(f"--altitude-ft must be in 0-60000 ft, got {alt_ft}")
+        raise ValueError(f"--altitude-ft = {alt_ft} ft; allowed range [0, 60000] ft (the 25.341 table)")
     mach = gust["mach"] if args.mach is None else args.mach
     if not 0.0 < mach < 1.0:
-        raise ValueError(f"--mach must be in (0, 1), got {mach}")
+        raise ValueError(f"--mach = {mach}; allowed range (0, 1)")
     u_ref = gust["u_ref_fps"] if args.u_ref_fps is None else args.u_ref_fps
     if not (np.isfinite(u_ref) and 0 < u_ref <= MAX_U_REF_FPS):
         raise ValueError(f"--u-ref-fps = {u_ref} ft/s; allowed range (0, {MAX_U_REF_FPS:g}] ft/s EAS "
                          "(14 CFR 25.341(a)(5): 56 ft/s at sea level)")
     t_final = gust["t_final"] if args.t_final is None else args.t_final
+    case_options = module.OPTIONS()  # the case's time grid and gust start, as on 'wingmdao size'
+    args.dt = getattr(case_options, "dt", base.PegasusOptions.dt) if args.dt is None else args.dt
+    args.gust_start = (getattr(case_options, "gust_start", base.PegasusOptions.gust_start) if args.gust_start is None
+                       else args.gust_start)
     from wingmdao.cases import check_step_count
 
     check_step_count(t_final, args.dt, 20)  # finite, > 0, at most MAX_TIME_STEPS (with the memory estimate)
@@ -292,7 +300,7 @@ def _check_pitch_args(args):
                          + " (the case has no published tail or pitch inertia)")
     for name in ("pitch_inertia", "cg_x", "cg_z", "tail_arm", "tail_area", "tail_lift_slope"):
         if not np.isfinite(getattr(args, name)):
-            raise ValueError(f"--{name.replace('_', '-')} must be finite, got {getattr(args, name)}")
+            raise ValueError(f"--{name.replace('_', '-')} = {getattr(args, name)}; allowed a finite value")
 
 
 def _coupled_history(args, t, bp, chord, axis_frac, ap, flight, body_mass, pitch_out=None):

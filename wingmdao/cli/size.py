@@ -25,7 +25,7 @@ def _add_common(p, *, sizing: bool):
                        help="optimizer (SNOPT needs pyoptsparse; IPOPT runs through pyoptsparse, else "
                             "through cyipopt: pip install wingmdao[ipopt]; SLSQP runs through SciPy "
                             "when pyoptsparse does not import)")
-        p.add_argument("--maxiter", type=int, default=None, help="maximum optimizer iterations (default unset: the case's choice)")
+        p.add_argument("--maxiter", type=int, default=None, metavar="N", help="maximum optimizer iterations (default unset: the case's choice)")
         p.add_argument("--presize", type=int, default=None, metavar="N",
                        help="fully stressed design passes before the optimizer (box sections; 0 = off; "
                             "default unset: the case's choice, 4 for pegasus and crm)")
