@@ -29,7 +29,6 @@ import sys
 import time as _time
 
 import numpy as np
-from wingmdao.aero.gust_response import GustFlight, coupled_gust_response, strip_gust_response, wing_lift_slope
 from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, write_json
 from wingmdao.cli._args import add_deprecated_alias, add_output_arguments
 
@@ -124,6 +123,7 @@ def _beam_parameters(module, args):
 
 def run(args):
     from wingmdao.aero import aero_parameters
+    from wingmdao.aero.gust_response import GustFlight, coupled_gust_response, strip_gust_response, wing_lift_slope
     from wingmdao.aero.plunge import body_mass as plunge_body_mass, half_wing_mass
     from wingmdao.cases import available_cases
     from wingmdao.cases.planform import FT, G0, LB, wing_geometry
