@@ -9,9 +9,9 @@ from wingmdao.cli import main
 
 
 def test_gust_bad_gradient(capsys):
-    assert main(["gust", "pegasus", "--gradient-ft", "20", "--no-plots"]) == 2
+    assert main(["gust", "pegasus", "--gust-gradient-ft", "20", "--no-plots"]) == 2
     err = capsys.readouterr().err
-    assert "--gradient-ft" in err and "30-350" in err and "20" in err
+    assert "--gust-gradient-ft = 20.0 ft; allowed range [30, 350] ft" in err
 
 
 def test_gust_bad_stiffness_scale(capsys):
@@ -25,8 +25,8 @@ def test_gust_pegasus_stiff_free_plunge_pratt_walker(tmp_path, capsys):
     the quasi-steady dn = K_g = 0.88 mu / (5.3 + mu) (NACA Rep. 1206) within 5 % (ours +2.3 %)."""
     mean_chord_ft = 586.3328 / 80.58962
     out = tmp_path / "g.json"
-    rc = main(["gust", "pegasus", "--gradient-ft", f"{12.5 * mean_chord_ft:.4f}", "--stiffness-scale", "1000",
-               "--t-final", "1.5", "--dt", "0.005", "--json", str(out), "--out", str(tmp_path)])
+    rc = main(["gust", "pegasus", "--gust-gradient-ft", f"{12.5 * mean_chord_ft:.4f}", "--stiffness-scale", "1000",
+               "--t-final", "1.5", "--dt", "0.005", "--gust-start", "0.1", "--json", str(out), "--out", str(tmp_path)])
     assert rc == 0
     res = json.loads(out.read_text())
     for key in ("time", "load_factor", "peak_incremental_load_factor", "quasi_steady_incremental_load_factor",

@@ -301,7 +301,11 @@ def _stop_before_build(monkeypatch):
      "wingmdao: warning: ignored with --loads maneuver (gust options): --gust-gradient-count 3"),
     (["--loads", "maneuver", "--tail-lag", "--gust-start", "0.5"],
      "wingmdao: warning: ignored with --loads maneuver (gust options): --gust-start 0.5, --tail-lag"),
-    (["--gust-sign", "down"], "wingmdao: warning: ignored without a gust set"),
+    (["--loads", "gust", "--gust-sign", "down"], "wingmdao: warning: ignored without a gust set"),
+    (["--gust-sign", "down"], "wingmdao: warning: ignored with --loads maneuver (the default without a gust set; gust "
+                              "options): --gust-sign down"),
+    (["--mach", "0.7"], "wingmdao: warning: ignored with --loads maneuver (the default without a gust set; gust "
+                        "options): --mach 0.7"),
 ])
 def test_ignored_flags_warn(flags, warning, tmp_path, monkeypatch, capsys):
     _stop_before_build(monkeypatch)

@@ -27,7 +27,7 @@ def test_bad_root_aoa(bad, match):
 @pytest.mark.parametrize("argv, match", [
     (["--root-aoa-deg", "2"], "need --deformed"),
     (["--deformed", "--root-aoa-deg", "15"], "within"),
-    (["--deformed", "--gravity", "-1"], "--gravity must be"),
+    (["--deformed", "--gravity", "-1"], "--gravity = -1.0 m/s"),
 ])
 def test_cli_deformed_bad_input_before_solve(argv, match, capsys, monkeypatch):
     import wingmdao.cli.flutter as fl

@@ -50,10 +50,10 @@ def test_cli_json_and_modes(tmp_path):
     from wingmdao.cli import main
 
     out = tmp_path / "v.json"
-    png = tmp_path / "v.png"
+    png = tmp_path / "verify_wing_box.png"
     assert main(["verify", "wing-box", "--geometry", "prismatic", "--tip-load", "0", "0", "1e5", "--modes", "2",
                  "--chord-elements", "4", "--height-elements", "1", "--span-size", "1.0",
-                 "--plot", str(png), "--json", str(out)]) == 0
+                 "--out", str(png.parent), "--json", str(out)]) == 0
     d = json.loads(out.read_text())
     for k in ("stations", "displacement_beam", "displacement_fe", "difference_percent",
               "frequencies_beam_hz", "frequencies_fe_hz"):

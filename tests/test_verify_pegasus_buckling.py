@@ -116,9 +116,9 @@ def test_coarse_run_positive_factor(design_file, tmp_path, capsys):
     """A coarse run (0.5 m span elements, one element per bay) returns a positive first factor,
     the model's factor, where both are, and the counts."""
     out = tmp_path / "b.json"
-    png = tmp_path / "b.png"
+    png = tmp_path / "verify_pegasus_buckling.png"
     assert main(["verify", "pegasus", "--buckling", "--design", design_file, *COARSE, "--json", str(out),
-                 "--loads-case", "maneuver_neg", "--plot", str(png)]) == 0
+                 "--loads", "maneuver-neg", "--out", str(png.parent)]) == 0
     assert png.stat().st_size > 0
     r = json.loads(out.read_text())
     assert r["loads_case"] == "maneuver_neg" and r["loads"]["load_factor"] == pytest.approx(-1.0)
@@ -153,6 +153,6 @@ def test_bad_input_exit_code_2(design_file, tmp_path, capsys):
     assert "not a stiffened design" in _fails(["--buckling", "--design", str(unstiffened)], capsys, "--design")
     assert "no such file" in _fails(["--buckling", "--design", str(tmp_path / "none.json")], capsys, "--design")
     _fails(["--buckling"], capsys, "--design")
-    _fails(["--buckling", "--design", design_file, "--loads-case", "gust"], capsys, "--loads-case")
+    _fails(["--buckling", "--design", design_file, "--loads", "gust-peak"], capsys, "--buckling --loads = gust-peak")
     _fails(["--buckling", "--design", design_file, "--fidelity", "solid"], capsys, "--fidelity")
     _fails(["--buckling", "--design", design_file, "--bay-elements", "0"], capsys, "--bay-elements")

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from wingmdao.utils.mpi_env import is_output_rank
+
 WALLS = ("upper_skin", "lower_skin", "front_spar", "rear_spar")
 
 
@@ -36,6 +38,9 @@ def save_figure(fig, path: str, dpi: int = 120, **layout) -> str:
     import tempfile
 
     plt = _pyplot()
+    if not is_output_rank():  # under mpirun only rank 0 writes
+        plt.close(fig)
+        return path
     fig.tight_layout(**layout)
     folder = os.path.dirname(os.path.abspath(path))
     ext = os.path.splitext(path)[1] or ".png"

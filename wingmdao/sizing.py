@@ -30,6 +30,7 @@ from wingmdao.limits import check_memory
 from wingmdao.materials import Material
 from wingmdao.section.solid import solid_properties, validate_solid
 from wingmdao.timemarch.system import pack
+from wingmdao.utils.memory import return_freed_memory
 
 WALL_VARS = WALL_NAMES  # the one table of wall names: wingmdao.section.box
 
@@ -530,4 +531,64 @@ def presize_and_size(prob, setup, desc: str, *, optimize: bool = True) -> dict:
     if pre["passes"]:
         result["wall_s"] += pre["wall_s"]
         result["presize"] = pre
+    return result
+
+
+def release_derivative_storage(prob) -> int:
+    """Drop what the last derivative computation stored for reuse at the same design point: the
+    time histories' linearizations (Jacobian blocks of the adjoint,
+    :class:`~wingmdao.timemarch.adjoint.LinearizedHistory`) and the pointwise components' cached
+    Jacobian chunks, and hand the freed heap back to the operating system
+    (:func:`wingmdao.utils.memory.return_freed_memory`). Results and outputs are untouched; a later
+    derivative computation linearizes again. Called after a sizing, before the flutter search
+    (``wingmdao size``), so its memory does not stack on the adjoint's. Returns the number of
+    components released."""
+    released = 0
+    for system in prob.model.system_iter(recurse=True, include_self=False):
+        if getattr(system, "_lin", None) is not None:
+            system._lin = system._lin_inputs = None
+            released += 1
+        if getattr(system, "_jac_values", None) is not None:
+            system._jac_point, system._jac_values = None, None
+            released += 1
+    return_freed_memory()
+    return released
+
+
+def case_responses(prob, setup, togw_lb) -> dict:
+    """Per load case of the analysed design: peak load factor (lift of both halves / TOGW weight)
+    and peak root bending moment (N m), :func:`wingmdao.aero.coupled.load_case_response`."""
+    from wingmdao.aero.coupled import load_case_response
+    from wingmdao.cases.planform import G0, LB
+
+    out = {}
+    for case in setup.load_cases:
+        r = load_case_response(prob, case, setup.geometry.num_nodes, togw_lb * LB * G0)
+        out[case.name] = {"peak_load_factor": r["peak_load_factor"],
+                          "peak_root_bending_moment_n_m": r["peak_root_bending_moment"]}
+    return out
+
+
+def partial_result(prob, setup, desc, recording, interrupted=True) -> dict:
+    """The result of a sizing stopped by Ctrl-C (or a failed analysis): the design at the last
+    evaluation and, from the recording, ``best_design`` (the lowest objective with every KS
+    constraint <= 0, :func:`wingmdao.report.best_design`); ``success`` false."""
+    import os
+
+    from wingmdao.report import best_design, read_history
+
+    try:
+        result = summarize(prob, setup.load_cases, desc, success=False, section=setup.section,
+                           panels=setup.panels, geometry=setup.geometry, material=setup.material)
+    except Exception as exc:  # the interrupt may have come before the first evaluation finished
+        result = {"success": False, "message": f"no evaluated design ({exc})"}
+    result.update(success=False, interrupted=interrupted)
+    if recording and os.path.exists(recording):
+        try:
+            hist = read_history(recording)
+        except ValueError:
+            return result
+        best = best_design(hist)
+        if best is not None:
+            result["best_design"] = best
     return result

@@ -48,10 +48,10 @@ def add_arguments(p):
                    help="tip load history: constant static, 1 MN sin(20 t), or 1 MN applied suddenly")
     p.add_argument("--guess", choices=GUESSES,
                    help="initial design (Fig. 4.40): a uniform, b tapered, c infeasible (lower bounds)")
-    p.add_argument("--stations", type=int, help="number of stations (nodes)")
-    p.add_argument("--length", type=float, help="beam length [m]")
-    p.add_argument("--t-final", type=float, help="simulated time for dynamic loads [s]")
-    p.add_argument("--dt", type=float, help="time step for dynamic loads [s]")
+    p.add_argument("--stations", type=int, help="beam nodes (stations, >= 3)")
+    p.add_argument("--length", type=float, help="beam length (m)")
+    p.add_argument("--t-final", type=float, help="simulated time for dynamic loads (s)")
+    p.add_argument("--dt", type=float, help="time step for dynamic loads (s)")
     set_parser_defaults(p, CantileverOptions)
 
 
@@ -91,9 +91,9 @@ def build(options: CantileverOptions | None = None, **overrides) -> CaseSetup:
     opts = case_options(CantileverOptions, options, **overrides)
     n = opts.stations
     if n < 3:
-        raise ValueError(f"--stations must be >= 3, got {n}")
+        raise ValueError(f"--num-nodes = {n}; allowed range >= 3")
     if not (np.isfinite(opts.length) and opts.length > 0):
-        raise ValueError(f"--length must be > 0 m, got {opts.length}")
+        raise ValueError(f"--length = {opts.length} m; allowed range (0, inf) m")
     y = np.linspace(0.0, opts.length, n)
     geometry = WingGeometry(node_positions=np.column_stack([np.zeros(n), y, np.zeros(n)]),
                             node_euler_angles=np.zeros((n, 3)), width=np.ones(n), height=np.ones(n))

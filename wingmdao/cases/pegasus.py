@@ -110,14 +110,14 @@ def add_arguments(p):
     p.add_argument("--families",
                    help="comma list of stress families constrained (vm, ss_tension, ss_compression, cent_pos, cent_neg; "
                         "ss and cent: both signs)")
-    p.add_argument("--altitude-ft", type=float, help="gust altitude [ft]")
+    p.add_argument("--altitude-ft", type=float, help="gust altitude (ft)")
     p.add_argument("--mach", type=float, help="gust flight Mach number")
     p.add_argument("--u-ref-fps", type=float,
-                   help="reference gust velocity [ft/s EAS] (Table 5.3: 30); 0 = the 25.341(a)(5) table value")
-    p.add_argument("--gust-gradient-ft", type=float, help="gust gradient H [ft], 30-350")
-    p.add_argument("--t-final", type=float, help="gust simulation time [s]")
-    p.add_argument("--dt", type=float, help="time step [s]")
-    p.add_argument("--gust-start", type=float, help="time the gust front reaches the wing [s]")
+                   help="reference gust velocity (ft/s EAS) (Table 5.3: 30); 0 = the 25.341(a)(5) table value")
+    p.add_argument("--gust-gradient-ft", type=float, help="gust gradient H (ft), 30-350")
+    p.add_argument("--t-final", type=float, help="gust simulation time (s)")
+    p.add_argument("--dt", type=float, help="time step (s)")
+    p.add_argument("--gust-start", type=float, help="time the gust front reaches the wing (s)")
     p.add_argument("--aero", choices=AERO_MODELS,
                    help="gust aerodynamics: strip (precomputed rigid-wing strip-theory loads) or coupled (unsteady "
                         "strip theory on the deforming beam, trimmed 1 g start, clamped root; docs/aeroelasticity.md)")
@@ -146,13 +146,13 @@ def add_arguments(p):
                    help="structural damping ratio of the gust case's beam (Kelvin-Voigt strain-rate damping, "
                         "Alg. 6) at --damping-frequency-hz; 0 = undamped; Nastran practice: 0.02")
     p.add_argument("--damping-frequency-hz", type=float,
-                   help="frequency at which --damping-ratio holds [Hz]; unset (%(default)s): the first mode "
+                   help="frequency at which --damping-ratio holds (Hz); default unset: the first mode "
                         "of the initial design")
     g = p.add_argument_group("25.341(a) gust set (every gust is a load case with its own KS; see docs/gust-envelope.md)")
     g.add_argument("--gust-set", metavar="FILE",
                    help="gust set description (.json or .yaml): flight points x gradients x signs")
     g.add_argument("--gust-gradients-ft", metavar="H", type=float, nargs="+",
-                   help="gust gradient distances [ft], 30-350, at the --altitude-ft/--mach flight point")
+                   help="gust gradient distances (ft), 30-350, at the --altitude-ft/--mach flight point")
     g.add_argument("--gust-gradient-count", metavar="N", type=int,
                    help="N gradients log-spaced over 30-350 ft (instead of --gust-gradients-ft)")
     g.add_argument("--gust-sign", choices=GUST_SIGNS,
@@ -222,11 +222,12 @@ def gust_case(opts, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb
     from wingmdao.loads.gust import design_gust_velocity_eas
 
     if not 0.0 <= opts.altitude_ft <= 60000.0:
-        raise ValueError(f"--altitude-ft {opts.altitude_ft} outside the 25.341 table range 0-60000 ft")
+        raise ValueError(f"--altitude-ft = {opts.altitude_ft} ft; allowed range [0, 60000] ft (the 25.341 table)")
     if not 30.0 <= opts.gust_gradient_ft <= 350.0:
-        raise ValueError(f"--gust-gradient-ft {opts.gust_gradient_ft} outside 30-350 ft (25.341(a)(3))")
+        raise ValueError(f"--gust-gradient-ft = {opts.gust_gradient_ft} ft; allowed range [30, 350] ft "
+                         "(14 CFR 25.341(a)(3))")
     if not (0.0 < opts.mach < 1.0):
-        raise ValueError(f"--mach {opts.mach} outside (0, 1)")
+        raise ValueError(f"--mach = {opts.mach}; allowed range (0, 1)")
     if opts.load_history:
         return file_case(opts.load_history, geometry, families)
     _check_time_grid(opts, geometry.num_nodes)
@@ -422,9 +423,9 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
         raise ValueError(f"--load-history {opts.load_history} replaces the gust case; it does not apply to "
                          "--loads maneuver (use --loads gust or all)")
     if not np.isfinite(opts.load_factor) or opts.load_factor <= 0:
-        raise ValueError(f"--load-factor must be > 0, got {opts.load_factor}")
+        raise ValueError(f"--load-factor = {opts.load_factor}; allowed range (0, inf)")
     if not (np.isfinite(opts.negative_load_factor) and opts.negative_load_factor < 0):
-        raise ValueError(f"--negative-load-factor must be < 0, got {opts.negative_load_factor}")
+        raise ValueError(f"--negative-load-factor = {opts.negative_load_factor}; allowed range (-inf, 0)")
     if opts.plunge == "free" and opts.aero != "coupled":
         raise ValueError(f"--plunge free needs --aero coupled (the strip-theory loads are precomputed on a "
                          f"clamped wing), got --aero {opts.aero}")
@@ -446,17 +447,20 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
                            **({} if opts.downwash_gradient is None else {"downwash_gradient": opts.downwash_gradient}))
     zeta = opts.damping_ratio
     if not 0.0 <= zeta < 1.0:
-        raise ValueError(f"--damping-ratio must be in [0, 1), got {zeta}")
+        raise ValueError(f"--damping-ratio = {zeta}; allowed range [0, 1)")
     geometry, chord, axis_frac = wing_geometry(pf, engines)
     sizing = SizingOptions(lower={w: MIN_GAUGE for w in WALL_VARS}, upper={w: 0.05 for w in WALL_VARS},
                            initial={w: 0.01 for w in WALL_VARS}, rho_ks=100.0, presize=4)
     notes = ["airfoil NACA 43018 -> 43013 (assumed, ATR 42 class)",
              "engines as point masses: 600 kg at 35 % semi-span, 150 kg at the tip (assumed)"]
-    if opts.loads == "maneuver":
+    if loads == "maneuver":  # given or the default: the gust options do nothing
         default = PegasusOptions()
-        ignored = [_flag_text(k, getattr(opts, k)) for k in GUST_ONLY_OPTIONS if getattr(opts, k) != getattr(default, k)]
+        used = ("altitude_ft", "mach") if opts.aero == "coupled" else ()  # the trimmed maneuvers' flight point
+        ignored = [_flag_text(k, getattr(opts, k)) for k in GUST_ONLY_OPTIONS
+                   if k not in used and getattr(opts, k) != getattr(default, k)]
         if ignored:
-            notes.append(f"warning: ignored with --loads maneuver (gust options): {', '.join(ignored)}")
+            why = "gust options" if opts.loads else "the default without a gust set; gust options"
+            notes.append(f"warning: ignored with --loads maneuver ({why}): {', '.join(ignored)}")
     elif gset is None and opts.gust_sign is not None:
         notes.append(f"warning: ignored without a gust set (--gust-set, --gust-gradients-ft or "
                      f"--gust-gradient-count): --gust-sign {opts.gust_sign}")
@@ -551,7 +555,7 @@ def gust_damping(zeta, frequency_hz, geometry, options):
     else:
         where = "given"
     if not frequency_hz > 0.0:
-        raise ValueError(f"--damping-frequency-hz must be > 0 Hz, got {frequency_hz}")
+        raise ValueError(f"--damping-frequency-hz = {frequency_hz} Hz; allowed range (0, inf) Hz")
     damping = StrainRateDamping.from_damping_ratio(zeta, frequency_hz)
     return damping, (f"structural damping {zeta:g} at {frequency_hz:.3f} Hz ({where}): "
                      f"strain-rate time constant {damping.curvature[0] * 1e3:.3f} ms")

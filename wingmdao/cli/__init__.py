@@ -10,13 +10,16 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import pkgutil
 import re
 import sys
+import warnings
 
 from wingmdao import __version__
 from wingmdao.cli._io import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_USAGE, jsonable as _jsonable  # noqa: F401
-from wingmdao.cli._io import ResultWriteError, check_json_option, stdout_to_stderr
+from wingmdao.cli._io import ResultWriteError, check_json_option, stdout_to_stderr, warn
+from wingmdao.utils.mpi_env import is_output_rank
 from wingmdao.cli._io import write_json  # noqa: F401  (write_json: public API)
 
 
@@ -69,8 +72,30 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    """A library or framework warning (``warnings.warn``) as the one warning line of every command,
+    ``wingmdao: warning: MESSAGE``, instead of Python's two lines with the source file."""
+    text = " ".join(str(message).split())
+    text = text[len("wingmdao: "):] if text.startswith("wingmdao: ") else text
+    warn(text if category is UserWarning else f"{text} ({category.__name__})")
+
+
 def main(argv=None) -> int:
     parser = build_parser()
+    root = is_output_rank()
+    saved = sys.stdout, sys.stderr, warnings.showwarning
+    if not root:  # under mpirun only rank 0 prints (and writes: wingmdao.cli._io); tracebacks still show
+        sys.stdout = sys.stderr = open(os.devnull, "w")
+    warnings.showwarning = _show_warning
+    try:
+        return _main(parser, argv)
+    finally:
+        if not root:
+            sys.stdout.close()
+        sys.stdout, sys.stderr, warnings.showwarning = saved
+
+
+def _main(parser, argv) -> int:
     args = parser.parse_args(argv)
     if not getattr(args, "func", None):
         parser.print_help()
@@ -104,8 +129,6 @@ def main(argv=None) -> int:
 def _silence_stdout():
     """Point standard output at /dev/null so the interpreter's final flush after a broken pipe
     does not print a second error (Python docs, 'Note on SIGPIPE')."""
-    import os
-
     try:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())

@@ -30,10 +30,11 @@ def add_parser(subparsers):
                    help="replace an earlier run's outputs (recordings, JSON) instead of refusing")
     p.add_argument("--analysis-only", action="store_true",
                    help="one coupled analysis of the initial design per beam, no optimisation")
-    p.add_argument("--maxiter", type=int, default=40, help="maximum SLSQP iterations")
-    p.add_argument("--tol", type=float, default=1e-6, help="SLSQP tolerance")
-    p.add_argument("--num-y", type=int, default=15,
-                   help="spanwise mesh points of the full wing (odd, >= 9); the beam has (num_y + 1) / 2 nodes")
+    p.add_argument("--maxiter", type=int, default=40, metavar="N", help="maximum SLSQP iterations")
+    p.add_argument("--tol", type=float, default=1e-6, metavar="TOL", help="SLSQP tolerance")
+    p.add_argument("--num-y", type=int, default=15, metavar="N",
+                   help="spanwise mesh points of the full wing (OpenAeroStruct's num_y: odd, >= 9); the beam has "
+                        "(N + 1) / 2 nodes")
     p.add_argument("--no-oas-beam", action="store_true",
                    help="skip the same problem with OpenAeroStruct's own spatial beam (no 'oas_beam' in the JSON)")
     p.add_argument("--quiet", action="store_true", help="no per-evaluation progress lines")

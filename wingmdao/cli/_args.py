@@ -46,27 +46,55 @@ def add_output_arguments(parser, *, what: str, plots: bool = True, json: bool = 
 
 
 class _DeprecatedAlias(argparse.Action):
-    """Stores like the new flag and warns once per use that the old spelling is deprecated."""
+    """Stores like the new flag and warns once per use that the old spelling is deprecated.
 
-    def __init__(self, option_strings, dest, new=None, **kwargs):
+    ``meaning`` replaces "same meaning" in the warning when the new flag is used differently (e.g.
+    ``--plot PNG`` against ``--out DIR``); ``convert`` maps the old value onto the new flag's
+    (e.g. ``maneuver_pos`` to ``maneuver-pos``)."""
+
+    def __init__(self, option_strings, dest, new=None, meaning="same meaning", convert=None, **kwargs):
         self.new = new
+        self.meaning = meaning
+        self.convert = convert
         super().__init__(option_strings, dest, **kwargs)
 
     def __call__(self, parser, namespace, values, option_string=None):
         from wingmdao.cli._io import warn
 
-        warn(f"{option_string} is deprecated; use {self.new} (same meaning)")
+        warn(f"{option_string} is deprecated; use {self.new} ({self.meaning})")
+        if self.nargs == 0:
+            values = self.const
+        elif self.convert is not None:
+            values = self.convert(values)
         setattr(namespace, self.dest, values)
 
 
-def add_deprecated_alias(parser, old: str, new: str, *, dest: str, **kwargs) -> None:
-    """Accept ``old`` as a hidden, deprecated spelling of ``new`` storing into ``dest``."""
-    parser.add_argument(old, dest=dest, action=_DeprecatedAlias, new=new, default=argparse.SUPPRESS,
-                        help=argparse.SUPPRESS, **kwargs)
+def add_deprecated_alias(parser, old: str, new: str, *, dest: str, meaning: str = "same meaning",
+                         convert=None, **kwargs) -> None:
+    """Accept ``old`` as a hidden, deprecated spelling of ``new`` storing into ``dest``; using it
+    prints one line ``wingmdao: warning: OLD is deprecated; use NEW (MEANING)``."""
+    parser.add_argument(old, dest=dest, action=_DeprecatedAlias, new=new, meaning=meaning, convert=convert,
+                        default=argparse.SUPPRESS, help=argparse.SUPPRESS, **kwargs)
 
 
 #: older spelling of a case option -> the one spelling of the concept
-CASE_RENAMES = {"--constraints": "--families"}
+CASE_RENAMES = {"--constraints": "--families", "--stations": "--num-nodes"}
+
+#: the metavar (the unit or the kind of value) of every flag that more than one command or case has
+METAVARS = {"--t-final": "S", "--dt": "S", "--gust-start": "S", "--ramp-time": "S", "--altitude-ft": "FT",
+            "--gust-gradient-ft": "FT", "--u-ref-fps": "FPS", "--mach": "MACH", "--length": "M",
+            "--load-factor": "N", "--negative-load-factor": "N", "--damping-ratio": "ZETA",
+            "--damping-frequency-hz": "HZ", "--rho-ks": "RHO", "--maxiter": "N", "--num-nodes": "N", "--modes": "N"}
+
+#: standard gravity (m/s^2) of ``--gravity`` given alone
+STANDARD_GRAVITY = 9.81
+
+
+def add_gravity_argument(parser, *, default=None, help: str) -> None:
+    """``--gravity [G]``: gravity along -z in m/s^2, alone ``STANDARD_GRAVITY``; the one spelling on
+    ``run wing-box`` (self weight, default off) and ``flutter --deformed`` (default: the case's)."""
+    parser.add_argument("--gravity", type=float, nargs="?", const=STANDARD_GRAVITY, default=default,
+                        metavar="M_S2", help=f"{help}; '--gravity' alone = {STANDARD_GRAVITY:g} m/s^2")
 
 
 class CaseArguments:
@@ -79,6 +107,9 @@ class CaseArguments:
         self._root = root if root is not None else parser
 
     def add_argument(self, *flags, **kwargs):
+        shared = [METAVARS[f] for f in [CASE_RENAMES.get(f, f) for f in flags] if f in METAVARS]
+        if shared:
+            kwargs.setdefault("metavar", shared[0])
         renamed = [f for f in flags if f in CASE_RENAMES]
         if not renamed:
             if any(f in CASE_RENAMES.values() for f in flags):

@@ -29,6 +29,8 @@ import tempfile
 
 import numpy as np
 
+from wingmdao.utils.mpi_env import is_output_rank
+
 EXIT_INTERRUPTED = 130
 EXIT_FAILED = 1
 EXIT_USAGE = 2
@@ -57,6 +59,8 @@ def json_stdout():
 def write_text_atomic(text: str, path: str) -> None:
     """Write ``text`` to ``path`` atomically: a temporary file in the same folder, flushed and
     fsynced, then ``os.replace`` (the target is either the old file or the complete new one)."""
+    if not is_output_rank():  # under mpirun only rank 0 writes
+        return
     folder = os.path.dirname(os.path.abspath(path))
     fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(path)}.", suffix=".tmp", dir=folder)
     try:
@@ -83,6 +87,8 @@ def write_json(data: dict, path: str) -> None:
     When the file cannot be written (``OSError``: a full disk, an I/O error) the earlier file stays
     whole, the JSON text goes to standard error so the result is not lost, and
     :class:`ResultWriteError` says so (and names the recording when ``data`` has one)."""
+    if not is_output_rank():  # under mpirun only rank 0 writes
+        return
     text = json.dumps(jsonable(data), indent=2) + "\n"
     if path == "-":
         out = json_stdout()
@@ -130,6 +136,8 @@ def check_output_file(path: str | None, option: str, *, overwrite: bool = False,
     later: its parent folder is missing or not writable, it is a folder, it equals one of the
     ``others`` outputs (``{description: path}``), or it exists and ``overwrite`` is false.
     ``None`` and ``"-"`` (standard output) always pass."""
+    if not is_output_rank():  # under mpirun rank 0 checks and writes the outputs
+        return
     if path is None or path == "-":
         return
     full = os.path.abspath(path)
@@ -165,6 +173,8 @@ def check_json_option(args) -> None:
 def check_output_dir(path: str, option: str, *, create: bool = True) -> None:
     """Raise ValueError now if folder ``path`` (given by ``option``) is a file, is not writable, or
     cannot be created under its nearest existing ancestor; create it when ``create``."""
+    if not is_output_rank():  # under mpirun rank 0 checks and writes the outputs
+        return
     full = os.path.abspath(path)
     if os.path.exists(full) and not os.path.isdir(full):
         raise ValueError(f"{option} {path!r} is a file, not a folder")
@@ -182,6 +192,8 @@ def check_output_dir(path: str, option: str, *, create: bool = True) -> None:
 def refuse_existing(paths, *, overwrite: bool, what: str = "output") -> None:
     """Raise ValueError if any of ``paths`` exists and ``overwrite`` is false (an earlier run's
     recording or plots are never replaced silently)."""
+    if not is_output_rank():  # under mpirun rank 0 checks and writes the outputs
+        return
     if overwrite:
         return
     found = [p for p in paths if p and os.path.exists(p)]
@@ -213,7 +225,10 @@ def say(*parts, **kw) -> None:
 
 
 def warn(message: str) -> None:
-    """One line of warning on standard error."""
+    """One line ``wingmdao: warning: MESSAGE`` on standard error (rank 0 only under mpirun); the one
+    warning format of every command (library warnings too, :func:`wingmdao.cli.main`)."""
+    if not is_output_rank():
+        return
     print(f"wingmdao: warning: {message}", file=sys.stderr, flush=True)
 
 

@@ -25,6 +25,8 @@ import os
 
 import numpy as np
 
+from wingmdao.cli._args import add_deprecated_alias
+
 LOAD_CASES = ("maneuver_pos", "maneuver_neg")
 ELASTIC = ("skin_buckling", "panel_buckling", "web_buckling")
 OTHER = ("stiffener_column", "stiffener_crippling")
@@ -141,12 +143,20 @@ def fe_station_loads(setup, case_name, design, model_box, sections, at_ribs=True
 
 def check_buckling_args(args):
     """The flags that do not go with --buckling (ValueError naming them), before any solve."""
-    if args.loads_case not in LOAD_CASES:
-        raise ValueError(f"--loads-case = {args.loads_case!r}; allowed: {', '.join(LOAD_CASES)}")
+    loads = getattr(args, "loads", "1g")
+    if getattr(args, "loads_case", None) is None:  # --loads of the command line: maneuver-pos (default) or -neg
+        loads = "maneuver-pos" if loads == "1g" else loads
+        if loads.replace("-", "_") not in LOAD_CASES:
+            raise ValueError(f"--buckling --loads = {loads}; allowed: "
+                             f"{', '.join(c.replace('_', '-') for c in LOAD_CASES)} (the sizing maneuvers)")
+        args.loads_case = loads.replace("-", "_")
+    elif args.loads_case not in LOAD_CASES or loads != "1g":
+        raise ValueError(f"loads_case = {args.loads_case!r} with loads = {loads!r}; allowed loads_case: "
+                         f"{', '.join(LOAD_CASES)} with loads '1g'")
     if getattr(args, "fidelity", "shell") != "shell":
         raise ValueError("--buckling is a shell model; drop --fidelity solid")
-    if getattr(args, "loads", "1g") != "1g" or getattr(args, "load_factor", 1.0) != 1.0:
-        raise ValueError("--buckling takes its loads from --loads-case; drop --loads / --load-factor")
+    if getattr(args, "load_factor", 1.0) != 1.0:
+        raise ValueError("--buckling takes its loads from --loads maneuver-pos or maneuver-neg; drop --load-factor")
     if getattr(args, "modes", 0):
         raise ValueError("--buckling: drop --modes (use --buckling-modes)")
     if getattr(args, "nlgeom", False):
@@ -249,8 +259,9 @@ def add_buckling_arguments(p):
     g.add_argument("--buckling", action="store_true",
                    help="linear buckling of a stiffened --design (skins, blade stiffeners, spar webs, ribs as "
                    "shells) under a sizing maneuver, against the sizing model's buckling factor")
-    g.add_argument("--loads-case", default="maneuver_pos", metavar="CASE",
-                   help=f"--buckling load case: {' or '.join(LOAD_CASES)} (default maneuver_pos)")
+    p.set_defaults(loads_case=None)  # --buckling reads --loads maneuver-pos (default) or maneuver-neg
+    add_deprecated_alias(p, "--loads-case", "--loads", dest="loads", convert=lambda v: v.replace("_", "-"),
+                         metavar="CASE")
     g.add_argument("--buckling-modes", type=int, default=10, metavar="N", help="buckling factors extracted")
     g.add_argument("--bay-elements", type=int, default=2, metavar="N",
                    help="--buckling: S8R elements across each skin bay between stiffeners")

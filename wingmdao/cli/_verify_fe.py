@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from wingmdao.cli._args import add_json_argument
+from wingmdao.cli._args import add_deprecated_alias, add_json_argument
 from wingmdao.cli._io import read_json_object
 from wingmdao.fe.box_model import build_shell_box
 from wingmdao.fe.solid_box import build_solid_box, streamwise_sections
@@ -35,9 +35,14 @@ def add_fe_arguments(p, *, rib_thickness, no_ribs_help, design_help, ribs_help="
     p.add_argument("--height-elements", type=int, default=2, metavar="N", help="elements across the spars")
     p.add_argument("--span-size", type=float, default=0.5, metavar="M",
                    help="element length along the span (m)")
-    p.add_argument("--plot", default=None, metavar="PNG", help="write beam-vs-FE displacement/rotation/stress plots")
+    p.add_argument("--out", default=None, metavar="DIR",
+                   help="folder for the beam-vs-FE displacement/rotation/stress plot (verify_CASE.png; "
+                        "verify_pegasus_buckling.png with --buckling); default unset: no plot")
+    p.set_defaults(plot=None)
+    add_deprecated_alias(p, "--plot", "--out", dest="plot", metavar="PNG",
+                         meaning="--out DIR writes DIR/verify_CASE.png")
     add_json_argument(p, overwrite=False)
-    p.add_argument("--overwrite", action="store_true", help="replace an earlier run's --json / --plot files")
+    p.add_argument("--overwrite", action="store_true", help="replace an earlier run's --json and plot files")
 
 
 def _design_walls(path, case, count=4, how="size with --elements 1 1 1"):

@@ -25,8 +25,22 @@ from wingmdao.cli._verify_fe import (_design_walls, _material, add_fe_arguments,
 #: ``--load-factor`` / ``--negative-load-factor`` defaults); '1g' takes ``--load-factor``.
 MANEUVERS = {"maneuver-pos": 2.5, "maneuver-neg": -1.0}
 
-#: Sized-like walls (upper skin, lower skin, front spar, rear spar), m: section_models.compare_1g's.
-DEFAULT_WALLS = (0.004, 0.004, 0.005, 0.004)
+#: --loads gust-peak: the equivalent static loads of the peak instant of the case's 25.341 gust
+GUST_PEAK = "gust-peak"
+
+#: names of the library module (wingmdao.cases.pegasus_verification) this module still offers, imported
+#: on first use so that 'wingmdao --help' imports no OpenMDAO
+_LIBRARY = {"DEFAULT_WALLS": "DEFAULT_WALLS", "beam_params": "beam_params", "default_walls": "default_walls",
+            "_engine_stations": "engine_stations", "fe_loads": "fe_loads", "gust_fe_loads": "gust_fe_loads",
+            "gust_peak_loads": "gust_peak_loads"}
+
+
+def __getattr__(name):
+    if name in _LIBRARY:
+        from wingmdao.cases import pegasus_verification
+
+        return getattr(pegasus_verification, _LIBRARY[name])
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def register_pegasus(cases):
@@ -38,7 +52,8 @@ def register_pegasus(cases):
                    help="1g: the symmetric maneuver at --load-factor; maneuver-pos / maneuver-neg: the 2.5 g and "
                    "-1.0 g sizing maneuvers of 'wingmdao size pegasus'; gust-peak: the equivalent static loads "
                    "(aerodynamic + inertial -m a + weight) of the instant of peak root bending of the case's "
-                   "25.341 gust marched on the beam of --design (strip theory, clamped root)")
+                   "25.341 gust marched on the beam of --design (strip theory, clamped root); with --buckling: "
+                   "maneuver-pos (also for 1g) or maneuver-neg")
     add_fe_arguments(p, rib_thickness=0.002, no_ribs_help="no ribs at all (Sec. 4.3.1 Test 2's rib-less model)",
                      ribs_help="ribs every SPACING m instead of at the case's 19 rib stations",
                      design_help="wall thicknesses from a 'wingmdao size pegasus' result (20 stations) "
@@ -54,108 +69,9 @@ def register_pegasus(cases):
 def pegasus_walls(path):
     if path:
         return _design_walls(path, "pegasus", count=20, how="a 'wingmdao size pegasus' result")
-    return {k: np.full(20, v) for k, v in zip(("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar"),
-                                              DEFAULT_WALLS)}
+    from wingmdao.cases.pegasus_verification import default_walls
 
-
-def beam_params(geo, walls, material):
-    """Beam parameters of the box per station (``box_properties``) with the engines' mass."""
-    from wingmdao.section.box import beam_data, box_properties
-
-    rows = [beam_data(box_properties(geo.width[k], geo.height[k], *(walls[w][k] for w in
-                                     ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")), material),
-                      material) for k in range(geo.num_nodes)]
-    stack = lambda key: np.array([np.asarray(r[key], float) for r in rows])   # noqa: E731
-    structural = stack("mass_per_length")
-    params = {"node_positions": geo.node_positions, "node_euler_angles": geo.node_euler_angles,
-              "stiffness_csn": stack("stiffness_csn"), "compliance_csn": stack("compliance_csn"),
-              "tension_axis": np.column_stack([stack("c_ea"), stack("n_ea")]),
-              "shear_center": np.column_stack([stack("c_sc"), stack("n_sc")]),
-              "mass_per_length": structural + geo.nonstructural_mass_per_length,
-              "mass_center": np.column_stack([stack("c_cg"), stack("n_cg")]),
-              "inertia_per_length": stack("inertia_per_length")}
-    return params, structural
-
-
-def _engine_stations(case, geo):
-    y = geo.span_coordinate
-    return [(float(y[int(np.argmin(abs(y - ym)))]), m) for m, ym in case.ENGINES]
-
-
-def fe_loads(case, geo, sec, model, line, structural, n_load, G0):
-    """Station loads on the FE lines: lift and torsion, self weight, engine weights (n g)."""
-    from wingmdao.fe.wing_loads import lumped_line_loads, point_weights
-
-    ys = model.span_y[::2]
-    y = geo.span_coordinate
-    weight = np.zeros((y.size, 3))
-    weight[:, 2] = -n_load * G0 * structural
-    loads = lumped_line_loads(sec, ys, y, line.force_per_length + weight, line.moment_per_length)
-    return loads + point_weights(sec, _engine_stations(case, geo), gravity=n_load * G0)
-
-
-#: --loads gust-peak: the equivalent static loads of the peak instant of the case's 25.341 gust
-GUST_PEAK = "gust-peak"
-
-
-def gust_peak_loads(case, geo, params, *, dt=0.01, t_final=None, gust_start=0.1):
-    """Equivalent static loads of the instant of peak root bending of the case's 14 CFR 25.341
-    1-cos gust (``GUST``: altitude, Mach, U_ref, gradient H; U_ds = U_ref (H/350 ft)^(1/6) EAS),
-    on the beam of ``params`` (the --design), root clamped: the sizing's ``--aero strip`` loads
-    (:func:`wingmdao.loads.gust.gust_line_loads`, quasi-steady strip theory on the Schrenk 1 g
-    spanload, penetration delay) marched with BDF2 (:func:`wingmdao.timemarch.bdf.march`).
-
-    At the instant t* of the largest |M_x| at the root the loads are, per beam node: the
-    aerodynamic force and moment per length of t*, and the inertial load -m a* per length, a* the
-    BDF2 acceleration (rate of the velocity state u) of the node at t*, m the mass per length of
-    the beam (structural plus the engines' non-structural mass); gravity (1 g, -z) acts as well.
-    D'Alembert's principle makes the beam in static equilibrium under these loads the dynamic
-    state at t*, up to the inertia left out: the rotary inertia and the mass-centre offset of
-    the translational inertia (their size is the ``static_vs_dynamic`` difference reported)."""
-    from wingmdao.beam.static import march_line_loads
-    from wingmdao.cases.planform import FT, G0, LB, wing_geometry
-    from wingmdao.loads.atmosphere import altitude_ft_to_m, mach_to_tas
-    from wingmdao.loads.gust import gust_line_loads
-    from wingmdao.loads.maneuver import maneuver_line_loads
-
-    pf, g = case.PLANFORM, case.GUST
-    _, chord, axis_frac = wing_geometry(pf, case.ENGINES)
-    alt = float(altitude_ft_to_m(g["altitude_ft"]))
-    V = float(mach_to_tas(g["mach"], alt))
-    H_ft = g["gradient_ft"]
-    u_eas = g["u_ref_fps"] * FT * (H_ft / 350.0) ** (1.0 / 6.0)
-    r0 = params["node_positions"]
-    n = r0.shape[0]
-    fus = pf.root_rib * pf.semi_span
-    steady = maneuver_line_loads(r0, chord, axis_frac, case.TOGW_LB * LB * G0, 1.0, semi_span=pf.semi_span,
-                                 fuselage_half_width=fus)
-    t = np.arange(0.0, (t_final or g["t_final"]) + 0.5 * dt, dt)
-    loads = gust_line_loads(r0, chord, axis_frac, t, gust_gradient_m=H_ft * FT, u_ds_eas=u_eas, airspeed_tas=V,
-                            altitude_m=alt, gust_start_time=gust_start, steady=steady, fuselage_half_width=fus)
-    hist = march_line_loads(params, t, loads.force_per_length, loads.moment_per_length, (0.0, 0.0, -G0))
-    X = hist.states.reshape(t.size, n, 18)
-    acc = hist.rates.reshape(t.size, n, 18)[:, :, 12:15]
-    k = int(np.argmax(np.abs(X[:, 0, 9])))
-    return {"time": float(t[k]), "index": k, "dt": dt, "gust_start": gust_start, "u_ds_eas": float(u_eas),
-            "airspeed_tas": V, "gradient_ft": H_ft, "root_bending_moment": X[:, 0, 9],
-            "force_per_length": loads.force_per_length[k], "moment_per_length": loads.moment_per_length[k],
-            "acceleration": acc[k], "dynamic_displacement": X[k, :, :3] - r0, "dynamic_theta": X[k, :, 3:6]}
-
-
-def gust_fe_loads(case, geo, sec, model, peak, structural, G0):
-    """Station loads on the FE lines of the gust peak: aerodynamic line loads plus the inertia
-    and weight of the structure -m_s (a* + g e_z) per length, and the engines' -m_e (a*(y_e) + g e_z)
-    at their stations (a* of the node there)."""
-    from wingmdao.fe.wing_loads import lumped_line_loads
-
-    y = geo.span_coordinate
-    a_eff = peak["acceleration"] + np.array([0.0, 0.0, G0])
-    line = peak["force_per_length"] - structural[:, None] * a_eff
-    loads = lumped_line_loads(sec, model.span_y[::2], y, line, peak["moment_per_length"])
-    for ye, m in _engine_stations(case, geo):
-        k = int(np.argmin(abs(y - ye)))
-        loads.append((float(ye), sec.at(ye)[0], -m * a_eff[k], np.zeros(3)))
-    return loads
+    return default_walls(20)
 
 
 def pegasus_ribs(args, y, span) -> list:
@@ -168,26 +84,15 @@ def pegasus_ribs(args, y, span) -> list:
 
 
 def pegasus_setup(design, load_factor):
-    """(geometry, BoxSections, line loads, beam params, structural mass per length) of the PEGASUS
-    wing with the walls of ``design`` at load factor ``load_factor``."""
-    from wingmdao.cases import pegasus as case
-    from wingmdao.cases.planform import G0, LB, wing_geometry
-    from wingmdao.fe.box_model import BoxSections
-    from wingmdao.loads.maneuver import maneuver_line_loads
+    """:func:`wingmdao.cases.pegasus_verification.pegasus_setup` with the walls of ``--design``."""
+    from wingmdao.cases.pegasus_verification import pegasus_setup as setup
 
-    if not (np.isfinite(load_factor) and 0 < abs(load_factor) <= 10):
-        raise ValueError(f"--load-factor = {load_factor}; allowed range 0 < |n| <= 10")
-    pf = case.PLANFORM
-    walls = pegasus_walls(design)
-    geo, chord, axis_frac = wing_geometry(pf, case.ENGINES)
-    sec = BoxSections(geo.node_positions, geo.width, geo.height, walls)
-    line = maneuver_line_loads(geo.node_positions, chord, axis_frac, case.TOGW_LB * LB * G0, load_factor,
-                               semi_span=pf.semi_span, fuselage_half_width=pf.root_rib * pf.semi_span)
-    params, structural = beam_params(geo, walls, _material())
-    return geo, sec, line, params, structural, walls
+    return setup(pegasus_walls(design), load_factor, _material())
 
 
 def verify_pegasus(args) -> dict:
+    from wingmdao.cases.pegasus_verification import (engine_stations as _engine_stations, fe_loads, gust_fe_loads,
+                                                     gust_peak_loads)
     from wingmdao.beam.static import BeamModel
     from wingmdao.cases import pegasus as case
     from wingmdao.cases.planform import G0

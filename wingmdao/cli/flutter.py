@@ -26,7 +26,7 @@ import numpy as np
 
 from wingmdao.stability.cases import FLUTTER_CASES
 from wingmdao.cli._io import read_design, warn, write_json
-from wingmdao.cli._args import add_output_arguments
+from wingmdao.cli._args import add_gravity_argument, add_output_arguments
 
 
 def register(subparsers):
@@ -37,12 +37,12 @@ def register(subparsers):
     p.add_argument("case", metavar="CASE", help="case with aerodynamic data: " + ", ".join(FLUTTER_CASES))
     p.add_argument("--speeds", nargs=3, metavar=("V0", "V1", "N"), default=None,
                    help="sweep from V0 to V1 m/s with N >= 2 speeds (default: the case's)")
-    p.add_argument("--num-nodes", type=int, default=None,
-                   help="beam nodes (>= 3; default 21, pegasus 20 = its sizing mesh)")
+    p.add_argument("--num-nodes", type=int, default=None, metavar="N",
+                   help="beam nodes, 3-200 (default: the case's; 21, pegasus 20 = its sizing mesh)")
     p.add_argument("--design", metavar="RESULT.json", default=None,
                    help="pegasus: analyse the wall thicknesses of a 'wingmdao size pegasus' JSON "
                         "(default: the sizing's initial design, 10 mm walls)")
-    p.add_argument("--modes", type=int, default=4, help="number of tracked modes (>= 1)")
+    p.add_argument("--modes", type=int, default=4, metavar="N", help="number of modes tracked over the sweep (>= 1)")
 
     add_output_arguments(p, what="the V-g / V-f plot (flutter_CASE.png)")
     p.add_argument("--deformed", action="store_true",
@@ -50,8 +50,8 @@ def register(subparsers):
                         "(nonlinear flutter vs tip deflection; the sweep is --speeds or a fine default)")
     p.add_argument("--root-aoa-deg", type=float, nargs="+", metavar="A", default=None,
                    help="root angles of attack for --deformed, deg, |A| <= 10 (default: 1 2 3)")
-    p.add_argument("--gravity", type=float, default=None,
-                   help="gravity for --deformed, m/s^2 >= 0 (default: the case's; HALE 9.807, Goland 0)")
+    add_gravity_argument(p, help="gravity along -z for --deformed (m/s^2, >= 0; default unset: the case's, HALE "
+                                 "9.807, Goland 0)")
     p.set_defaults(func=run)
 
 
@@ -73,16 +73,17 @@ def parse_speeds(values):
         v0, v1, n = float(values[0]), float(values[1]), values[2]
         n = int(float(n)) if float(n) == int(float(n)) else None
     except (TypeError, ValueError):
-        raise ValueError(f"--speeds must be V0 V1 N (numbers, N an integer), got {values}") from None
+        raise ValueError(f"--speeds = {' '.join(map(str, values))}; allowed V0 V1 N: two speeds (m/s) and an "
+                         "integer N") from None
     if n is None or n < 2:
-        raise ValueError(f"--speeds N must be an integer >= 2, got {values[2]}")
+        raise ValueError(f"--speeds N = {values[2]}; allowed an integer in [2, {MAX_SPEEDS}]")
     if n > MAX_SPEEDS:
         raise ValueError(f"--speeds N = {values[2]}; allowed an integer in [2, {MAX_SPEEDS}] (one eigen-analysis "
                          f"per speed, ~1 s at 21 nodes, growing as nodes^3: {n} speeds ~{n / 60:.0f} min at 21 nodes)")
     if not (np.isfinite(v0) and np.isfinite(v1)) or v0 < 0.0:
-        raise ValueError(f"--speeds V0 must be >= 0 m/s and finite, got {values[0]}")
+        raise ValueError(f"--speeds V0 = {values[0]} m/s; allowed range [0, inf) m/s")
     if not v1 > v0:
-        raise ValueError(f"--speeds V1 must be > V0 (an increasing sweep), got V0 = {v0} m/s, V1 = {v1} m/s")
+        raise ValueError(f"--speeds V1 = {v1} m/s; allowed range (V0 = {v0}, inf) m/s (an increasing sweep)")
     return check_speeds(np.linspace(v0, v1, n))
 
 
@@ -116,9 +117,9 @@ def analyse(case, speeds=None, num_nodes=None, n_modes=4, thickness=None) -> dic
     if case not in FLUTTER_CASES:
         raise ValueError(f"case {case!r} has no aerodynamic (flutter) data; allowed: {list(FLUTTER_CASES)}")
     if int(n_modes) < 1:
-        raise ValueError(f"--modes must be >= 1, got {n_modes}")
+        raise ValueError(f"--modes = {n_modes}; allowed range >= 1")
     if num_nodes is not None and int(num_nodes) < 3:
-        raise ValueError(f"--num-nodes must be >= 3, got {num_nodes}")
+        raise ValueError(f"--num-nodes = {num_nodes}; allowed range [3, {MAX_NODES}]")
     t0 = _time.perf_counter()
     prob = flutter_problem(case, num_nodes, thickness)
     v = prob.speeds if speeds is None else np.asarray(speeds, dtype=float)
@@ -255,7 +256,7 @@ def check_deformed_args(args):
             raise ValueError("--root-aoa-deg and --gravity need --deformed")
         return None
     if args.gravity is not None and not (np.isfinite(args.gravity) and args.gravity >= 0.0):
-        raise ValueError(f"--gravity must be finite and >= 0 m/s^2, got {args.gravity}")
+        raise ValueError(f"--gravity = {args.gravity} m/s^2; allowed range [0, inf) m/s^2")
     try:
         return check_root_aoa(DEFAULT_ROOT_AOA_DEG if args.root_aoa_deg is None else args.root_aoa_deg)
     except ValueError as e:
@@ -273,7 +274,7 @@ def run(args) -> int:
                 f"~{(args.num_nodes / 21) ** 3:.0f} s per speed (21 nodes: ~1 s)" if args.num_nodes > MAX_NODES else "")
         raise ValueError(f"--num-nodes = {args.num_nodes}; allowed range [3, {MAX_NODES}]{cost}")
     if args.modes < 1:
-        raise ValueError(f"--modes must be >= 1, got {args.modes}")
+        raise ValueError(f"--modes = {args.modes}; allowed range >= 1")
     from wingmdao.cli.gust import _check_outputs
 
     plot_path = _check_outputs(args, f"flutter_{args.case}.png")

@@ -30,7 +30,7 @@ import time as _time
 
 import numpy as np
 from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, write_json
-from wingmdao.cli._args import add_output_arguments
+from wingmdao.cli._args import add_deprecated_alias, add_output_arguments
 
 CASES = ("pegasus", "crm")
 #: --stiffness-scale range (a rigid wing is approached well before 1e6)
@@ -74,18 +74,22 @@ def register(subparsers):
                    help="deps/dalpha at the tail, [0, 1) (default: 2 a_w / (pi AR), a_w the strips' wing lift slope)")
     t.add_argument("--tail-lag", action="store_true",
                    help="downwash lag: first-order lag of time constant x_t / V on the wing angle seen by the tail")
-    p.add_argument("--gradient-ft", type=float, default=None, metavar="H",
-                   help="gust gradient H (ft, 30-350; default: the case's)")
+    p.add_argument("--gust-gradient-ft", dest="gradient_ft", type=float, default=None, metavar="FT",
+                   help="gust gradient H (ft, 30-350; default: the case's, as on 'size')")
+    add_deprecated_alias(p, "--gradient-ft", "--gust-gradient-ft", dest="gradient_ft", type=float, metavar="FT")
     p.add_argument("--stiffness-scale", type=float, default=1.0, metavar="S",
                    help="multiply all section stiffnesses by S (> 0; large S approaches a rigid wing)")
     p.add_argument("--design", metavar="RESULT.json", default=None,
                    help="thicknesses from a sizing result (its 'thickness' per station); default: the initial design")
-    p.add_argument("--altitude-ft", type=float, default=None, help="altitude (ft; default: the case's gust altitude)")
-    p.add_argument("--mach", type=float, default=None, help="Mach number (default: the case's)")
-    p.add_argument("--u-ref-fps", type=float, default=None, help="reference gust velocity (ft/s EAS; default: the case's)")
-    p.add_argument("--t-final", type=float, default=None, metavar="S", help="simulated time (s; default: the case's)")
-    p.add_argument("--dt", type=float, default=0.01, metavar="S", help="time step (s)")
-    p.add_argument("--gust-start", type=float, default=0.1, metavar="S", help="time the gust front reaches the wing (s)")
+    p.add_argument("--altitude-ft", type=float, default=None, metavar="FT",
+                   help="gust altitude (ft, 0-60000; default: the case's)")
+    p.add_argument("--mach", type=float, default=None, metavar="MACH", help="gust flight Mach number (0-1; default: the case's)")
+    p.add_argument("--u-ref-fps", type=float, default=None, metavar="FPS",
+                   help=f"reference gust velocity (ft/s EAS, (0, {MAX_U_REF_FPS:g}]; default: the case's)")
+    p.add_argument("--t-final", type=float, default=None, metavar="S", help="gust simulation time (s; default: the case's)")
+    p.add_argument("--dt", type=float, default=None, metavar="S", help="time step (s; default: the case's, as on 'size')")
+    p.add_argument("--gust-start", type=float, default=None, metavar="S",
+                   help="time the gust front reaches the wing (s; default: the case's, as on 'size')")
     p.add_argument("--lifting-line", action="store_true",
                    help="tip-loss correction: strip lift slopes from Prandtl's lifting line of the planform "
                         "(wingmdao.aero.lifting_line) instead of 2 pi")
@@ -119,6 +123,7 @@ def _beam_parameters(module, args):
 
 def run(args):
     from wingmdao.aero import aero_parameters
+    from wingmdao.aero.gust_response import GustFlight, coupled_gust_response, strip_gust_response, wing_lift_slope
     from wingmdao.aero.plunge import body_mass as plunge_body_mass, half_wing_mass
     from wingmdao.cases import available_cases
     from wingmdao.cases.planform import FT, G0, LB, wing_geometry
@@ -139,21 +144,25 @@ def run(args):
     gust = dict(base.GUST)
     H_ft = gust["gradient_ft"] if args.gradient_ft is None else args.gradient_ft
     if not 30.0 <= H_ft <= 350.0:
-        raise ValueError(f"--gradient-ft must be in 30-350 ft (14 CFR 25.341(a)(3)), got {H_ft}")
+        raise ValueError(f"--gust-gradient-ft = {H_ft} ft; allowed range [30, 350] ft (14 CFR 25.341(a)(3))")
     if not (np.isfinite(args.stiffness_scale) and STIFFNESS_SCALE[0] <= args.stiffness_scale <= STIFFNESS_SCALE[1]):
         raise ValueError(f"--stiffness-scale = {args.stiffness_scale}; allowed range [{STIFFNESS_SCALE[0]:g}, "
                          f"{STIFFNESS_SCALE[1]:g}] (beyond it the beam's Newton solve loses its digits)")
     alt_ft = gust["altitude_ft"] if args.altitude_ft is None else args.altitude_ft
     if not 0.0 <= alt_ft <= 60000.0:
-        raise ValueError(f"--altitude-ft must be in 0-60000 ft, got {alt_ft}")
+        raise ValueError(f"--altitude-ft = {alt_ft} ft; allowed range [0, 60000] ft (the 25.341 table)")
     mach = gust["mach"] if args.mach is None else args.mach
     if not 0.0 < mach < 1.0:
-        raise ValueError(f"--mach must be in (0, 1), got {mach}")
+        raise ValueError(f"--mach = {mach}; allowed range (0, 1)")
     u_ref = gust["u_ref_fps"] if args.u_ref_fps is None else args.u_ref_fps
     if not (np.isfinite(u_ref) and 0 < u_ref <= MAX_U_REF_FPS):
         raise ValueError(f"--u-ref-fps = {u_ref} ft/s; allowed range (0, {MAX_U_REF_FPS:g}] ft/s EAS "
                          "(14 CFR 25.341(a)(5): 56 ft/s at sea level)")
     t_final = gust["t_final"] if args.t_final is None else args.t_final
+    case_options = module.OPTIONS()  # the case's time grid and gust start, as on 'wingmdao size'
+    args.dt = getattr(case_options, "dt", base.PegasusOptions.dt) if args.dt is None else args.dt
+    args.gust_start = (getattr(case_options, "gust_start", base.PegasusOptions.gust_start) if args.gust_start is None
+                       else args.gust_start)
     from wingmdao.cases import check_step_count
 
     check_step_count(t_final, args.dt, 20)  # finite, > 0, at most MAX_TIME_STEPS (with the memory estimate)
@@ -186,7 +195,7 @@ def run(args):
     if args.pitch:
         from wingmdao.aero.pitch import pitch_parameters
 
-        a_w = _wing_slope(ap["lift_slope"] / np.sqrt(1 - mach ** 2), chord, r0, _area(args))
+        a_w = wing_lift_slope(ap["lift_slope"] / np.sqrt(1 - mach ** 2), chord, r0, _area(args))
         if args.downwash_gradient is None:  # Etkin & Reid (1996) / Nelson (1998): deps/dalpha = 2 a_w / (pi AR)
             args.downwash_gradient = 2 * a_w / (np.pi * (2 * pf.semi_span) ** 2 / (pf.area_ft2 * FT ** 2))
         args.pitch_params = pitch_parameters(
@@ -200,13 +209,23 @@ def run(args):
     print(f"wingmdao gust {args.case}: {n} nodes, {t.size} steps, V = {V:.1f} m/s TAS, rho = {rho:.4f} kg/m^3, "
           f"U_ds = {u_eas:.2f} m/s EAS, H = {H_ft:g} ft, --aero {args.aero}, "
           f"{'free plunge' if args.plunge else 'clamped'}{' + free pitch' if args.pitch else ''}", file=sys.stderr)
-    flight = dict(V=V, rho=rho, mach=mach, alt=alt, H=H, u_eas=u_eas, u_tas=u_tas, weight=weight)
+    flight = GustFlight(airspeed=V, density=rho, mach=mach, altitude=alt, gradient=H, u_ds_eas=u_eas, u_ds_tas=u_tas,
+                        weight=weight, gust_start=args.gust_start)
+    wing_area = pf.area_ft2 * FT ** 2
     pitch_out = {}
     if args.aero == "coupled":
-        n_load, X, a_wing, trim_alpha = _coupled_history(args, t, bp, chord, axis_frac, ap, flight, body_mass,
-                                                         pitch_out)
+        resp = coupled_gust_response(t, bp, chord, axis_frac, ap, flight, area=wing_area, plunge=args.plunge,
+                                     body_mass=body_mass, pitch_params=args.pitch_params if args.pitch else None,
+                                     tail_lag=args.tail_lag)
+        if args.pitch:
+            pitch_out = {**resp.pitch, "pitch_inertia_kg_m2": args.pitch_inertia, "cg_m": [args.cg_x, args.cg_z],
+                         "tail_arm_m": args.tail_arm, "tail_area_m2": args.tail_area,
+                         "tail_lift_slope_per_rad": args.tail_lift_slope,
+                         "downwash_gradient": float(args.downwash_gradient), "tail_lag": bool(args.tail_lag)}
     else:
-        n_load, X, a_wing, trim_alpha = _strip_history(args, module, setup.geometry, t, bp, chord, axis_frac, flight)
+        resp = strip_gust_response(t, bp, chord, axis_frac, flight, area=wing_area, semi_span=pf.semi_span,
+                                   fuselage_half_width=pf.root_rib * pf.semi_span)
+    n_load, X, a_wing, trim_alpha = resp.load_factor, resp.states, resp.wing_lift_slope, resp.trim_alpha
     area = pf.area_ft2 * FT ** 2
     wing_loading = weight / area
     span = 2 * pf.semi_span
@@ -257,24 +276,6 @@ def _check_outputs(args, plot_name):
     return plot
 
 
-def _gust_profile(args, flight):
-    """1-cos gust velocity (m/s TAS, up) at the leading edge reached first, as a function of time."""
-    V, H, u_tas = flight["V"], flight["H"], flight["u_tas"]
-
-    def profile(tau):
-        d = V * (np.asarray(tau) - args.gust_start)
-        return np.where((d >= 0) & (d <= 2 * H), 0.5 * u_tas * (1 - np.cos(np.pi * d / H)), 0.0)
-
-    return profile
-
-
-def _wing_slope(section_slope, chord, r0, area):
-    """Wing lift slope of strips of slope ``section_slope`` (per rad): 2 int c a dy / S (trapezoid)."""
-    a = np.asarray(section_slope) * np.asarray(chord)
-    ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
-    return float(2 * np.sum(0.5 * (a[1:] + a[:-1]) * ds) / area)
-
-
 def _check_pitch_args(args):
     """--pitch free needs --aero coupled, free plunge and the aircraft's pitch data (no PEGASUS defaults:
     its tail and pitch inertia are not published with the case, docs/aeroelasticity.md)."""
@@ -292,78 +293,7 @@ def _check_pitch_args(args):
                          + " (the case has no published tail or pitch inertia)")
     for name in ("pitch_inertia", "cg_x", "cg_z", "tail_arm", "tail_area", "tail_lift_slope"):
         if not np.isfinite(getattr(args, name)):
-            raise ValueError(f"--{name.replace('_', '-')} must be finite, got {getattr(args, name)}")
-
-
-def _coupled_history(args, t, bp, chord, axis_frac, ap, flight, body_mass, pitch_out=None):
-    """--aero coupled: march the aeroelastic beam from the trimmed 1 g state; (n(t), beam states
-    (n_time, n, 18), wing lift slope of the strips with Prandtl-Glauert, trim angle). With --pitch
-    free the load factor is (wing + tail lift) / W and ``pitch_out`` gets the pitch histories."""
-    from wingmdao.aero import cached_aeroelastic_system, station_gust_history
-    from wingmdao.cases.planform import G0
-    from wingmdao.timemarch.bdf import march
-    from wingmdao.timemarch.system import layout, pack
-
-    n = chord.size
-    pitch = bool(getattr(args, "pitch", False))
-    system = cached_aeroelastic_system(n, plunge=args.plunge, trim=True, pitch=pitch,
-                                       tail_lag=pitch and args.tail_lag)
-    params = {**bp, **ap, "trim_lift": flight["weight"]}
-    if args.plunge:
-        params["body_mass"] = body_mass
-    if pitch:
-        params.update(args.pitch_params)
-    p = pack(system.param_specs, params)
-    r0 = bp["node_positions"]
-    x_le = r0[:, 0] - axis_frac * chord  # penetration from the most forward leading edge
-    ql = layout(system.forcing_specs)
-    Q = np.zeros((t.size, system.n_forcing))
-    Q[:, ql["gust_velocity"]] = station_gust_history(t, x_le, flight["V"], _gust_profile(args, flight))
-    Q[:, ql["gravity"].start + 2] = -G0
-    Q[0, ql["trim_active"]] = 1.0
-    if pitch:  # the gust reaches the tail's aerodynamic centre x_t / V after the most forward leading edge
-        x_t = params["tail_x"]
-        Q[:, ql["tail_gust_velocity"].start] = _gust_profile(args, flight)(t - (x_t - x_le.min()) / flight["V"])
-    hist = march(system, t, p, Q, modified_newton=True)
-    X = system.layout.beam_states(hist.states)
-    lift = system.total_lift_history(hist.states, args.dt, p, Q)
-    if pitch:
-        tail = system.tail_lift_history(hist.states, args.dt, p, Q)
-        lift = lift + tail
-        bi = system.body_index
-        pitch_out.update({
-            "pitch_angle_rad": hist.states[:, bi["pitch_angle"]].tolist(),
-            "pitch_rate_rad_s": hist.states[:, bi["pitch_rate"]].tolist(),
-            "tail_lift_n": tail.tolist(), "tail_incidence_rad": float(hist.states[0, bi["tail_incidence"]]),
-            "pitch_inertia_kg_m2": args.pitch_inertia, "cg_m": [args.cg_x, args.cg_z], "tail_arm_m": args.tail_arm,
-            "tail_area_m2": args.tail_area, "tail_lift_slope_per_rad": args.tail_lift_slope,
-            "downwash_gradient": float(args.downwash_gradient), "tail_lag": bool(args.tail_lag)})
-    n_load = lift / flight["weight"]
-    a_wing = _wing_slope(ap["lift_slope"] / np.sqrt(1 - flight["mach"] ** 2), chord, r0, _area(args))
-    return n_load, X, a_wing, float(hist.states[0, system.trim_index])
-
-
-def _strip_history(args, module, geometry, t, bp, chord, axis_frac, flight):
-    """--aero strip: the sizing's precomputed loads (rigid-wing quasi-steady strip theory, 2 pi, on the
-    Schrenk 1 g loads; wingmdao.loads.gust.gust_line_loads as ``wingmdao size CASE --aero strip``) on
-    the structural beam, root clamped; (n(t) = applied lift / W, beam states, wing lift slope, None)."""
-    from wingmdao.beam.static import march_line_loads
-    from wingmdao.cases.planform import G0
-    from wingmdao.loads.gust import gust_line_loads
-    from wingmdao.loads.maneuver import maneuver_line_loads
-
-    pf, n, r0 = module.PLANFORM, chord.size, bp["node_positions"]
-    fus = pf.root_rib * pf.semi_span
-    steady = maneuver_line_loads(r0, chord, axis_frac, flight["weight"], 1.0, semi_span=pf.semi_span,
-                                 fuselage_half_width=fus)
-    loads = gust_line_loads(r0, chord, axis_frac, t, gust_gradient_m=flight["H"], u_ds_eas=flight["u_eas"],
-                            airspeed_tas=flight["V"], altitude_m=flight["alt"], gust_start_time=args.gust_start,
-                            steady=steady, fuselage_half_width=fus)
-    hist = march_line_loads(bp, t, loads.force_per_length, loads.moment_per_length, (0.0, 0.0, -G0))
-    fz = loads.force_per_length[:, :, 2]
-    ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
-    n_load = 2 * np.sum(0.5 * (fz[:, 1:] + fz[:, :-1]) * ds, axis=1) / flight["weight"]
-    return n_load, hist.states.reshape(t.size, n, 18), _wing_slope(2 * np.pi, chord, r0, _area(args)), None
+            raise ValueError(f"--{name.replace('_', '-')} = {getattr(args, name)}; allowed a finite value")
 
 
 def _area(args):

@@ -25,7 +25,7 @@ def add_panel_arguments(p):
     shared with ``wingmdao verify panel``."""
     from wingmdao.panels.stiffened import DEFAULT_FLANGE_RATIO, STIFFENERS
 
-    p.add_argument("--material", required=True,
+    p.add_argument("--material", required=True, metavar="NAME",
                    help="built-in metal (aluminium, al2024-t3, al7075-t6, ti-6al-4v, steel-4130) or ply material "
                         "(stw-cfrp, needs --ply-fractions)")
     p.add_argument("--ply-fractions", type=float, nargs="+", default=None, metavar="F",
@@ -37,10 +37,10 @@ def add_panel_arguments(p):
                    help="instead of --t-skin: a spar web of this thickness (m); --width is then the web height")
     # the spelling --skin-thickness is accepted too (hidden: docs/cli.md, one spelling per concept)
     p.add_argument("--skin-thickness", dest="t_skin", type=float, default=argparse.SUPPRESS, help=argparse.SUPPRESS)
-    p.add_argument("--width", type=float, required=True, metavar="B",
+    p.add_argument("--width", type=float, required=True, metavar="M",
                    help="skin width b between stiffeners, or between spars (web height of a spar) when there "
                         "are no stiffeners (m)")
-    p.add_argument("--length", type=float, required=True, metavar="A", help="panel length a = rib pitch (m)")
+    p.add_argument("--length", type=float, required=True, metavar="M", help="panel length a = rib pitch (m)")
     p.add_argument("--stiffener-height", type=float, default=None, metavar="H",
                    help="stiffener web height h (m); with --stiffener-thickness (default unset: no stiffeners)")
     p.add_argument("--stiffener-thickness", type=float, default=None, metavar="TS",

@@ -20,7 +20,7 @@ def register(subparsers):
     p.add_argument("recording", metavar="FILE.sql", nargs="+", help="SQLite recording(s) of sizing runs")
 
     p.add_argument("--out", metavar="DIR", default=None,
-                   help="folder for the PNG plots (unset (%(default)s): FILE_plots next to the first recording)")
+                   help="folder for the PNG plots (default unset: FILE_plots next to the first recording)")
     add_deprecated_alias(p, "--plots", "--out", dest="out", metavar="DIR")
     p.add_argument("--overwrite", action="store_true",
                    help="replace plots an earlier report (or run) left in the --out folder instead of refusing")

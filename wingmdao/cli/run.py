@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from wingmdao.cases.wing_box.geometry import GEOMETRIES, T_SKIN, T_SPAR
-from wingmdao.cli._args import add_json_argument
+from wingmdao.cli._args import add_gravity_argument, add_json_argument
 
 
 #: --load-steps and --elements (sum of the three segments) upper bounds
@@ -53,7 +53,7 @@ def register(subparsers):
         "--check-totals also check_totals_max_rel_error. Dynamic runs: the load is applied suddenly at "
         "t > 0 to the beam at rest in its unloaded shape; values without _history are at the last instant.")
     add_wing_box_arguments(wb)
-    wb.add_argument("--gravity", action="store_true", help="add self weight (g = 9.81 m/s^2 along -z)")
+    add_gravity_argument(wb, help="add self weight under gravity G along -z (m/s^2; default unset: no self weight)")
     wb.add_argument("--dynamic", action="store_true",
                     help="BDF2 time march: tip load applied suddenly at t > 0 to the beam at rest")
     wb.add_argument("--t-final", type=float, default=1.0, metavar="S", help="dynamic: simulated time (s)")
@@ -90,6 +90,8 @@ def _check_args(args):
         if not (np.isfinite(v) and 0 < v < high):
             raise ValueError(f"--{name.replace('_', '-')} = {v} m; allowed range (0, {high:g}) m "
                              f"(two walls must fit in the {args.geometry} box)")
+    if args.gravity is not None and not (np.isfinite(args.gravity) and args.gravity >= 0):
+        raise ValueError(f"--gravity = {args.gravity} m/s^2; allowed range [0, inf) m/s^2")
     for name in ("tip_load", "tip_moment"):
         if not np.all(np.isfinite(getattr(args, name))):
             raise ValueError(f"--{name.replace('_', '-')} must be finite")
@@ -106,7 +108,7 @@ def _check_args(args):
                          "memory model)")
     if getattr(args, "model", "beam") == "solid":
         bad = [flag for flag, on in (("--dynamic", args.dynamic), ("--check-totals", args.check_totals),
-                                      ("--gravity", args.gravity)) if on]
+                                      ("--gravity", args.gravity is not None)) if on]
         if bad:
             raise ValueError(f"--model solid is a static tip-load analysis; it does not take {', '.join(bad)}")
         for name, low, high in (("mesh_size", 0.02, 1.0), ("span_size", 0.05, 3.0)):
@@ -150,7 +152,8 @@ def wing_box_result(args) -> dict:
     res["geometry"] = args.geometry
     res["model"] = "beam"
     res["inputs"] = {"t_spar": args.t_spar, "t_skin": args.t_skin, "tip_load": list(args.tip_load),
-                     "tip_moment": list(args.tip_moment), "gravity": bool(args.gravity),
+                     "tip_moment": list(args.tip_moment), "gravity": args.gravity is not None,
+                     "gravity_m_s2": 0.0 if args.gravity is None else float(args.gravity),
                      "dynamic": bool(args.dynamic), "elements": list(args.elements),
                      "units": "SI (m, N, N*m, rad, Pa, s); body axes x aft, y outboard, z up"}
     prob.cleanup()

@@ -29,7 +29,7 @@ def register(subparsers):
                        help=f"{what} thickness (m), when it differs from the other "
                             f"{'skin' if 'skin' in what else 'web'}; a box needs all four walls")
     p.add_argument("--solid", action="store_true", help="solid rectangle (only --width and --height)")
-    p.add_argument("--material", default="aluminium",
+    p.add_argument("--material", default="aluminium", metavar="NAME",
                    help="built-in material name (default: aluminium, E = 70 GPa, rho = 2700 kg/m^3, "
                    "sigma_y = 276 MPa); see wingmdao.materials.MATERIALS")
     p.add_argument("--nonstructural-mass", type=float, default=0.0, metavar="KG_PER_M",
@@ -88,7 +88,10 @@ def section_properties(args) -> dict:
         if missing:
             raise ValueError(f"a box section needs {', '.join(missing)} (m) (--t-skin sets both skins, "
                              "--t-spar both spar webs), or use --solid")
-        validate_box(args.width, args.height, *given.values())
+        labels = {"width": "--width", "height": "--height"}  # the flags the user gave, not the library's names
+        labels.update({name: f"--{(opt if getattr(args, opt) is not None else _FAMILY[opt]).replace('_', '-')}"
+                       for opt, name, _ in _THICKNESS_OPTIONS})
+        validate_box(args.width, args.height, *given.values(), labels=labels)
         props = box_properties(args.width, args.height, *given.values(), material,
                                nonstructural_mass_per_length=args.nonstructural_mass)
         inputs = {"width": args.width, "height": args.height, **given}

@@ -25,7 +25,7 @@ def _add_common(p, *, sizing: bool):
                        help="optimizer (SNOPT needs pyoptsparse; IPOPT runs through pyoptsparse, else "
                             "through cyipopt: pip install wingmdao[ipopt]; SLSQP runs through SciPy "
                             "when pyoptsparse does not import)")
-        p.add_argument("--maxiter", type=int, default=None, help="maximum optimizer iterations (default unset: the case's choice)")
+        p.add_argument("--maxiter", type=int, default=None, metavar="N", help="maximum optimizer iterations (default unset: the case's choice)")
         p.add_argument("--presize", type=int, default=None, metavar="N",
                        help="fully stressed design passes before the optimizer (box sections; 0 = off; "
                             "default unset: the case's choice, 4 for pegasus and crm)")
@@ -172,11 +172,11 @@ def run_size(args) -> int:
     except KeyboardInterrupt:
         interrupted = True
         prob.cleanup()  # closes (and commits) the recording
-        result = _interrupted_result(prob, setup, desc, recording)
+        result = sizing.partial_result(prob, setup, desc, recording)
     except om.AnalysisError as exc:  # the beam failed (e.g. a load no design can carry): keep what we have
         failed = True
         prob.cleanup()
-        result = _interrupted_result(prob, setup, desc, recording, interrupted=False)
+        result = sizing.partial_result(prob, setup, desc, recording, interrupted=False)
         result["message"] = f"the analysis failed: {' '.join(str(exc).split())}"
         for key in ("ks", "max_ks", "active_constraints"):  # from the unconverged solve: meaningless
             result.pop(key, None)
@@ -194,7 +194,7 @@ def run_size(args) -> int:
         result["interrupted"] = True
         result["message"] = (f"{result.get('message', '')}; interrupted while writing the outputs "
                              "(plots, envelope, flutter search): the design is the optimizer's result").lstrip("; ")
-        best = _interrupted_result(prob, setup, desc, recording).get("best_design")
+        best = sizing.partial_result(prob, setup, desc, recording).get("best_design")
         if best is not None:
             result["best_design"] = best
         if args.json:
@@ -211,8 +211,10 @@ def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupt
 
     import openmdao.api as om
 
+    from wingmdao import sizing
+
     if comm is None and not (interrupted or failed) and hasattr(args.case_module, "TOGW_LB"):
-        result["load_case_response"] = _case_responses(prob, setup, args.case_module.TOGW_LB)
+        result["load_case_response"] = sizing.case_responses(prob, setup, args.case_module.TOGW_LB)
     plots_on = not args.no_plots and root and not (interrupted or failed)
     if plots_on:
         if importlib.util.find_spec("matplotlib") is None:
@@ -278,6 +280,9 @@ def _add_flutter_result(result, args, setup, prob) -> None:
         result["flutter_constraint_speeds_m_s"] = [float(v) for v in setup.flutter["speeds"]]
     if args.no_flutter_search:
         return
+    from wingmdao.sizing import release_derivative_storage
+
+    release_derivative_storage(prob)  # the adjoint's blocks are not needed again: the search does not stack on them
     t0 = time.perf_counter()
     design = dict(result["thickness"])
     if setup.panels is not None:   # the stiffened design: its stiffeners are in the sections too
@@ -296,44 +301,6 @@ def _add_flutter_result(result, args, setup, prob) -> None:
     say(f"  flutter of the result: {'none' if vf is None else f'{vf:.1f} m/s'} below "
         f"{found['sweep_max_speed']:.0f} m/s (V_D = {found['dive_speed']:.1f} m/s), "
         f"{result['flutter_search_s']:.1f} s")
-
-
-def _case_responses(prob, setup, togw_lb) -> dict:
-    """Per load case of the final design: peak load factor (lift of both halves / TOGW weight) and
-    peak root bending moment (N m), :func:`wingmdao.aero.coupled.load_case_response`."""
-    from wingmdao.aero.coupled import load_case_response
-    from wingmdao.cases.planform import G0, LB
-
-    out = {}
-    for case in setup.load_cases:
-        r = load_case_response(prob, case, setup.geometry.num_nodes, togw_lb * LB * G0)
-        out[case.name] = {"peak_load_factor": r["peak_load_factor"],
-                          "peak_root_bending_moment_n_m": r["peak_root_bending_moment"]}
-    return out
-
-
-def _interrupted_result(prob, setup, desc, recording, interrupted=True) -> dict:
-    """Partial result after Ctrl-C (or a failed analysis): the design at the last evaluation and the best feasible
-    recorded iteration (lowest objective with every KS constraint <= 0)."""
-    from wingmdao import sizing
-
-    try:
-        result = sizing.summarize(prob, setup.load_cases, desc, success=False, section=setup.section,
-                                  panels=setup.panels, geometry=setup.geometry, material=setup.material)
-    except Exception as exc:  # the interrupt may have come before the first evaluation finished
-        result = {"success": False, "message": f"no evaluated design ({exc})"}
-    result.update(success=False, interrupted=interrupted)
-    if recording and os.path.exists(recording):
-        from wingmdao.report import best_design, read_history
-
-        try:
-            hist = read_history(recording)
-        except ValueError:
-            return result
-        best = best_design(hist)
-        if best is not None:
-            result["best_design"] = best
-    return result
 
 
 def _print_summary(res):

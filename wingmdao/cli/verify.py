@@ -14,11 +14,13 @@ magnitude per station, m), ``difference_percent``, and with ``--modes N``
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
 from wingmdao.cli._verify_fe import _design_walls, _material, add_fe_arguments, build_fe_model  # noqa: F401
 from wingmdao.cli._verify_fe import check_fe_args, percent_difference, von_mises_table  # noqa: F401
-from wingmdao.cli._io import check_output_file
+from wingmdao.cli._io import check_output_dir, check_output_file
 
 
 def register(subparsers):
@@ -86,7 +88,7 @@ def _tip_loads(args):
 def _check_verify_args(args, span):
     from wingmdao.cli.run import _check_args
 
-    for name, val in (("dynamic", False), ("check_totals", False), ("gravity", False), ("elements", (6, 8, 6)),
+    for name, val in (("dynamic", False), ("check_totals", False), ("gravity", None), ("elements", (6, 8, 6)),
                       ("model", "beam"), ("load_steps", 1), ("nlgeom", False), ("loads", "tip"),
                       ("through_elements", 2), ("fidelity", "shell")):
         setattr(args, name, getattr(args, name, val))
@@ -220,8 +222,12 @@ def run_verify(args) -> int:
     from wingmdao.cli._verify_pegasus import verify_pegasus
 
     overwrite = getattr(args, "overwrite", False)
-    check_output_file(args.json, "--json", overwrite=overwrite, others={"--plot": args.plot})
-    check_output_file(args.plot, "--plot", overwrite=overwrite)
+    if getattr(args, "out", None) is not None and args.plot is None:
+        check_output_dir(args.out, "--out")
+        name = "verify_pegasus_buckling.png" if getattr(args, "buckling", False) else f"verify_{args.case.replace('-', '_')}.png"
+        args.plot = os.path.join(args.out, name)
+    check_output_file(args.json, "--json", overwrite=overwrite, others={"plot": args.plot})
+    check_output_file(args.plot, "--out" if getattr(args, "out", None) else "--plot", overwrite=overwrite)
     try:
         res = verify_pegasus(args) if args.case == "pegasus" else verify_wing_box(args)
         if args.case == "pegasus" and args.plot and res.get("analysis") == "buckling":

@@ -390,26 +390,32 @@ def beam_params_from_rows(rows, node_positions, node_euler_angles) -> dict:
 
 
 # --------------------------------------------------------------------------- validation
-def _station_error(name, values, bad, low, high, source):
+def _station_error(name, values, bad, low, high, source, where=None):
     i = int(bad[0])
-    return ValueError(f"{source}{name} = {float(values[i]):.6g} m at station {i}; allowed range "
+    at = f" at station {i}" if where is None else where
+    return ValueError(f"{source}{name} = {float(values[i]):.6g} m{at}; allowed range "
                       f"({low[i] if np.ndim(low) else low:.6g}, {high[i] if np.ndim(high) else high:.6g}) m")
 
 
-def validate_box(width, height, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, source="") -> None:
+def validate_box(width, height, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, source="",
+                 labels=None) -> None:
     """Raise ``ValueError`` naming the input, the station and the allowed range (m).
 
     All dimensions must be positive and finite; t_upper + t_lower < height (a web remains);
-    t_front + t_rear < width.
+    t_front + t_rear < width. ``labels`` maps an input name (``width``, ``t_upper_skin``, ...) to
+    the name the user gave it (a command-line flag such as ``--t-skin``); two walls with the same
+    label (one flag for both skins) are checked as 2 t < height. The allowed range is never empty:
+    when the other wall alone is too thick, the message names the sum instead.
     """
+    label = (lambda k: (labels or {}).get(k, k))
     vals = {name: np.atleast_1d(np.asarray(v, dtype=float)) for name, v in
             zip(("width", "height") + WALL_NAMES, (width, height, t_upper_skin, t_lower_skin, t_front_spar,
                                                    t_rear_spar))}
+    n = max(v.size for v in vals.values())
     for name, v in vals.items():
         bad = np.flatnonzero(~(np.isfinite(v) & (v > 0.0)))
         if bad.size:
-            raise _station_error(name, v, bad, 0.0, np.inf, source)
-    n = max(v.size for v in vals.values())
+            raise _station_error(label(name), v, bad, 0.0, np.inf, source, None if n > 1 else "")
     vals = {k: np.broadcast_to(v, (n,)) for k, v in vals.items()}
     for pair, total in ((("t_upper_skin", "t_lower_skin"), "height"), (("t_front_spar", "t_rear_spar"), "width")):
         a, b = pair
@@ -418,5 +424,16 @@ def validate_box(width, height, t_upper_skin, t_lower_skin, t_front_spar, t_rear
             bad = np.flatnonzero(vals[this] >= high)
             if bad.size:
                 i = int(bad[0])
-                raise ValueError(f"{source}{this} = {vals[this][i]:.6g} m at station {i}: {a} + {b} must be less "
-                                 f"than {total} = {vals[total][i]:.6g} m; allowed range (0, {high[i]:.6g}) m")
+                at = f" at station {i}" if n > 1 else ""
+                walls = "skins" if "skin" in a else "spar webs"
+                if label(a) == label(b):
+                    raise ValueError(f"{source}{label(this)} = {vals[this][i]:.6g} m{at}: the two {walls} must be "
+                                     f"thinner together than {label(total)} = {vals[total][i]:.6g} m; allowed range "
+                                     f"(0, {vals[total][i] / 2:.6g}) m")
+                if high[i] <= 0.0:  # the other wall alone fills the box: no range for this one
+                    raise ValueError(f"{source}{label(a)} + {label(b)} = {vals[a][i]:.6g} + {vals[b][i]:.6g} m{at}; "
+                                     f"the two {walls} must be thinner together than {label(total)} = "
+                                     f"{vals[total][i]:.6g} m")
+                raise ValueError(f"{source}{label(this)} = {vals[this][i]:.6g} m{at}: {label(a)} + {label(b)} must be "
+                                 f"less than {label(total)} = {vals[total][i]:.6g} m; allowed range "
+                                 f"(0, {high[i]:.6g}) m")

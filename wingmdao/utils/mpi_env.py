@@ -16,3 +16,22 @@ def launched_ranks() -> int:
         except (KeyError, ValueError):
             continue
     return 1
+
+
+#: Environment variables in which OpenMPI, MPICH/Hydra and PMIx launchers give this process's rank.
+RANK_VARS = ("OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK")
+
+
+def launched_rank() -> int:
+    """This process's rank as the MPI launcher reports it in the environment (0 when not under mpirun)."""
+    for var in RANK_VARS:
+        try:
+            return max(0, int(os.environ[var]))
+        except (KeyError, ValueError):
+            continue
+    return 0
+
+
+def is_output_rank() -> bool:
+    """True in a serial run and on rank 0 under mpirun: the one process that prints and writes files."""
+    return launched_ranks() <= 1 or launched_rank() == 0

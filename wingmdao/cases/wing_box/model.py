@@ -60,8 +60,8 @@ def tip_load_case(name: str, num_nodes: int, tip_force, tip_moment, families, *,
     pf[:, -1] = np.outer(on, tip_force)
     pm[:, -1] = np.outer(on, tip_moment)
     forcing = {"point_force": pf, "point_moment": pm}
-    if gravity:
-        forcing["gravity"] = np.array([0.0, 0.0, -9.81])
+    if gravity is not None and gravity is not False:  # True: 9.81 m/s^2; a number: that gravity (m/s^2)
+        forcing["gravity"] = np.array([0.0, 0.0, -(9.81 if gravity is True else float(gravity))])
     kind = ("static" if t.size == 1 else f"ramped over {ramp_time:g} s, {t[-1]:g} s" if ramp_time > 0
             else f"suddenly applied, {t[-1]:g} s")
     return LoadCase(name, t, forcing, tuple(families), f"tip load {list(tip_force)} N, "

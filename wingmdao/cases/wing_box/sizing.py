@@ -62,10 +62,10 @@ def add_arguments(p):
     p.add_argument("--geometry", choices=list(GEOMETRIES), help="Table D.2 geometry")
     p.add_argument("--elements", type=int, nargs=3, metavar=("N1", "N2", "N3"),
                    help="beam elements per segment (design variables at every node; 1 1 1: CS1..CS4)")
-    p.add_argument("--t-final", type=float, help="study 3: simulated time [s]")
-    p.add_argument("--dt", type=float, help="study 3: time step [s]")
+    p.add_argument("--t-final", type=float, help="study 3: simulated time (s)")
+    p.add_argument("--dt", type=float, help="study 3: time step (s)")
     p.add_argument("--ramp-time", type=float,
-                   help="study 3: raise the loads linearly over this time [s]; 0 applies them suddenly at t > 0, "
+                   help="study 3: raise the loads linearly over this time (s); 0 applies them suddenly at t > 0, "
                         "which no design within the bounds of Eq. 4.57 survives with all constraints (docs/cases.md)")
     p.add_argument("--rho-ks", type=float, help="KS aggregation parameter")
     set_parser_defaults(p, WingBoxOptions)

@@ -1,0 +1,143 @@
+"""The 1 - cos gust response of a wing's beam, analysis only (``wingmdao gust``; docs/aeroelasticity.md).
+
+* :func:`coupled_gust_response` - the aeroelastic beam (unsteady strip theory on the deforming
+  wing, :func:`~wingmdao.aero.system.cached_aeroelastic_system`) marched from the trimmed 1 g state,
+  root clamped or free in plunge, optionally free in pitch with a horizontal tail;
+* :func:`strip_gust_response` - the sizing's precomputed rigid-wing strip-theory loads
+  (:func:`wingmdao.loads.gust.gust_line_loads` on the Schrenk 1 g spanload) on the clamped
+  structural beam.
+
+Both return a :class:`GustResponse`: the load factor history, the beam states and the strips' wing
+lift slope. The flight point is a :class:`GustFlight`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from wingmdao.aero.strip import station_gust_history
+from wingmdao.aero.system import cached_aeroelastic_system
+from wingmdao.beam.static import march_line_loads
+from wingmdao.loads.atmosphere import G0
+from wingmdao.loads.gust import gust_line_loads
+from wingmdao.loads.maneuver import maneuver_line_loads
+from wingmdao.timemarch.bdf import march
+from wingmdao.timemarch.system import layout, pack
+
+
+@dataclass(frozen=True)
+class GustFlight:
+    """Flight point and gust of a response (SI): true airspeed ``airspeed`` (m/s), ``density``
+    (kg/m^3), ``mach``, ``altitude`` (m), gust gradient ``gradient`` H (m), design gust velocity
+    ``u_ds_eas`` and ``u_ds_tas`` (m/s), aircraft ``weight`` (N), ``gust_start`` (s: the gust front
+    reaches the most forward leading edge)."""
+
+    airspeed: float
+    density: float
+    mach: float
+    altitude: float
+    gradient: float
+    u_ds_eas: float
+    u_ds_tas: float
+    weight: float
+    gust_start: float
+
+
+@dataclass
+class GustResponse:
+    """``load_factor`` (n_time,): lift of both half-wings (with free pitch, plus the tail's) over W;
+    ``states`` (n_time, n, 18): the beam states per node; ``wing_lift_slope`` (1/rad): 2 int c a dy / S
+    of the strips; ``trim_alpha`` (rad, None for strip loads); ``pitch``: the pitch histories with
+    free pitch (``pitch_angle_rad``, ``pitch_rate_rad_s``, ``tail_lift_n``, ``tail_incidence_rad``)."""
+
+    load_factor: np.ndarray
+    states: np.ndarray
+    wing_lift_slope: float
+    trim_alpha: float | None = None
+    pitch: dict = field(default_factory=dict)
+
+
+def gust_profile(flight: GustFlight):
+    """1 - cos gust velocity (m/s TAS, up) at the leading edge reached first, as a function of time."""
+    V, H, u_tas, start = flight.airspeed, flight.gradient, flight.u_ds_tas, flight.gust_start
+
+    def profile(tau):
+        d = V * (np.asarray(tau) - start)
+        return np.where((d >= 0) & (d <= 2 * H), 0.5 * u_tas * (1 - np.cos(np.pi * d / H)), 0.0)
+
+    return profile
+
+
+def wing_lift_slope(section_slope, chord, node_positions, area) -> float:
+    """Wing lift slope (1/rad) of strips of slope ``section_slope``: 2 int c a dy / S (trapezoid)."""
+    a = np.asarray(section_slope) * np.asarray(chord)
+    ds = np.linalg.norm(np.diff(node_positions, axis=0), axis=1)
+    return float(2 * np.sum(0.5 * (a[1:] + a[:-1]) * ds) / area)
+
+
+def coupled_gust_response(time, beam_params, chord, axis_frac, aero_params, flight: GustFlight, *, area,
+                          plunge=True, body_mass=None, pitch_params=None, tail_lag=False) -> GustResponse:
+    """March the aeroelastic beam through the gust from the trimmed 1 g state.
+
+    ``beam_params`` and ``aero_params`` are the beam and strip parameters per node
+    (:func:`wingmdao.sizing.design_beam_params`, :func:`wingmdao.aero.aero_parameters`), ``area`` the
+    wing reference area (m^2); ``plunge``: free in plunge (``body_mass``, kg, the aircraft less the
+    wings) or root clamped; ``pitch_params`` (:func:`wingmdao.aero.pitch.pitch_parameters`): also free
+    in pitch, the load factor then (wing + tail lift) / W. The gust reaches each strip after its
+    penetration delay from the most forward leading edge, and the tail's aerodynamic centre x_t / V
+    after it.
+    """
+    chord, axis_frac = np.asarray(chord, dtype=float), np.asarray(axis_frac, dtype=float)
+    pitch = pitch_params is not None
+    system = cached_aeroelastic_system(chord.size, plunge=plunge, trim=True, pitch=pitch, tail_lag=pitch and tail_lag)
+    params = {**beam_params, **aero_params, "trim_lift": flight.weight}
+    if plunge:
+        params["body_mass"] = body_mass
+    if pitch:
+        params.update(pitch_params)
+    p = pack(system.param_specs, params)
+    r0 = beam_params["node_positions"]
+    x_le = r0[:, 0] - axis_frac * chord
+    profile = gust_profile(flight)
+    ql = layout(system.forcing_specs)
+    Q = np.zeros((time.size, system.n_forcing))
+    Q[:, ql["gust_velocity"]] = station_gust_history(time, x_le, flight.airspeed, profile)
+    Q[:, ql["gravity"].start + 2] = -G0
+    Q[0, ql["trim_active"]] = 1.0
+    if pitch:
+        Q[:, ql["tail_gust_velocity"].start] = profile(time - (params["tail_x"] - x_le.min()) / flight.airspeed)
+    dt = float(time[1] - time[0])
+    hist = march(system, time, p, Q, modified_newton=True)
+    lift = system.total_lift_history(hist.states, dt, p, Q)
+    out = {}
+    if pitch:
+        tail = system.tail_lift_history(hist.states, dt, p, Q)
+        lift = lift + tail
+        bi = system.body_index
+        out = {"pitch_angle_rad": hist.states[:, bi["pitch_angle"]].tolist(),
+               "pitch_rate_rad_s": hist.states[:, bi["pitch_rate"]].tolist(),
+               "tail_lift_n": tail.tolist(), "tail_incidence_rad": float(hist.states[0, bi["tail_incidence"]])}
+    slope = wing_lift_slope(aero_params["lift_slope"] / np.sqrt(1 - flight.mach ** 2), chord, r0, area)
+    return GustResponse(lift / flight.weight, system.layout.beam_states(hist.states), slope,
+                        float(hist.states[0, system.trim_index]), out)
+
+
+def strip_gust_response(time, beam_params, chord, axis_frac, flight: GustFlight, *, area, semi_span,
+                        fuselage_half_width) -> GustResponse:
+    """The sizing's precomputed gust loads (rigid-wing quasi-steady strip theory, slope 2 pi, on the
+    Schrenk 1 g spanload; as ``wingmdao size CASE --aero strip``) on the structural beam, root
+    clamped; the load factor is the applied lift of both half-wings over W."""
+    r0, n = beam_params["node_positions"], np.asarray(chord).size
+    steady = maneuver_line_loads(r0, chord, axis_frac, flight.weight, 1.0, semi_span=semi_span,
+                                 fuselage_half_width=fuselage_half_width)
+    loads = gust_line_loads(r0, chord, axis_frac, time, gust_gradient_m=flight.gradient, u_ds_eas=flight.u_ds_eas,
+                            airspeed_tas=flight.airspeed, altitude_m=flight.altitude,
+                            gust_start_time=flight.gust_start, steady=steady,
+                            fuselage_half_width=fuselage_half_width)
+    hist = march_line_loads(beam_params, time, loads.force_per_length, loads.moment_per_length, (0.0, 0.0, -G0))
+    fz = loads.force_per_length[:, :, 2]
+    ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
+    n_load = 2 * np.sum(0.5 * (fz[:, 1:] + fz[:, :-1]) * ds, axis=1) / flight.weight
+    return GustResponse(n_load, hist.states.reshape(time.size, n, 18), wing_lift_slope(2 * np.pi, chord, r0, area))
