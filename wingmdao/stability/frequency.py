@@ -1,0 +1,361 @@
+"""Frequency response of a linearised residual system to a travelling vertical gust (docs/turbulence.md).
+
+About a static state x0 (the trimmed 1 g level flight of a coupled case), the residual
+R(x, xdot, p, q) = 0 linearises, with the gust velocities w (one per aerodynamic station, the
+forcing ``gust_velocity``) as input, to
+
+    E dx' + A dx + G w = 0,      A = dR/dx,  E = dR/dxdot,  G = dR/dw            (1)
+
+(A and E are the pencil of the flutter analysis, :func:`wingmdao.stability.eigen.linearize`; G the
+system's own forcing Jacobian ``jac_inputs``). A unit harmonic gust of angular frequency omega
+meets station i, at body x_i (its leading edge), (x_i - x_ref) / V after the most forward one,
+
+    w_i(t) = Re[ exp(i omega t) exp(-i omega (x_i - x_ref) / V) ],                     (2)
+
+so the steady harmonic state is Re[X(omega) exp(i omega t)] with
+
+    (i omega E + A) X = -G w(omega),   w_i(omega) = exp(-i omega (x_i - x_ref) / V)     (3)
+
+solved per frequency with a sparse complex LU (SuperLU). An output y = Cx dx + Cv dx' + D w
+(internal loads, load factor, tip deflection: :func:`aeroelastic_outputs`) has the transfer
+function H_y(omega) = (Cx + i omega Cv) X(omega) + D w(omega), in output units per m/s of gust.
+
+Stresses: the box stresses of :mod:`wingmdao.stress.box_stress` (corner axial stress, flange-centre
+shear) are linear in the section's internal loads for a given section, so their response is
+``S H_loads`` exactly, with S the stress-per-unit-load matrix of each station
+(:func:`stress_matrix`); the von Mises stress is not linear and has no transfer function.
+
+Frequency grid (:func:`frequency_grid`): geometric from ``f_min`` to ``f_max`` plus, about every
+lightly damped mode lambda = sigma + i omega_d of the pencil within the range, points spaced on
+the scale of its half-power bandwidth |sigma|, where |H|^2 peaks. Integrals over the grid
+(:func:`spectral_integral`) are trapezoidal, with the quadrature error estimated by Richardson
+extrapolation against the same rule on every other point, (I_h - I_2h) / 3, and the part beyond
+``f_max`` estimated from the power-law decay of the integrand over the last grid interval.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import casadi as ca
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from wingmdao.beam.residual import STATE_BLOCKS
+from wingmdao.beam.rotations import body_to_csn
+from wingmdao.stability import pencil_lu
+from wingmdao.stability.eigen import linearize
+from wingmdao.stress.box_stress import box_stresses
+from wingmdao.timemarch.system import layout
+
+#: names of the six internal loads of a station in its csn frame (c chordwise aft, s along the beam
+#: outboard, n normal up): forces F_c, F_s, F_n (N) and moments M_c, M_s, M_n (N m)
+LOAD_NAMES = ("chordwise_shear", "axial_force", "vertical_shear", "bending_moment", "torsion",
+              "chordwise_bending")
+#: output units of the transfer functions per m/s of gust
+LOAD_UNITS = ("N", "N", "N", "N m", "N m", "N m")
+#: the linear box stresses (Pa) per station: 4 corner axial stresses then 4 flange-centre shears
+STRESS_NAMES = ("sigma_corner", "tau_cent")
+
+
+def check_frequencies(omega, name="frequencies") -> np.ndarray:
+    """A validated 1-D grid of angular frequencies (rad/s): non-empty, finite, > 0, strictly increasing."""
+    w = np.asarray(omega, dtype=float).ravel()
+    if w.size == 0:
+        raise ValueError(f"{name}: the frequency grid is empty; give at least 3 frequencies > 0 rad/s")
+    bad = ~np.isfinite(w) | (w <= 0.0)
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(f"{name}[{i}] = {w[i]} rad/s; allowed range (0, inf) rad/s (finite)")
+    if np.any(np.diff(w) <= 0.0):
+        i = int(np.flatnonzero(np.diff(w) <= 0.0)[0])
+        raise ValueError(f"{name} must increase strictly; {name}[{i}] = {w[i]}, {name}[{i + 1}] = {w[i + 1]} rad/s")
+    return w
+
+
+@dataclass
+class OutputMap:
+    """A linear output ``y = y0 + Cx dx + Cv dx' + D w`` (k outputs): ``y0`` its value at the
+    linearisation state, ``Cx``/``Cv`` (k, n_state) and ``D`` (k, n_station) sparse."""
+
+    y0: np.ndarray
+    Cx: sp.csr_matrix
+    Cv: sp.csr_matrix
+    D: sp.csr_matrix
+    units: str = ""
+
+
+@dataclass
+class LinearGustModel:
+    """The linearisation (1) about ``x0``: ``A``, ``E`` (n, n), ``G`` (n, n_station) sparse, the
+    stations' penetration positions ``x_stations`` (m, body x), ``airspeed`` (m/s TAS) and the
+    linear outputs ``outputs`` {name: :class:`OutputMap`}."""
+
+    A: sp.csc_matrix
+    E: sp.csc_matrix
+    G: sp.csc_matrix
+    x_stations: np.ndarray
+    airspeed: float
+    x0: np.ndarray
+    outputs: dict = field(default_factory=dict)
+
+    def gust_vector(self, omega) -> np.ndarray:
+        """(n_freq, n_station) complex: exp(-i omega (x_i - x_ref) / V), x_ref the most forward station."""
+        w = np.atleast_1d(np.asarray(omega, dtype=float))
+        lag = (self.x_stations - np.min(self.x_stations)) / self.airspeed
+        return np.exp(-1j * w[:, None] * lag[None, :])
+
+
+def linear_gust_model(system, p, q, x0, *, x_stations, airspeed, outputs=None) -> LinearGustModel:
+    """Linearise ``system`` about the static state ``x0`` (forcing ``q``, whose ``trim_active``, if
+    any, must be 0: the trim angle held) with the forcing ``gust_velocity`` as input.
+
+    ``x_stations`` (n_station,) m: where each station meets the gust (body x of its leading edge);
+    ``airspeed`` m/s TAS; ``outputs`` {name: :class:`OutputMap`}. ValueError for bad input.
+    """
+    ql = layout(system.forcing_specs)
+    if "gust_velocity" not in ql:
+        raise ValueError(f"system {getattr(system, 'name', system)!r} has no gust_velocity forcing")
+    if "trim_active" in ql and float(np.ravel(q)[ql["trim_active"]][0]) != 0.0:
+        raise ValueError("q: trim_active must be 0 in the linearisation (the trim angle held: the 1 g state is "
+                         "solved with trim_active = 1, its response with 0)")
+    xs = np.asarray(x_stations, dtype=float).ravel()
+    gs = ql["gust_velocity"]
+    if xs.size != gs.stop - gs.start or not np.all(np.isfinite(xs)):
+        raise ValueError(f"x_stations: need {gs.stop - gs.start} finite positions (m), got {xs.size}")
+    if not (np.isfinite(airspeed) and airspeed > 0):
+        raise ValueError(f"airspeed = {airspeed} m/s; allowed range (0, inf) m/s")
+    x0 = np.asarray(x0, dtype=float).ravel()
+    A, E = linearize(system, p, q, x0)
+    _, dq = system.jac_inputs(x0, np.zeros_like(x0), np.asarray(p, float).ravel(), np.asarray(q, float).ravel())
+    G = sp.csc_matrix(dq)[:, gs]
+    return LinearGustModel(sp.csc_matrix(A), sp.csc_matrix(E), sp.csc_matrix(G), xs, float(airspeed), x0,
+                           dict(outputs or {}))
+
+
+@dataclass
+class FrequencyResponse:
+    """Transfer functions on a grid: ``omega`` (rad/s), ``states`` (n_freq, n_state) complex (None
+    unless kept) and ``outputs`` {name: (n_freq, k) complex, output units per m/s of gust}."""
+
+    omega: np.ndarray
+    outputs: dict
+    states: np.ndarray | None = None
+
+    @property
+    def frequency_hz(self) -> np.ndarray:
+        return self.omega / (2 * np.pi)
+
+
+def frequency_response(model: LinearGustModel, omega, *, keep_states=False) -> FrequencyResponse:
+    """Solve (3) at every ``omega`` (rad/s, > 0, increasing) and evaluate the outputs."""
+    w = check_frequencies(omega)
+    W = model.gust_vector(w)
+    n = model.A.shape[0]
+    X = np.empty((w.size, n), dtype=complex)
+    solve = _shifted_solver(model.A, model.E)
+    for k, om in enumerate(w):
+        X[k] = solve(1j * om, -(model.G @ W[k]))
+    out = {}
+    for name, m in model.outputs.items():
+        y = (m.Cx @ X.T).T + (1j * w[:, None]) * (m.Cv @ X.T).T + (m.D @ W.T).T
+        out[name] = np.asarray(y)
+    return FrequencyResponse(w, out, X if keep_states else None)
+
+
+def _shifted_solver(A, E):
+    """``solve(s, rhs)`` of ``(A + s E) x = rhs``: the static-pivot complex LU of
+    :mod:`wingmdao.stability.pencil_lu` (pattern analysis once, numeric factorization per shift in C,
+    every solve checked by its backward error), SuperLU (natural column order, partial pivoting)
+    for the first shift, without the compiled kernel and for any shift whose static pivots fail."""
+    A, E = sp.csc_matrix(A), sp.csc_matrix(E)
+    pen = pencil_lu.pencil(A, E)
+
+    def superlu(s, rhs):
+        lu = spla.splu(sp.csc_matrix(A + s * E, dtype=complex), permc_spec="NATURAL")
+        if pen is not None:
+            pen.repivot(lu.perm_r)
+        return lu.solve(np.asarray(rhs, dtype=complex))
+
+    def solve(s, rhs):
+        lu = pen.factor(s) if pen is not None else None
+        if lu is not None:
+            x, berr = pen.solve(lu, rhs)
+            if berr <= pencil_lu.BACKWARD_TOL:
+                return x
+        return superlu(s, rhs)
+
+    return solve
+
+
+# ------------------------------------------------------------------------------------------ grid
+def frequency_grid(eigenvalues=(), *, f_min=1e-3, f_max=20.0, n_base=161, n_mode=16, max_damping_ratio=0.5):
+    """Angular frequencies (rad/s) refined about the pencil's modes; an odd count (for halving).
+
+    Geometric from ``f_min`` to ``f_max`` (Hz) with ``n_base`` points, plus ``n_mode`` points per
+    mode lambda = sigma + i omega_d with f_min < omega_d / 2 pi < f_max, sigma < 0 and
+    -sigma / |lambda| < ``max_damping_ratio``, at omega_d + |sigma| tan(u), u uniform in
+    (-1.45, 1.45) (from 8 half-bandwidths below to 8 above, densest at the peak).
+    """
+    if not (np.isfinite(f_min) and np.isfinite(f_max) and 0 < f_min < f_max):
+        raise ValueError(f"frequency range f_min = {f_min} Hz, f_max = {f_max} Hz; need 0 < f_min < f_max (finite)")
+    if int(n_base) < 3:
+        raise ValueError(f"n_base = {n_base}; allowed range [3, inf)")
+    lo, hi = 2 * np.pi * f_min, 2 * np.pi * f_max
+    pts = [np.geomspace(lo, hi, int(n_base))]
+    for lam in np.atleast_1d(np.asarray(eigenvalues, dtype=complex)):
+        wd, s = abs(lam.imag), lam.real
+        if lo < wd < hi and s < 0 and -s / abs(lam) < max_damping_ratio and n_mode > 0:
+            u = np.linspace(-1.45, 1.45, int(n_mode))
+            pts.append(wd + abs(s) * np.tan(u))
+    w = np.concatenate(pts)
+    w = np.unique(w[(w >= lo) & (w <= hi)])
+    keep = np.concatenate([[True], np.diff(w) > 1e-9 * w[1:]])
+    w = w[keep]
+    if w.size % 2 == 0:  # an odd count: the halved grid keeps both ends
+        w = np.insert(w, w.size - 1, 0.5 * (w[-2] + w[-1]))
+    return w
+
+
+@dataclass
+class SpectralIntegral:
+    """``value`` = int_0^inf f(omega) d omega; ``quadrature_error`` the Richardson estimate
+    |I_h - I_2h| / 3 of the trapezoid on the grid; ``tail`` the estimated part beyond the grid
+    (included in ``value``); ``head`` the part below it (f at the first point times omega_0)."""
+
+    value: np.ndarray
+    quadrature_error: np.ndarray
+    tail: np.ndarray
+    head: np.ndarray
+
+
+def spectral_integral(omega, integrand) -> SpectralIntegral:
+    """int_0^inf of ``integrand`` (n_freq, ...) sampled on ``omega`` (rad/s, odd count >= 3)."""
+    w = check_frequencies(omega)
+    f = np.asarray(integrand)
+    if f.shape[0] != w.size:
+        raise ValueError(f"integrand: first axis {f.shape[0]} != {w.size} frequencies")
+    if w.size < 3 or w.size % 2 == 0:
+        raise ValueError(f"omega: need an odd number >= 3 of frequencies (the error estimate halves the grid), "
+                         f"got {w.size}")
+    fine = np.trapezoid(f, w, axis=0)
+    coarse = np.trapezoid(f[::2], w[::2], axis=0)
+    head = f[0] * w[0]
+    # tail: |f| ~ c omega^-k over the last interval, int_w1^inf = f1 w1 / (k - 1) (k > 1); a slower
+    # decay has no finite tail: f1 w1 is then kept as the (unreliable) estimate
+    f0, f1 = np.abs(f[-2]), np.abs(f[-1])
+    ratio = np.where((f0 > 0) & (f1 > 0), f0 / np.where(f1 > 0, f1, 1.0), 1.0)
+    k = np.log(ratio) / np.log(w[-1] / w[-2])
+    tail = np.where(k > 1.05, f[-1] * w[-1] / np.maximum(k - 1.0, 0.05), f[-1] * w[-1])
+    return SpectralIntegral(fine + head + tail, np.abs(fine - coarse) / 3.0, tail, head)
+
+
+# ------------------------------------------------------------------------------- outputs of the beam
+_OUTPUT_FUNCTIONS: dict = {}
+
+
+def _output_functions(system, sequence):
+    """CasADi (x, xdot, p, q) -> (csn loads (6 n), their Jacobians in x; section lift (n) and its
+    Jacobians in x, xdot, q) of an aeroelastic beam system, built once per system."""
+    key = (id(system), sequence)
+    if key in _OUTPUT_FUNCTIONS and _OUTPUT_FUNCTIONS[key][0] is system:
+        return _OUTPUT_FUNCTIONS[key][1]
+    n, N = system.num_nodes, system.n_state
+    beam = system.layout.beam
+    st = STATE_BLOCKS
+    x = ca.MX.sym("x", N)
+    xd = ca.MX.sym("xdot", N)
+    p = ca.MX.sym("p", system.n_param)
+    q = ca.MX.sym("q", system.n_forcing)
+    node = ca.SX.sym("node", 9)  # theta, F, M of one node (body)
+    T = body_to_csn(node[0:3], sequence)
+    csn = ca.Function("csn_loads", [node], [ca.vertcat(T @ node[3:6], T @ node[6:9])])
+    loads = []
+    for i in range(n):
+        idx = np.concatenate([beam[i, st["theta"]], beam[i, st["F"]], beam[i, st["M"]]])
+        loads.append(csn(ca.vertcat(*[x[int(j)] for j in idx])))
+    loads = ca.vertcat(*loads)
+    lift, _ = system._loads(x, xd, p, q)
+    fun = ca.Function("turbulence_outputs", [x, xd, p, q],
+                      [loads, ca.jacobian(loads, x), lift, ca.jacobian(lift, x), ca.jacobian(lift, xd),
+                       ca.jacobian(lift, q)])
+    _OUTPUT_FUNCTIONS[key] = (system, fun)
+    return fun
+
+
+def aeroelastic_outputs(system, p, q, x0, *, weight, sequence="surface") -> dict:
+    """The outputs of an :class:`~wingmdao.aero.system.AeroelasticBeamSystem` about ``x0``:
+
+    * ``loads`` (6 n): the internal loads of every station in its csn frame, node-major in the
+      order of :data:`LOAD_NAMES` (the exact linearisation of T(theta) F and T(theta) M, the frame's
+      rotation included);
+    * ``root_bending_moment`` (1): M_x at the root node, body axes (N m; the key of ``wingmdao gust``);
+    * ``load_factor`` (1): the lift of both half-wings (trapezoid of the section lift over the
+      undeformed beam) over ``weight`` (N); the apparent-mass lift enters through Cv;
+    * ``tip_deflection`` (1): z of the tip node (m).
+    """
+    if getattr(system, "pitch", False):
+        raise ValueError("aeroelastic_outputs: a free-pitch system (pitch=True) is not supported (its load factor "
+                         "includes the tail lift); use plunge free or clamped")
+    if not (np.isfinite(weight) and weight > 0):
+        raise ValueError(f"weight = {weight} N; allowed range (0, inf) N")
+    fun = _output_functions(system, sequence)
+    x0 = np.asarray(x0, float).ravel()
+    p, q = np.asarray(p, float).ravel(), np.asarray(q, float).ravel()
+    loads, dloads, lift, dlx, dlv, dlq = fun(x0, np.zeros_like(x0), p, q)
+    n, N = system.num_nodes, system.n_state
+    ns = layout(system.forcing_specs)["gust_velocity"]
+    r0 = system.split_parameters(p)["node_positions"]
+    ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
+    wts = np.zeros(n)
+    wts[:-1] += 0.5 * ds
+    wts[1:] += 0.5 * ds
+    wts = 2.0 * wts / float(weight)
+    beam = system.layout.beam
+    zero_w = sp.csr_matrix((1, ns.stop - ns.start))
+
+    def pick(index, value):
+        C = sp.csr_matrix(([1.0], ([0], [int(index)])), shape=(1, N))
+        return OutputMap(np.array([value]), C, sp.csr_matrix((1, N)), zero_w)
+
+    dlq = sp.csr_matrix(dlq)[:, ns]
+    lift = np.asarray(lift).ravel()
+    return {
+        "loads": OutputMap(np.asarray(loads).ravel(), sp.csr_matrix(dloads), sp.csr_matrix((6 * n, N)),
+                           sp.csr_matrix((6 * n, ns.stop - ns.start))),
+        "root_bending_moment": pick(beam[0, STATE_BLOCKS["M"].start], x0[beam[0, STATE_BLOCKS["M"].start]]),
+        "load_factor": OutputMap(np.array([wts @ lift]), sp.csr_matrix(wts @ sp.csr_matrix(dlx)),
+                                 sp.csr_matrix(wts @ sp.csr_matrix(dlv)), sp.csr_matrix(wts @ dlq)),
+        "tip_deflection": pick(beam[-1, 2], x0[beam[-1, 2]] - r0[-1, 2]),
+    }
+
+
+# ------------------------------------------------------------------------------------------ stress
+def stress_matrix(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, section_to_csn=None) -> np.ndarray:
+    """(8, 6) stresses (Pa) per unit csn load of one box section: rows the 4 corner axial stresses
+    then the 4 flange-centre shears of :func:`wingmdao.stress.box_stress.box_stresses`, columns the
+    loads of :data:`LOAD_NAMES`. Both are linear in the loads (Eq. 4.19, 4.22-4.25), so a column is
+    the stresses of a unit load (checked: a load of 2 gives twice the stresses)."""
+    def stresses(load):
+        s = box_stresses(load[:3], load[3:], w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar,
+                         section_to_csn)
+        return np.array([float(v) for v in s["sigma_corner"]] + [float(v) for v in s["tau_cent"]])
+
+    S = np.zeros((8, 6))
+    for j, unit in enumerate(np.eye(6)):
+        S[:, j] = stresses(unit)
+        if not np.allclose(stresses(2.0 * unit), 2.0 * S[:, j], rtol=1e-12, atol=1e-12 * np.max(np.abs(S[:, j]))):
+            raise RuntimeError("box_stresses: the corner and flange-centre stresses are not linear in the loads")
+    return S
+
+
+def stress_response(load_response, matrices) -> np.ndarray:
+    """Stress transfer functions (n_freq, n, 8) from the csn load transfer functions (n_freq, 6 n)
+    and the per-station :func:`stress_matrix` (n, 8, 6)."""
+    H = np.asarray(load_response)
+    S = np.asarray(matrices)
+    n = S.shape[0]
+    if H.shape[-1] != 6 * n:
+        raise ValueError(f"load_response: last axis {H.shape[-1]} != 6 x {n} stations")
+    return np.einsum("sij,fsj->fsi", S, H.reshape(H.shape[0], n, 6))
