@@ -107,31 +107,33 @@ class LinearGustModel:
         return np.exp(-1j * w[:, None] * lag[None, :])
 
 
-def linear_gust_model(system, p, q, x0, *, x_stations, airspeed, outputs=None) -> LinearGustModel:
+def linear_gust_model(system, p, q, x0, *, x_stations, airspeed, outputs=None, gust_input=None) -> LinearGustModel:
     """Linearise ``system`` about the static state ``x0`` (forcing ``q``, whose ``trim_active``, if
-    any, must be 0: the trim angle held) with the forcing ``gust_velocity`` as input.
+    any, must be 0: the trim angle held) with the gust velocities of the stations as input.
 
-    ``x_stations`` (n_station,) m: where each station meets the gust (body x of its leading edge);
-    ``airspeed`` m/s TAS; ``outputs`` {name: :class:`OutputMap`}. ValueError for bad input.
+    ``x_stations`` (n_station,) m: where each station meets the gust (body x); ``airspeed`` m/s TAS;
+    ``outputs`` {name: :class:`OutputMap`}; ``gust_input`` G = dR/dw (n_state, n_station), by
+    default the columns of the system's forcing ``gust_velocity`` in ``jac_inputs``. ValueError for
+    bad input.
     """
     ql = layout(system.forcing_specs)
-    if "gust_velocity" not in ql:
-        raise ValueError(f"system {getattr(system, 'name', system)!r} has no gust_velocity forcing")
+    if gust_input is None and "gust_velocity" not in ql:
+        raise ValueError(f"system {getattr(system, 'name', system)!r} has no gust_velocity forcing; pass gust_input")
     if "trim_active" in ql and float(np.ravel(q)[ql["trim_active"]][0]) != 0.0:
         raise ValueError("q: trim_active must be 0 in the linearisation (the trim angle held: the 1 g state is "
                          "solved with trim_active = 1, its response with 0)")
     xs = np.asarray(x_stations, dtype=float).ravel()
-    gs = ql["gust_velocity"]
-    if xs.size != gs.stop - gs.start or not np.all(np.isfinite(xs)):
-        raise ValueError(f"x_stations: need {gs.stop - gs.start} finite positions (m), got {xs.size}")
+    x0 = np.asarray(x0, dtype=float).ravel()
+    if gust_input is None:
+        _, dq = system.jac_inputs(x0, np.zeros_like(x0), np.asarray(p, float).ravel(), np.asarray(q, float).ravel())
+        gust_input = sp.csc_matrix(dq)[:, ql["gust_velocity"]]
+    G = sp.csc_matrix(gust_input)
+    if G.shape[0] != system.n_state or xs.size != G.shape[1] or not np.all(np.isfinite(xs)):
+        raise ValueError(f"x_stations: need {G.shape[1]} finite positions (m), got {xs.size}")
     if not (np.isfinite(airspeed) and airspeed > 0):
         raise ValueError(f"airspeed = {airspeed} m/s; allowed range (0, inf) m/s")
-    x0 = np.asarray(x0, dtype=float).ravel()
     A, E = linearize(system, p, q, x0)
-    _, dq = system.jac_inputs(x0, np.zeros_like(x0), np.asarray(p, float).ravel(), np.asarray(q, float).ravel())
-    G = sp.csc_matrix(dq)[:, gs]
-    return LinearGustModel(sp.csc_matrix(A), sp.csc_matrix(E), sp.csc_matrix(G), xs, float(airspeed), x0,
-                           dict(outputs or {}))
+    return LinearGustModel(sp.csc_matrix(A), sp.csc_matrix(E), G, xs, float(airspeed), x0, dict(outputs or {}))
 
 
 @dataclass
@@ -252,82 +254,111 @@ def spectral_integral(omega, integrand) -> SpectralIntegral:
 
 
 # ------------------------------------------------------------------------------- outputs of the beam
-_OUTPUT_FUNCTIONS: dict = {}
+_CSN_LOADS: dict = {}
 
 
-def _output_functions(system, sequence):
-    """CasADi (x, xdot, p, q) -> (csn loads (6 n), their Jacobians in x; section lift (n) and its
-    Jacobians in x, xdot, q) of an aeroelastic beam system, built once per system."""
-    key = (id(system), sequence)
-    if key in _OUTPUT_FUNCTIONS and _OUTPUT_FUNCTIONS[key][0] is system:
-        return _OUTPUT_FUNCTIONS[key][1]
-    n, N = system.num_nodes, system.n_state
-    beam = system.layout.beam
+def _csn_loads_function(sequence):
+    """CasADi (theta, F, M) of one node (body) -> (csn loads (6), their Jacobian (6, 9))."""
+    if sequence not in _CSN_LOADS:
+        node = ca.SX.sym("node", 9)
+        T = body_to_csn(node[0:3], sequence)
+        loads = ca.vertcat(T @ node[3:6], T @ node[6:9])
+        _CSN_LOADS[sequence] = ca.Function("csn_loads", [node], [loads, ca.jacobian(loads, node)])
+    return _CSN_LOADS[sequence]
+
+
+def _zero(rows, cols):
+    return sp.csr_matrix((rows, cols))
+
+
+def state_output(index, value, n_state, n_station) -> OutputMap:
+    """The output ``value + dx[index]`` (one state)."""
+    C = sp.csr_matrix(([1.0], ([0], [int(index)])), shape=(1, n_state))
+    return OutputMap(np.array([float(value)]), C, _zero(1, n_state), _zero(1, n_station))
+
+
+def internal_load_output(x0, beam_index, n_station, sequence="surface") -> OutputMap:
+    """The internal loads of every node in its csn frame, ``(n, 6)`` node-major in the order of
+    :data:`LOAD_NAMES`: T(theta) F and T(theta) M of the beam states (body axes), linearised
+    exactly (the rotation of the frame included). ``beam_index`` (n, 18): the flat indices of each
+    node's beam states (``system.layout.beam``, or ``arange(18 n).reshape(n, 18)`` for the beam)."""
+    fun = _csn_loads_function(sequence)
+    x0 = np.asarray(x0, float).ravel()
+    beam = np.asarray(beam_index)
     st = STATE_BLOCKS
-    x = ca.MX.sym("x", N)
-    xd = ca.MX.sym("xdot", N)
-    p = ca.MX.sym("p", system.n_param)
-    q = ca.MX.sym("q", system.n_forcing)
-    node = ca.SX.sym("node", 9)  # theta, F, M of one node (body)
-    T = body_to_csn(node[0:3], sequence)
-    csn = ca.Function("csn_loads", [node], [ca.vertcat(T @ node[3:6], T @ node[6:9])])
-    loads = []
-    for i in range(n):
+    y0, rows, cols, vals = [], [], [], []
+    for i in range(beam.shape[0]):
         idx = np.concatenate([beam[i, st["theta"]], beam[i, st["F"]], beam[i, st["M"]]])
-        loads.append(csn(ca.vertcat(*[x[int(j)] for j in idx])))
-    loads = ca.vertcat(*loads)
+        val, jac = fun(x0[idx])
+        y0.append(np.asarray(val).ravel())
+        J = np.asarray(jac)
+        r, c = np.nonzero(J)
+        rows.append(6 * i + r)
+        cols.append(idx[c])
+        vals.append(J[r, c])
+    n_state = x0.size
+    C = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                      shape=(6 * beam.shape[0], n_state))
+    return OutputMap(np.concatenate(y0), C, _zero(C.shape[0], n_state), _zero(C.shape[0], n_station))
+
+
+def lift_weights(node_positions, weight) -> np.ndarray:
+    """(n,) load factor per unit section lift (N/m): 2 x the trapezoid weights of the undeformed
+    beam over the weight ``weight`` (N); the lift of both half-wings is ``weights * weight @ lift``."""
+    if not (np.isfinite(weight) and weight > 0):
+        raise ValueError(f"weight = {weight} N; allowed range (0, inf) N")
+    r0 = np.asarray(node_positions, dtype=float)
+    ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
+    w = np.zeros(r0.shape[0])
+    w[:-1] += 0.5 * ds
+    w[1:] += 0.5 * ds
+    return 2.0 * w / float(weight)
+
+
+_LIFT_FUNCTIONS: dict = {}
+
+
+def _lift_jacobians(system):
+    """CasADi (x, xdot, p, q) -> section lift (n) and its Jacobians in x, xdot, q (built once)."""
+    key = id(system)
+    if key in _LIFT_FUNCTIONS and _LIFT_FUNCTIONS[key][0] is system:
+        return _LIFT_FUNCTIONS[key][1]
+    x, xd = ca.MX.sym("x", system.n_state), ca.MX.sym("xdot", system.n_state)
+    p, q = ca.MX.sym("p", system.n_param), ca.MX.sym("q", system.n_forcing)
     lift, _ = system._loads(x, xd, p, q)
-    fun = ca.Function("turbulence_outputs", [x, xd, p, q],
-                      [loads, ca.jacobian(loads, x), lift, ca.jacobian(lift, x), ca.jacobian(lift, xd),
-                       ca.jacobian(lift, q)])
-    _OUTPUT_FUNCTIONS[key] = (system, fun)
+    fun = ca.Function("lift_jacobians", [x, xd, p, q],
+                      [lift, ca.jacobian(lift, x), ca.jacobian(lift, xd), ca.jacobian(lift, q)])
+    _LIFT_FUNCTIONS[key] = (system, fun)
     return fun
 
 
 def aeroelastic_outputs(system, p, q, x0, *, weight, sequence="surface") -> dict:
     """The outputs of an :class:`~wingmdao.aero.system.AeroelasticBeamSystem` about ``x0``:
 
-    * ``loads`` (6 n): the internal loads of every station in its csn frame, node-major in the
-      order of :data:`LOAD_NAMES` (the exact linearisation of T(theta) F and T(theta) M, the frame's
-      rotation included);
+    * ``loads`` (6 n): :func:`internal_load_output`;
     * ``root_bending_moment`` (1): M_x at the root node, body axes (N m; the key of ``wingmdao gust``);
     * ``load_factor`` (1): the lift of both half-wings (trapezoid of the section lift over the
       undeformed beam) over ``weight`` (N); the apparent-mass lift enters through Cv;
-    * ``tip_deflection`` (1): z of the tip node (m).
+    * ``tip_deflection`` (1): z of the tip node from its jig position (m).
     """
     if getattr(system, "pitch", False):
         raise ValueError("aeroelastic_outputs: a free-pitch system (pitch=True) is not supported (its load factor "
                          "includes the tail lift); use plunge free or clamped")
-    if not (np.isfinite(weight) and weight > 0):
-        raise ValueError(f"weight = {weight} N; allowed range (0, inf) N")
-    fun = _output_functions(system, sequence)
     x0 = np.asarray(x0, float).ravel()
     p, q = np.asarray(p, float).ravel(), np.asarray(q, float).ravel()
-    loads, dloads, lift, dlx, dlv, dlq = fun(x0, np.zeros_like(x0), p, q)
-    n, N = system.num_nodes, system.n_state
-    ns = layout(system.forcing_specs)["gust_velocity"]
     r0 = system.split_parameters(p)["node_positions"]
-    ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
-    wts = np.zeros(n)
-    wts[:-1] += 0.5 * ds
-    wts[1:] += 0.5 * ds
-    wts = 2.0 * wts / float(weight)
+    wts = lift_weights(r0, weight)
+    ns = layout(system.forcing_specs)["gust_velocity"]
+    lift, dlx, dlv, dlq = _lift_jacobians(system)(x0, np.zeros_like(x0), p, q)
+    N, m = system.n_state, ns.stop - ns.start
     beam = system.layout.beam
-    zero_w = sp.csr_matrix((1, ns.stop - ns.start))
-
-    def pick(index, value):
-        C = sp.csr_matrix(([1.0], ([0], [int(index)])), shape=(1, N))
-        return OutputMap(np.array([value]), C, sp.csr_matrix((1, N)), zero_w)
-
-    dlq = sp.csr_matrix(dlq)[:, ns]
-    lift = np.asarray(lift).ravel()
+    i_m, i_z = beam[0, STATE_BLOCKS["M"].start], beam[-1, STATE_BLOCKS["r"].start + 2]
     return {
-        "loads": OutputMap(np.asarray(loads).ravel(), sp.csr_matrix(dloads), sp.csr_matrix((6 * n, N)),
-                           sp.csr_matrix((6 * n, ns.stop - ns.start))),
-        "root_bending_moment": pick(beam[0, STATE_BLOCKS["M"].start], x0[beam[0, STATE_BLOCKS["M"].start]]),
-        "load_factor": OutputMap(np.array([wts @ lift]), sp.csr_matrix(wts @ sp.csr_matrix(dlx)),
-                                 sp.csr_matrix(wts @ sp.csr_matrix(dlv)), sp.csr_matrix(wts @ dlq)),
-        "tip_deflection": pick(beam[-1, 2], x0[beam[-1, 2]] - r0[-1, 2]),
+        "loads": internal_load_output(x0, beam, m, sequence),
+        "root_bending_moment": state_output(i_m, x0[i_m], N, m),
+        "load_factor": OutputMap(np.array([wts @ np.asarray(lift).ravel()]), sp.csr_matrix(wts @ sp.csr_matrix(dlx)),
+                                 sp.csr_matrix(wts @ sp.csr_matrix(dlv)), sp.csr_matrix(wts @ sp.csr_matrix(dlq)[:, ns])),
+        "tip_deflection": state_output(i_z, x0[i_z] - r0[-1, 2], N, m),
     }
 
 
