@@ -223,3 +223,88 @@ def test_bad_speeds():
         tb.turbulence_intensity(27.0, 0.9, 210.0, 150.0, 200.0)
     with pytest.raises(ValueError, match="V_C"):
         tb.turbulence_intensity(27.0, 0.9, 100.0, 200.0, 150.0)
+
+
+def test_strip_model_static_limit_against_nonlinear_static_solve():
+    """Strip model of a clamped beam: the response at omega -> 0 to a uniform gust equals the
+    difference of two nonlinear static solves (1 g, and 1 g + the strip lift of a 0.01 m/s gust)."""
+    from wingmdao.beam.static import cached_beam_system
+    from wingmdao.loads.maneuver import maneuver_line_loads, strip_line_loads
+    from wingmdao.loads.turbulence_analysis import strip_gust_model
+
+    n, span, c, V, rho, W = 5, 10.0, 1.5, 100.0, 0.8, 5e4
+    r0, th0 = straight_beam(n, span)
+    bp = beam_parameters(r0, th0, EI_cc=5e6, GJ=2e6, EI_nn=5e7, EA=1e9, mass_per_length=20.0)
+    chord, xb = np.full(n, c), np.full(n, 0.4)
+    gm = strip_gust_model(bp, chord=chord, axis_fraction=xb, weight=W, airspeed=V, density=rho, semi_span=span)
+    H = frequency_response(gm.model, [1e-6])
+    s = cached_beam_system(n)
+    ql = layout(s.forcing_specs)
+    steady = maneuver_line_loads(r0, chord, xb, W, 1.0, semi_span=span)
+
+    def static(w):
+        f, m = strip_line_loads(r0, chord, xb, 0.5 * rho * V * chord * 2 * np.pi * w)
+        q = np.zeros(s.n_forcing)
+        q[ql["force_per_length"]] = (steady.force_per_length + f).ravel()
+        q[ql["moment_per_length"]] = (steady.moment_per_length + m).ravel()
+        q[ql["gravity"].start + 2] = -9.80665
+        return solve_static(s, pack(s.param_specs, bp), q)[0].reshape(n, 18)
+
+    x1, x0 = static(0.01), static(0.0)
+    d_rbm = (x1[0, 9] - x0[0, 9]) / 0.01
+    d_tip = (x1[-1, 2] - x0[-1, 2]) / 0.01
+    assert abs(H.outputs["root_bending_moment"][0, 0] - d_rbm) < 1e-3 * abs(d_rbm)
+    assert abs(H.outputs["tip_deflection"][0, 0] - d_tip) < 2e-3 * abs(d_tip)
+    assert abs(H.outputs["root_bending_moment"][0, 0].imag) < 1e-6 * abs(d_rbm)
+
+
+def test_cli_turbulence_bad_input(capsys, tmp_path):
+    from wingmdao.cli import main
+
+    for argv, flag in ((["--mach", "0.7"], "--mach"), (["--altitude-ft", "70000"], "--altitude-ft"),
+                       (["--aero", "strip", "--plunge", "free"], "--plunge free"),
+                       (["--f-max-hz", "0"], "--f-max-hz"), (["--grid-points", "2"], "--grid-points")):
+        assert main(["turbulence", "pegasus", "--no-plots", "--json", str(tmp_path / "t.json")] + argv) == 2
+        assert flag in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_cli_turbulence_pegasus_keys_and_consistency(tmp_path):
+    """End to end (PEGASUS, coupled, free plunge): the JSON keys of the command, design loads
+    P_1g +/- U_sigma A-bar, |rho| <= 1, and A-bar^2 = int PSD df of the written spectra within the
+    stated quadrature error."""
+    import json
+
+    from wingmdao.cli import main
+
+    out = tmp_path / "t.json"
+    assert main(["turbulence", "pegasus", "--json", str(out), "--out", str(tmp_path)]) == 0
+    r = json.loads(out.read_text())
+    for key in ("altitude_m", "u_sigma_ref_m_s", "f_g", "u_sigma_m_s", "frequency_hz", "psd", "a_bar",
+                "design_loads", "correlation", "quadrature"):
+        assert key in r
+    assert r["u_sigma_ref_m_s"] == pytest.approx((90 - 11 * 20000 / 24000) * FT)
+    n = len(r["span_m"])
+    for name in ("bending_moment", "torsion", "vertical_shear"):
+        assert len(r["a_bar"][name]) == len(r["design_loads"][name]["up"]) == n
+        np.testing.assert_allclose(np.subtract(r["design_loads"][name]["up"], r["design_loads"][name]["one_g"]),
+                                   r["u_sigma_m_s"] * np.asarray(r["a_bar"][name]), rtol=1e-12)
+    assert np.all(np.abs(r["correlation"]["bending_torsion"]) <= 1)
+    f = np.asarray(r["frequency_hz"])
+    for key in ("load_factor", "root_bending_moment"):
+        integral = np.trapezoid(r["psd"][key], f)
+        assert abs(np.sqrt(integral) / r["a_bar"][key] - 1) < 2 * r["quadrature"]["max_relative_error_a_bar"] + 1e-3
+    for k in ("transfer", "psd", "envelope", "ellipse"):
+        assert (tmp_path / f"pegasus_turbulence_{k}.png").exists()
+
+
+def test_linear_model_uses_the_flutter_pencil():
+    """The model's (A, E) are the flutter linearisation (stability.eigen.linearize) of the same state."""
+    from wingmdao.stability.eigen import linearize
+
+    s, p, q_trim, q0, r0, W = _trimmed_wing()
+    x0, _ = solve_static(s, p, q_trim)
+    model = linear_gust_model(s, p, q0, x0, x_stations=r0[:, 0], airspeed=40.0)
+    A, E = linearize(s, p, q0, x0)
+    assert abs(model.A - A).max() <= 1e-12 * abs(A).max()
+    assert abs(model.E - E).max() <= 1e-12 * abs(E).max()
