@@ -1,0 +1,79 @@
+"""One 14 CFR 25.341(b) continuous-turbulence analysis of PEGASUS (coupled, free plunge), timed by part.
+
+    OMP_NUM_THREADS=1 PYTHONPATH=. python benchmarks/bench_turbulence.py [--repeat 5] [--clamped]
+
+Parts (process time, best of ``--repeat`` after one warm-up run that builds and caches the
+aeroelastic system): the trimmed 1 g static solve and linearisation with the output maps
+(``coupled_gust_model`` less its eigenvalues, timed alone), the pencil's eigenvalues (dense QZ,
+no vectors, for the frequency grid), and the frequency response with A-bar, design loads and correlations
+(``turbulence_analysis``, ~210 frequencies). Goal of issue #28: the analysis with its gradient
+under 2 s on this 2-core machine; the gradient (the complex adjoint of the frequency-response
+solves) is not built yet, so only the analysis is timed.
+
+Figures (process time, OMP_NUM_THREADS=1, this machine): static solve + linearisation + outputs
+0.025 s, eigenvalues 0.12 s, frequency response and A-bar (209 frequencies) 0.11 s; the whole
+analysis 0.27 s (its wall time 1.2 s while other jobs kept the load average at 12-16).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import time
+
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+
+def _pegasus():
+    """Beam and aerodynamic parameters of the PEGASUS initial design at its V_C point (Mach 0.5, 20,000 ft)."""
+    from wingmdao.aero import aero_parameters
+    from wingmdao.cases import pegasus
+    from wingmdao.cases.planform import G0, LB, wing_geometry
+    from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
+    from wingmdao.sizing import SECTION_KINDS, design_beam_params, initial_design
+
+    setup = pegasus.build()
+    design = initial_design(setup.options, SECTION_KINDS[setup.section]["design_vars"])
+    bp = design_beam_params(setup.geometry, setup.material, design, setup.section)
+    _, chord, axis = wing_geometry(pegasus.PLANFORM, pegasus.ENGINES)
+    alt = float(altitude_ft_to_m(pegasus.CRUISE_ALTITUDE_FT))
+    V = float(mach_to_tas(pegasus.CRUISE_MACH, alt))
+    ap = aero_parameters(chord.size, chord=chord, ref_point=axis, airspeed=V, density=float(density(alt)),
+                         mach=pegasus.CRUISE_MACH)
+    return bp, ap, chord, axis, pegasus.TOGW_LB * LB * G0
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=5, help="timed runs (after one warm-up)")
+    ap.add_argument("--clamped", action="store_true", help="root clamped instead of free plunge")
+    args = ap.parse_args(argv)
+
+    from wingmdao.loads.turbulence_analysis import coupled_gust_model, turbulence_analysis
+    from wingmdao.stability.frequency import pencil_eigenvalues
+
+    bp, aero, chord, axis, weight = _pegasus()
+    coupled_gust_model(bp, aero, chord=chord, axis_fraction=axis, weight=weight, plunge=not args.clamped)  # warm-up
+    rows = []
+    for _ in range(args.repeat):
+        t0 = time.process_time()
+        gm = coupled_gust_model(bp, aero, chord=chord, axis_fraction=axis, weight=weight, plunge=not args.clamped)
+        t1 = time.process_time()
+        pencil_eigenvalues(gm.model)  # timed alone: the part of the model's time spent on them
+        t2 = time.process_time()
+        res = turbulence_analysis(gm, 24.23)
+        t3 = time.process_time()
+        rows.append((t1 - t0 - (t2 - t1), t2 - t1, t3 - t2, (t1 - t0) + (t3 - t2)))
+    best = [min(r[k] for r in rows) for k in range(4)]
+    print(f"PEGASUS turbulence ({'clamped' if args.clamped else 'free plunge'}), best of {args.repeat} (process s):")
+    print(f"  static solve + linearisation + outputs {best[0]:.3f}")
+    print(f"  pencil eigenvalues (frequency grid)    {best[1]:.3f}")
+    print(f"  frequency response, A-bar, loads       {best[2]:.3f}  ({res['quadrature']['points']} frequencies)")
+    print(f"  whole analysis                         {best[3]:.3f}  (goal with gradient: 2 s)")
+    print(f"  A-bar load factor {res['a_bar']['load_factor']:.5f} per m/s, "
+          f"root bending {res['a_bar']['root_bending_moment']:.1f} N m per m/s")
+
+
+if __name__ == "__main__":
+    main()
