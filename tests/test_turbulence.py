@@ -197,7 +197,12 @@ def test_quadrature_error_estimate_and_stresses_linear():
     f = 1 / (1 + w ** 2) ** 2
     res = spectral_integral(w, f)
     assert abs(res.value - np.pi / 4) < 3 * res.quadrature_error + 1e-3
-    S = stress_matrix(0.5, 0.2, 0.004, 0.004, 0.006, 0.006)
+    S = stress_matrix(0.5, 0.2, 0.004, 0.003, 0.006, 0.005)
+    from wingmdao.stress.box_stress import box_stresses
+
+    load = np.array([3e3, -2e4, 5e4, 2e5, -3e4, 1e5])
+    ref = box_stresses(load[:3], load[3:], 0.5, 0.2, 0.004, 0.003, 0.006, 0.005)
+    np.testing.assert_allclose(S @ load, np.r_[ref["sigma_corner"], ref["tau_cent"]], rtol=1e-12)
     H = np.random.default_rng(0).standard_normal((3, 12)) + 1j
     out = stress_response(H, np.stack([S, 2 * S]))
     np.testing.assert_allclose(out[:, 1], 2 * (H[:, 6:] @ S.T))

@@ -12,7 +12,8 @@ JSON keys: case, aero, plunge, design, altitude_ft, altitude_m, mach, airspeed_t
 u_sigma_ref_m_s, f_g, speed_factor, u_sigma_m_s, frequency_hz, psd (root_bending_moment,
 load_factor), transfer_function_magnitude, a_bar and a_bar_error (root_bending_moment,
 load_factor, tip_deflection; per station chordwise_shear, axial_force, vertical_shear,
-bending_moment, torsion, chordwise_bending, csn frame), design_loads (one_g, up, down of each),
+bending_moment, torsion, chordwise_bending, csn frame; ``stress`` (n, 8): the 4 corner axial
+stresses then the 4 flange-centre shears of each box station, Pa), design_loads (one_g, up, down of each),
 correlation (bending_torsion per station, correlated_loads, root_ellipse), load_units,
 quadrature, model, span_m, wall_s.
 """
@@ -86,6 +87,26 @@ def _check_args(args, module):
     return plunge == "free", alt, mach, m_c, m_d
 
 
+def _stress_matrices(setup, args):
+    """(n, 8, 6) box stress per unit csn load of every station of the design (initial, or the walls
+    per node of --design), or None for a case whose sections are not plain boxes."""
+    from wingmdao.cli._io import read_design
+    from wingmdao.sizing import SECTION_KINDS, WALL_VARS, initial_design, station_design
+    from wingmdao.stability.frequency import stress_matrix
+
+    if setup.section != "box":
+        return None
+    geo = setup.geometry
+    if args.design:
+        walls = read_design(args.design, geo.num_nodes, case=args.case, command="turbulence")
+        dv = {w: walls[w[2:]] for w in WALL_VARS}
+    else:
+        dv = station_design(geo, initial_design(setup.options, SECTION_KINDS[setup.section]["design_vars"]), WALL_VARS)
+    R = geo.section_to_csn
+    return np.stack([stress_matrix(geo.width[i], geo.height[i], *(dv[w][i] for w in WALL_VARS),
+                                   None if R is None else R[i]) for i in range(geo.num_nodes)])
+
+
 def _check_outputs(args):
     """Check --out, --json and the plot paths before the run; the plot stem (None: --no-plots)."""
     stem, plots = None, []
@@ -133,7 +154,8 @@ def run(args):
            "altitude_m": alt, "mach": mach, "airspeed_tas_m_s": V, "density_kg_m3": rho,
            "u_sigma_ref_m_s": point.u_sigma_ref, "f_g": point.f_g, "speed_factor": point.speed_factor,
            "u_sigma_m_s": point.u_sigma, "span_m": np.asarray(bp["node_positions"])[:, 1].tolist()}
-    res.update(turbulence_analysis(gm, point.u_sigma, f_max=args.f_max_hz, n_base=args.grid_points))
+    res.update(turbulence_analysis(gm, point.u_sigma, f_max=args.f_max_hz, n_base=args.grid_points,
+                                   stress_matrices=_stress_matrices(setup, args)))
     res["wall_s"] = _time.perf_counter() - t_wall
     ab = res["a_bar"]
     print(f"A-bar: load factor {ab['load_factor']:.4g} per m/s, root bending {ab['root_bending_moment']:.4g} N m per m/s; "
