@@ -313,3 +313,46 @@ def test_linear_model_uses_the_flutter_pencil():
     A, E = linearize(s, p, q0, x0)
     assert abs(model.A - A).max() <= 1e-12 * abs(A).max()
     assert abs(model.E - E).max() <= 1e-12 * abs(E).max()
+
+
+def test_turbulence_stress_ks_gradient_against_central_differences():
+    """The complex-adjoint gradient of the KS of the 25.341(b) corner stresses (fixed grid) against
+    central differences of the whole chain (trimmed static solve, linearisation, frequency response,
+    A-bar, KS) w.r.t. stiffness, compliance, mass, body mass, chord, trim lift and the walls."""
+    from wingmdao.stability.frequency import pencil_eigenvalues
+    from wingmdao.stability.frequency_adjoint import StressMap, turbulence_stress_ks
+
+    s, p, q_trim, q0, r0, W = _trimmed_wing()
+    n = r0.shape[0]
+    stress = StressMap(s.layout.beam, np.full(n, 0.5), np.full(n, 0.12), n_state=s.n_state)
+    walls = np.tile([0.003, 0.0025, 0.004, 0.0035], (n, 1)) * np.linspace(1, 0.6, n)[:, None]
+    x_le = r0[:, 0] - 0.35 + np.array([0.0, 0.3, 0.6, 0.9])
+    grid = []
+
+    def ks(p, walls, gradient=False):
+        x0, _ = solve_static(s, p, q_trim)
+        m = linear_gust_model(s, p, q0, x0, x_stations=x_le, airspeed=40.0)
+        if not grid:
+            grid.append(frequency_grid(pencil_eigenvalues(m), f_max=15.0, n_base=41, n_mode=8))
+        return turbulence_stress_ks(s, p, q_trim, m, stress, walls, grid[0], u_sigma=10.0, sigma_allow=1e8,
+                                    gradient=gradient)
+
+    r = ks(p, walls, True)
+    pl = layout(s.param_specs)
+    for name, k in (("stiffness_csn", 0), ("stiffness_csn", 4), ("compliance_csn", 1), ("mass_per_length", 2),
+                    ("body_mass", 0), ("chord", 1), ("trim_lift", 0)):
+        i = pl[name].start + k
+        # 1/EA = 1e-9 (its effect is small): a larger step against round-off
+        h = (1e-1 if name == "compliance_csn" else 1e-6) * abs(p[i])
+        pp, pm = p.copy(), p.copy()
+        pp[i] += h
+        pm[i] -= h
+        fd = (ks(pp, walls).value - ks(pm, walls).value) / (2 * h)
+        assert abs(r.d_p[i] - fd) <= (1e-4 if name == "compliance_csn" else 1e-5) * abs(fd), (name, k, r.d_p[i], fd)
+    for i, j in ((0, 0), (1, 2), (3, 1)):
+        h = 1e-7
+        wp, wm = walls.copy(), walls.copy()
+        wp[i, j] += h
+        wm[i, j] -= h
+        fd = (ks(p, wp).value - ks(p, wm).value) / (2 * h)
+        assert abs(r.d_walls[i, j] - fd) <= 1e-5 * abs(r.d_walls).max(), (i, j, r.d_walls[i, j], fd)
