@@ -356,3 +356,46 @@ def test_turbulence_stress_ks_gradient_against_central_differences():
         wm[i, j] -= h
         fd = (ks(p, wp).value - ks(p, wm).value) / (2 * h)
         assert abs(r.d_walls[i, j] - fd) <= 1e-5 * abs(r.d_walls).max(), (i, j, r.d_walls[i, j], fd)
+
+
+def test_turbulence_stress_ks_component_partials():
+    """TurbulenceStressKS: its declared partials (through compute_totals) against central
+    differences of the component's output."""
+    import openmdao.api as om
+
+    from wingmdao.components.turbulence import TurbulenceStressKS
+    from wingmdao.section.box import WALL_NAMES
+
+    s, p, q_trim, q0, r0, W = _trimmed_wing()
+    n = r0.shape[0]
+    prob = om.Problem()
+    comp = TurbulenceStressKS(num_nodes=n, plunge=True, airspeed=40.0, x_stations=r0[:, 0] - 0.35,
+                              width=np.full(n, 0.5), height=np.full(n, 0.12), u_sigma=10.0, sigma_allow=1e8,
+                              f_max=15.0, n_base=41)
+    prob.model.add_subsystem("turb", comp, promotes=["*"])
+    prob.setup(force_alloc_complex=False)
+    values = s.split_parameters(p)
+    for spec in s.param_specs:
+        if spec.name != "airspeed":
+            prob.set_val(spec.name, values[spec.name])
+    for k, w in enumerate(WALL_NAMES):
+        prob.set_val(w, np.array([0.003, 0.0025, 0.004, 0.0035])[k] * np.linspace(1, 0.6, n))
+    prob.run_model()
+    J = prob.compute_totals("turbulence_ks", [nm for nm in ("stiffness_csn", "node_euler_angles", "body_mass",
+                                                            "density", "t_upper_skin", "t_rear_spar")])
+    # central differences through the component, a few entries (OpenMDAO's check_partials over all
+    # ~300 inputs takes minutes; its relative steps are zero on the zero jig angles)
+    for name, k, h in (("stiffness_csn", 0, 1.0), ("node_euler_angles", 4, 1e-6), ("body_mass", 0, 1e-3),
+                       ("density", 0, 1e-7), ("t_upper_skin", 1, 1e-8), ("t_rear_spar", 0, 1e-8)):
+        base = prob.get_val(name).copy()
+        vals = []
+        for sign in (1, -1):
+            v = base.copy()
+            v.flat[k] += sign * h
+            prob.set_val(name, v)
+            prob.run_model()
+            vals.append(float(prob.get_val("turbulence_ks")[0]))
+        prob.set_val(name, base)
+        fd = (vals[0] - vals[1]) / (2 * h)
+        got = J["turbulence_ks", name].ravel()[k]
+        assert abs(got - fd) <= 1e-5 * abs(fd) + 1e-9, (name, k, got, fd)
