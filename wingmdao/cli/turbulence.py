@@ -26,8 +26,15 @@ import time as _time
 
 import numpy as np
 
+from wingmdao.cases import available_cases
+from wingmdao.cases.planform import G0, LB, wing_geometry
 from wingmdao.cli._args import add_output_arguments
-from wingmdao.cli._io import check_output_dir, check_output_file, refuse_existing, write_json
+from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, write_json
+from wingmdao.cli.gust import _beam_parameters
+from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
+from wingmdao.loads.turbulence import continuous_turbulence_intensity
+from wingmdao.plots import save_figure
+from wingmdao.stability.frequency import stress_matrix
 
 CASES = ("pegasus",)
 #: --grid-points bounds (the geometric part of the frequency grid)
@@ -90,9 +97,7 @@ def _check_args(args, module):
 def _stress_matrices(setup, args):
     """(n, 8, 6) box stress per unit csn load of every station of the design (initial, or the walls
     per node of --design), or None for a case whose sections are not plain boxes."""
-    from wingmdao.cli._io import read_design
     from wingmdao.sizing import SECTION_KINDS, WALL_VARS, initial_design, station_design
-    from wingmdao.stability.frequency import stress_matrix
 
     if setup.section != "box":
         return None
@@ -120,12 +125,7 @@ def _check_outputs(args):
 
 
 def run(args):
-    from wingmdao.cases import available_cases
-    from wingmdao.cases.planform import G0, LB, wing_geometry
-    from wingmdao.cli.gust import _beam_parameters
     from wingmdao.aero import aero_parameters
-    from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
-    from wingmdao.loads.turbulence import continuous_turbulence_intensity
     from wingmdao.loads.turbulence_analysis import coupled_gust_model, strip_gust_model, turbulence_analysis
 
     t_wall = _time.perf_counter()
@@ -178,8 +178,6 @@ def _plots(res, stem):
     except ImportError:
         print("matplotlib not installed: no plots", file=sys.stderr)
         return
-    from wingmdao.plots import save_figure
-
     f = np.asarray(res["frequency_hz"])
     label = {"root_bending_moment": "root bending (N m per m/s)", "load_factor": "load factor (1 per m/s)",
              "tip_deflection": "tip deflection (m per m/s)"}
@@ -190,7 +188,7 @@ def _plots(res, stem):
         ax.grid(True, which="both", alpha=0.3)
     axes[-1].set_xlabel("frequency (Hz)")
     axes[0].set_title(f"{res['case']}: frequency response to a unit vertical gust ({res['model']})", fontsize=9)
-    _save(save_figure, fig, f"{stem}_transfer.png")
+    _save(fig, f"{stem}_transfer.png")
 
     fig, axes = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
     for ax, k, unit in zip(axes, ("root_bending_moment", "load_factor"), ("(N m)^2/Hz", "1/Hz")):
@@ -199,7 +197,7 @@ def _plots(res, stem):
         ax.grid(True, which="both", alpha=0.3)
     axes[-1].set_xlabel("frequency (Hz)")
     axes[0].set_title(f"output PSDs at U_sigma = {res['u_sigma_m_s']:.2f} m/s (von Karman, L = 2,500 ft)", fontsize=9)
-    _save(save_figure, fig, f"{stem}_psd.png")
+    _save(fig, f"{stem}_psd.png")
 
     y = np.abs(res["span_m"])
     fig, axes = plt.subplots(3, 1, figsize=(7, 8), sharex=True)
@@ -214,7 +212,7 @@ def _plots(res, stem):
     axes[0].legend(fontsize=8)
     axes[-1].set_xlabel("span y (m)")
     axes[0].set_title("25.341(b) design-load envelope (csn frame of each station)", fontsize=9)
-    _save(save_figure, fig, f"{stem}_envelope.png")
+    _save(fig, f"{stem}_envelope.png")
 
     fig, ax = plt.subplots(figsize=(6, 5))
     e = np.asarray(res["correlation"]["root_ellipse"]) * 1e-3
@@ -226,10 +224,10 @@ def _plots(res, stem):
     ax.set_title(f"root: rho = {res['correlation']['bending_torsion'][0]:.3f}", fontsize=9)
     ax.legend(fontsize=8)
     ax.grid(True, alpha=0.3)
-    _save(save_figure, fig, f"{stem}_ellipse.png")
+    _save(fig, f"{stem}_ellipse.png")
 
 
-def _save(save_figure, fig, path):
+def _save(fig, path):
     save_figure(fig, path, dpi=100)
     print(f"wrote {path}", file=sys.stderr)
 

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from wingmdao.aero.plunge import body_mass, half_wing_mass
 from wingmdao.aero.system import cached_aeroelastic_system
 from wingmdao.beam.residual import STATE_BLOCKS
 from wingmdao.beam.static import cached_beam_system
@@ -39,11 +40,16 @@ from wingmdao.timemarch.system import layout, pack
 @dataclass
 class GustModel:
     """A linear gust model (:class:`~wingmdao.stability.frequency.LinearGustModel`) with the
-    eigenvalues of its pencil (for the frequency grid) and a description."""
+    eigenvalues of its pencil (for the frequency grid), a description, and the system, packed
+    parameters and forcing of its static (1 g) solve (for the gradient,
+    :mod:`wingmdao.stability.frequency_adjoint`)."""
 
     model: object
     eigenvalues: np.ndarray
     description: str
+    system: object = None
+    p: np.ndarray | None = None
+    q_static: np.ndarray | None = None
 
 
 def coupled_gust_model(beam_params: dict, aero_params: dict, *, chord, axis_fraction, weight, plunge=True,
@@ -51,8 +57,6 @@ def coupled_gust_model(beam_params: dict, aero_params: dict, *, chord, axis_frac
     """The aeroelastic beam trimmed in 1 g level flight (lift of both halves = ``weight`` N under
     ``gravity`` m/s^2), clamped or free in ``plunge`` (body mass = weight / g0 - 2 m_half), linearised
     with alpha_trim held; stations meet the gust at their leading edges."""
-    from wingmdao.aero.plunge import body_mass, half_wing_mass
-
     n = np.asarray(chord).size
     system = cached_aeroelastic_system(n, plunge=bool(plunge), trim=True)
     params = {**beam_params, **aero_params, "trim_lift": float(weight)}
@@ -61,16 +65,18 @@ def coupled_gust_model(beam_params: dict, aero_params: dict, *, chord, axis_frac
         params["body_mass"] = body_mass(weight / G0, half_wing_mass(beam_params["mass_per_length"], r0)[0])
     p = pack(system.param_specs, params)
     ql = layout(system.forcing_specs)
-    q = np.zeros(system.n_forcing)
-    q[ql["gravity"].start + 2] = -gravity
-    q[ql["trim_active"]] = 1.0
-    x0, _ = solve_static(system, p, q)
+    q_static = np.zeros(system.n_forcing)
+    q_static[ql["gravity"].start + 2] = -gravity
+    q_static[ql["trim_active"]] = 1.0
+    x0, _ = solve_static(system, p, q_static)
+    q = q_static.copy()
     q[ql["trim_active"]] = 0.0
     x_le = r0[:, 0] - np.asarray(axis_fraction) * np.asarray(chord)
     outputs = aeroelastic_outputs(system, p, q, x0, weight=weight)
     model = linear_gust_model(system, p, q, x0, x_stations=x_le, airspeed=float(aero_params["airspeed"]),
                               outputs=outputs)
-    return GustModel(model, pencil_eigenvalues(model), f"coupled strip theory, {'free plunge' if plunge else 'clamped'}, trimmed 1 g")
+    return GustModel(model, pencil_eigenvalues(model),
+                     f"coupled strip theory, {'free plunge' if plunge else 'clamped'}, trimmed 1 g", system, p, q_static)
 
 
 def strip_gust_model(beam_params: dict, *, chord, axis_fraction, weight, airspeed, density, semi_span,
@@ -110,7 +116,8 @@ def strip_gust_model(beam_params: dict, *, chord, axis_fraction, weight, airspee
     }
     x_cp = r0[:, 0] + (cp_fraction - xb) * c
     model = linear_gust_model(system, p, q, x0, x_stations=x_cp, airspeed=airspeed, outputs=outputs, gust_input=G)
-    return GustModel(model, pencil_eigenvalues(model), "quasi-steady strip theory on the clamped structural beam, Schrenk 1 g")
+    return GustModel(model, pencil_eigenvalues(model),
+                     "quasi-steady strip theory on the clamped structural beam, Schrenk 1 g", system, p, q)
 
 
 def _lists(a):

@@ -161,9 +161,9 @@ def frequency_response(model: LinearGustModel, omega, *, keep_states=False) -> F
     W = model.gust_vector(w)
     n = model.A.shape[0]
     X = np.empty((w.size, n), dtype=complex)
-    solve = _shifted_solver(model.A, model.E)
+    factors = ShiftedFactors(model.A, model.E)
     for k, om in enumerate(w):
-        X[k] = solve(1j * om, -(model.G @ W[k]))
+        X[k] = factors.factor(1j * om).solve(-(model.G @ W[k]))
     out = {}
     for name, m in model.outputs.items():
         y = (m.Cx @ X.T).T + (1j * w[:, None]) * (m.Cv @ X.T).T + (m.D @ W.T).T
@@ -171,32 +171,56 @@ def frequency_response(model: LinearGustModel, omega, *, keep_states=False) -> F
     return FrequencyResponse(w, out, X if keep_states else None)
 
 
-def _shifted_solver(A, E):
-    """``solve(s, rhs)`` of ``(A + s E) x = rhs``: the static-pivot complex LU of
-    :mod:`wingmdao.stability.pencil_lu` (pattern analysis once, numeric factorization per shift in C,
-    every solve checked by its backward error), SuperLU (natural column order, partial pivoting)
-    for the first shift, without the compiled kernel and for any shift whose static pivots fail."""
-    A, E = sp.csc_matrix(A), sp.csc_matrix(E)
-    pen = pencil_lu.pencil(A, E)
+class ShiftedFactors:
+    """Factorizations of ``A + s E`` for complex shifts s: the static-pivot complex LU of
+    :mod:`wingmdao.stability.pencil_lu` (pattern analysis once, numeric factorization per shift in
+    C, every solve checked by its backward error), SuperLU (natural column order, partial
+    pivoting) for the first shift, without the compiled kernel and for any shift whose static
+    pivots fail. ``factor(s)`` returns an object with ``solve(rhs)`` and ``solve_transposed(rhs)``
+    ((A + s E)^T x = rhs, for adjoints)."""
 
-    def superlu(s, rhs):
-        lu = spla.splu(sp.csc_matrix(A + s * E, dtype=complex), permc_spec="NATURAL")
-        if pen is not None:
-            pen.repivot(lu.perm_r)
-        return lu.solve(np.asarray(rhs, dtype=complex))
+    def __init__(self, A, E):
+        self.A, self.E = sp.csc_matrix(A), sp.csc_matrix(E)
+        self.pen = pencil_lu.pencil(self.A, self.E)
 
-    def solve(s, rhs):
-        lu = pen.factor(s) if pen is not None else None
-        if lu is not None:
-            x, berr = pen.solve(lu, rhs)
+    def factor(self, s):
+        lu = self.pen.factor(s) if self.pen is not None else None
+        return _PencilFactor(self, s, lu)
+
+    def superlu(self, s):
+        lu = spla.splu(sp.csc_matrix(self.A + s * self.E, dtype=complex), permc_spec="NATURAL")
+        if self.pen is not None:
+            self.pen.repivot(lu.perm_r)
+        return lu
+
+
+class _PencilFactor:
+    """One shift's factors (the C kernel's, or SuperLU's when they are missing or a solve fails)."""
+
+    def __init__(self, owner: ShiftedFactors, s, lu):
+        self.owner, self.s, self.lu, self.slu = owner, s, lu, None
+
+    def _superlu(self):
+        if self.slu is None:
+            self.slu = self.owner.superlu(self.s)
+        return self.slu
+
+    def solve(self, rhs):
+        if self.lu is not None:
+            x, berr = self.owner.pen.solve(self.lu, rhs)
             if berr <= pencil_lu.BACKWARD_TOL:
                 return x
-        return superlu(s, rhs)
+        return self._superlu().solve(np.asarray(rhs, dtype=complex))
 
-    return solve
+    def solve_transposed(self, rhs):
+        """(A + s E)^T x = rhs: conj of the conjugate-transposed solve of conj(rhs)."""
+        if self.lu is not None:
+            x, berr = self.owner.pen.solve(self.lu, np.conj(rhs), trans="H")
+            if berr <= pencil_lu.BACKWARD_TOL:
+                return np.conj(x)
+        return self._superlu().solve(np.asarray(rhs, dtype=complex), trans="T")
 
 
-# ------------------------------------------------------------------------------------------ grid
 def pencil_eigenvalues(model: LinearGustModel) -> np.ndarray:
     """The finite eigenvalues lambda of ``lambda E v = -A v`` (dense QZ without vectors, ~0.5 s for
     the 441 states of the 20-node PEGASUS system on one core): where the response peaks."""
