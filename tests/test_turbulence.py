@@ -268,7 +268,9 @@ def test_cli_turbulence_bad_input(capsys, tmp_path):
 
     for argv, flag in ((["--mach", "0.7"], "--mach"), (["--altitude-ft", "70000"], "--altitude-ft"),
                        (["--aero", "strip", "--plunge", "free"], "--plunge free"),
-                       (["--f-max-hz", "0"], "--f-max-hz"), (["--grid-points", "2"], "--grid-points")):
+                       (["--f-max-hz", "0"], "--f-max-hz"), (["--grid-points", "2"], "--grid-points"),
+                       (["--damping-ratio", "1"], "--damping-ratio"),
+                       (["--damping-frequency-hz", "-1"], "--damping-frequency-hz")):
         assert main(["turbulence", "pegasus", "--no-plots", "--json", str(tmp_path / "t.json")] + argv) == 2
         assert flag in capsys.readouterr().err
 

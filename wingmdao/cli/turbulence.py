@@ -8,7 +8,7 @@ vertical gust with each station's penetration phase (:mod:`wingmdao.stability.fr
 von Karman spectrum give A-bar of every output; U_sigma = U_sigma_ref F_g, interpolated between
 V_C and V_D (:mod:`wingmdao.loads.turbulence`), gives the design loads P_1g +/- U_sigma A-bar.
 
-JSON keys: case, aero, plunge, design, altitude_ft, altitude_m, mach, airspeed_tas_m_s, density_kg_m3,
+JSON keys: case, aero, plunge, design, altitude_ft, altitude_m, mach, damping_ratio, airspeed_tas_m_s, density_kg_m3,
 u_sigma_ref_m_s, f_g, speed_factor, u_sigma_m_s, frequency_hz, psd (root_bending_moment,
 load_factor), transfer_function_magnitude, a_bar and a_bar_error (root_bending_moment,
 load_factor, tip_deflection; per station chordwise_shear, axial_force, vertical_shear,
@@ -65,6 +65,11 @@ def register(subparsers):
                    help="altitude (ft, 0-60000; default: the case's cruise altitude, 20000 ft for pegasus)")
     p.add_argument("--mach", type=float, default=None,
                    help="Mach number, in (0, M_D] (default: the case's M_C; U_sigma is halved at M_D, linear between)")
+    p.add_argument("--damping-ratio", type=float, default=0.0,
+                   help="structural damping ratio of the beam (Kelvin-Voigt strain-rate damping) at "
+                        "--damping-frequency-hz; 0 = undamped; Nastran practice: 0.02")
+    p.add_argument("--damping-frequency-hz", type=float, default=None,
+                   help="frequency at which --damping-ratio holds (Hz); unset: the first mode of the initial design")
     p.add_argument("--f-max-hz", type=float, default=20.0, metavar="HZ",
                    help="highest frequency of the grid (Hz); the spectrum beyond it enters as an estimated tail")
     p.add_argument("--grid-points", type=int, default=161, metavar="N",
@@ -87,6 +92,11 @@ def _check_args(args, module):
     mach = m_c if args.mach is None else float(args.mach)
     if not (np.isfinite(mach) and 0.0 < mach <= m_d):
         raise ValueError(f"--mach = {mach}; allowed range (0, {m_d:g}] (M_D of {args.case}: M_C / {module.VC_OVER_VD:g})")
+    if not (np.isfinite(args.damping_ratio) and 0.0 <= args.damping_ratio < 1.0):
+        raise ValueError(f"--damping-ratio = {args.damping_ratio}; allowed range [0, 1)")
+    if args.damping_frequency_hz is not None and not (np.isfinite(args.damping_frequency_hz)
+                                                      and args.damping_frequency_hz > 0):
+        raise ValueError(f"--damping-frequency-hz = {args.damping_frequency_hz} Hz; allowed range (0, inf) Hz")
     if not (np.isfinite(args.f_max_hz) and 0.1 <= args.f_max_hz <= MAX_F_MAX_HZ):
         raise ValueError(f"--f-max-hz = {args.f_max_hz} Hz; allowed range [0.1, {MAX_F_MAX_HZ:g}] Hz")
     if not GRID_POINTS[0] <= args.grid_points <= GRID_POINTS[1]:
@@ -144,14 +154,19 @@ def run(args):
     print(f"wingmdao turbulence {args.case}: {chord.size} nodes, --aero {args.aero}, "
           f"{'free plunge' if plunge else 'clamped'}, V = {V:.1f} m/s TAS, U_sigma = {point.u_sigma:.2f} m/s TAS",
           file=sys.stderr)
+    damping = None
+    if args.damping_ratio > 0:
+        damping, note = module.gust_damping(args.damping_ratio, args.damping_frequency_hz, setup.geometry, setup.options)
+        print(note, file=sys.stderr)
     if args.aero == "coupled":
         ap = aero_parameters(chord.size, chord=chord, ref_point=axis_frac, airspeed=V, density=rho, mach=mach)
-        gm = coupled_gust_model(bp, ap, chord=chord, axis_fraction=axis_frac, weight=weight, plunge=plunge)
+        gm = coupled_gust_model(bp, ap, chord=chord, axis_fraction=axis_frac, weight=weight, plunge=plunge,
+                                damping=damping)
     else:
         gm = strip_gust_model(bp, chord=chord, axis_fraction=axis_frac, weight=weight, airspeed=V, density=rho,
-                              semi_span=pf.semi_span, fuselage_half_width=pf.root_rib * pf.semi_span)
+                              semi_span=pf.semi_span, fuselage_half_width=pf.root_rib * pf.semi_span, damping=damping)
     res = {"case": args.case, "aero": args.aero, "plunge": plunge, "design": args.design, "altitude_ft": alt_ft,
-           "altitude_m": alt, "mach": mach, "airspeed_tas_m_s": V, "density_kg_m3": rho,
+           "altitude_m": alt, "mach": mach, "damping_ratio": args.damping_ratio, "airspeed_tas_m_s": V, "density_kg_m3": rho,
            "u_sigma_ref_m_s": point.u_sigma_ref, "f_g": point.f_g, "speed_factor": point.speed_factor,
            "u_sigma_m_s": point.u_sigma, "span_m": np.asarray(bp["node_positions"])[:, 1].tolist()}
     res.update(turbulence_analysis(gm, point.u_sigma, f_max=args.f_max_hz, n_base=args.grid_points,

@@ -228,13 +228,17 @@ def pencil_eigenvalues(model: LinearGustModel) -> np.ndarray:
     return lam[np.isfinite(lam) & (np.abs(lam) < 1e6)]
 
 
-def frequency_grid(eigenvalues=(), *, f_min=1e-3, f_max=20.0, n_base=161, n_mode=16, max_damping_ratio=0.5):
+def frequency_grid(eigenvalues=(), *, f_min=1e-3, f_max=20.0, n_base=161, n_mode=16, max_damping_ratio=0.5,
+                   wing_ratio=1.5):
     """Angular frequencies (rad/s) refined about the pencil's modes; an odd count (for halving).
 
-    Geometric from ``f_min`` to ``f_max`` (Hz) with ``n_base`` points, plus ``n_mode`` points per
-    mode lambda = sigma + i omega_d with f_min < omega_d / 2 pi < f_max, sigma < 0 and
-    -sigma / |lambda| < ``max_damping_ratio``, at omega_d + |sigma| tan(u), u uniform in
-    (-1.45, 1.45) (from 8 half-bandwidths below to 8 above, densest at the peak).
+    Geometric from ``f_min`` to ``f_max`` (Hz) with ``n_base`` points, plus, about every mode
+    lambda = sigma + i omega_d with f_min < omega_d / 2 pi < f_max, sigma < 0 and
+    -sigma / |lambda| < ``max_damping_ratio``: ``n_mode`` points at omega_d + |sigma| tan(u), u
+    uniform in (-1.45, 1.45) (8 half-bandwidths either side, densest at the peak), and on both
+    sides points at offsets growing by ``wing_ratio`` from 8 |sigma| to the spacing of the
+    geometric grid there, so that the Lorentzian flanks of a sharp peak are not bridged by one
+    trapezoid.
     """
     if not (np.isfinite(f_min) and np.isfinite(f_max) and 0 < f_min < f_max):
         raise ValueError(f"frequency range f_min = {f_min} Hz, f_max = {f_max} Hz; need 0 < f_min < f_max (finite)")
@@ -242,11 +246,16 @@ def frequency_grid(eigenvalues=(), *, f_min=1e-3, f_max=20.0, n_base=161, n_mode
         raise ValueError(f"n_base = {n_base}; allowed range [3, inf)")
     lo, hi = 2 * np.pi * f_min, 2 * np.pi * f_max
     pts = [np.geomspace(lo, hi, int(n_base))]
+    step = (hi / lo) ** (1.0 / (int(n_base) - 1)) - 1.0  # relative spacing of the geometric grid
     for lam in np.atleast_1d(np.asarray(eigenvalues, dtype=complex)):
         wd, s = abs(lam.imag), lam.real
         if lo < wd < hi and s < 0 and -s / abs(lam) < max_damping_ratio and n_mode > 0:
             u = np.linspace(-1.45, 1.45, int(n_mode))
             pts.append(wd + abs(s) * np.tan(u))
+            near, far = 8.0 * abs(s), step * wd
+            if far > wing_ratio * near:
+                offsets = np.geomspace(wing_ratio * near, far, int(np.ceil(np.log(far / near) / np.log(wing_ratio))))
+                pts += [wd - offsets, wd + offsets]
     w = np.concatenate(pts)
     w = np.unique(w[(w >= lo) & (w <= hi)])
     keep = np.concatenate([[True], np.diff(w) > 1e-9 * w[1:]])
