@@ -11,10 +11,10 @@ stresses (:func:`wingmdao.stability.frequency_adjoint.turbulence_stress_ks`, ini
 with and without its gradient. Goal of issue #28: the analysis with its gradient under 2 s on
 this 2-core machine.
 
-Figures (process time, OMP_NUM_THREADS=1, this machine): static solve + linearisation + outputs
-0.03 s, eigenvalues 0.12 s, frequency response and A-bar (209 frequencies) 0.10 s; the whole
-analysis 0.26-0.29 s (its wall time 1.2 s while other jobs kept the load average at 12-16); the
-stress KS 0.11 s, with its gradient 1.57 s: analysis and gradient 1.9 s.
+Figures (process time, OMP_NUM_THREADS=1, this machine with a load average of 12-22 from other
+jobs): static solve + linearisation + outputs 0.03 s, eigenvalues 0.11 s, frequency response and
+A-bar (245 frequencies) 0.12 s; the whole analysis 0.27 s; the stress KS 0.11 s, with its
+gradient 1.67 s: analysis and gradient 1.94 s.
 """
 
 from __future__ import annotations
