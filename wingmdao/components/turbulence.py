@@ -11,7 +11,9 @@ adjoint of the 1 g static solve: declared dense (one output), never finite diffe
 
 The frequency grid follows the pencil's modes at the first evaluation and is then held (option
 ``frequencies`` gives it outright): a grid that moved with the design would make the discrete
-functional jump. The gust phases and the spectrum depend on the airspeed, which is an option
+functional jump. A mode with almost no damping (strip theory leaves the in-plane bending modes
+undamped) is a peak a fraction of a grid step wide that moves with the design: the functional is
+then smooth but very nonlinear. Give the beam structural damping (option ``damping``). The gust phases and the spectrum depend on the airspeed, which is an option
 here (``airspeed`` is not an input).
 """
 
@@ -47,6 +49,9 @@ class TurbulenceStressKS(om.ExplicitComponent):
         self.options.declare("sigma_allow", types=float, desc="allowable axial stress (Pa)")
         self.options.declare("rho_ks", default=50.0, types=float, desc="KS aggregation parameter")
         self.options.declare("gravity", default=G0, types=float, desc="gravitational acceleration (m/s**2)")
+        self.options.declare("damping", default=None, allow_none=True,
+                             desc="structural damping of the beam (wingmdao.beam.residual.StrainRateDamping); None: "
+                                  "undamped (a mode strip theory leaves undamped then makes the KS very nonlinear)")
         self.options.declare("frequencies", default=None, allow_none=True,
                              desc="fixed grid (rad/s, odd count); None: refined at the modes of the first evaluation")
         self.options.declare("f_max", default=20.0, types=float, desc="highest frequency of the automatic grid (Hz)")
@@ -54,7 +59,8 @@ class TurbulenceStressKS(om.ExplicitComponent):
 
     def setup(self):
         n = self.options["num_nodes"]
-        self.system = cached_aeroelastic_system(n, plunge=self.options["plunge"], trim=True)
+        self.system = cached_aeroelastic_system(n, damping=self.options["damping"], plunge=self.options["plunge"],
+                                                trim=True)
         self.specs = [s for s in self.system.param_specs if s.name != "airspeed"]
         for s in self.specs:
             self.add_input(s.name, shape=s.shape or 1, units=s.units, desc=s.desc)
