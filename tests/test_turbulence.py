@@ -446,3 +446,48 @@ def test_turbulence_stress_ks_totals_wrt_thicknesses_through_the_section_chain()
     for key, d in data.items():
         exact, fd = np.asarray(d["J_fwd"] if "J_fwd" in d else d["J_rev"]), np.asarray(d["J_fd"])
         assert np.max(np.abs(exact - fd)) <= 1e-4 * np.max(np.abs(exact)), (key, exact, fd)
+
+
+@pytest.mark.slow
+def test_size_pegasus_turbulence_constraint_analysis(tmp_path):
+    """`size pegasus --turbulence --analysis-only`: the result has turbulence_ks, equal to the
+    component's value computed outside the sizing group on the same design."""
+    import json
+
+    from wingmdao.cli import main
+
+    out = tmp_path / "s.json"
+    assert main(["size", "pegasus", "--analysis-only", "--turbulence", "--no-plots", "--quiet", "--out", str(tmp_path),
+                 "--json", str(out)]) == 0
+    r = json.loads(out.read_text())
+    import openmdao.api as om
+
+    from wingmdao.cases import pegasus
+    from wingmdao.components.turbulence import TurbulenceStressKS
+    from wingmdao.loads.turbulence_analysis import sizing_turbulence_options
+    from wingmdao.sizing import SECTION_KINDS, WALL_VARS, design_beam_params, initial_design, station_design
+
+    setup = pegasus.build()
+    geo = setup.geometry
+    damping = pegasus.gust_damping(0.02, None, geo, setup.options)[0]
+    design = initial_design(setup.options, SECTION_KINDS["box"]["design_vars"])
+    bp = design_beam_params(geo, setup.material, design, "box")
+    walls = station_design(geo, design, WALL_VARS)
+    prob = om.Problem()
+    prob.model.add_subsystem("t", TurbulenceStressKS(num_nodes=geo.num_nodes,
+                                                     **sizing_turbulence_options(pegasus, setup, damping=damping)),
+                             promotes=["*"])
+    prob.setup()
+    for name, v in {**bp, **walls}.items():
+        if name in ("node_positions", "node_euler_angles", "stiffness_csn", "compliance_csn", "tension_axis",
+                    "shear_center", "mass_per_length", "mass_center", "inertia_per_length", *WALL_VARS):
+            prob.set_val(name, v)
+    prob.run_model()
+    assert r["turbulence_ks"] == pytest.approx(float(prob.get_val("turbulence_ks")[0]), rel=1e-8)
+
+
+def test_size_turbulence_bad_case(capsys):
+    from wingmdao.cli import main
+
+    assert main(["size", "cantilever", "--analysis-only", "--turbulence", "--no-plots"]) == 2
+    assert "--turbulence" in capsys.readouterr().err

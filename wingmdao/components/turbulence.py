@@ -56,14 +56,18 @@ class TurbulenceStressKS(om.ExplicitComponent):
                              desc="fixed grid (rad/s, odd count); None: refined at the modes of the first evaluation")
         self.options.declare("f_max", default=20.0, types=float, desc="highest frequency of the automatic grid (Hz)")
         self.options.declare("n_base", default=161, types=int, desc="geometric points of the automatic grid")
+        self.options.declare("values", default=None, allow_none=True, types=dict,
+                             desc="default values of inputs {name: value} (the aerodynamic parameters and "
+                                  "trim_lift a sizing group does not connect)")
 
     def setup(self):
         n = self.options["num_nodes"]
         self.system = cached_aeroelastic_system(n, damping=self.options["damping"], plunge=self.options["plunge"],
                                                 trim=True)
         self.specs = [s for s in self.system.param_specs if s.name != "airspeed"]
+        values = self.options["values"] or {}
         for s in self.specs:
-            self.add_input(s.name, shape=s.shape or 1, units=s.units, desc=s.desc)
+            self.add_input(s.name, val=values.get(s.name, 1.0), shape=s.shape or 1, units=s.units, desc=s.desc)
         for w in WALL_NAMES:
             self.add_input(w, shape=n, units="m", desc=f"{w[2:].replace('_', ' ')} thickness at each station")
         self.add_output("turbulence_ks", units=None,

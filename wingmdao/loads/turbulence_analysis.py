@@ -24,11 +24,11 @@ import numpy as np
 import scipy.sparse as sp
 
 from wingmdao.aero.plunge import body_mass, half_wing_mass
-from wingmdao.aero.system import cached_aeroelastic_system
+from wingmdao.aero.system import aero_parameters, cached_aeroelastic_system
 from wingmdao.beam.residual import STATE_BLOCKS
 from wingmdao.beam.static import cached_beam_system
 from wingmdao.loads import turbulence as tb
-from wingmdao.loads.atmosphere import G0
+from wingmdao.loads.atmosphere import G0, LB
 from wingmdao.loads.maneuver import maneuver_line_loads, strip_line_loads
 from wingmdao.stability.frequency import (LOAD_NAMES, LOAD_UNITS, OutputMap, aeroelastic_outputs, frequency_grid,
                                           frequency_response, internal_load_output, lift_weights, linear_gust_model,
@@ -192,3 +192,28 @@ def turbulence_analysis(gm: GustModel, u_sigma: float, *, f_min=1e-3, f_max=20.0
         "model": gm.description,
     })
     return res
+
+
+def sizing_turbulence_options(module, setup, *, damping=None, rho_ks=50.0) -> dict:
+    """Options of :class:`wingmdao.components.turbulence.TurbulenceStressKS` for the sizing of a case
+    with aerodynamic data. ``module``: its case module (``aero_data(n)``, ``flight_point()``,
+    ``CRUISE_ALTITUDE_FT``, ``GUST_SET_DEFAULTS``, ``TOGW_LB``); ``setup``: its CaseSetup. The V_C
+    point (U_sigma of 25.341(b)(3) at the cruise altitude), root clamped (the aircraft mass outside
+    the wing is not a sizing input), the stations meeting the gust at their leading edges, the box
+    geometry of the setup, sigma_allow the material's yield stress."""
+    geo = setup.geometry
+    n = geo.num_nodes
+    aero, fp = module.aero_data(n), module.flight_point()
+    V = float(fp["cruise_speed"])
+    fg = module.GUST_SET_DEFAULTS
+    point = tb.continuous_turbulence_intensity(module.CRUISE_ALTITUDE_FT, z_mo_ft=fg["z_mo_ft"],
+                                               mlw_over_mtow=fg["mlw_over_mtow"], mzfw_over_mtow=fg["mzfw_over_mtow"])
+    values = aero_parameters(n, chord=aero["chord"], ref_point=aero["ref_point"], lift_slope=aero["lift_slope"],
+                             airspeed=V, density=aero["density"], mach=V / aero["speed_of_sound"])
+    values.pop("airspeed")
+    values["trim_lift"] = module.TOGW_LB * LB * G0
+    x_le = np.asarray(geo.node_positions)[:, 0] - np.asarray(aero["ref_point"]) * np.asarray(aero["chord"])
+    return {"plunge": False, "airspeed": V, "x_stations": x_le, "width": np.asarray(geo.width),
+            "height": np.asarray(geo.height), "section_to_csn": geo.section_to_csn, "u_sigma": float(point.u_sigma),
+            "sigma_allow": float(setup.material.sigma_y), "rho_ks": float(rho_ks), "damping": damping,
+            "values": values}
