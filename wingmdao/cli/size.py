@@ -39,8 +39,8 @@ def _add_common(p, *, sizing: bool):
                             "constraint at speeds up to F V_D (cases with aerodynamic data: pegasus; docs/flutter.md)")
         p.add_argument("--turbulence", action="store_true",
                        help="add the 14 CFR 25.341(b) continuous-turbulence constraint: KS of the corner design stresses "
-                            "1 g +/- U_sigma A-bar <= yield at V_C, root clamped (cases with aerodynamic data: pegasus; "
-                            "docs/turbulence.md)")
+                            "1 g +/- U_sigma A-bar <= yield at V_C, root clamped, structural damping --damping-ratio "
+                            "when > 0, else 0.02 (cases with aerodynamic data: pegasus; docs/turbulence.md)")
         p.add_argument("--no-flutter-search", action="store_true",
                        help="do not search the flutter speed of the result (flutter_speed_m_s, cases with "
                             "aerodynamic data)")
@@ -278,7 +278,7 @@ def _add_turbulence(args, setup, comm) -> None:
         raise ValueError(f"--turbulence: case {module.NAME!r} has no aerodynamic data (cases with it: pegasus)")
     if setup.section != "box":
         raise ValueError(f"--turbulence needs box sections (the linear corner stresses), got section {setup.section!r}")
-    zeta = getattr(args, "damping_ratio", None) or 0.02
+    zeta = getattr(args, "damping_ratio", None) or 0.02  # said in the help and in the run's notes
     damping, note = module.gust_damping(zeta, getattr(args, "damping_frequency_hz", None), setup.geometry, setup.options)
     setup.turbulence = sizing_turbulence_options(module, setup, damping=damping)
     setup.notes.append(f"turbulence constraint: KS of (+/- s_1g + U_sigma A-bar)/sigma_y - 1 <= 0 at V_C, U_sigma = "
