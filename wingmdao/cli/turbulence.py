@@ -70,7 +70,7 @@ def register(subparsers):
                         "--damping-frequency-hz; 0 = undamped; Nastran practice: 0.02")
     p.add_argument("--damping-frequency-hz", type=float, default=None,
                    help="frequency at which --damping-ratio holds (Hz); unset: the first mode of the initial design")
-    p.add_argument("--f-max-hz", type=float, default=20.0, metavar="HZ",
+    p.add_argument("--f-max-hz", type=float, default=40.0, metavar="HZ",
                    help="highest frequency of the grid (Hz); the spectrum beyond it enters as an estimated tail")
     p.add_argument("--grid-points", type=int, default=161, metavar="N",
                    help="points of the geometric part of the grid (modes add 16 each)")

@@ -126,7 +126,7 @@ def _lists(a):
     return np.asarray(a).tolist()
 
 
-def turbulence_analysis(gm: GustModel, u_sigma: float, *, f_min=1e-3, f_max=20.0, n_base=161, n_mode=16,
+def turbulence_analysis(gm: GustModel, u_sigma: float, *, f_min=1e-3, f_max=40.0, n_base=161, n_mode=16,
                         stress_matrices=None) -> dict:
     """A-bar, PSDs, design loads (P_1g +/- U_sigma A-bar) and (bending, torsion) correlations of every
     station; a JSON-ready dict (SI; A-bar in output units per m/s; PSDs one-sided, per Hz, for a unit
