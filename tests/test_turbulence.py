@@ -18,8 +18,16 @@ from wingmdao.aero import aero_parameters, cached_aeroelastic_system
 from wingmdao.beam.static import beam_forcing, beam_parameters, straight_beam
 from wingmdao.loads import turbulence as tb
 from wingmdao.stability.eigen import eigenmodes
-from wingmdao.stability.frequency import (aeroelastic_outputs, check_frequencies, frequency_grid, frequency_response,
-                                          linear_gust_model, spectral_integral, stress_matrix, stress_response)
+from wingmdao.stability.frequency import (
+    aeroelastic_outputs,
+    check_frequencies,
+    frequency_grid,
+    frequency_response,
+    linear_gust_model,
+    spectral_integral,
+    stress_matrix,
+    stress_response,
+)
 from wingmdao.timemarch.bdf import march, solve_static
 from wingmdao.timemarch.system import layout, pack
 
@@ -149,7 +157,7 @@ def test_von_karman_integrates_to_sigma_squared():
     B(1/2, 4/3)/2 + 4/3 B(3/2, 1/3)), so the integral is 4.2065463 / (1.339 pi) sigma^2 = 0.999989 sigma^2."""
     for V in (50.0, 250.0):
         # in u = ln(omega): the omega^(-5/3) tail beyond e^40 rad/s is below 1e-11
-        val, _ = quad(lambda u: tb.von_karman_psd(np.exp(u), V, sigma=3.0) * np.exp(u), -30, 40, limit=400,
+        val, _ = quad(lambda u, V=V: tb.von_karman_psd(np.exp(u), V, sigma=3.0) * np.exp(u), -30, 40, limit=400,
                       epsrel=1e-11)
         assert abs(val / 9.0 - 0.999989) < 1e-6
 
@@ -408,9 +416,9 @@ def test_turbulence_stress_ks_totals_wrt_thicknesses_through_the_section_chain()
     OpenMDAO check_totals (central differences) on a 4-node aluminium box wing, free in plunge, 2 %
     structural damping (undamped, the in-plane mode's peak moves across the held grid and the
     differences see its curvature)."""
-    from wingmdao.beam.residual import StrainRateDamping
     import openmdao.api as om
 
+    from wingmdao.beam.residual import StrainRateDamping
     from wingmdao.components.section import BoxSection
     from wingmdao.components.turbulence import TurbulenceStressKS
     from wingmdao.groups.wing import add_section_offsets
@@ -465,7 +473,13 @@ def test_size_pegasus_turbulence_constraint_analysis(tmp_path):
     from wingmdao.cases import pegasus
     from wingmdao.components.turbulence import TurbulenceStressKS
     from wingmdao.loads.turbulence_analysis import sizing_turbulence_options
-    from wingmdao.sizing import SECTION_KINDS, WALL_VARS, design_beam_params, initial_design, station_design
+    from wingmdao.sizing import (
+        SECTION_KINDS,
+        WALL_VARS,
+        design_beam_params,
+        initial_design,
+        station_design,
+    )
 
     setup = pegasus.build()
     geo = setup.geometry
