@@ -54,10 +54,7 @@ def main(argv=None):
                     help="also time the corner-stress KS and its gradient (wingmdao.stability.frequency_adjoint)")
     args = ap.parse_args(argv)
 
-    from wingmdao.loads.turbulence_analysis import (
-        coupled_gust_model,
-        turbulence_analysis,
-    )
+    from wingmdao.loads.turbulence_analysis import coupled_gust_model, turbulence_analysis
     from wingmdao.stability.frequency import pencil_eigenvalues
 
     bp, aero, chord, axis, weight = _pegasus()

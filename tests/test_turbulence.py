@@ -18,16 +18,8 @@ from wingmdao.aero import aero_parameters, cached_aeroelastic_system
 from wingmdao.beam.static import beam_forcing, beam_parameters, straight_beam
 from wingmdao.loads import turbulence as tb
 from wingmdao.stability.eigen import eigenmodes
-from wingmdao.stability.frequency import (
-    aeroelastic_outputs,
-    check_frequencies,
-    frequency_grid,
-    frequency_response,
-    linear_gust_model,
-    spectral_integral,
-    stress_matrix,
-    stress_response,
-)
+from wingmdao.stability.frequency import (aeroelastic_outputs, check_frequencies, frequency_grid, frequency_response,
+                                          linear_gust_model, spectral_integral, stress_matrix, stress_response)
 from wingmdao.timemarch.bdf import march, solve_static
 from wingmdao.timemarch.system import layout, pack
 
@@ -416,9 +408,9 @@ def test_turbulence_stress_ks_totals_wrt_thicknesses_through_the_section_chain()
     OpenMDAO check_totals (central differences) on a 4-node aluminium box wing, free in plunge, 2 %
     structural damping (undamped, the in-plane mode's peak moves across the held grid and the
     differences see its curvature)."""
+    from wingmdao.beam.residual import StrainRateDamping
     import openmdao.api as om
 
-    from wingmdao.beam.residual import StrainRateDamping
     from wingmdao.components.section import BoxSection
     from wingmdao.components.turbulence import TurbulenceStressKS
     from wingmdao.groups.wing import add_section_offsets
@@ -473,13 +465,7 @@ def test_size_pegasus_turbulence_constraint_analysis(tmp_path):
     from wingmdao.cases import pegasus
     from wingmdao.components.turbulence import TurbulenceStressKS
     from wingmdao.loads.turbulence_analysis import sizing_turbulence_options
-    from wingmdao.sizing import (
-        SECTION_KINDS,
-        WALL_VARS,
-        design_beam_params,
-        initial_design,
-        station_design,
-    )
+    from wingmdao.sizing import SECTION_KINDS, WALL_VARS, design_beam_params, initial_design, station_design
 
     setup = pegasus.build()
     geo = setup.geometry

@@ -29,13 +29,7 @@ import numpy as np
 from wingmdao.cases import available_cases
 from wingmdao.cases.planform import G0, LB, wing_geometry
 from wingmdao.cli._args import add_output_arguments
-from wingmdao.cli._io import (
-    check_output_dir,
-    check_output_file,
-    read_design,
-    refuse_existing,
-    write_json,
-)
+from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, write_json
 from wingmdao.cli.gust import _beam_parameters
 from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
 from wingmdao.loads.turbulence import continuous_turbulence_intensity
@@ -142,11 +136,7 @@ def _check_outputs(args):
 
 def run(args):
     from wingmdao.aero import aero_parameters
-    from wingmdao.loads.turbulence_analysis import (
-        coupled_gust_model,
-        strip_gust_model,
-        turbulence_analysis,
-    )
+    from wingmdao.loads.turbulence_analysis import coupled_gust_model, strip_gust_model, turbulence_analysis
 
     t_wall = _time.perf_counter()
     module = available_cases()[args.case]

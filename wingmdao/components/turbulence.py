@@ -25,11 +25,7 @@ import openmdao.api as om
 from wingmdao.aero.system import cached_aeroelastic_system
 from wingmdao.loads.atmosphere import G0
 from wingmdao.section.box import WALL_NAMES
-from wingmdao.stability.frequency import (
-    frequency_grid,
-    linear_gust_model,
-    pencil_eigenvalues,
-)
+from wingmdao.stability.frequency import frequency_grid, linear_gust_model, pencil_eigenvalues
 from wingmdao.stability.frequency_adjoint import StressMap, turbulence_stress_ks
 from wingmdao.timemarch.bdf import solve_static
 from wingmdao.timemarch.system import layout, pack

@@ -53,19 +53,9 @@ VON_KARMAN_A = 1.339
 U_SIGMA_REF_TABLE_FT = ((0.0, 90.0), (24000.0, 79.0), (60000.0, 79.0))
 ALTITUDE_RANGE_FT = (0.0, 60000.0)
 
-__all__ = [
-    "TurbulenceIntensity",
-    "a_bar",
-    "continuous_turbulence_intensity",
-    "correlated_loads",
-    "correlation",
-    "design_loads",
-    "equal_probability_ellipse",
-    "flight_profile_alleviation_factor",
-    "reference_turbulence_intensity",
-    "turbulence_intensity",
-    "von_karman_psd",
-]
+__all__ = ["von_karman_psd", "reference_turbulence_intensity", "turbulence_intensity", "TurbulenceIntensity",
+           "continuous_turbulence_intensity", "a_bar", "correlation", "design_loads",
+           "equal_probability_ellipse", "correlated_loads", "flight_profile_alleviation_factor"]
 
 
 def von_karman_psd(omega, airspeed, sigma=1.0, scale_m=SCALE_OF_TURBULENCE_FT * FT):

@@ -30,20 +30,9 @@ from wingmdao.beam.static import cached_beam_system
 from wingmdao.loads import turbulence as tb
 from wingmdao.loads.atmosphere import G0, LB
 from wingmdao.loads.maneuver import maneuver_line_loads, strip_line_loads
-from wingmdao.stability.frequency import (
-    LOAD_NAMES,
-    LOAD_UNITS,
-    OutputMap,
-    aeroelastic_outputs,
-    frequency_grid,
-    frequency_response,
-    internal_load_output,
-    lift_weights,
-    linear_gust_model,
-    pencil_eigenvalues,
-    state_output,
-    stress_response,
-)
+from wingmdao.stability.frequency import (LOAD_NAMES, LOAD_UNITS, OutputMap, aeroelastic_outputs, frequency_grid,
+                                          frequency_response, internal_load_output, lift_weights, linear_gust_model,
+                                          pencil_eigenvalues, state_output, stress_response)
 from wingmdao.timemarch.bdf import solve_static
 from wingmdao.timemarch.system import layout, pack
 

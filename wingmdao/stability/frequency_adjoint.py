@@ -43,11 +43,7 @@ import scipy.sparse.linalg as spla
 from wingmdao.beam.residual import STATE_BLOCKS
 from wingmdao.beam.rotations import body_to_csn
 from wingmdao.loads.turbulence import von_karman_psd
-from wingmdao.stability.frequency import (
-    LinearGustModel,
-    ShiftedFactors,
-    check_frequencies,
-)
+from wingmdao.stability.frequency import LinearGustModel, ShiftedFactors, check_frequencies
 from wingmdao.stability.sensitivity import ks_aggregate
 from wingmdao.stress.box_stress import box_stresses
 from wingmdao.timemarch.system import layout
