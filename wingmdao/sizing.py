@@ -174,7 +174,8 @@ def _check_geometry(geometry, section) -> None:
 
 def build_problem(geometry: WingGeometry, load_cases, material, options: SizingOptions,
                   *, driver=True, parallel=None, section="box", comm=False,
-                  flutter: dict | None = None, panels: PanelLayout | None = None) -> tuple[om.Problem, str]:
+                  flutter: dict | None = None, panels: PanelLayout | None = None,
+                  turbulence: dict | None = None) -> tuple[om.Problem, str]:
     """Set up the sizing problem; returns ``(problem, driver description)``.
 
     ``section`` is ``"box"`` (design variables: the four wall thicknesses) or ``"solid"``
@@ -183,6 +184,8 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     (:mod:`wingmdao.parallel`); False/None: all cases in this process. ``flutter``: options of
     :class:`~wingmdao.components.flutter.FlutterDamping` (e.g. from
     :func:`wingmdao.stability.cases.sizing_flutter_options`): adds the constraint flutter_ks <= 0.
+    ``turbulence``: options of :class:`~wingmdao.components.turbulence.TurbulenceStressKS` (e.g. from
+    :func:`wingmdao.loads.turbulence_analysis.sizing_turbulence_options`): adds turbulence_ks <= 0.
     ``panels``: the stiffened panels and ribs (section ``"stiffened"``, and only there): adds the
     stiffener design variables, the panel failure constraints, the ribs' mass and the sizing rules
     (linear constraints; docs/panels.md).
@@ -197,6 +200,8 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     distributed = comm is not None and comm is not False and comm.size > 1
     if flutter is not None and (distributed or section not in BOX_KINDS):
         raise ValueError("the flutter constraint needs box sections in one process (no MPI distribution)")
+    if turbulence is not None and (distributed or section != "box"):
+        raise ValueError("the turbulence constraint needs box sections in one process (no MPI distribution)")
     mass_ref = (options.mass_scale or OBJECTIVE_SCALE * initial_mass(geometry, material, options, section, panels)) \
         if driver else 1.0
     # the load cases' forcing histories are fixed data of the beams, not OpenMDAO variables (issue 15)
@@ -213,7 +218,8 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
                                           build_problem=build_problem, **wing_kwargs)
     else:
         wing = WingSizing(num_nodes=n, load_cases=load_cases, material=material, parallel=parallel,
-                          section=section, station_map=geometry.station_map, flutter=flutter, **wing_kwargs)
+                          section=section, station_map=geometry.station_map, flutter=flutter,
+                          turbulence=turbulence, **wing_kwargs)
     # the wing group is the model itself, not a subsystem of it: one group level less, so one
     # LinearRunOnce copy of all the d_outputs less (27 MB at 20 nodes x 4001 steps, issue 15)
     prob = om.Problem(model=wing, comm=None if distributed else _serial_comm(), reports=False)
@@ -425,11 +431,12 @@ def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, sectio
     out["gradient_evaluations"] = int(getattr(stats, "deriv_evals", 0) or 0)
     worst = max((v for d in ks.values() for v in d.values()), default=np.nan)
     out["active_constraints"] = [f"{c}.{f}" for c, d in ks.items() for f, v in d.items() if v > -1e-3]
-    flutter = _flutter_ks(prob)
-    if flutter is not None:
-        out["flutter_ks"] = flutter
-        if flutter > -1e-3:
-            out["active_constraints"].append("flutter_ks")
+    for name in ("flutter_ks", "turbulence_ks"):
+        value = _constraint_value(prob, name)
+        if value is not None:
+            out[name] = value
+            if value > -1e-3:
+                out["active_constraints"].append(name)
     out["max_ks"] = float(worst)
     if panels is not None:
         out["panels"] = panel_summary(prob, load_cases, panels)
@@ -448,10 +455,10 @@ def case_families(case, section: str = "box", panels: PanelLayout | None = None)
     return tuple(case.families) + tuple(f for f in fams if f not in case.families)
 
 
-def _flutter_ks(prob):
-    """The flutter-damping constraint's value when the model has one, else None."""
+def _constraint_value(prob, name):
+    """The value of the model's constraint ``name`` (flutter_ks, turbulence_ks) when it has one, else None."""
     try:
-        return float(prob.get_val("flutter_ks")[0])
+        return float(prob.get_val(name)[0])
     except KeyError:
         return None
 
@@ -514,7 +521,7 @@ def size_case(setup, *, optimize: bool = True, parallel: bool | None = None, com
     check_memory(mine, setup.geometry.num_nodes)  # before any solve
     prob, desc = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
                                driver=optimize, parallel=parallel, section=setup.section, comm=comm,
-                               flutter=setup.flutter, panels=setup.panels)
+                               flutter=setup.flutter, panels=setup.panels, turbulence=setup.turbulence)
     return prob, presize_and_size(prob, setup, desc, optimize=optimize)
 
 

@@ -47,6 +47,7 @@ class CaseSetup:
     notes: list = field(default_factory=list)
     flutter: dict | None = None  # FlutterDamping options (wingmdao.stability.cases.sizing_flutter_options)
     panels: object = None  # wingmdao.panels.layout.PanelLayout with section "stiffened"
+    turbulence: dict | None = None  # TurbulenceStressKS options (wingmdao.loads.turbulence_analysis.sizing_turbulence_options)
 
 
 #: Most time steps of one march: states, their adjoint, residual Jacobian blocks and stresses are

@@ -37,6 +37,10 @@ def _add_common(p, *, sizing: bool):
         p.add_argument("--flutter-margin", metavar="F", type=float, default=None,
                        help="add the constraint flutter speed >= F V_D (14 CFR 25.629: 1.15) as a damping "
                             "constraint at speeds up to F V_D (cases with aerodynamic data: pegasus; docs/flutter.md)")
+        p.add_argument("--turbulence", action="store_true",
+                       help="add the 14 CFR 25.341(b) continuous-turbulence constraint: KS of the corner design stresses "
+                            "1 g +/- U_sigma A-bar <= yield at V_C, root clamped, structural damping --damping-ratio "
+                            "when > 0, else 0.02 (cases with aerodynamic data: pegasus; docs/turbulence.md)")
         p.add_argument("--no-flutter-search", action="store_true",
                        help="do not search the flutter speed of the result (flutter_speed_m_s, cases with "
                             "aerodynamic data)")
@@ -122,6 +126,8 @@ def run_size(args) -> int:
         setup.flutter = sizing_flutter_options(args.case_module.NAME, setup.geometry.num_nodes, args.flutter_margin)
         setup.notes.append(f"flutter constraint: KS of Re(lambda) <= 0 (rho 100 s) at {args.flutter_margin:g} V_D x "
                            f"(0.25, 0.5, 0.75, 1) = {', '.join(f'{v:.1f}' for v in setup.flutter['speeds'])} m/s")
+    if getattr(args, "turbulence", False):
+        _add_turbulence(args, setup, comm)
     plots = [] if args.no_plots else _plot_paths(stem, setup)
     if len(setup.load_cases) > 1:  # an envelope: its loads file and plots are outputs too
         from wingmdao.envelope import check_stations, output_paths
@@ -163,7 +169,7 @@ def run_size(args) -> int:
     check_memory(mine, setup.geometry.num_nodes)  # before any solve: this rank's marches must fit
     prob, desc = sizing.build_problem(setup.geometry, setup.load_cases, setup.material, opts,
                                       driver=optimize, section=setup.section, comm=comm or False,
-                                      flutter=setup.flutter, panels=setup.panels)
+                                      flutter=setup.flutter, panels=setup.panels, turbulence=setup.turbulence)
     import openmdao.api as om
 
     interrupted = failed = False
@@ -260,6 +266,25 @@ def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupt
             + (f", recording {recording}" if recording else ""))
         return EXIT_INTERRUPTED
     return 0 if result["success"] else 1
+
+
+def _add_turbulence(args, setup, comm) -> None:
+    """--turbulence: the TurbulenceStressKS options of the case (one process, box sections, a case
+    with aerodynamic data), 2 % structural damping at the first mode when the case has none."""
+    from wingmdao.loads.turbulence_analysis import sizing_turbulence_options
+
+    if comm is not None and comm.size > 1:
+        raise ValueError("--turbulence: the turbulence constraint runs in one process (no mpirun)")
+    module = args.case_module
+    if not all(hasattr(module, a) for a in ("aero_data", "flight_point", "GUST_SET_DEFAULTS", "CRUISE_ALTITUDE_FT")):
+        raise ValueError(f"--turbulence: case {module.NAME!r} has no aerodynamic data (cases with it: pegasus)")
+    if setup.section != "box":
+        raise ValueError(f"--turbulence needs box sections (the linear corner stresses), got section {setup.section!r}")
+    zeta = getattr(args, "damping_ratio", None) or 0.02  # said in the help and in the run's notes
+    damping, note = module.gust_damping(zeta, getattr(args, "damping_frequency_hz", None), setup.geometry, setup.options)
+    setup.turbulence = sizing_turbulence_options(module, setup, damping=damping)
+    setup.notes.append(f"turbulence constraint: KS of (+/- s_1g + U_sigma A-bar)/sigma_y - 1 <= 0 at V_C, U_sigma = "
+                       f"{setup.turbulence['u_sigma']:.2f} m/s TAS, root clamped, {note}")
 
 
 def _add_flutter_result(result, args, setup, prob) -> None:

@@ -36,6 +36,7 @@ from wingmdao.stress.box_stress import SECTION_PROPERTIES
 from wingmdao.components.beam import BeamDynamics
 from wingmdao.components.beam_loads import BeamInternalLoads
 from wingmdao.components.flutter import FlutterDamping
+from wingmdao.components.turbulence import TurbulenceStressKS
 from wingmdao.components.ks import KSAggregate
 from wingmdao.components.mass import StructuralMass
 from wingmdao.components.station_map import StationMap
@@ -343,6 +344,9 @@ class WingSizing(om.Group):
         self.options.declare("add_objective", default=False, types=bool,
                              desc="add the structural mass as the objective")
         self.options.declare("mass_ref", default=1.0, lower=0.0, types=numbers.Real, desc="objective scaling reference (kg)")
+        self.options.declare("turbulence", default=None, allow_none=True, types=dict,
+                             desc="options of components.turbulence.TurbulenceStressKS: adds the 25.341(b) "
+                                  "continuous-turbulence stress constraint turbulence_ks <= 0 (None: none)")
         self.options.declare("flutter", default=None, allow_none=True, types=dict,
                              desc="options of components.flutter.FlutterDamping (aero, speeds, ...): adds the "
                                   "flutter-damping constraint flutter_ks <= 0 (None: no flutter constraint)")
@@ -427,6 +431,8 @@ class WingSizing(om.Group):
                 promotes_inputs=case_inputs)
         if self.options["flutter"] is not None:
             self._add_flutter(n)
+        if self.options["turbulence"] is not None:
+            self._add_turbulence(n, alias_map)
         if self.options["add_objective"]:
             self.add_objective("mass", ref=self.options["mass_ref"])
 
@@ -450,6 +456,17 @@ class WingSizing(om.Group):
 
     #: scaling reference of the flutter constraint (1/s: a decay rate)
     FLUTTER_REF = 0.1
+
+    def _add_turbulence(self, n, alias_map):
+        """The 25.341(b) corner design-stress constraint on the section chain's beam parameters and the
+        walls of every station (docs/turbulence.md)."""
+        walls = [(w, alias_map[w]) if w in alias_map else w for w in WALLS]
+        self.add_subsystem("turbulence", TurbulenceStressKS(num_nodes=n, **self.options["turbulence"]),
+                           promotes_inputs=["node_positions", "node_euler_angles", *SECTION_TO_BEAM,
+                                            *SECTION_OFFSETS, *walls],
+                           promotes_outputs=["turbulence_ks"])
+        if self.options["add_constraints"]:
+            self.add_constraint("turbulence_ks", upper=0.0)
 
     def _add_flutter(self, n):
         """The flutter-damping constraint on the section chain's beam parameters (docs/flutter.md)."""

@@ -1,0 +1,193 @@
+"""14 CFR 25.341(b) continuous turbulence: von Karman spectrum, U_sigma, A-bar, design and correlated loads.
+
+The regulation (14 CFR 25.341(b), as amended by Amdt. 25-141, 79 FR 73463, Dec. 11, 2014; the same
+criteria as CS 25.341(b)), in its own words for the quantities computed here:
+
+* (b)(1): "Limit loads must be determined ... P_L = P_L-1g ± U_sigma A-bar, where P_L = limit load;
+  P_L-1g = steady 1g load for the condition; A-bar = ratio of root-mean-square incremental load for
+  the condition to root-mean-square turbulence velocity; and U_sigma = limit turbulence intensity
+  in true airspeed" (:func:`design_loads`);
+* (b)(2): the von Karman power spectral density
+  "Phi(Omega) = sigma^2 L / pi [1 + 8/3 (1.339 L Omega)^2] / [1 + (1.339 L Omega)^2]^(11/6)",
+  "Phi = power-spectral density (ft/sec)^2/rad/ft; sigma = root-mean-square gust velocity, ft/sec;
+  Omega = reduced frequency, radians per foot; L = 2,500 ft" (:func:`von_karman_psd`);
+* (b)(3)(i): "At airplane speeds between V_B and V_C: U_sigma = U_sigma_ref F_g, where U_sigma_ref
+  is the reference turbulence intensity that varies linearly with altitude from 90 ft/sec (TAS)
+  at sea level to 79 ft/sec (TAS) at 24,000 feet and is then constant at 79 ft/sec (TAS) up to
+  the altitude of 60,000 feet. F_g is the flight profile alleviation factor defined in paragraph
+  (a)(6) of this section" (:func:`reference_turbulence_intensity`; F_g is
+  :func:`wingmdao.loads.gust.flight_profile_alleviation_factor`, its one home);
+* (b)(3)(ii): "At speed V_D: U_sigma is equal to 1/2 the values obtained under paragraph
+  (b)(3)(i)"; (b)(3)(iii): "At speeds between V_C and V_D: U_sigma is equal to a value obtained by
+  linear interpolation" (:func:`turbulence_intensity`); (b)(3)(iv): "both positive and negative
+  incremental loads due to continuous turbulence must be considered" (the ± of the design loads).
+
+FAA AC 25.341-1, "Dynamic Gust Loads" (2014), describes the frequency-domain analysis (the
+transfer functions of the linear aeroelastic model to a unit harmonic gust with the penetration
+phase of each lifting station, A-bar from the integral of |H|^2 times the von Karman spectrum) and
+the *equiprobable* (correlated) loads: with rho_xy the correlation coefficient of two loads, the
+load y that goes with the design value P_x-1g ± U_sigma A-bar_x of x is P_y-1g ± rho_xy U_sigma
+A-bar_y, the tangent point of the equal-probability ellipse (:func:`correlation`,
+:func:`equal_probability_ellipse`; Hoblit, "Gust Loads on Aircraft: Concepts and Applications",
+AIAA Education Series, 1988, Ch. 11).
+
+Units: the regulation's feet and ft/s at the edges (names ending ``_ft``, ``_fps``), SI inside
+and in every result: spectra in (m/s)^2 per rad/s of angular frequency omega (one-sided,
+int_0^inf Phi d omega = sigma^2), A-bar in output units per m/s.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from wingmdao.loads.atmosphere import FT
+from wingmdao.loads.gust import _check_range, flight_profile_alleviation_factor
+from wingmdao.stability.frequency import check_frequencies, spectral_integral
+
+#: 25.341(b)(2): the scale of turbulence L (ft), and the von Karman constant 1.339
+SCALE_OF_TURBULENCE_FT = 2500.0
+VON_KARMAN_A = 1.339
+#: 25.341(b)(3)(i): U_sigma_ref (ft/s TAS) vs altitude (ft), linear in between, constant above 24,000 ft
+U_SIGMA_REF_TABLE_FT = ((0.0, 90.0), (24000.0, 79.0), (60000.0, 79.0))
+ALTITUDE_RANGE_FT = (0.0, 60000.0)
+
+__all__ = ["von_karman_psd", "reference_turbulence_intensity", "turbulence_intensity", "TurbulenceIntensity",
+           "continuous_turbulence_intensity", "a_bar", "correlation", "design_loads",
+           "equal_probability_ellipse", "correlated_loads", "flight_profile_alleviation_factor"]
+
+
+def von_karman_psd(omega, airspeed, sigma=1.0, scale_m=SCALE_OF_TURBULENCE_FT * FT):
+    """One-sided von Karman vertical-gust PSD in (m/s)^2 / (rad/s) at angular frequencies ``omega``
+    (rad/s) for true airspeed ``airspeed`` (m/s): Phi_omega(omega) = Phi(Omega) / V with Phi(Omega)
+    of 25.341(b)(2) at Omega = omega / V (rad/m), sigma in m/s and L = ``scale_m`` (2,500 ft)."""
+    if not (np.isfinite(airspeed) and airspeed > 0):
+        raise ValueError(f"airspeed = {airspeed} m/s; allowed range (0, inf) m/s TAS")
+    if not (np.isfinite(scale_m) and scale_m > 0):
+        raise ValueError(f"scale_m = {scale_m} m; allowed range (0, inf) m (25.341(b)(2): 2,500 ft)")
+    w = np.asarray(omega, dtype=float)
+    if np.any(~np.isfinite(w) | (w < 0)):
+        raise ValueError("omega: angular frequencies must be finite and >= 0 rad/s")
+    x2 = (VON_KARMAN_A * scale_m * w / float(airspeed)) ** 2
+    return sigma ** 2 * scale_m / np.pi * (1.0 + 8.0 / 3.0 * x2) / (1.0 + x2) ** (11.0 / 6.0) / float(airspeed)
+
+
+def reference_turbulence_intensity(altitude_ft: float) -> float:
+    """U_sigma_ref (m/s TAS), 25.341(b)(3)(i): 90 ft/s at sea level, linear to 79 ft/s at 24,000 ft,
+    79 ft/s up to 60,000 ft; ValueError outside 0-60,000 ft."""
+    h = _check_range("altitude_ft", altitude_ft, *ALTITUDE_RANGE_FT, "ft")
+    alt, u = zip(*U_SIGMA_REF_TABLE_FT)
+    return float(np.interp(h, alt, u)) * FT
+
+
+def turbulence_intensity(u_sigma_ref: float, f_g: float, speed: float, v_c: float, v_d: float) -> float:
+    """U_sigma = U_sigma_ref F_g at speeds up to V_C, half of it at V_D, linear in between
+    (25.341(b)(3)(i)-(iii)); ``speed``, ``v_c``, ``v_d`` in one unit (e.g. m/s EAS), 0 < V_C < V_D,
+    speed in (0, V_D]."""
+    if not (np.isfinite(u_sigma_ref) and u_sigma_ref > 0):
+        raise ValueError(f"u_sigma_ref = {u_sigma_ref} m/s; allowed range (0, inf) m/s")
+    _check_range("f_g (flight profile alleviation factor)", f_g, 0.0, 1.0, "", lo_open=True)
+    if not (np.isfinite(v_c) and np.isfinite(v_d) and 0 < v_c < v_d):
+        raise ValueError(f"V_C = {v_c}, V_D = {v_d}; need 0 < V_C < V_D (same units)")
+    v = _check_range("speed", speed, 0.0, v_d, "(the unit of V_C, V_D)", lo_open=True)
+    frac = min(max((v - v_c) / (v_d - v_c), 0.0), 1.0)
+    return float(u_sigma_ref * f_g * (1.0 - 0.5 * frac))
+
+
+@dataclass(frozen=True)
+class TurbulenceIntensity:
+    """The 25.341(b)(3) intensity of one flight point: ``altitude_ft``, ``u_sigma_ref`` (m/s TAS),
+    ``f_g``, ``speed_factor`` (1 up to V_C, 1/2 at V_D) and ``u_sigma`` (m/s TAS)."""
+
+    altitude_ft: float
+    u_sigma_ref: float
+    f_g: float
+    speed_factor: float
+    u_sigma: float
+
+
+def continuous_turbulence_intensity(altitude_ft, *, z_mo_ft, mlw_over_mtow, mzfw_over_mtow, speed=None, v_c=None,
+                                    v_d=None) -> TurbulenceIntensity:
+    """Everything 25.341(b)(3) fixes for one flight point (F_g of 25.341(a)(6) from Z_mo, MLW/MTOW,
+    MZFW/MTOW); without ``speed`` the point is at or below V_C."""
+    u_ref = reference_turbulence_intensity(altitude_ft)
+    f_g = flight_profile_alleviation_factor(altitude_ft, z_mo_ft, mlw_over_mtow, mzfw_over_mtow)
+    if speed is None:
+        u = u_ref * f_g
+    else:
+        u = turbulence_intensity(u_ref, f_g, speed, v_c, v_d)
+    return TurbulenceIntensity(float(altitude_ft), u_ref, f_g, u / (u_ref * f_g), u)
+
+
+@dataclass
+class ABar:
+    """A-bar of outputs (output units per m/s): ``value``, its quadrature error estimate
+    ``error`` (from the Richardson estimate of the integral of A-bar^2 and the spectral tail,
+    |dI| / (2 A-bar)) and the ``psd`` (n_freq, ...) of the output per unit (m/s)^2 of sigma^2."""
+
+    value: np.ndarray
+    error: np.ndarray
+    psd: np.ndarray
+
+
+def a_bar(omega, response, airspeed, scale_m=SCALE_OF_TURBULENCE_FT * FT) -> ABar:
+    """A-bar = sqrt(int_0^inf |H(omega)|^2 Phi_1(omega) d omega) of transfer functions ``response``
+    (n_freq, ...) complex, Phi_1 the von Karman PSD of unit sigma (:func:`von_karman_psd`), on the
+    grid ``omega`` (rad/s; odd count, :func:`wingmdao.stability.frequency.frequency_grid`)."""
+    w = check_frequencies(omega)
+    H = np.asarray(response)
+    phi = von_karman_psd(w, airspeed, 1.0, scale_m).reshape((-1,) + (1,) * (H.ndim - 1))
+    psd = np.abs(H) ** 2 * phi
+    integral = spectral_integral(w, psd)
+    value = np.sqrt(np.maximum(integral.value, 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        err = np.where(value > 0, (integral.quadrature_error + np.abs(integral.tail)) / (2 * value), 0.0)
+    return ABar(value, err, psd)
+
+
+def correlation(omega, response_x, response_y, airspeed, scale_m=SCALE_OF_TURBULENCE_FT * FT):
+    """Correlation coefficient rho_xy = int Re(H_x conj(H_y)) Phi_1 / (A-bar_x A-bar_y) of two outputs
+    (elementwise over the trailing axes), in [-1, 1]."""
+    w = check_frequencies(omega)
+    hx, hy = np.asarray(response_x), np.asarray(response_y)
+    if hx.shape != hy.shape:
+        raise ValueError(f"response_x {hx.shape} and response_y {hy.shape}: need the same shape")
+    phi = von_karman_psd(w, airspeed, 1.0, scale_m).reshape((-1,) + (1,) * (hx.ndim - 1))
+    cross = spectral_integral(w, np.real(hx * np.conj(hy)) * phi).value
+    ax = np.sqrt(np.maximum(spectral_integral(w, np.abs(hx) ** 2 * phi).value, 0.0))
+    ay = np.sqrt(np.maximum(spectral_integral(w, np.abs(hy) ** 2 * phi).value, 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rho = np.where((ax > 0) & (ay > 0), cross / (ax * ay), 0.0)
+    return np.clip(rho, -1.0, 1.0)
+
+
+def design_loads(load_1g, u_sigma, a_bar_value):
+    """(P_1g + U_sigma A-bar, P_1g - U_sigma A-bar) of 25.341(b)(1), elementwise."""
+    if not (np.isfinite(u_sigma) and u_sigma >= 0):
+        raise ValueError(f"u_sigma = {u_sigma} m/s; allowed range [0, inf) m/s TAS")
+    p = np.asarray(load_1g, dtype=float)
+    d = float(u_sigma) * np.asarray(a_bar_value, dtype=float)
+    return p + d, p - d
+
+
+def equal_probability_ellipse(load_1g, u_sigma, a_bar_xy, rho, n_points=73):
+    """(n_points, 2) points of the equal-probability ellipse of two loads (x, y):
+    x = P_x + U A_x cos t, y = P_y + U A_y (rho cos t + sqrt(1 - rho^2) sin t), t in [0, 2 pi]."""
+    if not -1.0 <= float(rho) <= 1.0:
+        raise ValueError(f"rho = {rho}; allowed range [-1, 1]")
+    t = np.linspace(0.0, 2 * np.pi, int(n_points))
+    px, py = np.asarray(load_1g, dtype=float)
+    ax, ay = float(u_sigma) * np.asarray(a_bar_xy, dtype=float)
+    x = px + ax * np.cos(t)
+    y = py + ay * (rho * np.cos(t) + np.sqrt(max(0.0, 1.0 - rho ** 2)) * np.sin(t))
+    return np.column_stack([x, y])
+
+
+def correlated_loads(load_1g, u_sigma, a_bar_xy, rho) -> np.ndarray:
+    """(4, 2) tangent points of the ellipse (AC 25.341-1 equiprobable loads): x at its design values
+    P_x ± U A_x with y = P_y ± rho U A_y, then y at P_y ± U A_y with x = P_x ± rho U A_x."""
+    px, py = np.asarray(load_1g, dtype=float)
+    ax, ay = float(u_sigma) * np.asarray(a_bar_xy, dtype=float)
+    return np.array([[px + ax, py + rho * ay], [px - ax, py - rho * ay],
+                     [px + rho * ax, py + ay], [px - rho * ax, py - ay]])

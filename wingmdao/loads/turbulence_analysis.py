@@ -1,0 +1,219 @@
+"""One 25.341(b) continuous-turbulence analysis of a wing: the linear gust model about the 1 g state,
+its frequency response, A-bar, design loads and correlations (docs/turbulence.md).
+
+Two aerodynamic models, as ``wingmdao gust``:
+
+* ``coupled`` (:func:`coupled_gust_model`): the aeroelastic beam of :mod:`wingmdao.aero.system`
+  (unsteady strip theory, Wagner and Kuessner lag states, apparent mass), clamped or free in
+  plunge, trimmed in 1 g level flight (alpha_trim solved for lift = W under gravity, then held);
+  the stations meet the gust at their leading edges;
+* ``strip`` (:func:`strip_gust_model`): the structural beam, root clamped, under the Schrenk 1 g
+  spanload, with the quasi-steady strip-theory gust lift 1/2 rho V c a w at each station's
+  centre of pressure (:func:`wingmdao.loads.maneuver.strip_line_loads`) as its gust input, the
+  loads of ``wingmdao size CASE --aero strip`` in the frequency domain.
+
+:func:`turbulence_analysis` then evaluates the response on a grid refined at the modes of the
+pencil and returns everything 25.341(b) asks for (:mod:`wingmdao.loads.turbulence`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from wingmdao.aero.plunge import body_mass, half_wing_mass
+from wingmdao.aero.system import aero_parameters, cached_aeroelastic_system
+from wingmdao.beam.residual import STATE_BLOCKS
+from wingmdao.beam.static import cached_beam_system
+from wingmdao.loads import turbulence as tb
+from wingmdao.loads.atmosphere import G0, LB
+from wingmdao.loads.maneuver import maneuver_line_loads, strip_line_loads
+from wingmdao.stability.frequency import (LOAD_NAMES, LOAD_UNITS, OutputMap, aeroelastic_outputs, frequency_grid,
+                                          frequency_response, internal_load_output, lift_weights, linear_gust_model,
+                                          pencil_eigenvalues, state_output, stress_response)
+from wingmdao.timemarch.bdf import solve_static
+from wingmdao.timemarch.system import layout, pack
+
+
+@dataclass
+class GustModel:
+    """A linear gust model (:class:`~wingmdao.stability.frequency.LinearGustModel`) with the
+    eigenvalues of its pencil (for the frequency grid), a description, and the system, packed
+    parameters and forcing of its static (1 g) solve (for the gradient,
+    :mod:`wingmdao.stability.frequency_adjoint`)."""
+
+    model: object
+    eigenvalues: np.ndarray
+    description: str
+    system: object = None
+    p: np.ndarray | None = None
+    q_static: np.ndarray | None = None
+
+
+def coupled_gust_model(beam_params: dict, aero_params: dict, *, chord, axis_fraction, weight, plunge=True,
+                       gravity=G0, damping=None) -> GustModel:
+    """The aeroelastic beam trimmed in 1 g level flight (lift of both halves = ``weight`` N under
+    ``gravity`` m/s^2), clamped or free in ``plunge`` (body mass = weight / g0 - 2 m_half), linearised
+    with alpha_trim held; stations meet the gust at their leading edges. ``damping``: the beam's
+    structural damping (:class:`~wingmdao.beam.residual.StrainRateDamping`), None: undamped."""
+    n = np.asarray(chord).size
+    system = cached_aeroelastic_system(n, damping=damping, plunge=bool(plunge), trim=True)
+    params = {**beam_params, **aero_params, "trim_lift": float(weight)}
+    r0 = np.asarray(beam_params["node_positions"])
+    if plunge:
+        params["body_mass"] = body_mass(weight / G0, half_wing_mass(beam_params["mass_per_length"], r0)[0])
+    p = pack(system.param_specs, params)
+    ql = layout(system.forcing_specs)
+    q_static = np.zeros(system.n_forcing)
+    q_static[ql["gravity"].start + 2] = -gravity
+    q_static[ql["trim_active"]] = 1.0
+    x0, _ = solve_static(system, p, q_static)
+    q = q_static.copy()
+    q[ql["trim_active"]] = 0.0
+    x_le = r0[:, 0] - np.asarray(axis_fraction) * np.asarray(chord)
+    outputs = aeroelastic_outputs(system, p, q, x0, weight=weight)
+    model = linear_gust_model(system, p, q, x0, x_stations=x_le, airspeed=float(aero_params["airspeed"]),
+                              outputs=outputs)
+    return GustModel(model, pencil_eigenvalues(model),
+                     f"coupled strip theory, {'free plunge' if plunge else 'clamped'}, trimmed 1 g", system, p, q_static)
+
+
+def strip_gust_model(beam_params: dict, *, chord, axis_fraction, weight, airspeed, density, semi_span,
+                     fuselage_half_width=0.0, lift_slope=2 * np.pi, cp_fraction=0.25, gravity=G0,
+                     damping=None) -> GustModel:
+    """The clamped structural beam under the Schrenk 1 g spanload and gravity, linearised, with
+    the quasi-steady strip gust lift 1/2 rho V c a w_i (N/m per m/s) at each centre of pressure
+    as input; the load factor is the lift of both halves over ``weight``."""
+    r0 = np.asarray(beam_params["node_positions"], dtype=float)
+    c, xb = np.asarray(chord, dtype=float), np.asarray(axis_fraction, dtype=float)
+    n = c.size
+    system = cached_beam_system(n, damping=damping)
+    ql = layout(system.forcing_specs)
+    steady = maneuver_line_loads(r0, c, xb, weight, 1.0, semi_span=semi_span, fuselage_half_width=fuselage_half_width)
+    q = np.zeros(system.n_forcing)
+    q[ql["force_per_length"]] = np.asarray(steady.force_per_length).ravel()
+    q[ql["moment_per_length"]] = np.asarray(steady.moment_per_length).ravel()
+    q[ql["gravity"].start + 2] = -gravity
+    p = pack(system.param_specs, beam_params)
+    x0, _ = solve_static(system, p, q)
+    lift_per_gust = 0.5 * density * airspeed * c * lift_slope  # N/m per m/s, station i
+    f, m = strip_line_loads(r0, c, xb, np.diag(lift_per_gust), cp_fraction)  # (station, node, 3)
+    dq = sp.csc_matrix(system.jac_inputs(x0, np.zeros_like(x0), p, q)[1])
+    cols = np.r_[np.arange(ql["force_per_length"].start, ql["force_per_length"].stop),
+                 np.arange(ql["moment_per_length"].start, ql["moment_per_length"].stop)]
+    dload_dw = np.concatenate([f.reshape(n, -1), m.reshape(n, -1)], axis=1).T  # (6 n, station)
+    G = dq[:, cols] @ sp.csc_matrix(dload_dw)
+    beam = np.arange(18 * n).reshape(n, 18)
+    wts = lift_weights(r0, weight)
+    N = system.n_state
+    i_m, i_z = beam[0, STATE_BLOCKS["M"].start], beam[-1, STATE_BLOCKS["r"].start + 2]
+    outputs = {
+        "loads": internal_load_output(x0, beam, n),
+        "root_bending_moment": state_output(i_m, x0[i_m], N, n),
+        "load_factor": OutputMap(np.array([wts @ np.asarray(steady.force_per_length)[:, 2]]), sp.csr_matrix((1, N)),
+                                 sp.csr_matrix((1, N)), sp.csr_matrix(wts * lift_per_gust)),
+        "tip_deflection": state_output(i_z, x0[i_z] - r0[-1, 2], N, n),
+    }
+    x_cp = r0[:, 0] + (cp_fraction - xb) * c
+    model = linear_gust_model(system, p, q, x0, x_stations=x_cp, airspeed=airspeed, outputs=outputs, gust_input=G)
+    return GustModel(model, pencil_eigenvalues(model),
+                     "quasi-steady strip theory on the clamped structural beam, Schrenk 1 g", system, p, q)
+
+
+def _lists(a):
+    return np.asarray(a).tolist()
+
+
+def turbulence_analysis(gm: GustModel, u_sigma: float, *, f_min=1e-3, f_max=40.0, n_base=161, n_mode=16,
+                        stress_matrices=None) -> dict:
+    """A-bar, PSDs, design loads (P_1g +/- U_sigma A-bar) and (bending, torsion) correlations of every
+    station; a JSON-ready dict (SI; A-bar in output units per m/s; PSDs one-sided, per Hz, for a unit
+    rms gust). ``stress_matrices`` (n, 8, 6): :func:`wingmdao.stability.frequency.stress_matrix` of
+    every station, adds the linear box stresses (Pa)."""
+    if not (np.isfinite(u_sigma) and u_sigma > 0):
+        raise ValueError(f"u_sigma = {u_sigma} m/s; allowed range (0, inf) m/s TAS")
+    model = gm.model
+    V = model.airspeed
+    w = frequency_grid(gm.eigenvalues, f_min=f_min, f_max=f_max, n_base=n_base, n_mode=n_mode)
+    fr = frequency_response(model, w)
+    H = dict(fr.outputs)
+    one_g = {k: m.y0 for k, m in model.outputs.items()}
+    n = one_g["loads"].size // 6
+    if stress_matrices is not None:
+        S = np.asarray(stress_matrices)
+        H["stress"] = stress_response(H["loads"], S).reshape(w.size, -1)
+        one_g["stress"] = np.einsum("sij,sj->si", S, one_g["loads"].reshape(n, 6)).ravel()
+    ab = {k: tb.a_bar(w, h, V) for k, h in H.items()}
+    per_hz = 2 * np.pi  # Phi_f = 2 pi Phi_omega
+    res = {"frequency_hz": _lists(w / (2 * np.pi)),
+           "psd": {"root_bending_moment": _lists(per_hz * ab["root_bending_moment"].psd[:, 0]),
+                   "load_factor": _lists(per_hz * ab["load_factor"].psd[:, 0]),
+                   "units": "one-sided, output^2 per Hz per (m/s)^2 of gust variance"},
+           "transfer_function_magnitude": {k: _lists(np.abs(H[k][:, 0])) for k in ("root_bending_moment",
+                                                                                    "load_factor", "tip_deflection")}}
+    a_bar, err, design = {}, {}, {}
+    for k in ("root_bending_moment", "load_factor", "tip_deflection"):
+        a_bar[k], err[k] = float(ab[k].value[0]), float(ab[k].error[0])
+        up, down = tb.design_loads(one_g[k][0], u_sigma, a_bar[k])
+        design[k] = {"one_g": float(one_g[k][0]), "up": float(up), "down": float(down)}
+    loads_ab = ab["loads"].value.reshape(n, 6)
+    loads_err = ab["loads"].error.reshape(n, 6)
+    loads_1g = one_g["loads"].reshape(n, 6)
+    for j, name in enumerate(LOAD_NAMES):
+        a_bar[name], err[name] = _lists(loads_ab[:, j]), _lists(loads_err[:, j])
+        up, down = tb.design_loads(loads_1g[:, j], u_sigma, loads_ab[:, j])
+        design[name] = {"one_g": _lists(loads_1g[:, j]), "up": _lists(up), "down": _lists(down)}
+    if stress_matrices is not None:
+        sa = ab["stress"].value.reshape(n, 8)
+        a_bar["stress"], err["stress"] = _lists(sa), _lists(ab["stress"].error.reshape(n, 8))
+        up, down = tb.design_loads(one_g["stress"].reshape(n, 8), u_sigma, sa)
+        design["stress"] = {"one_g": _lists(one_g["stress"].reshape(n, 8)), "up": _lists(up), "down": _lists(down)}
+    HL = H["loads"].reshape(w.size, n, 6)
+    jb, jt = LOAD_NAMES.index("bending_moment"), LOAD_NAMES.index("torsion")
+    rho = tb.correlation(w, HL[:, :, jb], HL[:, :, jt], V)
+    corr = [tb.correlated_loads((loads_1g[i, jb], loads_1g[i, jt]), u_sigma, (loads_ab[i, jb], loads_ab[i, jt]),
+                                float(rho[i])) for i in range(n)]
+    ellipse = tb.equal_probability_ellipse((loads_1g[0, jb], loads_1g[0, jt]), u_sigma,
+                                           (loads_ab[0, jb], loads_ab[0, jt]), float(rho[0]))
+    # relative to each output's largest A-bar along the span (near the tip the loads, and A-bar, vanish)
+    rel = max(float(np.max(err[k]) / np.max(v)) for k, v in a_bar.items() if np.max(v) > 0)
+    res.update({
+        "a_bar": a_bar, "a_bar_error": err, "design_loads": design,
+        "correlation": {"bending_torsion": _lists(rho),
+                        "correlated_loads": [_lists(c) for c in corr],
+                        "root_ellipse": _lists(ellipse)},
+        "load_units": dict(zip(LOAD_NAMES, LOAD_UNITS)),
+        "quadrature": {"points": int(w.size), "f_min_hz": float(f_min), "f_max_hz": float(f_max),
+                       "max_relative_error_a_bar": float(rel),
+                       "method": "trapezoid on a grid refined at the pencil's modes; error = Richardson "
+                                 "(I_h - I_2h)/3 on every other point + the power-law tail beyond f_max"},
+        "model": gm.description,
+    })
+    return res
+
+
+def sizing_turbulence_options(module, setup, *, damping=None, rho_ks=50.0) -> dict:
+    """Options of :class:`wingmdao.components.turbulence.TurbulenceStressKS` for the sizing of a case
+    with aerodynamic data. ``module``: its case module (``aero_data(n)``, ``flight_point()``,
+    ``CRUISE_ALTITUDE_FT``, ``GUST_SET_DEFAULTS``, ``TOGW_LB``); ``setup``: its CaseSetup. The V_C
+    point (U_sigma of 25.341(b)(3) at the cruise altitude), root clamped (the aircraft mass outside
+    the wing is not a sizing input), the stations meeting the gust at their leading edges, the box
+    geometry of the setup, sigma_allow the material's yield stress."""
+    geo = setup.geometry
+    n = geo.num_nodes
+    aero, fp = module.aero_data(n), module.flight_point()
+    V = float(fp["cruise_speed"])
+    fg = module.GUST_SET_DEFAULTS
+    point = tb.continuous_turbulence_intensity(module.CRUISE_ALTITUDE_FT, z_mo_ft=fg["z_mo_ft"],
+                                               mlw_over_mtow=fg["mlw_over_mtow"], mzfw_over_mtow=fg["mzfw_over_mtow"])
+    values = aero_parameters(n, chord=aero["chord"], ref_point=aero["ref_point"], lift_slope=aero["lift_slope"],
+                             airspeed=V, density=aero["density"], mach=V / aero["speed_of_sound"])
+    values.pop("airspeed")
+    values["trim_lift"] = module.TOGW_LB * LB * G0
+    x_le = np.asarray(geo.node_positions)[:, 0] - np.asarray(aero["ref_point"]) * np.asarray(aero["chord"])
+    return {"plunge": False, "airspeed": V, "x_stations": x_le, "width": np.asarray(geo.width),
+            "height": np.asarray(geo.height), "section_to_csn": geo.section_to_csn, "u_sigma": float(point.u_sigma),
+            "sigma_allow": float(setup.material.sigma_y), "rho_ks": float(rho_ks), "damping": damping,
+            "values": values}
