@@ -68,7 +68,7 @@ def gust_peak_loads(case, geo, params, *, dt=0.01, t_final=None, gust_start=0.1)
     (:func:`wingmdao.loads.gust.gust_line_loads`, quasi-steady strip theory on the Schrenk 1 g
     spanload, penetration delay) marched with BDF2 (:func:`wingmdao.timemarch.bdf.march`).
 
-    At the instant t* of the largest |M_x| at the root the loads are, per beam node: the
+    At the instant t* of the largest ``|M_x|`` at the root the loads are, per beam node: the
     aerodynamic force and moment per length of t*, and the inertial load -m a* per length, a* the
     BDF2 acceleration (rate of the velocity state u) of the node at t*, m the mass per length of
     the beam (structural plus the engines' non-structural mass); gravity (1 g, -z) acts as well.

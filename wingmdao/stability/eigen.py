@@ -11,15 +11,15 @@ aircraft", AIAA 99-1394, 1999) and the one of M. J. Patil, D. H. Hodges, C. E. S
 J. Aircraft 38(1), 2001.
 
 Per eigenvalue lambda = sigma + i omega: the *damping* sigma (1/s, < 0 stable), the frequency
-|omega| (rad/s) and the damping ratio g = 2 sigma / |omega| of the V-g plot (for a lightly damped
-mode g is twice the fraction of critical damping, which is -sigma/|lambda|).
+``|omega|`` (rad/s) and the damping ratio ``g = 2 sigma / |omega|`` of the V-g plot (for a lightly damped
+mode g is twice the fraction of critical damping, which is ``-sigma/|lambda|``).
 
 Two solvers: dense QZ (``scipy.linalg.eig``) for small systems, and sparse shift-invert Arnoldi
 (``scipy.sparse.linalg.eigs`` on ``(A + s B)^-1 B``, whose eigenvalues ``mu = 1 / (s - lambda)``
 map infinite lambda to mu = 0) for large ones.
 
 Mode tracking over a speed sweep pairs the modes at consecutive speeds by the modal assurance
-criterion MAC = |v_i^H w_j|^2 / (|v_i|^2 |w_j|^2) (R. J. Allemang, "The modal assurance criterion
+criterion ``MAC = |v_i^H w_j|^2 / (|v_i|^2 |w_j|^2)`` (R. J. Allemang, "The modal assurance criterion
 - twenty years of use and abuse", Sound and Vibration, 2003), with an optimal assignment.
 
 Flutter: the lowest speed at which a tracked mode with non-zero frequency has its damping cross
@@ -205,7 +205,7 @@ class Modes:
 def structural_damping(eigenvalues) -> np.ndarray:
     """The V-g method's structural damping ``g = 2 Re(lambda) / |Im(lambda)|`` (NaN for real
     eigenvalues): positive when the mode is unstable, about -2 zeta for a lightly damped mode
-    (zeta = -Re lambda / |lambda|, the damping ratio of
+    (``zeta = -Re lambda / |lambda|``, the damping ratio of
     :attr:`wingmdao.stability.sensitivity.DampingConstraint.damping_ratio` and
     :meth:`wingmdao.beam.residual.StrainRateDamping.from_damping_ratio`)."""
     lam = np.asarray(eigenvalues)
@@ -259,7 +259,7 @@ def _perm_parity(perm) -> float:
 
 def eigenmodes(system, p, q, x0=None, *, static=True, count=None, sigma=0.0, method="auto",
                max_abs=1e6, static_options=None, ncv=None) -> Modes:
-    """Finite eigenvalues of ``lambda B v = -A v`` about a static state, sorted by |lambda|.
+    """Finite eigenvalues of ``lambda B v = -A v`` about a static state, sorted by ``|lambda|``.
 
     Parameters
     ----------
@@ -267,12 +267,12 @@ def eigenmodes(system, p, q, x0=None, *, static=True, count=None, sigma=0.0, met
     p, q : packed parameter / forcing vectors
     x0 : state to linearise about, or the starting guess of the static solve (``static=True``)
     static : solve ``R(x, 0, p, q) = 0`` first (from ``x0`` or the system's initial guess)
-    count : dense: keep the ``count`` smallest |lambda| (all finite ones by default);
+    count : dense: keep the ``count`` smallest ``|lambda|`` (all finite ones by default);
             sparse: the ``count`` eigenvalues nearest to ``sigma`` (12 by default)
     sigma : shift of the sparse solver (1/s, real or complex): the eigenvalues nearest to it
     method : "dense" | "sparse" | "auto" (dense up to ``DENSE_MAX_STATES`` states)
     ncv : Arnoldi basis size of the sparse solver (ARPACK default 2 count + 1)
-    max_abs : eigenvalues with |lambda| above this (1/s) are treated as infinite (spurious)
+    max_abs : eigenvalues with ``|lambda|`` above this (1/s) are treated as infinite (spurious)
     """
     p = np.asarray(p, dtype=float)
     q = np.asarray(q, dtype=float)
@@ -320,7 +320,7 @@ def eigenmodes(system, p, q, x0=None, *, static=True, count=None, sigma=0.0, met
 
 
 def mac_matrix(V, W, weights=None) -> np.ndarray:
-    """MAC[i, j] = |v_i^H w_j|^2 / (|v_i|^2 |w_j|^2); ``weights`` scale the state entries first."""
+    """``MAC[i, j] = |v_i^H w_j|^2 / (|v_i|^2 |w_j|^2)``; ``weights`` scale the state entries first."""
     V = np.asarray(V)
     W = np.asarray(W)
     if weights is not None:

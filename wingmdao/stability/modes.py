@@ -125,7 +125,7 @@ def measure_values(lam, measure, margin):
 
 
 def loaded_fraction(vectors, mask, bmask):
-    """Loaded fraction of each column: |aerodynamic part| / |beam part| (``mask``, ``bmask``
+    """Loaded fraction of each column: ``|aerodynamic part| / |beam part|`` (``mask``, ``bmask``
     weights; only their nonzero rows are read)."""
     ia, ib = np.flatnonzero(mask), np.flatnonzero(bmask)
     return (np.linalg.norm(vectors[ia] * mask[ia, None], axis=0)

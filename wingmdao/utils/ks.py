@@ -4,7 +4,7 @@
 
 (dissertation Eq. 4.44; G. Kreisselmeier and R. Steinhauser, "Systematic control design by
 optimizing a vector performance index", IFAC Proc. 12(7), 1979). The max shift m keeps every
-exponent <= 0, so large rho and large |g| cannot overflow; max g <= KS <= max g + ln(N) / rho.
+exponent <= 0, so large rho and large ``|g|`` cannot overflow; max g <= KS <= max g + ln(N) / rho.
 The sum runs over every entry of ``g``, whatever its shape. Used by the OpenMDAO component
 (:class:`wingmdao.components.ks.KSAggregate`) and the flutter-damping constraint
 (:func:`wingmdao.stability.sensitivity.damping_constraint`).
