@@ -93,7 +93,29 @@ def _reread_index_when_pages_change(app, env, added, changed, removed):
     return ["index"] if added or removed else []
 
 
+_LITERAL = re.compile(r"(``.*?``|`[^`]*`)")
+_MAGNITUDE = re.compile(r"\|[^\s|`][^|`]*\|[^\s`),.;:]*")
+
+
+def literal_magnitudes(line):
+    """``line`` with every bare ``|x|`` (a magnitude or norm, outside backquotes) turned into an
+    inline literal. Docstrings are written to be read as plain text, where ``|lambda|`` is a
+    modulus; reStructuredText would read it as a substitution reference and fail the ``-W`` build.
+    Line blocks (``| text``) and table rules are left alone."""
+    if line.lstrip().startswith(("| ", "+-", "+=")):
+        return line
+    parts = _LITERAL.split(line)
+    for i in range(0, len(parts), 2):
+        parts[i] = _MAGNITUDE.sub(lambda m: "``" + m.group(0) + "``", parts[i])
+    return "".join(parts)
+
+
+def _docstring_magnitudes(app, what, name, obj, options, lines):
+    lines[:] = [literal_magnitudes(line) for line in lines]
+
+
 def setup(app):
     app.connect("builder-inited", _clear_generated_api_pages, priority=100)
     app.connect("source-read", _append_unlisted_pages_to_theory)
     app.connect("env-get-outdated", _reread_index_when_pages_change)
+    app.connect("autodoc-process-docstring", _docstring_magnitudes)
