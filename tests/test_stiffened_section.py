@@ -289,3 +289,21 @@ def test_laminate_panel_failure_partials():
     assert prob.get_val("section.mass_area")[0] < prob.get_val("section.A")[0] * 2   # density 1550 vs 2700
     data = prob.check_partials(method="fd", form="central", step=1e-6, step_calc="rel", out_stream=None)
     assert_check_partials(data, atol=1e-5, rtol=2e-4)
+
+
+def test_centre_box_bay_split_at_the_rib_pitch():
+    """The CRM's centre-box bay (centreline to the root rib at 10 % semi-span, 2.947 m) is split
+    into round(2.947 / 0.824) = 4 equal bays; PEGASUS's (0.983 m, under two pitches of 0.624 m)
+    is kept, and so is every rib outboard of the root rib."""
+    from wingmdao.cases import crm, pegasus
+
+    peg = pegasus.rib_positions(pegasus.PLANFORM)
+    assert peg == tuple(float(y) for y in pegasus.PLANFORM.station_y())
+    planform = crm.PLANFORM.station_y()
+    ribs = np.asarray(pegasus.rib_positions(crm.PLANFORM))
+    assert len(ribs) == len(planform) + 3
+    np.testing.assert_allclose(np.diff(ribs[:5]), planform[1] / 4, rtol=1e-12)
+    np.testing.assert_allclose(ribs[4:], planform[1:], rtol=1e-12)
+    # with --rib-pitch: the centre box at that pitch too
+    ribs = np.asarray(pegasus.rib_positions(crm.PLANFORM, rib_pitch=1.0))
+    np.testing.assert_allclose(np.diff(ribs[:4]), planform[1] / 3, rtol=1e-12)
