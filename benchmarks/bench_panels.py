@@ -22,9 +22,10 @@ from wingmdao.cases import pegasus
 from wingmdao.sizing import size_case
 
 
-def _size(**options):
+def _size(optimizer="SLSQP", **options):
     setup = pegasus.build(**options)
     setup.options.disp = False
+    setup.options.optimizer = optimizer
     w0, c0 = time.perf_counter(), time.process_time()
     _, res = size_case(setup, comm=False)
     return res, time.perf_counter() - w0, time.process_time() - c0
@@ -35,7 +36,7 @@ def compare(loads: str, optimizer: str) -> None:
           f"{'wall [s]':>9s} {'cpu [s]':>8s}")
     cpu = {}
     for panels in ("unstiffened", "stiffened"):
-        res, wall, cpu[panels] = _size(loads=loads, panels=panels)
+        res, wall, cpu[panels] = _size(optimizer, loads=loads, panels=panels)
         print(f"{panels:12s} {res['mass_kg']:10.2f} {str(res['success']):>8s} {res['iterations']:5d} "
               f"{res['function_evaluations']:8d} {res['gradient_evaluations']:8d} {wall:9.1f} {cpu[panels]:8.1f}",
               flush=True)
