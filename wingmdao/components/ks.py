@@ -186,11 +186,10 @@ class KSOfPointwise:
     :class:`KSAggregate` on ``g_<family>``), and only these carry partials.
 
     Why: the KS rows are all a driver differentiates. Declared per point, the partials of
-    ``g`` are (points x entries x inputs) nonzeros that every reverse solve multiplies
-    (one per constraint: for the stiffened PEGASUS gust case, 5 panel families x 251 steps x
-    20 stations x ~300 nonzeros per point); aggregated here, dKS/dx = sum_p w_p dg_p/dx is
-    formed once per linearisation from the per-point nonzeros and each reverse solve multiplies
-    one dense row per input. The ``g`` outputs stay (result summaries read them) without
+    ``g`` are every point's nonzeros (time steps x stations x entries x inputs), which every
+    reverse solve multiplies, one solve per constraint; aggregated here, dKS/dx = sum_p w_p
+    dg_p/dx is formed once per linearisation from the per-point nonzeros and each reverse solve
+    multiplies one dense row per input (docs/panels.md, "Sizing time"). The ``g`` outputs stay (result summaries read them) without
     partials: nothing may differentiate through them. ``ks_constraints`` adds each ``ks_<family>``
     as a constraint ``<= 0`` (as :class:`KSAggregate`'s ``add_constraints``).
     """
