@@ -99,6 +99,31 @@ def test_orthotropic_shear_reduces_to_isotropic_scaling():
     assert bk.plate_shear_long(*scaled, B) == pytest.approx(2 * bk.plate_shear_long(*base, B), rel=1e-12)
 
 
+
+def test_orthotropic_long_plate_shear_published_limits():
+    """Published limits of the infinitely long, simply supported, specially orthotropic plate in
+    shear: D. J. Johns, "Shear Buckling of Isotropic and Orthotropic Plates: A Review",
+    Aeronautical Research Council Reports and Memoranda No. 3677, HMSO, London, 1971 (with its
+    correction sheet of March 1972), Eq. (11): N_xy b^2 / (4 (D2 D3)^(1/2)) = 11.71 when the
+    twisting stiffness dominates (theta = sqrt(D1 D2)/D3 -> 0), and Eq. (12):
+    N_xy b^2 / (4 (D1 D2^3)^(1/4)) = 8.3 when it vanishes (theta -> infinity); D1 along the
+    strip, D2 across it, D3 = D12 + 2 D66 (the notation of Eq. (1) there). The model takes
+    Kassapoglou's fit of Seydel's curve: the first limit to 0.1 %, the second 2 % below (8.125
+    for 8.3: conservative)."""
+    b = 0.2
+    # theta -> 0: D3 = 1e4 sqrt(D1 D2)
+    d1, d2, d12, d66 = 1.0, 1.0, 0.0, 5.0e3
+    ref = 11.71 * 4.0 * math.sqrt(d2 * (d12 + 2 * d66)) / b**2
+    assert bk.plate_shear_long(d1, d2, d12, d66, b) == pytest.approx(ref, rel=1e-3)
+    # theta -> infinity: D3 = 1e-4 sqrt(D1 D2), D1 != D2 so the (D1 D2^3) weighting is exercised
+    d1, d2, d12, d66 = 4.0, 1.0, 0.0, 1.0e-4
+    ref = 8.3 * 4.0 * (d1 * d2**3) ** 0.25 / b**2
+    ratio = bk.plate_shear_long(d1, d2, d12, d66, b) / ref
+    assert 0.97 < ratio < 1.0
+    # a long finite plate (a = 40 b) tends to the same strip value from above
+    n_long = bk.plate_shear_long(d1, d2, d12, d66, b)
+    assert n_long < bk.plate_shear_ss(d1, d2, d12, d66, 40 * b, b) < 1.01 * n_long
+
 # ----------------------------------------------------------------------------- interaction
 def test_interaction_ratio_on_curve_and_linear():
     nc, ns = 2e5, 1.5e5

@@ -103,6 +103,48 @@ def test_panel_failure_partials_and_ratios_scale_with_load():
         np.testing.assert_allclose(prob.get_val(f"panels.g_{f}") + 1.0, 2.0 * (g1[f] + 1.0), rtol=1e-6, atol=1e-6)
 
 
+def test_panel_failure_ks_outputs_equal_ks_of_the_ratios():
+    """PanelFailure with ks_rho: each ks_<family> equals KSAggregate of its g_<family>, and its
+    total derivatives (from the aggregated per-point nonzeros) equal those of g_<family> through
+    KSAggregate (per-point partials, checked against finite differences above) and central
+    differences."""
+    from wingmdao.components.ks import KSAggregate
+
+    nt, n = 3, 3
+    prob = om.Problem(reports=False)
+    model = prob.model
+    model.add_subsystem("section", StiffenedBoxSection(num_stations=n, material=ALUMINIUM), promotes_inputs=["*"])
+    promoted = ["width", "height", *WALL_NAMES, *STIFFENER_VARS, "panel_length", "F_csn", "M_csn"]
+    for name, kw in (("agg", {"ks_rho": 50.0}), ("plain", {})):
+        model.add_subsystem(name, PanelFailure(num_times=nt, num_stations=n, material=ALUMINIUM, **kw),
+                            promotes_inputs=promoted)
+        for prop in SECTION_PROPERTIES:
+            model.connect(f"section.{prop}", f"{name}.{prop}")
+    model.add_subsystem("ks", KSAggregate(families={f: (nt, n, k) for f, k in PANEL_FAMILIES.items()}, rho_ks=50.0))
+    for f in PANEL_FAMILIES:
+        model.connect(f"plain.g_{f}", f"ks.g_{f}")
+    prob.setup(force_alloc_complex=True)
+    rng = np.random.default_rng(11)
+    _design(prob, n, rng)
+    prob.set_val("nonstructural_mass_per_length", [5.0, 4.0, 3.0])
+    prob.set_val("panel_length", rng.uniform(0.4, 0.8, n))
+    prob.set_val("F_csn", rng.normal(0, 3e4, (nt, n, 3)))
+    prob.set_val("M_csn", rng.normal(0, 1e5, (nt, n, 3)))
+    prob.run_model()
+    wrt = ["t_upper_skin", "t_front_spar", "h_upper_stiffener", "t_lower_stiffener", "panel_length", "F_csn", "M_csn"]
+    agg = prob.compute_totals(of=[f"agg.ks_{f}" for f in PANEL_FAMILIES], wrt=wrt)
+    ref = prob.compute_totals(of=[f"ks.ks_{f}" for f in PANEL_FAMILIES], wrt=wrt)
+    for f in PANEL_FAMILIES:
+        assert prob.get_val(f"agg.ks_{f}")[0] == pytest.approx(prob.get_val(f"ks.ks_{f}")[0], rel=1e-12, abs=1e-14)
+        for w in wrt:
+            np.testing.assert_allclose(agg[f"agg.ks_{f}", w], ref[f"ks.ks_{f}", w], rtol=1e-10, atol=1e-14)
+    data = prob.check_totals(of=[f"agg.ks_{f}" for f in PANEL_FAMILIES], wrt=wrt, method="fd", form="central",
+                             step=1e-6, step_calc="rel_avg", out_stream=None)
+    for key, d in data.items():
+        j = d["J_fwd"] if "J_fwd" in d else d["J_rev"]
+        np.testing.assert_allclose(j, d["J_fd"], rtol=2e-4, atol=1e-5 * max(1.0, np.abs(d["J_fd"]).max()))
+
+
 def test_sizing_rules_values_and_partials():
     n = 4
     prob = om.Problem(reports=False)
@@ -247,3 +289,21 @@ def test_laminate_panel_failure_partials():
     assert prob.get_val("section.mass_area")[0] < prob.get_val("section.A")[0] * 2   # density 1550 vs 2700
     data = prob.check_partials(method="fd", form="central", step=1e-6, step_calc="rel", out_stream=None)
     assert_check_partials(data, atol=1e-5, rtol=2e-4)
+
+
+def test_centre_box_bay_split_at_the_rib_pitch():
+    """The CRM's centre-box bay (centreline to the root rib at 10 % semi-span, 2.947 m) is split
+    into round(2.947 / 0.824) = 4 equal bays; PEGASUS's (0.983 m, under two pitches of 0.624 m)
+    is kept, and so is every rib outboard of the root rib."""
+    from wingmdao.cases import crm, pegasus
+
+    peg = pegasus.rib_positions(pegasus.PLANFORM)
+    assert peg == tuple(float(y) for y in pegasus.PLANFORM.station_y())
+    planform = crm.PLANFORM.station_y()
+    ribs = np.asarray(pegasus.rib_positions(crm.PLANFORM))
+    assert len(ribs) == len(planform) + 3
+    np.testing.assert_allclose(np.diff(ribs[:5]), planform[1] / 4, rtol=1e-12)
+    np.testing.assert_allclose(ribs[4:], planform[1:], rtol=1e-12)
+    # with --rib-pitch: the centre box at that pitch too
+    ribs = np.asarray(pegasus.rib_positions(crm.PLANFORM, rib_pitch=1.0))
+    np.testing.assert_allclose(np.diff(ribs[:4]), planform[1] / 3, rtol=1e-12)

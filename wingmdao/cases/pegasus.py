@@ -508,17 +508,31 @@ RIB_THICKNESS = 2e-3  # m (assumed)
 def rib_positions(pf=PLANFORM, rib_pitch: float | None = None) -> tuple:
     """Spanwise rib positions (m): a centreline rib (assumed: it closes the centre-box bay) and
     the planform's ribs at stations 1..num_ribs, or with ``rib_pitch`` equal bays of about that
-    length from the root rib to the tip rib."""
+    length from the root rib to the tip rib. A centre-box bay (centreline to root rib) longer
+    than two rib pitches (the CRM's 2.95 m) is split into equal bays of about the pitch by
+    intermediate ribs (assumed; :func:`centre_box_ribs`)."""
     ribs = pf.station_y()
     if rib_pitch is None:
-        return tuple(float(r) for r in ribs)
+        return centre_box_ribs(tuple(float(r) for r in ribs), float(ribs[2] - ribs[1]))
     span = ribs[-1] - ribs[1]
     if not (np.isfinite(rib_pitch) and rib_pitch > 0):
         raise ValueError(f"--rib-pitch = {rib_pitch} m; allowed range (0, {span:.4g}] m")
     if rib_pitch > span:
         raise ValueError(f"--rib-pitch = {rib_pitch} m; allowed range (0, {span:.4g}] m (root to tip rib)")
     bays = max(1, int(round(span / rib_pitch)))
-    return (0.0, *(float(r) for r in np.linspace(ribs[1], ribs[-1], bays + 1)))
+    return centre_box_ribs((0.0, *(float(r) for r in np.linspace(ribs[1], ribs[-1], bays + 1))), float(rib_pitch))
+
+
+def centre_box_ribs(ribs: tuple, pitch: float) -> tuple:
+    """``ribs`` with the centre-box bay (``ribs[0]`` to ``ribs[1]``) split into round(bay/pitch)
+    equal bays when it is longer than two pitches; otherwise ``ribs`` unchanged. Without them the
+    centre box's skin panels would be one bay long (2.95 m on the CRM) and their column buckling
+    would size the whole inboard wing through the adjacency rules."""
+    bay = ribs[1] - ribs[0]
+    if bay <= 2.0 * pitch:
+        return ribs
+    bays = int(round(bay / pitch))
+    return (*(float(r) for r in np.linspace(ribs[0], ribs[1], bays + 1)[:-1]), *ribs[1:])
 
 
 def stiffen(setup, pf=PLANFORM, pitch: float = 0.15, rib_pitch: float | None = None):

@@ -20,7 +20,7 @@ import openmdao.api as om
 from wingmdao import DISSERTATION
 from wingmdao.utils.digest import ArrayStamp
 from wingmdao.utils.ks import ks_gradient, ks_value, shifted_exp  # noqa: F401 - ks_value: public here too
-from wingmdao.components.pointwise import check_connected_shapes
+from wingmdao.components.pointwise import _scatter, _stamp, _same_point, check_connected_shapes
 
 #: constraint entries (all families of a KSAggregate) above which it is matrix-free by default:
 #: declared partials keep a value, a row and a column index per entry, and OpenMDAO copies them
@@ -154,3 +154,115 @@ class KSAggregate(om.ExplicitComponent):
                 d_outputs[o] += np.dot(wts, np.ravel(d_inputs[i]))
             else:
                 d_inputs[i] += (np.ravel(d_outputs[o])[0] * wts).reshape(d_inputs[i].shape)
+
+
+class KSOfPointwise:
+    """Mixin for a :class:`~wingmdao.components.pointwise.PointwiseCasadiComponent` whose outputs
+    ``g_<family>`` are constraints: with the option ``ks_rho`` it also outputs ``ks_<family>``,
+    the KS aggregate of each (Eq. 4.44, over every point and entry: the same value as
+    :class:`KSAggregate` on ``g_<family>``), and only these carry partials.
+
+    Why: the KS rows are all a driver differentiates. Declared per point, the partials of
+    ``g`` are every point's nonzeros (time steps x stations x entries x inputs), which every
+    reverse solve multiplies, one solve per constraint; aggregated here, dKS/dx = sum_p w_p
+    dg_p/dx is formed once per linearisation from the per-point nonzeros and each reverse solve
+    multiplies one dense row per input (docs/panels.md, "Sizing time"). The ``g`` outputs stay (result summaries read them) without
+    partials: nothing may differentiate through them. ``ks_constraints`` adds each ``ks_<family>``
+    as a constraint ``<= 0`` (as :class:`KSAggregate`'s ``add_constraints``).
+    """
+
+    def initialize(self):
+        super().initialize()
+        self.options.declare("ks_rho", default=None, allow_none=True, types=numbers.Real, lower=0.0,
+                             desc="rho_KS of the ks_<family> aggregates of the g_<family> outputs (None: no "
+                                  "aggregates; the g outputs carry the partials)")
+        self.options.declare("ks_constraints", default=False, types=bool,
+                             desc="add each ks_<family> as a constraint ks <= 0 (with ks_rho)")
+
+    @property
+    def aggregated(self) -> bool:
+        """Whether the component outputs and differentiates the KS aggregates (``ks_rho`` set)."""
+        return self.options["ks_rho"] is not None
+
+    def declares_point_partials(self) -> bool:
+        return not self.aggregated
+
+    def setup(self):
+        if self.aggregated:
+            self.options["matrix_free"] = False   # the KS rows are declared (one dense row per input)
+        super().setup()
+        if not self.aggregated:
+            return
+        rho = self.options["ks_rho"]
+        if not (rho > 0.0 and np.isfinite(rho)):
+            raise ValueError(f"{self.msginfo}: ks_rho = {rho}; allowed range (0, inf)")
+        n, n_last = self.num_points, self.grid_shape[-1]
+        sizes = {v.name: v.size for v in self._in_vars}
+        self._ks_names = {}
+        for v in self._out_vars:
+            if not v.name.startswith("g_"):
+                raise ValueError(f"{self.msginfo}: ks_rho aggregates outputs named g_<family>, got {v.name!r}")
+            ks = "ks_" + v.name[2:]
+            self._ks_names[v.name] = ks
+            self.add_output(ks, val=0.0, units=None, desc=f"KS aggregate of {v.name} over all points (feasible <= 0)")
+            if self.options["ks_constraints"]:
+                self.add_constraint(ks, upper=0.0)
+        # per pair a dense (nnz, input size) 0/1 matrix: the nonzeros' columns (a few per point)
+        self._ks_scatter = [_scatter(c, sizes[i]).toarray() for (_, c, _, _, _), (_, i)
+                            in zip(self._pair_patterns, self._pairs)]
+        for oname, iname in self._pairs:
+            size = (n_last if self._shared[iname] else n) * sizes[iname]
+            self.declare_partials(self._ks_names[oname], iname, rows=np.zeros(size, dtype=int), cols=np.arange(size))
+        self._ks_point, self._ks_weights = None, {}
+
+    def compute(self, inputs, outputs):
+        super().compute(inputs, outputs)
+        if not self.aggregated:
+            return
+        rho = self.options["ks_rho"]
+        n = self.num_points
+        for v in self._out_vars:
+            g = np.asarray(outputs[v.name])
+            _check_finite(f"{self.pathname}.{v.name}", g)
+            m, w, s = _shifted_exp(g, rho)
+            outputs[self._ks_names[v.name]] = float(m + np.log(s) / rho)
+            self._ks_weights[v.name] = (w / s).reshape(n, v.size)
+        self._ks_point = _stamp(inputs)
+
+    def _weights_at(self, inputs) -> dict:
+        """dKS/dg per output, (points, size), of the last compute; recomputed when the inputs
+        are not those of the last compute (recognised by their stamps)."""
+        if not _same_point(self._ks_point, inputs):
+            rho, n = self.options["ks_rho"], self.num_points
+            vals = self._evaluate("f", self._f, inputs) if self._chunk == n else None
+            if vals is None:
+                vals = [np.empty((n, v.size)) for v in self._out_vars]
+                for p0, p1, chunk in self._chunks("f", self._f, inputs):
+                    for d, c in zip(vals, chunk):
+                        d[p0:p1] = c
+            for v, g in zip(self._out_vars, vals):
+                self._ks_weights[v.name] = ks_gradient(g, rho).reshape(n, v.size)
+            self._ks_point = _stamp(inputs)
+        return self._ks_weights
+
+    def compute_partials(self, inputs, partials):
+        """dKS/dx = sum over points p and entries k of w_pk dg_pk/dx: the per-point Jacobian
+        nonzeros (CasADi AD) weighted by the KS weights and summed into each input's entries
+        (over the time steps for the per-station inputs)."""
+        if not self.aggregated:
+            return super().compute_partials(inputs, partials)
+        w = self._weights_at(inputs)
+        n, n_last = self.num_points, self.grid_shape[-1]
+        acc = [None] * len(self._pairs)
+        for p0, p1, vals in self._jacobian_chunks(inputs):
+            for j, (oname, iname) in enumerate(self._pairs):
+                r = self._pair_patterns[j][0]
+                part = (w[oname][p0:p1][:, r] * vals[j]) @ self._ks_scatter[j]
+                if acc[j] is None:
+                    acc[j] = np.zeros((n, part.shape[1]))
+                acc[j][p0:p1] += part
+        for j, (oname, iname) in enumerate(self._pairs):
+            a = acc[j]
+            if self._shared[iname]:
+                a = a.reshape(n // n_last, n_last, -1).sum(axis=0)
+            partials[self._ks_names[oname], iname] = a.ravel()

@@ -21,6 +21,7 @@ import casadi as ca
 import numpy as np
 import openmdao.api as om
 
+from wingmdao.components.ks import KSOfPointwise
 from wingmdao.components.pointwise import PointwiseCasadiComponent, Var
 from wingmdao.components.stress import SECTION_DEFAULTS
 from wingmdao.components.section import SECTION_OUTPUTS, BoxSection, CombinedJacobianMixin
@@ -269,7 +270,7 @@ _PANEL_DESC = {
 }
 
 
-class PanelFailure(CombinedJacobianMixin, PointwiseCasadiComponent):
+class PanelFailure(KSOfPointwise, CombinedJacobianMixin, PointwiseCasadiComponent):
     """Failure ratios of the stiffened box's panels on the grid (num_times, num_stations).
 
     Inputs: ``F_csn``, ``M_csn`` (nt, n, 3) N and N*m; per station the box geometry (``width``,
@@ -279,6 +280,8 @@ class PanelFailure(CombinedJacobianMixin, PointwiseCasadiComponent):
     :func:`~wingmdao.panels.layout.panel_families`: ``safety_factor * R - 1`` with R the load-linear failure ratio of the
     mode (1 = failure at these loads), at the skin points upper front, upper rear, lower front,
     lower rear and the web points front, rear (:func:`wingmdao.stress.box_stress.panel_running_loads`).
+    With ``ks_rho`` (:class:`~wingmdao.components.ks.KSOfPointwise`) also ``ks_<family>``, the KS
+    aggregate of each family over time, stations and points; only these then carry partials.
     """
 
 

@@ -77,6 +77,11 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
     def check_inputs(self, inputs) -> None:
         """Raise ``ValueError`` naming the input and point when an input is out of range."""
 
+    def declares_point_partials(self) -> bool:
+        """Whether the per-point outputs carry declared partials (True; False for a component
+        that differentiates only an aggregate of them, :class:`wingmdao.components.ks.KSOfPointwise`)."""
+        return True
+
     # ----------------------------------------------------------------- machinery
     def point_grid(self) -> tuple:
         """Leading shape of every variable: the ``grid_shape`` option (subclasses derive it)."""
@@ -207,6 +212,8 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
                 self._pair_patterns.append((r, c, _scatter(r, sizes[oname]), _scatter(c, sizes[iname]), shared))
                 continue
             self._pair_patterns.append((r, c, None, None, shared))
+            if not self.declares_point_partials():
+                continue
             src = pts % self.grid_shape[-1] if shared else pts
             rows = (pts * sizes[oname] + r[None, :]).ravel()
             cols = (src * sizes[iname] + c[None, :]).ravel()

@@ -278,8 +278,10 @@ class WingStructure(om.Group):
             self.connect("internal_loads.M_csn", "stress.M_csn")
 
         points = stress_points(kind, case.families)
-        if kind == "stiffened":
-            points.update(self._add_panel_failure(nt, n))
+        if kind == "stiffened":   # the panel modes' KS in the panels component (KSOfPointwise)
+            self._add_panel_failure(nt, n)
+        if not points:
+            return
         shapes = {fam: (nt, n, k) for fam, k in points.items()}
         # the per-step inputs of loads, stress and KS are shaped by their connections: no default
         # value of their own (18 MB at 20 nodes x 4001 steps, docs/gust-envelope.md)
@@ -288,13 +290,10 @@ class WingStructure(om.Group):
                            promotes_outputs=[f"ks_{f}" for f in points])
         for fam in case.families:
             self.connect(f"stress.g_{fam}", f"ks.g_{fam}")
-        for fam in points:
-            if fam not in case.families:
-                self.connect(f"panels.g_{fam}", f"ks.g_{fam}")
 
     def _add_panel_failure(self, nt, n) -> dict:
-        """The panel failure ratios of the stiffened box (PanelFailure); returns their families'
-        points per station."""
+        """The panel failure ratios of the stiffened box (PanelFailure) with the KS aggregate of
+        each family (promoted ``ks_<family>``); returns their families' points per station."""
         from wingmdao.components.panels import PanelFailure
 
         layout = self.options["panels"]
@@ -304,8 +303,10 @@ class WingStructure(om.Group):
             num_times=nt, num_stations=n, material=self.options["material"], safety_factor=layout.safety_factor,
             stiffener_pitch=layout.stiffener_pitch, shape=layout.shape, flange_ratio=layout.flange_ratio,
             wall_factors=layout.wall_factors(self.options["material"]), skin_material=layout.skin_material,
-            spar_material=layout.spar_material, inputs_by_conn=True),
+            spar_material=layout.spar_material, inputs_by_conn=True, ks_rho=self.options["rho_ks"],
+            ks_constraints=self.options["add_constraints"]),
             promotes_inputs=["width", "height", *WALLS, *STIFFENER_VARS, "panel_length", *SECTION_PROPERTIES])
+        self.promotes("panels", outputs=[f"ks_{f}" for f in comp.families])
         self.connect("internal_loads.F_csn", "panels.F_csn")
         self.connect("internal_loads.M_csn", "panels.M_csn")
         return dict(comp.families)
