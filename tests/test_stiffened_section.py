@@ -79,7 +79,7 @@ def test_panel_failure_partials_and_ratios_scale_with_load():
     prob.model.add_subsystem("panels", PanelFailure(num_times=nt, num_stations=n, material=ALUMINIUM,
                                                     safety_factor=1.0),
                              promotes_inputs=["width", "height", *WALL_NAMES, *STIFFENER_VARS, "panel_length",
-                                              "F_csn", "M_csn"])
+                                              "F_csn", "M_csn", "dF_csn_ds"])
     for name in SECTION_PROPERTIES:
         prob.model.connect(f"section.{name}", f"panels.{name}")
     prob.setup(force_alloc_complex=True)
@@ -89,8 +89,10 @@ def test_panel_failure_partials_and_ratios_scale_with_load():
     prob.set_val("panel_length", rng.uniform(0.4, 0.8, n))
     F = rng.normal(0, 3e4, (nt, n, 3))
     M = rng.normal(0, 1e5, (nt, n, 3))
+    dF = rng.normal(0, 2e4, (nt, n, 3))     # the skins' chordwise load: compression on some skins, tension on others
     prob.set_val("F_csn", F)
     prob.set_val("M_csn", M)
+    prob.set_val("dF_csn_ds", dF)
     prob.run_model()
     data = prob.check_partials(method="fd", form="central", step=1e-6, step_calc="rel", out_stream=None)
     # central differences of O(1) ratios: truncation and round-off ~1e-6 on the small Ixz
@@ -98,6 +100,7 @@ def test_panel_failure_partials_and_ratios_scale_with_load():
     g1 = {f: prob.get_val(f"panels.g_{f}").copy() for f in PANEL_FAMILIES}
     prob.set_val("F_csn", 2 * F)
     prob.set_val("M_csn", 2 * M)
+    prob.set_val("dF_csn_ds", 2 * dF)
     prob.run_model()
     for f in PANEL_FAMILIES:   # R = g + 1 is homogeneous of degree 1 in the loads
         np.testing.assert_allclose(prob.get_val(f"panels.g_{f}") + 1.0, 2.0 * (g1[f] + 1.0), rtol=1e-6, atol=1e-6)

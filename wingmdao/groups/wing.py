@@ -37,6 +37,7 @@ from wingmdao.components.beam import BeamDynamics
 from wingmdao.components.beam_loads import BeamInternalLoads
 from wingmdao.components.flutter import FlutterDamping
 from wingmdao.components.ks import KSAggregate
+from wingmdao.components.load_gradient import InternalForceGradient
 from wingmdao.components.mass import StructuralMass
 from wingmdao.components.station_map import StationMap
 
@@ -307,6 +308,10 @@ class WingStructure(om.Group):
             promotes_inputs=["width", "height", *WALLS, *STIFFENER_VARS, "panel_length", *SECTION_PROPERTIES])
         self.connect("internal_loads.F_csn", "panels.F_csn")
         self.connect("internal_loads.M_csn", "panels.M_csn")
+        self.add_subsystem("load_gradient", InternalForceGradient(num_times=nt, num_nodes=n),
+                           promotes_inputs=["node_positions"])
+        self.connect("internal_loads.F_csn", "load_gradient.F_csn")
+        self.connect("load_gradient.dF_csn_ds", "panels.dF_csn_ds")
         return dict(comp.families)
 
 
