@@ -188,6 +188,26 @@ def test_rib_crushing_ratio_limits():
                                                                                          kappa, s)
 
 
+def test_rib_shear_ratio_kinks_and_web_ratio():
+    """Rib web in shear: tau = V / (h t) against k_s pi^2 E t^2 / (12 (1 - nu^2) h^2) with
+    k_s = 5.35 + 4 (h/w)^2 (Timoshenko & Gere Sec. 9.7, coded here); the ratio scales with
+    t^-3. The combined ratio solves R_c/R + (R_s/R)^2 = 1. Kinks: a height lofted linearly
+    between stations turns where its slope changes, zero elsewhere and between stations."""
+    from wingmdao.panels.layout import cover_kinks, rib_shear_ratio, rib_web_ratio
+
+    E, nu, t, h, w, V = 70e9, 0.33, 3e-3, 0.3, 1.2, 2e4
+    tau_cr = (5.35 + 4 * (h / w) ** 2) * np.pi**2 * E * t**2 / (12 * (1 - nu**2) * h**2)
+    assert rib_shear_ratio(E, nu, t, h, w, V) == pytest.approx(V / (h * t) / tau_cr, rel=1e-12)
+    assert rib_shear_ratio(E, nu, 2 * t, h, w, V) == pytest.approx(rib_shear_ratio(E, nu, t, h, w, V) / 8, rel=1e-12)
+    rc, rs = 0.4, 0.7
+    r = rib_web_ratio(rc, rs)
+    assert rc / r + (rs / r) ** 2 == pytest.approx(1.0, rel=1e-12)
+    y = np.array([0.0, 1.0, 2.0, 3.0, 4.0])
+    hgt = np.array([0.3, 0.3, 0.28, 0.28, 0.27])
+    np.testing.assert_allclose(cover_kinks(y, hgt, [0.0, 1.0, 2.0, 2.5, 3.0, 4.0]),
+                               [0.0, -0.02, 0.02, 0.0, -0.01, 0.0], atol=1e-12)
+
+
 def test_transformed_section_equals_a_box_of_the_wall_material():
     """Walls of titanium on an aluminium reference (transformed section) against the same box
     computed in titanium: stiffnesses, torsion, shear areas and mass exactly (weighted walls), the

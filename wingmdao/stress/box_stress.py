@@ -212,8 +212,7 @@ def skin_edge_shear_flows(force, sec, width_mid, n_upper, n_lower, q_upper_centr
     per width t_ax (skin plus smeared stiffeners, :func:`panel_running_loads`) between mid-chord
     and the point (thin-walled beam theory: T. H. G. Megson, *Aircraft Structures for
     Engineering Students*, 4th ed., Butterworth-Heinemann 2007, Sec. 17.3, shear of closed
-    sections; E. F. Bruhn, *Analysis and Design of Flight Vehicle Structures*, Jacobs 1973,
-    Ch. A15). At the edges, half the midline width ``width_mid`` from mid-chord, it reaches
+    sections). At the edges, half the midline width ``width_mid`` from mid-chord, it reaches
     +-Delta, Delta_upper = F_n (n_upper - n_ea) t_ax,u (width_mid / 2) / Ixx and
     Delta_lower = F_n (n_ea - n_lower) t_ax,l (width_mid / 2) / Ixx, with +Delta at the front
     edge of both skins (it continues the webs' upward flow of F_n > 0 around the cell) and
