@@ -13,7 +13,8 @@ from openmdao.utils.assert_utils import assert_check_partials
 from wingmdao.components.load_gradient import InternalForceGradient, force_gradient
 from wingmdao.materials import ALUMINIUM
 from wingmdao.panels import buckling as bk
-from wingmdao.panels.box_panels import skin_panel_ratios, transverse_skin_critical_load
+from wingmdao.panels.box_panels import (skin_panel_ratios, transverse_panel_critical_load,
+                                       transverse_skin_critical_load)
 from wingmdao.stress.box_stress import axial_stress, panel_running_loads, section_quantities
 
 # a doubly symmetric box: outer 1.2 x 0.3 m, skins 3 mm, spars 5 mm, no stiffeners
@@ -130,7 +131,25 @@ def test_transverse_skin_critical_load_isotropic():
     assert transverse_skin_critical_load(ALUMINIUM, t, b, a) == pytest.approx(expected, rel=1e-9)
     r0 = skin_panel_ratios(ALUMINIUM, t, 0.03, 0.002, b, a, -1e4, 5e3)
     r1 = skin_panel_ratios(ALUMINIUM, t, 0.03, 0.002, b, a, -1e4, 5e3, ny=-0.5 * expected)
-    assert r1["skin_buckling"] > r0["skin_buckling"] and r1["panel_buckling"] == r0["panel_buckling"]
+    assert r1["skin_buckling"] > r0["skin_buckling"] and r1["panel_buckling"] > r0["panel_buckling"]
+    assert r1["stiffener_column"] == r0["stiffener_column"]
+
+
+def test_transverse_panel_critical_load_closed_form():
+    """Stiffened panel compressed across its blades: the long orthotropic strip of width a (the
+    rib pitch), 2 pi^2 / a^2 (sqrt(D_x D) + D12 + 2 D66), isotropic skin D12 + 2 D66 = D, with
+    D_x = E I per width of the skin and blade about their common neutral axis, by hand. Without
+    stiffener bending stiffness (D_x -> D) it is the bare strip, k = 4 on pi^2 D / a^2."""
+    t, b, a, h, ts = 0.0016, 0.15, 0.62, 0.017, 0.001
+    E, nu = ALUMINIUM.E, ALUMINIUM.nu
+    D = E * t**3 / (12 * (1 - nu**2))
+    area = t * b + h * ts
+    z_blade = t / 2 + h / 2
+    z_na = h * ts * z_blade / area
+    ei = E * (b * t**3 / 12 + b * t * z_na**2 + ts * h**3 / 12 + h * ts * (z_blade - z_na) ** 2) / b
+    expected = 2 * math.pi**2 / a**2 * (math.sqrt(ei * D) + D)
+    assert transverse_panel_critical_load(ALUMINIUM, t, b, a, h, ts) == pytest.approx(expected, rel=1e-9)
+    assert transverse_panel_critical_load(ALUMINIUM, t, b, a, h, ts) < transverse_skin_critical_load(ALUMINIUM, t, b, a)
 
 
 def test_force_gradient_closed_form_and_partials():
