@@ -79,7 +79,7 @@ def test_panel_failure_partials_and_ratios_scale_with_load():
     prob.model.add_subsystem("panels", PanelFailure(num_times=nt, num_stations=n, material=ALUMINIUM,
                                                     safety_factor=1.0),
                              promotes_inputs=["width", "height", *WALL_NAMES, *STIFFENER_VARS, "panel_length",
-                                              "F_csn", "M_csn"])
+                                              "F_csn", "M_csn", "dF_csn_ds"])
     for name in SECTION_PROPERTIES:
         prob.model.connect(f"section.{name}", f"panels.{name}")
     prob.setup(force_alloc_complex=True)
@@ -89,8 +89,10 @@ def test_panel_failure_partials_and_ratios_scale_with_load():
     prob.set_val("panel_length", rng.uniform(0.4, 0.8, n))
     F = rng.normal(0, 3e4, (nt, n, 3))
     M = rng.normal(0, 1e5, (nt, n, 3))
+    dF = rng.normal(0, 2e4, (nt, n, 3))     # the skins' chordwise load: compression on some skins, tension on others
     prob.set_val("F_csn", F)
     prob.set_val("M_csn", M)
+    prob.set_val("dF_csn_ds", dF)
     prob.run_model()
     data = prob.check_partials(method="fd", form="central", step=1e-6, step_calc="rel", out_stream=None)
     # central differences of O(1) ratios: truncation and round-off ~1e-6 on the small Ixz
@@ -98,6 +100,7 @@ def test_panel_failure_partials_and_ratios_scale_with_load():
     g1 = {f: prob.get_val(f"panels.g_{f}").copy() for f in PANEL_FAMILIES}
     prob.set_val("F_csn", 2 * F)
     prob.set_val("M_csn", 2 * M)
+    prob.set_val("dF_csn_ds", 2 * dF)
     prob.run_model()
     for f in PANEL_FAMILIES:   # R = g + 1 is homogeneous of degree 1 in the loads
         np.testing.assert_allclose(prob.get_val(f"panels.g_{f}") + 1.0, 2.0 * (g1[f] + 1.0), rtol=1e-6, atol=1e-6)
@@ -225,6 +228,26 @@ def test_rib_crushing_ratio_limits():
     # the sign of the bending does not matter: both covers crush the rib
     assert rib_crushing_ratio(E, nu, t, h, h, -n_cover, kappa, s) == rib_crushing_ratio(E, nu, t, h, h, n_cover,
                                                                                          kappa, s)
+
+
+def test_rib_shear_ratio_kinks_and_web_ratio():
+    """Rib web in shear: tau = V / (h t) against k_s pi^2 E t^2 / (12 (1 - nu^2) h^2) with
+    k_s = 5.35 + 4 (h/w)^2 (Timoshenko & Gere Sec. 9.7, coded here); the ratio scales with
+    t^-3. The combined ratio solves R_c/R + (R_s/R)^2 = 1. Kinks: a height lofted linearly
+    between stations turns where its slope changes, zero elsewhere and between stations."""
+    from wingmdao.panels.layout import cover_kinks, rib_shear_ratio, rib_web_ratio
+
+    E, nu, t, h, w, V = 70e9, 0.33, 3e-3, 0.3, 1.2, 2e4
+    tau_cr = (5.35 + 4 * (h / w) ** 2) * np.pi**2 * E * t**2 / (12 * (1 - nu**2) * h**2)
+    assert rib_shear_ratio(E, nu, t, h, w, V) == pytest.approx(V / (h * t) / tau_cr, rel=1e-12)
+    assert rib_shear_ratio(E, nu, 2 * t, h, w, V) == pytest.approx(rib_shear_ratio(E, nu, t, h, w, V) / 8, rel=1e-12)
+    rc, rs = 0.4, 0.7
+    r = rib_web_ratio(rc, rs)
+    assert rc / r + (rs / r) ** 2 == pytest.approx(1.0, rel=1e-12)
+    y = np.array([0.0, 1.0, 2.0, 3.0, 4.0])
+    hgt = np.array([0.3, 0.3, 0.28, 0.28, 0.27])
+    np.testing.assert_allclose(cover_kinks(y, hgt, [0.0, 1.0, 2.0, 2.5, 3.0, 4.0]),
+                               [0.0, -0.02, 0.02, 0.0, -0.01, 0.0], atol=1e-12)
 
 
 def test_transformed_section_equals_a_box_of_the_wall_material():

@@ -81,7 +81,7 @@ def test_result_blocks_and_report_margins(tmp_path):
     assert sum(res["mass_breakdown_kg"].values()) == pytest.approx(res["mass_kg"], rel=1e-12)
     ribs = res["ribs"]
     sf = setup.panels.safety_factor
-    for t, r in zip(ribs["thickness_m"], ribs["crushing_ratio"]):
+    for t, r in zip(ribs["thickness_m"], ribs["web_ratio"]):
         assert sf * r <= 1.0 + 1e-9 or t == ribs["minimum_thickness_m"]
         assert t >= ribs["minimum_thickness_m"]
     for wall in ("upper_skin", "lower_skin", "front_spar", "rear_spar"):

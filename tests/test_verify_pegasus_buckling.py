@@ -156,3 +156,26 @@ def test_bad_input_exit_code_2(design_file, tmp_path, capsys):
     _fails(["--buckling", "--design", design_file, "--loads", "gust-peak"], capsys, "--buckling --loads = gust-peak")
     _fails(["--buckling", "--design", design_file, "--fidelity", "solid"], capsys, "--fidelity")
     _fails(["--buckling", "--design", design_file, "--bay-elements", "0"], capsys, "--bay-elements")
+
+
+def test_fe_ribs_take_the_designs_sized_thickness(design_file):
+    """Each FE rib takes the thickness of the design's rib at its position (the ``ribs`` block of
+    the sizing result, sized for crushing); a rib the block does not list takes the minimum; the
+    deck's rib sections carry those thicknesses."""
+    from wingmdao.cli._verify_buckling import build_model, case_setup, design_variables, rib_thicknesses
+    from wingmdao.fe.stiffened_box import _section_thickness
+
+    data = json.loads(open(design_file).read())
+    setup = case_setup(data)
+    ribs_y = list(setup.panels.rib_positions)
+    sized = [0.002 + 0.0001 * k for k in range(len(ribs_y) - 1)]
+    data["ribs"] = {"positions_m": ribs_y[1:], "thickness_m": sized}
+    t = rib_thicknesses(data, ribs_y, 0.002)
+    assert t == [0.002] + sized
+    model, _ = build_model(data, setup, design_variables(data, setup.geometry), SimpleNamespace(
+        stiffeners=None, bay_elements=1, web_elements=1, height_elements=2, span_size=0.5), t)
+    thick = _section_thickness(model.deck)
+    assert [thick[f"RIB{k + 1}"] for k in range(len(ribs_y))] == pytest.approx(t, rel=1e-9)
+    data["ribs"]["thickness_m"] = sized[:-1]
+    with pytest.raises(ValueError, match="ribs.thickness_m"):
+        rib_thicknesses(data, ribs_y, 0.002)

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from wingmdao.panels.layout import panel_families, rib_crushing_ratio, smeared_stringer
+from wingmdao.panels.layout import (cover_kinks, panel_families, rib_crushing_ratio, rib_shear_ratio, rib_web_ratio,
+                                   smeared_stringer)
 from wingmdao.section.box import WALL_NAMES
 
 #: the walls of the result JSON, with their panel points in PanelFailure (skin points 0-3: upper
@@ -117,15 +118,24 @@ def _per_node(prob, name, geometry):
 
 
 def rib_summary(prob, load_cases, panels, geometry, material) -> dict:
-    """The ``ribs`` block of the result JSON, with the ribs sized by crushing: per rib its position
-    (m), its thickness (m: the layout's minimum, or thicker where the crushing load needs it,
-    safety_factor * ratio = 1), its largest crushing ratio over every load case and time step at
-    that thickness (:func:`wingmdao.panels.layout.rib_crushing_ratio`, unfactored) and the
-    margin of safety 1 / (safety_factor ratio) - 1; ``mass_kg`` of the sized ribs. The walls'
-    sizing does not depend on the ribs (the beam carries neither their stiffness nor their mass),
-    so sizing them after the walls is exact for this model. The cover load and curvature come from the vertical bending
-    moment at the rib (linear between stations): N = M_c (n_upper - n_ea) t_eq / Ixx on the upper
-    cover, kappa = M_c / (E Ixx); the spacing is the mean of the two bays beside the rib."""
+    """The ``ribs`` block of the result JSON, with the ribs sized for their web's buckling: per
+    rib its position (m), its thickness (m: the layout's minimum, or thicker where the loads need
+    it, safety_factor * ratio = 1), its largest combined ratio over every load case and time
+    step at that thickness (``web_ratio``, :func:`wingmdao.panels.layout.rib_web_ratio` of the
+    crushing and shear ratios, both given too, unfactored) and the margin of safety
+    1 / (safety_factor ratio) - 1; ``mass_kg`` of the sized ribs. The walls' sizing does not
+    depend on the ribs (the beam carries neither their stiffness nor their mass), so sizing them
+    after the walls is exact for this model. Loads of a rib (docs/panels.md, "Ribs"):
+
+    * crushing (:func:`~wingmdao.panels.layout.rib_crushing_ratio`): the covers' curvature load
+      |N kappa| s, N = M_c (n_upper - n_ea) t_eq / Ixx on the upper cover, kappa = M_c / (E Ixx),
+      s the mean of the two bays beside the rib, plus the larger of the two covers' kink loads;
+    * kinks: where the box height's slope changes at the rib (:func:`~wingmdao.panels.layout.cover_kinks`)
+      each cover turns by half that change and presses on the rib with N_cover x turn per unit
+      chord (upper and lower: f_u = N_u dh'/2, f_l = -N_l dh'/2, upward positive);
+    * shear (:func:`~wingmdao.panels.layout.rib_shear_ratio`): the rib delivers to each spar half
+      of the kinks' net vertical load |f_u + f_l| w / 2 plus half the net load of its bays,
+      |dF_n/ds| s / 2 (all of the air and inertia load of the bay taken through the rib)."""
     y = geometry.span_coordinate if geometry.span_coordinate is not None else geometry.node_positions[:, 1]
     y = np.asarray(y, dtype=float)
     ribs = np.array([r for r in panels.rib_positions if r >= 0.0])
@@ -134,32 +144,52 @@ def rib_summary(prob, load_cases, panels, geometry, material) -> dict:
     idx = np.searchsorted(all_ribs, ribs)
     spacing = np.array([0.5 * ((gaps[i - 1] if i > 0 else gaps[i]) + (gaps[i] if i < gaps.size else gaps[i - 1]))
                         for i in idx])
+    height = np.asarray(prob.get_val("height", units="m"))
     w = np.interp(ribs, y, np.asarray(prob.get_val("width", units="m")))
-    h = np.interp(ribs, y, np.asarray(prob.get_val("height", units="m")))
-    t_u = np.interp(ribs, y, _per_node(prob, "t_upper_skin", geometry))
-    a_u = smeared_stringer(_per_node(prob, "h_upper_stiffener", geometry), _per_node(prob, "t_upper_stiffener", geometry),
-                           panels.stiffener_pitch, panels.shape, panels.flange_ratio)[0]
-    t_eq = t_u + np.interp(ribs, y, a_u)
+    h = np.interp(ribs, y, height)
+    kink = cover_kinks(y, height, ribs)
+    t_eq, t_skin = [], []
+    for side in ("upper", "lower"):
+        t_s = np.interp(ribs, y, _per_node(prob, f"t_{side}_skin", geometry))
+        a_s = smeared_stringer(_per_node(prob, f"h_{side}_stiffener", geometry),
+                               _per_node(prob, f"t_{side}_stiffener", geometry),
+                               panels.stiffener_pitch, panels.shape, panels.flange_ratio)[0]
+        t_skin.append(t_s)
+        t_eq.append(t_s + np.interp(ribs, y, a_s))
     i_xx = np.interp(ribs, y, np.asarray(prob.get_val("Ixx")))
     n_ea = np.interp(ribs, y, np.asarray(prob.get_val("n_ea")))
-    lever = 0.5 * h - 0.5 * t_u - n_ea
+    lever_u = 0.5 * h - 0.5 * t_skin[0] - n_ea
+    lever_l = -(0.5 * h - 0.5 * t_skin[1]) - n_ea
     e_skin = panels.wall_factors(material)[0]
     rib_E, rib_nu, rib_rho = panels.rib_material(material)
-    worst = np.zeros(ribs.size)
+    t0 = panels.rib_thickness
+    depth = h - 2 * t_skin[0]
+    worst = {k: np.zeros(ribs.size) for k in ("web", "crushing", "shear")}
     for case in load_cases:
         m = np.asarray(prob.get_val(f"cases.{case.name}.internal_loads.M_csn"))[..., 0]   # (nt, n) M_c
         m_rib = np.array([np.interp(ribs, y, row) for row in m.reshape(-1, y.size)])
-        cover = e_skin * m_rib * lever * t_eq / i_xx
+        dfn = np.asarray(prob.get_val(f"cases.{case.name}.load_gradient.dF_csn_ds"))[..., 2]
+        p_rib = np.array([np.interp(ribs, y, row) for row in dfn.reshape(-1, y.size)])
+        n_u = -e_skin * m_rib * lever_u * t_eq[0] / i_xx          # cover running loads, tension positive
+        n_l = -e_skin * m_rib * lever_l * t_eq[1] / i_xx
+        f_u, f_l = n_u * 0.5 * kink, -n_l * 0.5 * kink
         kappa = m_rib / (material.E * i_xx)
-        r = rib_crushing_ratio(rib_E, rib_nu, panels.rib_thickness, h - 2 * t_u, w, cover, kappa, spacing)
-        worst = np.maximum(worst, r.max(axis=0))
-    # the crushing ratio scales with t_rib^-3 (sigma ~ 1/t, sigma_cr ~ t^2): the thickness at which
-    # safety_factor * ratio = 1, never below the layout's minimum rib thickness
-    t0 = panels.rib_thickness
-    sized = np.maximum(t0, t0 * np.cbrt(panels.safety_factor * worst))
-    ratio = worst * (t0 / sized) ** 3
+        crush = rib_crushing_ratio(rib_E, rib_nu, t0, depth, w, n_u, kappa, spacing,
+                                   extra_load=np.maximum(np.abs(f_u), np.abs(f_l)))
+        shear = rib_shear_ratio(rib_E, rib_nu, t0, depth, w,
+                                np.abs(f_u + f_l) * 0.5 * w + np.abs(p_rib) * 0.5 * spacing)
+        web = rib_web_ratio(crush, shear)
+        worst["web"] = np.maximum(worst["web"], web.max(axis=0))
+        worst["crushing"] = np.maximum(worst["crushing"], crush.max(axis=0))
+        worst["shear"] = np.maximum(worst["shear"], shear.max(axis=0))
+    # every ratio scales with t_rib^-3 (stress ~ 1/t, critical stress ~ t^2): the thickness at
+    # which safety_factor * ratio = 1, never below the layout's minimum rib thickness
+    sized = np.maximum(t0, t0 * np.cbrt(panels.safety_factor * worst["web"]))
+    scale = (t0 / sized) ** 3
+    ratio = worst["web"] * scale
     mass = float(rib_rho * np.sum(sized * w * h))
     return {"positions_m": ribs.tolist(), "minimum_thickness_m": t0, "thickness_m": sized.tolist(),
-            "crushing_ratio": ratio.tolist(),
-            "crushing_margin_of_safety": (1.0 / np.maximum(panels.safety_factor * ratio, 1e-300) - 1.0).tolist(),
+            "web_ratio": ratio.tolist(), "crushing_ratio": (worst["crushing"] * scale).tolist(),
+            "shear_ratio": (worst["shear"] * scale).tolist(), "cover_kink": kink.tolist(),
+            "margin_of_safety": (1.0 / np.maximum(panels.safety_factor * ratio, 1e-300) - 1.0).tolist(),
             "mass_kg": mass}

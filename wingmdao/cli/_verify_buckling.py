@@ -72,6 +72,23 @@ def design_variables(data, geometry) -> dict:
     return out
 
 
+def rib_thicknesses(data, ribs_y, minimum) -> list:
+    """Each FE rib's thickness (m): the design's sized rib at that position (its ``ribs`` block,
+    ``positions_m`` and ``thickness_m``, from :func:`wingmdao.panel_results.rib_summary`); a rib
+    the block does not list (or a design without the block) takes the layout's ``minimum``."""
+    ribs = data.get("ribs") if isinstance(data.get("ribs"), dict) else {}
+    pos = np.asarray(ribs.get("positions_m", []), float)
+    thick = np.asarray(ribs.get("thickness_m", []), float)
+    if pos.shape != thick.shape or not np.all(np.isfinite(thick) & (thick > 0)):
+        raise ValueError(f"--design: ribs.thickness_m must hold one positive value (m) per ribs.positions_m, "
+                         f"got {thick.tolist()}")
+    out = []
+    for y in ribs_y:
+        k = np.flatnonzero(np.abs(pos - y) < 1e-6)
+        out.append(float(thick[k[0]]) if k.size else float(minimum))
+    return out
+
+
 def case_setup(data):
     """The stiffened maneuver setup of the design (its load factors and stiffener pitch)."""
     from wingmdao.cases import pegasus
@@ -199,7 +216,9 @@ def verify_pegasus_buckling(args) -> dict:
     setup = case_setup(data)
     design = design_variables(data, setup.geometry)
     find_ccx()
-    rib_t = setup.panels.rib_thickness if args.rib_thickness is None else args.rib_thickness
+    ribs_y = list(setup.panels.rib_positions)
+    rib_t = (rib_thicknesses(data, ribs_y, setup.panels.rib_thickness) if args.rib_thickness is None
+             else [float(args.rib_thickness)] * len(ribs_y))
     model, sec = build_model(data, setup, design, args, rib_t)
     mass = shell_mass(model.deck, _material().rho)
     mdl = model_buckling(setup, design, args.loads_case)
@@ -227,7 +246,8 @@ def verify_pegasus_buckling(args) -> dict:
         "fe_mode_location": modes[0],
         "fe_modes": modes,
         "fe_first_box_mode": box_modes[0] if box_modes else None,
-        "rib_thickness_m": {"fe": rib_t, "design": setup.panels.rib_thickness},
+        "rib_thickness_m": {"fe": rib_t, "positions_m": ribs_y, "minimum": setup.panels.rib_thickness,
+                            "from": "--rib-thickness" if args.rib_thickness is not None else "design"},
         "model_buckling_factor": mdl["factor"], "model_critical": mdl["critical"],
         "model_factors_by_mode": mdl["families"], "safety_factor": sf, "station_y": y.tolist(),
         "model_factor_by_station": mdl["by_station"],

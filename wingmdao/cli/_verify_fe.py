@@ -13,7 +13,8 @@ from wingmdao.fe.stress_points import POINTS, compare_von_mises
 from wingmdao.materials import ALUMINIUM
 
 
-def add_fe_arguments(p, *, rib_thickness, no_ribs_help, design_help, ribs_help="ribs every SPACING m of span"):
+def add_fe_arguments(p, *, rib_thickness, no_ribs_help, design_help, ribs_help="ribs every SPACING m of span",
+                     rib_thickness_help="rib thickness (m)"):
     """The FE-model flags shared by the ``verify`` cases."""
     p.add_argument("--fidelity", choices=("shell", "solid"), default="shell",
                    help="FE model: shell (S8R on the wall mid-surfaces) or solid (C3D20R walls, "
@@ -27,8 +28,7 @@ def add_fe_arguments(p, *, rib_thickness, no_ribs_help, design_help, ribs_help="
     g = p.add_mutually_exclusive_group()
     g.add_argument("--ribs", type=float, default=None, metavar="SPACING", help=ribs_help)
     g.add_argument("--no-ribs", action="store_true", help=no_ribs_help)
-    p.add_argument("--rib-thickness", type=float, default=rib_thickness, metavar="M",
-                   help="rib thickness (m)")
+    p.add_argument("--rib-thickness", type=float, default=rib_thickness, metavar="M", help=rib_thickness_help)
     p.add_argument("--design", default=None, metavar="RESULT.json", help=design_help)
     p.add_argument("--modes", type=int, default=0, metavar="N", help="also compare the first N frequencies")
     p.add_argument("--chord-elements", type=int, default=8, metavar="N", help="elements across the skins")

@@ -56,13 +56,15 @@ def register_pegasus(cases):
                    "maneuver-pos (also for 1g) or maneuver-neg")
     add_fe_arguments(p, rib_thickness=0.002, no_ribs_help="no ribs at all (Sec. 4.3.1 Test 2's rib-less model)",
                      ribs_help="ribs every SPACING m instead of at the case's 19 rib stations",
+                     rib_thickness_help="rib thickness (m; default 0.002, with --buckling each rib's thickness of "
+                     "the design's 'ribs' block, sized for crushing and shear)",
                      design_help="wall thicknesses from a 'wingmdao size pegasus' result (20 stations) "
                      "(unset: 4/4/5/4 mm upper/lower skin, front/rear spar)")
     from wingmdao.cli._verify_buckling import add_buckling_arguments
 
     add_buckling_arguments(p)
-    # unset: 0.5 m and 2 (static), 0.1 m and 4 (--buckling)
-    p.set_defaults(through_elements=2, span_size=None, height_elements=None)
+    # unset: 0.5 m and 2 (static), 0.1 m and 4 (--buckling); ribs 2 mm (static), the design's sized ribs (--buckling)
+    p.set_defaults(through_elements=2, span_size=None, height_elements=None, rib_thickness=None)
     return p
 
 
@@ -105,8 +107,13 @@ def verify_pegasus(args) -> dict:
         args.span_size = 0.1 if buckling else 0.5
     if getattr(args, "height_elements", None) is None:
         args.height_elements = 4 if buckling else 2
+    rib_given = getattr(args, "rib_thickness", None) is not None
+    if not rib_given:
+        args.rib_thickness = 0.002
     span = case.PLANFORM.semi_span
     check_fe_args(args, span)
+    if buckling and not rib_given:
+        args.rib_thickness = None       # the design's crushing-sized ribs (_verify_buckling.rib_thicknesses)
     if buckling:
         from wingmdao.cli._verify_buckling import verify_pegasus_buckling
 
@@ -220,7 +227,7 @@ def _beam_frequencies(params, count):
 
 
 def verify_pegasus_args(*, ribs="stations", fidelity="shell", modes=0, chord_elements=8, height_elements=2,
-                        span_size=0.5, rib_thickness=0.002, load_factor=1.0, design=None, loads="1g",
+                        span_size=0.5, rib_thickness=None, load_factor=1.0, design=None, loads="1g",
                         buckling=False, loads_case="maneuver_pos", buckling_modes=5, bay_elements=2, web_elements=1,
                         stiffeners=None, keep_deck=None, load_lines="ribs"):
     """The parsed-argument namespace of ``verify pegasus`` (``ribs``: 'stations', None, or a spacing)."""

@@ -273,7 +273,9 @@ _PANEL_DESC = {
 class PanelFailure(KSOfPointwise, CombinedJacobianMixin, PointwiseCasadiComponent):
     """Failure ratios of the stiffened box's panels on the grid (num_times, num_stations).
 
-    Inputs: ``F_csn``, ``M_csn`` (nt, n, 3) N and N*m; per station the box geometry (``width``,
+    Inputs: ``F_csn``, ``M_csn`` (nt, n, 3) N and N*m, ``dF_csn_ds`` (nt, n, 3) N/m (the
+    spanwise derivative of F_csn, :class:`~wingmdao.components.load_gradient.InternalForceGradient`;
+    it sets the skins' chordwise running load, zero when not connected); per station the box geometry (``width``,
     ``height``, the four wall thicknesses), the stiffener variables, ``panel_length`` (the rib
     pitch, m) and the section properties A, c_ea, n_ea, Ixx, Izz, Ixz, c_sc, n_sc, Qx, Qz of
     :class:`StiffenedBoxSection`. Outputs ``g_<family>`` for every family of
@@ -322,6 +324,8 @@ class PanelFailure(KSOfPointwise, CombinedJacobianMixin, PointwiseCasadiComponen
         return [
             Var("F_csn", (3,), "N", "internal force [F_c, F_s (axial), F_n] on the inboard part, csn", 0.0),
             Var("M_csn", (3,), "N*m", "internal moment [M_c, M_s (torsion), M_n] about the box centre, csn", 0.0),
+            Var("dF_csn_ds", (3,), "N/m", "spanwise derivative of F_csn (net load per length; sets the skins' "
+                "chordwise running load)", 0.0),
             Var("width", (), "m", "box outer width (chordwise)", **per),
             Var("height", (), "m", "box outer height (normal)", 0.3, **per),
             Var("t_upper_skin", (), "m", "upper skin thickness", 0.01, **per),
@@ -344,7 +348,8 @@ class PanelFailure(KSOfPointwise, CombinedJacobianMixin, PointwiseCasadiComponen
         t_eq = (walls[0] + stringers[0][0], walls[1] + stringers[1][0])
         loads = panel_running_loads(sym["F_csn"], sym["M_csn"], sym["width"], sym["height"], *walls,
                                     (e_skin * t_eq[0], e_skin * t_eq[1]), {k: sym[k] for k in SECTION_PROPERTIES},
-                                    web_axial_thickness=(e_web * walls[2], e_web * walls[3]))
+                                    web_axial_thickness=(e_web * walls[2], e_web * walls[3]),
+                                    force_gradient=sym["dF_csn_ds"])
         sf = float(o["safety_factor"])
         skin_pm, web_pm = self._materials()
         laminate = "laminate_strength" in self.families
@@ -352,7 +357,8 @@ class PanelFailure(KSOfPointwise, CombinedJacobianMixin, PointwiseCasadiComponen
         for k, side in enumerate(("upper", "upper", "lower", "lower")):
             t, nx, nxy = sym[f"t_{side}_skin"], loads["nx_skin"][k], loads["nxy_skin"][k]
             r = skin_panel_ratios(skin_pm, t, sym[f"h_{side}_stiffener"], sym[f"t_{side}_stiffener"],
-                                  o["stiffener_pitch"], sym["panel_length"], nx, nxy, o["shape"], o["flange_ratio"])
+                                  o["stiffener_pitch"], sym["panel_length"], nx, nxy, o["shape"], o["flange_ratio"],
+                                  ny=loads["ny_skin"][k])
             for f in SKIN_MODES:
                 out[f].append(sf * r[f] - 1.0)
             if laminate:

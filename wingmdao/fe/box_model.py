@@ -126,6 +126,8 @@ def span_lines(sections: BoxSections, element_size: float, ribs_y=()) -> np.ndar
 def build_shell_box(sections: BoxSections, material, *, element="S8R", chord_elements=8, height_elements=2,
                     span_element_size=0.5, ribs_y=(), rib_thickness=None, skin_breaks=None) -> ShellBox:
     """Mesh the box mid-surfaces (see module docstring); ``ribs_y``: rib span coordinates (m);
+    ``rib_thickness``: one value (m) for every rib or one per rib of ``ribs_y`` (None: the
+    thinnest wall of the rib station);
     ``skin_breaks``: ``f(a) -> (chord_elements + 1,)`` the skins' chordwise element boundaries
     (offsets from the section centre, -a to a) at a section of mid-surface half-width a
     (default: ``chord_elements`` equal elements)."""
@@ -194,7 +196,9 @@ def build_shell_box(sections: BoxSections, material, *, element="S8R", chord_ele
             nel += 1
     # ribs: a structured shell grid in the rib plane sharing the ring nodes
     nc, nh = chord_elements, height_elements
-    for yr in ribs_y:
+    rib_t = np.broadcast_to(np.asarray(np.nan if rib_thickness is None else rib_thickness, float),
+                            (len(ribs_y),)) if len(ribs_y) else np.zeros(0)
+    for r_index, yr in enumerate(ribs_y):
         j = int(np.argmin(np.abs(fine - yr)))
         c, w, h, t = sections.at(fine[j])
         ring = rings[j]
@@ -218,7 +222,7 @@ def build_shell_box(sections: BoxSections, material, *, element="S8R", chord_ele
                     x = pts[i, 0]       # the lower skin's chordwise positions
                     z = za + (zb - za) * k / Nk
                     grid[i, k] = deck.add_nodes([(x, fine[j], z)])[0]
-        tr = rib_thickness if rib_thickness is not None else min(t.values())
+        tr = float(rib_t[r_index]) if rib_thickness is not None else min(t.values())
         conns = []
         for i in range(0, Ni, q):
             for k in range(0, Nk, q):

@@ -38,6 +38,7 @@ from wingmdao.components.beam_loads import BeamInternalLoads
 from wingmdao.components.flutter import FlutterDamping
 from wingmdao.components.turbulence import TurbulenceStressKS
 from wingmdao.components.ks import KSAggregate
+from wingmdao.components.load_gradient import InternalForceGradient
 from wingmdao.components.mass import StructuralMass
 from wingmdao.components.station_map import StationMap
 
@@ -309,6 +310,10 @@ class WingStructure(om.Group):
         self.promotes("panels", outputs=[f"ks_{f}" for f in comp.families])
         self.connect("internal_loads.F_csn", "panels.F_csn")
         self.connect("internal_loads.M_csn", "panels.M_csn")
+        self.add_subsystem("load_gradient", InternalForceGradient(num_times=nt, num_nodes=n),
+                           promotes_inputs=["node_positions"])
+        self.connect("internal_loads.F_csn", "load_gradient.F_csn")
+        self.connect("load_gradient.dF_csn_ds", "panels.dF_csn_ds")
         return dict(comp.families)
 
 

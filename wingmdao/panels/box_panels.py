@@ -10,7 +10,9 @@ from __future__ import annotations
 
 from functools import lru_cache
 
-from wingmdao.panels.stiffened import PanelMaterial, panel_failure_ratios, panel_material, skin_width_from_pitch
+from wingmdao.panels import buckling as bk
+from wingmdao.panels.stiffened import (PanelMaterial, panel_critical_loads, panel_failure_ratios, panel_material,
+                                       skin_width_from_pitch, smeared_properties)
 
 #: the skin panel's modes the sizing constrains (material strength is the box's von Mises family)
 SKIN_MODES = ("skin_buckling", "panel_buckling", "stiffener_column", "stiffener_crippling")
@@ -22,13 +24,54 @@ def _panel_material(material):
     return material if isinstance(material, PanelMaterial) else panel_material(material)
 
 
-def skin_panel_ratios(material, t, h, ts, pitch, length, nx, nxy, shape="blade", flange_ratio=1.0) -> dict:
+def skin_panel_ratios(material, t, h, ts, pitch, length, nx, nxy, shape="blade", flange_ratio=1.0, ny=None) -> dict:
     """{mode: ratio} of :data:`SKIN_MODES` for a stiffened skin: thickness ``t``, stiffeners
     ``h`` x ``ts`` at ``pitch``, panel ``length`` (m), running loads ``nx``, ``nxy`` (N/m,
-    compression negative). Each ratio is load-linear, 1 = failure at these loads."""
+    compression negative). Each ratio is load-linear, 1 = failure at these loads.
+
+    ``ny``: the skin's chordwise running load (N/m, compression negative; the stiffeners carry
+    none of it). With it, ``skin_buckling`` is the skin between stiffeners under N_x, N_y and
+    N_xy (:func:`~wingmdao.panels.buckling.biaxial_interaction_ratio`), N_y,cr the same b x a
+    bay loaded on its long edges (:func:`transverse_skin_critical_load`), and ``panel_buckling``
+    the stiffened panel between ribs under the same three loads, N_y,cr of
+    :func:`transverse_panel_critical_load`."""
+    pm = _panel_material(material)
     b = skin_width_from_pitch(pitch, h, shape, flange_ratio)
-    r = panel_failure_ratios(_panel_material(material), t, b, length, h, ts, nx, nxy, shape, flange_ratio)
+    crit = panel_critical_loads(pm, t, b, length, h, ts, shape, flange_ratio)
+    r = panel_failure_ratios(pm, t, b, length, h, ts, nx, nxy, shape, flange_ratio, critical=crit)
+    if ny is not None:
+        r["skin_buckling"] = bk.biaxial_interaction_ratio(nx, ny, nxy, crit["skin_compression"],
+                                                          transverse_skin_critical_load(pm, t, b, length),
+                                                          crit["skin_shear"])
+        r["panel_buckling"] = bk.biaxial_interaction_ratio(
+            nx, ny, nxy, crit["panel_compression"],
+            transverse_panel_critical_load(pm, t, b, length, h, ts, shape, flange_ratio), crit["panel_shear"])
     return {mode: r[mode] for mode in SKIN_MODES}
+
+
+def transverse_panel_critical_load(material, t, b, length, h, ts, shape="blade", flange_ratio=1.0):
+    """N_y,cr (N/m) of the stiffened panel between two ribs ``length`` apart compressed across
+    the stiffeners, the skin and stiffeners buckling together: the smeared orthotropic plate
+    (D_x of the stiffened section along the stiffeners, the skin's D22, D12, D66) as an
+    infinitely long strip of width ``length`` loaded along its length,
+    2 pi^2 / length^2 (sqrt(D_x D22) + D12 + 2 D66) (:func:`~wingmdao.panels.buckling.plate_compression_long`,
+    Kassapoglou Sec. 6.2; the long-plate limit is the lowest over the panel's chordwise extent,
+    so the spars' support is not counted). The stiffeners raise it through D_x only: thin
+    blades leave it below the skin bay's :func:`transverse_skin_critical_load`."""
+    pm = _panel_material(material)
+    d = pm.abd(t)
+    dx = smeared_properties(t, b, h, ts, shape, flange_ratio, pm.E_x)["EI_per_width"]
+    return bk.plate_compression_long(dx, d["D22"], d["D12"], d["D66"], length)
+
+
+def transverse_skin_critical_load(material, t, b, length):
+    """N_y,cr (N/m) of the skin between stiffeners (``b`` wide, ``length`` between ribs, simply
+    supported) compressed across the stiffeners, i.e. on its long edges:
+    :func:`~wingmdao.panels.buckling.plate_compression_ss` with the axes swapped (load along
+    y over the length b, loaded edges ``length`` long). Isotropic:
+    k pi^2 D / b^2 with k = (1 + (b / length)^2)^2 (one half-wave; Timoshenko & Gere Sec. 9.2)."""
+    d = _panel_material(material).abd(t)
+    return bk.plate_compression_ss(d["D22"], d["D11"], d["D12"], d["D66"], b, length)
 
 
 def web_panel_ratio(material, t, b, length, nx, nxy):

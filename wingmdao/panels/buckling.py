@@ -176,6 +176,28 @@ def interaction_ratio(nx, nxy, nx_cr, nxy_cr):
     return 0.5 * (rc + sqrt(rc * rc + 4.0 * rs2 + RATIO_TINY))
 
 
+def positive_part(x, tiny=RATIO_TINY):
+    """(x + sqrt(x^2 + tiny)) / 2: max(x, 0) with a finite derivative at 0 (off by at most sqrt(tiny) / 2)."""
+    return 0.5 * (x + sqrt(x * x + tiny))
+
+
+def biaxial_interaction_ratio(nx, ny, nxy, nx_cr, ny_cr, nxy_cr):
+    """:func:`interaction_ratio` of a plate that also carries a transverse load ``ny`` (N/m,
+    compression negative) with its own critical load ``ny_cr`` (the plate loaded on its long
+    edges): R_c = -N_x / N_x,cr + max(-N_y / N_y,cr, 0), then R = (R_c + sqrt(R_c^2 + 4 R_s^2)) / 2.
+
+    The straight-line interaction of the two compressions is conservative for a simply
+    supported plate: its biaxial stability condition is, per mode (m, n) of half-waves, linear
+    in (N_x, N_y), N_x / N_x(m, n) + N_y / N_y(m, n) = 1 (Timoshenko & Gere Sec. 9.3, plates compressed
+    in two perpendicular directions),
+    with N_x(m, n) >= N_x,cr and N_y(m, n) >= N_y,cr, so every mode's line lies outside the line
+    through (N_x,cr, 0) and (0, N_y,cr). Transverse tension is not credited (the smooth
+    :func:`positive_part`). Homogeneous of degree 1 in the loads."""
+    rc = compression_ratio(nx, nx_cr) + positive_part(compression_ratio(ny, ny_cr))
+    rs2 = (nxy * nxy + NXY_TINY) / nxy_cr**2
+    return 0.5 * (rc + sqrt(rc * rc + 4.0 * rs2 + RATIO_TINY))
+
+
 # --------------------------------------------------------------------------- columns
 def euler_column_load(E, I, L, c=1.0):
     """Euler buckling load P_cr = c pi^2 E I / L^2 (N); c = end fixity (1 pinned, 4 clamped).

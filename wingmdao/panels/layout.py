@@ -208,7 +208,7 @@ class PanelLayout:
         return self.stiffener_pitch / self.flange_ratio if self.shape == "tee" else math.inf
 
 
-def rib_crushing_ratio(E, nu, rib_thickness, rib_depth, rib_width, cover_load, curvature, rib_spacing):
+def rib_crushing_ratio(E, nu, rib_thickness, rib_depth, rib_width, cover_load, curvature, rib_spacing, extra_load=0.0):
     """Crushing ratio of a rib web (1 = buckling of the web), load-linear in the square of the
     bending moment.
 
@@ -220,11 +220,52 @@ def rib_crushing_ratio(E, nu, rib_thickness, rib_depth, rib_width, cover_load, c
     Its elastic buckling stress, as a plate simply supported on all edges, loaded on its edges
     of length ``rib_width`` w over the depth h (Timoshenko & Gere, *Theory of Elastic Stability*,
     2nd ed., Sec. 9.2, m = 1): sigma_cr = pi^2 E t^2 / (12 (1 - nu^2) h^2) (1 + (h/w)^2)^2.
-    Returns sigma / sigma_cr. Rib stiffeners, lightening holes and the rib's shear are not
-    modelled.
+    Returns sigma / sigma_cr. Rib stiffeners and lightening holes are not modelled;
+    ``extra_load`` (N/m per unit chord, default 0) adds a crushing load of other origin (the
+    covers' kinks at the rib, :func:`wingmdao.panel_results.rib_summary`).
     """
-    q = np.abs(cover_load * curvature) * rib_spacing
+    q = np.abs(cover_load * curvature) * rib_spacing + np.abs(extra_load)
     sigma = q / rib_thickness
     sigma_cr = (np.pi**2 * E * rib_thickness**2 / (12.0 * (1.0 - nu**2) * rib_depth**2)
                 * (1.0 + (rib_depth / rib_width) ** 2) ** 2)
     return sigma / sigma_cr
+
+
+def rib_shear_ratio(E, nu, rib_thickness, rib_depth, rib_width, shear_force):
+    """Shear buckling ratio of a rib web (1 = buckling): the shear ``shear_force`` V (N) that the
+    rib delivers to a spar, over its depth h at tau = V / (h t_rib), against the web's elastic
+    shear buckling stress as a plate simply supported on all edges (Timoshenko & Gere, *Theory
+    of Elastic Stability*, 2nd ed., Sec. 9.7): tau_cr = k_s pi^2 E t^2 / (12 (1 - nu^2) s^2),
+    k_s = 5.35 + 4 (s / l)^2, s and l the short and long sides of the depth x ``rib_width`` web.
+    Scales as t_rib^-3."""
+    short = np.minimum(rib_depth, rib_width)
+    long_ = np.maximum(rib_depth, rib_width)
+    tau = np.abs(shear_force) / (rib_depth * rib_thickness)
+    tau_cr = ((5.35 + 4.0 * (short / long_) ** 2) * np.pi**2 * E * rib_thickness**2
+              / (12.0 * (1.0 - nu**2) * short**2))
+    return tau / tau_cr
+
+
+def rib_web_ratio(crushing_ratio, shear_ratio):
+    """Combined ratio of a rib web under crushing and shear: the load-linear R of the interaction
+    R_c + R_s^2 = 1 (:func:`wingmdao.panels.buckling.interaction_ratio`),
+    R = (R_c + sqrt(R_c^2 + 4 R_s^2)) / 2; with both ratios ~ t_rib^-3 so is R."""
+    return 0.5 * (crushing_ratio + np.sqrt(crushing_ratio**2 + 4.0 * shear_ratio**2))
+
+
+def cover_kinks(span_coordinate, height, positions) -> np.ndarray:
+    """Change of slope dh/ds (outboard minus inboard side, 1) of the box height at each position:
+    the box is lofted linearly between the stations, so its covers kink at a station where the
+    height's slope changes (zero between stations). At the first station the wing's other half
+    mirrors the slope (inboard slope = -outboard slope). A cover at +-h/2 turns by half of it."""
+    y = np.asarray(span_coordinate, dtype=float)
+    h = np.asarray(height, dtype=float)
+    slope = np.diff(h) / np.diff(y)
+    inboard = np.concatenate([[-slope[0]], slope])
+    outboard = np.concatenate([slope, [slope[-1]]])
+    kink = outboard - inboard
+    out = np.zeros(len(positions))
+    for k, r in enumerate(positions):
+        j = np.flatnonzero(np.abs(y - r) < 1e-6)
+        out[k] = kink[j[0]] if j.size else 0.0
+    return out

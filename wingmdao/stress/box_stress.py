@@ -154,8 +154,9 @@ WEB_PANEL_POINTS = ("front", "rear")
 
 
 def panel_running_loads(force, moment, w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar,
-                        skin_axial_thickness, section, section_to_csn=None, web_axial_thickness=None) -> dict:
-    """Running loads (N/m) of the walls as panels: ``nx_skin``, ``nxy_skin`` at
+                        skin_axial_thickness, section, section_to_csn=None, web_axial_thickness=None,
+                        force_gradient=None) -> dict:
+    """Running loads (N/m) of the walls as panels: ``nx_skin``, ``nxy_skin``, ``ny_skin`` at
     :data:`SKIN_PANEL_POINTS` and ``nx_web``, ``nxy_web`` at :data:`WEB_PANEL_POINTS`.
 
     N_x = sigma t_axial: the axial stress (:func:`axial_stress`, compression negative) at the
@@ -165,9 +166,13 @@ def panel_running_loads(force, moment, w, h, t_upper_skin, t_lower_skin, t_front
     reference (transformed section) both are scaled by the wall's modulus ratio, so that N_x is
     the wall's own running load. N_xy = tau t: the
     flange-centre shear of the wall (torsion plus transverse shear, :func:`box_stresses`) times
-    its thickness, i.e. the wall's peak shear flow, used along the whole wall. ``section`` is
-    the station's SECTION_PROPERTIES (the stiffened section's, so the stiffeners share the
-    bending).
+    its thickness (the webs' peak shear flow, at mid-height). A skin's N_xy at its front and
+    rear edge is its shear flow there (:func:`skin_edge_shear_flows`: the flange-centre value
+    plus the vertical shear's part, which grows linearly from mid-chord to the spars). A skin's
+    chordwise N_y (``ny_skin``, the same at both points of a skin) is its mid-chord value
+    (:func:`skin_transverse_running_loads`) from ``force_gradient`` = dF/ds (N/m, the csn
+    components of the spanwise derivative of ``force``; None: zero). ``section`` is the
+    station's SECTION_PROPERTIES (the stiffened section's, so the stiffeners share the bending).
     """
     geometry = (w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar)
     stresses = box_stresses(force, moment, *geometry, section_to_csn=section_to_csn, section=section)
@@ -177,14 +182,73 @@ def panel_running_loads(force, moment, w, h, t_upper_skin, t_lower_skin, t_front
     c_front, c_rear, n_lower, n_upper = box_midline(*geometry)
     tau = stresses["tau_cent"]
     t_axial = {"upper": skin_axial_thickness[0], "lower": skin_axial_thickness[1]}
-    nx_skin, nxy_skin = [], []
-    for skin, n_skin, tau_skin, t_skin in (("upper", n_upper, tau[0], t_upper_skin),
-                                           ("lower", n_lower, tau[1], t_lower_skin)):
-        for c in (c_front, c_rear):
+    edge = skin_edge_shear_flows(force, sec, c_rear - c_front, n_upper, n_lower, tau[0] * t_upper_skin,
+                                 tau[1] * t_lower_skin, skin_axial_thickness)
+    if force_gradient is None:
+        ny = [0.0, 0.0]
+    else:
+        ny = skin_transverse_running_loads(_to_section(section_to_csn, force_gradient), sec, c_rear - c_front,
+                                           n_upper, n_lower, skin_axial_thickness)
+    nx_skin, nxy_skin, ny_skin = [], [], []
+    for k, (skin, n_skin) in enumerate((("upper", n_upper), ("lower", n_lower))):
+        for j, c in enumerate((c_front, c_rear)):
             nx_skin.append(axial_stress(c, n_skin, force, moment, sec) * t_axial[skin])
-            nxy_skin.append(tau_skin * t_skin)
+            nxy_skin.append(edge[2 * k + j])
+            ny_skin.append(ny[k])
     n_mid = 0.5 * (n_lower + n_upper)
     t_web = (t_front_spar, t_rear_spar) if web_axial_thickness is None else web_axial_thickness
     nx_web = [axial_stress(c, n_mid, force, moment, sec) * t for c, t in zip((c_front, c_rear), t_web)]
     nxy_web = [tau[2] * t_front_spar, tau[3] * t_rear_spar]
-    return {"nx_skin": nx_skin, "nxy_skin": nxy_skin, "nx_web": nx_web, "nxy_web": nxy_web}
+    return {"nx_skin": nx_skin, "nxy_skin": nxy_skin, "ny_skin": ny_skin, "nx_web": nx_web, "nxy_web": nxy_web}
+
+
+def skin_edge_shear_flows(force, sec, width_mid, n_upper, n_lower, q_upper_centre, q_lower_centre,
+                          skin_axial_thickness) -> list:
+    """Shear flow (N/m) of each skin at its front and rear edge (the midline corners), in the
+    sign of :func:`box_stresses` (positive torque): [upper front, upper rear, lower front, lower
+    rear].
+
+    The vertical shear F_n (through the shear centre) gives a skin a shear flow that is zero at
+    mid-chord (the box symmetric about its vertical centreline) and grows linearly towards the
+    spars, dq/dc = F_n (n_skin - n_ea) t_ax / Ixx: the first moment of the skin's axial area
+    per width t_ax (skin plus smeared stiffeners, :func:`panel_running_loads`) between mid-chord
+    and the point (thin-walled beam theory: T. H. G. Megson, *Aircraft Structures for
+    Engineering Students*, 4th ed., Butterworth-Heinemann 2007, Sec. 17.3, shear of closed
+    sections). At the edges, half the midline width ``width_mid`` from mid-chord, it reaches
+    +-Delta, Delta_upper = F_n (n_upper - n_ea) t_ax,u (width_mid / 2) / Ixx and
+    Delta_lower = F_n (n_ea - n_lower) t_ax,l (width_mid / 2) / Ixx, with +Delta at the front
+    edge of both skins (it continues the webs' upward flow of F_n > 0 around the cell) and
+    -Delta at the rear. Added to the skin's flange-centre flow ``q_*_centre`` (torsion plus
+    the chordwise shear's part, which is largest at mid-chord, so keeping its centre value is
+    the larger of the two when they add). Ixz is neglected, as in :func:`box_stresses`.
+    """
+    half = 0.5 * width_mid
+    shear = force[2] / sec["Ixx"]
+    d_upper = shear * (n_upper - sec["n_ea"]) * skin_axial_thickness[0] * half
+    d_lower = shear * (sec["n_ea"] - n_lower) * skin_axial_thickness[1] * half
+    return [q_upper_centre + d_upper, q_upper_centre - d_upper, q_lower_centre + d_lower, q_lower_centre - d_lower]
+
+
+def skin_transverse_running_loads(force_gradient, sec, width_mid, n_upper, n_lower, skin_axial_thickness) -> list:
+    """Chordwise running load N_y (N/m, compression negative) of the upper and lower skin at
+    mid-chord, from the spanwise change of the vertical shear.
+
+    In-plane equilibrium of the skin (s spanwise, c chordwise, no surface traction in its
+    plane): dN_s/ds + dN_sc/dc = 0 and dN_sc/ds + dN_c/dc = 0, so d^2 N_c / dc^2 =
+    d^2 N_s / ds^2 (S. P. Timoshenko and J. N. Goodier, *Theory of Elasticity*, 3rd ed.,
+    McGraw-Hill 1970, Sec. 17, the plane-stress equilibrium equations). With N_s = t_ax sigma,
+    sigma = -M_c (n_skin - n_ea) / Ixx and dM_c/ds = -F_n (:func:`axial_stress`, the internal
+    loads of the outboard part), d^2 N_s / ds^2 = t_ax (n_skin - n_ea) (dF_n/ds) / Ixx, the
+    same across the chord for the vertical shear (the section's spanwise change neglected).
+    The spar webs, vertical, take no chordwise load from the skin (N_c = 0 at both spars,
+    ``width_mid`` apart), so N_c is a parabola with its extreme at mid-chord:
+
+        N_y = -(width_mid^2 / 8) t_ax (n_skin - n_ea) (dF_n/ds) / Ixx.
+
+    Under upward net load (dF_n/ds < 0, the shear grows inboard) it compresses the lower skin
+    and stretches the upper one; a download the reverse. Ribs, which the model leaves out of
+    the skins' in-plane equilibrium, relieve it near themselves, so this is the value between
+    ribs.
+    """
+    k = -(width_mid**2 / 8.0) * force_gradient[2] / sec["Ixx"]
+    return [k * skin_axial_thickness[0] * (n_upper - sec["n_ea"]), k * skin_axial_thickness[1] * (n_lower - sec["n_ea"])]
