@@ -224,7 +224,7 @@ class KSOfPointwise:
         for v in self._out_vars:
             g = np.asarray(outputs[v.name])
             _check_finite(f"{self.pathname}.{v.name}", g)
-            m, w, s = _shifted_exp(g, rho)
+            m, w, s = shifted_exp(g, rho)
             outputs[self._ks_names[v.name]] = float(m + np.log(s) / rho)
             self._ks_weights[v.name] = (w / s).reshape(n, v.size)
         self._ks_point = _stamp(inputs)
