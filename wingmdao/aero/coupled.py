@@ -12,7 +12,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from wingmdao.aero.lifting_line import lifting_line_lift_slope
 from wingmdao.aero.system import aero_parameters, cached_aeroelastic_system
+from wingmdao.aero.vlm import station_influence
 from wingmdao.loads.atmosphere import G0
 from wingmdao.timemarch.system import pack
 
@@ -24,6 +26,8 @@ AERO_FORCING_META = {"gust_velocity": ("m/s", "gust velocity (body +z) at each s
                      "frame_velocity_rate": ("m/s**2", "rate of frame_velocity (apparent mass)"),
                      "trim_active": (None, "1: solve alpha_trim for trim_lift; 0: hold alpha_trim"),
                      "tail_gust_velocity": ("m/s", "gust velocity (body +z) at the tail, its penetration delay included")}
+#: the aerodynamic theories of a coupled case (CoupledAero.aero_theory; --aero-theory)
+AERO_THEORY_CHOICES = ("strip", "lifting-line", "vlm")
 #: forcing only a free-pitch case has (wingmdao.aero.pitch)
 PITCH_FORCING = ("tail_gust_velocity",)
 
@@ -45,6 +49,13 @@ class CoupledAero:
     ``aircraft_cg`` (x, z m from the body-axes origin), ``aircraft_pitch_inertia`` (kg m^2, about the
     CG), ``tail_arm`` (m), parameters ``tail_area`` (m^2), ``tail_lift_slope`` (1/rad),
     ``downwash_gradient``; ``tail_lag`` the first-order downwash lag.
+
+    ``aero_theory`` (:data:`AERO_THEORY_CHOICES`): ``"strip"`` (each station's slope
+    ``lift_slope``), ``"lifting-line"`` (``lift_slope`` replaced by the section slopes of
+    Prandtl's lifting line of the planform, :mod:`wingmdao.aero.lifting_line`) or ``"vlm"`` (the
+    circulatory quasi-steady lift of every station from the vortex lattice of the planform,
+    :mod:`wingmdao.aero.vlm`; ``lift_slope`` unused). Both 3-D theories need
+    ``node_positions`` (n, 3) m, the jig beam nodes (the planform is chord, ref_point and the nodes).
     """
 
     chord: object
@@ -67,6 +78,14 @@ class CoupledAero:
     tail_area: float = 0.0
     tail_lift_slope: float = 0.0
     downwash_gradient: float = 0.0
+    aero_theory: str = "strip"
+    node_positions: object = None
+
+    @property
+    def residual_theory(self) -> str:
+        """The residual's ``aero_theory`` (:data:`wingmdao.aero.system.AERO_THEORIES`): the lifting
+        line only changes ``lift_slope`` of the strip residual."""
+        return "vlm" if self.aero_theory == "vlm" else "strip"
 
     def trim_load_factor(self) -> float:
         """n = trim_lift / (g0 aircraft_mass): the trimmed load factor of a free-plunge case."""
@@ -85,6 +104,7 @@ class CoupledAero:
         out = aero_parameters(num_nodes, chord=self.chord, ref_point=self.ref_point, lift_slope=self.lift_slope,
                               alpha_zero_lift=self.alpha_zero_lift, cm0=self.cm0, airspeed=self.airspeed,
                               density=self.density, mach=self.mach)
+        out.update(self._three_dimensional(num_nodes, out))
         if self.plunge and not (np.isfinite(self.aircraft_mass) and self.aircraft_mass > 0):
             raise ValueError(f"CoupledAero: aircraft_mass = {self.aircraft_mass} kg with plunge=True; "
                              "allowed range (0, inf) kg")
@@ -104,6 +124,24 @@ class CoupledAero:
             out.update(tail_area=float(self.tail_area), tail_lift_slope=float(self.tail_lift_slope),
                        downwash_gradient=float(self.downwash_gradient))
         return out
+
+
+    def _three_dimensional(self, num_nodes: int, values: dict) -> dict:
+        """The lifting line's ``lift_slope`` or the vortex lattice's influence matrices (empty for strip)."""
+        if self.aero_theory not in AERO_THEORY_CHOICES:
+            raise ValueError(f"CoupledAero: aero_theory = {self.aero_theory!r}; allowed: {', '.join(AERO_THEORY_CHOICES)}")
+        if self.aero_theory == "strip":
+            return {}
+        if self.node_positions is None:
+            raise ValueError(f"CoupledAero: aero_theory = {self.aero_theory!r} needs node_positions (the jig beam nodes)")
+        r = np.asarray(self.node_positions, dtype=float).reshape(num_nodes, 3)
+        if self.aero_theory == "lifting-line":
+            y = r[:, 1]
+            tip = float(y[-1])
+            slope, _ = lifting_line_lift_slope(np.minimum(y, tip * (1 - 1e-12)), (y, values["chord"]), tip)
+            return {"lift_slope": np.maximum(slope, 1e-6)}  # zero at the tip itself
+        inf = station_influence(r, values["chord"], values["ref_point"], mach=values["mach"])
+        return {"lift_influence": inf.lift, "moment_influence": inf.moment}
 
 
 def load_case_response(prob, case, num_nodes: int, weight: float) -> dict:
@@ -138,7 +176,8 @@ def load_case_response(prob, case, num_nodes: int, weight: float) -> dict:
     if case.aero is not None:
         pitch = bool(case.aero.pitch)
         system = cached_aeroelastic_system(n, plunge=bool(case.aero.plunge), trim=bool(case.aero.trim), pitch=pitch,
-                                           tail_lag=pitch and bool(case.aero.tail_lag))
+                                           tail_lag=pitch and bool(case.aero.tail_lag),
+                                           aero_theory=case.aero.residual_theory)
         beam = system.layout.beam_states(X)
         p = pack(system.param_specs, {s.name: value(s.name) for s in system.param_specs})
         Q = np.concatenate([forcing(s.name).reshape(t.size, -1) for s in system.forcing_specs], axis=1)
