@@ -152,3 +152,11 @@ def test_adjoint_totals_of_gust_ks_vs_central_differences():
         scale = np.max(np.abs(ref))
         assert scale > 0, w
         np.testing.assert_allclose(rev[("ks", w)], ref, rtol=0, atol=1e-5 * scale, err_msg=w)
+
+
+def test_aero_theory_choices_are_spelled_once():
+    from wingmdao.aero.coupled import AERO_THEORY_CHOICES
+    from wingmdao.cases.pegasus import AERO_THEORIES
+    from wingmdao.cli._args import AERO_THEORY_CHOICES as CLI_CHOICES
+
+    assert AERO_THEORIES == AERO_THEORY_CHOICES == CLI_CHOICES

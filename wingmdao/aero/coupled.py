@@ -128,20 +128,32 @@ class CoupledAero:
 
     def _three_dimensional(self, num_nodes: int, values: dict) -> dict:
         """The lifting line's ``lift_slope`` or the vortex lattice's influence matrices (empty for strip)."""
-        if self.aero_theory not in AERO_THEORY_CHOICES:
-            raise ValueError(f"CoupledAero: aero_theory = {self.aero_theory!r}; allowed: {', '.join(AERO_THEORY_CHOICES)}")
-        if self.aero_theory == "strip":
-            return {}
-        if self.node_positions is None:
+        if self.aero_theory != "strip" and self.node_positions is None:
             raise ValueError(f"CoupledAero: aero_theory = {self.aero_theory!r} needs node_positions (the jig beam nodes)")
-        r = np.asarray(self.node_positions, dtype=float).reshape(num_nodes, 3)
-        if self.aero_theory == "lifting-line":
-            y = r[:, 1]
-            tip = float(y[-1])
-            slope, _ = lifting_line_lift_slope(np.minimum(y, tip * (1 - 1e-12)), (y, values["chord"]), tip)
-            return {"lift_slope": np.maximum(slope, 1e-6)}  # zero at the tip itself
-        inf = station_influence(r, values["chord"], values["ref_point"], mach=values["mach"])
-        return {"lift_influence": inf.lift, "moment_influence": inf.moment}
+        return three_dimensional_parameters(self.aero_theory, self.node_positions, values["chord"],
+                                            values["ref_point"], values["mach"])
+
+
+def three_dimensional_parameters(aero_theory: str, node_positions, chord, ref_point, mach) -> dict:
+    """The aerodynamic parameters a theory of :data:`AERO_THEORY_CHOICES` sets on the strip model's:
+    none for ``"strip"``; ``lift_slope`` (n,) 1/rad from Prandtl's lifting line of the planform
+    (:func:`~wingmdao.aero.lifting_line.lifting_line_lift_slope`, zero at the tip node) for
+    ``"lifting-line"``; ``lift_influence`` (n, n) m and ``moment_influence`` (n, n) m^2 from the
+    vortex lattice at ``mach`` (:func:`~wingmdao.aero.vlm.station_influence`) for ``"vlm"``.
+    ``node_positions`` (n, 3) m: the jig beam nodes; ``chord`` (n,) m; ``ref_point`` (n,)."""
+    if aero_theory not in AERO_THEORY_CHOICES:
+        raise ValueError(f"aero_theory = {aero_theory!r}; allowed: {', '.join(AERO_THEORY_CHOICES)}")
+    if aero_theory == "strip":
+        return {}
+    r = np.asarray(node_positions, dtype=float).reshape(-1, 3)
+    c = np.broadcast_to(np.asarray(chord, dtype=float), (r.shape[0],))
+    if aero_theory == "lifting-line":
+        y = r[:, 1]
+        tip = float(y[-1])
+        slope, _ = lifting_line_lift_slope(np.minimum(y, tip * (1 - 1e-12)), (y, c), tip)
+        return {"lift_slope": np.maximum(slope, 1e-6)}  # the check wants > 0; zero at the tip node itself
+    inf = station_influence(r, c, ref_point, mach=mach)
+    return {"lift_influence": inf.lift, "moment_influence": inf.moment}
 
 
 def load_case_response(prob, case, num_nodes: int, weight: float) -> dict:

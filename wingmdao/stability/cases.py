@@ -28,6 +28,7 @@ class FlutterProblem:
     system: object
     published: dict
     eig_options: dict
+    aero_theory: str = "strip"  # wingmdao.aero.coupled.AERO_THEORY_CHOICES
     _packed: tuple = field(default=None, init=False, repr=False, compare=False)   # (p, q, layout) of params_at
 
     @property
@@ -55,7 +56,18 @@ class FlutterProblem:
         p = p.copy()
         p[lay["airspeed"]] = V
         p[lay["mach"]] = mach
+        if self.aero_theory == "vlm":  # the lattice at this Mach number (cached by planform and Mach)
+            for k, v in self._three_dimensional(mach).items():
+                p[lay[k]] = np.ravel(v)
         return p, q.copy()
+
+    def _three_dimensional(self, mach):
+        from wingmdao.aero.coupled import three_dimensional_parameters
+
+        n = self.num_nodes
+        return three_dimensional_parameters(self.aero_theory, self.beam["node_positions"],
+                                            np.broadcast_to(self.aero["chord"], (n,)),
+                                            np.broadcast_to(self.aero["ref_point"], (n,)), mach)
 
     def _pack_at(self, V):
         from wingmdao.aero.system import aero_forcing_specs, aero_parameters
@@ -66,6 +78,7 @@ class FlutterProblem:
         a = aero_parameters(n, chord=self.aero["chord"], ref_point=self.aero["ref_point"],
                             lift_slope=self.aero["lift_slope"], airspeed=V, density=self.aero["density"],
                             mach=self.mach_at(V))
+        a.update(self._three_dimensional(a["mach"]))
         p = pack(self.system.param_specs, {**self.beam, **a})
         qv = beam_forcing(n)
         qv.update({s.name: np.zeros(s.shape) for s in aero_forcing_specs(n)})
@@ -89,14 +102,20 @@ class FlutterProblem:
 
 
 def flutter_problem(name: str, num_nodes: int | None = None, thickness: dict | None = None,
-                    panels=None) -> FlutterProblem:
+                    panels=None, aero_theory: str = "strip") -> FlutterProblem:
     """The aeroelastic flutter problem of case ``name`` (one of :data:`FLUTTER_CASES`).
 
     ``num_nodes``: beam nodes (default :data:`DEFAULT_NODES`). ``thickness`` (PEGASUS only):
     ``{wall: (num_nodes,) m}`` wall thicknesses per node (default: the sizing's initial design),
     e.g. the ``thickness`` block of a ``wingmdao size pegasus`` JSON; with ``panels`` (a stiffened
-    design's PanelLayout) it also holds the stiffener variables.
+    design's PanelLayout) it also holds the stiffener variables. ``aero_theory``
+    (:data:`wingmdao.aero.coupled.AERO_THEORY_CHOICES`): the quasi-steady lift of the strips, of
+    Prandtl's lifting line or of the vortex lattice (the Wagner lag per station in every case).
     """
+    from wingmdao.aero.coupled import AERO_THEORY_CHOICES
+
+    if aero_theory not in AERO_THEORY_CHOICES:
+        raise ValueError(f"--aero-theory {aero_theory!r}; allowed: {', '.join(AERO_THEORY_CHOICES)}")
     import importlib
 
     if name not in FLUTTER_CASES:
@@ -113,8 +132,8 @@ def flutter_problem(name: str, num_nodes: int | None = None, thickness: dict | N
         beam, aero = mod.beam_params(n, thickness, panels), mod.aero_data(n)
     else:
         beam, aero = mod.beam_params(n), mod.aero_data()
-    return FlutterProblem(name, n, beam, aero, cached_aeroelastic_system(n), mod.PUBLISHED,
-                          dict(EIG_OPTIONS[name]))
+    system = cached_aeroelastic_system(n, aero_theory="vlm" if aero_theory == "vlm" else "strip")
+    return FlutterProblem(name, n, beam, aero, system, mod.PUBLISHED, dict(EIG_OPTIONS[name]), aero_theory)
 
 
 #: fractions of F V_D at which the sizing constraint checks the damping (the first picks the modes)
