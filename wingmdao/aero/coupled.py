@@ -12,9 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from wingmdao.aero.lifting_line import lifting_line_lift_slope
-from wingmdao.aero.system import aero_parameters, cached_aeroelastic_system
-from wingmdao.aero.vlm import station_influence
+from wingmdao.aero.system import (AERO_THEORY_CHOICES, aero_parameters, cached_aeroelastic_system,
+                                  three_dimensional_parameters)
 from wingmdao.loads.atmosphere import G0
 from wingmdao.timemarch.system import pack
 
@@ -26,8 +25,6 @@ AERO_FORCING_META = {"gust_velocity": ("m/s", "gust velocity (body +z) at each s
                      "frame_velocity_rate": ("m/s**2", "rate of frame_velocity (apparent mass)"),
                      "trim_active": (None, "1: solve alpha_trim for trim_lift; 0: hold alpha_trim"),
                      "tail_gust_velocity": ("m/s", "gust velocity (body +z) at the tail, its penetration delay included")}
-#: the aerodynamic theories of a coupled case (CoupledAero.aero_theory; --aero-theory)
-AERO_THEORY_CHOICES = ("strip", "lifting-line", "vlm")
 #: forcing only a free-pitch case has (wingmdao.aero.pitch)
 PITCH_FORCING = ("tail_gust_velocity",)
 
@@ -132,28 +129,6 @@ class CoupledAero:
             raise ValueError(f"CoupledAero: aero_theory = {self.aero_theory!r} needs node_positions (the jig beam nodes)")
         return three_dimensional_parameters(self.aero_theory, self.node_positions, values["chord"],
                                             values["ref_point"], values["mach"])
-
-
-def three_dimensional_parameters(aero_theory: str, node_positions, chord, ref_point, mach) -> dict:
-    """The aerodynamic parameters a theory of :data:`AERO_THEORY_CHOICES` sets on the strip model's:
-    none for ``"strip"``; ``lift_slope`` (n,) 1/rad from Prandtl's lifting line of the planform
-    (:func:`~wingmdao.aero.lifting_line.lifting_line_lift_slope`, zero at the tip node) for
-    ``"lifting-line"``; ``lift_influence`` (n, n) m and ``moment_influence`` (n, n) m^2 from the
-    vortex lattice at ``mach`` (:func:`~wingmdao.aero.vlm.station_influence`) for ``"vlm"``.
-    ``node_positions`` (n, 3) m: the jig beam nodes; ``chord`` (n,) m; ``ref_point`` (n,)."""
-    if aero_theory not in AERO_THEORY_CHOICES:
-        raise ValueError(f"aero_theory = {aero_theory!r}; allowed: {', '.join(AERO_THEORY_CHOICES)}")
-    if aero_theory == "strip":
-        return {}
-    r = np.asarray(node_positions, dtype=float).reshape(-1, 3)
-    c = np.broadcast_to(np.asarray(chord, dtype=float), (r.shape[0],))
-    if aero_theory == "lifting-line":
-        y = r[:, 1]
-        tip = float(y[-1])
-        slope, _ = lifting_line_lift_slope(np.minimum(y, tip * (1 - 1e-12)), (y, c), tip)
-        return {"lift_slope": np.maximum(slope, 1e-6)}  # the check wants > 0; zero at the tip node itself
-    inf = station_influence(r, c, ref_point, mach=mach)
-    return {"lift_influence": inf.lift, "moment_influence": inf.moment}
 
 
 def load_case_response(prob, case, num_nodes: int, weight: float) -> dict:

@@ -36,11 +36,13 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
+from wingmdao.aero.lifting_line import lifting_line_lift_slope
 from wingmdao.aero.strip import AERO_STATE_NAMES, N_AERO_STATES, check_aero_inputs, section_model
 from wingmdao.beam.residual import (N_STATE_PER_NODE, STATE_BLOCKS, _P_NODE, _Q_NODE, _element_function,
                                     _nodal_function, _node_forcing, _node_params, describe_equation,
                                     forcing_specs as beam_forcing_specs, jig_state,
                                     param_specs as beam_param_specs, StrainRateDamping)
+from wingmdao.aero.vlm import station_influence
 from wingmdao.beam.rotations import body_to_csn
 from wingmdao.timemarch import lu_orders
 from wingmdao.timemarch.system import CasadiResidualSystem, VarSpec, layout
@@ -54,6 +56,9 @@ N_AEROELASTIC_STATES = N_STATE_PER_NODE + N_AERO_STATES
 AERO_PARAMS = ("chord", "ref_point", "lift_slope", "alpha_zero_lift", "cm0", "airspeed", "density", "mach")
 #: circulatory quasi-steady lift of the residual: per strip, or the vortex lattice's (build_aeroelastic_system)
 AERO_THEORIES = ("strip", "vlm")
+#: the aerodynamic theories of a coupled case (CoupledAero.aero_theory; --aero-theory): the lifting
+#: line changes the strips' lift_slope (three_dimensional_parameters)
+AERO_THEORY_CHOICES = ("strip", "lifting-line", "vlm")
 
 
 @dataclass(frozen=True, eq=False)
@@ -162,6 +167,28 @@ def aero_parameters(n: int, *, chord, ref_point=0.4, lift_slope=2 * np.pi, alpha
     out.update(airspeed=float(airspeed), density=float(density), mach=float(mach))
     check_aero_parameters(out)
     return out
+
+
+def three_dimensional_parameters(aero_theory: str, node_positions, chord, ref_point, mach) -> dict:
+    """The aerodynamic parameters a theory of :data:`AERO_THEORY_CHOICES` sets on the strip model's:
+    none for ``"strip"``; ``lift_slope`` (n,) 1/rad from Prandtl's lifting line of the planform
+    (:func:`~wingmdao.aero.lifting_line.lifting_line_lift_slope`, zero at the tip node) for
+    ``"lifting-line"``; ``lift_influence`` (n, n) m and ``moment_influence`` (n, n) m^2 from the
+    vortex lattice at ``mach`` (:func:`~wingmdao.aero.vlm.station_influence`) for ``"vlm"``.
+    ``node_positions`` (n, 3) m: the jig beam nodes; ``chord`` (n,) m; ``ref_point`` (n,)."""
+    if aero_theory not in AERO_THEORY_CHOICES:
+        raise ValueError(f"aero_theory = {aero_theory!r}; allowed: {', '.join(AERO_THEORY_CHOICES)}")
+    if aero_theory == "strip":
+        return {}
+    r = np.asarray(node_positions, dtype=float).reshape(-1, 3)
+    c = np.broadcast_to(np.asarray(chord, dtype=float), (r.shape[0],))
+    if aero_theory == "lifting-line":
+        y = r[:, 1]
+        tip = float(y[-1])
+        slope, _ = lifting_line_lift_slope(np.minimum(y, tip * (1 - 1e-12)), (y, c), tip)
+        return {"lift_slope": np.maximum(slope, 1e-6)}  # the check wants > 0; zero at the tip node itself
+    inf = station_influence(r, c, ref_point, mach=mach)
+    return {"lift_influence": inf.lift, "moment_influence": inf.moment}
 
 
 def check_aero_parameters(values: dict) -> None:

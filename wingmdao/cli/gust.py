@@ -30,7 +30,7 @@ import sys
 import time as _time
 
 import numpy as np
-from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, write_json
+from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, warn, write_json
 from wingmdao.cli._args import add_aero_theory_argument, add_output_arguments
 
 CASES = ("pegasus", "crm")
@@ -118,7 +118,7 @@ def _beam_parameters(module, args):
 
 
 def run(args):
-    from wingmdao.aero import aero_parameters
+    from wingmdao.aero import aero_parameters, three_dimensional_parameters
     from wingmdao.aero.plunge import body_mass as plunge_body_mass, half_wing_mass
     from wingmdao.cases import available_cases
     from wingmdao.cases.planform import FT, G0, LB, wing_geometry
@@ -130,8 +130,6 @@ def run(args):
         raise ValueError("--plunge free needs --aero coupled (the strip-theory gust loads are precomputed on a "
                          "clamped wing); use --aero strip --clamped or --aero coupled --plunge free")
     if args.lifting_line:
-        from wingmdao.cli._io import warn
-
         warn("--lifting-line is deprecated; use --aero-theory lifting-line (same meaning)")
         args.aero_theory = "lifting-line"
     if args.aero == "strip" and args.aero_theory != "strip":
@@ -188,8 +186,6 @@ def run(args):
     ap = aero_parameters(n, chord=chord, ref_point=axis_frac, lift_slope=slope, airspeed=V, density=rho,
                          mach=mach)
     if args.aero_theory == "vlm":
-        from wingmdao.aero.coupled import three_dimensional_parameters
-
         ap.update(three_dimensional_parameters("vlm", bp["node_positions"], chord, axis_frac, mach))
     r0 = bp["node_positions"]
     body_mass = plunge_body_mass(weight / G0, half_wing_mass(bp["mass_per_length"], r0)[0])

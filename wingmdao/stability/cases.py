@@ -29,7 +29,7 @@ class FlutterProblem:
     published: dict
     eig_options: dict
     aero_theory: str = "strip"  # wingmdao.aero.coupled.AERO_THEORY_CHOICES
-    _packed: tuple = field(default=None, init=False, repr=False, compare=False)   # (p, q, layout) of params_at
+    _packed: tuple = field(default=None, init=False, repr=False, compare=False)   # (p, q, layout, theory parameters of a Mach number) of params_at
 
     @property
     def dive_speed(self):
@@ -49,7 +49,7 @@ class FlutterProblem:
 
         if self._packed is None:
             self._packed = self._pack_at(V)
-        p, q, lay = self._packed
+        p, q, lay, theory_parameters = self._packed
         V = float(V)
         mach = self.mach_at(V)
         check_aero_inputs(airspeed=V, mach=mach)
@@ -57,33 +57,31 @@ class FlutterProblem:
         p[lay["airspeed"]] = V
         p[lay["mach"]] = mach
         if self.aero_theory == "vlm":  # the lattice at this Mach number (cached by planform and Mach)
-            for k, v in self._three_dimensional(mach).items():
+            for k, v in theory_parameters(mach).items():
                 p[lay[k]] = np.ravel(v)
         return p, q.copy()
 
-    def _three_dimensional(self, mach):
-        from wingmdao.aero.coupled import three_dimensional_parameters
-
-        n = self.num_nodes
-        return three_dimensional_parameters(self.aero_theory, self.beam["node_positions"],
-                                            np.broadcast_to(self.aero["chord"], (n,)),
-                                            np.broadcast_to(self.aero["ref_point"], (n,)), mach)
-
     def _pack_at(self, V):
-        from wingmdao.aero.system import aero_forcing_specs, aero_parameters
+        from wingmdao.aero import system as aero_system
         from wingmdao.beam.static import beam_forcing
         from wingmdao.timemarch.system import layout, pack
 
         n = self.num_nodes
-        a = aero_parameters(n, chord=self.aero["chord"], ref_point=self.aero["ref_point"],
-                            lift_slope=self.aero["lift_slope"], airspeed=V, density=self.aero["density"],
-                            mach=self.mach_at(V))
-        a.update(self._three_dimensional(a["mach"]))
+        a = aero_system.aero_parameters(n, chord=self.aero["chord"], ref_point=self.aero["ref_point"],
+                                        lift_slope=self.aero["lift_slope"], airspeed=V, density=self.aero["density"],
+                                        mach=self.mach_at(V))
+
+        def theory_parameters(mach):  # the theory's parameters at a Mach number (the lattice: cached)
+            return aero_system.three_dimensional_parameters(self.aero_theory, self.beam["node_positions"],
+                                                            np.broadcast_to(self.aero["chord"], (n,)),
+                                                            np.broadcast_to(self.aero["ref_point"], (n,)), mach)
+
+        a.update(theory_parameters(a["mach"]))
         p = pack(self.system.param_specs, {**self.beam, **a})
         qv = beam_forcing(n)
-        qv.update({s.name: np.zeros(s.shape) for s in aero_forcing_specs(n)})
+        qv.update({s.name: np.zeros(s.shape) for s in aero_system.aero_forcing_specs(n)})
         q = pack(self.system.forcing_specs, qv)
-        return p, q, layout(self.system.param_specs)
+        return p, q, layout(self.system.param_specs), theory_parameters
 
     def mach_at(self, V):
         """Mach number at airspeed V (m/s): V / a when the case has a speed of sound, else 0 (incompressible)."""
@@ -112,10 +110,6 @@ def flutter_problem(name: str, num_nodes: int | None = None, thickness: dict | N
     (:data:`wingmdao.aero.coupled.AERO_THEORY_CHOICES`): the quasi-steady lift of the strips, of
     Prandtl's lifting line or of the vortex lattice (the Wagner lag per station in every case).
     """
-    from wingmdao.aero.coupled import AERO_THEORY_CHOICES
-
-    if aero_theory not in AERO_THEORY_CHOICES:
-        raise ValueError(f"--aero-theory {aero_theory!r}; allowed: {', '.join(AERO_THEORY_CHOICES)}")
     import importlib
 
     if name not in FLUTTER_CASES:
