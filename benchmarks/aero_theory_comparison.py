@@ -126,7 +126,32 @@ def goland_comparison(plt):
     return peaks
 
 
+def pegasus_maneuver(theory, load_factor=2.5):
+    """Root bending moment and torsion (N m), trim angle (rad) of the trimmed static PEGASUS
+    maneuver at ``load_factor`` on the initial design: the sizing's own coupled maneuver case
+    (``wingmdao size pegasus --aero coupled --aero-theory THEORY``, case maneuver_pos)."""
+    from wingmdao.cases import pegasus
+    from wingmdao.sizing import SECTION_KINDS, design_beam_params, initial_design
+    from wingmdao.timemarch.bdf import solve_static
+
+    setup = pegasus.build(aero="coupled", aero_theory=theory, load_factor=load_factor)
+    case = next(c for c in setup.load_cases if c.name == "maneuver_pos")
+    n = setup.geometry.num_nodes
+    bp = design_beam_params(setup.geometry, setup.material,
+                            initial_design(setup.options, SECTION_KINDS[setup.section]["design_vars"]), setup.section)
+    s = cached_aeroelastic_system(n, trim=True, aero_theory=case.aero.residual_theory)
+    p = pack(s.param_specs, {**bp, **case.aero.parameters(n)})
+    q = pack(s.forcing_specs, {sp.name: case.forcing_array(sp.name, n)[0] for sp in s.forcing_specs})
+    x, _ = solve_static(s, p, q)
+    X = s.layout.beam_states(x)
+    return X[0, 9], X[0, 10], x[s.trim_index]
+
+
 def pegasus(plt):
+    print("PEGASUS trimmed 2.5 g maneuver, initial design (the sizing's coupled case maneuver_pos):")
+    for th in THEORIES:
+        m, t, a = pegasus_maneuver(th)
+        print(f"  {th:13s} root bending {m / 1e3:8.1f} kN m, root torsion {t / 1e3:7.1f} kN m, trim {np.degrees(a):.3f} deg")
     out = {}
     with tempfile.TemporaryDirectory() as tmp:
         for th in THEORIES:
