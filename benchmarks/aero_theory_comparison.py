@@ -3,6 +3,8 @@ lifting line and vortex lattice compared on the Goland wing and PEGASUS.
 
     PYTHONPATH=. python benchmarks/aero_theory_comparison.py [--skip-pegasus]
 
+(``GUST_JSON_DIR=DIR`` reuses ``DIR/gust_THEORY.json`` of earlier ``wingmdao gust`` runs.)
+
 Writes docs/figures/vlm_lift_slope.png, docs/figures/goland_gust_theories.png,
 docs/figures/pegasus_gust_theories.png and prints the tables of the docs. About 5 minutes on
 one core (the PEGASUS gusts run ``wingmdao gust pegasus --aero-theory ...``, ~40 s each).
@@ -147,19 +149,26 @@ def pegasus_maneuver(theory, load_factor=2.5):
     return X[0, 9], X[0, 10], x[s.trim_index]
 
 
-def pegasus(plt):
+def pegasus_gusts(directory):
+    """``wingmdao gust pegasus --aero-theory THEORY --json DIR/gust_THEORY.json`` for each theory
+    (skipped when the file exists); the results by theory."""
+    out = {}
+    for th in THEORIES:
+        path = os.path.join(directory, f"gust_{th}.json")
+        if not os.path.exists(path):
+            subprocess.run([sys.executable, "-m", "wingmdao", "gust", "pegasus", "--aero-theory", th, "--no-plots",
+                            "--json", path], check=True, stderr=subprocess.DEVNULL)
+        with open(path) as f:
+            out[th] = json.load(f)
+    return out
+
+
+def pegasus(plt, directory):
     print("PEGASUS trimmed 2.5 g maneuver, initial design (the sizing's coupled case maneuver_pos):")
     for th in THEORIES:
         m, t, a = pegasus_maneuver(th)
         print(f"  {th:13s} root bending {m / 1e3:8.1f} kN m, root torsion {t / 1e3:7.1f} kN m, trim {np.degrees(a):.3f} deg")
-    out = {}
-    with tempfile.TemporaryDirectory() as tmp:
-        for th in THEORIES:
-            path = os.path.join(tmp, f"{th}.json")
-            subprocess.run([sys.executable, "-m", "wingmdao", "gust", "pegasus", "--aero-theory", th, "--no-plots",
-                            "--json", path], check=True, stderr=subprocess.DEVNULL)
-            with open(path) as f:
-                out[th] = json.load(f)
+    out = pegasus_gusts(directory)
     fig, ax = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
     print("PEGASUS gust (wingmdao gust pegasus: free plunge, trimmed 1 g, H = 350 ft):")
     for th in THEORIES:
@@ -167,8 +176,8 @@ def pegasus(plt):
         m = np.asarray(r["root_bending_moment"])
         dm = m - m[0]
         print(f"  {th:13s} wing slope {r['wing_lift_slope_per_rad']:.3f} /rad, trim {np.degrees(r['trim_alpha_rad']):.3f} deg, "
-              f"1 g root moment {m[0] / 1e3:.1f} kN m, peak dn {r['peak_incremental_load_factor']:.3f}, "
-              f"peak root moment increment {np.max(np.abs(dm)) / 1e3:.1f} kN m")
+              f"1 g root moment {m[0] / 1e3:.1f} kN m, peak {np.max(np.abs(m)) / 1e3:.1f} kN m (increment "
+              f"{np.max(np.abs(dm)) / 1e3:.1f}), peak dn {r['peak_incremental_load_factor']:.3f}")
         ax[0].plot(r["time"], r["load_factor"], label=LABEL[th])
         ax[1].plot(r["time"], m / 1e3, label=LABEL[th])
     ax[0].set_ylabel("load factor")
@@ -177,7 +186,7 @@ def pegasus(plt):
     for a in ax:
         a.grid(True)
     ax[0].legend()
-    ax[0].set_title("PEGASUS, 1-cos gust H = 350 ft, free plunge")
+    ax[0].set_title("PEGASUS, 1-cos gust H = 350 ft, free plunge, trimmed 1 g start")
     save_figure(fig, os.path.join(FIG, "pegasus_gust_theories.png"), dpi=100)
 
 
@@ -190,7 +199,8 @@ def main():
     vlm_figure(plt)
     goland_comparison(plt)
     if "--skip-pegasus" not in sys.argv:
-        pegasus(plt)
+        with tempfile.TemporaryDirectory() as tmp:
+            pegasus(plt, os.environ.get("GUST_JSON_DIR", tmp))
 
 
 if __name__ == "__main__":
