@@ -38,11 +38,11 @@ import numpy as np
 
 from wingmdao.aero.lifting_line import lifting_line_lift_slope
 from wingmdao.aero.strip import AERO_STATE_NAMES, N_AERO_STATES, check_aero_inputs, section_model
+from wingmdao.aero.vlm import station_influence
 from wingmdao.beam.residual import (N_STATE_PER_NODE, STATE_BLOCKS, _P_NODE, _Q_NODE, _element_function,
                                     _nodal_function, _node_forcing, _node_params, describe_equation,
                                     forcing_specs as beam_forcing_specs, jig_state,
                                     param_specs as beam_param_specs, StrainRateDamping)
-from wingmdao.aero.vlm import station_influence
 from wingmdao.beam.rotations import body_to_csn
 from wingmdao.timemarch import lu_orders
 from wingmdao.timemarch.system import CasadiResidualSystem, VarSpec, layout
@@ -251,7 +251,7 @@ def aeroelastic_definition(num_nodes: int, euler_sequence: str = "surface",
     args = (int(num_nodes), str(euler_sequence),
             None if damping is None else (damping.curvature, damping.strain),
             bool(plunge), bool(trim), bool(pitch), bool(tail_lag))
-    if aero_theory != "strip":  # the strip system's key (and its stored libraries) unchanged
+    if aero_theory != "strip":  # the strip system's arguments as before
         args = args + (str(aero_theory),)
     return definition_key("wingmdao.aero.system.build_aeroelastic_system", args, _GENERATING_MODULES)
 
