@@ -57,7 +57,7 @@ def test_circular_wing_matches_kinners_exact_lift_slope():
 @pytest.mark.parametrize("aspect", [3.0, 6.0, 10.0])
 def test_elliptic_wing_lift_slope_near_helmbold(aspect):
     # DATCOM states the formula for kappa = 1 is within a few percent of lifting-surface theory;
-    # the exact circular wing (above) is 2.4 % below it, the vortex lattice converges 2-4 % below
+    # the exact circular wing (above) is 2.2 % below it, the vortex lattice converges 2-4 % below
     r, c, ref, area = elliptic(aspect)
     a = slope(r, c, ref, area)
     assert a == pytest.approx(helmbold(aspect), rel=0.04)
