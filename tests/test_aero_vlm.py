@@ -160,3 +160,10 @@ def test_aero_theory_choices_are_spelled_once():
     from wingmdao.cli._args import AERO_THEORY_CHOICES as CLI_CHOICES
 
     assert AERO_THEORIES == AERO_THEORY_CHOICES == CLI_CHOICES
+
+
+def test_aero_theory_needs_coupled_aero():
+    from wingmdao.cases import pegasus
+
+    with pytest.raises(ValueError, match="--aero-theory vlm applies to --aero coupled"):
+        pegasus.build(aero="strip", aero_theory="vlm")
