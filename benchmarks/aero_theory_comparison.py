@@ -6,8 +6,9 @@ lifting line and vortex lattice compared on the Goland wing and PEGASUS.
 (``GUST_JSON_DIR=DIR`` reuses ``DIR/gust_THEORY.json`` of earlier ``wingmdao gust`` runs.)
 
 Writes docs/figures/vlm_lift_slope.png, docs/figures/goland_gust_theories.png,
-docs/figures/pegasus_gust_theories.png and prints the tables of the docs. About 5 minutes on
-one core (the PEGASUS gusts run ``wingmdao gust pegasus --aero-theory ...``, ~40 s each).
+docs/figures/pegasus_gust_theories.png and prints the tables of the docs. Several minutes on an
+idle machine: three Goland flutter sweeps (``wingmdao flutter goland --aero-theory ...``) and three
+PEGASUS gusts (``wingmdao gust pegasus --aero-theory ...``, ~30-40 s each) dominate.
 """
 
 import json
