@@ -47,8 +47,7 @@ def elliptic_wing(aspect, n=31):
 
 def vlm_figure(plt):
     aspects = np.array([4 / np.pi, 2, 3, 4, 6, 8, 10, 15, 20])
-    vlm = [station_influence(*elliptic_wing(a)[:3]).lift_slope(elliptic_wing(a)[0], elliptic_wing(a)[3])
-           for a in aspects]
+    vlm = [station_influence(*elliptic_wing(a)[:3]).lift_slope(elliptic_wing(a)[3]) for a in aspects]
     print("elliptic wings: A, VLM, DATCOM (Helmbold), lifting line 2 pi A / (A + 2)")
     for a, v in zip(aspects, vlm):
         print(f"  {a:6.3f}  {v:.4f}  {helmbold(a):.4f}  {2 * np.pi * a / (a + 2):.4f}")

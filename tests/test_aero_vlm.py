@@ -61,7 +61,7 @@ def test_rigid_rectangular_wing_root_loads_are_the_lattice_spanload():
     X = s.layout.beam_states(x)
     qdyn = 0.5 * RHO * V ** 2
     inf = station_influence(r0, np.ones(n), np.full(n, 0.25), mach=mach)
-    cl_a = inf.lift_slope(r0, 2 * span)
+    cl_a = inf.lift_slope(2 * span)
     # root shear of the half wing = q (S / 2) CL_alpha alpha
     np.testing.assert_allclose(X[0, 8], qdyn * span * cl_a * alpha, rtol=1e-6)
     # below strip theory by the 3-D lift slope (aspect ratio 6 at M 0.5: DATCOM 4.98 /rad, 0.69 of 2 pi / beta)

@@ -46,7 +46,7 @@ def rectangular(aspect, n=21, sweep=0.0):
 
 
 def slope(r, c, ref, area, **kw):
-    return station_influence(r, c, ref, **kw).lift_slope(r, area)
+    return station_influence(r, c, ref, **kw).lift_slope(area)
 
 
 def test_circular_wing_matches_kinners_exact_lift_slope():
@@ -122,8 +122,8 @@ def test_agrees_with_weissinger_on_a_swept_tapered_wing():
     area = 2 * np.sum(0.5 * (chord(y)[1:] + chord(y)[:-1]) * np.diff(y))
     one_panel = station_influence(r, chord(y), 0.4, mach=0.5, n_chordwise=1, n_spanwise=4)
     four = station_influence(r, chord(y), 0.4, mach=0.5)
-    assert one_panel.lift_slope(r, area) == pytest.approx(a_w, rel=0.005)
-    assert four.lift_slope(r, area) == pytest.approx(a_w, rel=0.02)
+    assert one_panel.lift_slope(area) == pytest.approx(a_w, rel=0.005)
+    assert four.lift_slope(area) == pytest.approx(a_w, rel=0.02)
 
 
 def test_strip_limit_and_moment_of_a_very_long_wing():

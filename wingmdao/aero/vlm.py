@@ -60,7 +60,8 @@ class Lattice:
     ``hat`` (m, n): the nodes' hat functions at the panel's mid-span; ``tributary`` (n,): each
     node's tributary beam length int N_i ds (m); ``strip`` (m,): the spanwise strip index of each
     panel; ``strip_y``/``strip_chord`` (strips,): mid-span y and local chord of each strip;
-    ``panel_chord`` (m,): each panel's streamwise chord at mid-span; ``mach``. Panel k = strip * n_chordwise + chordwise index.
+    ``panel_chord`` (m,): each panel's streamwise chord at mid-span; ``mach``.
+    Panel k = strip * n_chordwise + chordwise index.
     """
 
     bound_a: np.ndarray
@@ -103,7 +104,7 @@ class StationInfluence:
     lattice: Lattice
     circulation: np.ndarray
 
-    def lift_slope(self, node_positions, area) -> float:
+    def lift_slope(self, area) -> float:
         """The wing's lift-curve slope CL_alpha (1/rad) on ``area`` (m^2, both halves): 2 int L ds / (q S)
         of a unit incidence at every station (the beam's trapezoid)."""
         return float(2.0 * self.tributary @ (self.lift @ np.ones(self.lift.shape[1])) / float(area))
