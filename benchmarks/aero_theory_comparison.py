@@ -6,7 +6,7 @@ lifting line and vortex lattice compared on the Goland wing and PEGASUS.
 (``GUST_JSON_DIR=DIR`` reuses ``DIR/gust_THEORY.json`` of earlier ``wingmdao gust`` runs.)
 
 Writes docs/figures/vlm_lift_slope.png, docs/figures/goland_gust_theories.png,
-docs/figures/pegasus_gust_theories.png and prints the tables of the docs. Several minutes on an
+docs/figures/goland_flutter_theories.png, docs/figures/pegasus_gust_theories.png and prints the tables of the docs. Several minutes on an
 idle machine: three Goland flutter sweeps (``wingmdao flutter goland --aero-theory ...``) and three
 PEGASUS gusts (``wingmdao gust pegasus --aero-theory ...``, ~30-40 s each) dominate.
 """
@@ -121,10 +121,26 @@ def goland_comparison(plt):
     ax.legend()
     save_figure(fig, os.path.join(FIG, "goland_gust_theories.png"), dpi=100)
     print("Goland flutter (wingmdao flutter goland --aero-theory ...):")
-    for th in THEORIES:
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
+    for k, th in enumerate(THEORIES):
         res = analyse("goland", aero_theory=th)
         print(f"  {th:13s} flutter {res['flutter_speed_m_s']:.1f} m/s at {res['flutter_frequency_rad_s']:.1f} rad/s, "
               f"divergence {res['divergence_speed_m_s']}")
+        v = np.asarray(res["speeds"])
+        for j, (g, w) in enumerate(zip(res["damping_ratio"], res["frequency_rad_s"])):
+            kw = dict(color=f"C{k}", label=LABEL[th] if j == 0 else None)
+            ax[0].plot(v, np.asarray(g, dtype=float), **kw)
+            ax[1].plot(v, np.asarray(w, dtype=float), **kw)
+    ax[0].axhline(0.0, color="k", lw=0.8)
+    ax[0].set_ylim(-0.3, 0.1)
+    ax[0].set_ylabel("damping ratio")
+    ax[1].set_ylabel("frequency (rad/s)")
+    for a in ax:
+        a.set_xlabel("airspeed (m/s)")
+        a.grid(True)
+    ax[0].legend(fontsize=8)
+    ax[0].set_title("Goland wing, sea level: V-g")
+    save_figure(fig, os.path.join(FIG, "goland_flutter_theories.png"), dpi=100)
     return peaks
 
 
