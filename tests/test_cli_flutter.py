@@ -58,7 +58,7 @@ def test_design_file_thicknesses_reach_the_problem(tmp_path, monkeypatch):
 
     seen = {}
 
-    def fake(case, speeds, num_nodes, n_modes, thickness):
+    def fake(case, speeds, num_nodes, n_modes, thickness, aero_theory="strip"):
         seen.update(thickness)
         raise SystemExit(0)
 

@@ -12,7 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from wingmdao.aero.system import aero_parameters, cached_aeroelastic_system
+from wingmdao.aero.system import (AERO_THEORY_CHOICES, aero_parameters, cached_aeroelastic_system,
+                                  three_dimensional_parameters)
 from wingmdao.loads.atmosphere import G0
 from wingmdao.timemarch.system import pack
 
@@ -45,6 +46,13 @@ class CoupledAero:
     ``aircraft_cg`` (x, z m from the body-axes origin), ``aircraft_pitch_inertia`` (kg m^2, about the
     CG), ``tail_arm`` (m), parameters ``tail_area`` (m^2), ``tail_lift_slope`` (1/rad),
     ``downwash_gradient``; ``tail_lag`` the first-order downwash lag.
+
+    ``aero_theory`` (:data:`AERO_THEORY_CHOICES`): ``"strip"`` (each station's slope
+    ``lift_slope``), ``"lifting-line"`` (``lift_slope`` replaced by the section slopes of
+    Prandtl's lifting line of the planform, :mod:`wingmdao.aero.lifting_line`) or ``"vlm"`` (the
+    circulatory quasi-steady lift of every station from the vortex lattice of the planform,
+    :mod:`wingmdao.aero.vlm`; ``lift_slope`` unused). Both 3-D theories need
+    ``node_positions`` (n, 3) m, the jig beam nodes (the planform is chord, ref_point and the nodes).
     """
 
     chord: object
@@ -67,6 +75,14 @@ class CoupledAero:
     tail_area: float = 0.0
     tail_lift_slope: float = 0.0
     downwash_gradient: float = 0.0
+    aero_theory: str = "strip"
+    node_positions: object = None
+
+    @property
+    def residual_theory(self) -> str:
+        """The residual's ``aero_theory`` (:data:`wingmdao.aero.system.AERO_THEORIES`): the lifting
+        line only changes ``lift_slope`` of the strip residual."""
+        return "vlm" if self.aero_theory == "vlm" else "strip"
 
     def trim_load_factor(self) -> float:
         """n = trim_lift / (g0 aircraft_mass): the trimmed load factor of a free-plunge case."""
@@ -85,6 +101,7 @@ class CoupledAero:
         out = aero_parameters(num_nodes, chord=self.chord, ref_point=self.ref_point, lift_slope=self.lift_slope,
                               alpha_zero_lift=self.alpha_zero_lift, cm0=self.cm0, airspeed=self.airspeed,
                               density=self.density, mach=self.mach)
+        out.update(self._three_dimensional(num_nodes, out))
         if self.plunge and not (np.isfinite(self.aircraft_mass) and self.aircraft_mass > 0):
             raise ValueError(f"CoupledAero: aircraft_mass = {self.aircraft_mass} kg with plunge=True; "
                              "allowed range (0, inf) kg")
@@ -104,6 +121,14 @@ class CoupledAero:
             out.update(tail_area=float(self.tail_area), tail_lift_slope=float(self.tail_lift_slope),
                        downwash_gradient=float(self.downwash_gradient))
         return out
+
+
+    def _three_dimensional(self, num_nodes: int, values: dict) -> dict:
+        """The lifting line's ``lift_slope`` or the vortex lattice's influence matrices (empty for strip)."""
+        if self.aero_theory != "strip" and self.node_positions is None:
+            raise ValueError(f"CoupledAero: aero_theory = {self.aero_theory!r} needs node_positions (the jig beam nodes)")
+        return three_dimensional_parameters(self.aero_theory, self.node_positions, values["chord"],
+                                            values["ref_point"], values["mach"])
 
 
 def load_case_response(prob, case, num_nodes: int, weight: float) -> dict:
@@ -138,7 +163,8 @@ def load_case_response(prob, case, num_nodes: int, weight: float) -> dict:
     if case.aero is not None:
         pitch = bool(case.aero.pitch)
         system = cached_aeroelastic_system(n, plunge=bool(case.aero.plunge), trim=bool(case.aero.trim), pitch=pitch,
-                                           tail_lag=pitch and bool(case.aero.tail_lag))
+                                           tail_lag=pitch and bool(case.aero.tail_lag),
+                                           aero_theory=case.aero.residual_theory)
         beam = system.layout.beam_states(X)
         p = pack(system.param_specs, {s.name: value(s.name) for s in system.param_specs})
         Q = np.concatenate([forcing(s.name).reshape(t.size, -1) for s in system.forcing_specs], axis=1)

@@ -78,7 +78,8 @@ def wing_lift_slope(section_slope, chord, node_positions, area) -> float:
 
 
 def coupled_gust_response(time, beam_params, chord, axis_frac, aero_params, flight: GustFlight, *, area,
-                          plunge=True, body_mass=None, pitch_params=None, tail_lag=False) -> GustResponse:
+                          plunge=True, body_mass=None, pitch_params=None, tail_lag=False,
+                          aero_theory="strip") -> GustResponse:
     """March the aeroelastic beam through the gust from the trimmed 1 g state.
 
     ``beam_params`` and ``aero_params`` are the beam and strip parameters per node
@@ -87,11 +88,14 @@ def coupled_gust_response(time, beam_params, chord, axis_frac, aero_params, flig
     wings) or root clamped; ``pitch_params`` (:func:`wingmdao.aero.pitch.pitch_parameters`): also free
     in pitch, the load factor then (wing + tail lift) / W. The gust reaches each strip after its
     penetration delay from the most forward leading edge, and the tail's aerodynamic centre x_t / V
-    after it.
+    after it. ``aero_theory``: ``"vlm"`` when ``aero_params`` carry the vortex lattice's influence
+    (:func:`wingmdao.aero.three_dimensional_parameters`), else ``"strip"`` (strips, or lifting-line
+    slopes in ``lift_slope``).
     """
     chord, axis_frac = np.asarray(chord, dtype=float), np.asarray(axis_frac, dtype=float)
     pitch = pitch_params is not None
-    system = cached_aeroelastic_system(chord.size, plunge=plunge, trim=True, pitch=pitch, tail_lag=pitch and tail_lag)
+    system = cached_aeroelastic_system(chord.size, plunge=plunge, trim=True, pitch=pitch, tail_lag=pitch and tail_lag,
+                                       aero_theory=aero_theory)
     params = {**beam_params, **aero_params, "trim_lift": flight.weight}
     if plunge:
         params["body_mass"] = body_mass
@@ -119,7 +123,10 @@ def coupled_gust_response(time, beam_params, chord, axis_frac, aero_params, flig
         out = {"pitch_angle_rad": hist.states[:, bi["pitch_angle"]].tolist(),
                "pitch_rate_rad_s": hist.states[:, bi["pitch_rate"]].tolist(),
                "tail_lift_n": tail.tolist(), "tail_incidence_rad": float(hist.states[0, bi["tail_incidence"]])}
-    slope = wing_lift_slope(aero_params["lift_slope"] / np.sqrt(1 - flight.mach ** 2), chord, r0, area)
+    if "lift_influence" in aero_params:  # the lattice's wing slope: lift of a unit angle at every station
+        slope = wing_lift_slope(aero_params["lift_influence"].sum(axis=1), np.ones(chord.size), r0, area)
+    else:
+        slope = wing_lift_slope(aero_params["lift_slope"] / np.sqrt(1 - flight.mach ** 2), chord, r0, area)
     return GustResponse(lift / flight.weight, system.layout.beam_states(hist.states), slope,
                         float(hist.states[0, system.trim_index]), out)
 

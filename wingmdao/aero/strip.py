@@ -107,7 +107,11 @@ def section_model(rel_csn, w_s, dw_mid_dt, dw_s_dt, gust_n, aero_x, aero_xdot, c
     ``w_s``: pitch rate (nose up); ``dw_mid_dt``/``dw_s_dt``: rates of the midchord normal relative
     velocity and of the pitch rate (apparent mass); ``gust_n``: gust velocity normal to the section;
     ``aero_x``/``aero_xdot``: the 4 lag states and rates. Returns ``(lift, moment_ref, residual4,
-    parts)`` with lift per length along +n and moment per length about +s at the reference point.
+    parts)`` with lift per length along +n and moment per length about +s at the reference point;
+    ``parts`` also holds the lagged circulatory angle ``alpha_circulatory`` (alpha_eff +
+    alpha_g,eff, to which the circulatory lift is proportional) and ``moment_noncirculatory`` (the
+    moment without the circulatory lift's ``L_c c (ref - 1/4)``), from which a three-dimensional
+    quasi-steady lift replaces the strip's (``aero_theory="vlm"``, :mod:`wingmdao.aero.system`).
     """
     b = 0.5 * chord
     v_c = rel_csn[0]
@@ -132,7 +136,8 @@ def section_model(rel_csn, w_s, dw_mid_dt, dw_s_dt, gust_n, aero_x, aero_xdot, c
               + qdyn * chord ** 2 * cm0
               - math.pi * density * b ** 3 * v_c * w_s / 2.0 - math.pi * density * b ** 4 * dw_s_dt / 8.0)
     parts = {"lift_circulatory": lift_c, "lift_apparent_mass": lift_nc, "alpha_qs": alpha_qs,
-             "alpha_gust": alpha_g}
+             "alpha_gust": alpha_g, "alpha_circulatory": alpha_eff + alpha_geff,
+             "moment_noncirculatory": moment - lift_c * chord * (ref_point - 0.25)}
     return lift_c + lift_nc, moment, ca.vertcat(*res), parts
 
 

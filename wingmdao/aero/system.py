@@ -36,7 +36,9 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
+from wingmdao.aero.lifting_line import lifting_line_lift_slope
 from wingmdao.aero.strip import AERO_STATE_NAMES, N_AERO_STATES, check_aero_inputs, section_model
+from wingmdao.aero.vlm import station_influence
 from wingmdao.beam.residual import (N_STATE_PER_NODE, STATE_BLOCKS, NODE_FORCING as _Q_NODE, NODE_PARAMS as _P_NODE,
                                     element_function as _element_function, nodal_function as _nodal_function,
                                     node_forcing as _node_forcing, node_params as _node_params, describe_equation,
@@ -53,6 +55,11 @@ from wingmdao.utils.casadi_cache import definition_key
 N_AEROELASTIC_STATES = N_STATE_PER_NODE + N_AERO_STATES
 #: names of the aerodynamic parameters (their validation is check_aero_parameters)
 AERO_PARAMS = ("chord", "ref_point", "lift_slope", "alpha_zero_lift", "cm0", "airspeed", "density", "mach")
+#: circulatory quasi-steady lift of the residual: per strip, or the vortex lattice's (build_aeroelastic_system)
+AERO_THEORIES = ("strip", "vlm")
+#: the aerodynamic theories of a coupled case (CoupledAero.aero_theory; --aero-theory): the lifting
+#: line changes the strips' lift_slope (three_dimensional_parameters)
+AERO_THEORY_CHOICES = ("strip", "lifting-line", "vlm")
 
 
 @dataclass(frozen=True, eq=False)
@@ -132,6 +139,16 @@ def aero_param_specs(n: int) -> list[VarSpec]:
     ]
 
 
+def vlm_param_specs(n: int) -> list[VarSpec]:
+    """The vortex-lattice influence parameters of ``aero_theory="vlm"`` (:mod:`wingmdao.aero.vlm`)."""
+    return [
+        VarSpec("lift_influence", (n, n), "m", "lift per length at station i per dynamic pressure and radian of "
+                "circulatory angle at station j (vortex lattice, Prandtl-Glauert included)"),
+        VarSpec("moment_influence", (n, n), "m**2", "moment per length about station i's quarter chord (nose up) per "
+                "dynamic pressure and radian of circulatory angle at station j (vortex lattice)"),
+    ]
+
+
 def aero_forcing_specs(n: int) -> list[VarSpec]:
     """Aerodynamic forcing at one instant (appended to the beam's)."""
     return [
@@ -151,6 +168,28 @@ def aero_parameters(n: int, *, chord, ref_point=0.4, lift_slope=2 * np.pi, alpha
     out.update(airspeed=float(airspeed), density=float(density), mach=float(mach))
     check_aero_parameters(out)
     return out
+
+
+def three_dimensional_parameters(aero_theory: str, node_positions, chord, ref_point, mach) -> dict:
+    """The aerodynamic parameters a theory of :data:`AERO_THEORY_CHOICES` sets on the strip model's:
+    none for ``"strip"``; ``lift_slope`` (n,) 1/rad from Prandtl's lifting line of the planform
+    (:func:`~wingmdao.aero.lifting_line.lifting_line_lift_slope`, zero at the tip node) for
+    ``"lifting-line"``; ``lift_influence`` (n, n) m and ``moment_influence`` (n, n) m^2 from the
+    vortex lattice at ``mach`` (:func:`~wingmdao.aero.vlm.station_influence`) for ``"vlm"``.
+    ``node_positions`` (n, 3) m: the jig beam nodes; ``chord`` (n,) m; ``ref_point`` (n,)."""
+    if aero_theory not in AERO_THEORY_CHOICES:
+        raise ValueError(f"aero_theory = {aero_theory!r}; allowed: {', '.join(AERO_THEORY_CHOICES)}")
+    if aero_theory == "strip":
+        return {}
+    r = np.asarray(node_positions, dtype=float).reshape(-1, 3)
+    c = np.broadcast_to(np.asarray(chord, dtype=float), (r.shape[0],))
+    if aero_theory == "lifting-line":
+        y = r[:, 1]
+        tip = float(y[-1])
+        slope, _ = lifting_line_lift_slope(np.minimum(y, tip * (1 - 1e-12)), (y, c), tip)
+        return {"lift_slope": np.maximum(slope, 1e-6)}  # the check wants > 0; zero at the tip node itself
+    inf = station_influence(r, c, ref_point, mach=mach)
+    return {"lift_influence": inf.lift, "moment_influence": inf.moment}
 
 
 def check_aero_parameters(values: dict) -> None:
@@ -182,11 +221,15 @@ def _node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence):
     dw_mid = ca.jtimes(w_mid, z, zdot)
     dws = ca.jtimes(ws, z, zdot)
     gust_n = (T @ ca.vertcat(0, 0, wg))[2]
-    lift, moment, res, _ = section_model(rel, ws, dw_mid, dws, gust_n, x[18:], xdot[18:], chord, ref, a, azl,
-                                         cm0, V, rho, mach)
+    lift, moment, res, parts = section_model(rel, ws, dw_mid, dws, gust_n, x[18:], xdot[18:], chord, ref, a, azl,
+                                             cm0, V, rho, mach)
     f = T.T @ ca.vertcat(0, 0, lift)
     m = T.T @ ca.vertcat(0, moment, 0)
-    return f, m, res, lift, moment
+    # for a three-dimensional quasi-steady lift (aero_theory "vlm"): the section's normal and
+    # spanwise axes (body), its lagged circulatory angle and its loads without the circulatory lift
+    extra = (T.T[:, 2], T.T[:, 1], parts["alpha_circulatory"], parts["lift_apparent_mass"],
+             parts["moment_noncirculatory"])
+    return f, m, res, lift, moment, extra
 
 
 #: Modules whose code generates the aeroelastic system's CasADi functions (their source is part of
@@ -198,7 +241,8 @@ _GENERATING_MODULES = ("wingmdao.aero.system", "wingmdao.aero.strip", "wingmdao.
 
 def aeroelastic_definition(num_nodes: int, euler_sequence: str = "surface",
                            damping: StrainRateDamping | None = None, plunge: bool = False,
-                           trim: bool = False, pitch: bool = False, tail_lag: bool = False) -> str:
+                           trim: bool = False, pitch: bool = False, tail_lag: bool = False,
+                           aero_theory: str = "strip") -> str:
     """What defines the functions of :func:`build_aeroelastic_system` (the key of their compiled
     libraries, :func:`wingmdao.utils.casadi_cache.definition_key`): its arguments, the source of
     the generating modules and the CasADi version. Keying on this instead of the serialized
@@ -208,13 +252,15 @@ def aeroelastic_definition(num_nodes: int, euler_sequence: str = "surface",
     args = (int(num_nodes), str(euler_sequence),
             None if damping is None else (damping.curvature, damping.strain),
             bool(plunge), bool(trim), bool(pitch), bool(tail_lag))
+    if aero_theory != "strip":  # the strip system's arguments as before
+        args = args + (str(aero_theory),)
     return definition_key("wingmdao.aero.system.build_aeroelastic_system", args, _GENERATING_MODULES)
 
 
 def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
                              damping: StrainRateDamping | None = None,
                              plunge: bool = False, trim: bool = False, pitch: bool = False,
-                             tail_lag: bool = False) -> "AeroelasticBeamSystem":
+                             tail_lag: bool = False, aero_theory: str = "strip") -> "AeroelasticBeamSystem":
     """The App. A beam of ``num_nodes`` nodes (root clamped) with unsteady strip theory.
 
     Returns an :class:`AeroelasticBeamSystem` (a :class:`CasadiResidualSystem`):
@@ -243,7 +289,24 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     parameters :func:`~wingmdao.aero.pitch.pitch_param_specs`, forcing ``tail_gust_velocity``;
     the trim then solves alpha_trim for "wing + tail lift = trim_lift" and tail_incidence for the
     static pitch-moment balance.
+
+    ``aero_theory``: ``"strip"`` (each station's circulatory lift from its own angle, slope
+    ``lift_slope / beta``) or ``"vlm"`` (:data:`AERO_THEORIES`): the circulatory quasi-steady lift
+    and moment of every station from the lagged circulatory angles of all stations through the
+    vortex-lattice influence matrices, the parameters ``lift_influence`` (n, n) m and
+    ``moment_influence`` (n, n) m^2 (:func:`vlm_param_specs`, :mod:`wingmdao.aero.vlm`):
+    ``L_c = q A_L alpha_c``, ``M_c = L_c c (ref - 1/4) + q A_M alpha_c`` with q = rho V^2 / 2 and
+    alpha_c each station's Wagner/Kuessner-lagged angle (the strip's alpha_eff + alpha_g,eff).
+    The lag states, the apparent mass and cm0 stay per station ("3-D quasi-steady + 2-D lag",
+    the modified strip analysis of Yates, "Modified-strip-analysis method for predicting wing
+    flutter at subsonic to hypersonic speeds", J. Aircraft 3(1), 1966, 25-29, with the spanwise
+    loading from a lifting-surface solution instead of per-strip slopes). ``lift_slope`` and
+    ``mach`` then do not enter the circulatory lift: the influence matrices hold the flat-plate
+    sections and the Prandtl-Glauert factor of the Mach number they were built for.
     """
+    if aero_theory not in AERO_THEORIES:
+        raise ValueError(f"aero_theory must be one of {', '.join(AERO_THEORIES)}, got {aero_theory!r}")
+    vlm = aero_theory == "vlm"
     n = int(num_nodes)
     if n < 2:
         raise ValueError(f"num_nodes must be >= 2, got {num_nodes}")
@@ -253,7 +316,7 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     if tail_lag and not pitch:
         raise ValueError("tail_lag=True needs pitch=True")
     t0 = _time.perf_counter()
-    pspecs = beam_param_specs(n) + aero_param_specs(n)
+    pspecs = beam_param_specs(n) + aero_param_specs(n) + (vlm_param_specs(n) if vlm else [])
     qspecs = beam_forcing_specs(n) + aero_forcing_specs(n)
     if plunge:
         pspecs.append(VarSpec("body_mass", (), "kg", "aircraft mass outside both wing halves (free plunge)"))
@@ -301,8 +364,8 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     pa_ = ca.SX.sym("pa", 6)
     fr_ = [ca.SX.sym(nm, 3) for nm in ("vf", "A0", "Om", "al0")]
     sc_ = ca.SX.sym("s", 3)
-    f_, m_, res_, L_, M_ = _node_aero(xs_, xds_, pa_, None, fr_, sc_[0], sc_[1], sc_[2], euler_sequence)
-    aero_fun = ca.Function("aero_node", [xs_, xds_, pa_, *fr_, sc_], [f_, m_, res_, L_, M_])
+    f_, m_, res_, L_, M_, ex_ = _node_aero(xs_, xds_, pa_, None, fr_, sc_[0], sc_[1], sc_[2], euler_sequence)
+    aero_fun = ca.Function("aero_node", [xs_, xds_, pa_, *fr_, sc_], [f_, m_, res_, L_, M_, *ex_])
 
     xs = [x[W * i: W * (i + 1)] for i in range(n)]
     xds = [xdot[W * i: W * (i + 1)] for i in range(n)]
@@ -315,8 +378,12 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
             azl = azl - x[body][0]
         pa = ca.vertcat(p[play["chord"]][i], p[play["ref_point"]][i], p[play["lift_slope"]][i], azl,
                         p[play["cm0"]][i], q[qlay["gust_velocity"]][i])
-        f_a, m_a, res_a, L_a, M_a = aero_fun(xs[i], xds[i], pa, *aero_frame, scal)
-        aero_out.append((res_a, L_a, M_a))
+        f_a, m_a, res_a, L_a, M_a, *ex_a = aero_fun(xs[i], xds[i], pa, *aero_frame, scal)
+        aero_out.append([res_a, L_a, M_a, f_a, m_a, ex_a])
+    if vlm:
+        _vlm_loads(aero_out, p, play, n, 0.5 * rho * V ** 2)
+    for i in range(n):
+        f_a, m_a = aero_out[i][3], aero_out[i][4]
         qb = _node_forcing(q, qlay, i)
         qs.append(ca.vertcat(qb[_Q_NODE["f"]] + f_a, qb[_Q_NODE["m"]] + m_a, qb[_Q_NODE["P"]], qb[_Q_NODE["Q"]]))
     st = STATE_BLOCKS
@@ -360,14 +427,15 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
             total = total + 0.5 * lift_tail
         blocks.append(on * (2.0 * total - target) / scale + (1.0 - on) * xdot[i_trim])
     R = ca.vertcat(*blocks)
-    definition = aeroelastic_definition(n, euler_sequence, damping, plunge, trim, pitch, tail_lag)
+    definition = aeroelastic_definition(n, euler_sequence, damping, plunge, trim, pitch, tail_lag, aero_theory)
     jacobians = stored_jacobians(f"aeroelastic_beam{n}", definition, R, (x, xdot, p, q))
     lifts = ca.vertcat(*[o[1] for o in aero_out])
     moments = ca.vertcat(*[o[2] for o in aero_out])
     system = AeroelasticBeamSystem(x, xdot, p, q, R, param_specs=pspecs, forcing_specs=qspecs,
                                    state_shape=(W * n + n_extra,) if n_extra else (n, W),
                                    name=f"aeroelastic_beam{n}" + ("_plunge" if plunge else "") + ("_trim" if trim else "")
-                                   + ("_pitch" if pitch else "") + ("_lag" if tail_lag else ""),
+                                   + ("_pitch" if pitch else "") + ("_lag" if tail_lag else "")
+                                   + ("_vlm" if vlm else ""),
                                    describe=lambda k: describe_aeroelastic_equation(
                                        k, n, plunge, body_names if pitch else ()),
                                    definition=definition, jacobians=jacobians,
@@ -377,6 +445,7 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     system.trim = bool(trim)
     system.pitch = bool(pitch)
     system.tail_lag = bool(tail_lag)
+    system.aero_theory = aero_theory
     system.layout = state_layout(n, plunge, trim, body_names if pitch else ())
     if system.layout.size != system.n_state or system.layout.body.get("trim", i_trim) != i_trim:
         raise RuntimeError("state_layout does not match the states of build_aeroelastic_system")
@@ -388,6 +457,24 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     system._loads = ca.Function("section_loads", [x, xdot, p, q], [lifts, moments])
     system.build_time = _time.perf_counter() - t0
     return system
+
+
+def _vlm_loads(aero_out, p, play, n, qdyn):
+    """Replace each station's circulatory lift by the vortex lattice's, in place (``aero_out[i]`` =
+    [residual, lift, moment, force, moment vector, (normal, span axis, alpha_c, L_nc, M_nc)]):
+    ``L_c = q A_L alpha_c``, ``M = L_c c (ref - 1/4) + q A_M alpha_c + M_nc``."""
+    # the parameters are packed row-major (numpy); CasADi reshapes column-major
+    A_L = ca.reshape(p[play["lift_influence"]], n, n).T
+    A_M = ca.reshape(p[play["moment_influence"]], n, n).T
+    alpha_c = ca.vertcat(*[o[5][2] for o in aero_out])
+    lift_c = qdyn * (A_L @ alpha_c)
+    moment_c = qdyn * (A_M @ alpha_c)
+    chord, ref = p[play["chord"]], p[play["ref_point"]]
+    for i, o in enumerate(aero_out):
+        nrm, span, _, lift_nc, moment_nc = o[5]
+        lift = lift_c[i] + lift_nc
+        moment = lift_c[i] * chord[i] * (ref[i] - 0.25) + moment_c[i] + moment_nc
+        o[1], o[2], o[3], o[4] = lift, moment, nrm * lift, span * moment
 
 
 def stored_jacobians(name: str, definition: str, R, args) -> dict:
@@ -505,12 +592,15 @@ _SYSTEMS: dict = {}
 def cached_aeroelastic_system(num_nodes: int, euler_sequence: str = "surface",
                               damping: StrainRateDamping | None = None,
                               plunge: bool = False, trim: bool = False, pitch: bool = False,
-                              tail_lag: bool = False) -> AeroelasticBeamSystem:
-    """:func:`build_aeroelastic_system`, built once per (num_nodes, sequence, damping, plunge, trim, pitch, tail_lag)."""
+                              tail_lag: bool = False, aero_theory: str = "strip") -> AeroelasticBeamSystem:
+    """:func:`build_aeroelastic_system`, built once per (num_nodes, sequence, damping, plunge, trim, pitch,
+    tail_lag, aero_theory)."""
     if damping is not None and damping.is_zero:
         damping = None
-    key = (int(num_nodes), euler_sequence, damping, bool(plunge), bool(trim), bool(pitch), bool(tail_lag))
+    key = (int(num_nodes), euler_sequence, damping, bool(plunge), bool(trim), bool(pitch), bool(tail_lag),
+           str(aero_theory))
     if key not in _SYSTEMS:
         _SYSTEMS[key] = build_aeroelastic_system(key[0], euler_sequence=euler_sequence, damping=damping,
-                                                 plunge=key[3], trim=key[4], pitch=key[5], tail_lag=key[6])
+                                                 plunge=key[3], trim=key[4], pitch=key[5], tail_lag=key[6],
+                                                 aero_theory=key[7])
     return _SYSTEMS[key]

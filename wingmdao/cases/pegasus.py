@@ -41,6 +41,8 @@ GUST = {"altitude_ft": 25000.0, "mach": 0.5, "u_ref_fps": 30.0, "gradient_ft": 3
 MIN_GAUGE = 1e-3  # m (Table 5.1)
 LOAD_SETS = ("maneuver", "gust", "all")
 AERO_MODELS = ("strip", "coupled")
+#: quasi-steady lift of --aero coupled (--aero-theory; wingmdao.aero.coupled.AERO_THEORY_CHOICES)
+AERO_THEORIES = ("strip", "lifting-line", "vlm")
 #: the coupled gust's root: clamped (wind-tunnel wing) or the aircraft free in plunge
 PLUNGE_MODES = ("clamped", "free")
 #: the coupled gust's pitch: fixed or free with a horizontal tail (wingmdao.aero.pitch; needs free plunge)
@@ -69,6 +71,7 @@ class PegasusOptions(CaseOptions):
     dt: float = 0.02  # s
     gust_start: float = 0.2  # s
     aero: str = field(default="strip", metadata={"choices": AERO_MODELS})
+    aero_theory: str = field(default="strip", metadata={"choices": AERO_THEORIES})  # coupled: strip, lifting line, VLM
     plunge: str = field(default="clamped", metadata={"choices": PLUNGE_MODES})  # coupled gust: root clamped or free
     pitch: str = field(default="fixed", metadata={"choices": PITCH_MODES})  # coupled gust: pitch fixed or free
     pitch_inertia: float | None = None  # kg m^2, about the CG
@@ -213,7 +216,8 @@ def coupled_maneuver_case(name, n_load, opts, geometry, chord, axis_frac, famili
                "trim_active": np.ones(1)}
     aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
                        airspeed=float(mach_to_tas(opts.mach, alt)), density=float(density(alt)), mach=float(opts.mach),
-                       trim=True, trim_lift=n_load * weight_lb * LB * G0)
+                       trim=True, trim_lift=n_load * weight_lb * LB * G0, aero_theory=opts.aero_theory,
+                       node_positions=np.asarray(geometry.node_positions, dtype=float))
     return LoadCase(name, np.zeros(1), forcing, families, f"{n_load:+.2f} g trimmed aeroelastic maneuver", aero=aero)
 
 
@@ -362,7 +366,8 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
                      downwash_gradient=float(deps))
     aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
                        airspeed=V, density=rho, mach=mach, trim=True, trim_lift=weight_lb * LB * G0,
-                       plunge=free, aircraft_mass=weight_lb * LB, **pitch)
+                       plunge=free, aircraft_mass=weight_lb * LB, aero_theory=opts.aero_theory,
+                       node_positions=np.asarray(geometry.node_positions, dtype=float), **pitch)
     mode = ("free plunge + pitch" if pitch else "free plunge") if free else "clamped root"
     return LoadCase(name, time, forcing, families, description + f" (coupled aeroelastic, {mode})", aero=aero)
 
@@ -426,6 +431,9 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
         raise ValueError(f"--load-factor = {opts.load_factor}; allowed range (0, inf)")
     if not (np.isfinite(opts.negative_load_factor) and opts.negative_load_factor < 0):
         raise ValueError(f"--negative-load-factor = {opts.negative_load_factor}; allowed range (-inf, 0)")
+    if opts.aero_theory != "strip" and opts.aero != "coupled":
+        raise ValueError(f"--aero-theory {opts.aero_theory} applies to --aero coupled (the precomputed --aero strip "
+                         "loads use 2 pi)")
     if opts.plunge == "free" and opts.aero != "coupled":
         raise ValueError(f"--plunge free needs --aero coupled (the strip-theory loads are precomputed on a "
                          f"clamped wing), got --aero {opts.aero}")

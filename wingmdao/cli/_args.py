@@ -132,3 +132,18 @@ class CaseArguments:
 
     def __getattr__(self, name):
         return getattr(self._parser, name)
+
+
+#: --aero-theory choices (the same as wingmdao.aero.coupled.AERO_THEORY_CHOICES, spelled here so that
+#: --help imports no numerical framework)
+AERO_THEORY_CHOICES = ("strip", "lifting-line", "vlm")
+
+
+def add_aero_theory_argument(parser, default: str = "strip") -> None:
+    """``--aero-theory strip|lifting-line|vlm``: the quasi-steady lift of the coupled aeroelastic
+    model (:data:`wingmdao.aero.coupled.AERO_THEORY_CHOICES`, docs/aerodynamics-3d.md)."""
+    parser.add_argument("--aero-theory", choices=AERO_THEORY_CHOICES, default=default,
+                        help="quasi-steady lift of the coupled aerodynamics: strip (each station's 2-D slope "
+                             "2 pi / beta), lifting-line (section slopes of Prandtl's lifting line of the planform) "
+                             "or vlm (vortex lattice of the planform: every station's lift from every station's "
+                             "angle); the Wagner/Kuessner lags stay per station (default: %(default)s)")

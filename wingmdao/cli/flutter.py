@@ -26,14 +26,14 @@ import numpy as np
 
 from wingmdao.stability.cases import FLUTTER_CASES
 from wingmdao.cli._io import read_design, warn, write_json
-from wingmdao.cli._args import add_gravity_argument, add_output_arguments
+from wingmdao.cli._args import add_aero_theory_argument, add_gravity_argument, add_output_arguments
 
 
 def register(subparsers):
     p = subparsers.add_parser(
         "flutter", help="flutter and divergence speeds, V-g / V-f sweep of a benchmark wing",
         description="Linear stability of the aeroelastic beam (strip theory) over an airspeed sweep: flutter "
-        "and divergence speeds, in vacuo frequencies, V-g / V-f plot. SI output.")
+        "and divergence speeds, in vacuo frequencies, V-g / V-f plot (--aero-theory: the quasi-steady lift). SI output.")
     p.add_argument("case", metavar="CASE", help="case with aerodynamic data: " + ", ".join(FLUTTER_CASES))
     p.add_argument("--speeds", nargs=3, metavar=("V0", "V1", "N"), default=None,
                    help="sweep from V0 to V1 m/s with N >= 2 speeds (default: the case's)")
@@ -43,6 +43,7 @@ def register(subparsers):
                    help="pegasus: analyse the wall thicknesses of a 'wingmdao size pegasus' JSON "
                         "(default: the sizing's initial design, 10 mm walls)")
     p.add_argument("--modes", type=int, default=4, metavar="N", help="number of modes tracked over the sweep (>= 1)")
+    add_aero_theory_argument(p)
 
     add_output_arguments(p, what="the V-g / V-f plot (flutter_CASE.png)")
     p.add_argument("--deformed", action="store_true",
@@ -106,7 +107,7 @@ def _clean(x):
     return x
 
 
-def analyse(case, speeds=None, num_nodes=None, n_modes=4, thickness=None) -> dict:
+def analyse(case, speeds=None, num_nodes=None, n_modes=4, thickness=None, aero_theory="strip") -> dict:
     """Run the flutter analysis; returns the JSON dict (``thickness``: PEGASUS walls per node, m)."""
     from wingmdao.beam.residual import forcing_specs
     from wingmdao.beam.static import BeamModel, beam_forcing
@@ -121,7 +122,7 @@ def analyse(case, speeds=None, num_nodes=None, n_modes=4, thickness=None) -> dic
     if num_nodes is not None and int(num_nodes) < 3:
         raise ValueError(f"--num-nodes = {num_nodes}; allowed range [3, {MAX_NODES}]")
     t0 = _time.perf_counter()
-    prob = flutter_problem(case, num_nodes, thickness)
+    prob = flutter_problem(case, num_nodes, thickness, aero_theory=aero_theory)
     v = prob.speeds if speeds is None else np.asarray(speeds, dtype=float)
     # in vacuo: the structural beam alone
     beam = BeamModel(prob.beam)
@@ -140,7 +141,7 @@ def analyse(case, speeds=None, num_nodes=None, n_modes=4, thickness=None) -> dic
     crit = critical_speeds(res)
     t3 = _time.perf_counter()
     return _clean({
-        "case": case, "num_nodes": prob.num_nodes, "density_kg_m3": prob.aero["density"],
+        "case": case, "num_nodes": prob.num_nodes, "aero_theory": aero_theory, "density_kg_m3": prob.aero["density"],
         **({"dive_speed_m_s": prob.dive_speed} if prob.dive_speed is not None else {}),
         "flutter_speed_m_s": crit["flutter_speed"], "flutter_frequency_rad_s": crit["flutter_frequency"],
         "divergence_speed_m_s": crit["divergence_speed"],
@@ -298,7 +299,9 @@ def run(args) -> int:
         if speeds[-1] >= a:
             raise ValueError(f"--speeds V1 = {speeds[-1]} m/s: pegasus flutter is subsonic (Mach = V / a, "
                              f"a = {a:.1f} m/s at 20 000 ft); allowed range V1 < {a:.1f} m/s")
-    result = analyse(args.case, speeds, args.num_nodes, args.modes, thickness)
+    if args.deformed and args.aero_theory != "strip":
+        raise ValueError(f"--deformed: the deformed-state sweep uses strip theory; drop --aero-theory {args.aero_theory}")
+    result = analyse(args.case, speeds, args.num_nodes, args.modes, thickness, args.aero_theory)
     if args.case == "pegasus":
         result["design"] = args.design or "initial"
     if args.deformed:

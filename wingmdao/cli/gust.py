@@ -16,7 +16,7 @@ instead applies the sizing's precomputed rigid-wing strip-theory gust loads (on 
 spanload) to the structural beam, root clamped; the JSON keys are the same (trim_alpha_rad null).
 
 JSON keys: time, load_factor, peak_incremental_load_factor, quasi_steady_incremental_load_factor
-(dn = rho0 U_de V_e a / (2 W/S), a the model's strip-theory wing lift slope), trim_alpha_rad, wing_lift_slope_per_rad,
+(dn = rho0 U_de V_e a / (2 W/S), a the model's wing lift slope: strips, lifting line or vortex lattice), trim_alpha_rad, wing_lift_slope_per_rad,
 mass_parameter (mu = 2 (W/S) / (rho c a g)), mean_chord_m, wing_loading_pa, root_bending_moment
 (N m, M_x at the symmetry plane), root_torsion (N m, M_y), tip_displacement (m, z), peak_up/peak_down_incremental_load_factor, with --pitch free
 pitch_angle_rad, pitch_rate_rad_s, tail_lift_n, tail_incidence_rad, and the inputs.
@@ -24,13 +24,14 @@ pitch_angle_rad, pitch_rate_rad_s, tail_lift_n, tail_incidence_rad, and the inpu
 
 from __future__ import annotations
 
+import argparse
 import os
 import sys
 import time as _time
 
 import numpy as np
-from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, write_json
-from wingmdao.cli._args import add_deprecated_alias, add_output_arguments
+from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, warn, write_json
+from wingmdao.cli._args import add_aero_theory_argument, add_deprecated_alias, add_output_arguments
 
 CASES = ("pegasus", "crm")
 #: --stiffness-scale range (a rigid wing is approached well before 1e6)
@@ -90,9 +91,8 @@ def register(subparsers):
     p.add_argument("--dt", type=float, default=None, metavar="S", help="time step (s; default: the case's, as on 'size')")
     p.add_argument("--gust-start", type=float, default=None, metavar="S",
                    help="time the gust front reaches the wing (s; default: the case's, as on 'size')")
-    p.add_argument("--lifting-line", action="store_true",
-                   help="tip-loss correction: strip lift slopes from Prandtl's lifting line of the planform "
-                        "(wingmdao.aero.lifting_line) instead of 2 pi")
+    add_aero_theory_argument(p)
+    p.add_argument("--lifting-line", action="store_true", help=argparse.SUPPRESS)  # deprecated: --aero-theory lifting-line
 
     add_output_arguments(p, what="the PNG plot (CASE_gust.png)")
     p.set_defaults(func=run)
@@ -122,7 +122,7 @@ def _beam_parameters(module, args):
 
 
 def run(args):
-    from wingmdao.aero import aero_parameters
+    from wingmdao.aero import aero_parameters, three_dimensional_parameters
     from wingmdao.aero.gust_response import GustFlight, coupled_gust_response, strip_gust_response, wing_lift_slope
     from wingmdao.aero.plunge import body_mass as plunge_body_mass, half_wing_mass
     from wingmdao.cases import available_cases
@@ -134,8 +134,12 @@ def run(args):
     if args.aero == "strip" and plunge == "free":
         raise ValueError("--plunge free needs --aero coupled (the strip-theory gust loads are precomputed on a "
                          "clamped wing); use --aero strip --clamped or --aero coupled --plunge free")
-    if args.aero == "strip" and args.lifting_line:
-        raise ValueError("--lifting-line applies to --aero coupled (the strip-theory loads use 2 pi)")
+    if args.lifting_line:
+        warn("--lifting-line is deprecated; use --aero-theory lifting-line (same meaning)")
+        args.aero_theory = "lifting-line"
+    if args.aero == "strip" and args.aero_theory != "strip":
+        raise ValueError(f"--aero-theory {args.aero_theory} applies to --aero coupled (the precomputed --aero strip "
+                         "loads use 2 pi)")
     args.plunge = plunge == "free"
     args.pitch = args.pitch == "free"
     _check_pitch_args(args)
@@ -183,19 +187,22 @@ def run(args):
     rho, rho0 = float(density(alt)), float(density(0.0))
     V = float(mach_to_tas(mach, alt))
     slope = 2 * np.pi
-    if args.lifting_line:
+    if args.aero_theory == "lifting-line":
         from wingmdao.aero.lifting_line import lifting_line_lift_slope
 
         y_nodes = np.abs(bp["node_positions"][:, 1])
         slope, _ = lifting_line_lift_slope(y_nodes, pf.chord, pf.semi_span)
     ap = aero_parameters(n, chord=chord, ref_point=axis_frac, lift_slope=slope, airspeed=V, density=rho,
                          mach=mach)
+    if args.aero_theory == "vlm":
+        ap.update(three_dimensional_parameters("vlm", bp["node_positions"], chord, axis_frac, mach))
     r0 = bp["node_positions"]
     body_mass = plunge_body_mass(weight / G0, half_wing_mass(bp["mass_per_length"], r0)[0])
     if args.pitch:
         from wingmdao.aero.pitch import pitch_parameters
 
-        a_w = wing_lift_slope(ap["lift_slope"] / np.sqrt(1 - mach ** 2), chord, r0, _area(args))
+        a_w = (wing_lift_slope(ap["lift_influence"].sum(axis=1), np.ones(n), r0, _area(args)) if "lift_influence" in ap
+               else wing_lift_slope(ap["lift_slope"] / np.sqrt(1 - mach ** 2), chord, r0, _area(args)))
         if args.downwash_gradient is None:  # Etkin & Reid (1996) / Nelson (1998): deps/dalpha = 2 a_w / (pi AR)
             args.downwash_gradient = 2 * a_w / (np.pi * (2 * pf.semi_span) ** 2 / (pf.area_ft2 * FT ** 2))
         args.pitch_params = pitch_parameters(
@@ -216,7 +223,8 @@ def run(args):
     if args.aero == "coupled":
         resp = coupled_gust_response(t, bp, chord, axis_frac, ap, flight, area=wing_area, plunge=args.plunge,
                                      body_mass=body_mass, pitch_params=args.pitch_params if args.pitch else None,
-                                     tail_lag=args.tail_lag)
+                                     tail_lag=args.tail_lag,
+                                     aero_theory="vlm" if args.aero_theory == "vlm" else "strip")
         if args.pitch:
             pitch_out = {**resp.pitch, "pitch_inertia_kg_m2": args.pitch_inertia, "cg_m": [args.cg_x, args.cg_z],
                          "tail_arm_m": args.tail_arm, "tail_area_m2": args.tail_area,
@@ -236,7 +244,8 @@ def run(args):
     mu = 2 * wing_loading / (rho * mean_chord * a_wing * G0)
     res = {
         "case": args.case, "aero": args.aero, "plunge": bool(args.plunge), "pitch": bool(args.pitch), "gradient_ft": H_ft,
-        "stiffness_scale": args.stiffness_scale, "lifting_line": bool(args.lifting_line), "design": args.design, "altitude_ft": alt_ft, "mach": mach,
+        "stiffness_scale": args.stiffness_scale, "lifting_line": args.aero_theory == "lifting-line",
+        "aero_theory": args.aero_theory if args.aero == "coupled" else "strip", "design": args.design, "altitude_ft": alt_ft, "mach": mach,
         "airspeed_tas_m_s": V, "density_kg_m3": rho, "u_ds_eas_m_s": u_eas,
         "time": t.tolist(),
         "load_factor": n_load.tolist(),

@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
 import os
 
 import numpy as np
 
 from wingmdao.cases import options_from_namespace
 from wingmdao.cli._io import EXIT_INTERRUPTED, check_output_dir, check_output_file, refuse_existing, say, warn, write_json
-from wingmdao.cli._args import CaseArguments, add_output_arguments
+from wingmdao.cli._args import CaseArguments, add_aero_theory_argument, add_output_arguments
 
 #: --presize upper bound (passes)
 MAX_PRESIZE = 20
@@ -64,6 +65,8 @@ def register(subparsers):
         for name, mod in cases.items():
             cp = sub.add_parser(name, help=mod.HELP, description=mod.HELP)
             mod.add_arguments(CaseArguments(cp))  # one spelling per concept (wingmdao.cli._args)
+            if "aero_theory" in {f.name for f in dataclasses.fields(mod.OPTIONS)}:
+                add_aero_theory_argument(cp)  # the case's default stays (set_parser_defaults)
             _add_common(cp, sizing=sizing)
             cp.set_defaults(func=run_size if sizing else run_n2, case_module=mod)
         if sizing:  # OpenAeroStruct's uCRM fuel burn: a problem of its own, not a WingSizing case

@@ -9,7 +9,12 @@ blocks and ``gust_velocity`` (n_time, n_node), ``frame_velocity`` (n_time, 3). O
 trim states after them (flat; read them through ``build_system().layout``,
 :func:`wingmdao.aero.system.state_layout`). Derivatives with
 respect to every input (chord, airspeed, density included) come from the generic discrete adjoint
-(or the forward tangent sweep), the same code as the structural beam.
+(or the forward tangent sweep), the same code as the structural beam. With ``aero_theory="vlm"``
+the inputs ``lift_influence`` (n, n) m and ``moment_influence`` (n, n) m^2 carry the vortex
+lattice of the jig planform (:func:`wingmdao.aero.vlm.station_influence`; set them from
+:meth:`wingmdao.aero.coupled.CoupledAero.parameters`); they are inputs with exact partials like
+the others, but nothing chains them to chord or node_positions (the planform is fixed data of a
+sizing).
 
 Aerodynamic inputs are checked before any solve (ValueError naming the input, value and range).
 """
@@ -21,7 +26,7 @@ import openmdao.api as om
 
 from wingmdao.aero.pitch import body_pitch_properties, check_pitch_inputs
 from wingmdao.aero.plunge import body_mass, half_wing_mass
-from wingmdao.aero.system import AeroelasticBeamSystem, cached_aeroelastic_system, check_aero_parameters
+from wingmdao.aero.system import AERO_THEORIES, AeroelasticBeamSystem, cached_aeroelastic_system, check_aero_parameters
 from wingmdao.loads.atmosphere import G0
 from wingmdao.components.time_history import TimeHistoryComponent
 from wingmdao.errors import InputRangeError
@@ -41,6 +46,9 @@ class AeroelasticBeamDynamics(TimeHistoryComponent):
                              desc="free plunge of the aircraft (input body_mass); clamped root otherwise")
         self.options.declare("trim", default=False, types=bool,
                              desc="trim state alpha_trim (input trim_lift, forcing trim_active)")
+        self.options.declare("aero_theory", default="strip", values=AERO_THEORIES,
+                             desc="circulatory quasi-steady lift: strip (per station) or vlm (vortex-lattice "
+                                  "influence matrices, inputs lift_influence and moment_influence)")
         self.options.declare("modified_newton", default=True, types=bool,
                              desc="reuse LU factors across Newton iterations and steps")
 
@@ -48,7 +56,7 @@ class AeroelasticBeamDynamics(TimeHistoryComponent):
         """The ``system`` option when given, else the aeroelastic beam of ``num_nodes`` nodes (cached)."""
         system = self.options["system"] or cached_aeroelastic_system(
             self.options["num_nodes"], self.options["euler_sequence"], plunge=self.options["plunge"],
-            trim=self.options["trim"])
+            trim=self.options["trim"], aero_theory=self.options["aero_theory"])
         if system.num_nodes != self.options["num_nodes"]:
             raise ValueError(f"system has {system.num_nodes} nodes but num_nodes = {self.options['num_nodes']}")
         return system

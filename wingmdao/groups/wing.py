@@ -204,12 +204,13 @@ class WingStructure(om.Group):
             if case.damping is not None and not case.damping.is_zero:
                 raise ValueError(f"load case {case.name}: structural damping is not available with aero")
             beam = AeroelasticBeamDynamics(num_nodes=n, time=case.time, plunge=bool(aero.plunge),
-                                           trim=bool(aero.trim))
+                                           trim=bool(aero.trim), aero_theory=aero.residual_theory)
             if aero.pitch:  # free pitch (wingmdao.aero.pitch): the system with the pitch states and tail
                 from wingmdao.aero.system import cached_aeroelastic_system
 
                 beam.options["system"] = cached_aeroelastic_system(n, plunge=True, trim=True, pitch=True,
-                                                                   tail_lag=bool(aero.tail_lag))
+                                                                   tail_lag=bool(aero.tail_lag),
+                                                                   aero_theory=aero.residual_theory)
             for k, v in (self.options["newton_options"] or {}).items():
                 if k in beam.options:
                     beam.options[k] = v
@@ -217,6 +218,7 @@ class WingStructure(om.Group):
             extra = [e for e in extra if (aero.trim or e != "trim_active") and (aero.pitch or e != "tail_gust_velocity")]
             extra += ["tail_area", "tail_lift_slope", "downwash_gradient"] if aero.pitch else []
             extra += ["trim_lift"] if aero.trim and not aero.plunge else []
+            extra += ["lift_influence", "moment_influence"] if aero.residual_theory == "vlm" else []
             if aero.pitch:  # body mass, first moment, pitch inertia, tail position from the aircraft inputs
                 from wingmdao.components.aeroelastic import PitchBodyProperties
 

@@ -28,7 +28,8 @@ class FlutterProblem:
     system: object
     published: dict
     eig_options: dict
-    _packed: tuple = field(default=None, init=False, repr=False, compare=False)   # (p, q, layout) of params_at
+    aero_theory: str = "strip"  # wingmdao.aero.coupled.AERO_THEORY_CHOICES
+    _packed: tuple = field(default=None, init=False, repr=False, compare=False)   # (p, q, layout, theory parameters of a Mach number) of params_at
 
     @property
     def dive_speed(self):
@@ -48,29 +49,39 @@ class FlutterProblem:
 
         if self._packed is None:
             self._packed = self._pack_at(V)
-        p, q, lay = self._packed
+        p, q, lay, theory_parameters = self._packed
         V = float(V)
         mach = self.mach_at(V)
         check_aero_inputs(airspeed=V, mach=mach)
         p = p.copy()
         p[lay["airspeed"]] = V
         p[lay["mach"]] = mach
+        if self.aero_theory == "vlm":  # the lattice at this Mach number (cached by planform and Mach)
+            for k, v in theory_parameters(mach).items():
+                p[lay[k]] = np.ravel(v)
         return p, q.copy()
 
     def _pack_at(self, V):
-        from wingmdao.aero.system import aero_forcing_specs, aero_parameters
+        from wingmdao.aero import system as aero_system
         from wingmdao.beam.static import beam_forcing
         from wingmdao.timemarch.system import layout, pack
 
         n = self.num_nodes
-        a = aero_parameters(n, chord=self.aero["chord"], ref_point=self.aero["ref_point"],
-                            lift_slope=self.aero["lift_slope"], airspeed=V, density=self.aero["density"],
-                            mach=self.mach_at(V))
+        a = aero_system.aero_parameters(n, chord=self.aero["chord"], ref_point=self.aero["ref_point"],
+                                        lift_slope=self.aero["lift_slope"], airspeed=V, density=self.aero["density"],
+                                        mach=self.mach_at(V))
+
+        def theory_parameters(mach):  # the theory's parameters at a Mach number (the lattice: cached)
+            return aero_system.three_dimensional_parameters(self.aero_theory, self.beam["node_positions"],
+                                                            np.broadcast_to(self.aero["chord"], (n,)),
+                                                            np.broadcast_to(self.aero["ref_point"], (n,)), mach)
+
+        a.update(theory_parameters(a["mach"]))
         p = pack(self.system.param_specs, {**self.beam, **a})
         qv = beam_forcing(n)
-        qv.update({s.name: np.zeros(s.shape) for s in aero_forcing_specs(n)})
+        qv.update({s.name: np.zeros(s.shape) for s in aero_system.aero_forcing_specs(n)})
         q = pack(self.system.forcing_specs, qv)
-        return p, q, layout(self.system.param_specs)
+        return p, q, layout(self.system.param_specs), theory_parameters
 
     def mach_at(self, V):
         """Mach number at airspeed V (m/s): V / a when the case has a speed of sound, else 0 (incompressible)."""
@@ -89,13 +100,15 @@ class FlutterProblem:
 
 
 def flutter_problem(name: str, num_nodes: int | None = None, thickness: dict | None = None,
-                    panels=None) -> FlutterProblem:
+                    panels=None, aero_theory: str = "strip") -> FlutterProblem:
     """The aeroelastic flutter problem of case ``name`` (one of :data:`FLUTTER_CASES`).
 
     ``num_nodes``: beam nodes (default :data:`DEFAULT_NODES`). ``thickness`` (PEGASUS only):
     ``{wall: (num_nodes,) m}`` wall thicknesses per node (default: the sizing's initial design),
     e.g. the ``thickness`` block of a ``wingmdao size pegasus`` JSON; with ``panels`` (a stiffened
-    design's PanelLayout) it also holds the stiffener variables.
+    design's PanelLayout) it also holds the stiffener variables. ``aero_theory``
+    (:data:`wingmdao.aero.coupled.AERO_THEORY_CHOICES`): the quasi-steady lift of the strips, of
+    Prandtl's lifting line or of the vortex lattice (the Wagner lag per station in every case).
     """
     import importlib
 
@@ -113,8 +126,8 @@ def flutter_problem(name: str, num_nodes: int | None = None, thickness: dict | N
         beam, aero = mod.beam_params(n, thickness, panels), mod.aero_data(n)
     else:
         beam, aero = mod.beam_params(n), mod.aero_data()
-    return FlutterProblem(name, n, beam, aero, cached_aeroelastic_system(n), mod.PUBLISHED,
-                          dict(EIG_OPTIONS[name]))
+    system = cached_aeroelastic_system(n, aero_theory="vlm" if aero_theory == "vlm" else "strip")
+    return FlutterProblem(name, n, beam, aero, system, mod.PUBLISHED, dict(EIG_OPTIONS[name]), aero_theory)
 
 
 #: fractions of F V_D at which the sizing constraint checks the damping (the first picks the modes)

@@ -1,0 +1,223 @@
+"""Figures and numbers of docs/aerodynamics-3d.md: the vortex lattice checked, and strip theory,
+lifting line and vortex lattice compared on the Goland wing and PEGASUS.
+
+    PYTHONPATH=. python benchmarks/aero_theory_comparison.py [--skip-pegasus]
+
+(``GUST_JSON_DIR=DIR`` reuses ``DIR/gust_THEORY.json`` of earlier ``wingmdao gust`` runs.)
+
+Writes docs/figures/vlm_lift_slope.png, docs/figures/goland_gust_theories.png,
+docs/figures/goland_flutter_theories.png, docs/figures/pegasus_gust_theories.png and prints the tables of the docs. Several minutes on an
+idle machine: three Goland flutter sweeps (``wingmdao flutter goland --aero-theory ...``) and three
+PEGASUS gusts (``wingmdao gust pegasus --aero-theory ...``, ~30-40 s each) dominate.
+"""
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+from wingmdao.aero import aero_parameters, cached_aeroelastic_system, station_gust_history, three_dimensional_parameters
+from wingmdao.aero.lifting_line import lifting_line_lift_slope
+from wingmdao.aero.vlm import build_lattice, flat_wing, solve_circulation, station_influence
+from wingmdao.beam.static import beam_forcing
+from wingmdao.cases import goland
+from wingmdao.cli.flutter import analyse
+from wingmdao.plots import save_figure
+from wingmdao.timemarch.bdf import march
+from wingmdao.timemarch.system import layout, pack
+
+FIG = os.path.join(os.path.dirname(__file__), "..", "docs", "figures")
+THEORIES = ("strip", "lifting-line", "vlm")
+LABEL = {"strip": "strip theory (2 pi / beta)", "lifting-line": "lifting-line slopes", "vlm": "vortex lattice"}
+
+
+def helmbold(aspect, sweep_half_chord=0.0, mach=0.0):
+    """DATCOM Eq. 4.1.3.2-a, kappa = 1 (per rad)."""
+    return 2 * np.pi * aspect / (2 + np.sqrt(aspect ** 2 * (1 - mach ** 2 + np.tan(sweep_half_chord) ** 2) + 4))
+
+
+def elliptic_wing(aspect, n=31):
+    c0 = 8.0 / (np.pi * aspect)
+    r, c, ref = flat_wing(1.0, lambda y: c0 * np.sqrt(np.clip(1 - y ** 2, 0, None)) + 1e-6, n_stations=n)
+    return r, c, ref, np.pi * c0 / 2
+
+
+def vlm_figure(plt):
+    aspects = np.array([4 / np.pi, 2, 3, 4, 6, 8, 10, 15, 20])
+    vlm = [station_influence(*elliptic_wing(a)[:3]).lift_slope(elliptic_wing(a)[3]) for a in aspects]
+    print("elliptic wings: A, VLM, DATCOM (Helmbold), lifting line 2 pi A / (A + 2)")
+    for a, v in zip(aspects, vlm):
+        print(f"  {a:6.3f}  {v:.4f}  {helmbold(a):.4f}  {2 * np.pi * a / (a + 2):.4f}")
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
+    aa = np.linspace(1, 20, 200)
+    ax[0].plot(aa, helmbold(aa), "k-", label="DATCOM (Helmbold)")
+    ax[0].plot(aa, 2 * np.pi * aa / (aa + 2), "k--", label="lifting line, 2 pi A / (A + 2)")
+    ax[0].plot(aspects, vlm, "o", label="vortex lattice (wingmdao.aero.vlm)")
+    ax[0].plot([4 / np.pi], [1.790], "r*", ms=12, label="circular wing, exact (Kinner 1937)")
+    ax[0].set_xlabel("aspect ratio A")
+    ax[0].set_ylabel("CL_alpha (1/rad)")
+    ax[0].set_title("flat elliptic wings, M = 0")
+    ax[0].legend(fontsize=8)
+    ax[0].grid(True)
+    r, c, ref, _ = elliptic_wing(6.0)
+    lat = build_lattice(r, c, ref)
+    gamma = np.bincount(lat.strip, solve_circulation(lat, np.ones(lat.span.size)))
+    eta = lat.strip_y
+    ax[1].plot(eta, gamma / gamma[0], "o", ms=3, label="vortex lattice, A = 6")
+    ee = np.linspace(0, 1, 200)
+    ax[1].plot(ee, np.sqrt(1 - ee ** 2), "k-", label="elliptic")
+    ax[1].set_xlabel("eta = y / s")
+    ax[1].set_ylabel("circulation / root circulation")
+    ax[1].set_title("spanload of the elliptic wing")
+    ax[1].legend(fontsize=8)
+    ax[1].grid(True)
+    save_figure(fig, os.path.join(FIG, "vlm_lift_slope.png"), dpi=100)
+
+
+def goland_gust(theory, V=100.0, gradient=30.48, u_gust=10.0, dt=0.004, t_final=1.2):
+    """Root bending moment history (N m) of the clamped Goland wing in a 1-cos gust of gradient H
+    (m) and amplitude u_gust (m/s TAS) at V (m/s), sea level, no gravity, zero angle of attack."""
+    n = 21
+    bp = goland.beam_params(n)
+    ad = goland.aero_data()
+    ap = aero_parameters(n, chord=ad["chord"], ref_point=ad["ref_point"], airspeed=V, density=ad["density"])
+    r0 = bp["node_positions"]
+    if theory != "strip":
+        ap.update(three_dimensional_parameters(theory, r0, ap["chord"], ap["ref_point"], 0.0))
+    s = cached_aeroelastic_system(n, aero_theory="vlm" if theory == "vlm" else "strip")
+    p = pack(s.param_specs, {**bp, **ap})
+    qd = beam_forcing(n)
+    qd.update(gust_velocity=np.zeros(n), frame_velocity=np.zeros(3), frame_velocity_rate=np.zeros(3))
+    t = np.arange(0.0, t_final + 0.5 * dt, dt)
+    Q = np.tile(pack(s.forcing_specs, qd), (t.size, 1))
+
+    def profile(tau):
+        d = V * (np.asarray(tau) - 0.05)
+        return np.where((d >= 0) & (d <= 2 * gradient), 0.5 * u_gust * (1 - np.cos(np.pi * d / gradient)), 0.0)
+
+    x_le = r0[:, 0] - ap["ref_point"] * ap["chord"]
+    Q[:, layout(s.forcing_specs)["gust_velocity"]] = station_gust_history(t, x_le, V, profile)
+    h = march(s, t, p, Q)
+    return t, s.layout.beam_states(h.states)[:, 0, 9]
+
+
+def goland_comparison(plt):
+    print("Goland wing, clamped, 1-cos gust H = 100 ft, 10 m/s, V = 100 m/s, sea level: root bending peak")
+    fig, ax = plt.subplots(figsize=(7, 4))
+    peaks = {}
+    for th in THEORIES:
+        t, m = goland_gust(th)
+        peaks[th] = float(np.max(np.abs(m)))
+        ax.plot(t, m / 1e3, label=LABEL[th])
+    for th in THEORIES:
+        print(f"  {th:13s} {peaks[th] / 1e3:8.2f} kN m  ({peaks[th] / peaks['vlm']:.3f} x vortex lattice)")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("root bending moment (kN m)")
+    ax.set_title("Goland wing, 1-cos gust (H = 100 ft, 10 m/s, V = 100 m/s)")
+    ax.grid(True)
+    ax.legend()
+    save_figure(fig, os.path.join(FIG, "goland_gust_theories.png"), dpi=100)
+    print("Goland flutter (wingmdao flutter goland --aero-theory ...):")
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
+    for k, th in enumerate(THEORIES):
+        res = analyse("goland", aero_theory=th)
+        print(f"  {th:13s} flutter {res['flutter_speed_m_s']:.1f} m/s at {res['flutter_frequency_rad_s']:.1f} rad/s, "
+              f"divergence {res['divergence_speed_m_s']}")
+        v = np.asarray(res["speeds"])
+        for j, (g, w) in enumerate(zip(res["damping_ratio"], res["frequency_rad_s"])):
+            kw = dict(color=f"C{k}", label=LABEL[th] if j == 0 else None)
+            ax[0].plot(v, np.asarray(g, dtype=float), **kw)
+            ax[1].plot(v, np.asarray(w, dtype=float), **kw)
+    ax[0].axhline(0.0, color="k", lw=0.8)
+    ax[0].set_ylim(-0.3, 0.1)
+    ax[0].set_ylabel("damping ratio")
+    ax[1].set_ylabel("frequency (rad/s)")
+    for a in ax:
+        a.set_xlabel("airspeed (m/s)")
+        a.grid(True)
+    ax[0].legend(fontsize=8)
+    ax[0].set_title("Goland wing, sea level: V-g")
+    save_figure(fig, os.path.join(FIG, "goland_flutter_theories.png"), dpi=100)
+    return peaks
+
+
+def pegasus_maneuver(theory, load_factor=2.5):
+    """Root bending moment and torsion (N m), trim angle (rad) of the trimmed static PEGASUS
+    maneuver at ``load_factor`` on the initial design: the sizing's own coupled maneuver case
+    (``wingmdao size pegasus --aero coupled --aero-theory THEORY``, case maneuver_pos)."""
+    from wingmdao.cases import pegasus
+    from wingmdao.sizing import SECTION_KINDS, design_beam_params, initial_design
+    from wingmdao.timemarch.bdf import solve_static
+
+    setup = pegasus.build(aero="coupled", aero_theory=theory, load_factor=load_factor)
+    case = next(c for c in setup.load_cases if c.name == "maneuver_pos")
+    n = setup.geometry.num_nodes
+    bp = design_beam_params(setup.geometry, setup.material,
+                            initial_design(setup.options, SECTION_KINDS[setup.section]["design_vars"]), setup.section)
+    s = cached_aeroelastic_system(n, trim=True, aero_theory=case.aero.residual_theory)
+    p = pack(s.param_specs, {**bp, **case.aero.parameters(n)})
+    q = pack(s.forcing_specs, {sp.name: case.forcing_array(sp.name, n)[0] for sp in s.forcing_specs})
+    x, _ = solve_static(s, p, q)
+    X = s.layout.beam_states(x)
+    return X[0, 9], X[0, 10], x[s.trim_index]
+
+
+def pegasus_gusts(directory):
+    """``wingmdao gust pegasus --aero-theory THEORY --json DIR/gust_THEORY.json`` for each theory
+    (skipped when the file exists); the results by theory."""
+    out = {}
+    for th in THEORIES:
+        path = os.path.join(directory, f"gust_{th}.json")
+        if not os.path.exists(path):
+            subprocess.run([sys.executable, "-m", "wingmdao", "gust", "pegasus", "--aero-theory", th, "--no-plots",
+                            "--json", path], check=True, stderr=subprocess.DEVNULL)
+        with open(path) as f:
+            out[th] = json.load(f)
+    return out
+
+
+def pegasus(plt, directory):
+    print("PEGASUS trimmed 2.5 g maneuver, initial design (the sizing's coupled case maneuver_pos):")
+    for th in THEORIES:
+        m, t, a = pegasus_maneuver(th)
+        print(f"  {th:13s} root bending {m / 1e3:8.1f} kN m, root torsion {t / 1e3:7.1f} kN m, trim {np.degrees(a):.3f} deg")
+    out = pegasus_gusts(directory)
+    fig, ax = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
+    print("PEGASUS gust (wingmdao gust pegasus: free plunge, trimmed 1 g, H = 350 ft):")
+    for th in THEORIES:
+        r = out[th]
+        m = np.asarray(r["root_bending_moment"])
+        dm = m - m[0]
+        print(f"  {th:13s} wing slope {r['wing_lift_slope_per_rad']:.3f} /rad, trim {np.degrees(r['trim_alpha_rad']):.3f} deg, "
+              f"1 g root moment {m[0] / 1e3:.1f} kN m, peak {np.max(np.abs(m)) / 1e3:.1f} kN m (increment "
+              f"{np.max(np.abs(dm)) / 1e3:.1f}), peak dn {r['peak_incremental_load_factor']:.3f}")
+        ax[0].plot(r["time"], r["load_factor"], label=LABEL[th])
+        ax[1].plot(r["time"], m / 1e3, label=LABEL[th])
+    ax[0].set_ylabel("load factor")
+    ax[1].set_ylabel("root bending moment (kN m)")
+    ax[1].set_xlabel("time (s)")
+    for a in ax:
+        a.grid(True)
+    ax[0].legend()
+    ax[0].set_title("PEGASUS, 1-cos gust H = 350 ft, free plunge, trimmed 1 g start")
+    save_figure(fig, os.path.join(FIG, "pegasus_gust_theories.png"), dpi=100)
+
+
+def main():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    vlm_figure(plt)
+    goland_comparison(plt)
+    if "--skip-pegasus" not in sys.argv:
+        with tempfile.TemporaryDirectory() as tmp:
+            pegasus(plt, os.environ.get("GUST_JSON_DIR", tmp))
+
+
+if __name__ == "__main__":
+    main()

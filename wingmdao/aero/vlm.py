@@ -1,0 +1,258 @@
+"""Vortex-lattice method of a wing planform: the steady aerodynamic influence of every beam
+station's incidence on every station's lift and moment (no OpenMDAO).
+
+Lattice. The half wing is the mean surface through the beam's jig nodes r_i (body axes: x aft,
+y outboard, z up): at node i the streamwise chord c_i has its leading edge at
+``x_i - ref_point_i c_i``; between nodes the leading and trailing edges are straight (taper,
+sweep, dihedral follow the nodes). Each beam element is cut into ``n_spanwise`` equal spanwise
+strips and every strip into ``n_chordwise`` equal chordwise panels. Each panel carries a
+horseshoe vortex: its bound leg on the panel's quarter-chord line, its trailing legs streamwise
+(+x) to infinity; flow tangency is enforced at the panel's three-quarter-chord point of mid-span
+(Katz & Plotkin, "Low-Speed Aerodynamics", 2nd ed., Cambridge University Press, 2001,
+Sec. 12.3; Bertin & Cummings, "Aerodynamics for Engineers", 5th ed., 2009, Sec. 7.4). The left
+half is the explicit mirror image (symmetric loading), its horseshoes added to the influence of
+every right-half panel.
+
+Compressibility by the Prandtl-Glauert (Goethert) rule: the lattice is stretched in x by
+1 / beta, beta = sqrt(1 - M^2), and solved incompressibly; the lift per span of the compressible
+wing is rho V Gamma of the stretched wing (Katz & Plotkin Sec. 8.3;
+:mod:`wingmdao.aero.weissinger` uses the same rule), its chordwise positions those of the real
+wing.
+
+Stations. The beam carries lift and moment per unit length at its nodes (trapezoidal between
+nodes). The transfer is the virtual-work pair of the nodes' hat functions N_i(s): a panel's
+incidence is sum_j N_j(s_k) alpha_j (the linear interpolation of the station incidences), and
+node i's load per length is sum_k N_i(s_k) F_k / w_i with w_i = int N_i ds the node's
+tributary beam length. So
+
+    L = q A_L alpha,   M_qc = q A_M alpha
+
+(q = rho V^2 / 2; L in N/m along the section normal; M_qc in N m/m nose up about each
+station's quarter-chord point), with ``A_L`` (n, n) m and ``A_M`` (n, n) m^2 depending only on
+the jig planform and the Mach number (:func:`station_influence`, cached). For strip theory
+``A_L = diag(c_i a_i / beta)`` and ``A_M = 0``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass
+
+import numpy as np
+
+from wingmdao.aero.weissinger import _segment, _semi_infinite
+
+#: default lattice density: chordwise panels, spanwise strips per beam element
+N_CHORDWISE = 4
+N_SPANWISE = 4
+_CACHE: dict = {}
+_CACHE_SIZE = 32
+
+
+@dataclass(frozen=True, eq=False)
+class Lattice:
+    """Panels of the right half wing (real, unstretched coordinates; m).
+
+    ``bound_a``/``bound_b`` (m, 3): ends of each bound leg (inboard, outboard) on the panel's
+    quarter chord; ``control`` (m, 3): the three-quarter-chord point of mid-span; ``normal``
+    (m, 3): unit upward normal; ``span`` (m,): the bound leg's length in the y-z plane;
+    ``x_quarter`` (m,): x of the local wing chord's quarter point at the panel's mid-span;
+    ``hat`` (m, n): the nodes' hat functions at the panel's mid-span; ``tributary`` (n,): each
+    node's tributary beam length int N_i ds (m); ``strip`` (m,): the spanwise strip index of each
+    panel; ``strip_y``/``strip_chord`` (strips,): mid-span y and local chord of each strip;
+    ``panel_chord`` (m,): each panel's streamwise chord at mid-span; ``mach``.
+    Panel k = strip * n_chordwise + chordwise index.
+    """
+
+    bound_a: np.ndarray
+    bound_b: np.ndarray
+    control: np.ndarray
+    normal: np.ndarray
+    span: np.ndarray
+    x_quarter: np.ndarray
+    hat: np.ndarray
+    tributary: np.ndarray
+    strip: np.ndarray
+    strip_y: np.ndarray
+    strip_chord: np.ndarray
+    panel_chord: np.ndarray
+    mach: float
+
+    @property
+    def beta(self) -> float:
+        return float(np.sqrt(1.0 - self.mach ** 2))
+
+    @property
+    def area(self) -> float:
+        """Planform area of both halves (m^2): the panels' streamwise chord times their y-z span."""
+        return float(2.0 * np.sum(self.panel_chord * self.span))
+
+
+@dataclass(frozen=True, eq=False)
+class StationInfluence:
+    """Aerodynamic influence of the stations' incidences (per unit dynamic pressure).
+
+    ``lift`` (n, n) m: lift per length at station i (N/m per Pa per rad) of a unit incidence at
+    station j; ``moment`` (n, n) m^2: moment per length about station i's quarter chord (nose up);
+    ``tributary`` (n,) m; ``lattice`` the :class:`Lattice`; ``circulation`` (panels, n): panel
+    circulations per unit airspeed and unit incidence of each station (m).
+    """
+
+    lift: np.ndarray
+    moment: np.ndarray
+    tributary: np.ndarray
+    lattice: Lattice
+    circulation: np.ndarray
+
+    def lift_slope(self, area) -> float:
+        """The wing's lift-curve slope CL_alpha (1/rad) on ``area`` (m^2, both halves): 2 int L ds / (q S)
+        of a unit incidence at every station (the beam's trapezoid)."""
+        return float(2.0 * self.tributary @ (self.lift @ np.ones(self.lift.shape[1])) / float(area))
+
+
+def check_planform(node_positions, chord, ref_point, mach) -> tuple:
+    """Validated (r (n, 3), chord (n,), ref_point (n,), mach); ValueError naming the input, value and range."""
+    r = np.asarray(node_positions, dtype=float)
+    if r.ndim != 2 or r.shape[1] != 3 or r.shape[0] < 2:
+        raise ValueError(f"node_positions must be (n >= 2, 3) m, got shape {r.shape}")
+    n = r.shape[0]
+    c = np.broadcast_to(np.asarray(chord, dtype=float), (n,)).copy()
+    ref = np.broadcast_to(np.asarray(ref_point, dtype=float), (n,)).copy()
+    if not np.all(np.isfinite(r)):
+        raise ValueError("node_positions must be finite (m)")
+    bad = np.flatnonzero(~(np.isfinite(c) & (c > 0)))
+    if bad.size:
+        raise ValueError(f"chord must be > 0 m (a panel of zero area otherwise); got {c[bad[0]]!r} at station {bad[0]}")
+    bad = np.flatnonzero(~(np.isfinite(ref) & (ref >= 0) & (ref <= 1)))
+    if bad.size:
+        raise ValueError(f"ref_point must be in [0, 1] (fraction of chord); got {ref[bad[0]]!r} at station {bad[0]}")
+    if not (np.isfinite(mach) and 0.0 <= float(mach) < 1.0):
+        raise ValueError(f"mach must be in [0, 1) (subsonic Prandtl-Glauert vortex lattice), got {mach}")
+    if np.any(r[:, 1] < 0.0):
+        i = int(np.flatnonzero(r[:, 1] < 0)[0])
+        raise ValueError(f"node_positions: y = {r[i, 1]} m at station {i}; the half wing must lie at y >= 0 "
+                         "(its mirror image is the left half; panels would cross the symmetry plane)")
+    dy = np.diff(r[:, 1])
+    bad = np.flatnonzero(~(dy > 0.0))
+    if bad.size:
+        e = int(bad[0])
+        raise ValueError(f"node_positions: y must increase from root to tip (the panels of element {e} would have "
+                         f"zero area or cross their neighbours); got y = {r[e, 1]} m then {r[e + 1, 1]} m")
+    return r, c, ref, float(mach)
+
+
+def build_lattice(node_positions, chord, ref_point, *, mach=0.0, n_chordwise=N_CHORDWISE,
+                  n_spanwise=N_SPANWISE) -> Lattice:
+    """The :class:`Lattice` of the half wing through the beam nodes (module docstring)."""
+    r, c, ref, mach = check_planform(node_positions, chord, ref_point, mach)
+    nc, ns = int(n_chordwise), int(n_spanwise)
+    if nc < 1 or ns < 1:
+        raise ValueError(f"n_chordwise and n_spanwise must be >= 1, got {n_chordwise}, {n_spanwise}")
+    n = r.shape[0]
+    le = r.copy()
+    le[:, 0] -= ref * c
+    # spanwise edges: ns equal strips per element, parameter t in [0, 1] along each element
+    te = np.linspace(0.0, 1.0, ns + 1)
+    tm = 0.5 * (te[1:] + te[:-1])
+    A, B, P, N, S, XQ, H, strip_y, strip_c = [], [], [], [], [], [], [], [], []
+    frac = np.arange(nc) / nc  # panel leading edges, fraction of the local chord
+    for e in range(n - 1):
+        le_e = le[e] + te[:, None] * (le[e + 1] - le[e])
+        c_e = c[e] + te * (c[e + 1] - c[e])
+        le_m = le[e] + tm[:, None] * (le[e + 1] - le[e])
+        c_m = c[e] + tm * (c[e + 1] - c[e])
+        span_vec = le[e + 1] - le[e]
+        span_vec[0] = 0.0
+        nrm = np.cross(np.array([1.0, 0.0, 0.0]), span_vec)
+        nrm /= np.linalg.norm(nrm)
+        for j in range(ns):
+            hat = np.zeros(n)
+            hat[e], hat[e + 1] = 1.0 - tm[j], tm[j]
+            strip_y.append(le_m[j, 1])
+            strip_c.append(c_m[j])
+            for k in range(nc):
+                xa = le_e[j] + np.array([(frac[k] + 0.25 / nc) * c_e[j], 0.0, 0.0])
+                xb = le_e[j + 1] + np.array([(frac[k] + 0.25 / nc) * c_e[j + 1], 0.0, 0.0])
+                A.append(xa)
+                B.append(xb)
+                P.append(le_m[j] + np.array([(frac[k] + 0.75 / nc) * c_m[j], 0.0, 0.0]))
+                N.append(nrm)
+                S.append(np.hypot(xb[1] - xa[1], xb[2] - xa[2]))
+                XQ.append(le_m[j, 0] + 0.25 * c_m[j])
+                H.append(hat)
+    ds = np.linalg.norm(np.diff(r, axis=0), axis=1)
+    trib = np.zeros(n)
+    trib[:-1] += 0.5 * ds
+    trib[1:] += 0.5 * ds
+    m = len(A)
+    return Lattice(bound_a=np.array(A), bound_b=np.array(B), control=np.array(P), normal=np.array(N),
+                   span=np.array(S), x_quarter=np.array(XQ), hat=np.array(H), tributary=trib,
+                   strip=np.repeat(np.arange(m // nc), nc), strip_y=np.array(strip_y), strip_chord=np.array(strip_c),
+                   panel_chord=np.repeat(np.array(strip_c), nc) / nc, mach=mach)
+
+
+def _mirror(p):
+    return p * np.array([1.0, -1.0, 1.0])
+
+
+def _horseshoe_velocity(points, a, b):
+    """Velocity (m_p, m_v, 3) at ``points`` of unit horseshoes with bound legs a -> b, trailing to +x."""
+    P = points[:, None, :]
+    ex = np.array([1.0, 0.0, 0.0])
+    return _segment(P, a[None], b[None]) + _semi_infinite(P, b[None], ex) - _semi_infinite(P, a[None], ex)
+
+
+def normalwash_matrix(lat: Lattice) -> np.ndarray:
+    """(m, m) normal velocity at each control point of unit circulation on each horseshoe and its
+    mirror image, in the stretched (Prandtl-Glauert) lattice."""
+    s = np.array([1.0 / lat.beta, 1.0, 1.0])
+    pts, a, b = lat.control * s, lat.bound_a * s, lat.bound_b * s
+    v = _horseshoe_velocity(pts, a, b) + _horseshoe_velocity(pts, _mirror(b), _mirror(a))
+    return np.einsum("ijk,ik->ij", v, lat.normal)
+
+
+def solve_circulation(lat: Lattice, panel_incidence) -> np.ndarray:
+    """Panel circulations per unit airspeed (m) for panel incidences (m,) or (m, k) rad."""
+    W = normalwash_matrix(lat)
+    return np.linalg.solve(W, -np.asarray(panel_incidence, dtype=float))
+
+
+def station_influence(node_positions, chord, ref_point, *, mach=0.0, n_chordwise=N_CHORDWISE,
+                      n_spanwise=N_SPANWISE) -> StationInfluence:
+    """:class:`StationInfluence` of the beam stations (module docstring), cached by planform and Mach.
+
+    ``node_positions`` (n, 3) m: the jig beam nodes (root first, y >= 0 increasing);
+    ``chord`` (n,) m streamwise; ``ref_point`` (n,): the beam axis as a fraction of the chord aft
+    of the leading edge; ``mach`` in [0, 1). Bad input (a chord <= 0, nodes not moving outboard,
+    a node at y < 0, Mach outside [0, 1)) raises ValueError naming it.
+    """
+    r, c, ref, mach = check_planform(node_positions, chord, ref_point, mach)
+    key = hashlib.sha1(b"".join(np.ascontiguousarray(v).tobytes() for v in (r, c, ref))
+                       + repr((mach, int(n_chordwise), int(n_spanwise))).encode()).hexdigest()
+    if key in _CACHE:
+        return _CACHE[key]
+    lat = build_lattice(r, c, ref, mach=mach, n_chordwise=n_chordwise, n_spanwise=n_spanwise)
+    gamma = solve_circulation(lat, lat.hat)  # (m, n): unit incidence of each station
+    force = 2.0 * gamma * lat.span[:, None]  # normal force per q of each panel (m^2): rho V Gamma l / q
+    x_bound = 0.5 * (lat.bound_a[:, 0] + lat.bound_b[:, 0])
+    moment = force * (lat.x_quarter - x_bound)[:, None]  # nose up about the local quarter chord (m^3)
+    w = lat.hat / lat.tributary[None, :]
+    out = StationInfluence(lift=w.T @ force, moment=w.T @ moment, tributary=lat.tributary, lattice=lat,
+                           circulation=gamma)
+    if len(_CACHE) >= _CACHE_SIZE:
+        _CACHE.pop(next(iter(_CACHE)))
+    _CACHE[key] = out
+    return out
+
+
+def flat_wing(semi_span, chord_of_y, *, sweep_quarter_deg=0.0, n_stations=21, ref_point=0.25, spacing="cosine"):
+    """Beam nodes, chords and reference points of a flat wing of chord ``chord_of_y(y)`` (m) whose
+    quarter-chord line is swept by ``sweep_quarter_deg``; the stations cosine-spaced (finer at the
+    tip) or ``"uniform"``. Returns ``(node_positions, chord, ref_point)``; for tests and examples."""
+    s = float(semi_span)
+    k = np.arange(n_stations)
+    y = s * (np.sin(0.5 * np.pi * k / (n_stations - 1)) if spacing == "cosine" else k / (n_stations - 1))
+    c = np.asarray(chord_of_y(y), dtype=float)
+    x_qc = y * np.tan(np.radians(sweep_quarter_deg))
+    x_ref = x_qc + (ref_point - 0.25) * c
+    return np.stack([x_ref, y, np.zeros_like(y)], axis=-1), c, np.full(y.size, float(ref_point))
