@@ -61,14 +61,14 @@ def register(subparsers):
                    help="root clamped (wind-tunnel wing): the same as --plunge clamped")
     p.add_argument("--design", metavar="RESULT.json", default=None,
                    help="thicknesses from a sizing result (its 'thickness' per station); default: the initial design")
-    p.add_argument("--altitude-ft", type=float, default=None,
+    p.add_argument("--altitude-ft", type=float, metavar="FT", default=None,
                    help="altitude (ft, 0-60000; default: the case's cruise altitude, 20000 ft for pegasus)")
-    p.add_argument("--mach", type=float, default=None,
+    p.add_argument("--mach", type=float, metavar="MACH", default=None,
                    help="Mach number, in (0, M_D] (default: the case's M_C; U_sigma is halved at M_D, linear between)")
-    p.add_argument("--damping-ratio", type=float, default=0.0,
+    p.add_argument("--damping-ratio", type=float, metavar="ZETA", default=0.0,
                    help="structural damping ratio of the beam (Kelvin-Voigt strain-rate damping) at "
                         "--damping-frequency-hz; 0 = undamped; Nastran practice: 0.02")
-    p.add_argument("--damping-frequency-hz", type=float, default=None,
+    p.add_argument("--damping-frequency-hz", type=float, metavar="HZ", default=None,
                    help="frequency at which --damping-ratio holds (Hz); unset: the first mode of the initial design")
     p.add_argument("--f-max-hz", type=float, default=40.0, metavar="HZ",
                    help="highest frequency of the grid (Hz); the spectrum beyond it enters as an estimated tail")
