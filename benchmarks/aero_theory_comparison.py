@@ -20,7 +20,6 @@ import tempfile
 import numpy as np
 
 from wingmdao.aero import aero_parameters, cached_aeroelastic_system, station_gust_history, three_dimensional_parameters
-from wingmdao.aero.lifting_line import lifting_line_lift_slope
 from wingmdao.aero.vlm import build_lattice, flat_wing, solve_circulation, station_influence
 from wingmdao.beam.static import beam_forcing
 from wingmdao.cases import goland

@@ -36,7 +36,7 @@ import numpy as np
 import openmdao.api as om
 
 from wingmdao.aero import aero_parameters
-from wingmdao.beam.static import beam_forcing, beam_parameters, straight_beam
+from wingmdao.beam.static import beam_parameters, straight_beam
 from wingmdao.components.aeroelastic import AeroelasticBeamDynamics
 from wingmdao.components.beam import BeamDynamics
 from wingmdao.components.ks import KSAggregate

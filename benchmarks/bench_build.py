@@ -22,7 +22,6 @@ import json
 import os
 import subprocess
 import sys
-import time
 
 GOAL, OAS = 0.2, 0.065
 

@@ -320,7 +320,7 @@ def test_adjoint_totals_wrt_thicknesses_through_box_sections():
     from wingmdao.materials import ALUMINIUM
 
     n, n_time, dt = 3, 6, 0.01
-    s = cached_aeroelastic_system(n)
+    cached_aeroelastic_system(n)
     r0, th0 = straight_beam(n, 4.0)
     t = np.arange(n_time) * dt
     prob = om.Problem(reports=False)

@@ -162,8 +162,8 @@ def test_library_warnings_are_one_line_in_the_warning_format(capsys, monkeypatch
     real = section.section_properties
 
     def noisy(args):
-        warnings.warn("wingmdao: C kernel x unavailable,\n  using the fallback", UserWarning)
-        warnings.warn("something old", DeprecationWarning)
+        warnings.warn("wingmdao: C kernel x unavailable,\n  using the fallback", UserWarning, stacklevel=2)
+        warnings.warn("something old", DeprecationWarning, stacklevel=2)
         return real(args)
 
     monkeypatch.setattr(section, "section_properties", noisy)

@@ -75,7 +75,7 @@ def test_beam_params_from_section_of_rows_and_of_one_section():
     full = beam_params_from_rows(rows, pos, ang)
     one = [beam_params_from_section(r) for r in rows]
     assert np.array_equal(full["node_positions"], pos) and np.array_equal(full["node_euler_angles"], ang)
-    for k, v in one[0].items():
+    for k, _v in one[0].items():
         assert np.array_equal(full[k], np.array([o[k] for o in one])), k
     assert full["tension_axis"].shape == (4, 2) and full["inertia_per_length"].shape == (4, 3, 3)
     assert np.array_equal(full["shear_center"][2], [rows[2]["c_sc"], rows[2]["n_sc"]])

@@ -129,7 +129,7 @@ def test_lu_against_scipy(chain, column_order):
         stepper.qcol = np.ascontiguousarray(rng.permutation(n), dtype=np.int32)
         stepper.s.qcol = stepper.qcol.ctypes.data
     solved = 0
-    for trial in range(20):
+    for _trial in range(20):
         vals = rng.normal(size=rows.size)
         vals[rng.random(rows.size) < 0.1] = 0.0
         A = sp.csc_matrix((vals, rows, indptr), shape=(n, n))

@@ -143,7 +143,7 @@ def test_flutter_damping_check_partials():
     comp.set_check_partial_options(wrt=["node_positions", "node_euler_angles", "tension_axis", "shear_center",
                                         "mass_center"], method="fd", form="central", step=1e-4, step_calc="abs")
     data = p.check_partials(compact_print=True, out_stream=None)
-    for (of, wrt), d in data["f"].items():
+    for (_of, wrt), d in data["f"].items():
         J, fd = d["J_fwd"], d["J_fd"]
         scale = np.abs(fd).max()
         assert np.abs(J - fd).max() <= 2e-3 * scale + 1e-8, (wrt, np.abs(J - fd).max(), scale)

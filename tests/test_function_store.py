@@ -197,7 +197,7 @@ def test_deferred_beam_system_equals_built(store, monkeypatch):
     assert all((u != v).nnz == 0 for u, v in zip(ja, jb))
     assert deferred.residual_function.name() == first.residual_function.name()
     with pytest.raises(AttributeError):
-        deferred.not_an_attribute
+        deferred.not_an_attribute  # noqa: B018 - the access itself is tested
 
 
 @pytest.mark.skipif(cc.compiler() is None, reason="needs gcc")

@@ -155,7 +155,7 @@ def test_gradient_never_evaluates_input_jacobians(checkpoint_every, monkeypatch)
     sysm, t, X, p, Q = _chain_history("state")
     g = np.random.default_rng(5).normal(size=X.shape)
     ref = LinearizedHistory(sysm, t, X, p, Q, initial="state")
-    ref.jp                                                  # stored products from here on
+    ref.jp  # noqa: B018                                                # stored products from here on
     expected = ref.gradient(g)
 
     def fail(*args):

@@ -20,7 +20,7 @@ def _check_optimum(setup, prob, res):
     assert res["success"], res.get("message")
     ks = [v for d in res["ks"].values() for v in d.values()]
     assert max(ks) <= 1e-6 and max(ks) > -1e-3
-    for w, vals in res["thickness"].items():
+    for _w, vals in res["thickness"].items():
         assert np.min(vals) >= pegasus.MIN_GAUGE - 1e-9 and np.max(vals) <= 0.05 + 1e-9
 
 

@@ -26,7 +26,7 @@ def test_adjoint_totals_match_central_differences(problem):
     data = problem.check_totals(method="fd", form="central", step=1e-7, step_calc="rel_avg",
                                 out_stream=None, compact_print=True)
     worst = 0.0
-    for key, d in data.items():
+    for _key, d in data.items():
         ref = np.abs(d["J_fd"]).max()
         err = np.abs(d["J_fwd"] - d["J_fd"]).max() / max(ref, 1e-12) if "J_fwd" in d else \
             np.abs(d["J_rev"] - d["J_fd"]).max() / max(ref, 1e-12)

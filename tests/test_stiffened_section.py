@@ -143,7 +143,7 @@ def test_panel_failure_ks_outputs_equal_ks_of_the_ratios():
             np.testing.assert_allclose(agg[f"agg.ks_{f}", w], ref[f"ks.ks_{f}", w], rtol=1e-10, atol=1e-14)
     data = prob.check_totals(of=[f"agg.ks_{f}" for f in PANEL_FAMILIES], wrt=wrt, method="fd", form="central",
                              step=1e-6, step_calc="rel_avg", out_stream=None)
-    for key, d in data.items():
+    for _key, d in data.items():
         j = d["J_fwd"] if "J_fwd" in d else d["J_rev"]
         np.testing.assert_allclose(j, d["J_fd"], rtol=2e-4, atol=1e-5 * max(1.0, np.abs(d["J_fd"]).max()))
 

@@ -31,7 +31,7 @@ def test_stiffened_totals_match_central_differences(problem):
     data = problem.check_totals(of=of, wrt=wrt, method="fd", form="central", step=1e-7, step_calc="rel_avg",
                                 out_stream=None)
     worst = 0.0
-    for key, d in data.items():
+    for _key, d in data.items():
         ref = np.abs(d["J_fd"]).max()
         j = d["J_fwd"] if "J_fwd" in d else d["J_rev"]
         worst = max(worst, np.abs(j - d["J_fd"]).max() / max(ref, 1e-12))

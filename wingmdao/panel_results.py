@@ -7,7 +7,6 @@ import numpy as np
 
 from wingmdao.panels.layout import (cover_kinks, panel_families, rib_crushing_ratio, rib_shear_ratio, rib_web_ratio,
                                    smeared_stringer)
-from wingmdao.section.box import WALL_NAMES
 
 #: the walls of the result JSON, with their panel points in PanelFailure (skin points 0-3: upper
 #: front, upper rear, lower front, lower rear; web points 0-1: front, rear) and their von Mises

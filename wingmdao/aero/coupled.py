@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from wingmdao.aero.system import (AERO_THEORY_CHOICES, aero_parameters, cached_aeroelastic_system,
+from wingmdao.aero.system import (AERO_THEORY_CHOICES, aero_parameters, cached_aeroelastic_system,  # noqa: F401 - AERO_THEORY_CHOICES: public here
                                   three_dimensional_parameters)
 from wingmdao.loads.atmosphere import G0
 from wingmdao.timemarch.system import pack

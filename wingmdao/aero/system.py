@@ -202,7 +202,7 @@ def _node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence):
     """Follower aerodynamic force/moment per length (body) and the 4 lag residuals of one node."""
     st = STATE_BLOCKS
     xb, xdb = x[:18], xdot[:18]
-    r, th, u, w = xb[st["r"]], xb[st["theta"]], xb[st["u"]], xb[st["omega"]]
+    _r, th, _u, _w = xb[st["r"]], xb[st["theta"]], xb[st["u"]], xb[st["omega"]]
     vf, acc0, rate, alpha0 = frame
     chord, ref, a, azl, cm0, wg = (pa[k] for k in range(6))
     T = body_to_csn(th, sequence)
@@ -260,7 +260,7 @@ def aeroelastic_definition(num_nodes: int, euler_sequence: str = "surface",
 def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
                              damping: StrainRateDamping | None = None,
                              plunge: bool = False, trim: bool = False, pitch: bool = False,
-                             tail_lag: bool = False, aero_theory: str = "strip") -> "AeroelasticBeamSystem":
+                             tail_lag: bool = False, aero_theory: str = "strip") -> AeroelasticBeamSystem:
     """The App. A beam of ``num_nodes`` nodes (root clamped) with unsteady strip theory.
 
     Returns an :class:`AeroelasticBeamSystem` (a :class:`CasadiResidualSystem`):

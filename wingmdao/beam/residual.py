@@ -158,7 +158,7 @@ class StrainRateDamping:
             object.__setattr__(self, name, vals)
 
     @classmethod
-    def from_damping_ratio(cls, zeta: float, frequency_hz: float) -> "StrainRateDamping":
+    def from_damping_ratio(cls, zeta: float, frequency_hz: float) -> StrainRateDamping:
         """Time constant t = 2 zeta / w = zeta / (pi f) on every strain: damping ratio ``zeta`` at
         ``frequency_hz`` (e.g. the first bending mode), proportionally more above it."""
         if not (math.isfinite(zeta) and 0.0 <= zeta < 1.0):

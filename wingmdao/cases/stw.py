@@ -39,7 +39,7 @@ HELP = ("Simple Transonic Wing (MDO Aeroelastic Benchmark) Case 1: 14 m semi-spa
         "T-stiffened wingbox between spars at 0.15 and 0.65 chord, 23 ribs; trimmed aeroelastic 2.5 g / -1 g maneuvers at sea level, "
         "M 0.458, landing gross mass")
 
-from wingmdao.cases.stw_geometry import (  # noqa: F401  (the case's geometry, re-exported)
+from wingmdao.cases.stw_geometry import (  # noqa: F401, E402  (the case's geometry, re-exported)
     CUTS, HEIGHT_RULES, _span_array, chord, leading_edge_x, spar_x, rib_y, airfoil_surfaces,
     thickness_to_chord, StwBeam, _elements_per_bay, node_y, beam_geometry, AeroReference,
     quarter_chord_sweep_deg, aero_reference)

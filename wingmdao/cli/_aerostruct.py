@@ -4,7 +4,6 @@ the same problem as ``python cases/run_aerostruct_crm.py``)."""
 
 from __future__ import annotations
 
-import argparse
 import os
 from wingmdao.cli._io import EXIT_FAILED, EXIT_INTERRUPTED, check_output_dir, check_output_file, refuse_existing, say, write_json
 from wingmdao.cli._args import add_json_argument

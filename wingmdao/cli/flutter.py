@@ -18,7 +18,6 @@ deflection PNG.
 
 from __future__ import annotations
 
-import json
 import sys
 import time as _time
 

@@ -255,7 +255,7 @@ class KSOfPointwise:
         n, n_last = self.num_points, self.grid_shape[-1]
         acc = [None] * len(self._pairs)
         for p0, p1, vals in self._jacobian_chunks(inputs):
-            for j, (oname, iname) in enumerate(self._pairs):
+            for j, (oname, _iname) in enumerate(self._pairs):
                 r = self._pair_patterns[j][0]
                 part = (w[oname][p0:p1][:, r] * vals[j]) @ self._ks_scatter[j]
                 if acc[j] is None:

@@ -365,7 +365,7 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
             return
         src = np.arange(n) % n_last
         seeds, acc = {}, {}
-        for j, oname, iname in active:
+        for _j, oname, iname in active:
             if mode == "fwd":
                 if iname not in seeds:
                     din = np.asarray(d_inputs[iname]).reshape(n_last if self._shared[iname] else n, -1)

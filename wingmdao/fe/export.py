@@ -190,7 +190,7 @@ def shell_deck(sections: BoxSections, material, fmt, *, tip_force=(0, 0, 0), tip
         for e, conn in block.items():
             out.append(f"{card},{e},{pid}," + ",".join(map(str, conn)))
     out.append("SPC1,1,123456," + ",".join(map(str, d.nsets["ROOT"])))
-    for k, (node, dof, v) in enumerate(loads):
+    for _k, (node, dof, v) in enumerate(loads):
         vec = [0.0, 0.0, 0.0]
         vec[dof - 1] = v
         out.append(f"FORCE,1,{node},,1.,{vec[0]:.10g},{vec[1]:.10g},{vec[2]:.10g}")

@@ -52,7 +52,7 @@ class LoadHistory:
     def num_nodes(self) -> int:
         return self.force_per_length.shape[1]
 
-    def resample(self, new_time) -> "LoadHistory":
+    def resample(self, new_time) -> LoadHistory:
         """Linear interpolation onto another time grid inside [0, time[-1]] (e.g. the beam's)."""
         t = np.asarray(new_time, dtype=float)
         zeros = np.zeros((t.size, 1, 3))

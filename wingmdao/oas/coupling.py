@@ -158,7 +158,7 @@ class OASBoxDims(om.ExplicitComponent):
         n = self.options["num_nodes"]
         self._W = W = element_to_node_matrix(n)[:, ::-1]
         rows, cols = np.nonzero(W)
-        for name, out in (("htop", "height"), ("hbottom", "height"), ("hfront", "width"), ("hrear", "width")):
+        for name, _out in (("htop", "height"), ("hbottom", "height"), ("hfront", "width"), ("hrear", "width")):
             self.add_input(name, val=0.1, shape=n - 1, units="m",
                            desc=f"OpenAeroStruct wingbox {name} (centroid to wall) per element")
         for out, ins in (("width", ("hfront", "hrear")), ("height", ("htop", "hbottom"))):

@@ -8,7 +8,7 @@ running loads from :func:`wingmdao.stress.box_stress.panel_running_loads`.
 
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import cache
 
 from wingmdao.panels import buckling as bk
 from wingmdao.panels.stiffened import (PanelMaterial, panel_critical_loads, panel_failure_ratios, panel_material,
@@ -18,7 +18,7 @@ from wingmdao.panels.stiffened import (PanelMaterial, panel_critical_loads, pane
 SKIN_MODES = ("skin_buckling", "panel_buckling", "stiffener_column", "stiffener_crippling")
 
 
-@lru_cache(maxsize=None)
+@cache
 def _panel_material(material):
     """A PanelMaterial as it is, an isotropic Material wrapped."""
     return material if isinstance(material, PanelMaterial) else panel_material(material)

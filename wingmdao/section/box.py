@@ -187,7 +187,7 @@ def _closed_flow_resultant(segments, c_m, n_m, alpha, beta):
     twist = sum(L / (6.0 * t) * (qa + 4.0 * qm + qb) for qa, qm, qb, L, t, *_ in flows)
     q0 = -twist / sum(L / t for _, _, _, L, t, *_ in flows)
     f_c = f_n = m_s = 0.0
-    for qa, qm, qb, L, t, dc, dn, lever in flows:
+    for qa, qm, qb, L, _t, dc, dn, lever in flows:
         integral = L / 6.0 * (qa + 4.0 * qm + qb) + q0 * L
         f_c = f_c + integral * dc / L
         f_n = f_n + integral * dn / L

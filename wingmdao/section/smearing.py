@@ -24,7 +24,7 @@ import numpy as np
 import scipy.optimize as so
 
 from wingmdao.section.fe.analysis import analyse_section, assemble, assemble_rect, element_operators
-from wingmdao.section.fe.materials import Material, isotropic
+from wingmdao.section.fe.materials import isotropic
 from wingmdao.section.fe.mesh import SectionMesh, q9_from_grid, refine_edges
 from wingmdao.beam.static import BeamModel, beam_parameters, straight_beam
 from wingmdao.section.fe import beam_properties_csn

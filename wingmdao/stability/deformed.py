@@ -24,8 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import openmdao.api as om
 
-from wingmdao.stability.eigen import (StabilitySweep, check_speeds, critical_speeds, eigenmodes, static_state, sweep,
-                                      track_modes)
+from wingmdao.stability.eigen import (StabilitySweep, check_speeds, critical_speeds, eigenmodes, static_state, track_modes)
 from wingmdao.beam.residual import STATE_BLOCKS
 from wingmdao.timemarch.system import layout
 

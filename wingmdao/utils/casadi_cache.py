@@ -259,7 +259,7 @@ def compile_library(fun: ca.Function, flags=DEFAULT_FLAGS, key: str | None = Non
         proc.wait(timeout=timeout)
     except subprocess.TimeoutExpired:
         os.killpg(proc.pid, signal.SIGKILL)
-        raise CompileError(f"compiling {fun.name()} took more than {timeout} s")
+        raise CompileError(f"compiling {fun.name()} took more than {timeout} s") from None
     err = log.read_text(errors="replace") if log.exists() else ""
     log.unlink(missing_ok=True)
     if proc.returncode != 0 or not target.exists():

@@ -34,7 +34,7 @@ def _layers(wall, name, n_thick):
         layers = [(m, float(t), np.radians(float(a))) for m, t, a in wall["layup"]]
     else:
         layers = [(wall["material"], float(wall["thickness"]), np.radians(float(wall.get("angle_deg", 0.0))))]
-    for k, (m, t, a) in enumerate(layers):
+    for k, (m, t, _a) in enumerate(layers):
         if not isinstance(m, Material):
             raise ValueError(f"wall {name} layer {k}: material must be a Material, got {m!r}")
         if not np.isfinite(t) or t <= 0:
@@ -61,7 +61,7 @@ def _wall_fractions(layers, n_thick):
     return np.array(edges), np.array(layer_of_cell)
 
 
-def q9_from_grid(X, Y, mask, cell_Q, cell_rho, cell_region, names, periodic_i=False) -> "SectionMesh":
+def q9_from_grid(X, Y, mask, cell_Q, cell_rho, cell_region, names, periodic_i=False) -> SectionMesh:
     """Q9 mesh from a node grid (2 ni + 1, 2 nj + 1) and a cell mask (ni, nj) with per-cell material."""
     return _q9_from_grid(X, Y, mask, cell_Q, cell_rho, cell_region, names, periodic_i)
 
