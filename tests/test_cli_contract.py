@@ -128,7 +128,7 @@ JSON_RUNS = {
     ("size", "crm"): ["--analysis-only", "--no-plots"],
     ("size", "stw"): ["--analysis-only", "--no-plots"],
     ("flutter",): ["goland", "--speeds", "100", "200", "3", "--num-nodes", "5", "--modes", "2", "--no-plots"],
-    ("gust",): ["pegasus", "--t-final", "0.2", "--dt", "0.02", "--no-plots"],
+    ("gust",): ["pegasus", "--t-final", "0.2", "--dt", "0.02", "--gust-start", "0.1", "--no-plots"],
     ("turbulence",): ["pegasus", "--grid-points", "11", "--no-plots"],
     ("size", "aerostruct-crm"): ["--analysis-only", "--num-y", "9", "--no-oas-beam", "--quiet"],
     ("verify", "panel"): ["--material", "aluminium", "--t-skin", "0.002", "--width", "0.15", "--length", "0.45",

@@ -41,7 +41,7 @@ def test_solid_to_stdout(capsys):
 @pytest.mark.parametrize("argv,match", [
     (BOX[:-2], "needs --t-rear"),
     (["section", "--solid", "--width", "1", "--height", "1", "--t-upper", "0.1"], "--solid takes only"),
-    (BOX[:9] + ["--t-front", "0.6", "--t-rear", "0.5"], r"t_front_spar = 0.6 m.*allowed range \(0, 0.5\) m"),
+    (BOX[:9] + ["--t-front", "0.6", "--t-rear", "0.5"], r"--t-front = 0.6 m.*allowed range \(0, 0.5\) m"),
     (BOX + ["--material", "wood"], "unknown material 'wood'.*valid: aluminium"),
     (["section", "--solid", "--width", "nan", "--height", "1"], r"width = nan m; allowed range \[1e-06, 1000\] m"),
 ])

@@ -1,6 +1,6 @@
 """Loads as promoted inputs (issue: embedding): an upstream component drives a case's forcing,
 and the totals of KS with respect to that component's parameter match finite differences for a
-static and a dynamic case; the README's embedding snippets run as written."""
+static and a dynamic case; the tutorial's embedding snippets run as written."""
 
 import re
 from pathlib import Path
@@ -139,24 +139,24 @@ def test_standalone_structure_with_loads_component():
     assert "s.point_force" not in prob.model.get_io_metadata(iotypes="input", return_rel_names=False)
 
 
-def _readme_block(title):
-    text = Path(__file__).resolve().parents[1].joinpath("README.md").read_text(encoding="utf-8")
+def _tutorial_block(title):
+    text = Path(__file__).resolve().parents[1].joinpath("docs", "tutorial.md").read_text(encoding="utf-8")
     section = text.split(f"## {title}", 1)[1]
     return re.search(r"```python\n(.*?)```", section, re.S).group(1)
 
 
-def test_readme_embedding_snippet_runs():
-    code = _readme_block("Embedding")
+def test_tutorial_embedding_snippet_runs():
+    code = _tutorial_block("5. Embedding the group in your own model")
     scope = {}
-    exec(compile(code, "README.md (Embedding)", "exec"), scope)
+    exec(compile(code, "docs/tutorial.md (Embedding)", "exec"), scope)
     assert scope["totals"][("cases.pullup.ks_vm", "lift.scale")].shape == (1, 1)
 
 
 @pytest.mark.slow
-def test_readme_groups_snippet_runs():
-    code = _readme_block("Using the groups in your own model")
+def test_tutorial_groups_snippet_runs():
+    code = _tutorial_block("4. The same sizing from Python")
     scope = {}
-    exec(compile(code, "README.md (groups)", "exec"), scope)
+    exec(compile(code, "docs/tutorial.md (sizing from Python)", "exec"), scope)
     assert 300.0 < scope["result"]["mass_kg"] < 400.0
 
 

@@ -268,7 +268,7 @@ def test_params_at_packs_once_and_returns_fresh_arrays():
     lay = layout(prob.system.param_specs)
     for V in (40.0, 150.0, 240.0):
         p, q = prob.params_at(V)
-        p_full, q_full, _ = prob._pack_at(V)
+        p_full, q_full, *_ = prob._pack_at(V)
         assert np.array_equal(p, p_full) and np.array_equal(q, q_full)
         assert p[lay["airspeed"]][0] == V and p[lay["mach"]][0] == pytest.approx(prob.mach_at(V))
         p[:] = np.nan

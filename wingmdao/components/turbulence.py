@@ -23,6 +23,7 @@ import numpy as np
 import openmdao.api as om
 
 from wingmdao.aero.system import cached_aeroelastic_system
+from wingmdao.beam.residual import StrainRateDamping
 from wingmdao.loads.atmosphere import G0
 from wingmdao.section.box import WALL_NAMES
 from wingmdao.stability.frequency import frequency_grid, linear_gust_model, pencil_eigenvalues
@@ -40,19 +41,19 @@ class TurbulenceStressKS(om.ExplicitComponent):
         self.options.declare("num_nodes", types=int, lower=2, desc="number of beam nodes (root first)")
         self.options.declare("plunge", default=True, types=bool, desc="aircraft free in plunge (input body_mass)")
         self.options.declare("airspeed", types=float, desc="true airspeed V (m/s): gust phases, spectrum, aerodynamics")
-        self.options.declare("x_stations", desc="(n,) m: body x where each station meets the gust (leading edge)")
-        self.options.declare("width", desc="(n,) m: box outer width of each station")
-        self.options.declare("height", desc="(n,) m: box outer height of each station")
-        self.options.declare("section_to_csn", default=None, allow_none=True,
+        self.options.declare("x_stations", types=np.ndarray, desc="(n,) m: body x where each station meets the gust (leading edge)")
+        self.options.declare("width", types=np.ndarray, desc="(n,) m: box outer width of each station")
+        self.options.declare("height", types=np.ndarray, desc="(n,) m: box outer height of each station")
+        self.options.declare("section_to_csn", default=None, allow_none=True, types=np.ndarray,
                              desc="(n, 3, 3) rotation from the section axes to csn (None: identity)")
         self.options.declare("u_sigma", types=float, desc="limit turbulence intensity U_sigma (m/s TAS)")
         self.options.declare("sigma_allow", types=float, desc="allowable axial stress (Pa)")
         self.options.declare("rho_ks", default=50.0, types=float, desc="KS aggregation parameter")
         self.options.declare("gravity", default=G0, types=float, desc="gravitational acceleration (m/s**2)")
-        self.options.declare("damping", default=None, allow_none=True,
+        self.options.declare("damping", default=None, allow_none=True, types=StrainRateDamping,
                              desc="structural damping of the beam (wingmdao.beam.residual.StrainRateDamping); None: "
                                   "undamped (a mode strip theory leaves undamped then makes the KS very nonlinear)")
-        self.options.declare("frequencies", default=None, allow_none=True,
+        self.options.declare("frequencies", default=None, allow_none=True, types=np.ndarray,
                              desc="fixed grid (rad/s, odd count); None: refined at the modes of the first evaluation")
         self.options.declare("f_max", default=20.0, types=float, desc="highest frequency of the automatic grid (Hz)")
         self.options.declare("n_base", default=161, types=int, desc="geometric points of the automatic grid")
