@@ -63,3 +63,16 @@ def test_progress_of_long_marches(monkeypatch, capsys):
         cb(k, 0.01 * k, None)
     lines = capsys.readouterr().err.strip().splitlines()
     assert len(lines) == 10 and lines[-1].startswith("  gust: step 100/100")
+
+
+def test_progress_steps_switch_that_is_not_an_integer_is_refused(monkeypatch):
+    """A bad WINGMDAO_PROGRESS_STEPS is an error naming the switch, not a silent default."""
+    import pytest
+
+    from wingmdao.limits import march_progress
+
+    monkeypatch.setenv("WINGMDAO_PROGRESS_STEPS", "lots")
+    with pytest.raises(ValueError, match=r"WINGMDAO_PROGRESS_STEPS = 'lots'; allowed an integer"):
+        march_progress(5000)
+    monkeypatch.setenv("WINGMDAO_PROGRESS_STEPS", "10")
+    assert march_progress(5000) is not None and march_progress(5) is None

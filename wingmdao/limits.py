@@ -148,10 +148,12 @@ def check_memory(load_cases, num_nodes: int, available: float | None = None) -> 
 def march_progress(n_time: int, label: str = "march"):
     """A ``callback(step, t, x)`` printing progress every 10 % for marches of
     ``WINGMDAO_PROGRESS_STEPS`` (default 2000) steps or more; None for shorter ones."""
+    raw = os.environ.get("WINGMDAO_PROGRESS_STEPS", str(PROGRESS_STEPS))
     try:
-        threshold = int(os.environ.get("WINGMDAO_PROGRESS_STEPS", PROGRESS_STEPS))
+        threshold = int(raw)
     except ValueError:
-        threshold = PROGRESS_STEPS
+        raise ValueError(f"WINGMDAO_PROGRESS_STEPS = {raw!r}; allowed an integer number of time steps "
+                         f"(default {PROGRESS_STEPS})") from None
     if n_time < max(threshold, 2):
         return None
     t0 = time.perf_counter()
