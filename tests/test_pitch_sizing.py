@@ -60,3 +60,22 @@ def test_pegasus_pitch_case_matches_gust_command_and_totals(tmp_path):
         assert np.abs(d["J_fd"]).max() > 0, key
         err = np.abs(J - d["J_fd"]).max() / np.abs(d["J_fd"]).max()
         assert err < 1e-5, (key, err)
+
+
+def test_default_downwash_follows_the_aero_theory(tmp_path):
+    """deps/dalpha = 2 a_w / (pi AR) takes a_w of the chosen --aero-theory: with the vortex lattice
+    the sizing case's downwash equals the one ``wingmdao gust --aero-theory vlm`` reports (a second
+    implementation, through the gust response), and it is below strip theory's by the ratio of the
+    wing slopes (the 3-D lift loss: PEGASUS a_w 5.5 against 7.2 /rad)."""
+    from wingmdao.cli import main
+
+    deps = {}
+    for theory in ("strip", "vlm"):
+        setup = pegasus.build(loads="gust", aero="coupled", plunge="free", aero_theory=theory, **AIRCRAFT)
+        deps[theory] = setup.load_cases[0].aero.downwash_gradient
+    assert 0.65 < deps["vlm"] / deps["strip"] < 0.85
+    out = tmp_path / "g.json"
+    assert main(["gust", "pegasus", "--aero", "coupled", "--plunge", "free", *FLAGS, "--aero-theory", "vlm",
+                 "--t-final", "0.2", "--dt", "0.02", "--gust-start", "0", "--no-plots", "--json", str(out)]) == 0
+    g = json.loads(out.read_text())
+    np.testing.assert_allclose(g["downwash_gradient"], deps["vlm"], rtol=1e-10)

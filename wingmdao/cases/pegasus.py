@@ -328,7 +328,7 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
     ``aircraft_mass``; clamped root otherwise. ``--pitch free`` (with free plunge): also free in pitch
     with a horizontal tail (wingmdao.aero.pitch), the gust reaching the tail x_t / V after the first
     leading edge, deps/dalpha by default 2 a_w / (pi AR)."""
-    from wingmdao.aero import station_gust_history
+    from wingmdao.aero import station_gust_history, three_dimensional_parameters
     from wingmdao.aero.coupled import CoupledAero
     from wingmdao.groups.load_case import LoadCase
     from wingmdao.loads.atmosphere import density, speed_of_sound
@@ -355,8 +355,12 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
         forcing["tail_gust_velocity"] = profile(time - (x_t - x_le.min()) / V)
         deps = opts.downwash_gradient
         if deps is None:  # Etkin & Reid (1996) / Nelson (1998): deps/dalpha = 2 a_w / (pi AR)
-            area = pf.area_ft2 * FT ** 2  # a_w: the strips' wing slope, 2 int c a / beta dy / S (as wingmdao gust)
-            a_c = 2 * np.pi / np.sqrt(1 - mach ** 2) * np.asarray(chord, dtype=float)
+            area = pf.area_ft2 * FT ** 2  # a_w: the wing slope of the --aero-theory, 2 int c a dy / S (as wingmdao gust)
+            theory = three_dimensional_parameters(opts.aero_theory, geometry.node_positions, chord, axis_frac, mach)
+            if "lift_influence" in theory:  # the lattice: lift per unit span of a unit angle at every station
+                a_c = theory["lift_influence"].sum(axis=1)
+            else:  # strips (2 pi) or the lifting line's slopes, with Prandtl-Glauert
+                a_c = (theory.get("lift_slope", 2 * np.pi) / np.sqrt(1 - mach ** 2)) * np.asarray(chord, dtype=float)
             ds = np.linalg.norm(np.diff(geometry.node_positions, axis=0), axis=1)
             a_w = 2 * np.sum(0.5 * (a_c[1:] + a_c[:-1]) * ds) / area
             deps = 2 * a_w / (np.pi * (2 * pf.semi_span) ** 2 / area)
