@@ -488,3 +488,18 @@ def test_strain_rate_damping_passes_to_every_beam():
     np.testing.assert_allclose(lam[1], lam[0], rtol=1e-7)
     zeta = -lam[0][0].real / abs(lam[0][0])
     assert 0.005 < zeta < 0.05          # damped
+
+
+def test_natural_frequencies_of_a_joined_system_equal_the_single_beam():
+    """``beam.modes.natural_frequencies`` on a joined system: the joint rows' spurious (infinite)
+    eigenvalues are dropped before the oscillatory ones are picked, so the lowest frequencies are
+    the single beam's and the first is Euler-Bernoulli's flap frequency."""
+    from wingmdao.beam.modes import natural_frequencies
+
+    n, k, L = 13, 5, 10.0
+    single, joined = _split_cantilever(n, k, L, **SECTION)
+    f_joined = natural_frequencies(joined.system, joined.p, joined.forcing(), joined.system.jig_state(joined.p), count=4)
+    f_single = natural_frequencies(single.system, single.p, np.zeros(single.system.n_forcing), single.jig(), count=4)
+    np.testing.assert_allclose(f_joined, f_single, rtol=1e-6)
+    flap = 1.8751**2 * np.sqrt(SECTION["EI_cc"] / (SECTION["mass_per_length"] * L**4)) / (2 * np.pi)
+    assert f_joined[0] == pytest.approx(flap, rel=5e-3)
