@@ -139,6 +139,20 @@ class CaseArguments:
 AERO_THEORY_CHOICES = ("strip", "lifting-line", "vlm")
 
 
+def add_aero_and_plunge_arguments(parser, strip_help: str) -> None:
+    """``--aero strip|coupled`` (``strip_help``: what the strip choice runs) and the exclusive pair
+    ``--plunge [free|clamped]`` / ``--clamped``, one spelling on ``gust`` and ``turbulence``."""
+    parser.add_argument("--aero", choices=("strip", "coupled"), default="coupled",
+                        help="aerodynamics: coupled (unsteady strip theory on the deforming beam, default) or strip "
+                             f"({strip_help})")
+    g = parser.add_mutually_exclusive_group()
+    g.add_argument("--plunge", dest="plunge", nargs="?", const="free", choices=("free", "clamped"), default=None,
+                   help="free (aircraft free in plunge; default with --aero coupled; '--plunge' alone = free) or "
+                        "clamped (root clamped; the only choice with --aero strip)")
+    g.add_argument("--clamped", dest="plunge", action="store_const", const="clamped",
+                   help="root clamped (wind-tunnel wing): the same as --plunge clamped")
+
+
 def add_aero_theory_argument(parser, default: str = "strip") -> None:
     """``--aero-theory strip|lifting-line|vlm``: the quasi-steady lift of the coupled aeroelastic
     model (:data:`wingmdao.aero.coupled.AERO_THEORY_CHOICES`, docs/aerodynamics-3d.md)."""

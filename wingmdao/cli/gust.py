@@ -31,7 +31,8 @@ import time as _time
 
 import numpy as np
 from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, warn, write_json
-from wingmdao.cli._args import add_aero_theory_argument, add_deprecated_alias, add_output_arguments
+from wingmdao.cli._args import (add_aero_and_plunge_arguments, add_aero_theory_argument, add_deprecated_alias,
+                                add_output_arguments)
 
 CASES = ("pegasus", "crm")
 #: --stiffness-scale range (a rigid wing is approached well before 1e6)
@@ -47,16 +48,8 @@ def register(subparsers):
         "theory on the deforming wing, free plunge or clamped, from the trimmed 1 g level flight) or with the "
         "sizing's precomputed strip-theory loads on the clamped beam (--aero strip). SI output.")
     p.add_argument("case", choices=CASES, metavar="CASE", help="case: " + ", ".join(CASES))
-    p.add_argument("--aero", choices=("strip", "coupled"), default="coupled",
-                   help="aerodynamics: coupled (unsteady strip theory on the deforming beam, default) or strip "
-                        "(the sizing's precomputed rigid-wing strip-theory gust loads on the structural beam, "
-                        "clamped root; as 'wingmdao size CASE --aero strip')")
-    g = p.add_mutually_exclusive_group()
-    g.add_argument("--plunge", dest="plunge", nargs="?", const="free", choices=("free", "clamped"), default=None,
-                   help="free (aircraft free in plunge; default with --aero coupled; '--plunge' alone = free) or "
-                        "clamped (root clamped; the only choice with --aero strip)")
-    g.add_argument("--clamped", dest="plunge", action="store_const", const="clamped",
-                   help="root clamped (wind-tunnel wing): the same as --plunge clamped")
+    add_aero_and_plunge_arguments(p, "the sizing's precomputed rigid-wing strip-theory gust loads on the structural "
+                                     "beam, clamped root; as 'wingmdao size CASE --aero strip'")
     p.add_argument("--pitch", dest="pitch", nargs="?", const="free", choices=("free", "fixed"), default="fixed",
                    help="free (aircraft also free in pitch with a horizontal tail; needs --aero coupled, free plunge and "
                         "--pitch-inertia, --cg-x, --tail-arm, --tail-area, --tail-lift-slope; '--pitch' alone = free) "

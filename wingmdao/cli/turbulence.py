@@ -28,7 +28,7 @@ import numpy as np
 
 from wingmdao.cases import available_cases
 from wingmdao.cases.planform import G0, LB, wing_geometry
-from wingmdao.cli._args import add_output_arguments
+from wingmdao.cli._args import add_aero_and_plunge_arguments, add_output_arguments
 from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, write_json
 from wingmdao.cli.gust import _beam_parameters
 from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
@@ -50,15 +50,7 @@ def register(subparsers):
         "its 1 g level flight to a unit vertical gust (penetration phase per station), von Karman spectrum "
         "(L = 2,500 ft), A-bar, design loads P_1g +/- U_sigma A-bar and (bending, torsion) correlations. SI output.")
     p.add_argument("case", choices=CASES, metavar="CASE", help="case: " + ", ".join(CASES))
-    p.add_argument("--aero", choices=("strip", "coupled"), default="coupled",
-                   help="aerodynamics: coupled (unsteady strip theory on the deforming beam, default) or strip "
-                        "(quasi-steady strip-theory gust lift on the clamped structural beam)")
-    g = p.add_mutually_exclusive_group()
-    g.add_argument("--plunge", dest="plunge", nargs="?", const="free", choices=("free", "clamped"), default=None,
-                   help="free (aircraft free in plunge; default with --aero coupled; '--plunge' alone = free) or "
-                        "clamped (root clamped; the only choice with --aero strip)")
-    g.add_argument("--clamped", dest="plunge", action="store_const", const="clamped",
-                   help="root clamped (wind-tunnel wing): the same as --plunge clamped")
+    add_aero_and_plunge_arguments(p, "quasi-steady strip-theory gust lift on the clamped structural beam")
     p.add_argument("--design", metavar="RESULT.json", default=None,
                    help="thicknesses from a sizing result (its 'thickness' per station); default: the initial design")
     p.add_argument("--altitude-ft", type=float, metavar="FT", default=None,
