@@ -8,14 +8,20 @@ import os
 SIZE_VARS = ("OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "MPI_LOCALNRANKS")
 
 
-def launched_ranks() -> int:
-    """Number of ranks the MPI launcher reports in the environment (1 when not under mpirun)."""
-    for var in SIZE_VARS:
+def _first_int(names, floor: int) -> int:
+    """The first of the environment variables ``names`` that holds an integer (at least ``floor``);
+    ``floor`` when none does."""
+    for var in names:
         try:
-            return max(1, int(os.environ[var]))
+            return max(floor, int(os.environ[var]))
         except (KeyError, ValueError):
             continue
-    return 1
+    return floor
+
+
+def launched_ranks() -> int:
+    """Number of ranks the MPI launcher reports in the environment (1 when not under mpirun)."""
+    return _first_int(SIZE_VARS, 1)
 
 
 #: Environment variables in which OpenMPI, MPICH/Hydra and PMIx launchers give this process's rank.
@@ -24,12 +30,7 @@ RANK_VARS = ("OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK")
 
 def launched_rank() -> int:
     """This process's rank as the MPI launcher reports it in the environment (0 when not under mpirun)."""
-    for var in RANK_VARS:
-        try:
-            return max(0, int(os.environ[var]))
-        except (KeyError, ValueError):
-            continue
-    return 0
+    return _first_int(RANK_VARS, 0)
 
 
 def is_output_rank() -> bool:
