@@ -11,6 +11,11 @@ import os
 
 os.environ.setdefault("WINGMDAO_JIT", "0")
 
+from wingmdao.utils.threads import single_blas_thread_default  # noqa: E402
+
+# one BLAS thread per pytest-xdist worker, as the command line runs (wingmdao.utils.threads)
+single_blas_thread_default()
+
 
 import pytest  # noqa: E402
 

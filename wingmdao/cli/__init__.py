@@ -16,11 +16,15 @@ import re
 import sys
 import warnings
 
-from wingmdao import __version__
-from wingmdao.cli._io import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_USAGE, jsonable as _jsonable  # noqa: F401
-from wingmdao.cli._io import ResultWriteError, check_json_option, stdout_to_stderr, warn
-from wingmdao.utils.mpi_env import is_output_rank
-from wingmdao.cli._io import write_json  # noqa: F401  (write_json: public API)
+from wingmdao.utils.threads import single_blas_thread_default
+
+single_blas_thread_default()    # one BLAS thread unless the user chose: before NumPy loads (cli._io imports it)
+
+from wingmdao import __version__  # noqa: E402
+from wingmdao.cli._io import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_USAGE, jsonable as _jsonable  # noqa: E402,F401
+from wingmdao.cli._io import ResultWriteError, check_json_option, stdout_to_stderr, warn  # noqa: E402
+from wingmdao.utils.mpi_env import is_output_rank  # noqa: E402
+from wingmdao.cli._io import write_json  # noqa: E402,F401  (write_json: public API)
 
 
 class DefaultsHelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
