@@ -44,7 +44,7 @@ def read_fixed_bulk(text):
     lines = text.splitlines()
     start = lines.index("BEGIN BULK") + 1
     assert lines[-1] == "ENDDATA"
-    cards, continued = {}, False
+    cards, continued, current = {}, False, None
     for line in lines[start:-1]:
         assert len(line) <= 80, line
         if line.startswith("$"):
