@@ -359,7 +359,8 @@ def test_deck_natural_frequencies_equal_the_beams(model):
         K[np.ix_(idx, idx)] += T.T @ _beam_element_stiffness(E, G, area, i1, i2, j, k1, k2, L) @ T
     for c in cards["CONM2"]:
         m, d = num(c[3]), np.array([num(v) for v in c[4:7]])
-        i11, i21, i22, i31, i32, i33 = (num(v) for v in c[7:13])
+        assert c[7] == ""         # field 9 blank: the inertia starts on the continuation
+        i11, i21, i22, i31, i32, i33 = (num(v) for v in c[8:14])
         J = np.array([[i11, -i21, -i31], [-i21, i22, -i32], [-i31, -i32, i33]])
         D = np.array([[0, -d[2], d[1]], [d[2], 0, -d[0]], [-d[1], d[0], 0]])
         rigid = np.block([[m * np.eye(3), -m * D], [m * D, J + m * D.T @ D]])

@@ -293,7 +293,7 @@ def beam_cards(params, material) -> list[str]:
         lines += card_lines("CBEAM", [i + 1, pid, GRID_ID0 + i, GRID_ID0 + i + 1, *map(float, s["v"]), "GGG",
                                       None, None, *w, *w])
     for j, (k, m, x, J) in enumerate(lumped_masses(params)):
-        lines += card_lines("CONM2", [CONM2_ID0 + j, GRID_ID0 + k, 0, float(m), *map(float, x),
+        lines += card_lines("CONM2", [CONM2_ID0 + j, GRID_ID0 + k, 0, float(m), *map(float, x), None,
                                       float(J[0, 0]), float(-J[1, 0]), float(J[1, 1]), float(-J[2, 0]),
                                       float(-J[2, 1]), float(J[2, 2])])
     lines += card_lines("SPC1", [SPC_ID, 123456, GRID_ID0])
