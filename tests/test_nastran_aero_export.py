@@ -327,7 +327,7 @@ def test_deck_natural_frequencies_equal_the_beams(model):
     8.23, 24.1 Hz on the beam) within 1.5 % (measured -0.2, -0.2, -1.1, -1.0 %). Left out of the
     frame FE: the shear-centre / neutral-axis offsets; of the lumped masses: each element's spanwise
     rotary inertia m ds^2 / 12. Without K1, K2 (shear-rigid elements) the fourth, chordwise bending
-    of the 1.2 m wide box, is 7 % high: the shear factors carry the beam's shear flexibility."""
+    of the 1.26-1.28 m wide box, is 7 % high: the shear factors carry the beam's shear flexibility."""
     from scipy.linalg import eigh
 
     from wingmdao.beam.modes import natural_frequencies
