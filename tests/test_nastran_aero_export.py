@@ -374,3 +374,48 @@ def test_deck_natural_frequencies_equal_the_beams(model):
     f = natural_frequencies(beam.system, beam.p, pack(forcing_specs(beam.num_nodes), beam_forcing(beam.num_nodes)),
                             count=4)
     assert deck == pytest.approx(f, rel=0.015)
+
+
+def test_design_walls_reach_the_deck(tmp_path):
+    """`--design RESULT.json`: the deck's stiffness and mass are those of the design's walls
+    (tapered, unequal skins and spars: the product of inertia is not zero)."""
+    import json
+
+    walls = {"upper_skin": np.linspace(0.008, 0.002, 20), "lower_skin": np.linspace(0.007, 0.002, 20),
+             "front_spar": np.full(20, 0.006), "rear_spar": np.full(20, 0.003)}
+    design = tmp_path / "design.json"
+    design.write_text(json.dumps({"case": "pegasus", "thickness": {k: v.tolist() for k, v in walls.items()}}))
+    path = tmp_path / "d.bdf"
+    assert main(["export", "pegasus", "--format", "nastran-aeroelastic", "--design", str(design), str(path)]) == 0
+    cards = read_fixed_bulk(path.read_text())
+    geo = pegasus_setup(default_walls(20), 1.0)[0]
+    E = num(cards["MAT1"][0][1])
+    for i in (0, 9, 18):
+        sec = [box_properties(geo.width[k], geo.height[k], *(walls[w][k] for w in
+                              ("upper_skin", "lower_skin", "front_spar", "rear_spar")), ALUMINIUM) for k in (i, i + 1)]
+        pb = next(c for c in cards["PBEAM"] if int(c[0]) == i + 1)
+        assert E * num(pb[3]) == pytest.approx(2 / (1 / sec[0]["EIxx"] + 1 / sec[1]["EIxx"]), rel=1e-4)
+        # unequal skins and spars put the centroid off both box axes: I12 = int(n c) dA = Ixz, not zero
+        assert num(pb[5]) == pytest.approx(0.5 * (sec[0]["Ixz"] + sec[1]["Ixz"]), rel=0.1)
+    ds = np.linalg.norm(np.diff(geo.node_positions, axis=0), axis=1)
+    rho_a = np.array([ALUMINIUM.rho * box_properties(geo.width[k], geo.height[k],
+                                                     *(walls[w][k] for w in ("upper_skin", "lower_skin", "front_spar",
+                                                                             "rear_spar")), ALUMINIUM)["A"]
+                      for k in range(20)])
+    mass = sum(num(c[3]) for c in cards["CONM2"])
+    assert mass == pytest.approx(np.sum(ds * 0.5 * (rho_a[:-1] + rho_a[1:])) + 750.0, rel=2e-5)
+
+
+def test_cards_loads_kernel_reads_have_fixed_line_counts(model):
+    """Loads Kernel's reader takes GRID as one line, CORD2R and CAERO1 as two, and a SET1 as long
+    as field 10 of a line equals field 1 of the next: the deck's lines satisfy exactly that."""
+    text = nastran_aeroelastic_deck(default_walls(20), sol=146)
+    lines = [line for line in text.split("BEGIN BULK\n")[1].splitlines() if not line.startswith("$")]
+    expected = {"GRID": 1, "CORD2R": 2, "CAERO1": 2}
+    for k, line in enumerate(lines):
+        name = line[:8].strip()
+        if name in expected:
+            block = lines[k:k + expected[name] + 1]
+            assert all(f"{b:<80}"[72:80].strip() == "+" for b in block[:expected[name] - 1])
+            last = f"{block[expected[name] - 1]:<80}"[72:80].strip()
+            assert last == "" and block[expected[name]][:8].strip() != last
