@@ -419,3 +419,14 @@ def test_cards_loads_kernel_reads_have_fixed_line_counts(model):
             assert all(f"{b:<80}"[72:80].strip() == "+" for b in block[:expected[name] - 1])
             last = f"{block[expected[name] - 1]:<80}"[72:80].strip()
             assert last == "" and block[expected[name]][:8].strip() != last
+
+
+def test_bending_torsion_coupled_section_is_refused():
+    """PBEAM has no field for a bending-torsion coupling (E_cs): a one-line error, no deck."""
+    p = beam_parameters(np.array([[0.0, 0, 0], [0, 1, 0], [0, 2, 0]]), np.zeros(3), EI_cc=1e6, GJ=1e6, EI_nn=1e7,
+                        EA=1e9, mass_per_length=1.0)
+    p["stiffness_csn"][:, 0, 1] = p["stiffness_csn"][:, 1, 0] = 2e5
+    panel = LiftingPanel((-0.5, 0.0, 0.0), 1.0, (-0.5, 2.0, 0.0), 1.0, 2, 2, (0, 1, 2))
+    flight = FlightData(1.0, 4.0, 2.0, 0.5, 150.0, 0.5, 0.6, 0.5, (100.0,), 0.5, 5000.0)
+    with pytest.raises(ValueError, match="bending-torsion coupling"):
+        aeroelastic_deck(p, ALUMINIUM, [panel], flight)
