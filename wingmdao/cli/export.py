@@ -1,5 +1,7 @@
 """``wingmdao export wing-box|pegasus``: write the (sized) wing box as a CalculiX, Abaqus or Nastran deck
-(beam stick model or shell model), see :mod:`wingmdao.fe.export`."""
+(beam stick model or shell model), see :mod:`wingmdao.fe.export`; ``export pegasus --format
+nastran-aeroelastic``: the beam with its masses, lifting surface, splines and the SOL 144/145/146
+cards, see :mod:`wingmdao.fe.nastran_aero`."""
 
 from __future__ import annotations
 
