@@ -11,8 +11,9 @@ from wingmdao.beam.static import march_line_loads
 from wingmdao.cases import pegasus as case
 from wingmdao.cases.planform import FT, G0, LB, wing_geometry
 from wingmdao.fe.box_model import BoxSections
+from wingmdao.fe.nastran_aero import FlightData, LiftingPanel, aeroelastic_deck
 from wingmdao.fe.wing_loads import lumped_line_loads, point_weights
-from wingmdao.loads.atmosphere import altitude_ft_to_m, mach_to_tas
+from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
 from wingmdao.loads.gust import gust_line_loads
 from wingmdao.loads.maneuver import maneuver_line_loads
 from wingmdao.materials import ALUMINIUM
@@ -127,3 +128,52 @@ def pegasus_setup(walls, load_factor, material=ALUMINIUM):
                                semi_span=pf.semi_span, fuselage_half_width=pf.root_rib * pf.semi_span)
     params, structural = beam_params(geo, walls, material)
     return geo, sec, line, params, structural, walls
+
+
+def aeroelastic_model(walls, *, spanwise_boxes=20, chordwise_boxes=8, material=ALUMINIUM):
+    """The PEGASUS wing of ``walls`` for :func:`wingmdao.fe.nastran_aero.aeroelastic_deck`:
+    (beam params, lifting panels, flight data).
+
+    Beam: :func:`pegasus_setup` (the 20 box sections, engines smeared as non-structural mass).
+    Panels: the Table D.3 trapezoid from the symmetry plane to the semi-span, split at the root rib
+    (station 1) so that each panel lies over one straight beam segment: stations 0-1 (the centre
+    box) and 1-19; ``spanwise_boxes`` shared between them by span, ``chordwise_boxes`` each.
+    Flight: SOL 146 at the case's gust point (``GUST``: 25,000 ft, Mach 0.5), SOL 145 at the
+    flutter point (:func:`wingmdao.cases.pegasus.flight_point`: 20,000 ft, velocities 0.5-1.3
+    V_D, Mach M_D), SOL 144 at the maneuver point (20,000 ft, Mach 0.5, alpha 1 deg); reference
+    chord S / b."""
+    for name, value, low in (("--spanwise-boxes", spanwise_boxes, 2), ("--chordwise-boxes", chordwise_boxes, 1)):
+        if not (isinstance(value, (int, np.integer)) and low <= value <= 500):
+            raise ValueError(f"{name} = {value}; allowed range {low}..500")
+    geo, _, _, params, _, _ = pegasus_setup(walls, 1.0, material)
+    pf = case.PLANFORM
+    semi, y1 = pf.semi_span, float(geo.span_coordinate[1])
+    dihedral = np.tan(np.radians(pf.dihedral_deg))
+    n_in = min(max(1, int(round(spanwise_boxes * y1 / semi))), spanwise_boxes - 1)
+    panels = []
+    for (ya, yb), nspan, nodes in (((0.0, y1), n_in, (0, 1)),
+                                   ((y1, semi), spanwise_boxes - n_in, tuple(range(1, geo.num_nodes)))):
+        panels.append(LiftingPanel(root_le=(float(pf.leading_edge_x(ya)), ya, dihedral * ya),
+                                   root_chord=float(pf.chord(ya)),
+                                   tip_le=(float(pf.leading_edge_x(yb)), yb, dihedral * yb),
+                                   tip_chord=float(pf.chord(yb)), nspan=nspan, nchord=chordwise_boxes, nodes=nodes))
+    fp = case.flight_point()
+    h_gust = float(altitude_ft_to_m(case.GUST["altitude_ft"]))
+    h_man = float(altitude_ft_to_m(case.MANEUVER_ALTITUDE_FT))
+    v_gust = float(mach_to_tas(case.GUST["mach"], h_gust))
+    v_man = float(mach_to_tas(case.MANEUVER_MACH, h_man))
+    area, span = pf.area_ft2 * FT**2, pf.span_ft * FT
+    flight = FlightData(reference_chord=area / span, full_span=span, half_area=area / 2,
+                        gust_mach=case.GUST["mach"], gust_velocity=v_gust, gust_density=float(density(h_gust)),
+                        flutter_density=fp["density"], flutter_mach=fp["dive_speed"] / fp["speed_of_sound"],
+                        flutter_velocities=tuple(np.linspace(0.5, 1.3, 17) * fp["dive_speed"]),
+                        trim_mach=case.MANEUVER_MACH, trim_dynamic_pressure=0.5 * float(density(h_man)) * v_man**2)
+    return params, panels, flight
+
+
+def nastran_aeroelastic_deck(walls, *, sol=146, modes=10, spanwise_boxes=20, chordwise_boxes=8) -> str:
+    """The Nastran aeroelastic deck (:mod:`wingmdao.fe.nastran_aero`) of the PEGASUS wing of
+    ``walls`` (:func:`aeroelastic_model`), executive and case control of SOL ``sol``."""
+    params, panels, flight = aeroelastic_model(walls, spanwise_boxes=spanwise_boxes, chordwise_boxes=chordwise_boxes)
+    return aeroelastic_deck(params, ALUMINIUM, panels, flight, sol=sol, modes=modes,
+                            title="wingmdao PEGASUS wing, aeroelastic beam model")

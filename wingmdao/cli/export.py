@@ -1,10 +1,17 @@
 """``wingmdao export wing-box|pegasus``: write the (sized) wing box as a CalculiX, Abaqus or Nastran deck
-(beam stick model or shell model), see :mod:`wingmdao.fe.export`."""
+(beam stick model or shell model), see :mod:`wingmdao.fe.export`; ``export pegasus --format
+nastran-aeroelastic``: the beam with its masses, lifting surface, splines and the SOL 144/145/146
+cards, see :mod:`wingmdao.fe.nastran_aero`."""
 
 from __future__ import annotations
 
 import numpy as np
 from wingmdao.cli._io import check_output_file
+
+#: --format of the aeroelastic Nastran deck (wingmdao.fe.nastran_aero)
+AEROELASTIC = "nastran-aeroelastic"
+#: the flags only the aeroelastic deck reads, with their defaults
+AEROELASTIC_ONLY = {"sol": 146, "modes": 10, "spanwise_boxes": 20, "chordwise_boxes": 8}
 
 
 def register(subparsers):
@@ -26,9 +33,23 @@ def register(subparsers):
     pg = cases.add_parser("pegasus", help="PEGASUS wing at n g (4/4/5/4 mm walls, or --design)")
     pg.add_argument("--design", default=None, metavar="RESULT.json",
                     help="wall thicknesses from a 'wingmdao size pegasus' result (20 stations)")
-    pg.add_argument("--format", choices=("calculix", "nastran", "abaqus"), required=True, help="deck format")
+    pg.add_argument("--format", choices=("calculix", "nastran", "abaqus", AEROELASTIC), required=True,
+                    help="deck format; nastran-aeroelastic: the beam with its masses, doublet-lattice panels, "
+                    "beam splines and the flutter / gust / trim cards (docs/nastran-export.md)")
     pg.add_argument("--fidelity", choices=("beam", "shell"), default="beam",
-                    help="beam stick model (one element per station interval) or shell model of the walls")
+                    help="beam stick model (one element per station interval) or shell model of the walls "
+                    "(nastran-aeroelastic: beam only)")
+    aero = pg.add_argument_group("nastran-aeroelastic")
+    aero.add_argument("--sol", type=int, choices=(144, 145, 146), default=None,
+                      help="executive and case control: 144 static aeroelastic trim, 145 flutter (PK), "
+                      "146 continuous-turbulence frequency response (default 146)")
+    aero.add_argument("--modes", type=int, default=None, metavar="N",
+                      help="modes of EIGRL and FLUTTER, 1..200 (default 10)")
+    aero.add_argument("--spanwise-boxes", type=int, default=None, metavar="N",
+                      help="CAERO1 boxes along the semi-span, shared by the centre-box and outer panels, 2..500 "
+                      "(default 20)")
+    aero.add_argument("--chordwise-boxes", type=int, default=None, metavar="N",
+                      help="CAERO1 boxes along the chord, 1..500 (default 8)")
     pg.add_argument("--load-factor", type=float, default=1.0, metavar="N",
                     help="load factor of the symmetric maneuver (lift n W and n g weight as nodal loads)")
     pg.add_argument("--no-ribs", action="store_true", help="shell: no ribs (default: ribs at the 19 rib stations)")
@@ -92,8 +113,37 @@ def run_export_pegasus(args) -> int:
     from wingmdao.fe.export import write_atomic
 
     check_output_file(args.file, "FILE", overwrite=args.overwrite)
+    if args.format == AEROELASTIC:
+        return run_export_aeroelastic(args)
+    for name in AEROELASTIC_ONLY:
+        if getattr(args, name) is not None:
+            raise ValueError(f"--{name.replace('_', '-')} is read by --format {AEROELASTIC} only; drop it "
+                             f"with --format {args.format}")
     text = pegasus_deck(args.design, args.format, args.fidelity, args.load_factor, not args.no_ribs,
                         args.rib_thickness)
     write_atomic(text, args.file)
     print(f"wingmdao export: wrote pegasus {args.fidelity} model ({args.format}) to {args.file}", file=sys.stderr)
+    return 0
+
+
+def run_export_aeroelastic(args) -> int:
+    """``export pegasus --format nastran-aeroelastic``: the deck of :mod:`wingmdao.fe.nastran_aero`."""
+    import sys
+
+    from wingmdao.cases.pegasus_verification import nastran_aeroelastic_deck
+    from wingmdao.cli._verify_pegasus import pegasus_walls
+    from wingmdao.fe.export import write_atomic
+
+    if args.fidelity != "beam":
+        raise ValueError(f"--fidelity {args.fidelity}: --format {AEROELASTIC} writes the beam model; "
+                         "drop --fidelity or give --fidelity beam")
+    if args.load_factor != 1.0:
+        raise ValueError(f"--load-factor = {args.load_factor:g}: --format {AEROELASTIC} writes no static loads "
+                         "(its SOL 144 trims the wing itself); drop --load-factor")
+    opts = {name: default if getattr(args, name) is None else getattr(args, name)
+            for name, default in AEROELASTIC_ONLY.items()}
+    text = nastran_aeroelastic_deck(pegasus_walls(args.design), **opts)
+    write_atomic(text, args.file)
+    print(f"wingmdao export: wrote pegasus aeroelastic beam model (Nastran SOL {opts['sol']}) to {args.file}",
+          file=sys.stderr)
     return 0
