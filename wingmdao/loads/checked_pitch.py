@@ -32,10 +32,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from wingmdao.aero.pitch import check_pitch_inputs
+from wingmdao.aero.system import cached_aeroelastic_system
 from wingmdao.loads.atmosphere import G0
 from wingmdao.stability.eigen import eigenmodes
 from wingmdao.timemarch.bdf import march, solve_static
-from wingmdao.timemarch.system import layout
+from wingmdao.timemarch.system import layout, pack
 
 #: 14 CFR 25.331(c)(2) (Amdt. 25-141, 2014), the paragraphs this module implements, as written
 #: (the formula for the minimum omega, a graphic in the Federal Register, in words)
@@ -141,6 +143,21 @@ def maneuver_duration(omega, hold=0.0) -> float:
     return float(1.5 * np.pi / omega + hold)
 
 
+def maneuver_model(beam_params, aero_params, pitch_params, *, weight, elevator_effectiveness,
+                   elevator_time_constant, tail_lag=False):
+    """(system, packed parameters) of the airplane free in plunge and pitch with an elevator:
+    ``beam_params`` (:func:`wingmdao.sizing.design_beam_params`), ``aero_params``
+    (:func:`wingmdao.aero.aero_parameters`), ``pitch_params`` (:func:`wingmdao.aero.pitch.pitch_parameters`),
+    ``weight`` N (the trim lift), tau_e and the actuator's time constant (s) checked first."""
+    check_pitch_inputs(elevator_effectiveness=elevator_effectiveness, elevator_time_constant=elevator_time_constant)
+    n = np.asarray(aero_params["chord"]).size
+    system = cached_aeroelastic_system(n, plunge=True, trim=True, pitch=True, tail_lag=bool(tail_lag), elevator=True)
+    params = {**beam_params, **aero_params, **pitch_params, "trim_lift": float(weight),
+              "elevator_effectiveness": float(elevator_effectiveness),
+              "elevator_time_constant": float(elevator_time_constant)}
+    return system, pack(system.param_specs, params)
+
+
 def _forcing(system, n_time, gravity):
     ql = layout(system.forcing_specs)
     Q = np.zeros((n_time, system.n_forcing))
@@ -193,7 +210,7 @@ def _peak(n, direction):
 
 
 def checked_pitch(system, p, *, weight, airspeed_eas, maneuvering_speed_eas, limit_load_factor,
-                  direction="nose-up", steps=200, rtol=0.005, delta_guess=np.radians(1.0), max_iterations=10,
+                  direction="nose-up", steps=200, rtol=0.002, delta_guess=np.radians(1.0), max_iterations=10,
                   gravity=G0) -> CheckedPitchResult:
     """The 25.331(c)(2) checked pitch maneuver of a free-pitch airplane with an elevator.
 
