@@ -65,7 +65,7 @@ def register(subparsers):
     p.add_argument("--design", metavar="RESULT.json", default=None,
                    help="thicknesses from a sizing result (its 'thickness' per station); default: the initial design")
     add_free_pitch_arguments(p, "--checked-pitch")
-    add_output_arguments(p, what="the PNG plot (CASE_checked_pitch.png)")
+    add_output_arguments(p, what="the PNG plot (CASE_checked_pitch.png; with --nose-down CASE_checked_pitch_nose_down.png)")
     p.set_defaults(func=run)
 
 
@@ -119,7 +119,7 @@ def run(args):
     t_wall = _time.perf_counter()
     _check_args(args)
     direction = "nose-down" if args.nose_down else "nose-up"
-    plot_path = _check_outputs(args, f"{args.case}_checked_pitch.png")
+    plot_path = _check_outputs(args, f"{args.case}_checked_pitch{'_nose_down' if args.nose_down else ''}.png")
     module = available_cases()[args.case]
     alt_ft = GUST["altitude_ft"] if args.altitude_ft is None else args.altitude_ft
     mach = GUST["mach"] if args.mach is None else args.mach
