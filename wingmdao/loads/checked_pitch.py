@@ -61,6 +61,8 @@ REGULATION = (
     "at entry to the maneuver. VA = the design maneuvering speed prescribed in § 25.335(c)."
 )
 
+#: the first amplitude delta_1 of the secant iteration (rad, 1 deg)
+FIRST_AMPLITUDE = float(np.radians(1.0))
 #: the maneuver's directions: the sign of the initial elevator motion (trailing edge down +)
 DIRECTIONS = {"nose-up": -1.0, "nose-down": 1.0}
 
@@ -210,7 +212,7 @@ def _peak(n, direction):
 
 
 def checked_pitch(system, p, *, weight, airspeed_eas, maneuvering_speed_eas, limit_load_factor,
-                  direction="nose-up", steps=200, rtol=0.002, delta_guess=np.radians(1.0), max_iterations=10,
+                  direction="nose-up", steps=200, rtol=0.002, delta_guess=FIRST_AMPLITUDE, max_iterations=10,
                   gravity=G0) -> CheckedPitchResult:
     """The 25.331(c)(2) checked pitch maneuver of a free-pitch airplane with an elevator.
 
