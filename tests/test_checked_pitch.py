@@ -261,3 +261,25 @@ def test_peak_root_bending_ks_totals_at_fixed_delta_1():
         scale = np.max(np.abs(ref))
         assert scale > 0
         np.testing.assert_allclose(rev[("ks.ks", name)], ref, atol=1e-6 * scale, err_msg=name)
+
+
+def test_held_command_when_the_amplitude_is_limited():
+    """25.331(c)(2)(iii): with the largest available command 0.8 of the delta_1 the sine needs, the
+    command is held at it for the Delta t that reaches the target (within 1 %), its form sin /
+    hold / sin over t_max = 3 pi / (2 omega) + Delta t; a tiny limit does not reach it within the
+    5 s the rule asks for at most, and says so (50 steps over the sine: a 5 s hold is 500 more)."""
+    s, p = _aircraft()
+    kw = dict(weight=MASS * G, airspeed_eas=V, maneuvering_speed_eas=50.0, limit_load_factor=2.5, gravity=G, steps=50)
+    free = checked_pitch(s, p, **kw)
+    r = checked_pitch(s, p, max_amplitude=0.8 * free.delta_1, **kw)
+    assert r.reached and 0 < r.hold < 5.0
+    assert r.delta_1 == pytest.approx(0.8 * free.delta_1, rel=1e-14)
+    assert abs(r.peak_load_factor - 2.5) <= 0.01 * 2.5
+    assert r.time[-1] == pytest.approx(maneuver_duration(r.omega, r.hold), rel=1e-12)
+    np.testing.assert_allclose(r.elevator_command, control_history(r.time, r.delta_1, r.omega, hold=r.hold),
+                               atol=1e-15)
+    t1 = 0.5 * np.pi / r.omega
+    held = (r.time >= t1) & (r.time <= t1 + r.hold)
+    assert held.sum() > 2 and np.all(r.elevator_command[held] == pytest.approx(-r.delta_1, rel=1e-12))
+    short = checked_pitch(s, p, max_amplitude=0.5 * free.delta_1, **kw)
+    assert not short.reached and short.hold == 5.0 and short.peak_load_factor < 2.0

@@ -13,7 +13,8 @@ JSON keys: time, elevator_deg (the actuator's deflection), elevator_command_deg,
 target_load_factor, peak_load_factor, pitch_rate_deg_s, root_bending_moment (N m, M_x at the
 symmetry plane, 1 g included), peak_root_bending_moment (N m, over the instants 25.331(c)(2)(v)
 asks for), omega_rad_s, short_period_frequency_rad_s, minimum_frequency_rad_s, delta_1_deg, t_max_s,
-iterations (delta_1_deg, peak_load_factor per march) and the inputs.
+hold_s and target_reached (25.331(c)(2)(iii) with --max-elevator-deg), iterations (delta_1_deg,
+hold_s, peak_load_factor per march) and the inputs.
 """
 
 from __future__ import annotations
@@ -52,6 +53,10 @@ def register(subparsers):
                         "omega >= pi V / (2 V_A)")
     p.add_argument("--load-factor", type=float, default=None, metavar=METAVARS["--load-factor"],
                    help="positive limit load factor, > 1 (default unset: 14 CFR 25.337(b) at the case's weight)")
+    p.add_argument("--max-elevator-deg", type=float, default=None, metavar="DEG",
+                   help="largest available elevator command (deg, > 0: control stops or pilot effort, 25.397(b)); "
+                        "when the target needs more, the command of 25.331(c)(2)(iii) holds it for up to 5 s "
+                        "(default unset: unlimited)")
     p.add_argument("--elevator-chord-ratio", type=float, default=ELEVATOR_CHORD_RATIO, metavar="E",
                    help="elevator chord / tail chord, (0, 1): the elevator effectiveness from thin-airfoil theory")
     p.add_argument("--elevator-time-constant", type=float, default=ELEVATOR_TIME_CONSTANT, metavar="S",
@@ -92,6 +97,8 @@ def _check_args(args):
         raise ValueError(f"--maneuvering-speed-eas = {va} m/s; allowed range (0, inf) m/s")
     if args.load_factor is not None and not (np.isfinite(args.load_factor) and args.load_factor > 1.0):
         raise ValueError(f"--load-factor = {args.load_factor}; allowed range (1, inf)")
+    if args.max_elevator_deg is not None and not (np.isfinite(args.max_elevator_deg) and args.max_elevator_deg > 0):
+        raise ValueError(f"--max-elevator-deg = {args.max_elevator_deg} deg; allowed range (0, inf) deg")
     if not (np.isfinite(args.elevator_chord_ratio) and 0.0 < args.elevator_chord_ratio < 1.0):
         raise ValueError(f"--elevator-chord-ratio = {args.elevator_chord_ratio}; allowed range (0, 1)")
     if not (np.isfinite(args.elevator_time_constant) and args.elevator_time_constant > 0):
@@ -154,7 +161,8 @@ def run(args):
           f"({v_eas:.1f} m/s EAS), V_A = {args.maneuvering_speed_eas:g} m/s EAS, n_lim = {n_lim:.3f}, "
           f"tau_e = {tau_e:.3f}", file=sys.stderr)
     r = checked_pitch(system, p, weight=weight, airspeed_eas=v_eas, maneuvering_speed_eas=args.maneuvering_speed_eas,
-                      limit_load_factor=n_lim, direction=direction, steps=args.steps, gravity=G0)
+                      limit_load_factor=n_lim, direction=direction, steps=args.steps, gravity=G0,
+                      max_amplitude=None if args.max_elevator_deg is None else np.radians(args.max_elevator_deg))
     res = {
         "case": args.case, "maneuver": "checked-pitch", "direction": direction, "design": args.design,
         "altitude_ft": alt_ft, "mach": mach, "airspeed_tas_m_s": V, "airspeed_eas_m_s": v_eas,
@@ -172,7 +180,8 @@ def run(args):
         "omega_rad_s": r.omega, "short_period_frequency_rad_s": r.omega_short_period,
         "short_period_eigenvalue": [r.short_period_eigenvalue.real, r.short_period_eigenvalue.imag],
         "minimum_frequency_rad_s": r.omega_min, "delta_1_deg": float(np.degrees(r.delta_1)), "t_max_s": r.t_max,
-        "iterations": [[float(np.degrees(d)), float(n_)] for d, n_ in r.iterations],
+        "hold_s": r.hold, "target_reached": r.reached, "max_elevator_deg": args.max_elevator_deg,
+        "iterations": [[float(np.degrees(d)), float(h), float(n_)] for d, h, n_ in r.iterations],
         "elevator_chord_ratio": args.elevator_chord_ratio, "elevator_effectiveness": tau_e,
         "elevator_time_constant_s": args.elevator_time_constant,
         "pitch_inertia_kg_m2": args.pitch_inertia, "cg_m": [args.cg_x, args.cg_z], "tail_arm_m": args.tail_arm,

@@ -31,6 +31,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.optimize as sopt
 
 from wingmdao.aero.pitch import check_pitch_inputs
 from wingmdao.aero.system import cached_aeroelastic_system
@@ -61,6 +62,8 @@ REGULATION = (
     "at entry to the maneuver. VA = the design maneuvering speed prescribed in § 25.335(c)."
 )
 
+#: the longest hold Delta t of 25.331(c)(2)(iii) (s: "need not exceed five seconds")
+MAX_HOLD = 5.0
 #: the first amplitude delta_1 of the secant iteration (rad, 1 deg)
 FIRST_AMPLITUDE = float(np.radians(1.0))
 #: the maneuver's directions: the sign of the initial elevator motion (trailing edge down +)
@@ -79,8 +82,10 @@ class CheckedPitchResult:
     ``short_period_eigenvalue`` 1/s; ``delta_1`` rad (> 0, the amplitude of the command);
     ``direction`` "nose-up" or "nose-down"; ``target_load_factor``, ``peak_load_factor`` (max n
     nose up, min n nose down); ``t_max`` s; ``considered`` (n_t,) bool, the instants whose loads
-    25.331(c)(2)(v) asks for; ``iterations`` the secant history [(delta_1, peak n), ...];
-    ``states`` (n_t, n_state) the march's states."""
+    25.331(c)(2)(v) asks for; ``iterations`` the marches [(delta_1 rad, hold s, peak n), ...];
+    ``states`` (n_t, n_state) the march's states; ``hold`` s, the Delta t of 25.331(c)(2)(iii)
+    (0: the sine of (i)); ``reached``: the peak meets the target (False only when a 5 s hold at
+    the largest available amplitude falls short)."""
 
     time: np.ndarray
     elevator_command: np.ndarray
@@ -100,6 +105,8 @@ class CheckedPitchResult:
     considered: np.ndarray
     iterations: list
     states: np.ndarray
+    hold: float = 0.0
+    reached: bool = True
 
 
 def check_maneuver_inputs(*, airspeed_eas, maneuvering_speed_eas, direction="nose-up", steps=200) -> None:
@@ -208,12 +215,22 @@ def march_maneuver(system, p, time, command, *, gravity=G0, weight):
 
 
 def _peak(n, direction):
-    return float(np.max(n)) if direction == "nose-up" else float(np.min(n))
+    """The largest (nose up) or smallest (nose down) load factor of a history, the parabola through
+    the extreme sample and its neighbours between samples (so that it varies smoothly with the
+    amplitude and the hold, whose time grids differ)."""
+    y = np.asarray(n, dtype=float) * (1.0 if direction == "nose-up" else -1.0)
+    i = int(np.argmax(y))
+    peak = y[i]
+    if 0 < i < y.size - 1:
+        curv = y[i - 1] - 2.0 * y[i] + y[i + 1]
+        if curv < 0:
+            peak = y[i] - 0.125 * (y[i - 1] - y[i + 1]) ** 2 / curv
+    return float(peak) * (1.0 if direction == "nose-up" else -1.0)
 
 
 def checked_pitch(system, p, *, weight, airspeed_eas, maneuvering_speed_eas, limit_load_factor,
-                  direction="nose-up", steps=200, rtol=0.002, delta_guess=FIRST_AMPLITUDE, max_iterations=10,
-                  gravity=G0) -> CheckedPitchResult:
+                  direction="nose-up", max_amplitude=None, steps=200, rtol=0.002, delta_guess=FIRST_AMPLITUDE,
+                  max_iterations=10, gravity=G0) -> CheckedPitchResult:
     """The 25.331(c)(2) checked pitch maneuver of a free-pitch airplane with an elevator.
 
     Parameters
@@ -225,7 +242,10 @@ def checked_pitch(system, p, *, weight, airspeed_eas, maneuvering_speed_eas, lim
     limit_load_factor : the 25.337 positive limit load factor: the nose-up target (the nose-down
         target is 0 g) and the end of the nose-down loads (25.331(c)(2)(v))
     direction : "nose-up" or "nose-down"
-    steps : time steps over [0, t_max]
+    max_amplitude : rad, the largest available elevator command (stops, pilot effort), or None
+        (unlimited). When the target needs more, delta_1 = ``max_amplitude`` and the history of
+        25.331(c)(2)(iii) holds it for the Delta t (at most 5 s) that reaches the target.
+    steps : time steps over [0, 3 pi / (2 omega)] (a hold adds steps of the same size)
     rtol : the peak load-factor increment meets the target increment within rtol of it
     delta_guess : rad, the first amplitude of the secant iteration
     """
@@ -235,36 +255,36 @@ def checked_pitch(system, p, *, weight, airspeed_eas, maneuvering_speed_eas, lim
         raise ValueError("checked_pitch needs a system with an elevator (build_aeroelastic_system(elevator=True))")
     if not (np.isfinite(limit_load_factor) and limit_load_factor > 1.0):
         raise ValueError(f"limit_load_factor = {limit_load_factor}; allowed range (1, inf) (14 CFR 25.337(b))")
+    if max_amplitude is not None and not (np.isfinite(max_amplitude) and max_amplitude > 0):
+        raise ValueError(f"max_amplitude = {max_amplitude} rad; allowed range (0, inf) rad")
     target_load_factor = float(limit_load_factor) if direction == "nose-up" else 0.0
     target_inc = target_load_factor - 1.0
     lam, _ = short_period_mode(system, p, gravity=gravity)
     w_sp = abs(lam)
     w_min = minimum_frequency(airspeed_eas, maneuvering_speed_eas)
     omega = max(w_sp, w_min)
-    t_max = maneuver_duration(omega)
-    time = np.linspace(0.0, t_max, int(steps) + 1)
+    dt = maneuver_duration(omega) / int(steps)
 
-    def run(delta_1):
-        cmd = control_history(time, delta_1, omega, direction)
+    def run(delta_1, hold=0.0):
+        n_steps = max(int(steps), int(np.ceil(maneuver_duration(omega, hold) / dt - 1e-9)))
+        time = np.linspace(0.0, maneuver_duration(omega, hold), n_steps + 1)
+        cmd = control_history(time, delta_1, omega, direction, hold=hold)
         X, n, mb = march_maneuver(system, p, time, cmd, gravity=gravity, weight=weight)
-        return cmd, X, n, mb
+        return time, cmd, X, n, mb
 
+    def miss(out):
+        return _peak(out[3], direction) - 1.0 - target_inc
+
+    tol = rtol * abs(target_inc)
     history = []
-    d0, out0 = float(delta_guess), run(float(delta_guess))
-    f0 = _peak(out0[2], direction) - 1.0 - target_inc
-    history.append((d0, _peak(out0[2], direction)))
-    d1 = d0 * target_inc / (f0 + target_inc)
-    for _ in range(int(max_iterations)):
-        out1 = run(d1)
-        f1 = _peak(out1[2], direction) - 1.0 - target_inc
-        history.append((d1, _peak(out1[2], direction)))
-        if abs(f1) <= rtol * abs(target_inc):
-            break
-        d0, f0, d1 = d1, f1, d1 - f1 * (d1 - d0) / (f1 - f0)
-    else:
-        raise RuntimeError(f"checked_pitch: the secant iteration on delta_1 did not meet rtol = {rtol} in "
-                           f"{max_iterations} marches (last delta_1 = {d1:.6g} rad, peak n = {history[-1][1]:.6g})")
-    cmd, X, n, mb = out1
+    d1, out = _secant_amplitude(run, miss, float(delta_guess), target_inc, tol, int(max_iterations), history,
+                                direction)
+    hold, reached = 0.0, True
+    if max_amplitude is not None and d1 > max_amplitude:
+        d1 = float(max_amplitude)
+        hold, out, reached = _hold_search(lambda h: run(d1, h), miss, tol, int(max_iterations), history, d1,
+                                          direction, 0.5 * np.pi / omega)
+    time, cmd, X, n, mb = out
     considered = _considered(n, direction, limit_load_factor)
     bi = system.body_index
     return CheckedPitchResult(time=time, elevator_command=cmd, elevator=X[:, bi["elevator_deflection"]].copy(),
@@ -272,7 +292,62 @@ def checked_pitch(system, p, *, weight, airspeed_eas, maneuvering_speed_eas, lim
                               omega=float(omega), omega_short_period=float(w_sp), omega_min=float(w_min),
                               short_period_eigenvalue=lam, delta_1=float(d1), direction=direction,
                               target_load_factor=float(target_load_factor), peak_load_factor=_peak(n, direction),
-                              t_max=float(t_max), considered=considered, iterations=history, states=X)
+                              t_max=float(time[-1]), considered=considered, iterations=history, states=X,
+                              hold=float(hold), reached=bool(reached))
+
+
+def _secant_amplitude(run, miss, d0, target_inc, tol, max_iterations, history, direction):
+    """delta_1 (rad) and its march by the secant method on the peak load-factor increment, from d0."""
+    out0 = run(d0)
+    f0 = miss(out0)
+    history.append((d0, 0.0, _peak(out0[3], direction)))
+    d1 = d0 * target_inc / (f0 + target_inc)
+    for _ in range(max_iterations):
+        out1 = run(d1)
+        f1 = miss(out1)
+        history.append((d1, 0.0, _peak(out1[3], direction)))
+        if abs(f1) <= tol:
+            return d1, out1
+        d0, f0, d1 = d1, f1, d1 - f1 * (d1 - d0) / (f1 - f0)
+    raise RuntimeError(f"checked_pitch: the secant iteration on delta_1 did not meet the tolerance {tol:.3g} in "
+                       f"{max_iterations} marches (last delta_1 = {d1:.6g} rad, peak n = {history[-1][2]:.6g})")
+
+
+class _Found(Exception):
+    """Raised inside the root finder when a march meets the tolerance (carries the march)."""
+
+
+def _hold_search(run_hold, miss, tol, max_iterations, history, d1, direction, first):
+    """(Delta t, march, reached) of 25.331(c)(2)(iii) at delta_1 = d1: the hold whose peak
+    load-factor increment meets the target. The bracket grows from ``first`` (s) by doubling up to
+    MAX_HOLD; Brent's method on it. MAX_HOLD and reached = False when even that falls short (the
+    rule's "need not exceed five seconds")."""
+    runs = {}
+
+    def f(h):
+        if h not in runs:  # Brent evaluates the bracket's ends again
+            runs[h] = run_hold(h)
+            history.append((d1, float(h), _peak(runs[h][3], direction)))
+        value = miss(runs[h])
+        if abs(value) <= tol:
+            raise _Found(h)
+        return value
+
+    try:
+        lo, f_lo = 0.0, f(0.0)
+        hi = min(float(first), MAX_HOLD)
+        f_hi = f(hi)
+        while np.sign(f_hi) == np.sign(f_lo) and hi < MAX_HOLD:
+            lo, f_lo, hi = hi, f_hi, min(2.0 * hi, MAX_HOLD)
+            f_hi = f(hi)
+        if np.sign(f_hi) == np.sign(f_lo):
+            return hi, runs[hi], False
+        sopt.brentq(f, lo, hi, xtol=1e-9, maxiter=3 * max_iterations)
+    except _Found as found:
+        h = found.args[0]
+        return float(h), runs[h], True
+    raise RuntimeError(f"checked_pitch: the search for the hold Delta t did not meet the tolerance {tol:.3g} "
+                       f"(last Delta t = {history[-1][1]:.6g} s, peak n = {history[-1][2]:.6g})")
 
 
 def _considered(n, direction, limit):
