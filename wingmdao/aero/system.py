@@ -25,7 +25,7 @@ m/s, ``frame_velocity`` (3,) m/s and ``frame_velocity_rate`` (3,) m/s**2. Everyt
 :class:`~wingmdao.components.time_history.TimeHistoryComponent` marches it and its discrete
 adjoint gives derivatives with respect to every parameter, airspeed and density included.
 Free plunge, trim and free pitch add trailing states (w_p; pitch_angle, pitch_rate, [downwash_lag],
-tail_incidence; alpha_trim last), see :func:`build_aeroelastic_system` and :mod:`wingmdao.aero.pitch`.
+[elevator_deflection], tail_incidence; alpha_trim last), see :func:`build_aeroelastic_system` and :mod:`wingmdao.aero.pitch`.
 """
 
 from __future__ import annotations
