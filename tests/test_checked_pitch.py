@@ -66,8 +66,8 @@ def test_no_elevator_is_unchanged_and_zero_command_changes_nothing():
 
 
 def test_elevator_effectiveness_thin_airfoil_and_bad_input():
-    """tau_e = 1 - (theta - sin theta) / pi, cos theta = 2 E - 1: 1 for the whole chord, 0.5 at
-    E = 1/2 - ... closed values: E = 0.5 gives 1 - (pi/2 - 1)/pi = 0.5 + 1/pi."""
+    """Glauert's tau_e = 1 - (theta - sin theta) / pi, cos theta = 2 E - 1, at a closed value:
+    E = 0.5 gives theta = pi / 2 and tau_e = 1 - (pi / 2 - 1) / pi = 0.5 + 1 / pi; E = 0.3 gives 0.6607."""
     assert elevator_effectiveness(0.5) == pytest.approx(0.5 + 1 / np.pi, rel=1e-14)
     assert elevator_effectiveness(0.3) == pytest.approx(0.6607, abs=1e-4)
     with pytest.raises(ValueError, match=r"elevator chord ratio = 1.2; allowed range \(0, 1\)"):

@@ -20,6 +20,9 @@ linearization carry it. The command is the pilot's control displacement through 
   omega_n = |lambda|, bounded below by pi V / (2 V_A) (V and V_A both equivalent airspeeds);
 * delta_1: the secant method on marches, so that the peak load-factor increment reaches the target
   one (n_lim - 1 nose up; -1, i.e. 0 g, nose down) within ``rtol`` of it;
+* with a largest available command (``max_amplitude``: stops, pilot effort) below the delta_1
+  found, the command of 25.331(c)(2)(iii) (the sine held at delta_1 for Delta t <= 5 s) with the
+  Delta t that reaches the target (Brent's method);
 * the march covers [0, t_max]; the elevator trailing edge down is positive, so the nose-up
   maneuver starts with a negative (trailing edge up) elevator.
 
