@@ -130,12 +130,15 @@ JSON_RUNS = {
     ("flutter",): ["goland", "--speeds", "100", "200", "3", "--num-nodes", "5", "--modes", "2", "--no-plots"],
     ("gust",): ["pegasus", "--t-final", "0.2", "--dt", "0.02", "--gust-start", "0.1", "--no-plots"],
     ("turbulence",): ["pegasus", "--grid-points", "11", "--no-plots"],
+    ("maneuver",): ["pegasus", "--checked-pitch", "--maneuvering-speed-eas", "90", "--pitch-inertia", "345000",
+                    "--cg-x", "0.67", "--tail-arm", "12", "--tail-area", "11.7", "--tail-lift-slope", "4",
+                    "--steps", "20", "--no-plots"],
     ("size", "aerostruct-crm"): ["--analysis-only", "--num-y", "9", "--no-oas-beam", "--quiet"],
     ("verify", "panel"): ["--material", "aluminium", "--t-skin", "0.002", "--width", "0.15", "--length", "0.45",
                           "--nx", "-1000", "--mesh-size", "0.075"],
     ("verify", "pegasus"): ["--no-ribs", "--chord-elements", "2", "--height-elements", "1", "--span-size", "2"],
 }
-SLOW_JSON = {("gust",), ("turbulence",), ("size", "pegasus"), ("size", "crm"), ("size", "aerostruct-crm"), ("verify", "pegasus")}
+SLOW_JSON = {("gust",), ("turbulence",), ("maneuver",), ("size", "pegasus"), ("size", "crm"), ("size", "aerostruct-crm"), ("verify", "pegasus")}
 
 
 def test_every_command_with_json_has_a_fast_run():
@@ -163,7 +166,7 @@ def test_json_dash_writes_only_json_to_stdout(path, tmp_path, capsys):
 REQUIRED = {"section": ["--width", "1", "--height", "1"],
             "panel": ["--material", "aluminium", "--t-skin", "1", "--width", "1", "--length", "1"], "run": ["--geometry", "prismatic"],
             "verify": ["--geometry", "prismatic"], "export": ["--geometry", "prismatic", "--format", "calculix", "f"],
-            "gust": ["pegasus"], "turbulence": ["pegasus"], "flutter": ["goland"], "report": ["r.sql"],
+            "gust": ["pegasus"], "turbulence": ["pegasus"], "maneuver": ["pegasus"], "flutter": ["goland"], "report": ["r.sql"],
             ("verify", "pegasus"): [],
             ("verify", "panel"): ["--material", "aluminium", "--t-skin", "1", "--width", "1", "--length", "1"], ("export", "pegasus"): ["--format", "calculix", "f"]}
 

@@ -22,6 +22,15 @@ alpha_t`` with
     e = alpha_w = alpha_trim + theta_p - w_p/V + w_g,root / V        (no lag), or
     (x_t / V) de/dt + e = alpha_w                                     (tail_lag: first-order lag)
 
+With an elevator (``elevator=True`` of the build) the tail angle gains ``tau_e delta``: the tail
+lift increment ``L_t,delta = 1/2 rho V^2 S_t a_t tau_e delta`` (Etkin & Reid 1996, Sec. 2.4, the
+elevator effectiveness tau_e = a_e / a_t; delta in rad, trailing edge down +, a nose-down
+moment), and delta is the state of a first-order actuator driven by the forcing ``elevator_command``:
+
+    t_a d(delta)/dt + delta = delta_cmd        (t_a = ``elevator_time_constant``, s)
+
+:func:`elevator_effectiveness` gives tau_e of a plain flap from thin-airfoil theory.
+
 (w_g,t the gust at the tail, w_g,root the gust at the root station). The pitch attitude adds to
 every wing station's angle (as alpha_trim does) and (0, q, 0), (0, dq/dt, 0) add to the frame's
 angular velocity and acceleration of the beam (its inertia) and of the aerodynamics (Omega x r,
@@ -50,6 +59,8 @@ from wingmdao.aero.plunge import body_mass
 PITCH_STATE_NAMES = ("pitch_angle", "pitch_rate")
 LAG_STATE_NAME = "downwash_lag"
 INCIDENCE_STATE_NAME = "tail_incidence"
+#: the elevator actuator's state (before the tail incidence, with ``elevator=True``)
+ELEVATOR_STATE_NAME = "elevator_deflection"
 
 
 def pitch_param_specs() -> list[VarSpec]:
@@ -70,6 +81,34 @@ def pitch_forcing_specs() -> list[VarSpec]:
     return [VarSpec("tail_gust_velocity", (), "m/s", "gust velocity (body +z) at the tail, its penetration delay included")]
 
 
+def elevator_param_specs() -> list[VarSpec]:
+    """Parameters of the elevator (``elevator=True``; appended after the pitch parameters)."""
+    return [
+        VarSpec("elevator_effectiveness", (), None, "elevator effectiveness tau_e = d alpha_t / d delta (tail angle "
+                "per elevator angle)"),
+        VarSpec("elevator_time_constant", (), "s", "time constant t_a of the first-order elevator actuator"),
+    ]
+
+
+def elevator_forcing_specs() -> list[VarSpec]:
+    """Forcing of the elevator at one instant."""
+    return [VarSpec("elevator_command", (), "rad", "elevator command delta_cmd (trailing edge down +)")]
+
+
+def elevator_effectiveness(chord_ratio) -> float:
+    """Thin-airfoil elevator effectiveness tau_e = (dC_l/d delta) / (dC_l/d alpha) of a plain flap of
+    chord ratio E = c_e / c (0 < E < 1): ``1 - (theta_h - sin theta_h) / pi``, cos theta_h = 2 E - 1
+    (the flapped thin aerofoil: dC_l/d delta = 2 (pi - theta_h + sin theta_h); Glauert, *The
+    Elements of Aerofoil and Airscrew Theory*, 2nd ed., Cambridge University Press, 1947; E = 0.3
+    gives 0.66). Measured effectiveness is lower (the empirical flap-effectiveness charts of Nelson,
+    *Flight Stability and Automatic Control*, 2nd ed., 1998, Ch. 2, give about 0.5 at E = 0.3)."""
+    e = float(chord_ratio)
+    if not (np.isfinite(e) and 0.0 < e < 1.0):
+        raise ValueError(f"elevator chord ratio = {e}; allowed range (0, 1)")
+    th = np.arccos(2.0 * e - 1.0)
+    return float(1.0 - (th - np.sin(th)) / np.pi)
+
+
 def check_pitch_inputs(**values) -> None:
     """ValueError (input, value, allowed range, SI) for bad free-pitch inputs; checks those given."""
     rules = {"aircraft_pitch_inertia": ("kg*m**2", lambda v: v > 0, "(0, inf)"),
@@ -78,7 +117,9 @@ def check_pitch_inputs(**values) -> None:
              "tail_lift_slope": ("1/rad", lambda v: v > 0, "(0, inf)"),
              "downwash_gradient": ("", lambda v: 0 <= v < 1, "[0, 1)"),
              "tail_arm": ("m", lambda v: v > 0, "(0, inf) (tail aft of the CG)"),
-             "tail_x": ("m", lambda v: v > 0, "(0, inf) (tail aft of the body-axes origin)")}
+             "tail_x": ("m", lambda v: v > 0, "(0, inf) (tail aft of the body-axes origin)"),
+             "elevator_effectiveness": ("", lambda v: 0 < v <= 1, "(0, 1]"),
+             "elevator_time_constant": ("s", lambda v: v > 0, "(0, inf)")}
     for name, v in values.items():
         units, ok, rng = rules[name]
         val = float(np.real(v))
@@ -136,12 +177,14 @@ def body_pitch_properties(aircraft_mass, cg, aircraft_pitch_inertia, mass_per_le
 
 
 def body_residuals(x_b, xd_b, *, w_p, dw_p, F0, M0, r0, alpha_trim, gust_root, gust_tail, V, rho, g, pars, body_mass,
-                   tail_lag, on):
+                   tail_lag, on, elevator=None):
     """CasADi rows of the rigid body (see the module docstring): (translation row replacing the
-    plunge row, [theta row, q row, (lag row)], moment row of the tail-incidence trim unknown, L_t).
+    plunge row, [theta row, q row, (lag row), (actuator row)], moment row of the tail-incidence
+    trim unknown, L_t).
 
-    ``x_b``/``xd_b``: (theta_p, q, [e], i_t) and their rates; ``on`` the trim switch (1: theta_p
-    = q = w_p = 0 and i_t solves the static moment balance; 0: the dynamics, i_t held)."""
+    ``x_b``/``xd_b``: (theta_p, q, [e], [delta], i_t) and their rates; ``on`` the trim switch (1:
+    theta_p = q = w_p = 0 and i_t solves the static moment balance; 0: the dynamics, i_t held);
+    ``elevator``: None (no elevator) or ``(tau_e, t_a, delta_cmd)``."""
     theta, qr = x_b[0], x_b[1]
     it = x_b[-1]
     s_x, s_z = pars["body_first_moment"][0], pars["body_first_moment"][1]
@@ -149,6 +192,8 @@ def body_residuals(x_b, xd_b, *, w_p, dw_p, F0, M0, r0, alpha_trim, gust_root, g
     alpha_w = alpha_trim + theta - w_p / V + gust_root / V
     e = x_b[2] if tail_lag else alpha_w
     alpha_t = (alpha_trim + theta - w_p / V + qr * x_t / V + gust_tail / V - pars["downwash_gradient"] * e + it)
+    if elevator is not None:
+        alpha_t = alpha_t + elevator[0] * x_b[-2]
     lift_t = 0.5 * rho * V * V * pars["tail_area"] * pars["tail_lift_slope"] * alpha_t
     trans = body_mass * (dw_p - g[2]) - s_x * xd_b[1] - s_z * qr * qr - 2.0 * F0[2] - lift_t
     moment = (i_o * xd_b[1] - s_x * dw_p - (s_z * g[0] - s_x * g[2])
@@ -158,6 +203,8 @@ def body_residuals(x_b, xd_b, *, w_p, dw_p, F0, M0, r0, alpha_trim, gust_root, g
             on * qr + (1.0 - on) * moment]
     if tail_lag:
         rows.append((x_t / V) * xd_b[2] + e - alpha_w)
+    if elevator is not None:
+        rows.append(elevator[1] * xd_b[-2] + x_b[-2] - elevator[2])
     rows.append(on * moment + (1.0 - on) * xd_b[-1])
     return ca.vertcat(*rows), lift_t
 

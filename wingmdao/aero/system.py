@@ -25,7 +25,7 @@ m/s, ``frame_velocity`` (3,) m/s and ``frame_velocity_rate`` (3,) m/s**2. Everyt
 :class:`~wingmdao.components.time_history.TimeHistoryComponent` marches it and its discrete
 adjoint gives derivatives with respect to every parameter, airspeed and density included.
 Free plunge, trim and free pitch add trailing states (w_p; pitch_angle, pitch_rate, [downwash_lag],
-tail_incidence; alpha_trim last), see :func:`build_aeroelastic_system` and :mod:`wingmdao.aero.pitch`.
+[elevator_deflection], tail_incidence; alpha_trim last), see :func:`build_aeroelastic_system` and :mod:`wingmdao.aero.pitch`.
 """
 
 from __future__ import annotations
@@ -242,7 +242,7 @@ _GENERATING_MODULES = ("wingmdao.aero.system", "wingmdao.aero.strip", "wingmdao.
 def aeroelastic_definition(num_nodes: int, euler_sequence: str = "surface",
                            damping: StrainRateDamping | None = None, plunge: bool = False,
                            trim: bool = False, pitch: bool = False, tail_lag: bool = False,
-                           aero_theory: str = "strip") -> str:
+                           aero_theory: str = "strip", elevator: bool = False) -> str:
     """What defines the functions of :func:`build_aeroelastic_system` (the key of their compiled
     libraries, :func:`wingmdao.utils.casadi_cache.definition_key`): its arguments, the source of
     the generating modules and the CasADi version. Keying on this instead of the serialized
@@ -254,13 +254,16 @@ def aeroelastic_definition(num_nodes: int, euler_sequence: str = "surface",
             bool(plunge), bool(trim), bool(pitch), bool(tail_lag))
     if aero_theory != "strip":  # the strip system's arguments as before
         args = args + (str(aero_theory),)
+    if elevator:
+        args = args + ("elevator",)
     return definition_key("wingmdao.aero.system.build_aeroelastic_system", args, _GENERATING_MODULES)
 
 
 def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
                              damping: StrainRateDamping | None = None,
                              plunge: bool = False, trim: bool = False, pitch: bool = False,
-                             tail_lag: bool = False, aero_theory: str = "strip") -> AeroelasticBeamSystem:
+                             tail_lag: bool = False, aero_theory: str = "strip",
+                             elevator: bool = False) -> AeroelasticBeamSystem:
     """The App. A beam of ``num_nodes`` nodes (root clamped) with unsteady strip theory.
 
     Returns an :class:`AeroelasticBeamSystem` (a :class:`CasadiResidualSystem`):
@@ -288,7 +291,10 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     with ``tail_lag``], tail_incidence after w_p (``system.body_index`` names their indices),
     parameters :func:`~wingmdao.aero.pitch.pitch_param_specs`, forcing ``tail_gust_velocity``;
     the trim then solves alpha_trim for "wing + tail lift = trim_lift" and tail_incidence for the
-    static pitch-moment balance.
+    static pitch-moment balance. ``elevator=True`` (needs ``pitch``) adds an elevator on the tail
+    (:mod:`wingmdao.aero.pitch`): the state elevator_deflection (before tail_incidence), a
+    first-order actuator driven by the forcing ``elevator_command``, and the parameters
+    ``elevator_effectiveness``, ``elevator_time_constant``.
 
     ``aero_theory``: ``"strip"`` (each station's circulatory lift from its own angle, slope
     ``lift_slope / beta``) or ``"vlm"`` (:data:`AERO_THEORIES`): the circulatory quasi-steady lift
@@ -315,6 +321,8 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
                          "pitch starts from the trimmed 1 g state (tail incidence solved for pitch balance)")
     if tail_lag and not pitch:
         raise ValueError("tail_lag=True needs pitch=True")
+    if elevator and not pitch:
+        raise ValueError("elevator=True needs pitch=True (the elevator is on the horizontal tail)")
     t0 = _time.perf_counter()
     pspecs = beam_param_specs(n) + aero_param_specs(n) + (vlm_param_specs(n) if vlm else [])
     qspecs = beam_forcing_specs(n) + aero_forcing_specs(n)
@@ -322,13 +330,15 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
         pspecs.append(VarSpec("body_mass", (), "kg", "aircraft mass outside both wing halves (free plunge)"))
     n_body = 0
     if pitch:
-        from wingmdao.aero.pitch import (INCIDENCE_STATE_NAME, LAG_STATE_NAME, PITCH_STATE_NAMES, body_residuals,
-                                         pitch_forcing_specs, pitch_param_specs)
+        from wingmdao.aero.pitch import (ELEVATOR_STATE_NAME, INCIDENCE_STATE_NAME, LAG_STATE_NAME,
+                                         PITCH_STATE_NAMES, body_residuals, elevator_forcing_specs,
+                                         elevator_param_specs, pitch_forcing_specs, pitch_param_specs)
 
-        body_names = PITCH_STATE_NAMES + ((LAG_STATE_NAME,) if tail_lag else ()) + (INCIDENCE_STATE_NAME,)
+        body_names = (PITCH_STATE_NAMES + ((LAG_STATE_NAME,) if tail_lag else ())
+                      + ((ELEVATOR_STATE_NAME,) if elevator else ()) + (INCIDENCE_STATE_NAME,))
         n_body = len(body_names)
-        pspecs += pitch_param_specs()
-        qspecs += pitch_forcing_specs()
+        pspecs += pitch_param_specs() + (elevator_param_specs() if elevator else [])
+        qspecs += pitch_forcing_specs() + (elevator_forcing_specs() if elevator else [])
     if trim:
         pspecs.append(VarSpec("trim_lift", (), "N", "lift of both half-wings to trim to (n W)"))
         qspecs.append(VarSpec("trim_active", (), None, "1: solve alpha_trim for trim_lift; 0: hold alpha_trim"))
@@ -413,7 +423,9 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
                 r0=xs[0][st["r"]], alpha_trim=x[i_trim], gust_root=q[qlay["gust_velocity"]][0],
                 gust_tail=q[qlay["tail_gust_velocity"]], V=V, rho=rho, g=g, body_mass=mb, tail_lag=tail_lag,
                 on=q[qlay["trim_active"]], pars={k: p[play[k]] for k in ("body_first_moment", "body_pitch_inertia",
-                                                 "tail_x", "tail_area", "tail_lift_slope", "downwash_gradient")})
+                                                 "tail_x", "tail_area", "tail_lift_slope", "downwash_gradient")},
+                elevator=(p[play["elevator_effectiveness"]], p[play["elevator_time_constant"]],
+                          q[qlay["elevator_command"]]) if elevator else None)
         blocks.append(r_plunge)
     if trim:
         r0 = [ps[i][_P_NODE["r0"]] for i in range(n)]
@@ -427,7 +439,8 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
             total = total + 0.5 * lift_tail
         blocks.append(on * (2.0 * total - target) / scale + (1.0 - on) * xdot[i_trim])
     R = ca.vertcat(*blocks)
-    definition = aeroelastic_definition(n, euler_sequence, damping, plunge, trim, pitch, tail_lag, aero_theory)
+    definition = aeroelastic_definition(n, euler_sequence, damping, plunge, trim, pitch, tail_lag, aero_theory,
+                                        elevator)
     jacobians = stored_jacobians(f"aeroelastic_beam{n}", definition, R, (x, xdot, p, q))
     lifts = ca.vertcat(*[o[1] for o in aero_out])
     moments = ca.vertcat(*[o[2] for o in aero_out])
@@ -435,7 +448,7 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
                                    state_shape=(W * n + n_extra,) if n_extra else (n, W),
                                    name=f"aeroelastic_beam{n}" + ("_plunge" if plunge else "") + ("_trim" if trim else "")
                                    + ("_pitch" if pitch else "") + ("_lag" if tail_lag else "")
-                                   + ("_vlm" if vlm else ""),
+                                   + ("_elevator" if elevator else "") + ("_vlm" if vlm else ""),
                                    describe=lambda k: describe_aeroelastic_equation(
                                        k, n, plunge, body_names if pitch else ()),
                                    definition=definition, jacobians=jacobians,
@@ -445,6 +458,7 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     system.trim = bool(trim)
     system.pitch = bool(pitch)
     system.tail_lag = bool(tail_lag)
+    system.elevator = bool(elevator)
     system.aero_theory = aero_theory
     system.layout = state_layout(n, plunge, trim, body_names if pitch else ())
     if system.layout.size != system.n_state or system.layout.body.get("trim", i_trim) != i_trim:
@@ -517,6 +531,7 @@ def describe_aeroelastic_equation(index: int, num_nodes: int, plunge: bool = Fal
         return {"pitch_angle": "dtheta_p/dt = q (theta_p = 0 in trim)",
                 "pitch_rate": "body pitch moment about the origin (q = 0 in trim)",
                 "downwash_lag": "downwash lag (x_t/V) de/dt + e = alpha_w",
+                "elevator_deflection": "elevator actuator t_a d(delta)/dt + delta = elevator_command",
                 "tail_incidence": "static pitch-moment balance in trim (tail incidence), held otherwise"}[body_names[k_body]]
     if index >= N_AEROELASTIC_STATES * num_nodes and body_names:
         return "trim: integrated lift of both halves + tail lift = trim_lift (or alpha_trim held)"
@@ -592,15 +607,16 @@ _SYSTEMS: dict = {}
 def cached_aeroelastic_system(num_nodes: int, euler_sequence: str = "surface",
                               damping: StrainRateDamping | None = None,
                               plunge: bool = False, trim: bool = False, pitch: bool = False,
-                              tail_lag: bool = False, aero_theory: str = "strip") -> AeroelasticBeamSystem:
+                              tail_lag: bool = False, aero_theory: str = "strip",
+                              elevator: bool = False) -> AeroelasticBeamSystem:
     """:func:`build_aeroelastic_system`, built once per (num_nodes, sequence, damping, plunge, trim, pitch,
-    tail_lag, aero_theory)."""
+    tail_lag, aero_theory, elevator)."""
     if damping is not None and damping.is_zero:
         damping = None
     key = (int(num_nodes), euler_sequence, damping, bool(plunge), bool(trim), bool(pitch), bool(tail_lag),
-           str(aero_theory))
+           str(aero_theory), bool(elevator))
     if key not in _SYSTEMS:
         _SYSTEMS[key] = build_aeroelastic_system(key[0], euler_sequence=euler_sequence, damping=damping,
                                                  plunge=key[3], trim=key[4], pitch=key[5], tail_lag=key[6],
-                                                 aero_theory=key[7])
+                                                 aero_theory=key[7], elevator=key[8])
     return _SYSTEMS[key]

@@ -161,3 +161,24 @@ def add_aero_theory_argument(parser, default: str = "strip") -> None:
                              "2 pi / beta), lifting-line (section slopes of Prandtl's lifting line of the planform) "
                              "or vlm (vortex lattice of the planform: every station's lift from every station's "
                              "angle); the Wagner/Kuessner lags stay per station (default: %(default)s)")
+
+
+def add_free_pitch_arguments(parser, switch: str) -> None:
+    """The aircraft data of free pitch (:mod:`wingmdao.aero.pitch`), one spelling on ``gust --pitch
+    free`` and ``maneuver --checked-pitch`` (``switch``: the flag that needs them; ``size pegasus``
+    spells its case options alike): ``--pitch-inertia``, ``--cg-x``, ``--cg-z``, ``--tail-arm``, ``--tail-area``,
+    ``--tail-lift-slope``, ``--downwash-gradient``, ``--tail-lag``."""
+    t = parser.add_argument_group(f"free pitch ({switch}; SI, body axes: x aft, z up from the symmetry-plane origin)")
+    t.add_argument("--pitch-inertia", type=float, default=None, metavar="KG_M2",
+                   help="aircraft pitch inertia I_yy about its CG (kg m^2; required)")
+    t.add_argument("--cg-x", type=float, default=None, metavar="M", help="aircraft CG x (m aft of the body-axes origin; required)")
+    t.add_argument("--cg-z", type=float, default=0.0, metavar="M", help="aircraft CG z (m above the origin; default 0)")
+    t.add_argument("--tail-arm", type=float, default=None, metavar="M",
+                   help="CG to horizontal-tail aerodynamic centre (m, > 0; required)")
+    t.add_argument("--tail-area", type=float, default=None, metavar="M2", help="horizontal tail area (m^2, > 0; required)")
+    t.add_argument("--tail-lift-slope", type=float, default=None, metavar="PER_RAD",
+                   help="horizontal tail lift slope a_t (1/rad, compressibility included; required)")
+    t.add_argument("--downwash-gradient", type=float, default=None, metavar="D",
+                   help="deps/dalpha at the tail, [0, 1) (default: 2 a_w / (pi AR), a_w the strips' wing lift slope)")
+    t.add_argument("--tail-lag", action="store_true",
+                   help="downwash lag: first-order lag of time constant x_t / V on the wing angle seen by the tail")

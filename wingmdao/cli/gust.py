@@ -32,7 +32,7 @@ import time as _time
 import numpy as np
 from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, warn, write_json
 from wingmdao.cli._args import (add_aero_and_plunge_arguments, add_aero_theory_argument, add_deprecated_alias,
-                                add_output_arguments)
+                                add_free_pitch_arguments, add_output_arguments)
 
 CASES = ("pegasus", "crm")
 #: --stiffness-scale range (a rigid wing is approached well before 1e6)
@@ -54,20 +54,7 @@ def register(subparsers):
                    help="free (aircraft also free in pitch with a horizontal tail; needs --aero coupled, free plunge and "
                         "--pitch-inertia, --cg-x, --tail-arm, --tail-area, --tail-lift-slope; '--pitch' alone = free) "
                         "or fixed (default)")
-    t = p.add_argument_group("free pitch (--pitch free; SI, body axes: x aft, z up from the symmetry-plane origin)")
-    t.add_argument("--pitch-inertia", type=float, default=None, metavar="KG_M2",
-                   help="aircraft pitch inertia I_yy about its CG (kg m^2; required)")
-    t.add_argument("--cg-x", type=float, default=None, metavar="M", help="aircraft CG x (m aft of the body-axes origin; required)")
-    t.add_argument("--cg-z", type=float, default=0.0, metavar="M", help="aircraft CG z (m above the origin; default 0)")
-    t.add_argument("--tail-arm", type=float, default=None, metavar="M",
-                   help="CG to horizontal-tail aerodynamic centre (m, > 0; required)")
-    t.add_argument("--tail-area", type=float, default=None, metavar="M2", help="horizontal tail area (m^2, > 0; required)")
-    t.add_argument("--tail-lift-slope", type=float, default=None, metavar="PER_RAD",
-                   help="horizontal tail lift slope a_t (1/rad, compressibility included; required)")
-    t.add_argument("--downwash-gradient", type=float, default=None, metavar="D",
-                   help="deps/dalpha at the tail, [0, 1) (default: 2 a_w / (pi AR), a_w the strips' wing lift slope)")
-    t.add_argument("--tail-lag", action="store_true",
-                   help="downwash lag: first-order lag of time constant x_t / V on the wing angle seen by the tail")
+    add_free_pitch_arguments(p, "--pitch free")
     p.add_argument("--gust-gradient-ft", dest="gradient_ft", type=float, default=None, metavar="FT",
                    help="gust gradient H (ft, 30-350; default: the case's, as on 'size')")
     add_deprecated_alias(p, "--gradient-ft", "--gust-gradient-ft", dest="gradient_ft", type=float, metavar="FT")
