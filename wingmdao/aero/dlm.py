@@ -60,7 +60,7 @@ _CACHE_SIZE = 8
 _MIRROR = np.array([1.0, -1.0, 1.0])
 
 __all__ = ["DLM_CHORDWISE", "DLM_SPANWISE", "REDUCED_FREQUENCIES", "GeneralizedForces", "ModalTransfer",
-           "check_reduced_frequencies", "check_dlm_mach", "check_panels", "aerogrid", "panel_pressure", "modal_transfer",
+           "check_reduced_frequencies", "check_dlm_mach", "check_panels", "aerogrid", "steady_aic", "panel_pressure", "modal_transfer",
            "generalized_forces", "interpolate"]
 
 
@@ -115,14 +115,20 @@ def aerogrid(lat: Lattice) -> dict:
             "n": 2 * lat.span.size}
 
 
-def panel_pressure(lat: Lattice, k_over_b, normalwash, *, method: str = "quartic") -> np.ndarray:
+def steady_aic(lat: Lattice) -> np.ndarray:
+    """PanelAero's steady (vortex-lattice) AIC ``A`` (2m, 2m) of both halves: ``w / V = A dcp``."""
+    _, VLM = _panelaero_dlm()
+    A, _ = VLM.calc_Ajj(aerogrid=aerogrid(lat), Ma=lat.mach)
+    return A
+
+
+def panel_pressure(lat: Lattice, k_over_b, normalwash, *, method: str = "quartic", steady=None) -> np.ndarray:
     """Pressure jumps dcp (m, c) on the right half of a symmetric normalwash ``w / V`` (m, c)
     (the left half the mirror image) at ``omega / V = k_over_b`` (1/m); ``k_over_b = 0``: the
-    steady vortex lattice."""
-    DLM, VLM = _panelaero_dlm()
+    steady vortex lattice. ``steady``: :func:`steady_aic` of ``lat`` if already computed."""
+    DLM, _ = _panelaero_dlm()
     grid = aerogrid(lat)
-    A, _ = VLM.calc_Ajj(aerogrid=grid, Ma=lat.mach)
-    A = A.astype(complex)
+    A = (steady_aic(lat) if steady is None else steady).astype(complex)
     if k_over_b > 0.0:
         with np.errstate(all="ignore"):
             A = A + DLM.calc_Ajj(aerogrid=grid, Ma=lat.mach, k=float(k_over_b), method=method)
@@ -247,11 +253,12 @@ def generalized_forces(node_positions, chord, ref_point, displacement, rotation,
     nm = d.shape[0]
     Q = np.zeros((k.size, nm, nm), dtype=complex)
     G = np.zeros((k.size, nm), dtype=complex)
+    steady = steady_aic(lat)
     for i, ki in enumerate(k):
         kb = ki / b
         wash = np.column_stack([tr.incidence - 1j * kb * tr.heave,
                                 lat.normal[:, 2] * np.exp(-1j * kb * (lat.control[:, 0] - x0))])
-        dcp = panel_pressure(lat, kb, wash, method=method)
+        dcp = panel_pressure(lat, kb, wash, method=method, steady=steady)
         F = tr.force.T @ dcp
         Q[i], G[i] = F[:, :nm], F[:, nm]
     out = GeneralizedForces(k=k, Q=Q, gust=G, b_ref=b, mach=mach, x_gust=x0)
