@@ -49,7 +49,7 @@ class ModalStructure:
     damping: np.ndarray
 
     @classmethod
-    def from_modes(cls, modes, damping_ratio: float = 0.0) -> "ModalStructure":
+    def from_modes(cls, modes, damping_ratio: float = 0.0) -> ModalStructure:
         """From :class:`wingmdao.beam.modes.NormalModes` with a modal damping ratio (fraction of critical)."""
         m = np.asarray(modes.mass, dtype=float)
         k = np.asarray(modes.stiffness, dtype=float)
