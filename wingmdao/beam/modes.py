@@ -49,7 +49,10 @@ class NormalModes:
     (count, n, 3) rad: each mode's nodal displacement and small rotation vector (body axes), real,
     scaled to a unit generalized mass (:func:`generalized_mass`); ``mass`` (count, count) the
     generalized mass matrix of the scaled modes (the identity up to the modes' discrete
-    orthogonality), ``stiffness`` (count, count) ``diag(omega^2)`` in the same scaling.
+    orthogonality), ``stiffness`` (count, count) ``diag(omega^2)`` in the same scaling;
+    ``force``, ``moment`` (count, n, 3): each mode's internal resultants F, M at the nodes (body
+    axes, N and N m per unit modal amplitude; the beam's states, so ``sum_i q_i M_i`` is the
+    mode-displacement estimate of the internal moment).
     """
 
     frequencies: np.ndarray
@@ -57,6 +60,8 @@ class NormalModes:
     rotation: np.ndarray
     mass: np.ndarray
     stiffness: np.ndarray
+    force: np.ndarray = None
+    moment: np.ndarray = None
 
     @property
     def count(self) -> int:
@@ -126,6 +131,9 @@ def normal_modes(system, params: dict, p, q, count: int = 6, x0=None, max_abs: f
     scale = 1.0 / np.sqrt(np.diag(generalized_mass(params, disp, rot)))
     disp *= scale[:, None, None]
     rot *= scale[:, None, None]
+    res = {key: (blocks[:, :, STATE_BLOCKS[key]] * phase[:, None, None]).real * scale[:, None, None]
+           for key in ("F", "M")}
     omega = np.abs(lam[order])
     return NormalModes(frequencies=omega, displacement=disp, rotation=rot,
-                       mass=generalized_mass(params, disp, rot), stiffness=np.diag(omega ** 2))
+                       mass=generalized_mass(params, disp, rot), stiffness=np.diag(omega ** 2),
+                       force=res["F"], moment=res["M"])
