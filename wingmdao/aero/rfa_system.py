@@ -5,7 +5,7 @@ modes (:func:`wingmdao.beam.modes.normal_modes`), their rates ``v``, the aerodyn
 ``z_l`` (one per mode and lag root) and the gust's lag states ``zg_l``. With Roger's
 approximation (:mod:`wingmdao.aero.rfa`) of the doublet-lattice forces, ``Q(p) = A_0 + A_1 p +
 A_2 p^2 + sum_l A_(l+2) p / (p + gamma_l)`` and the gust column ``G(p)`` of the same form, the
-residual is
+residual is::
 
     q' - v = 0
     (M - rho b^2 / 2 A_2) v' + (C - rho V b / 2 A_1) v + (K - q_d A_0) q - q_d sum_l A_(l+2) z_l
