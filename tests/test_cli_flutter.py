@@ -92,3 +92,31 @@ def test_json_dash_writes_only_json_to_stdout(capsys):
     cap = capsys.readouterr()
     d = json.loads(cap.out)  # nothing else on stdout
     assert d["case"] == "goland" and "flutter" in cap.err
+
+
+def test_dlm_refusals_before_solve(capsys, monkeypatch):
+    """--aero-theory dlm exists on flutter only; with --deformed it is refused before any solve."""
+    import wingmdao.cli.flutter as fl
+
+    monkeypatch.setattr(fl, "analyse", lambda *a, **k: pytest.fail("solve started"))
+    monkeypatch.setattr(fl, "analyse_dlm", lambda *a, **k: pytest.fail("solve started"))
+    assert main(["flutter", "goland", "--aero-theory", "dlm", "--deformed"]) == 2
+    assert "--deformed: the deformed-state sweep uses strip theory" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["gust", "pegasus", "--aero-theory", "dlm"])
+    assert "invalid choice: 'dlm'" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_flutter_json_goland_dlm(tmp_path):
+    """--aero-theory dlm: the doublet lattice's p-k flutter speed on top, the state space within 1 %,
+    above strip theory's (the 3-D lift lag of the finite wing), with the fit error reported."""
+    out = tmp_path / "f.json"
+    assert main(["flutter", "goland", "--aero-theory", "dlm", "--speeds", "100", "220", "7", "--num-nodes", "11",
+                 "--json", str(out), "--no-plots"]) == 0
+    d = json.loads(out.read_text())
+    assert d["aero_theory"] == "dlm" and d["divergence_speed_m_s"] is None
+    assert d["flutter_speed_m_s"] == d["dlm"]["pk"]["flutter_speed_m_s"]
+    assert d["dlm"]["state_space"]["flutter_speed_m_s"] == pytest.approx(d["flutter_speed_m_s"], rel=0.01)
+    assert d["flutter_speed_m_s"] > 1.05 * d["strip"]["flutter_speed_m_s"]
+    assert 0.0 < d["dlm"]["rfa"]["fit_error"] < 0.02

@@ -14,6 +14,11 @@ With ``--deformed``: ``deformed`` (gravity_m_s2 and, per root angle of attack, t
 frequency and static tip deflection at flutter, the sweep's speeds and tip deflections,
 :mod:`wingmdao.stability.deformed`), ``deformed_published`` and a flutter speed vs tip
 deflection PNG.
+With ``--aero-theory dlm`` the top-level flutter speed and frequency are the doublet lattice's
+(p-k on its generalized forces, :mod:`wingmdao.stability.modal`), ``divergence_speed_m_s`` null;
+``dlm`` holds the p-k and state-space sweeps and flutter points, the Roger fit (lag roots, fit
+error), the Mach number, reduced frequencies, modal basis size and timings; ``strip`` the strip
+theory sweep of the same speeds; the PNG draws both V-g / V-f side by side.
 """
 
 from __future__ import annotations
@@ -42,7 +47,7 @@ def register(subparsers):
                    help="pegasus: analyse the wall thicknesses of a 'wingmdao size pegasus' JSON "
                         "(default: the sizing's initial design, 10 mm walls)")
     p.add_argument("--modes", type=int, default=4, metavar="N", help="number of modes tracked over the sweep (>= 1)")
-    add_aero_theory_argument(p)
+    add_aero_theory_argument(p, dlm=True)
 
     add_output_arguments(p, what="the V-g / V-f plot (flutter_CASE.png)")
     p.add_argument("--deformed", action="store_true",
@@ -151,6 +156,81 @@ def analyse(case, speeds=None, num_nodes=None, n_modes=4, thickness=None, aero_t
         "timings_s": {"setup_and_in_vacuo": t1 - t0, "sweep": t2 - t1, "per_speed": (t2 - t1) / v.size,
                       "refinement": t3 - t2},
     })
+
+
+def _flutter_json(r) -> dict:
+    """JSON of a :class:`wingmdao.stability.pk.FlutterResult` (per mode and speed)."""
+    return {"flutter_speed_m_s": r.flutter_speed, "flutter_frequency_rad_s": r.flutter_frequency,
+            "flutter_mode": r.flutter_mode, "speeds": r.speeds, "structural_damping": r.damping.T,
+            "frequency_rad_s": r.frequency.T}
+
+
+def analyse_dlm(case, speeds=None, num_nodes=None, n_modes=4, thickness=None) -> dict:
+    """Doublet-lattice flutter (p-k and state space, :func:`wingmdao.stability.modal.dlm_flutter`)
+    beside strip theory's sweep of the same speeds; returns the JSON dict."""
+    from wingmdao.stability.cases import flutter_problem
+    from wingmdao.stability.modal import dlm_flutter
+
+    strip = analyse(case, speeds, num_nodes, n_modes, thickness, "strip")
+    v = np.asarray(strip["speeds"], dtype=float)
+    v = v[v > 0.0]
+    t0 = _time.perf_counter()
+    prob = flutter_problem(case, num_nodes, thickness)
+    r = dlm_flutter(prob, v, n_modes=max(int(n_modes), 2))
+    total = _time.perf_counter() - t0
+    result = dict(strip)
+    result.update({
+        "aero_theory": "dlm",
+        "flutter_speed_m_s": r.pk.flutter_speed, "flutter_frequency_rad_s": r.pk.flutter_frequency,
+        "divergence_speed_m_s": None,
+        "strip": {k: strip[k] for k in ("flutter_speed_m_s", "flutter_frequency_rad_s", "divergence_speed_m_s",
+                                         "speeds", "structural_damping", "frequency_rad_s")},
+        "dlm": {"pk": _flutter_json(r.pk), "state_space": _flutter_json(r.state_space),
+                "rfa": {"form": "Roger", "lag_roots": r.rfa.lags, "fit_error": r.rfa.error,
+                        "gust_fit_error": r.rfa.gust_error},
+                "mach": r.mach, "reduced_frequencies": r.gaf.k, "reference_semichord_m": r.gaf.b_ref,
+                "n_modes": r.modes.count, "modal_frequencies_rad_s": r.modes.frequencies,
+                "timings_s": {**r.timings, "total": total}},
+    })
+    return _clean(result)
+
+
+def plot_dlm(result, path):
+    """Strip theory's V-g / V-f beside the doublet lattice's (p-k lines, state-space flutter point)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from wingmdao.plots import save_figure
+
+    fig, axes = plt.subplots(2, 2, figsize=(11, 7), sharex=True, sharey="row")
+    d = result["dlm"]
+    panels = ((result["strip"], "strip theory (full beam, Wagner lags)", axes[:, 0]),
+              (d["pk"], "doublet lattice, p-k (modal basis)", axes[:, 1]))
+    for data, title, (ax1, ax2) in panels:
+        v = np.asarray(data["speeds"], dtype=float)
+        for j, (g, w) in enumerate(zip(data["structural_damping"], data["frequency_rad_s"])):
+            g = np.array([np.nan if x is None else x for x in g], dtype=float)
+            ax1.plot(v, g, "o-", ms=3, label=f"mode {j + 1}")
+            ax2.plot(v, w, "o-", ms=3)
+        vf = data["flutter_speed_m_s"]
+        for ax in (ax1, ax2):
+            if vf:
+                ax.axvline(vf, color="r", ls="--", lw=0.8)
+        ax1.axhline(0.0, color="k", lw=0.5)
+        ax1.set_title(f"{title}: flutter {vf or float('nan'):.1f} m/s", fontsize=9)
+        ax2.set_xlabel("airspeed (m/s)")
+    vs = d["state_space"]["flutter_speed_m_s"]
+    if vs:
+        axes[0, 1].plot([vs], [0.0], "kx", ms=8, label=f"state space (Roger) {vs:.1f} m/s")
+    axes[0, 0].set_ylabel("g = 2 Re / |Im|")
+    axes[1, 0].set_ylabel("frequency (rad/s)")
+    axes[0, 1].legend(fontsize=8)
+    axes[0, 0].set_ylim(-0.6, 0.4)
+    fig.suptitle(f"{result['case']}: V-g / V-f, strip theory and doublet lattice")
+    fig.tight_layout()
+    save_figure(fig, path, dpi=110)
 
 
 DEFAULT_ROOT_AOA_DEG = (1.0, 2.0, 3.0)
@@ -300,7 +380,16 @@ def run(args) -> int:
                              f"a = {a:.1f} m/s at 20 000 ft); allowed range V1 < {a:.1f} m/s")
     if args.deformed and args.aero_theory != "strip":
         raise ValueError(f"--deformed: the deformed-state sweep uses strip theory; drop --aero-theory {args.aero_theory}")
-    result = analyse(args.case, speeds, args.num_nodes, args.modes, thickness, args.aero_theory)
+    if args.aero_theory == "dlm":
+        result = analyse_dlm(args.case, speeds, args.num_nodes, args.modes, thickness)
+        d = result["dlm"]
+        print(f"{args.case} doublet lattice: p-k flutter {_value(d['pk']['flutter_speed_m_s'], 'm/s')} at "
+              f"{_value(d['pk']['flutter_frequency_rad_s'], 'rad/s')}, state space "
+              f"{_value(d['state_space']['flutter_speed_m_s'], 'm/s')} (Roger fit error "
+              f"{100 * d['rfa']['fit_error']:.2f} %); strip theory {_value(result['strip']['flutter_speed_m_s'], 'm/s')}"
+              f"; dlm flutter search {d['timings_s']['total']:.1f} s", file=sys.stderr)
+    else:
+        result = analyse(args.case, speeds, args.num_nodes, args.modes, thickness, args.aero_theory)
     if args.case == "pegasus":
         result["design"] = args.design or "initial"
     if args.deformed:
@@ -324,7 +413,7 @@ def run(args) -> int:
     write_json(result, args.json)  # the result first: a plotting failure must never lose it
     if plot_path:
         try:
-            plot(result, plot_path)
+            (plot_dlm if args.aero_theory == "dlm" else plot)(result, plot_path)
         except ImportError:
 
             warn("plot skipped (plots need matplotlib: pip install 'wingmdao[plot]'); the JSON is written")

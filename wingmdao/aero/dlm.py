@@ -1,0 +1,268 @@
+"""Doublet-lattice unsteady aerodynamics of a wing planform in the modal basis of the jig beam
+(no OpenMDAO).
+
+Lattice. The panels are those of :mod:`wingmdao.aero.vlm` (the mean surface through the jig beam
+nodes, ``n_chordwise`` x ``n_spanwise`` panels per beam element), the left half its explicit
+mirror image. Each panel carries a doublet line on its quarter chord; the normalwash is
+enforced at its three-quarter-chord point of mid-span. The aerodynamic influence coefficients
+(AIC) are PanelAero's (DLR, BSD-3, the optional ``aero3d`` extra): the steady part its vortex
+lattice, the oscillatory increment the doublet-lattice kernel of Albano & Rodden ("A
+doublet-lattice method for calculating lift distributions on oscillating surfaces in subsonic
+flows", AIAA J. 7(2), 1969, 279-285) with Rodden, Giesing & Kalman's quartic approximation of the
+incremental kernel ("Refinement of the nonplanar aspects of the subsonic doublet-lattice lifting
+surface method", J. Aircraft 9(1), 1972, 69-73). Both halves are given to PanelAero explicitly
+(its ``xz_symmetry`` option is not used); a symmetric motion's pressure jumps on the right half
+are ``(Q_RR + Q_RL) w`` with ``Q = -A^-1`` of the whole wing.
+
+Reduced frequency ``k = omega b_ref / V`` (``b_ref`` the reference semi-chord, m); PanelAero's
+kernel takes ``omega / V = k / b_ref`` (1/m).
+
+Transfer (rigid chordwise links). At a panel's mid-span the beam's hat functions interpolate each
+mode's nodal displacement ``u`` and rotation ``phi`` (the same hat functions as the vortex
+lattice's station transfer); a point ``p`` of the panel moves rigidly with that beam section:
+``u + phi x (p - r)``, ``r`` the beam axis there (heave and pitch about the elastic axis, plus
+the roll and in-plane terms a dihedral or sweep brings). Its normal component at the
+control point is ``h_j``, the streamwise slope of the normal displacement gives the panel's
+incidence ``alpha_j = -(phi x e_x) . n_j``, and the normalwash of a harmonic motion is
+``w_j / V = alpha_j - i (k / b_ref) h_j`` (positive: a nose-up incidence). The panel's normal
+force ``q A_j dcp_j`` acts on its doublet line (quarter chord); its virtual work on each mode's
+normal displacement there gives the generalized force. So
+
+    Q(ik) = T^T Q_jj(k) D(k),     D(k) = D_alpha - i (k / b_ref) D_h,
+
+``T`` (panels, modes) the panel areas times the modes' normal displacement at the force points
+(m^2 per unit modal amplitude). The modal equations of motion are
+``M q'' + C q' + K q = (rho V^2 / 2) Q(ik) q``.
+
+Gust. A vertical gust ``w_g e^(i omega (t - (x - x_0) / V))`` reaches panel j's control point
+with the delay ``(x_j - x_0) / V``; its normalwash per unit ``w_g / V`` is
+``n_z,j exp(-i (k / b_ref) (x_j - x_0))``, and ``Q_g(ik) = T^T Q_jj(k) w_g`` (modes, ) per unit
+``w_g / V``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from wingmdao.aero.vlm import Lattice, build_lattice, check_planform
+
+#: default lattice density of the doublet lattice: chordwise panels, spanwise strips per beam element
+DLM_CHORDWISE = 4
+DLM_SPANWISE = 2
+#: default reduced frequencies (k = omega b_ref / V) of the tabulated generalized forces
+REDUCED_FREQUENCIES = (0.0, 0.02, 0.05, 0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.7, 1.0, 1.5)
+_CACHE: dict = {}
+_CACHE_SIZE = 8
+_MIRROR = np.array([1.0, -1.0, 1.0])
+
+__all__ = ["DLM_CHORDWISE", "DLM_SPANWISE", "REDUCED_FREQUENCIES", "GeneralizedForces", "ModalTransfer",
+           "check_reduced_frequencies", "check_dlm_mach", "check_panels", "aerogrid", "steady_aic", "panel_pressure", "modal_transfer",
+           "generalized_forces", "interpolate"]
+
+
+def _panelaero_dlm():
+    try:
+        from panelaero import DLM, VLM
+    except ImportError as exc:  # pragma: no cover - the extra is installed in the test environment
+        raise ImportError("--aero-theory dlm needs PanelAero: pip install 'wingmdao[aero3d]'") from exc
+    return DLM, VLM
+
+
+def check_reduced_frequencies(k) -> np.ndarray:
+    """Validated reduced frequencies: a non-empty, finite, strictly increasing set of k >= 0."""
+    k = np.atleast_1d(np.asarray(k, dtype=float))
+    if k.ndim != 1 or k.size == 0:
+        raise ValueError("reduced_frequencies must be a non-empty 1-D set of k = omega b_ref / V >= 0, got none")
+    if not np.all(np.isfinite(k)) or np.any(k < 0.0):
+        raise ValueError(f"reduced_frequencies must be finite and >= 0, got {k.tolist()}")
+    if np.any(np.diff(k) <= 0.0):
+        raise ValueError(f"reduced_frequencies must be strictly increasing (sorted, no repeats), got {k.tolist()}")
+    return k
+
+
+def check_dlm_mach(mach) -> float:
+    """The Mach number of the (subsonic) doublet lattice; ValueError outside [0, 1)."""
+    m = float(mach)
+    if not (np.isfinite(m) and 0.0 <= m < 1.0):
+        raise ValueError(f"mach must be in [0, 1) (the subsonic doublet-lattice kernel), got {mach}")
+    return m
+
+
+def check_panels(lat: Lattice) -> None:
+    """ValueError naming the first panel of zero (or negative) area."""
+    area = lat.panel_chord * lat.span
+    bad = np.flatnonzero(~(np.isfinite(area) & (area > 0.0)))
+    if bad.size:
+        raise ValueError(f"panel {bad[0]} (strip {lat.strip[bad[0]]}) has zero area ({area[bad[0]]} m^2): "
+                         "chords must be > 0 and the nodes' y must increase from root to tip")
+
+
+def aerogrid(lat: Lattice) -> dict:
+    """PanelAero's aerogrid of both halves: the right half's panels (ours) then their mirror
+    images, each doublet line from its lower-y end ``P1`` to its upper-y end ``P3``."""
+    area = lat.panel_chord * lat.span
+    mid = 0.5 * (lat.bound_a + lat.bound_b)
+    return {"offset_j": np.vstack([lat.control, lat.control * _MIRROR]),
+            "offset_l": np.vstack([mid, mid * _MIRROR]),
+            "offset_P1": np.vstack([lat.bound_a, lat.bound_b * _MIRROR]),
+            "offset_P3": np.vstack([lat.bound_b, lat.bound_a * _MIRROR]),
+            "N": np.vstack([lat.normal, lat.normal * _MIRROR]),
+            "A": np.concatenate([area, area]), "l": np.concatenate([lat.panel_chord, lat.panel_chord]),
+            "n": 2 * lat.span.size}
+
+
+def steady_aic(lat: Lattice) -> np.ndarray:
+    """PanelAero's steady (vortex-lattice) AIC ``A`` (2m, 2m) of both halves: ``w / V = A dcp``."""
+    _, VLM = _panelaero_dlm()
+    A, _ = VLM.calc_Ajj(aerogrid=aerogrid(lat), Ma=lat.mach)
+    return A
+
+
+def panel_pressure(lat: Lattice, k_over_b, normalwash, *, method: str = "quartic", steady=None) -> np.ndarray:
+    """Pressure jumps dcp (m, c) on the right half of a symmetric normalwash ``w / V`` (m, c)
+    (the left half the mirror image) at ``omega / V = k_over_b`` (1/m); ``k_over_b = 0``: the
+    steady vortex lattice. ``steady``: :func:`steady_aic` of ``lat`` if already computed."""
+    DLM, _ = _panelaero_dlm()
+    grid = aerogrid(lat)
+    A = (steady_aic(lat) if steady is None else steady).astype(complex)
+    if k_over_b > 0.0:
+        with np.errstate(all="ignore"):
+            A = A + DLM.calc_Ajj(aerogrid=grid, Ma=lat.mach, k=float(k_over_b), method=method)
+    w = np.asarray(normalwash, dtype=complex)
+    m = lat.span.size
+    # a symmetric normalwash on both halves; Q = -A^-1, so dcp = -A^-1 w
+    return -np.linalg.solve(A, np.concatenate([w, w], axis=0))[:m]
+
+
+@dataclass(frozen=True, eq=False)
+class ModalTransfer:
+    """Rigid-link transfer of the modes to the panels (right half; columns = modes).
+
+    ``incidence`` (m, modes) rad: each panel's incidence per unit modal amplitude;
+    ``heave`` (m, modes) m: the normal displacement of its control point; ``force`` (m, modes)
+    m^2: its area times the normal displacement of its force point (quarter chord of the panel).
+    """
+
+    incidence: np.ndarray
+    heave: np.ndarray
+    force: np.ndarray
+
+
+def _section_motion(lat: Lattice, node_positions, displacement, rotation, points):
+    """Normal displacement (m, modes) of ``points`` (m, 3) rigidly linked to the beam section at
+    each panel's mid-span, and the panels' incidence (m, modes)."""
+    r = lat.hat @ np.asarray(node_positions, dtype=float)             # beam axis at each panel (m, 3)
+    u = np.einsum("pn,knc->pkc", lat.hat, displacement)              # (m, modes, 3)
+    phi = np.einsum("pn,knc->pkc", lat.hat, rotation)
+    arm = (points - r)[:, None, :]
+    normal = np.einsum("pkc,pc->pk", u + np.cross(phi, arm), lat.normal)
+    incidence = -np.einsum("pkc,pc->pk", np.cross(phi, np.array([1.0, 0.0, 0.0])), lat.normal)
+    return normal, incidence
+
+
+def modal_transfer(lat: Lattice, node_positions, displacement, rotation) -> ModalTransfer:
+    """:class:`ModalTransfer` of modes given by nodal ``displacement`` and ``rotation``
+    (modes, n, 3), body axes, on the beam through ``node_positions`` (n, 3)."""
+    d = np.asarray(displacement, dtype=float)
+    t = np.asarray(rotation, dtype=float)
+    if d.ndim != 3 or d.shape != t.shape or d.shape[1:] != (lat.hat.shape[1], 3):
+        raise ValueError(f"displacement and rotation must be (modes, {lat.hat.shape[1]}, 3), got {d.shape}, {t.shape}")
+    heave, incidence = _section_motion(lat, node_positions, d, t, lat.control)
+    force_point = 0.5 * (lat.bound_a + lat.bound_b)
+    h_force, _ = _section_motion(lat, node_positions, d, t, force_point)
+    return ModalTransfer(incidence=incidence, heave=heave, force=(lat.panel_chord * lat.span)[:, None] * h_force)
+
+
+@dataclass(frozen=True, eq=False)
+class GeneralizedForces:
+    """Generalized aerodynamic forces of the modes, per unit dynamic pressure.
+
+    ``k`` (nk,) reduced frequencies (omega b_ref / V); ``Q`` (nk, modes, modes) complex: the
+    force on mode i of a unit harmonic amplitude of mode j (m^2 per modal amplitude units);
+    ``gust`` (nk, modes) complex: of a unit ``w_g / V`` with each panel's penetration delay;
+    ``b_ref`` m, ``mach``, ``x_gust`` the x (m) at which the gust phase is zero.
+    """
+
+    k: np.ndarray
+    Q: np.ndarray
+    gust: np.ndarray
+    b_ref: float
+    mach: float
+    x_gust: float
+
+    def at(self, k):
+        """``(Q, gust)`` at reduced frequency ``k`` (:func:`interpolate`)."""
+        return interpolate(self, k)
+
+
+def interpolate(gaf: GeneralizedForces, k):
+    """``(Q (modes, modes), gust (modes,))`` at reduced frequency ``k`` by cubic splines of the real
+    and imaginary parts over the tabulated k (linear with two points); ValueError outside them."""
+    k = float(k)
+    lo, hi = gaf.k[0], gaf.k[-1]
+    if not (lo - 1e-12 <= k <= hi + 1e-12):
+        raise ValueError(f"reduced frequency {k:.4g} outside the tabulated range [{lo:.4g}, {hi:.4g}]; "
+                         "add reduced frequencies")
+    if gaf.k.size == 1:
+        return gaf.Q[0], gaf.gust[0]
+    if gaf.k.size < 4:
+        out = [np.apply_along_axis(lambda f: np.interp(k, gaf.k, f.real) + 1j * np.interp(k, gaf.k, f.imag), 0, a)
+               for a in (gaf.Q, gaf.gust)]
+        return out[0], out[1]
+    out = []
+    for a in (gaf.Q, gaf.gust):
+        out.append(CubicSpline(gaf.k, a.real, axis=0)(k) + 1j * CubicSpline(gaf.k, a.imag, axis=0)(k))
+    return out[0], out[1]
+
+
+def generalized_forces(node_positions, chord, ref_point, displacement, rotation, *, mach=0.0,
+                       reduced_frequencies=REDUCED_FREQUENCIES, b_ref=None, x_gust=None,
+                       n_chordwise=DLM_CHORDWISE, n_spanwise=DLM_SPANWISE, method="quartic") -> GeneralizedForces:
+    """:class:`GeneralizedForces` of the doublet lattice of the planform (module docstring).
+
+    ``node_positions`` (n, 3) m, ``chord`` (n,) m, ``ref_point`` (n,): the jig beam as for
+    :func:`wingmdao.aero.vlm.station_influence`; ``displacement``, ``rotation`` (modes, n, 3): the
+    mode shapes (:func:`wingmdao.beam.modes.normal_modes`); ``b_ref`` (m): reference semi-chord
+    (default half the root chord); ``x_gust`` (m): where the gust phase is zero (default the
+    foremost leading edge). Cached by planform, modes, Mach and k set.
+    Errors (ValueError, before any solve): Mach outside [0, 1), an empty or unsorted k set, a
+    panel of zero area, a planform whose nodes do not move outboard.
+    """
+    mach = check_dlm_mach(mach)
+    k = check_reduced_frequencies(reduced_frequencies)
+    r, c, ref, mach = check_planform(node_positions, chord, ref_point, mach)
+    if method not in ("quartic", "parabolic"):
+        raise ValueError(f'method must be "quartic" or "parabolic", got {method!r}')
+    b = 0.5 * float(c[0]) if b_ref is None else float(b_ref)
+    if not (np.isfinite(b) and b > 0.0):
+        raise ValueError(f"b_ref must be > 0 m (reference semi-chord), got {b_ref}")
+    d = np.asarray(displacement, dtype=float)
+    t = np.asarray(rotation, dtype=float)
+    key = hashlib.sha1(b"".join(np.ascontiguousarray(v).tobytes() for v in (r, c, ref, d, t, k))
+                       + repr((mach, b, x_gust, int(n_chordwise), int(n_spanwise), method)).encode()).hexdigest()
+    if key in _CACHE:
+        return _CACHE[key]
+    lat = build_lattice(r, c, ref, mach=mach, n_chordwise=n_chordwise, n_spanwise=n_spanwise)
+    check_panels(lat)
+    tr = modal_transfer(lat, r, d, t)
+    x0 = float(np.min(r[:, 0] - ref * c)) if x_gust is None else float(x_gust)
+    nm = d.shape[0]
+    Q = np.zeros((k.size, nm, nm), dtype=complex)
+    G = np.zeros((k.size, nm), dtype=complex)
+    steady = steady_aic(lat)
+    for i, ki in enumerate(k):
+        kb = ki / b
+        wash = np.column_stack([tr.incidence - 1j * kb * tr.heave,
+                                lat.normal[:, 2] * np.exp(-1j * kb * (lat.control[:, 0] - x0))])
+        dcp = panel_pressure(lat, kb, wash, method=method, steady=steady)
+        F = tr.force.T @ dcp
+        Q[i], G[i] = F[:, :nm], F[:, nm]
+    out = GeneralizedForces(k=k, Q=Q, gust=G, b_ref=b, mach=mach, x_gust=x0)
+    if len(_CACHE) >= _CACHE_SIZE:
+        _CACHE.pop(next(iter(_CACHE)))
+    _CACHE[key] = out
+    return out

@@ -1,0 +1,127 @@
+"""Rational-function approximation of tabulated generalized aerodynamic forces (no OpenMDAO).
+
+Roger's form (K. L. Roger, "Airplane math modeling methods for active control design", AGARD
+CP-228, 1977): in the reduced Laplace variable ``p = s b_ref / V`` (``p = i k`` on the frequency
+axis)
+
+    Q(p) ~ A_0 + A_1 p + A_2 p^2 + sum_l A_(l+2) p / (p + gamma_l),
+
+each matrix entry fitted independently by linear least squares over the tabulated k, real and
+imaginary parts together, with ``A_0 = Q(0)`` exactly when k = 0 is tabulated (the static
+aeroelastic loads of the state-space model are then those of the doublet lattice). The lag roots
+``gamma_l > 0`` are chosen, not fitted (default: spread over the tabulated k, :func:`default_lags`).
+In the time domain every lag root adds one state per mode,
+``z_l' = -gamma_l (V / b_ref) z_l + q'``, a first-order filter whose pole ``-gamma_l V / b_ref``
+is stable for every airspeed because ``gamma_l > 0`` (:func:`fit` refuses others).
+
+Why Roger and not Karpel's minimum-state form (M. Karpel, "Design for active flutter suppression
+and gust alleviation using state-space aeroelastic modeling", J. Aircraft 19(3), 1982, 221-227):
+the minimum-state fit ``Q = A_0 + A_1 p + A_2 p^2 + D (p I - R)^-1 E p`` needs fewer states but an
+iterative nonlinear fit of ``D`` and ``E`` whose convergence and error depend on the starting
+guess; Roger's fit is one linear least-squares solve per entry, its error is the smallest of the
+two for a given set of lag roots, and with a modal basis of a few modes the lag states it adds
+(lags x modes, 36 for 6 lags and 6 modes) cost nothing in the eigen-analysis or a time march.
+The gust column is fitted in the same form with its own lag states (driven by ``w_g / V``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from wingmdao.aero.dlm import GeneralizedForces
+
+#: default number of lag roots
+N_LAGS = 6
+
+
+@dataclass(frozen=True, eq=False)
+class RogerApproximation:
+    """Roger's approximation of generalized forces (module docstring).
+
+    ``lags`` (L,) the lag roots gamma_l (> 0); ``A`` (3 + L, modes, modes) real: A_0, A_1, A_2,
+    then one matrix per lag; ``gust`` (3 + L, modes) real: the same for the gust column;
+    ``b_ref`` m; ``k`` the fitted reduced frequencies; ``error`` the fit error: max over k of
+    ``||Q_fit(ik) - Q(ik)||_F / max_k ||Q(ik)||_F``; ``gust_error`` the same for the gust column.
+    """
+
+    lags: np.ndarray
+    A: np.ndarray
+    gust: np.ndarray
+    b_ref: float
+    k: np.ndarray
+    error: float
+    gust_error: float
+
+    def __call__(self, k):
+        """``(Q (modes, modes), gust (modes,))`` of the approximation at reduced frequency ``k``."""
+        w = _basis(np.atleast_1d(float(k)), self.lags)[0]
+        return np.tensordot(w, self.A, axes=1), np.tensordot(w, self.gust, axes=1)
+
+    @property
+    def n_lags(self) -> int:
+        return int(self.lags.size)
+
+
+def default_lags(k, n_lags: int = N_LAGS) -> np.ndarray:
+    """Lag roots spread over the tabulated reduced frequencies: ``gamma_l = 1.7 k_max (l / (L + 1))^2``
+    (the spacing of Tiffany & Adams, "Nonlinear programming extensions to rational function
+    approximation methods for unsteady aerodynamic forces", NASA TP-2776, 1988, Sec. 2)."""
+    kmax = float(np.max(k))
+    if not kmax > 0.0:
+        raise ValueError(f"the reduced frequencies must include k > 0 to choose lag roots, got {np.asarray(k).tolist()}")
+    n = int(n_lags)
+    return 1.7 * kmax * (np.arange(1, n + 1) / (n + 1.0)) ** 2
+
+
+def _basis(k, lags):
+    """(nk, 3 + L) complex: 1, ik, (ik)^2, ik / (ik + gamma_l)."""
+    p = 1j * np.asarray(k, dtype=float)[:, None]
+    return np.column_stack([np.ones(p.shape[0]), p[:, 0], p[:, 0] ** 2, (p / (p + lags[None, :]))])
+
+
+def _fit_entries(k, values, lags):
+    """Least-squares coefficients (3 + L, entries) of ``values`` (nk, entries) complex; A_0 pinned
+    to the k = 0 value when tabulated."""
+    W = _basis(k, lags)
+    pinned = np.isclose(k, 0.0)
+    if np.any(pinned):
+        a0 = values[np.flatnonzero(pinned)[0]].real
+        rhs = values - a0[None, :]
+        cols = W[:, 1:]
+    else:
+        a0, rhs, cols = None, values, W
+    Ar = np.vstack([cols.real, cols.imag])
+    br = np.vstack([rhs.real, rhs.imag])
+    coef, *_ = np.linalg.lstsq(Ar, br, rcond=None)
+    return coef if a0 is None else np.vstack([a0[None, :], coef])
+
+
+def fit(gaf: GeneralizedForces, lags=None, *, n_lags: int = N_LAGS) -> RogerApproximation:
+    """Roger's approximation of ``gaf`` (:class:`wingmdao.aero.dlm.GeneralizedForces`) with the lag
+    roots ``lags`` (default :func:`default_lags`). ValueError: a lag root <= 0 (an unstable or
+    static lag state), repeated roots, or fewer tabulated k than coefficients to fit."""
+    k = np.asarray(gaf.k, dtype=float)
+    lags = default_lags(k, n_lags) if lags is None else np.atleast_1d(np.asarray(lags, dtype=float))
+    if lags.size and not np.all(np.isfinite(lags) & (lags > 0.0)):
+        raise ValueError(f"lag roots must be > 0 (stable lag states, poles -gamma V / b_ref), got {lags.tolist()}")
+    if np.unique(lags).size != lags.size:
+        raise ValueError(f"lag roots must be distinct, got {lags.tolist()}")
+    unknowns = 2 + lags.size            # A_1, A_2, lags (A_0 from k = 0 or fitted with them)
+    if 2 * k.size < unknowns + 1:
+        raise ValueError(f"{k.size} reduced frequencies cannot fit {unknowns + 1} coefficients per entry; "
+                         f"tabulate at least {(unknowns + 2) // 2} or use fewer lags")
+    nm = gaf.Q.shape[1]
+    A = _fit_entries(k, gaf.Q.reshape(k.size, -1), lags).reshape(-1, nm, nm)
+    G = _fit_entries(k, gaf.gust, lags)
+    W = _basis(k, lags)
+    err_q = np.linalg.norm(np.tensordot(W, A, axes=1) - gaf.Q, axis=(1, 2)).max() / np.linalg.norm(gaf.Q, axis=(1, 2)).max()
+    err_g = np.linalg.norm(W @ G - gaf.gust, axis=1).max() / np.linalg.norm(gaf.gust, axis=1).max()
+    return RogerApproximation(lags=lags, A=A, gust=G, b_ref=gaf.b_ref, k=k, error=float(err_q), gust_error=float(err_g))
+
+
+def pole_real_parts(rfa: RogerApproximation, airspeed) -> np.ndarray:
+    """Real parts (1/s) of the lag states' poles ``-gamma_l V / b_ref`` at ``airspeed`` (m/s): all
+    negative, so the lag states are stable on their own."""
+    return -rfa.lags * float(airspeed) / rfa.b_ref

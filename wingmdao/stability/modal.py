@@ -1,0 +1,103 @@
+"""Doublet-lattice flutter of a case's wing in the modal basis of its jig beam (no OpenMDAO).
+
+The chain: the beam's undamped normal modes about the jig (:func:`wingmdao.beam.modes.normal_modes`,
+clamped root), the doublet-lattice generalized forces of those modes at a set of reduced
+frequencies (:func:`wingmdao.aero.dlm.generalized_forces`), then two flutter solutions that must
+agree: p-k on the exact tabulated matrices and the state-space eigenvalues with Roger's lag
+states (:mod:`wingmdao.stability.pk`, :mod:`wingmdao.aero.rfa`).
+
+Mach number: the doublet lattice is built at one Mach number. For a case with a speed of sound
+the first solution uses the Mach number of the sweep's middle speed; if the p-k flutter speed's
+Mach number differs from it by more than :data:`MACH_MATCH_TOL`, the matrices are rebuilt at that
+Mach number and both flutter solutions repeated (one match-point iteration).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from wingmdao.aero.dlm import (DLM_CHORDWISE, DLM_SPANWISE, REDUCED_FREQUENCIES, GeneralizedForces,
+                               generalized_forces)
+from wingmdao.aero.rfa import RogerApproximation, fit
+from wingmdao.beam.modes import NormalModes, normal_modes
+from wingmdao.beam.static import beam_forcing, cached_beam_system
+from wingmdao.stability.pk import FlutterResult, ModalStructure, pk_flutter, state_space_flutter
+from wingmdao.timemarch.system import pack
+
+#: default number of beam modes in the modal basis
+N_MODES = 6
+#: default number of Roger lag roots of the state-space model
+N_LAGS_FLUTTER = 6
+#: Mach-number mismatch above which the doublet lattice is rebuilt at the flutter speed's Mach number
+MACH_MATCH_TOL = 0.02
+
+
+@dataclass
+class DLMFlutter:
+    """Doublet-lattice flutter of a case: ``pk`` and ``state_space`` the two
+    :class:`wingmdao.stability.pk.FlutterResult`; ``modes``, ``structure``, ``gaf``, ``rfa`` the
+    pieces; ``mach`` the Mach number of the matrices; ``timings`` (s) per step."""
+
+    pk: FlutterResult
+    state_space: FlutterResult
+    modes: NormalModes
+    structure: ModalStructure
+    gaf: GeneralizedForces
+    rfa: RogerApproximation
+    mach: float
+    timings: dict = field(default_factory=dict)
+
+
+def jig_modes(problem, n_modes: int = N_MODES) -> NormalModes:
+    """The lowest ``n_modes`` normal modes of the case's beam (clamped, no air) about the jig."""
+    n = problem.num_nodes
+    system = cached_beam_system(n)
+    p = pack(system.param_specs, problem.beam)
+    q = pack(system.forcing_specs, beam_forcing(n))
+    return normal_modes(system, problem.beam, p, q, count=int(n_modes))
+
+
+def case_forces(problem, modes: NormalModes, mach: float, *, reduced_frequencies=REDUCED_FREQUENCIES,
+                n_chordwise=DLM_CHORDWISE, n_spanwise=DLM_SPANWISE) -> GeneralizedForces:
+    """Doublet-lattice generalized forces of ``modes`` on the case's planform at ``mach``."""
+    n = problem.num_nodes
+    return generalized_forces(problem.beam["node_positions"], np.broadcast_to(problem.aero["chord"], (n,)),
+                              np.broadcast_to(problem.aero["ref_point"], (n,)), modes.displacement,
+                              modes.rotation, mach=mach, reduced_frequencies=reduced_frequencies,
+                              n_chordwise=n_chordwise, n_spanwise=n_spanwise)
+
+
+def dlm_flutter(problem, speeds=None, *, n_modes: int = N_MODES, reduced_frequencies=REDUCED_FREQUENCIES,
+                n_lags: int = N_LAGS_FLUTTER, damping_ratio: float = 0.0, n_chordwise=DLM_CHORDWISE,
+                n_spanwise=DLM_SPANWISE) -> DLMFlutter:
+    """p-k and state-space flutter of ``problem`` (:class:`wingmdao.stability.cases.FlutterProblem`)
+    with the doublet lattice (module docstring). ``speeds`` (m/s) default the case's sweep;
+    ``damping_ratio`` the structural modal damping (fraction of critical)."""
+    speeds = problem.speeds if speeds is None else np.asarray(speeds, dtype=float)
+    density = float(problem.aero["density"])
+    t = {}
+    t0 = time.perf_counter()
+    modes = jig_modes(problem, n_modes)
+    structure = ModalStructure.from_modes(modes, damping_ratio)
+    t["modes"] = time.perf_counter() - t0
+    mach = problem.mach_at(0.5 * (speeds[0] + speeds[-1]))
+    for _ in range(2):
+        t0 = time.perf_counter()
+        gaf = case_forces(problem, modes, mach, reduced_frequencies=reduced_frequencies,
+                          n_chordwise=n_chordwise, n_spanwise=n_spanwise)
+        t["dlm"] = t.get("dlm", 0.0) + time.perf_counter() - t0
+        t0 = time.perf_counter()
+        pk = pk_flutter(structure, gaf, density, speeds)
+        t["pk"] = t.get("pk", 0.0) + time.perf_counter() - t0
+        if pk.flutter_speed is None or abs(problem.mach_at(pk.flutter_speed) - mach) <= MACH_MATCH_TOL:
+            break
+        mach = problem.mach_at(pk.flutter_speed)
+    t0 = time.perf_counter()
+    rfa = fit(gaf, n_lags=n_lags)
+    ss = state_space_flutter(structure, rfa, density, speeds)
+    t["state_space"] = time.perf_counter() - t0
+    return DLMFlutter(pk=pk, state_space=ss, modes=modes, structure=structure, gaf=gaf, rfa=rfa, mach=mach,
+                      timings=t)
