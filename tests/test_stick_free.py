@@ -122,3 +122,105 @@ def test_adjoint_gradient_with_respect_to_lumped_mass_values_against_central_dif
     direction = np.zeros_like(model.p)
     direction[list(picks.values())] = 1.0
     assert np.sum(dfdx * lin.tangent(dp=direction)) == pytest.approx(grad @ direction, rel=1e-9)
+
+
+# ----------------------------------------------------------------------------- free flight
+FUSELAGE = dict(EI_cc=8.0e6, GJ=5.0e6, EI_nn=8.0e6, EA=1e9, mass_per_length=40.0, inertia_per_length=np.diag([1e-3] * 3))
+SURFACE = dict(EI_cc=2.0e6, GJ=1.5e6, EI_nn=1.8e7, EA=1e9, mass_per_length=20.0, inertia_per_length=np.diag([1e-3] * 3))
+ENGINE = dict(offset=(-1.0, 0.0, -0.5), inertia=np.diag([20.0, 30.0, 40.0]))
+
+
+def _aircraft(full, engine=ENGINE, nf=9, nw=7, nt=4):
+    """A free stick aircraft: fuselage 8 m along x (FUSELAGE_AXES), wing 6 m from the fuselage node at
+    x = 2 m, tail 2 m from the fuselage's aft node, a 300 kg engine on each wing; the symmetric
+    half (symmetry conditions on every fuselage node) or the full aircraft (left wing and tail)."""
+    rf, thf = straight_beam(nf, 8.0)                 # the fuselage's own y is body x
+    beams = [Beam("fuselage", nf, root="free", axes=FUSELAGE_AXES)]
+    params = {"fuselage": beam_parameters(rf, thf, **FUSELAGE)}
+    joints, masses = [], []
+    for side, sign in (("right", 1.0), ("left", -1.0))[: 2 if full else 1]:
+        rw, thw = straight_beam(nw, 6.0, (0.0, sign, 0.0))
+        rt, tht = straight_beam(nt, 2.0, (0.0, sign, 0.0))
+        beams += [Beam(f"{side}_wing", nw, root="free"), Beam(f"{side}_tail", nt, root="free")]
+        params[f"{side}_wing"] = beam_parameters(rw + [2.0, 0.0, 0.0], thw, **SURFACE)
+        params[f"{side}_tail"] = beam_parameters(rt + [8.0, 0.0, 0.0], tht, **SURFACE)
+        joints += [Joint("fuselage", 2, f"{side}_wing", 0), Joint("fuselage", -1, f"{side}_tail", 0)]
+        masses.append(LumpedMass(f"{side}_wing", 3, 300.0, **engine))
+    symmetry = [] if full else [Symmetry("fuselage", i) for i in range(nf)]
+    return JoinedBeamModel(beams, joints, params, masses=masses, symmetry=symmetry)
+
+
+@pytest.mark.parametrize("full, rigid", [(False, 3), (True, 6)])
+def test_free_aircraft_has_exactly_its_rigid_body_modes(full, rigid):
+    """The free half aircraft has 3 zero-frequency modes (surge, plunge, pitch), the full one 6; each
+    is a double zero eigenvalue of the first-order pencil. The next one is elastic."""
+    model = _aircraft(full)
+    modes = eigenmodes(model.system, model.p, model.forcing(), model.system.jig_state(model.p), static=False,
+                       method="dense")
+    lam = np.sort(np.abs(modes.eigenvalues))
+    assert np.all(lam[:2 * rigid] < 1e-8)
+    assert lam[2 * rigid] > 10.0
+
+
+def _moving_state(model, seed=0):
+    """The jig with a rigid velocity (3, 0, 2) m/s plus random nodal velocities and rates."""
+    s = model.system
+    x0 = s.jig_state(model.p)
+    rng = np.random.default_rng(seed)
+    for b in s.beams:
+        i0 = s.offsets[b.name]
+        blk = x0[i0:i0 + 18 * b.num_nodes].reshape(-1, 18)
+        blk[:, 12:15] = 0.5 * rng.normal(size=(b.num_nodes, 3)) + b.rotation @ np.array([3.0, 0.0, 2.0])
+        blk[:, 15:18] = 0.05 * rng.normal(size=(b.num_nodes, 3))
+    return x0
+
+
+@pytest.mark.parametrize("full", [False, True])
+def test_free_march_conserves_linear_momentum(full):
+    """A 40-step march of the free aircraft with no external load, from a state with random nodal
+    velocities: its linear momentum (every direction of the full aircraft; x and z of the half,
+    whose symmetry conditions react along y) stays at its initial value to round-off. Under gravity
+    alone it grows as (total mass) g t."""
+    model = _aircraft(full, engine=dict(inertia=ENGINE["inertia"]))     # engines at their nodes
+    s, t = model.system, np.arange(41) * 2e-3
+    x0 = _moving_state(model)
+    free = [0, 1, 2] if full else [0, 2]
+    for g in (0.0, -9.81):
+        Q = np.tile(model.forcing(gravity=[0.0, 0.0, g]), (t.size, 1))
+        h = march(s, t, model.p, Q, initial="state", x_init=x0, xtol=1e-14)
+        P = np.array([s.linear_momentum(x, model.p) for x in h.states])
+        assert np.max(np.abs(h.states[-1] - x0)) > 0.1                  # it moved and deformed
+        mass = 8.0 * 40.0 + (2 if full else 1) * (6.0 * 20.0 + 2.0 * 20.0 + 300.0)
+        expected = P[0] + np.outer(t, [0.0, 0.0, mass * g])
+        np.testing.assert_allclose(P[:, free], expected[:, free], rtol=0, atol=1e-11 * np.abs(P[0]).max())
+
+
+def test_lumped_mass_and_symmetry_input_errors():
+    beams = [Beam("fuselage", 5, root="free", axes=FUSELAGE_AXES), Beam("wing", 4, root="free")]
+    joints = [Joint("fuselage", 2, "wing", 0)]
+    with pytest.raises(ValueError, match=r"lumped mass on wing node 4: node 4 does not exist: beam 'wing' has nodes 0..3"):
+        build_joined_system(beams, joints, masses=[LumpedMass("wing", 4, 10.0)])
+    with pytest.raises(ValueError, match=r"lumped mass on tail node 0: beam 'tail' is not a beam"):
+        build_joined_system(beams, joints, masses=[LumpedMass("tail", 0, 10.0)])
+    with pytest.raises(ValueError, match=r"mass must be finite and > 0 kg, got -1"):
+        LumpedMass("wing", 1, -1.0)
+    with pytest.raises(ValueError, match=r"inertia must be a symmetric positive semi-definite"):
+        LumpedMass("wing", 1, 1.0, inertia=np.diag([1.0, -1.0, 1.0]))
+    with pytest.raises(ValueError, match=r"offset must be 3 finite components"):
+        LumpedMass("wing", 1, 1.0, offset=(0.0, 1.0))
+    with pytest.raises(ValueError, match=r"symmetry condition on fuselage node -1: this node has two symmetry"):
+        build_joined_system(beams, joints, symmetry=[Symmetry("fuselage", 4), Symmetry("fuselage", -1)])
+    with pytest.raises(ValueError, match=r"node 7 does not exist: beam 'fuselage' has nodes 0..4"):
+        build_joined_system(beams, joints, symmetry=[Symmetry("fuselage", 7)])
+    clamped = [Beam("fuselage", 5, axes=FUSELAGE_AXES), beams[1]]
+    with pytest.raises(ValueError, match=r"symmetry conditions are for a free aircraft: beams \['fuselage'\]"):
+        build_joined_system(clamped, joints, symmetry=[Symmetry("fuselage", 0)])
+    # a symmetry node off the plane y = 0 is refused when the parameters are packed
+    rf, thf = straight_beam(5, 4.0)
+    rw, thw = straight_beam(4, 3.0)
+    params = {"fuselage": beam_parameters(rf, thf, **FUSELAGE), "wing": beam_parameters(rw + [2.0, 0, 0], thw, **SURFACE)}
+    with pytest.raises(ValueError, match=r"symmetry condition on wing node 1: the node is not on the plane of "
+                                         r"symmetry: its jig position is y = 1 m"):
+        JoinedBeamModel(beams, joints, params, symmetry=[Symmetry("wing", 1)])
+    system = build_joined_system(beams, joints, symmetry=[Symmetry("fuselage", 2)])
+    assert system.describe_equation(system.n_state - 2) == "symmetry condition on fuselage node 2, roll rotation x held"
