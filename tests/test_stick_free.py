@@ -22,11 +22,15 @@ import scipy.optimize as sopt
 
 from wingmdao.beam.joints import (FUSELAGE_AXES, Beam, JoinedBeamModel, Joint, LumpedMass, Symmetry,
                                   build_joined_system)
+from wingmdao.beam.modes import natural_frequencies
+from wingmdao.beam.residual import build_beam_system
 from wingmdao.beam.static import beam_parameters, straight_beam
+from wingmdao.cases import pegasus, pegasus_stick
+from wingmdao.cases.planform import LB
 from wingmdao.stability.eigen import eigenmodes
 from wingmdao.timemarch.adjoint import LinearizedHistory
 from wingmdao.timemarch.bdf import march
-from wingmdao.timemarch.system import layout
+from wingmdao.timemarch.system import layout, pack
 
 ROT = np.diag([1e-9, 1e-3, 1e-9])   # small rotary inertia per length (kg m), csn
 SECTION = dict(EI_cc=2.0e6, GJ=1.5e6, EI_nn=1.8e7, EA=1e11, mass_per_length=20.0, inertia_per_length=ROT)
@@ -224,3 +228,25 @@ def test_lumped_mass_and_symmetry_input_errors():
         JoinedBeamModel(beams, joints, params, symmetry=[Symmetry("wing", 1)])
     system = build_joined_system(beams, joints, symmetry=[Symmetry("fuselage", 2)])
     assert system.describe_equation(system.n_state - 2) == "symmetry condition on fuselage node 2, roll rotation x held"
+
+
+# ----------------------------------------------------------------------------- PEGASUS stick model
+def test_pegasus_stick_half_aircraft_mass_and_rigid_body_modes():
+    """The PEGASUS half aircraft weighs half the TOGW (Table D.3, 41 005 lb), has exactly 3 rigid-body
+    modes, and its first elastic mode is the wing's first bending, above the clamped lone wing's
+    (body freedom of the free aircraft)."""
+    ac = pegasus_stick.build(num_wing_nodes=12)
+    assert ac.mass == pytest.approx(0.5 * pegasus.TOGW_LB * LB, rel=1e-12)
+    m = ac.model
+    modes = eigenmodes(m.system, m.p, m.forcing(), m.system.jig_state(m.p), static=False, method="sparse",
+                       sigma=1.0, count=12)
+    lam = np.sort(np.abs(modes.eigenvalues))
+    assert np.sum(lam < 1e-6) == 6
+    lone = build_beam_system(12)
+    clamped = natural_frequencies(lone, pack(lone.param_specs, pegasus.beam_params(12)), np.zeros(lone.n_forcing), count=1)
+    assert 1.0 < lam[6] / (2 * np.pi * clamped[0]) < 1.1
+    # the rigid fin root: a symmetry condition on both nodes of a rigid joint is refused
+    s = m.system
+    with pytest.raises(ValueError, match=r"joint fuselage node \d+ - fin node 0: both nodes of this rigid joint have "
+                                         r"symmetry conditions"):
+        build_joined_system(s.beams, s.joints, masses=s.masses, symmetry=list(s.symmetry) + [Symmetry("fin", 0)])

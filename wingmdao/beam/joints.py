@@ -243,9 +243,10 @@ def _check_node(label, by_name, name, node, which=""):
     return node % n
 
 
-def _check_attachments(by_name, masses, symmetry):
+def _check_attachments(by_name, masses, symmetry, joints=()):
     """Resolve and check lumped masses and symmetry conditions (beams and nodes exist; one
-    symmetry condition per node; none on a system with a clamped beam)."""
+    symmetry condition per node and per pair of rigidly joined nodes; none on a system with a
+    clamped beam)."""
     out_m, out_s, seen = [], [], set()
     for lm in masses:
         if not isinstance(lm, LumpedMass):
@@ -260,6 +261,11 @@ def _check_attachments(by_name, masses, symmetry):
             raise ValueError(f"{sy.label}: this node has two symmetry conditions")
         seen.add((sy.beam, node))
         out_s.append(Symmetry(sy.beam, node))
+    held = {(sy.beam, sy.node) for sy in out_s}
+    for jt in joints:
+        if jt.kind == "rigid" and (jt.beam_a, jt.node_a) in held and (jt.beam_b, jt.node_b) in held:
+            raise ValueError(f"{jt.label}: both nodes of this rigid joint have symmetry conditions; they move as "
+                             f"one, so one condition holds both (the second is redundant: drop it)")
     clamped = [b.name for b in by_name.values() if b.root == "clamped"]
     if out_s and clamped:
         raise ValueError(f"symmetry conditions are for a free aircraft: beams {clamped} have a clamped root "
@@ -307,7 +313,7 @@ def _check_layout(beams, joints, masses=(), symmetry=()):
         if missing:
             raise ValueError(f"beams {missing} are joined to no other beam (every beam must be connected "
                              f"to {beams[0].name!r} through joints)")
-    masses, symmetry = _check_attachments(by_name, list(masses), list(symmetry))
+    masses, symmetry = _check_attachments(by_name, list(masses), list(symmetry), resolved)
     return beams, resolved, masses, symmetry
 
 

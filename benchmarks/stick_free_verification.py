@@ -1,0 +1,105 @@
+"""Figures of lumped masses, free flight and the PEGASUS stick model (docs/stick-model.md).
+
+Runs the cases of tests/test_stick_free.py and prints ours / reference / difference: a cantilever
+with an offset tip mass under gravity (Euler-Bernoulli and Saint-Venant closed forms), its first
+bending frequency (exact tip-mass frequency equation, Rayleigh) and torsion frequency with a tip
+inertia, the rigid-body modes of the free half and full test aircraft, the drift of linear momentum
+in a free march; then the PEGASUS half aircraft of :mod:`wingmdao.cases.pegasus_stick`: mass,
+centre of gravity, pitch inertia, rigid-body modes and elastic frequencies (with each beam's share
+of the mode), beside the clamped lone wing's. About 2 min (``--no-pegasus``: 30 s).
+"""
+
+import argparse
+import os
+import sys
+
+import numpy as np
+import scipy.optimize as sopt
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests"))
+import test_stick_free as T  # noqa: E402
+
+from wingmdao.beam.joints import LumpedMass  # noqa: E402
+from wingmdao.beam.modes import natural_frequencies  # noqa: E402
+from wingmdao.beam.residual import build_beam_system  # noqa: E402
+from wingmdao.cases import pegasus, pegasus_stick  # noqa: E402
+from wingmdao.timemarch.bdf import march  # noqa: E402
+from wingmdao.timemarch.system import pack  # noqa: E402
+
+
+def _rel(a, b):
+    return f"{100 * (a / b - 1):+.4f} %"
+
+
+def tip_mass():
+    M, e, d, g, L = 20.0, 0.5, 0.3, 9.81, T.L
+    model = T._cantilever([LumpedMass("wing", -1, M, offset=(d, e, 0.0))], mass_per_length=1e-9)
+    tip = model.solve(gravity=[0.0, 0.0, -g])["wing"]
+    P, EI, GJ = M * g, T.SECTION["EI_cc"], T.SECTION["GJ"]
+    w_ref = -(P * L**3 / (3 * EI) + P * e * L**2 / (2 * EI))
+    print(f"tip mass 20 kg at (0.3, 0.5, 0) m, gravity, 20 elements: tip w {tip['r'][-1, 2]:.6e} m "
+          f"({_rel(tip['r'][-1, 2], w_ref)} from PL^3/3EI + PeL^2/2EI), twist {tip['theta'][-1, 1]:.6e} rad "
+          f"({_rel(tip['theta'][-1, 1], P * d * L / GJ)} from PdL/GJ)")
+    mL = T.SECTION["mass_per_length"] * L
+    for ratio in (0.5, 1.0, 2.0):
+        J, rho_ip = 1e-2, T.ROT[1, 1]
+        model = T._cantilever([LumpedMass("wing", -1, ratio * mL, inertia=np.diag([1e-9, J, 1e-9]))])
+        w = T._frequencies(model)
+        eq = lambda b: 1 + np.cos(b) * np.cosh(b) + ratio * b * (np.cos(b) * np.sinh(b) - np.sin(b) * np.cosh(b))  # noqa: E731
+        bL = sopt.brentq(eq, 0.3, 1.8751)
+        exact = bL**2 * np.sqrt(T.SECTION["EI_cc"] / (T.SECTION["mass_per_length"] * L**4))
+        rayleigh = np.sqrt(3 * T.SECTION["EI_cc"] / (L**3 * (ratio * mL + 33 / 140 * mL)))
+        gam = sopt.brentq(lambda x: x * np.tan(x) - rho_ip * L / J, 1e-6, np.pi / 2 - 1e-9)
+        torsion = gam / L * np.sqrt(T.SECTION["GJ"] / rho_ip)
+        wt = w[np.argmin(np.abs(w / torsion - 1))]
+        print(f"  M/mL = {ratio}: bending {w[0]:.4f} rad/s, exact (beta L = {bL:.5f}) {exact:.4f} ({_rel(w[0], exact)}), "
+              f"Rayleigh {rayleigh:.4f} ({_rel(w[0], rayleigh)}); torsion with J = 0.01 kg m^2 {wt:.2f}, "
+              f"closed form {torsion:.2f} ({_rel(wt, torsion)})")
+
+
+def free_aircraft():
+    for full in (False, True):
+        model = T._aircraft(full)
+        modes = T.eigenmodes(model.system, model.p, model.forcing(), model.system.jig_state(model.p),
+                             static=False, method="dense")
+        lam = np.sort(np.abs(modes.eigenvalues))
+        zero = int(np.sum(lam < 1e-8))
+        print(f"{'full' if full else 'half'} test aircraft ({model.system.n_state} states): {zero} zero eigenvalues "
+              f"({zero // 2} rigid-body modes), largest {lam[zero - 1]:.1e} 1/s; next {lam[zero]:.2f} rad/s")
+        m2 = T._aircraft(full, engine=dict(inertia=T.ENGINE["inertia"]))
+        t = np.arange(41) * 2e-3
+        Q = np.tile(m2.forcing(), (t.size, 1))
+        h = march(m2.system, t, m2.p, Q, initial="state", x_init=T._moving_state(m2), xtol=1e-14)
+        P = np.array([m2.system.linear_momentum(x, m2.p) for x in h.states])
+        free = [0, 1, 2] if full else [0, 2]
+        drift = np.max(np.abs(P[:, free] - P[0, free])) / np.max(np.abs(P[0]))
+        print(f"  40-step free march, no load: momentum {P[0].round(3)} kg m/s, largest change {drift:.1e} relative")
+
+
+def pegasus_modes(count=10):
+    ac = pegasus_stick.build()
+    print(f"PEGASUS stick, half aircraft ({ac.model.system.n_state} states): mass {ac.mass:.1f} kg, "
+          f"CG ({ac.cg[0]:.3f}, {ac.cg[1]:.3f}, {ac.cg[2]:.3f}) m, I_yy about the CG {ac.pitch_inertia:.4g} kg m^2")
+    fr = pegasus_stick.natural_frequencies(ac, count)
+    print(f"  rigid-body modes: {fr['rigid']}; elastic modes (Hz, share of each beam in the displacement):")
+    for f, sh in zip(fr["hz"], fr["shares"]):
+        print(f"  {f:8.3f}  " + ", ".join(f"{k} {v:.2f}" for k, v in sh.items()))
+    n = 20
+    system = build_beam_system(n)
+    lone = natural_frequencies(system, pack(system.param_specs, pegasus.beam_params(n)), np.zeros(system.n_forcing),
+                               count=4)
+    print("  lone wing, clamped, engines smeared (pegasus.beam_params): " + ", ".join(f"{f:.3f}" for f in lone) + " Hz")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--no-pegasus", action="store_true", help="skip the PEGASUS stick model (default: run it)")
+    args = parser.parse_args()
+    tip_mass()
+    free_aircraft()
+    if not args.no_pegasus:
+        pegasus_modes()
+
+
+if __name__ == "__main__":
+    main()
