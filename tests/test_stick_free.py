@@ -291,3 +291,70 @@ def test_adjoint_of_a_free_half_aircraft_march(kernel_on):
         e[j] = step
         fd = (f_of(run(model.p + e).states)[0] - f_of(run(model.p - e).states)[0]) / (2 * step)
         assert grads["static"][j] == pytest.approx(fd, rel=1e-5), name
+
+
+# ----------------------------------------------------------------------------- inertia relief
+def _free_beam_along_x(n1=11, n2=11, L=10.0):
+    """A free-free uniform beam 10 m along body x (two beams, FUSELAGE_AXES) on the plane of
+    symmetry (symmetry conditions on every node): free in surge, plunge and pitch."""
+    r0, th0 = straight_beam(n1 + n2 - 1, L)
+    sec = {**SECTION, "inertia_per_length": np.diag([1e-3] * 3)}
+    return JoinedBeamModel([Beam("fore", n1, root="free", axes=FUSELAGE_AXES), Beam("aft", n2, root="free", axes=FUSELAGE_AXES)],
+                           [Joint("fore", -1, "aft", 0)],
+                           {"fore": beam_parameters(r0[:n1], th0[:n1], **sec), "aft": beam_parameters(r0[n1 - 1:], th0[n1 - 1:], **sec)},
+                           symmetry=[Symmetry("fore", i) for i in range(n1)] + [Symmetry("aft", i) for i in range(1, n2)])
+
+
+BEAM_SUPPORTS = [("fore", 0, "x"), ("fore", 0, "z"), ("aft", -1, "z")]
+
+
+def test_inertia_relief_of_a_free_free_beam_against_closed_forms():
+    """A free-free beam (m = 20 kg/m, L = 10 m, 20 elements) under a point force P: its plunge
+    acceleration is P/(mL); under P at midspan each half is a cantilever from the centre under the
+    inertial load P/L, so the centre rises P L^3/(128 EI) above the ends; under P at 3/4 span the
+    pitch acceleration is -P (L/4) / I with the elements' I = m L^3 (1 - 1/N^2)/12 + i L."""
+    model, P, L = _free_beam_along_x(), 100.0, 10.0
+    mL = SECTION["mass_per_length"] * L
+    up = np.array(FUSELAGE_AXES) @ [0.0, 0.0, P]          # +z in the fuselage's axes
+    pf = np.zeros((11, 3))
+    pf[0] = up
+    out = model.solve_inertia_relief({"aft": {"point_force": pf}}, supports=BEAM_SUPPORTS)
+    assert out["accelerations"]["az"] == pytest.approx(P / mL, rel=1e-10)
+    assert abs(out["accelerations"]["alpha_y"]) < 1e-12
+    assert out["aft"]["r"][0, 2] == pytest.approx(P * L**3 / (128 * SECTION["EI_cc"]), rel=1e-6)
+    pf = np.zeros((11, 3))
+    pf[5] = up
+    acc = model.solve_inertia_relief({"aft": {"point_force": pf}}, supports=BEAM_SUPPORTS)["accelerations"]
+    inertia = mL * L**2 * (1 - 1 / 20**2) / 12 + 1e-3 * L
+    assert acc["alpha_y"] == pytest.approx(-P * 2.5 / inertia, rel=1e-4)
+    assert acc["az"] - 5.0 * acc["alpha_y"] == pytest.approx(P / mL, rel=1e-4)     # the centre's acceleration
+
+
+def test_inertia_relief_of_the_pegasus_half_aircraft_against_its_mass_properties():
+    """Lift on the wing and a down-load on the tail of the free PEGASUS half aircraft: the CG's
+    acceleration is F/m and the pitch acceleration M_cg/I_yy, with the mass, CG and pitch inertia
+    summed from the model's data (cases.pegasus_stick._mass_properties), within the shift of the
+    CG by the deformation."""
+    ac = pegasus_stick.build(num_wing_nodes=12)
+    pw, pt = np.zeros((12, 3)), np.zeros((8, 3))
+    pw[1:, 2], pt[1:, 2] = 1000.0, -300.0
+    out = ac.model.solve_inertia_relief({"wing": {"point_force": pw}, "tail": {"point_force": pt}},
+                                        supports=[("fuselage", 0, "x"), ("fuselage", 0, "z"), ("fuselage", -1, "z")])
+    a = out["accelerations"]
+    force = pw[:, 2].sum() + pt[:, 2].sum()
+    moment = -np.sum((ac.nodes["wing"][:, 0] - ac.cg[0]) * pw[:, 2]) - np.sum((ac.nodes["tail"][:, 0] - ac.cg[0]) * pt[:, 2])
+    assert a["alpha_y"] == pytest.approx(moment / ac.pitch_inertia, rel=1e-3)
+    assert a["az"] - a["alpha_y"] * ac.cg[0] == pytest.approx(force / ac.mass, rel=1e-4)
+    assert abs(a["ax"] + a["alpha_y"] * ac.cg[2]) < 1e-3 * force / ac.mass
+
+
+def test_inertia_relief_input_errors():
+    model = _free_beam_along_x(5, 5)
+    with pytest.raises(ValueError, match=r"2 supports for 3 accelerations"):
+        model.solve_inertia_relief(supports=BEAM_SUPPORTS[:2])
+    with pytest.raises(ValueError, match=r"accelerations must be distinct names of \['ax', 'ay', 'az', 'alpha_x'"):
+        model.solve_inertia_relief(supports=BEAM_SUPPORTS, accelerations=("ax", "az", "pitch"))
+    with pytest.raises(ValueError, match=r"component must be 'x', 'y' or 'z'"):
+        model.solve_inertia_relief(supports=[("fore", 0, "x"), ("fore", 0, "z"), ("aft", -1, "pitch")])
+    with pytest.raises(ValueError, match=r"do not hold the structure's rigid-body modes"):
+        model.solve_inertia_relief(supports=[("fore", 0, "x"), ("fore", 0, "z"), ("fore", 0, "z")])

@@ -34,10 +34,13 @@ import functools
 import math
 import re
 import time
+import warnings
 from dataclasses import dataclass
 
 import casadi as ca
 import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from wingmdao.beam.residual import (N_STATE_PER_NODE, STATE_BLOCKS, StrainRateDamping, NODE_PARAMS, NODE_FORCING,
                                     element_function, nodal_acceleration, nodal_function, node_forcing,
@@ -749,6 +752,85 @@ def _beam_residual(beam, nd, elem, nodal):
     return ca.vertcat(*blocks)
 
 
+#: Rigid-body accelerations of the body axes an inertia-relief solve may take as unknowns: the
+#: components of ``frame_acceleration`` (m/s^2) and ``frame_angular_acceleration`` (rad/s^2).
+FRAME_ACCELERATIONS = {"ax": ("frame_acceleration", 0), "ay": ("frame_acceleration", 1),
+                       "az": ("frame_acceleration", 2), "alpha_x": ("frame_angular_acceleration", 0),
+                       "alpha_y": ("frame_angular_acceleration", 1), "alpha_z": ("frame_angular_acceleration", 2)}
+#: The accelerations and supports of a symmetric half aircraft (surge, plunge, pitch).
+HALF_AIRCRAFT_ACCELERATIONS = ("ax", "az", "alpha_y")
+
+
+def solve_inertia_relief(system, p, q, supports, accelerations=HALF_AIRCRAFT_ACCELERATIONS, *, x0=None,
+                         rtol=1e-10, max_iter=30) -> tuple[np.ndarray, dict]:
+    """Static equilibrium of a free structure in uniformly accelerated rigid-body motion (inertia
+    relief): the body axes accelerate (the ``accelerations``, unknowns, keys of
+    :data:`FRAME_ACCELERATIONS`) so that the external loads, weight and inertial loads balance,
+    and the structure deforms in those axes; ``supports`` (``(beam, node, component)`` with
+    component ``"x"``, ``"y"`` or ``"z"``: that body-axes displacement of the node held at the jig,
+    one per acceleration) fix its rigid-body position without loading it (their reactions are zero
+    at the balance: a statically determinate support, as Nastran's SUPORT).
+
+    Newton on ``R(x, 0, p, q(a)) = 0`` with the support rows, from ``x0`` (default the jig). Returns
+    the state and ``{name: acceleration}``. ValueError for supports that do not hold the
+    structure's rigid-body modes (a singular matrix), a count that differs from the accelerations',
+    unknown names, or no convergence.
+    """
+    bad = [a for a in accelerations if a not in FRAME_ACCELERATIONS]
+    if bad or len(set(accelerations)) != len(accelerations):
+        raise ValueError(f"accelerations must be distinct names of {list(FRAME_ACCELERATIONS)}, got {list(accelerations)}")
+    if len(supports) != len(accelerations):
+        raise ValueError(f"{len(supports)} supports for {len(accelerations)} accelerations: a statically determinate "
+                         f"support has one per acceleration")
+    qlay = layout(system.forcing_specs)
+    q_cols = [qlay[FRAME_ACCELERATIONS[a][0]].start + FRAME_ACCELERATIONS[a][1] for a in accelerations]
+    n = system.n_state
+    rows, cols, vals = [], [], []
+    for k, sup in enumerate(supports):
+        name, node, comp = sup
+        if comp not in _XYZ:
+            raise ValueError(f"support {sup}: component must be 'x', 'y' or 'z' (body axes), got {comp!r}")
+        i0 = system.node_index(name, node) + STATE_BLOCKS["r"].start
+        direction = system.beam(name).rotation @ np.eye(3)[_XYZ.index(comp)]      # body direction, beam axes
+        for c in range(3):
+            if direction[c] != 0.0:
+                rows.append(k)
+                cols.append(i0 + c)
+                vals.append(direction[c])
+    C = sp.csr_matrix((vals, (rows, cols)), shape=(len(supports), n))
+    p = np.asarray(p, dtype=float)
+    q = np.asarray(q, dtype=float).copy()
+    x = system.initial_guess(p, q) if x0 is None else np.asarray(x0, dtype=float).copy()
+    c0 = C @ system.jig_state(p)
+    xdot = np.zeros(n)
+    scale = None
+    for _ in range(max_iter):
+        jx = system.jac_state(x, xdot, p, q)[0]
+        jq = system.jac_inputs(x, xdot, p, q)[1][:, q_cols]
+        K = sp.bmat([[jx, jq], [C, None]], format="csc")
+        try:       # factored before the convergence test: bad supports are refused even without load
+            with warnings.catch_warnings():
+                warnings.simplefilter("error", spla.MatrixRankWarning)
+                lu = spla.splu(K)
+        except (RuntimeError, spla.MatrixRankWarning):
+            raise ValueError(f"inertia relief: the supports {list(supports)} with the accelerations "
+                             f"{list(accelerations)} do not hold the structure's rigid-body modes (singular "
+                             f"matrix)") from None
+        R = np.concatenate([system.residual(x, xdot, p, q), C @ x - c0])
+        if scale is None:
+            scale = max(np.max(np.abs(R)), 1.0)
+        if np.max(np.abs(R)) <= rtol * scale:
+            return x, {a: float(q[j]) for a, j in zip(accelerations, q_cols)}
+        step = lu.solve(-R)
+        if not np.all(np.isfinite(step)):
+            raise ValueError(f"inertia relief: the supports {list(supports)} do not hold the structure's "
+                             f"rigid-body modes (singular matrix)")
+        x = x + step[:n]
+        q[q_cols] += step[n:]
+    raise ValueError(f"inertia relief: no convergence in {max_iter} Newton iterations (largest residual "
+                     f"{np.max(np.abs(R)):.3g}); apply the loads in steps")
+
+
 class JoinedBeamModel:
     """Joined beams with their parameters: ``solve(loads, **shared)`` gives statics.
 
@@ -773,4 +855,15 @@ class JoinedBeamModel:
         x, info = solve_static(self.system, self.p, q, x0, load_steps=load_steps, max_iter=max_iter)
         out = self.system.unpack(x)
         out["x"], out["iterations"] = x, info.iterations
+        return out
+
+    def solve_inertia_relief(self, loads=None, *, supports, accelerations=HALF_AIRCRAFT_ACCELERATIONS,
+                             **shared) -> dict:
+        """Equilibrium of the free structure under ``loads`` with inertia relief
+        (:func:`solve_inertia_relief`); returns :meth:`JoinedBeamSystem.unpack` of the state plus
+        ``'x'`` and ``'accelerations'`` ({name: value}, m/s^2 and rad/s^2)."""
+        q = self.forcing(loads, **shared)
+        x, acc = solve_inertia_relief(self.system, self.p, q, supports, accelerations)
+        out = self.system.unpack(x)
+        out["x"], out["accelerations"] = x, acc
         return out

@@ -44,10 +44,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import casadi as ca
 import numpy as np
 
 from wingmdao.beam.joints import FUSELAGE_AXES, Beam, JoinedBeamModel, Joint, LumpedMass, Symmetry
-from wingmdao.beam.rotations import euler_from_axis
+from wingmdao.beam.rotations import body_to_csn, euler_from_axis
 from wingmdao.beam.static import beam_parameters
 from wingmdao.cases import pegasus
 from wingmdao.cases.planform import LB, wing_geometry
@@ -179,21 +180,29 @@ def build(num_wing_nodes: int = 20, thickness: dict | None = None) -> StickAircr
     # the fin's root is held through its rigid joint to the fuselage (a second condition there is redundant)
     symmetry = [Symmetry("fuselage", i) for i in range(xf.size)] + [Symmetry("fin", i) for i in range(1, nfin)]
     model = JoinedBeamModel(beams, joints, parts, masses=masses, symmetry=symmetry)
-    mass, cg, iyy = _mass_properties(parts, body, masses)
+    axes = {b.name: b.rotation for b in beams}
+    mass, cg, iyy = _mass_properties(parts, body, axes, masses)
     return StickAircraft(model=model, mass=mass, cg=cg, pitch_inertia=iyy, nodes=body)
 
 
-def _mass_properties(parts, body, masses):
-    """Mass, centre of gravity and pitch inertia about it of the jig (half aircraft); the lumped
-    masses at their offset centres with their own I_yy."""
-    pts, ms = [], []
+def _mass_properties(parts, body, axes, masses):
+    """Mass, centre of gravity and pitch inertia about it of the jig (half aircraft), as the beam's
+    elements discretise them: each element's mass at the mean of its nodes' mass centres, its
+    sections' rotary inertia per length; the lumped masses at their offset centres with their own
+    I_yy."""
+    pts, ms, iyy_own = [], [], 0.0
     for k, prm in parts.items():
-        rb = np.asarray(body[k], dtype=float)
+        R = np.asarray(axes[k], dtype=float)
+        theta0 = np.asarray(prm["node_euler_angles"], dtype=float)
+        T0 = [np.array(body_to_csn(ca.DM(th), "surface")) @ R for th in theta0]      # body -> csn
+        c = np.asarray(prm["mass_center"], dtype=float)
+        centre = np.asarray(body[k], dtype=float) + np.array([t.T @ [cc[0], 0.0, cc[1]] for t, cc in zip(T0, c)])
+        i_yy = np.array([(t.T @ np.asarray(i) @ t)[1, 1] for t, i in zip(T0, prm["inertia_per_length"])])
         mu = np.asarray(prm["mass_per_length"], dtype=float)
-        ds = np.linalg.norm(np.diff(rb, axis=0), axis=1)
+        ds = np.linalg.norm(np.diff(np.asarray(body[k], dtype=float), axis=0), axis=1)
         ms.append(0.5 * (mu[:-1] + mu[1:]) * ds)
-        pts.append(0.5 * (rb[:-1] + rb[1:]))
-    iyy_own = 0.0
+        pts.append(0.5 * (centre[:-1] + centre[1:]))
+        iyy_own += float(np.sum(0.5 * (i_yy[:-1] + i_yy[1:]) * ds))
     for lm in masses:
         ms.append(np.array([lm.mass]))
         pts.append((np.asarray(body[lm.beam], dtype=float)[lm.node] + np.asarray(lm.offset))[None, :])
