@@ -4,9 +4,10 @@ Runs the cases of tests/test_stick_free.py and prints ours / reference / differe
 with an offset tip mass under gravity (Euler-Bernoulli and Saint-Venant closed forms), its first
 bending frequency (exact tip-mass frequency equation, Rayleigh) and torsion frequency with a tip
 inertia, the rigid-body modes of the free half and full test aircraft, the drift of linear momentum
-in a free march; then the PEGASUS half aircraft of :mod:`wingmdao.cases.pegasus_stick`: mass,
-centre of gravity, pitch inertia, rigid-body modes and elastic frequencies (with each beam's share
-of the mode), beside the clamped lone wing's. About 2 min (``--no-pegasus``: 30 s).
+in a free march, inertia relief of a free-free beam and of the PEGASUS half aircraft; then the
+PEGASUS half aircraft of :mod:`wingmdao.cases.pegasus_stick`: mass, centre of gravity, pitch
+inertia, rigid-body modes and elastic frequencies (with each beam's share of the mode), beside the
+clamped lone wing's. About 2.5 min (``--no-pegasus``: without the modes).
 """
 
 import argparse
@@ -76,6 +77,37 @@ def free_aircraft():
         print(f"  40-step free march, no load: momentum {P[0].round(3)} kg m/s, largest change {drift:.1e} relative")
 
 
+def inertia_relief():
+    model, P, L = T._free_beam_along_x(), 100.0, 10.0
+    mL = T.SECTION["mass_per_length"] * L
+    up = np.array(T.FUSELAGE_AXES) @ [0.0, 0.0, P]
+    pf = np.zeros((11, 3))
+    pf[0] = up
+    out = model.solve_inertia_relief({"aft": {"point_force": pf}}, supports=T.BEAM_SUPPORTS)
+    w_ref = P * L**3 / (128 * T.SECTION["EI_cc"])
+    print(f"inertia relief, free-free beam, P at midspan: az {out['accelerations']['az']:.15f} m/s^2 (P/mL {P / mL}), "
+          f"centre {out['aft']['r'][0, 2]:.6e} m ({out['aft']['r'][0, 2] / w_ref - 1:+.1e} from P L^3/128 EI)")
+    pf = np.zeros((11, 3))
+    pf[5] = up
+    acc = model.solve_inertia_relief({"aft": {"point_force": pf}}, supports=T.BEAM_SUPPORTS)["accelerations"]
+    inertia = mL * L**2 * (1 - 1 / 20**2) / 12 + 1e-3 * L
+    print(f"  P at 3/4 span: alpha_y {acc['alpha_y']:.6f} rad/s^2 ({acc['alpha_y'] / (-P * 2.5 / inertia) - 1:+.1e}), "
+          f"centre az {acc['az'] - 5 * acc['alpha_y']:.6f} ({(acc['az'] - 5 * acc['alpha_y']) / (P / mL) - 1:+.1e})")
+    ac = pegasus_stick.build(num_wing_nodes=12)
+    pw, pt = np.zeros((12, 3)), np.zeros((8, 3))
+    pw[1:, 2], pt[1:, 2] = 1000.0, -300.0
+    a = ac.model.solve_inertia_relief({"wing": {"point_force": pw}, "tail": {"point_force": pt}},
+                                      supports=[("fuselage", 0, "x"), ("fuselage", 0, "z"),
+                                                ("fuselage", -1, "z")])["accelerations"]
+    force = pw[:, 2].sum() + pt[:, 2].sum()
+    moment = (-np.sum((ac.nodes["wing"][:, 0] - ac.cg[0]) * pw[:, 2])
+              - np.sum((ac.nodes["tail"][:, 0] - ac.cg[0]) * pt[:, 2]))
+    a_cg = a["az"] - a["alpha_y"] * ac.cg[0]
+    print(f"  PEGASUS half aircraft (12-node wing): CG az {a_cg:.6f} m/s^2 ({a_cg / (force / ac.mass) - 1:+.1e} from F/m), "
+          f"alpha_y {a['alpha_y']:.6f} rad/s^2 ({a['alpha_y'] / (moment / ac.pitch_inertia) - 1:+.1e} from M/I_yy), "
+          f"CG ax / az {(a['ax'] + a['alpha_y'] * ac.cg[2]) / a_cg:+.1e}")
+
+
 def pegasus_modes(count=10):
     ac = pegasus_stick.build()
     print(f"PEGASUS stick, half aircraft ({ac.model.system.n_state} states): mass {ac.mass:.1f} kg, "
@@ -97,6 +129,7 @@ def main():
     args = parser.parse_args()
     tip_mass()
     free_aircraft()
+    inertia_relief()
     if not args.no_pegasus:
         pegasus_modes()
 
