@@ -7,7 +7,8 @@ inertia, the rigid-body modes of the free half and full test aircraft, the drift
 in a free march, inertia relief of a free-free beam and of the PEGASUS half aircraft; then the
 PEGASUS half aircraft of :mod:`wingmdao.cases.pegasus_stick`: mass, centre of gravity, pitch
 inertia, rigid-body modes and elastic frequencies (with each beam's share of the mode), beside the
-clamped lone wing's. About 2.5 min (``--no-pegasus``: without the modes).
+clamped lone wing's, and its balanced 2.5 g maneuver with inertia relief: the loads at the
+monitoring stations beside the lone wing's root loads. About 2.5 min (``--no-pegasus``: without the modes).
 """
 
 import argparse
@@ -23,7 +24,10 @@ import test_stick_free as T  # noqa: E402
 from wingmdao.beam.joints import LumpedMass  # noqa: E402
 from wingmdao.beam.modes import natural_frequencies  # noqa: E402
 from wingmdao.beam.residual import build_beam_system  # noqa: E402
+from wingmdao.beam.static import BeamModel  # noqa: E402
 from wingmdao.cases import pegasus, pegasus_stick  # noqa: E402
+from wingmdao.cases.planform import G0, LB, wing_geometry  # noqa: E402
+from wingmdao.loads.maneuver import maneuver_line_loads  # noqa: E402
 from wingmdao.timemarch.bdf import march  # noqa: E402
 from wingmdao.timemarch.system import pack  # noqa: E402
 
@@ -123,6 +127,31 @@ def pegasus_modes(count=10):
     print("  lone wing, clamped, engines smeared (pegasus.beam_params): " + ", ".join(f"{f:.3f}" for f in lone) + " Hz")
 
 
+def pegasus_maneuver(n_load=2.5):
+    n = 20
+    ac = pegasus_stick.build(n)
+    out = pegasus_stick.balanced_maneuver(ac, n_load)
+    a = out["accelerations"]
+    print(f"PEGASUS stick, {n_load} g balanced maneuver (half aircraft): wing lift {out['wing_lift']:.0f} N, "
+          f"tail load {out['tail_load']:+.0f} N; CG az {a['az'] - a['alpha_y'] * ac.cg[0]:.6f} m/s^2 "
+          f"((n - 1) g = {(n_load - 1) * G0:.6f}), alpha_y {a['alpha_y']:+.2e} rad/s^2")
+    print("  monitoring station: force (N), moment (N m), body axes")
+    for k, v in out["loads"].items():
+        print(f"  {k:44s} F ({v['force'][0]:.0f}, {v['force'][1]:.0f}, {v['force'][2]:.0f}) "
+              f"M ({v['moment'][0]:.0f}, {v['moment'][1]:.0f}, {v['moment'][2]:.0f})")
+    geo, chord, frac = wing_geometry(pegasus.flutter_planform(n), pegasus.ENGINES)
+    pf = pegasus.PLANFORM
+    ll = maneuver_line_loads(geo.node_positions, chord, frac, pegasus.TOGW_LB * LB * G0, n_load, semi_span=pf.semi_span,
+                             fuselage_half_width=pf.root_rib * pf.semi_span)
+    lone = BeamModel(pegasus.beam_params(n)).solve(force_per_length=ll.force_per_length,
+                                                   moment_per_length=ll.moment_per_length, gravity=[0.0, 0.0, -G0],
+                                                   frame_acceleration=[0.0, 0.0, (n_load - 1) * G0])
+    stick = out["loads"]["wing root"]
+    print(f"  lone wing (clamped, engines smeared, the size command's maneuver): root rib F_z {lone['F'][1, 2]:.0f} N, "
+          f"M_x {lone['M'][1, 0]:.0f} N m; stick / lone: shear {stick['force'][2] / lone['F'][1, 2]:.4f}, "
+          f"bending {stick['moment'][0] / lone['M'][1, 0]:.4f}")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--no-pegasus", action="store_true", help="skip the PEGASUS stick model (default: run it)")
@@ -132,6 +161,7 @@ def main():
     inertia_relief()
     if not args.no_pegasus:
         pegasus_modes()
+        pegasus_maneuver()
 
 
 if __name__ == "__main__":

@@ -16,14 +16,16 @@ References coded here:
   exactly), and under gravity alone it grows as (total mass) g t.
 """
 
+import casadi as ca
 import numpy as np
 import pytest
 import scipy.optimize as sopt
 
-from wingmdao.beam.joints import (FUSELAGE_AXES, Beam, JoinedBeamModel, Joint, LumpedMass, Symmetry,
-                                  build_joined_system)
+from wingmdao.beam.joints import (FUSELAGE_AXES, Beam, JoinedBeamModel, Joint, LumpedMass, MonitoringStation,
+                                  Symmetry, build_joined_system, monitoring_loads)
 from wingmdao.beam.modes import natural_frequencies
 from wingmdao.beam.residual import build_beam_system
+from wingmdao.beam.rotations import body_to_csn
 from wingmdao.beam.static import beam_parameters, straight_beam
 from wingmdao.cases import pegasus, pegasus_stick
 from wingmdao.cases.planform import LB
@@ -358,3 +360,89 @@ def test_inertia_relief_input_errors():
         model.solve_inertia_relief(supports=[("fore", 0, "x"), ("fore", 0, "z"), ("aft", -1, "pitch")])
     with pytest.raises(ValueError, match=r"do not hold the structure's rigid-body modes"):
         model.solve_inertia_relief(supports=[("fore", 0, "x"), ("fore", 0, "z"), ("fore", 0, "z")])
+
+
+def test_monitoring_loads_at_the_wing_root_rib_balance_the_outboard_loads():
+    """The PEGASUS half aircraft in inertia relief under gravity, wing lift and a tail down-load: the
+    wing root rib's internal force and moment (monitoring_loads, the beam's F_1, M_1) equal the sum,
+    over the wing outboard of the rib, of the external loads and the inertial loads of the elements
+    and engines (-m (A_0 + alpha x r) with the deformed positions, the sections' and engines'
+    -J alpha, the engines' offsets turned with their nodes), summed here from the model's data."""
+    ac = pegasus_stick.build(num_wing_nodes=12)
+    m, s = ac.model, ac.model.system
+    pw, pt = np.zeros((12, 3)), np.zeros((8, 3))
+    pw[1:, 2], pt[1:, 2] = 8000.0, -2000.0
+    g = np.array([0.0, 0.0, -9.81])
+    out = m.solve_inertia_relief({"wing": {"point_force": pw}, "tail": {"point_force": pt}}, gravity=g,
+                                 supports=[("fuselage", 0, "x"), ("fuselage", 0, "z"), ("fuselage", -1, "z")])
+    a = out["accelerations"]
+    A0, alpha = np.array([a["ax"], 0.0, a["az"]]), np.array([0.0, a["alpha_y"], 0.0])
+    wing, prm = out["wing"], m.params["wing"]
+    r, th = wing["r"], wing["theta"]
+    T = [np.array(body_to_csn(ca.DM(t), "surface")) for t in th]
+    T0 = [np.array(body_to_csn(ca.DM(t), "surface")) for t in prm["node_euler_angles"]]
+    origin, force, moment = r[1], np.zeros(3), np.zeros(3)
+    for k in range(1, 12):                                   # external point loads on nodes 1..
+        force += pw[k]
+        moment += np.cross(r[k] - origin, pw[k])
+    mu, ip = np.asarray(prm["mass_per_length"]), np.asarray(prm["inertia_per_length"])
+    ds = np.linalg.norm(np.diff(np.asarray(prm["node_positions"]), axis=0), axis=1)
+    for e in range(1, 11):                                   # elements outboard of the rib
+        mid = 0.5 * (r[e] + r[e + 1])
+        f = 0.5 * (mu[e] + mu[e + 1]) * ds[e] * (g - A0 - np.cross(alpha, mid))
+        Tm = np.array(body_to_csn(ca.DM(0.5 * (th[e] + th[e + 1])), "surface"))
+        J = Tm.T @ (0.5 * (ip[e] + ip[e + 1])) @ Tm * ds[e]
+        force += f
+        moment += np.cross(mid - origin, f) - J @ alpha
+    for lm in s.masses:                                      # engines
+        if lm.beam != "wing":
+            continue
+        lam = T[lm.node].T @ T0[lm.node]
+        d, J = lam @ np.asarray(lm.offset), lam @ np.asarray(lm.inertia) @ lam.T
+        f = lm.mass * (g - A0 - np.cross(alpha, r[lm.node] + d))
+        force += f
+        moment += np.cross(r[lm.node] + d - origin, f) - J @ alpha
+    loads = monitoring_loads(s, out["x"], [MonitoringStation("wing root", "wing", 1)])["wing root"]
+    np.testing.assert_allclose(loads["force"], force, rtol=0, atol=1e-9 * np.abs(force).max())
+    np.testing.assert_allclose(loads["moment"], moment, rtol=0, atol=1e-9 * np.abs(moment).max())
+    assert loads["moment_csn"][0] == pytest.approx(np.linalg.norm(moment[[0, 2]]), rel=0.05)    # root bending, csn
+    with pytest.raises(ValueError, match=r"monitoring station 'root': node 0 of beam 'wing' must be in 1..11"):
+        monitoring_loads(s, out["x"], [MonitoringStation("root", "wing", 0)])
+
+
+def test_balanced_maneuver_of_the_pegasus_half_aircraft():
+    """A 2.5 g maneuver of the free PEGASUS half aircraft balanced by wing lift and a tail load: the
+    inertia-relief solution accelerates the CG by (n - 1) g, and the fuselage's shear and bending
+    just ahead of the wing equal the inertial loads of the fuselage ahead of it (its elements and
+    payload masses, -m (g + a(r))), summed here from the model's data."""
+    ac = pegasus_stick.build(num_wing_nodes=12)
+    n = 2.5
+    out = pegasus_stick.balanced_maneuver(ac, n)
+    a = out["accelerations"]
+    assert out["wing_lift"] + out["tail_load"] == pytest.approx(n * ac.mass * 9.80665, rel=1e-12)
+    assert a["az"] - a["alpha_y"] * ac.cg[0] == pytest.approx((n - 1) * 9.80665, rel=1e-5)
+    assert abs(a["alpha_y"]) < 1e-2
+    s, m = ac.model.system, ac.model
+    i_wing = next(jt.node_a for jt in s.joints if jt.beam_b == "wing")
+    fus = s.unpack(out["x"], body_axes=True)["fuselage"]
+    prm = m.params["fuselage"]
+    A0, alpha = np.array([a["ax"], 0.0, a["az"]]), np.array([0.0, a["alpha_y"], 0.0])
+    g = np.array([0.0, 0.0, -9.80665])
+    r = fus["r"]
+    origin = r[i_wing]
+    ds = np.linalg.norm(np.diff(np.asarray(prm["node_positions"]), axis=0), axis=1)
+    mu = np.asarray(prm["mass_per_length"])
+    force, moment = np.zeros(3), np.zeros(3)
+    for e in range(i_wing):
+        mid = 0.5 * (r[e] + r[e + 1])
+        f = 0.5 * (mu[e] + mu[e + 1]) * ds[e] * (g - A0 - np.cross(alpha, mid))
+        force, moment = force + f, moment + np.cross(mid - origin, f)
+    for lm in s.masses:
+        if lm.beam == "fuselage" and lm.node < i_wing:
+            f = lm.mass * (g - A0 - np.cross(alpha, r[lm.node]))
+            force, moment = force + f, moment + np.cross(r[lm.node] - origin, f)
+    station = next(v for k, v in out["loads"].items() if "ahead of the wing" in k)
+    # the cut's load on the forward part balances the forward part's loads
+    np.testing.assert_allclose(station["force"], -force, rtol=0, atol=1e-8 * np.abs(force).max())
+    np.testing.assert_allclose(station["moment"], -moment, rtol=0, atol=1e-8 * np.abs(moment).max())
+    assert set(out["loads"]) >= {"wing root", "fin root", "tail root"}

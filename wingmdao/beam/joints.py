@@ -707,6 +707,7 @@ def build_joined_system(beams, joints, *, euler_sequence: str = "surface",
                                                            symmetry),
                               lu_column_order=order, masses=masses, symmetry=symmetry)
     system._initial_guess = functools.partial(_jig_guess, system)
+    system.euler_sequence = euler_sequence
     system.build_time = time.perf_counter() - t_start
     return system
 
@@ -829,6 +830,44 @@ def solve_inertia_relief(system, p, q, supports, accelerations=HALF_AIRCRAFT_ACC
         q[q_cols] += step[n:]
     raise ValueError(f"inertia relief: no convergence in {max_iter} Newton iterations (largest residual "
                      f"{np.max(np.abs(R)):.3g}); apply the loads in steps")
+
+
+@dataclass(frozen=True)
+class MonitoringStation:
+    """A monitoring station: the cut just inboard of node ``node`` of beam ``beam`` (between nodes
+    ``node - 1`` and ``node``; node >= 1, negative from the tip), named ``label`` (e.g. "wing root"
+    at the root rib, "fuselage x = 5 m")."""
+
+    label: str
+    beam: str
+    node: int
+
+
+def monitoring_loads(system, x, stations) -> dict:
+    """Internal loads at monitoring stations (:class:`MonitoringStation`) of a state ``x`` of a
+    :class:`JoinedBeamSystem`: the resultants the outboard part of the beam (from the station to the
+    tip, the node's own point loads included) exerts on the inboard part, ``F`` and ``M`` of the
+    state (docs/beam-theory.md). Returns ``{label: {"force": (3,), "moment": (3,)}}`` in body axes and
+    ``"force_csn"``, ``"moment_csn"`` in the node's deformed section frame (c: chordwise shear,
+    s: axial force / torsion, n: normal shear / bending about n)."""
+    x = np.asarray(x, dtype=float).reshape(system.n_state)
+    out = {}
+    for st in stations:
+        if not isinstance(st, MonitoringStation):
+            raise TypeError(f"stations must be MonitoringStation objects, got {type(st).__name__}")
+        b = system.beam(st.beam)
+        node = int(st.node)
+        if not -b.num_nodes < node < b.num_nodes or node % b.num_nodes == 0:
+            raise ValueError(f"monitoring station {st.label!r}: node {node} of beam {st.beam!r} must be in "
+                             f"1..{b.num_nodes - 1} (or -{b.num_nodes - 1}..-1): the cut inboard of node 0 is "
+                             f"the root's boundary")
+        i = system.node_index(st.beam, node)
+        blk = x[i:i + N_STATE_PER_NODE]
+        R = b.rotation
+        T = np.array(body_to_csn(ca.DM(blk[STATE_BLOCKS["theta"]]), system.euler_sequence))    # beam axes -> csn
+        F, M = blk[STATE_BLOCKS["F"]], blk[STATE_BLOCKS["M"]]
+        out[st.label] = {"force": R.T @ F, "moment": R.T @ M, "force_csn": T @ F, "moment_csn": T @ M}
+    return out
 
 
 class JoinedBeamModel:

@@ -47,11 +47,13 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from wingmdao.beam.joints import FUSELAGE_AXES, Beam, JoinedBeamModel, Joint, LumpedMass, Symmetry
+from wingmdao.beam.joints import (FUSELAGE_AXES, Beam, JoinedBeamModel, Joint, LumpedMass, MonitoringStation,
+                                  Symmetry, monitoring_loads)
 from wingmdao.beam.rotations import body_to_csn, euler_from_axis
 from wingmdao.beam.static import beam_parameters
 from wingmdao.cases import pegasus
-from wingmdao.cases.planform import LB, wing_geometry
+from wingmdao.cases.planform import G0, LB, wing_geometry
+from wingmdao.loads.maneuver import maneuver_line_loads
 from wingmdao.materials import ALUMINIUM
 from wingmdao.section.box import WALL_NAMES, beam_params_from_section, box_properties, validate_box
 from wingmdao.stability.eigen import eigenmodes
@@ -86,12 +88,14 @@ class StickAircraft:
     cg: np.ndarray
     pitch_inertia: float
     nodes: dict
+    wing_chord: np.ndarray
+    wing_axis_fraction: np.ndarray
 
 
 def _wing_params(num_nodes, thickness):
     """The PEGASUS wing's beam parameters without the engines' smeared mass."""
     n = int(num_nodes)
-    geo, _, _ = wing_geometry(pegasus.flutter_planform(n), ())
+    geo, chord, frac = wing_geometry(pegasus.flutter_planform(n), ())
     t = pegasus.initial_thickness(n) if thickness is None else thickness
     walls = []
     for w in WALL_NAMES:
@@ -104,7 +108,7 @@ def _wing_params(num_nodes, thickness):
         walls.append(v)
     validate_box(geo.width, geo.height, *walls, source="thickness")
     props = box_properties(geo.width, geo.height, *walls, ALUMINIUM, None, geo.nonstructural_mass_per_length)
-    return beam_params_from_section(props, geo.node_positions, geo.node_euler_angles), geo
+    return beam_params_from_section(props, geo.node_positions, geo.node_euler_angles), geo, chord, frac
 
 
 def _fuselage_x(x_wing):
@@ -129,7 +133,7 @@ def build(num_wing_nodes: int = 20, thickness: dict | None = None) -> StickAircr
     """The free symmetric half PEGASUS stick model (module docstring): wing, fuselage, fin and
     horizontal tail, engines and payload as lumped masses, symmetry conditions on the plane of
     symmetry. ``thickness``: the wing's walls (m per node, as :func:`wingmdao.cases.pegasus.beam_params`)."""
-    wing, geo = _wing_params(num_wing_nodes, thickness)
+    wing, geo, chord, frac = _wing_params(num_wing_nodes, thickness)
     r_wing = np.asarray(wing["node_positions"], dtype=float)
     x_wing = float(r_wing[0, 0])
     half = 0.5
@@ -182,7 +186,8 @@ def build(num_wing_nodes: int = 20, thickness: dict | None = None) -> StickAircr
     model = JoinedBeamModel(beams, joints, parts, masses=masses, symmetry=symmetry)
     axes = {b.name: b.rotation for b in beams}
     mass, cg, iyy = _mass_properties(parts, body, axes, masses)
-    return StickAircraft(model=model, mass=mass, cg=cg, pitch_inertia=iyy, nodes=body)
+    return StickAircraft(model=model, mass=mass, cg=cg, pitch_inertia=iyy, nodes=body, wing_chord=chord,
+                         wing_axis_fraction=frac)
 
 
 def _mass_properties(parts, body, axes, masses):
@@ -212,6 +217,62 @@ def _mass_properties(parts, body, axes, masses):
     cg = m @ p / mass
     d = p - cg
     return mass, cg, float(m @ (d[:, 0] ** 2 + d[:, 2] ** 2) + iyy_own)
+
+
+def monitoring_stations(aircraft: StickAircraft) -> list:
+    """The monitoring stations of the half aircraft (:class:`~wingmdao.beam.joints.MonitoringStation`):
+    the wing's root rib (the cut inboard of wing node 1), the fuselage just ahead of and just aft of
+    the wing joint, the fuselage ahead of the fin, the fin root and the horizontal tail root."""
+    s = aircraft.model.system
+    i_wing = next(jt.node_a for jt in s.joints if jt.beam_b == "wing")
+    i_fin = next(jt.node_a for jt in s.joints if jt.beam_b == "fin")
+    x = aircraft.nodes["fuselage"][:, 0]
+    return [MonitoringStation("wing root", "wing", 1),
+            MonitoringStation(f"fuselage x = {x[i_wing]:.2f} m (ahead of the wing)", "fuselage", i_wing),
+            MonitoringStation(f"fuselage x = {x[i_wing + 1]:.2f} m (aft of the wing)", "fuselage", i_wing + 1),
+            MonitoringStation(f"fuselage x = {x[i_fin]:.2f} m (ahead of the fin)", "fuselage", i_fin),
+            MonitoringStation("fin root", "fin", 1),
+            MonitoringStation("tail root", "tail", 1)]
+
+
+#: Supports of the inertia-relief solves (statically determinate: nose x and z, tail cone z).
+SUPPORTS = (("fuselage", 0, "x"), ("fuselage", 0, "z"), ("fuselage", -1, "z"))
+
+
+def balanced_maneuver(aircraft: StickAircraft, load_factor: float) -> dict:
+    """A symmetric maneuver of the free half aircraft balanced by its lift: the wing's lift of the
+    PEGASUS case (:func:`wingmdao.loads.maneuver.maneuver_line_loads`: Schrenk spanwise, centre of
+    pressure at 25 % chord) scaled to a fraction of n W, and a tail load evenly on the tail's nodes,
+    so that they lift n W and have no moment about the jig CG; then the inertia-relief solution
+    (:func:`wingmdao.beam.joints.solve_inertia_relief`) under them and gravity.
+
+    Returns ``wing_lift`` and ``tail_load`` (N, half aircraft), ``accelerations`` (of the body axes;
+    the CG's vertical acceleration is (n - 1) g and the pitch acceleration zero up to the CG's shift
+    by the deformation), ``loads`` at :func:`monitoring_stations` and the state ``x``."""
+    if not np.isfinite(load_factor):
+        raise ValueError(f"load_factor = {load_factor}; must be a finite number")
+    m = aircraft.model
+    weight = aircraft.mass * G0
+    r_w, r_t = aircraft.nodes["wing"], aircraft.nodes["tail"]
+    unit = maneuver_line_loads(r_w, aircraft.wing_chord, aircraft.wing_axis_fraction, 2.0 * weight, 1.0,
+                               semi_span=pegasus.PLANFORM.semi_span,
+                               fuselage_half_width=pegasus.PLANFORM.root_rib * pegasus.PLANFORM.semi_span)
+    f, mm = unit.force_per_length, unit.moment_per_length
+    ds = np.linalg.norm(np.diff(r_w, axis=0), axis=1)
+    fe = 0.5 * (f[:-1] + f[1:]) * ds[:, None]                  # the elements' resultants at their midpoints
+    me = 0.5 * (mm[:-1] + mm[1:]) * ds[:, None] + np.cross(0.5 * (r_w[:-1] + r_w[1:]) - aircraft.cg, fe)
+    nt = r_t.shape[0]
+    tail_unit = np.zeros((nt, 3))
+    tail_unit[1:, 2] = 1.0 / (nt - 1)
+    tail_moment = np.sum(np.cross(r_t - aircraft.cg, tail_unit), axis=0)
+    A = np.array([[fe[:, 2].sum(), 1.0], [me[:, 1].sum(), tail_moment[1]]])
+    wing_scale, tail_load = np.linalg.solve(A, [load_factor * weight, 0.0])
+    loads = {"wing": {"force_per_length": wing_scale * f, "moment_per_length": wing_scale * mm},
+             "tail": {"point_force": tail_load * tail_unit}}
+    out = m.solve_inertia_relief(loads, supports=SUPPORTS, gravity=[0.0, 0.0, -G0])
+    return {"wing_lift": float(wing_scale * fe[:, 2].sum()), "tail_load": float(tail_load),
+            "accelerations": out["accelerations"], "x": out["x"],
+            "loads": monitoring_loads(m.system, out["x"], monitoring_stations(aircraft))}
 
 
 def natural_frequencies(aircraft: StickAircraft, count: int = 8) -> dict:
