@@ -22,10 +22,20 @@ A joint connects node ``i`` of beam A with node ``j`` of beam B (coincident in t
     ``k`` the rotational spring stiffness (``joint_rotational_stiffness``; a free hinge has no
     spring: ``(Lambda_A a) . m_B = 0``).
 
+Lumped masses (:class:`LumpedMass`: mass, offset, rotary inertia on a node) add their weight and
+d'Alembert loads to their nodes' point loads (:func:`lumped_mass_loads`). A free aircraft has no
+clamped beam; its rigid-body motion is carried by the beams' states. Symmetry conditions
+(:class:`Symmetry`) on nodes of the plane of symmetry make a half aircraft (3 unknowns and 3
+equations each: lateral displacement, roll and yaw held). :func:`solve_inertia_relief` gives the
+equilibrium of a free structure in uniformly accelerated motion, :func:`monitoring_loads` the
+internal loads at monitoring stations.
+
 State layout: the beams' node-major blocks in the order given (``offsets``), then 12 unknowns per
-joint. Parameters and forcing: every beam's blocks of :func:`wingmdao.beam.residual.param_specs`
-and :func:`~wingmdao.beam.residual.forcing_specs` named ``<beam>_<block>``, then the joints' spring
-stiffnesses; gravity and the motion of the body axes are shared by all beams.
+joint, then 3 per symmetry condition (``symmetry_offset``). Parameters and forcing: every beam's
+blocks of :func:`wingmdao.beam.residual.param_specs` and
+:func:`~wingmdao.beam.residual.forcing_specs` named ``<beam>_<block>``, then the joints' spring
+stiffnesses and the lumped masses' values; gravity and the motion of the body axes are shared by
+all beams.
 """
 
 from __future__ import annotations
