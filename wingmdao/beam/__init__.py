@@ -6,7 +6,8 @@
 * :mod:`wingmdao.beam.static` - ``beam_parameters``, ``beam_forcing``, ``BeamModel`` (statics);
 * :mod:`wingmdao.beam.geometry` - straight, swept, dihedral, tapered multi-segment beams;
 * :mod:`wingmdao.beam.joints` - several beams joined at nodes (rigid joints, hinges) as one
-  residual system (docs/stick-model.md).
+  residual system, with lumped masses, symmetry conditions of a free half aircraft, inertia
+  relief and monitoring-station loads (docs/stick-model.md).
 
 Derivations: docs/beam-theory.md.
 """

@@ -22,10 +22,20 @@ A joint connects node ``i`` of beam A with node ``j`` of beam B (coincident in t
     ``k`` the rotational spring stiffness (``joint_rotational_stiffness``; a free hinge has no
     spring: ``(Lambda_A a) . m_B = 0``).
 
+Lumped masses (:class:`LumpedMass`: mass, offset, rotary inertia on a node) add their weight and
+d'Alembert loads to their nodes' point loads (:func:`lumped_mass_loads`). A free aircraft has no
+clamped beam; its rigid-body motion is carried by the beams' states. Symmetry conditions
+(:class:`Symmetry`) on nodes of the plane of symmetry make a half aircraft (3 unknowns and 3
+equations each: lateral displacement, roll and yaw held). :func:`solve_inertia_relief` gives the
+equilibrium of a free structure in uniformly accelerated motion, :func:`monitoring_loads` the
+internal loads at monitoring stations.
+
 State layout: the beams' node-major blocks in the order given (``offsets``), then 12 unknowns per
-joint. Parameters and forcing: every beam's blocks of :func:`wingmdao.beam.residual.param_specs`
-and :func:`~wingmdao.beam.residual.forcing_specs` named ``<beam>_<block>``, then the joints' spring
-stiffnesses; gravity and the motion of the body axes are shared by all beams.
+joint, then 3 per symmetry condition (``symmetry_offset``). Parameters and forcing: every beam's
+blocks of :func:`wingmdao.beam.residual.param_specs` and
+:func:`~wingmdao.beam.residual.forcing_specs` named ``<beam>_<block>``, then the joints' spring
+stiffnesses and the lumped masses' values; gravity and the motion of the body axes are shared by
+all beams.
 """
 
 from __future__ import annotations
@@ -34,13 +44,17 @@ import functools
 import math
 import re
 import time
+import warnings
 from dataclasses import dataclass
 
 import casadi as ca
 import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from wingmdao.beam.residual import (N_STATE_PER_NODE, STATE_BLOCKS, StrainRateDamping, NODE_PARAMS, NODE_FORCING,
-                                    element_function, nodal_function, node_forcing, node_params,
+                                    element_function, nodal_acceleration, nodal_function, node_forcing,
+                                    node_params,
                                     describe_equation as beam_equation, forcing_specs as beam_forcing_specs,
                                     jig_state as beam_jig_state, param_specs as beam_param_specs)
 from wingmdao.beam.rotations import body_to_csn
@@ -162,8 +176,119 @@ class Joint:
         return f"joint {self.beam_a} node {self.node_a} - {self.beam_b} node {self.node_b}"
 
 
-def _check_layout(beams, joints):
-    """Resolve negative node indices and check names, nodes, duplicates and connectivity."""
+@dataclass(frozen=True)
+class LumpedMass:
+    """A rigid mass (an engine, fuel, payload, systems) attached to node ``node`` of beam ``beam``
+    (negative from the tip): ``mass`` (kg, > 0), its centre at ``offset`` from the node (m, body
+    axes of the jig; it turns with the node) and its rotary ``inertia`` about that centre (kg*m^2,
+    3 x 3 symmetric, positive semi-definite, body axes of the jig; None: a point mass).
+
+    Its inertia and weight enter the node as a point force and moment (docs/stick-model.md,
+    "Lumped masses"); its values are parameters of the system (``lumped_mass``,
+    ``lumped_mass_offset``, ``lumped_mass_inertia``), so gradients reach them."""
+
+    beam: str
+    node: int
+    mass: float
+    offset: tuple = (0.0, 0.0, 0.0)
+    inertia: tuple | None = None
+
+    def __post_init__(self):
+        if isinstance(self.node, bool) or int(self.node) != self.node:
+            raise ValueError(f"{self.label}: node must be an integer node index, got {self.node!r}")
+        object.__setattr__(self, "node", int(self.node))
+        m = float(self.mass)
+        if not (math.isfinite(m) and m > 0.0):
+            raise ValueError(f"{self.label}: mass must be finite and > 0 kg, got {self.mass}")
+        object.__setattr__(self, "mass", m)
+        d = np.asarray(self.offset, dtype=float).ravel()
+        if d.size != 3 or not np.all(np.isfinite(d)):
+            raise ValueError(f"{self.label}: offset must be 3 finite components (m, body axes), got {self.offset}")
+        object.__setattr__(self, "offset", tuple(float(v) for v in d))
+        J = np.zeros((3, 3)) if self.inertia is None else np.asarray(self.inertia, dtype=float)
+        if J.shape != (3, 3) or not np.all(np.isfinite(J)) or not np.allclose(J, J.T, atol=1e-12 * (1 + np.abs(J).max())) \
+                or np.linalg.eigvalsh(0.5 * (J + J.T)).min() < -1e-12 * (1 + np.abs(J).max()):
+            raise ValueError(f"{self.label}: inertia must be a symmetric positive semi-definite 3 x 3 matrix "
+                             f"(kg*m^2, body axes), got {self.inertia}")
+        object.__setattr__(self, "inertia", tuple(tuple(float(v) for v in row) for row in J))
+
+    @property
+    def label(self) -> str:
+        return f"lumped mass on {self.beam} node {self.node}"
+
+
+#: Names of the three motions a :class:`Symmetry` condition holds.
+SYMMETRY_HELD = ("lateral displacement y", "roll rotation x", "yaw rotation z")
+
+
+@dataclass(frozen=True)
+class Symmetry:
+    """Symmetry conditions at node ``node`` of beam ``beam``, a node on the aircraft's plane of
+    symmetry (the body x-z plane, y = 0): a symmetric half aircraft. The node keeps y = 0 and turns
+    only about y (lateral displacement, roll and yaw held; surge, plunge and pitch free). Three
+    unknowns, the mirror half's force along y and moments about x and z on the node (body axes),
+    and three equations (docs/stick-model.md, "Free flight")."""
+
+    beam: str
+    node: int
+
+    def __post_init__(self):
+        if isinstance(self.node, bool) or int(self.node) != self.node:
+            raise ValueError(f"{self.label}: node must be an integer node index, got {self.node!r}")
+        object.__setattr__(self, "node", int(self.node))
+
+    @property
+    def label(self) -> str:
+        return f"symmetry condition on {self.beam} node {self.node}"
+
+
+#: Unknowns (and equations) per symmetry condition.
+N_SYMMETRY = 3
+
+
+def _check_node(label, by_name, name, node, which=""):
+    if name not in by_name:
+        raise ValueError(f"{label}: beam{which} {name!r} is not a beam; beams are {sorted(by_name)}")
+    n = by_name[name].num_nodes
+    if not -n <= node < n:
+        raise ValueError(f"{label}: node{which} {node} does not exist: beam {name!r} has nodes "
+                         f"0..{n - 1} (or -{n}..-1 from the tip)")
+    return node % n
+
+
+def _check_attachments(by_name, masses, symmetry, joints=()):
+    """Resolve and check lumped masses and symmetry conditions (beams and nodes exist; one
+    symmetry condition per node and per pair of rigidly joined nodes; none on a system with a
+    clamped beam)."""
+    out_m, out_s, seen = [], [], set()
+    for lm in masses:
+        if not isinstance(lm, LumpedMass):
+            raise TypeError(f"masses must be LumpedMass objects, got {type(lm).__name__}")
+        node = _check_node(lm.label, by_name, lm.beam, lm.node)
+        out_m.append(LumpedMass(lm.beam, node, lm.mass, lm.offset, lm.inertia))
+    for sy in symmetry:
+        if not isinstance(sy, Symmetry):
+            raise TypeError(f"symmetry must be Symmetry objects, got {type(sy).__name__}")
+        node = _check_node(sy.label, by_name, sy.beam, sy.node)
+        if (sy.beam, node) in seen:
+            raise ValueError(f"{sy.label}: this node has two symmetry conditions")
+        seen.add((sy.beam, node))
+        out_s.append(Symmetry(sy.beam, node))
+    held = {(sy.beam, sy.node) for sy in out_s}
+    for jt in joints:
+        if jt.kind == "rigid" and (jt.beam_a, jt.node_a) in held and (jt.beam_b, jt.node_b) in held:
+            raise ValueError(f"{jt.label}: both nodes of this rigid joint have symmetry conditions; they move as "
+                             f"one, so one condition holds both (the second is redundant: drop it)")
+    clamped = [b.name for b in by_name.values() if b.root == "clamped"]
+    if out_s and clamped:
+        raise ValueError(f"symmetry conditions are for a free aircraft: beams {clamped} have a clamped root "
+                         f"(give them root='free')")
+    return out_m, out_s
+
+
+def _check_layout(beams, joints, masses=(), symmetry=()):
+    """Resolve negative node indices and check names, nodes, duplicates and connectivity; returns
+    the beams, joints, lumped masses and symmetry conditions."""
     beams, joints = list(beams), list(joints)
     if not beams:
         raise ValueError("a joined system needs at least one beam")
@@ -178,16 +303,8 @@ def _check_layout(beams, joints):
     for jt in joints:
         if not isinstance(jt, Joint):
             raise TypeError(f"joints must be Joint objects, got {type(jt).__name__}")
-        nodes = []
-        for which in ("a", "b"):
-            name, node = getattr(jt, f"beam_{which}"), getattr(jt, f"node_{which}")
-            if name not in by_name:
-                raise ValueError(f"{jt.label}: beam_{which} {name!r} is not a beam; beams are {sorted(by_name)}")
-            n = by_name[name].num_nodes
-            if not -n <= node < n:
-                raise ValueError(f"{jt.label}: node_{which} {node} does not exist: beam {name!r} has nodes "
-                                 f"0..{n - 1} (or -{n}..-1 from the tip)")
-            nodes.append(node % n)
+        nodes = [_check_node(jt.label, by_name, getattr(jt, f"beam_{w}"), getattr(jt, f"node_{w}"), f"_{w}")
+                 for w in ("a", "b")]
         if jt.beam_a == jt.beam_b:
             raise ValueError(f"{jt.label}: a joint connects two different beams")
         key = frozenset(((jt.beam_a, nodes[0]), (jt.beam_b, nodes[1])))
@@ -209,18 +326,26 @@ def _check_layout(beams, joints):
         if missing:
             raise ValueError(f"beams {missing} are joined to no other beam (every beam must be connected "
                              f"to {beams[0].name!r} through joints)")
-    return beams, resolved
+    masses, symmetry = _check_attachments(by_name, list(masses), list(symmetry), resolved)
+    return beams, resolved, masses, symmetry
 
 
-def param_specs(beams, joints) -> list[VarSpec]:
+def param_specs(beams, joints, masses=()) -> list[VarSpec]:
     """Parameters of the joined system: every beam's blocks (``<beam>_<block>``), then
-    ``joint_rotational_stiffness`` (one per joint; used by hinges with a spring)."""
+    ``joint_rotational_stiffness`` (one per joint; used by hinges with a spring), then the lumped
+    masses' ``lumped_mass``, ``lumped_mass_offset`` and ``lumped_mass_inertia`` (body axes of the jig)."""
     specs = []
     for b in beams:
         specs += [VarSpec(f"{b.name}_{s.name}", s.shape, s.units, f"{b.name}: {s.desc}")
                   for s in beam_param_specs(b.num_nodes)]
     specs.append(VarSpec("joint_rotational_stiffness", (len(joints),), "N*m/rad",
                          "rotational spring stiffness of each hinge (unused for rigid joints and free hinges)"))
+    n_mass = len(masses)
+    specs += [VarSpec("lumped_mass", (n_mass,), "kg", "mass of each lumped mass"),
+              VarSpec("lumped_mass_offset", (n_mass, 3), "m",
+                      "centre of each lumped mass from its node, body axes of the jig"),
+              VarSpec("lumped_mass_inertia", (n_mass, 3, 3), "kg*m**2",
+                      "rotary inertia of each lumped mass about its centre, body axes of the jig")]
     return specs
 
 
@@ -283,16 +408,64 @@ def joint_equations(joint, node_a, node_b, loads, stiffness, sequence="surface")
                       orientation)
 
 
+def lumped_mass_loads(node, xdot, mass, offset, inertia, g, frame, sequence="surface"):
+    """Point force and moment (the beam's axes) of a rigid lumped mass on a node: its weight and
+    d'Alembert load, ``P = m (g - a_c)`` and ``Q = d x P - (J w_dot + w x J w)``.
+
+    ``node``: ``(x, theta_0, R)`` as in :func:`joint_equations`, ``xdot`` the node's 18 rates;
+    ``mass``, ``offset`` (3, body axes of the jig) and ``inertia`` (9, row-major, body axes of the
+    jig); ``g`` and ``frame`` (A0, Omega, alpha0) in the beam's axes. The offset and the inertia
+    turn with the node: ``d = Lambda R d_0``, ``J = Lambda R J_0 R^T Lambda^T`` with
+    ``Lambda = T(theta)^T T(theta_0)`` (the beam's axes); ``a_c = a + w_dot x d + w x (w x d)``
+    with the node's acceleration ``a`` (:func:`~wingmdao.beam.residual.nodal_acceleration`),
+    ``w = Omega + omega`` and ``w_dot = alpha0 + omega_dot + Omega x omega``, as the beam's elements
+    take them (docs/stick-model.md, "Lumped masses")."""
+    st = STATE_BLOCKS
+    x, theta0, R = node
+    lam = body_to_csn(x[st["theta"]], sequence).T @ body_to_csn(theta0, sequence)
+    d = lam @ (R @ offset)
+    J = lam @ R @ ca.reshape(inertia, 3, 3).T @ R.T @ lam.T     # row-major entries
+    acc = nodal_acceleration(x[st["r"]], x[st["u"]], xdot[st["u"]], frame)
+    w = frame[1] + x[st["omega"]]
+    wdot = frame[2] + xdot[st["omega"]] + ca.cross(frame[1], x[st["omega"]])
+    acc_c = acc + ca.cross(wdot, d) + ca.cross(w, ca.cross(w, d))
+    force = mass * (g - acc_c)
+    moment = ca.cross(d, force) - (J @ wdot + ca.cross(w, J @ w))
+    return force, moment
+
+
+def symmetry_equations(node, r0, reactions, sequence="surface"):
+    """The 3 residuals of a :class:`Symmetry` condition and the node's point loads from its 3
+    reactions. ``node``: ``(x, theta_0, R)``; ``r0`` the node's jig position (beam axes);
+    ``reactions``: the mirror half's force along body y and moments about body x and z.
+
+    Rows: the body-y displacement ``e_y . R^T (r - r_0) = 0`` and the roll and yaw parts of the
+    node's rotation from the jig, ``w_x = 0``, ``w_z = 0`` with ``w = axial(Lambda - Lambda^T) / 2``
+    (``Lambda = R^T T(theta)^T T(theta_0) R``, body components), as the joints' orientation rows.
+    Loads on the node (beam axes): ``R (0, f_y, 0)`` and ``R (m_x, 0, m_z)``."""
+    st = STATE_BLOCKS
+    x, theta0, R = node
+    w = _axial(_node_rotation(x[st["theta"]], theta0, R, sequence))
+    disp = R.T @ (x[st["r"]] - r0)
+    rows = ca.vertcat(disp[1], w[0], w[2])
+    force = R @ ca.vertcat(0.0, reactions[0], 0.0)
+    moment = R @ ca.vertcat(reactions[1], 0.0, reactions[2])
+    return rows, force, moment
+
+
 class JoinedBeamSystem(CasadiResidualSystem):
     """The residual system of :func:`build_joined_system` with its layout and packing helpers.
 
-    Attributes: ``beams``, ``joints`` (node indices resolved from the root), ``offsets``
-    (``{beam: first state index}``), ``joint_offset`` (first joint unknown).
+    Attributes: ``beams``, ``joints``, ``masses``, ``symmetry`` (node indices resolved from the
+    root), ``offsets`` (``{beam: first state index}``), ``joint_offset`` (first joint unknown),
+    ``symmetry_offset`` (first symmetry reaction).
     """
 
-    def __init__(self, beams, joints, offsets, joint_offset, *args, **kwargs):
+    def __init__(self, beams, joints, offsets, joint_offset, *args, masses=(), symmetry=(), **kwargs):
         self.beams, self.joints = tuple(beams), tuple(joints)
+        self.masses, self.symmetry = tuple(masses), tuple(symmetry)
         self.offsets, self.joint_offset = dict(offsets), int(joint_offset)
+        self.symmetry_offset = self.joint_offset + N_JOINT * len(self.joints)
         super().__init__(*args, **kwargs)
 
     def beam(self, name) -> Beam:
@@ -311,7 +484,8 @@ class JoinedBeamSystem(CasadiResidualSystem):
     def unpack(self, x, body_axes: bool = False) -> dict:
         """``{beam: {'r', 'theta', 'F', 'M', 'u', 'omega'} (n, 3) arrays}`` in each beam's axes (with
         ``body_axes``: r, F, M, u, omega in body axes; theta stays the beam's Euler angles) and
-        ``'joints'``: ``{'force_a', 'moment_a', 'force_b', 'moment_b'}`` (n_joint, 3) arrays, body axes."""
+        ``'joints'``: ``{'force_a', 'moment_a', 'force_b', 'moment_b'}`` (n_joint, 3) arrays, body axes;
+        ``'symmetry'``: (n_symmetry, 3) reactions (force y, moment x, moment z, body axes)."""
         x = np.asarray(x, dtype=float).reshape(self.n_state)
         out = {}
         for b in self.beams:
@@ -321,9 +495,30 @@ class JoinedBeamSystem(CasadiResidualSystem):
             if body_axes and b.axes is not None:
                 for k in ("r", "F", "M", "u", "omega"):
                     out[b.name][k] = out[b.name][k] @ b.rotation
-        jl = x[self.joint_offset:].reshape(len(self.joints), N_JOINT)
+        jl = x[self.joint_offset:self.symmetry_offset].reshape(len(self.joints), N_JOINT)
         out["joints"] = {k: jl[:, s].copy() for k, s in JOINT_BLOCKS.items()}
+        out["symmetry"] = x[self.symmetry_offset:].reshape(len(self.symmetry), N_SYMMETRY).copy()
         return out
+
+    def linear_momentum(self, x, p) -> np.ndarray:
+        """Linear momentum (kg*m/s, body axes, relative to the body axes) of a state: every element's
+        ``mu ds (u_a + u_b) / 2`` (mass centres on the beam axis) and every lumped mass's ``m u`` (at
+        its node; offsets are not counted). The discrete BDF march of a free structure with no
+        external force conserves it exactly (docs/stick-model.md, "Free flight")."""
+        parts = self.unpack(x, body_axes=True)
+        lay = layout(self.param_specs)
+        p = np.asarray(p, dtype=float)
+        total = np.zeros(3)
+        for b in self.beams:
+            r0 = p[lay[f"{b.name}_node_positions"]].reshape(b.num_nodes, 3)
+            mu = p[lay[f"{b.name}_mass_per_length"]]
+            ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
+            u = parts[b.name]["u"]
+            total += np.sum((0.5 * (mu[:-1] + mu[1:]) * ds)[:, None] * 0.5 * (u[:-1] + u[1:]), axis=0)
+        masses = p[lay["lumped_mass"]]
+        for lm, m in zip(self.masses, masses):
+            total += m * parts[lm.beam]["u"][lm.node]
+        return total
 
     def pack_parameters(self, beam_params: dict) -> np.ndarray:
         """Packed parameters from ``{beam: parameter dict}`` (:func:`wingmdao.beam.static.beam_parameters`)
@@ -352,7 +547,15 @@ class JoinedBeamSystem(CasadiResidualSystem):
                 raise ValueError(f"{jt.label}: the beams do not meet at the joint: the nodes are {gap:.6g} m "
                                  f"apart in the jig ({ra} and {rb}, body axes); a joint needs coincident nodes "
                                  f"(within {POSITION_TOLERANCE} m)")
+        for sy in self.symmetry:
+            r = self.beam(sy.beam).rotation.T @ np.asarray(beam_params[sy.beam]["node_positions"], float)[sy.node]
+            if abs(r[1]) > POSITION_TOLERANCE:
+                raise ValueError(f"{sy.label}: the node is not on the plane of symmetry: its jig position is "
+                                 f"y = {r[1]:.6g} m (body axes); it must be 0 (within {POSITION_TOLERANCE} m)")
         values["joint_rotational_stiffness"] = [0.0 if jt.stiffness is None else jt.stiffness for jt in self.joints]
+        values["lumped_mass"] = [lm.mass for lm in self.masses]
+        values["lumped_mass_offset"] = np.reshape([lm.offset for lm in self.masses], (len(self.masses), 3))
+        values["lumped_mass_inertia"] = np.reshape([lm.inertia for lm in self.masses], (len(self.masses), 3, 3))
         return pack(self.param_specs, values)
 
     def pack_forcing(self, beam_loads: dict | None = None, **shared) -> np.ndarray:
@@ -393,13 +596,18 @@ def _jig_guess(system, p, q=None):
     return x
 
 
-def describe_joined_equation(index, beams, joints, offsets, joint_offset) -> str:
+def describe_joined_equation(index, beams, joints, offsets, joint_offset, symmetry=()) -> str:
     """Name of residual ``index`` of a joined system, e.g. 'beam wing: node 3 ..., moment equilibrium z'."""
     index = int(index)
+    symmetry_offset = joint_offset + N_JOINT * len(joints)
+    if index >= symmetry_offset:
+        k, c = divmod(index - symmetry_offset, N_SYMMETRY)
+        if k >= len(symmetry):
+            raise ValueError(f"equation index must be in [0, {symmetry_offset + N_SYMMETRY * len(symmetry)}), "
+                             f"got {index}")
+        return f"{symmetry[k].label}, {SYMMETRY_HELD[c]} held"
     if index >= joint_offset:
         j, k = divmod(index - joint_offset, N_JOINT)
-        if j >= len(joints):
-            raise ValueError(f"equation index must be in [0, {joint_offset + N_JOINT * len(joints)}), got {index}")
         jt = joints[j]
         names = ["force transfer", "moment transfer", "equal position"]
         if k < 9:
@@ -421,40 +629,64 @@ def describe_joined_equation(index, beams, joints, offsets, joint_offset) -> str
     raise ValueError(f"equation index must be >= 0, got {index}")
 
 
-def joined_definition(beams, joints, euler_sequence="surface", damping=None) -> str:
-    """What defines the functions of :func:`build_joined_system` (key of their compiled libraries)."""
+def joined_definition(beams, joints, euler_sequence="surface", damping=None, masses=(), symmetry=()) -> str:
+    """What defines the functions of :func:`build_joined_system` (key of their compiled libraries):
+    the lumped masses' nodes count, their values (parameters) do not."""
     if damping is not None and damping.is_zero:
         damping = None
     args = (tuple(beams), tuple(joints), str(euler_sequence),
             None if damping is None else (damping.curvature, damping.strain))
+    if masses or symmetry:
+        args += (tuple((lm.beam, lm.node) for lm in masses), tuple(symmetry))
     return definition_key("wingmdao.beam.joints.build_joined_system", args, _GENERATING_MODULES)
 
 
 def build_joined_system(beams, joints, *, euler_sequence: str = "surface",
-                        damping: StrainRateDamping | None = None) -> JoinedBeamSystem:
+                        damping: StrainRateDamping | None = None, masses=(), symmetry=()) -> JoinedBeamSystem:
     """The beams ``beams`` (:class:`Beam`) joined by ``joints`` (:class:`Joint`) as one
     :class:`JoinedBeamSystem` (a :class:`~wingmdao.timemarch.system.CasadiResidualSystem`: the
-    BDF march, the static solve, the discrete adjoint and the stability linearization run on it).
+    BDF march, the static solve, the discrete adjoint and the stability linearization run on it),
+    with lumped masses on nodes (``masses``, :class:`LumpedMass`) and symmetry conditions of a
+    free half aircraft (``symmetry``, :class:`Symmetry`; 3 unknowns each, after the joints').
 
     Raises ValueError for an unknown beam, a node that does not exist, two joints on one node
-    pair, a beam connected to no other. The jig positions of the joined nodes are checked when the
-    parameters are packed (:meth:`JoinedBeamSystem.pack_parameters`).
+    pair, a beam connected to no other, two symmetry conditions on one node or one on a system
+    with a clamped beam. The jig positions of the joined nodes and of the symmetry nodes are
+    checked when the parameters are packed (:meth:`JoinedBeamSystem.pack_parameters`).
     """
     t_start = time.perf_counter()
-    beams, joints = _check_layout(beams, joints)
+    beams, joints, masses, symmetry = _check_layout(beams, joints, masses, symmetry)
     if damping is not None and damping.is_zero:
         damping = None
-    pspecs, qspecs = param_specs(beams, joints), forcing_specs(beams)
+    pspecs, qspecs = param_specs(beams, joints, masses), forcing_specs(beams)
     offsets, start = {}, 0
     for b in beams:
         offsets[b.name] = start
         start += N_STATE_PER_NODE * b.num_nodes
     joint_offset = start
-    n_state = joint_offset + N_JOINT * len(joints)
+    symmetry_offset = joint_offset + N_JOINT * len(joints)
+    n_state = symmetry_offset + N_SYMMETRY * len(symmetry)
     x, xdot = ca.SX.sym("x", n_state), ca.SX.sym("xdot", n_state)
     p = ca.SX.sym("p", sum(s.size for s in pspecs))
     q = ca.SX.sym("q", sum(s.size for s in qspecs))
-    nodes = {b.name: _beam_nodes(b, x, xdot, p, q, offsets[b.name], layout(pspecs), layout(qspecs)) for b in beams}
+    play = layout(pspecs)
+    nodes = {b.name: _beam_nodes(b, x, xdot, p, q, offsets[b.name], play, layout(qspecs)) for b in beams}
+    for k, lm in enumerate(masses):          # lumped masses: point loads of their nodes
+        nd = nodes[lm.beam]
+        force, moment = lumped_mass_loads(
+            (nd["x"][lm.node], nd["p"][lm.node][NODE_PARAMS["theta0"]], nd["R"]), nd["xdot"][lm.node],
+            p[play["lumped_mass"]][k], p[play["lumped_mass_offset"]][3 * k:3 * k + 3],
+            p[play["lumped_mass_inertia"]][9 * k:9 * k + 9], nd["g"], nd["frame"], euler_sequence)
+        nd["q"][lm.node] = nd["q"][lm.node] + ca.vertcat(ca.SX.zeros(6), force, moment)
+    symmetry_rows = []
+    for k, sy in enumerate(symmetry):         # symmetry reactions: point loads of their nodes
+        nd = nodes[sy.beam]
+        rows, force, moment = symmetry_equations(
+            (nd["x"][sy.node], nd["p"][sy.node][NODE_PARAMS["theta0"]], nd["R"]),
+            nd["p"][sy.node][NODE_PARAMS["r0"]], x[symmetry_offset + 3 * k: symmetry_offset + 3 * k + 3],
+            euler_sequence)
+        nd["q"][sy.node] = nd["q"][sy.node] + ca.vertcat(ca.SX.zeros(6), force, moment)
+        symmetry_rows.append(rows)
     loads = [x[joint_offset + N_JOINT * j: joint_offset + N_JOINT * (j + 1)] for j in range(len(joints))]
     for jt, jl in zip(joints, loads):         # the joint loads are point loads of their two nodes
         for name, node, f, m in ((jt.beam_a, jt.node_a, "force_a", "moment_a"),
@@ -470,18 +702,22 @@ def build_joined_system(beams, joints, *, euler_sequence: str = "surface",
         ends = [(nodes[name]["x"][node], nodes[name]["p"][node][NODE_PARAMS["theta0"]], nodes[name]["R"])
                 for name, node in ((jt.beam_a, jt.node_a), (jt.beam_b, jt.node_b))]
         blocks.append(joint_equations(jt, ends[0], ends[1], jl, stiffness[j], euler_sequence))
+    blocks += symmetry_rows
     describe = functools.partial(describe_joined_equation, beams=beams, joints=joints, offsets=offsets,
-                                 joint_offset=joint_offset)
+                                 joint_offset=joint_offset, symmetry=symmetry)
     first = {b.name: offsets[b.name] // N_STATE_PER_NODE for b in beams}
     order = lu_orders.joined_lu_column_order([b.num_nodes for b in beams],
                                              [(first[jt.beam_a] + jt.node_a, first[jt.beam_b] + jt.node_b)
-                                              for jt in joints])
+                                              for jt in joints],
+                                             [first[sy.beam] + sy.node for sy in symmetry])
     system = JoinedBeamSystem(beams, joints, offsets, joint_offset, x, xdot, p, q, ca.vertcat(*blocks),
                               param_specs=pspecs, forcing_specs=qspecs, state_shape=(n_state,),
                               name=f"joined{len(beams)}b{len(joints)}j{n_state}", describe=describe,
-                              definition=joined_definition(beams, joints, euler_sequence, damping),
-                              lu_column_order=order)
+                              definition=joined_definition(beams, joints, euler_sequence, damping, masses,
+                                                           symmetry),
+                              lu_column_order=order, masses=masses, symmetry=symmetry)
     system._initial_guess = functools.partial(_jig_guess, system)
+    system.euler_sequence = euler_sequence
     system.build_time = time.perf_counter() - t_start
     return system
 
@@ -527,14 +763,134 @@ def _beam_residual(beam, nd, elem, nodal):
     return ca.vertcat(*blocks)
 
 
+#: Rigid-body accelerations of the body axes an inertia-relief solve may take as unknowns: the
+#: components of ``frame_acceleration`` (m/s^2) and ``frame_angular_acceleration`` (rad/s^2).
+FRAME_ACCELERATIONS = {"ax": ("frame_acceleration", 0), "ay": ("frame_acceleration", 1),
+                       "az": ("frame_acceleration", 2), "alpha_x": ("frame_angular_acceleration", 0),
+                       "alpha_y": ("frame_angular_acceleration", 1), "alpha_z": ("frame_angular_acceleration", 2)}
+#: The accelerations and supports of a symmetric half aircraft (surge, plunge, pitch).
+HALF_AIRCRAFT_ACCELERATIONS = ("ax", "az", "alpha_y")
+
+
+def solve_inertia_relief(system, p, q, supports, accelerations=HALF_AIRCRAFT_ACCELERATIONS, *, x0=None,
+                         rtol=1e-10, max_iter=30) -> tuple[np.ndarray, dict]:
+    """Static equilibrium of a free structure in uniformly accelerated rigid-body motion (inertia
+    relief): the body axes accelerate (the ``accelerations``, unknowns, keys of
+    :data:`FRAME_ACCELERATIONS`) so that the external loads, weight and inertial loads balance,
+    and the structure deforms in those axes; ``supports`` (``(beam, node, component)`` with
+    component ``"x"``, ``"y"`` or ``"z"``: that body-axes displacement of the node held at the jig,
+    one per acceleration) fix its rigid-body position without loading it (their reactions are zero
+    at the balance: a statically determinate support, as Nastran's SUPORT).
+
+    Newton on ``R(x, 0, p, q(a)) = 0`` with the support rows, from ``x0`` (default the jig). Returns
+    the state and ``{name: acceleration}``. ValueError for supports that do not hold the
+    structure's rigid-body modes (a singular matrix), a count that differs from the accelerations',
+    unknown names, or no convergence.
+    """
+    bad = [a for a in accelerations if a not in FRAME_ACCELERATIONS]
+    if bad or len(set(accelerations)) != len(accelerations):
+        raise ValueError(f"accelerations must be distinct names of {list(FRAME_ACCELERATIONS)}, got {list(accelerations)}")
+    if len(supports) != len(accelerations):
+        raise ValueError(f"{len(supports)} supports for {len(accelerations)} accelerations: a statically determinate "
+                         f"support has one per acceleration")
+    qlay = layout(system.forcing_specs)
+    q_cols = [qlay[FRAME_ACCELERATIONS[a][0]].start + FRAME_ACCELERATIONS[a][1] for a in accelerations]
+    n = system.n_state
+    rows, cols, vals = [], [], []
+    for k, sup in enumerate(supports):
+        name, node, comp = sup
+        if comp not in _XYZ:
+            raise ValueError(f"support {sup}: component must be 'x', 'y' or 'z' (body axes), got {comp!r}")
+        i0 = system.node_index(name, node) + STATE_BLOCKS["r"].start
+        direction = system.beam(name).rotation @ np.eye(3)[_XYZ.index(comp)]      # body direction, beam axes
+        for c in range(3):
+            if direction[c] != 0.0:
+                rows.append(k)
+                cols.append(i0 + c)
+                vals.append(direction[c])
+    C = sp.csr_matrix((vals, (rows, cols)), shape=(len(supports), n))
+    p = np.asarray(p, dtype=float)
+    q = np.asarray(q, dtype=float).copy()
+    x = system.initial_guess(p, q) if x0 is None else np.asarray(x0, dtype=float).copy()
+    c0 = C @ system.jig_state(p)
+    xdot = np.zeros(n)
+    scale = None
+    for _ in range(max_iter):
+        jx = system.jac_state(x, xdot, p, q)[0]
+        jq = system.jac_inputs(x, xdot, p, q)[1][:, q_cols]
+        K = sp.bmat([[jx, jq], [C, None]], format="csc")
+        try:       # factored before the convergence test: bad supports are refused even without load
+            with warnings.catch_warnings():
+                warnings.simplefilter("error", spla.MatrixRankWarning)
+                lu = spla.splu(K)
+        except (RuntimeError, spla.MatrixRankWarning):
+            raise ValueError(f"inertia relief: the supports {list(supports)} with the accelerations "
+                             f"{list(accelerations)} do not hold the structure's rigid-body modes (singular "
+                             f"matrix)") from None
+        R = np.concatenate([system.residual(x, xdot, p, q), C @ x - c0])
+        if scale is None:
+            scale = max(np.max(np.abs(R)), 1.0)
+        if np.max(np.abs(R)) <= rtol * scale:
+            return x, {a: float(q[j]) for a, j in zip(accelerations, q_cols)}
+        step = lu.solve(-R)
+        if not np.all(np.isfinite(step)):
+            raise ValueError(f"inertia relief: the supports {list(supports)} do not hold the structure's "
+                             f"rigid-body modes (singular matrix)")
+        x = x + step[:n]
+        q[q_cols] += step[n:]
+    raise ValueError(f"inertia relief: no convergence in {max_iter} Newton iterations (largest residual "
+                     f"{np.max(np.abs(R)):.3g}); apply the loads in steps")
+
+
+@dataclass(frozen=True)
+class MonitoringStation:
+    """A monitoring station: the cut just inboard of node ``node`` of beam ``beam`` (between nodes
+    ``node - 1`` and ``node``; node >= 1, negative from the tip), named ``label`` (e.g. "wing root"
+    at the root rib, "fuselage x = 5 m")."""
+
+    label: str
+    beam: str
+    node: int
+
+
+def monitoring_loads(system, x, stations) -> dict:
+    """Internal loads at monitoring stations (:class:`MonitoringStation`) of a state ``x`` of a
+    :class:`JoinedBeamSystem`: the resultants the outboard part of the beam (from the station to the
+    tip, the node's own point loads included) exerts on the inboard part, ``F`` and ``M`` of the
+    state (docs/beam-theory.md). Returns ``{label: {"force": (3,), "moment": (3,)}}`` in body axes and
+    ``"force_csn"``, ``"moment_csn"`` in the node's deformed section frame (c: chordwise shear,
+    s: axial force / torsion, n: normal shear / bending about n)."""
+    x = np.asarray(x, dtype=float).reshape(system.n_state)
+    out = {}
+    for st in stations:
+        if not isinstance(st, MonitoringStation):
+            raise TypeError(f"stations must be MonitoringStation objects, got {type(st).__name__}")
+        b = system.beam(st.beam)
+        node = int(st.node)
+        if not -b.num_nodes < node < b.num_nodes or node % b.num_nodes == 0:
+            raise ValueError(f"monitoring station {st.label!r}: node {node} of beam {st.beam!r} must be in "
+                             f"1..{b.num_nodes - 1} (or -{b.num_nodes - 1}..-1): the cut inboard of node 0 is "
+                             f"the root's boundary")
+        i = system.node_index(st.beam, node)
+        blk = x[i:i + N_STATE_PER_NODE]
+        R = b.rotation
+        T = np.array(body_to_csn(ca.DM(blk[STATE_BLOCKS["theta"]]), system.euler_sequence))    # beam axes -> csn
+        F, M = blk[STATE_BLOCKS["F"]], blk[STATE_BLOCKS["M"]]
+        out[st.label] = {"force": R.T @ F, "moment": R.T @ M, "force_csn": T @ F, "moment_csn": T @ M}
+    return out
+
+
 class JoinedBeamModel:
     """Joined beams with their parameters: ``solve(loads, **shared)`` gives statics.
 
-    ``beam_params``: ``{beam: parameter dict}`` (:func:`wingmdao.beam.static.beam_parameters`).
+    ``beam_params``: ``{beam: parameter dict}`` (:func:`wingmdao.beam.static.beam_parameters`);
+    ``masses``, ``symmetry``: as :func:`build_joined_system`.
     """
 
-    def __init__(self, beams, joints, beam_params, *, euler_sequence="surface", damping=None):
-        self.system = build_joined_system(beams, joints, euler_sequence=euler_sequence, damping=damping)
+    def __init__(self, beams, joints, beam_params, *, euler_sequence="surface", damping=None, masses=(),
+                 symmetry=()):
+        self.system = build_joined_system(beams, joints, euler_sequence=euler_sequence, damping=damping,
+                                          masses=masses, symmetry=symmetry)
         self.params = beam_params
         self.p = self.system.pack_parameters(beam_params)
 
@@ -548,4 +904,15 @@ class JoinedBeamModel:
         x, info = solve_static(self.system, self.p, q, x0, load_steps=load_steps, max_iter=max_iter)
         out = self.system.unpack(x)
         out["x"], out["iterations"] = x, info.iterations
+        return out
+
+    def solve_inertia_relief(self, loads=None, *, supports, accelerations=HALF_AIRCRAFT_ACCELERATIONS,
+                             **shared) -> dict:
+        """Equilibrium of the free structure under ``loads`` with inertia relief
+        (:func:`solve_inertia_relief`); returns :meth:`JoinedBeamSystem.unpack` of the state plus
+        ``'x'`` and ``'accelerations'`` ({name: value}, m/s^2 and rad/s^2)."""
+        q = self.forcing(loads, **shared)
+        x, acc = solve_inertia_relief(self.system, self.p, q, supports, accelerations)
+        out = self.system.unpack(x)
+        out["x"], out["accelerations"] = x, acc
         return out

@@ -93,11 +93,13 @@ def adjoint_lu_order(system):
     return system.lu_column_order(), 0
 
 
-def joined_lu_column_order(node_counts, joint_nodes) -> np.ndarray:
+def joined_lu_column_order(node_counts, joint_nodes, support_nodes=()) -> np.ndarray:
     """Column order of the static LU of joined beams (:mod:`wingmdao.beam.joints`): the beams'
     node blocks in state order, each in :data:`BEAM_NODE_ORDER`, and the 12 unknowns of every joint
     right after the later of its two nodes (``joint_nodes``: ``(node_a, node_b)`` counted over all
-    beams in state order; the joint unknowns follow the node blocks in the state, joint by joint).
+    beams in state order; the joint unknowns follow the node blocks in the state, joint by joint),
+    then the 3 reactions of every symmetry condition right after its node (``support_nodes``,
+    counted as ``joint_nodes``; their unknowns follow the joints' in the state).
 
     Placed there, a joint's columns are eliminated next to the only two node blocks they couple,
     instead of at the end of the matrix where the rows of the first beams' joint nodes would fill
@@ -106,11 +108,14 @@ def joined_lu_column_order(node_counts, joint_nodes) -> np.ndarray:
     width = len(BEAM_NODE_ORDER)
     after = [[] for _ in range(n_nodes)]
     for j, (a, b) in enumerate(joint_nodes):
-        after[max(int(a), int(b))].append(j)
+        after[max(int(a), int(b))].append(np.arange(12) + 12 * j)
+    first_support = 12 * len(joint_nodes)
+    for k, a in enumerate(support_nodes):
+        after[int(a)].append(first_support + 3 * k + np.arange(3))
     local = np.asarray(BEAM_NODE_ORDER, dtype=np.int64)
     first_joint = width * n_nodes
     parts = []
     for g in range(n_nodes):
         parts.append(local + width * g)
-        parts += [first_joint + 12 * j + np.arange(12) for j in after[g]]
+        parts += [first_joint + cols for cols in after[g]]
     return np.concatenate(parts).astype(np.int64)

@@ -1,0 +1,297 @@
+"""PEGASUS as a stick model of the symmetric half aircraft, free in surge, plunge and pitch.
+
+Beams (:mod:`wingmdao.beam.joints`), body axes x aft, y right, z up, origin at the wing root's
+leading edge on the plane of symmetry:
+
+* **wing**: the PEGASUS wingbox of :mod:`wingmdao.cases.pegasus` (App. D.2, Tables D.3-D.4; its
+  20-node mesh, NACA 43-series box, aluminium walls; 10 mm walls unless a sizing's thicknesses are
+  given), without the engines' smeared mass: the engines are lumped masses here;
+* **fuselage**: a beam along x (:data:`~wingmdao.beam.joints.FUSELAGE_AXES`) from the nose to the
+  tail cone, joined to the wing's root node (station 0, on the plane of symmetry);
+* **fin**: a vertical beam from the fuselage node under it to the horizontal tail (a T-tail, as
+  on the ATR 42 class PEGASUS derives from);
+* **horizontal tail**: a beam along y from the fin's tip.
+
+Joints are rigid. Symmetry conditions (:class:`~wingmdao.beam.joints.Symmetry`) hold every
+fuselage and fin node on the plane of symmetry (no lateral displacement, roll or yaw): the half
+aircraft has 3 rigid-body modes. Members lying on that plane carry half the aircraft's stiffness
+and mass; the wing and horizontal tail are one side's.
+
+Data. The wing and its engines are the case's (:mod:`wingmdao.cases.pegasus`: TOGW 41 005 lb
+from Table D.3; per wing a 600 kg hybrid-electric engine at 35 % semi-span and a 150 kg tip motor,
+assumptions of that case). The rest are **assumptions** of this model (no fuselage or tail data
+are published for PEGASUS), sized on the ATR 42 class (length 22.67 m, fuselage diameter 2.57 m,
+horizontal tail span 7.31 m and area 11.73 m^2, T-tail):
+
+* engines' mass centres 1.5 m ahead of and 0.5 m below the wing's beam axis (the 600 kg engine;
+  a cylinder of radius 0.4 m and length 2.5 m for its rotary inertia) and 0.5 m ahead (the tip
+  motor, a point mass): :data:`ENGINE_OFFSETS`;
+* fuselage: x from -9.0 m to 13.5 m at the wing root's height; an aluminium circular shell of
+  radius 1.3 m with a smeared (skin and stringers) thickness of 3 mm: EI = E pi R^3 t, GJ =
+  G 2 pi R^3 t, EA = E 2 pi R t; structure 2600 kg uniformly along its length; the rest of the
+  TOGW (payload, systems, fuel or batteries, furnishings, landing gear) as lumped masses spread
+  evenly over the fuselage nodes from x = -7 m to 8 m (:data:`FUSELAGE`);
+* fin: from the fuselage node at x = 12 m, 4.0 m high, straight; EI lateral 8e6, fore-aft 6e7,
+  GJ 6e6 N m^2, EA 2e9 N, 35 kg/m (:data:`FIN`);
+* horizontal tail: semi-span 3.655 m from the fin tip; EI flap 2e6, chordwise 2e7, GJ 2.5e6
+  N m^2, EA 1e9 N, 20 kg/m (:data:`TAIL`).
+
+:func:`natural_frequencies` gives the elastic frequencies of the free half aircraft about the
+jig (``PYTHONPATH=. python benchmarks/pegasus_stick_modes.py``; docs/stick-model.md).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from wingmdao.beam.joints import (FUSELAGE_AXES, Beam, JoinedBeamModel, Joint, LumpedMass, MonitoringStation,
+                                  Symmetry, monitoring_loads)
+from wingmdao.beam.rotations import body_to_csn, euler_from_axis
+from wingmdao.beam.static import beam_parameters
+from wingmdao.cases import pegasus
+from wingmdao.cases.planform import G0, LB, wing_geometry
+from wingmdao.loads.maneuver import maneuver_line_loads
+from wingmdao.materials import ALUMINIUM
+from wingmdao.section.box import WALL_NAMES, beam_params_from_section, box_properties, validate_box
+from wingmdao.stability.eigen import eigenmodes
+
+#: Engines' mass centres from their wing nodes (m, body axes) and rotary inertias (kg m^2, about
+#: their centres): the 600 kg engine as a cylinder of radius 0.4 m and length 2.5 m along x.
+ENGINE_OFFSETS = ((-1.5, 0.0, -0.5), (-0.5, 0.0, 0.0))
+ENGINE_INERTIA = (np.diag([0.5 * 600.0 * 0.4**2, 600.0 * (3 * 0.4**2 + 2.5**2) / 12,
+                           600.0 * (3 * 0.4**2 + 2.5**2) / 12]), None)
+#: Fuselage (full aircraft; the half model carries half): x range (m), shell radius (m), smeared
+#: wall thickness (m), structural mass (kg), the x range of the lumped payload and systems (m).
+FUSELAGE = {"x_nose": -9.0, "x_end": 13.5, "radius": 1.3, "thickness": 3e-3, "structure_mass": 2600.0,
+            "payload_x": (-7.0, 8.0), "spacing": 1.5}
+#: Fin (full aircraft): root x (m) on the fuselage, height (m), section (SI), nodes.
+FIN = {"x": 12.0, "height": 4.0, "EI_lateral": 8e6, "EI_fore_aft": 6e7, "GJ": 6e6, "EA": 2e9,
+       "mass_per_length": 35.0, "num_nodes": 5}
+#: Horizontal tail (one side): semi-span (m), section (SI), nodes.
+TAIL = {"semi_span": 3.655, "EI_cc": 2e6, "EI_nn": 2e7, "GJ": 2.5e6, "EA": 1e9, "mass_per_length": 20.0,
+        "num_nodes": 8}
+#: Small rotary inertia per length (kg m, csn) of the fuselage, fin and tail sections.
+_ROTARY = np.diag([1e-3, 1e-3, 1e-3])
+
+
+@dataclass
+class StickAircraft:
+    """The half aircraft: its :class:`~wingmdao.beam.joints.JoinedBeamModel` (``model``), the mass
+    (kg, half aircraft), centre of gravity (m, body axes) and pitch inertia about it (kg m^2, half
+    aircraft) of the jig, and the beams' node positions in body axes (``nodes``)."""
+
+    model: JoinedBeamModel
+    mass: float
+    cg: np.ndarray
+    pitch_inertia: float
+    nodes: dict
+    wing_chord: np.ndarray
+    wing_axis_fraction: np.ndarray
+
+
+def _wing_params(num_nodes, thickness):
+    """The PEGASUS wing's beam parameters without the engines' smeared mass."""
+    n = int(num_nodes)
+    geo, chord, frac = wing_geometry(pegasus.flutter_planform(n), ())
+    t = pegasus.initial_thickness(n) if thickness is None else thickness
+    walls = []
+    for w in WALL_NAMES:
+        v = t.get(w, t.get(w[2:]))
+        if v is None:
+            raise ValueError(f"thickness: missing wall {w!r}; needs {list(WALL_NAMES)} (m)")
+        v = np.asarray(v, dtype=float).ravel()
+        if v.size != n:
+            raise ValueError(f"thickness {w!r}: {v.size} stations, the {n}-node PEGASUS wing needs {n}")
+        walls.append(v)
+    validate_box(geo.width, geo.height, *walls, source="thickness")
+    props = box_properties(geo.width, geo.height, *walls, ALUMINIUM, None, geo.nonstructural_mass_per_length)
+    return beam_params_from_section(props, geo.node_positions, geo.node_euler_angles), geo, chord, frac
+
+
+def _fuselage_x(x_wing):
+    """Fuselage node x: about ``spacing`` apart, with nodes at the wing root and the fin."""
+    f = FUSELAGE
+    cuts = [f["x_nose"], x_wing, FIN["x"], f["x_end"]]
+    xs = [np.array([cuts[0]])]
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        k = max(1, int(round((b - a) / f["spacing"])))
+        xs.append(np.linspace(a, b, k + 1)[1:])
+    return np.concatenate(xs)
+
+
+def _beam_mass(params):
+    """Mass (kg) of a beam: its elements' mean mass per length times their lengths."""
+    r0 = np.asarray(params["node_positions"], dtype=float)
+    mu = np.asarray(params["mass_per_length"], dtype=float)
+    return float(np.sum(0.5 * (mu[:-1] + mu[1:]) * np.linalg.norm(np.diff(r0, axis=0), axis=1)))
+
+
+def build(num_wing_nodes: int = 20, thickness: dict | None = None) -> StickAircraft:
+    """The free symmetric half PEGASUS stick model (module docstring): wing, fuselage, fin and
+    horizontal tail, engines and payload as lumped masses, symmetry conditions on the plane of
+    symmetry. ``thickness``: the wing's walls (m per node, as :func:`wingmdao.cases.pegasus.beam_params`)."""
+    wing, geo, chord, frac = _wing_params(num_wing_nodes, thickness)
+    r_wing = np.asarray(wing["node_positions"], dtype=float)
+    x_wing = float(r_wing[0, 0])
+    half = 0.5
+    E, G = ALUMINIUM.E, ALUMINIUM.E / (2 * (1 + ALUMINIUM.nu))
+    R, t = FUSELAGE["radius"], FUSELAGE["thickness"]
+    xf = _fuselage_x(x_wing)
+    fus_axes = np.array(FUSELAGE_AXES)
+    fus = beam_parameters((fus_axes @ np.column_stack([xf, 0 * xf, 0 * xf]).T).T,
+                          np.tile(euler_from_axis((0.0, 1.0, 0.0)), (xf.size, 1)),
+                          EI_cc=half * E * np.pi * R**3 * t, EI_nn=half * E * np.pi * R**3 * t,
+                          GJ=half * G * 2 * np.pi * R**3 * t, EA=half * E * 2 * np.pi * R * t,
+                          mass_per_length=half * FUSELAGE["structure_mass"] / (xf[-1] - xf[0]),
+                          inertia_per_length=_ROTARY)
+    nfin = FIN["num_nodes"]
+    zfin = np.linspace(0.0, FIN["height"], nfin)
+    fin = beam_parameters(np.column_stack([np.full(nfin, FIN["x"]), 0 * zfin, zfin]),
+                          np.tile(euler_from_axis((0.0, 0.0, 1.0)), (nfin, 1)),
+                          EI_cc=half * FIN["EI_lateral"], EI_nn=half * FIN["EI_fore_aft"], GJ=half * FIN["GJ"],
+                          EA=half * FIN["EA"], mass_per_length=half * FIN["mass_per_length"],
+                          inertia_per_length=_ROTARY)
+    nt = TAIL["num_nodes"]
+    yt = np.linspace(0.0, TAIL["semi_span"], nt)
+    tail = beam_parameters(np.column_stack([np.full(nt, FIN["x"]), yt, np.full(nt, FIN["height"])]),
+                           np.tile(euler_from_axis((0.0, 1.0, 0.0)), (nt, 1)),
+                           EI_cc=TAIL["EI_cc"], EI_nn=TAIL["EI_nn"], GJ=TAIL["GJ"], EA=TAIL["EA"],
+                           mass_per_length=TAIL["mass_per_length"], inertia_per_length=_ROTARY)
+    i_wing = int(np.argmin(np.abs(xf - x_wing)))
+    i_fin = int(np.argmin(np.abs(xf - FIN["x"])))
+    # engines on the wing nodes nearest their span stations (pegasus.ENGINES)
+    y_nodes = geo.span_coordinate
+    masses = [LumpedMass("wing", int(np.argmin(np.abs(y_nodes - y))), m, offset=d, inertia=J)
+              for (m, y), d, J in zip(pegasus.ENGINES, ENGINE_OFFSETS, ENGINE_INERTIA)]
+    # the rest of the half TOGW: payload and systems over the fuselage nodes in payload_x
+    half_togw = half * pegasus.TOGW_LB * LB
+    parts = {"wing": wing, "fuselage": fus, "fin": fin, "tail": tail}
+    body = {"wing": wing["node_positions"], "fuselage": np.column_stack([xf, 0 * xf, 0 * xf]),
+            "fin": fin["node_positions"], "tail": tail["node_positions"]}
+    structure = sum(_beam_mass(parts[k]) for k in parts) + sum(lm.mass for lm in masses)
+    payload = half_togw - structure
+    if payload <= 0.0:
+        raise ValueError(f"the structure and engines weigh {structure:.0f} kg, more than half the TOGW "
+                         f"({half_togw:.0f} kg): thinner wing walls or lighter assumptions are needed")
+    cabin = np.flatnonzero((xf >= FUSELAGE["payload_x"][0]) & (xf <= FUSELAGE["payload_x"][1]))
+    masses += [LumpedMass("fuselage", int(i), payload / cabin.size) for i in cabin]
+    beams = [Beam("fuselage", xf.size, root="free", axes=FUSELAGE_AXES), Beam("wing", r_wing.shape[0], root="free"),
+             Beam("fin", nfin, root="free"), Beam("tail", nt, root="free")]
+    joints = [Joint("fuselage", i_wing, "wing", 0), Joint("fuselage", i_fin, "fin", 0), Joint("fin", -1, "tail", 0)]
+    # the fin's root is held through its rigid joint to the fuselage (a second condition there is redundant)
+    symmetry = [Symmetry("fuselage", i) for i in range(xf.size)] + [Symmetry("fin", i) for i in range(1, nfin)]
+    model = JoinedBeamModel(beams, joints, parts, masses=masses, symmetry=symmetry)
+    axes = {b.name: b.rotation for b in beams}
+    mass, cg, iyy = _mass_properties(parts, body, axes, masses)
+    return StickAircraft(model=model, mass=mass, cg=cg, pitch_inertia=iyy, nodes=body, wing_chord=chord,
+                         wing_axis_fraction=frac)
+
+
+def _mass_properties(parts, body, axes, masses):
+    """Mass, centre of gravity and pitch inertia about it of the jig (half aircraft), as the beam's
+    elements discretise them: each element's mass at the mean of its nodes' mass centres, its
+    sections' rotary inertia per length; the lumped masses at their offset centres with their own
+    I_yy."""
+    pts, ms, iyy_own = [], [], 0.0
+    for k, prm in parts.items():
+        R = np.asarray(axes[k], dtype=float)
+        theta0 = np.asarray(prm["node_euler_angles"], dtype=float)
+        T0 = [np.array(body_to_csn(ca.DM(th), "surface")) @ R for th in theta0]      # body -> csn
+        c = np.asarray(prm["mass_center"], dtype=float)
+        centre = np.asarray(body[k], dtype=float) + np.array([t.T @ [cc[0], 0.0, cc[1]] for t, cc in zip(T0, c)])
+        i_yy = np.array([(t.T @ np.asarray(i) @ t)[1, 1] for t, i in zip(T0, prm["inertia_per_length"])])
+        mu = np.asarray(prm["mass_per_length"], dtype=float)
+        ds = np.linalg.norm(np.diff(np.asarray(body[k], dtype=float), axis=0), axis=1)
+        ms.append(0.5 * (mu[:-1] + mu[1:]) * ds)
+        pts.append(0.5 * (centre[:-1] + centre[1:]))
+        iyy_own += float(np.sum(0.5 * (i_yy[:-1] + i_yy[1:]) * ds))
+    for lm in masses:
+        ms.append(np.array([lm.mass]))
+        pts.append((np.asarray(body[lm.beam], dtype=float)[lm.node] + np.asarray(lm.offset))[None, :])
+        iyy_own += lm.inertia[1][1]
+    m, p = np.concatenate(ms), np.vstack(pts)
+    mass = float(m.sum())
+    cg = m @ p / mass
+    d = p - cg
+    return mass, cg, float(m @ (d[:, 0] ** 2 + d[:, 2] ** 2) + iyy_own)
+
+
+def monitoring_stations(aircraft: StickAircraft) -> list:
+    """The monitoring stations of the half aircraft (:class:`~wingmdao.beam.joints.MonitoringStation`):
+    the wing's root rib (the cut inboard of wing node 1), the fuselage just ahead of and just aft of
+    the wing joint, the fuselage ahead of the fin, the fin root and the horizontal tail root."""
+    s = aircraft.model.system
+    i_wing = next(jt.node_a for jt in s.joints if jt.beam_b == "wing")
+    i_fin = next(jt.node_a for jt in s.joints if jt.beam_b == "fin")
+    x = aircraft.nodes["fuselage"][:, 0]
+    return [MonitoringStation("wing root", "wing", 1),
+            MonitoringStation(f"fuselage x = {x[i_wing]:.2f} m (ahead of the wing)", "fuselage", i_wing),
+            MonitoringStation(f"fuselage x = {x[i_wing + 1]:.2f} m (aft of the wing)", "fuselage", i_wing + 1),
+            MonitoringStation(f"fuselage x = {x[i_fin]:.2f} m (ahead of the fin)", "fuselage", i_fin),
+            MonitoringStation("fin root", "fin", 1),
+            MonitoringStation("tail root", "tail", 1)]
+
+
+#: Supports of the inertia-relief solves (statically determinate: nose x and z, tail cone z).
+SUPPORTS = (("fuselage", 0, "x"), ("fuselage", 0, "z"), ("fuselage", -1, "z"))
+
+
+def balanced_maneuver(aircraft: StickAircraft, load_factor: float) -> dict:
+    """A symmetric maneuver of the free half aircraft balanced by its lift: the wing's lift of the
+    PEGASUS case (:func:`wingmdao.loads.maneuver.maneuver_line_loads`: Schrenk spanwise, centre of
+    pressure at 25 % chord) scaled to a fraction of n W, and a tail load evenly on the tail's nodes,
+    so that they lift n W and have no moment about the jig CG; then the inertia-relief solution
+    (:func:`wingmdao.beam.joints.solve_inertia_relief`) under them and gravity.
+
+    Returns ``wing_lift`` and ``tail_load`` (N, half aircraft), ``accelerations`` (of the body axes;
+    the CG's vertical acceleration is (n - 1) g and the pitch acceleration zero up to the CG's shift
+    by the deformation), ``loads`` at :func:`monitoring_stations` and the state ``x``."""
+    if not np.isfinite(load_factor):
+        raise ValueError(f"load_factor = {load_factor}; must be a finite number")
+    m = aircraft.model
+    weight = aircraft.mass * G0
+    r_w, r_t = aircraft.nodes["wing"], aircraft.nodes["tail"]
+    unit = maneuver_line_loads(r_w, aircraft.wing_chord, aircraft.wing_axis_fraction, 2.0 * weight, 1.0,
+                               semi_span=pegasus.PLANFORM.semi_span,
+                               fuselage_half_width=pegasus.PLANFORM.root_rib * pegasus.PLANFORM.semi_span)
+    f, mm = unit.force_per_length, unit.moment_per_length
+    ds = np.linalg.norm(np.diff(r_w, axis=0), axis=1)
+    fe = 0.5 * (f[:-1] + f[1:]) * ds[:, None]                  # the elements' resultants at their midpoints
+    me = 0.5 * (mm[:-1] + mm[1:]) * ds[:, None] + np.cross(0.5 * (r_w[:-1] + r_w[1:]) - aircraft.cg, fe)
+    nt = r_t.shape[0]
+    tail_unit = np.zeros((nt, 3))
+    tail_unit[1:, 2] = 1.0 / (nt - 1)
+    tail_moment = np.sum(np.cross(r_t - aircraft.cg, tail_unit), axis=0)
+    A = np.array([[fe[:, 2].sum(), 1.0], [me[:, 1].sum(), tail_moment[1]]])
+    wing_scale, tail_load = np.linalg.solve(A, [load_factor * weight, 0.0])
+    loads = {"wing": {"force_per_length": wing_scale * f, "moment_per_length": wing_scale * mm},
+             "tail": {"point_force": tail_load * tail_unit}}
+    out = m.solve_inertia_relief(loads, supports=SUPPORTS, gravity=[0.0, 0.0, -G0])
+    return {"wing_lift": float(wing_scale * fe[:, 2].sum()), "tail_load": float(tail_load),
+            "accelerations": out["accelerations"], "x": out["x"],
+            "loads": monitoring_loads(m.system, out["x"], monitoring_stations(aircraft))}
+
+
+def natural_frequencies(aircraft: StickAircraft, count: int = 8) -> dict:
+    """The free half aircraft's modes about the jig (the flutter linearization,
+    :func:`wingmdao.stability.eigen.eigenmodes`): ``rigid`` (the number of zero-frequency modes:
+    3) and the lowest ``count`` elastic frequencies ``hz`` with the share of each beam in the mode's
+    displacement (``shares``, {beam: fraction of the sum of squared nodal displacements})."""
+    m = aircraft.model
+    s = m.system
+    modes = eigenmodes(s, m.p, m.forcing(), s.jig_state(m.p), static=False, method="dense")
+    lam = modes.eigenvalues
+    zero = np.abs(lam) < 1e-6
+    order = np.argsort(modes.frequency)
+    elastic = [k for k in order if not zero[k] and modes.frequency[k] > 1e-3][:count]
+    shares = []
+    for k in elastic:
+        v = modes.vectors[:, k]
+        e = {b.name: float(np.sum(np.abs(v[[s.node_index(b.name, i) + c for i in range(b.num_nodes)
+                                              for c in range(3)]]) ** 2)) for b in s.beams}
+        tot = sum(e.values())
+        shares.append({b: e[b] / tot for b in e})
+    return {"rigid": int(np.sum(zero)) // 2, "hz": modes.frequency[elastic] / (2 * np.pi), "shares": shares}
