@@ -491,3 +491,26 @@ def test_size_turbulence_bad_case(capsys):
 
     assert main(["size", "cantilever", "--analysis-only", "--turbulence", "--no-plots"]) == 2
     assert "--turbulence" in capsys.readouterr().err
+
+
+def test_case_beam_parameters_public_helper(tmp_path, capsys):
+    """wingmdao.cases.case_beam_parameters (used by `gust` and `turbulence`): the initial design's
+    walls given per node reproduce its beam parameters; a design with the wrong number of stations
+    is a one-line error naming --design, before any solve, in both commands."""
+    import json
+
+    from wingmdao.cases import case_beam_parameters, pegasus
+    from wingmdao.cli import main
+    from wingmdao.sizing import SECTION_KINDS, WALL_VARS, initial_design, station_design
+
+    setup, bp = case_beam_parameters(pegasus)
+    dv = station_design(setup.geometry, initial_design(setup.options, SECTION_KINDS["box"]["design_vars"]), WALL_VARS)
+    _, bp2 = case_beam_parameters(pegasus, {w[2:]: dv[w] for w in WALL_VARS})
+    for k in bp:
+        np.testing.assert_array_equal(bp[k], bp2[k])
+    bad = tmp_path / "d.json"
+    bad.write_text(json.dumps({"case": "pegasus", "thickness": {w[2:]: [0.01, 0.01] for w in WALL_VARS}}))
+    for cmd in ("turbulence", "gust"):
+        assert main([cmd, "pegasus", "--design", str(bad), "--no-plots", "--json", str(tmp_path / f"{cmd}.json")]) == 2
+        err = capsys.readouterr().err
+        assert f"--design {bad}" in err and "has 2 stations" in err and len(err.strip().splitlines()) == 1, err
