@@ -630,3 +630,102 @@ def test_rational_von_karman_filter_fit_and_synthesized_variance():
         tb.synthesize_vertical_turbulence(10, -1.0, V)
     with pytest.raises(ValueError, match="scale_m"):
         tb.von_karman_filter(V, scale_m=0.0)
+
+
+def _stress_ks_problem(n_base=41, f_max=15.0, **options):
+    """TurbulenceStressKS on the trimmed 4-node wing (free plunge, 2 % structural damping, stations
+    meeting the gust 0.3 m apart), set to the wing's parameters; ``options`` of the component."""
+    import openmdao.api as om
+
+    from wingmdao.beam.residual import StrainRateDamping
+    from wingmdao.components.turbulence import TurbulenceStressKS
+    from wingmdao.section.box import WALL_NAMES
+
+    s, p, q_trim, q0, r0, W = _trimmed_wing()
+    n = r0.shape[0]
+    prob = om.Problem()
+    comp = TurbulenceStressKS(num_nodes=n, plunge=True, airspeed=40.0,
+                              x_stations=r0[:, 0] - 0.35 + np.array([0.0, 0.3, 0.6, 0.9]), width=np.full(n, 0.5),
+                              height=np.full(n, 0.12), u_sigma=10.0, sigma_allow=1e8, f_max=f_max, n_base=n_base,
+                              damping=StrainRateDamping.from_damping_ratio(0.02, 2.0), gravity=9.81, **options)
+    prob.model.add_subsystem("turb", comp, promotes=["*"])
+    prob.setup()
+    values = s.split_parameters(p)
+    inputs = {nm for nm, _ in comp.list_inputs(out_stream=None)}
+    for name, v in values.items():
+        if name in inputs:
+            prob.set_val(name, v)
+    if "aircraft_mass" in inputs:
+        prob.set_val("aircraft_mass", 300.0)  # as _trimmed_wing: trim_lift = 300 g, body_mass = 300 - 2 m_half
+    for k, w in enumerate(WALL_NAMES):
+        prob.set_val(w, np.array([0.003, 0.0025, 0.004, 0.0035])[k] * np.linspace(1, 0.6, n))
+    prob.run_model()
+    return prob, comp
+
+
+def test_turbulence_stress_ks_airspeed_and_aircraft_mass_gradients():
+    """d KS / d airspeed (aerodynamics, gust phases, von Karman spectrum; at fixed Mach and density)
+    and d KS / d aircraft mass (trim lift M g, body mass M - 2 m_half) of TurbulenceStressKS with
+    airspeed_input and aircraft_mass_input, against central differences of its output (within
+    1e-6); with the masses as the default inputs the same KS as with body_mass and trim_lift set from
+    M; and the airspeed derivative of the von Karman spectrum against central differences."""
+    prob, comp = _stress_ks_problem(airspeed_input=True, aircraft_mass_input=True)
+    J = prob.compute_totals("turbulence_ks", ["airspeed", "aircraft_mass"])
+    for name, h in (("airspeed", 1e-4), ("aircraft_mass", 1e-3)):
+        base = prob.get_val(name).copy()
+        vals = []
+        for sign in (1, -1):
+            prob.set_val(name, base + sign * h)
+            prob.run_model()
+            vals.append(float(prob.get_val("turbulence_ks")[0]))
+        prob.set_val(name, base)
+        fd = (vals[0] - vals[1]) / (2 * h)
+        got = float(J["turbulence_ks", name][0, 0])
+        assert abs(got - fd) <= 1e-6 * abs(fd), (name, got, fd)
+    prob.run_model()
+    ks_mass = float(prob.get_val("turbulence_ks")[0])
+    # the same aircraft through the default inputs (body_mass, trim_lift) of _trimmed_wing
+    prob2, _ = _stress_ks_problem()
+    assert float(prob2.get_val("turbulence_ks")[0]) == pytest.approx(ks_mass, rel=1e-10)
+    w = np.geomspace(1e-3, 100.0, 50)
+    d = tb.von_karman_psd_airspeed_derivative(w, 60.0, 2.0, 100.0)
+    fd = (tb.von_karman_psd(w, 60.0 + 1e-4, 2.0, 100.0) - tb.von_karman_psd(w, 60.0 - 1e-4, 2.0, 100.0)) / 2e-4
+    np.testing.assert_allclose(d, fd, rtol=1e-7, atol=1e-12 * np.max(np.abs(fd)))
+
+
+@pytest.mark.slow
+def test_turbulence_stress_ks_check_partials_every_input():
+    """OpenMDAO check_partials of TurbulenceStressKS over every input (airspeed and aircraft mass
+    inputs on; 176 scalars, central differences), each with a step its scale needs: relative to
+    each element (1e-6, at least 1e-6 absolute for the zero jig angles and offsets; the walls
+    without that floor), the stiffness
+    relative to its mean (its zero couplings), the rotary inertia 1e-3 kg m absolute (all zero),
+    the compliance 1e-12 absolute (its shear entries are 1e-15: a relative step is lost in the
+    round-off of the static solve). Every subjacobian within 1e-6 of its norm, the compliance
+    within 2e-5 (its entries move KS by less than 1e-11 per 1e-12 step: differences resolve them
+    to about 5e-4 each); with the default inputs the body_mass and trim_lift partials likewise."""
+    from wingmdao.section.box import WALL_NAMES
+
+    prob, comp = _stress_ks_problem(n_base=31, f_max=10.0, airspeed_input=True, aircraft_mass_input=True)
+    special = ("stiffness_csn", "compliance_csn", "inertia_per_length") + tuple(WALL_NAMES)
+    comp.set_check_partial_options(wrt=[nm for nm, _ in comp.list_inputs(out_stream=None) if nm not in special],
+                                   method="fd", form="central", step=1e-6, step_calc="rel_element", minimum_step=1e-6)
+    comp.set_check_partial_options(wrt=list(WALL_NAMES), method="fd", form="central", step=1e-6,
+                                   step_calc="rel_element")
+    comp.set_check_partial_options(wrt="stiffness_csn", method="fd", form="central", step=1e-6, step_calc="rel_avg")
+    comp.set_check_partial_options(wrt="compliance_csn", method="fd", form="central", step=1e-12, step_calc="abs")
+    comp.set_check_partial_options(wrt="inertia_per_length", method="fd", form="central", step=1e-3, step_calc="abs")
+    data = prob.check_partials(out_stream=None, compact_print=True)["turb"]
+    assert len(data) == len(list(comp.list_inputs(out_stream=None)))
+    for (of, wrt), d in data.items():
+        exact, fd = np.asarray(d["J_fwd"]), np.asarray(d["J_fd"])
+        tol = 2e-5 if wrt == "compliance_csn" else 1e-6
+        assert np.linalg.norm(exact - fd) <= tol * np.linalg.norm(exact) + 1e-14, (wrt, exact, fd)
+    prob, comp = _stress_ks_problem(n_base=31, f_max=10.0)
+    comp.set_check_partial_options(wrt=["body_mass", "trim_lift"], method="fd", form="central", step=1e-6,
+                                   step_calc="rel_element")
+    data = prob.check_partials(out_stream=None, compact_print=True, includes=["turb"])["turb"]
+    for (of, wrt), d in data.items():
+        if wrt in ("body_mass", "trim_lift"):
+            exact, fd = np.asarray(d["J_fwd"]), np.asarray(d["J_fd"])
+            assert np.linalg.norm(exact - fd) <= 1e-6 * np.linalg.norm(exact), (wrt, exact, fd)

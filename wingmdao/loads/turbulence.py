@@ -62,7 +62,7 @@ ALTITUDE_RANGE_FT = (0.0, 60000.0)
 #: cites it). tests/test_turbulence.py checks the fit against von_karman_psd
 VON_KARMAN_FILTER = ((1.0, 2.7478, 0.3398), (1.0, 2.9958, 1.9754, 0.1539))
 
-__all__ = ["von_karman_psd", "von_karman_filter", "synthesize_vertical_turbulence", "reference_turbulence_intensity", "turbulence_intensity", "TurbulenceIntensity",
+__all__ = ["von_karman_psd", "von_karman_psd_airspeed_derivative", "von_karman_filter", "synthesize_vertical_turbulence", "reference_turbulence_intensity", "turbulence_intensity", "TurbulenceIntensity",
            "continuous_turbulence_intensity", "a_bar", "correlation", "design_loads",
            "equal_probability_ellipse", "correlated_loads", "flight_profile_alleviation_factor"]
 
@@ -80,6 +80,17 @@ def von_karman_psd(omega, airspeed, sigma=1.0, scale_m=SCALE_OF_TURBULENCE_FT * 
         raise ValueError("omega: angular frequencies must be finite and >= 0 rad/s")
     x2 = (VON_KARMAN_A * scale_m * w / float(airspeed)) ** 2
     return sigma ** 2 * scale_m / np.pi * (1.0 + 8.0 / 3.0 * x2) / (1.0 + x2) ** (11.0 / 6.0) / float(airspeed)
+
+
+def von_karman_psd_airspeed_derivative(omega, airspeed, sigma=1.0, scale_m=SCALE_OF_TURBULENCE_FT * FT):
+    """d Phi_omega / d V of :func:`von_karman_psd` at fixed omega, sigma and L ((m/s)^2 / (rad/s) per m/s):
+    with y = (1.339 L omega / V)^2 and g(y) = (1 + 8/3 y) / (1 + y)^(11/6),
+    Phi_omega = sigma^2 L / (pi V) g(y), d Phi / d V = -Phi / V - sigma^2 L / (pi V) g'(y) 2 y / V."""
+    phi = von_karman_psd(omega, airspeed, sigma, scale_m)
+    V = float(airspeed)
+    y = (VON_KARMAN_A * scale_m * np.asarray(omega, dtype=float) / V) ** 2
+    dg = 8.0 / 3.0 / (1.0 + y) ** (11.0 / 6.0) - 11.0 / 6.0 * (1.0 + 8.0 / 3.0 * y) / (1.0 + y) ** (17.0 / 6.0)
+    return -phi / V - sigma ** 2 * scale_m / (np.pi * V) * dg * 2.0 * y / V
 
 
 def von_karman_filter(airspeed, sigma=1.0, scale_m=SCALE_OF_TURBULENCE_FT * FT):
