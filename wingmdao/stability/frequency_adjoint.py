@@ -50,7 +50,7 @@ import scipy.sparse.linalg as spla
 from wingmdao.beam.residual import STATE_BLOCKS
 from wingmdao.beam.rotations import body_to_csn
 from wingmdao.loads.turbulence import von_karman_psd, von_karman_psd_airspeed_derivative
-from wingmdao.stability.frequency import LinearGustModel, ShiftedFactors, check_frequencies
+from wingmdao.stability.frequency import LinearGustModel, ShiftedFactors, gust_columns, check_frequencies
 from wingmdao.stability.sensitivity import ks_aggregate
 from wingmdao.stress.box_stress import box_stresses
 from wingmdao.timemarch.system import layout
@@ -203,7 +203,7 @@ def turbulence_stress_ks(system, p, q_static, model: LinearGustModel, stress: St
     second_s = stress.second
     second_r = _residual_second(system)
     ql = layout(system.forcing_specs)
-    gs = ql["gust_velocity"]
+    gs = gust_columns(ql)  # the wing's stations, then a free-pitch system's tail
     q = _linearisation_forcing(system, q_static)
     # adjoint solves, then the second-derivative terms of all frequencies in one mapped call each
     # (real and imaginary parts as separate columns, signs +1 / -1: Re(a^T M b) = ar M br - ai M bi)
