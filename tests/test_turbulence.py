@@ -718,7 +718,7 @@ def test_turbulence_stress_ks_check_partials_every_input():
     comp.set_check_partial_options(wrt="inertia_per_length", method="fd", form="central", step=1e-3, step_calc="abs")
     data = prob.check_partials(out_stream=None, compact_print=True)["turb"]
     assert len(data) == len(list(comp.list_inputs(out_stream=None)))
-    for (of, wrt), d in data.items():
+    for (_of, wrt), d in data.items():
         exact, fd = np.asarray(d["J_fwd"]), np.asarray(d["J_fd"])
         tol = 2e-5 if wrt == "compliance_csn" else 1e-6
         assert np.linalg.norm(exact - fd) <= tol * np.linalg.norm(exact) + 1e-14, (wrt, exact, fd)
@@ -726,7 +726,7 @@ def test_turbulence_stress_ks_check_partials_every_input():
     comp.set_check_partial_options(wrt=["body_mass", "trim_lift"], method="fd", form="central", step=1e-6,
                                    step_calc="rel_element")
     data = prob.check_partials(out_stream=None, compact_print=True, includes=["turb"])["turb"]
-    for (of, wrt), d in data.items():
+    for (_of, wrt), d in data.items():
         if wrt in ("body_mass", "trim_lift"):
             exact, fd = np.asarray(d["J_fwd"]), np.asarray(d["J_fd"])
             assert np.linalg.norm(exact - fd) <= 1e-6 * np.linalg.norm(exact), (wrt, exact, fd)
