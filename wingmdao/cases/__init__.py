@@ -178,6 +178,34 @@ def set_parser_defaults(parser, cls) -> None:
     parser.set_defaults(**{f.name: f.default for f in dataclasses.fields(cls)})
 
 
+def case_beam_parameters(module, walls=None, *, source="walls"):
+    """``(setup, beam_params)`` of a shipped case's wing for one design, without a model run: the
+    case built (``module.build``; with its maneuvers only when it has a ``loads`` option) and the
+    beam parameter dict of the sections the sizing model uses
+    (:func:`wingmdao.sizing.design_beam_params`). ``walls``: ``{wall: (n,) m}`` per beam node (the
+    ``thickness`` of a sizing result, e.g. :func:`wingmdao.cli._io.read_design`, keys ``upper_skin``,
+    ``lower_skin``, ``front_spar``, ``rear_spar``), mapped to the design stations; None: the initial
+    design. ValueError naming ``source`` (e.g. the command's ``--design FILE``) when a wall has not
+    one value per node."""
+    from wingmdao.sizing import SECTION_KINDS, WALL_VARS, design_beam_params, initial_design
+
+    maneuvers = {"loads": "maneuver"} if "loads" in {f.name for f in dataclasses.fields(module.OPTIONS)} else {}
+    setup = module.build(**maneuvers)  # the CRM case has its maneuvers only
+    design = initial_design(setup.options, SECTION_KINDS[setup.section]["design_vars"])
+    if walls is not None:
+        smap, n = setup.geometry.station_map, setup.geometry.num_nodes
+        for w in WALL_VARS:
+            vals = np.asarray(walls[w[2:]], dtype=float).ravel()
+            if vals.size != n:
+                raise ValueError(f"{source}: thickness {w[2:]!r} has {vals.size} stations; the {n}-node beam of "
+                                 f"case {module.NAME!r} needs {n}")
+            if smap is not None:  # the first node of every design station
+                first = [int(np.flatnonzero(np.asarray(smap) == k)[0]) for k in range(int(np.max(smap)) + 1)]
+                vals = vals[first]
+            design[w] = vals
+    return setup, design_beam_params(setup.geometry, setup.material, design, setup.section)
+
+
 def build_case(name: str, **options) -> CaseSetup:
     """A shipped case built from keyword options (the command-line options with ``_`` for ``-``),
     e.g. ``build_case("pegasus", loads="all", load_factor=2.5)``; no parser needed."""

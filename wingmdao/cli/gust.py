@@ -78,34 +78,11 @@ def register(subparsers):
     p.set_defaults(func=run)
 
 
-def _beam_parameters(module, args):
-    """Beam parameter dict of the case's wing for the chosen design (the section functions the
-    sizing model uses, :func:`wingmdao.sizing.design_beam_params`; no model run)."""
-    from wingmdao.sizing import SECTION_KINDS, WALL_VARS, design_beam_params, initial_design
-
-    import dataclasses
-
-    maneuvers = {"loads": "maneuver"} if "loads" in {f.name for f in dataclasses.fields(module.OPTIONS)} else {}
-    setup = module.build(**maneuvers)  # the CRM case has its maneuvers only
-    design = initial_design(setup.options, SECTION_KINDS[setup.section]["design_vars"])
-    if args.design:
-
-        smap = setup.geometry.station_map
-        walls = read_design(args.design, setup.geometry.num_nodes, case=args.case, command="gust")
-        for w in WALL_VARS:
-            vals = walls[w[2:]]
-            if smap is not None:
-                first = [int(np.flatnonzero(np.asarray(smap) == k)[0]) for k in range(int(np.max(smap)) + 1)]
-                vals = vals[first]
-            design[w] = vals
-    return setup, design_beam_params(setup.geometry, setup.material, design, setup.section)
-
-
 def run(args):
     from wingmdao.aero import aero_parameters, three_dimensional_parameters
     from wingmdao.aero.gust_response import GustFlight, coupled_gust_response, strip_gust_response, wing_lift_slope
     from wingmdao.aero.plunge import body_mass as plunge_body_mass, half_wing_mass
-    from wingmdao.cases import available_cases
+    from wingmdao.cases import available_cases, case_beam_parameters
     from wingmdao.cases.planform import FT, G0, LB, wing_geometry
     from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
 
@@ -158,7 +135,8 @@ def run(args):
 
     pf = module.PLANFORM
     weight = module.TOGW_LB * LB * G0
-    setup, bp = _beam_parameters(module, args)
+    walls = read_design(args.design, None, case=args.case, command="gust") if args.design else None
+    setup, bp = case_beam_parameters(module, walls, source=f"--design {args.design}")
     bp["stiffness_csn"] = bp["stiffness_csn"] * args.stiffness_scale
     bp["compliance_csn"] = bp["compliance_csn"] / args.stiffness_scale
     _, chord, axis_frac = wing_geometry(pf, getattr(module, "ENGINES", ()))

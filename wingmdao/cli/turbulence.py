@@ -26,11 +26,10 @@ import time as _time
 
 import numpy as np
 
-from wingmdao.cases import available_cases
+from wingmdao.cases import available_cases, case_beam_parameters
 from wingmdao.cases.planform import G0, LB, wing_geometry
 from wingmdao.cli._args import add_aero_and_plunge_arguments, add_output_arguments
 from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, write_json
-from wingmdao.cli.gust import _beam_parameters
 from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
 from wingmdao.loads.turbulence import continuous_turbulence_intensity
 from wingmdao.plots import save_figure
@@ -137,7 +136,8 @@ def run(args):
     fg = module.GUST_SET_DEFAULTS
     point = continuous_turbulence_intensity(alt_ft, z_mo_ft=fg["z_mo_ft"], mlw_over_mtow=fg["mlw_over_mtow"],
                                             mzfw_over_mtow=fg["mzfw_over_mtow"], speed=mach, v_c=m_c, v_d=m_d)
-    setup, bp = _beam_parameters(module, args)
+    walls = read_design(args.design, None, case=args.case, command="turbulence") if args.design else None
+    setup, bp = case_beam_parameters(module, walls, source=f"--design {args.design}")
     pf = module.PLANFORM
     _, chord, axis_frac = wing_geometry(pf, getattr(module, "ENGINES", ()))
     alt = float(altitude_ft_to_m(alt_ft))

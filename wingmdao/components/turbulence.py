@@ -5,16 +5,24 @@ free in plunge) is trimmed in 1 g level flight, linearised, and its frequency re
 vertical gust with each station's penetration phase gives A-bar of the corner axial stresses of
 every box station; the constraint is the KS of (+/- s_1g + U_sigma A-bar) / sigma_allow - 1
 (:func:`wingmdao.stability.frequency_adjoint.turbulence_stress_ks`, docs/turbulence.md). Its
-partials with respect to every beam and aerodynamic parameter (airspeed excepted, see below) and
-the four wall thicknesses come from the complex adjoint of the frequency-response solves and the
-adjoint of the 1 g static solve: declared dense (one output), never finite differences.
+partials with respect to every beam and aerodynamic parameter and the four wall thicknesses come
+from the complex adjoint of the frequency-response solves and the adjoint of the 1 g static solve:
+declared dense (one output), never finite differences.
+
+Airspeed and aircraft mass: by default the true airspeed is the option ``airspeed`` and the
+aircraft enters through ``trim_lift`` (N) and, free in plunge, ``body_mass`` (kg, outside both
+wing halves). ``airspeed_input=True`` makes ``airspeed`` (m/s TAS) an input, its partial the total
+derivative through the aerodynamics, the gust phases and the spectrum (at fixed Mach number and
+density, inputs of their own); ``aircraft_mass_input=True`` replaces ``trim_lift`` and ``body_mass``
+by ``aircraft_mass`` (kg): trim_lift = M g, body_mass = M - 2 m_half(mass_per_length,
+node_positions) (:func:`wingmdao.aero.plunge.half_wing_mass`, chained into the partials of
+``mass_per_length`` and ``node_positions``).
 
 The frequency grid follows the pencil's modes at the first evaluation and is then held (option
 ``frequencies`` gives it outright): a grid that moved with the design would make the discrete
 functional jump. A mode with almost no damping (strip theory leaves the in-plane bending modes
 undamped) is a peak a fraction of a grid step wide that moves with the design: the functional is
-then smooth but very nonlinear. Give the beam structural damping (option ``damping``). The gust phases and the spectrum depend on the airspeed, which is an option
-here (``airspeed`` is not an input).
+then smooth but very nonlinear. Give the beam structural damping (option ``damping``).
 """
 
 from __future__ import annotations
@@ -22,6 +30,7 @@ from __future__ import annotations
 import numpy as np
 import openmdao.api as om
 
+from wingmdao.aero.plunge import half_wing_mass
 from wingmdao.aero.system import cached_aeroelastic_system
 from wingmdao.beam.residual import StrainRateDamping
 from wingmdao.loads.atmosphere import G0
@@ -40,7 +49,14 @@ class TurbulenceStressKS(om.ExplicitComponent):
     def initialize(self):
         self.options.declare("num_nodes", types=int, lower=2, desc="number of beam nodes (root first)")
         self.options.declare("plunge", default=True, types=bool, desc="aircraft free in plunge (input body_mass)")
-        self.options.declare("airspeed", types=float, desc="true airspeed V (m/s): gust phases, spectrum, aerodynamics")
+        self.options.declare("airspeed", types=float, desc="true airspeed V (m/s): gust phases, spectrum, aerodynamics "
+                             "(the input's default value with airspeed_input)")
+        self.options.declare("airspeed_input", default=False, types=bool,
+                             desc="airspeed (m/s TAS) an input, with its total derivative (aerodynamics, gust phases, "
+                                  "spectrum at fixed Mach and density)")
+        self.options.declare("aircraft_mass_input", default=False, types=bool,
+                             desc="aircraft_mass (kg) an input in place of trim_lift (= M g) and body_mass "
+                                  "(= M - 2 m_half)")
         self.options.declare("x_stations", types=np.ndarray, desc="(n,) m: body x where each station meets the gust (leading edge)")
         self.options.declare("width", types=np.ndarray, desc="(n,) m: box outer width of each station")
         self.options.declare("height", types=np.ndarray, desc="(n,) m: box outer height of each station")
@@ -65,10 +81,20 @@ class TurbulenceStressKS(om.ExplicitComponent):
         n = self.options["num_nodes"]
         self.system = cached_aeroelastic_system(n, damping=self.options["damping"], plunge=self.options["plunge"],
                                                 trim=True)
-        self.specs = [s for s in self.system.param_specs if s.name != "airspeed"]
+        derived = ("trim_lift", "body_mass") if self.options["aircraft_mass_input"] else ()
+        self.specs = [s for s in self.system.param_specs if s.name != "airspeed" and s.name not in derived]
         values = self.options["values"] or {}
         for s in self.specs:
             self.add_input(s.name, val=values.get(s.name, 1.0), shape=s.shape or 1, units=s.units, desc=s.desc)
+        self.extra = []
+        if self.options["airspeed_input"]:
+            self.add_input("airspeed", val=self.options["airspeed"], units="m/s",
+                           desc="true airspeed V (aerodynamics, gust phases, von Karman spectrum)")
+            self.extra.append("airspeed")
+        if self.options["aircraft_mass_input"]:
+            self.add_input("aircraft_mass", val=values.get("aircraft_mass", 1.0), units="kg",
+                           desc="aircraft mass M: trim_lift = M g, body_mass = M - 2 m_half (free plunge)")
+            self.extra.append("aircraft_mass")
         for w in WALL_NAMES:
             self.add_input(w, shape=n, units="m", desc=f"{w[2:].replace('_', ' ')} thickness at each station")
         self.add_output("turbulence_ks", units=None,
@@ -77,18 +103,25 @@ class TurbulenceStressKS(om.ExplicitComponent):
                                 self.options["section_to_csn"], n_state=self.system.n_state)
         self.grid = None if self.options["frequencies"] is None else np.asarray(self.options["frequencies"], float)
         self._cache = None
-        self.declare_partials("turbulence_ks", [s.name for s in self.specs] + list(WALL_NAMES))
+        self.declare_partials("turbulence_ks", [s.name for s in self.specs] + list(WALL_NAMES) + self.extra)
 
     def _evaluate(self, inputs, gradient):
         """The analysis at ``inputs`` (cached: compute_partials after compute at the same point
         adds the gradient's adjoint solves only)."""
-        key = np.concatenate([np.asarray(inputs[k], float).ravel() for k in [s.name for s in self.specs] + list(WALL_NAMES)])
+        key = np.concatenate([np.asarray(inputs[k], float).ravel()
+                              for k in [s.name for s in self.specs] + list(WALL_NAMES) + self.extra])
         if (self._cache is not None and np.array_equal(self._cache[0], key)
                 and (self._cache[1].d_p is not None or not gradient)):
             return self._cache[1]
         system = self.system
         values = {s.name: np.asarray(inputs[s.name]).reshape(s.shape) for s in self.specs}
-        values["airspeed"] = self.options["airspeed"]
+        V = float(inputs["airspeed"][0]) if self.options["airspeed_input"] else self.options["airspeed"]
+        values["airspeed"] = V
+        if self.options["aircraft_mass_input"]:
+            M = float(inputs["aircraft_mass"][0])
+            values["trim_lift"] = M * self.options["gravity"]
+            if self.options["plunge"]:
+                values["body_mass"] = M - 2.0 * half_wing_mass(values["mass_per_length"], values["node_positions"])[0]
         p = pack(system.param_specs, values)
         ql = layout(system.forcing_specs)
         q = np.zeros(system.n_forcing)
@@ -98,7 +131,7 @@ class TurbulenceStressKS(om.ExplicitComponent):
         q_lin = q.copy()
         q_lin[ql["trim_active"]] = 0.0
         model = linear_gust_model(system, p, q_lin, x0, x_stations=self.options["x_stations"],
-                                  airspeed=self.options["airspeed"])
+                                  airspeed=V)
         if self.grid is None:
             self.grid = frequency_grid(pencil_eigenvalues(model), f_max=self.options["f_max"],
                                        n_base=self.options["n_base"])
@@ -119,3 +152,16 @@ class TurbulenceStressKS(om.ExplicitComponent):
             partials["turbulence_ks", s.name] = res.d_p[pl[s.name]].reshape(1, -1)
         for k, w in enumerate(WALL_NAMES):
             partials["turbulence_ks", w] = res.d_walls[:, k].reshape(1, -1)
+        if self.options["airspeed_input"]:
+            partials["turbulence_ks", "airspeed"] = res.d_airspeed
+        if self.options["aircraft_mass_input"]:
+            d_lift = float(res.d_p[pl["trim_lift"]][0])
+            d_mass = d_lift * self.options["gravity"]
+            if self.options["plunge"]:
+                d_body = float(res.d_p[pl["body_mass"]][0])
+                _, dmu, dr = half_wing_mass(np.asarray(inputs["mass_per_length"]),
+                                            np.asarray(inputs["node_positions"]).reshape(-1, 3))
+                d_mass += d_body
+                partials["turbulence_ks", "mass_per_length"] -= 2.0 * d_body * dmu.reshape(1, -1)
+                partials["turbulence_ks", "node_positions"] -= 2.0 * d_body * dr.reshape(1, -1)
+            partials["turbulence_ks", "aircraft_mass"] = d_mass

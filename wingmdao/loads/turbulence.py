@@ -41,6 +41,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg as sla
+import scipy.signal as ssig
 
 from wingmdao.loads.atmosphere import FT
 from wingmdao.loads.gust import _check_range, flight_profile_alleviation_factor
@@ -53,7 +55,14 @@ VON_KARMAN_A = 1.339
 U_SIGMA_REF_TABLE_FT = ((0.0, 90.0), (24000.0, 79.0), (60000.0, 79.0))
 ALTITUDE_RANGE_FT = (0.0, 60000.0)
 
-__all__ = ["von_karman_psd", "reference_turbulence_intensity", "turbulence_intensity", "TurbulenceIntensity",
+#: rational approximation of the von Karman vertical spectrum (numerator, denominator: coefficients of
+#: (T s)^0, (T s)^1, ... with T = L / V): MIL-HDBK-1797, "Flying Qualities of Piloted Aircraft" (1997),
+#: the forming filter of the von Karman vertical gust (written there with 2 L_w = L of 25.341(b)(2); the
+#: coefficients of the MathWorks Aerospace Blockset "Von Karman Wind Turbulence Model (Continuous)", which
+#: cites it). tests/test_turbulence.py checks the fit against von_karman_psd
+VON_KARMAN_FILTER = ((1.0, 2.7478, 0.3398), (1.0, 2.9958, 1.9754, 0.1539))
+
+__all__ = ["von_karman_psd", "von_karman_psd_airspeed_derivative", "von_karman_filter", "synthesize_vertical_turbulence", "reference_turbulence_intensity", "turbulence_intensity", "TurbulenceIntensity",
            "continuous_turbulence_intensity", "a_bar", "correlation", "design_loads",
            "equal_probability_ellipse", "correlated_loads", "flight_profile_alleviation_factor"]
 
@@ -71,6 +80,68 @@ def von_karman_psd(omega, airspeed, sigma=1.0, scale_m=SCALE_OF_TURBULENCE_FT * 
         raise ValueError("omega: angular frequencies must be finite and >= 0 rad/s")
     x2 = (VON_KARMAN_A * scale_m * w / float(airspeed)) ** 2
     return sigma ** 2 * scale_m / np.pi * (1.0 + 8.0 / 3.0 * x2) / (1.0 + x2) ** (11.0 / 6.0) / float(airspeed)
+
+
+def von_karman_psd_airspeed_derivative(omega, airspeed, sigma=1.0, scale_m=SCALE_OF_TURBULENCE_FT * FT):
+    """d Phi_omega / d V of :func:`von_karman_psd` at fixed omega, sigma and L ((m/s)^2 / (rad/s) per m/s):
+    with y = (1.339 L omega / V)^2 and g(y) = (1 + 8/3 y) / (1 + y)^(11/6),
+    Phi_omega = sigma^2 L / (pi V) g(y), d Phi / d V = -Phi / V - sigma^2 L / (pi V) g'(y) 2 y / V."""
+    phi = von_karman_psd(omega, airspeed, sigma, scale_m)
+    V = float(airspeed)
+    y = (VON_KARMAN_A * scale_m * np.asarray(omega, dtype=float) / V) ** 2
+    dg = 8.0 / 3.0 / (1.0 + y) ** (11.0 / 6.0) - 11.0 / 6.0 * (1.0 + 8.0 / 3.0 * y) / (1.0 + y) ** (17.0 / 6.0)
+    return -phi / V - sigma ** 2 * scale_m / (np.pi * V) * dg * 2.0 * y / V
+
+
+def von_karman_filter(airspeed, sigma=1.0, scale_m=SCALE_OF_TURBULENCE_FT * FT):
+    """(num, den): polynomial coefficients in s (highest power first) of the rational forming filter
+    H(s) = sigma sqrt(L / (pi V)) (1 + 2.7478 T s + 0.3398 (T s)^2) / (1 + 2.9958 T s + 1.9754 (T s)^2
+    + 0.1539 (T s)^3), T = L / V (:data:`VON_KARMAN_FILTER`). |H(i omega)|^2 approximates the
+    one-sided :func:`von_karman_psd` (per rad/s): within 1.5 % for omega T <= 2, 4.6 % for omega T <= 20,
+    21 % low at omega T = 50 (its tail falls as omega^-2, the spectrum's as omega^-5/3); its variance is
+    0.9623 sigma^2."""
+    if not (np.isfinite(airspeed) and airspeed > 0):
+        raise ValueError(f"airspeed = {airspeed} m/s; allowed range (0, inf) m/s TAS")
+    if not (np.isfinite(scale_m) and scale_m > 0):
+        raise ValueError(f"scale_m = {scale_m} m; allowed range (0, inf) m (25.341(b)(2): 2,500 ft)")
+    T = float(scale_m) / float(airspeed)
+    gain = float(sigma) * np.sqrt(float(scale_m) / (np.pi * float(airspeed)))
+    num, den = (np.array([c * T ** k for k, c in enumerate(poly)])[::-1] for poly in VON_KARMAN_FILTER)
+    return gain * num, den
+
+
+def synthesize_vertical_turbulence(n_steps, dt, airspeed, sigma=1.0, scale_m=SCALE_OF_TURBULENCE_FT * FT,
+                                   rng=None) -> np.ndarray:
+    """(n_steps,) vertical gust velocity (m/s) at t_k = k dt: a sample of the output of
+    :func:`von_karman_filter` driven by continuous white noise of one-sided PSD 1 per rad/s (so that
+    the output's one-sided PSD is |H(i omega)|^2), started in its stationary state.
+
+    The filter's state-space form is sampled exactly (no integration error): x_{k+1} = F x_k + v_k,
+    v_k normal with the covariance Q_d = int_0^dt e^(A u) q B B^T e^(A^T u) du (q = pi, the noise
+    intensity of a unit one-sided PSD) from the matrix exponential of Van Loan, "Computing integrals
+    involving the matrix exponential", IEEE Trans. Automatic Control 23(3), 1978, 395-404; x_0 from the
+    stationary covariance P (A P + P A^T + q B B^T = 0). ``rng``: a numpy Generator (default seed 0)."""
+    n = int(n_steps)
+    if n < 1:
+        raise ValueError(f"n_steps = {n_steps}; allowed range [1, inf)")
+    if not (np.isfinite(dt) and dt > 0):
+        raise ValueError(f"dt = {dt} s; allowed range (0, inf) s")
+    rng = np.random.default_rng(0) if rng is None else rng
+    A, B, C, _ = ssig.tf2ss(*von_karman_filter(airspeed, sigma, scale_m))  # strictly proper: no feed-through
+    q = np.pi
+    k = A.shape[0]
+    van_loan = sla.expm(np.block([[-A, q * B @ B.T], [np.zeros((k, k)), A.T]]) * float(dt))
+    F = van_loan[k:, k:].T
+    Qd = F @ van_loan[:k, k:]
+    P = sla.solve_continuous_lyapunov(A, -q * B @ B.T)
+    x = np.linalg.cholesky(0.5 * (P + P.T)) @ rng.standard_normal(k)
+    Lq = np.linalg.cholesky(0.5 * (Qd + Qd.T))
+    noise = rng.standard_normal((n, k)) @ Lq.T
+    out = np.empty(n)
+    for i in range(n):
+        out[i] = (C @ x)[0]
+        x = F @ x + noise[i]
+    return out
 
 
 def reference_turbulence_intensity(altitude_ft: float) -> float:

@@ -115,8 +115,10 @@ def linear_gust_model(system, p, q, x0, *, x_stations, airspeed, outputs=None, g
 
     ``x_stations`` (n_station,) m: where each station meets the gust (body x); ``airspeed`` m/s TAS;
     ``outputs`` {name: :class:`OutputMap`}; ``gust_input`` G = dR/dw (n_state, n_station), by
-    default the columns of the system's forcing ``gust_velocity`` in ``jac_inputs``. ValueError for
-    bad input.
+    default the columns of the system's forcing ``gust_velocity`` in ``jac_inputs``. A free-pitch
+    system (forcing ``tail_gust_velocity``, :mod:`wingmdao.aero.pitch`) gets one more station, the
+    horizontal tail at its parameter ``tail_x``, appended to the wing's ``x_stations`` with its
+    column of G. ValueError for bad input.
     """
     ql = layout(system.forcing_specs)
     if gust_input is None and "gust_velocity" not in ql:
@@ -128,7 +130,10 @@ def linear_gust_model(system, p, q, x0, *, x_stations, airspeed, outputs=None, g
     x0 = np.asarray(x0, dtype=float).ravel()
     if gust_input is None:
         _, dq = system.jac_inputs(x0, np.zeros_like(x0), np.asarray(p, float).ravel(), np.asarray(q, float).ravel())
-        gust_input = sp.csc_matrix(dq)[:, ql["gust_velocity"]]
+        cols = gust_columns(ql)
+        gust_input = sp.csc_matrix(dq)[:, cols]
+        if "tail_gust_velocity" in ql:
+            xs = np.r_[xs, _tail_x(system, p)]
     G = sp.csc_matrix(gust_input)
     if G.shape[0] != system.n_state or xs.size != G.shape[1] or not np.all(np.isfinite(xs)):
         raise ValueError(f"x_stations: need {G.shape[1]} finite positions (m), got {xs.size}")
@@ -139,6 +144,20 @@ def linear_gust_model(system, p, q, x0, *, x_stations, airspeed, outputs=None, g
     A.eliminate_zeros()
     E.eliminate_zeros()
     return LinearGustModel(sp.csc_matrix(A), sp.csc_matrix(E), G, xs, float(airspeed), x0, dict(outputs or {}))
+
+
+def gust_columns(ql) -> np.ndarray:
+    """Forcing indices of the gust inputs: ``gust_velocity`` (one per wing station), then
+    ``tail_gust_velocity`` of a free-pitch system."""
+    cols = np.arange(ql["gust_velocity"].start, ql["gust_velocity"].stop)
+    if "tail_gust_velocity" in ql:
+        cols = np.r_[cols, ql["tail_gust_velocity"].start]
+    return cols
+
+
+def _tail_x(system, p) -> float:
+    """Body x (m) of the horizontal tail's aerodynamic centre of a free-pitch system."""
+    return float(np.ravel(p)[layout(system.param_specs)["tail_x"]][0])
 
 
 @dataclass
@@ -363,14 +382,15 @@ def lift_weights(node_positions, weight) -> np.ndarray:
 _LIFT_FUNCTIONS: dict = {}
 
 
-def _lift_jacobians(system):
-    """CasADi (x, xdot, p, q) -> section lift (n) and its Jacobians in x, xdot, q (built once)."""
-    key = id(system)
+def _lift_jacobians(system, tail=False):
+    """CasADi (x, xdot, p, q) -> section lift (n), or the tail lift of a free-pitch system
+    (``tail``), and its Jacobians in x, xdot, q (built once)."""
+    key = (id(system), bool(tail))
     if key in _LIFT_FUNCTIONS and _LIFT_FUNCTIONS[key][0] is system:
         return _LIFT_FUNCTIONS[key][1]
     x, xd = ca.MX.sym("x", system.n_state), ca.MX.sym("xdot", system.n_state)
     p, q = ca.MX.sym("p", system.n_param), ca.MX.sym("q", system.n_forcing)
-    lift, _ = system._loads(x, xd, p, q)
+    lift = system._tail_lift(x, xd, p, q) if tail else system._loads(x, xd, p, q)[0]
     fun = ca.Function("lift_jacobians", [x, xd, p, q],
                       [lift, ca.jacobian(lift, x), ca.jacobian(lift, xd), ca.jacobian(lift, q)])
     _LIFT_FUNCTIONS[key] = (system, fun)
@@ -383,26 +403,33 @@ def aeroelastic_outputs(system, p, q, x0, *, weight, sequence="surface") -> dict
     * ``loads`` (6 n): :func:`internal_load_output`;
     * ``root_bending_moment`` (1): M_x at the root node, body axes (N m; the key of ``wingmdao gust``);
     * ``load_factor`` (1): the lift of both half-wings (trapezoid of the section lift over the
-      undeformed beam) over ``weight`` (N); the apparent-mass lift enters through Cv;
+      undeformed beam), plus the horizontal tail's lift of a free-pitch system, over ``weight`` (N);
+      the apparent-mass lift enters through Cv;
     * ``tip_deflection`` (1): z of the tip node from its jig position (m).
+
+    The gust stations are those of :func:`linear_gust_model`: the wing's, then the tail of a
+    free-pitch system.
     """
-    if getattr(system, "pitch", False):
-        raise ValueError("aeroelastic_outputs: a free-pitch system (pitch=True) is not supported (its load factor "
-                         "includes the tail lift); use plunge free or clamped")
     x0 = np.asarray(x0, float).ravel()
     p, q = np.asarray(p, float).ravel(), np.asarray(q, float).ravel()
     r0 = system.split_parameters(p)["node_positions"]
     wts = lift_weights(r0, weight)
-    ns = layout(system.forcing_specs)["gust_velocity"]
+    cols = gust_columns(layout(system.forcing_specs))
     lift, dlx, dlv, dlq = _lift_jacobians(system)(x0, np.zeros_like(x0), p, q)
-    N, m = system.n_state, ns.stop - ns.start
+    y0 = wts @ np.asarray(lift).ravel()
+    Cx, Cv, D = (wts @ sp.csr_matrix(J) for J in (dlx, dlv, dlq))
+    if getattr(system, "pitch", False):  # the tail lift: (wing + tail lift) / W, as the trim and wingmdao gust
+        lt, dtx, dtv, dtq = _lift_jacobians(system, tail=True)(x0, np.zeros_like(x0), p, q)
+        y0 = y0 + float(lt) / weight
+        Cx, Cv, D = (a + sp.csr_matrix(J).toarray().ravel() / weight for a, J in ((Cx, dtx), (Cv, dtv), (D, dtq)))
+    N, m = system.n_state, cols.size
     beam = system.layout.beam
     i_m, i_z = beam[0, STATE_BLOCKS["M"].start], beam[-1, STATE_BLOCKS["r"].start + 2]
+    row = lambda a: sp.csr_matrix(np.asarray(a).reshape(1, -1))
     return {
         "loads": internal_load_output(x0, beam, m, sequence),
         "root_bending_moment": state_output(i_m, x0[i_m], N, m),
-        "load_factor": OutputMap(np.array([wts @ np.asarray(lift).ravel()]), sp.csr_matrix(wts @ sp.csr_matrix(dlx)),
-                                 sp.csr_matrix(wts @ sp.csr_matrix(dlv)), sp.csr_matrix(wts @ sp.csr_matrix(dlq)[:, ns])),
+        "load_factor": OutputMap(np.array([y0]), row(Cx), row(Cv), row(np.asarray(D).ravel()[cols])),
         "tip_deflection": state_output(i_z, x0[i_z] - r0[-1, 2], N, m),
     }
 

@@ -26,9 +26,16 @@ factorization (transposed); a Lyapunov form needs a rational approximation of th
 spectrum (more states, an approximated -5/3 tail) and dense O(n^3) Lyapunov solves and their
 adjoints on the 441-state PEGASUS pencil.
 
+The airspeed V enters the aerodynamics (the parameter ``airspeed`` of the system: the residual's
+second derivatives above), the gust phases w_ij = exp(-i omega_j lag_i / V) and the von Karman
+spectrum Phi(omega; V). Their derivatives: dw_ij / dV = w_ij i omega_j lag_i / V^2 (one more term
+-Re(lambda_j^T G dw_j / dV) per frequency) and dW_j / dV = q_j dPhi_j / dV
+(:func:`~wingmdao.loads.turbulence.von_karman_psd_airspeed_derivative`), giving
+dA_k / dV = sum_j dW_j / dV |y_kj|^2 / (2 A_k): ``d_airspeed``, the total derivative at fixed Mach
+number and density (``mach`` and ``density`` are parameters of their own).
+
 Held fixed: the frequency grid (it follows the modes, a piecewise-constant function of the
-design), the gust phases and the spectrum. They depend on the airspeed, so the gradient with
-respect to ``airspeed`` is not complete (it is exact for every other parameter and the walls).
+design). With a ``spectrum`` of the caller's, its airspeed dependence is not differentiated.
 """
 
 from __future__ import annotations
@@ -42,8 +49,8 @@ import scipy.sparse.linalg as spla
 
 from wingmdao.beam.residual import STATE_BLOCKS
 from wingmdao.beam.rotations import body_to_csn
-from wingmdao.loads.turbulence import von_karman_psd
-from wingmdao.stability.frequency import LinearGustModel, ShiftedFactors, check_frequencies
+from wingmdao.loads.turbulence import von_karman_psd, von_karman_psd_airspeed_derivative
+from wingmdao.stability.frequency import LinearGustModel, ShiftedFactors, gust_columns, check_frequencies
 from wingmdao.stability.sensitivity import ks_aggregate
 from wingmdao.stress.box_stress import box_stresses
 from wingmdao.timemarch.system import layout
@@ -134,8 +141,9 @@ def _residual_second(system):
 @dataclass
 class TurbulenceStressKS:
     """``value`` (KS), ``g`` (the design-stress constraints: +s_1g then -s_1g), ``a_bar`` (Pa per m/s)
-    and ``stress_1g`` (Pa) of the corner points; with the gradient ``d_p`` (n_param,) and ``d_walls``
-    (n, 4)."""
+    and ``stress_1g`` (Pa) of the corner points; with the gradient ``d_p`` (n_param,), ``d_walls``
+    (n, 4) and ``d_airspeed`` (the total derivative with respect to V: aerodynamics, gust phases and
+    spectrum; None when the system has no ``airspeed`` parameter)."""
 
     value: float
     g: np.ndarray
@@ -143,6 +151,7 @@ class TurbulenceStressKS:
     stress_1g: np.ndarray
     d_p: np.ndarray | None = None
     d_walls: np.ndarray | None = None
+    d_airspeed: float | None = None
 
 
 def turbulence_stress_ks(system, p, q_static, model: LinearGustModel, stress: StressMap, walls, omega, *,
@@ -194,7 +203,7 @@ def turbulence_stress_ks(system, p, q_static, model: LinearGustModel, stress: St
     second_s = stress.second
     second_r = _residual_second(system)
     ql = layout(system.forcing_specs)
-    gs = ql["gust_velocity"]
+    gs = gust_columns(ql)  # the wing's stations, then a free-pitch system's tail
     q = _linearisation_forcing(system, q_static)
     # adjoint solves, then the second-derivative terms of all frequencies in one mapped call each
     # (real and imaginary parts as separate columns, signs +1 / -1: Re(a^T M b) = ar M br - ai M bi)
@@ -217,6 +226,17 @@ def turbulence_stress_ks(system, p, q_static, model: LinearGustModel, stress: St
     dp -= sp.csr_matrix(Rp).T @ mu
     out.d_p = dp
     out.d_walls = dt.reshape(4, stress.n).T
+    pl = layout(system.param_specs)
+    if "airspeed" in pl:
+        V = model.airspeed
+        lag = (model.x_stations - np.min(model.x_stations)) / V
+        dWg = Wg * (1j * w[:, None] * lag[None, :] / V)       # d w_ij / dV
+        phase = -np.sum(np.real(np.einsum("jn,jn->j", lam, (model.G @ dWg.T).T)))
+        d_spec = 0.0
+        if spectrum is None:
+            dW = quadrature_weights(w) * von_karman_psd_airspeed_derivative(w, V)
+            d_spec = float(np.sum(coef * 0.5 * (dW @ np.abs(Y) ** 2)))
+        out.d_airspeed = float(dp[pl["airspeed"]][0]) + phase + d_spec
     return out
 
 
