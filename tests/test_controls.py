@@ -65,11 +65,11 @@ def test_harmonic_flap_lift_theodorsen(hinge):
     k = np.array([0.05, 0.1, 0.3, 0.5, 1.0])
     Ck = theodorsen_exact(k)
     expected = -1j * k * T4 + k ** 2 * T1 + 2 * Ck * (T10 + 0.5j * k * T11)
-    lift, moment, hinge_m = flap_harmonic_loads(k, hinge)
+    lift, moment, hinge_m = flap_harmonic_loads(k, hinge, theodorsen_exact)
     np.testing.assert_allclose(lift, expected, rtol=1e-12)
     # k -> 0: Glauert's Cm_c/4 = -sin(theta_f) (1 - cos theta_f) / 2 on 1/2 rho V^2 c^2 = 2 rho V^2 b^2, moved to midchord;
     # the steady hinge moment (on rho V^2 b^2: 2 C_h)
-    l0, m0, h0 = flap_harmonic_loads(np.array([1e-9]), hinge)
+    l0, m0, h0 = flap_harmonic_loads(np.array([1e-9]), hinge, theodorsen_exact)
     assert m0[0].real == pytest.approx(-s * (1 - c) + 0.5 * l0[0].real, rel=1e-6)
     assert h0[0].real == pytest.approx(2 * hinge_moment_coefficients(hinge)[1], rel=1e-6)
 

@@ -47,8 +47,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from wingmdao.aero.strip import theodorsen_exact
-
 #: measured outputs a control law can feed back (docs/controls.md):
 #: ``load_factor`` - load-factor increment at the CG, dw_p/dt / g0 (needs free plunge);
 #: ``root_bending`` - wing-root bending moment M_x (MN m, body axes);
@@ -195,13 +193,14 @@ def hinge_moment(T: dict, b, v_c, rho, beta, dbeta, ddbeta, dw_mid, w_s, dw_s, l
             - rho * v_c ** 2 * b ** 2 * T[18] / math.pi * beta - T[12] * b / (2.0 * math.pi) * lift_circulatory)
 
 
-def flap_harmonic_loads(k, hinge: float, C=None):
+def flap_harmonic_loads(k, hinge: float, C):
     """Lift, moment about midchord and hinge moment of a rigid section oscillating its flap,
     beta = e^{i omega t}, k = omega b / V, as coefficients: ``(L / (rho V^2 b), M / (rho V^2 b^2),
     H / (rho V^2 b^2))`` (complex, per radian); ``C`` the lift-deficiency function of k
-    (default Theodorsen's exact C(k))."""
+    (:func:`wingmdao.aero.strip.theodorsen_exact`, or the finite-state model's
+    :func:`~wingmdao.aero.strip.theodorsen_jones`)."""
     k = np.asarray(k, dtype=float)
-    Ck = theodorsen_exact(k) if C is None else C(k)
+    Ck = C(k)
     T = theodorsen_flap_functions(hinge)
     ik = 1j * k
     # with b = V = rho = 1: dbeta = i k beta, d2beta = -k^2 beta
