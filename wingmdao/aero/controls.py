@@ -347,3 +347,94 @@ def limit_report(time, deflection, rate, surfaces) -> dict:
                        "deflection_limit_exceeded": bool(pd > s.max_deflection_deg),
                        "rate_limit_exceeded": bool(pr > s.max_rate_deg_s)}
     return out
+
+
+#: keys of an alleviation file (docs/controls.md) and of its parts
+ALLEVIATION_KEYS = ("surfaces", "law")
+SURFACE_KEYS = ("name", "span", "nodes", "hinge", "actuator", "max_deflection_deg", "max_rate_deg_s")
+ACTUATOR_KEYS = ("order", "time_constant", "frequency_hz", "damping")
+LAW_KEYS = ("outputs", "gain", "pid", "state_space")
+PID_KEYS = ("kp", "ki", "kd", "derivative_time_constant")
+STATE_SPACE_KEYS = ("A", "B", "C", "D")
+
+
+def _keys(where, data, allowed, required=()):
+    if not isinstance(data, dict):
+        raise ValueError(f"{where}: expected a mapping with keys {', '.join(allowed)}; got {type(data).__name__}")
+    unknown = [k for k in data if k not in allowed]
+    if unknown:
+        raise ValueError(f"{where}: unknown key {unknown[0]!r}; allowed: {', '.join(allowed)}")
+    missing = [k for k in required if k not in data]
+    if missing:
+        raise ValueError(f"{where}: missing key {missing[0]!r}")
+
+
+def alleviation_from_dict(data: dict, where: str = "alleviation") -> tuple:
+    """``(surfaces, law)`` of an alleviation description (the parsed YAML of docs/controls.md);
+    ValueError naming ``where`` and the offending key for missing or unknown keys, wrong gain sizes,
+    an unstable open-loop controller, a surface outside the span or a hinge outside the chord."""
+    _keys(where, data, ALLEVIATION_KEYS, ("surfaces",))
+    raw = data["surfaces"]
+    if not isinstance(raw, list) or not raw:
+        raise ValueError(f"{where}: surfaces must be a non-empty list")
+    surfaces = []
+    for k, s in enumerate(raw):
+        w = f"{where}: surfaces[{k}]"
+        _keys(w, s, SURFACE_KEYS, ("name", "hinge"))
+        act = s.get("actuator", {"order": 1})
+        _keys(f"{w}.actuator", act, ACTUATOR_KEYS, ("order",))
+        kw = {nm: act[nm] for nm in ACTUATOR_KEYS[1:] if nm in act}
+        kw.update({nm: s[nm] for nm in ("max_deflection_deg", "max_rate_deg_s") if nm in s})
+        try:
+            surfaces.append(ControlSurface(
+                str(s["name"]), hinge=s["hinge"], span=tuple(s["span"]) if "span" in s else None,
+                nodes=tuple(s["nodes"]) if "nodes" in s else None, actuator_order=act["order"], **kw))
+        except ValueError as exc:
+            raise ValueError(f"{where}: {exc}") from None
+    if "law" not in data or data["law"] is None:
+        return tuple(surfaces), None
+    law = data["law"]
+    _keys(f"{where}: law", law, LAW_KEYS, ("outputs",))
+    forms = [k for k in ("gain", "pid", "state_space") if k in law]
+    if len(forms) != 1:
+        raise ValueError(f"{where}: law needs exactly one of gain, pid, state_space; got {forms or 'none'}")
+    outputs = law["outputs"]
+    if isinstance(outputs, str):
+        outputs = [outputs]
+    ns = len(surfaces)
+    try:
+        if forms[0] == "gain":
+            D = np.asarray(law["gain"], dtype=float)
+            if D.ndim < 2:  # one gain per output, the same command to every surface
+                D = np.tile(np.atleast_1d(D)[None, :], (ns, 1)) if D.size == len(outputs) else D
+            return tuple(surfaces), ControlLaw(tuple(outputs), A=np.zeros((0, 0)), B=[], C=[], D=D, n_surfaces=ns)
+        if forms[0] == "pid":
+            pid = law["pid"]
+            _keys(f"{where}: law.pid", pid, PID_KEYS)
+            if len(outputs) != 1:
+                raise ValueError(f"{where}: law.pid needs exactly one output, got {len(outputs)}")
+            A, B, C, D = pid_state_space(pid.get("kp", 0.0), pid.get("ki", 0.0), pid.get("kd", 0.0),
+                                         pid.get("derivative_time_constant", 0.02))
+            return tuple(surfaces), ControlLaw(tuple(outputs), A, B, np.tile(C, (ns, 1)), np.tile(D, (ns, 1)),
+                                               n_surfaces=ns)
+        ss = law["state_space"]
+        _keys(f"{where}: law.state_space", ss, STATE_SPACE_KEYS, STATE_SPACE_KEYS)
+        A = np.asarray(ss["A"], dtype=float)
+        return tuple(surfaces), ControlLaw(tuple(outputs), A if A.size else np.zeros((0, 0)), ss["B"], ss["C"],
+                                           ss["D"], n_surfaces=ns)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{where}: {exc}") from None
+
+
+def read_alleviation(path) -> tuple:
+    """``(surfaces, law)`` of an alleviation YAML file (:func:`alleviation_from_dict`); errors name the file."""
+    import yaml
+
+    try:
+        with open(path, encoding="utf-8") as fh:
+            data = yaml.safe_load(fh)
+    except OSError as exc:
+        raise ValueError(f"--alleviation {path}: cannot read the file ({exc.strerror})") from None
+    except yaml.YAMLError as exc:
+        raise ValueError(f"--alleviation {path}: not valid YAML ({str(exc).splitlines()[0]})") from None
+    return alleviation_from_dict(data, f"--alleviation {path}")
