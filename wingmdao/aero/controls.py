@@ -6,9 +6,8 @@ Theodorsen's flap functions T1 ... T19 of the hinge position ``c_h = 2 hinge - 1
 of midchord) and the reference axis ``a`` (semichords aft of midchord; 0 here, every moment is
 formed about midchord and moved to the beam axis by the strip model): T. Theodorsen, "General
 theory of aerodynamic instability and the mechanism of flutter", NACA Report 496, 1935, Table I
-(T1 ... T14) and Eqs. (VI)-(VIII) of its flap forces; the grouped T15 ... T19 are those of the
-matrix form (e.g. Edwards, Ashley & Breakwell, "Unsteady aerodynamic modeling for arbitrary
-motions", AIAA J. 17(4), 1979). In the strip model:
+(T1 ... T14) and its flap forces; for brevity T15 = T4 + T10, T16 = T1 - T8 - (c_h - a) T4 + T11 / 2,
+T17 = -2 T9 - T1 + (a - 1/2) T4, T18 = T5 - T4 T10, T19 = -T4 T11 / 2. In the strip model:
 
 * circulatory: the flap adds ``T10 / pi beta + T11 b / (2 pi v_c) dbeta/dt`` to the three-quarter
   chord angle that drives the Wagner states (so the lift lags through the same C(k));
