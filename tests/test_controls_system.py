@@ -203,3 +203,16 @@ def test_adjoint_totals_wrt_gains(free):
         scale = np.max(np.abs(ref))
         assert scale > 0, w
         np.testing.assert_allclose(rev[("ks", w)], ref, rtol=0, atol=1e-4 * scale)
+
+
+@pytest.mark.slow
+def test_component_check_partials_with_law():
+    """AeroelasticBeamDynamics carrying surfaces and a PID law: its CasADi partials (the controller
+    matrices included) against central differences."""
+    prob = _gust_problem(False, n_time=4)
+    prob.run_model()
+    data = prob.check_partials(out_stream=None, method="fd", step=1e-6, form="central", includes=["beam"])
+    for (of, wrt), d in data["beam"].items():
+        fd, an = d["J_fd"], d["J_fwd"]
+        scale = max(np.max(np.abs(fd)), 1e-8)
+        assert np.max(np.abs(an - fd)) <= 2e-5 * scale + 1e-6, (of, wrt)
