@@ -16,7 +16,6 @@ About 2 minutes on one core.
 """
 
 import json
-import math
 import os
 import subprocess
 import sys

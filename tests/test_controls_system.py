@@ -33,7 +33,7 @@ def _rigid_wing(n, surfaces, law=None, chord=1.0, extra=None, **kw):
 
 def test_default_system_unchanged():
     base = cached_aeroelastic_system(3, plunge=True, trim=True)
-    assert base.n_state == 22 * 3 + 2 and getattr(base, "controls") is None
+    assert base.n_state == 22 * 3 + 2 and base.controls is None
     s, _, _ = _rigid_wing(3, [ControlSurface("aileron", hinge=0.75, nodes=(1, 2))], plunge=True, trim=True)
     assert s.n_state == base.n_state + 2
     assert s.layout.body["trim"] == s.n_state - 1 and s.layout.body["plunge"] == 66
