@@ -82,6 +82,7 @@ class PegasusOptions(CaseOptions):
     tail_lift_slope: float | None = None  # 1/rad
     downwash_gradient: float | None = None  # None: 2 a_w / (pi AR)
     tail_lag: bool = False
+    alleviation: str | None = None  # path of a control-surface / feedback-law YAML (docs/controls.md)
     kussner: bool = False
     damping_ratio: float = 0.0
     damping_frequency_hz: float | None = None
@@ -99,7 +100,7 @@ OPTIONS = PegasusOptions
 #: the options only the gust cases use (a warning names those changed with --loads maneuver)
 GUST_ONLY_OPTIONS = ("altitude_ft", "mach", "u_ref_fps", "gust_gradient_ft", "t_final", "dt", "gust_start",
                      "kussner", "damping_ratio", "damping_frequency_hz", "plunge", "pitch", "pitch_inertia", "cg_x",
-                     "cg_z", "tail_arm", "tail_area", "tail_lift_slope", "downwash_gradient", "tail_lag",
+                     "cg_z", "tail_arm", "tail_area", "tail_lift_slope", "downwash_gradient", "tail_lag", "alleviation",
                      "gust_set", "gust_gradients_ft", "gust_gradient_count", "gust_sign")
 
 
@@ -368,10 +369,24 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
                      aircraft_pitch_inertia=float(opts.pitch_inertia), tail_arm=float(opts.tail_arm),
                      tail_area=float(opts.tail_area), tail_lift_slope=float(opts.tail_lift_slope),
                      downwash_gradient=float(deps))
+    controls = {}
+    if getattr(opts, "alleviation", None):  # control surfaces and a feedback law (docs/controls.md)
+        from wingmdao.aero.controls import control_spec, read_alleviation
+
+        surfaces, law = read_alleviation(opts.alleviation)
+        if law is not None and "load_factor" in law.outputs and not free:
+            raise ValueError(f"--alleviation {opts.alleviation}: output load_factor needs free plunge (--plunge free)")
+        if law is not None and "pitch_rate" in law.outputs and not pitch:
+            raise ValueError(f"--alleviation {opts.alleviation}: output pitch_rate needs --pitch free")
+        try:
+            spec = control_spec(surfaces, geometry.node_positions[:, 1], law)
+        except ValueError as exc:
+            raise ValueError(f"--alleviation {opts.alleviation}: {exc}") from None
+        controls = dict(controls=spec, control_law=law)
     aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
                        airspeed=V, density=rho, mach=mach, trim=True, trim_lift=weight_lb * LB * G0,
                        plunge=free, aircraft_mass=weight_lb * LB, aero_theory=opts.aero_theory,
-                       node_positions=np.asarray(geometry.node_positions, dtype=float), **pitch)
+                       node_positions=np.asarray(geometry.node_positions, dtype=float), **pitch, **controls)
     mode = ("free plunge + pitch" if pitch else "free plunge") if free else "clamped root"
     return LoadCase(name, time, forcing, families, description + f" (coupled aeroelastic, {mode})", aero=aero)
 
