@@ -216,3 +216,33 @@ def test_component_check_partials_with_law():
         fd, an = d["J_fd"], d["J_fwd"]
         scale = max(np.max(np.abs(fd)), 1e-8)
         assert np.max(np.abs(an - fd)) <= 2e-5 * scale + 1e-6, (of, wrt)
+
+
+def test_sizing_case_with_alleviation_totals_and_gain_design_vars():
+    """PEGASUS coupled gust case (free plunge, short grid) with the alleviation file of docs/controls.md
+    in the sizing model: the gains are case inputs, KS totals w.r.t. gains and a thickness against
+    central differences, and ``size_gains`` makes C and D design variables."""
+    import os
+
+    from wingmdao.cases import pegasus
+    from wingmdao.sizing import build_problem, control_gain_design_vars
+
+    example = os.path.join(os.path.dirname(__file__), "..", "docs", "examples", "pegasus_alleviation.yaml")
+    args = pegasus.PegasusOptions(loads="gust", aero="coupled", plunge="free", t_final=0.3, dt=0.03, gust_start=0.0,
+                                  alleviation=example, size_gains=True)
+    setup = pegasus.build(args)
+    setup.options.disp = False
+    dvs = control_gain_design_vars(setup.load_cases)
+    assert set(dvs) == {"cases.gust.controller_C", "cases.gust.controller_D"}
+    assert dvs["cases.gust.controller_C"]["upper"] == pytest.approx(1.0)  # 4 x |C| = 4 x 0.25
+    prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options, driver=False)
+    prob.run_model()
+    wrt = ["t_upper_skin", "cases.gust.controller_C", "cases.gust.controller_B"]
+    data = prob.check_totals(of=["cases.gust.ks_vm"], wrt=wrt, method="fd", form="central", step=1e-6,
+                             step_calc="rel_avg", out_stream=None)
+    for key, d in data.items():
+        J = d["J_fwd"] if "J_fwd" in d else d["J_rev"]
+        assert np.abs(d["J_fd"]).max() > 0, key
+        assert np.abs(J - d["J_fd"]).max() <= 1e-6 * np.abs(d["J_fd"]).max(), key
+    with pytest.raises(ValueError, match="--size-gains needs --alleviation"):
+        pegasus.build(pegasus.PegasusOptions(loads="gust", aero="coupled", plunge="free", size_gains=True))

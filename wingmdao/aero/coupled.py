@@ -50,7 +50,8 @@ class CoupledAero:
     (:class:`~wingmdao.aero.controls.ControlLaw`): control surfaces and a feedback law in the
     residual (docs/controls.md); the law's matrices are then inputs of the case (``controller_D``,
     and ``controller_A`` ... ``controller_C`` when the law has states) and ``surface_command`` (n_time,
-    n_s) rad a forcing.
+    n_s) rad a forcing. ``gain_design``: the law's ``controller_C`` and ``controller_D`` are design
+    variables of the sizing (:func:`wingmdao.sizing.control_gain_design_vars`).
 
     ``aero_theory`` (:data:`AERO_THEORY_CHOICES`): ``"strip"`` (each station's slope
     ``lift_slope``), ``"lifting-line"`` (``lift_slope`` replaced by the section slopes of
@@ -84,6 +85,7 @@ class CoupledAero:
     node_positions: object = None
     controls: object = None
     control_law: object = None
+    gain_design: bool = False
 
     @property
     def residual_theory(self) -> str:
