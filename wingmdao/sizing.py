@@ -202,6 +202,8 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
         raise ValueError("the flutter constraint needs box sections in one process (no MPI distribution)")
     if turbulence is not None and (distributed or section != "box"):
         raise ValueError("the turbulence constraint needs box sections in one process (no MPI distribution)")
+    if distributed and control_gain_design_vars(load_cases):
+        raise ValueError("--size-gains: the control-law gains are sized in one process (no MPI distribution)")
     mass_ref = (options.mass_scale or OBJECTIVE_SCALE * initial_mass(geometry, material, options, section, panels)) \
         if driver else 1.0
     # the load cases' forcing histories are fixed data of the beams, not OpenMDAO variables (issue 15)
