@@ -372,16 +372,26 @@ def _plots(res, stem):
         print("matplotlib not installed: no plots", file=sys.stderr)
         return
     t = res["time"]
-    fig, axes = plt.subplots(3, 1, figsize=(7, 8), sharex=True)
-    axes[0].plot(t, res["load_factor"])
+    alleviation = res.get("alleviation")
+    fig, axes = plt.subplots(4 if alleviation else 3, 1, figsize=(7, 10 if alleviation else 8), sharex=True)
+    axes[0].plot(t, res["load_factor"], label="with law" if alleviation else None)
     axes[0].set_ylabel("load factor")
+    if alleviation:  # the same gust without the law, and the surfaces' deflections
+        axes[0].plot(t, alleviation["load_factor_without_law"], "--", label="without law")
+        axes[0].legend()
+        axes[1].plot(t, np.asarray(alleviation["root_bending_moment_without_law"]) / 1e3, "--",
+                     label="bending M_x without law")
+        for name, srf in alleviation["surfaces"].items():
+            axes[3].plot(t, srf["deflection_deg"], label=f"{name} (limit {srf['max_deflection_deg']:g} deg)")
+        axes[3].set_ylabel("deflection (deg)")
+        axes[3].legend()
     axes[1].plot(t, np.asarray(res["root_bending_moment"]) / 1e3, label="bending M_x")
     axes[1].plot(t, np.asarray(res["root_torsion"]) / 1e3, label="torsion M_y")
     axes[1].set_ylabel("root moment (kN m)")
     axes[1].legend()
     axes[2].plot(t, res["tip_displacement"])
     axes[2].set_ylabel("tip deflection (m)")
-    axes[2].set_xlabel("time (s)")
+    axes[-1].set_xlabel("time (s)")
     for ax in axes:
         ax.grid(True)
     from wingmdao.plots import save_figure
