@@ -202,6 +202,8 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
         raise ValueError("the flutter constraint needs box sections in one process (no MPI distribution)")
     if turbulence is not None and (distributed or section != "box"):
         raise ValueError("the turbulence constraint needs box sections in one process (no MPI distribution)")
+    if distributed and control_gain_design_vars(load_cases):
+        raise ValueError("--size-gains: the control-law gains are sized in one process (no MPI distribution)")
     mass_ref = (options.mass_scale or OBJECTIVE_SCALE * initial_mass(geometry, material, options, section, panels)) \
         if driver else 1.0
     # the load cases' forcing histories are fixed data of the beams, not OpenMDAO variables (issue 15)
@@ -230,6 +232,8 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
         for w in design_vars:
             prob.model.add_design_var(w, lower=options.lower[w], upper=options.upper[w],
                                       ref=options.dv_ref.get(w, options.upper[w]) if options.dv_ref else options.upper[w])
+        for name, bounds in control_gain_design_vars(load_cases).items():
+            prob.model.add_design_var(name, **bounds)
         if panels is not None:
             add_sizing_rules(prob.model, options, panels, design_vars,
                              n if geometry.station_map is None else int(np.max(geometry.station_map)) + 1)
@@ -250,6 +254,43 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     for w in design_vars:
         prob.set_val(w, np.broadcast_to(options.initial.get(w, options.upper[w]), (n_dv,)))
     return prob, desc
+
+
+def control_gain_design_vars(load_cases) -> dict:
+    """``{"cases.NAME.controller_C"|"controller_D": {"lower", "upper", "ref"}}`` of the coupled cases
+    whose control law is sized (``CoupledAero.gain_design``, docs/controls.md): the gains C and D
+    (the filter dynamics A, B stay fixed), bounded by +-4 times the largest initial gain (1 when all
+    are zero)."""
+    from wingmdao.aero.system import control_param_specs
+
+    out = {}
+    for case in load_cases:
+        aero = case.aero
+        if aero is None or not getattr(aero, "gain_design", False) or aero.control_law is None:
+            continue
+        law = aero.control_law
+        names = [s.name for s in control_param_specs(aero.controls) if s.name in ("controller_C", "controller_D")]
+        size = max([float(np.max(np.abs(m))) for m in (law.C, law.D) if m.size] + [0.0])
+        bound = 4.0 * size if size > 0 else 1.0
+        for nm in names:
+            out[f"cases.{case.name}.{nm}"] = {"lower": -bound, "upper": bound, "ref": bound}
+    return out
+
+
+def control_gains(prob, load_cases) -> dict:
+    """``{case: {"outputs": [...], "controller_A": ..., ...}}``: the control laws' matrices of the
+    coupled cases with a law, as the problem holds them (sized or not)."""
+    from wingmdao.aero.system import control_param_specs
+
+    out = {}
+    for case in load_cases:
+        aero = case.aero
+        if aero is None or getattr(aero, "control_law", None) is None:
+            continue
+        vals = {s.name: np.asarray(prob.get_val(f"cases.{case.name}.{s.name}")).tolist()
+                for s in control_param_specs(aero.controls)}
+        out[case.name] = {"outputs": list(aero.control_law.outputs), "sized": bool(aero.gain_design), **vals}
+    return out
 
 
 def _serial_comm():

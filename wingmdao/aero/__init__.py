@@ -3,6 +3,8 @@
 * :mod:`wingmdao.aero.strip` - section model: Jones' Wagner and Sears-Sparks Kuessner finite
   states, Theodorsen apparent mass, Prandtl-Glauert; C(k) exact and of the approximation;
 * :mod:`wingmdao.aero.system` - :func:`build_aeroelastic_system`, :class:`AeroelasticBeamSystem`;
+* :mod:`wingmdao.aero.controls` - control surfaces (Theodorsen's flap functions, hinge moments),
+  actuators and linear feedback laws of the coupled residual (docs/controls.md);
 * :mod:`wingmdao.aero.coupled` - :class:`CoupledAero`, the aerodynamics of a coupled ``LoadCase``;
 * :mod:`wingmdao.aero.weissinger` - spanwise lift slopes of a swept, tapered planform (Weissinger's
   vortex lattice, Prandtl-Glauert), for the strips' ``lift_slope``;

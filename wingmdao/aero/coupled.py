@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from wingmdao.aero.system import (AERO_THEORY_CHOICES, aero_parameters, cached_aeroelastic_system,  # noqa: F401 - AERO_THEORY_CHOICES: public here
-                                  three_dimensional_parameters)
+                                  control_param_specs, three_dimensional_parameters)
 from wingmdao.loads.atmosphere import G0
 from wingmdao.timemarch.system import pack
 
@@ -45,7 +45,13 @@ class CoupledAero:
     also frees the aircraft in pitch with a horizontal tail (:mod:`wingmdao.aero.pitch`): inputs
     ``aircraft_cg`` (x, z m from the body-axes origin), ``aircraft_pitch_inertia`` (kg m^2, about the
     CG), ``tail_arm`` (m), parameters ``tail_area`` (m^2), ``tail_lift_slope`` (1/rad),
-    ``downwash_gradient``; ``tail_lag`` the first-order downwash lag.
+    ``downwash_gradient``; ``tail_lag`` the first-order downwash lag. ``controls``
+    (:class:`~wingmdao.aero.controls.ControlSpec`) and ``control_law``
+    (:class:`~wingmdao.aero.controls.ControlLaw`): control surfaces and a feedback law in the
+    residual (docs/controls.md); the law's matrices are then inputs of the case (``controller_D``,
+    and ``controller_A`` ... ``controller_C`` when the law has states) and ``surface_command`` (n_time,
+    n_s) rad a forcing. ``gain_design``: the law's ``controller_C`` and ``controller_D`` are design
+    variables of the sizing (:func:`wingmdao.sizing.control_gain_design_vars`).
 
     ``aero_theory`` (:data:`AERO_THEORY_CHOICES`): ``"strip"`` (each station's slope
     ``lift_slope``), ``"lifting-line"`` (``lift_slope`` replaced by the section slopes of
@@ -77,6 +83,9 @@ class CoupledAero:
     downwash_gradient: float = 0.0
     aero_theory: str = "strip"
     node_positions: object = None
+    controls: object = None
+    control_law: object = None
+    gain_design: bool = False
 
     @property
     def residual_theory(self) -> str:
@@ -120,6 +129,9 @@ class CoupledAero:
                                downwash_gradient=self.downwash_gradient)
             out.update(tail_area=float(self.tail_area), tail_lift_slope=float(self.tail_lift_slope),
                        downwash_gradient=float(self.downwash_gradient))
+        if self.controls is not None and self.control_law is not None:
+            names = {s.name for s in control_param_specs(self.controls)}
+            out.update({k: v for k, v in self.control_law.matrices().items() if k in names})
         return out
 
 
@@ -164,7 +176,7 @@ def load_case_response(prob, case, num_nodes: int, weight: float) -> dict:
         pitch = bool(case.aero.pitch)
         system = cached_aeroelastic_system(n, plunge=bool(case.aero.plunge), trim=bool(case.aero.trim), pitch=pitch,
                                            tail_lag=pitch and bool(case.aero.tail_lag),
-                                           aero_theory=case.aero.residual_theory)
+                                           aero_theory=case.aero.residual_theory, controls=case.aero.controls)
         beam = system.layout.beam_states(X)
         p = pack(system.param_specs, {s.name: value(s.name) for s in system.param_specs})
         Q = np.concatenate([forcing(s.name).reshape(t.size, -1) for s in system.forcing_specs], axis=1)

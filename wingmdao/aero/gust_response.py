@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from wingmdao.aero.controls import control_spec, limit_report
 from wingmdao.aero.strip import station_gust_history
 from wingmdao.aero.system import cached_aeroelastic_system
 from wingmdao.beam.static import march_line_loads
@@ -50,13 +51,16 @@ class GustResponse:
     """``load_factor`` (n_time,): lift of both half-wings (with free pitch, plus the tail's) over W;
     ``states`` (n_time, n, 18): the beam states per node; ``wing_lift_slope`` (1/rad): 2 int c a dy / S
     of the strips; ``trim_alpha`` (rad, None for strip loads); ``pitch``: the pitch histories with
-    free pitch (``pitch_angle_rad``, ``pitch_rate_rad_s``, ``tail_lift_n``, ``tail_incidence_rad``)."""
+    free pitch (``pitch_angle_rad``, ``pitch_rate_rad_s``, ``tail_lift_n``, ``tail_incidence_rad``);
+    ``controls``: with control surfaces, their ``deflection`` and ``rate`` (n_time, n_s) rad, rad/s,
+    ``hinge_moment`` (n_time, n_s) N m and the :func:`~wingmdao.aero.controls.limit_report` ``limits``."""
 
     load_factor: np.ndarray
     states: np.ndarray
     wing_lift_slope: float
     trim_alpha: float | None = None
     pitch: dict = field(default_factory=dict)
+    controls: dict = field(default_factory=dict)
 
 
 def gust_profile(flight: GustFlight):
@@ -79,7 +83,7 @@ def wing_lift_slope(section_slope, chord, node_positions, area) -> float:
 
 def coupled_gust_response(time, beam_params, chord, axis_frac, aero_params, flight: GustFlight, *, area,
                           plunge=True, body_mass=None, pitch_params=None, tail_lag=False,
-                          aero_theory="strip") -> GustResponse:
+                          aero_theory="strip", surfaces=None, law=None) -> GustResponse:
     """March the aeroelastic beam through the gust from the trimmed 1 g state.
 
     ``beam_params`` and ``aero_params`` are the beam and strip parameters per node
@@ -90,13 +94,16 @@ def coupled_gust_response(time, beam_params, chord, axis_frac, aero_params, flig
     penetration delay from the most forward leading edge, and the tail's aerodynamic centre x_t / V
     after it. ``aero_theory``: ``"vlm"`` when ``aero_params`` carry the vortex lattice's influence
     (:func:`wingmdao.aero.three_dimensional_parameters`), else ``"strip"`` (strips, or lifting-line
-    slopes in ``lift_slope``).
+    slopes in ``lift_slope``). ``surfaces`` (:class:`~wingmdao.aero.controls.ControlSurface`) and
+    ``law`` (:class:`~wingmdao.aero.controls.ControlLaw`, optional): control surfaces and a feedback
+    law in the march, acting on the increments from the trimmed state (docs/controls.md).
     """
     chord, axis_frac = np.asarray(chord, dtype=float), np.asarray(axis_frac, dtype=float)
     pitch = pitch_params is not None
+    spec = control_spec(surfaces, beam_params["node_positions"][:, 1], law) if surfaces else None
     system = cached_aeroelastic_system(chord.size, plunge=plunge, trim=True, pitch=pitch, tail_lag=pitch and tail_lag,
-                                       aero_theory=aero_theory)
-    params = {**beam_params, **aero_params, "trim_lift": flight.weight}
+                                       aero_theory=aero_theory, controls=spec)
+    params = {**beam_params, **aero_params, "trim_lift": flight.weight, **(law.matrices() if law is not None else {})}
     if plunge:
         params["body_mass"] = body_mass
     if pitch:
@@ -127,8 +134,12 @@ def coupled_gust_response(time, beam_params, chord, axis_frac, aero_params, flig
         slope = wing_lift_slope(aero_params["lift_influence"].sum(axis=1), np.ones(chord.size), r0, area)
     else:
         slope = wing_lift_slope(aero_params["lift_slope"] / np.sqrt(1 - flight.mach ** 2), chord, r0, area)
+    ctl = {}
+    if spec is not None:
+        ctl = system.control_histories(hist.states, dt, p, Q)
+        ctl["limits"] = limit_report(time, ctl["deflection"], ctl["rate"], surfaces)
     return GustResponse(lift / flight.weight, system.layout.beam_states(hist.states), slope,
-                        float(hist.states[0, system.trim_index]), out)
+                        float(hist.states[0, system.trim_index]), out, ctl)
 
 
 def strip_gust_response(time, beam_params, chord, axis_frac, flight: GustFlight, *, area, semi_span,
@@ -148,3 +159,34 @@ def strip_gust_response(time, beam_params, chord, axis_frac, flight: GustFlight,
     ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
     n_load = 2 * np.sum(0.5 * (fz[:, 1:] + fz[:, :-1]) * ds, axis=1) / flight.weight
     return GustResponse(n_load, hist.states.reshape(time.size, n, 18), wing_lift_slope(2 * np.pi, chord, r0, area))
+
+
+def alleviation_summary(without: GustResponse, with_law: GustResponse, surfaces, law) -> dict:
+    """The load alleviation's effect (JSON-ready): peak root bending (total, 1 g included, and the
+    increment over the trimmed value; N m) and peak load-factor increment without and with the law,
+    the surfaces' deflection, rate and hinge-moment histories with their peaks against the limits,
+    and the law's matrices."""
+    def peaks(resp):
+        m = resp.states[:, 0, 9]
+        dm = m - m[0]
+        dn = resp.load_factor - resp.load_factor[0]
+        return float(m[np.argmax(np.abs(m))]), float(dm[np.argmax(np.abs(dm))]), float(np.max(np.abs(dn)))
+
+    m0, dm0, dn0 = peaks(without)
+    m1, dm1, dn1 = peaks(with_law)
+    out_surfaces = {}
+    hinge = with_law.controls["hinge_moment"]
+    for k, s in enumerate(surfaces):
+        rep = dict(with_law.controls["limits"][s.name])
+        rep.update(hinge=s.hinge, span=None if s.span is None else list(s.span),
+                   nodes=None if s.nodes is None else list(s.nodes), actuator_order=s.actuator_order,
+                   hinge_moment_n_m=hinge[:, k].tolist(), peak_hinge_moment_n_m=float(hinge[np.argmax(np.abs(hinge[:, k])), k]))
+        out_surfaces[s.name] = rep
+    law_out = None if law is None else {"outputs": list(law.outputs), **{k: v.tolist() for k, v in law.matrices().items()}}
+    return {"surfaces": out_surfaces, "law": law_out,
+            "peak_root_bending_moment_without_law": m0, "peak_root_bending_moment_with_law": m1,
+            "peak_incremental_root_bending_without_law": dm0, "peak_incremental_root_bending_with_law": dm1,
+            "incremental_root_bending_reduction": float(1.0 - abs(dm1) / abs(dm0)) if dm0 else 0.0,
+            "peak_incremental_load_factor_without_law": dn0, "peak_incremental_load_factor_with_law": dn1,
+            "load_factor_without_law": without.load_factor.tolist(),
+            "root_bending_moment_without_law": without.states[:, 0, 9].tolist()}

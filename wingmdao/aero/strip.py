@@ -41,6 +41,8 @@ import casadi as ca
 import numpy as np
 from scipy.special import hankel2
 
+from wingmdao.aero.controls import flap_terms, hinge_moment
+
 #: R. T. Jones' Wagner approximation (NACA Rep. 681): phi(s) = 1 - sum A_k exp(-beta_k s).
 WAGNER_A = (0.165, 0.335)
 WAGNER_B = (0.0455, 0.3)
@@ -100,7 +102,7 @@ def check_aero_inputs(*, chord=None, ref_point=None, airspeed=None, density=None
 
 
 def section_model(rel_csn, w_s, dw_mid_dt, dw_s_dt, gust_n, aero_x, aero_xdot, chord, ref_point,
-                  lift_slope, alpha_zero, cm0, airspeed, density, mach):
+                  lift_slope, alpha_zero, cm0, airspeed, density, mach, flap=None):
     """Symbolic (CasADi) section loads and lag-state residuals.
 
     ``rel_csn``: relative air velocity at the reference point in csn (without the gust);
@@ -112,12 +114,21 @@ def section_model(rel_csn, w_s, dw_mid_dt, dw_s_dt, gust_n, aero_x, aero_xdot, c
     alpha_g,eff, to which the circulatory lift is proportional) and ``moment_noncirculatory`` (the
     moment without the circulatory lift's ``L_c c (ref - 1/4)``), from which a three-dimensional
     quasi-steady lift replaces the strip's (``aero_theory="vlm"``, :mod:`wingmdao.aero.system`).
+
+    ``flap``: ``(T, beta, dbeta, ddbeta)`` of a trailing-edge control surface (Theodorsen's flap
+    functions ``T`` with a = 0 and the deflection, its rate and acceleration,
+    :mod:`wingmdao.aero.controls`): its angle adds to the three-quarter-chord angle that drives
+    the Wagner states, its non-circulatory lift and moment to the section's, and ``parts`` holds
+    the ``hinge_moment`` per length (trailing edge down positive). None: no surface.
     """
     b = 0.5 * chord
     v_c = rel_csn[0]
     v_n = rel_csn[2]
     d34 = chord * (0.75 - ref_point)
     alpha_qs = (v_n + w_s * d34) / v_c - alpha_zero
+    if flap is not None:
+        alpha_f, lift_nc_f, moment_nc_f = flap_terms(flap[0], b, v_c, density, *flap[1:])
+        alpha_qs = alpha_qs + alpha_f
     alpha_g = gust_n / v_c
     lam = [aero_x[0], aero_x[1]]
     mu = [aero_x[2], aero_x[3]]
@@ -135,9 +146,14 @@ def section_model(rel_csn, w_s, dw_mid_dt, dw_s_dt, gust_n, aero_x, aero_xdot, c
     moment = (lift_c * chord * (ref_point - 0.25) + lift_nc * chord * (ref_point - 0.5)
               + qdyn * chord ** 2 * cm0
               - math.pi * density * b ** 3 * v_c * w_s / 2.0 - math.pi * density * b ** 4 * dw_s_dt / 8.0)
+    if flap is not None:
+        lift_nc = lift_nc + lift_nc_f
+        moment = moment + moment_nc_f + lift_nc_f * chord * (ref_point - 0.5)
     parts = {"lift_circulatory": lift_c, "lift_apparent_mass": lift_nc, "alpha_qs": alpha_qs,
              "alpha_gust": alpha_g, "alpha_circulatory": alpha_eff + alpha_geff,
              "moment_noncirculatory": moment - lift_c * chord * (ref_point - 0.25)}
+    if flap is not None:
+        parts["hinge_moment"] = hinge_moment(flap[0], b, v_c, density, *flap[1:], dw_mid_dt, w_s, dw_s_dt, lift_c)
     return lift_c + lift_nc, moment, ca.vertcat(*res), parts
 
 

@@ -36,6 +36,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
+from wingmdao.aero.controls import actuator_residuals, theodorsen_flap_functions
 from wingmdao.aero.lifting_line import lifting_line_lift_slope
 from wingmdao.aero.strip import AERO_STATE_NAMES, N_AERO_STATES, check_aero_inputs, section_model
 from wingmdao.aero.vlm import station_influence
@@ -45,6 +46,7 @@ from wingmdao.beam.residual import (N_STATE_PER_NODE, STATE_BLOCKS, NODE_FORCING
                                     forcing_specs as beam_forcing_specs, jig_state,
                                     param_specs as beam_param_specs, StrainRateDamping)
 from wingmdao.beam.rotations import body_to_csn
+from wingmdao.units import G0
 from wingmdao.timemarch import lu_orders
 from wingmdao.timemarch.system import CasadiResidualSystem, VarSpec, layout
 from wingmdao.timemarch.bdf import state_rates
@@ -107,15 +109,19 @@ class StateLayout:
         return w
 
 
-def state_layout(num_nodes: int, plunge: bool = False, trim: bool = False, pitch_states=()) -> StateLayout:
+def state_layout(num_nodes: int, plunge: bool = False, trim: bool = False, pitch_states=(),
+                 control_states=()) -> StateLayout:
     """The :class:`StateLayout` of :func:`build_aeroelastic_system`: the one place that states
     the order (the build checks its symbols against it; the initial guess and every consumer
     index through it). A new body state goes here, in the order the build appends it: plunge,
-    the free-pitch states ``pitch_states`` (:mod:`wingmdao.aero.pitch`), trim last."""
+    the free-pitch states ``pitch_states`` (:mod:`wingmdao.aero.pitch`), the control states
+    ``control_states`` (actuators, controller, measurement references; :mod:`wingmdao.aero.controls`),
+    trim last."""
     n = int(num_nodes)
     node = np.arange(n)[:, None] * N_AEROELASTIC_STATES
     body, k = {}, N_AEROELASTIC_STATES * n
-    names = (("plunge", plunge),) + tuple((nm, True) for nm in pitch_states) + (("trim", trim),)
+    names = ((("plunge", plunge),) + tuple((nm, True) for nm in pitch_states)
+             + tuple((nm, True) for nm in control_states) + (("trim", trim),))
     for name, on in names:
         if on:
             body[name] = k
@@ -198,8 +204,9 @@ def check_aero_parameters(values: dict) -> None:
                                                  "lift_slope") if k in values})
 
 
-def _node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence):
-    """Follower aerodynamic force/moment per length (body) and the 4 lag residuals of one node."""
+def _node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence, flap=None):
+    """Follower aerodynamic force/moment per length (body) and the 4 lag residuals of one node;
+    ``flap`` = (T, beta, dbeta, ddbeta) of a control surface at the node (:func:`section_model`)."""
     st = STATE_BLOCKS
     xb, xdb = x[:18], xdot[:18]
     _r, th, _u, _w = xb[st["r"]], xb[st["theta"]], xb[st["u"]], xb[st["omega"]]
@@ -222,19 +229,19 @@ def _node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence):
     dws = ca.jtimes(ws, z, zdot)
     gust_n = (T @ ca.vertcat(0, 0, wg))[2]
     lift, moment, res, parts = section_model(rel, ws, dw_mid, dws, gust_n, x[18:], xdot[18:], chord, ref, a, azl,
-                                             cm0, V, rho, mach)
+                                             cm0, V, rho, mach, flap)
     f = T.T @ ca.vertcat(0, 0, lift)
     m = T.T @ ca.vertcat(0, moment, 0)
     # for a three-dimensional quasi-steady lift (aero_theory "vlm"): the section's normal and
     # spanwise axes (body), its lagged circulatory angle and its loads without the circulatory lift
     extra = (T.T[:, 2], T.T[:, 1], parts["alpha_circulatory"], parts["lift_apparent_mass"],
-             parts["moment_noncirculatory"])
+             parts["moment_noncirculatory"]) + ((parts["hinge_moment"],) if flap is not None else ())
     return f, m, res, lift, moment, extra
 
 
 #: Modules whose code generates the aeroelastic system's CasADi functions (their source is part of
 #: the compiled-library key, :func:`aeroelastic_definition`).
-_GENERATING_MODULES = ("wingmdao.aero.system", "wingmdao.aero.strip", "wingmdao.aero.pitch",
+_GENERATING_MODULES = ("wingmdao.aero.system", "wingmdao.aero.strip", "wingmdao.aero.pitch", "wingmdao.aero.controls",
                        "wingmdao.aero.plunge", "wingmdao.beam.residual", "wingmdao.beam.rotations",
                        "wingmdao.timemarch.system")
 
@@ -242,7 +249,7 @@ _GENERATING_MODULES = ("wingmdao.aero.system", "wingmdao.aero.strip", "wingmdao.
 def aeroelastic_definition(num_nodes: int, euler_sequence: str = "surface",
                            damping: StrainRateDamping | None = None, plunge: bool = False,
                            trim: bool = False, pitch: bool = False, tail_lag: bool = False,
-                           aero_theory: str = "strip", elevator: bool = False) -> str:
+                           aero_theory: str = "strip", elevator: bool = False, controls=None) -> str:
     """What defines the functions of :func:`build_aeroelastic_system` (the key of their compiled
     libraries, :func:`wingmdao.utils.casadi_cache.definition_key`): its arguments, the source of
     the generating modules and the CasADi version. Keying on this instead of the serialized
@@ -256,6 +263,8 @@ def aeroelastic_definition(num_nodes: int, euler_sequence: str = "surface",
         args = args + (str(aero_theory),)
     if elevator:
         args = args + ("elevator",)
+    if controls is not None:
+        args = args + (repr(controls),)
     return definition_key("wingmdao.aero.system.build_aeroelastic_system", args, _GENERATING_MODULES)
 
 
@@ -263,7 +272,7 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
                              damping: StrainRateDamping | None = None,
                              plunge: bool = False, trim: bool = False, pitch: bool = False,
                              tail_lag: bool = False, aero_theory: str = "strip",
-                             elevator: bool = False) -> AeroelasticBeamSystem:
+                             elevator: bool = False, controls=None) -> AeroelasticBeamSystem:
     """The App. A beam of ``num_nodes`` nodes (root clamped) with unsteady strip theory.
 
     Returns an :class:`AeroelasticBeamSystem` (a :class:`CasadiResidualSystem`):
@@ -309,6 +318,17 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     loading from a lifting-surface solution instead of per-strip slopes). ``lift_slope`` and
     ``mach`` then do not enter the circulatory lift: the influence matrices hold the flat-plate
     sections and the Prandtl-Glauert factor of the Mach number they were built for.
+
+    ``controls`` (:class:`~wingmdao.aero.controls.ControlSpec`, None: no surfaces) adds trailing-edge
+    control surfaces, their actuators and an optional linear feedback law (docs/controls.md): per
+    surface the states deflection and rate (rad, rad/s; the actuator rows of
+    :func:`~wingmdao.aero.controls.actuator_residuals`), at each of its nodes the flap terms of
+    :func:`~wingmdao.aero.strip.section_model`; the forcing ``surface_command`` (n_s,) rad (an
+    open-loop command, added to the law's); with a law the controller states x_c, the parameters
+    ``controller_A`` ... ``controller_D`` and, with ``trim``, one reference state per measured
+    output (its trimmed value, held after t = 0) so that the law acts on the increments from the
+    trimmed 1 g state; while ``trim_active`` the controller states are zero. The control states
+    sit after the rigid-body states, before alpha_trim (:func:`state_layout`).
     """
     if aero_theory not in AERO_THEORIES:
         raise ValueError(f"aero_theory must be one of {', '.join(AERO_THEORIES)}, got {aero_theory!r}")
@@ -323,6 +343,9 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
         raise ValueError("tail_lag=True needs pitch=True")
     if elevator and not pitch:
         raise ValueError("elevator=True needs pitch=True (the elevator is on the horizontal tail)")
+    ctl = controls
+    if ctl is not None:
+        _check_controls(ctl, n, plunge, pitch)
     t0 = _time.perf_counter()
     pspecs = beam_param_specs(n) + aero_param_specs(n) + (vlm_param_specs(n) if vlm else [])
     qspecs = beam_forcing_specs(n) + aero_forcing_specs(n)
@@ -339,13 +362,21 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
         n_body = len(body_names)
         pspecs += pitch_param_specs() + (elevator_param_specs() if elevator else [])
         qspecs += pitch_forcing_specs() + (elevator_forcing_specs() if elevator else [])
+    ctl_names = ()
+    if ctl is not None:
+        ctl_names = ctl.state_names() + (tuple(f"reference_{nm}" for nm in ctl.outputs) if trim else ())
+        pspecs += control_param_specs(ctl)
+        qspecs.append(VarSpec("surface_command", (ctl.n_surfaces,), "rad",
+                              "open-loop command of each control surface (added to the control law's)"))
     if trim:
         pspecs.append(VarSpec("trim_lift", (), "N", "lift of both half-wings to trim to (n W)"))
         qspecs.append(VarSpec("trim_active", (), None, "1: solve alpha_trim for trim_lift; 0: hold alpha_trim"))
     play, qlay = layout(pspecs), layout(qspecs)
     W = N_AEROELASTIC_STATES
-    n_extra = int(bool(plunge)) + n_body + int(bool(trim))
-    i_trim = W * n + int(bool(plunge)) + n_body
+    n_ctl = len(ctl_names)
+    n_extra = int(bool(plunge)) + n_body + n_ctl + int(bool(trim))
+    i_trim = W * n + int(bool(plunge)) + n_body + n_ctl
+    i_ctl = W * n + int(bool(plunge)) + n_body
     body = slice(W * n + 1, W * n + 1 + n_body)  # the pitch states (empty without pitch)
     x = ca.SX.sym("x", W * n + n_extra)
     xdot = ca.SX.sym("xdot", W * n + n_extra)
@@ -381,6 +412,16 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     xds = [xdot[W * i: W * (i + 1)] for i in range(n)]
     ps = [_node_params(p, play, i) for i in range(n)]
     scal = ca.vertcat(V, rho, mach)
+    surface_at, flap_funs = {}, []
+    if ctl is not None:  # one node function per surface (its hinge), with the deflection, rate, acceleration
+        fl_ = ca.SX.sym("flap", 3)
+        for k, srf in enumerate(ctl.surfaces):
+            T_k = theodorsen_flap_functions(srf[2])
+            out_k = _node_aero(xs_, xds_, pa_, None, fr_, sc_[0], sc_[1], sc_[2], euler_sequence,
+                               flap=(T_k, fl_[0], fl_[1], fl_[2]))
+            flap_funs.append(ca.Function(f"aero_node_{srf[0]}", [xs_, xds_, pa_, *fr_, sc_, fl_],
+                                         [*out_k[:5], *out_k[5]]))
+            surface_at.update({i: k for i in srf[1]})
     aero_out, qs = [], []
     for i in range(n):
         azl = p[play["alpha_zero_lift"]][i] - (x[i_trim] if trim else 0.0)
@@ -388,7 +429,12 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
             azl = azl - x[body][0]
         pa = ca.vertcat(p[play["chord"]][i], p[play["ref_point"]][i], p[play["lift_slope"]][i], azl,
                         p[play["cm0"]][i], q[qlay["gust_velocity"]][i])
-        f_a, m_a, res_a, L_a, M_a, *ex_a = aero_fun(xs[i], xds[i], pa, *aero_frame, scal)
+        if i in surface_at:
+            k = surface_at[i]
+            fl = ca.vertcat(x[i_ctl + 2 * k], x[i_ctl + 2 * k + 1], xdot[i_ctl + 2 * k + 1])
+            f_a, m_a, res_a, L_a, M_a, *ex_a = flap_funs[k](xs[i], xds[i], pa, *aero_frame, scal, fl)
+        else:
+            f_a, m_a, res_a, L_a, M_a, *ex_a = aero_fun(xs[i], xds[i], pa, *aero_frame, scal)
         aero_out.append([res_a, L_a, M_a, f_a, m_a, ex_a])
     if vlm:
         _vlm_loads(aero_out, p, play, n, 0.5 * rho * V ** 2)
@@ -427,6 +473,14 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
                 elevator=(p[play["elevator_effectiveness"]], p[play["elevator_time_constant"]],
                           q[qlay["elevator_command"]]) if elevator else None)
         blocks.append(r_plunge)
+    if ctl is not None:
+        measured = dict(load_factor=(xdot[W * n] / G0) if plunge else None,
+                        root_bending=xs[0][st["M"]][0] / ROOT_BENDING_UNIT,
+                        tip_acceleration=(xds[n - 1][st["u"]][2] + (xdot[W * n] if plunge else 0.0)) / G0,
+                        pitch_rate=x[body][1] if pitch else None)
+        blocks.append(_control_residuals(ctl, x[i_ctl:i_trim], xdot[i_ctl:i_trim], p, play,
+                                         q[qlay["surface_command"]], [measured[nm] for nm in ctl.outputs],
+                                         q[qlay["trim_active"]] if trim else None))
     if trim:
         r0 = [ps[i][_P_NODE["r0"]] for i in range(n)]
         total = 0
@@ -440,7 +494,7 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
         blocks.append(on * (2.0 * total - target) / scale + (1.0 - on) * xdot[i_trim])
     R = ca.vertcat(*blocks)
     definition = aeroelastic_definition(n, euler_sequence, damping, plunge, trim, pitch, tail_lag, aero_theory,
-                                        elevator)
+                                        elevator, ctl)
     jacobians = stored_jacobians(f"aeroelastic_beam{n}", definition, R, (x, xdot, p, q))
     lifts = ca.vertcat(*[o[1] for o in aero_out])
     moments = ca.vertcat(*[o[2] for o in aero_out])
@@ -448,9 +502,10 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
                                    state_shape=(W * n + n_extra,) if n_extra else (n, W),
                                    name=f"aeroelastic_beam{n}" + ("_plunge" if plunge else "") + ("_trim" if trim else "")
                                    + ("_pitch" if pitch else "") + ("_lag" if tail_lag else "")
-                                   + ("_elevator" if elevator else "") + ("_vlm" if vlm else ""),
+                                   + ("_elevator" if elevator else "") + ("_vlm" if vlm else "")
+                                   + ("_ctl" if ctl is not None else ""),
                                    describe=lambda k: describe_aeroelastic_equation(
-                                       k, n, plunge, body_names if pitch else ()),
+                                       k, n, plunge, body_names if pitch else (), ctl_names),
                                    definition=definition, jacobians=jacobians,
                                    lu_column_order=lu_orders.aeroelastic_lu_column_order(W * n + n_extra))
     system.num_nodes = n
@@ -460,12 +515,16 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     system.tail_lag = bool(tail_lag)
     system.elevator = bool(elevator)
     system.aero_theory = aero_theory
-    system.layout = state_layout(n, plunge, trim, body_names if pitch else ())
+    system.layout = state_layout(n, plunge, trim, body_names if pitch else (), ctl_names)
     if system.layout.size != system.n_state or system.layout.body.get("trim", i_trim) != i_trim:
         raise RuntimeError("state_layout does not match the states of build_aeroelastic_system")
     system.trim_index = system.layout.body.get("trim")
     system.body_index = ({"plunge_velocity": system.layout.body["plunge"]} if plunge else {}) | (
         {nm: system.layout.body[nm] for nm in body_names} if pitch else {})
+    system.controls = ctl
+    system.control_index = {nm: system.layout.body[nm] for nm in ctl_names}
+    if ctl is not None:
+        system._hinge = ca.Function("hinge_moments", [x, xdot, p, q], [_surface_hinge_moments(ctl, aero_out, ps)])
     if pitch:
         system._tail_lift = ca.Function("tail_lift", [x, xdot, p, q], [lift_tail])
     system._loads = ca.Function("section_loads", [x, xdot, p, q], [lifts, moments])
@@ -485,10 +544,88 @@ def _vlm_loads(aero_out, p, play, n, qdyn):
     moment_c = qdyn * (A_M @ alpha_c)
     chord, ref = p[play["chord"]], p[play["ref_point"]]
     for i, o in enumerate(aero_out):
-        nrm, span, _, lift_nc, moment_nc = o[5]
+        nrm, span, _, lift_nc, moment_nc = o[5][:5]
         lift = lift_c[i] + lift_nc
         moment = lift_c[i] * chord[i] * (ref[i] - 0.25) + moment_c[i] + moment_nc
         o[1], o[2], o[3], o[4] = lift, moment, nrm * lift, span * moment
+
+
+#: unit of the measured root bending moment fed to a control law (MN m: gains of order one)
+ROOT_BENDING_UNIT = 1.0e6
+
+
+def _check_controls(ctl, n, plunge, pitch) -> None:
+    """ValueError for a control spec the system cannot carry (nodes beyond the beam, an output that
+    needs free plunge or pitch)."""
+    for srf in ctl.surfaces:
+        if max(srf[1]) >= n or min(srf[1]) < 0:
+            raise ValueError(f"control surface {srf[0]!r}: nodes {srf[1][0]}..{srf[1][-1]} outside the span; "
+                             f"allowed node indices 0 .. {n - 1}")
+    needs = {"load_factor": ("plunge", plunge), "pitch_rate": ("pitch", pitch)}
+    for nm in ctl.outputs:
+        if nm in needs and not needs[nm][1]:
+            raise ValueError(f"control law output {nm!r} needs free {needs[nm][0]} ({needs[nm][0]}=True)")
+
+
+def control_param_specs(ctl) -> list[VarSpec]:
+    """The control law's parameters (the gains): ``controller_A`` ... ``controller_C`` when the law
+    has states, ``controller_D`` (feedthrough) whenever it has outputs (row-major matrices)."""
+    ny, ns, nc = len(ctl.outputs), ctl.n_surfaces, ctl.n_controller
+    if not ny:
+        return []
+    out = []
+    if nc:
+        out += [VarSpec("controller_A", (nc, nc), "1/s", "controller state matrix A_c (dx_c/dt = A_c x_c + B_c y)"),
+                VarSpec("controller_B", (nc, ny), None, "controller input matrix B_c (measured outputs y)"),
+                VarSpec("controller_C", (ns, nc), None, "controller output matrix C_c (surface commands, rad)")]
+    out.append(VarSpec("controller_D", (ns, ny), None, "controller feedthrough D_c: surface command (rad) per "
+                       "measured output (load factor and accelerations in g, root bending in MN m, pitch rate rad/s)"))
+    return out
+
+
+def _matrix(p, sl, rows, cols):
+    """A row-major packed parameter block as a CasADi (rows, cols) matrix."""
+    return ca.reshape(p[sl], cols, rows).T
+
+
+def _control_residuals(ctl, xc, xcd, p, play, command, measured, on):
+    """Actuator, controller and measurement-reference rows (:func:`build_aeroelastic_system`)."""
+    ns, nc, ny = ctl.n_surfaces, ctl.n_controller, len(ctl.outputs)
+    u = command
+    rows = []
+    if ny:
+        y = ca.vertcat(*measured)
+        ref, dref = xc[2 * ns + nc:], xcd[2 * ns + nc:]
+        e = y - ref if on is not None else y
+        u = u + _matrix(p, play["controller_D"], ns, ny) @ e
+        if nc:
+            z, dz = xc[2 * ns:2 * ns + nc], xcd[2 * ns:2 * ns + nc]
+            u = u + _matrix(p, play["controller_C"], ns, nc) @ z
+            r_c = dz - _matrix(p, play["controller_A"], nc, nc) @ z - _matrix(p, play["controller_B"], nc, ny) @ e
+            rows_c = r_c if on is None else on * z + (1.0 - on) * r_c
+        if on is not None:
+            rows_ref = on * (ref - y) + (1.0 - on) * dref
+    for k, srf in enumerate(ctl.surfaces):
+        rows += actuator_residuals(srf[3], srf[4], srf[5], srf[6], xc[2 * k], xc[2 * k + 1], xcd[2 * k],
+                                   xcd[2 * k + 1], u[k])
+    if ny and nc:
+        rows.append(rows_c)
+    if ny and on is not None:
+        rows.append(rows_ref)
+    return ca.vertcat(*rows)
+
+
+def _surface_hinge_moments(ctl, aero_out, ps):
+    """Hinge moment (N m, trailing edge down positive) of each surface of one half-wing: the
+    trapezoid of its nodes' hinge moments per length over the undeformed beam."""
+    out = []
+    for srf in ctl.surfaces:
+        idx, total = srf[1], 0
+        for i, j in zip(idx[:-1], idx[1:]):
+            ds = ca.norm_2(ps[j][_P_NODE["r0"]] - ps[i][_P_NODE["r0"]])
+            total = total + 0.5 * ds * (aero_out[i][5][5] + aero_out[j][5][5])
+        out.append(total)
+    return ca.vertcat(*out)
 
 
 def stored_jacobians(name: str, definition: str, R, args) -> dict:
@@ -521,7 +658,11 @@ def stored_jacobians(name: str, definition: str, R, args) -> dict:
     return dict(zip(keys, fun.call(list(args))))
 
 
-def describe_aeroelastic_equation(index: int, num_nodes: int, plunge: bool = False, body_names=()) -> str:
+def describe_aeroelastic_equation(index: int, num_nodes: int, plunge: bool = False, body_names=(),
+                                  control_names=()) -> str:
+    k_ctl = int(index) - N_AEROELASTIC_STATES * num_nodes - int(bool(plunge)) - len(body_names)
+    if 0 <= k_ctl < len(control_names):
+        return f"control state {control_names[k_ctl]} (actuator, controller or measurement reference)"
     if index == N_AEROELASTIC_STATES * num_nodes and plunge:
         if body_names:
             return "free plunge + pitch: body translation (wingmdao.aero.pitch), or w_p = 0 in trim"
@@ -595,6 +736,25 @@ class AeroelasticBeamSystem(CasadiResidualSystem):
         Xd = state_rates(X, dt)
         return np.array([self.tail_lift(X[i], Xd[i], p, Q[i]) for i in range(X.shape[0])])
 
+    def hinge_moments(self, x, xdot, p, q) -> np.ndarray:
+        """Hinge moment (N m, trailing edge down positive) of each control surface of one half-wing."""
+        if getattr(self, "controls", None) is None:
+            raise ValueError("hinge_moments needs a system built with controls")
+        return np.asarray(self._hinge(np.ravel(x), np.ravel(xdot), np.ravel(p), np.ravel(q))).ravel()
+
+    def control_histories(self, X, dt, p, Q) -> dict:
+        """``deflection`` and ``rate`` (n_time, n_s) rad, rad/s and ``hinge_moment`` (n_time, n_s) N m
+        of the control surfaces for a state history X (BDF rates at step ``dt``) and forcing Q."""
+        if getattr(self, "controls", None) is None:
+            raise ValueError("control_histories needs a system built with controls")
+        X = np.asarray(X)
+        Xd = state_rates(X, dt)
+        names = [s[0] for s in self.controls.surfaces]
+        defl = np.stack([X[:, self.control_index[f"{nm}_deflection"]] for nm in names], axis=1)
+        rate = np.stack([X[:, self.control_index[f"{nm}_rate"]] for nm in names], axis=1)
+        hinge = np.array([self.hinge_moments(X[i], Xd[i], p, Q[i]) for i in range(X.shape[0])])
+        return {"deflection": defl, "rate": rate, "hinge_moment": hinge}
+
     def split_parameters(self, p):
         """``{name: array}`` of a packed parameter vector."""
         lay = layout(self.param_specs)
@@ -608,15 +768,15 @@ def cached_aeroelastic_system(num_nodes: int, euler_sequence: str = "surface",
                               damping: StrainRateDamping | None = None,
                               plunge: bool = False, trim: bool = False, pitch: bool = False,
                               tail_lag: bool = False, aero_theory: str = "strip",
-                              elevator: bool = False) -> AeroelasticBeamSystem:
+                              elevator: bool = False, controls=None) -> AeroelasticBeamSystem:
     """:func:`build_aeroelastic_system`, built once per (num_nodes, sequence, damping, plunge, trim, pitch,
-    tail_lag, aero_theory, elevator)."""
+    tail_lag, aero_theory, elevator, controls)."""
     if damping is not None and damping.is_zero:
         damping = None
     key = (int(num_nodes), euler_sequence, damping, bool(plunge), bool(trim), bool(pitch), bool(tail_lag),
-           str(aero_theory), bool(elevator))
+           str(aero_theory), bool(elevator)) + ((controls,) if controls is not None else ())
     if key not in _SYSTEMS:
         _SYSTEMS[key] = build_aeroelastic_system(key[0], euler_sequence=euler_sequence, damping=damping,
                                                  plunge=key[3], trim=key[4], pitch=key[5], tail_lag=key[6],
-                                                 aero_theory=key[7], elevator=key[8])
+                                                 aero_theory=key[7], elevator=key[8], controls=controls)
     return _SYSTEMS[key]

@@ -82,6 +82,8 @@ class PegasusOptions(CaseOptions):
     tail_lift_slope: float | None = None  # 1/rad
     downwash_gradient: float | None = None  # None: 2 a_w / (pi AR)
     tail_lag: bool = False
+    alleviation: str | None = None  # path of a control-surface / feedback-law YAML (docs/controls.md)
+    size_gains: bool = False  # the law's gains (C and D) as design variables with the thicknesses
     kussner: bool = False
     damping_ratio: float = 0.0
     damping_frequency_hz: float | None = None
@@ -99,7 +101,8 @@ OPTIONS = PegasusOptions
 #: the options only the gust cases use (a warning names those changed with --loads maneuver)
 GUST_ONLY_OPTIONS = ("altitude_ft", "mach", "u_ref_fps", "gust_gradient_ft", "t_final", "dt", "gust_start",
                      "kussner", "damping_ratio", "damping_frequency_hz", "plunge", "pitch", "pitch_inertia", "cg_x",
-                     "cg_z", "tail_arm", "tail_area", "tail_lift_slope", "downwash_gradient", "tail_lag",
+                     "cg_z", "tail_arm", "tail_area", "tail_lift_slope", "downwash_gradient", "tail_lag", "alleviation",
+                     "size_gains",
                      "gust_set", "gust_gradients_ft", "gust_gradient_count", "gust_sign")
 
 
@@ -144,6 +147,11 @@ def add_arguments(p):
                    help="deps/dalpha at the tail, [0, 1) (unset: 2 a_w / (pi AR), a_w the strips' wing lift slope)")
     t.add_argument("--tail-lag", action="store_true",
                    help="downwash lag: first-order lag of time constant x_t / V on the wing angle seen by the tail")
+    p.add_argument("--alleviation", metavar="FILE.yaml",
+                   help="coupled gust: control surfaces, actuators and a feedback law in the march (docs/controls.md)")
+    p.add_argument("--size-gains", action="store_true",
+                   help="with --alleviation: the law's gain matrices C and D are design variables with the "
+                        "thicknesses (co-design of structure and load alleviation)")
     p.add_argument("--kussner", action="store_true", help="lag the gust lift by the Kussner function")
     p.add_argument("--damping-ratio", type=float,
                    help="structural damping ratio of the gust case's beam (Kelvin-Voigt strain-rate damping, "
@@ -368,10 +376,28 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
                      aircraft_pitch_inertia=float(opts.pitch_inertia), tail_arm=float(opts.tail_arm),
                      tail_area=float(opts.tail_area), tail_lift_slope=float(opts.tail_lift_slope),
                      downwash_gradient=float(deps))
+    controls = {}
+    if getattr(opts, "size_gains", False) and not getattr(opts, "alleviation", None):
+        raise ValueError("--size-gains needs --alleviation FILE.yaml (the law whose gains are sized)")
+    if getattr(opts, "alleviation", None):  # control surfaces and a feedback law (docs/controls.md)
+        from wingmdao.aero.controls import control_spec, read_alleviation
+
+        surfaces, law = read_alleviation(opts.alleviation)
+        if law is not None and "load_factor" in law.outputs and not free:
+            raise ValueError(f"--alleviation {opts.alleviation}: output load_factor needs free plunge (--plunge free)")
+        if law is not None and "pitch_rate" in law.outputs and not pitch:
+            raise ValueError(f"--alleviation {opts.alleviation}: output pitch_rate needs --pitch free")
+        try:
+            spec = control_spec(surfaces, geometry.node_positions[:, 1], law)
+        except ValueError as exc:
+            raise ValueError(f"--alleviation {opts.alleviation}: {exc}") from None
+        if getattr(opts, "size_gains", False) and law is None:
+            raise ValueError(f"--size-gains: --alleviation {opts.alleviation} has no law (no gains to size)")
+        controls = dict(controls=spec, control_law=law, gain_design=bool(getattr(opts, "size_gains", False)))
     aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
                        airspeed=V, density=rho, mach=mach, trim=True, trim_lift=weight_lb * LB * G0,
                        plunge=free, aircraft_mass=weight_lb * LB, aero_theory=opts.aero_theory,
-                       node_positions=np.asarray(geometry.node_positions, dtype=float), **pitch)
+                       node_positions=np.asarray(geometry.node_positions, dtype=float), **pitch, **controls)
     mode = ("free plunge + pitch" if pitch else "free plunge") if free else "clamped root"
     return LoadCase(name, time, forcing, families, description + f" (coupled aeroelastic, {mode})", aero=aero)
 

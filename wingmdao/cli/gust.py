@@ -19,7 +19,11 @@ JSON keys: time, load_factor, peak_incremental_load_factor, quasi_steady_increme
 (dn = rho0 U_de V_e a / (2 W/S), a the model's wing lift slope: strips, lifting line or vortex lattice), trim_alpha_rad, wing_lift_slope_per_rad,
 mass_parameter (mu = 2 (W/S) / (rho c a g)), mean_chord_m, wing_loading_pa, root_bending_moment
 (N m, M_x at the symmetry plane), root_torsion (N m, M_y), tip_displacement (m, z), peak_up/peak_down_incremental_load_factor, with --pitch free
-pitch_angle_rad, pitch_rate_rad_s, tail_lift_n, tail_incidence_rad, and the inputs.
+pitch_angle_rad, pitch_rate_rad_s, tail_lift_n, tail_incidence_rad, and the inputs. With
+``--alleviation FILE.yaml`` (control surfaces, actuators and a feedback law, docs/controls.md) the
+histories are those with the law, and ``alleviation`` holds the surfaces' deflection, rate and
+hinge-moment histories, their peaks against the limits and the peak root bending and load factor
+without and with the law (:func:`~wingmdao.aero.gust_response.alleviation_summary`).
 """
 
 from __future__ import annotations
@@ -72,6 +76,9 @@ def register(subparsers):
     p.add_argument("--gust-start", type=float, default=None, metavar="S",
                    help="time the gust front reaches the wing (s; default: the case's, as on 'size')")
     add_aero_theory_argument(p)
+    p.add_argument("--alleviation", metavar="FILE.yaml", default=None,
+                   help="control surfaces, actuators and a feedback law in the march (docs/controls.md; needs --aero "
+                        "coupled); the result adds the surface histories and the peak root bending without and with it")
     p.add_argument("--lifting-line", action="store_true", help=argparse.SUPPRESS)  # deprecated: --aero-theory lifting-line
 
     add_output_arguments(p, what="the PNG plot (CASE_gust.png)")
@@ -131,6 +138,7 @@ def run(args):
         raise ValueError(f"--t-final ({t_final} s) and --dt ({args.dt} s): need 0 < 10 dt <= t_final")
     if not (np.isfinite(args.gust_start) and 0.0 <= args.gust_start < t_final):
         raise ValueError(f"--gust-start = {args.gust_start} s; allowed range [0, --t-final = {t_final}) s")
+    surfaces, law = _check_alleviation(args)
     plot_path = _check_outputs(args, f"{args.case}_gust.png")
 
     pf = module.PLANFORM
@@ -155,6 +163,8 @@ def run(args):
     if args.aero_theory == "vlm":
         ap.update(three_dimensional_parameters("vlm", bp["node_positions"], chord, axis_frac, mach))
     r0 = bp["node_positions"]
+    if surfaces:
+        _check_surfaces_on_beam(args, surfaces, law, r0)
     body_mass = plunge_body_mass(weight / G0, half_wing_mass(bp["mass_per_length"], r0)[0])
     if args.pitch:
         from wingmdao.aero.pitch import pitch_parameters
@@ -177,12 +187,22 @@ def run(args):
     flight = GustFlight(airspeed=V, density=rho, mach=mach, altitude=alt, gradient=H, u_ds_eas=u_eas, u_ds_tas=u_tas,
                         weight=weight, gust_start=args.gust_start)
     wing_area = pf.area_ft2 * FT ** 2
-    pitch_out = {}
+    pitch_out, alleviation = {}, {}
     if args.aero == "coupled":
-        resp = coupled_gust_response(t, bp, chord, axis_frac, ap, flight, area=wing_area, plunge=args.plunge,
-                                     body_mass=body_mass, pitch_params=args.pitch_params if args.pitch else None,
-                                     tail_lag=args.tail_lag,
-                                     aero_theory="vlm" if args.aero_theory == "vlm" else "strip")
+        def response(**controls):
+            return coupled_gust_response(t, bp, chord, axis_frac, ap, flight, area=wing_area, plunge=args.plunge,
+                                         body_mass=body_mass, pitch_params=args.pitch_params if args.pitch else None,
+                                         tail_lag=args.tail_lag,
+                                         aero_theory="vlm" if args.aero_theory == "vlm" else "strip", **controls)
+
+        resp = response()
+        if surfaces:
+            from wingmdao.aero.gust_response import alleviation_summary
+
+            controlled = response(surfaces=surfaces, law=law)
+            alleviation = {"alleviation": {"file": args.alleviation,
+                                           **alleviation_summary(resp, controlled, surfaces, law)}}
+            resp = controlled
         if args.pitch:
             pitch_out = {**resp.pitch, "pitch_inertia_kg_m2": args.pitch_inertia, "cg_m": [args.cg_x, args.cg_z],
                          "tail_arm_m": args.tail_arm, "tail_area_m2": args.tail_area,
@@ -221,14 +241,51 @@ def run(args):
         "root_torsion": X[:, 0, 10].tolist(),
         "tip_displacement": (X[:, -1, 2] - r0[-1, 2]).tolist(),
         **pitch_out,
+        **alleviation,
         "wall_s": _time.perf_counter() - t_wall,
     }
     print(f"peak dn = {res['peak_incremental_load_factor']:.4f}, quasi-steady dn = {dn_qs:.4f}, mu = {mu:.2f}, "
           f"K_g = {res['pratt_walker_factor']:.3f}, {res['wall_s']:.1f} s", file=sys.stderr)
+    if alleviation:
+        a = alleviation["alleviation"]
+        print(f"alleviation: peak root bending increment {a['peak_incremental_root_bending_without_law'] / 1e3:.1f} -> "
+              f"{a['peak_incremental_root_bending_with_law'] / 1e3:.1f} kN m "
+              f"({100 * a['incremental_root_bending_reduction']:.1f} % less); "
+              + ", ".join(f"{nm}: peak {v['peak_deflection_deg']:.2f} deg (limit {v['max_deflection_deg']:g}), "
+                          f"{v['peak_rate_deg_s']:.1f} deg/s (limit {v['max_rate_deg_s']:g})"
+                          for nm, v in a["surfaces"].items()), file=sys.stderr)
     write_json(res, args.json)  # the result first: a plotting failure must never lose it
     if plot_path:
         _plots(res, plot_path[:-len(".png")])
     return 0
+
+
+def _check_alleviation(args):
+    """``(surfaces, law)`` of --alleviation (empty without it), checked before any solve: the file's
+    keys and values, the surfaces against the case's beam nodes, the law's outputs against the model."""
+    if args.alleviation is None:
+        return (), None
+    if args.aero != "coupled":
+        raise ValueError(f"--alleviation {args.alleviation} needs --aero coupled (control surfaces act in the march)")
+    from wingmdao.aero.controls import read_alleviation
+
+    surfaces, law = read_alleviation(args.alleviation)
+    outputs = () if law is None else law.outputs
+    if "load_factor" in outputs and not args.plunge:
+        raise ValueError(f"--alleviation {args.alleviation}: output load_factor needs free plunge (--plunge free)")
+    if "pitch_rate" in outputs and not args.pitch:
+        raise ValueError(f"--alleviation {args.alleviation}: output pitch_rate needs --pitch free")
+    return surfaces, law
+
+
+def _check_surfaces_on_beam(args, surfaces, law, node_positions):
+    """The surfaces' spans against the case's beam nodes (before the march)."""
+    from wingmdao.aero.controls import control_spec
+
+    try:
+        control_spec(surfaces, np.asarray(node_positions)[:, 1], law)
+    except ValueError as exc:
+        raise ValueError(f"--alleviation {args.alleviation}: {exc}") from None
 
 
 def _check_outputs(args, plot_name):
@@ -280,16 +337,26 @@ def _plots(res, stem):
         print("matplotlib not installed: no plots", file=sys.stderr)
         return
     t = res["time"]
-    fig, axes = plt.subplots(3, 1, figsize=(7, 8), sharex=True)
-    axes[0].plot(t, res["load_factor"])
+    alleviation = res.get("alleviation")
+    fig, axes = plt.subplots(4 if alleviation else 3, 1, figsize=(7, 10 if alleviation else 8), sharex=True)
+    axes[0].plot(t, res["load_factor"], label="with law" if alleviation else None)
     axes[0].set_ylabel("load factor")
+    if alleviation:  # the same gust without the law, and the surfaces' deflections
+        axes[0].plot(t, alleviation["load_factor_without_law"], "--", label="without law")
+        axes[0].legend()
+        axes[1].plot(t, np.asarray(alleviation["root_bending_moment_without_law"]) / 1e3, "--",
+                     label="bending M_x without law")
+        for name, srf in alleviation["surfaces"].items():
+            axes[3].plot(t, srf["deflection_deg"], label=f"{name} (limit {srf['max_deflection_deg']:g} deg)")
+        axes[3].set_ylabel("deflection (deg)")
+        axes[3].legend()
     axes[1].plot(t, np.asarray(res["root_bending_moment"]) / 1e3, label="bending M_x")
     axes[1].plot(t, np.asarray(res["root_torsion"]) / 1e3, label="torsion M_y")
     axes[1].set_ylabel("root moment (kN m)")
     axes[1].legend()
     axes[2].plot(t, res["tip_displacement"])
     axes[2].set_ylabel("tip deflection (m)")
-    axes[2].set_xlabel("time (s)")
+    axes[-1].set_xlabel("time (s)")
     for ax in axes:
         ax.grid(True)
     from wingmdao.plots import save_figure

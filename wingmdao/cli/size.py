@@ -190,6 +190,9 @@ def run_size(args) -> int:
         for key in ("ks", "max_ks", "active_constraints"):  # from the unconverged solve: meaningless
             result.pop(key, None)
     result["case"] = args.case_module.NAME
+    gains = sizing.control_gains(prob, setup.load_cases) if comm is None and not failed else {}
+    if gains:
+        result["control_law"] = gains
     result["mpi_ranks"] = launched_ranks() if comm is not None else 1
     if recording:
         result["recording"] = recording

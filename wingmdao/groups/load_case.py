@@ -97,7 +97,9 @@ class LoadCase:
             return FORCING_SHAPES
         from wingmdao.aero.coupled import AERO_FORCING_SHAPES
 
-        return {**FORCING_SHAPES, **AERO_FORCING_SHAPES}
+        controls = getattr(self.aero, "controls", None)
+        extra = {"surface_command": (controls.n_surfaces,)} if controls is not None else {}
+        return {**FORCING_SHAPES, **AERO_FORCING_SHAPES, **extra}
 
     def forcing_array(self, name: str, num_nodes: int) -> np.ndarray:
         """The full (n_time, ...) array of forcing ``name`` (zeros when not given), validated."""

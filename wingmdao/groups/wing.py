@@ -134,6 +134,8 @@ def set_case_loads(prob: om.Problem, case: LoadCase, num_nodes: int, path: str =
         for name, (units, _) in AERO_FORCING_META.items():
             if (name != "trim_active" or case.aero.trim) and (name != "tail_gust_velocity" or case.aero.pitch):
                 prob.set_val(prefix + name, case.forcing_array(name, num_nodes), units=units)
+        if case.aero.controls is not None:
+            prob.set_val(prefix + "surface_command", case.forcing_array("surface_command", num_nodes), units="rad")
         for name, val in {**case.aero.parameters(num_nodes), **case.aero.model_inputs()}.items():
             prob.set_val(prefix + name, val)
 
@@ -205,12 +207,14 @@ class WingStructure(om.Group):
                 raise ValueError(f"load case {case.name}: structural damping is not available with aero")
             beam = AeroelasticBeamDynamics(num_nodes=n, time=case.time, plunge=bool(aero.plunge),
                                            trim=bool(aero.trim), aero_theory=aero.residual_theory)
-            if aero.pitch:  # free pitch (wingmdao.aero.pitch): the system with the pitch states and tail
+            if aero.pitch or aero.controls is not None:  # free pitch (wingmdao.aero.pitch), control surfaces
                 from wingmdao.aero.system import cached_aeroelastic_system
 
-                beam.options["system"] = cached_aeroelastic_system(n, plunge=True, trim=True, pitch=True,
-                                                                   tail_lag=bool(aero.tail_lag),
-                                                                   aero_theory=aero.residual_theory)
+                beam.options["system"] = cached_aeroelastic_system(n, plunge=bool(aero.plunge), trim=bool(aero.trim),
+                                                                   pitch=bool(aero.pitch),
+                                                                   tail_lag=bool(aero.pitch and aero.tail_lag),
+                                                                   aero_theory=aero.residual_theory,
+                                                                   controls=aero.controls)
             for k, v in (self.options["newton_options"] or {}).items():
                 if k in beam.options:
                     beam.options[k] = v
@@ -219,6 +223,10 @@ class WingStructure(om.Group):
             extra += ["tail_area", "tail_lift_slope", "downwash_gradient"] if aero.pitch else []
             extra += ["trim_lift"] if aero.trim and not aero.plunge else []
             extra += ["lift_influence", "moment_influence"] if aero.residual_theory == "vlm" else []
+            if aero.controls is not None:  # the law's matrices (the gains) and the open-loop command
+                from wingmdao.aero.system import control_param_specs
+
+                extra += [s.name for s in control_param_specs(aero.controls)] + ["surface_command"]
             if aero.pitch:  # body mass, first moment, pitch inertia, tail position from the aircraft inputs
                 from wingmdao.components.aeroelastic import PitchBodyProperties
 

@@ -1,0 +1,184 @@
+"""Figures of docs/controls.md (control surfaces, actuators and load alleviation).
+
+``python benchmarks/controls_figures.py`` writes
+
+* docs/figures/controls_flap_theory.png - dCl/dbeta, dCm_c/4/dbeta and the hinge-moment
+  coefficients against the hinge position: Theodorsen's flap functions (wingmdao.aero.controls)
+  against Glauert's closed forms and a direct integration of the thin-airfoil load over the flap;
+* docs/figures/controls_harmonic_flap.png - the marched residual's flap lift per radian at several
+  reduced frequencies against Theodorsen's closed form with the model's C(k) (Jones) and the exact C(k);
+* docs/figures/controls_stability_limit.png - the closed-loop eigenvalue of the root-bending
+  feedback of tests/test_controls_system.py against the gain, with the marched growth/decay rates;
+* docs/figures/controls_pegasus_gust.png - PEGASUS 1-cos gust without and with the law of
+  docs/examples/pegasus_alleviation.yaml (runs ``wingmdao gust pegasus --alleviation ...``).
+
+About 2 minutes on one core.
+"""
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "tests"))
+import test_controls as TC  # noqa: E402
+import test_controls_system as TS  # noqa: E402
+
+from wingmdao.aero import theodorsen_exact, theodorsen_jones  # noqa: E402
+from wingmdao.aero.controls import (ControlSurface, flap_harmonic_loads, flap_lift_effectiveness,  # noqa: E402
+                                    hinge_moment_coefficients, theodorsen_flap_functions)
+from wingmdao.plots import save_figure  # noqa: E402
+from wingmdao.timemarch.bdf import march, state_rates  # noqa: E402
+from wingmdao.timemarch.system import layout  # noqa: E402
+
+FIG = os.path.join(HERE, "..", "docs", "figures")
+
+
+def flap_theory(plt):
+    hinge = np.linspace(0.5, 0.95, 46)
+    th = np.arccos(1 - 2 * hinge)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    axes[0].plot(hinge, [flap_lift_effectiveness(h) for h in hinge], label="dCl/dbeta (2 T10)")
+    axes[0].plot(hinge[::5], 2 * (np.pi - th[::5] + np.sin(th[::5])), "ko", mfc="none", label="Glauert")
+    axes[0].plot(hinge, [-theodorsen_flap_functions(h)[15] / 2 for h in hinge], label="dCm_c/4/dbeta (-T15/2)")
+    axes[0].plot(hinge[::5], -0.5 * np.sin(th[::5]) * (1 - np.cos(th[::5])), "ks", mfc="none",
+                 label="Glauert -sin(th)(1-cos th)/2")
+    axes[0].set_xlabel("hinge (fraction of chord)")
+    axes[0].set_ylabel("per rad")
+    axes[0].legend(fontsize=8)
+    ch = np.array([hinge_moment_coefficients(h) for h in hinge])
+    ref = np.array([(TC._thin_airfoil_hinge_coefficient(h, 1.0, 0.0), TC._thin_airfoil_hinge_coefficient(h, 0.0, 1.0))
+                    for h in hinge[::5]])
+    axes[1].plot(hinge, ch[:, 0], label="C_h,alpha (-T12/2)")
+    axes[1].plot(hinge, ch[:, 1], label="C_h,beta (-(T18+T10 T12)/(2 pi))")
+    axes[1].plot(hinge[::5], ref[:, 0], "ko", mfc="none", label="thin-airfoil load integrated")
+    axes[1].plot(hinge[::5], ref[:, 1], "ks", mfc="none")
+    axes[1].set_xlabel("hinge (fraction of chord)")
+    axes[1].set_ylabel("hinge moment / (q c^2) per rad")
+    axes[1].legend(fontsize=8)
+    for ax in axes:
+        ax.grid(True)
+    print("max |C_h - thin airfoil|:", float(np.max(np.abs(ch[::5] - ref))))
+    save_figure(fig, os.path.join(FIG, "controls_flap_theory.png"))
+
+
+def harmonic(plt):
+    hinge, b = 0.75, 0.5
+    s, p, q = TS._rigid_wing(2, [ControlSurface("flap", hinge=hinge, nodes=(0, 1), actuator_order=2,
+                                                frequency_hz=200.0, damping=0.7)])
+    ks = np.array([0.05, 0.1, 0.2, 0.4, 0.7, 1.0])
+    ours = []
+    for k in ks:
+        w = k * TS.V / b
+        t = np.linspace(0.0, 5 * 2 * np.pi / w, 5 * 200 + 1)
+        Q = np.tile(q, (t.size, 1))
+        Q[:, layout(s.forcing_specs)["surface_command"]] = 0.02 * np.sin(w * t)[:, None]
+        h = march(s, t, p, Q)
+        L, _ = s.section_load_history(h.states, state_rates(h.states, t[1] - t[0]), p, Q)
+        m = t >= 3 * 2 * np.pi / w
+        A = np.column_stack([np.sin(w * t[m]), np.cos(w * t[m]), np.ones(m.sum())])
+        cl = np.linalg.lstsq(A, L[m, 0], rcond=None)[0]
+        cb = np.linalg.lstsq(A, h.states[m, s.control_index["flap_deflection"]], rcond=None)[0]
+        ours.append((cl[0] + 1j * cl[1]) / (cb[0] + 1j * cb[1]) / (TS.RHO * TS.V ** 2 * b))
+    ours = np.array(ours)
+    kk = np.linspace(0.02, 1.0, 100)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    for C, style, name in ((theodorsen_jones, "-", "Theodorsen, Jones C(k)"), (theodorsen_exact, "--", "Theodorsen, exact C(k)")):
+        ref = flap_harmonic_loads(kk, hinge, C)[0]
+        axes[0].plot(kk, np.abs(ref), style, label=name)
+        axes[1].plot(kk, np.degrees(np.angle(ref)), style, label=name)
+    axes[0].plot(ks, np.abs(ours), "ko", label="marched residual")
+    axes[1].plot(ks, np.degrees(np.angle(ours)), "ko", label="marched residual")
+    axes[0].set_ylabel("|L| / (rho V^2 b beta)")
+    axes[1].set_ylabel("phase (deg)")
+    for ax in axes:
+        ax.set_xlabel("reduced frequency k")
+        ax.grid(True)
+        ax.legend(fontsize=8)
+    ref = flap_harmonic_loads(ks, hinge, theodorsen_jones)[0]
+    print("harmonic flap lift, max |ours/ref - 1| (Jones C):", float(np.max(np.abs(ours / ref - 1))))
+    save_figure(fig, os.path.join(FIG, "controls_harmonic_flap.png"))
+
+
+def stability(plt):
+    s, params, q = TS._flexible_wing(0.0)
+    gains = np.linspace(0.0, 260.0, 27)
+    lam = np.array([TS._slowest(s, params(K), q).real for K in gains])
+    k_star = float(np.interp(0.0, lam, gains))
+    t = np.arange(0, 601) * 0.01
+    Q = np.tile(q, (t.size, 1))
+    Q[(t > 0) & (t <= 0.05), layout(s.forcing_specs)["surface_command"]] = 0.01
+    marched = []
+    for K in (0.4 * k_star, 0.7 * k_star, 1.15 * k_star):
+        h = march(s, t, params(K), Q)
+        mlog = np.log(np.abs(h.states[:, 9]))
+        marched.append((K, np.polyfit(t[t >= 3.0], mlog[t >= 3.0], 1)[0]))
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(gains, lam, label="eigenvalue (linearization)")
+    ax.plot(*zip(*marched), "ko", mfc="none", label="march: growth rate of root bending")
+    ax.axhline(0.0, color="k", lw=0.5)
+    ax.axvline(k_star, color="r", ls=":", label=f"K* = {k_star:.1f} rad/(MN m)")
+    ax.set_xlabel("gain K (aileron rad per MN m of root bending)")
+    ax.set_ylabel("real eigenvalue (1/s)")
+    ax.grid(True)
+    ax.legend(fontsize=8)
+    print("stability limit K* =", k_star, "marched rates:", marched)
+    save_figure(fig, os.path.join(FIG, "controls_stability_limit.png"))
+
+
+def pegasus(plt):
+    example = os.path.join(HERE, "..", "docs", "examples", "pegasus_alleviation.yaml")
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "g.json")
+        subprocess.run([sys.executable, "-m", "wingmdao", "gust", "pegasus", "--alleviation", example, "--no-plots",
+                        "--json", out], check=True)
+        with open(out) as fh:
+            res = json.load(fh)
+    a = res["alleviation"]
+    s = a["surfaces"]["aileron"]
+    t = np.asarray(res["time"])
+    fig, axes = plt.subplots(4, 1, figsize=(7, 10), sharex=True)
+    axes[0].plot(t, a["load_factor_without_law"], label="without law")
+    axes[0].plot(t, res["load_factor"], label="with law")
+    axes[0].set_ylabel("load factor")
+    axes[1].plot(t, np.asarray(a["root_bending_moment_without_law"]) / 1e3, label="without law")
+    axes[1].plot(t, np.asarray(res["root_bending_moment"]) / 1e3, label="with law")
+    axes[1].set_ylabel("root bending (kN m)")
+    axes[2].plot(t, s["deflection_deg"], label="deflection (deg)")
+    axes[2].plot(t, s["rate_deg_s"], label="rate (deg/s)")
+    for lim, style in ((s["max_deflection_deg"], ":"), (s["max_rate_deg_s"], "--")):
+        axes[2].axhline(lim, color="k", ls=style, lw=0.7)
+        axes[2].axhline(-lim, color="k", ls=style, lw=0.7)
+    axes[2].set_ylabel("aileron")
+    axes[3].plot(t, np.asarray(s["hinge_moment_n_m"]) / 1e3)
+    axes[3].set_ylabel("hinge moment (kN m)")
+    axes[3].set_xlabel("time (s)")
+    for ax in axes:
+        ax.grid(True)
+    for ax in axes[:3]:
+        ax.legend(fontsize=8)
+    print("PEGASUS: peak root bending increment", a["peak_incremental_root_bending_without_law"],
+          "->", a["peak_incremental_root_bending_with_law"], "peak dn", a["peak_incremental_load_factor_without_law"],
+          "->", a["peak_incremental_load_factor_with_law"], "aileron peak", s["peak_deflection_deg"], "deg",
+          s["peak_rate_deg_s"], "deg/s, hinge", s["peak_hinge_moment_n_m"], "N m")
+    save_figure(fig, os.path.join(FIG, "controls_pegasus_gust.png"))
+
+
+def main():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    which = sys.argv[1:] or ["flap", "harmonic", "stability", "pegasus"]
+    for name, fun in (("flap", flap_theory), ("harmonic", harmonic), ("stability", stability), ("pegasus", pegasus)):
+        if name in which:
+            fun(plt)
+
+
+if __name__ == "__main__":
+    main()
