@@ -182,7 +182,7 @@ def _number(value, what, lo=-math.inf, hi=math.inf, lo_open=False, hi_open=False
     if not ok:
         u = f" {unit}" if unit else ""
         raise ValueError(f"{what} = {value!r}{u}; allowed range {'(' if lo_open else '['}{lo:g}, {hi:g}"
-                         f"{')' if hi_open else ']'}{u}")
+                         f"{')' if hi_open or math.isinf(hi) else ']'}{u}")
     return v
 
 
@@ -671,6 +671,7 @@ def turbulence_loads(model: WingModel, case: MatrixCase, fs: FlightState, mass: 
     n = model.num_nodes
     with np.errstate(divide="ignore", invalid="ignore"):
         corr = np.where(ab[:, None] > 0, cross / ab[:, None], 0.0)  # row j: rho_jk A-bar_k
+    corr[np.diag_indices_from(corr)] = ab  # rho_jj = 1 exactly: each snapshot holds its own extreme
     us = fs.u_sigma
     snaps = np.concatenate([p1g + us * corr, p1g - us * corr]).reshape(2 * 6 * n, n, 6)
     idx = np.arange(6 * n).reshape(n, 6)
