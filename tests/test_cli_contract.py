@@ -130,6 +130,8 @@ JSON_RUNS = {
     ("flutter",): ["goland", "--speeds", "100", "200", "3", "--num-nodes", "5", "--modes", "2", "--no-plots"],
     ("gust",): ["pegasus", "--t-final", "0.2", "--dt", "0.02", "--gust-start", "0.1", "--no-plots"],
     ("turbulence",): ["pegasus", "--grid-points", "11", "--no-plots"],
+    ("loads",): ["pegasus", "--matrix", os.path.join(os.path.dirname(os.path.abspath(__file__)), "data",
+                                                     "loads-matrix-tiny.yaml")],
     ("size", "aerostruct-crm"): ["--analysis-only", "--num-y", "9", "--no-oas-beam", "--quiet"],
     ("verify", "panel"): ["--material", "aluminium", "--t-skin", "0.002", "--width", "0.15", "--length", "0.45",
                           "--nx", "-1000", "--mesh-size", "0.075"],
@@ -163,7 +165,7 @@ def test_json_dash_writes_only_json_to_stdout(path, tmp_path, capsys):
 REQUIRED = {"section": ["--width", "1", "--height", "1"],
             "panel": ["--material", "aluminium", "--t-skin", "1", "--width", "1", "--length", "1"], "run": ["--geometry", "prismatic"],
             "verify": ["--geometry", "prismatic"], "export": ["--geometry", "prismatic", "--format", "calculix", "f"],
-            "gust": ["pegasus"], "turbulence": ["pegasus"], "flutter": ["goland"], "report": ["r.sql"],
+            "gust": ["pegasus"], "turbulence": ["pegasus"], "loads": ["pegasus", "--matrix", "m.yaml"], "flutter": ["goland"], "report": ["r.sql"],
             ("verify", "pegasus"): [],
             ("verify", "panel"): ["--material", "aluminium", "--t-skin", "1", "--width", "1", "--length", "1"], ("export", "pegasus"): ["--format", "calculix", "f"]}
 
