@@ -78,3 +78,22 @@ def test_ctrl_c_keeps_the_cases_done(tmp_path, capsys, monkeypatch):
     assert res["status"] == "interrupted" and res["evaluated_count"] == 2 and res["case_count"] == 5
     db = ldb.read_database(res["database"])
     assert db.status == "interrupted" and db.cases["evaluated"].tolist() == [True, True, False, False, False]
+
+
+EXAMPLES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "docs", "examples")
+
+
+def test_docs_example_matrices_are_valid():
+    m = lm.read_matrix(os.path.join(EXAMPLES, "pegasus-loads-matrix.yaml"))
+    assert len(lm.expand(m)) == 132  # docs/loads-matrix.md
+    m = lm.read_matrix(os.path.join(EXAMPLES, "pegasus-load-iteration.yaml"))
+    assert len(lm.expand(m)) == 40 and m.num_nodes == 20
+
+
+@pytest.mark.slow
+def test_docs_example_runs_as_it_stands(tmp_path):
+    js = tmp_path / "r.json"
+    path = os.path.join(EXAMPLES, "pegasus-loads-matrix.yaml")
+    assert main(["loads", "pegasus", "--matrix", path, "--out", str(tmp_path), "--json", str(js)]) == 0
+    res = json.loads(js.read_text())
+    assert res["case_count"] == res["evaluated_count"] == 132 and res["status"] == "complete"
