@@ -90,6 +90,12 @@ def main():
         diff = differences(db, other)
         print(f"mpirun -n {args.ranks}: {par:.1f} s wall, speed-up x{serial / par:.2f}; databases "
               f"{'identical' if not diff else 'differ in ' + ', '.join(diff)}")
+        if diff:  # how much, and in which cases
+            rel = np.nanmax(np.abs(db.loads_max - other.loads_max), axis=(1, 2)) / np.nanmax(np.abs(db.loads_max))
+            worst = np.argsort(-np.nan_to_num(rel))[:5]
+            print("  largest differences of loads/max relative to its largest value: "
+                  + ", ".join(f"{db.case_names[i]} {rel[i]:.1e}" for i in worst)
+                  + f"; {int(np.sum(rel > 0))} of {rel.size} cases differ")
     shutil.rmtree(tmp)
 
 

@@ -9,7 +9,7 @@ office's cards of the critical cases (:mod:`wingmdao.loads.cards`). Ctrl-C keeps
 the database is written with status ``interrupted`` and the command exits with 130.
 
 Files in ``--out``: ``CASE_loads.h5`` (the database), ``CASE_critical.bdf`` (Nastran FORCE/MOMENT)
-and ``CASE_critical.inp`` (CalculiX *CLOAD).
+and ``CASE_critical.inp`` (CalculiX ``*CLOAD``).
 
 JSON keys: case, matrix, status (complete | interrupted), database, cards (nastran, calculix,
 load_sets), case_count, evaluated_count, ranks, critical_cases (per monitoring station and load:

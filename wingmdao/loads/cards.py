@@ -1,4 +1,4 @@
-"""Stress-office cards of the critical cases: Nastran FORCE/MOMENT and CalculiX *CLOAD at the beam nodes.
+"""Stress-office cards of the critical cases: Nastran FORCE/MOMENT and CalculiX ``*CLOAD`` at the beam nodes.
 
 For each critical case of the screening (:attr:`wingmdao.loads.database.LoadsDatabase.max_case`
 and ``min_case``, per station and component) the database holds the wing's internal loads at the
@@ -22,7 +22,7 @@ Formats:
   Quick Reference Guide, FORCE and MOMENT bulk data entries); one load set (SID) per distinct
   critical snapshot, a ``$`` comment naming the case, station, component and extreme;
 * CalculiX input (free format): one ``*STEP`` / ``*STATIC`` / ``*CLOAD, OP=NEW`` per load set, DOFs
-  1-3 forces and 4-6 moments (CalculiX CrunchiX User's Manual, *CLOAD), to include after the
+  1-3 forces and 4-6 moments (CalculiX CrunchiX User's Manual, ``*CLOAD``), to include after the
   model definition.
 
 Beam node k is GRID / node ``first_id + k`` (default 1: numbered from the root).
@@ -179,7 +179,7 @@ def nastran_cards(load_sets, node_positions, node_euler_angles, first_id: int = 
 
 
 def calculix_cards(load_sets, node_positions, node_euler_angles, first_id: int = 1) -> str:
-    """One static step per load set with its *CLOAD (DOFs 1-3 forces, 4-6 moments)."""
+    """One static step per load set with its ``*CLOAD`` (DOFs 1-3 forces, 4-6 moments)."""
     lines = ["** wingmdao loads: nodal loads of the critical cases (N, N m, global frame); beam node k is node "
              f"{first_id} + k from the root; include after the model definition"]
     for ls in load_sets:
@@ -227,7 +227,7 @@ def read_nastran_loads(text: str, num_nodes: int, first_id: int = 1) -> dict:
 
 
 def read_calculix_cloads(text: str, num_nodes: int, first_id: int = 1) -> list:
-    """[(forces (n, 3), moments (n, 3))] of every *CLOAD block, in order."""
+    """[(forces (n, 3), moments (n, 3))] of every ``*CLOAD`` block, in order."""
     out, current = [], None
     for line in text.splitlines():
         s = line.strip()
