@@ -18,6 +18,7 @@ vertical_shear, bending_moment, torsion; the max and min with their case), wall_
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import sys
 import time as _time
@@ -61,6 +62,10 @@ def run(args):
     from wingmdao.parallel import is_root, world_comm
 
     t0 = _time.perf_counter()
+    missing = [m for m in ("h5py", "yaml") if importlib.util.find_spec(m) is None]
+    if missing:
+        raise ValueError(f"wingmdao loads needs {' and '.join(missing)} (the database, the matrix file): "
+                         "pip install 'wingmdao[loads]'")
     module = available_cases()[args.case]
     matrix = read_matrix(args.matrix)
     thickness = None

@@ -163,9 +163,17 @@ def assemble(module, model, cases, results: dict, *, case: str, interrupted=Fals
         run={"wall_time_s": float(wall_time_s), "ranks": int(ranks), "case_wall_s": wall})
 
 
+def _h5py():
+    try:
+        import h5py
+    except ImportError as exc:  # pragma: no cover - depends on the install
+        raise ImportError("the loads database needs h5py: pip install 'wingmdao[loads]'") from exc
+    return h5py
+
+
 def write_database(db: LoadsDatabase, path: str) -> str:
     """Write ``db`` to ``path`` (HDF5) atomically: a temporary file in the same folder, then a rename."""
-    import h5py
+    h5py = _h5py()
 
     if db.status not in STATUSES:
         raise ValueError(f"status = {db.status!r}; allowed {STATUSES}")
@@ -200,7 +208,7 @@ def write_database(db: LoadsDatabase, path: str) -> str:
 
 def read_database(path: str) -> LoadsDatabase:
     """Read a database written by :func:`write_database`; ValueError for a file that is not one."""
-    import h5py
+    h5py = _h5py()
 
     if not os.path.isfile(path):
         raise ValueError(f"loads database {path!r} does not exist")
