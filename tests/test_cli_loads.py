@@ -97,3 +97,22 @@ def test_docs_example_runs_as_it_stands(tmp_path):
     assert main(["loads", "pegasus", "--matrix", path, "--out", str(tmp_path), "--json", str(js)]) == 0
     res = json.loads(js.read_text())
     assert res["case_count"] == res["evaluated_count"] == 132 and res["status"] == "complete"
+
+
+def test_design_thicknesses_change_the_wing(tmp_path):
+    """--design: a sizing result's walls (as many stations as model.num_nodes) make a heavier wing,
+    whose inertia relieves the maneuver's root shear; a wrong station count is refused."""
+    walls = ("upper_skin", "lower_skin", "front_spar", "rear_spar")
+    design = tmp_path / "d.json"
+    design.write_text(json.dumps({"case": "pegasus", "thickness": {w: [0.02] * 5 for w in walls}}))
+    shear = {}
+    for tag, extra in (("initial", []), ("thick", ["--design", str(design)])):
+        js = tmp_path / f"{tag}.json"
+        assert main(["loads", "pegasus", "--matrix", TINY, "--out", str(tmp_path / tag), "--json", str(js), *extra]) == 0
+        db = ldb.read_database(json.loads(js.read_text())["database"])
+        i = db.case_names.index("h20000_V_C_mtow_maneuver_+2.5g")
+        shear[tag] = db.loads_max[i, 0, lm.COMPONENTS.index("vertical_shear")]
+    assert shear["thick"] < shear["initial"]  # twice the 10 mm walls: more wing mass at 2.5 g
+    design.write_text(json.dumps({"case": "pegasus", "thickness": {w: [0.02] * 20 for w in walls}}))
+    assert main(["loads", "pegasus", "--matrix", TINY, "--out", str(tmp_path / "x"), "--design", str(design),
+                 "--json", "-"]) == 2
