@@ -133,6 +133,8 @@ JSON_RUNS = {
     ("maneuver",): ["pegasus", "--checked-pitch", "--maneuvering-speed-eas", "90", "--pitch-inertia", "345000",
                     "--cg-x", "0.67", "--tail-arm", "12", "--tail-area", "11.7", "--tail-lift-slope", "4",
                     "--steps", "20", "--no-plots"],
+    ("loads",): ["pegasus", "--matrix", os.path.join(os.path.dirname(os.path.abspath(__file__)), "data",
+                                                     "loads-matrix-tiny.yaml")],
     ("size", "aerostruct-crm"): ["--analysis-only", "--num-y", "9", "--no-oas-beam", "--quiet"],
     ("verify", "panel"): ["--material", "aluminium", "--t-skin", "0.002", "--width", "0.15", "--length", "0.45",
                           "--nx", "-1000", "--mesh-size", "0.075"],
@@ -166,7 +168,7 @@ def test_json_dash_writes_only_json_to_stdout(path, tmp_path, capsys):
 REQUIRED = {"section": ["--width", "1", "--height", "1"],
             "panel": ["--material", "aluminium", "--t-skin", "1", "--width", "1", "--length", "1"], "run": ["--geometry", "prismatic"],
             "verify": ["--geometry", "prismatic"], "export": ["--geometry", "prismatic", "--format", "calculix", "f"],
-            "gust": ["pegasus"], "turbulence": ["pegasus"], "maneuver": ["pegasus"], "flutter": ["goland"], "report": ["r.sql"],
+            "gust": ["pegasus"], "turbulence": ["pegasus"], "maneuver": ["pegasus"], "loads": ["pegasus", "--matrix", "m.yaml"], "flutter": ["goland"], "report": ["r.sql"],
             ("verify", "pegasus"): [],
             ("verify", "panel"): ["--material", "aluminium", "--t-skin", "1", "--width", "1", "--length", "1"], ("export", "pegasus"): ["--format", "calculix", "f"]}
 

@@ -42,6 +42,10 @@ def _add_common(p, *, sizing: bool):
                        help="add the 14 CFR 25.341(b) continuous-turbulence constraint: KS of the corner design stresses "
                             "1 g +/- U_sigma A-bar <= yield at V_C, root clamped, structural damping --damping-ratio "
                             "when > 0, else 0.02 (cases with aerodynamic data: pegasus; docs/turbulence.md)")
+        p.add_argument("--matrix", metavar="FILE.yaml", default=None,
+                       help="size against the critical cases of a loads matrix (docs/loads-matrix.md), re-check "
+                            "the whole matrix at the optimum, repeat while the critical set changes (load "
+                            "iteration; cases with a loads-matrix model: pegasus; one process, no plots or recording)")
         p.add_argument("--no-flutter-search", action="store_true",
                        help="do not search the flutter speed of the result (flutter_speed_m_s, cases with "
                             "aerodynamic data)")
@@ -131,6 +135,8 @@ def run_size(args) -> int:
                            f"(0.25, 0.5, 0.75, 1) = {', '.join(f'{v:.1f}' for v in setup.flutter['speeds'])} m/s")
     if getattr(args, "turbulence", False):
         _add_turbulence(args, setup, comm)
+    if args.matrix is not None:
+        return _run_load_iteration(args, setup, comm)
     plots = [] if args.no_plots else _plot_paths(stem, setup)
     if len(setup.load_cases) > 1:  # an envelope: its loads file and plots are outputs too
         from wingmdao.envelope import check_stations, output_paths
@@ -215,6 +221,44 @@ def run_size(args) -> int:
             f"{'the JSON on standard output' if args.json == '-' else args.json}"
             + (f", recording {recording}" if recording else ""))
         return EXIT_INTERRUPTED
+
+
+def _run_load_iteration(args, setup, comm) -> int:
+    """--matrix: the load iteration of :mod:`wingmdao.loads.iteration`; JSON: the last sizing's result
+    with ``load_iteration`` (passes; cases sized, re-checked, added; converged)."""
+    import sys
+
+    from wingmdao import sizing
+    from wingmdao.loads.iteration import load_iteration
+    from wingmdao.loads.matrix import read_matrix
+
+    module = args.case_module
+    if not (hasattr(module, "beam_params") and hasattr(module, "GUST_SET_DEFAULTS")):
+        raise ValueError(f"--matrix: case {module.NAME!r} has no loads-matrix model (cases with it: pegasus)")
+    if comm is not None:
+        raise ValueError("--matrix: the load iteration runs in one process (no mpirun); "
+                         "'mpirun -n P wingmdao loads CASE --matrix FILE' runs a matrix over ranks")
+    if args.analysis_only:
+        raise ValueError("--matrix sizes against the matrix; without sizing use 'wingmdao loads CASE --matrix FILE'")
+    matrix = read_matrix(args.matrix)
+    opts = setup.options
+    opts.optimizer = args.optimizer
+    if args.maxiter is not None:
+        opts.maxiter = args.maxiter
+    if args.presize is not None:
+        opts.presize = args.presize
+    opts.recording = None
+    opts.progress = not args.quiet
+    say(f"wingmdao size {module.NAME} --matrix {args.matrix}: load iteration over the matrix's critical cases")
+    result = load_iteration(module, matrix, setup, size=lambda s: sizing.size_case(s, comm=False),
+                            progress=sys.stderr)
+    result["case"] = module.NAME
+    result["matrix"] = os.path.abspath(args.matrix)
+    it = result["load_iteration"]
+    say(f"load iteration: {it['sized']} cases sized, {it['rechecked']} re-checked, {it['added']} added after the "
+        f"first pass, {'converged' if it['converged'] else 'not converged'}; mass {result.get('mass_kg', float('nan')):.1f} kg")
+    write_json(result, args.json)
+    return 0
 
 
 def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupted, failed) -> int:
