@@ -10,7 +10,7 @@ import numpy as np
 from wingmdao.cases import options_from_namespace
 from wingmdao.cli._io import EXIT_INTERRUPTED, check_output_dir, check_output_file, refuse_existing, say, warn, write_json
 from wingmdao.cli._args import CaseArguments, add_aero_theory_argument, add_output_arguments
-from wingmdao.utils.memory import return_freed_memory
+from wingmdao.utils.memory import return_freed_memory, return_large_blocks_on_free
 
 #: --presize upper bound (passes)
 MAX_PRESIZE = 20
@@ -102,6 +102,7 @@ def run_size(args) -> int:
     from wingmdao import sizing  # noqa: F401
     from wingmdao.stability import cases  # noqa: F401  (the flutter search of the result)
 
+    return_large_blocks_on_free()  # the resident set follows the memory in use, design point after design point
     return _size(args)
 
 
