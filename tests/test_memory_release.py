@@ -72,7 +72,7 @@ def test_size_command_frees_its_problem():
     code = ("import gc, sys\n"
             "from wingmdao.cli import main\n"
             "assert 'openmdao' not in sys.modules\n"
-            f"main(['size', 'cantilever', '--stations', '5', '--quiet', '--no-plots', '--out', sys.argv[1]])\n"
+            "main(['size', 'cantilever', '--stations', '5', '--quiet', '--no-plots', '--out', sys.argv[1]])\n"
             "import openmdao.api as om\n"
             "gc.collect()\n"
             "print(sum(isinstance(o, om.Problem) for o in gc.get_objects()))\n")
