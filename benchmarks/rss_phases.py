@@ -1,12 +1,16 @@
 """Resident memory of a ``wingmdao`` command phase by phase (docs/gust-envelope.md, "The whole command").
 
-    python benchmarks/rss_phases.py size pegasus --loads gust --t-final 20 --dt 0.005 --maxiter 1 \\
+    OPENBLAS_NUM_THREADS=1 python benchmarks/rss_phases.py size pegasus --loads gust --t-final 20 --dt 0.005 --maxiter 1 \\
         --presize 0 --no-plots --json /tmp/x.json --overwrite --quiet
 
 Runs the command in this process with a thread sampling the resident set (``/proc/self/statm``,
 every 50 ms) and marks at the start and end of ``build_problem``, ``presize_and_size``,
 ``summarize``, ``release_derivative_storage`` and ``flutter_search``; prints the peak, the RSS at
-each mark and the peak between marks. Linux only (``/proc``).
+each mark and the peak between marks; ``flutter_search`` runs after the sizing problem is freed.
+Linux only (``/proc``). This script imports ``wingmdao.sizing`` before the command, which the
+``wingmdao`` command does not (it sets one BLAS thread before NumPy loads): set
+``OPENBLAS_NUM_THREADS=1`` for the command's figures. The whole command's peak is measured on the
+command itself, ``/usr/bin/time -v wingmdao size ...`` (maximum resident set size).
 """
 
 from __future__ import annotations

@@ -56,3 +56,37 @@ def test_help_lists_cases(capsys):
     except SystemExit:
         pass
     assert "pegasus" in capsys.readouterr().out
+
+
+PEGASUS_ANALYSIS = ["size", "pegasus", "--analysis-only", "--no-plots", "--quiet"]
+
+
+def test_flutter_search_runs_after_the_json_and_ctrl_c_keeps_it(tmp_path, monkeypatch):
+    """The flutter search runs last, with the sizing problem freed: the JSON is written before it,
+    and Ctrl-C during the search keeps that result, marked interrupted."""
+    import wingmdao.stability.cases as stability_cases
+
+    out = tmp_path / "p.json"
+    seen = {}
+
+    def interrupted_search(*args, **kwargs):
+        seen["json"] = json.loads(out.read_text())  # written before the search
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(stability_cases, "flutter_search", interrupted_search)
+    assert main([*PEGASUS_ANALYSIS, "--out", str(tmp_path), "--json", str(out)]) == 130
+    assert "thickness" in seen["json"] and "flutter_speed_m_s" not in seen["json"]
+    res = json.loads(out.read_text())
+    assert res["interrupted"] is True and res["thickness"] == seen["json"]["thickness"]
+    assert "dive_speed_m_s" in res and "flutter_speed_m_s" not in res
+
+
+def test_flutter_result_on_standard_output_is_one_document(tmp_path, monkeypatch, capsys):
+    import wingmdao.stability.cases as stability_cases
+
+    found = {"flutter_speed": 250.0, "flutter_frequency": 30.0, "divergence_speed": None,
+             "sweep_max_speed": 300.0, "dive_speed": 197.5}
+    monkeypatch.setattr(stability_cases, "flutter_search", lambda *a, **k: found)
+    assert main([*PEGASUS_ANALYSIS, "--out", str(tmp_path), "--json", "-"]) == 0
+    res = json.loads(capsys.readouterr().out)  # one JSON document, the search's result in it
+    assert res["flutter_speed_m_s"] == 250.0 and res["flutter_search_max_speed_m_s"] == 300.0

@@ -29,3 +29,65 @@ def test_release_keeps_outputs_and_totals():
 
 def test_return_freed_memory_is_safe_to_call():
     assert return_freed_memory() in (True, False)
+
+
+def _one_case_totals():
+    setup = cantilever.build(load="step", stations=5, t_final=0.1, dt=0.01)
+    prob, _ = sizing.build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
+                                   driver=True, section=setup.section)
+    prob.run_model()
+    totals = prob.compute_totals()
+    solver = prob.model.cases.linear_solver
+    prob.cleanup()
+    return totals, solver
+
+
+def test_one_case_group_solves_without_a_copy_of_its_vector(monkeypatch):
+    """The ``cases`` group of a one-case model solves in reverse without LinearRunOnce's copy of its
+    derivative vector (a whole history per case), to the same totals, bit for bit."""
+    import openmdao.api as om
+
+    import wingmdao.groups.wing as wing
+    from wingmdao.groups.single_subsystem import SingleSubsystemRunOnce
+
+    lean, solver = _one_case_totals()
+    assert isinstance(solver, SingleSubsystemRunOnce) and solver._rhs_vec is None
+    monkeypatch.setattr(wing, "SingleSubsystemRunOnce", om.LinearRunOnce)
+    plain, solver = _one_case_totals()
+    assert solver._rhs_vec is not None  # LinearRunOnce keeps the copy
+    assert lean.keys() == plain.keys()
+    for key, val in plain.items():
+        assert np.array_equal(lean[key], val), key
+
+
+def test_size_command_frees_its_problem():
+    """OpenMDAO keeps the traceback of its failed optional jax import as module globals; imported
+    first inside the sizing run, it kept the run's frames, and the problem (~300 MB on the PEGASUS
+    gust), alive until the process ended. A fresh process: no Problem left after the command."""
+    import os
+    import subprocess
+    import sys
+    import tempfile
+
+    code = ("import gc, sys\n"
+            "from wingmdao.cli import main\n"
+            "assert 'openmdao' not in sys.modules\n"
+            "main(['size', 'cantilever', '--stations', '5', '--quiet', '--no-plots', '--out', sys.argv[1]])\n"
+            "import openmdao.api as om\n"
+            "gc.collect()\n"
+            "print(sum(isinstance(o, om.Problem) for o in gc.get_objects()))\n")
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    with tempfile.TemporaryDirectory() as out:
+        proc = subprocess.run([sys.executable, "-c", code, out], capture_output=True, text=True,
+                              env={**os.environ, "PYTHONPATH": root})
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert proc.stdout.strip().splitlines()[-1] == "0"
+
+
+def test_large_blocks_setting_leaves_the_users_choice(monkeypatch):
+    from wingmdao.utils.memory import return_large_blocks_on_free
+
+    monkeypatch.setenv("MALLOC_MMAP_THRESHOLD_", "1048576")
+    assert return_large_blocks_on_free() is False
+    monkeypatch.delenv("MALLOC_MMAP_THRESHOLD_")
+    assert return_large_blocks_on_free() in (True, False)  # False without glibc

@@ -10,6 +10,7 @@ import numpy as np
 from wingmdao.cases import options_from_namespace
 from wingmdao.cli._io import EXIT_INTERRUPTED, check_output_dir, check_output_file, refuse_existing, say, warn, write_json
 from wingmdao.cli._args import CaseArguments, add_aero_theory_argument, add_output_arguments
+from wingmdao.utils.memory import return_freed_memory, return_large_blocks_on_free
 
 #: --presize upper bound (passes)
 MAX_PRESIZE = 20
@@ -97,6 +98,20 @@ def _plot_paths(stem, setup):
 
 
 def run_size(args) -> int:
+    # The run's framework is imported here, before the run has any data. OpenMDAO keeps the
+    # traceback of its failed optional ``import jax`` as module globals (``openmdao.func_api``,
+    # ``openmdao.components.explicit_func_comp``, ``implicit_func_comp``), and a traceback keeps
+    # every frame that was on the stack at the import alive: imported from inside ``_size``, it
+    # would hold the sizing problem (~300 MB) until the process ends.
+    from wingmdao import sizing  # noqa: F401
+    from wingmdao.stability import cases  # noqa: F401  (the flutter search of the result)
+
+    return_large_blocks_on_free()  # the resident set follows the memory in use, design point after design point
+    return _size(args)
+
+
+def _size(args) -> int:
+    """``wingmdao size CASE`` once its modules are imported (:func:`run_size`)."""
     import sys
 
     from wingmdao import sizing
@@ -202,25 +217,56 @@ def run_size(args) -> int:
     result["mpi_ranks"] = launched_ranks() if comm is not None else 1
     if recording:
         result["recording"] = recording
+    # JSON on standard output is one document: written once, after the flutter search
+    deferred = args.json == "-" and root and not (interrupted or failed)
     try:
-        return _finish(args, prob, setup, result, stem, recording, root=root, comm=comm,
-                       interrupted=interrupted, failed=failed)
+        code, design = _finish(args, prob, setup, result, stem, recording, root=root, comm=comm,
+                               interrupted=interrupted, failed=failed, write=not deferred)
     except KeyboardInterrupt:  # Ctrl-C after the optimizer finished: its result is kept
         if interrupted or failed or not root:
             raise
         prob.cleanup()
-        result["interrupted"] = True
-        result["message"] = (f"{result.get('message', '')}; interrupted while writing the outputs "
-                             "(plots, envelope, flutter search): the design is the optimizer's result").lstrip("; ")
-        best = sizing.partial_result(prob, setup, desc, recording).get("best_design")
+        return _interrupted_after_sizing(args, result, recording)
+    except Exception:
+        if deferred:  # a failure in the outputs (e.g. the plots) must not lose the result
+            write_json(result, args.json)
+        raise
+    if interrupted or failed or not root:
+        return code
+    # the flutter search needs only the design: it runs once the sizing problem is freed, so it
+    # does not stack on the problem's vectors
+    del prob, desc
+    return_freed_memory()
+    try:
+        _add_flutter_result(result, args, setup, design)
+    except KeyboardInterrupt:  # the sizing result is kept (written already unless on standard output)
+        return _interrupted_after_sizing(args, result, recording)
+    if args.json and (deferred or "flutter_speed_m_s" in result):
+        write_json(result, args.json)
+    return code
+
+
+def _interrupted_after_sizing(args, result, recording) -> int:
+    """Ctrl-C after the optimizer finished (outputs, flutter search): the JSON of its result, marked
+    ``interrupted``, with the recording's best design; exit code 130."""
+    from wingmdao.report import best_design, read_history
+
+    result["interrupted"] = True
+    result["message"] = (f"{result.get('message', '')}; interrupted while writing the outputs "
+                         "(plots, envelope, flutter search): the design is the optimizer's result").lstrip("; ")
+    if recording and os.path.exists(recording):
+        try:
+            best = best_design(read_history(recording))
+        except ValueError:
+            best = None
         if best is not None:
             result["best_design"] = best
-        if args.json:
-            write_json(result, args.json)
-        say(f"wingmdao size {args.case_module.NAME}: interrupted after the optimizer finished; its result in "
-            f"{'the JSON on standard output' if args.json == '-' else args.json}"
-            + (f", recording {recording}" if recording else ""))
-        return EXIT_INTERRUPTED
+    if args.json:
+        write_json(result, args.json)
+    say(f"wingmdao size {args.case_module.NAME}: interrupted after the optimizer finished; its result in "
+        f"{'the JSON on standard output' if args.json == '-' else args.json}"
+        + (f", recording {recording}" if recording else ""))
+    return EXIT_INTERRUPTED
 
 
 def _run_load_iteration(args, setup, comm) -> int:
@@ -261,8 +307,9 @@ def _run_load_iteration(args, setup, comm) -> int:
     return 0
 
 
-def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupted, failed) -> int:
-    """The outputs after the solve: responses, flutter search, envelope, JSON, plots, summary."""
+def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupted, failed, write=True):
+    """The outputs after the solve that need the problem: responses, envelope, JSON (``write``),
+    plots, summary. Returns the exit code and the design of the flutter search (None: no search)."""
     import importlib.util
 
     import openmdao.api as om
@@ -277,8 +324,10 @@ def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupt
             warn("plots skipped (plots need matplotlib: pip install 'wingmdao[plot]'); "
                  "the JSON and the recording are written")
             plots_on = False
+    design = None
     if root and not (interrupted or failed):
-        _add_flutter_result(result, args, setup, prob)
+        sizing.release_derivative_storage(prob)  # the adjoint's blocks are not needed again
+        design = _flutter_design(result, args, setup, prob)
     if root and hasattr(args.case_module, "write_outputs") and not (interrupted or failed):
         args.case_module.write_outputs(prob, setup, stem, result)   # a case's own files (e.g. stw's CSVs)
     if root and len(setup.load_cases) > 1 and not (interrupted or failed):
@@ -291,7 +340,7 @@ def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupt
         result.setdefault("plots", []).extend(env["plots"])
         say("  critical load case per station:")
         say("\n".join("    " + line for line in format_critical_table(env["critical_cases"]).splitlines()))
-    if args.json and root:  # the result first: a plotting failure must never lose it
+    if args.json and root and write:  # the result first: a plotting failure must never lose it
         write_json(result, args.json)
     if plots_on:
         try:
@@ -301,7 +350,7 @@ def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupt
         except ImportError as exc:
             warn(f"plots skipped ({exc}); the JSON and the recording are written")
         else:
-            if args.json and args.json != "-" and root:
+            if args.json and args.json != "-" and root and write:
                 write_json(result, args.json)
     if not failed:
         _print_summary(result)
@@ -314,8 +363,8 @@ def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupt
         say(f"wingmdao size {args.case_module.NAME}: interrupted; best design so far in "
             f"{'the JSON on standard output' if args.json == '-' else args.json}"
             + (f", recording {recording}" if recording else ""))
-        return EXIT_INTERRUPTED
-    return 0 if result["success"] else 1
+        return EXIT_INTERRUPTED, None
+    return (0 if result["success"] else 1), design
 
 
 def _add_turbulence(args, setup, comm) -> None:
@@ -337,28 +386,23 @@ def _add_turbulence(args, setup, comm) -> None:
                        f"{setup.turbulence['u_sigma']:.2f} m/s TAS, root clamped, {note}")
 
 
-def _add_flutter_result(result, args, setup, prob) -> None:
-    """``dive_speed_m_s`` and the result's ``flutter_speed_m_s`` (a sweep and refinement at the
-    design, :func:`wingmdao.stability.cases.flutter_search`) for cases with aerodynamic data."""
-    import time
+def _flutter_design(result, args, setup, prob):
+    """``dive_speed_m_s`` (and the constraint's margin and speeds) in the result of a case with
+    aerodynamic data, and the design its flutter search analyses: the result's thicknesses, plus
+    the stiffeners of a stiffened design. None when there is no search."""
+    import importlib
 
-    from wingmdao.stability.cases import FLUTTER_CASES, flutter_search
+    from wingmdao.stability.cases import FLUTTER_CASES
 
     name = args.case_module.NAME
     if name not in FLUTTER_CASES or "thickness" not in result:
-        return
-    import importlib
-
+        return None
     result["dive_speed_m_s"] = float(importlib.import_module(f"wingmdao.cases.{name}").flight_point()["dive_speed"])
     if setup.flutter is not None:
         result["flutter_margin"] = float(args.flutter_margin)
         result["flutter_constraint_speeds_m_s"] = [float(v) for v in setup.flutter["speeds"]]
     if args.no_flutter_search:
-        return
-    from wingmdao.sizing import release_derivative_storage
-
-    release_derivative_storage(prob)  # the adjoint's blocks are not needed again: the search does not stack on them
-    t0 = time.perf_counter()
+        return None
     design = dict(result["thickness"])
     if setup.panels is not None:   # the stiffened design: its stiffeners are in the sections too
         from wingmdao.panels.layout import STIFFENER_VARS
@@ -366,7 +410,21 @@ def _add_flutter_result(result, args, setup, prob) -> None:
         from wingmdao.sizing import station_values
 
         design.update({k: station_values(prob, k) for k in STIFFENER_VARS})
-    found = flutter_search(name, setup.geometry.num_nodes, design, panels=setup.panels)
+    return design
+
+
+def _add_flutter_result(result, args, setup, design) -> None:
+    """The result's ``flutter_speed_m_s`` (a sweep and refinement at the design,
+    :func:`wingmdao.stability.cases.flutter_search`) for cases with aerodynamic data; nothing when
+    ``design`` is None (:func:`_flutter_design`)."""
+    import time
+
+    from wingmdao.stability.cases import flutter_search
+
+    if design is None:
+        return
+    t0 = time.perf_counter()
+    found = flutter_search(args.case_module.NAME, setup.geometry.num_nodes, design, panels=setup.panels)
     result["flutter_speed_m_s"] = found["flutter_speed"]
     result["flutter_frequency_rad_s"] = found["flutter_frequency"]
     result["divergence_speed_m_s"] = found["divergence_speed"]

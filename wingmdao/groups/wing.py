@@ -29,6 +29,7 @@ import openmdao.api as om
 
 from wingmdao.beam.residual import forcing_specs
 from wingmdao.groups.load_case import FORCING_SHAPES, LoadCase
+from wingmdao.groups.single_subsystem import SingleSubsystemRunOnce
 from wingmdao.materials import Material
 from wingmdao.panels.layout import STIFFENER_VARS, PanelLayout
 from wingmdao.section.box import WALL_NAMES
@@ -439,6 +440,8 @@ class WingSizing(om.Group):
         #: the group of the load cases (``cases``), for subclasses that add cases themselves
         self.cases_group = cases = self.add_subsystem("cases", om.ParallelGroup() if parallel else om.Group(),
                                                       promotes_inputs=["*"] if self.options["proxy_cases"] else shared)
+        # one case in one process: its solve without a copy of its whole derivative vector
+        cases.linear_solver = SingleSubsystemRunOnce()
         for case in self.options["load_cases"]:
             cases.add_subsystem(case.name, WingStructure(
                 num_nodes=n, load_case=case, material=mat, rho_ks=self.options["rho_ks"],
