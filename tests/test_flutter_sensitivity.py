@@ -133,7 +133,7 @@ def _small_pegasus_sizing(n=6):
 def test_small_pegasus_sizing_check_totals():
     from wingmdao.sizing import WALL_VARS
 
-    prob = _small_pegasus_sizing(5)
+    prob = _small_pegasus_sizing(6)
     prob.run_model()
     assert prob.get_val("flutter_ks")[0] < 0.0  # the 10 mm class design does not flutter below 1.15 V_D
     data = prob.check_totals(of=["flutter_ks"], wrt=list(WALL_VARS), method="fd", form="central", step=1e-6,
@@ -150,7 +150,7 @@ def test_paused_flutter_evaluates_nothing_and_resumes():
     flutter_ks left as it was; afterwards (also after an error inside) it evaluates again."""
     from wingmdao.components.flutter import FlutterDamping, paused_flutter
 
-    prob = _small_pegasus_sizing(5)
+    prob = _small_pegasus_sizing(6)
     comp = next(prob.model.system_iter(recurse=True, typ=FlutterDamping))
     with paused_flutter(prob) as comps:
         assert comps == [comp]
