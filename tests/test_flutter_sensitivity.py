@@ -150,7 +150,7 @@ def test_paused_flutter_evaluates_nothing_and_resumes():
     flutter_ks left as it was; afterwards (also after an error inside) it evaluates again."""
     from wingmdao.components.flutter import FlutterDamping, paused_flutter
 
-    prob = _small_pegasus_sizing(6)
+    prob = _small_pegasus_sizing(4)
     comp = next(prob.model.system_iter(recurse=True, typ=FlutterDamping))
     with paused_flutter(prob) as comps:
         assert comps == [comp]
