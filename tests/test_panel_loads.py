@@ -122,6 +122,30 @@ def test_biaxial_interaction_square_plate_exact_and_conservative_long_plate():
         bk.interaction_ratio(-1e4, 3e3, nx_cr, 2e4), rel=1e-9)
 
 
+def test_biaxial_interaction_does_not_credit_spanwise_tension_against_chordwise_compression():
+    """A 0.15 x 0.62 m bay (1.5 mm aluminium) under chordwise compression N_y with spanwise
+    tension N_x (the lower skin near the tip at +2.5 g): the exact load factor is the minimum
+    over half-waves (m, n) of the Navier condition N_x (m/a)^2 + N_y (n/b)^2 =
+    pi^2 D ((m/a)^2 + (n/b)^2)^2 (Timoshenko & Gere Sec. 9.3). The tension raises the transverse
+    mode (1, 1) by only N_x (b/a)^2, so the interaction must stay conservative (R times the
+    exact factor >= 1), which the straight line extended into tension (R_c = -N_x / N_x,cr +
+    N_y / N_y,cr) is not; without tension it is N_y / N_y,cr."""
+    t, nu, E = 0.0015, ALUMINIUM.nu, ALUMINIUM.E
+    D = E * t**3 / (12 * (1 - nu**2))
+    a, b = 0.62, 0.15
+    nx_cr = bk.plate_compression_ss(D, D, nu * D, (1 - nu) * D / 2, a, b)
+    ny_cr = bk.plate_compression_ss(D, D, nu * D, (1 - nu) * D / 2, b, a)
+    for nx, ny in ((1e4, -5e3), (2e4, -5e3), (3e4, -8e3)):
+        lam = min(math.pi**2 * D * ((m / a) ** 2 + (k / b) ** 2) ** 2 / (-nx * (m / a) ** 2 - ny * (k / b) ** 2)
+                  for m in range(1, 30) for k in range(1, 5)
+                  if -nx * (m / a) ** 2 - ny * (k / b) ** 2 > 0)
+        r = float(bk.biaxial_interaction_ratio(nx, ny, 0.0, nx_cr, ny_cr, 1e9))
+        assert r * lam >= 1.0
+        assert r == pytest.approx(-ny / ny_cr, rel=1e-6)
+        straight_line = -nx / nx_cr - ny / ny_cr
+        assert straight_line * lam < 0.9            # what crediting the tension would give: unconservative
+
+
 def test_transverse_skin_critical_load_isotropic():
     """A bay b wide, a long, compressed across (on its long edges): k = (1 + (b/a)^2)^2 on
     pi^2 D / b^2 (Timoshenko & Gere Sec. 9.2 with the plate's length b in the load direction)."""

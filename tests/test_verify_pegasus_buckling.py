@@ -114,11 +114,13 @@ def test_model_factor_per_case_matches_the_panels_block(design_file):
 @pytest.mark.slow
 def test_coarse_run_positive_factor(design_file, tmp_path, capsys):
     """A coarse run (0.5 m span elements, one element per bay) returns a positive first factor,
-    the model's factor, where both are, and the counts."""
+    the model's factor, where both are, and the counts; ``--running-loads`` adds the static
+    state's skin running loads (-1 g: the upper skin in tension, the lower in compression at
+    the root, as the model has them)."""
     out = tmp_path / "b.json"
     png = tmp_path / "verify_pegasus_buckling.png"
     assert main(["verify", "pegasus", "--buckling", "--design", design_file, *COARSE, "--json", str(out),
-                 "--loads", "maneuver-neg", "--out", str(png.parent)]) == 0
+                 "--loads", "maneuver-neg", "--out", str(png.parent), "--running-loads"]) == 0
     assert png.stat().st_size > 0
     r = json.loads(out.read_text())
     assert r["loads_case"] == "maneuver_neg" and r["loads"]["load_factor"] == pytest.approx(-1.0)
@@ -134,6 +136,10 @@ def test_coarse_run_positive_factor(design_file, tmp_path, capsys):
     by_station = r["model_factor_by_station"]
     assert min(min(f for f in v if f is not None) for v in by_station.values()) == \
         pytest.approx(r["model_buckling_factor"], rel=1e-9)
+    fe_rows, model = r["fe_running_loads"], r["model_running_loads"]
+    assert fe_rows["upper_skin"][0]["n_span_mid"] > 0 > fe_rows["lower_skin"][0]["n_span_mid"]
+    assert model["upper_skin"]["n_span_front"][0] > 0 > model["lower_skin"]["n_span_front"][0]
+    assert len(model["lower_skin"]["n_chord"]) == 20
 
 
 def _fails(argv, capsys, flag):

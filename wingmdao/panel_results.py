@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from wingmdao.stress.box_stress import SECTION_PROPERTIES, panel_running_loads
 from wingmdao.panels.layout import (cover_kinks, panel_families, rib_crushing_ratio, rib_shear_ratio, rib_web_ratio,
                                    smeared_stringer)
 
@@ -192,3 +193,41 @@ def rib_summary(prob, load_cases, panels, geometry, material) -> dict:
             "shear_ratio": (worst["shear"] * scale).tolist(), "cover_kink": kink.tolist(),
             "margin_of_safety": (1.0 / np.maximum(panels.safety_factor * ratio, 1e-300) - 1.0).tolist(),
             "mass_kg": mass}
+
+
+def model_running_loads(prob, case_name, panels, time_index=0) -> dict:
+    """The sizing model's running loads (N/m, compression negative) of the skins at every
+    station of a load case, as the panel modes take them
+    (:func:`wingmdao.stress.box_stress.panel_running_loads`): per skin (``upper``, ``lower``)
+    lists along the stations of ``n_span_front``, ``n_span_rear`` (skin plus smeared
+    stiffeners), ``n_shear_front``, ``n_shear_rear`` (the edge shear flows) and ``n_chord``
+    (mid-chord). ``prob``: a run stiffened sizing problem; ``time_index``: the step of the case.
+    Walls of the sizing's own material (the transformed-section wall factors are not applied)."""
+    path = f"cases.{case_name}.panels."
+    val = {}
+    for name in ("F_csn", "M_csn", "dF_csn_ds"):
+        val[name] = np.asarray(prob.get_val(path + name))[time_index]
+    station = {}
+    for name in ("width", "height", "t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar",
+                 "h_upper_stiffener", "t_upper_stiffener", "h_lower_stiffener", "t_lower_stiffener",
+                 *SECTION_PROPERTIES):
+        station[name] = np.asarray(prob.get_val(path + name)).reshape(-1)
+    n = val["F_csn"].shape[0]
+    out = {s: {k: [] for k in ("n_span_front", "n_span_rear", "n_shear_front", "n_shear_rear", "n_chord")}
+           for s in ("upper", "lower")}
+    for i in range(n):
+        st = {k: v[i] if v.size == n else v[0] for k, v in station.items()}
+        walls = [st[k] for k in ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")]
+        t_ax = [walls[k] + smeared_stringer(st[f"h_{s}_stiffener"], st[f"t_{s}_stiffener"], panels.stiffener_pitch,
+                                            panels.shape, panels.flange_ratio)[0]
+                for k, s in enumerate(("upper", "lower"))]
+        loads = panel_running_loads(val["F_csn"][i], val["M_csn"][i], st["width"], st["height"], *walls, t_ax,
+                                    {k: st[k] for k in SECTION_PROPERTIES}, force_gradient=val["dF_csn_ds"][i])
+        for k, s in enumerate(("upper", "lower")):
+            o = out[s]
+            o["n_span_front"].append(float(loads["nx_skin"][2 * k]))
+            o["n_span_rear"].append(float(loads["nx_skin"][2 * k + 1]))
+            o["n_shear_front"].append(float(loads["nxy_skin"][2 * k]))
+            o["n_shear_rear"].append(float(loads["nxy_skin"][2 * k + 1]))
+            o["n_chord"].append(float(loads["ny_skin"][2 * k]))
+    return out

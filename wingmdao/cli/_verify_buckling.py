@@ -103,9 +103,26 @@ def case_setup(data):
     return pegasus.build(loads="maneuver", panels="stiffened", stiffener_pitch=float(pitch), **kw)
 
 
+def running_loads(model, loads, mdl, args) -> dict:
+    """``fe_running_loads`` (the deck's static state, per skin and span row:
+    :func:`wingmdao.fe.stiffened_box.running_load_profile`) and ``model_running_loads`` (the
+    sizing model's per station: :func:`wingmdao.panel_results.model_running_loads`)."""
+    from wingmdao.fe.stiffened_box import running_load_profile, skin_running_loads
+
+    keep = os.path.join(args.keep_deck, "static") if args.keep_deck else None
+    fe = skin_running_loads(model, loads, keep_dir=keep)
+    return {"fe_running_loads": {f"{s}_skin": running_load_profile(fe[s]) for s in ("upper", "lower")},
+            "model_running_loads": {f"{s}_skin": v for s, v in mdl["running_loads"].items()},
+            "running_loads_note": "N/m, compression negative; span = along y, chord = along x, shear = in-plane; "
+                                  "FE: mean of each S8R element's integration points times its thickness "
+                                  "(skin only; the blades carry their own share); model: n_span of the skin with "
+                                  "its smeared stiffeners at the front and rear edge, n_chord at mid-chord"}
+
+
 def model_buckling(setup, design, case_name) -> dict:
     """The sizing model at the design on ``case_name``: per family the smallest load factor
     1 / max R and where it is, the elastic-buckling minimum (``factor``), the mass (kg)."""
+    from wingmdao.panel_results import model_running_loads
     from wingmdao.sizing import build_problem
 
     prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options, driver=False,
@@ -133,7 +150,8 @@ def model_buckling(setup, design, case_name) -> dict:
                        "span_y_m": float(setup.geometry.span_coordinate[st])}
     worst = min(ELASTIC, key=lambda f: families[f]["factor"])
     mass = float(prob.get_val("box_mass", units="kg")[0] + prob.get_val("rib_mass", units="kg")[0])
-    return {"factor": families[worst]["factor"], "critical": dict(families[worst], mode=worst),
+    loads = model_running_loads(prob, case_name, setup.panels)
+    return {"running_loads": loads, "factor": families[worst]["factor"], "critical": dict(families[worst], mode=worst),
             "families": families, "safety_factor": sf, "mass_kg": mass,
             "by_station": {w: [float(1.0 / r) if r > 0 else None for r in v] for w, v in walls.items()}}
 
@@ -225,6 +243,7 @@ def verify_pegasus_buckling(args) -> dict:
     loads, info = fe_station_loads(setup, args.loads_case, design, model.box, sec,
                                    at_ribs=args.load_lines == "ribs")
     fe = solve_buckling(model, loads, modes=args.buckling_modes, keep_dir=args.keep_deck)
+    running = running_loads(model, loads, mdl, args) if getattr(args, "running_loads", False) else None
     y = setup.geometry.span_coordinate
 
     def where(m):
@@ -270,6 +289,7 @@ def verify_pegasus_buckling(args) -> dict:
                  "bay_elements": args.bay_elements, "web_elements": args.web_elements,
                  "height_elements": args.height_elements, "span_size": args.span_size},
         "fe_time_s": fe["time"],
+        **(running or {}),
         "units": "SI (m, N, kg); body axes x aft, y outboard, z up; buckling factors multiply the limit loads",
     }
 
@@ -293,6 +313,10 @@ def add_buckling_arguments(p):
                    help="--buckling: the line loads lumped at the rib stations and entering through the rib rings "
                    "(default), or at every FE corner line")
     g.add_argument("--keep-deck", default=None, metavar="DIR", help="--buckling: keep buckle.inp and its results")
+    g.add_argument("--running-loads", action="store_true",
+                   help="--buckling: also solve the deck's linear static state (the buckling step's pre-buckling "
+                   "loads) and report the skins' running loads per span row (fe_running_loads) beside the sizing "
+                   "model's per station (model_running_loads)")
 
 
 def plot_buckling(res, path):

@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from wingmdao.fe.box_model import BoxSections, ShellBox, build_shell_box, station_loads
-from wingmdao.fe.calculix import buckle_step, mode_displacements, parse_dat, run_deck
+from wingmdao.fe.calculix import buckle_step, mode_displacements, parse_dat, run_deck, static_step
 
 SKINS = ("upper", "lower")
 
@@ -227,3 +227,90 @@ def solve_buckling(model: StiffenedBox, loads, modes: int = 5, keep_dir=None) ->
                           "part_peaks": {p: v / top for p, v in sorted(by_part.items())}})
     first = modes_out[0]
     return dict(first, factors=factors.tolist(), positive_modes=modes_out, time=run["time"])
+
+
+def _element_index(deck) -> dict:
+    """``{element id: (corner-node centroid (3,), element set)}`` of the deck's elements."""
+    return {eid: (np.array([deck.nodes[c] for c in conn[:4]]).mean(axis=0), elset)
+            for _, elset, block in deck.elements for eid, conn in block.items()}
+
+
+def skin_running_loads(model: StiffenedBox, loads, span_range=None, keep_dir=None) -> dict:
+    """The linear static state of the buckling deck (the same station loads, a ``*STATIC`` step):
+    the running loads (N/m, compression negative) of every skin element whose centroid lies in
+    ``span_range`` = (y0, y1) (m; None: the whole span).
+
+    Each S8R element's membrane stress is the mean of its integration-point stresses (CalculiX
+    expands S8R into C3D20R with two points through the thickness, so the mean drops the
+    bending part); times the element thickness it is the running load. The skins lie close to
+    the global x-y plane (x aft, y outboard), so ``n_span`` = sigma_yy t, ``n_chord`` =
+    sigma_xx t and ``n_shear`` = sigma_xy t (the skins' slope from the box taper, a few
+    hundredths, is neglected). Returns per skin (``upper``, ``lower``) arrays ``x_m``, ``y_m``,
+    ``thickness_m``, ``n_span``, ``n_chord``, ``n_shear`` ordered by span row then front to rear,
+    and ``stiffener_sigma_span`` (Pa): the blades' mean axial stress per element (``x_m``,
+    ``y_m`` beside it), for the skin-plus-stiffener load the panel model smears."""
+    box = model.box
+    nc, nh = box.counts
+    thick = _section_thickness(model.deck)
+    lo, hi = (-np.inf, np.inf) if span_range is None else (float(span_range[0]), float(span_range[1]))
+    if not lo < hi:
+        raise ValueError(f"span range = {span_range}; allowed: y0 < y1 (m)")
+    index = _element_index(model.deck)
+    picked = {"lower": [], "upper": []}
+    for row in box.wall_elements:
+        lower, upper = row[:nc], row[nc + nh:2 * nc + nh][::-1]      # both front to rear
+        for skin, eids in (("lower", lower), ("upper", upper)):
+            for e in eids:
+                c, elset = index[e]
+                if lo <= c[1] <= hi:
+                    picked[skin].append((e, c, thick[elset]))
+    stiff = []
+    for s in SKINS:
+        for e in model.part_elements.get(f"{s}_stiffeners", []):
+            c, elset = index[e]
+            if lo <= c[1] <= hi:
+                stiff.append((s, e, c))
+    eids = [e for v in picked.values() for e, _, _ in v] + [e for _, e, _ in stiff]
+    if not eids:
+        raise ValueError(f"span range = {span_range}: no skin element has its centroid there")
+    deck = model.deck
+    deck.elsets["NOUT"] = sorted(set(eids))
+    run = run_deck(deck.text([static_step(station_loads(box, loads), [], stress_elsets=("NOUT",))]), job="static",
+                   keep_dir=keep_dir)
+    del deck.elsets["NOUT"]
+    stress = parse_dat(run["dat"])["stresses"]
+    out = {}
+    for skin, rows in picked.items():
+        m = np.array([stress[e].mean(axis=0) for e, _, _ in rows]).reshape(-1, 6)
+        t = np.array([tk for _, _, tk in rows])
+        xyz = np.array([c for _, c, _ in rows]).reshape(-1, 3)
+        out[skin] = {"x_m": xyz[:, 0], "y_m": xyz[:, 1], "thickness_m": t, "n_span": m[:, 1] * t,
+                     "n_chord": m[:, 0] * t, "n_shear": m[:, 3] * t}
+        sel = [(c, stress[e].mean(axis=0)[1]) for s, e, c in stiff if s == skin]
+        out[skin]["stiffener_x_m"] = np.array([c[0] for c, _ in sel])
+        out[skin]["stiffener_y_m"] = np.array([c[1] for c, _ in sel])
+        out[skin]["stiffener_sigma_span"] = np.array([v for _, v in sel])
+    out["time"] = run["time"]
+    return out
+
+
+def running_load_profile(skin_loads: dict) -> list:
+    """Per span row of :func:`skin_running_loads` (one skin's arrays), the values a panel check
+    reads: ``y_m``; ``n_span_front``, ``n_span_mid``, ``n_span_rear`` and ``n_span_min`` (the
+    elements at the front and rear edges and nearest mid-chord, and the most compressive);
+    ``n_chord_mid`` and ``n_chord_min``; ``n_shear_front``, ``n_shear_rear`` and
+    ``n_shear_max_abs`` (N/m, compression negative)."""
+    y = np.asarray(skin_loads["y_m"])
+    rows = []
+    for yy in np.unique(np.round(y, 6)):
+        m = np.flatnonzero(np.abs(y - yy) < 1e-6)
+        m = m[np.argsort(np.asarray(skin_loads["x_m"])[m])]
+        ns, nc, nq = (np.asarray(skin_loads[k])[m] for k in ("n_span", "n_chord", "n_shear"))
+        k = len(m) // 2
+        mid = slice(k - 1, k + 1) if len(m) % 2 == 0 else slice(k, k + 1)
+        rows.append({"y_m": float(yy), "n_span_front": float(ns[0]), "n_span_mid": float(ns[mid].mean()),
+                     "n_span_rear": float(ns[-1]), "n_span_min": float(ns.min()),
+                     "n_chord_mid": float(nc[mid].mean()), "n_chord_min": float(nc.min()),
+                     "n_shear_front": float(nq[0]), "n_shear_rear": float(nq[-1]),
+                     "n_shear_max_abs": float(np.abs(nq).max())})
+    return rows
