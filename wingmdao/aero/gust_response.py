@@ -17,13 +17,20 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from wingmdao.aero.dlm import DLM_CHORDWISE, DLM_SPANWISE, REDUCED_FREQUENCIES, generalized_forces
+from wingmdao.aero.modal_loads import station_load_history, station_load_model
+from wingmdao.aero.rfa import N_LAGS, fit
+from wingmdao.aero.rfa_system import modal_rfa_system
 from wingmdao.aero.strip import station_gust_history
+from wingmdao.beam.modes import normal_modes
+from wingmdao.beam.static import beam_forcing, cached_beam_system
 from wingmdao.aero.system import cached_aeroelastic_system
 from wingmdao.beam.static import march_line_loads
 from wingmdao.loads.atmosphere import G0
 from wingmdao.loads.gust import gust_line_loads
 from wingmdao.loads.maneuver import maneuver_line_loads
 from wingmdao.timemarch.bdf import march
+from wingmdao.stability.pk import ModalStructure
 from wingmdao.timemarch.system import layout, pack
 
 
@@ -50,13 +57,20 @@ class GustResponse:
     """``load_factor`` (n_time,): lift of both half-wings (with free pitch, plus the tail's) over W;
     ``states`` (n_time, n, 18): the beam states per node; ``wing_lift_slope`` (1/rad): 2 int c a dy / S
     of the strips; ``trim_alpha`` (rad, None for strip loads); ``pitch``: the pitch histories with
-    free pitch (``pitch_angle_rad``, ``pitch_rate_rad_s``, ``tail_lift_n``, ``tail_incidence_rad``)."""
+    free pitch (``pitch_angle_rad``, ``pitch_rate_rad_s``, ``tail_lift_n``, ``tail_incidence_rad``).
+    The doublet lattice's modal response (:func:`dlm_gust_response`) has no beam states
+    (``states`` None) but ``station_loads`` (n_time, n, 6): internal force (N) and moment (N m) at
+    every node, body axes, increments on the jig; ``tip_displacement`` (n_time,) m, z; ``dlm``:
+    the modal model's figures (modes, lag roots, fit errors)."""
 
     load_factor: np.ndarray
-    states: np.ndarray
+    states: np.ndarray | None
     wing_lift_slope: float
     trim_alpha: float | None = None
     pitch: dict = field(default_factory=dict)
+    station_loads: np.ndarray | None = None
+    tip_displacement: np.ndarray | None = None
+    dlm: dict = field(default_factory=dict)
 
 
 def gust_profile(flight: GustFlight):
@@ -148,3 +162,53 @@ def strip_gust_response(time, beam_params, chord, axis_frac, flight: GustFlight,
     ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
     n_load = 2 * np.sum(0.5 * (fz[:, 1:] + fz[:, :-1]) * ds, axis=1) / flight.weight
     return GustResponse(n_load, hist.states.reshape(time.size, n, 18), wing_lift_slope(2 * np.pi, chord, r0, area))
+
+
+def gust_velocity_derivatives(flight: GustFlight, time) -> np.ndarray:
+    """(n_time, 3): the 1 - cos gust velocity (m/s TAS, up) at the leading edge reached first and
+    its first two time derivatives (the forcing of :func:`wingmdao.aero.rfa_system.modal_rfa_system`)."""
+    V, H, u = flight.airspeed, flight.gradient, flight.u_ds_tas
+    d = V * (np.asarray(time, dtype=float) - flight.gust_start)
+    on = (d >= 0) & (d <= 2 * H)
+    w = np.pi * V / H
+    return np.column_stack([np.where(on, 0.5 * u * (1 - np.cos(np.pi * d / H)), 0.0),
+                            np.where(on, 0.5 * u * w * np.sin(np.pi * d / H), 0.0),
+                            np.where(on, 0.5 * u * w ** 2 * np.cos(np.pi * d / H), 0.0)])
+
+
+def dlm_gust_response(time, beam_params, chord, axis_frac, flight: GustFlight, *, area, n_modes: int = 6,
+                      n_lags: int = N_LAGS, reduced_frequencies=REDUCED_FREQUENCIES, n_chordwise=DLM_CHORDWISE,
+                      n_spanwise=DLM_SPANWISE) -> GustResponse:
+    """The gust response of the doublet lattice in the modal basis of the jig beam, root clamped.
+
+    The lowest ``n_modes`` normal modes of the beam about the jig (undamped), the doublet-lattice
+    generalized forces and station loads at ``reduced_frequencies`` and the flight Mach number, Roger's
+    approximation with ``n_lags`` lag roots, marched by BDF2 from rest on ``time``; the gust front
+    reaches the foremost leading edge at ``flight.gust_start`` and each panel after its delay. The
+    load factor is ``1 +`` the lift increment of both half-wings over W; station loads by force
+    summation (:mod:`wingmdao.aero.modal_loads`)."""
+    r0 = np.asarray(beam_params["node_positions"], dtype=float)
+    n = r0.shape[0]
+    system = cached_beam_system(n)
+    modes = normal_modes(system, beam_params, pack(system.param_specs, beam_params),
+                         pack(system.forcing_specs, beam_forcing(n)), count=int(n_modes))
+    gaf = generalized_forces(r0, np.broadcast_to(chord, (n,)), np.broadcast_to(axis_frac, (n,)), modes.displacement,
+                             modes.rotation, mach=flight.mach, reduced_frequencies=reduced_frequencies,
+                             n_chordwise=n_chordwise, n_spanwise=n_spanwise)
+    rfa = fit(gaf, n_lags=n_lags)
+    structure = ModalStructure.from_modes(modes)
+    modal = modal_rfa_system(structure, rfa)
+    model = station_load_model(gaf, rfa, modes)
+    F = np.zeros((np.size(time), modal.n_forcing))
+    F[:, :3] = gust_velocity_derivatives(flight, time)
+    p = pack(modal.param_specs, {"airspeed": flight.airspeed, "density": flight.density})
+    X = march(modal, time, p, F, initial="static").states
+    total, aero = station_load_history(model, structure, rfa, X, F, flight.airspeed, flight.density)
+    q = X[:, :modes.count]
+    a_wing = 2.0 * float(np.real(gaf.station_loads[0, 0, 2, -1])) / area
+    info = {"n_modes": modes.count, "frequencies_hz": (modes.frequencies / (2 * np.pi)).tolist(),
+            "lag_roots": rfa.lags.tolist(), "fit_error": rfa.error, "gust_fit_error": rfa.gust_error,
+            "station_load_fit_error": model.error, "reduced_frequencies": gaf.k.tolist(), "b_ref_m": gaf.b_ref,
+            "mach": gaf.mach}
+    return GustResponse(1.0 + 2.0 * aero[:, 0, 2] / flight.weight, None, a_wing, station_loads=total,
+                        tip_displacement=q @ modes.displacement[:, -1, 2], dlm=info)
