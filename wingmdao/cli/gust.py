@@ -88,7 +88,8 @@ def register(subparsers):
 
 def run(args):
     from wingmdao.aero import aero_parameters, three_dimensional_parameters
-    from wingmdao.aero.gust_response import GustFlight, coupled_gust_response, strip_gust_response, wing_lift_slope
+    from wingmdao.aero.gust_response import (GustFlight, coupled_gust_response, dlm_gust_response,
+                                             strip_gust_response, wing_lift_slope)
     from wingmdao.aero.plunge import body_mass as plunge_body_mass, half_wing_mass
     from wingmdao.cases import available_cases, case_beam_parameters
     from wingmdao.cases.planform import FT, G0, LB, wing_geometry
@@ -190,8 +191,6 @@ def run(args):
     wing_area = pf.area_ft2 * FT ** 2
     pitch_out = {}
     if args.aero_theory == "dlm":
-        from wingmdao.aero.gust_response import dlm_gust_response
-
         resp = dlm_gust_response(t, bp, chord, axis_frac, flight, area=wing_area, n_modes=args.modes)
     elif args.aero == "coupled":
         resp = coupled_gust_response(t, bp, chord, axis_frac, ap, flight, area=wing_area, plunge=args.plunge,
