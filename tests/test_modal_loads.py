@@ -12,6 +12,7 @@ from wingmdao.aero.rfa_system import modal_rfa_system
 from wingmdao.aero.vlm import build_lattice
 from wingmdao.stability.cases import flutter_problem
 from wingmdao.stability.modal import case_forces, jig_modes
+from wingmdao.stability.modal_turbulence import modal_gust_frequency_response, modal_turbulence_a_bar
 from wingmdao.stability.pk import ModalStructure
 from wingmdao.timemarch.bdf import march
 from wingmdao.timemarch.system import pack
@@ -72,3 +73,21 @@ def test_harmonic_gust_root_bending_equals_frequency_domain_dlm(goland):
     # the inertia share is not negligible at this k (the test sees it)
     coef, *_ = np.linalg.lstsq(basis, aero[last, 0, 3], rcond=None)
     assert abs(coef[0] + 1j * coef[1] - exact[0, 3]) / abs(exact[0, 3]) > 0.05
+
+
+def test_turbulence_transfer_function_of_the_linearization_equals_exact_dlm(goland):
+    """The transfer function of the modal residual system's linearization (Roger lags), root bending
+    and shear per m/s of gust at the tabulated k = 0.1, 0.3, 0.5 (120 m/s), equals the
+    frequency-domain force summation with the exact doublet-lattice matrices within 2 %; A-bar of
+    root bending is positive, finite, with a quadrature error estimate below 1 %."""
+    structure, modes, gaf, rfa, system = goland
+    model = station_load_model(gaf, rfa, modes)
+    V = 120.0
+    ks = np.array([0.1, 0.3, 0.5])
+    resp = modal_gust_frequency_response(system, structure, rfa, model, V, RHO, ks * V / gaf.b_ref)
+    for i, k in enumerate(ks):
+        exact = harmonic_station_loads(structure, gaf, modes, V, RHO, k)
+        for comp in (3, 2):
+            assert abs(resp.station_loads[i, 0, comp] - exact[0, comp]) / abs(exact[0, comp]) < 0.02
+    ab, _ = modal_turbulence_a_bar(system, structure, rfa, model, V, RHO)
+    assert np.isfinite(ab.value[0, 3]) and ab.value[0, 3] > 0 and ab.error[0, 3] < 0.01 * ab.value[0, 3]
