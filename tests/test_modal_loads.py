@@ -10,6 +10,7 @@ from wingmdao.aero.modal_loads import harmonic_station_loads, station_load_histo
 from wingmdao.aero.rfa import fit
 from wingmdao.aero.rfa_system import modal_rfa_system
 from wingmdao.aero.vlm import build_lattice
+from wingmdao.cli import main
 from wingmdao.stability.cases import flutter_problem
 from wingmdao.stability.modal import case_forces, jig_modes
 from wingmdao.stability.modal_turbulence import modal_gust_frequency_response, modal_turbulence_a_bar
@@ -91,3 +92,18 @@ def test_turbulence_transfer_function_of_the_linearization_equals_exact_dlm(gola
             assert abs(resp.station_loads[i, 0, comp] - exact[0, comp]) / abs(exact[0, comp]) < 0.02
     ab, _ = modal_turbulence_a_bar(system, structure, rfa, model, V, RHO)
     assert np.isfinite(ab.value[0, 3]) and ab.value[0, 3] > 0 and ab.error[0, 3] < 0.01 * ab.value[0, 3]
+
+
+def test_turbulence_dlm_refusals_before_solve(capsys, monkeypatch):
+    """turbulence --aero-theory dlm: free plunge, --aero strip, structural damping and --modes out of
+    range (or without dlm) are refused before any solve."""
+    import wingmdao.stability.modal as modal
+
+    monkeypatch.setattr(modal, "modal_dlm_wing", lambda *a, **k: pytest.fail("solve started"))
+    for argv, msg in ((["--aero-theory", "dlm"], "needs --aero coupled --clamped"),
+                      (["--aero", "strip", "--aero-theory", "dlm"], "needs --aero coupled --clamped"),
+                      (["--aero-theory", "dlm", "--clamped", "--damping-ratio", "0.02"], "is undamped"),
+                      (["--aero-theory", "dlm", "--clamped", "--modes", "30"], "--modes = 30; allowed range [2, 20]"),
+                      (["--clamped", "--modes", "4"], "--modes = 4 applies to --aero-theory dlm only")):
+        assert main(["turbulence", "pegasus", "--no-plots", *argv]) == 2
+        assert msg in capsys.readouterr().err

@@ -17,20 +17,17 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from wingmdao.aero.dlm import DLM_CHORDWISE, DLM_SPANWISE, REDUCED_FREQUENCIES, generalized_forces
-from wingmdao.aero.modal_loads import station_load_history, station_load_model
-from wingmdao.aero.rfa import N_LAGS, fit
-from wingmdao.aero.rfa_system import modal_rfa_system
+from wingmdao.aero.dlm import DLM_CHORDWISE, DLM_SPANWISE, REDUCED_FREQUENCIES
+from wingmdao.aero.modal_loads import station_load_history
+from wingmdao.aero.rfa import N_LAGS
 from wingmdao.aero.strip import station_gust_history
-from wingmdao.beam.modes import normal_modes
-from wingmdao.beam.static import beam_forcing, cached_beam_system
 from wingmdao.aero.system import cached_aeroelastic_system
 from wingmdao.beam.static import march_line_loads
 from wingmdao.loads.atmosphere import G0
 from wingmdao.loads.gust import gust_line_loads
 from wingmdao.loads.maneuver import maneuver_line_loads
 from wingmdao.timemarch.bdf import march
-from wingmdao.stability.pk import ModalStructure
+from wingmdao.stability.modal import modal_dlm_wing
 from wingmdao.timemarch.system import layout, pack
 
 
@@ -187,28 +184,15 @@ def dlm_gust_response(time, beam_params, chord, axis_frac, flight: GustFlight, *
     reaches the foremost leading edge at ``flight.gust_start`` and each panel after its delay. The
     load factor is ``1 +`` the lift increment of both half-wings over W; station loads by force
     summation (:mod:`wingmdao.aero.modal_loads`)."""
-    r0 = np.asarray(beam_params["node_positions"], dtype=float)
-    n = r0.shape[0]
-    system = cached_beam_system(n)
-    modes = normal_modes(system, beam_params, pack(system.param_specs, beam_params),
-                         pack(system.forcing_specs, beam_forcing(n)), count=int(n_modes))
-    gaf = generalized_forces(r0, np.broadcast_to(chord, (n,)), np.broadcast_to(axis_frac, (n,)), modes.displacement,
-                             modes.rotation, mach=flight.mach, reduced_frequencies=reduced_frequencies,
-                             n_chordwise=n_chordwise, n_spanwise=n_spanwise)
-    rfa = fit(gaf, n_lags=n_lags)
-    structure = ModalStructure.from_modes(modes)
-    modal = modal_rfa_system(structure, rfa)
-    model = station_load_model(gaf, rfa, modes)
+    wing = modal_dlm_wing(beam_params, chord, axis_frac, flight.mach, n_modes=n_modes, n_lags=n_lags,
+                          reduced_frequencies=reduced_frequencies, n_chordwise=n_chordwise, n_spanwise=n_spanwise)
+    modal, structure, rfa, gaf, modes = wing.system, wing.structure, wing.rfa, wing.gaf, wing.modes
     F = np.zeros((np.size(time), modal.n_forcing))
     F[:, :3] = gust_velocity_derivatives(flight, time)
     p = pack(modal.param_specs, {"airspeed": flight.airspeed, "density": flight.density})
     X = march(modal, time, p, F, initial="static").states
-    total, aero = station_load_history(model, structure, rfa, X, F, flight.airspeed, flight.density)
+    total, aero = station_load_history(wing.loads, structure, rfa, X, F, flight.airspeed, flight.density)
     q = X[:, :modes.count]
     a_wing = 2.0 * float(np.real(gaf.station_loads[0, 0, 2, -1])) / area
-    info = {"n_modes": modes.count, "frequencies_hz": (modes.frequencies / (2 * np.pi)).tolist(),
-            "lag_roots": rfa.lags.tolist(), "fit_error": rfa.error, "gust_fit_error": rfa.gust_error,
-            "station_load_fit_error": model.error, "reduced_frequencies": gaf.k.tolist(), "b_ref_m": gaf.b_ref,
-            "mach": gaf.mach}
     return GustResponse(1.0 + 2.0 * aero[:, 0, 2] / flight.weight, None, a_wing, station_loads=total,
-                        tip_displacement=q @ modes.displacement[:, -1, 2], dlm=info)
+                        tip_displacement=q @ modes.displacement[:, -1, 2], dlm=wing.info())
