@@ -53,7 +53,7 @@ class StationLoadModel:
     ``motion`` (3 + L, n, 6, modes): Roger coefficients of the aerodynamic station loads (force N,
     moment N m, body axes) per unit modal amplitude and dynamic pressure; ``gust`` (3 + L, n, 6):
     the same per unit ``w_g / V``; ``inertia`` (n, 6, modes): internal loads per unit modal
-    acceleration; ``error``: the fit error of the station loads (as :attr:`RogerApproximation.error`).
+    acceleration; ``error``: the fit error of the station loads (as the approximation's ``error``).
     """
 
     motion: np.ndarray
