@@ -161,13 +161,13 @@ def goland_comparison(plt):
         print(f"  {th:13s} flutter {res['flutter_speed_m_s']:.1f} m/s at {res['flutter_frequency_rad_s']:.1f} rad/s, "
               f"divergence {res['divergence_speed_m_s']}")
         v = np.asarray(res["speeds"])
-        for j, (g, w) in enumerate(zip(res["damping_ratio"], res["frequency_rad_s"])):
+        for j, (g, w) in enumerate(zip(res["structural_damping"], res["frequency_rad_s"])):
             kw = dict(color=f"C{k}", label=LABEL[th] if j == 0 else None)
             ax[0].plot(v, np.asarray(g, dtype=float), **kw)
             ax[1].plot(v, np.asarray(w, dtype=float), **kw)
     ax[0].axhline(0.0, color="k", lw=0.8)
     ax[0].set_ylim(-0.3, 0.1)
-    ax[0].set_ylabel("damping ratio")
+    ax[0].set_ylabel("structural damping g")
     ax[1].set_ylabel("frequency (rad/s)")
     for a in ax:
         a.set_xlabel("airspeed (m/s)")
