@@ -4,6 +4,8 @@ root bending and the linearization's transfer function against the frequency-dom
 lattice, the convergence with the number of modes against the mode-displacement sum, and the
 turbulence command's refusals."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -138,3 +140,23 @@ def test_force_summation_converges_with_fewer_modes_than_mode_displacement():
         peaks[n_modes] = (np.abs(total[:, 0, 3]).max(), np.abs(X[:, :n_modes] @ modes.moment[:, 0, 0]).max())
     assert peaks[2][0] == pytest.approx(peaks[6][0], rel=0.01)
     assert peaks[2][1] < 0.95 * peaks[6][0]
+
+
+@pytest.mark.slow
+def test_turbulence_pegasus_dlm_json(tmp_path):
+    """turbulence pegasus --aero-theory dlm --clamped: A-bar of the root bending moment and of the
+    load factor below strip theory's on the clamped beam by about the three-dimensional lift loss
+    (lattice slope / 2-D slope 0.77 on PEGASUS: ratios within [0.6, 0.85]), quadrature error below
+    1 %, the root entry of the station A-bars equal to the root's, no 1 g keys."""
+    out = {}
+    for theory in ("dlm", "strip"):
+        path = tmp_path / f"{theory}.json"
+        assert main(["turbulence", "pegasus", "--aero", "coupled", "--clamped", "--aero-theory", theory, "--no-plots",
+                     "--json", str(path)]) == 0
+        out[theory] = json.loads(path.read_text())
+    d, s = out["dlm"]["a_bar"], out["strip"]["a_bar"]
+    for key in ("root_bending_moment", "load_factor"):
+        assert 0.6 < d[key] / s[key] < 0.85
+    assert out["dlm"]["quadrature"]["max_relative_error_a_bar"] < 0.01
+    assert d["bending_moment"][0] == pytest.approx(d["root_bending_moment"], rel=1e-12)
+    assert out["dlm"]["loads_include_1g"] is False and "design_loads" not in out["dlm"]
