@@ -20,6 +20,7 @@ import tempfile
 import numpy as np
 
 from wingmdao.aero import aero_parameters, cached_aeroelastic_system, station_gust_history, three_dimensional_parameters
+from wingmdao.aero.modal_loads import station_load_history, station_load_model
 from wingmdao.aero.rfa import fit
 from wingmdao.aero.rfa_system import modal_rfa_system
 from wingmdao.aero.vlm import build_lattice, flat_wing, solve_circulation, station_influence
@@ -111,10 +112,14 @@ def goland_gust(theory, V=100.0, gradient=30.48, u_gust=10.0, dt=0.004, t_final=
 def goland_gust_dlm(V=100.0, gradient=30.48, u_gust=10.0, dt=0.004, t_final=1.2, n_modes=6):
     """Root bending moment history (N m) of the same gust with the doublet lattice: the modal wing
     with Roger's lag states (wingmdao.aero.rfa_system, 21 nodes, ``n_modes`` modes), marched by
-    BDF2, the root moment by the mode-displacement sum ``sum_i q_i M_root,i``."""
+    BDF2, the root moment by force summation (wingmdao.aero.modal_loads); also returns the
+    mode-displacement sum ``sum_i q_i M_root,i`` for comparison."""
     prob = flutter_problem("goland", num_nodes=21)
     modes = jig_modes(prob, n_modes)
-    s = modal_rfa_system(ModalStructure.from_modes(modes), fit(case_forces(prob, modes, 0.0)))
+    structure = ModalStructure.from_modes(modes)
+    gaf = case_forces(prob, modes, 0.0)
+    rfa = fit(gaf)
+    s = modal_rfa_system(structure, rfa)
     t = np.arange(0.0, t_final + 0.5 * dt, dt)
     d = V * (t - 0.05)
     on = (d >= 0) & (d <= 2 * gradient)
@@ -124,7 +129,8 @@ def goland_gust_dlm(V=100.0, gradient=30.48, u_gust=10.0, dt=0.004, t_final=1.2,
     F[on, 1] = 0.5 * u_gust * a * np.sin(a * (t[on] - 0.05))
     F[on, 2] = 0.5 * u_gust * a ** 2 * np.cos(a * (t[on] - 0.05))
     X = march(s, t, pack(s.param_specs, {"airspeed": V, "density": goland.DENSITY}), F).states
-    return t, X[:, :n_modes] @ modes.moment[:, 0, 0]
+    loads, _ = station_load_history(station_load_model(gaf, rfa, modes), structure, rfa, X, F, V, goland.DENSITY)
+    return t, loads[:, 0, 3], X[:, :n_modes] @ modes.moment[:, 0, 0]
 
 
 def goland_comparison(plt):
@@ -137,9 +143,11 @@ def goland_comparison(plt):
         ax.plot(t, m / 1e3, label=LABEL[th])
     for th in THEORIES:
         print(f"  {th:13s} {peaks[th] / 1e3:8.2f} kN m  ({peaks[th] / peaks['vlm']:.3f} x vortex lattice)")
-    _, m = goland_gust_dlm()
-    peak = float(np.max(np.abs(m)))
-    print(f"  {'dlm (modal)':13s} {peak / 1e3:8.2f} kN m  ({peak / peaks['vlm']:.3f} x vortex lattice)")
+    t, m, m_modes = goland_gust_dlm()
+    for name, mm in (("dlm", m), ("dlm (mode displacement)", m_modes)):
+        peak = float(np.max(np.abs(mm)))
+        print(f"  {name:13s} {peak / 1e3:8.2f} kN m  ({peak / peaks['vlm']:.3f} x vortex lattice)")
+    ax.plot(t, m / 1e3, label="doublet lattice (modal, force summation)")
     ax.set_xlabel("time (s)")
     ax.set_ylabel("root bending moment (kN m)")
     ax.set_title("Goland wing, 1-cos gust (H = 100 ft, 10 m/s, V = 100 m/s)")
@@ -153,13 +161,13 @@ def goland_comparison(plt):
         print(f"  {th:13s} flutter {res['flutter_speed_m_s']:.1f} m/s at {res['flutter_frequency_rad_s']:.1f} rad/s, "
               f"divergence {res['divergence_speed_m_s']}")
         v = np.asarray(res["speeds"])
-        for j, (g, w) in enumerate(zip(res["damping_ratio"], res["frequency_rad_s"])):
+        for j, (g, w) in enumerate(zip(res["structural_damping"], res["frequency_rad_s"])):
             kw = dict(color=f"C{k}", label=LABEL[th] if j == 0 else None)
             ax[0].plot(v, np.asarray(g, dtype=float), **kw)
             ax[1].plot(v, np.asarray(w, dtype=float), **kw)
     ax[0].axhline(0.0, color="k", lw=0.8)
     ax[0].set_ylim(-0.3, 0.1)
-    ax[0].set_ylabel("damping ratio")
+    ax[0].set_ylabel("structural damping g")
     ax[1].set_ylabel("frequency (rad/s)")
     for a in ax:
         a.set_xlabel("airspeed (m/s)")

@@ -64,3 +64,46 @@ def test_gust_plunge_spelling_and_strip_plunge_error(capsys):
     assert "--plunge free needs --aero coupled" in err
     assert main(["gust", "pegasus", "--aero", "strip", "--lifting-line", "--no-plots"]) == 2
     assert "--lifting-line" in capsys.readouterr().err
+
+
+def test_gust_dlm_refusals_before_solve(capsys, monkeypatch):
+    """--aero-theory dlm is the clamped jig's modal model: free plunge or pitch, --aero strip, the
+    deprecated --lifting-line beside it, and --modes out of range or without dlm are refused
+    before any solve."""
+    import wingmdao.aero.gust_response as gr
+
+    monkeypatch.setattr(gr, "dlm_gust_response", lambda *a, **k: pytest.fail("solve started"))
+    for argv, msg in ((["--aero-theory", "dlm"], "add --clamped"),
+                      (["--aero-theory", "dlm", "--plunge", "free"], "add --clamped"),
+                      (["--aero", "strip", "--aero-theory", "dlm"], "applies to --aero coupled"),
+                      (["--aero-theory", "dlm", "--clamped", "--lifting-line"], "two aerodynamic theories"),
+                      (["--aero-theory", "dlm", "--clamped", "--modes", "1"], "--modes = 1; allowed range [2, 20]"),
+                      (["--clamped", "--modes", "4"], "--modes = 4 applies to --aero-theory dlm only")):
+        assert main(["gust", "pegasus", "--no-plots", *argv]) == 2
+        assert msg in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_gust_pegasus_dlm_against_vortex_lattice(tmp_path):
+    """PEGASUS, clamped, 1-cos gust of H = 350 ft (reduced frequency pi b / H ~ 0.02, nearly
+    quasi-steady): the doublet lattice in the modal basis (6 modes, Roger lags, force summation)
+    against the coupled beam with the vortex lattice's steady lift and per-station Wagner/Kuessner
+    lags (another model and code path): wing lift slope within 1 % (the doublet lattice at k = 0
+    is a vortex lattice), peak root-bending increment and peak load-factor increment within 5 %;
+    the JSON carries the station load histories and the fit errors."""
+    out = {}
+    for theory in ("dlm", "vlm"):
+        path = tmp_path / f"{theory}.json"
+        assert main(["gust", "pegasus", "--aero-theory", theory, "--clamped", "--t-final", "1.6",
+                     "--no-plots", "--json", str(path)]) == 0
+        out[theory] = json.loads(path.read_text())
+    d, v = out["dlm"], out["vlm"]
+    assert d["loads_include_1g"] is False and v["loads_include_1g"] is True
+    assert d["wing_lift_slope_per_rad"] == pytest.approx(v["wing_lift_slope_per_rad"], rel=0.01)
+    assert d["peak_incremental_root_bending_moment"] == pytest.approx(v["peak_incremental_root_bending_moment"], rel=0.05)
+    assert d["peak_incremental_load_factor"] == pytest.approx(v["peak_incremental_load_factor"], rel=0.05)
+    M = np.asarray(d["station_bending_moment"])
+    assert M.shape == (len(d["time"]), len(d["station_y_m"]))
+    np.testing.assert_allclose(M[:, 0], d["root_bending_moment"])
+    assert np.abs(M[:, -1]).max() < 1e-3 * np.abs(M[:, 0]).max()      # the free tip carries no moment
+    assert d["dlm"]["fit_error"] < 0.02 and d["dlm"]["station_load_fit_error"] < 0.02

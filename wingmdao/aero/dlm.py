@@ -38,6 +38,10 @@ Gust. A vertical gust ``w_g e^(i omega (t - (x - x_0) / V))`` reaches panel j's 
 with the delay ``(x_j - x_0) / V``; its normalwash per unit ``w_g / V`` is
 ``n_z,j exp(-i (k / b_ref) (x_j - x_0))``, and ``Q_g(ik) = T^T Q_jj(k) w_g`` (modes, ) per unit
 ``w_g / V``.
+
+Station loads. The same pressure jumps, summed outboard of each beam node, give the aerodynamic
+part of the internal force and moment there (:func:`station_summation`, ``station_loads`` of
+:class:`GeneralizedForces`); :mod:`wingmdao.aero.modal_loads` adds the inertia.
 """
 
 from __future__ import annotations
@@ -61,7 +65,7 @@ _MIRROR = np.array([1.0, -1.0, 1.0])
 
 __all__ = ["DLM_CHORDWISE", "DLM_SPANWISE", "REDUCED_FREQUENCIES", "GeneralizedForces", "ModalTransfer",
            "check_reduced_frequencies", "check_dlm_mach", "check_panels", "aerogrid", "steady_aic", "panel_pressure", "modal_transfer",
-           "generalized_forces", "interpolate"]
+           "generalized_forces", "interpolate", "station_summation"]
 
 
 def _panelaero_dlm():
@@ -184,7 +188,11 @@ class GeneralizedForces:
     ``k`` (nk,) reduced frequencies (omega b_ref / V); ``Q`` (nk, modes, modes) complex: the
     force on mode i of a unit harmonic amplitude of mode j (m^2 per modal amplitude units);
     ``gust`` (nk, modes) complex: of a unit ``w_g / V`` with each panel's penetration delay;
-    ``b_ref`` m, ``mach``, ``x_gust`` the x (m) at which the gust phase is zero.
+    ``b_ref`` m, ``mach``, ``x_gust`` the x (m) at which the gust phase is zero;
+    ``station_loads`` (nk, n, 6, modes + 1) complex: the internal force (N) and moment (N m) at
+    each beam node (body axes) of the panel forces outboard of it (:func:`station_summation`),
+    per unit dynamic pressure, of a unit amplitude of each mode (columns ``:modes``) and of a unit
+    ``w_g / V`` (last column).
     """
 
     k: np.ndarray
@@ -193,6 +201,7 @@ class GeneralizedForces:
     b_ref: float
     mach: float
     x_gust: float
+    station_loads: np.ndarray = None
 
     def at(self, k):
         """``(Q, gust)`` at reduced frequency ``k`` (:func:`interpolate`)."""
@@ -217,6 +226,25 @@ def interpolate(gaf: GeneralizedForces, k):
     for a in (gaf.Q, gaf.gust):
         out.append(CubicSpline(gaf.k, a.real, axis=0)(k) + 1j * CubicSpline(gaf.k, a.imag, axis=0)(k))
     return out[0], out[1]
+
+
+def station_summation(lat: Lattice, node_positions) -> np.ndarray:
+    """Internal loads (n, 6, m) at the beam nodes of unit pressure jumps on the panels, per unit
+    dynamic pressure: at node s the force ``sum_j A_j n_j`` (N) and the moment
+    ``sum_j (p_j - r_s) x A_j n_j`` (N m) of the panels outboard of it (those on the beam elements
+    from node s outwards), ``p_j`` the panel's force point (mid-span of its doublet line), body
+    axes. The sign is the beam's: the internal loads at a node are those the outboard wing's
+    applied loads put on it (:class:`wingmdao.beam.modes.NormalModes`)."""
+    r = np.asarray(node_positions, dtype=float)
+    force = (lat.panel_chord * lat.span)[:, None] * lat.normal                  # (m, 3) per unit dcp
+    point = 0.5 * (lat.bound_a + lat.bound_b)
+    element = np.argmax(lat.hat > 0.0, axis=1)                                  # first node of the panel's element
+    outboard = (element[None, :] >= np.arange(r.shape[0])[:, None]).astype(float)   # (n, m)
+    S = np.zeros((r.shape[0], 6, force.shape[0]))
+    S[:, :3, :] = outboard[:, None, :] * force.T[None, :, :]
+    arm = point[None, :, :] - r[:, None, :]                                     # (n, m, 3)
+    S[:, 3:, :] = outboard[:, None, :] * np.cross(arm, force[None, :, :]).transpose(0, 2, 1)
+    return S
 
 
 def generalized_forces(node_positions, chord, ref_point, displacement, rotation, *, mach=0.0,
@@ -254,6 +282,8 @@ def generalized_forces(node_positions, chord, ref_point, displacement, rotation,
     Q = np.zeros((k.size, nm, nm), dtype=complex)
     G = np.zeros((k.size, nm), dtype=complex)
     steady = steady_aic(lat)
+    S = station_summation(lat, r)
+    loads = np.zeros((k.size, r.shape[0], 6, nm + 1), dtype=complex)
     for i, ki in enumerate(k):
         kb = ki / b
         wash = np.column_stack([tr.incidence - 1j * kb * tr.heave,
@@ -261,7 +291,8 @@ def generalized_forces(node_positions, chord, ref_point, displacement, rotation,
         dcp = panel_pressure(lat, kb, wash, method=method, steady=steady)
         F = tr.force.T @ dcp
         Q[i], G[i] = F[:, :nm], F[:, nm]
-    out = GeneralizedForces(k=k, Q=Q, gust=G, b_ref=b, mach=mach, x_gust=x0)
+        loads[i] = np.tensordot(S, dcp, axes=1)
+    out = GeneralizedForces(k=k, Q=Q, gust=G, b_ref=b, mach=mach, x_gust=x0, station_loads=loads)
     if len(_CACHE) >= _CACHE_SIZE:
         _CACHE.pop(next(iter(_CACHE)))
     _CACHE[key] = out

@@ -18,6 +18,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from wingmdao.aero.controls import control_spec, limit_report
+from wingmdao.aero.dlm import DLM_CHORDWISE, DLM_SPANWISE, REDUCED_FREQUENCIES
+from wingmdao.aero.modal_loads import station_load_history
+from wingmdao.aero.rfa import N_LAGS
 from wingmdao.aero.strip import station_gust_history
 from wingmdao.aero.system import cached_aeroelastic_system
 from wingmdao.beam.static import march_line_loads
@@ -25,6 +28,7 @@ from wingmdao.loads.atmosphere import G0
 from wingmdao.loads.gust import gust_line_loads
 from wingmdao.loads.maneuver import maneuver_line_loads
 from wingmdao.timemarch.bdf import march
+from wingmdao.stability.modal import modal_dlm_wing
 from wingmdao.timemarch.system import layout, pack
 
 
@@ -54,13 +58,20 @@ class GustResponse:
     free pitch (``pitch_angle_rad``, ``pitch_rate_rad_s``, ``tail_lift_n``, ``tail_incidence_rad``);
     ``controls``: with control surfaces, their ``deflection`` and ``rate`` (n_time, n_s) rad, rad/s,
     ``hinge_moment`` (n_time, n_s) N m and the :func:`~wingmdao.aero.controls.limit_report` ``limits``."""
+    The doublet lattice's modal response (:func:`dlm_gust_response`) has no beam states
+    (``states`` None) but ``station_loads`` (n_time, n, 6): internal force (N) and moment (N m) at
+    every node, body axes, increments on the jig; ``tip_displacement`` (n_time,) m, z; ``dlm``:
+    the modal model's figures (modes, lag roots, fit errors)."""
 
     load_factor: np.ndarray
-    states: np.ndarray
+    states: np.ndarray | None
     wing_lift_slope: float
     trim_alpha: float | None = None
     pitch: dict = field(default_factory=dict)
     controls: dict = field(default_factory=dict)
+    station_loads: np.ndarray | None = None
+    tip_displacement: np.ndarray | None = None
+    dlm: dict = field(default_factory=dict)
 
 
 def gust_profile(flight: GustFlight):
@@ -190,3 +201,40 @@ def alleviation_summary(without: GustResponse, with_law: GustResponse, surfaces,
             "peak_incremental_load_factor_without_law": dn0, "peak_incremental_load_factor_with_law": dn1,
             "load_factor_without_law": without.load_factor.tolist(),
             "root_bending_moment_without_law": without.states[:, 0, 9].tolist()}
+
+
+def gust_velocity_derivatives(flight: GustFlight, time) -> np.ndarray:
+    """(n_time, 3): the 1 - cos gust velocity (m/s TAS, up) at the leading edge reached first and
+    its first two time derivatives (the forcing of :func:`wingmdao.aero.rfa_system.modal_rfa_system`)."""
+    V, H, u = flight.airspeed, flight.gradient, flight.u_ds_tas
+    d = V * (np.asarray(time, dtype=float) - flight.gust_start)
+    on = (d >= 0) & (d <= 2 * H)
+    w = np.pi * V / H
+    return np.column_stack([np.where(on, 0.5 * u * (1 - np.cos(np.pi * d / H)), 0.0),
+                            np.where(on, 0.5 * u * w * np.sin(np.pi * d / H), 0.0),
+                            np.where(on, 0.5 * u * w ** 2 * np.cos(np.pi * d / H), 0.0)])
+
+
+def dlm_gust_response(time, beam_params, chord, axis_frac, flight: GustFlight, *, area, n_modes: int = 6,
+                      n_lags: int = N_LAGS, reduced_frequencies=REDUCED_FREQUENCIES, n_chordwise=DLM_CHORDWISE,
+                      n_spanwise=DLM_SPANWISE) -> GustResponse:
+    """The gust response of the doublet lattice in the modal basis of the jig beam, root clamped.
+
+    The lowest ``n_modes`` normal modes of the beam about the jig (undamped), the doublet-lattice
+    generalized forces and station loads at ``reduced_frequencies`` and the flight Mach number, Roger's
+    approximation with ``n_lags`` lag roots, marched by BDF2 from rest on ``time``; the gust front
+    reaches the foremost leading edge at ``flight.gust_start`` and each panel after its delay. The
+    load factor is ``1 +`` the lift increment of both half-wings over W; station loads by force
+    summation (:mod:`wingmdao.aero.modal_loads`)."""
+    wing = modal_dlm_wing(beam_params, chord, axis_frac, flight.mach, n_modes=n_modes, n_lags=n_lags,
+                          reduced_frequencies=reduced_frequencies, n_chordwise=n_chordwise, n_spanwise=n_spanwise)
+    modal, structure, rfa, gaf, modes = wing.system, wing.structure, wing.rfa, wing.gaf, wing.modes
+    F = np.zeros((np.size(time), modal.n_forcing))
+    F[:, :3] = gust_velocity_derivatives(flight, time)
+    p = pack(modal.param_specs, {"airspeed": flight.airspeed, "density": flight.density})
+    X = march(modal, time, p, F, initial="static").states
+    total, aero = station_load_history(wing.loads, structure, rfa, X, F, flight.airspeed, flight.density)
+    q = X[:, :modes.count]
+    a_wing = 2.0 * float(np.real(gaf.station_loads[0, 0, 2, -1])) / area
+    return GustResponse(1.0 + 2.0 * aero[:, 0, 2] / flight.weight, None, a_wing, station_loads=total,
+                        tip_displacement=q @ modes.displacement[:, -1, 2], dlm=wing.info())

@@ -125,3 +125,18 @@ def pole_real_parts(rfa: RogerApproximation, airspeed) -> np.ndarray:
     """Real parts (1/s) of the lag states' poles ``-gamma_l V / b_ref`` at ``airspeed`` (m/s): all
     negative, so the lag states are stable on their own."""
     return -rfa.lags * float(airspeed) / rfa.b_ref
+
+
+def fit_columns(rfa: RogerApproximation, k, values) -> tuple[np.ndarray, float]:
+    """Roger coefficients (3 + L, ...) of further tabulated outputs ``values`` (nk, ...) complex
+    (station loads, say) with the lag roots of ``rfa``, so that they are recovered in the time
+    domain from the same lag states; and their fit error (max over k of the Frobenius norm of the
+    misfit over the largest tabulated norm)."""
+    k = np.asarray(k, dtype=float)
+    v = np.asarray(values, dtype=complex)
+    flat = v.reshape(k.size, -1)
+    coef = _fit_entries(k, flat, rfa.lags)
+    misfit = _basis(k, rfa.lags) @ coef - flat
+    scale = np.linalg.norm(flat, axis=1).max()
+    err = float(np.linalg.norm(misfit, axis=1).max() / scale) if scale > 0 else 0.0
+    return coef.reshape((coef.shape[0],) + v.shape[1:]), err

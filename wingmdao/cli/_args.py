@@ -153,11 +153,13 @@ def add_aero_and_plunge_arguments(parser, strip_help: str) -> None:
                    help="root clamped (wind-tunnel wing): the same as --plunge clamped")
 
 
-def add_aero_theory_argument(parser, default: str = "strip", dlm: bool = False) -> None:
+def add_aero_theory_argument(parser, default: str = "strip", dlm: bool | str = False) -> None:
     """``--aero-theory strip|lifting-line|vlm``: the quasi-steady lift of the coupled aeroelastic
     model (:data:`wingmdao.aero.coupled.AERO_THEORY_CHOICES`, docs/aerodynamics-3d.md); with
-    ``dlm`` also ``dlm``, the doublet lattice in the jig's modal basis (``wingmdao flutter``)."""
-    dlm_help = (", or dlm (doublet lattice of the planform in the jig beam's modal basis: p-k on its generalized "
+    ``dlm`` also ``dlm``, the doublet lattice in the jig's modal basis (``wingmdao flutter``; a
+    string: its help text on another command)."""
+    dlm_help = (dlm if isinstance(dlm, str) else
+                ", or dlm (doublet lattice of the planform in the jig beam's modal basis: p-k on its generalized "
                 "forces and the state-space eigenvalues with Roger's lag states, beside strip theory's V-g)"
                 if dlm else "")
     parser.add_argument("--aero-theory", choices=AERO_THEORY_CHOICES + (("dlm",) if dlm else ()), default=default,

@@ -18,7 +18,9 @@ spanload) to the structural beam, root clamped; the JSON keys are the same (trim
 JSON keys: time, load_factor, peak_incremental_load_factor, quasi_steady_incremental_load_factor
 (dn = rho0 U_de V_e a / (2 W/S), a the model's wing lift slope: strips, lifting line or vortex lattice), trim_alpha_rad, wing_lift_slope_per_rad,
 mass_parameter (mu = 2 (W/S) / (rho c a g)), mean_chord_m, wing_loading_pa, root_bending_moment
-(N m, M_x at the symmetry plane), root_torsion (N m, M_y), tip_displacement (m, z), peak_up/peak_down_incremental_load_factor, with --pitch free
+(N m, M_x at the symmetry plane), root_torsion (N m, M_y), peak_incremental_root_bending_moment (N m,
+max |M_x(t) - M_x(0)|), station_y_m, station_bending_moment and station_torsion (N m, time x
+node, body axes), loads_include_1g, tip_displacement (m, z), peak_up/peak_down_incremental_load_factor, with --pitch free
 pitch_angle_rad, pitch_rate_rad_s, tail_lift_n, tail_incidence_rad, and the inputs. With
 ``--alleviation FILE.yaml`` (control surfaces, actuators and a feedback law, docs/controls.md) the
 histories are those with the law, and ``alleviation`` holds the surfaces' deflection, rate and
@@ -43,6 +45,8 @@ CASES = ("pegasus", "crm")
 STIFFNESS_SCALE = (1e-3, 1e6)
 #: --u-ref-fps upper bound (ft/s EAS)
 MAX_U_REF_FPS = 200.0
+#: default number of jig beam modes of --aero-theory dlm
+DLM_MODES = 6
 
 
 def register(subparsers):
@@ -75,7 +79,11 @@ def register(subparsers):
     p.add_argument("--dt", type=float, default=None, metavar="S", help="time step (s; default: the case's, as on 'size')")
     p.add_argument("--gust-start", type=float, default=None, metavar="S",
                    help="time the gust front reaches the wing (s; default: the case's, as on 'size')")
-    add_aero_theory_argument(p)
+    add_aero_theory_argument(p, dlm=", or dlm (doublet lattice of the planform in the jig beam's modal basis with "
+                                    "Roger's lag states, root clamped: needs --clamped; loads are gust increments, "
+                                    "by force summation)")
+    p.add_argument("--modes", type=int, default=None, metavar="N",
+                   help=f"number of jig beam modes of --aero-theory dlm (2-20; default: {DLM_MODES})")
     p.add_argument("--alleviation", metavar="FILE.yaml", default=None,
                    help="control surfaces, actuators and a feedback law in the march (docs/controls.md; needs --aero "
                         "coupled); the result adds the surface histories and the peak root bending without and with it")
@@ -87,7 +95,8 @@ def register(subparsers):
 
 def run(args):
     from wingmdao.aero import aero_parameters, three_dimensional_parameters
-    from wingmdao.aero.gust_response import GustFlight, coupled_gust_response, strip_gust_response, wing_lift_slope
+    from wingmdao.aero.gust_response import (GustFlight, coupled_gust_response, dlm_gust_response,
+                                             strip_gust_response, wing_lift_slope)
     from wingmdao.aero.plunge import body_mass as plunge_body_mass, half_wing_mass
     from wingmdao.cases import available_cases, case_beam_parameters
     from wingmdao.cases.planform import FT, G0, LB, wing_geometry
@@ -98,12 +107,15 @@ def run(args):
     if args.aero == "strip" and plunge == "free":
         raise ValueError("--plunge free needs --aero coupled (the strip-theory gust loads are precomputed on a "
                          "clamped wing); use --aero strip --clamped or --aero coupled --plunge free")
+    if args.lifting_line and args.aero_theory == "dlm":
+        raise ValueError("--lifting-line and --aero-theory dlm are two aerodynamic theories; give one")
     if args.lifting_line:
         warn("--lifting-line is deprecated; use --aero-theory lifting-line (same meaning)")
         args.aero_theory = "lifting-line"
     if args.aero == "strip" and args.aero_theory != "strip":
         raise ValueError(f"--aero-theory {args.aero_theory} applies to --aero coupled (the precomputed --aero strip "
                          "loads use 2 pi)")
+    _check_dlm_args(args, plunge)
     args.plunge = plunge == "free"
     args.pitch = args.pitch == "free"
     _check_pitch_args(args)
@@ -188,7 +200,9 @@ def run(args):
                         weight=weight, gust_start=args.gust_start)
     wing_area = pf.area_ft2 * FT ** 2
     pitch_out, alleviation = {}, {}
-    if args.aero == "coupled":
+    if args.aero_theory == "dlm":
+        resp = dlm_gust_response(t, bp, chord, axis_frac, flight, area=wing_area, n_modes=args.modes)
+    elif args.aero == "coupled":
         def response(**controls):
             return coupled_gust_response(t, bp, chord, axis_frac, ap, flight, area=wing_area, plunge=args.plunge,
                                          body_mass=body_mass, pitch_params=args.pitch_params if args.pitch else None,
@@ -212,6 +226,10 @@ def run(args):
         resp = strip_gust_response(t, bp, chord, axis_frac, flight, area=wing_area, semi_span=pf.semi_span,
                                    fuselage_half_width=pf.root_rib * pf.semi_span)
     n_load, X, a_wing, trim_alpha = resp.load_factor, resp.states, resp.wing_lift_slope, resp.trim_alpha
+    if resp.station_loads is None:  # total, 1 g included (X: the 18 beam states per node)
+        bending, torsion, tip = X[:, :, 9], X[:, :, 10], X[:, -1, 2] - r0[-1, 2]
+    else:  # the doublet lattice's gust increments on the jig
+        bending, torsion, tip = resp.station_loads[:, :, 3], resp.station_loads[:, :, 4], resp.tip_displacement
     area = pf.area_ft2 * FT ** 2
     wing_loading = weight / area
     span = 2 * pf.semi_span
@@ -223,7 +241,8 @@ def run(args):
     res = {
         "case": args.case, "aero": args.aero, "plunge": bool(args.plunge), "pitch": bool(args.pitch), "gradient_ft": H_ft,
         "stiffness_scale": args.stiffness_scale, "lifting_line": args.aero_theory == "lifting-line",
-        "aero_theory": args.aero_theory if args.aero == "coupled" else "strip", "design": args.design, "altitude_ft": alt_ft, "mach": mach,
+        "aero_theory": args.aero_theory if args.aero == "coupled" else "strip",
+        "modes": args.modes if args.aero_theory == "dlm" else None, "design": args.design, "altitude_ft": alt_ft, "mach": mach,
         "airspeed_tas_m_s": V, "density_kg_m3": rho, "u_ds_eas_m_s": u_eas,
         "time": t.tolist(),
         "load_factor": n_load.tolist(),
@@ -237,14 +256,21 @@ def run(args):
         "pratt_walker_factor": float(0.88 * mu / (5.3 + mu)),
         "mean_chord_m": float(mean_chord),
         "wing_loading_pa": float(wing_loading),
-        "root_bending_moment": X[:, 0, 9].tolist(),  # total, 1 g included (X: the 18 beam states per node)
-        "root_torsion": X[:, 0, 10].tolist(),
-        "tip_displacement": (X[:, -1, 2] - r0[-1, 2]).tolist(),
+        "root_bending_moment": bending[:, 0].tolist(),
+        "root_torsion": torsion[:, 0].tolist(),
+        "peak_incremental_root_bending_moment": float(np.max(np.abs(bending[:, 0] - bending[0, 0]))),
+        "loads_include_1g": resp.station_loads is None,
+        "station_y_m": r0[:, 1].tolist(),
+        "station_bending_moment": bending.tolist(),
+        "station_torsion": torsion.tolist(),
+        "tip_displacement": tip.tolist(),
+        **({"dlm": resp.dlm} if resp.dlm else {}),
         **pitch_out,
         **alleviation,
         "wall_s": _time.perf_counter() - t_wall,
     }
-    print(f"peak dn = {res['peak_incremental_load_factor']:.4f}, quasi-steady dn = {dn_qs:.4f}, mu = {mu:.2f}, "
+    print(f"peak dn = {res['peak_incremental_load_factor']:.4f}, peak root bending increment = "
+          f"{res['peak_incremental_root_bending_moment'] / 1e3:.1f} kN m, quasi-steady dn = {dn_qs:.4f}, mu = {mu:.2f}, "
           f"K_g = {res['pratt_walker_factor']:.3f}, {res['wall_s']:.1f} s", file=sys.stderr)
     if alleviation:
         a = alleviation["alleviation"]
@@ -298,6 +324,26 @@ def _check_outputs(args, plot_name):
         refuse_existing([plot], overwrite=args.overwrite, what="plot")
     check_output_file(args.json, "--json", overwrite=args.overwrite, others={"plot": plot})
     return plot
+
+
+def _check_dlm_args(args, plunge):
+    """--aero-theory dlm: the modal doublet lattice of the clamped jig (no plunge or pitch degrees of
+    freedom, no 1 g trim); --modes applies to it only."""
+    if args.aero_theory != "dlm":
+        if args.modes is not None:
+            raise ValueError(f"--modes = {args.modes} applies to --aero-theory dlm only")
+        return
+    if args.aero != "coupled":
+        raise ValueError("--aero-theory dlm needs --aero coupled (the doublet lattice on the deforming wing)")
+    if plunge != "clamped" or args.pitch == "free":
+        raise ValueError("--aero-theory dlm supports the clamped root only (the modal basis is the clamped jig's): "
+                         "add --clamped; --plunge free and --pitch free need --aero-theory strip|lifting-line|vlm")
+    if getattr(args, "alleviation", None):
+        raise ValueError(f"--alleviation {args.alleviation}: control surfaces are in the strip sections only; "
+                         "use --aero-theory strip|lifting-line|vlm with --alleviation")
+    args.modes = DLM_MODES if args.modes is None else args.modes
+    if not 2 <= args.modes <= 20:
+        raise ValueError(f"--modes = {args.modes}; allowed range [2, 20]")
 
 
 def _check_pitch_args(args):

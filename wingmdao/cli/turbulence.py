@@ -15,7 +15,12 @@ load_factor, tip_deflection; per station chordwise_shear, axial_force, vertical_
 bending_moment, torsion, chordwise_bending, csn frame; ``stress`` (n, 8): the 4 corner axial
 stresses then the 4 flange-centre shears of each box station, Pa), design_loads (one_g, up, down of each),
 correlation (bending_torsion per station, correlated_loads, root_ellipse), load_units,
-quadrature, model, span_m, wall_s.
+quadrature, model, span_m, wall_s. ``--aero-theory dlm`` (with ``--clamped``): the doublet lattice
+in the jig beam's modal basis with Roger's lag states, linearised as its residual system
+(:mod:`wingmdao.stability.modal_turbulence`); its JSON holds a_bar and a_bar_error of
+root_bending_moment, root_torsion, load_factor, tip_deflection and per station bending_moment and
+torsion (body axes, force summation), the PSDs and transfer magnitudes, ``dlm`` (the model's
+figures) and loads_include_1g false: no 1 g state, so no design_loads, correlation or stress.
 """
 
 from __future__ import annotations
@@ -65,6 +70,12 @@ def register(subparsers):
                    help="highest frequency of the grid (Hz); the spectrum beyond it enters as an estimated tail")
     p.add_argument("--grid-points", type=int, default=161, metavar="N",
                    help="points of the geometric part of the grid (modes add 16 each)")
+    p.add_argument("--aero-theory", choices=("strip", "dlm"), default="strip",
+                   help="strip (the models of --aero) or dlm (doublet lattice of the planform in the jig beam's modal "
+                        "basis with Roger's lag states; needs --aero coupled --clamped; A-bar only, no 1 g state) "
+                        "(default: %(default)s)")
+    p.add_argument("--modes", type=int, default=None, metavar="N",
+                   help="number of jig beam modes of --aero-theory dlm (2-20; default: 6)")
     add_output_arguments(p, what="the PNG plots (CASE_turbulence_*.png)")
     p.set_defaults(func=run)
 
@@ -92,7 +103,24 @@ def _check_args(args, module):
         raise ValueError(f"--f-max-hz = {args.f_max_hz} Hz; allowed range [0.1, {MAX_F_MAX_HZ:g}] Hz")
     if not GRID_POINTS[0] <= args.grid_points <= GRID_POINTS[1]:
         raise ValueError(f"--grid-points = {args.grid_points}; allowed range [{GRID_POINTS[0]}, {GRID_POINTS[1]}]")
+    _check_dlm(args, plunge)
     return plunge == "free", alt, mach, m_c, m_d
+
+
+def _check_dlm(args, plunge):
+    """--aero-theory dlm: the clamped jig's modal doublet lattice, undamped; --modes applies to it only."""
+    if args.aero_theory != "dlm":
+        if args.modes is not None:
+            raise ValueError(f"--modes = {args.modes} applies to --aero-theory dlm only")
+        return
+    if args.aero != "coupled" or plunge != "clamped":
+        raise ValueError("--aero-theory dlm needs --aero coupled --clamped (the modal basis is the clamped jig's)")
+    if args.damping_ratio > 0:
+        raise ValueError(f"--damping-ratio = {args.damping_ratio} applies to the beam models; --aero-theory dlm "
+                         "is undamped (give 0)")
+    args.modes = 6 if args.modes is None else args.modes
+    if not 2 <= args.modes <= 20:
+        raise ValueError(f"--modes = {args.modes}; allowed range [2, 20]")
 
 
 def _stress_matrices(setup, args):
@@ -150,6 +178,9 @@ def run(args):
     if args.damping_ratio > 0:
         damping, note = module.gust_damping(args.damping_ratio, args.damping_frequency_hz, setup.geometry, setup.options)
         print(note, file=sys.stderr)
+    if args.aero_theory == "dlm":
+        return _run_dlm(args, bp, chord, axis_frac, mach, V, rho, weight, point, stem, t_wall,
+                        {"altitude_ft": alt_ft, "altitude_m": alt})
     if args.aero == "coupled":
         ap = aero_parameters(chord.size, chord=chord, ref_point=axis_frac, airspeed=V, density=rho, mach=mach)
         gm = coupled_gust_model(bp, ap, chord=chord, axis_fraction=axis_frac, weight=weight, plunge=plunge,
@@ -170,6 +201,28 @@ def run(args):
           f"{res['design_loads']['load_factor']['down']:.3f}; quadrature error <= "
           f"{100 * res['quadrature']['max_relative_error_a_bar']:.2g} % of A-bar; {res['wall_s']:.1f} s", file=sys.stderr)
     write_json(res, args.json)  # the result first: a plotting failure must never lose it
+    if stem:
+        _plots(res, stem)
+    return 0
+
+
+def _run_dlm(args, bp, chord, axis_frac, mach, V, rho, weight, point, stem, t_wall, alt):
+    from wingmdao.stability.modal import modal_dlm_wing
+    from wingmdao.stability.modal_turbulence import dlm_turbulence_analysis
+
+    wing = modal_dlm_wing(bp, chord, axis_frac, mach, n_modes=args.modes)
+    res = {"case": args.case, "aero": args.aero, "aero_theory": "dlm", "plunge": False, "design": args.design, **alt,
+           "mach": mach, "damping_ratio": 0.0, "airspeed_tas_m_s": V, "density_kg_m3": rho,
+           "u_sigma_ref_m_s": point.u_sigma_ref, "f_g": point.f_g, "speed_factor": point.speed_factor,
+           "u_sigma_m_s": point.u_sigma, "span_m": np.asarray(bp["node_positions"])[:, 1].tolist(),
+           "modes": args.modes}
+    res.update(dlm_turbulence_analysis(wing, V, rho, weight, f_max=args.f_max_hz, n_base=args.grid_points))
+    res["wall_s"] = _time.perf_counter() - t_wall
+    ab = res["a_bar"]
+    print(f"A-bar (doublet lattice, {args.modes} modes): load factor {ab['load_factor']:.4g} per m/s, root bending "
+          f"{ab['root_bending_moment']:.4g} N m per m/s; quadrature error <= "
+          f"{100 * res['quadrature']['max_relative_error_a_bar']:.2g} % of A-bar; {res['wall_s']:.1f} s", file=sys.stderr)
+    write_json(res, args.json)
     if stem:
         _plots(res, stem)
     return 0
@@ -205,6 +258,8 @@ def _plots(res, stem):
     axes[-1].set_xlabel("frequency (Hz)")
     axes[0].set_title(f"output PSDs at U_sigma = {res['u_sigma_m_s']:.2f} m/s (von Karman, L = 2,500 ft)", fontsize=9)
     _save(fig, f"{stem}_psd.png")
+    if "design_loads" not in res:  # the doublet lattice's A-bar only (no 1 g state)
+        return
 
     y = np.abs(res["span_m"])
     fig, axes = plt.subplots(3, 1, figsize=(7, 8), sharex=True)

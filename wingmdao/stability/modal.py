@@ -21,7 +21,9 @@ import numpy as np
 
 from wingmdao.aero.dlm import (DLM_CHORDWISE, DLM_SPANWISE, REDUCED_FREQUENCIES, GeneralizedForces,
                                generalized_forces)
-from wingmdao.aero.rfa import RogerApproximation, fit
+from wingmdao.aero.modal_loads import StationLoadModel, station_load_model
+from wingmdao.aero.rfa import N_LAGS, RogerApproximation, fit
+from wingmdao.aero.rfa_system import modal_rfa_system
 from wingmdao.beam.modes import NormalModes, normal_modes
 from wingmdao.beam.static import beam_forcing, cached_beam_system
 from wingmdao.stability.pk import FlutterResult, ModalStructure, pk_flutter, state_space_flutter
@@ -101,3 +103,42 @@ def dlm_flutter(problem, speeds=None, *, n_modes: int = N_MODES, reduced_frequen
     t["state_space"] = time.perf_counter() - t0
     return DLMFlutter(pk=pk, state_space=ss, modes=modes, structure=structure, gaf=gaf, rfa=rfa, mach=mach,
                       timings=t)
+
+
+@dataclass
+class ModalDLMWing:
+    """The modal doublet-lattice wing of a beam: ``modes``, ``structure``, ``gaf``, ``rfa``, the
+    residual ``system`` (:func:`wingmdao.aero.rfa_system.modal_rfa_system`) and the station-load
+    recovery ``loads`` (:func:`wingmdao.aero.modal_loads.station_load_model`)."""
+
+    modes: NormalModes
+    structure: ModalStructure
+    gaf: GeneralizedForces
+    rfa: RogerApproximation
+    system: object
+    loads: StationLoadModel
+
+    def info(self) -> dict:
+        """The model's figures for a JSON result."""
+        return {"n_modes": self.modes.count, "frequencies_hz": (self.modes.frequencies / (2 * np.pi)).tolist(),
+                "lag_roots": self.rfa.lags.tolist(), "fit_error": self.rfa.error, "gust_fit_error": self.rfa.gust_error,
+                "station_load_fit_error": self.loads.error, "reduced_frequencies": self.gaf.k.tolist(),
+                "b_ref_m": self.gaf.b_ref, "mach": self.gaf.mach}
+
+
+def modal_dlm_wing(beam_params, chord, axis_frac, mach, *, n_modes: int = N_MODES, n_lags: int = N_LAGS,
+                   reduced_frequencies=REDUCED_FREQUENCIES, n_chordwise=DLM_CHORDWISE,
+                   n_spanwise=DLM_SPANWISE, damping_ratio: float = 0.0) -> ModalDLMWing:
+    """:class:`ModalDLMWing` of the beam ``beam_params`` (clamped, modes about the jig), planform
+    ``chord`` and ``axis_frac`` per node, at ``mach``."""
+    r0 = np.asarray(beam_params["node_positions"], dtype=float)
+    n = r0.shape[0]
+    system = cached_beam_system(n)
+    modes = normal_modes(system, beam_params, pack(system.param_specs, beam_params),
+                         pack(system.forcing_specs, beam_forcing(n)), count=int(n_modes))
+    gaf = generalized_forces(r0, np.broadcast_to(chord, (n,)), np.broadcast_to(axis_frac, (n,)), modes.displacement,
+                             modes.rotation, mach=mach, reduced_frequencies=reduced_frequencies,
+                             n_chordwise=n_chordwise, n_spanwise=n_spanwise)
+    rfa = fit(gaf, n_lags=n_lags)
+    structure = ModalStructure.from_modes(modes, damping_ratio)
+    return ModalDLMWing(modes, structure, gaf, rfa, modal_rfa_system(structure, rfa), station_load_model(gaf, rfa, modes))

@@ -1,0 +1,122 @@
+"""Continuous-turbulence response of the modal doublet-lattice wing (no OpenMDAO; docs/turbulence.md).
+
+The residual system of :func:`wingmdao.aero.rfa_system.modal_rfa_system` (modal amplitudes,
+Roger lag states, gust lag states) is linear; its linearisation ``E dx' + A dx + G_0 w + G_1 w' +
+G_2 w'' = 0`` (``A``, ``E`` from its ``jac_state`` as for the state-space flutter matrix, the
+``G`` from ``jac_inputs`` on the gust velocity at ``x_gust`` and its two rates, the penetration
+delays being inside the doublet lattice's gust column) gives at angular frequency omega
+
+    (i omega E + A) X = -(G_0 + i omega G_1 - omega^2 G_2)                              (1)
+
+per m/s of gust velocity, solved with the sparse shifted factors of
+:mod:`wingmdao.stability.frequency`. The station loads (force summation,
+:mod:`wingmdao.aero.modal_loads`) and the lift follow linearly from ``X``; A-bar is
+:func:`wingmdao.loads.turbulence.a_bar` of their transfer functions with the von Karman spectrum.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+
+from wingmdao.aero.modal_loads import StationLoadModel
+from wingmdao.aero.rfa import RogerApproximation
+from wingmdao.loads.turbulence import ABar, a_bar
+from wingmdao.stability.frequency import ShiftedFactors, check_frequencies, frequency_grid
+from wingmdao.timemarch.system import layout, pack
+
+__all__ = ["ModalGustResponse", "modal_gust_frequency_response", "modal_turbulence_a_bar", "dlm_turbulence_analysis"]
+
+
+@dataclass
+class ModalGustResponse:
+    """Transfer functions per m/s of gust velocity on ``omega`` (rad/s): ``modal`` (n_freq, modes)
+    amplitudes, ``station_loads`` (n_freq, n, 6) complex internal force (N) and moment (N m) by
+    force summation, ``aero_station_loads`` (n_freq, n, 6) the panel forces' share."""
+
+    omega: np.ndarray
+    modal: np.ndarray
+    station_loads: np.ndarray
+    aero_station_loads: np.ndarray
+
+
+def modal_gust_frequency_response(system, structure, rfa: RogerApproximation, model: StationLoadModel, airspeed,
+                                  density, omega) -> ModalGustResponse:
+    """Equation (1) of the module docstring for the modal residual ``system`` at ``airspeed`` (m/s)
+    and ``density`` (kg/m^3) on ``omega`` (rad/s, > 0, increasing), and the station loads."""
+    w = check_frequencies(omega)
+    V, rho = float(airspeed), float(density)
+    qd = 0.5 * rho * V ** 2
+    b = float(rfa.b_ref)
+    n, L = structure.mass.shape[0], rfa.n_lags
+    p = pack(system.param_specs, {"airspeed": V, "density": rho})
+    x0 = np.zeros(system.n_state)
+    f0 = np.zeros(system.n_forcing)
+    A, E = (sp.csc_matrix(m) for m in system.jac_state(x0, x0, p, f0))
+    _, dq = system.jac_inputs(x0, x0, p, f0)
+    ql = layout(system.forcing_specs)
+    G = [sp.csc_matrix(dq)[:, ql[name]].toarray().ravel()
+         for name in ("gust_velocity", "gust_velocity_rate", "gust_velocity_acceleration")]
+    factors = ShiftedFactors(A, E)
+    X = np.empty((w.size, system.n_state), dtype=complex)
+    for i, om in enumerate(w):
+        X[i] = factors.factor(1j * om).solve(-(G[0] + 1j * om * G[1] - om ** 2 * G[2]))
+    q, v = X[:, :n], X[:, n:2 * n]
+    z = X[:, 2 * n:2 * n + L * n].reshape(-1, L, n)
+    zg = X[:, 2 * n + L * n:]
+    a = 1j * w[:, None] * v
+    S, Sg = model.motion, model.gust
+    g = np.ones(w.size) / V
+    aero = qd * (np.einsum("scm,tm->tsc", S[0], q) + (b / V) * np.einsum("scm,tm->tsc", S[1], v)
+                 + (b / V) ** 2 * np.einsum("scm,tm->tsc", S[2], a) + np.einsum("lscm,tlm->tsc", S[3:], z)
+                 + np.einsum("sc,t->tsc", Sg[0], g) + (b / V) * np.einsum("sc,t->tsc", Sg[1], 1j * w * g)
+                 + (b / V) ** 2 * np.einsum("sc,t->tsc", Sg[2], -w ** 2 * g) + np.einsum("lsc,tl->tsc", Sg[3:], zg))
+    total = aero + np.einsum("scm,tm->tsc", model.inertia, a)
+    return ModalGustResponse(w, q, total, aero)
+
+
+def modal_turbulence_a_bar(system, structure, rfa: RogerApproximation, model: StationLoadModel, airspeed, density,
+                           *, f_min=1e-3, f_max=20.0, n_base=161) -> tuple[ABar, ModalGustResponse]:
+    """A-bar (N, N m per m/s) of the station loads (n, 6) on a grid refined about the modal
+    system's lightly damped poles (:func:`wingmdao.stability.frequency.frequency_grid`), and the
+    frequency response."""
+    p = pack(system.param_specs, {"airspeed": float(airspeed), "density": float(density)})
+    x0 = np.zeros(system.n_state)
+    A, E = (m.toarray() for m in system.jac_state(x0, x0, p, np.zeros(system.n_forcing)))
+    lam = sla.eigvals(-A, E)
+    lam = lam[np.isfinite(lam) & (np.abs(lam) < 1e6)]
+    omega = frequency_grid(lam, f_min=f_min, f_max=f_max, n_base=n_base)
+    resp = modal_gust_frequency_response(system, structure, rfa, model, airspeed, density, omega)
+    return a_bar(omega, resp.station_loads, float(airspeed)), resp
+
+
+def dlm_turbulence_analysis(wing, airspeed, density, weight, *, f_max=40.0, n_base=161) -> dict:
+    """A-bar (per m/s of gust) of the modal doublet-lattice wing ``wing``
+    (:class:`wingmdao.stability.modal.ModalDLMWing`, root clamped) as a JSON-ready dict:
+    ``a_bar``/``a_bar_error`` of root_bending_moment (M_x, N m), root_torsion (M_y), load_factor
+    (lift of both half-wings over ``weight`` N), tip_deflection (m, z), and per station
+    bending_moment and torsion (body axes); ``frequency_hz``, ``psd`` and
+    ``transfer_function_magnitude`` of the root bending and the load factor (tip deflection: the
+    magnitude only); ``quadrature``; ``dlm`` the model's figures. No 1 g state (increments)."""
+    ab, resp = modal_turbulence_a_bar(wing.system, wing.structure, wing.rfa, wing.loads, airspeed, density,
+                                      f_max=f_max, n_base=n_base)
+    w = resp.omega
+    H = {"root_bending_moment": resp.station_loads[:, 0, 3], "root_torsion": resp.station_loads[:, 0, 4],
+         "load_factor": 2.0 * resp.aero_station_loads[:, 0, 2] / float(weight),
+         "tip_deflection": resp.modal @ wing.modes.displacement[:, -1, 2]}
+    out = {name: a_bar(w, h, float(airspeed)) for name, h in H.items()}
+    a = {k: float(v.value) for k, v in out.items()}
+    e = {k: float(v.error) for k, v in out.items()}
+    a.update(bending_moment=ab.value[:, 3].tolist(), torsion=ab.value[:, 4].tolist())
+    e.update(bending_moment=ab.error[:, 3].tolist(), torsion=ab.error[:, 4].tolist())
+    rel = max(e[k] / a[k] for k in H if a[k] > 0)
+    return {"model": "doublet lattice, modal (Roger lags), clamped", "frequency_hz": (w / (2 * np.pi)).tolist(),
+            "a_bar": a, "a_bar_error": e,
+            "psd": {k: out[k].psd.tolist() for k in ("root_bending_moment", "load_factor")},
+            "transfer_function_magnitude": {k: np.abs(H[k]).tolist() for k in ("root_bending_moment", "load_factor",
+                                                                              "tip_deflection")},
+            "quadrature": {"points": int(w.size), "f_max_hz": float(f_max), "max_relative_error_a_bar": float(rel)},
+            "loads_include_1g": False, "dlm": wing.info()}
