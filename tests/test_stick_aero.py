@@ -100,7 +100,7 @@ def test_trimmed_stick_aircraft_lifts_its_weight_with_no_pitching_moment():
     lay = layout(s.param_specs)
     moment = 0.0
     masses_x = list(X_FUS) + [0.0]
-    for name, (lift_i, m_i) in loads.items():
+    for name, (lift_i, m_i, _) in loads.items():
         r0 = p[lay[f"{name}_node_positions"]].reshape(-1, 3)
         ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
         w = np.zeros(len(lift_i))

@@ -201,7 +201,8 @@ def build_joined_aeroelastic_system(beams, joints, *, lifting=("wing", "tail"), 
 
     Returns the :class:`~wingmdao.beam.joints.JoinedBeamSystem` with ``lag_index`` ({beam: (n, 4)
     state indices}), ``downwash_index`` (or None), ``trim_index`` ({name: state index}),
-    ``lifting`` and ``section_loads(x, xdot, p, q)`` ({beam: (lift (n,) N/m, moment (n,) N)}).
+    ``lifting`` and ``section_loads(x, xdot, p, q)`` ({beam: (lift (n,) N/m along the section
+    normal, moment (n,) N about the beam axis, body-z force (n,) N/m)}).
     ValueError (before any build) for a lifting beam that is not a beam or not in body axes, a
     wing or tail not among the lifting beams, or supports that are not three valid triples.
     """
@@ -274,16 +275,16 @@ def _section_loads_function(system, ext):
             lag = system.lag_index[name][i]
             xa = ca.vertcat(x[i0 + 18 * i: i0 + 18 * (i + 1)], x[int(lag[0]):int(lag[-1]) + 1])
             xda = ca.vertcat(xdot[i0 + 18 * i: i0 + 18 * (i + 1)], xdot[int(lag[0]):int(lag[-1]) + 1])
-            _f, _m, _res, lift, moment, _ = _node_aero(xa, xda, pa, None, frame, V, rho, mach, seq)
-            out += [lift, moment]
+            f, _m, _res, lift, moment, _ = _node_aero(xa, xda, pa, None, frame, V, rho, mach, seq)
+            out += [lift, moment, f[2]]
     return ca.Function("joined_section_loads", [x, xdot, p, q], [ca.vertcat(*out)])
 
 
 def _unpack_loads(system, x, xdot, p, q):
-    v = np.asarray(system._section_loads(np.ravel(x), np.ravel(xdot), np.ravel(p), np.ravel(q))).ravel().reshape(-1, 2)
+    v = np.asarray(system._section_loads(np.ravel(x), np.ravel(xdot), np.ravel(p), np.ravel(q))).ravel().reshape(-1, 3)
     out, k = {}, 0
     for name, n in system.aero.counts.items():
-        out[name] = (v[k:k + n, 0].copy(), v[k:k + n, 1].copy())
+        out[name] = (v[k:k + n, 0].copy(), v[k:k + n, 1].copy(), v[k:k + n, 2].copy())
         k += n
     return out
 
@@ -335,13 +336,15 @@ def pack_aero_forcing(system, gust: dict | None = None, *, trim_active=0.0, fram
     return q
 
 
-def lift_total(system, x, xdot, p, q) -> float:
-    """Integrated lift (N, along the sections' normals, trapezoid over each lifting beam's jig
-    node positions) of the modelled half (or whole) aircraft."""
+def lift_total(system, x, xdot, p, q, vertical: bool = False) -> float:
+    """Integrated lift (N, trapezoid over each lifting beam's jig node positions) of the modelled
+    half (or whole) aircraft: along the sections' normals, or with ``vertical`` its body-z
+    component (the aerodynamic force that balances the weight)."""
     lay = layout(system.param_specs)
     p = np.asarray(p, dtype=float)
     total = 0.0
-    for name, (lift, _) in system.section_loads(x, xdot, p, q).items():
+    for name, (normal, _, up) in system.section_loads(x, xdot, p, q).items():
+        lift = up if vertical else normal
         r0 = p[lay[f"{name}_node_positions"]].reshape(-1, 3)
         ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
         total += float(np.sum(0.5 * (lift[:-1] + lift[1:]) * ds))
