@@ -17,6 +17,7 @@ from wingmdao.aero.joined import build_joined_aeroelastic_system, lift_total, pa
 from wingmdao.beam.joints import FUSELAGE_AXES, Beam, Joint, LumpedMass, Symmetry
 from wingmdao.beam.rotations import euler_from_axis
 from wingmdao.beam.static import beam_forcing, beam_parameters, straight_beam
+from wingmdao.timemarch.adjoint import LinearizedHistory
 from wingmdao.timemarch.bdf import march, solve_static
 from wingmdao.timemarch.system import layout, pack
 
@@ -34,12 +35,12 @@ SUPPORTS = (("fuselage", 0, "x"), ("fuselage", 0, "z"), ("fuselage", -1, "z"))
 ROT = np.diag([1e-4, 1e-4, 1e-4])
 
 
-def _wing_params():
+def _wing_params(section=None):
     r0, th0 = straight_beam(N_WING, SEMI)
-    return beam_parameters(r0, th0, mass_per_length=15.0, inertia_per_length=ROT, **STIFF)
+    return beam_parameters(r0, th0, mass_per_length=15.0, inertia_per_length=ROT, **(section or STIFF))
 
 
-def _stick():
+def _stick(wing_section=None):
     fus_r = np.column_stack([X_FUS, 0 * X_FUS, 0 * X_FUS])
     fus = beam_parameters((np.array(FUSELAGE_AXES) @ fus_r.T).T, np.tile(euler_from_axis((0.0, 1.0, 0.0)),
                           (X_FUS.size, 1)), mass_per_length=1e-3, inertia_per_length=ROT, **STIFF)
@@ -53,7 +54,7 @@ def _stick():
     masses = [LumpedMass("fuselage", i, m) for i, m in enumerate(BODY)]
     symmetry = [Symmetry("fuselage", i) for i in range(X_FUS.size)]
     s = build_joined_aeroelastic_system(beams, joints, supports=SUPPORTS, masses=masses, symmetry=symmetry)
-    p = pack_aero_parameters(s, {"fuselage": fus, "wing": _wing_params(), "tail": tail},
+    p = pack_aero_parameters(s, {"fuselage": fus, "wing": _wing_params(wing_section), "tail": tail},
                              {"wing": {"chord": CHORD, "ref_point": REF}, "tail": {"chord": TAIL_CHORD, "ref_point": 0.25}},
                              airspeed=V, density=RHO, downwash_gradient=DOWNWASH)
     return s, p
@@ -174,3 +175,43 @@ def test_bad_lifting_surfaces_and_supports_are_refused_before_the_build():
         kw = {"supports": SUPPORTS, **kw}
         with pytest.raises(ValueError, match=re.escape(msg)):
             build_joined_aeroelastic_system(beams, joints, **kw)
+
+
+def test_adjoint_of_a_gust_on_the_trimmed_flexible_stick_aircraft():
+    """Discrete adjoint of a 16-step gust march from the trimmed state (static trim step included)
+    of the stick aircraft with a flexible wing: d(sum of squared wing-root bending increments)/d(wing
+    mass, tail chord, deps/dalpha, airspeed) against central differences, and the tangent sweep."""
+    s, p = _stick(dict(EI_cc=4e6, GJ=3e6, EI_nn=4e7, EA=1e9))
+    t = np.linspace(0.0, 0.15, 16)
+    lay = layout(s.param_specs)
+    x_w = p[lay["wing_node_positions"]].reshape(-1, 3)[:, 0]
+    x_t = p[lay["tail_node_positions"]].reshape(-1, 3)[:, 0]
+    g = station_gust_history(t, np.concatenate([x_w, x_t]), V, _gust(t, length=10.0, u=5.0), x_ref=0.0)
+    Q = np.array([pack_aero_forcing(s, {"wing": g[k, :N_WING], "tail": g[k, N_WING:]},
+                                    trim_active=float(k == 0), gravity=[0, 0, -G]) for k in range(t.size)])
+    i = s.node_index("wing", 1) + 9          # M_x at the wing's root rib
+
+    def f_of(states):
+        d = states[:, i] - states[0, i]
+        dfdx = np.zeros_like(states)
+        dfdx[:, i] = 2 * d
+        dfdx[0, i] -= np.sum(2 * d)
+        return float(np.sum(d**2)), dfdx
+
+    run = lambda pp: march(s, t, pp, Q, atol=1e-9, static_options={"atol": 1e-9})  # noqa: E731
+    h = run(p)
+    f, dfdx = f_of(h.states)
+    assert f > 0
+    lin = LinearizedHistory(s, t, h.states, p, Q, lu="static")
+    grad = lin.gradient(dfdx)[0]
+    picks = {"wing mass": lay["wing_mass_per_length"].start + 2, "tail chord": lay["tail_chord"].start + 1,
+             "downwash": lay["downwash_gradient"].start, "airspeed": lay["airspeed"].start}
+    for name, j in picks.items():
+        step = 1e-4 * abs(p[j])
+        e = np.zeros_like(p)
+        e[j] = step
+        fd = (f_of(run(p + e).states)[0] - f_of(run(p - e).states)[0]) / (2 * step)
+        assert grad[j] == pytest.approx(fd, rel=2e-5, abs=1e-8 * f), name
+    direction = np.zeros_like(p)
+    direction[list(picks.values())] = 1.0
+    assert np.sum(dfdx * lin.tangent(dp=direction)) == pytest.approx(grad @ direction, rel=1e-8)
