@@ -211,6 +211,7 @@ def test_adjoint_of_a_gust_on_the_trimmed_flexible_stick_aircraft():
         e = np.zeros_like(p)
         e[j] = step
         fd = (f_of(run(p + e).states)[0] - f_of(run(p - e).states)[0]) / (2 * step)
+        print(f"{name}: adjoint {grad[j]:.6e}, central differences {fd:.6e}, {grad[j] / fd - 1:+.1e}")
         assert grad[j] == pytest.approx(fd, rel=2e-5, abs=1e-8 * f), name
     direction = np.zeros_like(p)
     direction[list(picks.values())] = 1.0
