@@ -78,7 +78,8 @@ def _pitch_model():
     return s, pack(s.param_specs, par)
 
 
-def _gust(t, length=40.0, u=8.0):
+def _gust(length=40.0, u=8.0):
+    """1-cos gust profile (m/s up) of length ``length`` (m) and peak ``u`` (m/s) at V."""
     def profile(tau):
         return np.where((tau >= 0) & (tau <= length / V), 0.5 * u * (1 - np.cos(2 * np.pi * V * tau / length)), 0.0)
     return profile
@@ -125,7 +126,7 @@ def test_stiff_stick_aircraft_reproduces_the_rigid_plunge_pitch_gust_load_factor
     """1-cos gust from the trimmed 1 g state: the load factor (lift / W) of the stiff stick aircraft
     against the lone wing's plunge/pitch model within 1 % of the peak increment at every step."""
     t = np.arange(0.0, 1.2 + 1e-9, 0.005)
-    prof = _gust(t)
+    prof = _gust()
     s, p = _stick()
     lay = layout(s.param_specs)
     x_w = p[lay["wing_node_positions"]].reshape(-1, 3)[:, 0]
@@ -186,7 +187,7 @@ def test_adjoint_of_a_gust_on_the_trimmed_flexible_stick_aircraft():
     lay = layout(s.param_specs)
     x_w = p[lay["wing_node_positions"]].reshape(-1, 3)[:, 0]
     x_t = p[lay["tail_node_positions"]].reshape(-1, 3)[:, 0]
-    g = station_gust_history(t, np.concatenate([x_w, x_t]), V, _gust(t, length=10.0, u=5.0), x_ref=0.0)
+    g = station_gust_history(t, np.concatenate([x_w, x_t]), V, _gust(length=10.0, u=5.0), x_ref=0.0)
     Q = np.array([pack_aero_forcing(s, {"wing": g[k, :N_WING], "tail": g[k, N_WING:]},
                                     trim_active=float(k == 0), gravity=[0, 0, -G]) for k in range(t.size)])
     i = s.node_index("wing", 1) + 9          # M_x at the wing's root rib

@@ -45,7 +45,7 @@ from wingmdao.aero.system import _node_aero, check_aero_parameters
 from wingmdao.beam.joints import Beam, _build_joined
 from wingmdao.beam.residual import NODE_PARAMS, STATE_BLOCKS
 from wingmdao.beam.rotations import body_to_csn
-from wingmdao.timemarch.system import VarSpec, layout, pack
+from wingmdao.timemarch.system import VarSpec, layout
 from wingmdao.utils.casadi_cache import definition_key
 
 #: Per-station aerodynamic parameters of a lifting beam (``<beam>_<name>``, one value per node).
@@ -352,4 +352,4 @@ def lift_total(system, x, xdot, p, q, vertical: bool = False) -> float:
 
 
 __all__ = ["build_joined_aeroelastic_system", "pack_aero_parameters", "pack_aero_forcing", "lift_total",
-           "SECTION_PARAMS", "TRIM_STATE_NAMES", "pack"]
+           "SECTION_PARAMS", "TRIM_STATE_NAMES"]
