@@ -217,3 +217,16 @@ def test_adjoint_of_a_gust_on_the_trimmed_flexible_stick_aircraft():
     direction = np.zeros_like(p)
     direction[list(picks.values())] = 1.0
     assert np.sum(dfdx * lin.tangent(dp=direction)) == pytest.approx(grad @ direction, rel=1e-8)
+
+
+def test_trim_at_a_load_factor_lifts_n_times_the_weight():
+    """A steady pull-up at n = 2.5: the body axes accelerate upward at (n - 1) g (the shared forcing
+    ``frame_acceleration``); the trim then gives lift = n W (W from the model's masses) with no
+    support reaction."""
+    s, p = _stick()
+    n = 2.5
+    shared = dict(gravity=[0, 0, -G], frame_acceleration=[0, 0, (n - 1) * G])
+    x, _ = solve_static(s, p, pack_aero_forcing(s, trim_active=1.0, **shared))
+    q0 = pack_aero_forcing(s, trim_active=0.0, **shared)
+    assert np.max(np.abs(s.residual(x, 0 * x, p, q0))) < 1e-8 * _weight_half()
+    assert abs(lift_total(s, x, 0 * x, p, q0, vertical=True) / (n * _weight_half()) - 1.0) < 1e-4
