@@ -24,6 +24,12 @@ pitch_angle_rad, pitch_rate_rad_s, tail_lift_n, tail_incidence_rad, and the inpu
 histories are those with the law, and ``alleviation`` holds the surfaces' deflection, rate and
 hinge-moment histories, their peaks against the limits and the peak root bending and load factor
 without and with the law (:func:`~wingmdao.aero.gust_response.alleviation_summary`).
+
+``--model stick`` (pegasus): the same gust on the free half aircraft's stick model
+(:func:`wingmdao.cases.pegasus_stick.gust_response`; docs/stick-model.md); the JSON holds time,
+load_factor, the peak increments, trim_alpha_rad, tail_incidence_rad, trim_thrust_n,
+downwash_gradient and ``monitoring_loads`` (per station: force and moment histories, body axes,
+with their maxima and minima).
 """
 
 from __future__ import annotations
