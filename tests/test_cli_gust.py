@@ -107,3 +107,36 @@ def test_gust_pegasus_dlm_against_vortex_lattice(tmp_path):
     np.testing.assert_allclose(M[:, 0], d["root_bending_moment"])
     assert np.abs(M[:, -1]).max() < 1e-3 * np.abs(M[:, 0]).max()      # the free tip carries no moment
     assert d["dlm"]["fit_error"] < 0.02 and d["dlm"]["station_load_fit_error"] < 0.02
+
+
+@pytest.mark.parametrize("argv, msg", [
+    (["gust", "crm", "--model", "stick"], "--model stick: case 'crm' has no stick model; allowed: pegasus"),
+    (["gust", "pegasus", "--model", "stick", "--clamped"], "--model stick does not take --clamped"),
+    (["gust", "pegasus", "--model", "stick", "--aero-theory", "vlm"], "--model stick does not take --aero-theory vlm"),
+])
+def test_gust_stick_model_refuses_the_lone_wing_options(argv, msg, capsys):
+    assert main(argv + ["--no-plots"]) == 2
+    assert msg in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_gust_pegasus_stick_model_json(tmp_path):
+    """--model stick: trimmed start (the aerodynamic force balances the half aircraft's weight, whose
+    mass comes from the beams and lumped masses, not the aerodynamics), monitoring-station loads with
+    their envelopes."""
+    out = tmp_path / "s.json"
+    rc = main(["gust", "pegasus", "--model", "stick", "--t-final", "1.0", "--dt", "0.02", "--json", str(out),
+               "--no-plots"])
+    assert rc == 0
+    res = json.loads(out.read_text())
+    assert res["model"] == "stick"
+    assert abs(res["load_factor"][0] - 1.0) < 1e-6
+    assert res["peak_up_incremental_load_factor"] > 0.3
+    labels = list(res["monitoring_loads"])
+    assert labels[0] == "wing root" and labels[-1] == "tail root" and any(k.startswith("fuselage") for k in labels)
+    for v in res["monitoring_loads"].values():
+        m = np.asarray(v["moment_n_m"])
+        assert m.shape == (len(res["time"]), 3)
+        np.testing.assert_allclose(v["moment_max_n_m"], m.max(axis=0))
+    # 1 g wing root bending (M_x at the root rib) is positive (lift outboard of it exceeds the wing's weight)
+    assert res["monitoring_loads"]["wing root"]["moment_n_m"][0][0] > 0

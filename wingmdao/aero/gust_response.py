@@ -57,7 +57,7 @@ class GustResponse:
     of the strips; ``trim_alpha`` (rad, None for strip loads); ``pitch``: the pitch histories with
     free pitch (``pitch_angle_rad``, ``pitch_rate_rad_s``, ``tail_lift_n``, ``tail_incidence_rad``);
     ``controls``: with control surfaces, their ``deflection`` and ``rate`` (n_time, n_s) rad, rad/s,
-    ``hinge_moment`` (n_time, n_s) N m and the :func:`~wingmdao.aero.controls.limit_report` ``limits``."""
+    ``hinge_moment`` (n_time, n_s) N m and the :func:`~wingmdao.aero.controls.limit_report` ``limits``.
     The doublet lattice's modal response (:func:`dlm_gust_response`) has no beam states
     (``states`` None) but ``station_loads`` (n_time, n, 6): internal force (N) and moment (N m) at
     every node, body axes, increments on the jig; ``tip_displacement`` (n_time,) m, z; ``dlm``:

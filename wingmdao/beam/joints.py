@@ -497,7 +497,8 @@ class JoinedBeamSystem(CasadiResidualSystem):
                     out[b.name][k] = out[b.name][k] @ b.rotation
         jl = x[self.joint_offset:self.symmetry_offset].reshape(len(self.joints), N_JOINT)
         out["joints"] = {k: jl[:, s].copy() for k, s in JOINT_BLOCKS.items()}
-        out["symmetry"] = x[self.symmetry_offset:].reshape(len(self.symmetry), N_SYMMETRY).copy()
+        out["symmetry"] = x[self.symmetry_offset:self.symmetry_offset + N_SYMMETRY * len(self.symmetry)].reshape(
+            len(self.symmetry), N_SYMMETRY).copy()
         return out
 
     def linear_momentum(self, x, p) -> np.ndarray:
@@ -556,7 +557,7 @@ class JoinedBeamSystem(CasadiResidualSystem):
         values["lumped_mass"] = [lm.mass for lm in self.masses]
         values["lumped_mass_offset"] = np.reshape([lm.offset for lm in self.masses], (len(self.masses), 3))
         values["lumped_mass_inertia"] = np.reshape([lm.inertia for lm in self.masses], (len(self.masses), 3, 3))
-        return pack(self.param_specs, values)
+        return pack([s for s in self.param_specs if s.name in values], values)   # the structure's (first) blocks
 
     def pack_forcing(self, beam_loads: dict | None = None, **shared) -> np.ndarray:
         """Packed forcing from ``{beam: {block: array}}`` (blocks of
@@ -578,7 +579,7 @@ class JoinedBeamSystem(CasadiResidualSystem):
         if bad:
             raise ValueError(f"unknown shared forcing {sorted(bad)}; allowed: {list(_SHARED_FORCING)}")
         values.update({k: np.asarray(shared.get(k, np.zeros(3)), dtype=float) for k in _SHARED_FORCING})
-        return pack(self.forcing_specs, values)
+        return pack([s for s in self.forcing_specs if s.name in values], values)  # the structure's (first) blocks
 
     def jig_state(self, p) -> np.ndarray:
         """The unloaded jig state (every beam's jig, joint loads zero)."""
@@ -654,18 +655,34 @@ def build_joined_system(beams, joints, *, euler_sequence: str = "surface",
     with a clamped beam. The jig positions of the joined nodes and of the symmetry nodes are
     checked when the parameters are packed (:meth:`JoinedBeamSystem.pack_parameters`).
     """
+    return _build_joined(beams, joints, euler_sequence=euler_sequence, damping=damping, masses=masses,
+                         symmetry=symmetry)
+
+
+def _build_joined(beams, joints, *, euler_sequence="surface", damping=None, masses=(), symmetry=(),
+                  extension=None) -> JoinedBeamSystem:
+    """:func:`build_joined_system` with an optional ``extension``: an object with ``n_states``
+    (unknowns appended after the symmetry reactions), ``param_specs`` and ``forcing_specs``
+    (appended), ``definition(base)`` (the system's definition key from the structure's),
+    ``describe(k)`` (name of its row k) and ``apply(nodes, x, xdot, p, q, play, qlay, n_struct)``,
+    which may add loads to the nodes' forcing (``nodes[beam]["q"][i]``, beam axes) before the
+    residual is assembled and returns its residual rows (``n_states`` of them). The aerodynamics
+    of :mod:`wingmdao.aero.joined` use it."""
     t_start = time.perf_counter()
     beams, joints, masses, symmetry = _check_layout(beams, joints, masses, symmetry)
     if damping is not None and damping.is_zero:
         damping = None
     pspecs, qspecs = param_specs(beams, joints, masses), forcing_specs(beams)
+    if extension is not None:
+        pspecs, qspecs = pspecs + list(extension.param_specs), qspecs + list(extension.forcing_specs)
     offsets, start = {}, 0
     for b in beams:
         offsets[b.name] = start
         start += N_STATE_PER_NODE * b.num_nodes
     joint_offset = start
     symmetry_offset = joint_offset + N_JOINT * len(joints)
-    n_state = symmetry_offset + N_SYMMETRY * len(symmetry)
+    n_struct = symmetry_offset + N_SYMMETRY * len(symmetry)
+    n_state = n_struct + (0 if extension is None else int(extension.n_states))
     x, xdot = ca.SX.sym("x", n_state), ca.SX.sym("xdot", n_state)
     p = ca.SX.sym("p", sum(s.size for s in pspecs))
     q = ca.SX.sym("q", sum(s.size for s in qspecs))
@@ -687,6 +704,7 @@ def build_joined_system(beams, joints, *, euler_sequence: str = "surface",
             euler_sequence)
         nd["q"][sy.node] = nd["q"][sy.node] + ca.vertcat(ca.SX.zeros(6), force, moment)
         symmetry_rows.append(rows)
+    extra_rows = None if extension is None else extension.apply(nodes, x, xdot, p, q, play, layout(qspecs), n_struct)
     loads = [x[joint_offset + N_JOINT * j: joint_offset + N_JOINT * (j + 1)] for j in range(len(joints))]
     for jt, jl in zip(joints, loads):         # the joint loads are point loads of their two nodes
         for name, node, f, m in ((jt.beam_a, jt.node_a, "force_a", "moment_a"),
@@ -705,21 +723,31 @@ def build_joined_system(beams, joints, *, euler_sequence: str = "surface",
     blocks += symmetry_rows
     describe = functools.partial(describe_joined_equation, beams=beams, joints=joints, offsets=offsets,
                                  joint_offset=joint_offset, symmetry=symmetry)
+    definition = joined_definition(beams, joints, euler_sequence, damping, masses, symmetry)
+    if extension is not None:
+        blocks.append(extra_rows)
+        describe = functools.partial(_describe_extended, base=describe, n_struct=n_struct, extension=extension)
+        definition = extension.definition(definition)
     first = {b.name: offsets[b.name] // N_STATE_PER_NODE for b in beams}
     order = lu_orders.joined_lu_column_order([b.num_nodes for b in beams],
                                              [(first[jt.beam_a] + jt.node_a, first[jt.beam_b] + jt.node_b)
                                               for jt in joints],
                                              [first[sy.beam] + sy.node for sy in symmetry])
+    order = np.concatenate([np.asarray(order, dtype=np.int64), np.arange(n_struct, n_state, dtype=np.int64)])
     system = JoinedBeamSystem(beams, joints, offsets, joint_offset, x, xdot, p, q, ca.vertcat(*blocks),
                               param_specs=pspecs, forcing_specs=qspecs, state_shape=(n_state,),
                               name=f"joined{len(beams)}b{len(joints)}j{n_state}", describe=describe,
-                              definition=joined_definition(beams, joints, euler_sequence, damping, masses,
-                                                           symmetry),
+                              definition=definition,
                               lu_column_order=order, masses=masses, symmetry=symmetry)
     system._initial_guess = functools.partial(_jig_guess, system)
     system.euler_sequence = euler_sequence
+    system.n_struct = n_struct
     system.build_time = time.perf_counter() - t_start
     return system
+
+
+def _describe_extended(index, base, n_struct, extension):
+    return base(index) if index < n_struct else extension.describe(index - n_struct)
 
 
 def _beam_nodes(beam, x, xdot, p, q, offset, play, qlay) -> dict:

@@ -47,16 +47,19 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
+from wingmdao.aero.joined import build_joined_aeroelastic_system, lift_total, pack_aero_forcing, pack_aero_parameters
+from wingmdao.aero.strip import station_gust_history
 from wingmdao.beam.joints import (FUSELAGE_AXES, Beam, JoinedBeamModel, Joint, LumpedMass, MonitoringStation,
                                   Symmetry, monitoring_loads)
 from wingmdao.beam.rotations import body_to_csn, euler_from_axis
 from wingmdao.beam.static import beam_parameters
 from wingmdao.cases import pegasus
-from wingmdao.cases.planform import G0, LB, wing_geometry
+from wingmdao.cases.planform import FT, G0, LB, wing_geometry
 from wingmdao.loads.maneuver import maneuver_line_loads
 from wingmdao.materials import ALUMINIUM
 from wingmdao.section.box import WALL_NAMES, beam_params_from_section, box_properties, validate_box
 from wingmdao.stability.eigen import eigenmodes
+from wingmdao.timemarch.bdf import march
 
 #: Engines' mass centres from their wing nodes (m, body axes) and rotary inertias (kg m^2, about
 #: their centres): the 600 kg engine as a cylinder of radius 0.4 m and length 2.5 m along x.
@@ -73,6 +76,9 @@ FIN = {"x": 12.0, "height": 4.0, "EI_lateral": 8e6, "EI_fore_aft": 6e7, "GJ": 6e
 #: Horizontal tail (one side): semi-span (m), section (SI), nodes.
 TAIL = {"semi_span": 3.655, "EI_cc": 2e6, "EI_nn": 2e7, "GJ": 2.5e6, "EA": 1e9, "mass_per_length": 20.0,
         "num_nodes": 8}
+#: Horizontal tail's sections (assumption): the ATR 42 class tail's mean chord (area 11.73 m^2 over
+#: span 7.31 m), beam axis at the quarter chord, thin-airfoil lift slope.
+TAIL_SECTION = {"chord": 11.73 / 7.31, "ref_point": 0.25, "lift_slope": 2.0 * np.pi}
 #: Small rotary inertia per length (kg m, csn) of the fuselage, fin and tail sections.
 _ROTARY = np.diag([1e-3, 1e-3, 1e-3])
 
@@ -295,3 +301,72 @@ def natural_frequencies(aircraft: StickAircraft, count: int = 8) -> dict:
         tot = sum(e.values())
         shares.append({b: e[b] / tot for b in e})
     return {"rigid": int(np.sum(zero)) // 2, "hz": modes.frequency[elastic] / (2 * np.pi), "shares": shares}
+
+
+@dataclass
+class StickGust:
+    """Gust response of the free half aircraft (:func:`gust_response`): ``time`` (s),
+    ``load_factor`` (body-z aerodynamic force of wing and tail over W), ``trim`` (alpha_trim and tail_incidence in rad,
+    thrust in N, half aircraft), ``loads`` ({station label: {"force", "moment"}: (n_time, 3) body
+    axes, N and N m}) at :func:`monitoring_stations`, the downwash gradient used and the states."""
+
+    time: np.ndarray
+    load_factor: np.ndarray
+    trim: dict
+    loads: dict
+    downwash_gradient: float
+    states: np.ndarray
+
+
+def downwash_gradient(mach: float) -> float:
+    """deps/dalpha at the tail (assumption): ``2 a_w / (pi AR)`` (Etkin & Reid, *Dynamics of Flight*,
+    3rd ed., 1996, Sec. 2.4; Nelson, *Flight Stability and Automatic Control*, 2nd ed., 1998,
+    Sec. 2.4) with the strips' wing slope a_w = 2 pi / sqrt(1 - M^2) and the PEGASUS aspect ratio."""
+    pf = pegasus.PLANFORM
+    aspect = (2 * pf.semi_span) ** 2 / (pf.area_ft2 * FT ** 2)
+    return float(2 * (2 * np.pi / np.sqrt(1 - mach ** 2)) / (np.pi * aspect))
+
+
+def aeroelastic_system(aircraft: StickAircraft):
+    """The half aircraft's joined system with strip aerodynamics on the wing and the horizontal tail
+    (:func:`wingmdao.aero.joined.build_joined_aeroelastic_system`, trim supports :data:`SUPPORTS`)."""
+    s = aircraft.model.system
+    return build_joined_aeroelastic_system(s.beams, s.joints, lifting=("wing", "tail"), supports=SUPPORTS,
+                                           masses=s.masses, symmetry=s.symmetry, euler_sequence=s.euler_sequence)
+
+
+def gust_response(aircraft: StickAircraft, time, *, airspeed, density, mach, u_ds_tas, gradient, gust_start,
+                  downwash=None) -> StickGust:
+    """A 1-cos gust of gradient ``gradient`` (m) and design velocity ``u_ds_tas`` (m/s TAS) on the free
+    half aircraft from its trimmed 1 g level flight (:mod:`wingmdao.aero.joined`: alpha_trim, tail
+    incidence and thrust solved at t = 0, then held). The gust front reaches the wing's leading
+    station at ``gust_start`` (s); every lifting station meets it x / V later. ``downwash``:
+    deps/dalpha (default :func:`downwash_gradient`)."""
+    time = np.asarray(time, dtype=float)
+    s = aeroelastic_system(aircraft)
+    dw = downwash_gradient(mach) if downwash is None else float(downwash)
+    p = pack_aero_parameters(s, aircraft.model.params,
+                             {"wing": {"chord": aircraft.wing_chord, "ref_point": aircraft.wing_axis_fraction},
+                              "tail": TAIL_SECTION},
+                             airspeed=airspeed, density=density, mach=mach, downwash_gradient=dw)
+    x_w, x_t = aircraft.nodes["wing"][:, 0], aircraft.nodes["tail"][:, 0]
+    n_w = x_w.size
+    length = 2.0 * gradient
+
+    def profile(tau):
+        inside = (tau >= 0.0) & (tau <= length / airspeed)
+        return np.where(inside, 0.5 * u_ds_tas * (1.0 - np.cos(2.0 * np.pi * airspeed * tau / length)), 0.0)
+
+    g = station_gust_history(time - gust_start, np.concatenate([x_w, x_t]), airspeed, profile)
+    Q = np.array([pack_aero_forcing(s, {"wing": g[k, :n_w], "tail": g[k, n_w:]}, trim_active=float(k == 0),
+                                    gravity=[0.0, 0.0, -G0]) for k in range(time.size)])
+    hist = march(s, time, p, Q, atol=1e-6)
+    weight = aircraft.mass * G0
+    n = np.array([lift_total(s, hist.states[k], hist.rates[k], p, Q[k], vertical=True) for k in range(time.size)]) / weight
+    stations = monitoring_stations(aircraft)
+    per_step = [monitoring_loads(s, x, stations) for x in hist.states]
+    loads = {st.label: {k: np.array([ps[st.label][k] for ps in per_step]) for k in ("force", "moment")}
+             for st in stations}
+    x0 = hist.states[0]
+    trim = {k: float(x0[i]) for k, i in s.trim_index.items()}
+    return StickGust(time=time, load_factor=n, trim=trim, loads=loads, downwash_gradient=dw, states=hist.states)

@@ -26,6 +26,12 @@ pitch_angle_rad, pitch_rate_rad_s, tail_lift_n, tail_incidence_rad, and the inpu
 histories are those with the law, and ``alleviation`` holds the surfaces' deflection, rate and
 hinge-moment histories, their peaks against the limits and the peak root bending and load factor
 without and with the law (:func:`~wingmdao.aero.gust_response.alleviation_summary`).
+
+``--model stick`` (pegasus): the same gust on the free half aircraft's stick model
+(:func:`wingmdao.cases.pegasus_stick.gust_response`; docs/stick-model.md); the JSON holds time,
+load_factor, the peak increments, trim_alpha_rad, tail_incidence_rad, trim_thrust_n,
+downwash_gradient and ``monitoring_loads`` (per station: force and moment histories, body axes,
+with their maxima and minima).
 """
 
 from __future__ import annotations
@@ -41,6 +47,8 @@ from wingmdao.cli._args import (add_aero_and_plunge_arguments, add_aero_theory_a
                                 add_free_pitch_arguments, add_output_arguments)
 
 CASES = ("pegasus", "crm")
+#: --model: the lone wing or the stick model of the whole aircraft (pegasus)
+MODELS = ("wing", "stick")
 #: --stiffness-scale range (a rigid wing is approached well before 1e6)
 STIFFNESS_SCALE = (1e-3, 1e6)
 #: --u-ref-fps upper bound (ft/s EAS)
@@ -84,6 +92,11 @@ def register(subparsers):
                                     "by force summation)")
     p.add_argument("--modes", type=int, default=None, metavar="N",
                    help=f"number of jig beam modes of --aero-theory dlm (2-20; default: {DLM_MODES})")
+    p.add_argument("--model", choices=MODELS, default="wing",
+                   help="wing (the case's wing on the plunge/pitch states, default) or stick (pegasus only: the free "
+                        "half aircraft's stick model, wing, fuselage, fin and horizontal tail with strip aerodynamics "
+                        "on wing and tail, trimmed in angle of attack and tail incidence; docs/stick-model.md; the JSON "
+                        "adds the monitoring stations' loads) (default: %(default)s)")
     p.add_argument("--alleviation", metavar="FILE.yaml", default=None,
                    help="control surfaces, actuators and a feedback law in the march (docs/controls.md; needs --aero "
                         "coupled); the result adds the surface histories and the peak root bending without and with it")
@@ -118,6 +131,7 @@ def run(args):
     _check_dlm_args(args, plunge)
     args.plunge = plunge == "free"
     args.pitch = args.pitch == "free"
+    _check_stick_args(args)
     _check_pitch_args(args)
     module = available_cases()[args.case]
     base = __import__("wingmdao.cases.pegasus", fromlist=["GUST"])
@@ -199,6 +213,8 @@ def run(args):
     flight = GustFlight(airspeed=V, density=rho, mach=mach, altitude=alt, gradient=H, u_ds_eas=u_eas, u_ds_tas=u_tas,
                         weight=weight, gust_start=args.gust_start)
     wing_area = pf.area_ft2 * FT ** 2
+    if args.model == "stick":
+        return _run_stick(args, t, flight, H_ft=H_ft, alt_ft=alt_ft, t_wall=t_wall, plot_path=plot_path)
     pitch_out, alleviation = {}, {}
     if args.aero_theory == "dlm":
         resp = dlm_gust_response(t, bp, chord, axis_frac, flight, area=wing_area, n_modes=args.modes)
@@ -344,6 +360,90 @@ def _check_dlm_args(args, plunge):
     args.modes = DLM_MODES if args.modes is None else args.modes
     if not 2 <= args.modes <= 20:
         raise ValueError(f"--modes = {args.modes}; allowed range [2, 20]")
+
+
+def _check_stick_args(args):
+    """--model stick: the PEGASUS stick model, coupled aerodynamics, free in plunge and pitch through its
+    own structure; the lone wing's options that do not apply are refused."""
+    if args.model != "stick":
+        return
+    if args.case != "pegasus":
+        raise ValueError(f"--model stick: case {args.case!r} has no stick model; allowed: pegasus")
+    refused = [(args.aero != "coupled", f"--aero {args.aero}"), (not args.plunge, "--clamped"),
+               (args.pitch, "--pitch free (the stick model is free in pitch through its structure)"),
+               (args.alleviation is not None, "--alleviation"),
+               (args.aero_theory != "strip", f"--aero-theory {args.aero_theory}"),
+               (args.stiffness_scale != 1.0, f"--stiffness-scale {args.stiffness_scale}"),
+               (args.design is not None, f"--design {args.design}")]
+    for bad, flag in refused:
+        if bad:
+            raise ValueError(f"--model stick does not take {flag}; allowed: --aero coupled, free plunge, strip "
+                             "aerodynamics, the initial design")
+
+
+def _run_stick(args, t, flight, *, H_ft, alt_ft, t_wall, plot_path):
+    """The gust on the PEGASUS stick model (:func:`wingmdao.cases.pegasus_stick.gust_response`)."""
+    from wingmdao.cases import pegasus_stick
+
+    aircraft = pegasus_stick.build()
+    print(f"stick model: {aircraft.model.system.n_state} structural unknowns, half aircraft {aircraft.mass:.0f} kg",
+          file=sys.stderr)
+    r = pegasus_stick.gust_response(aircraft, t, airspeed=flight.airspeed, density=flight.density, mach=flight.mach,
+                                    u_ds_tas=flight.u_ds_tas, gradient=flight.gradient, gust_start=flight.gust_start)
+    dn = r.load_factor - r.load_factor[0]
+    loads = {}
+    for label, v in r.loads.items():
+        f, m = v["force"], v["moment"]
+        loads[label] = {"force_n": f.tolist(), "moment_n_m": m.tolist(),
+                        "force_max_n": f.max(axis=0).tolist(), "force_min_n": f.min(axis=0).tolist(),
+                        "moment_max_n_m": m.max(axis=0).tolist(), "moment_min_n_m": m.min(axis=0).tolist()}
+    res = {"case": args.case, "model": "stick", "aero": "coupled", "plunge": True, "pitch": True,
+           "gradient_ft": H_ft, "altitude_ft": alt_ft, "mach": flight.mach, "airspeed_tas_m_s": flight.airspeed,
+           "density_kg_m3": flight.density, "u_ds_eas_m_s": flight.u_ds_eas, "time": t.tolist(),
+           "load_factor": r.load_factor.tolist(),
+           "peak_incremental_load_factor": float(np.max(np.abs(dn))),
+           "peak_up_incremental_load_factor": float(np.max(dn)),
+           "peak_down_incremental_load_factor": float(np.min(dn)),
+           "trim_alpha_rad": r.trim["alpha_trim"], "tail_incidence_rad": r.trim["tail_incidence"],
+           "trim_thrust_n": r.trim["thrust"], "downwash_gradient": r.downwash_gradient,
+           "half_aircraft_mass_kg": aircraft.mass,
+           "monitoring_loads": loads, "monitoring_loads_axes": "body axes (x aft, y right, z up), N and N m; "
+                                                               "the outboard part on the inboard part",
+           "wall_s": _time.perf_counter() - t_wall}
+    print(f"peak dn = {res['peak_incremental_load_factor']:.4f}, alpha_trim = {np.degrees(r.trim['alpha_trim']):.3f} "
+          f"deg, tail incidence = {np.degrees(r.trim['tail_incidence']):.3f} deg, {res['wall_s']:.1f} s",
+          file=sys.stderr)
+    write_json(res, args.json)
+    if plot_path:
+        _stick_plots(res, plot_path[:-len(".png")])
+    return 0
+
+
+def _stick_plots(res, stem):
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("matplotlib not installed: no plots", file=sys.stderr)
+        return
+    t = res["time"]
+    fig, axes = plt.subplots(2, 1, figsize=(7, 7), sharex=True)
+    axes[0].plot(t, res["load_factor"])
+    axes[0].set_ylabel("load factor")
+    for label, v in res["monitoring_loads"].items():
+        m = np.asarray(v["moment_n_m"])
+        axes[1].plot(t, m[:, int(np.argmax(np.abs(m).max(axis=0)))] / 1e3, label=label)
+    axes[1].set_ylabel("largest moment component (kN m)")
+    axes[1].legend(fontsize=7)
+    axes[-1].set_xlabel("time (s)")
+    for ax in axes:
+        ax.grid(True)
+    from wingmdao.plots import save_figure
+
+    save_figure(fig, stem + ".png", dpi=100)
+    print(f"wrote {stem}.png", file=sys.stderr)
 
 
 def _check_pitch_args(args):

@@ -115,10 +115,11 @@ def run(args):
     from wingmdao.aero import aero_parameters
     from wingmdao.aero.gust_response import wing_lift_slope
     from wingmdao.aero.pitch import elevator_effectiveness, pitch_parameters
-    from wingmdao.cases import available_cases
+    from wingmdao.cases import available_cases, case_beam_parameters
     from wingmdao.cases.pegasus import GUST
     from wingmdao.cases.planform import FT, G0, LB, wing_geometry
-    from wingmdao.cli.gust import _beam_parameters, _check_outputs
+    from wingmdao.cli._io import read_design
+    from wingmdao.cli.gust import _check_outputs
     from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
     from wingmdao.loads.checked_pitch import checked_pitch, maneuver_model
     from wingmdao.loads.maneuver import limit_load_factors
@@ -140,7 +141,8 @@ def run(args):
     n_lim = limit_load_factors(module.TOGW_LB)[0] if args.load_factor is None else float(args.load_factor)
     weight = module.TOGW_LB * LB * G0
     pf = module.PLANFORM
-    setup, bp = _beam_parameters(module, args)
+    walls = read_design(args.design, None, case=args.case, command="maneuver") if args.design else None
+    setup, bp = case_beam_parameters(module, walls, source=f"--design {args.design}")
     _, chord, axis_frac = wing_geometry(pf, getattr(module, "ENGINES", ()))
     n = setup.geometry.num_nodes
     r0 = bp["node_positions"]

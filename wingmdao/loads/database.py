@@ -36,6 +36,7 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
+from wingmdao.loads.matrix import build_wing_model, evaluate_cases, expand
 from wingmdao import __version__
 from wingmdao.loads.matrix import COMPONENT_UNITS, COMPONENTS, flight_state, screen
 
@@ -259,7 +260,6 @@ def run_matrix(module, matrix, *, case: str, comm=None, thickness=None, progress
     import sys
     import time
 
-    from wingmdao.loads.matrix import build_wing_model, evaluate_cases, expand
 
     t0 = time.perf_counter()
     model = build_wing_model(module, matrix, thickness)

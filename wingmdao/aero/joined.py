@@ -1,0 +1,355 @@
+"""Unsteady strip aerodynamics on the lifting beams of a joined stick model, with trim of the free aircraft.
+
+:func:`build_joined_aeroelastic_system` adds to the joined beams of :mod:`wingmdao.beam.joints`
+(a :class:`~wingmdao.beam.joints.JoinedBeamSystem`, so the BDF march, the static solve, the
+discrete adjoint and the flutter linearization run on it unchanged):
+
+* on every node of every **lifting beam** (the wing, the horizontal tail; beams in body axes)
+  the strip-section model of the lone wing (:func:`wingmdao.aero.system._node_aero`,
+  :func:`wingmdao.aero.strip.section_model`): quasi-steady angle from the node's own motion,
+  Wagner and Kuessner lag states (4 per node), apparent mass, follower lift and moment added to
+  the node's distributed loads. Each station has its own gust velocity (forcing
+  ``<beam>_gust_velocity``, its penetration delay x / V included, as
+  :func:`~wingmdao.aero.strip.station_gust_history` gives it);
+* the **downwash at the tail**: the tail's stations lose ``deps/dalpha e``, e the wing root's
+  angle ``alpha_w = alpha_trim + (alpha_root - alpha_root,jig) + w_g,root / V`` (alpha_root =
+  v_n / v_c of the root section's relative air velocity) lagged by the time the air takes from
+  the wing root to the tail root, ``((x_t - x_w) / V) de/dt + e = alpha_w`` (as the free pitch of
+  :mod:`wingmdao.aero.pitch`);
+* **trim** of the free aircraft (trim unknowns in the residual, as the lone wing's trim): the
+  aircraft angle of attack alpha_trim (added to every lifting station's angle), the tail
+  incidence i_t (added to the tail's stations) and a thrust T along body x at the first support
+  node. With the forcing ``trim_active`` = 1 their three rows hold the three ``supports``
+  (body-axes displacements of nodes at the jig; a statically determinate support of the half
+  aircraft's surge, plunge and pitch, as :func:`~wingmdao.beam.joints.solve_inertia_relief`'s):
+  the free structure is then in equilibrium only if lift, thrust, weight and the inertia of the
+  (optional) ``frame_acceleration`` balance, i.e. lift = n W and zero pitching moment about the
+  CG, with no support reaction. With ``trim_active`` = 0 the rows are ``d/dt = 0``: the trim
+  values are held and the aircraft is free. Set ``trim_active`` = 1 at t = 0 only: the march
+  starts from the trimmed state.
+
+State layout: the joined structure's (``system.n_struct`` unknowns), then the lag states of the
+lifting beams (node-major, beam by beam, ``system.lag_index[beam]`` (n, 4)), then the downwash lag
+(with a tail), then alpha_trim, tail_incidence, thrust (``system.trim_index``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from wingmdao.aero.strip import AERO_STATE_NAMES, N_AERO_STATES
+from wingmdao.aero.system import _node_aero, check_aero_parameters
+from wingmdao.beam.joints import Beam, _build_joined
+from wingmdao.beam.residual import NODE_PARAMS, STATE_BLOCKS
+from wingmdao.beam.rotations import body_to_csn
+from wingmdao.timemarch.system import VarSpec, layout
+from wingmdao.utils.casadi_cache import definition_key
+
+#: Per-station aerodynamic parameters of a lifting beam (``<beam>_<name>``, one value per node).
+SECTION_PARAMS = ("chord", "ref_point", "lift_slope", "alpha_zero_lift", "cm0")
+#: Trim unknowns, in state order (after the downwash lag).
+TRIM_STATE_NAMES = ("alpha_trim", "tail_incidence", "thrust")
+_XYZ = "xyz"
+_GENERATING_MODULES = ("wingmdao.aero.joined", "wingmdao.aero.system", "wingmdao.aero.strip",
+                       "wingmdao.beam.joints", "wingmdao.beam.residual", "wingmdao.beam.rotations",
+                       "wingmdao.timemarch.system")
+
+
+@dataclass(frozen=True)
+class _Aero:
+    """The extension of the joined residual (:func:`wingmdao.beam.joints._build_joined`)."""
+
+    beams: tuple
+    lifting: tuple
+    wing: str
+    tail: str | None
+    supports: tuple
+    euler_sequence: str
+
+    @property
+    def counts(self):
+        return {b.name: b.num_nodes for b in self.beams if b.name in self.lifting}
+
+    @property
+    def n_lag(self):
+        return N_AERO_STATES * sum(self.counts.values())
+
+    @property
+    def n_states(self):
+        return self.n_lag + (1 if self.tail else 0) + len(TRIM_STATE_NAMES)
+
+    @property
+    def param_specs(self):
+        specs = []
+        for name, n in self.counts.items():
+            specs += [VarSpec(f"{name}_chord", (n,), "m", f"{name}: section chord at each node"),
+                      VarSpec(f"{name}_ref_point", (n,), None, f"{name}: beam axis, fraction of chord aft of the "
+                              "leading edge"),
+                      VarSpec(f"{name}_lift_slope", (n,), "1/rad", f"{name}: incompressible section lift slope"),
+                      VarSpec(f"{name}_alpha_zero_lift", (n,), "rad", f"{name}: section zero-lift angle"),
+                      VarSpec(f"{name}_cm0", (n,), None, f"{name}: section moment coefficient about the quarter "
+                              "chord (nose up +)")]
+        specs += [VarSpec("airspeed", (), "m/s", "true airspeed V (free stream toward +x)"),
+                  VarSpec("density", (), "kg/m**3", "air density"),
+                  VarSpec("mach", (), None, "Mach number (Prandtl-Glauert factor on the lift slopes)")]
+        if self.tail:
+            specs.append(VarSpec("downwash_gradient", (), None, "downwash gradient deps/dalpha at the tail"))
+        return specs
+
+    @property
+    def forcing_specs(self):
+        specs = [VarSpec(f"{name}_gust_velocity", (n,), "m/s", f"{name}: gust velocity (body +z) at each station, "
+                         "its penetration delay included") for name, n in self.counts.items()]
+        return specs + [
+            VarSpec("frame_velocity", (3,), "m/s", "velocity of the body axes relative to the trimmed flight"),
+            VarSpec("frame_velocity_rate", (3,), "m/s**2", "rate of frame_velocity (apparent mass)"),
+            VarSpec("trim_active", (), None, "1: solve the trim unknowns holding the supports; 0: hold the trim")]
+
+    def definition(self, base):
+        args = (base, self.lifting, self.wing, self.tail, self.supports, self.euler_sequence)
+        return definition_key("wingmdao.aero.joined.build_joined_aeroelastic_system", args, _GENERATING_MODULES)
+
+    def describe(self, k):
+        if k < self.n_lag:
+            i = 0
+            for name, n in self.counts.items():
+                if k < i + N_AERO_STATES * n:
+                    node, j = divmod(k - i, N_AERO_STATES)
+                    return f"beam {name}: node {node}, lag state {AERO_STATE_NAMES[j]}"
+                i += N_AERO_STATES * n
+        k -= self.n_lag
+        if self.tail:
+            if k == 0:
+                return "downwash lag at the tail"
+            k -= 1
+        return f"trim: {TRIM_STATE_NAMES[k]} (support {self.supports[k]} while trimming)"
+
+    def apply(self, nodes, x, xdot, p, q, play, qlay, n_struct):
+        """Add the section loads to the lifting beams' nodes and return the extension's rows."""
+        seq = self.euler_sequence
+        i_lag = n_struct
+        i_dw = n_struct + self.n_lag
+        i_trim = i_dw + (1 if self.tail else 0)
+        alpha_trim, incidence, thrust = (x[i_trim + k] for k in range(3))
+        V, rho, mach = p[play["airspeed"]], p[play["density"]], p[play["mach"]]
+        vf, dvf = q[qlay["frame_velocity"]], q[qlay["frame_velocity_rate"]]
+        omega, domega = q[qlay["frame_angular_velocity"]], q[qlay["frame_angular_acceleration"]]
+        frame = (vf, dvf, omega, domega)
+        on = q[qlay["trim_active"]]
+        st = STATE_BLOCKS
+        rows = []
+        wing_root = nodes[self.wing]
+        root_angle = self._root_angle(wing_root["x"][0], wing_root["p"][0], vf, omega, V, seq)
+        if self.tail:
+            gust_root = q[qlay[f"{self.wing}_gust_velocity"]][0]
+            alpha_w = alpha_trim + root_angle + gust_root / V
+            x_w = wing_root["p"][0][NODE_PARAMS["r0"]][0]
+            x_t = nodes[self.tail]["p"][0][NODE_PARAMS["r0"]][0]
+            e = x[i_dw]
+            downwash_row = ((x_t - x_w) / V) * xdot[i_dw] + e - alpha_w
+        k = i_lag
+        for name, n in self.counts.items():
+            nd = nodes[name]
+            gust = q[qlay[f"{name}_gust_velocity"]]
+            for i in range(n):
+                shift = alpha_trim
+                if name == self.tail:
+                    shift = shift + incidence - p[play["downwash_gradient"]] * e
+                pa = ca.vertcat(*[p[play[f"{name}_{s}"]][i] for s in SECTION_PARAMS[:3]],
+                                p[play[f"{name}_alpha_zero_lift"]][i] - shift, p[play[f"{name}_cm0"]][i], gust[i])
+                xa = ca.vertcat(nd["x"][i], x[k:k + N_AERO_STATES])
+                xda = ca.vertcat(nd["xdot"][i], xdot[k:k + N_AERO_STATES])
+                f, m, res, _lift, _moment, _ = _node_aero(xa, xda, pa, None, frame, V, rho, mach, seq)
+                nd["q"][i] = nd["q"][i] + ca.vertcat(f, m, ca.SX.zeros(6))
+                rows.append(res)
+                k += N_AERO_STATES
+        if self.tail:
+            rows.append(downwash_row)
+        # thrust along body x at the first support's node (its beam's axes)
+        b0, n0 = self.supports[0][0], self.supports[0][1]
+        R0 = nodes[b0]["R"]
+        nodes[b0]["q"][n0] = nodes[b0]["q"][n0] + ca.vertcat(ca.SX.zeros(6), R0 @ ca.vertcat(thrust, 0, 0),
+                                                             ca.SX.zeros(3))
+        for j, (bname, node, comp) in enumerate(self.supports):
+            nd = nodes[bname]
+            direction = np.asarray(nd["R"]) @ np.eye(3)[_XYZ.index(comp)]
+            held = ca.dot(ca.DM(direction), nd["x"][node][st["r"]] - nd["p"][node][NODE_PARAMS["r0"]])
+            rows.append(on * held + (1.0 - on) * xdot[i_trim + j])
+        return ca.vertcat(*rows)
+
+    @staticmethod
+    def _root_angle(xn, pn, vf, omega, V, seq):
+        """v_n / v_c of the wing root section's relative air velocity minus its jig value (rad)."""
+        st = STATE_BLOCKS
+        free = ca.vertcat(V, 0, 0)
+        T = body_to_csn(xn[st["theta"]], seq)
+        rel = T @ (free - vf - ca.cross(omega, xn[st["r"]]) - xn[st["u"]])
+        rel0 = body_to_csn(pn[NODE_PARAMS["theta0"]], seq) @ free
+        return rel[2] / rel[0] - rel0[2] / rel0[0]
+
+
+def build_joined_aeroelastic_system(beams, joints, *, lifting=("wing", "tail"), wing="wing", tail="tail",
+                                    supports, masses=(), symmetry=(), euler_sequence="surface", damping=None):
+    """Joined beams (:func:`wingmdao.beam.joints.build_joined_system`) with unsteady strip
+    aerodynamics on the ``lifting`` beams, the wing's downwash at the ``tail`` (None: no tail
+    downwash and no tail incidence effect) and the trim unknowns of the free aircraft held by
+    ``supports`` (three ``(beam, node, component)``, component ``"x"``, ``"y"`` or ``"z"`` of the
+    body axes; the thrust acts at the first). Module docstring for the equations.
+
+    Returns the :class:`~wingmdao.beam.joints.JoinedBeamSystem` with ``lag_index`` ({beam: (n, 4)
+    state indices}), ``downwash_index`` (or None), ``trim_index`` ({name: state index}),
+    ``lifting`` and ``section_loads(x, xdot, p, q)`` ({beam: (lift (n,) N/m along the section
+    normal, moment (n,) N about the beam axis, body-z force (n,) N/m)}).
+    ValueError (before any build) for a lifting beam that is not a beam or not in body axes, a
+    wing or tail not among the lifting beams, or supports that are not three valid triples.
+    """
+    beams = tuple(beams)
+    by_name = {b.name: b for b in beams if isinstance(b, Beam)}
+    lifting = tuple(lifting)
+    if not lifting or len(set(lifting)) != len(lifting):
+        raise ValueError(f"lifting must name distinct beams, got {list(lifting)}")
+    for name in lifting:
+        if name not in by_name:
+            raise ValueError(f"lifting beam {name!r} is not a beam; beams are {sorted(by_name)}")
+        if by_name[name].axes is not None:
+            raise ValueError(f"lifting beam {name!r}: its axes must be the body axes (axes=None), the strip "
+                             f"sections' csn frame is measured from them; got axes={by_name[name].axes}")
+    if wing not in lifting:
+        raise ValueError(f"wing = {wing!r} must be one of the lifting beams {list(lifting)}")
+    if tail is not None and (tail not in lifting or tail == wing):
+        raise ValueError(f"tail = {tail!r} must be a lifting beam other than the wing {wing!r} "
+                         f"(lifting beams {list(lifting)}), or None")
+    supports = tuple(tuple(s) for s in supports)
+    if len(supports) != len(TRIM_STATE_NAMES):
+        raise ValueError(f"supports: {len(supports)} given; trim needs 3 (surge, plunge, pitch of the half "
+                         f"aircraft), e.g. (('fuselage', 0, 'x'), ('fuselage', 0, 'z'), ('fuselage', -1, 'z'))")
+    for s in supports:
+        if len(s) != 3 or s[0] not in by_name or s[2] not in _XYZ or not -by_name[s[0]].num_nodes <= int(s[1]) \
+                < by_name[s[0]].num_nodes:
+            raise ValueError(f"support {s}: must be (beam, node, 'x'|'y'|'z') with an existing beam and node")
+    supports = tuple((s[0], int(s[1]) % by_name[s[0]].num_nodes, s[2]) for s in supports)
+    lifting = tuple(b.name for b in beams if b.name in lifting)      # state order
+    ext = _Aero(beams, lifting, wing, tail, supports, euler_sequence)
+    system = _build_joined(beams, joints, euler_sequence=euler_sequence, damping=damping, masses=masses,
+                           symmetry=symmetry, extension=ext)
+    k = system.n_struct
+    system.lag_index = {}
+    for name, n in ext.counts.items():
+        system.lag_index[name] = k + np.arange(N_AERO_STATES * n).reshape(n, N_AERO_STATES)
+        k += N_AERO_STATES * n
+    system.downwash_index = k if tail else None
+    k += 1 if tail else 0
+    system.trim_index = {nm: k + j for j, nm in enumerate(TRIM_STATE_NAMES)}
+    system.lifting = lifting
+    system.aero = ext
+    system._section_loads = _section_loads_function(system, ext)
+    system.section_loads = lambda x, xdot, p, q: _unpack_loads(system, x, xdot, p, q)
+    return system
+
+
+def _section_loads_function(system, ext):
+    """CasADi function of the lift (N/m, along the section normal) and moment (N) of every lifting station."""
+    x, xdot = ca.SX.sym("x", system.n_state), ca.SX.sym("xdot", system.n_state)
+    p = ca.SX.sym("p", sum(v.size for v in system.param_specs))
+    q = ca.SX.sym("q", sum(v.size for v in system.forcing_specs))
+    play, qlay = layout(system.param_specs), layout(system.forcing_specs)
+    seq = ext.euler_sequence
+    V, rho, mach = p[play["airspeed"]], p[play["density"]], p[play["mach"]]
+    frame = (q[qlay["frame_velocity"]], q[qlay["frame_velocity_rate"]], q[qlay["frame_angular_velocity"]],
+             q[qlay["frame_angular_acceleration"]])
+    i_trim = system.trim_index["alpha_trim"]
+    out = []
+    for name, n in ext.counts.items():
+        i0 = system.offsets[name]
+        for i in range(n):
+            shift = x[i_trim]
+            if name == ext.tail:
+                shift = shift + x[system.trim_index["tail_incidence"]] - \
+                    p[play["downwash_gradient"]] * x[system.downwash_index]
+            pa = ca.vertcat(*[p[play[f"{name}_{s}"]][i] for s in SECTION_PARAMS[:3]],
+                            p[play[f"{name}_alpha_zero_lift"]][i] - shift, p[play[f"{name}_cm0"]][i],
+                            q[qlay[f"{name}_gust_velocity"]][i])
+            lag = system.lag_index[name][i]
+            xa = ca.vertcat(x[i0 + 18 * i: i0 + 18 * (i + 1)], x[int(lag[0]):int(lag[-1]) + 1])
+            xda = ca.vertcat(xdot[i0 + 18 * i: i0 + 18 * (i + 1)], xdot[int(lag[0]):int(lag[-1]) + 1])
+            f, _m, _res, lift, moment, _ = _node_aero(xa, xda, pa, None, frame, V, rho, mach, seq)
+            out += [lift, moment, f[2]]
+    return ca.Function("joined_section_loads", [x, xdot, p, q], [ca.vertcat(*out)])
+
+
+def _unpack_loads(system, x, xdot, p, q):
+    v = np.asarray(system._section_loads(np.ravel(x), np.ravel(xdot), np.ravel(p), np.ravel(q))).ravel().reshape(-1, 3)
+    out, k = {}, 0
+    for name, n in system.aero.counts.items():
+        out[name] = (v[k:k + n, 0].copy(), v[k:k + n, 1].copy(), v[k:k + n, 2].copy())
+        k += n
+    return out
+
+
+def pack_aero_parameters(system, beam_params: dict, sections: dict, *, airspeed, density, mach=0.0,
+                         downwash_gradient=0.0) -> np.ndarray:
+    """Packed parameters: the structure's (:meth:`~wingmdao.beam.joints.JoinedBeamSystem.pack_parameters`
+    of ``beam_params``) and the aerodynamics': ``sections`` ``{beam: {chord, ref_point, lift_slope,
+    alpha_zero_lift, cm0}}`` (scalars broadcast; defaults ref_point 0.4, lift_slope 2 pi, 0, 0)."""
+    base = system.pack_parameters(beam_params)
+    lay = layout(system.param_specs)
+    p = np.zeros(sum(s.size for s in system.param_specs))
+    n_base = base.size
+    p[:n_base] = base
+    values = {}
+    for name in system.lifting:
+        if name not in sections:
+            raise ValueError(f"sections: no aerodynamic data for the lifting beam {name!r}")
+        n = system.beam(name).num_nodes
+        d = {"ref_point": 0.4, "lift_slope": 2 * np.pi, "alpha_zero_lift": 0.0, "cm0": 0.0, **sections[name]}
+        for s in SECTION_PARAMS:
+            values[f"{name}_{s}"] = np.broadcast_to(np.asarray(d[s], dtype=float), (n,)).copy()
+        check_aero_parameters({k: values[f"{name}_{k}"] for k in ("chord", "ref_point", "lift_slope")}
+                              | {"airspeed": airspeed, "density": density, "mach": mach})
+    values.update(airspeed=float(airspeed), density=float(density), mach=float(mach))
+    if system.aero.tail:
+        if not (np.isfinite(downwash_gradient) and 0.0 <= downwash_gradient < 1.0):
+            raise ValueError(f"downwash_gradient = {downwash_gradient}; allowed range [0, 1)")
+        values["downwash_gradient"] = float(downwash_gradient)
+    for k, v in values.items():
+        p[lay[k]] = np.asarray(v, dtype=float).ravel()
+    return p
+
+
+def pack_aero_forcing(system, gust: dict | None = None, *, trim_active=0.0, frame_velocity=(0.0, 0.0, 0.0),
+                      frame_velocity_rate=(0.0, 0.0, 0.0), **shared) -> np.ndarray:
+    """Packed forcing at one instant: ``gust`` ``{beam: (n,) m/s}`` of the lifting beams (zero if
+    absent), the trim switch and the shared structure forcing (``gravity``, ``frame_acceleration``, ...)."""
+    base = system.pack_forcing(None, **shared)
+    lay = layout(system.forcing_specs)
+    q = np.zeros(sum(s.size for s in system.forcing_specs))
+    q[:base.size] = base
+    for name in system.lifting:
+        g = np.zeros(system.beam(name).num_nodes) if not gust or name not in gust else np.asarray(gust[name], float)
+        q[lay[f"{name}_gust_velocity"]] = g
+    q[lay["frame_velocity"]] = frame_velocity
+    q[lay["frame_velocity_rate"]] = frame_velocity_rate
+    q[lay["trim_active"]] = float(trim_active)
+    return q
+
+
+def lift_total(system, x, xdot, p, q, vertical: bool = False) -> float:
+    """Integrated lift (N, trapezoid over each lifting beam's jig node positions) of the modelled
+    half (or whole) aircraft: along the sections' normals, or with ``vertical`` its body-z
+    component (the aerodynamic force that balances the weight)."""
+    lay = layout(system.param_specs)
+    p = np.asarray(p, dtype=float)
+    total = 0.0
+    for name, (normal, _, up) in system.section_loads(x, xdot, p, q).items():
+        lift = up if vertical else normal
+        r0 = p[lay[f"{name}_node_positions"]].reshape(-1, 3)
+        ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
+        total += float(np.sum(0.5 * (lift[:-1] + lift[1:]) * ds))
+    return total
+
+
+__all__ = ["build_joined_aeroelastic_system", "pack_aero_parameters", "pack_aero_forcing", "lift_total",
+           "SECTION_PARAMS", "TRIM_STATE_NAMES"]
