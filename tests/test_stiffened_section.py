@@ -311,7 +311,7 @@ def test_laminate_panel_failure_partials():
     assert prob.get_val("panels.g_laminate_strength").shape == (nt, n, 6)
     assert prob.get_val("section.mass_area")[0] < prob.get_val("section.A")[0] * 2   # density 1550 vs 2700
     data = prob.check_partials(method="fd", form="central", step=1e-6, step_calc="rel", out_stream=None)
-    assert_check_partials(data, atol=1e-5, rtol=2e-4)
+    assert_check_partials(data, atol=1e-3, rtol=2e-4)  # entries up to ~4e3 (d g / d Ixz): 1e-3 is 3e-7 of them
 
 
 def test_centre_box_bay_split_at_the_rib_pitch():
