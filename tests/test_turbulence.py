@@ -874,3 +874,21 @@ def test_a_bar_rigid_plunge_pitch_against_closed_form_quadrature():
     om = np.array([0.5, 3.0, 10.0, 50.0, 300.0])
     H = frequency_response(model, om).outputs["load_factor"][:, 0]
     np.testing.assert_allclose(H, _pitch_plunge_reference(om, **kw), rtol=3e-3)
+
+
+def test_controllable_canonical_form_matches_scipy_tf2ss():
+    """The state-space form of the von Karman filter (and of other strictly proper transfer
+    functions) equals scipy.signal.tf2ss's; an improper one is refused."""
+    import scipy.signal as ss
+
+    from wingmdao.loads.turbulence import controllable_canonical_form, von_karman_filter
+
+    for num, den in (von_karman_filter(100.0, 1.0, 762.0), ([2.0, 3.0], [4.0, 1.0, 5.0, 7.0]), ([5.0], [2.0, 1.0])):
+        A, B, C = controllable_canonical_form(num, den)
+        A2, B2, C2, D2 = ss.tf2ss(num, den)
+        np.testing.assert_allclose(A, A2, rtol=1e-14)
+        np.testing.assert_allclose(B, B2, rtol=1e-14)
+        np.testing.assert_allclose(C, C2, rtol=1e-14)
+        assert np.all(D2 == 0)
+    with pytest.raises(ValueError, match="strictly proper"):
+        controllable_canonical_form([1.0, 2.0], [1.0, 3.0])

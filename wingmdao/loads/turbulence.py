@@ -42,7 +42,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as sla
-import scipy.signal as ssig
 
 from wingmdao.loads.atmosphere import FT
 from wingmdao.loads.gust import _check_range, flight_profile_alleviation_factor
@@ -110,6 +109,28 @@ def von_karman_filter(airspeed, sigma=1.0, scale_m=SCALE_OF_TURBULENCE_FT * FT):
     return gain * num, den
 
 
+def controllable_canonical_form(num, den):
+    """``(A, B, C)`` of the strictly proper transfer function ``num(s) / den(s)`` (coefficients in
+    descending powers, ``len(num) < len(den)``) in controllable canonical form, the convention of
+    ``scipy.signal.tf2ss``: A's first row ``-a_1 ... -a_n`` (den normalized to a leading 1) over
+    an identity shift, ``B = e_1``, ``C`` the numerator padded to ``n`` coefficients."""
+    num = np.atleast_1d(np.asarray(num, dtype=float))
+    den = np.atleast_1d(np.asarray(den, dtype=float))
+    n = den.size - 1
+    if n < 1 or num.size > n:
+        raise ValueError(f"transfer function of numerator degree {num.size - 1} over denominator degree {n}: "
+                         "allowed a strictly proper one (numerator degree < denominator degree >= 1)")
+    a = den[1:] / den[0]
+    A = np.zeros((n, n))
+    A[0, :] = -a
+    A[1:, :-1] = np.eye(n - 1)
+    B = np.zeros((n, 1))
+    B[0, 0] = 1.0
+    C = np.zeros((1, n))
+    C[0, n - num.size:] = num / den[0]
+    return A, B, C
+
+
 def synthesize_vertical_turbulence(n_steps, dt, airspeed, sigma=1.0, scale_m=SCALE_OF_TURBULENCE_FT * FT,
                                    rng=None) -> np.ndarray:
     """(n_steps,) vertical gust velocity (m/s) at t_k = k dt: a sample of the output of
@@ -127,7 +148,7 @@ def synthesize_vertical_turbulence(n_steps, dt, airspeed, sigma=1.0, scale_m=SCA
     if not (np.isfinite(dt) and dt > 0):
         raise ValueError(f"dt = {dt} s; allowed range (0, inf) s")
     rng = np.random.default_rng(0) if rng is None else rng
-    A, B, C, _ = ssig.tf2ss(*von_karman_filter(airspeed, sigma, scale_m))  # strictly proper: no feed-through
+    A, B, C = controllable_canonical_form(*von_karman_filter(airspeed, sigma, scale_m))
     q = np.pi
     k = A.shape[0]
     van_loan = sla.expm(np.block([[-A, q * B @ B.T], [np.zeros((k, k)), A.T]]) * float(dt))
