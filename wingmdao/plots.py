@@ -26,6 +26,18 @@ def _pyplot():
     return plt
 
 
+def optional_pyplot():
+    """matplotlib's pyplot on the Agg backend, or None (with one line on standard error) when
+    matplotlib is not installed: the commands' plots are optional, their results are not."""
+    try:
+        return _pyplot()
+    except ImportError as exc:
+        import sys
+
+        print(f"wingmdao: warning: no plots ({exc})", file=sys.stderr)
+        return None
+
+
 def save_figure(fig, path: str, dpi: int = 120, **layout) -> str:
     """Lay out (``tight_layout(**layout)``) and write ``fig`` to ``path`` atomically, then close it.
 

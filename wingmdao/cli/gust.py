@@ -42,6 +42,8 @@ import sys
 import time as _time
 
 import numpy as np
+
+from wingmdao.plots import optional_pyplot
 from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, warn, write_json
 from wingmdao.cli._args import (add_aero_and_plunge_arguments, add_aero_theory_argument, add_deprecated_alias,
                                 add_free_pitch_arguments, add_output_arguments)
@@ -420,13 +422,8 @@ def _run_stick(args, t, flight, *, H_ft, alt_ft, t_wall, plot_path):
 
 
 def _stick_plots(res, stem):
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("matplotlib not installed: no plots", file=sys.stderr)
+    plt = optional_pyplot()
+    if plt is None:
         return
     t = res["time"]
     fig, axes = plt.subplots(2, 1, figsize=(7, 7), sharex=True)
@@ -474,13 +471,8 @@ def _area(args):
 
 
 def _plots(res, stem):
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("matplotlib not installed: no plots", file=sys.stderr)
+    plt = optional_pyplot()
+    if plt is None:
         return
     t = res["time"]
     alleviation = res.get("alleviation")

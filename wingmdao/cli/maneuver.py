@@ -24,6 +24,8 @@ import time as _time
 
 import numpy as np
 
+from wingmdao.plots import optional_pyplot
+
 from wingmdao.cli._args import METAVARS, add_free_pitch_arguments, add_output_arguments
 from wingmdao.cli._io import write_json
 
@@ -202,13 +204,8 @@ def run(args):
 
 
 def _plots(res, stem):
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("matplotlib not installed: no plots", file=sys.stderr)
+    plt = optional_pyplot()
+    if plt is None:
         return
     t = res["time"]
     fig, axes = plt.subplots(4, 1, figsize=(7, 9), sharex=True)

@@ -167,14 +167,7 @@ def _size(args) -> int:
                           others={"recording": recording, **{f"output {p}": p for p in plots + case_files}})
     refuse_existing([recording, *plots, *case_files], overwrite=args.overwrite,
                     what="recording, envelope, plots" + (" and case files" if case_files else ""))
-    opts = setup.options
-    opts.optimizer = args.optimizer
-    if args.maxiter is not None:
-        opts.maxiter = args.maxiter
-    if args.presize is not None:
-        opts.presize = args.presize
-    opts.recording = recording
-    opts.progress = not args.quiet
+    _driver_options(setup.options, args, recording)
     say(f"wingmdao size {args.case_module.NAME}: {len(setup.load_cases)} load case(s) "
         f"[{', '.join(c.name for c in setup.load_cases)}], {setup.geometry.num_nodes} stations")
     for note in setup.notes:
@@ -191,7 +184,7 @@ def _size(args) -> int:
     mine = (setup.load_cases if comm is None else
             [setup.load_cases[i] for i in assign_cases(setup.load_cases, comm.size)[comm.rank]])
     check_memory(mine, setup.geometry.num_nodes)  # before any solve: this rank's marches must fit
-    prob, desc = sizing.build_problem(setup.geometry, setup.load_cases, setup.material, opts,
+    prob, desc = sizing.build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
                                       driver=optimize, section=setup.section, comm=comm or False,
                                       flutter=setup.flutter, panels=setup.panels, turbulence=setup.turbulence)
     import openmdao.api as om
@@ -269,6 +262,18 @@ def _interrupted_after_sizing(args, result, recording) -> int:
     return EXIT_INTERRUPTED
 
 
+def _driver_options(opts, args, recording) -> None:
+    """The optimizer flags (--optimizer, --maxiter, --presize, --quiet) and the recording path on
+    the case's sizing options."""
+    opts.optimizer = args.optimizer
+    if args.maxiter is not None:
+        opts.maxiter = args.maxiter
+    if args.presize is not None:
+        opts.presize = args.presize
+    opts.recording = recording
+    opts.progress = not args.quiet
+
+
 def _run_load_iteration(args, setup, comm) -> int:
     """--matrix: the load iteration of :mod:`wingmdao.loads.iteration`; JSON: the last sizing's result
     with ``load_iteration`` (passes; cases sized, re-checked, added; converged)."""
@@ -287,14 +292,7 @@ def _run_load_iteration(args, setup, comm) -> int:
     if args.analysis_only:
         raise ValueError("--matrix sizes against the matrix; without sizing use 'wingmdao loads CASE --matrix FILE'")
     matrix = read_matrix(args.matrix)
-    opts = setup.options
-    opts.optimizer = args.optimizer
-    if args.maxiter is not None:
-        opts.maxiter = args.maxiter
-    if args.presize is not None:
-        opts.presize = args.presize
-    opts.recording = None
-    opts.progress = not args.quiet
+    _driver_options(setup.options, args, None)
     say(f"wingmdao size {module.NAME} --matrix {args.matrix}: load iteration over the matrix's critical cases")
     result = load_iteration(module, matrix, setup, size=lambda s: sizing.size_case(s, comm=False),
                             progress=sys.stderr)

@@ -31,6 +31,8 @@ import time as _time
 
 import numpy as np
 
+from wingmdao.plots import optional_pyplot
+
 from wingmdao.cases import available_cases, case_beam_parameters
 from wingmdao.cases.planform import G0, LB, wing_geometry
 from wingmdao.cli._args import add_aero_and_plunge_arguments, add_output_arguments
@@ -230,13 +232,8 @@ def _run_dlm(args, bp, chord, axis_frac, mach, V, rho, weight, point, stem, t_wa
 
 def _plots(res, stem):
     """|H|, the PSDs, the design-load envelope along the span and the root (bending, torsion) ellipse."""
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("matplotlib not installed: no plots", file=sys.stderr)
+    plt = optional_pyplot()
+    if plt is None:
         return
     f = np.asarray(res["frequency_hz"])
     label = {"root_bending_moment": "root bending (N m per m/s)", "load_factor": "load factor (1 per m/s)",
