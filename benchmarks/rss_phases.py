@@ -20,9 +20,13 @@ import sys
 import threading
 import time
 
-import wingmdao.sizing as sizing
-import wingmdao.stability.cases as stability_cases
-from wingmdao.cli import main
+from wingmdao.utils.memory import import_openmdao_without_plot_plugins
+
+import_openmdao_without_plot_plugins()  # as `wingmdao size` does, before the modules below load OpenMDAO
+
+import wingmdao.sizing as sizing  # noqa: E402
+import wingmdao.stability.cases as stability_cases  # noqa: E402
+from wingmdao.cli import main  # noqa: E402
 
 
 def rss_mb() -> float:

@@ -2,6 +2,9 @@
 linearizations are dropped before the flutter search; outputs stay, and a later derivative
 computation linearizes again to the same totals."""
 
+import subprocess
+import sys
+
 import numpy as np
 
 from wingmdao import sizing
@@ -91,3 +94,39 @@ def test_large_blocks_setting_leaves_the_users_choice(monkeypatch):
     assert return_large_blocks_on_free() is False
     monkeypatch.delenv("MALLOC_MMAP_THRESHOLD_")
     assert return_large_blocks_on_free() in (True, False)  # False without glibc
+
+
+_LEAN_IMPORT = """
+import sys
+from wingmdao.utils.memory import import_openmdao_without_plot_plugins
+assert import_openmdao_without_plot_plugins()
+import openmdao.api as om
+prob = om.Problem(reports=False)
+prob.model.add_subsystem("c", om.ExecComp("y = (x - 3) ** 2"), promotes=["*"])
+prob.model.add_design_var("x", lower=-10, upper=10)
+prob.model.add_objective("y")
+prob.driver = om.ScipyOptimizeDriver(optimizer="SLSQP", disp=False)
+prob.setup()
+prob.run_driver()
+print("matplotlib" in sys.modules, round(float(prob.get_val("x")[0]), 6))
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+plt.figure()
+print("matplotlib" in sys.modules, import_openmdao_without_plot_plugins())
+"""
+
+
+def test_openmdao_without_plot_plugins():
+    """The command's OpenMDAO import loads no matplotlib (~30 MB): an optimization runs without it,
+    and a plot drawn afterwards imports it as usual; a second call changes nothing."""
+    out = subprocess.run([sys.executable, "-c", _LEAN_IMPORT], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["False", "3.0", "True", "False"], out.stdout + out.stderr
+
+
+def test_openmdao_lean_import_leaves_a_loaded_openmdao_alone():
+    from wingmdao.utils.memory import import_openmdao_without_plot_plugins
+
+    import openmdao.api  # noqa: F401  (this test process has it already)
+
+    assert import_openmdao_without_plot_plugins() is False

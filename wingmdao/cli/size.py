@@ -10,7 +10,8 @@ import numpy as np
 from wingmdao.cases import options_from_namespace
 from wingmdao.cli._io import EXIT_INTERRUPTED, check_output_dir, check_output_file, refuse_existing, say, warn, write_json
 from wingmdao.cli._args import CaseArguments, add_aero_theory_argument, add_output_arguments
-from wingmdao.utils.memory import return_freed_memory, return_large_blocks_on_free
+from wingmdao.utils.memory import (import_openmdao_without_plot_plugins, return_freed_memory,
+                                   return_large_blocks_on_free)
 
 #: --presize upper bound (passes)
 MAX_PRESIZE = 20
@@ -102,7 +103,9 @@ def run_size(args) -> int:
     # traceback of its failed optional ``import jax`` as module globals (``openmdao.func_api``,
     # ``openmdao.components.explicit_func_comp``, ``implicit_func_comp``), and a traceback keeps
     # every frame that was on the stack at the import alive: imported from inside ``_size``, it
-    # would hold the sizing problem (~300 MB) until the process ends.
+    # would hold the sizing problem (~300 MB) until the process ends. OpenMDAO comes first, without
+    # the matplotlib of its report plugins (the run asks for no reports; a plot loads it later).
+    import_openmdao_without_plot_plugins()
     from wingmdao import sizing  # noqa: F401
     from wingmdao.stability import cases  # noqa: F401  (the flutter search of the result)
 

@@ -6,6 +6,7 @@ import ctypes
 import ctypes.util
 import gc
 import os
+import sys
 
 
 def return_freed_memory() -> bool:
@@ -55,3 +56,38 @@ def return_large_blocks_on_free(mmap_threshold: int = 1 << 17) -> bool:
     if mallopt is None:
         return False
     return bool(mallopt(_M_MMAP_THRESHOLD, int(mmap_threshold))) and bool(mallopt(_M_TRIM_THRESHOLD, 0))
+
+
+def import_openmdao_without_plot_plugins() -> bool:
+    """Import OpenMDAO for a command-line run that asks for no OpenMDAO reports, without the
+    matplotlib its start-up loads for those reports (~30 MB resident).
+
+    Two things in OpenMDAO import ``matplotlib.pyplot`` whether or not a plot is ever drawn:
+    ``openmdao.drivers.modopt_driver`` reads matplotlib's backend when ``openmdao.api`` is imported
+    (to restore it after importing the optional modOpt), and the first ``om.Problem()`` loads the
+    report plugins (``openmdao_report`` entry points), whose optimization report imports pyplot at
+    module level. Here matplotlib is hidden while ``openmdao.api`` is imported (the modOpt driver
+    then finds neither matplotlib nor modOpt, which wingmdao does not use) and the report plugins
+    are marked loaded (``openmdao.utils.reports_system._plugins_loaded``). A later plot imports
+    matplotlib as usual. Only the ``wingmdao`` command calls this, whose problems are built with
+    ``reports=False``: a library user's process keeps OpenMDAO's behaviour.
+
+    Returns
+    -------
+    bool
+        True when OpenMDAO was imported here without matplotlib; False when OpenMDAO or matplotlib
+        was already imported (nothing is changed) or OpenMDAO no longer has the plugin flag.
+    """
+    if "openmdao.api" in sys.modules or "matplotlib" in sys.modules:
+        return False
+    sys.modules["matplotlib"] = None  # `import matplotlib` raises ImportError while this is set
+    try:
+        import openmdao.api  # noqa: F401
+    finally:
+        del sys.modules["matplotlib"]
+    from openmdao.utils import reports_system
+
+    if not hasattr(reports_system, "_plugins_loaded"):
+        return False
+    reports_system._plugins_loaded = True
+    return True
