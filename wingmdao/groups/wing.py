@@ -311,6 +311,11 @@ class WingStructure(om.Group):
         layout = self.options["panels"]
         if layout is None:
             raise ValueError("WingStructure: section 'stiffened' needs the panels option (a PanelLayout)")
+        # the chordwise running load comes from dF/ds: its component runs before the panels'
+        # (added after them, a run-once group would hand the panels the previous evaluation's
+        # value, zero on the first, and the reverse sweep would drop that path's derivatives)
+        self.add_subsystem("load_gradient", InternalForceGradient(num_times=nt, num_nodes=n),
+                           promotes_inputs=["node_positions"])
         comp = self.add_subsystem("panels", PanelFailure(
             num_times=nt, num_stations=n, material=self.options["material"], safety_factor=layout.safety_factor,
             stiffener_pitch=layout.stiffener_pitch, shape=layout.shape, flange_ratio=layout.flange_ratio,
@@ -321,8 +326,6 @@ class WingStructure(om.Group):
         self.promotes("panels", outputs=[f"ks_{f}" for f in comp.families])
         self.connect("internal_loads.F_csn", "panels.F_csn")
         self.connect("internal_loads.M_csn", "panels.M_csn")
-        self.add_subsystem("load_gradient", InternalForceGradient(num_times=nt, num_nodes=n),
-                           promotes_inputs=["node_positions"])
         self.connect("internal_loads.F_csn", "load_gradient.F_csn")
         self.connect("load_gradient.dF_csn_ds", "panels.dF_csn_ds")
         return dict(comp.families)
