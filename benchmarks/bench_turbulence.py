@@ -11,10 +11,10 @@ stresses (:func:`wingmdao.stability.frequency_adjoint.turbulence_stress_ks`, ini
 with and without its gradient. Goal of issue #28: the analysis with its gradient under 2 s on
 this 2-core machine.
 
-Figures (process time, OMP_NUM_THREADS=1, this machine with a load average of 12-22 from other
-jobs): static solve + linearisation + outputs 0.01-0.03 s, eigenvalues 0.12 s, frequency response
-and A-bar (307 frequencies to 40 Hz) 0.15 s; the whole analysis 0.3 s; the stress KS (245
-frequencies to 20 Hz) 0.13 s, with its gradient 0.94 s: analysis and gradient 1.24 s.
+Figures (process time, OMP_NUM_THREADS=1, best of 3, free plunge): static solve + linearisation +
+outputs 0.02 s, eigenvalues 0.11 s, frequency response and A-bar (307 frequencies to 40 Hz)
+0.13 s; the whole analysis 0.26 s; the stress KS (245 frequencies to 20 Hz) 0.10 s, with its
+gradient 0.86 s: analysis and gradient 1.12 s.
 """
 
 from __future__ import annotations

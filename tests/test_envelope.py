@@ -62,6 +62,27 @@ def test_files_round_trip(tmp_path):
         env.load(str(tmp_path / "missing.npz"))
 
 
+def test_turbulence_ellipse_on_the_potato_plots(tmp_path):
+    """25.341(b) loads added to the envelope data: at a station the ellipse spans 1 g +/- U_sigma
+    A-bar in each load, its correlated design points lie on it (AC 25.341-1 tangent points), the
+    keys survive the NPZ round trip and the potato plot draws them."""
+    pytest.importorskip("matplotlib")
+    data = env.add_turbulence(_data(), {
+        "u_sigma_m_s": 20.0, "bending_moment": {"one_g": [50.0, 10.0, 0.0], "a_bar": [2.0, 1.0, 0.0]},
+        "torsion": {"one_g": [3.0, 1.0, 0.0], "a_bar": [0.5, 0.2, 0.0]}, "bending_torsion_correlation": [0.6, 0.3, 0.0]})
+    back = env.load(env.save(data, str(tmp_path / "run_envelope.npz")))
+    ellipse, design = env.turbulence_ellipse(back, 0)
+    # (M_s, M_c): x = 3 +/- 20 * 0.5, y = 50 +/- 20 * 2
+    assert ellipse[:, 0].max() == pytest.approx(13.0) and ellipse[:, 0].min() == pytest.approx(-7.0)
+    assert ellipse[:, 1].max() == pytest.approx(90.0, rel=1e-3) and ellipse[:, 1].min() == pytest.approx(10.0, rel=1e-2)
+    # on the ellipse: ((x - px)/ax)^2 - 2 rho (x - px)/ax (y - py)/ay + ((y - py)/ay)^2 = 1 - rho^2
+    u, v, rho = (design[:, 0] - 3.0) / 10.0, (design[:, 1] - 50.0) / 40.0, 0.6
+    np.testing.assert_allclose(u ** 2 - 2 * rho * u * v + v ** 2, 1 - rho ** 2, rtol=1e-12)
+    assert env.turbulence_ellipse(_data(), 0) == (None, None)
+    paths = env.write_plots(back, str(tmp_path / "run"), stations=[0, 1])
+    assert any(p.endswith("_potato.png") for p in paths)
+
+
 @pytest.mark.slow
 def test_size_and_report_write_envelope_outputs(tmp_path, capsys):
     pytest.importorskip("matplotlib")

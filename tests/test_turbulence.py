@@ -485,6 +485,18 @@ def test_size_pegasus_turbulence_constraint_analysis(tmp_path):
             prob.set_val(name, v)
     prob.run_model()
     assert r["turbulence_ks"] == pytest.approx(float(prob.get_val("turbulence_ks")[0]), rel=1e-8)
+    # the envelope's 25.341(b) loads (potato-plot ellipses) of the constraint's model against the
+    # `wingmdao turbulence` command on the same design (its own beam and aerodynamic set-up)
+    tl = r["turbulence_loads"]
+    cmd = tmp_path / "t.json"
+    assert main(["turbulence", "pegasus", "--clamped", "--damping-ratio", "0.02", "--f-max-hz", "20", "--no-plots",
+                 "--json", str(cmd)]) == 0
+    t = json.loads(cmd.read_text())
+    assert tl["u_sigma_m_s"] == pytest.approx(t["u_sigma_m_s"], rel=1e-12)
+    for key in ("bending_moment", "torsion"):
+        np.testing.assert_allclose(tl[key]["a_bar"], t["a_bar"][key], rtol=1e-6, atol=1e-6 * max(t["a_bar"][key]))
+        np.testing.assert_allclose(tl[key]["one_g"], t["design_loads"][key]["one_g"], rtol=1e-9, atol=1e-6)
+    np.testing.assert_allclose(tl["bending_torsion_correlation"], t["correlation"]["bending_torsion"], atol=1e-6)
 
 
 def test_size_turbulence_bad_case(capsys):

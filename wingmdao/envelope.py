@@ -11,7 +11,9 @@ constraints ``cases.<name>.stress.g_<family>`` (g = sigma/sigma_allow - 1):
 * **potato plots** (correlated loads): M_c against M_s at chosen stations, every time step of every
   case one point; the convex hull of all points is the envelope of simultaneous bending and
   torsion that the section must carry, its extreme corners the design points. How to read
-  them: ``docs/gust-envelope.md``.
+  them: ``docs/gust-envelope.md``. A sizing with the 25.341(b) constraint adds, at each potato
+  station, the continuous turbulence's equal-probability ellipse of (M_s, M_c) about its 1 g loads
+  and its four correlated design points (:func:`add_turbulence`).
 
 The loads are saved to ``<stem>_envelope.npz`` (written atomically) so that
 ``wingmdao report`` can redraw the plots from a finished run.
@@ -23,6 +25,7 @@ import os
 
 import numpy as np
 
+from wingmdao.loads.turbulence import correlated_loads, equal_probability_ellipse
 from wingmdao.sizing import case_families, span_coordinate
 
 QUANTITIES = {  # name: (array, component, label, scale to plot units, unit)
@@ -50,6 +53,35 @@ def collect(prob, load_cases, span, families=None) -> dict:
     data["case_names"] = np.array(names)
     data["span"] = np.asarray(span, dtype=float)
     return data
+
+
+#: keys of the continuous-turbulence loads in the envelope data (:func:`add_turbulence`)
+TURBULENCE_KEYS = ("turbulence_u_sigma", "turbulence_Mc_1g", "turbulence_Mc_abar", "turbulence_Ms_1g",
+                   "turbulence_Ms_abar", "turbulence_rho")
+
+
+def add_turbulence(data: dict, loads: dict) -> dict:
+    """Add the 25.341(b) loads of :func:`wingmdao.sizing.turbulence_loads` (per station: 1 g and
+    A-bar of M_c and M_s, their correlation; U_sigma) to the envelope ``data``; returns it."""
+    data["turbulence_u_sigma"] = np.array(float(loads["u_sigma_m_s"]))
+    data["turbulence_Mc_1g"] = np.asarray(loads["bending_moment"]["one_g"], dtype=float)
+    data["turbulence_Mc_abar"] = np.asarray(loads["bending_moment"]["a_bar"], dtype=float)
+    data["turbulence_Ms_1g"] = np.asarray(loads["torsion"]["one_g"], dtype=float)
+    data["turbulence_Ms_abar"] = np.asarray(loads["torsion"]["a_bar"], dtype=float)
+    data["turbulence_rho"] = np.asarray(loads["bending_torsion_correlation"], dtype=float)
+    return data
+
+
+def turbulence_ellipse(data: dict, station: int):
+    """((n, 2) ellipse, (4, 2) correlated design points) of (M_s, M_c) in N m at ``station``, or
+    (None, None) when the data hold no turbulence loads."""
+    if "turbulence_rho" not in data:
+        return None, None
+    i = int(station)
+    center = (data["turbulence_Ms_1g"][i], data["turbulence_Mc_1g"][i])
+    a_bar = (data["turbulence_Ms_abar"][i], data["turbulence_Mc_abar"][i])
+    u, rho = float(data["turbulence_u_sigma"]), float(data["turbulence_rho"][i])
+    return equal_probability_ellipse(center, u, a_bar, rho), correlated_loads(center, u, a_bar, rho)
 
 
 def save(data: dict, path: str) -> str:
@@ -229,6 +261,12 @@ def write_plots(data: dict, stem: str, stations=None) -> list:
                 ax.plot(mt, mb, "-", color=cmap(j % 20), lw=0.8, label=name)
         hull = _hull(np.vstack(allpts))
         ax.plot(hull[:, 0], hull[:, 1], "k--", lw=1.0, label="convex hull")
+        ellipse, design = turbulence_ellipse(data, i)
+        if ellipse is not None:  # 25.341(b): 1 g +/- U_sigma A-bar, correlated
+            ax.plot(ellipse[:, 0] * 1e-3, ellipse[:, 1] * 1e-3, "-", color="tab:purple", lw=1.4,
+                    label="continuous turbulence (equal-probability ellipse)")
+            ax.plot(design[:, 0] * 1e-3, design[:, 1] * 1e-3, "D", color="tab:purple", ms=5,
+                    label="continuous turbulence: correlated design loads")
         ax.set_xlabel("torsion M_s [kN m]")
         ax.set_ylabel("bending M_c [kN m]")
         ax.set_title(f"station {i}, y = {span[i]:.2f} m")
@@ -240,10 +278,14 @@ def write_plots(data: dict, stem: str, stations=None) -> list:
     return paths
 
 
-def write_envelope_outputs(prob, setup, stem: str, stations=None, plots: bool = True) -> dict:
-    """Collect, save ``<stem>_envelope.npz`` and (``plots``) write the PNGs; returns paths and the table."""
+def write_envelope_outputs(prob, setup, stem: str, stations=None, plots: bool = True, turbulence=None) -> dict:
+    """Collect, save ``<stem>_envelope.npz`` and (``plots``) write the PNGs; returns paths and the table.
+    ``turbulence``: the 25.341(b) loads of the design (:func:`wingmdao.sizing.turbulence_loads`),
+    drawn on the potato plots."""
     families = {c.name: case_families(c, setup.section, setup.panels) for c in setup.load_cases}
     data = collect(prob, setup.load_cases, span_coordinate(setup.geometry), families)
+    if turbulence is not None:
+        add_turbulence(data, turbulence)
     out = {"envelope_file": save(data, f"{stem}_envelope.npz"), "critical_cases": critical_cases(data)}
     out["plots"] = write_plots(data, stem, stations) if plots else []
     return out

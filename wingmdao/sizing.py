@@ -25,8 +25,10 @@ from wingmdao.beam.static import beam_forcing
 from wingmdao.components.beam import beam_system
 from wingmdao.components.flutter import paused_flutter
 from wingmdao.components.mass import beam_mass
+from wingmdao.components.turbulence import TurbulenceStressKS
 from wingmdao.groups.load_case import LoadCase
 from wingmdao.limits import check_memory
+from wingmdao.loads.turbulence_analysis import gust_model_from_parameters, turbulence_analysis
 from wingmdao.materials import Material
 from wingmdao.section.solid import solid_properties, validate_solid
 from wingmdao.timemarch.system import pack
@@ -601,6 +603,46 @@ def release_derivative_storage(prob) -> int:
             released += 1
     return_freed_memory()
     return released
+
+
+def turbulence_loads(prob) -> dict | None:
+    """The 25.341(b) loads of the analysed design of a sizing with the turbulence constraint, for the
+    stress office and the potato plots: the constraint's own model (its inputs at the design, its
+    airspeed, stations and structural damping; :class:`~wingmdao.components.turbulence.TurbulenceStressKS`)
+    analysed by :func:`wingmdao.loads.turbulence_analysis.turbulence_analysis` on the constraint's
+    frequency range. None without the constraint.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A sizing problem of :func:`build_problem` after its run.
+
+    Returns
+    -------
+    dict or None
+        ``u_sigma_m_s`` (m/s TAS); per station of ``bending_moment`` (M_c) and ``torsion`` (M_s) in
+        each station's csn frame, ``one_g`` (N m) and ``a_bar`` (N m per m/s); ``bending_torsion_correlation``
+        (per station); ``a_bar_load_factor`` (1 per m/s).
+    """
+    comps = list(prob.model.system_iter(recurse=True, typ=TurbulenceStressKS))
+    if not comps:
+        return None
+    comp = comps[0]
+    opts = comp.options
+    values = {s.name: np.asarray(prob.get_val(f"{comp.pathname}.{s.name}")).reshape(s.shape) for s in comp.specs}
+    values["airspeed"] = (float(prob.get_val(f"{comp.pathname}.airspeed")[0]) if opts["airspeed_input"]
+                          else opts["airspeed"])
+    if opts["aircraft_mass_input"]:
+        raise ValueError("turbulence_loads: a constraint with aircraft_mass_input takes the mass from its input; "
+                         "analyse it with wingmdao.loads.turbulence_analysis directly")
+    gm = gust_model_from_parameters(comp.system, values, x_stations=opts["x_stations"], gravity=opts["gravity"])
+    res = turbulence_analysis(gm, opts["u_sigma"], f_max=opts["f_max"], n_base=opts["n_base"])
+    return {"u_sigma_m_s": float(opts["u_sigma"]),
+            "bending_moment": {"one_g": res["design_loads"]["bending_moment"]["one_g"],
+                               "a_bar": res["a_bar"]["bending_moment"]},
+            "torsion": {"one_g": res["design_loads"]["torsion"]["one_g"], "a_bar": res["a_bar"]["torsion"]},
+            "bending_torsion_correlation": res["correlation"]["bending_torsion"],
+            "a_bar_load_factor": res["a_bar"]["load_factor"]}
 
 
 def case_responses(prob, setup, togw_lb) -> dict:

@@ -335,7 +335,10 @@ def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupt
         # an envelope: critical case per station, envelopes, potato plots
         from wingmdao.envelope import format_critical_table, write_envelope_outputs
 
-        env = write_envelope_outputs(prob, setup, stem, args.potato_stations, plots=plots_on)
+        turbulence = sizing.turbulence_loads(prob)  # 25.341(b) ellipses on the potato plots (with --turbulence)
+        env = write_envelope_outputs(prob, setup, stem, args.potato_stations, plots=plots_on, turbulence=turbulence)
+        if turbulence is not None:
+            result["turbulence_loads"] = turbulence
         result["envelope_file"] = env["envelope_file"]
         result["critical_cases"] = env["critical_cases"]
         result.setdefault("plots", []).extend(env["plots"])

@@ -64,6 +64,34 @@ def coupled_gust_model(beam_params: dict, aero_params: dict, *, chord, axis_frac
     r0 = np.asarray(beam_params["node_positions"])
     if plunge:
         params["body_mass"] = body_mass(weight / G0, half_wing_mass(beam_params["mass_per_length"], r0)[0])
+    x_le = r0[:, 0] - np.asarray(axis_fraction) * np.asarray(chord)
+    return gust_model_from_parameters(system, params, x_stations=x_le, gravity=gravity)
+
+
+def gust_model_from_parameters(system, params: dict, *, x_stations, gravity=G0) -> GustModel:
+    """The gust model of an aeroelastic ``system`` (trim on) from its parameter values ``params``
+    (every parameter of ``system.param_specs``, ``airspeed`` and ``trim_lift`` included): trimmed in
+    1 g level flight under ``gravity`` m/s^2, linearised with the trim angle held, the stations
+    meeting the gust at ``x_stations`` (m, body x), the load factor over ``trim_lift``. The model of
+    :func:`coupled_gust_model` and of a sizing's turbulence constraint
+    (:class:`~wingmdao.components.turbulence.TurbulenceStressKS`, :func:`wingmdao.sizing.turbulence_loads`).
+
+    Parameters
+    ----------
+    system : AeroelasticBeamSystem
+        The residual system (:func:`wingmdao.aero.system.cached_aeroelastic_system` with ``trim=True``).
+    params : dict
+        Parameter values by name (SI).
+    x_stations : array_like
+        (n,) m: where each station meets the gust.
+    gravity : float
+        Gravitational acceleration (m/s^2).
+
+    Returns
+    -------
+    GustModel
+        The linear gust model with its pencil's eigenvalues.
+    """
     p = pack(system.param_specs, params)
     ql = layout(system.forcing_specs)
     q_static = np.zeros(system.n_forcing)
@@ -72,10 +100,10 @@ def coupled_gust_model(beam_params: dict, aero_params: dict, *, chord, axis_frac
     x0, _ = solve_static(system, p, q_static)
     q = q_static.copy()
     q[ql["trim_active"]] = 0.0
-    x_le = r0[:, 0] - np.asarray(axis_fraction) * np.asarray(chord)
-    outputs = aeroelastic_outputs(system, p, q, x0, weight=weight)
-    model = linear_gust_model(system, p, q, x0, x_stations=x_le, airspeed=float(aero_params["airspeed"]),
-                              outputs=outputs)
+    outputs = aeroelastic_outputs(system, p, q, x0, weight=float(np.ravel(params["trim_lift"])[0]))
+    model = linear_gust_model(system, p, q, x0, x_stations=np.asarray(x_stations, dtype=float),
+                              airspeed=float(np.ravel(params["airspeed"])[0]), outputs=outputs)
+    plunge = getattr(system, "plunge", False)
     return GustModel(model, pencil_eigenvalues(model),
                      f"coupled strip theory, {'free plunge' if plunge else 'clamped'}, trimmed 1 g", system, p, q_static)
 
