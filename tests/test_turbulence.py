@@ -497,6 +497,9 @@ def test_size_pegasus_turbulence_constraint_analysis(tmp_path):
         np.testing.assert_allclose(tl[key]["a_bar"], t["a_bar"][key], rtol=1e-6, atol=1e-6 * max(t["a_bar"][key]))
         np.testing.assert_allclose(tl[key]["one_g"], t["design_loads"][key]["one_g"], rtol=1e-9, atol=1e-6)
     np.testing.assert_allclose(tl["bending_torsion_correlation"], t["correlation"]["bending_torsion"], atol=1e-6)
+    # the pointwise corner ratios under the constraint's KS: max g <= KS <= max g + ln(count) / rho
+    g_max = max(tl["stress_ratio"]) - 1.0
+    assert g_max <= r["turbulence_ks"] <= g_max + np.log(2 * 4 * len(tl["stress_ratio"])) / 50.0
 
 
 def test_size_turbulence_bad_case(capsys):

@@ -29,6 +29,7 @@ from wingmdao.components.turbulence import TurbulenceStressKS
 from wingmdao.groups.load_case import LoadCase
 from wingmdao.limits import check_memory
 from wingmdao.loads.turbulence_analysis import gust_model_from_parameters, turbulence_analysis
+from wingmdao.stability.frequency import stress_matrix
 from wingmdao.materials import Material
 from wingmdao.section.solid import solid_properties, validate_solid
 from wingmdao.timemarch.system import pack
@@ -622,7 +623,9 @@ def turbulence_loads(prob) -> dict | None:
     dict or None
         ``u_sigma_m_s`` (m/s TAS); per station of ``bending_moment`` (M_c) and ``torsion`` (M_s) in
         each station's csn frame, ``one_g`` (N m) and ``a_bar`` (N m per m/s); ``bending_torsion_correlation``
-        (per station); ``a_bar_load_factor`` (1 per m/s).
+        (per station); ``a_bar_load_factor`` (1 per m/s); ``stress_ratio`` per station, the
+        largest corner design stress |s_1g +/- U_sigma A-bar| over ``sigma_allow`` (the constraint's
+        pointwise ratio, before its KS).
     """
     comps = list(prob.model.system_iter(recurse=True, typ=TurbulenceStressKS))
     if not comps:
@@ -636,8 +639,16 @@ def turbulence_loads(prob) -> dict | None:
         raise ValueError("turbulence_loads: a constraint with aircraft_mass_input takes the mass from its input; "
                          "analyse it with wingmdao.loads.turbulence_analysis directly")
     gm = gust_model_from_parameters(comp.system, values, x_stations=opts["x_stations"], gravity=opts["gravity"])
-    res = turbulence_analysis(gm, opts["u_sigma"], f_max=opts["f_max"], n_base=opts["n_base"])
+    walls = np.column_stack([np.asarray(prob.get_val(f"{comp.pathname}.{w}"), dtype=float) for w in WALL_NAMES])
+    R = opts["section_to_csn"]
+    S = np.stack([stress_matrix(opts["width"][i], opts["height"][i], *walls[i], None if R is None else R[i])
+                  for i in range(walls.shape[0])])
+    res = turbulence_analysis(gm, opts["u_sigma"], f_max=opts["f_max"], n_base=opts["n_base"], stress_matrices=S)
+    corner = slice(0, 4)  # the corner axial stresses the constraint bounds
+    up = np.abs(np.asarray(res["design_loads"]["stress"]["up"])[:, corner])
+    down = np.abs(np.asarray(res["design_loads"]["stress"]["down"])[:, corner])
     return {"u_sigma_m_s": float(opts["u_sigma"]),
+            "stress_ratio": (np.maximum(up, down).max(axis=1) / opts["sigma_allow"]).tolist(),
             "bending_moment": {"one_g": res["design_loads"]["bending_moment"]["one_g"],
                                "a_bar": res["a_bar"]["bending_moment"]},
             "torsion": {"one_g": res["design_loads"]["torsion"]["one_g"], "a_bar": res["a_bar"]["torsion"]},
