@@ -43,6 +43,32 @@ def _trimmed_wing(n=4, V=40.0, rho=1.0, c=1.0, span=8.0, g=9.81, mass=300.0):
     return s, p, q_trim, pack(s.forcing_specs, qd), r0, W
 
 
+def _march_against_response(model, series, t, last, om, U, dt, decays):
+    """(marched, discrete, expected) per output of ``series`` (histories at ``t`` under the harmonic
+    gust U sin(om (t - lag))): the amplitude and phase fitted over ``t[last]`` (harmonic + constant +
+    the transient's modes, ``decays`` complex rates), the linear response with i omega replaced by
+    the BDF2 symbol (3 - 4/z + 1/z^2) / (2 dt), z = exp(i om dt), and the frequency response |H|.
+    U sin(om t) = Re(-i U e^{i om t}) gives y = U (Re H sin + Im H cos)."""
+    H = frequency_response(model, [om]).outputs
+    tl = t[last] - t[last][0]
+    basis = [np.sin(om * t[last]), np.cos(om * t[last]), np.ones(last.sum())]
+    for r in decays:
+        basis += ([np.exp(r.real * tl)] if abs(r.imag) < 1e-9 else
+                  [np.exp(r.real * tl) * np.cos(r.imag * tl), np.exp(r.real * tl) * np.sin(r.imag * tl)])
+    basis = np.column_stack(basis)
+    z = np.exp(1j * om * dt)
+    s_h = (3 - 4 / z + 1 / z ** 2) / (2 * dt)
+    w_vec = model.gust_vector([om])[0]
+    X = np.linalg.solve((model.A + s_h * model.E).toarray(), -(model.G @ w_vec))
+    out = {}
+    for name, y in series.items():
+        coef, *_ = np.linalg.lstsq(basis, y[last], rcond=None)
+        m = model.outputs[name]
+        out[name] = ((coef[0] + 1j * coef[1]) / U, complex((m.Cx @ X + s_h * (m.Cv @ X) + m.D @ w_vec)[0]),
+                     complex(H[name][0, 0]))
+    return out
+
+
 def test_frequency_response_equals_time_march_amplitude():
     """A harmonic gust sin(omega (t - x_i / V)) of 0.01 m/s at 3 Hz marched by BDF2 (dt = 2 ms, 1.6 s)
     from the trimmed 1 g state: the steady-state amplitude and phase of the root bending moment,
@@ -57,7 +83,6 @@ def test_frequency_response_equals_time_march_amplitude():
     model = linear_gust_model(s, p, q0, x0, x_stations=x_le, airspeed=40.0,
                               outputs=aeroelastic_outputs(s, p, q0, x0, weight=W))
     om, U = 2 * np.pi * 3.0, 0.01
-    H = frequency_response(model, [om]).outputs
     dt = 2e-3
     t = np.arange(int(1.6 / dt) + 1) * dt
     ql = layout(s.forcing_specs)
@@ -74,21 +99,8 @@ def test_frequency_response_equals_time_march_amplitude():
     # the transient: the slow real modes (Wagner lags V beta_1 / b = 3.6 /s, plunge) decay as e^(lambda t)
     lam = eigenmodes(s, p, q0, x0, static=False).eigenvalues
     slow = np.unique(np.round(lam.real[(np.abs(lam.imag) < 1e-9) & (lam.real < -0.1) & (lam.real > -12)], 2))
-    tl = t[last] - t[last][0]
-    basis = np.column_stack([np.sin(om * t[last]), np.cos(om * t[last]), np.ones(last.sum())]
-                            + [np.exp(r * tl) for r in slow])
-    # the march's own steady state: the linear model with i omega replaced by the BDF2 symbol
-    z = np.exp(1j * om * dt)
-    s_h = (3 - 4 / z + 1 / z ** 2) / (2 * dt)
-    w_vec = model.gust_vector([om])[0]
-    X = np.linalg.solve((model.A + s_h * model.E).toarray(), -(model.G @ w_vec))
-    for name, y in series.items():
-        coef, *_ = np.linalg.lstsq(basis, y[last], rcond=None)
-        # U sin(om t) = Re(-i U e^{i om t}) gives y = Re(-i U H e^{i om t}) = U (Re H sin + Im H cos)
-        marched = (coef[0] + 1j * coef[1]) / U
-        expected = complex(H[name][0, 0])
-        m = model.outputs[name]
-        discrete = complex((m.Cx @ X + s_h * (m.Cv @ X) + m.D @ w_vec)[0])
+    for name, (marched, discrete, expected) in _march_against_response(model, series, t, last, om, U, dt,
+                                                                       slow.astype(complex)).items():
         assert abs(marched - discrete) <= 1e-3 * abs(discrete), (name, marched, discrete)
         assert abs(marched - expected) <= 5e-3 * abs(expected), (name, marched, expected)
 
@@ -782,7 +794,6 @@ def test_free_pitch_frequency_response_equals_time_march_amplitude():
     x_t = par["tail_x"]
     assert model.x_stations.size == n + 1 and model.x_stations[-1] == x_t
     om, U, dt = 2 * np.pi * 2.0, 0.01, 2e-3
-    H = frequency_response(model, [om]).outputs
     t = np.arange(int(3.0 / dt) + 1) * dt
     ql = layout(s.forcing_specs)
     Q = np.tile(q0, (t.size, 1))
@@ -799,22 +810,9 @@ def test_free_pitch_frequency_response_equals_time_march_amplitude():
               "pitch_rate": h.states[:, i_q]}
     last = t >= 2.0
     lam = eigenmodes(s, p, q0, x0, static=False).eigenvalues
-    slow = lam[(lam.real < -0.1) & (lam.real > -12) & (np.abs(lam.imag) < 15)]
-    tl = t[last] - t[last][0]
-    basis = [np.sin(om * t[last]), np.cos(om * t[last]), np.ones(last.sum())]
-    for r in slow:  # the transient: the slow modes (Wagner lags, short period) decay as e^(lambda t)
-        basis += [np.exp(r.real * tl) * np.cos(r.imag * tl), np.exp(r.real * tl) * np.sin(r.imag * tl)]
-    basis = np.column_stack(basis)
-    z = np.exp(1j * om * dt)
-    s_h = (3 - 4 / z + 1 / z ** 2) / (2 * dt)
-    w_vec = model.gust_vector([om])[0]
-    X = np.linalg.solve((model.A + s_h * model.E).toarray(), -(model.G @ w_vec))
-    for name, y in series.items():
-        coef, *_ = np.linalg.lstsq(basis, y[last], rcond=None)
-        marched = (coef[0] + 1j * coef[1]) / U
-        m = model.outputs[name]
-        discrete = complex((m.Cx @ X + s_h * (m.Cv @ X) + m.D @ w_vec)[0])
-        expected = complex(H[name][0, 0])
+    slow = lam[(lam.real < -0.1) & (lam.real > -12) & (np.abs(lam.imag) < 15)]  # Wagner lags, short period
+    for name, (marched, discrete, expected) in _march_against_response(model, series, t, last, om, U, dt,
+                                                                       slow).items():
         assert abs(marched - discrete) <= 1e-3 * abs(discrete), (name, marched, discrete)
         assert abs(marched - expected) <= 5e-3 * abs(expected), (name, marched, expected)
 
