@@ -76,6 +76,25 @@ def test_split_cantilever_equals_single_beam_static_and_modes():
     assert w_joined[0] == pytest.approx(flap, rel=2e-3)
 
 
+def _free_free_flap_frequencies(n1, n2, L=10.0):
+    """Two free beams of ``n1`` and ``n2`` nodes joined end to end into one of length ``L``: (the
+    number of zero eigenvalues, the three lowest flap (z) bending frequencies in rad/s; the in-plane
+    ones, EI_nn, told apart by their mode shapes). Shared with benchmarks/joints_verification.py."""
+    scale = np.sqrt(SECTION["EI_cc"] / (SECTION["mass_per_length"] * L**4))
+    r0, th0 = straight_beam(n1 + n2 - 1, L)
+    model = JoinedBeamModel([Beam("left", n1, root="free"), Beam("right", n2, root="free")],
+                            [Joint("left", -1, "right", 0)],
+                            {"left": beam_parameters(r0[:n1], th0[:n1], **SECTION),
+                             "right": beam_parameters(r0[n1 - 1:], th0[n1 - 1:], **SECTION)})
+    x0 = model.system.jig_state(model.p)
+    modes = eigenmodes(model.system, model.p, model.forcing(), x0, static=False, method="sparse", sigma=5.0, count=20)
+    freq = modes.frequency
+    z = [model.system.node_index(b, i) + 2 for b, n in (("left", n1), ("right", n2)) for i in range(n)]
+    x = [i - 2 for i in z]
+    flap = (freq > 1e-6 * scale) & (np.linalg.norm(modes.vectors[z], axis=0) > np.linalg.norm(modes.vectors[x], axis=0))
+    return int(np.sum(freq < 1e-6 * scale)), np.sort(freq[flap])[:3]
+
+
 def test_free_free_beam_of_two_joined_beams():
     """Two free beams joined end to end: six rigid-body modes (each a double zero eigenvalue), then
     beta L = 4.7300, 7.8532, 10.9956 of the flap (z) bending modes (the in-plane ones, EI_nn, are told
@@ -85,20 +104,8 @@ def test_free_free_beam_of_two_joined_beams():
     ref = np.array([4.7300, 7.8532, 10.9956]) ** 2 * scale
     w = {}
     for n1, n2 in ((9, 13), (17, 25)):
-        r0, th0 = straight_beam(n1 + n2 - 1, L)
-        model = JoinedBeamModel([Beam("left", n1, root="free"), Beam("right", n2, root="free")],
-                                [Joint("left", -1, "right", 0)],
-                                {"left": beam_parameters(r0[:n1], th0[:n1], **SECTION),
-                                 "right": beam_parameters(r0[n1 - 1:], th0[n1 - 1:], **SECTION)})
-        x0 = model.system.jig_state(model.p)
-        modes = eigenmodes(model.system, model.p, model.forcing(), x0, static=False, method="sparse",
-                           sigma=5.0, count=20)
-        freq = modes.frequency
-        assert np.sum(freq < 1e-6 * scale) == 12
-        z = [model.system.node_index(b, i) + 2 for b, n in (("left", n1), ("right", n2)) for i in range(n)]
-        x = [i - 2 for i in z]
-        flap = (freq > 1e-6 * scale) & (np.linalg.norm(modes.vectors[z], axis=0) > np.linalg.norm(modes.vectors[x], axis=0))
-        w[n1 + n2 - 2] = np.sort(freq[flap])[:3]
+        zero, w[n1 + n2 - 2] = _free_free_flap_frequencies(n1, n2, L)
+        assert zero == 12
     np.testing.assert_allclose(w[40], ref, rtol=1.3e-2)
     # the third mode keeps an O(h^4) remainder (docs/stick-model.md, "Checks")
     assert np.all(np.abs((4 * w[40] - w[20]) / 3 / ref - 1) < [2e-4, 2e-4, 1e-3])
