@@ -17,7 +17,8 @@ discrete adjoint and the flutter linearization run on it unchanged):
   the wing root to the tail root, ``((x_t - x_w) / V) de/dt + e = alpha_w`` (as the free pitch of
   :mod:`wingmdao.aero.pitch`);
 * **trim** of the free aircraft (trim unknowns in the residual, as the lone wing's trim): the
-  aircraft angle of attack alpha_trim (added to every lifting station's angle), the tail
+  aircraft angle of attack alpha_trim (added to every lifting station's angle; with
+  ``trim_rotation`` a pitch of the aircraft, each station seeing :func:`trim_angle`), the tail
   incidence i_t (added to the tail's stations) and a thrust T along body x at the first support
   node. With the forcing ``trim_active`` = 1 their three rows hold the three ``supports``
   (body-axes displacements of nodes at the jig; a statically determinate support of the half
@@ -68,6 +69,7 @@ class _Aero:
     tail: str | None
     supports: tuple
     euler_sequence: str
+    trim_rotation: bool = False
 
     @property
     def counts(self):
@@ -110,6 +112,8 @@ class _Aero:
 
     def definition(self, base):
         args = (base, self.lifting, self.wing, self.tail, self.supports, self.euler_sequence)
+        if self.trim_rotation:      # the definitions without it as before
+            args = args + ("trim_rotation",)
         return definition_key("wingmdao.aero.joined.build_joined_aeroelastic_system", args, _GENERATING_MODULES)
 
     def describe(self, k):
@@ -155,7 +159,7 @@ class _Aero:
             nd = nodes[name]
             gust = q[qlay[f"{name}_gust_velocity"]]
             for i in range(n):
-                shift = alpha_trim
+                shift = trim_angle(alpha_trim, nd["x"][i][st["theta"]], seq) if self.trim_rotation else alpha_trim
                 if name == self.tail:
                     shift = shift + incidence - p[play["downwash_gradient"]] * e
                 pa = ca.vertcat(*[p[play[f"{name}_{s}"]][i] for s in SECTION_PARAMS[:3]],
@@ -191,13 +195,28 @@ class _Aero:
         return rel[2] / rel[0] - rel0[2] / rel0[0]
 
 
+def trim_angle(alpha_trim, theta, euler_sequence="surface"):
+    """The angle of attack a section sees when the aircraft is pitched by ``alpha_trim`` (rad) about
+    body y: ``atan(tan(alpha_trim) s_y)``, s_y the body-y component of the section's span axis s
+    (its deformed frame, Euler angles ``theta``). A section rolled by phi (a wing's dihedral, or
+    its slope when it bends) sees ``atan(tan(alpha) cos(phi))``: the free stream
+    ``V (cos alpha, 0, sin alpha)`` in body axes has ``V sin(alpha) cos(phi)`` along the section
+    normal and ``V cos(alpha)`` along the chord. Returns a CasADi expression (rad)."""
+    s_y = body_to_csn(theta, euler_sequence)[1, 1]
+    return ca.atan(ca.tan(alpha_trim) * s_y)
+
+
 def build_joined_aeroelastic_system(beams, joints, *, lifting=("wing", "tail"), wing="wing", tail="tail",
-                                    supports, masses=(), symmetry=(), euler_sequence="surface", damping=None):
+                                    supports, masses=(), symmetry=(), euler_sequence="surface", damping=None,
+                                    trim_rotation=False):
     """Joined beams (:func:`wingmdao.beam.joints.build_joined_system`) with unsteady strip
     aerodynamics on the ``lifting`` beams, the wing's downwash at the ``tail`` (None: no tail
     downwash and no tail incidence effect) and the trim unknowns of the free aircraft held by
     ``supports`` (three ``(beam, node, component)``, component ``"x"``, ``"y"`` or ``"z"`` of the
     body axes; the thrust acts at the first). Module docstring for the equations.
+    ``trim_rotation``: alpha_trim pitches the aircraft about body y, so each station sees
+    :func:`trim_angle` of its deformed span axis (a wing bent to a large dihedral sees less of
+    it); False: alpha_trim is added to every station's angle (the small-deflection model).
 
     Returns the :class:`~wingmdao.beam.joints.JoinedBeamSystem` with ``lag_index`` ({beam: (n, 4)
     state indices}), ``downwash_index`` (or None), ``trim_index`` ({name: state index}),
@@ -232,7 +251,7 @@ def build_joined_aeroelastic_system(beams, joints, *, lifting=("wing", "tail"), 
             raise ValueError(f"support {s}: must be (beam, node, 'x'|'y'|'z') with an existing beam and node")
     supports = tuple((s[0], int(s[1]) % by_name[s[0]].num_nodes, s[2]) for s in supports)
     lifting = tuple(b.name for b in beams if b.name in lifting)      # state order
-    ext = _Aero(beams, lifting, wing, tail, supports, euler_sequence)
+    ext = _Aero(beams, lifting, wing, tail, supports, euler_sequence, bool(trim_rotation))
     system = _build_joined(beams, joints, euler_sequence=euler_sequence, damping=damping, masses=masses,
                            symmetry=symmetry, extension=ext)
     k = system.n_struct
@@ -266,6 +285,9 @@ def _section_loads_function(system, ext):
         i0 = system.offsets[name]
         for i in range(n):
             shift = x[i_trim]
+            if ext.trim_rotation:
+                shift = trim_angle(shift, x[i0 + 18 * i + STATE_BLOCKS["theta"].start:
+                                            i0 + 18 * i + STATE_BLOCKS["theta"].stop], seq)
             if name == ext.tail:
                 shift = shift + x[system.trim_index["tail_incidence"]] - \
                     p[play["downwash_gradient"]] * x[system.downwash_index]
@@ -351,5 +373,5 @@ def lift_total(system, x, xdot, p, q, vertical: bool = False) -> float:
     return total
 
 
-__all__ = ["build_joined_aeroelastic_system", "pack_aero_parameters", "pack_aero_forcing", "lift_total",
+__all__ = ["build_joined_aeroelastic_system", "trim_angle", "pack_aero_parameters", "pack_aero_forcing", "lift_total",
            "SECTION_PARAMS", "TRIM_STATE_NAMES"]

@@ -36,13 +36,17 @@ PUBLISHED = {
 }
 
 
-def beam_params(num_nodes: int = 21) -> dict:
-    """Beam parameter dict (``wingmdao.beam.residual.param_specs``) of the HALE wing, SI."""
+def beam_params(num_nodes: int = 21, stiffness_factor: float = 1.0) -> dict:
+    """Beam parameter dict (``wingmdao.beam.residual.param_specs``) of the HALE wing, SI;
+    ``stiffness_factor`` multiplies its bending and torsion stiffness (> 0)."""
     if int(num_nodes) < 3:
         raise ValueError(f"num_nodes must be >= 3, got {num_nodes}")
+    if not (np.isfinite(stiffness_factor) and stiffness_factor > 0.0):
+        raise ValueError(f"stiffness_factor must be a finite number > 0, got {stiffness_factor}")
     r0, th0 = straight_beam(int(num_nodes), SEMI_SPAN)
     i_flap = INERTIA * EI_FLAP / EI_LAG
-    return beam_parameters(r0, th0, EI_cc=EI_FLAP, GJ=GJ, EI_nn=EI_LAG, EA=1e12, mass_per_length=MASS,
+    f = float(stiffness_factor)
+    return beam_parameters(r0, th0, EI_cc=f * EI_FLAP, GJ=f * GJ, EI_nn=f * EI_LAG, EA=1e12, mass_per_length=MASS,
                            inertia_per_length=np.diag([i_flap, INERTIA, INERTIA - i_flap]))
 
 
