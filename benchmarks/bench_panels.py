@@ -1,6 +1,7 @@
 """Stiffened PEGASUS sizing beside the strength-only one, and the rib-pitch study.
 
     python benchmarks/bench_panels.py [--loads maneuver|all] [--optimizer SLSQP|IPOPT]
+                                      [--dv-ref upper|2upper|start] [--objective-factor F]
     python benchmarks/bench_panels.py --rib-pitch 0.4 0.5 0.63 0.8 1.0 1.25
     python benchmarks/bench_panels.py --gradient [--loads maneuver|all] [--repeat 10]
 
@@ -8,12 +9,16 @@ The first form sizes PEGASUS with ``--panels unstiffened`` (walls sized for stre
 and ``--panels stiffened`` (blade-stiffened skins, skin/panel/stiffener/web buckling at a
 safety factor of 1.5, ribs) for the same load cases and prints mass, iterations, evaluations,
 wall and CPU time, and the ratio of the stiffened to the strength-only CPU time (goal of the
-stiffened-panel issue: at most 1.5 for the maneuver + gust sizing). The second sizes the
+stiffened-panel issue: at most 1.5 for the maneuver + gust sizing); ``--dv-ref`` and
+``--objective-factor`` rescale the stiffened sizing's variables and objective. The second sizes the
 stiffened maneuver case at each rib pitch (m; the case's own ribs are 0.624 m apart) and prints
 the mass by part: lighter ribs and longer panels against more ribs and shorter panels. The third
 times one gradient of every nonlinear constraint and the mass (what each optimizer iteration
 costs beside its analyses) at the starting design of both sizings: the median CPU time of
-``--repeat`` gradients, after as many to warm the compiled kernels.
+``--repeat`` gradients, after as many to warm the compiled kernels, the part of it spent in the
+time march's reverse solves and products (``time march``: the adjoint sweeps through the gust
+history and the static solves, ``sweeps`` of them per gradient, one per nonlinear constraint
+and load case), and the median CPU time of one analysis (``run_model``).
 ``cpu`` is this process's CPU time, the steadier figure when other jobs share the cores.
 """
 
@@ -24,24 +29,37 @@ import statistics
 import time
 
 from wingmdao.cases import pegasus
-from wingmdao.sizing import build_problem, size_case
+from wingmdao.components.time_history import TimeHistoryComponent
+from wingmdao.sizing import OBJECTIVE_SCALE, build_problem, initial_mass, size_case
 
 
-def _size(optimizer="SLSQP", **options):
+#: design-variable scaling of the stiffened sizing (``--dv-ref``): each variable's ref
+DV_REFS = {"upper": lambda o, w: o.upper[w], "2upper": lambda o, w: 2.0 * o.upper[w],
+           "start": lambda o, w: o.initial[w]}
+
+
+def _size(optimizer="SLSQP", dv_ref="upper", objective_factor=1.0, **options):
     setup = pegasus.build(**options)
     setup.options.disp = False
     setup.options.optimizer = optimizer
+    o = setup.options
+    if dv_ref != "upper":
+        o.dv_ref = {w: DV_REFS[dv_ref](o, w) for w in o.upper}
+    if objective_factor != 1.0:
+        o.mass_scale = objective_factor * OBJECTIVE_SCALE * initial_mass(setup.geometry, setup.material, o,
+                                                                         setup.section, setup.panels)
     w0, c0 = time.perf_counter(), time.process_time()
     _, res = size_case(setup, comm=False)
     return res, time.perf_counter() - w0, time.process_time() - c0
 
 
-def compare(loads: str, optimizer: str) -> None:
+def compare(loads: str, optimizer: str, dv_ref: str = "upper", objective_factor: float = 1.0) -> None:
     print(f"{'panels':12s} {'mass [kg]':>10s} {'success':>8s} {'iter':>5s} {'f-evals':>8s} {'g-evals':>8s} "
           f"{'wall [s]':>9s} {'cpu [s]':>8s}")
     cpu = {}
     for panels in ("unstiffened", "stiffened"):
-        res, wall, cpu[panels] = _size(optimizer, loads=loads, panels=panels)
+        scaling = dict(dv_ref=dv_ref, objective_factor=objective_factor) if panels == "stiffened" else {}
+        res, wall, cpu[panels] = _size(optimizer, loads=loads, panels=panels, **scaling)
         print(f"{panels:12s} {res['mass_kg']:10.2f} {str(res['success']):>8s} {res['iterations']:5d} "
               f"{res['function_evaluations']:8d} {res['gradient_evaluations']:8d} {wall:9.1f} {cpu[panels]:8.1f}",
               flush=True)
@@ -49,8 +67,31 @@ def compare(loads: str, optimizer: str) -> None:
           f"loads {loads}, optimizer {optimizer})")
 
 
+class _MarchTimer:
+    """CPU time and count of the reverse solves (adjoint sweeps) and reverse products of every
+    :class:`TimeHistoryComponent` of a problem: wraps each instance's ``solve_linear`` and
+    ``apply_linear`` (the benchmark's problem only)."""
+
+    def __init__(self, prob):
+        self.cpu, self.sweeps = 0.0, 0
+        for comp in prob.model.system_iter(recurse=True, typ=TimeHistoryComponent):
+            for name in ("solve_linear", "apply_linear"):
+                setattr(comp, name, self._timed(getattr(comp, name), name == "solve_linear"))
+
+    def _timed(self, method, sweep):
+        def timed(*args, **kwargs):
+            c0 = time.process_time()
+            try:
+                return method(*args, **kwargs)
+            finally:
+                self.cpu += time.process_time() - c0
+                self.sweeps += sweep
+        return timed
+
+
 def gradient_cost(loads: str, repeat: int) -> None:
-    print(f"{'panels':12s} {'design vars':>11s} {'constraints':>11s} {'gradient cpu [s]':>16s}")
+    print(f"{'panels':12s} {'design vars':>11s} {'constraints':>11s} {'gradient cpu [s]':>16s} "
+          f"{'time march [s]':>14s} {'sweeps':>6s} {'analysis cpu [s]':>16s}")
     cost = {}
     for panels in ("unstiffened", "stiffened"):
         setup = pegasus.build(loads=loads, panels=panels)
@@ -59,15 +100,23 @@ def gradient_cost(loads: str, repeat: int) -> None:
                                 section=setup.section, panels=setup.panels)
         prob.run_model()
         nonlinear = [k for k, m in prob.model.get_constraints().items() if not m["linear"]]
-        times = []
+        march = _MarchTimer(prob)
+        times, marches, analyses = [], [], []
         for k in range(2 * repeat):   # the first half warms the compiled kernels
-            c0 = time.process_time()
+            c0, m0, s0 = time.process_time(), march.cpu, march.sweeps
             prob.compute_totals(of=nonlinear + ["mass"])
             if k >= repeat:
                 times.append(time.process_time() - c0)
+                marches.append(march.cpu - m0)
+            sweeps = march.sweeps - s0
+            c0 = time.process_time()
+            prob.run_model()
+            if k >= repeat:
+                analyses.append(time.process_time() - c0)
         cost[panels] = statistics.median(times)
         n_dv = sum(m["size"] for m in prob.model.get_design_vars().values())
-        print(f"{panels:12s} {n_dv:11d} {len(nonlinear):11d} {cost[panels]:16.3f}", flush=True)
+        print(f"{panels:12s} {n_dv:11d} {len(nonlinear):11d} {cost[panels]:16.3f} {statistics.median(marches):14.3f} "
+              f"{sweeps:6d} {statistics.median(analyses):16.3f}", flush=True)
     print(f"stiffened / strength-only gradient CPU: {cost['stiffened'] / cost['unstiffened']:.2f}")
 
 
@@ -86,6 +135,11 @@ def main():
     ap.add_argument("--loads", choices=("maneuver", "all"), default="all",
                     help="load cases of the comparison (all: the two maneuvers and the 25.341(a) gust)")
     ap.add_argument("--optimizer", default="SLSQP", help="optimizer of both sizings")
+    ap.add_argument("--dv-ref", choices=tuple(DV_REFS), default="upper",
+                    help="scaling (ref) of the stiffened sizing's variables: their upper bounds (the default), "
+                         "twice those, or their starting values")
+    ap.add_argument("--objective-factor", type=float, default=1.0,
+                    help="the stiffened sizing's objective ref times this (default 1: 10 x the initial mass)")
     ap.add_argument("--rib-pitch", type=float, nargs="+", metavar="M", default=None,
                     help="run the rib-pitch study at these pitches instead of the comparison")
     ap.add_argument("--gradient", action="store_true",
@@ -97,7 +151,9 @@ def main():
     elif args.rib_pitch:
         rib_study(args.rib_pitch)
     else:
-        compare(args.loads, args.optimizer)
+        if not (args.objective_factor > 0 and args.objective_factor < float("inf")):
+            ap.error(f"--objective-factor = {args.objective_factor}; allowed range (0, inf)")
+        compare(args.loads, args.optimizer, args.dv_ref, args.objective_factor)
 
 
 if __name__ == "__main__":
