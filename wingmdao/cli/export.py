@@ -7,6 +7,13 @@ from __future__ import annotations
 
 import numpy as np
 from wingmdao.cli._io import check_output_file
+from wingmdao.cases.planform import G0
+from wingmdao.cli._verify_pegasus import pegasus_walls
+from wingmdao.cli.run import add_wing_box_arguments
+from wingmdao.cli.verify import _design_walls, wing_box_sections
+from wingmdao.fe.export import beam_deck, shell_deck, write_atomic
+from wingmdao.fe.wing_loads import lumped_line_loads, point_weights
+from wingmdao.materials import ALUMINIUM
 
 #: --format of the aeroelastic Nastran deck (wingmdao.fe.nastran_aero)
 AEROELASTIC = "nastran-aeroelastic"
@@ -19,7 +26,6 @@ def register(subparsers):
                               description="Export a case as an FE deck (SI units: m, N, kg; body axes).")
     cases = p.add_subparsers(dest="case", metavar="CASE", required=True)
     wb = cases.add_parser("wing-box", help="App. D.1 box (Table E.2 walls, or --design)")
-    from wingmdao.cli.run import add_wing_box_arguments
 
     add_wing_box_arguments(wb)
     wb.add_argument("--design", default=None, metavar="RESULT.json",
@@ -63,9 +69,6 @@ def run_export(args) -> int:
     import sys
 
     from wingmdao.cases import wing_box as case
-    from wingmdao.cli.verify import _design_walls, wing_box_sections
-    from wingmdao.fe.export import beam_deck, shell_deck, write_atomic
-    from wingmdao.materials import ALUMINIUM
 
     check_output_file(args.file, "FILE", overwrite=args.overwrite)
     for name in ("tip_load", "tip_moment"):
@@ -83,11 +86,7 @@ def run_export(args) -> int:
 def pegasus_deck(design, fmt, fidelity, load_factor=1.0, ribs=True, rib_thickness=0.002) -> str:
     """Deck text of the PEGASUS wing (``verify pegasus``'s model and loads, :mod:`wingmdao.fe.export`)."""
     from wingmdao.cases import pegasus as case
-    from wingmdao.cases.planform import G0
     from wingmdao.cli._verify_pegasus import _engine_stations, fe_loads, pegasus_setup
-    from wingmdao.fe.export import beam_deck, shell_deck
-    from wingmdao.fe.wing_loads import lumped_line_loads, point_weights
-    from wingmdao.materials import ALUMINIUM
 
     if not (np.isfinite(rib_thickness) and 0 < rib_thickness <= 0.5):
         raise ValueError(f"--rib-thickness = {rib_thickness} m; allowed range (0, 0.5] m")
@@ -110,7 +109,6 @@ def pegasus_deck(design, fmt, fidelity, load_factor=1.0, ribs=True, rib_thicknes
 def run_export_pegasus(args) -> int:
     import sys
 
-    from wingmdao.fe.export import write_atomic
 
     check_output_file(args.file, "FILE", overwrite=args.overwrite)
     if args.format == AEROELASTIC:
@@ -131,8 +129,6 @@ def run_export_aeroelastic(args) -> int:
     import sys
 
     from wingmdao.cases.pegasus_verification import nastran_aeroelastic_deck
-    from wingmdao.cli._verify_pegasus import pegasus_walls
-    from wingmdao.fe.export import write_atomic
 
     if args.fidelity != "beam":
         raise ValueError(f"--fidelity {args.fidelity}: --format {AEROELASTIC} writes the beam model; "
