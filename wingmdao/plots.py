@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from wingmdao.cli._io import default_file_mode
 from wingmdao.utils.mpi_env import is_output_rank
 
 WALLS = ("upper_skin", "lower_skin", "front_spar", "rear_spar")
@@ -62,8 +63,6 @@ def save_figure(fig, path: str, dpi: int = 120, **layout) -> str:
             fig.savefig(fh, dpi=dpi, format=ext[1:])
             fh.flush()
             os.fsync(fh.fileno())
-        from wingmdao.cli._io import default_file_mode
-
         os.chmod(tmp, default_file_mode())
         os.replace(tmp, path)
     except BaseException:

@@ -26,6 +26,7 @@ from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defa
 from wingmdao.cases.planform import FT, G0, LB, Planform, wing_geometry
 from wingmdao.aero.controls import control_spec, read_alleviation
 from wingmdao.aero.pitch import check_pitch_inputs
+from wingmdao.aero.strip import station_gust_history
 from wingmdao.beam.residual import StrainRateDamping
 from wingmdao.groups.load_case import LoadCase, parse_families as _parse
 from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas, speed_of_sound
@@ -331,8 +332,8 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
     ``aircraft_mass``; clamped root otherwise. ``--pitch free`` (with free plunge): also free in pitch
     with a horizontal tail (wingmdao.aero.pitch), the gust reaching the tail x_t / V after the first
     leading edge, deps/dalpha by default 2 a_w / (pi AR)."""
-    from wingmdao.aero import station_gust_history, three_dimensional_parameters
     from wingmdao.aero.coupled import CoupledAero
+    from wingmdao.aero.system import three_dimensional_parameters
 
     rho, rho0 = float(density(altitude_m)), float(density(0.0))
     V = float(airspeed_tas)

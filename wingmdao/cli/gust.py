@@ -116,7 +116,7 @@ def register(subparsers):
 
 
 def run(args):
-    from wingmdao.aero import aero_parameters, three_dimensional_parameters
+    from wingmdao.aero.system import aero_parameters, three_dimensional_parameters
     from wingmdao.aero.gust_response import (GustFlight, coupled_gust_response, dlm_gust_response,
                                              strip_gust_response, wing_lift_slope)
 

@@ -121,7 +121,7 @@ def _check_args(args):
 
 
 def run(args):
-    from wingmdao.aero import aero_parameters
+    from wingmdao.aero.system import aero_parameters
     from wingmdao.aero.gust_response import wing_lift_slope
     from wingmdao.loads.checked_pitch import checked_pitch, maneuver_model
 

@@ -107,7 +107,6 @@ def run_size(args) -> int:
     # the matplotlib of its report plugins (the run asks for no reports; a plot loads it later).
     import_openmdao_without_plot_plugins()
     from wingmdao import sizing  # noqa: F401
-    from wingmdao.stability import cases  # noqa: F401  (the flutter search of the result)
 
     return_large_blocks_on_free()  # the resident set follows the memory in use, design point after design point
     return _size(args)

@@ -157,7 +157,7 @@ def _check_outputs(args):
 
 
 def run(args):
-    from wingmdao.aero import aero_parameters
+    from wingmdao.aero.system import aero_parameters
     from wingmdao.loads.turbulence_analysis import coupled_gust_model, strip_gust_model, turbulence_analysis
 
     t_wall = _time.perf_counter()

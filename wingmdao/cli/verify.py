@@ -27,6 +27,7 @@ from wingmdao.beam.residual import forcing_specs
 from wingmdao.cases import wing_box as case
 from wingmdao.cases.wing_box import STUDY_LOADS, wing_box_beam
 from wingmdao.cli import write_json
+from wingmdao.cli._verify_buckling import plot_buckling
 from wingmdao.cli._verify_panel import register_panel
 from wingmdao.cli._verify_pegasus import register_pegasus, verify_pegasus
 from wingmdao.cli.run import _check_args, add_wing_box_arguments
@@ -218,8 +219,6 @@ def run_verify(args) -> int:
     try:
         res = verify_pegasus(args) if args.case == "pegasus" else verify_wing_box(args)
         if args.case == "pegasus" and args.plot and res.get("analysis") == "buckling":
-            from wingmdao.cli._verify_buckling import plot_buckling
-
             plot_buckling(res, args.plot)
             res["plot"] = args.plot
         elif args.case == "pegasus" and args.plot:
