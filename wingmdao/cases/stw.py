@@ -46,8 +46,8 @@ HELP = ("Simple Transonic Wing (MDO Aeroelastic Benchmark) Case 1: 14 m semi-spa
         "M 0.458, landing gross mass")
 
 from wingmdao.cases.stw_geometry import (  # noqa: F401, E402  (the case's geometry, re-exported)
-    CUTS, HEIGHT_RULES, _span_array, chord, leading_edge_x, spar_x, rib_y, airfoil_surfaces,
-    thickness_to_chord, StwBeam, _elements_per_bay, node_y, beam_geometry, AeroReference,
+    CUTS, HEIGHT_RULES, chord, leading_edge_x, spar_x, rib_y, airfoil_surfaces,
+    thickness_to_chord, StwBeam, node_y, beam_geometry, AeroReference,
     quarter_chord_sweep_deg, aero_reference)
 
 LOAD_SETS = ("maneuver",)

@@ -27,7 +27,7 @@ import numpy as np
 
 from wingmdao.cli._args import add_deprecated_alias
 from wingmdao.cases import pegasus
-from wingmdao.cli._verify_fe import _material
+from wingmdao.cli._verify_fe import fe_material
 from wingmdao.fe.box_model import BoxSections
 from wingmdao.fe.calculix import find_ccx
 from wingmdao.fe.stiffened_box import (build_stiffened_box, running_load_profile, shell_mass,
@@ -214,7 +214,7 @@ def build_model(data, setup, design, args, rib_t):
     walls = {k: design[k] for k in ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")}
     sec = BoxSections(geo.node_positions, geo.width, geo.height, walls)
     stiff = {s: (design[f"h_{s}_stiffener"], design[f"t_{s}_stiffener"]) for s in ("upper", "lower")}
-    model = build_stiffened_box(sec, _material(), stiff, setup.panels.stiffener_pitch, count=args.stiffeners,
+    model = build_stiffened_box(sec, fe_material(), stiff, setup.panels.stiffener_pitch, count=args.stiffeners,
                                 bay_elements=args.bay_elements, web_elements=args.web_elements,
                                 height_elements=args.height_elements, span_element_size=args.span_size,
                                 ribs_y=list(setup.panels.rib_positions), rib_thickness=rib_t)
@@ -231,7 +231,7 @@ def verify_pegasus_buckling(args) -> dict:
     rib_t = (rib_thicknesses(data, ribs_y, setup.panels.rib_thickness) if args.rib_thickness is None
              else [float(args.rib_thickness)] * len(ribs_y))
     model, sec = build_model(data, setup, design, args, rib_t)
-    mass = shell_mass(model.deck, _material().rho)
+    mass = shell_mass(model.deck, fe_material().rho)
     mdl = model_buckling(setup, design, args.loads_case)
     loads, info = fe_station_loads(setup, args.loads_case, design, model.box, sec,
                                    at_ribs=args.load_lines == "ribs")

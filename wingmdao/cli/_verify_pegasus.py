@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from wingmdao.cli._verify_fe import (_design_walls, _material, add_fe_arguments, build_fe_model, check_fe_args,
+from wingmdao.cli._verify_fe import (add_fe_arguments, build_fe_model, check_fe_args, design_walls, fe_material,
                                      percent_difference, von_mises_table)
 from wingmdao.beam.modes import natural_frequencies
 from wingmdao.beam.residual import forcing_specs
@@ -80,7 +80,7 @@ def register_pegasus(cases):
 
 def pegasus_walls(path):
     if path:
-        return _design_walls(path, "pegasus", count=20, how="a 'wingmdao size pegasus' result")
+        return design_walls(path, "pegasus", count=20, how="a 'wingmdao size pegasus' result")
     from wingmdao.cases.pegasus_verification import default_walls
 
     return default_walls(20)
@@ -99,7 +99,7 @@ def pegasus_setup(design, load_factor):
     """:func:`wingmdao.cases.pegasus_verification.pegasus_setup` with the walls of ``--design``."""
     from wingmdao.cases.pegasus_verification import pegasus_setup as setup
 
-    return setup(pegasus_walls(design), load_factor, _material())
+    return setup(pegasus_walls(design), load_factor, fe_material())
 
 
 def verify_pegasus(args) -> dict:

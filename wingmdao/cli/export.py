@@ -11,7 +11,7 @@ from wingmdao.cases import pegasus as pegasus_case, wing_box as wing_box_case
 from wingmdao.cases.planform import G0
 from wingmdao.cli._verify_pegasus import pegasus_setup, pegasus_walls
 from wingmdao.cli.run import add_wing_box_arguments
-from wingmdao.cli.verify import _design_walls, wing_box_sections
+from wingmdao.cli.verify import design_walls, wing_box_sections
 from wingmdao.fe.export import beam_deck, shell_deck, write_atomic
 from wingmdao.fe.wing_loads import lumped_line_loads, point_weights
 from wingmdao.materials import ALUMINIUM
@@ -73,7 +73,7 @@ def run_export(args) -> int:
     for name in ("tip_load", "tip_moment"):
         if not np.all(np.isfinite(getattr(args, name))):
             raise ValueError(f"--{name.replace('_', '-')} must be finite")
-    walls = _design_walls(args.design, wing_box_case.NAME) if args.design else None
+    walls = design_walls(args.design, wing_box_case.NAME) if args.design else None
     sec = wing_box_sections(args.geometry, args.t_spar, args.t_skin, walls)
     build = beam_deck if args.fidelity == "beam" else shell_deck
     text = build(sec, ALUMINIUM, args.format, tip_force=args.tip_load, tip_moment=args.tip_moment)

@@ -33,7 +33,7 @@ from wingmdao.cli._io import read_design, warn, write_json
 from wingmdao.cli._args import add_aero_theory_argument, add_gravity_argument, add_output_arguments
 from wingmdao.beam.residual import forcing_specs
 from wingmdao.cases.pegasus import flight_point
-from wingmdao.cli.gust import _check_outputs
+from wingmdao.cli.gust import check_outputs
 from wingmdao.plots import save_figure
 from wingmdao.stability import critical_speeds, eigenmodes, sweep
 from wingmdao.stability.eigen import check_speeds
@@ -350,13 +350,13 @@ def run(args) -> int:
     if args.modes < 1:
         raise ValueError(f"--modes = {args.modes}; allowed range >= 1")
 
-    plot_path = _check_outputs(args, f"flutter_{args.case}.png")
+    plot_path = check_outputs(args, f"flutter_{args.case}.png")
     deformed_plot = None
     angles = check_deformed_args(args)
     if args.deformed:
         if args.case == "pegasus":
             raise ValueError("--deformed: the deformed-state sweep is set up for goland and hale, not pegasus")
-        deformed_plot = _check_outputs(args, f"flutter_{args.case}_deformed.png")
+        deformed_plot = check_outputs(args, f"flutter_{args.case}_deformed.png")
     thickness = None
     if args.design is not None:
         if args.case != "pegasus":

@@ -169,7 +169,7 @@ def run(args):
     if not (np.isfinite(args.gust_start) and 0.0 <= args.gust_start < t_final):
         raise ValueError(f"--gust-start = {args.gust_start} s; allowed range [0, --t-final = {t_final}) s")
     surfaces, law = _check_alleviation(args)
-    plot_path = _check_outputs(args, f"{args.case}_gust.png")
+    plot_path = check_outputs(args, f"{args.case}_gust.png")
 
     pf = module.PLANFORM
     weight = module.TOGW_LB * LB * G0
@@ -327,8 +327,21 @@ def _check_surfaces_on_beam(args, surfaces, law, node_positions):
         raise ValueError(f"--alleviation {args.alleviation}: {exc}") from None
 
 
-def _check_outputs(args, plot_name):
-    """Check --out, --json and the plot path before the run; the plot path (None: --no-plots)."""
+def check_outputs(args, plot_name):
+    """Check ``--out``, ``--json`` and the plot path before the run.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The command's arguments (``out``, ``json``, ``no_plots``, ``overwrite``).
+    plot_name : str
+        The plot's file name in ``--out``.
+
+    Returns
+    -------
+    str or None
+        The plot path; None with ``--no-plots``.
+    """
 
     plot = None
     if not args.no_plots:

@@ -32,7 +32,7 @@ from wingmdao.aero.pitch import elevator_effectiveness, pitch_parameters
 from wingmdao.cases import available_cases, case_beam_parameters
 from wingmdao.cases.pegasus import GUST
 from wingmdao.cases.planform import FT, G0, LB, wing_geometry
-from wingmdao.cli.gust import _check_outputs
+from wingmdao.cli.gust import check_outputs
 from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
 from wingmdao.loads.maneuver import limit_load_factors
 
@@ -128,7 +128,7 @@ def run(args):
     t_wall = _time.perf_counter()
     _check_args(args)
     direction = "nose-down" if args.nose_down else "nose-up"
-    plot_path = _check_outputs(args, f"{args.case}_checked_pitch{'_nose_down' if args.nose_down else ''}.png")
+    plot_path = check_outputs(args, f"{args.case}_checked_pitch{'_nose_down' if args.nose_down else ''}.png")
     module = available_cases()[args.case]
     alt_ft = GUST["altitude_ft"] if args.altitude_ft is None else args.altitude_ft
     mach = GUST["mach"] if args.mach is None else args.mach

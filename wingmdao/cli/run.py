@@ -85,7 +85,20 @@ def register(subparsers):
     wb.set_defaults(func=run_wing_box)
 
 
-def _check_args(args):
+def check_wing_box_args(args):
+    """Check the wing-box flags (``--t-spar``, ``--t-skin``, ``--gravity``, ``--tip-load``,
+    ``--tip-moment``) before any solve.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The command's arguments (:func:`add_wing_box_arguments`); thicknesses in m.
+
+    Raises
+    ------
+    ValueError
+        Naming the flag, the value and the allowed range.
+    """
     g = geometry_data(args.geometry)
     limits = {"t_spar": 0.5 * min(g["widths"]), "t_skin": 0.5 * min(HEIGHTS)}
     for name, high in limits.items():
@@ -124,7 +137,7 @@ def wing_box_result(args) -> dict:
     import openmdao.api as om
 
 
-    _check_args(args)
+    check_wing_box_args(args)
     if getattr(args, "model", "beam") == "solid":
         return solid_result(args)
     geometry, key, cos_sweep, cos_dih = case.wing_geometry(args.geometry, tuple(args.elements))

@@ -18,7 +18,7 @@ import os
 
 import numpy as np
 
-from wingmdao.cli._verify_fe import _design_walls, _material, add_fe_arguments, build_fe_model  # noqa: F401
+from wingmdao.cli._verify_fe import add_fe_arguments, build_fe_model, design_walls, fe_material  # noqa: F401
 from wingmdao.cli._verify_fe import check_fe_args, percent_difference, von_mises_table  # noqa: F401
 from wingmdao.cli._io import check_output_dir, check_output_file
 from wingmdao.beam.geometry import polyline_beam
@@ -30,7 +30,7 @@ from wingmdao.cli import write_json
 from wingmdao.cli._verify_buckling import plot_buckling
 from wingmdao.cli._verify_panel import register_panel
 from wingmdao.cli._verify_pegasus import register_pegasus, verify_pegasus
-from wingmdao.cli.run import _check_args, add_wing_box_arguments
+from wingmdao.cli.run import check_wing_box_args, add_wing_box_arguments
 from wingmdao.fe.box_model import BoxSections, solve_modes, solve_static
 from wingmdao.fe.calculix import CalculixNotFound, find_ccx
 from wingmdao.plots import save_figure
@@ -95,7 +95,7 @@ def _check_verify_args(args, span):
                       ("model", "beam"), ("load_steps", 1), ("nlgeom", False), ("loads", "tip"),
                       ("through_elements", 2), ("fidelity", "shell")):
         setattr(args, name, getattr(args, name, val))
-    _check_args(args)
+    check_wing_box_args(args)
     check_fe_args(args, span)
     return _tip_loads(args)
 
@@ -104,7 +104,7 @@ def verify_wing_box(args) -> dict:
     span = float(sum(case.SPANS))
     force, moment = _check_verify_args(args, span)
     find_ccx()
-    walls = _design_walls(args.design, case.NAME) if args.design else None
+    walls = design_walls(args.design, case.NAME) if args.design else None
     sec = wing_box_sections(args.geometry, args.t_spar, args.t_skin, walls)
     ribs = [] if args.ribs is None else list(np.arange(args.ribs, span + 1e-9, args.ribs))
     ribs = sorted(set(np.round(ribs + [span], 9)))
