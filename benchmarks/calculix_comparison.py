@@ -106,7 +106,7 @@ def ribs():
 def rib_test1(geometry="prismatic", modes=6):
     """Sec. 4.3.1 Test 1: one rib at CS2 (solid slab), thickness 0 (no rib) to 0.5 m; change of the
     first frequencies against the rib-less box (C3D20R, no tip rib)."""
-    from wingmdao.cli.verify import _material, wing_box_sections
+    from wingmdao.cli.verify import fe_material, wing_box_sections
     from wingmdao.fe.box_model import solve_modes
     from wingmdao.fe.solid_box import build_solid_box
 
@@ -116,7 +116,7 @@ def rib_test1(geometry="prismatic", modes=6):
               + "---|" * (modes + 1) + "\n")
     base = None
     for t in np.round(np.arange(0.0, 0.501, 0.05), 3):
-        model = build_solid_box(sec, _material(), ribs_y=[3.0] if t > 0 else [], rib_thickness=float(t) or 0.1)
+        model = build_solid_box(sec, fe_material(), ribs_y=[3.0] if t > 0 else [], rib_thickness=float(t) or 0.1)
         f = solve_modes(model, modes)["frequencies_hz"]
         base = f if base is None else base
         out.write(f"| {t:.2f} | " + " | ".join(f"{x:.3f} ({100 * (x / b - 1):+.1f})" for x, b in zip(f, base)) + " |\n")

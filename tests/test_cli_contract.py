@@ -229,6 +229,7 @@ def test_save_figure_is_atomic(tmp_path, monkeypatch):
 def test_command_plots_go_through_save_figure(tmp_path, monkeypatch, capsys):
     """flutter's V-g plot (as gust's, verify's, size's and report's) is written by save_figure."""
     pytest.importorskip("matplotlib")
+    import wingmdao.cli.flutter as flutter_command
     import wingmdao.plots as plots
 
     written = []
@@ -238,7 +239,7 @@ def test_command_plots_go_through_save_figure(tmp_path, monkeypatch, capsys):
         written.append(path)
         return original(fig, path, dpi)
 
-    monkeypatch.setattr(plots, "save_figure", spy)
+    monkeypatch.setattr(flutter_command, "save_figure", spy)  # the command's wingmdao.plots.save_figure
     out = tmp_path / "r.json"
     assert main(["flutter", "goland", *JSON_RUNS[("flutter",)][1:-1], "--out", str(tmp_path),
                  "--json", str(out)]) == 0

@@ -64,7 +64,7 @@ PEGASUS_ANALYSIS = ["size", "pegasus", "--analysis-only", "--no-plots", "--quiet
 def test_flutter_search_runs_after_the_json_and_ctrl_c_keeps_it(tmp_path, monkeypatch):
     """The flutter search runs last, with the sizing problem freed: the JSON is written before it,
     and Ctrl-C during the search keeps that result, marked interrupted."""
-    import wingmdao.stability.cases as stability_cases
+    import wingmdao.cli.size as size_command  # the command's flutter_search (wingmdao.stability.cases)
 
     out = tmp_path / "p.json"
     seen = {}
@@ -73,7 +73,7 @@ def test_flutter_search_runs_after_the_json_and_ctrl_c_keeps_it(tmp_path, monkey
         seen["json"] = json.loads(out.read_text())  # written before the search
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(stability_cases, "flutter_search", interrupted_search)
+    monkeypatch.setattr(size_command, "flutter_search", interrupted_search)
     assert main([*PEGASUS_ANALYSIS, "--out", str(tmp_path), "--json", str(out)]) == 130
     assert "thickness" in seen["json"] and "flutter_speed_m_s" not in seen["json"]
     res = json.loads(out.read_text())
@@ -82,11 +82,11 @@ def test_flutter_search_runs_after_the_json_and_ctrl_c_keeps_it(tmp_path, monkey
 
 
 def test_flutter_result_on_standard_output_is_one_document(tmp_path, monkeypatch, capsys):
-    import wingmdao.stability.cases as stability_cases
+    import wingmdao.cli.size as size_command  # the command's flutter_search (wingmdao.stability.cases)
 
     found = {"flutter_speed": 250.0, "flutter_frequency": 30.0, "divergence_speed": None,
              "sweep_max_speed": 300.0, "dive_speed": 197.5}
-    monkeypatch.setattr(stability_cases, "flutter_search", lambda *a, **k: found)
+    monkeypatch.setattr(size_command, "flutter_search", lambda *a, **k: found)
     assert main([*PEGASUS_ANALYSIS, "--out", str(tmp_path), "--json", "-"]) == 0
     res = json.loads(capsys.readouterr().out)  # one JSON document, the search's result in it
     assert res["flutter_speed_m_s"] == 250.0 and res["flutter_search_max_speed_m_s"] == 300.0

@@ -241,18 +241,18 @@ def test_vbs_beam_against_free_warping_calculix_solid():
     from functools import partial
 
     from wingmdao.cases.wing_box import comparison_solver
-    from wingmdao.cli.verify import _material, wing_box_sections
+    from wingmdao.cli.verify import fe_material, wing_box_sections
     from wingmdao.fe.box_model import solve_static
     from wingmdao.fe.solid_box import build_solid_box
 
     sec = wing_box_sections("prismatic", 0.2, 0.1)
-    m = build_solid_box(sec, _material(), chord_elements=4, height_elements=2, through=1, span_element_size=1.0,
+    m = build_solid_box(sec, fe_material(), chord_elements=4, height_elements=2, through=1, span_element_size=1.0,
                         ribs_y=[10.0], root="free_warping")
     fe = solve_static(m, [(10.0, sec.centres[-1], (0, 0, 0), (0, 1e5, 0))], sec.centres[1:3, 1])["rotation"][:, 1]
     beam = partial(comparison_solver, section_mapping="fe")("prismatic", np.zeros(3), np.array([0.0, 1e5, 0.0]))
     assert np.allclose(np.array(beam["rotation"])[:2, 1], fe, rtol=0.01)
     with pytest.raises(ValueError, match="root must be 'clamped' or 'free_warping'"):
-        build_solid_box(sec, _material(), root="pinned")
+        build_solid_box(sec, fe_material(), root="pinned")
 
 
 def test_pegasus_named_maneuver_scales_the_1g_response():

@@ -8,6 +8,8 @@ stress recovery (Sec. 4.4.2) and KS aggregation over space and time (Eq. 4.53-4.
 Conventions (axes, signs, state order, names) are in ``docs/conventions.md``.
 """
 
+from wingmdao.utils.mpi_env import launched_ranks
+
 __version__ = "0.1.0"
 
 #: Citation of the method, attached to the components that implement its equations (``cite``).
@@ -20,7 +22,6 @@ def _mpi_environment():
     unless the user set it. Must run before OpenMDAO is imported."""
     import os
 
-    from wingmdao.utils.mpi_env import launched_ranks
 
     if launched_ranks() > 1:
         os.environ.setdefault("OPENMDAO_USE_MPI", "0")

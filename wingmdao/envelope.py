@@ -27,6 +27,7 @@ import numpy as np
 
 from wingmdao.loads.turbulence import correlated_loads, equal_probability_ellipse
 from wingmdao.sizing import case_families, span_coordinate
+from wingmdao.plots import pyplot_agg, save_figure
 
 QUANTITIES = {  # name: (array, component, label, scale to plot units, unit)
     "shear": ("F", 2, "shear F_n", 1e-3, "kN"),
@@ -201,10 +202,8 @@ def output_paths(stem: str, plots: bool = True) -> list:
 
 def write_plots(data: dict, stem: str, stations=None) -> list:
     """PNG plots (critical case, envelopes, potato plots) and the critical-case CSV next to ``stem``."""
-    from wingmdao.plots import _pyplot, save_figure
-
     stations = check_stations(stations, data["span"].size)  # before anything is written
-    plt = _pyplot()
+    plt = pyplot_agg()
     names = _names(data)
     span = data["span"]
     paths = []

@@ -27,6 +27,7 @@ from openmdao.recorders.case_recorder import CaseRecorder
 from scipy.optimize import OptimizeResult
 
 from wingmdao.drivers.failures import RecordsFailedAnalyses, one_line
+from wingmdao.drivers.ipopt import IpoptDriver, cyipopt_available
 
 PYOPTSPARSE_OPTIMIZERS = ("SNOPT", "IPOPT", "SLSQP")
 
@@ -75,8 +76,6 @@ def make_driver(optimizer: str = "SLSQP", *, maxiter: int = 200, tol: float = 1e
             driver.opt_settings["ACC"] = tol
         return driver, f"pyOptSparseDriver/{name}"
     if name == "IPOPT":
-        from wingmdao.drivers.ipopt import IpoptDriver, cyipopt_available
-
         if cyipopt_available():
             driver = IpoptDriver(max_iter=maxiter, tol=tol, disp=disp)
             driver.opt_settings.update(IPOPT_SIZING_SETTINGS)

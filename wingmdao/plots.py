@@ -10,12 +10,25 @@ from __future__ import annotations
 
 import numpy as np
 
+from wingmdao.cli._io import default_file_mode
 from wingmdao.utils.mpi_env import is_output_rank
 
 WALLS = ("upper_skin", "lower_skin", "front_spar", "rear_spar")
 
 
-def _pyplot():
+def pyplot_agg():
+    """matplotlib's pyplot on the Agg backend (files only, no display).
+
+    Returns
+    -------
+    module
+        ``matplotlib.pyplot``.
+
+    Raises
+    ------
+    ImportError
+        When matplotlib is not installed (:func:`optional_pyplot` warns instead).
+    """
     try:
         import matplotlib
 
@@ -30,7 +43,7 @@ def optional_pyplot():
     """matplotlib's pyplot on the Agg backend, or None (with one line on standard error) when
     matplotlib is not installed: the commands' plots are optional, their results are not."""
     try:
-        return _pyplot()
+        return pyplot_agg()
     except ImportError as exc:
         import sys
 
@@ -49,7 +62,7 @@ def save_figure(fig, path: str, dpi: int = 120, **layout) -> str:
     import os
     import tempfile
 
-    plt = _pyplot()
+    plt = pyplot_agg()
     if not is_output_rank():  # under mpirun only rank 0 writes
         plt.close(fig)
         return path
@@ -62,8 +75,6 @@ def save_figure(fig, path: str, dpi: int = 120, **layout) -> str:
             fig.savefig(fh, dpi=dpi, format=ext[1:])
             fh.flush()
             os.fsync(fh.fileno())
-        from wingmdao.cli._io import default_file_mode
-
         os.chmod(tmp, default_file_mode())
         os.replace(tmp, path)
     except BaseException:
@@ -77,7 +88,7 @@ def save_figure(fig, path: str, dpi: int = 120, **layout) -> str:
 
 def plot_thickness(span, runs: dict, path: str, title: str = "Wall thickness along the span"):
     """Thickness of the four walls versus span; ``runs`` maps a label to ``{wall: (n,) m}``."""
-    plt = _pyplot()
+    plt = pyplot_agg()
     fig, axes = plt.subplots(2, 2, figsize=(10, 7), sharex=True)
     for ax, wall in zip(axes.ravel(), WALLS):
         for label, thick in runs.items():
@@ -94,7 +105,7 @@ def plot_thickness(span, runs: dict, path: str, title: str = "Wall thickness alo
 
 def plot_time_history(time, series: dict, path: str, ylabel: str, title: str):
     """Curves over time; ``series`` maps a label to a (n_time,) array."""
-    plt = _pyplot()
+    plt = pyplot_agg()
     fig, ax = plt.subplots(figsize=(8, 4.5))
     for label, y in series.items():
         ax.plot(time, y, label=label)
@@ -108,7 +119,7 @@ def plot_time_history(time, series: dict, path: str, ylabel: str, title: str):
 
 def plot_iteration_history(objective, max_constraint, path: str):
     """Objective and worst constraint per driver iteration."""
-    plt = _pyplot()
+    plt = pyplot_agg()
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
     it = np.arange(len(objective))
     a1.plot(it, objective, marker="o", ms=3)
@@ -126,7 +137,7 @@ def plot_panels(span, panels: dict, path: str, title: str = "Stiffened panels al
     """The stiffened design along the span (``panels``: the result JSON's ``panels`` block):
     skin and equivalent thicknesses, stiffener heights and thicknesses, spar webs, and a map of
     the critical mode of every wall at every station with its margin of safety."""
-    plt = _pyplot()
+    plt = pyplot_agg()
     span = np.asarray(span, dtype=float)
     fig, axes = plt.subplots(2, 2, figsize=(12, 8), sharex=True)
     ax = axes[0, 0]

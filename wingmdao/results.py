@@ -6,6 +6,7 @@ import numpy as np
 
 from wingmdao.plots import plot_panels, plot_thickness, plot_time_history
 from wingmdao.sizing import span_coordinate  # noqa: F401  (also this module's public name)
+from wingmdao.sizing import station_values
 
 
 def write_case_plots(prob, setup, stem: str, result: dict | None = None) -> list[str]:
@@ -13,8 +14,6 @@ def write_case_plots(prob, setup, stem: str, result: dict | None = None) -> list
     span = span_coordinate(setup.geometry)
     paths = []
     if setup.section in ("box", "stiffened"):
-        from wingmdao.sizing import station_values
-
         thick = {w: station_values(prob, f"t_{w}") for w in
                  ("upper_skin", "lower_skin", "front_spar", "rear_spar")}
         paths.append(plot_thickness(span, {"sized": thick}, f"{stem}_thickness.png"))

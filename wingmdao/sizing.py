@@ -34,6 +34,11 @@ from wingmdao.materials import Material
 from wingmdao.section.solid import solid_properties, validate_solid
 from wingmdao.timemarch.system import pack
 from wingmdao.utils.memory import return_freed_memory
+from wingmdao.aero.coupled import load_case_response
+from wingmdao.aero.system import control_param_specs
+from wingmdao.cases.planform import G0, LB
+from wingmdao.parallel import assign_cases, distributed_wing_sizing, set_shared_geometry, world_comm
+from wingmdao.report import best_design, read_history
 
 WALL_VARS = WALL_NAMES  # the one table of wall names: wingmdao.section.box
 
@@ -217,8 +222,6 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
             raise ValueError("stiffened panels (section 'stiffened') run in one process (no MPI distribution)")
         wing_kwargs.update(panels=panels, rib_weights=rib_weights(span_coordinate(geometry), panels.rib_positions))
     if distributed:
-        from wingmdao.parallel import distributed_wing_sizing
-
         wing, _ = distributed_wing_sizing(geometry, load_cases, material, options, section, comm,
                                           build_problem=build_problem, **wing_kwargs)
     else:
@@ -246,8 +249,6 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
             prob.driver.add_recorder(ProgressPrinter())
     prob.setup(mode="rev")
     if distributed:  # the main problem holds only section and mass: set the geometry it has
-        from wingmdao.parallel import set_shared_geometry
-
         set_shared_geometry(prob, geometry, section)
     else:
         set_geometry(prob, geometry, section, panels)
@@ -264,8 +265,6 @@ def control_gain_design_vars(load_cases) -> dict:
     whose control law is sized (``CoupledAero.gain_design``, docs/controls.md): the gains C and D
     (the filter dynamics A, B stay fixed), bounded by +-4 times the largest initial gain (1 when all
     are zero)."""
-    from wingmdao.aero.system import control_param_specs
-
     out = {}
     for case in load_cases:
         aero = case.aero
@@ -283,8 +282,6 @@ def control_gain_design_vars(load_cases) -> dict:
 def control_gains(prob, load_cases) -> dict:
     """``{case: {"outputs": [...], "controller_A": ..., ...}}``: the control laws' matrices of the
     coupled cases with a law, as the problem holds them (sized or not)."""
-    from wingmdao.aero.system import control_param_specs
-
     out = {}
     for case in load_cases:
         aero = case.aero
@@ -554,13 +551,9 @@ def size_case(setup, *, optimize: bool = True, parallel: bool | None = None, com
     ranks, :mod:`wingmdao.parallel`), else serial; False = serial.
     """
     if comm is None:
-        from wingmdao.parallel import world_comm
-
         comm = world_comm()
     mine = setup.load_cases
     if comm is not None and comm is not False and comm.size > 1:
-        from wingmdao.parallel import assign_cases
-
         mine = [setup.load_cases[i] for i in assign_cases(setup.load_cases, comm.size)[comm.rank]]
     check_memory(mine, setup.geometry.num_nodes)  # before any solve
     prob, desc = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
@@ -659,9 +652,6 @@ def turbulence_loads(prob) -> dict | None:
 def case_responses(prob, setup, togw_lb) -> dict:
     """Per load case of the analysed design: peak load factor (lift of both halves / TOGW weight)
     and peak root bending moment (N m), :func:`wingmdao.aero.coupled.load_case_response`."""
-    from wingmdao.aero.coupled import load_case_response
-    from wingmdao.cases.planform import G0, LB
-
     out = {}
     for case in setup.load_cases:
         r = load_case_response(prob, case, setup.geometry.num_nodes, togw_lb * LB * G0)
@@ -676,7 +666,6 @@ def partial_result(prob, setup, desc, recording, interrupted=True) -> dict:
     constraint <= 0, :func:`wingmdao.report.best_design`); ``success`` false."""
     import os
 
-    from wingmdao.report import best_design, read_history
 
     try:
         result = summarize(prob, setup.load_cases, desc, success=False, section=setup.section,

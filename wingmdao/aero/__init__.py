@@ -12,13 +12,33 @@
   station's lift and moment (``aero_theory="vlm"``, docs/aerodynamics-3d.md).
 """
 
-from wingmdao.aero.coupled import CoupledAero
-from wingmdao.aero.strip import (check_aero_inputs, kussner_sears_sparks, station_gust_history,
-                                 theodorsen_exact, theodorsen_jones, wagner_jones)
-from wingmdao.aero.system import (AeroelasticBeamSystem, aero_forcing_specs, aero_param_specs, aero_parameters,
-                                  build_aeroelastic_system, cached_aeroelastic_system, three_dimensional_parameters)
+import importlib
+
+#: Public name -> its module. Loaded on first access (PEP 562), so that importing a light submodule
+#: (``strip``, ``pitch``, ``weissinger``) does not load the coupled model and OpenMDAO with it.
+_EXPORTS = {
+    "CoupledAero": "coupled",
+    **dict.fromkeys(("check_aero_inputs", "kussner_sears_sparks", "station_gust_history", "theodorsen_exact",
+                     "theodorsen_jones", "wagner_jones"), "strip"),
+    **dict.fromkeys(("AeroelasticBeamSystem", "aero_forcing_specs", "aero_param_specs", "aero_parameters",
+                     "build_aeroelastic_system", "cached_aeroelastic_system", "three_dimensional_parameters"),
+                    "system"),
+}
 
 __all__ = ["CoupledAero", "AeroelasticBeamSystem", "build_aeroelastic_system", "cached_aeroelastic_system", "aero_param_specs",
            "aero_forcing_specs", "aero_parameters", "check_aero_inputs", "station_gust_history",
            "wagner_jones", "kussner_sears_sparks", "theodorsen_exact", "theodorsen_jones",
            "three_dimensional_parameters"]
+
+
+def __getattr__(name):
+    """The public name ``name`` from its submodule (:data:`_EXPORTS`), imported on first use."""
+    if name in _EXPORTS:
+        value = getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

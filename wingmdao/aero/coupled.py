@@ -16,6 +16,7 @@ from wingmdao.aero.system import (AERO_THEORY_CHOICES, aero_parameters, cached_a
                                   control_param_specs, three_dimensional_parameters)
 from wingmdao.loads.atmosphere import G0
 from wingmdao.timemarch.system import pack
+from wingmdao.aero.pitch import check_pitch_inputs
 
 #: Aerodynamic forcing of a coupled case, shapes per instant ("n" = number of nodes).
 AERO_FORCING_SHAPES = {"gust_velocity": ("n",), "frame_velocity": (3,), "frame_velocity_rate": (3,),
@@ -120,8 +121,6 @@ class CoupledAero:
             if not self.plunge:  # with plunge the model forms trim_lift from aircraft_mass
                 out["trim_lift"] = float(self.trim_lift)
         if self.pitch:
-            from wingmdao.aero.pitch import check_pitch_inputs
-
             if not (self.plunge and self.trim):
                 raise ValueError("CoupledAero: pitch=True needs plunge=True and trim=True")
             check_pitch_inputs(aircraft_pitch_inertia=self.aircraft_pitch_inertia, tail_arm=self.tail_arm,

@@ -5,7 +5,7 @@
 discrete adjoint and the flutter linearization run on it unchanged):
 
 * on every node of every **lifting beam** (the wing, the horizontal tail; beams in body axes)
-  the strip-section model of the lone wing (:func:`wingmdao.aero.system._node_aero`,
+  the strip-section model of the lone wing (:func:`wingmdao.aero.system.node_aero`,
   :func:`wingmdao.aero.strip.section_model`): quasi-steady angle from the node's own motion,
   Wagner and Kuessner lag states (4 per node), apparent mass, follower lift and moment added to
   the node's distributed loads. Each station has its own gust velocity (forcing
@@ -42,8 +42,8 @@ import casadi as ca
 import numpy as np
 
 from wingmdao.aero.strip import AERO_STATE_NAMES, N_AERO_STATES
-from wingmdao.aero.system import _node_aero, check_aero_parameters
-from wingmdao.beam.joints import Beam, _build_joined
+from wingmdao.aero.system import check_aero_parameters, node_aero
+from wingmdao.beam.joints import Beam, build_extended_joined_system
 from wingmdao.beam.residual import NODE_PARAMS, STATE_BLOCKS
 from wingmdao.beam.rotations import body_to_csn
 from wingmdao.timemarch.system import VarSpec, layout
@@ -61,7 +61,7 @@ _GENERATING_MODULES = ("wingmdao.aero.joined", "wingmdao.aero.system", "wingmdao
 
 @dataclass(frozen=True)
 class _Aero:
-    """The extension of the joined residual (:func:`wingmdao.beam.joints._build_joined`)."""
+    """The extension of the joined residual (:func:`wingmdao.beam.joints.build_extended_joined_system`)."""
 
     beams: tuple
     lifting: tuple
@@ -166,7 +166,7 @@ class _Aero:
                                 p[play[f"{name}_alpha_zero_lift"]][i] - shift, p[play[f"{name}_cm0"]][i], gust[i])
                 xa = ca.vertcat(nd["x"][i], x[k:k + N_AERO_STATES])
                 xda = ca.vertcat(nd["xdot"][i], xdot[k:k + N_AERO_STATES])
-                f, m, res, _lift, _moment, _ = _node_aero(xa, xda, pa, None, frame, V, rho, mach, seq)
+                f, m, res, _lift, _moment, _ = node_aero(xa, xda, pa, None, frame, V, rho, mach, seq)
                 nd["q"][i] = nd["q"][i] + ca.vertcat(f, m, ca.SX.zeros(6))
                 rows.append(res)
                 k += N_AERO_STATES
@@ -252,8 +252,8 @@ def build_joined_aeroelastic_system(beams, joints, *, lifting=("wing", "tail"), 
     supports = tuple((s[0], int(s[1]) % by_name[s[0]].num_nodes, s[2]) for s in supports)
     lifting = tuple(b.name for b in beams if b.name in lifting)      # state order
     ext = _Aero(beams, lifting, wing, tail, supports, euler_sequence, bool(trim_rotation))
-    system = _build_joined(beams, joints, euler_sequence=euler_sequence, damping=damping, masses=masses,
-                           symmetry=symmetry, extension=ext)
+    system = build_extended_joined_system(beams, joints, euler_sequence=euler_sequence, damping=damping,
+                                          masses=masses, symmetry=symmetry, extension=ext)
     k = system.n_struct
     system.lag_index = {}
     for name, n in ext.counts.items():
@@ -297,7 +297,7 @@ def _section_loads_function(system, ext):
             lag = system.lag_index[name][i]
             xa = ca.vertcat(x[i0 + 18 * i: i0 + 18 * (i + 1)], x[int(lag[0]):int(lag[-1]) + 1])
             xda = ca.vertcat(xdot[i0 + 18 * i: i0 + 18 * (i + 1)], xdot[int(lag[0]):int(lag[-1]) + 1])
-            f, _m, _res, lift, moment, _ = _node_aero(xa, xda, pa, None, frame, V, rho, mach, seq)
+            f, _m, _res, lift, moment, _ = node_aero(xa, xda, pa, None, frame, V, rho, mach, seq)
             out += [lift, moment, f[2]]
     return ca.Function("joined_section_loads", [x, xdot, p, q], [ca.vertcat(*out)])
 

@@ -52,6 +52,9 @@ from wingmdao.timemarch.system import CasadiResidualSystem, VarSpec, layout
 from wingmdao.timemarch.bdf import state_rates
 from wingmdao.utils import function_store
 from wingmdao.utils.casadi_cache import definition_key
+from wingmdao.aero.pitch import (ELEVATOR_STATE_NAME, INCIDENCE_STATE_NAME, LAG_STATE_NAME, PITCH_STATE_NAMES,
+                                 body_residuals, elevator_forcing_specs, elevator_param_specs,
+                                 pitch_forcing_specs, pitch_param_specs)
 
 #: states per node of the aeroelastic system: 18 beam + 4 aerodynamic
 N_AEROELASTIC_STATES = N_STATE_PER_NODE + N_AERO_STATES
@@ -204,9 +207,43 @@ def check_aero_parameters(values: dict) -> None:
                                                  "lift_slope") if k in values})
 
 
-def _node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence, flap=None):
-    """Follower aerodynamic force/moment per length (body) and the 4 lag residuals of one node;
-    ``flap`` = (T, beta, dbeta, ddbeta) of a control surface at the node (:func:`section_model`)."""
+def node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence, flap=None):
+    """Follower aerodynamic force and moment per length (body axes) and the 4 lag residuals of one
+    node: the strip section (:func:`wingmdao.aero.strip.section_model`) on the node's motion.
+
+    Parameters
+    ----------
+    x, xdot : casadi.SX
+        The node's 18 beam states and 4 lag states (22,), and their rates (SI, rad).
+    pa : casadi.SX
+        The node's aerodynamic parameters ``(chord m, ref_point -, lift_slope 1/rad, alpha_zero rad,
+        cm0 -, gust velocity m/s)``.
+    qf : None
+        Unused (the node's forcing enters through ``frame``).
+    frame : tuple of casadi.SX
+        ``(frame velocity m/s (3,), its rate m/s^2 (3,), frame angular velocity rad/s (3,), its rate
+        rad/s^2 (3,))``, body axes.
+    V, rho, mach : casadi.SX
+        Airspeed (m/s), air density (kg/m^3) and Mach number (-).
+    sequence : str
+        Euler sequence of the beam rotations (``"surface"`` or ``"standard"``).
+    flap : tuple, optional
+        ``(T, beta, dbeta, ddbeta)`` of a control surface at the node (:func:`section_model`).
+
+    Returns
+    -------
+    f, m : casadi.SX
+        Aerodynamic force (N/m) and moment (N m/m) per length, body axes (3,).
+    res : casadi.SX
+        The 4 lag-state residuals.
+    lift, moment : casadi.SX
+        Section lift per length along +n (N/m) and moment per length about +s at the reference
+        point (N m/m).
+    extra : tuple
+        For a three-dimensional quasi-steady lift: the section's normal and spanwise axes (body),
+        its lagged circulatory angle (rad), apparent-mass lift (N/m), moment without the
+        circulatory lift (N m/m), and with ``flap`` the hinge moment (N m/m).
+    """
     st = STATE_BLOCKS
     xb, xdb = x[:18], xdot[:18]
     _r, th, _u, _w = xb[st["r"]], xb[st["theta"]], xb[st["u"]], xb[st["omega"]]
@@ -353,10 +390,6 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
         pspecs.append(VarSpec("body_mass", (), "kg", "aircraft mass outside both wing halves (free plunge)"))
     n_body = 0
     if pitch:
-        from wingmdao.aero.pitch import (ELEVATOR_STATE_NAME, INCIDENCE_STATE_NAME, LAG_STATE_NAME,
-                                         PITCH_STATE_NAMES, body_residuals, elevator_forcing_specs,
-                                         elevator_param_specs, pitch_forcing_specs, pitch_param_specs)
-
         body_names = (PITCH_STATE_NAMES + ((LAG_STATE_NAME,) if tail_lag else ())
                       + ((ELEVATOR_STATE_NAME,) if elevator else ()) + (INCIDENCE_STATE_NAME,))
         n_body = len(body_names)
@@ -405,7 +438,7 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     pa_ = ca.SX.sym("pa", 6)
     fr_ = [ca.SX.sym(nm, 3) for nm in ("vf", "A0", "Om", "al0")]
     sc_ = ca.SX.sym("s", 3)
-    f_, m_, res_, L_, M_, ex_ = _node_aero(xs_, xds_, pa_, None, fr_, sc_[0], sc_[1], sc_[2], euler_sequence)
+    f_, m_, res_, L_, M_, ex_ = node_aero(xs_, xds_, pa_, None, fr_, sc_[0], sc_[1], sc_[2], euler_sequence)
     aero_fun = ca.Function("aero_node", [xs_, xds_, pa_, *fr_, sc_], [f_, m_, res_, L_, M_, *ex_])
 
     xs = [x[W * i: W * (i + 1)] for i in range(n)]
@@ -417,7 +450,7 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
         fl_ = ca.SX.sym("flap", 3)
         for k, srf in enumerate(ctl.surfaces):
             T_k = theodorsen_flap_functions(srf[2])
-            out_k = _node_aero(xs_, xds_, pa_, None, fr_, sc_[0], sc_[1], sc_[2], euler_sequence,
+            out_k = node_aero(xs_, xds_, pa_, None, fr_, sc_[0], sc_[1], sc_[2], euler_sequence,
                                flap=(T_k, fl_[0], fl_[1], fl_[2]))
             flap_funs.append(ca.Function(f"aero_node_{srf[0]}", [xs_, xds_, pa_, *fr_, sc_, fl_],
                                          [*out_k[:5], *out_k[5]]))

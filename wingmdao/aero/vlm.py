@@ -40,7 +40,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from wingmdao.aero.weissinger import _segment, _semi_infinite
+from wingmdao.aero.weissinger import segment_velocity, semi_infinite_velocity
 
 #: default lattice density: chordwise panels, spanwise strips per beam element
 N_CHORDWISE = 4
@@ -199,7 +199,7 @@ def _horseshoe_velocity(points, a, b):
     """Velocity (m_p, m_v, 3) at ``points`` of unit horseshoes with bound legs a -> b, trailing to +x."""
     P = points[:, None, :]
     ex = np.array([1.0, 0.0, 0.0])
-    return _segment(P, a[None], b[None]) + _semi_infinite(P, b[None], ex) - _semi_infinite(P, a[None], ex)
+    return segment_velocity(P, a[None], b[None]) + semi_infinite_velocity(P, b[None], ex) - semi_infinite_velocity(P, a[None], ex)
 
 
 def normalwash_matrix(lat: Lattice) -> np.ndarray:

@@ -26,8 +26,21 @@ import numpy as np
 FOUR_PI = 4.0 * np.pi
 
 
-def _segment(p, a, b):
-    """Velocity (..., 3) at points p (..., 3) induced by unit-circulation segments a -> b (Biot-Savart)."""
+def segment_velocity(p, a, b):
+    """Velocity induced by straight vortex segments of unit circulation (Biot-Savart).
+
+    Parameters
+    ----------
+    p : ndarray, shape (..., 3)
+        Points where the velocity is evaluated (m).
+    a, b : ndarray, shape (..., 3)
+        Start and end of each segment (m), broadcast against ``p``.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        Induced velocity per unit circulation (1/m); zero on the segment's line.
+    """
     r1, r2 = p - a, p - b
     cross = np.cross(r1, r2)
     c2 = np.sum(cross * cross, axis=-1)
@@ -39,8 +52,23 @@ def _segment(p, a, b):
     return cross * f[..., None]
 
 
-def _semi_infinite(p, a, direction):
-    """Velocity at p of a unit-circulation vortex from a to infinity along the unit ``direction``."""
+def semi_infinite_velocity(p, a, direction):
+    """Velocity induced by a semi-infinite vortex of unit circulation.
+
+    Parameters
+    ----------
+    p : ndarray, shape (..., 3)
+        Points where the velocity is evaluated (m).
+    a : ndarray, shape (..., 3)
+        Start of the vortex (m).
+    direction : ndarray, shape (3,)
+        Unit vector along which the vortex runs from ``a`` to infinity.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        Induced velocity per unit circulation (1/m); zero on the vortex's line.
+    """
     r1 = p - a
     cross = np.cross(direction, r1)
     c2 = np.sum(cross * cross, axis=-1)
@@ -58,7 +86,7 @@ def _horseshoes(points, ya, yb, xa, xb):
     A = np.stack([xa, ya, np.zeros(n)], axis=-1)[None]
     B = np.stack([xb, yb, np.zeros(n)], axis=-1)[None]
     ex = np.array([1.0, 0.0, 0.0])
-    v = _segment(P, A, B) + _semi_infinite(P, B, ex) - _semi_infinite(P, A, ex)
+    v = segment_velocity(P, A, B) + semi_infinite_velocity(P, B, ex) - semi_infinite_velocity(P, A, ex)
     return v[..., 2]
 
 

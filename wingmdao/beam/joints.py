@@ -655,19 +655,32 @@ def build_joined_system(beams, joints, *, euler_sequence: str = "surface",
     with a clamped beam. The jig positions of the joined nodes and of the symmetry nodes are
     checked when the parameters are packed (:meth:`JoinedBeamSystem.pack_parameters`).
     """
-    return _build_joined(beams, joints, euler_sequence=euler_sequence, damping=damping, masses=masses,
-                         symmetry=symmetry)
+    return build_extended_joined_system(beams, joints, euler_sequence=euler_sequence, damping=damping,
+                                        masses=masses, symmetry=symmetry)
 
 
-def _build_joined(beams, joints, *, euler_sequence="surface", damping=None, masses=(), symmetry=(),
-                  extension=None) -> JoinedBeamSystem:
-    """:func:`build_joined_system` with an optional ``extension``: an object with ``n_states``
-    (unknowns appended after the symmetry reactions), ``param_specs`` and ``forcing_specs``
-    (appended), ``definition(base)`` (the system's definition key from the structure's),
-    ``describe(k)`` (name of its row k) and ``apply(nodes, x, xdot, p, q, play, qlay, n_struct)``,
-    which may add loads to the nodes' forcing (``nodes[beam]["q"][i]``, beam axes) before the
-    residual is assembled and returns its residual rows (``n_states`` of them). The aerodynamics
-    of :mod:`wingmdao.aero.joined` use it."""
+def build_extended_joined_system(beams, joints, *, euler_sequence="surface", damping=None, masses=(), symmetry=(),
+                                 extension=None) -> JoinedBeamSystem:
+    """:func:`build_joined_system` with an optional ``extension`` of its residual (the
+    aerodynamics of :mod:`wingmdao.aero.joined` use it).
+
+    Parameters
+    ----------
+    beams, joints, euler_sequence, damping, masses, symmetry
+        As for :func:`build_joined_system`.
+    extension : object, optional
+        An object with ``n_states`` (unknowns appended after the symmetry reactions),
+        ``param_specs`` and ``forcing_specs`` (appended), ``definition(base)`` (the system's
+        definition key from the structure's), ``describe(k)`` (name of its row k) and
+        ``apply(nodes, x, xdot, p, q, play, qlay, n_struct)``, which may add loads to the nodes'
+        forcing (``nodes[beam]["q"][i]``, beam axes, N and N m) before the residual is assembled
+        and returns its residual rows (``n_states`` of them). None: the structure alone.
+
+    Returns
+    -------
+    JoinedBeamSystem
+        The joined system, with the extension's states, parameters and residual rows.
+    """
     t_start = time.perf_counter()
     beams, joints, masses, symmetry = _check_layout(beams, joints, masses, symmetry)
     if damping is not None and damping.is_zero:

@@ -14,7 +14,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defaults
+from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defaults, check_step_count
+from wingmdao.groups.load_case import LoadCase
+from wingmdao.materials import Material
 
 NAME = "cantilever"
 HELP = "solid rectangular cantilever of Sec. 4.7.1 (width/height design variables, tip load)"
@@ -65,15 +67,12 @@ def initial_guess(kind: str, n: int) -> dict:
 
 
 def load_case(kind: str, n: int, t_final: float, dt: float):
-    from wingmdao.groups.load_case import LoadCase
-
     if kind == "static":
         f = np.zeros((1, n, 3))
         f[0, -1, 2] = TIP_LOAD
         return LoadCase("static", np.zeros(1), {"point_force": f}, ("ss_tension", "ss_compression"))
     if not (t_final > 0 and 0 < dt <= t_final):
         raise ValueError(f"--t-final ({t_final} s) and --dt ({dt} s) must satisfy 0 < dt <= t_final")
-    from wingmdao.cases import check_step_count
 
     check_step_count(t_final, dt, n)
     time = np.arange(0.0, t_final + 0.5 * dt, dt)
@@ -85,7 +84,6 @@ def load_case(kind: str, n: int, t_final: float, dt: float):
 def build(options: CantileverOptions | None = None, **overrides) -> CaseSetup:
     """Geometry, tip-load case, Table 4.23 material and bounds from a :class:`CantileverOptions`
     and/or keyword options (``build(load="step", guess="a")``)."""
-    from wingmdao.materials import Material
     from wingmdao.sizing import SizingOptions, WingGeometry
 
     opts = case_options(CantileverOptions, options, **overrides)

@@ -22,8 +22,21 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defaults
+from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defaults, check_step_count
 from wingmdao.cases.planform import FT, G0, LB, Planform, wing_geometry
+from wingmdao.aero.controls import control_spec, read_alleviation
+from wingmdao.aero.pitch import check_pitch_inputs
+from wingmdao.aero.strip import station_gust_history
+from wingmdao.beam.residual import StrainRateDamping
+from wingmdao.groups.load_case import LoadCase, parse_families as _parse
+from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas, speed_of_sound
+from wingmdao.loads.files import read_load_history
+from wingmdao.loads.gust import design_gust_velocity_eas, gust_line_loads
+from wingmdao.loads.gust_set import FlightPoint, GustSet, log_spaced_gradients_ft, parse_signs, read_gust_set
+from wingmdao.loads.maneuver import maneuver_line_loads
+from wingmdao.materials import ALUMINIUM
+from wingmdao.panels.layout import PanelLayout, STIFFENER_VARS, smeared_stringer
+from wingmdao.section.box import WALL_NAMES, beam_params_from_section, box_properties, validate_box
 
 NAME = "pegasus"
 HELP = "PEGASUS wing (App. D.2): 76 thickness variables, 2.5 g / -1.0 g maneuvers and/or a 25.341 gust"
@@ -190,15 +203,10 @@ def add_panel_arguments(p):
 
 def parse_families(text: str) -> tuple:
     """The ``--families`` list (:func:`wingmdao.groups.load_case.parse_families`)."""
-    from wingmdao.groups.load_case import parse_families as _parse
-
     return _parse(text)
 
 
 def maneuver_case(name, n_load, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
-    from wingmdao.groups.load_case import LoadCase
-    from wingmdao.loads.maneuver import maneuver_line_loads
-
     loads = maneuver_line_loads(geometry.node_positions, chord, axis_frac, weight_lb * LB * G0, n_load,
                                 semi_span=pf.semi_span, fuselage_half_width=pf.root_rib * pf.semi_span)
     forcing = {
@@ -215,8 +223,6 @@ def coupled_maneuver_case(name, n_load, opts, geometry, chord, axis_frac, famili
     so that both half-wings lift n W on the deforming wing (strip theory, quasi-steady), at the
     --altitude-ft / --mach flight point, inertia relief (n - 1) g as in :func:`maneuver_case`."""
     from wingmdao.aero.coupled import CoupledAero
-    from wingmdao.groups.load_case import LoadCase
-    from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
 
     alt = float(altitude_ft_to_m(opts.altitude_ft))
     forcing = {"gravity": np.array([[0.0, 0.0, -G0]]),
@@ -230,9 +236,6 @@ def coupled_maneuver_case(name, n_load, opts, geometry, chord, axis_frac, famili
 
 
 def gust_case(opts, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
-    from wingmdao.loads.atmosphere import altitude_ft_to_m, mach_to_tas
-    from wingmdao.loads.gust import design_gust_velocity_eas
-
     if not 0.0 <= opts.altitude_ft <= 60000.0:
         raise ValueError(f"--altitude-ft = {opts.altitude_ft} ft; allowed range [0, 60000] ft (the 25.341 table)")
     if not 30.0 <= opts.gust_gradient_ft <= 350.0:
@@ -260,7 +263,6 @@ def _check_time_grid(opts, num_nodes):
     """Time grid, reference gust velocity and gust start of the dynamic cases, before any solve."""
     if not (np.isfinite(opts.t_final) and opts.t_final > 0 and 0 < opts.dt <= opts.t_final / 10):
         raise ValueError(f"--t-final ({opts.t_final} s) and --dt ({opts.dt} s): need finite 0 < 10 dt <= t_final")
-    from wingmdao.cases import check_step_count
 
     check_step_count(opts.t_final, opts.dt, num_nodes)
     if not (np.isfinite(opts.u_ref_fps) and opts.u_ref_fps >= 0):
@@ -273,10 +275,6 @@ def _check_time_grid(opts, num_nodes):
 def gust_history_case(name, opts, geometry, chord, axis_frac, families, *, gradient_ft, u_ds_eas, airspeed_tas,
                       altitude_m, direction, weight_lb, pf, description):
     """One strip-theory 1 - cos gust load case on top of 1 g level flight at ``weight_lb``."""
-    from wingmdao.groups.load_case import LoadCase
-    from wingmdao.loads.gust import gust_line_loads
-    from wingmdao.loads.maneuver import maneuver_line_loads
-
     time = np.arange(0.0, opts.t_final + 0.5 * opts.dt, opts.dt)
     if opts.aero == "coupled":
         return coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, gradient_ft=gradient_ft,
@@ -301,8 +299,6 @@ def gust_set_of(opts):
     ``--gust-gradient-count`` at the ``--altitude-ft``, ``--mach`` flight point (U_ref from
     ``--u-ref-fps``, 0 = the 25.341(a)(5) table) with ``--gust-sign`` (default both).
     """
-    from wingmdao.loads.gust_set import FlightPoint, GustSet, log_spaced_gradients_ft, parse_signs, read_gust_set
-
     path = opts.gust_set
     grads = opts.gust_gradients_ft
     count = opts.gust_gradient_count
@@ -336,10 +332,8 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
     ``aircraft_mass``; clamped root otherwise. ``--pitch free`` (with free plunge): also free in pitch
     with a horizontal tail (wingmdao.aero.pitch), the gust reaching the tail x_t / V after the first
     leading edge, deps/dalpha by default 2 a_w / (pi AR)."""
-    from wingmdao.aero import station_gust_history, three_dimensional_parameters
     from wingmdao.aero.coupled import CoupledAero
-    from wingmdao.groups.load_case import LoadCase
-    from wingmdao.loads.atmosphere import density, speed_of_sound
+    from wingmdao.aero.system import three_dimensional_parameters
 
     rho, rho0 = float(density(altitude_m)), float(density(0.0))
     V = float(airspeed_tas)
@@ -380,8 +374,6 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
     if getattr(opts, "size_gains", False) and not getattr(opts, "alleviation", None):
         raise ValueError("--size-gains needs --alleviation FILE.yaml (the law whose gains are sized)")
     if getattr(opts, "alleviation", None):  # control surfaces and a feedback law (docs/controls.md)
-        from wingmdao.aero.controls import control_spec, read_alleviation
-
         surfaces, law = read_alleviation(opts.alleviation)
         if law is not None and "load_factor" in law.outputs and not free:
             raise ValueError(f"--alleviation {opts.alleviation}: output load_factor needs free plunge (--plunge free)")
@@ -419,9 +411,6 @@ def gust_set_cases(gset, opts, geometry, chord, axis_frac, families, pf=PLANFORM
 
 def file_case(path, geometry, families):
     """Gust load case from a load-history file (time, force/moment per length on the beam nodes)."""
-    from wingmdao.groups.load_case import LoadCase
-    from wingmdao.loads.files import read_load_history
-
     hist = read_load_history(path)
     if hist.num_nodes != geometry.num_nodes:
         raise ValueError(f"--load-history {path}: {hist.num_nodes} nodes, the beam has {geometry.num_nodes}")
@@ -448,7 +437,6 @@ def _flag_text(name, value) -> str:
 def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB) -> CaseSetup:
     """:func:`build` for any trapezoidal wing ``pf`` with point masses ``engines`` ((kg, y m) pairs)
     at take-off weight ``weight_lb`` (the CRM case reuses it)."""
-    from wingmdao.materials import ALUMINIUM
     from wingmdao.sizing import WALL_VARS, SizingOptions
 
     families = parse_families(opts.families)
@@ -478,7 +466,6 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
         for f in ("cg_x", "cg_z"):
             if not np.isfinite(getattr(opts, f)):
                 raise ValueError(f"--{f.replace('_', '-')} = {getattr(opts, f)} m; allowed a finite position (m)")
-        from wingmdao.aero.pitch import check_pitch_inputs
 
         check_pitch_inputs(aircraft_pitch_inertia=opts.pitch_inertia, tail_arm=opts.tail_arm, tail_area=opts.tail_area,
                            tail_lift_slope=opts.tail_lift_slope,
@@ -579,8 +566,6 @@ def stiffen(setup, pf=PLANFORM, pitch: float = 0.15, rib_pitch: float | None = N
     it closes the centre-box bay and is counted whole in the half-wing's mass), all
     :data:`RIB_THICKNESS` thick, safety factor 1.5 on buckling, the stiffener bounds of
     :data:`STIFFENER_BOUNDS`."""
-    from wingmdao.panels.layout import STIFFENER_VARS, PanelLayout
-
     if not (np.isfinite(pitch) and pitch > 0):
         raise ValueError(f"--stiffener-pitch = {pitch} m; allowed range (0, inf) m")
     ribs = rib_positions(pf, rib_pitch)
@@ -597,8 +582,6 @@ def stiffen(setup, pf=PLANFORM, pitch: float = 0.15, rib_pitch: float | None = N
 
 def gust_damping(zeta, frequency_hz, geometry, options):
     """Strain-rate damping with ratio ``zeta`` at ``frequency_hz`` (default: the initial design's first mode)."""
-    from wingmdao.beam.residual import StrainRateDamping
-    from wingmdao.materials import ALUMINIUM
     from wingmdao.sizing import initial_frequencies
 
     if frequency_hz is None:
@@ -630,8 +613,6 @@ def flight_point() -> dict:
     V_C = M_C a(20 000 ft) with M_C = 0.5 (Table D.3); V_D = V_C / 0.8 (14 CFR 25.335(b)(1)), M_D = 0.625.
     14 CFR 25.629(b) asks for freedom from flutter up to 1.15 V_D (the --flutter-margin of sizing).
     """
-    from wingmdao.loads.atmosphere import altitude_ft_to_m, density, speed_of_sound
-
     h = float(altitude_ft_to_m(CRUISE_ALTITUDE_FT))
     a = float(speed_of_sound(h))
     v_c = CRUISE_MACH * a
@@ -666,9 +647,6 @@ def beam_params(num_nodes: int = 20, thickness: dict | None = None, panels=None)
     ``thickness`` also holds the stiffener variables ``h_upper_stiffener`` ... (m per node),
     smeared into the sections as the stiffened sizing does.
     """
-    from wingmdao.materials import ALUMINIUM
-    from wingmdao.section.box import WALL_NAMES, beam_params_from_section, box_properties, validate_box
-
     n = int(num_nodes)
     geo, _, _ = wing_geometry(flutter_planform(n), ENGINES)
     t = initial_thickness(n) if thickness is None else thickness
@@ -684,8 +662,6 @@ def beam_params(num_nodes: int = 20, thickness: dict | None = None, panels=None)
     validate_box(geo.width, geo.height, *walls, source="thickness")
     stringers = None
     if panels is not None:
-        from wingmdao.panels.layout import STIFFENER_VARS, smeared_stringer
-
         missing = [k for k in STIFFENER_VARS if k not in t]
         if missing:
             raise ValueError(f"thickness: a stiffened design needs {', '.join(missing)} (m per node)")

@@ -33,6 +33,12 @@ import numpy as np
 from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defaults
 from wingmdao.cases import stw_data as D
 from wingmdao.cases import stw_loads
+from wingmdao.cases.planform import G0
+from wingmdao.groups.load_case import parse_families
+from wingmdao.materials import Material
+from wingmdao.panels.laminate import STW_SKIN_FRACTIONS, STW_SPAR_FRACTIONS, laminate_moduli
+from wingmdao.panels.layout import PanelLayout, STIFFENER_VARS
+from wingmdao.panels.stiffened import panel_material
 
 NAME = "stw"
 HELP = ("Simple Transonic Wing (MDO Aeroelastic Benchmark) Case 1: 14 m semi-span, 28 deg sweep, RAE 2822, "
@@ -40,8 +46,8 @@ HELP = ("Simple Transonic Wing (MDO Aeroelastic Benchmark) Case 1: 14 m semi-spa
         "M 0.458, landing gross mass")
 
 from wingmdao.cases.stw_geometry import (  # noqa: F401, E402  (the case's geometry, re-exported)
-    CUTS, HEIGHT_RULES, _span_array, chord, leading_edge_x, spar_x, rib_y, airfoil_surfaces,
-    thickness_to_chord, StwBeam, _elements_per_bay, node_y, beam_geometry, AeroReference,
+    CUTS, HEIGHT_RULES, chord, leading_edge_x, spar_x, rib_y, airfoil_surfaces,
+    thickness_to_chord, StwBeam, node_y, beam_geometry, AeroReference,
     quarter_chord_sweep_deg, aero_reference)
 
 LOAD_SETS = ("maneuver",)
@@ -61,9 +67,6 @@ STIFFENER_BOUNDS = {"h": (max(D.SIZING_RULES.min_stiffener_height, D.SIZING_RULE
 def stw_laminates():
     """The benchmark's laminates (``stw_data``; ply ``stw-cfrp``) as panel materials: (skins and
     stiffeners, spar webs and ribs)."""
-    from wingmdao.panels.laminate import STW_SKIN_FRACTIONS, STW_SPAR_FRACTIONS
-    from wingmdao.panels.stiffened import panel_material
-
     return panel_material("stw-cfrp", STW_SKIN_FRACTIONS), panel_material("stw-cfrp", STW_SPAR_FRACTIONS)
 
 
@@ -73,9 +76,6 @@ def stw_material():
     Ex, G_xy and density against it, the transformed section of ``PanelLayout.wall_factors``).
     Strength is the laminates' Tsai-Wu first-ply failure (the panels' ``laminate_strength``
     family), so this material's sigma_y enters no constraint."""
-    from wingmdao.materials import Material
-    from wingmdao.panels.laminate import laminate_moduli
-
     skin, _ = stw_laminates()
     ex = laminate_moduli(skin.base, skin.fractions)["Ex"]
     return Material("stw-cfrp (skin laminate Ex)", E=ex, rho=skin.base.rho, sigma_y=skin.compression_strength, nu=0.3)
@@ -120,8 +120,6 @@ def build(options: StwOptions | None = None, **overrides) -> CaseSetup:
     """The STW Case 1 sizing: beam, both trimmed maneuvers, material and bounds, from a
     :class:`StwOptions` and/or keyword options (``build(num_nodes=40)``); ValueError naming the
     option for bad input, before any solve."""
-    from wingmdao.groups.load_case import parse_families
-    from wingmdao.panels.layout import STIFFENER_VARS, PanelLayout
     from wingmdao.sizing import WALL_VARS, SizingOptions
 
     opts = case_options(StwOptions, options, **overrides)
@@ -184,8 +182,6 @@ def write_outputs(prob, setup, stem: str, result: dict) -> list:
     """After the run: the lift and twist distributions of both maneuvers at the final design as
     CSV files (columns ``stw_loads.CSV_COLUMNS``) and, in ``result["maneuvers"]``, each maneuver's
     angle of attack, load factor, lift and root bending moment, and the loads' masses."""
-    from wingmdao.cases.planform import G0
-
     info = setup.stw
     beam = info["beam"]
     paths, summary = [], {}

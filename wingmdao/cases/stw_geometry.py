@@ -10,6 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from wingmdao.cases import stw_data as D
+from wingmdao.beam.geometry import polyline_beam
 
 CUTS = ("normal", "streamwise")
 HEIGHT_RULES = ("spars", "mean10")
@@ -156,7 +157,6 @@ def beam_geometry(num_nodes: int = D.NUM_RIBS, *, cut: str = "normal", height_ru
     ``"mean10"`` the mean of ten heights between the spars (Eq. 4.12, as the PEGASUS and CRM
     cases). No non-structural mass: the benchmark has none.
     """
-    from wingmdao.beam.geometry import polyline_beam
     from wingmdao.sizing import WingGeometry
 
     if cut not in CUTS:

@@ -36,7 +36,14 @@ import math
 
 import numpy as np
 
-from wingmdao.cases import stw_data as D
+from wingmdao.cases import stw_data as D, stw_geometry as stw
+from wingmdao.aero.weissinger import weissinger_lift_slope
+from wingmdao.beam.rotations import body_to_csn
+from wingmdao.cases.planform import G0
+from wingmdao.cases.stw_geometry import airfoil_surfaces
+from wingmdao.groups.load_case import LoadCase
+from wingmdao.loads.atmosphere import density, mach_to_tas
+from wingmdao.timemarch.system import pack
 
 #: columns of the lift and twist CSV files (docs/cases.md)
 CSV_COLUMNS = ("y_m", "eta", "lift_n_per_m", "cl", "twist_deg")
@@ -50,8 +57,6 @@ def camber_coefficients(n: int = 2000) -> tuple[float, float]:
     """(alpha_zero_lift rad, cm about the quarter chord) of the RAE 2822 mean line by thin-airfoil
     theory: alpha_L0 = -1/pi int dz/dx (cos t - 1) dt, cm_c/4 = 1/2 int dz/dx (cos 2t - cos t) dt,
     x = (1 - cos t) / 2 (Abbott & von Doenhoff, Ch. 4)."""
-    from wingmdao.cases.stw_geometry import airfoil_surfaces
-
     upper, lower = airfoil_surfaces()
     t = (np.arange(n) + 0.5) * np.pi / n
     dt = np.pi / n
@@ -67,9 +72,6 @@ def camber_coefficients(n: int = 2000) -> tuple[float, float]:
 def spanwise_lift_slope(y, mach: float = D.PULL_UP.mach, n_panels: int = 60):
     """Effective strip lift slope a(y) (1/rad, compressible, per streamwise angle) at span
     positions ``y`` and the wing's CL_alpha, from the Weissinger solution of the STW planform."""
-    from wingmdao.aero.weissinger import weissinger_lift_slope
-    from wingmdao.cases import stw_geometry as stw
-
     slope, cl_alpha, _ = weissinger_lift_slope(y, stw.chord, stw.leading_edge_x, D.SEMI_SPAN, mach=mach,
                                                n_panels=n_panels)
     return slope, cl_alpha
@@ -111,9 +113,6 @@ def maneuver_case(name, condition, beam, landing_mass, families, mach=None):
     landing gross mass ``landing_mass`` (kg): a :class:`~wingmdao.groups.load_case.LoadCase` with a
     :class:`~wingmdao.aero.coupled.CoupledAero` (trim=True)."""
     from wingmdao.aero.coupled import CoupledAero
-    from wingmdao.cases.planform import G0
-    from wingmdao.groups.load_case import LoadCase
-    from wingmdao.loads.atmosphere import density, mach_to_tas
 
     mach = condition.mach if mach is None else mach
     n = condition.load_factor
@@ -139,8 +138,6 @@ def trimmed_state(prob, case, beam) -> dict:
     Lambda for small rotations); and ``alpha_deg`` (aircraft angle of attack), ``total_lift_n``
     (both half-wings), ``root_bending_moment_n_m`` (beam state M_x at the root)."""
     from wingmdao.aero.system import cached_aeroelastic_system
-    from wingmdao.beam.rotations import body_to_csn
-    from wingmdao.timemarch.system import pack
 
     n = beam.geometry.num_nodes
     path = f"cases.{case.name}"

@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import argparse
 
+from wingmdao.cli._io import warn
+
 JSON_HELP = ("write the result as JSON to PATH; - = standard output (progress and human text then go to "
              "standard error)")
 
@@ -59,8 +61,6 @@ class _DeprecatedAlias(argparse.Action):
         super().__init__(option_strings, dest, **kwargs)
 
     def __call__(self, parser, namespace, values, option_string=None):
-        from wingmdao.cli._io import warn
-
         warn(f"{option_string} is deprecated; use {self.new} ({self.meaning})")
         if self.nargs == 0:
             values = self.const

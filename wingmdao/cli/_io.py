@@ -30,6 +30,7 @@ import tempfile
 import numpy as np
 
 from wingmdao.utils.mpi_env import is_output_rank
+from wingmdao.section.box import WALL_NAMES as WALL_VARS
 
 EXIT_INTERRUPTED = 130
 EXIT_FAILED = 1
@@ -243,8 +244,6 @@ def read_design(path, num_nodes=None, case="pegasus", command="flutter") -> dict
     """Wall thicknesses ``{wall: (n,) m}`` of a ``wingmdao size`` JSON of ``case``; ValueError naming the
     file and what is wrong (missing, not JSON, not a sizing result, another case, wrong number of
     stations, values not finite and > 0)."""
-    from wingmdao.section.box import WALL_NAMES as WALL_VARS
-
     data = read_json_object(path, "--design")
     thick = data.get("thickness")
     walls = [w[2:] for w in WALL_VARS]

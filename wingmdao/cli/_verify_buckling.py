@@ -26,6 +26,15 @@ import os
 import numpy as np
 
 from wingmdao.cli._args import add_deprecated_alias
+from wingmdao.cases import pegasus
+from wingmdao.cli._verify_fe import fe_material
+from wingmdao.fe.box_model import BoxSections
+from wingmdao.fe.calculix import find_ccx
+from wingmdao.fe.stiffened_box import (build_stiffened_box, running_load_profile, shell_mass,
+                                       skin_running_loads, solve_buckling)
+from wingmdao.fe.wing_loads import lumped_line_loads
+from wingmdao.panel_results import model_running_loads
+from wingmdao.plots import save_figure
 
 LOAD_CASES = ("maneuver_pos", "maneuver_neg")
 ELASTIC = ("skin_buckling", "panel_buckling", "web_buckling")
@@ -91,8 +100,6 @@ def rib_thicknesses(data, ribs_y, minimum) -> list:
 
 def case_setup(data):
     """The stiffened maneuver setup of the design (its load factors and stiffener pitch)."""
-    from wingmdao.cases import pegasus
-
     resp = data.get("load_case_response", {})
     kw = {}
     if "maneuver_pos" in resp:
@@ -107,8 +114,6 @@ def running_loads(model, loads, mdl, args) -> dict:
     """``fe_running_loads`` (the deck's static state, per skin and span row:
     :func:`wingmdao.fe.stiffened_box.running_load_profile`) and ``model_running_loads`` (the
     sizing model's per station: :func:`wingmdao.panel_results.model_running_loads`)."""
-    from wingmdao.fe.stiffened_box import running_load_profile, skin_running_loads
-
     keep = os.path.join(args.keep_deck, "static") if args.keep_deck else None
     fe = skin_running_loads(model, loads, keep_dir=keep)
     return {"fe_running_loads": {f"{s}_skin": running_load_profile(fe[s]) for s in ("upper", "lower")},
@@ -122,7 +127,6 @@ def running_loads(model, loads, mdl, args) -> dict:
 def model_buckling(setup, design, case_name) -> dict:
     """The sizing model at the design on ``case_name``: per family the smallest load factor
     1 / max R and where it is, the elastic-buckling minimum (``factor``), the mass (kg)."""
-    from wingmdao.panel_results import model_running_loads
     from wingmdao.sizing import build_problem
 
     prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options, driver=False,
@@ -160,9 +164,6 @@ def fe_station_loads(setup, case_name, design, model_box, sections, at_ribs=True
     """Station loads [(y, centre, F, M)] of the load case: trapezoid-lumped at the stations, where
     the ribs are (``at_ribs``: the sizing beam's own nodal loads, entering the box through the
     rib rings), or at every FE corner line (between the ribs too)."""
-    from wingmdao.cases import pegasus
-    from wingmdao.fe.wing_loads import lumped_line_loads
-
     case = next(c for c in setup.load_cases if c.name == case_name)
     fo = case.forcing
     mpl = pegasus.beam_params(setup.geometry.num_nodes, thickness=design, panels=setup.panels)["mass_per_length"]
@@ -209,15 +210,11 @@ def check_buckling_args(args):
 
 def build_model(data, setup, design, args, rib_t):
     """(StiffenedBox, BoxSections) of the design."""
-    from wingmdao.cli._verify_fe import _material
-    from wingmdao.fe.box_model import BoxSections
-    from wingmdao.fe.stiffened_box import build_stiffened_box
-
     geo = setup.geometry
     walls = {k: design[k] for k in ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")}
     sec = BoxSections(geo.node_positions, geo.width, geo.height, walls)
     stiff = {s: (design[f"h_{s}_stiffener"], design[f"t_{s}_stiffener"]) for s in ("upper", "lower")}
-    model = build_stiffened_box(sec, _material(), stiff, setup.panels.stiffener_pitch, count=args.stiffeners,
+    model = build_stiffened_box(sec, fe_material(), stiff, setup.panels.stiffener_pitch, count=args.stiffeners,
                                 bay_elements=args.bay_elements, web_elements=args.web_elements,
                                 height_elements=args.height_elements, span_element_size=args.span_size,
                                 ribs_y=list(setup.panels.rib_positions), rib_thickness=rib_t)
@@ -225,10 +222,6 @@ def build_model(data, setup, design, args, rib_t):
 
 
 def verify_pegasus_buckling(args) -> dict:
-    from wingmdao.cli._verify_fe import _material
-    from wingmdao.fe.calculix import find_ccx
-    from wingmdao.fe.stiffened_box import shell_mass, solve_buckling
-
     check_buckling_args(args)
     data = read_stiffened_design(args.design)
     setup = case_setup(data)
@@ -238,7 +231,7 @@ def verify_pegasus_buckling(args) -> dict:
     rib_t = (rib_thicknesses(data, ribs_y, setup.panels.rib_thickness) if args.rib_thickness is None
              else [float(args.rib_thickness)] * len(ribs_y))
     model, sec = build_model(data, setup, design, args, rib_t)
-    mass = shell_mass(model.deck, _material().rho)
+    mass = shell_mass(model.deck, fe_material().rho)
     mdl = model_buckling(setup, design, args.loads_case)
     loads, info = fe_station_loads(setup, args.loads_case, design, model.box, sec,
                                    at_ribs=args.load_lines == "ribs")
@@ -327,7 +320,6 @@ def plot_buckling(res, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from wingmdao.plots import save_figure
 
     fig, ax = plt.subplots(figsize=(9, 5))
     y = res["station_y"]

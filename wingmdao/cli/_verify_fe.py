@@ -45,7 +45,32 @@ def add_fe_arguments(p, *, rib_thickness, no_ribs_help, design_help, ribs_help="
     p.add_argument("--overwrite", action="store_true", help="replace an earlier run's --json and plot files")
 
 
-def _design_walls(path, case, count=4, how="size with --elements 1 1 1"):
+def design_walls(path, case, count=4, how="size with --elements 1 1 1"):
+    """The wall thicknesses of a sizing result given as ``--design``.
+
+    Parameters
+    ----------
+    path : str
+        The result's JSON file (``wingmdao size CASE --json``).
+    case : str
+        The case the result must be of.
+    count : int
+        Stations per wall the result must have.
+    how : str
+        How to make such a result, named in the errors.
+
+    Returns
+    -------
+    dict
+        ``{wall: (count,) ndarray}`` in m, walls ``upper_skin``, ``lower_skin``, ``front_spar``,
+        ``rear_spar``.
+
+    Raises
+    ------
+    ValueError
+        Naming ``--design`` and the file: another case, no ``thickness`` object, or a wall without
+        ``count`` positive finite values.
+    """
     data = read_json_object(path, "--design")
     if data.get("case") != case:
         raise ValueError(f"--design {path!r} is a result of case {data.get('case')!r}, not {case!r}")
@@ -91,11 +116,11 @@ def build_fe_model(args, sec, ribs, cos_sweep=1.0, cos_dih=1.0):
     """The FE model of ``--fidelity`` on the sections ``sec`` (beam-normal wall thicknesses; the
     solid takes the streamwise ones, thickness / cos per section)."""
     if args.fidelity == "solid":
-        return build_solid_box(streamwise_sections(sec, cos_sweep, cos_dih), _material(),
+        return build_solid_box(streamwise_sections(sec, cos_sweep, cos_dih), fe_material(),
                                chord_elements=args.chord_elements, height_elements=args.height_elements,
                                through=args.through_elements, span_element_size=args.span_size, ribs_y=ribs,
                                rib_thickness=args.rib_thickness)
-    return build_shell_box(sec, _material(), chord_elements=args.chord_elements,
+    return build_shell_box(sec, fe_material(), chord_elements=args.chord_elements,
                            height_elements=args.height_elements, span_element_size=args.span_size,
                            ribs_y=ribs, rib_thickness=args.rib_thickness)
 
@@ -116,6 +141,12 @@ def von_mises_table(model, sections, stresses, loads, axes_at) -> dict:
                     "Sec. 4.4.2 recovery at the same points, internal loads by statics of the jig"}
 
 
-def _material():
+def fe_material():
+    """The material of the verification models (beam and CalculiX).
 
+    Returns
+    -------
+    Material
+        :data:`wingmdao.materials.ALUMINIUM` (SI: Pa, kg/m^3).
+    """
     return ALUMINIUM

@@ -29,6 +29,13 @@ from __future__ import annotations
 
 import math
 
+from wingmdao.cli import write_json
+from wingmdao.cli.panel import add_panel_arguments, panel_result
+from wingmdao.fe.calculix import CalculixNotFound, find_ccx
+from wingmdao.fe.panel_buckling import build_panel, panel_buckling_factor
+from wingmdao.panels.laminate import check_ply_fractions
+from wingmdao.panels.stiffened import flange_width, panel_analysis, panel_material, stiffener_pitch
+
 #: the model's elastic buckling ratios compared with the FE eigenvalue, and the FE mode each is
 MODEL_BUCKLING_MODES = {"skin_compression_shear": "local", "panel_compression_shear": "global"}
 
@@ -39,8 +46,6 @@ _FE_FLAGS = {"mesh_size": "--mesh-size", "stiffener_thickness": "--stiffener-thi
 
 
 def register_panel(cases):
-    from wingmdao.cli.panel import add_panel_arguments
-
     p = cases.add_parser("panel", help="stiffened panel: smeared model vs CalculiX linear buckling (S8R)",
                          description="The panel of 'wingmdao panel' (same flags) against a CalculiX *BUCKLE "
                          "analysis of a flat simply supported panel with --stiffeners stiffeners at the model's "
@@ -66,12 +71,6 @@ def _fe_error(exc: ValueError) -> ValueError:
 
 def verify_panel(args) -> dict:
     """The JSON result of ``verify panel`` (``wingmdao panel``'s keys plus the comparison)."""
-    from wingmdao.cli.panel import panel_result
-    from wingmdao.fe.calculix import find_ccx
-    from wingmdao.fe.panel_buckling import build_panel, panel_buckling_factor
-    from wingmdao.panels.laminate import check_ply_fractions
-    from wingmdao.panels.stiffened import flange_width, panel_material, stiffener_pitch
-
     res = panel_result(args)                      # the panel command's checks and result
     fractions = None if args.ply_fractions is None else check_ply_fractions(args.ply_fractions)
     pm = panel_material(args.material, fractions)
@@ -118,8 +117,6 @@ def verify_panel(args) -> dict:
     model_factor = 1.0 / ratios[key] if ratios[key] > 0 else None
     finite = None
     if stiffened:      # the model's smeared orthotropic plate a x W (panel_width): the FE's edge supports
-        from wingmdao.panels.stiffened import panel_analysis
-
         fr = panel_analysis(pm, t, b, a, h, ts, nx=args.nx, nxy=args.nxy, stiffener=args.stiffener,
                             panel_width=W)["failure_ratios"]
         finite = 1.0 / max(fr[k] for k in MODEL_BUCKLING_MODES)
@@ -150,8 +147,6 @@ def verify_panel(args) -> dict:
 def run_verify_panel(args) -> int:
     import sys
 
-    from wingmdao.cli import write_json
-    from wingmdao.fe.calculix import CalculixNotFound
 
     try:
         res = verify_panel(args)

@@ -18,8 +18,19 @@ from __future__ import annotations
 
 import numpy as np
 
-from wingmdao.cli._verify_fe import (_design_walls, _material, add_fe_arguments, build_fe_model, check_fe_args,
+from wingmdao.cli._verify_fe import (add_fe_arguments, build_fe_model, check_fe_args, design_walls, fe_material,
                                      percent_difference, von_mises_table)
+from wingmdao.beam.modes import natural_frequencies
+from wingmdao.beam.residual import forcing_specs
+from wingmdao.beam.rotations import body_to_csn
+from wingmdao.cases import pegasus as case
+from wingmdao.cases.planform import G0
+from wingmdao.cases.wing_box import station_rotations
+from wingmdao.cli._verify_buckling import add_buckling_arguments, verify_pegasus_buckling
+from wingmdao.fe.box_model import add_point_masses, solve_modes, solve_static
+from wingmdao.fe.calculix import find_ccx
+from wingmdao.fe.wing_loads import lumping_lengths
+from wingmdao.timemarch.system import pack
 
 #: --loads: the load factor of each named case (the sizing maneuvers of ``wingmdao size pegasus``,
 #: ``--load-factor`` / ``--negative-load-factor`` defaults); '1g' takes ``--load-factor``.
@@ -60,7 +71,6 @@ def register_pegasus(cases):
                      "the design's 'ribs' block, sized for crushing and shear)",
                      design_help="wall thicknesses from a 'wingmdao size pegasus' result (20 stations) "
                      "(unset: 4/4/5/4 mm upper/lower skin, front/rear spar)")
-    from wingmdao.cli._verify_buckling import add_buckling_arguments
 
     add_buckling_arguments(p)
     # unset: 0.5 m and 2 (static), 0.1 m and 4 (--buckling); ribs 2 mm (static), the design's sized ribs (--buckling)
@@ -70,7 +80,7 @@ def register_pegasus(cases):
 
 def pegasus_walls(path):
     if path:
-        return _design_walls(path, "pegasus", count=20, how="a 'wingmdao size pegasus' result")
+        return design_walls(path, "pegasus", count=20, how="a 'wingmdao size pegasus' result")
     from wingmdao.cases.pegasus_verification import default_walls
 
     return default_walls(20)
@@ -89,18 +99,13 @@ def pegasus_setup(design, load_factor):
     """:func:`wingmdao.cases.pegasus_verification.pegasus_setup` with the walls of ``--design``."""
     from wingmdao.cases.pegasus_verification import pegasus_setup as setup
 
-    return setup(pegasus_walls(design), load_factor, _material())
+    return setup(pegasus_walls(design), load_factor, fe_material())
 
 
 def verify_pegasus(args) -> dict:
     from wingmdao.cases.pegasus_verification import (engine_stations as _engine_stations, fe_loads, gust_fe_loads,
                                                      gust_peak_loads)
     from wingmdao.beam.static import BeamModel
-    from wingmdao.cases import pegasus as case
-    from wingmdao.cases.planform import G0
-    from wingmdao.cases.wing_box import station_rotations
-    from wingmdao.fe.box_model import add_point_masses, solve_modes, solve_static
-    from wingmdao.fe.calculix import find_ccx
 
     buckling = getattr(args, "buckling", False)
     if getattr(args, "span_size", None) is None:
@@ -115,8 +120,6 @@ def verify_pegasus(args) -> dict:
     if buckling and not rib_given:
         args.rib_thickness = None       # the design's crushing-sized ribs (_verify_buckling.rib_thicknesses)
     if buckling:
-        from wingmdao.cli._verify_buckling import verify_pegasus_buckling
-
         return verify_pegasus_buckling(args)
     name = getattr(args, "loads", "1g")
     if name in MANEUVERS:
@@ -174,8 +177,6 @@ def verify_pegasus(args) -> dict:
            "fe_time_s": fe["time"],
            "units": "SI (m, N, N*m, rad, Pa, Hz); body axes x aft, y outboard, z up"}
     if gust:
-        from wingmdao.fe.wing_loads import lumping_lengths
-
         dyn = peak["dynamic_displacement"]
         lumped = np.sum([F for _, _, F, _ in loads], axis=0)
         res["gust_peak"] = {
@@ -210,16 +211,11 @@ def verify_pegasus(args) -> dict:
 
 
 def _csn(theta):
-    from wingmdao.beam.rotations import body_to_csn
-
     return body_to_csn(theta)
 
 
 def _beam_frequencies(params, count):
-    from wingmdao.beam.modes import natural_frequencies
-    from wingmdao.beam.residual import forcing_specs
     from wingmdao.beam.static import BeamModel, beam_forcing
-    from wingmdao.timemarch.system import pack
 
     m = BeamModel(params)
     n = m.num_nodes

@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import sys
 from wingmdao.cli._args import add_json_argument
+from wingmdao.cli import write_json
+from wingmdao.utils.cache_admin import prune
+from wingmdao.utils.casadi_cache import cache_dir
 
 DEFAULT_UNUSED_DAYS = 30.0
 
@@ -33,9 +36,6 @@ def _mb(n: int) -> str:
 def run(args) -> int:
     import math
 
-    from wingmdao.cli import write_json
-    from wingmdao.utils.cache_admin import prune
-    from wingmdao.utils.casadi_cache import cache_dir
 
     if not math.isfinite(args.unused_days) or args.unused_days < 0:
         raise ValueError(f"--unused-days = {args.unused_days}; allowed range [0, inf) days")

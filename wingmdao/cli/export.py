@@ -7,6 +7,14 @@ from __future__ import annotations
 
 import numpy as np
 from wingmdao.cli._io import check_output_file
+from wingmdao.cases import pegasus as pegasus_case, wing_box as wing_box_case
+from wingmdao.cases.planform import G0
+from wingmdao.cli._verify_pegasus import pegasus_setup, pegasus_walls
+from wingmdao.cli.run import add_wing_box_arguments
+from wingmdao.cli.verify import design_walls, wing_box_sections
+from wingmdao.fe.export import beam_deck, shell_deck, write_atomic
+from wingmdao.fe.wing_loads import lumped_line_loads, point_weights
+from wingmdao.materials import ALUMINIUM
 
 #: --format of the aeroelastic Nastran deck (wingmdao.fe.nastran_aero)
 AEROELASTIC = "nastran-aeroelastic"
@@ -19,7 +27,6 @@ def register(subparsers):
                               description="Export a case as an FE deck (SI units: m, N, kg; body axes).")
     cases = p.add_subparsers(dest="case", metavar="CASE", required=True)
     wb = cases.add_parser("wing-box", help="App. D.1 box (Table E.2 walls, or --design)")
-    from wingmdao.cli.run import add_wing_box_arguments
 
     add_wing_box_arguments(wb)
     wb.add_argument("--design", default=None, metavar="RESULT.json",
@@ -62,16 +69,11 @@ def register(subparsers):
 def run_export(args) -> int:
     import sys
 
-    from wingmdao.cases import wing_box as case
-    from wingmdao.cli.verify import _design_walls, wing_box_sections
-    from wingmdao.fe.export import beam_deck, shell_deck, write_atomic
-    from wingmdao.materials import ALUMINIUM
-
     check_output_file(args.file, "FILE", overwrite=args.overwrite)
     for name in ("tip_load", "tip_moment"):
         if not np.all(np.isfinite(getattr(args, name))):
             raise ValueError(f"--{name.replace('_', '-')} must be finite")
-    walls = _design_walls(args.design, case.NAME) if args.design else None
+    walls = design_walls(args.design, wing_box_case.NAME) if args.design else None
     sec = wing_box_sections(args.geometry, args.t_spar, args.t_skin, walls)
     build = beam_deck if args.fidelity == "beam" else shell_deck
     text = build(sec, ALUMINIUM, args.format, tip_force=args.tip_load, tip_moment=args.tip_moment)
@@ -82,21 +84,16 @@ def run_export(args) -> int:
 
 def pegasus_deck(design, fmt, fidelity, load_factor=1.0, ribs=True, rib_thickness=0.002) -> str:
     """Deck text of the PEGASUS wing (``verify pegasus``'s model and loads, :mod:`wingmdao.fe.export`)."""
-    from wingmdao.cases import pegasus as case
-    from wingmdao.cases.planform import G0
-    from wingmdao.cli._verify_pegasus import _engine_stations, fe_loads, pegasus_setup
-    from wingmdao.fe.export import beam_deck, shell_deck
-    from wingmdao.fe.wing_loads import lumped_line_loads, point_weights
-    from wingmdao.materials import ALUMINIUM
+    from wingmdao.cases.pegasus_verification import engine_stations, fe_loads
 
     if not (np.isfinite(rib_thickness) and 0 < rib_thickness <= 0.5):
         raise ValueError(f"--rib-thickness = {rib_thickness} m; allowed range (0, 0.5] m")
     geo, sec, line, _, structural, _ = pegasus_setup(design, load_factor)
     y = geo.span_coordinate
-    engines = _engine_stations(case, geo)
+    engines = engine_stations(pegasus_case, geo)
     if fidelity == "shell":
         return shell_deck(sec, ALUMINIUM, fmt, ribs_y=list(y[1:]) if ribs else [], rib_thickness=rib_thickness,
-                          loads=lambda model: fe_loads(case, geo, sec, model, line, structural, load_factor, G0),
+                          loads=lambda model: fe_loads(pegasus_case, geo, sec, model, line, structural, load_factor, G0),
                           point_masses=engines)
     weight = np.zeros((y.size, 3))
     weight[:, 2] = -load_factor * G0 * structural
@@ -110,7 +107,6 @@ def pegasus_deck(design, fmt, fidelity, load_factor=1.0, ribs=True, rib_thicknes
 def run_export_pegasus(args) -> int:
     import sys
 
-    from wingmdao.fe.export import write_atomic
 
     check_output_file(args.file, "FILE", overwrite=args.overwrite)
     if args.format == AEROELASTIC:
@@ -131,8 +127,6 @@ def run_export_aeroelastic(args) -> int:
     import sys
 
     from wingmdao.cases.pegasus_verification import nastran_aeroelastic_deck
-    from wingmdao.cli._verify_pegasus import pegasus_walls
-    from wingmdao.fe.export import write_atomic
 
     if args.fidelity != "beam":
         raise ValueError(f"--fidelity {args.fidelity}: --format {AEROELASTIC} writes the beam model; "

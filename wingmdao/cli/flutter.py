@@ -28,9 +28,16 @@ import time as _time
 
 import numpy as np
 
-from wingmdao.stability.cases import FLUTTER_CASES
+from wingmdao.stability.cases import FLUTTER_CASES, DEFAULT_NODES, flutter_problem
 from wingmdao.cli._io import read_design, warn, write_json
 from wingmdao.cli._args import add_aero_theory_argument, add_gravity_argument, add_output_arguments
+from wingmdao.beam.residual import forcing_specs
+from wingmdao.cases.pegasus import flight_point
+from wingmdao.cli.gust import check_outputs
+from wingmdao.plots import save_figure
+from wingmdao.stability import critical_speeds, eigenmodes, sweep
+from wingmdao.stability.eigen import check_speeds
+from wingmdao.timemarch.system import pack
 
 
 def register(subparsers):
@@ -72,8 +79,6 @@ def _states(num_nodes) -> int:
 
 def parse_speeds(values):
     """``(V0, V1, N)`` strings -> validated sweep; ValueError naming the input otherwise."""
-    from wingmdao.stability.eigen import check_speeds
-
     try:
         v0, v1, n = float(values[0]), float(values[1]), values[2]
         n = int(float(n)) if float(n) == int(float(n)) else None
@@ -113,11 +118,7 @@ def _clean(x):
 
 def analyse(case, speeds=None, num_nodes=None, n_modes=4, thickness=None, aero_theory="strip") -> dict:
     """Run the flutter analysis; returns the JSON dict (``thickness``: PEGASUS walls per node, m)."""
-    from wingmdao.beam.residual import forcing_specs
     from wingmdao.beam.static import BeamModel, beam_forcing
-    from wingmdao.stability import critical_speeds, eigenmodes, sweep
-    from wingmdao.stability.cases import flutter_problem
-    from wingmdao.timemarch.system import pack
 
     if case not in FLUTTER_CASES:
         raise ValueError(f"case {case!r} has no aerodynamic (flutter) data; allowed: {list(FLUTTER_CASES)}")
@@ -139,7 +140,6 @@ def analyse(case, speeds=None, num_nodes=None, n_modes=4, thickness=None, aero_t
                 **prob.eig_options)
     t2 = _time.perf_counter()
     if res.tracked.shape[1] < int(n_modes):
-
         warn(f"--modes {n_modes}: the {case} model has {res.tracked.shape[1]} oscillatory modes at the first speed; "
              f"tracking {res.tracked.shape[1]}")
     crit = critical_speeds(res)
@@ -168,7 +168,6 @@ def _flutter_json(r) -> dict:
 def analyse_dlm(case, speeds=None, num_nodes=None, n_modes=4, thickness=None) -> dict:
     """Doublet-lattice flutter (p-k and state space, :func:`wingmdao.stability.modal.dlm_flutter`)
     beside strip theory's sweep of the same speeds; returns the JSON dict."""
-    from wingmdao.stability.cases import flutter_problem
     from wingmdao.stability.modal import dlm_flutter
 
     strip = analyse(case, speeds, num_nodes, n_modes, thickness, "strip")
@@ -202,7 +201,6 @@ def plot_dlm(result, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from wingmdao.plots import save_figure
 
     fig, axes = plt.subplots(2, 2, figsize=(11, 7), sharex=True, sharey="row")
     d = result["dlm"]
@@ -240,7 +238,6 @@ def analyse_deformed(case, root_aoa_deg, speeds=None, num_nodes=21, n_modes=4, g
     """Flutter about the deformed state per root angle of attack; returns the JSON dict."""
     import importlib
 
-    from wingmdao.stability.cases import flutter_problem
     from wingmdao.stability.deformed import deformed_flutter
 
     t0 = _time.perf_counter()
@@ -293,8 +290,6 @@ def plot_deformed(result, path):
 
 
 def _save_figure(fig, path):
-    from wingmdao.plots import save_figure
-
     save_figure(fig, path, dpi=110)
 
 
@@ -322,7 +317,6 @@ def plot(result, path):
     ax2.set_xlabel("airspeed (m/s)")
     ax1.set_title(f"{result['case']}: V-g / V-f (flutter {result['flutter_speed_m_s'] or float('nan'):.1f} m/s)")
     fig.tight_layout()
-    from wingmdao.plots import save_figure
 
     save_figure(fig, path, dpi=110)
 
@@ -355,25 +349,21 @@ def run(args) -> int:
         raise ValueError(f"--num-nodes = {args.num_nodes}; allowed range [3, {MAX_NODES}]{cost}")
     if args.modes < 1:
         raise ValueError(f"--modes = {args.modes}; allowed range >= 1")
-    from wingmdao.cli.gust import _check_outputs
 
-    plot_path = _check_outputs(args, f"flutter_{args.case}.png")
+    plot_path = check_outputs(args, f"flutter_{args.case}.png")
     deformed_plot = None
     angles = check_deformed_args(args)
     if args.deformed:
         if args.case == "pegasus":
             raise ValueError("--deformed: the deformed-state sweep is set up for goland and hale, not pegasus")
-        deformed_plot = _check_outputs(args, f"flutter_{args.case}_deformed.png")
+        deformed_plot = check_outputs(args, f"flutter_{args.case}_deformed.png")
     thickness = None
     if args.design is not None:
         if args.case != "pegasus":
             raise ValueError(f"--design applies to the sized pegasus wing, not to case {args.case!r}")
-        from wingmdao.stability.cases import DEFAULT_NODES
 
         thickness = read_design(args.design, args.num_nodes or DEFAULT_NODES["pegasus"])
     if args.case == "pegasus" and speeds is not None:
-        from wingmdao.cases.pegasus import flight_point
-
         a = flight_point()["speed_of_sound"]
         if speeds[-1] >= a:
             raise ValueError(f"--speeds V1 = {speeds[-1]} m/s: pegasus flutter is subsonic (Mach = V / a, "
@@ -395,7 +385,6 @@ def run(args) -> int:
     if args.deformed:
         import importlib
 
-        from wingmdao.stability.cases import DEFAULT_NODES
 
         result["deformed"] = analyse_deformed(args.case, angles, speeds, args.num_nodes or DEFAULT_NODES[args.case],
                                               args.modes, args.gravity)
@@ -415,7 +404,6 @@ def run(args) -> int:
         try:
             (plot_dlm if args.aero_theory == "dlm" else plot)(result, plot_path)
         except ImportError:
-
             warn("plot skipped (plots need matplotlib: pip install 'wingmdao[plot]'); the JSON is written")
         else:
             print(f"wrote {plot_path}", file=sys.stderr)

@@ -43,10 +43,17 @@ import time as _time
 
 import numpy as np
 
-from wingmdao.plots import optional_pyplot
+from wingmdao.plots import optional_pyplot, save_figure
 from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, warn, write_json
 from wingmdao.cli._args import (add_aero_and_plunge_arguments, add_aero_theory_argument, add_deprecated_alias,
                                 add_free_pitch_arguments, add_output_arguments)
+from wingmdao.aero.controls import control_spec, read_alleviation
+from wingmdao.aero.lifting_line import lifting_line_lift_slope
+from wingmdao.aero.pitch import pitch_parameters
+from wingmdao.aero.plunge import body_mass as plunge_body_mass, half_wing_mass
+from wingmdao.cases import available_cases, case_beam_parameters, check_step_count
+from wingmdao.cases.planform import FT, G0, LB, wing_geometry
+from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
 
 CASES = ("pegasus", "crm")
 #: --model: the lone wing or the stick model of the whole aircraft (pegasus)
@@ -109,13 +116,9 @@ def register(subparsers):
 
 
 def run(args):
-    from wingmdao.aero import aero_parameters, three_dimensional_parameters
+    from wingmdao.aero.system import aero_parameters, three_dimensional_parameters
     from wingmdao.aero.gust_response import (GustFlight, coupled_gust_response, dlm_gust_response,
                                              strip_gust_response, wing_lift_slope)
-    from wingmdao.aero.plunge import body_mass as plunge_body_mass, half_wing_mass
-    from wingmdao.cases import available_cases, case_beam_parameters
-    from wingmdao.cases.planform import FT, G0, LB, wing_geometry
-    from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
 
     t_wall = _time.perf_counter()
     plunge = args.plunge or ("free" if args.aero == "coupled" else "clamped")
@@ -159,7 +162,6 @@ def run(args):
     args.dt = getattr(case_options, "dt", base.PegasusOptions.dt) if args.dt is None else args.dt
     args.gust_start = (getattr(case_options, "gust_start", base.PegasusOptions.gust_start) if args.gust_start is None
                        else args.gust_start)
-    from wingmdao.cases import check_step_count
 
     check_step_count(t_final, args.dt, 20)  # finite, > 0, at most MAX_TIME_STEPS (with the memory estimate)
     if not args.dt <= t_final / 10:
@@ -167,7 +169,7 @@ def run(args):
     if not (np.isfinite(args.gust_start) and 0.0 <= args.gust_start < t_final):
         raise ValueError(f"--gust-start = {args.gust_start} s; allowed range [0, --t-final = {t_final}) s")
     surfaces, law = _check_alleviation(args)
-    plot_path = _check_outputs(args, f"{args.case}_gust.png")
+    plot_path = check_outputs(args, f"{args.case}_gust.png")
 
     pf = module.PLANFORM
     weight = module.TOGW_LB * LB * G0
@@ -182,8 +184,6 @@ def run(args):
     V = float(mach_to_tas(mach, alt))
     slope = 2 * np.pi
     if args.aero_theory == "lifting-line":
-        from wingmdao.aero.lifting_line import lifting_line_lift_slope
-
         y_nodes = np.abs(bp["node_positions"][:, 1])
         slope, _ = lifting_line_lift_slope(y_nodes, pf.chord, pf.semi_span)
     ap = aero_parameters(n, chord=chord, ref_point=axis_frac, lift_slope=slope, airspeed=V, density=rho,
@@ -195,8 +195,6 @@ def run(args):
         _check_surfaces_on_beam(args, surfaces, law, r0)
     body_mass = plunge_body_mass(weight / G0, half_wing_mass(bp["mass_per_length"], r0)[0])
     if args.pitch:
-        from wingmdao.aero.pitch import pitch_parameters
-
         a_w = (wing_lift_slope(ap["lift_influence"].sum(axis=1), np.ones(n), r0, _area(args)) if "lift_influence" in ap
                else wing_lift_slope(ap["lift_slope"] / np.sqrt(1 - mach ** 2), chord, r0, _area(args)))
         if args.downwash_gradient is None:  # Etkin & Reid (1996) / Nelson (1998): deps/dalpha = 2 a_w / (pi AR)
@@ -311,7 +309,6 @@ def _check_alleviation(args):
         return (), None
     if args.aero != "coupled":
         raise ValueError(f"--alleviation {args.alleviation} needs --aero coupled (control surfaces act in the march)")
-    from wingmdao.aero.controls import read_alleviation
 
     surfaces, law = read_alleviation(args.alleviation)
     outputs = () if law is None else law.outputs
@@ -324,16 +321,27 @@ def _check_alleviation(args):
 
 def _check_surfaces_on_beam(args, surfaces, law, node_positions):
     """The surfaces' spans against the case's beam nodes (before the march)."""
-    from wingmdao.aero.controls import control_spec
-
     try:
         control_spec(surfaces, np.asarray(node_positions)[:, 1], law)
     except ValueError as exc:
         raise ValueError(f"--alleviation {args.alleviation}: {exc}") from None
 
 
-def _check_outputs(args, plot_name):
-    """Check --out, --json and the plot path before the run; the plot path (None: --no-plots)."""
+def check_outputs(args, plot_name):
+    """Check ``--out``, ``--json`` and the plot path before the run.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The command's arguments (``out``, ``json``, ``no_plots``, ``overwrite``).
+    plot_name : str
+        The plot's file name in ``--out``.
+
+    Returns
+    -------
+    str or None
+        The plot path; None with ``--no-plots``.
+    """
 
     plot = None
     if not args.no_plots:
@@ -437,7 +445,6 @@ def _stick_plots(res, stem):
     axes[-1].set_xlabel("time (s)")
     for ax in axes:
         ax.grid(True)
-    from wingmdao.plots import save_figure
 
     save_figure(fig, stem + ".png", dpi=100)
     print(f"wrote {stem}.png", file=sys.stderr)
@@ -464,9 +471,6 @@ def _check_pitch_args(args):
 
 
 def _area(args):
-    from wingmdao.cases import available_cases
-    from wingmdao.cases.planform import FT
-
     return available_cases()[args.case].PLANFORM.area_ft2 * FT ** 2
 
 
@@ -497,7 +501,6 @@ def _plots(res, stem):
     axes[-1].set_xlabel("time (s)")
     for ax in axes:
         ax.grid(True)
-    from wingmdao.plots import save_figure
 
     save_figure(fig, stem + ".png", dpi=100)
     print(f"wrote {stem}.png", file=sys.stderr)

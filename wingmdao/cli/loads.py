@@ -25,6 +25,7 @@ import time as _time
 
 from wingmdao.cli._args import add_output_arguments
 from wingmdao.cli._io import EXIT_INTERRUPTED, check_output_dir, check_output_file, read_design, refuse_existing, write_json
+from wingmdao.cases import available_cases
 
 CASES = ("pegasus",)
 
@@ -55,7 +56,6 @@ def output_paths(out: str, case: str) -> dict:
 
 
 def run(args):
-    from wingmdao.cases import available_cases
     from wingmdao.loads.cards import write_cards
     from wingmdao.loads.database import run_matrix, write_database
     from wingmdao.loads.matrix import critical_table, expand, read_matrix, screen

@@ -24,10 +24,17 @@ import time as _time
 
 import numpy as np
 
-from wingmdao.plots import optional_pyplot
+from wingmdao.plots import optional_pyplot, save_figure
 
 from wingmdao.cli._args import METAVARS, add_free_pitch_arguments, add_output_arguments
-from wingmdao.cli._io import write_json
+from wingmdao.cli._io import write_json, read_design
+from wingmdao.aero.pitch import elevator_effectiveness, pitch_parameters
+from wingmdao.cases import available_cases, case_beam_parameters
+from wingmdao.cases.pegasus import GUST
+from wingmdao.cases.planform import FT, G0, LB, wing_geometry
+from wingmdao.cli.gust import check_outputs
+from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
+from wingmdao.loads.maneuver import limit_load_factors
 
 CASES = ("pegasus",)
 #: the elevator's chord ratio assumed by default (an assumption: typical of transport elevators)
@@ -114,22 +121,14 @@ def _check_args(args):
 
 
 def run(args):
-    from wingmdao.aero import aero_parameters
+    from wingmdao.aero.system import aero_parameters
     from wingmdao.aero.gust_response import wing_lift_slope
-    from wingmdao.aero.pitch import elevator_effectiveness, pitch_parameters
-    from wingmdao.cases import available_cases, case_beam_parameters
-    from wingmdao.cases.pegasus import GUST
-    from wingmdao.cases.planform import FT, G0, LB, wing_geometry
-    from wingmdao.cli._io import read_design
-    from wingmdao.cli.gust import _check_outputs
-    from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
     from wingmdao.loads.checked_pitch import checked_pitch, maneuver_model
-    from wingmdao.loads.maneuver import limit_load_factors
 
     t_wall = _time.perf_counter()
     _check_args(args)
     direction = "nose-down" if args.nose_down else "nose-up"
-    plot_path = _check_outputs(args, f"{args.case}_checked_pitch{'_nose_down' if args.nose_down else ''}.png")
+    plot_path = check_outputs(args, f"{args.case}_checked_pitch{'_nose_down' if args.nose_down else ''}.png")
     module = available_cases()[args.case]
     alt_ft = GUST["altitude_ft"] if args.altitude_ft is None else args.altitude_ft
     mach = GUST["mach"] if args.mach is None else args.mach
@@ -225,7 +224,6 @@ def _plots(res, stem):
                       f"delta_1 = {res['delta_1_deg']:.2f} deg", fontsize=9)
     for ax in axes:
         ax.grid(True)
-    from wingmdao.plots import save_figure
 
     save_figure(fig, stem + ".png", dpi=100)
     print(f"wrote {stem}.png", file=sys.stderr)

@@ -5,6 +5,9 @@ from __future__ import annotations
 import argparse
 import math
 from wingmdao.cli._args import add_json_argument
+from wingmdao.cli import write_json
+from wingmdao.panels.laminate import check_ply_fractions
+from wingmdao.panels.stiffened import DEFAULT_FLANGE_RATIO, STIFFENERS, panel_analysis, panel_material
 
 
 def register(subparsers):
@@ -23,8 +26,6 @@ def register(subparsers):
 def add_panel_arguments(p):
     """The flags of ``wingmdao panel`` (material, thicknesses, sizes, stiffener, loads, ``--json``),
     shared with ``wingmdao verify panel``."""
-    from wingmdao.panels.stiffened import DEFAULT_FLANGE_RATIO, STIFFENERS
-
     p.add_argument("--material", required=True, metavar="NAME",
                    help="built-in metal (aluminium, al2024-t3, al7075-t6, ti-6al-4v, steel-4130) or ply material "
                         "(stw-cfrp, needs --ply-fractions)")
@@ -63,9 +64,6 @@ def _positive(flag: str, value) -> float:
 
 def panel_result(args) -> dict:
     """The JSON-ready result from the parsed arguments (all input checks before any computation)."""
-    from wingmdao.panels.laminate import check_ply_fractions
-    from wingmdao.panels.stiffened import panel_analysis, panel_material
-
     if (args.t_skin is None) == (args.t_spar is None):
         raise ValueError("--t-skin (skin thickness, m) is required, or --t-spar (spar web thickness, m), not both; "
                          "allowed range (0, inf) m")
@@ -88,7 +86,5 @@ def panel_result(args) -> dict:
 
 
 def run(args) -> int:
-    from wingmdao.cli import write_json
-
     write_json(panel_result(args), args.json)
     return 0

@@ -16,6 +16,11 @@ import numpy as np
 
 from wingmdao.cases.wing_box.geometry import GEOMETRIES, T_SKIN, T_SPAR
 from wingmdao.cli._args import add_gravity_argument, add_json_argument
+from wingmdao.cases import wing_box as case
+from wingmdao.cases.wing_box import HEIGHTS, geometry_data, station_rotations, station_summary
+from wingmdao.cli import write_json
+from wingmdao.groups.load_case import STRESS_FAMILIES
+from wingmdao.limits import estimate_bytes
 
 
 #: --load-steps and --elements (sum of the three segments) upper bounds
@@ -80,9 +85,20 @@ def register(subparsers):
     wb.set_defaults(func=run_wing_box)
 
 
-def _check_args(args):
-    from wingmdao.cases.wing_box import HEIGHTS, geometry_data
+def check_wing_box_args(args):
+    """Check the wing-box flags (``--t-spar``, ``--t-skin``, ``--gravity``, ``--tip-load``,
+    ``--tip-moment``) before any solve.
 
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The command's arguments (:func:`add_wing_box_arguments`); thicknesses in m.
+
+    Raises
+    ------
+    ValueError
+        Naming the flag, the value and the allowed range.
+    """
     g = geometry_data(args.geometry)
     limits = {"t_spar": 0.5 * min(g["widths"]), "t_skin": 0.5 * min(HEIGHTS)}
     for name, high in limits.items():
@@ -101,7 +117,6 @@ def _check_args(args):
     if min(args.elements) < 1 or sum(args.elements) > MAX_ELEMENTS:
         nodes = sum(args.elements) + 1
         steps = int(args.t_final / args.dt) + 1 if args.dynamic and args.dt > 0 else 1
-        from wingmdao.limits import estimate_bytes
 
         raise ValueError(f"--elements = {list(args.elements)}; each must be >= 1 and their sum <= {MAX_ELEMENTS} "
                          f"({nodes} nodes: ~{estimate_bytes(nodes, [steps]) / 1e9:.1f} GB by wingmdao.limits' "
@@ -121,10 +136,8 @@ def wing_box_result(args) -> dict:
     """The JSON-ready result of ``wingmdao run wing-box`` from the parsed arguments."""
     import openmdao.api as om
 
-    from wingmdao.cases import wing_box as case
-    from wingmdao.groups.load_case import STRESS_FAMILIES
 
-    _check_args(args)
+    check_wing_box_args(args)
     if getattr(args, "model", "beam") == "solid":
         return solid_result(args)
     geometry, key, cos_sweep, cos_dih = case.wing_geometry(args.geometry, tuple(args.elements))
@@ -163,7 +176,6 @@ def wing_box_result(args) -> dict:
 def solid_result(args) -> dict:
     """``wingmdao run wing-box --model solid``: the 3-D solid model's response in the JSON keys
     of the beam run (CS1 is the clamped root face: zero displacement)."""
-    from wingmdao.cases.wing_box import station_summary
     from wingmdao.verification.wingbox_solid import solve_wingbox
 
     sol = solve_wingbox(args.geometry, args.tip_load, args.tip_moment, args.mesh_size,
@@ -191,8 +203,6 @@ def solid_result(args) -> dict:
 
 def _response(prob, geometry, key) -> dict:
     """Station displacements/rotations (last instant), tip history, von Mises, KS and mass."""
-    from wingmdao.cases.wing_box import station_rotations, station_summary
-
     states = prob.get_val("cases.run.states")
     r0 = np.asarray(geometry.node_positions)
     disp = states[-1, key, 0:3] - r0[key]
@@ -209,7 +219,5 @@ def _response(prob, geometry, key) -> dict:
 
 
 def run_wing_box(args) -> int:
-    from wingmdao.cli import write_json
-
     write_json(wing_box_result(args), args.json)
     return 0

@@ -4,6 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 from wingmdao.cli._args import add_json_argument
+from wingmdao.cli import write_json
+from wingmdao.materials import get_material
+from wingmdao.section.box import box_properties, validate_box
+from wingmdao.section.solid import solid_properties, validate_solid
 
 _THICKNESS_OPTIONS = (("t_upper", "t_upper_skin", "upper skin"), ("t_lower", "t_lower_skin", "lower skin"),
                       ("t_front", "t_front_spar", "front spar web"), ("t_rear", "t_rear_spar", "rear spar web"))
@@ -60,10 +64,6 @@ def _wall_thicknesses(args) -> dict:
 
 def section_properties(args) -> dict:
     """Properties as a JSON-ready dict from the parsed arguments (raises ValueError on bad input)."""
-    from wingmdao.materials import get_material
-    from wingmdao.section.box import box_properties, validate_box
-    from wingmdao.section.solid import solid_properties, validate_solid
-
     material = get_material(args.material)
     for flag in ("--width", "--height", "--t-skin", "--t-spar", *(f"--{o.replace('_', '-')}" for o, _, _ in
                                                                  _THICKNESS_OPTIONS)):
@@ -105,7 +105,5 @@ def section_properties(args) -> dict:
 
 
 def run(args) -> int:
-    from wingmdao.cli import write_json
-
     write_json(section_properties(args), args.json)
     return 0

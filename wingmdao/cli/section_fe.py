@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 from wingmdao.cli._args import add_json_argument
+from wingmdao.cli import write_json
+from wingmdao.materials import get_material
+from wingmdao.section.fe.io import analyse_description, load_description
 
 
 def register(subparsers):
@@ -27,8 +30,6 @@ def register(subparsers):
 
 
 def run(args) -> int:
-    from wingmdao.cli import write_json
-    from wingmdao.section.fe.io import analyse_description, load_description
     if args.rectangle:
         if not args.material:
             raise ValueError("--rectangle needs --material E NU RHO")
@@ -49,8 +50,6 @@ def run(args) -> int:
 def _material(tokens):
     """``--material NAME`` (built-in, as ``wingmdao section``) or ``--material E NU RHO``."""
     if len(tokens) == 1:
-        from wingmdao.materials import get_material
-
         m = get_material(tokens[0])
         return m.E, m.nu, m.rho
     if len(tokens) != 3:

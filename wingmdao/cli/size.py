@@ -7,11 +7,15 @@ import os
 
 import numpy as np
 
-from wingmdao.cases import options_from_namespace
+from wingmdao.cases import options_from_namespace, available_cases
 from wingmdao.cli._io import EXIT_INTERRUPTED, check_output_dir, check_output_file, refuse_existing, say, warn, write_json
 from wingmdao.cli._args import CaseArguments, add_aero_theory_argument, add_output_arguments
 from wingmdao.utils.memory import (import_openmdao_without_plot_plugins, return_freed_memory,
                                    return_large_blocks_on_free)
+from wingmdao.cli._aerostruct import add_parser
+from wingmdao.limits import check_memory
+from wingmdao.panels.layout import STIFFENER_VARS
+from wingmdao.stability.cases import FLUTTER_CASES, flutter_search, sizing_flutter_options
 
 #: --presize upper bound (passes)
 MAX_PRESIZE = 20
@@ -54,8 +58,6 @@ def _add_common(p, *, sizing: bool):
 
 
 def register(subparsers):
-    from wingmdao.cases import available_cases
-
     cases = available_cases()
     for cmd, sizing in (("size", True), ("n2", False)):
         p = subparsers.add_parser(
@@ -76,8 +78,6 @@ def register(subparsers):
             _add_common(cp, sizing=sizing)
             cp.set_defaults(func=run_size if sizing else run_n2, case_module=mod)
         if sizing:  # OpenAeroStruct's uCRM fuel burn: a problem of its own, not a WingSizing case
-            from wingmdao.cli._aerostruct import add_parser
-
             add_parser(sub)
         p.set_defaults(func=lambda a, p=p: (p.print_help(), 0)[1])
 
@@ -107,7 +107,6 @@ def run_size(args) -> int:
     # the matplotlib of its report plugins (the run asks for no reports; a plot loads it later).
     import_openmdao_without_plot_plugins()
     from wingmdao import sizing  # noqa: F401
-    from wingmdao.stability import cases  # noqa: F401  (the flutter search of the result)
 
     return_large_blocks_on_free()  # the resident set follows the memory in use, design point after design point
     return _size(args)
@@ -144,8 +143,6 @@ def _size(args) -> int:
         check_output_file(args.json, "--json", overwrite=args.overwrite, others={"recording": recording})
     setup = args.case_module.build(options_from_namespace(args.case_module.OPTIONS, args))
     if args.flutter_margin is not None:
-        from wingmdao.stability.cases import sizing_flutter_options
-
         if comm is not None and comm.size > 1:
             raise ValueError("--flutter-margin: the flutter constraint runs in one process (no mpirun)")
         setup.flutter = sizing_flutter_options(args.case_module.NAME, setup.geometry.num_nodes, args.flutter_margin)
@@ -181,7 +178,6 @@ def _size(args) -> int:
     if comm is not None:
         say(f"  MPI: {comm.size} ranks share the {len(setup.load_cases)} load cases (wingmdao.parallel)")
     optimize = not args.analysis_only
-    from wingmdao.limits import check_memory
     from wingmdao.parallel import assign_cases
 
     mine = (setup.load_cases if comm is None else
@@ -396,7 +392,6 @@ def _flutter_design(result, args, setup, prob):
     the stiffeners of a stiffened design. None when there is no search."""
     import importlib
 
-    from wingmdao.stability.cases import FLUTTER_CASES
 
     name = args.case_module.NAME
     if name not in FLUTTER_CASES or "thickness" not in result:
@@ -409,8 +404,6 @@ def _flutter_design(result, args, setup, prob):
         return None
     design = dict(result["thickness"])
     if setup.panels is not None:   # the stiffened design: its stiffeners are in the sections too
-        from wingmdao.panels.layout import STIFFENER_VARS
-
         from wingmdao.sizing import station_values
 
         design.update({k: station_values(prob, k) for k in STIFFENER_VARS})
@@ -423,7 +416,6 @@ def _add_flutter_result(result, args, setup, design) -> None:
     ``design`` is None (:func:`_flutter_design`)."""
     import time
 
-    from wingmdao.stability.cases import flutter_search
 
     if design is None:
         return

@@ -41,6 +41,7 @@ from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
 from wingmdao.loads.turbulence import continuous_turbulence_intensity
 from wingmdao.plots import save_figure
 from wingmdao.stability.frequency import stress_matrix
+from wingmdao.stability.modal_turbulence import dlm_turbulence_analysis
 
 CASES = ("pegasus",)
 #: --grid-points bounds (the geometric part of the frequency grid)
@@ -156,7 +157,7 @@ def _check_outputs(args):
 
 
 def run(args):
-    from wingmdao.aero import aero_parameters
+    from wingmdao.aero.system import aero_parameters
     from wingmdao.loads.turbulence_analysis import coupled_gust_model, strip_gust_model, turbulence_analysis
 
     t_wall = _time.perf_counter()
@@ -210,7 +211,6 @@ def run(args):
 
 def _run_dlm(args, bp, chord, axis_frac, mach, V, rho, weight, point, stem, t_wall, alt):
     from wingmdao.stability.modal import modal_dlm_wing
-    from wingmdao.stability.modal_turbulence import dlm_turbulence_analysis
 
     wing = modal_dlm_wing(bp, chord, axis_frac, mach, n_modes=args.modes)
     res = {"case": args.case, "aero": args.aero, "aero_theory": "dlm", "plunge": False, "design": args.design, **alt,

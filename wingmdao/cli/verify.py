@@ -18,16 +18,26 @@ import os
 
 import numpy as np
 
-from wingmdao.cli._verify_fe import _design_walls, _material, add_fe_arguments, build_fe_model  # noqa: F401
+from wingmdao.cli._verify_fe import add_fe_arguments, build_fe_model, design_walls, fe_material  # noqa: F401
 from wingmdao.cli._verify_fe import check_fe_args, percent_difference, von_mises_table  # noqa: F401
 from wingmdao.cli._io import check_output_dir, check_output_file
+from wingmdao.beam.geometry import polyline_beam
+from wingmdao.beam.modes import natural_frequencies
+from wingmdao.beam.residual import forcing_specs
+from wingmdao.cases import wing_box as case
+from wingmdao.cases.wing_box import STUDY_LOADS, wing_box_beam
+from wingmdao.cli import write_json
+from wingmdao.cli._verify_buckling import plot_buckling
+from wingmdao.cli._verify_panel import register_panel
+from wingmdao.cli._verify_pegasus import register_pegasus, verify_pegasus
+from wingmdao.cli.run import check_wing_box_args, add_wing_box_arguments
+from wingmdao.fe.box_model import BoxSections, solve_modes, solve_static
+from wingmdao.fe.calculix import CalculixNotFound, find_ccx
+from wingmdao.plots import save_figure
+from wingmdao.timemarch.system import pack
 
 
 def register(subparsers):
-    from wingmdao.cli.run import add_wing_box_arguments
-    from wingmdao.cli._verify_pegasus import register_pegasus
-    from wingmdao.cli._verify_panel import register_panel
-
     p = subparsers.add_parser("verify", help="cross-check the beam against a CalculiX shell or solid model",
                               description="Beam vs CalculiX (ccx) shell or solid model of a shipped case. SI units, "
                               "body axes.")
@@ -48,9 +58,6 @@ def register(subparsers):
 
 def wing_box_sections(geometry, t_spar, t_skin, walls=None):
     """:class:`BoxSections` of CS1..CS4 with the beam-normal wall thicknesses of ``run wing-box``."""
-    from wingmdao.cases import wing_box as case
-    from wingmdao.fe.box_model import BoxSections
-
     _, _, cos_sweep, cos_dih = case.wing_geometry(geometry, (1, 1, 1))
     g = case.geometry_data(geometry)
     if walls is None:
@@ -63,8 +70,6 @@ def wing_box_sections(geometry, t_spar, t_skin, walls=None):
 #: linear cases of the App. D.1 comparison (docs/verification-calculix.md); study1/study2: the
 #: Sec. 4.7.2 sizing tip loads (``wingmdao.cases.wing_box.STUDY_LOADS``; study 3 has study 2's).
 def named_loads():
-    from wingmdao.cases.wing_box import STUDY_LOADS
-
     return {"d1-fz": ((0.0, 0.0, 1.0e5), (0.0, 0.0, 0.0)), "d1-fx": ((1.0e5, 0.0, 0.0), (0.0, 0.0, 0.0)),
             "d1-my": ((0.0, 0.0, 0.0), (0.0, 1.0e5, 0.0)),
             "study1": STUDY_LOADS[1], "study2": STUDY_LOADS[2]}
@@ -86,26 +91,20 @@ def _tip_loads(args):
 
 
 def _check_verify_args(args, span):
-    from wingmdao.cli.run import _check_args
-
     for name, val in (("dynamic", False), ("check_totals", False), ("gravity", None), ("elements", (6, 8, 6)),
                       ("model", "beam"), ("load_steps", 1), ("nlgeom", False), ("loads", "tip"),
                       ("through_elements", 2), ("fidelity", "shell")):
         setattr(args, name, getattr(args, name, val))
-    _check_args(args)
+    check_wing_box_args(args)
     check_fe_args(args, span)
     return _tip_loads(args)
 
 
 def verify_wing_box(args) -> dict:
-    from wingmdao.cases import wing_box as case
-    from wingmdao.fe.box_model import solve_modes, solve_static
-    from wingmdao.fe.calculix import find_ccx
-
     span = float(sum(case.SPANS))
     force, moment = _check_verify_args(args, span)
     find_ccx()
-    walls = _design_walls(args.design, case.NAME) if args.design else None
+    walls = design_walls(args.design, case.NAME) if args.design else None
     sec = wing_box_sections(args.geometry, args.t_spar, args.t_skin, walls)
     ribs = [] if args.ribs is None else list(np.arange(args.ribs, span + 1e-9, args.ribs))
     ribs = sorted(set(np.round(ribs + [span], 9)))
@@ -158,9 +157,6 @@ def verify_wing_box(args) -> dict:
 
 def segment_axes(geometry):
     """``axes_at(y)``: the beam's csn axes T (rows c, s, n, body axes) of the segment holding y."""
-    from wingmdao.beam.geometry import polyline_beam
-    from wingmdao.cases import wing_box as case
-
     centres = case.section_centres(geometry)
     T = polyline_beam(centres, (2,) * (len(centres) - 1)).csn_axes()[1::2]
     ys = centres[:, 1]
@@ -169,11 +165,7 @@ def segment_axes(geometry):
 
 def beam_frequencies(geometry, t_spar, t_skin, count, walls=None):
     """Lowest natural frequencies (Hz) of the beam of ``run wing-box`` (jig state)."""
-    from wingmdao.beam.modes import natural_frequencies
-    from wingmdao.beam.residual import forcing_specs
     from wingmdao.beam.static import BeamModel, beam_forcing
-    from wingmdao.cases.wing_box import wing_box_beam
-    from wingmdao.timemarch.system import pack
 
     params, _ = wing_box_beam(geometry, t_spar=t_spar, t_skin=t_skin, walls=walls)
     m = BeamModel(params)
@@ -208,7 +200,6 @@ def _plot(res, path):
         bx.set_ylabel("von Mises (MPa)")
         bx.legend(fontsize=7)
         bx.grid(True)
-    from wingmdao.plots import save_figure
 
     save_figure(fig, path)
 
@@ -216,10 +207,7 @@ def _plot(res, path):
 def run_verify(args) -> int:
     import sys
 
-    from wingmdao.cli import write_json
-    from wingmdao.fe.calculix import CalculixNotFound
 
-    from wingmdao.cli._verify_pegasus import verify_pegasus
 
     overwrite = getattr(args, "overwrite", False)
     if getattr(args, "out", None) is not None and args.plot is None:
@@ -231,8 +219,6 @@ def run_verify(args) -> int:
     try:
         res = verify_pegasus(args) if args.case == "pegasus" else verify_wing_box(args)
         if args.case == "pegasus" and args.plot and res.get("analysis") == "buckling":
-            from wingmdao.cli._verify_buckling import plot_buckling
-
             plot_buckling(res, args.plot)
             res["plot"] = args.plot
         elif args.case == "pegasus" and args.plot:

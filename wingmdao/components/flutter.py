@@ -30,7 +30,7 @@ from wingmdao.beam.residual import param_specs as beam_param_specs
 from wingmdao.aero.system import cached_aeroelastic_system
 from wingmdao.stability.cases import FlutterProblem
 from wingmdao.stability.eigen import check_speeds
-from wingmdao.stability.sensitivity import constraint_gradient, damping_constraint
+from wingmdao.stability.sensitivity import constraint_gradient, damping_constraint, WarmStart
 from wingmdao.timemarch.system import layout
 
 
@@ -81,8 +81,6 @@ class FlutterDamping(om.ExplicitComponent):
         self._warm = None
         self.paused = False   # True: compute() evaluates nothing: see paused_flutter()
         if self.options["warm_start"]:
-            from wingmdao.stability.sensitivity import WarmStart
-
             self._warm = WarmStart(refresh=self.options["refresh"], max_step=self.options["max_step"])
 
     def setup_partials(self):

@@ -20,7 +20,7 @@ import openmdao.api as om
 from wingmdao import DISSERTATION
 from wingmdao.utils.digest import ArrayStamp
 from wingmdao.utils.ks import ks_gradient, ks_value, shifted_exp  # noqa: F401 - ks_value: public here too
-from wingmdao.components.pointwise import _scatter, _stamp, _same_point, check_connected_shapes
+from wingmdao.components.pointwise import check_connected_shapes, input_stamp, same_point, scatter_matrix
 
 #: constraint entries (all families of a KSAggregate) above which it is matrix-free by default:
 #: declared partials keep a value, a row and a column index per entry, and OpenMDAO copies them
@@ -208,7 +208,7 @@ class KSOfPointwise:
             if self.options["ks_constraints"]:
                 self.add_constraint(ks, upper=0.0)
         # per pair a dense (nnz, input size) 0/1 matrix: the nonzeros' columns (a few per point)
-        self._ks_scatter = [_scatter(c, sizes[i]).toarray() for (_, c, _, _, _), (_, i)
+        self._ks_scatter = [scatter_matrix(c, sizes[i]).toarray() for (_, c, _, _, _), (_, i)
                             in zip(self._pair_patterns, self._pairs)]
         for oname, iname in self._pairs:
             size = (n_last if self._shared[iname] else n) * sizes[iname]
@@ -227,12 +227,12 @@ class KSOfPointwise:
             m, w, s = shifted_exp(g, rho)
             outputs[self._ks_names[v.name]] = float(m + np.log(s) / rho)
             self._ks_weights[v.name] = (w / s).reshape(n, v.size)
-        self._ks_point = _stamp(inputs)
+        self._ks_point = input_stamp(inputs)
 
     def _weights_at(self, inputs) -> dict:
         """dKS/dg per output, (points, size), of the last compute; recomputed when the inputs
         are not those of the last compute (recognised by their stamps)."""
-        if not _same_point(self._ks_point, inputs):
+        if not same_point(self._ks_point, inputs):
             rho, n = self.options["ks_rho"], self.num_points
             vals = self._evaluate("f", self._f, inputs) if self._chunk == n else None
             if vals is None:
@@ -242,7 +242,7 @@ class KSOfPointwise:
                         d[p0:p1] = c
             for v, g in zip(self._out_vars, vals):
                 self._ks_weights[v.name] = ks_gradient(g, rho).reshape(n, v.size)
-            self._ks_point = _stamp(inputs)
+            self._ks_point = input_stamp(inputs)
         return self._ks_weights
 
     def compute_partials(self, inputs, partials):

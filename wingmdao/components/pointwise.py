@@ -209,7 +209,7 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
             r, c = data["pair_r"][ptr[j]:ptr[j + 1]], data["pair_c"][ptr[j]:ptr[j + 1]]
             shared = self._shared[iname]
             if self.matrix_free:   # the scatter matrices serve the matrix-free products only
-                self._pair_patterns.append((r, c, _scatter(r, sizes[oname]), _scatter(c, sizes[iname]), shared))
+                self._pair_patterns.append((r, c, scatter_matrix(r, sizes[oname]), scatter_matrix(c, sizes[iname]), shared))
                 continue
             self._pair_patterns.append((r, c, None, None, shared))
             if not self.declares_point_partials():
@@ -347,9 +347,9 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
         """The chunks of :meth:`_jacobian_chunks`. A second product at the same inputs keeps
         them (when they take at most ``POINTWISE_JAC_CACHE_BYTES``) for the following ones; a
         single product (one reverse seed: one KS output per case) keeps nothing. The inputs are
-        recognised by their stamps (:func:`_same_point`), not a copy of a long history."""
-        if not _same_point(self._jac_point, inputs):
-            self._jac_point, self._jac_values = _stamp(inputs), None
+        recognised by their stamps (:func:`same_point`), not a copy of a long history."""
+        if not same_point(self._jac_point, inputs):
+            self._jac_point, self._jac_values = input_stamp(inputs), None
             return self._jacobian_chunks(inputs)
         if self._jac_values is None and self._jac_bytes <= POINTWISE_JAC_CACHE_BYTES:
             self._jac_values = list(self._jacobian_chunks(inputs, keep=True))
@@ -396,24 +396,61 @@ def _mapped(fun, m):
     return fun.map(m, "serial") if m > 1 else fun
 
 
-def _stamp(inputs) -> dict:
+def input_stamp(inputs) -> dict:
     """Identity of an input point: per variable name its :class:`~wingmdao.utils.digest.ArrayStamp`,
     always a digest: the per-step inputs of a long history can each be below the copy limit
     (internal loads of 20 stations x 4001 steps: 1.9 MB) but are many, and their copies would add
-    up at the size where memory counts."""
+    up at the size where memory counts.
+
+    Parameters
+    ----------
+    inputs : mapping
+        ``{name: array}`` of a component's inputs (their units).
+
+    Returns
+    -------
+    dict
+        ``{name: ArrayStamp}``, for :func:`same_point`.
+    """
     return {k: ArrayStamp(v, copy_below=0) for k, v in inputs.items()}
 
 
-def _same_point(stamp, inputs) -> bool:
-    """Whether ``inputs`` are the point of ``stamp`` (:func:`_stamp`; None: no point yet)."""
+def same_point(stamp, inputs) -> bool:
+    """Whether ``inputs`` are the point of ``stamp``.
+
+    Parameters
+    ----------
+    stamp : dict or None
+        :func:`input_stamp` of an earlier point; None: no point yet.
+    inputs : mapping
+        ``{name: array}`` of the current inputs (their units).
+
+    Returns
+    -------
+    bool
+        True when the names and every array's contents match.
+    """
     if stamp is None:
         return False
     items = list(inputs.items())
     return [k for k, _ in items] == list(stamp) and all(stamp[k].matches(v) for k, v in items)
 
 
-def _scatter(index, size):
-    """Sparse (len(index), size) matrix with a one at (k, index[k])."""
+def scatter_matrix(index, size):
+    """The selection matrix of ``index``.
+
+    Parameters
+    ----------
+    index : sequence of int
+        Column picked by each row.
+    size : int
+        Number of columns.
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix, shape (len(index), size)
+        A one at (k, index[k]), zeros elsewhere.
+    """
     m = len(index)
     return sp.csr_matrix((np.ones(m), (np.arange(m), index)), shape=(m, size))
 

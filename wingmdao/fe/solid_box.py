@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from wingmdao.fe.box_model import WALLS, ShellBox, span_lines
+from wingmdao.fe.box_model import WALLS, ShellBox, span_lines, BoxSections
 from wingmdao.fe.calculix import Deck
 
 #: C3D20R corners in (z index, x index) offsets: xi along z, eta along x, zeta along y (right-handed).
@@ -162,7 +162,5 @@ def _station_weights(jj, grid, nodes, m, nc, nh):
 def streamwise_sections(sections, cos_sweep, cos_dihedral):
     """The BoxSections with streamwise wall thicknesses from beam-normal ones (spars / cos sweep,
     skins / cos dihedral, per section)."""
-    from wingmdao.fe.box_model import BoxSections
-
     t = {w: sections.thickness[w] / (cos_sweep if "spar" in w else cos_dihedral) for w in WALLS}
     return BoxSections(sections.centres, sections.widths, sections.heights, t)

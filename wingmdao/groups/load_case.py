@@ -6,6 +6,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from wingmdao.beam.residual import StrainRateDamping
+
 STRESS_FAMILIES = ("vm", "ss_tension", "ss_compression", "cent_pos", "cent_neg")
 #: shorthands accepted by every ``--families`` list: both signs of a family
 FAMILY_GROUPS = {"ss": ("ss_tension", "ss_compression"), "cent": ("cent_pos", "cent_neg")}
@@ -71,8 +73,6 @@ class LoadCase:
         if bad:
             raise ValueError(f"load case {self.name}: unknown stress families {bad}; valid: {', '.join(STRESS_FAMILIES)}")
         if self.damping is not None:
-            from wingmdao.beam.residual import StrainRateDamping
-
             if not isinstance(self.damping, StrainRateDamping):
                 raise ValueError(f"load case {self.name}: damping must be a StrainRateDamping, got {self.damping!r}")
         if self.aero is not None:

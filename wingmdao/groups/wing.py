@@ -42,6 +42,15 @@ from wingmdao.components.ks import KSAggregate
 from wingmdao.components.load_gradient import InternalForceGradient
 from wingmdao.components.mass import StructuralMass
 from wingmdao.components.station_map import StationMap
+from wingmdao.aero.coupled import AERO_FORCING_META, AERO_FORCING_SHAPES
+from wingmdao.aero.system import aero_param_specs, cached_aeroelastic_system, control_param_specs
+from wingmdao.beam.static import cached_beam_system
+from wingmdao.components.aeroelastic import AeroelasticBeamDynamics, PitchBodyProperties, PlungeBodyMass
+from wingmdao.components.panels import PanelFailure, RibMass, SizingRules, StiffenedBoxSection
+from wingmdao.components.section import BoxSection, SolidRectSection
+from wingmdao.components.solid_stress import SolidRectStress
+from wingmdao.components.state_slice import BeamStateSlice
+from wingmdao.components.stress import BoxStress
 
 #: Inputs the beam takes from the section, with the section output that feeds it.
 SECTION_TO_BEAM = ("stiffness_csn", "compliance_csn", "mass_per_length", "inertia_per_length")
@@ -64,19 +73,10 @@ BOX_KINDS = ("box", "stiffened")
 
 def _section_classes(kind):
     if kind == "box":
-        from wingmdao.components.section import BoxSection
-        from wingmdao.components.stress import BoxStress
-
         return BoxSection, BoxStress
     if kind == "stiffened":
-        from wingmdao.components.panels import StiffenedBoxSection
-        from wingmdao.components.stress import BoxStress
-
         return StiffenedBoxSection, BoxStress
     if kind == "solid":
-        from wingmdao.components.section import SolidRectSection
-        from wingmdao.components.solid_stress import SolidRectStress
-
         return SolidRectSection, SolidRectStress
     raise ValueError(f"section must be one of {', '.join(SECTION_KINDS)}, got {kind!r}")
 
@@ -130,8 +130,6 @@ def set_case_loads(prob: om.Problem, case: LoadCase, num_nodes: int, path: str =
     for name, (units, _) in (FORCING_META.items() if forcing else ()):
         prob.set_val(prefix + name, case.forcing_array(name, num_nodes), units=units)
     if case.aero is not None:  # coupled case: its aerodynamic forcing and parameters
-        from wingmdao.aero.coupled import AERO_FORCING_META
-
         for name, (units, _) in AERO_FORCING_META.items():
             if (name != "trim_active" or case.aero.trim) and (name != "tail_gust_velocity" or case.aero.pitch):
                 prob.set_val(prefix + name, case.forcing_array(name, num_nodes), units=units)
@@ -200,17 +198,12 @@ class WingStructure(om.Group):
         if aero is not None:
             # coupled case: the aeroelastic beam (unsteady strip theory) in place of BeamDynamics;
             # its aerodynamic parameters and forcing are promoted inputs of the case
-            from wingmdao.aero.coupled import AERO_FORCING_SHAPES
-            from wingmdao.aero.system import aero_param_specs
-            from wingmdao.components.aeroelastic import AeroelasticBeamDynamics
 
             if case.damping is not None and not case.damping.is_zero:
                 raise ValueError(f"load case {case.name}: structural damping is not available with aero")
             beam = AeroelasticBeamDynamics(num_nodes=n, time=case.time, plunge=bool(aero.plunge),
                                            trim=bool(aero.trim), aero_theory=aero.residual_theory)
             if aero.pitch or aero.controls is not None:  # free pitch (wingmdao.aero.pitch), control surfaces
-                from wingmdao.aero.system import cached_aeroelastic_system
-
                 beam.options["system"] = cached_aeroelastic_system(n, plunge=bool(aero.plunge), trim=bool(aero.trim),
                                                                    pitch=bool(aero.pitch),
                                                                    tail_lag=bool(aero.pitch and aero.tail_lag),
@@ -225,20 +218,14 @@ class WingStructure(om.Group):
             extra += ["trim_lift"] if aero.trim and not aero.plunge else []
             extra += ["lift_influence", "moment_influence"] if aero.residual_theory == "vlm" else []
             if aero.controls is not None:  # the law's matrices (the gains) and the open-loop command
-                from wingmdao.aero.system import control_param_specs
-
                 extra += [s.name for s in control_param_specs(aero.controls)] + ["surface_command"]
             if aero.pitch:  # body mass, first moment, pitch inertia, tail position from the aircraft inputs
-                from wingmdao.components.aeroelastic import PitchBodyProperties
-
                 self.add_subsystem("pitch_body", PitchBodyProperties(num_nodes=n, trim_load_factor=aero.trim_load_factor()),
                                    promotes_inputs=["aircraft_mass", "aircraft_cg", "aircraft_pitch_inertia", "tail_arm",
                                                     "mass_per_length", "node_positions"])
                 for k in ("body_mass", "body_first_moment", "body_pitch_inertia", "tail_x", "trim_lift"):
                     self.connect(f"pitch_body.{k}", f"beam.{k}")
             elif aero.plunge:  # the plunge mass (and trim lift) from the promoted input aircraft_mass
-                from wingmdao.components.aeroelastic import PlungeBodyMass
-
                 n_trim = aero.trim_load_factor() if aero.trim else None
                 self.add_subsystem("plunge_mass", PlungeBodyMass(num_nodes=n, trim_load_factor=n_trim),
                                    promotes_inputs=["aircraft_mass", "mass_per_length", "node_positions"])
@@ -247,8 +234,6 @@ class WingStructure(om.Group):
                     self.connect("plunge_mass.trim_lift", "beam.trim_lift")
         else:
             if case.damping is not None and not case.damping.is_zero:
-                from wingmdao.beam.static import cached_beam_system
-
                 beam_kwargs["system"] = cached_beam_system(n, beam_kwargs.get("euler_sequence", "surface"),
                                                            case.damping)
             beam = BeamDynamics(**beam_kwargs)
@@ -265,8 +250,6 @@ class WingStructure(om.Group):
                 self.connect(f"loads.{name}", f"beam.{name}")
 
         if aero is not None:
-            from wingmdao.components.state_slice import BeamStateSlice
-
             shape = tuple(beam.build_system().state_shape)
             self.add_subsystem("beam_states", BeamStateSlice(num_times=nt, num_nodes=n, state_shape=shape),
                                promotes_inputs=["states"])
@@ -306,8 +289,6 @@ class WingStructure(om.Group):
     def _add_panel_failure(self, nt, n) -> dict:
         """The panel failure ratios of the stiffened box (PanelFailure) with the KS aggregate of
         each family (promoted ``ks_<family>``); returns their families' points per station."""
-        from wingmdao.components.panels import PanelFailure
-
         layout = self.options["panels"]
         if layout is None:
             raise ValueError("WingStructure: section 'stiffened' needs the panels option (a PanelLayout)")
@@ -460,8 +441,6 @@ class WingSizing(om.Group):
 
     def _add_panel_parts(self, n, layout, design, mapped):
         """Ribs' mass, total mass (box + ribs) and the linear sizing rules of the stiffened box."""
-        from wingmdao.components.panels import RibMass, SizingRules
-
         ribs = self.options["rib_weights"] if self.options["rib_weights"] is not None else np.zeros(n)
         self.add_subsystem("rib_mass_calc", RibMass(num_nodes=n, rib_weights=np.asarray(ribs, dtype=float),
                                                     rib_thickness=layout.rib_thickness,

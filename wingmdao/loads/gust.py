@@ -38,7 +38,33 @@ _KUSSNER_B = (0.13, 1.0)
 
 
 # ============================================================================ 25.341 numbers
-def _check_range(name, value, lo, hi, unit, lo_open=False):
+def check_range(name, value, lo, hi, unit, lo_open=False):
+    """``value`` as a float, checked to lie in ``[lo, hi]`` (``(lo, hi]`` with ``lo_open``), with a
+    relative tolerance at the bounds.
+
+    Parameters
+    ----------
+    name : str
+        The flag or input named in the error (e.g. ``"--altitude-ft"``).
+    value : float
+        The value, in ``unit``.
+    lo, hi : float
+        The allowed range, in ``unit``.
+    unit : str
+        The unit named in the error.
+    lo_open : bool
+        Whether ``lo`` itself is excluded.
+
+    Returns
+    -------
+    float
+        ``value``.
+
+    Raises
+    ------
+    ValueError
+        Naming ``name``, the value and the allowed range, for a value outside it or not finite.
+    """
     v = float(value)
     tol = _RANGE_TOL * max(abs(lo), abs(hi), 1.0)
     ok_lo = v > lo if lo_open else v >= lo - tol
@@ -53,7 +79,7 @@ def reference_gust_velocity_eas(altitude_ft: float, at_vd: bool = False) -> floa
 
     Linear in altitude between the table points; half of it at V_D (``at_vd``).
     """
-    h = _check_range("altitude_ft", altitude_ft, *ALTITUDE_RANGE_FT, "ft")
+    h = check_range("altitude_ft", altitude_ft, *ALTITUDE_RANGE_FT, "ft")
     alt, u = zip(*U_REF_TABLE_FT)
     u_ref_fps = float(np.interp(h, alt, u))
     return (0.5 if at_vd else 1.0) * u_ref_fps * FT
@@ -67,10 +93,10 @@ def flight_profile_alleviation_factor(
     F_gz = 1 - Z_mo / 250 000 ft, F_gm = sqrt(R2 tan(pi R1 / 4)), R1 = MLW/MTOW,
     R2 = MZFW/MTOW; F_g = 1 at and above Z_mo.
     """
-    h = _check_range("altitude_ft", altitude_ft, *ALTITUDE_RANGE_FT, "ft")
-    z_mo = _check_range("z_mo_ft", z_mo_ft, 0.0, ALTITUDE_RANGE_FT[1], "ft", lo_open=True)
-    r1 = _check_range("mlw_over_mtow (R1)", mlw_over_mtow, 0.0, 1.0, "", lo_open=True)
-    r2 = _check_range("mzfw_over_mtow (R2)", mzfw_over_mtow, 0.0, 1.0, "", lo_open=True)
+    h = check_range("altitude_ft", altitude_ft, *ALTITUDE_RANGE_FT, "ft")
+    z_mo = check_range("z_mo_ft", z_mo_ft, 0.0, ALTITUDE_RANGE_FT[1], "ft", lo_open=True)
+    r1 = check_range("mlw_over_mtow (R1)", mlw_over_mtow, 0.0, 1.0, "", lo_open=True)
+    r2 = check_range("mzfw_over_mtow (R2)", mzfw_over_mtow, 0.0, 1.0, "", lo_open=True)
     f_gz = 1.0 - z_mo / 250000.0
     f_gm = np.sqrt(r2 * np.tan(np.pi * r1 / 4.0))
     f_sea_level = 0.5 * (f_gz + f_gm)
@@ -83,8 +109,8 @@ def design_gust_velocity_eas(
     gust_gradient_ft: float, altitude_ft: float, alleviation_factor: float, at_vd: bool = False
 ) -> float:
     """U_ds = U_ref F_g (H / 350 ft)^(1/6) (m/s EAS), Eq. 5.2 / 25.341(a)(4)."""
-    h_grad = _check_range("gust_gradient_ft (H)", gust_gradient_ft, *GRADIENT_RANGE_FT, "ft")
-    f_g = _check_range("alleviation_factor (F_g)", alleviation_factor, 0.0, 1.0, "", lo_open=True)
+    h_grad = check_range("gust_gradient_ft (H)", gust_gradient_ft, *GRADIENT_RANGE_FT, "ft")
+    f_g = check_range("alleviation_factor (F_g)", alleviation_factor, 0.0, 1.0, "", lo_open=True)
     return reference_gust_velocity_eas(altitude_ft, at_vd) * f_g * (h_grad / 350.0) ** (1.0 / 6.0)
 
 
@@ -202,12 +228,12 @@ def lift_curve_slope(
     C_L_a = 2 pi A / (2 + sqrt(A^2 beta^2 / kappa^2 (1 + tan^2 Lambda_c/2 / beta^2) + 4)),
     kappa = c_l_a / (2 pi).
     """
-    _check_range("mach", mach, 0.0, 0.85, "")
-    _check_range("section_cl_alpha", section_cl_alpha, 0.0, 4.0 * np.pi, "1/rad", lo_open=True)
+    check_range("mach", mach, 0.0, 0.85, "")
+    check_range("section_cl_alpha", section_cl_alpha, 0.0, 4.0 * np.pi, "1/rad", lo_open=True)
     beta = np.sqrt(1.0 - mach**2)
     if aspect_ratio is None:
         return float(section_cl_alpha / beta)
-    a = _check_range("aspect_ratio", aspect_ratio, 0.0, 1.0e3, "", lo_open=True)
+    a = check_range("aspect_ratio", aspect_ratio, 0.0, 1.0e3, "", lo_open=True)
     kappa = section_cl_alpha / (2.0 * np.pi)
     tan2 = np.tan(sweep_half_chord_rad) ** 2
     return float(2.0 * np.pi * a / (2.0 + np.sqrt(a**2 * beta**2 / kappa**2 * (1.0 + tan2 / beta**2) + 4.0)))
@@ -266,10 +292,10 @@ def gust_line_loads(
     r, c, xb = check_strip_geometry(node_positions, chord, beam_axis_fraction, cp_fraction)
     t = _check_time(time)
     h_lo, h_hi = (g * FT for g in GRADIENT_RANGE_FT)
-    _check_range("gust_gradient_m (H)", gust_gradient_m, h_lo, h_hi, "m")
-    _check_range("u_ds_eas", u_ds_eas, 0.0, 60.0, "m/s")
-    _check_range("airspeed_tas", airspeed_tas, 0.0, 400.0, "m/s", lo_open=True)
-    _check_range("cl_alpha", cl_alpha, 0.0, 4.0 * np.pi, "1/rad", lo_open=True)
+    check_range("gust_gradient_m (H)", gust_gradient_m, h_lo, h_hi, "m")
+    check_range("u_ds_eas", u_ds_eas, 0.0, 60.0, "m/s")
+    check_range("airspeed_tas", airspeed_tas, 0.0, 400.0, "m/s", lo_open=True)
+    check_range("cl_alpha", cl_alpha, 0.0, 4.0 * np.pi, "1/rad", lo_open=True)
     if direction not in (1, -1):
         raise ValueError(f"direction = {direction}; allowed +1 (up gust) or -1 (down gust)")
     if not np.isfinite(gust_start_time):

@@ -69,6 +69,8 @@ from wingmdao.loads.turbulence_analysis import coupled_gust_model, strip_gust_mo
 from wingmdao.stability.frequency import LOAD_NAMES, LOAD_UNITS, frequency_grid, frequency_response, spectral_integral
 from wingmdao.timemarch.bdf import solve_static
 from wingmdao.timemarch.system import layout, pack
+from wingmdao.cases.planform import wing_geometry
+from wingmdao.parallel import assign_cases
 
 #: the six internal loads of every station, csn frame (c chordwise, s along the beam, n normal)
 COMPONENTS = LOAD_NAMES
@@ -467,8 +469,6 @@ def fuel_mass_per_length(width, height, node_positions, semi_span, fuel_span, ha
 def build_wing_model(module, matrix: LoadsMatrix, thickness: dict | None = None) -> WingModel:
     """The wing of case ``module`` (its ``flutter_planform``, ``ENGINES``, ``beam_params``) at
     ``matrix.num_nodes`` nodes; ``thickness`` {wall: (n,) m} (default the initial design)."""
-    from wingmdao.cases.planform import wing_geometry
-
     n = matrix.num_nodes
     pf = module.flutter_planform(n)
     geo, chord, frac = wing_geometry(pf, module.ENGINES)
@@ -706,8 +706,6 @@ def evaluate_cases(module, model: WingModel, cases, *, comm=None, progress=sys.s
     communicator) the cases are split over its ranks (:func:`wingmdao.parallel.assign_cases`) and
     gathered on every rank. Ctrl-C (KeyboardInterrupt) stops the loop and returns what is done
     with ``interrupted`` True (under MPI every rank receives the signal and reaches the gather)."""
-    from wingmdao.parallel import assign_cases
-
     cases = list(cases)
     mine = cases if comm is None else [cases[i] for i in assign_cases(cases, comm.size)[comm.rank]]
     results, interrupted = {}, False

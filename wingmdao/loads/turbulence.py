@@ -44,7 +44,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from wingmdao.loads.atmosphere import FT
-from wingmdao.loads.gust import _check_range, flight_profile_alleviation_factor
+from wingmdao.loads.gust import check_range, flight_profile_alleviation_factor
 from wingmdao.stability.frequency import check_frequencies, spectral_integral
 
 #: 25.341(b)(2): the scale of turbulence L (ft), and the von Karman constant 1.339
@@ -168,7 +168,7 @@ def synthesize_vertical_turbulence(n_steps, dt, airspeed, sigma=1.0, scale_m=SCA
 def reference_turbulence_intensity(altitude_ft: float) -> float:
     """U_sigma_ref (m/s TAS), 25.341(b)(3)(i): 90 ft/s at sea level, linear to 79 ft/s at 24,000 ft,
     79 ft/s up to 60,000 ft; ValueError outside 0-60,000 ft."""
-    h = _check_range("altitude_ft", altitude_ft, *ALTITUDE_RANGE_FT, "ft")
+    h = check_range("altitude_ft", altitude_ft, *ALTITUDE_RANGE_FT, "ft")
     alt, u = zip(*U_SIGMA_REF_TABLE_FT)
     return float(np.interp(h, alt, u)) * FT
 
@@ -179,10 +179,10 @@ def turbulence_intensity(u_sigma_ref: float, f_g: float, speed: float, v_c: floa
     speed in (0, V_D]."""
     if not (np.isfinite(u_sigma_ref) and u_sigma_ref > 0):
         raise ValueError(f"u_sigma_ref = {u_sigma_ref} m/s; allowed range (0, inf) m/s")
-    _check_range("f_g (flight profile alleviation factor)", f_g, 0.0, 1.0, "", lo_open=True)
+    check_range("f_g (flight profile alleviation factor)", f_g, 0.0, 1.0, "", lo_open=True)
     if not (np.isfinite(v_c) and np.isfinite(v_d) and 0 < v_c < v_d):
         raise ValueError(f"V_C = {v_c}, V_D = {v_d}; need 0 < V_C < V_D (same units)")
-    v = _check_range("speed", speed, 0.0, v_d, "(the unit of V_C, V_D)", lo_open=True)
+    v = check_range("speed", speed, 0.0, v_d, "(the unit of V_C, V_D)", lo_open=True)
     frac = min(max((v - v_c) / (v_d - v_c), 0.0), 1.0)
     return float(u_sigma_ref * f_g * (1.0 - 0.5 * frac))
 

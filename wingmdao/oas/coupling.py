@@ -31,6 +31,9 @@ import numpy as np
 import openmdao.api as om
 from wingmdao.materials import Material
 from wingmdao.section.box import WALL_NAMES
+from wingmdao.components.beam import BeamStatic
+from wingmdao.components.section import BoxSection
+from wingmdao.groups.wing import SECTION_OFFSETS, add_section_offsets
 
 POLAR = np.array([1.0, -1.0, 1.0])
 AXIAL = np.array([-1.0, 1.0, -1.0])
@@ -194,8 +197,6 @@ class OASBeamStates(om.Group):
                                   "(OpenAeroStruct's wingbox geometry) instead of the options")
 
     def setup(self):
-        from wingmdao.components.beam import BeamStatic
-        from wingmdao.components.section import BoxSection
         from wingmdao.mphys.builder import SECTION_TO_BEAM, STATES, jig_euler_angles
 
         fem = np.asarray(self.options["fem_nodes"], dtype=float)
@@ -228,7 +229,6 @@ class OASBeamStates(om.Group):
         self.add_subsystem("thickness", OASThicknessToBox(num_nodes=n), promotes=["*"])
         self.add_subsystem("section", BoxSection(num_stations=n, material=self.options["material"]),
                            promotes_inputs=["width", "height", *WALL_NAMES])
-        from wingmdao.groups.wing import SECTION_OFFSETS, add_section_offsets
 
         add_section_offsets(self, n, source="section.")
         for out in SECTION_OFFSETS:

@@ -30,7 +30,7 @@ from wingmdao.components.stress import BoxStress
 from wingmdao.groups.wing import stress_points
 from wingmdao.materials import Material
 from wingmdao.oas.problems import aerostruct_problem, rect_wingbox_surface
-from wingmdao.optimize import SolverIterationCounter
+from wingmdao.optimize import SolverIterationCounter, ProgressPrinter
 from wingmdao.section.box import WALL_NAMES
 
 #: Flight points of the problem (OpenAeroStruct's wingbox multipoint example):
@@ -171,8 +171,6 @@ def solve_crm(prob, counter=None, *, analysis_only=False, maxiter=40, tol=1e-6, 
     if counter is not None:
         prob.driver.add_recorder(counter)
     if progress:
-        from wingmdao.optimize import ProgressPrinter
-
         prob.driver.add_recorder(ProgressPrinter(objective="fuelburn", units="kg"))
     prob.final_setup()
     res = prob.run_driver()   # om DriverResult: SLSQP major iterations = gradient evaluations

@@ -32,9 +32,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from wingmdao.materials import Material, get_material
+from wingmdao.materials import MATERIALS, Material, get_material
 from wingmdao.panels import buckling as bk
-from wingmdao.panels.laminate import (PLY_ANGLES, PlyMaterial, check_ply_fractions, get_ply_material,
+from wingmdao.panels.laminate import (PLY_ANGLES, PLY_MATERIALS, PlyMaterial, check_ply_fractions, get_ply_material,
                                       isotropic_abd, laminate_moduli, q_matrix, smeared_abd)
 from wingmdao.section.box import select, sqrt
 
@@ -115,9 +115,6 @@ def panel_material(material, ply_fractions=None) -> PanelMaterial:
             try:
                 material = get_material(key)
             except ValueError:
-                from wingmdao.materials import MATERIALS
-                from wingmdao.panels.laminate import PLY_MATERIALS
-
                 raise ValueError(f"--material = {material!r}: unknown; valid: metals {', '.join(MATERIALS)}; "
                                  f"ply materials {', '.join(PLY_MATERIALS)}") from None
     return PanelMaterial(material, None if ply_fractions is None else tuple(ply_fractions))

@@ -28,23 +28,34 @@ WALL_NAMES = ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")
 CORNERS = ((-1, -1), (1, -1), (1, 1), (-1, 1))
 
 
-def _is_symbolic(*xs) -> bool:
+def is_symbolic(*xs) -> bool:
+    """Whether any of ``xs`` is a CasADi expression (``SX`` or ``MX``) rather than a number or array.
+
+    Parameters
+    ----------
+    *xs : object
+        The values to test.
+
+    Returns
+    -------
+    bool
+    """
     return any(isinstance(x, (ca.SX, ca.MX)) for x in xs)
 
 
 def select(condition, if_true, if_false):
     """Elementwise ``if_true if condition else if_false`` for numpy and CasADi."""
-    if _is_symbolic(condition, if_true, if_false):
+    if is_symbolic(condition, if_true, if_false):
         return ca.if_else(condition, if_true, if_false)
     return np.where(condition, if_true, if_false)
 
 
 def tanh(x):
-    return ca.tanh(x) if _is_symbolic(x) else np.tanh(x)
+    return ca.tanh(x) if is_symbolic(x) else np.tanh(x)
 
 
 def sqrt(x):
-    return ca.sqrt(x) if _is_symbolic(x) else np.sqrt(x)
+    return ca.sqrt(x) if is_symbolic(x) else np.sqrt(x)
 
 
 # --------------------------------------------------------------------------- walls
@@ -295,7 +306,7 @@ def beam_data(props: dict, material, section_to_csn=None, nonstructural_mass_per
     """
     E, G, rho = material.E, material.G, material.rho
     i_xx, i_zz, i_xz = props["Ixx"], props["Izz"], props["Ixz"]
-    symbolic = _is_symbolic(i_xx, i_zz, i_xz, section_to_csn, nonstructural_mass_per_length)
+    symbolic = is_symbolic(i_xx, i_zz, i_xz, section_to_csn, nonstructural_mass_per_length)
     zero = 0.0 * i_xx
     out = dict(props)
     out["EA"] = E * props["A"]

@@ -7,6 +7,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from wingmdao.aero.strip import check_aero_inputs
+from wingmdao.stability.eigen import critical_speeds, sweep
+from wingmdao.timemarch.system import layout, pack
+
 #: cases with beam + aerodynamic data (module in wingmdao.cases with beam_params and aero_data)
 FLUTTER_CASES = ("goland", "hale", "pegasus")
 #: sparse shift-invert settings: shift near the flutter frequency, eigenvalues kept, Arnoldi basis
@@ -45,8 +49,6 @@ class FlutterProblem:
         """Packed (p, q) at airspeed V (m/s): clamped root, no gravity, zero angle of attack.
         Only the airspeed and Mach number depend on V: the first call packs everything, later ones
         copy that and set those two entries (new arrays each call)."""
-        from wingmdao.aero.strip import check_aero_inputs
-
         if self._packed is None:
             self._packed = self._pack_at(V)
         p, q, lay, theory_parameters = self._packed
@@ -64,7 +66,6 @@ class FlutterProblem:
     def _pack_at(self, V):
         from wingmdao.aero import system as aero_system
         from wingmdao.beam.static import beam_forcing
-        from wingmdao.timemarch.system import layout, pack
 
         n = self.num_nodes
         a = aero_system.aero_parameters(n, chord=self.aero["chord"], ref_point=self.aero["ref_point"],
@@ -169,8 +170,6 @@ def flutter_search(name: str, num_nodes: int | None = None, thickness: dict | No
     """Sweep and refined flutter / divergence speeds of case ``name`` (thicknesses: PEGASUS);
     returns ``{"flutter_speed", "flutter_frequency", "divergence_speed", "sweep_max_speed", "sweep"}``
     (speeds None when not reached below the sweep's end ``sweep_max_speed``, m/s)."""
-    from wingmdao.stability.eigen import critical_speeds, sweep
-
     prob = flutter_problem(name, num_nodes, thickness, panels)
     v = prob.speeds if speeds is None else np.asarray(speeds, dtype=float)
     res = sweep(prob.system, prob.params_at, v, n_track=int(n_modes), weights=prob.beam_weights(),

@@ -41,6 +41,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from wingmdao.timemarch.system import derived
+from wingmdao.utils import casadi_cache as cc
+from wingmdao.utils.casadi_cache import JitCall, definition_key
 
 #: systems up to this many states use the dense QZ solver by default
 DENSE_MAX_STATES = 800
@@ -78,8 +80,6 @@ class _PencilFunction:
     dense input and output shapes (:func:`_signature`)."""
 
     def __init__(self, system):
-        from wingmdao.utils import casadi_cache as cc
-
         f = system.residual_function
         n, npar, nq = system.n_state, system.n_param, system.n_forcing
         self.n = n
@@ -92,8 +92,6 @@ class _PencilFunction:
 
     def _cached(self, pats, n, npar, nq):
         """The precompiled call from the cache and the patterns from ``pats``, or None (a miss)."""
-        from wingmdao.utils import casadi_cache as cc
-
         patterns = []
         for k in ("x", "xdot"):
             rows, cols, shape = pats[k]
@@ -110,10 +108,6 @@ class _PencilFunction:
         return cc.precompiled_call(hit, PENCIL_JIT_THRESHOLD, definition=self.definition)
 
     def _build(self, f, n, npar, nq):
-        import casadi as ca
-
-        from wingmdao.utils.casadi_cache import JitCall
-
         x, xd = ca.SX.sym("x", n), ca.SX.sym("xdot", n)
         p, q = ca.SX.sym("p", npar), ca.SX.sym("q", nq)
         R = f(x, xd, p, q)
@@ -141,7 +135,6 @@ def derived_definition(system, builder: str, module: str) -> str:
     with the source of ``module``."""
     import hashlib
 
-    from wingmdao.utils.casadi_cache import definition_key
 
     base = getattr(system, "definition", None)
     if base is None:

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import casadi as ca
 
-from wingmdao.section.box import (CORNERS, _is_symbolic, box_area, box_centroid, box_enclosed_area,
+from wingmdao.section.box import (CORNERS, is_symbolic, box_area, box_centroid, box_enclosed_area,
                                   box_first_moments, box_inertia, box_midline, box_shear_centre, sqrt)
 
 #: Constraint families (docs/conventions.md) and their number of points per station.
@@ -33,7 +33,7 @@ def _to_section(rot, vec):
     """R^T v for a 3-vector (list of three scalars / arrays, or an SX column)."""
     if rot is None:
         return [vec[0], vec[1], vec[2]]
-    if _is_symbolic(rot, vec):
+    if is_symbolic(rot, vec):
         v = ca.mtimes(rot.T, vec)
         return [v[0], v[1], v[2]]
     return [sum(rot[..., j, i] * vec[j] for j in range(3)) for i in range(3)]

@@ -22,6 +22,7 @@ import threading
 from pathlib import Path
 
 from wingmdao.utils import casadi_cache as cc
+from wingmdao.utils.cache_admin import record_use
 from wingmdao.utils.warn_once import WarnOnce
 
 #: Flags of the kernels: small sources, so -O3 costs little compile time; no FMA contraction, so the kernels
@@ -115,8 +116,6 @@ def load(source: Path, name: str, flags=C_FLAGS, force: bool = False):
             path = compile_source(Path(source), name, flags)
             cc.verify(path)
             lib = ctypes.CDLL(str(path))
-            from wingmdao.utils.cache_admin import record_use
-
             record_use(path)      # its last use, for `wingmdao cache --prune`
         except Exception as exc:    # noqa: BLE001 - any failure: the caller's fallback
             _warn_once(name, exc, stacklevel=3)

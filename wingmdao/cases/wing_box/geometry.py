@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from wingmdao.beam.geometry import swept_dihedral_points
+
 SPANS = (3.0, 4.0, 3.0)                      # Table D.1, d1..d3 (m)
 HEIGHTS = (0.5, 0.5, 0.5, 0.5)               # Table D.1, h1..h4 (m)
 T_SPAR, T_SKIN = 0.2, 0.1                    # Table E.2 (m)
@@ -40,8 +42,6 @@ def geometry_data(name: str) -> dict:
 
 def section_centres(name: str) -> np.ndarray:
     """Centres of CS1..CS4 (4, 3), body axes, CS1 at the origin."""
-    from wingmdao.beam.geometry import swept_dihedral_points
-
     g = geometry_data(name)
     w = np.asarray(g["widths"])
     return swept_dihedral_points(SPANS, g["sweeps_deg"], g["dihedral_deg"], offsets_x=-0.5 * (w[:-1] - w[1:]))

@@ -13,6 +13,8 @@ import numpy as np
 from wingmdao.beam.geometry import polyline_beam
 from wingmdao.cases.wing_box.geometry import HEIGHTS, geometry_data, section_centres
 from wingmdao.materials import ALUMINIUM
+from wingmdao.cases import check_step_count
+from wingmdao.groups.load_case import LoadCase
 
 
 def wing_geometry(name: str, elements_per_segment=(1, 1, 1)):
@@ -44,8 +46,6 @@ def tip_load_case(name: str, num_nodes: int, tip_force, tip_moment, families, *,
     is the unloaded jig) and applied suddenly for t > 0 (``ramp_time`` = 0), or raised
     linearly to its full value over ``ramp_time`` seconds, then held constant.
     """
-    from wingmdao.groups.load_case import LoadCase
-
     if not (np.isfinite(ramp_time) and ramp_time >= 0):
         raise ValueError(f"ramp time = {ramp_time} s; allowed range [0, inf) s")
     t = np.zeros(1) if time is None else np.asarray(time, dtype=float)
@@ -72,7 +72,6 @@ def time_grid(t_final: float, dt: float) -> np.ndarray:
     """Uniform grid 0..t_final (s); ValueError unless 0 < dt <= t_final / 2."""
     if not (np.isfinite(t_final) and np.isfinite(dt) and t_final > 0 and 0 < dt <= t_final / 2):
         raise ValueError(f"--t-final ({t_final} s) and --dt ({dt} s): allowed 0 < dt <= t_final / 2")
-    from wingmdao.cases import check_step_count
 
     check_step_count(t_final, dt)
     return np.arange(0.0, t_final + 0.5 * dt, dt)

@@ -17,7 +17,7 @@ from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defa
 from wingmdao.cases.wing_box.geometry import GEOMETRIES
 from wingmdao.cases.wing_box.model import time_grid, tip_load_case, wing_geometry
 from wingmdao.materials import ALUMINIUM
-from wingmdao.groups.load_case import FAMILY_GROUPS
+from wingmdao.groups.load_case import FAMILY_GROUPS, parse_families
 
 #: Eq. 4.57 bounds (m). The skins' upper bound of 1.5 m exceeds the 0.5 m box height of
 #: Table D.1 (two skins must leave a web), so it is capped at SKIN_CAP (docs/cases.md).
@@ -74,8 +74,6 @@ def add_arguments(p):
 def parse_constraints(text) -> tuple:
     """Stress families of the ``--families`` list (the one vocabulary of every case,
     :func:`wingmdao.groups.load_case.parse_families`: family names and the ss / cent shorthands)."""
-    from wingmdao.groups.load_case import parse_families
-
     return parse_families(text)
 
 

@@ -14,6 +14,9 @@ from wingmdao.beam.geometry import polyline_beam, streamwise_section_to_csn, str
 from wingmdao.cases.wing_box.geometry import HEIGHTS, STATIONS, T_SKIN, T_SPAR, geometry_data, section_centres
 from wingmdao.materials import ALUMINIUM
 from wingmdao.section.box import WALL_NAMES, beam_params_from_rows, box_properties
+from scipy.spatial.transform import Rotation
+from wingmdao.beam.rotations import body_to_csn
+from wingmdao.section.fe import analyse_section, beam_properties_csn, box_mesh, isotropic
 
 
 def wing_box_beam(name: str, elements_per_segment=(6, 8, 6), t_spar=T_SPAR, t_skin=T_SKIN,
@@ -70,8 +73,6 @@ _FE_ROWS: dict = {}
 def _fe_box_row(w, h, t_spar, t_skin, material, mesh_size=0.05):
     """Beam data of a w x h box (spars t_spar, skins t_skin) from the section FE, in the
     ``box_properties`` row format (cached per distinct cut)."""
-    from wingmdao.section.fe import analyse_section, beam_properties_csn, box_mesh, isotropic
-
     key = tuple(round(float(v), 12) for v in (w, h, t_spar, t_skin)) + (material.name,)
     if key not in _FE_ROWS:
         mat = isotropic(material.E, material.nu, material.rho)
@@ -122,10 +123,6 @@ def station_summary(disp, rot) -> dict:
 
 def station_rotations(theta, theta0) -> np.ndarray:
     """Rotation vectors (rad, body axes) taking the jig frames T(theta0) to T(theta): R = T^T T0."""
-    from scipy.spatial.transform import Rotation
-
-    from wingmdao.beam.rotations import body_to_csn
-
     mats = [body_to_csn(t).T @ body_to_csn(t0) for t, t0 in zip(theta, theta0)]
     return Rotation.from_matrix(np.array(mats)).as_rotvec()
 

@@ -10,6 +10,8 @@ import casadi as ca
 import numpy as np
 from scipy.optimize import minimize
 
+from wingmdao.section.box import box_inertia, box_torsion_constant
+
 
 def box_stiffness(width, height, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, E, G):
     """[EI_cc, EI_nn, GJ] (N m^2) of the analytic box of ``wingmdao.section.box`` (App. F).
@@ -18,8 +20,6 @@ def box_stiffness(width, height, t_upper_skin, t_lower_skin, t_front_spar, t_rea
     EI about the centroid (exact rectangles, parallel axes), GJ by Bredt-Batho over the wall
     midlines. Works on floats or CasADi symbols.
     """
-    from wingmdao.section.box import box_inertia, box_torsion_constant
-
     walls = (t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar)
     i_xx, i_zz, _ = box_inertia(width, height, *walls)
     return E * i_xx, E * i_zz, G * box_torsion_constant(width, height, *walls)

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .mesh import SectionMesh, _n_span, airfoil_box_walls
+from .mesh import SectionMesh, span_divisions, airfoil_box_walls
 from .materials import ply_stiffness
 
 #: gmsh QUA9 node order -> tensor order 3 * j + i of wingmdao.section.fe.analysis.
@@ -102,8 +102,8 @@ def airfoil_box_mesh_gmsh(upper, lower, chord, front_spar, rear_spar, walls, twi
     inner_gap = levels[nL + 1](xq) - levels[nL](xq)
     if np.any(inner_gap <= 0):
         raise ValueError("upper + lower skin thickness exceeds the airfoil depth between the spars")
-    n_chord = _n_span(x_rear[0] - x_front[-1], h, 1)
-    n_midz = _n_span(float(np.min(inner_gap)), h)
+    n_chord = span_divisions(x_rear[0] - x_front[-1], h, 1)
+    n_midz = span_divisions(float(np.min(inner_gap)), h)
     col_n = [1] * nF + [n_chord] + [1] * nR
     row_n = [1] * nL + [n_midz] + [1] * nU
 

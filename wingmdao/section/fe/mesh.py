@@ -99,7 +99,23 @@ def _refine_edges(edges):
     return out
 
 
-def _n_span(length, mesh_size, minimum=2):
+def span_divisions(length, mesh_size, minimum=2):
+    """Number of elements along a length for a target element size.
+
+    Parameters
+    ----------
+    length : float
+        The length to divide (m).
+    mesh_size : float
+        The target element size (m).
+    minimum : int
+        The fewest elements.
+
+    Returns
+    -------
+    int
+        ``max(minimum, ceil(length / mesh_size))``.
+    """
     return max(minimum, int(np.ceil(length / mesh_size)))
 
 
@@ -153,14 +169,14 @@ def box_mesh(width, height, walls, n_thick=5, mesh_size=None, open_walls=(), cor
     xs, xc = [x0], []                      # xc: (kind, layer index) per x-cell
     if "front" in names:
         e, lay = fr["front"]; xs = list(x0 + e * tf); xc += [("front", k) for k in lay]
-    n_mid = _n_span(width - tf - tr, h)
+    n_mid = span_divisions(width - tf - tr, h)
     xs += list(np.linspace(x0 + tf, x1 - tr, n_mid + 1)[1:]); xc += [("mid", 0)] * n_mid
     if "rear" in names:
         e, lay = fr["rear"]; xs += list((x1 - e * tr)[::-1][1:]); xc += [("rear", k) for k in lay[::-1]]
     ys, yc = [y0], []
     if "lower" in names:
         e, lay = fr["lower"]; ys = list(y0 + e * tl); yc += [("lower", k) for k in lay]
-    n_mid = _n_span(height - tu - tl, h)
+    n_mid = span_divisions(height - tu - tl, h)
     ys += list(np.linspace(y0 + tl, y1 - tu, n_mid + 1)[1:]); yc += [("mid", 0)] * n_mid
     if "upper" in names:
         e, lay = fr["upper"]; ys += list((y1 - e * tu)[::-1][1:]); yc += [("upper", k) for k in lay[::-1]]
@@ -282,7 +298,7 @@ def airfoil_box_mesh(upper, lower, chord, front_spar, rear_spar, walls, twist_de
         xm = 0.5 * (x0 + x1)
         on = {sf: next((k for k, st in enumerate(str_list) if st["surface"] == sf and st["x0"] < xm < st["x1"]), -1)
               for sf in ("upper", "lower")}
-        n_iv = _n_span(x1 - x0, h, 2 if max(on.values()) >= 0 else 1)
+        n_iv = span_divisions(x1 - x0, h, 2 if max(on.values()) >= 0 else 1)
         xs += list(np.linspace(x0, x1, n_iv + 1)[1:]); xc += [("mid", (on["upper"], on["lower"]))] * n_iv
     e, lay = fr["rear"]; xs += list((xr + T["rear"] / 2 - e * T["rear"])[::-1][1:]); xc += [("rear", k) for k in lay[::-1]]
     xn = _refine_edges(xs)
@@ -300,7 +316,7 @@ def airfoil_box_mesh(upper, lower, chord, front_spar, rear_spar, walls, twist_de
     hmin = float(np.min(inner_u - inner_l)) - str_h["upper"] - str_h["lower"]
     if hmin <= 0:
         raise ValueError("stringers taller than the space between the skins")
-    n_midz = _n_span(hmin, h)
+    n_midz = span_divisions(hmin, h)
     n_s = {sf: (4 if str_h[sf] else 0) for sf in ("upper", "lower")}
     # vertical fractions per node column: lower skin, interior, upper skin
     cols = []
