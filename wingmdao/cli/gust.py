@@ -113,7 +113,7 @@ def run(args):
     from wingmdao.aero.gust_response import (GustFlight, coupled_gust_response, dlm_gust_response,
                                              strip_gust_response, wing_lift_slope)
     from wingmdao.aero.plunge import body_mass as plunge_body_mass, half_wing_mass
-    from wingmdao.cases import available_cases, case_beam_parameters
+    from wingmdao.cases import available_cases, case_beam_parameters, resolve_aero_theory
     from wingmdao.cases.planform import FT, G0, LB, wing_geometry
     from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
 
@@ -127,9 +127,12 @@ def run(args):
     if args.lifting_line:
         warn("--lifting-line is deprecated; use --aero-theory lifting-line (same meaning)")
         args.aero_theory = "lifting-line"
-    if args.aero == "strip" and args.aero_theory != "strip":
+    if args.aero_theory is None and args.model == "stick":  # the stick model's wing and tail are strips
+        args.aero_theory = "strip"
+    if args.aero == "strip" and args.aero_theory not in (None, "strip"):
         raise ValueError(f"--aero-theory {args.aero_theory} applies to --aero coupled (the precomputed --aero strip "
                          "loads use 2 pi)")
+    args.aero_theory = resolve_aero_theory(args.aero_theory, args.aero)
     _check_dlm_args(args, plunge)
     args.plunge = plunge == "free"
     args.pitch = args.pitch == "free"
