@@ -47,6 +47,21 @@ def test_cli_coupled_crm_refuses_a_transonic_mach(capsys):
     assert "error: --mach = 0.85; allowed range (0, 0.75]" in err and "Traceback" not in err
 
 
+@pytest.mark.parametrize("flags, match", [
+    (["--aero-theory", "strip"], "--aero-theory strip: not available for the crm case"),
+    (["--aero-theory", "dlm", "--clamped"], "--aero-theory dlm: not available for the crm case"),
+    (["--mach", "0.8"], r"--mach = 0.8; allowed range \(0, 0.75\]"),
+])
+def test_cli_gust_crm_coupled_bad_input(flags, match, capsys):
+    import re
+
+    from wingmdao.cli import main
+
+    assert main(["gust", "crm", "--aero", "coupled", "--no-plots", *flags]) == 2
+    err = capsys.readouterr().err
+    assert re.search(match, err) and "Traceback" not in err
+
+
 @pytest.mark.slow
 def test_stiff_crm_wing_carries_the_lattice_spanload():
     from wingmdao.aero import aero_parameters, cached_aeroelastic_system, three_dimensional_parameters

@@ -139,6 +139,11 @@ def run(args):
     _check_stick_args(args)
     _check_pitch_args(args)
     module = available_cases()[args.case]
+    swept = getattr(module, "COUPLED_THEORIES", None)  # a swept case: only the lattice follows its sweep
+    if args.aero == "coupled" and swept is not None and args.aero_theory not in swept:
+        raise ValueError(f"--aero-theory {args.aero_theory}: not available for the {args.case} case with --aero coupled "
+                         f"(its sweep: the strips take the streamwise chord with no sweep correction); allowed: "
+                         + ", ".join(swept))
     base = __import__("wingmdao.cases.pegasus", fromlist=["GUST"])
     gust = dict(base.GUST)
     H_ft = gust["gradient_ft"] if args.gradient_ft is None else args.gradient_ft
@@ -153,6 +158,10 @@ def run(args):
     mach = gust["mach"] if args.mach is None else args.mach
     if not 0.0 < mach < 1.0:
         raise ValueError(f"--mach = {mach}; allowed range (0, 1)")
+    top = getattr(module, "MAX_COUPLED_MACH", None)
+    if args.aero == "coupled" and top is not None and mach > top:
+        raise ValueError(f"--mach = {mach}; allowed range (0, {top:g}] for the {args.case} case with --aero coupled "
+                         "(above it the swept wing's flow is transonic: Prandtl-Glauert does not hold)")
     u_ref = gust["u_ref_fps"] if args.u_ref_fps is None else args.u_ref_fps
     if not (np.isfinite(u_ref) and 0 < u_ref <= MAX_U_REF_FPS):
         raise ValueError(f"--u-ref-fps = {u_ref} ft/s; allowed range (0, {MAX_U_REF_FPS:g}] ft/s EAS "
