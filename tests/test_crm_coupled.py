@@ -99,3 +99,27 @@ def test_stiff_crm_wing_carries_the_lattice_spanload():
     # the sweep matters: the swept lattice's root shear is below the unswept strips' 2 pi / beta
     strip = 0.5 * rho * V ** 2 * alpha * 2 * np.pi / np.sqrt(1 - mach ** 2) * np.trapezoid(chord, r0[:, 1])
     assert shear[0] < 0.75 * strip
+
+
+@pytest.mark.slow
+def test_cli_gust_crm_coupled_runs_with_the_lattice_slope(tmp_path):
+    """``wingmdao gust crm --aero coupled --clamped`` (short): it runs from the trimmed 1 g state, and
+    its wing lift slope is the lattice's CL_alpha summed directly over the panels at the gust Mach
+    number (2 sum L / (q S) of a unit incidence on every panel)."""
+    import json
+
+    from wingmdao.aero.vlm import build_lattice, solve_circulation
+    from wingmdao.cases.planform import FT, wing_geometry
+    from wingmdao.cli import main
+
+    out = tmp_path / "g.json"
+    assert main(["gust", "crm", "--aero", "coupled", "--clamped", "--t-final", "0.3", "--dt", "0.03",
+                 "--no-plots", "--json", str(out)]) == 0
+    r = json.loads(out.read_text())
+    assert r["aero_theory"] == "vlm"
+    np.testing.assert_allclose(r["load_factor"][0], 1.0, rtol=1e-8)
+    geo, chord, frac = wing_geometry(crm.PLANFORM, crm.ENGINES)
+    lat = build_lattice(geo.node_positions, chord, frac, mach=r["mach"])
+    gamma = solve_circulation(lat, np.ones(lat.control.shape[0]))
+    cl_a = 2 * np.sum(2 * gamma * lat.span) / (crm.PLANFORM.area_ft2 * FT ** 2)
+    assert r["wing_lift_slope_per_rad"] == pytest.approx(cl_a, rel=5e-3)
