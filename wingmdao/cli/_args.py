@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import argparse
 
+from wingmdao.cases import DEFAULT_COUPLED_THEORY
+
 JSON_HELP = ("write the result as JSON to PATH; - = standard output (progress and human text then go to "
              "standard error)")
 
@@ -162,8 +164,6 @@ def add_aero_theory_argument(parser, default: str | None = None, dlm: bool | str
                 ", or dlm (doublet lattice of the planform in the jig beam's modal basis: p-k on its generalized "
                 "forces and the state-space eigenvalues with Roger's lag states, beside strip theory's V-g)"
                 if dlm else "")
-    from wingmdao.cases import DEFAULT_COUPLED_THEORY
-
     parser.add_argument("--aero-theory", choices=AERO_THEORY_CHOICES + (("dlm",) if dlm else ()), default=default,
                         help="quasi-steady lift of the coupled aerodynamics: strip (each station's 2-D slope "
                              "2 pi / beta), lifting-line (section slopes of Prandtl's lifting line of the planform) "

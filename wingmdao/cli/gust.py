@@ -43,6 +43,7 @@ import time as _time
 
 import numpy as np
 
+from wingmdao.cases import resolve_aero_theory
 from wingmdao.plots import optional_pyplot
 from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, warn, write_json
 from wingmdao.cli._args import (add_aero_and_plunge_arguments, add_aero_theory_argument, add_deprecated_alias,
@@ -113,7 +114,7 @@ def run(args):
     from wingmdao.aero.gust_response import (GustFlight, coupled_gust_response, dlm_gust_response,
                                              strip_gust_response, wing_lift_slope)
     from wingmdao.aero.plunge import body_mass as plunge_body_mass, half_wing_mass
-    from wingmdao.cases import available_cases, case_beam_parameters, resolve_aero_theory
+    from wingmdao.cases import available_cases, case_beam_parameters
     from wingmdao.cases.planform import FT, G0, LB, wing_geometry
     from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
 
