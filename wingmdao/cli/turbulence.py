@@ -110,7 +110,7 @@ def _check_args(args, module):
 
 def _check_theory(args):
     """--aero-theory: unset, the default of --aero (resolve_aero_theory); the 3-D theories need --aero coupled."""
-    if args.aero == "strip" and args.aero_theory not in (None, "strip"):
+    if args.aero == "strip" and args.aero_theory not in (None, "strip", "dlm"):  # dlm: _check_dlm
         raise ValueError(f"--aero-theory {args.aero_theory} applies to --aero coupled (the --aero strip gust loads "
                          "use 2 pi)")
     args.aero_theory = resolve_aero_theory(args.aero_theory, args.aero)
