@@ -2,8 +2,8 @@
 (docs/aeroelasticity.md, docs/figures/aero_sizing_thickness.png).
 
     wingmdao size pegasus --loads all --aero strip --json strip.json
-    wingmdao size pegasus --loads all --aero coupled --json coupled.json
-    wingmdao size pegasus --loads all --aero coupled --plunge free --json free.json
+    wingmdao size pegasus --loads all --aero coupled --aero-theory strip --json coupled.json
+    wingmdao size pegasus --loads all --aero coupled --aero-theory strip --plunge free --json free.json
     python benchmarks/plot_coupled_sizing.py strip.json coupled.json free.json -o docs/figures/aero_sizing_thickness.png
 """
 

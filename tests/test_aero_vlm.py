@@ -167,3 +167,34 @@ def test_aero_theory_needs_coupled_aero():
 
     with pytest.raises(ValueError, match="--aero-theory vlm applies to --aero coupled"):
         pegasus.build(aero="strip", aero_theory="vlm")
+
+
+def test_coupled_default_is_the_lattice_and_flutter_stays_strip():
+    """--aero coupled without --aero-theory: the vortex lattice on the case (size) and on gust and
+    turbulence; --aero strip: the precomputed strip loads; the flutter command: strip theory."""
+    import argparse
+
+    from wingmdao.cases import DEFAULT_COUPLED_THEORY, pegasus, resolve_aero_theory
+    from wingmdao.cli import build_parser
+
+    assert DEFAULT_COUPLED_THEORY == "vlm"
+    assert {c.aero.aero_theory for c in pegasus.build(aero="coupled").load_cases} == {"vlm"}
+    assert {c.aero.aero_theory for c in pegasus.build(aero="coupled", aero_theory="strip").load_cases} == {"strip"}
+    assert all(c.aero is None for c in pegasus.build(aero="strip").load_cases)
+    assert resolve_aero_theory(None, "coupled") == "vlm" and resolve_aero_theory(None, "strip") == "strip"
+    assert resolve_aero_theory("lifting-line", "coupled") == "lifting-line"
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices
+    for cmd in ("gust", "turbulence"):
+        assert sub[cmd].parse_args(["pegasus"]).aero_theory is None  # resolved with --aero
+        assert sub[cmd].parse_args(["pegasus", "--aero-theory", "strip"]).aero_theory == "strip"
+    assert sub["flutter"].parse_args(["goland"]).aero_theory == "strip"
+
+
+@pytest.mark.parametrize("cmd", ["gust", "turbulence"])
+def test_three_dimensional_theory_with_strip_loads_is_refused(cmd, capsys):
+    from wingmdao.cli import main
+
+    assert main([cmd, "pegasus", "--aero", "strip", "--aero-theory", "vlm", "--no-plots"]) == 2
+    err = capsys.readouterr().err
+    assert "--aero-theory vlm applies to --aero coupled" in err and "Traceback" not in err

@@ -173,6 +173,35 @@ def _plain(value):
     return tuple(value) if isinstance(value, list) else value
 
 
+#: the quasi-steady lift of the coupled loads (trim, maneuvers, gusts, turbulence) when --aero-theory
+#: is unset: the vortex lattice of the planform (wingmdao.aero.vlm). The flutter constraint of sizing and
+#: ``wingmdao flutter`` keep strip theory unless asked (the lattice with 2-D lags is not a flutter
+#: model; docs/aerodynamics-3d.md).
+DEFAULT_COUPLED_THEORY = "vlm"
+
+
+def resolve_aero_theory(aero_theory, aero: str) -> str:
+    """The aerodynamic theory of a run: ``aero_theory`` as given, or when unset (None) the default of
+    ``aero`` (``--aero``): :data:`DEFAULT_COUPLED_THEORY` for ``"coupled"``, ``"strip"`` (the
+    precomputed loads' 2 pi) for ``"strip"``.
+
+    Parameters
+    ----------
+    aero_theory : str or None
+        ``--aero-theory`` as given (``strip``, ``lifting-line``, ``vlm``, ``dlm``) or None.
+    aero : str
+        ``--aero``: ``"strip"`` or ``"coupled"``.
+
+    Returns
+    -------
+    str
+        The theory the run uses.
+    """
+    if aero_theory is not None:
+        return aero_theory
+    return DEFAULT_COUPLED_THEORY if aero == "coupled" else "strip"
+
+
 def set_parser_defaults(parser, cls) -> None:
     """Take the defaults of a case's command-line options from its options dataclass (one table)."""
     parser.set_defaults(**{f.name: f.default for f in dataclasses.fields(cls)})

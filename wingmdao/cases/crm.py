@@ -12,7 +12,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defaults
+import numpy as np
+
+from wingmdao.cases import CaseOptions, CaseSetup, case_options, resolve_aero_theory, set_parser_defaults
 from wingmdao.cases import pegasus as _pegasus
 from wingmdao.cases.pegasus import AERO_MODELS
 from wingmdao.cases.planform import Planform
@@ -25,6 +27,12 @@ PLANFORM = Planform(area_ft2=4444.38127, span_ft=193.34768, taper=0.86031, le_sw
                     front_spar=0.17, rear_spar=0.68, root_rib=0.10, tip_rib=0.995, num_ribs=33,
                     airfoil_root="2414", airfoil_tip="2410")
 TOGW_LB = 650000.0
+#: flight point of the trimmed maneuvers with --aero coupled (assumed: App. D.3 gives only the
+#: M = 0.85 cruise): 10000 ft, M = 0.7, the Mach number normal to the 37 deg leading edge 0.56
+COUPLED_FLIGHT_POINT = (10000.0, 0.7)
+#: highest --mach of the coupled CRM: above it the 37 deg swept wing's flow turns transonic
+#: (Prandtl-Glauert does not hold)
+MAX_COUPLED_MACH = 0.75
 ENGINES = ((9000.0, 0.35 * PLANFORM.semi_span),)
 
 
@@ -37,6 +45,9 @@ class CrmOptions(CaseOptions):
     negative_load_factor: float = -1.0
     families: str = "vm"
     aero: str = field(default="strip", metadata={"choices": AERO_MODELS})
+    aero_theory: str | None = field(default=None, metadata={"choices": _pegasus.AERO_THEORIES})  # None: vlm if coupled
+    altitude_ft: float = COUPLED_FLIGHT_POINT[0]  # the coupled maneuvers' flight point (assumed)
+    mach: float = COUPLED_FLIGHT_POINT[1]
     panels: str = field(default="unstiffened", metadata={"choices": _pegasus.PANEL_MODELS})
     stiffener_pitch: float = 0.15  # m
     rib_pitch: float | None = None  # m; None: the ribs at the case's rib stations
@@ -50,28 +61,53 @@ def add_arguments(p):
     p.add_argument("--negative-load-factor", type=float, help="negative maneuver load factor")
     p.add_argument("--families", help="comma list of stress families constrained")
     p.add_argument("--aero", choices=AERO_MODELS,
-                   help="maneuver loads: strip (Schrenk spanload) or coupled (not available for crm: see docs)")
+                   help="maneuver loads: strip (Schrenk spanload) or coupled (trimmed static aeroelastic maneuvers "
+                        "on the deforming swept wing with the vortex lattice, at --altitude-ft / --mach)")
+    p.add_argument("--altitude-ft", type=float, help="altitude of the coupled maneuvers (ft, 0-60000)")
+    p.add_argument("--mach", type=float, help=f"Mach number of the coupled maneuvers, (0, {MAX_COUPLED_MACH:g}]")
     _pegasus.add_panel_arguments(p)
     set_parser_defaults(p, CrmOptions)
 
 
-#: Why ``--aero coupled`` is refused for the CRM (docs/aeroelasticity.md).
-NO_COUPLED = ("--aero coupled is not available for the crm case: App. D.3 gives the CRM's structure but no "
-              "maneuver flight point, and its only speed, the M = 0.85 cruise, is transonic (Prandtl-Glauert "
-              "strip theory does not hold there); the 37 deg swept strips of wingmdao.aero also take the "
-              "streamwise chord with no sweep correction. Use --aero strip (Schrenk maneuvers)")
+#: the quasi-steady theories of the coupled CRM: the vortex lattice only (its lattice follows the
+#: sweep; the 2-D strips and Prandtl's lifting line take the streamwise chord with no sweep correction)
+COUPLED_THEORIES = ("vlm",)
+
+
+def check_coupled(opts: CrmOptions) -> str:
+    """The theory of ``--aero coupled`` on the CRM (ValueError naming the flag and the allowed values
+    for a theory without sweep or a transonic Mach number, before any solve)."""
+    theory = resolve_aero_theory(opts.aero_theory, opts.aero)
+    if theory not in COUPLED_THEORIES:
+        raise ValueError(f"--aero-theory {theory}: not available for the crm case (37 deg sweep): the 2-D strips and "
+                         "the lifting line take the streamwise chord with no sweep correction; allowed: "
+                         + ", ".join(COUPLED_THEORIES))
+    if not (np.isfinite(opts.mach) and 0.0 < opts.mach <= MAX_COUPLED_MACH):
+        raise ValueError(f"--mach = {opts.mach}; allowed range (0, {MAX_COUPLED_MACH:g}] for the crm case's coupled "
+                         "maneuvers (above it the swept wing's flow is transonic: Prandtl-Glauert does not hold)")
+    if not (np.isfinite(opts.altitude_ft) and 0.0 <= opts.altitude_ft <= 60000.0):
+        raise ValueError(f"--altitude-ft = {opts.altitude_ft} ft; allowed range [0, 60000] ft")
+    return theory
 
 
 def build(options: CrmOptions | None = None, **overrides) -> CaseSetup:
     """The CRM geometry, its two maneuvers, material and bounds from a :class:`CrmOptions` and/or
-    keyword options (``build(load_factor=2.0)``)."""
+    keyword options (``build(load_factor=2.0)``). ``aero="coupled"``: the trimmed static aeroelastic
+    maneuvers with the vortex lattice of the swept planform at ``altitude_ft`` / ``mach``."""
     opts = case_options(CrmOptions, options, **overrides)
+    coupled = {}
     if opts.aero == "coupled":
-        raise ValueError(NO_COUPLED)
+        coupled = dict(aero="coupled", aero_theory=check_coupled(opts), altitude_ft=opts.altitude_ft, mach=opts.mach)
+    elif opts.aero_theory not in (None, "strip"):
+        raise ValueError(f"--aero-theory {opts.aero_theory} applies to --aero coupled (the precomputed --aero strip "
+                         "loads use the Schrenk spanload)")
+    elif (opts.altitude_ft, opts.mach) != COUPLED_FLIGHT_POINT:
+        raise ValueError("--altitude-ft and --mach set the flight point of --aero coupled; the --aero strip maneuvers "
+                         "(Schrenk spanload) have none")
     maneuvers = _pegasus.PegasusOptions(loads="maneuver", load_factor=opts.load_factor,
                                         negative_load_factor=opts.negative_load_factor, families=opts.families,
                                         panels=opts.panels, stiffener_pitch=opts.stiffener_pitch,
-                                        rib_pitch=opts.rib_pitch)
+                                        rib_pitch=opts.rib_pitch, **coupled)
     setup = _pegasus.build_wing(maneuvers, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB)
     setup.options.maxiter = 1000  # 136 variables and one aggregated constraint: SLSQP needs ~700 iterations
     for w in WALL_NAMES:

@@ -18,11 +18,11 @@ level flight, rigid-body plunge neglected (conservative).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defaults, check_step_count
+from wingmdao.cases import CaseOptions, CaseSetup, case_options, check_step_count, resolve_aero_theory, set_parser_defaults
 from wingmdao.cases.planform import FT, G0, LB, Planform, wing_geometry
 from wingmdao.aero.controls import control_spec, read_alleviation
 from wingmdao.aero.pitch import check_pitch_inputs
@@ -84,7 +84,8 @@ class PegasusOptions(CaseOptions):
     dt: float = 0.02  # s
     gust_start: float = 0.2  # s
     aero: str = field(default="strip", metadata={"choices": AERO_MODELS})
-    aero_theory: str = field(default="strip", metadata={"choices": AERO_THEORIES})  # coupled: strip, lifting line, VLM
+    # the coupled loads' quasi-steady lift; None: the default, vlm with --aero coupled (resolve_aero_theory)
+    aero_theory: str | None = field(default=None, metadata={"choices": AERO_THEORIES})
     plunge: str = field(default="clamped", metadata={"choices": PLUNGE_MODES})  # coupled gust: root clamped or free
     pitch: str = field(default="fixed", metadata={"choices": PITCH_MODES})  # coupled gust: pitch fixed or free
     pitch_inertia: float | None = None  # kg m^2, about the CG
@@ -449,9 +450,10 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
         raise ValueError(f"--load-factor = {opts.load_factor}; allowed range (0, inf)")
     if not (np.isfinite(opts.negative_load_factor) and opts.negative_load_factor < 0):
         raise ValueError(f"--negative-load-factor = {opts.negative_load_factor}; allowed range (-inf, 0)")
-    if opts.aero_theory != "strip" and opts.aero != "coupled":
+    if opts.aero_theory not in (None, "strip") and opts.aero != "coupled":
         raise ValueError(f"--aero-theory {opts.aero_theory} applies to --aero coupled (the precomputed --aero strip "
                          "loads use 2 pi)")
+    opts = replace(opts, aero_theory=resolve_aero_theory(opts.aero_theory, opts.aero))
     if opts.plunge == "free" and opts.aero != "coupled":
         raise ValueError(f"--plunge free needs --aero coupled (the strip-theory loads are precomputed on a "
                          f"clamped wing), got --aero {opts.aero}")

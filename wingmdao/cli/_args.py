@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 
+from wingmdao.cases import DEFAULT_COUPLED_THEORY
 from wingmdao.cli._io import warn
 
 JSON_HELP = ("write the result as JSON to PATH; - = standard output (progress and human text then go to "
@@ -153,7 +154,7 @@ def add_aero_and_plunge_arguments(parser, strip_help: str) -> None:
                    help="root clamped (wind-tunnel wing): the same as --plunge clamped")
 
 
-def add_aero_theory_argument(parser, default: str = "strip", dlm: bool | str = False) -> None:
+def add_aero_theory_argument(parser, default: str | None = None, dlm: bool | str = False) -> None:
     """``--aero-theory strip|lifting-line|vlm``: the quasi-steady lift of the coupled aeroelastic
     model (:data:`wingmdao.aero.coupled.AERO_THEORY_CHOICES`, docs/aerodynamics-3d.md); with
     ``dlm`` also ``dlm``, the doublet lattice in the jig's modal basis (``wingmdao flutter``; a
@@ -166,7 +167,9 @@ def add_aero_theory_argument(parser, default: str = "strip", dlm: bool | str = F
                         help="quasi-steady lift of the coupled aerodynamics: strip (each station's 2-D slope "
                              "2 pi / beta), lifting-line (section slopes of Prandtl's lifting line of the planform) "
                              "or vlm (vortex lattice of the planform: every station's lift from every station's "
-                             f"angle); the Wagner/Kuessner lags stay per station{dlm_help} (default: %(default)s)")
+                             f"angle); the Wagner/Kuessner lags stay per station{dlm_help} (default: "
+                             + (f"{DEFAULT_COUPLED_THEORY} with --aero coupled, strip with --aero strip; the flutter "
+                                "command and constraint: strip" if default is None else "%(default)s") + ")")
 
 
 def add_free_pitch_arguments(parser, switch: str) -> None:

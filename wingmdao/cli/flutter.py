@@ -54,7 +54,7 @@ def register(subparsers):
                    help="pegasus: analyse the wall thicknesses of a 'wingmdao size pegasus' JSON "
                         "(default: the sizing's initial design, 10 mm walls)")
     p.add_argument("--modes", type=int, default=4, metavar="N", help="number of modes tracked over the sweep (>= 1)")
-    add_aero_theory_argument(p, dlm=True)
+    add_aero_theory_argument(p, default="strip", dlm=True)  # flutter: strip unless asked (docs/aerodynamics-3d.md)
 
     add_output_arguments(p, what="the V-g / V-f plot (flutter_CASE.png)")
     p.add_argument("--deformed", action="store_true",

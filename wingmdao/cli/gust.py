@@ -43,6 +43,7 @@ import time as _time
 
 import numpy as np
 
+from wingmdao.cases import resolve_aero_theory
 from wingmdao.plots import optional_pyplot, save_figure
 from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, warn, write_json
 from wingmdao.cli._args import (add_aero_and_plunge_arguments, add_aero_theory_argument, add_deprecated_alias,
@@ -130,15 +131,23 @@ def run(args):
     if args.lifting_line:
         warn("--lifting-line is deprecated; use --aero-theory lifting-line (same meaning)")
         args.aero_theory = "lifting-line"
-    if args.aero == "strip" and args.aero_theory != "strip":
+    if args.aero_theory is None and args.model == "stick":  # the stick model's wing and tail are strips
+        args.aero_theory = "strip"
+    if args.aero == "strip" and args.aero_theory not in (None, "strip"):
         raise ValueError(f"--aero-theory {args.aero_theory} applies to --aero coupled (the precomputed --aero strip "
                          "loads use 2 pi)")
+    args.aero_theory = resolve_aero_theory(args.aero_theory, args.aero)
     _check_dlm_args(args, plunge)
     args.plunge = plunge == "free"
     args.pitch = args.pitch == "free"
     _check_stick_args(args)
     _check_pitch_args(args)
     module = available_cases()[args.case]
+    swept = getattr(module, "COUPLED_THEORIES", None)  # a swept case: only the lattice follows its sweep
+    if args.aero == "coupled" and swept is not None and args.aero_theory not in swept:
+        raise ValueError(f"--aero-theory {args.aero_theory}: not available for the {args.case} case with --aero coupled "
+                         f"(its sweep: the strips take the streamwise chord with no sweep correction); allowed: "
+                         + ", ".join(swept))
     base = __import__("wingmdao.cases.pegasus", fromlist=["GUST"])
     gust = dict(base.GUST)
     H_ft = gust["gradient_ft"] if args.gradient_ft is None else args.gradient_ft
@@ -153,6 +162,10 @@ def run(args):
     mach = gust["mach"] if args.mach is None else args.mach
     if not 0.0 < mach < 1.0:
         raise ValueError(f"--mach = {mach}; allowed range (0, 1)")
+    top = getattr(module, "MAX_COUPLED_MACH", None)
+    if args.aero == "coupled" and top is not None and mach > top:
+        raise ValueError(f"--mach = {mach}; allowed range (0, {top:g}] for the {args.case} case with --aero coupled "
+                         "(above it the swept wing's flow is transonic: Prandtl-Glauert does not hold)")
     u_ref = gust["u_ref_fps"] if args.u_ref_fps is None else args.u_ref_fps
     if not (np.isfinite(u_ref) and 0 < u_ref <= MAX_U_REF_FPS):
         raise ValueError(f"--u-ref-fps = {u_ref} ft/s; allowed range (0, {MAX_U_REF_FPS:g}] ft/s EAS "

@@ -33,9 +33,9 @@ import numpy as np
 
 from wingmdao.plots import optional_pyplot
 
-from wingmdao.cases import available_cases, case_beam_parameters
+from wingmdao.cases import available_cases, case_beam_parameters, resolve_aero_theory
 from wingmdao.cases.planform import G0, LB, wing_geometry
-from wingmdao.cli._args import add_aero_and_plunge_arguments, add_output_arguments
+from wingmdao.cli._args import add_aero_and_plunge_arguments, add_aero_theory_argument, add_output_arguments
 from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, write_json
 from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
 from wingmdao.loads.turbulence import continuous_turbulence_intensity
@@ -73,10 +73,8 @@ def register(subparsers):
                    help="highest frequency of the grid (Hz); the spectrum beyond it enters as an estimated tail")
     p.add_argument("--grid-points", type=int, default=161, metavar="N",
                    help="points of the geometric part of the grid (modes add 16 each)")
-    p.add_argument("--aero-theory", choices=("strip", "dlm"), default="strip",
-                   help="strip (the models of --aero) or dlm (doublet lattice of the planform in the jig beam's modal "
-                        "basis with Roger's lag states; needs --aero coupled --clamped; A-bar only, no 1 g state) "
-                        "(default: %(default)s)")
+    add_aero_theory_argument(p, dlm=", or dlm (doublet lattice of the planform in the jig beam's modal basis with "
+                                    "Roger's lag states; needs --aero coupled --clamped; A-bar only, no 1 g state)")
     p.add_argument("--modes", type=int, default=None, metavar="N",
                    help="number of jig beam modes of --aero-theory dlm (2-20; default: 6)")
     add_output_arguments(p, what="the PNG plots (CASE_turbulence_*.png)")
@@ -106,8 +104,17 @@ def _check_args(args, module):
         raise ValueError(f"--f-max-hz = {args.f_max_hz} Hz; allowed range [0.1, {MAX_F_MAX_HZ:g}] Hz")
     if not GRID_POINTS[0] <= args.grid_points <= GRID_POINTS[1]:
         raise ValueError(f"--grid-points = {args.grid_points}; allowed range [{GRID_POINTS[0]}, {GRID_POINTS[1]}]")
+    _check_theory(args)
     _check_dlm(args, plunge)
     return plunge == "free", alt, mach, m_c, m_d
+
+
+def _check_theory(args):
+    """--aero-theory: unset, the default of --aero (resolve_aero_theory); the 3-D theories need --aero coupled."""
+    if args.aero == "strip" and args.aero_theory not in (None, "strip", "dlm"):  # dlm: _check_dlm
+        raise ValueError(f"--aero-theory {args.aero_theory} applies to --aero coupled (the --aero strip gust loads "
+                         "use 2 pi)")
+    args.aero_theory = resolve_aero_theory(args.aero_theory, args.aero)
 
 
 def _check_dlm(args, plunge):
@@ -157,7 +164,7 @@ def _check_outputs(args):
 
 
 def run(args):
-    from wingmdao.aero.system import aero_parameters
+    from wingmdao.aero.system import aero_parameters, three_dimensional_parameters
     from wingmdao.loads.turbulence_analysis import coupled_gust_model, strip_gust_model, turbulence_analysis
 
     t_wall = _time.perf_counter()
@@ -186,12 +193,13 @@ def run(args):
                         {"altitude_ft": alt_ft, "altitude_m": alt})
     if args.aero == "coupled":
         ap = aero_parameters(chord.size, chord=chord, ref_point=axis_frac, airspeed=V, density=rho, mach=mach)
+        ap.update(three_dimensional_parameters(args.aero_theory, bp["node_positions"], chord, axis_frac, mach))
         gm = coupled_gust_model(bp, ap, chord=chord, axis_fraction=axis_frac, weight=weight, plunge=plunge,
-                                damping=damping)
+                                damping=damping, aero_theory="vlm" if args.aero_theory == "vlm" else "strip")
     else:
         gm = strip_gust_model(bp, chord=chord, axis_fraction=axis_frac, weight=weight, airspeed=V, density=rho,
                               semi_span=pf.semi_span, fuselage_half_width=pf.root_rib * pf.semi_span, damping=damping)
-    res = {"case": args.case, "aero": args.aero, "plunge": plunge, "design": args.design, "altitude_ft": alt_ft,
+    res = {"case": args.case, "aero": args.aero, "aero_theory": args.aero_theory, "plunge": plunge, "design": args.design, "altitude_ft": alt_ft,
            "altitude_m": alt, "mach": mach, "damping_ratio": args.damping_ratio, "airspeed_tas_m_s": V, "density_kg_m3": rho,
            "u_sigma_ref_m_s": point.u_sigma_ref, "f_g": point.f_g, "speed_factor": point.speed_factor,
            "u_sigma_m_s": point.u_sigma, "span_m": np.asarray(bp["node_positions"])[:, 1].tolist()}

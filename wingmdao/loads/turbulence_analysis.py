@@ -53,13 +53,15 @@ class GustModel:
 
 
 def coupled_gust_model(beam_params: dict, aero_params: dict, *, chord, axis_fraction, weight, plunge=True,
-                       gravity=G0, damping=None) -> GustModel:
+                       gravity=G0, damping=None, aero_theory="strip") -> GustModel:
     """The aeroelastic beam trimmed in 1 g level flight (lift of both halves = ``weight`` N under
     ``gravity`` m/s^2), clamped or free in ``plunge`` (body mass = weight / g0 - 2 m_half), linearised
     with alpha_trim held; stations meet the gust at their leading edges. ``damping``: the beam's
-    structural damping (:class:`~wingmdao.beam.residual.StrainRateDamping`), None: undamped."""
+    structural damping (:class:`~wingmdao.beam.residual.StrainRateDamping`), None: undamped.
+    ``aero_theory``: the residual's quasi-steady lift, ``"strip"`` or ``"vlm"`` (then ``aero_params``
+    hold ``lift_influence`` and ``moment_influence``, :func:`wingmdao.aero.three_dimensional_parameters`)."""
     n = np.asarray(chord).size
-    system = cached_aeroelastic_system(n, damping=damping, plunge=bool(plunge), trim=True)
+    system = cached_aeroelastic_system(n, damping=damping, plunge=bool(plunge), trim=True, aero_theory=aero_theory)
     params = {**beam_params, **aero_params, "trim_lift": float(weight)}
     r0 = np.asarray(beam_params["node_positions"])
     if plunge:
