@@ -94,11 +94,14 @@ def test_parser_defaults_are_the_dataclass_defaults():
     """One table of defaults: every case's command-line defaults come from its options dataclass."""
     import argparse
 
-    from wingmdao.cases import available_cases
+    from wingmdao.cases import add_option_arguments, available_cases
 
     for name, module in available_cases().items():
         parser = argparse.ArgumentParser()
-        module.add_arguments(parser)
+        if hasattr(module, "add_arguments"):
+            module.add_arguments(parser)
+        else:
+            add_option_arguments(parser, module.OPTIONS)
         from_cli = options_from_namespace(module.OPTIONS, parser.parse_args([]))
         assert from_cli == module.OPTIONS(), name
         dests = set(vars(parser.parse_args([])))

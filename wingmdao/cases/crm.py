@@ -10,9 +10,9 @@ Engine (assumption): 9000 kg per wing at 35 % semi-span, as a point mass.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
-from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defaults
+from wingmdao.cases import CaseOptions, CaseSetup, case_options, option
 from wingmdao.cases import pegasus as _pegasus
 from wingmdao.cases.pegasus import AERO_MODELS
 from wingmdao.cases.planform import Planform
@@ -33,26 +33,17 @@ class CrmOptions(CaseOptions):
     """Options of the CRM case; ``wingmdao size crm --help`` describes each."""
 
     CASE = NAME
-    load_factor: float = 2.5
-    negative_load_factor: float = -1.0
-    families: str = "vm"
-    aero: str = field(default="strip", metadata={"choices": AERO_MODELS})
-    panels: str = field(default="unstiffened", metadata={"choices": _pegasus.PANEL_MODELS})
-    stiffener_pitch: float = 0.15  # m
-    rib_pitch: float | None = None  # m; None: the ribs at the case's rib stations
+    load_factor: float = option(2.5, "positive maneuver load factor", metavar="N")
+    negative_load_factor: float = option(-1.0, "negative maneuver load factor", metavar="N")
+    families: str = option("vm", "comma list of stress families constrained", metavar="FAMILIES")
+    aero: str = option("strip", "maneuver loads: strip (Schrenk spanload) or coupled (not available for crm: see "
+                                "docs)", choices=AERO_MODELS)
+    panels: str = _pegasus.panel_options()["panels"]
+    stiffener_pitch: float = _pegasus.panel_options()["stiffener_pitch"]  # m
+    rib_pitch: float | None = _pegasus.panel_options()["rib_pitch"]  # m; None: the ribs at the case's rib stations
 
 
 OPTIONS = CrmOptions
-
-
-def add_arguments(p):
-    p.add_argument("--load-factor", type=float, help="positive maneuver load factor")
-    p.add_argument("--negative-load-factor", type=float, help="negative maneuver load factor")
-    p.add_argument("--families", help="comma list of stress families constrained")
-    p.add_argument("--aero", choices=AERO_MODELS,
-                   help="maneuver loads: strip (Schrenk spanload) or coupled (not available for crm: see docs)")
-    _pegasus.add_panel_arguments(p)
-    set_parser_defaults(p, CrmOptions)
 
 
 #: Why ``--aero coupled`` is refused for the CRM (docs/aeroelasticity.md).
@@ -63,8 +54,25 @@ NO_COUPLED = ("--aero coupled is not available for the crm case: App. D.3 gives 
 
 
 def build(options: CrmOptions | None = None, **overrides) -> CaseSetup:
-    """The CRM geometry, its two maneuvers, material and bounds from a :class:`CrmOptions` and/or
-    keyword options (``build(load_factor=2.0)``)."""
+    """The CRM geometry, its two maneuvers, material and bounds.
+
+    Parameters
+    ----------
+    options : CrmOptions, optional
+        The case's options; None: the defaults.
+    **overrides
+        Options by field name, replacing those of ``options`` (``build(load_factor=2.0)``).
+
+    Returns
+    -------
+    CaseSetup
+        The CRM wing, its two maneuver load cases, material and sizing bounds.
+
+    Raises
+    ------
+    ValueError
+        A bad option, naming its flag, before any solve.
+    """
     opts = case_options(CrmOptions, options, **overrides)
     if opts.aero == "coupled":
         raise ValueError(NO_COUPLED)

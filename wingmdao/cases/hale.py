@@ -37,7 +37,18 @@ PUBLISHED = {
 
 
 def beam_params(num_nodes: int = 21) -> dict:
-    """Beam parameter dict (``wingmdao.beam.residual.param_specs``) of the HALE wing, SI."""
+    """Beam parameter dict (``wingmdao.beam.residual.param_specs``) of the HALE wing.
+
+    Parameters
+    ----------
+    num_nodes : int, optional
+        Beam nodes, >= 3.
+
+    Returns
+    -------
+    dict
+        The beam parameters (SI: m, N, kg).
+    """
     if int(num_nodes) < 3:
         raise ValueError(f"num_nodes must be >= 3, got {num_nodes}")
     r0, th0 = straight_beam(int(num_nodes), SEMI_SPAN)

@@ -22,7 +22,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defaults
+from wingmdao.cases import (CaseOptions, CaseSetup, add_option_arguments, case_options, option,
+                            set_parser_defaults)
 from wingmdao.cases.planform import FT, G0, LB, Planform, wing_geometry
 
 NAME = "pegasus"
@@ -52,6 +53,30 @@ PITCH_REQUIRED = ("pitch_inertia", "cg_x", "tail_arm", "tail_area", "tail_lift_s
 GUST_SIGNS = ("up", "down", "both")
 #: wall models: unstiffened plates (strength only) or stiffened skins with buckling and ribs
 PANEL_MODELS = ("unstiffened", "stiffened")
+#: --help group of the stiffened-panel options (pegasus and the cases built on it)
+PANEL_GROUP = "stiffened panels (docs/panels.md)"
+#: the panel options' fields (:func:`panel_options`)
+PANEL_FIELDS = ("panels", "stiffener_pitch", "rib_pitch")
+
+
+def panel_options() -> dict:
+    """The stiffened-panel option fields of pegasus and the cases built on it.
+
+    Returns
+    -------
+    dict
+        ``{name: dataclasses.Field}`` of ``panels`` (wall model), ``stiffener_pitch`` (m) and
+        ``rib_pitch`` (m; None: the case's ribs), new fields for each options dataclass.
+    """
+    return {
+        "panels": option("unstiffened", "wall model: unstiffened plates sized for strength (von Mises) or "
+                                        "stiffened: blade stiffeners on both skins with skin, panel, stiffener and "
+                                        "spar-web buckling (safety factor 1.5 on the loads), ribs at the case's rib "
+                                        "stations and the sizing rules", choices=PANEL_MODELS, group=PANEL_GROUP),
+        "stiffener_pitch": option(0.15, "stiffener spacing on both skins (m)", metavar="M", group=PANEL_GROUP),
+        "rib_pitch": option(None, "rib spacing (m) from the root rib to the tip rib, rounded to equal bays (default "
+                                  "unset: the case's ribs, one at each station)", metavar="M", group=PANEL_GROUP),
+    }
 
 
 @dataclass(frozen=True)
@@ -92,9 +117,9 @@ class PegasusOptions(CaseOptions):
     gust_gradient_count: int | None = None
     gust_sign: str | None = field(default=None, metadata={"choices": GUST_SIGNS})
     load_history: str | None = None  # path of a .npz/.csv load history
-    panels: str = field(default="unstiffened", metadata={"choices": PANEL_MODELS})
-    stiffener_pitch: float = 0.15  # m
-    rib_pitch: float | None = None  # m; None: the ribs at the case's rib stations
+    panels: str = panel_options()["panels"]
+    stiffener_pitch: float = panel_options()["stiffener_pitch"]  # m
+    rib_pitch: float | None = panel_options()["rib_pitch"]  # m; None: the ribs at the case's rib stations
 
 
 OPTIONS = PegasusOptions
@@ -176,16 +201,14 @@ def add_arguments(p):
 
 
 def add_panel_arguments(p):
-    """``--panels``, ``--stiffener-pitch``, ``--rib-pitch`` (pegasus and the cases built on it)."""
-    s = p.add_argument_group("stiffened panels (docs/panels.md)")
-    s.add_argument("--panels", choices=PANEL_MODELS,
-                   help="wall model: unstiffened plates sized for strength (von Mises) or stiffened: blade "
-                        "stiffeners on both skins with skin, panel, stiffener and spar-web buckling (safety factor "
-                        "1.5 on the loads), ribs at the case's rib stations and the sizing rules")
-    s.add_argument("--stiffener-pitch", type=float, metavar="M", help="stiffener spacing on both skins (m)")
-    s.add_argument("--rib-pitch", type=float, metavar="M",
-                   help="rib spacing (m) from the root rib to the tip rib, rounded to equal bays (default unset: "
-                        "the case's ribs, one at each station)")
+    """Add ``--panels``, ``--stiffener-pitch``, ``--rib-pitch`` from :func:`panel_options`.
+
+    Parameters
+    ----------
+    p : argparse.ArgumentParser
+        The case's parser (the options go into the group :data:`PANEL_GROUP`).
+    """
+    add_option_arguments(p, PegasusOptions, names=PANEL_FIELDS)
 
 
 def parse_families(text: str) -> tuple:
