@@ -22,13 +22,23 @@ from wingmdao.cli._args import METAVARS, add_deprecated_alias
 
 CASES = available_cases()
 #: the cases whose command line is generated (every shipped case)
-GENERATED = [name for name, mod in CASES.items() if not hasattr(mod, "add_arguments")]
+GENERATED = list(CASES)
 
 
 def _parser(module):
     parser = WingmdaoParser(prog=f"wingmdao size {module.NAME}")
     add_option_arguments(parser, module.OPTIONS, deprecated_alias=add_deprecated_alias)
     return parser
+
+
+def _own(module):
+    """The fields whose flag the case's parser makes (not the ``shared`` ones the command adds)."""
+    return [f for f in dataclasses.fields(module.OPTIONS) if not f.metadata.get("shared")]
+
+
+def _size_parser(name):
+    sub = build_parser()._subparsers._group_actions[0].choices["size"]
+    return sub._subparsers._group_actions[0].choices[name]
 
 
 def _visible(parser):
@@ -56,7 +66,8 @@ def _other_value(f, hint):
 
 
 def test_every_case_command_line_is_generated():
-    assert {"cantilever", "wing-box", "crm", "stw"} <= set(GENERATED)
+    assert {"cantilever", "wing-box", "pegasus", "crm", "stw"} <= set(GENERATED)
+    assert not any(hasattr(mod, "add_arguments") for mod in CASES.values())
 
 
 @pytest.mark.parametrize("name", GENERATED)
@@ -65,13 +76,16 @@ def test_one_flag_per_field(name):
     fields = dataclasses.fields(module.OPTIONS)
     assert all("help" in f.metadata for f in fields), "every field carries its command-line metadata"
     actions = _visible(_parser(module))
-    assert sorted(a.dest for a in actions) == sorted(f.name for f in fields)
+    assert sorted(a.dest for a in actions) == sorted(f.name for f in _own(module))
     assert all(len(a.option_strings) == 1 for a in actions)
-    # the real command has the same flags (plus the sizing options common to every case)
-    sub = build_parser()._subparsers._group_actions[0].choices["size"]
-    case_parser = sub._subparsers._group_actions[0].choices[name]
-    strings = {s for a in _visible(case_parser) for s in a.option_strings}
-    assert {option_flag(f) for f in fields} <= strings
+    # the real command has every field's flag once, the shared ones too (plus the sizing options
+    # common to every case), each storing into the field
+    dests = {}
+    for a in _visible(_size_parser(name)):
+        for flag in a.option_strings:
+            dests.setdefault(flag, []).append(a.dest)
+    for f in fields:
+        assert dests.get(option_flag(f)) == [f.name], (name, f.name)
 
 
 @pytest.mark.parametrize("name", GENERATED)
@@ -80,7 +94,7 @@ def test_values_round_trip_through_the_parser(name):
     parser = _parser(module)
     assert options_from_namespace(module.OPTIONS, parser.parse_args([])) == module.OPTIONS()
     hints = typing.get_type_hints(module.OPTIONS)
-    for f in dataclasses.fields(module.OPTIONS):
+    for f in _own(module):
         value, words = _other_value(f, hints[f.name])
         opts = options_from_namespace(module.OPTIONS, parser.parse_args(words))
         assert getattr(opts, f.name) == value, (name, f.name, words)
@@ -92,7 +106,7 @@ def test_values_round_trip_through_the_parser(name):
 def test_choices_are_enforced(name, capsys):
     module = CASES[name]
     parser = _parser(module)
-    with_choices = [f for f in dataclasses.fields(module.OPTIONS) if "choices" in f.metadata]
+    with_choices = [f for f in _own(module) if "choices" in f.metadata]
     assert with_choices, name
     for f in with_choices:
         with pytest.raises(SystemExit) as exc:
@@ -109,7 +123,7 @@ def test_help_shows_units_and_defaults(name):
     parser = _parser(module)
     formatter = DefaultsHelpFormatter(parser.prog)
     by_dest = {a.dest: a for a in _visible(parser)}
-    for f in dataclasses.fields(module.OPTIONS):
+    for f in _own(module):
         action = by_dest[f.name]
         text = formatter._get_help_string(action)
         if action.nargs != 0:  # on/off switches are off unless given
@@ -157,3 +171,17 @@ def test_a_field_without_metadata_is_refused():
     parser = WingmdaoParser()
     add_option_arguments(parser, Bare, names=("y",))
     assert parser.parse_args(["--y", "4"]).y == 4
+
+
+@pytest.mark.parametrize("name", GENERATED)
+def test_shared_flags_round_trip_on_the_command(name):
+    """Fields whose flag the commands share (``--aero-theory``) parse on ``wingmdao size CASE``
+    with the case's default."""
+    module = CASES[name]
+    parser = _size_parser(name)
+    hints = typing.get_type_hints(module.OPTIONS)
+    assert options_from_namespace(module.OPTIONS, parser.parse_args([])) == module.OPTIONS()
+    for f in dataclasses.fields(module.OPTIONS):
+        if f.metadata.get("shared"):
+            value, words = _other_value(f, hints[f.name])
+            assert getattr(options_from_namespace(module.OPTIONS, parser.parse_args(words)), f.name) == value

@@ -278,26 +278,12 @@ def _plain(value):
     return tuple(value) if isinstance(value, list) else value
 
 
-def set_parser_defaults(parser, cls) -> None:
-    """Take the defaults of hand-written command-line options from an options dataclass.
-
-    Parameters
-    ----------
-    parser : argparse.ArgumentParser
-        The parser whose defaults are set.
-    cls : type
-        A :class:`CaseOptions` dataclass; every field's default becomes the default of the
-        destination of the same name.
-    """
-    parser.set_defaults(**{f.name: f.default for f in dataclasses.fields(cls)})
-
-
 #: command-line metadata keys of :func:`option` (besides ``help``)
-OPTION_KEYS = ("flag", "metavar", "choices", "nargs", "const", "group", "aliases")
+OPTION_KEYS = ("flag", "metavar", "choices", "nargs", "const", "group", "aliases", "shared")
 
 
 def option(default, help: str, *, flag: str | None = None, metavar=None, choices=None, nargs=None,
-           const=None, group: str | None = None, aliases: tuple = ()):
+           const=None, group: str | None = None, aliases: tuple = (), shared: bool = False):
     """A field of a case's options dataclass with its command-line metadata.
 
     Parameters
@@ -322,6 +308,9 @@ def option(default, help: str, *, flag: str | None = None, metavar=None, choices
     aliases : tuple of str, optional
         Older, deprecated spellings of the flag: accepted, with one warning line, storing into
         the same field.
+    shared : bool, optional
+        The flag is one several commands share, spelled once in :mod:`wingmdao.cli._args` (e.g.
+        ``--aero-theory``): the command adds it and :func:`add_option_arguments` skips the field.
 
     Returns
     -------
@@ -329,7 +318,7 @@ def option(default, help: str, *, flag: str | None = None, metavar=None, choices
         The field, its metadata the keys of :data:`OPTION_KEYS` that were given, and ``help``.
     """
     given = {"flag": flag, "metavar": metavar, "choices": choices, "nargs": nargs, "const": const,
-             "group": group, "aliases": tuple(aliases) or None}
+             "group": group, "aliases": tuple(aliases) or None, "shared": shared or None}
     metadata = {"help": help, **{k: v for k, v in given.items() if v is not None}}
     return field(default=default, metadata=metadata)
 
@@ -387,7 +376,7 @@ def add_option_arguments(parser, cls, *, names=None, deprecated_alias=None) -> l
 
     Every field becomes one flag (:func:`option_argument`) storing into the field's name, in the
     field order, in the argument group its ``group`` metadata names (groups made once, in order
-    of first use); the parsed namespace converts back with :func:`options_from_namespace`.
+    of first use), except the ``shared`` ones the command adds itself; the parsed namespace converts back with :func:`options_from_namespace`.
 
     Parameters
     ----------
@@ -414,7 +403,7 @@ def add_option_arguments(parser, cls, *, names=None, deprecated_alias=None) -> l
     hints = typing.get_type_hints(cls)
     groups, actions = {}, []
     for f in dataclasses.fields(cls):
-        if names is not None and f.name not in names:
+        if (names is not None and f.name not in names) or f.metadata.get("shared"):
             continue
         if "help" not in f.metadata:
             raise TypeError(f"{cls.__name__}.{f.name} has no command-line metadata (make it with "
