@@ -63,7 +63,6 @@ RATCHET: dict[str, int] = {
     "wingmdao.cases.pegasus_verification": 9,
     "wingmdao.cases.stw_data": 7,
     "wingmdao.cases.stw_geometry": 2,
-    "wingmdao.cases.stw_loads": 9,
     "wingmdao.components.aeroelastic": 1,
     "wingmdao.components.beam": 1,
     "wingmdao.components.beam_loads": 5,
