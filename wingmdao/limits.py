@@ -50,29 +50,81 @@ ADJOINT_MEMORY_MB = 200.0
 
 
 def full_storage_steps(num_nodes: int) -> int:
-    """Steps up to which a history keeps every Jacobian block (the adjoint budget of
-    :mod:`wingmdao.components.time_history` over :data:`BLOCK_BYTES_PER_NODE_STEP`)."""
+    """Steps up to which a history keeps every Jacobian block.
+
+    Parameters
+    ----------
+    num_nodes : int
+        Beam nodes.
+
+    Returns
+    -------
+    int
+        The adjoint budget of :mod:`wingmdao.components.time_history` over
+        :data:`BLOCK_BYTES_PER_NODE_STEP` per node.
+    """
     return int(ADJOINT_MEMORY_MB * 1e6 // (BLOCK_BYTES_PER_NODE_STEP * max(int(num_nodes), 1)))
 
 
 def history_bytes(num_nodes: int, steps: int) -> float:
-    """Bytes of one dynamic case of ``steps`` time steps beyond its fixed part: full-storage rate
-    up to :func:`full_storage_steps`, the checkpointed rate beyond."""
+    """Memory of one dynamic case beyond its fixed part.
+
+    Parameters
+    ----------
+    num_nodes : int
+        Beam nodes.
+    steps : int
+        Time steps of the case.
+
+    Returns
+    -------
+    float
+        Bytes: the full-storage rate up to :func:`full_storage_steps`, the checkpointed rate beyond.
+    """
     full = full_storage_steps(num_nodes)
     return num_nodes * (BYTES_PER_NODE_STEP * min(steps, full)
                         + BYTES_PER_NODE_STEP_CHECKPOINTED * max(steps - full, 0))
 
 
 def estimate_bytes(num_nodes: int, steps) -> float:
-    """Peak memory (bytes) of one process holding load cases with ``steps`` time steps each
-    (1: a static case)."""
+    """Peak memory of one process holding load cases.
+
+    Parameters
+    ----------
+    num_nodes : int
+        Beam nodes.
+    steps : sequence of int
+        Time steps of each load case (1: a static case).
+
+    Returns
+    -------
+    float
+        Estimated peak memory (bytes).
+    """
     steps = [int(s) for s in steps]
     return (BASE_BYTES + PER_CASE_BYTES * len(steps)
             + sum(history_bytes(num_nodes, s) for s in steps if s > 1))
 
 
 def fitting_steps(num_nodes: int, num_cases: int, num_dynamic: int, available: float) -> int:
-    """Largest step count per dynamic case whose :func:`estimate_bytes` fits ``available``."""
+    """Largest step count per dynamic case whose :func:`estimate_bytes` fits the memory available.
+
+    Parameters
+    ----------
+    num_nodes : int
+        Beam nodes.
+    num_cases : int
+        Load cases of the process.
+    num_dynamic : int
+        Dynamic (time-marched) load cases among them.
+    available : float
+        Memory available (bytes).
+
+    Returns
+    -------
+    int
+        Time steps per dynamic case.
+    """
     per_case = (available - BASE_BYTES - PER_CASE_BYTES * num_cases) / max(num_dynamic, 1)
     full = full_storage_steps(num_nodes)
     if per_case <= history_bytes(num_nodes, full):
@@ -125,7 +177,27 @@ def available_bytes() -> float | None:
 
 
 def check_memory(load_cases, num_nodes: int, available: float | None = None) -> float:
-    """Raise ValueError before any solve when ``load_cases`` would not fit; returns the estimate (bytes)."""
+    """Check, before any solve, that the load cases fit in memory.
+
+    Parameters
+    ----------
+    load_cases : sequence of wingmdao.groups.load_case.LoadCase
+        The process's load cases (their ``num_times``).
+    num_nodes : int
+        Beam nodes.
+    available : float, optional
+        Memory available (bytes); None: :func:`available_bytes`.
+
+    Returns
+    -------
+    float
+        The estimate (bytes).
+
+    Raises
+    ------
+    ValueError
+        The estimate exceeds the memory available.
+    """
     steps = [int(c.num_times) for c in load_cases]
     need = estimate_bytes(num_nodes, steps)
     if os.environ.get("WINGMDAO_SKIP_MEMORY_CHECK") == "1":
@@ -146,8 +218,21 @@ def check_memory(load_cases, num_nodes: int, available: float | None = None) -> 
 
 
 def march_progress(n_time: int, label: str = "march"):
-    """A ``callback(step, t, x)`` printing progress every 10 % for marches of
-    ``WINGMDAO_PROGRESS_STEPS`` (default 2000) steps or more; None for shorter ones."""
+    """A progress callback for long time marches.
+
+    Parameters
+    ----------
+    n_time : int
+        Time steps of the march.
+    label : str, optional
+        Name of the march in the progress lines.
+
+    Returns
+    -------
+    callable or None
+        ``callback(step, t, x)`` printing progress every 10 % for marches of
+        ``WINGMDAO_PROGRESS_STEPS`` (default 2000) steps or more; None for shorter ones.
+    """
     raw = os.environ.get("WINGMDAO_PROGRESS_STEPS", str(PROGRESS_STEPS))
     try:
         threshold = int(raw)

@@ -10,11 +10,11 @@ the beam at rest: the dynamic counterpart of ``static``, Table 4.25). Initial gu
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
-from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defaults, check_step_count
+from wingmdao.cases import CaseOptions, CaseSetup, case_options, check_step_count, option
 from wingmdao.groups.load_case import LoadCase
 from wingmdao.materials import Material
 
@@ -34,30 +34,35 @@ class CantileverOptions(CaseOptions):
     """Options of the cantilever case (SI); ``wingmdao size cantilever --help`` describes each."""
 
     CASE = NAME
-    load: str = field(default="static", metadata={"choices": LOAD_KINDS})
-    guess: str = field(default="b", metadata={"choices": GUESSES})
-    stations: int = 10
-    length: float = 10.0  # m
-    t_final: float = 1.0  # s
-    dt: float = 0.01  # s
+    load: str = option("static", "tip load history: constant static, 1 MN sin(20 t), or 1 MN applied suddenly",
+                       choices=LOAD_KINDS)
+    guess: str = option("b", "initial design (Fig. 4.40): a uniform, b tapered, c infeasible (lower bounds)",
+                        choices=GUESSES)
+    stations: int = option(10, "beam nodes (stations, >= 3)", flag="--num-nodes", metavar="N",
+                           aliases=("--stations",))
+    length: float = option(10.0, "beam length (m)", metavar="M")
+    t_final: float = option(1.0, "simulated time for dynamic loads (s)", metavar="S")
+    dt: float = option(0.01, "time step for dynamic loads (s)", metavar="S")
 
 
 OPTIONS = CantileverOptions
 
 
-def add_arguments(p):
-    p.add_argument("--load", choices=LOAD_KINDS,
-                   help="tip load history: constant static, 1 MN sin(20 t), or 1 MN applied suddenly")
-    p.add_argument("--guess", choices=GUESSES,
-                   help="initial design (Fig. 4.40): a uniform, b tapered, c infeasible (lower bounds)")
-    p.add_argument("--stations", type=int, help="beam nodes (stations, >= 3)")
-    p.add_argument("--length", type=float, help="beam length (m)")
-    p.add_argument("--t-final", type=float, help="simulated time for dynamic loads (s)")
-    p.add_argument("--dt", type=float, help="time step for dynamic loads (s)")
-    set_parser_defaults(p, CantileverOptions)
-
-
 def initial_guess(kind: str, n: int) -> dict:
+    """The initial design of Fig. 4.40.
+
+    Parameters
+    ----------
+    kind : str
+        ``a`` uniform, ``b`` tapered, ``c`` infeasible (every value at its lower bound).
+    n : int
+        Beam nodes.
+
+    Returns
+    -------
+    dict
+        ``{"width": (n,) m, "height": (n,) m}``.
+    """
     s = np.linspace(0.0, 1.0, n)
     if kind == "a":
         return {"width": np.full(n, 1.0), "height": np.full(n, 2.5)}
@@ -67,13 +72,30 @@ def initial_guess(kind: str, n: int) -> dict:
 
 
 def load_case(kind: str, n: int, t_final: float, dt: float):
+    """The tip-load case of the cantilever (tip force :data:`TIP_LOAD` along +z).
+
+    Parameters
+    ----------
+    kind : str
+        ``static`` (static solve), ``sine`` (1 MN sin(20 t)) or ``step`` (1 MN for t > 0).
+    n : int
+        Beam nodes.
+    t_final : float
+        Simulated time of the dynamic kinds (s).
+    dt : float
+        Time step of the dynamic kinds (s).
+
+    Returns
+    -------
+    wingmdao.groups.load_case.LoadCase
+        The load case, constraining the ``ss_tension`` and ``ss_compression`` families.
+    """
     if kind == "static":
         f = np.zeros((1, n, 3))
         f[0, -1, 2] = TIP_LOAD
         return LoadCase("static", np.zeros(1), {"point_force": f}, ("ss_tension", "ss_compression"))
     if not (t_final > 0 and 0 < dt <= t_final):
         raise ValueError(f"--t-final ({t_final} s) and --dt ({dt} s) must satisfy 0 < dt <= t_final")
-
     check_step_count(t_final, dt, n)
     time = np.arange(0.0, t_final + 0.5 * dt, dt)
     f = np.zeros((time.size, n, 3))
@@ -82,8 +104,25 @@ def load_case(kind: str, n: int, t_final: float, dt: float):
 
 
 def build(options: CantileverOptions | None = None, **overrides) -> CaseSetup:
-    """Geometry, tip-load case, Table 4.23 material and bounds from a :class:`CantileverOptions`
-    and/or keyword options (``build(load="step", guess="a")``)."""
+    """Geometry, tip-load case, Table 4.23 material and bounds of the cantilever.
+
+    Parameters
+    ----------
+    options : CantileverOptions, optional
+        The case's options; None: the defaults.
+    **overrides
+        Options by field name, replacing those of ``options`` (``build(load="step", guess="a")``).
+
+    Returns
+    -------
+    CaseSetup
+        The solid-section beam, its load case, material and sizing bounds.
+
+    Raises
+    ------
+    ValueError
+        A bad option, naming its flag, before any solve.
+    """
     from wingmdao.sizing import SizingOptions, WingGeometry
 
     opts = case_options(CantileverOptions, options, **overrides)

@@ -10,11 +10,11 @@ Engine (assumption): 9000 kg per wing at 35 % semi-span, as a point mass.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
-from wingmdao.cases import CaseOptions, CaseSetup, case_options, resolve_aero_theory, set_parser_defaults
+from wingmdao.cases import CaseOptions, CaseSetup, case_options, option, resolve_aero_theory
 from wingmdao.cases import pegasus as _pegasus
 from wingmdao.cases.pegasus import AERO_MODELS
 from wingmdao.cases.planform import Planform
@@ -41,32 +41,24 @@ class CrmOptions(CaseOptions):
     """Options of the CRM case; ``wingmdao size crm --help`` describes each."""
 
     CASE = NAME
-    load_factor: float = 2.5
-    negative_load_factor: float = -1.0
-    families: str = "vm"
-    aero: str = field(default="strip", metadata={"choices": AERO_MODELS})
-    aero_theory: str | None = field(default=None, metadata={"choices": _pegasus.AERO_THEORIES})  # None: vlm if coupled
-    altitude_ft: float = COUPLED_FLIGHT_POINT[0]  # the coupled maneuvers' flight point (assumed)
-    mach: float = COUPLED_FLIGHT_POINT[1]
-    panels: str = field(default="unstiffened", metadata={"choices": _pegasus.PANEL_MODELS})
-    stiffener_pitch: float = 0.15  # m
-    rib_pitch: float | None = None  # m; None: the ribs at the case's rib stations
+    load_factor: float = option(2.5, "positive maneuver load factor", metavar="N")
+    negative_load_factor: float = option(-1.0, "negative maneuver load factor", metavar="N")
+    families: str = option("vm", "comma list of stress families constrained", metavar="FAMILIES")
+    aero: str = option("strip", "maneuver loads: strip (Schrenk spanload) or coupled (trimmed static aeroelastic "
+                                "maneuvers on the deforming swept wing with the vortex lattice, at --altitude-ft / "
+                                "--mach)", choices=AERO_MODELS)
+    aero_theory: str | None = option(None, "quasi-steady lift of --aero coupled (the --aero-theory flag shared by the "
+                                           "commands; default vlm with --aero coupled)",
+                                     choices=_pegasus.AERO_THEORIES, shared=True)
+    altitude_ft: float = option(COUPLED_FLIGHT_POINT[0], "altitude of the coupled maneuvers (ft, 0-60000)", metavar="FT")
+    mach: float = option(COUPLED_FLIGHT_POINT[1], f"Mach number of the coupled maneuvers, (0, {MAX_COUPLED_MACH:g}]",
+                         metavar="MACH")
+    panels: str = _pegasus.panel_options()["panels"]
+    stiffener_pitch: float = _pegasus.panel_options()["stiffener_pitch"]  # m
+    rib_pitch: float | None = _pegasus.panel_options()["rib_pitch"]  # m; None: the ribs at the case's rib stations
 
 
 OPTIONS = CrmOptions
-
-
-def add_arguments(p):
-    p.add_argument("--load-factor", type=float, help="positive maneuver load factor")
-    p.add_argument("--negative-load-factor", type=float, help="negative maneuver load factor")
-    p.add_argument("--families", help="comma list of stress families constrained")
-    p.add_argument("--aero", choices=AERO_MODELS,
-                   help="maneuver loads: strip (Schrenk spanload) or coupled (trimmed static aeroelastic maneuvers "
-                        "on the deforming swept wing with the vortex lattice, at --altitude-ft / --mach)")
-    p.add_argument("--altitude-ft", type=float, help="altitude of the coupled maneuvers (ft, 0-60000)")
-    p.add_argument("--mach", type=float, help=f"Mach number of the coupled maneuvers, (0, {MAX_COUPLED_MACH:g}]")
-    _pegasus.add_panel_arguments(p)
-    set_parser_defaults(p, CrmOptions)
 
 
 #: the quasi-steady theories of the coupled CRM: the vortex lattice only (its lattice follows the
@@ -91,9 +83,25 @@ def check_coupled(opts: CrmOptions) -> str:
 
 
 def build(options: CrmOptions | None = None, **overrides) -> CaseSetup:
-    """The CRM geometry, its two maneuvers, material and bounds from a :class:`CrmOptions` and/or
-    keyword options (``build(load_factor=2.0)``). ``aero="coupled"``: the trimmed static aeroelastic
-    maneuvers with the vortex lattice of the swept planform at ``altitude_ft`` / ``mach``."""
+    """The CRM geometry, its two maneuvers, material and bounds.
+
+    Parameters
+    ----------
+    options : CrmOptions, optional
+        The case's options; None: the defaults.
+    **overrides
+        Options by field name, replacing those of ``options`` (``build(load_factor=2.0)``).
+
+    Returns
+    -------
+    CaseSetup
+        The CRM wing, its two maneuver load cases, material and sizing bounds.
+
+    Raises
+    ------
+    ValueError
+        A bad option, naming its flag, before any solve.
+    """
     opts = case_options(CrmOptions, options, **overrides)
     coupled = {}
     if opts.aero == "coupled":

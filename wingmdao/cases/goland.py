@@ -58,6 +58,19 @@ def beam_params(num_nodes: int = 21, *, inertia_axis: str = "ea") -> dict:
     """Beam parameter dict (``wingmdao.beam.residual.param_specs``) of the Goland wing, SI.
 
     Beam axis = elastic axis, along +y from the clamped root; mass centre 10 % chord aft of it.
+
+    Parameters
+    ----------
+    num_nodes : int, optional
+        Beam nodes, >= 3.
+    inertia_axis : str, optional
+        The axis Goland's I = 8.64 kg m is taken about: ``"ea"`` the elastic axis (Goland's
+        reading), ``"cg"`` the centre of gravity (some later tables).
+
+    Returns
+    -------
+    dict
+        The beam parameters (SI: m, N, kg).
     """
     if inertia_axis not in ("cg", "ea"):
         raise ValueError(f'inertia_axis must be "cg" or "ea", got {inertia_axis!r}')

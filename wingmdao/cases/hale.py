@@ -37,8 +37,20 @@ PUBLISHED = {
 
 
 def beam_params(num_nodes: int = 21, stiffness_factor: float = 1.0) -> dict:
-    """Beam parameter dict (``wingmdao.beam.residual.param_specs``) of the HALE wing, SI;
-    ``stiffness_factor`` multiplies its bending and torsion stiffness (> 0)."""
+    """Beam parameter dict (``wingmdao.beam.residual.param_specs``) of the HALE wing.
+
+    Parameters
+    ----------
+    num_nodes : int, optional
+        Beam nodes, >= 3.
+    stiffness_factor : float, optional
+        Multiplies the bending and torsion stiffness (> 0).
+
+    Returns
+    -------
+    dict
+        The beam parameters (SI: m, N, kg).
+    """
     if int(num_nodes) < 3:
         raise ValueError(f"num_nodes must be >= 3, got {num_nodes}")
     if not (np.isfinite(stiffness_factor) and stiffness_factor > 0.0):

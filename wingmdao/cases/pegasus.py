@@ -18,11 +18,12 @@ level flight, rigid-body plunge neglected (conservative).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from wingmdao.cases import CaseOptions, CaseSetup, case_options, check_step_count, resolve_aero_theory, set_parser_defaults
+from wingmdao.cases import (CaseOptions, CaseSetup, add_option_arguments, case_options, check_step_count, option,
+                            resolve_aero_theory)
 from wingmdao.cases.planform import FT, G0, LB, Planform, wing_geometry
 from wingmdao.aero.controls import control_spec, read_alleviation
 from wingmdao.aero.pitch import check_pitch_inputs
@@ -65,6 +66,33 @@ PITCH_REQUIRED = ("pitch_inertia", "cg_x", "tail_arm", "tail_area", "tail_lift_s
 GUST_SIGNS = ("up", "down", "both")
 #: wall models: unstiffened plates (strength only) or stiffened skins with buckling and ribs
 PANEL_MODELS = ("unstiffened", "stiffened")
+#: --help group of the stiffened-panel options (pegasus and the cases built on it)
+PANEL_GROUP = "stiffened panels (docs/panels.md)"
+#: --help groups of the free-pitch and gust-set options
+PITCH_GROUP = "free pitch (--pitch free; SI, body axes: x aft, z up from the symmetry-plane origin)"
+GUST_SET_GROUP = "25.341(a) gust set (every gust is a load case with its own KS; see docs/gust-envelope.md)"
+#: the panel options' fields (:func:`panel_options`)
+PANEL_FIELDS = ("panels", "stiffener_pitch", "rib_pitch")
+
+
+def panel_options() -> dict:
+    """The stiffened-panel option fields of pegasus and the cases built on it.
+
+    Returns
+    -------
+    dict
+        ``{name: dataclasses.Field}`` of ``panels`` (wall model), ``stiffener_pitch`` (m) and
+        ``rib_pitch`` (m; None: the case's ribs), new fields for each options dataclass.
+    """
+    return {
+        "panels": option("unstiffened", "wall model: unstiffened plates sized for strength (von Mises) or "
+                                        "stiffened: blade stiffeners on both skins with skin, panel, stiffener and "
+                                        "spar-web buckling (safety factor 1.5 on the loads), ribs at the case's rib "
+                                        "stations and the sizing rules", choices=PANEL_MODELS, group=PANEL_GROUP),
+        "stiffener_pitch": option(0.15, "stiffener spacing on both skins (m)", metavar="M", group=PANEL_GROUP),
+        "rib_pitch": option(None, "rib spacing (m) from the root rib to the tip rib, rounded to equal bays (default "
+                                  "unset: the case's ribs, one at each station)", metavar="M", group=PANEL_GROUP),
+    }
 
 
 @dataclass(frozen=True)
@@ -72,43 +100,73 @@ class PegasusOptions(CaseOptions):
     """Options of the PEGASUS case (units in the names); ``wingmdao size pegasus --help`` describes each."""
 
     CASE = NAME
-    loads: str | None = field(default=None, metadata={"choices": LOAD_SETS})  # None: maneuver, all with a gust set
-    load_factor: float = 2.5
-    negative_load_factor: float = -1.0
-    families: str = "vm"
-    altitude_ft: float = GUST["altitude_ft"]
-    mach: float = GUST["mach"]
-    u_ref_fps: float = GUST["u_ref_fps"]
-    gust_gradient_ft: float = GUST["gradient_ft"]
-    t_final: float = GUST["t_final"]  # s
-    dt: float = 0.02  # s
-    gust_start: float = 0.2  # s
-    aero: str = field(default="strip", metadata={"choices": AERO_MODELS})
-    # the coupled loads' quasi-steady lift; None: the default, vlm with --aero coupled (resolve_aero_theory)
-    aero_theory: str | None = field(default=None, metadata={"choices": AERO_THEORIES})
-    plunge: str = field(default="clamped", metadata={"choices": PLUNGE_MODES})  # coupled gust: root clamped or free
-    pitch: str = field(default="fixed", metadata={"choices": PITCH_MODES})  # coupled gust: pitch fixed or free
-    pitch_inertia: float | None = None  # kg m^2, about the CG
-    cg_x: float | None = None  # m aft of the body-axes origin (root leading edge)
-    cg_z: float = 0.0  # m
-    tail_arm: float | None = None  # m, CG to tail aerodynamic centre
-    tail_area: float | None = None  # m^2
-    tail_lift_slope: float | None = None  # 1/rad
-    downwash_gradient: float | None = None  # None: 2 a_w / (pi AR)
-    tail_lag: bool = False
-    alleviation: str | None = None  # path of a control-surface / feedback-law YAML (docs/controls.md)
-    size_gains: bool = False  # the law's gains (C and D) as design variables with the thicknesses
-    kussner: bool = False
-    damping_ratio: float = 0.0
-    damping_frequency_hz: float | None = None
-    gust_set: str | None = None  # path of a .json/.yaml gust set
-    gust_gradients_ft: tuple[float, ...] | None = None
-    gust_gradient_count: int | None = None
-    gust_sign: str | None = field(default=None, metadata={"choices": GUST_SIGNS})
-    load_history: str | None = None  # path of a .npz/.csv load history
-    panels: str = field(default="unstiffened", metadata={"choices": PANEL_MODELS})
-    stiffener_pitch: float = 0.15  # m
-    rib_pitch: float | None = None  # m; None: the ribs at the case's rib stations
+    loads: str | None = option(None, "load cases: the 2.5 g and -1.0 g maneuvers, the gust of Table 5.3 (or the gust "
+                                     "set), or all (default: maneuver, all with a gust set)", choices=LOAD_SETS)
+    load_factor: float = option(2.5, "positive maneuver load factor (25.337 gives 2.57 at 41005 lb; the "
+                                     "dissertation uses 2.5)", metavar="N")
+    negative_load_factor: float = option(-1.0, "negative maneuver load factor", metavar="N")
+    families: str = option("vm", "comma list of stress families constrained (vm, ss_tension, ss_compression, "
+                                 "cent_pos, cent_neg; ss and cent: both signs)", metavar="FAMILIES")
+    altitude_ft: float = option(GUST["altitude_ft"], "gust altitude (ft)", metavar="FT")
+    mach: float = option(GUST["mach"], "gust flight Mach number", metavar="MACH")
+    u_ref_fps: float = option(GUST["u_ref_fps"], "reference gust velocity (ft/s EAS) (Table 5.3: 30); 0 = the "
+                                                 "25.341(a)(5) table value", metavar="FPS")
+    gust_gradient_ft: float = option(GUST["gradient_ft"], "gust gradient H (ft), 30-350", metavar="FT")
+    t_final: float = option(GUST["t_final"], "gust simulation time (s)", metavar="S")
+    dt: float = option(0.02, "time step (s)", metavar="S")
+    gust_start: float = option(0.2, "time the gust front reaches the wing (s)", metavar="S")
+    aero: str = option("strip", "gust aerodynamics: strip (precomputed rigid-wing strip-theory loads) or coupled "
+                                "(unsteady strip theory on the deforming beam, trimmed 1 g start, clamped root; "
+                                "docs/aeroelasticity.md)", choices=AERO_MODELS)
+    aero_theory: str | None = option(None, "quasi-steady lift of --aero coupled: strip, lifting-line or vlm (the "
+                                           "--aero-theory flag shared by the commands; default vlm with --aero "
+                                           "coupled)", choices=AERO_THEORIES, shared=True)
+    plunge: str = option("clamped", "coupled gust (--aero coupled): clamped (root clamped, wind-tunnel wing, no "
+                                    "alleviation; default) or free (the aircraft free in plunge, its mass the TOGW: "
+                                    "gust alleviation by the aircraft's response; '--plunge' alone = free)",
+                         choices=PLUNGE_MODES, nargs="?", const="free")
+    pitch: str = option("fixed", "coupled gust with --plunge free: fixed (default) or free (the aircraft also free in "
+                                 "pitch with a horizontal tail, docs/aeroelasticity.md; needs --pitch-inertia, --cg-x, "
+                                 "--tail-arm, --tail-area, --tail-lift-slope; '--pitch' alone = free)",
+                        choices=PITCH_MODES, nargs="?", const="free")
+    pitch_inertia: float | None = option(None, "aircraft pitch inertia I_yy about its CG (kg m^2)", metavar="KG_M2",
+                                         group=PITCH_GROUP)
+    cg_x: float | None = option(None, "aircraft CG x (m aft of the body-axes origin)", metavar="M", group=PITCH_GROUP)
+    cg_z: float = option(0.0, "aircraft CG z (m above the origin)", metavar="M", group=PITCH_GROUP)
+    tail_arm: float | None = option(None, "CG to horizontal-tail aerodynamic centre (m, > 0)", metavar="M",
+                                    group=PITCH_GROUP)
+    tail_area: float | None = option(None, "horizontal tail area (m^2, > 0)", metavar="M2", group=PITCH_GROUP)
+    tail_lift_slope: float | None = option(None, "horizontal tail lift slope a_t (1/rad, compressibility included)",
+                                           metavar="PER_RAD", group=PITCH_GROUP)
+    downwash_gradient: float | None = option(None, "deps/dalpha at the tail, [0, 1) (unset: 2 a_w / (pi AR), a_w the "
+                                                   "strips' wing lift slope)", metavar="D", group=PITCH_GROUP)
+    tail_lag: bool = option(False, "downwash lag: first-order lag of time constant x_t / V on the wing angle seen by "
+                                   "the tail", group=PITCH_GROUP)
+    alleviation: str | None = option(None, "coupled gust: control surfaces, actuators and a feedback law in the march "
+                                           "(docs/controls.md)", metavar="FILE.yaml")
+    size_gains: bool = option(False, "with --alleviation: the law's gain matrices C and D are design variables with "
+                                     "the thicknesses (co-design of structure and load alleviation)")
+    kussner: bool = option(False, "lag the gust lift by the Kussner function")
+    damping_ratio: float = option(0.0, "structural damping ratio of the gust case's beam (Kelvin-Voigt strain-rate "
+                                       "damping, Alg. 6) at --damping-frequency-hz; 0 = undamped; Nastran practice: "
+                                       "0.02", metavar="ZETA")
+    damping_frequency_hz: float | None = option(None, "frequency at which --damping-ratio holds (Hz); default unset: "
+                                                      "the first mode of the initial design", metavar="HZ")
+    gust_set: str | None = option(None, "gust set description (.json or .yaml): flight points x gradients x signs",
+                                  metavar="FILE", group=GUST_SET_GROUP)
+    gust_gradients_ft: tuple[float, ...] | None = option(
+        None, "gust gradient distances (ft), 30-350, at the --altitude-ft/--mach flight point", metavar="H", nargs="+",
+        group=GUST_SET_GROUP)
+    gust_gradient_count: int | None = option(None, "N gradients log-spaced over 30-350 ft (instead of "
+                                                   "--gust-gradients-ft)", metavar="N", group=GUST_SET_GROUP)
+    gust_sign: str | None = option(None, "up and/or down gusts of the set (default: both with a set, up for the single "
+                                         "gust)", choices=GUST_SIGNS, group=GUST_SET_GROUP)
+    load_history: str | None = option(None, "gust case from a load time history file (.npz or .csv on the 20 beam "
+                                            "nodes, format in docs/loads.md, e.g. exported from a Nastran SOL 146 "
+                                            "run) instead of strip theory", metavar="FILE")
+    panels: str = panel_options()["panels"]
+    stiffener_pitch: float = panel_options()["stiffener_pitch"]  # m
+    rib_pitch: float | None = panel_options()["rib_pitch"]  # m; None: the ribs at the case's rib stations
 
 
 OPTIONS = PegasusOptions
@@ -120,86 +178,15 @@ GUST_ONLY_OPTIONS = ("altitude_ft", "mach", "u_ref_fps", "gust_gradient_ft", "t_
                      "gust_set", "gust_gradients_ft", "gust_gradient_count", "gust_sign")
 
 
-def add_arguments(p):
-    p.add_argument("--loads", choices=LOAD_SETS,
-                   help="load cases: the 2.5 g and -1.0 g maneuvers, the gust of Table 5.3 (or the gust set), "
-                        "or all (default: maneuver, all with a gust set)")
-    p.add_argument("--load-factor", type=float,
-                   help="positive maneuver load factor (25.337 gives 2.57 at 41005 lb; the dissertation uses 2.5)")
-    p.add_argument("--negative-load-factor", type=float, help="negative maneuver load factor")
-    p.add_argument("--families",
-                   help="comma list of stress families constrained (vm, ss_tension, ss_compression, cent_pos, cent_neg; "
-                        "ss and cent: both signs)")
-    p.add_argument("--altitude-ft", type=float, help="gust altitude (ft)")
-    p.add_argument("--mach", type=float, help="gust flight Mach number")
-    p.add_argument("--u-ref-fps", type=float,
-                   help="reference gust velocity (ft/s EAS) (Table 5.3: 30); 0 = the 25.341(a)(5) table value")
-    p.add_argument("--gust-gradient-ft", type=float, help="gust gradient H (ft), 30-350")
-    p.add_argument("--t-final", type=float, help="gust simulation time (s)")
-    p.add_argument("--dt", type=float, help="time step (s)")
-    p.add_argument("--gust-start", type=float, help="time the gust front reaches the wing (s)")
-    p.add_argument("--aero", choices=AERO_MODELS,
-                   help="gust aerodynamics: strip (precomputed rigid-wing strip-theory loads) or coupled (unsteady "
-                        "strip theory on the deforming beam, trimmed 1 g start, clamped root; docs/aeroelasticity.md)")
-    p.add_argument("--plunge", choices=PLUNGE_MODES, nargs="?", const="free",
-                   help="coupled gust (--aero coupled): clamped (root clamped, wind-tunnel wing, no alleviation; "
-                        "default) or free (the aircraft free in plunge, its mass the TOGW: gust alleviation by "
-                        "the aircraft's response; '--plunge' alone = free)")
-    p.add_argument("--pitch", choices=PITCH_MODES, nargs="?", const="free",
-                   help="coupled gust with --plunge free: fixed (default) or free (the aircraft also free in pitch with "
-                        "a horizontal tail, docs/aeroelasticity.md; needs --pitch-inertia, --cg-x, --tail-arm, "
-                        "--tail-area, --tail-lift-slope; '--pitch' alone = free)")
-    t = p.add_argument_group("free pitch (--pitch free; SI, body axes: x aft, z up from the symmetry-plane origin)")
-    t.add_argument("--pitch-inertia", type=float, metavar="KG_M2", help="aircraft pitch inertia I_yy about its CG (kg m^2)")
-    t.add_argument("--cg-x", type=float, metavar="M", help="aircraft CG x (m aft of the body-axes origin)")
-    t.add_argument("--cg-z", type=float, metavar="M", help="aircraft CG z (m above the origin)")
-    t.add_argument("--tail-arm", type=float, metavar="M", help="CG to horizontal-tail aerodynamic centre (m, > 0)")
-    t.add_argument("--tail-area", type=float, metavar="M2", help="horizontal tail area (m^2, > 0)")
-    t.add_argument("--tail-lift-slope", type=float, metavar="PER_RAD",
-                   help="horizontal tail lift slope a_t (1/rad, compressibility included)")
-    t.add_argument("--downwash-gradient", type=float, metavar="D",
-                   help="deps/dalpha at the tail, [0, 1) (unset: 2 a_w / (pi AR), a_w the strips' wing lift slope)")
-    t.add_argument("--tail-lag", action="store_true",
-                   help="downwash lag: first-order lag of time constant x_t / V on the wing angle seen by the tail")
-    p.add_argument("--alleviation", metavar="FILE.yaml",
-                   help="coupled gust: control surfaces, actuators and a feedback law in the march (docs/controls.md)")
-    p.add_argument("--size-gains", action="store_true",
-                   help="with --alleviation: the law's gain matrices C and D are design variables with the "
-                        "thicknesses (co-design of structure and load alleviation)")
-    p.add_argument("--kussner", action="store_true", help="lag the gust lift by the Kussner function")
-    p.add_argument("--damping-ratio", type=float,
-                   help="structural damping ratio of the gust case's beam (Kelvin-Voigt strain-rate damping, "
-                        "Alg. 6) at --damping-frequency-hz; 0 = undamped; Nastran practice: 0.02")
-    p.add_argument("--damping-frequency-hz", type=float,
-                   help="frequency at which --damping-ratio holds (Hz); default unset: the first mode "
-                        "of the initial design")
-    g = p.add_argument_group("25.341(a) gust set (every gust is a load case with its own KS; see docs/gust-envelope.md)")
-    g.add_argument("--gust-set", metavar="FILE",
-                   help="gust set description (.json or .yaml): flight points x gradients x signs")
-    g.add_argument("--gust-gradients-ft", metavar="H", type=float, nargs="+",
-                   help="gust gradient distances (ft), 30-350, at the --altitude-ft/--mach flight point")
-    g.add_argument("--gust-gradient-count", metavar="N", type=int,
-                   help="N gradients log-spaced over 30-350 ft (instead of --gust-gradients-ft)")
-    g.add_argument("--gust-sign", choices=GUST_SIGNS,
-                   help="up and/or down gusts of the set (default: both with a set, up for the single gust)")
-    p.add_argument("--load-history", metavar="FILE",
-                   help="gust case from a load time history file (.npz or .csv on the 20 beam nodes, "
-                        "format in docs/loads.md, e.g. exported from a Nastran SOL 146 run) instead of strip theory")
-    add_panel_arguments(p)
-    set_parser_defaults(p, PegasusOptions)
-
-
 def add_panel_arguments(p):
-    """``--panels``, ``--stiffener-pitch``, ``--rib-pitch`` (pegasus and the cases built on it)."""
-    s = p.add_argument_group("stiffened panels (docs/panels.md)")
-    s.add_argument("--panels", choices=PANEL_MODELS,
-                   help="wall model: unstiffened plates sized for strength (von Mises) or stiffened: blade "
-                        "stiffeners on both skins with skin, panel, stiffener and spar-web buckling (safety factor "
-                        "1.5 on the loads), ribs at the case's rib stations and the sizing rules")
-    s.add_argument("--stiffener-pitch", type=float, metavar="M", help="stiffener spacing on both skins (m)")
-    s.add_argument("--rib-pitch", type=float, metavar="M",
-                   help="rib spacing (m) from the root rib to the tip rib, rounded to equal bays (default unset: "
-                        "the case's ribs, one at each station)")
+    """Add ``--panels``, ``--stiffener-pitch``, ``--rib-pitch`` from :func:`panel_options`.
+
+    Parameters
+    ----------
+    p : argparse.ArgumentParser
+        The case's parser (the options go into the group :data:`PANEL_GROUP`).
+    """
+    add_option_arguments(p, PegasusOptions, names=PANEL_FIELDS)
 
 
 def parse_families(text: str) -> tuple:

@@ -20,6 +20,35 @@ from wingmdao.section.fe.airfoil import naca_surfaces
 
 @dataclass(frozen=True)
 class Planform:
+    """A trapezoidal wing planform with its spars, ribs and airfoils.
+
+    Parameters
+    ----------
+    area_ft2 : float
+        Reference area of both wings (ft^2).
+    span_ft : float
+        Span tip to tip (ft).
+    taper : float
+        Tip over centre-line chord, (0, 1].
+    le_sweep_deg : float
+        Leading-edge sweep (deg).
+    front_spar, rear_spar : float
+        Spar positions (fractions of chord), 0 < front < rear < 1.
+    root_rib, tip_rib : float
+        Span positions of the root and tip ribs (fractions of the semi-span).
+    num_ribs : int
+        Ribs, stations 1..num_ribs (station 0: the symmetry plane).
+    airfoil_root, airfoil_tip : str
+        NACA 4-digit designations at the root and tip ribs.
+    dihedral_deg : float, optional
+        Dihedral (deg).
+
+    Raises
+    ------
+    ValueError
+        Spar, rib or taper values outside their ranges.
+    """
+
     area_ft2: float
     span_ft: float
     taper: float
@@ -51,18 +80,66 @@ class Planform:
         return 2.0 * self.area_ft2 * FT**2 / (self.span_ft * FT * (1.0 + self.taper))
 
     def chord(self, y):
+        """Streamwise chord.
+
+        Parameters
+        ----------
+        y : float or array_like
+            Span coordinate (m).
+
+        Returns
+        -------
+        float or ndarray
+            Chord (m).
+        """
         return self.root_chord * (1.0 - (1.0 - self.taper) * np.asarray(y) / self.semi_span)
 
     def leading_edge_x(self, y):
+        """Leading-edge x (aft) of the swept planform.
+
+        Parameters
+        ----------
+        y : float or array_like
+            Span coordinate (m).
+
+        Returns
+        -------
+        float or ndarray
+            x (m) from the centre-line leading edge.
+        """
         return np.tan(np.radians(self.le_sweep_deg)) * np.asarray(y)
 
     def station_y(self) -> np.ndarray:
+        """Span coordinates of the stations.
+
+        Returns
+        -------
+        ndarray
+            (num_ribs + 1,) y (m): 0 (the symmetry plane) and the ribs.
+        """
         ribs = np.linspace(self.root_rib, self.tip_rib, self.num_ribs) * self.semi_span
         return np.concatenate([[0.0], ribs])
 
 
 def box_dimensions(designation: str, chord: float, front: float, rear: float):
-    """Box width (Eq. 4.11) and height (Eq. 4.12) between the spars of an airfoil, m."""
+    """Box width (Eq. 4.11) and height (Eq. 4.12) between the spars of an airfoil.
+
+    Parameters
+    ----------
+    designation : str
+        NACA 4-digit designation.
+    chord : float
+        Chord (m).
+    front, rear : float
+        Spar positions (fractions of chord).
+
+    Returns
+    -------
+    width : float
+        Mean of the upper and lower skin lengths between the spars (m).
+    height : float
+        Mean of ten heights between the spars (m).
+    """
     upper, lower = naca_surfaces(designation)
     xs = np.linspace(front, rear, 10)
     height = chord * float(np.mean(upper(xs) - lower(xs)))
@@ -73,7 +150,20 @@ def box_dimensions(designation: str, chord: float, front: float, rear: float):
 
 
 def interpolate_designation(root: str, tip: str, fraction: float) -> str:
-    """NACA designation with the thickness (last two digits) interpolated root -> tip."""
+    """NACA designation with the thickness (last two digits) interpolated root -> tip.
+
+    Parameters
+    ----------
+    root, tip : str
+        NACA 4-digit designations.
+    fraction : float
+        0 at the root, 1 at the tip.
+
+    Returns
+    -------
+    str
+        The interpolated designation.
+    """
     t = round((1 - fraction) * int(root[-2:]) + fraction * int(tip[-2:]))
     return root[:-2] + f"{t:02d}"
 
@@ -81,9 +171,22 @@ def interpolate_designation(root: str, tip: str, fraction: float) -> str:
 def wing_geometry(pf: Planform, point_masses=()):
     """Beam mesh (box centres), box width/height, chord and beam-axis chord fraction per station.
 
-    ``point_masses``: (mass kg, y m) pairs smeared as non-structural mass over the element
-    lengths next to the nearest station (their integral equals the mass).
-    Returns ``(WingGeometry, chord (n,), beam_axis_fraction (n,))``.
+    Parameters
+    ----------
+    pf : Planform
+        The planform.
+    point_masses : sequence of (float, float), optional
+        (mass kg, y m) pairs smeared as non-structural mass over the element lengths next to
+        the nearest station (their integral equals the mass).
+
+    Returns
+    -------
+    geometry : wingmdao.beam.geometry.WingGeometry
+        Beam mesh at the box centres (m), box width and height (m).
+    chord : ndarray
+        (n,) chord (m).
+    beam_axis_fraction : ndarray
+        (n,) chord fraction of the beam axis.
     """
     y = pf.station_y()
     y_sec = np.where(y < pf.root_rib * pf.semi_span, pf.root_rib * pf.semi_span, y)  # centre box = root rib

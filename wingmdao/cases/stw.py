@@ -26,11 +26,11 @@ the lift and twist distributions of both maneuvers as CSV files beside the JSON.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
-from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defaults
+from wingmdao.cases import CaseOptions, CaseSetup, case_options, option
 from wingmdao.cases import stw_data as D
 from wingmdao.cases import stw_loads
 from wingmdao.cases.planform import G0
@@ -86,40 +86,45 @@ class StwOptions(CaseOptions):
     """Options of the STW case (units in the names); ``wingmdao size stw --help`` describes each."""
 
     CASE = NAME
-    loads: str = field(default="maneuver", metadata={"choices": LOAD_SETS})
-    num_nodes: int = D.NUM_RIBS
-    wingbox_mass: float | None = None  # kg, one wing; None: the baseline panel sizing's
-    families: str = "vm"
-    cut: str = field(default="normal", metadata={"choices": CUTS})
-    height_rule: str = field(default="spars", metadata={"choices": HEIGHT_RULES})
+    loads: str = option("maneuver", "load cases: both Case 1 maneuvers (2.5 g pull-up, -1 g push-down at sea level, "
+                                    "M 0.458), trimmed aeroelastic (strip theory with Weissinger lift slopes on the "
+                                    "deforming beam)", choices=LOAD_SETS)
+    num_nodes: int = option(D.NUM_RIBS, "beam nodes (>= 23: one at each rib, more spread over the rib bays)",
+                            metavar="N")
+    wingbox_mass: float | None = option(
+        None, "wingbox mass of one wing (kg) for the landing gross mass of the loads (LGM = 41 500 kg + 2 x 10.147 "
+              "M_wingbox^0.8162); default unset: the benchmark's baseline panel sizing on this beam (rerun with the "
+              "sized mass to iterate)", metavar="KG")
+    families: str = option("vm", "comma list of stress families constrained (vm, ss_tension, ss_compression, "
+                                 "cent_pos, cent_neg); the panel modes are always constrained", metavar="FAMILIES")
+    cut: str = option("normal", "box section cut: normal to the beam axis or streamwise", choices=CUTS)
+    height_rule: str = option("spars", "box height: mean of the two spar heights or of ten heights between the "
+                                       "spars", choices=HEIGHT_RULES)
 
 
 OPTIONS = StwOptions
 
 
-def add_arguments(p):
-    p.add_argument("--loads", choices=LOAD_SETS,
-                   help="load cases: both Case 1 maneuvers (2.5 g pull-up, -1 g push-down at sea level, M 0.458), "
-                        "trimmed aeroelastic (strip theory with Weissinger lift slopes on the deforming beam)")
-    p.add_argument("--num-nodes", type=int, metavar="N",
-                   help="beam nodes (>= 23: one at each rib, more spread over the rib bays)")
-    p.add_argument("--wingbox-mass", type=float, metavar="KG",
-                   help="wingbox mass of one wing (kg) for the landing gross mass of the loads (LGM = 41 500 kg + "
-                        "2 x 10.147 M_wingbox^0.8162); default unset: the benchmark's baseline panel sizing on "
-                        "this beam (rerun with the sized mass to iterate)")
-    p.add_argument("--families",
-                   help="comma list of stress families constrained (vm, ss_tension, ss_compression, cent_pos, "
-                        "cent_neg); the panel modes are always constrained")
-    p.add_argument("--cut", choices=CUTS, help="box section cut: normal to the beam axis or streamwise")
-    p.add_argument("--height-rule", choices=HEIGHT_RULES,
-                   help="box height: mean of the two spar heights or of ten heights between the spars")
-    set_parser_defaults(p, StwOptions)
-
-
 def build(options: StwOptions | None = None, **overrides) -> CaseSetup:
-    """The STW Case 1 sizing: beam, both trimmed maneuvers, material and bounds, from a
-    :class:`StwOptions` and/or keyword options (``build(num_nodes=40)``); ValueError naming the
-    option for bad input, before any solve."""
+    """The STW Case 1 sizing: beam, both trimmed maneuvers, material and bounds.
+
+    Parameters
+    ----------
+    options : StwOptions, optional
+        The case's options; None: the defaults.
+    **overrides
+        Options by field name, replacing those of ``options`` (``build(num_nodes=40)``).
+
+    Returns
+    -------
+    CaseSetup
+        The stiffened wingbox beam, both maneuver load cases, material and sizing bounds.
+
+    Raises
+    ------
+    ValueError
+        A bad option, naming its flag, before any solve.
+    """
     from wingmdao.sizing import WALL_VARS, SizingOptions
 
     opts = case_options(StwOptions, options, **overrides)
@@ -174,14 +179,43 @@ def build(options: StwOptions | None = None, **overrides) -> CaseSetup:
 
 
 def output_files(stem: str, setup) -> list:
-    """The files :func:`write_outputs` writes (checked before the run): one CSV per maneuver."""
+    """The files :func:`write_outputs` writes (checked before the run).
+
+    Parameters
+    ----------
+    stem : str
+        Path stem of the run's outputs (``--out`` folder and case name).
+    setup : CaseSetup
+        The built case.
+
+    Returns
+    -------
+    list of str
+        One CSV path per maneuver.
+    """
     return [f"{stem}_{case.name}_distribution.csv" for case in setup.load_cases]
 
 
 def write_outputs(prob, setup, stem: str, result: dict) -> list:
-    """After the run: the lift and twist distributions of both maneuvers at the final design as
-    CSV files (columns ``stw_loads.CSV_COLUMNS``) and, in ``result["maneuvers"]``, each maneuver's
-    angle of attack, load factor, lift and root bending moment, and the loads' masses."""
+    """Write the lift and twist distributions of both maneuvers at the final design.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        The sized problem.
+    setup : CaseSetup
+        The built case.
+    stem : str
+        Path stem of the run's outputs (:func:`output_files`).
+    result : dict
+        The run's result; ``result["maneuvers"]`` receives each maneuver's angle of attack, load
+        factor, lift (N) and root bending moment (N m), and the loads' masses (kg).
+
+    Returns
+    -------
+    list of str
+        The CSV files written (columns ``stw_loads.CSV_COLUMNS``).
+    """
     info = setup.stw
     beam = info["beam"]
     paths, summary = [], {}

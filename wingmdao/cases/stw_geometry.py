@@ -30,20 +30,53 @@ def _span_array(y, name="y") -> np.ndarray:
 
 
 def chord(y) -> np.ndarray:
-    """Streamwise chord at span position(s) ``y`` (m): linear from 5 m at y = 0 to 1.5 m at the tip."""
+    """Streamwise chord: linear from 5 m at y = 0 to 1.5 m at the tip.
+
+    Parameters
+    ----------
+    y : float or array_like
+        Span position(s) (m), in [0, 14].
+
+    Returns
+    -------
+    ndarray
+        Chord (m).
+    """
     y = _span_array(y)
     return D.ROOT_CHORD + (D.TIP_CHORD - D.ROOT_CHORD) * y / D.SEMI_SPAN
 
 
 def leading_edge_x(y) -> np.ndarray:
-    """x of the leading edge (m aft of the root leading edge): straight, 7.5 m aft at the tip."""
+    """x of the leading edge: straight, 7.5 m aft at the tip.
+
+    Parameters
+    ----------
+    y : float or array_like
+        Span position(s) (m), in [0, 14].
+
+    Returns
+    -------
+    ndarray
+        x (m aft of the root leading edge).
+    """
     y = _span_array(y)
     return D.TIP_LE_OFFSET * y / D.SEMI_SPAN
 
 
 def spar_x(y) -> tuple[np.ndarray, np.ndarray]:
     """x of the front and rear spars (m). Outboard of the side of body at 15 % and 65 % of the
-    local chord; inboard the box is unswept: the spars keep their side-of-body x (wingGeometry.py)."""
+    local chord; inboard the box is unswept: the spars keep their side-of-body x (wingGeometry.py).
+
+    Parameters
+    ----------
+    y : float or array_like
+        Span position(s) (m), in [0, 14].
+
+    Returns
+    -------
+    front, rear : ndarray
+        x of the front and rear spars (m aft of the root leading edge).
+    """
     y = _span_array(y)
     ys = np.maximum(y, D.SOB_Y)
     le, c = leading_edge_x(ys), chord(ys)
@@ -72,7 +105,18 @@ def airfoil_surfaces():
 
 
 def thickness_to_chord(x) -> np.ndarray:
-    """RAE 2822 thickness (upper minus lower surface) over chord at chord fraction(s) ``x``."""
+    """RAE 2822 thickness (upper minus lower surface) over chord.
+
+    Parameters
+    ----------
+    x : float or array_like
+        Chord fraction(s), in [0, 1].
+
+    Returns
+    -------
+    ndarray
+        Thickness over chord (dimensionless).
+    """
     x = np.asarray(x, dtype=float)
     if np.any(x < 0.0) or np.any(x > 1.0) or not np.all(np.isfinite(x)):
         raise ValueError("chord fractions must lie in [0, 1]")
@@ -123,8 +167,25 @@ def _elements_per_bay(num_nodes: int, bay_length: np.ndarray) -> np.ndarray:
 
 
 def node_y(num_nodes: int = D.NUM_RIBS) -> tuple[np.ndarray, np.ndarray]:
-    """Span positions of ``num_nodes`` beam nodes (m) with a node on every rib, and the rib node
-    indices. ValueError for fewer nodes than ribs (23) or a non-integer count."""
+    """Span positions of the beam nodes, with a node on every rib.
+
+    Parameters
+    ----------
+    num_nodes : int, optional
+        Beam nodes, >= 23 (the ribs).
+
+    Returns
+    -------
+    y : ndarray
+        (num_nodes,) span positions (m).
+    rib_nodes : ndarray
+        Node index of each rib.
+
+    Raises
+    ------
+    ValueError
+        Fewer nodes than ribs or a non-integer count.
+    """
     if isinstance(num_nodes, (bool, np.bool_)) or not isinstance(num_nodes, numbers.Integral):
         raise ValueError(f"stw num_nodes = {num_nodes!r}: must be an integer")
     if num_nodes < D.NUM_RIBS:
@@ -156,6 +217,20 @@ def beam_geometry(num_nodes: int = D.NUM_RIBS, *, cut: str = "normal", height_ru
     thickness at the spars, the box taken as the rectangle of the spar-to-spar trapezoid);
     ``"mean10"`` the mean of ten heights between the spars (Eq. 4.12, as the PEGASUS and CRM
     cases). No non-structural mass: the benchmark has none.
+
+    Parameters
+    ----------
+    num_nodes : int, optional
+        Beam nodes, >= 23.
+    cut : str, optional
+        ``"normal"`` or ``"streamwise"`` (above).
+    height_rule : str, optional
+        ``"spars"`` or ``"mean10"`` (above).
+
+    Returns
+    -------
+    StwBeam
+        The beam geometry and the data behind it (m, deg).
     """
     from wingmdao.sizing import WingGeometry
 
@@ -228,7 +303,19 @@ def aero_reference(y=None) -> AeroReference:
     """Planform data at span positions ``y`` (m, in [0, 14]; default: the 23 rib planes).
 
     Area and MAC are the integrals of the linear chord (S = int c dy, MAC = int c^2 dy / S); the
-    benchmark states 45.5 m^2 and 3.56 m."""
+    benchmark states 45.5 m^2 and 3.56 m.
+
+    Parameters
+    ----------
+    y : array_like, optional
+        Span positions (m), in [0, 14]; None: the 23 rib planes.
+
+    Returns
+    -------
+    AeroReference
+        Per-station chord, leading edge, quarter-chord line (m, deg) and the wing's area (m^2),
+        MAC (m) and aspect ratio.
+    """
     y = rib_y() if y is None else _span_array(y)
     y = np.atleast_1d(y)
     c = chord(y)

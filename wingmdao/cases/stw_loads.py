@@ -50,13 +50,38 @@ CSV_COLUMNS = ("y_m", "eta", "lift_n_per_m", "cl", "twist_deg")
 
 
 def beta(mach: float = D.PULL_UP.mach) -> float:
+    """Prandtl-Glauert factor sqrt(1 - M^2).
+
+    Parameters
+    ----------
+    mach : float, optional
+        Mach number, < 1.
+
+    Returns
+    -------
+    float
+        beta (dimensionless).
+    """
     return math.sqrt(1.0 - mach * mach)
 
 
 def camber_coefficients(n: int = 2000) -> tuple[float, float]:
     """(alpha_zero_lift rad, cm about the quarter chord) of the RAE 2822 mean line by thin-airfoil
     theory: alpha_L0 = -1/pi int dz/dx (cos t - 1) dt, cm_c/4 = 1/2 int dz/dx (cos 2t - cos t) dt,
-    x = (1 - cos t) / 2 (Abbott & von Doenhoff, Ch. 4)."""
+    x = (1 - cos t) / 2 (Abbott & von Doenhoff, Ch. 4).
+
+    Parameters
+    ----------
+    n : int, optional
+        Integration points.
+
+    Returns
+    -------
+    alpha_zero_lift : float
+        Zero-lift angle (rad).
+    cm0 : float
+        Pitching-moment coefficient about the quarter chord.
+    """
     upper, lower = airfoil_surfaces()
     t = (np.arange(n) + 0.5) * np.pi / n
     dt = np.pi / n
@@ -71,20 +96,61 @@ def camber_coefficients(n: int = 2000) -> tuple[float, float]:
 
 def spanwise_lift_slope(y, mach: float = D.PULL_UP.mach, n_panels: int = 60):
     """Effective strip lift slope a(y) (1/rad, compressible, per streamwise angle) at span
-    positions ``y`` and the wing's CL_alpha, from the Weissinger solution of the STW planform."""
+    positions ``y`` and the wing's CL_alpha, from the Weissinger solution of the STW planform.
+
+    Parameters
+    ----------
+    y : array_like
+        Span positions (m).
+    mach : float, optional
+        Mach number.
+    n_panels : int, optional
+        Spanwise panels of the Weissinger solution.
+
+    Returns
+    -------
+    slope : ndarray
+        a(y) (1/rad).
+    cl_alpha : float
+        Wing lift slope (1/rad).
+    """
     slope, cl_alpha, _ = weissinger_lift_slope(y, stw.chord, stw.leading_edge_x, D.SEMI_SPAN, mach=mach,
                                                n_panels=n_panels)
     return slope, cl_alpha
 
 
 def outboard_sweep(beam) -> float:
-    """Sweep of the outboard beam (rad): the mid-box line outboard of the side of body."""
+    """Sweep of the outboard beam (rad): the mid-box line outboard of the side of body.
+
+    Parameters
+    ----------
+    beam : wingmdao.cases.stw_geometry.StwBeam
+        The STW beam.
+
+    Returns
+    -------
+    float
+        Sweep (rad).
+    """
     return float(np.radians(beam.sweep_deg[-1]))
 
 
 def strip_parameters(beam, mach: float = D.PULL_UP.mach) -> dict:
     """CoupledAero section data per beam node (module docstring): chord, ref_point, lift_slope,
-    alpha_zero_lift, cm0; and the unscaled ``strip_slope`` a(y), ``CL_alpha``, ``sweep_out``."""
+    alpha_zero_lift, cm0; and the unscaled ``strip_slope`` a(y), ``CL_alpha``, ``sweep_out``.
+
+    Parameters
+    ----------
+    beam : wingmdao.cases.stw_geometry.StwBeam
+        The STW beam.
+    mach : float, optional
+        Mach number.
+
+    Returns
+    -------
+    dict
+        The section data per node (m, rad, 1/rad).
+    """
     lam_b = np.radians(beam.sweep_deg)
     lam_o = outboard_sweep(beam)
     a, cl_alpha = spanwise_lift_slope(beam.y, mach)
@@ -100,7 +166,22 @@ def baseline_wingbox_mass(beam, material, panel=D.BASELINE_PANEL) -> float:
     """Wingbox mass of one wing (kg) of the benchmark's baseline panel sizing (required_results.rst:
     panels 6.5 mm, T stiffeners 50 mm x 6 mm at 0.15 m, flange = web height) on the beam's box:
     skins of t_panel + A_stiff / p_stiff, unstiffened spar webs of t_panel (the beam's spars
-    carry no stiffeners), ribs left out; density of ``material``."""
+    carry no stiffeners), ribs left out; density of ``material``.
+
+    Parameters
+    ----------
+    beam : wingmdao.cases.stw_geometry.StwBeam
+        The STW beam (box width, height and node positions in m).
+    material : wingmdao.materials.Material
+        Material whose density (kg/m^3) is used.
+    panel : stw_data.PanelSizing, optional
+        The panel sizing (m).
+
+    Returns
+    -------
+    float
+        Wingbox mass of one wing (kg).
+    """
     area_stiff = 2.0 * panel.stiffener_height * panel.stiffener_thickness  # web + flange (flange = height)
     t_eq = panel.panel_thickness + area_stiff / panel.stiffener_pitch
     per_length = material.rho * (2.0 * beam.geometry.width * t_eq + 2.0 * beam.geometry.height * panel.panel_thickness)
@@ -111,7 +192,28 @@ def baseline_wingbox_mass(beam, material, panel=D.BASELINE_PANEL) -> float:
 def maneuver_case(name, condition, beam, landing_mass, families, mach=None):
     """The trimmed aeroelastic maneuver ``condition`` (stw_data.PULL_UP / PUSH_DOWN) at the
     landing gross mass ``landing_mass`` (kg): a :class:`~wingmdao.groups.load_case.LoadCase` with a
-    :class:`~wingmdao.aero.coupled.CoupledAero` (trim=True)."""
+    :class:`~wingmdao.aero.coupled.CoupledAero` (trim=True).
+
+    Parameters
+    ----------
+    name : str
+        Load case name.
+    condition : stw_data.FlightCondition
+        The maneuver's flight condition.
+    beam : wingmdao.cases.stw_geometry.StwBeam
+        The STW beam.
+    landing_mass : float
+        Landing gross mass (kg).
+    families : sequence of str
+        Stress families constrained.
+    mach : float, optional
+        Mach number of the aerodynamics; None: the condition's.
+
+    Returns
+    -------
+    wingmdao.groups.load_case.LoadCase
+        The trimmed maneuver case.
+    """
     from wingmdao.aero.coupled import CoupledAero
 
     mach = condition.mach if mach is None else mach
@@ -136,7 +238,22 @@ def trimmed_state(prob, case, beam) -> dict:
     dynamic pressure), ``twist_deg`` (streamwise incidence change of the deformed section, deg:
     asin of the x component of the deformed section normal, i.e. theta cos Lambda - dw/ds sin
     Lambda for small rotations); and ``alpha_deg`` (aircraft angle of attack), ``total_lift_n``
-    (both half-wings), ``root_bending_moment_n_m`` (beam state M_x at the root)."""
+    (both half-wings), ``root_bending_moment_n_m`` (beam state M_x at the root).
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        The analysed sizing problem.
+    case : wingmdao.groups.load_case.LoadCase
+        The maneuver case (:func:`maneuver_case`).
+    beam : wingmdao.cases.stw_geometry.StwBeam
+        The STW beam.
+
+    Returns
+    -------
+    dict
+        The state, units above.
+    """
     from wingmdao.aero.system import cached_aeroelastic_system
 
     n = beam.geometry.num_nodes
@@ -177,7 +294,20 @@ def trimmed_state(prob, case, beam) -> dict:
 
 
 def write_distribution_csv(path: str, state: dict) -> str:
-    """Write one maneuver's distributions (:data:`CSV_COLUMNS`, one row per beam station)."""
+    """Write one maneuver's distributions (:data:`CSV_COLUMNS`, one row per beam station).
+
+    Parameters
+    ----------
+    path : str
+        CSV file to write.
+    state : dict
+        A :func:`trimmed_state`.
+
+    Returns
+    -------
+    str
+        ``path``.
+    """
     rows = np.column_stack([np.asarray(state[c], dtype=float) for c in CSV_COLUMNS])
     np.savetxt(path, rows, delimiter=",", header=",".join(CSV_COLUMNS), comments="", fmt="%.9g")
     return path

@@ -78,9 +78,6 @@ def add_deprecated_alias(parser, old: str, new: str, *, dest: str, meaning: str 
                         default=argparse.SUPPRESS, help=argparse.SUPPRESS, **kwargs)
 
 
-#: older spelling of a case option -> the one spelling of the concept
-CASE_RENAMES = {"--constraints": "--families", "--stations": "--num-nodes"}
-
 #: the metavar (the unit or the kind of value) of every flag that more than one command or case has
 METAVARS = {"--t-final": "S", "--dt": "S", "--gust-start": "S", "--ramp-time": "S", "--altitude-ft": "FT",
             "--gust-gradient-ft": "FT", "--u-ref-fps": "FPS", "--mach": "MACH", "--length": "M",
@@ -96,43 +93,6 @@ def add_gravity_argument(parser, *, default=None, help: str) -> None:
     ``run wing-box`` (self weight, default off) and ``flutter --deformed`` (default: the case's)."""
     parser.add_argument("--gravity", type=float, nargs="?", const=STANDARD_GRAVITY, default=default,
                         metavar="M_S2", help=f"{help}; '--gravity' alone = {STANDARD_GRAVITY:g} m/s^2")
-
-
-class CaseArguments:
-    """A parser (or argument group) as seen by a case's ``add_arguments``: every option keeps its
-    destination, options in :data:`CASE_RENAMES` take the one spelling, and the old flag stays a
-    deprecated alias. Everything else is the wrapped parser's."""
-
-    def __init__(self, parser, root=None):
-        self._parser = parser
-        self._root = root if root is not None else parser
-
-    def add_argument(self, *flags, **kwargs):
-        shared = [METAVARS[f] for f in [CASE_RENAMES.get(f, f) for f in flags] if f in METAVARS]
-        if shared:
-            kwargs.setdefault("metavar", shared[0])
-        renamed = [f for f in flags if f in CASE_RENAMES]
-        if not renamed:
-            if any(f in CASE_RENAMES.values() for f in flags):
-                kwargs.setdefault("metavar", next(f for f in flags if f in CASE_RENAMES.values()).lstrip("-").upper())
-            return self._parser.add_argument(*flags, **kwargs)
-        old = renamed[0]
-        kwargs.setdefault("dest", old.lstrip("-").replace("-", "_"))
-        kwargs.setdefault("metavar", CASE_RENAMES[old].lstrip("-").upper())
-        new_flags = [CASE_RENAMES.get(f, f) for f in flags]
-        action = self._parser.add_argument(*new_flags, **kwargs)
-        extra = {k: kwargs[k] for k in ("type", "nargs", "metavar", "choices") if k in kwargs}
-        add_deprecated_alias(self._root, old, CASE_RENAMES[old], dest=kwargs["dest"], **extra)
-        return action
-
-    def add_argument_group(self, *args, **kwargs):
-        return CaseArguments(self._parser.add_argument_group(*args, **kwargs), self._root)
-
-    def add_mutually_exclusive_group(self, *args, **kwargs):
-        return CaseArguments(self._parser.add_mutually_exclusive_group(*args, **kwargs), self._root)
-
-    def __getattr__(self, name):
-        return getattr(self._parser, name)
 
 
 #: --aero-theory choices (the same as wingmdao.aero.coupled.AERO_THEORY_CHOICES, spelled here so that

@@ -7,9 +7,9 @@ import os
 
 import numpy as np
 
-from wingmdao.cases import options_from_namespace, available_cases
+from wingmdao.cases import add_option_arguments, available_cases, options_from_namespace
 from wingmdao.cli._io import EXIT_INTERRUPTED, check_output_dir, check_output_file, refuse_existing, say, warn, write_json
-from wingmdao.cli._args import CaseArguments, add_aero_theory_argument, add_output_arguments
+from wingmdao.cli._args import add_aero_theory_argument, add_deprecated_alias, add_output_arguments
 from wingmdao.utils.memory import (import_openmdao_without_plot_plugins, return_freed_memory,
                                    return_large_blocks_on_free)
 from wingmdao.cli._aerostruct import add_parser
@@ -72,9 +72,11 @@ def register(subparsers):
         sub = p.add_subparsers(dest="case", metavar="CASE")
         for name, mod in cases.items():
             cp = sub.add_parser(name, help=mod.HELP, description=mod.HELP)
-            mod.add_arguments(CaseArguments(cp))  # one spelling per concept (wingmdao.cli._args)
-            if "aero_theory" in {f.name for f in dataclasses.fields(mod.OPTIONS)}:
-                add_aero_theory_argument(cp)  # the case's default stays (set_parser_defaults)
+            # generated from the options dataclass, the one table of the case's options
+            add_option_arguments(cp, mod.OPTIONS, deprecated_alias=add_deprecated_alias)
+            shared = {f.name: f.default for f in dataclasses.fields(mod.OPTIONS) if f.metadata.get("shared")}
+            if "aero_theory" in shared:  # the flag's one spelling (wingmdao.cli._args), the case's default
+                add_aero_theory_argument(cp, default=shared["aero_theory"])
             _add_common(cp, sizing=sizing)
             cp.set_defaults(func=run_size if sizing else run_n2, case_module=mod)
         if sizing:  # OpenAeroStruct's uCRM fuel burn: a problem of its own, not a WingSizing case

@@ -16,8 +16,24 @@ import numpy as np
 
 
 def shifted_exp(g, rho_ks: float):
-    """``(m, w, s)``: ``m = max g``, ``w_k = exp(rho_KS (g_k - m))`` and ``s = sum_k w_k`` over all
-    entries of ``g`` (flattened): the terms shared by the value and its gradient."""
+    """The terms shared by the KS value and its gradient, over all entries of ``g`` (flattened).
+
+    Parameters
+    ----------
+    g : array_like
+        Constraint values, any shape (all entries aggregated; the unit of ``g``).
+    rho_ks : float
+        KS aggregation parameter (1 / the unit of ``g``), > 0.
+
+    Returns
+    -------
+    m : float
+        ``max g``.
+    w : ndarray
+        ``w_k = exp(rho_KS (g_k - m))``, flattened.
+    s : float
+        ``sum_k w_k``.
+    """
     g = np.asarray(g, dtype=float).ravel()
     m = np.max(g)
     w = np.exp(rho_ks * (g - m))
@@ -25,19 +41,59 @@ def shifted_exp(g, rho_ks: float):
 
 
 def ks_value(g, rho_ks: float) -> float:
-    """KS aggregate of all entries of ``g``, max-shifted."""
+    """KS aggregate of all entries of ``g``, max-shifted.
+
+    Parameters
+    ----------
+    g : array_like
+        Constraint values, any shape (all entries aggregated; the unit of ``g``).
+    rho_ks : float
+        KS aggregation parameter (1 / the unit of ``g``), > 0.
+
+    Returns
+    -------
+    float
+        KS value, between ``max g`` and ``max g + ln(N) / rho_ks`` (the unit of ``g``).
+    """
     m, _, s = shifted_exp(g, rho_ks)
     return float(m + np.log(s) / rho_ks)
 
 
 def ks_gradient(g, rho_ks: float) -> np.ndarray:
-    """dKS/dg_k = exp(rho_KS (g_k - m)) / sum_j exp(rho_KS (g_j - m)), flattened (softmax weights;
-    the ratio of sums of Eq. 4.46-4.51, before the chain rule)."""
+    """dKS/dg_k = exp(rho_KS (g_k - m)) / sum_j exp(rho_KS (g_j - m)): the softmax weights.
+
+    Parameters
+    ----------
+    g : array_like
+        Constraint values, any shape (all entries aggregated; the unit of ``g``).
+    rho_ks : float
+        KS aggregation parameter (1 / the unit of ``g``), > 0.
+
+    Returns
+    -------
+    ndarray
+        dKS/dg, flattened (dimensionless; the ratio of sums of Eq. 4.46-4.51, before the chain rule).
+    """
     _, w, s = shifted_exp(g, rho_ks)
     return w / s
 
 
 def ks_aggregate(g, rho_ks: float):
-    """``(KS, dKS/dg)`` of all entries of ``g`` (one exponential for both)."""
+    """KS value and gradient of all entries of ``g`` (one exponential for both).
+
+    Parameters
+    ----------
+    g : array_like
+        Constraint values, any shape (all entries aggregated; the unit of ``g``).
+    rho_ks : float
+        KS aggregation parameter (1 / the unit of ``g``), > 0.
+
+    Returns
+    -------
+    ks : float
+        KS value (:func:`ks_value`).
+    dks_dg : ndarray
+        dKS/dg, flattened (:func:`ks_gradient`).
+    """
     m, w, s = shifted_exp(g, rho_ks)
     return float(m + np.log(s) / rho_ks), w / s

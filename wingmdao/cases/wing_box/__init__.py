@@ -7,8 +7,7 @@
 * :mod:`.model`: the OpenMDAO chain of :class:`wingmdao.groups.wing.WingSizing` with one
   tip-load case (:func:`wing_geometry`, :func:`tip_load_case`, :func:`analysis_problem`) for
   ``wingmdao run wing-box``;
-* :mod:`.sizing`: the studies 1-3 of Sec. 4.7.2 (:class:`WingBoxOptions`, ``add_arguments``,
-  ``build``) for ``wingmdao size wing-box``.
+* :mod:`.sizing`: the studies 1-3 of Sec. 4.7.2 (:class:`WingBoxOptions`, ``build``) for ``wingmdao size wing-box``.
 
 The names below are re-exported, so ``from wingmdao.cases.wing_box import solve_wing_box`` works.
 """
@@ -17,8 +16,8 @@ from wingmdao.cases.wing_box.geometry import (GEOMETRIES, HEIGHTS, SPANS, STATIO
                                               geometry_data, section_centres)
 from wingmdao.cases.wing_box.model import (analysis_problem, time_grid, tip_load_case, totals_max_rel_error,
                                            wing_geometry)
-from wingmdao.cases.wing_box.sizing import (BOUNDS, CONSTRAINT_GROUPS, SKIN_CAP, STUDY_LOADS, WingBoxOptions,
-                                            add_arguments, build, parse_constraints)
+from wingmdao.cases.wing_box.sizing import (BOUNDS, CONSTRAINT_GROUPS, SKIN_CAP, STUDY_LOADS, WingBoxOptions, build,
+                                            parse_constraints)
 from wingmdao.cases.wing_box.verification import (comparison_solver, solve_wing_box, station_rotations,
                                                   station_summary, wing_box_beam)
 
@@ -28,6 +27,6 @@ OPTIONS = WingBoxOptions
 
 __all__ = ["GEOMETRIES", "HEIGHTS", "SPANS", "STATIONS", "T_SKIN", "T_SPAR", "geometry_data", "section_centres",
            "analysis_problem", "time_grid", "tip_load_case", "totals_max_rel_error", "wing_geometry",
-           "BOUNDS", "CONSTRAINT_GROUPS", "SKIN_CAP", "STUDY_LOADS", "WingBoxOptions", "add_arguments", "build",
+           "BOUNDS", "CONSTRAINT_GROUPS", "SKIN_CAP", "STUDY_LOADS", "WingBoxOptions", "build",
            "parse_constraints", "comparison_solver", "solve_wing_box", "station_rotations", "station_summary",
            "wing_box_beam", "NAME", "HELP", "OPTIONS"]

@@ -34,14 +34,41 @@ GEOMETRIES = {
 
 
 def geometry_data(name: str) -> dict:
-    """The Table D.2 row of geometry ``name``; ValueError listing the names otherwise."""
+    """The Table D.2 row of a geometry.
+
+    Parameters
+    ----------
+    name : str
+        A key of ``GEOMETRIES``.
+
+    Returns
+    -------
+    dict
+        Its widths and heights (m), sweeps and dihedral (deg).
+
+    Raises
+    ------
+    ValueError
+        An unknown name (the message lists the names).
+    """
     if name not in GEOMETRIES:
         raise ValueError(f"geometry must be one of {list(GEOMETRIES)}, got {name!r}")
     return GEOMETRIES[name]
 
 
 def section_centres(name: str) -> np.ndarray:
-    """Centres of CS1..CS4 (4, 3), body axes, CS1 at the origin."""
+    """Centres of the sections CS1..CS4, body axes, CS1 at the origin.
+
+    Parameters
+    ----------
+    name : str
+        A key of ``GEOMETRIES``.
+
+    Returns
+    -------
+    ndarray
+        (4, 3) centres (m).
+    """
     g = geometry_data(name)
     w = np.asarray(g["widths"])
     return swept_dihedral_points(SPANS, g["sweeps_deg"], g["dihedral_deg"], offsets_x=-0.5 * (w[:-1] - w[1:]))

@@ -20,9 +20,22 @@ from wingmdao.groups.load_case import LoadCase
 def wing_geometry(name: str, elements_per_segment=(1, 1, 1)):
     """The box as a :class:`wingmdao.sizing.WingGeometry` (beam-normal width/height per node).
 
-    Returns ``(geometry, key_nodes, cos_sweep, cos_dihedral)``: the node indices of CS1..CS4
-    and, per node, the factors that take streamwise-cut chordwise/vertical dimensions to the
-    normal cut (:func:`streamwise_to_normal`).
+    Parameters
+    ----------
+    name : str
+        Table D.2 geometry (a key of ``GEOMETRIES``).
+    elements_per_segment : sequence of 3 int, optional
+        Beam elements in each of the three segments CS1-CS2, CS2-CS3, CS3-CS4.
+
+    Returns
+    -------
+    geometry : wingmdao.sizing.WingGeometry
+        Nodes (m), orientations and beam-normal width and height (m) per node.
+    key_nodes : list of int
+        Node indices of CS1..CS4.
+    cos_sweep, cos_dihedral : ndarray
+        Per node, the factors that take streamwise-cut chordwise/vertical dimensions to the
+        normal cut (:func:`streamwise_to_normal`).
     """
     from wingmdao.sizing import WingGeometry
 
@@ -42,9 +55,31 @@ def tip_load_case(name: str, num_nodes: int, tip_force, tip_moment, families, *,
                   gravity=False, ramp_time=0.0):
     """A :class:`LoadCase` with a tip force/moment (body axes) at the last node.
 
-    ``time=None``: static. Otherwise the load is zero at ``time[0]`` (the static initial state
-    is the unloaded jig) and applied suddenly for t > 0 (``ramp_time`` = 0), or raised
-    linearly to its full value over ``ramp_time`` seconds, then held constant.
+    Parameters
+    ----------
+    name : str
+        Load case name.
+    num_nodes : int
+        Beam nodes.
+    tip_force : sequence of 3 float
+        Tip force (N), body axes.
+    tip_moment : sequence of 3 float
+        Tip moment (N m), body axes.
+    families : sequence of str
+        Stress families constrained.
+    time : ndarray, optional
+        Time grid (s); None: a static case. Otherwise the load is zero at ``time[0]`` (the
+        static initial state is the unloaded jig) and applied suddenly for t > 0
+        (``ramp_time`` = 0), or raised linearly over ``ramp_time``, then held constant.
+    gravity : bool or float, optional
+        Self weight: False none, True 9.81 m/s^2, a number that gravity (m/s^2) along -z.
+    ramp_time : float, optional
+        Time over which a dynamic load rises to its full value (s).
+
+    Returns
+    -------
+    wingmdao.groups.load_case.LoadCase
+        The load case.
     """
     if not (np.isfinite(ramp_time) and ramp_time >= 0):
         raise ValueError(f"ramp time = {ramp_time} s; allowed range [0, inf) s")
@@ -69,7 +104,25 @@ def tip_load_case(name: str, num_nodes: int, tip_force, tip_moment, families, *,
 
 
 def time_grid(t_final: float, dt: float) -> np.ndarray:
-    """Uniform grid 0..t_final (s); ValueError unless 0 < dt <= t_final / 2."""
+    """Uniform time grid from 0 to ``t_final``.
+
+    Parameters
+    ----------
+    t_final : float
+        End time (s).
+    dt : float
+        Time step (s), 0 < dt <= t_final / 2.
+
+    Returns
+    -------
+    ndarray
+        The times (s).
+
+    Raises
+    ------
+    ValueError
+        Values outside the range, or too many steps (:func:`wingmdao.cases.check_step_count`).
+    """
     if not (np.isfinite(t_final) and np.isfinite(dt) and t_final > 0 and 0 < dt <= t_final / 2):
         raise ValueError(f"--t-final ({t_final} s) and --dt ({dt} s): allowed 0 < dt <= t_final / 2")
 
@@ -88,6 +141,30 @@ def analysis_problem(geometry, load_case, walls: dict, material=ALUMINIUM, *, de
     design variables and the case's KS outputs constraints (for ``check_totals``); ``mode`` is
     OpenMDAO's derivative mode ("rev": one adjoint sweep per KS output, "fwd": one tangent
     sweep per thickness).
+
+    Parameters
+    ----------
+    geometry : wingmdao.sizing.WingGeometry
+        The box beam (:func:`wing_geometry`).
+    load_case : wingmdao.groups.load_case.LoadCase
+        The one load case.
+    walls : dict
+        ``{wall name: (n,) thickness (m)}`` of the four walls.
+    material : wingmdao.materials.Material, optional
+        Wall material.
+    design_vars : bool, optional
+        Thicknesses as design variables and KS outputs as constraints.
+    rho_ks : float, optional
+        KS aggregation parameter (of the stress ratios: dimensionless).
+    mode : str, optional
+        OpenMDAO derivative mode, ``"rev"`` or ``"fwd"``.
+    newton_options : dict, optional
+        Options of the beam's Newton solver.
+
+    Returns
+    -------
+    openmdao.api.Problem
+        The set-up problem.
     """
     import openmdao.api as om
 
@@ -125,7 +202,20 @@ def totals_max_rel_error(prob, load_case) -> float:
     thicknesses and OpenMDAO's central finite differences (relative to each block's max ``|J|``).
 
     Step 1e-4 relative to the mean thickness: the truncation error is ~1e-8 and the Newton
-    round-off noise (~1e-14 in KS) stays below 1e-9 of the derivatives (1e-6 gives ~5e-6)."""
+    round-off noise (~1e-14 in KS) stays below 1e-9 of the derivatives (1e-6 gives ~5e-6).
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A problem of :func:`analysis_problem` with ``design_vars=True``, run.
+    load_case : wingmdao.groups.load_case.LoadCase
+        Its load case (the KS outputs of its families).
+
+    Returns
+    -------
+    float
+        The largest relative error (dimensionless).
+    """
     from wingmdao.sizing import WALL_VARS
 
     of = [f"cases.{load_case.name}.ks_{f}" for f in load_case.families]

@@ -9,11 +9,11 @@ F_y, torsion M_x); in our body axes (beam along y, x aft) drag is +x and torsion
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
-from wingmdao.cases import CaseOptions, CaseSetup, case_options, set_parser_defaults
+from wingmdao.cases import CaseOptions, CaseSetup, case_options, option
 from wingmdao.cases.wing_box.geometry import GEOMETRIES
 from wingmdao.cases.wing_box.model import time_grid, tip_load_case, wing_geometry
 from wingmdao.materials import ALUMINIUM
@@ -42,44 +42,61 @@ class WingBoxOptions(CaseOptions):
     """Options of the wing-box sizing studies (SI); ``wingmdao size wing-box --help`` describes each."""
 
     CASE = "wing-box"
-    study: int = field(default=1, metadata={"choices": tuple(STUDY_LOADS)})
-    constraints: str | None = None  # default: "vm" for study 1, "vm,ss,cent" for studies 2 and 3
-    geometry: str = field(default="combined", metadata={"choices": tuple(GEOMETRIES)})
-    elements: tuple[int, ...] = (1, 1, 1)
-    t_final: float = 5.0  # s
-    dt: float = 0.01  # s
-    ramp_time: float = 0.25  # s
-    rho_ks: float = 100.0
-
-
-def add_arguments(p):
-    p.add_argument("--study", type=int, choices=list(STUDY_LOADS),
-                   help="Sec. 4.7.2 study: 1 static Fz = 2 MN (von Mises); 2 static Fx = 0.1 MN, "
-                        "Fz = 2 MN, My = 1 MN m (body axes); 3 the study-2 loads applied suddenly (dynamic)")
-    p.add_argument("--constraints",
-                   help="comma list of stress families (vm, ss_tension, ss_compression, cent_pos, cent_neg; "
-                        "ss and cent: both signs); default: vm for study 1, vm,ss,cent for studies 2 and 3")
-    p.add_argument("--geometry", choices=list(GEOMETRIES), help="Table D.2 geometry")
-    p.add_argument("--elements", type=int, nargs=3, metavar=("N1", "N2", "N3"),
-                   help="beam elements per segment (design variables at every node; 1 1 1: CS1..CS4)")
-    p.add_argument("--t-final", type=float, help="study 3: simulated time (s)")
-    p.add_argument("--dt", type=float, help="study 3: time step (s)")
-    p.add_argument("--ramp-time", type=float,
-                   help="study 3: raise the loads linearly over this time (s); 0 applies them suddenly at t > 0, "
-                        "which no design within the bounds of Eq. 4.57 survives with all constraints (docs/cases.md)")
-    p.add_argument("--rho-ks", type=float, help="KS aggregation parameter")
-    set_parser_defaults(p, WingBoxOptions)
+    study: int = option(1, "Sec. 4.7.2 study: 1 static Fz = 2 MN (von Mises); 2 static Fx = 0.1 MN, Fz = 2 MN, "
+                           "My = 1 MN m (body axes); 3 the study-2 loads applied suddenly (dynamic)",
+                        choices=tuple(STUDY_LOADS))
+    constraints: str | None = option(
+        None, "comma list of stress families (vm, ss_tension, ss_compression, cent_pos, cent_neg; ss and cent: "
+              "both signs); default: vm for study 1, vm,ss,cent for studies 2 and 3",
+        flag="--families", metavar="FAMILIES", aliases=("--constraints",))
+    geometry: str = option("combined", "Table D.2 geometry", choices=tuple(GEOMETRIES))
+    elements: tuple[int, ...] = option((1, 1, 1), "beam elements per segment (design variables at every node; "
+                                                  "1 1 1: CS1..CS4)", nargs=3, metavar=("N1", "N2", "N3"))
+    t_final: float = option(5.0, "study 3: simulated time (s)", metavar="S")
+    dt: float = option(0.01, "study 3: time step (s)", metavar="S")
+    ramp_time: float = option(0.25, "study 3: raise the loads linearly over this time (s); 0 applies them suddenly "
+                                    "at t > 0, which no design within the bounds of Eq. 4.57 survives with all "
+                                    "constraints (docs/cases.md)", metavar="S")
+    rho_ks: float = option(100.0, "KS aggregation parameter", metavar="RHO")
 
 
 def parse_constraints(text) -> tuple:
-    """Stress families of the ``--families`` list (the one vocabulary of every case,
-    :func:`wingmdao.groups.load_case.parse_families`: family names and the ss / cent shorthands)."""
+    """Stress families of the ``--families`` list.
+
+    Parameters
+    ----------
+    text : str
+        Comma list of family names and the ss / cent shorthands (the one vocabulary of every case,
+        :func:`wingmdao.groups.load_case.parse_families`).
+
+    Returns
+    -------
+    tuple of str
+        The stress families.
+    """
     return parse_families(text)
 
 
 def build(options: WingBoxOptions | None = None, **overrides) -> CaseSetup:
-    """The study's geometry, tip-load case, material and Eq. 4.57 bounds, from a
-    :class:`WingBoxOptions` and/or keyword options (``build(study=2, geometry="taper")``)."""
+    """The study's geometry, tip-load case, material and Eq. 4.57 bounds.
+
+    Parameters
+    ----------
+    options : WingBoxOptions, optional
+        The case's options; None: the defaults.
+    **overrides
+        Options by field name, replacing those of ``options`` (``build(study=2, geometry="taper")``).
+
+    Returns
+    -------
+    CaseSetup
+        The box beam, the study's load case, material and sizing bounds.
+
+    Raises
+    ------
+    ValueError
+        A bad option, naming its flag, before any solve.
+    """
     from wingmdao.sizing import RHO_KS_MIN, SizingOptions
 
     opts = case_options(WingBoxOptions, options, **overrides)

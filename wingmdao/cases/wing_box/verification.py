@@ -31,6 +31,30 @@ def wing_box_beam(name: str, elements_per_segment=(6, 8, 6), t_spar=T_SPAR, t_sk
     'rotated' those of the streamwise cut rotated into csn (Eq. F.31, docs/beam-theory.md 9);
     'fe' the section FE (Giavotto/BECAS, ``wingmdao.section.fe``) of the beam-normal cut: the
     dissertation's "VbS" beam on the detailed section (thick-wall torsion, FE shear stiffness).
+
+    Parameters
+    ----------
+    name : str
+        Table D.2 geometry.
+    elements_per_segment : sequence of 3 int, optional
+        Beam elements in each of the three segments.
+    t_spar : float, optional
+        Uniform spar-web thickness (m).
+    t_skin : float, optional
+        Uniform skin thickness (m).
+    material : wingmdao.materials.Material, optional
+        Wall material.
+    section_mapping : str, optional
+        ``"normal"``, ``"rotated"`` or ``"fe"`` (above).
+    walls : dict, optional
+        Wall thicknesses (m) per station (above); None: ``t_spar`` / ``t_skin``.
+
+    Returns
+    -------
+    params : dict
+        The beam parameters (SI).
+    stations : ndarray
+        Node index of each station CS1..CS4.
     """
     if section_mapping not in ("normal", "rotated", "fe"):
         raise ValueError(f"section_mapping must be 'normal', 'rotated' or 'fe', got {section_mapping!r}")
@@ -90,8 +114,36 @@ def _fe_box_row(w, h, t_spar, t_skin, material, mesh_size=0.05):
 def solve_wing_box(name: str, tip_force=(0.0, 0.0, 0.0), tip_moment=(0.0, 0.0, 0.0), gravity=False,
                    t_spar=T_SPAR, t_skin=T_SKIN, elements_per_segment=(6, 8, 6), load_steps=1,
                    section_mapping="normal", walls=None) -> dict:
-    """Static response (root clamped at CS1): station displacements, tip displacement/rotation
-    (``walls``: per-station wall thicknesses, :func:`wing_box_beam`)."""
+    """Static response of the box, root clamped at CS1.
+
+    Parameters
+    ----------
+    name : str
+        Table D.2 geometry.
+    tip_force : sequence of 3 float, optional
+        Tip force (N), body axes.
+    tip_moment : sequence of 3 float, optional
+        Tip moment (N m), body axes.
+    gravity : bool, optional
+        Add the self weight (9.81 m/s^2 along -z).
+    t_spar : float, optional
+        Uniform spar-web thickness (m).
+    t_skin : float, optional
+        Uniform skin thickness (m).
+    elements_per_segment : sequence of 3 int, optional
+        Beam elements in each of the three segments.
+    load_steps : int, optional
+        Load increments of the Newton solve.
+    section_mapping : str, optional
+        ``"normal"``, ``"rotated"`` or ``"fe"`` (:func:`wing_box_beam`).
+    walls : dict, optional
+        Wall thicknesses (m) per station (:func:`wing_box_beam`).
+
+    Returns
+    -------
+    dict
+        ``geometry`` and the station response (:func:`station_summary`: m and rad).
+    """
     from wingmdao.beam.static import BeamModel
 
     params, stations = wing_box_beam(name, elements_per_segment, t_spar, t_skin,
@@ -110,7 +162,20 @@ def solve_wing_box(name: str, tip_force=(0.0, 0.0, 0.0), tip_moment=(0.0, 0.0, 0
 
 
 def station_summary(disp, rot) -> dict:
-    """JSON keys of the CS1..CS4 response: displacement magnitudes, vectors and rotations."""
+    """JSON keys of the CS1..CS4 response.
+
+    Parameters
+    ----------
+    disp : ndarray
+        (4, 3) station displacements (m), body axes.
+    rot : ndarray
+        (4, 3) station rotation vectors (rad), body axes.
+
+    Returns
+    -------
+    dict
+        Displacement magnitudes and vectors, tip displacement, rotations and tip rotation.
+    """
     return {
         "stations": list(STATIONS),
         "displacement": np.linalg.norm(disp, axis=1).tolist(),
@@ -122,7 +187,20 @@ def station_summary(disp, rot) -> dict:
 
 
 def station_rotations(theta, theta0) -> np.ndarray:
-    """Rotation vectors (rad, body axes) taking the jig frames T(theta0) to T(theta): R = T^T T0."""
+    """Rotation vectors taking the jig frames T(theta0) to T(theta): R = T^T T0.
+
+    Parameters
+    ----------
+    theta : ndarray
+        (k, 3) deformed Euler angles (rad).
+    theta0 : ndarray
+        (k, 3) jig Euler angles (rad).
+
+    Returns
+    -------
+    ndarray
+        (k, 3) rotation vectors (rad), body axes.
+    """
     mats = [body_to_csn(t).T @ body_to_csn(t0) for t, t0 in zip(theta, theta0)]
     return Rotation.from_matrix(np.array(mats)).as_rotvec()
 
@@ -130,7 +208,24 @@ def station_rotations(theta, theta0) -> np.ndarray:
 def comparison_solver(geometry_name, tip_force, tip_moment, section_mapping="normal") -> dict:
     """Adapter for ``wingmdao.verification.wingbox_solid.compare_with_beam``: beam-axis
     displacement (3, 3) and rotation vectors (3, 3) at CS2, CS3, CS4 (body axes, SI).
-    Use ``functools.partial(comparison_solver, section_mapping="rotated")`` for the Eq. F.31 mapping."""
+    Use ``functools.partial(comparison_solver, section_mapping="rotated")`` for the Eq. F.31 mapping.
+
+    Parameters
+    ----------
+    geometry_name : str
+        Table D.2 geometry.
+    tip_force : sequence of 3 float
+        Tip force (N), body axes.
+    tip_moment : sequence of 3 float
+        Tip moment (N m), body axes.
+    section_mapping : str, optional
+        ``"normal"``, ``"rotated"`` or ``"fe"`` (:func:`wing_box_beam`).
+
+    Returns
+    -------
+    dict
+        ``displacement`` (3, 3) m and ``rotation`` (3, 3) rad at CS2, CS3, CS4.
+    """
     res = solve_wing_box(geometry_name, tip_force=tip_force, tip_moment=tip_moment,
                          section_mapping=section_mapping)
     return {"displacement": np.asarray(res["station_displacement"])[1:],
