@@ -201,7 +201,22 @@ def trim_angle(alpha_trim, theta, euler_sequence="surface"):
     (its deformed frame, Euler angles ``theta``). A section rolled by phi (a wing's dihedral, or
     its slope when it bends) sees ``atan(tan(alpha) cos(phi))``: the free stream
     ``V (cos alpha, 0, sin alpha)`` in body axes has ``V sin(alpha) cos(phi)`` along the section
-    normal and ``V cos(alpha)`` along the chord. Returns a CasADi expression (rad)."""
+    normal and ``V cos(alpha)`` along the chord.
+
+    Parameters
+    ----------
+    alpha_trim : casadi.SX or float
+        The aircraft's trim angle of attack (rad).
+    theta : casadi.SX or array_like
+        (3,) Euler angles of the section's deformed frame (rad).
+    euler_sequence : str, optional
+        The Euler sequence of ``theta`` (:func:`wingmdao.beam.rotations.body_to_csn`).
+
+    Returns
+    -------
+    casadi.SX
+        The section's angle of attack (rad).
+    """
     s_y = body_to_csn(theta, euler_sequence)[1, 1]
     return ca.atan(ca.tan(alpha_trim) * s_y)
 

@@ -68,7 +68,18 @@ COUPLED_THEORIES = ("vlm",)
 
 def check_coupled(opts: CrmOptions) -> str:
     """The theory of ``--aero coupled`` on the CRM (ValueError naming the flag and the allowed values
-    for a theory without sweep or a transonic Mach number, before any solve)."""
+    for a theory without sweep or a transonic Mach number, before any solve).
+
+    Parameters
+    ----------
+    opts : CrmOptions
+        The case's options.
+
+    Returns
+    -------
+    str
+        The quasi-steady theory of the coupled maneuvers (``vlm``).
+    """
     theory = resolve_aero_theory(opts.aero_theory, opts.aero)
     if theory not in COUPLED_THEORIES:
         raise ValueError(f"--aero-theory {theory}: not available for the crm case (37 deg sweep): the 2-D strips and "

@@ -99,9 +99,19 @@ PUBLISHED_TRIM = {
 
 @dataclass
 class HaleAircraft:
-    """The free half aircraft: its aeroelastic :class:`~wingmdao.beam.joints.JoinedBeamSystem`
-    (``system``, trim with ``trim_rotation``), the beams' parameter dicts (``params``), its mass
-    (kg, half aircraft) and the wing's stiffness factor."""
+    """The free half aircraft.
+
+    Parameters
+    ----------
+    system : JoinedBeamSystem
+        Its aeroelastic residual system (trim with ``trim_rotation``).
+    params : dict
+        The beams' parameter dicts by beam name (SI).
+    mass : float
+        Mass of the half aircraft (kg).
+    stiffness_factor : float
+        The wing's bending and torsion stiffness factor.
+    """
 
     system: object
     params: dict
@@ -110,7 +120,18 @@ class HaleAircraft:
 
     def with_wing_stiffness(self, stiffness_factor: float) -> HaleAircraft:
         """The same aircraft (same system, no rebuild) with the wing's bending and torsion
-        stiffness times ``stiffness_factor`` (> 0; :data:`RIGID_FACTOR`: the rigid aircraft)."""
+        stiffness times ``stiffness_factor``.
+
+        Parameters
+        ----------
+        stiffness_factor : float
+            Stiffness factor (> 0; :data:`RIGID_FACTOR`: the rigid aircraft).
+
+        Returns
+        -------
+        HaleAircraft
+            The aircraft with the new wing parameters.
+        """
         n = self.system.beam("wing").num_nodes
         params = dict(self.params, wing=hale.beam_params(n, stiffness_factor))
         return replace(self, params=params, stiffness_factor=float(stiffness_factor))
@@ -234,6 +255,15 @@ def trim_sweep(aircraft: HaleAircraft, airspeeds, start: float = 25.0) -> dict:
     """:func:`trim` at each of ``airspeeds`` (m/s): first at ``start`` from the jig (gravity
     steps), then outward from it, each airspeed from its neighbour's state nearer ``start``
     (continuation). An airspeed whose trim does not converge ends its side of the sweep.
+
+    Parameters
+    ----------
+    aircraft : HaleAircraft
+        The aircraft (:func:`build`).
+    airspeeds : array_like
+        Airspeeds (m/s).
+    start : float, optional
+        The airspeed trimmed first from the jig (m/s).
 
     Returns
     -------
