@@ -211,19 +211,25 @@ def maneuver_case(name, n_load, geometry, chord, axis_frac, families, pf=PLANFOR
     return LoadCase(name, np.zeros(1), forcing, families, f"{n_load:+.2f} g symmetric maneuver")
 
 
+def _controls():
+    """:mod:`wingmdao.aero.controls`, imported when a case has control surfaces (the case module
+    loads no numerical package for `wingmdao --help`)."""
+    from wingmdao.aero import controls
+
+    return controls
+
+
 def maneuver_surfaces(opts, geometry):
     """The control surfaces of ``--alleviation`` that carry a maneuver schedule (``maneuver_deg_per_g``,
     docs/controls.md), or None: with them the trimmed maneuvers hold the surfaces at the scheduled
     deflection (maneuver load alleviation) while the angle of attack trims the lift."""
     if not getattr(opts, "alleviation", None) or opts.aero != "coupled":
         return None
-    from wingmdao.aero.controls import control_spec, read_alleviation
-
-    surfaces, _ = read_alleviation(opts.alleviation)
+    surfaces, _ = _controls().read_alleviation(opts.alleviation)
     if not any(s.maneuver_deg_per_g for s in surfaces):
         return None
     try:
-        control_spec(surfaces, geometry.node_positions[:, 1])
+        _controls().control_spec(surfaces, geometry.node_positions[:, 1])
     except ValueError as exc:
         raise ValueError(f"--alleviation {opts.alleviation}: {exc}") from None
     return surfaces
@@ -246,10 +252,8 @@ def coupled_maneuver_case(name, n_load, opts, geometry, chord, axis_frac, famili
                "trim_active": np.ones(1)}
     controls, what = {}, ""
     if surfaces:
-        from wingmdao.aero.controls import control_spec, maneuver_commands
-
-        controls = dict(controls=control_spec(surfaces, geometry.node_positions[:, 1]))
-        forcing["surface_command"] = maneuver_commands(surfaces, n_load)[None, :]
+        controls = dict(controls=_controls().control_spec(surfaces, geometry.node_positions[:, 1]))
+        forcing["surface_command"] = _controls().maneuver_commands(surfaces, n_load)[None, :]
         what = ", " + ", ".join(f"{s.name} {np.degrees(u):+.2f} deg"
                                 for s, u in zip(surfaces, forcing["surface_command"][0]))
     aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
@@ -411,15 +415,13 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
     if getattr(opts, "size_gains", False) and not getattr(opts, "alleviation", None):
         raise ValueError("--size-gains needs --alleviation FILE.yaml (the law whose gains are sized)")
     if getattr(opts, "alleviation", None):  # control surfaces and a feedback law (docs/controls.md)
-        from wingmdao.aero.controls import control_spec, read_alleviation
-
-        surfaces, law = read_alleviation(opts.alleviation)
+        surfaces, law = _controls().read_alleviation(opts.alleviation)
         if law is not None and "load_factor" in law.outputs and not free:
             raise ValueError(f"--alleviation {opts.alleviation}: output load_factor needs free plunge (--plunge free)")
         if law is not None and "pitch_rate" in law.outputs and not pitch:
             raise ValueError(f"--alleviation {opts.alleviation}: output pitch_rate needs --pitch free")
         try:
-            spec = control_spec(surfaces, geometry.node_positions[:, 1], law)
+            spec = _controls().control_spec(surfaces, geometry.node_positions[:, 1], law)
         except ValueError as exc:
             raise ValueError(f"--alleviation {opts.alleviation}: {exc}") from None
         if getattr(opts, "size_gains", False) and law is None:
