@@ -1,6 +1,8 @@
 """Closed-loop stability constraint (wingmdao.components.closed_loop): its sign against the
 stability limit of the bending feedback that the march confirms (tests/test_controls_system.py),
-and exact partials."""
+exact partials, and the PEGASUS co-design constraint that rejects a destabilizing law."""
+
+import os
 
 import numpy as np
 import openmdao.api as om
@@ -93,3 +95,27 @@ def test_check_partials_free_plunge_trimmed():
             worst = max(worst, abs(jac[j] - fd) * h)
             big = max(big, abs(fd) * h)
     assert big > 0 and worst <= 1e-3 * big, (worst, big)
+
+
+EXAMPLE = os.path.join(os.path.dirname(__file__), "..", "docs", "examples", "pegasus_alleviation.yaml")
+
+
+@pytest.mark.slow
+def test_pegasus_co_design_constraint(tmp_path):
+    """--size-gains adds closed_loop_ks <= 0: negative for the file's filtered law, positive for
+    the pure gain -0.2 rad/g whose 3.3 Hz wing mode grows in the march (docs/controls.md)."""
+    from wingmdao.cases import pegasus
+    from wingmdao.sizing import build_problem, closed_loop_constraints
+
+    pure = tmp_path / "pure.yaml"
+    pure.write_text(open(EXAMPLE).read().split("law:")[0] + "law:\n  outputs: [load_factor]\n  gain: [-0.2]\n")
+    ks = {}
+    for tag, path in (("filtered", EXAMPLE), ("pure", str(pure))):
+        setup = pegasus.build(pegasus.PegasusOptions(loads="gust", aero="coupled", plunge="free", t_final=0.3,
+                                                     dt=0.03, gust_start=0.0, alleviation=path, size_gains=True))
+        setup.options.disp = False
+        assert closed_loop_constraints(setup.load_cases) == ["cases.gust.closed_loop_ks"]
+        prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options, driver=False)
+        prob.run_model()
+        ks[tag] = float(prob.get_val("cases.gust.closed_loop_ks")[0])
+    assert ks["filtered"] < 0.0 < ks["pure"], ks
