@@ -240,6 +240,8 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
                                       ref=options.dv_ref.get(w, options.upper[w]) if options.dv_ref else options.upper[w])
         for name, bounds in control_gain_design_vars(load_cases).items():
             prob.model.add_design_var(name, **bounds)
+        for path in closed_loop_constraints(load_cases):   # the sized law keeps the loop stable
+            prob.model.add_constraint(path, upper=0.0, ref=1.0)
         if panels is not None:
             add_sizing_rules(prob.model, options, panels, design_vars,
                              n if geometry.station_map is None else int(np.max(geometry.station_map)) + 1)
@@ -258,6 +260,25 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     for w in design_vars:
         prob.set_val(w, np.broadcast_to(options.initial.get(w, options.upper[w]), (n_dv,)))
     return prob, desc
+
+
+def closed_loop_constraints(load_cases) -> list:
+    """``cases.<case>.closed_loop_ks`` of every load case whose law is sized (``gain_design``): the
+    closed-loop stability constraint (:class:`~wingmdao.components.closed_loop.ClosedLoopDamping`),
+    upper bound 0 (1/s).
+
+    Parameters
+    ----------
+    load_cases : sequence of LoadCase
+        The sizing's load cases.
+
+    Returns
+    -------
+    list of str
+        The constraint paths.
+    """
+    return [f"cases.{c.name}.closed_loop_ks" for c in load_cases
+            if c.aero is not None and getattr(c.aero, "gain_design", False) and c.aero.control_law is not None]
 
 
 def control_gain_design_vars(load_cases) -> dict:
@@ -472,6 +493,11 @@ def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, sectio
     out["gradient_evaluations"] = int(getattr(stats, "deriv_evals", 0) or 0)
     worst = max((v for d in ks.values() for v in d.values()), default=np.nan)
     out["active_constraints"] = [f"{c}.{f}" for c, d in ks.items() for f, v in d.items() if v > -1e-3]
+    for path in closed_loop_constraints(load_cases):
+        value = float(np.asarray(prob.get_val(path)).ravel()[0])
+        out.setdefault("closed_loop_ks", {})[path.split(".")[1]] = value
+        if value > -1e-3:
+            out["active_constraints"].append(path)
     for name in ("flutter_ks", "turbulence_ks"):
         value = _constraint_value(prob, name)
         if value is not None:

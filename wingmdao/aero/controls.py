@@ -74,7 +74,11 @@ class ControlSurface:
     the beam nodes over the tip node's) or ``nodes`` (first, last) node indices (inclusive; one of
     the two); ``hinge`` the hinge line as a fraction of the chord aft of the leading edge, in
     (0, 1); ``actuator_order`` 1 (``time_constant`` s) or 2 (``frequency_hz``, ``damping``);
-    ``max_deflection_deg`` and ``max_rate_deg_s`` the limits the histories are reported against.
+    ``max_deflection_deg`` and ``max_rate_deg_s`` the limits the histories are reported against;
+    ``maneuver_deg_per_g`` the symmetric maneuver schedule (deg per g of load-factor increment,
+    trailing edge down positive): in a trimmed maneuver at load factor n the surface is held at
+    ``maneuver_deg_per_g (n - 1)`` while the angle of attack trims the lift (maneuver load
+    alleviation, :func:`maneuver_commands`).
     """
 
     name: str
@@ -87,6 +91,7 @@ class ControlSurface:
     damping: float = 0.7
     max_deflection_deg: float = 20.0
     max_rate_deg_s: float = 60.0
+    maneuver_deg_per_g: float = 0.0
 
     def __post_init__(self):
         where = f"control surface {self.name!r}"
@@ -112,6 +117,9 @@ class ControlSurface:
         for nm in ("time_constant", "frequency_hz", "damping", "max_deflection_deg", "max_rate_deg_s"):
             if _finite(getattr(self, nm), nm, where) <= 0.0:
                 raise ValueError(f"{where}: {nm} = {getattr(self, nm)}; allowed range (0, inf)")
+        sched = _finite(self.maneuver_deg_per_g, "maneuver_deg_per_g", where)
+        if abs(sched) > 90.0:
+            raise ValueError(f"{where}: maneuver_deg_per_g = {sched}; allowed range [-90, 90] deg per g")
 
     def node_indices(self, node_y) -> tuple:
         """The beam nodes (indices) the surface covers, for spanwise node positions ``node_y`` (m);
@@ -322,6 +330,25 @@ def control_spec(surfaces, node_y, law: ControlLaw | None = None) -> ControlSpec
     return ControlSpec(tuple(rows), tuple(law.outputs), law.n_states)
 
 
+def maneuver_commands(surfaces, load_factor: float) -> np.ndarray:
+    """The surfaces' commands (rad) of the symmetric maneuver schedule at ``load_factor`` (g):
+    ``maneuver_deg_per_g (n - 1)`` per surface, trailing edge down positive.
+
+    Parameters
+    ----------
+    surfaces : sequence of ControlSurface
+        The surfaces in the order of the commands.
+    load_factor : float
+        Maneuver load factor n (g).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n_s,) deflection commands (rad).
+    """
+    return np.radians([float(s.maneuver_deg_per_g) * (float(load_factor) - 1.0) for s in surfaces])
+
+
 def actuator_residuals(order, tau, freq_hz, zeta, beta, rate, dbeta, drate, command):
     """The two actuator rows of one surface (symbolic or numeric): ``dbeta/dt - r`` and the
     first-order ``tau r + beta - u`` or second-order ``dr/dt + 2 zeta omega r + omega^2 (beta - u)``
@@ -350,7 +377,8 @@ def limit_report(time, deflection, rate, surfaces) -> dict:
 
 #: keys of an alleviation file (docs/controls.md) and of its parts
 ALLEVIATION_KEYS = ("surfaces", "law")
-SURFACE_KEYS = ("name", "span", "nodes", "hinge", "actuator", "max_deflection_deg", "max_rate_deg_s")
+SURFACE_KEYS = ("name", "span", "nodes", "hinge", "actuator", "max_deflection_deg", "max_rate_deg_s",
+                "maneuver_deg_per_g")
 ACTUATOR_KEYS = ("order", "time_constant", "frequency_hz", "damping")
 LAW_KEYS = ("outputs", "gain", "pid", "state_space")
 PID_KEYS = ("kp", "ki", "kd", "derivative_time_constant")
@@ -383,7 +411,7 @@ def alleviation_from_dict(data: dict, where: str = "alleviation") -> tuple:
         act = s.get("actuator", {"order": 1})
         _keys(f"{w}.actuator", act, ACTUATOR_KEYS, ("order",))
         kw = {nm: act[nm] for nm in ACTUATOR_KEYS[1:] if nm in act}
-        kw.update({nm: s[nm] for nm in ("max_deflection_deg", "max_rate_deg_s") if nm in s})
+        kw.update({nm: s[nm] for nm in ("max_deflection_deg", "max_rate_deg_s", "maneuver_deg_per_g") if nm in s})
         try:
             surfaces.append(ControlSurface(
                 str(s["name"]), hinge=s["hinge"], span=tuple(s["span"]) if "span" in s else None,

@@ -25,7 +25,7 @@ import numpy as np
 from wingmdao.cases import (CaseOptions, CaseSetup, add_option_arguments, case_options, check_step_count, option,
                             resolve_aero_theory)
 from wingmdao.cases.planform import FT, G0, LB, Planform, wing_geometry
-from wingmdao.aero.controls import control_spec, read_alleviation
+from wingmdao.aero.controls import control_spec, maneuver_commands, read_alleviation
 from wingmdao.aero.pitch import check_pitch_inputs
 from wingmdao.aero.strip import station_gust_history
 from wingmdao.beam.residual import StrainRateDamping
@@ -142,7 +142,8 @@ class PegasusOptions(CaseOptions):
                                                    "strips' wing lift slope)", metavar="D", group=PITCH_GROUP)
     tail_lag: bool = option(False, "downwash lag: first-order lag of time constant x_t / V on the wing angle seen by "
                                    "the tail", group=PITCH_GROUP)
-    alleviation: str | None = option(None, "coupled gust: control surfaces, actuators and a feedback law in the march "
+    alleviation: str | None = option(None, "coupled gust: control surfaces, actuators and a feedback law in the march; "
+                                           "coupled maneuvers: the surfaces' maneuver_deg_per_g schedule "
                                            "(docs/controls.md)", metavar="FILE.yaml")
     size_gains: bool = option(False, "with --alleviation: the law's gain matrices C and D are design variables with "
                                      "the thicknesses (co-design of structure and load alleviation)")
@@ -206,21 +207,47 @@ def maneuver_case(name, n_load, geometry, chord, axis_frac, families, pf=PLANFOR
     return LoadCase(name, np.zeros(1), forcing, families, f"{n_load:+.2f} g symmetric maneuver")
 
 
-def coupled_maneuver_case(name, n_load, opts, geometry, chord, axis_frac, families, weight_lb=TOGW_LB):
+def maneuver_surfaces(opts, geometry):
+    """The control surfaces of ``--alleviation`` that carry a maneuver schedule (``maneuver_deg_per_g``,
+    docs/controls.md), or None: with them the trimmed maneuvers hold the surfaces at the scheduled
+    deflection (maneuver load alleviation) while the angle of attack trims the lift."""
+    if not getattr(opts, "alleviation", None) or opts.aero != "coupled":
+        return None
+    surfaces, _ = read_alleviation(opts.alleviation)
+    if not any(s.maneuver_deg_per_g for s in surfaces):
+        return None
+    try:
+        control_spec(surfaces, geometry.node_positions[:, 1])
+    except ValueError as exc:
+        raise ValueError(f"--alleviation {opts.alleviation}: {exc}") from None
+    return surfaces
+
+
+def coupled_maneuver_case(name, n_load, opts, geometry, chord, axis_frac, families, weight_lb=TOGW_LB,
+                          surfaces=None):
     """Trimmed static aeroelastic maneuver (``--aero coupled``): the aircraft angle of attack solved
     so that both half-wings lift n W on the deforming wing (strip theory, quasi-steady), at the
-    --altitude-ft / --mach flight point, inertia relief (n - 1) g as in :func:`maneuver_case`."""
+    --altitude-ft / --mach flight point, inertia relief (n - 1) g as in :func:`maneuver_case`.
+    ``surfaces`` (:class:`~wingmdao.aero.controls.ControlSurface`, None: none) are held at their
+    maneuver schedule ``maneuver_deg_per_g (n - 1)`` (:func:`~wingmdao.aero.controls.maneuver_commands`)."""
     from wingmdao.aero.coupled import CoupledAero
 
     alt = float(altitude_ft_to_m(opts.altitude_ft))
     forcing = {"gravity": np.array([[0.0, 0.0, -G0]]),
                "frame_acceleration": np.array([[0.0, 0.0, (n_load - 1.0) * G0]]),
                "trim_active": np.ones(1)}
+    controls, what = {}, ""
+    if surfaces:
+        controls = dict(controls=control_spec(surfaces, geometry.node_positions[:, 1]))
+        forcing["surface_command"] = maneuver_commands(surfaces, n_load)[None, :]
+        what = ", " + ", ".join(f"{s.name} {np.degrees(u):+.2f} deg"
+                                for s, u in zip(surfaces, forcing["surface_command"][0]))
     aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
                        airspeed=float(mach_to_tas(opts.mach, alt)), density=float(density(alt)), mach=float(opts.mach),
                        trim=True, trim_lift=n_load * weight_lb * LB * G0, aero_theory=opts.aero_theory,
-                       node_positions=np.asarray(geometry.node_positions, dtype=float))
-    return LoadCase(name, np.zeros(1), forcing, families, f"{n_load:+.2f} g trimmed aeroelastic maneuver", aero=aero)
+                       node_positions=np.asarray(geometry.node_positions, dtype=float), **controls)
+    return LoadCase(name, np.zeros(1), forcing, families, f"{n_load:+.2f} g trimmed aeroelastic maneuver{what}",
+                    aero=aero)
 
 
 def gust_case(opts, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
@@ -469,7 +496,8 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
              "engines as point masses: 600 kg at 35 % semi-span, 150 kg at the tip (assumed)"]
     if loads == "maneuver":  # given or the default: the gust options do nothing
         default = PegasusOptions()
-        used = ("altitude_ft", "mach") if opts.aero == "coupled" else ()  # the trimmed maneuvers' flight point
+        # the trimmed maneuvers' flight point and maneuver schedule of the surfaces
+        used = ("altitude_ft", "mach", "alleviation") if opts.aero == "coupled" else ()
         ignored = [_flag_text(k, getattr(opts, k)) for k in GUST_ONLY_OPTIONS
                    if k not in used and getattr(opts, k) != getattr(default, k)]
         if ignored:
@@ -493,10 +521,11 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
         cases.extend(gusts)
     if loads in ("maneuver", "all"):
         if opts.aero == "coupled":
+            mla = maneuver_surfaces(opts, geometry)
             cases.insert(0, coupled_maneuver_case("maneuver_pos", opts.load_factor, opts, geometry, chord, axis_frac,
-                                                  families, weight_lb))
+                                                  families, weight_lb, surfaces=mla))
             cases.insert(1, coupled_maneuver_case("maneuver_neg", opts.negative_load_factor, opts, geometry, chord,
-                                                  axis_frac, families, weight_lb))
+                                                  axis_frac, families, weight_lb, surfaces=mla))
         else:
             cases.insert(0, maneuver_case("maneuver_pos", opts.load_factor, geometry, chord, axis_frac, families, pf,
                                           weight_lb))

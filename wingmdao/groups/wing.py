@@ -36,6 +36,7 @@ from wingmdao.section.box import WALL_NAMES
 from wingmdao.stress.box_stress import SECTION_PROPERTIES
 from wingmdao.components.beam import BeamDynamics
 from wingmdao.components.beam_loads import BeamInternalLoads
+from wingmdao.components.closed_loop import ClosedLoopDamping
 from wingmdao.components.flutter import FlutterDamping
 from wingmdao.components.turbulence import TurbulenceStressKS
 from wingmdao.components.ks import KSAggregate
@@ -249,6 +250,19 @@ class WingStructure(om.Group):
             for name in FORCING_SHAPES:
                 self.connect(f"loads.{name}", f"beam.{name}")
 
+        if aero is not None and aero.controls is not None and aero.control_law is not None and aero.gain_design:
+            # sized gains: the closed-loop stability constraint about the trimmed state (docs/controls.md)
+            system = beam.options["system"]
+            connected = {"body_mass": "plunge_mass.body_mass", "trim_lift": "plunge_mass.trim_lift"}
+            names = [sp.name for sp in system.param_specs]
+            self.add_subsystem("closed_loop", ClosedLoopDamping(system=system),
+                               promotes_inputs=[nm for nm in names if nm not in connected],
+                               promotes_outputs=["closed_loop_ks"])
+            for nm, src in connected.items():
+                if nm in names:
+                    self.connect(src, f"closed_loop.{nm}")
+            self.connect("states", "closed_loop.trimmed_state", src_indices=np.arange(system.n_state),
+                         flat_src_indices=True)
         if aero is not None:
             shape = tuple(beam.build_system().state_shape)
             self.add_subsystem("beam_states", BeamStateSlice(num_times=nt, num_nodes=n, state_shape=shape),

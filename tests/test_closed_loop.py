@@ -1,0 +1,121 @@
+"""Closed-loop stability constraint (wingmdao.components.closed_loop): its sign against the
+stability limit of the bending feedback that the march confirms (tests/test_controls_system.py),
+exact partials, and the PEGASUS co-design constraint that rejects a destabilizing law."""
+
+import os
+
+import numpy as np
+import openmdao.api as om
+import pytest
+
+from wingmdao.aero import aero_parameters, cached_aeroelastic_system
+from wingmdao.aero.controls import ControlLaw, ControlSurface, control_spec
+from wingmdao.beam.static import beam_forcing, beam_parameters, straight_beam
+from wingmdao.components.closed_loop import ClosedLoopDamping, closed_loop_forcing, closed_loop_modes
+from wingmdao.stability.eigen import static_state
+from wingmdao.timemarch.system import layout, pack
+from wingmdao.utils.ks import ks_aggregate
+
+K_STAR = 163.0  # the bending feedback's stability limit of tests/test_controls_system.py (march-checked)
+
+
+def _flexible_wing(n=5):
+    r0, th0 = straight_beam(n, 4.0)
+    bp = beam_parameters(r0, th0, EI_cc=5e4, GJ=2e4, EI_nn=5e5, EA=5e6, mass_per_length=5.0)
+    ap = aero_parameters(n, chord=1.0, ref_point=0.4, airspeed=20.0, density=1.2)
+    law = ControlLaw(("root_bending",), A=[], B=[], C=[], D=[[1.0]])
+    spec = control_spec([ControlSurface("aileron", hinge=0.75, span=(0.5, 1.0), time_constant=0.02)], r0[:, 1], law)
+    s = cached_aeroelastic_system(n, controls=spec)
+    return s, lambda K: pack(s.param_specs, {**bp, **ap, **law.matrices(), "controller_D": np.array([[K]])})
+
+
+def test_constraint_sign_at_the_stability_limit():
+    """Below the limit every selected mode decays (KS < 0), above it the real branch the march
+    shows growing at about 1.04 1/s (1.15 K*) makes the KS positive and equal to it."""
+    s, params = _flexible_wing()
+    x0 = static_state(s, params(0.0), closed_loop_forcing(s))
+    for K, sign in ((0.0, -1), (0.7 * K_STAR, -1), (1.15 * K_STAR, 1), (1.3 * K_STAR, 1)):
+        lam = closed_loop_modes(s, params(K), x0)[0]
+        ks = ks_aggregate(lam.real, 100.0)[0]
+        assert np.sign(ks) == sign, (K, ks)
+    lam = closed_loop_modes(s, params(1.15 * K_STAR), x0)[0]
+    assert ks_aggregate(lam.real, 100.0)[0] == pytest.approx(1.06, abs=0.03)
+
+
+def test_check_partials_free_plunge_trimmed():
+    """Free plunge, trimmed, load-factor and root-bending feedback through a filter: partials
+    with respect to every parameter (gains, stiffness, body mass) and the trimmed state."""
+    n = 3
+    r0, th0 = straight_beam(n, 2.0)
+    bp = beam_parameters(r0, th0, EI_cc=5e4, GJ=2e4, EI_nn=5e5, EA=5e6, mass_per_length=5.0)
+    ap = aero_parameters(n, chord=1.0, ref_point=0.4, airspeed=20.0, density=1.2, mach=0.3, alpha_zero_lift=-0.02)
+    law = ControlLaw(("load_factor", "root_bending"), A=[[-6.0]], B=[[6.0, 0.0]], C=[[-0.3]], D=[[0.0, 20.0]])
+    spec = control_spec([ControlSurface("aileron", hinge=0.75, nodes=(1, 2), actuator_order=2, frequency_hz=8.0)],
+                        r0[:, 1], law)
+    s = cached_aeroelastic_system(n, plunge=True, trim=True, controls=spec)
+    values = {**bp, **ap, **law.matrices(), "body_mass": 200.0, "trim_lift": 200.0 * 9.81 + 2 * 5.0 * 2.0 * 9.81}
+    qd = beam_forcing(n)
+    qd.update(gust_velocity=np.zeros(n), frame_velocity=np.zeros(3), frame_velocity_rate=np.zeros(3),
+              surface_command=np.zeros(1), trim_active=1.0, gravity=np.array([0.0, 0.0, -9.81]))
+    x0 = static_state(s, pack(s.param_specs, values), pack(s.forcing_specs, qd))
+    prob = om.Problem()
+    prob.model.add_subsystem("cl", ClosedLoopDamping(system=s, rho_ks=20.0), promotes=["*"])
+    prob.setup(force_alloc_complex=False)
+    for sp in s.param_specs:
+        prob.set_val(sp.name, np.asarray(values[sp.name]).reshape(sp.shape or (1,)))
+    prob.set_val("trimmed_state", x0)
+    prob.run_model()
+    assert prob.get_val("closed_loop_ks")[0] < 0.0
+    names = [sp.name for sp in s.param_specs] + ["trimmed_state"]
+    J = prob.compute_totals(of=["closed_loop_ks"], wrt=names, return_format="flat_dict")
+    p0 = pack(s.param_specs, values)
+    lay = layout(s.param_specs)
+
+    def ks(p, x):
+        return ks_aggregate(closed_loop_modes(s, p, x)[0].real, 20.0)[0]
+
+    # central differences, each entry stepped by 1e-4 of its size (zeros: 1e-4 of its input's largest
+    # entry, 1e-5 for the state's angles): the derivative times the step, so entries of every unit compare
+    worst, big = 0.0, 0.0
+    for nm in names:
+        base = x0 if nm == "trimmed_state" else p0[lay[nm]]
+        ref = max(np.abs(base).max(), 1e-3)
+        jac = np.asarray(J[("closed_loop_ks", nm)]).ravel()
+        for j in range(base.size):
+            h = 1e-4 * abs(base[j]) if base[j] != 0.0 else (1e-5 if nm == "trimmed_state" else 1e-4 * ref)
+            plus, minus = base.copy(), base.copy()
+            plus[j] += h
+            minus[j] -= h
+            if nm == "trimmed_state":
+                fd = (ks(p0, plus) - ks(p0, minus)) / (2 * h)
+            else:
+                pp, pm = p0.copy(), p0.copy()
+                pp[lay[nm]], pm[lay[nm]] = plus, minus
+                fd = (ks(pp, x0) - ks(pm, x0)) / (2 * h)
+            worst = max(worst, abs(jac[j] - fd) * h)
+            big = max(big, abs(fd) * h)
+    assert big > 0 and worst <= 1e-3 * big, (worst, big)
+
+
+EXAMPLE = os.path.join(os.path.dirname(__file__), "..", "docs", "examples", "pegasus_alleviation.yaml")
+
+
+@pytest.mark.slow
+def test_pegasus_co_design_constraint(tmp_path):
+    """--size-gains adds closed_loop_ks <= 0: negative for the file's filtered law, positive for
+    the pure gain -0.2 rad/g whose 3.3 Hz wing mode grows in the march (docs/controls.md)."""
+    from wingmdao.cases import pegasus
+    from wingmdao.sizing import build_problem, closed_loop_constraints
+
+    pure = tmp_path / "pure.yaml"
+    pure.write_text(open(EXAMPLE).read().split("law:")[0] + "law:\n  outputs: [load_factor]\n  gain: [-0.2]\n")
+    ks = {}
+    for tag, path in (("filtered", EXAMPLE), ("pure", str(pure))):
+        setup = pegasus.build(pegasus.PegasusOptions(loads="gust", aero="coupled", plunge="free", t_final=0.3,
+                                                     dt=0.03, gust_start=0.0, alleviation=path, size_gains=True))
+        setup.options.disp = False
+        assert closed_loop_constraints(setup.load_cases) == ["cases.gust.closed_loop_ks"]
+        prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options, driver=False)
+        prob.run_model()
+        ks[tag] = float(prob.get_val("cases.gust.closed_loop_ks")[0])
+    assert ks["filtered"] < 0.0 < ks["pure"], ks

@@ -1,0 +1,165 @@
+"""``ClosedLoopDamping``: the closed-loop stability constraint of a gust case with a feedback law.
+
+The coupled gust case's residual (:func:`wingmdao.aero.system.build_aeroelastic_system` with
+control surfaces and a law, docs/controls.md) linearised about the trimmed 1 g state, the first
+instant of the march, with the trim released (``trim_active`` = 0: the angle of attack and the
+measurement references held): ``(A + lambda B) v = 0`` with ``A = dR/dx``, ``B = dR/dxdot``.
+Output ``closed_loop_ks`` = KS over the selected eigenvalues of ``Re lambda + margin`` (1/s);
+<= 0: every selected mode decays at least at ``margin``. Selected: the finite eigenvalues with
+``|lambda|`` above ``neutral`` (the held states' exact zeros are left out) and frequencies up to
+``max_frequency_hz`` (the control bandwidth: the beam's axial and in-plane modes of thousands of
+rad/s, which no air damps, are left out) whose eigenvector
+loads the air (the aerodynamic lag states' part above ``neutral_fraction`` of the beam's
+displacement and rotation part; the in-plane bending modes, which strip theory barely damps,
+are left out, as in :class:`~wingmdao.components.flutter.FlutterDamping`) or moves the surfaces
+and the controller (their states above the same fraction).
+
+Inputs: every parameter of the system (the beam's, the aerodynamic ones, the body's and the law's
+matrices ``controller_A`` ... ``controller_D``, so the gains) and ``trimmed_state`` (the march's
+first state, connected from the time history: the trimmed state moves with the design through
+the march's own adjoint). Partials: exact, from the simple eigenvalues' left and right vectors,
+``d lambda = -u^H (dA + lambda dB) v / (u^H B v)`` with the second derivatives of the residual
+(:func:`wingmdao.stability.sensitivity.gradient_functions`), for every mode whose KS weight
+exceeds 1e-13; declared dense (one row). Dense eigen-solve: meant for the few hundred states of
+a sizing case.
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+import openmdao.api as om
+import scipy.linalg as sla
+
+from wingmdao.aero.system import AeroelasticBeamSystem
+from wingmdao.loads.atmosphere import G0
+from wingmdao.stability.eigen import linearize
+from wingmdao.stability.sensitivity import gradient_functions
+from wingmdao.timemarch.system import layout
+from wingmdao.utils.ks import ks_aggregate
+
+
+def closed_loop_forcing(system) -> np.ndarray:
+    """The packed forcing of the linearisation: gravity, no gust, no command, trim released."""
+    q = np.zeros(system.n_forcing)
+    lay = layout(system.forcing_specs)
+    if "gravity" in lay:
+        q[lay["gravity"]] = [0.0, 0.0, -G0]
+    return q
+
+
+def closed_loop_modes(system, p, x0, *, neutral=1e-6, neutral_fraction=1e-2, max_frequency_hz=50.0):
+    """``(lam, v, u, A, B)``: the selected eigenvalues (module docstring) of the closed-loop system
+    at packed parameters ``p`` about ``x0``, their right and left vectors and the pencil.
+
+    Parameters
+    ----------
+    system : AeroelasticBeamSystem
+        Built with ``controls``.
+    p : numpy.ndarray
+        Packed parameters.
+    x0 : numpy.ndarray
+        State to linearise about (the trimmed state).
+    neutral : float
+        Eigenvalues with ``|lambda|`` below this (1/s) are the held states' zeros and left out.
+    neutral_fraction : float
+        Least part of the aerodynamic or control states relative to the beam's in a selected mode.
+    max_frequency_hz : float
+        Highest frequency |Im lambda| / (2 pi) of a selected mode (Hz).
+
+    Returns
+    -------
+    tuple
+        ``lam`` (k,) complex (1/s, the upper half plane), ``v``, ``u`` (n, k), ``A``, ``B`` (sparse).
+    """
+    q = closed_loop_forcing(system)
+    A, B = linearize(system, p, q, x0)
+    lam, vl, vr = sla.eig(-A.toarray(), B.toarray(), left=True, right=True)
+    keep = np.isfinite(lam) & (np.abs(lam) < 1e6) & (np.abs(lam) > neutral) & (lam.imag >= 0.0)
+    keep &= np.abs(lam.imag) <= 2.0 * np.pi * max_frequency_hz
+    lay = system.layout
+    beam = lay.beam[:, 0:6].ravel()
+    other = np.concatenate([lay.aero.ravel(), np.asarray([lay.body[k] for k in system.control_index], dtype=int)])
+    vb = np.linalg.norm(vr[beam], axis=0)
+    vo = np.linalg.norm(vr[other], axis=0)
+    keep &= vo > neutral_fraction * vb
+    return lam[keep], vr[:, keep], vl[:, keep], A, B
+
+
+class ClosedLoopDamping(om.ExplicitComponent):
+    """KS of ``Re lambda + margin`` of the closed-loop gust-case system (see module docs)."""
+
+    def initialize(self):
+        self.options.declare("system", types=AeroelasticBeamSystem, desc="AeroelasticBeamSystem with control surfaces and a law")
+        self.options.declare("rho_ks", default=100.0, lower=1.0, types=numbers.Real,
+                             desc="KS aggregation parameter (s)")
+        self.options.declare("margin", default=0.0, types=float,
+                             desc="required decay rate -Re(lambda) (1/s)")
+        self.options.declare("max_frequency_hz", default=50.0, types=float, lower=0.0,
+                             desc="highest frequency of a selected mode (Hz): the control bandwidth")
+
+    def setup(self):
+        system = self.options["system"]
+        if getattr(system, "controls", None) is None or not system.controls.outputs:
+            raise ValueError("ClosedLoopDamping needs a system built with control surfaces and a feedback law")
+        self._specs = list(system.param_specs)
+        for s in self._specs:
+            # the defaults of the time history's parameter inputs (promoted to the same names)
+            self.add_input(s.name, val=1.0, shape=s.shape or (1,), units=s.units, desc=s.desc or s.name)
+        self.add_input("trimmed_state", val=0.0, shape=(system.n_state,),
+                       desc="state of the trimmed 1 g flight (the march's first instant), the linearisation point")
+        self.add_output("closed_loop_ks", val=0.0, units="1/s",
+                        desc="KS over the loaded closed-loop modes of Re(lambda) + margin; <= 0: stable")
+        self._cache = None
+
+    def setup_partials(self):
+        for s in self._specs:
+            size = int(np.prod(s.shape))
+            self.declare_partials("closed_loop_ks", s.name, rows=np.zeros(size, int), cols=np.arange(size))
+        n = self.options["system"].n_state
+        self.declare_partials("closed_loop_ks", "trimmed_state", rows=np.zeros(n, int), cols=np.arange(n))
+
+    def _packed(self, inputs):
+        system = self.options["system"]
+        lay = layout(system.param_specs)
+        p = np.zeros(system.n_param)
+        for s in self._specs:
+            p[lay[s.name]] = np.asarray(inputs[s.name], dtype=float).ravel()
+        return p, np.asarray(inputs["trimmed_state"], dtype=float).ravel()
+
+    def _evaluate(self, inputs):
+        p, x0 = self._packed(inputs)
+        key = np.concatenate([p, x0])
+        if self._cache is None or not np.array_equal(self._cache[0], key):
+            lam, v, u, A, B = closed_loop_modes(self.options["system"], p, x0,
+                                                     max_frequency_hz=self.options["max_frequency_hz"])
+            if lam.size == 0:
+                raise om.AnalysisError(f"{self.pathname}: no loaded closed-loop mode found")
+            value, w = ks_aggregate(lam.real + self.options["margin"], self.options["rho_ks"])
+            self._cache = (key, value, w, lam, v, u, B, p, x0)
+        return self._cache
+
+    def compute(self, inputs, outputs):
+        outputs["closed_loop_ks"] = self._evaluate(inputs)[1]
+
+    @property
+    def last_eigenvalues(self):
+        """The selected eigenvalues (1/s) of the last evaluation, or None."""
+        return None if self._cache is None else self._cache[3]
+
+    def compute_partials(self, inputs, partials):
+        system = self.options["system"]
+        _, _, w, lam, v, u, B, p, x0 = self._evaluate(inputs)
+        fun = gradient_functions(system)
+        q = closed_loop_forcing(system)
+        gp, gx = np.zeros(system.n_param), np.zeros(system.n_state)
+        for k in np.flatnonzero(w > 1e-13):
+            ds_p, ds_x = fun.ds(x0, p, q, v[:, k], u[:, k], lam[k])
+            den = np.vdot(u[:, k], B @ v[:, k])
+            gp += w[k] * (-ds_p / den).real
+            gx += w[k] * (-ds_x / den).real
+        lay = layout(system.param_specs)
+        for s in self._specs:
+            partials["closed_loop_ks", s.name] = gp[lay[s.name]]
+        partials["closed_loop_ks", "trimmed_state"] = gx
