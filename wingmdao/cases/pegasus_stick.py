@@ -335,6 +335,35 @@ def aeroelastic_system(aircraft: StickAircraft):
                                            masses=s.masses, symmetry=s.symmetry, euler_sequence=s.euler_sequence)
 
 
+def aero_parameters(aircraft: StickAircraft, system, *, airspeed, density, mach, downwash=None) -> np.ndarray:
+    """Packed parameters of the aeroelastic ``system`` (:func:`aeroelastic_system`): the aircraft's
+    beams, the wing's strip sections and :data:`TAIL_SECTION`, the flight point (m/s, kg/m^3) and
+    the downwash gradient (default :func:`downwash_gradient`)."""
+    dw = downwash_gradient(mach) if downwash is None else float(downwash)
+    return pack_aero_parameters(system, aircraft.model.params,
+                                {"wing": {"chord": aircraft.wing_chord, "ref_point": aircraft.wing_axis_fraction},
+                                 "tail": TAIL_SECTION},
+                                airspeed=airspeed, density=density, mach=mach, downwash_gradient=dw)
+
+
+def gust_forcing(aircraft: StickAircraft, system, time, *, airspeed, u_ds_tas, gradient, gust_start) -> np.ndarray:
+    """Packed forcing history (n_time, n_forcing) of a 1-cos gust of gradient ``gradient`` (m) and
+    design velocity ``u_ds_tas`` (m/s TAS) meeting the wing's leading station at ``gust_start`` (s),
+    every lifting station x / V later; gravity; trim active at t = 0 only (:func:`gust_response`)."""
+    time = np.asarray(time, dtype=float)
+    x_w, x_t = aircraft.nodes["wing"][:, 0], aircraft.nodes["tail"][:, 0]
+    n_w = x_w.size
+    length = 2.0 * gradient
+
+    def profile(tau):
+        inside = (tau >= 0.0) & (tau <= length / airspeed)
+        return np.where(inside, 0.5 * u_ds_tas * (1.0 - np.cos(2.0 * np.pi * airspeed * tau / length)), 0.0)
+
+    g = station_gust_history(time - gust_start, np.concatenate([x_w, x_t]), airspeed, profile)
+    return np.array([pack_aero_forcing(system, {"wing": g[k, :n_w], "tail": g[k, n_w:]}, trim_active=float(k == 0),
+                                       gravity=[0.0, 0.0, -G0]) for k in range(time.size)])
+
+
 def gust_response(aircraft: StickAircraft, time, *, airspeed, density, mach, u_ds_tas, gradient, gust_start,
                   downwash=None) -> StickGust:
     """A 1-cos gust of gradient ``gradient`` (m) and design velocity ``u_ds_tas`` (m/s TAS) on the free
@@ -345,21 +374,8 @@ def gust_response(aircraft: StickAircraft, time, *, airspeed, density, mach, u_d
     time = np.asarray(time, dtype=float)
     s = aeroelastic_system(aircraft)
     dw = downwash_gradient(mach) if downwash is None else float(downwash)
-    p = pack_aero_parameters(s, aircraft.model.params,
-                             {"wing": {"chord": aircraft.wing_chord, "ref_point": aircraft.wing_axis_fraction},
-                              "tail": TAIL_SECTION},
-                             airspeed=airspeed, density=density, mach=mach, downwash_gradient=dw)
-    x_w, x_t = aircraft.nodes["wing"][:, 0], aircraft.nodes["tail"][:, 0]
-    n_w = x_w.size
-    length = 2.0 * gradient
-
-    def profile(tau):
-        inside = (tau >= 0.0) & (tau <= length / airspeed)
-        return np.where(inside, 0.5 * u_ds_tas * (1.0 - np.cos(2.0 * np.pi * airspeed * tau / length)), 0.0)
-
-    g = station_gust_history(time - gust_start, np.concatenate([x_w, x_t]), airspeed, profile)
-    Q = np.array([pack_aero_forcing(s, {"wing": g[k, :n_w], "tail": g[k, n_w:]}, trim_active=float(k == 0),
-                                    gravity=[0.0, 0.0, -G0]) for k in range(time.size)])
+    p = aero_parameters(aircraft, s, airspeed=airspeed, density=density, mach=mach, downwash=dw)
+    Q = gust_forcing(aircraft, s, time, airspeed=airspeed, u_ds_tas=u_ds_tas, gradient=gradient, gust_start=gust_start)
     hist = march(s, time, p, Q, atol=1e-6)
     weight = aircraft.mass * G0
     n = np.array([lift_total(s, hist.states[k], hist.rates[k], p, Q[k], vertical=True) for k in range(time.size)]) / weight
