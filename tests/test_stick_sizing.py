@@ -63,3 +63,15 @@ def test_stick_gust_ks_totals(case):
         assert abs(cd) > 1e-6 * max(1.0, abs(J_rev[KS, name]).max())   # the derivative is not trivially zero
         assert J_rev[KS, name][0, idx] == pytest.approx(cd, rel=1e-5, abs=1e-9)
         assert J_fwd[KS, name][0, idx] == pytest.approx(J_rev[KS, name][0, idx], rel=1e-9, abs=1e-12)
+
+
+@pytest.mark.parametrize("argv, msg", [
+    (["size", "crm", "--model", "stick"], "--model stick: case 'crm' has no stick model; allowed: pegasus"),
+    (["size", "pegasus", "--model", "stick"], "--model stick does not take --loads maneuver (the default)"),
+    (["size", "pegasus", "--model", "stick", "--loads", "gust", "--turbulence"], "--model stick does not take --turbulence"),
+])
+def test_size_stick_model_refuses_other_options(argv, msg, capsys, tmp_path):
+    from wingmdao.cli import main
+
+    assert main(argv + ["--no-plots", "--out", str(tmp_path)]) == 2
+    assert msg in capsys.readouterr().err

@@ -386,3 +386,45 @@ def gust_response(aircraft: StickAircraft, time, *, airspeed, density, mach, u_d
     x0 = hist.states[0]
     trim = {k: float(x0[i]) for k, i in s.trim_index.items()}
     return StickGust(time=time, load_factor=n, trim=trim, loads=loads, downwash_gradient=dw, states=hist.states)
+
+
+def sizing_setup(setup, opts, families=("vm",)):
+    """The PEGASUS sizing ``setup`` (:func:`wingmdao.cases.pegasus.build`) with its single 1-cos gust
+    (``--loads gust``: gradient, altitude, Mach, sign, time grid and gust start of ``opts``) on the
+    stick model instead of the lone wing: a copy whose ``load_cases`` are one
+    :class:`~wingmdao.groups.stick.StickCase` and whose ``geometry`` is the stick model's wing (its
+    engines are lumped masses, not smeared). The lumped payload masses are those of the initial
+    walls (:func:`build`): the aircraft's mass follows the wing's. ValueError for options the stick
+    sizing does not take."""
+    from dataclasses import replace
+
+    from wingmdao.groups.stick import StickCase
+    from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
+    from wingmdao.loads.gust import design_gust_velocity_eas
+
+    if opts.loads != "gust" or getattr(opts, "gust_set", None) or getattr(opts, "gust_gradients_ft", None) \
+            or getattr(opts, "gust_gradient_count", None) or getattr(opts, "load_history", None):
+        raise ValueError(f"--model stick: sizes for the single 1-cos gust (--loads gust, one --gust-gradient-ft); "
+                         f"got --loads {opts.loads}")
+    if setup.section != "box":
+        raise ValueError(f"--model stick: box walls only, got section {setup.section!r}")
+    n = setup.geometry.num_nodes
+    alt = float(altitude_ft_to_m(opts.altitude_ft))
+    u_ds = (opts.u_ref_fps * FT * (opts.gust_gradient_ft / 350.0) ** (1.0 / 6.0) if opts.u_ref_fps > 0
+            else design_gust_velocity_eas(opts.gust_gradient_ft, opts.altitude_ft, 1.0))
+    sign = -1.0 if opts.gust_sign == "down" else 1.0
+    rho = float(density(alt))
+    V = float(mach_to_tas(opts.mach, alt))
+    u_tas = sign * u_ds * np.sqrt(float(density(0.0)) / rho)
+    time = np.arange(0.0, opts.t_final + 0.5 * opts.dt, opts.dt)
+    aircraft = build(n)
+    s = aeroelastic_system(aircraft)
+    p = aero_parameters(aircraft, s, airspeed=V, density=rho, mach=float(opts.mach))
+    Q = gust_forcing(aircraft, s, time, airspeed=V, u_ds_tas=u_tas, gradient=opts.gust_gradient_ft * FT,
+                     gust_start=opts.gust_start)
+    case = StickCase("gust", s, time, p, Q, families=tuple(families))
+    geo = wing_geometry(pegasus.flutter_planform(n), ())[0]
+    notes = list(setup.notes) + [f"stick model: free half aircraft ({s.n_state} unknowns), 1-cos gust U_ds = "
+                                 f"{u_ds / FT:.1f} ft/s EAS, H = {opts.gust_gradient_ft:g} ft, V = {V:.1f} m/s TAS; "
+                                 "payload lumped masses of the initial design"]
+    return replace(setup, load_cases=[case], geometry=geo, notes=notes, flutter=None, turbulence=None)

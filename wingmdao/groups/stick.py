@@ -63,7 +63,7 @@ class StickStructure(om.Group):
 
     def initialize(self):
         self.options.declare("num_nodes", types=int, lower=2, desc="number of wing nodes (root first)")
-        self.options.declare("load_case", types=StickCase, desc="the stick-model load case")
+        self.options.declare("load_case", types=StickCase, recordable=False, desc="the stick-model load case")
         self.options.declare("material", types=Material, desc="wall material (E, G, rho, sigma_y)")
         self.options.declare("rho_ks", default=100.0, lower=0.0, types=numbers.Real, desc="KS aggregation parameter")
         self.options.declare("add_constraints", default=False, types=bool,
@@ -129,19 +129,21 @@ class StickSizing(WingSizing):
 
     def initialize(self):
         super().initialize()
-        self.options.declare("stick_cases", types=list, desc="list of StickCase")
+        self.options.declare("stick_cases", types=list, recordable=False, desc="list of StickCase")
         self.options["proxy_cases"] = True
         self.options["load_cases"] = []
 
     def setup(self):
         super().setup()
         n = self.options["num_nodes"]
-        if self.options["section"] != "box" or self.options["station_map"] is not None:
-            raise ValueError("StickSizing: box sections with one design station per node only")
+        if self.options["section"] != "box":
+            raise ValueError(f"StickSizing: box sections only, got section {self.options['section']!r}")
         names = [c.name for c in self.options["stick_cases"]]
         if not names or len(set(names)) != len(names):
             raise ValueError(f"StickSizing: stick_cases must have distinct names, got {names}")
-        shared = ["width", "height", *WALL_NAMES, *WING_BEAM_INPUTS, *SECTION_KINDS["box"]["section_to_stress"]]
+        mapped = self.options["station_map"] is not None   # the cases take the walls per station
+        shared = ["width", "height", *[(w, f"{w}_station") if mapped else w for w in WALL_NAMES], *WING_BEAM_INPUTS,
+                  *SECTION_KINDS["box"]["section_to_stress"]]
         for case in self.options["stick_cases"]:
             self.cases_group.add_subsystem(case.name, StickStructure(
                 num_nodes=n, load_case=case, material=self.options["material"], rho_ks=self.options["rho_ks"],
