@@ -75,3 +75,34 @@ def test_size_stick_model_refuses_other_options(argv, msg, capsys, tmp_path):
 
     assert main(argv + ["--no-plots", "--out", str(tmp_path)]) == 2
     assert msg in capsys.readouterr().err
+
+
+def test_monitoring_potatoes_hull_of_an_ellipse():
+    """The potato of an elliptical moment history: the two components of largest range, and a convex
+    hull whose vertices are points of the history and that contains every point."""
+    from wingmdao.envelope import monitoring_potatoes
+
+    t = np.linspace(0.0, 2 * np.pi, 181)
+    m = np.column_stack([1e3 * np.sin(t) + 5.0, 20.0 * np.cos(3 * t), 3e3 * np.cos(t)])
+    pot = monitoring_potatoes({"root": {"moment": m}})["root"]
+    assert pot["components"] == ["M_z", "M_x"]
+    hull = pot["hull"]
+    np.testing.assert_array_equal(hull[0], hull[-1])                 # closed
+    pts = m[:, [2, 0]]
+    for a, b in zip(hull[:-1], hull[1:]):                            # counter-clockwise: every point left of every edge
+        cross = (b[0] - a[0]) * (pts[:, 1] - a[1]) - (b[1] - a[1]) * (pts[:, 0] - a[0])
+        assert cross.min() > -1e-6 * 3e3 ** 2
+    assert all(np.min(np.linalg.norm(pts - v, axis=1)) < 1e-9 for v in hull)
+    assert np.ptp(hull[:, 0]) == pytest.approx(6e3, rel=1e-3) and np.ptp(hull[:, 1]) == pytest.approx(2e3, rel=1e-3)
+
+
+def test_monitoring_potatoes_pair_a_lone_moment_with_its_shear():
+    """A station with one moment component (the rest round-off) pairs it with the force of largest range."""
+    from wingmdao.envelope import monitoring_potatoes
+
+    t = np.linspace(0.0, 1.0, 51)
+    m = np.column_stack([1e-12 * t, 4e5 * np.sin(3 * t), 1e-11 * t])
+    f = np.column_stack([10.0 * t, 0.0 * t, -2e4 * np.sin(3 * t) ** 2])
+    pot = monitoring_potatoes({"fuselage": {"moment": m, "force": f}})["fuselage"]
+    assert pot["components"] == ["M_y", "F_z"]
+    np.testing.assert_array_equal(pot["values"], np.column_stack([m[:, 1], f[:, 2]]))
