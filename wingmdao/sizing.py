@@ -26,7 +26,8 @@ from wingmdao.components.beam import beam_system
 from wingmdao.components.flutter import paused_flutter
 from wingmdao.components.mass import beam_mass
 from wingmdao.components.turbulence import TurbulenceStressKS
-from wingmdao.groups.load_case import LoadCase
+from wingmdao.groups.load_case import LoadCase, StickCase
+from wingmdao.groups.stick import StickSizing, set_stick_case
 from wingmdao.limits import check_memory
 from wingmdao.loads.turbulence_analysis import gust_model_from_parameters, turbulence_analysis
 from wingmdao.stability.frequency import stress_matrix
@@ -265,8 +266,6 @@ def build_stick_problem(geometry: WingGeometry, stick_cases, material, options: 
     aircraft (:class:`~wingmdao.groups.stick.StickSizing`, ``stick_cases`` a list of
     :class:`~wingmdao.groups.stick.StickCase`); returns ``(problem, driver description)`` as
     :func:`build_problem` (box sections, one process)."""
-    from wingmdao.groups.stick import StickCase, StickSizing, set_stick_case
-
     cases = list(stick_cases)
     if not cases or not all(isinstance(c, StickCase) for c in cases):
         raise ValueError("stick_cases must be a non-empty list of wingmdao.groups.stick.StickCase")

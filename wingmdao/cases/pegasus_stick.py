@@ -42,7 +42,7 @@ jig (``PYTHONPATH=. python benchmarks/pegasus_stick_modes.py``; docs/stick-model
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import casadi as ca
 import numpy as np
@@ -55,6 +55,9 @@ from wingmdao.beam.rotations import body_to_csn, euler_from_axis
 from wingmdao.beam.static import beam_parameters
 from wingmdao.cases import pegasus
 from wingmdao.cases.planform import FT, G0, LB, wing_geometry
+from wingmdao.groups.load_case import StickCase
+from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
+from wingmdao.loads.gust import design_gust_velocity_eas
 from wingmdao.loads.maneuver import maneuver_line_loads
 from wingmdao.materials import ALUMINIUM
 from wingmdao.section.box import WALL_NAMES, beam_params_from_section, box_properties, validate_box
@@ -396,12 +399,6 @@ def sizing_setup(setup, opts, families=("vm",)):
     engines are lumped masses, not smeared). The lumped payload masses are those of the initial
     walls (:func:`build`): the aircraft's mass follows the wing's. ValueError for options the stick
     sizing does not take."""
-    from dataclasses import replace
-
-    from wingmdao.groups.stick import StickCase
-    from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
-    from wingmdao.loads.gust import design_gust_velocity_eas
-
     if opts.loads != "gust" or getattr(opts, "gust_set", None) or getattr(opts, "gust_gradients_ft", None) \
             or getattr(opts, "gust_gradient_count", None) or getattr(opts, "load_history", None):
         raise ValueError(f"--model stick: sizes for the single 1-cos gust (--loads gust, one --gust-gradient-ft); "

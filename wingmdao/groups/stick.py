@@ -18,7 +18,6 @@ so is the forcing (``wing_gust_velocity``, ``tail_gust_velocity``, ``gravity``, 
 from __future__ import annotations
 
 import numbers
-from dataclasses import dataclass
 
 import numpy as np
 import openmdao.api as om
@@ -27,6 +26,7 @@ from wingmdao.components.beam_loads import BeamInternalLoads
 from wingmdao.components.ks import KSAggregate
 from wingmdao.components.state_slice import StateBlockSlice
 from wingmdao.components.time_history import TimeHistoryComponent
+from wingmdao.groups.load_case import StickCase
 from wingmdao.groups.wing import (SECTION_KINDS, SECTION_TO_BEAM, WingSizing, _section_classes, stress_points)
 from wingmdao.materials import Material
 from wingmdao.section.box import WALL_NAMES
@@ -35,26 +35,6 @@ from wingmdao.timemarch.system import layout
 #: The wing's beam parameters (lone-wing names) that the joined system calls ``<wing>_<name>``.
 WING_BEAM_INPUTS = ("node_positions", "node_euler_angles", *SECTION_TO_BEAM, "tension_axis", "shear_center",
                     "mass_center")
-
-
-@dataclass
-class StickCase:
-    """A load case of the stick model: its ``name``, the joined aeroelastic ``system``
-    (:func:`wingmdao.cases.pegasus_stick.aeroelastic_system`), the ``time`` grid (s), the packed
-    parameters ``p`` (the wing's blocks are replaced by the group's inputs) and forcing history
-    ``forcing`` (n_time, n_forcing), the stress ``families`` and the name of the wing beam."""
-
-    name: str
-    system: object
-    time: np.ndarray
-    p: np.ndarray
-    forcing: np.ndarray
-    families: tuple = ("vm",)
-    wing: str = "wing"
-
-    @property
-    def num_times(self) -> int:
-        return int(np.asarray(self.time).size)
 
 
 class StickStructure(om.Group):
