@@ -140,3 +140,12 @@ def test_gust_pegasus_stick_model_json(tmp_path):
         np.testing.assert_allclose(v["moment_max_n_m"], m.max(axis=0))
     # 1 g wing root bending (M_x at the root rib) is positive (lift outboard of it exceeds the wing's weight)
     assert res["monitoring_loads"]["wing root"]["moment_n_m"][0][0] > 0
+    # potato plots: wing root bending (M_x) with torsion (M_y); the fuselage in symmetric flight has
+    # one moment (pitch, M_y), paired with its vertical shear
+    loads = res["monitoring_loads"]
+    assert loads["wing root"]["potato_components"] == ["M_x", "M_y"]
+    fus = next(v for k, v in loads.items() if k.startswith("fuselage"))
+    assert fus["potato_components"] == ["M_y", "F_z"]
+    hull = np.asarray(loads["wing root"]["potato_hull"])
+    np.testing.assert_array_equal(hull[0], hull[-1])
+    assert hull[:, 0].max() == pytest.approx(loads["wing root"]["moment_max_n_m"][0], rel=1e-12)

@@ -174,6 +174,36 @@ def _hull(points):
     return np.array(hull + hull[:1])
 
 
+#: A second moment component whose range is below this fraction of the first's is round-off (e.g.
+#: the yaw moment of a fuselage in symmetric flight): the potato pairs the moment with a force.
+POTATO_NEGLIGIBLE = 1e-3
+
+
+def monitoring_potatoes(loads: dict) -> dict:
+    """Potato plots of monitoring stations (:func:`wingmdao.beam.joints.monitoring_loads` histories):
+    for each ``{label: {"moment": (n_time, 3) N m, "force": (n_time, 3) N}}`` the correlated pair of
+    the moment component with the largest range over the history and the moment component with the
+    next largest (bending and torsion of a wing or tail root) or, when that one's range is below
+    :data:`POTATO_NEGLIGIBLE` of the first's (a fuselage in symmetric flight), the force component
+    with the largest range (bending and shear); ``components`` (their names, ``"M_x"``, ``"F_z"``,
+    ... in body axes), ``values`` ((n_time, 2), N m or N) and ``hull``, the convex hull of the pairs
+    ((k, 2), closed, counter-clockwise), as the wing stations' potato plots (:func:`write_plots`)."""
+    out = {}
+    for label, v in loads.items():
+        m = np.asarray(v["moment"], dtype=float).reshape(-1, 3)
+        f = np.asarray(v.get("force", np.zeros_like(m)), dtype=float).reshape(-1, 3)
+        rm, rf = np.ptp(m, axis=0), np.ptp(f, axis=0)
+        i, j = (int(k) for k in np.argsort(-rm)[:2])
+        if rm[j] >= POTATO_NEGLIGIBLE * rm[i]:
+            second, name = m[:, j], f"M_{'xyz'[j]}"
+        else:
+            k = int(np.argmax(rf))
+            second, name = f[:, k], f"F_{'xyz'[k]}"
+        values = np.column_stack([m[:, i], second])
+        out[label] = {"components": [f"M_{'xyz'[i]}", name], "values": values, "hull": _hull(values)}
+    return out
+
+
 def default_stations(n: int) -> list:
     return sorted({min(1, n - 1), n // 2, max(0, (3 * n) // 4)})
 

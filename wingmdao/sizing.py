@@ -26,7 +26,8 @@ from wingmdao.components.beam import beam_system
 from wingmdao.components.flutter import paused_flutter
 from wingmdao.components.mass import beam_mass
 from wingmdao.components.turbulence import TurbulenceStressKS
-from wingmdao.groups.load_case import LoadCase
+from wingmdao.groups.load_case import LoadCase, StickCase
+from wingmdao.groups.stick import StickSizing, set_stick_case
 from wingmdao.limits import check_memory
 from wingmdao.loads.turbulence_analysis import gust_model_from_parameters, turbulence_analysis
 from wingmdao.stability.frequency import stress_matrix
@@ -279,6 +280,46 @@ def closed_loop_constraints(load_cases) -> list:
     """
     return [f"cases.{c.name}.closed_loop_ks" for c in load_cases
             if c.aero is not None and getattr(c.aero, "gain_design", False) and c.aero.control_law is not None]
+
+
+def build_stick_problem(geometry: WingGeometry, stick_cases, material, options: SizingOptions,
+                        *, driver=True) -> tuple[om.Problem, str]:
+    """The sizing problem of the wing's walls with load cases on the stick model of the whole
+    aircraft (:class:`~wingmdao.groups.stick.StickSizing`, ``stick_cases`` a list of
+    :class:`~wingmdao.groups.stick.StickCase`); returns ``(problem, driver description)`` as
+    :func:`build_problem` (box sections, one process)."""
+    cases = list(stick_cases)
+    if not cases or not all(isinstance(c, StickCase) for c in cases):
+        raise ValueError("stick_cases must be a non-empty list of wingmdao.groups.stick.StickCase")
+    _check_options(options, WALL_VARS)
+    _check_geometry(geometry, "box")
+    _check_initial(options, WALL_VARS, geometry)
+    n = geometry.num_nodes
+    mass_ref = (options.mass_scale or OBJECTIVE_SCALE * initial_mass(geometry, material, options, "box")) \
+        if driver else 1.0
+    wing = StickSizing(num_nodes=n, stick_cases=cases, material=material, parallel=False, rho_ks=options.rho_ks,
+                       station_map=geometry.station_map,
+                       add_constraints=driver, add_objective=driver, mass_ref=mass_ref)
+    prob = om.Problem(model=wing, comm=_serial_comm(), reports=False)
+    desc = "none (analysis only)"
+    if driver:
+        prob.driver, desc = make_driver(options.optimizer, maxiter=options.maxiter, tol=options.tol,
+                                        disp=options.disp)
+        for w in WALL_VARS:
+            prob.model.add_design_var(w, lower=options.lower[w], upper=options.upper[w],
+                                      ref=options.dv_ref.get(w, options.upper[w]) if options.dv_ref else options.upper[w])
+        if options.recording:
+            add_recorder(prob, options.recording)
+        if options.progress:
+            prob.driver.add_recorder(ProgressPrinter())
+    prob.setup(mode="rev")
+    set_geometry(prob, geometry, "box")
+    for case in cases:
+        set_stick_case(prob, case, f"cases.{case.name}")
+    n_dv = n if geometry.station_map is None else int(np.max(geometry.station_map)) + 1
+    for w in WALL_VARS:
+        prob.set_val(w, np.broadcast_to(options.initial.get(w, options.upper[w]), (n_dv,)))
+    return prob, desc
 
 
 def control_gain_design_vars(load_cases) -> dict:

@@ -42,7 +42,7 @@ jig (``PYTHONPATH=. python benchmarks/pegasus_stick_modes.py``; docs/stick-model
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import casadi as ca
 import numpy as np
@@ -55,6 +55,9 @@ from wingmdao.beam.rotations import body_to_csn, euler_from_axis
 from wingmdao.beam.static import beam_parameters
 from wingmdao.cases import pegasus
 from wingmdao.cases.planform import FT, G0, LB, wing_geometry
+from wingmdao.groups.load_case import StickCase
+from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
+from wingmdao.loads.gust import design_gust_velocity_eas
 from wingmdao.loads.maneuver import maneuver_line_loads
 from wingmdao.materials import ALUMINIUM
 from wingmdao.section.box import WALL_NAMES, beam_params_from_section, box_properties, validate_box
@@ -335,6 +338,35 @@ def aeroelastic_system(aircraft: StickAircraft):
                                            masses=s.masses, symmetry=s.symmetry, euler_sequence=s.euler_sequence)
 
 
+def aero_parameters(aircraft: StickAircraft, system, *, airspeed, density, mach, downwash=None) -> np.ndarray:
+    """Packed parameters of the aeroelastic ``system`` (:func:`aeroelastic_system`): the aircraft's
+    beams, the wing's strip sections and :data:`TAIL_SECTION`, the flight point (m/s, kg/m^3) and
+    the downwash gradient (default :func:`downwash_gradient`)."""
+    dw = downwash_gradient(mach) if downwash is None else float(downwash)
+    return pack_aero_parameters(system, aircraft.model.params,
+                                {"wing": {"chord": aircraft.wing_chord, "ref_point": aircraft.wing_axis_fraction},
+                                 "tail": TAIL_SECTION},
+                                airspeed=airspeed, density=density, mach=mach, downwash_gradient=dw)
+
+
+def gust_forcing(aircraft: StickAircraft, system, time, *, airspeed, u_ds_tas, gradient, gust_start) -> np.ndarray:
+    """Packed forcing history (n_time, n_forcing) of a 1-cos gust of gradient ``gradient`` (m) and
+    design velocity ``u_ds_tas`` (m/s TAS) meeting the wing's leading station at ``gust_start`` (s),
+    every lifting station x / V later; gravity; trim active at t = 0 only (:func:`gust_response`)."""
+    time = np.asarray(time, dtype=float)
+    x_w, x_t = aircraft.nodes["wing"][:, 0], aircraft.nodes["tail"][:, 0]
+    n_w = x_w.size
+    length = 2.0 * gradient
+
+    def profile(tau):
+        inside = (tau >= 0.0) & (tau <= length / airspeed)
+        return np.where(inside, 0.5 * u_ds_tas * (1.0 - np.cos(2.0 * np.pi * airspeed * tau / length)), 0.0)
+
+    g = station_gust_history(time - gust_start, np.concatenate([x_w, x_t]), airspeed, profile)
+    return np.array([pack_aero_forcing(system, {"wing": g[k, :n_w], "tail": g[k, n_w:]}, trim_active=float(k == 0),
+                                       gravity=[0.0, 0.0, -G0]) for k in range(time.size)])
+
+
 def gust_response(aircraft: StickAircraft, time, *, airspeed, density, mach, u_ds_tas, gradient, gust_start,
                   downwash=None) -> StickGust:
     """A 1-cos gust of gradient ``gradient`` (m) and design velocity ``u_ds_tas`` (m/s TAS) on the free
@@ -345,21 +377,8 @@ def gust_response(aircraft: StickAircraft, time, *, airspeed, density, mach, u_d
     time = np.asarray(time, dtype=float)
     s = aeroelastic_system(aircraft)
     dw = downwash_gradient(mach) if downwash is None else float(downwash)
-    p = pack_aero_parameters(s, aircraft.model.params,
-                             {"wing": {"chord": aircraft.wing_chord, "ref_point": aircraft.wing_axis_fraction},
-                              "tail": TAIL_SECTION},
-                             airspeed=airspeed, density=density, mach=mach, downwash_gradient=dw)
-    x_w, x_t = aircraft.nodes["wing"][:, 0], aircraft.nodes["tail"][:, 0]
-    n_w = x_w.size
-    length = 2.0 * gradient
-
-    def profile(tau):
-        inside = (tau >= 0.0) & (tau <= length / airspeed)
-        return np.where(inside, 0.5 * u_ds_tas * (1.0 - np.cos(2.0 * np.pi * airspeed * tau / length)), 0.0)
-
-    g = station_gust_history(time - gust_start, np.concatenate([x_w, x_t]), airspeed, profile)
-    Q = np.array([pack_aero_forcing(s, {"wing": g[k, :n_w], "tail": g[k, n_w:]}, trim_active=float(k == 0),
-                                    gravity=[0.0, 0.0, -G0]) for k in range(time.size)])
+    p = aero_parameters(aircraft, s, airspeed=airspeed, density=density, mach=mach, downwash=dw)
+    Q = gust_forcing(aircraft, s, time, airspeed=airspeed, u_ds_tas=u_ds_tas, gradient=gradient, gust_start=gust_start)
     hist = march(s, time, p, Q, atol=1e-6)
     weight = aircraft.mass * G0
     n = np.array([lift_total(s, hist.states[k], hist.rates[k], p, Q[k], vertical=True) for k in range(time.size)]) / weight
@@ -370,3 +389,39 @@ def gust_response(aircraft: StickAircraft, time, *, airspeed, density, mach, u_d
     x0 = hist.states[0]
     trim = {k: float(x0[i]) for k, i in s.trim_index.items()}
     return StickGust(time=time, load_factor=n, trim=trim, loads=loads, downwash_gradient=dw, states=hist.states)
+
+
+def sizing_setup(setup, opts, families=("vm",)):
+    """The PEGASUS sizing ``setup`` (:func:`wingmdao.cases.pegasus.build`) with its single 1-cos gust
+    (``--loads gust``: gradient, altitude, Mach, sign, time grid and gust start of ``opts``) on the
+    stick model instead of the lone wing: a copy whose ``load_cases`` are one
+    :class:`~wingmdao.groups.stick.StickCase` and whose ``geometry`` is the stick model's wing (its
+    engines are lumped masses, not smeared). The lumped payload masses are those of the initial
+    walls (:func:`build`): the aircraft's mass follows the wing's. ValueError for options the stick
+    sizing does not take."""
+    if opts.loads != "gust" or getattr(opts, "gust_set", None) or getattr(opts, "gust_gradients_ft", None) \
+            or getattr(opts, "gust_gradient_count", None) or getattr(opts, "load_history", None):
+        raise ValueError(f"--model stick: sizes for the single 1-cos gust (--loads gust, one --gust-gradient-ft); "
+                         f"got --loads {opts.loads}")
+    if setup.section != "box":
+        raise ValueError(f"--model stick: box walls only, got section {setup.section!r}")
+    n = setup.geometry.num_nodes
+    alt = float(altitude_ft_to_m(opts.altitude_ft))
+    u_ds = (opts.u_ref_fps * FT * (opts.gust_gradient_ft / 350.0) ** (1.0 / 6.0) if opts.u_ref_fps > 0
+            else design_gust_velocity_eas(opts.gust_gradient_ft, opts.altitude_ft, 1.0))
+    sign = -1.0 if opts.gust_sign == "down" else 1.0
+    rho = float(density(alt))
+    V = float(mach_to_tas(opts.mach, alt))
+    u_tas = sign * u_ds * np.sqrt(float(density(0.0)) / rho)
+    time = np.arange(0.0, opts.t_final + 0.5 * opts.dt, opts.dt)
+    aircraft = build(n)
+    s = aeroelastic_system(aircraft)
+    p = aero_parameters(aircraft, s, airspeed=V, density=rho, mach=float(opts.mach))
+    Q = gust_forcing(aircraft, s, time, airspeed=V, u_ds_tas=u_tas, gradient=opts.gust_gradient_ft * FT,
+                     gust_start=opts.gust_start)
+    case = StickCase("gust", s, time, p, Q, families=tuple(families))
+    geo = wing_geometry(pegasus.flutter_planform(n), ())[0]
+    notes = list(setup.notes) + [f"stick model: free half aircraft ({s.n_state} unknowns), 1-cos gust U_ds = "
+                                 f"{u_ds / FT:.1f} ft/s EAS, H = {opts.gust_gradient_ft:g} ft, V = {V:.1f} m/s TAS; "
+                                 "payload lumped masses of the initial design"]
+    return replace(setup, load_cases=[case], geometry=geo, notes=notes, flutter=None, turbulence=None)

@@ -414,12 +414,17 @@ def _run_stick(args, t, flight, *, H_ft, alt_ft, t_wall, plot_path):
     r = pegasus_stick.gust_response(aircraft, t, airspeed=flight.airspeed, density=flight.density, mach=flight.mach,
                                     u_ds_tas=flight.u_ds_tas, gradient=flight.gradient, gust_start=flight.gust_start)
     dn = r.load_factor - r.load_factor[0]
+    from wingmdao.envelope import monitoring_potatoes
+
+    potatoes = monitoring_potatoes(r.loads)
     loads = {}
     for label, v in r.loads.items():
         f, m = v["force"], v["moment"]
+        pot = potatoes[label]
         loads[label] = {"force_n": f.tolist(), "moment_n_m": m.tolist(),
                         "force_max_n": f.max(axis=0).tolist(), "force_min_n": f.min(axis=0).tolist(),
-                        "moment_max_n_m": m.max(axis=0).tolist(), "moment_min_n_m": m.min(axis=0).tolist()}
+                        "moment_max_n_m": m.max(axis=0).tolist(), "moment_min_n_m": m.min(axis=0).tolist(),
+                        "potato_components": pot["components"], "potato_hull": pot["hull"].tolist()}
     res = {"case": args.case, "model": "stick", "aero": "coupled", "plunge": True, "pitch": True,
            "gradient_ft": H_ft, "altitude_ft": alt_ft, "mach": flight.mach, "airspeed_tas_m_s": flight.airspeed,
            "density_kg_m3": flight.density, "u_ds_eas_m_s": flight.u_ds_eas, "time": t.tolist(),
@@ -431,7 +436,9 @@ def _run_stick(args, t, flight, *, H_ft, alt_ft, t_wall, plot_path):
            "trim_thrust_n": r.trim["thrust"], "downwash_gradient": r.downwash_gradient,
            "half_aircraft_mass_kg": aircraft.mass,
            "monitoring_loads": loads, "monitoring_loads_axes": "body axes (x aft, y right, z up), N and N m; "
-                                                               "the outboard part on the inboard part",
+                                                               "the outboard part on the inboard part; "
+                                                               "potato_hull: the convex hull of the "
+                                                               "potato_components pair (N m or N)",
            "wall_s": _time.perf_counter() - t_wall}
     print(f"peak dn = {res['peak_incremental_load_factor']:.4f}, alpha_trim = {np.degrees(r.trim['alpha_trim']):.3f} "
           f"deg, tail incidence = {np.degrees(r.trim['tail_incidence']):.3f} deg, {res['wall_s']:.1f} s",
@@ -447,7 +454,24 @@ def _stick_plots(res, stem):
     if plt is None:
         return
     t = res["time"]
-    fig, axes = plt.subplots(2, 1, figsize=(7, 7), sharex=True)
+    stations = res["monitoring_loads"]
+    fig = plt.figure(figsize=(3 * len(stations), 10))
+    grid = fig.add_gridspec(3, len(stations))
+    axes = [fig.add_subplot(grid[0, :])]
+    axes.append(fig.add_subplot(grid[1, :], sharex=axes[0]))
+    for k, (label, v) in enumerate(stations.items()):   # potato plots: the correlated pair and its hull
+        ax = fig.add_subplot(grid[2, k])
+        pair = [np.asarray(v["moment_n_m" if c[0] == "M" else "force_n"])[:, "xyz".index(c[-1])] / 1e3
+                for c in v["potato_components"]]
+        hull = np.asarray(v["potato_hull"]) / 1e3
+        ax.plot(pair[0], pair[1], lw=0.8)
+        ax.plot(hull[:, 0], hull[:, 1], "k--", lw=0.8)
+        units = ["kN m" if c[0] == "M" else "kN" for c in v["potato_components"]]
+        ax.set_xlabel(f"{v['potato_components'][0]} ({units[0]})", fontsize=7)
+        ax.set_ylabel(f"{v['potato_components'][1]} ({units[1]})", fontsize=7)
+        ax.set_title(label, fontsize=7)
+        ax.tick_params(labelsize=6)
+        ax.grid(True)
     axes[0].plot(t, res["load_factor"])
     axes[0].set_ylabel("load factor")
     for label, v in res["monitoring_loads"].items():

@@ -52,6 +52,10 @@ def _add_common(p, *, sizing: bool):
                        help="size against the critical cases of a loads matrix (docs/loads-matrix.md), re-check "
                             "the whole matrix at the optimum, repeat while the critical set changes (load "
                             "iteration; cases with a loads-matrix model: pegasus; one process, no plots or recording)")
+        p.add_argument("--model", choices=("wing", "stick"), default="wing",
+                       help="wing (the lone wing, default) or stick (pegasus, --loads gust: the wing's walls "
+                            "sized on the free half aircraft's stick model, wing, fuselage, fin and tail with "
+                            "strip aerodynamics on wing and tail; docs/stick-model.md)")
         p.add_argument("--no-flutter-search", action="store_true",
                        help="do not search the flutter speed of the result (flutter_speed_m_s, cases with "
                             "aerodynamic data)")
@@ -143,7 +147,12 @@ def _size(args) -> int:
     recording = None if (args.analysis_only or not root) else stem + ".sql"
     if root:
         check_output_file(args.json, "--json", overwrite=args.overwrite, others={"recording": recording})
-    setup = args.case_module.build(options_from_namespace(args.case_module.OPTIONS, args))
+    if getattr(args, "model", "wing") == "stick":
+        _check_stick_args(args, comm)
+    case_options = options_from_namespace(args.case_module.OPTIONS, args)
+    setup = args.case_module.build(case_options)
+    if getattr(args, "model", "wing") == "stick":
+        return _size_stick(args, setup, case_options, stem, recording, root=root, comm=comm)
     if args.flutter_margin is not None:
         if comm is not None and comm.size > 1:
             raise ValueError("--flutter-margin: the flutter constraint runs in one process (no mpirun)")
@@ -238,6 +247,46 @@ def _size(args) -> int:
     if args.json and (deferred or "flutter_speed_m_s" in result):
         write_json(result, args.json)
     return code
+
+
+def _check_stick_args(args, comm) -> None:
+    """``--model stick``: ValueError for a case without a stick model or options it does not take."""
+    if args.case_module.NAME != "pegasus":
+        raise ValueError(f"--model stick: case {args.case_module.NAME!r} has no stick model; allowed: pegasus")
+    for flag, given in (("--flutter-margin", args.flutter_margin is not None),
+                        ("--turbulence", getattr(args, "turbulence", False)), ("--matrix", args.matrix is not None),
+                        (f"--loads {getattr(args, 'loads', None) or 'maneuver (the default)'}", getattr(args, "loads", None) != "gust")):
+        if given:
+            raise ValueError(f"--model stick does not take {flag}; it sizes for the single 1-cos gust (--loads gust)")
+    if comm is not None and comm.size > 1:
+        raise ValueError("--model stick runs in one process (no mpirun)")
+
+
+def _size_stick(args, setup, case_options, stem, recording, *, root, comm) -> int:
+    """``--model stick``: the wing's walls sized on the PEGASUS stick model's gust
+    (:func:`wingmdao.cases.pegasus_stick.sizing_setup`, :func:`wingmdao.sizing.build_stick_problem`);
+    JSON and summary (no plots, envelope or flutter search)."""
+    from wingmdao import sizing
+    from wingmdao.cases import pegasus_stick
+
+    setup = pegasus_stick.sizing_setup(setup, case_options)
+    refuse_existing([recording], overwrite=args.overwrite, what="recording")
+    _driver_options(setup.options, args, recording)
+    say(f"wingmdao size {args.case_module.NAME} --model stick: {setup.geometry.num_nodes} wing stations")
+    for note in setup.notes:
+        say(f"  note: {note}")
+    optimize = not args.analysis_only
+    prob, desc = sizing.build_stick_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
+                                            driver=optimize)
+    result = sizing.presize_and_size(prob, setup, desc, optimize=optimize)
+    result.update(case=args.case_module.NAME, model="stick", mpi_ranks=1)
+    if recording:
+        result["recording"] = recording
+    if args.json and root:
+        write_json(result, args.json)
+    _print_summary(result)
+    prob.cleanup()
+    return 0 if result["success"] else 1
 
 
 def _interrupted_after_sizing(args, result, recording) -> int:

@@ -114,3 +114,23 @@ class LoadCase:
         if not np.all(np.isfinite(arr)):
             raise ValueError(f"load case {self.name}: forcing {name} has non-finite values")
         return arr
+
+
+@dataclass
+class StickCase:
+    """A load case of the stick model: its ``name``, the joined aeroelastic ``system``
+    (:func:`wingmdao.cases.pegasus_stick.aeroelastic_system`), the ``time`` grid (s), the packed
+    parameters ``p`` (the wing's blocks are replaced by the group's inputs) and forcing history
+    ``forcing`` (n_time, n_forcing), the stress ``families`` and the name of the wing beam."""
+
+    name: str
+    system: object
+    time: np.ndarray
+    p: np.ndarray
+    forcing: np.ndarray
+    families: tuple = ("vm",)
+    wing: str = "wing"
+
+    @property
+    def num_times(self) -> int:
+        return int(np.asarray(self.time).size)

@@ -1,0 +1,134 @@
+"""OpenMDAO groups of the stick model of the whole aircraft (:mod:`wingmdao.beam.joints`,
+:mod:`wingmdao.aero.joined`) for sizing the wing's walls.
+
+:class:`StickStructure` is one load case of the stick model with the interface of
+:class:`~wingmdao.groups.wing.WingStructure`: it takes the wing's beam and section inputs
+(``node_positions``, ``stiffness_csn``, ..., ``width``, ``t_upper_skin``, ...) as promoted inputs,
+marches the joined aeroelastic system with the BDF2
+:class:`~wingmdao.components.time_history.TimeHistoryComponent`, takes the wing's 18 beam states
+per node out of the joined state (:class:`~wingmdao.components.state_slice.StateBlockSlice`), and
+forms the wing's internal loads, stresses and KS aggregates (``ks_<family>``) as the lone wing's.
+The other beams, the lumped masses and the aerodynamic parameters are promoted inputs too,
+under the joined system's names (``fuselage_stiffness_csn``, ``lumped_mass``, ``airspeed``, ...);
+so is the forcing (``wing_gust_velocity``, ``tail_gust_velocity``, ``gravity``, ``trim_active``,
+... at every instant): :func:`set_stick_case` sets them. :class:`StickSizing` is
+:class:`~wingmdao.groups.wing.WingSizing` with these cases.
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+import openmdao.api as om
+
+from wingmdao.components.beam_loads import BeamInternalLoads
+from wingmdao.components.ks import KSAggregate
+from wingmdao.components.state_slice import StateBlockSlice
+from wingmdao.components.time_history import TimeHistoryComponent
+from wingmdao.groups.load_case import StickCase
+from wingmdao.groups.wing import (SECTION_KINDS, SECTION_TO_BEAM, WingSizing, _section_classes, stress_points)
+from wingmdao.materials import Material
+from wingmdao.section.box import WALL_NAMES
+from wingmdao.timemarch.system import layout
+
+#: The wing's beam parameters (lone-wing names) that the joined system calls ``<wing>_<name>``.
+WING_BEAM_INPUTS = ("node_positions", "node_euler_angles", *SECTION_TO_BEAM, "tension_axis", "shear_center",
+                    "mass_center")
+
+
+class StickStructure(om.Group):
+    """One stick-model load case: joined aeroelastic march -> wing internal loads -> stress -> KS
+    (module docstring). Promoted outputs ``ks_<family>`` and ``states``."""
+
+    def initialize(self):
+        self.options.declare("num_nodes", types=int, lower=2, desc="number of wing nodes (root first)")
+        self.options.declare("load_case", types=StickCase, recordable=False, desc="the stick-model load case")
+        self.options.declare("material", types=Material, desc="wall material (E, G, rho, sigma_y)")
+        self.options.declare("rho_ks", default=100.0, lower=0.0, types=numbers.Real, desc="KS aggregation parameter")
+        self.options.declare("add_constraints", default=False, types=bool,
+                             desc="add every ks_<family> as a constraint ks <= 0")
+        self.options.declare("newton_options", default=None, allow_none=True, types=dict,
+                             desc="extra TimeHistoryComponent options (atol, max_iter, ...)")
+
+    def setup(self):
+        n = self.options["num_nodes"]
+        case = self.options["load_case"]
+        s, nt, wing = case.system, case.num_times, case.wing
+        if s.beam(wing).num_nodes != n:
+            raise ValueError(f"StickStructure: num_nodes = {n}, the stick model's wing {wing!r} has "
+                             f"{s.beam(wing).num_nodes} nodes")
+        wing_names = {f"{wing}_{k}": k for k in WING_BEAM_INPUTS}
+        beam = TimeHistoryComponent(system=s, time=np.asarray(case.time, dtype=float),
+                                    **{"atol": 1e-6, **(self.options["newton_options"] or {})})
+        beam.recording_options["options_excludes"] = ["system", "forcing_data"]
+        promotes = [(k, v) for k, v in wing_names.items()]
+        promotes += [sp.name for sp in s.param_specs + s.forcing_specs if sp.name not in wing_names]
+        self.add_subsystem("beam", beam, promotes_inputs=promotes, promotes_outputs=["states"])
+        self.add_subsystem("wing_states", StateBlockSlice(num_times=nt, state_size=s.n_state,
+                                                          offset=s.offsets[wing], num_nodes=n),
+                           promotes_inputs=["states"])
+        self.add_subsystem("internal_loads", BeamInternalLoads(num_times=nt, num_nodes=n, inputs_by_conn=True))
+        self.connect("wing_states.beam_states", "internal_loads.states")
+        stress_cls = _section_classes("box")[1]
+        self.add_subsystem("stress", stress_cls(num_times=nt, num_stations=n, material=self.options["material"],
+                                                families=tuple(case.families), inputs_by_conn=True,
+                                                output_stresses=False, section_properties=True),
+                           promotes_inputs=[*SECTION_KINDS["box"]["stress_inputs"],
+                                            *SECTION_KINDS["box"]["section_to_stress"]])
+        self.connect("internal_loads.F_csn", "stress.F_csn")
+        self.connect("internal_loads.M_csn", "stress.M_csn")
+        points = stress_points("box", case.families)
+        shapes = {fam: (nt, n, k) for fam, k in points.items()}
+        self.add_subsystem("ks", KSAggregate(families=shapes, rho_ks=self.options["rho_ks"], g_by_conn=True,
+                                             add_constraints=self.options["add_constraints"]),
+                           promotes_outputs=[f"ks_{f}" for f in points])
+        for fam in case.families:
+            self.connect(f"stress.g_{fam}", f"ks.g_{fam}")
+
+
+def set_stick_case(prob: om.Problem, case: StickCase, path: str = "") -> None:
+    """Set the inputs of the stick case at ``path`` (its promoted prefix, e.g. ``"cases.gust"``)
+    other than the wing's: the other beams', lumped masses' and aerodynamic parameters from
+    ``case.p`` and the forcing history ``case.forcing``."""
+    prefix = f"{path}." if path else ""
+    s = case.system
+    wing_names = {f"{case.wing}_{k}" for k in WING_BEAM_INPUTS}
+    play, qlay = layout(s.param_specs), layout(s.forcing_specs)
+    for sp in s.param_specs:
+        if sp.name not in wing_names:
+            prob.set_val(prefix + sp.name, np.asarray(case.p)[play[sp.name]].reshape(sp.shape or (1,)))
+    Q = np.asarray(case.forcing, dtype=float)
+    for sp in s.forcing_specs:
+        prob.set_val(prefix + sp.name, Q[:, qlay[sp.name]].reshape((case.num_times,) + (tuple(sp.shape) or (1,))))
+
+
+class StickSizing(WingSizing):
+    """:class:`~wingmdao.groups.wing.WingSizing` (wall design variables, box sections, mass) with
+    stick-model load cases (:class:`StickStructure`, option ``stick_cases``) in ``cases``."""
+
+    def initialize(self):
+        super().initialize()
+        self.options.declare("stick_cases", types=list, recordable=False, desc="list of StickCase")
+        self.options["proxy_cases"] = True
+        self.options["load_cases"] = []
+
+    def setup(self):
+        super().setup()
+        n = self.options["num_nodes"]
+        if self.options["section"] != "box":
+            raise ValueError(f"StickSizing: box sections only, got section {self.options['section']!r}")
+        names = [c.name for c in self.options["stick_cases"]]
+        if not names or len(set(names)) != len(names):
+            raise ValueError(f"StickSizing: stick_cases must have distinct names, got {names}")
+        mapped = self.options["station_map"] is not None   # the cases take the walls per station
+        shared = ["width", "height", *[(w, f"{w}_station") if mapped else w for w in WALL_NAMES], *WING_BEAM_INPUTS,
+                  *SECTION_KINDS["box"]["section_to_stress"]]
+        for case in self.options["stick_cases"]:
+            self.cases_group.add_subsystem(case.name, StickStructure(
+                num_nodes=n, load_case=case, material=self.options["material"], rho_ks=self.options["rho_ks"],
+                add_constraints=self.options["add_constraints"], newton_options=self.options["newton_options"]),
+                promotes_inputs=shared)
+
+
+__all__ = ["StickCase", "StickStructure", "StickSizing", "set_stick_case", "WING_BEAM_INPUTS"]
