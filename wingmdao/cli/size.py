@@ -71,8 +71,13 @@ def register(subparsers):
         for name, mod in cases.items():
             cp = sub.add_parser(name, help=mod.HELP, description=mod.HELP)
             mod.add_arguments(CaseArguments(cp))  # one spelling per concept (wingmdao.cli._args)
-            if "aero_theory" in {f.name for f in dataclasses.fields(mod.OPTIONS)}:
-                add_aero_theory_argument(cp)  # the case's default stays (set_parser_defaults)
+            theory = {f.name: f for f in dataclasses.fields(mod.OPTIONS)}.get("aero_theory")
+            if theory is not None:  # the case's default stays (set_parser_defaults)
+                add_aero_theory_argument(cp, dlm=(
+                    ", or dlm (the coupled gust on the doublet lattice in the modal basis of the initial design's "
+                    "clamped jig, the design's mass and stiffness projected on it, over the trimmed 1 g state on the "
+                    "vortex-lattice beam; the maneuvers use the vortex lattice)")
+                    if "dlm" in theory.metadata.get("choices", ()) else False)
             _add_common(cp, sizing=sizing)
             cp.set_defaults(func=run_size if sizing else run_n2, case_module=mod)
         if sizing:  # OpenAeroStruct's uCRM fuel burn: a problem of its own, not a WingSizing case

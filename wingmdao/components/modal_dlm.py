@@ -143,6 +143,17 @@ class ModalStationLoads(om.ExplicitComponent):
         X = inputs["states"]
         return (X @ Rx.T + self._rhs_f) @ Winv.T                        # (nt, m)
 
+    def body_loads(self, inputs) -> tuple[np.ndarray, np.ndarray]:
+        """``(total, aerodynamic)`` station loads (nt, n, 6) in body axes (N, N m) of ``inputs``
+        (a mapping of this component's input names): the force summation and its panel-force share
+        (whose root force z is the half-wing's lift increment)."""
+        nt, n, m, L, ns = self._dims
+        Rx, Winv, Qa = self._operators(inputs)
+        a = self._accelerations(inputs, Rx, Winv)
+        aero = inputs["states"] @ self._Px.T + self._aero_f + a @ self._Qaero.T
+        total = aero + a @ inputs["modal_inertia"].reshape(n * 6, m).T
+        return total.reshape(nt, n, 6), aero.reshape(nt, n, 6)
+
     def compute(self, inputs, outputs):
         nt, n, m, L, ns = self._dims
         Rx, Winv, Qa = self._operators(inputs)
