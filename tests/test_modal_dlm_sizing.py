@@ -161,3 +161,36 @@ def test_adjoint_totals_of_the_pegasus_dlm_gust_ks_match_central_differences():
     for key, d in data.items():
         an = d.get("J_rev", d.get("J_fwd"))
         assert np.abs(an - d["J_fd"]).max() <= 1e-5 * np.abs(d["J_fd"]).max(), key
+
+
+def test_pressure_operators_are_cached_by_planform_and_equal_the_direct_solve():
+    """The generalized forces of new modes on the same planform reuse the pressure operators; the
+    operator times a normalwash equals panel_pressure's direct solve."""
+    pytest.importorskip("panelaero.DLM")
+    from wingmdao.aero import dlm
+    from wingmdao.aero.vlm import build_lattice
+
+    n = 6
+    r = np.column_stack([np.zeros(n), np.linspace(0.0, 5.0, n), np.zeros(n)])
+    lat = build_lattice(r, np.full(n, 1.0), np.full(n, 0.3), mach=0.3, n_chordwise=3, n_spanwise=1)
+    w = np.random.default_rng(3).normal(size=(lat.span.size, 2))
+    D = dlm.pressure_operators(lat, [0.0, 0.4], key="unit-test-planform")
+    for i, kb in enumerate((0.0, 0.4)):
+        np.testing.assert_allclose(D[i] @ w, dlm.panel_pressure(lat, kb, w), rtol=1e-10, atol=1e-12)
+    assert dlm.pressure_operators(lat, [0.0, 0.4], key="unit-test-planform") is D
+    rot = np.zeros((1, n, 3))
+    disp = np.zeros((1, n, 3))
+    disp[0, :, 2] = np.linspace(0.0, 1.0, n)
+    before = len(dlm._OPERATORS)
+    a = dlm.generalized_forces(r, np.full(n, 1.0), np.full(n, 0.3), disp, rot, mach=0.3, reduced_frequencies=[0.0, 0.2])
+    b = dlm.generalized_forces(r, np.full(n, 1.0), np.full(n, 0.3), 2 * disp, rot, mach=0.3,
+                               reduced_frequencies=[0.0, 0.2])
+    assert len(dlm._OPERATORS) == before + 1            # one planform, two mode sets
+    np.testing.assert_allclose(b.Q, 4 * a.Q, rtol=1e-12)
+
+
+def test_dlm_sizing_refuses_a_free_aircraft_before_any_solve():
+    from wingmdao.cases import pegasus
+
+    with pytest.raises(ValueError, match="clamped wing"):
+        pegasus.build(pegasus.PegasusOptions(loads="gust", aero="coupled", aero_theory="dlm", plunge="free"))

@@ -241,6 +241,7 @@ class WingStructure(om.Group):
 
         spec = case.modal_dlm
         nt = case.num_times
+        self.recording_options["options_excludes"] = ["load_case"]   # CasADi functions of the projection
         self.add_subsystem("static", WingStructure(num_nodes=n, load_case=case.static_case(n),
                                                    material=self.options["material"], section=self.options["section"],
                                                    newton_options=self.options["newton_options"],
