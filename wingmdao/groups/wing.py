@@ -452,6 +452,8 @@ class WingSizing(om.Group):
         bad = [c for c in self.options["load_cases"] if not isinstance(c, LoadCase)]
         if bad:
             raise ValueError(f"WingSizing: load_cases must be LoadCase objects, got {type(bad[0]).__name__}")
+        if any(c.modal_dlm is not None for c in self.options["load_cases"]):   # CasADi functions: not picklable
+            self.recording_options["options_excludes"] = ["load_cases"]
         names = [c.name for c in self.options["load_cases"]]
         if len(set(names)) != len(names):
             raise ValueError(f"load case names must be unique, got {names}")
