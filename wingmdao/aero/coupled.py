@@ -208,7 +208,7 @@ def modal_dlm_response(prob, case, num_nodes: int, weight: float) -> dict:
     root moments from the force-summation loads, tip deflection from the modal amplitudes."""
     n, path = int(num_nodes), f"cases.{case.name}"
     static = load_case_response(prob, case.static_case(n), n, weight, path=f"{path}.static")
-    comp = prob.model._get_subsystem(f"{path}.modal.loads")
+    comp = next(s for s in prob.model.system_iter(recurse=True) if s.pathname == f"{path}.modal.loads")
     X = np.asarray(prob.get_val(f"{path}.modal.march.states"))
     inputs = {k: np.asarray(prob.get_val(f"{path}.modal.loads.{k}")) for k in ("modal_mass", "modal_stiffness",
                                                                                 "modal_inertia")}

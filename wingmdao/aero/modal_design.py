@@ -39,8 +39,9 @@ import numpy as np
 from wingmdao.beam.modes import NormalModes
 from wingmdao.beam.residual import offset_matrix
 from wingmdao.beam.rotations import body_to_csn
+from wingmdao.stability.modal import N_MODES, modal_dlm_wing
 
-__all__ = ["DESIGN_INPUTS", "ModalProjection", "modal_projection", "ModalGust"]
+__all__ = ["DESIGN_INPUTS", "ModalProjection", "modal_projection", "ModalGust", "cosine_gust"]
 
 #: beam parameters the projection depends on, with their per-node shapes and units
 DESIGN_INPUTS = {"stiffness_csn": ((3, 3), "N*m**2"), "compliance_csn": ((3,), "1/N"),
@@ -175,3 +176,41 @@ class ModalGust:
     density: float
     gust: np.ndarray
     node_euler_angles: np.ndarray
+
+
+def cosine_gust(params: dict, chord, axis_frac, time, *, u_tas, airspeed, density, mach, gust_start, gradient_m,
+                n_modes: int = N_MODES) -> ModalGust:
+    """:class:`ModalGust` of a 1 - cos gust on the modal doublet-lattice wing of the beam ``params``
+    (the reference design; clamped jig modes, :func:`wingmdao.stability.modal.modal_dlm_wing`).
+
+    Parameters
+    ----------
+    params : dict
+        Beam parameters of the reference design (:func:`wingmdao.beam.residual.param_specs`).
+    chord, axis_frac : array_like
+        Chord (m) and beam-axis chord fraction per node.
+    time : array_like
+        The case's time grid (s).
+    u_tas, airspeed, density, mach : float
+        Gust amplitude (m/s, true airspeed), airspeed (m/s), air density (kg/m^3), Mach number.
+    gust_start, gradient_m : float
+        Time (s) the gust reaches the foremost leading edge (the lattice's ``x_gust``), gradient H (m).
+    n_modes : int
+        Number of modes of the basis.
+
+    Returns
+    -------
+    ModalGust
+        ``w = u_tas / 2 (1 - cos(pi V (t - gust_start) / H))`` for ``0 <= V (t - gust_start) <= 2 H``
+        with its analytic rate and acceleration.
+    """
+    wing = modal_dlm_wing(params, chord, axis_frac, mach, n_modes=n_modes)
+    V, H = float(airspeed), float(gradient_m)
+    time = np.asarray(time, dtype=float)
+    d = V * (time - gust_start)
+    on = (d >= 0) & (d <= 2 * H)
+    w = np.where(on, 0.5 * u_tas * (1 - np.cos(np.pi * d / H)), 0.0)
+    rate = np.where(on, 0.5 * u_tas * (np.pi * V / H) * np.sin(np.pi * d / H), 0.0)
+    acc = np.where(on, 0.5 * u_tas * (np.pi * V / H) ** 2 * np.cos(np.pi * d / H), 0.0)
+    return ModalGust(wing=wing, projection=modal_projection(params, wing.modes), airspeed=V, density=float(density),
+                     gust=np.column_stack([w, rate, acc]), node_euler_angles=np.asarray(params["node_euler_angles"]))

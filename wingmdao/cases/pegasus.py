@@ -234,30 +234,18 @@ def _steady_theory(theory: str) -> str:
     return "vlm" if theory == "dlm" else theory
 
 
-def modal_dlm_gust(geometry, chord, axis_frac, time, *, u_tas, airspeed, density, mach, gust_start, gradient_m,
-                   n_modes=None):
+def modal_dlm_gust(geometry, chord, axis_frac, time, *, u_tas, airspeed, density, mach, gust_start, gradient_m):
     """:class:`wingmdao.aero.modal_design.ModalGust` of a 1 - cos gust on the modal doublet-lattice
-    wing: basis the clamped jig modes of the sizing's initial design (every wall 10 mm,
-    :func:`initial_thickness`), the design's mass and stiffness projected on it in the sizing
-    (:mod:`wingmdao.aero.modal_design`); the gust ``u_tas / 2 (1 - cos(pi V (t - gust_start) / H))``
-    (m/s, true airspeed ``V`` m/s, gradient ``H`` m) at the foremost leading edge (the doublet
-    lattice's ``x_gust``) with its analytic rate and acceleration."""
-    from wingmdao.aero.modal_design import ModalGust, modal_projection
-    from wingmdao.materials import ALUMINIUM
-    from wingmdao.sizing import WALL_VARS, design_beam_params
-    from wingmdao.stability.modal import N_MODES, modal_dlm_wing
+    wing (:func:`wingmdao.aero.modal_design.cosine_gust`): basis the clamped jig modes of the
+    sizing's initial design (every wall 10 mm, :func:`beam_params`), the design's mass and
+    stiffness projected on it in the sizing."""
+    from wingmdao.aero.modal_design import cosine_gust
 
-    params = design_beam_params(geometry, ALUMINIUM, {w: 0.01 for w in WALL_VARS})
-    wing = modal_dlm_wing(params, chord, axis_frac, mach, n_modes=N_MODES if n_modes is None else n_modes)
-    V, H = float(airspeed), float(gradient_m)
-    time = np.asarray(time, dtype=float)
-    d = V * (time - gust_start)
-    on = (d >= 0) & (d <= 2 * H)
-    w = np.where(on, 0.5 * u_tas * (1 - np.cos(np.pi * d / H)), 0.0)
-    rate = np.where(on, 0.5 * u_tas * (np.pi * V / H) * np.sin(np.pi * d / H), 0.0)
-    acc = np.where(on, 0.5 * u_tas * (np.pi * V / H) ** 2 * np.cos(np.pi * d / H), 0.0)
-    return ModalGust(wing=wing, projection=modal_projection(params, wing.modes), airspeed=V, density=float(density),
-                     gust=np.column_stack([w, rate, acc]), node_euler_angles=np.asarray(params["node_euler_angles"]))
+    params = beam_params(geometry.num_nodes)
+    if not np.allclose(params["node_positions"], geometry.node_positions):
+        raise ValueError("--aero-theory dlm: the sized wing's nodes differ from the PEGASUS beam's (beam_params)")
+    return cosine_gust(params, chord, axis_frac, time, u_tas=u_tas, airspeed=airspeed, density=density, mach=mach,
+                       gust_start=gust_start, gradient_m=gradient_m)
 
 
 def gust_case(opts, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):

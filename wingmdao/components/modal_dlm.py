@@ -17,6 +17,7 @@ import openmdao.api as om
 
 from wingmdao.aero.modal_design import DESIGN_INPUTS, ModalProjection
 from wingmdao.beam.rotations import body_to_csn
+from wingmdao.stability.modal import ModalDLMWing
 
 
 _MASS = ("mass_per_length", "mass_center", "inertia_per_length")
@@ -77,7 +78,7 @@ class ModalStationLoads(om.ExplicitComponent):
     """
 
     def initialize(self):
-        self.options.declare("wing", desc="the ModalDLMWing (approximation, station-load model, damping)")
+        self.options.declare("wing", types=ModalDLMWing, desc="the ModalDLMWing (approximation, station-load model, damping)")
         self.options.declare("node_euler_angles", types=np.ndarray, desc="jig Euler angles (n, 3), rad")
         self.options.declare("airspeed", types=float, desc="true airspeed (m/s)")
         self.options.declare("density", types=float, desc="air density (kg/m^3)")

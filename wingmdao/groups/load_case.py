@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
+
+from wingmdao.beam.residual import StrainRateDamping
 
 STRESS_FAMILIES = ("vm", "ss_tension", "ss_compression", "cent_pos", "cent_neg")
 #: shorthands accepted by every ``--families`` list: both signs of a family
@@ -74,8 +76,6 @@ class LoadCase:
         if bad:
             raise ValueError(f"load case {self.name}: unknown stress families {bad}; valid: {', '.join(STRESS_FAMILIES)}")
         if self.damping is not None:
-            from wingmdao.beam.residual import StrainRateDamping
-
             if not isinstance(self.damping, StrainRateDamping):
                 raise ValueError(f"load case {self.name}: damping must be a StrainRateDamping, got {self.damping!r}")
         if self.aero is not None:
@@ -84,7 +84,7 @@ class LoadCase:
             if not isinstance(self.aero, CoupledAero):
                 raise ValueError(f"load case {self.name}: aero must be a CoupledAero, got {type(self.aero).__name__}")
         if self.modal_dlm is not None:
-            from wingmdao.aero.modal_design import ModalGust
+            from wingmdao.aero.modal_design import ModalGust   # loads OpenMDAO (the CLI's help must not)
 
             if not isinstance(self.modal_dlm, ModalGust):
                 raise ValueError(f"load case {self.name}: modal_dlm must be a ModalGust, got {type(self.modal_dlm).__name__}")
@@ -115,8 +115,6 @@ class LoadCase:
     def static_case(self, num_nodes: int) -> LoadCase:
         """The case's first instant alone (a static solve; no ``modal_dlm``): the beam part of a
         case with a modal doublet-lattice increment."""
-        from dataclasses import replace
-
         forcing = {k: self.forcing_array(k, num_nodes)[:1] for k in self.forcing}
         return replace(self, time=self.time[:1], forcing=forcing, modal_dlm=None, families=())
 

@@ -34,7 +34,12 @@ from wingmdao.materials import Material
 from wingmdao.panels.layout import STIFFENER_VARS, PanelLayout
 from wingmdao.section.box import WALL_NAMES
 from wingmdao.stress.box_stress import SECTION_PROPERTIES
+from wingmdao.aero.modal_design import DESIGN_INPUTS
+from wingmdao.aero.rfa_system import modal_rfa_system
+from wingmdao.aero.system import aero_param_specs, cached_aeroelastic_system
 from wingmdao.components.beam import BeamDynamics
+from wingmdao.components.modal_dlm import ModalLoadSum, ModalProjectionComp, ModalStationLoads
+from wingmdao.components.time_history import TimeHistoryComponent
 from wingmdao.components.beam_loads import BeamInternalLoads
 from wingmdao.components.flutter import FlutterDamping
 from wingmdao.components.turbulence import TurbulenceStressKS
@@ -234,11 +239,6 @@ class WingStructure(om.Group):
         :meth:`LoadCase.static_case`, e.g. the trimmed 1 g state) plus the gust increment of the
         modal doublet-lattice wing of the design (``modal``: projection on the fixed basis, BDF2
         march, force-summation loads), summed in ``internal_loads`` (F_csn, M_csn)."""
-        from wingmdao.aero.modal_design import DESIGN_INPUTS
-        from wingmdao.aero.rfa_system import modal_rfa_system
-        from wingmdao.components.modal_dlm import ModalLoadSum, ModalProjectionComp, ModalStationLoads
-        from wingmdao.components.time_history import TimeHistoryComponent
-
         spec = case.modal_dlm
         nt = case.num_times
         self.recording_options["options_excludes"] = ["load_case"]   # CasADi functions of the projection
@@ -287,7 +287,6 @@ class WingStructure(om.Group):
             # coupled case: the aeroelastic beam (unsteady strip theory) in place of BeamDynamics;
             # its aerodynamic parameters and forcing are promoted inputs of the case
             from wingmdao.aero.coupled import AERO_FORCING_SHAPES
-            from wingmdao.aero.system import aero_param_specs
             from wingmdao.components.aeroelastic import AeroelasticBeamDynamics
 
             if case.damping is not None and not case.damping.is_zero:
@@ -295,8 +294,6 @@ class WingStructure(om.Group):
             beam = AeroelasticBeamDynamics(num_nodes=n, time=case.time, plunge=bool(aero.plunge),
                                            trim=bool(aero.trim), aero_theory=aero.residual_theory)
             if aero.pitch or aero.controls is not None:  # free pitch (wingmdao.aero.pitch), control surfaces
-                from wingmdao.aero.system import cached_aeroelastic_system
-
                 beam.options["system"] = cached_aeroelastic_system(n, plunge=bool(aero.plunge), trim=bool(aero.trim),
                                                                    pitch=bool(aero.pitch),
                                                                    tail_lag=bool(aero.pitch and aero.tail_lag),
