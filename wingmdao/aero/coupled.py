@@ -142,8 +142,10 @@ class CoupledAero:
                                             values["ref_point"], values["mach"])
 
 
-def load_case_response(prob, case, num_nodes: int, weight: float) -> dict:
-    """Load factor and root loads of an analysed load case of a sizing problem (``cases.<name>``).
+def load_case_response(prob, case, num_nodes: int, weight: float, *, path: str | None = None) -> dict:
+    """Load factor and root loads of an analysed load case of a sizing problem (``cases.<name>``,
+    or ``path``). A case with a modal doublet-lattice gust (``LoadCase.modal_dlm``): its static
+    first instant plus the modal increment (:func:`modal_dlm_response`).
 
     ``weight`` (N): the aircraft weight W. Returns ``time``, ``load_factor`` (lift of both
     half-wings / W: for a coupled case from its section lift, :meth:`total_lift_history`; for a
@@ -151,7 +153,9 @@ def load_case_response(prob, case, num_nodes: int, weight: float) -> dict:
     ``root_torsion`` (N m, M_x and M_y at the root node, body axes), ``tip_displacement`` (m, z),
     and the peaks ``peak_load_factor``, ``peak_root_bending_moment`` (largest magnitudes).
     """
-    n, path = int(num_nodes), f"cases.{case.name}"
+    if case.modal_dlm is not None:
+        return modal_dlm_response(prob, case, num_nodes, weight)
+    n, path = int(num_nodes), path or f"cases.{case.name}"
     t = case.time
 
     def value(name):  # the beam input under its promoted name (case, model) or its own
@@ -192,5 +196,29 @@ def load_case_response(prob, case, num_nodes: int, weight: float) -> dict:
     rbm = beam[:, 0, 9]
     return {"time": t.tolist(), "load_factor": n_load.tolist(), "root_bending_moment": rbm.tolist(),
             "root_torsion": beam[:, 0, 10].tolist(), "tip_displacement": (beam[:, -1, 2] - r0[-1, 2]).tolist(),
+            "peak_load_factor": float(n_load[np.argmax(np.abs(n_load))]),
+            "peak_root_bending_moment": float(rbm[np.argmax(np.abs(rbm))])}
+
+
+def modal_dlm_response(prob, case, num_nodes: int, weight: float) -> dict:
+    """:func:`load_case_response` of a case with a modal doublet-lattice gust: the static first
+    instant's (``cases.<name>.static``) plus the increments: load factor from the panel lift
+    (twice the half-wing's aerodynamic root shear, :meth:`ModalStationLoads.aerodynamic_loads`),
+    root moments from the force-summation loads, tip deflection from the modal amplitudes."""
+    n, path = int(num_nodes), f"cases.{case.name}"
+    static = load_case_response(prob, case.static_case(n), n, weight, path=f"{path}.static")
+    comp = next(s for s in prob.model.system_iter(recurse=True) if s.pathname == f"{path}.modal.loads")
+    X = np.asarray(prob.get_val(f"{path}.modal.march.states"))
+    inputs = {k: np.asarray(prob.get_val(f"{path}.modal.loads.{k}")) for k in ("modal_mass", "modal_stiffness",
+                                                                                "modal_inertia")}
+    inputs["states"] = X
+    total, aero = comp.body_loads(inputs)
+    m = case.modal_dlm.wing.modes.count
+    tip = case.modal_dlm.wing.modes.displacement[:, -1, 2] @ X[:, :m].T
+    n_load = static["load_factor"][0] + 2.0 * aero[:, 0, 2] / float(weight)
+    rbm = static["root_bending_moment"][0] + total[:, 0, 3]
+    return {"time": case.time.tolist(), "load_factor": n_load.tolist(), "root_bending_moment": rbm.tolist(),
+            "root_torsion": (static["root_torsion"][0] + total[:, 0, 4]).tolist(),
+            "tip_displacement": (static["tip_displacement"][0] + tip).tolist(),
             "peak_load_factor": float(n_load[np.argmax(np.abs(n_load))]),
             "peak_root_bending_moment": float(rbm[np.argmax(np.abs(rbm))])}

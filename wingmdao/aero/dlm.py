@@ -61,10 +61,14 @@ DLM_SPANWISE = 2
 REDUCED_FREQUENCIES = (0.0, 0.02, 0.05, 0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.7, 1.0, 1.5)
 _CACHE: dict = {}
 _CACHE_SIZE = 8
+#: pressure operators of planforms (:func:`pressure_operators`), the most recent few
+_OPERATORS: dict = {}
+_OPERATORS_SIZE = 4
 _MIRROR = np.array([1.0, -1.0, 1.0])
 
 __all__ = ["DLM_CHORDWISE", "DLM_SPANWISE", "REDUCED_FREQUENCIES", "GeneralizedForces", "ModalTransfer",
-           "check_reduced_frequencies", "check_dlm_mach", "check_panels", "aerogrid", "steady_aic", "panel_pressure", "modal_transfer",
+           "check_reduced_frequencies", "check_dlm_mach", "check_panels", "aerogrid", "steady_aic", "panel_pressure",
+           "pressure_operators", "modal_transfer",
            "generalized_forces", "interpolate", "station_summation"]
 
 
@@ -140,6 +144,35 @@ def panel_pressure(lat: Lattice, k_over_b, normalwash, *, method: str = "quartic
     m = lat.span.size
     # a symmetric normalwash on both halves; Q = -A^-1, so dcp = -A^-1 w
     return -np.linalg.solve(A, np.concatenate([w, w], axis=0))[:m]
+
+
+def pressure_operators(lat: Lattice, k_over_b, *, method: str = "quartic", key: str | None = None) -> np.ndarray:
+    """(nk, m, m) complex: the pressure jumps of the right half per unit symmetric normalwash at
+    each ``omega / V`` of ``k_over_b`` (1/m), ``dcp = D_k w`` (:func:`panel_pressure`'s operator,
+    one inverse of the unsteady AIC per k). ``key``: a hash of the planform, Mach number and
+    lattice density; the operators are then cached by it (new mode shapes of the same planform,
+    e.g. a design change in a flutter search, reuse them)."""
+    kb = np.asarray(k_over_b, dtype=float)
+    full = None if key is None else key + hashlib.sha1(kb.tobytes() + method.encode()).hexdigest()
+    if full is not None and full in _OPERATORS:
+        return _OPERATORS[full]
+    DLM, _ = _panelaero_dlm()
+    grid = aerogrid(lat)
+    steady = steady_aic(lat)
+    m = lat.span.size
+    out = np.zeros((kb.size, m, m), dtype=complex)
+    for i, k in enumerate(kb):
+        A = steady.astype(complex)
+        if k > 0.0:
+            with np.errstate(all="ignore"):
+                A = A + DLM.calc_Ajj(aerogrid=grid, Ma=lat.mach, k=float(k), method=method)
+        inv = np.linalg.inv(A)[:m]
+        out[i] = -(inv[:, :m] + inv[:, m:])            # a symmetric normalwash on both halves
+    if full is not None:
+        if len(_OPERATORS) >= _OPERATORS_SIZE:
+            _OPERATORS.pop(next(iter(_OPERATORS)))
+        _OPERATORS[full] = out
+    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -256,7 +289,8 @@ def generalized_forces(node_positions, chord, ref_point, displacement, rotation,
     :func:`wingmdao.aero.vlm.station_influence`; ``displacement``, ``rotation`` (modes, n, 3): the
     mode shapes (:func:`wingmdao.beam.modes.normal_modes`); ``b_ref`` (m): reference semi-chord
     (default half the root chord); ``x_gust`` (m): where the gust phase is zero (default the
-    foremost leading edge). Cached by planform, modes, Mach and k set.
+    foremost leading edge). Cached by planform, modes, Mach and k set; the pressure operators by planform, Mach and k set
+    alone (:func:`pressure_operators`: new modes of the same planform reuse them).
     Errors (ValueError, before any solve): Mach outside [0, 1), an empty or unsorted k set, a
     panel of zero area, a planform whose nodes do not move outboard.
     """
@@ -281,14 +315,16 @@ def generalized_forces(node_positions, chord, ref_point, displacement, rotation,
     nm = d.shape[0]
     Q = np.zeros((k.size, nm, nm), dtype=complex)
     G = np.zeros((k.size, nm), dtype=complex)
-    steady = steady_aic(lat)
+    planform = hashlib.sha1(b"".join(np.ascontiguousarray(v).tobytes() for v in (r, c, ref))
+                            + repr((mach, int(n_chordwise), int(n_spanwise))).encode()).hexdigest()
+    D = pressure_operators(lat, k / b, method=method, key=planform)
     S = station_summation(lat, r)
     loads = np.zeros((k.size, r.shape[0], 6, nm + 1), dtype=complex)
     for i, ki in enumerate(k):
         kb = ki / b
         wash = np.column_stack([tr.incidence - 1j * kb * tr.heave,
                                 lat.normal[:, 2] * np.exp(-1j * kb * (lat.control[:, 0] - x0))])
-        dcp = panel_pressure(lat, kb, wash, method=method, steady=steady)
+        dcp = D[i] @ wash
         F = tr.force.T @ dcp
         Q[i], G[i] = F[:, :nm], F[:, nm]
         loads[i] = np.tensordot(S, dcp, axes=1)

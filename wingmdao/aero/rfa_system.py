@@ -30,9 +30,16 @@ from wingmdao.aero.rfa import RogerApproximation
 from wingmdao.timemarch.system import CasadiResidualSystem, VarSpec
 
 
-def param_specs() -> list[VarSpec]:
-    return [VarSpec("airspeed", (), "m/s", "true airspeed"),
-            VarSpec("density", (), "kg/m**3", "air density")]
+def param_specs(n_modes: int | None = None) -> list[VarSpec]:
+    """Airspeed and density; with ``n_modes`` also the modal mass and stiffness (a design-dependent
+    structure, :mod:`wingmdao.aero.modal_design`)."""
+    specs = [VarSpec("airspeed", (), "m/s", "true airspeed"),
+             VarSpec("density", (), "kg/m**3", "air density")]
+    if n_modes is not None:
+        specs += [VarSpec("modal_mass", (n_modes, n_modes), None, "modal mass matrix (kg m^2 per modal units squared)"),
+                  VarSpec("modal_stiffness", (n_modes, n_modes), None,
+                          "modal stiffness matrix (N m per modal units squared)")]
+    return specs
 
 
 def forcing_specs(n_modes: int) -> list[VarSpec]:
@@ -42,9 +49,13 @@ def forcing_specs(n_modes: int) -> list[VarSpec]:
             VarSpec("modal_force", (n_modes,), "N*m", "applied generalized force per mode (unit-mass modes)")]
 
 
-def modal_rfa_system(structure, rfa: RogerApproximation) -> CasadiResidualSystem:
+def modal_rfa_system(structure, rfa: RogerApproximation, *, design: bool = False) -> CasadiResidualSystem:
     """The residual system of the module docstring for ``structure``
-    (:class:`wingmdao.stability.pk.ModalStructure`) and ``rfa``."""
+    (:class:`wingmdao.stability.pk.ModalStructure`) and ``rfa``.
+
+    ``design``: the modal mass and stiffness are parameters ``modal_mass`` and ``modal_stiffness``
+    (after airspeed and density; ``structure`` gives only the damping and the size), so the
+    marcher's adjoint gives their derivatives (:mod:`wingmdao.aero.modal_design`)."""
     M, K, C = (np.asarray(a, dtype=float) for a in (structure.mass, structure.stiffness, structure.damping))
     n = M.shape[0]
     L = rfa.n_lags
@@ -53,10 +64,15 @@ def modal_rfa_system(structure, rfa: RogerApproximation) -> CasadiResidualSystem
     b = float(rfa.b_ref)
     x = ca.SX.sym("x", 2 * n + L * n + L)
     xd = ca.SX.sym("xdot", x.numel())
-    p = ca.SX.sym("p", 2)
+    p = ca.SX.sym("p", 2 + (2 * n * n if design else 0))
     f = ca.SX.sym("q", 3 + n)
     V, rho = p[0], p[1]
     qd = 0.5 * rho * V ** 2
+    if design:   # C-ordered (n, n) blocks
+        M = ca.reshape(p[2:2 + n * n], n, n).T
+        K = ca.reshape(p[2 + n * n:], n, n).T
+    else:
+        M, K = ca.DM(M), ca.DM(K)
     q, v = x[:n], x[n:2 * n]
     z = [x[2 * n + l * n:2 * n + (l + 1) * n] for l in range(L)]
     zg = x[2 * n + L * n:]
@@ -69,13 +85,13 @@ def modal_rfa_system(structure, rfa: RogerApproximation) -> CasadiResidualSystem
     for l in range(L):
         gust_force = gust_force + G[3 + l] * zg[l]
     R = [qdot - v,
-         (ca.DM(M) - 0.5 * rho * b ** 2 * A[2]) @ vdot + (ca.DM(C) - 0.5 * rho * V * b * A[1]) @ v
-         + (ca.DM(K) - qd * A[0]) @ q - qd * lag_force - qd * gust_force - f[3:]]
+         (M - 0.5 * rho * b ** 2 * A[2]) @ vdot + (ca.DM(C) - 0.5 * rho * V * b * A[1]) @ v
+         + (K - qd * A[0]) @ q - qd * lag_force - qd * gust_force - f[3:]]
     R += [xd[2 * n + l * n:2 * n + (l + 1) * n] - v + rfa.lags[l] * V / b * z[l] for l in range(L)]
     R += [xd[2 * n + L * n + l] - g1 + rfa.lags[l] * V / b * zg[l] for l in range(L)]
     names = (["modal kinematics q' - v"] * n + ["modal equation of motion"] * n
              + ["aerodynamic lag state"] * (L * n) + ["gust lag state"] * L)
-    return CasadiResidualSystem(x, xd, p, f, ca.vertcat(*R), param_specs=param_specs(),
+    return CasadiResidualSystem(x, xd, p, f, ca.vertcat(*R), param_specs=param_specs(n if design else None),
                                 forcing_specs=forcing_specs(n), name="modal_rfa",
                                 describe=lambda i: f"{names[i]} (row {i})",
                                 initial_guess=lambda p_, q_: np.zeros(x.numel()))

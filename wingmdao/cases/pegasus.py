@@ -56,7 +56,7 @@ MIN_GAUGE = 1e-3  # m (Table 5.1)
 LOAD_SETS = ("maneuver", "gust", "all")
 AERO_MODELS = ("strip", "coupled")
 #: quasi-steady lift of --aero coupled (--aero-theory; wingmdao.aero.coupled.AERO_THEORY_CHOICES)
-AERO_THEORIES = ("strip", "lifting-line", "vlm")
+AERO_THEORIES = ("strip", "lifting-line", "vlm", "dlm")
 #: the coupled gust's root: clamped (wind-tunnel wing) or the aircraft free in plunge
 PLUNGE_MODES = ("clamped", "free")
 #: the coupled gust's pitch: fixed or free with a horizontal tail (wingmdao.aero.pitch; needs free plunge)
@@ -244,10 +244,29 @@ def coupled_maneuver_case(name, n_load, opts, geometry, chord, axis_frac, famili
                                 for s, u in zip(surfaces, forcing["surface_command"][0]))
     aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
                        airspeed=float(mach_to_tas(opts.mach, alt)), density=float(density(alt)), mach=float(opts.mach),
-                       trim=True, trim_lift=n_load * weight_lb * LB * G0, aero_theory=opts.aero_theory,
+                       trim=True, trim_lift=n_load * weight_lb * LB * G0, aero_theory=_steady_theory(opts.aero_theory),
                        node_positions=np.asarray(geometry.node_positions, dtype=float), **controls)
     return LoadCase(name, np.zeros(1), forcing, families, f"{n_load:+.2f} g trimmed aeroelastic maneuver{what}",
                     aero=aero)
+
+
+def _steady_theory(theory: str) -> str:
+    """The quasi-steady theory of the beam's static states: the doublet lattice's k = 0 limit is the VLM."""
+    return "vlm" if theory == "dlm" else theory
+
+
+def modal_dlm_gust(geometry, chord, axis_frac, time, *, u_tas, airspeed, density, mach, gust_start, gradient_m):
+    """:class:`wingmdao.aero.modal_design.ModalGust` of a 1 - cos gust on the modal doublet-lattice
+    wing (:func:`wingmdao.aero.modal_design.cosine_gust`): basis the clamped jig modes of the
+    sizing's initial design (every wall 10 mm, :func:`beam_params`), the design's mass and
+    stiffness projected on it in the sizing."""
+    from wingmdao.aero.modal_design import cosine_gust
+
+    params = beam_params(geometry.num_nodes)
+    if not np.allclose(params["node_positions"], geometry.node_positions):
+        raise ValueError("--aero-theory dlm: the sized wing's nodes differ from the PEGASUS beam's (beam_params)")
+    return cosine_gust(params, chord, axis_frac, time, u_tas=u_tas, airspeed=airspeed, density=density, mach=mach,
+                       gust_start=gust_start, gradient_m=gradient_m)
 
 
 def gust_case(opts, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
@@ -401,12 +420,22 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
         if getattr(opts, "size_gains", False) and law is None:
             raise ValueError(f"--size-gains: --alleviation {opts.alleviation} has no law (no gains to size)")
         controls = dict(controls=spec, control_law=law, gain_design=bool(getattr(opts, "size_gains", False)))
+    modal = None
+    if opts.aero_theory == "dlm":  # the trimmed 1 g state on the VLM beam + the gust on the modal doublet lattice
+        if free or pitch or controls:
+            raise ValueError("--aero-theory dlm: the sized gust is on the clamped wing (the modal basis is the clamped "
+                             "jig's); drop --plunge free, --pitch free and --alleviation")
+        modal = modal_dlm_gust(geometry, chord, axis_frac, time, u_tas=u_tas, airspeed=V, density=rho, mach=mach,
+                               gust_start=opts.gust_start, gradient_m=H)
     aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
                        airspeed=V, density=rho, mach=mach, trim=True, trim_lift=weight_lb * LB * G0,
-                       plunge=free, aircraft_mass=weight_lb * LB, aero_theory=opts.aero_theory,
+                       plunge=free, aircraft_mass=weight_lb * LB, aero_theory=_steady_theory(opts.aero_theory),
                        node_positions=np.asarray(geometry.node_positions, dtype=float), **pitch, **controls)
     mode = ("free plunge + pitch" if pitch else "free plunge") if free else "clamped root"
-    return LoadCase(name, time, forcing, families, description + f" (coupled aeroelastic, {mode})", aero=aero)
+    if modal is not None:
+        mode += f"; trimmed 1 g on the VLM beam + the gust on the modal doublet lattice ({modal.wing.modes.count} modes)"
+    return LoadCase(name, time, forcing, families, description + f" (coupled aeroelastic, {mode})", aero=aero,
+                    modal_dlm=modal)
 
 
 def gust_set_cases(gset, opts, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):

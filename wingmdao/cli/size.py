@@ -78,9 +78,14 @@ def register(subparsers):
             cp = sub.add_parser(name, help=mod.HELP, description=mod.HELP)
             # generated from the options dataclass, the one table of the case's options
             add_option_arguments(cp, mod.OPTIONS, deprecated_alias=add_deprecated_alias)
-            shared = {f.name: f.default for f in dataclasses.fields(mod.OPTIONS) if f.metadata.get("shared")}
+            shared = {f.name: f for f in dataclasses.fields(mod.OPTIONS) if f.metadata.get("shared")}
             if "aero_theory" in shared:  # the flag's one spelling (wingmdao.cli._args), the case's default
-                add_aero_theory_argument(cp, default=shared["aero_theory"])
+                theory = shared["aero_theory"]
+                add_aero_theory_argument(cp, default=theory.default, dlm=(
+                    ", or dlm (the coupled gust on the doublet lattice in the modal basis of the initial design's "
+                    "clamped jig, the design's mass and stiffness projected on it, over the trimmed 1 g state on the "
+                    "vortex-lattice beam; the maneuvers use the vortex lattice)")
+                    if "dlm" in theory.metadata.get("choices", ()) else False)
             _add_common(cp, sizing=sizing)
             cp.set_defaults(func=run_size if sizing else run_n2, case_module=mod)
         if sizing:  # OpenAeroStruct's uCRM fuel burn: a problem of its own, not a WingSizing case

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -60,6 +60,9 @@ class LoadCase:
     damping: object = None
     #: optional :class:`wingmdao.aero.coupled.CoupledAero`: the case runs on the aeroelastic beam
     aero: object = None
+    #: optional :class:`wingmdao.aero.modal_design.ModalGust`: the case's dynamic increment on the modal
+    #: doublet-lattice wing, added to the static first instant of the beam (``aero``: the trimmed 1 g state)
+    modal_dlm: object = None
 
     def __post_init__(self):
         self.time = np.atleast_1d(np.asarray(self.time, dtype=float))
@@ -80,6 +83,14 @@ class LoadCase:
 
             if not isinstance(self.aero, CoupledAero):
                 raise ValueError(f"load case {self.name}: aero must be a CoupledAero, got {type(self.aero).__name__}")
+        if self.modal_dlm is not None:
+            from wingmdao.aero.modal_design import ModalGust   # loads OpenMDAO (the CLI's help must not)
+
+            if not isinstance(self.modal_dlm, ModalGust):
+                raise ValueError(f"load case {self.name}: modal_dlm must be a ModalGust, got {type(self.modal_dlm).__name__}")
+            if np.shape(self.modal_dlm.gust) != (self.num_times, 3):
+                raise ValueError(f"load case {self.name}: modal_dlm.gust has shape {np.shape(self.modal_dlm.gust)}, "
+                                 f"expected ({self.num_times}, 3)")
         unknown = [k for k in self.forcing if k not in self._forcing_shapes()]
         if unknown:
             raise ValueError(f"load case {self.name}: unknown forcing {unknown}; valid: {', '.join(FORCING_SHAPES)}")
@@ -100,6 +111,12 @@ class LoadCase:
         controls = getattr(self.aero, "controls", None)
         extra = {"surface_command": (controls.n_surfaces,)} if controls is not None else {}
         return {**FORCING_SHAPES, **AERO_FORCING_SHAPES, **extra}
+
+    def static_case(self, num_nodes: int) -> LoadCase:
+        """The case's first instant alone (a static solve; no ``modal_dlm``): the beam part of a
+        case with a modal doublet-lattice increment."""
+        forcing = {k: self.forcing_array(k, num_nodes)[:1] for k in self.forcing}
+        return replace(self, time=self.time[:1], forcing=forcing, modal_dlm=None, families=())
 
     def forcing_array(self, name: str, num_nodes: int) -> np.ndarray:
         """The full (n_time, ...) array of forcing ``name`` (zeros when not given), validated."""

@@ -34,7 +34,11 @@ from wingmdao.materials import Material
 from wingmdao.panels.layout import STIFFENER_VARS, PanelLayout
 from wingmdao.section.box import WALL_NAMES
 from wingmdao.stress.box_stress import SECTION_PROPERTIES
+from wingmdao.aero.modal_design import DESIGN_INPUTS
+from wingmdao.aero.rfa_system import modal_rfa_system
 from wingmdao.components.beam import BeamDynamics
+from wingmdao.components.modal_dlm import ModalLoadSum, ModalProjectionComp, ModalStationLoads
+from wingmdao.components.time_history import TimeHistoryComponent
 from wingmdao.components.beam_loads import BeamInternalLoads
 from wingmdao.components.closed_loop import ClosedLoopDamping
 from wingmdao.components.flutter import FlutterDamping
@@ -128,6 +132,8 @@ def set_case_loads(prob: om.Problem, case: LoadCase, num_nodes: int, path: str =
         raise ValueError(f"set_case_loads(forcing=True): {', '.join(missing)} are not inputs of the model "
                          f"(the case's forcing is data of its beam, forcing_as_data=True, or path {path!r} "
                          "is not a load case's prefix); use forcing=None")
+    if case.modal_dlm is not None:  # the beam's part is the static first instant (LoadCase.static_case)
+        case = case.static_case(num_nodes)
     for name, (units, _) in (FORCING_META.items() if forcing else ()):
         prob.set_val(prefix + name, case.forcing_array(name, num_nodes), units=units)
     if case.aero is not None:  # coupled case: its aerodynamic forcing and parameters
@@ -194,6 +200,85 @@ class WingStructure(om.Group):
             for name, (units, desc) in FORCING_META.items():
                 loads.add_output(name, val=case.forcing_array(name, n), units=units, desc=desc)
 
+        if case.modal_dlm is not None:
+            self._add_modal_dlm(n, case)
+        else:
+            self._add_beam(n, case, as_data)
+
+        if case.families:   # laminate walls may leave the strength to the panels' Tsai-Wu family
+            # the box stress takes the section properties from the section component (computed once
+            # per station, not at every time step)
+            stress_kwargs = {"output_stresses": False, "section_properties": True} if kind in BOX_KINDS else {}
+            self.add_subsystem("stress", stress_cls(num_times=nt, num_stations=n,
+                                                    material=self.options["material"],
+                                                    families=tuple(case.families), inputs_by_conn=True,
+                                                    **stress_kwargs),
+                               promotes_inputs=[*SECTION_KINDS[kind]["stress_inputs"],
+                                                *SECTION_KINDS[kind]["section_to_stress"]])
+            self.connect("internal_loads.F_csn", "stress.F_csn")
+            self.connect("internal_loads.M_csn", "stress.M_csn")
+
+        points = stress_points(kind, case.families)
+        if kind == "stiffened":   # the panel modes' KS in the panels component (KSOfPointwise)
+            self._add_panel_failure(nt, n)
+        if not points:
+            return
+        shapes = {fam: (nt, n, k) for fam, k in points.items()}
+        # the per-step inputs of loads, stress and KS are shaped by their connections: no default
+        # value of their own (18 MB at 20 nodes x 4001 steps, docs/gust-envelope.md)
+        self.add_subsystem("ks", KSAggregate(families=shapes, rho_ks=self.options["rho_ks"], g_by_conn=True,
+                                             add_constraints=self.options["add_constraints"]),
+                           promotes_outputs=[f"ks_{f}" for f in points])
+        for fam in case.families:
+            self.connect(f"stress.g_{fam}", f"ks.g_{fam}")
+
+    def _add_modal_dlm(self, n, case):
+        """The case's static first instant on the beam (``static``: a WingStructure of
+        :meth:`LoadCase.static_case`, e.g. the trimmed 1 g state) plus the gust increment of the
+        modal doublet-lattice wing of the design (``modal``: projection on the fixed basis, BDF2
+        march, force-summation loads), summed in ``internal_loads`` (F_csn, M_csn)."""
+        spec = case.modal_dlm
+        nt = case.num_times
+        self.recording_options["options_excludes"] = ["load_case"]   # CasADi functions of the projection
+        self.add_subsystem("static", WingStructure(num_nodes=n, load_case=case.static_case(n),
+                                                   material=self.options["material"], section=self.options["section"],
+                                                   newton_options=self.options["newton_options"],
+                                                   forcing_as_data=self.options["forcing_as_data"]),
+                           promotes_inputs=["*"])
+        modal = self.add_subsystem("modal", om.Group(), promotes_inputs=list(DESIGN_INPUTS))
+        flight = modal.add_subsystem("flight", om.IndepVarComp())
+        flight.add_output("airspeed", spec.airspeed, units="m/s", desc="true airspeed of the gust")
+        flight.add_output("density", spec.density, units="kg/m**3", desc="air density of the gust")
+        modal.add_subsystem("projection", ModalProjectionComp(projection=spec.projection),
+                            promotes_inputs=list(DESIGN_INPUTS))
+        wing = spec.wing
+        m = wing.modes.count
+        gust = np.asarray(spec.gust, dtype=float)
+        data = {"gust_velocity": gust[:, 0], "gust_velocity_rate": gust[:, 1],
+                "gust_velocity_acceleration": gust[:, 2], "modal_force": np.zeros((nt, m))}
+        march = TimeHistoryComponent(system=modal_rfa_system(wing.structure, wing.rfa, design=True),
+                                     time=case.time, forcing_data=data)
+        march.recording_options["options_excludes"] = ["system", "forcing_data"]
+        modal.add_subsystem("march", march)
+        modal.add_subsystem("loads", ModalStationLoads(wing=wing, node_euler_angles=np.asarray(spec.node_euler_angles, dtype=float),
+                                                       airspeed=float(spec.airspeed), density=float(spec.density),
+                                                       gust=gust))
+        for k in ("airspeed", "density"):
+            modal.connect(f"flight.{k}", f"march.{k}")
+        for k in ("modal_mass", "modal_stiffness"):
+            modal.connect(f"projection.{k}", f"march.{k}")
+            modal.connect(f"projection.{k}", f"loads.{k}")
+        modal.connect("projection.modal_inertia", "loads.modal_inertia")
+        modal.connect("march.states", "loads.states")
+        self.add_subsystem("internal_loads", ModalLoadSum(num_times=nt, num_nodes=n))
+        for k in ("F_csn", "M_csn"):
+            self.connect(f"static.internal_loads.{k}", f"internal_loads.static_{k}")
+            self.connect(f"modal.loads.{k}", f"internal_loads.dynamic_{k}")
+
+    def _add_beam(self, n, case, as_data):
+        """The case's beam (static or BDF2 march; the aeroelastic beam of a coupled case) and its
+        internal loads (``internal_loads``: F_csn, M_csn)."""
+        nt = case.num_times
         beam_kwargs = dict(num_nodes=n, time=case.time, **(self.options["newton_options"] or {}))
         aero = case.aero
         if aero is not None:
@@ -273,32 +358,6 @@ class WingStructure(om.Group):
             self.add_subsystem("internal_loads", BeamInternalLoads(num_times=nt, num_nodes=n, inputs_by_conn=True),
                                promotes_inputs=["states"])
 
-        if case.families:   # laminate walls may leave the strength to the panels' Tsai-Wu family
-            # the box stress takes the section properties from the section component (computed once
-            # per station, not at every time step)
-            stress_kwargs = {"output_stresses": False, "section_properties": True} if kind in BOX_KINDS else {}
-            self.add_subsystem("stress", stress_cls(num_times=nt, num_stations=n,
-                                                    material=self.options["material"],
-                                                    families=tuple(case.families), inputs_by_conn=True,
-                                                    **stress_kwargs),
-                               promotes_inputs=[*SECTION_KINDS[kind]["stress_inputs"],
-                                                *SECTION_KINDS[kind]["section_to_stress"]])
-            self.connect("internal_loads.F_csn", "stress.F_csn")
-            self.connect("internal_loads.M_csn", "stress.M_csn")
-
-        points = stress_points(kind, case.families)
-        if kind == "stiffened":   # the panel modes' KS in the panels component (KSOfPointwise)
-            self._add_panel_failure(nt, n)
-        if not points:
-            return
-        shapes = {fam: (nt, n, k) for fam, k in points.items()}
-        # the per-step inputs of loads, stress and KS are shaped by their connections: no default
-        # value of their own (18 MB at 20 nodes x 4001 steps, docs/gust-envelope.md)
-        self.add_subsystem("ks", KSAggregate(families=shapes, rho_ks=self.options["rho_ks"], g_by_conn=True,
-                                             add_constraints=self.options["add_constraints"]),
-                           promotes_outputs=[f"ks_{f}" for f in points])
-        for fam in case.families:
-            self.connect(f"stress.g_{fam}", f"ks.g_{fam}")
 
     def _add_panel_failure(self, nt, n) -> dict:
         """The panel failure ratios of the stiffened box (PanelFailure) with the KS aggregate of
@@ -387,6 +446,8 @@ class WingSizing(om.Group):
         bad = [c for c in self.options["load_cases"] if not isinstance(c, LoadCase)]
         if bad:
             raise ValueError(f"WingSizing: load_cases must be LoadCase objects, got {type(bad[0]).__name__}")
+        if any(c.modal_dlm is not None for c in self.options["load_cases"]):   # CasADi functions: not picklable
+            self.recording_options["options_excludes"] = ["load_cases"]
         names = [c.name for c in self.options["load_cases"]]
         if len(set(names)) != len(names):
             raise ValueError(f"load case names must be unique, got {names}")
