@@ -61,7 +61,8 @@ def test_cli_alleviation_pegasus_example(tmp_path):
     """docs/controls.md's example as it stands: the law lowers the peak root-bending increment and
     the load factor, the result carries the surface histories and limits."""
     out = tmp_path / "g.json"
-    assert main(["gust", "pegasus", "--alleviation", EXAMPLE, "--no-plots", "--json", str(out)]) == 0
+    assert main(["gust", "pegasus", "--aero-theory", "strip", "--alleviation", EXAMPLE, "--no-plots", "--json",
+                 str(out)]) == 0
     res = json.loads(out.read_text())
     a = res["alleviation"]
     assert abs(a["peak_incremental_root_bending_with_law"]) < 0.6 * abs(a["peak_incremental_root_bending_without_law"])

@@ -111,7 +111,7 @@ def test_pegasus_co_design_constraint(tmp_path):
     pure.write_text(open(EXAMPLE).read().split("law:")[0] + "law:\n  outputs: [load_factor]\n  gain: [-0.2]\n")
     ks = {}
     for tag, path in (("filtered", EXAMPLE), ("pure", str(pure))):
-        setup = pegasus.build(pegasus.PegasusOptions(loads="gust", aero="coupled", plunge="free", t_final=0.3,
+        setup = pegasus.build(pegasus.PegasusOptions(loads="gust", aero="coupled", aero_theory="strip", plunge="free", t_final=0.3,
                                                      dt=0.03, gust_start=0.0, alleviation=path, size_gains=True))
         setup.options.disp = False
         assert closed_loop_constraints(setup.load_cases) == ["cases.gust.closed_loop_ks"]

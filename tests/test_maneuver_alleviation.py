@@ -65,8 +65,8 @@ def test_pegasus_maneuver_alleviation_against_closed_form(tmp_path):
     on the initial wing the elastic twist of the aileron's nose-down moment takes a little off."""
     from wingmdao.cases import pegasus
 
-    plain = pegasus.build(loads="maneuver", aero="coupled")
-    mla = pegasus.build(loads="maneuver", aero="coupled", alleviation=_write(tmp_path))
+    plain = pegasus.build(loads="maneuver", aero="coupled", aero_theory="strip")
+    mla = pegasus.build(loads="maneuver", aero="coupled", aero_theory="strip", alleviation=_write(tmp_path))
     assert all(c.aero.controls is None for c in plain.load_cases)
     assert "aileron -9.00 deg" in mla.load_cases[0].description
     for scale in (4.0, 1.0):
@@ -84,5 +84,5 @@ def test_pegasus_maneuver_alleviation_against_closed_form(tmp_path):
 def test_no_schedule_keeps_the_plain_maneuvers(tmp_path):
     from wingmdao.cases import pegasus
 
-    setup = pegasus.build(loads="maneuver", aero="coupled", alleviation=_write(tmp_path, 0.0))
+    setup = pegasus.build(loads="maneuver", aero="coupled", aero_theory="strip", alleviation=_write(tmp_path, 0.0))
     assert all(c.aero.controls is None for c in setup.load_cases)
