@@ -234,11 +234,7 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     prob = om.Problem(model=wing, comm=None if distributed else _serial_comm(), reports=False)
     desc = "none (analysis only)"
     if driver:
-        prob.driver, desc = make_driver(options.optimizer, maxiter=options.maxiter, tol=options.tol,
-                                        disp=options.disp)
-        for w in design_vars:
-            prob.model.add_design_var(w, lower=options.lower[w], upper=options.upper[w],
-                                      ref=options.dv_ref.get(w, options.upper[w]) if options.dv_ref else options.upper[w])
+        desc = _add_driver(prob, options, design_vars)
         for name, bounds in control_gain_design_vars(load_cases).items():
             prob.model.add_design_var(name, **bounds)
         for path in closed_loop_constraints(load_cases):   # the sized law keeps the loop stable
@@ -246,10 +242,6 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
         if panels is not None:
             add_sizing_rules(prob.model, options, panels, design_vars,
                              n if geometry.station_map is None else int(np.max(geometry.station_map)) + 1)
-        if options.recording:
-            add_recorder(prob, options.recording)
-        if options.progress:
-            prob.driver.add_recorder(ProgressPrinter())
     prob.setup(mode="rev")
     if distributed:  # the main problem holds only section and mass: set the geometry it has
         set_shared_geometry(prob, geometry, section)
@@ -282,6 +274,20 @@ def closed_loop_constraints(load_cases) -> list:
             if c.aero is not None and getattr(c.aero, "gain_design", False) and c.aero.control_law is not None]
 
 
+def _add_driver(prob, options: SizingOptions, design_vars) -> str:
+    """The sizing driver of ``options`` on ``prob`` with the walls ``design_vars`` (bounds, scaled by
+    ``dv_ref`` or the upper bound), its recording and progress lines; returns its description."""
+    prob.driver, desc = make_driver(options.optimizer, maxiter=options.maxiter, tol=options.tol, disp=options.disp)
+    for w in design_vars:
+        prob.model.add_design_var(w, lower=options.lower[w], upper=options.upper[w],
+                                  ref=options.dv_ref.get(w, options.upper[w]) if options.dv_ref else options.upper[w])
+    if options.recording:
+        add_recorder(prob, options.recording)
+    if options.progress:
+        prob.driver.add_recorder(ProgressPrinter())
+    return desc
+
+
 def build_stick_problem(geometry: WingGeometry, stick_cases, material, options: SizingOptions,
                         *, driver=True) -> tuple[om.Problem, str]:
     """The sizing problem of the wing's walls with load cases on the stick model of the whole
@@ -303,15 +309,7 @@ def build_stick_problem(geometry: WingGeometry, stick_cases, material, options: 
     prob = om.Problem(model=wing, comm=_serial_comm(), reports=False)
     desc = "none (analysis only)"
     if driver:
-        prob.driver, desc = make_driver(options.optimizer, maxiter=options.maxiter, tol=options.tol,
-                                        disp=options.disp)
-        for w in WALL_VARS:
-            prob.model.add_design_var(w, lower=options.lower[w], upper=options.upper[w],
-                                      ref=options.dv_ref.get(w, options.upper[w]) if options.dv_ref else options.upper[w])
-        if options.recording:
-            add_recorder(prob, options.recording)
-        if options.progress:
-            prob.driver.add_recorder(ProgressPrinter())
+        desc = _add_driver(prob, options, WALL_VARS)
     prob.setup(mode="rev")
     set_geometry(prob, geometry, "box")
     for case in cases:
