@@ -26,6 +26,25 @@ def test_state_slice_values_and_partials():
     assert_check_partials(prob.check_partials(method="cs", out_stream=None), atol=1e-12, rtol=1e-12)
 
 
+def test_state_slice_of_a_joined_beam_block():
+    """One beam's contiguous block (a joined system's offsets): values and partials."""
+    nt, n, size, offset = 2, 3, 100, 37
+    prob = om.Problem()
+    prob.model.add_subsystem("s", BeamStateSlice(num_times=nt, num_nodes=n, state_shape=(size,),
+                                                 columns=offset + np.arange(18 * n)), promotes=["*"])
+    prob.setup(force_alloc_complex=True)
+    x = np.random.default_rng(2).normal(size=(nt, size))
+    prob.set_val("states", x)
+    prob.run_model()
+    np.testing.assert_array_equal(prob.get_val("beam_states"), x[:, offset:offset + 18 * n].reshape(nt, n, 18))
+    assert_check_partials(prob.check_partials(method="cs", out_stream=None), atol=1e-12, rtol=1e-12)
+    with pytest.raises(ValueError, match="columns: need 54 state indices"):
+        bad = om.Problem()
+        bad.model.add_subsystem("s", BeamStateSlice(num_times=nt, num_nodes=n, state_shape=(40,),
+                                                    columns=offset + np.arange(18 * n)))
+        bad.setup()
+
+
 def test_bad_aero_inputs():
     with pytest.raises(ValueError, match="chord"):
         CoupledAero(chord=-1.0, airspeed=100.0, density=1.0).parameters(3)

@@ -6,7 +6,7 @@
 (``node_positions``, ``stiffness_csn``, ..., ``width``, ``t_upper_skin``, ...) as promoted inputs,
 marches the joined aeroelastic system with the BDF2
 :class:`~wingmdao.components.time_history.TimeHistoryComponent`, takes the wing's 18 beam states
-per node out of the joined state (:class:`~wingmdao.components.state_slice.StateBlockSlice`), and
+per node out of the joined state (:class:`~wingmdao.components.state_slice.BeamStateSlice`), and
 forms the wing's internal loads, stresses and KS aggregates (``ks_<family>``) as the lone wing's.
 The other beams, the lumped masses and the aerodynamic parameters are promoted inputs too,
 under the joined system's names (``fuselage_stiffness_csn``, ``lumped_mass``, ``airspeed``, ...);
@@ -24,7 +24,7 @@ import openmdao.api as om
 
 from wingmdao.components.beam_loads import BeamInternalLoads
 from wingmdao.components.ks import KSAggregate
-from wingmdao.components.state_slice import StateBlockSlice
+from wingmdao.components.state_slice import BeamStateSlice
 from wingmdao.components.time_history import TimeHistoryComponent
 from wingmdao.groups.load_case import StickCase
 from wingmdao.groups.wing import (SECTION_KINDS, SECTION_TO_BEAM, WingSizing, _section_classes, stress_points)
@@ -65,8 +65,8 @@ class StickStructure(om.Group):
         promotes = [(k, v) for k, v in wing_names.items()]
         promotes += [sp.name for sp in s.param_specs + s.forcing_specs if sp.name not in wing_names]
         self.add_subsystem("beam", beam, promotes_inputs=promotes, promotes_outputs=["states"])
-        self.add_subsystem("wing_states", StateBlockSlice(num_times=nt, state_size=s.n_state,
-                                                          offset=s.offsets[wing], num_nodes=n),
+        self.add_subsystem("wing_states", BeamStateSlice(num_times=nt, num_nodes=n, state_shape=(s.n_state,),
+                                                         columns=s.offsets[wing] + np.arange(18 * n)),
                            promotes_inputs=["states"])
         self.add_subsystem("internal_loads", BeamInternalLoads(num_times=nt, num_nodes=n, inputs_by_conn=True))
         self.connect("wing_states.beam_states", "internal_loads.states")
