@@ -30,7 +30,7 @@ from wingmdao.groups.load_case import LoadCase, StickCase
 from wingmdao.groups.stick import StickSizing, set_stick_case
 from wingmdao.limits import check_memory
 from wingmdao.loads.turbulence_analysis import gust_model_from_parameters, turbulence_analysis
-from wingmdao.stability.frequency import stress_matrix
+from wingmdao.stability.frequency import stress_matrices
 from wingmdao.materials import Material
 from wingmdao.section.solid import solid_properties, validate_solid
 from wingmdao.timemarch.system import pack
@@ -698,9 +698,7 @@ def turbulence_loads(prob) -> dict | None:
                          "analyse it with wingmdao.loads.turbulence_analysis directly")
     gm = gust_model_from_parameters(comp.system, values, x_stations=opts["x_stations"], gravity=opts["gravity"])
     walls = np.column_stack([np.asarray(prob.get_val(f"{comp.pathname}.{w}"), dtype=float) for w in WALL_NAMES])
-    R = opts["section_to_csn"]
-    S = np.stack([stress_matrix(opts["width"][i], opts["height"][i], *walls[i], None if R is None else R[i])
-                  for i in range(walls.shape[0])])
+    S = stress_matrices(opts["width"], opts["height"], walls, opts["section_to_csn"])
     res = turbulence_analysis(gm, opts["u_sigma"], f_max=opts["f_max"], n_base=opts["n_base"], stress_matrices=S)
     corner = slice(0, 4)  # the corner axial stresses the constraint bounds
     up = np.abs(np.asarray(res["design_loads"]["stress"]["up"])[:, corner])

@@ -40,7 +40,7 @@ from wingmdao.cli._io import check_output_dir, check_output_file, read_design, r
 from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
 from wingmdao.loads.turbulence import continuous_turbulence_intensity
 from wingmdao.plots import save_figure
-from wingmdao.stability.frequency import stress_matrix
+from wingmdao.stability.frequency import stress_matrices
 from wingmdao.stability.modal_turbulence import dlm_turbulence_analysis
 
 CASES = ("pegasus",)
@@ -146,9 +146,7 @@ def _stress_matrices(setup, args):
         dv = {w: walls[w[2:]] for w in WALL_VARS}
     else:
         dv = station_design(geo, initial_design(setup.options, SECTION_KINDS[setup.section]["design_vars"]), WALL_VARS)
-    R = geo.section_to_csn
-    return np.stack([stress_matrix(geo.width[i], geo.height[i], *(dv[w][i] for w in WALL_VARS),
-                                   None if R is None else R[i]) for i in range(geo.num_nodes)])
+    return stress_matrices(geo.width, geo.height, np.column_stack([dv[w] for w in WALL_VARS]), geo.section_to_csn)
 
 
 def _check_outputs(args):

@@ -453,6 +453,28 @@ def stress_matrix(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, s
     return S
 
 
+def stress_matrices(width, height, walls, section_to_csn=None) -> np.ndarray:
+    """(n, 8, 6) :func:`stress_matrix` of every box station.
+
+    Parameters
+    ----------
+    width, height : array_like
+        (n,) m: box outer width and height of each station.
+    walls : array_like
+        (n, 4) m: upper skin, lower skin, front spar and rear spar thickness of each station.
+    section_to_csn : array_like, optional
+        (n, 3, 3) rotation of each section to its csn frame; None: aligned.
+
+    Returns
+    -------
+    ndarray
+        (n, 8, 6) stresses (Pa) per unit csn load.
+    """
+    t = np.asarray(walls, dtype=float)
+    return np.stack([stress_matrix(width[i], height[i], *t[i], None if section_to_csn is None else section_to_csn[i])
+                     for i in range(t.shape[0])])
+
+
 def stress_response(load_response, matrices) -> np.ndarray:
     """Stress transfer functions (n_freq, n, 8) from the csn load transfer functions (n_freq, 6 n)
     and the per-station :func:`stress_matrix` (n, 8, 6)."""
