@@ -34,7 +34,38 @@ def skin_panel_ratios(material, t, h, ts, pitch, length, nx, nxy, shape="blade",
     N_xy (:func:`~wingmdao.panels.buckling.biaxial_interaction_ratio`), N_y,cr the same b x a
     bay loaded on its long edges (:func:`transverse_skin_critical_load`), and ``panel_buckling``
     the stiffened panel between ribs under the same three loads, N_y,cr of
-    :func:`transverse_panel_critical_load`."""
+    :func:`transverse_panel_critical_load`.
+
+    Parameters
+    ----------
+    material : str, Material, PlyMaterial or PanelMaterial
+        Panel material (a name or material as :func:`~wingmdao.panels.stiffened.panel_material` takes).
+    t : float, array_like or casadi.SX
+        Skin thickness (m).
+    h : float, array_like or casadi.SX
+        Stiffener web height (m).
+    ts : float, array_like or casadi.SX
+        Stiffener thickness (m).
+    pitch : float
+        Stiffener pitch (m).
+    length : float, array_like or casadi.SX
+        Panel length between ribs (m).
+    nx : float, array_like or casadi.SX
+        Running load along the stiffeners (N/m, compression negative).
+    nxy : float, array_like or casadi.SX
+        Shear flow (N/m).
+    shape : {"blade", "tee"}, optional
+        Stiffener shape.
+    flange_ratio : float, optional
+        Tee flange width over web height (-; ignored for blades).
+    ny : float, array_like, casadi.SX or None, optional
+        Skin running load across the stiffeners (N/m, compression negative); None for none.
+
+    Returns
+    -------
+    dict
+        Strength ratio (-) of each mode of :data:`SKIN_MODES`.
+    """
     pm = _panel_material(material)
     b = skin_width_from_pitch(pitch, h, shape, flange_ratio)
     crit = panel_critical_loads(pm, t, b, length, h, ts, shape, flange_ratio)
@@ -57,7 +88,32 @@ def transverse_panel_critical_load(material, t, b, length, h, ts, shape="blade",
     2 pi^2 / length^2 (sqrt(D_x D22) + D12 + 2 D66) (:func:`~wingmdao.panels.buckling.plate_compression_long`,
     Kassapoglou Sec. 6.2; the long-plate limit is the lowest over the panel's chordwise extent,
     so the spars' support is not counted). The stiffeners raise it through D_x only: thin
-    blades leave it below the skin bay's :func:`transverse_skin_critical_load`."""
+    blades leave it below the skin bay's :func:`transverse_skin_critical_load`.
+
+    Parameters
+    ----------
+    material : str, Material, PlyMaterial or PanelMaterial
+        Panel material.
+    t : float, array_like or casadi.SX
+        Skin thickness (m).
+    b : float, array_like or casadi.SX
+        Skin width between stiffeners (m).
+    length : float, array_like or casadi.SX
+        Rib pitch (m).
+    h : float, array_like or casadi.SX
+        Stiffener web height (m).
+    ts : float, array_like or casadi.SX
+        Stiffener thickness (m).
+    shape : {"blade", "tee"}, optional
+        Stiffener shape.
+    flange_ratio : float, optional
+        Tee flange width over web height (-).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Critical running load N_y,cr (N/m, positive).
+    """
     pm = _panel_material(material)
     d = pm.abd(t)
     dx = smeared_properties(t, b, h, ts, shape, flange_ratio, pm.E_x)["EI_per_width"]
@@ -69,13 +125,51 @@ def transverse_skin_critical_load(material, t, b, length):
     supported) compressed across the stiffeners, i.e. on its long edges:
     :func:`~wingmdao.panels.buckling.plate_compression_ss` with the axes swapped (load along
     y over the length b, loaded edges ``length`` long). Isotropic:
-    k pi^2 D / b^2 with k = (1 + (b / length)^2)^2 (one half-wave; Timoshenko & Gere Sec. 9.2)."""
+    k pi^2 D / b^2 with k = (1 + (b / length)^2)^2 (one half-wave; Timoshenko & Gere Sec. 9.2).
+
+    Parameters
+    ----------
+    material : str, Material, PlyMaterial or PanelMaterial
+        Panel material.
+    t : float, array_like or casadi.SX
+        Skin thickness (m).
+    b : float, array_like or casadi.SX
+        Skin width between stiffeners (m).
+    length : float, array_like or casadi.SX
+        Rib pitch (m).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Critical running load N_y,cr (N/m, positive).
+    """
     d = _panel_material(material).abd(t)
     return bk.plate_compression_ss(d["D22"], d["D11"], d["D12"], d["D66"], b, length)
 
 
 def web_panel_ratio(material, t, b, length, nx, nxy):
     """Combined compression-shear buckling ratio of an unstiffened spar web of thickness ``t``
-    and height ``b`` between ribs ``length`` apart (m) under ``nx``, ``nxy`` (N/m)."""
+    and height ``b`` between ribs ``length`` apart (m) under ``nx``, ``nxy`` (N/m).
+
+    Parameters
+    ----------
+    material : str, Material, PlyMaterial or PanelMaterial
+        Web material.
+    t : float, array_like or casadi.SX
+        Web thickness (m).
+    b : float, array_like or casadi.SX
+        Web height (m).
+    length : float, array_like or casadi.SX
+        Rib pitch (m).
+    nx : float, array_like or casadi.SX
+        Spanwise running load in the web (N/m, compression negative).
+    nxy : float, array_like or casadi.SX
+        Shear flow in the web (N/m).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Compression-shear buckling ratio (-; 1 = buckling).
+    """
     r = panel_failure_ratios(_panel_material(material), t, b, length, None, None, nx, nxy)
     return r["skin_buckling"]

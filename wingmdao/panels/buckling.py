@@ -54,7 +54,20 @@ def _max(x, y):
 
 
 def bruhn_K(k, nu):
-    """Bruhn's K = k pi^2 / (12 (1 - nu^2)) of a Timoshenko k (sigma_cr = K E (t/b)^2)."""
+    """Bruhn's K = k pi^2 / (12 (1 - nu^2)) of a Timoshenko k (sigma_cr = K E (t/b)^2).
+
+    Parameters
+    ----------
+    k : float or array_like
+        Timoshenko's plate buckling coefficient (-).
+    nu : float
+        Poisson's ratio (-).
+
+    Returns
+    -------
+    float or array_like
+        Bruhn's coefficient K (-).
+    """
     return k * math.pi**2 / (12.0 * (1.0 - nu * nu))
 
 
@@ -65,6 +78,18 @@ def plate_compression_long(D11, D22, D12, D66, b):
     N_cr = 2 pi^2 / b^2 (sqrt(D11 D22) + D12 + 2 D66) (Kassapoglou 2nd ed. Sec. 6.2, the minimum
     over a/b of Eq. 6.7; Jones 2nd ed. Sec. 5.5). Valid for a/b -> inf, in practice
     a/b >= 3 (D11/D22)^(1/4) within a few %. Isotropic: k = 4.
+
+    Parameters
+    ----------
+    D11, D22, D12, D66 : float, array_like or casadi.SX
+        Bending stiffnesses of the plate (N m).
+    b : float, array_like or casadi.SX
+        Plate width across the load (m).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Critical running load N_x,cr (N/m, positive).
     """
     return 2.0 * math.pi**2 / b**2 * (sqrt(D11 * D22) + D12 + 2.0 * D66)
 
@@ -75,6 +100,22 @@ def plate_compression_m(D11, D22, D12, D66, a, b, m):
     N_cr(m) = pi^2 / b^2 [D11 (m b/a)^2 + 2 (D12 + 2 D66) + D22 (a/(m b))^2]
     (Kassapoglou 2nd ed. Eq. 6.7 with one half-wave across; Timoshenko & Gere Eq. 9-8 for
     isotropic D, k = (m b/a + a/(m b))^2).
+
+    Parameters
+    ----------
+    D11, D22, D12, D66 : float, array_like or casadi.SX
+        Bending stiffnesses of the plate (N m).
+    a : float, array_like or casadi.SX
+        Plate length along the load (m).
+    b : float, array_like or casadi.SX
+        Plate width across the load (m).
+    m : int
+        Number of half-waves along x.
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Critical running load of that mode (N/m, positive).
     """
     r = m * b / a
     return math.pi**2 / b**2 * (D11 * r**2 + 2.0 * (D12 + 2.0 * D66) + D22 / r**2)
@@ -88,6 +129,22 @@ def plate_compression_ss(D11, D22, D12, D66, a, b, m_max: int = M_MAX):
     :func:`plate_compression_long` is returned instead (the two agree within
     (1/(2 m_max))^2-ish there). Loaded edges x = 0, a; all edges simply supported; isotropic
     special case k = min_m (m b/a + a/(m b))^2 (= 4 at integer a/b).
+
+    Parameters
+    ----------
+    D11, D22, D12, D66 : float, array_like or casadi.SX
+        Bending stiffnesses of the plate (N m).
+    a : float, array_like or casadi.SX
+        Plate length along the load (m).
+    b : float, array_like or casadi.SX
+        Plate width across the load (m).
+    m_max : int, optional
+        Largest number of half-waves tried (:data:`M_MAX`).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Critical running load N_x,cr (N/m, positive).
     """
     n_cr = plate_compression_m(D11, D22, D12, D66, a, b, 1)
     for m in range(2, m_max + 1):
@@ -111,6 +168,18 @@ def plate_shear_long(D11, D22, D12, D66, b):
     k_s = 4 x 13.17 / pi^2 = 5.34 against the exact 5.35 (Timoshenko & Gere Sec. 9.7).
     The bending stiffness across the strip, D22, has the larger weight: a plate stiff across
     the strip buckles later than one stiff along it.
+
+    Parameters
+    ----------
+    D11, D22, D12, D66 : float, array_like or casadi.SX
+        Bending stiffnesses of the plate (N m).
+    b : float, array_like or casadi.SX
+        Width of the strip (m).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Critical shear flow N_xy,cr (N/m, positive).
     """
     h = D12 + 2.0 * D66
     K = h / sqrt(D11 * D22)
@@ -134,6 +203,20 @@ def plate_shear_ss(D11, D22, D12, D66, a, b):
     Both are continuous at r = 1; the correction is exact in the isotropic limit, an
     approximation of the same accuracy for orthotropic plates with K = (D12 + 2 D66)/sqrt(D11 D22)
     near 1 (for K far from 1 it is an engineering estimate).
+
+    Parameters
+    ----------
+    D11, D22, D12, D66 : float, array_like or casadi.SX
+        Bending stiffnesses of the plate (N m).
+    a : float, array_like or casadi.SX
+        Plate length along x (m).
+    b : float, array_like or casadi.SX
+        Plate width along y (m).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Critical shear flow N_xy,cr (N/m, positive).
     """
     r = b / a * (D11 / D22) ** 0.25
     along_x = plate_shear_long(D11, D22, D12, D66, b) + 4.0 * math.pi**2 * D11**0.75 * D22**0.25 / a**2
@@ -143,17 +226,56 @@ def plate_shear_ss(D11, D22, D12, D66, a, b):
 
 # --------------------------------------------------------------------------- interaction
 def smooth_abs(x, tiny=NXY_TINY):
-    """sqrt(x^2 + tiny): ``|x|`` with a finite derivative at 0 (off by at most sqrt(tiny))."""
+    """sqrt(x^2 + tiny): ``|x|`` with a finite derivative at 0 (off by at most sqrt(tiny)).
+
+    Parameters
+    ----------
+    x : float, array_like or casadi.SX
+        Value whose magnitude is taken.
+    tiny : float, optional
+        Added under the square root, in the square of x's unit (:data:`NXY_TINY`).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Smooth ``|x|``, in x's unit.
+    """
     return sqrt(x * x + tiny)
 
 
 def compression_ratio(nx, nx_cr):
-    """R_c = -N_x / N_x,cr (signed: compression positive, tension negative)."""
+    """R_c = -N_x / N_x,cr (signed: compression positive, tension negative).
+
+    Parameters
+    ----------
+    nx : float, array_like or casadi.SX
+        Running load N_x (N/m, compression negative).
+    nx_cr : float, array_like or casadi.SX
+        Critical compressive running load (N/m, positive).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Signed compression ratio R_c (-).
+    """
     return -nx / nx_cr
 
 
 def shear_ratio(nxy, nxy_cr):
-    """``R_s = |N_xy| / N_xy,cr`` with the smooth ``|N_xy|`` of :func:`smooth_abs`."""
+    """``R_s = |N_xy| / N_xy,cr`` with the smooth ``|N_xy|`` of :func:`smooth_abs`.
+
+    Parameters
+    ----------
+    nxy : float, array_like or casadi.SX
+        Shear flow N_xy (N/m, either sign).
+    nxy_cr : float, array_like or casadi.SX
+        Critical shear flow (N/m, positive).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Shear ratio R_s (-).
+    """
     return smooth_abs(nxy) / nxy_cr
 
 
@@ -170,6 +292,22 @@ def interaction_ratio(nx, nxy, nx_cr, nxy_cr):
     which is homogeneous of degree 1 in the loads (doubling both doubles R), equals R_c in pure
     compression, R_s in pure shear, and falls below R_s under tension (R_c < 0) as the
     interaction curve extended to tension says. RATIO_TINY keeps it differentiable at zero load.
+
+    Parameters
+    ----------
+    nx : float, array_like or casadi.SX
+        Running load N_x (N/m, compression negative).
+    nxy : float, array_like or casadi.SX
+        Shear flow N_xy (N/m, either sign).
+    nx_cr : float, array_like or casadi.SX
+        Critical compressive running load (N/m, positive).
+    nxy_cr : float, array_like or casadi.SX
+        Critical shear flow (N/m, positive).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Strength ratio R (-; 1 = buckling), linear in the loads.
     """
     rc = compression_ratio(nx, nx_cr)
     rs2 = (nxy * nxy + NXY_TINY) / nxy_cr**2
@@ -177,7 +315,20 @@ def interaction_ratio(nx, nxy, nx_cr, nxy_cr):
 
 
 def positive_part(x, tiny=RATIO_TINY):
-    """(x + sqrt(x^2 + tiny)) / 2: max(x, 0) with a finite derivative at 0 (off by at most sqrt(tiny) / 2)."""
+    """(x + sqrt(x^2 + tiny)) / 2: max(x, 0) with a finite derivative at 0 (off by at most sqrt(tiny) / 2).
+
+    Parameters
+    ----------
+    x : float, array_like or casadi.SX
+        Value whose positive part is taken.
+    tiny : float, optional
+        Added under the square root, in the square of x's unit (:data:`RATIO_TINY`).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Smooth max(x, 0), in x's unit.
+    """
     return 0.5 * (x + sqrt(x * x + tiny))
 
 
@@ -199,7 +350,28 @@ def biaxial_interaction_ratio(nx, ny, nxy, nx_cr, ny_cr, nxy_cr):
     -N_x (b / a)^2, against -N_x N_y,cr / N_x,cr on the straight line: (b/a)^2 N_x,cr / N_y,cr
     = 0.21 of it for a 0.15 x 0.62 m isotropic bay (tests/test_panel_loads.py: with
     N_x = 10 kN/m tension and N_y = -5 kN/m on a 1.5 mm bay the straight line gives half the
-    exact load factor's ratio, this form 1.13 times it). Homogeneous of degree 1 in the loads."""
+    exact load factor's ratio, this form 1.13 times it). Homogeneous of degree 1 in the loads.
+
+    Parameters
+    ----------
+    nx : float, array_like or casadi.SX
+        Running load along the stiffeners N_x (N/m, compression negative).
+    ny : float, array_like or casadi.SX
+        Running load across the stiffeners N_y (N/m, compression negative).
+    nxy : float, array_like or casadi.SX
+        Shear flow N_xy (N/m, either sign).
+    nx_cr : float, array_like or casadi.SX
+        Critical compressive N_x (N/m, positive).
+    ny_cr : float, array_like or casadi.SX
+        Critical compressive N_y (N/m, positive).
+    nxy_cr : float, array_like or casadi.SX
+        Critical shear flow (N/m, positive).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Strength ratio R (-; 1 = buckling), linear in the loads.
+    """
     rc = positive_part(compression_ratio(nx, nx_cr)) + positive_part(compression_ratio(ny, ny_cr))
     rs2 = (nxy * nxy + NXY_TINY) / nxy_cr**2
     return 0.5 * (rc + sqrt(rc * rc + 4.0 * rs2 + RATIO_TINY))
@@ -210,12 +382,43 @@ def euler_column_load(E, I, L, c=1.0):
     """Euler buckling load P_cr = c pi^2 E I / L^2 (N); c = end fixity (1 pinned, 4 clamped).
 
     Bruhn Ch. C2 (Euler column with end fixity c); Niu Ch. 10. Elastic, straight, prismatic column.
+
+    Parameters
+    ----------
+    E : float, array_like or casadi.SX
+        Young's modulus (Pa).
+    I : float, array_like or casadi.SX
+        Second moment of area about the buckling axis (m^4).
+    L : float, array_like or casadi.SX
+        Column length (m).
+    c : float, optional
+        End-fixity coefficient (-; 1 pinned-pinned, 4 clamped-clamped).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Critical load P_cr (N).
     """
     return c * math.pi**2 * E * I / L**2
 
 
 def euler_column_stress(E, slenderness, c=1.0):
-    """Euler stress sigma_E = c pi^2 E / (L/rho)^2 (Pa), ``slenderness`` = L/rho."""
+    """Euler stress sigma_E = c pi^2 E / (L/rho)^2 (Pa), ``slenderness`` = L/rho.
+
+    Parameters
+    ----------
+    E : float, array_like or casadi.SX
+        Young's modulus (Pa).
+    slenderness : float, array_like or casadi.SX
+        Slenderness L/rho (-).
+    c : float, optional
+        End-fixity coefficient (-; 1 pinned-pinned, 4 clamped-clamped).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Euler stress (Pa).
+    """
     return c * math.pi**2 * E / slenderness**2
 
 
@@ -226,6 +429,22 @@ def johnson_column_stress(E, slenderness, sigma_cc, c=1.0):
     curve with the crippling stress sigma_cc as its cut-off at L/rho = 0, tangent to the Euler
     hyperbola at the transition slenderness (L/rho)_t = pi sqrt(2 c E / sigma_cc), where both
     equal sigma_cc / 2.
+
+    Parameters
+    ----------
+    E : float, array_like or casadi.SX
+        Young's modulus (Pa).
+    slenderness : float, array_like or casadi.SX
+        Slenderness L/rho (-).
+    sigma_cc : float, array_like or casadi.SX
+        Crippling stress, the cut-off at zero slenderness (Pa).
+    c : float, optional
+        End-fixity coefficient (-).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Johnson column stress (Pa).
     """
     return sigma_cc * (1.0 - sigma_cc * slenderness**2 / (4.0 * c * math.pi**2 * E))
 
@@ -235,6 +454,22 @@ def column_stress(E, slenderness, sigma_cc, c=1.0):
 
     ``select(sigma_E > sigma_cc/2, Johnson, Euler)`` with sigma_E = :func:`euler_column_stress`
     and the crippling stress ``sigma_cc`` as the cut-off (sigma <= sigma_cc everywhere).
+
+    Parameters
+    ----------
+    E : float, array_like or casadi.SX
+        Young's modulus (Pa).
+    slenderness : float, array_like or casadi.SX
+        Slenderness L/rho (-).
+    sigma_cc : float, array_like or casadi.SX
+        Crippling stress (Pa).
+    c : float, optional
+        End-fixity coefficient (-).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Column failure stress (Pa).
     """
     sigma_e = euler_column_stress(E, slenderness, c)
     return select(sigma_e > 0.5 * sigma_cc, johnson_column_stress(E, slenderness, sigma_cc, c), sigma_e)
@@ -257,6 +492,24 @@ def crippling_metal(E, sigma_cy, b, t, edge: str = "one_free"):
     per flat element with b' = b, the usual element-by-element (Gerard-style) reading, and the
     section's stress is the area-weighted mean (:func:`section_crippling`). Tests on aluminium
     alloys; for other metals use with care.
+
+    Parameters
+    ----------
+    E : float, array_like or casadi.SX
+        Young's modulus (Pa).
+    sigma_cy : float, array_like or casadi.SX
+        Compressive yield stress (Pa).
+    b : float, array_like or casadi.SX
+        Element width (m).
+    t : float, array_like or casadi.SX
+        Element thickness (m).
+    edge : {"one_free", "none_free", "two_free"}, optional
+        Free edges of the element (:data:`NEEDHAM_CE`).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Crippling stress F_cc (Pa).
     """
     f = NEEDHAM_CE[edge] * sqrt(E * sigma_cy) / (b / t) ** 0.75
     return _min(f, sigma_cy)
@@ -270,6 +523,22 @@ def crippling_laminate(F_cu, b, t, edge: str = "one_free"):
     Sec. 5.7 (crippling); as used in Kassapoglou 2nd ed. Ch. 8 (Eqs. for one- and no-edge-free
     flanges). Fits to quasi-isotropic-ish carbon/epoxy tests, b/t roughly 5-40 (OEF) and
     10-60 (NEF).
+
+    Parameters
+    ----------
+    F_cu : float, array_like or casadi.SX
+        Laminate compression strength (Pa).
+    b : float, array_like or casadi.SX
+        Element width (m).
+    t : float, array_like or casadi.SX
+        Element thickness (m).
+    edge : {"one_free", "none_free"}, optional
+        Free edges of the element.
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Crippling stress F_cc (Pa).
     """
     coef, expo = {"one_free": (1.63, 0.717), "none_free": (11.0, 1.124)}[edge]
     ratio = coef / (b / t) ** expo
@@ -280,5 +549,17 @@ def section_crippling(stresses, areas):
     """Area-weighted crippling stress of a section: sum F_i A_i / sum A_i (Pa).
 
     Bruhn Ch. C7 (Needham / Gerard element methods); Kassapoglou Ch. 8 for laminates.
+
+    Parameters
+    ----------
+    stresses : sequence
+        Crippling stress of each element (Pa).
+    areas : sequence
+        Area of each element (m^2).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Area-weighted crippling stress (Pa).
     """
     return sum(f * area for f, area in zip(stresses, areas)) / sum(areas)

@@ -41,6 +41,29 @@ class PlyMaterial:
     (transverse), ``S12`` (in-plane shear); ``ply_thickness`` (m); optional allowable strains
     (magnitudes, dimensionless) ``eps1_t``, ``eps1_c``, ``eps2_t``, ``eps2_c``, ``gamma12``.
     Validity: 0 < nu12 and nu12^2 < E11/E22 (positive-definite ply stiffness).
+
+    Parameters
+    ----------
+    name : str
+        Material name (the key of :data:`PLY_MATERIALS`).
+    E11, E22 : float
+        Moduli along and across the fibres (Pa).
+    G12 : float
+        In-plane shear modulus (Pa).
+    nu12 : float
+        Major Poisson's ratio (-).
+    rho : float
+        Density (kg/m^3).
+    Xt, Xc : float
+        Fibre-direction tensile and compressive strengths, magnitudes (Pa).
+    Yt, Yc : float
+        Transverse tensile and compressive strengths, magnitudes (Pa).
+    S12 : float
+        In-plane shear strength (Pa).
+    ply_thickness : float
+        Cured ply thickness (m).
+    eps1_t, eps1_c, eps2_t, eps2_c, gamma12 : float or None, optional
+        Allowable strains, magnitudes (-); None where not given.
     """
 
     name: str
@@ -99,7 +122,18 @@ PLY_MATERIALS = {m.name: m for m in (STW_CFRP,)}
 
 
 def get_ply_material(name: str) -> PlyMaterial:
-    """Built-in ply material by (case-insensitive) name; see :data:`PLY_MATERIALS`."""
+    """Built-in ply material by (case-insensitive) name; see :data:`PLY_MATERIALS`.
+
+    Parameters
+    ----------
+    name : str
+        Ply material name, case-insensitive (e.g. ``"stw-cfrp"``).
+
+    Returns
+    -------
+    PlyMaterial
+        The material; ValueError listing the valid names for an unknown one.
+    """
     key = str(name).strip().lower()
     if key not in PLY_MATERIALS:
         raise ValueError(f"unknown ply material {name!r}; valid: {', '.join(PLY_MATERIALS)}")
@@ -112,6 +146,16 @@ def q_matrix(ply: PlyMaterial) -> np.ndarray:
 
     Q11 = E11/(1 - nu12 nu21), Q22 = E22/(1 - nu12 nu21), Q12 = nu12 E22/(1 - nu12 nu21),
     Q66 = G12; engineering shear strain (gamma12). Plane stress.
+
+    Parameters
+    ----------
+    ply : PlyMaterial
+        The ply material.
+
+    Returns
+    -------
+    numpy.ndarray
+        (3, 3) reduced stiffness Q (Pa).
     """
     d = 1.0 - ply.nu12 * ply.nu21
     return np.array([[ply.E11 / d, ply.nu12 * ply.E22 / d, 0.0],
@@ -129,6 +173,18 @@ def qbar(ply: PlyMaterial, angle_deg: float) -> np.ndarray:
     Qbar66 = (Q11 + Q22 - 2Q12 - 2Q66) m^2 n^2 + Q66 (m^4 + n^4),
     Qbar16 = (Q11 - Q12 - 2Q66) m^3 n + (Q12 - Q22 + 2Q66) m n^3,
     Qbar26 = (Q11 - Q12 - 2Q66) m n^3 + (Q12 - Q22 + 2Q66) m^3 n.
+
+    Parameters
+    ----------
+    ply : PlyMaterial
+        The ply material.
+    angle_deg : float
+        Ply angle from the laminate x axis (deg).
+
+    Returns
+    -------
+    numpy.ndarray
+        (3, 3) transformed reduced stiffness Qbar (Pa).
     """
     q = q_matrix(ply)
     q11, q22, q12, q66 = q[0, 0], q[1, 1], q[0, 1], q[2, 2]
@@ -159,6 +215,21 @@ def smeared_abd(ply: PlyMaterial, fractions, thickness) -> dict:
     [0/45/-45/90]_ns, Jones Eq. 4.28). B = 0 (symmetric). ``fractions`` (4 values) and
     ``thickness`` (m) may be CasADi symbols: the four Qbar are numbers combined linearly.
     Returns a dict with :data:`ABD_KEYS`.
+
+    Parameters
+    ----------
+    ply : PlyMaterial
+        The ply material.
+    fractions : sequence of 4 floats or casadi.SX
+        Fractions of 0, +45, -45 and 90 deg plies (-, summing to 1).
+    thickness : float or casadi.SX
+        Laminate thickness (m).
+
+    Returns
+    -------
+    dict
+        ``A11 A22 A12 A66 A16 A26`` (N/m) and ``D11 D22 D12 D66 D16 D26`` (N m), the keys of
+        :data:`ABD_KEYS`.
     """
     mix = _mixed_qbar(ply, fractions)
     out = {f"A{k}": thickness * v for k, v in mix.items()}
@@ -172,6 +243,20 @@ def isotropic_abd(E, nu, thickness) -> dict:
     A11 = A22 = E t/(1 - nu^2), A12 = nu A11, A66 = E t/(2(1 + nu)); D = A t^2/12, so
     D11 = D22 = E t^3/(12(1 - nu^2)) (Timoshenko & Gere, *Theory of Elastic Stability*, 2nd ed.,
     Eq. 9-3), D12 = nu D11, D66 = (1 - nu) D11 / 2, and D12 + 2 D66 = D11.
+
+    Parameters
+    ----------
+    E : float or casadi.SX
+        Young's modulus (Pa).
+    nu : float
+        Poisson's ratio (-).
+    thickness : float or casadi.SX
+        Plate thickness (m).
+
+    Returns
+    -------
+    dict
+        A (N/m) and D (N m) terms, the keys of :data:`ABD_KEYS`.
     """
     a11 = E * thickness / (1.0 - nu * nu)
     a66 = E * thickness / (2.0 * (1.0 + nu))
@@ -185,6 +270,18 @@ def check_ply_fractions(fractions, source: str = "--ply-fractions") -> tuple:
     """The four ply fractions [0, +45, -45, 90] as floats, or a ValueError naming ``source``.
 
     Each must be finite and >= 0, and their sum within 1e-6 of 1.
+
+    Parameters
+    ----------
+    fractions : sequence of 4 floats
+        Fractions of 0, +45, -45 and 90 deg plies (-).
+    source : str, optional
+        The flag or file key named in the error message.
+
+    Returns
+    -------
+    tuple of 4 floats
+        The checked fractions.
     """
     try:
         values = tuple(float(f) for f in fractions)
@@ -214,6 +311,18 @@ def laminate_moduli(ply: PlyMaterial, fractions) -> dict:
     = 0 (equal +45 and -45 fractions, as with the smeared laminate), where the inverse is in
     closed form (with unequal +-45 fractions A16, A26 are ignored here): Ex = (A11 A22 - A12^2)/(t A22), Ey = (A11 A22 - A12^2)/(t A11), Gxy = A66/t,
     nu_xy = A12/A22. Works on CasADi symbols.
+
+    Parameters
+    ----------
+    ply : PlyMaterial
+        The ply material.
+    fractions : sequence of 4 floats or casadi.SX
+        Fractions of 0, +45, -45 and 90 deg plies (-).
+
+    Returns
+    -------
+    dict
+        ``Ex``, ``Ey``, ``Gxy`` (Pa) and ``nu_xy`` (-).
     """
     q = _mixed_qbar(ply, fractions)
     det = q["11"] * q["22"] - q["12"] ** 2

@@ -45,7 +45,18 @@ LAMINATE_FAMILIES = {"laminate_strength": 6}
 
 def panel_families(laminate: bool) -> dict:
     """The panel constraint families and their points per station (laminate walls add the
-    laminate strength family)."""
+    laminate strength family).
+
+    Parameters
+    ----------
+    laminate : bool
+        Whether any wall is a laminate.
+
+    Returns
+    -------
+    dict
+        Family name -> number of constraint points per station.
+    """
     return {**PANEL_FAMILIES, **(LAMINATE_FAMILIES if laminate else {})}
 
 
@@ -53,7 +64,24 @@ def stiffener_section(h, ts, shape: str = "blade", flange_ratio: float = DEFAULT
     """Area (m^2), centroid height above the skin's inner face (m) and own second moment of area
     about that centroid for bending out of the skin's plane (m^4) of one stiffener, from its flat
     elements (:func:`wingmdao.panels.stiffened.stiffener_elements`: the blade's web; the tee's
-    flange on the skin and the web on top of it), by the parallel-axis theorem."""
+    flange on the skin and the web on top of it), by the parallel-axis theorem.
+
+    Parameters
+    ----------
+    h : float, array_like or casadi.SX
+        Stiffener web height (m).
+    ts : float, array_like or casadi.SX
+        Stiffener thickness (m).
+    shape : {"blade", "tee"}, optional
+        Stiffener shape.
+    flange_ratio : float, optional
+        Tee flange width over web height (-).
+
+    Returns
+    -------
+    tuple
+        Area (m^2), centroid height above the skin's inner face (m), own second moment (m^4).
+    """
     elements = stiffener_elements(h, ts, shape, flange_ratio)
     area = sum(w * t for w, t, *_ in elements)
     z = sum(w * t * zc for w, t, zc, *_ in elements) / area
@@ -64,7 +92,27 @@ def stiffener_section(h, ts, shape: str = "blade", flange_ratio: float = DEFAULT
 def smeared_stringer(h, ts, pitch, shape: str = "blade", flange_ratio: float = DEFAULT_FLANGE_RATIO):
     """``(a, d, i)`` per unit skin width for :func:`wingmdao.section.box.stringer_layers`: the
     stiffener area per width (m), its centroid's depth below the skin's inner face (m) and its
-    own second moment per width (m^3)."""
+    own second moment per width (m^3).
+
+    Parameters
+    ----------
+    h : float, array_like or casadi.SX
+        Stiffener web height (m).
+    ts : float, array_like or casadi.SX
+        Stiffener thickness (m).
+    pitch : float
+        Stiffener pitch (m).
+    shape : {"blade", "tee"}, optional
+        Stiffener shape.
+    flange_ratio : float, optional
+        Tee flange width over web height (-).
+
+    Returns
+    -------
+    tuple
+        Area per width (m), centroid depth below the skin's inner face (m), own second moment per
+        width (m^3).
+    """
     area, z, i_own = stiffener_section(h, ts, shape, flange_ratio)
     return area / pitch, z, i_own / pitch
 
@@ -73,7 +121,20 @@ def rib_pitch_at_stations(span_coordinate, rib_positions) -> np.ndarray:
     """Panel length (m) at each station: the distance between the nearest rib at or inboard of
     the station and the next rib outboard of it (the bay the station's panels sit in); a station
     on a rib takes the longer of its two bays. ``span_coordinate`` (n,) and ``rib_positions``
-    (sorted, at least two) in m along the same spanwise coordinate."""
+    (sorted, at least two) in m along the same spanwise coordinate.
+
+    Parameters
+    ----------
+    span_coordinate : array_like
+        (n,) station coordinates along the span (m).
+    rib_positions : array_like
+        Sorted rib coordinates along the same span coordinate (m), at least two.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n,) panel length at each station (m).
+    """
     y = np.asarray(span_coordinate, dtype=float)
     ribs = np.asarray(rib_positions, dtype=float)
     if ribs.ndim != 1 or ribs.size < 2 or not np.all(np.isfinite(ribs)):
@@ -103,7 +164,20 @@ def rib_weights(span_coordinate, rib_positions) -> np.ndarray:
     stations is shared between them in proportion to its distance from each (linear
     interpolation of the box's width times height). Ribs at a negative span coordinate belong to
     the mirrored half-wing (they close the centre-box bay across the symmetry plane) and are not
-    counted; ValueError for a rib outside the stations."""
+    counted; ValueError for a rib outside the stations.
+
+    Parameters
+    ----------
+    span_coordinate : array_like
+        (n,) station coordinates along the span (m).
+    rib_positions : array_like
+        Rib coordinates along the same span coordinate (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n,) number of ribs attributed to each station (-).
+    """
     y = np.asarray(span_coordinate, dtype=float)
     out = np.zeros(y.size)
     tol = 1e-9 * max(1.0, float(np.max(np.abs(y))))
@@ -175,7 +249,18 @@ class PanelLayout:
     def wall_factors(self, material) -> tuple:
         """(e, g, r) of the skins and of the spar webs against the isotropic ``material``: membrane
         modulus E_x / E, shear modulus G_xy / G and density rho_wall / rho (1 for a wall of the
-        sizing's own material): six floats, skins first."""
+        sizing's own material): six floats, skins first.
+
+        Parameters
+        ----------
+        material : Material
+            The sizing's isotropic material.
+
+        Returns
+        -------
+        tuple of 6 floats
+            (e, g, r) of the skins, then of the spar webs (-).
+        """
         out = []
         for pm in (self.skin_material, self.spar_material):
             if pm is None:
@@ -189,7 +274,18 @@ class PanelLayout:
 
     def rib_material(self, material) -> tuple:
         """(E, nu, rho) of the ribs: the spar webs' material (a laminate by its membrane Ex and
-        nu_xy: the crushing check treats the rib web as isotropic), else ``material``."""
+        nu_xy: the crushing check treats the rib web as isotropic), else ``material``.
+
+        Parameters
+        ----------
+        material : Material
+            The sizing's isotropic material.
+
+        Returns
+        -------
+        tuple of 3 floats
+            E (Pa), nu (-) and rho (kg/m^3) of the ribs.
+        """
         pm = self.spar_material
         if pm is None:
             return material.E, material.nu, material.rho
@@ -199,7 +295,18 @@ class PanelLayout:
         return pm.base.E, pm.base.nu, pm.base.rho
 
     def panel_lengths(self, span_coordinate) -> np.ndarray:
-        """Panel length (rib pitch) at each station, m (:func:`rib_pitch_at_stations`)."""
+        """Panel length (rib pitch) at each station, m (:func:`rib_pitch_at_stations`).
+
+        Parameters
+        ----------
+        span_coordinate : array_like
+            (n,) station coordinates along the span (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            (n,) rib pitch at each station (m).
+        """
         return rib_pitch_at_stations(span_coordinate, self.rib_positions)
 
     def max_stiffener_height(self) -> float:
@@ -223,6 +330,32 @@ def rib_crushing_ratio(E, nu, rib_thickness, rib_depth, rib_width, cover_load, c
     Returns sigma / sigma_cr. Rib stiffeners and lightening holes are not modelled;
     ``extra_load`` (N/m per unit chord, default 0) adds a crushing load of other origin (the
     covers' kinks at the rib, :func:`wingmdao.panel_results.rib_summary`).
+
+    Parameters
+    ----------
+    E : float
+        Rib web Young's modulus (Pa).
+    nu : float
+        Rib web Poisson's ratio (-).
+    rib_thickness : float or array_like
+        Rib web thickness (m).
+    rib_depth : float or array_like
+        Rib depth, the box height (m).
+    rib_width : float or array_like
+        Rib width between the spars (m).
+    cover_load : float or array_like
+        Cover running load (N/m).
+    curvature : float or array_like
+        Bending curvature of the box (1/m).
+    rib_spacing : float or array_like
+        Rib pitch (m).
+    extra_load : float or array_like, optional
+        Crushing load of other origin (N/m per unit chord).
+
+    Returns
+    -------
+    float or array_like
+        Crushing ratio (-; 1 = web buckling).
     """
     q = np.abs(cover_load * curvature) * rib_spacing + np.abs(extra_load)
     sigma = q / rib_thickness
@@ -237,7 +370,28 @@ def rib_shear_ratio(E, nu, rib_thickness, rib_depth, rib_width, shear_force):
     shear buckling stress as a plate simply supported on all edges (Timoshenko & Gere, *Theory
     of Elastic Stability*, 2nd ed., Sec. 9.7): tau_cr = k_s pi^2 E t^2 / (12 (1 - nu^2) s^2),
     k_s = 5.35 + 4 (s / l)^2, s and l the short and long sides of the depth x ``rib_width`` web.
-    Scales as t_rib^-3."""
+    Scales as t_rib^-3.
+
+    Parameters
+    ----------
+    E : float
+        Rib web Young's modulus (Pa).
+    nu : float
+        Rib web Poisson's ratio (-).
+    rib_thickness : float or array_like
+        Rib web thickness (m).
+    rib_depth : float or array_like
+        Rib depth, the box height (m).
+    rib_width : float or array_like
+        Rib width between the spars (m).
+    shear_force : float or array_like
+        Shear the rib delivers to a spar (N).
+
+    Returns
+    -------
+    float or array_like
+        Shear buckling ratio (-; 1 = buckling).
+    """
     short = np.minimum(rib_depth, rib_width)
     long_ = np.maximum(rib_depth, rib_width)
     tau = np.abs(shear_force) / (rib_depth * rib_thickness)
@@ -249,7 +403,20 @@ def rib_shear_ratio(E, nu, rib_thickness, rib_depth, rib_width, shear_force):
 def rib_web_ratio(crushing_ratio, shear_ratio):
     """Combined ratio of a rib web under crushing and shear: the load-linear R of the interaction
     R_c + R_s^2 = 1 (:func:`wingmdao.panels.buckling.interaction_ratio`),
-    R = (R_c + sqrt(R_c^2 + 4 R_s^2)) / 2; with both ratios ~ t_rib^-3 so is R."""
+    R = (R_c + sqrt(R_c^2 + 4 R_s^2)) / 2; with both ratios ~ t_rib^-3 so is R.
+
+    Parameters
+    ----------
+    crushing_ratio : float or array_like
+        Crushing ratio of :func:`rib_crushing_ratio` (-).
+    shear_ratio : float or array_like
+        Shear ratio of :func:`rib_shear_ratio` (-).
+
+    Returns
+    -------
+    float or array_like
+        Combined ratio (-; 1 = buckling).
+    """
     return 0.5 * (crushing_ratio + np.sqrt(crushing_ratio**2 + 4.0 * shear_ratio**2))
 
 
@@ -257,7 +424,22 @@ def cover_kinks(span_coordinate, height, positions) -> np.ndarray:
     """Change of slope dh/ds (outboard minus inboard side, 1) of the box height at each position:
     the box is lofted linearly between the stations, so its covers kink at a station where the
     height's slope changes (zero between stations). At the first station the wing's other half
-    mirrors the slope (inboard slope = -outboard slope). A cover at +-h/2 turns by half of it."""
+    mirrors the slope (inboard slope = -outboard slope). A cover at +-h/2 turns by half of it.
+
+    Parameters
+    ----------
+    span_coordinate : array_like
+        (n,) station coordinates along the span (m).
+    height : array_like
+        (n,) box height at the stations (m).
+    positions : array_like
+        Span coordinates where the kink is wanted (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        Change of slope dh/ds at each position (-).
+    """
     y = np.asarray(span_coordinate, dtype=float)
     h = np.asarray(height, dtype=float)
     slope = np.diff(h) / np.diff(y)

@@ -60,7 +60,16 @@ def _min(x, y):
 # --------------------------------------------------------------------------- material
 @dataclass(frozen=True)
 class PanelMaterial:
-    """A metal (``Material``) or a laminate (``PlyMaterial`` + 4 ply fractions) for panels."""
+    """A metal (``Material``) or a laminate (``PlyMaterial`` + 4 ply fractions) for panels.
+
+    Parameters
+    ----------
+    base : Material or PlyMaterial
+        The metal, or the ply of a laminate.
+    fractions : tuple of 4 floats or None, optional
+        Fractions of 0, +45, -45 and 90 deg plies (-), required for a ply material and refused for
+        a metal.
+    """
 
     base: Material | PlyMaterial
     fractions: tuple | None = None
@@ -89,7 +98,18 @@ class PanelMaterial:
         return laminate_moduli(self.base, self.fractions)["Ex"] if self.is_laminate else self.base.E
 
     def abd(self, thickness) -> dict:
-        """A (N/m) and D (N m) of a plate of this material and ``thickness`` (m)."""
+        """A (N/m) and D (N m) of a plate of this material and ``thickness`` (m).
+
+        Parameters
+        ----------
+        thickness : float, array_like or casadi.SX
+            Plate thickness (m).
+
+        Returns
+        -------
+        dict
+            A (N/m) and D (N m) terms, the keys of :data:`~wingmdao.panels.laminate.ABD_KEYS`.
+        """
         if self.is_laminate:
             return smeared_abd(self.base, self.fractions, thickness)
         return isotropic_abd(self.base.E, self.base.nu, thickness)
@@ -106,7 +126,20 @@ class PanelMaterial:
 
 def panel_material(material, ply_fractions=None) -> PanelMaterial:
     """:class:`PanelMaterial` from a name (metal of ``get_material`` or ply of ``get_ply_material``),
-    a ``Material`` or a ``PlyMaterial``; a ply material needs ``ply_fractions``."""
+    a ``Material`` or a ``PlyMaterial``; a ply material needs ``ply_fractions``.
+
+    Parameters
+    ----------
+    material : str, Material or PlyMaterial
+        A material name (metal or ply, case-insensitive) or a material.
+    ply_fractions : sequence of 4 floats or None, optional
+        Fractions of 0, +45, -45 and 90 deg plies (-), for a ply material only.
+
+    Returns
+    -------
+    PanelMaterial
+        The panel material; ValueError naming ``--material`` or ``--ply-fractions`` for bad input.
+    """
     if isinstance(material, str):
         key = material.strip().lower()
         try:
@@ -147,6 +180,20 @@ def laminate_strength_ratio(pm: PanelMaterial, sigma_x, tau_xy):
     Laminate strains from the membrane compliance (A/t)^-1 (A16 = A26 = 0), rotated to each ply
     (strain transformation, Jones Sec. 2.6: eps1 = ex m^2 + ey n^2 + gxy m n, eps2 =
     ex n^2 + ey m^2 - gxy m n, g12 = 2 (ey - ex) m n + gxy (m^2 - n^2)), ply stresses Q eps.
+
+    Parameters
+    ----------
+    pm : PanelMaterial
+        A laminate panel material.
+    sigma_x : float, array_like or casadi.SX
+        Average membrane stress along x (Pa, compression negative).
+    tau_xy : float, array_like or casadi.SX
+        Average membrane shear stress (Pa).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Largest Tsai-Wu strength ratio over the four ply angles (-; 1 = first-ply failure).
     """
     ply = pm.base
     mod = laminate_moduli(ply, pm.fractions)
@@ -176,7 +223,22 @@ def _check_stiffener(stiffener):
 
 
 def flange_width(h, stiffener: str = "blade", flange_ratio=DEFAULT_FLANGE_RATIO):
-    """Flange width (m): flange_ratio h for a tee, 0 for a blade."""
+    """Flange width (m): flange_ratio h for a tee, 0 for a blade.
+
+    Parameters
+    ----------
+    h : float, array_like or casadi.SX
+        Stiffener web height (m).
+    stiffener : {"blade", "tee"}, optional
+        Stiffener shape.
+    flange_ratio : float, optional
+        Tee flange width over web height (-).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Flange width (m).
+    """
     _check_stiffener(stiffener)
     return flange_ratio * h if stiffener == "tee" else 0.0 * h
 
@@ -187,6 +249,22 @@ def stiffener_elements(h, ts, stiffener: str = "blade", flange_ratio=DEFAULT_FLA
 
     Blade: the web (one edge free). Tee: the flange (w_f x ts, on the skin) and the web on top
     of it (h x ts); for crippling the flange counts as two one-edge-free halves of w_f/2.
+
+    Parameters
+    ----------
+    h : float, array_like or casadi.SX
+        Stiffener web height (m).
+    ts : float, array_like or casadi.SX
+        Stiffener thickness (m).
+    stiffener : {"blade", "tee"}, optional
+        Stiffener shape.
+    flange_ratio : float, optional
+        Tee flange width over web height (-).
+
+    Returns
+    -------
+    list of tuple
+        ``(width, thickness, z, I_own, edge)`` per flat element (m, m, m, m^4, str).
     """
     _check_stiffener(stiffener)
     if stiffener == "blade":
@@ -197,17 +275,68 @@ def stiffener_elements(h, ts, stiffener: str = "blade", flange_ratio=DEFAULT_FLA
 
 
 def stiffener_area(h, ts, stiffener: str = "blade", flange_ratio=DEFAULT_FLANGE_RATIO):
-    """Stiffener cross-section area (m^2): h ts (blade), (h + flange_ratio h) ts (tee)."""
+    """Stiffener cross-section area (m^2): h ts (blade), (h + flange_ratio h) ts (tee).
+
+    Parameters
+    ----------
+    h : float, array_like or casadi.SX
+        Stiffener web height (m).
+    ts : float, array_like or casadi.SX
+        Stiffener thickness (m).
+    stiffener : {"blade", "tee"}, optional
+        Stiffener shape.
+    flange_ratio : float, optional
+        Tee flange width over web height (-).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Cross-section area (m^2).
+    """
     return sum(w * th for w, th, *_ in stiffener_elements(h, ts, stiffener, flange_ratio))
 
 
 def stiffener_pitch(b, h, stiffener: str = "blade", flange_ratio=DEFAULT_FLANGE_RATIO):
-    """Pitch p (m) from the skin width between stiffeners: b + w_f (tee), b (blade)."""
+    """Pitch p (m) from the skin width between stiffeners: b + w_f (tee), b (blade).
+
+    Parameters
+    ----------
+    b : float, array_like or casadi.SX
+        Skin width between stiffeners (m).
+    h : float, array_like or casadi.SX
+        Stiffener web height (m).
+    stiffener : {"blade", "tee"}, optional
+        Stiffener shape.
+    flange_ratio : float, optional
+        Tee flange width over web height (-).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Stiffener pitch (m).
+    """
     return b + flange_width(h, stiffener, flange_ratio)
 
 
 def skin_width_from_pitch(pitch, h, stiffener: str = "blade", flange_ratio=DEFAULT_FLANGE_RATIO):
-    """Skin width between stiffeners b = p - w_f (tee) or p (blade), m."""
+    """Skin width between stiffeners b = p - w_f (tee) or p (blade), m.
+
+    Parameters
+    ----------
+    pitch : float, array_like or casadi.SX
+        Stiffener pitch (m).
+    h : float, array_like or casadi.SX
+        Stiffener web height (m).
+    stiffener : {"blade", "tee"}, optional
+        Stiffener shape.
+    flange_ratio : float, optional
+        Tee flange width over web height (-).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Skin width between stiffeners (m).
+    """
     return pitch - flange_width(h, stiffener, flange_ratio)
 
 
@@ -221,6 +350,29 @@ def smeared_properties(t, b, h, ts, stiffener: str = "blade", flange_ratio=DEFAU
     ``shear_thickness`` = t (the skin alone carries N_xy). For a laminate pass E = Ex of the
     smeared laminate (:func:`wingmdao.panels.laminate.laminate_moduli`); one E for skin and
     stiffener, so the neutral axis is the area centroid.
+
+    Parameters
+    ----------
+    t : float, array_like or casadi.SX
+        Skin thickness (m).
+    b : float, array_like or casadi.SX
+        Skin width between stiffeners (m).
+    h : float, array_like or casadi.SX
+        Stiffener web height (m).
+    ts : float, array_like or casadi.SX
+        Stiffener thickness (m).
+    stiffener : {"blade", "tee"}, optional
+        Stiffener shape.
+    flange_ratio : float, optional
+        Tee flange width over web height (-).
+    E : float, optional
+        Membrane modulus of skin and stiffener (Pa; 1 gives the geometric properties).
+
+    Returns
+    -------
+    dict
+        ``pitch``, ``area_per_width``, ``z_na``, ``EA_per_width``, ``EI_per_width``,
+        ``shear_thickness`` (units above).
     """
     p = stiffener_pitch(b, h, stiffener, flange_ratio)
     elements = stiffener_elements(h, ts, stiffener, flange_ratio)
@@ -239,7 +391,26 @@ def stiffener_crippling_stress(pm: PanelMaterial, h, ts, stiffener: str = "blade
     """Crippling stress of the stiffener (Pa): area-weighted mean of its elements
     (:func:`~wingmdao.panels.buckling.section_crippling`), every element one-edge-free (the
     web; the flange as two halves of w_f/2). Metal: Needham (:func:`crippling_metal`), laminate:
-    CMH-17 (:func:`crippling_laminate`) with the laminate's Tsai-Wu compression strength."""
+    CMH-17 (:func:`crippling_laminate`) with the laminate's Tsai-Wu compression strength.
+
+    Parameters
+    ----------
+    pm : PanelMaterial
+        Panel material.
+    h : float, array_like or casadi.SX
+        Stiffener web height (m).
+    ts : float, array_like or casadi.SX
+        Stiffener thickness (m).
+    stiffener : {"blade", "tee"}, optional
+        Stiffener shape.
+    flange_ratio : float, optional
+        Tee flange width over web height (-).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Crippling stress (Pa).
+    """
     stresses, areas = [], []
     for w, th, _, _, kind in stiffener_elements(h, ts, stiffener, flange_ratio):
         width = 0.5 * w if kind == "flange" else w
@@ -277,6 +448,34 @@ def panel_critical_loads(pm: PanelMaterial, t, b, a, h=None, ts=None, stiffener:
 
     Unstiffened wall or spar web (``h`` and ``ts`` None): only the two skin modes, b = the width
     between spars or the web height.
+
+    Parameters
+    ----------
+    pm : PanelMaterial
+        Panel material.
+    t : float, array_like or casadi.SX
+        Skin thickness (m).
+    b : float, array_like or casadi.SX
+        Skin width between stiffeners, or between spars / the web height when unstiffened (m).
+    a : float, array_like or casadi.SX
+        Panel length, the rib pitch (m).
+    h, ts : float, array_like, casadi.SX or None, optional
+        Stiffener web height and thickness (m); None for an unstiffened wall.
+    stiffener : {"blade", "tee"}, optional
+        Stiffener shape.
+    flange_ratio : float, optional
+        Tee flange width over web height (-).
+    panel_width : float or None, optional
+        Width W of the stiffened panel between spars (m); None for the wide-column form.
+    fixity : float, optional
+        End-fixity coefficient c of the stiffener column (-).
+    m_max : int, optional
+        Largest number of half-waves tried in compression.
+
+    Returns
+    -------
+    dict
+        Critical running loads (N/m, magnitudes) by mode; None where a mode does not apply.
     """
     skin = pm.abd(t)
     d = (skin["D11"], skin["D22"], skin["D12"], skin["D66"])
@@ -313,6 +512,24 @@ def material_ratio(pm: PanelMaterial, t, t_eq, nx, nxy):
     tau = N_xy / t (the skin; the stiffener has tau = 0 and the same sigma, so the skin governs).
     Laminate: the largest Tsai-Wu strength ratio over the four ply angles of the skin
     (sigma, tau) and of the stiffener (sigma, 0) (:func:`laminate_strength_ratio`).
+
+    Parameters
+    ----------
+    pm : PanelMaterial
+        Panel material.
+    t : float, array_like or casadi.SX
+        Skin thickness (m).
+    t_eq : float, array_like or casadi.SX
+        Smeared thickness of skin and stiffeners (m).
+    nx : float, array_like or casadi.SX
+        Running load along the stiffeners (N/m, compression negative).
+    nxy : float, array_like or casadi.SX
+        Shear flow (N/m).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Strength ratio (-; 1 = failure).
     """
     sigma = nx / t_eq
     tau = nxy / t
@@ -332,6 +549,38 @@ def panel_failure_ratios(pm: PanelMaterial, t, b, a, h, ts, nx, nxy, stiffener: 
     ``stiffener_column``, ``stiffener_crippling`` = -N_x / N_cr (compression only, negative in
     tension). Modes that do not apply (unstiffened: ``h`` None) are None. ``critical``: the
     :func:`panel_critical_loads` of the same panel, when already computed.
+
+    Parameters
+    ----------
+    pm : PanelMaterial
+        Panel material.
+    t : float, array_like or casadi.SX
+        Skin thickness (m).
+    b : float, array_like or casadi.SX
+        Skin width between stiffeners (m).
+    a : float, array_like or casadi.SX
+        Panel length, the rib pitch (m).
+    h, ts : float, array_like, casadi.SX or None
+        Stiffener web height and thickness (m); None for an unstiffened wall.
+    nx : float, array_like or casadi.SX
+        Running load along the stiffeners (N/m, compression negative).
+    nxy : float, array_like or casadi.SX
+        Shear flow (N/m).
+    stiffener : {"blade", "tee"}, optional
+        Stiffener shape.
+    flange_ratio : float, optional
+        Tee flange width over web height (-).
+    panel_width : float or None, optional
+        Width of the stiffened panel between spars (m).
+    fixity : float, optional
+        End-fixity coefficient of the stiffener column (-).
+    critical : dict or None, optional
+        :func:`panel_critical_loads` of the same panel, when already computed.
+
+    Returns
+    -------
+    dict
+        Failure ratio (-) by mode; None where a mode does not apply.
     """
     crit = critical if critical is not None else panel_critical_loads(
         pm, t, b, a, h, ts, stiffener, flange_ratio, panel_width, fixity)
@@ -362,7 +611,38 @@ def _num(x):
 
 def panel_analysis(pm: PanelMaterial, t, b, a, h=None, ts=None, nx=0.0, nxy=0.0, stiffener: str = "blade",
                    flange_ratio=DEFAULT_FLANGE_RATIO, panel_width=None, fixity=1.0) -> dict:
-    """The JSON-ready result of ``wingmdao panel`` (floats; see docs/panels.md for the keys)."""
+    """The JSON-ready result of ``wingmdao panel`` (floats; see docs/panels.md for the keys).
+
+    Parameters
+    ----------
+    pm : PanelMaterial
+        Panel material.
+    t : float
+        Skin thickness (m).
+    b : float
+        Skin width between stiffeners (m).
+    a : float
+        Panel length, the rib pitch (m).
+    h, ts : float or None, optional
+        Stiffener web height and thickness (m); None for an unstiffened wall.
+    nx : float, optional
+        Running load along the stiffeners (N/m, compression negative).
+    nxy : float, optional
+        Shear flow (N/m).
+    stiffener : {"blade", "tee"}, optional
+        Stiffener shape.
+    flange_ratio : float, optional
+        Tee flange width over web height (-).
+    panel_width : float or None, optional
+        Width of the stiffened panel between spars (m).
+    fixity : float, optional
+        End-fixity coefficient of the stiffener column (-).
+
+    Returns
+    -------
+    dict
+        Critical loads, failure ratios, smeared properties and mass per area, as floats.
+    """
     if pm.is_laminate:
         ply = pm.base
         mat = {"name": ply.name, "E11_pa": ply.E11, "E22_pa": ply.E22, "G12_pa": ply.G12, "nu12": ply.nu12,
