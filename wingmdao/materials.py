@@ -28,7 +28,19 @@ DEFAULT_NU = 0.33
 
 def check_positive(value, name: str, units: str, owner: str = "Material") -> None:
     """ValueError naming ``owner``, the property, its value and the allowed range unless ``value``
-    is a finite real number > 0 (the material data classes' one check)."""
+    is a finite real number > 0 (the material data classes' one check).
+
+    Parameters
+    ----------
+    value : object
+        The value to check.
+    name : str
+        Property name used in the message.
+    units : str
+        Units of the property, for the message.
+    owner : str, optional
+        The material or data class named in the message.
+    """
     if not isinstance(value, numbers.Real) or isinstance(value, bool):
         raise ValueError(f"{owner}: {name} must be a number in {units}, got {value!r}")
     if not (math.isfinite(value) and value > 0.0):
@@ -37,7 +49,24 @@ def check_positive(value, name: str, units: str, owner: str = "Material") -> Non
 
 @dataclass(frozen=True)
 class Material:
-    """Linear elastic isotropic material: E, G in Pa, rho in kg/m^3, sigma_y in Pa."""
+    """Linear elastic isotropic material: E, G in Pa, rho in kg/m^3, sigma_y in Pa.
+
+    Parameters
+    ----------
+    name : str
+        Material name.
+    E : float
+        Young's modulus (Pa).
+    rho : float
+        Density (kg/m^3).
+    sigma_y : float
+        Yield stress (Pa).
+    G : float or None, optional
+        Shear modulus (Pa); give G or ``nu``, not both. None derives it, G = E / (2 (1 + nu)).
+    nu : float or None, optional
+        Poisson's ratio (-, in (-1, 0.5)); None derives it from ``G``, or takes
+        :data:`DEFAULT_NU` when neither is given.
+    """
 
     name: str
     E: float
@@ -81,7 +110,18 @@ _ALIASES = {"aluminum": "aluminium", "al": "aluminium", "2024-t3": "al2024-t3", 
 
 
 def get_material(name: str) -> Material:
-    """Built-in material by name (case-insensitive; 'aluminium' and 'aluminum' are the same)."""
+    """Built-in material by name (case-insensitive; 'aluminium' and 'aluminum' are the same).
+
+    Parameters
+    ----------
+    name : str
+        Material name, case-insensitive.
+
+    Returns
+    -------
+    Material
+        The material; ValueError listing the valid names for an unknown one.
+    """
     key = str(name).strip().lower()
     key = _ALIASES.get(key, key)
     if key not in MATERIALS:

@@ -30,7 +30,22 @@ def _station_values(prob, name):
 
 def worst_ratios(prob, load_cases, panels) -> dict:
     """{wall: {mode: (n,) largest factored failure ratio over every case and time step}}: for the
-    panel modes safety_factor * R (= g + 1), for ``material`` sigma_vm / sigma_y (= g_vm + 1)."""
+    panel modes safety_factor * R (= g + 1), for ``material`` sigma_vm / sigma_y (= g_vm + 1).
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A run stiffened sizing problem.
+    load_cases : sequence of LoadCase
+        The sizing's load cases.
+    panels : PanelLayout
+        The sizing's panel layout.
+
+    Returns
+    -------
+    dict
+        Wall -> mode -> (n,) largest factored ratio over the cases and steps (-).
+    """
     out = {wall: {} for wall in WALL_POINTS}
     for case in load_cases:
         path = f"cases.{case.name}"
@@ -57,7 +72,22 @@ def panel_summary(prob, load_cases, panels) -> dict:
     """The ``panels`` block of the result JSON: per wall, lists along the stations of
     ``skin_thickness_m``, ``stiffener_height_m``, ``stiffener_thickness_m``, ``stiffener_pitch_m``
     (None on the unstiffened spar webs), ``equivalent_thickness_m`` (area per width),
-    ``critical_mode`` and ``margin_of_safety`` = 1 / (largest factored ratio) - 1."""
+    ``critical_mode`` and ``margin_of_safety`` = 1 / (largest factored ratio) - 1.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A run stiffened sizing problem.
+    load_cases : sequence of LoadCase
+        The sizing's load cases.
+    panels : PanelLayout
+        The sizing's panel layout.
+
+    Returns
+    -------
+    dict
+        Wall -> JSON-ready lists along the stations.
+    """
     ratios = worst_ratios(prob, load_cases, panels)
     out = {}
     for wall in WALL_POINTS:
@@ -93,7 +123,24 @@ def mass_breakdown(prob, geometry, panels, rib_mass=None) -> dict:
     """``mass_breakdown_kg``: ``skins``, ``spars``, ``stiffeners``, ``ribs``; they sum to the
     structural mass. The box mass (frustum volumes of the total area, App. F.1) is split among
     skins, spars and stiffeners in proportion to the trapezoid-rule volumes of their areas;
-    ``rib_mass`` (kg): the sized ribs' (default: the model's ``rib_mass``)."""
+    ``rib_mass`` (kg): the sized ribs' (default: the model's ``rib_mass``).
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A run stiffened sizing problem.
+    geometry : WingGeometry
+        The sizing's wing geometry.
+    panels : PanelLayout
+        The sizing's panel layout.
+    rib_mass : float or None, optional
+        Mass of the sized ribs (kg); None takes the model's ``rib_mass``.
+
+    Returns
+    -------
+    dict
+        ``skins``, ``spars``, ``stiffeners``, ``ribs`` masses (kg).
+    """
     w = np.asarray(prob.get_val("width", units="m"))
     h = np.asarray(prob.get_val("height", units="m"))
     n = w.size
@@ -135,7 +182,26 @@ def rib_summary(prob, load_cases, panels, geometry, material) -> dict:
       chord (upper and lower: f_u = N_u dh'/2, f_l = -N_l dh'/2, upward positive);
     * shear (:func:`~wingmdao.panels.layout.rib_shear_ratio`): the rib delivers to each spar half
       of the kinks' net vertical load |f_u + f_l| w / 2 plus half the net load of its bays,
-      |dF_n/ds| s / 2 (all of the air and inertia load of the bay taken through the rib)."""
+      |dF_n/ds| s / 2 (all of the air and inertia load of the bay taken through the rib).
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A run stiffened sizing problem.
+    load_cases : sequence of LoadCase
+        The sizing's load cases.
+    panels : PanelLayout
+        The sizing's panel layout.
+    geometry : WingGeometry
+        The sizing's wing geometry.
+    material : Material
+        The sizing's material.
+
+    Returns
+    -------
+    dict
+        The JSON-ready ``ribs`` block.
+    """
     y = geometry.span_coordinate if geometry.span_coordinate is not None else geometry.node_positions[:, 1]
     y = np.asarray(y, dtype=float)
     ribs = np.array([r for r in panels.rib_positions if r >= 0.0])
@@ -202,7 +268,24 @@ def model_running_loads(prob, case_name, panels, time_index=0) -> dict:
     lists along the stations of ``n_span_front``, ``n_span_rear`` (skin plus smeared
     stiffeners), ``n_shear_front``, ``n_shear_rear`` (the edge shear flows) and ``n_chord``
     (mid-chord). ``prob``: a run stiffened sizing problem; ``time_index``: the step of the case.
-    Walls of the sizing's own material (the transformed-section wall factors are not applied)."""
+    Walls of the sizing's own material (the transformed-section wall factors are not applied).
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A run stiffened sizing problem.
+    case_name : str
+        Name of the load case.
+    panels : PanelLayout
+        The sizing's panel layout.
+    time_index : int, optional
+        Time step of the case.
+
+    Returns
+    -------
+    dict
+        ``upper`` and ``lower`` -> running-load name -> list along the stations (N/m).
+    """
     path = f"cases.{case_name}.panels."
     val = {}
     for name in ("F_csn", "M_csn", "dF_csn_ds"):

@@ -44,17 +44,54 @@ def is_symbolic(*xs) -> bool:
 
 
 def select(condition, if_true, if_false):
-    """Elementwise ``if_true if condition else if_false`` for numpy and CasADi."""
+    """Elementwise ``if_true if condition else if_false`` for numpy and CasADi.
+
+    Parameters
+    ----------
+    condition : bool, array_like or casadi.SX
+        Condition, elementwise.
+    if_true, if_false : float, array_like or casadi.SX
+        Values taken where the condition holds and where it does not.
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        The selected values.
+    """
     if is_symbolic(condition, if_true, if_false):
         return ca.if_else(condition, if_true, if_false)
     return np.where(condition, if_true, if_false)
 
 
 def tanh(x):
+    """Elementwise tanh for numpy and CasADi.
+
+    Parameters
+    ----------
+    x : float, array_like or casadi.SX
+        Argument.
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        tanh(x).
+    """
     return ca.tanh(x) if is_symbolic(x) else np.tanh(x)
 
 
 def sqrt(x):
+    """Elementwise square root for numpy and CasADi.
+
+    Parameters
+    ----------
+    x : float, array_like or casadi.SX
+        Argument (>= 0).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        sqrt(x).
+    """
     return ca.sqrt(x) if is_symbolic(x) else np.sqrt(x)
 
 
@@ -69,6 +106,23 @@ def box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, strin
     follow (upper, lower). ``weights`` = (upper, lower, front, rear) factors on each wall's area
     and own moments (a stiffener layer takes its skin's): the modulus- or density-weighted section
     of walls of other materials (the transformed section; positions unchanged, so exact).
+
+    Parameters
+    ----------
+    w, h : float, array_like or casadi.SX
+        Outer width and height of the box (m).
+    t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar : float, array_like or casadi.SX
+        Wall thicknesses (m).
+    stringers : tuple or None, optional
+        Smeared skin stiffeners ``((a_u, d_u, i_u), (a_l, d_l, i_l))`` of :func:`stringer_layers`;
+        None for none.
+    weights : sequence of 4 or None, optional
+        Factors (upper, lower, front, rear) on each wall's area and own moments (-); None for 1.
+
+    Returns
+    -------
+    list of tuple
+        ``(area, c, n, i_own_nn, i_own_cc)`` per wall and stiffener layer (m^2, m, m, m^4, m^4).
     """
     h_web = h - t_upper_skin - t_lower_skin
     n_web = 0.5 * (t_lower_skin - t_upper_skin)
@@ -97,14 +151,47 @@ def stringer_layers(w, h, t_upper_skin, t_lower_skin, stringers):
     Each layer is (area, c, n, i_own_nn, i_own_cc) as in :func:`box_walls`: area w a at
     n = +-(h/2 - t - d), own moments w i and w^3 a / 12. The layers carry axial stress and
     bending only; shear flows stay in the skins and webs (torsion constant, shear areas and
-    shear centre of the bare box; docs/panels.md)."""
+    shear centre of the bare box; docs/panels.md).
+
+    Parameters
+    ----------
+    w, h : float, array_like or casadi.SX
+        Outer width and height of the box (m).
+    t_upper_skin, t_lower_skin : float, array_like or casadi.SX
+        Skin thicknesses (m).
+    stringers : tuple
+        ``((a_u, d_u, i_u), (a_l, d_l, i_l))`` (m, m, m^3).
+
+    Returns
+    -------
+    list of tuple
+        The upper and lower layer as ``(area, c, n, i_own_nn, i_own_cc)``.
+    """
     (a_u, d_u, i_u), (a_l, d_l, i_l) = stringers
     return [(w * a_u, 0.0 * w, 0.5 * h - t_upper_skin - d_u, w * i_u, w**3 * a_u / 12.0),
             (w * a_l, 0.0 * w, t_lower_skin + d_l - 0.5 * h, w * i_l, w**3 * a_l / 12.0)]
 
 
 def box_area(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers=None, weights=None):
-    """Material area A (Eq. F.1-F.5), m^2."""
+    """Material area A (Eq. F.1-F.5), m^2.
+
+    Parameters
+    ----------
+    w, h : float, array_like or casadi.SX
+        Outer width and height of the box (m).
+    t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar : float, array_like or casadi.SX
+        Wall thicknesses (m).
+    stringers : tuple or None, optional
+        Smeared skin stiffeners ``((a_u, d_u, i_u), (a_l, d_l, i_l))`` of :func:`stringer_layers`;
+        None for none.
+    weights : sequence of 4 or None, optional
+        Factors (upper, lower, front, rear) on each wall's area and own moments (-); None for 1.
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Area (m^2).
+    """
     return sum(a for a, *_ in box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers,
                                         weights))
 
@@ -114,6 +201,23 @@ def box_centroid(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, st
 
     One material, so E cancels and this is the area centroid; it is also the mass centre
     (Eq. F.34-F.35) and the tension axis.
+
+    Parameters
+    ----------
+    w, h : float, array_like or casadi.SX
+        Outer width and height of the box (m).
+    t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar : float, array_like or casadi.SX
+        Wall thicknesses (m).
+    stringers : tuple or None, optional
+        Smeared skin stiffeners ``((a_u, d_u, i_u), (a_l, d_l, i_l))`` of :func:`stringer_layers`;
+        None for none.
+    weights : sequence of 4 or None, optional
+        Factors (upper, lower, front, rear) on each wall's area and own moments (-); None for 1.
+
+    Returns
+    -------
+    tuple
+        (c_ea, n_ea) (m).
     """
     walls = box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers, weights)
     area = sum(a for a, *_ in walls)
@@ -128,6 +232,23 @@ def box_inertia(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, str
     area sits in the (+c, +n) and (-c, -n) quadrants). The scanned F.6-F.8 multiply the
     parallel-axis term by the total area A_i; here each wall's own area is used (parallel-axis
     theorem), and F.8's leading minus (the tensor form) is moved to EI_cn = -E Ixz.
+
+    Parameters
+    ----------
+    w, h : float, array_like or casadi.SX
+        Outer width and height of the box (m).
+    t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar : float, array_like or casadi.SX
+        Wall thicknesses (m).
+    stringers : tuple or None, optional
+        Smeared skin stiffeners ``((a_u, d_u, i_u), (a_l, d_l, i_l))`` of :func:`stringer_layers`;
+        None for none.
+    weights : sequence of 4 or None, optional
+        Factors (upper, lower, front, rear) on each wall's area and own moments (-); None for 1.
+
+    Returns
+    -------
+    tuple
+        (Ixx, Izz, Ixz) (m^4).
     """
     walls = box_walls(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers, weights)
     area = sum(a for a, *_ in walls)
@@ -141,13 +262,39 @@ def box_inertia(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, str
 
 # --------------------------------------------------------------------------- midline (thin-walled)
 def box_midline(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar):
-    """Wall midline rectangle: (c_front, c_rear, n_lower, n_upper), m from the box centre."""
+    """Wall midline rectangle: (c_front, c_rear, n_lower, n_upper), m from the box centre.
+
+    Parameters
+    ----------
+    w, h : float, array_like or casadi.SX
+        Outer width and height of the box (m).
+    t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar : float, array_like or casadi.SX
+        Wall thicknesses (m).
+
+    Returns
+    -------
+    tuple
+        (c_front, c_rear, n_lower, n_upper) (m).
+    """
     return (0.5 * (t_front_spar - w), 0.5 * (w - t_rear_spar),
             0.5 * (t_lower_skin - h), 0.5 * (h - t_upper_skin))
 
 
 def box_enclosed_area(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar):
-    """A_m, area enclosed by the wall midlines: (w - (t_f + t_r)/2)(h - (t_u + t_l)/2), m^2."""
+    """A_m, area enclosed by the wall midlines: (w - (t_f + t_r)/2)(h - (t_u + t_l)/2), m^2.
+
+    Parameters
+    ----------
+    w, h : float, array_like or casadi.SX
+        Outer width and height of the box (m).
+    t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar : float, array_like or casadi.SX
+        Wall thicknesses (m).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Enclosed midline area A_m (m^2).
+    """
     return (w - 0.5 * (t_front_spar + t_rear_spar)) * (h - 0.5 * (t_upper_skin + t_lower_skin))
 
 
@@ -157,6 +304,20 @@ def box_torsion_constant(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_
     Generalises Eq. F.29, which is this formula with the thickness pairs replaced by their
     arithmetic means (docs/section.md). ``shear_weights`` (upper, lower, front, rear): walls of
     other shear moduli, G_wall / G in the loop integral (the transformed section, exact).
+
+    Parameters
+    ----------
+    w, h : float, array_like or casadi.SX
+        Outer width and height of the box (m).
+    t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar : float, array_like or casadi.SX
+        Wall thicknesses (m).
+    shear_weights : sequence of 4 or None, optional
+        G_wall / G factors (upper, lower, front, rear) (-); None for 1.
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Torsion constant J (m^4).
     """
     g_u, g_l, g_f, g_r = (1.0, 1.0, 1.0, 1.0) if shear_weights is None else shear_weights
     b = w - 0.5 * (t_front_spar + t_rear_spar)
@@ -214,6 +375,18 @@ def box_shear_centre(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar
     combinations giving a unit vertical and a unit chordwise shear locate the lines of
     action, c_sc = -M_s(V_n = 1) and n_sc = M_s(V_c = 1). Symmetric walls give the centre;
     a thicker spar pulls the shear centre toward itself (docs/section.md).
+
+    Parameters
+    ----------
+    w, h : float, array_like or casadi.SX
+        Outer width and height of the box (m).
+    t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar : float, array_like or casadi.SX
+        Wall thicknesses (m).
+
+    Returns
+    -------
+    tuple
+        (c_sc, n_sc) (m).
     """
     segs = _midline_segments(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar)
     weights = [(t * sqrt((c1 - c0) ** 2 + (n1 - n0) ** 2), 0.5 * (c0 + c1), 0.5 * (n0 + n1))
@@ -241,6 +414,23 @@ def box_first_moments(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spa
     Valid while the centroidal axes cross the webs and skins, i.e. for any practical box.
     With ``stringers`` (:func:`stringer_layers`) the upper layer adds w a_u (n_u - n_ea) to Qx
     (it lies above the axis) and both layers add (a_u + a_l)(w/2 + c_ea)^2 / 2 to Qz.
+
+    Parameters
+    ----------
+    w, h : float, array_like or casadi.SX
+        Outer width and height of the box (m).
+    t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar : float, array_like or casadi.SX
+        Wall thicknesses (m).
+    stringers : tuple or None, optional
+        Smeared skin stiffeners ``((a_u, d_u, i_u), (a_l, d_l, i_l))`` of :func:`stringer_layers`;
+        None for none.
+    weights : sequence of 4 or None, optional
+        Factors (upper, lower, front, rear) on each wall's area and own moments (-); None for 1.
+
+    Returns
+    -------
+    tuple
+        (Qx, Qz) (m^3).
     """
     c0, n0 = box_centroid(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, stringers, weights)
     f_u, f_l, f_f, f_r = (1.0, 1.0, 1.0, 1.0) if weights is None else weights
@@ -260,7 +450,22 @@ def box_first_moments(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spa
 def box_shear_areas(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, shear_weights=None):
     """(K_c, K_n): shear areas of Eq. A.7, m^2. Chordwise shear is carried by the skins,
     K_c = w (t_u + t_l); vertical shear by the spar webs, K_n = (h - t_u - t_l)(t_f + t_r);
-    ``shear_weights`` (upper, lower, front, rear) weight each wall by G_wall / G."""
+    ``shear_weights`` (upper, lower, front, rear) weight each wall by G_wall / G.
+
+    Parameters
+    ----------
+    w, h : float, array_like or casadi.SX
+        Outer width and height of the box (m).
+    t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar : float, array_like or casadi.SX
+        Wall thicknesses (m).
+    shear_weights : sequence of 4 or None, optional
+        G_wall / G factors (upper, lower, front, rear) (-); None for 1.
+
+    Returns
+    -------
+    tuple
+        (K_c, K_n) (m^2).
+    """
     g_u, g_l, g_f, g_r = (1.0, 1.0, 1.0, 1.0) if shear_weights is None else shear_weights
     return (w * (t_upper_skin * g_u + t_lower_skin * g_l),
             (h - t_upper_skin - t_lower_skin) * (t_front_spar * g_f + t_rear_spar * g_r))
@@ -303,6 +508,23 @@ def beam_data(props: dict, material, section_to_csn=None, nonstructural_mass_per
     * ``inertia_per_length`` (tensor form, about the mass centre): R [[rho Ixx, 0, -rho Ixz],
       [0, rho (Ixx + Izz), 0], [-rho Ixz, 0, rho Izz]] R^T.
     * offsets (c_ea, n_ea), (c_sc, n_sc), (c_cg, n_cg) rotated by R into csn.
+
+    Parameters
+    ----------
+    props : dict
+        Section properties (``A``, ``Ixx``, ``Izz``, ``Ixz``, ``J``, ``K_c``, ``K_n`` and the
+        offsets), as :func:`box_properties` builds them.
+    material : Material
+        Isotropic material of the section.
+    section_to_csn : array_like or None, optional
+        (3, 3) rotation R from the section's own axes to the csn frame; None when they coincide.
+    nonstructural_mass_per_length : float, optional
+        Mass per length added at the mass centre (kg/m).
+
+    Returns
+    -------
+    dict
+        ``props`` with the beam inputs added.
     """
     E, G, rho = material.E, material.G, material.rho
     i_xx, i_zz, i_xz = props["Ixx"], props["Izz"], props["Ixz"]
@@ -341,6 +563,31 @@ def box_properties(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, 
     shear centre are those of the bare box (the stiffeners carry no shear flow). ``weights``:
     factors on the walls' areas (:func:`box_walls`) for area, centroid, bending and first moments;
     ``shear_weights``: G_wall / G factors for the torsion constant and shear areas.
+
+    Parameters
+    ----------
+    w, h : float, array_like or casadi.SX
+        Outer width and height of the box (m).
+    t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar : float, array_like or casadi.SX
+        Wall thicknesses (m).
+    material : Material
+        Reference material of the section.
+    section_to_csn : array_like or None, optional
+        (3, 3) rotation R from the section's own axes to the csn frame; None when they coincide.
+    nonstructural_mass_per_length : float, optional
+        Mass per length added at the mass centre (kg/m).
+    stringers : tuple or None, optional
+        Smeared skin stiffeners ``((a_u, d_u, i_u), (a_l, d_l, i_l))`` of :func:`stringer_layers`;
+        None for none.
+    weights : sequence of 4 or None, optional
+        Factors (upper, lower, front, rear) on each wall's area and own moments (-); None for 1.
+    shear_weights : sequence of 4 or None, optional
+        G_wall / G factors (upper, lower, front, rear) (-); None for 1.
+
+    Returns
+    -------
+    dict
+        Section outputs keyed as ``BoxSection``'s.
     """
     args = (w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar)
     c_ea, n_ea = box_centroid(*args, stringers, weights)
@@ -395,7 +642,22 @@ def beam_params_from_section(props: dict, node_positions=None, node_euler_angles
 
 def beam_params_from_rows(rows, node_positions, node_euler_angles) -> dict:
     """Beam parameters (``param_specs`` names) from per-node section rows of ``box_properties`` /
-    ``solid_properties`` (:func:`beam_params_from_section` of the rows stacked)."""
+    ``solid_properties`` (:func:`beam_params_from_section` of the rows stacked).
+
+    Parameters
+    ----------
+    rows : sequence of dict
+        Per-node section outputs of :func:`box_properties` or ``solid_properties``.
+    node_positions : array_like
+        (n, 3) node positions (m).
+    node_euler_angles : array_like
+        (n, 3) node Euler angles (rad).
+
+    Returns
+    -------
+    dict
+        Beam parameters by ``param_specs`` name.
+    """
     stacked = {k: np.array([r[k] for r in rows], dtype=float) for k in SECTION_BEAM_KEYS}
     return beam_params_from_section(stacked, node_positions, node_euler_angles)
 
@@ -417,6 +679,17 @@ def validate_box(width, height, t_upper_skin, t_lower_skin, t_front_spar, t_rear
     the name the user gave it (a command-line flag such as ``--t-skin``); two walls with the same
     label (one flag for both skins) are checked as 2 t < height. The allowed range is never empty:
     when the other wall alone is too thick, the message names the sum instead.
+
+    Parameters
+    ----------
+    width, height : float or array_like
+        Outer box dimensions (m).
+    t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar : float or array_like
+        Wall thicknesses (m).
+    source : str, optional
+        Input and station named in the error.
+    labels : dict or None, optional
+        Input name -> the name the user gave it (e.g. ``--t-skin``).
     """
     label = (lambda k: (labels or {}).get(k, k))
     vals = {name: np.atleast_1d(np.asarray(v, dtype=float)) for name, v in

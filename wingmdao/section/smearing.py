@@ -44,7 +44,19 @@ ALUMINIUM = isotropic(70e9, 0.33, 2700.0, "aluminium")
 @dataclass(frozen=True)
 class Stiffener:
     """Blade stiffener: centre ``position`` (x2, m), ``width`` (x2, m), ``height`` (x3, m) standing on
-    the ``side`` ('upper' or 'lower') face of the plate (Fig. 4.4: a_i, w_i, h_i)."""
+    the ``side`` ('upper' or 'lower') face of the plate (Fig. 4.4: a_i, w_i, h_i).
+
+    Parameters
+    ----------
+    position : float
+        Stiffener centre along the plate width x2 (m).
+    width : float
+        Stiffener width along x2 (m).
+    height : float
+        Stiffener height along x3 (m).
+    side : {"upper", "lower"}, optional
+        Face of the plate the stiffener stands on.
+    """
 
     position: float
     width: float
@@ -101,6 +113,31 @@ def stiffened_plate_mesh(stiffeners=(), width=PLATE_WIDTH, thickness=PLATE_THICK
     ``equivalent=True`` gives the equivalent plate: no stiffeners, the footprint of stiffener k is
     region k + 1 with stiffness ``region_Q[k]`` (6x6, Pa; default the plate material).
     Region 0 is the plate; in the built-up mesh region k + 1 is stiffener k.
+
+    Parameters
+    ----------
+    stiffeners : sequence of Stiffener, optional
+        The blade stiffeners.
+    width : float, optional
+        Plate width (m).
+    thickness : float, optional
+        Plate thickness (m).
+    material : section.fe.materials.Material, optional
+        Plate and stiffener material.
+    equivalent : bool, optional
+        Build the equivalent plate (stiffener footprints as regions) instead of the built-up one.
+    region_Q : sequence of array_like or None, optional
+        (6, 6) stiffness of each stiffener region of the equivalent plate (Pa); None for the plate
+        material.
+    mesh_size : float, optional
+        Target element size (m).
+    n_thick : int, optional
+        Elements through the plate thickness.
+
+    Returns
+    -------
+    SectionMesh
+        The Q9 mesh.
     """
     stiffeners = tuple(stiffeners)
     _check_geometry(width, thickness, stiffeners)
@@ -138,13 +175,37 @@ def stiffened_plate_mesh(stiffeners=(), width=PLATE_WIDTH, thickness=PLATE_THICK
 
 def classical_stiffness(section) -> np.ndarray:
     """Classical 4x4 stiffness of Eq. 4.2 [axial, torsion, in-plane, out-of-plane bending] about the
-    section origin, shear forces condensed out (inverse of the 4x4 block of the FE compliance)."""
+    section origin, shear forces condensed out (inverse of the 4x4 block of the FE compliance).
+
+    Parameters
+    ----------
+    section : Section
+        An analysed FE section (:func:`~wingmdao.section.fe.analysis.analyse_section`).
+
+    Returns
+    -------
+    numpy.ndarray
+        (4, 4) classical stiffness [axial, torsion, in-plane, out-of-plane bending] (N, N m^2).
+    """
     F = section.compliance
     return np.linalg.inv(F[np.ix_(_ORDER4, _ORDER4)])
 
 
 def material_matrix(params, E=ALUMINIUM.E_ref) -> np.ndarray:
-    """6x6 stiffness (Pa, Voigt [11, 22, 33, 23, 13, 12]) from the 9 parameters of Eq. 4.4 times E."""
+    """6x6 stiffness (Pa, Voigt [11, 22, 33, 23, 13, 12]) from the 9 parameters of Eq. 4.4 times E.
+
+    Parameters
+    ----------
+    params : array_like
+        The 9 parameters of Eq. 4.4, over E (-).
+    E : float, optional
+        Reference modulus (Pa).
+
+    Returns
+    -------
+    numpy.ndarray
+        (6, 6) stiffness (Pa).
+    """
     p = np.asarray(params, float)
     if p.shape != (9,) or not np.all(np.isfinite(p)):
         raise ValueError(f"params must be 9 finite values {PARAM_NAMES}, got shape {p.shape}")
@@ -159,6 +220,20 @@ def initial_guess(stiffener: Stiffener, thickness=PLATE_THICKNESS, nu=0.33) -> n
 
     k_A = built-up area over equivalent area of the region = (t + h) / t (Eq. 4.7);
     E1 = E2 = E3 = k_A E (4.6); G12 = G13 = E1 / (2 (1 + nu)), G23 = E / (2 (1 + nu)) (4.8).
+
+    Parameters
+    ----------
+    stiffener : Stiffener
+        The stiffener of the region.
+    thickness : float, optional
+        Plate thickness (m).
+    nu : float, optional
+        Poisson's ratio (-).
+
+    Returns
+    -------
+    numpy.ndarray
+        (9,) parameters over E (-).
     """
     kA = (thickness + stiffener.height) / thickness
     E1 = kA
@@ -200,6 +275,21 @@ class EquivalentPlate:
     ``stiffness(p)`` and ``jacobian(p)`` give the classical 4x4 stiffness (Eq. 4.2) and its exact
     derivative with respect to the parameters p (n_region x 9, over E), from a CasADi MX model of
     the FE section analysis (element matrices linear in p, sparse LU warping solves).
+
+    Parameters
+    ----------
+    stiffeners : sequence of Stiffener
+        The blade stiffeners.
+    width : float, optional
+        Plate width (m).
+    thickness : float, optional
+        Plate thickness (m).
+    material : section.fe.materials.Material, optional
+        Plate and stiffener material.
+    mesh_size : float, optional
+        Target element size (m).
+    n_thick : int, optional
+        Elements through the plate thickness.
     """
 
     def __init__(self, stiffeners, width=PLATE_WIDTH, thickness=PLATE_THICKNESS, material=ALUMINIUM,
@@ -261,7 +351,18 @@ class EquivalentPlate:
         return p
 
     def stiffness(self, params) -> np.ndarray:
-        """Classical 4x4 stiffness of the equivalent plate for parameters (n_region, 9)."""
+        """Classical 4x4 stiffness of the equivalent plate for parameters (n_region, 9).
+
+        Parameters
+        ----------
+        params : array_like
+            (n_region, 9) region parameters over E (-).
+
+        Returns
+        -------
+        numpy.ndarray
+            (4, 4) classical stiffness.
+        """
         p = self._p(params)
         try:
             S = np.array(self._f(p))
@@ -277,7 +378,18 @@ class EquivalentPlate:
         return S
 
     def jacobian(self, params):
-        """(4x4 stiffness, d S / d p) with dS/dp shaped (4, 4, 9 n_region)."""
+        """(4x4 stiffness, d S / d p) with dS/dp shaped (4, 4, 9 n_region).
+
+        Parameters
+        ----------
+        params : array_like
+            (n_region, 9) region parameters over E (-).
+
+        Returns
+        -------
+        tuple
+            (4, 4) stiffness and its (4, 4, 9 n_region) derivative.
+        """
         p = self._p(params)
         try:
             s, J = self._J(p)
@@ -287,7 +399,18 @@ class EquivalentPlate:
         return S, np.array(J).reshape(4, 4, -1, order="F")
 
     def section_mesh(self, params) -> SectionMesh:
-        """The equivalent plate mesh with the region materials of ``params`` (for analyse_section)."""
+        """The equivalent plate mesh with the region materials of ``params`` (for analyse_section).
+
+        Parameters
+        ----------
+        params : array_like
+            (n_region, 9) region parameters over E (-).
+
+        Returns
+        -------
+        SectionMesh
+            The equivalent plate's mesh.
+        """
         p = self._p(params).reshape(self.n_region, 9)
         mesh = self.mesh
         Q = mesh.Q.copy()
@@ -297,14 +420,45 @@ class EquivalentPlate:
 
 
 def builtup_stiffness(stiffeners, **kw) -> tuple[np.ndarray, object]:
-    """Classical 4x4 stiffness and FE section of the built-up plate."""
+    """Classical 4x4 stiffness and FE section of the built-up plate.
+
+    Parameters
+    ----------
+    stiffeners : sequence of Stiffener
+        The blade stiffeners.
+    **kw
+        Passed to :func:`stiffened_plate_mesh` (``width``, ``thickness``, ``material``, mesh sizes).
+
+    Returns
+    -------
+    tuple
+        (4, 4) classical stiffness and the analysed FE section.
+    """
     sec = analyse_section(stiffened_plate_mesh(stiffeners, **kw))
     return classical_stiffness(sec), sec
 
 
 @dataclass
 class MatchResult:
-    """Outcome of one stiffness-matching method."""
+    """Outcome of one stiffness-matching method.
+
+    Parameters
+    ----------
+    method : int
+        Matching method (1, 2 or 3).
+    params : numpy.ndarray
+        (n_region, 9) matched parameters over E (-).
+    stiffness : numpy.ndarray
+        (4, 4) classical stiffness of the matched equivalent plate.
+    target : numpy.ndarray
+        (4, 4) classical stiffness of the built-up plate.
+    objective : float
+        Final objective of the method.
+    success : bool
+        Whether the optimizer converged.
+    message : str
+        The optimizer's message.
+    """
 
     method: int
     params: np.ndarray           # (n_region, 9), over E
@@ -335,7 +489,30 @@ def match_stiffness(stiffeners, method, equivalent: EquivalentPlate | None = Non
     """Stiffness matching of Sec. 4.1.2: Method 1 (analytic guess, Eq. 4.5-4.8), Method 2 (S44,
     Eq. 4.9, Table 4.3 bounds) or Method 3 (Frobenius norm of [S22 S24; S42 S44], Eq. 4.10,
     Table 4.4 bounds), by SLSQP with exact CasADi gradients from the analytic guess clipped to the bounds.
-    ``bounds=(lb, ub)`` (9 values each, over E) replaces the table's bounds."""
+    ``bounds=(lb, ub)`` (9 values each, over E) replaces the table's bounds.
+
+    Parameters
+    ----------
+    stiffeners : sequence of Stiffener
+        The blade stiffeners.
+    method : {1, 2, 3}
+        Matching method of Sec. 4.1.2.
+    equivalent : EquivalentPlate or None, optional
+        A built equivalent plate to reuse; None builds one.
+    target : numpy.ndarray or None, optional
+        (4, 4) target stiffness; None computes the built-up plate's.
+    maxiter : int, optional
+        SLSQP iteration limit.
+    bounds : tuple or None, optional
+        ``(lb, ub)``, 9 values each over E; None for the method's table.
+    **kw
+        Passed to the plate meshes (``width``, ``thickness``, ``material``, mesh sizes).
+
+    Returns
+    -------
+    MatchResult
+        The outcome.
+    """
     if method not in (1, 2, 3):
         raise ValueError(f"method must be 1, 2 or 3, got {method}")
     stiffeners = tuple(stiffeners)
@@ -371,7 +548,24 @@ def match_stiffness(stiffeners, method, equivalent: EquivalentPlate | None = Non
 
 def beam_tip_displacements(section, length=PLATE_LENGTH, n_nodes=11, load_steps=2) -> dict:
     """Tip displacement (m) of a cantilever (wingmdao.beam, along body y) with this FE section,
-    for each Table 4.8 load case: {case: [axial, in-plane (c = body x), out-of-plane (n = body z)]}."""
+    for each Table 4.8 load case: {case: [axial, in-plane (c = body x), out-of-plane (n = body z)]}.
+
+    Parameters
+    ----------
+    section : Section
+        An analysed FE section.
+    length : float, optional
+        Cantilever length (m).
+    n_nodes : int, optional
+        Beam nodes.
+    load_steps : int, optional
+        Newton load steps of the static solve.
+
+    Returns
+    -------
+    dict
+        Load case -> [axial, in-plane, out-of-plane] tip displacement (m).
+    """
     bp = beam_properties_csn(section)
     K = bp["stiffness_csn"]
     comp = bp["compliance_csn"]

@@ -32,7 +32,18 @@ def _torsion_long_short(a, b):
 
 def solid_torsion_constant(w, h):
     """J = beta(h/w) w^3 h of a solid rectangle (w the shorter side), m^4; 0.1406 a^4 for a
-    square. The series is always expanded along the longer side."""
+    square. The series is always expanded along the longer side.
+
+    Parameters
+    ----------
+    w, h : float, array_like or casadi.SX
+        Sides of the rectangle (m).
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Torsion constant J (m^4).
+    """
     return select(h >= w, _torsion_long_short(h, w), _torsion_long_short(w, h))
 
 
@@ -42,6 +53,22 @@ def solid_properties(w, h, material, section_to_csn=None, nonstructural_mass_per
     A = w h, Ixx = w h^3/12 (vertical bending), Izz = h w^3/12, Ixz = 0, J from the series,
     Qx = w h^2/8, Qz = h w^2/8 (half the section about the centroidal axis), shear areas
     K_c = K_n = 5/6 A.
+
+    Parameters
+    ----------
+    w, h : float, array_like or casadi.SX
+        Width and height of the rectangle (m).
+    material : Material
+        Isotropic material.
+    section_to_csn : array_like or None, optional
+        (3, 3) rotation R from the section's own axes to the csn frame; None when they coincide.
+    nonstructural_mass_per_length : float, optional
+        Mass per length added to the section (kg/m).
+
+    Returns
+    -------
+    dict
+        Section outputs keyed as ``SolidRectSection``'s.
     """
     zero = 0.0 * w * h
     area = w * h
@@ -54,7 +81,15 @@ def solid_properties(w, h, material, section_to_csn=None, nonstructural_mass_per
 
 
 def validate_solid(width, height, source="") -> None:
-    """Raise ``ValueError`` naming the input and station unless width, height are finite and > 0 (m)."""
+    """Raise ``ValueError`` naming the input and station unless width, height are finite and > 0 (m).
+
+    Parameters
+    ----------
+    width, height : float or array_like
+        Rectangle sides (m).
+    source : str, optional
+        Input and station named in the error.
+    """
     for name, v in (("width", width), ("height", height)):
         v = np.atleast_1d(np.asarray(v, dtype=float))
         bad = np.flatnonzero(~(np.isfinite(v) & (v > 0.0)))

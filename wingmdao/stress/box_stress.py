@@ -46,7 +46,21 @@ SECTION_PROPERTIES = ("A", "c_ea", "n_ea", "Ixx", "Izz", "Ixz", "c_sc", "n_sc", 
 
 def section_quantities(geometry, given=None) -> dict:
     """Section quantities the stress recovery needs (``given``: those of SECTION_PROPERTIES
-    already computed by the section component; only the enclosed midline area is added)."""
+    already computed by the section component; only the enclosed midline area is added).
+
+    Parameters
+    ----------
+    geometry : tuple
+        ``(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar)`` of the box (m).
+    given : dict or None, optional
+        SECTION_PROPERTIES already computed for this station; None recomputes them.
+
+    Returns
+    -------
+    dict
+        ``A`` (m^2), ``c_ea``, ``n_ea``, ``c_sc``, ``n_sc`` (m), ``Ixx``, ``Izz``, ``Ixz`` (m^4),
+        ``Qx``, ``Qz`` (m^3) and ``A_m`` (m^2).
+    """
     if given is not None:
         return {**{k: given[k] for k in SECTION_PROPERTIES}, "A_m": box_enclosed_area(*geometry)}
     c0, n0 = box_centroid(*geometry)
@@ -68,6 +82,22 @@ def axial_stress(c, n, force, moment, sec):
 
     With Ixz = 0 and the centroid at the centre this is Eq. 4.19 (M_c compresses n > 0).
     ``sec`` is :func:`section_quantities`.
+
+    Parameters
+    ----------
+    c, n : float, array_like or casadi.SX
+        Chordwise and normal coordinates of the point in the section frame (m).
+    force : sequence of 3
+        Internal force (F_c, F_s, F_n) in the section frame (N).
+    moment : sequence of 3
+        Internal moment (M_c, M_s, M_n) in the section frame (N m).
+    sec : dict
+        Section quantities of :func:`section_quantities`.
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Axial stress (Pa, tension positive).
     """
     c0, n0 = sec["c_ea"], sec["n_ea"]
     i_xx, i_zz, i_xz = sec["Ixx"], sec["Izz"], sec["Ixz"]
@@ -83,6 +113,20 @@ def torsion_shear_flow(force, moment, sec):
 
     T is the torque about the shear centre: T = M_s - (n_sc F_c - c_sc F_n), so that the
     transverse shear (through the shear centre) is handled by Eq. 4.22-4.23 alone.
+
+    Parameters
+    ----------
+    force : sequence of 3
+        Internal force (F_c, F_s, F_n) in the section frame (N).
+    moment : sequence of 3
+        Internal moment (M_c, M_s, M_n) in the section frame (N m).
+    sec : dict
+        Section quantities of :func:`section_quantities`.
+
+    Returns
+    -------
+    float, array_like or casadi.SX
+        Shear flow (N/m).
     """
     torque = moment[1] - (sec["n_sc"] * force[0] - sec["c_sc"] * force[2])
     return torque / (2.0 * sec["A_m"])
@@ -101,6 +145,27 @@ def box_stresses(force, moment, w, h, t_upper_skin, t_lower_skin, t_front_spar, 
       tau_c = F_c Qz / (Izz (t_u + t_l)), tau_n = F_n Qx / (Ixx (t_f + t_r)).
 
     ``section``: the SECTION_PROPERTIES of this station, when already computed (else recomputed).
+
+    Parameters
+    ----------
+    force : sequence of 3
+        Internal force at the station, in the csn frame (N).
+    moment : sequence of 3
+        Internal moment at the station (N m), in the same frame as ``force``.
+    w, h : float, array_like or casadi.SX
+        Box width and height, outer (m).
+    t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar : float, array_like or casadi.SX
+        Wall thicknesses (m).
+    section_to_csn : array_like or None, optional
+        (3, 3) rotation R from the section's own axes to the csn frame (the loads are rotated
+        by R^T); None when the two coincide.
+    section : dict or None, optional
+        SECTION_PROPERTIES of this station, when already computed.
+
+    Returns
+    -------
+    dict
+        ``sigma_corner`` (4), ``sigma_vm`` (8) and ``tau_cent`` (4) stresses (Pa).
     """
     geometry = (w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar)
     force = _to_section(section_to_csn, force)
@@ -128,6 +193,20 @@ def stress_constraints(stresses: dict, sigma_y: float, families=tuple(FAMILIES))
 
     ``ss_tension``/``ss_compression`` are the + and - forms of Eq. 4.27, ``cent_pos``/
     ``cent_neg`` of Eq. 4.28. Shear is compared with sigma_y as in the dissertation.
+
+    Parameters
+    ----------
+    stresses : dict
+        Stresses of :func:`box_stresses` (Pa).
+    sigma_y : float
+        Yield stress of the material (Pa).
+    families : sequence of str, optional
+        Constraint families to form (keys of :data:`FAMILIES`).
+
+    Returns
+    -------
+    dict
+        Family -> list of constraint values g (-; g <= 0 is feasible).
     """
     check_families(families)
     out = {
@@ -141,7 +220,13 @@ def stress_constraints(stresses: dict, sigma_y: float, families=tuple(FAMILIES))
 
 
 def check_families(families) -> None:
-    """Raise ``ValueError`` unless every name is one of ``FAMILIES``."""
+    """Raise ``ValueError`` unless every name is one of ``FAMILIES``.
+
+    Parameters
+    ----------
+    families : sequence of str
+        Constraint family names.
+    """
     bad = [f for f in families if f not in FAMILIES]
     if bad or not len(families):
         raise ValueError(f"unknown stress constraint families {bad or list(families)}; valid: {', '.join(FAMILIES)}")
@@ -173,6 +258,33 @@ def panel_running_loads(force, moment, w, h, t_upper_skin, t_lower_skin, t_front
     (:func:`skin_transverse_running_loads`) from ``force_gradient`` = dF/ds (N/m, the csn
     components of the spanwise derivative of ``force``; None: zero). ``section`` is the
     station's SECTION_PROPERTIES (the stiffened section's, so the stiffeners share the bending).
+
+    Parameters
+    ----------
+    force : sequence of 3
+        Internal force at the station (N).
+    moment : sequence of 3
+        Internal moment at the station (N m).
+    w, h : float, array_like or casadi.SX
+        Box width and height, outer (m).
+    t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar : float, array_like or casadi.SX
+        Wall thicknesses (m).
+    skin_axial_thickness : sequence of 2
+        Area per width of the upper and lower skin with their smeared stiffeners (m).
+    section : dict
+        SECTION_PROPERTIES of the station.
+    section_to_csn : array_like or None, optional
+        (3, 3) rotation R from the section's own axes to the csn frame; None when they coincide.
+    web_axial_thickness : sequence of 2 or None, optional
+        Area per width of the front and rear spar webs (m); None for their thicknesses.
+    force_gradient : sequence of 3 or None, optional
+        Spanwise derivative of ``force`` (N/m); None for zero.
+
+    Returns
+    -------
+    dict
+        ``nx_skin``, ``nxy_skin``, ``ny_skin`` at :data:`SKIN_PANEL_POINTS` and ``nx_web``,
+        ``nxy_web`` at :data:`WEB_PANEL_POINTS` (N/m, compression negative).
     """
     geometry = (w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar)
     stresses = box_stresses(force, moment, *geometry, section_to_csn=section_to_csn, section=section)
@@ -221,6 +333,26 @@ def skin_edge_shear_flows(force, sec, width_mid, n_upper, n_lower, q_upper_centr
     -Delta at the rear. Added to the skin's flange-centre flow ``q_*_centre`` (torsion plus
     the chordwise shear's part, which is largest at mid-chord, so keeping its centre value is
     the larger of the two when they add). Ixz is neglected, as in :func:`box_stresses`.
+
+    Parameters
+    ----------
+    force : sequence of 3
+        Internal force in the csn frame (N).
+    sec : dict
+        Section quantities of :func:`section_quantities`.
+    width_mid : float, array_like or casadi.SX
+        Midline width between the spars (m).
+    n_upper, n_lower : float, array_like or casadi.SX
+        Normal coordinates of the upper and lower skin midlines (m).
+    q_upper_centre, q_lower_centre : float, array_like or casadi.SX
+        Shear flow of each skin at mid-chord (N/m).
+    skin_axial_thickness : sequence of 2
+        Area per width of the upper and lower skin with their smeared stiffeners (m).
+
+    Returns
+    -------
+    list
+        Shear flows [upper front, upper rear, lower front, lower rear] (N/m).
     """
     half = 0.5 * width_mid
     shear = force[2] / sec["Ixx"]
@@ -249,6 +381,24 @@ def skin_transverse_running_loads(force_gradient, sec, width_mid, n_upper, n_low
     and stretches the upper one; a download the reverse. Ribs, which the model leaves out of
     the skins' in-plane equilibrium, relieve it near themselves, so this is the value between
     ribs.
+
+    Parameters
+    ----------
+    force_gradient : sequence of 3
+        Spanwise derivative of the internal force in the csn frame (N/m).
+    sec : dict
+        Section quantities of :func:`section_quantities`.
+    width_mid : float, array_like or casadi.SX
+        Midline width between the spars (m).
+    n_upper, n_lower : float, array_like or casadi.SX
+        Normal coordinates of the upper and lower skin midlines (m).
+    skin_axial_thickness : sequence of 2
+        Area per width of the upper and lower skin with their smeared stiffeners (m).
+
+    Returns
+    -------
+    list
+        Chordwise running load of the upper and lower skin at mid-chord (N/m, compression negative).
     """
     k = -(width_mid**2 / 8.0) * force_gradient[2] / sec["Ixx"]
     return [k * skin_axial_thickness[0] * (n_upper - sec["n_ea"]), k * skin_axial_thickness[1] * (n_lower - sec["n_ea"])]
