@@ -35,7 +35,18 @@ def _camber5(x, code3):
 
 
 def naca_surfaces(code: str):
-    """Return functions upper(x), lower(x) giving z/c of the surfaces at chord fraction x (NACA 4/5 digit)."""
+    """Return functions upper(x), lower(x) giving z/c of the surfaces at chord fraction x (NACA 4/5 digit).
+
+    Parameters
+    ----------
+    code : str
+        NACA 4- or 5-digit designation, e.g. ``"2412"``.
+
+    Returns
+    -------
+    tuple of callable
+        ``upper(x)``, ``lower(x)``: z/c at chord fraction x.
+    """
     code = str(code).strip().upper().replace("NACA", "").strip()
     if not code.isdigit() or len(code) not in (4, 5):
         raise ValueError(f"naca code must have 4 or 5 digits, got {code!r}")
@@ -54,7 +65,18 @@ def naca_surfaces(code: str):
 
 
 def selig_surfaces(path):
-    """Upper/lower surface functions from a Selig .dat file (TE -> upper -> LE -> lower -> TE, unit chord)."""
+    """Upper/lower surface functions from a Selig .dat file (TE -> upper -> LE -> lower -> TE, unit chord).
+
+    Parameters
+    ----------
+    path : str or path-like
+        Selig-format ``.dat`` file (unit chord).
+
+    Returns
+    -------
+    tuple of callable
+        ``upper(x)``, ``lower(x)``: z/c at chord fraction x.
+    """
     rows = []
     with open(path) as fh:
         for line in fh:

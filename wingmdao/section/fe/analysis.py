@@ -42,7 +42,29 @@ _N, _NXI, _NETA, _W = _q9_shape()
 
 @dataclass
 class Section:
-    """Result of a cross-section analysis (SI; 6x6 order F1, F2, F3, M1, M2, M3 about the section origin)."""
+    """Result of a cross-section analysis (SI; 6x6 order F1, F2, F3, M1, M2, M3 about the section origin).
+
+    Parameters
+    ----------
+    mesh : SectionMesh
+        The analysed mesh.
+    stiffness : numpy.ndarray
+        (6, 6) Timoshenko stiffness about the section origin.
+    compliance : numpy.ndarray
+        (6, 6) inverse of ``stiffness``.
+    mass : numpy.ndarray
+        (6, 6) mass matrix per length about the origin.
+    shear_center, tension_center, mass_center : numpy.ndarray
+        (2,) [x2, x3] of each centre (m).
+    area : float
+        Section area (m^2).
+    X : numpy.ndarray
+        (3 nn, 6) warping per unit sectional force.
+    dX : numpy.ndarray
+        (3 nn, 6) its x1 derivative.
+    Y : numpy.ndarray
+        (6, 6) sectional strains per unit force.
+    """
 
     mesh: SectionMesh
     stiffness: np.ndarray
@@ -93,18 +115,63 @@ def _element_operators(mesh):
 
 
 def assemble(mesh, Ke, dofs, n):
-    """Sparse (n, n) matrix from element matrices Ke (ne, 27, 27) on element dofs (ne, 27)."""
+    """Sparse (n, n) matrix from element matrices Ke (ne, 27, 27) on element dofs (ne, 27).
+
+    Parameters
+    ----------
+    mesh : SectionMesh
+        The mesh (not used by the assembly).
+    Ke : numpy.ndarray
+        (ne, 27, 27) element matrices.
+    dofs : numpy.ndarray
+        (ne, 27) global dof indices of each element.
+    n : int
+        Number of global dofs.
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix
+        (n, n) assembled matrix.
+    """
     return _assemble(mesh, Ke, dofs, n)
 
 
 def assemble_rect(Ke, dofs, n, m):
-    """Sparse (n, m) matrix from element blocks Ke (ne, 27, m) on element dofs (ne, 27)."""
+    """Sparse (n, m) matrix from element blocks Ke (ne, 27, m) on element dofs (ne, 27).
+
+    Parameters
+    ----------
+    Ke : numpy.ndarray
+        (ne, 27, m) element blocks.
+    dofs : numpy.ndarray
+        (ne, 27) global dof indices of each element.
+    n : int
+        Number of global dofs (rows).
+    m : int
+        Number of columns.
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix
+        (n, m) assembled matrix.
+    """
     return _assemble_rect(Ke, dofs, n, m)
 
 
 def element_operators(mesh):
     """Strain operators B, S (ne, g, 6, 27), rigid-section operator Z (ne, g, 6, 6), weights (ne, g)
-    and Gauss points (ne, g, 2) of every element (Giavotto/BECAS form, docs/cross-section-fe.md)."""
+    and Gauss points (ne, g, 2) of every element (Giavotto/BECAS form, docs/cross-section-fe.md).
+
+    Parameters
+    ----------
+    mesh : SectionMesh
+        The Q9 mesh.
+
+    Returns
+    -------
+    tuple
+        ``B``, ``S`` (ne, g, 6, 27), ``Z`` (ne, g, 6, 6), weights (ne, g), Gauss points (ne, g, 2).
+    """
     return _element_operators(mesh)
 
 
@@ -121,7 +188,18 @@ def _assemble_rect(Ke, dofs, n, m):
 
 
 def analyse_section(mesh: SectionMesh) -> Section:
-    """6x6 Timoshenko stiffness and mass, centres and warping fields of a meshed section."""
+    """6x6 Timoshenko stiffness and mass, centres and warping fields of a meshed section.
+
+    Parameters
+    ----------
+    mesh : SectionMesh
+        The Q9 mesh.
+
+    Returns
+    -------
+    Section
+        Stiffness, mass, centres and warping fields.
+    """
     B, S, Z, wdet, pts = _element_operators(mesh)
     Q = mesh.Q
     nn = mesh.nodes.shape[0]
@@ -212,7 +290,20 @@ def recover_stresses(section: Section, forces6):
     """3-D stresses [s11, s22, s33, s23, s13, s12] (Pa) at every Gauss point, shape (ne, 9, 6),
     for sectional forces/moments [F1, F2, F3, M1, M2, M3] (N, N*m) about the section origin.
 
-    Uses the central solution strains eps = Z Y theta + B X theta + S X T theta (App. C)."""
+    Uses the central solution strains eps = Z Y theta + B X theta + S X T theta (App. C).
+
+    Parameters
+    ----------
+    section : Section
+        An analysed section.
+    forces6 : array_like
+        (6,) sectional forces and moments [F1, F2, F3, M1, M2, M3] (N, N m).
+
+    Returns
+    -------
+    numpy.ndarray
+        (ne, 9, 6) stresses (Pa).
+    """
     theta = np.asarray(forces6, float)
     if theta.shape != (6,) or not np.all(np.isfinite(theta)):
         raise ValueError("forces6 must be 6 finite values [F1, F2, F3, M1, M2, M3] in N and N*m")
@@ -233,6 +324,16 @@ def beam_properties_csn(section: Section) -> dict:
     Returns stiffness_csn (3x3 moment/curvature, about the tension centre, shear condensed),
     compliance_csn [1/GK_c, 1/EA, 1/GK_n], tension/shear-centre and mass-centre offsets (c, n),
     mass_per_length and inertia_csn (3x3 per length about the mass centre).
+
+    Parameters
+    ----------
+    section : Section
+        An analysed section.
+
+    Returns
+    -------
+    dict
+        ``stiffness_csn``, ``compliance_csn``, centre offsets, ``mass_per_length``, ``inertia_csn``.
     """
     F = section.compliance
     idx = [0, 3, 4, 5]
@@ -270,6 +371,18 @@ def analyse_sections(jobs, processes: int | None = None) -> list:
     workers too). ``processes``: default the CPU count; 1 = serial in this process. Workers are
     forked (they inherit the jobs, so closures such as airfoil surface functions are fine);
     where fork is unavailable the jobs run serially.
+
+    Parameters
+    ----------
+    jobs : sequence
+        Meshes, or zero-argument callables that build one.
+    processes : int or None, optional
+        Worker processes; None for the CPU count, 1 for serial.
+
+    Returns
+    -------
+    list of Section
+        One per job, in order.
     """
     import multiprocessing as mp
     import os

@@ -19,6 +19,22 @@ def box_stiffness(width, height, t_upper_skin, t_lower_skin, t_front_spar, t_rea
     ``width`` and ``height`` are the box's *outer* dimensions (m), as ``BoxSection`` takes them;
     EI about the centroid (exact rectangles, parallel axes), GJ by Bredt-Batho over the wall
     midlines. Works on floats or CasADi symbols.
+
+    Parameters
+    ----------
+    width, height : float or casadi.SX
+        Outer box dimensions (m).
+    t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar : float or casadi.SX
+        Wall thicknesses (m).
+    E : float
+        Young's modulus (Pa).
+    G : float
+        Shear modulus (Pa).
+
+    Returns
+    -------
+    list
+        [EI_cc, EI_nn, GJ] (N m^2).
     """
     walls = (t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar)
     i_xx, i_zz, _ = box_inertia(width, height, *walls)
@@ -46,6 +62,30 @@ def match_box(EI_cc, GJ, thicknesses, E, G, w0, h0, bounds=((1e-3, 100.0), (1e-3
     Objective: squared Frobenius norm of the difference scaled by the target diagonal
     (D^-1/2 (K_box - K) D^-1/2); the box has EI_cs = 0. Exact gradient from CasADi AD.
     Returns dict(width, height, EI_cc, GJ, residual).
+
+    Parameters
+    ----------
+    EI_cc : float
+        Target chordwise-axis bending stiffness (N m^2).
+    GJ : float
+        Target torsional stiffness (N m^2).
+    thicknesses : sequence of 4 floats
+        Wall thicknesses (upper, lower, front, rear) of the box (m).
+    E : float
+        Young's modulus (Pa).
+    G : float
+        Shear modulus (Pa).
+    w0, h0 : float
+        Starting width and height (m).
+    bounds : tuple, optional
+        ((lower, upper) width, (lower, upper) height) (m).
+    EI_cs : float, optional
+        Target bending-torsion coupling (N m^2).
+
+    Returns
+    -------
+    dict
+        ``width``, ``height`` (m), ``EI_cc``, ``GJ`` (N m^2) and ``residual`` (-).
     """
     for name, v in (("EI_cc", EI_cc), ("GJ", GJ)):
         if not np.isfinite(v) or v <= 0:

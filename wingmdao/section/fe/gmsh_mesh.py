@@ -26,6 +26,13 @@ _QUA9 = 10
 
 
 def gmsh_available() -> bool:
+    """Whether gmsh can be used.
+
+    Returns
+    -------
+    bool
+        True when the gmsh Python module imports (any import error means it cannot be used).
+    """
     try:
         import gmsh  # noqa: F401
     except Exception:    # noqa: BLE001 - any import problem means "not available"
@@ -72,6 +79,36 @@ def airfoil_box_mesh_gmsh(upper, lower, chord, front_spar, rear_spar, walls, twi
 
     ``samples``: points per chord along which the skin splines follow the airfoil. Stringers
     are not supported by this mesher (use ``mesher='structured'``).
+
+    Parameters
+    ----------
+    upper, lower : callable
+        z/c(x/c) of the upper and lower outer mould line.
+    chord : float
+        Chord (m).
+    front_spar, rear_spar : float
+        Spar web midlines (chord fractions).
+    walls : dict
+        Wall name -> ``{'thickness', 'material'}`` or ``{'layup'}``, as for :func:`box_mesh`.
+    twist_deg : float, optional
+        Nose-up rotation of the section about the origin (deg).
+    n_thick : int, optional
+        Elements through each wall's thickness.
+    mesh_size : float or None, optional
+        Element size along the walls (m); None for chord / 60.
+    skin_offset : {"inward", "midline"}, optional
+        Skins inside the mould line, or centred on it.
+    stringers : sequence of dict, optional
+        Blade stringers ``{'surface', 'x', 'width', 'height', 'material'}``.
+    corners : {"mitre", "skins"}, optional
+        Corner ownership, as for :func:`box_mesh`.
+    samples : int, optional
+        Points per chord along which the skin splines follow the airfoil.
+
+    Returns
+    -------
+    SectionMesh
+        The Q9 mesh.
     """
     if stringers:
         raise ValueError("stringers: not supported by the gmsh mesher; use mesher='structured'")

@@ -21,7 +21,18 @@ _ORTHO_KEYS = ("E1", "E2", "E3", "G12", "G13", "G23", "nu12", "nu13", "nu23", "r
 
 def load_description(path):
     """Read a YAML or JSON section description file into a dict (ValueError naming the file when it
-    is missing, unreadable, malformed or not a mapping)."""
+    is missing, unreadable, malformed or not a mapping).
+
+    Parameters
+    ----------
+    path : str or path-like
+        YAML or JSON section description file.
+
+    Returns
+    -------
+    dict
+        The description.
+    """
     try:
         text = Path(path).read_text(encoding="utf-8-sig")  # a byte-order mark is tolerated
     except FileNotFoundError:
@@ -75,7 +86,19 @@ def _length(value, name):
 
 
 def build_materials(spec):
-    """Named materials from {'name': {type: isotropic, E, nu, rho} | {type: orthotropic, E1, ...}}."""
+    """Named materials from {'name': {type: isotropic, E, nu, rho} | {type: orthotropic, E1, ...}}.
+
+    Parameters
+    ----------
+    spec : dict or None
+        Material name -> ``{type, E, nu, rho}`` (isotropic) or the nine orthotropic constants and
+        ``rho``.
+
+    Returns
+    -------
+    dict
+        Name -> :class:`~wingmdao.section.fe.materials.Material`.
+    """
     out = {}
     for name, m in (spec or {}).items():
         kind = m.get("type", "isotropic")
@@ -114,13 +137,35 @@ def _wall(spec, mats, name):
 
 
 def default_airfoil_mesher(stringers=()) -> str:
-    """'gmsh' when it imports and there are no stringers (not supported by it), else 'structured'."""
+    """'gmsh' when it imports and there are no stringers (not supported by it), else 'structured'.
+
+    Parameters
+    ----------
+    stringers : sequence, optional
+        The description's stringers.
+
+    Returns
+    -------
+    str
+        ``"gmsh"`` or ``"structured"``.
+    """
     return "gmsh" if gmsh_available() and not stringers else "structured"
 
 
 def build_mesh(desc):
     """Mesh from a description dict; returns (mesh, context) where context carries airfoil box data.
-    A missing key or a value of the wrong type is a ValueError naming it."""
+    A missing key or a value of the wrong type is a ValueError naming it.
+
+    Parameters
+    ----------
+    desc : dict
+        A section description.
+
+    Returns
+    -------
+    tuple
+        (SectionMesh, context dict with the airfoil box data).
+    """
     if not isinstance(desc, dict):
         raise ValueError(f"section description must be a mapping with 'materials' and 'section', got {desc!r}")
     try:
@@ -189,7 +234,18 @@ def _build_mesh(desc):
 
 
 def analyse_description(desc) -> dict:
-    """Analyse a description dict; JSON-ready results (SI, section frame: origin and axes in the docs)."""
+    """Analyse a description dict; JSON-ready results (SI, section frame: origin and axes in the docs).
+
+    Parameters
+    ----------
+    desc : dict
+        A section description.
+
+    Returns
+    -------
+    dict
+        JSON-ready results (SI).
+    """
     mesh, ctx = build_mesh(desc)
     sec = analyse_section(mesh)
     out = {"stiffness_6x6": sec.stiffness, "mass_6x6": sec.mass, "shear_center": sec.shear_center,

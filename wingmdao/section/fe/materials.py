@@ -13,7 +13,19 @@ import numpy as np
 
 @dataclass
 class Material:
-    """A material: 6x6 stiffness C in its own axes (Pa), density rho (kg/m^3), name."""
+    """A material: 6x6 stiffness C in its own axes (Pa), density rho (kg/m^3), name.
+
+    Parameters
+    ----------
+    C : numpy.ndarray
+        (6, 6) stiffness in the material axes, Voigt [11, 22, 33, 23, 13, 12] (Pa).
+    rho : float
+        Density (kg/m^3).
+    name : str, optional
+        Material name.
+    E_ref, G_ref : float, optional
+        Reference moduli for normalised outputs (Pa).
+    """
 
     C: np.ndarray
     rho: float
@@ -30,7 +42,24 @@ def _positive(name, value):
 
 
 def isotropic(E, nu, rho, name="") -> Material:
-    """Isotropic material from Young's modulus E (Pa), Poisson ratio nu (-1 < nu < 0.5), density rho."""
+    """Isotropic material from Young's modulus E (Pa), Poisson ratio nu (-1 < nu < 0.5), density rho.
+
+    Parameters
+    ----------
+    E : float
+        Young's modulus (Pa).
+    nu : float
+        Poisson's ratio (-1 < nu < 0.5).
+    rho : float
+        Density (kg/m^3).
+    name : str, optional
+        Material name.
+
+    Returns
+    -------
+    Material
+        The material.
+    """
     E = _positive(f"{name} E (Pa)", E)
     _positive(f"{name} rho (kg/m^3)", rho)
     if not -1.0 < nu < 0.5:
@@ -40,7 +69,28 @@ def isotropic(E, nu, rho, name="") -> Material:
 
 
 def orthotropic(E1, E2, E3, G12, G13, G23, nu12, nu13, nu23, rho, name="", E_ref=None, G_ref=None) -> Material:
-    """Orthotropic material (engineering constants in material axes, Pa) -> stiffness by inverting the compliance."""
+    """Orthotropic material (engineering constants in material axes, Pa) -> stiffness by inverting the compliance.
+
+    Parameters
+    ----------
+    E1, E2, E3 : float
+        Moduli along the material axes (Pa).
+    G12, G13, G23 : float
+        Shear moduli (Pa).
+    nu12, nu13, nu23 : float
+        Poisson's ratios (-).
+    rho : float
+        Density (kg/m^3).
+    name : str, optional
+        Material name.
+    E_ref, G_ref : float or None, optional
+        Reference moduli (Pa); None for E1 and G12.
+
+    Returns
+    -------
+    Material
+        The material.
+    """
     for k, v in dict(E1=E1, E2=E2, E3=E3, G12=G12, G13=G13, G23=G23, rho=rho).items():
         _positive(f"{name} {k}", v)
     S = np.zeros((6, 6))
@@ -56,7 +106,22 @@ def orthotropic(E1, E2, E3, G12, G13, G23, nu12, nu13, nu23, rho, name="", E_ref
 
 
 def anisotropic(C, rho, name="") -> Material:
-    """General anisotropic material from its symmetric positive-definite 6x6 stiffness (Pa)."""
+    """General anisotropic material from its symmetric positive-definite 6x6 stiffness (Pa).
+
+    Parameters
+    ----------
+    C : array_like
+        (6, 6) symmetric positive-definite stiffness (Pa).
+    rho : float
+        Density (kg/m^3).
+    name : str, optional
+        Material name.
+
+    Returns
+    -------
+    Material
+        The material.
+    """
     C = np.asarray(C, float)
     if C.shape != (6, 6) or not np.allclose(C, C.T, rtol=1e-10, atol=0) or np.any(np.linalg.eigvalsh(C) <= 0):
         raise ValueError(f"material {name}: C must be a symmetric positive-definite 6x6 matrix (Pa)")
@@ -65,7 +130,18 @@ def anisotropic(C, rho, name="") -> Material:
 
 
 def bond_matrix(R):
-    """Voigt stress transformation for axes rotation R (rows: new axes in old coordinates), order [11,22,33,23,13,12]."""
+    """Voigt stress transformation for axes rotation R (rows: new axes in old coordinates), order [11,22,33,23,13,12].
+
+    Parameters
+    ----------
+    R : array_like
+        (3, 3) rotation, rows the new axes in old coordinates.
+
+    Returns
+    -------
+    numpy.ndarray
+        (6, 6) Voigt stress transformation.
+    """
     R = np.asarray(R)
     idx = [(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)]
     K = np.zeros(R.shape[:-2] + (6, 6))
@@ -83,6 +159,20 @@ def ply_stiffness(material: Material, angle_rad, wall_normal):
 
     The fibre lies at ``angle_rad`` from the beam axis e1, rotated about the outward wall normal
     ``wall_normal`` (unit, in the x2-x3 plane, given as (n2, n3); arrays allowed, shape (..., 2)).
+
+    Parameters
+    ----------
+    material : Material
+        Ply material in its own axes.
+    angle_rad : float or array_like
+        Fibre angle from the beam axis (rad).
+    wall_normal : array_like
+        (..., 2) outward unit wall normal (n2, n3).
+
+    Returns
+    -------
+    numpy.ndarray
+        (..., 6, 6) stiffness in section axes (Pa).
     """
     nrm = np.asarray(wall_normal, float)
     ang = np.asarray(angle_rad, float)

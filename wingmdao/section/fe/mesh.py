@@ -18,7 +18,23 @@ from .materials import Material, ply_stiffness
 @dataclass
 class SectionMesh:
     """Q9 mesh: nodes (nn, 2) [x2, x3] in m, elements (ne, 9) node indices (tensor order 3*j + i),
-    Q (ne, 6, 6) element stiffness in section axes (Pa), rho (ne,) kg/m^3, region (ne,) wall labels."""
+    Q (ne, 6, 6) element stiffness in section axes (Pa), rho (ne,) kg/m^3, region (ne,) wall labels.
+
+    Parameters
+    ----------
+    nodes : numpy.ndarray
+        (nn, 2) node coordinates [x2, x3] (m).
+    elements : numpy.ndarray
+        (ne, 9) node indices, tensor order 3 j + i.
+    Q : numpy.ndarray
+        (ne, 6, 6) element stiffness in section axes (Pa).
+    rho : numpy.ndarray
+        (ne,) element density (kg/m^3).
+    region : numpy.ndarray, optional
+        (ne,) region label of each element.
+    region_names : tuple, optional
+        Name of each region label.
+    """
 
     nodes: np.ndarray
     elements: np.ndarray
@@ -62,12 +78,46 @@ def _wall_fractions(layers, n_thick):
 
 
 def q9_from_grid(X, Y, mask, cell_Q, cell_rho, cell_region, names, periodic_i=False) -> SectionMesh:
-    """Q9 mesh from a node grid (2 ni + 1, 2 nj + 1) and a cell mask (ni, nj) with per-cell material."""
+    """Q9 mesh from a node grid (2 ni + 1, 2 nj + 1) and a cell mask (ni, nj) with per-cell material.
+
+    Parameters
+    ----------
+    X, Y : numpy.ndarray
+        (2 ni + 1, 2 nj + 1) node coordinates x2, x3 (m); 2 ni rows when periodic in i.
+    mask : numpy.ndarray
+        (ni, nj) bool, the cells that are material.
+    cell_Q : numpy.ndarray
+        (ni, nj, 6, 6) stiffness of each cell (Pa).
+    cell_rho : numpy.ndarray
+        (ni, nj) density of each cell (kg/m^3).
+    cell_region : numpy.ndarray
+        (ni, nj) region label of each cell.
+    names : sequence of str
+        Region names.
+    periodic_i : bool, optional
+        Whether the grid closes on itself in i (a tube).
+
+    Returns
+    -------
+    SectionMesh
+        The mesh.
+    """
     return _q9_from_grid(X, Y, mask, cell_Q, cell_rho, cell_region, names, periodic_i)
 
 
 def refine_edges(edges):
-    """Element edge coordinates (k + 1,) -> Q9 node lines (2 k + 1,) (midpoints inserted)."""
+    """Element edge coordinates (k + 1,) -> Q9 node lines (2 k + 1,) (midpoints inserted).
+
+    Parameters
+    ----------
+    edges : array_like
+        (k + 1,) element edge coordinates.
+
+    Returns
+    -------
+    numpy.ndarray
+        (2 k + 1,) node coordinates.
+    """
     return _refine_edges(edges)
 
 
@@ -120,7 +170,22 @@ def span_divisions(length, mesh_size, minimum=2):
 
 
 def rectangle_mesh(width, height, material, nx=20, ny=20):
-    """Solid rectangle width (x2) x height (x3), centred on the origin, nx x ny Q9 elements."""
+    """Solid rectangle width (x2) x height (x3), centred on the origin, nx x ny Q9 elements.
+
+    Parameters
+    ----------
+    width, height : float
+        Rectangle sides along x2 and x3 (m).
+    material : Material
+        Material.
+    nx, ny : int, optional
+        Elements along x2 and x3.
+
+    Returns
+    -------
+    SectionMesh
+        The mesh.
+    """
     _check_positive(width=width, height=height)
     xe = np.linspace(-width / 2, width / 2, nx + 1)
     ye = np.linspace(-height / 2, height / 2, ny + 1)
@@ -148,6 +213,27 @@ def box_mesh(width, height, walls, n_thick=5, mesh_size=None, open_walls=(), cor
     Walls named in ``open_walls`` are left out (a channel is a box without its front wall).
     Corner squares belong to the skins (``corners='skins'``) or are split along their diagonal so that
     each layer wraps round the corner (``corners='mitre'``, staircase on the element grid).
+
+    Parameters
+    ----------
+    width, height : float
+        Outer box dimensions (m).
+    walls : dict
+        Wall name -> ``{'thickness': t, 'material': Material}`` or ``{'layup': [(Material, t,
+        angle_deg), ...]}`` outer to inner.
+    n_thick : int, optional
+        Elements through each wall's thickness.
+    mesh_size : float or None, optional
+        Element size along the walls (m); None for four times the thinnest wall's element.
+    open_walls : sequence of str, optional
+        Walls left out.
+    corners : {"mitre", "skins"}, optional
+        Corner squares split along their diagonal, or owned by the skins.
+
+    Returns
+    -------
+    SectionMesh
+        The mesh.
     """
     if corners not in ("skins", "mitre"):
         raise ValueError(f"corners must be 'skins' or 'mitre', got {corners!r}")
@@ -207,14 +293,49 @@ def box_mesh(width, height, walls, n_thick=5, mesh_size=None, open_walls=(), cor
 
 
 def channel_mesh(width, height, walls, n_thick=5, mesh_size=None):
-    """Channel (C) section: walls 'upper', 'lower' flanges and 'web' (at x2 = +width/2, flanges open at -width/2)."""
+    """Channel (C) section: walls 'upper', 'lower' flanges and 'web' (at x2 = +width/2, flanges open at -width/2).
+
+    Parameters
+    ----------
+    width, height : float
+        Outer dimensions (m).
+    walls : dict
+        ``upper``, ``lower`` and ``web`` -> ``{'thickness': t, 'material': Material}`` or ``{'layup': [(Material, t,
+        angle_deg), ...]}`` outer to inner.
+    n_thick : int, optional
+        Elements through each wall's thickness.
+    mesh_size : float or None, optional
+        Element size along the walls (m).
+
+    Returns
+    -------
+    SectionMesh
+        The mesh.
+    """
     w = dict(walls)
     w["rear"] = w.pop("web")
     return box_mesh(width, height, w, n_thick, mesh_size, open_walls=("front",))
 
 
 def tube_mesh(diameter, wall, n_thick=5, n_around=None):
-    """Circular tube of outer diameter, wall {'thickness', 'material'} or {'layup'} outer -> inner, centred on the origin."""
+    """Circular tube of outer diameter, wall {'thickness', 'material'} or {'layup'} outer -> inner, centred on the origin.
+
+    Parameters
+    ----------
+    diameter : float
+        Outer diameter (m).
+    wall : dict
+        ``{'thickness', 'material'}`` or ``{'layup'}`` outer to inner.
+    n_thick : int, optional
+        Elements through the wall's thickness.
+    n_around : int or None, optional
+        Elements around the circumference; None for a default from the diameter.
+
+    Returns
+    -------
+    SectionMesh
+        The mesh.
+    """
     _check_positive(diameter=diameter)
     L = _layers(wall, "tube", n_thick)
     t = sum(tt for _, tt, _ in L)
@@ -240,7 +361,28 @@ def tube_mesh(diameter, wall, n_thick=5, n_around=None):
 
 def airfoil_box_walls(walls, chord, front_spar, rear_spar, n_thick, skin_offset, corners):
     """Checked options and wall data of an airfoil wingbox (shared by the structured and gmsh meshers):
-    wall names, layers per wall (outer -> inner), wall thicknesses and element-edge fractions."""
+    wall names, layers per wall (outer -> inner), wall thicknesses and element-edge fractions.
+
+    Parameters
+    ----------
+    walls : dict
+        Wall name -> wall data, as for :func:`airfoil_box_mesh`.
+    chord : float
+        Chord (m).
+    front_spar, rear_spar : float
+        Spar web midlines (chord fractions).
+    n_thick : int
+        Elements through each wall's thickness.
+    skin_offset : {"inward", "midline"}
+        Skin placement about the mould line.
+    corners : {"mitre", "skins"}
+        Corner ownership.
+
+    Returns
+    -------
+    tuple
+        Wall names, layers per wall, wall thicknesses and element-edge fractions.
+    """
     if corners not in ("skins", "mitre"):
         raise ValueError(f"corners must be 'skins' or 'mitre', got {corners!r}")
     if skin_offset not in ("inward", "midline"):
@@ -267,6 +409,34 @@ def airfoil_box_mesh(upper, lower, chord, front_spar, rear_spar, walls, twist_de
     ``stringers``: blade stringers (Fig. 4.17), each {'surface': 'upper'|'lower', 'x': chord fraction
     of its centre, 'width', 'height' (m), 'material'} standing on the inner skin face; all stringers
     on one surface share one height. ``corners``: as for :func:`box_mesh` ('mitre' or 'skins').
+
+    Parameters
+    ----------
+    upper, lower : callable
+        z/c(x/c) of the upper and lower outer mould line.
+    chord : float
+        Chord (m).
+    front_spar, rear_spar : float
+        Spar web midlines (chord fractions).
+    walls : dict
+        Wall name -> ``{'thickness', 'material'}`` or ``{'layup'}``, as for :func:`box_mesh`.
+    twist_deg : float, optional
+        Nose-up rotation of the section about the origin (deg).
+    n_thick : int, optional
+        Elements through each wall's thickness.
+    mesh_size : float or None, optional
+        Element size along the walls (m); None for chord / 60.
+    skin_offset : {"inward", "midline"}, optional
+        Skins inside the mould line, or centred on it.
+    stringers : sequence of dict, optional
+        Blade stringers ``{'surface', 'x', 'width', 'height', 'material'}``.
+    corners : {"mitre", "skins"}, optional
+        Corner ownership, as for :func:`box_mesh`.
+
+    Returns
+    -------
+    SectionMesh
+        The mesh.
     """
     names, L, T, fr = airfoil_box_walls(walls, chord, front_spar, rear_spar, n_thick, skin_offset, corners)
     xf, xr = front_spar * chord, rear_spar * chord
