@@ -31,7 +31,17 @@ WALLS = WALL_NAMES
 @dataclass
 class BoxSections:
     """Streamwise sections of a box: centres (m, (n, 3)), widths and heights (m, (n,)) and wall
-    thicknesses normal to the walls (m, {WALLS name: (n,)})."""
+    thicknesses normal to the walls (m, {WALLS name: (n,)}).
+
+    Parameters
+    ----------
+    centres : numpy.ndarray
+        (n, 3) section centres in body axes (m).
+    widths, heights : numpy.ndarray
+        (n,) streamwise box width and height (m).
+    thickness : dict
+        Wall name -> (n,) wall thickness normal to the wall (m).
+    """
 
     centres: np.ndarray
     widths: np.ndarray
@@ -59,7 +69,18 @@ class BoxSections:
         return float(self.centres[-1, 1] - self.centres[0, 1])
 
     def at(self, y):
-        """Centre, width, height and thicknesses linearly interpolated at span coordinate y."""
+        """Centre, width, height and thicknesses linearly interpolated at span coordinate y.
+
+        Parameters
+        ----------
+        y : float
+            Span coordinate (m).
+
+        Returns
+        -------
+        tuple
+            Centre (3,), width, height (m) and {wall: thickness} (m) at ``y``.
+        """
         ys = self.centres[:, 1]
         c = np.array([np.interp(y, ys, self.centres[:, k]) for k in range(3)])
         return (c, float(np.interp(y, ys, self.widths)), float(np.interp(y, ys, self.heights)),
@@ -69,7 +90,31 @@ class BoxSections:
 @dataclass
 class ShellBox:
     """The built model: the deck, the station rings (node ids, weights) and span positions
-    (also the solid model of :mod:`wingmdao.fe.solid_box`, whose rings are cross-sections)."""
+    (also the solid model of :mod:`wingmdao.fe.solid_box`, whose rings are cross-sections).
+
+    Parameters
+    ----------
+    deck : Deck
+        The CalculiX deck.
+    span_y : numpy.ndarray
+        Span coordinates of the mesh lines (m).
+    rings : list
+        Per span line, the node ids of its ring.
+    ring_weights : list
+        Per span line, the nodes' weights (thickness times tributary length, m^2).
+    num_elements : int
+        Number of shell (or solid) elements.
+    station_lines : dict, optional
+        Label -> span line index of the stations.
+    wall_elements : list, optional
+        Per span row, the element ids around the ring.
+    counts : tuple, optional
+        (chord, height) elements of a ring.
+    element : str, optional
+        CalculiX element type.
+    samples : list or None, optional
+        Per span row, the element ids of each stress point (:data:`wingmdao.fe.stress_points.POINTS`).
+    """
 
     deck: Deck
     span_y: np.ndarray
@@ -83,6 +128,18 @@ class ShellBox:
     samples: list | None = None      # per span row: element ids of each stress point (stress_points.POINTS)
 
     def ring_points(self, j):
+        """Coordinates of the nodes of the ring on span line ``j``.
+
+        Parameters
+        ----------
+        j : int
+            Span line index.
+
+        Returns
+        -------
+        numpy.ndarray
+            (P, 3) coordinates of the ring's nodes (m).
+        """
         return np.array([self.deck.nodes[int(n)] for n in self.rings[j]])
 
 
@@ -114,7 +171,22 @@ def _perimeter(c, a, b, nc, nh, q, skin_x=None):
 
 def span_lines(sections: BoxSections, element_size: float, ribs_y=()) -> np.ndarray:
     """Span coordinates of the element boundaries: every section and rib plane, with elements
-    no longer than ``element_size`` in between."""
+    no longer than ``element_size`` in between.
+
+    Parameters
+    ----------
+    sections : BoxSections
+        Streamwise sections of the box.
+    element_size : float
+        Largest element length along the span (m).
+    ribs_y : sequence of float, optional
+        Rib span coordinates (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        Sorted span coordinates of the element boundaries (m).
+    """
     ys = sorted(set(np.round(np.concatenate([sections.centres[:, 1], np.asarray(ribs_y, float)]), 9)))
     out = [ys[0]]
     for y0, y1 in zip(ys[:-1], ys[1:]):
@@ -130,7 +202,34 @@ def build_shell_box(sections: BoxSections, material, *, element="S8R", chord_ele
     thinnest wall of the rib station);
     ``skin_breaks``: ``f(a) -> (chord_elements + 1,)`` the skins' chordwise element boundaries
     (offsets from the section centre, -a to a) at a section of mid-surface half-width a
-    (default: ``chord_elements`` equal elements)."""
+    (default: ``chord_elements`` equal elements).
+
+    Parameters
+    ----------
+    sections : BoxSections
+        Streamwise sections of the box.
+    material : Material
+        Isotropic material of the walls and ribs.
+    element : {"S8R", "S4R"}, optional
+        CalculiX shell element.
+    chord_elements : int, optional
+        Elements across each skin.
+    height_elements : int, optional
+        Elements up each spar web.
+    span_element_size : float, optional
+        Largest element length along the span (m).
+    ribs_y : sequence of float, optional
+        Rib span coordinates (m).
+    rib_thickness : float, sequence of float or None, optional
+        Rib thickness (m): one value, one per rib, or None for the thinnest wall of the rib station.
+    skin_breaks : callable or None, optional
+        ``f(a)`` -> the skins' chordwise element boundaries at mid-surface half-width a (m).
+
+    Returns
+    -------
+    ShellBox
+        The model.
+    """
     if element not in ("S8R", "S4R"):
         raise ValueError(f"element must be 'S8R' or 'S4R', got {element!r}")
     q = 2 if element == "S8R" else 1
@@ -241,6 +340,20 @@ def build_shell_box(sections: BoxSections, material, *, element="S8R", chord_ele
 
 
 def line_index(model: ShellBox, y: float) -> int:
+    """Index of the mesh line at span coordinate ``y``.
+
+    Parameters
+    ----------
+    model : ShellBox
+        The built shell (or solid) model.
+    y : float
+        Span coordinate (m).
+
+    Returns
+    -------
+    int
+        Index of the mesh line at ``y``; ValueError when none lies within 1e-6 m.
+    """
     j = int(np.argmin(np.abs(model.span_y - y)))
     if abs(model.span_y[j] - y) > 1e-6:
         raise ValueError(f"no mesh line at y = {y} m")
@@ -248,7 +361,21 @@ def line_index(model: ShellBox, y: float) -> int:
 
 
 def station_loads(model: ShellBox, loads) -> list:
-    """``*CLOAD`` rows of [(y, centre (3,), force (3,), moment (3,))] via distributing couplings."""
+    """``*CLOAD`` rows of [(y, centre (3,), force (3,), moment (3,))] via distributing couplings.
+
+    Parameters
+    ----------
+    model : ShellBox
+        The built shell (or solid) model.
+    loads : sequence of tuple
+        ``(y, centre (3,), force (3,), moment (3,))`` in body axes (m, m, N, N m).
+
+    Returns
+    -------
+    list
+        ``(node id, dof 1-3, force N)`` ``*CLOAD`` rows, one per loaded node and direction (loads at
+        the same node summed); ValueError for a load off the mesh lines.
+    """
     rows = []
     for y, centre, F, M in loads:
         j = line_index(model, y)
@@ -263,7 +390,15 @@ def station_loads(model: ShellBox, loads) -> list:
 
 
 def add_point_masses(model: ShellBox, masses) -> None:
-    """Point masses [(y, mass kg)] spread over the station ring with the ring weights (``*MASS``)."""
+    """Point masses [(y, mass kg)] spread over the station ring with the ring weights (``*MASS``).
+
+    Parameters
+    ----------
+    model : ShellBox
+        The built shell (or solid) model.
+    masses : sequence of tuple
+        ``(y, mass)`` pairs (m, kg).
+    """
     for k, (y, m) in enumerate(masses):
         if not (np.isfinite(m) and m >= 0):
             raise ValueError(f"point mass at y = {y} m must be >= 0 kg, got {m}")
@@ -276,6 +411,22 @@ def add_point_masses(model: ShellBox, masses) -> None:
 
 
 def section_average(model: ShellBox, displacements: dict, j: int) -> np.ndarray:
+    """Weighted mean displacement of the ring on span line ``j`` (the ring weights).
+
+    Parameters
+    ----------
+    model : ShellBox
+        The built shell (or solid) model.
+    displacements : dict
+        Node id -> (3,) displacement (m).
+    j : int
+        Span line index.
+
+    Returns
+    -------
+    numpy.ndarray
+        (3,) weighted mean displacement of the ring (m).
+    """
     w = model.ring_weights[j]
     u = np.array([displacements[int(n)] for n in model.rings[j]])
     return (w[:, None] * u).sum(0) / w.sum()
@@ -283,7 +434,22 @@ def section_average(model: ShellBox, displacements: dict, j: int) -> np.ndarray:
 
 def section_rotation(model: ShellBox, displacements: dict, j: int) -> np.ndarray:
     """Section rotation vector (rad): the weighted least-squares rigid rotation of the ring,
-    theta = J^-1 sum w_i r_i x (u_i - u_mean) (the distributing-coupling reference rotation)."""
+    theta = J^-1 sum w_i r_i x (u_i - u_mean) (the distributing-coupling reference rotation).
+
+    Parameters
+    ----------
+    model : ShellBox
+        The built shell (or solid) model.
+    displacements : dict
+        Node id -> (3,) displacement (m).
+    j : int
+        Span line index.
+
+    Returns
+    -------
+    numpy.ndarray
+        (3,) rotation vector (rad).
+    """
     w = model.ring_weights[j]
     p = model.ring_points(j)
     u = np.array([displacements[int(n)] for n in model.rings[j]])
@@ -297,7 +463,31 @@ def solve_static(model: ShellBox, loads, stations_y, nlgeom=False, increments=10
                  stress=False) -> dict:
     """Static solve: section-average displacement (m, (k, 3)) and rotation (rad, (k, 3)) at the
     span coordinates ``stations_y``; with ``stress`` also the integration-point stresses of the
-    corner and mid-flange elements (``stresses``, :mod:`wingmdao.fe.stress_points`)."""
+    corner and mid-flange elements (``stresses``, :mod:`wingmdao.fe.stress_points`).
+
+    Parameters
+    ----------
+    model : ShellBox
+        The built shell (or solid) model.
+    loads : sequence of tuple
+        ``(y, centre (3,), force (3,), moment (3,))`` station loads (m, m, N, N m).
+    stations_y : sequence of float
+        Span coordinates where results are wanted (m).
+    nlgeom : bool, optional
+        Geometrically nonlinear solve.
+    increments : int, optional
+        Load increments of a nonlinear solve.
+    keep_dir : str, path-like or None, optional
+        Folder to keep the CalculiX files in; None for a temporary one.
+    stress : bool, optional
+        Also return the stresses of the sample elements.
+
+    Returns
+    -------
+    dict
+        ``displacement`` (k, 3) (m), ``rotation`` (k, 3) (rad), the run ``time`` (s), the model
+        size, and with ``stress`` the ``stresses``.
+    """
     js = [line_index(model, y) for y in stations_y]
     model.deck.nsets["OUT"] = sorted({int(n) for j in js for n in model.rings[j]})
     elsets = ()
@@ -316,7 +506,22 @@ def solve_static(model: ShellBox, loads, stations_y, nlgeom=False, increments=10
 
 
 def solve_modes(model: ShellBox, modes: int, keep_dir=None) -> dict:
-    """Lowest ``modes`` natural frequencies (Hz)."""
+    """Lowest ``modes`` natural frequencies (Hz).
+
+    Parameters
+    ----------
+    model : ShellBox
+        The built shell (or solid) model.
+    modes : int
+        Number of modes.
+    keep_dir : str, path-like or None, optional
+        Folder to keep the CalculiX files in; None for a temporary one.
+
+    Returns
+    -------
+    dict
+        ``frequencies_hz`` (lowest ``modes``) and the run ``time`` (s).
+    """
     if not (isinstance(modes, (int, np.integer)) and modes >= 1):
         raise ValueError(f"modes must be an integer >= 1, got {modes!r}")
     run = run_deck(model.deck.text([frequency_step(modes)]), keep_dir=keep_dir)

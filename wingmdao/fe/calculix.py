@@ -44,6 +44,22 @@ def run_deck(deck: str, job: str = "job", keep_dir: str | None = None, timeout: 
 
     Returns ``{"dat": text of job.dat, "log": solver output, "time": wall seconds, "dir": folder
     or None}``. CalculixError when ccx fails or prints ``*ERROR``.
+
+    Parameters
+    ----------
+    deck : str
+        Input deck text.
+    job : str, optional
+        Job name (file stem).
+    keep_dir : str, path-like or None, optional
+        Folder to keep the CalculiX files in; None for a temporary one.
+    timeout : float, optional
+        Wall-clock limit (s).
+
+    Returns
+    -------
+    dict
+        ``dat``, ``log``, ``time`` (s) and ``dir``.
     """
     exe = find_ccx()
     tmp = None
@@ -81,7 +97,18 @@ def parse_dat(text: str) -> dict:
     """Read a ccx ``.dat`` file: ``{"displacements": {NSET: {node: (ux, uy, uz)}},
     "stresses": {element: (points, 6) array sxx, syy, szz, sxy, sxz, syz (Pa)},
     "frequencies_hz": array, "buckling_factors": array (in mode order)}`` (the last time of
-    each set when a step prints several)."""
+    each set when a step prints several).
+
+    Parameters
+    ----------
+    text : str
+        Contents of a ccx ``.dat`` file.
+
+    Returns
+    -------
+    dict
+        ``displacements``, ``stresses``, ``frequencies_hz`` and ``buckling_factors``.
+    """
     disp: dict = {}
     stress: dict = {}
     freqs: list = []
@@ -125,7 +152,22 @@ def mode_displacements(dat_text: str, mode: int, nset: str) -> dict:
     """``{node: (ux, uy, uz)}`` of the node set ``nset`` in eigenmode ``mode`` (1-based) of a
     ``*BUCKLE`` or ``*FREQUENCY`` step: the .dat prints each mode's blocks after the line
     'E I G E N V A L U E   N U M B E R  k' (a ``*BUCKLE`` step prints the pre-buckling state first).
-    Empty when the mode or the set is not printed."""
+    Empty when the mode or the set is not printed.
+
+    Parameters
+    ----------
+    dat_text : str
+        Contents of a ccx ``.dat`` file.
+    mode : int
+        Mode number, 1-based.
+    nset : str
+        Node set name.
+
+    Returns
+    -------
+    dict
+        Node id -> (ux, uy, uz) (m, mode-shape scale).
+    """
     lines = dat_text.splitlines()
     head = f"displacements (vx,vy,vz) for set {nset}".lower()
     i = next((k for k, line in enumerate(lines)
@@ -196,7 +238,26 @@ def distributing_forces(points, weights, centre, force, moment) -> np.ndarray:
     over the coupling nodes in proportion to the weights, ``f_i = w_i [F / W + (J^-1 M') x r_i]``,
     r_i from the weighted centroid, ``J = sum w_i (|r_i|^2 I - r_i r_i^T)``, ``M' = M + (c - x_c) x F``.
     This is the distributing-coupling law of Abaqus ("Coupling constraints", Abaqus Analysis
-    User's Guide 2016, Sec. 35.3.2): the nodal forces are statically equivalent to (F, M)."""
+    User's Guide 2016, Sec. 35.3.2): the nodal forces are statically equivalent to (F, M).
+
+    Parameters
+    ----------
+    points : array_like
+        (n, 3) coupling node positions (m).
+    weights : array_like
+        (n,) node weights.
+    centre : array_like
+        (3,) reference point of the load (m).
+    force : array_like
+        (3,) force (N).
+    moment : array_like
+        (3,) moment about ``centre`` (N m).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n, 3) nodal forces (N).
+    """
     p = np.asarray(points, float)
     w = np.asarray(weights, float)
     W = w.sum()
@@ -211,7 +272,13 @@ def distributing_forces(points, weights, centre, force, moment) -> np.ndarray:
 
 
 class Deck:
-    """A small Abaqus/CalculiX input builder (nodes 1-based, SI units)."""
+    """A small Abaqus/CalculiX input builder (nodes 1-based, SI units).
+
+    Parameters
+    ----------
+    heading : str, optional
+        ``*HEADING`` text.
+    """
 
     def __init__(self, heading="wingmdao"):
         self.heading = heading
@@ -225,6 +292,20 @@ class Deck:
         self.model_extra: list[str] = []
 
     def add_nodes(self, coords, start=None) -> np.ndarray:
+        """Add nodes and return their ids.
+
+        Parameters
+        ----------
+        coords : array_like
+            (k, 3) node coordinates (m).
+        start : int or None, optional
+            First node id; None continues after the largest id.
+
+        Returns
+        -------
+        numpy.ndarray
+            The new node ids.
+        """
         start = (max(self.nodes) + 1) if (start is None and self.nodes) else (start or 1)
         ids = np.arange(start, start + len(coords))
         for i, c in zip(ids, np.asarray(coords, float)):
@@ -232,26 +313,82 @@ class Deck:
         return ids
 
     def next_element_id(self):
+        """The next free element id.
+
+        Returns
+        -------
+        int
+            One more than the largest element id (1 for an empty deck).
+        """
         ids = [max(b) for _, _, b in self.elements if b]
         return (max(ids) + 1) if ids else 1
 
     def add_elements(self, etype, elset, conns) -> list:
+        """Add a block of elements of one type to an element set.
+
+        Parameters
+        ----------
+        etype : str
+            Element type, e.g. ``"S8R"``.
+        elset : str
+            Element set name.
+        conns : sequence of sequence of int
+            Node ids of each element.
+
+        Returns
+        -------
+        list of int
+            The new element ids.
+        """
         e0 = self.next_element_id()
         block = {e0 + k: tuple(int(n) for n in c) for k, c in enumerate(conns)}
         self.elements.append((etype, elset, block))
         return list(block)
 
     def material(self, name, material):
+        """An isotropic ``*MATERIAL`` from a :class:`wingmdao.materials.Material`.
+
+        Parameters
+        ----------
+        name : str
+            Material name in the deck.
+        material : Material
+            Isotropic material (E, nu, rho).
+        """
         self.isotropic(name, material.E, material.nu, material.rho)
 
     def isotropic(self, name, E, nu, rho=None):
-        """An isotropic linear elastic ``*MATERIAL`` (Pa); ``*DENSITY`` (kg/m^3) only when ``rho`` is given."""
+        """An isotropic linear elastic ``*MATERIAL`` (Pa); ``*DENSITY`` (kg/m^3) only when ``rho`` is given.
+
+        Parameters
+        ----------
+        name : str
+            Material name in the deck.
+        E : float
+            Young's modulus (Pa).
+        nu : float
+            Poisson's ratio (-).
+        rho : float or None, optional
+            Density (kg/m^3).
+        """
         text = f"*MATERIAL, NAME={name}\n*ELASTIC\n{E:.10g}, {nu:.10g}"
         if rho is not None:
             text += f"\n*DENSITY\n{rho:.10g}"
         self.materials.append(text)
 
     def text(self, steps: list[str]) -> str:
+        """The deck's text: model data, then ``steps``.
+
+        Parameters
+        ----------
+        steps : list of str
+            Step blocks (:func:`static_step`, :func:`frequency_step`, :func:`buckle_step`).
+
+        Returns
+        -------
+        str
+            The deck text.
+        """
         out = [f"*HEADING\n{self.heading}", "*NODE"]
         out += [f"{i}, {c[0]:.12g}, {c[1]:.12g}, {c[2]:.12g}" for i, c in sorted(self.nodes.items())]
         for etype, elset, block in self.elements:
@@ -271,7 +408,26 @@ class Deck:
 
 def static_step(cloads, print_nsets, nlgeom=False, increments=None, stress_elsets=()) -> str:
     """A ``*STATIC`` step with nodal loads [(node, dof, value)], ``*NODE PRINT`` U of the node sets and
-    ``*EL PRINT`` S (integration-point stresses) of the element sets."""
+    ``*EL PRINT`` S (integration-point stresses) of the element sets.
+
+    Parameters
+    ----------
+    cloads : sequence of tuple
+        ``(node, dof, value)`` nodal loads (N).
+    print_nsets : sequence of str
+        Node sets whose displacements are printed.
+    nlgeom : bool, optional
+        Geometrically nonlinear step.
+    increments : int or None, optional
+        Fixed increments of a nonlinear step; None for the default.
+    stress_elsets : sequence of str, optional
+        Element sets whose stresses are printed.
+
+    Returns
+    -------
+    str
+        The step text.
+    """
     head = "*STEP" + (", NLGEOM, INC=1000" if nlgeom else "")
     s = [head, "*STATIC" if not (nlgeom and increments) else f"*STATIC\n{1.0 / increments:g}, 1.0"]
     if cloads:
@@ -284,13 +440,39 @@ def static_step(cloads, print_nsets, nlgeom=False, increments=None, stress_elset
 
 
 def frequency_step(modes: int) -> str:
-    """A ``*FREQUENCY`` step extracting the lowest ``modes`` eigenfrequencies (printed to .dat)."""
+    """A ``*FREQUENCY`` step extracting the lowest ``modes`` eigenfrequencies (printed to .dat).
+
+    Parameters
+    ----------
+    modes : int
+        Number of eigenfrequencies.
+
+    Returns
+    -------
+    str
+        The step text.
+    """
     return f"*STEP\n*FREQUENCY\n{int(modes)}\n*END STEP"
 
 
 def buckle_step(modes: int, cloads, print_nsets=()) -> str:
     """A ``*BUCKLE`` step: the lowest ``modes`` buckling factors of the nodal loads [(node, dof,
-    value)] (printed to .dat), with ``*NODE PRINT`` U of the node sets (the mode shapes)."""
+    value)] (printed to .dat), with ``*NODE PRINT`` U of the node sets (the mode shapes).
+
+    Parameters
+    ----------
+    modes : int
+        Number of buckling factors.
+    cloads : sequence of tuple
+        ``(node, dof, value)`` nodal loads (N).
+    print_nsets : sequence of str, optional
+        Node sets whose mode shapes are printed.
+
+    Returns
+    -------
+    str
+        The step text.
+    """
     s = [f"*STEP\n*BUCKLE\n{int(modes)}", "*CLOAD"]
     s += [f"{n}, {d}, {v:.12g}" for n, d, v in cloads if v != 0.0]
     s += [f"*NODE PRINT, NSET={n}\nU" for n in print_nsets]
@@ -301,7 +483,20 @@ def buckle_step(modes: int, cloads, print_nsets=()) -> str:
 def quadratic_edge_forces(coords, intensity) -> np.ndarray:
     """Consistent nodal forces of a line load along a row of quadratic element edges: ``coords``
     (2n+1,) positions along the line (end, mid, end, mid, ...), ``intensity`` (n,) load per length,
-    constant on each edge; each edge of length L gives L q (1, 4, 1) / 6 to its three nodes."""
+    constant on each edge; each edge of length L gives L q (1, 4, 1) / 6 to its three nodes.
+
+    Parameters
+    ----------
+    coords : array_like
+        (2 n + 1,) node positions along the line (m).
+    intensity : array_like
+        (n,) load per length on each edge (N/m).
+
+    Returns
+    -------
+    numpy.ndarray
+        (2 n + 1,) nodal forces (N).
+    """
     s = np.asarray(coords, float)
     q = np.broadcast_to(np.asarray(intensity, float), ((len(s) - 1) // 2,))
     f = np.zeros(len(s))

@@ -32,7 +32,20 @@ FIDELITIES = ("beam", "shell")
 
 def box_section_properties(w, h, t):
     """Area, I_x (vertical bending, about the horizontal centroidal axis), I_z and Bredt J (SI)
-    of the thin-walled box on the wall mid-lines (w, h outer; t = {WALLS name: thickness})."""
+    of the thin-walled box on the wall mid-lines (w, h outer; t = {WALLS name: thickness}).
+
+    Parameters
+    ----------
+    w, h : float or array_like
+        Outer box width and height (m).
+    t : dict
+        Wall name -> thickness (m).
+
+    Returns
+    -------
+    tuple
+        Area (m^2), I_x, I_z and J (m^4).
+    """
     tu, tl, tf, tr = (t[k] for k in WALLS)
     a = w - (tf + tr) / 2          # mid-line width
     b = h - (tu + tl) / 2          # mid-line height
@@ -58,7 +71,20 @@ def beam_material_ccx(name, material) -> str:
     stiffer than the prismatic one; with nu = 0 the same sticks differ by 0.3 %. A beam's
     section carries no transverse normal stress (the beam theory has E and G only), so nu = 0
     with G = E / (2 (1 + nu)) of the material is the beam's constitutive law, not an
-    approximation of it."""
+    approximation of it.
+
+    Parameters
+    ----------
+    name : str
+        Material name in the deck.
+    material : Material
+        Isotropic material.
+
+    Returns
+    -------
+    str
+        The ``*MATERIAL`` block.
+    """
     E, G = material.E, material.E / (2 * (1 + material.nu))
     return (f"*MATERIAL, NAME={name}\n*ELASTIC, TYPE=ENGINEERING CONSTANTS\n"
             f"{E:.10g}, {E:.10g}, {E:.10g}, 0., 0., 0., {G:.10g}, {G:.10g}\n{G:.10g}, 0.\n"
@@ -94,7 +120,32 @@ def _node_loads(pts, tip_force, tip_moment, loads):
 def beam_deck(sections: BoxSections, material, fmt, *, tip_force=(0, 0, 0), tip_moment=(0, 0, 0),
               point_masses=(), nodes_per_segment=4, loads=None) -> str:
     """Stick-model deck text (see module docstring). ``point_masses``: [(node index, kg)];
-    ``loads``: station loads [(y, centre, F, M)] at stick nodes instead of the tip load."""
+    ``loads``: station loads [(y, centre, F, M)] at stick nodes instead of the tip load.
+
+    Parameters
+    ----------
+    sections : BoxSections
+        Streamwise sections of the box.
+    material : Material
+        Isotropic material.
+    fmt : {"calculix", "abaqus", "nastran"}
+        Deck format.
+    tip_force : sequence of 3, optional
+        Tip force in body axes (N).
+    tip_moment : sequence of 3, optional
+        Tip moment in body axes (N m).
+    point_masses : sequence of tuple, optional
+        ``(node index, mass)`` pairs (kg).
+    nodes_per_segment : int, optional
+        Beam nodes between two sections.
+    loads : sequence of tuple or None, optional
+        ``(y, centre, F, M)`` station loads instead of the tip load.
+
+    Returns
+    -------
+    str
+        The deck text.
+    """
     pts, mids = _stick(sections, nodes_per_segment)
     n = len(pts)
     node_loads = _node_loads(pts, tip_force, tip_moment, loads)
@@ -152,7 +203,36 @@ def shell_deck(sections: BoxSections, material, fmt, *, tip_force=(0, 0, 0), tip
                ribs_y=(), rib_thickness=0.1, loads=None, point_masses=(), **mesh) -> str:
     """Shell-model deck text (S8R / CQUAD8), tip rib, tip load through a distributing coupling.
     ``loads``: a callable model -> station loads [(y, centre, F, M)] instead of the tip load (no
-    tip rib added); ``point_masses``: [(y, kg)] spread on their rings."""
+    tip rib added); ``point_masses``: [(y, kg)] spread on their rings.
+
+    Parameters
+    ----------
+    sections : BoxSections
+        Streamwise sections of the box.
+    material : Material
+        Isotropic material.
+    fmt : {"calculix", "abaqus", "nastran"}
+        Deck format.
+    tip_force : sequence of 3, optional
+        Tip force in body axes (N).
+    tip_moment : sequence of 3, optional
+        Tip moment in body axes (N m).
+    ribs_y : sequence of float, optional
+        Rib span coordinates (m).
+    rib_thickness : float, optional
+        Rib thickness (m).
+    loads : callable or None, optional
+        ``loads(model)`` -> station loads ``(y, centre, F, M)`` instead of the tip load.
+    point_masses : sequence of tuple, optional
+        ``(y, mass)`` pairs (m, kg).
+    **mesh
+        Passed to :func:`~wingmdao.fe.box_model.build_shell_box` (element, element counts and size).
+
+    Returns
+    -------
+    str
+        The deck text.
+    """
     span_end = sections.centres[-1, 1]
     ribs = sorted(set(np.round(list(ribs_y) + ([span_end] if loads is None else []), 9)))
     model = build_shell_box(sections, material, ribs_y=ribs, rib_thickness=rib_thickness, **mesh)
@@ -199,6 +279,15 @@ def shell_deck(sections: BoxSections, material, fmt, *, tip_force=(0, 0, 0), tip
 
 
 def write_atomic(text: str, path: str) -> None:
+    """Write ``text`` to ``path`` through a temporary file in the same folder and an atomic rename.
+
+    Parameters
+    ----------
+    text : str
+        File contents (ASCII).
+    path : str
+        Destination file.
+    """
     folder = os.path.dirname(os.path.abspath(path))
     tmp = os.path.join(folder, f".{os.path.basename(path)}.tmp")
     with open(tmp, "w", encoding="ascii") as fh:

@@ -95,7 +95,18 @@ def _trim_fixed(text: str) -> str:
 def nastran_real(value) -> str:
     """``value`` as a Nastran real in at most 8 characters, the representation with the smallest
     rounding error among the fixed-point and short-exponent forms ('1.2345-5', '123456.7', '-.5');
-    always with a decimal point. ValueError for a value that is not finite."""
+    always with a decimal point. ValueError for a value that is not finite.
+
+    Parameters
+    ----------
+    value : float
+        The number.
+
+    Returns
+    -------
+    str
+        The field text (at most 8 characters).
+    """
     x = float(value)
     if not math.isfinite(x):
         raise ValueError(f"a Nastran real must be finite, got {value!r}")
@@ -119,7 +130,18 @@ def nastran_real(value) -> str:
 
 
 def parse_real(text: str) -> float:
-    """A Nastran real field ('1.2-5', '-.5', '3.E+4', '2.5D-3') as a float."""
+    """A Nastran real field ('1.2-5', '-.5', '3.E+4', '2.5D-3') as a float.
+
+    Parameters
+    ----------
+    text : str
+        The field text.
+
+    Returns
+    -------
+    float
+        The value.
+    """
     s = text.strip().upper().replace("D", "E")
     if "E" not in s:
         for k in range(len(s) - 1, 0, -1):
@@ -147,7 +169,20 @@ def _field(value) -> str:
 
 def card_lines(name: str, fields) -> list[str]:
     """Small-field lines of one card: ``name`` and its data fields (int, float, str or None for a
-    blank field), 8 data fields per line, ``+`` continuation markers in field 10 and field 1."""
+    blank field), 8 data fields per line, ``+`` continuation markers in field 10 and field 1.
+
+    Parameters
+    ----------
+    name : str
+        Card name.
+    fields : sequence
+        Data fields: int, float, str or None (blank).
+
+    Returns
+    -------
+    list of str
+        The card's lines.
+    """
     texts = [_field(v) for v in fields]
     while texts and texts[-1] == "":
         texts.pop()
@@ -171,7 +206,19 @@ def _is_number(text: str) -> bool:
 class LiftingPanel:
     """A trapezoidal CAERO1 panel: leading-edge points (basic, m) and chords (m) at its inboard and
     outboard edges, ``nspan`` x ``nchord`` equal boxes, splined to the beam nodes ``nodes``
-    (indices, root = 0) whose segment lies under it."""
+    (indices, root = 0) whose segment lies under it.
+
+    Parameters
+    ----------
+    root_le, tip_le : tuple
+        Leading-edge points of the inboard and outboard edges, basic axes (m).
+    root_chord, tip_chord : float
+        Chords of the inboard and outboard edges (m).
+    nspan, nchord : int
+        Boxes along the span and the chord.
+    nodes : tuple of int
+        Beam node indices splined to the panel (root = 0).
+    """
 
     root_le: tuple
     root_chord: float
@@ -191,7 +238,35 @@ class LiftingPanel:
 class FlightData:
     """The aeroelastic cards' flight data (SI, TAS). ``gust_*``: the SOL 146 point (AERO's velocity
     and density); ``flutter_*``: the SOL 145 sweep (density, Mach, velocities); ``trim_*``: the
-    SOL 144 point; ``reference_chord``, ``full_span``, ``half_area``: AERO/AEROS references."""
+    SOL 144 point; ``reference_chord``, ``full_span``, ``half_area``: AERO/AEROS references.
+
+    Parameters
+    ----------
+    reference_chord : float
+        AERO/AEROS reference chord (m).
+    full_span : float
+        AEROS reference span of the full wing (m).
+    half_area : float
+        AEROS reference area of the half wing (m^2).
+    gust_mach, gust_velocity, gust_density : float
+        SOL 146 point: Mach number (-), true airspeed (m/s), air density (kg/m^3).
+    flutter_density, flutter_mach : float
+        SOL 145 density (kg/m^3) and Mach number (-).
+    flutter_velocities : tuple
+        SOL 145 velocities (m/s).
+    trim_mach, trim_dynamic_pressure : float
+        SOL 144 Mach number (-) and dynamic pressure (Pa).
+    trim_alpha_deg : float, optional
+        SOL 144 angle of attack (deg).
+    reduced_frequencies : tuple, optional
+        MKAERO1 reduced frequencies (-).
+    frequency_hz : tuple, optional
+        FREQ1 (F1, DF, NDF) of the gust response: start (Hz), step (Hz), number of steps.
+    turbulence_scale_m : float, optional
+        Von Karman scale length L (m).
+    psd_frequencies_hz : tuple, optional
+        TABRND1 frequencies of the gust PSD (Hz).
+    """
 
     reference_chord: float
     full_span: float
@@ -213,19 +288,54 @@ class FlightData:
 
 # --------------------------------------------------------------------------- beam cards
 def element_frames(params) -> np.ndarray:
-    """(n-1, 3, 3): T(theta0_m) of each element's mean jig angles, rows c, s, n in basic axes."""
+    """(n-1, 3, 3): T(theta0_m) of each element's mean jig angles, rows c, s, n in basic axes.
+
+    Parameters
+    ----------
+    params : dict
+        Beam parameters (``param_specs`` names of :mod:`wingmdao.beam.residual`).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n - 1, 3, 3) element frames.
+    """
     th = np.asarray(params["node_euler_angles"], float)
     return np.array([body_to_csn(0.5 * (th[i] + th[i + 1])) for i in range(th.shape[0] - 1)])
 
 
 def written_moduli(material) -> tuple[float, float]:
     """E and G as MAT1 carries them (rounded to 8 characters): the section constants are divided
-    by these, so that the deck's E I, G J and E A are the beam's to the constants' own rounding."""
+    by these, so that the deck's E I, G J and E A are the beam's to the constants' own rounding.
+
+    Parameters
+    ----------
+    material : Material
+        Isotropic material.
+
+    Returns
+    -------
+    tuple
+        (E, G) as written (Pa).
+    """
     return parse_real(nastran_real(material.E)), parse_real(nastran_real(material.G))
 
 
 def element_sections(params, material) -> list[dict]:
-    """Per element the PBEAM constants (see the module docstring) and the offsets (basic)."""
+    """Per element the PBEAM constants (see the module docstring) and the offsets (basic).
+
+    Parameters
+    ----------
+    params : dict
+        Beam parameters (``param_specs`` names of :mod:`wingmdao.beam.residual`).
+    material : Material
+        Isotropic material whose E and G the MAT1 card carries.
+
+    Returns
+    -------
+    list of dict
+        Per element the PBEAM constants and offsets.
+    """
     E, G = written_moduli(material)
     stiff = np.asarray(params["stiffness_csn"], float)
     comp = np.asarray(params["compliance_csn"], float)
@@ -249,7 +359,18 @@ def element_sections(params, material) -> list[dict]:
 
 def lumped_masses(params) -> list[tuple]:
     """[(node index, mass kg, offset (3,) m basic, inertia about the CG (3, 3) kg m^2 basic)] per
-    node with mass (see the module docstring)."""
+    node with mass (see the module docstring).
+
+    Parameters
+    ----------
+    params : dict
+        Beam parameters (``param_specs`` names of :mod:`wingmdao.beam.residual`).
+
+    Returns
+    -------
+    list of tuple
+        ``(node index, mass, offset, inertia)`` per node with mass.
+    """
     r = np.asarray(params["node_positions"], float)
     mu = np.asarray(params["mass_per_length"], float)
     cg = np.asarray(params["mass_center"], float)
@@ -275,7 +396,20 @@ def lumped_masses(params) -> list[tuple]:
 
 
 def beam_cards(params, material) -> list[str]:
-    """GRID, MAT1, PBEAM, CBEAM, CONM2, SPC1 lines of the beam ``params``."""
+    """GRID, MAT1, PBEAM, CBEAM, CONM2, SPC1 lines of the beam ``params``.
+
+    Parameters
+    ----------
+    params : dict
+        Beam parameters (``param_specs`` names of :mod:`wingmdao.beam.residual`).
+    material : Material
+        Isotropic material whose E and G the MAT1 card carries.
+
+    Returns
+    -------
+    list of str
+        The bulk-data lines.
+    """
     r = np.asarray(params["node_positions"], float)
     lines = []
     for k, p in enumerate(r):
@@ -311,7 +445,20 @@ def _spline_frame(r0, r1) -> tuple[np.ndarray, np.ndarray]:
 
 
 def aero_cards(params, panels) -> list[str]:
-    """CAERO1, PAERO1, CORD2R, SET1, SPLINE2 lines of the ``panels`` (LiftingPanel) on the beam."""
+    """CAERO1, PAERO1, CORD2R, SET1, SPLINE2 lines of the ``panels`` (LiftingPanel) on the beam.
+
+    Parameters
+    ----------
+    params : dict
+        Beam parameters (``param_specs`` names of :mod:`wingmdao.beam.residual`).
+    panels : sequence of LiftingPanel
+        The lifting panels.
+
+    Returns
+    -------
+    list of str
+        The bulk-data lines.
+    """
     r = np.asarray(params["node_positions"], float)
     lines = card_lines("PAERO1", [PID_AERO])
     for j, p in enumerate(panels):
@@ -332,14 +479,46 @@ def aero_cards(params, panels) -> list[str]:
 
 def von_karman_psd_hz(f_hz, airspeed, scale_m, sigma=1.0) -> np.ndarray:
     """One-sided von Karman vertical-gust PSD in (m/s)^2/Hz at ``f_hz`` (14 CFR 25.341(b)(2) with
-    Omega = 2 pi f / V): sigma^2 (2 L / V) (1 + 8/3 (1.339 L Omega)^2) / (1 + (1.339 L Omega)^2)^(11/6)."""
+    Omega = 2 pi f / V): sigma^2 (2 L / V) (1 + 8/3 (1.339 L Omega)^2) / (1 + (1.339 L Omega)^2)^(11/6).
+
+    Parameters
+    ----------
+    f_hz : float or array_like
+        Frequency (Hz).
+    airspeed : float
+        True airspeed V (m/s).
+    scale_m : float
+        Scale length L (m).
+    sigma : float, optional
+        Gust intensity (m/s, root mean square).
+
+    Returns
+    -------
+    numpy.ndarray
+        PSD ((m/s)^2/Hz).
+    """
     x2 = (1.339 * scale_m * 2.0 * np.pi * np.asarray(f_hz, float) / airspeed) ** 2
     return sigma**2 * 2.0 * scale_m / airspeed * (1.0 + 8.0 / 3.0 * x2) / (1.0 + x2) ** (11.0 / 6.0)
 
 
 def flight_cards(flight: FlightData, panels, modes: int) -> list[str]:
     """AERO, AEROS, MKAERO1, EIGRL, FLFACT, FLUTTER, GUST (+ RLOAD1, TABLED1, DAREA, FREQ1, RANDPS,
-    TABRND1), AESTAT and TRIM lines."""
+    TABRND1), AESTAT and TRIM lines.
+
+    Parameters
+    ----------
+    flight : FlightData
+        The flight data.
+    panels : sequence of LiftingPanel
+        The lifting panels.
+    modes : int
+        Modes of EIGRL.
+
+    Returns
+    -------
+    list of str
+        The bulk-data lines.
+    """
     f = flight
     lines = card_lines("AERO", [0, float(f.gust_velocity), float(f.reference_chord), float(f.gust_density), 1])
     lines += card_lines("AEROS", [0, 0, float(f.reference_chord), float(f.full_span), float(f.half_area), 1])
@@ -368,7 +547,20 @@ def flight_cards(flight: FlightData, panels, modes: int) -> list[str]:
 
 
 def case_control(sol: int, title: str) -> list[str]:
-    """Executive and case control of ``sol`` (144 trim, 145 flutter, 146 gust frequency response)."""
+    """Executive and case control of ``sol`` (144 trim, 145 flutter, 146 gust frequency response).
+
+    Parameters
+    ----------
+    sol : {144, 145, 146}
+        Solution sequence.
+    title : str
+        Title line.
+
+    Returns
+    -------
+    list of str
+        The executive and case control lines.
+    """
     if sol not in SOLUTIONS:
         raise ValueError(f"--sol = {sol}; allowed: {', '.join(map(str, SOLUTIONS))}")
     head = [f"$ {title}", "$ units SI (m, kg, s, N); half model, symmetric about the x-z plane",
@@ -383,7 +575,30 @@ def case_control(sol: int, title: str) -> list[str]:
 def aeroelastic_deck(params, material, panels, flight: FlightData, *, sol: int = 146, modes: int = 10,
                      title: str = "wingmdao aeroelastic beam model") -> str:
     """The deck text (see the module docstring): executive and case control of ``sol``, the beam
-    ``params`` with ``material``'s E and G, the lifting ``panels`` and the ``flight`` cards."""
+    ``params`` with ``material``'s E and G, the lifting ``panels`` and the ``flight`` cards.
+
+    Parameters
+    ----------
+    params : dict
+        Beam parameters (``param_specs`` names of :mod:`wingmdao.beam.residual`).
+    material : Material
+        Isotropic material whose E and G the MAT1 card carries.
+    panels : sequence of LiftingPanel
+        The lifting panels.
+    flight : FlightData
+        The flight data.
+    sol : {144, 145, 146}, optional
+        Solution sequence.
+    modes : int, optional
+        Modes of EIGRL.
+    title : str, optional
+        Title line.
+
+    Returns
+    -------
+    str
+        The deck text.
+    """
     if not (isinstance(modes, (int, np.integer)) and 1 <= modes <= 200):
         raise ValueError(f"--modes = {modes}; allowed range 1..200")
     lines = case_control(sol, title)

@@ -128,7 +128,42 @@ def _breaks(W, n, bf, size):
 def build_panel(length, width, skin_thickness, E, nu, *, n_stiffeners=0, stiffener_height=None,
                 stiffener_thickness=None, flange_width=None, nx=0.0, nxy=0.0, mesh_size=None, n_modes=6):
     """The panel's deck (see the module docstring) and its bookkeeping:
-    ``{"text", "num_elements", "num_nodes", "skin_nodes", "junction_nodes"}``."""
+    ``{"text", "num_elements", "num_nodes", "skin_nodes", "junction_nodes"}``.
+
+    Parameters
+    ----------
+    length : float
+        Panel length along the stiffeners (m).
+    width : float
+        Panel width (m).
+    skin_thickness : float
+        Skin thickness (m).
+    E : float
+        Young's modulus (Pa).
+    nu : float
+        Poisson's ratio (-).
+    n_stiffeners : int, optional
+        Number of stiffeners.
+    stiffener_height : float or None, optional
+        Web height above the skin face (m).
+    stiffener_thickness : float or None, optional
+        Stiffener thickness (m).
+    flange_width : float or None, optional
+        Tee flange width (m); None for blades.
+    nx : float, optional
+        Running load along the stiffeners (N/m, compression negative).
+    nxy : float, optional
+        Shear flow (N/m).
+    mesh_size : float or None, optional
+        Element size (m); None for min(length, pitch) / 8.
+    n_modes : int, optional
+        Buckling factors extracted.
+
+    Returns
+    -------
+    dict
+        ``text``, ``num_elements``, ``num_nodes``, ``skin_nodes``, ``junction_nodes``.
+    """
     a, W, t, E, nu, n, h, ts, bf, nx, nxy, size, n_modes = _validate(
         length, width, skin_thickness, E, nu, n_stiffeners, stiffener_height, stiffener_thickness, flange_width,
         nx, nxy, mesh_size, n_modes)
@@ -259,6 +294,42 @@ def panel_buckling_factor(length, width, skin_thickness, E, nu, *, n_stiffeners=
     "plate"), "junction_ratio" (max |u_z| on the stiffener lines / max |u_z| of the skin in the
     first mode), "time", "deck_path" (None without workdir)}``. ValueError (argument, value,
     allowed range) before anything is written; CalculixNotFound without ``ccx``.
+
+    Parameters
+    ----------
+    length : float
+        Panel length along the stiffeners (m).
+    width : float
+        Panel width (m).
+    skin_thickness : float
+        Skin thickness (m).
+    E : float
+        Young's modulus (Pa).
+    nu : float
+        Poisson's ratio (-).
+    n_stiffeners : int, optional
+        Number of stiffeners.
+    stiffener_height : float or None, optional
+        Web height above the skin face (m).
+    stiffener_thickness : float or None, optional
+        Stiffener thickness (m).
+    flange_width : float or None, optional
+        Tee flange width (m); None for blades.
+    nx : float, optional
+        Running load along the stiffeners (N/m, compression negative).
+    nxy : float, optional
+        Shear flow (N/m).
+    mesh_size : float or None, optional
+        Element size (m).
+    n_modes : int, optional
+        Buckling factors extracted.
+    workdir : str, path-like or None, optional
+        Folder to keep the deck and results in.
+
+    Returns
+    -------
+    dict
+        ``fe_buckling_factor``, ``buckling_factors`` and the model size.
     """
     model = build_panel(length, width, skin_thickness, E, nu, n_stiffeners=n_stiffeners,
                         stiffener_height=stiffener_height, stiffener_thickness=stiffener_thickness,

@@ -38,7 +38,26 @@ def _breaks(lo, t_lo, t_hi, hi, through, inner):
 
 def cell_wall(i, k, m, nc, nh):
     """Wall index of grid cell (i along x, k along z): 0 upper skin, 1 lower skin, 2 front spar,
-    3 rear spar, -1 the hollow interior."""
+    3 rear spar, -1 the hollow interior.
+
+    Parameters
+    ----------
+    i : int
+        Cell index along x.
+    k : int
+        Cell index along z.
+    m : int
+        Cells through a wall's thickness.
+    nc : int
+        Interior cells across the chord.
+    nh : int
+        Interior cells up the height.
+
+    Returns
+    -------
+    int
+        Wall index, or -1 for the interior.
+    """
     if k < m:
         return 1
     if k >= m + nh:
@@ -72,7 +91,34 @@ def build_solid_box(sections, material, *, chord_elements=8, height_elements=2, 
     streamwise wall thicknesses; ``ribs_y``: rib positions (m; a rib at the tip lies inboard of
     it, elsewhere it is centred). ``root``: 'clamped' (all translations of the root section) or
     'free_warping' (in-plane translations; the axial one only on the section's symmetry lines,
-    where the torsional warping of a doubly symmetric box vanishes: a pure-torque diagnostic)."""
+    where the torsional warping of a doubly symmetric box vanishes: a pure-torque diagnostic).
+
+    Parameters
+    ----------
+    sections : BoxSections
+        Streamwise sections of the box. (streamwise wall thicknesses).
+    material : Material
+        Isotropic material.
+    chord_elements : int, optional
+        Elements across the skins' interior.
+    height_elements : int, optional
+        Elements up the webs' interior.
+    through : int, optional
+        Elements through each wall's thickness.
+    span_element_size : float, optional
+        Largest element length along the span (m).
+    ribs_y : sequence of float, optional
+        Rib span coordinates (m).
+    rib_thickness : float, optional
+        Rib thickness (m).
+    root : {"clamped", "free_warping"}, optional
+        Root boundary condition.
+
+    Returns
+    -------
+    ShellBox
+        The model (rings are cross-sections).
+    """
     if root not in ("clamped", "free_warping"):
         raise ValueError(f"root must be 'clamped' or 'free_warping', got {root!r}")
     m, nc, nh = int(through), int(chord_elements), int(height_elements)
@@ -161,6 +207,21 @@ def _station_weights(jj, grid, nodes, m, nc, nh):
 
 def streamwise_sections(sections, cos_sweep, cos_dihedral):
     """The BoxSections with streamwise wall thicknesses from beam-normal ones (spars / cos sweep,
-    skins / cos dihedral, per section)."""
+    skins / cos dihedral, per section).
+
+    Parameters
+    ----------
+    sections : BoxSections
+        Streamwise sections of the box. (beam-normal wall thicknesses).
+    cos_sweep : float or array_like
+        Cosine of the sweep angle, per section.
+    cos_dihedral : float or array_like
+        Cosine of the dihedral angle, per section.
+
+    Returns
+    -------
+    BoxSections
+        The sections with streamwise thicknesses.
+    """
     t = {w: sections.thickness[w] / (cos_sweep if "spar" in w else cos_dihedral) for w in WALLS}
     return BoxSections(sections.centres, sections.widths, sections.heights, t)

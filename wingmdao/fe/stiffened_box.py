@@ -43,7 +43,29 @@ SKINS = ("upper", "lower")
 class StiffenedBox:
     """The built model: the shell box, the blade count and thickness scale, each node's part
     (``upper_skin``, ``lower_skin``, ``front_spar``, ``rear_spar``, ``upper_stiffeners``,
-    ``lower_stiffeners``, ``ribs``) and the elements per part."""
+    ``lower_stiffeners``, ``ribs``) and the elements per part.
+
+    Parameters
+    ----------
+    box : ShellBox
+        The shell model.
+    count : int
+        Blade stiffeners per skin.
+    pitch : float
+        Stiffener pitch (m).
+    thickness_scale : numpy.ndarray
+        Per station, w / (count pitch) (-).
+    node_part : dict, optional
+        Node id -> part name.
+    part_elements : dict, optional
+        Part name -> element ids.
+    num_webs : int, optional
+        Number of stiffener web elements.
+    num_ribs : int, optional
+        Number of ribs.
+    overlap_kg : float, optional
+        Web mass inside the skins' half thickness, counted twice (kg).
+    """
 
     box: ShellBox
     count: int
@@ -72,7 +94,38 @@ def build_stiffened_box(sections: BoxSections, material, stiffeners: dict, pitch
                         bay_elements=2, web_elements=1, height_elements=4, span_element_size=0.1, ribs_y=(),
                         rib_thickness=0.002) -> StiffenedBox:
     """Mesh the stiffened box (module docstring). ``stiffeners``: ``{"upper": (h, ts),
-    "lower": (h, ts)}``, web height and thickness per section (m, (n,) each)."""
+    "lower": (h, ts)}``, web height and thickness per section (m, (n,) each).
+
+    Parameters
+    ----------
+    sections : BoxSections
+        Streamwise sections of the box.
+    material : Material
+        Isotropic material.
+    stiffeners : dict
+        ``{"upper": (h, ts), "lower": (h, ts)}``, web height and thickness per section (m).
+    pitch : float
+        Stiffener pitch (m).
+    count : int or None, optional
+        Stiffeners per skin; None for the mean width over ``pitch``, rounded (at least 1).
+    bay_elements : int, optional
+        Elements across a skin bay.
+    web_elements : int, optional
+        Elements up a stiffener web.
+    height_elements : int, optional
+        Elements up a spar web.
+    span_element_size : float, optional
+        Largest element length along the span (m).
+    ribs_y : sequence of float, optional
+        Rib span coordinates (m).
+    rib_thickness : float, optional
+        Rib thickness (m).
+
+    Returns
+    -------
+    StiffenedBox
+        The model.
+    """
     n_sec = len(sections.centres)
     dims = {}
     for s in SKINS:
@@ -179,7 +232,20 @@ def _section_thickness(deck) -> dict:
 def shell_mass(deck, density: float) -> dict:
     """Mass (kg) of the deck's shell elements, area (of the corner-node quadrilateral, half the
     cross product of its diagonals) x section thickness x ``density``, by element set kind:
-    ``walls`` (skins and spar webs), ``stiffeners``, ``ribs``, and ``total``."""
+    ``walls`` (skins and spar webs), ``stiffeners``, ``ribs``, and ``total``.
+
+    Parameters
+    ----------
+    deck : Deck
+        The deck.
+    density : float
+        Material density (kg/m^3).
+
+    Returns
+    -------
+    dict
+        ``walls``, ``stiffeners``, ``ribs`` and ``total`` masses (kg).
+    """
     thick = _section_thickness(deck)
     out = {"walls": 0.0, "stiffeners": 0.0, "ribs": 0.0}
     for etype, elset, block in deck.elements:
@@ -199,7 +265,24 @@ def solve_buckling(model: StiffenedBox, loads, modes: int = 5, keep_dir=None) ->
     distributing couplings): the lowest positive factor (``factor``), all factors, and where the
     first positive mode peaks: the part and position of the node with the largest displacement
     magnitude (``peak_part``, ``peak_xyz``) and each part's largest displacement relative to it
-    (``part_peaks``); ``positive_modes``: the same for every positive mode, lowest first."""
+    (``part_peaks``); ``positive_modes``: the same for every positive mode, lowest first.
+
+    Parameters
+    ----------
+    model : StiffenedBox
+        The built model.
+    loads : sequence of tuple
+        ``(y, centre, F, M)`` station loads (m, m, N, N m).
+    modes : int, optional
+        Buckling factors extracted.
+    keep_dir : str, path-like or None, optional
+        Folder to keep the CalculiX files in; None for a temporary one.
+
+    Returns
+    -------
+    dict
+        ``factor``, ``factors``, ``peak_part``, ``peak_xyz``, ``part_peaks``, ``positive_modes``.
+    """
     if not (isinstance(modes, (int, np.integer)) and 1 <= modes <= 50):
         raise ValueError(f"buckling modes = {modes!r}; allowed: an integer in [1, 50]")
     deck = model.deck
@@ -248,7 +331,25 @@ def skin_running_loads(model: StiffenedBox, loads, span_range=None, keep_dir=Non
     hundredths, is neglected). Returns per skin (``upper``, ``lower``) arrays ``x_m``, ``y_m``,
     ``thickness_m``, ``n_span``, ``n_chord``, ``n_shear`` ordered by span row then front to rear,
     and ``stiffener_sigma_span`` (Pa): the blades' mean axial stress per element (``x_m``,
-    ``y_m`` beside it), for the skin-plus-stiffener load the panel model smears."""
+    ``y_m`` beside it), for the skin-plus-stiffener load the panel model smears.
+
+    Parameters
+    ----------
+    model : StiffenedBox
+        The built model.
+    loads : sequence of tuple
+        ``(y, centre, F, M)`` station loads (m, m, N, N m).
+    span_range : tuple or None, optional
+        (y0, y1) span range (m); None for the whole span.
+    keep_dir : str, path-like or None, optional
+        Folder to keep the CalculiX files in; None for a temporary one.
+
+    Returns
+    -------
+    dict
+        ``upper`` and ``lower``: element arrays of position (m), thickness (m) and running loads
+        (N/m), with the stiffeners' axial stress (Pa).
+    """
     box = model.box
     nc, nh = box.counts
     thick = _section_thickness(model.deck)
@@ -299,7 +400,18 @@ def running_load_profile(skin_loads: dict) -> list:
     reads: ``y_m``; ``n_span_front``, ``n_span_mid``, ``n_span_rear`` and ``n_span_min`` (the
     elements at the front and rear edges and nearest mid-chord, and the most compressive);
     ``n_chord_mid`` and ``n_chord_min``; ``n_shear_front``, ``n_shear_rear`` and
-    ``n_shear_max_abs`` (N/m, compression negative)."""
+    ``n_shear_max_abs`` (N/m, compression negative).
+
+    Parameters
+    ----------
+    skin_loads : dict
+        One skin's arrays of :func:`skin_running_loads`.
+
+    Returns
+    -------
+    list of dict
+        Per span row, the running loads a panel check reads (N/m).
+    """
     y = np.asarray(skin_loads["y_m"])
     rows = []
     for yy in np.unique(np.round(y, 6)):

@@ -36,7 +36,20 @@ def _centre_elements(start, count):
 
 def ring_sample_indices(nc: int, nh: int) -> list:
     """Element indices around a ring (lower skin front->rear, rear spar up, upper skin
-    rear->front, front spar down) of each of ``POINTS``."""
+    rear->front, front spar down) of each of ``POINTS``.
+
+    Parameters
+    ----------
+    nc : int
+        Elements across each skin.
+    nh : int
+        Elements up each spar web.
+
+    Returns
+    -------
+    list
+        Element index around the ring of each stress point.
+    """
     corners = [[0], [2 * nc + 2 * nh - 1], [nc - 1], [nc], [nc + nh], [nc + nh - 1],
                [2 * nc + nh - 1], [2 * nc + nh]]
     centres = [_centre_elements(nc + nh, nc), _centre_elements(0, nc), _centre_elements(2 * nc + nh, nh),
@@ -46,7 +59,18 @@ def ring_sample_indices(nc: int, nh: int) -> list:
 
 def sample_elements(model) -> list:
     """Per span row of ``model`` (:class:`wingmdao.fe.box_model.ShellBox`): the element ids of
-    each of ``POINTS`` (the model's own ``samples`` when it has them: the solid)."""
+    each of ``POINTS`` (the model's own ``samples`` when it has them: the solid).
+
+    Parameters
+    ----------
+    model : ShellBox
+        The built model.
+
+    Returns
+    -------
+    list
+        Per span row, the element ids of each of ``POINTS``.
+    """
     if model.samples is not None:
         return model.samples
     idx = ring_sample_indices(*model.counts)
@@ -54,6 +78,20 @@ def sample_elements(model) -> list:
 
 
 def element_centroid(deck, eids) -> np.ndarray:
+    """Mean node position of the elements ``eids``.
+
+    Parameters
+    ----------
+    deck : Deck
+        The CalculiX deck.
+    eids : sequence of int
+        Element ids.
+
+    Returns
+    -------
+    numpy.ndarray
+        (3,) mean of the elements' node coordinates (m).
+    """
     return np.mean([deck.nodes[n] for e in eids for n in _connectivity(deck, e)], axis=0)
 
 
@@ -65,20 +103,59 @@ def _connectivity(deck, eid):
 
 
 def von_mises(s) -> float:
-    """Von Mises stress (Pa) of a stress vector (sxx, syy, szz, sxy, sxz, syz)."""
+    """Von Mises stress (Pa) of a stress vector (sxx, syy, szz, sxy, sxz, syz).
+
+    Parameters
+    ----------
+    s : array_like
+        (6,) stress vector (sxx, syy, szz, sxy, sxz, syz) (Pa).
+
+    Returns
+    -------
+    float
+        Von Mises stress (Pa).
+    """
     sx, sy, sz, txy, txz, tyz = s
     return float(np.sqrt(0.5 * ((sx - sy) ** 2 + (sy - sz) ** 2 + (sz - sx) ** 2)
                          + 3.0 * (txy ** 2 + txz ** 2 + tyz ** 2)))
 
 
 def fe_von_mises(stresses: dict, eids) -> float:
-    """Von Mises of the mean integration-point stress of the elements ``eids`` (Pa)."""
+    """Von Mises of the mean integration-point stress of the elements ``eids`` (Pa).
+
+    Parameters
+    ----------
+    stresses : dict
+        Element id -> (k, 6) integration-point stresses (Pa).
+    eids : sequence of int
+        Element ids.
+
+    Returns
+    -------
+    float
+        Von Mises stress (Pa).
+    """
     return von_mises(np.concatenate([stresses[e] for e in eids]).mean(axis=0))
 
 
 def internal_loads(y, centre, loads):
     """Force and moment (body axes, N and N m) that the part outboard of span coordinate ``y``
-    exerts, about ``centre``: sum over the loads [(y_k, centre_k, F_k, M_k)] with y_k > y."""
+    exerts, about ``centre``: sum over the loads [(y_k, centre_k, F_k, M_k)] with y_k > y.
+
+    Parameters
+    ----------
+    y : float
+        Span coordinate of the cut (m).
+    centre : array_like
+        (3,) point the moment is taken about (m).
+    loads : sequence of tuple
+        ``(y_k, centre_k, F_k, M_k)`` station loads (m, m, N, N m).
+
+    Returns
+    -------
+    tuple
+        Force (3,) (N) and moment (3,) (N m) in body axes.
+    """
     F, M = np.zeros(3), np.zeros(3)
     for yk, ck, Fk, Mk in loads:
         if yk > y:
@@ -91,7 +168,28 @@ def internal_loads(y, centre, loads):
 def beam_point_von_mises(force, moment, geometry, c, n, wall, centre_point) -> float:
     """Beam von Mises (Pa) at (c, n) of the section ``geometry`` = (w, h, t_upper_skin,
     t_lower_skin, t_front_spar, t_rear_spar) (beam-normal cut) under internal loads in csn axes;
-    ``centre_point``: add the mid-flange transverse shear of ``box_stresses`` (index ``wall``)."""
+    ``centre_point``: add the mid-flange transverse shear of ``box_stresses`` (index ``wall``).
+
+    Parameters
+    ----------
+    force : array_like
+        (3,) internal force in csn axes (N).
+    moment : array_like
+        (3,) internal moment in csn axes (N m).
+    geometry : tuple
+        ``(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar)`` (m).
+    c, n : float
+        Point in the section (m).
+    wall : int
+        Index of the wall in ``tau_cent`` of :func:`~wingmdao.stress.box_stress.box_stresses`.
+    centre_point : bool
+        Add the mid-flange transverse shear.
+
+    Returns
+    -------
+    float
+        Von Mises stress (Pa).
+    """
     sec = section_quantities(geometry)
     sigma = axial_stress(c, n, force, moment, sec)
     if centre_point:
@@ -104,7 +202,26 @@ def beam_point_von_mises(force, moment, geometry, c, n, wall, centre_point) -> f
 def compare_von_mises(model, sections, stresses: dict, loads, axes_at) -> dict:
     """Per span row: ``y`` (m), ``fe`` and ``beam`` (rows x POINTS, Pa). ``sections``:
     :class:`~wingmdao.fe.box_model.BoxSections` (streamwise widths/heights, normal-cut wall
-    thicknesses); ``axes_at(y)``: the beam's csn axes T (rows c, s, n in body axes) at y."""
+    thicknesses); ``axes_at(y)``: the beam's csn axes T (rows c, s, n in body axes) at y.
+
+    Parameters
+    ----------
+    model : ShellBox
+        The built model.
+    sections : BoxSections
+        Streamwise sections of the box.
+    stresses : dict
+        Element id -> integration-point stresses (Pa).
+    loads : sequence of tuple
+        Station loads ``(y, centre, F, M)`` (m, m, N, N m).
+    axes_at : callable
+        ``axes_at(y)`` -> (3, 3) csn axes of the beam (rows c, s, n in body axes).
+
+    Returns
+    -------
+    dict
+        ``y`` (m), ``fe`` and ``beam`` (rows x POINTS, Pa).
+    """
     ys, fe, beam = [], [], []
     for row in sample_elements(model):
         yc = float(np.mean([element_centroid(model.deck, eids)[1] for eids in row]))
