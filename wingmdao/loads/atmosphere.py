@@ -26,6 +26,20 @@ H_MAX = 20000.0  # m, top of the modelled layers
 
 
 class IsaState(NamedTuple):
+    """ISA state at an altitude (the fields of :func:`isa`).
+
+    Parameters
+    ----------
+    temperature : numpy.ndarray
+        Temperature (K).
+    pressure : numpy.ndarray
+        Static pressure (Pa).
+    density : numpy.ndarray
+        Density (kg/m^3).
+    speed_of_sound : numpy.ndarray
+        Speed of sound (m/s).
+    """
+
     temperature: np.ndarray  # K
     pressure: np.ndarray  # Pa
     density: np.ndarray  # kg/m^3
@@ -33,7 +47,18 @@ class IsaState(NamedTuple):
 
 
 def altitude_ft_to_m(altitude_ft):
-    """Feet to metres (edge conversion)."""
+    """Feet to metres (edge conversion).
+
+    Parameters
+    ----------
+    altitude_ft : float or array_like
+        Altitude (ft).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        Altitude (m).
+    """
     return np.asarray(altitude_ft, dtype=float) * FT
 
 
@@ -49,7 +74,18 @@ def _checked_altitude(altitude_m) -> np.ndarray:
 
 
 def isa(altitude_m) -> IsaState:
-    """ISA temperature, pressure, density and speed of sound at geopotential altitude (m)."""
+    """ISA temperature, pressure, density and speed of sound at geopotential altitude (m).
+
+    Parameters
+    ----------
+    altitude_m : float or array_like
+        Geopotential altitude (m).
+
+    Returns
+    -------
+    IsaState
+        The state.
+    """
     h = _checked_altitude(altitude_m)
     tropo = h <= H_TROPOPAUSE
     temperature = np.where(tropo, T0 - LAPSE * h, T_TROPOPAUSE)
@@ -62,35 +98,118 @@ def isa(altitude_m) -> IsaState:
 
 
 def density(altitude_m):
-    """ISA density (kg/m^3)."""
+    """ISA density (kg/m^3).
+
+    Parameters
+    ----------
+    altitude_m : float or array_like
+        Geopotential altitude (m).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        Density (kg/m^3).
+    """
     return isa(altitude_m).density
 
 
 def temperature(altitude_m):
-    """ISA temperature (K)."""
+    """ISA temperature (K).
+
+    Parameters
+    ----------
+    altitude_m : float or array_like
+        Geopotential altitude (m).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        Temperature (K).
+    """
     return isa(altitude_m).temperature
 
 
 def pressure(altitude_m):
-    """ISA static pressure (Pa)."""
+    """ISA static pressure (Pa).
+
+    Parameters
+    ----------
+    altitude_m : float or array_like
+        Geopotential altitude (m).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        Static pressure (Pa).
+    """
     return isa(altitude_m).pressure
 
 
 def speed_of_sound(altitude_m):
-    """ISA speed of sound (m/s)."""
+    """ISA speed of sound (m/s).
+
+    Parameters
+    ----------
+    altitude_m : float or array_like
+        Geopotential altitude (m).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        Speed of sound (m/s).
+    """
     return isa(altitude_m).speed_of_sound
 
 
 def eas_to_tas(v_eas, altitude_m):
-    """True airspeed from equivalent airspeed: V_T = V_E sqrt(rho0 / rho) (same dynamic pressure)."""
+    """True airspeed from equivalent airspeed: V_T = V_E sqrt(rho0 / rho) (same dynamic pressure).
+
+    Parameters
+    ----------
+    v_eas : float or array_like
+        Equivalent airspeed (m/s).
+    altitude_m : float or array_like
+        Geopotential altitude (m).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        True airspeed (m/s).
+    """
     return np.asarray(v_eas, dtype=float) * np.sqrt(RHO0 / density(altitude_m))
 
 
 def tas_to_eas(v_tas, altitude_m):
-    """Equivalent airspeed from true airspeed: V_E = V_T sqrt(rho / rho0)."""
+    """Equivalent airspeed from true airspeed: V_E = V_T sqrt(rho / rho0).
+
+    Parameters
+    ----------
+    v_tas : float or array_like
+        True airspeed (m/s).
+    altitude_m : float or array_like
+        Geopotential altitude (m).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        Equivalent airspeed (m/s).
+    """
     return np.asarray(v_tas, dtype=float) * np.sqrt(density(altitude_m) / RHO0)
 
 
 def mach_to_tas(mach, altitude_m):
-    """True airspeed (m/s) for a Mach number at an ISA altitude."""
+    """True airspeed (m/s) for a Mach number at an ISA altitude.
+
+    Parameters
+    ----------
+    mach : float or array_like
+        Mach number (-).
+    altitude_m : float or array_like
+        Geopotential altitude (m).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        True airspeed (m/s).
+    """
     return np.asarray(mach, dtype=float) * speed_of_sound(altitude_m)

@@ -13,7 +13,20 @@ import numpy as np
 
 
 def trapezoid(values: np.ndarray, coords: np.ndarray) -> float:
-    """Trapezoid-rule integral of nodal values over nodal coordinates."""
+    """Trapezoid-rule integral of nodal values over nodal coordinates.
+
+    Parameters
+    ----------
+    values : numpy.ndarray
+        Nodal values.
+    coords : numpy.ndarray
+        Nodal coordinates.
+
+    Returns
+    -------
+    float
+        The integral.
+    """
     values, coords = np.asarray(values, float), np.asarray(coords, float)
     return float(np.sum(0.5 * (values[1:] + values[:-1]) * np.diff(coords)))
 
@@ -44,7 +57,20 @@ def _check_stations(y, chord, semi_span):
 
 
 def elliptic_shape(y, semi_span: float) -> np.ndarray:
-    """sqrt(1 - (y/b2)^2), the elliptic loading shape (b2 = semi-span)."""
+    """sqrt(1 - (y/b2)^2), the elliptic loading shape (b2 = semi-span).
+
+    Parameters
+    ----------
+    y : array_like
+        Span coordinates (m).
+    semi_span : float
+        Semi-span b2 (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape values (-).
+    """
     eta = np.clip(np.asarray(y, float) / semi_span, 0.0, 1.0)
     return np.sqrt(1.0 - eta**2)
 
@@ -67,6 +93,28 @@ def lift_per_span(
     shape values. ``semi_span`` b2 defaults to the last station y. With
     ``fuselage_carries_lift=False`` stations with y < ``fuselage_half_width`` get no lift and
     the exposed wing carries all of ``half_wing_lift``.
+
+    Parameters
+    ----------
+    y : array_like
+        (n,) station span coordinates (m).
+    chord : array_like
+        (n,) chords (m).
+    half_wing_lift : float
+        Lift of the half wing (N).
+    distribution : {"schrenk", "elliptic"} or array_like, optional
+        Spanwise shape.
+    semi_span : float or None, optional
+        Semi-span (m); None for the last station.
+    fuselage_half_width : float, optional
+        Fuselage half-width (m).
+    fuselage_carries_lift : bool, optional
+        Whether the stations inside the fuselage carry lift.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n,) lift per span (N/m).
     """
     y, chord, b2 = _check_stations(y, chord, semi_span)
     if not np.isfinite(half_wing_lift):
@@ -113,6 +161,16 @@ def span_per_beam_length(node_positions) -> np.ndarray:
 
     At node i, (y_{i+1} - y_{i-1}) / (s_{i+1} - s_{i-1}) over the adjacent elements (one
     element at the ends); cos(sweep) cos(dihedral) for a straight beam.
+
+    Parameters
+    ----------
+    node_positions : array_like
+        (n, 3) beam node positions (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n,) dy/ds (-).
     """
     r = np.asarray(node_positions, dtype=float)
     if r.ndim != 2 or r.shape[1] != 3 or r.shape[0] < 2:
@@ -133,6 +191,17 @@ def span_per_beam_length(node_positions) -> np.ndarray:
 
 
 def arc_length(node_positions) -> np.ndarray:
-    """Cumulative beam-axis length s at each node (m), s = 0 at the root."""
+    """Cumulative beam-axis length s at each node (m), s = 0 at the root.
+
+    Parameters
+    ----------
+    node_positions : array_like
+        (n, 3) beam node positions (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n,) arc length s (m).
+    """
     r = np.asarray(node_positions, dtype=float)
     return np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(r, axis=0), axis=1))])

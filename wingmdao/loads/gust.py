@@ -78,6 +78,18 @@ def reference_gust_velocity_eas(altitude_ft: float, at_vd: bool = False) -> floa
     """U_ref (m/s EAS), 25.341(a)(5): 56 ft/s at sea level, 44 at 15 000 ft, 20.86 at 60 000 ft.
 
     Linear in altitude between the table points; half of it at V_D (``at_vd``).
+
+    Parameters
+    ----------
+    altitude_ft : float
+        Altitude (ft).
+    at_vd : bool, optional
+        Halve it, the value at V_D.
+
+    Returns
+    -------
+    float
+        U_ref (m/s EAS).
     """
     h = check_range("altitude_ft", altitude_ft, *ALTITUDE_RANGE_FT, "ft")
     alt, u = zip(*U_REF_TABLE_FT)
@@ -92,6 +104,22 @@ def flight_profile_alleviation_factor(
 
     F_gz = 1 - Z_mo / 250 000 ft, F_gm = sqrt(R2 tan(pi R1 / 4)), R1 = MLW/MTOW,
     R2 = MZFW/MTOW; F_g = 1 at and above Z_mo.
+
+    Parameters
+    ----------
+    altitude_ft : float
+        Altitude (ft).
+    z_mo_ft : float
+        Maximum operating altitude Z_mo (ft).
+    mlw_over_mtow : float
+        R1 = maximum landing weight / maximum take-off weight (-).
+    mzfw_over_mtow : float
+        R2 = maximum zero-fuel weight / maximum take-off weight (-).
+
+    Returns
+    -------
+    float
+        F_g (-).
     """
     h = check_range("altitude_ft", altitude_ft, *ALTITUDE_RANGE_FT, "ft")
     z_mo = check_range("z_mo_ft", z_mo_ft, 0.0, ALTITUDE_RANGE_FT[1], "ft", lo_open=True)
@@ -108,14 +136,47 @@ def flight_profile_alleviation_factor(
 def design_gust_velocity_eas(
     gust_gradient_ft: float, altitude_ft: float, alleviation_factor: float, at_vd: bool = False
 ) -> float:
-    """U_ds = U_ref F_g (H / 350 ft)^(1/6) (m/s EAS), Eq. 5.2 / 25.341(a)(4)."""
+    """U_ds = U_ref F_g (H / 350 ft)^(1/6) (m/s EAS), Eq. 5.2 / 25.341(a)(4).
+
+    Parameters
+    ----------
+    gust_gradient_ft : float
+        Gust gradient H (ft).
+    altitude_ft : float
+        Altitude (ft).
+    alleviation_factor : float
+        Flight profile alleviation factor F_g (-).
+    at_vd : bool, optional
+        Use half the reference velocity (at V_D).
+
+    Returns
+    -------
+    float
+        U_ds (m/s EAS).
+    """
     h_grad = check_range("gust_gradient_ft (H)", gust_gradient_ft, *GRADIENT_RANGE_FT, "ft")
     f_g = check_range("alleviation_factor (F_g)", alleviation_factor, 0.0, 1.0, "", lo_open=True)
     return reference_gust_velocity_eas(altitude_ft, at_vd) * f_g * (h_grad / 350.0) ** (1.0 / 6.0)
 
 
 class DesignGust(NamedTuple):
-    """One 25.341(a) design gust; SI plus the regulation's ft and ft/s for reports."""
+    """One 25.341(a) design gust; SI plus the regulation's ft and ft/s for reports.
+
+    Parameters
+    ----------
+    gust_gradient_m : float
+        Gust gradient H (m).
+    u_ref_eas : float
+        Reference gust velocity (m/s EAS).
+    alleviation_factor : float
+        Flight profile alleviation factor F_g (-).
+    u_ds_eas : float
+        Design gust velocity (m/s EAS).
+    gust_gradient_ft : float
+        Gust gradient H (ft).
+    u_ref_eas_fps, u_ds_eas_fps : float
+        The two velocities in ft/s EAS.
+    """
 
     gust_gradient_m: float
     u_ref_eas: float  # m/s
@@ -134,7 +195,28 @@ def design_gust(
     mzfw_over_mtow: float,
     at_vd: bool = False,
 ) -> DesignGust:
-    """Everything 25.341(a) fixes for one (altitude, H) pair, from the regulation's inputs."""
+    """Everything 25.341(a) fixes for one (altitude, H) pair, from the regulation's inputs.
+
+    Parameters
+    ----------
+    altitude_ft : float
+        Altitude (ft).
+    gust_gradient_ft : float
+        Gust gradient H (ft).
+    z_mo_ft : float
+        Maximum operating altitude (ft).
+    mlw_over_mtow : float
+        Maximum landing over maximum take-off weight (-).
+    mzfw_over_mtow : float
+        Maximum zero-fuel over maximum take-off weight (-).
+    at_vd : bool, optional
+        The gust at V_D (half the reference velocity).
+
+    Returns
+    -------
+    DesignGust
+        The gust.
+    """
     f_g = flight_profile_alleviation_factor(altitude_ft, z_mo_ft, mlw_over_mtow, mzfw_over_mtow)
     u_ref = reference_gust_velocity_eas(altitude_ft, at_vd)
     u_ds = design_gust_velocity_eas(gust_gradient_ft, altitude_ft, f_g, at_vd)
@@ -147,6 +229,16 @@ def gust_gradients_ft(count: int = 10) -> np.ndarray:
     """``count`` gust gradients H (ft) evenly spread over 30-350 ft, both ends included.
 
     25.341(a)(3) asks for "a sufficient number" in this range to find the critical one.
+
+    Parameters
+    ----------
+    count : int, optional
+        Number of gradients (>= 1).
+
+    Returns
+    -------
+    numpy.ndarray
+        Gust gradients H (ft).
     """
     if int(count) < 2:
         raise ValueError(f"count = {count}; allowed range [2, inf) (both 30 ft and 350 ft are included)")
@@ -154,7 +246,22 @@ def gust_gradients_ft(count: int = 10) -> np.ndarray:
 
 
 def one_minus_cosine(distance_m, gust_gradient_m: float, u_ds: float):
-    """U(s) = U_ds/2 (1 - cos(pi s/H)) for 0 <= s <= 2H, else 0 (Eq. 5.1); s, H in m."""
+    """U(s) = U_ds/2 (1 - cos(pi s/H)) for 0 <= s <= 2H, else 0 (Eq. 5.1); s, H in m.
+
+    Parameters
+    ----------
+    distance_m : float or array_like
+        Distance s into the gust (m).
+    gust_gradient_m : float
+        Gust gradient H (m).
+    u_ds : float
+        Design gust velocity (m/s).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        Gust velocity U(s) (m/s).
+    """
     s = np.asarray(distance_m, dtype=float)
     h = float(gust_gradient_m)
     if not h > 0.0:
@@ -169,6 +276,16 @@ def kussner_sears(semichords):
 
     ``s`` = distance the leading edge has penetrated into a sharp-edged gust, in semichords
     (0 before entry).
+
+    Parameters
+    ----------
+    semichords : float or array_like
+        Penetration distance s (semichords).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        psi(s) (-).
     """
     s = np.maximum(np.asarray(semichords, dtype=float), 0.0)
     (a1, a2), (b1, b2) = _KUSSNER_A, _KUSSNER_B
@@ -190,6 +307,18 @@ def kussner_lagged_velocity(semichords, gust_velocity):
     strictly increasing down the first axis; ``gust_velocity`` (n,) or (n, m) (columns are
     independent strips). Exact for a gust that is piecewise linear between samples, e.g. a
     sharp-edged gust already present at s_0.
+
+    Parameters
+    ----------
+    semichords : array_like
+        (n,) or (n, m) distance travelled (semichords), strictly increasing down the first axis.
+    gust_velocity : array_like
+        (n,) or (n, m) gust velocity at those distances (m/s).
+
+    Returns
+    -------
+    numpy.ndarray
+        Lagged velocity, shaped as ``gust_velocity`` (m/s).
     """
     s = np.asarray(semichords, dtype=float)
     w = np.asarray(gust_velocity, dtype=float)
@@ -227,6 +356,22 @@ def lift_curve_slope(
     with beta = sqrt(1 - M^2). With it, the finite-wing correction of Helmbold / DATCOM:
     C_L_a = 2 pi A / (2 + sqrt(A^2 beta^2 / kappa^2 (1 + tan^2 Lambda_c/2 / beta^2) + 4)),
     kappa = c_l_a / (2 pi).
+
+    Parameters
+    ----------
+    section_cl_alpha : float, optional
+        Section lift-curve slope (1/rad).
+    aspect_ratio : float or None, optional
+        Wing aspect ratio; None for the section value.
+    sweep_half_chord_rad : float, optional
+        Half-chord sweep angle (rad).
+    mach : float, optional
+        Mach number (-).
+
+    Returns
+    -------
+    float
+        Lift-curve slope (1/rad).
     """
     check_range("mach", mach, 0.0, 0.85, "")
     check_range("section_cl_alpha", section_cl_alpha, 0.0, 4.0 * np.pi, "1/rad", lo_open=True)
@@ -288,6 +433,56 @@ def gust_line_loads(
     ``steady_load_factor`` x steady + gust increment; otherwise the increment only. Loads
     are per unit beam length, body axes; aerodynamic only (inertia relief is the beam's).
     Returns a :class:`~wingmdao.loads.files.LoadHistory` shaped (n_time, n_node, 3).
+
+    Parameters
+    ----------
+    node_positions : array_like
+        (n, 3) beam node positions, body axes (m).
+    chord : array_like
+        (n,) strip chords (m).
+    beam_axis_fraction : array_like
+        (n,) beam axis position as a fraction of the chord (-).
+    time : array_like
+        (n_time,) output times (s).
+    gust_gradient_m : float
+        Gust gradient H (m).
+    u_ds_eas : float
+        Design gust velocity (m/s EAS, >= 0).
+    airspeed_tas : float
+        True airspeed (m/s).
+    altitude_m : float
+        Altitude (m).
+    cl_alpha : float, optional
+        Section lift-curve slope (1/rad).
+    aspect_ratio : float or None, optional
+        Wing aspect ratio for the finite-wing correction; None for none.
+    sweep_half_chord_rad : float, optional
+        Half-chord sweep (rad).
+    prandtl_glauert : bool, optional
+        Apply the compressibility correction at the flight Mach number.
+    cp_fraction : float, optional
+        Centre of pressure as a fraction of the chord (-).
+    kussner : bool, optional
+        Lag the gust by Kussner's function.
+    gust_start_time : float, optional
+        Time the gust front reaches the most forward leading edge (s).
+    penetration_delay : bool, optional
+        Delay each strip by its distance aft of the front over V.
+    direction : {1, -1}, optional
+        Gust up (+1) or down (-1).
+    steady : LineLoads or None, optional
+        1 g level-flight line loads to add; None for the increment only.
+    steady_load_factor : float, optional
+        Factor on ``steady`` (-).
+    fuselage_half_width : float, optional
+        Fuselage half-width (m).
+    fuselage_carries_lift : bool, optional
+        Whether the strips with y below ``fuselage_half_width`` carry gust lift.
+
+    Returns
+    -------
+    LoadHistory
+        Loads per unit beam length, (n_time, n_node, 3), body axes.
     """
     r, c, xb = check_strip_geometry(node_positions, chord, beam_axis_fraction, cp_fraction)
     t = _check_time(time)

@@ -18,7 +18,17 @@ N_NEG = -1.0
 
 
 class LineLoads(NamedTuple):
-    """Distributed loads at the beam nodes, per unit beam-axis length, body axes."""
+    """Distributed loads at the beam nodes, per unit beam-axis length, body axes.
+
+    Parameters
+    ----------
+    force_per_length : numpy.ndarray
+        (n, 3) force per unit beam length (N/m).
+    moment_per_length : numpy.ndarray
+        (n, 3) moment per unit beam length (N m/m).
+    lift_per_span : numpy.ndarray
+        (n,) lift per unit span (N/m).
+    """
 
     force_per_length: np.ndarray  # (n_node, 3) N/m
     moment_per_length: np.ndarray  # (n_node, 3) N m/m, about the beam axis at each node
@@ -30,6 +40,16 @@ def limit_load_factors(weight_lb) -> tuple[float, float]:
 
     n_pos = 2.1 + 24000 / (W + 10000), W the design maximum takeoff weight in lb, not less
     than 2.5 and not more than 3.8; n_neg = -1.0 (up to V_C).
+
+    Parameters
+    ----------
+    weight_lb : float
+        Design maximum take-off weight (lb).
+
+    Returns
+    -------
+    tuple of float
+        (n_pos, n_neg) (-).
     """
     w = float(weight_lb)
     if not (np.isfinite(w) and w > 0.0):
@@ -39,7 +59,24 @@ def limit_load_factors(weight_lb) -> tuple[float, float]:
 
 
 def check_strip_geometry(node_positions, chord, beam_axis_fraction, cp_fraction):
-    """Validate beam nodes and strip data; return arrays (positions (n,3), chord (n,), x_b (n,))."""
+    """Validate beam nodes and strip data; return arrays (positions (n,3), chord (n,), x_b (n,)).
+
+    Parameters
+    ----------
+    node_positions : array_like
+        (n, 3) beam node positions (m).
+    chord : array_like
+        (n,) strip chords (m).
+    beam_axis_fraction : array_like
+        (n,) beam axis as a fraction of the chord (-).
+    cp_fraction : float
+        Centre of pressure as a fraction of the chord (-).
+
+    Returns
+    -------
+    tuple
+        Positions (n, 3), chord (n,), beam-axis fraction (n,) as float arrays.
+    """
     r = np.asarray(node_positions, dtype=float)
     if r.ndim != 2 or r.shape[1] != 3 or r.shape[0] < 2:
         raise ValueError(f"node_positions: shape {r.shape}; expected (n_node >= 2, 3) m")
@@ -72,6 +109,24 @@ def strip_line_loads(node_positions, chord, beam_axis_fraction, lift_per_unit_sp
     (0, -d f_z, 0): lift aft of the axis gives a nose-down (negative y) moment.
     ``lift_per_unit_span`` is (n_node,) or (..., n_node) (e.g. one row per time step);
     the results have one more trailing axis of length 3.
+
+    Parameters
+    ----------
+    node_positions : array_like
+        (n, 3) beam node positions (m).
+    chord : array_like
+        (n,) strip chords (m).
+    beam_axis_fraction : array_like
+        (n,) beam axis as a fraction of the chord (-).
+    lift_per_unit_span : array_like
+        (n,) or (..., n) lift per unit span (N/m).
+    cp_fraction : float, optional
+        Centre of pressure as a fraction of the chord (-).
+
+    Returns
+    -------
+    tuple
+        Force and moment per unit beam length (..., n, 3) (N/m, N m/m).
     """
     r, c, xb = check_strip_geometry(node_positions, chord, beam_axis_fraction, cp_fraction)
     lift = np.asarray(lift_per_unit_span, dtype=float)
@@ -108,6 +163,36 @@ def maneuver_line_loads(
     ``cp_fraction`` of the chord giving the torsion about the beam axis (which lies at
     ``beam_axis_fraction`` of the chord). Inertia relief is *not* included: the beam's
     gravity terms apply it.
+
+    Parameters
+    ----------
+    node_positions : array_like
+        (n, 3) beam node positions (m).
+    chord : array_like
+        (n,) strip chords (m).
+    beam_axis_fraction : array_like
+        (n,) beam axis as a fraction of the chord (-).
+    weight_N : float
+        Aircraft weight W (N).
+    load_factor : float
+        Load factor n (-).
+    distribution : {"schrenk", "elliptic"} or array_like, optional
+        Spanwise lift shape (:func:`wingmdao.loads.distribution.lift_per_span`).
+    cp_fraction : float, optional
+        Centre of pressure as a fraction of the chord (-).
+    wing_lift_fraction : float, optional
+        Share of the lift carried by the wing (-).
+    semi_span : float or None, optional
+        Semi-span (m); None for the last node's y.
+    fuselage_half_width : float, optional
+        Fuselage half-width (m).
+    fuselage_carries_lift : bool, optional
+        Whether the stations inside the fuselage carry lift.
+
+    Returns
+    -------
+    LineLoads
+        The line loads.
     """
     if not (np.isfinite(weight_N) and weight_N > 0.0):
         raise ValueError(f"weight_N = {weight_N}; allowed range (0, inf) N")
