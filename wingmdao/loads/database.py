@@ -81,7 +81,39 @@ _DATASETS = {  # attribute: (path, units, description)
 
 @dataclass
 class LoadsDatabase:
-    """A loads database in memory (the arrays of the module docstring's layout)."""
+    """A loads database in memory (the arrays of the module docstring's layout).
+
+    Parameters
+    ----------
+    case : str
+        Case name (e.g. ``"pegasus"``).
+    status : {"complete", "interrupted"}
+        Whether every case ran.
+    model : str
+        Description of the loads model.
+    matrix_file : str
+        Text of the matrix YAML file.
+    cases : numpy.ndarray
+        (n_case,) case table, :data:`CASE_DTYPE`.
+    node_positions, node_euler_angles : numpy.ndarray
+        (n, 3) jig beam nodes (m) and their Euler angles (rad).
+    loads_max, loads_min : numpy.ndarray
+        (n_case, n, 6) extremes per case, station and csn component (N, N m).
+    max_snapshot, min_snapshot : numpy.ndarray
+        (n_case, n, 6) rows of ``snapshots`` at those extremes (-1: not run).
+    snapshots : numpy.ndarray
+        (k, n, 6) the wing's loads at the instant of an extreme (N, N m).
+    snapshot_time : numpy.ndarray
+        (k,) time of each snapshot (s; NaN for turbulence and maneuvers).
+    snapshot_case : numpy.ndarray
+        (k,) case index of each snapshot.
+    envelope_max, envelope_min : numpy.ndarray
+        (n, 6) envelope over the evaluated cases (N, N m).
+    max_case, min_case : numpy.ndarray
+        (n, 6) critical case index of the envelope.
+    run : dict, optional
+        Run record (wall times, ranks).
+    """
 
     case: str
     status: str
@@ -109,7 +141,24 @@ class LoadsDatabase:
 
     def snapshot(self, case_index: int, station: int, component: str, extreme: str) -> np.ndarray:
         """(n, 6) loads of the wing at the instant case ``case_index`` reaches its ``extreme``
-        (``"max"``/``"min"``) of ``component`` at ``station``."""
+        (``"max"``/``"min"``) of ``component`` at ``station``.
+
+        Parameters
+        ----------
+        case_index : int
+            Case index.
+        station : int
+            Station (node) index.
+        component : str
+            csn load component name.
+        extreme : {"max", "min"}
+            Which extreme.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n, 6) loads (N, N m).
+        """
         j = COMPONENTS.index(component)
         k = (self.max_snapshot if extreme == "max" else self.min_snapshot)[case_index, station, j]
         if k < 0:
@@ -130,7 +179,32 @@ def _case_row(module, matrix, case, result):
 def assemble(module, model, cases, results: dict, *, case: str, interrupted=False, wall_time_s=0.0,
              ranks=1) -> LoadsDatabase:
     """The database of a run: ``results`` {case index: CaseLoads} of the ``cases`` that ran
-    (:func:`wingmdao.loads.matrix.evaluate_cases`), screened over those."""
+    (:func:`wingmdao.loads.matrix.evaluate_cases`), screened over those.
+
+    Parameters
+    ----------
+    module : module
+        The case module.
+    model : WingModel
+        The matrix's wing model.
+    cases : sequence of MatrixCase
+        The expanded cases.
+    results : dict
+        Case index -> CaseLoads of the cases that ran.
+    case : str
+        Case name.
+    interrupted : bool, optional
+        Whether the run was interrupted.
+    wall_time_s : float, optional
+        Wall time of the run (s).
+    ranks : int, optional
+        MPI ranks of the run.
+
+    Returns
+    -------
+    LoadsDatabase
+        The database.
+    """
     matrix = model.matrix
     n, nc = model.num_nodes, len(cases)
     table = np.array([_case_row(module, matrix, c, results.get(c.index)) for c in cases], dtype=CASE_DTYPE)
@@ -173,7 +247,20 @@ def _h5py():
 
 
 def write_database(db: LoadsDatabase, path: str) -> str:
-    """Write ``db`` to ``path`` (HDF5) atomically: a temporary file in the same folder, then a rename."""
+    """Write ``db`` to ``path`` (HDF5) atomically: a temporary file in the same folder, then a rename.
+
+    Parameters
+    ----------
+    db : LoadsDatabase
+        The loads database.
+    path : str
+        HDF5 file to write.
+
+    Returns
+    -------
+    str
+        The path written.
+    """
     h5py = _h5py()
 
     if db.status not in STATUSES:
@@ -208,7 +295,18 @@ def write_database(db: LoadsDatabase, path: str) -> str:
 
 
 def read_database(path: str) -> LoadsDatabase:
-    """Read a database written by :func:`write_database`; ValueError for a file that is not one."""
+    """Read a database written by :func:`write_database`; ValueError for a file that is not one.
+
+    Parameters
+    ----------
+    path : str
+        HDF5 file written by :func:`write_database`.
+
+    Returns
+    -------
+    LoadsDatabase
+        The database.
+    """
     h5py = _h5py()
 
     if not os.path.isfile(path):
@@ -232,7 +330,22 @@ def read_database(path: str) -> LoadsDatabase:
 
 def differences(a: LoadsDatabase, b: LoadsDatabase, *, rtol=0.0, atol=0.0, run=False) -> list:
     """Names of the fields in which ``a`` and ``b`` differ (NaN equal to NaN; floats within
-    ``rtol``/``atol``); ``run`` also compares the run record (timings, ranks)."""
+    ``rtol``/``atol``); ``run`` also compares the run record (timings, ranks).
+
+    Parameters
+    ----------
+    a, b : LoadsDatabase
+        The two databases.
+    rtol, atol : float, optional
+        Relative and absolute tolerances on floats.
+    run : bool, optional
+        Also compare the run record.
+
+    Returns
+    -------
+    list of str
+        Names of the differing fields.
+    """
     out = []
     for f in fields(LoadsDatabase):
         if f.name == "run" and not run:
@@ -256,7 +369,28 @@ def differences(a: LoadsDatabase, b: LoadsDatabase, *, rtol=0.0, atol=0.0, run=F
 
 def run_matrix(module, matrix, *, case: str, comm=None, thickness=None, progress=None) -> LoadsDatabase:
     """Build the wing, expand the matrix, evaluate every case (split over ``comm``'s ranks when
-    given) and screen it: the database (status ``interrupted`` after Ctrl-C, with the cases done)."""
+    given) and screen it: the database (status ``interrupted`` after Ctrl-C, with the cases done).
+
+    Parameters
+    ----------
+    module : module
+        The case module.
+    matrix : LoadsMatrix
+        The loads matrix.
+    case : str
+        Case name.
+    comm : mpi4py.MPI.Comm or None, optional
+        Communicator to split the cases over; None for serial.
+    thickness : dict or None, optional
+        Wall name -> (n,) thicknesses (m); None for the case's initial design.
+    progress : file-like or None, optional
+        Stream for progress lines; None for standard error.
+
+    Returns
+    -------
+    LoadsDatabase
+        The database.
+    """
     import sys
     import time
 

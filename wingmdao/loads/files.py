@@ -32,7 +32,17 @@ TIME_ZERO_TOL = 1e-12  # s
 
 @dataclass
 class LoadHistory:
-    """Distributed loads on the beam nodes over time (body axes, per unit beam length)."""
+    """Distributed loads on the beam nodes over time (body axes, per unit beam length).
+
+    Parameters
+    ----------
+    time : numpy.ndarray
+        (n_time,) times from 0, increasing (s).
+    force_per_length : numpy.ndarray
+        (n_time, n_node, 3) force per unit beam length (N/m).
+    moment_per_length : numpy.ndarray
+        (n_time, n_node, 3) moment per unit beam length (N m/m).
+    """
 
     time: np.ndarray  # (n_time,) s, time[0] = 0
     force_per_length: np.ndarray  # (n_time, n_node, 3) N/m
@@ -53,7 +63,18 @@ class LoadHistory:
         return self.force_per_length.shape[1]
 
     def resample(self, new_time) -> LoadHistory:
-        """Linear interpolation onto another time grid inside [0, time[-1]] (e.g. the beam's)."""
+        """Linear interpolation onto another time grid inside [0, time[-1]] (e.g. the beam's).
+
+        Parameters
+        ----------
+        new_time : array_like
+            Times inside [0, time[-1]] (s).
+
+        Returns
+        -------
+        LoadHistory
+            The interpolated history.
+        """
         t = np.asarray(new_time, dtype=float)
         zeros = np.zeros((t.size, 1, 3))
         validate_load_history(t, zeros, zeros, source="new_time")
@@ -75,7 +96,19 @@ class LoadHistory:
 
 
 def validate_load_history(time, force_per_length, moment_per_length, source: str = "") -> None:
-    """Raise ``ValueError`` on wrong shapes, non-finite values or a bad time axis."""
+    """Raise ``ValueError`` on wrong shapes, non-finite values or a bad time axis.
+
+    Parameters
+    ----------
+    time : array_like
+        (n_time,) times (s).
+    force_per_length : array_like
+        (n_time, n_node, 3) forces per length (N/m).
+    moment_per_length : array_like
+        (n_time, n_node, 3) moments per length (N m/m).
+    source : str, optional
+        File or input named in the error.
+    """
     where = f"{source}: " if source else ""
     if time.ndim != 1 or time.size < 1:
         raise ValueError(f"{where}time: shape {time.shape}; expected (n_time >= 1,) s")
@@ -106,7 +139,15 @@ def validate_load_history(time, force_per_length, moment_per_length, source: str
 
 # --------------------------------------------------------------------------- NPZ
 def write_npz(history: LoadHistory, path) -> None:
-    """Write a :class:`LoadHistory` to an ``.npz`` file."""
+    """Write a :class:`LoadHistory` to an ``.npz`` file.
+
+    Parameters
+    ----------
+    history : LoadHistory
+        The load history.
+    path : str or path-like
+        File to write.
+    """
     np.savez(
         path, time=history.time, force_per_length=history.force_per_length,
         moment_per_length=history.moment_per_length,
@@ -114,7 +155,18 @@ def write_npz(history: LoadHistory, path) -> None:
 
 
 def read_npz(path) -> LoadHistory:
-    """Read and validate an ``.npz`` load history."""
+    """Read and validate an ``.npz`` load history.
+
+    Parameters
+    ----------
+    path : str or path-like
+        File to read.
+
+    Returns
+    -------
+    LoadHistory
+        The validated history.
+    """
     import zipfile
 
     try:
@@ -139,7 +191,15 @@ def read_npz(path) -> LoadHistory:
 
 # --------------------------------------------------------------------------- CSV
 def write_csv(history: LoadHistory, path) -> None:
-    """Write a :class:`LoadHistory` as long-format CSV (one row per time and node)."""
+    """Write a :class:`LoadHistory` as long-format CSV (one row per time and node).
+
+    Parameters
+    ----------
+    history : LoadHistory
+        The load history.
+    path : str or path-like
+        File to write.
+    """
     n_t, n_n = history.num_times, history.num_nodes
     with open(path, "w", newline="", encoding="utf-8") as fh:
         writer = csv.writer(fh)
@@ -179,7 +239,18 @@ def _parse_csv_rows(path):
 
 
 def read_csv(path) -> LoadHistory:
-    """Read and validate a long-format CSV load history."""
+    """Read and validate a long-format CSV load history.
+
+    Parameters
+    ----------
+    path : str or path-like
+        File to read.
+
+    Returns
+    -------
+    LoadHistory
+        The validated history.
+    """
     data = _parse_csv_rows(path)
     times = np.unique(data[:, 0])
     nodes = data[:, 1]
@@ -212,7 +283,18 @@ def read_csv(path) -> LoadHistory:
 
 # --------------------------------------------------------------------------- dispatch
 def read_load_history(path) -> LoadHistory:
-    """Read a load history from ``.npz`` or ``.csv`` (by file suffix)."""
+    """Read a load history from ``.npz`` or ``.csv`` (by file suffix).
+
+    Parameters
+    ----------
+    path : str or path-like
+        ``.npz`` or ``.csv`` file.
+
+    Returns
+    -------
+    LoadHistory
+        The validated history.
+    """
     suffix = Path(path).suffix.lower()
     if suffix == ".npz":
         return read_npz(path)
@@ -222,7 +304,15 @@ def read_load_history(path) -> LoadHistory:
 
 
 def write_load_history(history: LoadHistory, path) -> None:
-    """Write a load history to ``.npz`` or ``.csv`` (by file suffix)."""
+    """Write a load history to ``.npz`` or ``.csv`` (by file suffix).
+
+    Parameters
+    ----------
+    history : LoadHistory
+        The load history.
+    path : str or path-like
+        ``.npz`` or ``.csv`` file.
+    """
     suffix = Path(path).suffix.lower()
     if suffix == ".npz":
         write_npz(history, path)

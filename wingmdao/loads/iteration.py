@@ -39,7 +39,20 @@ MAX_LOOPS = 4
 
 
 def critical_triples(db, components=PRIMARY) -> dict:
-    """{case index: [(station, component, extreme), ...]} of the screening's critical cases."""
+    """{case index: [(station, component, extreme), ...]} of the screening's critical cases.
+
+    Parameters
+    ----------
+    db : LoadsDatabase
+        The loads database.
+    components : sequence of str, optional
+        csn load components screened.
+
+    Returns
+    -------
+    dict
+        Case index -> [(station, component, extreme), ...].
+    """
     out = {}
     for i in range(db.envelope_max.shape[0]):
         for comp in components:
@@ -52,7 +65,22 @@ def critical_triples(db, components=PRIMARY) -> dict:
 def frozen_load_cases(db, triples: dict, families=("vm",)) -> list:
     """One static :class:`~wingmdao.groups.load_case.LoadCase` per distinct snapshot of the
     ``triples`` {case index: [(station, component, extreme)]}: nodal forces and moments, no gravity
-    (the snapshot's loads already hold the wing's inertia)."""
+    (the snapshot's loads already hold the wing's inertia).
+
+    Parameters
+    ----------
+    db : LoadsDatabase
+        The loads database.
+    triples : dict
+        Case index -> [(station, component, extreme), ...] (:func:`critical_triples`).
+    families : sequence of str, optional
+        Stress constraint families of the cases.
+
+    Returns
+    -------
+    list of LoadCase
+        One static case per distinct snapshot.
+    """
     out, seen = [], set()
     names = db.case_names
     for c in sorted(triples):
@@ -70,7 +98,17 @@ def frozen_load_cases(db, triples: dict, families=("vm",)) -> list:
 
 
 def check_meshes(setup, matrix, module) -> None:
-    """The matrix's beam must be the sizing's: same node count and positions."""
+    """The matrix's beam must be the sizing's: same node count and positions.
+
+    Parameters
+    ----------
+    setup : object
+        The sizing set-up of the case.
+    matrix : LoadsMatrix
+        The loads matrix.
+    module : module
+        The case module (``wingmdao.cases.<name>``).
+    """
     n = setup.geometry.num_nodes
     if matrix.num_nodes != n:
         raise ValueError(f"--matrix: model.num_nodes = {matrix.num_nodes}; sizing against the matrix needs the "
@@ -86,7 +124,28 @@ def load_iteration(module, matrix, setup, *, size, max_loops=MAX_LOOPS, progress
     """Run the loop of the module docstring; ``size(setup) -> (problem, result)`` sizes a setup
     (:func:`wingmdao.sizing.size_case`). Returns the last sizing result with ``load_iteration``:
     per pass the cases re-checked, critical and added; the totals sized / re-checked / added; and
-    whether the critical set stopped changing (``converged``) within ``max_loops`` passes."""
+    whether the critical set stopped changing (``converged``) within ``max_loops`` passes.
+
+    Parameters
+    ----------
+    module : module
+        The case module (``wingmdao.cases.<name>``).
+    matrix : LoadsMatrix
+        The loads matrix.
+    setup : object
+        The sizing set-up of the case.
+    size : callable
+        ``size(setup) -> (problem, result)``.
+    max_loops : int, optional
+        Most passes of the loop.
+    progress : file-like or None, optional
+        Stream for progress lines.
+
+    Returns
+    -------
+    dict
+        The last sizing result with its ``load_iteration`` record.
+    """
     check_meshes(setup, matrix, module)
     thickness, sized, passes, result = None, {}, [], None
     families = tuple(setup.load_cases[0].families) if setup.load_cases else ("vm",)
