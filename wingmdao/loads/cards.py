@@ -46,7 +46,21 @@ _REAL = re.compile(r"^([+-]?(?:\d+\.?\d*|\.\d+))(?:[eEdD]?([+-]\d+))?$")
 @dataclass(frozen=True)
 class LoadSet:
     """One card load set: ``sid``, the case (``case_index``, ``case_name``), the (station,
-    component, extreme) triples it is critical for, and the snapshot (n, 6) csn loads."""
+    component, extreme) triples it is critical for, and the snapshot (n, 6) csn loads.
+
+    Parameters
+    ----------
+    sid : int
+        Load set id.
+    case_index : int
+        Case index in the database.
+    case_name : str
+        Case name.
+    critical_for : tuple
+        (station, component, extreme) triples the set is critical for.
+    snapshot : numpy.ndarray
+        (n, 6) csn internal loads (N, N m).
+    """
 
     sid: int
     case_index: int
@@ -56,21 +70,62 @@ class LoadSet:
 
 
 def csn_to_body(loads_csn, node_euler_angles) -> np.ndarray:
-    """(n, 6) csn loads -> (n, 6) body-axes loads with the jig frames T of every node (body = T^T csn)."""
+    """(n, 6) csn loads -> (n, 6) body-axes loads with the jig frames T of every node (body = T^T csn).
+
+    Parameters
+    ----------
+    loads_csn : array_like
+        (n, 6) csn loads (N, N m).
+    node_euler_angles : array_like
+        (n, 3) jig Euler angles of the nodes' csn frames (rad).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n, 6) body-axes loads (N, N m).
+    """
     L = np.asarray(loads_csn, dtype=float)
     T = np.stack([body_to_csn(np.asarray(a, dtype=float)) for a in np.asarray(node_euler_angles, dtype=float)])
     return np.concatenate([np.einsum("kji,kj->ki", T, L[:, :3]), np.einsum("kji,kj->ki", T, L[:, 3:])], axis=1)
 
 
 def body_to_csn_loads(loads_body, node_euler_angles) -> np.ndarray:
-    """The inverse of :func:`csn_to_body`."""
+    """The inverse of :func:`csn_to_body`.
+
+    Parameters
+    ----------
+    loads_body : array_like
+        (n, 6) body-axes loads (N, N m).
+    node_euler_angles : array_like
+        (n, 3) jig Euler angles of the nodes' csn frames (rad).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n, 6) csn loads (N, N m).
+    """
     L = np.asarray(loads_body, dtype=float)
     T = np.stack([body_to_csn(np.asarray(a, dtype=float)) for a in np.asarray(node_euler_angles, dtype=float)])
     return np.concatenate([np.einsum("kij,kj->ki", T, L[:, :3]), np.einsum("kij,kj->ki", T, L[:, 3:])], axis=1)
 
 
 def nodal_loads(loads_csn, node_positions, node_euler_angles):
-    """Nodal forces and moments (n, 3) each, body axes, whose resultants reproduce the station loads (module doc)."""
+    """Nodal forces and moments (n, 3) each, body axes, whose resultants reproduce the station loads (module doc).
+
+    Parameters
+    ----------
+    loads_csn : array_like
+        (n, 6) csn internal loads of the stations (N, N m).
+    node_positions : array_like
+        (n, 3) jig node positions, body axes (m).
+    node_euler_angles : array_like
+        (n, 3) jig Euler angles of the nodes' csn frames (rad).
+
+    Returns
+    -------
+    tuple
+        Forces (n, 3) (N) and moments (n, 3) (N m), body axes.
+    """
     L = csn_to_body(loads_csn, node_euler_angles)
     r = np.asarray(node_positions, dtype=float)
     F, M = L[:, :3], L[:, 3:]
@@ -81,7 +136,22 @@ def nodal_loads(loads_csn, node_positions, node_euler_angles):
 
 
 def station_resultants(forces, moments, node_positions) -> np.ndarray:
-    """(n, 6) body-axes resultant of the nodal loads at nodes k..n-1 about node k, for every k."""
+    """(n, 6) body-axes resultant of the nodal loads at nodes k..n-1 about node k, for every k.
+
+    Parameters
+    ----------
+    forces : array_like
+        (n, 3) nodal forces, body axes (N).
+    moments : array_like
+        (n, 3) nodal moments, body axes (N m).
+    node_positions : array_like
+        (n, 3) jig node positions, body axes (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n, 6) resultants (N, N m).
+    """
     P, Q, r = (np.asarray(a, dtype=float) for a in (forces, moments, node_positions))
     out = np.zeros((r.shape[0], 6))
     for k in range(r.shape[0]):
@@ -92,7 +162,22 @@ def station_resultants(forces, moments, node_positions) -> np.ndarray:
 
 def critical_load_sets(db, components=PRIMARY, first_sid: int = 1) -> list:
     """One :class:`LoadSet` per distinct snapshot among the critical cases of ``components``
-    (default vertical shear, bending, torsion) at every station, max and min; ordered by first use."""
+    (default vertical shear, bending, torsion) at every station, max and min; ordered by first use.
+
+    Parameters
+    ----------
+    db : LoadsDatabase
+        The loads database.
+    components : sequence of str, optional
+        csn components screened.
+    first_sid : int, optional
+        Id of the first load set.
+
+    Returns
+    -------
+    list of LoadSet
+        The load sets.
+    """
     bad = [c for c in components if c not in COMPONENTS]
     if bad:
         raise ValueError(f"components {bad}; allowed {list(COMPONENTS)}")
@@ -111,7 +196,18 @@ def critical_load_sets(db, components=PRIMARY, first_sid: int = 1) -> list:
 
 
 def nastran_real(x: float) -> str:
-    """The most precise Nastran real of at most 8 characters (``1.2346+5``, ``-.707107``, ``0.``)."""
+    """The most precise Nastran real of at most 8 characters (``1.2346+5``, ``-.707107``, ``0.``).
+
+    Parameters
+    ----------
+    x : float
+        The number.
+
+    Returns
+    -------
+    str
+        The field text.
+    """
     x = float(x)
     if not math.isfinite(x):
         raise ValueError(f"card value {x}: not finite")
@@ -134,7 +230,18 @@ def nastran_real(x: float) -> str:
 
 
 def parse_nastran_real(text: str) -> float:
-    """A Nastran real field (``1.2346+5``, ``1.2E-3``, ``-.5``, ``3.``) as a float."""
+    """A Nastran real field (``1.2346+5``, ``1.2E-3``, ``-.5``, ``3.``) as a float.
+
+    Parameters
+    ----------
+    text : str
+        The field text.
+
+    Returns
+    -------
+    float
+        The value.
+    """
     m = _REAL.match(text.strip())
     if not m:
         raise ValueError(f"{text!r} is not a Nastran real")
@@ -164,7 +271,24 @@ def _vector_card(name, sid, grid, v):
 
 
 def nastran_cards(load_sets, node_positions, node_euler_angles, first_id: int = 1) -> str:
-    """FORCE and MOMENT bulk data of every load set (small field, basic frame)."""
+    """FORCE and MOMENT bulk data of every load set (small field, basic frame).
+
+    Parameters
+    ----------
+    load_sets : sequence of LoadSet
+        The load sets.
+    node_positions : array_like
+        (n, 3) jig node positions, body axes (m).
+    node_euler_angles : array_like
+        (n, 3) jig Euler angles of the nodes' csn frames (rad).
+    first_id : int, optional
+        Node id of the first beam node.
+
+    Returns
+    -------
+    str
+        The bulk data.
+    """
     lines = ["$ wingmdao loads: nodal loads of the critical cases (N, N m, basic frame); beam node k is GRID "
              f"{first_id} + k from the root"]
     for ls in load_sets:
@@ -179,7 +303,24 @@ def nastran_cards(load_sets, node_positions, node_euler_angles, first_id: int = 
 
 
 def calculix_cards(load_sets, node_positions, node_euler_angles, first_id: int = 1) -> str:
-    """One static step per load set with its ``*CLOAD`` (DOFs 1-3 forces, 4-6 moments)."""
+    """One static step per load set with its ``*CLOAD`` (DOFs 1-3 forces, 4-6 moments).
+
+    Parameters
+    ----------
+    load_sets : sequence of LoadSet
+        The load sets.
+    node_positions : array_like
+        (n, 3) jig node positions, body axes (m).
+    node_euler_angles : array_like
+        (n, 3) jig Euler angles of the nodes' csn frames (rad).
+    first_id : int, optional
+        Node id of the first beam node.
+
+    Returns
+    -------
+    str
+        The steps.
+    """
     lines = ["** wingmdao loads: nodal loads of the critical cases (N, N m, global frame); beam node k is node "
              f"{first_id} + k from the root; include after the model definition"]
     for ls in load_sets:
@@ -202,7 +343,24 @@ def _write_atomic(text, path):
 
 
 def write_cards(db, nastran_path: str, calculix_path: str, components=PRIMARY) -> list:
-    """Write both card files of the critical cases of ``db`` (atomically); returns the load sets."""
+    """Write both card files of the critical cases of ``db`` (atomically); returns the load sets.
+
+    Parameters
+    ----------
+    db : LoadsDatabase
+        The loads database.
+    nastran_path : str
+        Nastran bulk-data file to write.
+    calculix_path : str
+        CalculiX steps file to write.
+    components : sequence of str, optional
+        csn components screened.
+
+    Returns
+    -------
+    list of LoadSet
+        The load sets written.
+    """
     sets = critical_load_sets(db, components)
     _write_atomic(nastran_cards(sets, db.node_positions, db.node_euler_angles), nastran_path)
     _write_atomic(calculix_cards(sets, db.node_positions, db.node_euler_angles), calculix_path)
@@ -210,7 +368,22 @@ def write_cards(db, nastran_path: str, calculix_path: str, components=PRIMARY) -
 
 
 def read_nastran_loads(text: str, num_nodes: int, first_id: int = 1) -> dict:
-    """{SID: (forces (n, 3), moments (n, 3))} from FORCE/MOMENT small-field cards (other lines ignored)."""
+    """{SID: (forces (n, 3), moments (n, 3))} from FORCE/MOMENT small-field cards (other lines ignored).
+
+    Parameters
+    ----------
+    text : str
+        Bulk-data text.
+    num_nodes : int
+        Number of beam nodes.
+    first_id : int, optional
+        Node id of the first beam node.
+
+    Returns
+    -------
+    dict
+        SID -> (forces (n, 3), moments (n, 3)).
+    """
     out = {}
     for line in text.splitlines():
         name = line[:8].strip()
@@ -227,7 +400,22 @@ def read_nastran_loads(text: str, num_nodes: int, first_id: int = 1) -> dict:
 
 
 def read_calculix_cloads(text: str, num_nodes: int, first_id: int = 1) -> list:
-    """[(forces (n, 3), moments (n, 3))] of every ``*CLOAD`` block, in order."""
+    """[(forces (n, 3), moments (n, 3))] of every ``*CLOAD`` block, in order.
+
+    Parameters
+    ----------
+    text : str
+        CalculiX input text.
+    num_nodes : int
+        Number of beam nodes.
+    first_id : int, optional
+        Node id of the first beam node.
+
+    Returns
+    -------
+    list of tuple
+        (forces (n, 3), moments (n, 3)) per ``*CLOAD`` block.
+    """
     out, current = [], None
     for line in text.splitlines():
         s = line.strip()

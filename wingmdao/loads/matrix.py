@@ -99,14 +99,35 @@ _MAX_CASES = 100000
 
 @dataclass(frozen=True)
 class Speed:
-    """A matrix speed: ``label`` V_C or V_D, given as ``mach`` or as ``eas_m_s`` (one of them)."""
+    """A matrix speed: ``label`` V_C or V_D, given as ``mach`` or as ``eas_m_s`` (one of them).
+
+    Parameters
+    ----------
+    label : {"V_C", "V_D"}
+        Speed name.
+    mach : float or None, optional
+        Mach number (-).
+    eas_m_s : float or None, optional
+        Equivalent airspeed (m/s).
+    """
 
     label: str
     mach: float | None = None
     eas_m_s: float | None = None
 
     def tas(self, altitude_m: float) -> float:
-        """True airspeed (m/s) at ``altitude_m``."""
+        """True airspeed (m/s) at ``altitude_m``.
+
+        Parameters
+        ----------
+        altitude_m : float
+            Altitude (m).
+
+        Returns
+        -------
+        float
+            True airspeed (m/s).
+        """
         if self.mach is not None:
             return float(mach_to_tas(self.mach, altitude_m))
         return float(eas_to_tas(self.eas_m_s, altitude_m))
@@ -114,7 +135,19 @@ class Speed:
 
 @dataclass(frozen=True)
 class MassCase:
-    """A mass case: ``weight_n`` (N), CG ``cg_mac`` (fraction of the MAC), wing ``fuel_fraction``."""
+    """A mass case: ``weight_n`` (N), CG ``cg_mac`` (fraction of the MAC), wing ``fuel_fraction``.
+
+    Parameters
+    ----------
+    name : str
+        Mass case name.
+    weight_n : float
+        Aircraft weight (N).
+    cg_mac : float
+        CG position, fraction of the mean aerodynamic chord (-).
+    fuel_fraction : float
+        Wing fuel over its capacity (-).
+    """
 
     name: str
     weight_n: float
@@ -128,7 +161,39 @@ class MassCase:
 
 @dataclass(frozen=True)
 class LoadsMatrix:
-    """A checked matrix file (:func:`read_matrix`); lengths SI unless the name says ft."""
+    """A checked matrix file (:func:`read_matrix`); lengths SI unless the name says ft.
+
+    Parameters
+    ----------
+    altitudes_ft : tuple
+        Altitudes (ft).
+    speeds : tuple of Speed
+        Speeds.
+    mass_cases : tuple of MassCase
+        Mass cases.
+    tail_arm_m : float
+        Tail arm l_t (m).
+    wing_fuel_kg : float, optional
+        Wing fuel capacity of the aircraft (kg).
+    fuel_span : tuple, optional
+        Fuel tank span range, fractions of the semi-span (-).
+    ac_mac : float, optional
+        Aerodynamic centre, fraction of the MAC (-).
+    gradients_ft : tuple, optional
+        Gust gradients H (ft).
+    signs : tuple, optional
+        Gust directions (+1 up, -1 down).
+    turbulence : bool, optional
+        Include 25.341(b) continuous turbulence.
+    load_factors : tuple or None, optional
+        Maneuver load factors; None for the 25.337 limits.
+    model : dict, optional
+        Loads model settings (aero, plunge, mesh, time step, damping, frequency grid).
+    stations : tuple or None, optional
+        Monitoring stations; None for root, mid-span and 3/4 span.
+    source : str, optional
+        Text of the matrix file.
+    """
 
     altitudes_ft: tuple
     speeds: tuple
@@ -157,7 +222,31 @@ class LoadsMatrix:
 
 @dataclass(frozen=True)
 class MatrixCase:
-    """One load case of the matrix; ``gradient_ft``, ``sign`` for gusts, ``load_factor`` for maneuvers."""
+    """One load case of the matrix; ``gradient_ft``, ``sign`` for gusts, ``load_factor`` for maneuvers.
+
+    Parameters
+    ----------
+    index : int
+        Position in the case table.
+    name : str
+        Case name.
+    kind : {"gust", "turbulence", "maneuver"}
+        Load case kind.
+    altitude_ft : float
+        Altitude (ft).
+    speed : str
+        Speed label.
+    mass : str
+        Mass case name.
+    gradient_ft : float, optional
+        Gust gradient H (ft; NaN when not a gust).
+    sign : int, optional
+        Gust direction (+1, -1; 0 when not a gust).
+    load_factor : float, optional
+        Maneuver load factor (NaN when not a maneuver).
+    num_times : int, optional
+        Time steps of the case.
+    """
 
     index: int
     name: str
@@ -317,7 +406,20 @@ def _model(d):
 
 
 def matrix_from_dict(d, path: str | None = None) -> LoadsMatrix:
-    """A :class:`LoadsMatrix` from the parsed file; ValueError (one line, naming the file and key) on bad input."""
+    """A :class:`LoadsMatrix` from the parsed file; ValueError (one line, naming the file and key) on bad input.
+
+    Parameters
+    ----------
+    d : dict
+        The parsed matrix file.
+    path : str or None, optional
+        File named in errors.
+
+    Returns
+    -------
+    LoadsMatrix
+        The checked matrix.
+    """
     try:
         if not isinstance(d, dict):
             raise ValueError(f"the file must be a mapping with keys {sorted(_TOP_KEYS)}, got {type(d).__name__}")
@@ -365,7 +467,18 @@ def matrix_from_dict(d, path: str | None = None) -> LoadsMatrix:
 
 
 def read_matrix(path: str) -> LoadsMatrix:
-    """Read and check a matrix file (YAML, PyYAML imported lazily); the file's text is kept in ``source``."""
+    """Read and check a matrix file (YAML, PyYAML imported lazily); the file's text is kept in ``source``.
+
+    Parameters
+    ----------
+    path : str
+        YAML matrix file.
+
+    Returns
+    -------
+    LoadsMatrix
+        The checked matrix.
+    """
     if not os.path.isfile(path):
         raise ValueError(f"--matrix {path!r} does not exist or is not a file")
     try:
@@ -392,7 +505,18 @@ def _case_name(h, speed, mass, tail):
 
 def expand(matrix: LoadsMatrix) -> list:
     """Every load case of the matrix, in a fixed order (altitude, speed, mass case, then gusts by
-    gradient and sign, turbulence, maneuvers): the order of the database's case table."""
+    gradient and sign, turbulence, maneuvers): the order of the database's case table.
+
+    Parameters
+    ----------
+    matrix : LoadsMatrix
+        The matrix.
+
+    Returns
+    -------
+    list of MatrixCase
+        Every load case.
+    """
     out = []
     dt = float(matrix.model["dt_s"])
     for h in matrix.altitudes_ft:
@@ -419,14 +543,55 @@ def expand(matrix: LoadsMatrix) -> list:
 
 
 def gust_duration(matrix: LoadsMatrix, gradient_ft: float, airspeed: float) -> float:
-    """Marched time of a gust (s): its start, its passage 2 H / V over the wing and ``model.settle_s``."""
+    """Marched time of a gust (s): its start, its passage 2 H / V over the wing and ``model.settle_s``.
+
+    Parameters
+    ----------
+    matrix : LoadsMatrix
+        The matrix.
+    gradient_ft : float
+        Gust gradient H (ft).
+    airspeed : float
+        True airspeed (m/s).
+
+    Returns
+    -------
+    float
+        Marched time (s).
+    """
     return float(matrix.model["gust_start_s"] + 2 * gradient_ft * FT / airspeed + matrix.model["settle_s"])
 
 
 # ---------------------------------------------------------------------------------------- the model
 @dataclass
 class WingModel:
-    """The wing of a case at the matrix's mesh: geometry, aerodynamic strips, one beam per mass case."""
+    """The wing of a case at the matrix's mesh: geometry, aerodynamic strips, one beam per mass case.
+
+    Parameters
+    ----------
+    node_positions : array_like
+        (n, 3) jig node positions, body axes (m).
+    node_euler_angles : array_like
+        (n, 3) jig Euler angles of the nodes' csn frames (rad).
+    chord : numpy.ndarray
+        (n,) strip chords (m).
+    axis_fraction : numpy.ndarray
+        (n,) beam axis as a fraction of the chord (-).
+    semi_span : float
+        Semi-span (m).
+    fuselage_half_width : float
+        Fuselage half-width (m).
+    mac : float
+        Mean aerodynamic chord (m).
+    area : float
+        Half-wing area (m^2).
+    beams : dict
+        Mass case name -> beam parameters.
+    damping : StrainRateDamping or None
+        Structural damping of the march.
+    matrix : LoadsMatrix
+        The matrix.
+    """
 
     node_positions: np.ndarray
     node_euler_angles: np.ndarray
@@ -446,7 +611,20 @@ class WingModel:
 
 
 def mean_aerodynamic_chord(chord, node_positions) -> float:
-    """c_mac = int c^2 dy / int c dy over the half wing (trapezoid on the nodes)."""
+    """c_mac = int c^2 dy / int c dy over the half wing (trapezoid on the nodes).
+
+    Parameters
+    ----------
+    chord : array_like
+        (n,) chords (m).
+    node_positions : array_like
+        (n, 3) jig node positions, body axes (m).
+
+    Returns
+    -------
+    float
+        c_mac (m).
+    """
     y = np.abs(np.asarray(node_positions)[:, 1])
     c = np.asarray(chord, dtype=float)
     return float(np.trapezoid(c * c, y) / np.trapezoid(c, y))
@@ -454,7 +632,26 @@ def mean_aerodynamic_chord(chord, node_positions) -> float:
 
 def fuel_mass_per_length(width, height, node_positions, semi_span, fuel_span, half_wing_fuel_kg) -> np.ndarray:
     """Fuel mass per beam length (kg/m) of one half wing: proportional to the box's enclosed area
-    w h between the ``fuel_span`` fractions of the semi-span, integrating (trapezoid) to ``half_wing_fuel_kg``."""
+    w h between the ``fuel_span`` fractions of the semi-span, integrating (trapezoid) to ``half_wing_fuel_kg``.
+
+    Parameters
+    ----------
+    width, height : array_like
+        (n,) box width and height (m).
+    node_positions : array_like
+        (n, 3) jig node positions, body axes (m).
+    semi_span : float
+        Semi-span (m).
+    fuel_span : tuple
+        Tank span range, fractions of the semi-span (-).
+    half_wing_fuel_kg : float
+        Fuel of one half wing (kg).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n,) fuel mass per beam length (kg/m).
+    """
     eta = np.abs(np.asarray(node_positions)[:, 1]) / semi_span
     shape = np.asarray(width) * np.asarray(height) * ((eta >= fuel_span[0] - 1e-12) & (eta <= fuel_span[1] + 1e-12))
     if half_wing_fuel_kg == 0.0:
@@ -468,7 +665,22 @@ def fuel_mass_per_length(width, height, node_positions, semi_span, fuel_span, ha
 
 def build_wing_model(module, matrix: LoadsMatrix, thickness: dict | None = None) -> WingModel:
     """The wing of case ``module`` (its ``flutter_planform``, ``ENGINES``, ``beam_params``) at
-    ``matrix.num_nodes`` nodes; ``thickness`` {wall: (n,) m} (default the initial design)."""
+    ``matrix.num_nodes`` nodes; ``thickness`` {wall: (n,) m} (default the initial design).
+
+    Parameters
+    ----------
+    module : module
+        The case module.
+    matrix : LoadsMatrix
+        The matrix.
+    thickness : dict or None, optional
+        Wall name -> (n,) thicknesses (m); None for the initial design.
+
+    Returns
+    -------
+    WingModel
+        The wing.
+    """
     n = matrix.num_nodes
     pf = module.flutter_planform(n)
     geo, chord, frac = wing_geometry(pf, module.ENGINES)
@@ -502,14 +714,47 @@ def build_wing_model(module, matrix: LoadsMatrix, thickness: dict | None = None)
 
 
 def wing_lift(model: WingModel, mass: MassCase, load_factor: float = 1.0) -> float:
-    """The wing's share of n W (N): n W / (1 + (x_cg - x_ac) c_mac / l_t), the tail balancing the moment."""
+    """The wing's share of n W (N): n W / (1 + (x_cg - x_ac) c_mac / l_t), the tail balancing the moment.
+
+    Parameters
+    ----------
+    model : WingModel
+        The matrix's wing.
+    mass : MassCase
+        Its mass case.
+    load_factor : float, optional
+        Load factor n (-).
+
+    Returns
+    -------
+    float
+        Wing lift (N).
+    """
     arm = (mass.cg_mac - model.matrix.ac_mac) * model.mac
     return float(load_factor * mass.weight_n / (1.0 + arm / model.matrix.tail_arm_m))
 
 
 @dataclass(frozen=True)
 class FlightState:
-    """Flight condition of a point (SI): TAS, EAS, Mach, density, F_g, U_ref (EAS), U_sigma (TAS)."""
+    """Flight condition of a point (SI): TAS, EAS, Mach, density, F_g, U_ref (EAS), U_sigma (TAS).
+
+    Parameters
+    ----------
+    altitude_m : float
+        Altitude (m).
+    airspeed : float
+        True airspeed (m/s).
+    eas : float
+        Equivalent airspeed (m/s).
+    mach : float
+        Mach number (-).
+    density : float
+        Air density (kg/m^3).
+    f_g : float
+        Flight profile alleviation factor (-).
+    u_sigma : float
+        Turbulence intensity U_sigma (m/s TAS).
+    """
 
     altitude_m: float
     airspeed: float
@@ -521,7 +766,22 @@ class FlightState:
 
 
 def flight_state(module, altitude_ft: float, speed: Speed) -> FlightState:
-    """The flight condition of (altitude, speed) with the case's F_g inputs (``GUST_SET_DEFAULTS``)."""
+    """The flight condition of (altitude, speed) with the case's F_g inputs (``GUST_SET_DEFAULTS``).
+
+    Parameters
+    ----------
+    module : module
+        The case module.
+    altitude_ft : float
+        Altitude (ft).
+    speed : Speed
+        The speed.
+
+    Returns
+    -------
+    FlightState
+        The flight condition.
+    """
     alt = altitude_ft * FT
     V = speed.tas(alt)
     rho = float(density(alt))
@@ -540,7 +800,23 @@ class CaseLoads:
     """Loads of one case, csn frame of each station (N, N m): ``max``/``min`` (n, 6), the wing at the
     instants of the extremes ``snapshots`` (k, n, 6) with their ``snapshot_time`` (k,) s (NaN when
     not an instant: turbulence, maneuver), ``max_snapshot``/``min_snapshot`` (n, 6) indices into
-    them, ``intensity`` (U_ds EAS or U_sigma TAS, m/s; NaN for maneuvers), ``wall_s``."""
+    them, ``intensity`` (U_ds EAS or U_sigma TAS, m/s; NaN for maneuvers), ``wall_s``.
+
+    Parameters
+    ----------
+    max, min : numpy.ndarray
+        (n, 6) extremes over the case (N, N m).
+    snapshots : numpy.ndarray
+        (k, n, 6) the wing's loads at the extremes' instants (N, N m).
+    snapshot_time : numpy.ndarray
+        (k,) their times (s; NaN when not an instant).
+    max_snapshot, min_snapshot : numpy.ndarray
+        (n, 6) indices into ``snapshots``.
+    intensity : float, optional
+        U_ds (EAS) or U_sigma (TAS) (m/s; NaN for maneuvers).
+    wall_s : float, optional
+        Wall time of the case (s).
+    """
 
     max: np.ndarray
     min: np.ndarray
@@ -554,7 +830,18 @@ class CaseLoads:
 
 def csn_loads(states) -> np.ndarray:
     """(…, n, 6) csn internal loads T(theta) F, T(theta) M of beam states (…, n, 18), T of
-    :func:`wingmdao.beam.rotations.body_to_csn` (surface sequence) vectorised."""
+    :func:`wingmdao.beam.rotations.body_to_csn` (surface sequence) vectorised.
+
+    Parameters
+    ----------
+    states : array_like
+        (..., n, 18) beam states.
+
+    Returns
+    -------
+    numpy.ndarray
+        (..., n, 6) csn internal loads (N, N m).
+    """
     X = np.asarray(states, dtype=float)
     phi, tw, psi = X[..., 3], X[..., 4], X[..., 5]
     one, zero = np.ones_like(phi), np.zeros_like(phi)
@@ -583,7 +870,24 @@ def _from_history(L, time):
 
 
 def gust_loads(model: WingModel, case: MatrixCase, fs: FlightState, mass: MassCase) -> CaseLoads:
-    """A 1 - cos gust from the 1 g level flight, marched on the clamped beam (strip-theory loads)."""
+    """A 1 - cos gust from the 1 g level flight, marched on the clamped beam (strip-theory loads).
+
+    Parameters
+    ----------
+    model : WingModel
+        The matrix's wing.
+    case : MatrixCase
+        The load case.
+    fs : FlightState
+        Its flight condition.
+    mass : MassCase
+        Its mass case.
+
+    Returns
+    -------
+    CaseLoads
+        The case's loads.
+    """
     mx = model.matrix
     dt = float(mx.model["dt_s"])
     t = dt * np.arange(int(math.ceil(gust_duration(mx, case.gradient_ft, fs.airspeed) / dt)) + 1)
@@ -632,7 +936,22 @@ def _body_mass(model, mass):
 
 
 def maneuver_loads(model: WingModel, case: MatrixCase, mass: MassCase) -> CaseLoads:
-    """A steady symmetric maneuver at n: the Schrenk spanload of the wing's share of n W, inertia relief n g."""
+    """A steady symmetric maneuver at n: the Schrenk spanload of the wing's share of n W, inertia relief n g.
+
+    Parameters
+    ----------
+    model : WingModel
+        The matrix's wing.
+    case : MatrixCase
+        The load case.
+    mass : MassCase
+        Its mass case.
+
+    Returns
+    -------
+    CaseLoads
+        The case's loads.
+    """
     n = model.num_nodes
     loads = maneuver_line_loads(model.node_positions, model.chord, model.axis_fraction,
                                 wing_lift(model, mass), case.load_factor, semi_span=model.semi_span,
@@ -651,7 +970,24 @@ def maneuver_loads(model: WingModel, case: MatrixCase, mass: MassCase) -> CaseLo
 def turbulence_loads(model: WingModel, case: MatrixCase, fs: FlightState, mass: MassCase) -> CaseLoads:
     """25.341(b): P_1g +/- U_sigma A-bar of every load; the snapshot of each extreme the correlated
     loads P_1g,k +/- U_sigma rho_jk A-bar_k (the point of the equal-probability ellipse where load
-    j peaks), rho_jk A-bar_j A-bar_k = int Re(H_j conj H_k) Phi_1."""
+    j peaks), rho_jk A-bar_j A-bar_k = int Re(H_j conj H_k) Phi_1.
+
+    Parameters
+    ----------
+    model : WingModel
+        The matrix's wing.
+    case : MatrixCase
+        The load case.
+    fs : FlightState
+        Its flight condition.
+    mass : MassCase
+        Its mass case.
+
+    Returns
+    -------
+    CaseLoads
+        The case's loads.
+    """
     mx = model.matrix
     if mx.model["aero"] == "coupled":
         gm = coupled_gust_model(model.beams[mass.name], _aero(model, fs), chord=model.chord,
@@ -680,7 +1016,22 @@ def turbulence_loads(model: WingModel, case: MatrixCase, fs: FlightState, mass: 
 
 
 def evaluate_case(module, model: WingModel, case: MatrixCase) -> CaseLoads:
-    """The loads of one matrix case."""
+    """The loads of one matrix case.
+
+    Parameters
+    ----------
+    module : module
+        The case module.
+    model : WingModel
+        The matrix's wing.
+    case : MatrixCase
+        The load case.
+
+    Returns
+    -------
+    CaseLoads
+        The case's loads.
+    """
     t0 = _time.perf_counter()
     mass = next(m for m in model.matrix.mass_cases if m.name == case.mass)
     if case.kind == "maneuver":
@@ -705,7 +1056,28 @@ def evaluate_cases(module, model: WingModel, cases, *, comm=None, progress=sys.s
     """Loads of every case: ``({index: CaseLoads}, interrupted)``. With ``comm`` (an MPI
     communicator) the cases are split over its ranks (:func:`wingmdao.parallel.assign_cases`) and
     gathered on every rank. Ctrl-C (KeyboardInterrupt) stops the loop and returns what is done
-    with ``interrupted`` True (under MPI every rank receives the signal and reaches the gather)."""
+    with ``interrupted`` True (under MPI every rank receives the signal and reaches the gather).
+
+    Parameters
+    ----------
+    module : module
+        The case module.
+    model : WingModel
+        The matrix's wing.
+    cases : sequence of MatrixCase
+        The cases.
+    comm : mpi4py.MPI.Comm or None, optional
+        Communicator to split the cases over; None for serial.
+    progress : file-like, optional
+        Stream for progress lines.
+    every : int, optional
+        Cases between two progress lines.
+
+    Returns
+    -------
+    tuple
+        ({index: CaseLoads}, interrupted).
+    """
     cases = list(cases)
     mine = cases if comm is None else [cases[i] for i in assign_cases(cases, comm.size)[comm.rank]]
     results, interrupted = {}, False
@@ -728,7 +1100,15 @@ def evaluate_cases(module, model: WingModel, cases, *, comm=None, progress=sys.s
 @dataclass
 class Screening:
     """Per station and component (n, 6): the envelopes ``envelope_max``/``envelope_min`` (N, N m)
-    and the critical cases ``max_case``/``min_case`` (case indices)."""
+    and the critical cases ``max_case``/``min_case`` (case indices).
+
+    Parameters
+    ----------
+    envelope_max, envelope_min : numpy.ndarray
+        (n, 6) envelopes (N, N m).
+    max_case, min_case : numpy.ndarray
+        (n, 6) critical case indices.
+    """
 
     envelope_max: np.ndarray
     envelope_min: np.ndarray
@@ -739,7 +1119,20 @@ class Screening:
 def screen(loads_max, loads_min, evaluated=None) -> Screening:
     """The critical case (largest maximum, smallest minimum) of every station and component over
     the ``evaluated`` cases (bool (n_case,), default all) of ``loads_max``/``loads_min`` (n_case, n, 6).
-    Ties go to the first case in the table."""
+    Ties go to the first case in the table.
+
+    Parameters
+    ----------
+    loads_max, loads_min : numpy.ndarray
+        (n_case, n, 6) extremes per case (N, N m).
+    evaluated : array_like or None, optional
+        (n_case,) bool, the cases that ran; None for all.
+
+    Returns
+    -------
+    Screening
+        Envelopes and critical cases.
+    """
     hi, lo = np.asarray(loads_max, dtype=float), np.asarray(loads_min, dtype=float)
     ok = np.ones(hi.shape[0], bool) if evaluated is None else np.asarray(evaluated, bool)
     if not ok.any():
@@ -751,7 +1144,26 @@ def screen(loads_max, loads_min, evaluated=None) -> Screening:
 
 
 def critical_table(cases, screening: Screening, stations, span, components=PRIMARY) -> list:
-    """JSON rows of the critical cases at the monitoring ``stations``: one row per station and component."""
+    """JSON rows of the critical cases at the monitoring ``stations``: one row per station and component.
+
+    Parameters
+    ----------
+    cases : sequence of MatrixCase
+        The case table.
+    screening : Screening
+        The screening.
+    stations : sequence of int
+        Monitoring stations.
+    span : array_like
+        (n,) span coordinate of each station (m).
+    components : sequence of str, optional
+        csn components reported.
+
+    Returns
+    -------
+    list of dict
+        One row per station and component.
+    """
     rows = []
     for i in stations:
         for comp in components:
