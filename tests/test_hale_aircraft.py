@@ -89,5 +89,9 @@ def test_bad_input_is_refused_before_any_solve(aircraft):
         ha.trim(aircraft, -5.0)
     with pytest.raises(ValueError, match="load_factor"):
         ha.trim(aircraft, 25.0, load_factor=float("nan"))
+    with pytest.raises(ValueError, match="drag_coefficient"):
+        ha.trim(aircraft, 25.0, drag_coefficient=-0.01)
+    with pytest.raises(ValueError, match="drag_coefficient"):
+        ha.trim(aircraft, 25.0, drag_coefficient=0.01, flight_path_loads=False)
     with pytest.raises(ValueError, match="stiffness_factor"):
         aircraft.with_wing_stiffness(-1.0)

@@ -241,14 +241,21 @@ def _air_lift(system, x, p, q, alpha):
     return out
 
 
-def _flight_path_forcing(system, q, x, p, alpha, load_factor):
-    """The forcing ``q`` with the weight in the pitched body axes and the lift tilt loads of the
-    state ``x`` (module docstring, flight-path loads)."""
-    lay = layout(system.forcing_specs)
+def _flight_path_forcing(system, q, x, p, alpha, load_factor, drag_coefficient=0.0):
+    """The forcing ``q`` with the weight in the pitched body axes, the lift tilt loads of the
+    state ``x`` (module docstring, flight-path loads) and the section drag (``drag_coefficient``,
+    along the air's component in each section's plane)."""
+    lay, play = layout(system.forcing_specs), layout(system.param_specs)
+    p = np.asarray(p, dtype=float)
     q = np.array(q, dtype=float)
     q[lay["gravity"]] = G0 * float(load_factor) * np.array([np.sin(alpha), 0.0, -np.cos(alpha)])
+    air = np.array([np.cos(alpha), 0.0, np.sin(alpha)])
+    qdyn = 0.5 * p[play["density"]].item() * p[play["airspeed"]].item() ** 2
     for name, (lift, frames, normal_to_air) in _air_lift(system, x, p, q, alpha).items():
-        q[lay[f"{name}_force_per_length"]] = (lift[:, None] * (normal_to_air - frames[:, 2])).ravel()
+        in_plane = air[None, :] - (frames[:, 1] @ air)[:, None] * frames[:, 1]
+        speed2 = np.einsum("ij,ij->i", in_plane, in_plane)
+        drag = (qdyn * drag_coefficient * p[play[f"{name}_chord"]] * np.sqrt(speed2))[:, None] * in_plane
+        q[lay[f"{name}_force_per_length"]] = (lift[:, None] * (normal_to_air - frames[:, 2]) + drag).ravel()
     return q
 
 
@@ -267,7 +274,7 @@ def _vertical_lift(system, x, p, q, alpha, flight_path_loads):
 
 
 def trim(aircraft: HaleAircraft, airspeed: float, x0=None, load_steps: int = 8, load_factor: float = 1.0,
-         flight_path_loads: bool = True) -> dict:
+         flight_path_loads: bool = True, drag_coefficient: float = 0.0) -> dict:
     """Trimmed level flight of the free half aircraft at ``airspeed`` (m/s): lift = W, zero
     pitching moment, by angle of attack, tail incidence and thrust.
 
@@ -286,6 +293,9 @@ def trim(aircraft: HaleAircraft, airspeed: float, x0=None, load_steps: int = 8, 
     flight_path_loads : bool
         True: the weight and the lift in the pitched body axes (module docstring), iterated to
         the fixed point; False: lift along the section normals and weight along body -z.
+    drag_coefficient : float
+        Section drag coefficient of the wing and tail strips (>= 0; with ``flight_path_loads``;
+        the paper's aircraft data as stated here have none), balanced by the thrust.
 
     Returns
     -------
@@ -299,6 +309,10 @@ def trim(aircraft: HaleAircraft, airspeed: float, x0=None, load_steps: int = 8, 
         raise ValueError(f"airspeed = {airspeed} m/s; must be a finite number > 0")
     if not (np.isfinite(load_factor) and load_factor > 0.0):
         raise ValueError(f"load_factor = {load_factor}; must be a finite number > 0")
+    if not (np.isfinite(drag_coefficient) and drag_coefficient >= 0.0):
+        raise ValueError(f"drag_coefficient = {drag_coefficient}; must be a finite number >= 0")
+    if drag_coefficient and not flight_path_loads:
+        raise ValueError(f"drag_coefficient = {drag_coefficient} needs flight_path_loads=True")
     s = aircraft.system
     p = _parameters(aircraft, airspeed)
     g = [0.0, 0.0, -G0 * float(load_factor)]
@@ -319,12 +333,12 @@ def trim(aircraft: HaleAircraft, airspeed: float, x0=None, load_steps: int = 8, 
         if updates == FLIGHT_PATH_ITERATIONS:
             raise om.AnalysisError(f"{label}: flight-path loads not converged after {FLIGHT_PATH_ITERATIONS} "
                                    f"updates (last alpha_trim step {step:.2e} rad)")
-        q = _flight_path_forcing(s, q, x, p, alpha, load_factor)
+        q = _flight_path_forcing(s, q, x, p, alpha, load_factor, drag_coefficient)
         x, _ = solve_static(s, p, q, x, atol=1e-9, label=label)
         step, alpha = float(x[ti["alpha_trim"]]) - alpha, float(x[ti["alpha_trim"]])
         updates += 1
     if flight_path_loads:
-        q = _flight_path_forcing(s, q, x, p, alpha, load_factor)
+        q = _flight_path_forcing(s, q, x, p, alpha, load_factor, drag_coefficient)
     lift = _vertical_lift(s, x, p, q, alpha, flight_path_loads) / float(load_factor)
     r = np.array([x[s.node_index("wing", i) + STATE_BLOCKS["r"].start:
                     s.node_index("wing", i) + STATE_BLOCKS["r"].stop] for i in range(s.beam("wing").num_nodes)])
@@ -334,7 +348,8 @@ def trim(aircraft: HaleAircraft, airspeed: float, x0=None, load_steps: int = 8, 
             "tip_deflection": float(r[-1, 2] - r[0, 2]), "updates": updates, "x": x}
 
 
-def trim_sweep(aircraft: HaleAircraft, airspeeds, start: float = 25.0, flight_path_loads: bool = True) -> dict:
+def trim_sweep(aircraft: HaleAircraft, airspeeds, start: float = 25.0, flight_path_loads: bool = True,
+               drag_coefficient: float = 0.0) -> dict:
     """:func:`trim` at each of ``airspeeds`` (m/s): first at ``start`` from the jig (gravity
     steps), then outward from it, each airspeed from its neighbour's state nearer ``start``
     (continuation). An airspeed whose trim does not converge ends its side of the sweep.
@@ -347,7 +362,7 @@ def trim_sweep(aircraft: HaleAircraft, airspeeds, start: float = 25.0, flight_pa
         Airspeeds (m/s).
     start : float, optional
         The airspeed trimmed first from the jig (m/s).
-    flight_path_loads : bool, optional
+    flight_path_loads, drag_coefficient : optional
         Passed to :func:`trim`.
 
     Returns
@@ -358,12 +373,13 @@ def trim_sweep(aircraft: HaleAircraft, airspeeds, start: float = 25.0, flight_pa
     """
     speeds = sorted(float(v) for v in airspeeds)
     out = {"failed": {}}
-    x_start = trim(aircraft, float(start), flight_path_loads=flight_path_loads)["x"]
+    opts = {"flight_path_loads": flight_path_loads, "drag_coefficient": drag_coefficient}
+    x_start = trim(aircraft, float(start), **opts)["x"]
     for side in ([v for v in speeds if v >= start], [v for v in reversed(speeds) if v < start]):
         x = x_start
         for v in side:
             try:
-                res = trim(aircraft, v, x0=x, flight_path_loads=flight_path_loads)
+                res = trim(aircraft, v, x0=x, **opts)
             except om.AnalysisError as exc:
                 out["failed"][v] = str(exc).splitlines()[0]
                 break
