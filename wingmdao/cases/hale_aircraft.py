@@ -14,7 +14,7 @@ as the aircraft model of AeroBeams.jl states it (github.com/luizpancini/AeroBeam
   0.08 kg/m; flat plate;
 * **vertical tail**: 2.5 m high at the boom's end, rigid, 0.08 kg/m; it lifts nothing in
   symmetric flight and enters as a lumped mass at its mid-height;
-* flight at 20 km: air density 0.0889 kg/m^3; thrust at the wing's root along the flight path.
+* flight at 20 km: air density 0.0889 kg/m^3; thrust at the wing's root along body x.
 
 The model (body axes x aft along the flight path, y right, z up; origin at the wing root's beam
 axis): beams ``wing`` (free root), ``boom`` (along body x, :data:`~wingmdao.beam.joints.FUSELAGE_AXES`,
