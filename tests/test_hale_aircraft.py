@@ -1,7 +1,8 @@
 """The free Patil-Hodges-Cesnik HALE aircraft (wingmdao.cases.hale_aircraft): trim of the rigid
-aircraft against the published trimmed angle of attack (Patil, Hodges & Cesnik, J. Aircraft 38(1),
-2001, digitised in AeroBeams.jl test/referenceData/conventionalHALE), the elastic aircraft's
-linear limit against the closed-form wash-in of a uniform strip wing, and bad input."""
+and of the elastic aircraft against the published trimmed angle of attack and deflected wing
+(Patil, Hodges & Cesnik, J. Aircraft 38(1), 2001, digitised in AeroBeams.jl
+test/referenceData/conventionalHALE), the elastic aircraft's linear limit against the
+closed-form wash-in of a uniform strip wing, and bad input."""
 
 import numpy as np
 import pytest
@@ -31,6 +32,26 @@ def test_rigid_aircraft_trims_at_the_published_angle_of_attack(aircraft):
         assert abs(res["alpha_deg"] / _published("rigid", v) - 1.0) < 0.02, (v, res["alpha_deg"])
         assert abs(res["lift_over_weight"] - 1.0) < 1e-6
         assert abs(res["tip_deflection"]) < 2e-3
+
+
+def test_elastic_aircraft_trims_at_the_published_angle_of_attack(aircraft):
+    """Elastic wing, flight-path loads (lift normal to the pitched air, weight in the pitched body
+    axes): the trimmed angle of attack within 5 % of the published figure at 20.1, 22 and 25 m/s
+    (measured +0.9, +1.9, +4.6 %), lift = W; the wing tip at 25 m/s within 6 % of the published
+    deflected wing's last point (arc length 15.95 m; measured height +4.9 %, span -1.8 %). The
+    same trim with the loads normal to body x (``flight_path_loads=False``) is 36 % low at 25 m/s."""
+    sweep = ha.trim_sweep(aircraft, (20.1, 22.0, 25.0))
+    assert not sweep["failed"]
+    for v in (20.1, 22.0, 25.0):
+        res = sweep[v]
+        assert abs(res["alpha_deg"] / _published("elastic", v) - 1.0) < 0.05, (v, res["alpha_deg"])
+        assert abs(res["lift_over_weight"] - 1.0) < 1e-6
+    tip = sweep[25.0]["wing"][-1]
+    pub = ha.PUBLISHED_TRIM["deflected_wing_25_m_s"]
+    assert abs(tip[2] / pub["vertical_m"][-1] - 1.0) < 0.06, tip
+    assert abs(tip[1] / pub["span_m"][-1] - 1.0) < 0.06, tip
+    wind_axes = ha.trim(aircraft, 25.0, x0=sweep[25.0]["x"], flight_path_loads=False)
+    assert wind_axes["alpha_deg"] < 0.7 * _published("elastic", 25.0)
 
 
 def test_elastic_aircraft_linear_limit_is_the_closed_form_wash_in(aircraft):
@@ -68,5 +89,9 @@ def test_bad_input_is_refused_before_any_solve(aircraft):
         ha.trim(aircraft, -5.0)
     with pytest.raises(ValueError, match="load_factor"):
         ha.trim(aircraft, 25.0, load_factor=float("nan"))
+    with pytest.raises(ValueError, match="drag_coefficient"):
+        ha.trim(aircraft, 25.0, drag_coefficient=-0.01)
+    with pytest.raises(ValueError, match="drag_coefficient"):
+        ha.trim(aircraft, 25.0, drag_coefficient=0.01, flight_path_loads=False)
     with pytest.raises(ValueError, match="stiffness_factor"):
         aircraft.with_wing_stiffness(-1.0)

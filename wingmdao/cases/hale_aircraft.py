@@ -14,7 +14,7 @@ as the aircraft model of AeroBeams.jl states it (github.com/luizpancini/AeroBeam
   0.08 kg/m; flat plate;
 * **vertical tail**: 2.5 m high at the boom's end, rigid, 0.08 kg/m; it lifts nothing in
   symmetric flight and enters as a lumped mass at its mid-height;
-* flight at 20 km: air density 0.0889 kg/m^3; thrust at the wing's root along the flight path.
+* flight at 20 km: air density 0.0889 kg/m^3; thrust at the wing's root along body x.
 
 The model (body axes x aft along the flight path, y right, z up; origin at the wing root's beam
 axis): beams ``wing`` (free root), ``boom`` (along body x, :data:`~wingmdao.beam.joints.FUSELAGE_AXES`,
@@ -26,6 +26,19 @@ attack, tail incidence (the paper's elevator; a flat-plate tail's incidence and 
 both only shift its lift) and thrust, with lift = W and zero pitching moment, the aircraft
 pitched by alpha_trim so that a station bent to a slope phi sees ``atan(tan(alpha) cos(phi))``.
 No downwash at the tail (strip theory, as in the paper).
+
+Flight-path loads (:func:`trim`, ``flight_path_loads=True``, the default): the joined system's
+trim keeps the air along body x and adds alpha_trim to every station's angle, so its lift (along
+each section's normal) and the weight (along -z) are normal to the body's x axis. The aircraft
+of the paper flies pitched by alpha: in body axes the air comes along ``(cos a, 0, sin a)``, each
+station's lift is normal to it (tilted forward by a) and the weight is ``g (sin a, 0, -cos a)``.
+On a wing whose tip is bent 8 m up, that forward tilt of the net load (lift minus the wing's
+weight) twists the wing nose down about its root far more than the lift's 0.25 m offset ahead of
+the beam axis twists it nose up; without it the elastic trim angle comes out 28 to 57 % below
+the paper's. :func:`trim` adds both as loads of the joined system: the gravity vector and, on
+every lifting station, the dead force ``L (l - n)`` per length (L its lift along its normal n, l
+the unit vector normal to the air and the section's span axis), updated from the solved state
+until alpha_trim is stationary (a fixed point; the converged state is the follower solution).
 
 Published aircraft-level results used here (:data:`PUBLISHED_TRIM`): the trimmed angle of attack
 against airspeed of the rigid and of the elastic aircraft, digitised from the paper's figure in
@@ -43,11 +56,12 @@ import openmdao.api as om
 from wingmdao.aero.joined import build_joined_aeroelastic_system, lift_total, pack_aero_forcing, pack_aero_parameters
 from wingmdao.beam.joints import FUSELAGE_AXES, Beam, Joint, LumpedMass, Symmetry
 from wingmdao.beam.residual import STATE_BLOCKS
-from wingmdao.beam.rotations import euler_from_axis
+from wingmdao.beam.rotations import body_to_csn, euler_from_axis
 from wingmdao.beam.static import beam_parameters
 from wingmdao.cases import hale
 from wingmdao.cases.planform import G0
 from wingmdao.timemarch.bdf import solve_static
+from wingmdao.timemarch.system import layout
 
 #: Payload (full aircraft): mass (kg) and rotary inertia about each axis (kg m^2), at the wing root.
 PAYLOAD_MASS = 50.0
@@ -70,6 +84,9 @@ RIGID_EA = 1.0e10
 RIGID_FACTOR = 1.0e4
 #: Trim supports (surge and plunge of the wing root, plunge of the boom's end).
 SUPPORTS = (("boom", 0, "x"), ("boom", 0, "z"), ("boom", -1, "z"))
+#: Flight-path loads fixed point (:func:`trim`): tolerance on alpha_trim (rad) and most updates.
+FLIGHT_PATH_TOL = 1e-9
+FLIGHT_PATH_ITERATIONS = 80
 
 #: Published trim (Patil, Hodges & Cesnik 2001, figure of the trimmed angle of attack vs airspeed;
 #: digitised in AeroBeams.jl test/referenceData/conventionalHALE; digitising error ~1 %).
@@ -203,7 +220,61 @@ def _parameters(aircraft, airspeed):
                                 airspeed=airspeed, density=hale.DENSITY, mach=0.0, downwash_gradient=0.0)
 
 
-def trim(aircraft: HaleAircraft, airspeed: float, x0=None, load_steps: int = 8, load_factor: float = 1.0) -> dict:
+def _node_frames(system, x, name):
+    """(n, 3, 3) body-to-csn matrices of the deformed sections of beam ``name`` (rows c, s, n)."""
+    th = STATE_BLOCKS["theta"]
+    return np.array([body_to_csn(np.asarray(x[system.node_index(name, i) + th.start:system.node_index(name, i) + th.stop]))
+                     for i in range(system.beam(name).num_nodes)])
+
+
+def _air_lift(system, x, p, q, alpha):
+    """Each lifting station's lift (N/m, along its normal in the model), its section frames and
+    the unit vectors normal to the pitched air ``(cos a, 0, sin a)`` and to its span axis."""
+    air = np.array([np.cos(alpha), 0.0, np.sin(alpha)])
+    out = {}
+    for name, (lift, _moment, _up) in system.section_loads(x, 0 * x, p, q).items():
+        frames = _node_frames(system, x, name)
+        normal_to_air = np.cross(air, frames[:, 1])
+        normal_to_air /= np.linalg.norm(normal_to_air, axis=1)[:, None]
+        normal_to_air *= np.sign(np.einsum("ij,ij->i", normal_to_air, frames[:, 2]))[:, None]
+        out[name] = (lift, frames, normal_to_air)
+    return out
+
+
+def _flight_path_forcing(system, q, x, p, alpha, load_factor, drag_coefficient=0.0):
+    """The forcing ``q`` with the weight in the pitched body axes, the lift tilt loads of the
+    state ``x`` (module docstring, flight-path loads) and the section drag (``drag_coefficient``,
+    along the air's component in each section's plane)."""
+    lay, play = layout(system.forcing_specs), layout(system.param_specs)
+    p = np.asarray(p, dtype=float)
+    q = np.array(q, dtype=float)
+    q[lay["gravity"]] = G0 * float(load_factor) * np.array([np.sin(alpha), 0.0, -np.cos(alpha)])
+    air = np.array([np.cos(alpha), 0.0, np.sin(alpha)])
+    qdyn = 0.5 * p[play["density"]].item() * p[play["airspeed"]].item() ** 2
+    for name, (lift, frames, normal_to_air) in _air_lift(system, x, p, q, alpha).items():
+        in_plane = air[None, :] - (frames[:, 1] @ air)[:, None] * frames[:, 1]
+        speed2 = np.einsum("ij,ij->i", in_plane, in_plane)
+        drag = (qdyn * drag_coefficient * p[play[f"{name}_chord"]] * np.sqrt(speed2))[:, None] * in_plane
+        q[lay[f"{name}_force_per_length"]] = (lift[:, None] * (normal_to_air - frames[:, 2]) + drag).ravel()
+    return q
+
+
+def _vertical_lift(system, x, p, q, alpha, flight_path_loads):
+    """Integrated aerodynamic force (N) normal to the flight path of the modelled half aircraft."""
+    if not flight_path_loads:
+        return lift_total(system, x, 0 * x, p, q, vertical=True)
+    up = np.array([-np.sin(alpha), 0.0, np.cos(alpha)])
+    play = layout(system.param_specs)
+    total = 0.0
+    for name, (lift, _frames, normal_to_air) in _air_lift(system, x, p, q, alpha).items():
+        f = lift * (normal_to_air @ up)
+        ds = np.linalg.norm(np.diff(np.asarray(p)[play[f"{name}_node_positions"]].reshape(-1, 3), axis=0), axis=1)
+        total += float(np.sum(0.5 * (f[:-1] + f[1:]) * ds))
+    return total
+
+
+def trim(aircraft: HaleAircraft, airspeed: float, x0=None, load_steps: int = 8, load_factor: float = 1.0,
+         flight_path_loads: bool = True, drag_coefficient: float = 0.0) -> dict:
     """Trimmed level flight of the free half aircraft at ``airspeed`` (m/s): lift = W, zero
     pitching moment, by angle of attack, tail incidence and thrust.
 
@@ -219,39 +290,66 @@ def trim(aircraft: HaleAircraft, airspeed: float, x0=None, load_steps: int = 8, 
         Gravity steps from the jig (unused with ``x0``).
     load_factor : float
         Gravity times this (> 0; lift = ``load_factor`` W; a small value gives the linear limit).
+    flight_path_loads : bool
+        True: the weight and the lift in the pitched body axes (module docstring), iterated to
+        the fixed point; False: lift along the section normals and weight along body -z.
+    drag_coefficient : float
+        Section drag coefficient of the wing and tail strips (>= 0; with ``flight_path_loads``;
+        the paper's aircraft data as stated here have none), balanced by the thrust.
 
     Returns
     -------
     dict
         ``alpha_deg`` (trim angle of attack, deg), ``tail_incidence_deg`` (deg), ``thrust`` (N,
-        half aircraft), ``lift_over_weight`` (lift over ``load_factor`` W), ``wing`` (deformed wing beam-axis positions, (n, 3) m,
-        body axes), ``tip_deflection`` (m, vertical) and the state ``x``.
+        half aircraft), ``lift_over_weight`` (lift normal to the flight path over ``load_factor``
+        W), ``wing`` (deformed wing beam-axis positions, (n, 3) m, body axes), ``tip_deflection``
+        (m, body z), ``updates`` (flight-path load updates) and the state ``x``.
     """
     if not (np.isfinite(airspeed) and airspeed > 0.0):
         raise ValueError(f"airspeed = {airspeed} m/s; must be a finite number > 0")
     if not (np.isfinite(load_factor) and load_factor > 0.0):
         raise ValueError(f"load_factor = {load_factor}; must be a finite number > 0")
+    if not (np.isfinite(drag_coefficient) and drag_coefficient >= 0.0):
+        raise ValueError(f"drag_coefficient = {drag_coefficient}; must be a finite number >= 0")
+    if drag_coefficient and not flight_path_loads:
+        raise ValueError(f"drag_coefficient = {drag_coefficient} needs flight_path_loads=True")
     s = aircraft.system
     p = _parameters(aircraft, airspeed)
     g = [0.0, 0.0, -G0 * float(load_factor)]
     q = pack_aero_forcing(s, trim_active=1.0, gravity=g)
+    label = f"HALE trim at {airspeed} m/s"
     if x0 is None:
         x, _ = solve_static(s, p, q, load_steps=load_steps, scaled=["gravity"], max_halvings=8, atol=1e-9,
-                            label=f"HALE trim at {airspeed} m/s")
+                            label=label)
     else:
-        x, _ = solve_static(s, p, q, np.asarray(x0, dtype=float), atol=1e-9, label=f"HALE trim at {airspeed} m/s")
-    q0 = pack_aero_forcing(s, trim_active=0.0, gravity=g)
-    lift = lift_total(s, x, 0 * x, p, q0, vertical=True) / float(load_factor)
+        x = np.asarray(x0, dtype=float)
+        if not flight_path_loads:
+            x, _ = solve_static(s, p, q, x, atol=1e-9, label=label)
+    ti = s.trim_index
+    alpha = float(x[ti["alpha_trim"]])
+    updates = 0
+    step = np.inf
+    while flight_path_loads and abs(step) >= FLIGHT_PATH_TOL:
+        if updates == FLIGHT_PATH_ITERATIONS:
+            raise om.AnalysisError(f"{label}: flight-path loads not converged after {FLIGHT_PATH_ITERATIONS} "
+                                   f"updates (last alpha_trim step {step:.2e} rad)")
+        q = _flight_path_forcing(s, q, x, p, alpha, load_factor, drag_coefficient)
+        x, _ = solve_static(s, p, q, x, atol=1e-9, label=label)
+        step, alpha = float(x[ti["alpha_trim"]]) - alpha, float(x[ti["alpha_trim"]])
+        updates += 1
+    if flight_path_loads:
+        q = _flight_path_forcing(s, q, x, p, alpha, load_factor, drag_coefficient)
+    lift = _vertical_lift(s, x, p, q, alpha, flight_path_loads) / float(load_factor)
     r = np.array([x[s.node_index("wing", i) + STATE_BLOCKS["r"].start:
                     s.node_index("wing", i) + STATE_BLOCKS["r"].stop] for i in range(s.beam("wing").num_nodes)])
-    ti = s.trim_index
-    return {"alpha_deg": float(np.degrees(x[ti["alpha_trim"]])),
+    return {"alpha_deg": float(np.degrees(alpha)),
             "tail_incidence_deg": float(np.degrees(x[ti["tail_incidence"]])), "thrust": float(x[ti["thrust"]]),
             "lift_over_weight": float(lift / (aircraft.mass * G0)), "wing": r,
-            "tip_deflection": float(r[-1, 2] - r[0, 2]), "x": x}
+            "tip_deflection": float(r[-1, 2] - r[0, 2]), "updates": updates, "x": x}
 
 
-def trim_sweep(aircraft: HaleAircraft, airspeeds, start: float = 25.0) -> dict:
+def trim_sweep(aircraft: HaleAircraft, airspeeds, start: float = 25.0, flight_path_loads: bool = True,
+               drag_coefficient: float = 0.0) -> dict:
     """:func:`trim` at each of ``airspeeds`` (m/s): first at ``start`` from the jig (gravity
     steps), then outward from it, each airspeed from its neighbour's state nearer ``start``
     (continuation). An airspeed whose trim does not converge ends its side of the sweep.
@@ -264,6 +362,8 @@ def trim_sweep(aircraft: HaleAircraft, airspeeds, start: float = 25.0) -> dict:
         Airspeeds (m/s).
     start : float, optional
         The airspeed trimmed first from the jig (m/s).
+    flight_path_loads, drag_coefficient : optional
+        Passed to :func:`trim`.
 
     Returns
     -------
@@ -273,12 +373,13 @@ def trim_sweep(aircraft: HaleAircraft, airspeeds, start: float = 25.0) -> dict:
     """
     speeds = sorted(float(v) for v in airspeeds)
     out = {"failed": {}}
-    x_start = trim(aircraft, float(start))["x"]
+    opts = {"flight_path_loads": flight_path_loads, "drag_coefficient": drag_coefficient}
+    x_start = trim(aircraft, float(start), **opts)["x"]
     for side in ([v for v in speeds if v >= start], [v for v in reversed(speeds) if v < start]):
         x = x_start
         for v in side:
             try:
-                res = trim(aircraft, v, x0=x)
+                res = trim(aircraft, v, x0=x, **opts)
             except om.AnalysisError as exc:
                 out["failed"][v] = str(exc).splitlines()[0]
                 break
