@@ -128,9 +128,6 @@ RATCHET: dict[str, int] = {
     "wingmdao.utils.digest": 3,
     "wingmdao.utils.function_store": 8,
     "wingmdao.utils.memory": 1,
-    "wingmdao.verification.section_models": 1,
-    "wingmdao.verification.solid3d": 25,
-    "wingmdao.verification.wingbox_solid": 12,
 }
 
 
