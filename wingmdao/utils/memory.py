@@ -44,6 +44,16 @@ def return_large_blocks_on_free(mmap_threshold: int = 1 << 17) -> bool:
     bool
         True when both settings were made; False where there is no glibc (macOS, musl) or the user
         chose.
+
+    Parameters
+    ----------
+    mmap_threshold : int, optional
+        Block size (bytes) from which glibc maps each block on its own.
+
+    Returns
+    -------
+    bool
+        Whether the setting was applied (False without glibc, or when the user set glibc's variables).
     """
     if any(name in os.environ for name in _MALLOC_VARIABLES):
         return False
