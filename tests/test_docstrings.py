@@ -79,8 +79,6 @@ RATCHET: dict[str, int] = {
     "wingmdao.components.solid_stress": 6,
     "wingmdao.components.stress": 7,
     "wingmdao.components.time_history": 1,
-    "wingmdao.drivers.failures": 1,
-    "wingmdao.drivers.ipopt": 1,
     "wingmdao.envelope": 14,
     "wingmdao.groups.load_case": 5,
     "wingmdao.groups.stick": 1,
@@ -96,11 +94,6 @@ RATCHET: dict[str, int] = {
     "wingmdao.oas.crm": 8,
     "wingmdao.oas.point": 3,
     "wingmdao.oas.problems": 2,
-    "wingmdao.optimize": 5,
-    "wingmdao.parallel": 8,
-    "wingmdao.plots": 5,
-    "wingmdao.report": 8,
-    "wingmdao.results": 1,
     "wingmdao.sizing": 24,
     "wingmdao.stability.cases": 6,
     "wingmdao.stability.deformed": 6,
@@ -123,11 +116,6 @@ RATCHET: dict[str, int] = {
     "wingmdao.timemarch.static_lu": 21,
     "wingmdao.timemarch.system": 32,
     "wingmdao.utils.c_library": 4,
-    "wingmdao.utils.cache_admin": 5,
-    "wingmdao.utils.casadi_cache": 21,
-    "wingmdao.utils.digest": 3,
-    "wingmdao.utils.function_store": 8,
-    "wingmdao.utils.memory": 1,
 }
 
 

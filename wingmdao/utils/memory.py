@@ -39,12 +39,6 @@ def return_large_blocks_on_free(mmap_threshold: int = 1 << 17) -> bool:
     Nothing is changed when the user set glibc's own variables (``MALLOC_MMAP_THRESHOLD_``,
     ``MALLOC_TRIM_THRESHOLD_``, ``GLIBC_TUNABLES``).
 
-    Returns
-    -------
-    bool
-        True when both settings were made; False where there is no glibc (macOS, musl) or the user
-        chose.
-
     Parameters
     ----------
     mmap_threshold : int, optional
@@ -53,7 +47,8 @@ def return_large_blocks_on_free(mmap_threshold: int = 1 << 17) -> bool:
     Returns
     -------
     bool
-        Whether the setting was applied (False without glibc, or when the user set glibc's variables).
+        True when both settings were made; False where there is no glibc (macOS, musl) or the user
+        chose.
     """
     if any(name in os.environ for name in _MALLOC_VARIABLES):
         return False
