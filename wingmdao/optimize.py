@@ -59,6 +59,24 @@ def make_driver(optimizer: str = "SLSQP", *, maxiter: int = 200, tol: float = 1e
     and for SLSQP ``om.ScipyOptimizeDriver`` with SLSQP (the only gradient-based SciPy method
     that handles our inequality constraints and bounds well). Raises ``ValueError`` for an
     unknown optimizer name, or one that nothing installed here can run.
+
+    Parameters
+    ----------
+    optimizer : {"SLSQP", "IPOPT", "SNOPT"}, optional
+        Optimizer name.
+    maxiter : int, optional
+        Iteration limit.
+    tol : float, optional
+        Convergence tolerance.
+    prefer_pyoptsparse : bool, optional
+        Use pyOptSparse when it imports.
+    disp : bool, optional
+        Print the optimizer's summary.
+
+    Returns
+    -------
+    tuple
+        (driver, description).
     """
     name = optimizer.upper()
     if name not in PYOPTSPARSE_OPTIMIZERS:
@@ -107,6 +125,11 @@ class BackoffSLSQPDriver(RecordsFailedAnalyses, om.ScipyOptimizeDriver):
     was not solved, the run stops: :attr:`fail` is True, :attr:`stop_message` says why, and the
     model is left at (and the last recorded case is) the last solved design. A failure of the
     initial design is raised as before (there is nothing to back off to).
+
+    Parameters
+    ----------
+    **kwargs
+        Driver options (``om.ScipyOptimizeDriver``'s and ``failure_penalty``).
     """
 
     def __init__(self, **kwargs):
@@ -242,7 +265,20 @@ class WalSqliteRecorder(om.SqliteRecorder):
 
 def add_recorder(prob: om.Problem, path: str) -> om.SqliteRecorder:
     """Record design variables, objectives, constraints and derivatives of every driver iteration
-    (:class:`WalSqliteRecorder`: no disk sync per record)."""
+    (:class:`WalSqliteRecorder`: no disk sync per record).
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        The problem, its driver already set.
+    path : str
+        SQLite file to record into.
+
+    Returns
+    -------
+    WalSqliteRecorder
+        The recorder.
+    """
     rec = WalSqliteRecorder(path)
     opts = prob.driver.recording_options
     opts["record_desvars"] = True
@@ -286,6 +322,15 @@ class ProgressPrinter(_ListeningRecorder):
     """Prints one line per driver evaluation: objective, worst constraint, elapsed time.
 
     Long optimizations (a gust sizing takes minutes) then show their progress as they run.
+
+    Parameters
+    ----------
+    stream : file-like or None, optional
+        Output stream; None for standard output.
+    objective : str, optional
+        Objective name printed.
+    units : str, optional
+        Objective units printed.
     """
 
     def __init__(self, stream=None, objective="mass", units="kg"):
@@ -326,6 +371,13 @@ class SolverIterationCounter(_ListeningRecorder):
     ``driver.add_recorder(counter)`` so each evaluation is counted separately. ``unrecorded``:
     iterations per solve that the solver does not record (1 for ``NonlinearBlockGS``, whose first
     Gauss-Seidel pass runs unrecorded while it computes the initial norm, and counts).
+
+    Parameters
+    ----------
+    solvers : dict
+        Name -> nonlinear solver to watch.
+    unrecorded : int, optional
+        Iterations per solve that the solver does not record.
     """
 
     def __init__(self, solvers: dict, unrecorded: int = 0):

@@ -44,6 +44,13 @@ def world_comm():
 
 
 def rank() -> int:
+    """This process's rank in ``MPI.COMM_WORLD`` (0 in a serial run).
+
+    Returns
+    -------
+    int
+        The rank.
+    """
     comm = world_comm()
     return 0 if comm is None else comm.rank
 
@@ -57,6 +64,18 @@ def assign_cases(load_cases, size: int) -> list:
     """Case indices per rank: longest march first onto the least loaded rank (cost ~ time steps).
 
     Raises ValueError when there are more ranks than load cases (a rank would sit idle).
+
+    Parameters
+    ----------
+    load_cases : sequence of LoadCase
+        The load cases.
+    size : int
+        Number of ranks.
+
+    Returns
+    -------
+    list of list of int
+        Case indices of each rank.
     """
     n = len(load_cases)
     if size > n:
@@ -74,7 +93,27 @@ def assign_cases(load_cases, size: int) -> list:
 
 
 class CaseExchange:
-    """This rank's sub-problem and the gathered values/derivatives of all cases at one design."""
+    """This rank's sub-problem and the gathered values/derivatives of all cases at one design.
+
+    Parameters
+    ----------
+    geometry : WingGeometry
+        The wing.
+    load_cases : sequence of LoadCase
+        Every load case.
+    material : Material
+        The material.
+    options : SizingOptions
+        The sizing options.
+    section : str
+        Section kind.
+    comm : mpi4py.MPI.Comm
+        The communicator.
+    design_vars : sequence of str
+        Design variable names.
+    build_problem : callable
+        :func:`wingmdao.sizing.build_problem`, which builds this rank's sub-problem.
+    """
 
     def __init__(self, geometry, load_cases, material, options, section, comm, design_vars, *, build_problem):
         """``build_problem``: :func:`wingmdao.sizing.build_problem`, which builds this rank's sub-problem."""
@@ -107,6 +146,18 @@ class CaseExchange:
         return merged
 
     def evaluate(self, x):
+        """Run this rank's cases at design ``x`` and gather every case's values (cached for the same ``x``); a failure on any rank is reported on all.
+
+        Parameters
+        ----------
+        x : dict
+            Design variable name -> value.
+
+        Returns
+        -------
+        dict
+            Case name -> KS values, stress constraints and internal loads, gathered from every rank.
+        """
         key = self._key(x)
         if key == self._vkey:
             return self.values
@@ -130,6 +181,18 @@ class CaseExchange:
         return self.values
 
     def derivatives(self, x):
+        """Adjoint totals of this rank's KS values at design ``x``, gathered from every rank (cached for the same ``x``).
+
+        Parameters
+        ----------
+        x : dict
+            Design variable name -> value.
+
+        Returns
+        -------
+        dict
+            Case name -> KS name -> design variable -> total derivative, gathered from every rank.
+        """
         key = self._key(x)
         if key == self._jkey:
             return self.jac
@@ -205,7 +268,25 @@ class CaseHistory(_ProxyBase):
 
 
 def add_case_proxies(cases, exchange, geometry, material, section, n_dv, add_constraints=False):
-    """``<name>`` proxy groups (ks, stress, internal_loads) in group ``cases`` for every load case."""
+    """``<name>`` proxy groups (ks, stress, internal_loads) in group ``cases`` for every load case.
+
+    Parameters
+    ----------
+    cases : openmdao.api.Group
+        The ``cases`` group.
+    exchange : CaseExchange
+        The exchange.
+    geometry : WingGeometry
+        The wing.
+    material : Material
+        The material.
+    section : str
+        Section kind.
+    n_dv : int
+        Design variable size per wall.
+    add_constraints : bool, optional
+        Add the KS constraints.
+    """
     design = list(SECTION_KINDS[section]["design_vars"])
     n = geometry.num_nodes
     for case in exchange.cases:
@@ -227,7 +308,32 @@ def add_case_proxies(cases, exchange, geometry, material, section, n_dv, add_con
 
 def distributed_wing_sizing(geometry, load_cases, material, options, section, comm, *, build_problem, **wing_kwargs):
     """A :class:`~wingmdao.groups.wing.WingSizing` whose ``cases`` group holds proxies of the
-    load cases, each computed on its rank (:class:`CaseExchange`, its sub-problem from ``build_problem``)."""
+    load cases, each computed on its rank (:class:`CaseExchange`, its sub-problem from ``build_problem``).
+
+    Parameters
+    ----------
+    geometry : WingGeometry
+        The wing.
+    load_cases : sequence of LoadCase
+        Every load case.
+    material : Material
+        The material.
+    options : SizingOptions
+        The sizing options.
+    section : str
+        Section kind.
+    comm : mpi4py.MPI.Comm
+        The communicator.
+    build_problem : callable
+        :func:`wingmdao.sizing.build_problem`.
+    **wing_kwargs
+        Passed to :class:`~wingmdao.groups.wing.WingSizing`.
+
+    Returns
+    -------
+    WingSizing
+        The group.
+    """
     design = SECTION_KINDS[section]["design_vars"]
     exchange = CaseExchange(geometry, load_cases, material, options, section, comm, design,
                             build_problem=build_problem)
@@ -246,7 +352,17 @@ def distributed_wing_sizing(geometry, load_cases, material, options, section, co
 
 
 def set_shared_geometry(prob, geometry, section="box"):
-    """:func:`wingmdao.sizing.set_geometry` for a main problem whose cases live in sub-problems."""
+    """:func:`wingmdao.sizing.set_geometry` for a main problem whose cases live in sub-problems.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        The main problem.
+    geometry : WingGeometry
+        The wing.
+    section : str, optional
+        Section kind.
+    """
     prob.set_val("node_positions", geometry.node_positions, units="m")
     # the jig Euler angles only enter the beams, which live in the cases' sub-problems
     if section == "box":

@@ -57,6 +57,22 @@ def save_figure(fig, path: str, dpi: int = 120, **layout) -> str:
     A temporary file in the same folder (same extension, so matplotlib picks the format), flushed
     and fsynced, then ``os.replace``: an interrupted or failed write leaves the earlier file (or
     none), never a truncated image. Returns ``path``.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    path : str
+        PNG (or other format by extension) to write.
+    dpi : int, optional
+        Resolution (dots per inch).
+    **layout
+        Passed to ``fig.tight_layout``.
+
+    Returns
+    -------
+    str
+        ``path``.
     """
     import contextlib
     import os
@@ -87,7 +103,24 @@ def save_figure(fig, path: str, dpi: int = 120, **layout) -> str:
 
 
 def plot_thickness(span, runs: dict, path: str, title: str = "Wall thickness along the span"):
-    """Thickness of the four walls versus span; ``runs`` maps a label to ``{wall: (n,) m}``."""
+    """Thickness of the four walls versus span; ``runs`` maps a label to ``{wall: (n,) m}``.
+
+    Parameters
+    ----------
+    span : array_like
+        (n,) span coordinates (m).
+    runs : dict
+        Label -> {wall: (n,) thickness (m)}.
+    path : str
+        PNG to write.
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    str
+        ``path``.
+    """
     plt = pyplot_agg()
     fig, axes = plt.subplots(2, 2, figsize=(10, 7), sharex=True)
     for ax, wall in zip(axes.ravel(), WALLS):
@@ -104,7 +137,26 @@ def plot_thickness(span, runs: dict, path: str, title: str = "Wall thickness alo
 
 
 def plot_time_history(time, series: dict, path: str, ylabel: str, title: str):
-    """Curves over time; ``series`` maps a label to a (n_time,) array."""
+    """Curves over time; ``series`` maps a label to a (n_time,) array.
+
+    Parameters
+    ----------
+    time : array_like
+        (n_time,) times (s).
+    series : dict
+        Label -> (n_time,) values.
+    path : str
+        PNG to write.
+    ylabel : str
+        Y-axis label with units.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    str
+        ``path``.
+    """
     plt = pyplot_agg()
     fig, ax = plt.subplots(figsize=(8, 4.5))
     for label, y in series.items():
@@ -118,7 +170,22 @@ def plot_time_history(time, series: dict, path: str, ylabel: str, title: str):
 
 
 def plot_iteration_history(objective, max_constraint, path: str):
-    """Objective and worst constraint per driver iteration."""
+    """Objective and worst constraint per driver iteration.
+
+    Parameters
+    ----------
+    objective : array_like
+        Objective per driver iteration.
+    max_constraint : array_like
+        Worst constraint margin per iteration.
+    path : str
+        PNG to write.
+
+    Returns
+    -------
+    str
+        ``path``.
+    """
     plt = pyplot_agg()
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
     it = np.arange(len(objective))
@@ -136,7 +203,24 @@ def plot_iteration_history(objective, max_constraint, path: str):
 def plot_panels(span, panels: dict, path: str, title: str = "Stiffened panels along the span"):
     """The stiffened design along the span (``panels``: the result JSON's ``panels`` block):
     skin and equivalent thicknesses, stiffener heights and thicknesses, spar webs, and a map of
-    the critical mode of every wall at every station with its margin of safety."""
+    the critical mode of every wall at every station with its margin of safety.
+
+    Parameters
+    ----------
+    span : array_like
+        (n,) span coordinates (m).
+    panels : dict
+        The result JSON's ``panels`` block.
+    path : str
+        PNG to write.
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    str
+        ``path``.
+    """
     plt = pyplot_agg()
     span = np.asarray(span, dtype=float)
     fig, axes = plt.subplots(2, 2, figsize=(12, 8), sharex=True)

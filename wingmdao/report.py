@@ -13,7 +13,20 @@ from wingmdao.plots import WALLS, plot_iteration_history, plot_thickness
 def constraint_margin(value, meta: dict) -> np.ndarray:
     """Signed distance of a constraint value to its bounds (unscaled): ``value - upper``,
     ``lower - value``, ``|value - equals|``; <= 0 where satisfied (equality: 0 only when met).
-    A KS constraint ``ks <= 0`` keeps its own value; without bounds the value itself."""
+    A KS constraint ``ks <= 0`` keeps its own value; without bounds the value itself.
+
+    Parameters
+    ----------
+    value : array_like
+        Constraint value (unscaled).
+    meta : dict
+        OpenMDAO constraint metadata (``upper``, ``lower``, ``equals``, ``name``).
+
+    Returns
+    -------
+    numpy.ndarray
+        Margin; <= 0 where satisfied.
+    """
     v = np.asarray(value, dtype=float).ravel()
     terms = []
     if meta.get("equals") is not None:
@@ -27,7 +40,19 @@ def constraint_margin(value, meta: dict) -> np.ndarray:
 
 def read_history(path: str) -> dict:
     """Objective, worst constraint margin (:func:`constraint_margin`, <= 0 when every constraint
-    holds) and design variables of every recorded driver iteration."""
+    holds) and design variables of every recorded driver iteration.
+
+    Parameters
+    ----------
+    path : str
+        SQLite recording of a sizing.
+
+    Returns
+    -------
+    dict
+        ``iterations``, and per iteration ``objective``, ``max_constraint``, ``design_vars`` and
+        ``failed``; ``final_constraints`` of the last one.
+    """
     if not os.path.exists(path):
         raise ValueError(f"recording {path!r} does not exist")
     if os.path.isdir(path):
@@ -66,7 +91,18 @@ def format_margins(hist: dict) -> str:
     Every stress and panel family is ``g = factor * ratio - 1`` (ratio 1 = failure), so its
     margin of safety is 1 / (g + 1) - 1; KS lies above the largest ratio it aggregates, so this
     margin is a lower bound of the design's. The flutter constraint (a decay rate) and the linear
-    sizing rules are listed with their values only."""
+    sizing rules are listed with their values only.
+
+    Parameters
+    ----------
+    hist : dict
+        Recorded history (:func:`read_history`).
+
+    Returns
+    -------
+    str
+        The table.
+    """
     lines = [f"{'constraint':58s} {'value':>12s} {'margin of safety':>17s}"]
     for name, g in sorted(hist.get("final_constraints", {}).items()):
         if name.startswith("rules."):
@@ -80,7 +116,20 @@ def format_margins(hist: dict) -> str:
 def best_design(hist: dict, tol: float = 1e-6) -> dict | None:
     """The recorded iteration with the lowest objective among the feasible ones (every constraint
     margin <= ``tol``), else among all whose analysis did not fail: iteration, objective, max
-    constraint, feasible, design variables; None when every recorded analysis failed."""
+    constraint, feasible, design variables; None when every recorded analysis failed.
+
+    Parameters
+    ----------
+    hist : dict
+        Recorded history (:func:`read_history`).
+    tol : float, optional
+        Largest constraint margin counted as feasible.
+
+    Returns
+    -------
+    dict or None
+        The iteration's record, or None.
+    """
     feasible = np.flatnonzero(np.nan_to_num(hist["max_constraint"], nan=np.inf) <= tol)
     failed = hist.get("failed", np.zeros(hist["iterations"], dtype=bool))
     pool = feasible if feasible.size else np.flatnonzero(~failed)  # never a failed analysis
@@ -93,6 +142,18 @@ def best_design(hist: dict, tol: float = 1e-6) -> dict | None:
 
 
 def format_history(hist: dict) -> str:
+    """The iteration table of a recorded history: objective and worst constraint margin, failed analyses marked.
+
+    Parameters
+    ----------
+    hist : dict
+        Recorded history (:func:`read_history`).
+
+    Returns
+    -------
+    str
+        One line per iteration.
+    """
     lines = [f"{'iter':>5} {'objective':>14} {'max constraint':>15}"]
     failed = hist.get("failed", np.zeros(len(hist["objective"]), dtype=bool))
     for i, (f, g, bad) in enumerate(zip(hist["objective"], hist["max_constraint"], failed)):
@@ -101,7 +162,18 @@ def format_history(hist: dict) -> str:
 
 
 def final_thickness(hist: dict) -> dict | None:
-    """``{wall: (n,) m}`` of the last recorded iteration, or None when the design variables are not walls."""
+    """``{wall: (n,) m}`` of the last recorded iteration, or None when the design variables are not walls.
+
+    Parameters
+    ----------
+    hist : dict
+        Recorded history (:func:`read_history`).
+
+    Returns
+    -------
+    dict or None
+        Wall -> (n,) thickness (m), or None.
+    """
     final = hist["design_vars"][-1]
     thick = {}
     for wall in WALLS:
@@ -116,6 +188,18 @@ def write_comparison_plot(histories: dict, path: str) -> str:
 
     ``histories`` maps a label to :func:`read_history` output; all runs must size walls of the
     same number of design stations.
+
+    Parameters
+    ----------
+    histories : dict
+        Label -> recorded history.
+    path : str
+        PNG to write.
+
+    Returns
+    -------
+    str
+        ``path``.
     """
     runs = {}
     for label, hist in histories.items():
@@ -131,7 +215,20 @@ def write_comparison_plot(histories: dict, path: str) -> str:
 
 
 def write_report_plots(hist: dict, out_dir: str) -> list[str]:
-    """Iteration history PNG (and final thickness PNG when the design variables are wall thicknesses)."""
+    """Iteration history PNG (and final thickness PNG when the design variables are wall thicknesses).
+
+    Parameters
+    ----------
+    hist : dict
+        Recorded history (:func:`read_history`).
+    out_dir : str
+        Folder for the PNG files.
+
+    Returns
+    -------
+    list of str
+        The files written.
+    """
     os.makedirs(out_dir, exist_ok=True)
     paths = [plot_iteration_history(hist["objective"], hist["max_constraint"],
                                     os.path.join(out_dir, "iterations.png"))]

@@ -10,7 +10,24 @@ from wingmdao.sizing import station_values
 
 
 def write_case_plots(prob, setup, stem: str, result: dict | None = None) -> list[str]:
-    """PNG plots next to ``stem``: thickness, and for dynamic cases stress and load histories."""
+    """PNG plots next to ``stem``: thickness, and for dynamic cases stress and load histories.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        The run sizing problem.
+    setup : object
+        The case's sizing set-up.
+    stem : str
+        Path stem of the PNG files.
+    result : dict or None, optional
+        The result JSON, for the panel plot.
+
+    Returns
+    -------
+    list of str
+        The files written.
+    """
     span = span_coordinate(setup.geometry)
     paths = []
     if setup.section in ("box", "stiffened"):

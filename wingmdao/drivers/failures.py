@@ -5,7 +5,18 @@ from __future__ import annotations
 
 
 def one_line(exc) -> str:
-    """The exception's text on one line."""
+    """The exception's text on one line.
+
+    Parameters
+    ----------
+    exc : BaseException
+        The exception.
+
+    Returns
+    -------
+    str
+        Its text with line breaks collapsed.
+    """
     return " ".join(str(exc).split())
 
 

@@ -67,6 +67,11 @@ class IpoptDriver(RecordsFailedAnalyses, Driver):
     and ``message``), ``result`` (OpenMDAO's :class:`~openmdao.core.driver.DriverResult`:
     ``iter_count``, ``model_evals``, ``deriv_evals``, ``exit_status`` = IPOPT's message); the model
     is left at IPOPT's final design.
+
+    Parameters
+    ----------
+    **kwargs
+        Driver options (``max_iter``, ``tol``, ``print_level``, ``disp``).
     """
 
     def __init__(self, **kwargs):

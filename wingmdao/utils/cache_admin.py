@@ -31,7 +31,21 @@ STALE_PARTIAL_SECONDS = 86400.0
 class CacheEntry:
     """One cache entry: ``kind`` "library" (a compiled .so and its manifest) or "function"
     (a stored function .npz); ``name`` the function's name (without the key); ``files`` its
-    files; ``size_bytes``; ``last_used`` (POSIX time, s)."""
+    files; ``size_bytes``; ``last_used`` (POSIX time, s).
+
+    Parameters
+    ----------
+    kind : {"library", "function"}
+        Entry kind.
+    name : str
+        Function name, without the key.
+    files : tuple
+        Its files.
+    size_bytes : int
+        Total size (bytes).
+    last_used : float
+        POSIX time of last use (s).
+    """
 
     kind: str
     name: str
@@ -43,7 +57,13 @@ class CacheEntry:
 def record_use(path) -> None:
     """Mark the entry of ``path`` (a library or a stored function) as used now: the manifest's
     (a library's) or the file's (a stored function's) modification time. Best effort: a
-    read-only cache is used as it is."""
+    read-only cache is used as it is.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        Library or stored function file.
+    """
     path = Path(path)
     target = path.with_name(path.name + ".sha256") if path.suffix == ".so" else path
     try:
@@ -58,7 +78,18 @@ def _name_of(stem: str) -> str:
 
 
 def entries(folder) -> list[CacheEntry]:
-    """The entries of the cache ``folder`` (none when it does not exist)."""
+    """The entries of the cache ``folder`` (none when it does not exist).
+
+    Parameters
+    ----------
+    folder : str or pathlib.Path
+        Cache folder.
+
+    Returns
+    -------
+    list of CacheEntry
+        The entries.
+    """
     folder = Path(folder)
     out = []
     if not folder.is_dir():
@@ -85,7 +116,22 @@ def entries(folder) -> list[CacheEntry]:
 
 def partial_files(folder, *, older_than: float = STALE_PARTIAL_SECONDS, now: float | None = None) -> list[Path]:
     """Hidden leftovers of unfinished compiles or writes (``.NAME...`` files and folders) in
-    ``folder`` and ``folder/functions`` not modified for ``older_than`` seconds."""
+    ``folder`` and ``folder/functions`` not modified for ``older_than`` seconds.
+
+    Parameters
+    ----------
+    folder : str or pathlib.Path
+        Cache folder.
+    older_than : float, optional
+        Age (s) above which a leftover is stale.
+    now : float or None, optional
+        Current POSIX time (s); None for the clock.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The leftovers.
+    """
     now = time.time() if now is None else now
     found = []
     for d in (Path(folder), Path(folder) / "functions"):
@@ -105,7 +151,24 @@ def prune(folder, unused_days: float, *, dry_run: bool = False, now: float | Non
     """Remove (``dry_run``: only list) the entries of ``folder`` unused for more than
     ``unused_days`` days and the stale leftovers of :func:`partial_files`. Returns a summary:
     ``entries``, ``size_bytes`` (before), ``unused`` (entries, bytes), ``removed`` (entries,
-    bytes, leftovers) and the names of the unused entries."""
+    bytes, leftovers) and the names of the unused entries.
+
+    Parameters
+    ----------
+    folder : str or pathlib.Path
+        Cache folder.
+    unused_days : float
+        Age (days) above which an entry is removed.
+    dry_run : bool, optional
+        Only list what would be removed.
+    now : float or None, optional
+        Current POSIX time (s); None for the clock.
+
+    Returns
+    -------
+    dict
+        The summary.
+    """
     if not (unused_days >= 0.0):
         raise ValueError(f"unused days = {unused_days}; allowed range [0, inf) days")
     now = time.time() if now is None else now

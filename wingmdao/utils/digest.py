@@ -21,7 +21,18 @@ import numpy as np
 
 
 def array_digest(a) -> tuple:
-    """``(shape, dtype, digest)`` of ``a``'s values (C order)."""
+    """``(shape, dtype, digest)`` of ``a``'s values (C order).
+
+    Parameters
+    ----------
+    a : array_like
+        The array.
+
+    Returns
+    -------
+    tuple
+        (shape, dtype, digest).
+    """
     a = np.ascontiguousarray(a)
     h = hashlib.sha256(a.reshape(-1).view(np.uint8)).digest()
     return a.shape, a.dtype.str, h
@@ -42,7 +53,15 @@ class ArrayStamp:
     exactly when another array has the same shape, dtype and bits. Arrays of at most
     ``copy_below`` bytes (default :data:`COPY_BELOW_BYTES`) are kept as a copy, larger ones as a
     SHA-256 digest; ``copy_below=0``: always the digest (caches of many arrays, each below the
-    limit, whose copies would add up: the pointwise components' per-step inputs)."""
+    limit, whose copies would add up: the pointwise components' per-step inputs).
+
+    Parameters
+    ----------
+    a : array_like
+        The array.
+    copy_below : int, optional
+        Size (bytes) below which a copy is kept instead of a digest.
+    """
 
     __slots__ = ("shape", "dtype", "_copy", "_digest")
 
@@ -55,7 +74,18 @@ class ArrayStamp:
             self._copy, self._digest = None, array_digest(a)[2]
 
     def matches(self, a) -> bool:
-        """Whether ``a`` has this stamp's shape, dtype and values bit for bit."""
+        """Whether ``a`` has this stamp's shape, dtype and values bit for bit.
+
+        Parameters
+        ----------
+        a : array_like
+            Array to compare.
+
+        Returns
+        -------
+        bool
+            Whether it matches.
+        """
         a = np.ascontiguousarray(a)
         if a.shape != self.shape or a.dtype.str != self.dtype:
             return False

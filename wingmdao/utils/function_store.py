@@ -49,10 +49,31 @@ def store_enabled() -> bool:
 
 
 def store_dir() -> Path:
+    """Folder of the stored functions (``functions`` in the compiled cache).
+
+    Returns
+    -------
+    pathlib.Path
+        The folder.
+    """
     return cache_dir() / "functions"
 
 
 def path_for(name: str, key: str) -> Path:
+    """File of the stored functions of ``name`` for definition ``key``.
+
+    Parameters
+    ----------
+    name : str
+        Builder name.
+    key : str
+        Definition key.
+
+    Returns
+    -------
+    pathlib.Path
+        The file path.
+    """
     return store_dir() / f"{name}_{key[:32]}.npz"
 
 
@@ -69,7 +90,18 @@ _NOT_GENERATING = frozenset({__name__, "wingmdao.utils.casadi_cache"})
 def module_closure(*modules: str) -> tuple:
     """``modules`` and every ``wingmdao`` module they import, transitively (read from their
     source text, imports inside functions included; ``ast`` took 0.2 s), except the caches
-    themselves, sorted: the modules whose source defines what a builder in ``modules`` generates."""
+    themselves, sorted: the modules whose source defines what a builder in ``modules`` generates.
+
+    Parameters
+    ----------
+    *modules : str
+        Dotted module names.
+
+    Returns
+    -------
+    tuple of str
+        The sorted module names.
+    """
     import importlib.util
 
     seen, todo = set(_NOT_GENERATING), [m for m in modules if m not in _NOT_GENERATING]
@@ -114,7 +146,18 @@ _warn_once = WarnOnce("wingmdao: persisted CasADi functions unavailable, buildin
 def encode(data: dict) -> bytes:
     """``data`` as npz bytes: arrays as they are, strings as 0-d unicode arrays, CasADi
     Functions and Sparsity as the bytes of their ``serialize()`` text (entry names marked
-    ``|F`` / ``|S``)."""
+    ``|F`` / ``|S``).
+
+    Parameters
+    ----------
+    data : dict
+        Arrays, strings, CasADi Functions and Sparsity.
+
+    Returns
+    -------
+    bytes
+        The npz payload.
+    """
     arrays = {}
     for k, v in data.items():
         if "|" in k:
@@ -130,6 +173,18 @@ def encode(data: dict) -> bytes:
 
 
 def decode(payload: bytes) -> dict:
+    """The data of an :func:`encode` payload.
+
+    Parameters
+    ----------
+    payload : bytes
+        Bytes of :func:`encode`.
+
+    Returns
+    -------
+    dict
+        The data.
+    """
     out = {}
     with np.load(io.BytesIO(payload), allow_pickle=False) as z:
         for k in z.files:
@@ -146,7 +201,17 @@ def decode(payload: bytes) -> dict:
 
 
 def save(path: Path, key: str, data: dict) -> None:
-    """Write ``data`` atomically: header ``MAGIC key size sha256`` then the payload."""
+    """Write ``data`` atomically: header ``MAGIC key size sha256`` then the payload.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        File to write.
+    key : str
+        Definition key.
+    data : dict
+        The data.
+    """
     payload = encode(data)
     path.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
     check_safe(path.parent)
@@ -164,7 +229,20 @@ def save(path: Path, key: str, data: dict) -> None:
 
 def load(path: Path, key: str) -> dict:
     """The data in ``path``; ``ValueError`` unless its header names this format and ``key`` and
-    the payload has the recorded size and SHA-256 (``UnsafeCache`` for foreign files)."""
+    the payload has the recorded size and SHA-256 (``UnsafeCache`` for foreign files).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        Stored file.
+    key : str
+        Definition key it must carry.
+
+    Returns
+    -------
+    dict
+        The data.
+    """
     check_safe(path.parent)
     check_safe(path)
     raw = path.read_bytes()
@@ -183,7 +261,22 @@ def load(path: Path, key: str) -> dict:
 
 def get(name: str, key: str | None, build) -> dict:
     """``build()``'s data (a dict) for definition ``key``: from memory, disk (see the module
-    docs) or built now and stored. ``key=None``: built every time, nothing stored."""
+    docs) or built now and stored. ``key=None``: built every time, nothing stored.
+
+    Parameters
+    ----------
+    name : str
+        Builder name.
+    key : str or None
+        Definition key; None builds every time.
+    build : callable
+        ``build()`` -> dict.
+
+    Returns
+    -------
+    dict
+        The data.
+    """
     if key is None:
         stats["built"] += 1
         return build()

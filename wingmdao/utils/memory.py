@@ -39,6 +39,11 @@ def return_large_blocks_on_free(mmap_threshold: int = 1 << 17) -> bool:
     Nothing is changed when the user set glibc's own variables (``MALLOC_MMAP_THRESHOLD_``,
     ``MALLOC_TRIM_THRESHOLD_``, ``GLIBC_TUNABLES``).
 
+    Parameters
+    ----------
+    mmap_threshold : int, optional
+        Block size (bytes) from which glibc maps each block on its own.
+
     Returns
     -------
     bool

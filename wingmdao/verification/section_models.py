@@ -54,6 +54,20 @@ def compare_1g(case_module=None, walls=(0.004, 0.004, 0.005, 0.004), material=AL
     Returns ``{"box": ..., "matched_box": ..., "detailed": ..., "error_percent": {...},
     "matched_dimensions": [(w, h), ...]}``; errors are of ``|tip displacement|`` against the detailed
     section beam.
+
+    Parameters
+    ----------
+    case_module : module or None, optional
+        Case module; None for PEGASUS.
+    walls : tuple of 4 floats, optional
+        Wall thicknesses (upper, lower, front, rear) (m).
+    material : Material, optional
+        Isotropic material.
+
+    Returns
+    -------
+    dict
+        Tip displacements and errors (above).
     """
     mod = case_module or pegasus
     pf = mod.PLANFORM

@@ -39,7 +39,18 @@ GAUSS_WEIGHTS = np.array([5.0, 8.0, 5.0]) / 9.0
 # shape functions
 # ----------------------------------------------------------------------------------------
 def lagrange_quadratic(t):
-    """1-D quadratic Lagrange functions at nodes -1, 0, 1 and their derivatives: (..., 3) each."""
+    """1-D quadratic Lagrange functions at nodes -1, 0, 1 and their derivatives: (..., 3) each.
+
+    Parameters
+    ----------
+    t : array_like
+        Parametric coordinates in [-1, 1].
+
+    Returns
+    -------
+    tuple
+        Values (..., 3) and derivatives (..., 3).
+    """
     t = np.asarray(t, dtype=float)[..., None]
     n = np.concatenate([0.5 * t * (t - 1.0), 1.0 - t * t, 0.5 * t * (t + 1.0)], axis=-1)
     dn = np.concatenate([t - 0.5, -2.0 * t, t + 0.5], axis=-1)
@@ -47,7 +58,18 @@ def lagrange_quadratic(t):
 
 
 def hex27_shape(xi, eta, zeta):
-    """Hex27 shape functions N (..., 27) and parametric gradients dN (..., 27, 3)."""
+    """Hex27 shape functions N (..., 27) and parametric gradients dN (..., 27, 3).
+
+    Parameters
+    ----------
+    xi, eta, zeta : array_like
+        Parametric coordinates in [-1, 1].
+
+    Returns
+    -------
+    tuple
+        N (..., 27) and dN (..., 27, 3).
+    """
     n1, d1 = lagrange_quadratic(xi)
     n2, d2 = lagrange_quadratic(eta)
     n3, d3 = lagrange_quadratic(zeta)
@@ -60,7 +82,18 @@ def hex27_shape(xi, eta, zeta):
 
 
 def quad9_shape(xi, eta):
-    """9-node quadrilateral shape functions (..., 9) and gradients (..., 9, 2); a = i + 3 k."""
+    """9-node quadrilateral shape functions (..., 9) and gradients (..., 9, 2); a = i + 3 k.
+
+    Parameters
+    ----------
+    xi, eta : array_like
+        Parametric coordinates in [-1, 1].
+
+    Returns
+    -------
+    tuple
+        N (..., 9) and dN (..., 9, 2).
+    """
     n1, d1 = lagrange_quadratic(xi)
     n2, d2 = lagrange_quadratic(eta)
     N = np.einsum("...k,...i->...ki", n2, n1).reshape(n1.shape[:-1] + (9,))
@@ -92,6 +125,17 @@ class HexMesh:
 
     ``grid_node`` (n_span, n_c, n_n) maps the logical grid of a structured mesh to node
     indices (-1 where no node), ``active`` (n_el_c, n_el_n) is the cross-section cell mask.
+
+    Parameters
+    ----------
+    nodes : numpy.ndarray
+        (n, 3) node positions (m).
+    elements : numpy.ndarray
+        (n_el, 27) node indices.
+    grid_node : numpy.ndarray or None, optional
+        (n_span, n_c, n_n) node index of each logical grid point (-1: none).
+    active : numpy.ndarray or None, optional
+        (n_el_c, n_el_n) bool mask of the cross-section cells with material.
     """
 
     nodes: np.ndarray
@@ -107,6 +151,16 @@ class HexMesh:
         """The 9-node faces (n_f, 9) of the active cells on the span node-slice ``span_index`` (even).
 
         Face local node ``a = i + 3 k`` with i along the grid's c direction, k along n.
+
+        Parameters
+        ----------
+        span_index : int
+            Even span node-slice index.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n_f, 9) face node indices.
         """
         if self.grid_node is None:
             raise ValueError("slice_faces needs a structured mesh (grid_node)")
@@ -122,7 +176,18 @@ class HexMesh:
         return np.array(faces, dtype=int)
 
     def slice_nodes(self, span_index: int) -> np.ndarray:
-        """All node indices on a span node-slice."""
+        """All node indices on a span node-slice.
+
+        Parameters
+        ----------
+        span_index : int
+            Span node-slice index.
+
+        Returns
+        -------
+        numpy.ndarray
+            Node indices.
+        """
         g = self.grid_node[span_index]
         return np.unique(g[g >= 0])
 
@@ -134,6 +199,18 @@ def structured_hex27_mesh(grid: np.ndarray, active: np.ndarray | None = None) ->
     element local axes xi, eta, zeta run along c, span, n (right-handed when c x span = n,
     as for the body axes x, y, z). active: (n_el_c, n_el_n) bool mask of the cross-section
     cells that carry material (default all), the same along the span.
+
+    Parameters
+    ----------
+    grid : numpy.ndarray
+        (n_span, n_c, n_n, 3) node positions of the quadratic grid (m).
+    active : numpy.ndarray or None, optional
+        (n_el_c, n_el_n) bool cell mask; None for all.
+
+    Returns
+    -------
+    HexMesh
+        The mesh.
     """
     grid = np.asarray(grid, dtype=float)
     if grid.ndim != 4 or grid.shape[-1] != 3:
@@ -174,7 +251,13 @@ def structured_hex27_mesh(grid: np.ndarray, active: np.ndarray | None = None) ->
 
 
 def check_jacobians(mesh: HexMesh) -> None:
-    """Raise ValueError if any element has a non-positive Jacobian at a Gauss point."""
+    """Raise ValueError if any element has a non-positive Jacobian at a Gauss point.
+
+    Parameters
+    ----------
+    mesh : HexMesh
+        The hex27 mesh.
+    """
     pts, _ = _volume_rule()
     _, dN = hex27_shape(pts[:, 0], pts[:, 1], pts[:, 2])
     X = mesh.nodes[mesh.elements]                      # (e, 27, 3)
@@ -190,7 +273,20 @@ def check_jacobians(mesh: HexMesh) -> None:
 # material and stiffness
 # ----------------------------------------------------------------------------------------
 def lame_parameters(E: float, nu: float) -> tuple[float, float]:
-    """Lame's lambda and mu (Pa) of an isotropic material; validates E > 0, -1 < nu < 0.5."""
+    """Lame's lambda and mu (Pa) of an isotropic material; validates E > 0, -1 < nu < 0.5.
+
+    Parameters
+    ----------
+    E : float
+        Young's modulus (Pa).
+    nu : float
+        Poisson's ratio (-).
+
+    Returns
+    -------
+    tuple of float
+        (lambda, mu) (Pa).
+    """
     if not (np.isfinite(E) and E > 0.0):
         raise ValueError(f"E must be finite and > 0 Pa, got {E}")
     if not (np.isfinite(nu) and -1.0 < nu < 0.5):
@@ -214,6 +310,22 @@ def element_stiffness(mesh: HexMesh, E: float, nu: float, elements: np.ndarray |
     """Element stiffness matrices (e, 81, 81), DOF order 3 a + i.
 
     K_aibj = sum_g w detJ [lambda G_ai G_bj + mu (G_aj G_bi + delta_ij G_ak G_bk)] with G = dN/dx.
+
+    Parameters
+    ----------
+    mesh : HexMesh
+        The hex27 mesh.
+    E : float
+        Young's modulus (Pa).
+    nu : float
+        Poisson's ratio (-).
+    elements : numpy.ndarray or None, optional
+        Indices of the elements; None for all.
+
+    Returns
+    -------
+    numpy.ndarray
+        (e, 81, 81) stiffness matrices (N/m).
     """
     lam, mu = lame_parameters(E, nu)
     elements = mesh.elements if elements is None else elements
@@ -228,12 +340,40 @@ def element_stiffness(mesh: HexMesh, E: float, nu: float, elements: np.ndarray |
 
 
 def element_dofs(elements: np.ndarray) -> np.ndarray:
-    """Global DOF indices (e, 81) in the order 3 a + i."""
+    """Global DOF indices (e, 81) in the order 3 a + i.
+
+    Parameters
+    ----------
+    elements : numpy.ndarray
+        (e, 27) node indices.
+
+    Returns
+    -------
+    numpy.ndarray
+        (e, 81) DOF indices.
+    """
     return (3 * elements[:, :, None] + np.arange(3)).reshape(len(elements), 81)
 
 
 def assemble_stiffness(mesh: HexMesh, E: float, nu: float, chunk: int = 400) -> sp.csr_matrix:
-    """Global stiffness (CSR, N/m), vectorised over chunks of elements."""
+    """Global stiffness (CSR, N/m), vectorised over chunks of elements.
+
+    Parameters
+    ----------
+    mesh : HexMesh
+        The hex27 mesh.
+    E : float
+        Young's modulus (Pa).
+    nu : float
+        Poisson's ratio (-).
+    chunk : int, optional
+        Elements per vectorised chunk.
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix
+        Global stiffness (N/m).
+    """
     n = mesh.num_dof
     K = sp.csr_matrix((n, n))
     rows, cols, vals = [], [], []
@@ -255,7 +395,20 @@ def assemble_stiffness(mesh: HexMesh, E: float, nu: float, chunk: int = 400) -> 
 
 
 def element_strains(mesh: HexMesh, u: np.ndarray) -> np.ndarray:
-    """Engineering strains (e, 27 Gauss points, 6): xx, yy, zz, yz, xz, xy."""
+    """Engineering strains (e, 27 Gauss points, 6): xx, yy, zz, yz, xz, xy.
+
+    Parameters
+    ----------
+    mesh : HexMesh
+        The hex27 mesh.
+    u : numpy.ndarray
+        (num_dof,) nodal displacements (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        (e, 27, 6) engineering strains (-).
+    """
     G, _ = _physical_gradients(mesh, mesh.elements)
     grad = np.einsum("egaj,eai->egij", G, u.reshape(-1, 3)[mesh.elements])   # du_i/dx_j
     return np.stack([grad[..., 0, 0], grad[..., 1, 1], grad[..., 2, 2],
@@ -264,7 +417,22 @@ def element_strains(mesh: HexMesh, u: np.ndarray) -> np.ndarray:
 
 
 def stress_from_strain(strain: np.ndarray, E: float, nu: float) -> np.ndarray:
-    """Cauchy stress (Voigt xx, yy, zz, yz, xz, xy; Pa) from engineering strain (Hooke's law)."""
+    """Cauchy stress (Voigt xx, yy, zz, yz, xz, xy; Pa) from engineering strain (Hooke's law).
+
+    Parameters
+    ----------
+    strain : numpy.ndarray
+        (..., 6) engineering strains (-).
+    E : float
+        Young's modulus (Pa).
+    nu : float
+        Poisson's ratio (-).
+
+    Returns
+    -------
+    numpy.ndarray
+        (..., 6) stresses (Pa).
+    """
     lam, mu = lame_parameters(E, nu)
     tr = strain[..., 0] + strain[..., 1] + strain[..., 2]
     s = np.empty_like(strain)
@@ -293,6 +461,18 @@ def face_geometry(mesh: HexMesh, faces: np.ndarray) -> dict:
 
     ``I = integral(|rho|^2 1 - rho rho^T) dA`` with rho = r - centroid, so that
     integral(rho x (omega x rho)) dA = I omega.
+
+    Parameters
+    ----------
+    mesh : HexMesh
+        The hex27 mesh.
+    faces : numpy.ndarray
+        (n_f, 9) face node indices.
+
+    Returns
+    -------
+    dict
+        ``area`` (m^2), ``centroid`` (3,) (m), ``inertia`` (3, 3) (m^4).
     """
     r, _, dA = _face_quadrature(mesh, faces)
     area = dA.sum()
@@ -311,6 +491,24 @@ def face_load_vector(mesh: HexMesh, faces: np.ndarray, force=(0.0, 0.0, 0.0),
     t(r) = F / A + omega x (r - r_c) with I omega = M_c, M_c = M + (ref_point - r_c) x F the
     moment about the centroid: uniform for a force, linear for a moment, and the rigid-body
     virtual work of t equals that of (F, M) exactly.
+
+    Parameters
+    ----------
+    mesh : HexMesh
+        The hex27 mesh.
+    faces : numpy.ndarray
+        (n_f, 9) face node indices.
+    force : sequence of 3, optional
+        Resultant force (N).
+    moment : sequence of 3, optional
+        Resultant moment about ``ref_point`` (N m).
+    ref_point : array_like or None, optional
+        Point the moment is taken about (m); None for the faces' centroid.
+
+    Returns
+    -------
+    numpy.ndarray
+        (num_dof,) nodal forces (N).
     """
     force, moment = np.asarray(force, float), np.asarray(moment, float)
     geo = face_geometry(mesh, faces)
@@ -345,6 +543,20 @@ def cut_average(mesh: HexMesh, faces: np.ndarray, u: np.ndarray) -> dict:
 
     rotation omega minimises ``integral |u - u_mean - omega x (r - r_c)|^2 dA``, i.e.
     I omega = integral (r - r_c) x u dA (small rotations, rad).
+
+    Parameters
+    ----------
+    mesh : HexMesh
+        The hex27 mesh.
+    faces : numpy.ndarray
+        (n_f, 9) face node indices of the cut.
+    u : numpy.ndarray
+        (num_dof,) nodal displacements (m).
+
+    Returns
+    -------
+    dict
+        Mean displacement (3,) (m) and rotation (3,) (rad).
     """
     r, N, dA = _face_quadrature(mesh, faces)
     ug = np.einsum("ga,fai->fgi", N, u.reshape(-1, 3)[faces])
@@ -370,6 +582,20 @@ def cut_average_at(mesh: HexMesh, y: float, u: np.ndarray) -> dict:
 
     The FE field is evaluated inside the elements of the span row containing y at the
     parametric eta with y(eta) = y, 3x3 Gauss points over each cell of the cut.
+
+    Parameters
+    ----------
+    mesh : HexMesh
+        The hex27 mesh.
+    y : float
+        Span coordinate of the cut (m).
+    u : numpy.ndarray
+        (num_dof,) nodal displacements (m).
+
+    Returns
+    -------
+    dict
+        Mean displacement (3,) (m) and rotation (3,) (rad).
     """
     elements, eta = _cut_row(mesh, y)
     pts, w = _surface_rule()
@@ -383,7 +609,18 @@ def cut_average_at(mesh: HexMesh, y: float, u: np.ndarray) -> dict:
 
 
 def von_mises(stress: np.ndarray) -> np.ndarray:
-    """Von Mises stress (Pa) from Voigt stresses (..., 6): xx, yy, zz, yz, xz, xy."""
+    """Von Mises stress (Pa) from Voigt stresses (..., 6): xx, yy, zz, yz, xz, xy.
+
+    Parameters
+    ----------
+    stress : numpy.ndarray
+        (..., 6) Voigt stresses (Pa).
+
+    Returns
+    -------
+    numpy.ndarray
+        (...) von Mises stress (Pa).
+    """
     sx, sy, sz, tyz, txz, txy = np.moveaxis(stress, -1, 0)
     return np.sqrt(0.5 * ((sx - sy) ** 2 + (sy - sz) ** 2 + (sz - sx) ** 2)
                    + 3.0 * (tyz ** 2 + txz ** 2 + txy ** 2))
@@ -393,7 +630,26 @@ def cut_stress_at(mesh: HexMesh, y: float, u: np.ndarray, E: float, nu: float) -
     """Von Mises stress over the streamwise cut y = const (as :func:`cut_average_at`): the FE
     stress of the span row containing y (the outboard row at a node slice, the last row at the
     tip) at 3x3 Gauss points of each cell. Returns ``mean_von_mises`` (area average),
-    ``max_von_mises`` (over the points; Pa) and ``area`` (m^2)."""
+    ``max_von_mises`` (over the points; Pa) and ``area`` (m^2).
+
+    Parameters
+    ----------
+    mesh : HexMesh
+        The hex27 mesh.
+    y : float
+        Span coordinate of the cut (m).
+    u : numpy.ndarray
+        (num_dof,) nodal displacements (m).
+    E : float
+        Young's modulus (Pa).
+    nu : float
+        Poisson's ratio (-).
+
+    Returns
+    -------
+    dict
+        ``mean_von_mises``, ``max_von_mises`` (Pa) and ``area`` (m^2).
+    """
     elements, eta = _cut_row(mesh, y)
     pts, w = _surface_rule()
     _, dN = hex27_shape(pts[:, 0], np.full(len(pts), eta), pts[:, 1])      # (g, 27, 3)
@@ -415,7 +671,24 @@ def cut_stress_at(mesh: HexMesh, y: float, u: np.ndarray, E: float, nu: float) -
 # ----------------------------------------------------------------------------------------
 def solve_linear(K: sp.spmatrix, f: np.ndarray, fixed_dofs: np.ndarray,
                  fixed_values: np.ndarray | float = 0.0) -> np.ndarray:
-    """Solve K u = f with u[fixed_dofs] = fixed_values (direct sparse LU); returns u (num_dof,)."""
+    """Solve K u = f with u[fixed_dofs] = fixed_values (direct sparse LU); returns u (num_dof,).
+
+    Parameters
+    ----------
+    K : scipy.sparse.spmatrix
+        Stiffness (N/m).
+    f : numpy.ndarray
+        (num_dof,) load vector (N).
+    fixed_dofs : numpy.ndarray
+        Indices of the prescribed DOFs.
+    fixed_values : numpy.ndarray or float, optional
+        Their values (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        (num_dof,) displacements (m).
+    """
     n = K.shape[0]
     fixed_dofs = np.asarray(fixed_dofs, int)
     u = np.zeros(n)
@@ -439,6 +712,22 @@ def rigid_face_transform(num_dof: int, nodes: np.ndarray, positions: np.ndarray,
     Returns (T, keep): u = T v with v = [u of all DOFs not on ``nodes``; U (3); Theta (3)],
     u_node = U + Theta x (r_node - ref_point) (small rotations); ``keep`` lists the retained
     physical DOFs (the first columns of T, in order).
+
+    Parameters
+    ----------
+    num_dof : int
+        Number of DOFs of the mesh.
+    nodes : numpy.ndarray
+        Node indices coupled to the master.
+    positions : numpy.ndarray
+        (n, 3) positions of all nodes (m).
+    ref_point : array_like
+        (3,) master point (m).
+
+    Returns
+    -------
+    tuple
+        (T, keep): the transform and the retained physical DOFs.
     """
     nodes = np.asarray(nodes, int)
     slave = node_dofs(nodes)
@@ -472,6 +761,24 @@ def diaphragm_transform(num_dof: int, nodes: np.ndarray, positions: np.ndarray, 
     Master DOFs at ``ref_point``: the two in-plane translations (axis order) and the rotation
     about the normal. Returns (T, keep) with u = T v, v = [retained DOFs; 3 master DOFs]
     (translation along the first in-plane axis, along the second, rotation about the normal).
+
+    Parameters
+    ----------
+    num_dof : int
+        Number of DOFs of the mesh.
+    nodes : numpy.ndarray
+        Node indices of the diaphragm.
+    positions : numpy.ndarray
+        (n, 3) positions of all nodes (m).
+    ref_point : array_like
+        (3,) master point (m).
+    normal_axis : int, optional
+        Body axis normal to the diaphragm (0, 1 or 2).
+
+    Returns
+    -------
+    tuple
+        (T, keep): the transform and the retained physical DOFs.
     """
     a, b = [k for k in range(3) if k != normal_axis]
     nodes = np.asarray(nodes, int)
@@ -493,11 +800,33 @@ def diaphragm_transform(num_dof: int, nodes: np.ndarray, positions: np.ndarray, 
 
 
 def node_dofs(nodes: np.ndarray) -> np.ndarray:
-    """All three DOFs of the given nodes (flattened)."""
+    """All three DOFs of the given nodes (flattened).
+
+    Parameters
+    ----------
+    nodes : numpy.ndarray
+        Node indices.
+
+    Returns
+    -------
+    numpy.ndarray
+        Their DOF indices.
+    """
     return (3 * np.asarray(nodes)[:, None] + np.arange(3)).ravel()
 
 
 def mesh_volume(mesh: HexMesh) -> float:
-    """Volume of the mesh (m^3) by 3x3x3 Gauss quadrature (exact for trilinear maps)."""
+    """Volume of the mesh (m^3) by 3x3x3 Gauss quadrature (exact for trilinear maps).
+
+    Parameters
+    ----------
+    mesh : HexMesh
+        The hex27 mesh.
+
+    Returns
+    -------
+    float
+        Volume (m^3).
+    """
     _, wd = _physical_gradients(mesh, mesh.elements)
     return float(wd.sum())

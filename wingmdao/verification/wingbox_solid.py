@@ -46,7 +46,17 @@ TIP_LOAD_MODES = ("traction", "diaphragm", "rigid")
 
 @dataclass(frozen=True)
 class BoxCrossSection:
-    """One streamwise cross-section: centre (x, y, z) in m, outer width and height (m)."""
+    """One streamwise cross-section: centre (x, y, z) in m, outer width and height (m).
+
+    Parameters
+    ----------
+    centre : tuple
+        (x, y, z) of the section centre (m).
+    width : float
+        Outer width (m).
+    height : float
+        Outer height (m).
+    """
 
     centre: tuple
     width: float
@@ -58,12 +68,29 @@ class BoxCrossSection:
 
 
 def geometry_names() -> list[str]:
-    """The five geometries of Fig. D.2 / Table D.2."""
+    """The five geometries of Fig. D.2 / Table D.2.
+
+    Returns
+    -------
+    list of str
+        The geometry names.
+    """
     return list(GEOMETRIES)
 
 
 def box_sections(name: str) -> list[BoxCrossSection]:
-    """CS1..CS4 of geometry ``name``: centres (m), widths and heights (m) (App. D.1, as above)."""
+    """CS1..CS4 of geometry ``name``: centres (m), widths and heights (m) (App. D.1, as above).
+
+    Parameters
+    ----------
+    name : str
+        Geometry name.
+
+    Returns
+    -------
+    list of BoxCrossSection
+        CS1 to CS4.
+    """
     g = geometry_data(name)
     widths = g["widths"]
     tan_dihedral = np.tan(np.radians(g["dihedral_deg"]))
@@ -78,7 +105,20 @@ def box_sections(name: str) -> list[BoxCrossSection]:
 
 
 def beam_axis_nodes(name: str, elements_per_segment=(6, 8, 6)) -> np.ndarray:
-    """Beam-axis node positions (n, 3) m: straight lines through the section centres, CS1 first."""
+    """Beam-axis node positions (n, 3) m: straight lines through the section centres, CS1 first.
+
+    Parameters
+    ----------
+    name : str
+        Geometry name.
+    elements_per_segment : tuple of int, optional
+        Beam elements on each of the three segments.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n, 3) node positions (m).
+    """
     cs = np.array([s.centre for s in box_sections(name)])
     pts = [cs[:1]]
     for k, n in enumerate(elements_per_segment):
@@ -92,6 +132,22 @@ def section_lines(section: BoxCrossSection, t_spar: float, t_skin: float, divisi
 
     c: front spar (``spar`` elements through its thickness), skin panel (``chord``), rear spar;
     n: lower skin (``skin`` elements), spar web (``web``), upper skin.
+
+    Parameters
+    ----------
+    section : BoxCrossSection
+        The section.
+    t_spar : float
+        Spar thickness (m).
+    t_skin : float
+        Skin thickness (m).
+    divisions : dict
+        Element counts (:func:`default_divisions`).
+
+    Returns
+    -------
+    tuple
+        x (n_c,) and z (n_n,) node lines (m).
     """
     xc, _, zc = section.centre
     w, h = section.width, section.height
@@ -124,6 +180,26 @@ def default_divisions(mesh_size: float = 0.15, t_spar: float = T_SPAR, t_skin: f
     lengths in geometric progression, last/first = ``root_grading``; its edge singularity
     otherwise dominates the error) with enough elements that its largest is <= span_size.
     The convergence study behind the defaults is in docs/verification-solid3d.md.
+
+    Parameters
+    ----------
+    mesh_size : float, optional
+        Largest cross-section edge (m).
+    t_spar : float, optional
+        Spar thickness (m).
+    t_skin : float, optional
+        Skin thickness (m).
+    sections : sequence of BoxCrossSection or None, optional
+        Sections of the geometry; None for a generic root section.
+    span_size : float, optional
+        Largest element length along the span (m).
+    root_grading : float, optional
+        Last over first element length of the root segment (-).
+
+    Returns
+    -------
+    dict
+        Element counts.
     """
     for label, v in (("mesh_size", mesh_size), ("span_size", span_size)):
         if not (np.isfinite(v) and v > 0.0):
@@ -161,7 +237,24 @@ def _span_parameters(n_el: int, grading: float) -> np.ndarray:
 
 
 def box_mesh(sections, t_spar: float, t_skin: float, divisions: dict) -> tuple[solid3d.HexMesh, list]:
-    """Structured hex27 mesh of the box between consecutive sections; returns (mesh, CS slice indices)."""
+    """Structured hex27 mesh of the box between consecutive sections; returns (mesh, CS slice indices).
+
+    Parameters
+    ----------
+    sections : sequence of BoxCrossSection
+        The sections.
+    t_spar : float
+        Spar thickness (m).
+    t_skin : float
+        Skin thickness (m).
+    divisions : dict
+        Element counts.
+
+    Returns
+    -------
+    tuple
+        (HexMesh, span slice index of each section).
+    """
     x_cs, z_cs = zip(*(section_lines(s, t_spar, t_skin, divisions) for s in sections))
     spans = divisions["span"]
     if len(spans) != len(sections) - 1:
@@ -253,6 +346,40 @@ def solve_wingbox(geometry_name: str, tip_force=(0.0, 0.0, 1.0e5), tip_moment=(0
     the clamp's stress singularity and CS4 the load introduction), ``root_reaction_force`` (N) and
     ``root_reaction_moment`` (N m, about the CS1 centre) exerted by the clamp, ``num_dof``,
     ``divisions``, ``solve_time`` (s).
+
+    Parameters
+    ----------
+    geometry_name : str
+        One of :func:`geometry_names`.
+    tip_force : sequence of 3, optional
+        Tip force, body axes (N).
+    tip_moment : sequence of 3, optional
+        Tip moment about the CS4 centre, body axes (N m).
+    mesh_size : float, optional
+        Largest cross-section edge (m).
+    span_size : float, optional
+        Largest element length along the span (m).
+    divisions : dict or None, optional
+        Element counts; None for :func:`default_divisions`.
+    t_spar : float, optional
+        Spar thickness (m).
+    t_skin : float, optional
+        Skin thickness (m).
+    E : float, optional
+        Young's modulus (Pa).
+    nu : float, optional
+        Poisson's ratio (-).
+    tip_load : {"diaphragm", "traction", "rigid"}, optional
+        How the tip load is introduced.
+    root : {"clamped", "free_warping"}, optional
+        Root condition.
+    cuts_y : sequence of float, optional
+        Extra span coordinates where section averages are wanted (m).
+
+    Returns
+    -------
+    dict
+        The solution (keys above).
     """
     t0 = time.perf_counter()
     tip_force, tip_moment = _check_load("tip_force (N)", tip_force), _check_load("tip_moment (N m)", tip_moment)
@@ -314,6 +441,22 @@ def box_beam_properties(width, height, t_spar=T_SPAR, t_skin=T_SKIN, shear="webs
     shear: 'webs' (K_n = spar webs between the skins, K_c = skins: the choice of
     wingmdao.section.box), 'flows' (thin-walled Jourawski shear flows in all walls, energy
     equivalent: K = I^2 / integral (Q/t)^2 t ds) or 'rigid' (Euler-Bernoulli).
+
+    Parameters
+    ----------
+    width, height : float or array_like
+        Outer box dimensions (m).
+    t_spar : float, optional
+        Spar thickness (m).
+    t_skin : float, optional
+        Skin thickness (m).
+    shear : {"webs", "flows", "rigid"}, optional
+        Shear-area model.
+
+    Returns
+    -------
+    dict
+        ``A``, ``I_c``, ``I_n``, ``J``, ``K_n``, ``K_c``.
     """
     w, h, ts, tk = width, height, t_spar, t_skin
     wi, hi = w - 2 * ts, h - 2 * tk
@@ -373,6 +516,34 @@ def linear_beam_solution(geometry_name: str, tip_force=(0.0, 0.0, 1.0e5), tip_mo
     as if it were normal to the axis; 'normal' uses the cut normal to the axis, widths times
     cos(sweep of the axis), heights times cos(dihedral)) and what no beam has (warping
     restraint, distortion). Returns ``displacement`` and ``rotation`` (3, 3) at CS2..CS4.
+
+    Parameters
+    ----------
+    geometry_name : str
+        One of :func:`geometry_names`.
+    tip_force : sequence of 3, optional
+        Tip force, body axes (N).
+    tip_moment : sequence of 3, optional
+        Tip moment about the CS4 centre, body axes (N m).
+    elements_per_metre : int, optional
+        Beam elements per metre of span.
+    shear : {"webs", "flows", "rigid"}, optional
+        Shear-area model.
+    section : {"streamwise", "normal"}, optional
+        Section cut used for the properties.
+    t_spar : float, optional
+        Spar thickness (m).
+    t_skin : float, optional
+        Skin thickness (m).
+    E : float, optional
+        Young's modulus (Pa).
+    nu : float, optional
+        Poisson's ratio (-).
+
+    Returns
+    -------
+    dict
+        ``displacement`` and ``rotation`` (3, 3) at CS2 to CS4.
     """
     tip_force, tip_moment = _check_load("tip_force (N)", tip_force), _check_load("tip_moment (N m)", tip_moment)
     if section not in ("streamwise", "normal"):
@@ -439,6 +610,26 @@ def compare_with_beam(beam_solver, geometries=None, loads=None, mesh_size: float
     the beam gives rotations; displacements below 1e-9 m, zero by symmetry, are skipped),
     beam, solid, error_pct = 100 (beam - solid) / solid.
     ``solid_results`` caches solid solutions keyed (geometry, load name).
+
+    Parameters
+    ----------
+    beam_solver : callable
+        ``beam_solver(geometry_name, tip_force, tip_moment)`` -> dict (above).
+    geometries : sequence of str or None, optional
+        Geometry names; None for all.
+    loads : dict or None, optional
+        Load name -> (tip force, tip moment); None for ``COMPARISON_LOADS``.
+    mesh_size : float, optional
+        Solid mesh size (m).
+    stations : sequence of str, optional
+        Stations compared.
+    solid_results : dict or None, optional
+        Cache of solid solutions keyed (geometry, load name).
+
+    Returns
+    -------
+    list of dict
+        The comparison rows.
     """
     geometries = geometry_names() if geometries is None else list(geometries)
     loads = COMPARISON_LOADS if loads is None else loads
@@ -469,7 +660,18 @@ def compare_with_beam(beam_solver, geometries=None, loads=None, mesh_size: float
 
 
 def comparison_markdown(rows: list[dict]) -> str:
-    """A markdown table of :func:`compare_with_beam` rows."""
+    """A markdown table of :func:`compare_with_beam` rows.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Rows of :func:`compare_with_beam`.
+
+    Returns
+    -------
+    str
+        The table.
+    """
     lines = ["| geometry | load | station | quantity | beam | solid | error (%) |",
              "|---|---|---|---|---|---|---|"]
     for r in rows:
@@ -487,6 +689,24 @@ def app_a_beam_solver(geometry_name: str, tip_force, tip_moment, *, elements_per
     section data from ``wingmdao.section.box.box_properties`` of the streamwise cut at each node
     (aluminium, identity ``section_to_csn``), tip force/moment (body axes) at the tip node.
     Returns ``displacement`` and small-rotation ``rotation`` (3, 3) at CS2, CS3, CS4 (body axes).
+
+    Parameters
+    ----------
+    geometry_name : str
+        One of :func:`geometry_names`.
+    tip_force : sequence of 3
+        Tip force, body axes (N).
+    tip_moment : sequence of 3
+        Tip moment, body axes (N m).
+    elements_per_metre : float, optional
+        Beam elements per metre of span.
+    load_steps : int, optional
+        Newton load steps.
+
+    Returns
+    -------
+    dict
+        ``displacement`` and ``rotation`` (3, 3) at CS2 to CS4.
     """
     per_segment = [max(2, int(round(d * elements_per_metre))) for d in SEGMENT_SPANS]
     nodes = beam_axis_nodes(geometry_name, per_segment)
