@@ -265,9 +265,11 @@ def interpolate(gaf: GeneralizedForces, k):
         out = [np.apply_along_axis(lambda f: np.interp(k, gaf.k, f.real) + 1j * np.interp(k, gaf.k, f.imag), 0, a)
                for a in (gaf.Q, gaf.gust)]
         return out[0], out[1]
-    out = []
-    for a in (gaf.Q, gaf.gust):
-        out.append(CubicSpline(gaf.k, a.real, axis=0)(k) + 1j * CubicSpline(gaf.k, a.imag, axis=0)(k))
+    splines = gaf.__dict__.get("_splines")
+    if splines is None:                  # built once per table (a p-k search interpolates it often)
+        splines = [(CubicSpline(gaf.k, a.real, axis=0), CubicSpline(gaf.k, a.imag, axis=0)) for a in (gaf.Q, gaf.gust)]
+        object.__setattr__(gaf, "_splines", splines)
+    out = [re(k) + 1j * im(k) for re, im in splines]
     return out[0], out[1]
 
 
