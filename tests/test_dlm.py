@@ -149,3 +149,23 @@ def test_mode_displacement_root_moment_of_a_uniform_load():
     f = (1000.0 * w) @ modes.displacement[:, :, 2].T
     root = (f / modes.frequencies ** 2) @ modes.moment[:, 0, 0]
     assert root == pytest.approx(1000.0 * y[-1] ** 2 / 2, rel=0.04)
+
+
+def test_interpolate_passes_through_the_table_and_is_cubic():
+    """The splines of a table (built once per table, reused by later calls) return its entries at
+    the tabulated k, and a cubic in k exactly (a not-a-knot cubic spline reproduces cubics)."""
+    from wingmdao.aero.dlm import GeneralizedForces, interpolate
+
+    k = np.array([0.0, 0.1, 0.25, 0.4, 0.7, 1.0])
+
+    def cubic(x):
+        return np.array([[1.0 + 2.0j * x - x ** 3, 0.5 * x ** 2], [x, 3.0 - 1.0j * x ** 3]])
+
+    gaf = GeneralizedForces(k=k, Q=np.stack([cubic(x) for x in k]), gust=np.stack([cubic(x)[0] for x in k]),
+                            b_ref=1.0, mach=0.0, x_gust=0.0)
+    for x in (0.25, 0.33, 0.9, 0.33):
+        Q, g = interpolate(gaf, x)
+        np.testing.assert_allclose(Q, cubic(x), rtol=1e-12, atol=1e-12)
+        np.testing.assert_allclose(g, cubic(x)[0], rtol=1e-12, atol=1e-12)
+    with pytest.raises(ValueError, match="outside the tabulated range"):
+        interpolate(gaf, 1.2)

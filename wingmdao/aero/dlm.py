@@ -5,14 +5,17 @@ Lattice. The panels are those of :mod:`wingmdao.aero.vlm` (the mean surface thro
 nodes, ``n_chordwise`` x ``n_spanwise`` panels per beam element), the left half its explicit
 mirror image. Each panel carries a doublet line on its quarter chord; the normalwash is
 enforced at its three-quarter-chord point of mid-span. The aerodynamic influence coefficients
-(AIC) are PanelAero's (DLR, BSD-3, the optional ``aero3d`` extra): the steady part its vortex
-lattice, the oscillatory increment the doublet-lattice kernel of Albano & Rodden ("A
-doublet-lattice method for calculating lift distributions on oscillating surfaces in subsonic
-flows", AIAA J. 7(2), 1969, 279-285) with Rodden, Giesing & Kalman's quartic approximation of the
-incremental kernel ("Refinement of the nonplanar aspects of the subsonic doublet-lattice lifting
-surface method", J. Aircraft 9(1), 1972, 69-73). Both halves are given to PanelAero explicitly
-(its ``xz_symmetry`` option is not used); a symmetric motion's pressure jumps on the right half
-are ``(Q_RR + Q_RL) w`` with ``Q = -A^-1`` of the whole wing.
+(AIC) ``A = A_0 + A(k)``, ``w / V = A dcp``: the steady part ``A_0`` is PanelAero's vortex
+lattice (DLR, BSD-3, the optional ``aero3d`` extra); the oscillatory increment ``A(k)`` the
+doublet-lattice kernel of Albano & Rodden ("A doublet-lattice method for calculating lift
+distributions on oscillating surfaces in subsonic flows", AIAA J. 7(2), 1969, 279-285) with
+Rodden, Taylor & McIntosh's quartic approximation of the incremental kernel ("Further refinement
+of the subsonic doublet-lattice method", J. Aircraft 35(5), 1998, 720-727), evaluated for all
+reduced frequencies at once by :func:`wingmdao.aero.dlm_kernel.oscillatory_aic` (PanelAero's
+``DLM.calc_Ajj`` formulas, equal to it to round-off: tests/test_dlm_kernel.py). The left half's
+panels only send: a symmetric motion's pressure jumps on the right half are
+``dcp = -(A_RR + A_RL)^-1 w``, the rows of the right half's receiving points (the mirror image's
+equations are the same by symmetry); PanelAero's ``xz_symmetry`` option is not used.
 
 Reduced frequency ``k = omega b_ref / V`` (``b_ref`` the reference semi-chord, m); PanelAero's
 kernel takes ``omega / V = k / b_ref`` (1/m).
@@ -52,6 +55,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.interpolate import CubicSpline
 
+from wingmdao.aero.dlm_kernel import oscillatory_aic
 from wingmdao.aero.vlm import Lattice, build_lattice, check_planform
 
 #: default lattice density of the doublet lattice: chordwise panels, spanwise strips per beam element
@@ -130,44 +134,50 @@ def steady_aic(lat: Lattice) -> np.ndarray:
     return A
 
 
+def _symmetric_aic(lat: Lattice, k_over_b, method: str, steady=None) -> np.ndarray:
+    """(nk, m, m) complex: the AIC of the right half's panels under a symmetric pressure jump
+    (the left half the mirror image), ``A_RR + A_RL`` of the whole wing's ``A = A_0 + A(k)``, at
+    each ``omega / V`` of ``k_over_b`` (1/m). ``method="quartic"``: the oscillatory part from
+    :func:`wingmdao.aero.dlm_kernel.oscillatory_aic` (all k in one call, right-half rows only);
+    ``"parabolic"``: PanelAero's ``DLM.calc_Ajj`` per k."""
+    kb = np.atleast_1d(np.asarray(k_over_b, dtype=float))
+    m = lat.span.size
+    grid = aerogrid(lat)
+    A0 = steady_aic(lat) if steady is None else steady
+    if method == "quartic":
+        inc = oscillatory_aic(grid["offset_j"], grid["offset_P1"], grid["offset_P3"], grid["l"], lat.mach, kb,
+                              rows=np.arange(m))
+    else:
+        DLM, _ = _panelaero_dlm()
+        inc = np.zeros((kb.size, m, 2 * m), dtype=complex)
+        for i, k in enumerate(kb):
+            if k > 0.0:
+                with np.errstate(all="ignore"):
+                    inc[i] = DLM.calc_Ajj(aerogrid=aerogrid(lat), Ma=lat.mach, k=float(k), method=method)[:m]
+    A = A0[None, :m, :] + inc
+    return A[:, :, :m] + A[:, :, m:]
+
+
 def panel_pressure(lat: Lattice, k_over_b, normalwash, *, method: str = "quartic", steady=None) -> np.ndarray:
     """Pressure jumps dcp (m, c) on the right half of a symmetric normalwash ``w / V`` (m, c)
     (the left half the mirror image) at ``omega / V = k_over_b`` (1/m); ``k_over_b = 0``: the
     steady vortex lattice. ``steady``: :func:`steady_aic` of ``lat`` if already computed."""
-    DLM, _ = _panelaero_dlm()
-    grid = aerogrid(lat)
-    A = (steady_aic(lat) if steady is None else steady).astype(complex)
-    if k_over_b > 0.0:
-        with np.errstate(all="ignore"):
-            A = A + DLM.calc_Ajj(aerogrid=grid, Ma=lat.mach, k=float(k_over_b), method=method)
-    w = np.asarray(normalwash, dtype=complex)
-    m = lat.span.size
+    A = _symmetric_aic(lat, [float(k_over_b)], method, steady)[0]
     # a symmetric normalwash on both halves; Q = -A^-1, so dcp = -A^-1 w
-    return -np.linalg.solve(A, np.concatenate([w, w], axis=0))[:m]
+    return -np.linalg.solve(A, np.asarray(normalwash, dtype=complex))
 
 
 def pressure_operators(lat: Lattice, k_over_b, *, method: str = "quartic", key: str | None = None) -> np.ndarray:
     """(nk, m, m) complex: the pressure jumps of the right half per unit symmetric normalwash at
     each ``omega / V`` of ``k_over_b`` (1/m), ``dcp = D_k w`` (:func:`panel_pressure`'s operator,
-    one inverse of the unsteady AIC per k). ``key``: a hash of the planform, Mach number and
-    lattice density; the operators are then cached by it (new mode shapes of the same planform,
-    e.g. a design change in a flutter search, reuse them)."""
+    one inverse of the symmetric unsteady AIC per k). ``key``: a hash of the planform, Mach number
+    and lattice density; the operators are then cached by it (new mode shapes of the same
+    planform, e.g. a design change in a flutter search, reuse them)."""
     kb = np.asarray(k_over_b, dtype=float)
     full = None if key is None else key + hashlib.sha1(kb.tobytes() + method.encode()).hexdigest()
     if full is not None and full in _OPERATORS:
         return _OPERATORS[full]
-    DLM, _ = _panelaero_dlm()
-    grid = aerogrid(lat)
-    steady = steady_aic(lat)
-    m = lat.span.size
-    out = np.zeros((kb.size, m, m), dtype=complex)
-    for i, k in enumerate(kb):
-        A = steady.astype(complex)
-        if k > 0.0:
-            with np.errstate(all="ignore"):
-                A = A + DLM.calc_Ajj(aerogrid=grid, Ma=lat.mach, k=float(k), method=method)
-        inv = np.linalg.inv(A)[:m]
-        out[i] = -(inv[:, :m] + inv[:, m:])            # a symmetric normalwash on both halves
+    out = -np.linalg.inv(_symmetric_aic(lat, kb, method))
     if full is not None:
         if len(_OPERATORS) >= _OPERATORS_SIZE:
             _OPERATORS.pop(next(iter(_OPERATORS)))
@@ -255,9 +265,11 @@ def interpolate(gaf: GeneralizedForces, k):
         out = [np.apply_along_axis(lambda f: np.interp(k, gaf.k, f.real) + 1j * np.interp(k, gaf.k, f.imag), 0, a)
                for a in (gaf.Q, gaf.gust)]
         return out[0], out[1]
-    out = []
-    for a in (gaf.Q, gaf.gust):
-        out.append(CubicSpline(gaf.k, a.real, axis=0)(k) + 1j * CubicSpline(gaf.k, a.imag, axis=0)(k))
+    splines = gaf.__dict__.get("_splines")
+    if splines is None:                  # built once per table (a p-k search interpolates it often)
+        splines = [(CubicSpline(gaf.k, a.real, axis=0), CubicSpline(gaf.k, a.imag, axis=0)) for a in (gaf.Q, gaf.gust)]
+        object.__setattr__(gaf, "_splines", splines)
+    out = [re(k) + 1j * im(k) for re, im in splines]
     return out[0], out[1]
 
 
