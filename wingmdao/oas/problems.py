@@ -90,7 +90,7 @@ def aerostruct_problem(surface, beam="wingmdao", mach=(0.3,), v=(100.0,), rho=(1
     Returns
     -------
     openmdao.api.Problem or tuple
-        The problem, or (problem, extra's result) when ``extra`` is given.
+        The problem; (problem, extra's result) when ``extra`` is given or ``setup`` is False.
     """
     from openaerostruct.integration.aerostruct_groups import AerostructGeometry, AerostructPoint
 
