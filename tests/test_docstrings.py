@@ -95,7 +95,6 @@ RATCHET: dict[str, int] = {
     "wingmdao.stability.frequency_adjoint": 5,
     "wingmdao.stability.modal": 6,
     "wingmdao.stability.modal_turbulence": 4,
-    "wingmdao.stability.pencil_lu": 15,
     "wingmdao.timemarch.adjoint": 15,
     "wingmdao.timemarch.bdf": 4,
     "wingmdao.timemarch.examples": 3,
