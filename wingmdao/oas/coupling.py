@@ -40,12 +40,34 @@ AXIAL = np.array([-1.0, 1.0, -1.0])
 
 
 def oas_order(n: int) -> np.ndarray:
-    """OpenAeroStruct node index of each beam node (root first): ny - 1 - k."""
+    """OpenAeroStruct node index of each beam node (root first): ny - 1 - k.
+
+    Parameters
+    ----------
+    n : int
+        Number of beam nodes.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n,) OpenAeroStruct node indices.
+    """
     return np.arange(n)[::-1].copy()
 
 
 def element_to_node_matrix(n: int) -> np.ndarray:
-    """(n, n-1) averaging matrix: node value = mean of its adjacent element values."""
+    """(n, n-1) averaging matrix: node value = mean of its adjacent element values.
+
+    Parameters
+    ----------
+    n : int
+        Number of nodes.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n, n - 1) averaging matrix.
+    """
     W = np.zeros((n, n - 1))
     for k in range(n):
         adj = [e for e in (k - 1, k) if 0 <= e < n - 1]

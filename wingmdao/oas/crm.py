@@ -62,14 +62,31 @@ STRESS_MEASURE = {"wingmdao": "wingmdao KS of the box-wall von Mises constraints
 
 
 def check_num_y(num_y):
-    """ValueError unless ``num_y`` (spanwise mesh points of the full wing) is odd and >= 9."""
+    """ValueError unless ``num_y`` (spanwise mesh points of the full wing) is odd and >= 9.
+
+    Parameters
+    ----------
+    num_y : int
+        Spanwise mesh points of the full wing.
+    """
     if not isinstance(num_y, (int, np.integer)) or num_y < 9 or num_y % 2 == 0:
         raise ValueError(f"--num-y = {num_y!r}; allowed: an odd number of spanwise mesh points >= 9 "
                          "(the half-wing then has >= 4 beam elements for the 4 B-spline control points)")
 
 
 def crm_surface(num_y=15):
-    """OpenAeroStruct wingbox surface dict of the uCRM wing, ``num_y`` spanwise points (full wing)."""
+    """OpenAeroStruct wingbox surface dict of the uCRM wing, ``num_y`` spanwise points (full wing).
+
+    Parameters
+    ----------
+    num_y : int, optional
+        Spanwise mesh points of the full wing (odd, >= 9).
+
+    Returns
+    -------
+    dict
+        The surface.
+    """
     from openaerostruct.meshing.mesh_generator import generate_mesh
 
 
@@ -87,7 +104,26 @@ def crm_surface(num_y=15):
 
 def add_stress_ks(model, point, num_nodes, material, rho_ks=100.0):
     """Our box stress KS at one point (Eq. 4.44), from the beam states inside the point's coupled
-    group; returns the KS output's path (``<point>_ks.ks.ks_vm``)."""
+    group; returns the KS output's path (``<point>_ks.ks.ks_vm``).
+
+    Parameters
+    ----------
+    model : openmdao.api.Group
+        The problem's model.
+    point : str
+        Name of the aerostructural point.
+    num_nodes : int
+        Beam nodes.
+    material : Material
+        Wingbox material.
+    rho_ks : float, optional
+        KS aggregation parameter.
+
+    Returns
+    -------
+    str
+        Path of the KS output.
+    """
     n = num_nodes
     g = model.add_subsystem(f"{point}_ks", om.Group())
     g.add_subsystem("internal_loads", BeamInternalLoads(num_times=1, num_nodes=n))
@@ -108,7 +144,20 @@ def add_stress_ks(model, point, num_nodes, material, rho_ks=100.0):
 
 def build_crm_problem(beam="wingmdao", num_y=15):
     """(problem not yet set up, ``{point name: stress output path}``) with design variables,
-    objective and constraints. Points ``AS_point_0`` (cruise) and ``AS_point_1`` (maneuver)."""
+    objective and constraints. Points ``AS_point_0`` (cruise) and ``AS_point_1`` (maneuver).
+
+    Parameters
+    ----------
+    beam : {"wingmdao", "oas"}, optional
+        Structural model: the wingmdao beam or OpenAeroStruct's own.
+    num_y : int, optional
+        Spanwise mesh points of the full wing.
+
+    Returns
+    -------
+    tuple
+        (problem, {point name: stress output path}).
+    """
     if beam not in BEAMS:
         raise ValueError(f"beam = {beam!r}; allowed: {', '.join(BEAMS)}")
     surf = crm_surface(num_y)
@@ -141,7 +190,20 @@ def setup_crm_problem(prob, iprint=-1):
     """``prob.setup(mode="rev")`` and the coupled solvers of both points: OpenAeroStruct's
     NonlinearBlockGS (Aitken) and LinearBlockGS (Aitken, relative 1e-12: LIN_RTOL) for the adjoint. Returns the
     :class:`~wingmdao.optimize.SolverIterationCounter` of the two coupled solves (pass it to
-    :func:`solve_crm` and :func:`crm_summary`)."""
+    :func:`solve_crm` and :func:`crm_summary`).
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        The problem of :func:`build_crm_problem`.
+    iprint : int, optional
+        Solver print level.
+
+    Returns
+    -------
+    SolverIterationCounter
+        The coupled solves' counter.
+    """
     prob.setup(mode="rev")
     solvers = {}
     for i, point in enumerate(CRM_POINTS):
@@ -157,7 +219,30 @@ def solve_crm(prob, counter=None, *, analysis_only=False, maxiter=40, tol=1e-6, 
     """One coupled analysis, or SLSQP (``maxiter`` iterations, tolerance ``tol``) recorded to SQLite
     ``recording``; returns ``{success, message, iterations (gradient evaluations), evaluations
     (model evaluations), wall_time_s, time_per_analysis_s, time_per_gradient_s}`` (the means of
-    OpenMDAO's DriverResult ``model_time`` and ``deriv_time``)."""
+    OpenMDAO's DriverResult ``model_time`` and ``deriv_time``).
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        The set-up problem.
+    counter : SolverIterationCounter or None, optional
+        Counter of :func:`setup_crm_problem`.
+    analysis_only : bool, optional
+        Run one coupled analysis only.
+    maxiter : int, optional
+        SLSQP iteration limit.
+    tol : float, optional
+        SLSQP tolerance.
+    recording : str or None, optional
+        SQLite file to record the optimization in.
+    progress : bool, optional
+        Print a line per driver evaluation.
+
+    Returns
+    -------
+    dict
+        The run summary (above).
+    """
     t0 = time.perf_counter()
     if analysis_only:
         prob.run_model()
@@ -187,7 +272,24 @@ def crm_summary(prob, stress, beam, counter=None):
     """Results of the current design: fuel burn (kg), wing structural mass (kg), maneuver tip
     deflection (m), the stress measure per point, L = W and CL, coupled iterations per point (of
     the last evaluation, from ``counter``), the
-    design and the element thicknesses (OpenAeroStruct's element order: tip to root, m)."""
+    design and the element thicknesses (OpenAeroStruct's element order: tip to root, m).
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        The solved problem.
+    stress : dict
+        Point name -> stress output path.
+    beam : {"wingmdao", "oas"}
+        Structural model.
+    counter : SolverIterationCounter or None, optional
+        Counter of the coupled solves.
+
+    Returns
+    -------
+    dict
+        The results.
+    """
     val = lambda name: np.asarray(prob.get_val(name)).ravel()  # noqa: E731
     points = [p[0] for p in CRM_POINTS]
     return {
@@ -211,7 +313,30 @@ def crm_summary(prob, stress, beam, counter=None):
 
 def run_crm(beam="wingmdao", *, analysis_only=False, maxiter=40, tol=1e-6, num_y=15, recording=None,
             progress=False):
-    """Build, set up, solve (:func:`solve_crm`) and summarise (:func:`crm_summary`) the problem."""
+    """Build, set up, solve (:func:`solve_crm`) and summarise (:func:`crm_summary`) the problem.
+
+    Parameters
+    ----------
+    beam : {"wingmdao", "oas"}, optional
+        Structural model: the wingmdao beam or OpenAeroStruct's own.
+    analysis_only : bool, optional
+        Run one coupled analysis only.
+    maxiter : int, optional
+        SLSQP iteration limit.
+    tol : float, optional
+        SLSQP tolerance.
+    num_y : int, optional
+        Spanwise mesh points of the full wing.
+    recording : str or None, optional
+        SQLite file to record the optimization in.
+    progress : bool, optional
+        Print a line per driver evaluation.
+
+    Returns
+    -------
+    dict
+        Run results and summary.
+    """
     prob, stress = build_crm_problem(beam, num_y)
     counter = setup_crm_problem(prob)
     info = solve_crm(prob, counter, analysis_only=analysis_only, maxiter=maxiter, tol=tol, recording=recording,

@@ -29,7 +29,18 @@ from wingmdao.oas.coupling import OASBeamStates
 def box_geometry_from_surface(surface):
     """(fem_nodes (ny, 3), width (ny-1,), height (ny-1,)) in m from an OpenAeroStruct wingbox
     surface dict: nodes at ``fem_origin`` of the chord (OpenAeroStruct's rule), width = spar
-    spacing, height = mean of the front and rear spar heights scaled to the element t/c."""
+    spacing, height = mean of the front and rear spar heights scaled to the element t/c.
+
+    Parameters
+    ----------
+    surface : dict
+        OpenAeroStruct wingbox surface.
+
+    Returns
+    -------
+    tuple
+        (fem_nodes, width, height).
+    """
     mesh = np.real(np.asarray(surface["mesh"], dtype=complex))
     le, te = mesh[0], mesh[-1]
     w = float(surface.get("fem_origin", 0.35))
@@ -100,7 +111,13 @@ _TOTAL_OUTPUTS = ("L_equals_W", "fuelburn", "CL", "CD", "CM", "cg")
 
 
 def check_surface(surface):
-    """ValueError for a surface our beam cannot take (OpenAeroStruct options it does not model)."""
+    """ValueError for a surface our beam cannot take (OpenAeroStruct options it does not model).
+
+    Parameters
+    ----------
+    surface : dict
+        OpenAeroStruct surface.
+    """
     for key in ("struct_weight_relief", "distributed_fuel_weight"):
         if surface.get(key, False):
             raise ValueError(f"WingmdaoAerostructPoint: surface['{key}'] = True is not supported; set False")
@@ -190,5 +207,16 @@ class WingmdaoAerostructPoint(om.Group):
 
 
 def wingmdao_aerostruct_point(**options):
-    """``WingmdaoAerostructPoint(**options)`` (kept for scripts written against the factory)."""
+    """``WingmdaoAerostructPoint(**options)`` (kept for scripts written against the factory).
+
+    Parameters
+    ----------
+    **options
+        Options of :class:`WingmdaoAerostructPoint`.
+
+    Returns
+    -------
+    WingmdaoAerostructPoint
+        The point group.
+    """
     return WingmdaoAerostructPoint(**options)

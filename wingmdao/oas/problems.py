@@ -17,7 +17,30 @@ from wingmdao.oas.point import WingmdaoAerostructPoint
 
 def rect_wingbox_surface(num_y=11, span=20.0, chord=2.0, t_over_c=0.12, spar=0.004, skin=0.004,
                          material=None):
-    """Rectangular symmetric wing with a rectangular wingbox (10 % to 60 % chord)."""
+    """Rectangular symmetric wing with a rectangular wingbox (10 % to 60 % chord).
+
+    Parameters
+    ----------
+    num_y : int, optional
+        Spanwise mesh points of the full wing.
+    span : float, optional
+        Full span (m).
+    chord : float, optional
+        Chord (m).
+    t_over_c : float, optional
+        Thickness-to-chord ratio (-).
+    spar : float, optional
+        Spar thickness (m).
+    skin : float, optional
+        Skin thickness (m).
+    material : Material or None, optional
+        Wingbox material; None for aluminium.
+
+    Returns
+    -------
+    dict
+        The surface.
+    """
     from openaerostruct.meshing.mesh_generator import generate_mesh
 
 
@@ -44,7 +67,31 @@ def aerostruct_problem(surface, beam="wingmdao", mach=(0.3,), v=(100.0,), rho=(1
     geometry ``wing.structural_mass``, displacements ``AS_point_<i>.coupled.wing.disp`` (ny, 6).
     ``extra(model)``: called before setup to add components (its return value is returned too,
     as ``(prob, extra_result)``); ``setup=False`` leaves the problem to set up (and skips the
-    solver settings, see :func:`wingmdao.oas.crm.setup_crm_problem`)."""
+    solver settings, see :func:`wingmdao.oas.crm.setup_crm_problem`).
+
+    Parameters
+    ----------
+    surface : dict
+        OpenAeroStruct surface.
+    beam : {"wingmdao", "oas"}, optional
+        Structural model: the wingmdao beam or OpenAeroStruct's own.
+    mach, v, rho, re, load_factor, alpha_deg : tuple, optional
+        Per point: Mach number (-), airspeed (m/s), density (kg/m^3), Reynolds number per length (1/m),
+        load factor (-), angle of attack (deg).
+    W0 : float, optional
+        Aircraft weight without the wing structure and fuel (kg).
+    iprint : int, optional
+        Solver print level.
+    extra : callable or None, optional
+        ``extra(model)``, called before setup.
+    setup : bool, optional
+        Set the problem up.
+
+    Returns
+    -------
+    openmdao.api.Problem or tuple
+        The problem; (problem, extra's result) when ``extra`` is given or ``setup`` is False.
+    """
     from openaerostruct.integration.aerostruct_groups import AerostructGeometry, AerostructPoint
 
 

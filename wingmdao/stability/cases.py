@@ -25,6 +25,29 @@ DEFAULT_NODES = {"goland": 21, "hale": 21, "pegasus": 20}
 
 @dataclass
 class FlutterProblem:
+    """The clamped aeroelastic wing of a flutter case: beam, aerodynamics, residual system and the
+    case's published values.
+
+    Parameters
+    ----------
+    name : str
+        Case name.
+    num_nodes : int
+        Beam nodes.
+    beam : dict
+        Beam parameters.
+    aero : dict
+        Aerodynamic data of the strips.
+    system : ResidualSystem
+        The aeroelastic residual system.
+    published : dict
+        Published reference values of the case.
+    eig_options : dict
+        Eigen solver options.
+    aero_theory : str, optional
+        Quasi-steady lift theory (``strip``, ``lifting-line``, ``vlm``).
+    """
+
     name: str
     num_nodes: int
     beam: dict
@@ -48,7 +71,18 @@ class FlutterProblem:
     def params_at(self, V):
         """Packed (p, q) at airspeed V (m/s): clamped root, no gravity, zero angle of attack.
         Only the airspeed and Mach number depend on V: the first call packs everything, later ones
-        copy that and set those two entries (new arrays each call)."""
+        copy that and set those two entries (new arrays each call).
+
+        Parameters
+        ----------
+        V : float
+            Airspeed (m/s).
+
+        Returns
+        -------
+        tuple
+            (p, q).
+        """
         if self._packed is None:
             self._packed = self._pack_at(V)
         p, q, lay, theory_parameters = self._packed
@@ -85,7 +119,18 @@ class FlutterProblem:
         return p, q, layout(self.system.param_specs), theory_parameters
 
     def mach_at(self, V):
-        """Mach number at airspeed V (m/s): V / a when the case has a speed of sound, else 0 (incompressible)."""
+        """Mach number at airspeed V (m/s): V / a when the case has a speed of sound, else 0 (incompressible).
+
+        Parameters
+        ----------
+        V : float
+            Airspeed (m/s).
+
+        Returns
+        -------
+        float
+            Mach number (-).
+        """
         a = self.aero.get("speed_of_sound")
         return 0.0 if a is None else float(V) / float(a)
 
@@ -110,6 +155,24 @@ def flutter_problem(name: str, num_nodes: int | None = None, thickness: dict | N
     design's PanelLayout) it also holds the stiffener variables. ``aero_theory``
     (:data:`wingmdao.aero.coupled.AERO_THEORY_CHOICES`): the quasi-steady lift of the strips, of
     Prandtl's lifting line or of the vortex lattice (the Wagner lag per station in every case).
+
+    Parameters
+    ----------
+    name : str
+        Case name.
+    num_nodes : int or None, optional
+        Beam nodes; None for :data:`DEFAULT_NODES`.
+    thickness : dict or None, optional
+        Wall name -> (num_nodes,) thicknesses (m), PEGASUS only.
+    panels : PanelLayout or None, optional
+        Panel layout of a stiffened design.
+    aero_theory : str, optional
+        Quasi-steady lift theory.
+
+    Returns
+    -------
+    FlutterProblem
+        The problem.
     """
     import importlib
 
@@ -142,7 +205,26 @@ def sizing_flutter_options(name: str, num_nodes: int, factor: float, *, rho_ks: 
     """Options of :class:`wingmdao.components.flutter.FlutterDamping` for "flutter speed >= F V_D"
     on sizing case ``name`` (F = ``factor``): the damping constraint Re(lambda) + ``decay`` <= 0
     (KS, 1/s) at the speeds F V_D x :data:`CONSTRAINT_SPEED_FRACTIONS`. ValueError (before any solve) for a case without
-    aerodynamic data or V_D, or F outside (0, :data:`MAX_FLUTTER_MARGIN`]."""
+    aerodynamic data or V_D, or F outside (0, :data:`MAX_FLUTTER_MARGIN`].
+
+    Parameters
+    ----------
+    name : str
+        Case name.
+    num_nodes : int
+        Beam nodes.
+    factor : float
+        F, the required flutter speed over V_D (-).
+    rho_ks : float, optional
+        KS aggregation parameter.
+    decay : float, optional
+        Decay rate added to Re(lambda) (1/s).
+
+    Returns
+    -------
+    dict
+        The component's options.
+    """
     import importlib
 
     if name not in FLUTTER_CASES or not hasattr(importlib.import_module(f"wingmdao.cases.{name}"), "flight_point"):
@@ -169,7 +251,28 @@ def flutter_search(name: str, num_nodes: int | None = None, thickness: dict | No
                    n_modes: int = 4, panels=None) -> dict:
     """Sweep and refined flutter / divergence speeds of case ``name`` (thicknesses: PEGASUS);
     returns ``{"flutter_speed", "flutter_frequency", "divergence_speed", "sweep_max_speed", "sweep"}``
-    (speeds None when not reached below the sweep's end ``sweep_max_speed``, m/s)."""
+    (speeds None when not reached below the sweep's end ``sweep_max_speed``, m/s).
+
+    Parameters
+    ----------
+    name : str
+        Case name.
+    num_nodes : int or None, optional
+        Beam nodes.
+    thickness : dict or None, optional
+        Wall name -> thicknesses (m), PEGASUS only.
+    speeds : array_like or None, optional
+        Sweep (m/s); None for the case's default.
+    n_modes : int, optional
+        Modes tracked.
+    panels : PanelLayout or None, optional
+        Panel layout of a stiffened design.
+
+    Returns
+    -------
+    dict
+        The speeds and the sweep.
+    """
     prob = flutter_problem(name, num_nodes, thickness, panels)
     v = prob.speeds if speeds is None else np.asarray(speeds, dtype=float)
     res = sweep(prob.system, prob.params_at, v, n_track=int(n_modes), weights=prob.beam_weights(),

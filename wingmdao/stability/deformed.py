@@ -36,7 +36,18 @@ MAX_ROOT_AOA_DEG = 10.0
 
 
 def check_root_aoa(values) -> np.ndarray:
-    """Validated root angles of attack (deg): a non-empty list of finite values in [-10, 10] deg."""
+    """Validated root angles of attack (deg): a non-empty list of finite values in [-10, 10] deg.
+
+    Parameters
+    ----------
+    values : sequence of float
+        Root angles of attack (deg).
+
+    Returns
+    -------
+    numpy.ndarray
+        The checked angles (deg).
+    """
     a = np.atleast_1d(np.asarray(values, dtype=float)).ravel()
     if a.size == 0:
         raise ValueError("root angle of attack list is empty: give at least one angle (deg)")
@@ -49,7 +60,22 @@ def check_root_aoa(values) -> np.ndarray:
 
 def deformed_params_at(prob, alpha_root_deg: float, gravity: float):
     """``params_at(V)`` of ``prob`` (a :class:`~wingmdao.stability.cases.FlutterProblem`) with the
-    root angle of attack ``alpha_root_deg`` (deg) and gravity ``gravity`` (m/s^2, along body -z)."""
+    root angle of attack ``alpha_root_deg`` (deg) and gravity ``gravity`` (m/s^2, along body -z).
+
+    Parameters
+    ----------
+    prob : FlutterProblem
+        The flutter problem.
+    alpha_root_deg : float
+        Root angle of attack (deg).
+    gravity : float
+        Gravitational acceleration along body -z (m/s^2).
+
+    Returns
+    -------
+    callable
+        ``params_at(V) -> (p, q)``.
+    """
     play, qlay = layout(prob.system.param_specs), layout(prob.system.forcing_specs)
     alpha = np.deg2rad(float(alpha_root_deg))
 
@@ -63,7 +89,20 @@ def deformed_params_at(prob, alpha_root_deg: float, gravity: float):
 
 
 def tip_deflection(system, x) -> float:
-    """Vertical (body z) displacement of the tip node from the jig, m (up +)."""
+    """Vertical (body z) displacement of the tip node from the jig, m (up +).
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The residual system.
+    x : numpy.ndarray
+        State.
+
+    Returns
+    -------
+    float
+        Tip deflection (m).
+    """
     n = system.num_nodes
     W = system.state_shape[-1] if len(system.state_shape) == 2 else None
     xs = np.asarray(x, dtype=float).ravel()[: n * W].reshape(n, W)
@@ -72,7 +111,31 @@ def tip_deflection(system, x) -> float:
 
 @dataclass
 class DeformedFlutter:
-    """Flutter about the deformed state at one root angle of attack."""
+    """Flutter about the deformed state at one root angle of attack.
+
+    Parameters
+    ----------
+    root_aoa_deg : float
+        Root angle of attack (deg).
+    flutter_speed : float or None
+        Flutter speed (m/s).
+    flutter_frequency : float or None
+        Flutter frequency (rad/s).
+    tip_deflection : float or None
+        Static tip deflection at flutter (m).
+    divergence_speed : float or None
+        Divergence speed (m/s).
+    speeds : numpy.ndarray or None, optional
+        Airspeeds of the sweep (m/s).
+    tip_deflections : numpy.ndarray or None, optional
+        Static tip deflection at each speed (m).
+    damping : numpy.ndarray or None, optional
+        Re(lambda) of the tracked modes (1/s).
+    frequency : numpy.ndarray or None, optional
+        Frequency of the tracked modes (rad/s).
+    static_failure_speed : float or None, optional
+        First speed without a static solution (m/s).
+    """
 
     root_aoa_deg: float
     flutter_speed: float | None            # m/s
@@ -113,7 +176,28 @@ def deformed_sweep(prob, params_at, speeds, *, n_track=4, load_steps=8, min_freq
     followed by MAC) is unstable (the flutter bracket) or where no static solution is found
     (``stopped_at``, m/s, else None). Untracked modes are ignored: about a lifting, bent state the
     in-plane (lag) mode, without drag or structural damping, can sit at Re ~ +1e-4 ``|lambda|``.
-    Returns ``(StabilitySweep, stopped_at)``."""
+    Returns ``(StabilitySweep, stopped_at)``.
+
+    Parameters
+    ----------
+    prob : FlutterProblem
+        The flutter problem.
+    params_at : callable
+        ``params_at(V) -> (p, q)``.
+    speeds : array_like
+        Increasing airspeeds (m/s).
+    n_track : int, optional
+        Modes tracked.
+    load_steps : int, optional
+        Load steps of the first static solve.
+    min_frequency : float, optional
+        Oscillatory above this ``|Im|`` (rad/s).
+
+    Returns
+    -------
+    tuple
+        (StabilitySweep, stopped_at).
+    """
     v = check_speeds(speeds)
     system, opts = prob.system, dict(prob.eig_options)
     p, q = params_at(float(v[0]))
@@ -153,6 +237,28 @@ def deformed_flutter(prob, root_aoa_deg, speeds=None, *, gravity=None, n_track=4
     reached by ``load_steps`` steps of the weight (large deflections), the others by continuation
     in speed (:func:`deformed_sweep`); the sweep should be fine (~0.5 m/s for the HALE wing) as the
     deflection changes quickly near flutter.
+
+    Parameters
+    ----------
+    prob : FlutterProblem
+        The flutter problem.
+    root_aoa_deg : sequence of float
+        Root angles of attack (deg).
+    speeds : array_like or None, optional
+        Sweep (m/s); None for the case's default.
+    gravity : float or None, optional
+        Gravitational acceleration (m/s^2); None for the case's.
+    n_track : int, optional
+        Modes tracked.
+    load_steps : int, optional
+        Load steps of the first static solve.
+    xtol : float, optional
+        Relative tolerance of the located flutter speed.
+
+    Returns
+    -------
+    list of DeformedFlutter
+        One per angle.
     """
     import importlib
 

@@ -49,7 +49,24 @@ DENSE_MAX_STATES = 800
 
 
 def static_state(system, p, q, x0=None, **options) -> np.ndarray:
-    """Static solution of ``R(x, 0, p, q) = 0`` (Newton with load stepping; om.AnalysisError if it fails)."""
+    """Static solution of ``R(x, 0, p, q) = 0`` (Newton with load stepping; om.AnalysisError if it fails).
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The residual system.
+    p, q : numpy.ndarray
+        Packed parameter and forcing vectors.
+    x0 : numpy.ndarray or None, optional
+        Starting guess; None for the system's initial guess.
+    **options
+        Passed to :func:`wingmdao.timemarch.bdf.solve_static` (load steps, tolerances).
+
+    Returns
+    -------
+    numpy.ndarray
+        The static state.
+    """
     from wingmdao.timemarch.bdf import solve_static
 
     x, _ = solve_static(system, p, q, x0, **options)
@@ -132,7 +149,22 @@ def derived_definition(system, builder: str, module: str) -> str:
     ``builder`` (in ``module``) derives from ``system``'s residual: the system's own definition or,
     without one, the SHA-256 of its serialized residual function (16 ms for the 20-node PEGASUS
     system, against 0.55 s to serialize the derived second-derivative function for its key),
-    with the source of ``module``."""
+    with the source of ``module``.
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The residual system.
+    builder : str
+        Name of the derived function's builder.
+    module : str
+        Dotted name of the builder's module.
+
+    Returns
+    -------
+    str
+        The cache definition.
+    """
     import hashlib
 
 
@@ -144,14 +176,40 @@ def derived_definition(system, builder: str, module: str) -> str:
 
 def pencil_function(system):
     """The (compiled once evaluated often) pencil function of ``system``, or None for a system
-    without a CasADi ``residual_function`` (those use ``jac_state``)."""
+    without a CasADi ``residual_function`` (those use ``jac_state``).
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The residual system.
+
+    Returns
+    -------
+    casadi.Function or None
+        The pencil function.
+    """
     return derived(system, "pencil_function",
                    lambda s: _PencilFunction(s) if hasattr(s, "residual_function") else None)
 
 
 def linearize(system, p, q, x0) -> tuple[sp.csc_matrix, sp.csc_matrix]:
     """``(A, B) = (dR/dx, dR/dxdot)`` at ``(x0, xdot = 0)``, sparse CSC (CasADi systems: one
-    compiled function of both Jacobians, :func:`pencil_function`; others ``jac_state``)."""
+    compiled function of both Jacobians, :func:`pencil_function`; others ``jac_state``).
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The residual system.
+    p, q : numpy.ndarray
+        Packed parameter and forcing vectors.
+    x0 : numpy.ndarray
+        State to linearise about.
+
+    Returns
+    -------
+    tuple of scipy.sparse.csc_matrix
+        (A, B).
+    """
     x0 = np.asarray(x0, dtype=float).reshape(system.n_state)
     p, q = np.asarray(p, float).ravel(), np.asarray(q, float).ravel()
     fun = pencil_function(system)
@@ -167,7 +225,19 @@ def linearize(system, p, q, x0) -> tuple[sp.csc_matrix, sp.csc_matrix]:
 
 @dataclass
 class Modes:
-    """Finite eigenvalues (one of each complex-conjugate pair: Im >= 0) and right eigenvectors."""
+    """Finite eigenvalues (one of each complex-conjugate pair: Im >= 0) and right eigenvectors.
+
+    Parameters
+    ----------
+    eigenvalues : numpy.ndarray
+        Finite eigenvalues, Im >= 0 (1/s).
+    vectors : numpy.ndarray
+        (n_state, n_modes) right eigenvectors.
+    x0 : numpy.ndarray or None, optional
+        The state linearised about.
+    det_sign : float, optional
+        Sign of det(dR/dx) at ``x0`` (a sign change between speeds marks divergence).
+    """
 
     eigenvalues: np.ndarray          # complex (k,)
     vectors: np.ndarray              # complex (n_state, k), unit 2-norm columns
@@ -200,14 +270,36 @@ def structural_damping(eigenvalues) -> np.ndarray:
     eigenvalues): positive when the mode is unstable, about -2 zeta for a lightly damped mode
     (``zeta = -Re lambda / |lambda|``, the damping ratio of
     :attr:`wingmdao.stability.sensitivity.DampingConstraint.damping_ratio` and
-    :meth:`wingmdao.beam.residual.StrainRateDamping.from_damping_ratio`)."""
+    :meth:`wingmdao.beam.residual.StrainRateDamping.from_damping_ratio`).
+
+    Parameters
+    ----------
+    eigenvalues : array_like
+        Complex eigenvalues (1/s).
+
+    Returns
+    -------
+    numpy.ndarray
+        g (-).
+    """
     lam = np.asarray(eigenvalues)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(np.abs(lam.imag) > 0, 2.0 * lam.real / np.abs(lam.imag), np.nan)
 
 
 def damping_ratio(eigenvalues) -> np.ndarray:
-    """Deprecated name of :func:`structural_damping` (``g = 2 Re / |Im|``, not a damping ratio)."""
+    """Deprecated name of :func:`structural_damping` (``g = 2 Re / |Im|``, not a damping ratio).
+
+    Parameters
+    ----------
+    eigenvalues : array_like
+        Complex eigenvalues (1/s).
+
+    Returns
+    -------
+    numpy.ndarray
+        g (-).
+    """
     return _deprecated_damping_ratio(eigenvalues)
 
 
@@ -257,15 +349,31 @@ def eigenmodes(system, p, q, x0=None, *, static=True, count=None, sigma=0.0, met
     Parameters
     ----------
     system : ResidualSystem
-    p, q : packed parameter / forcing vectors
-    x0 : state to linearise about, or the starting guess of the static solve (``static=True``)
-    static : solve ``R(x, 0, p, q) = 0`` first (from ``x0`` or the system's initial guess)
-    count : dense: keep the ``count`` smallest ``|lambda|`` (all finite ones by default);
-            sparse: the ``count`` eigenvalues nearest to ``sigma`` (12 by default)
-    sigma : shift of the sparse solver (1/s, real or complex): the eigenvalues nearest to it
-    method : "dense" | "sparse" | "auto" (dense up to ``DENSE_MAX_STATES`` states)
-    ncv : Arnoldi basis size of the sparse solver (ARPACK default 2 count + 1)
-    max_abs : eigenvalues with ``|lambda|`` above this (1/s) are treated as infinite (spurious)
+        The residual system.
+    p, q : numpy.ndarray
+        Packed parameter and forcing vectors.
+    x0 : numpy.ndarray or None, optional
+        State to linearise about, or the starting guess of the static solve (``static=True``).
+    static : bool, optional
+        Solve ``R(x, 0, p, q) = 0`` first (from ``x0`` or the system's initial guess).
+    count : int or None, optional
+        Dense: keep the ``count`` smallest ``|lambda|`` (all finite ones by default); sparse: the
+        ``count`` eigenvalues nearest to ``sigma`` (12 by default).
+    sigma : float or complex, optional
+        Shift of the sparse solver (1/s): the eigenvalues nearest to it.
+    method : {"auto", "dense", "sparse"}, optional
+        Eigen solver ("auto": dense up to ``DENSE_MAX_STATES`` states).
+    max_abs : float, optional
+        Eigenvalues with ``|lambda|`` above this (1/s) are treated as infinite (spurious).
+    static_options : dict or None, optional
+        Options of the static solve (:func:`static_state`).
+    ncv : int or None, optional
+        Arnoldi basis size of the sparse solver (ARPACK default 2 count + 1).
+
+    Returns
+    -------
+    Modes
+        The finite eigenvalues and right eigenvectors.
     """
     p = np.asarray(p, dtype=float)
     q = np.asarray(q, dtype=float)
@@ -313,7 +421,22 @@ def eigenmodes(system, p, q, x0=None, *, static=True, count=None, sigma=0.0, met
 
 
 def mac_matrix(V, W, weights=None) -> np.ndarray:
-    """``MAC[i, j] = |v_i^H w_j|^2 / (|v_i|^2 |w_j|^2)``; ``weights`` scale the state entries first."""
+    """``MAC[i, j] = |v_i^H w_j|^2 / (|v_i|^2 |w_j|^2)``; ``weights`` scale the state entries first.
+
+    Parameters
+    ----------
+    V : numpy.ndarray
+        (n_state, m) vectors.
+    W : numpy.ndarray
+        (n_state, k) vectors.
+    weights : array_like or None, optional
+        (n_state,) weights on the state entries; None for 1.
+
+    Returns
+    -------
+    numpy.ndarray
+        (m, k) MAC values in [0, 1].
+    """
     V = np.asarray(V)
     W = np.asarray(W)
     if weights is not None:
@@ -330,6 +453,20 @@ def track_modes(modes_list, initial, weights=None):
     Returns ``(eigenvalues (n_speed, n_track) complex, indices (n_speed, n_track))``: at each
     speed the modes are paired with the previous speed's by an optimal assignment maximising MAC
     (ties broken by eigenvalue proximity).
+
+    Parameters
+    ----------
+    modes_list : sequence of Modes
+        Modes at each speed.
+    initial : sequence of int
+        Indices of the tracked modes at the first speed.
+    weights : array_like or None, optional
+        State weights of the MAC.
+
+    Returns
+    -------
+    tuple
+        Eigenvalues (n_speed, n_track) and indices (n_speed, n_track).
     """
     initial = np.asarray(initial, dtype=int)
     n_s, n_t = len(modes_list), initial.size
@@ -355,7 +492,25 @@ def track_modes(modes_list, initial, weights=None):
 
 @dataclass
 class StabilitySweep:
-    """Eigen-analysis over an increasing speed sweep with tracked modes."""
+    """Eigen-analysis over an increasing speed sweep with tracked modes.
+
+    Parameters
+    ----------
+    speeds : numpy.ndarray
+        (n_speed,) airspeeds (m/s).
+    modes : list of Modes
+        Modes at each speed.
+    tracked : numpy.ndarray
+        (n_speed, n_track) tracked eigenvalues (1/s).
+    indices : numpy.ndarray
+        (n_speed, n_track) indices of the tracked modes in ``modes``.
+    params_at : callable or None, optional
+        ``params_at(V) -> (p, q)`` of the sweep.
+    system : ResidualSystem or None, optional
+        The residual system.
+    options : dict, optional
+        Options of the sweep (eigen solver, static, weights, min_frequency).
+    """
 
     speeds: np.ndarray
     modes: list
@@ -387,7 +542,18 @@ class StabilitySweep:
 
 
 def check_speeds(speeds) -> np.ndarray:
-    """Validated sweep: a 1-D array of at least 2 finite, non-negative, strictly increasing speeds (m/s)."""
+    """Validated sweep: a 1-D array of at least 2 finite, non-negative, strictly increasing speeds (m/s).
+
+    Parameters
+    ----------
+    speeds : array_like
+        Airspeeds (m/s).
+
+    Returns
+    -------
+    numpy.ndarray
+        The checked speeds.
+    """
     v = np.asarray(speeds, dtype=float).ravel()
     if v.size < 2:
         raise ValueError(f"speeds must hold at least 2 airspeeds (m/s), got {v.size}")
@@ -403,7 +569,34 @@ def check_speeds(speeds) -> np.ndarray:
 def sweep(system, params_at, speeds, *, n_track=6, min_frequency=1e-3, weights=None, x0=None,
           static=True, **eig_options) -> StabilitySweep:
     """Eigen-analysis at each speed; tracks the ``n_track`` lowest-frequency oscillatory modes of
-    the first speed (``|Im| > min_frequency`` rad/s). ``params_at(V) -> (p, q)``."""
+    the first speed (``|Im| > min_frequency`` rad/s). ``params_at(V) -> (p, q)``.
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The residual system.
+    params_at : callable
+        ``params_at(V) -> (p, q)``.
+    speeds : array_like
+        Increasing airspeeds (m/s).
+    n_track : int, optional
+        Number of modes tracked.
+    min_frequency : float, optional
+        Smallest ``|Im|`` of a tracked mode (rad/s).
+    weights : array_like or None, optional
+        State weights of the MAC.
+    x0 : numpy.ndarray or None, optional
+        Starting guess of the first static solve.
+    static : bool, optional
+        Linearise about the static state at each speed.
+    **eig_options
+        Passed to :func:`eigenmodes`.
+
+    Returns
+    -------
+    StabilitySweep
+        The sweep.
+    """
     v = check_speeds(speeds)
     modes, x = [], x0
     for V in v:
@@ -429,6 +622,20 @@ def critical_speeds(result: StabilitySweep, *, refine=True, xtol=1e-4):
     index), ``divergence_speed``. With ``refine`` the crossing is located to ``xtol`` (relative)
     by Brent's method on the damping of the crossing mode (flutter) and by bisection on the sign of
     det(dR/dx) (divergence).
+
+    Parameters
+    ----------
+    result : StabilitySweep
+        The sweep.
+    refine : bool, optional
+        Locate the crossings.
+    xtol : float, optional
+        Relative tolerance of the located speeds.
+
+    Returns
+    -------
+    dict
+        ``flutter_speed`` (m/s), ``flutter_frequency`` (rad/s), ``flutter_mode``, ``divergence_speed`` (m/s).
     """
     v = result.speeds
     opts = dict(result.options)

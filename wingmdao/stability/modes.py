@@ -24,7 +24,24 @@ MEASURES = ("sigma", "ratio")
 def left_right_vectors(A, B, lam, *, iterations=3, rel_shift=1e-10):
     """Right and left eigenvectors ``(v, u)`` (unit 2-norm) of ``(A + lambda B) v = 0`` and the
     Rayleigh-quotient eigenvalue ``-u^H A v / u^H B v``, by inverse iteration with the shift
-    ``lambda (1 + rel_shift)`` (``lambda`` from an eigen-solver)."""
+    ``lambda (1 + rel_shift)`` (``lambda`` from an eigen-solver).
+
+    Parameters
+    ----------
+    A, B : scipy.sparse.csc_matrix
+        dR/dx and dR/dxdot of the pencil.
+    lam : complex
+        Eigenvalue from an eigen-solver (1/s).
+    iterations : int, optional
+        Inverse iterations.
+    rel_shift : float, optional
+        Relative offset of the shift from ``lam``.
+
+    Returns
+    -------
+    tuple
+        (v, u, Rayleigh-quotient eigenvalue).
+    """
     A, B = sp.csc_matrix(A), sp.csc_matrix(B)
     n = A.shape[0]
     s = complex(lam) * (1.0 + rel_shift) + rel_shift
@@ -37,7 +54,25 @@ def left_right_vectors(A, B, lam, *, iterations=3, rel_shift=1e-10):
 
 @dataclass
 class SpeedModes:
-    """The aggregated modes at one speed: what the gradient needs and what a warm start refines."""
+    """The aggregated modes at one speed: what the gradient needs and what a warm start refines.
+
+    Parameters
+    ----------
+    speed : float
+        Airspeed (m/s).
+    p, q : numpy.ndarray
+        Packed parameters and forcing at this speed.
+    x0 : numpy.ndarray
+        Static state linearised about.
+    A, B : scipy.sparse.csc_matrix
+        dR/dx and dR/dxdot at ``x0``.
+    eigenvalues : numpy.ndarray
+        (k,) two-sided Rayleigh quotients (1/s).
+    right, left : numpy.ndarray
+        (n, k) right and left vectors, unit 2-norm.
+    error : numpy.ndarray or None, optional
+        (k,) error bound of each eigenvalue (1/s; 0 when refined, > 0 for a lazy estimate).
+    """
 
     speed: float                     # m/s
     p: np.ndarray                    # packed parameters at this speed
@@ -64,7 +99,32 @@ def refine_pair(A, B, lam0, v0, u0, *, tol=1e-12, iterations=6, shifts=3, rel_sh
     Each shift's factorization and steps: :meth:`wingmdao.stability.pencil_lu.ShiftedPencil.refine`
     (in C with a static pivot order when the kernel is on; a shift it refuses runs with SuperLU).
     (Two-sided Rayleigh-quotient iteration: B. N. Parlett, "The Rayleigh quotient iteration and
-    some generalizations for nonnormal matrices", Math. Comp. 28(127), 1974.)"""
+    some generalizations for nonnormal matrices", Math. Comp. 28(127), 1974.)
+
+    Parameters
+    ----------
+    A, B : scipy.sparse.csc_matrix
+        dR/dx and dR/dxdot of the pencil.
+    lam0 : complex
+        Eigenvalue to start from (1/s).
+    v0, u0 : numpy.ndarray
+        Right and left vectors to start from.
+    tol : float, optional
+        Relative agreement of two quotients for convergence.
+    iterations : int, optional
+        Inverse iterations per shift.
+    shifts : int, optional
+        Most LU factorizations.
+    rel_shift : float, optional
+        Relative offset of each shift from its eigenvalue.
+    quotient_start : bool, optional
+        Start from the two-sided quotient of ``v0, u0`` instead of ``lam0``.
+
+    Returns
+    -------
+    tuple
+        (v, u, lam, converged).
+    """
     v, u = np.asarray(v0, complex), np.asarray(u0, complex)
     v, u = v / np.linalg.norm(v), u / np.linalg.norm(u)
     Bv = B @ v
@@ -85,7 +145,29 @@ def refine_pair(A, B, lam0, v0, u0, *, tol=1e-12, iterations=6, shifts=3, rel_sh
 @dataclass
 class Selection:
     """The modes the damping constraint aggregates and its measure (the keyword arguments of
-    :func:`wingmdao.stability.sensitivity.damping_constraint`)."""
+    :func:`wingmdao.stability.sensitivity.damping_constraint`).
+
+    Parameters
+    ----------
+    aero_mask : numpy.ndarray
+        1 on the aerodynamic states.
+    beam_mask : numpy.ndarray
+        Weights of the beam's displacements and rotations.
+    min_frequency : float
+        Oscillatory above this ``|Im|`` (rad/s).
+    neutral_fraction : float
+        Loaded above this fraction of aerodynamic to beam part (-).
+    static : bool
+        Linearise about the static solution.
+    measure : {"sigma", "ratio"}
+        The constraint's measure.
+    margin : float
+        Margin added to the measure.
+    rho_ks : float
+        KS aggregation parameter.
+    eig_options : dict
+        Options of :func:`~wingmdao.stability.eigen.eigenmodes` (``sigma`` the window's centre, ``static_options``).
+    """
 
     aero_mask: np.ndarray            # 1 on the aerodynamic states
     beam_mask: np.ndarray            # weights of the beam's displacements and rotations
@@ -108,38 +190,124 @@ class Selection:
         return self.eig_options.get("static_options")
 
     def g(self, lam) -> np.ndarray:
-        """The constraint's ``g`` of each eigenvalue (:func:`measure_values`)."""
+        """The constraint's ``g`` of each eigenvalue (:func:`measure_values`).
+
+        Parameters
+        ----------
+        lam : array_like
+            Eigenvalues (1/s).
+
+        Returns
+        -------
+        numpy.ndarray
+            g of each.
+        """
         return measure_values(lam, self.measure, self.margin)
 
     def g_upper(self, lam, err) -> np.ndarray:
-        """``g`` at the upper end of an eigenvalue error bound ``err`` (1/s)."""
+        """``g`` at the upper end of an eigenvalue error bound ``err`` (1/s).
+
+        Parameters
+        ----------
+        lam : array_like
+            Eigenvalues (1/s).
+        err : array_like
+            Their error bounds (1/s).
+
+        Returns
+        -------
+        numpy.ndarray
+            g at the upper ends.
+        """
         lam = np.atleast_1d(lam)
         dg = err if self.measure == "sigma" else 2.0 * err / np.maximum(np.abs(lam) - err, 1e-300)
         return self.g(lam) + dg
 
 
 def measure_values(lam, measure, margin):
-    """The constraint's ``g`` of each eigenvalue: ``sigma + margin`` or ``margin - zeta``."""
+    """The constraint's ``g`` of each eigenvalue: ``sigma + margin`` or ``margin - zeta``.
+
+    Parameters
+    ----------
+    lam : array_like
+        Eigenvalues (1/s).
+    measure : {"sigma", "ratio"}
+        ``sigma``: Re(lambda) + margin; ``ratio``: margin + Re(lambda) / ``|lambda|``.
+    margin : float
+        The margin.
+
+    Returns
+    -------
+    numpy.ndarray
+        g of each eigenvalue.
+    """
     lam = np.asarray(lam, dtype=complex)
     return lam.real + margin if measure == "sigma" else margin + lam.real / np.abs(lam)
 
 
 def loaded_fraction(vectors, mask, bmask):
     """Loaded fraction of each column: ``|aerodynamic part| / |beam part|`` (``mask``, ``bmask``
-    weights; only their nonzero rows are read)."""
+    weights; only their nonzero rows are read).
+
+    Parameters
+    ----------
+    vectors : numpy.ndarray
+        (n, k) mode vectors.
+    mask : numpy.ndarray
+        (n,) weights of the aerodynamic states.
+    bmask : numpy.ndarray
+        (n,) weights of the beam states.
+
+    Returns
+    -------
+    numpy.ndarray
+        (k,) loaded fractions (-).
+    """
     ia, ib = np.flatnonzero(mask), np.flatnonzero(bmask)
     return (np.linalg.norm(vectors[ia] * mask[ia, None], axis=0)
             / np.linalg.norm(vectors[ib] * bmask[ib, None], axis=0))
 
 
 def subset(sm, keep):
-    """The modes ``keep`` of ``sm``."""
+    """The modes ``keep`` of ``sm``.
+
+    Parameters
+    ----------
+    sm : SpeedModes
+        Modes at one speed.
+    keep : array_like
+        Indices or bool mask of the modes kept.
+
+    Returns
+    -------
+    SpeedModes
+        The kept modes.
+    """
     return SpeedModes(sm.speed, sm.p, sm.q, sm.x0, sm.A, sm.B, sm.eigenvalues[keep], sm.right[:, keep],
                       sm.left[:, keep], None if sm.error is None else sm.error[keep])
 
 
 def aggregated(sm, V, mask, bmask, neutral_fraction):
-    """The aerodynamically loaded modes of ``sm`` (loaded fraction above ``neutral_fraction``)."""
+    """The aerodynamically loaded modes of ``sm`` (loaded fraction above ``neutral_fraction``).
+
+    Parameters
+    ----------
+    sm : SpeedModes
+        Modes at one speed.
+    V : numpy.ndarray
+        (n, k) vectors the loaded fraction is measured on.
+    mask : numpy.ndarray
+        (n,) weights of the aerodynamic states.
+    bmask : numpy.ndarray
+        (n,) weights of the beam states.
+    neutral_fraction : float
+        Loaded above this fraction (-).
+
+    Returns
+    -------
+    SpeedModes
+        The loaded modes.
+    """
     keep = np.flatnonzero(loaded_fraction(sm.right, mask, bmask) > neutral_fraction)
     if keep.size == 0:
         raise ValueError(f"no aerodynamically loaded oscillatory mode at {V} m/s in the eigen window")
@@ -148,7 +316,26 @@ def aggregated(sm, V, mask, bmask, neutral_fraction):
 
 def cold_speed(system, p, q, x, V, sel: Selection):
     """Every oscillatory mode of the full eigen window at one speed (refined right / left vectors)
-    and the window's eigenvalues."""
+    and the window's eigenvalues.
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The residual system.
+    p, q : numpy.ndarray
+        Packed parameters and forcing.
+    x : numpy.ndarray or None
+        Starting guess of the static solve.
+    V : float
+        Airspeed (m/s).
+    sel : Selection
+        The modes aggregated and the measure.
+
+    Returns
+    -------
+    tuple
+        (SpeedModes, eigenvalues of the window).
+    """
     m = eigenmodes(system, p, q, x, static=sel.static, **sel.eig_options)
     osc = np.flatnonzero(m.frequency > sel.min_frequency)
     A, B = linearize(system, p, q, m.x0)
@@ -166,7 +353,24 @@ def cold_speed(system, p, q, x, V, sel: Selection):
 
 def cold_set(system, pq, speeds, sel: Selection) -> list:
     """The full eigen window's oscillatory modes at every speed (``pq``: per speed ``(p, q)``;
-    each speed's static solve starts from the previous speed's state)."""
+    each speed's static solve starts from the previous speed's state).
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The residual system.
+    pq : sequence of tuple
+        (p, q) per speed.
+    speeds : array_like
+        Airspeeds (m/s).
+    sel : Selection
+        The modes aggregated and the measure.
+
+    Returns
+    -------
+    list of SpeedModes
+        One per speed.
+    """
     tracked, x = [], None
     for (p, q), V in zip(pq, speeds):
         sm = cold_speed(system, p, q, x, V, sel)[0]

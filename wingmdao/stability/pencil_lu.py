@@ -225,7 +225,18 @@ def _structure_for(A, B):
 
 def pencil(A, B):
     """The :class:`Pencil` of the real sparse ``(A, B)`` (cached: the last pair by identity, the
-    structure by the two patterns), or None without the compiled kernel."""
+    structure by the two patterns), or None without the compiled kernel.
+
+    Parameters
+    ----------
+    A, B : scipy.sparse.spmatrix
+        Real sparse matrices of the pencil (same shape).
+
+    Returns
+    -------
+    Pencil or None
+        The pencil.
+    """
     lib = kernel()
     if lib is None:
         return None
@@ -246,7 +257,17 @@ def pencil(A, B):
 
 class Pencil:
     """``A + s B`` of one design and speed on its union pattern: factorizations and the
-    inverse iteration of :func:`wingmdao.stability.sensitivity.refine_pair` in C."""
+    inverse iteration of :func:`wingmdao.stability.sensitivity.refine_pair` in C.
+
+    Parameters
+    ----------
+    lib : ctypes.CDLL
+        The compiled kernel.
+    st : _Structure
+        Symbolic structure of the union pattern.
+    a, b : numpy.ndarray
+        Values of A and B on the union pattern.
+    """
 
     def __init__(self, lib, st: _Structure, a, b):
         self.lib, self.st = lib, st
@@ -263,12 +284,31 @@ class Pencil:
         return self.st.current is not None
 
     def repivot(self, perm_r):
-        """Use the row order of a SuperLU factorization of a matrix of this pattern from now on."""
+        """Use the row order of a SuperLU factorization of a matrix of this pattern from now on.
+
+        Parameters
+        ----------
+        perm_r : numpy.ndarray
+            SuperLU's row permutation.
+        """
         self.st.use(perm_r)
 
     def products(self, X, trans=False):
         """``(A X, B X)`` (``trans``: ``(A^T X, B^T X)``) of an (n, k) complex X, in C
-        (``pencil_products``: the summation order of SciPy's sparse products)."""
+        (``pencil_products``: the summation order of SciPy's sparse products).
+
+        Parameters
+        ----------
+        X : numpy.ndarray
+            (n, k) complex matrix.
+        trans : bool, optional
+            Multiply by the transposes.
+
+        Returns
+        -------
+        tuple
+            (A X, B X).
+        """
         X = np.ascontiguousarray(X, dtype=complex)
         k = X.shape[1]
         YA, YB = np.empty((self.n, k), dtype=complex), np.empty((self.n, k), dtype=complex)
@@ -278,7 +318,18 @@ class Pencil:
 
     def factor(self, s):
         """``(symbolic, factors, values of M, |values|)`` of ``M = A + s B`` with the current pivot
-        order, or None when a pivot is zero or not finite (or no pivot order is chosen yet)."""
+        order, or None when a pivot is zero or not finite (or no pivot order is chosen yet).
+
+        Parameters
+        ----------
+        s : complex
+            The shift.
+
+        Returns
+        -------
+        tuple or None
+            The factorization, or None.
+        """
         sym = self.st.current
         if sym is None:
             return None
@@ -293,7 +344,24 @@ class Pencil:
 
     def solve(self, lu, rhs, trans="N", tol=BACKWARD_TOL):
         """``(x, berr)``: ``(A + s B) x = rhs`` (``trans="N"``) or ``(A + s B)^H x = rhs`` (``"H"``),
-        refined once when the backward error is above ``tol``."""
+        refined once when the backward error is above ``tol``.
+
+        Parameters
+        ----------
+        lu : tuple
+            A factorization of :meth:`factor`.
+        rhs : numpy.ndarray
+            Right-hand side.
+        trans : {"N", "H"}, optional
+            Solve with M or with its conjugate transpose.
+        tol : float, optional
+            Backward error above which the solution is refined.
+
+        Returns
+        -------
+        tuple
+            (x, backward error).
+        """
         sym, f, m, ma = lu
         rhs = _c128(rhs)
         x = np.empty(self.n, dtype=complex)
@@ -307,7 +375,32 @@ class Pencil:
         steps checked a posteriori, every one bounded by the growth check). Returns ``(v, u, bv, lam,
         lam_old, converged)`` (new arrays), or None when the static pivots are bad for this shift
         (a zero pivot, growth above :data:`GROWTH_MAX` or a backward error above ``btol``): redo the
-        shift with SuperLU."""
+        shift with SuperLU.
+
+        Parameters
+        ----------
+        s : complex
+            The shift.
+        v, u : numpy.ndarray
+            Right and left vectors (unit 2-norm).
+        bv : numpy.ndarray
+            B v.
+        lam, lam_old : complex
+            The last two Rayleigh quotients (1/s).
+        iterations : int
+            Most inverse-iteration steps.
+        tol : float
+            Relative agreement of two quotients for convergence (< 0: every step).
+        btol : float, optional
+            Largest accepted backward error of a checked solve.
+        checked : int, optional
+            Steps whose solves are checked a posteriori.
+
+        Returns
+        -------
+        tuple or None
+            ``(v, u, bv, lam, lam_old, converged)``, or None.
+        """
         sym = self.st.current
         if sym is None:
             return None
@@ -354,7 +447,18 @@ class _Buffers:
 # ---------------------------------------------------------------------- the interface of the callers
 def superlu(M):
     """SciPy's SuperLU of a sparse matrix in natural column order (the node-by-node beam ordering
-    has the fill of COLAMD's and factors ~2x faster, 0.9 ms for the 440-state PEGASUS pencil)."""
+    has the fill of COLAMD's and factors ~2x faster, 0.9 ms for the 440-state PEGASUS pencil).
+
+    Parameters
+    ----------
+    M : scipy.sparse.spmatrix
+        Square sparse matrix.
+
+    Returns
+    -------
+    scipy.sparse.linalg.SuperLU
+        The factorization.
+    """
     return spla.splu(sp.csc_matrix(M), permc_spec="NATURAL")
 
 
@@ -362,7 +466,15 @@ class ShiftLU:
     """The LU factors of one ``M = A + s B`` (:meth:`ShiftedPencil.factor`, :func:`factor`):
     :meth:`solve` with M, M^T or M^H, in the kernel when its static pivots are good for this
     shift (every solve checked by its backward error), else with SuperLU. The caller does not
-    see which."""
+    see which.
+
+    Parameters
+    ----------
+    pencil : ShiftedPencil
+        The pencil.
+    s : complex
+        The shift.
+    """
 
     def __init__(self, pencil: ShiftedPencil, s):
         self.pencil, self.s = pencil, complex(s)
@@ -386,7 +498,20 @@ class ShiftLU:
 
     def solve(self, b, trans: str = "N") -> np.ndarray:
         """``x`` of ``M x = b`` (``trans`` "N"), ``M^T x = b`` ("T") or ``M^H x = b`` ("H"); ``b``
-        real or complex, (n,) or (n, k)."""
+        real or complex, (n,) or (n, k).
+
+        Parameters
+        ----------
+        b : numpy.ndarray
+            (n,) or (n, k) right-hand side, real or complex.
+        trans : {"N", "T", "H"}, optional
+            Solve with M, its transpose or its conjugate transpose.
+
+        Returns
+        -------
+        numpy.ndarray
+            The solution.
+        """
         if trans not in ("N", "T", "H"):
             raise ValueError(f"trans = {trans!r}; allowed: 'N', 'T', 'H'")
         b = np.asarray(b, dtype=complex)
@@ -410,7 +535,13 @@ class ShiftedPencil:
     shift (:meth:`refine`) and the products ``A X, B X`` (:meth:`products`). With the compiled
     kernel they run in C with a static pivot order (:class:`Pencil`); a shift it refuses, and
     every shift without the kernel, runs with SuperLU, whose row order the kernel then takes.
-    Callers never branch on the kernel."""
+    Callers never branch on the kernel.
+
+    Parameters
+    ----------
+    A, B : scipy.sparse.spmatrix
+        Real sparse matrices of the pencil (same shape).
+    """
 
     def __init__(self, A, B):
         self.A, self.B = sp.csc_matrix(A), sp.csc_matrix(B)
@@ -422,12 +553,36 @@ class ShiftedPencil:
         return self._pen is not None
 
     def factor(self, s) -> ShiftLU:
-        """The factors of ``A + s B``."""
+        """The factors of ``A + s B``.
+
+        Parameters
+        ----------
+        s : complex
+            The shift.
+
+        Returns
+        -------
+        ShiftLU
+            The factors.
+        """
         return ShiftLU(self, s)
 
     def products(self, X, trans=False):
         """``(A X, B X)`` (``trans``: ``(A^T X, B^T X)``) of an (n, k) complex X (the kernel's
-        summation order is SciPy's)."""
+        summation order is SciPy's).
+
+        Parameters
+        ----------
+        X : numpy.ndarray
+            (n, k) complex matrix.
+        trans : bool, optional
+            Multiply by the transposes.
+
+        Returns
+        -------
+        tuple
+            (A X, B X).
+        """
         if self._pen is not None:
             return self._pen.products(X, trans=trans)
         return (self.A @ X, self.B @ X) if not trans else (self.A.T @ X, self.B.T @ X)
@@ -438,7 +593,28 @@ class ShiftedPencil:
         B)^-1 B v``, ``u <- (A + s B)^-H B^H u`` (unit 2-norm), each followed by the two-sided
         Rayleigh quotient ``lam = -u^H A v / u^H B v``; converged when two quotients agree to
         ``tol`` relative and the vectors to ``sqrt(tol)`` (``tol < 0``: every step). Returns
-        ``(v, u, B v, lam, lam_old, converged)``."""
+        ``(v, u, B v, lam, lam_old, converged)``.
+
+        Parameters
+        ----------
+        s : complex
+            The shift.
+        v, u : numpy.ndarray
+            Right and left vectors (unit 2-norm).
+        bv : numpy.ndarray
+            B v.
+        lam, lam_old : complex
+            The last two Rayleigh quotients (1/s).
+        iterations : int
+            Most inverse-iteration steps.
+        tol : float
+            Relative agreement of two quotients for convergence (< 0: every step).
+
+        Returns
+        -------
+        tuple
+            ``(v, u, B v, lam, lam_old, converged)``.
+        """
         pen = self._pen
         if pen is not None and pen.has_pivots:    # the kernel: the same steps in C
             step = pen.iterate(s, v, u, bv, lam, lam_old, iterations, tol)
@@ -475,7 +651,18 @@ def _change(a, b):
 def factor(M) -> ShiftLU:
     """The LU of a sparse real or complex matrix ``M`` (``Re M + 1j Im M``: the pencil
     ``(Re M, Im M)`` at the shift 1j), for repeated solves with M, M^T or M^H
-    (:meth:`ShiftLU.solve`): the kernel when it is on and its pivots hold, else SuperLU."""
+    (:meth:`ShiftLU.solve`): the kernel when it is on and its pivots hold, else SuperLU.
+
+    Parameters
+    ----------
+    M : scipy.sparse.spmatrix
+        Square sparse matrix, real or complex.
+
+    Returns
+    -------
+    ShiftLU
+        The factors.
+    """
     M = sp.csc_matrix(M)
     if np.iscomplexobj(M.data):
         return ShiftedPencil(sp.csc_matrix(M.real), sp.csc_matrix(M.imag)).factor(1j)

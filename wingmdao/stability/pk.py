@@ -42,7 +42,17 @@ G_TOL = 1e-6
 @dataclass(frozen=True)
 class ModalStructure:
     """Structural modal matrices (count, count): ``mass`` (kg m^2 per modal units), ``stiffness``,
-    ``damping``."""
+    ``damping``.
+
+    Parameters
+    ----------
+    mass : numpy.ndarray
+        (count, count) modal mass.
+    stiffness : numpy.ndarray
+        (count, count) modal stiffness.
+    damping : numpy.ndarray
+        (count, count) modal damping.
+    """
 
     mass: np.ndarray
     stiffness: np.ndarray
@@ -50,7 +60,20 @@ class ModalStructure:
 
     @classmethod
     def from_modes(cls, modes, damping_ratio: float = 0.0) -> ModalStructure:
-        """From :class:`wingmdao.beam.modes.NormalModes` with a modal damping ratio (fraction of critical)."""
+        """From :class:`wingmdao.beam.modes.NormalModes` with a modal damping ratio (fraction of critical).
+
+        Parameters
+        ----------
+        modes : NormalModes
+            Normal modes of the structure.
+        damping_ratio : float, optional
+            Modal damping ratio (fraction of critical).
+
+        Returns
+        -------
+        ModalStructure
+            The modal matrices.
+        """
         m = np.asarray(modes.mass, dtype=float)
         k = np.asarray(modes.stiffness, dtype=float)
         c = 2.0 * float(damping_ratio) * np.diag(np.sqrt(np.diag(k) * np.diag(m)))
@@ -67,7 +90,27 @@ class FlutterResult:
     """A modal flutter sweep: ``speeds`` (nV,) m/s; ``damping`` (nV, modes) g = 2 Re(s) / Im(s);
     ``frequency`` (nV, modes) rad/s; ``flutter_speed`` m/s and ``flutter_frequency`` rad/s (None
     without a crossing in the sweep), ``flutter_mode`` (index of the structural mode followed),
-    ``method`` ("p-k" | "state-space"), ``k_clamped`` (nV, modes) bool (p-k only)."""
+    ``method`` ("p-k" | "state-space"), ``k_clamped`` (nV, modes) bool (p-k only).
+
+    Parameters
+    ----------
+    speeds : numpy.ndarray
+        (nV,) airspeeds (m/s).
+    damping : numpy.ndarray
+        (nV, modes) g = 2 Re(s) / Im(s) (-).
+    frequency : numpy.ndarray
+        (nV, modes) frequencies (rad/s).
+    flutter_speed : float or None
+        Flutter speed (m/s).
+    flutter_frequency : float or None
+        Flutter frequency (rad/s).
+    flutter_mode : int or None
+        Index of the structural mode that flutters.
+    method : {"p-k", "state-space"}
+        The method.
+    k_clamped : numpy.ndarray or None, optional
+        (nV, modes) whether k was clamped to the tabulated range (p-k only).
+    """
 
     speeds: np.ndarray
     damping: np.ndarray
@@ -92,7 +135,30 @@ def _nearest(values, target):
 
 def pk_root(structure: ModalStructure, gaf: GeneralizedForces, density, speed, start, *, tol=1e-9, max_iter=60):
     """The p-k eigenvalue ``s`` (1/s) followed from ``start`` at ``speed`` (module docstring) and
-    whether its k was clamped to the tabulated range."""
+    whether its k was clamped to the tabulated range.
+
+    Parameters
+    ----------
+    structure : ModalStructure
+        Modal mass, stiffness and damping.
+    gaf : GeneralizedForces
+        Tabulated generalized aerodynamic forces.
+    density : float
+        Air density (kg/m^3).
+    speed : float
+        Airspeed (m/s).
+    start : complex
+        Starting eigenvalue (1/s).
+    tol : float, optional
+        Tolerance on the change of the reduced frequency k between iterations (-).
+    max_iter : int, optional
+        Iteration limit.
+
+    Returns
+    -------
+    tuple
+        (s, k clamped).
+    """
     V, q = float(speed), 0.5 * float(density) * float(speed) ** 2
     b = gaf.b_ref
     kmax = float(gaf.k[-1])
@@ -113,7 +179,24 @@ def pk_root(structure: ModalStructure, gaf: GeneralizedForces, density, speed, s
 
 
 def state_matrix(structure: ModalStructure, rfa: RogerApproximation, density, speed) -> np.ndarray:
-    """The real state matrix of ``(q, q', z_1 .. z_L)`` at ``speed`` (module docstring)."""
+    """The real state matrix of ``(q, q', z_1 .. z_L)`` at ``speed`` (module docstring).
+
+    Parameters
+    ----------
+    structure : ModalStructure
+        Modal mass, stiffness and damping.
+    rfa : RogerApproximation
+        Roger's rational approximation of the forces.
+    density : float
+        Air density (kg/m^3).
+    speed : float
+        Airspeed (m/s).
+
+    Returns
+    -------
+    numpy.ndarray
+        The real state matrix.
+    """
     V = float(speed)
     rho = float(density)
     b = rfa.b_ref
@@ -137,7 +220,26 @@ def state_matrix(structure: ModalStructure, rfa: RogerApproximation, density, sp
 
 
 def state_space_root(structure, rfa, density, speed, start):
-    """The state-space eigenvalue nearest ``start`` at ``speed``."""
+    """The state-space eigenvalue nearest ``start`` at ``speed``.
+
+    Parameters
+    ----------
+    structure : ModalStructure
+        Modal mass, stiffness and damping.
+    rfa : RogerApproximation
+        Roger's rational approximation of the forces.
+    density : float
+        Air density (kg/m^3).
+    speed : float
+        Airspeed (m/s).
+    start : complex
+        Eigenvalue to be nearest to (1/s).
+
+    Returns
+    -------
+    complex
+        The eigenvalue (1/s).
+    """
     return _nearest(np.linalg.eigvals(state_matrix(structure, rfa, density, speed)), complex(start))
 
 
@@ -177,13 +279,47 @@ def _sweep(root, structure, speeds, method):
 
 
 def pk_flutter(structure: ModalStructure, gaf: GeneralizedForces, density, speeds) -> FlutterResult:
-    """p-k sweep over ``speeds`` (m/s, increasing) at ``density`` (kg/m^3), the flutter crossing refined."""
+    """p-k sweep over ``speeds`` (m/s, increasing) at ``density`` (kg/m^3), the flutter crossing refined.
+
+    Parameters
+    ----------
+    structure : ModalStructure
+        Modal mass, stiffness and damping.
+    gaf : GeneralizedForces
+        Tabulated generalized aerodynamic forces.
+    density : float
+        Air density (kg/m^3).
+    speeds : array_like
+        Increasing airspeeds (m/s).
+
+    Returns
+    -------
+    FlutterResult
+        The sweep.
+    """
     speeds = _check_speeds(speeds, density)
     return _sweep(lambda V, s: pk_root(structure, gaf, density, V, s), structure, speeds, "p-k")
 
 
 def state_space_flutter(structure: ModalStructure, rfa: RogerApproximation, density, speeds) -> FlutterResult:
-    """State-space sweep (Roger lag states) over ``speeds`` (m/s), the flutter crossing refined."""
+    """State-space sweep (Roger lag states) over ``speeds`` (m/s), the flutter crossing refined.
+
+    Parameters
+    ----------
+    structure : ModalStructure
+        Modal mass, stiffness and damping.
+    rfa : RogerApproximation
+        Roger's rational approximation of the forces.
+    density : float
+        Air density (kg/m^3).
+    speeds : array_like
+        Increasing airspeeds (m/s).
+
+    Returns
+    -------
+    FlutterResult
+        The sweep.
+    """
     speeds = _check_speeds(speeds, density)
     return _sweep(lambda V, s: (state_space_root(structure, rfa, density, V, s), False), structure, speeds,
                   "state-space")

@@ -152,19 +152,64 @@ class _GradientFunctions:
 
 
 def gradient_functions(system) -> _GradientFunctions:
-    """The :class:`_GradientFunctions` of ``system`` (built once per system)."""
+    """The :class:`_GradientFunctions` of ``system`` (built once per system).
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The residual system.
+
+    Returns
+    -------
+    _GradientFunctions
+        The functions.
+    """
     return derived(system, "eigenvalue_gradient_functions", _GradientFunctions)
 
 
 def pencil_gradient_function(system) -> ca.Function:
     """CasADi function ``(x, xdot, p, q, vr, vi, ur, ui, lam_r, lam_i) -> (ds/dp, ds/dx)`` (each as
-    [real; imaginary] rows) of ``s = u^H (dR/dx v + lambda dR/dxdot v)``; built once per system."""
+    [real; imaginary] rows) of ``s = u^H (dR/dx v + lambda dR/dxdot v)``; built once per system.
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The residual system.
+
+    Returns
+    -------
+    casadi.Function
+        The function.
+    """
     return gradient_functions(system).interpreted
 
 
 def eigenvalue_gradient(system, p, q, x0, lam, v, u, *, A=None, B=None, static=True) -> np.ndarray:
     """d lambda / d p (complex, one entry per packed parameter) of a simple eigenvalue with right /
-    left vectors v, u at the state x0; ``static``: x0 is the static solution and moves with p."""
+    left vectors v, u at the state x0; ``static``: x0 is the static solution and moves with p.
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The residual system.
+    p, q : numpy.ndarray
+        Packed parameters and forcing.
+    x0 : numpy.ndarray
+        State linearised about.
+    lam : complex
+        The eigenvalue (1/s).
+    v, u : numpy.ndarray
+        Right and left eigenvectors.
+    A, B : scipy.sparse.csc_matrix or None, optional
+        dR/dx and dR/dxdot at ``x0``; None linearises.
+    static : bool, optional
+        ``x0`` is the static solution and moves with ``p``.
+
+    Returns
+    -------
+    numpy.ndarray
+        d lambda / d p (complex).
+    """
     x0 = np.asarray(x0, dtype=float).ravel()
     p = np.asarray(p, dtype=float).ravel()
     q = np.asarray(q, dtype=float).ravel()
@@ -182,7 +227,20 @@ def eigenvalue_gradient(system, p, q, x0, lam, v, u, *, A=None, B=None, static=T
 
 
 def damping_ratio_gradient(lam, dlam):
-    """``zeta = -Re lambda / |lambda|`` and its gradient from ``dlam`` (d lambda / dp)."""
+    """``zeta = -Re lambda / |lambda|`` and its gradient from ``dlam`` (d lambda / dp).
+
+    Parameters
+    ----------
+    lam : complex or array_like
+        Eigenvalue(s) (1/s).
+    dlam : numpy.ndarray
+        d lambda / d p.
+
+    Returns
+    -------
+    tuple
+        (zeta, d zeta / d p).
+    """
     s, w = lam.real, lam.imag
     r = abs(lam)
     dr = (s * dlam.real + w * dlam.imag) / r
@@ -191,7 +249,31 @@ def damping_ratio_gradient(lam, dlam):
 
 @dataclass
 class DampingConstraint:
-    """Value and gradient of the aggregated damping constraint, with what it aggregated."""
+    """Value and gradient of the aggregated damping constraint, with what it aggregated.
+
+    Parameters
+    ----------
+    value : float
+        KS of g, <= 0 when satisfied.
+    gradient : numpy.ndarray
+        d value / d p (packed parameters, summed over the speeds).
+    speeds : numpy.ndarray
+        Airspeeds (m/s).
+    eigenvalues : list
+        Per speed, the aggregated eigenvalues (1/s).
+    damping_ratio : numpy.ndarray
+        Damping ratio zeta of every aggregated mode, speed by speed (-).
+    modes : list or None, optional
+        Per speed, the :class:`~wingmdao.stability.modes.SpeedModes` (for the gradient).
+    weights : numpy.ndarray or None, optional
+        dKS/dg of every aggregated mode, speed by speed.
+    measure : {"sigma", "ratio"}, optional
+        The measure aggregated.
+    cold : bool, optional
+        True for a full eigen window, False for a warm-started refinement.
+    errors : list or None, optional
+        Per speed, the error estimate of each aggregated eigenvalue (1/s; 0 when refined).
+    """
 
     value: float                     # KS_rho(g), <= 0 when satisfied
     gradient: np.ndarray             # d value / d p (packed parameters, summed over the speeds)
@@ -225,6 +307,42 @@ def damping_constraint(system, params_at, speeds, *, aero_mask, beam_mask, rho_k
     ``warm_start``: a :class:`~wingmdao.stability.warmstart.WarmStart` carried between calls (e.g.
     by an optimizer's evaluations): the previous evaluation's modes are refined instead of a new
     eigen window when its rules allow (same value to round-off; see its docstring).
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The residual system.
+    params_at : callable
+        ``params_at(V) -> (p, q)``.
+    speeds : array_like
+        Airspeeds (m/s).
+    aero_mask : numpy.ndarray
+        1 on the aerodynamic states.
+    beam_mask : numpy.ndarray
+        Weights of the beam's displacements and rotations.
+    rho_ks : float, optional
+        KS aggregation parameter.
+    margin : float, optional
+        Margin added to the measure.
+    measure : {"sigma", "ratio"}, optional
+        Aggregate Re(lambda) + margin (1/s) or margin - zeta.
+    min_frequency : float, optional
+        Oscillatory above this ``|Im|`` (rad/s).
+    neutral_fraction : float, optional
+        Loaded above this fraction of aerodynamic to beam part (-).
+    static : bool, optional
+        Linearise about the static solution.
+    gradient : bool, optional
+        Compute the gradient now.
+    warm_start : WarmStart or None, optional
+        History carried between calls.
+    **eig_options
+        Passed to :func:`~wingmdao.stability.eigen.eigenmodes`.
+
+    Returns
+    -------
+    DampingConstraint
+        Value, gradient and the aggregated modes.
     """
     if measure not in MEASURES:
         raise ValueError(f"measure = {measure!r}; allowed: {', '.join(MEASURES)}")
@@ -260,7 +378,24 @@ def constraint_gradient(system, res: DampingConstraint, *, static=True, min_weig
     second-derivative function and one reverse-mode product ``w^T dR/dp``
     (:class:`_GradientFunctions`, compiled once evaluated often). Modes whose KS weight (the
     weights sum to 1) is at most ``min_weight`` are skipped: their contribution is that weight
-    times their eigenvalue derivative (1e-13: below round-off of the gradient; 0 keeps all)."""
+    times their eigenvalue derivative (1e-13: below round-off of the gradient; 0 keeps all).
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The residual system.
+    res : DampingConstraint
+        A result of :func:`damping_constraint`.
+    static : bool, optional
+        The modes were linearised about the static solution.
+    min_weight : float, optional
+        KS weight at or below which a mode is skipped.
+
+    Returns
+    -------
+    numpy.ndarray
+        d KS / d p.
+    """
     fun = gradient_functions(system)
     grad = np.zeros(system.n_param)
     k = 0

@@ -73,6 +73,21 @@ class WarmStart:
     window in all, eight before). Not detected: an oscillatory mode entering the window between
     two cold evaluations from outside the disc or from two real roots (its KS weight is
     ~exp(-rho (g_max - g)); the next cold evaluation picks it up).
+
+    Parameters
+    ----------
+    refresh : int, optional
+        Evaluations after which a speed's eigen window is recomputed.
+    max_step : float or None, optional
+        Largest relative parameter change from the last cold design before a cold evaluation; None for no limit.
+    min_mac : float, optional
+        Smallest beam-weighted MAC of a trusted refinement (-).
+    tol : float, optional
+        Convergence tolerance of the refinements.
+    keep : int, optional
+        Stored evaluations the history is chosen from.
+    lazy : bool, optional
+        Refine a mode only when it may matter (above).
     """
 
     def __init__(self, *, refresh=100, max_step=None, min_mac=0.5, tol=1e-12, keep=6, lazy=True):
@@ -113,7 +128,22 @@ class WarmStart:
     @staticmethod
     def distance(system, p, ph):
         """Largest relative change of a parameter block between ``ph`` and ``p`` (max-norm over
-        the block / its largest entry in ``ph``)."""
+        the block / its largest entry in ``ph``).
+
+        Parameters
+        ----------
+        system : ResidualSystem
+            The residual system.
+        p : numpy.ndarray
+            Packed parameters of the new design.
+        ph : numpy.ndarray
+            Packed parameters of a stored design.
+
+        Returns
+        -------
+        float
+            The largest relative change (-).
+        """
         starts = _block_starts(system)
         if starts.size == 0:
             return 0.0
@@ -124,7 +154,20 @@ class WarmStart:
 
     def step_too_large(self, system, p_list):
         """True when ``max_step`` is set and some parameter block moved by more than ``max_step``
-        of its largest entry (max-norm, relative) from the last cold design, at some speed."""
+        of its largest entry (max-norm, relative) from the last cold design, at some speed.
+
+        Parameters
+        ----------
+        system : ResidualSystem
+            The residual system.
+        p_list : sequence of numpy.ndarray
+            Packed parameters at each speed.
+
+        Returns
+        -------
+        bool
+            Whether the step is too large.
+        """
         if self.max_step is None:
             return False
         for p, pc in zip(p_list, self.cold_p):
@@ -138,7 +181,26 @@ class WarmStart:
         """``(tracked, cold)``: every oscillatory mode of the eigen window at each speed for the
         parameters ``pq`` (per speed ``(p, q)``), refined from the history when the rules allow
         (``cold`` False), else from a new window (``cold`` True; ``key``: the speeds and options,
-        a change of which asks for a window)."""
+        a change of which asks for a window).
+
+        Parameters
+        ----------
+        system : ResidualSystem
+            The residual system.
+        pq : sequence of tuple
+            (p, q) per speed.
+        speeds : array_like
+            Airspeeds (m/s).
+        sel : Selection
+            The modes aggregated and the measure.
+        key : object
+            The speeds and options; a change asks for a new window.
+
+        Returns
+        -------
+        tuple
+            (tracked modes per speed, cold).
+        """
         reason = self.cold_reason(system, key, [p for p, _ in pq])
         if reason is None:
             return self._warm(system, pq, speeds, sel), False
@@ -146,12 +208,37 @@ class WarmStart:
         return self._cold(system, pq, speeds, sel, key, track=reason == "no history"), True
 
     def remember(self, pq, tracked, modes):
-        """Store an evaluation's tracked and aggregated modes (the next evaluation's history)."""
+        """Store an evaluation's tracked and aggregated modes (the next evaluation's history).
+
+        Parameters
+        ----------
+        pq : sequence of tuple
+            (p, q) per speed.
+        tracked : list of SpeedModes
+            Every oscillatory mode per speed.
+        modes : list of SpeedModes
+            The aggregated modes per speed.
+        """
         self.tracked, self.modes = tracked, modes
         self.history = (self.history + [(pq[0][0], tracked, modes)])[-self.keep:]
 
     def cold_reason(self, system, key, p_list):
-        """Why the next evaluation needs a full window at every speed, or None (a warm one)."""
+        """Why the next evaluation needs a full window at every speed, or None (a warm one).
+
+        Parameters
+        ----------
+        system : ResidualSystem
+            The residual system.
+        key : object
+            The speeds and options.
+        p_list : sequence of numpy.ndarray
+            Packed parameters at each speed.
+
+        Returns
+        -------
+        str or None
+            The reason, or None for a warm evaluation.
+        """
         if self.tracked is None or self.key != key:
             return "no history"
         if min(self.window_age) + 1 >= self.refresh:   # every speed's window is stale
