@@ -53,6 +53,26 @@ PUBLISHED = {
     "divergence_speed_m_s": 252.8,
 }
 
+#: air density of the three-dimensional (lifting-surface) Goland flutter results in the literature,
+#: kg/m^3: the same beam and planform data as above, flown at 1.02 kg/m^3, incompressible
+DENSITY_3D = 1.02
+#: published three-dimensional flutter points of the clean wing at DENSITY_3D (docs/aerodynamics-3d.md)
+PUBLISHED_3D = {
+    "density_kg_m3": DENSITY_3D,
+    # SHARPy (linear UVLM, 16 chordwise x 32 spanwise panels, 4 modes; its Goland template has these
+    # EI, GJ, m, I about the elastic axis and axes): tests/linear/goland_wing/test_goland_flutter.py
+    # of github.com/ImperialCollegeLondon/sharpy asserts 166 m/s within 1 %
+    "sharpy_uvlm_flutter_speed_m_s": 166.0,
+    # Murua, Palacios & Graham, AIAA 2010-8226, Table 2, as quoted in github.com/JonasEiche/FlutterWing
+    # docs/TUTORIAL.md (the paper itself not read here): UVLM 165 m/s; Wang, Chen, Liu, Mook & Patil,
+    # AIAA 2006-1640: UVLM 163.8 m/s, ZAERO 174.3 m/s
+    "murua_uvlm_flutter_speed_m_s": 165.0,
+    "wang_uvlm_flutter_speed_m_s": 163.8,
+    "wang_zaero_flutter_speed_m_s": 174.3,
+    # FlutterWing (doublet lattice 5 x 10 panels, 10 beam elements, 5 modes, Mach 0, p-k), docs/TUTORIAL.md
+    "flutterwing_dlm_flutter_speed_m_s": 164.5, "flutterwing_dlm_flutter_frequency_rad_s": 2 * np.pi * 11.34,
+}
+
 
 def beam_params(num_nodes: int = 21, *, inertia_axis: str = "ea") -> dict:
     """Beam parameter dict (``wingmdao.beam.residual.param_specs``) of the Goland wing, SI.
