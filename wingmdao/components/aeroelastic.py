@@ -69,6 +69,20 @@ class AeroelasticBeamDynamics(TimeHistoryComponent):
         super().solve_nonlinear(inputs, outputs)
 
     def initial_guess(self, p, q0):
+        """Starting point of the static solve of step 0: the aeroelastic system's own initial guess.
+
+        Parameters
+        ----------
+        p : numpy.ndarray
+            Packed parameters.
+        q0 : numpy.ndarray
+            Packed forcing at t = 0.
+
+        Returns
+        -------
+        numpy.ndarray
+            The system's initial guess.
+        """
         return self.system.initial_guess(p, q0)
 
 

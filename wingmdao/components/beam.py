@@ -31,7 +31,20 @@ def beam_system(num_nodes: int, euler_sequence: str = "surface") -> ResidualSyst
 
 
 def jig_guess(system, p) -> np.ndarray:
-    """Unloaded jig state: r = node_positions, theta = node_euler_angles, F = M = u = omega = 0."""
+    """Unloaded jig state: r = node_positions, theta = node_euler_angles, F = M = u = omega = 0.
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The beam system.
+    p : numpy.ndarray
+        Packed parameters (node positions and Euler angles).
+
+    Returns
+    -------
+    numpy.ndarray
+        The jig state.
+    """
     sl = layout(system.param_specs)
     n = system.state_shape[0]
     x = np.zeros((n, 18))

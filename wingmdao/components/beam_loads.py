@@ -30,6 +30,13 @@ class BeamInternalLoads(PointwiseCasadiComponent):
         self.options.declare("euler_sequence", default="surface", types=str, desc="Euler sequence of the beam")
 
     def point_grid(self):
+        """Leading shape of every variable: (num_times, num_nodes).
+
+        Returns
+        -------
+        tuple
+            The grid shape.
+        """
         return (self.options["num_times"], self.options["num_nodes"])
 
     def setup(self):
@@ -40,18 +47,51 @@ class BeamInternalLoads(PointwiseCasadiComponent):
         return (self.options["euler_sequence"],)
 
     def pointwise_inputs(self):
+        """The per-point inputs: the 18 beam states of a node at a time.
+
+        Returns
+        -------
+        list of Var
+            The inputs.
+        """
         return [Var("states", (18,), None, "beam state r, theta, F, M, u, omega (body axes; SI)", 0.0)]
 
     def pointwise_outputs(self):
+        """The per-point outputs: internal force and moment in the node's csn frame.
+
+        Returns
+        -------
+        list of Var
+            The outputs.
+        """
         return [Var("F_csn", (3,), "N", "internal force [F_c, F_s axial, F_n] in the local csn frame"),
                 Var("M_csn", (3,), "N*m", "internal moment [M_c, M_s torsion, M_n] in the local csn frame")]
 
     def pointwise_expressions(self, sym):
+        """The outputs at one point as CasADi expressions: the states' F and M rotated into the jig csn frame.
+
+        Parameters
+        ----------
+        sym : dict
+            Input name -> SX symbol of the input's shape at one point.
+
+        Returns
+        -------
+        dict
+            Output name -> SX expression.
+        """
         x = sym["states"]
         T = body_to_csn(x[3:6], self.options["euler_sequence"])
         return {"F_csn": T @ x[6:9], "M_csn": T @ x[9:12]}
 
     def check_inputs(self, inputs):
+        """Raise ``ValueError`` naming the input, point and allowed range when a state is not finite.
+
+        Parameters
+        ----------
+        inputs : dict-like
+            The component's inputs.
+        """
         x = np.asarray(inputs["states"])
         bad = ~np.isfinite(x)
         if np.any(bad):

@@ -41,7 +41,18 @@ from wingmdao.utils.ks import ks_aggregate
 
 
 def closed_loop_forcing(system) -> np.ndarray:
-    """The packed forcing of the linearisation: gravity, no gust, no command, trim released."""
+    """The packed forcing of the linearisation: gravity, no gust, no command, trim released.
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The closed-loop gust-case system.
+
+    Returns
+    -------
+    numpy.ndarray
+        The packed forcing.
+    """
     q = np.zeros(system.n_forcing)
     lay = layout(system.forcing_specs)
     if "gravity" in lay:

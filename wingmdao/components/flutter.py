@@ -143,7 +143,18 @@ def paused_flutter(problem):
     """Context in which every :class:`FlutterDamping` of ``problem`` evaluates nothing
     (``flutter_ks`` keeps its last value, stale until the next evaluation), e.g. for the
     strength-only fully stressed presizing passes, whose designs the optimizer never sees
-    (PEGASUS: 4 evaluations, ~0.5 s, the first of them the cold one)."""
+    (PEGASUS: 4 evaluations, ~0.5 s, the first of them the cold one).
+
+    Parameters
+    ----------
+    problem : openmdao.api.Problem
+        The sizing problem.
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        The context.
+    """
     comps = list(problem.model.system_iter(include_self=True, recurse=True, typ=FlutterDamping))
     for c in comps:
         c.paused = True

@@ -172,6 +172,7 @@ class KSOfPointwise:
     """
 
     def initialize(self):
+        """Declare the ``ks_rho`` and ``ks_constraints`` options beside the component's own."""
         super().initialize()
         self.options.declare("ks_rho", default=None, allow_none=True, types=numbers.Real, lower=0.0,
                              desc="rho_KS of the ks_<family> aggregates of the g_<family> outputs (None: no "
@@ -185,9 +186,17 @@ class KSOfPointwise:
         return self.options["ks_rho"] is not None
 
     def declares_point_partials(self) -> bool:
+        """Whether the per-point outputs ``g_<family>`` carry declared partials.
+
+        Returns
+        -------
+        bool
+            False when the aggregates carry the partials (``ks_rho`` set).
+        """
         return not self.aggregated
 
     def setup(self):
+        """The component's variables, plus ``ks_<family>`` for every constraint output when aggregated (and their constraints with ``ks_constraints``)."""
         if self.aggregated:
             self.options["matrix_free"] = False   # the KS rows are declared (one dense row per input)
         super().setup()
@@ -216,6 +225,15 @@ class KSOfPointwise:
         self._ks_point, self._ks_weights = None, {}
 
     def compute(self, inputs, outputs):
+        """The per-point outputs, then the KS aggregate of every ``g_<family>`` when aggregated.
+
+        Parameters
+        ----------
+        inputs : dict-like
+            The component's inputs.
+        outputs : dict-like
+            The component's outputs.
+        """
         super().compute(inputs, outputs)
         if not self.aggregated:
             return
@@ -248,7 +266,15 @@ class KSOfPointwise:
     def compute_partials(self, inputs, partials):
         """dKS/dx = sum over points p and entries k of w_pk dg_pk/dx: the per-point Jacobian
         nonzeros (CasADi AD) weighted by the KS weights and summed into each input's entries
-        (over the time steps for the per-station inputs)."""
+        (over the time steps for the per-station inputs).
+
+        Parameters
+        ----------
+        inputs : dict-like
+            The component's inputs.
+        partials : dict-like
+            The component's partials.
+        """
         if not self.aggregated:
             return super().compute_partials(inputs, partials)
         w = self._weights_at(inputs)

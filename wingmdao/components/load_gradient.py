@@ -22,7 +22,20 @@ def force_gradient(force, node_positions):
     """dF/ds at every node (N/m) of the nodal internal forces ``force`` (..., n, 3): the central
     difference (F_{i+1} - F_{i-1}) / |r_{i+1} - r_{i-1}| inside, one-sided at the two end nodes.
     On a beam whose nodal forces differ by the nodal loads, this is the net load per length
-    averaged over the two bays beside the node."""
+    averaged over the two bays beside the node.
+
+    Parameters
+    ----------
+    force : array_like
+        (..., n, 3) nodal internal forces (N).
+    node_positions : array_like
+        (n, 3) node positions (m).
+
+    Returns
+    -------
+    numpy.ndarray or casadi.SX
+        (..., n, 3) dF/ds (N/m).
+    """
     r = np.asarray(node_positions, dtype=float)
     lo, hi = _neighbours(r.shape[0])
     dist = np.linalg.norm(r[hi] - r[lo], axis=1)

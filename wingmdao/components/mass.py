@@ -21,7 +21,18 @@ from wingmdao.materials import Material
 
 
 def element_lengths(node_positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Element lengths ``s_i = |r_{i+1} - r_i|`` and unit vectors e_i along each element."""
+    """Element lengths ``s_i = |r_{i+1} - r_i|`` and unit vectors e_i along each element.
+
+    Parameters
+    ----------
+    node_positions : numpy.ndarray
+        (n, 3) node positions (m).
+
+    Returns
+    -------
+    tuple
+        Lengths (n - 1,) (m) and unit vectors (n - 1, 3).
+    """
     d = np.diff(np.asarray(node_positions, dtype=float), axis=0)
     s = np.linalg.norm(d, axis=1)
     with np.errstate(invalid="ignore", divide="ignore"):  # zero lengths are rejected by callers
@@ -29,14 +40,44 @@ def element_lengths(node_positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]
 
 
 def frustum_volumes(area: np.ndarray, length: np.ndarray) -> np.ndarray:
-    """Element volumes V_i = s_i/3 (A_i + A_{i+1} + sqrt(A_i A_{i+1})) (App. F.1)."""
+    """Element volumes V_i = s_i/3 (A_i + A_{i+1} + sqrt(A_i A_{i+1})) (App. F.1).
+
+    Parameters
+    ----------
+    area : numpy.ndarray
+        (n,) section areas (m^2).
+    length : numpy.ndarray
+        (n - 1,) element lengths (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n - 1,) volumes (m^3).
+    """
     a0, a1 = area[:-1], area[1:]
     return length / 3.0 * (a0 + a1 + np.sqrt(a0 * a1))
 
 
 def beam_mass(area, node_positions, density, nonstructural_mass_per_length=0.0) -> float:
     """Structural mass rho sum_i V_i (App. F.1, frustum volumes) plus the trapezoid-rule
-    non-structural mass sum_i s_i (mu_i + mu_{i+1}) / 2, kg; no input checks (see StructuralMass)."""
+    non-structural mass sum_i s_i (mu_i + mu_{i+1}) / 2, kg; no input checks (see StructuralMass).
+
+    Parameters
+    ----------
+    area : array_like
+        (n,) section areas (m^2).
+    node_positions : array_like
+        (n, 3) node positions (m).
+    density : float
+        Material density (kg/m^3).
+    nonstructural_mass_per_length : float or array_like, optional
+        Non-structural mass per length (kg/m), scalar or (n,).
+
+    Returns
+    -------
+    float
+        Mass (kg).
+    """
     area = np.asarray(area, dtype=float)
     s, _ = element_lengths(node_positions)
     mu = np.broadcast_to(np.asarray(nonstructural_mass_per_length, dtype=float), area.shape)

@@ -147,7 +147,18 @@ class ModalStationLoads(om.ExplicitComponent):
     def body_loads(self, inputs) -> tuple[np.ndarray, np.ndarray]:
         """``(total, aerodynamic)`` station loads (nt, n, 6) in body axes (N, N m) of ``inputs``
         (a mapping of this component's input names): the force summation and its panel-force share
-        (whose root force z is the half-wing's lift increment)."""
+        (whose root force z is the half-wing's lift increment).
+
+        Parameters
+        ----------
+        inputs : mapping
+            This component's inputs by name.
+
+        Returns
+        -------
+        tuple
+            (total, aerodynamic) station loads (nt, n, 6).
+        """
         nt, n, m, L, ns = self._dims
         Rx, Winv, Qa = self._operators(inputs)
         a = self._accelerations(inputs, Rx, Winv)

@@ -58,7 +58,24 @@ def _declare_stiffener_options(options):
 
 def stringers_of(sym, pitch, shape, flange_ratio):
     """The two smeared stiffener layers (:func:`wingmdao.section.box.stringer_layers`) of the
-    stiffener variables in ``sym``."""
+    stiffener variables in ``sym``.
+
+    Parameters
+    ----------
+    sym : dict
+        Input name -> value or SX, with ``h_<skin>_stiffener`` and ``t_<skin>_stiffener``.
+    pitch : float
+        Stiffener pitch (m).
+    shape : {"blade", "tee"}
+        Stiffener shape.
+    flange_ratio : float
+        Tee flange width over web height (-).
+
+    Returns
+    -------
+    tuple
+        The upper and lower ``(a, d, i)`` of :func:`wingmdao.panels.layout.smeared_stringer`.
+    """
     return tuple(smeared_stringer(sym[f"h_{s}_stiffener"], sym[f"t_{s}_stiffener"], pitch, shape, flange_ratio)
                  for s in ("upper", "lower"))
 
@@ -81,20 +98,53 @@ class StiffenedBoxSection(BoxSection):
         _declare_stiffener_options(self.options)
 
     def expression_options(self):
+        """What the expressions depend on beside the variables: material, stiffener pitch, shape, flange ratio and wall factors (the key of the persisted functions).
+
+        Returns
+        -------
+        tuple
+            The option values.
+        """
         o = self.options
         return (o["material"], float(o["stiffener_pitch"]), o["shape"], float(o["flange_ratio"]),
                 tuple(float(f) for f in o["wall_factors"]))
 
     def pointwise_inputs(self):
+        """The per-point inputs: the box section's and the stiffener variables.
+
+        Returns
+        -------
+        list of Var
+            The inputs.
+        """
         return super().pointwise_inputs() + _stiffener_inputs()
 
     def pointwise_outputs(self):
+        """The per-point outputs: the box section's, the stiffener area and the density-weighted area.
+
+        Returns
+        -------
+        list of Var
+            The outputs.
+        """
         return super().pointwise_outputs() + [
             Var("stiffener_area", (), "m**2", "area of both skins' stiffeners across the box width"),
             Var("mass_area", (), "m**2", "area weighted by each wall's density over the material's (the mass "
                                          "per length is rho mass_area; A itself is modulus weighted)")]
 
     def pointwise_expressions(self, sym):
+        """The outputs at one point as CasADi expressions: the transformed section with the smeared stiffeners (:func:`transformed_section`).
+
+        Parameters
+        ----------
+        sym : dict
+            Input name -> SX symbol of the input's shape at one point.
+
+        Returns
+        -------
+        dict
+            Output name -> SX expression.
+        """
         o = self.options
         stringers = stringers_of(sym, o["stiffener_pitch"], o["shape"], o["flange_ratio"])
         walls = [sym[k] for k in WALL_NAMES]
@@ -123,6 +173,13 @@ class StiffenedBoxSection(BoxSection):
         return out
 
     def check_inputs(self, inputs):
+        """Raise ``ValueError`` naming the input, point and allowed range when a box dimension or a stiffener variable is invalid.
+
+        Parameters
+        ----------
+        inputs : dict-like
+            The component's inputs.
+        """
         super().check_inputs(inputs)
         validate_stiffeners({k: inputs[k] for k in STIFFENER_VARS}, f"{self.pathname or 'StiffenedBoxSection'}: ")
 
@@ -135,7 +192,30 @@ def transformed_section(props_of, e, g, r, material, section_to_csn, nonstructur
     weights), torsion constant and shear areas with the shear modulus ratios ``g`` (exact); the
     shear centre of the walls with their thicknesses scaled by ``g`` (thin walls: a scaled wall's
     midline moves by (1 - g) t / 2, which is neglected). ``props_of(weights=, shear=, scale=,
-    rotate=)`` is the box with wall weights, shear weights or thickness factors, each (skin, web)."""
+    rotate=)`` is the box with wall weights, shear weights or thickness factors, each (skin, web).
+
+    Parameters
+    ----------
+    props_of : callable
+        ``props_of(weights, shear, scale, rotate)`` -> box section properties with those wall factors.
+    e : tuple
+        Membrane modulus ratios (skins, webs) (-).
+    g : tuple
+        Shear modulus ratios (skins, webs) (-).
+    r : tuple
+        Density ratios (skins, webs) (-).
+    material : Material
+        The reference material.
+    section_to_csn : array_like or casadi.SX
+        (3, 3) rotation from the section's own axes to csn.
+    nonstructural_mass_per_length : float or casadi.SX
+        Non-structural mass per length (kg/m).
+
+    Returns
+    -------
+    dict
+        Section outputs.
+    """
     ax, ms = props_of(weights=e, rotate=False), props_of(weights=r)
     sh, sc = props_of(shear=g, rotate=False), props_of(scale=g, rotate=False)
     base = {k: ax[k] for k in ("A", "Ixx", "Izz", "Ixz", "c_ea", "n_ea", "Qx", "Qz")}
@@ -151,7 +231,15 @@ def transformed_section(props_of, e, g, r, material, section_to_csn, nonstructur
 
 def validate_stiffeners(values: dict, source: str = "") -> None:
     """Raise ``ValueError`` naming the variable, station and allowed range unless every stiffener
-    height and thickness is positive and finite."""
+    height and thickness is positive and finite.
+
+    Parameters
+    ----------
+    values : dict
+        Stiffener variable name -> (n,) values (m).
+    source : str, optional
+        Component or input named in the error.
+    """
     for name, v in values.items():
         v = np.atleast_1d(np.asarray(v, dtype=float))
         bad = np.flatnonzero(~(np.isfinite(v) & (v > 0.0)))
@@ -301,9 +389,23 @@ class PanelFailure(KSOfPointwise, CombinedJacobianMixin, PointwiseCasadiComponen
         _declare_stiffener_options(self.options)
 
     def point_grid(self):
+        """Leading shape of every variable: (num_times, num_stations).
+
+        Returns
+        -------
+        tuple
+            The grid shape.
+        """
         return (self.options["num_times"], self.options["num_stations"])
 
     def expression_options(self):
+        """What the expressions depend on beside the variables: materials, safety factor, stiffener pitch, shape, flange ratio and wall factors (the key of the persisted functions).
+
+        Returns
+        -------
+        tuple
+            The option values.
+        """
         o = self.options
         return (o["material"], float(o["safety_factor"]), float(o["stiffener_pitch"]), o["shape"],
                 float(o["flange_ratio"]), tuple(float(f) for f in o["wall_factors"]), o["skin_material"],
@@ -320,6 +422,13 @@ class PanelFailure(KSOfPointwise, CombinedJacobianMixin, PointwiseCasadiComponen
         return panel_families(any(m.is_laminate for m in self._materials()))
 
     def pointwise_inputs(self):
+        """The per-point inputs: internal loads and their spanwise derivative per time and station, box, stiffener and panel-length data per station.
+
+        Returns
+        -------
+        list of Var
+            The inputs.
+        """
         per = dict(per_last_axis=True)
         return [
             Var("F_csn", (3,), "N", "internal force [F_c, F_s (axial), F_n] on the inboard part, csn", 0.0),
@@ -338,9 +447,28 @@ class PanelFailure(KSOfPointwise, CombinedJacobianMixin, PointwiseCasadiComponen
                  **per) for name, _, units, desc in SECTION_OUTPUTS if name in SECTION_PROPERTIES]
 
     def pointwise_outputs(self):
+        """The per-point outputs: the constraints ``g_<family>`` of every panel family.
+
+        Returns
+        -------
+        list of Var
+            The outputs.
+        """
         return [Var(f"g_{f}", (k,), None, _PANEL_DESC[f]) for f, k in self.families.items()]
 
     def pointwise_expressions(self, sym):
+        """The outputs at one point as CasADi expressions: factored failure ratios minus one of every panel mode.
+
+        Parameters
+        ----------
+        sym : dict
+            Input name -> SX symbol of the input's shape at one point.
+
+        Returns
+        -------
+        dict
+            Output name -> SX expression.
+        """
         o = self.options
         stringers = stringers_of(sym, o["stiffener_pitch"], o["shape"], o["flange_ratio"])
         walls = [sym[k] for k in WALL_NAMES]
@@ -372,6 +500,13 @@ class PanelFailure(KSOfPointwise, CombinedJacobianMixin, PointwiseCasadiComponen
         return {f"g_{f}": ca.vertcat(*v) for f, v in out.items()}
 
     def check_inputs(self, inputs):
+        """Raise ``ValueError`` naming the input, point and allowed range when a box dimension, a stiffener variable or a panel length is invalid.
+
+        Parameters
+        ----------
+        inputs : dict-like
+            The component's inputs.
+        """
         source = f"{self.pathname or 'PanelFailure'}: "
         validate_box(inputs["width"], inputs["height"], *(inputs[k] for k in WALL_NAMES), source=source)
         validate_stiffeners({k: inputs[k] for k in STIFFENER_VARS}, source)

@@ -28,7 +28,23 @@ from wingmdao.utils.function_store import module_closure
 @dataclass(frozen=True)
 class Var(VarSpec):
     """One variable of a pointwise component: its shape *at one point*, units, description
-    (:class:`~wingmdao.timemarch.system.VarSpec`), plus a default value and sharing rule."""
+    (:class:`~wingmdao.timemarch.system.VarSpec`), plus a default value and sharing rule.
+
+    Parameters
+    ----------
+    name : str
+        Variable name.
+    shape : tuple, optional
+        Shape at one point.
+    units : str or None, optional
+        OpenMDAO units.
+    desc : str, optional
+        Description.
+    val : float, optional
+        Default value.
+    per_last_axis : bool, optional
+        Input shared by every point with the same last grid index.
+    """
 
     val: float = 1.0
     per_last_axis: bool = False
@@ -66,16 +82,48 @@ class PointwiseCasadiComponent(om.ExplicitComponent):
 
     # ----------------------------------------------------------------- subclass API
     def pointwise_inputs(self) -> list[Var]:
+        """The per-point inputs (subclasses implement it).
+
+        Returns
+        -------
+        list of Var
+            The inputs.
+        """
         raise NotImplementedError
 
     def pointwise_outputs(self) -> list[Var]:
+        """The per-point outputs (subclasses implement it).
+
+        Returns
+        -------
+        list of Var
+            The outputs.
+        """
         raise NotImplementedError
 
     def pointwise_expressions(self, sym: dict) -> dict:
+        """The outputs at one point as CasADi expressions of the inputs (subclasses implement it).
+
+        Parameters
+        ----------
+        sym : dict
+            Input name -> SX symbol of the input's shape at one point.
+
+        Returns
+        -------
+        dict
+            Output name -> SX expression.
+        """
         raise NotImplementedError
 
     def check_inputs(self, inputs) -> None:
-        """Raise ``ValueError`` naming the input and point when an input is out of range."""
+        """Raise ``ValueError`` naming the input and point when an input is out of range.
+
+        Parameters
+        ----------
+        inputs : dict-like
+            The component's inputs.
+        """
 
     def declares_point_partials(self) -> bool:
         """Whether the per-point outputs carry declared partials (True; False for a component
@@ -490,7 +538,15 @@ POINT_JIT_THRESHOLD = 10
 
 def check_connected_shapes(component, expected: dict) -> None:
     """Raise ValueError when an input declared ``shape_by_conn`` got another shape than
-    ``expected[name]`` from its connection (public ``get_io_metadata``, after setup)."""
+    ``expected[name]`` from its connection (public ``get_io_metadata``, after setup).
+
+    Parameters
+    ----------
+    component : openmdao.api.Component
+        A set-up component.
+    expected : dict
+        Input name -> expected shape.
+    """
     if not expected:
         return
     meta = component.get_io_metadata(iotypes=("input",), metadata_keys=["shape"])

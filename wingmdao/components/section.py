@@ -128,6 +128,13 @@ class BoxSection(_SectionBase):
     """
 
     def pointwise_inputs(self):
+        """The per-point inputs: the box's outer width and height, the four wall thicknesses and the section's common inputs.
+
+        Returns
+        -------
+        list of Var
+            The inputs.
+        """
         return [
             Var("width", (), "m", "box outer width (chordwise, front to rear spar)"),
             Var("height", (), "m", "box outer height (normal)", 0.3),
@@ -138,12 +145,31 @@ class BoxSection(_SectionBase):
         ] + self._common_inputs()
 
     def pointwise_expressions(self, sym):
+        """The outputs at one point as CasADi expressions: the box section properties and beam data (:func:`wingmdao.section.box.box_properties`).
+
+        Parameters
+        ----------
+        sym : dict
+            Input name -> SX symbol of the input's shape at one point.
+
+        Returns
+        -------
+        dict
+            Output name -> SX expression.
+        """
         props = box_properties(sym["width"], sym["height"], sym["t_upper_skin"], sym["t_lower_skin"],
                                sym["t_front_spar"], sym["t_rear_spar"], self.options["material"],
                                sym["section_to_csn"], sym["nonstructural_mass_per_length"])
         return self._select_outputs(props)
 
     def check_inputs(self, inputs):
+        """Raise ``ValueError`` naming the input, point and allowed range when a box dimension is not finite and positive or the walls do not fit (:func:`wingmdao.section.box.validate_box`).
+
+        Parameters
+        ----------
+        inputs : dict-like
+            The component's inputs.
+        """
         validate_box(inputs["width"], inputs["height"], inputs["t_upper_skin"], inputs["t_lower_skin"],
                      inputs["t_front_spar"], inputs["t_rear_spar"], source=f"{self.pathname or 'BoxSection'}: ")
 
@@ -156,15 +182,41 @@ class SolidRectSection(_SectionBase):
     """
 
     def pointwise_inputs(self):
+        """The per-point inputs: the rectangle's width and height and the section's common inputs.
+
+        Returns
+        -------
+        list of Var
+            The inputs.
+        """
         return [
             Var("width", (), "m", "section width (chordwise)"),
             Var("height", (), "m", "section height (normal)"),
         ] + self._common_inputs()
 
     def pointwise_expressions(self, sym):
+        """The outputs at one point as CasADi expressions: the solid rectangle's section properties and beam data (:func:`wingmdao.section.solid.solid_properties`).
+
+        Parameters
+        ----------
+        sym : dict
+            Input name -> SX symbol of the input's shape at one point.
+
+        Returns
+        -------
+        dict
+            Output name -> SX expression.
+        """
         props = solid_properties(sym["width"], sym["height"], self.options["material"],
                                  sym["section_to_csn"], sym["nonstructural_mass_per_length"])
         return self._select_outputs(props)
 
     def check_inputs(self, inputs):
+        """Raise ``ValueError`` naming the input, point and allowed range when a width or height is not finite and positive.
+
+        Parameters
+        ----------
+        inputs : dict-like
+            The component's inputs.
+        """
         validate_solid(inputs["width"], inputs["height"], source=f"{self.pathname or 'SolidRectSection'}: ")

@@ -29,7 +29,18 @@ class SolidRectStress(PointwiseCasadiComponent):
 
     @staticmethod
     def points_per_station(family: str) -> int:
-        """Constraint points per station of stress family ``family`` (last axis of ``g_<family>``)."""
+        """Constraint points per station of stress family ``family`` (last axis of ``g_<family>``).
+
+        Parameters
+        ----------
+        family : str
+            Constraint family name.
+
+        Returns
+        -------
+        int
+            Points per station.
+        """
         return 4
 
     def initialize(self):
@@ -40,6 +51,13 @@ class SolidRectStress(PointwiseCasadiComponent):
                              desc="constraint families to output (ss_tension, ss_compression)")
 
     def point_grid(self):
+        """Leading shape of every variable: (num_times, num_stations).
+
+        Returns
+        -------
+        tuple
+            The grid shape.
+        """
         return (self.options["num_times"], self.options["num_stations"])
 
     def setup(self):
@@ -49,6 +67,13 @@ class SolidRectStress(PointwiseCasadiComponent):
         super().setup()
 
     def pointwise_inputs(self):
+        """The per-point inputs: internal force and moment (csn) per time and station, section width and height per station.
+
+        Returns
+        -------
+        list of Var
+            The inputs.
+        """
         return [
             Var("F_csn", (3,), "N", "internal force [F_c, F_s (axial), F_n] in the station csn frame", 0.0),
             Var("M_csn", (3,), "N*m", "internal moment [M_c, M_s (torsion), M_n] in the station csn frame", 0.0),
@@ -57,10 +82,29 @@ class SolidRectStress(PointwiseCasadiComponent):
         ]
 
     def pointwise_outputs(self):
+        """The per-point outputs: the corner constraints ``g_<family>``.
+
+        Returns
+        -------
+        list of Var
+            The outputs.
+        """
         return [Var(f"g_{f}", (4,), None, f"{f} corner constraint sigma/sigma_y - 1 (Eq. 4.42)")
                 for f in self.options["families"]]
 
     def pointwise_expressions(self, sym):
+        """The outputs at one point as CasADi expressions: the corner stress constraints (Eq. 4.42).
+
+        Parameters
+        ----------
+        sym : dict
+            Input name -> SX symbol of the input's shape at one point.
+
+        Returns
+        -------
+        dict
+            Output name -> SX expression.
+        """
         w, h = sym["width"], sym["height"]
         f, m = sym["F_csn"], sym["M_csn"]
         area, i_cc, i_nn = w * h, w * h**3 / 12.0, h * w**3 / 12.0
@@ -71,6 +115,13 @@ class SolidRectStress(PointwiseCasadiComponent):
         return {f"g_{k}": out[f"g_{k}"] for k in self.options["families"]}
 
     def check_inputs(self, inputs):
+        """Raise ``ValueError`` naming the input, point and allowed range when a width or height is not finite and positive.
+
+        Parameters
+        ----------
+        inputs : dict-like
+            The component's inputs.
+        """
         for name in ("width", "height"):
             v = np.asarray(inputs[name])
             bad = np.flatnonzero(~(np.isfinite(v) & (v > 0)))

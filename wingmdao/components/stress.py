@@ -28,7 +28,13 @@ SECTION_DEFAULTS = {"A": 1e-2, "Ixx": 1e-4, "Izz": 1e-3, "Qx": 1e-3, "Qz": 1e-3}
 
 
 def declare_stress_grid_options(options) -> None:
-    """The options every stress component declares: its (num_times, num_stations) grid and material."""
+    """The options every stress component declares: its (num_times, num_stations) grid and material.
+
+    Parameters
+    ----------
+    options : openmdao.utils.options_dictionary.OptionsDictionary
+        The component's options.
+    """
     options.declare("num_times", types=int, lower=1, desc="number of time steps")
     options.declare("num_stations", types=int, lower=1, desc="number of beam stations")
     options.declare("material", types=Material, desc="wingmdao.materials.Material (sigma_y used)")
@@ -51,7 +57,18 @@ class BoxStress(CombinedJacobianMixin, PointwiseCasadiComponent):
 
     @staticmethod
     def points_per_station(family: str) -> int:
-        """Constraint points per station of stress family ``family`` (last axis of ``g_<family>``)."""
+        """Constraint points per station of stress family ``family`` (last axis of ``g_<family>``).
+
+        Parameters
+        ----------
+        family : str
+            Constraint family name.
+
+        Returns
+        -------
+        int
+            Points per station.
+        """
         return FAMILIES[family]
 
     def initialize(self):
@@ -69,6 +86,13 @@ class BoxStress(CombinedJacobianMixin, PointwiseCasadiComponent):
                              desc="add the input section_to_csn and rotate the loads to the section axes")
 
     def point_grid(self):
+        """Leading shape of every variable: (num_times, num_stations).
+
+        Returns
+        -------
+        tuple
+            The grid shape.
+        """
         return (self.options["num_times"], self.options["num_stations"])
 
     def setup(self):
@@ -82,6 +106,13 @@ class BoxStress(CombinedJacobianMixin, PointwiseCasadiComponent):
                 o["section_rotation"])
 
     def pointwise_inputs(self):
+        """The per-point inputs: internal force and moment (csn) per time and station, box dimensions and wall thicknesses per station.
+
+        Returns
+        -------
+        list of Var
+            The inputs.
+        """
         n = self.options["num_stations"]
         eye = np.broadcast_to(np.eye(3), (n, 3, 3)).copy()
         return [
@@ -100,6 +131,13 @@ class BoxStress(CombinedJacobianMixin, PointwiseCasadiComponent):
             if self.options["section_properties"] else [])
 
     def pointwise_outputs(self):
+        """The per-point outputs: the stresses (with ``output_stresses``) and the constraints ``g_<family>``.
+
+        Returns
+        -------
+        list of Var
+            The outputs.
+        """
         out = [
             Var("sigma_corner", (4,), "Pa", "outer-corner axial stress (Eq. 4.19 generalised)"),
             Var("sigma_vm", (8,), "Pa", "mid-corner von Mises stress, skin then spar per corner"),
@@ -108,6 +146,18 @@ class BoxStress(CombinedJacobianMixin, PointwiseCasadiComponent):
         return out + [Var(f"g_{f}", (FAMILIES[f],), None, _FAMILY_DESC[f]) for f in self.options["families"]]
 
     def pointwise_expressions(self, sym):
+        """The outputs at one point as CasADi expressions: stresses and constraints of :func:`wingmdao.stress.box_stress.box_stresses`.
+
+        Parameters
+        ----------
+        sym : dict
+            Input name -> SX symbol of the input's shape at one point.
+
+        Returns
+        -------
+        dict
+            Output name -> SX expression.
+        """
         stresses = box_stresses(sym["F_csn"], sym["M_csn"], sym["width"], sym["height"],
                                 *(sym[k] for k in WALL_NAMES), section_to_csn=sym.get("section_to_csn"),
                                 section={k: sym[k] for k in SECTION_PROPERTIES} if self.options["section_properties"] else None)
@@ -117,6 +167,13 @@ class BoxStress(CombinedJacobianMixin, PointwiseCasadiComponent):
         return out
 
     def check_inputs(self, inputs):
+        """Raise ``ValueError`` naming the input, point and allowed range when a box dimension is invalid or an internal load is not finite.
+
+        Parameters
+        ----------
+        inputs : dict-like
+            The component's inputs.
+        """
         source = f"{self.pathname or 'BoxStress'}: "
         validate_box(inputs["width"], inputs["height"], *(inputs[k] for k in WALL_NAMES), source=source)
         for name, units in (("F_csn", "N"), ("M_csn", "N*m")):

@@ -315,7 +315,20 @@ class TimeHistoryComponent(om.ImplicitComponent):
 
     def initial_guess(self, p, q0):
         """Starting point of the static solve of step 0 (the previous solution is used when
-        there is one). Default: ``system.initial_guess``; subclasses may know better."""
+        there is one). Default: ``system.initial_guess``; subclasses may know better.
+
+        Parameters
+        ----------
+        p : numpy.ndarray
+            Packed parameters.
+        q0 : numpy.ndarray
+            Packed forcing at t = 0.
+
+        Returns
+        -------
+        numpy.ndarray
+            The guess.
+        """
         return self.system.initial_guess(p, q0)
 
     def apply_nonlinear(self, inputs, outputs, residuals):
