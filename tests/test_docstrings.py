@@ -67,8 +67,6 @@ RATCHET: dict[str, int] = {
     "wingmdao.groups.load_case": 5,
     "wingmdao.groups.stick": 1,
     "wingmdao.groups.wing": 3,
-    "wingmdao.loads.checked_pitch": 9,
-    "wingmdao.loads.gust_set": 10,
     "wingmdao.loads.turbulence_analysis": 5,
     "wingmdao.mphys.builder": 4,
     "wingmdao.mphys.scenario": 3,
