@@ -39,7 +39,24 @@ QUANTITIES = {  # name: (array, component, label, scale to plot units, unit)
 def collect(prob, load_cases, span, families=None) -> dict:
     """Internal loads and worst constraint value per station of every case from a run problem: every
     family the case's KS aggregates (``families``: {case name: families}, default the case's stress
-    families; a stiffened box adds its panel modes, :func:`wingmdao.sizing.case_families`)."""
+    families; a stiffened box adds its panel modes, :func:`wingmdao.sizing.case_families`).
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A run sizing problem.
+    load_cases : sequence of LoadCase
+        Its load cases.
+    span : array_like
+        (n,) span coordinate of the stations (m).
+    families : dict or None, optional
+        Case name -> constraint families; None for the cases' own.
+
+    Returns
+    -------
+    dict
+        Per case the internal-load histories and the worst constraint per station.
+    """
     names, data = [], {}
     for case in load_cases:
         p = f"cases.{case.name}"
@@ -63,7 +80,20 @@ TURBULENCE_KEYS = ("turbulence_u_sigma", "turbulence_Mc_1g", "turbulence_Mc_abar
 
 def add_turbulence(data: dict, loads: dict) -> dict:
     """Add the 25.341(b) loads of :func:`wingmdao.sizing.turbulence_loads` (per station: 1 g and
-    A-bar of M_c and M_s, their correlation; U_sigma) to the envelope ``data``; returns it."""
+    A-bar of M_c and M_s, their correlation; U_sigma) to the envelope ``data``; returns it.
+
+    Parameters
+    ----------
+    data : dict
+        Envelope data (:func:`collect`).
+    loads : dict
+        The ``turbulence_loads`` of the design.
+
+    Returns
+    -------
+    dict
+        ``data``.
+    """
     data["turbulence_u_sigma"] = np.array(float(loads["u_sigma_m_s"]))
     data["turbulence_Mc_1g"] = np.asarray(loads["bending_moment"]["one_g"], dtype=float)
     data["turbulence_Mc_abar"] = np.asarray(loads["bending_moment"]["a_bar"], dtype=float)
@@ -75,7 +105,20 @@ def add_turbulence(data: dict, loads: dict) -> dict:
 
 def turbulence_ellipse(data: dict, station: int):
     """((n, 2) ellipse, (4, 2) correlated design points) of (M_s, M_c) in N m at ``station``, or
-    (None, None) when the data hold no turbulence loads."""
+    (None, None) when the data hold no turbulence loads.
+
+    Parameters
+    ----------
+    data : dict
+        Envelope data (:func:`collect`).
+    station : int
+        Station index.
+
+    Returns
+    -------
+    tuple
+        Ellipse (n, 2) and design points (4, 2) (N m), or (None, None).
+    """
     if "turbulence_rho" not in data:
         return None, None
     i = int(station)
@@ -86,7 +129,20 @@ def turbulence_ellipse(data: dict, station: int):
 
 
 def save(data: dict, path: str) -> str:
-    """Atomic NPZ write (temporary file in the same folder, then os.replace)."""
+    """Atomic NPZ write (temporary file in the same folder, then os.replace).
+
+    Parameters
+    ----------
+    data : dict
+        Envelope data (:func:`collect`).
+    path : str
+        NPZ file to write.
+
+    Returns
+    -------
+    str
+        ``path``.
+    """
     tmp = path + ".tmp.npz"
     np.savez_compressed(tmp, **data)
     os.replace(tmp, path)
@@ -94,6 +150,18 @@ def save(data: dict, path: str) -> str:
 
 
 def load(path: str) -> dict:
+    """Read envelope data written by :func:`save`; ValueError naming a missing file.
+
+    Parameters
+    ----------
+    path : str
+        NPZ file written by :func:`save`.
+
+    Returns
+    -------
+    dict
+        The envelope data.
+    """
     if not os.path.exists(path):
         raise ValueError(f"envelope file {path!r} does not exist (written by 'wingmdao size')")
     with np.load(path, allow_pickle=False) as z:
@@ -105,7 +173,18 @@ def _names(data):
 
 
 def critical_cases(data: dict) -> list:
-    """Per station: the case, time and value of the largest stress ratio g over all cases."""
+    """Per station: the case, time and value of the largest stress ratio g over all cases.
+
+    Parameters
+    ----------
+    data : dict
+        Envelope data (:func:`collect`).
+
+    Returns
+    -------
+    list of dict
+        Per station: ``station``, ``span_m``, ``case``, ``g_max``, ``time_s``.
+    """
     names = _names(data)
     n = data["span"].size
     rows = []
@@ -122,7 +201,18 @@ def critical_cases(data: dict) -> list:
 
 
 def envelope(data: dict) -> dict:
-    """``{quantity: {"max", "min" (n,) SI, "max_case", "min_case" (n,) names}}`` over cases and time."""
+    """``{quantity: {"max", "min" (n,) SI, "max_case", "min_case" (n,) names}}`` over cases and time.
+
+    Parameters
+    ----------
+    data : dict
+        Envelope data (:func:`collect`).
+
+    Returns
+    -------
+    dict
+        Quantity -> maxima, minima and their cases.
+    """
     names = _names(data)
     out = {}
     for q, (arr, comp, *_rest) in QUANTITIES.items():
@@ -136,6 +226,18 @@ def envelope(data: dict) -> dict:
 
 
 def format_critical_table(rows) -> str:
+    """The critical-case table as text: station, span, case, largest g and its time.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Rows of :func:`critical_cases`.
+
+    Returns
+    -------
+    str
+        The table.
+    """
     lines = [f"{'station':>7} {'y [m]':>7} {'critical case':<28} {'g max':>9} {'t [s]':>7}"]
     for r in rows:
         lines.append(f"{r['station']:7d} {r['span_m']:7.3f} {str(r['case']):<28} {r['g_max']:9.4f} {r['time_s']:7.3f}")
@@ -187,7 +289,18 @@ def monitoring_potatoes(loads: dict) -> dict:
     :data:`POTATO_NEGLIGIBLE` of the first's (a fuselage in symmetric flight), the force component
     with the largest range (bending and shear); ``components`` (their names, ``"M_x"``, ``"F_z"``,
     ... in body axes), ``values`` ((n_time, 2), N m or N) and ``hull``, the convex hull of the pairs
-    ((k, 2), closed, counter-clockwise), as the wing stations' potato plots (:func:`write_plots`)."""
+    ((k, 2), closed, counter-clockwise), as the wing stations' potato plots (:func:`write_plots`).
+
+    Parameters
+    ----------
+    loads : dict
+        Label -> ``{"moment": (n_time, 3), "force": (n_time, 3)}`` histories (N m, N).
+
+    Returns
+    -------
+    dict
+        Label -> ``components``, ``values`` and ``hull``.
+    """
     out = {}
     for label, v in loads.items():
         m = np.asarray(v["moment"], dtype=float).reshape(-1, 3)
@@ -205,12 +318,37 @@ def monitoring_potatoes(loads: dict) -> dict:
 
 
 def default_stations(n: int) -> list:
+    """The default potato-plot stations of a beam of ``n`` stations.
+
+    Parameters
+    ----------
+    n : int
+        Number of stations.
+
+    Returns
+    -------
+    list of int
+        Station 1 (next to the root), mid-span and 3/4 span.
+    """
     return sorted({min(1, n - 1), n // 2, max(0, (3 * n) // 4)})
 
 
 def check_stations(stations, n: int) -> list:
     """The potato-plot stations (``--potato-stations``) of a beam of ``n`` stations, checked before
-    anything is solved or drawn; the default (root, mid, 3/4 span) for None."""
+    anything is solved or drawn; the default (root, mid, 3/4 span) for None.
+
+    Parameters
+    ----------
+    stations : sequence of int or None
+        Requested stations.
+    n : int
+        Number of stations.
+
+    Returns
+    -------
+    list of int
+        The checked stations.
+    """
     if stations is None:
         return default_stations(n)
     bad = [i for i in stations if not 0 <= i <= n - 1]
@@ -222,7 +360,20 @@ def check_stations(stations, n: int) -> list:
 
 def output_paths(stem: str, plots: bool = True) -> list:
     """Files :func:`write_envelope_outputs` writes for ``stem``: the loads file and, with ``plots``,
-    the critical-case CSV and the PNGs."""
+    the critical-case CSV and the PNGs.
+
+    Parameters
+    ----------
+    stem : str
+        Path stem of the outputs.
+    plots : bool, optional
+        Include the plots and CSV.
+
+    Returns
+    -------
+    list of str
+        The files.
+    """
     paths = [f"{stem}_envelope.npz"]
     if plots:
         paths += [f"{stem}_critical_cases.csv", f"{stem}_critical_case.png", f"{stem}_envelope.png",
@@ -231,7 +382,22 @@ def output_paths(stem: str, plots: bool = True) -> list:
 
 
 def write_plots(data: dict, stem: str, stations=None) -> list:
-    """PNG plots (critical case, envelopes, potato plots) and the critical-case CSV next to ``stem``."""
+    """PNG plots (critical case, envelopes, potato plots) and the critical-case CSV next to ``stem``.
+
+    Parameters
+    ----------
+    data : dict
+        Envelope data (:func:`collect`).
+    stem : str
+        Path stem of the outputs.
+    stations : sequence of int or None, optional
+        Potato-plot stations; None for the default.
+
+    Returns
+    -------
+    list of str
+        The files written.
+    """
     stations = check_stations(stations, data["span"].size)  # before anything is written
     plt = pyplot_agg()
     names = _names(data)
@@ -310,7 +476,28 @@ def write_plots(data: dict, stem: str, stations=None) -> list:
 def write_envelope_outputs(prob, setup, stem: str, stations=None, plots: bool = True, turbulence=None) -> dict:
     """Collect, save ``<stem>_envelope.npz`` and (``plots``) write the PNGs; returns paths and the table.
     ``turbulence``: the 25.341(b) loads of the design (:func:`wingmdao.sizing.turbulence_loads`),
-    drawn on the potato plots."""
+    drawn on the potato plots.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A run sizing problem.
+    setup : object
+        The case's sizing set-up.
+    stem : str
+        Path stem of the outputs.
+    stations : sequence of int or None, optional
+        Potato-plot stations.
+    plots : bool, optional
+        Write the PNGs and CSV.
+    turbulence : dict or None, optional
+        The design's 25.341(b) loads.
+
+    Returns
+    -------
+    dict
+        Paths and the critical-case table.
+    """
     families = {c.name: case_families(c, setup.section, setup.panels) for c in setup.load_cases}
     data = collect(prob, setup.load_cases, span_coordinate(setup.geometry), families)
     if turbulence is not None:

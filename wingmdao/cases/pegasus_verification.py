@@ -24,12 +24,38 @@ DEFAULT_WALLS = (0.004, 0.004, 0.005, 0.004)
 
 
 def default_walls(num_stations: int = 20) -> dict:
-    """The walls of the comparison without a ``--design`` (:data:`DEFAULT_WALLS` at every station)."""
+    """The walls of the comparison without a ``--design`` (:data:`DEFAULT_WALLS` at every station).
+
+    Parameters
+    ----------
+    num_stations : int, optional
+        Number of stations.
+
+    Returns
+    -------
+    dict
+        Wall name -> (num_stations,) thicknesses (m).
+    """
     return {k: np.full(num_stations, v) for k, v in zip(WALL_NAMES, DEFAULT_WALLS)}
 
 
 def beam_params(geo, walls, material):
-    """Beam parameters of the box per station (``box_properties``) with the engines' mass."""
+    """Beam parameters of the box per station (``box_properties``) with the engines' mass.
+
+    Parameters
+    ----------
+    geo : WingGeometry
+        The wing geometry.
+    walls : dict
+        Wall name -> (n,) thicknesses (m).
+    material : Material
+        Isotropic material.
+
+    Returns
+    -------
+    tuple
+        (beam parameters, structural mass per length (n,) kg/m).
+    """
 
     rows = [beam_data(box_properties(geo.width[k], geo.height[k], *(walls[w][k] for w in
                                      ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")), material),
@@ -47,12 +73,51 @@ def beam_params(geo, walls, material):
 
 
 def engine_stations(case, geo):
+    """Each engine's mass at the span coordinate of the station nearest to it.
+
+    Parameters
+    ----------
+    case : module
+        The PEGASUS case module (``ENGINES``, ``GUST``).
+    geo : WingGeometry
+        The wing geometry.
+
+    Returns
+    -------
+    list of tuple
+        ``(y, mass)`` of each engine at its nearest station (m, kg).
+    """
     y = geo.span_coordinate
     return [(float(y[int(np.argmin(abs(y - ym)))]), m) for m, ym in case.ENGINES]
 
 
 def fe_loads(case, geo, sec, model, line, structural, n_load, G0):
-    """Station loads on the FE lines: lift and torsion, self weight, engine weights (n g)."""
+    """Station loads on the FE lines: lift and torsion, self weight, engine weights (n g).
+
+    Parameters
+    ----------
+    case : module
+        The PEGASUS case module (``ENGINES``, ``GUST``).
+    geo : WingGeometry
+        The wing geometry.
+    sec : BoxSections
+        Streamwise sections of the FE box.
+    model : ShellBox
+        The FE model.
+    line : LineLoads
+        Aerodynamic line loads at the beam nodes.
+    structural : numpy.ndarray
+        (n,) structural mass per length (kg/m).
+    n_load : float
+        Load factor (-).
+    G0 : float
+        Gravitational acceleration (m/s^2).
+
+    Returns
+    -------
+    list of tuple
+        ``(y, centre, F, M)`` station loads.
+    """
 
     ys = model.span_y[::2]
     y = geo.span_coordinate
@@ -75,7 +140,28 @@ def gust_peak_loads(case, geo, params, *, dt=0.01, t_final=None, gust_start=0.1)
     the beam (structural plus the engines' non-structural mass); gravity (1 g, -z) acts as well.
     D'Alembert's principle makes the beam in static equilibrium under these loads the dynamic
     state at t*, up to the inertia left out: the rotary inertia and the mass-centre offset of
-    the translational inertia (their size is the ``static_vs_dynamic`` difference reported)."""
+    the translational inertia (their size is the ``static_vs_dynamic`` difference reported).
+
+    Parameters
+    ----------
+    case : module
+        The PEGASUS case module (``ENGINES``, ``GUST``).
+    geo : WingGeometry
+        The wing geometry.
+    params : dict
+        Beam parameters of the design.
+    dt : float, optional
+        Time step (s).
+    t_final : float or None, optional
+        End of the march (s); None for the case's ``GUST["t_final"]``.
+    gust_start : float, optional
+        Time the gust front reaches the wing (s).
+
+    Returns
+    -------
+    dict
+        The peak's time, line loads and nodal accelerations.
+    """
 
     pf, g = case.PLANFORM, case.GUST
     _, chord, axis_frac = wing_geometry(pf, case.ENGINES)
@@ -104,7 +190,30 @@ def gust_peak_loads(case, geo, params, *, dt=0.01, t_final=None, gust_start=0.1)
 def gust_fe_loads(case, geo, sec, model, peak, structural, G0):
     """Station loads on the FE lines of the gust peak: aerodynamic line loads plus the inertia
     and weight of the structure -m_s (a* + g e_z) per length, and the engines' -m_e (a*(y_e) + g e_z)
-    at their stations (a* of the node there)."""
+    at their stations (a* of the node there).
+
+    Parameters
+    ----------
+    case : module
+        The PEGASUS case module (``ENGINES``, ``GUST``).
+    geo : WingGeometry
+        The wing geometry.
+    sec : BoxSections
+        Streamwise sections of the FE box.
+    model : ShellBox
+        The FE model.
+    peak : dict
+        Result of :func:`gust_peak_loads`.
+    structural : numpy.ndarray
+        (n,) structural mass per length (kg/m).
+    G0 : float
+        Gravitational acceleration (m/s^2).
+
+    Returns
+    -------
+    list of tuple
+        ``(y, centre, F, M)`` station loads.
+    """
 
     y = geo.span_coordinate
     a_eff = peak["acceleration"] + np.array([0.0, 0.0, G0])
@@ -118,7 +227,22 @@ def gust_fe_loads(case, geo, sec, model, peak, structural, G0):
 
 def pegasus_setup(walls, load_factor, material=ALUMINIUM):
     """(geometry, BoxSections, line loads, beam params, structural mass per length, walls) of the
-    PEGASUS wing with ``walls`` ({wall: thickness per station, m}) at load factor ``load_factor``."""
+    PEGASUS wing with ``walls`` ({wall: thickness per station, m}) at load factor ``load_factor``.
+
+    Parameters
+    ----------
+    walls : dict
+        Wall name -> (n,) thicknesses (m).
+    load_factor : float
+        Load factor n (0 < |n| <= 10).
+    material : Material, optional
+        Isotropic material.
+
+    Returns
+    -------
+    tuple
+        (geometry, BoxSections, line loads, beam parameters, structural mass per length, walls).
+    """
     if not (np.isfinite(load_factor) and 0 < abs(load_factor) <= 10):
         raise ValueError(f"--load-factor = {load_factor}; allowed range 0 < |n| <= 10")
     pf = case.PLANFORM
@@ -141,7 +265,24 @@ def aeroelastic_model(walls, *, spanwise_boxes=20, chordwise_boxes=8, material=A
     Flight: SOL 146 at the case's gust point (``GUST``: 25,000 ft, Mach 0.5), SOL 145 at the
     flutter point (:func:`wingmdao.cases.pegasus.flight_point`: 20,000 ft, velocities 0.5-1.3
     V_D, Mach M_D), SOL 144 at the maneuver point (20,000 ft, Mach 0.5, alpha 1 deg); reference
-    chord S / b."""
+    chord S / b.
+
+    Parameters
+    ----------
+    walls : dict
+        Wall name -> (n,) thicknesses (m).
+    spanwise_boxes : int, optional
+        Aerodynamic boxes along the span.
+    chordwise_boxes : int, optional
+        Aerodynamic boxes along the chord.
+    material : Material, optional
+        Isotropic material.
+
+    Returns
+    -------
+    tuple
+        (beam parameters, lifting panels, flight data).
+    """
     for name, value, low in (("--spanwise-boxes", spanwise_boxes, 2), ("--chordwise-boxes", chordwise_boxes, 1)):
         if not (isinstance(value, (int, np.integer)) and low <= value <= 500):
             raise ValueError(f"{name} = {value}; allowed range {low}..500")
@@ -173,7 +314,26 @@ def aeroelastic_model(walls, *, spanwise_boxes=20, chordwise_boxes=8, material=A
 
 def nastran_aeroelastic_deck(walls, *, sol=146, modes=10, spanwise_boxes=20, chordwise_boxes=8) -> str:
     """The Nastran aeroelastic deck (:mod:`wingmdao.fe.nastran_aero`) of the PEGASUS wing of
-    ``walls`` (:func:`aeroelastic_model`), executive and case control of SOL ``sol``."""
+    ``walls`` (:func:`aeroelastic_model`), executive and case control of SOL ``sol``.
+
+    Parameters
+    ----------
+    walls : dict
+        Wall name -> (n,) thicknesses (m).
+    sol : {144, 145, 146}, optional
+        Solution sequence.
+    modes : int, optional
+        Modes of EIGRL.
+    spanwise_boxes : int, optional
+        Aerodynamic boxes along the span.
+    chordwise_boxes : int, optional
+        Aerodynamic boxes along the chord.
+
+    Returns
+    -------
+    str
+        The deck text.
+    """
     params, panels, flight = aeroelastic_model(walls, spanwise_boxes=spanwise_boxes, chordwise_boxes=chordwise_boxes)
     return aeroelastic_deck(params, ALUMINIUM, panels, flight, sol=sol, modes=modes,
                             title="wingmdao PEGASUS wing, aeroelastic beam model")

@@ -165,7 +165,25 @@ BOUNDARY_CONDITIONS = "symmetry at y = 0; x and z displacements fixed at the sid
 
 @dataclass(frozen=True)
 class PlyProperties:
-    """Orthotropic ply data, SI (Pa, kg/m^3)."""
+    """Orthotropic ply data, SI (Pa, kg/m^3).
+
+    Parameters
+    ----------
+    E11, E22 : float
+        Moduli along and across the fibres (Pa).
+    G12, G13, G23 : float
+        Shear moduli (Pa).
+    nu12 : float
+        Major Poisson's ratio (-).
+    rho : float
+        Density (kg/m^3).
+    T1, C1 : float
+        Fibre-direction tensile and compressive strengths (Pa).
+    T2, C2 : float
+        Transverse tensile and compressive strengths (Pa).
+    S12 : float
+        In-plane shear strength (Pa).
+    """
 
     E11: float  # fibre-direction modulus
     E22: float  # transverse modulus
@@ -220,7 +238,19 @@ SAFETY_FACTOR = 1.5
 
 @dataclass(frozen=True)
 class SizingRules:
-    """The benchmark's panel sizing rules (opt_problem.rst, after Kassapoglou 2013), m."""
+    """The benchmark's panel sizing rules (opt_problem.rst, after Kassapoglou 2013), m.
+
+    Parameters
+    ----------
+    min_skin_thickness, min_stiffener_thickness, min_stiffener_height, min_flange_width : float, optional
+        Minimum gauges (m).
+    min_web_aspect, max_web_aspect : float, optional
+        Bounds of the stiffener web's height over thickness (-).
+    max_stiffener_over_panel_thickness : float, optional
+        Largest stiffener thickness over panel thickness (-).
+    max_panel_thickness_step, max_stiffener_thickness_step, max_stiffener_height_step : float, optional
+        Largest change between adjacent panels (m).
+    """
 
     min_skin_thickness: float = 0.6e-3  # skin (panel) thickness >= 0.6 mm
     min_stiffener_thickness: float = 0.6e-3  # stiffener thickness >= 0.6 mm
@@ -241,7 +271,19 @@ SIZING_RULES = SizingRules()
 
 @dataclass(frozen=True)
 class PanelSizing:
-    """Sizing of one stiffened panel, m."""
+    """Sizing of one stiffened panel, m.
+
+    Parameters
+    ----------
+    stiffener_pitch : float
+        Stiffener pitch (m).
+    panel_thickness : float
+        Skin thickness (m).
+    stiffener_height : float
+        Stiffener height (m).
+    stiffener_thickness : float
+        Stiffener thickness (m).
+    """
 
     stiffener_pitch: float
     panel_thickness: float
@@ -268,14 +310,36 @@ WING_MASS_EXPONENT = 0.8162
 
 
 def wing_mass(wingbox_mass: float) -> float:
-    """Total mass of one wing from its wingbox mass, kg (opt_problem.rst regression)."""
+    """Total mass of one wing from its wingbox mass, kg (opt_problem.rst regression).
+
+    Parameters
+    ----------
+    wingbox_mass : float
+        Wingbox mass (kg).
+
+    Returns
+    -------
+    float
+        Wing mass (kg).
+    """
     if not (math.isfinite(wingbox_mass) and wingbox_mass > 0):
         raise ValueError(f"wingbox_mass = {wingbox_mass!r} kg; must be finite and > 0")
     return WING_MASS_COEFFICIENT * wingbox_mass**WING_MASS_EXPONENT
 
 
 def landing_gross_mass(wingbox_mass: float) -> float:
-    """LGM = M_payload + M_frame + M_fuel,res + 2 M_wing, kg (opt_problem.rst, "Objectives")."""
+    """LGM = M_payload + M_frame + M_fuel,res + 2 M_wing, kg (opt_problem.rst, "Objectives").
+
+    Parameters
+    ----------
+    wingbox_mass : float
+        Wingbox mass of one wing (kg).
+
+    Returns
+    -------
+    float
+        LGM (kg).
+    """
     return PAYLOAD_MASS + AIRFRAME_MASS + RESERVE_FUEL_MASS + 2.0 * wing_mass(wingbox_mass)
 
 
@@ -307,6 +371,27 @@ NONSTRUCTURAL_MASS = 0.0
 
 @dataclass(frozen=True)
 class FlightCondition:
+    """One flight condition of the STW benchmark (``STWFlightPoints.py``).
+
+    Parameters
+    ----------
+    name : str
+        Flight point name of the benchmark's ``STWFlightPoints.py``.
+    altitude : float
+        Altitude (m).
+    mach : float
+        Mach number (-).
+    load_factor : float
+        Load factor (-).
+    mass : {"LGM", "mid-cruise"}
+        Aircraft mass case.
+    fuel_fraction : float
+        Fraction of the fuel carried (-).
+    failure_groups : tuple
+        Component groups whose failure is constrained.
+    cases : tuple
+        Benchmark cases using it.
+    """
     name: str  # the flight point name used in STWFlightPoints.py
     altitude: float  # m
     mach: float
@@ -367,7 +452,22 @@ CASE2_SECTION_ETA = (0.1, 0.3, 0.5, 0.7, 0.9)
 
 
 def equivalent_thickness(panel_thickness: float, stiffener_area: float, pitch: float = STIFFENER_PITCH) -> float:
-    """t_eq = t_panel + A_stiff / p_stiff, m (required_results.rst, Case 1 sizing plots)."""
+    """t_eq = t_panel + A_stiff / p_stiff, m (required_results.rst, Case 1 sizing plots).
+
+    Parameters
+    ----------
+    panel_thickness : float
+        Skin thickness (m).
+    stiffener_area : float
+        Stiffener cross-section area (m^2).
+    pitch : float, optional
+        Stiffener pitch (m).
+
+    Returns
+    -------
+    float
+        t_eq (m).
+    """
     if not pitch > 0:
         raise ValueError(f"pitch = {pitch!r} m; must be > 0")
     return panel_thickness + stiffener_area / pitch

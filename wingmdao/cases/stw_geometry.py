@@ -136,6 +136,31 @@ class StwBeam:
     ``rear_spar_height`` (m, airfoil thickness at the spars), ``width_streamwise`` (m, spar to
     spar along x), ``sweep_deg`` (beam-axis sweep at the node; the mean of the two elements at
     the side-of-body kink). ``rib_y`` (23,) m and ``rib_nodes`` (23,) their node indices.
+
+    Parameters
+    ----------
+    geometry : WingGeometry
+        The beam's geometry.
+    y : numpy.ndarray
+        (n,) span positions (m).
+    rib_y : numpy.ndarray
+        (23,) rib positions (m).
+    rib_nodes : numpy.ndarray
+        (23,) node index of each rib.
+    chord : numpy.ndarray
+        (n,) streamwise chords (m).
+    axis_fraction : numpy.ndarray
+        (n,) beam axis as a chord fraction of the streamwise section (-).
+    front_spar_height, rear_spar_height : numpy.ndarray
+        (n,) airfoil thickness at the spars (m).
+    width_streamwise : numpy.ndarray
+        (n,) spar-to-spar width along x (m).
+    sweep_deg : numpy.ndarray
+        (n,) beam-axis sweep (deg).
+    cut : {"normal", "streamwise"}
+        Section cut of the box: normal to the beam axis or streamwise.
+    height_rule : {"spars", "mean10"}
+        How the box height is taken from the airfoil (:func:`beam_geometry`).
     """
 
     geometry: object  # wingmdao.sizing.WingGeometry
@@ -279,6 +304,29 @@ class AeroReference:
     break is in the wingbox only), ``twist_deg`` (zero: untwisted). Wing: ``semi_span`` (m),
     ``area`` (one wing, m^2), ``mac`` (m), ``aspect_ratio`` (2 b^2 / S), ``mach`` of the Case 1
     maneuvers.
+
+    Parameters
+    ----------
+    y : numpy.ndarray
+        (n,) span positions (m).
+    chord : numpy.ndarray
+        (n,) streamwise chords (m).
+    leading_edge_x, quarter_chord_x : numpy.ndarray
+        (n,) positions aft of the root leading edge (m).
+    quarter_chord_sweep_deg : numpy.ndarray
+        (n,) local quarter-chord sweep (deg).
+    twist_deg : numpy.ndarray
+        (n,) twist (deg).
+    semi_span : float
+        Semi-span (m).
+    area : float
+        Area of one wing (m^2).
+    mac : float
+        Mean aerodynamic chord (m).
+    aspect_ratio : float
+        2 b^2 / S (-).
+    mach : float
+        Mach number of the Case 1 maneuvers (-).
     """
 
     y: np.ndarray

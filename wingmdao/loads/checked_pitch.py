@@ -88,7 +88,43 @@ class CheckedPitchResult:
     25.331(c)(2)(v) asks for; ``iterations`` the marches [(delta_1 rad, hold s, peak n), ...];
     ``states`` (n_t, n_state) the march's states; ``hold`` s, the Delta t of 25.331(c)(2)(iii)
     (0: the sine of (i)); ``reached``: the peak meets the target (False only when a 5 s hold at
-    the largest available amplitude falls short)."""
+    the largest available amplitude falls short).
+
+    Parameters
+    ----------
+    time : numpy.ndarray
+        (n_t,) times (s).
+    elevator_command, elevator : numpy.ndarray
+        (n_t,) command and actuator deflection (rad, trailing edge down +).
+    load_factor : numpy.ndarray
+        (n_t,) load factor (-).
+    pitch_rate : numpy.ndarray
+        (n_t,) pitch rate (rad/s, nose up +).
+    root_bending_moment : numpy.ndarray
+        (n_t,) root bending moment (N m).
+    omega, omega_short_period, omega_min : float
+        Control frequency, short-period frequency and the regulation's lower limit (rad/s).
+    short_period_eigenvalue : complex
+        Short-period eigenvalue (1/s).
+    delta_1 : float
+        Command amplitude (rad).
+    direction : {"nose-up", "nose-down"}
+        The maneuver.
+    target_load_factor, peak_load_factor : float
+        Target and peak load factor (-).
+    t_max : float
+        End of the maneuver (s).
+    considered : numpy.ndarray
+        (n_t,) bool, the instants whose loads 25.331(c)(2)(v) asks for.
+    iterations : list
+        The marches [(delta_1, hold, peak n), ...].
+    states : numpy.ndarray
+        (n_t, n_state) states of the march.
+    hold : float, optional
+        Delta t of 25.331(c)(2)(iii) (s).
+    reached : bool, optional
+        Whether the peak meets the target.
+    """
 
     time: np.ndarray
     elevator_command: np.ndarray
@@ -113,7 +149,19 @@ class CheckedPitchResult:
 
 
 def check_maneuver_inputs(*, airspeed_eas, maneuvering_speed_eas, direction="nose-up", steps=200) -> None:
-    """ValueError (input, value, allowed range) for bad maneuver inputs, before any solve."""
+    """ValueError (input, value, allowed range) for bad maneuver inputs, before any solve.
+
+    Parameters
+    ----------
+    airspeed_eas : float
+        Entry speed (m/s EAS).
+    maneuvering_speed_eas : float
+        V_A (m/s EAS).
+    direction : {"nose-up", "nose-down"}, optional
+        The maneuver.
+    steps : int, optional
+        Time steps of the maneuver.
+    """
     va = float(maneuvering_speed_eas)
     if not (np.isfinite(va) and va > 0):
         raise ValueError(f"maneuvering_speed_eas = {va} m/s; allowed range (0, inf) m/s (V_A, 14 CFR 25.335(c))")
@@ -127,7 +175,20 @@ def check_maneuver_inputs(*, airspeed_eas, maneuvering_speed_eas, direction="nos
 
 
 def minimum_frequency(airspeed_eas, maneuvering_speed_eas) -> float:
-    """The regulation's lower limit of omega, pi V / (2 V_A) (rad/s; both speeds EAS, m/s)."""
+    """The regulation's lower limit of omega, pi V / (2 V_A) (rad/s; both speeds EAS, m/s).
+
+    Parameters
+    ----------
+    airspeed_eas : float
+        Entry speed V (m/s EAS).
+    maneuvering_speed_eas : float
+        V_A (m/s EAS).
+
+    Returns
+    -------
+    float
+        omega_min (rad/s).
+    """
     check_maneuver_inputs(airspeed_eas=airspeed_eas, maneuvering_speed_eas=maneuvering_speed_eas)
     return float(np.pi * airspeed_eas / (2.0 * maneuvering_speed_eas))
 
@@ -139,7 +200,26 @@ def control_history(time, delta_1, omega, direction="nose-up", hold=0.0) -> np.n
     nose up); after t_max the command stays at its t_max value. ``hold`` = Delta t > 0: the form
     of 25.331(c)(2)(iii) for an airplane that does not reach the load factor with (i): sin up to
     t_1 = pi / (2 omega), held at s delta_1 until t_2 = t_1 + Delta t, then s delta_1 sin(omega
-    (t + t_1 - t_2)) until t_max = t_2 + pi / omega."""
+    (t + t_1 - t_2)) until t_max = t_2 + pi / omega.
+
+    Parameters
+    ----------
+    time : array_like
+        Times (s).
+    delta_1 : float
+        Amplitude (rad, > 0).
+    omega : float
+        Control frequency (rad/s).
+    direction : {"nose-up", "nose-down"}, optional
+        The maneuver.
+    hold : float, optional
+        Delta t of 25.331(c)(2)(iii) (s).
+
+    Returns
+    -------
+    numpy.ndarray
+        Elevator command (rad).
+    """
     t = np.asarray(time, dtype=float)
     s = DIRECTIONS[direction]
     t1 = 0.5 * np.pi / omega
@@ -151,7 +231,20 @@ def control_history(time, delta_1, omega, direction="nose-up", hold=0.0) -> np.n
 
 
 def maneuver_duration(omega, hold=0.0) -> float:
-    """t_max (s): 3 pi / (2 omega), plus the hold Delta t of 25.331(c)(2)(iii)."""
+    """t_max (s): 3 pi / (2 omega), plus the hold Delta t of 25.331(c)(2)(iii).
+
+    Parameters
+    ----------
+    omega : float
+        Control frequency (rad/s).
+    hold : float, optional
+        Delta t of 25.331(c)(2)(iii) (s).
+
+    Returns
+    -------
+    float
+        t_max (s).
+    """
     return float(1.5 * np.pi / omega + hold)
 
 
@@ -160,7 +253,30 @@ def maneuver_model(beam_params, aero_params, pitch_params, *, weight, elevator_e
     """(system, packed parameters) of the airplane free in plunge and pitch with an elevator:
     ``beam_params`` (:func:`wingmdao.sizing.design_beam_params`), ``aero_params``
     (:func:`wingmdao.aero.aero_parameters`), ``pitch_params`` (:func:`wingmdao.aero.pitch.pitch_parameters`),
-    ``weight`` N (the trim lift), tau_e and the actuator's time constant (s) checked first."""
+    ``weight`` N (the trim lift), tau_e and the actuator's time constant (s) checked first.
+
+    Parameters
+    ----------
+    beam_params : dict
+        Beam parameters.
+    aero_params : dict
+        Strip aerodynamic parameters.
+    pitch_params : dict
+        Plunge-pitch and tail parameters.
+    weight : float
+        Trim lift (N).
+    elevator_effectiveness : float
+        tau_e (-).
+    elevator_time_constant : float
+        Actuator time constant (s).
+    tail_lag : bool, optional
+        Lag the wing's downwash at the tail.
+
+    Returns
+    -------
+    tuple
+        (system, packed parameters).
+    """
     check_pitch_inputs(elevator_effectiveness=elevator_effectiveness, elevator_time_constant=elevator_time_constant)
     n = np.asarray(aero_params["chord"]).size
     system = cached_aeroelastic_system(n, plunge=True, trim=True, pitch=True, tail_lag=bool(tail_lag), elevator=True)
@@ -185,7 +301,22 @@ def short_period_mode(system, p, *, gravity=G0):
     linearized about that state with the trim off (:func:`~wingmdao.stability.eigen.eigenmodes`,
     ``static=False``), and of the oscillatory modes the one whose eigenvector has the largest
     pitch attitude |v_theta_p| against the largest elastic rotation of the wing's nodes is
-    returned (the rigid-body pitch mode; its undamped natural frequency is |lambda|)."""
+    returned (the rigid-body pitch mode; its undamped natural frequency is |lambda|).
+
+    Parameters
+    ----------
+    system : AeroelasticBeamSystem
+        A free-pitch system.
+    p : numpy.ndarray
+        Its packed parameters.
+    gravity : float, optional
+        Gravitational acceleration (m/s^2).
+
+    Returns
+    -------
+    tuple
+        (eigenvalue (1/s), trimmed state).
+    """
     if not getattr(system, "pitch", False):
         raise ValueError("short_period_mode needs a free-pitch system (build_aeroelastic_system(pitch=True))")
     Q, ql = _forcing(system, 1, gravity)
@@ -207,7 +338,28 @@ def short_period_mode(system, p, *, gravity=G0):
 
 def march_maneuver(system, p, time, command, *, gravity=G0, weight):
     """March the trimmed airplane through an elevator command history (rad, (n_t,)): (states,
-    load factor (wing + tail lift) / W, root bending moment N m)."""
+    load factor (wing + tail lift) / W, root bending moment N m).
+
+    Parameters
+    ----------
+    system : AeroelasticBeamSystem
+        The airplane.
+    p : numpy.ndarray
+        Its packed parameters.
+    time : numpy.ndarray
+        (n_t,) times (s).
+    command : numpy.ndarray
+        (n_t,) elevator command (rad).
+    gravity : float, optional
+        Gravitational acceleration (m/s^2).
+    weight : float
+        Airplane weight (N).
+
+    Returns
+    -------
+    tuple
+        (states, load factor, root bending moment).
+    """
     Q, ql = _forcing(system, time.size, gravity)
     Q[:, ql["elevator_command"]] = np.asarray(command, dtype=float)[:, None]
     hist = march(system, time, p, Q, modified_newton=True)
@@ -238,19 +390,38 @@ def checked_pitch(system, p, *, weight, airspeed_eas, maneuvering_speed_eas, lim
 
     Parameters
     ----------
-    system : AeroelasticBeamSystem built with ``plunge``, ``trim``, ``pitch`` and ``elevator``
-    p : its packed parameters (``trim_lift`` = ``weight``)
-    weight : N, the airplane's weight (the load factor's denominator)
-    airspeed_eas, maneuvering_speed_eas : m/s EAS, the entry speed V and V_A (25.335(c))
-    limit_load_factor : the 25.337 positive limit load factor: the nose-up target (the nose-down
-        target is 0 g) and the end of the nose-down loads (25.331(c)(2)(v))
-    direction : "nose-up" or "nose-down"
-    max_amplitude : rad, the largest available elevator command (stops, pilot effort), or None
-        (unlimited). When the target needs more, delta_1 = ``max_amplitude`` and the history of
+    system : AeroelasticBeamSystem
+        Built with ``plunge``, ``trim``, ``pitch`` and ``elevator``.
+    p : numpy.ndarray
+        Its packed parameters (``trim_lift`` = ``weight``).
+    weight : float
+        The airplane's weight, the load factor's denominator (N).
+    airspeed_eas, maneuvering_speed_eas : float
+        The entry speed V and V_A of 25.335(c) (m/s EAS).
+    limit_load_factor : float
+        The 25.337 positive limit load factor: the nose-up target (the nose-down target is 0 g)
+        and the end of the nose-down loads (25.331(c)(2)(v)).
+    direction : {"nose-up", "nose-down"}, optional
+        The maneuver.
+    max_amplitude : float or None, optional
+        The largest available elevator command (rad; stops, pilot effort), or None (unlimited).
+        When the target needs more, delta_1 = ``max_amplitude`` and the history of
         25.331(c)(2)(iii) holds it for the Delta t (at most 5 s) that reaches the target.
-    steps : time steps over [0, 3 pi / (2 omega)] (a hold adds steps of the same size)
-    rtol : the peak load-factor increment meets the target increment within rtol of it
-    delta_guess : rad, the first amplitude of the secant iteration
+    steps : int, optional
+        Time steps over [0, 3 pi / (2 omega)] (a hold adds steps of the same size).
+    rtol : float, optional
+        The peak load-factor increment meets the target increment within rtol of it.
+    delta_guess : float, optional
+        The first amplitude of the secant iteration (rad).
+    max_iterations : int, optional
+        Most marches of the secant iteration.
+    gravity : float, optional
+        Gravitational acceleration (m/s^2).
+
+    Returns
+    -------
+    CheckedPitchResult
+        The histories and the peak against the target.
     """
     check_maneuver_inputs(airspeed_eas=airspeed_eas, maneuvering_speed_eas=maneuvering_speed_eas,
                           direction=direction, steps=steps)

@@ -57,6 +57,16 @@ def log_spaced_gradients_ft(count: int) -> np.ndarray:
     """``count`` gust gradients H (ft) spaced logarithmically over 30-350 ft, both ends included.
 
     U_ds ~ H^(1/6) and the gust duration ~ H, so the response changes evenly in log H.
+
+    Parameters
+    ----------
+    count : int
+        Number of gradients (>= 1).
+
+    Returns
+    -------
+    numpy.ndarray
+        Gust gradients (ft).
     """
     if isinstance(count, bool) or int(count) != count or int(count) < 1:
         raise ValueError(f"gradient_count = {count}; allowed: an integer in [1, {_MAX_GUSTS}]")
@@ -90,6 +100,23 @@ class FlightPoint:
     or ``"VD"`` (half of it, 25.341(a)(5)(ii)); ``weight_lb`` the aircraft weight (None: the
     case's design weight) for the 1 g level-flight loads the gust starts from (25.341(a)(2)).
     ``u_ref_fps`` overrides the table (e.g. Table 5.3 of the dissertation: 30 ft/s).
+
+    Parameters
+    ----------
+    altitude_ft : float
+        Altitude (ft).
+    mach : float or None, optional
+        Mach number (-).
+    v_tas_m_s : float or None, optional
+        True airspeed (m/s).
+    weight_lb : float or None, optional
+        Aircraft weight (lb); None for the case's design weight.
+    speed : {"VC", "VD"}, optional
+        Speed of the point.
+    name : str, optional
+        Point name.
+    u_ref_fps : float or None, optional
+        Reference gust velocity overriding the table (ft/s EAS).
     """
 
     altitude_ft: float
@@ -138,7 +165,25 @@ class FlightPoint:
 
 @dataclass(frozen=True)
 class Gust:
-    """One design gust of the set (SI, plus the regulation's ft and ft/s)."""
+    """One design gust of the set (SI, plus the regulation's ft and ft/s).
+
+    Parameters
+    ----------
+    name : str
+        Case name.
+    flight_point : FlightPoint
+        The flight point.
+    gradient_ft : float
+        Gust gradient H (ft).
+    sign : {1, -1}
+        Up or down.
+    u_ref_fps : float
+        Reference gust velocity (ft/s EAS).
+    alleviation_factor : float
+        F_g (-).
+    u_ds_eas : float
+        Design gust velocity (m/s EAS).
+    """
 
     name: str
     flight_point: FlightPoint
@@ -157,6 +202,13 @@ class Gust:
         return self.u_ds_eas / FT
 
     def describe(self) -> str:
+        """One line describing the gust: direction, H, U_ds, U_ref, F_g, altitude and speed.
+
+        Returns
+        -------
+        str
+            The description.
+        """
         fp = self.flight_point
         spd = f"M {fp.mach:g}" if fp.mach is not None else f"V {fp.v_tas_m_s:g} m/s TAS"
         return (f"1-cos gust {_SIGN_NAME[self.sign]}, H = {self.gradient_ft:.1f} ft, U_ds = "
@@ -166,7 +218,27 @@ class Gust:
 
 @dataclass(frozen=True)
 class GustSet:
-    """Flight points x gradients x signs; :meth:`gusts` lists them with U_ds per 25.341(a)."""
+    """Flight points x gradients x signs; :meth:`gusts` lists them with U_ds per 25.341(a).
+
+    Parameters
+    ----------
+    flight_points : tuple of FlightPoint
+        The flight points.
+    gradients_ft : tuple
+        Gust gradients (ft).
+    signs : tuple, optional
+        Directions (+1 up, -1 down).
+    z_mo_ft : float, optional
+        Maximum operating altitude (ft).
+    mlw_over_mtow : float, optional
+        Maximum landing over maximum take-off weight (-).
+    mzfw_over_mtow : float, optional
+        Maximum zero-fuel over maximum take-off weight (-).
+    name_prefix : str, optional
+        Prefix of the case names.
+    extra : dict, optional
+        Case-specific keys of the description.
+    """
 
     flight_points: tuple
     gradients_ft: tuple
@@ -200,6 +272,13 @@ class GustSet:
         return len(self.flight_points) * len(self.gradients_ft) * len(self.signs)
 
     def gusts(self) -> list:
+        """Every gust of the set (flight points x gradients x signs) with U_ds per 25.341(a).
+
+        Returns
+        -------
+        list of Gust
+            Every gust of the set.
+        """
         out = []
         multi = len(self.flight_points) > 1
         for fp in self.flight_points:
@@ -224,6 +303,13 @@ class GustSet:
         return out
 
     def table(self) -> str:
+        """The set as a text table: case, altitude, H, sign, U_ref, F_g, U_ds.
+
+        Returns
+        -------
+        str
+            The table.
+        """
         rows = [f"{'case':<28} {'alt ft':>7} {'H ft':>6} {'sign':>5} {'U_ref':>7} {'F_g':>7} {'U_ds ft/s':>9}"]
         for g in self.gusts():
             rows.append(f"{g.name:<28} {g.flight_point.altitude_ft:7.0f} {g.gradient_ft:6.1f} "
@@ -238,6 +324,18 @@ def _renamed(fp: FlightPoint, name: str) -> FlightPoint:
 
 
 def parse_signs(text) -> tuple:
+    """The gust signs of a description's ``signs`` key.
+
+    Parameters
+    ----------
+    text : str or sequence of int
+        ``"up"``, ``"down"``, ``"both"`` or the signs.
+
+    Returns
+    -------
+    tuple of int
+        The signs.
+    """
     if isinstance(text, str):
         if text not in SIGNS:
             raise ValueError(f"signs = {text!r}; allowed {', '.join(SIGNS)}")
@@ -252,7 +350,20 @@ _FP_KEYS = {"altitude_ft", "mach", "v_tas_m_s", "weight_lb", "speed", "name", "u
 
 
 def gust_set_from_dict(d: dict, defaults: dict | None = None) -> GustSet:
-    """A :class:`GustSet` from a description (keys in the module docstring); ``defaults`` fill missing keys."""
+    """A :class:`GustSet` from a description (keys in the module docstring); ``defaults`` fill missing keys.
+
+    Parameters
+    ----------
+    d : dict
+        The description.
+    defaults : dict or None, optional
+        Values for missing keys.
+
+    Returns
+    -------
+    GustSet
+        The set.
+    """
     if not isinstance(d, dict):
         raise ValueError(f"gust set description must be a mapping, got {type(d).__name__}")
     d = {**(defaults or {}), **d}
@@ -299,7 +410,20 @@ def gust_set_from_dict(d: dict, defaults: dict | None = None) -> GustSet:
 
 
 def read_gust_set(path: str, defaults: dict | None = None) -> GustSet:
-    """Read a gust set description from ``.json`` or ``.yaml``/``.yml`` (PyYAML, imported lazily)."""
+    """Read a gust set description from ``.json`` or ``.yaml``/``.yml`` (PyYAML, imported lazily).
+
+    Parameters
+    ----------
+    path : str
+        JSON or YAML file.
+    defaults : dict or None, optional
+        Values for missing keys.
+
+    Returns
+    -------
+    GustSet
+        The set.
+    """
     if not os.path.exists(path):
         raise ValueError(f"--gust-set {path!r} does not exist")
     if os.path.isdir(path):

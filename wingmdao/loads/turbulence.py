@@ -69,7 +69,24 @@ __all__ = ["von_karman_psd", "von_karman_psd_airspeed_derivative", "von_karman_f
 def von_karman_psd(omega, airspeed, sigma=1.0, scale_m=SCALE_OF_TURBULENCE_FT * FT):
     """One-sided von Karman vertical-gust PSD in (m/s)^2 / (rad/s) at angular frequencies ``omega``
     (rad/s) for true airspeed ``airspeed`` (m/s): Phi_omega(omega) = Phi(Omega) / V with Phi(Omega)
-    of 25.341(b)(2) at Omega = omega / V (rad/m), sigma in m/s and L = ``scale_m`` (2,500 ft)."""
+    of 25.341(b)(2) at Omega = omega / V (rad/m), sigma in m/s and L = ``scale_m`` (2,500 ft).
+
+    Parameters
+    ----------
+    omega : float or array_like
+        Angular frequencies (rad/s).
+    airspeed : float
+        True airspeed V (m/s).
+    sigma : float, optional
+        Gust intensity (m/s, root mean square).
+    scale_m : float, optional
+        Scale of turbulence L (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        PSD ((m/s)^2 / (rad/s)).
+    """
     if not (np.isfinite(airspeed) and airspeed > 0):
         raise ValueError(f"airspeed = {airspeed} m/s; allowed range (0, inf) m/s TAS")
     if not (np.isfinite(scale_m) and scale_m > 0):
@@ -84,7 +101,24 @@ def von_karman_psd(omega, airspeed, sigma=1.0, scale_m=SCALE_OF_TURBULENCE_FT * 
 def von_karman_psd_airspeed_derivative(omega, airspeed, sigma=1.0, scale_m=SCALE_OF_TURBULENCE_FT * FT):
     """d Phi_omega / d V of :func:`von_karman_psd` at fixed omega, sigma and L ((m/s)^2 / (rad/s) per m/s):
     with y = (1.339 L omega / V)^2 and g(y) = (1 + 8/3 y) / (1 + y)^(11/6),
-    Phi_omega = sigma^2 L / (pi V) g(y), d Phi / d V = -Phi / V - sigma^2 L / (pi V) g'(y) 2 y / V."""
+    Phi_omega = sigma^2 L / (pi V) g(y), d Phi / d V = -Phi / V - sigma^2 L / (pi V) g'(y) 2 y / V.
+
+    Parameters
+    ----------
+    omega : float or array_like
+        Angular frequencies (rad/s).
+    airspeed : float
+        True airspeed V (m/s).
+    sigma : float, optional
+        Gust intensity (m/s, root mean square).
+    scale_m : float, optional
+        Scale of turbulence L (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        d Phi / d V.
+    """
     phi = von_karman_psd(omega, airspeed, sigma, scale_m)
     V = float(airspeed)
     y = (VON_KARMAN_A * scale_m * np.asarray(omega, dtype=float) / V) ** 2
@@ -98,7 +132,22 @@ def von_karman_filter(airspeed, sigma=1.0, scale_m=SCALE_OF_TURBULENCE_FT * FT):
     + 0.1539 (T s)^3), T = L / V (:data:`VON_KARMAN_FILTER`). |H(i omega)|^2 approximates the
     one-sided :func:`von_karman_psd` (per rad/s): within 1.5 % for omega T <= 2, 4.6 % for omega T <= 20,
     21 % low at omega T = 50 (its tail falls as omega^-2, the spectrum's as omega^-5/3); its variance is
-    0.9623 sigma^2."""
+    0.9623 sigma^2.
+
+    Parameters
+    ----------
+    airspeed : float
+        True airspeed V (m/s).
+    sigma : float, optional
+        Gust intensity (m/s, root mean square).
+    scale_m : float, optional
+        Scale of turbulence L (m).
+
+    Returns
+    -------
+    tuple
+        (num, den) polynomial coefficients.
+    """
     if not (np.isfinite(airspeed) and airspeed > 0):
         raise ValueError(f"airspeed = {airspeed} m/s; allowed range (0, inf) m/s TAS")
     if not (np.isfinite(scale_m) and scale_m > 0):
@@ -113,7 +162,18 @@ def controllable_canonical_form(num, den):
     """``(A, B, C)`` of the strictly proper transfer function ``num(s) / den(s)`` (coefficients in
     descending powers, ``len(num) < len(den)``) in controllable canonical form, the convention of
     ``scipy.signal.tf2ss``: A's first row ``-a_1 ... -a_n`` (den normalized to a leading 1) over
-    an identity shift, ``B = e_1``, ``C`` the numerator padded to ``n`` coefficients."""
+    an identity shift, ``B = e_1``, ``C`` the numerator padded to ``n`` coefficients.
+
+    Parameters
+    ----------
+    num, den : sequence of float
+        Numerator and denominator coefficients, descending powers.
+
+    Returns
+    -------
+    tuple
+        (A, B, C).
+    """
     num = np.atleast_1d(np.asarray(num, dtype=float))
     den = np.atleast_1d(np.asarray(den, dtype=float))
     n = den.size - 1
@@ -141,7 +201,28 @@ def synthesize_vertical_turbulence(n_steps, dt, airspeed, sigma=1.0, scale_m=SCA
     v_k normal with the covariance Q_d = int_0^dt e^(A u) q B B^T e^(A^T u) du (q = pi, the noise
     intensity of a unit one-sided PSD) from the matrix exponential of Van Loan, "Computing integrals
     involving the matrix exponential", IEEE Trans. Automatic Control 23(3), 1978, 395-404; x_0 from the
-    stationary covariance P (A P + P A^T + q B B^T = 0). ``rng``: a numpy Generator (default seed 0)."""
+    stationary covariance P (A P + P A^T + q B B^T = 0). ``rng``: a numpy Generator (default seed 0).
+
+    Parameters
+    ----------
+    n_steps : int
+        Number of samples.
+    dt : float
+        Time step (s).
+    airspeed : float
+        True airspeed V (m/s).
+    sigma : float, optional
+        Gust intensity (m/s, root mean square).
+    scale_m : float, optional
+        Scale of turbulence L (m).
+    rng : numpy.random.Generator or None, optional
+        Random generator; None for ``numpy.random.default_rng(0)`` (a reproducible sample).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n_steps,) gust velocity (m/s).
+    """
     n = int(n_steps)
     if n < 1:
         raise ValueError(f"n_steps = {n_steps}; allowed range [1, inf)")
@@ -167,7 +248,18 @@ def synthesize_vertical_turbulence(n_steps, dt, airspeed, sigma=1.0, scale_m=SCA
 
 def reference_turbulence_intensity(altitude_ft: float) -> float:
     """U_sigma_ref (m/s TAS), 25.341(b)(3)(i): 90 ft/s at sea level, linear to 79 ft/s at 24,000 ft,
-    79 ft/s up to 60,000 ft; ValueError outside 0-60,000 ft."""
+    79 ft/s up to 60,000 ft; ValueError outside 0-60,000 ft.
+
+    Parameters
+    ----------
+    altitude_ft : float
+        Altitude (ft).
+
+    Returns
+    -------
+    float
+        U_sigma_ref (m/s TAS).
+    """
     h = check_range("altitude_ft", altitude_ft, *ALTITUDE_RANGE_FT, "ft")
     alt, u = zip(*U_SIGMA_REF_TABLE_FT)
     return float(np.interp(h, alt, u)) * FT
@@ -176,7 +268,26 @@ def reference_turbulence_intensity(altitude_ft: float) -> float:
 def turbulence_intensity(u_sigma_ref: float, f_g: float, speed: float, v_c: float, v_d: float) -> float:
     """U_sigma = U_sigma_ref F_g at speeds up to V_C, half of it at V_D, linear in between
     (25.341(b)(3)(i)-(iii)); ``speed``, ``v_c``, ``v_d`` in one unit (e.g. m/s EAS), 0 < V_C < V_D,
-    speed in (0, V_D]."""
+    speed in (0, V_D].
+
+    Parameters
+    ----------
+    u_sigma_ref : float
+        Reference intensity (m/s TAS).
+    f_g : float
+        Flight profile alleviation factor (-).
+    speed : float
+        Airspeed.
+    v_c : float
+        Design cruising speed, same unit.
+    v_d : float
+        Design dive speed, same unit.
+
+    Returns
+    -------
+    float
+        U_sigma (m/s TAS).
+    """
     if not (np.isfinite(u_sigma_ref) and u_sigma_ref > 0):
         raise ValueError(f"u_sigma_ref = {u_sigma_ref} m/s; allowed range (0, inf) m/s")
     check_range("f_g (flight profile alleviation factor)", f_g, 0.0, 1.0, "", lo_open=True)
@@ -190,7 +301,21 @@ def turbulence_intensity(u_sigma_ref: float, f_g: float, speed: float, v_c: floa
 @dataclass(frozen=True)
 class TurbulenceIntensity:
     """The 25.341(b)(3) intensity of one flight point: ``altitude_ft``, ``u_sigma_ref`` (m/s TAS),
-    ``f_g``, ``speed_factor`` (1 up to V_C, 1/2 at V_D) and ``u_sigma`` (m/s TAS)."""
+    ``f_g``, ``speed_factor`` (1 up to V_C, 1/2 at V_D) and ``u_sigma`` (m/s TAS).
+
+    Parameters
+    ----------
+    altitude_ft : float
+        Altitude (ft).
+    u_sigma_ref : float
+        Reference intensity (m/s TAS).
+    f_g : float
+        Flight profile alleviation factor (-).
+    speed_factor : float
+        1 up to V_C, 1/2 at V_D (-).
+    u_sigma : float
+        Design intensity (m/s TAS).
+    """
 
     altitude_ft: float
     u_sigma_ref: float
@@ -202,7 +327,26 @@ class TurbulenceIntensity:
 def continuous_turbulence_intensity(altitude_ft, *, z_mo_ft, mlw_over_mtow, mzfw_over_mtow, speed=None, v_c=None,
                                     v_d=None) -> TurbulenceIntensity:
     """Everything 25.341(b)(3) fixes for one flight point (F_g of 25.341(a)(6) from Z_mo, MLW/MTOW,
-    MZFW/MTOW); without ``speed`` the point is at or below V_C."""
+    MZFW/MTOW); without ``speed`` the point is at or below V_C.
+
+    Parameters
+    ----------
+    altitude_ft : float
+        Altitude (ft).
+    z_mo_ft : float
+        Maximum operating altitude (ft).
+    mlw_over_mtow : float
+        Maximum landing over maximum take-off weight (-).
+    mzfw_over_mtow : float
+        Maximum zero-fuel over maximum take-off weight (-).
+    speed, v_c, v_d : float or None, optional
+        Airspeed, V_C and V_D in one unit; None for a point at or below V_C.
+
+    Returns
+    -------
+    TurbulenceIntensity
+        The intensity.
+    """
     u_ref = reference_turbulence_intensity(altitude_ft)
     f_g = flight_profile_alleviation_factor(altitude_ft, z_mo_ft, mlw_over_mtow, mzfw_over_mtow)
     if speed is None:
@@ -216,7 +360,17 @@ def continuous_turbulence_intensity(altitude_ft, *, z_mo_ft, mlw_over_mtow, mzfw
 class ABar:
     """A-bar of outputs (output units per m/s): ``value``, its quadrature error estimate
     ``error`` (from the Richardson estimate of the integral of A-bar^2 and the spectral tail,
-    |dI| / (2 A-bar)) and the ``psd`` (n_freq, ...) of the output per unit (m/s)^2 of sigma^2."""
+    |dI| / (2 A-bar)) and the ``psd`` (n_freq, ...) of the output per unit (m/s)^2 of sigma^2.
+
+    Parameters
+    ----------
+    value : numpy.ndarray
+        A-bar (output units per m/s).
+    error : numpy.ndarray
+        Quadrature error estimate of ``value``.
+    psd : numpy.ndarray
+        (n_freq, ...) output PSD per unit sigma^2.
+    """
 
     value: np.ndarray
     error: np.ndarray
@@ -226,7 +380,24 @@ class ABar:
 def a_bar(omega, response, airspeed, scale_m=SCALE_OF_TURBULENCE_FT * FT) -> ABar:
     """A-bar = sqrt(int_0^inf |H(omega)|^2 Phi_1(omega) d omega) of transfer functions ``response``
     (n_freq, ...) complex, Phi_1 the von Karman PSD of unit sigma (:func:`von_karman_psd`), on the
-    grid ``omega`` (rad/s; odd count, :func:`wingmdao.stability.frequency.frequency_grid`)."""
+    grid ``omega`` (rad/s; odd count, :func:`wingmdao.stability.frequency.frequency_grid`).
+
+    Parameters
+    ----------
+    omega : numpy.ndarray
+        Frequency grid (rad/s, odd count).
+    response : numpy.ndarray
+        (n_freq, ...) complex transfer functions (output per m/s of gust).
+    airspeed : float
+        True airspeed V (m/s).
+    scale_m : float, optional
+        Scale of turbulence L (m).
+
+    Returns
+    -------
+    ABar
+        A-bar, its error estimate and the PSD.
+    """
     w = check_frequencies(omega)
     H = np.asarray(response)
     phi = von_karman_psd(w, airspeed, 1.0, scale_m).reshape((-1,) + (1,) * (H.ndim - 1))
@@ -240,7 +411,24 @@ def a_bar(omega, response, airspeed, scale_m=SCALE_OF_TURBULENCE_FT * FT) -> ABa
 
 def correlation(omega, response_x, response_y, airspeed, scale_m=SCALE_OF_TURBULENCE_FT * FT):
     """Correlation coefficient rho_xy = int Re(H_x conj(H_y)) Phi_1 / (A-bar_x A-bar_y) of two outputs
-    (elementwise over the trailing axes), in [-1, 1]."""
+    (elementwise over the trailing axes), in [-1, 1].
+
+    Parameters
+    ----------
+    omega : numpy.ndarray
+        Frequency grid (rad/s, odd count).
+    response_x, response_y : numpy.ndarray
+        (n_freq, ...) complex transfer functions of the two outputs.
+    airspeed : float
+        True airspeed V (m/s).
+    scale_m : float, optional
+        Scale of turbulence L (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        rho_xy (-).
+    """
     w = check_frequencies(omega)
     hx, hy = np.asarray(response_x), np.asarray(response_y)
     if hx.shape != hy.shape:
@@ -255,7 +443,22 @@ def correlation(omega, response_x, response_y, airspeed, scale_m=SCALE_OF_TURBUL
 
 
 def design_loads(load_1g, u_sigma, a_bar_value):
-    """(P_1g + U_sigma A-bar, P_1g - U_sigma A-bar) of 25.341(b)(1), elementwise."""
+    """(P_1g + U_sigma A-bar, P_1g - U_sigma A-bar) of 25.341(b)(1), elementwise.
+
+    Parameters
+    ----------
+    load_1g : array_like
+        1 g loads P_1g.
+    u_sigma : float
+        Design intensity U_sigma (m/s).
+    a_bar_value : array_like
+        A-bar of the loads (load units per m/s).
+
+    Returns
+    -------
+    tuple
+        (upper, lower) design loads.
+    """
     if not (np.isfinite(u_sigma) and u_sigma >= 0):
         raise ValueError(f"u_sigma = {u_sigma} m/s; allowed range [0, inf) m/s TAS")
     p = np.asarray(load_1g, dtype=float)
@@ -265,7 +468,26 @@ def design_loads(load_1g, u_sigma, a_bar_value):
 
 def equal_probability_ellipse(load_1g, u_sigma, a_bar_xy, rho, n_points=73):
     """(n_points, 2) points of the equal-probability ellipse of two loads (x, y):
-    x = P_x + U A_x cos t, y = P_y + U A_y (rho cos t + sqrt(1 - rho^2) sin t), t in [0, 2 pi]."""
+    x = P_x + U A_x cos t, y = P_y + U A_y (rho cos t + sqrt(1 - rho^2) sin t), t in [0, 2 pi].
+
+    Parameters
+    ----------
+    load_1g : sequence of 2
+        1 g values (P_x, P_y).
+    u_sigma : float
+        Design intensity (m/s).
+    a_bar_xy : sequence of 2
+        A-bar of x and y (per m/s).
+    rho : float
+        Correlation coefficient (-).
+    n_points : int, optional
+        Points on the ellipse.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n_points, 2) points.
+    """
     if not -1.0 <= float(rho) <= 1.0:
         raise ValueError(f"rho = {rho}; allowed range [-1, 1]")
     t = np.linspace(0.0, 2 * np.pi, int(n_points))
@@ -278,7 +500,24 @@ def equal_probability_ellipse(load_1g, u_sigma, a_bar_xy, rho, n_points=73):
 
 def correlated_loads(load_1g, u_sigma, a_bar_xy, rho) -> np.ndarray:
     """(4, 2) tangent points of the ellipse (AC 25.341-1 equiprobable loads): x at its design values
-    P_x ± U A_x with y = P_y ± rho U A_y, then y at P_y ± U A_y with x = P_x ± rho U A_x."""
+    P_x ± U A_x with y = P_y ± rho U A_y, then y at P_y ± U A_y with x = P_x ± rho U A_x.
+
+    Parameters
+    ----------
+    load_1g : sequence of 2
+        1 g values (P_x, P_y).
+    u_sigma : float
+        Design intensity (m/s).
+    a_bar_xy : sequence of 2
+        A-bar of x and y (per m/s).
+    rho : float
+        Correlation coefficient (-).
+
+    Returns
+    -------
+    numpy.ndarray
+        (4, 2) design points.
+    """
     px, py = np.asarray(load_1g, dtype=float)
     ax, ay = float(u_sigma) * np.asarray(a_bar_xy, dtype=float)
     return np.array([[px + ax, py + rho * ay], [px - ax, py - rho * ay],
