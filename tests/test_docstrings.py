@@ -69,8 +69,6 @@ RATCHET: dict[str, int] = {
     "wingmdao.mphys.scenario": 3,
     "wingmdao.mphys.transfer": 1,
     "wingmdao.sizing": 24,
-    "wingmdao.stability.frequency": 21,
-    "wingmdao.stability.frequency_adjoint": 5,
     "wingmdao.stability.modal": 6,
     "wingmdao.stability.modal_turbulence": 4,
     "wingmdao.timemarch.adjoint": 15,
