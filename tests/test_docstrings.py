@@ -96,13 +96,8 @@ RATCHET: dict[str, int] = {
     "wingmdao.stability.modal": 6,
     "wingmdao.stability.modal_turbulence": 4,
     "wingmdao.timemarch.adjoint": 15,
-    "wingmdao.timemarch.bdf": 4,
-    "wingmdao.timemarch.examples": 3,
-    "wingmdao.timemarch.fast_step": 5,
     "wingmdao.timemarch.lu_orders": 5,
-    "wingmdao.timemarch.newton": 3,
     "wingmdao.timemarch.static_lu": 21,
-    "wingmdao.timemarch.system": 32,
     "wingmdao.utils.c_library": 4,
 }
 
