@@ -39,9 +39,6 @@ INDEX = pathlib.Path(__file__).resolve().parents[1] / "docs" / "api" / "index.md
 RATCHET: dict[str, int] = {
     "wingmdao.aero.controls": 16,
     "wingmdao.aero.coupled": 4,
-    "wingmdao.aero.dlm": 14,
-    "wingmdao.aero.gust_response": 9,
-    "wingmdao.aero.joined": 4,
     "wingmdao.aero.modal_design": 4,
     "wingmdao.aero.modal_loads": 5,
     "wingmdao.aero.rfa": 5,
