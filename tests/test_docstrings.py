@@ -43,7 +43,6 @@ RATCHET: dict[str, int] = {
     "wingmdao.aero.modal_loads": 5,
     "wingmdao.aero.rfa": 5,
     "wingmdao.aero.rfa_system": 3,
-    "wingmdao.aero.system": 27,
     "wingmdao.cases.pegasus": 21,
     "wingmdao.cases.pegasus_stick": 12,
     "wingmdao.cases.pegasus_verification": 9,
