@@ -37,7 +37,29 @@ class GustFlight:
     """Flight point and gust of a response (SI): true airspeed ``airspeed`` (m/s), ``density``
     (kg/m^3), ``mach``, ``altitude`` (m), gust gradient ``gradient`` H (m), design gust velocity
     ``u_ds_eas`` and ``u_ds_tas`` (m/s), aircraft ``weight`` (N), ``gust_start`` (s: the gust front
-    reaches the most forward leading edge)."""
+    reaches the most forward leading edge).
+
+    Parameters
+    ----------
+    airspeed : float
+        True airspeed (m/s).
+    density : float
+        Air density (kg/m^3).
+    mach : float
+        Mach number.
+    altitude : float
+        Altitude (m).
+    gradient : float
+        Gust gradient H (m).
+    u_ds_eas : float
+        Design gust velocity, equivalent airspeed (m/s).
+    u_ds_tas : float
+        Design gust velocity, true airspeed (m/s).
+    weight : float
+        Aircraft weight (N).
+    gust_start : float
+        Time at which the gust front reaches the most forward leading edge (s).
+    """
 
     airspeed: float
     density: float
@@ -61,7 +83,29 @@ class GustResponse:
     The doublet lattice's modal response (:func:`dlm_gust_response`) has no beam states
     (``states`` None) but ``station_loads`` (n_time, n, 6): internal force (N) and moment (N m) at
     every node, body axes, increments on the jig; ``tip_displacement`` (n_time,) m, z; ``dlm``:
-    the modal model's figures (modes, lag roots, fit errors)."""
+    the modal model's figures (modes, lag roots, fit errors).
+
+    Parameters
+    ----------
+    load_factor : ndarray, shape (n_time,)
+        Load factor.
+    states : ndarray, shape (n_time, n, 18) or None
+        Beam states per node.
+    wing_lift_slope : float
+        Wing lift slope (1/rad).
+    trim_alpha : float, optional
+        Trim angle of attack (rad).
+    pitch : dict
+        Pitch histories with free pitch.
+    controls : dict
+        Control-surface histories and limits.
+    station_loads : ndarray, shape (n_time, n, 6), optional
+        Internal loads of the modal response (N, N m).
+    tip_displacement : ndarray, shape (n_time,), optional
+        Tip z displacement of the modal response (m).
+    dlm : dict
+        Figures of the modal model.
+    """
 
     load_factor: np.ndarray
     states: np.ndarray | None
@@ -75,7 +119,18 @@ class GustResponse:
 
 
 def gust_profile(flight: GustFlight):
-    """1 - cos gust velocity (m/s TAS, up) at the leading edge reached first, as a function of time."""
+    """1 - cos gust velocity (m/s TAS, up) at the leading edge reached first, as a function of time.
+
+    Parameters
+    ----------
+    flight : GustFlight
+        Flight point and gust.
+
+    Returns
+    -------
+    callable
+        ``profile(t)``: gust velocity (m/s) at time ``t`` (s).
+    """
     V, H, u_tas, start = flight.airspeed, flight.gradient, flight.u_ds_tas, flight.gust_start
 
     def profile(tau):
@@ -86,7 +141,24 @@ def gust_profile(flight: GustFlight):
 
 
 def wing_lift_slope(section_slope, chord, node_positions, area) -> float:
-    """Wing lift slope (1/rad) of strips of slope ``section_slope``: 2 int c a dy / S (trapezoid)."""
+    """Wing lift slope (1/rad) of strips of slope ``section_slope``: 2 int c a dy / S (trapezoid).
+
+    Parameters
+    ----------
+    section_slope : float or array_like, shape (n,)
+        Section lift slope a at the nodes (1/rad).
+    chord : float or array_like, shape (n,)
+        Chord at the nodes (m).
+    node_positions : array_like, shape (n, 3)
+        Beam node positions (m).
+    area : float
+        Wing reference area S, both halves (m^2).
+
+    Returns
+    -------
+    float
+        The wing lift slope (1/rad).
+    """
     a = np.asarray(section_slope) * np.asarray(chord)
     ds = np.linalg.norm(np.diff(node_positions, axis=0), axis=1)
     return float(2 * np.sum(0.5 * (a[1:] + a[:-1]) * ds) / area)
@@ -108,6 +180,42 @@ def coupled_gust_response(time, beam_params, chord, axis_frac, aero_params, flig
     slopes in ``lift_slope``). ``surfaces`` (:class:`~wingmdao.aero.controls.ControlSurface`) and
     ``law`` (:class:`~wingmdao.aero.controls.ControlLaw`, optional): control surfaces and a feedback
     law in the march, acting on the increments from the trimmed state (docs/controls.md).
+
+    Parameters
+    ----------
+    time : ndarray, shape (n_time,)
+        Uniform time grid from 0 (s).
+    beam_params : dict
+        Beam parameters per node.
+    chord : array_like, shape (n,)
+        Streamwise chord (m).
+    axis_frac : array_like, shape (n,)
+        Beam axis as a fraction of the chord aft of the leading edge.
+    aero_params : dict
+        Aerodynamic parameters per node.
+    flight : GustFlight
+        Flight point and gust.
+    area : float
+        Wing reference area (m^2).
+    plunge : bool
+        Free in plunge (else root clamped).
+    body_mass : float, optional
+        Aircraft mass less the wings (kg), with ``plunge``.
+    pitch_params : dict, optional
+        Free-pitch parameters; None: no pitch freedom.
+    tail_lag : bool
+        Lag the downwash at the tail (with free pitch).
+    aero_theory : str
+        ``"strip"`` or ``"vlm"``.
+    surfaces : sequence of ControlSurface, optional
+        Control surfaces.
+    law : ControlLaw, optional
+        Feedback law of the surfaces.
+
+    Returns
+    -------
+    GustResponse
+        The response.
     """
     chord, axis_frac = np.asarray(chord, dtype=float), np.asarray(axis_frac, dtype=float)
     pitch = pitch_params is not None
@@ -157,7 +265,32 @@ def strip_gust_response(time, beam_params, chord, axis_frac, flight: GustFlight,
                         fuselage_half_width) -> GustResponse:
     """The sizing's precomputed gust loads (rigid-wing quasi-steady strip theory, slope 2 pi, on the
     Schrenk 1 g spanload; as ``wingmdao size CASE --aero strip``) on the structural beam, root
-    clamped; the load factor is the applied lift of both half-wings over W."""
+    clamped; the load factor is the applied lift of both half-wings over W.
+
+    Parameters
+    ----------
+    time : ndarray, shape (n_time,)
+        Uniform time grid from 0 (s).
+    beam_params : dict
+        Beam parameters per node.
+    chord : array_like, shape (n,)
+        Streamwise chord (m).
+    axis_frac : array_like, shape (n,)
+        Beam axis as a fraction of the chord aft of the leading edge.
+    flight : GustFlight
+        Flight point and gust.
+    area : float
+        Wing reference area (m^2).
+    semi_span : float
+        Semi-span (m), for the Schrenk spanload.
+    fuselage_half_width : float
+        Fuselage half width (m).
+
+    Returns
+    -------
+    GustResponse
+        The response.
+    """
     r0, n = beam_params["node_positions"], np.asarray(chord).size
     steady = maneuver_line_loads(r0, chord, axis_frac, flight.weight, 1.0, semi_span=semi_span,
                                  fuselage_half_width=fuselage_half_width)
@@ -176,7 +309,24 @@ def alleviation_summary(without: GustResponse, with_law: GustResponse, surfaces,
     """The load alleviation's effect (JSON-ready): peak root bending (total, 1 g included, and the
     increment over the trimmed value; N m) and peak load-factor increment without and with the law,
     the surfaces' deflection, rate and hinge-moment histories with their peaks against the limits,
-    and the law's matrices."""
+    and the law's matrices.
+
+    Parameters
+    ----------
+    without : GustResponse
+        Response without the law.
+    with_law : GustResponse
+        Response with the law (with control histories).
+    surfaces : sequence of ControlSurface
+        The control surfaces.
+    law : ControlLaw or None
+        The law.
+
+    Returns
+    -------
+    dict
+        The summary.
+    """
     def peaks(resp):
         m = resp.states[:, 0, 9]
         dm = m - m[0]
@@ -205,7 +355,20 @@ def alleviation_summary(without: GustResponse, with_law: GustResponse, surfaces,
 
 def gust_velocity_derivatives(flight: GustFlight, time) -> np.ndarray:
     """(n_time, 3): the 1 - cos gust velocity (m/s TAS, up) at the leading edge reached first and
-    its first two time derivatives (the forcing of :func:`wingmdao.aero.rfa_system.modal_rfa_system`)."""
+    its first two time derivatives (the forcing of :func:`wingmdao.aero.rfa_system.modal_rfa_system`).
+
+    Parameters
+    ----------
+    flight : GustFlight
+        Flight point and gust.
+    time : array_like, shape (n_time,)
+        Times (s).
+
+    Returns
+    -------
+    ndarray, shape (n_time, 3)
+        Velocity (m/s), its rate (m/s^2) and second rate (m/s^3).
+    """
     V, H, u = flight.airspeed, flight.gradient, flight.u_ds_tas
     d = V * (np.asarray(time, dtype=float) - flight.gust_start)
     on = (d >= 0) & (d <= 2 * H)
@@ -225,7 +388,38 @@ def dlm_gust_response(time, beam_params, chord, axis_frac, flight: GustFlight, *
     approximation with ``n_lags`` lag roots, marched by BDF2 from rest on ``time``; the gust front
     reaches the foremost leading edge at ``flight.gust_start`` and each panel after its delay. The
     load factor is ``1 +`` the lift increment of both half-wings over W; station loads by force
-    summation (:mod:`wingmdao.aero.modal_loads`)."""
+    summation (:mod:`wingmdao.aero.modal_loads`).
+
+    Parameters
+    ----------
+    time : ndarray, shape (n_time,)
+        Uniform time grid from 0 (s).
+    beam_params : dict
+        Beam parameters per node.
+    chord : array_like, shape (n,)
+        Streamwise chord (m).
+    axis_frac : array_like, shape (n,)
+        Beam axis as a fraction of the chord aft of the leading edge.
+    flight : GustFlight
+        Flight point and gust.
+    area : float
+        Wing reference area (m^2).
+    n_modes : int
+        Number of normal modes.
+    n_lags : int
+        Number of lag roots of Roger's approximation.
+    reduced_frequencies : array_like
+        Reduced frequencies of the generalized forces.
+    n_chordwise : int
+        Chordwise panels of the doublet lattice.
+    n_spanwise : int
+        Spanwise strips per beam element.
+
+    Returns
+    -------
+    GustResponse
+        The response (no beam states).
+    """
     wing = modal_dlm_wing(beam_params, chord, axis_frac, flight.mach, n_modes=n_modes, n_lags=n_lags,
                           reduced_frequencies=reduced_frequencies, n_chordwise=n_chordwise, n_spanwise=n_spanwise)
     modal, structure, rfa, gaf, modes = wing.system, wing.structure, wing.rfa, wing.gaf, wing.modes

@@ -239,6 +239,36 @@ def build_joined_aeroelastic_system(beams, joints, *, lifting=("wing", "tail"), 
     normal, moment (n,) N about the beam axis, body-z force (n,) N/m)}).
     ValueError (before any build) for a lifting beam that is not a beam or not in body axes, a
     wing or tail not among the lifting beams, or supports that are not three valid triples.
+
+    Parameters
+    ----------
+    beams : sequence of Beam
+        The beams.
+    joints : sequence of Joint
+        The joints.
+    lifting : sequence of str
+        Names of the lifting beams (body axes).
+    wing : str
+        Name of the wing, a lifting beam.
+    tail : str or None
+        Name of the horizontal tail, another lifting beam; None: no tail downwash.
+    supports : sequence of tuple
+        Three ``(beam, node, component)``.
+    masses : sequence of LumpedMass
+        The lumped masses.
+    symmetry : sequence of Symmetry
+        The symmetry conditions.
+    euler_sequence : str
+        Euler-angle sequence.
+    damping : StrainRateDamping, optional
+        Strain-rate damping of the beams.
+    trim_rotation : bool
+        alpha_trim pitches the aircraft (see above).
+
+    Returns
+    -------
+    JoinedBeamSystem
+        The system, with the attributes above.
     """
     beams = tuple(beams)
     by_name = {b.name: b for b in beams if isinstance(b, Beam)}
@@ -330,7 +360,30 @@ def pack_aero_parameters(system, beam_params: dict, sections: dict, *, airspeed,
                          downwash_gradient=0.0) -> np.ndarray:
     """Packed parameters: the structure's (:meth:`~wingmdao.beam.joints.JoinedBeamSystem.pack_parameters`
     of ``beam_params``) and the aerodynamics': ``sections`` ``{beam: {chord, ref_point, lift_slope,
-    alpha_zero_lift, cm0}}`` (scalars broadcast; defaults ref_point 0.4, lift_slope 2 pi, 0, 0)."""
+    alpha_zero_lift, cm0}}`` (scalars broadcast; defaults ref_point 0.4, lift_slope 2 pi, 0, 0).
+
+    Parameters
+    ----------
+    system : JoinedBeamSystem
+        A system of :func:`build_joined_aeroelastic_system`.
+    beam_params : dict
+        ``{beam name: parameter dict}``.
+    sections : dict
+        ``{lifting beam: {chord (m), ref_point, lift_slope (1/rad), alpha_zero_lift (rad), cm0}}``.
+    airspeed : float
+        True airspeed (m/s).
+    density : float
+        Air density (kg/m^3).
+    mach : float
+        Mach number.
+    downwash_gradient : float
+        deps/dalpha at the tail, in [0, 1) (with a tail).
+
+    Returns
+    -------
+    ndarray
+        The packed parameters.
+    """
     base = system.pack_parameters(beam_params)
     lay = layout(system.param_specs)
     p = np.zeros(sum(s.size for s in system.param_specs))
@@ -359,7 +412,28 @@ def pack_aero_parameters(system, beam_params: dict, sections: dict, *, airspeed,
 def pack_aero_forcing(system, gust: dict | None = None, *, trim_active=0.0, frame_velocity=(0.0, 0.0, 0.0),
                       frame_velocity_rate=(0.0, 0.0, 0.0), **shared) -> np.ndarray:
     """Packed forcing at one instant: ``gust`` ``{beam: (n,) m/s}`` of the lifting beams (zero if
-    absent), the trim switch and the shared structure forcing (``gravity``, ``frame_acceleration``, ...)."""
+    absent), the trim switch and the shared structure forcing (``gravity``, ``frame_acceleration``, ...).
+
+    Parameters
+    ----------
+    system : JoinedBeamSystem
+        A system of :func:`build_joined_aeroelastic_system`.
+    gust : dict, optional
+        ``{lifting beam: (n,) gust velocity (m/s)}``.
+    trim_active : float
+        Trim switch (1: solve the trim unknowns; 0: hold them).
+    frame_velocity : array_like, shape (3,)
+        Velocity of the body axes relative to the trimmed flight (m/s).
+    frame_velocity_rate : array_like, shape (3,)
+        Its rate (m/s^2).
+    **shared
+        Shared structure forcing blocks.
+
+    Returns
+    -------
+    ndarray
+        The packed forcing.
+    """
     base = system.pack_forcing(None, **shared)
     lay = layout(system.forcing_specs)
     q = np.zeros(sum(s.size for s in system.forcing_specs))
@@ -376,7 +450,28 @@ def pack_aero_forcing(system, gust: dict | None = None, *, trim_active=0.0, fram
 def lift_total(system, x, xdot, p, q, vertical: bool = False) -> float:
     """Integrated lift (N, trapezoid over each lifting beam's jig node positions) of the modelled
     half (or whole) aircraft: along the sections' normals, or with ``vertical`` its body-z
-    component (the aerodynamic force that balances the weight)."""
+    component (the aerodynamic force that balances the weight).
+
+    Parameters
+    ----------
+    system : JoinedBeamSystem
+        A system of :func:`build_joined_aeroelastic_system`.
+    x : array_like, shape (n_state,)
+        State.
+    xdot : array_like, shape (n_state,)
+        State rate.
+    p : array_like, shape (n_param,)
+        Packed parameters.
+    q : array_like, shape (n_forcing,)
+        Packed forcing.
+    vertical : bool
+        Integrate the body-z component instead of the normal lift.
+
+    Returns
+    -------
+    float
+        The lift (N).
+    """
     lay = layout(system.param_specs)
     p = np.asarray(p, dtype=float)
     total = 0.0

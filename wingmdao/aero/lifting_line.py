@@ -26,6 +26,26 @@ def lifting_line_lift_slope(y, chord, semi_span, *, section_slope=2 * np.pi, n_t
     ``chord``: callable c(y) (m) or a pair ``(y_nodes, c_nodes)`` interpolated linearly;
     ``section_slope``: the 2-D slope a0 (1/rad, incompressible). Returns ``(slope at y, CL_alpha)``
     with CL_alpha the wing's lift-curve slope (1/rad) on the reference area int c dy of both halves.
+
+    Parameters
+    ----------
+    y : array_like
+        Spanwise positions (m), in [0, semi_span).
+    chord : callable or tuple
+        ``c(y)`` (m), or ``(y_nodes, c_nodes)`` interpolated linearly; > 0 inside the span.
+    semi_span : float
+        Semi-span s (m), > 0.
+    section_slope : float
+        Section lift slope a0 (1/rad), > 0.
+    n_terms : int
+        Number of odd Fourier terms (and collocation points).
+
+    Returns
+    -------
+    slope : ndarray
+        Local lift slope at ``y`` (1/rad).
+    cl_alpha : float
+        Wing lift-curve slope (1/rad).
     """
     s = float(semi_span)
     if not s > 0:

@@ -101,7 +101,18 @@ def elevator_effectiveness(chord_ratio) -> float:
     (the flapped thin aerofoil: dC_l/d delta = 2 (pi - theta_h + sin theta_h); Glauert, *The
     Elements of Aerofoil and Airscrew Theory*, 2nd ed., Cambridge University Press, 1947; E = 0.3
     gives 0.66). Measured effectiveness is lower (the empirical flap-effectiveness charts of Nelson,
-    *Flight Stability and Automatic Control*, 2nd ed., 1998, Ch. 2, give about 0.5 at E = 0.3)."""
+    *Flight Stability and Automatic Control*, 2nd ed., 1998, Ch. 2, give about 0.5 at E = 0.3).
+
+    Parameters
+    ----------
+    chord_ratio : float
+        Elevator chord over tail chord E, in (0, 1).
+
+    Returns
+    -------
+    float
+        tau_e.
+    """
     e = float(chord_ratio)
     if not (np.isfinite(e) and 0.0 < e < 1.0):
         raise ValueError(f"elevator chord ratio = {e}; allowed range (0, 1)")
@@ -110,7 +121,15 @@ def elevator_effectiveness(chord_ratio) -> float:
 
 
 def check_pitch_inputs(**values) -> None:
-    """ValueError (input, value, allowed range, SI) for bad free-pitch inputs; checks those given."""
+    """ValueError (input, value, allowed range, SI) for bad free-pitch inputs; checks those given.
+
+    Parameters
+    ----------
+    **values
+        Inputs by name: ``aircraft_pitch_inertia``, ``body_pitch_inertia`` (kg m^2),
+        ``tail_area`` (m^2), ``tail_lift_slope`` (1/rad), ``downwash_gradient``, ``tail_arm``,
+        ``tail_x`` (m), ``elevator_effectiveness``, ``elevator_time_constant`` (s).
+    """
     rules = {"aircraft_pitch_inertia": ("kg*m**2", lambda v: v > 0, "(0, inf)"),
              "body_pitch_inertia": ("kg*m**2", lambda v: v > 0, "(0, inf)"),
              "tail_area": ("m**2", lambda v: v > 0, "(0, inf)"),
@@ -131,7 +150,35 @@ def pitch_parameters(*, aircraft_mass, cg, aircraft_pitch_inertia, tail_arm, tai
                      downwash_gradient, mass_per_length, node_positions) -> dict:
     """Validated parameter dict of the free-pitch rows (``body_mass`` included) from the whole
     aircraft: mass (kg), CG (x, z) m from the body-axes origin, pitch inertia about the CG (kg m^2),
-    tail arm CG -> tail aerodynamic centre (m), tail area (m^2), tail lift slope (1/rad), deps/dalpha."""
+    tail arm CG -> tail aerodynamic centre (m), tail area (m^2), tail lift slope (1/rad), deps/dalpha.
+
+    Parameters
+    ----------
+    aircraft_mass : float
+        Aircraft mass (kg).
+    cg : array_like, shape (2,)
+        CG ``(x, z)`` from the body-axes origin (m).
+    aircraft_pitch_inertia : float
+        Aircraft pitch inertia about the CG (kg m^2).
+    tail_arm : float
+        Distance from the CG aft to the tail aerodynamic centre (m), > 0.
+    tail_area : float
+        Horizontal tail area (m^2), > 0.
+    tail_lift_slope : float
+        Tail lift-curve slope (1/rad), > 0.
+    downwash_gradient : float
+        deps/dalpha at the tail, in [0, 1).
+    mass_per_length : array_like, shape (n,)
+        Mass per length of the half-wing beam (kg/m).
+    node_positions : array_like, shape (n, 3)
+        Node positions of the half-wing beam (m).
+
+    Returns
+    -------
+    dict
+        ``body_mass``, ``body_first_moment``, ``body_pitch_inertia``, ``tail_x``, ``tail_area``,
+        ``tail_lift_slope``, ``downwash_gradient``.
+    """
     check_pitch_inputs(tail_arm=tail_arm, tail_area=tail_area, tail_lift_slope=tail_lift_slope,
                        downwash_gradient=downwash_gradient)
     mb, s, i_o = body_pitch_properties(aircraft_mass, np.asarray(cg, dtype=float), aircraft_pitch_inertia,
@@ -143,7 +190,24 @@ def pitch_parameters(*, aircraft_mass, cg, aircraft_pitch_inertia, tail_arm, tai
 
 def half_wing_pitch_moments(mass_per_length, node_positions):
     """(m_h, (S_x, S_z), I_O) of one half-wing: mass, first moments and pitch inertia about the
-    body-axes origin's y axis, mass lumped at the nodes with trapezoid weights (complex-step safe)."""
+    body-axes origin's y axis, mass lumped at the nodes with trapezoid weights (complex-step safe).
+
+    Parameters
+    ----------
+    mass_per_length : array_like, shape (n,)
+        Mass per length at the nodes (kg/m).
+    node_positions : array_like, shape (n, 3)
+        Node positions (m), body axes.
+
+    Returns
+    -------
+    m_h : float
+        Half-wing mass (kg).
+    first_moment : ndarray, shape (2,)
+        ``(S_x, S_z)`` (kg m).
+    inertia : float
+        Pitch inertia about the origin (kg m^2).
+    """
     mu, r = np.asarray(mass_per_length), np.asarray(node_positions)
     s = np.sqrt(np.sum(np.diff(r, axis=0) ** 2, axis=1))
     if np.any(np.real(s) <= 0):
@@ -159,7 +223,30 @@ def half_wing_pitch_moments(mass_per_length, node_positions):
 def body_pitch_properties(aircraft_mass, cg, aircraft_pitch_inertia, mass_per_length, node_positions):
     """Body (aircraft outside both half-wings) mass, first moment (2,) and pitch inertia about the
     origin from the whole aircraft's mass M (kg), CG (x, z) from the origin (m) and pitch inertia
-    about the CG (kg m^2); ValueError unless the body's own inertia about its CG is > 0."""
+    about the CG (kg m^2); ValueError unless the body's own inertia about its CG is > 0.
+
+    Parameters
+    ----------
+    aircraft_mass : float
+        Aircraft mass M (kg).
+    cg : array_like, shape (2,)
+        CG ``(x, z)`` from the origin (m).
+    aircraft_pitch_inertia : float
+        Pitch inertia about the CG (kg m^2), > 0.
+    mass_per_length : array_like, shape (n,)
+        Mass per length of the half-wing beam (kg/m).
+    node_positions : array_like, shape (n, 3)
+        Node positions of the half-wing beam (m).
+
+    Returns
+    -------
+    body_mass : float
+        m_b (kg).
+    first_moment : ndarray, shape (2,)
+        s (kg m).
+    pitch_inertia : float
+        I_O (kg m^2).
+    """
     check_pitch_inputs(aircraft_pitch_inertia=aircraft_pitch_inertia)
     cg = np.asarray(cg)
     if cg.shape != (2,) or not np.all(np.isfinite(np.real(cg))):
@@ -184,7 +271,54 @@ def body_residuals(x_b, xd_b, *, w_p, dw_p, F0, M0, r0, alpha_trim, gust_root, g
 
     ``x_b``/``xd_b``: (theta_p, q, [e], [delta], i_t) and their rates; ``on`` the trim switch (1:
     theta_p = q = w_p = 0 and i_t solves the static moment balance; 0: the dynamics, i_t held);
-    ``elevator``: None (no elevator) or ``(tau_e, t_a, delta_cmd)``."""
+    ``elevator``: None (no elevator) or ``(tau_e, t_a, delta_cmd)``.
+
+    Parameters
+    ----------
+    x_b : casadi.SX
+        Rigid-body states (theta_p, q, [e], [delta], i_t) (rad, rad/s).
+    xd_b : casadi.SX
+        Their rates.
+    w_p : casadi.SX
+        Plunge velocity of the origin, up (m/s).
+    dw_p : casadi.SX
+        Its rate (m/s^2).
+    F0 : casadi.SX, shape (3,)
+        Root force of one half-wing on the body (N), body axes.
+    M0 : casadi.SX, shape (3,)
+        Root moment of one half-wing on the body (N m), body axes.
+    r0 : casadi.SX or ndarray, shape (3,)
+        Root node position (m).
+    alpha_trim : casadi.SX
+        Trim angle of attack (rad).
+    gust_root : casadi.SX
+        Gust velocity at the root station (m/s).
+    gust_tail : casadi.SX
+        Gust velocity at the tail (m/s).
+    V : casadi.SX
+        Airspeed (m/s).
+    rho : casadi.SX
+        Air density (kg/m^3).
+    g : casadi.SX, shape (3,)
+        Gravity (m/s^2), body axes.
+    pars : dict
+        The pitch parameters (:func:`pitch_param_specs`) as CasADi symbols.
+    body_mass : casadi.SX
+        m_b (kg).
+    tail_lag : bool
+        Whether the downwash lag state e is present.
+    on : casadi.SX
+        Trim switch (1: trim, 0: dynamics).
+    elevator : tuple, optional
+        ``(tau_e, t_a, delta_cmd)``; None: no elevator.
+
+    Returns
+    -------
+    rows : casadi.SX
+        The rows, in the order above.
+    lift_t : casadi.SX
+        Tail lift L_t (N).
+    """
     theta, qr = x_b[0], x_b[1]
     it = x_b[-1]
     s_x, s_z = pars["body_first_moment"][0], pars["body_first_moment"][1]
@@ -219,7 +353,40 @@ def short_period_closed_form(*, mass, pitch_inertia, airspeed, density, wing_are
     Z_w = -q_d (S a_w + S_t a_t (1 - deps/dalpha)) / (m V) (lift only: no drag, no C_L0 term);
     M_w = q_d (S a_w x_w - S_t a_t (1 - deps/dalpha) l_t) / (I V), x_w the wing aerodynamic centre
     *ahead* of the CG (``wing_ac_arm``, m); M_q = -q_d S_t a_t l_t^2 / (I V) (tail only);
-    M_wdot = -q_d S_t a_t deps/dalpha l_t^2 / (I V^2) with the downwash lag, else 0."""
+    M_wdot = -q_d S_t a_t deps/dalpha l_t^2 / (I V^2) with the downwash lag, else 0.
+
+    Parameters
+    ----------
+    mass : float
+        Aircraft mass (kg).
+    pitch_inertia : float
+        Pitch inertia about the CG (kg m^2).
+    airspeed : float
+        Airspeed (m/s).
+    density : float
+        Air density (kg/m^3).
+    wing_area : float
+        Wing area S (m^2).
+    wing_lift_slope : float
+        Wing lift-curve slope a_w (1/rad).
+    tail_area : float
+        Tail area S_t (m^2).
+    tail_lift_slope : float
+        Tail lift-curve slope a_t (1/rad).
+    tail_arm : float
+        CG to tail aerodynamic centre l_t (m).
+    downwash_gradient : float
+        deps/dalpha.
+    wing_ac_arm : float
+        Wing aerodynamic centre ahead of the CG x_w (m).
+    tail_lag : bool
+        Include M_wdot from the downwash lag.
+
+    Returns
+    -------
+    ndarray of complex, shape (2,)
+        The eigenvalues (1/s).
+    """
     qd, m, I, V = 0.5 * density * airspeed ** 2, mass, pitch_inertia, airspeed
     at = tail_area * tail_lift_slope
     Zw = -qd * (wing_area * wing_lift_slope + at * (1 - downwash_gradient)) / (m * V)

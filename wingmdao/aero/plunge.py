@@ -17,7 +17,24 @@ import numpy as np
 
 def half_wing_mass(mass_per_length, node_positions):
     """(m_half kg, d m_half / d mu (n,), d m_half / d node_positions (n, 3)) by the trapezoid rule
-    (complex-step safe)."""
+    (complex-step safe).
+
+    Parameters
+    ----------
+    mass_per_length : array_like, shape (n,)
+        Mass per length of the beam at the nodes (kg/m); may be complex (complex step).
+    node_positions : array_like, shape (n, 3)
+        Node positions (m); consecutive nodes distinct.
+
+    Returns
+    -------
+    m_half : float
+        Half-wing mass (kg).
+    dm_dmu : ndarray, shape (n,)
+        Its derivative with respect to the mass per length (m).
+    dm_dr : ndarray, shape (n, 3)
+        Its derivative with respect to the node positions (kg/m).
+    """
     mu, r = np.asarray(mass_per_length), np.asarray(node_positions)
     d = np.diff(r, axis=0)
     s = np.sqrt(np.sum(d * d, axis=1))
@@ -35,7 +52,20 @@ def half_wing_mass(mass_per_length, node_positions):
 
 
 def body_mass(aircraft_mass, half_mass):
-    """Mass outside both wing halves, ``aircraft_mass - 2 half_mass`` (kg); ValueError unless > 0."""
+    """Mass outside both wing halves, ``aircraft_mass - 2 half_mass`` (kg); ValueError unless > 0.
+
+    Parameters
+    ----------
+    aircraft_mass : float
+        Aircraft mass (kg).
+    half_mass : float
+        Mass of one wing half (kg).
+
+    Returns
+    -------
+    float
+        The body mass (kg), > 0.
+    """
     m = aircraft_mass - 2.0 * half_mass
     if not (np.isfinite(np.real(aircraft_mass)) and np.real(m) > 0.0):
         raise ValueError(f"aircraft_mass = {np.real(aircraft_mass)} kg; allowed range (2 x half-wing mass = "

@@ -55,32 +55,92 @@ AERO_STATE_NAMES = ("wagner lag 1", "wagner lag 2", "kussner lag 1", "kussner la
 
 
 def wagner_jones(s):
-    """Jones' two-term Wagner function phi(s), s in semichords travelled."""
+    """Jones' two-term Wagner function phi(s), s in semichords travelled.
+
+    Parameters
+    ----------
+    s : array_like
+        Distance travelled in semichords.
+
+    Returns
+    -------
+    ndarray
+        phi(s).
+    """
     s = np.asarray(s, dtype=float)
     return 1.0 - WAGNER_A[0] * np.exp(-WAGNER_B[0] * s) - WAGNER_A[1] * np.exp(-WAGNER_B[1] * s)
 
 
 def kussner_sears_sparks(s):
-    """Sears-Sparks two-term Kuessner function psi(s), s in semichords into the gust."""
+    """Sears-Sparks two-term Kuessner function psi(s), s in semichords into the gust.
+
+    Parameters
+    ----------
+    s : array_like
+        Distance into the gust in semichords.
+
+    Returns
+    -------
+    ndarray
+        psi(s).
+    """
     s = np.asarray(s, dtype=float)
     return 1.0 - KUSSNER_A[0] * np.exp(-KUSSNER_B[0] * s) - KUSSNER_A[1] * np.exp(-KUSSNER_B[1] * s)
 
 
 def theodorsen_exact(k):
-    """Theodorsen's C(k) = H1(k) / (H1(k) + i H0(k)) (Hankel functions of the second kind)."""
+    """Theodorsen's C(k) = H1(k) / (H1(k) + i H0(k)) (Hankel functions of the second kind).
+
+    Parameters
+    ----------
+    k : float or array_like
+        Reduced frequency ``omega b / V``, > 0.
+
+    Returns
+    -------
+    complex or ndarray of complex
+        C(k).
+    """
     h1, h0 = hankel2(1, k), hankel2(0, k)
     return h1 / (h1 + 1j * h0)
 
 
 def theodorsen_jones(k):
-    """C(k) of Jones' two-state Wagner approximation (the frequency response of the lag states)."""
+    """C(k) of Jones' two-state Wagner approximation (the frequency response of the lag states).
+
+    Parameters
+    ----------
+    k : float or array_like
+        Reduced frequency ``omega b / V``.
+
+    Returns
+    -------
+    complex or ndarray of complex
+        The approximate C(k).
+    """
     ik = 1j * np.asarray(k, dtype=float)
     return 1.0 - sum(a * ik / (ik + b) for a, b in zip(WAGNER_A, WAGNER_B))
 
 
 def check_aero_inputs(*, chord=None, ref_point=None, airspeed=None, density=None, mach=None,
                       lift_slope=None) -> None:
-    """ValueError naming the input, its value and the allowed range (SI) for bad section data."""
+    """ValueError naming the input, its value and the allowed range (SI) for bad section data.
+
+    Parameters
+    ----------
+    chord : float or array_like, optional
+        Chord (m), > 0.
+    ref_point : float or array_like, optional
+        Reference point as a fraction of the chord from the leading edge, in [0, 1].
+    airspeed : float or array_like, optional
+        Airspeed (m/s), > 0.
+    density : float or array_like, optional
+        Air density (kg/m^3), > 0.
+    mach : float or array_like, optional
+        Mach number, in [0, 1).
+    lift_slope : float or array_like, optional
+        Section lift slope (1/rad), > 0.
+    """
     def _arr(v):
         return np.atleast_1d(np.asarray(v, dtype=float))
 
@@ -120,6 +180,52 @@ def section_model(rel_csn, w_s, dw_mid_dt, dw_s_dt, gust_n, aero_x, aero_xdot, c
     :mod:`wingmdao.aero.controls`): its angle adds to the three-quarter-chord angle that drives
     the Wagner states, its non-circulatory lift and moment to the section's, and ``parts`` holds
     the ``hinge_moment`` per length (trailing edge down positive). None: no surface.
+
+    Parameters
+    ----------
+    rel_csn : casadi.SX, shape (3,)
+        Relative air velocity at the reference point in csn (m/s), without the gust.
+    w_s : casadi.SX
+        Pitch rate, nose up (rad/s).
+    dw_mid_dt : casadi.SX
+        Rate of the midchord normal relative velocity (m/s^2).
+    dw_s_dt : casadi.SX
+        Rate of the pitch rate (rad/s^2).
+    gust_n : casadi.SX
+        Gust velocity normal to the section (m/s).
+    aero_x : casadi.SX, shape (4,)
+        Lag states (Wagner 1, 2, Kuessner 1, 2; rad).
+    aero_xdot : casadi.SX, shape (4,)
+        Their rates (rad/s).
+    chord : casadi.SX or float
+        Chord (m).
+    ref_point : casadi.SX or float
+        Reference point, fraction of the chord from the leading edge.
+    lift_slope : casadi.SX or float
+        Incompressible section lift slope (1/rad).
+    alpha_zero : casadi.SX or float
+        Zero-lift angle (rad).
+    cm0 : casadi.SX or float
+        Zero-lift moment coefficient about the quarter chord.
+    airspeed : casadi.SX or float
+        Airspeed V (m/s).
+    density : casadi.SX or float
+        Air density (kg/m^3).
+    mach : casadi.SX or float
+        Mach number.
+    flap : tuple, optional
+        ``(T, beta, dbeta, ddbeta)`` of a trailing-edge control surface; None: none.
+
+    Returns
+    -------
+    lift : casadi.SX
+        Lift per length along +n (N/m).
+    moment_ref : casadi.SX
+        Moment per length about +s at the reference point (N m/m).
+    residual : casadi.SX, shape (4,)
+        Lag-state residuals.
+    parts : dict
+        Lift and angle components, as described above.
     """
     b = 0.5 * chord
     v_c = rel_csn[0]
@@ -164,6 +270,24 @@ def station_gust_history(time, x_stations, airspeed, profile, x_ref=None):
     aft with the air at ``airspeed``; a station at chordwise body position x meets the gust
     profile ``profile(tau)`` (upward m/s, tau the time since the front passed) at
     ``tau = t - (x - x_ref) / V``; ``profile`` must return 0 for tau < 0.
+
+    Parameters
+    ----------
+    time : array_like, shape (n_time,)
+        Times (s).
+    x_stations : array_like, shape (n_station,)
+        Chordwise body position x of each station (m).
+    airspeed : float
+        Airspeed (m/s), > 0.
+    profile : callable
+        ``profile(tau)`` gust velocity (m/s, up), 0 for tau < 0.
+    x_ref : float, optional
+        x of the gust front at t = 0 (m); default the most forward station.
+
+    Returns
+    -------
+    ndarray, shape (n_time, n_station)
+        Gust velocity (m/s).
     """
     check_aero_inputs(airspeed=airspeed)
     t = np.asarray(time, dtype=float)[:, None]

@@ -84,6 +84,17 @@ class StateLayout:
     states before the beam's 13992 L+U nonzeros against 15253 at no measurable time gain; the best
     of all 5040 block orders of a node (F, r, M, lag, u, omega, theta) 11714, 17 % faster
     factorization but a beam-state order different from the structural beam's.
+
+    Parameters
+    ----------
+    beam : ndarray of int, shape (n, 18)
+        Flat indices of the beam states.
+    aero : ndarray of int, shape (n, 4)
+        Flat indices of the lag states.
+    body : dict of str to int
+        Flat index of each rigid-body state present.
+    size : int
+        Number of states.
     """
 
     beam: np.ndarray
@@ -92,21 +103,54 @@ class StateLayout:
     size: int
 
     def beam_states(self, X):
-        """The beam states (..., n, 18) of state vectors X (..., size) or (..., n, 22)."""
+        """The beam states (..., n, 18) of state vectors X (..., size) or (..., n, 22).
+
+        Parameters
+        ----------
+        X : array_like, shape (..., size) or (..., n, 22)
+            State vectors.
+
+        Returns
+        -------
+        ndarray, shape (..., n, 18)
+            The beam states.
+        """
         X = np.asarray(X)
         if X.shape[-1] != self.size:
             X = X.reshape(X.shape[:-2] + (-1,))
         return X[..., self.beam]
 
     def aero_states(self, X):
-        """The lag states (..., n, 4) of state vectors X (..., size) or (..., n, 22)."""
+        """The lag states (..., n, 4) of state vectors X (..., size) or (..., n, 22).
+
+        Parameters
+        ----------
+        X : array_like, shape (..., size) or (..., n, 22)
+            State vectors.
+
+        Returns
+        -------
+        ndarray, shape (..., n, 4)
+            The lag states.
+        """
         X = np.asarray(X)
         if X.shape[-1] != self.size:
             X = X.reshape(X.shape[:-2] + (-1,))
         return X[..., self.aero]
 
     def mask(self, part: str) -> np.ndarray:
-        """(size,) 1.0 on the ``beam`` or ``aero`` states, 0 elsewhere."""
+        """(size,) 1.0 on the ``beam`` or ``aero`` states, 0 elsewhere.
+
+        Parameters
+        ----------
+        part : str
+            ``"beam"`` or ``"aero"``.
+
+        Returns
+        -------
+        ndarray, shape (size,)
+            The mask.
+        """
         w = np.zeros(self.size)
         w[getattr(self, part).ravel()] = 1.0
         return w
@@ -119,7 +163,26 @@ def state_layout(num_nodes: int, plunge: bool = False, trim: bool = False, pitch
     index through it). A new body state goes here, in the order the build appends it: plunge,
     the free-pitch states ``pitch_states`` (:mod:`wingmdao.aero.pitch`), the control states
     ``control_states`` (actuators, controller, measurement references; :mod:`wingmdao.aero.controls`),
-    trim last."""
+    trim last.
+
+    Parameters
+    ----------
+    num_nodes : int
+        Number of nodes.
+    plunge : bool
+        Free plunge state present.
+    trim : bool
+        Trim state present.
+    pitch_states : sequence of str
+        Names of the free-pitch states, in order.
+    control_states : sequence of str
+        Names of the control states, in order.
+
+    Returns
+    -------
+    StateLayout
+        The layout.
+    """
     n = int(num_nodes)
     node = np.arange(n)[:, None] * N_AEROELASTIC_STATES
     body, k = {}, N_AEROELASTIC_STATES * n
@@ -135,7 +198,18 @@ def state_layout(num_nodes: int, plunge: bool = False, trim: bool = False, pitch
 
 
 def aero_param_specs(n: int) -> list[VarSpec]:
-    """Aerodynamic parameters of an n-node aeroelastic beam (appended to the beam's)."""
+    """Aerodynamic parameters of an n-node aeroelastic beam (appended to the beam's).
+
+    Parameters
+    ----------
+    n : int
+        Number of nodes.
+
+    Returns
+    -------
+    list of VarSpec
+        The parameter blocks.
+    """
     return [
         VarSpec("chord", (n,), "m", "section chord at each node"),
         VarSpec("ref_point", (n,), None, "beam-axis (reference point) position, fraction of chord aft of the leading edge"),
@@ -149,7 +223,18 @@ def aero_param_specs(n: int) -> list[VarSpec]:
 
 
 def vlm_param_specs(n: int) -> list[VarSpec]:
-    """The vortex-lattice influence parameters of ``aero_theory="vlm"`` (:mod:`wingmdao.aero.vlm`)."""
+    """The vortex-lattice influence parameters of ``aero_theory="vlm"`` (:mod:`wingmdao.aero.vlm`).
+
+    Parameters
+    ----------
+    n : int
+        Number of nodes.
+
+    Returns
+    -------
+    list of VarSpec
+        The parameter blocks.
+    """
     return [
         VarSpec("lift_influence", (n, n), "m", "lift per length at station i per dynamic pressure and radian of "
                 "circulatory angle at station j (vortex lattice, Prandtl-Glauert included)"),
@@ -159,7 +244,18 @@ def vlm_param_specs(n: int) -> list[VarSpec]:
 
 
 def aero_forcing_specs(n: int) -> list[VarSpec]:
-    """Aerodynamic forcing at one instant (appended to the beam's)."""
+    """Aerodynamic forcing at one instant (appended to the beam's).
+
+    Parameters
+    ----------
+    n : int
+        Number of nodes.
+
+    Returns
+    -------
+    list of VarSpec
+        The forcing blocks.
+    """
     return [
         VarSpec("gust_velocity", (n,), "m/s", "gust velocity (body +z, up) at each station, penetration delay included"),
         VarSpec("frame_velocity", (3,), "m/s", "velocity of the body-axes origin relative to the trimmed flight (e.g. plunge)"),
@@ -169,7 +265,34 @@ def aero_forcing_specs(n: int) -> list[VarSpec]:
 
 def aero_parameters(n: int, *, chord, ref_point=0.4, lift_slope=2 * np.pi, alpha_zero_lift=0.0, cm0=0.0,
                     airspeed, density, mach=0.0) -> dict:
-    """Dict of the aerodynamic parameters (scalars broadcast to every node), validated."""
+    """Dict of the aerodynamic parameters (scalars broadcast to every node), validated.
+
+    Parameters
+    ----------
+    n : int
+        Number of nodes.
+    chord : float or array_like, shape (n,)
+        Section chord (m).
+    ref_point : float or array_like, shape (n,)
+        Beam axis as a fraction of the chord aft of the leading edge.
+    lift_slope : float or array_like, shape (n,)
+        Incompressible section lift slope (1/rad).
+    alpha_zero_lift : float or array_like, shape (n,)
+        Section zero-lift angle (rad).
+    cm0 : float or array_like, shape (n,)
+        Section moment coefficient about the quarter chord.
+    airspeed : float
+        True airspeed (m/s).
+    density : float
+        Air density (kg/m^3).
+    mach : float
+        Mach number.
+
+    Returns
+    -------
+    dict
+        The parameters of :func:`aero_param_specs`.
+    """
     out = {}
     for name, v in (("chord", chord), ("ref_point", ref_point), ("lift_slope", lift_slope),
                     ("alpha_zero_lift", alpha_zero_lift), ("cm0", cm0)):
@@ -185,7 +308,26 @@ def three_dimensional_parameters(aero_theory: str, node_positions, chord, ref_po
     (:func:`~wingmdao.aero.lifting_line.lifting_line_lift_slope`, zero at the tip node) for
     ``"lifting-line"``; ``lift_influence`` (n, n) m and ``moment_influence`` (n, n) m^2 from the
     vortex lattice at ``mach`` (:func:`~wingmdao.aero.vlm.station_influence`) for ``"vlm"``.
-    ``node_positions`` (n, 3) m: the jig beam nodes; ``chord`` (n,) m; ``ref_point`` (n,)."""
+    ``node_positions`` (n, 3) m: the jig beam nodes; ``chord`` (n,) m; ``ref_point`` (n,).
+
+    Parameters
+    ----------
+    aero_theory : str
+        A theory of :data:`AERO_THEORY_CHOICES`.
+    node_positions : array_like, shape (n, 3)
+        Jig beam nodes (m).
+    chord : float or array_like, shape (n,)
+        Chord (m).
+    ref_point : float or array_like, shape (n,)
+        Beam axis as a fraction of the chord aft of the leading edge.
+    mach : float
+        Mach number (vortex lattice).
+
+    Returns
+    -------
+    dict
+        The parameters, by name.
+    """
     if aero_theory not in AERO_THEORY_CHOICES:
         raise ValueError(f"aero_theory = {aero_theory!r}; allowed: {', '.join(AERO_THEORY_CHOICES)}")
     if aero_theory == "strip":
@@ -202,7 +344,13 @@ def three_dimensional_parameters(aero_theory: str, node_positions, chord, ref_po
 
 
 def check_aero_parameters(values: dict) -> None:
-    """ValueError (input, value, allowed range) for bad chord, ref_point, airspeed, density, mach."""
+    """ValueError (input, value, allowed range) for bad chord, ref_point, airspeed, density, mach.
+
+    Parameters
+    ----------
+    values : dict
+        Aerodynamic parameters by name (those present are checked).
+    """
     check_aero_inputs(**{k: values[k] for k in ("chord", "ref_point", "airspeed", "density", "mach",
                                                  "lift_slope") if k in values})
 
@@ -290,7 +438,36 @@ def aeroelastic_definition(num_nodes: int, euler_sequence: str = "surface",
     """What defines the functions of :func:`build_aeroelastic_system` (the key of their compiled
     libraries, :func:`wingmdao.utils.casadi_cache.definition_key`): its arguments, the source of
     the generating modules and the CasADi version. Keying on this instead of the serialized
-    functions saves ~0.7 s per process (the serialization of the large coupled functions)."""
+    functions saves ~0.7 s per process (the serialization of the large coupled functions).
+
+    Parameters
+    ----------
+    num_nodes : int
+        Number of nodes (at least 2).
+    euler_sequence : str
+        Euler-angle sequence.
+    damping : StrainRateDamping, optional
+        Strain-rate damping of the beam.
+    plunge : bool
+        Free plunge.
+    trim : bool
+        Trim unknown alpha_trim.
+    pitch : bool
+        Free pitch with a horizontal tail.
+    tail_lag : bool
+        Downwash lag at the tail (with ``pitch``).
+    aero_theory : str
+        ``"strip"`` or ``"vlm"``.
+    elevator : bool
+        Elevator on the tail (with ``pitch``).
+    controls : ControlSpec, optional
+        Control surfaces and law; None: none.
+
+    Returns
+    -------
+    str
+        The definition key.
+    """
     if damping is not None and damping.is_zero:
         damping = None
     args = (int(num_nodes), str(euler_sequence),
@@ -366,6 +543,34 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     output (its trimmed value, held after t = 0) so that the law acts on the increments from the
     trimmed 1 g state; while ``trim_active`` the controller states are zero. The control states
     sit after the rigid-body states, before alpha_trim (:func:`state_layout`).
+
+    Parameters
+    ----------
+    num_nodes : int
+        Number of nodes (at least 2).
+    euler_sequence : str
+        Euler-angle sequence.
+    damping : StrainRateDamping, optional
+        Strain-rate damping of the beam.
+    plunge : bool
+        Free plunge.
+    trim : bool
+        Trim unknown alpha_trim.
+    pitch : bool
+        Free pitch with a horizontal tail.
+    tail_lag : bool
+        Downwash lag at the tail (with ``pitch``).
+    aero_theory : str
+        ``"strip"`` or ``"vlm"``.
+    elevator : bool
+        Elevator on the tail (with ``pitch``).
+    controls : ControlSpec, optional
+        Control surfaces and law; None: none.
+
+    Returns
+    -------
+    AeroelasticBeamSystem
+        The system.
     """
     if aero_theory not in AERO_THEORIES:
         raise ValueError(f"aero_theory must be one of {', '.join(AERO_THEORIES)}, got {aero_theory!r}")
@@ -602,7 +807,18 @@ def _check_controls(ctl, n, plunge, pitch) -> None:
 
 def control_param_specs(ctl) -> list[VarSpec]:
     """The control law's parameters (the gains): ``controller_A`` ... ``controller_C`` when the law
-    has states, ``controller_D`` (feedthrough) whenever it has outputs (row-major matrices)."""
+    has states, ``controller_D`` (feedthrough) whenever it has outputs (row-major matrices).
+
+    Parameters
+    ----------
+    ctl : ControlSpec
+        The surfaces and law.
+
+    Returns
+    -------
+    list of VarSpec
+        The parameter blocks (empty without outputs).
+    """
     ny, ns, nc = len(ctl.outputs), ctl.n_surfaces, ctl.n_controller
     if not ny:
         return []
@@ -670,6 +886,22 @@ def stored_jacobians(name: str, definition: str, R, args) -> dict:
     ``args`` (its serialization, zlib-compressed: 3.2 MB instead of 25 MB) and, in a later process,
     deserialized (0.56 s) and called on this build's symbols (0.13 s): the same expression graphs,
     so the same sparsity patterns, values and compiled libraries (keyed by definition).
+
+    Parameters
+    ----------
+    name : str
+        Name of the system (prefix of the store entry).
+    definition : str
+        Definition key of the system.
+    R : casadi.SX
+        Residual expression.
+    args : tuple of casadi.SX
+        The symbols ``(x, xdot, p, q)``.
+
+    Returns
+    -------
+    dict
+        The four Jacobian expressions.
     """
     import zlib
 
@@ -693,6 +925,26 @@ def stored_jacobians(name: str, definition: str, R, args) -> dict:
 
 def describe_aeroelastic_equation(index: int, num_nodes: int, plunge: bool = False, body_names=(),
                                   control_names=()) -> str:
+    """Name of residual ``index`` of an aeroelastic system (convergence diagnostics).
+
+    Parameters
+    ----------
+    index : int
+        Residual index.
+    num_nodes : int
+        Number of nodes.
+    plunge : bool
+        Free plunge.
+    body_names : sequence of str
+        Names of the free-pitch states.
+    control_names : sequence of str
+        Names of the control states.
+
+    Returns
+    -------
+    str
+        The name.
+    """
     k_ctl = int(index) - N_AEROELASTIC_STATES * num_nodes - int(bool(plunge)) - len(body_names)
     if 0 <= k_ctl < len(control_names):
         return f"control state {control_names[k_ctl]} (actuator, controller or measurement reference)"
@@ -724,13 +976,57 @@ class AeroelasticBeamSystem(CasadiResidualSystem):
     :class:`StateLayout` (flat indices of the beam, lag and body states: use it rather than
     offsets); ``BEAM = slice(0, 18)`` and ``AERO = slice(18, 22)`` index a node's row of the
     (n, 22) state.
+
+    Parameters
+    ----------
+    x : casadi.SX or casadi.MX
+        State symbol (column vector).
+    xdot : casadi.SX or casadi.MX
+        State-rate symbol, same size as ``x``.
+    p : casadi.SX or casadi.MX
+        Parameter symbol.
+    q : casadi.SX or casadi.MX
+        Forcing symbol.
+    R : casadi.SX or casadi.MX
+        Residual expression, one equation per state.
+    param_specs : sequence of VarSpec
+        Blocks of ``p`` (their sizes must add up to its size).
+    forcing_specs : sequence of VarSpec
+        Blocks of ``q``.
+    state_shape : tuple of int, optional
+        How the flat state is shown to users; default ``(n_state,)``.
+    name : str
+        Name of the CasADi functions.
+    describe : callable, optional
+        ``describe(i) -> str`` names residual ``i``.
+    initial_guess : callable, optional
+        ``initial_guess(p, q)`` returns the start of a static solve; default zeros.
+    definition : optional
+        Key of the expressions' compiled libraries (:func:`aeroelastic_definition`); None keys them by serialization.
+    lu_column_order : array_like of int, optional
+        Column order of the adjoint's static LU; None: natural order.
+    jacobians : dict, optional
+        Symbolic Jacobians ``{"x", "xdot", "p", "q"}`` already formed; None forms them.
     """
 
     BEAM = slice(0, N_STATE_PER_NODE)
     AERO = slice(N_STATE_PER_NODE, N_AEROELASTIC_STATES)
 
     def initial_guess(self, p, q):
-        """Jig beam state with zero aerodynamic states."""
+        """Jig beam state with zero aerodynamic states.
+
+        Parameters
+        ----------
+        p : array_like, shape (n_param,)
+            Packed parameters.
+        q : array_like, shape (n_forcing,)
+            Packed forcing (unused).
+
+        Returns
+        -------
+        ndarray, shape (n_state,)
+            The guess.
+        """
         n = self.num_nodes
         play = layout(self.param_specs)
         bp = {s.name: np.asarray(p[play[s.name]]).reshape(s.shape) for s in beam_param_specs(n)}
@@ -739,45 +1035,168 @@ class AeroelasticBeamSystem(CasadiResidualSystem):
         return x
 
     def section_loads(self, x, xdot, p, q):
-        """(lift, moment) per unit length at every node (N/m along the section normal, N*m/m nose up)."""
+        """(lift, moment) per unit length at every node (N/m along the section normal, N*m/m nose up).
+
+        Parameters
+        ----------
+        x : array_like, shape (n_state,)
+            State.
+        xdot : array_like, shape (n_state,)
+            State rate.
+        p : array_like, shape (n_param,)
+            Packed parameters.
+        q : array_like, shape (n_forcing,)
+            Packed forcing.
+
+        Returns
+        -------
+        lift : ndarray, shape (n,)
+            Lift per length (N/m).
+        moment : ndarray, shape (n,)
+            Moment per length (N m/m).
+        """
         L, M = self._loads(np.ravel(x), np.ravel(xdot), np.ravel(p), np.ravel(q))
         return np.asarray(L).ravel(), np.asarray(M).ravel()
 
     def section_load_history(self, X, Xdot, p, Q):
-        """Lift and moment per length histories (n_time, n_node) for state/rate/forcing histories."""
+        """Lift and moment per length histories (n_time, n_node) for state/rate/forcing histories.
+
+        Parameters
+        ----------
+        X : ndarray, shape (n_time, n_state)
+            State history.
+        Xdot : ndarray, shape (n_time, n_state)
+            State-rate history.
+        p : array_like, shape (n_param,)
+            Packed parameters.
+        Q : ndarray, shape (n_time, n_forcing)
+            Forcing history.
+
+        Returns
+        -------
+        lift : ndarray, shape (n_time, n)
+            Lift per length (N/m).
+        moment : ndarray, shape (n_time, n)
+            Moment per length (N m/m).
+        """
         out = [self.section_loads(X[i], Xdot[i], p, Q[i]) for i in range(X.shape[0])]
         return np.array([o[0] for o in out]), np.array([o[1] for o in out])
 
     def total_lift_history(self, X, dt, p, Q):
         """Lift of both half-wings (N) at every instant: 2 x the trapezoid of the section lift over
-        the undeformed beam (states X (n_time, n_state), BDF rates at step ``dt``, forcing Q)."""
+        the undeformed beam (states X (n_time, n_state), BDF rates at step ``dt``, forcing Q).
+
+        Parameters
+        ----------
+        X : ndarray, shape (n_time, n_state)
+            State history.
+        dt : float
+            Time step (s).
+        p : array_like, shape (n_param,)
+            Packed parameters.
+        Q : ndarray, shape (n_time, n_forcing)
+            Forcing history.
+
+        Returns
+        -------
+        ndarray, shape (n_time,)
+            The lift (N).
+        """
         lift, _ = self.section_load_history(X, state_rates(X, dt), p, Q)
         r0 = self.split_parameters(p)["node_positions"]
         ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
         return 2.0 * np.sum(0.5 * (lift[:, 1:] + lift[:, :-1]) * ds, axis=1)
 
     def tail_lift(self, x, xdot, p, q) -> float:
-        """Horizontal-tail lift (N, body +z) of a free-pitch system at one state, rate and forcing."""
+        """Horizontal-tail lift (N, body +z) of a free-pitch system at one state, rate and forcing.
+
+        Parameters
+        ----------
+        x : array_like, shape (n_state,)
+            State.
+        xdot : array_like, shape (n_state,)
+            State rate.
+        p : array_like, shape (n_param,)
+            Packed parameters.
+        q : array_like, shape (n_forcing,)
+            Packed forcing.
+
+        Returns
+        -------
+        float
+            The tail lift (N).
+        """
         if not getattr(self, "pitch", False):
             raise ValueError("tail_lift needs a system built with pitch=True")
         return float(self._tail_lift(np.ravel(x), np.ravel(xdot), np.ravel(p), np.ravel(q)))
 
     def tail_lift_history(self, X, dt, p, Q):
-        """Horizontal-tail lift (N) at every instant of a free-pitch system (``pitch=True``)."""
+        """Horizontal-tail lift (N) at every instant of a free-pitch system (``pitch=True``).
+
+        Parameters
+        ----------
+        X : ndarray, shape (n_time, n_state)
+            State history.
+        dt : float
+            Time step (s).
+        p : array_like, shape (n_param,)
+            Packed parameters.
+        Q : ndarray, shape (n_time, n_forcing)
+            Forcing history.
+
+        Returns
+        -------
+        ndarray, shape (n_time,)
+            The tail lift (N).
+        """
         if not getattr(self, "pitch", False):
             raise ValueError("tail_lift_history needs a system built with pitch=True")
         Xd = state_rates(X, dt)
         return np.array([self.tail_lift(X[i], Xd[i], p, Q[i]) for i in range(X.shape[0])])
 
     def hinge_moments(self, x, xdot, p, q) -> np.ndarray:
-        """Hinge moment (N m, trailing edge down positive) of each control surface of one half-wing."""
+        """Hinge moment (N m, trailing edge down positive) of each control surface of one half-wing.
+
+        Parameters
+        ----------
+        x : array_like, shape (n_state,)
+            State.
+        xdot : array_like, shape (n_state,)
+            State rate.
+        p : array_like, shape (n_param,)
+            Packed parameters.
+        q : array_like, shape (n_forcing,)
+            Packed forcing.
+
+        Returns
+        -------
+        ndarray, shape (n_s,)
+            The hinge moments (N m).
+        """
         if getattr(self, "controls", None) is None:
             raise ValueError("hinge_moments needs a system built with controls")
         return np.asarray(self._hinge(np.ravel(x), np.ravel(xdot), np.ravel(p), np.ravel(q))).ravel()
 
     def control_histories(self, X, dt, p, Q) -> dict:
         """``deflection`` and ``rate`` (n_time, n_s) rad, rad/s and ``hinge_moment`` (n_time, n_s) N m
-        of the control surfaces for a state history X (BDF rates at step ``dt``) and forcing Q."""
+        of the control surfaces for a state history X (BDF rates at step ``dt``) and forcing Q.
+
+        Parameters
+        ----------
+        X : ndarray, shape (n_time, n_state)
+            State history.
+        dt : float
+            Time step (s).
+        p : array_like, shape (n_param,)
+            Packed parameters.
+        Q : ndarray, shape (n_time, n_forcing)
+            Forcing history.
+
+        Returns
+        -------
+        dict
+            The histories.
+        """
         if getattr(self, "controls", None) is None:
             raise ValueError("control_histories needs a system built with controls")
         X = np.asarray(X)
@@ -789,7 +1208,18 @@ class AeroelasticBeamSystem(CasadiResidualSystem):
         return {"deflection": defl, "rate": rate, "hinge_moment": hinge}
 
     def split_parameters(self, p):
-        """``{name: array}`` of a packed parameter vector."""
+        """``{name: array}`` of a packed parameter vector.
+
+        Parameters
+        ----------
+        p : array_like, shape (n_param,)
+            Packed parameters.
+
+        Returns
+        -------
+        dict of str to ndarray
+            Each block in its shape.
+        """
         lay = layout(self.param_specs)
         return {s.name: np.asarray(p[lay[s.name]]).reshape(s.shape) for s in self.param_specs}
 
@@ -803,7 +1233,36 @@ def cached_aeroelastic_system(num_nodes: int, euler_sequence: str = "surface",
                               tail_lag: bool = False, aero_theory: str = "strip",
                               elevator: bool = False, controls=None) -> AeroelasticBeamSystem:
     """:func:`build_aeroelastic_system`, built once per (num_nodes, sequence, damping, plunge, trim, pitch,
-    tail_lag, aero_theory, elevator, controls)."""
+    tail_lag, aero_theory, elevator, controls).
+
+    Parameters
+    ----------
+    num_nodes : int
+        Number of nodes (at least 2).
+    euler_sequence : str
+        Euler-angle sequence.
+    damping : StrainRateDamping, optional
+        Strain-rate damping of the beam.
+    plunge : bool
+        Free plunge.
+    trim : bool
+        Trim unknown alpha_trim.
+    pitch : bool
+        Free pitch with a horizontal tail.
+    tail_lag : bool
+        Downwash lag at the tail (with ``pitch``).
+    aero_theory : str
+        ``"strip"`` or ``"vlm"``.
+    elevator : bool
+        Elevator on the tail (with ``pitch``).
+    controls : ControlSpec, optional
+        Control surfaces and law; None: none.
+
+    Returns
+    -------
+    AeroelasticBeamSystem
+        The (shared) system.
+    """
     if damping is not None and damping.is_zero:
         damping = None
     key = (int(num_nodes), euler_sequence, damping, bool(plunge), bool(trim), bool(pitch), bool(tail_lag),

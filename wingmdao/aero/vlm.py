@@ -62,6 +62,35 @@ class Lattice:
     panel; ``strip_y``/``strip_chord`` (strips,): mid-span y and local chord of each strip;
     ``panel_chord`` (m,): each panel's streamwise chord at mid-span; ``mach``.
     Panel k = strip * n_chordwise + chordwise index.
+
+    Parameters
+    ----------
+    bound_a : ndarray, shape (m, 3)
+        Inboard end of each bound leg (m).
+    bound_b : ndarray, shape (m, 3)
+        Outboard end of each bound leg (m).
+    control : ndarray, shape (m, 3)
+        Control points (m).
+    normal : ndarray, shape (m, 3)
+        Unit upward normals.
+    span : ndarray, shape (m,)
+        Bound-leg length in the y-z plane (m).
+    x_quarter : ndarray, shape (m,)
+        x of the local quarter-chord point at mid-span (m).
+    hat : ndarray, shape (m, n)
+        Hat functions of the nodes at each panel's mid-span.
+    tributary : ndarray, shape (n,)
+        Tributary beam length of each node (m).
+    strip : ndarray of int, shape (m,)
+        Spanwise strip of each panel.
+    strip_y : ndarray, shape (strips,)
+        Mid-span y of each strip (m).
+    strip_chord : ndarray, shape (strips,)
+        Local chord of each strip (m).
+    panel_chord : ndarray, shape (m,)
+        Streamwise chord of each panel (m).
+    mach : float
+        Mach number.
     """
 
     bound_a: np.ndarray
@@ -96,6 +125,19 @@ class StationInfluence:
     station j; ``moment`` (n, n) m^2: moment per length about station i's quarter chord (nose up);
     ``tributary`` (n,) m; ``lattice`` the :class:`Lattice`; ``circulation`` (panels, n): panel
     circulations per unit airspeed and unit incidence of each station (m).
+
+    Parameters
+    ----------
+    lift : ndarray, shape (n, n)
+        Lift influence (m).
+    moment : ndarray, shape (n, n)
+        Quarter-chord moment influence (m^2).
+    tributary : ndarray, shape (n,)
+        Tributary beam length of each station (m).
+    lattice : Lattice
+        The lattice.
+    circulation : ndarray, shape (panels, n)
+        Panel circulations per unit airspeed and unit station incidence (m).
     """
 
     lift: np.ndarray
@@ -106,12 +148,40 @@ class StationInfluence:
 
     def lift_slope(self, area) -> float:
         """The wing's lift-curve slope CL_alpha (1/rad) on ``area`` (m^2, both halves): 2 int L ds / (q S)
-        of a unit incidence at every station (the beam's trapezoid)."""
+        of a unit incidence at every station (the beam's trapezoid).
+
+        Parameters
+        ----------
+        area : float
+            Reference area of both halves (m^2).
+
+        Returns
+        -------
+        float
+            CL_alpha (1/rad).
+        """
         return float(2.0 * self.tributary @ (self.lift @ np.ones(self.lift.shape[1])) / float(area))
 
 
 def check_planform(node_positions, chord, ref_point, mach) -> tuple:
-    """Validated (r (n, 3), chord (n,), ref_point (n,), mach); ValueError naming the input, value and range."""
+    """Validated (r (n, 3), chord (n,), ref_point (n,), mach); ValueError naming the input, value and range.
+
+    Parameters
+    ----------
+    node_positions : array_like, shape (n, 3)
+        Jig beam nodes (m), y >= 0 and increasing.
+    chord : float or array_like, shape (n,)
+        Streamwise chord (m), > 0.
+    ref_point : float or array_like, shape (n,)
+        Beam axis as a fraction of the chord aft of the leading edge, in [0, 1].
+    mach : float
+        Mach number, in [0, 1).
+
+    Returns
+    -------
+    tuple
+        ``(r, chord, ref_point, mach)``.
+    """
     r = np.asarray(node_positions, dtype=float)
     if r.ndim != 2 or r.shape[1] != 3 or r.shape[0] < 2:
         raise ValueError(f"node_positions must be (n >= 2, 3) m, got shape {r.shape}")
@@ -143,7 +213,28 @@ def check_planform(node_positions, chord, ref_point, mach) -> tuple:
 
 def build_lattice(node_positions, chord, ref_point, *, mach=0.0, n_chordwise=N_CHORDWISE,
                   n_spanwise=N_SPANWISE) -> Lattice:
-    """The :class:`Lattice` of the half wing through the beam nodes (module docstring)."""
+    """The :class:`Lattice` of the half wing through the beam nodes (module docstring).
+
+    Parameters
+    ----------
+    node_positions : array_like, shape (n, 3)
+        Jig beam nodes (m).
+    chord : float or array_like, shape (n,)
+        Streamwise chord (m).
+    ref_point : float or array_like, shape (n,)
+        Beam axis as a fraction of the chord aft of the leading edge.
+    mach : float
+        Mach number, in [0, 1).
+    n_chordwise : int
+        Chordwise panels (at least 1).
+    n_spanwise : int
+        Spanwise strips per beam element (at least 1).
+
+    Returns
+    -------
+    Lattice
+        The lattice.
+    """
     r, c, ref, mach = check_planform(node_positions, chord, ref_point, mach)
     nc, ns = int(n_chordwise), int(n_spanwise)
     if nc < 1 or ns < 1:
@@ -204,7 +295,18 @@ def _horseshoe_velocity(points, a, b):
 
 def normalwash_matrix(lat: Lattice) -> np.ndarray:
     """(m, m) normal velocity at each control point of unit circulation on each horseshoe and its
-    mirror image, in the stretched (Prandtl-Glauert) lattice."""
+    mirror image, in the stretched (Prandtl-Glauert) lattice.
+
+    Parameters
+    ----------
+    lat : Lattice
+        The lattice.
+
+    Returns
+    -------
+    ndarray, shape (m, m)
+        The normalwash matrix (1/m).
+    """
     s = np.array([1.0 / lat.beta, 1.0, 1.0])
     pts, a, b = lat.control * s, lat.bound_a * s, lat.bound_b * s
     v = _horseshoe_velocity(pts, a, b) + _horseshoe_velocity(pts, _mirror(b), _mirror(a))
@@ -212,7 +314,20 @@ def normalwash_matrix(lat: Lattice) -> np.ndarray:
 
 
 def solve_circulation(lat: Lattice, panel_incidence) -> np.ndarray:
-    """Panel circulations per unit airspeed (m) for panel incidences (m,) or (m, k) rad."""
+    """Panel circulations per unit airspeed (m) for panel incidences (m,) or (m, k) rad.
+
+    Parameters
+    ----------
+    lat : Lattice
+        The lattice.
+    panel_incidence : array_like, shape (m,) or (m, k)
+        Panel incidences (rad).
+
+    Returns
+    -------
+    ndarray, shape (m,) or (m, k)
+        Circulations per unit airspeed (m).
+    """
     W = normalwash_matrix(lat)
     return np.linalg.solve(W, -np.asarray(panel_incidence, dtype=float))
 
@@ -225,6 +340,26 @@ def station_influence(node_positions, chord, ref_point, *, mach=0.0, n_chordwise
     ``chord`` (n,) m streamwise; ``ref_point`` (n,): the beam axis as a fraction of the chord aft
     of the leading edge; ``mach`` in [0, 1). Bad input (a chord <= 0, nodes not moving outboard,
     a node at y < 0, Mach outside [0, 1)) raises ValueError naming it.
+
+    Parameters
+    ----------
+    node_positions : array_like, shape (n, 3)
+        Jig beam nodes (m).
+    chord : float or array_like, shape (n,)
+        Streamwise chord (m).
+    ref_point : float or array_like, shape (n,)
+        Beam axis as a fraction of the chord aft of the leading edge.
+    mach : float
+        Mach number, in [0, 1).
+    n_chordwise : int
+        Chordwise panels.
+    n_spanwise : int
+        Spanwise strips per beam element.
+
+    Returns
+    -------
+    StationInfluence
+        The influence (shared by the cache: do not modify).
     """
     r, c, ref, mach = check_planform(node_positions, chord, ref_point, mach)
     key = hashlib.sha1(b"".join(np.ascontiguousarray(v).tobytes() for v in (r, c, ref))
@@ -248,7 +383,32 @@ def station_influence(node_positions, chord, ref_point, *, mach=0.0, n_chordwise
 def flat_wing(semi_span, chord_of_y, *, sweep_quarter_deg=0.0, n_stations=21, ref_point=0.25, spacing="cosine"):
     """Beam nodes, chords and reference points of a flat wing of chord ``chord_of_y(y)`` (m) whose
     quarter-chord line is swept by ``sweep_quarter_deg``; the stations cosine-spaced (finer at the
-    tip) or ``"uniform"``. Returns ``(node_positions, chord, ref_point)``; for tests and examples."""
+    tip) or ``"uniform"``. Returns ``(node_positions, chord, ref_point)``; for tests and examples.
+
+    Parameters
+    ----------
+    semi_span : float
+        Semi-span (m).
+    chord_of_y : callable
+        Chord c(y) (m).
+    sweep_quarter_deg : float
+        Sweep of the quarter-chord line (deg).
+    n_stations : int
+        Number of stations.
+    ref_point : float
+        Beam axis as a fraction of the chord aft of the leading edge.
+    spacing : str
+        ``"cosine"`` or ``"uniform"``.
+
+    Returns
+    -------
+    node_positions : ndarray, shape (n_stations, 3)
+        Beam nodes (m).
+    chord : ndarray, shape (n_stations,)
+        Chords (m).
+    ref_point : ndarray, shape (n_stations,)
+        Reference points.
+    """
     s = float(semi_span)
     k = np.arange(n_stations)
     y = s * (np.sin(0.5 * np.pi * k / (n_stations - 1)) if spacing == "cosine" else k / (n_stations - 1))

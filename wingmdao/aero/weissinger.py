@@ -99,6 +99,30 @@ def weissinger_lift_slope(y, chord, leading_edge_x, semi_span, *, mach=0.0, n_pa
     planform area of both halves and a dict with the strips' ``y``, ``cl_alpha`` and
     ``circulation`` (per unit V alpha). Between strip centres the slope is interpolated on
     Gamma / sqrt(1 - eta^2) (smooth to the tip), so it vanishes at the tip (y = semi_span).
+
+    Parameters
+    ----------
+    y : array_like
+        Spanwise positions (m), in [0, semi_span].
+    chord : callable
+        Streamwise chord c(y) (m), > 0 on the span.
+    leading_edge_x : callable
+        x of the leading edge at y (m).
+    semi_span : float
+        Semi-span (m), > 0.
+    mach : float
+        Free-stream Mach number, in [0, 1).
+    n_panels : int
+        Spanwise panels of the half wing (at least 4, cosine spacing).
+
+    Returns
+    -------
+    slope : ndarray
+        Local lift slope at ``y`` (1/rad).
+    cl_alpha : float
+        Wing lift-curve slope (1/rad).
+    result : dict
+        The strips' ``y`` (m), ``cl_alpha`` (1/rad) and ``circulation`` (per unit V alpha, m).
     """
     s = float(semi_span)
     if not (np.isfinite(s) and s > 0):

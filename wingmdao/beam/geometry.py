@@ -25,6 +25,19 @@ class BeamGeometry:
     Attributes: ``node_positions`` (n, 3) m; ``node_euler_angles`` (n, 3) rad;
     ``arc_length`` (n,) m from the root; ``key_nodes`` (indices of the key points);
     ``segment`` (n-1,) segment index of every element.
+
+    Parameters
+    ----------
+    node_positions : ndarray, shape (n, 3)
+        Node positions (m), body axes.
+    node_euler_angles : ndarray, shape (n, 3)
+        Jig Euler angles ``(phi, vartheta, psi)`` of each node (rad).
+    arc_length : ndarray, shape (n,)
+        Arc length from the root (m).
+    key_nodes : ndarray of int, shape (k,)
+        Node index of each key point.
+    segment : ndarray of int, shape (n - 1,)
+        Segment index of every element.
     """
 
     node_positions: np.ndarray
@@ -38,7 +51,18 @@ class BeamGeometry:
         return self.node_positions.shape[0]
 
     def interpolate(self, key_values) -> np.ndarray:
-        """Per-node values linear in arc length between the key points (e.g. box width)."""
+        """Per-node values linear in arc length between the key points (e.g. box width).
+
+        Parameters
+        ----------
+        key_values : array_like, shape (k,) or (k, m)
+            Values at the key points (one row per key point).
+
+        Returns
+        -------
+        ndarray, shape (n,) or (n, m)
+            Values at the nodes.
+        """
         key_values = np.asarray(key_values, dtype=float)
         if key_values.shape[0] != self.key_nodes.size:
             raise ValueError(f"need one value per key point ({self.key_nodes.size}), got {key_values.shape[0]}")
@@ -56,6 +80,20 @@ def polyline_beam(key_points, elements_per_segment, twist=0.0) -> BeamGeometry:
     """Refine the polyline ``key_points`` (k, 3) into ``elements_per_segment`` (k-1 ints) elements.
 
     ``twist`` (scalar or per key point, rad) is interpolated and stored as the twist angle.
+
+    Parameters
+    ----------
+    key_points : array_like, shape (k, 3)
+        Key points (m), body axes, k >= 2, no two consecutive ones equal.
+    elements_per_segment : int or array_like of int, shape (k - 1,)
+        Elements of each segment (at least 1).
+    twist : float or array_like, shape (k,)
+        Twist angle at the key points (rad).
+
+    Returns
+    -------
+    BeamGeometry
+        The refined beam.
     """
     pts = np.asarray(key_points, dtype=float)
     if pts.ndim != 2 or pts.shape[1] != 3 or pts.shape[0] < 2:
@@ -89,7 +127,22 @@ def polyline_beam(key_points, elements_per_segment, twist=0.0) -> BeamGeometry:
 
 
 def straight_geometry(length, num_elements, direction=(0.0, 1.0, 0.0)) -> BeamGeometry:
-    """A straight beam from the origin along ``direction``."""
+    """A straight beam from the origin along ``direction``.
+
+    Parameters
+    ----------
+    length : float
+        Beam length (m).
+    num_elements : int
+        Number of elements.
+    direction : array_like, shape (3,)
+        Beam direction in body axes (normalized here).
+
+    Returns
+    -------
+    BeamGeometry
+        The beam, ``num_elements + 1`` nodes.
+    """
     d = np.asarray(direction, dtype=float)
     return polyline_beam([np.zeros(3), float(length) * d / np.linalg.norm(d)], [num_elements])
 
@@ -100,6 +153,22 @@ def swept_dihedral_points(spans, sweeps_deg=0.0, dihedral_deg=0.0, offsets_x=Non
     ``sweeps_deg``/``dihedral_deg`` per segment (positive sweep moves the point aft, +x);
     ``offsets_x`` an extra aft shift per segment (m), e.g. minus half the width reduction
     of a box whose leading edge carries the sweep.
+
+    Parameters
+    ----------
+    spans : array_like, shape (k,)
+        Spanwise (y) length of each segment (m).
+    sweeps_deg : float or array_like, shape (k,)
+        Sweep of each segment (deg).
+    dihedral_deg : float or array_like, shape (k,)
+        Dihedral of each segment (deg).
+    offsets_x : array_like, shape (k,), optional
+        Extra aft (x) shift of each segment's end point (m).
+
+    Returns
+    -------
+    ndarray, shape (k + 1, 3)
+        Key points (m), the first at the origin.
     """
     d = np.asarray(spans, dtype=float)
     sw = np.radians(np.broadcast_to(np.asarray(sweeps_deg, dtype=float), d.shape))
@@ -116,6 +185,24 @@ def streamwise_to_normal(width, height, t_spar, t_skin, axis):
     cos Lambda = hypot(s_y, s_z)) and Gamma with the x-y plane (dihedral, cos Gamma =
     hypot(s_x, s_y)). A chordwise dimension measured in the streamwise cut shrinks by
     cos Lambda in the normal cut, a vertical one by cos Gamma. Returns (w, h, t_spar, t_skin).
+
+    Parameters
+    ----------
+    width : float or ndarray
+        Box width in the streamwise cut (m).
+    height : float or ndarray
+        Box height in the streamwise cut (m).
+    t_spar : float or ndarray
+        Spar thickness in the streamwise cut (m).
+    t_skin : float or ndarray
+        Skin thickness in the streamwise cut (m).
+    axis : array_like, shape (3,)
+        Beam axis s in body axes (normalized here).
+
+    Returns
+    -------
+    tuple
+        ``(width, height, t_spar, t_skin)`` of the normal section (m).
     """
     s = np.asarray(axis, dtype=float)
     s = s / np.linalg.norm(s)
@@ -129,6 +216,16 @@ def streamwise_section_to_csn(node_euler_angles) -> np.ndarray:
     A streamwise cut is parallel to the root (x-z) plane, so its axes (chordwise, normal,
     vertical) are the body axes (x, y, z) and R = T(theta0) of each node. This is the
     alternative to :func:`streamwise_to_normal` (docs/beam-theory.md, section 9).
+
+    Parameters
+    ----------
+    node_euler_angles : array_like, shape (n, 3)
+        Jig Euler angles of the nodes (rad).
+
+    Returns
+    -------
+    ndarray, shape (n, 3, 3)
+        R of each node.
     """
     angles = np.asarray(node_euler_angles, dtype=float).reshape(-1, 3)
     return np.array([body_to_csn(a) for a in angles])
@@ -136,7 +233,27 @@ def streamwise_section_to_csn(node_euler_angles) -> np.ndarray:
 
 @dataclass
 class WingGeometry:
-    """Beam mesh and box outer dimensions per node (SI)."""
+    """Beam mesh and box outer dimensions per node (SI).
+
+    Parameters
+    ----------
+    node_positions : ndarray, shape (n, 3)
+        Node positions (m), body axes.
+    node_euler_angles : ndarray, shape (n, 3)
+        Jig Euler angles of each node (rad).
+    width : ndarray, shape (n,)
+        Box outer width (m).
+    height : ndarray, shape (n,)
+        Box outer height (m).
+    section_to_csn : ndarray, shape (n, 3, 3), optional
+        Rotation from section axes to csn at each node (:func:`streamwise_section_to_csn`).
+    station_map : ndarray of int, shape (n,), optional
+        Design index of each station; None: one design per station.
+    nonstructural_mass_per_length : ndarray, shape (n,), optional
+        Non-structural mass per length (kg/m).
+    span_coordinate : ndarray, shape (n,), optional
+        Span coordinate for plots (m); default y.
+    """
 
     node_positions: np.ndarray  # (n, 3) m, body axes
     node_euler_angles: np.ndarray  # (n, 3) rad

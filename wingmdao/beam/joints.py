@@ -100,7 +100,19 @@ class Beam:
     ``axes``: the beam's own axes as a rotation matrix R (3 x 3, rows = the beam's x, y, z in body
     components; ``v_beam = R v_body``); None: the body axes. The beam's parameters, states and
     loads are in its own axes, so a beam along body x (a fuselage, :data:`FUSELAGE_AXES`) runs
-    along its own y, away from the singular direction of the Euler sequence."""
+    along its own y, away from the singular direction of the Euler sequence.
+
+    Parameters
+    ----------
+    name : str
+        Name of the beam (a Python identifier).
+    num_nodes : int
+        Number of nodes (at least 2), root first.
+    root : str
+        ``"clamped"`` or ``"free"``.
+    axes : tuple, optional
+        Rotation matrix (3 x 3) from body to the beam's own axes; None: the body axes.
+    """
 
     name: str
     num_nodes: int
@@ -136,7 +148,25 @@ class Joint:
 
     ``kind``: ``"rigid"`` (equal position and orientation) or ``"hinge"`` (equal position, free
     rotation about ``axis``, a vector in body axes of the jig carried by beam A, against the
-    rotational spring ``stiffness`` in N*m/rad; None: no spring)."""
+    rotational spring ``stiffness`` in N*m/rad; None: no spring).
+
+    Parameters
+    ----------
+    beam_a : str
+        Name of beam A.
+    node_a : int
+        Node of beam A (negative from the tip).
+    beam_b : str
+        Name of beam B.
+    node_b : int
+        Node of beam B (negative from the tip).
+    kind : str
+        ``"rigid"`` or ``"hinge"``.
+    axis : tuple of 3 float, optional
+        Hinge axis in body axes of the jig (hinges only).
+    stiffness : float, optional
+        Rotational spring stiffness of a hinge (N m/rad); None: no spring.
+    """
 
     beam_a: str
     node_a: int
@@ -185,7 +215,21 @@ class LumpedMass:
 
     Its inertia and weight enter the node as a point force and moment (docs/stick-model.md,
     "Lumped masses"); its values are parameters of the system (``lumped_mass``,
-    ``lumped_mass_offset``, ``lumped_mass_inertia``), so gradients reach them."""
+    ``lumped_mass_offset``, ``lumped_mass_inertia``), so gradients reach them.
+
+    Parameters
+    ----------
+    beam : str
+        Name of the beam.
+    node : int
+        Node the mass is attached to (negative from the tip).
+    mass : float
+        Mass (kg), > 0.
+    offset : tuple of 3 float
+        Position of its centre from the node (m), body axes of the jig.
+    inertia : tuple, optional
+        Rotary inertia about its centre (kg m^2, 3 x 3, body axes of the jig); None: a point mass.
+    """
 
     beam: str
     node: int
@@ -227,7 +271,15 @@ class Symmetry:
     symmetry (the body x-z plane, y = 0): a symmetric half aircraft. The node keeps y = 0 and turns
     only about y (lateral displacement, roll and yaw held; surge, plunge and pitch free). Three
     unknowns, the mirror half's force along y and moments about x and z on the node (body axes),
-    and three equations (docs/stick-model.md, "Free flight")."""
+    and three equations (docs/stick-model.md, "Free flight").
+
+    Parameters
+    ----------
+    beam : str
+        Name of the beam.
+    node : int
+        Node on the plane of symmetry (negative from the tip).
+    """
 
     beam: str
     node: int
@@ -333,7 +385,22 @@ def _check_layout(beams, joints, masses=(), symmetry=()):
 def param_specs(beams, joints, masses=()) -> list[VarSpec]:
     """Parameters of the joined system: every beam's blocks (``<beam>_<block>``), then
     ``joint_rotational_stiffness`` (one per joint; used by hinges with a spring), then the lumped
-    masses' ``lumped_mass``, ``lumped_mass_offset`` and ``lumped_mass_inertia`` (body axes of the jig)."""
+    masses' ``lumped_mass``, ``lumped_mass_offset`` and ``lumped_mass_inertia`` (body axes of the jig).
+
+    Parameters
+    ----------
+    beams : sequence of Beam
+        The beams.
+    joints : sequence of Joint
+        The joints.
+    masses : sequence of LumpedMass
+        The lumped masses.
+
+    Returns
+    -------
+    list of VarSpec
+        The parameter blocks, in packing order.
+    """
     specs = []
     for b in beams:
         specs += [VarSpec(f"{b.name}_{s.name}", s.shape, s.units, f"{b.name}: {s.desc}")
@@ -351,7 +418,18 @@ def param_specs(beams, joints, masses=()) -> list[VarSpec]:
 
 def forcing_specs(beams) -> list[VarSpec]:
     """Forcing of the joined system: every beam's loads (``<beam>_<block>``), then gravity and the
-    motion of the body axes, shared by all beams."""
+    motion of the body axes, shared by all beams.
+
+    Parameters
+    ----------
+    beams : sequence of Beam
+        The beams.
+
+    Returns
+    -------
+    list of VarSpec
+        The forcing blocks, in packing order.
+    """
     specs = []
     for b in beams:
         specs += [VarSpec(f"{b.name}_{s.name}", s.shape, s.units, f"{b.name}: {s.desc}")
@@ -386,7 +464,28 @@ def joint_equations(joint, node_a, node_b, loads, stiffness, sequence="surface")
     orientation (rigid: 3 rows; hinge: 2 rows and the hinge law). ``node_a``, ``node_b``:
     ``(x, theta_0, R)`` of the two nodes: the 18 states and jig Euler angles in the beam's axes and
     the beam's rotation R (body -> beam axes); ``loads``: the 12 joint unknowns (body axes);
-    ``stiffness``: the spring stiffness (hinges with a spring)."""
+    ``stiffness``: the spring stiffness (hinges with a spring).
+
+    Parameters
+    ----------
+    joint : Joint
+        The joint.
+    node_a : tuple
+        ``(x, theta_0, R)`` of the node on beam A.
+    node_b : tuple
+        ``(x, theta_0, R)`` of the node on beam B.
+    loads : casadi.SX, shape (12,)
+        Joint unknowns: force and moment on A, force and moment on B (body axes).
+    stiffness : casadi.SX
+        Rotational spring stiffness (N m/rad), used by a hinge with a spring.
+    sequence : str
+        Euler-angle sequence.
+
+    Returns
+    -------
+    casadi.SX, shape (12,)
+        The residuals.
+    """
     st, jb = STATE_BLOCKS, JOINT_BLOCKS
     (x_a, th0_a, R_a), (x_b, th0_b, R_b) = node_a, node_b
     lam_a = _node_rotation(x_a[st["theta"]], th0_a, R_a, sequence)
@@ -419,7 +518,34 @@ def lumped_mass_loads(node, xdot, mass, offset, inertia, g, frame, sequence="sur
     ``Lambda = T(theta)^T T(theta_0)`` (the beam's axes); ``a_c = a + w_dot x d + w x (w x d)``
     with the node's acceleration ``a`` (:func:`~wingmdao.beam.residual.nodal_acceleration`),
     ``w = Omega + omega`` and ``w_dot = alpha0 + omega_dot + Omega x omega``, as the beam's elements
-    take them (docs/stick-model.md, "Lumped masses")."""
+    take them (docs/stick-model.md, "Lumped masses").
+
+    Parameters
+    ----------
+    node : tuple
+        ``(x, theta_0, R)`` of the node.
+    xdot : casadi.SX, shape (18,)
+        State rates of the node.
+    mass : casadi.SX
+        Mass (kg).
+    offset : casadi.SX, shape (3,)
+        Centre offset from the node (m), body axes of the jig.
+    inertia : casadi.SX, shape (9,)
+        Rotary inertia about the centre (kg m^2), row-major, body axes of the jig.
+    g : casadi.SX, shape (3,)
+        Gravity (m/s^2), the beam's axes.
+    frame : tuple of casadi.SX
+        ``(A0, Omega, alpha0)`` of the body axes (m/s^2, rad/s, rad/s^2), the beam's axes.
+    sequence : str
+        Euler-angle sequence.
+
+    Returns
+    -------
+    force : casadi.SX, shape (3,)
+        Point force P on the node (N), the beam's axes.
+    moment : casadi.SX, shape (3,)
+        Point moment Q on the node (N m), the beam's axes.
+    """
     st = STATE_BLOCKS
     x, theta0, R = node
     lam = body_to_csn(x[st["theta"]], sequence).T @ body_to_csn(theta0, sequence)
@@ -442,7 +568,28 @@ def symmetry_equations(node, r0, reactions, sequence="surface"):
     Rows: the body-y displacement ``e_y . R^T (r - r_0) = 0`` and the roll and yaw parts of the
     node's rotation from the jig, ``w_x = 0``, ``w_z = 0`` with ``w = axial(Lambda - Lambda^T) / 2``
     (``Lambda = R^T T(theta)^T T(theta_0) R``, body components), as the joints' orientation rows.
-    Loads on the node (beam axes): ``R (0, f_y, 0)`` and ``R (m_x, 0, m_z)``."""
+    Loads on the node (beam axes): ``R (0, f_y, 0)`` and ``R (m_x, 0, m_z)``.
+
+    Parameters
+    ----------
+    node : tuple
+        ``(x, theta_0, R)`` of the node.
+    r0 : casadi.SX or ndarray, shape (3,)
+        Jig position of the node (m), the beam's axes.
+    reactions : casadi.SX, shape (3,)
+        Force along body y (N), moments about body x and z (N m).
+    sequence : str
+        Euler-angle sequence.
+
+    Returns
+    -------
+    rows : casadi.SX, shape (3,)
+        The residuals.
+    force : casadi.SX, shape (3,)
+        Point force on the node (N), the beam's axes.
+    moment : casadi.SX, shape (3,)
+        Point moment on the node (N m), the beam's axes.
+    """
     st = STATE_BLOCKS
     x, theta0, R = node
     w = _axial(_node_rotation(x[st["theta"]], theta0, R, sequence))
@@ -459,6 +606,25 @@ class JoinedBeamSystem(CasadiResidualSystem):
     Attributes: ``beams``, ``joints``, ``masses``, ``symmetry`` (node indices resolved from the
     root), ``offsets`` (``{beam: first state index}``), ``joint_offset`` (first joint unknown),
     ``symmetry_offset`` (first symmetry reaction).
+
+    Parameters
+    ----------
+    beams : sequence of Beam
+        The beams.
+    joints : sequence of Joint
+        The joints (nodes resolved from the root).
+    offsets : dict of str to int
+        First state index of each beam.
+    joint_offset : int
+        First state index of the joint unknowns.
+    *args
+        Positional arguments of :class:`~wingmdao.timemarch.system.CasadiResidualSystem`.
+    masses : sequence of LumpedMass
+        The lumped masses.
+    symmetry : sequence of Symmetry
+        The symmetry conditions.
+    **kwargs
+        Keyword arguments of :class:`~wingmdao.timemarch.system.CasadiResidualSystem`.
     """
 
     def __init__(self, beams, joints, offsets, joint_offset, *args, masses=(), symmetry=(), **kwargs):
@@ -469,13 +635,38 @@ class JoinedBeamSystem(CasadiResidualSystem):
         super().__init__(*args, **kwargs)
 
     def beam(self, name) -> Beam:
+        """The :class:`Beam` named ``name`` (ValueError if there is none).
+
+        Parameters
+        ----------
+        name : str
+            Name of the beam.
+
+        Returns
+        -------
+        Beam
+            The beam.
+        """
         for b in self.beams:
             if b.name == name:
                 return b
         raise ValueError(f"no beam {name!r}; beams are {[b.name for b in self.beams]}")
 
     def node_index(self, name, node) -> int:
-        """First state index of node ``node`` of beam ``name``."""
+        """First state index of node ``node`` of beam ``name``.
+
+        Parameters
+        ----------
+        name : str
+            Name of the beam.
+        node : int
+            Node index (negative from the tip).
+
+        Returns
+        -------
+        int
+            Index of the node's first state.
+        """
         b = self.beam(name)
         if not -b.num_nodes <= int(node) < b.num_nodes:
             raise ValueError(f"beam {name!r} has nodes 0..{b.num_nodes - 1}, got node {node}")
@@ -485,7 +676,20 @@ class JoinedBeamSystem(CasadiResidualSystem):
         """``{beam: {'r', 'theta', 'F', 'M', 'u', 'omega'} (n, 3) arrays}`` in each beam's axes (with
         ``body_axes``: r, F, M, u, omega in body axes; theta stays the beam's Euler angles) and
         ``'joints'``: ``{'force_a', 'moment_a', 'force_b', 'moment_b'}`` (n_joint, 3) arrays, body axes;
-        ``'symmetry'``: (n_symmetry, 3) reactions (force y, moment x, moment z, body axes)."""
+        ``'symmetry'``: (n_symmetry, 3) reactions (force y, moment x, moment z, body axes).
+
+        Parameters
+        ----------
+        x : array_like, shape (n_state,)
+            State of the joined system.
+        body_axes : bool
+            Give r, F, M, u, omega in body axes instead of each beam's axes.
+
+        Returns
+        -------
+        dict
+            The blocks described above.
+        """
         x = np.asarray(x, dtype=float).reshape(self.n_state)
         out = {}
         for b in self.beams:
@@ -505,7 +709,20 @@ class JoinedBeamSystem(CasadiResidualSystem):
         """Linear momentum (kg*m/s, body axes, relative to the body axes) of a state: every element's
         ``mu ds (u_a + u_b) / 2`` (mass centres on the beam axis) and every lumped mass's ``m u`` (at
         its node; offsets are not counted). The discrete BDF march of a free structure with no
-        external force conserves it exactly (docs/stick-model.md, "Free flight")."""
+        external force conserves it exactly (docs/stick-model.md, "Free flight").
+
+        Parameters
+        ----------
+        x : array_like, shape (n_state,)
+            State.
+        p : array_like, shape (n_param,)
+            Packed parameters.
+
+        Returns
+        -------
+        ndarray, shape (3,)
+            The linear momentum (kg m/s).
+        """
         parts = self.unpack(x, body_axes=True)
         lay = layout(self.param_specs)
         p = np.asarray(p, dtype=float)
@@ -525,7 +742,18 @@ class JoinedBeamSystem(CasadiResidualSystem):
         """Packed parameters from ``{beam: parameter dict}`` (:func:`wingmdao.beam.static.beam_parameters`)
         and the joints' stiffnesses; checks every beam's data
         (:func:`~wingmdao.beam.static.check_beam_parameters`) and that the two nodes of every joint
-        coincide in the jig (ValueError naming the joint and the distance)."""
+        coincide in the jig (ValueError naming the joint and the distance).
+
+        Parameters
+        ----------
+        beam_params : dict
+            ``{beam name: parameter dict}`` for every beam.
+
+        Returns
+        -------
+        ndarray
+            Packed parameters of the structure.
+        """
         unknown = set(beam_params) - {b.name for b in self.beams}
         if unknown:
             raise ValueError(f"parameters for unknown beams {sorted(unknown)}; beams are {[b.name for b in self.beams]}")
@@ -562,7 +790,20 @@ class JoinedBeamSystem(CasadiResidualSystem):
     def pack_forcing(self, beam_loads: dict | None = None, **shared) -> np.ndarray:
         """Packed forcing from ``{beam: {block: array}}`` (blocks of
         :func:`wingmdao.beam.static.beam_forcing`, zero if absent) and the shared blocks
-        (``gravity``, ``frame_acceleration``, ...)."""
+        (``gravity``, ``frame_acceleration``, ...).
+
+        Parameters
+        ----------
+        beam_loads : dict, optional
+            ``{beam name: {block: array}}``.
+        **shared
+            Shared forcing blocks (``gravity``, ``frame_acceleration``, ...; zero if absent).
+
+        Returns
+        -------
+        ndarray
+            Packed forcing of the structure.
+        """
         beam_loads = beam_loads or {}
         unknown = set(beam_loads) - {b.name for b in self.beams}
         if unknown:
@@ -582,7 +823,18 @@ class JoinedBeamSystem(CasadiResidualSystem):
         return pack([s for s in self.forcing_specs if s.name in values], values)  # the structure's (first) blocks
 
     def jig_state(self, p) -> np.ndarray:
-        """The unloaded jig state (every beam's jig, joint loads zero)."""
+        """The unloaded jig state (every beam's jig, joint loads zero).
+
+        Parameters
+        ----------
+        p : array_like, shape (n_param,)
+            Packed parameters.
+
+        Returns
+        -------
+        ndarray, shape (n_state,)
+            The jig state.
+        """
         return _jig_guess(self, p, None)
 
 
@@ -598,7 +850,28 @@ def _jig_guess(system, p, q=None):
 
 
 def describe_joined_equation(index, beams, joints, offsets, joint_offset, symmetry=()) -> str:
-    """Name of residual ``index`` of a joined system, e.g. 'beam wing: node 3 ..., moment equilibrium z'."""
+    """Name of residual ``index`` of a joined system, e.g. 'beam wing: node 3 ..., moment equilibrium z'.
+
+    Parameters
+    ----------
+    index : int
+        Residual index.
+    beams : sequence of Beam
+        The beams.
+    joints : sequence of Joint
+        The joints.
+    offsets : dict of str to int
+        First state index of each beam.
+    joint_offset : int
+        First state index of the joint unknowns.
+    symmetry : sequence of Symmetry
+        The symmetry conditions.
+
+    Returns
+    -------
+    str
+        The name.
+    """
     index = int(index)
     symmetry_offset = joint_offset + N_JOINT * len(joints)
     if index >= symmetry_offset:
@@ -632,7 +905,28 @@ def describe_joined_equation(index, beams, joints, offsets, joint_offset, symmet
 
 def joined_definition(beams, joints, euler_sequence="surface", damping=None, masses=(), symmetry=()) -> str:
     """What defines the functions of :func:`build_joined_system` (key of their compiled libraries):
-    the lumped masses' nodes count, their values (parameters) do not."""
+    the lumped masses' nodes count, their values (parameters) do not.
+
+    Parameters
+    ----------
+    beams : sequence of Beam
+        The beams.
+    joints : sequence of Joint
+        The joints.
+    euler_sequence : str
+        Euler-angle sequence.
+    damping : StrainRateDamping, optional
+        Strain-rate damping (zero damping counts as None).
+    masses : sequence of LumpedMass
+        The lumped masses (their nodes enter the key).
+    symmetry : sequence of Symmetry
+        The symmetry conditions.
+
+    Returns
+    -------
+    str
+        The definition key.
+    """
     if damping is not None and damping.is_zero:
         damping = None
     args = (tuple(beams), tuple(joints), str(euler_sequence),
@@ -654,6 +948,26 @@ def build_joined_system(beams, joints, *, euler_sequence: str = "surface",
     pair, a beam connected to no other, two symmetry conditions on one node or one on a system
     with a clamped beam. The jig positions of the joined nodes and of the symmetry nodes are
     checked when the parameters are packed (:meth:`JoinedBeamSystem.pack_parameters`).
+
+    Parameters
+    ----------
+    beams : sequence of Beam
+        The beams.
+    joints : sequence of Joint
+        The joints.
+    euler_sequence : str
+        Euler-angle sequence.
+    damping : StrainRateDamping, optional
+        Strain-rate damping of every beam.
+    masses : sequence of LumpedMass
+        The lumped masses.
+    symmetry : sequence of Symmetry
+        The symmetry conditions.
+
+    Returns
+    -------
+    JoinedBeamSystem
+        The residual system.
     """
     return build_extended_joined_system(beams, joints, euler_sequence=euler_sequence, damping=damping,
                                         masses=masses, symmetry=symmetry)
@@ -827,6 +1141,32 @@ def solve_inertia_relief(system, p, q, supports, accelerations=HALF_AIRCRAFT_ACC
     the state and ``{name: acceleration}``. ValueError for supports that do not hold the
     structure's rigid-body modes (a singular matrix), a count that differs from the accelerations',
     unknown names, or no convergence.
+
+    Parameters
+    ----------
+    system : JoinedBeamSystem
+        The free structure.
+    p : array_like, shape (n_param,)
+        Packed parameters.
+    q : array_like, shape (n_forcing,)
+        Packed forcing (its accelerations are the starting values).
+    supports : sequence of tuple
+        ``(beam, node, component)``, one per acceleration.
+    accelerations : sequence of str
+        Names of the unknown accelerations (keys of :data:`FRAME_ACCELERATIONS`).
+    x0 : array_like, shape (n_state,), optional
+        Initial guess; default the jig.
+    rtol : float
+        Convergence tolerance on ``max|R|`` relative to its first value (at least 1).
+    max_iter : int
+        Most Newton iterations.
+
+    Returns
+    -------
+    x : ndarray, shape (n_state,)
+        The state.
+    accelerations : dict of str to float
+        The accelerations (m/s^2, rad/s^2).
     """
     bad = [a for a in accelerations if a not in FRAME_ACCELERATIONS]
     if bad or len(set(accelerations)) != len(accelerations):
@@ -887,7 +1227,17 @@ def solve_inertia_relief(system, p, q, supports, accelerations=HALF_AIRCRAFT_ACC
 class MonitoringStation:
     """A monitoring station: the cut just inboard of node ``node`` of beam ``beam`` (between nodes
     ``node - 1`` and ``node``; node >= 1, negative from the tip), named ``label`` (e.g. "wing root"
-    at the root rib, "fuselage x = 5 m")."""
+    at the root rib, "fuselage x = 5 m").
+
+    Parameters
+    ----------
+    label : str
+        Name of the station.
+    beam : str
+        Name of the beam.
+    node : int
+        Node just outboard of the cut (>= 1, negative from the tip).
+    """
 
     label: str
     beam: str
@@ -900,7 +1250,22 @@ def monitoring_loads(system, x, stations) -> dict:
     tip, the node's own point loads included) exerts on the inboard part, ``F`` and ``M`` of the
     state (docs/beam-theory.md). Returns ``{label: {"force": (3,), "moment": (3,)}}`` in body axes and
     ``"force_csn"``, ``"moment_csn"`` in the node's deformed section frame (c: chordwise shear,
-    s: axial force / torsion, n: normal shear / bending about n)."""
+    s: axial force / torsion, n: normal shear / bending about n).
+
+    Parameters
+    ----------
+    system : JoinedBeamSystem
+        The system.
+    x : array_like, shape (n_state,)
+        State.
+    stations : sequence of MonitoringStation
+        The stations.
+
+    Returns
+    -------
+    dict
+        The loads of each station, by label (N, N m).
+    """
     x = np.asarray(x, dtype=float).reshape(system.n_state)
     out = {}
     for st in stations:
@@ -926,6 +1291,23 @@ class JoinedBeamModel:
 
     ``beam_params``: ``{beam: parameter dict}`` (:func:`wingmdao.beam.static.beam_parameters`);
     ``masses``, ``symmetry``: as :func:`build_joined_system`.
+
+    Parameters
+    ----------
+    beams : sequence of Beam
+        The beams.
+    joints : sequence of Joint
+        The joints.
+    beam_params : dict
+        ``{beam name: parameter dict}``.
+    euler_sequence : str
+        Euler-angle sequence.
+    damping : StrainRateDamping, optional
+        Strain-rate damping.
+    masses : sequence of LumpedMass
+        The lumped masses.
+    symmetry : sequence of Symmetry
+        The symmetry conditions.
     """
 
     def __init__(self, beams, joints, beam_params, *, euler_sequence="surface", damping=None, masses=(),
@@ -936,11 +1318,44 @@ class JoinedBeamModel:
         self.p = self.system.pack_parameters(beam_params)
 
     def forcing(self, loads=None, **shared) -> np.ndarray:
+        """Packed forcing (:meth:`JoinedBeamSystem.pack_forcing`).
+
+        Parameters
+        ----------
+        loads : dict, optional
+            ``{beam name: {block: array}}``.
+        **shared
+            Shared forcing blocks.
+
+        Returns
+        -------
+        ndarray
+            The packed forcing.
+        """
         return self.system.pack_forcing(loads, **shared)
 
     def solve(self, loads=None, *, load_steps=1, x0=None, max_iter=30, **shared) -> dict:
         """Static equilibrium under ``loads`` (``{beam: {block: array}}``) and the shared forcing;
-        returns :meth:`JoinedBeamSystem.unpack` of the state plus ``'x'`` and ``'iterations'``."""
+        returns :meth:`JoinedBeamSystem.unpack` of the state plus ``'x'`` and ``'iterations'``.
+
+        Parameters
+        ----------
+        loads : dict, optional
+            ``{beam name: {block: array}}``.
+        load_steps : int
+            Load steps of the continuation.
+        x0 : array_like, shape (n_state,), optional
+            Initial guess; default the jig.
+        max_iter : int
+            Most Newton iterations per load step.
+        **shared
+            Shared forcing blocks (``gravity``, ...).
+
+        Returns
+        -------
+        dict
+            The unpacked state, ``'x'`` and ``'iterations'``.
+        """
         q = self.forcing(loads, **shared)
         x, info = solve_static(self.system, self.p, q, x0, load_steps=load_steps, max_iter=max_iter)
         out = self.system.unpack(x)
@@ -951,7 +1366,24 @@ class JoinedBeamModel:
                              **shared) -> dict:
         """Equilibrium of the free structure under ``loads`` with inertia relief
         (:func:`solve_inertia_relief`); returns :meth:`JoinedBeamSystem.unpack` of the state plus
-        ``'x'`` and ``'accelerations'`` ({name: value}, m/s^2 and rad/s^2)."""
+        ``'x'`` and ``'accelerations'`` ({name: value}, m/s^2 and rad/s^2).
+
+        Parameters
+        ----------
+        loads : dict, optional
+            ``{beam name: {block: array}}``.
+        supports : sequence of tuple
+            ``(beam, node, component)``, one per acceleration.
+        accelerations : sequence of str
+            Names of the unknown accelerations.
+        **shared
+            Shared forcing blocks.
+
+        Returns
+        -------
+        dict
+            The unpacked state, ``'x'`` and ``'accelerations'``.
+        """
         q = self.forcing(loads, **shared)
         x, acc = solve_inertia_relief(self.system, self.p, q, supports, accelerations)
         out = self.system.unpack(x)

@@ -25,6 +25,26 @@ def natural_frequencies(system, p, q, x0=None, count: int = 6, max_abs: float = 
     of sizing problems (18 n unknowns, n <= ~100). Eigenvalues with ``|lambda|`` of ``max_abs``
     (1/s) or more are the pencil's infinite ones (constraint rows: clamps, joints), computed as
     large finite numbers, and are dropped first, as :func:`wingmdao.stability.eigen.eigenmodes` does.
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The beam (or any) system.
+    p : array_like, shape (n_param,)
+        Packed parameters.
+    q : array_like, shape (n_forcing,)
+        Packed forcing.
+    x0 : array_like, shape (n_state,), optional
+        State to linearise about; default ``system.initial_guess(p, q)``.
+    count : int
+        Number of frequencies (at least 1).
+    max_abs : float
+        Eigenvalues of this magnitude (1/s) or more are dropped as infinite.
+
+    Returns
+    -------
+    ndarray, shape (count,) or fewer
+        The frequencies (Hz), ascending.
     """
     if count < 1:
         raise ValueError(f"count must be >= 1, got {count}")
@@ -53,6 +73,23 @@ class NormalModes:
     ``force``, ``moment`` (count, n, 3): each mode's internal resultants F, M at the nodes (body
     axes, N and N m per unit modal amplitude; the beam's states, so ``sum_i q_i M_i`` is the
     mode-displacement estimate of the internal moment).
+
+    Parameters
+    ----------
+    frequencies : ndarray, shape (count,)
+        Circular frequencies (rad/s), ascending.
+    displacement : ndarray, shape (count, n, 3)
+        Nodal displacement of each mode (m per unit modal amplitude), body axes.
+    rotation : ndarray, shape (count, n, 3)
+        Nodal small rotation of each mode (rad per unit modal amplitude), body axes.
+    mass : ndarray, shape (count, count)
+        Generalized mass matrix of the scaled modes.
+    stiffness : ndarray, shape (count, count)
+        ``diag(omega^2)``.
+    force : ndarray, shape (count, n, 3), optional
+        Internal force of each mode at the nodes (N per unit modal amplitude), body axes.
+    moment : ndarray, shape (count, n, 3), optional
+        Internal moment of each mode at the nodes (N m per unit modal amplitude), body axes.
     """
 
     frequencies: np.ndarray
@@ -77,6 +114,21 @@ def generalized_mass(params: dict, displacement, rotation) -> np.ndarray:
     ``M_ij = sum_e ds_e [mu (u_i + phi_i x d) . (u_j + phi_j x d) + phi_i . I phi_j]`` with the
     mid-point displacement ``u`` and rotation ``phi`` of each mode. ``displacement``, ``rotation``:
     (count, n, 3) in body axes.
+
+    Parameters
+    ----------
+    params : dict
+        Beam parameters (``node_positions``, ``node_euler_angles``, ``mass_per_length``,
+        ``mass_center``, ``inertia_per_length``), as :func:`wingmdao.beam.static.beam_parameters`.
+    displacement : array_like, shape (count, n, 3)
+        Nodal displacements of the modes, body axes.
+    rotation : array_like, shape (count, n, 3)
+        Nodal small rotations of the modes, body axes.
+
+    Returns
+    -------
+    ndarray, shape (count, count)
+        The generalized mass matrix.
     """
     u = np.asarray(displacement, dtype=float)
     phi = np.asarray(rotation, dtype=float)
@@ -105,6 +157,28 @@ def normal_modes(system, params: dict, p, q, count: int = 6, x0=None, max_abs: f
     ``(A + lambda B) v = 0`` as :func:`natural_frequencies`; each eigenvector's ``r`` block is the
     displacement, its ``omega`` block over ``lambda`` the rotation; made real by the phase of its
     largest entry and scaled to a unit generalized mass.
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The beam system.
+    params : dict
+        The beam parameters packed in ``p``.
+    p : array_like, shape (n_param,)
+        Packed parameters.
+    q : array_like, shape (n_forcing,)
+        Packed forcing.
+    count : int
+        Number of modes (at least 1).
+    x0 : array_like, shape (n_state,), optional
+        State to linearise about; default ``system.initial_guess(p, q)`` (the jig).
+    max_abs : float
+        Eigenvalues of this magnitude (1/s) or more are dropped as infinite.
+
+    Returns
+    -------
+    NormalModes
+        The modes.
     """
     if count < 1:
         raise ValueError(f"count must be >= 1, got {count}")

@@ -55,7 +55,18 @@ _ANGLES = ("phi", "twist", "psi")
 
 
 def param_specs(n: int) -> list[VarSpec]:
-    """Time-invariant parameters p of an n-node beam (per node, root first)."""
+    """Time-invariant parameters p of an n-node beam (per node, root first).
+
+    Parameters
+    ----------
+    n : int
+        Number of nodes.
+
+    Returns
+    -------
+    list of VarSpec
+        The parameter blocks, in packing order.
+    """
     return [
         VarSpec("node_positions", (n, 3), "m", "jig beam-axis node positions, body axes"),
         VarSpec("node_euler_angles", (n, 3), "rad", "jig Euler angles (phi, twist, psi) of the csn frames"),
@@ -70,7 +81,18 @@ def param_specs(n: int) -> list[VarSpec]:
 
 
 def forcing_specs(n: int) -> list[VarSpec]:
-    """Forcing q at one instant (body axes)."""
+    """Forcing q at one instant (body axes).
+
+    Parameters
+    ----------
+    n : int
+        Number of nodes.
+
+    Returns
+    -------
+    list of VarSpec
+        The forcing blocks, in packing order.
+    """
     return [
         VarSpec("force_per_length", (n, 3), "N/m", "dead distributed force per undeformed length"),
         VarSpec("moment_per_length", (n, 3), "N*m/m", "dead distributed moment per undeformed length"),
@@ -99,6 +121,18 @@ def offset_matrix(tension_axis, shear_center):
 
     Bending (c, n) moments are taken about the tension axis (c_ta, n_ta), where the axial
     force acts; torsion about the shear centre (c_sc, n_sc), where the shear forces act.
+
+    Parameters
+    ----------
+    tension_axis : casadi.SX or sequence
+        ``(c, n)`` of the tension axis from the beam axis (m).
+    shear_center : casadi.SX or sequence
+        ``(c, n)`` of the shear centre from the beam axis (m).
+
+    Returns
+    -------
+    casadi.SX, shape (3, 3)
+        D.
     """
     c_ta, n_ta = tension_axis[0], tension_axis[1]
     c_sc, n_sc = shear_center[0], shear_center[1]
@@ -131,7 +165,25 @@ def _avg(a, b, key, table):
 
 
 def nodal_acceleration(r, u, udot, frame):
-    """a_i = A0 + du/dt + alpha0 x r + Omega x (Omega x r) + 2 Omega x u (Alg. 2, line 6)."""
+    """a_i = A0 + du/dt + alpha0 x r + Omega x (Omega x r) + 2 Omega x u (Alg. 2, line 6).
+
+    Parameters
+    ----------
+    r : casadi.SX, shape (3,)
+        Node position (m), body axes.
+    u : casadi.SX, shape (3,)
+        Node velocity relative to the body axes (m/s).
+    udot : casadi.SX, shape (3,)
+        Its rate (m/s^2).
+    frame : tuple of casadi.SX
+        ``(A0, Omega, alpha0)``: acceleration of the body-axes origin (m/s^2), angular velocity
+        (rad/s) and angular acceleration (rad/s^2) of the body axes.
+
+    Returns
+    -------
+    casadi.SX, shape (3,)
+        Absolute acceleration of the node in body axes (m/s^2).
+    """
     acc0, rate, alpha0 = frame
     return acc0 + udot + ca.cross(alpha0, r) + ca.cross(rate, ca.cross(rate, r)) + 2 * ca.cross(rate, u)
 
@@ -145,6 +197,13 @@ class StrainRateDamping:
     shear (c, n) and axial (s) strains, so M = E (kappa + t_kappa dkappa/dt) per component.
     A mode of circular frequency w governed by one of these strains gets the damping ratio
     zeta = w t / 2 (docs/beam-theory.md, "Strain-rate damping").
+
+    Parameters
+    ----------
+    curvature : tuple of 3 float
+        Time constants ``(t_kappa_c, t_kappa_s, t_kappa_n)`` (s), each finite and >= 0.
+    strain : tuple of 3 float
+        Time constants ``(t_gamma_c, t_gamma_s, t_gamma_n)`` (s), each finite and >= 0.
     """
 
     curvature: tuple = (0.0, 0.0, 0.0)
@@ -160,7 +219,20 @@ class StrainRateDamping:
     @classmethod
     def from_damping_ratio(cls, zeta: float, frequency_hz: float) -> StrainRateDamping:
         """Time constant t = 2 zeta / w = zeta / (pi f) on every strain: damping ratio ``zeta`` at
-        ``frequency_hz`` (e.g. the first bending mode), proportionally more above it."""
+        ``frequency_hz`` (e.g. the first bending mode), proportionally more above it.
+
+        Parameters
+        ----------
+        zeta : float
+            Damping ratio, in [0, 1).
+        frequency_hz : float
+            Reference frequency (Hz), > 0.
+
+        Returns
+        -------
+        StrainRateDamping
+            The same time constant on all six strains.
+        """
         if not (math.isfinite(zeta) and 0.0 <= zeta < 1.0):
             raise ValueError(f"damping ratio zeta must be in [0, 1), got {zeta}")
         if not (math.isfinite(frequency_hz) and frequency_hz > 0.0):
@@ -271,7 +343,18 @@ def element_function(sequence, damping: StrainRateDamping | None = None):
 
 def nodal_function(sequence):
     """The CasADi function ``beam_nodal(x, xdot) -> R (6)`` of one node's kinematic residuals
-    (velocity u - dr/dt, angular rate omega - Euler rates; ``sequence`` as :func:`element_function`)."""
+    (velocity u - dr/dt, angular rate omega - Euler rates; ``sequence`` as :func:`element_function`).
+
+    Parameters
+    ----------
+    sequence : str
+        Euler-angle sequence (``"surface"``).
+
+    Returns
+    -------
+    casadi.Function
+        ``beam_nodal(x (18), xdot (18)) -> R (6)``.
+    """
     x, xdot = ca.SX.sym("x", 18), ca.SX.sym("xdot", 18)
     st = STATE_BLOCKS
     T = body_to_csn(x[st["theta"]], sequence)
@@ -282,7 +365,22 @@ def nodal_function(sequence):
 
 def node_params(p, lay, i):
     """The 34 parameters of node ``i`` in the layout of :data:`NODE_PARAMS`, from the packed
-    parameters ``p`` (CasADi) with the slices ``lay`` of :func:`param_specs` (``layout``)."""
+    parameters ``p`` (CasADi) with the slices ``lay`` of :func:`param_specs` (``layout``).
+
+    Parameters
+    ----------
+    p : casadi.SX
+        Packed parameters of the beam.
+    lay : dict of str to slice
+        Layout of :func:`param_specs` (:func:`~wingmdao.timemarch.system.layout`).
+    i : int
+        Node index.
+
+    Returns
+    -------
+    casadi.SX, shape (34,)
+        The node's parameters.
+    """
     parts = []
     for name, width in (("node_positions", 3), ("node_euler_angles", 3), ("stiffness_csn", 9),
                         ("compliance_csn", 3), ("tension_axis", 2), ("shear_center", 2),
@@ -293,13 +391,41 @@ def node_params(p, lay, i):
 
 def node_forcing(q, lay, i):
     """The 12 forcing entries of node ``i`` in the layout of :data:`NODE_FORCING`, from the packed
-    forcing ``q`` (CasADi) with the slices ``lay`` of :func:`forcing_specs` (``layout``)."""
+    forcing ``q`` (CasADi) with the slices ``lay`` of :func:`forcing_specs` (``layout``).
+
+    Parameters
+    ----------
+    q : casadi.SX
+        Packed forcing of the beam.
+    lay : dict of str to slice
+        Layout of :func:`forcing_specs`.
+    i : int
+        Node index.
+
+    Returns
+    -------
+    casadi.SX, shape (12,)
+        The node's forcing ``(f, m, P, Q)``.
+    """
     return ca.vertcat(*[_node_block(q, lay[name].start, None, i, 3) for name in
                         ("force_per_length", "moment_per_length", "point_force", "point_moment")])
 
 
 def describe_equation(index: int, num_nodes: int) -> str:
-    """Name of residual ``index``, e.g. 'node 5, moment equilibrium z'."""
+    """Name of residual ``index``, e.g. 'node 5, moment equilibrium z'.
+
+    Parameters
+    ----------
+    index : int
+        Residual index, in ``[0, 18 num_nodes)``.
+    num_nodes : int
+        Number of nodes of the beam.
+
+    Returns
+    -------
+    str
+        The name.
+    """
     node, k = divmod(int(index), N_STATE_PER_NODE)
     if not 0 <= node < num_nodes:
         raise ValueError(f"equation index must be in [0, {N_STATE_PER_NODE * num_nodes}), got {index}")
@@ -322,6 +448,18 @@ def jig_state(p_values, num_nodes: int | None = None) -> np.ndarray:
 
     ``p_values`` is a dict of parameter arrays or the packed parameter vector (then
     ``num_nodes`` is required).
+
+    Parameters
+    ----------
+    p_values : dict or array_like
+        Parameter dict (``node_positions``, ``node_euler_angles``) or packed parameter vector.
+    num_nodes : int, optional
+        Number of nodes; required with a packed vector.
+
+    Returns
+    -------
+    ndarray, shape (n, 18)
+        The jig state.
     """
     if isinstance(p_values, dict):
         r0 = np.asarray(p_values["node_positions"], dtype=float).reshape(-1, 3)
@@ -340,7 +478,20 @@ def jig_state(p_values, num_nodes: int | None = None) -> np.ndarray:
 
 
 def unpack_state(x, num_nodes: int | None = None) -> dict:
-    """Split a state (flat or (n, 18)) into ``{'r', 'theta', 'F', 'M', 'u', 'omega'}`` (n, 3) arrays."""
+    """Split a state (flat or (n, 18)) into ``{'r', 'theta', 'F', 'M', 'u', 'omega'}`` (n, 3) arrays.
+
+    Parameters
+    ----------
+    x : array_like, shape (18 n,) or (n, 18)
+        Beam state.
+    num_nodes : int, optional
+        Number of nodes; default inferred from the size.
+
+    Returns
+    -------
+    dict of str to ndarray
+        ``{'r', 'theta', 'F', 'M', 'u', 'omega'}``, each (n, 3) (copies).
+    """
     x = np.asarray(x, dtype=float)
     x = x.reshape(-1, N_STATE_PER_NODE) if num_nodes is None else x.reshape(num_nodes, N_STATE_PER_NODE)
     return {k: x[:, s].copy() for k, s in STATE_BLOCKS.items()}
@@ -355,7 +506,22 @@ def beam_definition(num_nodes: int, euler_sequence: str = "surface",
                     damping: StrainRateDamping | None = None) -> str:
     """What defines the functions of :func:`build_beam_system` (the key of their compiled
     libraries, :func:`wingmdao.utils.casadi_cache.definition_key`): its arguments, the source of
-    the generating modules and the CasADi version."""
+    the generating modules and the CasADi version.
+
+    Parameters
+    ----------
+    num_nodes : int
+        Number of nodes.
+    euler_sequence : str
+        Euler-angle sequence.
+    damping : StrainRateDamping, optional
+        Strain-rate damping (zero damping counts as None).
+
+    Returns
+    -------
+    str
+        The definition key.
+    """
     if damping is not None and damping.is_zero:
         damping = None
     args = (int(num_nodes), str(euler_sequence),
@@ -376,6 +542,22 @@ def build_beam_system(num_nodes: int, *, euler_sequence: str = "surface",
     machine, its sparsity patterns come from :mod:`wingmdao.utils.function_store` and the CasADi
     functions are made at first use (:class:`DeferredBeamSystem`): from the compiled-library
     cache when all of them are there, else built as here. ``defer=False`` builds now.
+
+    Parameters
+    ----------
+    num_nodes : int
+        Number of nodes (at least 2).
+    euler_sequence : str
+        Euler-angle sequence (``"surface"``).
+    damping : StrainRateDamping, optional
+        Kelvin-Voigt strain-rate damping; None: none.
+    defer : bool
+        Return a :class:`DeferredBeamSystem` when the definition's data is stored.
+
+    Returns
+    -------
+    CasadiResidualSystem
+        The beam system (a :class:`DeferredBeamSystem` when deferred).
     """
     n = int(num_nodes)
     if n < 2:
@@ -468,6 +650,17 @@ class DeferredBeamSystem(CasadiResidualSystem):
     the expression graphs; dR/dp or dR/dq without a library build them at first use); any other attribute of a built system (or a cache miss) builds
     the system (:func:`_build_beam_system`) and takes over its attributes. Evaluations are those
     of the built system: the same compiled libraries, or the same interpreted functions.
+
+    Parameters
+    ----------
+    data : dict
+        Persisted patterns and function signatures of an earlier build (:func:`_beam_data`).
+    build : callable
+        ``build()`` returns the full :class:`CasadiResidualSystem`.
+    num_nodes : int
+        Number of nodes.
+    definition : str
+        Definition key (:func:`beam_definition`).
     """
 
     def __init__(self, data, build, num_nodes, definition):
@@ -486,6 +679,13 @@ class DeferredBeamSystem(CasadiResidualSystem):
         self._deferred = (data, build, frozenset(str(a) for a in data["attributes"]))
 
     def jacobian_patterns(self):
+        """The four Jacobian patterns, from the persisted data while the system is not built.
+
+        Returns
+        -------
+        dict
+            ``{"x"|"xdot"|"p"|"q": (rows, cols, shape)}``.
+        """
         data = self._deferred[0] if self._deferred is not None else None
         if data is None:
             return super().jacobian_patterns()
@@ -493,11 +693,36 @@ class DeferredBeamSystem(CasadiResidualSystem):
                     tuple(int(v) for v in data[f"pattern_{k}_shape"])) for k in ("x", "xdot", "p", "q")}
 
     def set_jit_threshold(self, evaluations: int) -> None:
+        """Evaluations after which each function is compiled (passed on once the evaluators exist).
+
+        Parameters
+        ----------
+        evaluations : int
+            The threshold.
+        """
         self.jit_threshold = int(evaluations)
         if "_fast_R" in self.__dict__:
             super().set_jit_threshold(evaluations)
 
     def residual_history(self, X, Xdot, p, Q):
+        """Residuals at every instant, with the interpreted residual function.
+
+        Parameters
+        ----------
+        X : ndarray, shape (n_time, n_state)
+            States at every instant.
+        Xdot : ndarray, shape (n_time, n_state)
+            State rates at every instant.
+        p : ndarray, shape (n_param,)
+            Packed parameters.
+        Q : ndarray, shape (n_time, n_forcing)
+            Packed forcing at every instant.
+
+        Returns
+        -------
+        ndarray, shape (n_time, n_state)
+            The residuals.
+        """
         return self._history("R", self._maps["R"].jit.interpreted, X, Xdot, p, Q)[0]
 
     @property

@@ -36,21 +36,54 @@ def _mat(rows, like):
 
 
 def rot_x(a):
-    """Passive rotation by ``a`` about x (body -> rotated frame components)."""
+    """Passive rotation by ``a`` about x (body -> rotated frame components).
+
+    Parameters
+    ----------
+    a : float or casadi.SX or casadi.MX
+        Angle (rad).
+
+    Returns
+    -------
+    ndarray or casadi matrix, shape (3, 3)
+        The rotation matrix.
+    """
     m = _lib(a)
     c, s = m.cos(a), m.sin(a)
     return _mat([[1.0, 0.0, 0.0], [0.0, c, s], [0.0, -s, c]], a)
 
 
 def rot_y(a):
-    """Passive rotation by ``a`` about y."""
+    """Passive rotation by ``a`` about y.
+
+    Parameters
+    ----------
+    a : float or casadi.SX or casadi.MX
+        Angle (rad).
+
+    Returns
+    -------
+    ndarray or casadi matrix, shape (3, 3)
+        The rotation matrix.
+    """
     m = _lib(a)
     c, s = m.cos(a), m.sin(a)
     return _mat([[c, 0.0, -s], [0.0, 1.0, 0.0], [s, 0.0, c]], a)
 
 
 def rot_z(a):
-    """Passive rotation by ``a`` about z."""
+    """Passive rotation by ``a`` about z.
+
+    Parameters
+    ----------
+    a : float or casadi.SX or casadi.MX
+        Angle (rad).
+
+    Returns
+    -------
+    ndarray or casadi matrix, shape (3, 3)
+        The rotation matrix.
+    """
     m = _lib(a)
     c, s = m.cos(a), m.sin(a)
     return _mat([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]], a)
@@ -62,7 +95,20 @@ def _check_sequence(sequence):
 
 
 def body_to_csn(theta, sequence="surface"):
-    """T(theta) of Eq. A.1: maps body components (x, y, z) to local (c, s, n) components."""
+    """T(theta) of Eq. A.1: maps body components (x, y, z) to local (c, s, n) components.
+
+    Parameters
+    ----------
+    theta : sequence of 3 (float or casadi symbol)
+        Euler angles ``(phi, vartheta, psi)`` (rad).
+    sequence : str
+        Euler sequence; only ``"surface"`` (:data:`SEQUENCES`).
+
+    Returns
+    -------
+    ndarray or casadi matrix, shape (3, 3)
+        T(theta).
+    """
     _check_sequence(sequence)
     phi, twist, psi = theta[0], theta[1], theta[2]
     return rot_y(twist) @ rot_z(psi) @ rot_x(phi)
@@ -72,6 +118,18 @@ def rate_matrix(theta, sequence="surface"):
     """K(theta) of Eq. A.3: ``omega_csn = K dtheta/dt`` and ``kappa_csn = K dtheta/ds``.
 
     Columns: C_y C_z e_x (phi rate), e_y (twist rate), C_y e_z (psi rate).
+
+    Parameters
+    ----------
+    theta : sequence of 3 (float or casadi symbol)
+        Euler angles ``(phi, vartheta, psi)`` (rad).
+    sequence : str
+        Euler sequence; only ``"surface"`` (:data:`SEQUENCES`).
+
+    Returns
+    -------
+    ndarray or casadi matrix, shape (3, 3)
+        K(theta).
     """
     _check_sequence(sequence)
     twist, psi = theta[1], theta[2]
@@ -86,6 +144,18 @@ def euler_from_axis(tangent, twist=0.0):
 
     s = T^T e_s = (-sin psi, cos psi cos phi, cos psi sin phi), so
     phi = atan2(t_z, t_y) and psi = atan2(-t_x, hypot(t_y, t_z)).
+
+    Parameters
+    ----------
+    tangent : array_like, shape (3,)
+        Direction of the s axis in body axes (normalized here).
+    twist : float
+        Twist angle vartheta (rad), stored as given.
+
+    Returns
+    -------
+    ndarray, shape (3,)
+        ``(phi, vartheta, psi)`` (rad).
     """
     t = np.asarray(tangent, dtype=float)
     t = t / np.linalg.norm(t)

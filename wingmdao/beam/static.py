@@ -24,7 +24,22 @@ _SYSTEMS: dict = {}
 
 def cached_beam_system(num_nodes: int, euler_sequence: str = "surface",
                        damping: StrainRateDamping | None = None):
-    """:func:`build_beam_system`, built once per (num_nodes, sequence, damping)."""
+    """:func:`build_beam_system`, built once per (num_nodes, sequence, damping).
+
+    Parameters
+    ----------
+    num_nodes : int
+        Number of nodes.
+    euler_sequence : str
+        Euler-angle sequence.
+    damping : StrainRateDamping, optional
+        Strain-rate damping (zero damping counts as None).
+
+    Returns
+    -------
+    CasadiResidualSystem
+        The beam system of :func:`~wingmdao.beam.residual.build_beam_system`.
+    """
     if damping is not None and damping.is_zero:
         damping = None
     key = (int(num_nodes), euler_sequence, damping)
@@ -50,6 +65,42 @@ def beam_parameters(node_positions, node_euler_angles, *, EI_cc, GJ, EI_nn, EA, 
     ``GK_c``/``GK_n`` default to 1e6 EA (shear-rigid, Euler-Bernoulli limit);
     ``inertia_per_length`` defaults to zero (3x3 in csn, or per node (n, 3, 3)).
     Stiffnesses must be positive: a ``ValueError`` names the input and the node otherwise.
+
+    Parameters
+    ----------
+    node_positions : array_like, shape (n, 3)
+        Jig node positions (m), body axes.
+    node_euler_angles : array_like, shape (3,) or (n, 3)
+        Jig Euler angles (rad).
+    EI_cc : float or array_like, shape (n,)
+        Bending stiffness about c (N m^2).
+    GJ : float or array_like, shape (n,)
+        Torsional stiffness (N m^2).
+    EI_nn : float or array_like, shape (n,)
+        Bending stiffness about n (N m^2).
+    EA : float or array_like, shape (n,)
+        Axial stiffness (N).
+    GK_c : float or array_like, shape (n,), optional
+        Shear stiffness along c (N); default 1e6 EA.
+    GK_n : float or array_like, shape (n,), optional
+        Shear stiffness along n (N); default 1e6 EA.
+    EI_cn : float or array_like, shape (n,)
+        Bending cross stiffness (N m^2).
+    tension_axis : array_like, shape (2,) or (n, 2)
+        ``(c, n)`` of the tension axis from the beam axis (m).
+    shear_center : array_like, shape (2,) or (n, 2)
+        ``(c, n)`` of the shear centre from the beam axis (m).
+    mass_per_length : float or array_like, shape (n,)
+        Mass per unit length (kg/m).
+    mass_center : array_like, shape (2,) or (n, 2)
+        ``(c, n)`` of the mass centre from the beam axis (m).
+    inertia_per_length : array_like, shape (3, 3) or (n, 3, 3), optional
+        Rotary inertia per length about the mass centre, csn (kg m); default zero.
+
+    Returns
+    -------
+    dict
+        The parameters of :func:`~wingmdao.beam.residual.param_specs`.
     """
     r0 = np.array(node_positions, dtype=float)  # a copy: callers may edit the dict
     n = r0.shape[0]
@@ -82,7 +133,20 @@ def beam_parameters(node_positions, node_euler_angles, *, EI_cc, GJ, EI_nn, EA, 
 
 
 def beam_forcing(n: int, **values) -> dict:
-    """Forcing dict of an n-node beam: zeros except the given blocks (see ``forcing_specs``)."""
+    """Forcing dict of an n-node beam: zeros except the given blocks (see ``forcing_specs``).
+
+    Parameters
+    ----------
+    n : int
+        Number of nodes.
+    **values
+        Forcing blocks by name (broadcast to their shapes).
+
+    Returns
+    -------
+    dict
+        Every forcing block of :func:`~wingmdao.beam.residual.forcing_specs`.
+    """
     out = {s.name: np.zeros(s.shape) for s in forcing_specs(n)}
     for name, v in values.items():
         if name not in out:
@@ -97,6 +161,11 @@ def check_beam_parameters(params: dict) -> None:
     Checks: finite values; distinct consecutive nodes (element length > 0 m); symmetric
     positive-definite ``stiffness_csn`` (N*m**2); ``compliance_csn`` > 0 (1/N);
     ``mass_per_length`` >= 0 (kg/m); symmetric positive semi-definite ``inertia_per_length``.
+
+    Parameters
+    ----------
+    params : dict
+        Beam parameters (:func:`~wingmdao.beam.residual.param_specs`).
     """
     for name, arr in params.items():
         a = np.asarray(arr, dtype=float)
@@ -125,7 +194,17 @@ def check_beam_parameters(params: dict) -> None:
 
 @dataclass
 class BeamModel:
-    """A beam's parameters with a cached residual system; ``solve(**forcing)`` gives statics."""
+    """A beam's parameters with a cached residual system; ``solve(**forcing)`` gives statics.
+
+    Parameters
+    ----------
+    params : dict
+        Beam parameters (checked by :func:`check_beam_parameters`).
+    euler_sequence : str
+        Euler-angle sequence.
+    damping : StrainRateDamping, optional
+        Strain-rate damping.
+    """
 
     params: dict
     euler_sequence: str = "surface"
@@ -139,10 +218,35 @@ class BeamModel:
         self.p = pack(param_specs(self.num_nodes), self.params)
 
     def jig(self) -> np.ndarray:
+        """The unloaded jig state.
+
+        Returns
+        -------
+        ndarray, shape (n, 18)
+            The jig state (:func:`~wingmdao.beam.residual.jig_state`).
+        """
         return jig_state(self.params)
 
     def solve(self, *, load_steps=1, x0=None, max_iter=30, **forcing) -> dict:
-        """Static equilibrium under the given forcing blocks; returns :func:`unpack_state` plus 'x'."""
+        """Static equilibrium under the given forcing blocks; returns :func:`unpack_state` plus 'x'.
+
+        Parameters
+        ----------
+        load_steps : int
+            Load steps of the continuation (:func:`~wingmdao.timemarch.bdf.solve_static`).
+        x0 : array_like, shape (18 n,), optional
+            Initial guess; default the jig.
+        max_iter : int
+            Most Newton iterations per load step.
+        **forcing
+            Forcing blocks by name (:func:`beam_forcing`).
+
+        Returns
+        -------
+        dict
+            ``{'r', 'theta', 'F', 'M', 'u', 'omega'}`` (n, 3), the flat state ``'x'`` and the Newton
+            ``'iterations'``.
+        """
         q = pack(forcing_specs(self.num_nodes), beam_forcing(self.num_nodes, **forcing))
         x, info = solve_static(self.system, self.p, q, x0, load_steps=load_steps, max_iter=max_iter)
         out = unpack_state(x, self.num_nodes)
@@ -152,7 +256,24 @@ class BeamModel:
 
 
 def straight_beam(n, length, direction=(0.0, 1.0, 0.0)):
-    """Node positions and jig angles of a straight beam from the origin along ``direction``."""
+    """Node positions and jig angles of a straight beam from the origin along ``direction``.
+
+    Parameters
+    ----------
+    n : int
+        Number of nodes.
+    length : float
+        Beam length (m).
+    direction : array_like, shape (3,)
+        Beam direction in body axes (normalized here).
+
+    Returns
+    -------
+    node_positions : ndarray, shape (n, 3)
+        Node positions (m).
+    node_euler_angles : ndarray, shape (n, 3)
+        Jig Euler angles (rad).
+    """
     d = np.asarray(direction, dtype=float)
     d = d / np.linalg.norm(d)
     r0 = np.outer(np.linspace(0.0, length, n), d)
@@ -162,7 +283,26 @@ def straight_beam(n, length, direction=(0.0, 1.0, 0.0)):
 def march_line_loads(params: dict, time, force_per_length, moment_per_length, gravity=(0.0, 0.0, -G0)):
     """BDF2 history (:func:`wingmdao.timemarch.bdf.march`, modified Newton) of the clamped beam of
     ``params`` under dead line loads ``force_per_length`` / ``moment_per_length`` (n_time, n, 3)
-    N/m, N m/m, and constant ``gravity`` (m/s^2, body axes), starting from the static state of t[0]."""
+    N/m, N m/m, and constant ``gravity`` (m/s^2, body axes), starting from the static state of t[0].
+
+    Parameters
+    ----------
+    params : dict
+        Beam parameters.
+    time : array_like, shape (n_time,)
+        Uniform time grid from 0 (s).
+    force_per_length : array_like, shape (n_time, n, 3)
+        Distributed force (N/m), body axes.
+    moment_per_length : array_like, shape (n_time, n, 3)
+        Distributed moment (N m/m), body axes.
+    gravity : array_like, shape (3,)
+        Gravitational acceleration (m/s^2), body axes.
+
+    Returns
+    -------
+    TimeHistory
+        The march.
+    """
     t = np.asarray(time, dtype=float)
     n = np.asarray(params["node_positions"]).shape[0]
     system = cached_beam_system(n)

@@ -42,7 +42,7 @@ import scipy.sparse.linalg as spla
 
 from wingmdao.timemarch.system import derived
 from wingmdao.utils import casadi_cache as cc
-from wingmdao.utils.casadi_cache import JitCall, definition_key
+from wingmdao.utils.casadi_cache import JitCall, definition_key, signature_stub
 
 #: systems up to this many states use the dense QZ solver by default
 DENSE_MAX_STATES = 800
@@ -73,14 +73,6 @@ def static_state(system, p, q, x0=None, **options) -> np.ndarray:
     return x
 
 
-def _signature(name, inputs, outputs) -> ca.Function:
-    """A CasADi function named ``name`` with dense inputs and outputs of the given shapes (zero
-    outputs): what a compiled library's cache key (with a definition) and its signature check
-    (:func:`wingmdao.utils.casadi_cache.load`) read, without building the expressions."""
-    ins = [ca.MX.sym(f"in{k}", *shape) for k, shape in enumerate(inputs)]
-    return ca.Function(name, ins, [ca.MX.zeros(*shape) for shape in outputs])
-
-
 #: evaluations of the pencil function after which it is compiled (a PEGASUS sizing with the flutter
 #: constraint makes ~500, a 15-speed sweep 15-30; the compiled library is cached on disk)
 PENCIL_JIT_THRESHOLD = 40
@@ -94,7 +86,7 @@ class _PencilFunction:
     With a warm compile cache the library is loaded without forming the two Jacobians (0.35 s for
     the 20-node PEGASUS system): the patterns are the system's own (``jacobian_patterns``: the
     same residual, so the same sparsity) and the library's key and signature check need only the
-    dense input and output shapes (:func:`_signature`)."""
+    dense input and output shapes (:func:`~wingmdao.utils.casadi_cache.signature_stub`)."""
 
     def __init__(self, system):
         f = system.residual_function
@@ -116,7 +108,7 @@ class _PencilFunction:
                 return None
             indptr = np.searchsorted(np.asarray(cols), np.arange(n + 1)).astype(np.int64)
             patterns.append((np.asarray(rows, dtype=np.int64), indptr))
-        stub = _signature(self.name, [(n, 1), (n, 1), (npar, 1), (nq, 1)],
+        stub = signature_stub(self.name, [(n, 1), (n, 1), (npar, 1), (nq, 1)],
                           [(patterns[0][0].size, 1), (patterns[1][0].size, 1)])
         hit = cc.cached(stub, key=cc.function_key(stub, definition=self.definition))
         if hit is None:

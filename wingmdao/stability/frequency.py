@@ -62,7 +62,20 @@ STRESS_NAMES = ("sigma_corner", "tau_cent")
 
 
 def check_frequencies(omega, name="frequencies") -> np.ndarray:
-    """A validated 1-D grid of angular frequencies (rad/s): non-empty, finite, > 0, strictly increasing."""
+    """A validated 1-D grid of angular frequencies (rad/s): non-empty, finite, > 0, strictly increasing.
+
+    Parameters
+    ----------
+    omega : array_like
+        Angular frequencies (rad/s).
+    name : str, optional
+        Name used in the error.
+
+    Returns
+    -------
+    numpy.ndarray
+        The checked grid.
+    """
     w = np.asarray(omega, dtype=float).ravel()
     if w.size == 0:
         raise ValueError(f"{name}: the frequency grid is empty; give at least 3 frequencies > 0 rad/s")
@@ -79,7 +92,19 @@ def check_frequencies(omega, name="frequencies") -> np.ndarray:
 @dataclass
 class OutputMap:
     """A linear output ``y = y0 + Cx dx + Cv dx' + D w`` (k outputs): ``y0`` its value at the
-    linearisation state, ``Cx``/``Cv`` (k, n_state) and ``D`` (k, n_station) sparse."""
+    linearisation state, ``Cx``/``Cv`` (k, n_state) and ``D`` (k, n_station) sparse.
+
+    Parameters
+    ----------
+    y0 : numpy.ndarray
+        (k,) output at the linearisation state.
+    Cx, Cv : scipy.sparse.csr_matrix
+        (k, n_state) maps of the state and its rate.
+    D : scipy.sparse.csr_matrix
+        (k, n_station) map of the gust velocities.
+    units : str, optional
+        Output units.
+    """
 
     y0: np.ndarray
     Cx: sp.csr_matrix
@@ -92,7 +117,23 @@ class OutputMap:
 class LinearGustModel:
     """The linearisation (1) about ``x0``: ``A``, ``E`` (n, n), ``G`` (n, n_station) sparse, the
     stations' penetration positions ``x_stations`` (m, body x), ``airspeed`` (m/s TAS) and the
-    linear outputs ``outputs`` {name: :class:`OutputMap`}."""
+    linear outputs ``outputs`` {name: :class:`OutputMap`}.
+
+    Parameters
+    ----------
+    A, E : scipy.sparse.csc_matrix
+        (n, n) dR/dx and dR/dxdot.
+    G : scipy.sparse.csc_matrix
+        (n, n_station) dR/dw of the stations' gust velocities.
+    x_stations : numpy.ndarray
+        (n_station,) penetration positions, body x (m).
+    airspeed : float
+        True airspeed (m/s).
+    x0 : numpy.ndarray
+        The linearisation state.
+    outputs : dict, optional
+        Name -> :class:`OutputMap`.
+    """
 
     A: sp.csc_matrix
     E: sp.csc_matrix
@@ -103,7 +144,18 @@ class LinearGustModel:
     outputs: dict = field(default_factory=dict)
 
     def gust_vector(self, omega) -> np.ndarray:
-        """(n_freq, n_station) complex: exp(-i omega (x_i - x_ref) / V), x_ref the most forward station."""
+        """(n_freq, n_station) complex: exp(-i omega (x_i - x_ref) / V), x_ref the most forward station.
+
+        Parameters
+        ----------
+        omega : array_like
+            Angular frequencies (rad/s).
+
+        Returns
+        -------
+        numpy.ndarray
+            (n_freq, n_station) complex phase factors.
+        """
         w = np.atleast_1d(np.asarray(omega, dtype=float))
         lag = (self.x_stations - np.min(self.x_stations)) / self.airspeed
         return np.exp(-1j * w[:, None] * lag[None, :])
@@ -119,6 +171,28 @@ def linear_gust_model(system, p, q, x0, *, x_stations, airspeed, outputs=None, g
     system (forcing ``tail_gust_velocity``, :mod:`wingmdao.aero.pitch`) gets one more station, the
     horizontal tail at its parameter ``tail_x``, appended to the wing's ``x_stations`` with its
     column of G. ValueError for bad input.
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The residual system.
+    p, q : numpy.ndarray
+        Packed parameters and forcing (``trim_active`` 0).
+    x0 : numpy.ndarray
+        Static state.
+    x_stations : array_like
+        (n_station,) penetration positions, body x (m).
+    airspeed : float
+        True airspeed (m/s).
+    outputs : dict or None, optional
+        Name -> :class:`OutputMap`.
+    gust_input : scipy.sparse.spmatrix or None, optional
+        G = dR/dw; None for the system's ``gust_velocity`` columns.
+
+    Returns
+    -------
+    LinearGustModel
+        The model.
     """
     ql = layout(system.forcing_specs)
     if gust_input is None and "gust_velocity" not in ql:
@@ -148,7 +222,18 @@ def linear_gust_model(system, p, q, x0, *, x_stations, airspeed, outputs=None, g
 
 def gust_columns(ql) -> np.ndarray:
     """Forcing indices of the gust inputs: ``gust_velocity`` (one per wing station), then
-    ``tail_gust_velocity`` of a free-pitch system."""
+    ``tail_gust_velocity`` of a free-pitch system.
+
+    Parameters
+    ----------
+    ql : dict
+        Forcing name -> slice of the packed forcing (:func:`wingmdao.timemarch.system.layout`).
+
+    Returns
+    -------
+    numpy.ndarray
+        Forcing indices.
+    """
     cols = np.arange(ql["gust_velocity"].start, ql["gust_velocity"].stop)
     if "tail_gust_velocity" in ql:
         cols = np.r_[cols, ql["tail_gust_velocity"].start]
@@ -163,7 +248,17 @@ def _tail_x(system, p) -> float:
 @dataclass
 class FrequencyResponse:
     """Transfer functions on a grid: ``omega`` (rad/s), ``states`` (n_freq, n_state) complex (None
-    unless kept) and ``outputs`` {name: (n_freq, k) complex, output units per m/s of gust}."""
+    unless kept) and ``outputs`` {name: (n_freq, k) complex, output units per m/s of gust}.
+
+    Parameters
+    ----------
+    omega : numpy.ndarray
+        Angular frequencies (rad/s).
+    outputs : dict
+        Name -> (n_freq, k) complex transfer functions (per m/s of gust).
+    states : numpy.ndarray or None, optional
+        (n_freq, n_state) complex state responses, when kept.
+    """
 
     omega: np.ndarray
     outputs: dict
@@ -175,7 +270,22 @@ class FrequencyResponse:
 
 
 def frequency_response(model: LinearGustModel, omega, *, keep_states=False) -> FrequencyResponse:
-    """Solve (3) at every ``omega`` (rad/s, > 0, increasing) and evaluate the outputs."""
+    """Solve (3) at every ``omega`` (rad/s, > 0, increasing) and evaluate the outputs.
+
+    Parameters
+    ----------
+    model : LinearGustModel
+        The linear model.
+    omega : array_like
+        Angular frequencies (rad/s).
+    keep_states : bool, optional
+        Keep the state responses.
+
+    Returns
+    -------
+    FrequencyResponse
+        The transfer functions.
+    """
     w = check_frequencies(omega)
     W = model.gust_vector(w)
     n = model.A.shape[0]
@@ -196,17 +306,47 @@ class ShiftedFactors:
     C, every solve checked by its backward error), SuperLU (natural column order, partial
     pivoting) for the first shift, without the compiled kernel and for any shift whose static
     pivots fail. ``factor(s)`` returns an object with ``solve(rhs)`` and ``solve_transposed(rhs)``
-    ((A + s E)^T x = rhs, for adjoints)."""
+    ((A + s E)^T x = rhs, for adjoints).
+
+    Parameters
+    ----------
+    A, E : scipy.sparse.spmatrix
+        Real sparse matrices of the pencil.
+    """
 
     def __init__(self, A, E):
         self.A, self.E = sp.csc_matrix(A), sp.csc_matrix(E)
         self.pen = pencil_lu.pencil(self.A, self.E)
 
     def factor(self, s):
+        """The factors of ``A + s E`` (the kernel's when its pivots hold, else SuperLU's).
+
+        Parameters
+        ----------
+        s : complex
+            The shift.
+
+        Returns
+        -------
+        object
+            Factors with ``solve(rhs)`` and ``solve_transposed(rhs)``.
+        """
         lu = self.pen.factor(s) if self.pen is not None else None
         return _PencilFactor(self, s, lu)
 
     def superlu(self, s):
+        """SuperLU of ``A + s E`` in natural column order; its row order becomes the kernel's pivots.
+
+        Parameters
+        ----------
+        s : complex
+            The shift.
+
+        Returns
+        -------
+        scipy.sparse.linalg.SuperLU
+            The factorization.
+        """
         lu = spla.splu(sp.csc_matrix(self.A + s * self.E, dtype=complex), permc_spec="NATURAL")
         if self.pen is not None:
             self.pen.repivot(lu.perm_r)
@@ -242,7 +382,18 @@ class _PencilFactor:
 
 def pencil_eigenvalues(model: LinearGustModel) -> np.ndarray:
     """The finite eigenvalues lambda of ``lambda E v = -A v`` (dense QZ without vectors, ~0.5 s for
-    the 441 states of the 20-node PEGASUS system on one core): where the response peaks."""
+    the 441 states of the 20-node PEGASUS system on one core): where the response peaks.
+
+    Parameters
+    ----------
+    model : LinearGustModel
+        The linear model.
+
+    Returns
+    -------
+    numpy.ndarray
+        Finite eigenvalues (1/s).
+    """
     lam = sla.eigvals(-model.A.toarray(), model.E.toarray())
     return lam[np.isfinite(lam) & (np.abs(lam) < 1e6)]
 
@@ -258,6 +409,26 @@ def frequency_grid(eigenvalues=(), *, f_min=1e-3, f_max=20.0, n_base=161, n_mode
     sides points at offsets growing by ``wing_ratio`` from 8 |sigma| to the spacing of the
     geometric grid there, so that the Lorentzian flanks of a sharp peak are not bridged by one
     trapezoid.
+
+    Parameters
+    ----------
+    eigenvalues : array_like, optional
+        Eigenvalues of the pencil (1/s).
+    f_min, f_max : float, optional
+        Range of the geometric grid (Hz).
+    n_base : int, optional
+        Points of the geometric grid.
+    n_mode : int, optional
+        Points added about each mode.
+    max_damping_ratio : float, optional
+        Modes damped more than this get no refinement (-).
+    wing_ratio : float, optional
+        Growth of the flank offsets (-).
+
+    Returns
+    -------
+    numpy.ndarray
+        The grid (rad/s, odd count).
     """
     if not (np.isfinite(f_min) and np.isfinite(f_max) and 0 < f_min < f_max):
         raise ValueError(f"frequency range f_min = {f_min} Hz, f_max = {f_max} Hz; need 0 < f_min < f_max (finite)")
@@ -288,7 +459,19 @@ def frequency_grid(eigenvalues=(), *, f_min=1e-3, f_max=20.0, n_base=161, n_mode
 class SpectralIntegral:
     """``value`` = int_0^inf f(omega) d omega; ``quadrature_error`` the Richardson estimate
     |I_h - I_2h| / 3 of the trapezoid on the grid; ``tail`` the estimated part beyond the grid
-    (included in ``value``); ``head`` the part below it (f at the first point times omega_0)."""
+    (included in ``value``); ``head`` the part below it (f at the first point times omega_0).
+
+    Parameters
+    ----------
+    value : numpy.ndarray
+        The integral.
+    quadrature_error : numpy.ndarray
+        Richardson estimate of the trapezoid's error.
+    tail : numpy.ndarray
+        Estimated part beyond the grid (in ``value``).
+    head : numpy.ndarray
+        Part below the grid (in ``value``).
+    """
 
     value: np.ndarray
     quadrature_error: np.ndarray
@@ -297,7 +480,20 @@ class SpectralIntegral:
 
 
 def spectral_integral(omega, integrand) -> SpectralIntegral:
-    """int_0^inf of ``integrand`` (n_freq, ...) sampled on ``omega`` (rad/s, odd count >= 3)."""
+    """int_0^inf of ``integrand`` (n_freq, ...) sampled on ``omega`` (rad/s, odd count >= 3).
+
+    Parameters
+    ----------
+    omega : array_like
+        Angular frequencies (rad/s). (odd count >= 3)
+    integrand : numpy.ndarray
+        (n_freq, ...) samples.
+
+    Returns
+    -------
+    SpectralIntegral
+        The integral and its error estimates.
+    """
     w = check_frequencies(omega)
     f = np.asarray(integrand)
     if f.shape[0] != w.size:
@@ -336,7 +532,24 @@ def _zero(rows, cols):
 
 
 def state_output(index, value, n_state, n_station) -> OutputMap:
-    """The output ``value + dx[index]`` (one state)."""
+    """The output ``value + dx[index]`` (one state).
+
+    Parameters
+    ----------
+    index : int
+        State index.
+    value : float
+        Output at the linearisation state.
+    n_state : int
+        Number of states.
+    n_station : int
+        Number of gust stations.
+
+    Returns
+    -------
+    OutputMap
+        The output.
+    """
     C = sp.csr_matrix(([1.0], ([0], [int(index)])), shape=(1, n_state))
     return OutputMap(np.array([float(value)]), C, _zero(1, n_state), _zero(1, n_station))
 
@@ -345,7 +558,24 @@ def internal_load_output(x0, beam_index, n_station, sequence="surface") -> Outpu
     """The internal loads of every node in its csn frame, ``(n, 6)`` node-major in the order of
     :data:`LOAD_NAMES`: T(theta) F and T(theta) M of the beam states (body axes), linearised
     exactly (the rotation of the frame included). ``beam_index`` (n, 18): the flat indices of each
-    node's beam states (``system.layout.beam``, or ``arange(18 n).reshape(n, 18)`` for the beam)."""
+    node's beam states (``system.layout.beam``, or ``arange(18 n).reshape(n, 18)`` for the beam).
+
+    Parameters
+    ----------
+    x0 : numpy.ndarray
+        Linearisation state.
+    beam_index : numpy.ndarray
+        (n, 18) flat indices of each node's beam states.
+    n_station : int
+        Number of gust stations.
+    sequence : str, optional
+        Euler angle sequence of the jig frames.
+
+    Returns
+    -------
+    OutputMap
+        The (6 n) internal loads.
+    """
     fun = _csn_loads_function(sequence)
     x0 = np.asarray(x0, float).ravel()
     beam = np.asarray(beam_index)
@@ -368,7 +598,20 @@ def internal_load_output(x0, beam_index, n_station, sequence="surface") -> Outpu
 
 def lift_weights(node_positions, weight) -> np.ndarray:
     """(n,) load factor per unit section lift (N/m): 2 x the trapezoid weights of the undeformed
-    beam over the weight ``weight`` (N); the lift of both half-wings is ``weights * weight @ lift``."""
+    beam over the weight ``weight`` (N); the lift of both half-wings is ``weights * weight @ lift``.
+
+    Parameters
+    ----------
+    node_positions : array_like
+        (n, 3) node positions (m).
+    weight : float
+        Aircraft weight (N).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n,) weights (m/N).
+    """
     if not (np.isfinite(weight) and weight > 0):
         raise ValueError(f"weight = {weight} N; allowed range (0, inf) N")
     r0 = np.asarray(node_positions, dtype=float)
@@ -409,6 +652,24 @@ def aeroelastic_outputs(system, p, q, x0, *, weight, sequence="surface") -> dict
 
     The gust stations are those of :func:`linear_gust_model`: the wing's, then the tail of a
     free-pitch system.
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The residual system.
+    p, q : numpy.ndarray
+        Packed parameters and forcing.
+    x0 : numpy.ndarray
+        Linearisation state.
+    weight : float
+        Aircraft weight (N).
+    sequence : str, optional
+        Euler angle sequence of the jig frames.
+
+    Returns
+    -------
+    dict
+        Name -> :class:`OutputMap`.
     """
     x0 = np.asarray(x0, float).ravel()
     p, q = np.asarray(p, float).ravel(), np.asarray(q, float).ravel()
@@ -439,7 +700,22 @@ def stress_matrix(w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar, s
     """(8, 6) stresses (Pa) per unit csn load of one box section: rows the 4 corner axial stresses
     then the 4 flange-centre shears of :func:`wingmdao.stress.box_stress.box_stresses`, columns the
     loads of :data:`LOAD_NAMES`. Both are linear in the loads (Eq. 4.19, 4.22-4.25), so a column is
-    the stresses of a unit load (checked: a load of 2 gives twice the stresses)."""
+    the stresses of a unit load (checked: a load of 2 gives twice the stresses).
+
+    Parameters
+    ----------
+    w, h : float
+        Outer box width and height (m).
+    t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar : float
+        Wall thicknesses (m).
+    section_to_csn : array_like or None, optional
+        (3, 3) rotation from the section's own axes to csn; None when they coincide.
+
+    Returns
+    -------
+    numpy.ndarray
+        (8, 6) stresses per unit load (Pa per N or N m).
+    """
     def stresses(load):
         s = box_stresses(load[:3], load[3:], w, h, t_upper_skin, t_lower_skin, t_front_spar, t_rear_spar,
                          section_to_csn)
@@ -477,7 +753,20 @@ def stress_matrices(width, height, walls, section_to_csn=None) -> np.ndarray:
 
 def stress_response(load_response, matrices) -> np.ndarray:
     """Stress transfer functions (n_freq, n, 8) from the csn load transfer functions (n_freq, 6 n)
-    and the per-station :func:`stress_matrix` (n, 8, 6)."""
+    and the per-station :func:`stress_matrix` (n, 8, 6).
+
+    Parameters
+    ----------
+    load_response : numpy.ndarray
+        (n_freq, 6 n) csn load transfer functions.
+    matrices : numpy.ndarray
+        (n, 8, 6) stress matrices.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n_freq, n, 8) stress transfer functions (Pa per m/s).
+    """
     H = np.asarray(load_response)
     S = np.asarray(matrices)
     n = S.shape[0]

@@ -62,7 +62,18 @@ N_POINTS = 4
 def quadrature_weights(omega) -> np.ndarray:
     """Trapezoid weights of ``omega`` plus omega_0 at the first point (the part below the grid):
     sum_j q_j f_j is the A-bar integral of :func:`wingmdao.stability.frequency.spectral_integral`
-    without its tail estimate."""
+    without its tail estimate.
+
+    Parameters
+    ----------
+    omega : array_like
+        Angular frequencies (rad/s).
+
+    Returns
+    -------
+    numpy.ndarray
+        The weights (rad/s).
+    """
     w = check_frequencies(omega)
     q = np.zeros(w.size)
     d = np.diff(w)
@@ -75,7 +86,21 @@ def quadrature_weights(omega) -> np.ndarray:
 class StressMap:
     """The corner axial stresses s (4 n) of every box station as a CasADi function of the state x
     and the walls t (n, 4): s_i = S(t_i) [T(theta_i) F_i; T(theta_i) M_i] (:func:`box_stresses`),
-    with its first and second derivatives."""
+    with its first and second derivatives.
+
+    Parameters
+    ----------
+    beam_index : numpy.ndarray
+        (n, 18) flat indices of each node's beam states.
+    width, height : array_like
+        (n,) outer box dimensions (m).
+    section_to_csn : array_like or None, optional
+        (n, 3, 3) rotations from the sections' own axes to csn; None when they coincide.
+    n_state : int or None, optional
+        Number of states; None for the largest beam index + 1.
+    sequence : str, optional
+        Euler angle sequence of the jig frames.
+    """
 
     def __init__(self, beam_index, width, height, section_to_csn=None, n_state=None, sequence="surface"):
         beam = np.asarray(beam_index)
@@ -102,7 +127,18 @@ class StressMap:
         self.second = ca.Function("stress_second", [x, tv, a, b], [ca.gradient(bil, x), ca.gradient(bil, tv)])
 
     def walls(self, t):
-        """(n, 4) walls -> the column-major vector of the CasADi functions."""
+        """(n, 4) walls -> the column-major vector of the CasADi functions.
+
+        Parameters
+        ----------
+        t : array_like
+            (n, 4) wall thicknesses (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            Column-major vector.
+        """
         return np.asarray(t, dtype=float).reshape(self.n, 4).T.ravel()
 
 
@@ -143,7 +179,25 @@ class TurbulenceStressKS:
     """``value`` (KS), ``g`` (the design-stress constraints: +s_1g then -s_1g), ``a_bar`` (Pa per m/s)
     and ``stress_1g`` (Pa) of the corner points; with the gradient ``d_p`` (n_param,), ``d_walls``
     (n, 4) and ``d_airspeed`` (the total derivative with respect to V: aerodynamics, gust phases and
-    spectrum; None when the system has no ``airspeed`` parameter)."""
+    spectrum; None when the system has no ``airspeed`` parameter).
+
+    Parameters
+    ----------
+    value : float
+        The KS.
+    g : numpy.ndarray
+        Design-stress constraints.
+    a_bar : numpy.ndarray
+        A-bar of the corner stresses (Pa per m/s).
+    stress_1g : numpy.ndarray
+        1 g corner stresses (Pa).
+    d_p : numpy.ndarray or None, optional
+        d value / d p.
+    d_walls : numpy.ndarray or None, optional
+        (n, 4) d value / d walls.
+    d_airspeed : float or None, optional
+        d value / d V.
+    """
 
     value: float
     g: np.ndarray
@@ -164,6 +218,38 @@ def turbulence_stress_ks(system, p, q_static, model: LinearGustModel, stress: St
     input, its forcing ``q`` the linearisation's; found here as ``q_static`` with ``trim_active``
     0); ``omega`` (rad/s) the fixed grid; ``spectrum(omega)`` the one-sided gust PSD of unit sigma
     per rad/s (default: von Karman at the model's airspeed).
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The residual system.
+    p : numpy.ndarray
+        Packed parameters.
+    q_static : numpy.ndarray
+        Packed forcing of the static state (``trim_active`` 0).
+    model : LinearGustModel
+        The linear gust model.
+    stress : StressMap
+        The corner stress map.
+    walls : array_like
+        (n, 4) wall thicknesses (m).
+    omega : array_like
+        Angular frequencies (rad/s). (fixed grid)
+    u_sigma : float
+        Design intensity U_sigma (m/s).
+    sigma_allow : float
+        Allowable stress (Pa).
+    rho_ks : float, optional
+        KS aggregation parameter.
+    gradient : bool, optional
+        Compute the gradient.
+    spectrum : callable or None, optional
+        ``spectrum(omega)``, the one-sided PSD of unit sigma per rad/s; None for von Karman.
+
+    Returns
+    -------
+    TurbulenceStressKS
+        Value, constraints and gradient.
     """
     w = check_frequencies(omega)
     if not (np.isfinite(sigma_allow) and sigma_allow > 0):

@@ -48,7 +48,7 @@ import casadi as ca
 import numpy as np
 import scipy.sparse as sp
 
-from wingmdao.stability.eigen import _signature, check_speeds, derived_definition
+from wingmdao.stability.eigen import check_speeds, derived_definition
 from wingmdao.stability.modes import (MEASURES, Selection, SpeedModes, aggregated, cold_set, left_right_vectors,
                                       refine_pair)
 from wingmdao.stability.pencil_lu import superlu
@@ -77,7 +77,7 @@ class _GradientFunctions:
     With a warm compile cache the compiled libraries are loaded directly: their cache key is the
     definition (:func:`wingmdao.stability.eigen.derived_definition`) and the function names, and
     the library's signature check needs only the (dense) input and output shapes
-    (:func:`_signature`), so the interpreted second-derivative functions (0.9 s of CasADi
+    (:func:`~wingmdao.utils.casadi_cache.signature_stub`), so the interpreted second-derivative functions (0.9 s of CasADi
     ``jacobian`` for the 20-node PEGASUS system) are built only when a library is missing, or on
     demand (:attr:`interpreted`).
     """
@@ -90,8 +90,8 @@ class _GradientFunctions:
         self.names = (f"{f.name()}_pencil_gradient", f"{f.name()}_vjp_p")
         self.definition = derived_definition(system, "wingmdao.stability.sensitivity._GradientFunctions", __name__)
         vec = [(n, 1), (n, 1), (npar, 1), (nq, 1)]
-        stubs = (_signature(self.names[0], vec + [(n, 1)] * 4 + [(1, 1)] * 2, [(2, npar), (2, n)]),
-                 _signature(self.names[1], vec + [(n, 2)], [(2, npar)]))
+        stubs = (cc.signature_stub(self.names[0], vec + [(n, 1)] * 4 + [(1, 1)] * 2, [(2, npar), (2, n)]),
+                 cc.signature_stub(self.names[1], vec + [(n, 2)], [(2, npar)]))
         hits = ([cc.cached(st, key=cc.function_key(st, definition=self.definition)) for st in stubs]
                 if cc.jit_enabled() else [None, None])
         self._built = None

@@ -31,7 +31,19 @@ BDF2 = (1.5, -2.0, 0.5)
 
 
 def bdf_coefficients(step: int) -> tuple[float, float, float]:
-    """``(alpha_0, alpha_1, alpha_2)`` of step ``step`` (times 1/dt give Eq. 3.5); step 0 has none."""
+    """``(alpha_0, alpha_1, alpha_2)`` of step ``step`` (times 1/dt give Eq. 3.5); step 0 has none.
+
+    Parameters
+    ----------
+    step : int
+        Time step index (0 is the initial state, 1 uses BDF1, 2 and later BDF2).
+
+    Returns
+    -------
+    tuple of float
+        ``(alpha_0, alpha_1, alpha_2)``: ``(1, -1, 0)`` at step 1, ``(1.5, -2, 0.5)`` after,
+        zeros at step 0.
+    """
     if step <= 0:
         return (0.0, 0.0, 0.0)
     return BDF1 if step == 1 else BDF2
@@ -41,6 +53,22 @@ def time_step(time) -> float:
     """Validate a uniform time grid starting at 0 and return its step (s).
 
     A single entry ``[0.0]`` is a static solve and returns ``0.0``.
+
+    Parameters
+    ----------
+    time : array_like, shape (n_time,)
+        Time grid (s): finite, starting at 0, increasing and uniform to 1e-9 of the step.
+
+    Returns
+    -------
+    float
+        The uniform step (s); ``0.0`` for the single entry ``[0.0]``.
+
+    Raises
+    ------
+    ValueError
+        When the grid is empty, not 1-D, not finite, does not start at 0, is not increasing or
+        is not uniform.
     """
     t = np.asarray(time, dtype=float)
     if t.ndim != 1 or t.size == 0:
@@ -67,7 +95,20 @@ def time_step(time) -> float:
 
 
 def state_rates(states, dt) -> np.ndarray:
-    """BDF time derivatives of a state history (n_time, n_state); zero at step 0 (Eq. 3.5)."""
+    """BDF time derivatives of a state history (n_time, n_state); zero at step 0 (Eq. 3.5).
+
+    Parameters
+    ----------
+    states : array_like, shape (n_time, n_state)
+        State history on a uniform grid.
+    dt : float
+        Time step (s).
+
+    Returns
+    -------
+    ndarray, shape (n_time, n_state)
+        BDF1 rate at step 1, BDF2 rates from step 2 on, zeros at step 0.
+    """
     X = np.asarray(states, dtype=float)
     xdot = np.zeros_like(X)
     if X.shape[0] > 1:
@@ -79,7 +120,23 @@ def state_rates(states, dt) -> np.ndarray:
 
 @dataclass
 class TimeHistory:
-    """Result of :func:`march`: states and rates (n_time, n_state), Newton work per step."""
+    """Result of :func:`march`: states and rates (n_time, n_state), Newton work per step.
+
+    Parameters
+    ----------
+    time : ndarray, shape (n_time,)
+        Time grid (s).
+    states : ndarray, shape (n_time, n_state)
+        State at each time.
+    rates : ndarray, shape (n_time, n_state)
+        BDF state rates (:func:`state_rates`).
+    iterations : ndarray of int, shape (n_time,)
+        Newton iterations of each step.
+    factorizations : int
+        LU factorizations of the march.
+    info : dict
+        Extra information (``"compiled_steps"``: whether the compiled stepper marched).
+    """
 
     time: np.ndarray
     states: np.ndarray

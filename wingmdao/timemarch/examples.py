@@ -42,7 +42,30 @@ def spring_mass_damper_system() -> CasadiResidualSystem:
 
 
 def spring_mass_damper_response(t, mass, damping, stiffness, x0=1.0, v0=0.0):
-    """Closed-form free response ``(x(t), v(t))`` of an underdamped SMD."""
+    """Closed-form free response ``(x(t), v(t))`` of an underdamped SMD.
+
+    Parameters
+    ----------
+    t : array_like
+        Times (s).
+    mass : float
+        Mass (kg).
+    damping : float
+        Viscous damping constant (N s/m); the damping ratio must be below 1.
+    stiffness : float
+        Spring stiffness (N/m).
+    x0 : float
+        Initial position (m).
+    v0 : float
+        Initial velocity (m/s).
+
+    Returns
+    -------
+    x : ndarray
+        Position (m) at ``t``.
+    v : ndarray
+        Velocity (m/s) at ``t``.
+    """
     t = np.asarray(t, dtype=float)
     wn = np.sqrt(stiffness / mass)
     zeta = damping / (2.0 * np.sqrt(stiffness * mass))
@@ -61,6 +84,15 @@ def potential_energy_integral(states, dt, stiffness):
 
     Returns ``(f, df/dstates (n_time, 2), df/dstiffness)``. With Table 4.18 and x(0) = 1 m,
     f = 8.666966 (Table 4.19).
+
+    Parameters
+    ----------
+    states : array_like, shape (n_time, 2)
+        State history ``[x1, x2]`` (m, m/s).
+    dt : float
+        Time step (s).
+    stiffness : float
+        Spring stiffness (N/m).
     """
     X = np.asarray(states, dtype=float)
     x1 = X[:, 0]
@@ -77,6 +109,16 @@ def nonlinear_chain_system(n_mass: int = 10) -> CasadiResidualSystem:
     ``m vdot + c v + k (1 + g u_rel^2) u_rel - ... - force = 0`` and ``v - udot = 0``.
     Parameters: ``mass`` (kg), ``damping`` (N s/m), ``stiffness`` (N/m, one per spring),
     ``hardening`` (1/m^2); forcing ``force`` (N, one per mass).
+
+    Parameters
+    ----------
+    n_mass : int
+        Number of masses.
+
+    Returns
+    -------
+    CasadiResidualSystem
+        The system, states of shape ``(n_mass, 2)``.
     """
     n = int(n_mass)
     x, xd = ca.SX.sym("x", 2 * n), ca.SX.sym("xdot", 2 * n)

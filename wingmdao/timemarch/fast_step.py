@@ -130,6 +130,31 @@ class FastStepper:
     ``FastStepper.create(system, p, ...)`` returns None when the system's residual or Newton
     function is not compiled (interpreted CasADi, ``WINGMDAO_JIT=0``), or bdf_step.c cannot be
     compiled; the caller then uses the Python path.
+
+    Parameters
+    ----------
+    system : CasadiResidualSystem
+        The system, with compiled residual and Newton-matrix functions.
+    p : array_like, shape (n_param,)
+        Packed parameters (fixed for the march).
+    res_entry : tuple
+        ``(library, function pointer, arg, res, iw, w)`` of the compiled residual function.
+    jac_entry : tuple
+        The same for the compiled Newton-matrix function.
+    rows : array_like of int, shape (nnz,)
+        Row indices of the Newton-matrix pattern (CSC).
+    indptr : array_like of int, shape (n_state + 1,)
+        Column pointers of the Newton-matrix pattern (CSC).
+    atol : float
+        Absolute tolerance on ``max|R|``.
+    xtol : float
+        Tolerance on the Newton step relative to ``1 + max|x|``.
+    max_iter : int
+        Most Newton iterations per step.
+    modified : bool
+        Reuse the LU across iterations and steps while the iteration contracts (modified Newton).
+    contraction : float
+        Modified Newton keeps its LU while each step is at most this fraction of the previous one.
     """
 
     #: entries of L and of U the buffers hold at first (None: n (n + 1) / 2 up to 1200 states)
@@ -169,6 +194,24 @@ class FastStepper:
 
     @classmethod
     def create(cls, system, p, **opts):
+        """A stepper for ``system``, or None when its functions or bdf_step.c are not compiled.
+
+        Parameters
+        ----------
+        system : ResidualSystem
+            The system; only one with ``compiled_step_functions()`` returning compiled functions
+            gives a stepper.
+        p : array_like, shape (n_param,)
+            Packed parameters.
+        **opts
+            Keyword arguments of the constructor (``atol``, ``xtol``, ``max_iter``, ``modified``,
+            ``contraction``).
+
+        Returns
+        -------
+        FastStepper or None
+            The stepper, or None (the caller then uses the Python path).
+        """
         getter = getattr(system, "compiled_step_functions", None)
         if getter is None:
             return None
@@ -200,7 +243,26 @@ class FastStepper:
     def solve(self, x, hist, alpha, q):
         """Newton iterations of one step from ``x`` (contiguous float array, updated in place);
         returns ``(status, iterations)``; on failure ``self.r`` is the residual to report and
-        ``self.s.fail_iteration`` the iteration."""
+        ``self.s.fail_iteration`` the iteration.
+
+        Parameters
+        ----------
+        x : ndarray of float64, shape (n_state,)
+            Predicted state, C-contiguous; overwritten with the solution.
+        hist : ndarray, shape (n_state,)
+            BDF history term, so that ``xdot = alpha x + hist`` (1/s units of the state).
+        alpha : float
+            Leading BDF coefficient divided by dt (1/s).
+        q : ndarray of float64, shape (n_forcing,)
+            Packed forcing of the step, C-contiguous.
+
+        Returns
+        -------
+        status : int
+            Status code (:data:`OK` on success).
+        iterations : int
+            Newton iterations.
+        """
         for name, arr, size in (("x", x, self.n), ("q", q, self.system.n_forcing)):
             if arr.dtype != np.float64 or arr.size != size or not arr.flags.c_contiguous:
                 raise ValueError(f"{name}: need a C-contiguous float64 array of {size} entries, "
@@ -222,7 +284,30 @@ class FastStepper:
     def march(self, X, Q, dt, iters, first, end):
         """Steps ``first .. end - 1`` of a march into ``X`` (n_time, n) C-contiguous float, rows
         before ``first`` known; ``Q`` (n_time, n_forcing) C-contiguous float; ``iters`` int64.
-        Returns ``(status, step)``: the failed step, or ``end`` on success."""
+        Returns ``(status, step)``: the failed step, or ``end`` on success.
+
+        Parameters
+        ----------
+        X : ndarray of float64, shape (n_time, n_state)
+            State history, C-contiguous; rows before ``first`` are known, later rows are written.
+        Q : ndarray of float64, shape (n_time, n_forcing)
+            Packed forcing history, C-contiguous.
+        dt : float
+            Time step (s).
+        iters : ndarray of int64, shape (n_time,)
+            Newton iterations per step (written).
+        first : int
+            First step to march (at least 1).
+        end : int
+            One past the last step to march (at most n_time).
+
+        Returns
+        -------
+        status : int
+            Status code (:data:`OK` on success).
+        step : int
+            The failed step, or ``end`` on success.
+        """
         n_time = X.shape[0]
         for name, arr, dtype, shape in (("X", X, np.float64, (n_time, self.n)),
                                         ("Q", Q, np.float64, (n_time, self.system.n_forcing)),
@@ -245,7 +330,22 @@ class FastStepper:
             first = int(failed.value)
 
     def lu_test(self, values, b):
-        """Factor the Newton-matrix pattern with ``values`` and solve for ``b`` (tests)."""
+        """Factor the Newton-matrix pattern with ``values`` and solve for ``b`` (tests).
+
+        Parameters
+        ----------
+        values : array_like, shape (nnz,)
+            Entries of the Newton matrix in the order of its CSC pattern.
+        b : array_like, shape (n_state,)
+            Right-hand side.
+
+        Returns
+        -------
+        status : int
+            Status code of the factorization.
+        x : ndarray, shape (n_state,)
+            The solution.
+        """
         self.Ax[:] = values
         b = np.ascontiguousarray(b, dtype=float).copy()
         out = np.zeros(self.n)

@@ -41,6 +41,16 @@ def factor(jac):
 
     Dense LAPACK below :data:`DENSE_MAX` unknowns (less overhead), SuperLU above. Raises
     ``RuntimeError`` when the matrix is exactly singular.
+
+    Parameters
+    ----------
+    jac : ndarray or scipy.sparse matrix, shape (n, n)
+        The square matrix.
+
+    Returns
+    -------
+    object
+        Factors with ``solve(b, trans="N")`` (dense LAPACK LU or ``scipy.sparse.linalg.SuperLU``).
     """
     if isinstance(jac, np.ndarray):
         return _DenseLU(jac)
@@ -53,6 +63,17 @@ def factor(jac):
 
 @dataclass
 class NewtonInfo:
+    """Convergence record of :func:`newton_solve`.
+
+    Parameters
+    ----------
+    iterations : int
+        Newton iterations taken.
+    residual_norm : float
+        Final ``max|R|``.
+    converged : bool
+        Whether the solve converged.
+    """
     iterations: int
     residual_norm: float
     converged: bool
@@ -76,6 +97,42 @@ def newton_solve(residual, jacobian, x0, *, atol=1e-9, rtol=1e-12, xtol=1e-12, m
     Residuals of mixed units (forces, curvatures) make ``atol`` alone unreliable: pass
     ``atol=0`` to converge on the step. ``describe(i)`` names equation ``i`` in error
     messages. Returns ``(x, NewtonInfo)``.
+
+    Parameters
+    ----------
+    residual : callable
+        ``residual(x) -> ndarray, shape (n,)``.
+    jacobian : callable
+        ``jacobian(x)`` returning the Jacobian (sparse or dense), shape (n, n).
+    x0 : array_like, shape (n,)
+        Initial guess (copied).
+    atol : float
+        Absolute tolerance on ``max|R|``.
+    rtol : float
+        Relative tolerance on ``max|R|`` against its initial value (with a small step).
+    xtol : float
+        Tolerance on the Newton step relative to ``1 + max|x|``.
+    max_iter : int
+        Most Newton iterations.
+    max_backtracks : int
+        Most halvings of the step in the line search.
+    label : str
+        Name of the solve in error messages.
+    describe : callable, optional
+        ``describe(i) -> str`` names equation ``i`` in error messages.
+
+    Returns
+    -------
+    x : ndarray, shape (n,)
+        The solution.
+    info : NewtonInfo
+        Iterations, final residual norm and convergence flag.
+
+    Raises
+    ------
+    openmdao.api.AnalysisError
+        When the residual or step is not finite, the Jacobian is singular, or the solve does
+        not converge.
     """
     x = np.array(x0, dtype=float, copy=True)
     r = residual(x)

@@ -27,7 +27,19 @@ DENSE_NEWTON_MAX = 40
 
 @dataclass(frozen=True)
 class VarSpec:
-    """A named block of a flat parameter or forcing vector (shape, units, description)."""
+    """A named block of a flat parameter or forcing vector (shape, units, description).
+
+    Parameters
+    ----------
+    name : str
+        Name of the block.
+    shape : tuple of int
+        Shape of the block (``()`` for a scalar).
+    units : str, optional
+        OpenMDAO units string.
+    desc : str
+        Description.
+    """
 
     name: str
     shape: tuple = ()
@@ -40,7 +52,18 @@ class VarSpec:
 
 
 def layout(specs) -> dict[str, slice]:
-    """Slices of each :class:`VarSpec` in the flat vector made by concatenating them in order."""
+    """Slices of each :class:`VarSpec` in the flat vector made by concatenating them in order.
+
+    Parameters
+    ----------
+    specs : sequence of VarSpec
+        The blocks, in order.
+
+    Returns
+    -------
+    dict of str to slice
+        Slice of each block's name in the flat vector.
+    """
     out, start = {}, 0
     for s in specs:
         out[s.name] = slice(start, start + s.size)
@@ -49,7 +72,20 @@ def layout(specs) -> dict[str, slice]:
 
 
 def pack(specs, values: dict) -> np.ndarray:
-    """Flatten ``{name: array}`` into one vector in the order of ``specs``."""
+    """Flatten ``{name: array}`` into one vector in the order of ``specs``.
+
+    Parameters
+    ----------
+    specs : sequence of VarSpec
+        The blocks, in order.
+    values : dict
+        ``{name: array_like}``, each reshaped to the block's size.
+
+    Returns
+    -------
+    ndarray
+        The flat vector (empty without specs).
+    """
     if not specs:
         return np.zeros(0)
     return np.concatenate([np.asarray(values[s.name], dtype=float).reshape(s.size) for s in specs])
@@ -60,7 +96,22 @@ def derived(system, name: str, build):
     what is derived from a system (its pencil and eigenvalue-gradient functions, its parameter
     blocks) lives and dies with the system, instead of in a module cache keyed by ``id``. A
     :class:`ResidualSystem` pickles without them (an OpenMDAO recorder pickles the components'
-    options, which hold the system; compiled functions do not pickle)."""
+    options, which hold the system; compiled functions do not pickle).
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The system that keeps the result.
+    name : str
+        Key of the result.
+    build : callable
+        ``build(system)`` makes it (called once).
+
+    Returns
+    -------
+    object
+        The stored result of ``build(system)``.
+    """
     store = vars(system).setdefault("_derived", {})
     if name not in store:
         store[name] = build(system)
@@ -94,24 +145,95 @@ class ResidualSystem:
         return sum(s.size for s in self.forcing_specs)
 
     def residual(self, x, xdot, p, q) -> np.ndarray:
+        """Residual ``R(x, xdot, p, q)`` at one instant.
+
+        Parameters
+        ----------
+        x : ndarray, shape (n_state,)
+            State.
+        xdot : ndarray, shape (n_state,)
+            State rate.
+        p : ndarray, shape (n_param,)
+            Packed parameters.
+        q : ndarray, shape (n_forcing,)
+            Packed forcing.
+
+        Returns
+        -------
+        ndarray, shape (n_state,)
+            The residual R.
+        """
         raise NotImplementedError
 
     def jac_state(self, x, xdot, p, q) -> tuple[sp.csc_matrix, sp.csc_matrix]:
-        """(dR/dx, dR/dxdot), sparse."""
+        """(dR/dx, dR/dxdot), sparse.
+
+        Parameters
+        ----------
+        x : ndarray, shape (n_state,)
+            State.
+        xdot : ndarray, shape (n_state,)
+            State rate.
+        p : ndarray, shape (n_param,)
+            Packed parameters.
+        q : ndarray, shape (n_forcing,)
+            Packed forcing.
+
+        Returns
+        -------
+        dR_dx, dR_dxdot : scipy.sparse.csc_matrix, shape (n_state, n_state)
+            The state Jacobians.
+        """
         raise NotImplementedError
 
     def jac_inputs(self, x, xdot, p, q) -> tuple[sp.csc_matrix, sp.csc_matrix]:
-        """(dR/dp, dR/dq), sparse."""
+        """(dR/dp, dR/dq), sparse.
+
+        Parameters
+        ----------
+        x : ndarray, shape (n_state,)
+            State.
+        xdot : ndarray, shape (n_state,)
+            State rate.
+        p : ndarray, shape (n_param,)
+            Packed parameters.
+        q : ndarray, shape (n_forcing,)
+            Packed forcing.
+
+        Returns
+        -------
+        dR_dp : scipy.sparse.csc_matrix, shape (n_state, n_param)
+            Parameter Jacobian.
+        dR_dq : scipy.sparse.csc_matrix, shape (n_state, n_forcing)
+            Forcing Jacobian.
+        """
         raise NotImplementedError
 
     def describe_equation(self, index: int) -> str:
-        """Human-readable name of residual ``index`` (used in convergence diagnostics)."""
+        """Human-readable name of residual ``index`` (used in convergence diagnostics).
+
+        Parameters
+        ----------
+        index : int
+            Index of the residual in the flat vector.
+
+        Returns
+        -------
+        str
+            The name.
+        """
         return f"equation {index}"
 
     # ---- optional fast paths; the defaults below only use the methods above -------------
     def count_march_steps(self, n_steps: int) -> None:
         """A march of ``n_steps`` steps is about to run (systems that compile their functions
-        after a number of evaluations count it; nothing here)."""
+        after a number of evaluations count it; nothing here).
+
+        Parameters
+        ----------
+        n_steps : int
+            Number of BDF steps of the march.
+        """
 
     def lu_column_order(self):
         """Fill-reducing column order Q of the adjoint's static-pivot LU of the Newton matrices,
@@ -121,13 +243,46 @@ class ResidualSystem:
         return None
 
     def initial_guess(self, p, q) -> np.ndarray:
-        """Starting point of a static Newton solve (zeros unless the system knows better)."""
+        """Starting point of a static Newton solve (zeros unless the system knows better).
+
+        Parameters
+        ----------
+        p : ndarray, shape (n_param,)
+            Packed parameters.
+        q : ndarray, shape (n_forcing,)
+            Packed forcing.
+
+        Returns
+        -------
+        ndarray, shape (n_state,)
+            The guess.
+        """
         return np.zeros(self.n_state)
 
     def residual_and_newton_matrix(self, x, xdot, p, q, alpha):
         """``R`` and the Newton matrix ``dR/dx + alpha dR/dxdot`` (Eq. 3.7).
 
         Sparse CSC, or a dense ndarray for systems of at most ``DENSE_NEWTON_MAX`` states.
+
+        Parameters
+        ----------
+        x : ndarray, shape (n_state,)
+            State.
+        xdot : ndarray, shape (n_state,)
+            State rate.
+        p : ndarray, shape (n_param,)
+            Packed parameters.
+        q : ndarray, shape (n_forcing,)
+            Packed forcing.
+        alpha : float
+            Leading BDF coefficient divided by dt (1/s).
+
+        Returns
+        -------
+        R : ndarray, shape (n_state,)
+            The residual.
+        matrix : scipy.sparse.csc_matrix or ndarray, shape (n_state, n_state)
+            ``dR/dx + alpha dR/dxdot``.
         """
         jx, jxd = self.jac_state(x, xdot, p, q)
         return self.residual(x, xdot, p, q), sp.csc_matrix(jx + alpha * jxd)
@@ -146,13 +301,41 @@ class ResidualSystem:
         return out
 
     def residual_history(self, X, Xdot, p, Q) -> np.ndarray:
-        """Residuals at every instant: ``X, Xdot`` (n_time, n_state), ``Q`` (n_time, n_forcing)."""
+        """Residuals at every instant: ``X, Xdot`` (n_time, n_state), ``Q`` (n_time, n_forcing).
+
+        Parameters
+        ----------
+        X : ndarray, shape (n_time, n_state)
+            States at every instant.
+        Xdot : ndarray, shape (n_time, n_state)
+            State rates at every instant.
+        p : ndarray, shape (n_param,)
+            Packed parameters (time-invariant).
+        Q : ndarray, shape (n_time, n_forcing)
+            Packed forcing at every instant.
+
+        Returns
+        -------
+        ndarray, shape (n_time, n_state)
+            The residuals.
+        """
         return np.array([self.residual(X[i], Xdot[i], p, Q[i]) for i in range(X.shape[0])])
 
     def jacobian_history(self, X, Xdot, p, Q) -> dict:
         """Nonzeros of the four Jacobians at every instant, in :meth:`jacobian_patterns` order.
 
         Returns ``{"x"|"xdot"|"p"|"q": array (n_time, nnz)}``.
+
+        Parameters
+        ----------
+        X : ndarray, shape (n_time, n_state)
+            States at every instant.
+        Xdot : ndarray, shape (n_time, n_state)
+            State rates at every instant.
+        p : ndarray, shape (n_param,)
+            Packed parameters (time-invariant).
+        Q : ndarray, shape (n_time, n_forcing)
+            Packed forcing at every instant.
         """
         pats = self.jacobian_patterns()
         out = {k: np.zeros((X.shape[0], pats[k][0].size)) for k in pats}
@@ -169,18 +352,71 @@ class ResidualSystem:
         """Nonzeros of dR/dx and dR/dxdot at every instant (``{"x", "xdot"}``, as
         :meth:`jacobian_history`): what the sweeps of
         :class:`~wingmdao.timemarch.adjoint.LinearizedHistory` factor. The default is
-        :meth:`jacobian_history`, whose "p" and "q" entries the caller then keeps."""
+        :meth:`jacobian_history`, whose "p" and "q" entries the caller then keeps.
+
+        Parameters
+        ----------
+        X : ndarray, shape (n_time, n_state)
+            States at every instant.
+        Xdot : ndarray, shape (n_time, n_state)
+            State rates at every instant.
+        p : ndarray, shape (n_param,)
+            Packed parameters (time-invariant).
+        Q : ndarray, shape (n_time, n_forcing)
+            Packed forcing at every instant.
+
+        Returns
+        -------
+        dict
+            ``{key: ndarray (n_time, nnz)}`` of nonzeros, in :meth:`jacobian_patterns` order.
+        """
         return self.jacobian_history(X, Xdot, p, Q)
 
     def input_jacobian_history(self, X, Xdot, p, Q) -> dict:
         """Nonzeros of dR/dp and dR/dq at every instant (``{"p", "q"}``); default
-        :meth:`jacobian_history`."""
+        :meth:`jacobian_history`.
+
+        Parameters
+        ----------
+        X : ndarray, shape (n_time, n_state)
+            States at every instant.
+        Xdot : ndarray, shape (n_time, n_state)
+            State rates at every instant.
+        p : ndarray, shape (n_param,)
+            Packed parameters (time-invariant).
+        Q : ndarray, shape (n_time, n_forcing)
+            Packed forcing at every instant.
+
+        Returns
+        -------
+        dict
+            ``{key: ndarray (n_time, nnz)}`` of nonzeros, in :meth:`jacobian_patterns` order.
+        """
         return self.jacobian_history(X, Xdot, p, Q)
 
     def input_vjp_history(self, X, Xdot, p, Q, Lam):
         """``(sum_n dR_n/dp^T lam_n, [dR_n/dq_n^T lam_n]_n)`` of weights ``Lam`` (n_time, n_state)
         without forming dR/dp, dR/dq (reverse mode), or None when the system has no such product
-        (the caller then uses :meth:`input_jacobian_history`)."""
+        (the caller then uses :meth:`input_jacobian_history`).
+
+        Parameters
+        ----------
+        X : ndarray, shape (n_time, n_state)
+            States at every instant.
+        Xdot : ndarray, shape (n_time, n_state)
+            State rates at every instant.
+        p : ndarray, shape (n_param,)
+            Packed parameters (time-invariant).
+        Q : ndarray, shape (n_time, n_forcing)
+            Packed forcing at every instant.
+        Lam : ndarray, shape (n_time, n_state)
+            Weights of the residuals at every instant (e.g. adjoint vectors).
+
+        Returns
+        -------
+        tuple or None
+            ``(gp (n_param,), gq (n_time, n_forcing))``, or None without the product.
+        """
         return None
 
 
@@ -236,6 +472,37 @@ class CasadiResidualSystem(ResidualSystem):
     ``jacobians``: ``{"x", "xdot", "p", "q"}`` -> ``ca.jacobian(R, x)``, ... in these symbols, when
     the builder has them already (stored by definition: the coupled aeroelastic beam's take 3.8 s
     to form); None forms them here.
+
+    Parameters
+    ----------
+    x : casadi.SX or casadi.MX
+        State symbol (column vector).
+    xdot : casadi.SX or casadi.MX
+        State-rate symbol, same size as ``x``.
+    p : casadi.SX or casadi.MX
+        Parameter symbol.
+    q : casadi.SX or casadi.MX
+        Forcing symbol.
+    R : casadi.SX or casadi.MX
+        Residual expression, one equation per state.
+    param_specs : sequence of VarSpec
+        Blocks of ``p`` (their sizes must add up to its size).
+    forcing_specs : sequence of VarSpec
+        Blocks of ``q``.
+    state_shape : tuple of int, optional
+        How the flat state is shown to users; default ``(n_state,)``.
+    name : str
+        Name of the CasADi functions.
+    describe : callable, optional
+        ``describe(i) -> str`` names residual ``i``.
+    initial_guess : callable, optional
+        ``initial_guess(p, q)`` returns the start of a static solve; default zeros.
+    definition : optional
+        Key of the expressions' compiled libraries (see above); None keys them by serialization.
+    lu_column_order : array_like of int, optional
+        Column order of the adjoint's static LU; None: natural order.
+    jacobians : dict, optional
+        Symbolic Jacobians ``{"x", "xdot", "p", "q"}`` already formed; None forms them.
     """
 
     #: the static LU's column order (None: natural; subclasses that build lazily set it themselves)
@@ -280,7 +547,13 @@ class CasadiResidualSystem(ResidualSystem):
         self._maps = {"R": self._fast_R, "J": JitCall(self._all_jac, self.jit_threshold, definition=definition)}
 
     def set_jit_threshold(self, evaluations: int) -> None:
-        """Evaluations after which each function is compiled in the background (0: at first use)."""
+        """Evaluations after which each function is compiled in the background (0: at first use).
+
+        Parameters
+        ----------
+        evaluations : int
+            The threshold.
+        """
         self.jit_threshold = int(evaluations)
         for call in (self._fast_R, self._fast_newton, *self._maps.values()):
             call.jit.threshold = self.jit_threshold
@@ -289,7 +562,18 @@ class CasadiResidualSystem(ResidualSystem):
         """Compile (or load from the cache) the residual, the Newton-matrix function and the
         history functions (:data:`HISTORY_PARTS`: the four Jacobians and the input
         vector-Jacobian product) now instead of after ``jit_threshold`` evaluations; returns their
-        states."""
+        states.
+
+        Parameters
+        ----------
+        wait : bool
+            Wait for the compilations to finish.
+
+        Returns
+        -------
+        dict
+            State of each function's compilation, by name.
+        """
         calls = {"residual": self._fast_R, "newton": self._fast_newton}
         calls.update({f"history_{k}": self._part_call(k) for k in HISTORY_PARTS})
         return compile_calls(calls, wait)
@@ -372,6 +656,24 @@ class CasadiResidualSystem(ResidualSystem):
         return outs
 
     def residual(self, x, xdot, p, q):
+        """Residual ``R(x, xdot, p, q)`` at one instant (compiled once past the threshold).
+
+        Parameters
+        ----------
+        x : ndarray, shape (n_state,)
+            State.
+        xdot : ndarray, shape (n_state,)
+            State rate.
+        p : ndarray, shape (n_param,)
+            Packed parameters.
+        q : ndarray, shape (n_forcing,)
+            Packed forcing.
+
+        Returns
+        -------
+        ndarray, shape (n_state,)
+            The residual R.
+        """
         return self._fast_R(x, xdot, p, q)[0]
 
     def residual_call(self) -> JitCall:
@@ -384,7 +686,13 @@ class CasadiResidualSystem(ResidualSystem):
         Newton-matrix functions: the compiled march (:mod:`wingmdao.timemarch.fast_step`) uses
         both at every step, but the Python march evaluates the Newton matrix only when modified
         Newton refactors (a few times per march), so counting evaluations alone left a system
-        that is only marched (the coupled aeroelastic beam) interpreted for good."""
+        that is only marched (the coupled aeroelastic beam) interpreted for good.
+
+        Parameters
+        ----------
+        n_steps : int
+            Number of BDF steps of the march.
+        """
         for call in (self._fast_R, self._fast_newton):
             call.jit.count(int(n_steps))
 
@@ -417,20 +725,106 @@ class CasadiResidualSystem(ResidualSystem):
         return self._R
 
     def jac_state(self, x, xdot, p, q):
+        """Exact sparse ``(dR/dx, dR/dxdot)`` (CasADi AD).
+
+        Parameters
+        ----------
+        x : ndarray, shape (n_state,)
+            State.
+        xdot : ndarray, shape (n_state,)
+            State rate.
+        p : ndarray, shape (n_param,)
+            Packed parameters.
+        q : ndarray, shape (n_forcing,)
+            Packed forcing.
+
+        Returns
+        -------
+        dR_dx, dR_dxdot : scipy.sparse.csc_matrix, shape (n_state, n_state)
+            The state Jacobians.
+        """
         return self._dx(x, xdot, p, q), self._dxdot(x, xdot, p, q)
 
     def jac_inputs(self, x, xdot, p, q):
+        """Exact sparse ``(dR/dp, dR/dq)`` (CasADi AD).
+
+        Parameters
+        ----------
+        x : ndarray, shape (n_state,)
+            State.
+        xdot : ndarray, shape (n_state,)
+            State rate.
+        p : ndarray, shape (n_param,)
+            Packed parameters.
+        q : ndarray, shape (n_forcing,)
+            Packed forcing.
+
+        Returns
+        -------
+        dR_dp : scipy.sparse.csc_matrix, shape (n_state, n_param)
+            Parameter Jacobian.
+        dR_dq : scipy.sparse.csc_matrix, shape (n_state, n_forcing)
+            Forcing Jacobian.
+        """
         return self._dp(x, xdot, p, q), self._dq(x, xdot, p, q)
 
     def describe_equation(self, index):
+        """Name of residual ``index`` (the ``describe`` given at construction, if any).
+
+        Parameters
+        ----------
+        index : int
+            Index of the residual in the flat vector.
+
+        Returns
+        -------
+        str
+            The name.
+        """
         return self._describe(index) if self._describe else super().describe_equation(index)
 
     def initial_guess(self, p, q):
+        """Starting point of a static solve (the ``initial_guess`` given at construction, else zeros).
+
+        Parameters
+        ----------
+        p : ndarray, shape (n_param,)
+            Packed parameters.
+        q : ndarray, shape (n_forcing,)
+            Packed forcing.
+
+        Returns
+        -------
+        ndarray, shape (n_state,)
+            The guess.
+        """
         if self._initial_guess is not None:
             return np.asarray(self._initial_guess(p, q), dtype=float).reshape(self.n_state)
         return super().initial_guess(p, q)
 
     def residual_and_newton_matrix(self, x, xdot, p, q, alpha):
+        """``R`` and the Newton matrix ``dR/dx + alpha dR/dxdot`` in one call (Eq. 3.7).
+
+        Parameters
+        ----------
+        x : ndarray, shape (n_state,)
+            State.
+        xdot : ndarray, shape (n_state,)
+            State rate.
+        p : ndarray, shape (n_param,)
+            Packed parameters.
+        q : ndarray, shape (n_forcing,)
+            Packed forcing.
+        alpha : float
+            Leading BDF coefficient divided by dt (1/s).
+
+        Returns
+        -------
+        R : ndarray, shape (n_state,)
+            The residual.
+        matrix : scipy.sparse.csc_matrix or ndarray, shape (n_state, n_state)
+            ``dR/dx + alpha dR/dxdot``.
+        """
         r, nz = self._fast_newton(x, xdot, p, q, alpha)
         rows, indptr = self._newton_pattern
         if self.n_state <= DENSE_NEWTON_MAX:  # small systems: dense, no sparse-matrix overhead
@@ -443,16 +837,58 @@ class CasadiResidualSystem(ResidualSystem):
         return r, sp.csc_matrix((nz, rows, indptr), shape=(self.n_state, self.n_state))
 
     def jacobian_patterns(self):
+        """The exact sparsity patterns of the four Jacobians.
+
+        Returns
+        -------
+        dict
+            ``{"x"|"xdot"|"p"|"q": (rows, cols, shape)}``.
+        """
         return {"x": self._dx.pattern(), "xdot": self._dxdot.pattern(), "p": self._dp.pattern(),
                 "q": self._dq.pattern()}
 
     def residual_history(self, X, Xdot, p, Q):
+        """Residuals at every instant.
+
+        Parameters
+        ----------
+        X : ndarray, shape (n_time, n_state)
+            States at every instant.
+        Xdot : ndarray, shape (n_time, n_state)
+            State rates at every instant.
+        p : ndarray, shape (n_param,)
+            Packed parameters (time-invariant).
+        Q : ndarray, shape (n_time, n_forcing)
+            Packed forcing at every instant.
+
+        Returns
+        -------
+        ndarray, shape (n_time, n_state)
+            The residuals.
+        """
         return self._history("R", self._R, X, Xdot, p, Q)[0]
 
     def jacobian_history(self, X, Xdot, p, Q):
         """The four Jacobians, each its own function over the whole history (the fused
         four-output function of the 20-node beam is 2 MB of compiled code and ran ~2x slower per
-        instant than its parts kept hot one at a time: docs/time-marching.md)."""
+        instant than its parts kept hot one at a time: docs/time-marching.md).
+
+        Parameters
+        ----------
+        X : ndarray, shape (n_time, n_state)
+            States at every instant.
+        Xdot : ndarray, shape (n_time, n_state)
+            State rates at every instant.
+        p : ndarray, shape (n_param,)
+            Packed parameters (time-invariant).
+        Q : ndarray, shape (n_time, n_forcing)
+            Packed forcing at every instant.
+
+        Returns
+        -------
+        dict
+            ``{key: ndarray (n_time, nnz)}`` of nonzeros, in :meth:`jacobian_patterns` order.
+        """
         return {k: self._eval_history(self._part_call(k), X, Xdot, p, Q)[0] for k in ("x", "xdot", "p", "q")}
 
     def _own_history_parts(self) -> bool:
@@ -462,11 +898,47 @@ class CasadiResidualSystem(ResidualSystem):
         return type(self).jacobian_history is CasadiResidualSystem.jacobian_history
 
     def state_jacobian_history(self, X, Xdot, p, Q):
+        """Nonzeros of dR/dx and dR/dxdot at every instant (``{"x", "xdot"}``).
+
+        Parameters
+        ----------
+        X : ndarray, shape (n_time, n_state)
+            States at every instant.
+        Xdot : ndarray, shape (n_time, n_state)
+            State rates at every instant.
+        p : ndarray, shape (n_param,)
+            Packed parameters (time-invariant).
+        Q : ndarray, shape (n_time, n_forcing)
+            Packed forcing at every instant.
+
+        Returns
+        -------
+        dict
+            ``{key: ndarray (n_time, nnz)}`` of nonzeros, in :meth:`jacobian_patterns` order.
+        """
         if not self._own_history_parts():
             return self.jacobian_history(X, Xdot, p, Q)
         return {k: self._eval_history(self._part_call(k), X, Xdot, p, Q)[0] for k in ("x", "xdot")}
 
     def input_jacobian_history(self, X, Xdot, p, Q):
+        """Nonzeros of dR/dp and dR/dq at every instant (``{"p", "q"}``).
+
+        Parameters
+        ----------
+        X : ndarray, shape (n_time, n_state)
+            States at every instant.
+        Xdot : ndarray, shape (n_time, n_state)
+            State rates at every instant.
+        p : ndarray, shape (n_param,)
+            Packed parameters (time-invariant).
+        Q : ndarray, shape (n_time, n_forcing)
+            Packed forcing at every instant.
+
+        Returns
+        -------
+        dict
+            ``{key: ndarray (n_time, nnz)}`` of nonzeros, in :meth:`jacobian_patterns` order.
+        """
         if not self._own_history_parts():
             return self.jacobian_history(X, Xdot, p, Q)
         return {k: self._eval_history(self._part_call(k), X, Xdot, p, Q)[0] for k in ("p", "q")}
@@ -474,7 +946,26 @@ class CasadiResidualSystem(ResidualSystem):
     def input_vjp_history(self, X, Xdot, p, Q, Lam):
         """Reverse-mode products of :meth:`ResidualSystem.input_vjp_history`: one evaluation of
         the compiled ``jtimes`` function per instant, no dR/dp or dR/dq stored (None for a
-        subclass with its own :meth:`jacobian_history`)."""
+        subclass with its own :meth:`jacobian_history`).
+
+        Parameters
+        ----------
+        X : ndarray, shape (n_time, n_state)
+            States at every instant.
+        Xdot : ndarray, shape (n_time, n_state)
+            State rates at every instant.
+        p : ndarray, shape (n_param,)
+            Packed parameters (time-invariant).
+        Q : ndarray, shape (n_time, n_forcing)
+            Packed forcing at every instant.
+        Lam : ndarray, shape (n_time, n_state)
+            Weights of the residuals at every instant (e.g. adjoint vectors).
+
+        Returns
+        -------
+        tuple or None
+            ``(gp (n_param,), gq (n_time, n_forcing))``, or None without the product.
+        """
         if not self._own_history_parts():
             return None
         gp, gq = self._eval_history(self._part_call("vjp"), X, Xdot, p, Q, np.ascontiguousarray(Lam, dtype=float))

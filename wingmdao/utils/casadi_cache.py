@@ -179,6 +179,29 @@ def function_key(fun: ca.Function, flags=DEFAULT_FLAGS, definition: str | None =
     return h.hexdigest()[:32]
 
 
+def signature_stub(name: str, inputs, outputs) -> ca.Function:
+    """A CasADi function named ``name`` with dense inputs and outputs of the given shapes (zero
+    outputs): what a compiled library's cache key (with a definition) and its signature check
+    (:func:`load`) read, without building the expressions.
+
+    Parameters
+    ----------
+    name : str
+        Function name.
+    inputs : sequence of tuple
+        Shape of each input.
+    outputs : sequence of tuple
+        Shape of each output.
+
+    Returns
+    -------
+    casadi.Function
+        The stub.
+    """
+    ins = [ca.MX.sym(f"in{k}", *shape) for k, shape in enumerate(inputs)]
+    return ca.Function(name, ins, [ca.MX.zeros(*shape) for shape in outputs])
+
+
 def library_path(fun: ca.Function, flags=DEFAULT_FLAGS, key: str | None = None) -> Path:
     """Path of ``fun``'s compiled library in the cache (it may not exist).
 
