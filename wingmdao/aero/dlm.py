@@ -85,7 +85,18 @@ def _panelaero_dlm():
 
 
 def check_reduced_frequencies(k) -> np.ndarray:
-    """Validated reduced frequencies: a non-empty, finite, strictly increasing set of k >= 0."""
+    """Validated reduced frequencies: a non-empty, finite, strictly increasing set of k >= 0.
+
+    Parameters
+    ----------
+    k : float or array_like
+        Reduced frequencies ``omega b_ref / V``.
+
+    Returns
+    -------
+    ndarray
+        The frequencies as a 1-D float array.
+    """
     k = np.atleast_1d(np.asarray(k, dtype=float))
     if k.ndim != 1 or k.size == 0:
         raise ValueError("reduced_frequencies must be a non-empty 1-D set of k = omega b_ref / V >= 0, got none")
@@ -97,7 +108,18 @@ def check_reduced_frequencies(k) -> np.ndarray:
 
 
 def check_dlm_mach(mach) -> float:
-    """The Mach number of the (subsonic) doublet lattice; ValueError outside [0, 1)."""
+    """The Mach number of the (subsonic) doublet lattice; ValueError outside [0, 1).
+
+    Parameters
+    ----------
+    mach : float
+        Mach number.
+
+    Returns
+    -------
+    float
+        The Mach number.
+    """
     m = float(mach)
     if not (np.isfinite(m) and 0.0 <= m < 1.0):
         raise ValueError(f"mach must be in [0, 1) (the subsonic doublet-lattice kernel), got {mach}")
@@ -105,7 +127,13 @@ def check_dlm_mach(mach) -> float:
 
 
 def check_panels(lat: Lattice) -> None:
-    """ValueError naming the first panel of zero (or negative) area."""
+    """ValueError naming the first panel of zero (or negative) area.
+
+    Parameters
+    ----------
+    lat : Lattice
+        The lattice.
+    """
     area = lat.panel_chord * lat.span
     bad = np.flatnonzero(~(np.isfinite(area) & (area > 0.0)))
     if bad.size:
@@ -115,7 +143,19 @@ def check_panels(lat: Lattice) -> None:
 
 def aerogrid(lat: Lattice) -> dict:
     """PanelAero's aerogrid of both halves: the right half's panels (ours) then their mirror
-    images, each doublet line from its lower-y end ``P1`` to its upper-y end ``P3``."""
+    images, each doublet line from its lower-y end ``P1`` to its upper-y end ``P3``.
+
+    Parameters
+    ----------
+    lat : Lattice
+        The lattice of the right half.
+
+    Returns
+    -------
+    dict
+        ``offset_j``, ``offset_l``, ``offset_P1``, ``offset_P3``, ``N`` (2m, 3), ``A``, ``l``
+        (2m,) and ``n`` (2m), as PanelAero expects.
+    """
     area = lat.panel_chord * lat.span
     mid = 0.5 * (lat.bound_a + lat.bound_b)
     return {"offset_j": np.vstack([lat.control, lat.control * _MIRROR]),
@@ -128,7 +168,18 @@ def aerogrid(lat: Lattice) -> dict:
 
 
 def steady_aic(lat: Lattice) -> np.ndarray:
-    """PanelAero's steady (vortex-lattice) AIC ``A`` (2m, 2m) of both halves: ``w / V = A dcp``."""
+    """PanelAero's steady (vortex-lattice) AIC ``A`` (2m, 2m) of both halves: ``w / V = A dcp``.
+
+    Parameters
+    ----------
+    lat : Lattice
+        The lattice of the right half.
+
+    Returns
+    -------
+    ndarray, shape (2m, 2m)
+        The steady AIC.
+    """
     _, VLM = _panelaero_dlm()
     A, _ = VLM.calc_Ajj(aerogrid=aerogrid(lat), Ma=lat.mach)
     return A
@@ -161,7 +212,27 @@ def _symmetric_aic(lat: Lattice, k_over_b, method: str, steady=None) -> np.ndarr
 def panel_pressure(lat: Lattice, k_over_b, normalwash, *, method: str = "quartic", steady=None) -> np.ndarray:
     """Pressure jumps dcp (m, c) on the right half of a symmetric normalwash ``w / V`` (m, c)
     (the left half the mirror image) at ``omega / V = k_over_b`` (1/m); ``k_over_b = 0``: the
-    steady vortex lattice. ``steady``: :func:`steady_aic` of ``lat`` if already computed."""
+    steady vortex lattice. ``steady``: :func:`steady_aic` of ``lat`` if already computed.
+
+    Parameters
+    ----------
+    lat : Lattice
+        The lattice of the right half.
+    k_over_b : float
+        ``omega / V`` (1/m), >= 0.
+    normalwash : array_like, shape (m, c)
+        Symmetric normalwash ``w / V`` of the right-half panels.
+    method : str
+        Kernel approximation: ``"quartic"`` (:func:`wingmdao.aero.dlm_kernel.oscillatory_aic`) or
+        ``"parabolic"`` (PanelAero's).
+    steady : ndarray, shape (2m, 2m), optional
+        :func:`steady_aic` of ``lat``.
+
+    Returns
+    -------
+    ndarray of complex, shape (m, c)
+        The pressure jumps dcp.
+    """
     A = _symmetric_aic(lat, [float(k_over_b)], method, steady)[0]
     # a symmetric normalwash on both halves; Q = -A^-1, so dcp = -A^-1 w
     return -np.linalg.solve(A, np.asarray(normalwash, dtype=complex))
@@ -172,7 +243,25 @@ def pressure_operators(lat: Lattice, k_over_b, *, method: str = "quartic", key: 
     each ``omega / V`` of ``k_over_b`` (1/m), ``dcp = D_k w`` (:func:`panel_pressure`'s operator,
     one inverse of the symmetric unsteady AIC per k). ``key``: a hash of the planform, Mach number
     and lattice density; the operators are then cached by it (new mode shapes of the same
-    planform, e.g. a design change in a flutter search, reuse them)."""
+    planform, e.g. a design change in a flutter search, reuse them).
+
+    Parameters
+    ----------
+    lat : Lattice
+        The lattice of the right half.
+    k_over_b : array_like, shape (nk,)
+        ``omega / V`` values (1/m), >= 0.
+    method : str
+        Kernel approximation: ``"quartic"`` (:func:`wingmdao.aero.dlm_kernel.oscillatory_aic`) or
+        ``"parabolic"`` (PanelAero's).
+    key : str, optional
+        Hash of the planform, Mach number and lattice density; None: not cached.
+
+    Returns
+    -------
+    ndarray of complex, shape (nk, m, m)
+        The operators D_k.
+    """
     kb = np.asarray(k_over_b, dtype=float)
     full = None if key is None else key + hashlib.sha1(kb.tobytes() + method.encode()).hexdigest()
     if full is not None and full in _OPERATORS:
@@ -192,6 +281,15 @@ class ModalTransfer:
     ``incidence`` (m, modes) rad: each panel's incidence per unit modal amplitude;
     ``heave`` (m, modes) m: the normal displacement of its control point; ``force`` (m, modes)
     m^2: its area times the normal displacement of its force point (quarter chord of the panel).
+
+    Parameters
+    ----------
+    incidence : ndarray, shape (m, modes)
+        Panel incidence per unit modal amplitude (rad).
+    heave : ndarray, shape (m, modes)
+        Normal displacement of each control point (m).
+    force : ndarray, shape (m, modes)
+        Panel area times the normal displacement of its force point (m^2).
     """
 
     incidence: np.ndarray
@@ -213,7 +311,24 @@ def _section_motion(lat: Lattice, node_positions, displacement, rotation, points
 
 def modal_transfer(lat: Lattice, node_positions, displacement, rotation) -> ModalTransfer:
     """:class:`ModalTransfer` of modes given by nodal ``displacement`` and ``rotation``
-    (modes, n, 3), body axes, on the beam through ``node_positions`` (n, 3)."""
+    (modes, n, 3), body axes, on the beam through ``node_positions`` (n, 3).
+
+    Parameters
+    ----------
+    lat : Lattice
+        The lattice of the right half.
+    node_positions : array_like, shape (n, 3)
+        Jig beam nodes (m).
+    displacement : array_like, shape (modes, n, 3)
+        Nodal displacements of the modes (m), body axes.
+    rotation : array_like, shape (modes, n, 3)
+        Nodal rotations of the modes (rad), body axes.
+
+    Returns
+    -------
+    ModalTransfer
+        The transfer.
+    """
     d = np.asarray(displacement, dtype=float)
     t = np.asarray(rotation, dtype=float)
     if d.ndim != 3 or d.shape != t.shape or d.shape[1:] != (lat.hat.shape[1], 3):
@@ -236,6 +351,23 @@ class GeneralizedForces:
     each beam node (body axes) of the panel forces outboard of it (:func:`station_summation`),
     per unit dynamic pressure, of a unit amplitude of each mode (columns ``:modes``) and of a unit
     ``w_g / V`` (last column).
+
+    Parameters
+    ----------
+    k : ndarray, shape (nk,)
+        Reduced frequencies.
+    Q : ndarray of complex, shape (nk, modes, modes)
+        Generalized forces of the modes per unit dynamic pressure.
+    gust : ndarray of complex, shape (nk, modes)
+        Generalized forces of a unit ``w_g / V``.
+    b_ref : float
+        Reference semi-chord (m).
+    mach : float
+        Mach number.
+    x_gust : float
+        x at which the gust phase is zero (m).
+    station_loads : ndarray of complex, shape (nk, n, 6, modes + 1), optional
+        Aerodynamic internal loads at the beam nodes.
     """
 
     k: np.ndarray
@@ -247,13 +379,41 @@ class GeneralizedForces:
     station_loads: np.ndarray = None
 
     def at(self, k):
-        """``(Q, gust)`` at reduced frequency ``k`` (:func:`interpolate`)."""
+        """``(Q, gust)`` at reduced frequency ``k`` (:func:`interpolate`).
+
+        Parameters
+        ----------
+        k : float
+            Reduced frequency, inside the tabulated range.
+
+        Returns
+        -------
+        Q : ndarray of complex, shape (modes, modes)
+            Generalized forces of the modes.
+        gust : ndarray of complex, shape (modes,)
+            Generalized gust forces.
+        """
         return interpolate(self, k)
 
 
 def interpolate(gaf: GeneralizedForces, k):
     """``(Q (modes, modes), gust (modes,))`` at reduced frequency ``k`` by cubic splines of the real
-    and imaginary parts over the tabulated k (linear with two points); ValueError outside them."""
+    and imaginary parts over the tabulated k (linear with two points); ValueError outside them.
+
+    Parameters
+    ----------
+    gaf : GeneralizedForces
+        The tabulated forces.
+    k : float
+        Reduced frequency, inside the tabulated range.
+
+    Returns
+    -------
+    Q : ndarray of complex, shape (modes, modes)
+        Generalized forces of the modes.
+    gust : ndarray of complex, shape (modes,)
+        Generalized gust forces.
+    """
     k = float(k)
     lo, hi = gaf.k[0], gaf.k[-1]
     if not (lo - 1e-12 <= k <= hi + 1e-12):
@@ -279,7 +439,20 @@ def station_summation(lat: Lattice, node_positions) -> np.ndarray:
     ``sum_j (p_j - r_s) x A_j n_j`` (N m) of the panels outboard of it (those on the beam elements
     from node s outwards), ``p_j`` the panel's force point (mid-span of its doublet line), body
     axes. The sign is the beam's: the internal loads at a node are those the outboard wing's
-    applied loads put on it (:class:`wingmdao.beam.modes.NormalModes`)."""
+    applied loads put on it (:class:`wingmdao.beam.modes.NormalModes`).
+
+    Parameters
+    ----------
+    lat : Lattice
+        The lattice of the right half.
+    node_positions : array_like, shape (n, 3)
+        Jig beam nodes (m).
+
+    Returns
+    -------
+    ndarray, shape (n, 6, m)
+        The summation operator (m^2 for forces, m^3 for moments, per unit dcp and dynamic pressure).
+    """
     r = np.asarray(node_positions, dtype=float)
     force = (lat.panel_chord * lat.span)[:, None] * lat.normal                  # (m, 3) per unit dcp
     point = 0.5 * (lat.bound_a + lat.bound_b)
@@ -305,6 +478,39 @@ def generalized_forces(node_positions, chord, ref_point, displacement, rotation,
     alone (:func:`pressure_operators`: new modes of the same planform reuse them).
     Errors (ValueError, before any solve): Mach outside [0, 1), an empty or unsorted k set, a
     panel of zero area, a planform whose nodes do not move outboard.
+
+    Parameters
+    ----------
+    node_positions : array_like, shape (n, 3)
+        Jig beam nodes (m).
+    chord : float or array_like, shape (n,)
+        Streamwise chord (m).
+    ref_point : float or array_like, shape (n,)
+        Beam axis as a fraction of the chord aft of the leading edge.
+    displacement : array_like, shape (modes, n, 3)
+        Nodal displacements of the modes (m), body axes.
+    rotation : array_like, shape (modes, n, 3)
+        Nodal rotations of the modes (rad), body axes.
+    mach : float
+        Mach number, in [0, 1).
+    reduced_frequencies : array_like
+        Reduced frequencies ``omega b_ref / V``, increasing, >= 0.
+    b_ref : float, optional
+        Reference semi-chord (m); default half the root chord.
+    x_gust : float, optional
+        x where the gust phase is zero (m); default the foremost leading edge.
+    n_chordwise : int
+        Chordwise panels.
+    n_spanwise : int
+        Spanwise strips per beam element.
+    method : str
+        Kernel approximation: ``"quartic"`` (:func:`wingmdao.aero.dlm_kernel.oscillatory_aic`) or
+        ``"parabolic"`` (PanelAero's).
+
+    Returns
+    -------
+    GeneralizedForces
+        The forces (shared by the cache: do not modify).
     """
     mach = check_dlm_mach(mach)
     k = check_reduced_frequencies(reduced_frequencies)
