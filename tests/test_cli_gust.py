@@ -149,3 +149,69 @@ def test_gust_pegasus_stick_model_json(tmp_path):
     hull = np.asarray(loads["wing root"]["potato_hull"])
     np.testing.assert_array_equal(hull[0], hull[-1])
     assert hull[:, 0].max() == pytest.approx(loads["wing root"]["moment_max_n_m"][0], rel=1e-12)
+
+
+def test_stick_stiffness_scale_scales_the_elastic_frequencies_by_its_square_root():
+    """Every beam's stiffness times S, masses unchanged: each elastic frequency of the free half aircraft
+    (a linear pencil K - omega^2 M about the unloaded jig, rigid joints and symmetry rows unscaled)
+    times sqrt(S) exactly."""
+    from wingmdao.cases import pegasus_stick
+    from wingmdao.cli.gust import scale_stick_stiffness
+
+    aircraft = pegasus_stick.build(6)
+    before = pegasus_stick.natural_frequencies(aircraft, count=4)
+    scale_stick_stiffness(aircraft, 4.0)
+    after = pegasus_stick.natural_frequencies(aircraft, count=4)
+    assert after["rigid"] == before["rigid"] == 3
+    np.testing.assert_allclose(after["hz"] / before["hz"], 2.0, rtol=1e-6)
+
+
+_WALLS = {w: [0.004 + 2e-4 * i for i in range(20)] for w in ("upper_skin", "lower_skin", "front_spar", "rear_spar")}
+
+
+@pytest.mark.parametrize("content, extra, match", [
+    ("not json", [], "not a JSON file"),
+    ('{"mass_kg": 1}', [], "not a box sizing result"),
+    ('{"case": "crm", "thickness": {"upper_skin": [0.01], "lower_skin": [0.01], "front_spar": [0.01], '
+     '"rear_spar": [0.01]}}', [], "case 'crm'"),
+    ('{"thickness": {"upper_skin": [0.01, 0.01], "lower_skin": [0.01], "front_spar": [0.01], '
+     '"rear_spar": [0.01]}}', [], "has 2 stations; the 20-node beam"),
+    (json.dumps({"case": "pegasus", "thickness": _WALLS}), ["--stiffness-scale", "0"],
+     "--stiffness-scale = 0.0; allowed range [0.001, 1e+06]"),
+])
+def test_gust_stick_design_and_stiffness_scale_errors_before_solve(tmp_path, capsys, monkeypatch, content, extra,
+                                                                     match):
+    from wingmdao.cases import pegasus_stick
+
+    monkeypatch.setattr(pegasus_stick, "build", lambda *a, **k: pytest.fail("stick model built"))
+    f = tmp_path / "r.json"
+    f.write_text(content)
+    assert main(["gust", "pegasus", "--model", "stick", "--design", str(f), *extra, "--no-plots"]) == 2
+    assert match in capsys.readouterr().err
+
+
+def test_gust_stick_design_and_stiffness_scale_reach_the_model(tmp_path, monkeypatch):
+    """--design: the stick model's wing has the sizing result's walls (its section stiffness that of
+    those walls, not the initial ones); --stiffness-scale multiplies every beam's stiffness (no march)."""
+    from wingmdao.cases import pegasus_stick
+
+    seen = {}
+
+    def fake(aircraft, *a, **k):
+        seen["aircraft"] = aircraft
+        raise SystemExit(0)
+
+    monkeypatch.setattr(pegasus_stick, "gust_response", fake)
+    f = tmp_path / "r.json"
+    f.write_text(json.dumps({"case": "pegasus", "thickness": _WALLS, "mass_kg": 300.0}))
+    with pytest.raises(SystemExit):
+        main(["gust", "pegasus", "--model", "stick", "--design", str(f), "--stiffness-scale", "3", "--no-plots"])
+    got = seen["aircraft"].model.params
+    designed = pegasus_stick.build(20, thickness=_WALLS).model.params
+    initial = pegasus_stick.build(20).model.params
+    for beam in ("wing", "fuselage", "fin", "tail"):
+        np.testing.assert_allclose(got[beam]["stiffness_csn"], 3.0 * np.asarray(designed[beam]["stiffness_csn"]),
+                                   rtol=1e-12)
+        np.testing.assert_allclose(got[beam]["compliance_csn"], np.asarray(designed[beam]["compliance_csn"]) / 3.0,
+                                   rtol=1e-12)
+    assert not np.allclose(designed["wing"]["stiffness_csn"], initial["wing"]["stiffness_csn"], rtol=1e-3)

@@ -31,7 +31,8 @@ without and with the law (:func:`~wingmdao.aero.gust_response.alleviation_summar
 (:func:`wingmdao.cases.pegasus_stick.gust_response`; docs/stick-model.md); the JSON holds time,
 load_factor, the peak increments, trim_alpha_rad, tail_incidence_rad, trim_thrust_n,
 downwash_gradient and ``monitoring_loads`` (per station: force and moment histories, body axes,
-with their maxima and minima).
+with their maxima and minima). ``--design`` gives the stick model's wing the walls of a sizing
+result; ``--stiffness-scale`` multiplies every beam's section stiffness.
 """
 
 from __future__ import annotations
@@ -85,7 +86,7 @@ def register(subparsers):
                    help="gust gradient H (ft, 30-350; default: the case's, as on 'size')")
     add_deprecated_alias(p, "--gradient-ft", "--gust-gradient-ft", dest="gradient_ft", type=float, metavar="FT")
     p.add_argument("--stiffness-scale", type=float, default=1.0, metavar="S",
-                   help="multiply all section stiffnesses by S (> 0; large S approaches a rigid wing)")
+                   help="multiply all section stiffnesses by S (> 0; large S approaches a rigid wing; --model stick: every beam's, the rigid aircraft)")
     p.add_argument("--design", metavar="RESULT.json", default=None,
                    help="thicknesses from a sizing result (its 'thickness' per station); default: the initial design")
     p.add_argument("--altitude-ft", type=float, default=None, metavar="FT",
@@ -227,7 +228,7 @@ def run(args):
                         weight=weight, gust_start=args.gust_start)
     wing_area = pf.area_ft2 * FT ** 2
     if args.model == "stick":
-        return _run_stick(args, t, flight, H_ft=H_ft, alt_ft=alt_ft, t_wall=t_wall, plot_path=plot_path)
+        return _run_stick(args, t, flight, walls, n, H_ft=H_ft, alt_ft=alt_ft, t_wall=t_wall, plot_path=plot_path)
     pitch_out, alleviation = {}, {}
     if args.aero_theory == "dlm":
         resp = dlm_gust_response(t, bp, chord, axis_frac, flight, area=wing_area, n_modes=args.modes)
@@ -395,20 +396,22 @@ def _check_stick_args(args):
     refused = [(args.aero != "coupled", f"--aero {args.aero}"), (not args.plunge, "--clamped"),
                (args.pitch, "--pitch free (the stick model is free in pitch through its structure)"),
                (args.alleviation is not None, "--alleviation"),
-               (args.aero_theory != "strip", f"--aero-theory {args.aero_theory}"),
-               (args.stiffness_scale != 1.0, f"--stiffness-scale {args.stiffness_scale}"),
-               (args.design is not None, f"--design {args.design}")]
+               (args.aero_theory != "strip", f"--aero-theory {args.aero_theory}")]
     for bad, flag in refused:
         if bad:
             raise ValueError(f"--model stick does not take {flag}; allowed: --aero coupled, free plunge, strip "
-                             "aerodynamics, the initial design")
+                             "aerodynamics")
 
 
-def _run_stick(args, t, flight, *, H_ft, alt_ft, t_wall, plot_path):
-    """The gust on the PEGASUS stick model (:func:`wingmdao.cases.pegasus_stick.gust_response`)."""
+def _run_stick(args, t, flight, walls, num_nodes, *, H_ft, alt_ft, t_wall, plot_path):
+    """The gust on the PEGASUS stick model (:func:`wingmdao.cases.pegasus_stick.gust_response`): its wing
+    of ``walls`` (``--design``, checked against the case's ``num_nodes``-node wing; None: the initial
+    walls), every beam's section stiffness times ``--stiffness-scale``."""
     from wingmdao.cases import pegasus_stick
 
-    aircraft = pegasus_stick.build()
+    aircraft = pegasus_stick.build(num_nodes, thickness=walls)
+    if args.stiffness_scale != 1.0:
+        scale_stick_stiffness(aircraft, args.stiffness_scale)
     print(f"stick model: {aircraft.model.system.n_state} structural unknowns, half aircraft {aircraft.mass:.0f} kg",
           file=sys.stderr)
     r = pegasus_stick.gust_response(aircraft, t, airspeed=flight.airspeed, density=flight.density, mach=flight.mach,
@@ -426,7 +429,7 @@ def _run_stick(args, t, flight, *, H_ft, alt_ft, t_wall, plot_path):
                         "moment_max_n_m": m.max(axis=0).tolist(), "moment_min_n_m": m.min(axis=0).tolist(),
                         "potato_components": pot["components"], "potato_hull": pot["hull"].tolist()}
     res = {"case": args.case, "model": "stick", "aero": "coupled", "plunge": True, "pitch": True,
-           "gradient_ft": H_ft, "altitude_ft": alt_ft, "mach": flight.mach, "airspeed_tas_m_s": flight.airspeed,
+           "design": args.design, "stiffness_scale": args.stiffness_scale, "gradient_ft": H_ft, "altitude_ft": alt_ft, "mach": flight.mach, "airspeed_tas_m_s": flight.airspeed,
            "density_kg_m3": flight.density, "u_ds_eas_m_s": flight.u_ds_eas, "time": t.tolist(),
            "load_factor": r.load_factor.tolist(),
            "peak_incremental_load_factor": float(np.max(np.abs(dn))),
@@ -447,6 +450,25 @@ def _run_stick(args, t, flight, *, H_ft, alt_ft, t_wall, plot_path):
     if plot_path:
         _stick_plots(res, plot_path[:-len(".png")])
     return 0
+
+
+def scale_stick_stiffness(aircraft, scale):
+    """Multiply the section stiffness of every beam of a stick ``aircraft``
+    (:class:`~wingmdao.cases.pegasus_stick.StickAircraft`, changed in place) by ``scale``.
+
+    Parameters
+    ----------
+    aircraft : StickAircraft
+        The stick model; its ``model.params`` (``stiffness_csn``, ``compliance_csn`` of each beam) and
+        packed ``model.p`` are replaced. Masses, node positions and the trim data stay.
+    scale : float
+        The factor (> 0; as ``--stiffness-scale``).
+    """
+    params = {k: {**v, "stiffness_csn": np.asarray(v["stiffness_csn"]) * scale,
+                  "compliance_csn": np.asarray(v["compliance_csn"]) / scale}
+              for k, v in aircraft.model.params.items()}
+    aircraft.model.params = params
+    aircraft.model.p = aircraft.model.system.pack_parameters(params)
 
 
 def _stick_plots(res, stem):
