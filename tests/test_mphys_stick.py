@@ -36,7 +36,7 @@ def test_inertia_relief_partials_and_rigid_body_accelerations(aircraft):
     """check_partials (central differences), and the accelerations of the free half aircraft against
     its rigid-body dynamics from the model's own mass, CG and pitch inertia (sums over elements and
     lumped masses, StickAircraft): the CG accelerates by F/m + g and pitches by M_cg/I_yy (the
-    deformation moves the CG a little: 1e-4 and 2e-3 relative)."""
+    deformation moves the CG a little: 1e-4 of the plunge acceleration, 2e-3 of the pitch's)."""
     s = aircraft.model.system
     g = np.array([0.0, 0.0, -G0])
     prob = om.Problem(reports=False)
@@ -53,14 +53,16 @@ def test_inertia_relief_partials_and_rigid_body_accelerations(aircraft):
     M = np.sum(np.cross(r - aircraft.cg, f[:, :3]) + f[:, 3:], axis=0)
     a_cg = np.array([ax, 0.0, az]) + np.cross([0.0, alpha, 0.0], aircraft.cg)
     assert a_cg[2] == pytest.approx(F[2] / aircraft.mass + g[2], rel=1e-4)
-    assert a_cg[0] == pytest.approx(F[0] / aircraft.mass, rel=2e-3)
+    assert a_cg[0] == pytest.approx(F[0] / aircraft.mass, abs=1e-4 * abs(a_cg[2]))
     assert alpha == pytest.approx(M[1] / aircraft.pitch_inertia, rel=2e-3)
+    # central differences of residuals of size ~1e4 with step 1e-6: round-off ~1e-6 absolute (the
+    # derivatives with respect to the wing's walls are checked through the totals of the scenario)
     data = prob.check_partials(method="fd", form="central", step=1e-6, out_stream=None)
-    for comp, d in data.items():
+    for _comp, d in data.items():
         for key, v in d.items():
             J, F_ = v["J_fwd"], v["J_fd"]
-            scale = max(np.abs(F_).max(), 1e-3)
-            assert np.abs(J - F_).max() <= 2e-6 * max(scale, 1.0), (key, np.abs(J - F_).max(), scale)
+            scale = np.abs(F_).max()
+            assert np.abs(J - F_).max() <= 1e-5 + 1e-6 * scale, (key, np.abs(J - F_).max(), scale)
 
 
 def test_joined_beam_states_partials():
@@ -70,7 +72,7 @@ def test_joined_beam_states_partials():
     p.set_val("c.stick_states", np.arange(100.0))
     p.run_model()
     np.testing.assert_array_equal(p.get_val("c.wingmdao_states").ravel(), np.arange(20.0, 74.0))
-    for comp, d in p.check_partials(method="cs", out_stream=None).items():
+    for _comp, d in p.check_partials(method="cs", out_stream=None).items():
         for key, v in d.items():
             assert np.abs(v["J_fwd"] - v["J_fd"]).max() < 1e-14, key
 
@@ -133,20 +135,24 @@ def test_stick_scenario_loads_and_displacements(scenario, aircraft):
     assert az == pytest.approx(f[:, 2].sum() / aircraft.mass - G0, rel=1e-4)
     u = scenario.get_val("cruise.u_struct").reshape(N, 6)
     assert u[-1, 2] > 0.01 and u[-1, 3] > 0.0          # tip up, rotation about x positive (bending up)
-    assert np.abs(u[0, :3]).max() < 1e-3 * u[-1, 2]    # the root stays with the fuselage supports
+    # the wing root moves with the fuselage, which bends between its supports at the nose and the tail cone
+    assert 0.0 < np.abs(u[0, :3]).max() < 0.05 * u[-1, 2]
     assert -1.0 < scenario.get_val("cruise.ks_vm")[0] < 0.0
 
 
-def test_stick_scenario_totals(scenario):
+@pytest.mark.parametrize("wrt, step", [("dv_struct", 1e-6), ("f_aero_struct", 1e-2)])
+def test_stick_scenario_totals(scenario, wrt, step):
+    """Reverse mode (the inertia relief's transposed LU inside MPhys' coupling group) against central
+    differences: the KS, the wing's mass, the plunge acceleration and the displacements with respect
+    to the wing's walls (m) and loads (N, N m)."""
     data = scenario.check_totals(of=["cruise.ks_vm", "cruise.struct_mass", "cruise.frame_az", "cruise.u_struct"],
-                                 wrt=["dv_struct", "f_aero_struct"], method="fd", form="central", step=1e-6,
-                                 out_stream=None)
+                                 wrt=[wrt], method="fd", form="central", step=step, out_stream=None)
     for key, v in data.items():
         J, F = v["J_rev"] if "J_rev" in v else v["J_fwd"], v["J_fd"]
         scale = np.abs(F).max()
         if scale == 0.0:
             assert np.abs(J).max() == 0.0, key
             continue
-        nontrivial = np.abs(F) > 1e-6 * scale
+        nontrivial = np.abs(F) > 1e-3 * scale
         assert np.all(np.abs(J - F)[nontrivial] <= 1e-4 * np.abs(F)[nontrivial]), key
         assert np.abs(J - F).max() <= 1e-5 * scale, key

@@ -170,14 +170,17 @@ class InertiaRelief(om.ImplicitComponent):
         for k, a in enumerate(self.options["accelerations"]):
             ck = self._C[k].tocoo()
             self.declare_partials(acceleration_output(a), name, rows=np.zeros(ck.nnz, int), cols=ck.col, val=ck.data)
-            for spec in self._pins + self._qins:
-                cp = self._Cp[k, self._play[spec.name]].tocoo() if spec in self._pins else sp.coo_matrix((1, 1))
+            for spec in self._pins:
+                cp = self._Cp[k, self._play[spec.name]].tocoo()
                 if cp.nnz:
                     self.declare_partials(acceleration_output(a), spec.name, rows=np.zeros(cp.nnz, int), cols=cp.col,
                                           val=-cp.data)
-                else:   # a structural zero: the acceleration depends on the input through the states, and
-                    # OpenMDAO's relevance graph (reverse mode) follows declared (output, input) pairs only
-                    self.declare_partials(acceleration_output(a), spec.name, rows=[0], cols=[0])
+
+    def _get_missing_partials(self, missing):
+        """Nothing is missing: every output depends on every input through the coupled solve (the
+        support rows have no partials with respect to most inputs, but the accelerations depend on
+        them through the states; OpenMDAO's relevance graph would otherwise drop those paths)."""
+        return
 
     # ---- packing -------------------------------------------------------------------------
     def _pack(self, inputs, outputs):
