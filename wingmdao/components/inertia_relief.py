@@ -110,7 +110,7 @@ class InertiaRelief(om.ImplicitComponent):
         self.options.declare("forcing_values", default=None, allow_none=True, types=np.ndarray,
                              desc="packed forcing: the inputs' default values (None: zeros)")
         self.options.declare("state_name", default="states", types=str, desc="name of the state output")
-        self.options.declare("rtol", default=1e-10, lower=0.0, desc="Newton tolerance relative to the first residual")
+        self.options.declare("rtol", default=1e-10, lower=0.0, types=float, desc="Newton tolerance relative to the first residual")
         self.options.declare("max_iter", default=30, types=int, lower=1, desc="Newton iterations at most")
 
     def setup(self):
