@@ -215,3 +215,59 @@ def test_gust_stick_design_and_stiffness_scale_reach_the_model(tmp_path, monkeyp
         np.testing.assert_allclose(got[beam]["compliance_csn"], np.asarray(designed[beam]["compliance_csn"]) / 3.0,
                                    rtol=1e-12)
     assert not np.allclose(designed["wing"]["stiffness_csn"], initial["wing"]["stiffness_csn"], rtol=1e-3)
+
+
+_SET = {"flight_points": [{"altitude_ft": 25000, "mach": 0.5, "u_ref_fps": 30}], "gradients_ft": [350],
+        "signs": "both"}
+
+
+@pytest.mark.parametrize("argv, content, match", [
+    (["--model", "wing"], _SET, "--gust-set {f}: applies to --model stick"),
+    (["--model", "stick", "--gust-gradient-ft", "100"], _SET,
+     "--gust-set {f} gives the flight points, gradients and U_ref; drop --gust-gradient-ft"),
+    (["--model", "stick", "--mach", "0.4"], _SET, "drop --mach"),
+    (["--model", "stick"], None, "--gust-set '{f}' does not exist"),
+    (["--model", "stick"], {**_SET, "flight_points": [{"altitude_ft": 25000, "mach": 0.5, "weight_lb": 30000}]},
+     "has weight_lb = 30000; the stick model weighs the TOGW"),
+    (["--model", "stick"], {**_SET, "flight_points": [{"altitude_ft": 25000, "v_tas_m_s": 400.0}]},
+     "flight point 0 has Mach 1.29; allowed range (0, 1)"),
+    (["--model", "stick"], {**_SET, "gradients_ft": [20]}, "gradient"),
+])
+def test_gust_stick_gust_set_errors_before_solve(tmp_path, capsys, monkeypatch, argv, content, match):
+    from wingmdao.cases import pegasus_stick
+
+    monkeypatch.setattr(pegasus_stick, "build", lambda *a, **k: pytest.fail("stick model built"))
+    f = tmp_path / "set.json"
+    if content is not None:
+        f.write_text(json.dumps(content))
+    assert main(["gust", "pegasus", *argv, "--gust-set", str(f), "--no-plots"]) == 2
+    assert match.format(f=f) in capsys.readouterr().err
+
+
+def test_stick_set_envelope_extremes_owners_and_hull():
+    """The set's envelope is the extreme over every instant of every gust, named by the gust that gives
+    it; its potato hull holds every gust's correlated pairs."""
+    from wingmdao.cli.gust import stick_set_envelope
+    from wingmdao.envelope import monitoring_potatoes
+
+    rng = np.random.default_rng(7)
+    gusts = [{"name": f"g{k}", "monitoring_loads": {"root": {"force_n": rng.normal(size=(30, 3)) * 1e3,
+                                                             "moment_n_m": rng.normal(size=(30, 3)) * [5e4, 1e4, 1e2]}}}
+             for k in range(3)]
+    gusts[1]["monitoring_loads"]["root"]["moment_n_m"][7, 0] = 9e5      # the largest bending: gust g1
+    gusts[2]["monitoring_loads"]["root"]["force_n"][3, 2] = -8e3        # the lowest F_z: gust g2
+    env = stick_set_envelope(gusts)["root"]
+    assert env["moment_max_n_m"][0] == 9e5 and env["moment_max_gust"][0] == "g1"
+    assert env["force_min_n"][2] == -8e3 and env["force_min_gust"][2] == "g2"
+    for key, fn, comp in (("moment_min_n_m", np.min, "moment_n_m"), ("force_max_n", np.max, "force_n")):
+        np.testing.assert_array_equal(env[key], fn(np.vstack([g["monitoring_loads"]["root"][comp] for g in gusts]),
+                                                   axis=0))
+    assert env["potato_components"] == ["M_x", "M_y"]
+    hull = np.asarray(env["potato_hull"])
+    for g in gusts:        # every point inside the closed counter-clockwise hull (cross products >= 0)
+        pts = monitoring_potatoes({"r": {"moment": g["monitoring_loads"]["root"]["moment_n_m"],
+                                         "force": g["monitoring_loads"]["root"]["force_n"]}})["r"]["values"]
+        e = np.diff(hull, axis=0)
+        for p in pts:
+            cross = e[:, 0] * (p[1] - hull[:-1, 1]) - e[:, 1] * (p[0] - hull[:-1, 0])
+            assert np.all(cross >= -1e-6 * np.abs(hull).max())

@@ -108,6 +108,10 @@ def register(subparsers):
                         "half aircraft's stick model, wing, fuselage, fin and horizontal tail with strip aerodynamics "
                         "on wing and tail, trimmed in angle of attack and tail incidence; docs/stick-model.md; the JSON "
                         "adds the monitoring stations' loads) (default: %(default)s)")
+    p.add_argument("--gust-set", metavar="FILE", default=None,
+                   help="--model stick: a 25.341(a) gust set (.json or .yaml: flight points x gradients x signs, as "
+                        "'wingmdao size pegasus --gust-set'; docs/gust-envelope.md): every gust marched, the "
+                        "monitoring stations' envelopes and potato plots over the set")
     p.add_argument("--alleviation", metavar="FILE.yaml", default=None,
                    help="control surfaces, actuators and a feedback law in the march (docs/controls.md; needs --aero "
                         "coupled); the result adds the surface histories and the peak root bending without and with it")
@@ -142,6 +146,7 @@ def run(args):
     args.plunge = plunge == "free"
     args.pitch = args.pitch == "free"
     _check_stick_args(args)
+    gust_set = _read_stick_gust_set(args)
     _check_pitch_args(args)
     module = available_cases()[args.case]
     swept = getattr(module, "COUPLED_THEORIES", None)  # a swept case: only the lattice follows its sweep
@@ -228,6 +233,8 @@ def run(args):
                         weight=weight, gust_start=args.gust_start)
     wing_area = pf.area_ft2 * FT ** 2
     if args.model == "stick":
+        if gust_set is not None:
+            return _run_stick_set(args, t, gust_set, walls, n, t_wall=t_wall, plot_path=plot_path)
         return _run_stick(args, t, flight, walls, n, H_ft=H_ft, alt_ft=alt_ft, t_wall=t_wall, plot_path=plot_path)
     pitch_out, alleviation = {}, {}
     if args.aero_theory == "dlm":
@@ -403,10 +410,37 @@ def _check_stick_args(args):
                              "aerodynamics")
 
 
-def _run_stick(args, t, flight, walls, num_nodes, *, H_ft, alt_ft, t_wall, plot_path):
-    """The gust on the PEGASUS stick model (:func:`wingmdao.cases.pegasus_stick.gust_response`): its wing
-    of ``walls`` (``--design``, checked against the case's ``num_nodes``-node wing; None: the initial
-    walls), every beam's section stiffness times ``--stiffness-scale``."""
+def _read_stick_gust_set(args):
+    """``--gust-set FILE`` of ``--model stick`` (None without it), read and checked before any solve: the
+    lone wing's gust flags it replaces are refused, every flight point's Mach number is in (0, 1) and its
+    weight the stick model's (half the TOGW)."""
+    if args.gust_set is None:
+        return None
+    if args.model != "stick":
+        raise ValueError(f"--gust-set {args.gust_set}: applies to --model stick (the lone wing's gust sets are "
+                         "sized by 'wingmdao size CASE --gust-set FILE')")
+    given = [f for f, v in (("--gust-gradient-ft", args.gradient_ft), ("--altitude-ft", args.altitude_ft),
+                            ("--mach", args.mach), ("--u-ref-fps", args.u_ref_fps)) if v is not None]
+    if given:
+        raise ValueError(f"--gust-set {args.gust_set} gives the flight points, gradients and U_ref; drop {given[0]}")
+    from wingmdao.cases import pegasus
+    from wingmdao.loads.atmosphere import speed_of_sound
+    from wingmdao.loads.gust_set import read_gust_set
+
+    gset = read_gust_set(args.gust_set, defaults=pegasus.GUST_SET_DEFAULTS)
+    for i, fp in enumerate(gset.flight_points):
+        mach = fp.airspeed_tas() / float(speed_of_sound(fp.altitude_m))
+        if not 0.0 < mach < 1.0:
+            raise ValueError(f"--gust-set {args.gust_set}: flight point {fp.name or i} has Mach {mach:.3g}; allowed "
+                             "range (0, 1)")
+        if fp.weight_lb is not None and not np.isclose(fp.weight_lb, pegasus.TOGW_LB, rtol=1e-9):
+            raise ValueError(f"--gust-set {args.gust_set}: flight point {fp.name or i} has weight_lb = "
+                             f"{fp.weight_lb:g}; the stick model weighs the TOGW, {pegasus.TOGW_LB:g} lb (drop weight_lb)")
+    return gset
+
+
+def _stick_aircraft(args, walls, num_nodes):
+    """The PEGASUS stick model of ``--design`` walls (None: the initial ones) and ``--stiffness-scale``."""
     from wingmdao.cases import pegasus_stick
 
     aircraft = pegasus_stick.build(num_nodes, thickness=walls)
@@ -414,11 +448,15 @@ def _run_stick(args, t, flight, walls, num_nodes, *, H_ft, alt_ft, t_wall, plot_
         scale_stick_stiffness(aircraft, args.stiffness_scale)
     print(f"stick model: {aircraft.model.system.n_state} structural unknowns, half aircraft {aircraft.mass:.0f} kg",
           file=sys.stderr)
-    r = pegasus_stick.gust_response(aircraft, t, airspeed=flight.airspeed, density=flight.density, mach=flight.mach,
-                                    u_ds_tas=flight.u_ds_tas, gradient=flight.gradient, gust_start=flight.gust_start)
-    dn = r.load_factor - r.load_factor[0]
+    return aircraft
+
+
+def _stick_gust_result(r) -> dict:
+    """The JSON keys of one stick gust response ``r`` (:class:`~wingmdao.cases.pegasus_stick.StickGust`):
+    load factor and its peaks, trim, and the monitoring stations' histories, extremes and potato plots."""
     from wingmdao.envelope import monitoring_potatoes
 
+    dn = r.load_factor - r.load_factor[0]
     potatoes = monitoring_potatoes(r.loads)
     loads = {}
     for label, v in r.loads.items():
@@ -428,27 +466,118 @@ def _run_stick(args, t, flight, walls, num_nodes, *, H_ft, alt_ft, t_wall, plot_
                         "force_max_n": f.max(axis=0).tolist(), "force_min_n": f.min(axis=0).tolist(),
                         "moment_max_n_m": m.max(axis=0).tolist(), "moment_min_n_m": m.min(axis=0).tolist(),
                         "potato_components": pot["components"], "potato_hull": pot["hull"].tolist()}
+    return {"load_factor": r.load_factor.tolist(),
+            "peak_incremental_load_factor": float(np.max(np.abs(dn))),
+            "peak_up_incremental_load_factor": float(np.max(dn)),
+            "peak_down_incremental_load_factor": float(np.min(dn)),
+            "trim_alpha_rad": r.trim["alpha_trim"], "tail_incidence_rad": r.trim["tail_incidence"],
+            "trim_thrust_n": r.trim["thrust"], "downwash_gradient": r.downwash_gradient,
+            "monitoring_loads": loads}
+
+
+_MONITORING_AXES = ("body axes (x aft, y right, z up), N and N m; the outboard part on the inboard part; "
+                    "potato_hull: the convex hull of the potato_components pair (N m or N)")
+
+
+def _run_stick(args, t, flight, walls, num_nodes, *, H_ft, alt_ft, t_wall, plot_path):
+    """The gust on the PEGASUS stick model (:func:`wingmdao.cases.pegasus_stick.gust_response`): its wing
+    of ``walls`` (``--design``, checked against the case's ``num_nodes``-node wing; None: the initial
+    walls), every beam's section stiffness times ``--stiffness-scale``."""
+    from wingmdao.cases import pegasus_stick
+
+    aircraft = _stick_aircraft(args, walls, num_nodes)
+    r = pegasus_stick.gust_response(aircraft, t, airspeed=flight.airspeed, density=flight.density, mach=flight.mach,
+                                    u_ds_tas=flight.u_ds_tas, gradient=flight.gradient, gust_start=flight.gust_start)
     res = {"case": args.case, "model": "stick", "aero": "coupled", "plunge": True, "pitch": True,
-           "design": args.design, "stiffness_scale": args.stiffness_scale, "gradient_ft": H_ft, "altitude_ft": alt_ft, "mach": flight.mach, "airspeed_tas_m_s": flight.airspeed,
+           "design": args.design, "stiffness_scale": args.stiffness_scale, "gradient_ft": H_ft,
+           "altitude_ft": alt_ft, "mach": flight.mach, "airspeed_tas_m_s": flight.airspeed,
            "density_kg_m3": flight.density, "u_ds_eas_m_s": flight.u_ds_eas, "time": t.tolist(),
-           "load_factor": r.load_factor.tolist(),
-           "peak_incremental_load_factor": float(np.max(np.abs(dn))),
-           "peak_up_incremental_load_factor": float(np.max(dn)),
-           "peak_down_incremental_load_factor": float(np.min(dn)),
-           "trim_alpha_rad": r.trim["alpha_trim"], "tail_incidence_rad": r.trim["tail_incidence"],
-           "trim_thrust_n": r.trim["thrust"], "downwash_gradient": r.downwash_gradient,
-           "half_aircraft_mass_kg": aircraft.mass,
-           "monitoring_loads": loads, "monitoring_loads_axes": "body axes (x aft, y right, z up), N and N m; "
-                                                               "the outboard part on the inboard part; "
-                                                               "potato_hull: the convex hull of the "
-                                                               "potato_components pair (N m or N)",
-           "wall_s": _time.perf_counter() - t_wall}
+           **_stick_gust_result(r), "half_aircraft_mass_kg": aircraft.mass,
+           "monitoring_loads_axes": _MONITORING_AXES, "wall_s": _time.perf_counter() - t_wall}
     print(f"peak dn = {res['peak_incremental_load_factor']:.4f}, alpha_trim = {np.degrees(r.trim['alpha_trim']):.3f} "
           f"deg, tail incidence = {np.degrees(r.trim['tail_incidence']):.3f} deg, {res['wall_s']:.1f} s",
           file=sys.stderr)
     write_json(res, args.json)
     if plot_path:
         _stick_plots(res, plot_path[:-len(".png")])
+    return 0
+
+
+def stick_set_envelope(gusts) -> dict:
+    """Envelopes of the monitoring stations over a set of stick gusts.
+
+    Parameters
+    ----------
+    gusts : list of dict
+        One entry per gust: ``name`` and ``monitoring_loads`` (``{label: {"force_n", "moment_n_m":
+        (n_time, 3)}}``, as :func:`_stick_gust_result` writes them).
+
+    Returns
+    -------
+    dict
+        Per station: ``force_max_n``, ``force_min_n``, ``moment_max_n_m``, ``moment_min_n_m`` (3 each,
+        over every instant of every gust), the gusts that give them (``force_max_gust``, ...), and the
+        potato plot of the set (``potato_components``, ``potato_hull``: the convex hull of the pair over
+        every gust, :func:`wingmdao.envelope.monitoring_potatoes` of the gusts' histories joined).
+    """
+    from wingmdao.envelope import monitoring_potatoes
+
+    labels = list(gusts[0]["monitoring_loads"])
+    joined = {lb: {"force": np.vstack([np.asarray(g["monitoring_loads"][lb]["force_n"]) for g in gusts]),
+                   "moment": np.vstack([np.asarray(g["monitoring_loads"][lb]["moment_n_m"]) for g in gusts])}
+              for lb in labels}
+    potatoes = monitoring_potatoes(joined)
+    owner = np.concatenate([np.full(len(g["monitoring_loads"][labels[0]]["force_n"]), k) for k, g in enumerate(gusts)])
+    out = {}
+    for lb in labels:
+        entry = {}
+        for key, unit in (("force", "n"), ("moment", "n_m")):
+            a = joined[lb][key]
+            entry[f"{key}_max_{unit}"] = a.max(axis=0).tolist()
+            entry[f"{key}_min_{unit}"] = a.min(axis=0).tolist()
+            entry[f"{key}_max_gust"] = [gusts[owner[i]]["name"] for i in a.argmax(axis=0)]
+            entry[f"{key}_min_gust"] = [gusts[owner[i]]["name"] for i in a.argmin(axis=0)]
+        entry["potato_components"] = potatoes[lb]["components"]
+        entry["potato_hull"] = potatoes[lb]["hull"].tolist()
+        out[lb] = entry
+    return out
+
+
+def _run_stick_set(args, t, gset, walls, num_nodes, *, t_wall, plot_path):
+    """Every gust of ``--gust-set`` on the PEGASUS stick model, with the monitoring stations' envelopes
+    and potato plots over the set (:func:`stick_set_envelope`)."""
+    from wingmdao.cases import pegasus_stick
+    from wingmdao.loads.atmosphere import speed_of_sound
+
+    aircraft = _stick_aircraft(args, walls, num_nodes)
+    rho0 = float(density(0.0))
+    gusts = []
+    for g in gset.gusts():
+        fp = g.flight_point
+        alt = fp.altitude_m
+        rho, V = float(density(alt)), fp.airspeed_tas()
+        mach = V / float(speed_of_sound(alt))
+        print(f"{g.name}: {g.describe()}", file=sys.stderr)
+        r = pegasus_stick.gust_response(aircraft, t, airspeed=V, density=rho, mach=mach,
+                                        u_ds_tas=g.sign * g.u_ds_eas * np.sqrt(rho0 / rho), gradient=g.gradient_m,
+                                        gust_start=args.gust_start)
+        gusts.append({"name": g.name, "description": g.describe(), "altitude_ft": fp.altitude_ft, "mach": mach,
+                      "airspeed_tas_m_s": V, "density_kg_m3": rho, "gradient_ft": g.gradient_ft, "sign": g.sign,
+                      "u_ds_eas_m_s": g.u_ds_eas, **_stick_gust_result(r)})
+    up = max(gusts, key=lambda x: x["peak_up_incremental_load_factor"])
+    down = min(gusts, key=lambda x: x["peak_down_incremental_load_factor"])
+    res = {"case": args.case, "model": "stick", "aero": "coupled", "plunge": True, "pitch": True,
+           "gust_set": args.gust_set, "design": args.design, "stiffness_scale": args.stiffness_scale,
+           "time": t.tolist(), "half_aircraft_mass_kg": aircraft.mass,
+           "peak_up_incremental_load_factor": up["peak_up_incremental_load_factor"], "peak_up_gust": up["name"],
+           "peak_down_incremental_load_factor": down["peak_down_incremental_load_factor"],
+           "peak_down_gust": down["name"], "gusts": gusts, "monitoring_envelope": stick_set_envelope(gusts),
+           "monitoring_loads_axes": _MONITORING_AXES, "wall_s": _time.perf_counter() - t_wall}
+    print(f"{len(gusts)} gusts: peak dn up {res['peak_up_incremental_load_factor']:.4f} ({up['name']}), down "
+          f"{res['peak_down_incremental_load_factor']:.4f} ({down['name']}), {res['wall_s']:.1f} s", file=sys.stderr)
+    write_json(res, args.json)
+    if plot_path:
+        _stick_set_plots(res, plot_path[:-len(".png")])
     return 0
 
 
@@ -505,6 +634,44 @@ def _stick_plots(res, stem):
     for ax in axes:
         ax.grid(True)
 
+    save_figure(fig, stem + ".png", dpi=100)
+    print(f"wrote {stem}.png", file=sys.stderr)
+
+
+def _pair(v, components):
+    """The potato pair's histories (kN m or kN) of one station's ``force_n``/``moment_n_m``."""
+    return [np.asarray(v["moment_n_m" if c[0] == "M" else "force_n"])[:, "xyz".index(c[-1])] / 1e3 for c in components]
+
+
+def _stick_set_plots(res, stem):
+    plt = optional_pyplot()
+    if plt is None:
+        return
+    t = res["time"]
+    env = res["monitoring_envelope"]
+    fig = plt.figure(figsize=(3 * len(env), 7))
+    grid = fig.add_gridspec(2, len(env))
+    ax0 = fig.add_subplot(grid[0, :])
+    for g in res["gusts"]:
+        ax0.plot(t, g["load_factor"], lw=0.8, label=g["name"])
+    ax0.set_xlabel("time (s)")
+    ax0.set_ylabel("load factor")
+    ax0.legend(fontsize=6, ncol=2)
+    ax0.grid(True)
+    for k, (label, e) in enumerate(env.items()):   # potato plots over the set: every gust's pair and the hull
+        ax = fig.add_subplot(grid[1, k])
+        comps = e["potato_components"]
+        for g in res["gusts"]:
+            pair = _pair(g["monitoring_loads"][label], comps)
+            ax.plot(pair[0], pair[1], lw=0.6)
+        hull = np.asarray(e["potato_hull"]) / 1e3
+        ax.plot(hull[:, 0], hull[:, 1], "k--", lw=0.8)
+        units = ["kN m" if c[0] == "M" else "kN" for c in comps]
+        ax.set_xlabel(f"{comps[0]} ({units[0]})", fontsize=7)
+        ax.set_ylabel(f"{comps[1]} ({units[1]})", fontsize=7)
+        ax.set_title(label, fontsize=7)
+        ax.tick_params(labelsize=6)
+        ax.grid(True)
     save_figure(fig, stem + ".png", dpi=100)
     print(f"wrote {stem}.png", file=sys.stderr)
 
