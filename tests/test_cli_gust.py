@@ -178,6 +178,8 @@ _WALLS = {w: [0.004 + 2e-4 * i for i in range(20)] for w in ("upper_skin", "lowe
      '"rear_spar": [0.01]}}', [], "has 2 stations; the 20-node beam"),
     (json.dumps({"case": "pegasus", "thickness": _WALLS}), ["--stiffness-scale", "0"],
      "--stiffness-scale = 0.0; allowed range [0.001, 1e+06]"),
+    (json.dumps({"case": "pegasus", "thickness": _WALLS}), ["--stiffness-scale", "1e5"],
+     "--stiffness-scale = 100000.0; allowed range [0.1, 100] with --model stick"),
 ])
 def test_gust_stick_design_and_stiffness_scale_errors_before_solve(tmp_path, capsys, monkeypatch, content, extra,
                                                                      match):
@@ -271,3 +273,32 @@ def test_stick_set_envelope_extremes_owners_and_hull():
         for p in pts:
             cross = e[:, 0] * (p[1] - hull[:-1, 1]) - e[:, 1] * (p[0] - hull[:-1, 0])
             assert np.all(cross >= -1e-6 * np.abs(hull).max())
+
+
+@pytest.mark.slow
+def test_gust_stick_gust_set_run(tmp_path):
+    """--gust-set on the stick model: the set's up gust (25 000 ft, M 0.5, U_ref 30 ft/s, H = 350 ft; F_g = 1
+    at Z_mo) is the single-gust command's gust (U_ds from the gust-set module against the command's
+    U_ref (H/350)^(1/6)): the same load factor history; the down gust's increment mirrors the up gust's
+    (small gusts on a trimmed aircraft: linear to a few per cent); the envelope over the set holds
+    each gust's extremes."""
+    f = tmp_path / "set.json"
+    f.write_text(json.dumps(_SET))
+    out, single = tmp_path / "set_out.json", tmp_path / "single.json"
+    common = ["--t-final", "1.0", "--dt", "0.02", "--no-plots"]
+    assert main(["gust", "pegasus", "--model", "stick", "--gust-set", str(f), "--json", str(out), *common]) == 0
+    assert main(["gust", "pegasus", "--model", "stick", "--json", str(single), *common]) == 0
+    res, one = json.loads(out.read_text()), json.loads(single.read_text())
+    up, down = res["gusts"]
+    assert up["sign"] == 1 and down["sign"] == -1 and up["name"].endswith("up")
+    assert up["u_ds_eas_m_s"] == pytest.approx(one["u_ds_eas_m_s"], rel=1e-12)
+    np.testing.assert_allclose(up["load_factor"], one["load_factor"], rtol=1e-9)
+    dn_up = np.asarray(up["load_factor"]) - up["load_factor"][0]
+    dn_down = np.asarray(down["load_factor"]) - down["load_factor"][0]
+    assert np.abs(dn_up + dn_down).max() < 0.05 * np.abs(dn_up).max()
+    assert res["peak_up_gust"] == up["name"] and res["peak_down_gust"] == down["name"]
+    for label, env in res["monitoring_envelope"].items():
+        for key in ("moment_max_n_m", "force_max_n"):
+            both = np.maximum(up["monitoring_loads"][label][key], down["monitoring_loads"][label][key])
+            np.testing.assert_allclose(env[key], both, rtol=0, atol=0)
+        assert env["moment_min_gust"][0] in (up["name"], down["name"])

@@ -62,6 +62,12 @@ CASES = ("pegasus", "crm")
 MODELS = ("wing", "stick")
 #: --stiffness-scale range (a rigid wing is approached well before 1e6)
 STIFFNESS_SCALE = (1e-3, 1e6)
+#: --stiffness-scale range of --model stick (beyond it the trim's static solve or the march of the whole
+#: aircraft fails: a very flexible wing does not trim, a very stiff aircraft's Newton matrix turns singular)
+STICK_STIFFNESS_SCALE = (0.1, 100.0)
+#: absolute residual tolerance of the stick model's trim (static) solve: a stiffened aircraft's
+#: residual stalls at round-off before the Newton step is small
+STICK_STATIC_ATOL = 1e-9
 #: --u-ref-fps upper bound (ft/s EAS)
 MAX_U_REF_FPS = 200.0
 #: default number of jig beam modes of --aero-theory dlm
@@ -162,6 +168,10 @@ def run(args):
     if not (np.isfinite(args.stiffness_scale) and STIFFNESS_SCALE[0] <= args.stiffness_scale <= STIFFNESS_SCALE[1]):
         raise ValueError(f"--stiffness-scale = {args.stiffness_scale}; allowed range [{STIFFNESS_SCALE[0]:g}, "
                          f"{STIFFNESS_SCALE[1]:g}] (beyond it the beam's Newton solve loses its digits)")
+    lo, hi = STICK_STIFFNESS_SCALE
+    if args.model == "stick" and not lo <= args.stiffness_scale <= hi:
+        raise ValueError(f"--stiffness-scale = {args.stiffness_scale}; allowed range [{lo:g}, {hi:g}] with --model "
+                         "stick (beyond it the whole aircraft's trim or march does not converge)")
     alt_ft = gust["altitude_ft"] if args.altitude_ft is None else args.altitude_ft
     if not 0.0 <= alt_ft <= 60000.0:
         raise ValueError(f"--altitude-ft = {alt_ft} ft; allowed range [0, 60000] ft (the 25.341 table)")
@@ -487,7 +497,8 @@ def _run_stick(args, t, flight, walls, num_nodes, *, H_ft, alt_ft, t_wall, plot_
 
     aircraft = _stick_aircraft(args, walls, num_nodes)
     r = pegasus_stick.gust_response(aircraft, t, airspeed=flight.airspeed, density=flight.density, mach=flight.mach,
-                                    u_ds_tas=flight.u_ds_tas, gradient=flight.gradient, gust_start=flight.gust_start)
+                                    u_ds_tas=flight.u_ds_tas, gradient=flight.gradient, gust_start=flight.gust_start,
+                                    static_options={"atol": STICK_STATIC_ATOL})
     res = {"case": args.case, "model": "stick", "aero": "coupled", "plunge": True, "pitch": True,
            "design": args.design, "stiffness_scale": args.stiffness_scale, "gradient_ft": H_ft,
            "altitude_ft": alt_ft, "mach": flight.mach, "airspeed_tas_m_s": flight.airspeed,
@@ -560,7 +571,7 @@ def _run_stick_set(args, t, gset, walls, num_nodes, *, t_wall, plot_path):
         print(f"{g.name}: {g.describe()}", file=sys.stderr)
         r = pegasus_stick.gust_response(aircraft, t, airspeed=V, density=rho, mach=mach,
                                         u_ds_tas=g.sign * g.u_ds_eas * np.sqrt(rho0 / rho), gradient=g.gradient_m,
-                                        gust_start=args.gust_start)
+                                        gust_start=args.gust_start, static_options={"atol": STICK_STATIC_ATOL})
         gusts.append({"name": g.name, "description": g.describe(), "altitude_ft": fp.altitude_ft, "mach": mach,
                       "airspeed_tas_m_s": V, "density_kg_m3": rho, "gradient_ft": g.gradient_ft, "sign": g.sign,
                       "u_ds_eas_m_s": g.u_ds_eas, **_stick_gust_result(r)})
