@@ -92,7 +92,8 @@ def register(subparsers):
                    help="gust gradient H (ft, 30-350; default: the case's, as on 'size')")
     add_deprecated_alias(p, "--gradient-ft", "--gust-gradient-ft", dest="gradient_ft", type=float, metavar="FT")
     p.add_argument("--stiffness-scale", type=float, default=1.0, metavar="S",
-                   help="multiply all section stiffnesses by S (> 0; large S approaches a rigid wing; --model stick: every beam's, the rigid aircraft)")
+                   help="multiply all section stiffnesses by S (> 0; large S approaches a rigid wing; --model stick: "
+                        "every beam's, S in [0.1, 100])")
     p.add_argument("--design", metavar="RESULT.json", default=None,
                    help="thicknesses from a sizing result (its 'thickness' per station); default: the initial design")
     p.add_argument("--altitude-ft", type=float, default=None, metavar="FT",
@@ -236,8 +237,9 @@ def run(args):
     u_eas = u_ref * FT * (H_ft / 350.0) ** (1.0 / 6.0)
     u_tas = u_eas * np.sqrt(rho0 / rho)
     t = np.arange(0.0, t_final + 0.5 * args.dt, args.dt)
-    print(f"wingmdao gust {args.case}: {n} nodes, {t.size} steps, V = {V:.1f} m/s TAS, rho = {rho:.4f} kg/m^3, "
-          f"U_ds = {u_eas:.2f} m/s EAS, H = {H_ft:g} ft, --aero {args.aero}, "
+    point = (f"--gust-set {args.gust_set} ({len(gust_set.gusts())} gusts)" if gust_set is not None else
+             f"V = {V:.1f} m/s TAS, rho = {rho:.4f} kg/m^3, U_ds = {u_eas:.2f} m/s EAS, H = {H_ft:g} ft")
+    print(f"wingmdao gust {args.case}: {n} nodes, {t.size} steps, {point}, --aero {args.aero}, "
           f"{'free plunge' if args.plunge else 'clamped'}{' + free pitch' if args.pitch else ''}", file=sys.stderr)
     flight = GustFlight(airspeed=V, density=rho, mach=mach, altitude=alt, gradient=H, u_ds_eas=u_eas, u_ds_tas=u_tas,
                         weight=weight, gust_start=args.gust_start)
