@@ -55,7 +55,9 @@ from wingmdao.aero.pitch import pitch_parameters
 from wingmdao.aero.plunge import body_mass as plunge_body_mass, half_wing_mass
 from wingmdao.cases import available_cases, case_beam_parameters, check_step_count
 from wingmdao.cases.planform import FT, G0, LB, wing_geometry
-from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
+from wingmdao.cases import pegasus
+from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas, speed_of_sound
+from wingmdao.loads.gust_set import read_gust_set
 
 CASES = ("pegasus", "crm")
 #: --model: the lone wing or the stick model of the whole aircraft (pegasus)
@@ -435,10 +437,6 @@ def _read_stick_gust_set(args):
                             ("--mach", args.mach), ("--u-ref-fps", args.u_ref_fps)) if v is not None]
     if given:
         raise ValueError(f"--gust-set {args.gust_set} gives the flight points, gradients and U_ref; drop {given[0]}")
-    from wingmdao.cases import pegasus
-    from wingmdao.loads.atmosphere import speed_of_sound
-    from wingmdao.loads.gust_set import read_gust_set
-
     gset = read_gust_set(args.gust_set, defaults=pegasus.GUST_SET_DEFAULTS)
     for i, fp in enumerate(gset.flight_points):
         mach = fp.airspeed_tas() / float(speed_of_sound(fp.altitude_m))
@@ -560,7 +558,6 @@ def _run_stick_set(args, t, gset, walls, num_nodes, *, t_wall, plot_path):
     """Every gust of ``--gust-set`` on the PEGASUS stick model, with the monitoring stations' envelopes
     and potato plots over the set (:func:`stick_set_envelope`)."""
     from wingmdao.cases import pegasus_stick
-    from wingmdao.loads.atmosphere import speed_of_sound
 
     aircraft = _stick_aircraft(args, walls, num_nodes)
     rho0 = float(density(0.0))
