@@ -156,3 +156,43 @@ def test_stick_scenario_totals(scenario, wrt, step):
         nontrivial = np.abs(F) > 1e-3 * scale
         assert np.all(np.abs(J - F)[nontrivial] <= 1e-4 * np.abs(F)[nontrivial]), key
         assert np.abs(J - F).max() <= 1e-5 * scale, key
+
+
+@pytest.fixture(scope="module")
+def coupled_stick():
+    pytest.importorskip("openaerostruct")
+    from wingmdao.mphys.scenario import stick_aerostructural_problem
+
+    prob = stick_aerostructural_problem(num_wing_nodes=8, iprint=-1)
+    prob.run_model()
+    return prob
+
+
+def test_stick_aerostructural_scenario_balances(coupled_stick):
+    """OpenAeroStruct's VLM on the PEGASUS wing coupled with the stick model: NLBGS converges, the beam
+    takes the lattice's force (mirror image), and the whole aircraft accelerates as Newton's second
+    law gives from the transferred lift and the model's mass and CG."""
+    aircraft = pegasus_stick.build(8)
+    assert coupled_stick.model.cruise.coupling.nonlinear_solver._iter_count < 25
+    fs = coupled_stick.get_val("cruise.f_aero_struct").reshape(-1, 6)
+    fa = coupled_stick.get_val("cruise.f_aero").reshape(-1, 3)
+    assert fs[:, :3].sum(axis=0) == pytest.approx(fa.sum(axis=0) * [1, -1, 1], rel=1e-12)
+    az = float(coupled_stick.get_val("cruise.frame_az")[0])
+    alpha = float(coupled_stick.get_val("cruise.frame_alpha_y")[0])
+    a_cg = np.array([0.0, 0.0, az]) + np.cross([0.0, alpha, 0.0], aircraft.cg)
+    assert a_cg[2] == pytest.approx(fs[:, 2].sum() / aircraft.mass - G0, rel=1e-4)
+    u = coupled_stick.get_val("cruise.u_struct").reshape(-1, 6)
+    assert u[-1, 2] > 0.05                                       # the wing bends up under lift
+    ua = coupled_stick.get_val("cruise.u_aero").reshape(2, -1, 3)
+    assert ua[:, 0, 2] == pytest.approx(u[-1, 2], rel=0.05)     # OAS tip (index 0) follows the beam tip
+
+
+def test_stick_aerostructural_totals(coupled_stick):
+    data = coupled_stick.check_totals(of=["cruise.ks_vm", "cruise.frame_az", "cruise.wing.CL"],
+                                      wrt=["dv_struct", "aoa"], method="fd", form="central", step=1e-6,
+                                      out_stream=None)
+    for key, v in data.items():
+        J, F = v["J_rev"] if "J_rev" in v else v["J_fwd"], v["J_fd"]
+        scale = np.abs(F).max()
+        nontrivial = np.abs(F) > 1e-3 * scale
+        assert scale > 0.0 and np.all(np.abs(J - F)[nontrivial] <= 1e-4 * np.abs(F)[nontrivial]), key
