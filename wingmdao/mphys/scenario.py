@@ -51,10 +51,19 @@ def aerostructural_problem(surface=None, width=0.4, height=0.12, thickness=0.003
 
 
 def stick_wing_surface(aircraft):
-    """OpenAeroStruct surface dict (aerodynamics only) of the wing of a stick ``aircraft``
-    (:class:`~wingmdao.cases.pegasus_stick.StickAircraft`): a symmetric left half-wing, one chordwise
-    panel, its spanwise stations the wing's beam nodes (tip first, y mirrored), leading edge
-    ``axis_fraction * chord`` ahead of the beam axis."""
+    """OpenAeroStruct surface dict (aerodynamics only) of the wing of a stick aircraft.
+
+    Parameters
+    ----------
+    aircraft : wingmdao.cases.pegasus_stick.StickAircraft
+        The stick model: its wing's nodes (body axes, root first), chords and beam-axis fractions.
+
+    Returns
+    -------
+    dict
+        A symmetric left half-wing, one chordwise panel, its spanwise stations the wing's beam nodes
+        (tip first, y mirrored), leading edge ``axis_fraction * chord`` ahead of the beam axis.
+    """
     r = np.asarray(aircraft.nodes["wing"], dtype=float)
     c, f = np.asarray(aircraft.wing_chord, dtype=float), np.asarray(aircraft.wing_axis_fraction, dtype=float)
     le = r.copy()
@@ -69,11 +78,29 @@ def stick_wing_surface(aircraft):
 
 
 def stick_aerostructural_problem(num_wing_nodes=8, flow=None, aoa_deg=3.0, iprint=2):
-    """The coupled VLM + stick model problem of the PEGASUS half aircraft (set up, not run): the
-    vortex lattice on its wing (:func:`stick_wing_surface`), the whole aircraft in inertia relief
-    (:func:`wingmdao.mphys.stick.pegasus_stick_builder`), the rigid-link transfer. ``flow`` as
-    :func:`aerostructural_problem` (default 25 000 ft, M 0.5: v 154.8 m/s, rho 0.5489 kg/m^3).
-    Outputs also ``cruise.frame_az`` (m/s^2) and ``cruise.frame_alpha_y`` (rad/s^2)."""
+    """The coupled VLM + stick model problem of the PEGASUS half aircraft (set up, not run).
+
+    The vortex lattice on its wing (:func:`stick_wing_surface`), the whole aircraft in inertia relief
+    (:func:`wingmdao.mphys.stick.pegasus_stick_builder`), the rigid-link transfer.
+
+    Parameters
+    ----------
+    num_wing_nodes : int, optional
+        Wing nodes of the stick model (and spanwise stations of the lattice).
+    flow : dict, optional
+        ``v`` (m/s), ``rho`` (kg/m^3), ``mach_number``, ``reynolds_number`` (1/m); default 25 000 ft,
+        M 0.5: v 154.8 m/s, rho 0.5489 kg/m^3.
+    aoa_deg : float, optional
+        Angle of attack (deg).
+    iprint : int, optional
+        Print level of the coupling solvers.
+
+    Returns
+    -------
+    openmdao.api.Problem
+        Set up in reverse mode; outputs as :func:`aerostructural_problem` plus ``cruise.frame_ax``,
+        ``cruise.frame_az`` (m/s^2) and ``cruise.frame_alpha_y`` (rad/s^2).
+    """
     surface = stick_wing_surface(pegasus_stick.build(num_wing_nodes))
     flow = {"v": 154.8, "rho": 0.5489, "mach_number": 0.5, "reynolds_number": 1e6, **(flow or {})}
     return _problem(surface, lambda: pegasus_stick_builder(num_wing_nodes), flow, aoa_deg, iprint)
