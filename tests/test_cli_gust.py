@@ -149,3 +149,156 @@ def test_gust_pegasus_stick_model_json(tmp_path):
     hull = np.asarray(loads["wing root"]["potato_hull"])
     np.testing.assert_array_equal(hull[0], hull[-1])
     assert hull[:, 0].max() == pytest.approx(loads["wing root"]["moment_max_n_m"][0], rel=1e-12)
+
+
+def test_stick_stiffness_scale_scales_the_elastic_frequencies_by_its_square_root():
+    """Every beam's stiffness times S, masses unchanged: each elastic frequency of the free half aircraft
+    (a linear pencil K - omega^2 M about the unloaded jig, rigid joints and symmetry rows unscaled)
+    times sqrt(S) exactly."""
+    from wingmdao.cases import pegasus_stick
+    from wingmdao.cli.gust import scale_stick_stiffness
+
+    aircraft = pegasus_stick.build(6)
+    before = pegasus_stick.natural_frequencies(aircraft, count=4)
+    scale_stick_stiffness(aircraft, 4.0)
+    after = pegasus_stick.natural_frequencies(aircraft, count=4)
+    assert after["rigid"] == before["rigid"] == 3
+    np.testing.assert_allclose(after["hz"] / before["hz"], 2.0, rtol=1e-6)
+
+
+_WALLS = {w: [0.004 + 2e-4 * i for i in range(20)] for w in ("upper_skin", "lower_skin", "front_spar", "rear_spar")}
+
+
+@pytest.mark.parametrize("content, extra, match", [
+    ("not json", [], "not a JSON file"),
+    ('{"mass_kg": 1}', [], "not a box sizing result"),
+    ('{"case": "crm", "thickness": {"upper_skin": [0.01], "lower_skin": [0.01], "front_spar": [0.01], '
+     '"rear_spar": [0.01]}}', [], "case 'crm'"),
+    ('{"thickness": {"upper_skin": [0.01, 0.01], "lower_skin": [0.01], "front_spar": [0.01], '
+     '"rear_spar": [0.01]}}', [], "has 2 stations; the 20-node beam"),
+    (json.dumps({"case": "pegasus", "thickness": _WALLS}), ["--stiffness-scale", "0"],
+     "--stiffness-scale = 0.0; allowed range [0.001, 1e+06]"),
+    (json.dumps({"case": "pegasus", "thickness": _WALLS}), ["--stiffness-scale", "1e5"],
+     "--stiffness-scale = 100000.0; allowed range [0.1, 100] with --model stick"),
+])
+def test_gust_stick_design_and_stiffness_scale_errors_before_solve(tmp_path, capsys, monkeypatch, content, extra,
+                                                                     match):
+    from wingmdao.cases import pegasus_stick
+
+    monkeypatch.setattr(pegasus_stick, "build", lambda *a, **k: pytest.fail("stick model built"))
+    f = tmp_path / "r.json"
+    f.write_text(content)
+    assert main(["gust", "pegasus", "--model", "stick", "--design", str(f), *extra, "--no-plots"]) == 2
+    assert match in capsys.readouterr().err
+
+
+def test_gust_stick_design_and_stiffness_scale_reach_the_model(tmp_path, monkeypatch):
+    """--design: the stick model's wing has the sizing result's walls (its section stiffness that of
+    those walls, not the initial ones); --stiffness-scale multiplies every beam's stiffness (no march)."""
+    from wingmdao.cases import pegasus_stick
+
+    seen = {}
+
+    def fake(aircraft, *a, **k):
+        seen["aircraft"] = aircraft
+        raise SystemExit(0)
+
+    monkeypatch.setattr(pegasus_stick, "gust_response", fake)
+    f = tmp_path / "r.json"
+    f.write_text(json.dumps({"case": "pegasus", "thickness": _WALLS, "mass_kg": 300.0}))
+    with pytest.raises(SystemExit):
+        main(["gust", "pegasus", "--model", "stick", "--design", str(f), "--stiffness-scale", "3", "--no-plots"])
+    got = seen["aircraft"].model.params
+    designed = pegasus_stick.build(20, thickness=_WALLS).model.params
+    initial = pegasus_stick.build(20).model.params
+    for beam in ("wing", "fuselage", "fin", "tail"):
+        np.testing.assert_allclose(got[beam]["stiffness_csn"], 3.0 * np.asarray(designed[beam]["stiffness_csn"]),
+                                   rtol=1e-12)
+        np.testing.assert_allclose(got[beam]["compliance_csn"], np.asarray(designed[beam]["compliance_csn"]) / 3.0,
+                                   rtol=1e-12)
+    assert not np.allclose(designed["wing"]["stiffness_csn"], initial["wing"]["stiffness_csn"], rtol=1e-3)
+
+
+_SET = {"flight_points": [{"altitude_ft": 25000, "mach": 0.5, "u_ref_fps": 30}], "gradients_ft": [350],
+        "signs": "both"}
+
+
+@pytest.mark.parametrize("argv, content, match", [
+    (["--model", "wing"], _SET, "--gust-set {f}: applies to --model stick"),
+    (["--model", "stick", "--gust-gradient-ft", "100"], _SET,
+     "--gust-set {f} gives the flight points, gradients and U_ref; drop --gust-gradient-ft"),
+    (["--model", "stick", "--mach", "0.4"], _SET, "drop --mach"),
+    (["--model", "stick"], None, "--gust-set '{f}' does not exist"),
+    (["--model", "stick"], {**_SET, "flight_points": [{"altitude_ft": 25000, "mach": 0.5, "weight_lb": 30000}]},
+     "has weight_lb = 30000; the stick model weighs the TOGW"),
+    (["--model", "stick"], {**_SET, "flight_points": [{"altitude_ft": 25000, "v_tas_m_s": 400.0}]},
+     "flight point 0 has Mach 1.29; allowed range (0, 1)"),
+    (["--model", "stick"], {**_SET, "gradients_ft": [20]}, "gradient"),
+])
+def test_gust_stick_gust_set_errors_before_solve(tmp_path, capsys, monkeypatch, argv, content, match):
+    from wingmdao.cases import pegasus_stick
+
+    monkeypatch.setattr(pegasus_stick, "build", lambda *a, **k: pytest.fail("stick model built"))
+    f = tmp_path / "set.json"
+    if content is not None:
+        f.write_text(json.dumps(content))
+    assert main(["gust", "pegasus", *argv, "--gust-set", str(f), "--no-plots"]) == 2
+    assert match.format(f=f) in capsys.readouterr().err
+
+
+def test_stick_set_envelope_extremes_owners_and_hull():
+    """The set's envelope is the extreme over every instant of every gust, named by the gust that gives
+    it; its potato hull holds every gust's correlated pairs."""
+    from wingmdao.cli.gust import stick_set_envelope
+    from wingmdao.envelope import monitoring_potatoes
+
+    rng = np.random.default_rng(7)
+    gusts = [{"name": f"g{k}", "monitoring_loads": {"root": {"force_n": rng.normal(size=(30, 3)) * 1e3,
+                                                             "moment_n_m": rng.normal(size=(30, 3)) * [5e4, 1e4, 1e2]}}}
+             for k in range(3)]
+    gusts[1]["monitoring_loads"]["root"]["moment_n_m"][7, 0] = 9e5      # the largest bending: gust g1
+    gusts[2]["monitoring_loads"]["root"]["force_n"][3, 2] = -8e3        # the lowest F_z: gust g2
+    env = stick_set_envelope(gusts)["root"]
+    assert env["moment_max_n_m"][0] == 9e5 and env["moment_max_gust"][0] == "g1"
+    assert env["force_min_n"][2] == -8e3 and env["force_min_gust"][2] == "g2"
+    for key, fn, comp in (("moment_min_n_m", np.min, "moment_n_m"), ("force_max_n", np.max, "force_n")):
+        np.testing.assert_array_equal(env[key], fn(np.vstack([g["monitoring_loads"]["root"][comp] for g in gusts]),
+                                                   axis=0))
+    assert env["potato_components"] == ["M_x", "M_y"]
+    hull = np.asarray(env["potato_hull"])
+    for g in gusts:        # every point inside the closed counter-clockwise hull (cross products >= 0)
+        pts = monitoring_potatoes({"r": {"moment": g["monitoring_loads"]["root"]["moment_n_m"],
+                                         "force": g["monitoring_loads"]["root"]["force_n"]}})["r"]["values"]
+        e = np.diff(hull, axis=0)
+        for p in pts:
+            cross = e[:, 0] * (p[1] - hull[:-1, 1]) - e[:, 1] * (p[0] - hull[:-1, 0])
+            assert np.all(cross >= -1e-6 * np.abs(hull).max())
+
+
+@pytest.mark.slow
+def test_gust_stick_gust_set_run(tmp_path):
+    """--gust-set on the stick model: the set's up gust (25 000 ft, M 0.5, U_ref 30 ft/s, H = 350 ft; F_g = 1
+    at Z_mo) is the single-gust command's gust (U_ds from the gust-set module against the command's
+    U_ref (H/350)^(1/6)): the same load factor history; the down gust's increment mirrors the up gust's
+    (small gusts on a trimmed aircraft: linear to a few per cent); the envelope over the set holds
+    each gust's extremes."""
+    f = tmp_path / "set.json"
+    f.write_text(json.dumps(_SET))
+    out, single = tmp_path / "set_out.json", tmp_path / "single.json"
+    common = ["--t-final", "1.0", "--dt", "0.02", "--no-plots"]
+    assert main(["gust", "pegasus", "--model", "stick", "--gust-set", str(f), "--json", str(out), *common]) == 0
+    assert main(["gust", "pegasus", "--model", "stick", "--json", str(single), *common]) == 0
+    res, one = json.loads(out.read_text()), json.loads(single.read_text())
+    up, down = res["gusts"]
+    assert up["sign"] == 1 and down["sign"] == -1 and up["name"].endswith("up")
+    assert up["u_ds_eas_m_s"] == pytest.approx(one["u_ds_eas_m_s"], rel=1e-12)
+    np.testing.assert_allclose(up["load_factor"], one["load_factor"], rtol=1e-9)
+    dn_up = np.asarray(up["load_factor"]) - up["load_factor"][0]
+    dn_down = np.asarray(down["load_factor"]) - down["load_factor"][0]
+    assert np.abs(dn_up + dn_down).max() < 0.05 * np.abs(dn_up).max()
+    assert res["peak_up_gust"] == up["name"] and res["peak_down_gust"] == down["name"]
+    for label, env in res["monitoring_envelope"].items():
+        for key in ("moment_max_n_m", "force_max_n"):
+            both = np.maximum(up["monitoring_loads"][label][key], down["monitoring_loads"][label][key])
+            np.testing.assert_allclose(env[key], both, rtol=0, atol=0)
+        assert env["moment_min_gust"][0] in (up["name"], down["name"])

@@ -31,7 +31,8 @@ without and with the law (:func:`~wingmdao.aero.gust_response.alleviation_summar
 (:func:`wingmdao.cases.pegasus_stick.gust_response`; docs/stick-model.md); the JSON holds time,
 load_factor, the peak increments, trim_alpha_rad, tail_incidence_rad, trim_thrust_n,
 downwash_gradient and ``monitoring_loads`` (per station: force and moment histories, body axes,
-with their maxima and minima).
+with their maxima and minima). ``--design`` gives the stick model's wing the walls of a sizing
+result; ``--stiffness-scale`` multiplies every beam's section stiffness.
 """
 
 from __future__ import annotations
@@ -54,13 +55,21 @@ from wingmdao.aero.pitch import pitch_parameters
 from wingmdao.aero.plunge import body_mass as plunge_body_mass, half_wing_mass
 from wingmdao.cases import available_cases, case_beam_parameters, check_step_count
 from wingmdao.cases.planform import FT, G0, LB, wing_geometry
-from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
+from wingmdao.cases import pegasus
+from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas, speed_of_sound
+from wingmdao.loads.gust_set import read_gust_set
 
 CASES = ("pegasus", "crm")
 #: --model: the lone wing or the stick model of the whole aircraft (pegasus)
 MODELS = ("wing", "stick")
 #: --stiffness-scale range (a rigid wing is approached well before 1e6)
 STIFFNESS_SCALE = (1e-3, 1e6)
+#: --stiffness-scale range of --model stick (beyond it the trim's static solve or the march of the whole
+#: aircraft fails: a very flexible wing does not trim, a very stiff aircraft's Newton matrix turns singular)
+STICK_STIFFNESS_SCALE = (0.1, 100.0)
+#: absolute residual tolerance of the stick model's trim (static) solve: a stiffened aircraft's
+#: residual stalls at round-off before the Newton step is small
+STICK_STATIC_ATOL = 1e-9
 #: --u-ref-fps upper bound (ft/s EAS)
 MAX_U_REF_FPS = 200.0
 #: default number of jig beam modes of --aero-theory dlm
@@ -85,7 +94,8 @@ def register(subparsers):
                    help="gust gradient H (ft, 30-350; default: the case's, as on 'size')")
     add_deprecated_alias(p, "--gradient-ft", "--gust-gradient-ft", dest="gradient_ft", type=float, metavar="FT")
     p.add_argument("--stiffness-scale", type=float, default=1.0, metavar="S",
-                   help="multiply all section stiffnesses by S (> 0; large S approaches a rigid wing)")
+                   help="multiply all section stiffnesses by S (> 0; large S approaches a rigid wing; --model stick: "
+                        "every beam's, S in [0.1, 100])")
     p.add_argument("--design", metavar="RESULT.json", default=None,
                    help="thicknesses from a sizing result (its 'thickness' per station); default: the initial design")
     p.add_argument("--altitude-ft", type=float, default=None, metavar="FT",
@@ -107,6 +117,10 @@ def register(subparsers):
                         "half aircraft's stick model, wing, fuselage, fin and horizontal tail with strip aerodynamics "
                         "on wing and tail, trimmed in angle of attack and tail incidence; docs/stick-model.md; the JSON "
                         "adds the monitoring stations' loads) (default: %(default)s)")
+    p.add_argument("--gust-set", metavar="FILE", default=None,
+                   help="--model stick: a 25.341(a) gust set (.json or .yaml: flight points x gradients x signs, as "
+                        "'wingmdao size pegasus --gust-set'; docs/gust-envelope.md): every gust marched, the "
+                        "monitoring stations' envelopes and potato plots over the set")
     p.add_argument("--alleviation", metavar="FILE.yaml", default=None,
                    help="control surfaces, actuators and a feedback law in the march (docs/controls.md; needs --aero "
                         "coupled); the result adds the surface histories and the peak root bending without and with it")
@@ -141,6 +155,7 @@ def run(args):
     args.plunge = plunge == "free"
     args.pitch = args.pitch == "free"
     _check_stick_args(args)
+    gust_set = _read_stick_gust_set(args)
     _check_pitch_args(args)
     module = available_cases()[args.case]
     swept = getattr(module, "COUPLED_THEORIES", None)  # a swept case: only the lattice follows its sweep
@@ -156,6 +171,10 @@ def run(args):
     if not (np.isfinite(args.stiffness_scale) and STIFFNESS_SCALE[0] <= args.stiffness_scale <= STIFFNESS_SCALE[1]):
         raise ValueError(f"--stiffness-scale = {args.stiffness_scale}; allowed range [{STIFFNESS_SCALE[0]:g}, "
                          f"{STIFFNESS_SCALE[1]:g}] (beyond it the beam's Newton solve loses its digits)")
+    lo, hi = STICK_STIFFNESS_SCALE
+    if args.model == "stick" and not lo <= args.stiffness_scale <= hi:
+        raise ValueError(f"--stiffness-scale = {args.stiffness_scale}; allowed range [{lo:g}, {hi:g}] with --model "
+                         "stick (beyond it the whole aircraft's trim or march does not converge)")
     alt_ft = gust["altitude_ft"] if args.altitude_ft is None else args.altitude_ft
     if not 0.0 <= alt_ft <= 60000.0:
         raise ValueError(f"--altitude-ft = {alt_ft} ft; allowed range [0, 60000] ft (the 25.341 table)")
@@ -220,14 +239,17 @@ def run(args):
     u_eas = u_ref * FT * (H_ft / 350.0) ** (1.0 / 6.0)
     u_tas = u_eas * np.sqrt(rho0 / rho)
     t = np.arange(0.0, t_final + 0.5 * args.dt, args.dt)
-    print(f"wingmdao gust {args.case}: {n} nodes, {t.size} steps, V = {V:.1f} m/s TAS, rho = {rho:.4f} kg/m^3, "
-          f"U_ds = {u_eas:.2f} m/s EAS, H = {H_ft:g} ft, --aero {args.aero}, "
+    point = (f"--gust-set {args.gust_set} ({len(gust_set.gusts())} gusts)" if gust_set is not None else
+             f"V = {V:.1f} m/s TAS, rho = {rho:.4f} kg/m^3, U_ds = {u_eas:.2f} m/s EAS, H = {H_ft:g} ft")
+    print(f"wingmdao gust {args.case}: {n} nodes, {t.size} steps, {point}, --aero {args.aero}, "
           f"{'free plunge' if args.plunge else 'clamped'}{' + free pitch' if args.pitch else ''}", file=sys.stderr)
     flight = GustFlight(airspeed=V, density=rho, mach=mach, altitude=alt, gradient=H, u_ds_eas=u_eas, u_ds_tas=u_tas,
                         weight=weight, gust_start=args.gust_start)
     wing_area = pf.area_ft2 * FT ** 2
     if args.model == "stick":
-        return _run_stick(args, t, flight, H_ft=H_ft, alt_ft=alt_ft, t_wall=t_wall, plot_path=plot_path)
+        if gust_set is not None:
+            return _run_stick_set(args, t, gust_set, walls, n, t_wall=t_wall, plot_path=plot_path)
+        return _run_stick(args, t, flight, walls, n, H_ft=H_ft, alt_ft=alt_ft, t_wall=t_wall, plot_path=plot_path)
     pitch_out, alleviation = {}, {}
     if args.aero_theory == "dlm":
         resp = dlm_gust_response(t, bp, chord, axis_frac, flight, area=wing_area, n_modes=args.modes)
@@ -395,27 +417,56 @@ def _check_stick_args(args):
     refused = [(args.aero != "coupled", f"--aero {args.aero}"), (not args.plunge, "--clamped"),
                (args.pitch, "--pitch free (the stick model is free in pitch through its structure)"),
                (args.alleviation is not None, "--alleviation"),
-               (args.aero_theory != "strip", f"--aero-theory {args.aero_theory}"),
-               (args.stiffness_scale != 1.0, f"--stiffness-scale {args.stiffness_scale}"),
-               (args.design is not None, f"--design {args.design}")]
+               (args.aero_theory != "strip", f"--aero-theory {args.aero_theory}")]
     for bad, flag in refused:
         if bad:
             raise ValueError(f"--model stick does not take {flag}; allowed: --aero coupled, free plunge, strip "
-                             "aerodynamics, the initial design")
+                             "aerodynamics")
 
 
-def _run_stick(args, t, flight, *, H_ft, alt_ft, t_wall, plot_path):
-    """The gust on the PEGASUS stick model (:func:`wingmdao.cases.pegasus_stick.gust_response`)."""
+def _read_stick_gust_set(args):
+    """``--gust-set FILE`` of ``--model stick`` (None without it), read and checked before any solve: the
+    lone wing's gust flags it replaces are refused, every flight point's Mach number is in (0, 1) and its
+    weight the stick model's (half the TOGW)."""
+    if args.gust_set is None:
+        return None
+    if args.model != "stick":
+        raise ValueError(f"--gust-set {args.gust_set}: applies to --model stick (the lone wing's gust sets are "
+                         "sized by 'wingmdao size CASE --gust-set FILE')")
+    given = [f for f, v in (("--gust-gradient-ft", args.gradient_ft), ("--altitude-ft", args.altitude_ft),
+                            ("--mach", args.mach), ("--u-ref-fps", args.u_ref_fps)) if v is not None]
+    if given:
+        raise ValueError(f"--gust-set {args.gust_set} gives the flight points, gradients and U_ref; drop {given[0]}")
+    gset = read_gust_set(args.gust_set, defaults=pegasus.GUST_SET_DEFAULTS)
+    for i, fp in enumerate(gset.flight_points):
+        mach = fp.airspeed_tas() / float(speed_of_sound(fp.altitude_m))
+        if not 0.0 < mach < 1.0:
+            raise ValueError(f"--gust-set {args.gust_set}: flight point {fp.name or i} has Mach {mach:.3g}; allowed "
+                             "range (0, 1)")
+        if fp.weight_lb is not None and not np.isclose(fp.weight_lb, pegasus.TOGW_LB, rtol=1e-9):
+            raise ValueError(f"--gust-set {args.gust_set}: flight point {fp.name or i} has weight_lb = "
+                             f"{fp.weight_lb:g}; the stick model weighs the TOGW, {pegasus.TOGW_LB:g} lb (drop weight_lb)")
+    return gset
+
+
+def _stick_aircraft(args, walls, num_nodes):
+    """The PEGASUS stick model of ``--design`` walls (None: the initial ones) and ``--stiffness-scale``."""
     from wingmdao.cases import pegasus_stick
 
-    aircraft = pegasus_stick.build()
+    aircraft = pegasus_stick.build(num_nodes, thickness=walls)
+    if args.stiffness_scale != 1.0:
+        scale_stick_stiffness(aircraft, args.stiffness_scale)
     print(f"stick model: {aircraft.model.system.n_state} structural unknowns, half aircraft {aircraft.mass:.0f} kg",
           file=sys.stderr)
-    r = pegasus_stick.gust_response(aircraft, t, airspeed=flight.airspeed, density=flight.density, mach=flight.mach,
-                                    u_ds_tas=flight.u_ds_tas, gradient=flight.gradient, gust_start=flight.gust_start)
-    dn = r.load_factor - r.load_factor[0]
+    return aircraft
+
+
+def _stick_gust_result(r) -> dict:
+    """The JSON keys of one stick gust response ``r`` (:class:`~wingmdao.cases.pegasus_stick.StickGust`):
+    load factor and its peaks, trim, and the monitoring stations' histories, extremes and potato plots."""
     from wingmdao.envelope import monitoring_potatoes
 
+    dn = r.load_factor - r.load_factor[0]
     potatoes = monitoring_potatoes(r.loads)
     loads = {}
     for label, v in r.loads.items():
@@ -425,21 +476,35 @@ def _run_stick(args, t, flight, *, H_ft, alt_ft, t_wall, plot_path):
                         "force_max_n": f.max(axis=0).tolist(), "force_min_n": f.min(axis=0).tolist(),
                         "moment_max_n_m": m.max(axis=0).tolist(), "moment_min_n_m": m.min(axis=0).tolist(),
                         "potato_components": pot["components"], "potato_hull": pot["hull"].tolist()}
+    return {"load_factor": r.load_factor.tolist(),
+            "peak_incremental_load_factor": float(np.max(np.abs(dn))),
+            "peak_up_incremental_load_factor": float(np.max(dn)),
+            "peak_down_incremental_load_factor": float(np.min(dn)),
+            "trim_alpha_rad": r.trim["alpha_trim"], "tail_incidence_rad": r.trim["tail_incidence"],
+            "trim_thrust_n": r.trim["thrust"], "downwash_gradient": r.downwash_gradient,
+            "monitoring_loads": loads}
+
+
+_MONITORING_AXES = ("body axes (x aft, y right, z up), N and N m; the outboard part on the inboard part; "
+                    "potato_hull: the convex hull of the potato_components pair (N m or N)")
+
+
+def _run_stick(args, t, flight, walls, num_nodes, *, H_ft, alt_ft, t_wall, plot_path):
+    """The gust on the PEGASUS stick model (:func:`wingmdao.cases.pegasus_stick.gust_response`): its wing
+    of ``walls`` (``--design``, checked against the case's ``num_nodes``-node wing; None: the initial
+    walls), every beam's section stiffness times ``--stiffness-scale``."""
+    from wingmdao.cases import pegasus_stick
+
+    aircraft = _stick_aircraft(args, walls, num_nodes)
+    r = pegasus_stick.gust_response(aircraft, t, airspeed=flight.airspeed, density=flight.density, mach=flight.mach,
+                                    u_ds_tas=flight.u_ds_tas, gradient=flight.gradient, gust_start=flight.gust_start,
+                                    static_options={"atol": STICK_STATIC_ATOL})
     res = {"case": args.case, "model": "stick", "aero": "coupled", "plunge": True, "pitch": True,
-           "gradient_ft": H_ft, "altitude_ft": alt_ft, "mach": flight.mach, "airspeed_tas_m_s": flight.airspeed,
+           "design": args.design, "stiffness_scale": args.stiffness_scale, "gradient_ft": H_ft,
+           "altitude_ft": alt_ft, "mach": flight.mach, "airspeed_tas_m_s": flight.airspeed,
            "density_kg_m3": flight.density, "u_ds_eas_m_s": flight.u_ds_eas, "time": t.tolist(),
-           "load_factor": r.load_factor.tolist(),
-           "peak_incremental_load_factor": float(np.max(np.abs(dn))),
-           "peak_up_incremental_load_factor": float(np.max(dn)),
-           "peak_down_incremental_load_factor": float(np.min(dn)),
-           "trim_alpha_rad": r.trim["alpha_trim"], "tail_incidence_rad": r.trim["tail_incidence"],
-           "trim_thrust_n": r.trim["thrust"], "downwash_gradient": r.downwash_gradient,
-           "half_aircraft_mass_kg": aircraft.mass,
-           "monitoring_loads": loads, "monitoring_loads_axes": "body axes (x aft, y right, z up), N and N m; "
-                                                               "the outboard part on the inboard part; "
-                                                               "potato_hull: the convex hull of the "
-                                                               "potato_components pair (N m or N)",
-           "wall_s": _time.perf_counter() - t_wall}
+           **_stick_gust_result(r), "half_aircraft_mass_kg": aircraft.mass,
+           "monitoring_loads_axes": _MONITORING_AXES, "wall_s": _time.perf_counter() - t_wall}
     print(f"peak dn = {res['peak_incremental_load_factor']:.4f}, alpha_trim = {np.degrees(r.trim['alpha_trim']):.3f} "
           f"deg, tail incidence = {np.degrees(r.trim['tail_incidence']):.3f} deg, {res['wall_s']:.1f} s",
           file=sys.stderr)
@@ -447,6 +512,102 @@ def _run_stick(args, t, flight, *, H_ft, alt_ft, t_wall, plot_path):
     if plot_path:
         _stick_plots(res, plot_path[:-len(".png")])
     return 0
+
+
+def stick_set_envelope(gusts) -> dict:
+    """Envelopes of the monitoring stations over a set of stick gusts.
+
+    Parameters
+    ----------
+    gusts : list of dict
+        One entry per gust: ``name`` and ``monitoring_loads`` (``{label: {"force_n", "moment_n_m":
+        (n_time, 3)}}``, as :func:`_stick_gust_result` writes them).
+
+    Returns
+    -------
+    dict
+        Per station: ``force_max_n``, ``force_min_n``, ``moment_max_n_m``, ``moment_min_n_m`` (3 each,
+        over every instant of every gust), the gusts that give them (``force_max_gust``, ...), and the
+        potato plot of the set (``potato_components``, ``potato_hull``: the convex hull of the pair over
+        every gust, :func:`wingmdao.envelope.monitoring_potatoes` of the gusts' histories joined).
+    """
+    from wingmdao.envelope import monitoring_potatoes
+
+    labels = list(gusts[0]["monitoring_loads"])
+    joined = {lb: {"force": np.vstack([np.asarray(g["monitoring_loads"][lb]["force_n"]) for g in gusts]),
+                   "moment": np.vstack([np.asarray(g["monitoring_loads"][lb]["moment_n_m"]) for g in gusts])}
+              for lb in labels}
+    potatoes = monitoring_potatoes(joined)
+    owner = np.concatenate([np.full(len(g["monitoring_loads"][labels[0]]["force_n"]), k) for k, g in enumerate(gusts)])
+    out = {}
+    for lb in labels:
+        entry = {}
+        for key, unit in (("force", "n"), ("moment", "n_m")):
+            a = joined[lb][key]
+            entry[f"{key}_max_{unit}"] = a.max(axis=0).tolist()
+            entry[f"{key}_min_{unit}"] = a.min(axis=0).tolist()
+            entry[f"{key}_max_gust"] = [gusts[owner[i]]["name"] for i in a.argmax(axis=0)]
+            entry[f"{key}_min_gust"] = [gusts[owner[i]]["name"] for i in a.argmin(axis=0)]
+        entry["potato_components"] = potatoes[lb]["components"]
+        entry["potato_hull"] = potatoes[lb]["hull"].tolist()
+        out[lb] = entry
+    return out
+
+
+def _run_stick_set(args, t, gset, walls, num_nodes, *, t_wall, plot_path):
+    """Every gust of ``--gust-set`` on the PEGASUS stick model, with the monitoring stations' envelopes
+    and potato plots over the set (:func:`stick_set_envelope`)."""
+    from wingmdao.cases import pegasus_stick
+
+    aircraft = _stick_aircraft(args, walls, num_nodes)
+    rho0 = float(density(0.0))
+    gusts = []
+    for g in gset.gusts():
+        fp = g.flight_point
+        alt = fp.altitude_m
+        rho, V = float(density(alt)), fp.airspeed_tas()
+        mach = V / float(speed_of_sound(alt))
+        print(f"{g.name}: {g.describe()}", file=sys.stderr)
+        r = pegasus_stick.gust_response(aircraft, t, airspeed=V, density=rho, mach=mach,
+                                        u_ds_tas=g.sign * g.u_ds_eas * np.sqrt(rho0 / rho), gradient=g.gradient_m,
+                                        gust_start=args.gust_start, static_options={"atol": STICK_STATIC_ATOL})
+        gusts.append({"name": g.name, "description": g.describe(), "altitude_ft": fp.altitude_ft, "mach": mach,
+                      "airspeed_tas_m_s": V, "density_kg_m3": rho, "gradient_ft": g.gradient_ft, "sign": g.sign,
+                      "u_ds_eas_m_s": g.u_ds_eas, **_stick_gust_result(r)})
+    up = max(gusts, key=lambda x: x["peak_up_incremental_load_factor"])
+    down = min(gusts, key=lambda x: x["peak_down_incremental_load_factor"])
+    res = {"case": args.case, "model": "stick", "aero": "coupled", "plunge": True, "pitch": True,
+           "gust_set": args.gust_set, "design": args.design, "stiffness_scale": args.stiffness_scale,
+           "time": t.tolist(), "half_aircraft_mass_kg": aircraft.mass,
+           "peak_up_incremental_load_factor": up["peak_up_incremental_load_factor"], "peak_up_gust": up["name"],
+           "peak_down_incremental_load_factor": down["peak_down_incremental_load_factor"],
+           "peak_down_gust": down["name"], "gusts": gusts, "monitoring_envelope": stick_set_envelope(gusts),
+           "monitoring_loads_axes": _MONITORING_AXES, "wall_s": _time.perf_counter() - t_wall}
+    print(f"{len(gusts)} gusts: peak dn up {res['peak_up_incremental_load_factor']:.4f} ({up['name']}), down "
+          f"{res['peak_down_incremental_load_factor']:.4f} ({down['name']}), {res['wall_s']:.1f} s", file=sys.stderr)
+    write_json(res, args.json)
+    if plot_path:
+        _stick_set_plots(res, plot_path[:-len(".png")])
+    return 0
+
+
+def scale_stick_stiffness(aircraft, scale):
+    """Multiply the section stiffness of every beam of a stick ``aircraft``
+    (:class:`~wingmdao.cases.pegasus_stick.StickAircraft`, changed in place) by ``scale``.
+
+    Parameters
+    ----------
+    aircraft : StickAircraft
+        The stick model; its ``model.params`` (``stiffness_csn``, ``compliance_csn`` of each beam) and
+        packed ``model.p`` are replaced. Masses, node positions and the trim data stay.
+    scale : float
+        The factor (> 0; as ``--stiffness-scale``).
+    """
+    params = {k: {**v, "stiffness_csn": np.asarray(v["stiffness_csn"]) * scale,
+                  "compliance_csn": np.asarray(v["compliance_csn"]) / scale}
+              for k, v in aircraft.model.params.items()}
+    aircraft.model.params = params
+    aircraft.model.p = aircraft.model.system.pack_parameters(params)
 
 
 def _stick_plots(res, stem):
@@ -483,6 +644,44 @@ def _stick_plots(res, stem):
     for ax in axes:
         ax.grid(True)
 
+    save_figure(fig, stem + ".png", dpi=100)
+    print(f"wrote {stem}.png", file=sys.stderr)
+
+
+def _pair(v, components):
+    """The potato pair's histories (kN m or kN) of one station's ``force_n``/``moment_n_m``."""
+    return [np.asarray(v["moment_n_m" if c[0] == "M" else "force_n"])[:, "xyz".index(c[-1])] / 1e3 for c in components]
+
+
+def _stick_set_plots(res, stem):
+    plt = optional_pyplot()
+    if plt is None:
+        return
+    t = res["time"]
+    env = res["monitoring_envelope"]
+    fig = plt.figure(figsize=(3 * len(env), 7))
+    grid = fig.add_gridspec(2, len(env))
+    ax0 = fig.add_subplot(grid[0, :])
+    for g in res["gusts"]:
+        ax0.plot(t, g["load_factor"], lw=0.8, label=g["name"])
+    ax0.set_xlabel("time (s)")
+    ax0.set_ylabel("load factor")
+    ax0.legend(fontsize=6, ncol=2)
+    ax0.grid(True)
+    for k, (label, e) in enumerate(env.items()):   # potato plots over the set: every gust's pair and the hull
+        ax = fig.add_subplot(grid[1, k])
+        comps = e["potato_components"]
+        for g in res["gusts"]:
+            pair = _pair(g["monitoring_loads"][label], comps)
+            ax.plot(pair[0], pair[1], lw=0.6)
+        hull = np.asarray(e["potato_hull"]) / 1e3
+        ax.plot(hull[:, 0], hull[:, 1], "k--", lw=0.8)
+        units = ["kN m" if c[0] == "M" else "kN" for c in comps]
+        ax.set_xlabel(f"{comps[0]} ({units[0]})", fontsize=7)
+        ax.set_ylabel(f"{comps[1]} ({units[1]})", fontsize=7)
+        ax.set_title(label, fontsize=7)
+        ax.tick_params(labelsize=6)
+        ax.grid(True)
     save_figure(fig, stem + ".png", dpi=100)
     print(f"wrote {stem}.png", file=sys.stderr)
 

@@ -197,10 +197,16 @@ class _Geometry(om.IndepVarComp):
     def initialize(self):
         self.options.declare("width", types=(np.ndarray, list, tuple), desc="(n,) box width, m")
         self.options.declare("height", types=(np.ndarray, list, tuple), desc="(n,) box height, m")
+        self.options.declare("nonstructural_mass_per_length", default=None, allow_none=True,
+                             types=(np.ndarray, list, tuple), desc="(n,) nonstructural mass per length, kg/m")
 
     def setup(self):
         self.add_output("width", val=np.asarray(self.options["width"], float), units="m", desc="box width")
         self.add_output("height", val=np.asarray(self.options["height"], float), units="m", desc="box height")
+        nsm = self.options["nonstructural_mass_per_length"]
+        if nsm is not None:
+            self.add_output("nonstructural_mass_per_length", val=np.asarray(nsm, float), units="kg/m",
+                            desc="nonstructural mass per length at the section's mass centre")
 
 
 class _BuilderGroup(om.Group):
@@ -213,7 +219,9 @@ class _BuilderGroup(om.Group):
     def add_design(self, b):
         """``dv_struct`` split into the four wall thicknesses, and the box width/height per node."""
         self.add_subsystem("dv", DvSplit(num_nodes=b.num_nodes, initial=b.get_initial_dvs()), promotes=["*"])
-        self.add_subsystem("geometry", _Geometry(width=b.width, height=b.height), promotes=["*"])
+        self.add_subsystem("geometry", _Geometry(width=b.width, height=b.height,
+                                                 nonstructural_mass_per_length=b.nonstructural_mass_per_length),
+                           promotes=["*"])
 
 
 class PreCoupling(_BuilderGroup):
@@ -310,6 +318,7 @@ class WingmdaoBuilder(Builder):
         self.families = tuple(families)
         self.rho_ks = float(rho_ks)
         self.newton_options = dict(newton_options or {})
+        self.nonstructural_mass_per_length = None   # the walls' mass only (StickBuilder sets the wing's)
         self.comm = None
 
     def _per_node(self, v, name):
