@@ -39,7 +39,6 @@ INDEX = pathlib.Path(__file__).resolve().parents[1] / "docs" / "api" / "index.md
 RATCHET: dict[str, int] = {
     "wingmdao.aero.controls": 16,
     "wingmdao.aero.coupled": 4,
-    "wingmdao.aero.modal_design": 4,
     "wingmdao.aero.modal_loads": 5,
     "wingmdao.aero.rfa": 5,
     "wingmdao.aero.rfa_system": 3,
@@ -49,9 +48,6 @@ RATCHET: dict[str, int] = {
     "wingmdao.groups.stick": 1,
     "wingmdao.groups.wing": 3,
     "wingmdao.loads.turbulence_analysis": 5,
-    "wingmdao.mphys.builder": 4,
-    "wingmdao.mphys.scenario": 3,
-    "wingmdao.mphys.transfer": 1,
     "wingmdao.sizing": 24,
     "wingmdao.stability.modal": 6,
     "wingmdao.stability.modal_turbulence": 4,

@@ -55,7 +55,19 @@ class ModalProjection:
     parameters of :data:`DESIGN_INPUTS` (each flattened, C order, in that order) returning the
     modal mass (modes, modes), the modal stiffness (modes, modes) and the inertia station loads
     (n * 6, modes; N and N m per unit modal acceleration, body axes, beam-state convention) as
-    flattened column vectors; ``jacobian`` its Jacobian function; ``n_nodes``, ``n_modes``."""
+    flattened column vectors; ``jacobian`` its Jacobian function; ``n_nodes``, ``n_modes``.
+
+    Parameters
+    ----------
+    function : casadi.Function
+        Design parameters -> modal mass, stiffness and inertia station loads.
+    jacobian : casadi.Function
+        Its Jacobian.
+    n_nodes : int
+        Beam nodes.
+    n_modes : int
+        Modes of the basis.
+    """
 
     function: ca.Function
     jacobian: ca.Function
@@ -64,7 +76,18 @@ class ModalProjection:
 
     def evaluate(self, params: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(mass, stiffness, inertia)`` of the beam parameter dict ``params`` (shapes as
-        :func:`wingmdao.beam.residual.param_specs`): (m, m), (m, m), (n, 6, m)."""
+        :func:`wingmdao.beam.residual.param_specs`): (m, m), (m, m), (n, 6, m).
+
+        Parameters
+        ----------
+        params : dict
+            Beam parameters.
+
+        Returns
+        -------
+        tuple
+            (mass, stiffness, inertia).
+        """
         out = self.function(*[np.asarray(params[k], dtype=float).ravel() for k in DESIGN_INPUTS])
         n, m = self.n_nodes, self.n_modes
         return (np.asarray(out[0]).reshape(m, m), np.asarray(out[1]).reshape(m, m),
@@ -92,7 +115,20 @@ def _element_strains(params: dict, modes: NormalModes, T: list) -> np.ndarray:
 def modal_projection(params: dict, modes: NormalModes) -> ModalProjection:
     """:class:`ModalProjection` on the basis ``modes`` (:func:`wingmdao.beam.modes.normal_modes`
     of the reference design ``params``, a beam parameter dict; its jig geometry
-    ``node_positions`` and ``node_euler_angles`` stay fixed)."""
+    ``node_positions`` and ``node_euler_angles`` stay fixed).
+
+    Parameters
+    ----------
+    params : dict
+        Beam parameters of the reference design.
+    modes : NormalModes
+        Normal modes of the reference design.
+
+    Returns
+    -------
+    ModalProjection
+        The projection.
+    """
     if modes.force is None or modes.moment is None:
         raise ValueError("the modes carry no internal loads (NormalModes.force/moment); use beam.modes.normal_modes")
     r0 = np.asarray(params["node_positions"], dtype=float)
@@ -168,7 +204,23 @@ class ModalGust:
     station-load coefficients), ``projection`` its :class:`ModalProjection`, the flight condition
     ``airspeed`` (m/s) and ``density`` (kg/m^3), ``gust`` (nt, 3) the gust velocity (m/s), its rate
     (m/s^2) and acceleration (m/s^3) at ``x_gust`` on the case's time grid, ``node_euler_angles``
-    (n, 3) rad the jig's (the csn frames of the loads)."""
+    (n, 3) rad the jig's (the csn frames of the loads).
+
+    Parameters
+    ----------
+    wing : ModalDLMWing
+        The modal doublet-lattice wing of the reference design.
+    projection : ModalProjection
+        Its projection.
+    airspeed : float
+        True airspeed (m/s).
+    density : float
+        Air density (kg/m^3).
+    gust : numpy.ndarray
+        (nt, 3) gust velocity (m/s), rate (m/s^2) and acceleration (m/s^3).
+    node_euler_angles : numpy.ndarray
+        (n, 3) jig Euler angles (rad).
+    """
 
     wing: object
     projection: ModalProjection

@@ -71,14 +71,36 @@ def _tagged(cls, names, tag):
 
 def jig_euler_angles(node_positions: np.ndarray) -> np.ndarray:
     """Surface-sequence Euler angles of a beam axis through ``node_positions`` (n, 3), zero twist:
-    the s axis along the polyline (node tangents averaged from the adjacent elements)."""
+    the s axis along the polyline (node tangents averaged from the adjacent elements).
+
+    Parameters
+    ----------
+    node_positions : numpy.ndarray
+        (n, 3) beam node positions (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n, 3) Euler angles (rad).
+    """
     x = np.asarray(node_positions, dtype=float)
     t = np.gradient(x, axis=0)
     return np.array([euler_from_axis(ti) for ti in t])
 
 
 def rotation_vector_map(node_euler_angles: np.ndarray) -> np.ndarray:
-    """(n, 3, 3) A = T(theta0)^T K(theta0): Euler-angle increments -> small body-axes rotation vector."""
+    """(n, 3, 3) A = T(theta0)^T K(theta0): Euler-angle increments -> small body-axes rotation vector.
+
+    Parameters
+    ----------
+    node_euler_angles : numpy.ndarray
+        (n, 3) jig Euler angles (rad).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n, 3, 3) maps A.
+    """
     return np.array([body_to_csn(t).T @ rate_matrix(t) for t in np.asarray(node_euler_angles, dtype=float)])
 
 
@@ -291,6 +313,25 @@ class WingmdaoBuilder(Builder):
     (:class:`wingmdao.materials.Material`); ``node_euler_angles`` (n, 3) rad (default: along the
     polyline, no twist); ``families`` (stress constraint families, default ("vm",));
     ``rho_ks``; ``newton_options`` (BeamStatic options, e.g. ``{"static_options": {"load_steps": 2}}``).
+
+    Parameters
+    ----------
+    node_positions : array_like
+        (n, 3) beam node positions, root first (m).
+    width, height : array_like
+        (n,) box dimensions (m).
+    thickness : float or array_like
+        Initial wall thicknesses, scalar or (4, n) (m).
+    material : Material
+        Isotropic material.
+    node_euler_angles : array_like or None, optional
+        (n, 3) jig Euler angles (rad); None along the polyline, no twist.
+    families : tuple of str, optional
+        Stress constraint families.
+    rho_ks : float, optional
+        KS aggregation parameter.
+    newton_options : dict or None, optional
+        Options of the static beam solve.
     """
 
     def __init__(self, node_positions, width, height, thickness, material, node_euler_angles=None,
@@ -371,7 +412,19 @@ class BeamRigidLinkBuilder(Builder):
     """Rigid-link load and displacement transfer between ``struct_builder`` (a
     :class:`WingmdaoBuilder`) and an aerodynamic builder whose surface nodes are ``x_aero0``
     ((m, 3) m, the jig surface). ``mirror_y=True``: the aerodynamic surface is the left half-wing
-    (OpenAeroStruct symmetric surfaces, y <= 0) of the beam's right wing."""
+    (OpenAeroStruct symmetric surfaces, y <= 0) of the beam's right wing.
+
+    Parameters
+    ----------
+    aero_builder : mphys.Builder
+        The aerodynamic builder.
+    struct_builder : WingmdaoBuilder
+        The structural builder.
+    x_aero0 : array_like
+        (m, 3) jig aerodynamic surface nodes (m).
+    mirror_y : bool, optional
+        The aerodynamic surface is the left half-wing.
+    """
 
     def __init__(self, aero_builder, struct_builder, x_aero0, mirror_y=False):
         self.aero_builder = aero_builder

@@ -20,7 +20,22 @@ from wingmdao.mphys.stick import pegasus_stick_builder
 
 
 def rect_wing_surface(num_y=9, span=10.0, root_chord=1.0):
-    """OpenAeroStruct surface dict of a rectangular symmetric wing (aerodynamics only)."""
+    """OpenAeroStruct surface dict of a rectangular symmetric wing (aerodynamics only).
+
+    Parameters
+    ----------
+    num_y : int, optional
+        Spanwise mesh points of the full wing.
+    span : float, optional
+        Full span (m).
+    root_chord : float, optional
+        Chord (m).
+
+    Returns
+    -------
+    dict
+        The surface.
+    """
     from openaerostruct.geometry.utils import generate_mesh
 
     mesh = generate_mesh({"num_y": num_y, "num_x": 2, "wing_type": "rect", "symmetry": True,
@@ -33,7 +48,20 @@ def rect_wing_surface(num_y=9, span=10.0, root_chord=1.0):
 def beam_nodes_from_oas_mesh(mesh, chord_fraction=0.35):
     """Beam nodes on the right wing, root first, at ``chord_fraction`` of the local chord of an
     OpenAeroStruct left half-wing mesh (nx, ny, 3) (y <= 0, tip first): the y-mirror image of
-    its spanwise stations, reversed."""
+    its spanwise stations, reversed.
+
+    Parameters
+    ----------
+    mesh : numpy.ndarray
+        (nx, ny, 3) OpenAeroStruct left half-wing mesh (m).
+    chord_fraction : float, optional
+        Chord fraction of the beam axis (-).
+
+    Returns
+    -------
+    numpy.ndarray
+        (ny, 3) beam nodes (m).
+    """
     le, te = mesh[0, ::-1], mesh[-1, ::-1]
     x = le + chord_fraction * (te - le)
     return x * np.array([1.0, -1.0, 1.0])
@@ -42,7 +70,31 @@ def beam_nodes_from_oas_mesh(mesh, chord_fraction=0.35):
 def aerostructural_problem(surface=None, width=0.4, height=0.12, thickness=0.003, material=None,
                            flow=None, aoa_deg=5.0, iprint=2):
     """The coupled VLM + beam problem (set up, not run). ``flow``: v (m/s), rho (kg/m^3),
-    mach_number, reynolds_number (1/m)."""
+    mach_number, reynolds_number (1/m).
+
+    Parameters
+    ----------
+    surface : dict or None, optional
+        OpenAeroStruct surface; None for :func:`rect_wing_surface`.
+    width, height : float or array_like, optional
+        Box dimensions (m).
+    thickness : float or array_like, optional
+        Initial wall thicknesses (m).
+    material : Material or None, optional
+        Isotropic material; None for aluminium.
+    flow : dict or None, optional
+        ``v`` (m/s), ``rho`` (kg/m^3), ``mach_number``, ``reynolds_number`` (1/m); missing keys 50 m/s,
+        1.2 kg/m^3, 0.15 and 1e6 /m.
+    aoa_deg : float, optional
+        Angle of attack (deg).
+    iprint : int, optional
+        Solver print level.
+
+    Returns
+    -------
+    openmdao.api.Problem
+        The set-up problem.
+    """
     surface = surface or rect_wing_surface()
     material = material or ALUMINIUM
     nodes = beam_nodes_from_oas_mesh(surface["mesh"])

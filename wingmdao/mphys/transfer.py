@@ -36,6 +36,20 @@ def rigid_links(x_struct: np.ndarray, x_aero: np.ndarray, tol: float = 1e-9) -> 
 
     ``x_struct`` (n, 3), ``x_aero`` (m, 3) in m. Raises ValueError for coincident beam nodes
     (closer than ``tol`` times the largest node distance) or empty meshes.
+
+    Parameters
+    ----------
+    x_struct : numpy.ndarray
+        (n, 3) beam nodes (m).
+    x_aero : numpy.ndarray
+        (m, 3) aerodynamic nodes (m).
+    tol : float, optional
+        Relative distance below which two beam nodes coincide.
+
+    Returns
+    -------
+    numpy.ndarray
+        (m,) beam node index of each aerodynamic node.
     """
     xs = np.asarray(x_struct, dtype=float).reshape(-1, 3)
     xa = np.asarray(x_aero, dtype=float).reshape(-1, 3)
