@@ -437,9 +437,16 @@ def _add_turbulence(args, setup, comm) -> None:
         raise ValueError(f"--turbulence needs box sections (the linear corner stresses), got section {setup.section!r}")
     zeta = getattr(args, "damping_ratio", None) or 0.02  # said in the help and in the run's notes
     damping, note = module.gust_damping(zeta, getattr(args, "damping_frequency_hz", None), setup.geometry, setup.options)
-    setup.turbulence = sizing_turbulence_options(module, setup, damping=damping)
+    alleviation = getattr(args, "alleviation", None)
+    if alleviation and getattr(args, "size_gains", False):
+        raise ValueError(f"--turbulence with --alleviation {alleviation} --size-gains: the turbulence constraint "
+                         "holds the file's gains while the gust case sizes its own; drop --size-gains or --turbulence")
+    setup.turbulence = sizing_turbulence_options(module, setup, damping=damping, alleviation=alleviation)
+    law = setup.turbulence.get("control_law")
+    with_law = "" if not alleviation else (
+        f", control surfaces of {alleviation}" + (f" with the law on {', '.join(law.outputs)}" if law else " held"))
     setup.notes.append(f"turbulence constraint: KS of (+/- s_1g + U_sigma A-bar)/sigma_y - 1 <= 0 at V_C, U_sigma = "
-                       f"{setup.turbulence['u_sigma']:.2f} m/s TAS, root clamped, {note}")
+                       f"{setup.turbulence['u_sigma']:.2f} m/s TAS, root clamped, {note}{with_law}")
 
 
 def _flutter_design(result, args, setup, prob):
