@@ -256,3 +256,56 @@ def test_cli_turbulence_pegasus_alleviation(tmp_path):
     srf = a["control_surfaces"]["aileron"]
     assert srf["design_deflection_deg"] == pytest.approx(a["u_sigma_m_s"] * srf["a_bar_deflection_deg_per_m_s"])
     assert srf["a_bar_deflection_deg_per_m_s"] > 0 and srf["max_deflection_deg"] == 20.0
+
+
+RB_LAW = ("surfaces:\n  - {name: aileron, span: [0.7, 1.0], hinge: 0.75, actuator: {order: 2, frequency_hz: 8.0, "
+          "damping: 0.7}}\nlaw:\n  outputs: [root_bending]\n  state_space: {A: [[-6.0]], B: [[6.0]], C: [[-0.5]], "
+          "D: [[0.0]]}\n")
+
+
+def test_size_turbulence_alleviation_refusals(capsys, tmp_path):
+    """`size --turbulence --alleviation`: a load-factor law (the constraint's wing is clamped) and
+    --size-gains (the gust case would size gains the constraint holds) are one-line errors."""
+    from wingmdao.cli import main
+
+    lf = tmp_path / "lf.yaml"
+    lf.write_text("surfaces:\n  - {name: a, span: [0.7, 1.0], hinge: 0.75}\nlaw: {outputs: [load_factor], gain: [-0.2]}\n")
+    rb = tmp_path / "rb.yaml"
+    rb.write_text(RB_LAW)
+    base = ["size", "pegasus", "--analysis-only", "--turbulence", "--no-plots", "--out", str(tmp_path)]
+    assert main(base + ["--alleviation", str(lf)]) == 2
+    err = capsys.readouterr().err
+    assert "output load_factor needs a free aircraft" in err and str(lf) in err, err
+    assert main(base + ["--loads", "gust", "--aero", "coupled", "--alleviation", str(rb), "--size-gains"]) == 2
+    err = capsys.readouterr().err
+    assert "--size-gains" in err and "drop --size-gains or --turbulence" in err, err
+
+
+@pytest.mark.slow
+def test_size_pegasus_turbulence_constraint_with_alleviation(tmp_path, capsys):
+    """`size pegasus --analysis-only --turbulence --alleviation FILE` (root-bending law): the
+    constraint's analysed loads equal `wingmdao turbulence --clamped --alleviation FILE` on the same
+    design (the command's own model set-up), the law lowers turbulence_ks against the run without it,
+    and no warning calls the file ignored."""
+    from wingmdao.cli import main
+
+    rb = tmp_path / "rb.yaml"
+    rb.write_text(RB_LAW)
+    runs = {}
+    for key, extra in (("law", ["--alleviation", str(rb)]), ("plain", [])):
+        out = tmp_path / f"{key}.json"
+        assert main(["size", "pegasus", "--analysis-only", "--turbulence", "--no-plots", "--quiet",
+                     "--no-flutter-search", "--out", str(tmp_path), "--json", str(out), "--overwrite"] + extra) == 0
+        runs[key] = json.loads(out.read_text())
+        if key == "law":
+            err = capsys.readouterr().err
+            assert "control surfaces of" in err and "ignored" not in err, err
+    assert runs["law"]["turbulence_ks"] < runs["plain"]["turbulence_ks"] - 0.1
+    cmd = tmp_path / "t.json"
+    assert main(["turbulence", "pegasus", "--clamped", "--aero-theory", "strip", "--damping-ratio", "0.02",
+                 "--f-max-hz", "20", "--no-plots", "--alleviation", str(rb), "--json", str(cmd)]) == 0
+    t = json.loads(cmd.read_text())
+    tl = runs["law"]["turbulence_loads"]
+    assert tl["a_bar_load_factor"] == pytest.approx(t["a_bar"]["load_factor"], rel=1e-6)
+    np.testing.assert_allclose(tl["bending_moment"]["a_bar"], t["a_bar"]["bending_moment"], rtol=1e-6,
+                               atol=1e-6 * max(t["a_bar"]["bending_moment"]))

@@ -442,11 +442,28 @@ def _add_turbulence(args, setup, comm) -> None:
         raise ValueError(f"--turbulence with --alleviation {alleviation} --size-gains: the turbulence constraint "
                          "holds the file's gains while the gust case sizes its own; drop --size-gains or --turbulence")
     setup.turbulence = sizing_turbulence_options(module, setup, damping=damping, alleviation=alleviation)
+    if alleviation:  # the turbulence constraint uses the file even where the case's own loads ignore it
+        setup.notes = _drop_ignored_flag(setup.notes, f"--alleviation {alleviation}")
     law = setup.turbulence.get("control_law")
     with_law = "" if not alleviation else (
         f", control surfaces of {alleviation}" + (f" with the law on {', '.join(law.outputs)}" if law else " held"))
     setup.notes.append(f"turbulence constraint: KS of (+/- s_1g + U_sigma A-bar)/sigma_y - 1 <= 0 at V_C, U_sigma = "
                        f"{setup.turbulence['u_sigma']:.2f} m/s TAS, root clamped, {note}{with_law}")
+
+
+def _drop_ignored_flag(notes, flag) -> list:
+    """``notes`` with ``flag`` taken out of the case's "ignored" warnings (a warning left without flags
+    is dropped)."""
+    out = []
+    for note in notes:
+        if note.startswith("warning: ignored") and flag in note:
+            head, _, flags = note.rpartition(": ")
+            kept = [f for f in flags.split(", ") if f != flag]
+            if not kept:
+                continue
+            note = f"{head}: {', '.join(kept)}"
+        out.append(note)
+    return out
 
 
 def _flutter_design(result, args, setup, prob):
