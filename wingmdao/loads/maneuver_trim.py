@@ -34,10 +34,25 @@ from wingmdao.timemarch.system import layout
 
 @dataclass
 class ElevatorTrim:
-    """A trimmed static maneuver of :func:`elevator_trim` (SI, angles in rad): ``load_factor``,
-    ``alpha`` the aircraft angle of attack, ``tail_incidence_1g`` the stabiliser setting of the 1 g
-    trim, ``elevator`` (1) (trailing edge down +), ``tail_lift`` and ``wing_lift`` (N, both halves),
-    ``state`` the maneuver's trimmed state (incidence free)."""
+    """A trimmed static maneuver of :func:`elevator_trim` (SI, angles in rad).
+
+    Parameters
+    ----------
+    load_factor : float
+        n (g).
+    alpha : float
+        The aircraft angle of attack (rad).
+    tail_incidence_1g : float
+        The stabiliser setting of the 1 g trim (rad).
+    elevator : float
+        The elevator angle (1), rad, trailing edge down +.
+    tail_lift : float
+        Tail lift (N).
+    wing_lift : float
+        Lift of both half-wings (N).
+    state : numpy.ndarray
+        The maneuver's trimmed state (incidence free).
+    """
 
     load_factor: float
     alpha: float
