@@ -79,3 +79,55 @@ def test_elevator_trim_refusals():
     with pytest.raises(ValueError, match="free-pitch"):
         elevator_trim(cached_aeroelastic_system(5, plunge=True, trim=True), p, 2.5, elevator_effectiveness=0.6,
                       weight=k["W"])
+
+
+PITCH = ["--aero", "coupled", "--aero-theory", "strip", "--plunge", "free", "--pitch", "free", "--pitch-inertia",
+         "345000", "--cg-x", "0.67", "--tail-arm", "12", "--tail-area", "11.7", "--tail-lift-slope", "4"]
+
+
+def test_size_elevator_chord_ratio_refused(capsys, tmp_path):
+    from wingmdao.cli import main
+
+    assert main(["size", "pegasus", "--analysis-only", "--no-plots", "--out", str(tmp_path), *PITCH,
+                 "--elevator-chord-ratio", "1.2"]) == 2
+    err = capsys.readouterr().err
+    assert "--elevator-chord-ratio = 1.2; allowed range (0, 1)" in err, err
+
+
+@pytest.mark.slow
+def test_size_pegasus_maneuvers_trimmed_with_the_elevator(tmp_path, capsys):
+    """`size pegasus --aero coupled --plunge free --pitch free ... --analysis-only` (maneuvers): each
+    maneuver's elevator_trim in the result; wing + tail lift = n W; one 1 g stabiliser setting; trailing
+    edge up at +2.5 g and down at -1 g (the elevator against the stiffened-wing closed form is
+    test_elevator_trim_against_the_rigid_closed_form). No warning
+    calls the pitch options ignored; the tail lift moves the root bending against the wing-alone trim."""
+    import json
+
+    from wingmdao.aero.pitch import elevator_effectiveness
+    from wingmdao.cli import main
+
+    out = tmp_path / "m.json"
+    assert main(["size", "pegasus", "--analysis-only", "--no-plots", "--quiet", "--no-flutter-search",
+                 "--out", str(tmp_path), "--json", str(out), *PITCH]) == 0
+    err = capsys.readouterr().err
+    assert "ignored" not in err, err
+    r = json.loads(out.read_text())["load_case_response"]
+    plain = tmp_path / "p.json"
+    (tmp_path / "plain").mkdir()
+    assert main(["size", "pegasus", "--analysis-only", "--no-plots", "--quiet", "--no-flutter-search",
+                 "--out", str(tmp_path / "plain"), "--json", str(plain), *PITCH[:4]]) == 0
+    p = json.loads(plain.read_text())["load_case_response"]
+    from wingmdao.cases import pegasus
+
+    W = pegasus.TOGW_LB * pegasus.LB * 9.80665
+    for name, n_load in (("maneuver_pos", 2.5), ("maneuver_neg", -1.0)):
+        t = r[name]["elevator_trim"]
+        assert t["load_factor"] == pytest.approx(n_load, rel=1e-12)
+        assert t["wing_lift_n"] + t["tail_lift_n"] == pytest.approx(n_load * W, rel=1e-12)
+        assert "elevator_trim" not in p[name]
+        # the tail's share of the lift changes the wing's: the root bending moves with it
+        assert abs(r[name]["peak_root_bending_moment_n_m"] - p[name]["peak_root_bending_moment_n_m"]) > 1e3
+    up, down = r["maneuver_pos"]["elevator_trim"], r["maneuver_neg"]["elevator_trim"]
+    assert up["tail_incidence_1g_deg"] == pytest.approx(down["tail_incidence_1g_deg"], rel=1e-9)
+    assert up["elevator_deg"] < 0 < down["elevator_deg"]  # trailing edge up to pull up
+    assert elevator_effectiveness(0.3) == pytest.approx(0.661, abs=1e-3)

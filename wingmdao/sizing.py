@@ -36,7 +36,8 @@ from wingmdao.section.solid import solid_properties, validate_solid
 from wingmdao.timemarch.system import pack
 from wingmdao.utils.memory import return_freed_memory
 from wingmdao.aero.coupled import load_case_response
-from wingmdao.aero.system import control_param_specs
+from wingmdao.aero.system import cached_aeroelastic_system, control_param_specs
+from wingmdao.loads.maneuver_trim import elevator_trim
 from wingmdao.cases.planform import G0, LB
 from wingmdao.parallel import assign_cases, distributed_wing_sizing, set_shared_geometry, world_comm
 from wingmdao.report import best_design, read_history
@@ -720,7 +721,53 @@ def case_responses(prob, setup, togw_lb) -> dict:
         r = load_case_response(prob, case, setup.geometry.num_nodes, togw_lb * LB * G0)
         out[case.name] = {"peak_load_factor": r["peak_load_factor"],
                           "peak_root_bending_moment_n_m": r["peak_root_bending_moment"]}
+        trim = maneuver_elevator_trim(prob, case, setup.geometry.num_nodes, togw_lb * LB * G0)
+        if trim is not None:
+            out[case.name]["elevator_trim"] = trim
     return out
+
+
+def maneuver_elevator_trim(prob, case, num_nodes: int, weight: float) -> dict | None:
+    """The elevator trim of an analysed static maneuver trimmed with the tail (a coupled case with
+    ``pitch`` and ``elevator_effectiveness``, one instant): :func:`wingmdao.loads.maneuver_trim.elevator_trim`
+    at the case's state and parameters (``as_dict``: angle of attack, the 1 g stabiliser setting,
+    elevator angle, tail and wing lift); None for any other case.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        The sizing problem after its run.
+    case : LoadCase
+        The load case (``cases.<name>``).
+    num_nodes : int
+        Beam nodes.
+    weight : float
+        Aircraft weight W (N).
+
+    Returns
+    -------
+    dict or None
+        The trim, JSON-ready.
+    """
+    aero = case.aero
+    if aero is None or not aero.pitch or not aero.elevator_effectiveness or case.time.size != 1:
+        return None
+    path = f"cases.{case.name}"
+    system = cached_aeroelastic_system(int(num_nodes), plunge=True, trim=True, pitch=True,
+                                       aero_theory=aero.residual_theory, controls=aero.controls)
+
+    def value(name):  # the beam input under the case's promoted name or the beam's own
+        try:
+            return np.asarray(prob.get_val(f"{path}.{name}"))
+        except KeyError:
+            return np.asarray(prob.get_val(f"{path}.beam.{name}"))
+
+    values = {s.name: value(s.name) for s in system.param_specs}
+    p = pack(system.param_specs, values)
+    x = np.asarray(prob.get_val(f"{path}.states")).ravel()
+    n = float(np.ravel(values["trim_lift"])[0]) / weight
+    return elevator_trim(system, p, n, elevator_effectiveness=aero.elevator_effectiveness, weight=weight,
+                         state=x).as_dict()
 
 
 def partial_result(prob, setup, desc, recording, interrupted=True) -> dict:
