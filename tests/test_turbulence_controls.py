@@ -264,8 +264,9 @@ RB_LAW = ("surfaces:\n  - {name: aileron, span: [0.7, 1.0], hinge: 0.75, actuato
 
 
 def test_size_turbulence_alleviation_refusals(capsys, tmp_path):
-    """`size --turbulence --alleviation`: a load-factor law (the constraint's wing is clamped) and
-    --size-gains (the gust case would size gains the constraint holds) are one-line errors."""
+    """`size --turbulence --alleviation`: a load-factor law (the constraint's wing is clamped) is a
+    one-line error; with --size-gains, a gust set (several cases sizing their own gains, the constraint
+    shares one case's) too."""
     from wingmdao.cli import main
 
     lf = tmp_path / "lf.yaml"
@@ -276,9 +277,10 @@ def test_size_turbulence_alleviation_refusals(capsys, tmp_path):
     assert main(base + ["--alleviation", str(lf)]) == 2
     err = capsys.readouterr().err
     assert "output load_factor needs a free aircraft" in err and str(lf) in err, err
-    assert main(base + ["--loads", "gust", "--aero", "coupled", "--alleviation", str(rb), "--size-gains"]) == 2
+    assert main(base + ["--loads", "gust", "--aero", "coupled", "--aero-theory", "strip", "--alleviation", str(rb),
+                        "--size-gains", "--gust-gradients-ft", "100", "200", "--gust-sign", "up"]) == 2
     err = capsys.readouterr().err
-    assert "--size-gains" in err and "drop --size-gains or --turbulence" in err, err
+    assert "--turbulence with --size-gains: 2 load cases size their own gains" in err, err
 
 
 @pytest.mark.slow
@@ -309,3 +311,44 @@ def test_size_pegasus_turbulence_constraint_with_alleviation(tmp_path, capsys):
     assert tl["a_bar_load_factor"] == pytest.approx(t["a_bar"]["load_factor"], rel=1e-6)
     np.testing.assert_allclose(tl["bending_moment"]["a_bar"], t["a_bar"]["bending_moment"], rtol=1e-6,
                                atol=1e-6 * max(t["a_bar"]["bending_moment"]))
+
+
+@pytest.mark.slow
+def test_codesign_gains_shared_by_the_gust_case_and_the_turbulence_constraint(tmp_path):
+    """`--loads gust --aero coupled --alleviation FILE --size-gains --turbulence` (PEGASUS, clamped,
+    strip theory, a 1 s gust): one set of gains (law_gains) feeds the gust case and the turbulence
+    constraint; the totals of turbulence_ks, the gust's stress KS and its closed-loop constraint with
+    respect to controller_C and controller_D against central differences (step 1e-4) within 1e-4 of
+    each output's largest entry, every one non-zero."""
+    from wingmdao import sizing
+    from wingmdao.cases import pegasus
+    from wingmdao.loads.turbulence_analysis import sizing_turbulence_options
+
+    rb = tmp_path / "rb.yaml"
+    rb.write_text(RB_LAW)
+    setup = pegasus.build(loads="gust", aero="coupled", aero_theory="strip", alleviation=str(rb), size_gains=True,
+                          t_final=1.0)
+    damping = pegasus.gust_damping(0.02, None, setup.geometry, setup.options)[0]
+    turb = sizing_turbulence_options(pegasus, setup, damping=damping, alleviation=str(rb))
+    prob, _ = sizing.build_problem(setup.geometry, setup.load_cases, setup.material, setup.options, driver=True,
+                                   section=setup.section, turbulence=turb)
+    wrt = ["law_gains.controller_C", "law_gains.controller_D"]
+    assert set(wrt) <= set(prob.model.get_design_vars())
+    assert not any(k.startswith("cases.") for k in prob.model.get_design_vars())
+    prob.run_model()
+    of = ["turbulence_ks", "cases.gust.ks_vm", "cases.gust.closed_loop_ks"]
+    J = prob.compute_totals(of, wrt)
+    for w in wrt:
+        base = prob.get_val(w).copy()
+        vals = []
+        for sign in (1, -1):
+            prob.set_val(w, base + sign * 1e-4)
+            prob.run_model()
+            vals.append({o: np.asarray(prob.get_val(o)).ravel().copy() for o in of})
+        prob.set_val(w, base)
+        for o in of:
+            fd = (vals[0][o] - vals[1][o]) / 2e-4
+            got = np.asarray(J[o, w]).ravel()
+            assert np.max(np.abs(fd)) > 1e-3, (o, w, fd)
+            assert np.max(np.abs(got - fd)) <= 1e-4 * np.max(np.abs(fd)), (o, w, got, fd)
+    np.testing.assert_array_equal(prob.get_val("cases.gust.controller_D"), prob.get_val("turbulence.controller_D"))

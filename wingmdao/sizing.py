@@ -214,6 +214,9 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
         raise ValueError("the turbulence constraint needs box sections in one process (no MPI distribution)")
     if distributed and control_gain_design_vars(load_cases):
         raise ValueError("--size-gains: the control-law gains are sized in one process (no MPI distribution)")
+    gain_vars = control_gain_design_vars(load_cases)
+    if turbulence is not None and turbulence.get("control_law") is not None and gain_vars:
+        turbulence, gain_vars = shared_turbulence_gains(load_cases, turbulence, gain_vars)
     mass_ref = (options.mass_scale or OBJECTIVE_SCALE * initial_mass(geometry, material, options, section, panels)) \
         if driver else 1.0
     # the load cases' forcing histories are fixed data of the beams, not OpenMDAO variables (issue 15)
@@ -236,7 +239,7 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     desc = "none (analysis only)"
     if driver:
         desc = _add_driver(prob, options, design_vars)
-        for name, bounds in control_gain_design_vars(load_cases).items():
+        for name, bounds in gain_vars.items():
             prob.model.add_design_var(name, **bounds)
         for path in closed_loop_constraints(load_cases):   # the sized law keeps the loop stable
             prob.model.add_constraint(path, upper=0.0, ref=1.0)
@@ -338,6 +341,40 @@ def control_gain_design_vars(load_cases) -> dict:
         for nm in names:
             out[f"cases.{case.name}.{nm}"] = {"lower": -bound, "upper": bound, "ref": bound}
     return out
+
+
+def shared_turbulence_gains(load_cases, turbulence: dict, gain_vars: dict) -> tuple:
+    """One law for the gust case whose gains are sized and the turbulence constraint: ``(turbulence
+    options with gains_from_case, design variables)``, the gains' design variables moved to
+    ``law_gains.<name>`` (an IndepVarComp of :class:`~wingmdao.groups.wing.WingSizing` feeding both).
+    ValueError for more than one sized case or a law that differs from the constraint's.
+
+    Parameters
+    ----------
+    load_cases : sequence of LoadCase
+        The sizing's load cases.
+    turbulence : dict
+        Options of :class:`~wingmdao.components.turbulence.TurbulenceStressKS` with ``control_law``.
+    gain_vars : dict
+        :func:`control_gain_design_vars` of ``load_cases``.
+
+    Returns
+    -------
+    tuple
+        ``(turbulence options, design variables {name: bounds})``.
+    """
+    cases = sorted({name.split(".")[1] for name in gain_vars})
+    if len(cases) != 1:
+        raise ValueError(f"--turbulence with --size-gains: {len(cases)} load cases size their own gains "
+                         f"({', '.join(cases)}); the turbulence constraint shares the gains of one (a single gust)")
+    case = next(c for c in load_cases if c.name == cases[0])
+    law, mine = case.aero.control_law, turbulence["control_law"]
+    if tuple(law.outputs) != tuple(mine.outputs) or any(not np.array_equal(getattr(law, k), getattr(mine, k))
+                                                         for k in "ABCD"):
+        raise ValueError(f"--turbulence with --size-gains: the law of load case {case.name!r} differs from the "
+                         "turbulence constraint's; give one alleviation file")
+    moved = {f"law_gains.{name.split('.')[-1]}": bounds for name, bounds in gain_vars.items()}
+    return {**turbulence, "gains_from_case": case.name}, moved
 
 
 def control_gains(prob, load_cases) -> dict:

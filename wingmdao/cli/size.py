@@ -438,9 +438,6 @@ def _add_turbulence(args, setup, comm) -> None:
     zeta = getattr(args, "damping_ratio", None) or 0.02  # said in the help and in the run's notes
     damping, note = module.gust_damping(zeta, getattr(args, "damping_frequency_hz", None), setup.geometry, setup.options)
     alleviation = getattr(args, "alleviation", None)
-    if alleviation and getattr(args, "size_gains", False):
-        raise ValueError(f"--turbulence with --alleviation {alleviation} --size-gains: the turbulence constraint "
-                         "holds the file's gains while the gust case sizes its own; drop --size-gains or --turbulence")
     setup.turbulence = sizing_turbulence_options(module, setup, damping=damping, alleviation=alleviation)
     if alleviation:  # the turbulence constraint uses the file even where the case's own loads ignore it
         setup.notes = _drop_ignored_flag(setup.notes, f"--alleviation {alleviation}")
