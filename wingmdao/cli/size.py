@@ -47,7 +47,9 @@ def _add_common(p, *, sizing: bool):
         p.add_argument("--turbulence", action="store_true",
                        help="add the 14 CFR 25.341(b) continuous-turbulence constraint: KS of the corner design stresses "
                             "1 g +/- U_sigma A-bar <= yield at V_C, root clamped, structural damping --damping-ratio "
-                            "when > 0, else 0.02 (cases with aerodynamic data: pegasus; docs/turbulence.md)")
+                            "when > 0, else 0.02 (cases with aerodynamic data: pegasus; docs/turbulence.md); with --alleviation "
+                            "the file's surfaces and law (no load-factor law) in it, with --size-gains the gust case's "
+                            "sized gains (docs/controls.md)")
         p.add_argument("--matrix", metavar="FILE.yaml", default=None,
                        help="size against the critical cases of a loads matrix (docs/loads-matrix.md), re-check "
                             "the whole matrix at the optimum, repeat while the critical set changes (load "
