@@ -559,6 +559,8 @@ class WingSizing(om.Group):
             for spec in control_param_specs(opts["controls"]):
                 if spec.name in SIZED_GAINS:
                     self.connect(f"law_gains.{spec.name}", [f"cases.{case}.{spec.name}", f"turbulence.{spec.name}"])
+        if self.options["add_constraints"]:
+            self.add_constraint("turbulence_ks", upper=0.0)
 
     def _add_law_gains(self, turbulence):
         """``law_gains``: the sized gains of the law the gust case and the turbulence constraint share
@@ -568,8 +570,6 @@ class WingSizing(om.Group):
         for spec in control_param_specs(turbulence["controls"]):
             if spec.name in SIZED_GAINS:
                 gains.add_output(spec.name, val=getattr(law, spec.name[-1]), desc=spec.desc)
-        if self.options["add_constraints"]:
-            self.add_constraint("turbulence_ks", upper=0.0)
 
     def _add_flutter(self, n):
         """The flutter-damping constraint on the section chain's beam parameters (docs/flutter.md)."""
