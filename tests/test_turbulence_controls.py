@@ -7,6 +7,7 @@ gains against central differences; the command-line refusals."""
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -263,6 +264,23 @@ RB_LAW = ("surfaces:\n  - {name: aileron, span: [0.7, 1.0], hinge: 0.75, actuato
           "D: [[0.0]]}\n")
 
 
+def test_sizing_problem_has_the_turbulence_constraint():
+    """build_problem with the turbulence options (the file's law, fixed gains): turbulence_ks is a
+    constraint of the driver beside the maneuvers' KS, and the law's gains are inputs of the component."""
+    from wingmdao import sizing
+    from wingmdao.cases import pegasus
+    from wingmdao.loads.turbulence_analysis import sizing_turbulence_options
+
+    setup = pegasus.build()
+    example = Path(__file__).resolve().parents[1] / "docs" / "examples" / "pegasus_turbulence_alleviation.yaml"
+    turb = sizing_turbulence_options(pegasus, setup, alleviation=str(example))
+    prob, _ = sizing.build_problem(setup.geometry, setup.load_cases, setup.material, setup.options, driver=True,
+                                   section=setup.section, turbulence=turb)
+    prob.final_setup()
+    assert set(prob.model.get_constraints()) == {"turbulence_ks", "cases.maneuver_pos.ks_vm", "cases.maneuver_neg.ks_vm"}
+    assert prob.get_val("turbulence.controller_C")[0, 0] == -0.5
+
+
 def test_size_turbulence_alleviation_refusals(capsys, tmp_path):
     """`size --turbulence --alleviation`: a load-factor law (the constraint's wing is clamped) is a
     one-line error; with --size-gains, a gust set (several cases sizing their own gains, the constraint
@@ -334,6 +352,7 @@ def test_codesign_gains_shared_by_the_gust_case_and_the_turbulence_constraint(tm
                                    section=setup.section, turbulence=turb)
     wrt = ["law_gains.controller_C", "law_gains.controller_D"]
     assert set(wrt) <= set(prob.model.get_design_vars())
+    assert {"turbulence_ks", "cases.gust.ks_vm", "cases.gust.closed_loop_ks"} <= set(prob.model.get_constraints())
     assert not any(k.startswith("cases.") for k in prob.model.get_design_vars())
     prob.run_model()
     of = ["turbulence_ks", "cases.gust.ks_vm", "cases.gust.closed_loop_ks"]
