@@ -36,7 +36,8 @@ from wingmdao.section.solid import solid_properties, validate_solid
 from wingmdao.timemarch.system import pack
 from wingmdao.utils.memory import return_freed_memory
 from wingmdao.aero.coupled import load_case_response
-from wingmdao.aero.system import control_param_specs
+from wingmdao.aero.system import cached_aeroelastic_system, control_param_specs
+from wingmdao.loads.maneuver_trim import elevator_trim
 from wingmdao.cases.planform import G0, LB
 from wingmdao.parallel import assign_cases, distributed_wing_sizing, set_shared_geometry, world_comm
 from wingmdao.report import best_design, read_history
@@ -213,6 +214,9 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
         raise ValueError("the turbulence constraint needs box sections in one process (no MPI distribution)")
     if distributed and control_gain_design_vars(load_cases):
         raise ValueError("--size-gains: the control-law gains are sized in one process (no MPI distribution)")
+    gain_vars = control_gain_design_vars(load_cases)
+    if turbulence is not None and turbulence.get("control_law") is not None and gain_vars:
+        turbulence, gain_vars = shared_turbulence_gains(load_cases, turbulence, gain_vars)
     mass_ref = (options.mass_scale or OBJECTIVE_SCALE * initial_mass(geometry, material, options, section, panels)) \
         if driver else 1.0
     # the load cases' forcing histories are fixed data of the beams, not OpenMDAO variables (issue 15)
@@ -235,7 +239,7 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     desc = "none (analysis only)"
     if driver:
         desc = _add_driver(prob, options, design_vars)
-        for name, bounds in control_gain_design_vars(load_cases).items():
+        for name, bounds in gain_vars.items():
             prob.model.add_design_var(name, **bounds)
         for path in closed_loop_constraints(load_cases):   # the sized law keeps the loop stable
             prob.model.add_constraint(path, upper=0.0, ref=1.0)
@@ -337,6 +341,40 @@ def control_gain_design_vars(load_cases) -> dict:
         for nm in names:
             out[f"cases.{case.name}.{nm}"] = {"lower": -bound, "upper": bound, "ref": bound}
     return out
+
+
+def shared_turbulence_gains(load_cases, turbulence: dict, gain_vars: dict) -> tuple:
+    """One law for the gust case whose gains are sized and the turbulence constraint: ``(turbulence
+    options with gains_from_case, design variables)``, the gains' design variables moved to
+    ``law_gains.<name>`` (an IndepVarComp of :class:`~wingmdao.groups.wing.WingSizing` feeding both).
+    ValueError for more than one sized case or a law that differs from the constraint's.
+
+    Parameters
+    ----------
+    load_cases : sequence of LoadCase
+        The sizing's load cases.
+    turbulence : dict
+        Options of :class:`~wingmdao.components.turbulence.TurbulenceStressKS` with ``control_law``.
+    gain_vars : dict
+        :func:`control_gain_design_vars` of ``load_cases``.
+
+    Returns
+    -------
+    tuple
+        ``(turbulence options, design variables {name: bounds})``.
+    """
+    cases = sorted({name.split(".")[1] for name in gain_vars})
+    if len(cases) != 1:
+        raise ValueError(f"--turbulence with --size-gains: {len(cases)} load cases size their own gains "
+                         f"({', '.join(cases)}); the turbulence constraint shares the gains of one (a single gust)")
+    case = next(c for c in load_cases if c.name == cases[0])
+    law, mine = case.aero.control_law, turbulence["control_law"]
+    if tuple(law.outputs) != tuple(mine.outputs) or any(not np.array_equal(getattr(law, k), getattr(mine, k))
+                                                         for k in "ABCD"):
+        raise ValueError(f"--turbulence with --size-gains: the law of load case {case.name!r} differs from the "
+                         "turbulence constraint's; give one alleviation file")
+    moved = {f"law_gains.{name.split('.')[-1]}": bounds for name, bounds in gain_vars.items()}
+    return {**turbulence, "gains_from_case": case.name}, moved
 
 
 def control_gains(prob, load_cases) -> dict:
@@ -720,7 +758,53 @@ def case_responses(prob, setup, togw_lb) -> dict:
         r = load_case_response(prob, case, setup.geometry.num_nodes, togw_lb * LB * G0)
         out[case.name] = {"peak_load_factor": r["peak_load_factor"],
                           "peak_root_bending_moment_n_m": r["peak_root_bending_moment"]}
+        trim = maneuver_elevator_trim(prob, case, setup.geometry.num_nodes, togw_lb * LB * G0)
+        if trim is not None:
+            out[case.name]["elevator_trim"] = trim
     return out
+
+
+def maneuver_elevator_trim(prob, case, num_nodes: int, weight: float) -> dict | None:
+    """The elevator trim of an analysed static maneuver trimmed with the tail (a coupled case with
+    ``pitch`` and ``elevator_effectiveness``, one instant): :func:`wingmdao.loads.maneuver_trim.elevator_trim`
+    at the case's state and parameters (``as_dict``: angle of attack, the 1 g stabiliser setting,
+    elevator angle, tail and wing lift); None for any other case.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        The sizing problem after its run.
+    case : LoadCase
+        The load case (``cases.<name>``).
+    num_nodes : int
+        Beam nodes.
+    weight : float
+        Aircraft weight W (N).
+
+    Returns
+    -------
+    dict or None
+        The trim, JSON-ready.
+    """
+    aero = case.aero
+    if aero is None or not aero.pitch or not aero.elevator_effectiveness or case.time.size != 1:
+        return None
+    path = f"cases.{case.name}"
+    system = cached_aeroelastic_system(int(num_nodes), plunge=True, trim=True, pitch=True,
+                                       aero_theory=aero.residual_theory, controls=aero.controls)
+
+    def value(name):  # the beam input under the case's promoted name or the beam's own
+        try:
+            return np.asarray(prob.get_val(f"{path}.{name}"))
+        except KeyError:
+            return np.asarray(prob.get_val(f"{path}.beam.{name}"))
+
+    values = {s.name: value(s.name) for s in system.param_specs}
+    p = pack(system.param_specs, values)
+    x = np.asarray(prob.get_val(f"{path}.states")).ravel()
+    n = float(np.ravel(values["trim_lift"])[0]) / weight
+    return elevator_trim(system, p, n, elevator_effectiveness=aero.elevator_effectiveness, weight=weight,
+                         state=x).as_dict()
 
 
 def partial_result(prob, setup, desc, recording, interrupted=True) -> dict:

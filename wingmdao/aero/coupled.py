@@ -52,7 +52,9 @@ class CoupledAero:
     residual (docs/controls.md); the law's matrices are then inputs of the case (``controller_D``,
     and ``controller_A`` ... ``controller_C`` when the law has states) and ``surface_command`` (n_time,
     n_s) rad a forcing. ``gain_design``: the law's ``controller_C`` and ``controller_D`` are design
-    variables of the sizing (:func:`wingmdao.sizing.control_gain_design_vars`).
+    variables of the sizing (:func:`wingmdao.sizing.control_gain_design_vars`). ``elevator_effectiveness``
+    (tau_e, with ``pitch``; 0: none): a trimmed static maneuver reports its elevator angle with the
+    stabiliser at its 1 g setting (:func:`wingmdao.loads.maneuver_trim.elevator_trim`).
 
     ``aero_theory`` (:data:`AERO_THEORY_CHOICES`): ``"strip"`` (each station's slope
     ``lift_slope``), ``"lifting-line"`` (``lift_slope`` replaced by the section slopes of
@@ -87,6 +89,7 @@ class CoupledAero:
     controls: object = None
     control_law: object = None
     gain_design: bool = False
+    elevator_effectiveness: float = 0.0
 
     @property
     def residual_theory(self) -> str:

@@ -26,7 +26,7 @@ from wingmdao.cases import (CaseOptions, CaseSetup, add_option_arguments, case_o
                             resolve_aero_theory)
 from wingmdao.cases.planform import FT, G0, LB, Planform, wing_geometry
 from wingmdao.aero.controls import control_spec, maneuver_commands, read_alleviation
-from wingmdao.aero.pitch import check_pitch_inputs
+from wingmdao.aero.pitch import check_pitch_inputs, elevator_effectiveness
 from wingmdao.aero.strip import station_gust_history
 from wingmdao.beam.residual import StrainRateDamping
 from wingmdao.groups.load_case import LoadCase, parse_families as _parse
@@ -142,6 +142,10 @@ class PegasusOptions(CaseOptions):
                                                    "strips' wing lift slope)", metavar="D", group=PITCH_GROUP)
     tail_lag: bool = option(False, "downwash lag: first-order lag of time constant x_t / V on the wing angle seen by "
                                    "the tail", group=PITCH_GROUP)
+    elevator_chord_ratio: float = option(0.3, "with --pitch free, the coupled maneuvers trimmed by angle of attack and "
+                                              "elevator: elevator chord / tail chord, (0, 1), its effectiveness from "
+                                              "thin-airfoil theory (the elevator angle of the result)", metavar="E",
+                                         group=PITCH_GROUP)
     alleviation: str | None = option(None, "coupled gust: control surfaces, actuators and a feedback law in the march; "
                                            "coupled maneuvers: the surfaces' maneuver_deg_per_g schedule "
                                            "(docs/controls.md)", metavar="FILE.yaml")
@@ -236,16 +240,27 @@ def coupled_maneuver_case(name, n_load, opts, geometry, chord, axis_frac, famili
     forcing = {"gravity": np.array([[0.0, 0.0, -G0]]),
                "frame_acceleration": np.array([[0.0, 0.0, (n_load - 1.0) * G0]]),
                "trim_active": np.ones(1)}
-    controls, what = {}, ""
+    pitch, what = {}, ""
+    if getattr(opts, "pitch", "fixed") == "free":  # trimmed with the tail: lift n W, zero pitching moment
+        # the body's weight too is n g (its moment about the origin): gravity n g0 in place of the frame's
+        # (n - 1) g0, the same loads on the beam
+        forcing = {"gravity": np.array([[0.0, 0.0, -n_load * G0]]), "trim_active": np.ones(1),
+                   "tail_gust_velocity": np.zeros(1)}
+        pitch = dict(plunge=True, aircraft_mass=weight_lb * LB,
+                     **pitch_aero_options(opts, geometry, chord, axis_frac, float(opts.mach)), )
+        pitch["tail_lag"] = False  # static: the lagged downwash equals the wing's angle
+        pitch["elevator_effectiveness"] = elevator_effectiveness(opts.elevator_chord_ratio)
+        what = ", trimmed with the tail (angle of attack and elevator)"
+    controls = {}
     if surfaces:
         controls = dict(controls=control_spec(surfaces, geometry.node_positions[:, 1]))
         forcing["surface_command"] = maneuver_commands(surfaces, n_load)[None, :]
-        what = ", " + ", ".join(f"{s.name} {np.degrees(u):+.2f} deg"
+        what += ", " + ", ".join(f"{s.name} {np.degrees(u):+.2f} deg"
                                 for s, u in zip(surfaces, forcing["surface_command"][0]))
     aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
                        airspeed=float(mach_to_tas(opts.mach, alt)), density=float(density(alt)), mach=float(opts.mach),
                        trim=True, trim_lift=n_load * weight_lb * LB * G0, aero_theory=_steady_theory(opts.aero_theory),
-                       node_positions=np.asarray(geometry.node_positions, dtype=float), **controls)
+                       node_positions=np.asarray(geometry.node_positions, dtype=float), **controls, **pitch)
     return LoadCase(name, np.zeros(1), forcing, families, f"{n_load:+.2f} g trimmed aeroelastic maneuver{what}",
                     aero=aero)
 
@@ -356,6 +371,48 @@ def gust_set_of(opts):
     return GustSet((fp,), h, parse_signs(sign or "both"), **GUST_SET_DEFAULTS)
 
 
+def pitch_aero_options(opts, geometry, chord, axis_frac, mach, pf=PLANFORM) -> dict:
+    """The free-pitch fields of :class:`~wingmdao.aero.coupled.CoupledAero` from ``--pitch free``'s
+    options: CG, pitch inertia, tail arm, area and slope, ``tail_lag``, and deps/dalpha (given, or
+    2 a_w / (pi AR), Etkin & Reid 1996 / Nelson 1998, a_w the wing slope of the --aero-theory).
+
+    Parameters
+    ----------
+    opts : PegasusOptions
+        The case options (``--pitch free`` checked).
+    geometry : BeamGeometry
+        The wing's beam geometry (``node_positions``).
+    chord, axis_frac : array_like
+        (n,) chord (m) and beam axis (fraction of the chord) per node.
+    mach : float
+        Mach number of the flight point.
+    pf : Planform
+        The planform (area, semi-span).
+
+    Returns
+    -------
+    dict
+        Keyword arguments of CoupledAero.
+    """
+    from wingmdao.aero.system import three_dimensional_parameters
+
+    deps = opts.downwash_gradient
+    if deps is None:  # Etkin & Reid (1996) / Nelson (1998): deps/dalpha = 2 a_w / (pi AR)
+        area = pf.area_ft2 * FT ** 2  # a_w: the wing slope of the --aero-theory, 2 int c a dy / S (as wingmdao gust)
+        theory = three_dimensional_parameters(opts.aero_theory, geometry.node_positions, chord, axis_frac, mach)
+        if "lift_influence" in theory:  # the lattice: lift per unit span of a unit angle at every station
+            a_c = theory["lift_influence"].sum(axis=1)
+        else:  # strips (2 pi) or the lifting line's slopes, with Prandtl-Glauert
+            a_c = (theory.get("lift_slope", 2 * np.pi) / np.sqrt(1 - mach ** 2)) * np.asarray(chord, dtype=float)
+        ds = np.linalg.norm(np.diff(geometry.node_positions, axis=0), axis=1)
+        a_w = 2 * np.sum(0.5 * (a_c[1:] + a_c[:-1]) * ds) / area
+        deps = 2 * a_w / (np.pi * (2 * pf.semi_span) ** 2 / area)
+    return dict(pitch=True, tail_lag=bool(opts.tail_lag), aircraft_cg=(float(opts.cg_x), float(opts.cg_z)),
+                aircraft_pitch_inertia=float(opts.pitch_inertia), tail_arm=float(opts.tail_arm),
+                tail_area=float(opts.tail_area), tail_lift_slope=float(opts.tail_lift_slope),
+                downwash_gradient=float(deps))
+
+
 def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *, gradient_ft, u_ds_eas,
                       airspeed_tas, altitude_m, direction, weight_lb, description, pf=PLANFORM):
     """The 1 - cos gust on the aeroelastic beam (``--aero coupled``): unsteady strip theory on the
@@ -367,7 +424,6 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
     with a horizontal tail (wingmdao.aero.pitch), the gust reaching the tail x_t / V after the first
     leading edge, deps/dalpha by default 2 a_w / (pi AR)."""
     from wingmdao.aero.coupled import CoupledAero
-    from wingmdao.aero.system import three_dimensional_parameters
 
     rho, rho0 = float(density(altitude_m)), float(density(0.0))
     V = float(airspeed_tas)
@@ -389,21 +445,7 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
     if getattr(opts, "pitch", "fixed") == "free":  # the tail meets the gust x_t / V after the first leading edge
         x_t = opts.cg_x + opts.tail_arm
         forcing["tail_gust_velocity"] = profile(time - (x_t - x_le.min()) / V)
-        deps = opts.downwash_gradient
-        if deps is None:  # Etkin & Reid (1996) / Nelson (1998): deps/dalpha = 2 a_w / (pi AR)
-            area = pf.area_ft2 * FT ** 2  # a_w: the wing slope of the --aero-theory, 2 int c a dy / S (as wingmdao gust)
-            theory = three_dimensional_parameters(opts.aero_theory, geometry.node_positions, chord, axis_frac, mach)
-            if "lift_influence" in theory:  # the lattice: lift per unit span of a unit angle at every station
-                a_c = theory["lift_influence"].sum(axis=1)
-            else:  # strips (2 pi) or the lifting line's slopes, with Prandtl-Glauert
-                a_c = (theory.get("lift_slope", 2 * np.pi) / np.sqrt(1 - mach ** 2)) * np.asarray(chord, dtype=float)
-            ds = np.linalg.norm(np.diff(geometry.node_positions, axis=0), axis=1)
-            a_w = 2 * np.sum(0.5 * (a_c[1:] + a_c[:-1]) * ds) / area
-            deps = 2 * a_w / (np.pi * (2 * pf.semi_span) ** 2 / area)
-        pitch = dict(pitch=True, tail_lag=bool(opts.tail_lag), aircraft_cg=(float(opts.cg_x), float(opts.cg_z)),
-                     aircraft_pitch_inertia=float(opts.pitch_inertia), tail_arm=float(opts.tail_arm),
-                     tail_area=float(opts.tail_area), tail_lift_slope=float(opts.tail_lift_slope),
-                     downwash_gradient=float(deps))
+        pitch = pitch_aero_options(opts, geometry, chord, axis_frac, mach, pf)
     controls = {}
     if getattr(opts, "size_gains", False) and not getattr(opts, "alleviation", None):
         raise ValueError("--size-gains needs --alleviation FILE.yaml (the law whose gains are sized)")
@@ -512,6 +554,8 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
             if not np.isfinite(getattr(opts, f)):
                 raise ValueError(f"--{f.replace('_', '-')} = {getattr(opts, f)} m; allowed a finite position (m)")
 
+        if not (np.isfinite(opts.elevator_chord_ratio) and 0.0 < opts.elevator_chord_ratio < 1.0):
+            raise ValueError(f"--elevator-chord-ratio = {opts.elevator_chord_ratio}; allowed range (0, 1)")
         check_pitch_inputs(aircraft_pitch_inertia=opts.pitch_inertia, tail_arm=opts.tail_arm, tail_area=opts.tail_area,
                            tail_lift_slope=opts.tail_lift_slope,
                            **({} if opts.downwash_gradient is None else {"downwash_gradient": opts.downwash_gradient}))
@@ -527,6 +571,9 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
         default = PegasusOptions()
         # the trimmed maneuvers' flight point and maneuver schedule of the surfaces
         used = ("altitude_ft", "mach", "alleviation") if opts.aero == "coupled" else ()
+        if opts.pitch == "free":  # the maneuvers trimmed with the tail (elevator trim)
+            used += ("plunge", "pitch", "pitch_inertia", "cg_x", "cg_z", "tail_arm", "tail_area", "tail_lift_slope",
+                     "downwash_gradient", "elevator_chord_ratio")
         ignored = [_flag_text(k, getattr(opts, k)) for k in GUST_ONLY_OPTIONS
                    if k not in used and getattr(opts, k) != getattr(default, k)]
         if ignored:

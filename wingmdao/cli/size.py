@@ -47,7 +47,9 @@ def _add_common(p, *, sizing: bool):
         p.add_argument("--turbulence", action="store_true",
                        help="add the 14 CFR 25.341(b) continuous-turbulence constraint: KS of the corner design stresses "
                             "1 g +/- U_sigma A-bar <= yield at V_C, root clamped, structural damping --damping-ratio "
-                            "when > 0, else 0.02 (cases with aerodynamic data: pegasus; docs/turbulence.md)")
+                            "when > 0, else 0.02 (cases with aerodynamic data: pegasus; docs/turbulence.md); with --alleviation "
+                            "the file's surfaces and law (no load-factor law) in it, with --size-gains the gust case's "
+                            "sized gains (docs/controls.md)")
         p.add_argument("--matrix", metavar="FILE.yaml", default=None,
                        help="size against the critical cases of a loads matrix (docs/loads-matrix.md), re-check "
                             "the whole matrix at the optimum, repeat while the critical set changes (load "
@@ -437,9 +439,30 @@ def _add_turbulence(args, setup, comm) -> None:
         raise ValueError(f"--turbulence needs box sections (the linear corner stresses), got section {setup.section!r}")
     zeta = getattr(args, "damping_ratio", None) or 0.02  # said in the help and in the run's notes
     damping, note = module.gust_damping(zeta, getattr(args, "damping_frequency_hz", None), setup.geometry, setup.options)
-    setup.turbulence = sizing_turbulence_options(module, setup, damping=damping)
+    alleviation = getattr(args, "alleviation", None)
+    setup.turbulence = sizing_turbulence_options(module, setup, damping=damping, alleviation=alleviation)
+    if alleviation:  # the turbulence constraint uses the file even where the case's own loads ignore it
+        setup.notes = _drop_ignored_flag(setup.notes, f"--alleviation {alleviation}")
+    law = setup.turbulence.get("control_law")
+    with_law = "" if not alleviation else (
+        f", control surfaces of {alleviation}" + (f" with the law on {', '.join(law.outputs)}" if law else " held"))
     setup.notes.append(f"turbulence constraint: KS of (+/- s_1g + U_sigma A-bar)/sigma_y - 1 <= 0 at V_C, U_sigma = "
-                       f"{setup.turbulence['u_sigma']:.2f} m/s TAS, root clamped, {note}")
+                       f"{setup.turbulence['u_sigma']:.2f} m/s TAS, root clamped, {note}{with_law}")
+
+
+def _drop_ignored_flag(notes, flag) -> list:
+    """``notes`` with ``flag`` taken out of the case's "ignored" warnings (a warning left without flags
+    is dropped)."""
+    out = []
+    for note in notes:
+        if note.startswith("warning: ignored") and flag in note:
+            head, _, flags = note.rpartition(": ")
+            kept = [f for f in flags.split(", ") if f != flag]
+            if not kept:
+                continue
+            note = f"{head}: {', '.join(kept)}"
+        out.append(note)
+    return out
 
 
 def _flutter_design(result, args, setup, prob):

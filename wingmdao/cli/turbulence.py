@@ -15,7 +15,10 @@ load_factor, tip_deflection; per station chordwise_shear, axial_force, vertical_
 bending_moment, torsion, chordwise_bending, csn frame; ``stress`` (n, 8): the 4 corner axial
 stresses then the 4 flange-centre shears of each box station, Pa), design_loads (one_g, up, down of each),
 correlation (bending_torsion per station, correlated_loads, root_ellipse), load_units,
-quadrature, model, span_m, wall_s. ``--aero-theory dlm`` (with ``--clamped``): the doublet lattice
+quadrature, model, span_m, wall_s; with ``--alleviation FILE.yaml`` (control surfaces, actuators and a
+law as states of the linearised residual, docs/controls.md) also control_surfaces (per surface A-bar of
+deflection and rate, U_sigma A-bar against the limits) and alleviation (file, law, a_bar_without_law,
+a_bar_with_law of root_bending_moment, load_factor, tip_deflection). ``--aero-theory dlm`` (with ``--clamped``): the doublet lattice
 in the jig beam's modal basis with Roger's lag states, linearised as its residual system
 (:mod:`wingmdao.stability.modal_turbulence`); its JSON holds a_bar and a_bar_error of
 root_bending_moment, root_torsion, load_factor, tip_deflection and per station bending_moment and
@@ -33,6 +36,7 @@ import numpy as np
 
 from wingmdao.plots import optional_pyplot
 
+from wingmdao.aero.controls import control_spec, read_alleviation
 from wingmdao.cases import available_cases, case_beam_parameters, resolve_aero_theory
 from wingmdao.cases.planform import G0, LB, wing_geometry
 from wingmdao.cli._args import add_aero_and_plunge_arguments, add_aero_theory_argument, add_output_arguments
@@ -75,6 +79,10 @@ def register(subparsers):
                    help="points of the geometric part of the grid (modes add 16 each)")
     add_aero_theory_argument(p, dlm=", or dlm (doublet lattice of the planform in the jig beam's modal basis with "
                                     "Roger's lag states; needs --aero coupled --clamped; A-bar only, no 1 g state)")
+    p.add_argument("--alleviation", metavar="FILE.yaml", default=None,
+                   help="control surfaces, actuators and a feedback law in the linearised model (docs/controls.md; "
+                        "needs --aero coupled and --aero-theory strip|lifting-line|vlm); the JSON adds the A-bar "
+                        "without the law and the surfaces' A-bar against their limits")
     p.add_argument("--modes", type=int, default=None, metavar="N",
                    help="number of jig beam modes of --aero-theory dlm (2-20; default: 6)")
     add_output_arguments(p, what="the PNG plots (CASE_turbulence_*.png)")
@@ -106,7 +114,29 @@ def _check_args(args, module):
         raise ValueError(f"--grid-points = {args.grid_points}; allowed range [{GRID_POINTS[0]}, {GRID_POINTS[1]}]")
     _check_theory(args)
     _check_dlm(args, plunge)
+    _check_alleviation(args, plunge)
     return plunge == "free", alt, mach, m_c, m_d
+
+
+def _check_alleviation(args, plunge):
+    """--alleviation: the file read and checked (keys, gains, spans, hinges) before any solve;
+    ``args.surfaces``, ``args.law`` (empty and None without it)."""
+    args.surfaces, args.law = (), None
+    if getattr(args, "alleviation", None) is None:
+        return
+    if args.aero != "coupled":
+        raise ValueError(f"--alleviation {args.alleviation} needs --aero coupled (the control surfaces are states of "
+                         "the coupled aeroelastic model; the --aero strip loads have none)")
+    if args.aero_theory == "dlm":
+        raise ValueError(f"--alleviation {args.alleviation}: control surfaces are in the strip sections only; use "
+                         "--aero-theory strip|lifting-line|vlm with --alleviation")
+    surfaces, law = read_alleviation(args.alleviation)
+    if law is not None:
+        for out, ok, need in (("load_factor", plunge == "free", "free plunge (--plunge free)"),
+                              ("pitch_rate", False, "free pitch, which wingmdao turbulence does not model")):
+            if out in law.outputs and not ok:
+                raise ValueError(f"--alleviation {args.alleviation}: output {out} needs {need}")
+    args.surfaces, args.law = surfaces, law
 
 
 def _check_theory(args):
@@ -189,11 +219,20 @@ def run(args):
     if args.aero_theory == "dlm":
         return _run_dlm(args, bp, chord, axis_frac, mach, V, rho, weight, point, stem, t_wall,
                         {"altitude_ft": alt_ft, "altitude_m": alt})
+    without = None
     if args.aero == "coupled":
+        if args.surfaces:
+            try:
+                control_spec(args.surfaces, np.asarray(bp["node_positions"])[:, 1], args.law)
+            except ValueError as exc:
+                raise ValueError(f"--alleviation {args.alleviation}: {exc}") from None
         ap = aero_parameters(chord.size, chord=chord, ref_point=axis_frac, airspeed=V, density=rho, mach=mach)
         ap.update(three_dimensional_parameters(args.aero_theory, bp["node_positions"], chord, axis_frac, mach))
-        gm = coupled_gust_model(bp, ap, chord=chord, axis_fraction=axis_frac, weight=weight, plunge=plunge,
-                                damping=damping, aero_theory="vlm" if args.aero_theory == "vlm" else "strip")
+        kw = dict(chord=chord, axis_fraction=axis_frac, weight=weight, plunge=plunge, damping=damping,
+                  aero_theory="vlm" if args.aero_theory == "vlm" else "strip")
+        gm = coupled_gust_model(bp, ap, **kw, surfaces=args.surfaces or None, law=args.law)
+        if args.surfaces:  # the same wing without surfaces: the law's effect
+            without = coupled_gust_model(bp, ap, **kw)
     else:
         gm = strip_gust_model(bp, chord=chord, axis_fraction=axis_frac, weight=weight, airspeed=V, density=rho,
                               semi_span=pf.semi_span, fuselage_half_width=pf.root_rib * pf.semi_span, damping=damping)
@@ -202,7 +241,9 @@ def run(args):
            "u_sigma_ref_m_s": point.u_sigma_ref, "f_g": point.f_g, "speed_factor": point.speed_factor,
            "u_sigma_m_s": point.u_sigma, "span_m": np.asarray(bp["node_positions"])[:, 1].tolist()}
     res.update(turbulence_analysis(gm, point.u_sigma, f_max=args.f_max_hz, n_base=args.grid_points,
-                                   stress_matrices=_stress_matrices(setup, args)))
+                                   stress_matrices=_stress_matrices(setup, args), surfaces=args.surfaces))
+    if without is not None:
+        res["alleviation"] = _alleviation_summary(args, res, without, point.u_sigma)
     res["wall_s"] = _time.perf_counter() - t_wall
     ab = res["a_bar"]
     print(f"A-bar: load factor {ab['load_factor']:.4g} per m/s, root bending {ab['root_bending_moment']:.4g} N m per m/s; "
@@ -213,6 +254,26 @@ def run(args):
     if stem:
         _plots(res, stem)
     return 0
+
+
+def _alleviation_summary(args, res, without, u_sigma) -> dict:
+    """``alleviation`` of the JSON: the file, the law, A-bar of the root bending, load factor and tip
+    deflection without the surfaces (the same wing and grid settings) and with the law, and the
+    surfaces' A-bar against their limits (``control_surfaces``)."""
+    from wingmdao.loads.turbulence_analysis import turbulence_analysis
+
+    plain = turbulence_analysis(without, u_sigma, f_max=args.f_max_hz, n_base=args.grid_points)
+    keys = ("root_bending_moment", "load_factor", "tip_deflection")
+    law = None if args.law is None else {"outputs": list(args.law.outputs),
+                                         **{k: v.tolist() for k, v in args.law.matrices().items()}}
+    out = {"file": args.alleviation, "law": law,
+           "a_bar_without_law": {k: plain["a_bar"][k] for k in keys},
+           "a_bar_with_law": {k: res["a_bar"][k] for k in keys},
+           "control_surfaces": res.get("control_surfaces", {})}
+    for k in keys:
+        print(f"alleviation: A-bar {k} {plain['a_bar'][k]:.4g} -> {res['a_bar'][k]:.4g} "
+              f"({100 * (res['a_bar'][k] / plain['a_bar'][k] - 1):+.1f} %)", file=sys.stderr)
+    return out
 
 
 def _run_dlm(args, bp, chord, axis_frac, mach, V, rho, weight, point, stem, t_wall, alt):

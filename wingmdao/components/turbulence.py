@@ -9,6 +9,10 @@ partials with respect to every beam and aerodynamic parameter and the four wall 
 from the complex adjoint of the frequency-response solves and the adjoint of the 1 g static solve:
 declared dense (one output), never finite differences.
 
+Control surfaces (option ``controls``): their actuators and the law are states of the residual, so
+the linearisation carries them; the law's matrices ``controller_A`` ... ``controller_D`` are inputs
+(defaults: option ``control_law``'s) with the same exact partials as any parameter (docs/controls.md).
+
 Airspeed and aircraft mass: by default the true airspeed is the option ``airspeed`` and the
 aircraft enters through ``trim_lift`` (N) and, free in plunge, ``body_mass`` (kg, outside both
 wing halves). ``airspeed_input=True`` makes ``airspeed`` (m/s TAS) an input, its partial the total
@@ -30,6 +34,7 @@ from __future__ import annotations
 import numpy as np
 import openmdao.api as om
 
+from wingmdao.aero.controls import ControlLaw, ControlSpec
 from wingmdao.aero.plunge import half_wing_mass
 from wingmdao.aero.system import cached_aeroelastic_system
 from wingmdao.beam.residual import StrainRateDamping
@@ -73,6 +78,11 @@ class TurbulenceStressKS(om.ExplicitComponent):
                              desc="fixed grid (rad/s, odd count); None: refined at the modes of the first evaluation")
         self.options.declare("f_max", default=20.0, types=float, desc="highest frequency of the automatic grid (Hz)")
         self.options.declare("n_base", default=161, types=int, desc="geometric points of the automatic grid")
+        self.options.declare("controls", default=None, allow_none=True, types=ControlSpec,
+                             desc="control surfaces, actuators and law of the residual (wingmdao.aero.controls."
+                                  "control_spec; None: none): the gains controller_A ... controller_D become inputs")
+        self.options.declare("control_law", default=None, allow_none=True, types=ControlLaw,
+                             desc="the law whose matrices are the default values of the gain inputs")
         self.options.declare("values", default=None, allow_none=True, types=dict,
                              desc="default values of inputs {name: value} (the aerodynamic parameters and "
                                   "trim_lift a sizing group does not connect)")
@@ -80,10 +90,11 @@ class TurbulenceStressKS(om.ExplicitComponent):
     def setup(self):
         n = self.options["num_nodes"]
         self.system = cached_aeroelastic_system(n, damping=self.options["damping"], plunge=self.options["plunge"],
-                                                trim=True)
+                                                trim=True, controls=self.options["controls"])
         derived = ("trim_lift", "body_mass") if self.options["aircraft_mass_input"] else ()
         self.specs = [s for s in self.system.param_specs if s.name != "airspeed" and s.name not in derived]
-        values = self.options["values"] or {}
+        law = self.options["control_law"]
+        values = {**(law.matrices() if law is not None else {}), **(self.options["values"] or {})}
         for s in self.specs:
             self.add_input(s.name, val=values.get(s.name, 1.0), shape=s.shape or 1, units=s.units, desc=s.desc)
         self.extra = []

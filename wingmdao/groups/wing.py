@@ -57,6 +57,9 @@ from wingmdao.components.solid_stress import SolidRectStress
 from wingmdao.components.state_slice import BeamStateSlice
 from wingmdao.components.stress import BoxStress
 
+#: the control-law gains a sizing can make design variables (docs/controls.md): the filter dynamics A, B stay fixed
+SIZED_GAINS = ("controller_C", "controller_D")
+
 #: Inputs the beam takes from the section, with the section output that feeds it.
 SECTION_TO_BEAM = ("stiffness_csn", "compliance_csn", "mass_per_length", "inertia_per_length")
 WALLS = WALL_NAMES
@@ -338,7 +341,14 @@ class WingStructure(om.Group):
         if aero is not None and aero.controls is not None and aero.control_law is not None and aero.gain_design:
             # sized gains: the closed-loop stability constraint about the trimmed state (docs/controls.md)
             system = beam.options["system"]
-            connected = {"body_mass": "plunge_mass.body_mass", "trim_lift": "plunge_mass.trim_lift"}
+            if aero.pitch:  # the body's parameters come from the aircraft's, as the beam's
+                connected = {k: f"pitch_body.{k}" for k in ("body_mass", "body_first_moment", "body_pitch_inertia",
+                                                            "tail_x", "trim_lift")}
+            elif aero.plunge:
+                connected = {"body_mass": "plunge_mass.body_mass"} | (
+                    {"trim_lift": "plunge_mass.trim_lift"} if aero.trim else {})
+            else:  # clamped: trim_lift is the case's promoted input, shared with the beam
+                connected = {}
             names = [sp.name for sp in system.param_specs]
             self.add_subsystem("closed_loop", ClosedLoopDamping(system=system),
                                promotes_inputs=[nm for nm in names if nm not in connected],
@@ -453,6 +463,8 @@ class WingSizing(om.Group):
             raise ValueError(f"load case names must be unique, got {names}")
 
         design = SECTION_KINDS[kind]["design_vars"]
+        if (self.options["turbulence"] or {}).get("gains_from_case") is not None:
+            self._add_law_gains(self.options["turbulence"])
         alias = []
         if self.options["station_map"] is not None:
             self.add_subsystem("design_map", StationMap(station_map=self.options["station_map"], names=design),
@@ -537,12 +549,27 @@ class WingSizing(om.Group):
         """The 25.341(b) corner design-stress constraint on the section chain's beam parameters and the
         walls of every station (docs/turbulence.md)."""
         walls = [(w, alias_map[w]) if w in alias_map else w for w in WALLS]
-        self.add_subsystem("turbulence", TurbulenceStressKS(num_nodes=n, **self.options["turbulence"]),
+        opts = dict(self.options["turbulence"])
+        case = opts.pop("gains_from_case", None)
+        self.add_subsystem("turbulence", TurbulenceStressKS(num_nodes=n, **opts),
                            promotes_inputs=["node_positions", "node_euler_angles", *SECTION_TO_BEAM,
                                             *SECTION_OFFSETS, *walls],
                            promotes_outputs=["turbulence_ks"])
+        if case is not None:  # one law: the sized gains (law_gains, before the cases) feed the constraint too
+            for spec in control_param_specs(opts["controls"]):
+                if spec.name in SIZED_GAINS:
+                    self.connect(f"law_gains.{spec.name}", [f"cases.{case}.{spec.name}", f"turbulence.{spec.name}"])
         if self.options["add_constraints"]:
             self.add_constraint("turbulence_ks", upper=0.0)
+
+    def _add_law_gains(self, turbulence):
+        """``law_gains``: the sized gains of the law the gust case and the turbulence constraint share
+        (before both: the reverse sweep of the group's linear solver meets it after them)."""
+        law = turbulence["control_law"]
+        gains = self.add_subsystem("law_gains", om.IndepVarComp())
+        for spec in control_param_specs(turbulence["controls"]):
+            if spec.name in SIZED_GAINS:
+                gains.add_output(spec.name, val=getattr(law, spec.name[-1]), desc=spec.desc)
 
     def _add_flutter(self, n):
         """The flutter-damping constraint on the section chain's beam parameters (docs/flutter.md)."""

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from wingmdao.aero.controls import control_spec, read_alleviation
 from wingmdao.aero.plunge import body_mass, half_wing_mass
 from wingmdao.aero.system import aero_parameters, cached_aeroelastic_system
 from wingmdao.beam.residual import STATE_BLOCKS
@@ -31,7 +32,8 @@ from wingmdao.loads import turbulence as tb
 from wingmdao.loads.atmosphere import G0, LB
 from wingmdao.loads.maneuver import maneuver_line_loads, strip_line_loads
 from wingmdao.stability.frequency import (LOAD_NAMES, LOAD_UNITS, OutputMap, aeroelastic_outputs, frequency_grid,
-                                          frequency_response, internal_load_output, lift_weights, linear_gust_model,
+                                          frequency_response, gust_columns, internal_load_output, lift_weights,
+                                          linear_gust_model,
                                           pencil_eigenvalues, state_output, stress_response)
 from wingmdao.timemarch.bdf import solve_static
 from wingmdao.timemarch.system import layout, pack
@@ -53,16 +55,27 @@ class GustModel:
 
 
 def coupled_gust_model(beam_params: dict, aero_params: dict, *, chord, axis_fraction, weight, plunge=True,
-                       gravity=G0, damping=None, aero_theory="strip") -> GustModel:
+                       gravity=G0, damping=None, aero_theory="strip", surfaces=None, law=None) -> GustModel:
     """The aeroelastic beam trimmed in 1 g level flight (lift of both halves = ``weight`` N under
     ``gravity`` m/s^2), clamped or free in ``plunge`` (body mass = weight / g0 - 2 m_half), linearised
     with alpha_trim held; stations meet the gust at their leading edges. ``damping``: the beam's
     structural damping (:class:`~wingmdao.beam.residual.StrainRateDamping`), None: undamped.
     ``aero_theory``: the residual's quasi-steady lift, ``"strip"`` or ``"vlm"`` (then ``aero_params``
-    hold ``lift_influence`` and ``moment_influence``, :func:`wingmdao.aero.three_dimensional_parameters`)."""
+    hold ``lift_influence`` and ``moment_influence``, :func:`wingmdao.aero.three_dimensional_parameters`).
+    ``surfaces`` (:class:`~wingmdao.aero.controls.ControlSurface`, None: none) and ``law``
+    (:class:`~wingmdao.aero.controls.ControlLaw`, None: the surfaces held at the trimmed command):
+    the actuators and the law are states of the residual, so the linearisation carries them
+    (docs/controls.md, "The law in continuous turbulence"); the outputs then include every
+    surface's deflection and rate (:func:`control_outputs`)."""
     n = np.asarray(chord).size
-    system = cached_aeroelastic_system(n, damping=damping, plunge=bool(plunge), trim=True, aero_theory=aero_theory)
+    spec = None
+    if surfaces:
+        spec = control_spec(surfaces, np.asarray(beam_params["node_positions"])[:, 1], law)
+    system = cached_aeroelastic_system(n, damping=damping, plunge=bool(plunge), trim=True, aero_theory=aero_theory,
+                                       controls=spec)
     params = {**beam_params, **aero_params, "trim_lift": float(weight)}
+    if law is not None:
+        params.update(law.matrices())
     r0 = np.asarray(beam_params["node_positions"])
     if plunge:
         params["body_mass"] = body_mass(weight / G0, half_wing_mass(beam_params["mass_per_length"], r0)[0])
@@ -103,11 +116,48 @@ def gust_model_from_parameters(system, params: dict, *, x_stations, gravity=G0) 
     q = q_static.copy()
     q[ql["trim_active"]] = 0.0
     outputs = aeroelastic_outputs(system, p, q, x0, weight=float(np.ravel(params["trim_lift"])[0]))
+    outputs.update(control_outputs(system, x0))
     model = linear_gust_model(system, p, q, x0, x_stations=np.asarray(x_stations, dtype=float),
                               airspeed=float(np.ravel(params["airspeed"])[0]), outputs=outputs)
     plunge = getattr(system, "plunge", False)
+    ctl = getattr(system, "controls", None)
+    law = "" if ctl is None else (f", {ctl.n_surfaces} control surface(s)"
+                                  + (f" and a law on {', '.join(ctl.outputs)}" if ctl.outputs else " held"))
     return GustModel(model, pencil_eigenvalues(model),
-                     f"coupled strip theory, {'free plunge' if plunge else 'clamped'}, trimmed 1 g", system, p, q_static)
+                     f"coupled strip theory, {'free plunge' if plunge else 'clamped'}, trimmed 1 g{law}", system, p,
+                     q_static)
+
+
+def control_outputs(system, x0) -> dict:
+    """The control surfaces' deflection and rate as outputs of the linear gust model (rad and rad/s per
+    m/s of gust): ``{"surface_deflection": OutputMap, "surface_rate": OutputMap}``, one row per surface
+    in the order of ``system.controls.surfaces``; empty for a system without surfaces.
+
+    Parameters
+    ----------
+    system : AeroelasticBeamSystem
+        The residual system (its ``controls`` and ``control_index``).
+    x0 : array_like
+        The linearisation state.
+
+    Returns
+    -------
+    dict
+        ``{name: OutputMap}`` (empty without surfaces).
+    """
+    ctl = getattr(system, "controls", None)
+    if ctl is None:
+        return {}
+    x0 = np.asarray(x0, dtype=float).ravel()
+    N = system.n_state
+    m = gust_columns(layout(system.forcing_specs)).size
+    out = {}
+    for key, state in (("surface_deflection", "deflection"), ("surface_rate", "rate")):
+        idx = [system.control_index[f"{srf[0]}_{state}"] for srf in ctl.surfaces]
+        C = sp.csr_matrix((np.ones(len(idx)), (np.arange(len(idx)), idx)), shape=(len(idx), N))
+        out[key] = OutputMap(x0[idx], C, sp.csr_matrix((len(idx), N)), sp.csr_matrix((len(idx), m)),
+                             "rad" if state == "deflection" else "rad/s")
+    return out
 
 
 def strip_gust_model(beam_params: dict, *, chord, axis_fraction, weight, airspeed, density, semi_span,
@@ -157,11 +207,14 @@ def _lists(a):
 
 
 def turbulence_analysis(gm: GustModel, u_sigma: float, *, f_min=1e-3, f_max=40.0, n_base=161, n_mode=16,
-                        stress_matrices=None) -> dict:
+                        stress_matrices=None, surfaces=None) -> dict:
     """A-bar, PSDs, design loads (P_1g +/- U_sigma A-bar) and (bending, torsion) correlations of every
     station; a JSON-ready dict (SI; A-bar in output units per m/s; PSDs one-sided, per Hz, for a unit
     rms gust). ``stress_matrices`` (n, 8, 6): :func:`wingmdao.stability.frequency.stress_matrix` of
-    every station, adds the linear box stresses (Pa)."""
+    every station, adds the linear box stresses (Pa). ``surfaces``: the
+    :class:`~wingmdao.aero.controls.ControlSurface` of a model with control surfaces (the outputs of
+    :func:`control_outputs`), adds ``control_surfaces``: per surface A-bar of the deflection and rate
+    and U_sigma A-bar against the surface's limits."""
     if not (np.isfinite(u_sigma) and u_sigma > 0):
         raise ValueError(f"u_sigma = {u_sigma} m/s; allowed range (0, inf) m/s TAS")
     model = gm.model
@@ -221,16 +274,35 @@ def turbulence_analysis(gm: GustModel, u_sigma: float, *, f_min=1e-3, f_max=40.0
                                  "(I_h - I_2h)/3 on every other point + the power-law tail beyond f_max"},
         "model": gm.description,
     })
+    if surfaces and "surface_deflection" in ab:
+        res["control_surfaces"] = _surface_report(surfaces, ab, u_sigma)
     return res
 
 
-def sizing_turbulence_options(module, setup, *, damping=None, rho_ks=50.0) -> dict:
+def _surface_report(surfaces, ab, u_sigma) -> dict:
+    """Per surface: A-bar of deflection (deg per m/s) and rate (deg/s per m/s), their design values
+    U_sigma A-bar against the surface's limits (reported, never clipped)."""
+    out = {}
+    for k, s in enumerate(surfaces):
+        d, r = (float(np.degrees(ab[key].value[k])) for key in ("surface_deflection", "surface_rate"))
+        out[s.name] = {"a_bar_deflection_deg_per_m_s": d, "a_bar_rate_deg_s_per_m_s": r,
+                       "design_deflection_deg": u_sigma * d, "max_deflection_deg": float(s.max_deflection_deg),
+                       "design_rate_deg_s": u_sigma * r, "max_rate_deg_s": float(s.max_rate_deg_s),
+                       "deflection_limit_exceeded": bool(u_sigma * d > s.max_deflection_deg),
+                       "rate_limit_exceeded": bool(u_sigma * r > s.max_rate_deg_s)}
+    return out
+
+
+def sizing_turbulence_options(module, setup, *, damping=None, rho_ks=50.0, alleviation=None) -> dict:
     """Options of :class:`wingmdao.components.turbulence.TurbulenceStressKS` for the sizing of a case
     with aerodynamic data. ``module``: its case module (``aero_data(n)``, ``flight_point()``,
     ``CRUISE_ALTITUDE_FT``, ``GUST_SET_DEFAULTS``, ``TOGW_LB``); ``setup``: its CaseSetup. The V_C
     point (U_sigma of 25.341(b)(3) at the cruise altitude), root clamped (the aircraft mass outside
     the wing is not a sizing input), the stations meeting the gust at their leading edges, the box
-    geometry of the setup, sigma_allow the material's yield stress."""
+    geometry of the setup, sigma_allow the material's yield stress. ``alleviation``: the path of an
+    alleviation file (docs/controls.md; None: no surfaces): its surfaces, actuators and law enter the
+    constraint's residual (options ``controls`` and ``control_law``); a law on ``load_factor`` or
+    ``pitch_rate`` is refused (the constraint's wing is clamped)."""
     geo = setup.geometry
     n = geo.num_nodes
     aero, fp = module.aero_data(n), module.flight_point()
@@ -243,7 +315,20 @@ def sizing_turbulence_options(module, setup, *, damping=None, rho_ks=50.0) -> di
     values.pop("airspeed")
     values["trim_lift"] = module.TOGW_LB * LB * G0
     x_le = np.asarray(geo.node_positions)[:, 0] - np.asarray(aero["ref_point"]) * np.asarray(aero["chord"])
-    return {"plunge": False, "airspeed": V, "x_stations": x_le, "width": np.asarray(geo.width),
+    controls = {}
+    if alleviation is not None:
+        surfaces, law = read_alleviation(alleviation)
+        bad = [o for o in (law.outputs if law is not None else ()) if o in ("load_factor", "pitch_rate")]
+        if bad:
+            raise ValueError(f"--turbulence --alleviation {alleviation}: output {bad[0]} needs a free aircraft; the "
+                             "turbulence constraint's wing is root clamped (allowed outputs: root_bending, "
+                             "tip_acceleration)")
+        try:
+            spec = control_spec(surfaces, np.asarray(geo.node_positions)[:, 1], law)
+        except ValueError as exc:
+            raise ValueError(f"--alleviation {alleviation}: {exc}") from None
+        controls = {"controls": spec, "control_law": law}
+    return {"plunge": False, "airspeed": V, **controls, "x_stations": x_le, "width": np.asarray(geo.width),
             "height": np.asarray(geo.height), "section_to_csn": geo.section_to_csn, "u_sigma": float(point.u_sigma),
             "sigma_allow": float(setup.material.sigma_y), "rho_ks": float(rho_ks), "damping": damping,
             "values": values}
