@@ -79,6 +79,31 @@ class ControlSurface:
     trailing edge down positive): in a trimmed maneuver at load factor n the surface is held at
     ``maneuver_deg_per_g (n - 1)`` while the angle of attack trims the lift (maneuver load
     alleviation, :func:`maneuver_commands`).
+
+    Parameters
+    ----------
+    name : str
+        Surface name.
+    hinge : float
+        Hinge line, fraction of the chord aft of the leading edge, in (0, 1).
+    span : tuple or None, optional
+        (start, end) fractions of the semi-span; give ``span`` or ``nodes``.
+    nodes : tuple or None, optional
+        (first, last) node indices, inclusive.
+    actuator_order : {1, 2}, optional
+        Actuator order.
+    time_constant : float, optional
+        First-order actuator time constant (s).
+    frequency_hz : float, optional
+        Second-order actuator natural frequency (Hz).
+    damping : float, optional
+        Second-order actuator damping ratio (-).
+    max_deflection_deg : float, optional
+        Deflection limit (deg).
+    max_rate_deg_s : float, optional
+        Rate limit (deg/s).
+    maneuver_deg_per_g : float, optional
+        Symmetric maneuver schedule (deg per g of load-factor increment, trailing edge down +).
     """
 
     name: str
@@ -123,7 +148,18 @@ class ControlSurface:
 
     def node_indices(self, node_y) -> tuple:
         """The beam nodes (indices) the surface covers, for spanwise node positions ``node_y`` (m);
-        ValueError when ``nodes`` lie outside the beam or a ``span`` holds fewer than two nodes."""
+        ValueError when ``nodes`` lie outside the beam or a ``span`` holds fewer than two nodes.
+
+        Parameters
+        ----------
+        node_y : array_like
+            (n,) spanwise node positions (m).
+
+        Returns
+        -------
+        tuple
+            (first, last) node indices.
+        """
         y = np.asarray(node_y, dtype=float).ravel()
         where = f"control surface {self.name!r}"
         if self.nodes is not None:
@@ -142,7 +178,20 @@ class ControlSurface:
 def theodorsen_flap_functions(hinge: float, a: float = 0.0) -> dict:
     """Theodorsen's flap functions T1 ... T19 (NACA Rep. 496, 1935, Table I; T15 ... T19 grouped)
     for a hinge at ``hinge`` x chord aft of the leading edge and the axis ``a`` (semichords aft of
-    midchord)."""
+    midchord).
+
+    Parameters
+    ----------
+    hinge : float
+        Hinge line, fraction of the chord aft of the leading edge.
+    a : float, optional
+        Axis position, semichords aft of midchord.
+
+    Returns
+    -------
+    dict
+        ``T1`` ... ``T19``.
+    """
     c = 2.0 * float(hinge) - 1.0
     s = math.sqrt(1.0 - c * c)
     ac = math.acos(c)
@@ -170,13 +219,35 @@ def theodorsen_flap_functions(hinge: float, a: float = 0.0) -> dict:
 
 
 def flap_lift_effectiveness(hinge: float) -> float:
-    """dCl/dbeta (1/rad) of thin-airfoil theory, 2 T10."""
+    """dCl/dbeta (1/rad) of thin-airfoil theory, 2 T10.
+
+    Parameters
+    ----------
+    hinge : float
+        Hinge line, fraction of the chord.
+
+    Returns
+    -------
+    float
+        dCl/dbeta (1/rad).
+    """
     return 2.0 * theodorsen_flap_functions(hinge)[10]
 
 
 def hinge_moment_coefficients(hinge: float) -> tuple:
     """Steady thin-airfoil ``(C_h,alpha, C_h,beta)`` (1/rad; hinge moment over 1/2 rho V^2 c^2,
-    trailing edge down positive) from Theodorsen's functions."""
+    trailing edge down positive) from Theodorsen's functions.
+
+    Parameters
+    ----------
+    hinge : float
+        Hinge line, fraction of the chord.
+
+    Returns
+    -------
+    tuple
+        (C_h,alpha, C_h,beta) (1/rad).
+    """
     T = theodorsen_flap_functions(hinge)
     return -0.5 * T[12], -(T[18] + T[10] * T[12]) / (2.0 * math.pi)
 
@@ -185,7 +256,26 @@ def flap_terms(T: dict, b, v_c, rho, beta, dbeta, ddbeta):
     """The flap's additions to a strip (symbolic or numeric): ``(alpha_qs, lift_nc, moment_nc_mid)``,
     the three-quarter-chord angle (rad), the non-circulatory lift (N/m, up) and moment about
     midchord (N m/m, nose up) of deflection ``beta``, its rate and acceleration; ``T`` from
-    :func:`theodorsen_flap_functions` with a = 0."""
+    :func:`theodorsen_flap_functions` with a = 0.
+
+    Parameters
+    ----------
+    T : dict
+        Theodorsen's flap functions (:func:`theodorsen_flap_functions`, a = 0).
+    b : float or casadi.SX
+        Semichord (m).
+    v_c : float or casadi.SX
+        Airspeed normal to the section (m/s).
+    rho : float or casadi.SX
+        Air density (kg/m^3).
+    beta, dbeta, ddbeta : float or casadi.SX
+        Flap deflection (rad), its rate (rad/s) and acceleration (rad/s^2).
+
+    Returns
+    -------
+    tuple
+        (alpha_qs (rad), lift_nc (N/m), moment_nc_mid (N m/m)).
+    """
     alpha = T[10] / math.pi * beta + T[11] * b / (2.0 * math.pi * v_c) * dbeta
     lift = -rho * b ** 2 * (v_c * T[4] * dbeta + b * T[1] * ddbeta)
     moment = -rho * v_c ** 2 * b ** 2 * T[15] * beta - rho * v_c * b ** 3 * T[16] * dbeta - 2.0 * rho * b ** 4 * T[13] * ddbeta
@@ -194,7 +284,34 @@ def flap_terms(T: dict, b, v_c, rho, beta, dbeta, ddbeta):
 
 def hinge_moment(T: dict, b, v_c, rho, beta, dbeta, ddbeta, dw_mid, w_s, dw_s, lift_circulatory):
     """Hinge moment per length (N m/m, trailing edge down positive) of the section's motion (the
-    strip's ``dw_mid``, ``w_s``, ``dw_s``), the flap's and the circulatory lift; ``T`` with a = 0."""
+    strip's ``dw_mid``, ``w_s``, ``dw_s``), the flap's and the circulatory lift; ``T`` with a = 0.
+
+    Parameters
+    ----------
+    T : dict
+        Theodorsen's flap functions (:func:`theodorsen_flap_functions`, a = 0).
+    b : float or casadi.SX
+        Semichord (m).
+    v_c : float or casadi.SX
+        Airspeed normal to the section (m/s).
+    rho : float or casadi.SX
+        Air density (kg/m^3).
+    beta, dbeta, ddbeta : float or casadi.SX
+        Flap deflection (rad), its rate (rad/s) and acceleration (rad/s^2).
+    dw_mid : float or casadi.SX
+        Rate of the normal relative air velocity at midchord, dw_mid/dt (m/s^2).
+    w_s : float or casadi.SX
+        Section pitch rate about the beam axis, w_s (rad/s).
+    dw_s : float or casadi.SX
+        Its rate (rad/s^2).
+    lift_circulatory : float or casadi.SX
+        Circulatory lift per length (N/m).
+
+    Returns
+    -------
+    float or casadi.SX
+        Hinge moment per length (N m/m).
+    """
     return (rho * b ** 3 * T[1] * dw_mid - rho * v_c * b ** 3 * (T[1] + T[17]) * w_s - 2.0 * rho * b ** 4 * T[13] * dw_s
             + rho * b ** 4 * T[3] / math.pi * ddbeta - rho * v_c * b ** 3 * T[19] / math.pi * dbeta
             - rho * v_c ** 2 * b ** 2 * T[18] / math.pi * beta - T[12] * b / (2.0 * math.pi) * lift_circulatory)
@@ -205,7 +322,22 @@ def flap_harmonic_loads(k, hinge: float, C):
     beta = e^{i omega t}, k = omega b / V, as coefficients: ``(L / (rho V^2 b), M / (rho V^2 b^2),
     H / (rho V^2 b^2))`` (complex, per radian); ``C`` the lift-deficiency function of k
     (:func:`wingmdao.aero.strip.theodorsen_exact`, or the finite-state model's
-    :func:`~wingmdao.aero.strip.theodorsen_jones`)."""
+    :func:`~wingmdao.aero.strip.theodorsen_jones`).
+
+    Parameters
+    ----------
+    k : float
+        Reduced frequency omega b / V (-).
+    hinge : float
+        Hinge line, fraction of the chord.
+    C : complex
+        Lift-deficiency function at k.
+
+    Returns
+    -------
+    tuple
+        Complex lift, moment and hinge-moment coefficients per radian.
+    """
     k = np.asarray(k, dtype=float)
     Ck = C(k)
     T = theodorsen_flap_functions(hinge)
@@ -219,7 +351,20 @@ def flap_harmonic_loads(k, hinge: float, C):
 
 def pid_state_space(kp, ki, kd, derivative_time_constant: float = 0.02):
     """(A, B, C, D) of ``u = kp y + ki int y dt + kd dy_f/dt`` for one output and one command, the
-    derivative filtered by a first-order lag ``derivative_time_constant`` (s)."""
+    derivative filtered by a first-order lag ``derivative_time_constant`` (s).
+
+    Parameters
+    ----------
+    kp, ki, kd : float
+        Proportional, integral and derivative gains.
+    derivative_time_constant : float, optional
+        Time constant of the derivative's filter (s).
+
+    Returns
+    -------
+    tuple
+        (A, B, C, D).
+    """
     tf = float(derivative_time_constant)
     if not (math.isfinite(tf) and tf > 0):
         raise ValueError(f"derivative_time_constant = {derivative_time_constant}; allowed range (0, inf) s")
@@ -235,7 +380,23 @@ class ControlLaw:
     """A linear feedback law: measured ``outputs`` (names of :data:`MEASUREMENTS`), ``A`` (n_c, n_c),
     ``B`` (n_c, n_y), ``C`` (n_s, n_c), ``D`` (n_s, n_y) with n_s the number of surfaces (commands in
     the order of the surfaces). Checked on creation: sizes, finiteness, and the open-loop
-    controller's stability (no eigenvalue of A with a positive real part)."""
+    controller's stability (no eigenvalue of A with a positive real part).
+
+    Parameters
+    ----------
+    outputs : tuple of str
+        Measured outputs (:data:`MEASUREMENTS`).
+    A : numpy.ndarray
+        (n_c, n_c) controller dynamics.
+    B : numpy.ndarray
+        (n_c, n_y) input matrix.
+    C : numpy.ndarray
+        (n_s, n_c) output matrix.
+    D : numpy.ndarray
+        (n_s, n_y) feedthrough.
+    n_surfaces : int, optional
+        Number of surfaces commanded.
+    """
 
     outputs: tuple
     A: np.ndarray
@@ -284,7 +445,17 @@ class ControlSpec:
     """What the residual needs of the surfaces and the law (hashable: it keys the built system).
 
     ``surfaces``: tuples ``(name, nodes, hinge, actuator_order, time_constant, frequency_hz,
-    damping)``; ``outputs``: measured outputs; ``n_controller``: controller states."""
+    damping)``; ``outputs``: measured outputs; ``n_controller``: controller states.
+
+    Parameters
+    ----------
+    surfaces : tuple
+        ``(name, nodes, hinge, actuator_order, time_constant, frequency_hz, damping)`` per surface.
+    outputs : tuple, optional
+        Measured outputs.
+    n_controller : int, optional
+        Controller states.
+    """
 
     surfaces: tuple
     outputs: tuple = ()
@@ -307,7 +478,22 @@ class ControlSpec:
 def control_spec(surfaces, node_y, law: ControlLaw | None = None) -> ControlSpec:
     """The :class:`ControlSpec` of ``surfaces`` (:class:`ControlSurface`) on a beam with spanwise node
     positions ``node_y`` and an optional ``law``; ValueError for overlapping surfaces or a law whose
-    command count differs from the surface count."""
+    command count differs from the surface count.
+
+    Parameters
+    ----------
+    surfaces : sequence of ControlSurface
+        The surfaces.
+    node_y : array_like
+        (n,) spanwise node positions (m).
+    law : ControlLaw or None, optional
+        The control law.
+
+    Returns
+    -------
+    ControlSpec
+        The specification.
+    """
     surfaces = tuple(surfaces)
     if not surfaces:
         raise ValueError("control surfaces: none given")
@@ -352,7 +538,30 @@ def maneuver_commands(surfaces, load_factor: float) -> np.ndarray:
 def actuator_residuals(order, tau, freq_hz, zeta, beta, rate, dbeta, drate, command):
     """The two actuator rows of one surface (symbolic or numeric): ``dbeta/dt - r`` and the
     first-order ``tau r + beta - u`` or second-order ``dr/dt + 2 zeta omega r + omega^2 (beta - u)``
-    (scaled by 1/omega^2)."""
+    (scaled by 1/omega^2).
+
+    Parameters
+    ----------
+    order : {1, 2}
+        Actuator order.
+    tau : float
+        First-order time constant (s).
+    freq_hz : float
+        Second-order natural frequency (Hz).
+    zeta : float
+        Second-order damping ratio (-).
+    beta, rate : float or casadi.SX
+        Deflection (rad) and rate state (rad/s).
+    dbeta, drate : float or casadi.SX
+        Their time derivatives.
+    command : float or casadi.SX
+        Commanded deflection (rad).
+
+    Returns
+    -------
+    tuple
+        The two residual rows.
+    """
     if order == 1:
         return dbeta - rate, tau * rate + beta - command
     w = 2.0 * math.pi * freq_hz
@@ -361,7 +570,24 @@ def actuator_residuals(order, tau, freq_hz, zeta, beta, rate, dbeta, drate, comm
 
 def limit_report(time, deflection, rate, surfaces) -> dict:
     """Per surface: deflection and rate histories (deg, deg/s), their peaks and the limits, and
-    whether a limit is exceeded (reported, never clipped)."""
+    whether a limit is exceeded (reported, never clipped).
+
+    Parameters
+    ----------
+    time : array_like
+        (n_t,) times (s).
+    deflection : array_like
+        (n_t, n_s) deflections (rad).
+    rate : array_like
+        (n_t, n_s) rates (rad/s).
+    surfaces : sequence of ControlSurface
+        The surfaces.
+
+    Returns
+    -------
+    dict
+        Surface name -> histories, peaks, limits and exceedance.
+    """
     out = {}
     for k, s in enumerate(surfaces):
         d = np.degrees(np.asarray(deflection)[:, k])
@@ -399,7 +625,20 @@ def _keys(where, data, allowed, required=()):
 def alleviation_from_dict(data: dict, where: str = "alleviation") -> tuple:
     """``(surfaces, law)`` of an alleviation description (the parsed YAML of docs/controls.md);
     ValueError naming ``where`` and the offending key for missing or unknown keys, wrong gain sizes,
-    an unstable open-loop controller, a surface outside the span or a hinge outside the chord."""
+    an unstable open-loop controller, a surface outside the span or a hinge outside the chord.
+
+    Parameters
+    ----------
+    data : dict
+        The parsed alleviation description.
+    where : str, optional
+        File or key named in errors.
+
+    Returns
+    -------
+    tuple
+        (surfaces, law or None).
+    """
     _keys(where, data, ALLEVIATION_KEYS, ("surfaces",))
     raw = data["surfaces"]
     if not isinstance(raw, list) or not raw:
@@ -454,7 +693,18 @@ def alleviation_from_dict(data: dict, where: str = "alleviation") -> tuple:
 
 
 def read_alleviation(path) -> tuple:
-    """``(surfaces, law)`` of an alleviation YAML file (:func:`alleviation_from_dict`); errors name the file."""
+    """``(surfaces, law)`` of an alleviation YAML file (:func:`alleviation_from_dict`); errors name the file.
+
+    Parameters
+    ----------
+    path : str or path-like
+        Alleviation YAML file.
+
+    Returns
+    -------
+    tuple
+        (surfaces, law or None).
+    """
     import yaml
 
     try:

@@ -62,6 +62,61 @@ class CoupledAero:
     circulatory quasi-steady lift of every station from the vortex lattice of the planform,
     :mod:`wingmdao.aero.vlm`; ``lift_slope`` unused). Both 3-D theories need
     ``node_positions`` (n, 3) m, the jig beam nodes (the planform is chord, ref_point and the nodes).
+
+    Parameters
+    ----------
+    chord : float or array_like
+        Chord per node (m).
+    airspeed : float
+        True airspeed (m/s).
+    density : float
+        Air density (kg/m^3).
+    ref_point : float or array_like, optional
+        Beam axis, fraction of the chord aft of the leading edge.
+    lift_slope : float or array_like, optional
+        Section lift-curve slope (1/rad).
+    alpha_zero_lift : float or array_like, optional
+        Zero-lift angle (rad).
+    cm0 : float or array_like, optional
+        Zero-lift pitching moment coefficient (-).
+    mach : float, optional
+        Mach number (-).
+    plunge : bool, optional
+        Free the aircraft in plunge.
+    trim : bool, optional
+        Trim the angle of attack for ``trim_lift``.
+    aircraft_mass : float, optional
+        Aircraft mass (kg).
+    trim_lift : float, optional
+        Lift of both half-wings to trim to (N).
+    pitch : bool, optional
+        Free the aircraft in pitch with a horizontal tail.
+    tail_lag : bool, optional
+        Lag the wing's downwash at the tail.
+    aircraft_cg : tuple, optional
+        (x, z) of the CG from the body-axes origin (m).
+    aircraft_pitch_inertia : float, optional
+        Pitch inertia about the CG (kg m^2).
+    tail_arm : float, optional
+        Tail arm (m).
+    tail_area : float, optional
+        Tail area (m^2).
+    tail_lift_slope : float, optional
+        Tail lift-curve slope (1/rad).
+    downwash_gradient : float, optional
+        d epsilon / d alpha at the tail (-).
+    aero_theory : {"strip", "lifting-line", "vlm"}, optional
+        Quasi-steady lift theory.
+    node_positions : array_like or None, optional
+        (n, 3) jig beam nodes (m), for the 3-D theories.
+    controls : ControlSpec or None, optional
+        Control surfaces in the residual.
+    control_law : ControlLaw or None, optional
+        Feedback law in the residual.
+    gain_design : bool, optional
+        The law's ``controller_C`` and ``controller_D`` are design variables.
+    elevator_effectiveness : float, optional
+        tau_e of the elevator (-; 0: none).
     """
 
     chord: object
@@ -110,7 +165,18 @@ class CoupledAero:
         return out
 
     def parameters(self, num_nodes: int) -> dict:
-        """The aerodynamic input values (validated; ValueError naming a bad input)."""
+        """The aerodynamic input values (validated; ValueError naming a bad input).
+
+        Parameters
+        ----------
+        num_nodes : int
+            Beam nodes.
+
+        Returns
+        -------
+        dict
+            Parameter name -> value.
+        """
         out = aero_parameters(num_nodes, chord=self.chord, ref_point=self.ref_point, lift_slope=self.lift_slope,
                               alpha_zero_lift=self.alpha_zero_lift, cm0=self.cm0, airspeed=self.airspeed,
                               density=self.density, mach=self.mach)
@@ -155,6 +221,24 @@ def load_case_response(prob, case, num_nodes: int, weight: float, *, path: str |
     strip case the z-sum of its applied line and point forces), ``root_bending_moment`` and
     ``root_torsion`` (N m, M_x and M_y at the root node, body axes), ``tip_displacement`` (m, z),
     and the peaks ``peak_load_factor``, ``peak_root_bending_moment`` (largest magnitudes).
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A run sizing problem.
+    case : LoadCase
+        The load case.
+    num_nodes : int
+        Beam nodes.
+    weight : float
+        Aircraft weight W (N).
+    path : str or None, optional
+        Path of the case's group; None for ``cases.<name>``.
+
+    Returns
+    -------
+    dict
+        Histories and peaks (above).
     """
     if case.modal_dlm is not None:
         return modal_dlm_response(prob, case, num_nodes, weight)
@@ -207,7 +291,24 @@ def modal_dlm_response(prob, case, num_nodes: int, weight: float) -> dict:
     """:func:`load_case_response` of a case with a modal doublet-lattice gust: the static first
     instant's (``cases.<name>.static``) plus the increments: load factor from the panel lift
     (twice the half-wing's aerodynamic root shear, :meth:`ModalStationLoads.aerodynamic_loads`),
-    root moments from the force-summation loads, tip deflection from the modal amplitudes."""
+    root moments from the force-summation loads, tip deflection from the modal amplitudes.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A run sizing problem.
+    case : LoadCase
+        A case with a modal doublet-lattice gust.
+    num_nodes : int
+        Beam nodes.
+    weight : float
+        Aircraft weight W (N).
+
+    Returns
+    -------
+    dict
+        Histories and peaks, as :func:`load_case_response`.
+    """
     n, path = int(num_nodes), f"cases.{case.name}"
     static = load_case_response(prob, case.static_case(n), n, weight, path=f"{path}.static")
     comp = next(s for s in prob.model.system_iter(recurse=True) if s.pathname == f"{path}.modal.loads")

@@ -98,7 +98,21 @@ def add_section_offsets(group: om.Group, num_nodes: int, *, source: str = "", mu
     """Add an ``offsets`` MuxComp to ``group`` that stacks the section's (c, n) centres into the
     beam's (n, 2) ``tension_axis``, ``shear_center``, ``mass_center`` inputs (SECTION_OFFSETS).
     ``source``: prefix of the section outputs (e.g. ``"section."``; empty when promoted);
-    ``mux``: a MuxComp instance to use (e.g. a tagged subclass); ``promotes``: add_subsystem's."""
+    ``mux``: a MuxComp instance to use (e.g. a tagged subclass); ``promotes``: add_subsystem's.
+
+    Parameters
+    ----------
+    group : openmdao.api.Group
+        The group to add to.
+    num_nodes : int
+        Beam nodes.
+    source : str, optional
+        Prefix of the section outputs.
+    mux : openmdao.api.MuxComp or None, optional
+        MuxComp instance to use.
+    **promotes
+        Passed to ``add_subsystem``.
+    """
     mux = group.add_subsystem("offsets", mux if mux is not None else om.MuxComp(vec_size=2), **promotes)
     for out, (c, n) in SECTION_OFFSETS.items():
         mux.add_var(out, shape=(num_nodes,), axis=1, units="m")
@@ -108,7 +122,20 @@ def add_section_offsets(group: om.Group, num_nodes: int, *, source: str = "", mu
 
 
 def stress_points(kind, families) -> dict:
-    """Constraint points per station of each stress family of section ``kind`` (no Problem built)."""
+    """Constraint points per station of each stress family of section ``kind`` (no Problem built).
+
+    Parameters
+    ----------
+    kind : str
+        Section kind.
+    families : sequence of str
+        Stress families.
+
+    Returns
+    -------
+    dict
+        Family -> points per station.
+    """
     return {fam: _section_classes(kind)[1].points_per_station(fam) for fam in families}
 
 
@@ -123,7 +150,21 @@ def set_case_loads(prob: om.Problem, case: LoadCase, num_nodes: int, path: str =
     e.g. ``"cases.gust"``) from its arrays; forcing it does not give is set to zero.
     ``forcing``: whether to set the beam forcing (FORCING_META); None (default) sets it when the
     case promotes it as inputs and skips it when it is data of the beam (WingStructure
-    ``forcing_as_data``); a coupled case's aerodynamic forcing and parameters are always set."""
+    ``forcing_as_data``); a coupled case's aerodynamic forcing and parameters are always set.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        The set-up problem.
+    case : LoadCase
+        The load case.
+    num_nodes : int
+        Beam nodes.
+    path : str, optional
+        Promoted prefix of the case's WingStructure.
+    forcing : bool or None, optional
+        Set the beam forcing; None when the case promotes it as inputs.
+    """
     prefix = f"{path}." if path else ""
     promoted = {meta["prom_name"] for meta in
                 prob.model.get_io_metadata(iotypes="input", metadata_keys=[], get_remote=True).values()}
