@@ -195,11 +195,48 @@ def add_panel_arguments(p):
 
 
 def parse_families(text: str) -> tuple:
-    """The ``--families`` list (:func:`wingmdao.groups.load_case.parse_families`)."""
+    """The ``--families`` list (:func:`wingmdao.groups.load_case.parse_families`).
+
+    Parameters
+    ----------
+    text : str
+        Comma-separated family names.
+
+    Returns
+    -------
+    tuple of str
+        The families.
+    """
     return _parse(text)
 
 
 def maneuver_case(name, n_load, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
+    """Static symmetric maneuver at load factor ``n_load`` on the strip loads (the Schrenk spanload of n W), gravity and inertia relief (n - 1) g.
+
+    Parameters
+    ----------
+    name : str
+        Case name.
+    n_load : float
+        Load factor n (-).
+    geometry : WingGeometry
+        The wing geometry.
+    chord : numpy.ndarray
+        (n,) chords (m).
+    axis_frac : numpy.ndarray
+        (n,) beam axis as a fraction of the chord (-).
+    families : tuple of str
+        Stress constraint families.
+    pf : Planform, optional
+        The planform.
+    weight_lb : float, optional
+        Aircraft weight (lb).
+
+    Returns
+    -------
+    LoadCase
+        The load case.
+    """
     loads = maneuver_line_loads(geometry.node_positions, chord, axis_frac, weight_lb * LB * G0, n_load,
                                 semi_span=pf.semi_span, fuselage_half_width=pf.root_rib * pf.semi_span)
     forcing = {
@@ -214,7 +251,20 @@ def maneuver_case(name, n_load, geometry, chord, axis_frac, families, pf=PLANFOR
 def maneuver_surfaces(opts, geometry):
     """The control surfaces of ``--alleviation`` that carry a maneuver schedule (``maneuver_deg_per_g``,
     docs/controls.md), or None: with them the trimmed maneuvers hold the surfaces at the scheduled
-    deflection (maneuver load alleviation) while the angle of attack trims the lift."""
+    deflection (maneuver load alleviation) while the angle of attack trims the lift.
+
+    Parameters
+    ----------
+    opts : PegasusOptions
+        The case options.
+    geometry : WingGeometry
+        The wing geometry.
+
+    Returns
+    -------
+    tuple of ControlSurface or None
+        The scheduled surfaces.
+    """
     if not getattr(opts, "alleviation", None) or opts.aero != "coupled":
         return None
     surfaces, _ = read_alleviation(opts.alleviation)
@@ -233,7 +283,34 @@ def coupled_maneuver_case(name, n_load, opts, geometry, chord, axis_frac, famili
     so that both half-wings lift n W on the deforming wing (strip theory, quasi-steady), at the
     --altitude-ft / --mach flight point, inertia relief (n - 1) g as in :func:`maneuver_case`.
     ``surfaces`` (:class:`~wingmdao.aero.controls.ControlSurface`, None: none) are held at their
-    maneuver schedule ``maneuver_deg_per_g (n - 1)`` (:func:`~wingmdao.aero.controls.maneuver_commands`)."""
+    maneuver schedule ``maneuver_deg_per_g (n - 1)`` (:func:`~wingmdao.aero.controls.maneuver_commands`).
+
+    Parameters
+    ----------
+    name : str
+        Case name.
+    n_load : float
+        Load factor n (-).
+    opts : PegasusOptions
+        The case options.
+    geometry : WingGeometry
+        The wing geometry.
+    chord : numpy.ndarray
+        (n,) chords (m).
+    axis_frac : numpy.ndarray
+        (n,) beam axis as a fraction of the chord (-).
+    families : tuple of str
+        Stress constraint families.
+    weight_lb : float, optional
+        Aircraft weight (lb).
+    surfaces : sequence of ControlSurface or None, optional
+        Surfaces held at their maneuver schedule.
+
+    Returns
+    -------
+    LoadCase
+        The load case.
+    """
     from wingmdao.aero.coupled import CoupledAero
 
     alt = float(altitude_ft_to_m(opts.altitude_ft))
@@ -274,7 +351,36 @@ def modal_dlm_gust(geometry, chord, axis_frac, time, *, u_tas, airspeed, density
     """:class:`wingmdao.aero.modal_design.ModalGust` of a 1 - cos gust on the modal doublet-lattice
     wing (:func:`wingmdao.aero.modal_design.cosine_gust`): basis the clamped jig modes of the
     sizing's initial design (every wall 10 mm, :func:`beam_params`), the design's mass and
-    stiffness projected on it in the sizing."""
+    stiffness projected on it in the sizing.
+
+    Parameters
+    ----------
+    geometry : WingGeometry
+        The wing geometry.
+    chord : numpy.ndarray
+        (n,) chords (m).
+    axis_frac : numpy.ndarray
+        (n,) beam axis as a fraction of the chord (-).
+    time : numpy.ndarray
+        (nt,) time grid (s).
+    u_tas : float
+        Design gust velocity (m/s TAS).
+    airspeed : float
+        True airspeed (m/s).
+    density : float
+        Air density (kg/m^3).
+    mach : float
+        Mach number (-).
+    gust_start : float
+        Time the gust front reaches the wing (s).
+    gradient_m : float
+        Gust gradient H (m).
+
+    Returns
+    -------
+    ModalGust
+        The gust.
+    """
     from wingmdao.aero.modal_design import cosine_gust
 
     params = beam_params(geometry.num_nodes)
@@ -285,6 +391,30 @@ def modal_dlm_gust(geometry, chord, axis_frac, time, *, u_tas, airspeed, density
 
 
 def gust_case(opts, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
+    """The ``--loads gust`` case: the Table 5.3 (or ``--u-ref-fps``) 1 - cos gust at the ``--altitude-ft``/``--mach`` point, or a ``--load-history`` file; flight inputs checked first.
+
+    Parameters
+    ----------
+    opts : PegasusOptions
+        The case options.
+    geometry : WingGeometry
+        The wing geometry.
+    chord : numpy.ndarray
+        (n,) chords (m).
+    axis_frac : numpy.ndarray
+        (n,) beam axis as a fraction of the chord (-).
+    families : tuple of str
+        Stress constraint families.
+    pf : Planform, optional
+        The planform.
+    weight_lb : float, optional
+        Aircraft weight (lb).
+
+    Returns
+    -------
+    LoadCase
+        The load case.
+    """
     if not 0.0 <= opts.altitude_ft <= 60000.0:
         raise ValueError(f"--altitude-ft = {opts.altitude_ft} ft; allowed range [0, 60000] ft (the 25.341 table)")
     if not 30.0 <= opts.gust_gradient_ft <= 350.0:
@@ -323,7 +453,44 @@ def _check_time_grid(opts, num_nodes):
 
 def gust_history_case(name, opts, geometry, chord, axis_frac, families, *, gradient_ft, u_ds_eas, airspeed_tas,
                       altitude_m, direction, weight_lb, pf, description):
-    """One strip-theory 1 - cos gust load case on top of 1 g level flight at ``weight_lb``."""
+    """One strip-theory 1 - cos gust load case on top of 1 g level flight at ``weight_lb``.
+
+    Parameters
+    ----------
+    name : str
+        Case name.
+    opts : PegasusOptions
+        The case options.
+    geometry : WingGeometry
+        The wing geometry.
+    chord : numpy.ndarray
+        (n,) chords (m).
+    axis_frac : numpy.ndarray
+        (n,) beam axis as a fraction of the chord (-).
+    families : tuple of str
+        Stress constraint families.
+    gradient_ft : float
+        Gust gradient H (ft).
+    u_ds_eas : float
+        Design gust velocity (m/s EAS).
+    airspeed_tas : float
+        True airspeed (m/s).
+    altitude_m : float
+        Altitude (m).
+    direction : {1, -1}
+        Gust up or down.
+    weight_lb : float
+        Aircraft weight (lb).
+    pf : Planform
+        The planform.
+    description : str
+        Case description.
+
+    Returns
+    -------
+    LoadCase
+        The load case.
+    """
     time = np.arange(0.0, opts.t_final + 0.5 * opts.dt, opts.dt)
     if opts.aero == "coupled":
         return coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, gradient_ft=gradient_ft,
@@ -347,6 +514,16 @@ def gust_set_of(opts):
     ``--gust-set FILE`` (defaults: :data:`GUST_SET_DEFAULTS`), or ``--gust-gradients-ft`` /
     ``--gust-gradient-count`` at the ``--altitude-ft``, ``--mach`` flight point (U_ref from
     ``--u-ref-fps``, 0 = the 25.341(a)(5) table) with ``--gust-sign`` (default both).
+
+    Parameters
+    ----------
+    opts : PegasusOptions
+        The case options.
+
+    Returns
+    -------
+    GustSet or None
+        The set.
     """
     path = opts.gust_set
     grads = opts.gust_gradients_ft
@@ -422,7 +599,46 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
     ``--plunge free``: the aircraft (``weight_lb``) free in plunge, its mass the case input
     ``aircraft_mass``; clamped root otherwise. ``--pitch free`` (with free plunge): also free in pitch
     with a horizontal tail (wingmdao.aero.pitch), the gust reaching the tail x_t / V after the first
-    leading edge, deps/dalpha by default 2 a_w / (pi AR)."""
+    leading edge, deps/dalpha by default 2 a_w / (pi AR).
+
+    Parameters
+    ----------
+    name : str
+        Case name.
+    opts : PegasusOptions
+        The case options.
+    geometry : WingGeometry
+        The wing geometry.
+    chord : numpy.ndarray
+        (n,) chords (m).
+    axis_frac : numpy.ndarray
+        (n,) beam axis as a fraction of the chord (-).
+    families : tuple of str
+        Stress constraint families.
+    time : numpy.ndarray
+        (nt,) time grid (s).
+    gradient_ft : float
+        Gust gradient H (ft).
+    u_ds_eas : float
+        Design gust velocity (m/s EAS).
+    airspeed_tas : float
+        True airspeed (m/s).
+    altitude_m : float
+        Altitude (m).
+    direction : {1, -1}
+        Gust up or down.
+    weight_lb : float
+        Aircraft weight (lb).
+    description : str
+        Case description.
+    pf : Planform, optional
+        The planform.
+
+    Returns
+    -------
+    LoadCase
+        The load case.
+    """
     from wingmdao.aero.coupled import CoupledAero
 
     rho, rho0 = float(density(altitude_m)), float(density(0.0))
@@ -481,7 +697,32 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
 
 
 def gust_set_cases(gset, opts, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
-    """One load case per gust of ``gset`` (strip theory on top of 1 g at the flight point's weight)."""
+    """One load case per gust of ``gset`` (strip theory on top of 1 g at the flight point's weight).
+
+    Parameters
+    ----------
+    gset : GustSet
+        The gust set.
+    opts : PegasusOptions
+        The case options.
+    geometry : WingGeometry
+        The wing geometry.
+    chord : numpy.ndarray
+        (n,) chords (m).
+    axis_frac : numpy.ndarray
+        (n,) beam axis as a fraction of the chord (-).
+    families : tuple of str
+        Stress constraint families.
+    pf : Planform, optional
+        The planform.
+    weight_lb : float, optional
+        Aircraft weight (lb).
+
+    Returns
+    -------
+    list of LoadCase
+        One case per gust.
+    """
     if opts.load_history:
         raise ValueError("--load-history and a gust set exclude each other")
     _check_time_grid(opts, geometry.num_nodes)
@@ -496,7 +737,22 @@ def gust_set_cases(gset, opts, geometry, chord, axis_frac, families, pf=PLANFORM
 
 
 def file_case(path, geometry, families):
-    """Gust load case from a load-history file (time, force/moment per length on the beam nodes)."""
+    """Gust load case from a load-history file (time, force/moment per length on the beam nodes).
+
+    Parameters
+    ----------
+    path : str
+        Load-history file (.npz or .csv).
+    geometry : WingGeometry
+        The wing geometry.
+    families : tuple of str
+        Stress constraint families.
+
+    Returns
+    -------
+    LoadCase
+        The load case.
+    """
     hist = read_load_history(path)
     if hist.num_nodes != geometry.num_nodes:
         raise ValueError(f"--load-history {path}: {hist.num_nodes} nodes, the beam has {geometry.num_nodes}")
@@ -506,7 +762,20 @@ def file_case(path, geometry, families):
 
 def build(options: PegasusOptions | None = None, **overrides) -> CaseSetup:
     """The PEGASUS geometry, load cases, material and Table 5.1 bounds from a :class:`PegasusOptions`
-    and/or keyword options (``build(loads="all", load_factor=2.5)``)."""
+    and/or keyword options (``build(loads="all", load_factor=2.5)``).
+
+    Parameters
+    ----------
+    options : PegasusOptions or None, optional
+        The case options; None for the defaults.
+    **overrides
+        Option values by field name.
+
+    Returns
+    -------
+    CaseSetup
+        Geometry, load cases, material and bounds.
+    """
     return build_wing(case_options(PegasusOptions, options, **overrides))
 
 
@@ -522,7 +791,24 @@ def _flag_text(name, value) -> str:
 
 def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOGW_LB) -> CaseSetup:
     """:func:`build` for any trapezoidal wing ``pf`` with point masses ``engines`` ((kg, y m) pairs)
-    at take-off weight ``weight_lb`` (the CRM case reuses it)."""
+    at take-off weight ``weight_lb`` (the CRM case reuses it).
+
+    Parameters
+    ----------
+    opts : PegasusOptions
+        The case options.
+    pf : Planform, optional
+        The planform.
+    engines : sequence of tuple, optional
+        (mass kg, y m) of each engine.
+    weight_lb : float, optional
+        Aircraft weight (lb).
+
+    Returns
+    -------
+    CaseSetup
+        Geometry, load cases, material and bounds.
+    """
     from wingmdao.sizing import WALL_VARS, SizingOptions
 
     families = parse_families(opts.families)
@@ -629,7 +915,20 @@ def rib_positions(pf=PLANFORM, rib_pitch: float | None = None) -> tuple:
     the planform's ribs at stations 1..num_ribs, or with ``rib_pitch`` equal bays of about that
     length from the root rib to the tip rib. A centre-box bay (centreline to root rib) longer
     than two rib pitches (the CRM's 2.95 m) is split into equal bays of about the pitch by
-    intermediate ribs (assumed; :func:`centre_box_ribs`)."""
+    intermediate ribs (assumed; :func:`centre_box_ribs`).
+
+    Parameters
+    ----------
+    pf : Planform, optional
+        The planform.
+    rib_pitch : float or None, optional
+        Rib pitch (m); None for the planform's ribs.
+
+    Returns
+    -------
+    tuple of float
+        Rib positions (m).
+    """
     ribs = pf.station_y()
     if rib_pitch is None:
         return centre_box_ribs(tuple(float(r) for r in ribs), float(ribs[2] - ribs[1]))
@@ -646,7 +945,20 @@ def centre_box_ribs(ribs: tuple, pitch: float) -> tuple:
     """``ribs`` with the centre-box bay (``ribs[0]`` to ``ribs[1]``) split into round(bay/pitch)
     equal bays when it is longer than two pitches; otherwise ``ribs`` unchanged. Without them the
     centre box's skin panels would be one bay long (2.95 m on the CRM) and their column buckling
-    would size the whole inboard wing through the adjacency rules."""
+    would size the whole inboard wing through the adjacency rules.
+
+    Parameters
+    ----------
+    ribs : tuple of float
+        Rib positions (m).
+    pitch : float
+        Rib pitch (m).
+
+    Returns
+    -------
+    tuple of float
+        Rib positions (m).
+    """
     bay = ribs[1] - ribs[0]
     if bay <= 2.0 * pitch:
         return ribs
@@ -659,7 +971,19 @@ def stiffen(setup, pf=PLANFORM, pitch: float = 0.15, rib_pitch: float | None = N
     ``pitch`` on both skins, ribs at the planform's rib stations and a centreline rib (assumed:
     it closes the centre-box bay and is counted whole in the half-wing's mass), all
     :data:`RIB_THICKNESS` thick, safety factor 1.5 on buckling, the stiffener bounds of
-    :data:`STIFFENER_BOUNDS`."""
+    :data:`STIFFENER_BOUNDS`.
+
+    Parameters
+    ----------
+    setup : CaseSetup
+        The sizing set-up, changed in place.
+    pf : Planform, optional
+        The planform.
+    pitch : float, optional
+        Stiffener pitch (m).
+    rib_pitch : float or None, optional
+        Rib pitch (m); None for the planform's ribs.
+    """
     if not (np.isfinite(pitch) and pitch > 0):
         raise ValueError(f"--stiffener-pitch = {pitch} m; allowed range (0, inf) m")
     ribs = rib_positions(pf, rib_pitch)
@@ -675,7 +999,24 @@ def stiffen(setup, pf=PLANFORM, pitch: float = 0.15, rib_pitch: float | None = N
 
 
 def gust_damping(zeta, frequency_hz, geometry, options):
-    """Strain-rate damping with ratio ``zeta`` at ``frequency_hz`` (default: the initial design's first mode)."""
+    """Strain-rate damping with ratio ``zeta`` at ``frequency_hz`` (default: the initial design's first mode).
+
+    Parameters
+    ----------
+    zeta : float
+        Damping ratio (-).
+    frequency_hz : float or None
+        Frequency where the ratio holds (Hz); None for the initial design's first mode.
+    geometry : WingGeometry
+        The wing geometry.
+    options : SizingOptions
+        The sizing options.
+
+    Returns
+    -------
+    tuple
+        (StrainRateDamping, description).
+    """
     from wingmdao.sizing import initial_frequencies
 
     if frequency_hz is None:
@@ -715,7 +1056,18 @@ def flight_point() -> dict:
 
 
 def flutter_planform(num_nodes: int = 20) -> Planform:
-    """The PEGASUS planform with ``num_nodes - 1`` ribs (20 nodes: the sizing mesh)."""
+    """The PEGASUS planform with ``num_nodes - 1`` ribs (20 nodes: the sizing mesh).
+
+    Parameters
+    ----------
+    num_nodes : int, optional
+        Beam nodes.
+
+    Returns
+    -------
+    Planform
+        The planform.
+    """
     from dataclasses import replace
 
     if int(num_nodes) < 3:
@@ -724,7 +1076,18 @@ def flutter_planform(num_nodes: int = 20) -> Planform:
 
 
 def initial_thickness(num_nodes: int = 20) -> dict:
-    """The sizing's initial design: every wall 10 mm at every node (m)."""
+    """The sizing's initial design: every wall 10 mm at every node (m).
+
+    Parameters
+    ----------
+    num_nodes : int, optional
+        Beam nodes.
+
+    Returns
+    -------
+    dict
+        Wall name -> (num_nodes,) thicknesses (m).
+    """
     from wingmdao.sizing import WALL_VARS
 
     return {w: np.full(int(num_nodes), 0.01) for w in WALL_VARS}
@@ -740,6 +1103,20 @@ def beam_params(num_nodes: int = 20, thickness: dict | None = None, panels=None)
     ``panels`` (a :class:`~wingmdao.panels.layout.PanelLayout`): the design is stiffened and
     ``thickness`` also holds the stiffener variables ``h_upper_stiffener`` ... (m per node),
     smeared into the sections as the stiffened sizing does.
+
+    Parameters
+    ----------
+    num_nodes : int, optional
+        Beam nodes.
+    thickness : dict or None, optional
+        Wall name -> (num_nodes,) thicknesses (m); None for :func:`initial_thickness`.
+    panels : PanelLayout or None, optional
+        Panel layout of a stiffened design.
+
+    Returns
+    -------
+    dict
+        Beam parameters.
     """
     n = int(num_nodes)
     geo, _, _ = wing_geometry(flutter_planform(n), ENGINES)
@@ -769,7 +1146,18 @@ def beam_params(num_nodes: int = 20, thickness: dict | None = None, panels=None)
 
 def aero_data(num_nodes: int = 20) -> dict:
     """Strip aerodynamics of the flutter problem: chord (m), beam-axis chord fraction, 2 pi lift slope,
-    density and speed of sound of :func:`flight_point` (Mach = V / a at each speed), V_D (m/s)."""
+    density and speed of sound of :func:`flight_point` (Mach = V / a at each speed), V_D (m/s).
+
+    Parameters
+    ----------
+    num_nodes : int, optional
+        Beam nodes.
+
+    Returns
+    -------
+    dict
+        Strip aerodynamic data.
+    """
     _, chord, frac = wing_geometry(flutter_planform(num_nodes), ENGINES)
     fp = flight_point()
     return {"chord": chord, "ref_point": frac, "lift_slope": 2 * np.pi, "density": fp["density"],
