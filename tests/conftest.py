@@ -67,3 +67,27 @@ def mpi_env():
     env = dict(os.environ, PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
     env.pop("OPENMDAO_USE_MPI", None)
     return env
+
+
+#: the test modules that take longest, longest first. pytest-xdist's --dist
+#: loadscope hands whole modules to the two workers in collection order (pyproject.toml:
+#: --no-loadscope-reorder, instead of its default order by test count, which puts these few-test
+#: modules last): started first, they run beside the many short modules instead of leaving one
+#: worker alone with a long module at the end. Re-rank with
+#: ``python -m pytest -n0 --durations=40`` when a module becomes one of the long ones.
+LONG_FIRST = (
+    "test_compiled_path.py", "test_docs_build.py", "test_stiffened_sizing_physics.py", "test_wingbox_solid.py",
+    "test_sizing_wing_box.py", "test_wingbox_solid_convergence.py", "test_crm_coupled.py",
+    "test_verify_pegasus_buckling.py", "test_modal_loads.py", "test_sizing_pegasus.py", "test_stick_free.py",
+    "test_aerostruct_crm.py",
+)
+
+
+def pytest_collection_modifyitems(session, config, items):
+    """Move the tests of :data:`LONG_FIRST` to the front, in its order; the rest keep theirs."""
+    rank = {name: i for i, name in enumerate(LONG_FIRST)}
+
+    def key(item):
+        return rank.get(item.nodeid.split("::", 1)[0].rsplit("/", 1)[-1], len(rank))
+
+    items.sort(key=key)   # stable: the order inside a module is unchanged
