@@ -510,7 +510,7 @@ class LinearizedHistory:
         slu = static_lu.for_pattern(self.n_state, self.m_rows, self.m_indptr, a_ref, order, diagonal)
         if slu is None and diagonal:
             slu = static_lu.for_pattern(self.n_state, self.m_rows, self.m_indptr, a_ref,
-                                        self.system.lu_column_order())
+                                        lu_orders.system_lu_column_order(self.system))
         return slu
 
     def _repivot(self, n, blk, tried):
