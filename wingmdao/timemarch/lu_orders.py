@@ -97,7 +97,19 @@ def system_lu_column_order(system):
     """The column order of the LUs of ``system``'s Newton matrix (the compiled march's,
     :mod:`wingmdao.timemarch.fast_step`, and the adjoint's when :func:`adjoint_lu_order` has no
     table for it): :func:`joined_aero_lu_column_order` for a joined aeroelastic system (its
-    ``lag_index``), else ``system.lu_column_order()`` (None: natural)."""
+    ``lag_index``), else ``system.lu_column_order()`` (None: natural).
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The system whose Newton matrix is factored.
+
+    Returns
+    -------
+    ndarray or None
+        Column order Q of ``P A Q = L U`` (column k of ``A Q`` is column ``Q[k]`` of A), or None
+        for the natural order.
+    """
     lags = getattr(system, "lag_index", None)
     order = system.lu_column_order()
     if lags and order is not None and getattr(system, "offsets", None) is not None:
@@ -115,7 +127,22 @@ def joined_aero_lu_column_order(order, offsets, lag_index) -> np.ndarray:
     of the order the 112 lag columns of the PEGASUS stick model (wing 20, tail 8 nodes) join every
     strip node's rows into one trailing block: 2 592 202 multiply-adds per factorization of its
     Newton matrix (1094 unknowns) against 482 216 in this order
-    (``static_lu.factorization_work``; COLAMD's order needs 447 937)."""
+    (``static_lu.factorization_work``; COLAMD's order needs 447 937).
+
+    Parameters
+    ----------
+    order : array_like of int
+        The joined system's column order, a permutation of its unknowns.
+    offsets : dict
+        ``{beam: first state index}`` of every beam.
+    lag_index : dict
+        ``{beam: (n, 4) state indices}`` of the lag states of every lifting beam's nodes.
+
+    Returns
+    -------
+    ndarray
+        The column order (int64) with the lag states moved.
+    """
     order = np.asarray(order, dtype=np.int64)
     width = len(BEAM_NODE_ORDER)
     last = BEAM_NODE_ORDER[-1]
