@@ -36,7 +36,7 @@ from wingmdao.utils.digest import ArrayStamp
 #: ~1e-16; SuperLU's unrefined solves reach 1e-11 to 2e-9 on the 20-node beam).
 STATIC_LU_TOL = 1e-12
 
-#: Pivot orders a sweep may add (:meth:`LinearizedHistory._repivot`) before the steps whose
+#: Pivot orders a sweep (of a checkpoint segment) may add (:meth:`LinearizedHistory._repivot`) before the steps whose
 #: static-pivot solve fails go to SuperLU one by one.
 MAX_REPIVOTS = 4
 
