@@ -258,7 +258,8 @@ def test_pegasus_stick_half_aircraft_mass_and_rigid_body_modes():
 def test_adjoint_of_a_free_half_aircraft_march(kernel_on):
     """The discrete adjoint of a free half aircraft's march (symmetry reactions and lumped masses in
     the static-pivot LU's column order) against SuperLU and central differences: f = the wing tip's
-    deflection from the wing root, squared and summed, under a step tip load."""
+    deflection from the wing root, squared and summed, under a step tip load. No step falls back
+    to SuperLU (symmetry conditions on several nodes of one beam)."""
     model = _aircraft(False, nf=5, nw=4, nt=3)          # wing at fuselage node 1 (x = 2 m)
     s, t = model.system, np.linspace(0.0, 0.05, 11)
     pf = np.zeros((4, 3))
@@ -280,9 +281,13 @@ def test_adjoint_of_a_free_half_aircraft_march(kernel_on):
     h = run(model.p)
     f, dfdx = f_of(h.states)
     assert f > 0.0
-    grads = {lu: LinearizedHistory(s, t, h.states, model.p, Q, initial="state", lu=lu).gradient(dfdx)[0]
-             for lu in ("static", "superlu")}
+    lins = {lu: LinearizedHistory(s, t, h.states, model.p, Q, initial="state", lu=lu) for lu in ("static", "superlu")}
+    grads = {lu: lin.gradient(dfdx)[0] for lu, lin in lins.items()}
     np.testing.assert_allclose(grads["static"], grads["superlu"], rtol=1e-8, atol=1e-12 * np.max(np.abs(grads["superlu"])))
+    # symmetry conditions on all 5 fuselage nodes: every step solved by the static-pivot LU
+    stats = lins["static"].static_stats
+    assert lins["static"].lu_method == "static"
+    assert stats["fallback"] == 0 and stats["factored"] >= t.size - 1, stats
     lay = layout(s.param_specs)
     picks = {"engine mass": lay["lumped_mass"].start, "engine offset x": lay["lumped_mass_offset"].start,
              "wing EI_cc node 1": lay["right_wing_stiffness_csn"].start + 9,

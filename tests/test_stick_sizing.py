@@ -10,7 +10,7 @@ from wingmdao.cases import pegasus, pegasus_stick
 from wingmdao.cases.planform import wing_geometry
 from wingmdao.groups.stick import StickCase, StickSizing, set_stick_case
 from wingmdao.materials import ALUMINIUM
-from wingmdao.sizing import set_geometry
+from wingmdao.sizing import closed_loop_constraints, set_geometry
 
 N = 5
 KS = "cases.gust.ks_vm"
@@ -106,3 +106,10 @@ def test_monitoring_potatoes_pair_a_lone_moment_with_its_shear():
     pot = monitoring_potatoes({"fuselage": {"moment": m, "force": f}})["fuselage"]
     assert pot["components"] == ["M_y", "F_z"]
     np.testing.assert_array_equal(pot["values"], np.column_stack([m[:, 1], f[:, 2]]))
+
+
+def test_a_stick_case_has_no_closed_loop_constraint():
+    """The stick model's load case (no ``aero`` of the lone wing's kind) has no closed-loop
+    stability constraint: the sizing's summary asks every case (``sizing.closed_loop_constraints``)."""
+    case = StickCase("gust", None, np.zeros(3), np.zeros(1), np.zeros((3, 1)))
+    assert closed_loop_constraints([case]) == []

@@ -36,6 +36,10 @@ from wingmdao.utils.digest import ArrayStamp
 #: ~1e-16; SuperLU's unrefined solves reach 1e-11 to 2e-9 on the 20-node beam).
 STATIC_LU_TOL = 1e-12
 
+#: Pivot orders a sweep (of a checkpoint segment) may add (:meth:`LinearizedHistory._repivot`) before the steps whose
+#: static-pivot solve fails go to SuperLU one by one.
+MAX_REPIVOTS = 4
+
 
 def _scatter(index, n_out):
     """Sparse (len(index), n_out) matrix with a one at (i, index[i]): sums entries into slots."""
@@ -93,7 +97,9 @@ class LinearizedHistory:
         order (SuperLU's for the middle step) in the compiled C kernel of
         :mod:`wingmdao.timemarch.static_lu` (symbolic analysis once per pattern and pivot order,
         no code generation), one C call per sweep of a stretch of steps; each solve is checked by
-        its componentwise backward error, refined once, and redone with SuperLU if that fails.
+        its backward error and refined; at a step whose solve still fails the sweep takes the
+        pivot order of that step's matrix and goes on with it (at most :data:`MAX_REPIVOTS` per
+        sweep), else that step is redone with SuperLU.
         Without the kernel (``WINGMDAO_JIT=0``, no gcc) it is SuperLU (``lu_method`` tells which
         is used). ``"superlu"``: SuperLU for every step (docs/time-marching.md, "The static-pivot
         LU").
@@ -195,7 +201,9 @@ class LinearizedHistory:
         self.lu_method = lu if self.n_time > 1 and self._lib is not None else "superlu"
         self._static = None           # the StaticPivotLU once made
         self._same = None             # uint8: A_n == A_{n-1} (the kernel's reuse of factors)
-        self.static_stats = {"refined": 0, "fallback": 0, "factored": 0}
+        #: kernel counts: refined steps, steps solved by SuperLU after a failed static-pivot solve,
+        #: factored matrices, and pivot orders taken from a failing step (``_repivot``)
+        self.static_stats = {"refined": 0, "fallback": 0, "factored": 0, "repivoted": 0}
         # (stamp of lam, sum_n dR_n/dp^T lam_n, dR_n/dq_n^T lam_n) of the last sweep (a stamp,
         # wingmdao.utils.digest: a digest, not a copy, of a long history's lam)
         self._adjoint_cache = None
@@ -485,18 +493,42 @@ class LinearizedHistory:
         None (also when the reference step cannot be factored: then SuperLU from here on)."""
         if self._static is None and self.lu_method == "static":
             mid = self.n_time // 2
-            ref = self._block_at(mid)
-            a_ref = ref.m_data[ref.row(mid)]
-            order, diagonal = lu_orders.adjoint_lu_order(self.system)
-            slu = static_lu.for_pattern(self.n_state, self.m_rows, self.m_indptr, a_ref, order, diagonal)
-            if slu is None and diagonal:     # a zero diagonal pivot: partial pivoting throughout
-                slu = static_lu.for_pattern(self.n_state, self.m_rows, self.m_indptr, a_ref,
-                                            self.system.lu_column_order())
+            slu = self._static_for(mid, self._block_at(mid))
             if slu is None:
                 self.lu_method = "superlu"
                 return None
             self._static = slu
         return self._static
+
+    def _static_for(self, n, blk):
+        """The :class:`~wingmdao.timemarch.static_lu.StaticPivotLU` with the pivot order of ``A_n``
+        (column order and leading diagonal pivots of :func:`lu_orders.adjoint_lu_order`, partial
+        pivoting throughout when that has a zero diagonal pivot), or None when ``A_n`` cannot be
+        factored."""
+        a_ref = blk.m_data[blk.row(n)]
+        order, diagonal = lu_orders.adjoint_lu_order(self.system)
+        slu = static_lu.for_pattern(self.n_state, self.m_rows, self.m_indptr, a_ref, order, diagonal)
+        if slu is None and diagonal:
+            slu = static_lu.for_pattern(self.n_state, self.m_rows, self.m_indptr, a_ref,
+                                        lu_orders.system_lu_column_order(self.system))
+        return slu
+
+    def _repivot(self, n, blk, tried):
+        """The static-pivot LU with the pivot order of the failing step ``n``'s own matrix, for the
+        sweep to redo that step and go on with (the steps near ``n`` resemble it); None when ``n``
+        was already tried in this sweep (``tried``, updated), after :data:`MAX_REPIVOTS` new orders
+        or when ``A_n`` cannot be factored (the caller then solves step ``n`` with SuperLU).
+
+        The pivots of one reference step fail where an entry that the deformation makes large at
+        the reference vanishes at another step (the wing tip's axial force column of the PEGASUS
+        stick model before the gust reaches it: a pivot of 3e-18 against 4e-4 mid-gust)."""
+        if n in tried or len(tried) >= MAX_REPIVOTS:
+            return None
+        tried.add(n)
+        slu = self._static_for(n, blk)
+        if slu is not None:
+            self.static_stats["repivoted"] += 1
+        return slu
 
     def _sweep_data(self, slu, blk):
         """The kernel's view of the steps of ``blk`` (kept on the block: one per block)."""
@@ -686,12 +718,17 @@ class LinearizedHistory:
             dx[0] = self._lu(0, blk).solve(rhs[0])
         data = self._sweep_data(slu, blk)
         n, last = max(blk.lo, 1), blk.hi - 1
+        tried = set()
         while n <= last:
             stop, refined, factored = slu.tangent_sweep(data, n, last, rhs, dx)
             self.static_stats["refined"] += refined
             self.static_stats["factored"] += factored
             if stop > last:
                 break
+            new = self._repivot(stop, blk, tried)
+            if new is not None:          # redo the step with the pivots of its own matrix
+                slu, n = new, stop
+                continue
             dx[stop] = self._fallback(stop, slu.rhs_buffer.copy(), "N", blk)
             n = stop + 1
 
@@ -749,12 +786,17 @@ class LinearizedHistory:
         from the kernel's right-hand side; step 0 uses SuperLU."""
         data = self._sweep_data(slu, blk)
         n, first = blk.hi - 1, max(blk.lo, 1)
+        tried = set()
         while n >= first:
             stop, refined, factored = slu.adjoint_sweep(data, n, first, rhs, lam)
             self.static_stats["refined"] += refined
             self.static_stats["factored"] += factored
             if stop < first:
                 break
+            new = self._repivot(stop, blk, tried)
+            if new is not None:          # redo the step with the pivots of its own matrix
+                slu, n = new, stop
+                continue
             lam[stop] = self._fallback(stop, slu.rhs_buffer.copy(), "T", blk)
             n = stop - 1
         if blk.lo == 0:

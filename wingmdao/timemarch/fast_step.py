@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from wingmdao.timemarch import lu_orders
 from wingmdao.utils import casadi_cache as cc
 from wingmdao.utils.c_library import compile_source
 
@@ -174,7 +175,7 @@ class FastStepper:
         self.Lp, self.Up, self.pinv = np.zeros(n + 1, np.int32), np.zeros(n + 1, np.int32), np.zeros(n, np.int32)
         self.xi, self.mark = np.zeros(2 * n, np.int32), np.zeros(n, np.int32)
         self.hist = np.zeros(n)
-        order = system.lu_column_order()      # the adjoint's fill-reducing column order (None: natural)
+        order = lu_orders.system_lu_column_order(system)     # fill-reducing column order (None: natural)
         self.qcol = None if order is None else np.ascontiguousarray(order, dtype=np.int32)
         s = self.s = _Step()
         s.n = n

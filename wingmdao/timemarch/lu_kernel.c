@@ -6,6 +6,10 @@
  * (Gilbert & Peierls, SIAM J. Sci. Stat. Comput. 9, 1988) with the pivots fixed; each solve is
  * checked by its componentwise backward error (Oettli & Prager, Numer. Math. 6, 1964)
  *     berr = max_i |b - M x|_i / (|M| |x| + |b|)_i,
+ * with the rows whose scale (|M| |x| + |b|)_i is round-off measured normwise instead (Arioli,
+ * Demmel & Duff, SIAM J. Matrix Anal. Appl. 10(2), 1989, 165-190, Sec. 3: the rows i with
+ * (|M| |x| + |b|)_i <= 1000 n eps (||M_i||_inf ||x||_inf + |b_i|) take
+ *     |b - M x|_i / ((|M| |x|)_i + ||M_i||_inf ||x||_inf)),
  * refined once when above the tolerance, and reported to the caller (which uses SuperLU for that
  * step) when still above. Indices are int32, values double, arrays C-contiguous.
  *
@@ -28,7 +32,7 @@ typedef struct {
     const int *qcol;    /* n: column j of P A Q is column qcol[j] of A (fill-reducing order) */
 } lu_pattern;
 
-int lu_kernel_version(void) { return 9; }
+int lu_kernel_version(void) { return 10; }
 
 /* Matrices factored together by lu_factor_lanes (one SIMD lane each). */
 #define LU_W 4
@@ -105,40 +109,63 @@ void lu_solve(const lu_pattern *p, const double *f, double *x, int trans, double
 }
 
 /* res = b - M x and the componentwise backward error (inf when a scale is zero but its residual
- * is not, or for NaN); work: n doubles. */
+ * is not, or for NaN). A row whose scale s_i = (|M| |x| + |b|)_i is at most 1000 n eps
+ * (||M_i||_inf ||x||_inf + |b_i|) is measured by |res_i| / ((|M| |x|)_i + ||M_i||_inf ||x||_inf)
+ * (Arioli, Demmel & Duff 1989): its exact value would be zero, and the relative measure would
+ * compare the round-off of a solution component that is zero in exact arithmetic (the mirror
+ * components of a symmetric half model's adjoint) with itself. work: 2 n doubles. */
 double lu_berr(const lu_pattern *p, const double *a, const double *x, const double *b, int trans,
                double *res, double *work)
 {
     const int n = p->n;
-    double berr = 0.0;
+    double *rown = work + n;        /* ||M_i||_inf */
+    double berr = 0.0, xn = 0.0;
+    for (int i = 0; i < n; ++i)
+        if (fabs(x[i]) > xn)
+            xn = fabs(x[i]);
     if (trans) {            /* (A^T x)_j = sum_k a_k x[rows_k] over column j */
         for (int j = 0; j < n; ++j) {
-            double s = 0.0, sa = 0.0;
+            double s = 0.0, sa = 0.0, m = 0.0;
             for (int k = p->indptr[j]; k < p->indptr[j + 1]; ++k) {
                 const double v = a[k] * x[p->rows[k]];
                 s += v;
                 sa += fabs(v);
+                if (fabs(a[k]) > m)
+                    m = fabs(a[k]);
             }
             res[j] = b[j] - s;
-            work[j] = sa + fabs(b[j]);
+            work[j] = sa;
+            rown[j] = m;
         }
     } else {
         for (int i = 0; i < n; ++i) {
             res[i] = b[i];
-            work[i] = fabs(b[i]);
+            work[i] = 0.0;
+            rown[i] = 0.0;
         }
         for (int j = 0; j < n; ++j) {
             const double xj = x[j];
             for (int k = p->indptr[j]; k < p->indptr[j + 1]; ++k) {
                 const double v = a[k] * xj;
-                res[p->rows[k]] -= v;
-                work[p->rows[k]] += fabs(v);
+                const int i = p->rows[k];
+                res[i] -= v;
+                work[i] += fabs(v);
+                if (fabs(a[k]) > rown[i])
+                    rown[i] = fabs(a[k]);
             }
         }
     }
+    const double tiny = 1000.0 * (double)n * 2.220446049250313e-16;
     for (int i = 0; i < n; ++i) {
-        const double r = fabs(res[i]), s = work[i];
-        double e = s > 0.0 ? r / s : (r == 0.0 ? 0.0 : INFINITY);
+        const double r = fabs(res[i]), ax = work[i], bi = fabs(b[i]), s = ax + bi;
+        const double norm = rown[i] * xn;
+        double e;
+        if (s > tiny * (norm + bi))
+            e = r / s;
+        else {
+            const double s2 = ax + norm;
+            e = s2 > 0.0 ? r / s2 : (r == 0.0 ? 0.0 : INFINITY);
+        }
         if (isnan(e))
             e = INFINITY;
         if (e > berr)
@@ -147,28 +174,36 @@ double lu_berr(const lu_pattern *p, const double *a, const double *x, const doub
     return berr;
 }
 
-/* Checked solve: x = M^-1 b, refined once when berr > tol. Returns the final backward error;
- * *refined is set to 1 when a refinement was made. work: 3 n doubles. */
+/* Refinements at most per checked solve. The Newton matrix of a symmetric half model (symmetry
+ * conditions on several nodes of a shear-rigid beam: redundant kinematic rows, condition ~1e20)
+ * can need a second one; the first suffices elsewhere. */
+#define LU_REFINE 2
+
+/* Checked solve: x = M^-1 b, refined (at most LU_REFINE times) while berr > tol. Returns the
+ * final backward error; *refined is set to 1 when a refinement was made. work: 3 n doubles. */
 static double checked_solve(const lu_pattern *p, const double *f, const double *a, const double *b,
                             double *x, int trans, double tol, int *refined, double *work)
 {
     const int n = p->n;
-    double *res = work + n, *d = work + 2 * n;
+    /* lu_berr's 2 n of work, then res; the correction d shares lu_berr's second n */
+    double *res = work + 2 * n, *d = work + n;
     memcpy(x, b, (size_t)n * sizeof(double));
     lu_solve(p, f, x, trans, work);
     double berr = lu_berr(p, a, x, b, trans, res, work);
     *refined = 0;
-    if (berr <= tol)
-        return berr;
-    *refined = 1;
-    memcpy(d, res, (size_t)n * sizeof(double));
-    lu_solve(p, f, d, trans, work);
-    for (int i = 0; i < n; ++i)
-        x[i] += d[i];
-    return lu_berr(p, a, x, b, trans, res, work);
+    for (int it = 0; it < LU_REFINE && !(berr <= tol); ++it) {
+        *refined = 1;
+        memcpy(d, res, (size_t)n * sizeof(double));
+        lu_solve(p, f, d, trans, work);
+        for (int i = 0; i < n; ++i)
+            x[i] += d[i];
+        berr = lu_berr(p, a, x, b, trans, res, work);
+    }
+    return berr;
 }
 
-/* Solve one matrix (nonzeros a, factors f): x = M^-1 b; returns berr, res = b - M x. */
+/* Solve one matrix (nonzeros a, factors f): x = M^-1 b; returns berr, res = b - M x.
+ * work: 2 n doubles. */
 double lu_solve_checked(const lu_pattern *p, const double *f, const double *a, const double *b,
                         double *x, double *res, int trans, double *work)
 {
