@@ -67,14 +67,16 @@ def test_gust_plunge_spelling_and_strip_plunge_error(capsys):
 
 
 def test_gust_dlm_refusals_before_solve(capsys, monkeypatch):
-    """--aero-theory dlm is the clamped jig's modal model: free plunge or pitch, --aero strip, the
+    """--aero-theory dlm: --tail-lag (its tail is quasi-steady), --alleviation, --aero strip, the
     deprecated --lifting-line beside it, and --modes out of range or without dlm are refused
     before any solve."""
     import wingmdao.aero.gust_response as gr
 
     monkeypatch.setattr(gr, "dlm_gust_response", lambda *a, **k: pytest.fail("solve started"))
-    for argv, msg in ((["--aero-theory", "dlm"], "add --clamped"),
-                      (["--aero-theory", "dlm", "--plunge", "free"], "add --clamped"),
+    pitch = ["--pitch", "free", "--pitch-inertia", "1e6", "--cg-x", "5", "--tail-arm", "15", "--tail-area", "20",
+             "--tail-lift-slope", "4"]
+    for argv, msg in ((["--aero-theory", "dlm", *pitch, "--tail-lag"], "--tail-lag: the doublet lattice's tail"),
+                      (["--aero-theory", "dlm", "--alleviation", "x.yaml"], "--alleviation x.yaml"),
                       (["--aero", "strip", "--aero-theory", "dlm"], "applies to --aero coupled"),
                       (["--aero-theory", "dlm", "--clamped", "--lifting-line"], "two aerodynamic theories"),
                       (["--aero-theory", "dlm", "--clamped", "--modes", "1"], "--modes = 1; allowed range [2, 20]"),

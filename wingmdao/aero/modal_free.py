@@ -182,7 +182,7 @@ class FreeModalDLMWing(ModalDLMWing):
 
 def free_modal_dlm_wing(beam_params, chord, axis_frac, mach, *, aircraft_mass, pitch_params=None,
                         n_modes: int = N_MODES, n_lags: int = N_LAGS, reduced_frequencies=REDUCED_FREQUENCIES,
-                        n_chordwise=DLM_CHORDWISE, n_spanwise=DLM_SPANWISE) -> FreeModalDLMWing:
+                        n_chordwise=DLM_CHORDWISE, n_spanwise=DLM_SPANWISE, damping_ratio: float = 0.0) -> FreeModalDLMWing:
     """The modal doublet-lattice wing of the aircraft free in plunge (and pitch), module docstring.
 
     Parameters
@@ -202,6 +202,8 @@ def free_modal_dlm_wing(beam_params, chord, axis_frac, mach, *, aircraft_mass, p
         Number of clamped jig modes (the rigid modes come on top).
     n_lags, reduced_frequencies, n_chordwise, n_spanwise
         As :func:`wingmdao.stability.modal.modal_dlm_wing`.
+    damping_ratio : float
+        Structural damping of the clamped modes (fraction of critical, [0, 1)); the rigid modes have none.
 
     Returns
     -------
@@ -209,6 +211,8 @@ def free_modal_dlm_wing(beam_params, chord, axis_frac, mach, *, aircraft_mass, p
         The augmented basis, structure, doublet-lattice forces, Roger fit, residual system (with the
         tail's forcing with pitch) and station-load model.
     """
+    if not (np.isfinite(damping_ratio) and 0.0 <= damping_ratio < 1.0):
+        raise ValueError(f"damping_ratio = {damping_ratio}; allowed range [0, 1) (fraction of critical)")
     r0 = np.asarray(beam_params["node_positions"], dtype=float)
     n = r0.shape[0]
     pitch = pitch_params is not None
@@ -239,7 +243,9 @@ def free_modal_dlm_wing(beam_params, chord, axis_frac, mach, *, aircraft_mass, p
                              mach=mach, reduced_frequencies=reduced_frequencies, n_chordwise=n_chordwise,
                              n_spanwise=n_spanwise)
     rfa = fit(gaf, n_lags=n_lags, low_k_slope=True)
-    structure = ModalStructure(mass=mass + body, stiffness=stiffness, damping=np.zeros((m, m)))
+    damping = np.zeros((m, m))
+    damping[nr:, nr:] = ModalStructure.from_modes(elastic, damping_ratio).damping
+    structure = ModalStructure(mass=mass + body, stiffness=stiffness, damping=damping)
     coef, err = fit_columns(rfa, gaf.k, gaf.station_loads)
     inertia = modal_projection(beam_params, modes).evaluate(beam_params)[2]
     loads = StationLoadModel(motion=coef[..., :m], gust=coef[..., m], inertia=inertia, error=err)
