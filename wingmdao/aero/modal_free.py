@@ -96,10 +96,17 @@ def rigid_body_modes(node_positions, pitch: bool = False) -> tuple[np.ndarray, n
 class ModalTail:
     """The quasi-steady horizontal tail of the free-pitch modal wing (module docstring).
 
-    ``angle`` (m,), ``rate`` (m,): the tail angle's coefficients of the modal amplitudes and of the
-    modal velocities over V; ``gust`` (2,): of ``(w_g,t, w_g,root) / V``; ``area_slope`` S_t a_t (m^2);
-    ``direction`` (m,): the generalized force of a unit tail lift on the half aircraft,
-    ``(1, -x_t) / 2`` on (plunge, pitch)."""
+    Parameters
+    ----------
+    angle, rate : ndarray, shape (m,)
+        The tail angle's coefficients of the modal amplitudes and of the modal velocities over V.
+    gust : ndarray, shape (2,)
+        Its coefficients of ``(w_g,t, w_g,root) / V``.
+    area_slope : float
+        S_t a_t (m^2).
+    direction : ndarray, shape (m,)
+        Generalized force of a unit tail lift on the half aircraft, ``(1, -x_t) / 2`` on (plunge, pitch).
+    """
 
     angle: np.ndarray
     rate: np.ndarray
@@ -131,7 +138,12 @@ class ModalTail:
         return qd * self.area_slope * (alpha + (self.gust[0] * w_t + self.gust[1] * w_r) / V)
 
     def force(self, qd, V, q, v, w_t, w_r):
-        """Generalized force of the tail on the half aircraft's modes (arguments of :meth:`lift`).
+        """Generalized force of the tail on the half aircraft's modes.
+
+        Parameters
+        ----------
+        qd, V, q, v, w_t, w_r
+            As :meth:`lift`.
 
         Returns
         -------
@@ -159,9 +171,20 @@ def _tail(pitch_params: dict, count: int) -> ModalTail:
 
 @dataclass(eq=False)
 class FreeModalDLMWing(ModalDLMWing):
-    """:class:`wingmdao.stability.modal.ModalDLMWing` of a free aircraft: ``modes`` the augmented
-    basis (``rigid`` rigid-body modes first, frequencies 0), ``tail`` the :class:`ModalTail` (None
-    without pitch), ``elastic`` the clamped jig modes alone."""
+    """:class:`wingmdao.stability.modal.ModalDLMWing` of a free aircraft.
+
+    Parameters
+    ----------
+    modes, structure, gaf, rfa, system, loads
+        As :class:`wingmdao.stability.modal.ModalDLMWing`, on the augmented basis (``rigid``
+        rigid-body modes first, frequencies 0).
+    rigid : int
+        Number of rigid-body modes (1: plunge; 2: plunge and pitch).
+    tail : ModalTail or None
+        The horizontal tail (None without pitch).
+    elastic : NormalModes
+        The clamped jig modes alone.
+    """
 
     rigid: int = 1
     tail: ModalTail | None = None
@@ -175,7 +198,18 @@ class FreeModalDLMWing(ModalDLMWing):
         return out
 
     def tip_displacement(self, X) -> np.ndarray:
-        """Elastic tip displacement z (nt,) m relative to the body axes, from marched states ``X``."""
+        """Elastic tip displacement z relative to the body axes.
+
+        Parameters
+        ----------
+        X : ndarray, shape (nt, states)
+            Marched states of :attr:`system`.
+
+        Returns
+        -------
+        ndarray, shape (nt,)
+            m, up.
+        """
         q = np.asarray(X)[:, self.rigid:self.modes.count]
         return q @ self.elastic.displacement[:, -1, 2]
 
