@@ -61,8 +61,9 @@ class GustResponse:
     ``hinge_moment`` (n_time, n_s) N m and the :func:`~wingmdao.aero.controls.limit_report` ``limits``.
     The doublet lattice's modal response (:func:`dlm_gust_response`) has no beam states
     (``states`` None) but ``station_loads`` (n_time, n, 6): internal force (N) and moment (N m) at
-    every node, body axes, increments on the jig; ``tip_displacement`` (n_time,) m, z; ``dlm``:
-    the modal model's figures (modes, lag roots, fit errors)."""
+    every node, body axes, increments on the jig (free: on the 1 g flight; its ``pitch`` holds
+    ``tail_lift_n`` as an increment and no tail incidence); ``tip_displacement`` (n_time,) m, z,
+    elastic; ``dlm``: the modal model's figures (modes, lag roots, fit errors)."""
 
     load_factor: np.ndarray
     states: np.ndarray | None
