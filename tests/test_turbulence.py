@@ -905,3 +905,53 @@ def test_controllable_canonical_form_matches_scipy_tf2ss():
         assert np.all(D2 == 0)
     with pytest.raises(ValueError, match="strictly proper"):
         controllable_canonical_form([1.0, 2.0], [1.0, 3.0])
+
+
+def test_turbulence_stress_ks_vortex_lattice_partials():
+    """TurbulenceStressKS with ``aero_theory="vlm"`` (the beam's quasi-steady lift from the vortex
+    lattice's influence matrices, inputs): its declared partials (through compute_totals) against
+    central differences of the component's output, a few entries, the influence included; and its
+    KS differs from strip theory's on the same wing (the lattice's lower lift)."""
+    import openmdao.api as om
+
+    from wingmdao.aero.system import three_dimensional_parameters
+    from wingmdao.components.turbulence import TurbulenceStressKS
+    from wingmdao.section.box import WALL_NAMES
+
+    s, p, q_trim, q0, r0, W = _trimmed_wing()
+    n = r0.shape[0]
+    values = s.split_parameters(p)
+    values.update(three_dimensional_parameters("vlm", r0, np.ones(n), np.full(n, 0.35), 0.0))
+    ks = {}
+    for theory in ("vlm", "strip"):
+        prob = om.Problem()
+        comp = TurbulenceStressKS(num_nodes=n, plunge=True, airspeed=40.0, x_stations=r0[:, 0] - 0.35,
+                                  width=np.full(n, 0.5), height=np.full(n, 0.12), u_sigma=10.0, sigma_allow=1e8,
+                                  f_max=15.0, n_base=41, aero_theory=theory)
+        prob.model.add_subsystem("turb", comp, promotes=["*"])
+        prob.setup(force_alloc_complex=False)
+        for spec in comp.specs:
+            prob.set_val(spec.name, values[spec.name])
+        for k, w in enumerate(WALL_NAMES):
+            prob.set_val(w, np.array([0.003, 0.0025, 0.004, 0.0035])[k] * np.linspace(1, 0.6, n))
+        prob.run_model()
+        ks[theory] = float(prob.get_val("turbulence_ks")[0])
+        if theory == "strip":
+            continue
+        names = ("stiffness_csn", "body_mass", "density", "t_upper_skin", "lift_influence")
+        J = prob.compute_totals("turbulence_ks", list(names))
+        for name, k, h in (("stiffness_csn", 0, 1.0), ("body_mass", 0, 1e-3), ("density", 0, 1e-7),
+                           ("t_upper_skin", 1, 1e-6), ("lift_influence", 5, 1e-6)):
+            base = prob.get_val(name).copy()
+            vals = []
+            for sign in (1, -1):
+                v = base.copy()
+                v.flat[k] += sign * h
+                prob.set_val(name, v)
+                prob.run_model()
+                vals.append(float(prob.get_val("turbulence_ks")[0]))
+            prob.set_val(name, base)
+            fd = (vals[0] - vals[1]) / (2 * h)
+            got = J["turbulence_ks", name].ravel()[k]
+            assert abs(got - fd) <= 1e-5 * abs(fd) + 1e-9, (name, k, got, fd)
+    assert abs(ks["vlm"] - ks["strip"]) > 1e-3 * abs(ks["strip"])

@@ -7,7 +7,7 @@ import os
 
 import numpy as np
 
-from wingmdao.cases import add_option_arguments, available_cases, options_from_namespace
+from wingmdao.cases import add_option_arguments, available_cases, options_from_namespace, resolve_aero_theory
 from wingmdao.cli._io import EXIT_INTERRUPTED, check_output_dir, check_output_file, refuse_existing, say, warn, write_json
 from wingmdao.cli._args import add_aero_theory_argument, add_deprecated_alias, add_output_arguments
 from wingmdao.utils.memory import (import_openmdao_without_plot_plugins, return_freed_memory,
@@ -46,7 +46,8 @@ def _add_common(p, *, sizing: bool):
                             "constraint at speeds up to F V_D (cases with aerodynamic data: pegasus; docs/flutter.md)")
         p.add_argument("--turbulence", action="store_true",
                        help="add the 14 CFR 25.341(b) continuous-turbulence constraint: KS of the corner design stresses "
-                            "1 g +/- U_sigma A-bar <= yield at V_C, root clamped, structural damping --damping-ratio "
+                            "1 g +/- U_sigma A-bar <= yield at V_C, root clamped, the vortex lattice with --aero coupled --aero-theory "
+                            "vlm|dlm (else strip theory), structural damping --damping-ratio "
                             "when > 0, else 0.02 (cases with aerodynamic data: pegasus; docs/turbulence.md)")
         p.add_argument("--matrix", metavar="FILE.yaml", default=None,
                        help="size against the critical cases of a loads matrix (docs/loads-matrix.md), re-check "
@@ -425,7 +426,8 @@ def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupt
 
 def _add_turbulence(args, setup, comm) -> None:
     """--turbulence: the TurbulenceStressKS options of the case (one process, box sections, a case
-    with aerodynamic data), 2 % structural damping at the first mode when the case has none."""
+    with aerodynamic data), 2 % structural damping at the first mode when the case has none; the
+    vortex lattice with ``--aero coupled --aero-theory vlm|dlm``, else strip theory."""
     from wingmdao.loads.turbulence_analysis import sizing_turbulence_options
 
     if comm is not None and comm.size > 1:
@@ -437,9 +439,14 @@ def _add_turbulence(args, setup, comm) -> None:
         raise ValueError(f"--turbulence needs box sections (the linear corner stresses), got section {setup.section!r}")
     zeta = getattr(args, "damping_ratio", None) or 0.02  # said in the help and in the run's notes
     damping, note = module.gust_damping(zeta, getattr(args, "damping_frequency_hz", None), setup.geometry, setup.options)
-    setup.turbulence = sizing_turbulence_options(module, setup, damping=damping)
+    opts = setup.options
+    theory = (resolve_aero_theory(getattr(opts, "aero_theory", None), opts.aero)
+              if getattr(opts, "aero", "strip") == "coupled" else "strip")
+    theory = "vlm" if theory in ("vlm", "dlm") else "strip"  # dlm: its k = 0 limit, the lattice with 2-D lags
+    setup.turbulence = sizing_turbulence_options(module, setup, damping=damping, aero_theory=theory)
     setup.notes.append(f"turbulence constraint: KS of (+/- s_1g + U_sigma A-bar)/sigma_y - 1 <= 0 at V_C, U_sigma = "
-                       f"{setup.turbulence['u_sigma']:.2f} m/s TAS, root clamped, {note}")
+                       f"{setup.turbulence['u_sigma']:.2f} m/s TAS, root clamped, "
+                       f"{'vortex lattice' if theory == 'vlm' else 'strip theory'}, {note}")
 
 
 def _flutter_design(result, args, setup, prob):

@@ -73,6 +73,10 @@ class TurbulenceStressKS(om.ExplicitComponent):
                              desc="fixed grid (rad/s, odd count); None: refined at the modes of the first evaluation")
         self.options.declare("f_max", default=20.0, types=float, desc="highest frequency of the automatic grid (Hz)")
         self.options.declare("n_base", default=161, types=int, desc="geometric points of the automatic grid")
+        self.options.declare("aero_theory", default="strip", values=("strip", "vlm"),
+                             desc="quasi-steady lift of the aeroelastic beam: strips, or the vortex lattice (its "
+                                  "influence matrices lift_influence and moment_influence then inputs, fixed data "
+                                  "of the planform and Mach number)")
         self.options.declare("values", default=None, allow_none=True, types=dict,
                              desc="default values of inputs {name: value} (the aerodynamic parameters and "
                                   "trim_lift a sizing group does not connect)")
@@ -80,7 +84,7 @@ class TurbulenceStressKS(om.ExplicitComponent):
     def setup(self):
         n = self.options["num_nodes"]
         self.system = cached_aeroelastic_system(n, damping=self.options["damping"], plunge=self.options["plunge"],
-                                                trim=True)
+                                                trim=True, aero_theory=self.options["aero_theory"])
         derived = ("trim_lift", "body_mass") if self.options["aircraft_mass_input"] else ()
         self.specs = [s for s in self.system.param_specs if s.name != "airspeed" and s.name not in derived]
         values = self.options["values"] or {}

@@ -24,7 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from wingmdao.aero.plunge import body_mass, half_wing_mass
-from wingmdao.aero.system import aero_parameters, cached_aeroelastic_system
+from wingmdao.aero.system import aero_parameters, cached_aeroelastic_system, three_dimensional_parameters
 from wingmdao.beam.residual import STATE_BLOCKS
 from wingmdao.beam.static import cached_beam_system
 from wingmdao.loads import turbulence as tb
@@ -224,13 +224,17 @@ def turbulence_analysis(gm: GustModel, u_sigma: float, *, f_min=1e-3, f_max=40.0
     return res
 
 
-def sizing_turbulence_options(module, setup, *, damping=None, rho_ks=50.0) -> dict:
+def sizing_turbulence_options(module, setup, *, damping=None, rho_ks=50.0, aero_theory="strip") -> dict:
     """Options of :class:`wingmdao.components.turbulence.TurbulenceStressKS` for the sizing of a case
     with aerodynamic data. ``module``: its case module (``aero_data(n)``, ``flight_point()``,
     ``CRUISE_ALTITUDE_FT``, ``GUST_SET_DEFAULTS``, ``TOGW_LB``); ``setup``: its CaseSetup. The V_C
     point (U_sigma of 25.341(b)(3) at the cruise altitude), root clamped (the aircraft mass outside
     the wing is not a sizing input), the stations meeting the gust at their leading edges, the box
-    geometry of the setup, sigma_allow the material's yield stress."""
+    geometry of the setup, sigma_allow the material's yield stress. ``aero_theory``: the beam's
+    quasi-steady lift, ``"strip"`` (the case's section slopes) or ``"vlm"`` (the vortex lattice of
+    the planform at the V_C Mach number, :func:`wingmdao.aero.three_dimensional_parameters`)."""
+    if aero_theory not in ("strip", "vlm"):
+        raise ValueError(f"aero_theory = {aero_theory!r}; allowed: 'strip', 'vlm'")
     geo = setup.geometry
     n = geo.num_nodes
     aero, fp = module.aero_data(n), module.flight_point()
@@ -243,7 +247,12 @@ def sizing_turbulence_options(module, setup, *, damping=None, rho_ks=50.0) -> di
     values.pop("airspeed")
     values["trim_lift"] = module.TOGW_LB * LB * G0
     x_le = np.asarray(geo.node_positions)[:, 0] - np.asarray(aero["ref_point"]) * np.asarray(aero["chord"])
-    return {"plunge": False, "airspeed": V, "x_stations": x_le, "width": np.asarray(geo.width),
+    if aero_theory == "vlm":
+        values.update(three_dimensional_parameters("vlm", np.asarray(geo.node_positions, dtype=float),
+                                                   np.broadcast_to(aero["chord"], (n,)),
+                                                   np.broadcast_to(aero["ref_point"], (n,)),
+                                                   V / aero["speed_of_sound"]))
+    return {"plunge": False, "airspeed": V, "x_stations": x_le, "aero_theory": aero_theory, "width": np.asarray(geo.width),
             "height": np.asarray(geo.height), "section_to_csn": geo.section_to_csn, "u_sigma": float(point.u_sigma),
             "sigma_allow": float(setup.material.sigma_y), "rho_ks": float(rho_ks), "damping": damping,
             "values": values}
