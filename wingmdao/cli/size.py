@@ -166,7 +166,7 @@ def _size(args) -> int:
         setup.notes.append(f"flutter constraint: KS of Re(lambda) <= 0 (rho 100 s) at {args.flutter_margin:g} V_D x "
                            f"(0.25, 0.5, 0.75, 1) = {', '.join(f'{v:.1f}' for v in setup.flutter['speeds'])} m/s")
     if getattr(args, "turbulence", False):
-        _add_turbulence(args, setup, comm)
+        _add_turbulence(args, setup, comm, case_options)
     if args.matrix is not None:
         return _run_load_iteration(args, setup, comm)
     plots = [] if args.no_plots else _plot_paths(stem, setup)
@@ -424,7 +424,7 @@ def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupt
     return (0 if result["success"] else 1), design
 
 
-def _add_turbulence(args, setup, comm) -> None:
+def _add_turbulence(args, setup, comm, case_options=None) -> None:
     """--turbulence: the TurbulenceStressKS options of the case (one process, box sections, a case
     with aerodynamic data), 2 % structural damping at the first mode when the case has none; the
     vortex lattice with ``--aero coupled --aero-theory vlm|dlm``, else strip theory."""
@@ -439,9 +439,8 @@ def _add_turbulence(args, setup, comm) -> None:
         raise ValueError(f"--turbulence needs box sections (the linear corner stresses), got section {setup.section!r}")
     zeta = getattr(args, "damping_ratio", None) or 0.02  # said in the help and in the run's notes
     damping, note = module.gust_damping(zeta, getattr(args, "damping_frequency_hz", None), setup.geometry, setup.options)
-    opts = setup.options
-    theory = (resolve_aero_theory(getattr(opts, "aero_theory", None), opts.aero)
-              if getattr(opts, "aero", "strip") == "coupled" else "strip")
+    aero = getattr(case_options, "aero", "strip")
+    theory = resolve_aero_theory(getattr(case_options, "aero_theory", None), aero) if aero == "coupled" else "strip"
     theory = "vlm" if theory in ("vlm", "dlm") else "strip"  # dlm: its k = 0 limit, the lattice with 2-D lags
     setup.turbulence = sizing_turbulence_options(module, setup, damping=damping, aero_theory=theory)
     setup.notes.append(f"turbulence constraint: KS of (+/- s_1g + U_sigma A-bar)/sigma_y - 1 <= 0 at V_C, U_sigma = "
