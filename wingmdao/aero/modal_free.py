@@ -48,7 +48,7 @@ import casadi as ca
 import numpy as np
 
 from wingmdao.aero.dlm import DLM_CHORDWISE, DLM_SPANWISE, REDUCED_FREQUENCIES, generalized_forces
-from wingmdao.aero.modal_design import modal_projection
+from wingmdao.aero.modal_design import ModalGust, cosine_gust_history, modal_projection
 from wingmdao.aero.modal_loads import StationLoadModel
 from wingmdao.aero.plunge import body_mass as plunge_body_mass, half_wing_mass
 from wingmdao.aero.rfa import N_LAGS, fit, fit_columns
@@ -59,7 +59,8 @@ from wingmdao.stability.modal import N_MODES, ModalDLMWing
 from wingmdao.stability.pk import ModalStructure
 from wingmdao.timemarch.system import pack
 
-__all__ = ["RIGID_NAMES", "rigid_body_modes", "ModalTail", "FreeModalDLMWing", "free_modal_dlm_wing"]
+__all__ = ["RIGID_NAMES", "rigid_body_modes", "ModalTail", "FreeModalDLMWing", "free_modal_dlm_wing",
+           "free_cosine_gust"]
 
 #: names of the rigid-body modes, in basis order (plunge first, then pitch)
 RIGID_NAMES = ("plunge", "pitch")
@@ -286,3 +287,38 @@ def free_modal_dlm_wing(beam_params, chord, axis_frac, mach, *, aircraft_mass, p
     tail = _tail(pitch_params, m) if pitch else None
     return FreeModalDLMWing(modes, structure, gaf, rfa, modal_rfa_system(structure, rfa, tail=tail), loads,
                             rigid=nr, tail=tail, elastic=elastic)
+
+
+def free_cosine_gust(params: dict, chord, axis_frac, time, *, aircraft_mass, u_tas, airspeed, density, mach,
+                     gust_start, gradient_m, n_modes: int = N_MODES) -> ModalGust:
+    """:class:`wingmdao.aero.modal_design.ModalGust` of a 1 - cos gust on the modal doublet-lattice
+    wing of the aircraft free in plunge (:func:`free_modal_dlm_wing` of the reference design), for a
+    sizing: the projection adds half the body's design-dependent mass to the plunge mode.
+
+    Parameters
+    ----------
+    params : dict
+        Beam parameters of the reference design.
+    chord, axis_frac : array_like
+        Chord (m) and beam-axis chord fraction per node.
+    time : array_like
+        The case's time grid (s).
+    aircraft_mass : float
+        Whole aircraft mass (kg).
+    u_tas, airspeed, density, mach : float
+        Gust amplitude (m/s, true airspeed), airspeed (m/s), air density (kg/m^3), Mach number.
+    gust_start, gradient_m : float
+        Time (s) the gust reaches the foremost leading edge, gradient H (m).
+    n_modes : int
+        Number of clamped modes of the basis (the plunge mode comes on top).
+
+    Returns
+    -------
+    ModalGust
+        With ``plunge=True``.
+    """
+    wing = free_modal_dlm_wing(params, chord, axis_frac, mach, aircraft_mass=aircraft_mass, n_modes=n_modes)
+    return ModalGust(wing=wing, projection=modal_projection(params, wing.modes, aircraft_mass=aircraft_mass),
+                     airspeed=float(airspeed), density=float(density),
+                     gust=cosine_gust_history(time, u_tas, airspeed, gust_start, gradient_m),
+                     node_euler_angles=np.asarray(params["node_euler_angles"]), plunge=True)
