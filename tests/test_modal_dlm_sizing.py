@@ -136,17 +136,19 @@ def test_component_partials(goland):
 
 
 @pytest.mark.slow
-def test_adjoint_totals_of_the_pegasus_dlm_gust_ks_match_central_differences():
+@pytest.mark.parametrize("plunge", ["clamped", "free"])
+def test_adjoint_totals_of_the_pegasus_dlm_gust_ks_match_central_differences(plunge):
     """The sized PEGASUS gust with --aero-theory dlm (trimmed 1 g on the VLM beam + the gust on the
-    modal doublet lattice of the design) at a non-trivial design: the reverse-mode totals of the
-    KS and the mass with respect to the four wall thicknesses equal central differences; the
-    gust increment is a sizeable part of the root bending (the modal path is tested)."""
+    modal doublet lattice of the design), clamped and free in plunge (the plunge mode in the basis,
+    the body's design-dependent mass in the projection), at a non-trivial design: the reverse-mode
+    totals of the KS and the mass with respect to the four wall thicknesses equal central
+    differences; the gust increment is a sizeable part of the root bending (the modal path is tested)."""
     pytest.importorskip("panelaero.DLM")
     from wingmdao.cases import pegasus
     from wingmdao.sizing import WALL_VARS, build_problem
 
     args = pegasus.PegasusOptions(loads="gust", aero="coupled", aero_theory="dlm", t_final=0.4, dt=0.04,
-                                  gust_start=0.0, families="vm")
+                                  gust_start=0.0, families="vm", plunge=plunge)
     setup = pegasus.build(args)
     rng = np.random.default_rng(7)
     setup.options.initial = {w: rng.uniform(0.004, 0.012, 19) for w in WALL_VARS}
@@ -191,8 +193,32 @@ def test_pressure_operators_are_cached_by_planform_and_equal_the_direct_solve():
     np.testing.assert_allclose(b.Q, 4 * a.Q, rtol=1e-12)
 
 
-def test_dlm_sizing_refuses_a_free_aircraft_before_any_solve():
+def test_dlm_sizing_refuses_free_pitch_before_any_solve():
     from wingmdao.cases import pegasus
 
-    with pytest.raises(ValueError, match="clamped wing"):
-        pegasus.build(pegasus.PegasusOptions(loads="gust", aero="coupled", aero_theory="dlm", plunge="free"))
+    with pytest.raises(ValueError, match="dlm"):
+        pegasus.build(pegasus.PegasusOptions(loads="gust", aero="coupled", aero_theory="dlm", plunge="free",
+                                             pitch="free", pitch_inertia=3.45e5, cg_x=0.67, tail_arm=12.0,
+                                             tail_area=11.7, tail_lift_slope=4.0))
+
+
+def test_free_plunge_projection_carries_half_the_aircraft(goland):
+    """The free-plunge projection (plunge mode first, ``aircraft_mass``): at the reference design it
+    equals the free modal wing's mass matrix (wing + half the body) and stiffness; on a heavier wing
+    the plunge entry stays M / 2 (the body is the aircraft less the wings) while the wing-plunge
+    coupling grows with the wing's mass."""
+    from wingmdao.aero.modal_free import free_modal_dlm_wing
+
+    problem, _, _ = goland
+    beam = problem.beam
+    mass = 1500.0
+    wing = free_modal_dlm_wing(beam, problem.aero["chord"], problem.aero["ref_point"], 0.0, aircraft_mass=mass,
+                               n_modes=3, reduced_frequencies=K_SET)
+    P = modal_projection(beam, wing.modes, aircraft_mass=mass)
+    M, K, _ = P.evaluate(beam)
+    np.testing.assert_allclose(M, wing.structure.mass, rtol=1e-10, atol=1e-10 * np.abs(M).max())
+    np.testing.assert_allclose(K, wing.structure.stiffness, rtol=1e-7, atol=1e-6 * np.abs(K).max())
+    heavy = dict(beam, mass_per_length=1.3 * np.asarray(beam["mass_per_length"], dtype=float))
+    M2, _, _ = P.evaluate(heavy)
+    assert M2[0, 0] == pytest.approx(mass / 2, rel=1e-12)
+    np.testing.assert_allclose(M2[0, 1:], 1.3 * M[0, 1:], rtol=1e-10)

@@ -416,11 +416,13 @@ def test_turbulence_stress_ks_component_partials():
         assert abs(got - fd) <= 1e-5 * abs(fd) + 1e-9, (name, k, got, fd)
 
 
-def test_turbulence_stress_ks_totals_wrt_thicknesses_through_the_section_chain():
+@pytest.mark.parametrize("aero_theory", ["strip", "vlm"])
+def test_turbulence_stress_ks_totals_wrt_thicknesses_through_the_section_chain(aero_theory):
     """d KS / d wall thicknesses through BoxSection (stiffness, mass, offsets) into the component:
     OpenMDAO check_totals (central differences) on a 4-node aluminium box wing, free in plunge, 2 %
     structural damping (undamped, the in-plane mode's peak moves across the held grid and the
-    differences see its curvature)."""
+    differences see its curvature); strip theory and the vortex lattice."""
+    from wingmdao.aero.system import three_dimensional_parameters
     from wingmdao.beam.residual import StrainRateDamping
     import openmdao.api as om
 
@@ -440,7 +442,7 @@ def test_turbulence_stress_ks_totals_wrt_thicknesses_through_the_section_chain()
     add_section_offsets(m, n, promotes_outputs=["*"])
     m.add_subsystem("turb", TurbulenceStressKS(num_nodes=n, plunge=True, airspeed=40.0, x_stations=r0[:, 0] - 0.35,
                                                width=width, height=height, u_sigma=10.0, sigma_allow=1e8,
-                                               f_max=15.0, n_base=41,
+                                               f_max=15.0, n_base=41, aero_theory=aero_theory,
                                                damping=StrainRateDamping.from_damping_ratio(0.02, 2.0)),
                     promotes_inputs=["*"])
     for w in WALL_NAMES:
@@ -452,6 +454,9 @@ def test_turbulence_stress_ks_totals_wrt_thicknesses_through_the_section_chain()
     for name in ("node_positions", "node_euler_angles", "chord", "ref_point", "lift_slope", "alpha_zero_lift", "cm0",
                  "density", "mach", "trim_lift"):
         prob.set_val(name, values[name])
+    if aero_theory == "vlm":
+        for name, v in three_dimensional_parameters("vlm", r0, np.ones(n), np.full(n, 0.35), 0.0).items():
+            prob.set_val(name, v)
     prob.set_val("body_mass", 200.0)
     prob.run_model()
     data = prob.check_totals(of=["turb.turbulence_ks"], wrt=list(WALL_NAMES), method="fd", form="central", step=1e-6,
@@ -905,3 +910,81 @@ def test_controllable_canonical_form_matches_scipy_tf2ss():
         assert np.all(D2 == 0)
     with pytest.raises(ValueError, match="strictly proper"):
         controllable_canonical_form([1.0, 2.0], [1.0, 3.0])
+
+
+def test_turbulence_stress_ks_vortex_lattice_partials():
+    """TurbulenceStressKS with ``aero_theory="vlm"`` (the beam's quasi-steady lift from the vortex
+    lattice's influence matrices, inputs): its declared partials (through compute_totals) against
+    central differences of the component's output, a few entries, the influence included; and its
+    KS differs from strip theory's on the same wing (the lattice's lower lift)."""
+    import openmdao.api as om
+
+    from wingmdao.aero.system import three_dimensional_parameters
+    from wingmdao.components.turbulence import TurbulenceStressKS
+    from wingmdao.section.box import WALL_NAMES
+
+    s, p, q_trim, q0, r0, W = _trimmed_wing()
+    n = r0.shape[0]
+    values = s.split_parameters(p)
+    values.update(three_dimensional_parameters("vlm", r0, np.ones(n), np.full(n, 0.35), 0.0))
+    ks = {}
+    for theory in ("vlm", "strip"):
+        prob = om.Problem()
+        comp = TurbulenceStressKS(num_nodes=n, plunge=True, airspeed=40.0, x_stations=r0[:, 0] - 0.35,
+                                  width=np.full(n, 0.5), height=np.full(n, 0.12), u_sigma=10.0, sigma_allow=1e8,
+                                  f_max=15.0, n_base=41, aero_theory=theory)
+        prob.model.add_subsystem("turb", comp, promotes=["*"])
+        prob.setup(force_alloc_complex=False)
+        for spec in comp.specs:
+            prob.set_val(spec.name, values[spec.name])
+        for k, w in enumerate(WALL_NAMES):
+            prob.set_val(w, np.array([0.003, 0.0025, 0.004, 0.0035])[k] * np.linspace(1, 0.6, n))
+        prob.run_model()
+        ks[theory] = float(prob.get_val("turbulence_ks")[0])
+        if theory == "strip":
+            continue
+        names = ("stiffness_csn", "body_mass", "density", "t_upper_skin", "lift_influence")
+        J = prob.compute_totals("turbulence_ks", list(names))
+        for name, k, h in (("stiffness_csn", 0, 1.0), ("body_mass", 0, 1e-3), ("density", 0, 1e-7),
+                           ("t_upper_skin", 1, 1e-6), ("lift_influence", 5, 1e-6)):
+            base = prob.get_val(name).copy()
+            vals = []
+            for sign in (1, -1):
+                v = base.copy()
+                v.flat[k] += sign * h
+                prob.set_val(name, v)
+                prob.run_model()
+                vals.append(float(prob.get_val("turbulence_ks")[0]))
+            prob.set_val(name, base)
+            fd = (vals[0] - vals[1]) / (2 * h)
+            got = J["turbulence_ks", name].ravel()[k]
+            assert abs(got - fd) <= 1e-5 * abs(fd) + 1e-9, (name, k, got, fd)
+    assert abs(ks["vlm"] - ks["strip"]) > 1e-3 * abs(ks["strip"])
+
+
+@pytest.mark.slow
+def test_size_pegasus_turbulence_constraint_vortex_lattice(tmp_path):
+    """`size pegasus --aero coupled --aero-theory vlm --turbulence --analysis-only`: the constraint's
+    model is the vortex lattice on the beam; its 25.341(b) A-bar and 1 g loads equal those of the
+    `wingmdao turbulence pegasus --clamped --aero-theory vlm` command on the same design (its own
+    set-up, another code path) to 1e-6, and its root bending A-bar is below strip theory's
+    (the lattice's lower lift slope)."""
+    import json
+
+    from wingmdao.cli import main
+
+    out = tmp_path / "s.json"
+    assert main(["size", "pegasus", "--aero", "coupled", "--aero-theory", "vlm", "--loads", "maneuver", "--analysis-only",
+                 "--turbulence", "--no-plots", "--quiet", "--out", str(tmp_path), "--json", str(out)]) == 0
+    tl = json.loads(out.read_text())["turbulence_loads"]
+    t = {}
+    for theory in ("vlm", "strip"):
+        cmd = tmp_path / f"t_{theory}.json"
+        assert main(["turbulence", "pegasus", "--clamped", "--aero-theory", theory, "--damping-ratio", "0.02",
+                     "--f-max-hz", "20", "--no-plots", "--json", str(cmd)]) == 0
+        t[theory] = json.loads(cmd.read_text())
+    for key in ("bending_moment", "torsion"):
+        np.testing.assert_allclose(tl[key]["a_bar"], t["vlm"]["a_bar"][key], rtol=1e-6,
+                                   atol=1e-6 * max(t["vlm"]["a_bar"][key]))
+        np.testing.assert_allclose(tl[key]["one_g"], t["vlm"]["design_loads"][key]["one_g"], rtol=1e-9, atol=1e-6)
+    assert tl["bending_moment"]["a_bar"][0] < 0.8 * t["strip"]["a_bar"]["bending_moment"][0]

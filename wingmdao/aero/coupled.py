@@ -317,8 +317,10 @@ def modal_dlm_response(prob, case, num_nodes: int, weight: float) -> dict:
                                                                                 "modal_inertia")}
     inputs["states"] = X
     total, aero = comp.body_loads(inputs)
-    m = case.modal_dlm.wing.modes.count
-    tip = case.modal_dlm.wing.modes.displacement[:, -1, 2] @ X[:, :m].T
+    wing = case.modal_dlm.wing
+    m = wing.modes.count
+    tip = (wing.tip_displacement(X) if case.modal_dlm.plunge  # elastic, relative to the body axes
+           else wing.modes.displacement[:, -1, 2] @ X[:, :m].T)
     n_load = static["load_factor"][0] + 2.0 * aero[:, 0, 2] / float(weight)
     rbm = static["root_bending_moment"][0] + total[:, 0, 3]
     return {"time": case.time.tolist(), "load_factor": n_load.tolist(), "root_bending_moment": rbm.tolist(),

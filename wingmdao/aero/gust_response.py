@@ -19,6 +19,7 @@ import numpy as np
 
 from wingmdao.aero.controls import control_spec, limit_report
 from wingmdao.aero.dlm import DLM_CHORDWISE, DLM_SPANWISE, REDUCED_FREQUENCIES
+from wingmdao.aero.modal_free import free_modal_dlm_wing
 from wingmdao.aero.modal_loads import station_load_history
 from wingmdao.aero.rfa import N_LAGS
 from wingmdao.aero.strip import station_gust_history
@@ -82,30 +83,9 @@ class GustResponse:
     ``hinge_moment`` (n_time, n_s) N m and the :func:`~wingmdao.aero.controls.limit_report` ``limits``.
     The doublet lattice's modal response (:func:`dlm_gust_response`) has no beam states
     (``states`` None) but ``station_loads`` (n_time, n, 6): internal force (N) and moment (N m) at
-    every node, body axes, increments on the jig; ``tip_displacement`` (n_time,) m, z; ``dlm``:
-    the modal model's figures (modes, lag roots, fit errors).
-
-    Parameters
-    ----------
-    load_factor : ndarray, shape (n_time,)
-        Load factor.
-    states : ndarray, shape (n_time, n, 18) or None
-        Beam states per node.
-    wing_lift_slope : float
-        Wing lift slope (1/rad).
-    trim_alpha : float, optional
-        Trim angle of attack (rad).
-    pitch : dict
-        Pitch histories with free pitch.
-    controls : dict
-        Control-surface histories and limits.
-    station_loads : ndarray, shape (n_time, n, 6), optional
-        Internal loads of the modal response (N, N m).
-    tip_displacement : ndarray, shape (n_time,), optional
-        Tip z displacement of the modal response (m).
-    dlm : dict
-        Figures of the modal model.
-    """
+    every node, body axes, increments on the jig (free: on the 1 g flight; its ``pitch`` holds
+    ``tail_lift_n`` as an increment and no tail incidence); ``tip_displacement`` (n_time,) m, z,
+    elastic; ``dlm``: the modal model's figures (modes, lag roots, fit errors)."""
 
     load_factor: np.ndarray
     states: np.ndarray | None
@@ -380,55 +360,53 @@ def gust_velocity_derivatives(flight: GustFlight, time) -> np.ndarray:
 
 def dlm_gust_response(time, beam_params, chord, axis_frac, flight: GustFlight, *, area, n_modes: int = 6,
                       n_lags: int = N_LAGS, reduced_frequencies=REDUCED_FREQUENCIES, n_chordwise=DLM_CHORDWISE,
-                      n_spanwise=DLM_SPANWISE) -> GustResponse:
-    """The gust response of the doublet lattice in the modal basis of the jig beam, root clamped.
+                      n_spanwise=DLM_SPANWISE, plunge: bool = False, pitch_params=None) -> GustResponse:
+    """The gust response of the doublet lattice in the modal basis of the jig beam.
 
-    The lowest ``n_modes`` normal modes of the beam about the jig (undamped), the doublet-lattice
-    generalized forces and station loads at ``reduced_frequencies`` and the flight Mach number, Roger's
-    approximation with ``n_lags`` lag roots, marched by BDF2 from rest on ``time``; the gust front
-    reaches the foremost leading edge at ``flight.gust_start`` and each panel after its delay. The
-    load factor is ``1 +`` the lift increment of both half-wings over W; station loads by force
-    summation (:mod:`wingmdao.aero.modal_loads`).
-
-    Parameters
-    ----------
-    time : ndarray, shape (n_time,)
-        Uniform time grid from 0 (s).
-    beam_params : dict
-        Beam parameters per node.
-    chord : array_like, shape (n,)
-        Streamwise chord (m).
-    axis_frac : array_like, shape (n,)
-        Beam axis as a fraction of the chord aft of the leading edge.
-    flight : GustFlight
-        Flight point and gust.
-    area : float
-        Wing reference area (m^2).
-    n_modes : int
-        Number of normal modes.
-    n_lags : int
-        Number of lag roots of Roger's approximation.
-    reduced_frequencies : array_like
-        Reduced frequencies of the generalized forces.
-    n_chordwise : int
-        Chordwise panels of the doublet lattice.
-    n_spanwise : int
-        Spanwise strips per beam element.
-
-    Returns
-    -------
-    GustResponse
-        The response (no beam states).
-    """
-    wing = modal_dlm_wing(beam_params, chord, axis_frac, flight.mach, n_modes=n_modes, n_lags=n_lags,
-                          reduced_frequencies=reduced_frequencies, n_chordwise=n_chordwise, n_spanwise=n_spanwise)
+    The lowest ``n_modes`` normal modes of the beam about the jig (undamped, root clamped), the
+    doublet-lattice generalized forces and station loads at ``reduced_frequencies`` and the flight
+    Mach number, Roger's approximation with ``n_lags`` lag roots, marched by BDF2 from rest on
+    ``time``; the gust front reaches the foremost leading edge at ``flight.gust_start`` and each
+    panel after its delay. ``plunge``: the aircraft (mass ``flight.weight / g``) free in plunge, the
+    rigid-body plunge mode in the basis; ``pitch_params``
+    (:func:`wingmdao.aero.pitch.pitch_parameters`): also free in pitch with the quasi-steady tail,
+    the gust reaching the tail ``(x_t - x_gust) / V`` after the leading edge
+    (:mod:`wingmdao.aero.modal_free`; the increments on the trimmed 1 g flight). The load factor is
+    ``1 +`` the lift increment of both half-wings (and the tail) over W; station loads by force
+    summation (:mod:`wingmdao.aero.modal_loads`)."""
+    if pitch_params is not None and not plunge:
+        raise ValueError("free pitch needs free plunge (plunge=True)")
+    if plunge:
+        wing = free_modal_dlm_wing(beam_params, chord, axis_frac, flight.mach, aircraft_mass=flight.weight / G0,
+                                   pitch_params=pitch_params, n_modes=n_modes, n_lags=n_lags,
+                                   reduced_frequencies=reduced_frequencies, n_chordwise=n_chordwise,
+                                   n_spanwise=n_spanwise)
+    else:
+        wing = modal_dlm_wing(beam_params, chord, axis_frac, flight.mach, n_modes=n_modes, n_lags=n_lags,
+                              reduced_frequencies=reduced_frequencies, n_chordwise=n_chordwise, n_spanwise=n_spanwise)
     modal, structure, rfa, gaf, modes = wing.system, wing.structure, wing.rfa, wing.gaf, wing.modes
+    tail = getattr(wing, "tail", None)
+    m, V, rho = modes.count, flight.airspeed, flight.density
     F = np.zeros((np.size(time), modal.n_forcing))
     F[:, :3] = gust_velocity_derivatives(flight, time)
-    p = pack(modal.param_specs, {"airspeed": flight.airspeed, "density": flight.density})
-    X = march(modal, time, p, F, initial="static").states
-    total, aero = station_load_history(wing.loads, structure, rfa, X, F, flight.airspeed, flight.density)
-    q = X[:, :modes.count]
+    if tail is not None:
+        profile = gust_profile(flight)
+        x_le = np.asarray(beam_params["node_positions"])[:, 0] - np.asarray(axis_frac) * np.asarray(chord)
+        F[:, 3 + m] = profile(time - (pitch_params["tail_x"] - gaf.x_gust) / V)
+        F[:, 4 + m] = profile(time - (x_le[0] - gaf.x_gust) / V)
+    p = pack(modal.param_specs, {"airspeed": V, "density": rho})
+    # from rest: the free modes' static problem is singular (a plunge displacement loads nothing)
+    X = march(modal, time, p, F, initial="state", x_init=np.zeros(modal.n_state)).states
+    total, aero = station_load_history(wing.loads, structure, rfa, X, F, V, rho, tail)
     a_wing = 2.0 * float(np.real(gaf.station_loads[0, 0, 2, -1])) / area
-    return GustResponse(1.0 + 2.0 * aero[:, 0, 2] / flight.weight, None, a_wing, station_loads=total,
-                        tip_displacement=q @ modes.displacement[:, -1, 2], dlm=wing.info())
+    lift = 2.0 * aero[:, 0, 2]
+    pitch = {}
+    if tail is not None:
+        qd = 0.5 * rho * V ** 2
+        tail_lift = tail.lift(qd, V, X[:, :m].T, X[:, m:2 * m].T, F[:, 3 + m], F[:, 4 + m])
+        lift = lift + tail_lift
+        pitch = {"pitch_angle_rad": X[:, 1].tolist(), "pitch_rate_rad_s": X[:, m + 1].tolist(),
+                 "tail_lift_n": tail_lift.tolist()}
+    tip = (wing.tip_displacement(X) if plunge else X[:, :m] @ modes.displacement[:, -1, 2])
+    return GustResponse(1.0 + lift / flight.weight, None, a_wing, pitch=pitch, station_loads=total,
+                        tip_displacement=tip, dlm=wing.info())

@@ -41,7 +41,7 @@ from wingmdao.beam.residual import offset_matrix
 from wingmdao.beam.rotations import body_to_csn
 from wingmdao.stability.modal import N_MODES, modal_dlm_wing
 
-__all__ = ["DESIGN_INPUTS", "ModalProjection", "modal_projection", "ModalGust", "cosine_gust"]
+__all__ = ["DESIGN_INPUTS", "ModalProjection", "modal_projection", "ModalGust", "cosine_gust", "cosine_gust_history"]
 
 #: beam parameters the projection depends on, with their per-node shapes and units
 DESIGN_INPUTS = {"stiffness_csn": ((3, 3), "N*m**2"), "compliance_csn": ((3,), "1/N"),
@@ -112,23 +112,13 @@ def _element_strains(params: dict, modes: NormalModes, T: list) -> np.ndarray:
     return out
 
 
-def modal_projection(params: dict, modes: NormalModes) -> ModalProjection:
+def modal_projection(params: dict, modes: NormalModes, aircraft_mass=None) -> ModalProjection:
     """:class:`ModalProjection` on the basis ``modes`` (:func:`wingmdao.beam.modes.normal_modes`
     of the reference design ``params``, a beam parameter dict; its jig geometry
-    ``node_positions`` and ``node_euler_angles`` stay fixed).
-
-    Parameters
-    ----------
-    params : dict
-        Beam parameters of the reference design.
-    modes : NormalModes
-        Normal modes of the reference design.
-
-    Returns
-    -------
-    ModalProjection
-        The projection.
-    """
+    ``node_positions`` and ``node_euler_angles`` stay fixed). ``aircraft_mass`` (kg): the basis's
+    first mode is the free aircraft's plunge (:mod:`wingmdao.aero.modal_free`), and the modal mass
+    adds half the body's mass to it, ``M / 2 - m_half(d)`` with the design's trapezoid half-wing
+    mass, so that the plunge mode carries half the aircraft."""
     if modes.force is None or modes.moment is None:
         raise ValueError("the modes carry no internal loads (NormalModes.force/moment); use beam.modes.normal_modes")
     r0 = np.asarray(params["node_positions"], dtype=float)
@@ -178,6 +168,11 @@ def modal_projection(params: dict, modes: NormalModes) -> ModalProjection:
         Cc = ca.vertcat(ca.horzcat(Sd + D.T @ einv @ D, -D.T @ einv), ca.horzcat(-einv @ D, einv))
         ep = ca.DM(eps[e])
         Kr = Kr + ds[e] * ep.T @ ca.solve(Cc, ep)
+    if aircraft_mass is not None:
+        m_half = sum(ds[e] * 0.5 * (sym["mass_per_length"][e] + sym["mass_per_length"][e + 1]) for e in range(ne))
+        body = ca.SX.zeros(m, m)
+        body[0, 0] = 0.5 * float(aircraft_mass) - m_half
+        Mr = Mr + body
     # force summation from the tip (free: zero loads), the residual's equilibrium recursion
     Fn, Mn = ca.SX.zeros(3, m), ca.SX.zeros(3, m)
     rows = [None] * n
@@ -204,23 +199,8 @@ class ModalGust:
     station-load coefficients), ``projection`` its :class:`ModalProjection`, the flight condition
     ``airspeed`` (m/s) and ``density`` (kg/m^3), ``gust`` (nt, 3) the gust velocity (m/s), its rate
     (m/s^2) and acceleration (m/s^3) at ``x_gust`` on the case's time grid, ``node_euler_angles``
-    (n, 3) rad the jig's (the csn frames of the loads).
-
-    Parameters
-    ----------
-    wing : ModalDLMWing
-        The modal doublet-lattice wing of the reference design.
-    projection : ModalProjection
-        Its projection.
-    airspeed : float
-        True airspeed (m/s).
-    density : float
-        Air density (kg/m^3).
-    gust : numpy.ndarray
-        (nt, 3) gust velocity (m/s), rate (m/s^2) and acceleration (m/s^3).
-    node_euler_angles : numpy.ndarray
-        (n, 3) jig Euler angles (rad).
-    """
+    (n, 3) rad the jig's (the csn frames of the loads); ``plunge``: the aircraft free in plunge (the
+    basis's first mode, :func:`wingmdao.aero.modal_free.free_cosine_gust`; the march starts from rest)."""
 
     wing: object
     projection: ModalProjection
@@ -228,6 +208,7 @@ class ModalGust:
     density: float
     gust: np.ndarray
     node_euler_angles: np.ndarray
+    plunge: bool = False
 
 
 def cosine_gust(params: dict, chord, axis_frac, time, *, u_tas, airspeed, density, mach, gust_start, gradient_m,
@@ -257,6 +238,28 @@ def cosine_gust(params: dict, chord, axis_frac, time, *, u_tas, airspeed, densit
         with its analytic rate and acceleration.
     """
     wing = modal_dlm_wing(params, chord, axis_frac, mach, n_modes=n_modes)
+    return ModalGust(wing=wing, projection=modal_projection(params, wing.modes), airspeed=float(airspeed),
+                     density=float(density), gust=cosine_gust_history(time, u_tas, airspeed, gust_start, gradient_m),
+                     node_euler_angles=np.asarray(params["node_euler_angles"]))
+
+
+def cosine_gust_history(time, u_tas, airspeed, gust_start, gradient_m) -> np.ndarray:
+    """The 1 - cos gust velocity at the lattice's ``x_gust`` and its two rates on ``time``.
+
+    Parameters
+    ----------
+    time : array_like
+        Time grid (s).
+    u_tas, airspeed : float
+        Gust amplitude and airspeed (m/s, true airspeed).
+    gust_start, gradient_m : float
+        Time (s) the gust reaches ``x_gust``, gradient H (m).
+
+    Returns
+    -------
+    ndarray, shape (nt, 3)
+        ``w`` (m/s), ``dw/dt`` (m/s^2), ``d2w/dt2`` (m/s^3).
+    """
     V, H = float(airspeed), float(gradient_m)
     time = np.asarray(time, dtype=float)
     d = V * (time - gust_start)
@@ -264,5 +267,4 @@ def cosine_gust(params: dict, chord, axis_frac, time, *, u_tas, airspeed, densit
     w = np.where(on, 0.5 * u_tas * (1 - np.cos(np.pi * d / H)), 0.0)
     rate = np.where(on, 0.5 * u_tas * (np.pi * V / H) * np.sin(np.pi * d / H), 0.0)
     acc = np.where(on, 0.5 * u_tas * (np.pi * V / H) ** 2 * np.cos(np.pi * d / H), 0.0)
-    return ModalGust(wing=wing, projection=modal_projection(params, wing.modes), airspeed=V, density=float(density),
-                     gust=np.column_stack([w, rate, acc]), node_euler_angles=np.asarray(params["node_euler_angles"]))
+    return np.column_stack([w, rate, acc])

@@ -87,10 +87,11 @@ def _split(X, n, L):
     return q, v, z, zg
 
 
-def modal_accelerations(structure, rfa: RogerApproximation, X, F, airspeed, density) -> np.ndarray:
+def modal_accelerations(structure, rfa: RogerApproximation, X, F, airspeed, density, tail=None) -> np.ndarray:
     """Modal accelerations ``v'`` (nt, modes) of marched states ``X`` (nt, states) of
-    :func:`wingmdao.aero.rfa_system.modal_rfa_system` under its forcing ``F`` (nt, 3 + modes),
-    from the modal equations of motion."""
+    :func:`wingmdao.aero.rfa_system.modal_rfa_system` under its forcing ``F`` (nt, 3 + modes
+    [+ 2 with ``tail``, :class:`wingmdao.aero.modal_free.ModalTail`]), from the modal equations of
+    motion."""
     M, K, C = (np.asarray(a, dtype=float) for a in (structure.mass, structure.stiffness, structure.damping))
     n, L, b = M.shape[0], rfa.n_lags, float(rfa.b_ref)
     V, rho = float(airspeed), float(density)
@@ -103,21 +104,24 @@ def modal_accelerations(structure, rfa: RogerApproximation, X, F, airspeed, dens
            + qd * np.einsum("lij,tlj->it", A[3:], z)
            + qd * (np.outer(G[0], g) + np.outer(G[1], (b / V) * g1) + np.outer(G[2], (b / V) ** 2 * g2)
                    + G[3:].T @ zg.T)
-           + F[:, 3:].T)
+           + F[:, 3:3 + n].T)
+    if tail is not None:
+        rhs = rhs + tail.force(qd, V, q.T, v.T, F[:, 3 + n], F[:, 4 + n])
     return np.linalg.solve(M - 0.5 * rho * b ** 2 * A[2], rhs).T
 
 
 def station_load_history(model: StationLoadModel, structure, rfa: RogerApproximation, X, F, airspeed,
-                         density) -> tuple[np.ndarray, np.ndarray]:
+                         density, tail=None) -> tuple[np.ndarray, np.ndarray]:
     """``(total, aerodynamic)`` station loads (nt, n, 6) of a march of
     :func:`wingmdao.aero.rfa_system.modal_rfa_system`: internal force (N) and moment (N m) at every
     beam node, body axes, by force summation (module docstring); ``aerodynamic`` is the panel
-    forces' share alone (its root force z is the half-wing's lift)."""
+    forces' share alone (its root force z is the half-wing's lift). ``tail``: the free aircraft's
+    tail in the modal equations (:func:`modal_accelerations`)."""
     n, L, b = structure.mass.shape[0], rfa.n_lags, float(rfa.b_ref)
     V = float(airspeed)
     qd = 0.5 * float(density) * V ** 2
     q, v, z, zg = _split(np.asarray(X, dtype=float), n, L)
-    a = modal_accelerations(structure, rfa, X, F, airspeed, density)
+    a = modal_accelerations(structure, rfa, X, F, airspeed, density, tail)
     F = np.asarray(F, dtype=float)
     g, g1, g2 = F[:, 0] / V, F[:, 1] / V, F[:, 2] / V
     S, Sg = model.motion, model.gust

@@ -43,7 +43,8 @@ class RogerApproximation:
     ``lags`` (L,) the lag roots gamma_l (> 0); ``A`` (3 + L, modes, modes) real: A_0, A_1, A_2,
     then one matrix per lag; ``gust`` (3 + L, modes) real: the same for the gust column;
     ``b_ref`` m; ``k`` the fitted reduced frequencies; ``error`` the fit error: max over k of
-    ``||Q_fit(ik) - Q(ik)||_F / max_k ||Q(ik)||_F``; ``gust_error`` the same for the gust column.
+    ``||Q_fit(ik) - Q(ik)||_F / max_k ||Q(ik)||_F``; ``gust_error`` the same for the gust column;
+    ``low_k_slope``: the fit also matches the slope at k = 0 (:func:`fit`).
     """
 
     lags: np.ndarray
@@ -53,6 +54,7 @@ class RogerApproximation:
     k: np.ndarray
     error: float
     gust_error: float
+    low_k_slope: bool = False
 
     def __call__(self, k):
         """``(Q (modes, modes), gust (modes,))`` of the approximation at reduced frequency ``k``."""
@@ -81,9 +83,11 @@ def _basis(k, lags):
     return np.column_stack([np.ones(p.shape[0]), p[:, 0], p[:, 0] ** 2, (p / (p + lags[None, :]))])
 
 
-def _fit_entries(k, values, lags):
+def _fit_entries(k, values, lags, low_k_slope=False):
     """Least-squares coefficients (3 + L, entries) of ``values`` (nk, entries) complex; A_0 pinned
-    to the k = 0 value when tabulated."""
+    to the k = 0 value when tabulated; with ``low_k_slope`` also ``A_1 + sum_l A_(l+2) / gamma_l``
+    (the approximation's ``dQ/dp`` at p = 0) pinned to ``Im Q(k_1) / k_1``, k_1 the smallest
+    tabulated k > 0 (the quasi-steady damping of a slow motion)."""
     W = _basis(k, lags)
     pinned = np.isclose(k, 0.0)
     if np.any(pinned):
@@ -92,16 +96,31 @@ def _fit_entries(k, values, lags):
         cols = W[:, 1:]
     else:
         a0, rhs, cols = None, values, W
+    if low_k_slope:
+        if a0 is None:
+            raise ValueError("low_k_slope needs k = 0 among the reduced frequencies")
+        k1 = np.flatnonzero(~pinned)[np.argmin(k[~pinned])]
+        s = values[k1].imag / k[k1]
+        p = 1j * np.asarray(k, dtype=float)[:, None]
+        # A_1 = s - sum_l A_(l+2) / gamma_l eliminated: unknowns A_2 and the lag terms
+        rhs = rhs - p * s[None, :]
+        cols = np.column_stack([cols[:, 1], cols[:, 2:] - p / lags[None, :]])
     Ar = np.vstack([cols.real, cols.imag])
     br = np.vstack([rhs.real, rhs.imag])
     coef, *_ = np.linalg.lstsq(Ar, br, rcond=None)
+    if low_k_slope:
+        a1 = s - np.sum(coef[1:] / lags[:, None], axis=0)
+        coef = np.vstack([a1[None, :], coef])
     return coef if a0 is None else np.vstack([a0[None, :], coef])
 
 
-def fit(gaf: GeneralizedForces, lags=None, *, n_lags: int = N_LAGS) -> RogerApproximation:
+def fit(gaf: GeneralizedForces, lags=None, *, n_lags: int = N_LAGS, low_k_slope: bool = False) -> RogerApproximation:
     """Roger's approximation of ``gaf`` (:class:`wingmdao.aero.dlm.GeneralizedForces`) with the lag
-    roots ``lags`` (default :func:`default_lags`). ValueError: a lag root <= 0 (an unstable or
-    static lag state), repeated roots, or fewer tabulated k than coefficients to fit."""
+    roots ``lags`` (default :func:`default_lags`). ``low_k_slope``: each entry also matches the
+    slope ``dQ/dp`` at p = 0 of the data (:func:`_fit_entries`; the rigid-body modes of a free
+    aircraft, whose slow motion the unweighted fit's error at small k would mis-damp). ValueError: a
+    lag root <= 0 (an unstable or static lag state), repeated roots, or fewer tabulated k than
+    coefficients to fit."""
     k = np.asarray(gaf.k, dtype=float)
     lags = default_lags(k, n_lags) if lags is None else np.atleast_1d(np.asarray(lags, dtype=float))
     if lags.size and not np.all(np.isfinite(lags) & (lags > 0.0)):
@@ -113,12 +132,13 @@ def fit(gaf: GeneralizedForces, lags=None, *, n_lags: int = N_LAGS) -> RogerAppr
         raise ValueError(f"{k.size} reduced frequencies cannot fit {unknowns + 1} coefficients per entry; "
                          f"tabulate at least {(unknowns + 2) // 2} or use fewer lags")
     nm = gaf.Q.shape[1]
-    A = _fit_entries(k, gaf.Q.reshape(k.size, -1), lags).reshape(-1, nm, nm)
-    G = _fit_entries(k, gaf.gust, lags)
+    A = _fit_entries(k, gaf.Q.reshape(k.size, -1), lags, low_k_slope).reshape(-1, nm, nm)
+    G = _fit_entries(k, gaf.gust, lags, low_k_slope)
     W = _basis(k, lags)
     err_q = np.linalg.norm(np.tensordot(W, A, axes=1) - gaf.Q, axis=(1, 2)).max() / np.linalg.norm(gaf.Q, axis=(1, 2)).max()
     err_g = np.linalg.norm(W @ G - gaf.gust, axis=1).max() / np.linalg.norm(gaf.gust, axis=1).max()
-    return RogerApproximation(lags=lags, A=A, gust=G, b_ref=gaf.b_ref, k=k, error=float(err_q), gust_error=float(err_g))
+    return RogerApproximation(lags=lags, A=A, gust=G, b_ref=gaf.b_ref, k=k, error=float(err_q), gust_error=float(err_g),
+                              low_k_slope=bool(low_k_slope))
 
 
 def pole_real_parts(rfa: RogerApproximation, airspeed) -> np.ndarray:
@@ -131,11 +151,11 @@ def fit_columns(rfa: RogerApproximation, k, values) -> tuple[np.ndarray, float]:
     """Roger coefficients (3 + L, ...) of further tabulated outputs ``values`` (nk, ...) complex
     (station loads, say) with the lag roots of ``rfa``, so that they are recovered in the time
     domain from the same lag states; and their fit error (max over k of the Frobenius norm of the
-    misfit over the largest tabulated norm)."""
+    misfit over the largest tabulated norm). The slope at k = 0 is matched when ``rfa`` matches it."""
     k = np.asarray(k, dtype=float)
     v = np.asarray(values, dtype=complex)
     flat = v.reshape(k.size, -1)
-    coef = _fit_entries(k, flat, rfa.lags)
+    coef = _fit_entries(k, flat, rfa.lags, rfa.low_k_slope)
     misfit = _basis(k, rfa.lags) @ coef - flat
     scale = np.linalg.norm(flat, axis=1).max()
     err = float(np.linalg.norm(misfit, axis=1).max() / scale) if scale > 0 else 0.0

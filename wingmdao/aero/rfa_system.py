@@ -42,20 +42,30 @@ def param_specs(n_modes: int | None = None) -> list[VarSpec]:
     return specs
 
 
-def forcing_specs(n_modes: int) -> list[VarSpec]:
-    return [VarSpec("gust_velocity", (), "m/s", "vertical gust velocity w_g at x_gust (up)"),
-            VarSpec("gust_velocity_rate", (), "m/s**2", "dw_g/dt at x_gust"),
-            VarSpec("gust_velocity_acceleration", (), "m/s**3", "d2w_g/dt2 at x_gust"),
-            VarSpec("modal_force", (n_modes,), "N*m", "applied generalized force per mode (unit-mass modes)")]
+def forcing_specs(n_modes: int, tail: bool = False) -> list[VarSpec]:
+    """Forcing of one instant: the gust at ``x_gust`` and its rates, the applied modal force; with
+    ``tail`` (a free aircraft's horizontal tail, :mod:`wingmdao.aero.modal_free`) also the gust at
+    the tail and at the wing root."""
+    specs = [VarSpec("gust_velocity", (), "m/s", "vertical gust velocity w_g at x_gust (up)"),
+             VarSpec("gust_velocity_rate", (), "m/s**2", "dw_g/dt at x_gust"),
+             VarSpec("gust_velocity_acceleration", (), "m/s**3", "d2w_g/dt2 at x_gust"),
+             VarSpec("modal_force", (n_modes,), "N*m", "applied generalized force per mode (unit-mass modes)")]
+    if tail:
+        specs += [VarSpec("tail_gust_velocity", (), "m/s", "gust velocity at the tail's aerodynamic centre (up)"),
+                  VarSpec("root_gust_velocity", (), "m/s", "gust velocity at the wing root (the downwash's angle)")]
+    return specs
 
 
-def modal_rfa_system(structure, rfa: RogerApproximation, *, design: bool = False) -> CasadiResidualSystem:
+def modal_rfa_system(structure, rfa: RogerApproximation, *, design: bool = False, tail=None) -> CasadiResidualSystem:
     """The residual system of the module docstring for ``structure``
     (:class:`wingmdao.stability.pk.ModalStructure`) and ``rfa``.
 
     ``design``: the modal mass and stiffness are parameters ``modal_mass`` and ``modal_stiffness``
     (after airspeed and density; ``structure`` gives only the damping and the size), so the
-    marcher's adjoint gives their derivatives (:mod:`wingmdao.aero.modal_design`)."""
+    marcher's adjoint gives their derivatives (:mod:`wingmdao.aero.modal_design`). ``tail``: the
+    quasi-steady horizontal tail of a free aircraft (:class:`wingmdao.aero.modal_free.ModalTail`),
+    its generalized force ``tail.force(q_d, V, q, v, w_t, w_r)`` added to the modal equations and
+    the gust at the tail and root as two more forcing entries."""
     M, K, C = (np.asarray(a, dtype=float) for a in (structure.mass, structure.stiffness, structure.damping))
     n = M.shape[0]
     L = rfa.n_lags
@@ -65,7 +75,7 @@ def modal_rfa_system(structure, rfa: RogerApproximation, *, design: bool = False
     x = ca.SX.sym("x", 2 * n + L * n + L)
     xd = ca.SX.sym("xdot", x.numel())
     p = ca.SX.sym("p", 2 + (2 * n * n if design else 0))
-    f = ca.SX.sym("q", 3 + n)
+    f = ca.SX.sym("q", 3 + n + (2 if tail is not None else 0))
     V, rho = p[0], p[1]
     qd = 0.5 * rho * V ** 2
     if design:   # C-ordered (n, n) blocks
@@ -86,12 +96,13 @@ def modal_rfa_system(structure, rfa: RogerApproximation, *, design: bool = False
         gust_force = gust_force + G[3 + l] * zg[l]
     R = [qdot - v,
          (M - 0.5 * rho * b ** 2 * A[2]) @ vdot + (ca.DM(C) - 0.5 * rho * V * b * A[1]) @ v
-         + (K - qd * A[0]) @ q - qd * lag_force - qd * gust_force - f[3:]]
+         + (K - qd * A[0]) @ q - qd * lag_force - qd * gust_force - f[3:3 + n]
+         - (tail.force(qd, V, q, v, f[3 + n], f[4 + n]) if tail is not None else 0)]
     R += [xd[2 * n + l * n:2 * n + (l + 1) * n] - v + rfa.lags[l] * V / b * z[l] for l in range(L)]
     R += [xd[2 * n + L * n + l] - g1 + rfa.lags[l] * V / b * zg[l] for l in range(L)]
     names = (["modal kinematics q' - v"] * n + ["modal equation of motion"] * n
              + ["aerodynamic lag state"] * (L * n) + ["gust lag state"] * L)
     return CasadiResidualSystem(x, xd, p, f, ca.vertcat(*R), param_specs=param_specs(n if design else None),
-                                forcing_specs=forcing_specs(n), name="modal_rfa",
+                                forcing_specs=forcing_specs(n, tail is not None), name="modal_rfa",
                                 describe=lambda i: f"{names[i]} (row {i})",
                                 initial_guess=lambda p_, q_: np.zeros(x.numel()))

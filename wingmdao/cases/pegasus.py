@@ -347,47 +347,23 @@ def _steady_theory(theory: str) -> str:
     return "vlm" if theory == "dlm" else theory
 
 
-def modal_dlm_gust(geometry, chord, axis_frac, time, *, u_tas, airspeed, density, mach, gust_start, gradient_m):
+def modal_dlm_gust(geometry, chord, axis_frac, time, *, u_tas, airspeed, density, mach, gust_start, gradient_m,
+                   aircraft_mass=None):
     """:class:`wingmdao.aero.modal_design.ModalGust` of a 1 - cos gust on the modal doublet-lattice
     wing (:func:`wingmdao.aero.modal_design.cosine_gust`): basis the clamped jig modes of the
     sizing's initial design (every wall 10 mm, :func:`beam_params`), the design's mass and
-    stiffness projected on it in the sizing.
-
-    Parameters
-    ----------
-    geometry : WingGeometry
-        The wing geometry.
-    chord : numpy.ndarray
-        (n,) chords (m).
-    axis_frac : numpy.ndarray
-        (n,) beam axis as a fraction of the chord (-).
-    time : numpy.ndarray
-        (nt,) time grid (s).
-    u_tas : float
-        Design gust velocity (m/s TAS).
-    airspeed : float
-        True airspeed (m/s).
-    density : float
-        Air density (kg/m^3).
-    mach : float
-        Mach number (-).
-    gust_start : float
-        Time the gust front reaches the wing (s).
-    gradient_m : float
-        Gust gradient H (m).
-
-    Returns
-    -------
-    ModalGust
-        The gust.
-    """
+    stiffness projected on it in the sizing; with ``aircraft_mass`` (kg) free in plunge, the plunge
+    mode first (:func:`wingmdao.aero.modal_free.free_cosine_gust`)."""
     from wingmdao.aero.modal_design import cosine_gust
+    from wingmdao.aero.modal_free import free_cosine_gust
 
     params = beam_params(geometry.num_nodes)
     if not np.allclose(params["node_positions"], geometry.node_positions):
         raise ValueError("--aero-theory dlm: the sized wing's nodes differ from the PEGASUS beam's (beam_params)")
-    return cosine_gust(params, chord, axis_frac, time, u_tas=u_tas, airspeed=airspeed, density=density, mach=mach,
-                       gust_start=gust_start, gradient_m=gradient_m)
+    kw = dict(u_tas=u_tas, airspeed=airspeed, density=density, mach=mach, gust_start=gust_start, gradient_m=gradient_m)
+    if aircraft_mass is not None:
+        return free_cosine_gust(params, chord, axis_frac, time, aircraft_mass=aircraft_mass, **kw)
+    return cosine_gust(params, chord, axis_frac, time, **kw)
 
 
 def gust_case(opts, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb=TOGW_LB):
@@ -680,11 +656,11 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
         controls = dict(controls=spec, control_law=law, gain_design=bool(getattr(opts, "size_gains", False)))
     modal = None
     if opts.aero_theory == "dlm":  # the trimmed 1 g state on the VLM beam + the gust on the modal doublet lattice
-        if free or pitch or controls:
-            raise ValueError("--aero-theory dlm: the sized gust is on the clamped wing (the modal basis is the clamped "
-                             "jig's); drop --plunge free, --pitch free and --alleviation")
+        if pitch or controls:
+            raise ValueError("--aero-theory dlm: the sized gust is clamped or free in plunge (the modal basis has "
+                             "no pitch mode in a sizing); drop --pitch free and --alleviation")
         modal = modal_dlm_gust(geometry, chord, axis_frac, time, u_tas=u_tas, airspeed=V, density=rho, mach=mach,
-                               gust_start=opts.gust_start, gradient_m=H)
+                               gust_start=opts.gust_start, gradient_m=H, aircraft_mass=weight_lb * LB if free else None)
     aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
                        airspeed=V, density=rho, mach=mach, trim=True, trim_lift=weight_lb * LB * G0,
                        plunge=free, aircraft_mass=weight_lb * LB, aero_theory=_steady_theory(opts.aero_theory),

@@ -108,8 +108,8 @@ def register(subparsers):
     p.add_argument("--gust-start", type=float, default=None, metavar="S",
                    help="time the gust front reaches the wing (s; default: the case's, as on 'size')")
     add_aero_theory_argument(p, dlm=", or dlm (doublet lattice of the planform in the jig beam's modal basis with "
-                                    "Roger's lag states, root clamped: needs --clamped; loads are gust increments, "
-                                    "by force summation)")
+                                    "Roger's lag states; free plunge and --pitch free add the rigid-body modes; loads "
+                                    "are gust increments on the 1 g state, by force summation)")
     p.add_argument("--modes", type=int, default=None, metavar="N",
                    help=f"number of jig beam modes of --aero-theory dlm (2-20; default: {DLM_MODES})")
     p.add_argument("--model", choices=MODELS, default="wing",
@@ -220,7 +220,7 @@ def run(args):
         slope, _ = lifting_line_lift_slope(y_nodes, pf.chord, pf.semi_span)
     ap = aero_parameters(n, chord=chord, ref_point=axis_frac, lift_slope=slope, airspeed=V, density=rho,
                          mach=mach)
-    if args.aero_theory == "vlm":
+    if args.aero_theory in ("vlm", "dlm"):  # dlm: the lattice is its k = 0 limit (the downwash gradient's slope)
         ap.update(three_dimensional_parameters("vlm", bp["node_positions"], chord, axis_frac, mach))
     r0 = bp["node_positions"]
     if surfaces:
@@ -252,7 +252,8 @@ def run(args):
         return _run_stick(args, t, flight, walls, n, H_ft=H_ft, alt_ft=alt_ft, t_wall=t_wall, plot_path=plot_path)
     pitch_out, alleviation = {}, {}
     if args.aero_theory == "dlm":
-        resp = dlm_gust_response(t, bp, chord, axis_frac, flight, area=wing_area, n_modes=args.modes)
+        resp = dlm_gust_response(t, bp, chord, axis_frac, flight, area=wing_area, n_modes=args.modes,
+                                 plunge=args.plunge, pitch_params=args.pitch_params if args.pitch else None)
     elif args.aero == "coupled":
         def response(**controls):
             return coupled_gust_response(t, bp, chord, axis_frac, ap, flight, area=wing_area, plunge=args.plunge,
@@ -268,14 +269,14 @@ def run(args):
             alleviation = {"alleviation": {"file": args.alleviation,
                                            **alleviation_summary(resp, controlled, surfaces, law)}}
             resp = controlled
-        if args.pitch:
-            pitch_out = {**resp.pitch, "pitch_inertia_kg_m2": args.pitch_inertia, "cg_m": [args.cg_x, args.cg_z],
-                         "tail_arm_m": args.tail_arm, "tail_area_m2": args.tail_area,
-                         "tail_lift_slope_per_rad": args.tail_lift_slope,
-                         "downwash_gradient": float(args.downwash_gradient), "tail_lag": bool(args.tail_lag)}
     else:
         resp = strip_gust_response(t, bp, chord, axis_frac, flight, area=wing_area, semi_span=pf.semi_span,
                                    fuselage_half_width=pf.root_rib * pf.semi_span)
+    if args.pitch:
+        pitch_out = {**resp.pitch, "pitch_inertia_kg_m2": args.pitch_inertia, "cg_m": [args.cg_x, args.cg_z],
+                     "tail_arm_m": args.tail_arm, "tail_area_m2": args.tail_area,
+                     "tail_lift_slope_per_rad": args.tail_lift_slope,
+                     "downwash_gradient": float(args.downwash_gradient), "tail_lag": bool(args.tail_lag)}
     n_load, X, a_wing, trim_alpha = resp.load_factor, resp.states, resp.wing_lift_slope, resp.trim_alpha
     if resp.station_loads is None:  # total, 1 g included (X: the 18 beam states per node)
         bending, torsion, tip = X[:, :, 9], X[:, :, 10], X[:, -1, 2] - r0[-1, 2]
@@ -388,17 +389,17 @@ def check_outputs(args, plot_name):
 
 
 def _check_dlm_args(args, plunge):
-    """--aero-theory dlm: the modal doublet lattice of the clamped jig (no plunge or pitch degrees of
-    freedom, no 1 g trim); --modes applies to it only."""
+    """--aero-theory dlm: the modal doublet lattice of the jig, clamped or with the rigid-body modes
+    of free plunge (and pitch); --modes applies to it only."""
     if args.aero_theory != "dlm":
         if args.modes is not None:
             raise ValueError(f"--modes = {args.modes} applies to --aero-theory dlm only")
         return
     if args.aero != "coupled":
         raise ValueError("--aero-theory dlm needs --aero coupled (the doublet lattice on the deforming wing)")
-    if plunge != "clamped" or args.pitch == "free":
-        raise ValueError("--aero-theory dlm supports the clamped root only (the modal basis is the clamped jig's): "
-                         "add --clamped; --plunge free and --pitch free need --aero-theory strip|lifting-line|vlm")
+    if args.pitch == "free" and getattr(args, "tail_lag", False):
+        raise ValueError("--tail-lag: the doublet lattice's tail is quasi-steady (no downwash lag); "
+                         "use --aero-theory strip|lifting-line|vlm with --tail-lag")
     if getattr(args, "alleviation", None):
         raise ValueError(f"--alleviation {args.alleviation}: control surfaces are in the strip sections only; "
                          "use --aero-theory strip|lifting-line|vlm with --alleviation")

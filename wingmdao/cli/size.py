@@ -7,7 +7,7 @@ import os
 
 import numpy as np
 
-from wingmdao.cases import add_option_arguments, available_cases, options_from_namespace
+from wingmdao.cases import add_option_arguments, available_cases, options_from_namespace, resolve_aero_theory
 from wingmdao.cli._io import EXIT_INTERRUPTED, check_output_dir, check_output_file, refuse_existing, say, warn, write_json
 from wingmdao.cli._args import add_aero_theory_argument, add_deprecated_alias, add_output_arguments
 from wingmdao.utils.memory import (import_openmdao_without_plot_plugins, return_freed_memory,
@@ -46,7 +46,8 @@ def _add_common(p, *, sizing: bool):
                             "constraint at speeds up to F V_D (cases with aerodynamic data: pegasus; docs/flutter.md)")
         p.add_argument("--turbulence", action="store_true",
                        help="add the 14 CFR 25.341(b) continuous-turbulence constraint: KS of the corner design stresses "
-                            "1 g +/- U_sigma A-bar <= yield at V_C, root clamped, structural damping --damping-ratio "
+                            "1 g +/- U_sigma A-bar <= yield at V_C, root clamped, the vortex lattice with --aero coupled --aero-theory "
+                            "vlm|dlm (else strip theory), structural damping --damping-ratio "
                             "when > 0, else 0.02 (cases with aerodynamic data: pegasus; docs/turbulence.md); with --alleviation "
                             "the file's surfaces and law (no load-factor law) in it, with --size-gains the gust case's "
                             "sized gains (docs/controls.md)")
@@ -167,7 +168,7 @@ def _size(args) -> int:
         setup.notes.append(f"flutter constraint: KS of Re(lambda) <= 0 (rho 100 s) at {args.flutter_margin:g} V_D x "
                            f"(0.25, 0.5, 0.75, 1) = {', '.join(f'{v:.1f}' for v in setup.flutter['speeds'])} m/s")
     if getattr(args, "turbulence", False):
-        _add_turbulence(args, setup, comm)
+        _add_turbulence(args, setup, comm, case_options)
     if args.matrix is not None:
         return _run_load_iteration(args, setup, comm)
     plots = [] if args.no_plots else _plot_paths(stem, setup)
@@ -425,9 +426,10 @@ def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupt
     return (0 if result["success"] else 1), design
 
 
-def _add_turbulence(args, setup, comm) -> None:
+def _add_turbulence(args, setup, comm, case_options=None) -> None:
     """--turbulence: the TurbulenceStressKS options of the case (one process, box sections, a case
-    with aerodynamic data), 2 % structural damping at the first mode when the case has none."""
+    with aerodynamic data), 2 % structural damping at the first mode when the case has none; the
+    vortex lattice with ``--aero coupled --aero-theory vlm|dlm``, else strip theory."""
     from wingmdao.loads.turbulence_analysis import sizing_turbulence_options
 
     if comm is not None and comm.size > 1:
@@ -439,15 +441,20 @@ def _add_turbulence(args, setup, comm) -> None:
         raise ValueError(f"--turbulence needs box sections (the linear corner stresses), got section {setup.section!r}")
     zeta = getattr(args, "damping_ratio", None) or 0.02  # said in the help and in the run's notes
     damping, note = module.gust_damping(zeta, getattr(args, "damping_frequency_hz", None), setup.geometry, setup.options)
+    aero = getattr(case_options, "aero", "strip")
+    theory = resolve_aero_theory(getattr(case_options, "aero_theory", None), aero) if aero == "coupled" else "strip"
+    theory = "vlm" if theory in ("vlm", "dlm") else "strip"  # dlm: its k = 0 limit, the lattice with 2-D lags
     alleviation = getattr(args, "alleviation", None)
-    setup.turbulence = sizing_turbulence_options(module, setup, damping=damping, alleviation=alleviation)
+    setup.turbulence = sizing_turbulence_options(module, setup, damping=damping, alleviation=alleviation,
+                                                 aero_theory=theory)
     if alleviation:  # the turbulence constraint uses the file even where the case's own loads ignore it
         setup.notes = _drop_ignored_flag(setup.notes, f"--alleviation {alleviation}")
     law = setup.turbulence.get("control_law")
     with_law = "" if not alleviation else (
         f", control surfaces of {alleviation}" + (f" with the law on {', '.join(law.outputs)}" if law else " held"))
     setup.notes.append(f"turbulence constraint: KS of (+/- s_1g + U_sigma A-bar)/sigma_y - 1 <= 0 at V_C, U_sigma = "
-                       f"{setup.turbulence['u_sigma']:.2f} m/s TAS, root clamped, {note}{with_law}")
+                       f"{setup.turbulence['u_sigma']:.2f} m/s TAS, root clamped, "
+                       f"{'vortex lattice' if theory == 'vlm' else 'strip theory'}, {note}{with_law}")
 
 
 def _drop_ignored_flag(notes, flag) -> list:

@@ -78,7 +78,8 @@ def register(subparsers):
     p.add_argument("--grid-points", type=int, default=161, metavar="N",
                    help="points of the geometric part of the grid (modes add 16 each)")
     add_aero_theory_argument(p, dlm=", or dlm (doublet lattice of the planform in the jig beam's modal basis with "
-                                    "Roger's lag states; needs --aero coupled --clamped; A-bar only, no 1 g state)")
+                                    "Roger's lag states, clamped or free in plunge (the plunge mode in the basis); "
+                                    "needs --aero coupled; A-bar only, no 1 g state)")
     p.add_argument("--alleviation", metavar="FILE.yaml", default=None,
                    help="control surfaces, actuators and a feedback law in the linearised model (docs/controls.md; "
                         "needs --aero coupled and --aero-theory strip|lifting-line|vlm); the JSON adds the A-bar "
@@ -148,13 +149,14 @@ def _check_theory(args):
 
 
 def _check_dlm(args, plunge):
-    """--aero-theory dlm: the clamped jig's modal doublet lattice, undamped; --modes applies to it only."""
+    """--aero-theory dlm: the jig's modal doublet lattice, clamped or free in plunge, undamped; --modes
+    applies to it only."""
     if args.aero_theory != "dlm":
         if args.modes is not None:
             raise ValueError(f"--modes = {args.modes} applies to --aero-theory dlm only")
         return
-    if args.aero != "coupled" or plunge != "clamped":
-        raise ValueError("--aero-theory dlm needs --aero coupled --clamped (the modal basis is the clamped jig's)")
+    if args.aero != "coupled":
+        raise ValueError("--aero-theory dlm needs --aero coupled (the doublet lattice on the deforming wing)")
     if args.damping_ratio > 0:
         raise ValueError(f"--damping-ratio = {args.damping_ratio} applies to the beam models; --aero-theory dlm "
                          "is undamped (give 0)")
@@ -218,7 +220,7 @@ def run(args):
         print(note, file=sys.stderr)
     if args.aero_theory == "dlm":
         return _run_dlm(args, bp, chord, axis_frac, mach, V, rho, weight, point, stem, t_wall,
-                        {"altitude_ft": alt_ft, "altitude_m": alt})
+                        {"altitude_ft": alt_ft, "altitude_m": alt}, plunge)
     without = None
     if args.aero == "coupled":
         if args.surfaces:
@@ -276,11 +278,14 @@ def _alleviation_summary(args, res, without, u_sigma) -> dict:
     return out
 
 
-def _run_dlm(args, bp, chord, axis_frac, mach, V, rho, weight, point, stem, t_wall, alt):
+def _run_dlm(args, bp, chord, axis_frac, mach, V, rho, weight, point, stem, t_wall, alt, plunge):
+    from wingmdao.aero.modal_free import free_modal_dlm_wing
     from wingmdao.stability.modal import modal_dlm_wing
 
-    wing = modal_dlm_wing(bp, chord, axis_frac, mach, n_modes=args.modes)
-    res = {"case": args.case, "aero": args.aero, "aero_theory": "dlm", "plunge": False, "design": args.design, **alt,
+    wing = (free_modal_dlm_wing(bp, chord, axis_frac, mach, aircraft_mass=weight / G0, n_modes=args.modes) if plunge
+            else modal_dlm_wing(bp, chord, axis_frac, mach, n_modes=args.modes))
+    res = {"case": args.case, "aero": args.aero, "aero_theory": "dlm", "plunge": bool(plunge), "design": args.design,
+           **alt,
            "mach": mach, "damping_ratio": 0.0, "airspeed_tas_m_s": V, "density_kg_m3": rho,
            "u_sigma_ref_m_s": point.u_sigma_ref, "f_g": point.f_g, "speed_factor": point.speed_factor,
            "u_sigma_m_s": point.u_sigma, "span_m": np.asarray(bp["node_positions"])[:, 1].tolist(),

@@ -83,6 +83,10 @@ class TurbulenceStressKS(om.ExplicitComponent):
                                   "control_spec; None: none): the gains controller_A ... controller_D become inputs")
         self.options.declare("control_law", default=None, allow_none=True, types=ControlLaw,
                              desc="the law whose matrices are the default values of the gain inputs")
+        self.options.declare("aero_theory", default="strip", values=("strip", "vlm"),
+                             desc="quasi-steady lift of the aeroelastic beam: strips, or the vortex lattice (its "
+                                  "influence matrices lift_influence and moment_influence then inputs, fixed data "
+                                  "of the planform and Mach number)")
         self.options.declare("values", default=None, allow_none=True, types=dict,
                              desc="default values of inputs {name: value} (the aerodynamic parameters and "
                                   "trim_lift a sizing group does not connect)")
@@ -90,7 +94,8 @@ class TurbulenceStressKS(om.ExplicitComponent):
     def setup(self):
         n = self.options["num_nodes"]
         self.system = cached_aeroelastic_system(n, damping=self.options["damping"], plunge=self.options["plunge"],
-                                                trim=True, controls=self.options["controls"])
+                                                trim=True, controls=self.options["controls"],
+                                                aero_theory=self.options["aero_theory"])
         derived = ("trim_lift", "body_mass") if self.options["aircraft_mass_input"] else ()
         self.specs = [s for s in self.system.param_specs if s.name != "airspeed" and s.name not in derived]
         law = self.options["control_law"]

@@ -301,7 +301,8 @@ class WingStructure(om.Group):
         data = {"gust_velocity": gust[:, 0], "gust_velocity_rate": gust[:, 1],
                 "gust_velocity_acceleration": gust[:, 2], "modal_force": np.zeros((nt, m))}
         march = TimeHistoryComponent(system=modal_rfa_system(wing.structure, wing.rfa, design=True),
-                                     time=case.time, forcing_data=data)
+                                     time=case.time, forcing_data=data,
+                                     initial="state" if spec.plunge else "static")  # free: from rest
         march.recording_options["options_excludes"] = ["system", "forcing_data"]
         modal.add_subsystem("march", march)
         modal.add_subsystem("loads", ModalStationLoads(wing=wing, node_euler_angles=np.asarray(spec.node_euler_angles, dtype=float),

@@ -25,7 +25,7 @@ import scipy.sparse as sp
 
 from wingmdao.aero.controls import control_spec, read_alleviation
 from wingmdao.aero.plunge import body_mass, half_wing_mass
-from wingmdao.aero.system import aero_parameters, cached_aeroelastic_system
+from wingmdao.aero.system import aero_parameters, cached_aeroelastic_system, three_dimensional_parameters
 from wingmdao.beam.residual import STATE_BLOCKS
 from wingmdao.beam.static import cached_beam_system
 from wingmdao.loads import turbulence as tb
@@ -293,7 +293,8 @@ def _surface_report(surfaces, ab, u_sigma) -> dict:
     return out
 
 
-def sizing_turbulence_options(module, setup, *, damping=None, rho_ks=50.0, alleviation=None) -> dict:
+def sizing_turbulence_options(module, setup, *, damping=None, rho_ks=50.0, alleviation=None,
+                              aero_theory="strip") -> dict:
     """Options of :class:`wingmdao.components.turbulence.TurbulenceStressKS` for the sizing of a case
     with aerodynamic data. ``module``: its case module (``aero_data(n)``, ``flight_point()``,
     ``CRUISE_ALTITUDE_FT``, ``GUST_SET_DEFAULTS``, ``TOGW_LB``); ``setup``: its CaseSetup. The V_C
@@ -302,7 +303,11 @@ def sizing_turbulence_options(module, setup, *, damping=None, rho_ks=50.0, allev
     geometry of the setup, sigma_allow the material's yield stress. ``alleviation``: the path of an
     alleviation file (docs/controls.md; None: no surfaces): its surfaces, actuators and law enter the
     constraint's residual (options ``controls`` and ``control_law``); a law on ``load_factor`` or
-    ``pitch_rate`` is refused (the constraint's wing is clamped)."""
+    ``pitch_rate`` is refused (the constraint's wing is clamped). ``aero_theory``: the beam's
+    quasi-steady lift, ``"strip"`` (the case's section slopes) or ``"vlm"`` (the vortex lattice of
+    the planform at the V_C Mach number, :func:`wingmdao.aero.three_dimensional_parameters`)."""
+    if aero_theory not in ("strip", "vlm"):
+        raise ValueError(f"aero_theory = {aero_theory!r}; allowed: 'strip', 'vlm'")
     geo = setup.geometry
     n = geo.num_nodes
     aero, fp = module.aero_data(n), module.flight_point()
@@ -328,7 +333,13 @@ def sizing_turbulence_options(module, setup, *, damping=None, rho_ks=50.0, allev
         except ValueError as exc:
             raise ValueError(f"--alleviation {alleviation}: {exc}") from None
         controls = {"controls": spec, "control_law": law}
-    return {"plunge": False, "airspeed": V, **controls, "x_stations": x_le, "width": np.asarray(geo.width),
+    if aero_theory == "vlm":
+        values.update(three_dimensional_parameters("vlm", np.asarray(geo.node_positions, dtype=float),
+                                                   np.broadcast_to(aero["chord"], (n,)),
+                                                   np.broadcast_to(aero["ref_point"], (n,)),
+                                                   V / aero["speed_of_sound"]))
+    return {"plunge": False, "airspeed": V, **controls, "x_stations": x_le, "aero_theory": aero_theory,
+            "width": np.asarray(geo.width),
             "height": np.asarray(geo.height), "section_to_csn": geo.section_to_csn, "u_sigma": float(point.u_sigma),
             "sigma_allow": float(setup.material.sigma_y), "rho_ks": float(rho_ks), "damping": damping,
             "values": values}

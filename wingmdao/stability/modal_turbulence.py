@@ -95,25 +95,31 @@ def modal_turbulence_a_bar(system, structure, rfa: RogerApproximation, model: St
 
 def dlm_turbulence_analysis(wing, airspeed, density, weight, *, f_max=40.0, n_base=161) -> dict:
     """A-bar (per m/s of gust) of the modal doublet-lattice wing ``wing``
-    (:class:`wingmdao.stability.modal.ModalDLMWing`, root clamped) as a JSON-ready dict:
+    (:class:`wingmdao.stability.modal.ModalDLMWing`, root clamped, or
+    :class:`wingmdao.aero.modal_free.FreeModalDLMWing` free in plunge) as a JSON-ready dict:
     ``a_bar``/``a_bar_error`` of root_bending_moment (M_x, N m), root_torsion (M_y), load_factor
     (lift of both half-wings over ``weight`` N), tip_deflection (m, z), and per station
     bending_moment and torsion (body axes); ``frequency_hz``, ``psd`` and
     ``transfer_function_magnitude`` of the root bending and the load factor (tip deflection: the
-    magnitude only); ``quadrature``; ``dlm`` the model's figures. No 1 g state (increments)."""
+    magnitude only, elastic, relative to the body axes when free); ``quadrature``; ``dlm`` the model's
+    figures. No 1 g state (increments)."""
+    rigid = getattr(wing, "rigid", 0)
+    if getattr(wing, "tail", None) is not None:
+        raise ValueError("the turbulence of the modal doublet-lattice wing is built free in plunge, not in pitch")
     ab, resp = modal_turbulence_a_bar(wing.system, wing.structure, wing.rfa, wing.loads, airspeed, density,
                                       f_max=f_max, n_base=n_base)
     w = resp.omega
     H = {"root_bending_moment": resp.station_loads[:, 0, 3], "root_torsion": resp.station_loads[:, 0, 4],
          "load_factor": 2.0 * resp.aero_station_loads[:, 0, 2] / float(weight),
-         "tip_deflection": resp.modal @ wing.modes.displacement[:, -1, 2]}
+         "tip_deflection": (resp.modal[:, rigid:] @ wing.elastic.displacement[:, -1, 2] if rigid
+                            else resp.modal @ wing.modes.displacement[:, -1, 2])}
     out = {name: a_bar(w, h, float(airspeed)) for name, h in H.items()}
     a = {k: float(v.value) for k, v in out.items()}
     e = {k: float(v.error) for k, v in out.items()}
     a.update(bending_moment=ab.value[:, 3].tolist(), torsion=ab.value[:, 4].tolist())
     e.update(bending_moment=ab.error[:, 3].tolist(), torsion=ab.error[:, 4].tolist())
     rel = max(e[k] / a[k] for k in H if a[k] > 0)
-    return {"model": "doublet lattice, modal (Roger lags), clamped", "frequency_hz": (w / (2 * np.pi)).tolist(),
+    return {"model": "doublet lattice, modal (Roger lags), " + ("free in plunge" if rigid else "clamped"), "frequency_hz": (w / (2 * np.pi)).tolist(),
             "a_bar": a, "a_bar_error": e,
             "psd": {k: out[k].psd.tolist() for k in ("root_bending_moment", "load_factor")},
             "transfer_function_magnitude": {k: np.abs(H[k]).tolist() for k in ("root_bending_moment", "load_factor",
