@@ -85,7 +85,29 @@ class GustResponse:
     (``states`` None) but ``station_loads`` (n_time, n, 6): internal force (N) and moment (N m) at
     every node, body axes, increments on the jig (free: on the 1 g flight; its ``pitch`` holds
     ``tail_lift_n`` as an increment and no tail incidence); ``tip_displacement`` (n_time,) m, z,
-    elastic; ``dlm``: the modal model's figures (modes, lag roots, fit errors)."""
+    elastic; ``dlm``: the modal model's figures (modes, lag roots, fit errors).
+
+    Parameters
+    ----------
+    load_factor : ndarray, shape (n_time,)
+        Load factor.
+    states : ndarray, shape (n_time, n, 18) or None
+        Beam states per node.
+    wing_lift_slope : float
+        Wing lift slope (1/rad).
+    trim_alpha : float, optional
+        Trim angle of attack (rad).
+    pitch : dict
+        Pitch histories with free pitch.
+    controls : dict
+        Control-surface histories and limits.
+    station_loads : ndarray, shape (n_time, n, 6), optional
+        Internal loads of the modal response (N, N m).
+    tip_displacement : ndarray, shape (n_time,), optional
+        Tip z displacement of the modal response (m).
+    dlm : dict
+        Figures of the modal model.
+    """
 
     load_factor: np.ndarray
     states: np.ndarray | None
@@ -373,7 +395,42 @@ def dlm_gust_response(time, beam_params, chord, axis_frac, flight: GustFlight, *
     the gust reaching the tail ``(x_t - x_gust) / V`` after the leading edge
     (:mod:`wingmdao.aero.modal_free`; the increments on the trimmed 1 g flight). The load factor is
     ``1 +`` the lift increment of both half-wings (and the tail) over W; station loads by force
-    summation (:mod:`wingmdao.aero.modal_loads`)."""
+    summation (:mod:`wingmdao.aero.modal_loads`).
+
+    Parameters
+    ----------
+    time : ndarray, shape (n_time,)
+        Uniform time grid from 0 (s).
+    beam_params : dict
+        Beam parameters per node.
+    chord : array_like, shape (n,)
+        Streamwise chord (m).
+    axis_frac : array_like, shape (n,)
+        Beam axis as a fraction of the chord aft of the leading edge.
+    flight : GustFlight
+        Flight point and gust.
+    area : float
+        Wing reference area (m^2).
+    n_modes : int
+        Number of normal modes.
+    n_lags : int
+        Number of lag roots of Roger's approximation.
+    reduced_frequencies : array_like
+        Reduced frequencies of the generalized forces.
+    n_chordwise : int
+        Chordwise panels of the doublet lattice.
+    n_spanwise : int
+        Spanwise strips per beam element.
+    plunge : bool, optional
+        Free the aircraft in plunge (the plunge mode in the basis).
+    pitch_params : dict or None, optional
+        :func:`wingmdao.aero.pitch.pitch_parameters`: also free in pitch with the quasi-steady tail.
+
+    Returns
+    -------
+    GustResponse
+        The response (no beam states).
+    """
     if pitch_params is not None and not plunge:
         raise ValueError("free pitch needs free plunge (plunge=True)")
     if plunge:

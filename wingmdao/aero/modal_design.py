@@ -118,7 +118,22 @@ def modal_projection(params: dict, modes: NormalModes, aircraft_mass=None) -> Mo
     ``node_positions`` and ``node_euler_angles`` stay fixed). ``aircraft_mass`` (kg): the basis's
     first mode is the free aircraft's plunge (:mod:`wingmdao.aero.modal_free`), and the modal mass
     adds half the body's mass to it, ``M / 2 - m_half(d)`` with the design's trapezoid half-wing
-    mass, so that the plunge mode carries half the aircraft."""
+    mass, so that the plunge mode carries half the aircraft.
+
+    Parameters
+    ----------
+    params : dict
+        Beam parameters of the reference design.
+    modes : NormalModes
+        Normal modes of the reference design.
+    aircraft_mass : float or None, optional
+        Aircraft mass (kg): the basis's first mode is the free aircraft's plunge; None: clamped.
+
+    Returns
+    -------
+    ModalProjection
+        The projection.
+    """
     if modes.force is None or modes.moment is None:
         raise ValueError("the modes carry no internal loads (NormalModes.force/moment); use beam.modes.normal_modes")
     r0 = np.asarray(params["node_positions"], dtype=float)
@@ -200,7 +215,25 @@ class ModalGust:
     ``airspeed`` (m/s) and ``density`` (kg/m^3), ``gust`` (nt, 3) the gust velocity (m/s), its rate
     (m/s^2) and acceleration (m/s^3) at ``x_gust`` on the case's time grid, ``node_euler_angles``
     (n, 3) rad the jig's (the csn frames of the loads); ``plunge``: the aircraft free in plunge (the
-    basis's first mode, :func:`wingmdao.aero.modal_free.free_cosine_gust`; the march starts from rest)."""
+    basis's first mode, :func:`wingmdao.aero.modal_free.free_cosine_gust`; the march starts from rest).
+
+    Parameters
+    ----------
+    wing : ModalDLMWing
+        The modal doublet-lattice wing of the reference design.
+    projection : ModalProjection
+        Its projection.
+    airspeed : float
+        True airspeed (m/s).
+    density : float
+        Air density (kg/m^3).
+    gust : numpy.ndarray
+        (nt, 3) gust velocity (m/s), rate (m/s^2) and acceleration (m/s^3).
+    node_euler_angles : numpy.ndarray
+        (n, 3) jig Euler angles (rad).
+    plunge : bool, optional
+        The aircraft free in plunge (the basis's first mode).
+    """
 
     wing: object
     projection: ModalProjection

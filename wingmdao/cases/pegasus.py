@@ -353,7 +353,38 @@ def modal_dlm_gust(geometry, chord, axis_frac, time, *, u_tas, airspeed, density
     wing (:func:`wingmdao.aero.modal_design.cosine_gust`): basis the clamped jig modes of the
     sizing's initial design (every wall 10 mm, :func:`beam_params`), the design's mass and
     stiffness projected on it in the sizing; with ``aircraft_mass`` (kg) free in plunge, the plunge
-    mode first (:func:`wingmdao.aero.modal_free.free_cosine_gust`)."""
+    mode first (:func:`wingmdao.aero.modal_free.free_cosine_gust`).
+
+    Parameters
+    ----------
+    geometry : WingGeometry
+        The wing geometry.
+    chord : numpy.ndarray
+        (n,) chords (m).
+    axis_frac : numpy.ndarray
+        (n,) beam axis as a fraction of the chord (-).
+    time : numpy.ndarray
+        (nt,) time grid (s).
+    u_tas : float
+        Design gust velocity (m/s TAS).
+    airspeed : float
+        True airspeed (m/s).
+    density : float
+        Air density (kg/m^3).
+    mach : float
+        Mach number (-).
+    gust_start : float
+        Time the gust front reaches the wing (s).
+    gradient_m : float
+        Gust gradient H (m).
+    aircraft_mass : float or None, optional
+        Aircraft mass (kg) of a free-plunge gust; None: root clamped.
+
+    Returns
+    -------
+    ModalGust
+        The gust.
+    """
     from wingmdao.aero.modal_design import cosine_gust
     from wingmdao.aero.modal_free import free_cosine_gust
 
