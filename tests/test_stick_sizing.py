@@ -199,3 +199,42 @@ def test_monitoring_potatoes_pair_a_lone_moment_with_its_shear():
     pot = monitoring_potatoes({"fuselage": {"moment": m, "force": f}})["fuselage"]
     assert pot["components"] == ["M_y", "F_z"]
     np.testing.assert_array_equal(pot["values"], np.column_stack([m[:, 1], f[:, 2]]))
+
+
+@pytest.mark.slow
+def test_stick_flutter_ks_totals(maneuvers):
+    """The stick aircraft's flutter-damping KS (components.flutter.StickFlutterDamping, two speeds of the
+    1.15 V_D set, a 16-mode window) through the section chain: its reverse-mode total along a direction
+    over every wall of every station against central differences of the whole model; the aggregated
+    modes are damped, oscillatory and exclude the rigid-body zeros."""
+    opts = pegasus_stick.flutter_options(maneuvers[0], 1.15)
+    opts.update(speeds=opts["speeds"][2:], eig_options={"method": "sparse", "sigma": 60j, "count": 16, "ncv": 40})
+    prob = om.Problem(StickSizing(num_nodes=N, material=ALUMINIUM, stick_cases=maneuvers[:1], parallel=False,
+                                  stick_flutter=opts), reports=False)
+    prob.setup(mode="rev")
+    set_geometry(prob, wing_geometry(pegasus.flutter_planform(N), ())[0])
+    set_stick_case(prob, maneuvers[0], "cases.maneuver_pos")
+    walls = ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")
+    th = pegasus.initial_thickness(N)
+    base = {w: np.asarray(th.get(w, th.get(w[2:])), dtype=float) * (1.0 + 0.1 * k * np.linspace(-1, 1, N))
+            for k, w in enumerate(walls)}
+    rng = np.random.default_rng(3)
+    direction = {w: rng.uniform(-1.0, 1.0, N) * base[w] for w in walls}
+    for w in walls:
+        prob.set_val(w, base[w])
+    prob.run_model()
+    res = prob.model.stick_flutter.last_result
+    lam = np.concatenate(res.eigenvalues)
+    assert np.all(lam.real < 0) and np.all(np.abs(lam.imag) > 1.0)
+    assert prob.get_val("flutter_ks")[0] < 0
+    J = prob.compute_totals(["flutter_ks"], list(walls))
+    slope = sum(float(J["flutter_ks", w][0] @ direction[w]) for w in walls)
+    h, vals = 1e-4, []
+    for step in (h, -h):
+        for w in walls:
+            prob.set_val(w, base[w] + step * direction[w])
+        prob.run_model()
+        vals.append(prob.get_val("flutter_ks")[0])
+    cd = (vals[0] - vals[1]) / (2 * h)
+    assert abs(cd) > 1e-3 * abs(prob.get_val("flutter_ks")[0])
+    assert slope == pytest.approx(cd, rel=1e-4)

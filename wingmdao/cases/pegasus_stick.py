@@ -61,8 +61,10 @@ from wingmdao.loads.gust import design_gust_velocity_eas
 from wingmdao.loads.maneuver import maneuver_line_loads
 from wingmdao.materials import ALUMINIUM
 from wingmdao.section.box import WALL_NAMES, beam_params_from_section, box_properties, validate_box
+from wingmdao.stability.cases import sizing_flutter_options
 from wingmdao.stability.eigen import eigenmodes
 from wingmdao.timemarch.bdf import march
+from wingmdao.timemarch.system import layout
 
 #: Engines' mass centres from their wing nodes (m, body axes) and rotary inertias (kg m^2, about
 #: their centres): the 600 kg engine as a cylinder of radius 0.4 m and length 2.5 m along x.
@@ -415,6 +417,34 @@ def gust_response(aircraft: StickAircraft, time, *, airspeed, density, mach, u_d
     x0 = hist.states[0]
     trim = {k: float(x0[i]) for k, i in s.trim_index.items()}
     return StickGust(time=time, load_factor=n, trim=trim, loads=loads, downwash_gradient=dw, states=hist.states)
+
+
+def flutter_options(case: StickCase, factor: float, *, rho_ks: float = 100.0) -> dict:
+    """Options of :class:`~wingmdao.components.flutter.StickFlutterDamping` for "flutter speed >=
+    F V_D" of the free half aircraft of a stick ``case`` (its system and packed parameters; F =
+    ``factor``): the damping constraint Re(lambda) <= 0 (KS, 1/s) at F V_D x (0.25, 0.5, 0.75, 1),
+    the lone wing's speeds (:func:`wingmdao.stability.cases.sizing_flutter_options`: PEGASUS's
+    V_D, density and speed of sound at 25 000 ft, its eigen window).
+
+    Parameters
+    ----------
+    case : StickCase
+        A load case of :func:`sizing_setup` (its ``system`` and ``p``).
+    factor : float
+        F, the flutter margin on V_D (14 CFR 25.629: 1.15).
+    rho_ks : float
+        KS aggregation parameter (s).
+
+    Returns
+    -------
+    dict
+        The component's options.
+    """
+    lone = sizing_flutter_options("pegasus", case.system.beam(case.wing).num_nodes, factor, rho_ks=rho_ks)
+    p = np.array(case.p, dtype=float)
+    p[layout(case.system.param_specs)["density"]] = lone["aero"]["density"]
+    return {"system": case.system, "p": p, "speeds": lone["speeds"], "speed_of_sound": lone["aero"]["speed_of_sound"],
+            "rho_ks": float(rho_ks), "eig_options": lone["eig_options"], "wing": case.wing}
 
 
 #: ``--loads`` sets of the stick sizing (:func:`sizing_setup`)

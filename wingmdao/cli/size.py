@@ -259,8 +259,7 @@ def _check_stick_args(args, comm) -> None:
     """``--model stick``: ValueError for a case without a stick model or options it does not take."""
     if args.case_module.NAME != "pegasus":
         raise ValueError(f"--model stick: case {args.case_module.NAME!r} has no stick model; allowed: pegasus")
-    for flag, given in (("--flutter-margin", args.flutter_margin is not None),
-                        ("--turbulence", getattr(args, "turbulence", False)), ("--matrix", args.matrix is not None),
+    for flag, given in (("--turbulence", getattr(args, "turbulence", False)), ("--matrix", args.matrix is not None),
                         ("--gust-set", getattr(args, "gust_set", None)),
                         ("--gust-gradients-ft", getattr(args, "gust_gradients_ft", None)),
                         ("--gust-gradient-count", getattr(args, "gust_gradient_count", None)),
@@ -274,6 +273,7 @@ def _check_stick_args(args, comm) -> None:
 
 def _size_stick(args, setup, case_options, stem, recording, *, root, comm) -> int:
     """``--model stick``: the wing's walls sized on the PEGASUS stick model's maneuvers and gust
+    (with ``--flutter-margin``, the free aircraft's flutter constraint)
     (:func:`wingmdao.cases.pegasus_stick.sizing_setup`, :func:`wingmdao.sizing.build_stick_problem`);
     JSON and summary (no plots, envelope or flutter search)."""
     from wingmdao import sizing
@@ -286,8 +286,13 @@ def _size_stick(args, setup, case_options, stem, recording, *, root, comm) -> in
     for note in setup.notes:
         say(f"  note: {note}")
     optimize = not args.analysis_only
+    flutter = None
+    if args.flutter_margin is not None:   # the free aircraft's modes (pegasus_stick.flutter_options)
+        flutter = pegasus_stick.flutter_options(setup.load_cases[0], args.flutter_margin)
+        say(f"  note: flutter constraint of the free stick aircraft: KS of Re(lambda) <= 0 (rho 100 s) at "
+            f"{args.flutter_margin:g} V_D x (0.25, 0.5, 0.75, 1) = {', '.join(f'{v:.1f}' for v in flutter['speeds'])} m/s")
     prob, desc = sizing.build_stick_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
-                                            driver=optimize)
+                                            driver=optimize, flutter=flutter)
     result = sizing.presize_and_size(prob, setup, desc, optimize=optimize)
     result.update(case=args.case_module.NAME, model="stick", mpi_ranks=1)
     if recording:
