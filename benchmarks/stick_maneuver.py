@@ -82,9 +82,14 @@ def main(argv=None):
     prob.setup()
     t1 = time.process_time()
     prob.run_model()
+    first = time.process_time() - t1
+    ks = prob.get_val("flutter_ks")[0]
     res = prob.model.flutter.last_result
-    print(f"flutter constraint, 1.15 V_D: flutter_ks = {prob.get_val('flutter_ks')[0]:+.4f} 1/s "
-          f"(CPU {time.process_time() - t1:.1f} s)")
+    t2 = time.process_time()
+    prob.set_val("stiffness_csn", 1.01 * prob.get_val("stiffness_csn"))    # a second design: no cache
+    prob.run_model()
+    print(f"flutter constraint, 1.15 V_D: flutter_ks = {ks:+.4f} 1/s (CPU of the first evaluation {first:.1f} s, "
+          f"one-time builds included; of a second, stiffness x 1.01, {time.process_time() - t2:.1f} s)")
     for V, lam in zip(res.speeds, res.eigenvalues):
         k = int(np.argmax(lam.real))
         print(f"  V = {V:6.1f} m/s: {lam.size} modes, least damped {lam[k].real:+.4f} 1/s at "
