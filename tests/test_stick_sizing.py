@@ -1,16 +1,23 @@
-"""Exact totals of the stick model's gust KS (wingmdao.groups.stick) with respect to the wing's walls
-and a tail parameter: reverse mode (the discrete adjoint of the joined aeroelastic march), forward
-mode and central differences of the whole model."""
+"""Exact totals of the stick model's gust and maneuver KS (wingmdao.groups.stick) with respect to the
+wing's walls and a tail parameter: reverse mode (the discrete adjoint of the joined aeroelastic march
+or static solve), forward mode and central differences of the whole model; the trimmed maneuvers'
+lift and wing root bending against free-body sums."""
+
+from dataclasses import replace
 
 import numpy as np
 import openmdao.api as om
 import pytest
 
+from wingmdao.aero.joined import lift_total
+from wingmdao.beam.joints import MonitoringStation, monitoring_loads
 from wingmdao.cases import pegasus, pegasus_stick
-from wingmdao.cases.planform import wing_geometry
+from wingmdao.cases.planform import G0, wing_geometry
 from wingmdao.groups.stick import StickCase, StickSizing, set_stick_case
 from wingmdao.materials import ALUMINIUM
 from wingmdao.sizing import closed_loop_constraints, set_geometry
+from wingmdao.timemarch.bdf import march
+from wingmdao.timemarch.system import layout
 
 N = 5
 KS = "cases.gust.ks_vm"
@@ -30,15 +37,101 @@ def case():
 
 
 def _problem(case, mode):
-    prob = om.Problem(StickSizing(num_nodes=N, material=ALUMINIUM, stick_cases=[case], parallel=False), reports=False)
+    cases = case if isinstance(case, list) else [case]
+    prob = om.Problem(StickSizing(num_nodes=N, material=ALUMINIUM, stick_cases=cases, parallel=False), reports=False)
     prob.setup(mode=mode)
     set_geometry(prob, wing_geometry(pegasus.flutter_planform(N), ())[0])
-    set_stick_case(prob, case, "cases.gust")
+    for c in cases:
+        set_stick_case(prob, c, f"cases.{c.name}")
     th = pegasus.initial_thickness(N)
-    for w in ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar"):
-        prob.set_val(w, th.get(w, th.get(w[2:])))
+    for k, w in enumerate(("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")):
+        v = np.asarray(th.get(w, th.get(w[2:])), dtype=float)
+        prob.set_val(w, v * (1.0 + 0.1 * k * np.linspace(-1.0, 1.0, N)))   # a design that varies along the span
     prob.run_model()
     return prob
+
+
+def _stick_setup(loads, num_nodes=N, **extra):
+    """The CLI's stick setup (pegasus_stick.sizing_setup) of ``--loads loads`` on a ``num_nodes`` wing."""
+    opts = pegasus.PegasusOptions(loads=loads, **extra)
+    setup = replace(pegasus.build(opts), geometry=wing_geometry(pegasus.flutter_planform(num_nodes), ())[0])
+    return pegasus_stick.sizing_setup(setup, opts)
+
+
+@pytest.fixture(scope="module")
+def maneuvers():
+    return _stick_setup("maneuver").load_cases
+
+
+def _central_differences(prob, of, name, idx, h):
+    v = prob.get_val(name).copy()
+    vals = []
+    for step in (h, -h):
+        w = v.copy()
+        w[idx] += step
+        prob.set_val(name, w)
+        prob.run_model()
+        vals.append(prob.get_val(of).copy())
+    prob.set_val(name, v)
+    prob.run_model()
+    return (vals[0] - vals[1]) / (2 * h)
+
+
+@pytest.mark.slow
+def test_stick_maneuver_ks_totals(maneuvers):
+    """The KS of the trimmed pull-up and push-over (static solves of the free half aircraft with the trim
+    unknowns) with respect to the walls and the tail's mass: reverse against central differences and
+    forward mode."""
+    assert [c.name for c in maneuvers] == ["maneuver_pos", "maneuver_neg"]
+    rev = _problem(maneuvers, "rev")
+    fwd = _problem(maneuvers, "fwd")
+    of = ["cases.maneuver_pos.ks_vm", "cases.maneuver_neg.ks_vm"]
+    tails = ["maneuver_pos.tail_mass_per_length", "maneuver_neg.tail_mass_per_length"]   # each case's own
+    wrt = ["t_upper_skin", "t_rear_spar", *tails]
+    J_rev, J_fwd = rev.compute_totals(of, wrt), fwd.compute_totals(of, wrt)
+    for name, idx, h in (("t_upper_skin", 3, 1e-7), ("t_rear_spar", 1, 1e-7), (tails[0], 2, 0.05), (tails[1], 4, 0.05)):
+        for ks in of:
+            if name in tails and name.split(".")[0] != ks.split(".")[1]:
+                assert J_rev[ks, name][0, idx] == 0.0 and J_fwd[ks, name][0, idx] == 0.0
+                continue
+            cd = _central_differences(rev, ks, name, idx, h)[0]
+            assert abs(cd) > 1e-9, (ks, name)                      # the derivative is not trivially zero
+            assert J_rev[ks, name][0, idx] == pytest.approx(cd, rel=1e-5, abs=1e-10), (ks, name)
+            assert J_fwd[ks, name][0, idx] == pytest.approx(J_rev[ks, name][0, idx], rel=1e-9, abs=1e-13), (ks, name)
+
+
+def test_stick_maneuver_lift_and_root_bending_of_the_stiff_stick():
+    """The 25.337 pull-up (2.5 g) and push-over (-1.0 g) of the sizing's stick cases, wing stiffness x 1e4:
+    the trimmed lift (wing and tail strips) is n W with W summed here from the beams' masses per length
+    and the lumped masses; the wing root rib's bending moment (monitoring_loads, the beam's M_1) is the
+    free-body sum, over the wing outboard of the rib, of the strips' vertical lift minus n g times the
+    elements' and engines' masses times their arms from the rib, within 1e-3."""
+    cases = _stick_setup("maneuver", num_nodes=8).load_cases
+    s = cases[0].system
+    lay = layout(s.param_specs)
+    p = np.array(cases[0].p, dtype=float)
+    p[lay["wing_stiffness_csn"]] *= 1e4
+    p[lay["wing_compliance_csn"]] *= 1e-4
+    mass = float(p[lay["lumped_mass"]].sum())
+    for b in s.beams:
+        r0 = p[lay[f"{b.name}_node_positions"]].reshape(-1, 3)
+        mu = p[lay[f"{b.name}_mass_per_length"]]
+        mass += float(np.sum(0.5 * (mu[:-1] + mu[1:]) * np.linalg.norm(np.diff(r0, axis=0), axis=1)))
+    r0 = p[lay["wing_node_positions"]].reshape(-1, 3)
+    mu, y = p[lay["wing_mass_per_length"]], r0[:, 1]
+    ds = np.linalg.norm(np.diff(r0, axis=0), axis=1)
+    y_mid = 0.5 * (y[:-1] + y[1:])
+    for case, n in zip(cases, (2.5, -1.0)):
+        x = march(s, np.zeros(1), p, case.forcing, atol=1e-6).states[0]
+        q = case.forcing[0]
+        assert lift_total(s, x, 0 * x, p, q, vertical=True) / (n * G0 * mass) == pytest.approx(1.0, abs=1e-9)
+        up = s.section_loads(x, 0 * x, p, q)["wing"][2]
+        fz = 0.5 * (up[:-1] + up[1:]) * ds - n * G0 * 0.5 * (mu[:-1] + mu[1:]) * ds
+        bending = float(np.sum(fz[1:] * (y_mid[1:] - y[1])))
+        bending -= sum(n * G0 * lm.mass * (y[lm.node] + lm.offset[1] - y[1]) for lm in s.masses if lm.beam == "wing")
+        root = monitoring_loads(s, x, [MonitoringStation("root", "wing", 1)])["root"]["moment"]
+        assert abs(bending) > 1e5
+        assert root[0] == pytest.approx(bending, rel=1e-3), n
 
 
 @pytest.mark.slow
@@ -67,7 +160,7 @@ def test_stick_gust_ks_totals(case):
 
 @pytest.mark.parametrize("argv, msg", [
     (["size", "crm", "--model", "stick"], "--model stick: case 'crm' has no stick model; allowed: pegasus"),
-    (["size", "pegasus", "--model", "stick"], "--model stick does not take --loads maneuver (the default)"),
+    (["size", "pegasus", "--model", "stick", "--gust-set", "x.yaml"], "--model stick does not take --gust-set"),
     (["size", "pegasus", "--model", "stick", "--loads", "gust", "--turbulence"], "--model stick does not take --turbulence"),
 ])
 def test_size_stick_model_refuses_other_options(argv, msg, capsys, tmp_path):
@@ -113,3 +206,49 @@ def test_a_stick_case_has_no_closed_loop_constraint():
     stability constraint: the sizing's summary asks every case (``sizing.closed_loop_constraints``)."""
     case = StickCase("gust", None, np.zeros(3), np.zeros(1), np.zeros((3, 1)))
     assert closed_loop_constraints([case]) == []
+
+
+@pytest.mark.slow
+def test_stick_flutter_ks_totals(maneuvers):
+    """The stick aircraft's flutter-damping KS (components.flutter.StickFlutterDamping, two speeds of the
+    1.15 V_D set, a 16-mode window) through the section chain: its reverse-mode total along a direction
+    over every wall of every station against central differences of the whole model; the aggregated
+    modes are damped, oscillatory and exclude the rigid-body zeros, and one of them is the first elastic
+    mode of the structure in vacuum within 3 %."""
+    opts = pegasus_stick.flutter_options(maneuvers[0], 1.15)
+    opts.update(speeds=opts["speeds"][2:], eig_options={"method": "sparse", "sigma": 60j, "count": 16, "ncv": 40})
+    prob = om.Problem(StickSizing(num_nodes=N, material=ALUMINIUM, stick_cases=maneuvers[:1], parallel=False,
+                                  stick_flutter=opts), reports=False)
+    prob.setup(mode="rev")
+    set_geometry(prob, wing_geometry(pegasus.flutter_planform(N), ())[0])
+    set_stick_case(prob, maneuvers[0], "cases.maneuver_pos")
+    walls = ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")
+    th = pegasus.initial_thickness(N)
+    base = {w: np.asarray(th.get(w, th.get(w[2:])), dtype=float) * (1.0 + 0.1 * k * np.linspace(-1, 1, N))
+            for k, w in enumerate(walls)}
+    rng = np.random.default_rng(3)
+    direction = {w: rng.uniform(-1.0, 1.0, N) * base[w] for w in walls}
+    for w in walls:
+        prob.set_val(w, base[w])
+    prob.run_model()
+    res = prob.model.stick_flutter.last_result
+    lam = np.concatenate(res.eigenvalues)
+    assert np.all(lam.real < 0) and np.all(np.abs(lam.imag) > 1.0)
+    assert prob.get_val("flutter_ks")[0] < 0
+    # the first wing bending in the air near its frequency in vacuum (the structure alone, no aerodynamics;
+    # pegasus_stick.natural_frequencies at the same walls)
+    ac = pegasus_stick.build(N, {w: base[w] for w in walls})
+    f_vac = pegasus_stick.natural_frequencies(ac, count=1)["hz"][0]
+    f_air = np.abs(res.eigenvalues[0].imag) / (2 * np.pi)
+    assert np.min(np.abs(f_air / f_vac - 1.0)) < 0.03
+    J = prob.compute_totals(["flutter_ks"], list(walls))
+    slope = sum(float(J["flutter_ks", w][0] @ direction[w]) for w in walls)
+    h, vals = 1e-4, []
+    for step in (h, -h):
+        for w in walls:
+            prob.set_val(w, base[w] + step * direction[w])
+        prob.run_model()
+        vals.append(prob.get_val("flutter_ks")[0])
+    cd = (vals[0] - vals[1]) / (2 * h)
+    assert abs(cd) > 1e-3 * abs(prob.get_val("flutter_ks")[0])
+    assert slope == pytest.approx(cd, rel=1e-4)

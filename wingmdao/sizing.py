@@ -294,11 +294,13 @@ def _add_driver(prob, options: SizingOptions, design_vars) -> str:
 
 
 def build_stick_problem(geometry: WingGeometry, stick_cases, material, options: SizingOptions,
-                        *, driver=True) -> tuple[om.Problem, str]:
+                        *, driver=True, flutter: dict | None = None) -> tuple[om.Problem, str]:
     """The sizing problem of the wing's walls with load cases on the stick model of the whole
     aircraft (:class:`~wingmdao.groups.stick.StickSizing`, ``stick_cases`` a list of
     :class:`~wingmdao.groups.stick.StickCase`); returns ``(problem, driver description)`` as
-    :func:`build_problem` (box sections, one process)."""
+    :func:`build_problem` (box sections, one process). ``flutter``: options of
+    :class:`~wingmdao.components.flutter.StickFlutterDamping` (e.g.
+    :func:`wingmdao.cases.pegasus_stick.flutter_options`): adds the constraint flutter_ks <= 0."""
     cases = list(stick_cases)
     if not cases or not all(isinstance(c, StickCase) for c in cases):
         raise ValueError("stick_cases must be a non-empty list of wingmdao.groups.stick.StickCase")
@@ -309,7 +311,7 @@ def build_stick_problem(geometry: WingGeometry, stick_cases, material, options: 
     mass_ref = (options.mass_scale or OBJECTIVE_SCALE * initial_mass(geometry, material, options, "box")) \
         if driver else 1.0
     wing = StickSizing(num_nodes=n, stick_cases=cases, material=material, parallel=False, rho_ks=options.rho_ks,
-                       station_map=geometry.station_map,
+                       station_map=geometry.station_map, stick_flutter=flutter,
                        add_constraints=driver, add_objective=driver, mass_ref=mass_ref)
     prob = om.Problem(model=wing, comm=_serial_comm(), reports=False)
     desc = "none (analysis only)"

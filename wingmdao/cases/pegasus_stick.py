@@ -61,8 +61,10 @@ from wingmdao.loads.gust import design_gust_velocity_eas
 from wingmdao.loads.maneuver import maneuver_line_loads
 from wingmdao.materials import ALUMINIUM
 from wingmdao.section.box import WALL_NAMES, beam_params_from_section, box_properties, validate_box
+from wingmdao.stability.cases import sizing_flutter_options
 from wingmdao.stability.eigen import eigenmodes
 from wingmdao.timemarch.bdf import march
+from wingmdao.timemarch.system import layout
 
 #: Engines' mass centres from their wing nodes (m, body axes) and rotary inertias (kg m^2, about
 #: their centres): the 600 kg engine as a cylinder of radius 0.4 m and length 2.5 m along x.
@@ -367,6 +369,32 @@ def gust_forcing(aircraft: StickAircraft, system, time, *, airspeed, u_ds_tas, g
                                        gravity=[0.0, 0.0, -G0]) for k in range(time.size)])
 
 
+def maneuver_forcing(system, load_factor: float) -> np.ndarray:
+    """Packed forcing (1, n_forcing) of the steady symmetric maneuver at load factor ``load_factor``
+    of the free half aircraft (14 CFR 25.337 pull-up or push-over): gravity, the body axes
+    accelerating upward at (n - 1) g (``frame_acceleration``) and the trim active, so that a
+    static solve (a one-instant :class:`~wingmdao.groups.load_case.StickCase`) finds the angle of
+    attack, tail incidence and thrust for which wing and tail lift n W with no pitching moment.
+
+    Parameters
+    ----------
+    system : JoinedBeamSystem
+        The aeroelastic system of :func:`aeroelastic_system`.
+    load_factor : float
+        n (finite, nonzero).
+
+    Returns
+    -------
+    numpy.ndarray
+        The forcing of the one instant, shape (1, n_forcing).
+    """
+    n = float(load_factor)
+    if not np.isfinite(n) or n == 0.0:
+        raise ValueError(f"load_factor = {load_factor}; must be a finite nonzero number (n of the maneuver)")
+    return pack_aero_forcing(system, trim_active=1.0, gravity=[0.0, 0.0, -G0],
+                             frame_acceleration=[0.0, 0.0, (n - 1.0) * G0])[None, :]
+
+
 def gust_response(aircraft: StickAircraft, time, *, airspeed, density, mach, u_ds_tas, gradient, gust_start,
                   downwash=None, static_options=None) -> StickGust:
     """A 1-cos gust of gradient ``gradient`` (m) and design velocity ``u_ds_tas`` (m/s TAS) on the free
@@ -392,37 +420,101 @@ def gust_response(aircraft: StickAircraft, time, *, airspeed, density, mach, u_d
     return StickGust(time=time, load_factor=n, trim=trim, loads=loads, downwash_gradient=dw, states=hist.states)
 
 
+def flutter_options(case: StickCase, factor: float, *, rho_ks: float = 100.0) -> dict:
+    """Options of :class:`~wingmdao.components.flutter.StickFlutterDamping` for "flutter speed >=
+    F V_D" of the free half aircraft of a stick ``case`` (its system and packed parameters; F =
+    ``factor``): the damping constraint Re(lambda) <= 0 (KS, 1/s) at F V_D x (0.25, 0.5, 0.75, 1),
+    the lone wing's speeds (:func:`wingmdao.stability.cases.sizing_flutter_options`: PEGASUS's
+    V_D, density and speed of sound at 25 000 ft, its eigen window).
+
+    Parameters
+    ----------
+    case : StickCase
+        A load case of :func:`sizing_setup` (its ``system`` and ``p``).
+    factor : float
+        F, the flutter margin on V_D (14 CFR 25.629: 1.15).
+    rho_ks : float
+        KS aggregation parameter (s).
+
+    Returns
+    -------
+    dict
+        The component's options.
+    """
+    lone = sizing_flutter_options("pegasus", case.system.beam(case.wing).num_nodes, factor, rho_ks=rho_ks)
+    p = np.array(case.p, dtype=float)
+    p[layout(case.system.param_specs)["density"]] = lone["aero"]["density"]
+    return {"system": case.system, "p": p, "speeds": lone["speeds"], "speed_of_sound": lone["aero"]["speed_of_sound"],
+            "rho_ks": float(rho_ks), "eig_options": lone["eig_options"], "wing": case.wing}
+
+
+#: ``--loads`` sets of the stick sizing (:func:`sizing_setup`)
+STICK_LOAD_SETS = ("maneuver", "gust", "all")
+
+
 def sizing_setup(setup, opts, families=("vm",)):
-    """The PEGASUS sizing ``setup`` (:func:`wingmdao.cases.pegasus.build`) with its single 1-cos gust
-    (``--loads gust``: gradient, altitude, Mach, sign, time grid and gust start of ``opts``) on the
-    stick model instead of the lone wing: a copy whose ``load_cases`` are one
-    :class:`~wingmdao.groups.stick.StickCase` and whose ``geometry`` is the stick model's wing (its
-    engines are lumped masses, not smeared). The lumped payload masses are those of the initial
-    walls (:func:`build`): the aircraft's mass follows the wing's. ValueError for options the stick
-    sizing does not take."""
-    if opts.loads != "gust" or getattr(opts, "gust_set", None) or getattr(opts, "gust_gradients_ft", None) \
+    """The PEGASUS sizing ``setup`` (:func:`wingmdao.cases.pegasus.build`) with its load cases on the
+    stick model instead of the lone wing: a copy whose ``load_cases`` are
+    :class:`~wingmdao.groups.load_case.StickCase` and whose ``geometry`` is the stick model's wing
+    (its engines are lumped masses, not smeared). ``--loads maneuver``: the 14 CFR 25.337 pull-up
+    (``--load-factor``, 2.5) and push-over (``--negative-load-factor``, -1.0), each a static solve of
+    the free half aircraft trimmed at n (:func:`maneuver_forcing`) at the ``--altitude-ft`` /
+    ``--mach`` flight point; ``--loads gust``: the single 1-cos gust (gradient, altitude, Mach, sign,
+    time grid and gust start of ``opts``) marched from the trimmed 1 g state; ``--loads all``: the
+    three. The lumped payload masses are those of the initial walls (:func:`build`): the aircraft's
+    mass follows the wing's. ValueError for options the stick sizing does not take.
+
+    Parameters
+    ----------
+    setup : CaseSetup
+        The lone wing's setup of the same options.
+    opts : PegasusOptions
+        The case's options.
+    families : tuple of str
+        Stress families of every case's KS.
+
+    Returns
+    -------
+    CaseSetup
+        The copy with the stick cases (maneuvers first, then the gust).
+    """
+    loads = opts.loads or "maneuver"
+    if loads not in STICK_LOAD_SETS or getattr(opts, "gust_set", None) or getattr(opts, "gust_gradients_ft", None) \
             or getattr(opts, "gust_gradient_count", None) or getattr(opts, "load_history", None):
-        raise ValueError(f"--model stick: sizes for the single 1-cos gust (--loads gust, one --gust-gradient-ft); "
-                         f"got --loads {opts.loads}")
+        raise ValueError(f"--model stick: sizes for the 25.337 maneuvers and the single 1-cos gust (--loads "
+                         f"{', '.join(STICK_LOAD_SETS)}, one --gust-gradient-ft); got --loads {opts.loads}")
     if setup.section != "box":
         raise ValueError(f"--model stick: box walls only, got section {setup.section!r}")
     n = setup.geometry.num_nodes
     alt = float(altitude_ft_to_m(opts.altitude_ft))
-    u_ds = (opts.u_ref_fps * FT * (opts.gust_gradient_ft / 350.0) ** (1.0 / 6.0) if opts.u_ref_fps > 0
-            else design_gust_velocity_eas(opts.gust_gradient_ft, opts.altitude_ft, 1.0))
-    sign = -1.0 if opts.gust_sign == "down" else 1.0
     rho = float(density(alt))
     V = float(mach_to_tas(opts.mach, alt))
-    u_tas = sign * u_ds * np.sqrt(float(density(0.0)) / rho)
-    time = np.arange(0.0, opts.t_final + 0.5 * opts.dt, opts.dt)
     aircraft = build(n)
     s = aeroelastic_system(aircraft)
     p = aero_parameters(aircraft, s, airspeed=V, density=rho, mach=float(opts.mach))
-    Q = gust_forcing(aircraft, s, time, airspeed=V, u_ds_tas=u_tas, gradient=opts.gust_gradient_ft * FT,
-                     gust_start=opts.gust_start)
-    case = StickCase("gust", s, time, p, Q, families=tuple(families))
+    cases, what = [], []
+    if loads in ("maneuver", "all"):
+        for name, n_load in (("maneuver_pos", opts.load_factor), ("maneuver_neg", opts.negative_load_factor)):
+            cases.append(StickCase(name, s, np.zeros(1), p, maneuver_forcing(s, n_load), families=tuple(families)))
+        what.append(f"trimmed maneuvers n = {opts.load_factor:+g}, {opts.negative_load_factor:+g}")
+    if loads in ("gust", "all"):
+        u_ds = (opts.u_ref_fps * FT * (opts.gust_gradient_ft / 350.0) ** (1.0 / 6.0) if opts.u_ref_fps > 0
+                else design_gust_velocity_eas(opts.gust_gradient_ft, opts.altitude_ft, 1.0))
+        sign = -1.0 if opts.gust_sign == "down" else 1.0
+        u_tas = sign * u_ds * np.sqrt(float(density(0.0)) / rho)
+        time = np.arange(0.0, opts.t_final + 0.5 * opts.dt, opts.dt)
+        Q = gust_forcing(aircraft, s, time, airspeed=V, u_ds_tas=u_tas, gradient=opts.gust_gradient_ft * FT,
+                         gust_start=opts.gust_start)
+        cases.append(StickCase("gust", s, time, p, Q, families=tuple(families)))
+        what.append(f"1-cos gust U_ds = {u_ds / FT:.1f} ft/s EAS, H = {opts.gust_gradient_ft:g} ft")
     geo = wing_geometry(pegasus.flutter_planform(n), ())[0]
-    notes = list(setup.notes) + [f"stick model: free half aircraft ({s.n_state} unknowns), 1-cos gust U_ds = "
-                                 f"{u_ds / FT:.1f} ft/s EAS, H = {opts.gust_gradient_ft:g} ft, V = {V:.1f} m/s TAS; "
-                                 "payload lumped masses of the initial design"]
-    return replace(setup, load_cases=[case], geometry=geo, notes=notes, flutter=None, turbulence=None)
+    notes = [k for k in setup.notes if not k.startswith("warning: ignored with --loads maneuver")]
+    if loads == "maneuver":   # the stick model's maneuvers use the flight point
+        default = pegasus.PegasusOptions()
+        ignored = [pegasus._flag_text(k, getattr(opts, k)) for k in pegasus.GUST_ONLY_OPTIONS
+                   if k not in ("altitude_ft", "mach") and getattr(opts, k) != getattr(default, k)]
+        if ignored:
+            notes.append(f"warning: ignored with --loads maneuver (gust options): {', '.join(ignored)}")
+    notes += [f"stick model: free half aircraft ({s.n_state} unknowns), {'; '.join(what)}, "
+                                 f"V = {V:.1f} m/s TAS; payload lumped masses of the initial design"]
+    return replace(setup, load_cases=cases, geometry=geo, notes=notes, flutter=None, turbulence=None)

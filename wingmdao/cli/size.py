@@ -56,9 +56,10 @@ def _add_common(p, *, sizing: bool):
                             "the whole matrix at the optimum, repeat while the critical set changes (load "
                             "iteration; cases with a loads-matrix model: pegasus; one process, no plots or recording)")
         p.add_argument("--model", choices=("wing", "stick"), default="wing",
-                       help="wing (the lone wing, default) or stick (pegasus, --loads gust: the wing's walls "
-                            "sized on the free half aircraft's stick model, wing, fuselage, fin and tail with "
-                            "strip aerodynamics on wing and tail; docs/stick-model.md)")
+                       help="wing (the lone wing, default) or stick (pegasus: the wing's walls sized for the trimmed "
+                            "maneuvers and/or the single gust of --loads on the free half aircraft's stick model, "
+                            "wing, fuselage, fin and tail with strip aerodynamics on wing and tail; "
+                            "docs/stick-model.md)")
         p.add_argument("--no-flutter-search", action="store_true",
                        help="do not search the flutter speed of the result (flutter_speed_m_s, cases with "
                             "aerodynamic data)")
@@ -261,17 +262,21 @@ def _check_stick_args(args, comm) -> None:
     """``--model stick``: ValueError for a case without a stick model or options it does not take."""
     if args.case_module.NAME != "pegasus":
         raise ValueError(f"--model stick: case {args.case_module.NAME!r} has no stick model; allowed: pegasus")
-    for flag, given in (("--flutter-margin", args.flutter_margin is not None),
-                        ("--turbulence", getattr(args, "turbulence", False)), ("--matrix", args.matrix is not None),
-                        (f"--loads {getattr(args, 'loads', None) or 'maneuver (the default)'}", getattr(args, "loads", None) != "gust")):
+    for flag, given in (("--turbulence", getattr(args, "turbulence", False)), ("--matrix", args.matrix is not None),
+                        ("--gust-set", getattr(args, "gust_set", None)),
+                        ("--gust-gradients-ft", getattr(args, "gust_gradients_ft", None)),
+                        ("--gust-gradient-count", getattr(args, "gust_gradient_count", None)),
+                        ("--load-history", getattr(args, "load_history", None))):
         if given:
-            raise ValueError(f"--model stick does not take {flag}; it sizes for the single 1-cos gust (--loads gust)")
+            raise ValueError(f"--model stick does not take {flag}; it sizes for the 25.337 maneuvers and the single "
+                             "1-cos gust (--loads maneuver, gust or all)")
     if comm is not None and comm.size > 1:
         raise ValueError("--model stick runs in one process (no mpirun)")
 
 
 def _size_stick(args, setup, case_options, stem, recording, *, root, comm) -> int:
-    """``--model stick``: the wing's walls sized on the PEGASUS stick model's gust
+    """``--model stick``: the wing's walls sized on the PEGASUS stick model's maneuvers and gust
+    (with ``--flutter-margin``, the free aircraft's flutter constraint)
     (:func:`wingmdao.cases.pegasus_stick.sizing_setup`, :func:`wingmdao.sizing.build_stick_problem`);
     JSON and summary (no plots, envelope or flutter search)."""
     from wingmdao import sizing
@@ -284,8 +289,13 @@ def _size_stick(args, setup, case_options, stem, recording, *, root, comm) -> in
     for note in setup.notes:
         say(f"  note: {note}")
     optimize = not args.analysis_only
+    flutter = None
+    if args.flutter_margin is not None:   # the free aircraft's modes (pegasus_stick.flutter_options)
+        flutter = pegasus_stick.flutter_options(setup.load_cases[0], args.flutter_margin)
+        say(f"  note: flutter constraint of the free stick aircraft: KS of Re(lambda) <= 0 (rho 100 s) at "
+            f"{args.flutter_margin:g} V_D x (0.25, 0.5, 0.75, 1) = {', '.join(f'{v:.1f}' for v in flutter['speeds'])} m/s")
     prob, desc = sizing.build_stick_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
-                                            driver=optimize)
+                                            driver=optimize, flutter=flutter)
     result = sizing.presize_and_size(prob, setup, desc, optimize=optimize)
     result.update(case=args.case_module.NAME, model="stick", mpi_ranks=1)
     if recording:

@@ -27,6 +27,7 @@ import numpy as np
 import openmdao.api as om
 
 from wingmdao.beam.residual import param_specs as beam_param_specs
+from wingmdao.aero.joined import pack_aero_forcing
 from wingmdao.aero.system import cached_aeroelastic_system
 from wingmdao.stability.cases import FlutterProblem
 from wingmdao.stability.eigen import check_speeds
@@ -138,6 +139,133 @@ class FlutterDamping(om.ExplicitComponent):
         return self._warm
 
 
+#: The stick model's loaded-fraction threshold of the aggregated modes: PEGASUS's half aircraft (5- and
+#: 20-node wings, 57-227 m/s) has its wing's in-plane bending at 1.2e-2 to 1.7e-2 (Re lambda ~ -4e-4 1/s,
+#: which the KS would lift to ln(count) / rho > 0) and every other oscillatory mode, the short period
+#: included, at 3.8e-2 or above (docs/stick-model.md, "Flutter constraint on the stick model").
+STICK_NEUTRAL_FRACTION = 0.025
+
+
+class StickFlutterDamping(om.ExplicitComponent):
+    """KS damping constraint of the free stick aircraft (a joined aeroelastic system of
+    :func:`wingmdao.aero.joined.build_joined_aeroelastic_system`) over a set of airspeeds, with
+    respect to the wing beam's section inputs.
+
+    The modes at each speed are those of the flutter linearization about the unloaded jig in
+    zero-lift flight without gravity (every lifting beam's ``alpha_zero_lift`` and ``cm0`` set to
+    zero, trim unknowns zero and held): that state is the equilibrium of every design, so the
+    eigenvalue derivatives need no static term and are exact. Aggregated: the oscillatory modes
+    whose aerodynamic part exceeds ``neutral_fraction`` of their beams' displacement and rotation
+    part (:func:`wingmdao.stability.sensitivity.damping_constraint`; rigid-body modes and the trim
+    states are zero eigenvalues, left out). Inputs: the wing's section quantities under the lone
+    wing's names (``stiffness_csn``, ``compliance_csn``, ``mass_per_length``,
+    ``inertia_per_length``, ``tension_axis``, ``shear_center``, ``mass_center``); the geometry and
+    the other beams are the packed ``p``'s. Output ``flutter_ks`` (1/s), <= 0: every such mode damped.
+    """
+
+    #: the wing's parameter blocks that are inputs (lone-wing names)
+    INPUTS = ("stiffness_csn", "compliance_csn", "mass_per_length", "inertia_per_length", "tension_axis",
+              "shear_center", "mass_center")
+
+    def initialize(self):
+        self.options.declare("system", recordable=False, desc="the joined aeroelastic system of the stick aircraft")
+        self.options.declare("p", types=np.ndarray, recordable=False,
+                             desc="packed parameters of the system (airspeed, Mach and the wing's inputs replaced)")
+        self.options.declare("speeds", types=(list, tuple, np.ndarray), desc="airspeeds (m/s TAS, increasing)")
+        self.options.declare("speed_of_sound", types=numbers.Real, desc="m/s: the Mach number V / a of each speed")
+        self.options.declare("wing", default="wing", types=str, desc="name of the wing beam")
+        self.options.declare("rho_ks", default=100.0, lower=1.0, types=numbers.Real, desc="KS aggregation parameter (s)")
+        self.options.declare("margin", default=0.0, types=float, desc="required decay rate -Re(lambda) (1/s)")
+        self.options.declare("neutral_fraction", default=STICK_NEUTRAL_FRACTION, types=float, lower=0.0,
+                             desc="aggregated modes: aerodynamic part above this fraction of the beam part")
+        self.options.declare("eig_options", default=None, allow_none=True, types=dict,
+                             desc="options of wingmdao.stability.eigenmodes (method, sigma, count, ncv)")
+
+    def setup(self):
+        s, wing = self.options["system"], self.options["wing"]
+        self._speeds = check_speeds(self.options["speeds"])
+        self._lay = layout(s.param_specs)
+        specs = {sp.name: sp for sp in s.param_specs}
+        p = np.array(self.options["p"], dtype=float)
+        if p.size != sum(sp.size for sp in s.param_specs):
+            raise ValueError(f"StickFlutterDamping: p has {p.size} entries, the system {sum(sp.size for sp in s.param_specs)}")
+        for name in s.lifting:                           # zero-lift flight: the jig is the equilibrium
+            p[self._lay[f"{name}_alpha_zero_lift"]] = 0.0
+            p[self._lay[f"{name}_cm0"]] = 0.0
+        self._p = p
+        self._q = pack_aero_forcing(s)                   # no gravity, no gust, trim held
+        for k in self.INPUTS:
+            sp = specs[f"{wing}_{k}"]
+            self.add_input(k, val=p[self._lay[sp.name]].reshape(sp.shape), units=sp.units, desc=sp.desc or k)
+        self.add_output("flutter_ks", val=0.0, units="1/s",
+                        desc="KS over speeds and aerodynamically loaded modes of Re(lambda) + margin; <= 0: no flutter")
+        self._aero_mask = np.zeros(s.n_state)
+        for idx in s.lag_index.values():
+            self._aero_mask[np.asarray(idx).ravel()] = 1.0
+        if s.downwash_index is not None:
+            self._aero_mask[s.downwash_index] = 1.0
+        self._beam_mask = np.zeros(s.n_state)
+        for b in s.beams:
+            for i in range(b.num_nodes):
+                k = s.node_index(b.name, i)
+                self._beam_mask[k:k + 6] = 1.0           # r, theta
+        self._cache = None
+        self.paused = False   # True: compute() evaluates nothing (paused_flutter)
+
+    def setup_partials(self):
+        for k in self.INPUTS:
+            sl = self._lay[f"{self.options['wing']}_{k}"]
+            size = sl.stop - sl.start
+            self.declare_partials("flutter_ks", k, rows=np.zeros(size, int), cols=np.arange(size))
+
+    def _params(self, inputs):
+        p = self._p.copy()
+        for k in self.INPUTS:
+            p[self._lay[f"{self.options['wing']}_{k}"]] = np.asarray(inputs[k], dtype=float).ravel()
+        return p
+
+    def _evaluate(self, inputs, gradient):
+        s = self.options["system"]
+        p = self._params(inputs)
+        if self._cache is None or not np.array_equal(self._cache[0], p):
+            a = float(self.options["speed_of_sound"])
+
+            def params_at(V):
+                pv = p.copy()
+                pv[self._lay["airspeed"]] = V
+                pv[self._lay["mach"]] = V / a
+                return pv, self._q.copy()
+
+            try:
+                res = damping_constraint(s, params_at, self._speeds, aero_mask=self._aero_mask,
+                                         beam_mask=self._beam_mask, rho_ks=self.options["rho_ks"],
+                                         margin=self.options["margin"], measure="sigma", static=False,
+                                         neutral_fraction=self.options["neutral_fraction"], gradient=False,
+                                         **dict(self.options["eig_options"] or {}))
+            except (RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
+                raise om.AnalysisError(f"{self.pathname}: flutter eigen-analysis failed: {exc}") from exc
+            self._cache = (p, res)
+        res = self._cache[1]
+        if gradient and res.gradient is None:
+            res.gradient = constraint_gradient(s, res, static=False)
+        return res
+
+    def compute(self, inputs, outputs):
+        if self.paused:
+            return
+        outputs["flutter_ks"] = self._evaluate(inputs, gradient=False).value
+
+    def compute_partials(self, inputs, partials):
+        g = self._evaluate(inputs, gradient=True).gradient
+        for k in self.INPUTS:
+            partials["flutter_ks", k] = g[self._lay[f"{self.options['wing']}_{k}"]]
+
+    @property
+    def last_result(self):
+        """The :class:`~wingmdao.stability.sensitivity.DampingConstraint` of the last evaluation, or None."""
+        return None if self._cache is None else self._cache[1]
+
+
 @contextlib.contextmanager
 def paused_flutter(problem):
     """Context in which every :class:`FlutterDamping` of ``problem`` evaluates nothing
@@ -155,7 +283,8 @@ def paused_flutter(problem):
     contextlib.AbstractContextManager
         The context.
     """
-    comps = list(problem.model.system_iter(include_self=True, recurse=True, typ=FlutterDamping))
+    comps = [c for c in problem.model.system_iter(include_self=True, recurse=True)
+             if isinstance(c, (FlutterDamping, StickFlutterDamping))]
     for c in comps:
         c.paused = True
     try:

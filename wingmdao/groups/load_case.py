@@ -147,6 +147,8 @@ class StickCase:
     forcing: np.ndarray
     families: tuple = ("vm",)
     wing: str = "wing"
+    #: no lone-wing ``CoupledAero`` (the joined system holds its aerodynamics): read as LoadCase.aero is
+    aero = None
 
     @property
     def num_times(self) -> int:

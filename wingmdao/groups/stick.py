@@ -23,11 +23,13 @@ import numpy as np
 import openmdao.api as om
 
 from wingmdao.components.beam_loads import BeamInternalLoads
+from wingmdao.components.flutter import StickFlutterDamping
 from wingmdao.components.ks import KSAggregate
 from wingmdao.components.state_slice import BeamStateSlice
 from wingmdao.components.time_history import TimeHistoryComponent
 from wingmdao.groups.load_case import StickCase
-from wingmdao.groups.wing import (SECTION_KINDS, SECTION_TO_BEAM, WingSizing, _section_classes, stress_points)
+from wingmdao.groups.wing import (SECTION_KINDS, SECTION_OFFSETS, SECTION_TO_BEAM, WingSizing, _section_classes,
+                                  stress_points)
 from wingmdao.materials import Material
 from wingmdao.section.box import WALL_NAMES
 from wingmdao.timemarch.system import layout
@@ -105,11 +107,16 @@ def set_stick_case(prob: om.Problem, case: StickCase, path: str = "") -> None:
 
 class StickSizing(WingSizing):
     """:class:`~wingmdao.groups.wing.WingSizing` (wall design variables, box sections, mass) with
-    stick-model load cases (:class:`StickStructure`, option ``stick_cases``) in ``cases``."""
+    stick-model load cases (:class:`StickStructure`, option ``stick_cases``) in ``cases`` and, with
+    the option ``stick_flutter``, the flutter-damping constraint ``flutter_ks`` of the free stick
+    aircraft (:class:`~wingmdao.components.flutter.StickFlutterDamping`)."""
 
     def initialize(self):
         super().initialize()
         self.options.declare("stick_cases", types=list, recordable=False, desc="list of StickCase")
+        self.options.declare("stick_flutter", default=None, allow_none=True, types=dict, recordable=False,
+                             desc="options of components.flutter.StickFlutterDamping (system, p, speeds, ...): adds "
+                                  "the constraint flutter_ks <= 0 (None: none)")
         self.options["proxy_cases"] = True
         self.options["load_cases"] = []
 
@@ -129,6 +136,11 @@ class StickSizing(WingSizing):
                 num_nodes=n, load_case=case, material=self.options["material"], rho_ks=self.options["rho_ks"],
                 add_constraints=self.options["add_constraints"], newton_options=self.options["newton_options"]),
                 promotes_inputs=shared)
+        if self.options["stick_flutter"] is not None:
+            self.add_subsystem("stick_flutter", StickFlutterDamping(**self.options["stick_flutter"]),
+                               promotes_inputs=[*SECTION_TO_BEAM, *SECTION_OFFSETS], promotes_outputs=["flutter_ks"])
+            if self.options["add_constraints"]:
+                self.add_constraint("flutter_ks", upper=0.0, ref=self.FLUTTER_REF)
 
 
 __all__ = ["StickCase", "StickStructure", "StickSizing", "set_stick_case", "WING_BEAM_INPUTS"]
