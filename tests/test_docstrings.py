@@ -40,7 +40,7 @@ RATCHET: dict[str, int] = {
     "wingmdao.aero.modal_loads": 5,
     "wingmdao.aero.rfa": 5,
     "wingmdao.aero.rfa_system": 3,
-    "wingmdao.cases.pegasus_stick": 12,
+    "wingmdao.cases.pegasus_stick": 11,
     "wingmdao.groups.load_case": 5,
     "wingmdao.groups.stick": 1,
     "wingmdao.loads.turbulence_analysis": 5,
