@@ -32,7 +32,7 @@ from wingmdao.aero.system import cached_aeroelastic_system
 from wingmdao.stability.cases import FlutterProblem
 from wingmdao.stability.eigen import check_speeds
 from wingmdao.stability.sensitivity import constraint_gradient, damping_constraint, WarmStart
-from wingmdao.timemarch.system import layout
+from wingmdao.timemarch.system import ResidualSystem, layout
 
 
 class FlutterDamping(om.ExplicitComponent):
@@ -168,7 +168,8 @@ class StickFlutterDamping(om.ExplicitComponent):
               "shear_center", "mass_center")
 
     def initialize(self):
-        self.options.declare("system", recordable=False, desc="the joined aeroelastic system of the stick aircraft")
+        self.options.declare("system", types=ResidualSystem, recordable=False,
+                             desc="the joined aeroelastic system of the stick aircraft")
         self.options.declare("p", types=np.ndarray, recordable=False,
                              desc="packed parameters of the system (airspeed, Mach and the wing's inputs replaced)")
         self.options.declare("speeds", types=(list, tuple, np.ndarray), desc="airspeeds (m/s TAS, increasing)")
