@@ -47,10 +47,6 @@ RATCHET: dict[str, int] = {
     "wingmdao.sizing": 24,
     "wingmdao.stability.modal": 6,
     "wingmdao.stability.modal_turbulence": 4,
-    "wingmdao.timemarch.adjoint": 15,
-    "wingmdao.timemarch.lu_orders": 5,
-    "wingmdao.timemarch.static_lu": 21,
-    "wingmdao.utils.c_library": 4,
 }
 
 
