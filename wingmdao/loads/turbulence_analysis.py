@@ -231,7 +231,7 @@ def strip_gust_model(beam_params: dict, *, chord, axis_fraction, weight, airspee
     semi_span : float
         Semi-span of the Schrenk spanload (m).
     fuselage_half_width : float
-        Half-width of the fuselage (m) inboard of which the spanload is zero.
+        Fuselage half-width (m) of the Schrenk spanload.
     lift_slope : float
         Section lift slope (1/rad).
     cp_fraction : float
