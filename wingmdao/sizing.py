@@ -47,6 +47,38 @@ WALL_VARS = WALL_NAMES  # the one table of wall names: wingmdao.section.box
 
 @dataclass
 class SizingOptions:
+    """Bounds, start, driver and scaling settings of a wall sizing.
+
+    Parameters
+    ----------
+    lower : dict
+        Lower bound (m) per design variable name; default 1 mm on each wall thickness.
+    upper : dict
+        Upper bound (m) per design variable name; default 0.1 m on each wall thickness.
+    initial : dict
+        Starting values (m) per design variable name; missing names start at their upper bound.
+    optimizer : str
+        Driver name passed to :func:`wingmdao.optimize.make_driver` (default ``"SLSQP"``).
+    maxiter : int
+        Largest number of optimizer iterations.
+    tol : float
+        Optimizer convergence tolerance.
+    rho_ks : float
+        KS aggregation parameter of the stress constraints.
+    recording : str or None
+        Path of the driver's case recorder file; None records nothing.
+    mass_scale : float or None
+        Objective scale (kg): objective = mass / mass_scale; None uses
+        :data:`OBJECTIVE_SCALE` times the initial mass.
+    disp : bool
+        Let the optimizer print its own messages.
+    dv_ref : dict or None
+        Design-variable scaling reference (m) per name; None uses the upper bounds.
+    progress : bool
+        Print a line per driver evaluation (objective, worst KS, time).
+    presize : int
+        Number of fully stressed design passes before the optimizer (box sections, ``vm`` family).
+    """
     lower: dict = field(default_factory=lambda: {w: 1e-3 for w in WALL_VARS})  # m
     upper: dict = field(default_factory=lambda: {w: 0.1 for w in WALL_VARS})  # m
     initial: dict = field(default_factory=dict)  # m, default: upper bounds
@@ -78,7 +110,27 @@ RHO_KS_MIN = 10.0
 
 
 def check_problem_inputs(geometry, load_cases, material, options, section="box") -> None:
-    """ValueError naming the argument for inputs :func:`build_problem` cannot use (before setup)."""
+    """ValueError naming the argument for inputs :func:`build_problem` cannot use (before setup).
+
+    Parameters
+    ----------
+    geometry : WingGeometry
+        The wing's nodes, sections and station map.
+    load_cases : list of LoadCase
+        The load cases to size for.
+    material : wingmdao.materials.Material
+        The wall material.
+    options : SizingOptions
+        Bounds, start and driver settings.
+    section : str
+        Section kind, a key of ``wingmdao.groups.wing.SECTION_KINDS`` (``"box"``, ``"solid"``,
+        ``"stiffened"``, ...).
+
+    Raises
+    ------
+    ValueError
+        Naming the argument, its value and the allowed range.
+    """
     if section not in SECTION_KINDS:
         raise ValueError(f"section = {section!r}; allowed: {', '.join(SECTION_KINDS)}")
     if not isinstance(material, Material):
@@ -199,6 +251,32 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     ``panels``: the stiffened panels and ribs (section ``"stiffened"``, and only there): adds the
     stiffener design variables, the panel failure constraints, the ribs' mass and the sizing rules
     (linear constraints; docs/panels.md).
+
+    Parameters
+    ----------
+    geometry : WingGeometry
+        The wing's nodes, sections and station map.
+    load_cases : list of LoadCase
+        The load cases to size for.
+    material : wingmdao.materials.Material
+        The wall material.
+    options : SizingOptions
+        Bounds, start, driver and scaling settings.
+    driver : bool
+        Add the optimizer, design variables, objective and constraints; False builds the model only.
+    parallel : bool or None
+        Passed to :class:`~wingmdao.groups.wing.WingSizing`: run the load cases in a parallel group.
+    section : str
+        ``"box"``, ``"solid"`` or ``"stiffened"`` (see above).
+    comm : MPI communicator or bool or None
+        With more than one rank, spreads the load cases over its ranks; False/None: one process.
+    flutter : dict or None
+        Options of :class:`~wingmdao.components.flutter.FlutterDamping`; None: no flutter constraint.
+    panels : PanelLayout or None
+        The stiffened panels and ribs (section ``"stiffened"`` only).
+    turbulence : dict or None
+        Options of :class:`~wingmdao.components.turbulence.TurbulenceStressKS`; None: no
+        turbulence constraint.
     """
     check_problem_inputs(geometry, load_cases, material, options, section)
     if (section == "stiffened") != (panels is not None):
@@ -300,7 +378,24 @@ def build_stick_problem(geometry: WingGeometry, stick_cases, material, options: 
     :class:`~wingmdao.groups.stick.StickCase`); returns ``(problem, driver description)`` as
     :func:`build_problem` (box sections, one process). ``flutter``: options of
     :class:`~wingmdao.components.flutter.StickFlutterDamping` (e.g.
-    :func:`wingmdao.cases.pegasus_stick.flutter_options`): adds the constraint flutter_ks <= 0."""
+    :func:`wingmdao.cases.pegasus_stick.flutter_options`): adds the constraint flutter_ks <= 0.
+
+    Parameters
+    ----------
+    geometry : WingGeometry
+        The wing's nodes, sections and station map.
+    stick_cases : list of StickCase
+        The load cases on the aircraft's stick model.
+    material : wingmdao.materials.Material
+        The wall material.
+    options : SizingOptions
+        Bounds, start, driver and scaling settings.
+    driver : bool
+        Add the optimizer, design variables, objective and constraints; False builds the model only.
+    flutter : dict or None
+        Options of :class:`~wingmdao.components.flutter.StickFlutterDamping`; None: no flutter
+        constraint.
+    """
     cases = list(stick_cases)
     if not cases or not all(isinstance(c, StickCase) for c in cases):
         raise ValueError("stick_cases must be a non-empty list of wingmdao.groups.stick.StickCase")
@@ -331,7 +426,13 @@ def control_gain_design_vars(load_cases) -> dict:
     """``{"cases.NAME.controller_C"|"controller_D": {"lower", "upper", "ref"}}`` of the coupled cases
     whose control law is sized (``CoupledAero.gain_design``, docs/controls.md): the gains C and D
     (the filter dynamics A, B stay fixed), bounded by +-4 times the largest initial gain (1 when all
-    are zero)."""
+    are zero).
+
+    Parameters
+    ----------
+    load_cases : list of LoadCase
+        The load cases; only coupled cases with ``gain_design`` contribute.
+    """
     out = {}
     for case in load_cases:
         aero = case.aero
@@ -382,7 +483,15 @@ def shared_turbulence_gains(load_cases, turbulence: dict, gain_vars: dict) -> tu
 
 def control_gains(prob, load_cases) -> dict:
     """``{case: {"outputs": [...], "controller_A": ..., ...}}``: the control laws' matrices of the
-    coupled cases with a law, as the problem holds them (sized or not)."""
+    coupled cases with a law, as the problem holds them (sized or not).
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A set-up sizing problem.
+    load_cases : list of LoadCase
+        Its load cases; coupled cases with a control law are reported.
+    """
     out = {}
     for case in load_cases:
         aero = case.aero
@@ -407,7 +516,21 @@ def initial_mass(geometry: WingGeometry, material, options: SizingOptions, secti
 
     Computed directly (App. F.1 frustum volumes of the section areas, Eq. F.1-F.5 for the box,
     w h for the solid rectangle), without the non-structural mass, as the sizing model's
-    section and mass components would for the initial design variables."""
+    section and mass components would for the initial design variables.
+
+    Parameters
+    ----------
+    geometry : WingGeometry
+        The wing's nodes, sections and station map.
+    material : wingmdao.materials.Material
+        The wall material (density).
+    options : SizingOptions
+        Its ``initial`` values (else upper bounds) are the initial design.
+    section : str
+        Section kind (``"box"``, ``"solid"``, ``"stiffened"``).
+    panels : PanelLayout or None
+        The stiffened panels and ribs (section ``"stiffened"``).
+    """
     design_vars = SECTION_KINDS[section]["design_vars"]
     dv = station_design(geometry, initial_design(options, design_vars), design_vars)
     if section in BOX_KINDS:
@@ -427,7 +550,13 @@ def _stringers(dv: dict, panels: PanelLayout | None):
 
 
 def span_coordinate(geometry: WingGeometry) -> np.ndarray:
-    """The stations' spanwise coordinate (m): ``geometry.span_coordinate``, else body y."""
+    """The stations' spanwise coordinate (m): ``geometry.span_coordinate``, else body y.
+
+    Parameters
+    ----------
+    geometry : WingGeometry
+        The wing's nodes and optional ``span_coordinate``.
+    """
     if geometry.span_coordinate is not None:
         return np.asarray(geometry.span_coordinate, dtype=float)
     return np.asarray(geometry.node_positions, dtype=float)[:, 1]
@@ -441,7 +570,21 @@ ADJACENCY_THICKNESS, ADJACENCY_HEIGHT = 2.5e-3, 10e-3
 def add_sizing_rules(model, options: SizingOptions, panels: PanelLayout, design_vars, n_dv: int) -> None:
     """The stiffened panels' sizing rules as linear constraints (components.panels.SizingRules):
     web aspect 5 <= h/ts <= 30, ts <= 15 t_skin, and neighbouring stations within 2.5 mm
-    (thicknesses) and 10 mm (stiffener heights)."""
+    (thicknesses) and 10 mm (stiffener heights).
+
+    Parameters
+    ----------
+    model : openmdao.api.Group
+        The problem's model the constraint component is added to.
+    options : SizingOptions
+        Bounds and scaling settings.
+    panels : PanelLayout
+        The stiffened panels.
+    design_vars : sequence of str
+        The design variable names.
+    n_dv : int
+        Number of design stations.
+    """
     ref = options.upper.get("t_upper_skin", 0.01)
     for name in ("stiffener_aspect_min", "stiffener_aspect_max", "stiffener_over_skin"):
         model.add_constraint(f"rules.{name}", upper=0.0, linear=True, ref=ref)
@@ -451,7 +594,17 @@ def add_sizing_rules(model, options: SizingOptions, panels: PanelLayout, design_
 
 
 def station_design(geometry: WingGeometry, design: dict, design_vars) -> dict:
-    """Per-node values ``{name: (n,)}`` of a design given per design station (1 or n_dv values each)."""
+    """Per-node values ``{name: (n,)}`` of a design given per design station (1 or n_dv values each).
+
+    Parameters
+    ----------
+    geometry : WingGeometry
+        The wing; its ``station_map`` maps nodes to design stations.
+    design : dict
+        ``{name: values}``, 1 or n_dv values per design variable (m).
+    design_vars : sequence of str
+        The design variable names to expand.
+    """
     n = geometry.num_nodes
     smap = np.arange(n) if geometry.station_map is None else np.asarray(geometry.station_map)
     return {w: np.asarray(np.broadcast_to(np.asarray(design[w], dtype=float), (int(smap.max()) + 1,)))[smap]
@@ -462,7 +615,21 @@ def design_beam_params(geometry: WingGeometry, material, design: dict, section: 
                        panels: PanelLayout | None = None) -> dict:
     """Beam parameters of a design, computed directly from the section functions (App. A, F):
     what the sizing model's section component feeds its beam. ``design`` maps the design
-    variables to values per design station (1 or n_dv values each)."""
+    variables to values per design station (1 or n_dv values each).
+
+    Parameters
+    ----------
+    geometry : WingGeometry
+        The wing's nodes, sections and station map.
+    material : wingmdao.materials.Material
+        The wall material.
+    design : dict
+        ``{name: values}`` per design station (m).
+    section : str
+        Section kind (``"box"``, ``"solid"``, ``"stiffened"``).
+    panels : PanelLayout or None
+        The stiffened panels (section ``"stiffened"``).
+    """
     n = geometry.num_nodes
     dv = station_design(geometry, design, SECTION_KINDS[section]["design_vars"])
     if section in BOX_KINDS:
@@ -485,7 +652,15 @@ def design_beam_params(geometry: WingGeometry, material, design: dict, section: 
 
 
 def initial_design(options: SizingOptions, design_vars) -> dict:
-    """The starting design ``{name: values}``: ``options.initial``, else the upper bounds."""
+    """The starting design ``{name: values}``: ``options.initial``, else the upper bounds.
+
+    Parameters
+    ----------
+    options : SizingOptions
+        Its ``initial`` values and upper bounds.
+    design_vars : sequence of str
+        The design variable names.
+    """
     return {w: options.initial.get(w, options.upper[w]) for w in design_vars}
 
 
@@ -495,6 +670,19 @@ def initial_frequencies(geometry: WingGeometry, material, options: SizingOptions
 
     Used to place structural damping (:class:`~wingmdao.beam.residual.StrainRateDamping`) at the
     first bending mode; the beam parameters come directly from :func:`design_beam_params`.
+
+    Parameters
+    ----------
+    geometry : WingGeometry
+        The wing's nodes, sections and station map.
+    material : wingmdao.materials.Material
+        The wall material.
+    options : SizingOptions
+        Its ``initial`` values (else upper bounds) are the initial design.
+    count : int
+        Number of frequencies.
+    section : str
+        Section kind (``"box"`` or ``"solid"``).
     """
     params = design_beam_params(geometry, material, initial_design(options, SECTION_KINDS[section]["design_vars"]),
                                 section)
@@ -506,6 +694,19 @@ def initial_frequencies(geometry: WingGeometry, material, options: SizingOptions
 
 def set_geometry(prob: om.Problem, geometry: WingGeometry, section: str = "box",
                  panels: PanelLayout | None = None) -> None:
+    """Set the wing's geometry inputs (node positions and angles, section sizes, panel lengths, section map) on a set-up problem.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A set-up sizing problem.
+    geometry : WingGeometry
+        The wing's nodes, sections and station map.
+    section : str
+        Section kind; box kinds also set the box width and height (m).
+    panels : PanelLayout or None
+        The stiffened panels; sets the panel lengths (m).
+    """
     n = geometry.num_nodes
     prob.set_val("node_positions", geometry.node_positions, units="m")
     prob.set_val("node_euler_angles", geometry.node_euler_angles, units="rad")
@@ -524,7 +725,27 @@ def set_geometry(prob: om.Problem, geometry: WingGeometry, section: str = "box",
 
 def run_sizing(prob: om.Problem, load_cases, driver_desc: str, *, optimize=True, section="box", panels=None,
                geometry=None, material=None) -> dict:
-    """Run the driver (or the model) and return the JSON-ready summary."""
+    """Run the driver (or the model) and return the JSON-ready summary.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A set-up sizing problem with its geometry set.
+    load_cases : list of LoadCase
+        Its load cases.
+    driver_desc : str
+        The driver's description, copied into the summary.
+    optimize : bool
+        Run the driver; False runs the model once.
+    section : str
+        Section kind.
+    panels : PanelLayout or None
+        The stiffened panels (section ``"stiffened"``).
+    geometry : WingGeometry or None
+        The wing, for the panel and rib summaries.
+    material : wingmdao.materials.Material or None
+        The wall material, for the panel and rib summaries.
+    """
     t0 = _time.perf_counter()
     if optimize:
         outcome = prob.run_driver()
@@ -538,7 +759,15 @@ def run_sizing(prob: om.Problem, load_cases, driver_desc: str, *, optimize=True,
 
 
 def station_values(prob, name: str) -> np.ndarray:
-    """Per-station values of design variable ``name`` (expanded when stations share variables)."""
+    """Per-station values of design variable ``name`` (expanded when stations share variables).
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A sizing problem.
+    name : str
+        Design variable name.
+    """
     try:
         return prob.get_val(f"{name}_station", units="m")
     except KeyError:
@@ -547,6 +776,34 @@ def station_values(prob, name: str) -> np.ndarray:
 
 def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, section="box", panels=None,
               geometry=None, material=None) -> dict:
+    """JSON-ready summary of a sizing problem's current design: mass, design variables per station, KS values, driver and time.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A run sizing problem.
+    load_cases : list of LoadCase
+        Its load cases.
+    driver_desc : str
+        The driver's description.
+    success : bool
+        Whether the driver converged.
+    wall_s : float
+        Wall-clock time of the run (s).
+    section : str
+        Section kind.
+    panels : PanelLayout or None
+        The stiffened panels (section ``"stiffened"``).
+    geometry : WingGeometry or None
+        The wing, for the panel and rib summaries.
+    material : wingmdao.materials.Material or None
+        The wall material, for the panel and rib summaries.
+
+    Returns
+    -------
+    dict
+        The summary.
+    """
     ks = {c.name: {f: float(prob.get_val(f"cases.{c.name}.ks_{f}")[0]) for f in case_families(c, section, panels)}
           for c in load_cases}
     out = {
@@ -595,7 +852,17 @@ def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, sectio
 
 def case_families(case, section: str = "box", panels: PanelLayout | None = None) -> tuple:
     """The KS families of a load case: its stress families, and with stiffened panels the panel
-    modes (:func:`wingmdao.panels.layout.panel_families`)."""
+    modes (:func:`wingmdao.panels.layout.panel_families`).
+
+    Parameters
+    ----------
+    case : LoadCase
+        The load case.
+    section : str
+        Section kind.
+    panels : PanelLayout or None
+        The stiffened panels (adds their failure modes).
+    """
     if section != "stiffened":
         return tuple(case.families)
     fams = panel_families(panels is not None and panels.laminate)
@@ -623,6 +890,21 @@ def presize_fully_stressed(prob, load_cases, geometry: WingGeometry, options: Si
     Box sections and load cases with the ``vm`` family only. A flutter constraint is paused in
     these passes (:func:`~wingmdao.components.flutter.paused_flutter`: the optimizer never sees
     their designs). Returns the pass history.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A set-up sizing problem with its geometry set; its design variables are updated.
+    load_cases : list of LoadCase
+        Its load cases (those with the ``vm`` family are used).
+    geometry : WingGeometry
+        The wing; its ``station_map`` maps nodes to design stations.
+    options : SizingOptions
+        The bounds the resized thicknesses are clipped to.
+    passes : int
+        Number of passes; 0 or less does nothing.
+    progress : bool
+        Print a line per pass.
     """
     if passes <= 0:
         return {"passes": 0}
@@ -655,6 +937,17 @@ def size_case(setup, *, optimize: bool = True, parallel: bool | None = None, com
     (:func:`presize_fully_stressed`) set the optimizer's starting point; their time is in ``wall_s``.
     ``comm``: None = the MPI world when run under ``mpirun -n P > 1`` (cases spread over the
     ranks, :mod:`wingmdao.parallel`), else serial; False = serial.
+
+    Parameters
+    ----------
+    setup : wingmdao.cases.CaseSetup
+        The case's geometry, load cases, material, options and constraints.
+    optimize : bool
+        Run the optimizer; False analyses the initial design.
+    parallel : bool or None
+        Passed to :func:`build_problem`.
+    comm : MPI communicator or bool or None
+        See above.
     """
     if comm is None:
         comm = world_comm()
@@ -671,7 +964,19 @@ def size_case(setup, *, optimize: bool = True, parallel: bool | None = None, com
 def presize_and_size(prob, setup, desc: str, *, optimize: bool = True) -> dict:
     """The fully stressed presizing passes of ``setup.options.presize`` (box sections, when
     optimizing; :func:`presize_fully_stressed`), then :func:`run_sizing`; the result dict has the
-    passes' time in ``wall_s`` and their history in ``presize``."""
+    passes' time in ``wall_s`` and their history in ``presize``.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        The set-up sizing problem of ``setup``.
+    setup : wingmdao.cases.CaseSetup
+        The case's geometry, load cases, material and options.
+    desc : str
+        The driver's description.
+    optimize : bool
+        Presize and run the optimizer; False runs the model once.
+    """
     pre = {"passes": 0}
     if optimize and setup.options.presize > 0 and setup.section in BOX_KINDS:
         pre = presize_fully_stressed(prob, setup.load_cases, setup.geometry, setup.options,
@@ -692,7 +997,13 @@ def release_derivative_storage(prob) -> int:
     (:func:`wingmdao.utils.memory.return_freed_memory`). Results and outputs are untouched; a later
     derivative computation linearizes again. Called after a sizing, before the flutter search
     (``wingmdao size``), so its memory does not stack on the adjoint's. Returns the number of
-    components released."""
+    components released.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A sizing problem after a derivative computation.
+    """
     released = 0
     for system in prob.model.system_iter(recurse=True, include_self=False):
         if getattr(system, "_lin", None) is not None:
@@ -755,7 +1066,17 @@ def turbulence_loads(prob) -> dict | None:
 
 def case_responses(prob, setup, togw_lb) -> dict:
     """Per load case of the analysed design: peak load factor (lift of both halves / TOGW weight)
-    and peak root bending moment (N m), :func:`wingmdao.aero.coupled.load_case_response`."""
+    and peak root bending moment (N m), :func:`wingmdao.aero.coupled.load_case_response`.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        An analysed sizing problem.
+    setup : wingmdao.cases.CaseSetup
+        The case: its load cases and geometry.
+    togw_lb : float
+        Take-off gross weight (lb), the load factor's reference.
+    """
     out = {}
     for case in setup.load_cases:
         r = load_case_response(prob, case, setup.geometry.num_nodes, togw_lb * LB * G0)
@@ -813,7 +1134,21 @@ def maneuver_elevator_trim(prob, case, num_nodes: int, weight: float) -> dict | 
 def partial_result(prob, setup, desc, recording, interrupted=True) -> dict:
     """The result of a sizing stopped by Ctrl-C (or a failed analysis): the design at the last
     evaluation and, from the recording, ``best_design`` (the lowest objective with every KS
-    constraint <= 0, :func:`wingmdao.report.best_design`); ``success`` false."""
+    constraint <= 0, :func:`wingmdao.report.best_design`); ``success`` false.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        The interrupted sizing problem.
+    setup : wingmdao.cases.CaseSetup
+        The case: its load cases, section, panels, geometry and material.
+    desc : str
+        The driver's description.
+    recording : str or None
+        Path of the driver's recording, searched for the best feasible design.
+    interrupted : bool
+        Copied to the result's ``interrupted`` flag.
+    """
     import os
 
 

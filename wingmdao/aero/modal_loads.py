@@ -54,6 +54,18 @@ class StationLoadModel:
     moment N m, body axes) per unit modal amplitude and dynamic pressure; ``gust`` (3 + L, n, 6):
     the same per unit ``w_g / V``; ``inertia`` (n, 6, modes): internal loads per unit modal
     acceleration; ``error``: the fit error of the station loads (as the approximation's ``error``).
+
+    Parameters
+    ----------
+    motion : numpy.ndarray
+        Roger coefficients of the aerodynamic station loads per unit modal amplitude and dynamic
+        pressure, shape (3 + L, n, 6, modes).
+    gust : numpy.ndarray
+        The same per unit ``w_g / V``, shape (3 + L, n, 6).
+    inertia : numpy.ndarray
+        Internal loads per unit modal acceleration, shape (n, 6, modes).
+    error : float
+        Fit error of the station loads.
     """
 
     motion: np.ndarray
@@ -72,7 +84,22 @@ def _modal_inertia(modes: NormalModes) -> np.ndarray:
 
 def station_load_model(gaf: GeneralizedForces, rfa: RogerApproximation, modes: NormalModes) -> StationLoadModel:
     """:class:`StationLoadModel` of the doublet-lattice station loads of ``gaf`` fitted with the lag
-    roots of ``rfa``, and the inertia of ``modes``."""
+    roots of ``rfa``, and the inertia of ``modes``.
+
+    Parameters
+    ----------
+    gaf : wingmdao.aero.dlm.GeneralizedForces
+        Tabulated generalized forces with their station loads.
+    rfa : wingmdao.aero.rfa.RogerApproximation
+        The approximation whose lag roots are used.
+    modes : wingmdao.beam.modes.NormalModes
+        The modes (their inertia loads).
+
+    Returns
+    -------
+    StationLoadModel
+        The station-load recovery.
+    """
     if gaf.station_loads is None:
         raise ValueError("the generalized forces carry no station loads (wingmdao.aero.dlm.generalized_forces)")
     nm = gaf.Q.shape[1]
@@ -91,7 +118,30 @@ def modal_accelerations(structure, rfa: RogerApproximation, X, F, airspeed, dens
     """Modal accelerations ``v'`` (nt, modes) of marched states ``X`` (nt, states) of
     :func:`wingmdao.aero.rfa_system.modal_rfa_system` under its forcing ``F`` (nt, 3 + modes
     [+ 2 with ``tail``, :class:`wingmdao.aero.modal_free.ModalTail`]), from the modal equations of
-    motion."""
+    motion.
+
+    Parameters
+    ----------
+    structure : wingmdao.stability.pk.ModalStructure
+        Modal mass, stiffness and damping.
+    rfa : wingmdao.aero.rfa.RogerApproximation
+        The Roger approximation of the system.
+    X : numpy.ndarray
+        Marched states, shape (nt, states).
+    F : numpy.ndarray
+        Forcing history, shape (nt, 3 + modes [+ 2]).
+    airspeed : float
+        True airspeed (m/s).
+    density : float
+        Air density (kg/m^3).
+    tail : wingmdao.aero.modal_free.ModalTail or None
+        The free aircraft's horizontal tail; None: none.
+
+    Returns
+    -------
+    numpy.ndarray
+        Modal accelerations, shape (nt, modes).
+    """
     M, K, C = (np.asarray(a, dtype=float) for a in (structure.mass, structure.stiffness, structure.damping))
     n, L, b = M.shape[0], rfa.n_lags, float(rfa.b_ref)
     V, rho = float(airspeed), float(density)
@@ -116,7 +166,32 @@ def station_load_history(model: StationLoadModel, structure, rfa: RogerApproxima
     :func:`wingmdao.aero.rfa_system.modal_rfa_system`: internal force (N) and moment (N m) at every
     beam node, body axes, by force summation (module docstring); ``aerodynamic`` is the panel
     forces' share alone (its root force z is the half-wing's lift). ``tail``: the free aircraft's
-    tail in the modal equations (:func:`modal_accelerations`)."""
+    tail in the modal equations (:func:`modal_accelerations`).
+
+    Parameters
+    ----------
+    model : StationLoadModel
+        The station-load recovery.
+    structure : wingmdao.stability.pk.ModalStructure
+        Modal mass, stiffness and damping.
+    rfa : wingmdao.aero.rfa.RogerApproximation
+        The Roger approximation of the system.
+    X : numpy.ndarray
+        Marched states, shape (nt, states).
+    F : numpy.ndarray
+        Forcing history, shape (nt, 3 + modes [+ 2]).
+    airspeed : float
+        True airspeed (m/s).
+    density : float
+        Air density (kg/m^3).
+    tail : wingmdao.aero.modal_free.ModalTail or None
+        The free aircraft's horizontal tail; None: none.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(total, aerodynamic)``, each shape (nt, n, 6).
+    """
     n, L, b = structure.mass.shape[0], rfa.n_lags, float(rfa.b_ref)
     V = float(airspeed)
     qd = 0.5 * float(density) * V ** 2
@@ -137,7 +212,28 @@ def harmonic_station_loads(structure, gaf: GeneralizedForces, modes: NormalModes
     """Frequency response of the station loads (n, 6) complex (N, N m per m/s of gust velocity at
     ``x_gust``) to a harmonic gust at reduced frequency ``k``, with the exact tabulated
     doublet-lattice matrices (no rational approximation): the modal amplitudes from
-    ``[-omega^2 M + i omega C + K - q_d Q(ik)] q = q_d Q_g(ik) / V``, then force summation."""
+    ``[-omega^2 M + i omega C + K - q_d Q(ik)] q = q_d Q_g(ik) / V``, then force summation.
+
+    Parameters
+    ----------
+    structure : wingmdao.stability.pk.ModalStructure
+        Modal mass, stiffness and damping.
+    gaf : wingmdao.aero.dlm.GeneralizedForces
+        Tabulated generalized forces with their station loads.
+    modes : wingmdao.beam.modes.NormalModes
+        The modes (their inertia loads).
+    airspeed : float
+        True airspeed (m/s).
+    density : float
+        Air density (kg/m^3).
+    k : float
+        A tabulated reduced frequency.
+
+    Returns
+    -------
+    numpy.ndarray
+        Complex station loads, shape (n, 6).
+    """
     V, rho = float(airspeed), float(density)
     qd = 0.5 * rho * V ** 2
     omega = float(k) * V / gaf.b_ref

@@ -45,6 +45,25 @@ class RogerApproximation:
     ``b_ref`` m; ``k`` the fitted reduced frequencies; ``error`` the fit error: max over k of
     ``||Q_fit(ik) - Q(ik)||_F / max_k ||Q(ik)||_F``; ``gust_error`` the same for the gust column;
     ``low_k_slope``: the fit also matches the slope at k = 0 (:func:`fit`).
+
+    Parameters
+    ----------
+    lags : numpy.ndarray
+        Lag roots gamma_l (> 0), shape (L,).
+    A : numpy.ndarray
+        Real coefficient matrices A_0, A_1, A_2 and one per lag, shape (3 + L, modes, modes).
+    gust : numpy.ndarray
+        The same for the gust column, shape (3 + L, modes).
+    b_ref : float
+        Reference semi-chord (m).
+    k : numpy.ndarray
+        The fitted reduced frequencies.
+    error : float
+        Fit error of the generalized forces (relative Frobenius norm).
+    gust_error : float
+        Fit error of the gust column.
+    low_k_slope : bool
+        Whether the fit matches the slope at k = 0.
     """
 
     lags: np.ndarray
@@ -69,7 +88,20 @@ class RogerApproximation:
 def default_lags(k, n_lags: int = N_LAGS) -> np.ndarray:
     """Lag roots spread over the tabulated reduced frequencies: ``gamma_l = 1.7 k_max (l / (L + 1))^2``
     (the spacing of Tiffany & Adams, "Nonlinear programming extensions to rational function
-    approximation methods for unsteady aerodynamic forces", NASA TP-2776, 1988, Sec. 2)."""
+    approximation methods for unsteady aerodynamic forces", NASA TP-2776, 1988, Sec. 2).
+
+    Parameters
+    ----------
+    k : array_like
+        Tabulated reduced frequencies.
+    n_lags : int
+        Number of lag roots L.
+
+    Returns
+    -------
+    numpy.ndarray
+        Lag roots, shape (L,).
+    """
     kmax = float(np.max(k))
     if not kmax > 0.0:
         raise ValueError(f"the reduced frequencies must include k > 0 to choose lag roots, got {np.asarray(k).tolist()}")
@@ -120,7 +152,24 @@ def fit(gaf: GeneralizedForces, lags=None, *, n_lags: int = N_LAGS, low_k_slope:
     slope ``dQ/dp`` at p = 0 of the data (:func:`_fit_entries`; the rigid-body modes of a free
     aircraft, whose slow motion the unweighted fit's error at small k would mis-damp). ValueError: a
     lag root <= 0 (an unstable or static lag state), repeated roots, or fewer tabulated k than
-    coefficients to fit."""
+    coefficients to fit.
+
+    Parameters
+    ----------
+    gaf : wingmdao.aero.dlm.GeneralizedForces
+        Tabulated generalized forces.
+    lags : array_like or None
+        Lag roots (> 0, distinct); None: :func:`default_lags`.
+    n_lags : int
+        Number of lag roots when ``lags`` is None.
+    low_k_slope : bool
+        Also match the slope at p = 0.
+
+    Returns
+    -------
+    RogerApproximation
+        The approximation.
+    """
     k = np.asarray(gaf.k, dtype=float)
     lags = default_lags(k, n_lags) if lags is None else np.atleast_1d(np.asarray(lags, dtype=float))
     if lags.size and not np.all(np.isfinite(lags) & (lags > 0.0)):
@@ -143,7 +192,20 @@ def fit(gaf: GeneralizedForces, lags=None, *, n_lags: int = N_LAGS, low_k_slope:
 
 def pole_real_parts(rfa: RogerApproximation, airspeed) -> np.ndarray:
     """Real parts (1/s) of the lag states' poles ``-gamma_l V / b_ref`` at ``airspeed`` (m/s): all
-    negative, so the lag states are stable on their own."""
+    negative, so the lag states are stable on their own.
+
+    Parameters
+    ----------
+    rfa : RogerApproximation
+        The approximation.
+    airspeed : float or array_like
+        Airspeed (m/s).
+
+    Returns
+    -------
+    numpy.ndarray
+        Real parts (1/s).
+    """
     return -rfa.lags * float(airspeed) / rfa.b_ref
 
 
@@ -151,7 +213,24 @@ def fit_columns(rfa: RogerApproximation, k, values) -> tuple[np.ndarray, float]:
     """Roger coefficients (3 + L, ...) of further tabulated outputs ``values`` (nk, ...) complex
     (station loads, say) with the lag roots of ``rfa``, so that they are recovered in the time
     domain from the same lag states; and their fit error (max over k of the Frobenius norm of the
-    misfit over the largest tabulated norm). The slope at k = 0 is matched when ``rfa`` matches it."""
+    misfit over the largest tabulated norm). The slope at k = 0 is matched when ``rfa`` matches it.
+
+    Parameters
+    ----------
+    rfa : RogerApproximation
+        The approximation whose lag roots are used.
+    k : array_like
+        Reduced frequencies of ``values``, shape (nk,).
+    values : array_like
+        Complex tabulated outputs, shape (nk, ...).
+
+    Returns
+    -------
+    numpy.ndarray
+        Coefficients, shape (3 + L, ...).
+    float
+        The fit error.
+    """
     k = np.asarray(k, dtype=float)
     v = np.asarray(values, dtype=complex)
     flat = v.reshape(k.size, -1)

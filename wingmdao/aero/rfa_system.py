@@ -32,7 +32,18 @@ from wingmdao.timemarch.system import CasadiResidualSystem, VarSpec
 
 def param_specs(n_modes: int | None = None) -> list[VarSpec]:
     """Airspeed and density; with ``n_modes`` also the modal mass and stiffness (a design-dependent
-    structure, :mod:`wingmdao.aero.modal_design`)."""
+    structure, :mod:`wingmdao.aero.modal_design`).
+
+    Parameters
+    ----------
+    n_modes : int or None
+        Number of modes; None: airspeed and density only.
+
+    Returns
+    -------
+    list of VarSpec
+        The parameter specifications.
+    """
     specs = [VarSpec("airspeed", (), "m/s", "true airspeed"),
              VarSpec("density", (), "kg/m**3", "air density")]
     if n_modes is not None:
@@ -45,7 +56,20 @@ def param_specs(n_modes: int | None = None) -> list[VarSpec]:
 def forcing_specs(n_modes: int, tail: bool = False) -> list[VarSpec]:
     """Forcing of one instant: the gust at ``x_gust`` and its rates, the applied modal force; with
     ``tail`` (a free aircraft's horizontal tail, :mod:`wingmdao.aero.modal_free`) also the gust at
-    the tail and at the wing root."""
+    the tail and at the wing root.
+
+    Parameters
+    ----------
+    n_modes : int
+        Number of modes.
+    tail : bool
+        Add the gust at the tail and at the wing root.
+
+    Returns
+    -------
+    list of VarSpec
+        The forcing specifications.
+    """
     specs = [VarSpec("gust_velocity", (), "m/s", "vertical gust velocity w_g at x_gust (up)"),
              VarSpec("gust_velocity_rate", (), "m/s**2", "dw_g/dt at x_gust"),
              VarSpec("gust_velocity_acceleration", (), "m/s**3", "d2w_g/dt2 at x_gust"),
@@ -65,7 +89,24 @@ def modal_rfa_system(structure, rfa: RogerApproximation, *, design: bool = False
     marcher's adjoint gives their derivatives (:mod:`wingmdao.aero.modal_design`). ``tail``: the
     quasi-steady horizontal tail of a free aircraft (:class:`wingmdao.aero.modal_free.ModalTail`),
     its generalized force ``tail.force(q_d, V, q, v, w_t, w_r)`` added to the modal equations and
-    the gust at the tail and root as two more forcing entries."""
+    the gust at the tail and root as two more forcing entries.
+
+    Parameters
+    ----------
+    structure : wingmdao.stability.pk.ModalStructure
+        Modal mass, stiffness and damping.
+    rfa : wingmdao.aero.rfa.RogerApproximation
+        The Roger approximation.
+    design : bool
+        Modal mass and stiffness as parameters.
+    tail : wingmdao.aero.modal_free.ModalTail or None
+        The quasi-steady horizontal tail of a free aircraft; None: none.
+
+    Returns
+    -------
+    CasadiResidualSystem
+        The residual system.
+    """
     M, K, C = (np.asarray(a, dtype=float) for a in (structure.mass, structure.stiffness, structure.damping))
     n = M.shape[0]
     L = rfa.n_lags

@@ -92,7 +92,25 @@ _ROTARY = np.diag([1e-3, 1e-3, 1e-3])
 class StickAircraft:
     """The half aircraft: its :class:`~wingmdao.beam.joints.JoinedBeamModel` (``model``), the mass
     (kg, half aircraft), centre of gravity (m, body axes) and pitch inertia about it (kg m^2, half
-    aircraft) of the jig, and the beams' node positions in body axes (``nodes``)."""
+    aircraft) of the jig, and the beams' node positions in body axes (``nodes``).
+
+    Parameters
+    ----------
+    model : wingmdao.beam.joints.JoinedBeamModel
+        The joined beams of the half aircraft.
+    mass : float
+        Mass of the jig (kg, half aircraft).
+    cg : numpy.ndarray
+        Centre of gravity of the jig (m, body axes), shape (3,).
+    pitch_inertia : float
+        Pitch inertia about the centre of gravity (kg m^2, half aircraft).
+    nodes : dict
+        ``{beam name: (n, 3) node positions}`` (m, body axes).
+    wing_chord : numpy.ndarray
+        The wing's chord per node (m).
+    wing_axis_fraction : numpy.ndarray
+        The wing's beam axis per node as a fraction of the chord from the leading edge.
+    """
 
     model: JoinedBeamModel
     mass: float
@@ -143,7 +161,21 @@ def _beam_mass(params):
 def build(num_wing_nodes: int = 20, thickness: dict | None = None) -> StickAircraft:
     """The free symmetric half PEGASUS stick model (module docstring): wing, fuselage, fin and
     horizontal tail, engines and payload as lumped masses, symmetry conditions on the plane of
-    symmetry. ``thickness``: the wing's walls (m per node, as :func:`wingmdao.cases.pegasus.beam_params`)."""
+    symmetry. ``thickness``: the wing's walls (m per node, as :func:`wingmdao.cases.pegasus.beam_params`).
+
+    Parameters
+    ----------
+    num_wing_nodes : int
+        Number of wing nodes.
+    thickness : dict or None
+        The wing's wall thicknesses (m per node, as :func:`wingmdao.cases.pegasus.beam_params`);
+        None: :func:`wingmdao.cases.pegasus.initial_thickness`.
+
+    Returns
+    -------
+    StickAircraft
+        The half aircraft.
+    """
     wing, geo, chord, frac = _wing_params(num_wing_nodes, thickness)
     r_wing = np.asarray(wing["node_positions"], dtype=float)
     x_wing = float(r_wing[0, 0])
@@ -233,7 +265,18 @@ def _mass_properties(parts, body, axes, masses):
 def monitoring_stations(aircraft: StickAircraft) -> list:
     """The monitoring stations of the half aircraft (:class:`~wingmdao.beam.joints.MonitoringStation`):
     the wing's root rib (the cut inboard of wing node 1), the fuselage just ahead of and just aft of
-    the wing joint, the fuselage ahead of the fin, the fin root and the horizontal tail root."""
+    the wing joint, the fuselage ahead of the fin, the fin root and the horizontal tail root.
+
+    Parameters
+    ----------
+    aircraft : StickAircraft
+        The half aircraft (from :func:`build`).
+
+    Returns
+    -------
+    list of wingmdao.beam.joints.MonitoringStation
+        The stations.
+    """
     s = aircraft.model.system
     i_wing = next(jt.node_a for jt in s.joints if jt.beam_b == "wing")
     i_fin = next(jt.node_a for jt in s.joints if jt.beam_b == "fin")
@@ -259,7 +302,15 @@ def balanced_maneuver(aircraft: StickAircraft, load_factor: float) -> dict:
 
     Returns ``wing_lift`` and ``tail_load`` (N, half aircraft), ``accelerations`` (of the body axes;
     the CG's vertical acceleration is (n - 1) g and the pitch acceleration zero up to the CG's shift
-    by the deformation), ``loads`` at :func:`monitoring_stations` and the state ``x``."""
+    by the deformation), ``loads`` at :func:`monitoring_stations` and the state ``x``.
+
+    Parameters
+    ----------
+    aircraft : StickAircraft
+        The half aircraft (from :func:`build`).
+    load_factor : float
+        The maneuver's load factor n.
+    """
     if not np.isfinite(load_factor):
         raise ValueError(f"load_factor = {load_factor}; must be a finite number")
     m = aircraft.model
@@ -290,7 +341,20 @@ def natural_frequencies(aircraft: StickAircraft, count: int = 8) -> dict:
     """The free half aircraft's modes about the jig (the flutter linearization,
     :func:`wingmdao.stability.eigen.eigenmodes`): ``rigid`` (the number of zero-frequency modes:
     3) and the lowest ``count`` elastic frequencies ``hz`` with the share of each beam in the mode's
-    displacement (``shares``, {beam: fraction of the sum of squared nodal displacements})."""
+    displacement (``shares``, {beam: fraction of the sum of squared nodal displacements}).
+
+    Parameters
+    ----------
+    aircraft : StickAircraft
+        The half aircraft (from :func:`build`).
+    count : int
+        Number of elastic frequencies.
+
+    Returns
+    -------
+    dict
+        ``rigid``, ``hz`` and ``shares`` as above.
+    """
     m = aircraft.model
     s = m.system
     modes = eigenmodes(s, m.p, m.forcing(), s.jig_state(m.p), static=False, method="dense")
@@ -313,7 +377,23 @@ class StickGust:
     """Gust response of the free half aircraft (:func:`gust_response`): ``time`` (s),
     ``load_factor`` (body-z aerodynamic force of wing and tail over W), ``trim`` (alpha_trim and tail_incidence in rad,
     thrust in N, half aircraft), ``loads`` ({station label: {"force", "moment"}: (n_time, 3) body
-    axes, N and N m}) at :func:`monitoring_stations`, the downwash gradient used and the states."""
+    axes, N and N m}) at :func:`monitoring_stations`, the downwash gradient used and the states.
+
+    Parameters
+    ----------
+    time : numpy.ndarray
+        Time steps (s), shape (n_time,).
+    load_factor : numpy.ndarray
+        Body-z aerodynamic force of wing and tail over W per time step.
+    trim : dict
+        ``alpha_trim`` and ``tail_incidence`` (rad), ``thrust`` (N, half aircraft).
+    loads : dict
+        ``{station label: {"force", "moment"}: (n_time, 3)}`` (body axes, N and N m).
+    downwash_gradient : float
+        The deps/dalpha used.
+    states : numpy.ndarray
+        The system's state history, shape (n_time, n_states).
+    """
 
     time: np.ndarray
     load_factor: np.ndarray
@@ -326,7 +406,18 @@ class StickGust:
 def downwash_gradient(mach: float) -> float:
     """deps/dalpha at the tail (assumption): ``2 a_w / (pi AR)`` (Etkin & Reid, *Dynamics of Flight*,
     3rd ed., 1996, Sec. 2.4; Nelson, *Flight Stability and Automatic Control*, 2nd ed., 1998,
-    Sec. 2.4) with the strips' wing slope a_w = 2 pi / sqrt(1 - M^2) and the PEGASUS aspect ratio."""
+    Sec. 2.4) with the strips' wing slope a_w = 2 pi / sqrt(1 - M^2) and the PEGASUS aspect ratio.
+
+    Parameters
+    ----------
+    mach : float
+        Flight Mach number (< 1).
+
+    Returns
+    -------
+    float
+        deps/dalpha at the tail.
+    """
     pf = pegasus.PLANFORM
     aspect = (2 * pf.semi_span) ** 2 / (pf.area_ft2 * FT ** 2)
     return float(2 * (2 * np.pi / np.sqrt(1 - mach ** 2)) / (np.pi * aspect))
@@ -334,7 +425,18 @@ def downwash_gradient(mach: float) -> float:
 
 def aeroelastic_system(aircraft: StickAircraft):
     """The half aircraft's joined system with strip aerodynamics on the wing and the horizontal tail
-    (:func:`wingmdao.aero.joined.build_joined_aeroelastic_system`, trim supports :data:`SUPPORTS`)."""
+    (:func:`wingmdao.aero.joined.build_joined_aeroelastic_system`, trim supports :data:`SUPPORTS`).
+
+    Parameters
+    ----------
+    aircraft : StickAircraft
+        The half aircraft (from :func:`build`).
+
+    Returns
+    -------
+    wingmdao.timemarch.system.ResidualSystem
+        The joined aeroelastic system.
+    """
     s = aircraft.model.system
     return build_joined_aeroelastic_system(s.beams, s.joints, lifting=("wing", "tail"), supports=SUPPORTS,
                                            masses=s.masses, symmetry=s.symmetry, euler_sequence=s.euler_sequence)
@@ -343,7 +445,28 @@ def aeroelastic_system(aircraft: StickAircraft):
 def aero_parameters(aircraft: StickAircraft, system, *, airspeed, density, mach, downwash=None) -> np.ndarray:
     """Packed parameters of the aeroelastic ``system`` (:func:`aeroelastic_system`): the aircraft's
     beams, the wing's strip sections and :data:`TAIL_SECTION`, the flight point (m/s, kg/m^3) and
-    the downwash gradient (default :func:`downwash_gradient`)."""
+    the downwash gradient (default :func:`downwash_gradient`).
+
+    Parameters
+    ----------
+    aircraft : StickAircraft
+        The half aircraft (from :func:`build`).
+    system : wingmdao.timemarch.system.ResidualSystem
+        Its aeroelastic system (:func:`aeroelastic_system`).
+    airspeed : float
+        True airspeed (m/s).
+    density : float
+        Air density (kg/m^3).
+    mach : float
+        Flight Mach number.
+    downwash : float or None
+        deps/dalpha at the tail; None: :func:`downwash_gradient`.
+
+    Returns
+    -------
+    numpy.ndarray
+        The packed parameter vector.
+    """
     dw = downwash_gradient(mach) if downwash is None else float(downwash)
     return pack_aero_parameters(system, aircraft.model.params,
                                 {"wing": {"chord": aircraft.wing_chord, "ref_point": aircraft.wing_axis_fraction},
@@ -354,7 +477,30 @@ def aero_parameters(aircraft: StickAircraft, system, *, airspeed, density, mach,
 def gust_forcing(aircraft: StickAircraft, system, time, *, airspeed, u_ds_tas, gradient, gust_start) -> np.ndarray:
     """Packed forcing history (n_time, n_forcing) of a 1-cos gust of gradient ``gradient`` (m) and
     design velocity ``u_ds_tas`` (m/s TAS) meeting the wing's leading station at ``gust_start`` (s),
-    every lifting station x / V later; gravity; trim active at t = 0 only (:func:`gust_response`)."""
+    every lifting station x / V later; gravity; trim active at t = 0 only (:func:`gust_response`).
+
+    Parameters
+    ----------
+    aircraft : StickAircraft
+        The half aircraft (from :func:`build`).
+    system : wingmdao.timemarch.system.ResidualSystem
+        Its aeroelastic system (:func:`aeroelastic_system`).
+    time : numpy.ndarray
+        Time steps (s), shape (n_time,).
+    airspeed : float
+        True airspeed (m/s).
+    u_ds_tas : float
+        Gust design velocity (m/s TAS).
+    gradient : float
+        Gust gradient (m).
+    gust_start : float
+        Time the gust front meets the wing's leading station (s).
+
+    Returns
+    -------
+    numpy.ndarray
+        Forcing history, shape (n_time, n_forcing).
+    """
     time = np.asarray(time, dtype=float)
     x_w, x_t = aircraft.nodes["wing"][:, 0], aircraft.nodes["tail"][:, 0]
     n_w = x_w.size
@@ -402,7 +548,36 @@ def gust_response(aircraft: StickAircraft, time, *, airspeed, density, mach, u_d
     incidence and thrust solved at t = 0, then held). The gust front reaches the wing's leading
     station at ``gust_start`` (s); every lifting station meets it x / V later. ``downwash``:
     deps/dalpha (default :func:`downwash_gradient`); ``static_options``: options of the trim's static
-    solve (:func:`wingmdao.timemarch.bdf.march`, e.g. ``{"atol": 1e-9}``)."""
+    solve (:func:`wingmdao.timemarch.bdf.march`, e.g. ``{"atol": 1e-9}``).
+
+    Parameters
+    ----------
+    aircraft : StickAircraft
+        The half aircraft (from :func:`build`).
+    time : numpy.ndarray
+        Time steps (s), shape (n_time,).
+    airspeed : float
+        True airspeed (m/s).
+    density : float
+        Air density (kg/m^3).
+    mach : float
+        Flight Mach number.
+    u_ds_tas : float
+        Gust design velocity (m/s TAS).
+    gradient : float
+        Gust gradient (m).
+    gust_start : float
+        Time the gust front meets the wing's leading station (s).
+    downwash : float or None
+        deps/dalpha at the tail; None: :func:`downwash_gradient`.
+    static_options : dict or None
+        Options of the trim's static solve.
+
+    Returns
+    -------
+    StickGust
+        The response.
+    """
     time = np.asarray(time, dtype=float)
     s = aeroelastic_system(aircraft)
     dw = downwash_gradient(mach) if downwash is None else float(downwash)

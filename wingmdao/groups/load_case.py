@@ -16,7 +16,20 @@ FAMILY_GROUPS = {"ss": ("ss_tension", "ss_compression"), "cent": ("cent_pos", "c
 def parse_families(text, option: str = "--families") -> tuple:
     """Stress families of a comma list of :data:`STRESS_FAMILIES` names and :data:`FAMILY_GROUPS`
     shorthands (``vm,ss`` = vm, ss_tension, ss_compression), in order, without repeats; ValueError
-    naming ``option`` and the valid names otherwise."""
+    naming ``option`` and the valid names otherwise.
+
+    Parameters
+    ----------
+    text : str
+        Comma-separated family names and shorthands.
+    option : str
+        The command-line option named in the error message.
+
+    Returns
+    -------
+    tuple of str
+        The stress families.
+    """
     names = [t.strip() for t in str(text).split(",") if t.strip()]
     bad = [t for t in names if t not in STRESS_FAMILIES and t not in FAMILY_GROUPS]
     if bad or not names:
@@ -50,6 +63,25 @@ class LoadCase:
     constraint families aggregated by KS for this case. ``damping``: optional structural
     damping of the beam (:class:`wingmdao.beam.residual.StrainRateDamping`, Alg. 6), e.g.
     ``StrainRateDamping.from_damping_ratio(0.02, f_first_bending)``; none by default.
+
+    Parameters
+    ----------
+    name : str
+        The case's name (its subsystem ``cases.NAME``).
+    time : numpy.ndarray
+        Time grid (s), ``time[0] = 0``; one entry: a static solve.
+    forcing : dict
+        ``{forcing name: (n_time, ...) array}`` in SI units; missing names are zero.
+    families : tuple of str
+        Stress constraint families aggregated by KS.
+    description : str
+        Free text for reports.
+    damping : wingmdao.beam.residual.StrainRateDamping or None
+        Structural damping of the beam; None: undamped.
+    aero : wingmdao.aero.coupled.CoupledAero or None
+        Aeroelastic coupling; None: the case runs on the structural beam.
+    modal_dlm : wingmdao.aero.modal_design.ModalGust or None
+        Dynamic increment on the modal doublet-lattice wing, added to the static first instant.
     """
 
     name: str
@@ -114,12 +146,36 @@ class LoadCase:
 
     def static_case(self, num_nodes: int) -> LoadCase:
         """The case's first instant alone (a static solve; no ``modal_dlm``): the beam part of a
-        case with a modal doublet-lattice increment."""
+        case with a modal doublet-lattice increment.
+
+        Parameters
+        ----------
+        num_nodes : int
+            Number of beam nodes.
+
+        Returns
+        -------
+        LoadCase
+            The static case.
+        """
         forcing = {k: self.forcing_array(k, num_nodes)[:1] for k in self.forcing}
         return replace(self, time=self.time[:1], forcing=forcing, modal_dlm=None, families=())
 
     def forcing_array(self, name: str, num_nodes: int) -> np.ndarray:
-        """The full (n_time, ...) array of forcing ``name`` (zeros when not given), validated."""
+        """The full (n_time, ...) array of forcing ``name`` (zeros when not given), validated.
+
+        Parameters
+        ----------
+        name : str
+            A beam forcing name (:data:`FORCING_SHAPES`).
+        num_nodes : int
+            Number of beam nodes.
+
+        Returns
+        -------
+        numpy.ndarray
+            The forcing history, shape (n_time, ...).
+        """
         shape = (self.num_times,) + tuple(num_nodes if d == "n" else d for d in self._forcing_shapes()[name])
         if name not in self.forcing:
             return np.zeros(shape)
@@ -138,7 +194,25 @@ class StickCase:
     """A load case of the stick model: its ``name``, the joined aeroelastic ``system``
     (:func:`wingmdao.cases.pegasus_stick.aeroelastic_system`), the ``time`` grid (s), the packed
     parameters ``p`` (the wing's blocks are replaced by the group's inputs) and forcing history
-    ``forcing`` (n_time, n_forcing), the stress ``families`` and the name of the wing beam."""
+    ``forcing`` (n_time, n_forcing), the stress ``families`` and the name of the wing beam.
+
+    Parameters
+    ----------
+    name : str
+        The case's name.
+    system : wingmdao.timemarch.system.ResidualSystem
+        The joined aeroelastic system.
+    time : numpy.ndarray
+        Time grid (s).
+    p : numpy.ndarray
+        Packed parameters; the wing's blocks are replaced by the group's inputs.
+    forcing : numpy.ndarray
+        Packed forcing history, shape (n_time, n_forcing).
+    families : tuple of str
+        Stress constraint families aggregated by KS.
+    wing : str
+        Name of the wing beam in ``system``.
+    """
 
     name: str
     system: object

@@ -92,7 +92,17 @@ class StickStructure(om.Group):
 def set_stick_case(prob: om.Problem, case: StickCase, path: str = "") -> None:
     """Set the inputs of the stick case at ``path`` (its promoted prefix, e.g. ``"cases.gust"``)
     other than the wing's: the other beams', lumped masses' and aerodynamic parameters from
-    ``case.p`` and the forcing history ``case.forcing``."""
+    ``case.p`` and the forcing history ``case.forcing``.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A set-up problem holding the stick case.
+    case : wingmdao.groups.load_case.StickCase
+        The stick case.
+    path : str
+        Promoted prefix of the case's group.
+    """
     prefix = f"{path}." if path else ""
     s = case.system
     wing_names = {f"{case.wing}_{k}" for k in WING_BEAM_INPUTS}

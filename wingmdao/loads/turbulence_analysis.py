@@ -44,7 +44,23 @@ class GustModel:
     """A linear gust model (:class:`~wingmdao.stability.frequency.LinearGustModel`) with the
     eigenvalues of its pencil (for the frequency grid), a description, and the system, packed
     parameters and forcing of its static (1 g) solve (for the gradient,
-    :mod:`wingmdao.stability.frequency_adjoint`)."""
+    :mod:`wingmdao.stability.frequency_adjoint`).
+
+    Parameters
+    ----------
+    model : wingmdao.stability.frequency.LinearGustModel
+        The linearised model with its outputs.
+    eigenvalues : numpy.ndarray
+        Eigenvalues of its pencil (1/s), for the frequency grid.
+    description : str
+        Description for reports.
+    system : wingmdao.timemarch.system.ResidualSystem or None
+        The residual system of the static (1 g) solve.
+    p : numpy.ndarray or None
+        Its packed parameters.
+    q_static : numpy.ndarray or None
+        Its packed static forcing.
+    """
 
     model: object
     eigenvalues: np.ndarray
@@ -66,7 +82,38 @@ def coupled_gust_model(beam_params: dict, aero_params: dict, *, chord, axis_frac
     (:class:`~wingmdao.aero.controls.ControlLaw`, None: the surfaces held at the trimmed command):
     the actuators and the law are states of the residual, so the linearisation carries them
     (docs/controls.md, "The law in continuous turbulence"); the outputs then include every
-    surface's deflection and rate (:func:`control_outputs`)."""
+    surface's deflection and rate (:func:`control_outputs`).
+
+    Parameters
+    ----------
+    beam_params : dict
+        The beam's parameters (``node_positions`` (n, 3) m, section properties).
+    aero_params : dict
+        The aerodynamic parameters of the residual (sections, flight point).
+    chord : array_like
+        Chord per node (m), shape (n,).
+    axis_fraction : array_like
+        Beam axis per node as a fraction of the chord.
+    weight : float
+        Aircraft weight (N), the trimmed lift of both halves.
+    plunge : bool
+        Free in plunge; False: root clamped.
+    gravity : float
+        Gravitational acceleration (m/s^2).
+    damping : wingmdao.beam.residual.StrainRateDamping or None
+        Structural damping of the beam.
+    aero_theory : str
+        ``"strip"`` or ``"vlm"``.
+    surfaces : sequence of wingmdao.aero.controls.ControlSurface or None
+        Control surfaces; None: none.
+    law : wingmdao.aero.controls.ControlLaw or None
+        Control law; None: surfaces held at the trimmed command.
+
+    Returns
+    -------
+    GustModel
+        The linear gust model.
+    """
     n = np.asarray(chord).size
     spec = None
     if surfaces:
@@ -165,7 +212,40 @@ def strip_gust_model(beam_params: dict, *, chord, axis_fraction, weight, airspee
                      damping=None) -> GustModel:
     """The clamped structural beam under the Schrenk 1 g spanload and gravity, linearised, with
     the quasi-steady strip gust lift 1/2 rho V c a w_i (N/m per m/s) at each centre of pressure
-    as input; the load factor is the lift of both halves over ``weight``."""
+    as input; the load factor is the lift of both halves over ``weight``.
+
+    Parameters
+    ----------
+    beam_params : dict
+        The beam's parameters (``node_positions`` (n, 3) m, section properties).
+    chord : array_like
+        Chord per node (m), shape (n,).
+    axis_fraction : array_like
+        Beam axis per node as a fraction of the chord.
+    weight : float
+        Aircraft weight (N), the 1 g lift of both halves.
+    airspeed : float
+        True airspeed (m/s).
+    density : float
+        Air density (kg/m^3).
+    semi_span : float
+        Semi-span of the Schrenk spanload (m).
+    fuselage_half_width : float
+        Fuselage half-width (m) of the Schrenk spanload.
+    lift_slope : float
+        Section lift slope (1/rad).
+    cp_fraction : float
+        Centre of pressure as a fraction of the chord.
+    gravity : float
+        Gravitational acceleration (m/s^2).
+    damping : wingmdao.beam.residual.StrainRateDamping or None
+        Structural damping of the beam.
+
+    Returns
+    -------
+    GustModel
+        The linear gust model.
+    """
     r0 = np.asarray(beam_params["node_positions"], dtype=float)
     c, xb = np.asarray(chord, dtype=float), np.asarray(axis_fraction, dtype=float)
     n = c.size
@@ -214,7 +294,33 @@ def turbulence_analysis(gm: GustModel, u_sigma: float, *, f_min=1e-3, f_max=40.0
     every station, adds the linear box stresses (Pa). ``surfaces``: the
     :class:`~wingmdao.aero.controls.ControlSurface` of a model with control surfaces (the outputs of
     :func:`control_outputs`), adds ``control_surfaces``: per surface A-bar of the deflection and rate
-    and U_sigma A-bar against the surface's limits."""
+    and U_sigma A-bar against the surface's limits.
+
+    Parameters
+    ----------
+    gm : GustModel
+        The linear gust model.
+    u_sigma : float
+        Design gust intensity U_sigma (m/s TAS, > 0).
+    f_min : float
+        Lowest frequency of the grid (Hz).
+    f_max : float
+        Highest frequency of the grid (Hz).
+    n_base : int
+        Points of the geometric base grid.
+    n_mode : int
+        Points added about each lightly damped mode
+        (:func:`wingmdao.stability.frequency.frequency_grid`).
+    stress_matrices : array_like or None
+        Stress matrices of every station, shape (n, 8, 6).
+    surfaces : sequence of wingmdao.aero.controls.ControlSurface or None
+        The model's control surfaces.
+
+    Returns
+    -------
+    dict
+        The JSON-ready analysis.
+    """
     if not (np.isfinite(u_sigma) and u_sigma > 0):
         raise ValueError(f"u_sigma = {u_sigma} m/s; allowed range (0, inf) m/s TAS")
     model = gm.model
@@ -305,7 +411,29 @@ def sizing_turbulence_options(module, setup, *, damping=None, rho_ks=50.0, allev
     constraint's residual (options ``controls`` and ``control_law``); a law on ``load_factor`` or
     ``pitch_rate`` is refused (the constraint's wing is clamped). ``aero_theory``: the beam's
     quasi-steady lift, ``"strip"`` (the case's section slopes) or ``"vlm"`` (the vortex lattice of
-    the planform at the V_C Mach number, :func:`wingmdao.aero.three_dimensional_parameters`)."""
+    the planform at the V_C Mach number, :func:`wingmdao.aero.three_dimensional_parameters`).
+
+    Parameters
+    ----------
+    module : module
+        The case module (``aero_data``, ``flight_point``, ``CRUISE_ALTITUDE_FT``,
+        ``GUST_SET_DEFAULTS``, ``TOGW_LB``).
+    setup : wingmdao.cases.CaseSetup
+        The case's geometry and material.
+    damping : wingmdao.beam.residual.StrainRateDamping or None
+        Structural damping of the beam.
+    rho_ks : float
+        KS aggregation parameter of the constraint.
+    alleviation : str or None
+        Path of an alleviation file; None: no control surfaces.
+    aero_theory : str
+        ``"strip"`` or ``"vlm"``.
+
+    Returns
+    -------
+    dict
+        The component's options.
+    """
     if aero_theory not in ("strip", "vlm"):
         raise ValueError(f"aero_theory = {aero_theory!r}; allowed: 'strip', 'vlm'")
     geo = setup.geometry

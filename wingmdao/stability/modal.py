@@ -41,7 +41,27 @@ MACH_MATCH_TOL = 0.02
 class DLMFlutter:
     """Doublet-lattice flutter of a case: ``pk`` and ``state_space`` the two
     :class:`wingmdao.stability.pk.FlutterResult`; ``modes``, ``structure``, ``gaf``, ``rfa`` the
-    pieces; ``mach`` the Mach number of the matrices; ``timings`` (s) per step."""
+    pieces; ``mach`` the Mach number of the matrices; ``timings`` (s) per step.
+
+    Parameters
+    ----------
+    pk : wingmdao.stability.pk.FlutterResult
+        The p-k flutter result.
+    state_space : wingmdao.stability.pk.FlutterResult
+        The state-space flutter result on the Roger approximation.
+    modes : wingmdao.beam.modes.NormalModes
+        The jig normal modes.
+    structure : wingmdao.stability.pk.ModalStructure
+        Modal mass, stiffness and damping.
+    gaf : wingmdao.aero.dlm.GeneralizedForces
+        The tabulated doublet-lattice generalized forces.
+    rfa : wingmdao.aero.rfa.RogerApproximation
+        Roger's approximation of ``gaf``.
+    mach : float
+        The Mach number of the generalized forces.
+    timings : dict
+        Time (s) per step (``modes``, ``dlm``, ``pk``, ``state_space``).
+    """
 
     pk: FlutterResult
     state_space: FlutterResult
@@ -54,7 +74,20 @@ class DLMFlutter:
 
 
 def jig_modes(problem, n_modes: int = N_MODES) -> NormalModes:
-    """The lowest ``n_modes`` normal modes of the case's beam (clamped, no air) about the jig."""
+    """The lowest ``n_modes`` normal modes of the case's beam (clamped, no air) about the jig.
+
+    Parameters
+    ----------
+    problem : wingmdao.stability.cases.FlutterProblem
+        The case (its ``num_nodes`` and ``beam`` parameters).
+    n_modes : int
+        Number of modes.
+
+    Returns
+    -------
+    wingmdao.beam.modes.NormalModes
+        The modes.
+    """
     n = problem.num_nodes
     system = cached_beam_system(n)
     p = pack(system.param_specs, problem.beam)
@@ -64,7 +97,28 @@ def jig_modes(problem, n_modes: int = N_MODES) -> NormalModes:
 
 def case_forces(problem, modes: NormalModes, mach: float, *, reduced_frequencies=REDUCED_FREQUENCIES,
                 n_chordwise=DLM_CHORDWISE, n_spanwise=DLM_SPANWISE) -> GeneralizedForces:
-    """Doublet-lattice generalized forces of ``modes`` on the case's planform at ``mach``."""
+    """Doublet-lattice generalized forces of ``modes`` on the case's planform at ``mach``.
+
+    Parameters
+    ----------
+    problem : wingmdao.stability.cases.FlutterProblem
+        The case (its beam and ``aero`` chord and reference point).
+    modes : wingmdao.beam.modes.NormalModes
+        The modes whose forces are computed.
+    mach : float
+        Mach number.
+    reduced_frequencies : sequence of float
+        Reduced frequencies k = omega b_ref / V of the table.
+    n_chordwise : int
+        Chordwise doublet-lattice panels.
+    n_spanwise : int
+        Spanwise doublet-lattice strips per beam element.
+
+    Returns
+    -------
+    wingmdao.aero.dlm.GeneralizedForces
+        The tabulated generalized forces.
+    """
     n = problem.num_nodes
     return generalized_forces(problem.beam["node_positions"], np.broadcast_to(problem.aero["chord"], (n,)),
                               np.broadcast_to(problem.aero["ref_point"], (n,)), modes.displacement,
@@ -77,7 +131,32 @@ def dlm_flutter(problem, speeds=None, *, n_modes: int = N_MODES, reduced_frequen
                 n_spanwise=DLM_SPANWISE) -> DLMFlutter:
     """p-k and state-space flutter of ``problem`` (:class:`wingmdao.stability.cases.FlutterProblem`)
     with the doublet lattice (module docstring). ``speeds`` (m/s) default the case's sweep;
-    ``damping_ratio`` the structural modal damping (fraction of critical)."""
+    ``damping_ratio`` the structural modal damping (fraction of critical).
+
+    Parameters
+    ----------
+    problem : wingmdao.stability.cases.FlutterProblem
+        The case.
+    speeds : array_like or None
+        Airspeeds (m/s); None: the case's sweep.
+    n_modes : int
+        Number of jig normal modes.
+    reduced_frequencies : sequence of float
+        Reduced frequencies of the tabulated generalized forces.
+    n_lags : int
+        Number of lag roots of the Roger approximation.
+    damping_ratio : float
+        Structural modal damping (fraction of critical).
+    n_chordwise : int
+        Chordwise doublet-lattice panels.
+    n_spanwise : int
+        Spanwise doublet-lattice strips per beam element.
+
+    Returns
+    -------
+    DLMFlutter
+        Both flutter results and their pieces.
+    """
     speeds = problem.speeds if speeds is None else np.asarray(speeds, dtype=float)
     density = float(problem.aero["density"])
     t = {}
@@ -109,7 +188,23 @@ def dlm_flutter(problem, speeds=None, *, n_modes: int = N_MODES, reduced_frequen
 class ModalDLMWing:
     """The modal doublet-lattice wing of a beam: ``modes``, ``structure``, ``gaf``, ``rfa``, the
     residual ``system`` (:func:`wingmdao.aero.rfa_system.modal_rfa_system`) and the station-load
-    recovery ``loads`` (:func:`wingmdao.aero.modal_loads.station_load_model`)."""
+    recovery ``loads`` (:func:`wingmdao.aero.modal_loads.station_load_model`).
+
+    Parameters
+    ----------
+    modes : wingmdao.beam.modes.NormalModes
+        The jig normal modes (clamped).
+    structure : wingmdao.stability.pk.ModalStructure
+        Modal mass, stiffness and damping.
+    gaf : wingmdao.aero.dlm.GeneralizedForces
+        The tabulated doublet-lattice generalized forces.
+    rfa : wingmdao.aero.rfa.RogerApproximation
+        Roger's approximation of ``gaf``.
+    system : wingmdao.timemarch.system.ResidualSystem
+        The modal residual system (:func:`wingmdao.aero.rfa_system.modal_rfa_system`).
+    loads : wingmdao.aero.modal_loads.StationLoadModel
+        The station-load recovery.
+    """
 
     modes: NormalModes
     structure: ModalStructure
@@ -130,7 +225,36 @@ def modal_dlm_wing(beam_params, chord, axis_frac, mach, *, n_modes: int = N_MODE
                    reduced_frequencies=REDUCED_FREQUENCIES, n_chordwise=DLM_CHORDWISE,
                    n_spanwise=DLM_SPANWISE, damping_ratio: float = 0.0) -> ModalDLMWing:
     """:class:`ModalDLMWing` of the beam ``beam_params`` (clamped, modes about the jig), planform
-    ``chord`` and ``axis_frac`` per node, at ``mach``."""
+    ``chord`` and ``axis_frac`` per node, at ``mach``.
+
+    Parameters
+    ----------
+    beam_params : dict
+        The beam's parameters (``node_positions`` (n, 3) m, section properties).
+    chord : float or array_like
+        Chord per node (m).
+    axis_frac : float or array_like
+        Beam axis per node as a fraction of the chord.
+    mach : float
+        Mach number of the generalized forces.
+    n_modes : int
+        Number of normal modes.
+    n_lags : int
+        Number of lag roots of the Roger approximation.
+    reduced_frequencies : sequence of float
+        Reduced frequencies of the tabulated generalized forces.
+    n_chordwise : int
+        Chordwise doublet-lattice panels.
+    n_spanwise : int
+        Spanwise doublet-lattice strips per beam element.
+    damping_ratio : float
+        Structural modal damping (fraction of critical).
+
+    Returns
+    -------
+    ModalDLMWing
+        The modal wing.
+    """
     r0 = np.asarray(beam_params["node_positions"], dtype=float)
     n = r0.shape[0]
     system = cached_beam_system(n)

@@ -35,7 +35,19 @@ __all__ = ["ModalGustResponse", "modal_gust_frequency_response", "modal_turbulen
 class ModalGustResponse:
     """Transfer functions per m/s of gust velocity on ``omega`` (rad/s): ``modal`` (n_freq, modes)
     amplitudes, ``station_loads`` (n_freq, n, 6) complex internal force (N) and moment (N m) by
-    force summation, ``aero_station_loads`` (n_freq, n, 6) the panel forces' share."""
+    force summation, ``aero_station_loads`` (n_freq, n, 6) the panel forces' share.
+
+    Parameters
+    ----------
+    omega : numpy.ndarray
+        Angular frequencies (rad/s), shape (n_freq,).
+    modal : numpy.ndarray
+        Complex modal amplitudes per m/s of gust, shape (n_freq, modes).
+    station_loads : numpy.ndarray
+        Complex internal force (N) and moment (N m) per m/s of gust, shape (n_freq, n, 6).
+    aero_station_loads : numpy.ndarray
+        The panel forces' share, shape (n_freq, n, 6).
+    """
 
     omega: np.ndarray
     modal: np.ndarray
@@ -46,7 +58,30 @@ class ModalGustResponse:
 def modal_gust_frequency_response(system, structure, rfa: RogerApproximation, model: StationLoadModel, airspeed,
                                   density, omega) -> ModalGustResponse:
     """Equation (1) of the module docstring for the modal residual ``system`` at ``airspeed`` (m/s)
-    and ``density`` (kg/m^3) on ``omega`` (rad/s, > 0, increasing), and the station loads."""
+    and ``density`` (kg/m^3) on ``omega`` (rad/s, > 0, increasing), and the station loads.
+
+    Parameters
+    ----------
+    system : wingmdao.timemarch.system.ResidualSystem
+        The modal residual system (:func:`wingmdao.aero.rfa_system.modal_rfa_system`).
+    structure : wingmdao.stability.pk.ModalStructure
+        Modal mass, stiffness and damping.
+    rfa : wingmdao.aero.rfa.RogerApproximation
+        The Roger approximation of the system.
+    model : wingmdao.aero.modal_loads.StationLoadModel
+        The station-load recovery.
+    airspeed : float
+        True airspeed (m/s).
+    density : float
+        Air density (kg/m^3).
+    omega : array_like
+        Angular frequencies (rad/s, > 0, increasing).
+
+    Returns
+    -------
+    ModalGustResponse
+        The transfer functions.
+    """
     w = check_frequencies(omega)
     V, rho = float(airspeed), float(density)
     qd = 0.5 * rho * V ** 2
@@ -82,7 +117,36 @@ def modal_turbulence_a_bar(system, structure, rfa: RogerApproximation, model: St
                            *, f_min=1e-3, f_max=20.0, n_base=161) -> tuple[ABar, ModalGustResponse]:
     """A-bar (N, N m per m/s) of the station loads (n, 6) on a grid refined about the modal
     system's lightly damped poles (:func:`wingmdao.stability.frequency.frequency_grid`), and the
-    frequency response."""
+    frequency response.
+
+    Parameters
+    ----------
+    system : wingmdao.timemarch.system.ResidualSystem
+        The modal residual system (:func:`wingmdao.aero.rfa_system.modal_rfa_system`).
+    structure : wingmdao.stability.pk.ModalStructure
+        Modal mass, stiffness and damping.
+    rfa : wingmdao.aero.rfa.RogerApproximation
+        The Roger approximation of the system.
+    model : wingmdao.aero.modal_loads.StationLoadModel
+        The station-load recovery.
+    airspeed : float
+        True airspeed (m/s).
+    density : float
+        Air density (kg/m^3).
+    f_min : float
+        Lowest frequency of the grid (Hz).
+    f_max : float
+        Highest frequency of the grid (Hz).
+    n_base : int
+        Points of the geometric base grid.
+
+    Returns
+    -------
+    wingmdao.loads.turbulence.ABar
+        A-bar of the station loads.
+    ModalGustResponse
+        The frequency response.
+    """
     p = pack(system.param_specs, {"airspeed": float(airspeed), "density": float(density)})
     x0 = np.zeros(system.n_state)
     A, E = (m.toarray() for m in system.jac_state(x0, x0, p, np.zeros(system.n_forcing)))
@@ -102,7 +166,28 @@ def dlm_turbulence_analysis(wing, airspeed, density, weight, *, f_max=40.0, n_ba
     bending_moment and torsion (body axes); ``frequency_hz``, ``psd`` and
     ``transfer_function_magnitude`` of the root bending and the load factor (tip deflection: the
     magnitude only, elastic, relative to the body axes when free); ``quadrature``; ``dlm`` the model's
-    figures. No 1 g state (increments)."""
+    figures. No 1 g state (increments).
+
+    Parameters
+    ----------
+    wing : wingmdao.stability.modal.ModalDLMWing or wingmdao.aero.modal_free.FreeModalDLMWing
+        The modal doublet-lattice wing.
+    airspeed : float
+        True airspeed (m/s).
+    density : float
+        Air density (kg/m^3).
+    weight : float
+        Aircraft weight (N), the load factor's reference.
+    f_max : float
+        Highest frequency of the grid (Hz).
+    n_base : int
+        Points of the geometric base grid.
+
+    Returns
+    -------
+    dict
+        The JSON-ready analysis.
+    """
     rigid = getattr(wing, "rigid", 0)
     if getattr(wing, "tail", None) is not None:
         raise ValueError("the turbulence of the modal doublet-lattice wing is built free in plunge, not in pitch")

@@ -50,14 +50,40 @@ def _scatter(index, n_out):
 def block_bytes_per_step(system) -> float:
     """Bytes of Jacobian blocks a :class:`LinearizedHistory` keeps per time step with full storage:
     the nonzeros of dR/dx, dR/dxdot, dR/dp, dR/dq, the Newton matrix (at most those of dR/dx and
-    dR/dxdot) and dR/dxdot once more (its used entries), float64."""
+    dR/dxdot) and dR/dxdot once more (its used entries), float64.
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The system (its ``jacobian_patterns()``).
+
+    Returns
+    -------
+    float
+        Bytes per time step.
+    """
     nnz = {k: v[0].size for k, v in system.jacobian_patterns().items()}
     return 8.0 * (2 * (nnz["x"] + nnz["xdot"]) + nnz["xdot"] + nnz["p"] + nnz["q"])
 
 
 def checkpoint_interval(system, n_time: int, budget_bytes: float):
     """Segment length (steps) that keeps the Jacobian blocks within ``budget_bytes``, or None
-    when the whole history fits (full storage)."""
+    when the whole history fits (full storage).
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The system (its ``jacobian_patterns()``).
+    n_time : int
+        Number of time steps of the history.
+    budget_bytes : float
+        Memory allowed for the Jacobian blocks (bytes).
+
+    Returns
+    -------
+    int or None
+        Steps per segment (``checkpoint_every`` of :class:`LinearizedHistory`), or None.
+    """
     per_step = block_bytes_per_step(system)
     if n_time * per_step <= budget_bytes:
         return None
@@ -84,16 +110,28 @@ class LinearizedHistory:
     Parameters
     ----------
     system : ResidualSystem
-    time : (n_time,) uniform grid (s); states : (n_time, n_state) converged history
-    p : (n_param,) parameters; forcing : (n_time, n_forcing)
-    initial : "static" | "state" (how step 0 was defined)
-    store_factors : keep the LU factors of every ``A_n`` (fast repeated sweeps) or refactor
+        The marched system.
+    time : array_like
+        (n_time,) uniform time grid (s).
+    states : array_like
+        (n_time, n_state) converged state history.
+    p : array_like
+        (n_param,) parameters.
+    forcing : array_like
+        (n_time, n_forcing) forcing history.
+    initial : {"static", "state"}, optional
+        How step 0 was defined: a static equilibrium, or a given initial state
+        (``x_0 - x_init``).
+    store_factors : bool or "auto", optional
+        Keep the LU factors of every ``A_n`` (fast repeated sweeps) or refactor
         in each sweep (memory ~ one factor). ``"auto"`` keeps them when
         ``n_time * n_state <= auto_limit``: SuperLU reserves ~170 kB per factor of a 360-state
         beam-like system (8x its nonzeros), and touching that memory made a stored-factor sweep
         5x slower than refactoring (measured, see ``docs/time-marching.md``).
-
-    lu : "static" (default) | "superlu". ``"static"`` factors the steps n >= 1 with one pivot
+    auto_limit : int, optional
+        The ``n_time * n_state`` bound of ``store_factors="auto"``.
+    lu : {"static", "superlu"}, optional
+        ``"static"`` (default) factors the steps n >= 1 with one pivot
         order (SuperLU's for the middle step) in the compiled C kernel of
         :mod:`wingmdao.timemarch.static_lu` (symbolic analysis once per pattern and pivot order,
         no code generation), one C call per sweep of a stretch of steps; each solve is checked by
@@ -103,7 +141,8 @@ class LinearizedHistory:
         Without the kernel (``WINGMDAO_JIT=0``, no gcc) it is SuperLU (``lu_method`` tells which
         is used). ``"superlu"``: SuperLU for every step (docs/time-marching.md, "The static-pivot
         LU").
-    checkpoint_every : None (default) keeps the Jacobian nonzeros of every step (the arrays
+    checkpoint_every : int, optional
+        None (default) keeps the Jacobian nonzeros of every step (the arrays
         ``jx, jxd, m_data``; ``jp, jq`` only once something needs them: the gradient uses the
         system's reverse-mode products ``input_vjp_history`` instead when it has them, the
         forward products and declared partials evaluate them; ~170 kB per step of a 20-node
@@ -116,7 +155,15 @@ class LinearizedHistory:
         dR/dx, dR/dxdot only; the adjoint sweep forms ``param_product`` and ``forcing_product``
         per segment by the system's reverse-mode products (dR/dp, dR/dq of a segment are evaluated
         only for the forward products, or when the system has no such products).
+    copy_states : bool, optional
+        Copy ``states``; False keeps the caller's array, which must then not change while this
+        linearization is in use.
+    keep_forcing_product : bool, optional
+        False: the checkpointed adjoint sweep does not keep ``forcing_product(lam)`` for a later
+        call (no derivatives with respect to the forcing are needed).
 
+    Notes
+    -----
     Identical consecutive ``A_n`` (linear systems) share one factorization. Entries of the
     Jacobian pattern that are zero at every step (of this and of every earlier history of the
     same system object) are dropped from ``A_n`` before factoring
@@ -453,7 +500,20 @@ class LinearizedHistory:
         return self._a_data
 
     def newton_matrix(self, n, blk=None) -> sp.csc_matrix:
-        """``A_n = dR_n/dx + alpha_0(n)/dt dR_n/dxdot`` (Eq. 3.7) as CSC."""
+        """``A_n = dR_n/dx + alpha_0(n)/dt dR_n/dxdot`` (Eq. 3.7) as CSC.
+
+        Parameters
+        ----------
+        n : int
+            Time step index.
+        blk : object, optional
+            The internal block of stored Jacobians holding step ``n``; None: looked up.
+
+        Returns
+        -------
+        scipy.sparse.csc_matrix
+            (n_state, n_state) Newton matrix ``A_n``.
+        """
         blk = blk if blk is not None else self._block_at(n)
         return sp.csc_matrix((blk.m_data[blk.row(n)], self.m_rows, self.m_indptr),
                              shape=(self.n_state,) * 2)
@@ -600,7 +660,18 @@ class LinearizedHistory:
         return out
 
     def apply(self, dx) -> np.ndarray:
-        """``J dx`` for a state perturbation history (n_time, n_state)."""
+        """``J dx`` for a state perturbation history (n_time, n_state).
+
+        Parameters
+        ----------
+        dx : numpy.ndarray
+            (n_time, n_state) state perturbation history.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n_time, n_state) residual perturbation history.
+        """
         dx = np.asarray(dx, dtype=float).reshape(self.n_time, self.n_state)
         rates = np.zeros_like(dx)
         for k in range(3):
@@ -615,7 +686,18 @@ class LinearizedHistory:
         return out
 
     def apply_transpose(self, lam) -> np.ndarray:
-        """``J^T lam`` for a residual-weight history (n_time, n_state)."""
+        """``J^T lam`` for a residual-weight history (n_time, n_state).
+
+        Parameters
+        ----------
+        lam : numpy.ndarray
+            (n_time, n_state) residual-weight history.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n_time, n_state) weights on the states.
+        """
         lam = np.asarray(lam, dtype=float).reshape(self.n_time, self.n_state)
         out, w = np.zeros_like(lam), np.zeros_like(lam)
         for blk in self._blocks():
@@ -629,7 +711,18 @@ class LinearizedHistory:
         return out
 
     def param_apply(self, dp) -> np.ndarray:
-        """``dR_n/dp @ dp`` for every step, (n_time, n_state)."""
+        """``dR_n/dp @ dp`` for every step, (n_time, n_state).
+
+        Parameters
+        ----------
+        dp : numpy.ndarray
+            (n_param,) parameter direction.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n_time, n_state) residual perturbation history.
+        """
         dp = np.asarray(dp, dtype=float).reshape(1, -1)
         return self._per_block("p", np.broadcast_to(dp, (self.n_time, dp.size)))
 
@@ -669,7 +762,18 @@ class LinearizedHistory:
         return self._adjoint_cache
 
     def param_product(self, lam) -> np.ndarray:
-        """``sum_n dR_n/dp^T lam_n`` (n_param,) (the sum in Eq. 3.11)."""
+        """``sum_n dR_n/dp^T lam_n`` (n_param,) (the sum in Eq. 3.11).
+
+        Parameters
+        ----------
+        lam : numpy.ndarray
+            (n_time, n_state) residual-weight (adjoint) history.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n_param,) the summed product.
+        """
         lam = np.asarray(lam, dtype=float).reshape(self.n_time, self.n_state)
         c = self._cached_products(lam) or self._vjp_products(lam)
         if c is not None:
@@ -677,11 +781,33 @@ class LinearizedHistory:
         return sum(self._param_sum(blk, lam) for blk in self._blocks())
 
     def forcing_apply(self, dq) -> np.ndarray:
-        """``dR_n/dq_n @ dq_n`` for every step, (n_time, n_state)."""
+        """``dR_n/dq_n @ dq_n`` for every step, (n_time, n_state).
+
+        Parameters
+        ----------
+        dq : numpy.ndarray
+            (n_time, n_forcing) forcing direction.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n_time, n_state) residual perturbation history.
+        """
         return self._per_block("q", np.asarray(dq, dtype=float).reshape(self.n_time, -1))
 
     def forcing_product(self, lam) -> np.ndarray:
-        """``dR_n/dq_n^T lam_n`` for every step, (n_time, n_forcing)."""
+        """``dR_n/dq_n^T lam_n`` for every step, (n_time, n_forcing).
+
+        Parameters
+        ----------
+        lam : numpy.ndarray
+            (n_time, n_state) residual-weight (adjoint) history.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n_time, n_forcing) the product at every step.
+        """
         lam = np.asarray(lam, dtype=float).reshape(self.n_time, self.n_state)
         c = self._cached_products(lam)
         if c is None or c[2] is None:      # None: the sweep did not keep it (keep_forcing_product)
@@ -692,7 +818,18 @@ class LinearizedHistory:
 
     # ------------------------------------------------------------------ sweeps
     def solve_tangent(self, rhs) -> np.ndarray:
-        """Forward sweep: solve ``J dx = rhs``, ``dx_n = A_n^-1 (rhs_n - sum_k B_n,k dx_n-k)``."""
+        """Forward sweep: solve ``J dx = rhs``, ``dx_n = A_n^-1 (rhs_n - sum_k B_n,k dx_n-k)``.
+
+        Parameters
+        ----------
+        rhs : numpy.ndarray
+            (n_time, n_state) right-hand side history.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n_time, n_state) the solution ``dx``.
+        """
         rhs = np.ascontiguousarray(np.asarray(rhs, dtype=float).reshape(self.n_time, self.n_state))
         dx = np.zeros_like(rhs)
         st = self._static_lu()
@@ -748,6 +885,16 @@ class LinearizedHistory:
         step 1 enters through ``alpha_1(1) = -1/dt`` and ``B_2,2`` of step 2. With checkpoints
         the products ``param_product(lam)`` and ``forcing_product(lam)`` are formed segment by
         segment in the same sweep and kept for the next call with this ``lam``.
+
+        Parameters
+        ----------
+        rhs : numpy.ndarray
+            (n_time, n_state) right-hand side history.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n_time, n_state) the adjoint history ``lam``.
         """
         rhs = np.ascontiguousarray(np.asarray(rhs, dtype=float).reshape(self.n_time, self.n_state))
         st = self._static_lu()
@@ -804,7 +951,18 @@ class LinearizedHistory:
 
     # ------------------------------------------------------------------ gradients
     def rate_gradient_to_states(self, dfdxdot) -> np.ndarray:
-        """Chain ``df/dxdot_n`` through the BDF formulas onto the states (Eq. 3.10 F-terms)."""
+        """Chain ``df/dxdot_n`` through the BDF formulas onto the states (Eq. 3.10 F-terms).
+
+        Parameters
+        ----------
+        dfdxdot : numpy.ndarray
+            (n_time, n_state) derivative of the functional with respect to the state rates.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n_time, n_state) the same derivative with respect to the states.
+        """
         h = np.asarray(dfdxdot, dtype=float).reshape(self.n_time, self.n_state)
         out = np.zeros_like(h)
         for k in range(3):
@@ -817,6 +975,26 @@ class LinearizedHistory:
         ``dfdx`` (n_time, n_state), optional ``dfdxdot`` likewise, explicit ``dfdp`` (n_param,)
         and ``dfdq`` (n_time, n_forcing). Returns ``(df/dp, df/dq, lam)``; with a given
         initial state, ``df/dx_init = lam_0``.
+
+        Parameters
+        ----------
+        dfdx : numpy.ndarray
+            (n_time, n_state) derivative of the functional with respect to the states.
+        dfdp : numpy.ndarray, optional
+            (n_param,) explicit derivative with respect to the parameters.
+        dfdq : numpy.ndarray, optional
+            (n_time, n_forcing) explicit derivative with respect to the forcing.
+        dfdxdot : numpy.ndarray, optional
+            (n_time, n_state) derivative with respect to the state rates.
+
+        Returns
+        -------
+        dfdp : numpy.ndarray
+            (n_param,) total derivative with respect to the parameters.
+        dfdq : numpy.ndarray
+            (n_time, n_forcing) total derivative with respect to the forcing.
+        lam : numpy.ndarray
+            (n_time, n_state) the adjoint history.
         """
         g = np.asarray(dfdx, dtype=float).reshape(self.n_time, self.n_state).copy()
         if dfdxdot is not None:
@@ -831,7 +1009,22 @@ class LinearizedHistory:
         return dp, dq, lam
 
     def tangent(self, dp=None, dq=None, dx_init=None) -> np.ndarray:
-        """State-history sensitivity to a parameter/forcing/initial-state direction (forward mode)."""
+        """State-history sensitivity to a parameter/forcing/initial-state direction (forward mode).
+
+        Parameters
+        ----------
+        dp : numpy.ndarray, optional
+            (n_param,) parameter direction.
+        dq : numpy.ndarray, optional
+            (n_time, n_forcing) forcing direction.
+        dx_init : numpy.ndarray, optional
+            (n_state,) initial-state direction (``initial="state"``).
+
+        Returns
+        -------
+        numpy.ndarray
+            (n_time, n_state) state-history sensitivity.
+        """
         rhs = np.zeros((self.n_time, self.n_state))
         if dp is not None:
             rhs -= self.param_apply(dp)

@@ -36,13 +36,35 @@ AEROELASTIC_NODE_ORDER = (11, 10, 9, 15, 5, 8, 1, 7, 16, 6, 19, 20, 18, 0, 21, 2
 
 
 def beam_lu_column_order(num_nodes: int) -> np.ndarray:
-    """Column order of the static LU of the ``num_nodes``-node beam (:data:`BEAM_NODE_ORDER`)."""
+    """Column order of the static LU of the ``num_nodes``-node beam (:data:`BEAM_NODE_ORDER`).
+
+    Parameters
+    ----------
+    num_nodes : int
+        Number of beam nodes (18 unknowns each).
+
+    Returns
+    -------
+    numpy.ndarray
+        (18 num_nodes,) int64 column order.
+    """
     return block_column_order(BEAM_NODE_ORDER, len(BEAM_NODE_ORDER), len(BEAM_NODE_ORDER) * int(num_nodes))
 
 
 def aeroelastic_lu_column_order(n_state: int) -> np.ndarray:
     """Column order of the static LU of an aeroelastic system of ``n_state`` unknowns
-    (:data:`AEROELASTIC_NODE_ORDER` per node, body states last)."""
+    (:data:`AEROELASTIC_NODE_ORDER` per node, body states last).
+
+    Parameters
+    ----------
+    n_state : int
+        Number of unknowns of the system (22 per node, then the body states).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n_state,) int64 column order.
+    """
     return block_column_order(AEROELASTIC_NODE_ORDER, len(AEROELASTIC_NODE_ORDER), int(n_state))
 
 
@@ -66,7 +88,22 @@ def aeroelastic_adjoint_lu_order(num_nodes: int, n_state: int):
     Partial pivoting in this order picks beam rows for the lag columns and fills the matrix
     (about 2 million multiply-adds): the diagonal pivots are what make the order work. PEGASUS
     coupled clamped 76 725 -> 63 075 multiply-adds per factorization, free plunge + trim
-    87 726 -> 71 797; straight beam 59 521 -> 48 905 and 79 442 -> 65 425."""
+    87 726 -> 71 797; straight beam 59 521 -> 48 905 and 79 442 -> 65 425.
+
+    Parameters
+    ----------
+    num_nodes : int
+        Number of nodes (22 unknowns each).
+    n_state : int
+        Number of unknowns of the system (the nodes' unknowns, then the body states).
+
+    Returns
+    -------
+    col_order : numpy.ndarray
+        (n_state,) int64 column order.
+    diagonal : int
+        Number of leading columns pivoting on their own rows (``4 num_nodes``).
+    """
     n, n_state = int(num_nodes), int(n_state)
     w, nb = len(AEROELASTIC_NODE_ORDER), len(AEROELASTIC_BEAM_ORDER)
     node = np.arange(n)[:, None] * w
@@ -83,7 +120,20 @@ def adjoint_lu_order(system):
 
     The compiled march keeps :func:`system_lu_column_order`: its LU pivots by partial pivoting at every
     refactorization, for which the lag-first order fills. This lookup lives here, outside the
-    modules that key the compiled libraries, so changing the adjoint's order recompiles nothing."""
+    modules that key the compiled libraries, so changing the adjoint's order recompiles nothing.
+
+    Parameters
+    ----------
+    system : ResidualSystem
+        The system whose Newton matrices the adjoint factors.
+
+    Returns
+    -------
+    col_order : numpy.ndarray or None
+        Column order Q (None: natural).
+    diagonal : int
+        Number of leading columns pivoting on their own rows.
+    """
     lay = getattr(system, "layout", None)
     aero = getattr(lay, "aero", None)
     if aero is not None and getattr(lay, "size", None) == system.n_state and np.size(aero):
@@ -175,7 +225,22 @@ def joined_lu_column_order(node_counts, joint_nodes, support_nodes=()) -> np.nda
 
     Placed there, a joint's columns are eliminated next to the only two node blocks they couple,
     instead of at the end of the matrix where the rows of the first beams' joint nodes would fill
-    the band of every node between them (docs/stick-model.md, "Sparsity and the LU order")."""
+    the band of every node between them (docs/stick-model.md, "Sparsity and the LU order").
+
+    Parameters
+    ----------
+    node_counts : sequence of int
+        Number of nodes of each beam, in state order.
+    joint_nodes : sequence of tuple of int
+        ``(node_a, node_b)`` of every joint, nodes counted over all beams.
+    support_nodes : sequence of int, optional
+        Node of every symmetry condition, counted as ``joint_nodes``.
+
+    Returns
+    -------
+    numpy.ndarray
+        int64 column order of all the unknowns (nodes, joints, supports).
+    """
     n_nodes = int(sum(int(n) for n in node_counts))
     width = len(BEAM_NODE_ORDER)
     after = [[] for _ in range(n_nodes)]

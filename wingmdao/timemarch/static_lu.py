@@ -117,6 +117,27 @@ def symbolic_lu(n, rows, indptr):
 
     No pivoting: the pattern is that of the already row-permuted matrix, whose diagonal must be
     structurally nonzero. Returns ``(l_struct, u_struct)``, lists of sorted row-index arrays.
+
+    Parameters
+    ----------
+    n : int
+        Order of the square matrix.
+    rows : numpy.ndarray
+        Row indices of the nonzeros in CSC order (already row-permuted).
+    indptr : numpy.ndarray
+        (n + 1,) CSC column pointers.
+
+    Returns
+    -------
+    l_struct : list of numpy.ndarray
+        Per column, the sorted rows of L below the diagonal.
+    u_struct : list of numpy.ndarray
+        Per column, the sorted rows of U above the diagonal.
+
+    Raises
+    ------
+    ValueError
+        When a column has a structural zero pivot.
     """
     l_struct, u_struct = [], []
     for j in range(n):
@@ -140,7 +161,24 @@ def symbolic_lu(n, rows, indptr):
 def symbolic_lu_compiled(lib, n, rows, indptr):
     """:func:`symbolic_lu` in the C kernel (``lu_symbolic``, ~250x faster: 0.17 s -> 0.7 ms for
     the 441-unknown coupled aeroelastic beam): ``(lp, li, up, ui)`` int32 arrays, the column
-    pointers and rows of L (below the diagonal, ascending) and U (above, ascending)."""
+    pointers and rows of L (below the diagonal, ascending) and U (above, ascending).
+
+    Parameters
+    ----------
+    lib : ctypes.CDLL
+        The compiled kernel (:func:`kernel`).
+    n : int
+        Order of the square matrix.
+    rows : numpy.ndarray
+        Row indices of the nonzeros in CSC order (already row-permuted).
+    indptr : numpy.ndarray
+        (n + 1,) CSC column pointers.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(lp, li, up, ui)``, int32: column pointers (n + 1,) and rows of L, then of U.
+    """
     n = int(n)
     indptr, rows = _i32(indptr), _i32(rows)
     lp, up, work = np.zeros(n + 1, np.int32), np.zeros(n + 1, np.int32), np.zeros(3 * max(n, 1), np.int32)
@@ -176,7 +214,28 @@ def pivot_order(n, rows, indptr, reference, col_order=None, diagonal=0) -> np.nd
     :data:`LEADING_ROW_SCALE`: a power of two changes no rounding (``A_21 (s A_11)^-1 (s A_12)`` is
     ``A_21 A_11^-1 A_12`` bit for bit), it only makes those rows win the pivot search in the
     first k columns. The factors are the pivoted elimination of ``P A Q`` in this order, so any
-    k gives the same solutions (each solve is still checked by its backward error)."""
+    k gives the same solutions (each solve is still checked by its backward error).
+
+    Parameters
+    ----------
+    n : int
+        Order of the square matrix.
+    rows : numpy.ndarray
+        Row indices of the nonzeros in CSC order.
+    indptr : numpy.ndarray
+        (n + 1,) CSC column pointers.
+    reference : numpy.ndarray
+        (nnz,) nonzero values of the reference matrix in CSC order.
+    col_order : numpy.ndarray, optional
+        (n,) column order Q; None keeps the natural order.
+    diagonal : int, optional
+        Number k of leading columns of ``P A Q`` that pivot among their own unknowns' rows.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n,) int row permutation ``perm_r``.
+    """
     a = np.asarray(reference, dtype=float)
     k = int(diagonal)
     q = np.arange(n) if col_order is None else np.asarray(col_order)
@@ -192,7 +251,22 @@ def pivot_order(n, rows, indptr, reference, col_order=None, diagonal=0) -> np.nd
 
 def permuted_columns(indptr, col_order):
     """``(indptr_q, take)`` of the CSC pattern with its columns in ``col_order``: column j of the
-    permuted pattern holds the nonzeros ``take[indptr_q[j]:indptr_q[j + 1]]`` of the original."""
+    permuted pattern holds the nonzeros ``take[indptr_q[j]:indptr_q[j + 1]]`` of the original.
+
+    Parameters
+    ----------
+    indptr : numpy.ndarray
+        (n + 1,) CSC column pointers of the original pattern.
+    col_order : numpy.ndarray
+        (n,) column order: column j of the result is column ``col_order[j]`` of the original.
+
+    Returns
+    -------
+    indptr_q : numpy.ndarray
+        (n + 1,) int64 column pointers of the permuted pattern.
+    take : numpy.ndarray
+        (nnz,) int64 index of each permuted nonzero in the original nonzeros.
+    """
     indptr = np.asarray(indptr, dtype=np.int64)
     q = np.asarray(col_order, dtype=np.int64)
     counts = indptr[q + 1] - indptr[q]
@@ -204,7 +278,33 @@ def permuted_columns(indptr, col_order):
 def factorization_work(n, rows, indptr, reference, col_order=None, diagonal=0) -> int:
     """Multiply-adds of one numeric factorization ``P A Q = L U`` with the pivots of ``reference``
     (``sum_j sum_{k in U(:, j)} |L(:, k)|``, what :class:`StaticPivotLU` spends per matrix;
-    ``diagonal``: leading diagonal pivots, :func:`pivot_order`)."""
+    ``diagonal``: leading diagonal pivots, :func:`pivot_order`).
+
+    Parameters
+    ----------
+    n : int
+        Order of the square matrix.
+    rows : numpy.ndarray
+        Row indices of the nonzeros in CSC order.
+    indptr : numpy.ndarray
+        (n + 1,) CSC column pointers.
+    reference : numpy.ndarray
+        (nnz,) nonzero values (CSC order) that fix the pivot order.
+    col_order : numpy.ndarray, optional
+        (n,) column order Q; None keeps the natural order.
+    diagonal : int, optional
+        Number of leading diagonal pivots (:func:`pivot_order`).
+
+    Returns
+    -------
+    int
+        Multiply-adds of one numeric factorization.
+
+    Raises
+    ------
+    RuntimeError
+        When the kernel is not compiled.
+    """
     lib = kernel()
     if lib is None:
         raise RuntimeError("the static-pivot LU kernel is not compiled (WINGMDAO_JIT=0 or no gcc)")
@@ -216,7 +316,30 @@ def factorization_work(n, rows, indptr, reference, col_order=None, diagonal=0) -
 
 def permuted_symbolic(lib, n, rows, indptr, perm_r, col_order):
     """``(prow, (lp, li, up, ui))``: the rows of the nonzeros in ``P A`` and the structure of L
-    and U of ``P A Q`` (:func:`symbolic_lu_compiled` of the column-permuted pattern)."""
+    and U of ``P A Q`` (:func:`symbolic_lu_compiled` of the column-permuted pattern).
+
+    Parameters
+    ----------
+    lib : ctypes.CDLL
+        The compiled kernel (:func:`kernel`).
+    n : int
+        Order of the square matrix.
+    rows : numpy.ndarray
+        Row indices of the nonzeros in CSC order.
+    indptr : numpy.ndarray
+        (n + 1,) CSC column pointers.
+    perm_r : numpy.ndarray
+        (n,) row permutation (:func:`pivot_order`).
+    col_order : numpy.ndarray
+        (n,) column order Q.
+
+    Returns
+    -------
+    prow : numpy.ndarray
+        (nnz,) rows of the nonzeros in ``P A``.
+    structure : tuple of numpy.ndarray
+        ``(lp, li, up, ui)`` of ``P A Q`` (:func:`symbolic_lu_compiled`).
+    """
     prow = np.asarray(perm_r)[np.asarray(rows)]
     indptr_q, take = permuted_columns(indptr, col_order)
     return prow, symbolic_lu_compiled(lib, n, prow[take], indptr_q)
@@ -225,7 +348,22 @@ def permuted_symbolic(lib, n, rows, indptr, perm_r, col_order):
 def block_column_order(local, block, n):
     """The column order that orders the unknowns of every full block of ``block`` consecutive
     unknowns (a node of a node-major system) by the within-block permutation ``local``; the
-    unknowns after the last full block (body states) keep their place at the end."""
+    unknowns after the last full block (body states) keep their place at the end.
+
+    Parameters
+    ----------
+    local : array_like
+        (block,) permutation of 0..block-1 applied within every block.
+    block : int
+        Unknowns per block (per node).
+    n : int
+        Total number of unknowns.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n,) int64 column order.
+    """
     local = check_column_order(int(block), local)
     n_full = int(n) // int(block)
     return np.concatenate([local + b * int(block) for b in range(n_full)]
@@ -236,7 +374,32 @@ def search_block_order(n, rows, indptr, reference, block, passes=3, start=None):
     """Within-block column order that lowers :func:`factorization_work`: greedy pairwise swaps
     of the block-local permutation (applied to every block), first improvement, up to ``passes``
     sweeps over the pairs. Returns ``(local, work)``. A design-time tool (seconds): its result
-    is stored as a system's ``lu_column_order`` (``benchmarks/lu_column_order.py``)."""
+    is stored as a system's ``lu_column_order`` (``benchmarks/lu_column_order.py``).
+
+    Parameters
+    ----------
+    n : int
+        Order of the square matrix.
+    rows : numpy.ndarray
+        Row indices of the nonzeros in CSC order.
+    indptr : numpy.ndarray
+        (n + 1,) CSC column pointers.
+    reference : numpy.ndarray
+        (nnz,) nonzero values (CSC order) that fix the pivot order.
+    block : int
+        Unknowns per block (per node).
+    passes : int, optional
+        Maximum number of sweeps over the pairs.
+    start : array_like, optional
+        (block,) starting within-block permutation; None: identity.
+
+    Returns
+    -------
+    local : numpy.ndarray
+        (block,) the best within-block permutation found.
+    work : int
+        Its multiply-adds (:func:`factorization_work`).
+    """
     local, works = search_joint_block_order([(n, rows, indptr, reference)], block, passes, start)
     return local, works[0]
 
@@ -245,7 +408,28 @@ def search_joint_block_order(matrices, block, passes=3, start=None, scale=None):
     """:func:`search_block_order` over several matrices ``[(n, rows, indptr, reference), ...]``
     with one within-block order: minimises ``sum_k work_k / scale_k`` (``scale``: each matrix's
     natural-order work when None), so no model's order is bought with another's fill. Returns
-    ``(local, [work_k])``."""
+    ``(local, [work_k])``.
+
+    Parameters
+    ----------
+    matrices : list of tuple
+        ``(n, rows, indptr, reference)`` of each matrix (CSC pattern and values).
+    block : int
+        Unknowns per block (per node), common to all matrices.
+    passes : int, optional
+        Maximum number of sweeps over the pairs.
+    start : array_like, optional
+        (block,) starting within-block permutation; None: identity.
+    scale : sequence of float, optional
+        Per-matrix work that normalises the objective; None: natural-order work.
+
+    Returns
+    -------
+    local : numpy.ndarray
+        (block,) the best within-block permutation found.
+    works : list of int
+        Multiply-adds of each matrix with that order.
+    """
     def works(loc):
         return [factorization_work(n, r, ip, a, block_column_order(loc, block, n)) for n, r, ip, a in matrices]
 
@@ -273,7 +457,25 @@ def search_joint_block_order(matrices, block, passes=3, start=None, scale=None):
 
 
 def check_column_order(n, col_order) -> np.ndarray:
-    """``col_order`` as an int array, checked to be a permutation of 0..n-1 (ValueError)."""
+    """``col_order`` as an int array, checked to be a permutation of 0..n-1 (ValueError).
+
+    Parameters
+    ----------
+    n : int
+        Expected number of unknowns.
+    col_order : array_like
+        The column order to check.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n,) int64 column order.
+
+    Raises
+    ------
+    ValueError
+        When ``col_order`` is not a permutation of 0..n-1.
+    """
     q = np.asarray(col_order, dtype=np.int64).ravel()
     if q.size != n or not np.array_equal(np.sort(q), np.arange(n)):
         raise ValueError(f"col_order must be a permutation of 0..{n - 1} (got {q.size} entries)")
@@ -285,13 +487,24 @@ class StaticPivotLU:
 
     Parameters
     ----------
-    n : size; rows, indptr : CSC pattern (sorted rows per column)
-    reference : nonzero values (CSC order) from which the row pivot order is chosen
-    perm_r : the row permutation itself instead of ``reference`` (see :func:`pivot_order`)
-    col_order : fill-reducing column order Q (``P A Q = L U``; None: natural), e.g. a system's
-        ``lu_column_order`` (:func:`block_column_order`)
+    n : int
+        Order of the square matrices.
+    rows : array_like
+        Row indices of the nonzeros in CSC order (sorted rows per column).
+    indptr : array_like
+        (n + 1,) CSC column pointers.
+    reference : array_like, optional
+        (nnz,) nonzero values (CSC order) from which the row pivot order is chosen.
+    perm_r : array_like, optional
+        (n,) the row permutation itself instead of ``reference`` (see :func:`pivot_order`).
+    col_order : array_like, optional
+        (n,) fill-reducing column order Q (``P A Q = L U``; None: natural), e.g. a system's
+        ``lu_column_order`` (:func:`block_column_order`).
 
-    Raises RuntimeError without the compiled kernel (:func:`kernel`).
+    Raises
+    ------
+    RuntimeError
+        Without the compiled kernel (:func:`kernel`).
     """
 
     def __init__(self, n, rows, indptr, reference=None, perm_r=None, col_order=None):
@@ -325,11 +538,33 @@ class StaticPivotLU:
 
     # ------------------------------------------------------------------ single matrices
     def factor(self, values) -> np.ndarray:
-        """Factors of one matrix (nonzeros in CSC order) -> (n_lu,): L, U by columns, diag(U)."""
+        """Factors of one matrix (nonzeros in CSC order) -> (n_lu,): L, U by columns, diag(U).
+
+        Parameters
+        ----------
+        values : numpy.ndarray
+            (nnz,) nonzeros of the matrix in CSC order.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n_lu,) the factors.
+        """
         return self.factor_many(np.reshape(values, (1, -1)))[0]
 
     def factor_many(self, values) -> np.ndarray:
-        """Factors of a stack of matrices (m, nnz) -> (m, n_lu)."""
+        """Factors of a stack of matrices (m, nnz) -> (m, n_lu).
+
+        Parameters
+        ----------
+        values : numpy.ndarray
+            (m, nnz) nonzeros of m matrices in CSC order.
+
+        Returns
+        -------
+        numpy.ndarray
+            (m, n_lu) the factors of each matrix.
+        """
         values = _f64(values)
         if values.ndim != 2 or values.shape[1] != self.nnz:
             raise ValueError(f"values must have shape (m, {self.nnz}), got {values.shape}")
@@ -340,7 +575,28 @@ class StaticPivotLU:
 
     def solve(self, lu, values, b, trans="N"):
         """``A x = b`` (``trans="N"``) or ``A^T x = b`` (``"T"``) with the factors ``lu`` of the
-        matrix with nonzeros ``values``; returns ``(x, residual, backward_error)``."""
+        matrix with nonzeros ``values``; returns ``(x, residual, backward_error)``.
+
+        Parameters
+        ----------
+        lu : numpy.ndarray
+            (n_lu,) factors of the matrix (:meth:`factor`).
+        values : numpy.ndarray
+            (nnz,) nonzeros of the same matrix in CSC order (for the residual).
+        b : numpy.ndarray
+            (n,) right-hand side.
+        trans : {"N", "T"}, optional
+            Solve with A ("N") or its transpose ("T").
+
+        Returns
+        -------
+        x : numpy.ndarray
+            (n,) the solution.
+        residual : numpy.ndarray
+            (n,) the residual of the solve.
+        backward_error : float
+            Componentwise backward error of ``x``.
+        """
         lu, values, b = _f64(lu), _f64(values), _f64(b)
         x, res = np.empty(self.n), np.empty(self.n)
         berr = self.lib.lu_solve_checked(self._pp, _ptr(lu), _ptr(values), _ptr(b), _ptr(x), _ptr(res),
@@ -348,7 +604,24 @@ class StaticPivotLU:
         return x, res, float(berr)
 
     def backward_error(self, values, x, b, trans="N") -> float:
-        """Componentwise backward error ``max_i |b - M x|_i / (|M| |x| + |b|)_i`` (M = A or A^T)."""
+        """Componentwise backward error ``max_i |b - M x|_i / (|M| |x| + |b|)_i`` (M = A or A^T).
+
+        Parameters
+        ----------
+        values : numpy.ndarray
+            (nnz,) nonzeros of A in CSC order.
+        x : numpy.ndarray
+            (n,) candidate solution.
+        b : numpy.ndarray
+            (n,) right-hand side.
+        trans : {"N", "T"}, optional
+            M = A ("N") or A^T ("T").
+
+        Returns
+        -------
+        float
+            The componentwise backward error.
+        """
         values, x, b = _f64(values), _f64(x), _f64(b)
         res = np.empty(self.n)
         return float(self.lib.lu_berr(self._pp, _ptr(values), _ptr(x), _ptr(b), 0 if trans == "N" else 1,
@@ -360,7 +633,36 @@ class StaticPivotLU:
         nonzeros ``a`` (steps off.., nnz), rate-Jacobian nonzeros ``jd`` (steps off..), of which
         ``jd[:, src]`` sit at ``(drow, dcol)``; ``coef`` (n_time, 3) the BDF coefficients / dt,
         ``same[n]``: ``A_n == A_{n-1}``; ``tol`` the accepted backward error. The returned object
-        keeps its arrays alive."""
+        keeps its arrays alive.
+
+        Parameters
+        ----------
+        n_time : int
+            Number of time steps of the history.
+        off : int
+            First step held in ``a`` and ``jd``.
+        a : numpy.ndarray
+            (steps, nnz) Newton-matrix nonzeros from step ``off``.
+        jd : numpy.ndarray
+            (steps, njd) rate-Jacobian (dR/dxdot) nonzeros from step ``off``.
+        src : numpy.ndarray
+            Columns of ``jd`` used by the sweeps.
+        drow : numpy.ndarray
+            Rows of the used rate-Jacobian nonzeros.
+        dcol : numpy.ndarray
+            Columns of the used rate-Jacobian nonzeros.
+        coef : numpy.ndarray
+            (n_time, 3) BDF coefficients divided by the time step (1/s).
+        same : numpy.ndarray
+            (n_time,) bool, ``A_n == A_{n-1}``.
+        tol : float
+            Accepted componentwise backward error.
+
+        Returns
+        -------
+        ctypes.Structure
+            The kernel's sweep description (it keeps its arrays alive).
+        """
         keep = [_f64(a), _f64(jd), _i32(src), _i32(drow), _i32(dcol), _f64(coef),
                 np.ascontiguousarray(same, dtype=np.uint8)]
         if keep[0].shape[1] != self.nnz:
@@ -375,7 +677,30 @@ class StaticPivotLU:
         lam_{n+1} - c(n+2,2) R_{n+2}^T lam_{n+2}`` into ``lam`` (n_time, n; C-contiguous) in place.
         Returns ``(stop, refined, factored)``: the step whose refined solve failed (its right-hand
         side in ``self.rhs_buffer``) or ``lo - 1``, the number of refined steps and of factored
-        matrices (``LANES`` at a time; steps equal to the step before reuse its factors)."""
+        matrices (``LANES`` at a time; steps equal to the step before reuse its factors).
+
+        Parameters
+        ----------
+        data : ctypes.Structure
+            History from :meth:`sweep_data`.
+        hi : int
+            First (latest) step of the sweep.
+        lo : int
+            Last (earliest) step, >= 1.
+        rhs : numpy.ndarray
+            (n_time, n) C-contiguous right-hand sides.
+        lam : numpy.ndarray
+            (n_time, n) C-contiguous adjoint history, written in place.
+
+        Returns
+        -------
+        stop : int
+            The step whose refined solve failed, or ``lo - 1`` when all succeeded.
+        refined : int
+            Number of refined steps.
+        factored : int
+            Number of factored matrices.
+        """
         counts = (ctypes.c_int * 2)(0, 0)
         stop = self.lib.adjoint_sweep(self._pp, ctypes.addressof(data), int(hi), int(lo), _ptr(rhs), _ptr(lam),
                                       _ptr(self._f), _ptr(self._b), _ptr(self._work), counts)
@@ -384,7 +709,30 @@ class StaticPivotLU:
     def tangent_sweep(self, data, lo, hi, rhs, dx):
         """Steps ``lo..hi`` (lo >= 1) of ``A_n dx_n = rhs_n - R_n (c(n,1) dx_{n-1} + c(n,2)
         dx_{n-2})`` into ``dx`` in place. Returns ``(stop, refined, factored)`` (stop ``hi + 1``:
-        all done)."""
+        all done).
+
+        Parameters
+        ----------
+        data : ctypes.Structure
+            History from :meth:`sweep_data`.
+        lo : int
+            First step of the sweep, >= 1.
+        hi : int
+            Last step of the sweep.
+        rhs : numpy.ndarray
+            (n_time, n) C-contiguous right-hand sides.
+        dx : numpy.ndarray
+            (n_time, n) C-contiguous tangent history, written in place.
+
+        Returns
+        -------
+        stop : int
+            The step whose refined solve failed, or ``hi + 1`` when all succeeded.
+        refined : int
+            Number of refined steps.
+        factored : int
+            Number of factored matrices.
+        """
         counts = (ctypes.c_int * 2)(0, 0)
         stop = self.lib.tangent_sweep(self._pp, ctypes.addressof(data), int(lo), int(hi), _ptr(rhs), _ptr(dx),
                                       _ptr(self._f), _ptr(self._b), _ptr(self._work), counts)
@@ -397,7 +745,20 @@ class StaticPivotLU:
 
 
 def nonzero_columns(lib, data) -> np.ndarray:
-    """Columns of ``data`` (nt, m) with a nonzero in some row (bool, (m,)); the C kernel."""
+    """Columns of ``data`` (nt, m) with a nonzero in some row (bool, (m,)); the C kernel.
+
+    Parameters
+    ----------
+    lib : ctypes.CDLL
+        The compiled kernel (:func:`kernel`).
+    data : numpy.ndarray
+        (nt, m) values.
+
+    Returns
+    -------
+    numpy.ndarray
+        (m,) bool, True where the column has a nonzero.
+    """
     data = _f64(data)
     out = np.zeros(data.shape[1], dtype=np.uint8)
     lib.nonzero_columns(data.shape[0], data.shape[1], _ptr(data), _ptr(out))
@@ -406,7 +767,32 @@ def nonzero_columns(lib, data) -> np.ndarray:
 
 def hist_product(lib, data, out_idx, in_idx, vec, n_out, sum_time=False, out=None):
     """``out[t, out_idx[k]] += data[t, k] vec[t, in_idx[k]]`` (the C kernel; ``out`` zero if not
-    given); with ``sum_time`` one row summed over t. ``out_idx``, ``in_idx`` int32."""
+    given); with ``sum_time`` one row summed over t. ``out_idx``, ``in_idx`` int32.
+
+    Parameters
+    ----------
+    lib : ctypes.CDLL
+        The compiled kernel (:func:`kernel`).
+    data : numpy.ndarray
+        (nt, nnz) Jacobian nonzeros per step.
+    out_idx : numpy.ndarray
+        (nnz,) int32 output index of each nonzero.
+    in_idx : numpy.ndarray
+        (nnz,) int32 input index of each nonzero.
+    vec : numpy.ndarray
+        (nt, n_in) input history.
+    n_out : int
+        Width of the output.
+    sum_time : bool, optional
+        Sum the products over time into one (n_out,) row.
+    out : numpy.ndarray, optional
+        Accumulator, (nt, n_out) or (n_out,) with ``sum_time``; zeros when None.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``out``, (nt, n_out) or (n_out,) with ``sum_time``.
+    """
     data, vec = _f64(data), _f64(vec)
     nt, nnz = data.shape
     if out is None:
@@ -427,7 +813,28 @@ def for_pattern(n, rows, indptr, reference, col_order=None, diagonal=0):
     column order ``col_order`` (None: natural; ``diagonal``: leading columns pivoting on their own
     rows, :func:`pivot_order`; cached per pattern, column and pivot order: a new reference with
     the same pivots costs one SuperLU factorization), or None when the kernel is not compiled or
-    the reference cannot be factored."""
+    the reference cannot be factored.
+
+    Parameters
+    ----------
+    n : int
+        Order of the square matrix.
+    rows : numpy.ndarray
+        Row indices of the nonzeros in CSC order.
+    indptr : numpy.ndarray
+        (n + 1,) CSC column pointers.
+    reference : numpy.ndarray
+        (nnz,) nonzero values (CSC order) that fix the pivot order.
+    col_order : numpy.ndarray, optional
+        (n,) column order Q; None keeps the natural order.
+    diagonal : int, optional
+        Number of leading diagonal pivots (:func:`pivot_order`).
+
+    Returns
+    -------
+    StaticPivotLU or None
+        The (cached) factorizer, or None.
+    """
     if kernel() is None:
         return None
     q = np.arange(int(n)) if col_order is None else check_column_order(int(n), col_order)

@@ -43,7 +43,18 @@ def expanded_source(source: Path) -> bytes:
     """The C file ``source`` with each ``#include "path"`` (a file of the package, relative to
     ``source``; one level) replaced by that file's text: what is compiled and what keys the
     library, so a shared header such as ``timemarch/lu_triangular.h`` recompiles every kernel
-    that includes it."""
+    that includes it.
+
+    Parameters
+    ----------
+    source : pathlib.Path
+        Path of the C file.
+
+    Returns
+    -------
+    bytes
+        The source text with the local includes inserted.
+    """
     source = Path(source)
     text = source.read_text()
 
@@ -55,14 +66,49 @@ def expanded_source(source: Path) -> bytes:
 
 def library_key(source: Path, flags=C_FLAGS) -> str:
     """SHA-256 (32 hex digits) of the expanded source (:func:`expanded_source`), the flags and the
-    compiler path."""
+    compiler path.
+
+    Parameters
+    ----------
+    source : pathlib.Path
+        Path of the C file.
+    flags : tuple of str, optional
+        Compiler flags (default :data:`C_FLAGS`).
+
+    Returns
+    -------
+    str
+        The first 32 hex digits of the SHA-256.
+    """
     h = hashlib.sha256(expanded_source(source))
     h.update(b"\0" + " ".join(flags).encode() + b"\0" + str(cc.compiler()).encode())
     return h.hexdigest()[:32]
 
 
 def compile_source(source: Path, name: str, flags=C_FLAGS, timeout: float = 120.0) -> Path:
-    """The cached shared library of the C file ``source`` (compiled now if absent or corrupt)."""
+    """The cached shared library of the C file ``source`` (compiled now if absent or corrupt).
+
+    Parameters
+    ----------
+    source : pathlib.Path
+        Path of the C file.
+    name : str
+        Stem of the library's file name in the cache folder.
+    flags : tuple of str, optional
+        Compiler flags (default :data:`C_FLAGS`).
+    timeout : float, optional
+        Maximum compile time (s).
+
+    Returns
+    -------
+    pathlib.Path
+        Path of the verified shared library.
+
+    Raises
+    ------
+    wingmdao.utils.casadi_cache.CompileError
+        With no compiler, when gcc fails or exceeds ``timeout``.
+    """
     gcc = cc.compiler()
     if gcc is None:
         raise cc.CompileError("no C compiler (gcc) on PATH")
@@ -105,7 +151,24 @@ def compile_source(source: Path, name: str, flags=C_FLAGS, timeout: float = 120.
 def load(source: Path, name: str, flags=C_FLAGS, force: bool = False):
     """``ctypes.CDLL`` of the compiled ``source`` (once per process and cache folder), or None
     when compilation is off (``WINGMDAO_JIT=0``, unless ``force``), there is no compiler, or it
-    fails (one warning)."""
+    fails (one warning).
+
+    Parameters
+    ----------
+    source : pathlib.Path
+        Path of the C file.
+    name : str
+        Stem of the library's file name in the cache folder.
+    flags : tuple of str, optional
+        Compiler flags (default :data:`C_FLAGS`).
+    force : bool, optional
+        Compile even when ``WINGMDAO_JIT=0``.
+
+    Returns
+    -------
+    ctypes.CDLL or None
+        The loaded library, or None.
+    """
     if not (force or cc.jit_enabled()) or cc.compiler() is None:
         return None
     key = (str(Path(source).resolve()), name, tuple(flags), str(cc.cache_dir()))
