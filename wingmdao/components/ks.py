@@ -20,7 +20,8 @@ import openmdao.api as om
 from wingmdao import DISSERTATION
 from wingmdao.utils.digest import ArrayStamp
 from wingmdao.utils.ks import ks_gradient, ks_value, shifted_exp  # noqa: F401 - ks_value: public here too
-from wingmdao.components.pointwise import check_connected_shapes, input_stamp, same_point, scatter_matrix
+from wingmdao.components.pointwise import check_connected_shapes, input_stamp, same_point
+from wingmdao.utils.sparse import scatter_matrix
 
 #: constraint entries (all families of a KSAggregate) above which it is matrix-free by default:
 #: declared partials keep a value, a row and a column index per entry, and OpenMDAO copies them

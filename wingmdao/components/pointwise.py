@@ -14,12 +14,12 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 import openmdao.api as om
-import scipy.sparse as sp
 
 from wingmdao.errors import InputRangeError
 
 from wingmdao.timemarch.system import VarSpec
 from wingmdao.utils.digest import ArrayStamp
+from wingmdao.utils.sparse import scatter_matrix
 from wingmdao.utils import function_store
 from wingmdao.utils.casadi_cache import FastCall, JitFunction, definition_key
 from wingmdao.utils.function_store import module_closure
@@ -482,25 +482,6 @@ def same_point(stamp, inputs) -> bool:
         return False
     items = list(inputs.items())
     return [k for k, _ in items] == list(stamp) and all(stamp[k].matches(v) for k, v in items)
-
-
-def scatter_matrix(index, size):
-    """The selection matrix of ``index``.
-
-    Parameters
-    ----------
-    index : sequence of int
-        Column picked by each row.
-    size : int
-        Number of columns.
-
-    Returns
-    -------
-    scipy.sparse.csr_matrix, shape (len(index), size)
-        A one at (k, index[k]), zeros elsewhere.
-    """
-    m = len(index)
-    return sp.csr_matrix((np.ones(m), (np.arange(m), index)), shape=(m, size))
 
 
 class _PointJit:

@@ -30,6 +30,7 @@ from wingmdao.timemarch.bdf import bdf_coefficients, state_rates, time_step
 from wingmdao.timemarch.newton import DENSE_MAX, PERMC_SPEC, factor
 from wingmdao.timemarch import lu_orders, static_lu
 from wingmdao.utils.digest import ArrayStamp
+from wingmdao.utils.sparse import scatter_matrix
 
 
 #: Accepted componentwise backward error of a refined static-pivot solve (one refinement gives
@@ -39,12 +40,6 @@ STATIC_LU_TOL = 1e-12
 #: Pivot orders a sweep (of a checkpoint segment) may add (:meth:`LinearizedHistory._repivot`) before the steps whose
 #: static-pivot solve fails go to SuperLU one by one.
 MAX_REPIVOTS = 4
-
-
-def _scatter(index, n_out):
-    """Sparse (len(index), n_out) matrix with a one at (i, index[i]): sums entries into slots."""
-    m = len(index)
-    return sp.csr_matrix((np.ones(m), (np.arange(m), index)), shape=(m, n_out))
 
 
 def block_bytes_per_step(system) -> float:
@@ -433,8 +428,8 @@ class LinearizedHistory:
             "rows": rows, "cols": cols, "indptr": np.searchsorted(cols, np.arange(n + 1)),
             "pos_x": np.searchsorted(keys, cx * n + rx), "pos_d": np.searchsorted(keys, cd * n + rd),
             "pos_i": np.searchsorted(keys, eye * n + eye),
-            "scatter_rows": {k: _scatter(self.patterns[k][0], n) for k in self.patterns},
-            "scatter_cols": {k: _scatter(self.patterns[k][1], self.patterns[k][2][1]) for k in self.patterns},
+            "scatter_rows": {k: scatter_matrix(self.patterns[k][0], n) for k in self.patterns},
+            "scatter_cols": {k: scatter_matrix(self.patterns[k][1], self.patterns[k][2][1]) for k in self.patterns},
         }
         try:
             self.system._linearized_history_pattern = pat
