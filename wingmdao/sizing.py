@@ -353,8 +353,7 @@ def closed_loop_constraints(load_cases) -> list:
         The constraint paths.
     """
     return [f"cases.{c.name}.closed_loop_ks" for c in load_cases
-            if getattr(c, "aero", None) is not None and getattr(c.aero, "gain_design", False)
-            and c.aero.control_law is not None]
+            if c.aero is not None and c.aero.gain_design and c.aero.control_law is not None]
 
 
 def _add_driver(prob, options: SizingOptions, design_vars) -> str:
