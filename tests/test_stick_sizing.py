@@ -13,6 +13,7 @@ from wingmdao.aero.joined import lift_total
 from wingmdao.beam.joints import MonitoringStation, monitoring_loads
 from wingmdao.cases import pegasus, pegasus_stick
 from wingmdao.cases.planform import G0, wing_geometry
+from wingmdao.components.flutter import StickFlutterDamping
 from wingmdao.groups.stick import StickCase, StickSizing, set_stick_case
 from wingmdao.materials import ALUMINIUM
 from wingmdao.sizing import closed_loop_constraints, set_geometry
@@ -232,6 +233,7 @@ def test_stick_flutter_ks_totals(maneuvers):
         prob.set_val(w, base[w])
     prob.run_model()
     res = prob.model.stick_flutter.last_result
+    _check_stick_flutter_partials(prob.model.stick_flutter)
     lam = np.concatenate(res.eigenvalues)
     assert np.all(lam.real < 0) and np.all(np.abs(lam.imag) > 1.0)
     assert prob.get_val("flutter_ks")[0] < 0
@@ -252,3 +254,35 @@ def test_stick_flutter_ks_totals(maneuvers):
     cd = (vals[0] - vals[1]) / (2 * h)
     assert abs(cd) > 1e-3 * abs(prob.get_val("flutter_ks")[0])
     assert slope == pytest.approx(cd, rel=1e-4)
+
+
+def _check_stick_flutter_partials(comp):
+    """StickFlutterDamping alone (its inputs at the model's values): its declared partials with respect
+    to the wing's mass per length and stiffness at two stations, against central differences."""
+    alone = om.Problem(reports=False)
+    alone.model.add_subsystem("f", StickFlutterDamping(**{k: comp.options[k] for k in comp.options
+                                                          if k in StickFlutterDamping().options}),
+                              promotes=["*"])
+    alone.setup(mode="rev")
+    for name in comp.INPUTS:
+        alone.set_val(name, comp.get_val(name))
+    alone.run_model()
+    J = alone.compute_totals(["flutter_ks"], ["mass_per_length", "stiffness_csn"])
+    sensitive = 0
+    for name, index in (("mass_per_length", (1,)), ("mass_per_length", (3,)), ("stiffness_csn", (2, 0, 0)),
+                        ("stiffness_csn", (4, 2, 2))):
+        x0 = np.array(alone.get_val(name))
+        h = 1e-5 * abs(x0[index])
+        vals = []
+        for step in (h, -h):
+            x = x0.copy()
+            x[index] += step
+            alone.set_val(name, x)
+            alone.run_model()
+            vals.append(alone.get_val("flutter_ks")[0])
+        alone.set_val(name, x0)
+        cd = (vals[0] - vals[1]) / (2 * h)
+        exact = np.asarray(J["flutter_ks", name]).reshape(x0.shape)[index]
+        assert exact == pytest.approx(cd, rel=1e-3, abs=1e-9 * abs(vals[0]) / h), (name, index)
+        sensitive += abs(cd) * abs(x0[index]) > 1e-3 * abs(vals[0])   # elasticity above 1e-3
+    assert sensitive >= 2
