@@ -14,7 +14,8 @@ from wingmdao.cases import pegasus_stick  # noqa: E402
 from wingmdao.cases.planform import G0  # noqa: E402
 from wingmdao.components.inertia_relief import InertiaRelief  # noqa: E402
 from wingmdao.mphys.builder import SECTION_TO_BEAM  # noqa: E402
-from wingmdao.mphys.stick import JoinedBeamStates, StickBuilder, pegasus_stick_builder  # noqa: E402
+from wingmdao.components.state_slice import BeamStateSlice  # noqa: E402
+from wingmdao.mphys.stick import StickBuilder, pegasus_stick_builder  # noqa: E402
 
 N = 5   # wing nodes of the small PEGASUS stick model
 
@@ -67,7 +68,9 @@ def test_inertia_relief_partials_and_rigid_body_accelerations(aircraft):
 
 def test_joined_beam_states_partials():
     p = om.Problem(reports=False)
-    p.model.add_subsystem("c", JoinedBeamStates(num_state=100, num_nodes=3, offset=20))
+    p.model.add_subsystem("c", BeamStateSlice(num_times=None, num_nodes=3, state_shape=(100,),
+                                              columns=20 + np.arange(54), input_name="stick_states",
+                                              output_name="wingmdao_states"))
     p.setup(force_alloc_complex=True)
     p.set_val("c.stick_states", np.arange(100.0))
     p.run_model()

@@ -30,6 +30,7 @@ from wingmdao.cases.planform import wing_geometry
 from wingmdao.materials import ALUMINIUM
 from wingmdao.section.box import WALL_NAMES
 from wingmdao.components.inertia_relief import InertiaRelief, acceleration_output
+from wingmdao.components.state_slice import BeamStateSlice
 from wingmdao.mphys.builder import (SECTION_TO_BEAM, STATES, BeamDisplacements, PostCoupling, PreCoupling,
                                     StructInputs, WingmdaoBuilder, _BuilderGroup, _tagged)
 
@@ -37,32 +38,6 @@ from wingmdao.mphys.builder import (SECTION_TO_BEAM, STATES, BeamDisplacements, 
 STICK_STATES = "stick_states"
 #: the wing's beam inputs of the joined system (``<wing>_<name>``) the coupling group takes from the wing
 WING_INPUTS = ("node_positions", "node_euler_angles", *SECTION_TO_BEAM, "point_force", "point_moment")
-
-
-class JoinedBeamStates(om.ExplicitComponent):
-    """One beam's 18 states per node (n, 18) out of a joined state (columns ``offset + arange(18 n)``).
-    Linear, constant partials."""
-
-    def initialize(self):
-        self.options.declare("num_state", types=int, lower=1, desc="size of the joined state")
-        self.options.declare("num_nodes", types=int, lower=2, desc="number of nodes of the beam")
-        self.options.declare("offset", types=int, lower=0, desc="index of the beam's first state in the joined state")
-        self.options.declare("joined_name", default=STICK_STATES, types=str, desc="name of the joined state input")
-        self.options.declare("beam_name", default=STATES, types=str, desc="name of the beam state output")
-
-    def setup(self):
-        n, off = self.options["num_nodes"], self.options["offset"]
-        if off + 18 * n > self.options["num_state"]:
-            raise ValueError(f"{self.msginfo}: offset {off} + 18 * {n} nodes exceeds the {self.options['num_state']} "
-                             "joined states")
-        jn, bn = self.options["joined_name"], self.options["beam_name"]
-        self.add_input(jn, shape=self.options["num_state"], units=None, desc="joined state (SI)")
-        self.add_output(bn, shape=(n, 18), units=None, desc="the beam's r, theta, F, M, u, omega per node (SI)")
-        self.declare_partials(bn, jn, rows=np.arange(18 * n), cols=off + np.arange(18 * n), val=1.0)
-
-    def compute(self, inputs, outputs):
-        n, off = self.options["num_nodes"], self.options["offset"]
-        outputs[self.options["beam_name"]] = np.asarray(inputs[self.options["joined_name"]])[off:off + 18 * n].reshape(n, 18)
 
 
 class StickCoupling(_BuilderGroup):
@@ -82,8 +57,10 @@ class StickCoupling(_BuilderGroup):
                      forcing_values=b.forcing_values, state_name=STICK_STATES, **b.newton_options)
         self.add_subsystem("relief", relief, promotes_inputs=[(f"{wing}_{k}", k) for k in WING_INPUTS],
                            promotes_outputs=["*"])
-        self.add_subsystem("wing_states", _tagged(JoinedBeamStates, {STATES}, "mphys_coupling")(
-            num_state=s.n_state, num_nodes=n, offset=int(s.offsets[wing])), promotes=["*"])
+        columns = int(s.offsets[wing]) + np.arange(18 * n)
+        self.add_subsystem("wing_states", _tagged(BeamStateSlice, {STATES}, "mphys_coupling")(
+            num_times=None, num_nodes=n, state_shape=(s.n_state,), columns=columns, input_name=STICK_STATES,
+            output_name=STATES), promotes=["*"])
         self.add_subsystem("disp", BeamDisplacements(node_euler_angles=b.node_euler_angles), promotes=["*"])
 
 
