@@ -558,7 +558,12 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     ``controller_A`` ... ``controller_D`` and, with ``trim``, one reference state per measured
     output (its trimmed value, held after t = 0) so that the law acts on the increments from the
     trimmed 1 g state; while ``trim_active`` the controller states are zero. The control states
-    sit after the rigid-body states, before alpha_trim (:func:`state_layout`).
+    sit after the rigid-body states, before alpha_trim (:func:`state_layout`). With ``"vlm"`` the
+    surfaces are deflected panels of the lattice (:func:`~wingmdao.aero.vlm.flap_influence`): per node
+    of each surface two Wagner states lag its deflection (:func:`flap_lag_state_names`, input
+    beta + T11 b / (2 T10 v_c) dbeta), the lattice's flap columns carry the circulatory lift of the
+    lagged deflection, the steady quarter-chord moment of the deflection and the hinge moment
+    (parameters :func:`flap_param_specs`); the section keeps the flap's non-circulatory terms.
 
     Parameters
     ----------
