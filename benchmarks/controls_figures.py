@@ -193,6 +193,8 @@ def vlm_flap(plt):
         for k, lab in enumerate(("tau", "C_h,beta", "C_h,alpha")):
             axes[0].semilogx(counts, 100 * rows[:, k], marker=mk, color=f"C{k}", label=f"{lab}, hinge {hinge}",
                              ls="-" if hinge == 0.75 else "--")
+    axes[0].set_xticks(counts, [str(k) for k in counts])
+    axes[0].minorticks_off()
     axes[0].set_xlabel("chordwise panels")
     axes[0].set_ylabel("lattice / thin airfoil - 1 (%)")
     axes[0].axhline(0, color="k", lw=0.5)
