@@ -13,7 +13,9 @@
   docs/examples/pegasus_alleviation.yaml (runs ``wingmdao gust pegasus --alleviation ...``);
 * docs/figures/controls_vlm_flap.png (``vlm``) - the flap as deflected vortex-lattice panels: the
   errors of the 2-D limit against the chordwise panels, and a part-span flap's spanload against
-  the lifting line (the references of tests/test_vlm_flaps.py).
+  the lifting line (the references of tests/test_vlm_flaps.py);
+* ``mla`` (printed only) - the PEGASUS scheduled aileron's rigid-wing root-bending change with the
+  lattice's flap panels, the equivalent angle through the lattice, and strips.
 
 About 2 minutes on one core.
 """
@@ -228,6 +230,44 @@ def vlm_flap(plt):
     save_figure(fig, os.path.join(FIG, "controls_vlm_flap.png"))
 
 
+def mla_lattice(plt):
+    """PEGASUS 2.5 g scheduled aileron (docs/examples/pegasus_mla.yaml): the rigid wing's root-bending
+    change with the lattice's flap columns, with the flap as the equivalent angle T10/pi delta through
+    the lattice's station influence, and with strips (the closed form of docs/controls.md)."""
+    import math
+
+    from wingmdao.aero.vlm import station_influence
+    from wingmdao.cases import pegasus
+
+    setup = pegasus.build(pegasus.PegasusOptions(aero="coupled", aero_theory="vlm",
+                                                 alleviation=os.path.join(HERE, "..", "docs", "examples",
+                                                                          "pegasus_mla.yaml")))
+    a = next(c for c in setup.load_cases if c.name == "maneuver_pos").aero
+    r0 = np.asarray(a.node_positions)
+    n = r0.shape[0]
+    c, ref = np.broadcast_to(a.chord, (n,)), np.broadcast_to(a.ref_point, (n,))
+    nodes = a.controls.surfaces[0][1]
+    qd, delta = 0.5 * a.density * a.airspeed ** 2, math.radians(-6.0 * 1.5)
+    y, ds = r0[:, 1] - r0[0, 1], np.linalg.norm(np.diff(r0, axis=0), axis=1)
+
+    def integ(f):
+        return float(np.sum(0.5 * (f[1:] + f[:-1]) * ds))
+
+    st, fl = flap_influence(r0, c, ref, [(nodes, 0.75)], mach=a.mach)
+    tau = theodorsen_flap_functions(0.75)[10] / math.pi
+    e = np.zeros(n)
+    e[list(nodes)] = tau
+    beta = math.sqrt(1 - a.mach ** 2)
+    cases = (("lattice flap panels", fl.lift.sum(axis=1), st.lift.sum(axis=1)),
+             ("equivalent angle through the lattice", station_influence(r0, c, ref, mach=a.mach).lift @ e,
+              station_influence(r0, c, ref, mach=a.mach).lift.sum(axis=1)),
+             ("strips", 2 * np.pi / beta * c * e, 2 * np.pi / beta * c))
+    for name, lf, one in cases:
+        dm = qd * delta * (integ(lf * y) - integ(lf) / integ(one) * integ(one * y))
+        print(f"{name}: aileron lift {integ(lf):.2f} m^2 per rad, 2.5 g root bending change {dm / 1e3:.1f} kN m, "
+              f"-1 g {-dm / 1e3 * 12 / 9:.1f} kN m")
+
+
 def main():
     import matplotlib
 
@@ -236,7 +276,7 @@ def main():
 
     which = sys.argv[1:] or ["flap", "harmonic", "stability", "pegasus"]
     for name, fun in (("flap", flap_theory), ("harmonic", harmonic), ("stability", stability), ("pegasus", pegasus),
-                      ("vlm", vlm_flap)):
+                      ("vlm", vlm_flap), ("mla", mla_lattice)):
         if name in which:
             fun(plt)
 
