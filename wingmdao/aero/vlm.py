@@ -31,6 +31,11 @@ tributary beam length. So
 station's quarter-chord point), with ``A_L`` (n, n) m and ``A_M`` (n, n) m^2 depending only on
 the jig planform and the Mach number (:func:`station_influence`, cached). For strip theory
 ``A_L = diag(c_i a_i / beta)`` and ``A_M = 0``.
+
+Control surfaces (:func:`flap_influence`). A trailing-edge surface is a set of panels aft of its
+hinge line, the hinge on a chordwise panel edge (:func:`chord_fractions`); a deflection turns their
+normals, so their boundary condition gets the normal-wash -V beta. Their columns on the same lattice
+give the stations' lift and moment per radian of deflection and the hinge moments (docs/controls.md).
 """
 
 from __future__ import annotations
