@@ -24,7 +24,7 @@ import pytest
 from wingmdao.aero import aero_parameters, cached_aeroelastic_system, theodorsen_jones
 from wingmdao.aero.controls import ControlLaw, ControlSurface, control_spec
 from wingmdao.aero.system import three_dimensional_parameters
-from wingmdao.aero.vlm import chord_fractions, flap_influence, flat_wing
+from wingmdao.aero.vlm import build_lattice, chord_fractions, flap_influence, flat_wing
 from wingmdao.beam.static import beam_forcing, beam_parameters, straight_beam
 from wingmdao.timemarch.bdf import march, solve_static, state_rates
 from wingmdao.timemarch.system import layout, pack
@@ -64,6 +64,11 @@ def test_chord_fractions_put_the_hinge_on_a_panel_edge():
     assert all(np.min(np.abs(f - h)) < 1e-12 for h in (0.7, 0.8)) and np.all(np.diff(f) > 0)
     with pytest.raises(ValueError, match=r"hinge = 1.2 is outside the chord; allowed range \(0, 1\)"):
         chord_fractions(4, [1.2])
+    r, c, ref = flat_wing(3.0, lambda y: np.ones_like(y), n_stations=5, spacing="uniform")
+    with pytest.raises(ValueError, match=r"flap nodes \[1, 3\]: allowed at least two contiguous node indices"):
+        flap_influence(r, c, ref, [((1, 3), 0.75)])
+    with pytest.raises(ValueError, match="fractions must increase from 0 to 1"):
+        build_lattice(r, c, ref, fractions=[0.0, 0.6, 0.5, 1.0])
 
 
 @pytest.mark.parametrize("hinge", [0.75, 0.5])
