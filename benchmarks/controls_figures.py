@@ -10,7 +10,12 @@
 * docs/figures/controls_stability_limit.png - the closed-loop eigenvalue of the root-bending
   feedback of tests/test_controls_system.py against the gain, with the marched growth/decay rates;
 * docs/figures/controls_pegasus_gust.png - PEGASUS 1-cos gust without and with the law of
-  docs/examples/pegasus_alleviation.yaml (runs ``wingmdao gust pegasus --alleviation ...``).
+  docs/examples/pegasus_alleviation.yaml (runs ``wingmdao gust pegasus --alleviation ...``);
+* docs/figures/controls_vlm_flap.png (``vlm``) - the flap as deflected vortex-lattice panels: the
+  errors of the 2-D limit against the chordwise panels, and a part-span flap's spanload against
+  the lifting line (the references of tests/test_vlm_flaps.py);
+* ``mla`` (printed only) - the PEGASUS scheduled aileron's rigid-wing root-bending change with the
+  lattice's flap panels, the equivalent angle through the lattice, and strips.
 
 About 2 minutes on one core.
 """
@@ -27,10 +32,12 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "tests"))
 import test_controls as TC  # noqa: E402
 import test_controls_system as TS  # noqa: E402
+import test_vlm_flaps as TV  # noqa: E402
 
 from wingmdao.aero import theodorsen_exact, theodorsen_jones  # noqa: E402
 from wingmdao.aero.controls import (ControlSurface, flap_harmonic_loads, flap_lift_effectiveness,  # noqa: E402
                                     hinge_moment_coefficients, theodorsen_flap_functions)
+from wingmdao.aero.vlm import flap_influence, flat_wing  # noqa: E402
 from wingmdao.plots import save_figure  # noqa: E402
 from wingmdao.timemarch.bdf import march, state_rates  # noqa: E402
 from wingmdao.timemarch.system import layout  # noqa: E402
@@ -168,6 +175,99 @@ def pegasus(plt):
     save_figure(fig, os.path.join(FIG, "controls_pegasus_gust.png"))
 
 
+def vlm_flap(plt):
+    """2-D limit (aspect ratio 200) against the chordwise panels; part-span spanload against the lifting line."""
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    semi, n = 100.0, 11
+    r, c, ref = flat_wing(semi, lambda y: np.ones_like(y), n_stations=n, spacing="uniform")
+    counts = (4, 8, 16, 32, 64)
+    for hinge, mk in ((0.75, "o"), (0.5, "s")):
+        cl_d, ch_a, ch_b = TV._glauert(hinge)
+        rows = []
+        for nc in counts:
+            st, fl = flap_influence(r, c, ref, [(tuple(range(n)), hinge)], n_chordwise=nc, n_spanwise=2)
+            a0 = st.lift.sum(axis=1)[0]
+            rows.append((fl.lift.sum(axis=1)[0] / a0 / (cl_d / (2 * np.pi)) - 1, fl.hinge_flap.sum() / semi / ch_b - 1,
+                         fl.hinge_station.sum() / semi * (2 * np.pi / a0) / ch_a - 1, fl.lift.sum(axis=1)[0] / cl_d - 1))
+            print(f"hinge {hinge} n_chordwise {nc}: dCl/ddelta {rows[-1][3]:+.4f}, / dCl/dalpha vs tau {rows[-1][0]:+.4f},"
+                  f" C_h,beta {rows[-1][1]:+.4f}, C_h,alpha {rows[-1][2]:+.4f}")
+        rows = np.array(rows)
+        for k, lab in enumerate(("tau", "C_h,beta", "C_h,alpha")):
+            axes[0].semilogx(counts, 100 * rows[:, k], marker=mk, color=f"C{k}", label=f"{lab}, hinge {hinge}",
+                             ls="-" if hinge == 0.75 else "--")
+    axes[0].set_xticks(counts, [str(k) for k in counts])
+    axes[0].minorticks_off()
+    axes[0].set_xlabel("chordwise panels")
+    axes[0].set_ylabel("lattice / thin airfoil - 1 (%)")
+    axes[0].axhline(0, color="k", lw=0.5)
+    axes[0].legend(fontsize=7)
+    aspect, n = 10.0, 21
+    semi = aspect / 2
+    r, c, ref = flat_wing(semi, lambda y: np.ones_like(y), n_stations=n, spacing="uniform")
+    st, fl = flap_influence(r, c, ref, [(tuple(range(12, 21)), 0.75)], n_chordwise=16, n_spanwise=2)
+    lift = fl.lift.sum(axis=1)
+    # lifting line (Glauert's series) of a unit angle on the flap's span, scaled by the lattice's CL ratio
+    terms = 199
+    nn = np.arange(1, 2 * terms, 2)
+    th = (np.arange(1, terms + 1) - 0.5) * (np.pi / 2) / terms
+    mu = 2 * np.pi / (4 * aspect)
+    eta0 = r[12, 1] / semi
+    A = np.linalg.solve(np.sin(np.outer(th, nn)) * (np.sin(th)[:, None] + nn[None, :] * mu),
+                        mu * (np.abs(np.cos(th)) >= eta0 - 1e-12) * np.sin(th))
+    tg = np.linspace(1e-3, np.pi / 2, 400)
+    cl_c = 4 * aspect * np.sin(np.outer(tg, nn)) @ A  # local c cl per unit angle (Gamma = 2 b V sum An sin n th)
+    cl_ll_total = np.pi * aspect * A[0]
+    cl_vlm_total = 2 * st.tributary @ lift / aspect
+    axes[1].plot(r[:, 1] / semi, lift / cl_vlm_total, "o-", label="vortex lattice, flap panels (per CL)")
+    axes[1].plot(np.cos(tg), cl_c / cl_ll_total, "k--", label="lifting line, angle on the flap span (per CL)")
+    axes[1].axvspan(eta0, 1.0, color="0.9")
+    axes[1].set_xlabel("y / s (aileron shaded)")
+    axes[1].set_ylabel("lift per span / (q CL) (m)")
+    axes[1].legend(fontsize=8)
+    for ax in axes:
+        ax.grid(True)
+    print(f"part span 60-100 %: CL_delta / CL_delta,full lattice {cl_vlm_total:.4f} (per rad, tau included)")
+    save_figure(fig, os.path.join(FIG, "controls_vlm_flap.png"))
+
+
+def mla_lattice(plt):
+    """PEGASUS 2.5 g scheduled aileron (docs/examples/pegasus_mla.yaml): the rigid wing's root-bending
+    change with the lattice's flap columns, with the flap as the equivalent angle T10/pi delta through
+    the lattice's station influence, and with strips (the closed form of docs/controls.md)."""
+    import math
+
+    from wingmdao.aero.vlm import station_influence
+    from wingmdao.cases import pegasus
+
+    setup = pegasus.build(pegasus.PegasusOptions(aero="coupled", aero_theory="vlm",
+                                                 alleviation=os.path.join(HERE, "..", "docs", "examples",
+                                                                          "pegasus_mla.yaml")))
+    a = next(c for c in setup.load_cases if c.name == "maneuver_pos").aero
+    r0 = np.asarray(a.node_positions)
+    n = r0.shape[0]
+    c, ref = np.broadcast_to(a.chord, (n,)), np.broadcast_to(a.ref_point, (n,))
+    nodes = a.controls.surfaces[0][1]
+    qd, delta = 0.5 * a.density * a.airspeed ** 2, math.radians(-6.0 * 1.5)
+    y, ds = r0[:, 1] - r0[0, 1], np.linalg.norm(np.diff(r0, axis=0), axis=1)
+
+    def integ(f):
+        return float(np.sum(0.5 * (f[1:] + f[:-1]) * ds))
+
+    st, fl = flap_influence(r0, c, ref, [(nodes, 0.75)], mach=a.mach)
+    tau = theodorsen_flap_functions(0.75)[10] / math.pi
+    e = np.zeros(n)
+    e[list(nodes)] = tau
+    beta = math.sqrt(1 - a.mach ** 2)
+    cases = (("lattice flap panels", fl.lift.sum(axis=1), st.lift.sum(axis=1)),
+             ("equivalent angle through the lattice", station_influence(r0, c, ref, mach=a.mach).lift @ e,
+              station_influence(r0, c, ref, mach=a.mach).lift.sum(axis=1)),
+             ("strips", 2 * np.pi / beta * c * e, 2 * np.pi / beta * c))
+    for name, lf, one in cases:
+        dm = qd * delta * (integ(lf * y) - integ(lf) / integ(one) * integ(one * y))
+        print(f"{name}: aileron lift {integ(lf):.2f} m^2 per rad, 2.5 g root bending change {dm / 1e3:.1f} kN m, "
+              f"-1 g {-dm / 1e3 * 12 / 9:.1f} kN m")
+
+
 def main():
     import matplotlib
 
@@ -175,7 +275,8 @@ def main():
     import matplotlib.pyplot as plt
 
     which = sys.argv[1:] or ["flap", "harmonic", "stability", "pegasus"]
-    for name, fun in (("flap", flap_theory), ("harmonic", harmonic), ("stability", stability), ("pegasus", pegasus)):
+    for name, fun in (("flap", flap_theory), ("harmonic", harmonic), ("stability", stability), ("pegasus", pegasus),
+                      ("vlm", vlm_flap), ("mla", mla_lattice)):
         if name in which:
             fun(plt)
 

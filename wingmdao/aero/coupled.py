@@ -208,7 +208,7 @@ class CoupledAero:
         if self.aero_theory != "strip" and self.node_positions is None:
             raise ValueError(f"CoupledAero: aero_theory = {self.aero_theory!r} needs node_positions (the jig beam nodes)")
         return three_dimensional_parameters(self.aero_theory, self.node_positions, values["chord"],
-                                            values["ref_point"], values["mach"])
+                                            values["ref_point"], values["mach"], controls=self.controls)
 
 
 def load_case_response(prob, case, num_nodes: int, weight: float, *, path: str | None = None) -> dict:

@@ -23,7 +23,7 @@ from wingmdao.aero.modal_free import free_modal_dlm_wing
 from wingmdao.aero.modal_loads import station_load_history
 from wingmdao.aero.rfa import N_LAGS
 from wingmdao.aero.strip import station_gust_history
-from wingmdao.aero.system import cached_aeroelastic_system
+from wingmdao.aero.system import cached_aeroelastic_system, three_dimensional_parameters
 from wingmdao.beam.static import march_line_loads
 from wingmdao.loads.atmosphere import G0
 from wingmdao.loads.gust import gust_line_loads
@@ -225,6 +225,9 @@ def coupled_gust_response(time, beam_params, chord, axis_frac, aero_params, flig
     system = cached_aeroelastic_system(chord.size, plunge=plunge, trim=True, pitch=pitch, tail_lag=pitch and tail_lag,
                                        aero_theory=aero_theory, controls=spec)
     params = {**beam_params, **aero_params, "trim_lift": flight.weight, **(law.matrices() if law is not None else {})}
+    if aero_theory == "vlm" and spec is not None:  # the surfaces as deflected panels of one lattice
+        params.update(three_dimensional_parameters("vlm", beam_params["node_positions"], chord, axis_frac,
+                                                   aero_params["mach"], controls=spec))
     if plunge:
         params["body_mass"] = body_mass
     if pitch:

@@ -162,7 +162,7 @@ def check_aero_inputs(*, chord=None, ref_point=None, airspeed=None, density=None
 
 
 def section_model(rel_csn, w_s, dw_mid_dt, dw_s_dt, gust_n, aero_x, aero_xdot, chord, ref_point,
-                  lift_slope, alpha_zero, cm0, airspeed, density, mach, flap=None):
+                  lift_slope, alpha_zero, cm0, airspeed, density, mach, flap=None, flap_lattice=False):
     """Symbolic (CasADi) section loads and lag-state residuals.
 
     ``rel_csn``: relative air velocity at the reference point in csn (without the gust);
@@ -180,6 +180,13 @@ def section_model(rel_csn, w_s, dw_mid_dt, dw_s_dt, gust_n, aero_x, aero_xdot, c
     :mod:`wingmdao.aero.controls`): its angle adds to the three-quarter-chord angle that drives
     the Wagner states, its non-circulatory lift and moment to the section's, and ``parts`` holds
     the ``hinge_moment`` per length (trailing edge down positive). None: no surface.
+    ``flap_lattice``: the flap is a set of deflected vortex-lattice panels (``aero_theory="vlm"``,
+    :mod:`wingmdao.aero.system`), which carry its circulatory lift, its steady moment and the
+    circulatory and steady parts of its hinge moment: its angle then stays out of the Wagner
+    states (``parts["flap_input"]`` = beta + T11 b / (2 T10 v_c) dbeta, the input of the flap's own
+    lag states), and the section keeps only the flap's rate and acceleration terms (non-circulatory
+    lift, moment without the steady ``T15`` term, hinge moment without the ``T18`` and ``T12 L_c``
+    terms).
 
     Parameters
     ----------
@@ -215,6 +222,8 @@ def section_model(rel_csn, w_s, dw_mid_dt, dw_s_dt, gust_n, aero_x, aero_xdot, c
         Mach number.
     flap : tuple, optional
         ``(T, beta, dbeta, ddbeta)`` of a trailing-edge control surface; None: none.
+    flap_lattice : bool, optional
+        The flap's circulatory and steady loads come from a vortex lattice (above).
 
     Returns
     -------
@@ -234,7 +243,10 @@ def section_model(rel_csn, w_s, dw_mid_dt, dw_s_dt, gust_n, aero_x, aero_xdot, c
     alpha_qs = (v_n + w_s * d34) / v_c - alpha_zero
     if flap is not None:
         alpha_f, lift_nc_f, moment_nc_f = flap_terms(flap[0], b, v_c, density, *flap[1:])
-        alpha_qs = alpha_qs + alpha_f
+        if flap_lattice:  # the lattice carries the circulatory lift and the steady moment (T15 beta)
+            moment_nc_f = flap_terms(flap[0], b, v_c, density, 0.0, *flap[2:])[2]
+        else:
+            alpha_qs = alpha_qs + alpha_f
     alpha_g = gust_n / v_c
     lam = [aero_x[0], aero_x[1]]
     mu = [aero_x[2], aero_x[3]]
@@ -258,7 +270,10 @@ def section_model(rel_csn, w_s, dw_mid_dt, dw_s_dt, gust_n, aero_x, aero_xdot, c
     parts = {"lift_circulatory": lift_c, "lift_apparent_mass": lift_nc, "alpha_qs": alpha_qs,
              "alpha_gust": alpha_g, "alpha_circulatory": alpha_eff + alpha_geff,
              "moment_noncirculatory": moment - lift_c * chord * (ref_point - 0.25)}
-    if flap is not None:
+    if flap is not None and flap_lattice:
+        parts["hinge_moment"] = hinge_moment(flap[0], b, v_c, density, 0.0, *flap[2:], dw_mid_dt, w_s, dw_s_dt, 0.0)
+        parts["flap_input"] = alpha_f * (math.pi / flap[0][10])
+    elif flap is not None:
         parts["hinge_moment"] = hinge_moment(flap[0], b, v_c, density, *flap[1:], dw_mid_dt, w_s, dw_s_dt, lift_c)
     return lift_c + lift_nc, moment, ca.vertcat(*res), parts
 

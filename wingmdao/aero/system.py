@@ -38,8 +38,9 @@ import numpy as np
 
 from wingmdao.aero.controls import actuator_residuals, theodorsen_flap_functions
 from wingmdao.aero.lifting_line import lifting_line_lift_slope
-from wingmdao.aero.strip import AERO_STATE_NAMES, N_AERO_STATES, check_aero_inputs, section_model
-from wingmdao.aero.vlm import station_influence
+from wingmdao.aero.strip import (AERO_STATE_NAMES, N_AERO_STATES, WAGNER_A, WAGNER_B, check_aero_inputs,
+                                  section_model)
+from wingmdao.aero.vlm import flap_influence, station_influence
 from wingmdao.beam.residual import (N_STATE_PER_NODE, STATE_BLOCKS, NODE_FORCING as _Q_NODE, NODE_PARAMS as _P_NODE,
                                     element_function as _element_function, nodal_function as _nodal_function,
                                     node_forcing as _node_forcing, node_params as _node_params, describe_equation,
@@ -302,13 +303,16 @@ def aero_parameters(n: int, *, chord, ref_point=0.4, lift_slope=2 * np.pi, alpha
     return out
 
 
-def three_dimensional_parameters(aero_theory: str, node_positions, chord, ref_point, mach) -> dict:
+def three_dimensional_parameters(aero_theory: str, node_positions, chord, ref_point, mach, controls=None) -> dict:
     """The aerodynamic parameters a theory of :data:`AERO_THEORY_CHOICES` sets on the strip model's:
     none for ``"strip"``; ``lift_slope`` (n,) 1/rad from Prandtl's lifting line of the planform
     (:func:`~wingmdao.aero.lifting_line.lifting_line_lift_slope`, zero at the tip node) for
     ``"lifting-line"``; ``lift_influence`` (n, n) m and ``moment_influence`` (n, n) m^2 from the
     vortex lattice at ``mach`` (:func:`~wingmdao.aero.vlm.station_influence`) for ``"vlm"``.
     ``node_positions`` (n, 3) m: the jig beam nodes; ``chord`` (n,) m; ``ref_point`` (n,).
+    With ``controls`` and ``"vlm"`` the surfaces are deflected panels of the lattice: its chordwise
+    panel edges hold every hinge (:func:`~wingmdao.aero.vlm.chord_fractions`) and the parameters of
+    :func:`flap_param_specs` join (:func:`~wingmdao.aero.vlm.flap_influence`).
 
     Parameters
     ----------
@@ -322,6 +326,8 @@ def three_dimensional_parameters(aero_theory: str, node_positions, chord, ref_po
         Beam axis as a fraction of the chord aft of the leading edge.
     mach : float
         Mach number (vortex lattice).
+    controls : ControlSpec, optional
+        Control surfaces (their flap panels with ``"vlm"``).
 
     Returns
     -------
@@ -339,8 +345,13 @@ def three_dimensional_parameters(aero_theory: str, node_positions, chord, ref_po
         tip = float(y[-1])
         slope, _ = lifting_line_lift_slope(np.minimum(y, tip * (1 - 1e-12)), (y, c), tip)
         return {"lift_slope": np.maximum(slope, 1e-6)}  # the check wants > 0; zero at the tip node itself
-    inf = station_influence(r, c, ref_point, mach=mach)
-    return {"lift_influence": inf.lift, "moment_influence": inf.moment}
+    if controls is None:
+        inf = station_influence(r, c, ref_point, mach=mach)
+        return {"lift_influence": inf.lift, "moment_influence": inf.moment}
+    inf, flap = flap_influence(r, c, ref_point, [(srf[1], srf[2]) for srf in controls.surfaces], mach=mach)
+    return {"lift_influence": inf.lift, "moment_influence": inf.moment, "flap_lift_influence": flap.lift,
+            "flap_moment_influence": flap.moment, "hinge_station_influence": flap.hinge_station,
+            "hinge_flap_influence": flap.hinge_flap}
 
 
 def check_aero_parameters(values: dict) -> None:
@@ -355,7 +366,7 @@ def check_aero_parameters(values: dict) -> None:
                                                  "lift_slope") if k in values})
 
 
-def node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence, flap=None):
+def node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence, flap=None, flap_lattice=False):
     """Follower aerodynamic force and moment per length (body axes) and the 4 lag residuals of one
     node: the strip section (:func:`wingmdao.aero.strip.section_model`) on the node's motion.
 
@@ -377,6 +388,8 @@ def node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence, flap=None):
         Euler sequence of the beam rotations (``"surface"`` or ``"standard"``).
     flap : tuple, optional
         ``(T, beta, dbeta, ddbeta)`` of a control surface at the node (:func:`section_model`).
+    flap_lattice : bool, optional
+        The flap's circulatory and steady loads come from the vortex lattice (:func:`section_model`).
 
     Returns
     -------
@@ -390,7 +403,8 @@ def node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence, flap=None):
     extra : tuple
         For a three-dimensional quasi-steady lift: the section's normal and spanwise axes (body),
         its lagged circulatory angle (rad), apparent-mass lift (N/m), moment without the
-        circulatory lift (N m/m), and with ``flap`` the hinge moment (N m/m).
+        circulatory lift (N m/m), and with ``flap`` the hinge moment (N m/m), with ``flap_lattice``
+        also the input of the flap's lag states (rad).
     """
     st = STATE_BLOCKS
     xb, xdb = x[:18], xdot[:18]
@@ -414,13 +428,15 @@ def node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence, flap=None):
     dws = ca.jtimes(ws, z, zdot)
     gust_n = (T @ ca.vertcat(0, 0, wg))[2]
     lift, moment, res, parts = section_model(rel, ws, dw_mid, dws, gust_n, x[18:], xdot[18:], chord, ref, a, azl,
-                                             cm0, V, rho, mach, flap)
+                                             cm0, V, rho, mach, flap, flap_lattice)
     f = T.T @ ca.vertcat(0, 0, lift)
     m = T.T @ ca.vertcat(0, moment, 0)
     # for a three-dimensional quasi-steady lift (aero_theory "vlm"): the section's normal and
     # spanwise axes (body), its lagged circulatory angle and its loads without the circulatory lift
     extra = (T.T[:, 2], T.T[:, 1], parts["alpha_circulatory"], parts["lift_apparent_mass"],
              parts["moment_noncirculatory"]) + ((parts["hinge_moment"],) if flap is not None else ())
+    if flap is not None and flap_lattice:
+        extra = extra + (parts["flap_input"],)
     return f, m, res, lift, moment, extra
 
 
@@ -542,7 +558,12 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     ``controller_A`` ... ``controller_D`` and, with ``trim``, one reference state per measured
     output (its trimmed value, held after t = 0) so that the law acts on the increments from the
     trimmed 1 g state; while ``trim_active`` the controller states are zero. The control states
-    sit after the rigid-body states, before alpha_trim (:func:`state_layout`).
+    sit after the rigid-body states, before alpha_trim (:func:`state_layout`). With ``"vlm"`` the
+    surfaces are deflected panels of the lattice (:func:`~wingmdao.aero.vlm.flap_influence`): per node
+    of each surface two Wagner states lag its deflection (:func:`flap_lag_state_names`, input
+    beta + T11 b / (2 T10 v_c) dbeta), the lattice's flap columns carry the circulatory lift of the
+    lagged deflection, the steady quarter-chord moment of the deflection and the hinge moment
+    (parameters :func:`flap_param_specs`); the section keeps the flap's non-circulatory terms.
 
     Parameters
     ----------
@@ -600,12 +621,17 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
         n_body = len(body_names)
         pspecs += pitch_param_specs() + (elevator_param_specs() if elevator else [])
         qspecs += pitch_forcing_specs() + (elevator_forcing_specs() if elevator else [])
-    ctl_names = ()
+    ctl_names, lag_names = (), ()
     if ctl is not None:
         ctl_names = ctl.state_names() + (tuple(f"reference_{nm}" for nm in ctl.outputs) if trim else ())
         pspecs += control_param_specs(ctl)
+        if vlm:  # the flaps are panels of the lattice: their lagged deflection per node (two Wagner states)
+            lag_names = flap_lag_state_names(ctl)
+            pspecs += flap_param_specs(n, ctl)
         qspecs.append(VarSpec("surface_command", (ctl.n_surfaces,), "rad",
                               "open-loop command of each control surface (added to the control law's)"))
+    n_ctl_base = len(ctl_names)
+    ctl_names = ctl_names + lag_names
     if trim:
         pspecs.append(VarSpec("trim_lift", (), "N", "lift of both half-wings to trim to (n W)"))
         qspecs.append(VarSpec("trim_active", (), None, "1: solve alpha_trim for trim_lift; 0: hold alpha_trim"))
@@ -656,7 +682,7 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
         for k, srf in enumerate(ctl.surfaces):
             T_k = theodorsen_flap_functions(srf[2])
             out_k = node_aero(xs_, xds_, pa_, None, fr_, sc_[0], sc_[1], sc_[2], euler_sequence,
-                               flap=(T_k, fl_[0], fl_[1], fl_[2]))
+                               flap=(T_k, fl_[0], fl_[1], fl_[2]), flap_lattice=vlm)
             flap_funs.append(ca.Function(f"aero_node_{srf[0]}", [xs_, xds_, pa_, *fr_, sc_, fl_],
                                          [*out_k[:5], *out_k[5]]))
             surface_at.update({i: k for i in srf[1]})
@@ -674,8 +700,22 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
         else:
             f_a, m_a, res_a, L_a, M_a, *ex_a = aero_fun(xs[i], xds[i], pa, *aero_frame, scal)
         aero_out.append([res_a, L_a, M_a, f_a, m_a, ex_a])
+    flap_rows, flap_state = [], None
+    if vlm and ctl is not None:  # per flap column (surface node): its lagged and its actual deflection
+        i_lag = i_ctl + n_ctl_base
+        lagged, actual, col = [], [], 0
+        for k, srf in enumerate(ctl.surfaces):
+            for i in srf[1]:
+                u_i = aero_out[i][5][6]
+                l_i, dl_i = x[i_lag + 2 * col: i_lag + 2 * col + 2], xdot[i_lag + 2 * col: i_lag + 2 * col + 2]
+                b_i = 0.5 * p[play["chord"]][i]
+                flap_rows += [b_i / (WAGNER_B[m] * V) * dl_i[m] + l_i[m] - u_i for m in range(2)]
+                lagged.append((1.0 - sum(WAGNER_A)) * u_i + WAGNER_A[0] * l_i[0] + WAGNER_A[1] * l_i[1])
+                actual.append(x[i_ctl + 2 * k])
+                col += 1
+        flap_state = (ca.vertcat(*lagged), ca.vertcat(*actual))
     if vlm:
-        _vlm_loads(aero_out, p, play, n, 0.5 * rho * V ** 2)
+        hinge_lattice = _vlm_loads(aero_out, p, play, n, 0.5 * rho * V ** 2, ctl, flap_state)
     for i in range(n):
         f_a, m_a = aero_out[i][3], aero_out[i][4]
         qb = _node_forcing(q, qlay, i)
@@ -716,9 +756,11 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
                         root_bending=xs[0][st["M"]][0] / ROOT_BENDING_UNIT,
                         tip_acceleration=(xds[n - 1][st["u"]][2] + (xdot[W * n] if plunge else 0.0)) / G0,
                         pitch_rate=x[body][1] if pitch else None)
-        blocks.append(_control_residuals(ctl, x[i_ctl:i_trim], xdot[i_ctl:i_trim], p, play,
+        i_base = i_ctl + n_ctl_base
+        blocks.append(_control_residuals(ctl, x[i_ctl:i_base], xdot[i_ctl:i_base], p, play,
                                          q[qlay["surface_command"]], [measured[nm] for nm in ctl.outputs],
                                          q[qlay["trim_active"]] if trim else None))
+        blocks += flap_rows
     if trim:
         r0 = [ps[i][_P_NODE["r0"]] for i in range(n)]
         total = 0
@@ -762,7 +804,10 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     system.controls = ctl
     system.control_index = {nm: system.layout.body[nm] for nm in ctl_names}
     if ctl is not None:
-        system._hinge = ca.Function("hinge_moments", [x, xdot, p, q], [_surface_hinge_moments(ctl, aero_out, ps)])
+        hinge = _surface_hinge_moments(ctl, aero_out, ps)
+        if vlm:
+            hinge = hinge + hinge_lattice
+        system._hinge = ca.Function("hinge_moments", [x, xdot, p, q], [hinge])
     if pitch:
         system._tail_lift = ca.Function("tail_lift", [x, xdot, p, q], [lift_tail])
     system._loads = ca.Function("section_loads", [x, xdot, p, q], [lifts, moments])
@@ -770,22 +815,90 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     return system
 
 
-def _vlm_loads(aero_out, p, play, n, qdyn):
+def _vlm_loads(aero_out, p, play, n, qdyn, ctl=None, flap=None):
     """Replace each station's circulatory lift by the vortex lattice's, in place (``aero_out[i]`` =
-    [residual, lift, moment, force, moment vector, (normal, span axis, alpha_c, L_nc, M_nc)]):
-    ``L_c = q A_L alpha_c``, ``M = L_c c (ref - 1/4) + q A_M alpha_c + M_nc``."""
+    [residual, lift, moment, force, moment vector, (normal, span axis, alpha_c, L_nc, M_nc, ...)]):
+    ``L_c = q (A_L alpha_c + F_L beta_c)``, ``M = L_c c (ref - 1/4) + q (A_M alpha_c + F_M beta) + M_nc``
+    with the flap columns' lagged deflections beta_c and actual deflections beta (``flap``, with
+    ``ctl``). Returns the lattice's part of each surface's hinge moment (N m, (n_s,)), or None
+    without surfaces: ``q (H_A alpha_c + H_F (r beta_c + (1 - r) beta))``, r the circulatory share
+    T10 T12 / (T18 + T10 T12) of the thin-airfoil C_h,beta."""
     # the parameters are packed row-major (numpy); CasADi reshapes column-major
     A_L = ca.reshape(p[play["lift_influence"]], n, n).T
     A_M = ca.reshape(p[play["moment_influence"]], n, n).T
     alpha_c = ca.vertcat(*[o[5][2] for o in aero_out])
     lift_c = qdyn * (A_L @ alpha_c)
     moment_c = qdyn * (A_M @ alpha_c)
+    hinge = None
+    if ctl is not None and flap is not None:
+        beta_c, beta = flap
+        nf, ns = beta_c.shape[0], ctl.n_surfaces
+        F_L = _matrix(p, play["flap_lift_influence"], n, nf)
+        F_M = _matrix(p, play["flap_moment_influence"], n, nf)
+        H_A = _matrix(p, play["hinge_station_influence"], ns, n)
+        H_F = _matrix(p, play["hinge_flap_influence"], ns, nf)
+        lift_c = lift_c + qdyn * (F_L @ beta_c)
+        moment_c = moment_c + qdyn * (F_M @ beta)
+        share = []
+        for srf in ctl.surfaces:
+            T = theodorsen_flap_functions(srf[2])
+            share += [T[10] * T[12] / (T[18] + T[10] * T[12])] * len(srf[1])
+        r = ca.DM(share)
+        hinge = qdyn * (H_A @ alpha_c + H_F @ (r * beta_c + (1.0 - r) * beta))
     chord, ref = p[play["chord"]], p[play["ref_point"]]
     for i, o in enumerate(aero_out):
         nrm, span, _, lift_nc, moment_nc = o[5][:5]
         lift = lift_c[i] + lift_nc
         moment = lift_c[i] * chord[i] * (ref[i] - 0.25) + moment_c[i] + moment_nc
         o[1], o[2], o[3], o[4] = lift, moment, nrm * lift, span * moment
+    return hinge
+
+
+def flap_lag_state_names(ctl) -> tuple:
+    """Names of the flaps' lag states of ``aero_theory="vlm"``: two Wagner states per node of each
+    surface, ``NAME_lag_NODE_1``, ``NAME_lag_NODE_2`` (after the other control states).
+
+    Parameters
+    ----------
+    ctl : ControlSpec
+        The surfaces.
+
+    Returns
+    -------
+    tuple of str
+        The names in order.
+    """
+    return tuple(f"{srf[0]}_lag_{i}_{m}" for srf in ctl.surfaces for i in srf[1] for m in (1, 2))
+
+
+def flap_param_specs(n: int, ctl) -> list[VarSpec]:
+    """The lattice's flap influence parameters of ``aero_theory="vlm"`` with control surfaces
+    (:func:`wingmdao.aero.vlm.flap_influence`; one column per node of each surface, in order).
+
+    Parameters
+    ----------
+    n : int
+        Number of nodes.
+    ctl : ControlSpec
+        The surfaces.
+
+    Returns
+    -------
+    list of VarSpec
+        The parameter blocks.
+    """
+    nf = sum(len(srf[1]) for srf in ctl.surfaces)
+    ns = ctl.n_surfaces
+    return [
+        VarSpec("flap_lift_influence", (n, nf), "m", "lift per length at station i per dynamic pressure and radian "
+                "of lagged flap deflection at flap column j (deflected lattice panels aft of the hinge)"),
+        VarSpec("flap_moment_influence", (n, nf), "m**2", "moment per length about station i's quarter chord (nose "
+                "up) per dynamic pressure and radian of flap deflection at flap column j (vortex lattice)"),
+        VarSpec("hinge_station_influence", (ns, n), "m**3", "hinge moment of surface s (trailing edge down +) per "
+                "dynamic pressure and radian of circulatory angle at station j (vortex lattice)"),
+        VarSpec("hinge_flap_influence", (ns, nf), "m**3", "hinge moment of surface s (trailing edge down +) per "
+                "dynamic pressure and radian of flap deflection at flap column j (vortex lattice)"),
+    ]
 
 
 #: unit of the measured root bending moment fed to a control law (MN m: gains of order one)
@@ -947,7 +1060,7 @@ def describe_aeroelastic_equation(index: int, num_nodes: int, plunge: bool = Fal
     """
     k_ctl = int(index) - N_AEROELASTIC_STATES * num_nodes - int(bool(plunge)) - len(body_names)
     if 0 <= k_ctl < len(control_names):
-        return f"control state {control_names[k_ctl]} (actuator, controller or measurement reference)"
+        return f"control state {control_names[k_ctl]} (actuator, controller, measurement reference or flap lag)"
     if index == N_AEROELASTIC_STATES * num_nodes and plunge:
         if body_names:
             return "free plunge + pitch: body translation (wingmdao.aero.pitch), or w_p = 0 in trim"

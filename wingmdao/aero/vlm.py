@@ -31,6 +31,11 @@ tributary beam length. So
 station's quarter-chord point), with ``A_L`` (n, n) m and ``A_M`` (n, n) m^2 depending only on
 the jig planform and the Mach number (:func:`station_influence`, cached). For strip theory
 ``A_L = diag(c_i a_i / beta)`` and ``A_M = 0``.
+
+Control surfaces (:func:`flap_influence`). A trailing-edge surface is a set of panels aft of its
+hinge line, the hinge on a chordwise panel edge (:func:`chord_fractions`); a deflection turns their
+normals, so their boundary condition gets the normal-wash -V beta. Their columns on the same lattice
+give the stations' lift and moment per radian of deflection and the hinge moments (docs/controls.md).
 """
 
 from __future__ import annotations
@@ -45,6 +50,9 @@ from wingmdao.aero.weissinger import segment_velocity, semi_infinite_velocity
 #: default lattice density: chordwise panels, spanwise strips per beam element
 N_CHORDWISE = 4
 N_SPANWISE = 4
+#: chordwise panels of a lattice whose flaps are panels (:func:`flap_influence`): the flap's lift and
+#: hinge moments converge as 1 / n_chordwise (docs/aerodynamics-3d.md), 4 panels on a 25 % chord flap
+FLAP_CHORDWISE = 16
 _CACHE: dict = {}
 _CACHE_SIZE = 32
 
@@ -91,6 +99,10 @@ class Lattice:
         Streamwise chord of each panel (m).
     mach : float
         Mach number.
+    chord_start : ndarray, shape (m,), optional
+        Leading edge of each panel as a fraction of the local chord.
+    element : ndarray of int, shape (m,), optional
+        Beam element (between nodes e and e + 1) of each panel.
     """
 
     bound_a: np.ndarray
@@ -106,6 +118,8 @@ class Lattice:
     strip_chord: np.ndarray
     panel_chord: np.ndarray
     mach: float
+    chord_start: np.ndarray | None = None
+    element: np.ndarray | None = None
 
     @property
     def beta(self) -> float:
@@ -211,8 +225,47 @@ def check_planform(node_positions, chord, ref_point, mach) -> tuple:
     return r, c, ref, float(mach)
 
 
+def chord_fractions(n_chordwise=N_CHORDWISE, hinges=()) -> np.ndarray:
+    """Chordwise panel edges (fractions of the local chord, 0 ... 1) with every hinge line on an edge.
+
+    Without hinges (or when every hinge falls on an edge of the ``n_chordwise`` equal panels) the
+    equal division. Otherwise the chord is cut at the hinges and each piece gets
+    ``max(1, round(n_chordwise x its length))`` equal panels, so the count may differ from
+    ``n_chordwise`` by the rounding (a hinge at 0.7 with 4 panels: three panels ahead of it, one
+    aft).
+
+    Parameters
+    ----------
+    n_chordwise : int
+        Chordwise panels of the equal division (at least 1).
+    hinges : sequence of float
+        Hinge lines, fractions of the chord in (0, 1).
+
+    Returns
+    -------
+    ndarray
+        Increasing panel edges from 0 to 1.
+    """
+    nc = int(n_chordwise)
+    if nc < 1:
+        raise ValueError(f"n_chordwise must be >= 1, got {n_chordwise}")
+    equal = np.arange(nc + 1) / nc
+    cuts = sorted({float(h) for h in hinges})
+    for h in cuts:
+        if not 0.0 < h < 1.0:
+            raise ValueError(f"hinge = {h} is outside the chord; allowed range (0, 1)")
+    if all(np.min(np.abs(equal - h)) < 1e-9 for h in cuts):
+        return equal
+    bounds = np.array([0.0] + cuts + [1.0])
+    edges = [0.0]
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        k = max(1, int(round(nc * (b - a))))
+        edges += list(a + (b - a) * np.arange(1, k + 1) / k)
+    return np.array(edges)
+
+
 def build_lattice(node_positions, chord, ref_point, *, mach=0.0, n_chordwise=N_CHORDWISE,
-                  n_spanwise=N_SPANWISE) -> Lattice:
+                  n_spanwise=N_SPANWISE, fractions=None) -> Lattice:
     """The :class:`Lattice` of the half wing through the beam nodes (module docstring).
 
     Parameters
@@ -229,6 +282,9 @@ def build_lattice(node_positions, chord, ref_point, *, mach=0.0, n_chordwise=N_C
         Chordwise panels (at least 1).
     n_spanwise : int
         Spanwise strips per beam element (at least 1).
+    fractions : array_like, optional
+        Chordwise panel edges, fractions of the local chord from 0 to 1 (:func:`chord_fractions`);
+        None: ``n_chordwise`` equal panels.
 
     Returns
     -------
@@ -239,6 +295,10 @@ def build_lattice(node_positions, chord, ref_point, *, mach=0.0, n_chordwise=N_C
     nc, ns = int(n_chordwise), int(n_spanwise)
     if nc < 1 or ns < 1:
         raise ValueError(f"n_chordwise and n_spanwise must be >= 1, got {n_chordwise}, {n_spanwise}")
+    edges = np.arange(nc + 1) / nc if fractions is None else np.asarray(fractions, dtype=float)
+    if edges.ndim != 1 or edges.size < 2 or edges[0] != 0.0 or edges[-1] != 1.0 or np.any(np.diff(edges) <= 0):
+        raise ValueError(f"fractions must increase from 0 to 1 (chordwise panel edges), got {fractions!r}")
+    nc = edges.size - 1
     n = r.shape[0]
     le = r.copy()
     le[:, 0] -= ref * c
@@ -246,7 +306,8 @@ def build_lattice(node_positions, chord, ref_point, *, mach=0.0, n_chordwise=N_C
     te = np.linspace(0.0, 1.0, ns + 1)
     tm = 0.5 * (te[1:] + te[:-1])
     A, B, P, N, S, XQ, H, strip_y, strip_c = [], [], [], [], [], [], [], [], []
-    frac = np.arange(nc) / nc  # panel leading edges, fraction of the local chord
+    frac, width = edges[:-1], np.diff(edges)  # panel leading edges and widths, fractions of the local chord
+    elem = []
     for e in range(n - 1):
         le_e = le[e] + te[:, None] * (le[e + 1] - le[e])
         c_e = c[e] + te * (c[e + 1] - c[e])
@@ -262,11 +323,12 @@ def build_lattice(node_positions, chord, ref_point, *, mach=0.0, n_chordwise=N_C
             strip_y.append(le_m[j, 1])
             strip_c.append(c_m[j])
             for k in range(nc):
-                xa = le_e[j] + np.array([(frac[k] + 0.25 / nc) * c_e[j], 0.0, 0.0])
-                xb = le_e[j + 1] + np.array([(frac[k] + 0.25 / nc) * c_e[j + 1], 0.0, 0.0])
+                xa = le_e[j] + np.array([(frac[k] + 0.25 * width[k]) * c_e[j], 0.0, 0.0])
+                xb = le_e[j + 1] + np.array([(frac[k] + 0.25 * width[k]) * c_e[j + 1], 0.0, 0.0])
                 A.append(xa)
                 B.append(xb)
-                P.append(le_m[j] + np.array([(frac[k] + 0.75 / nc) * c_m[j], 0.0, 0.0]))
+                P.append(le_m[j] + np.array([(frac[k] + 0.75 * width[k]) * c_m[j], 0.0, 0.0]))
+                elem.append(e)
                 N.append(nrm)
                 S.append(np.hypot(xb[1] - xa[1], xb[2] - xa[2]))
                 XQ.append(le_m[j, 0] + 0.25 * c_m[j])
@@ -279,7 +341,8 @@ def build_lattice(node_positions, chord, ref_point, *, mach=0.0, n_chordwise=N_C
     return Lattice(bound_a=np.array(A), bound_b=np.array(B), control=np.array(P), normal=np.array(N),
                    span=np.array(S), x_quarter=np.array(XQ), hat=np.array(H), tributary=trib,
                    strip=np.repeat(np.arange(m // nc), nc), strip_y=np.array(strip_y), strip_chord=np.array(strip_c),
-                   panel_chord=np.repeat(np.array(strip_c), nc) / nc, mach=mach)
+                   panel_chord=np.repeat(np.array(strip_c), nc) * np.tile(width, m // nc), mach=mach,
+                   chord_start=np.tile(frac, m // nc), element=np.array(elem, dtype=int))
 
 
 def _mirror(p):
@@ -333,7 +396,7 @@ def solve_circulation(lat: Lattice, panel_incidence) -> np.ndarray:
 
 
 def station_influence(node_positions, chord, ref_point, *, mach=0.0, n_chordwise=N_CHORDWISE,
-                      n_spanwise=N_SPANWISE) -> StationInfluence:
+                      n_spanwise=N_SPANWISE, fractions=None) -> StationInfluence:
     """:class:`StationInfluence` of the beam stations (module docstring), cached by planform and Mach.
 
     ``node_positions`` (n, 3) m: the jig beam nodes (root first, y >= 0 increasing);
@@ -355,29 +418,137 @@ def station_influence(node_positions, chord, ref_point, *, mach=0.0, n_chordwise
         Chordwise panels.
     n_spanwise : int
         Spanwise strips per beam element.
+    fractions : array_like, optional
+        Chordwise panel edges (:func:`chord_fractions`); None: ``n_chordwise`` equal panels.
 
     Returns
     -------
     StationInfluence
         The influence (shared by the cache: do not modify).
     """
+    return _influences(node_positions, chord, ref_point, mach, n_chordwise, n_spanwise, fractions, ())[0]
+
+
+@dataclass(frozen=True, eq=False)
+class FlapInfluence:
+    """Aerodynamic influence of trailing-edge flaps modelled as deflected lattice panels (per unit q).
+
+    A surface covers the beam nodes ``nodes`` (contiguous) and is hinged at ``hinge`` x the local
+    chord; its panels are those of the elements between its first and last node whose leading edge
+    lies at or aft of the hinge (the hinge is a panel edge, :func:`chord_fractions`; a panel is a flap
+    panel when its bound vortex lies aft of the hinge). A deflection
+    beta_j at each of its nodes gives the flap panels the incidence ``sum_j N_j(s_k) beta_j``
+    (trailing edge down +, the hat functions of the station incidences); a uniform deflection is
+    beta on every flap panel. The columns are the surfaces' nodes in order (``columns``: (surface,
+    node) per column).
+
+    ``lift`` (n, n_f) m: lift per length at station i per q and radian at flap column j;
+    ``moment`` (n, n_f) m^2: moment per length about station i's quarter chord (nose up);
+    ``hinge_station`` (n_s, n) m^3: hinge moment of surface s (N m, trailing edge down +, one
+    half wing) per q and radian of incidence at station j; ``hinge_flap`` (n_s, n_f) m^3: the same
+    per radian at flap column j.
+
+    Parameters
+    ----------
+    lift : ndarray, shape (n, n_f)
+        Lift influence of the flap columns (m).
+    moment : ndarray, shape (n, n_f)
+        Quarter-chord moment influence of the flap columns (m^2).
+    hinge_station : ndarray, shape (n_s, n)
+        Hinge moment per station incidence (m^3).
+    hinge_flap : ndarray, shape (n_s, n_f)
+        Hinge moment per flap-column deflection (m^3).
+    columns : tuple
+        (surface index, node) of each flap column.
+    """
+
+    lift: np.ndarray
+    moment: np.ndarray
+    hinge_station: np.ndarray
+    hinge_flap: np.ndarray
+    columns: tuple
+
+
+def flap_influence(node_positions, chord, ref_point, surfaces, *, mach=0.0, n_chordwise=FLAP_CHORDWISE,
+                   n_spanwise=N_SPANWISE) -> tuple:
+    """The stations' and the flaps' influence on one lattice whose chordwise panel edges hold every
+    hinge (:func:`chord_fractions`): ``(StationInfluence, FlapInfluence)``, cached.
+
+    Parameters
+    ----------
+    node_positions : array_like, shape (n, 3)
+        Jig beam nodes (m).
+    chord : float or array_like, shape (n,)
+        Streamwise chord (m).
+    ref_point : float or array_like, shape (n,)
+        Beam axis as a fraction of the chord aft of the leading edge.
+    surfaces : sequence of tuple
+        ``(nodes, hinge)`` per surface: its node indices (contiguous, at least two) and hinge
+        line (fraction of the chord aft of the leading edge, in (0, 1)).
+    mach : float
+        Mach number, in [0, 1).
+    n_chordwise : int
+        Chordwise panels of the equal division (:data:`FLAP_CHORDWISE`).
+    n_spanwise : int
+        Spanwise strips per beam element.
+
+    Returns
+    -------
+    tuple
+        ``(StationInfluence, FlapInfluence)`` (shared by the cache: do not modify).
+    """
+    srf = tuple((tuple(int(i) for i in nodes), float(h)) for nodes, h in surfaces)
+    n = np.asarray(node_positions, dtype=float).reshape(-1, 3).shape[0]
+    for nodes, _ in srf:
+        if len(nodes) < 2 or nodes != tuple(range(nodes[0], nodes[0] + len(nodes))) or nodes[0] < 0 or nodes[-1] >= n:
+            raise ValueError(f"flap nodes {list(nodes)}: allowed at least two contiguous node indices in 0 .. {n - 1}")
+    fractions = chord_fractions(n_chordwise, [h for _, h in srf])
+    return _influences(node_positions, chord, ref_point, mach, n_chordwise, n_spanwise, fractions, srf)
+
+
+def _influences(node_positions, chord, ref_point, mach, n_chordwise, n_spanwise, fractions, surfaces):
     r, c, ref, mach = check_planform(node_positions, chord, ref_point, mach)
+    fr = None if fractions is None else np.asarray(fractions, dtype=float)
     key = hashlib.sha1(b"".join(np.ascontiguousarray(v).tobytes() for v in (r, c, ref))
-                       + repr((mach, int(n_chordwise), int(n_spanwise))).encode()).hexdigest()
+                       + repr((mach, int(n_chordwise), int(n_spanwise), None if fr is None else fr.tolist(),
+                               surfaces)).encode()).hexdigest()
     if key in _CACHE:
         return _CACHE[key]
-    lat = build_lattice(r, c, ref, mach=mach, n_chordwise=n_chordwise, n_spanwise=n_spanwise)
-    gamma = solve_circulation(lat, lat.hat)  # (m, n): unit incidence of each station
+    lat = build_lattice(r, c, ref, mach=mach, n_chordwise=n_chordwise, n_spanwise=n_spanwise, fractions=fr)
+    m, n = lat.hat.shape
+    # flap columns: incidence N_j(s_k) on the panels of surface s aft of its hinge
+    cols, masks, E = [], [], []
+    bound_frac = lat.chord_start + 0.25 * lat.panel_chord / lat.strip_chord[lat.strip]  # bound leg, fraction of chord
+    for k, (nodes, h) in enumerate(surfaces):
+        on = ((lat.element >= nodes[0]) & (lat.element < nodes[-1]) & (bound_frac >= h - 1e-9))
+        masks.append(on)
+        for j in nodes:
+            cols.append((k, j))
+            E.append(np.where(on, lat.hat[:, j], 0.0))
+    rhs = np.concatenate([lat.hat, np.array(E).T.reshape(m, -1)], axis=1) if E else lat.hat
+    gamma = solve_circulation(lat, rhs)  # (m, n + n_f): unit incidence of each station, then each flap column
     force = 2.0 * gamma * lat.span[:, None]  # normal force per q of each panel (m^2): rho V Gamma l / q
     x_bound = 0.5 * (lat.bound_a[:, 0] + lat.bound_b[:, 0])
     moment = force * (lat.x_quarter - x_bound)[:, None]  # nose up about the local quarter chord (m^3)
     w = lat.hat / lat.tributary[None, :]
-    out = StationInfluence(lift=w.T @ force, moment=w.T @ moment, tributary=lat.tributary, lattice=lat,
-                           circulation=gamma)
+    lift_all, moment_all = w.T @ force, w.T @ moment
+    out = StationInfluence(lift=lift_all[:, :n], moment=moment_all[:, :n], tributary=lat.tributary, lattice=lat,
+                           circulation=gamma[:, :n])
+    flap = None
+    if surfaces:
+        x_le = lat.x_quarter - 0.25 * lat.strip_chord[lat.strip]
+        hinge_rows = []
+        for on, (_, h) in zip(masks, surfaces):
+            arm = x_bound - (x_le + h * lat.strip_chord[lat.strip])  # aft of the hinge line (m)
+            hinge_rows.append(-(on * arm) @ force)  # an upward force aft of the hinge: trailing edge up
+        H = np.array(hinge_rows)
+        flap = FlapInfluence(lift=lift_all[:, n:], moment=moment_all[:, n:], hinge_station=H[:, :n],
+                             hinge_flap=H[:, n:], columns=tuple(cols))
+    result = (out, flap)
     if len(_CACHE) >= _CACHE_SIZE:
         _CACHE.pop(next(iter(_CACHE)))
-    _CACHE[key] = out
-    return out
+    _CACHE[key] = result
+    return result
 
 
 def flat_wing(semi_span, chord_of_y, *, sweep_quarter_deg=0.0, n_stations=21, ref_point=0.25, spacing="cosine"):

@@ -48,7 +48,8 @@ from wingmdao.components.load_gradient import InternalForceGradient
 from wingmdao.components.mass import StructuralMass
 from wingmdao.components.station_map import StationMap
 from wingmdao.aero.coupled import AERO_FORCING_META, AERO_FORCING_SHAPES
-from wingmdao.aero.system import aero_param_specs, cached_aeroelastic_system, control_param_specs
+from wingmdao.aero.system import (aero_param_specs, cached_aeroelastic_system, control_param_specs, flap_param_specs,
+                                  vlm_param_specs)
 from wingmdao.beam.static import cached_beam_system
 from wingmdao.components.aeroelastic import AeroelasticBeamDynamics, PitchBodyProperties, PlungeBodyMass
 from wingmdao.components.panels import PanelFailure, RibMass, SizingRules, StiffenedBoxSection
@@ -347,7 +348,9 @@ class WingStructure(om.Group):
             extra = [e for e in extra if (aero.trim or e != "trim_active") and (aero.pitch or e != "tail_gust_velocity")]
             extra += ["tail_area", "tail_lift_slope", "downwash_gradient"] if aero.pitch else []
             extra += ["trim_lift"] if aero.trim and not aero.plunge else []
-            extra += ["lift_influence", "moment_influence"] if aero.residual_theory == "vlm" else []
+            extra += [s.name for s in vlm_param_specs(n)] if aero.residual_theory == "vlm" else []
+            if aero.residual_theory == "vlm" and aero.controls is not None:  # the flaps as lattice panels
+                extra += [s.name for s in flap_param_specs(n, aero.controls)]
             if aero.controls is not None:  # the law's matrices (the gains) and the open-loop command
                 extra += [s.name for s in control_param_specs(aero.controls)] + ["surface_command"]
             if aero.pitch:  # body mass, first moment, pitch inertia, tail position from the aircraft inputs

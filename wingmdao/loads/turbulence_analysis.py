@@ -121,6 +121,9 @@ def coupled_gust_model(beam_params: dict, aero_params: dict, *, chord, axis_frac
     system = cached_aeroelastic_system(n, damping=damping, plunge=bool(plunge), trim=True, aero_theory=aero_theory,
                                        controls=spec)
     params = {**beam_params, **aero_params, "trim_lift": float(weight)}
+    if aero_theory == "vlm" and spec is not None:  # the surfaces as deflected panels of one lattice
+        params.update(three_dimensional_parameters("vlm", beam_params["node_positions"], chord, axis_fraction,
+                                                   aero_params["mach"], controls=spec))
     if law is not None:
         params.update(law.matrices())
     r0 = np.asarray(beam_params["node_positions"])
@@ -465,7 +468,7 @@ def sizing_turbulence_options(module, setup, *, damping=None, rho_ks=50.0, allev
         values.update(three_dimensional_parameters("vlm", np.asarray(geo.node_positions, dtype=float),
                                                    np.broadcast_to(aero["chord"], (n,)),
                                                    np.broadcast_to(aero["ref_point"], (n,)),
-                                                   V / aero["speed_of_sound"]))
+                                                   V / aero["speed_of_sound"], controls=controls.get("controls")))
     return {"plunge": False, "airspeed": V, **controls, "x_stations": x_le, "aero_theory": aero_theory,
             "width": np.asarray(geo.width),
             "height": np.asarray(geo.height), "section_to_csn": geo.section_to_csn, "u_sigma": float(point.u_sigma),
