@@ -55,7 +55,7 @@ from wingmdao.beam.rotations import body_to_csn, euler_from_axis
 from wingmdao.beam.static import beam_parameters
 from wingmdao.cases import pegasus
 from wingmdao.cases.planform import FT, G0, LB, wing_geometry
-from wingmdao.groups.load_case import StickCase
+from wingmdao.groups.load_case import SizedBeam, StickCase
 from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
 from wingmdao.loads.gust import design_gust_velocity_eas
 from wingmdao.loads.maneuver import maneuver_line_loads
@@ -84,6 +84,18 @@ TAIL = {"semi_span": 3.655, "EI_cc": 2e6, "EI_nn": 2e7, "GJ": 2.5e6, "EA": 1e9, 
 #: Horizontal tail's sections (assumption): the ATR 42 class tail's mean chord (area 11.73 m^2 over
 #: span 7.31 m), beam axis at the quarter chord, thin-airfoil lift slope.
 TAIL_SECTION = {"chord": 11.73 / 7.31, "ref_point": 0.25, "lift_slope": 2.0 * np.pi}
+#: The horizontal tail as a box (``--size-beams tail``; assumption): a single-cell aluminium box of
+#: 40 % of the tail's chord centred on its beam axis (the quarter chord: spars at 5 % and 45 %
+#: chord), 10 % of the chord high (a 12 % thick section), equal walls of ``initial`` m at the
+#: start (EI flap 1.97e6, chordwise 1.75e7, GJ 2.2e6 N m^2: the :data:`TAIL` data); the rest of
+#: the tail's 20 kg/m (leading and trailing edges, ribs, elevator) is nonstructural.
+TAIL_BOX = {"width": 0.4 * 11.73 / 7.31, "height": 0.1 * 11.73 / 7.31, "initial": 3.3e-3}
+#: The fuselage as a thin circular tube (``--size-beams fuselage``): the :data:`FUSELAGE` shell
+#: (radius 1.3 m, smeared wall 3 mm at the start); the rest of its 2600 kg of structure
+#: (frames, floor, doors, windows) is nonstructural; the half model's beam carries half.
+FUSELAGE_TUBE = {"initial": FUSELAGE["thickness"], "upper": 0.02}
+#: The beams ``--size-beams`` can size besides the wing.
+SIZABLE_BEAMS = ("tail", "fuselage")
 #: Small rotary inertia per length (kg m, csn) of the fuselage, fin and tail sections.
 _ROTARY = np.diag([1e-3, 1e-3, 1e-3])
 
@@ -621,6 +633,54 @@ def flutter_options(case: StickCase, factor: float, *, rho_ks: float = 100.0) ->
     p[layout(case.system.param_specs)["density"]] = lone["aero"]["density"]
     return {"system": case.system, "p": p, "speeds": lone["speeds"], "speed_of_sound": lone["aero"]["speed_of_sound"],
             "rho_ks": float(rho_ks), "eig_options": lone["eig_options"], "wing": case.wing}
+
+
+def sized_beams(case: StickCase, names, *, lower: float = pegasus.MIN_GAUGE) -> list:
+    """The beams ``names`` (of :data:`SIZABLE_BEAMS`) of the stick model of ``case`` as
+    :class:`~wingmdao.groups.load_case.SizedBeam`: the horizontal tail as the box of
+    :data:`TAIL_BOX`, the fuselage as the thin tube of :data:`FUSELAGE` (half of it in the half
+    model), each with walls from ``lower`` to 0.05 m (tail) or 0.02 m (fuselage), starting at the
+    assumed data's, and the nonstructural mass per length that keeps the beam's mass per length
+    of :func:`build` at the start (so the lumped payload, and the aircraft's mass, are unchanged
+    there).
+
+    Parameters
+    ----------
+    case : StickCase
+        A load case of :func:`sizing_setup` (its system and packed parameters).
+    names : sequence of str
+        Beams to size, from :data:`SIZABLE_BEAMS`.
+    lower : float
+        Minimum gauge of the walls (m).
+
+    Returns
+    -------
+    list of SizedBeam
+        The sized beams, in the order of ``names``.
+    """
+    bad = [b for b in names if b not in SIZABLE_BEAMS]
+    if bad or len(set(names)) != len(names):
+        raise ValueError(f"--size-beams: {', '.join(names)}; allowed: {', '.join(SIZABLE_BEAMS)} (each once; the "
+                         "wing is always sized)")
+    lay = layout(case.system.param_specs)
+    p = np.asarray(case.p, dtype=float)
+    out = []
+    for name in names:
+        r0 = p[lay[f"{name}_node_positions"]].reshape(-1, 3)
+        mu = p[lay[f"{name}_mass_per_length"]]
+        if name == "tail":
+            w, h, t0 = TAIL_BOX["width"], TAIL_BOX["height"], TAIL_BOX["initial"]
+            area = float(box_properties(w, h, t0, t0, t0, t0, ALUMINIUM, None, 0.0)["A"])
+            out.append(SizedBeam(name, "box", r0, {"width": np.full(len(r0), w), "height": np.full(len(r0), h),
+                                                   "nonstructural_mass_per_length": mu - ALUMINIUM.rho * area},
+                                 initial=t0, lower=float(lower), upper=0.05))
+        else:
+            t0, R = FUSELAGE_TUBE["initial"], FUSELAGE["radius"]
+            shell = 0.5 * ALUMINIUM.rho * 2 * np.pi * R * t0
+            out.append(SizedBeam(name, "tube", r0, {"radius": R, "fraction": 0.5,
+                                                    "nonstructural_mass_per_length": mu - shell},
+                                 initial=t0, lower=float(lower), upper=FUSELAGE_TUBE["upper"]))
+    return out
 
 
 #: ``--loads`` sets of the stick sizing (:func:`sizing_setup`)
