@@ -191,3 +191,19 @@ def test_sized_fuselage_bending_stress_is_the_allowable_at_the_wing_joint():
     mass = np.sum((a0 + a1 + np.sqrt(a0 * a1)) / 3 * np.linalg.norm(np.diff(r0, axis=0), axis=1)) * ALUMINIUM.rho
     assert result["beams"]["fuselage"]["mass_kg"] == pytest.approx(mass, rel=1e-9)
     assert result["total_mass_kg"] == pytest.approx(result["mass_kg"] + mass, rel=1e-12)
+
+
+@pytest.mark.parametrize("argv, msg", [
+    (["size", "pegasus", "--model", "stick", "--size-beams", "tail,fin"],
+     "--size-beams = 'tail,fin'; allowed: a comma list of wing, tail, fuselage, each once"),
+    (["size", "pegasus", "--model", "stick", "--size-beams", "tail,tail"], "each once"),
+    (["size", "pegasus", "--size-beams", "tail"], "--size-beams tail: needs --model stick"),
+    (["size", "pegasus", "--model", "stick", "--size-beams", "wing,fuselage", "--flutter-margin", "1.15"],
+     "the stick flutter constraint takes the wing's sections only"),
+])
+def test_size_beams_bad_input(argv, msg, capsys, tmp_path):
+    """--size-beams: one-line errors before any solve."""
+    from wingmdao.cli import main
+
+    assert main(argv + ["--no-plots", "--out", str(tmp_path)]) == 2
+    assert msg in capsys.readouterr().err
