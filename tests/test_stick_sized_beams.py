@@ -207,3 +207,57 @@ def test_size_beams_bad_input(argv, msg, capsys, tmp_path):
 
     assert main(argv + ["--no-plots", "--out", str(tmp_path)]) == 2
     assert msg in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_stick_sizing_gust_set_cases_and_envelope(tmp_path):
+    """``size --model stick --gust-set``: one StickCase per gust of the set, its design velocity
+    U_ref F_g (H / 350)^(1/6) (EAS, in TAS by sqrt(rho_0 / rho); F_g of 25.341(a)(6) computed here)
+    at every lifting station; the monitoring
+    envelope over the set, from the sizing model's states, equals the extremes of each gust marched on
+    its own (cases.pegasus_stick.gust_response: the march without OpenMDAO)."""
+    from wingmdao.cli.gust import stick_set_envelope
+    from wingmdao.loads.atmosphere import altitude_ft_to_m, density, speed_of_sound
+
+    path = tmp_path / "set.yaml"
+    path.write_text("flight_points:\n  - {name: fp, altitude_ft: 20000, mach: 0.45, u_ref_fps: 30}\n"
+                    "gradients_ft: [60, 200]\nsigns: up\n")
+    opts = pegasus.PegasusOptions(loads="gust", gust_set=str(path), t_final=0.3, dt=0.02, gust_start=0.02)
+    setup = replace(pegasus.build(opts), geometry=wing_geometry(pegasus.flutter_planform(N), ())[0])
+    cases = pegasus_stick.sizing_setup(setup, opts).load_cases
+    assert [c.name for c in cases] == ["gust_fp_h60_up", "gust_fp_h200_up"]
+    alt = float(altitude_ft_to_m(20000.0))
+    rho, V = float(density(alt)), 0.45 * float(speed_of_sound(alt))
+    s = cases[0].system
+    play = layout(s.param_specs)
+    ac = pegasus_stick.build(N)
+    # 14 CFR 25.341(a)(6): F_g from the set's MLW, MZFW and Z_mo, linear from sea level to Z_mo
+    r1, r2 = 18300.0 / 18600.0, 16700.0 / 18600.0
+    f_g0 = 0.5 * ((1 - 25000.0 / 250000.0) + np.sqrt(r2 * np.tan(np.pi * r1 / 4)))
+    f_g = f_g0 + (1 - f_g0) * 20000.0 / 25000.0
+    for c, h in zip(cases, (60.0, 200.0)):     # the same 1-cos history of the U_ds computed here
+        u_tas = 30 * 0.3048 * f_g * (h / 350) ** (1 / 6) * np.sqrt(float(density(0.0)) / rho)
+        Q = pegasus_stick.gust_forcing(ac, s, c.time, airspeed=V, u_ds_tas=u_tas, gradient=h * 0.3048, gust_start=0.02)
+        np.testing.assert_allclose(c.forcing, Q, rtol=1e-9, atol=1e-12)
+        assert np.asarray(c.p)[play["airspeed"]][0] == pytest.approx(V, rel=1e-9)
+        assert np.asarray(c.p)[play["density"]][0] == pytest.approx(rho, rel=1e-9)
+    prob = om.Problem(StickSizing(num_nodes=N, material=ALUMINIUM, stick_cases=cases, parallel=False), reports=False)
+    prob.setup()
+    set_geometry(prob, wing_geometry(pegasus.flutter_planform(N), ())[0])
+    for c in cases:
+        set_stick_case(prob, c, f"cases.{c.name}")
+    th = pegasus.initial_thickness(N)
+    for w in WALLS:
+        prob.set_val(w, np.asarray(th.get(w, th.get(w[2:])), dtype=float))
+    prob.run_model()
+    env = stick_set_envelope([{"name": c.name, "monitoring_loads": pegasus_stick.case_monitoring_loads(
+        c, prob.get_val(f"cases.{c.name}.states"))} for c in cases])
+    alone = [pegasus_stick.gust_response(ac, c.time, airspeed=V, density=rho, mach=0.45,
+                                         u_ds_tas=30 * 0.3048 * f_g * (h / 350) ** (1 / 6)
+                                         * np.sqrt(float(density(0.0)) / rho),
+                                         gradient=h * 0.3048, gust_start=0.02)
+             for c, h in zip(cases, (60.0, 200.0))]
+    root = np.array([r.loads["wing root"]["moment"][:, 0] for r in alone])
+    assert env["wing root"]["moment_max_n_m"][0] == pytest.approx(root.max(), rel=1e-5)
+    assert env["wing root"]["moment_max_gust"][0] == cases[int(np.argmax(root.max(axis=1)))].name
+    assert env["wing root"]["moment_min_n_m"][0] == pytest.approx(root.min(), rel=1e-5, abs=1e-5 * root.max())

@@ -270,13 +270,12 @@ def _check_stick_args(args, comm) -> None:
     if args.case_module.NAME != "pegasus":
         raise ValueError(f"--model stick: case {args.case_module.NAME!r} has no stick model; allowed: pegasus")
     for flag, given in (("--turbulence", getattr(args, "turbulence", False)), ("--matrix", args.matrix is not None),
-                        ("--gust-set", getattr(args, "gust_set", None)),
                         ("--gust-gradients-ft", getattr(args, "gust_gradients_ft", None)),
                         ("--gust-gradient-count", getattr(args, "gust_gradient_count", None)),
                         ("--load-history", getattr(args, "load_history", None))):
         if given:
-            raise ValueError(f"--model stick does not take {flag}; it sizes for the 25.337 maneuvers and the single "
-                             "1-cos gust (--loads maneuver, gust or all)")
+            raise ValueError(f"--model stick does not take {flag}; it sizes for the 25.337 maneuvers and the 1-cos "
+                             "gusts of one --gust-gradient-ft or of a --gust-set (--loads maneuver, gust or all)")
     if comm is not None and comm.size > 1:
         raise ValueError("--model stick runs in one process (no mpirun)")
     beams = size_beams(args)
@@ -343,6 +342,16 @@ def _size_stick(args, setup, case_options, stem, recording, *, root, comm) -> in
                                             driver=optimize, flutter=flutter, sized_beams=sized)
     result = sizing.presize_and_size(prob, setup, desc, optimize=optimize, sized_beams=sized)
     result.update(case=args.case_module.NAME, model="stick", mpi_ranks=1)
+    gusts = [c for c in setup.load_cases if c.num_times > 1]
+    if len(gusts) > 1:   # a gust set: the monitoring stations' envelopes over its gusts at the result
+        from wingmdao.cli.gust import stick_set_envelope
+
+        result["monitoring_envelope"] = stick_set_envelope([
+            {"name": c.name, "monitoring_loads": pegasus_stick.case_monitoring_loads(
+                c, prob.get_val(f"cases.{c.name}.states"))} for c in gusts])
+        for label, env in result["monitoring_envelope"].items():
+            say(f"  {label}: moment max {', '.join(f'{v / 1e3:.1f}' for v in env['moment_max_n_m'])} kN m "
+                f"({', '.join(env['moment_max_gust'])})")
     for name, beam in result.get("beams", {}).items():
         say(f"  {name}: walls {beam['mass_kg']:.2f} kg" + (f" (total {result['total_mass_kg']:.2f} kg)"
                                                             if name == "wing" else ""))
