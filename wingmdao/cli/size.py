@@ -57,8 +57,8 @@ def _add_common(p, *, sizing: bool):
                             "iteration; cases with a loads-matrix model: pegasus; one process, no plots or recording)")
         p.add_argument("--model", choices=("wing", "stick"), default="wing",
                        help="wing (the lone wing, default) or stick (pegasus: the wing's walls sized for the trimmed "
-                            "maneuvers and/or the single gust of --loads on the free half aircraft's stick model, "
-                            "wing, fuselage, fin and tail with strip aerodynamics on wing and tail; "
+                            "maneuvers and/or the gust, or the --gust-set, of --loads on the free half aircraft's "
+                            "stick model, wing, fuselage, fin and tail with strip aerodynamics on wing and tail; "
                             "docs/stick-model.md)")
         p.add_argument("--size-beams", metavar="BEAMS", default=None,
                        help="with --model stick: comma list of the beams whose sections are sized, from wing, tail, "
