@@ -13,6 +13,7 @@ from wingmdao.cli._args import add_aero_theory_argument, add_deprecated_alias, a
 from wingmdao.utils.memory import (import_openmdao_without_plot_plugins, return_freed_memory,
                                    return_large_blocks_on_free)
 from wingmdao.cli._aerostruct import add_parser
+from wingmdao.cli.gust import stick_set_envelope
 from wingmdao.limits import check_memory
 from wingmdao.panels.layout import STIFFENER_VARS
 from wingmdao.stability.cases import FLUTTER_CASES, flutter_search, sizing_flutter_options
@@ -344,8 +345,6 @@ def _size_stick(args, setup, case_options, stem, recording, *, root, comm) -> in
     result.update(case=args.case_module.NAME, model="stick", mpi_ranks=1)
     gusts = [c for c in setup.load_cases if c.num_times > 1]
     if len(gusts) > 1:   # a gust set: the monitoring stations' envelopes over its gusts at the result
-        from wingmdao.cli.gust import stick_set_envelope
-
         result["monitoring_envelope"] = stick_set_envelope([
             {"name": c.name, "monitoring_loads": pegasus_stick.case_monitoring_loads(
                 c, prob.get_val(f"cases.{c.name}.states"))} for c in gusts])
