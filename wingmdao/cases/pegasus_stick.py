@@ -87,7 +87,7 @@ TAIL_SECTION = {"chord": 11.73 / 7.31, "ref_point": 0.25, "lift_slope": 2.0 * np
 #: The horizontal tail as a box (``--size-beams tail``; assumption): a single-cell aluminium box of
 #: 40 % of the tail's chord centred on its beam axis (the quarter chord: spars at 5 % and 45 %
 #: chord), 10 % of the chord high (a 12 % thick section), equal walls of ``initial`` m at the
-#: start (EI flap 1.97e6, chordwise 1.75e7, GJ 2.2e6 N m^2: the :data:`TAIL` data); the rest of
+#: start (EI flap 1.97e6, chordwise 1.74e7, GJ 2.2e6 N m^2: the :data:`TAIL` data); the rest of
 #: the tail's 20 kg/m (leading and trailing edges, ribs, elevator) is nonstructural.
 TAIL_BOX = {"width": 0.4 * 11.73 / 7.31, "height": 0.1 * 11.73 / 7.31, "initial": 3.3e-3}
 #: The fuselage as a thin circular tube (``--size-beams fuselage``): the :data:`FUSELAGE` shell
