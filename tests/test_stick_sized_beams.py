@@ -261,3 +261,39 @@ def test_stick_sizing_gust_set_cases_and_envelope(tmp_path):
     assert env["wing root"]["moment_max_n_m"][0] == pytest.approx(root.max(), rel=1e-5)
     assert env["wing root"]["moment_max_gust"][0] == cases[int(np.argmax(root.max(axis=1)))].name
     assert env["wing root"]["moment_min_n_m"][0] == pytest.approx(root.min(), rel=1e-5, abs=1e-5 * root.max())
+
+
+@pytest.mark.slow
+def test_sized_beams_maneuver_totals():
+    """The trimmed 2.5 g pull-up (a static solve of the free half aircraft with its trim unknowns):
+    d(ks_tail_vm, ks_fuselage_vm, ks_vm) / d(tail and fuselage walls) in reverse mode against central
+    differences (relative 1e-5 for a beam's KS and its own walls; 1e-4 for the small cross terms
+    through the aircraft's mass and trim, where the differences are at the solve's tolerance) and
+    forward mode."""
+    opts = pegasus.PegasusOptions(loads="maneuver")
+    setup = replace(pegasus.build(opts), geometry=wing_geometry(pegasus.flutter_planform(N), ())[0])
+    case = pegasus_stick.sizing_setup(setup, opts).load_cases[0]
+    sized = pegasus_stick.sized_beams(case, ["tail", "fuselage"])
+    rev, fwd = _sized_problem(case, sized, "rev"), _sized_problem(case, sized, "fwd")
+    of = [f"cases.{case.name}.ks_{f}" for f in ("vm", "tail_vm", "fuselage_vm")]
+    wrt = ["tail_t_upper_skin", "tail_t_front_spar", "fuselage_t_wall"]
+    J_rev, J_fwd = rev.compute_totals(of, wrt), fwd.compute_totals(of, wrt)
+    nonzero = 0
+    for name, idx, h in (("tail_t_upper_skin", 1, 1e-6), ("tail_t_front_spar", 3, 1e-6), ("fuselage_t_wall", 7, 1e-6)):
+        v = rev.get_val(name).copy()
+        vals = []
+        for step in (h, -h):
+            w = v.copy()
+            w[idx] += step
+            rev.set_val(name, w)
+            rev.run_model()
+            vals.append({k: rev.get_val(k)[0] for k in of})
+        rev.set_val(name, v)
+        for k in of:
+            cd = (vals[0][k] - vals[1][k]) / (2 * h)
+            scale = max(abs(J_rev[k, name]).max(), 1e-12)
+            own = k.endswith(f"ks_{name.split('_')[0]}_vm")   # a beam's KS and its own walls; else through the trim
+            assert J_rev[k, name][0, idx] == pytest.approx(cd, rel=1e-5 if own else 1e-4, abs=1e-6 * scale), (k, name)
+            assert J_fwd[k, name][0, idx] == pytest.approx(J_rev[k, name][0, idx], rel=1e-9, abs=1e-12 * scale), (k, name)
+            nonzero += abs(cd) > 1e-6 * scale
+    assert nonzero >= 6
