@@ -161,7 +161,8 @@ def test_stick_gust_ks_totals(case):
 
 @pytest.mark.parametrize("argv, msg", [
     (["size", "crm", "--model", "stick"], "--model stick: case 'crm' has no stick model; allowed: pegasus"),
-    (["size", "pegasus", "--model", "stick", "--gust-set", "x.yaml"], "--model stick does not take --gust-set"),
+    (["size", "pegasus", "--model", "stick", "--gust-gradients-ft", "100", "350"],
+     "--model stick does not take --gust-gradients-ft"),
     (["size", "pegasus", "--model", "stick", "--loads", "gust", "--turbulence"], "--model stick does not take --turbulence"),
 ])
 def test_size_stick_model_refuses_other_options(argv, msg, capsys, tmp_path):

@@ -27,7 +27,7 @@ from wingmdao.components.flutter import paused_flutter
 from wingmdao.components.mass import beam_mass
 from wingmdao.components.turbulence import TurbulenceStressKS
 from wingmdao.groups.load_case import LoadCase, StickCase
-from wingmdao.groups.stick import StickSizing, set_stick_case
+from wingmdao.groups.stick import StickSizing, set_sized_beams, set_stick_case
 from wingmdao.limits import check_memory
 from wingmdao.loads.turbulence_analysis import gust_model_from_parameters, turbulence_analysis
 from wingmdao.stability.frequency import stress_matrices
@@ -371,13 +371,18 @@ def _add_driver(prob, options: SizingOptions, design_vars) -> str:
 
 
 def build_stick_problem(geometry: WingGeometry, stick_cases, material, options: SizingOptions,
-                        *, driver=True, flutter: dict | None = None) -> tuple[om.Problem, str]:
+                        *, driver=True, flutter: dict | None = None, sized_beams=()) -> tuple[om.Problem, str]:
     """The sizing problem of the wing's walls with load cases on the stick model of the whole
     aircraft (:class:`~wingmdao.groups.stick.StickSizing`, ``stick_cases`` a list of
     :class:`~wingmdao.groups.stick.StickCase`); returns ``(problem, driver description)`` as
     :func:`build_problem` (box sections, one process). ``flutter``: options of
     :class:`~wingmdao.components.flutter.StickFlutterDamping` (e.g.
     :func:`wingmdao.cases.pegasus_stick.flutter_options`): adds the constraint flutter_ks <= 0.
+    ``sized_beams``: other beams whose sections are sized too
+    (:class:`~wingmdao.groups.load_case.SizedBeam`, e.g.
+    :func:`wingmdao.cases.pegasus_stick.sized_beams`): their walls are design variables (their own
+    bounds, scaled by their upper bound), their ``ks_<beam>_vm`` constraints of every case, and the
+    objective is ``total_mass``.
 
     Parameters
     ----------
@@ -394,8 +399,11 @@ def build_stick_problem(geometry: WingGeometry, stick_cases, material, options: 
     flutter : dict or None
         Options of :class:`~wingmdao.components.flutter.StickFlutterDamping`; None: no flutter
         constraint.
+    sized_beams : sequence of SizedBeam
+        Beams other than the wing whose sections are sized.
     """
     cases = list(stick_cases)
+    sized = list(sized_beams)
     if not cases or not all(isinstance(c, StickCase) for c in cases):
         raise ValueError("stick_cases must be a non-empty list of wingmdao.groups.stick.StickCase")
     _check_options(options, WALL_VARS)
@@ -405,16 +413,20 @@ def build_stick_problem(geometry: WingGeometry, stick_cases, material, options: 
     mass_ref = (options.mass_scale or OBJECTIVE_SCALE * initial_mass(geometry, material, options, "box")) \
         if driver else 1.0
     wing = StickSizing(num_nodes=n, stick_cases=cases, material=material, parallel=False, rho_ks=options.rho_ks,
-                       station_map=geometry.station_map, stick_flutter=flutter,
+                       station_map=geometry.station_map, stick_flutter=flutter, sized_beams=sized,
                        add_constraints=driver, add_objective=driver, mass_ref=mass_ref)
     prob = om.Problem(model=wing, comm=_serial_comm(), reports=False)
     desc = "none (analysis only)"
     if driver:
         desc = _add_driver(prob, options, WALL_VARS)
+        for b in sized:
+            for name in b.design_vars:
+                prob.model.add_design_var(name, lower=b.lower, upper=b.upper, ref=b.upper)
     prob.setup(mode="rev")
     set_geometry(prob, geometry, "box")
+    set_sized_beams(prob, sized)
     for case in cases:
-        set_stick_case(prob, case, f"cases.{case.name}")
+        set_stick_case(prob, case, f"cases.{case.name}", sized)
     n_dv = n if geometry.station_map is None else int(np.max(geometry.station_map)) + 1
     for w in WALL_VARS:
         prob.set_val(w, np.broadcast_to(options.initial.get(w, options.upper[w]), (n_dv,)))
@@ -877,7 +889,7 @@ def _constraint_value(prob, name):
 
 
 def presize_fully_stressed(prob, load_cases, geometry: WingGeometry, options: SizingOptions,
-                           passes: int, *, progress: bool = False) -> dict:
+                           passes: int, *, progress: bool = False, sized_beams=()) -> dict:
     """Fully stressed design (FSD) passes that give the optimizer a near-feasible start.
 
     Per design station k, r_k = max over load cases, time steps, stations mapped to k and
@@ -904,6 +916,9 @@ def presize_fully_stressed(prob, load_cases, geometry: WingGeometry, options: Si
         Number of passes; 0 or less does nothing.
     progress : bool
         Print a line per pass.
+    sized_beams : sequence of SizedBeam
+        Other beams of a stick sizing whose walls are resized the same way, each by the ratio of
+        its own stress (``cases.<case>.<beam>_stress.g_vm``) at its stations, within its bounds.
     """
     if passes <= 0:
         return {"passes": 0}
@@ -922,6 +937,13 @@ def presize_fully_stressed(prob, load_cases, geometry: WingGeometry, options: Si
             np.maximum.at(ratio, smap, (g + 1.0).reshape(-1, g.shape[-2], g.shape[-1]).max(axis=(0, 2)))
         for w in WALL_VARS:
             prob.set_val(w, np.clip(prob.get_val(w) * ratio, options.lower[w], options.upper[w]))
+        for b in sized_beams:
+            r = np.zeros(b.num_nodes)
+            for case in cases:
+                g = np.asarray(prob.get_val(f"cases.{case.name}.{b.name}_stress.g_vm"))
+                r = np.maximum(r, (g + 1.0).max(axis=(0, 2)))
+            for w in b.design_vars:
+                prob.set_val(w, np.clip(prob.get_val(w) * r, b.lower, b.upper))
         history.append({"mass_kg": float(prob.get_val("mass", units="kg")[0]), "max_ratio": float(ratio.max())})
         if progress:
             print(f"  presize (fully stressed) pass {k + 1}/{passes}: mass {history[-1]['mass_kg']:.2f} kg "
@@ -960,7 +982,7 @@ def size_case(setup, *, optimize: bool = True, parallel: bool | None = None, com
     return prob, presize_and_size(prob, setup, desc, optimize=optimize)
 
 
-def presize_and_size(prob, setup, desc: str, *, optimize: bool = True) -> dict:
+def presize_and_size(prob, setup, desc: str, *, optimize: bool = True, sized_beams=()) -> dict:
     """The fully stressed presizing passes of ``setup.options.presize`` (box sections, when
     optimizing; :func:`presize_fully_stressed`), then :func:`run_sizing`; the result dict has the
     passes' time in ``wall_s`` and their history in ``presize``.
@@ -975,16 +997,59 @@ def presize_and_size(prob, setup, desc: str, *, optimize: bool = True) -> dict:
         The driver's description.
     optimize : bool
         Presize and run the optimizer; False runs the model once.
+    sized_beams : sequence of SizedBeam
+        Other beams of a stick sizing (:func:`build_stick_problem`): presized with the wing and
+        summarised by :func:`sized_beam_summary`.
     """
     pre = {"passes": 0}
     if optimize and setup.options.presize > 0 and setup.section in BOX_KINDS:
         pre = presize_fully_stressed(prob, setup.load_cases, setup.geometry, setup.options,
-                                     setup.options.presize, progress=setup.options.progress)
+                                     setup.options.presize, progress=setup.options.progress, sized_beams=sized_beams)
     result = run_sizing(prob, setup.load_cases, desc, optimize=optimize, section=setup.section, panels=setup.panels,
                         geometry=setup.geometry, material=setup.material)
+    if sized_beams:
+        sized_beam_summary(prob, setup.load_cases, sized_beams, result)
     if pre["passes"]:
         result["wall_s"] += pre["wall_s"]
         result["presize"] = pre
+    return result
+
+
+def sized_beam_summary(prob, load_cases, sized_beams, result: dict) -> dict:
+    """Add the sized beams of a stick sizing to its summary ``result`` (:func:`summarize`):
+    ``beams`` ({beam: ``mass_kg`` of its walls and its ``thickness`` per wall and station}, the
+    wing's included), ``total_mass_kg``, each case's ``ks`` of ``<beam>_vm``, and these in
+    ``active_constraints`` (within 1e-3 of 0) and ``max_ks``.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        The run problem of :func:`build_stick_problem`.
+    load_cases : sequence of StickCase
+        Its load cases.
+    sized_beams : sequence of SizedBeam
+        Its sized beams.
+    result : dict
+        The summary; updated in place.
+
+    Returns
+    -------
+    dict
+        ``result``.
+    """
+    beams = {"wing": {"mass_kg": result["mass_kg"]}}
+    for b in sized_beams:
+        beams[b.name] = {"mass_kg": float(prob.get_val(f"{b.name}_mass", units="kg")[0]),
+                         "thickness": {w: prob.get_val(f"{b.name}_{w}", units="m").tolist() for w in b.walls}}
+    result["beams"] = beams
+    result["total_mass_kg"] = float(prob.get_val("total_mass", units="kg")[0])
+    for c in load_cases:
+        for b in sized_beams:
+            value = float(prob.get_val(f"cases.{c.name}.ks_{b.name}_vm")[0])
+            result["ks"].setdefault(c.name, {})[f"{b.name}_vm"] = value
+            if value > -1e-3:
+                result.setdefault("active_constraints", []).append(f"{c.name}.{b.name}_vm")
+            result["max_ks"] = max(result.get("max_ks", value), value)
     return result
 
 

@@ -55,8 +55,8 @@ from wingmdao.beam.rotations import body_to_csn, euler_from_axis
 from wingmdao.beam.static import beam_parameters
 from wingmdao.cases import pegasus
 from wingmdao.cases.planform import FT, G0, LB, wing_geometry
-from wingmdao.groups.load_case import StickCase
-from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
+from wingmdao.groups.load_case import SizedBeam, StickCase
+from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas, speed_of_sound
 from wingmdao.loads.gust import design_gust_velocity_eas
 from wingmdao.loads.maneuver import maneuver_line_loads
 from wingmdao.materials import ALUMINIUM
@@ -84,6 +84,18 @@ TAIL = {"semi_span": 3.655, "EI_cc": 2e6, "EI_nn": 2e7, "GJ": 2.5e6, "EA": 1e9, 
 #: Horizontal tail's sections (assumption): the ATR 42 class tail's mean chord (area 11.73 m^2 over
 #: span 7.31 m), beam axis at the quarter chord, thin-airfoil lift slope.
 TAIL_SECTION = {"chord": 11.73 / 7.31, "ref_point": 0.25, "lift_slope": 2.0 * np.pi}
+#: The horizontal tail as a box (``--size-beams tail``; assumption): a single-cell aluminium box of
+#: 40 % of the tail's chord centred on its beam axis (the quarter chord: spars at 5 % and 45 %
+#: chord), 10 % of the chord high (a 12 % thick section), equal walls of ``initial`` m at the
+#: start (EI flap 1.97e6, chordwise 1.74e7, GJ 2.2e6 N m^2: the :data:`TAIL` data); the rest of
+#: the tail's 20 kg/m (leading and trailing edges, ribs, elevator) is nonstructural.
+TAIL_BOX = {"width": 0.4 * 11.73 / 7.31, "height": 0.1 * 11.73 / 7.31, "initial": 3.3e-3}
+#: The fuselage as a thin circular tube (``--size-beams fuselage``): the :data:`FUSELAGE` shell
+#: (radius 1.3 m, smeared wall 3 mm at the start); the rest of its 2600 kg of structure
+#: (frames, floor, doors, windows) is nonstructural; the half model's beam carries half.
+FUSELAGE_TUBE = {"initial": FUSELAGE["thickness"], "upper": 0.02}
+#: The beams ``--size-beams`` can size besides the wing.
+SIZABLE_BEAMS = ("tail", "fuselage")
 #: Small rotary inertia per length (kg m, csn) of the fuselage, fin and tail sections.
 _ROTARY = np.diag([1e-3, 1e-3, 1e-3])
 
@@ -277,10 +289,13 @@ def monitoring_stations(aircraft: StickAircraft) -> list:
     list of wingmdao.beam.joints.MonitoringStation
         The stations.
     """
-    s = aircraft.model.system
+    return _stations(aircraft.model.system, aircraft.nodes["fuselage"][:, 0])
+
+
+def _stations(s, x):
+    """:func:`monitoring_stations` of the joined system ``s`` whose fuselage nodes are at body x = ``x``."""
     i_wing = next(jt.node_a for jt in s.joints if jt.beam_b == "wing")
     i_fin = next(jt.node_a for jt in s.joints if jt.beam_b == "fin")
-    x = aircraft.nodes["fuselage"][:, 0]
     return [MonitoringStation("wing root", "wing", 1),
             MonitoringStation(f"fuselage x = {x[i_wing]:.2f} m (ahead of the wing)", "fuselage", i_wing),
             MonitoringStation(f"fuselage x = {x[i_wing + 1]:.2f} m (aft of the wing)", "fuselage", i_wing + 1),
@@ -623,6 +638,129 @@ def flutter_options(case: StickCase, factor: float, *, rho_ks: float = 100.0) ->
             "rho_ks": float(rho_ks), "eig_options": lone["eig_options"], "wing": case.wing}
 
 
+def sized_beams(case: StickCase, names, *, lower: float = pegasus.MIN_GAUGE) -> list:
+    """The beams ``names`` (of :data:`SIZABLE_BEAMS`) of the stick model of ``case`` as
+    :class:`~wingmdao.groups.load_case.SizedBeam`: the horizontal tail as the box of
+    :data:`TAIL_BOX`, the fuselage as the thin tube of :data:`FUSELAGE` (half of it in the half
+    model), each with walls from ``lower`` to 0.05 m (tail) or 0.02 m (fuselage), starting at the
+    assumed data's, and the nonstructural mass per length that keeps the beam's mass per length
+    of :func:`build` at the start (so the lumped payload, and the aircraft's mass, are unchanged
+    there).
+
+    Parameters
+    ----------
+    case : StickCase
+        A load case of :func:`sizing_setup` (its system and packed parameters).
+    names : sequence of str
+        Beams to size, from :data:`SIZABLE_BEAMS`.
+    lower : float
+        Minimum gauge of the walls (m).
+
+    Returns
+    -------
+    list of SizedBeam
+        The sized beams, in the order of ``names``.
+    """
+    bad = [b for b in names if b not in SIZABLE_BEAMS]
+    if bad or len(set(names)) != len(names):
+        raise ValueError(f"--size-beams: {', '.join(names)}; allowed: {', '.join(SIZABLE_BEAMS)} (each once; the "
+                         "wing is always sized)")
+    lay = layout(case.system.param_specs)
+    p = np.asarray(case.p, dtype=float)
+    out = []
+    for name in names:
+        r0 = p[lay[f"{name}_node_positions"]].reshape(-1, 3)
+        mu = p[lay[f"{name}_mass_per_length"]]
+        if name == "tail":
+            w, h, t0 = TAIL_BOX["width"], TAIL_BOX["height"], TAIL_BOX["initial"]
+            area = float(box_properties(w, h, t0, t0, t0, t0, ALUMINIUM, None, 0.0)["A"])
+            out.append(SizedBeam(name, "box", r0, {"width": np.full(len(r0), w), "height": np.full(len(r0), h),
+                                                   "nonstructural_mass_per_length": mu - ALUMINIUM.rho * area},
+                                 initial=t0, lower=float(lower), upper=0.05))
+        else:
+            t0, R = FUSELAGE_TUBE["initial"], FUSELAGE["radius"]
+            shell = 0.5 * ALUMINIUM.rho * 2 * np.pi * R * t0
+            out.append(SizedBeam(name, "tube", r0, {"radius": R, "fraction": 0.5,
+                                                    "nonstructural_mass_per_length": mu - shell},
+                                 initial=t0, lower=float(lower), upper=FUSELAGE_TUBE["upper"]))
+    return out
+
+
+def stick_gust_set_cases(aircraft: StickAircraft, system, gset, opts, families=("vm",)) -> list:
+    """One :class:`~wingmdao.groups.load_case.StickCase` per gust of the 25.341(a) gust set ``gset``
+    (:class:`~wingmdao.loads.gust_set.GustSet`; ``--gust-set``): each flight point's airspeed,
+    density and Mach number, the gust's U_ds (EAS, turned into TAS) and gradient, the time grid and
+    gust start of ``opts``, marched from the trimmed 1 g state (:func:`gust_forcing`). ValueError
+    naming the flight point for a Mach number outside (0, 1) or a ``weight_lb`` other than the TOGW
+    (the stick model's weight is its masses').
+
+    Parameters
+    ----------
+    aircraft : StickAircraft
+        The half aircraft (from :func:`build`).
+    system : wingmdao.timemarch.system.ResidualSystem
+        Its aeroelastic system (:func:`aeroelastic_system`).
+    gset : GustSet
+        The gust set.
+    opts : PegasusOptions
+        The case's options (``t_final``, ``dt``, ``gust_start``, ``gust_set`` for the messages).
+    families : tuple of str
+        Stress families of every case's KS.
+
+    Returns
+    -------
+    list of StickCase
+        One case per gust, named as the set names its gusts.
+    """
+    rho0 = float(density(0.0))
+    time = np.arange(0.0, opts.t_final + 0.5 * opts.dt, opts.dt)
+    cases = []
+    for i, fp in enumerate(gset.flight_points):
+        mach = fp.airspeed_tas() / float(speed_of_sound(fp.altitude_m))
+        if not 0.0 < mach < 1.0:
+            raise ValueError(f"--gust-set {opts.gust_set}: flight point {fp.name or i} has Mach {mach:.3g}; allowed "
+                             "range (0, 1)")
+        if fp.weight_lb is not None and not np.isclose(fp.weight_lb, pegasus.TOGW_LB, rtol=1e-9):
+            raise ValueError(f"--gust-set {opts.gust_set}: flight point {fp.name or i} has weight_lb = "
+                             f"{fp.weight_lb:g}; the stick model weighs the TOGW, {pegasus.TOGW_LB:g} lb (drop weight_lb)")
+    for g in gset.gusts():
+        fp = g.flight_point
+        rho, V = float(density(fp.altitude_m)), fp.airspeed_tas()
+        mach = V / float(speed_of_sound(fp.altitude_m))
+        p = aero_parameters(aircraft, system, airspeed=V, density=rho, mach=mach)
+        Q = gust_forcing(aircraft, system, time, airspeed=V, u_ds_tas=g.sign * g.u_ds_eas * np.sqrt(rho0 / rho),
+                         gradient=g.gradient_m, gust_start=opts.gust_start)
+        cases.append(StickCase(g.name, system, time, p, Q, families=tuple(families)))
+    return cases
+
+
+def case_monitoring_loads(case: StickCase, states) -> dict:
+    """The monitoring stations' loads (:func:`monitoring_stations`, :func:`~wingmdao.beam.joints.monitoring_loads`)
+    over a stick case's state history ``states`` (n_time, n_state), e.g. a sizing's
+    ``cases.<case>.states``: ``{label: {"force_n", "moment_n_m": (n_time, 3) body axes}}``.
+
+    Parameters
+    ----------
+    case : StickCase
+        A load case of :func:`sizing_setup` (its system and packed parameters).
+    states : numpy.ndarray
+        The case's state history, shape (n_time, n_state).
+
+    Returns
+    -------
+    dict
+        Per station label, the force (N) and moment (N m) histories.
+    """
+    s = case.system
+    lay = layout(s.param_specs)
+    r_own = np.asarray(case.p, dtype=float)[lay["fuselage_node_positions"]].reshape(-1, 3)
+    body = (np.asarray(FUSELAGE_AXES, dtype=float).T @ r_own.T).T        # v_body = R^T v_beam
+    stations = _stations(s, body[:, 0])
+    per_step = [monitoring_loads(s, x, stations) for x in np.atleast_2d(np.asarray(states, dtype=float))]
+    return {st.label: {"force_n": np.array([ps[st.label]["force"] for ps in per_step]),
+                       "moment_n_m": np.array([ps[st.label]["moment"] for ps in per_step])} for st in stations}
+
+
 #: ``--loads`` sets of the stick sizing (:func:`sizing_setup`)
 STICK_LOAD_SETS = ("maneuver", "gust", "all")
 
@@ -654,10 +792,11 @@ def sizing_setup(setup, opts, families=("vm",)):
         The copy with the stick cases (maneuvers first, then the gust).
     """
     loads = opts.loads or "maneuver"
-    if loads not in STICK_LOAD_SETS or getattr(opts, "gust_set", None) or getattr(opts, "gust_gradients_ft", None) \
+    if loads not in STICK_LOAD_SETS or getattr(opts, "gust_gradients_ft", None) \
             or getattr(opts, "gust_gradient_count", None) or getattr(opts, "load_history", None):
-        raise ValueError(f"--model stick: sizes for the 25.337 maneuvers and the single 1-cos gust (--loads "
-                         f"{', '.join(STICK_LOAD_SETS)}, one --gust-gradient-ft); got --loads {opts.loads}")
+        raise ValueError(f"--model stick: sizes for the 25.337 maneuvers and the 1-cos gusts of one "
+                         f"--gust-gradient-ft or of a --gust-set (--loads {', '.join(STICK_LOAD_SETS)}); got --loads "
+                         f"{opts.loads}")
     if setup.section != "box":
         raise ValueError(f"--model stick: box walls only, got section {setup.section!r}")
     n = setup.geometry.num_nodes
@@ -672,7 +811,11 @@ def sizing_setup(setup, opts, families=("vm",)):
         for name, n_load in (("maneuver_pos", opts.load_factor), ("maneuver_neg", opts.negative_load_factor)):
             cases.append(StickCase(name, s, np.zeros(1), p, maneuver_forcing(s, n_load), families=tuple(families)))
         what.append(f"trimmed maneuvers n = {opts.load_factor:+g}, {opts.negative_load_factor:+g}")
-    if loads in ("gust", "all"):
+    gset = pegasus.gust_set_of(opts) if loads in ("gust", "all") and getattr(opts, "gust_set", None) else None
+    if gset is not None:
+        cases += stick_gust_set_cases(aircraft, s, gset, opts, families)
+        what.append(f"gust set {opts.gust_set} ({len(gset)} gusts)")
+    elif loads in ("gust", "all"):
         u_ds = (opts.u_ref_fps * FT * (opts.gust_gradient_ft / 350.0) ** (1.0 / 6.0) if opts.u_ref_fps > 0
                 else design_gust_velocity_eas(opts.gust_gradient_ft, opts.altitude_ft, 1.0))
         sign = -1.0 if opts.gust_sign == "down" else 1.0

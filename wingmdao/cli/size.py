@@ -13,6 +13,7 @@ from wingmdao.cli._args import add_aero_theory_argument, add_deprecated_alias, a
 from wingmdao.utils.memory import (import_openmdao_without_plot_plugins, return_freed_memory,
                                    return_large_blocks_on_free)
 from wingmdao.cli._aerostruct import add_parser
+from wingmdao.cli.gust import stick_set_envelope
 from wingmdao.limits import check_memory
 from wingmdao.panels.layout import STIFFENER_VARS
 from wingmdao.stability.cases import FLUTTER_CASES, flutter_search, sizing_flutter_options
@@ -57,9 +58,14 @@ def _add_common(p, *, sizing: bool):
                             "iteration; cases with a loads-matrix model: pegasus; one process, no plots or recording)")
         p.add_argument("--model", choices=("wing", "stick"), default="wing",
                        help="wing (the lone wing, default) or stick (pegasus: the wing's walls sized for the trimmed "
-                            "maneuvers and/or the single gust of --loads on the free half aircraft's stick model, "
-                            "wing, fuselage, fin and tail with strip aerodynamics on wing and tail; "
+                            "maneuvers and/or the gust, or the --gust-set, of --loads on the free half aircraft's "
+                            "stick model, wing, fuselage, fin and tail with strip aerodynamics on wing and tail; "
                             "docs/stick-model.md)")
+        p.add_argument("--size-beams", metavar="BEAMS", default=None,
+                       help="with --model stick: comma list of the beams whose sections are sized, from wing, tail, "
+                            "fuselage (the wing always is): the horizontal tail's box walls and the fuselage's tube "
+                            "wall become design variables with von Mises KS constraints at their stations in every "
+                            "case and their mass in the objective (docs/stick-model.md)")
         p.add_argument("--no-flutter-search", action="store_true",
                        help="do not search the flutter speed of the result (flutter_speed_m_s, cases with "
                             "aerodynamic data)")
@@ -158,6 +164,8 @@ def _size(args) -> int:
         check_output_file(args.json, "--json", overwrite=args.overwrite, others={"recording": recording})
     if getattr(args, "model", "wing") == "stick":
         _check_stick_args(args, comm)
+    else:
+        size_beams(args)   # refused without --model stick
     case_options = options_from_namespace(args.case_module.OPTIONS, args)
     setup = args.case_module.build(case_options)
     if getattr(args, "model", "wing") == "stick":
@@ -263,15 +271,47 @@ def _check_stick_args(args, comm) -> None:
     if args.case_module.NAME != "pegasus":
         raise ValueError(f"--model stick: case {args.case_module.NAME!r} has no stick model; allowed: pegasus")
     for flag, given in (("--turbulence", getattr(args, "turbulence", False)), ("--matrix", args.matrix is not None),
-                        ("--gust-set", getattr(args, "gust_set", None)),
                         ("--gust-gradients-ft", getattr(args, "gust_gradients_ft", None)),
                         ("--gust-gradient-count", getattr(args, "gust_gradient_count", None)),
                         ("--load-history", getattr(args, "load_history", None))):
         if given:
-            raise ValueError(f"--model stick does not take {flag}; it sizes for the 25.337 maneuvers and the single "
-                             "1-cos gust (--loads maneuver, gust or all)")
+            raise ValueError(f"--model stick does not take {flag}; it sizes for the 25.337 maneuvers and the 1-cos "
+                             "gusts of one --gust-gradient-ft or of a --gust-set (--loads maneuver, gust or all)")
     if comm is not None and comm.size > 1:
         raise ValueError("--model stick runs in one process (no mpirun)")
+    beams = size_beams(args)
+    if beams and args.flutter_margin is not None:
+        raise ValueError(f"--size-beams {args.size_beams} with --flutter-margin: the stick flutter constraint takes the "
+                         "wing's sections only; size the tail and fuselage without it")
+
+
+#: the beams --size-beams names (the wing is always sized)
+SIZE_BEAMS = ("wing", "tail", "fuselage")
+
+
+def size_beams(args) -> list:
+    """The beams besides the wing of ``--size-beams`` (a comma list of :data:`SIZE_BEAMS`); ValueError
+    naming the flag and its value for an unknown or repeated beam, or the flag without ``--model stick``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed ``size`` arguments.
+
+    Returns
+    -------
+    list of str
+        The beams to size besides the wing, in the order given.
+    """
+    value = getattr(args, "size_beams", None)
+    if value is None:
+        return []
+    if getattr(args, "model", "wing") != "stick":
+        raise ValueError(f"--size-beams {value}: needs --model stick (the lone wing has no tail or fuselage)")
+    names = [v.strip() for v in str(value).split(",") if v.strip()]
+    if not names or any(v not in SIZE_BEAMS for v in names) or len(set(names)) != len(names):
+        raise ValueError(f"--size-beams = {value!r}; allowed: a comma list of {', '.join(SIZE_BEAMS)}, each once")
+    return [v for v in names if v != "wing"]
 
 
 def _size_stick(args, setup, case_options, stem, recording, *, root, comm) -> int:
@@ -294,10 +334,26 @@ def _size_stick(args, setup, case_options, stem, recording, *, root, comm) -> in
         flutter = pegasus_stick.flutter_options(setup.load_cases[0], args.flutter_margin)
         say(f"  note: flutter constraint of the free stick aircraft: KS of Re(lambda) <= 0 (rho 100 s) at "
             f"{args.flutter_margin:g} V_D x (0.25, 0.5, 0.75, 1) = {', '.join(f'{v:.1f}' for v in flutter['speeds'])} m/s")
+    sized = pegasus_stick.sized_beams(setup.load_cases[0], size_beams(args))
+    for b in sized:
+        say(f"  note: {b.name} sized: {'box walls' if b.kind == 'box' else 'tube wall'} "
+            f"{', '.join(b.design_vars)} in [{b.lower * 1e3:g}, {b.upper * 1e3:g}] mm from {b.initial * 1e3:g} mm; "
+            f"KS of its von Mises stress in every case; objective: total_mass")
     prob, desc = sizing.build_stick_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
-                                            driver=optimize, flutter=flutter)
-    result = sizing.presize_and_size(prob, setup, desc, optimize=optimize)
+                                            driver=optimize, flutter=flutter, sized_beams=sized)
+    result = sizing.presize_and_size(prob, setup, desc, optimize=optimize, sized_beams=sized)
     result.update(case=args.case_module.NAME, model="stick", mpi_ranks=1)
+    gusts = [c for c in setup.load_cases if c.num_times > 1]
+    if len(gusts) > 1:   # a gust set: the monitoring stations' envelopes over its gusts at the result
+        result["monitoring_envelope"] = stick_set_envelope([
+            {"name": c.name, "monitoring_loads": pegasus_stick.case_monitoring_loads(
+                c, prob.get_val(f"cases.{c.name}.states"))} for c in gusts])
+        for label, env in result["monitoring_envelope"].items():
+            say(f"  {label}: moment max {', '.join(f'{v / 1e3:.1f}' for v in env['moment_max_n_m'])} kN m "
+                f"({', '.join(env['moment_max_gust'])})")
+    for name, beam in result.get("beams", {}).items():
+        say(f"  {name}: walls {beam['mass_kg']:.2f} kg" + (f" (total {result['total_mass_kg']:.2f} kg)"
+                                                            if name == "wing" else ""))
     if recording:
         result["recording"] = recording
     if args.json and root:

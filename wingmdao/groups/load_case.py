@@ -7,6 +7,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from wingmdao.beam.residual import StrainRateDamping
+from wingmdao.section.box import WALL_NAMES
+from wingmdao.stress.box_stress import SECTION_PROPERTIES
 
 STRESS_FAMILIES = ("vm", "ss_tension", "ss_compression", "cent_pos", "cent_neg")
 #: shorthands accepted by every ``--families`` list: both signs of a family
@@ -227,3 +229,79 @@ class StickCase:
     @property
     def num_times(self) -> int:
         return int(np.asarray(self.time).size)
+
+
+#: the beam parameters a sized section feeds, per section kind (the rest stay data of the case)
+SIZED_BEAM_INPUTS = {"box": ("stiffness_csn", "compliance_csn", "mass_per_length", "inertia_per_length",
+                             "tension_axis", "shear_center", "mass_center"),
+                     "tube": ("stiffness_csn", "compliance_csn", "mass_per_length")}
+#: the per-station inputs of a sized section (besides its walls), per kind
+SIZED_SECTION_DATA = {"box": ("width", "height", "nonstructural_mass_per_length"),
+                 "tube": ("nonstructural_mass_per_length",)}
+
+
+@dataclass
+class SizedBeam:
+    """A beam of the stick model other than the wing whose section is sized with the wing's walls
+    (:class:`StickSizing` option ``sized_beams``): a box (walls ``<name>_t_upper_skin``, ...; the
+    wing's :class:`~wingmdao.components.section.BoxSection` and ``vm`` stress) or a thin circular
+    tube (wall ``<name>_t_wall``; :class:`~wingmdao.components.tube.TubeSection`, ``TubeStress``).
+
+    Parameters
+    ----------
+    name : str
+        The beam's name in the joined system.
+    kind : str
+        ``"box"`` or ``"tube"``.
+    node_positions : numpy.ndarray
+        (n, 3) jig node positions (m; the beam's own axes), for its mass.
+    data : dict
+        Per-station section data: box ``width``, ``height`` (m), tube ``radius`` (m, a number) and
+        ``fraction`` (its share of the whole tube); both ``nonstructural_mass_per_length`` (kg/m).
+    initial : float
+        Initial wall thickness (m).
+    lower, upper : float
+        Bounds of the wall thickness (m).
+    """
+
+    name: str
+    kind: str
+    node_positions: np.ndarray
+    data: dict = field(default_factory=dict)
+    initial: float = 3e-3
+    lower: float = 1e-3
+    upper: float = 0.05
+
+    def __post_init__(self):
+        if self.kind not in SIZED_BEAM_INPUTS:
+            raise ValueError(f"SizedBeam {self.name!r}: kind = {self.kind!r}; allowed: {', '.join(SIZED_BEAM_INPUTS)}")
+        if not 0.0 < self.lower <= self.initial <= self.upper:
+            raise ValueError(f"SizedBeam {self.name!r}: need 0 < lower <= initial <= upper, got {self.lower}, "
+                             f"{self.initial}, {self.upper} m")
+
+    @property
+    def num_nodes(self) -> int:
+        """Number of nodes (stations)."""
+        return int(np.asarray(self.node_positions).shape[0])
+
+    @property
+    def walls(self) -> tuple:
+        """The section's wall names (unprefixed)."""
+        return WALL_NAMES if self.kind == "box" else ("t_wall",)
+
+    @property
+    def design_vars(self) -> tuple:
+        """The design variables: ``<name>_<wall>``."""
+        return tuple(f"{self.name}_{w}" for w in self.walls)
+
+    @property
+    def beam_inputs(self) -> tuple:
+        """The joined system's parameters the section feeds: ``<name>_stiffness_csn``, ..."""
+        return tuple(f"{self.name}_{k}" for k in SIZED_BEAM_INPUTS[self.kind])
+
+    @property
+    def stress_inputs(self) -> tuple:
+        """The (prefixed) per-station inputs of the beam's stress component besides the loads."""
+        if self.kind == "box":
+            return tuple(f"{self.name}_{k}" for k in ("width", "height", *WALL_NAMES, *SECTION_PROPERTIES))
+        return (f"{self.name}_t_wall",)
