@@ -1,0 +1,407 @@
+"""Two-level sizing of a stiffened wingbox (``--panel-sizing two-level``; docs/panels.md,
+"Two-level sizing").
+
+* **Outer level**: the strength-only sizing's problem (the four walls per design station, the
+  skins as equivalent thicknesses: skin plus stiffener area per width) with one more KS family
+  per load case, ``equivalent_panels`` (:class:`~wingmdao.components.panels.EquivalentPanelFailure`:
+  Farrar's minimum-weight stiffened panel on each skin's running loads, the detailed model's
+  spar-web buckling), SLSQP after the fully stressed presize.
+* **Inner level**: each design station's skin panels (skin thickness, stiffener height and
+  thickness) sized locally for the envelope of that station's running loads over every time
+  step of every load case, with the detailed checks of :func:`wingmdao.panels.box_panels.skin_panel_ratios`
+  (skin, panel, stiffener column and crippling at the layout's safety factor), von Mises of the
+  panel at yield and the sizing rules (5 <= h/ts <= 30, ts <= 15 t, the bounds): a small SLSQP
+  per station and skin, minimum equivalent thickness, at fixed running loads (no time march).
+  The adjacency rules (|dt| <= 2.5 mm, |dh| <= 10 mm) are then met by raising the thinner
+  neighbour.
+* **Check**: the recovered design in the full stiffened model (section ``"stiffened"``, the
+  dynamic load cases, every panel family), one analysis; ``polish`` passes repeat the inner
+  level with that model's running loads and analyse again.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import time
+
+import casadi as ca
+import numpy as np
+from scipy.optimize import minimize
+
+from wingmdao.components.load_gradient import force_gradient
+from wingmdao.panels.box_panels import SKIN_MODES, skin_panel_ratios
+from wingmdao.panels.layout import STIFFENER_VARS, smeared_stringer
+from wingmdao.section.box import WALL_NAMES
+from wingmdao.sizing import build_problem, presize_and_size, run_sizing, span_coordinate, station_values
+from wingmdao.stress.box_stress import SECTION_PROPERTIES, panel_running_loads
+
+#: how the stiffened walls are sized: all variables in one optimization, or the two levels
+PANEL_SIZINGS = ("full", "two-level")
+#: the sizing rules of the inner level (SizingRules): web aspect, stiffener over skin, adjacency (m)
+ASPECT_RANGE = (5.0, 30.0)
+STIFFENER_OVER_SKIN = 15.0
+ADJACENT_THICKNESS = 2.5e-3
+ADJACENT_HEIGHT = 10e-3
+
+
+def running_load_states(prob, setup, stiffened: bool) -> dict:
+    """The skins' running loads at every time step of every load case of a run sizing problem:
+    ``{"upper": (nx, nxy, ny, node), "lower": ...}``, each a flat array over the cases, time
+    steps, nodes and the skin's front and rear points (N/m, compression negative; ``node`` the
+    beam node of each state). The walls' running loads of
+    :func:`wingmdao.stress.box_stress.panel_running_loads` with the problem's section properties;
+    the skins' area per width is the wall (equivalent thickness, outer level) or the skin plus
+    its smeared stiffeners (``stiffened``).
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A run sizing problem (section ``"box"`` or ``"stiffened"``).
+    setup : wingmdao.cases.CaseSetup
+        Its case (geometry, load cases, panels).
+    stiffened : bool
+        Whether the problem's section is the stiffened one.
+
+    Returns
+    -------
+    dict
+        Per skin, the tuple (nx, nxy, ny, node) of flat arrays.
+    """
+    geo = setup.geometry
+    n = geo.num_nodes
+    walls = [np.asarray(station_values(prob, w)).ravel() for w in WALL_NAMES]
+    axial = [walls[0], walls[1]]
+    if stiffened:
+        p = setup.panels
+        for k, s in enumerate(("upper", "lower")):
+            h, ts = (np.asarray(station_values(prob, f"{q}_{s}_stiffener")).ravel() for q in ("h", "t"))
+            axial[k] = walls[k] + smeared_stringer(h, ts, p.stiffener_pitch, p.shape, p.flange_ratio)[0]
+    sec = {k: np.asarray(prob.get_val(k)).ravel() for k in SECTION_PROPERTIES}
+    out = {s: [[], [], [], []] for s in ("upper", "lower")}
+    for case in setup.load_cases:
+        f = np.asarray(prob.get_val(f"cases.{case.name}.internal_loads.F_csn"))
+        m = np.asarray(prob.get_val(f"cases.{case.name}.internal_loads.M_csn"))
+        df = force_gradient(f, geo.node_positions)
+        loads = panel_running_loads([f[..., i] for i in range(3)], [m[..., i] for i in range(3)], geo.width,
+                                    geo.height, *walls, tuple(axial), sec,
+                                    force_gradient=[df[..., i] for i in range(3)])
+        node = np.broadcast_to(np.arange(n), f.shape[:-1])
+        for k in range(4):
+            s = out["upper" if k < 2 else "lower"]
+            for j, key in enumerate(("nx_skin", "nxy_skin", "ny_skin")):
+                s[j].append(np.broadcast_to(loads[key][k], f.shape[:-1]).ravel())
+            s[3].append(node.ravel())
+    return {s: tuple(np.concatenate(v) for v in lists) for s, lists in out.items()}
+
+
+def envelope_states(nx, nxy, ny) -> np.ndarray:
+    """Indices of the load states no other state exceeds in every load a panel check grows with:
+    the non-dominated states of (max(-N_x, 0), |N_xy|, max(-N_y, 0)) (the buckling modes) and of
+    (|N_x|, |N_xy|) (von Mises). Every ratio of the panel checks is non-decreasing in these, so the
+    envelope's largest ratio is the largest of all the states'.
+
+    Parameters
+    ----------
+    nx, nxy, ny : numpy.ndarray
+        Running loads of the states (N/m, compression negative).
+
+    Returns
+    -------
+    numpy.ndarray
+        Indices of the envelope's states.
+    """
+    keep = set()
+    for cols in ((np.maximum(-nx, 0.0), np.abs(nxy), np.maximum(-ny, 0.0)), (np.abs(nx), np.abs(nxy))):
+        x = np.column_stack(cols)
+        order = np.argsort(-x[:, 0], kind="stable")
+        front = []
+        for i in order:   # sorted by the first load: a state is kept unless a kept one covers it
+            if not any(np.all(x[j] >= x[i]) for j in front):
+                front.append(i)
+        keep.update(int(i) for i in front)
+    return np.array(sorted(keep), dtype=int)
+
+
+class LocalPanelSizer:
+    """Minimum-weight skin panel (skin thickness t, stiffener height h and thickness ts) of a
+    stiffened skin for given load states, with the detailed panel checks: ``safety_factor`` times
+    every mode of :data:`~wingmdao.panels.box_panels.SKIN_MODES` <= 1, von Mises of the panel
+    (sigma = N_x / t_eq, tau = N_xy / t) <= sigma_y, the web aspect and stiffener-over-skin rules
+    and the bounds. CasADi functions of the checks give SLSQP exact gradients.
+
+    Parameters
+    ----------
+    material : wingmdao.materials.Material
+        Metal of skin and stiffeners.
+    layout : wingmdao.panels.layout.PanelLayout
+        Stiffener pitch, shape, flange ratio and safety factor.
+    bounds : dict
+        ``{"t": (lo, up), "h": (lo, up), "ts": (lo, up)}`` (m).
+    """
+
+    def __init__(self, material, layout, bounds):
+        self.material, self.layout, self.bounds = material, layout, bounds
+        x = ca.SX.sym("x", 3)
+        s = ca.SX.sym("s", 4)   # nx, nxy, ny, panel length
+        t, h, ts = x[0] * 1e-3, x[1] * 1e-3, x[2] * 1e-3   # the variables in mm
+        p = layout
+        r = skin_panel_ratios(material, t, h, ts, p.stiffener_pitch, s[3], s[0], s[1], p.shape, p.flange_ratio,
+                              ny=s[2])
+        teq = t + smeared_stringer(h, ts, p.stiffener_pitch, p.shape, p.flange_ratio)[0]
+        sig, tau = s[0] / teq, s[1] / t
+        vm = ca.sqrt(sig * sig + 3.0 * tau * tau + 1.0) / material.sigma_y
+        g = ca.vertcat(*(p.safety_factor * r[m] for m in SKIN_MODES), vm)
+        self._g = ca.Function("g", [x, s], [g, ca.jacobian(g, x)])
+        self._f = ca.Function("f", [x], [teq * 1e3, ca.jacobian(teq * 1e3, x)])
+
+    def ratios(self, x_m, states) -> np.ndarray:
+        """The factored ratios (modes of SKIN_MODES, then von Mises) of a panel at each state.
+
+        Parameters
+        ----------
+        x_m : sequence of 3
+            t, h, ts (m).
+        states : numpy.ndarray
+            (k, 4) nx, nxy, ny (N/m), panel length (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            (k, 5) ratios (-; 1 = the allowable).
+        """
+        x = np.asarray(x_m, dtype=float) * 1e3
+        return np.array([np.asarray(self._g(x, st)[0]).ravel() for st in states])
+
+    def size(self, states, starts) -> tuple:
+        """The lightest feasible panel from the given starts; returns ``((t, h, ts) in m, t_eq in m)``.
+
+        Parameters
+        ----------
+        states : numpy.ndarray
+            (k, 4) load states: nx, nxy, ny (N/m), panel length (m).
+        starts : sequence of sequence of 3
+            Starting (t, h, ts) (m).
+
+        Returns
+        -------
+        tuple
+            The panel (m) and its equivalent thickness (m).
+        """
+        k = len(states)
+        gmap = self._g.map(k)
+        st = np.asarray(states, dtype=float).T
+
+        def cons(x):
+            g = np.asarray(gmap(np.repeat(x[:, None], k, axis=1), st)[0])
+            return 1.0 - g.T.ravel()
+
+        def cons_jac(x):
+            jac = np.asarray(gmap(np.repeat(x[:, None], k, axis=1), st)[1])   # (5, 3k)
+            return -np.vstack([jac[:, 3 * i:3 * i + 3] for i in range(k)])
+
+        lo, hi = ASPECT_RANGE
+        rules = [{"type": "ineq", "fun": lambda x: np.array([x[1] - lo * x[2], hi * x[2] - x[1],
+                                                             STIFFENER_OVER_SKIN * x[0] - x[2]]),
+                  "jac": lambda x: np.array([[0.0, 1.0, -lo], [0.0, -1.0, hi], [STIFFENER_OVER_SKIN, 0.0, -1.0]])}]
+        b = self.bounds
+        bnds = [tuple(1e3 * v for v in b[key]) for key in ("t", "h", "ts")]
+        best = None
+        for x0 in starts:
+            x0 = np.clip(np.asarray(x0, dtype=float) * 1e3, [v[0] for v in bnds], [v[1] for v in bnds])
+            res = minimize(lambda x: float(self._f(x)[0]), x0, jac=lambda x: np.asarray(self._f(x)[1]).ravel(),
+                           bounds=bnds, constraints=[{"type": "ineq", "fun": cons, "jac": cons_jac}] + rules,
+                           method="SLSQP", options={"maxiter": 200, "ftol": 1e-9})
+            feasible = min(cons(res.x).min(), rules[0]["fun"](res.x).min()) > -1e-6
+            if feasible and (best is None or res.fun < best.fun):
+                best = res
+        if best is None:   # no start converged to a feasible panel: the upper bounds (the heaviest panel)
+            x = np.array([v[1] for v in bnds])
+            return tuple(x * 1e-3), float(self._f(x)[0]) * 1e-3
+        return tuple(best.x * 1e-3), float(best.fun) * 1e-3
+
+
+def inner_sizing(setup, states: dict, start: dict | None = None) -> dict:
+    """The inner level: each design station's skin panels for the envelope of its states
+    (:func:`running_load_states`), then the adjacency rules by raising the thinner neighbour.
+
+    Parameters
+    ----------
+    setup : wingmdao.cases.CaseSetup
+        The stiffened case (geometry, material, panels, bounds in ``options``).
+    states : dict
+        Per skin the (nx, nxy, ny, node) arrays of :func:`running_load_states`.
+    start : dict or None, optional
+        ``{var: (n_dv,)}`` a previous design (m), tried first at each station.
+
+    Returns
+    -------
+    dict
+        ``{t_upper_skin, t_lower_skin, h_/t_<skin>_stiffener: (n_dv,)}`` (m) and ``equivalent``:
+        ``{skin: (n_dv,)}`` equivalent thicknesses (m), ``states``: the envelope's state count.
+    """
+    geo, o, p = setup.geometry, setup.options, setup.panels
+    n = geo.num_nodes
+    smap = np.arange(n) if geo.station_map is None else np.asarray(geo.station_map)
+    n_dv = int(smap.max()) + 1
+    length = p.panel_lengths(span_coordinate(geo))
+    design, equivalent, count = {}, {}, 0
+    for skin in ("upper", "lower"):
+        t_name, h_name, ts_name = f"t_{skin}_skin", f"h_{skin}_stiffener", f"t_{skin}_stiffener"
+        sizer = LocalPanelSizer(setup.material, p, {"t": (o.lower[t_name], o.upper[t_name]),
+                                                    "h": (o.lower[h_name], o.upper[h_name]),
+                                                    "ts": (o.lower[ts_name], o.upper[ts_name])})
+        nx, nxy, ny, node = states[skin]
+        x = np.zeros((n_dv, 3))
+        teq = np.zeros(n_dv)
+        for j in range(n_dv):
+            sel = np.flatnonzero(smap[node] == j)
+            keep = sel[envelope_states(nx[sel], nxy[sel], ny[sel])]
+            count += keep.size
+            st = np.column_stack([nx[keep], nxy[keep], ny[keep], length[node[keep]]])
+            starts = [(3e-3, 0.04, 0.003), (6e-3, 0.07, 0.006), (15e-3, 0.08, 0.008)]
+            if j > 0:
+                starts.insert(0, tuple(x[j - 1]))
+            if start is not None:
+                starts.insert(0, tuple(start[v][j] for v in (t_name, h_name, ts_name)))
+            xj, teq[j] = sizer.size(st, starts)
+            x[j] = xj
+        x = adjacency(x)
+        design[t_name], design[h_name], design[ts_name] = x[:, 0], x[:, 1], x[:, 2]
+        equivalent[skin] = x[:, 0] + smeared_stringer(x[:, 1], x[:, 2], p.stiffener_pitch, p.shape,
+                                                      p.flange_ratio)[0]
+    design["equivalent"] = equivalent
+    design["states"] = int(count)
+    return design
+
+
+def adjacency(x: np.ndarray) -> np.ndarray:
+    """Panels (n_dv, 3) of t, h, ts (m) raised until neighbouring stations differ by at most
+    :data:`ADJACENT_THICKNESS` in t and ts and :data:`ADJACENT_HEIGHT` in h (the thinner one
+    raised, so no check gets worse except a blade's crippling through h/ts), ts then raised to
+    keep h/ts <= 30.
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        (n_dv, 3) panels (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n_dv, 3) panels meeting the rules (m).
+    """
+    x = np.array(x, dtype=float)
+    step = np.array([ADJACENT_THICKNESS, ADJACENT_HEIGHT, ADJACENT_THICKNESS])
+    for _ in range(2 * len(x)):
+        before = x.copy()
+        for j in range(len(x)):
+            for k in (j - 1, j + 1):
+                if 0 <= k < len(x):
+                    x[j] = np.maximum(x[j], x[k] - step)
+        x[:, 2] = np.maximum(x[:, 2], x[:, 1] / ASPECT_RANGE[1])
+        if np.array_equal(x, before):
+            break
+    return x
+
+
+def outer_setup(setup):
+    """The outer level's case: ``setup`` with section ``"box"`` (the walls' equivalent
+    thicknesses, the 4 wall variables per design station) and no panel layout.
+
+    Parameters
+    ----------
+    setup : wingmdao.cases.CaseSetup
+        The stiffened case.
+
+    Returns
+    -------
+    wingmdao.cases.CaseSetup
+        A copy for the outer level.
+    """
+    outer = copy.copy(setup)
+    o = setup.options
+    outer.options = dataclasses.replace(o, lower={w: o.lower[w] for w in WALL_NAMES},
+                                        upper={w: o.upper[w] for w in WALL_NAMES},
+                                        initial={w: v for w, v in o.initial.items() if w in WALL_NAMES})
+    outer.section, outer.panels = "box", None
+    return outer
+
+
+def size_two_level(setup, *, polish: int = 1, progress=None) -> tuple:
+    """Size a stiffened case in two levels (module docstring); returns ``(problem, result)``:
+    the full stiffened model at the recovered design and its summary
+    (:func:`wingmdao.sizing.summarize`: mass, panels with their margins, ribs, mass breakdown),
+    with ``two_level``: the outer sizing's mass, iterations, evaluations and success, the inner
+    level's envelope states, the masses after each pass, and the CPU time of each level.
+
+    Parameters
+    ----------
+    setup : wingmdao.cases.CaseSetup
+        A stiffened case (section ``"stiffened"``, metallic walls).
+    polish : int, optional
+        Inner passes with the full model's running loads after the first check (0: none).
+    progress : callable or None, optional
+        Called with a line of text after each step.
+
+    Returns
+    -------
+    tuple
+        The full problem and the result dict.
+    """
+    if setup.section != "stiffened" or setup.panels is None:
+        raise ValueError(f"--panel-sizing two-level needs --panels stiffened (section {setup.section!r})")
+    if setup.panels.laminate:
+        raise ValueError("--panel-sizing two-level: metallic walls only (Farrar's efficiency of a metal panel)")
+    say = progress or (lambda line: None)
+    cpu = {}
+    c0 = time.process_time()
+    outer = outer_setup(setup)
+    prob, desc = build_problem(outer.geometry, outer.load_cases, outer.material, outer.options, section="box",
+                               flutter=outer.flutter, turbulence=outer.turbulence, equivalent_panels=setup.panels)
+    res = presize_and_size(prob, outer, desc)
+    cpu["outer"] = time.process_time() - c0
+    say(f"outer level: {res['mass_kg']:.2f} kg (walls and stiffeners, no ribs), {res['iterations']} iterations, "
+        f"success {res['success']}")
+    c0 = time.process_time()
+    design = inner_sizing(setup, running_load_states(prob, setup, stiffened=False))
+    cpu["inner"] = time.process_time() - c0
+    spars = {w: np.asarray(prob.get_val(w, units="m")).ravel() for w in ("t_front_spar", "t_rear_spar")}
+    c0 = time.process_time()
+    full, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options, driver=False,
+                            section="stiffened", flutter=setup.flutter, panels=setup.panels)
+    passes, inner_before = [], cpu["inner"]
+    for k in range(polish + 1):
+        for w in (*WALL_NAMES, *STIFFENER_VARS):
+            full.set_val(w, spars[w] if w in spars else design[w], units="m")
+        result = run_sizing(full, setup.load_cases, "two-level (outer SLSQP, inner per-station SLSQP)",
+                            optimize=False, section="stiffened", panels=setup.panels, geometry=setup.geometry,
+                            material=setup.material)
+        worst = _worst_margin(result)
+        passes.append({"mass_kg": result["mass_kg"], "envelope_states": design["states"], **worst})
+        say(f"check {k}: {result['mass_kg']:.2f} kg, smallest margin {worst['margin_of_safety']:+.4f} "
+            f"({worst['wall']} station {worst['station']}, {worst['mode']})")
+        if k < polish:
+            c1 = time.process_time()
+            design = inner_sizing(setup, running_load_states(full, setup, stiffened=True),
+                                  start={v: design[v] for v in design if v not in ("equivalent", "states")})
+            cpu["inner"] += time.process_time() - c1
+    cpu["check"] = time.process_time() - c0 - (cpu["inner"] - inner_before)
+    result["iterations"] = res["iterations"]
+    result["function_evaluations"] = res.get("function_evaluations")
+    result["gradient_evaluations"] = res.get("gradient_evaluations")
+    result["success"] = bool(res["success"])
+    result["two_level"] = {"outer": {k: res.get(k) for k in ("mass_kg", "iterations", "function_evaluations",
+                                                             "gradient_evaluations", "success", "ks")},
+                           "passes": passes, "cpu_s": cpu}
+    return full, result
+
+
+def _worst_margin(result) -> dict:
+    """The smallest margin of safety of a stiffened summary's panels: wall, station, mode."""
+    worst = {"margin_of_safety": np.inf, "wall": None, "station": None, "mode": None}
+    for wall, d in result["panels"].items():
+        for i, ms in enumerate(d["margin_of_safety"]):
+            if ms is not None and ms < worst["margin_of_safety"]:
+                worst = {"margin_of_safety": float(ms), "wall": wall, "station": i, "mode": d["critical_mode"][i]}
+    return worst
