@@ -30,10 +30,11 @@ import numpy as np
 from scipy.optimize import minimize
 
 from wingmdao.components.load_gradient import force_gradient
-from wingmdao.panels.box_panels import SKIN_MODES, skin_panel_ratios
+from wingmdao.panels.box_panels import SKIN_MODES, skin_panel_ratios, web_panel_ratio
 from wingmdao.panels.layout import STIFFENER_VARS, smeared_stringer
 from wingmdao.section.box import WALL_NAMES
-from wingmdao.sizing import build_problem, presize_and_size, run_sizing, span_coordinate, station_values
+from wingmdao.components.flutter import paused_flutter
+from wingmdao.sizing import build_problem, run_sizing, span_coordinate, station_values
 from wingmdao.stress.box_stress import SECTION_PROPERTIES, panel_running_loads
 
 #: how the stiffened walls are sized: all variables in one optimization, or the two levels
@@ -66,7 +67,8 @@ def running_load_states(prob, setup, stiffened: bool) -> dict:
     Returns
     -------
     dict
-        Per skin, the tuple (nx, nxy, ny, node) of flat arrays.
+        Per skin (``upper``, ``lower``) and spar web (``front``, ``rear``; ny zero), the tuple
+        (nx, nxy, ny, node) of flat arrays.
     """
     geo = setup.geometry
     n = geo.num_nodes
@@ -78,7 +80,7 @@ def running_load_states(prob, setup, stiffened: bool) -> dict:
             h, ts = (np.asarray(station_values(prob, f"{q}_{s}_stiffener")).ravel() for q in ("h", "t"))
             axial[k] = walls[k] + smeared_stringer(h, ts, p.stiffener_pitch, p.shape, p.flange_ratio)[0]
     sec = {k: np.asarray(prob.get_val(k)).ravel() for k in SECTION_PROPERTIES}
-    out = {s: [[], [], [], []] for s in ("upper", "lower")}
+    out = {s: [[], [], [], []] for s in ("upper", "lower", "front", "rear")}
     for case in setup.load_cases:
         f = np.asarray(prob.get_val(f"cases.{case.name}.internal_loads.F_csn"))
         m = np.asarray(prob.get_val(f"cases.{case.name}.internal_loads.M_csn"))
@@ -92,6 +94,11 @@ def running_load_states(prob, setup, stiffened: bool) -> dict:
             for j, key in enumerate(("nx_skin", "nxy_skin", "ny_skin")):
                 s[j].append(np.broadcast_to(loads[key][k], f.shape[:-1]).ravel())
             s[3].append(node.ravel())
+        for k, web in enumerate(("front", "rear")):
+            for j, key in enumerate(("nx_web", "nxy_web")):
+                out[web][j].append(np.broadcast_to(loads[key][k], f.shape[:-1]).ravel())
+            out[web][2].append(np.zeros(node.size))
+            out[web][3].append(node.ravel())
     return {s: tuple(np.concatenate(v) for v in lists) for s, lists in out.items()}
 
 
@@ -275,6 +282,55 @@ def inner_sizing(setup, states: dict, start: dict | None = None) -> dict:
     return design
 
 
+def web_sizing(setup, states: dict, walls: dict) -> dict:
+    """Spar webs resized locally: per design station the thinnest web (bisection, 40 halvings)
+    whose factored compression-shear buckling (:func:`wingmdao.panels.box_panels.web_panel_ratio`)
+    and von Mises ratio are at most 1 at every state, the web's axial stress and shear flow
+    held (N_x scales with the thickness, N_xy does not), within the bounds and the adjacency
+    rule.
+
+    Parameters
+    ----------
+    setup : wingmdao.cases.CaseSetup
+        The stiffened case.
+    states : dict
+        :func:`running_load_states` of the design ``walls``.
+    walls : dict
+        ``{wall: (n_dv,)}`` the design's four wall thicknesses (m).
+
+    Returns
+    -------
+    dict
+        ``{t_front_spar, t_rear_spar: (n_dv,)}`` (m).
+    """
+    geo, o, p, mat = setup.geometry, setup.options, setup.panels, setup.material
+    n = geo.num_nodes
+    smap = np.arange(n) if geo.station_map is None else np.asarray(geo.station_map)
+    length = p.panel_lengths(span_coordinate(geo))
+    out = {}
+    for web in ("front", "rear"):
+        name = f"t_{web}_spar"
+        nx, nxy, _, node = states[web]
+        t0 = walls[name][smap[node]]
+        h_web = geo.height[node] - walls["t_upper_skin"][smap[node]] - walls["t_lower_skin"][smap[node]]
+
+        def ratio(t):   # t per state (m)
+            r = p.safety_factor * web_panel_ratio(mat, t, h_web, length[node], nx * t / t0, nxy)
+            vm = np.sqrt((nx / t0) ** 2 + 3.0 * (nxy / t) ** 2) / mat.sigma_y
+            return np.maximum(r, vm)
+
+        lo = np.full(len(walls[name]), o.lower[name])
+        hi = np.full(len(walls[name]), o.upper[name])
+        for _ in range(40):
+            mid = 0.5 * (lo + hi)
+            worst = np.zeros(len(mid))
+            np.maximum.at(worst, smap[node], ratio(mid[smap[node]]))
+            hi = np.where(worst <= 1.0, mid, hi)
+            lo = np.where(worst <= 1.0, lo, mid)
+        out[name] = adjacency(np.column_stack([hi, np.zeros_like(hi), np.zeros_like(hi)]))[:, 0]
+    return out
+
+
 def adjacency(x: np.ndarray) -> np.ndarray:
     """Panels (n_dv, 3) of t, h, ts (m) raised until neighbouring stations differ by at most
     :data:`ADJACENT_THICKNESS` in t and ts and :data:`ADJACENT_HEIGHT` in h (the thinner one
@@ -305,6 +361,60 @@ def adjacency(x: np.ndarray) -> np.ndarray:
     return x
 
 
+#: exponent e of the fully stressed resize t <- t r^(1/e) of the equivalent-panel ratio r:
+#: skins 1 (Farrar at a fixed stress: R ~ 1/t), webs 2 (shear buckling at a fixed shear flow: R ~ 1/t^3,
+#: compression at a fixed stress: R ~ 1/t^2)
+EQUIVALENT_EXPONENTS = {"t_upper_skin": 1.0, "t_lower_skin": 1.0, "t_front_spar": 2.0, "t_rear_spar": 2.0}
+#: the points of g_equivalent_panels of each wall
+EQUIVALENT_POINTS = {"t_upper_skin": (0, 1), "t_lower_skin": (2, 3), "t_front_spar": (4,), "t_rear_spar": (5,)}
+
+
+def presize_equivalent(prob, setup, passes: int) -> dict:
+    """Fully stressed passes of the outer level: per design station and wall,
+    t <- clip(t max(r_vm, r_eq^(1/e)), bounds), r_vm the station's largest von Mises ratio
+    (as :func:`wingmdao.sizing.presize_fully_stressed`), r_eq the wall's largest factored
+    equivalent-panel ratio (g + 1 of ``g_equivalent_panels``) over the cases and time steps,
+    e of :data:`EQUIVALENT_EXPONENTS`. Gives SLSQP a start near the buckling-aware optimum.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        The outer level's set-up problem; its walls are updated.
+    setup : wingmdao.cases.CaseSetup
+        The outer case (geometry, load cases, bounds).
+    passes : int
+        Number of passes.
+
+    Returns
+    -------
+    dict
+        ``passes`` and ``history`` (mass before each resize, kg; largest ratio).
+    """
+    geo, o = setup.geometry, setup.options
+    smap = np.arange(geo.num_nodes) if geo.station_map is None else np.asarray(geo.station_map)
+    n_dv = int(smap.max()) + 1
+    history = []
+    for _ in range(int(passes)):
+        with paused_flutter(prob):
+            prob.run_model()
+        r_vm = np.zeros(n_dv)
+        r_eq = {w: np.zeros(n_dv) for w in WALL_NAMES}
+        for case in setup.load_cases:
+            if "vm" in case.families:
+                g = np.asarray(prob.get_val(f"cases.{case.name}.stress.g_vm"))
+                np.maximum.at(r_vm, smap, (g + 1.0).reshape(-1, g.shape[-2], g.shape[-1]).max(axis=(0, 2)))
+            g = np.asarray(prob.get_val(f"cases.{case.name}.equivalent_panels.g_equivalent_panels")) + 1.0
+            g = g.reshape(-1, g.shape[-2], g.shape[-1])
+            for w, pts in EQUIVALENT_POINTS.items():
+                np.maximum.at(r_eq[w], smap, g[..., list(pts)].max(axis=(0, 2)))
+        for w in WALL_NAMES:
+            scale = np.sqrt(np.maximum(r_vm, np.maximum(r_eq[w], 1e-3) ** (1.0 / EQUIVALENT_EXPONENTS[w])))
+            prob.set_val(w, np.clip(prob.get_val(w) * scale, o.lower[w], o.upper[w]))
+        history.append({"mass_kg": float(prob.get_val("mass", units="kg")[0]),
+                        "max_ratio": float(max(r_vm.max(), *(r.max() for r in r_eq.values())))})
+    return {"passes": int(passes), "history": history}
+
+
 def outer_setup(setup):
     """The outer level's case: ``setup`` with section ``"box"`` (the walls' equivalent
     thicknesses, the 4 wall variables per design station) and no panel layout.
@@ -328,7 +438,12 @@ def outer_setup(setup):
     return outer
 
 
-def size_two_level(setup, *, polish: int = 1, progress=None) -> tuple:
+#: the outer level's solvers: fully stressed passes only, or SLSQP after them
+OUTER_SOLVERS = ("fsd", "slsqp")
+
+
+def size_two_level(setup, *, outer_solver: str = "fsd", fsd_passes: int = 12, polish: int = 1,
+                   progress=None) -> tuple:
     """Size a stiffened case in two levels (module docstring); returns ``(problem, result)``:
     the full stiffened model at the recovered design and its summary
     (:func:`wingmdao.sizing.summarize`: mass, panels with their margins, ribs, mass breakdown),
@@ -339,6 +454,11 @@ def size_two_level(setup, *, polish: int = 1, progress=None) -> tuple:
     ----------
     setup : wingmdao.cases.CaseSetup
         A stiffened case (section ``"stiffened"``, metallic walls).
+    outer_solver : {"fsd", "slsqp"}, optional
+        The outer level: ``fsd_passes`` fully stressed passes (:func:`presize_equivalent`), or
+        the case's presize passes then SLSQP on the 4 walls per station.
+    fsd_passes : int, optional
+        Fully stressed passes of ``outer_solver="fsd"``.
     polish : int, optional
         Inner passes with the full model's running loads after the first check (0: none).
     progress : callable or None, optional
@@ -353,13 +473,22 @@ def size_two_level(setup, *, polish: int = 1, progress=None) -> tuple:
         raise ValueError(f"--panel-sizing two-level needs --panels stiffened (section {setup.section!r})")
     if setup.panels.laminate:
         raise ValueError("--panel-sizing two-level: metallic walls only (Farrar's efficiency of a metal panel)")
+    if outer_solver not in OUTER_SOLVERS:
+        raise ValueError(f"outer_solver = {outer_solver!r}; allowed: {', '.join(OUTER_SOLVERS)}")
     say = progress or (lambda line: None)
     cpu = {}
     c0 = time.process_time()
     outer = outer_setup(setup)
+    slsqp = outer_solver == "slsqp"
     prob, desc = build_problem(outer.geometry, outer.load_cases, outer.material, outer.options, section="box",
-                               flutter=outer.flutter, turbulence=outer.turbulence, equivalent_panels=setup.panels)
-    res = presize_and_size(prob, outer, desc)
+                               flutter=outer.flutter, turbulence=outer.turbulence, equivalent_panels=setup.panels,
+                               driver=slsqp)
+    presize = presize_equivalent(prob, outer, outer.options.presize if slsqp else fsd_passes)
+    res = run_sizing(prob, outer.load_cases, desc, optimize=slsqp, section="box", geometry=outer.geometry,
+                     material=outer.material)
+    res["presize"] = presize
+    if not slsqp:
+        res.update(iterations=int(fsd_passes), function_evaluations=int(fsd_passes) + 1, gradient_evaluations=0)
     cpu["outer"] = time.process_time() - c0
     say(f"outer level: {res['mass_kg']:.2f} kg (walls and stiffeners, no ribs), {res['iterations']} iterations, "
         f"success {res['success']}")
@@ -374,7 +503,7 @@ def size_two_level(setup, *, polish: int = 1, progress=None) -> tuple:
     for k in range(polish + 1):
         for w in (*WALL_NAMES, *STIFFENER_VARS):
             full.set_val(w, spars[w] if w in spars else design[w], units="m")
-        result = run_sizing(full, setup.load_cases, "two-level (outer SLSQP, inner per-station SLSQP)",
+        result = run_sizing(full, setup.load_cases, f"two-level (outer {outer_solver}, inner per-station SLSQP)",
                             optimize=False, section="stiffened", panels=setup.panels, geometry=setup.geometry,
                             material=setup.material)
         worst = _worst_margin(result)
@@ -383,8 +512,11 @@ def size_two_level(setup, *, polish: int = 1, progress=None) -> tuple:
             f"({worst['wall']} station {worst['station']}, {worst['mode']})")
         if k < polish:
             c1 = time.process_time()
-            design = inner_sizing(setup, running_load_states(full, setup, stiffened=True),
+            states = running_load_states(full, setup, stiffened=True)
+            walls = {w: np.asarray(full.get_val(w, units="m")).ravel() for w in WALL_NAMES}
+            design = inner_sizing(setup, states,
                                   start={v: design[v] for v in design if v not in ("equivalent", "states")})
+            spars = web_sizing(setup, states, walls)
             cpu["inner"] += time.process_time() - c1
     cpu["check"] = time.process_time() - c0 - (cpu["inner"] - inner_before)
     result["iterations"] = res["iterations"]
