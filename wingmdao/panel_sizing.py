@@ -33,12 +33,13 @@ from wingmdao.components.load_gradient import force_gradient
 from wingmdao.panels.box_panels import SKIN_MODES, skin_panel_ratios, web_panel_ratio
 from wingmdao.panels.layout import STIFFENER_VARS, smeared_stringer
 from wingmdao.section.box import WALL_NAMES
+from wingmdao.cases import pegasus as _pegasus
 from wingmdao.components.flutter import paused_flutter
 from wingmdao.sizing import build_problem, run_sizing, span_coordinate, station_values
 from wingmdao.stress.box_stress import SECTION_PROPERTIES, panel_running_loads
 
 #: how the stiffened walls are sized: all variables in one optimization, or the two levels
-PANEL_SIZINGS = ("full", "two-level")
+PANEL_SIZINGS = _pegasus.PANEL_SIZINGS
 #: the sizing rules of the inner level (SizingRules): web aspect, stiffener over skin, adjacency (m)
 ASPECT_RANGE = (5.0, 30.0)
 STIFFENER_OVER_SKIN = 15.0
@@ -118,16 +119,18 @@ def envelope_states(nx, nxy, ny) -> np.ndarray:
     numpy.ndarray
         Indices of the envelope's states.
     """
-    keep = set()
+    keep = np.zeros(len(nx), dtype=bool)
     for cols in ((np.maximum(-nx, 0.0), np.abs(nxy), np.maximum(-ny, 0.0)), (np.abs(nx), np.abs(nxy))):
-        x = np.column_stack(cols)
-        order = np.argsort(-x[:, 0], kind="stable")
-        front = []
-        for i in order:   # sorted by the first load: a state is kept unless a kept one covers it
-            if not any(np.all(x[j] >= x[i]) for j in front):
-                front.append(i)
-        keep.update(int(i) for i in front)
-    return np.array(sorted(keep), dtype=int)
+        x = np.unique(np.column_stack(cols), axis=0, return_index=True)[1]   # one of equal states
+        y = np.column_stack(cols)[x]
+        covered = np.zeros(len(x), dtype=bool)
+        for lo in range(0, len(x), 256):   # pairwise in blocks: j covers i when y_j >= y_i, y_j != y_i
+            blk = y[lo:lo + 256]
+            ge = np.all(y[None, :, :] >= blk[:, None, :], axis=2)
+            gt = np.any(y[None, :, :] > blk[:, None, :], axis=2)
+            covered[lo:lo + 256] = np.any(ge & gt, axis=1)
+        keep[x[~covered]] = True
+    return np.flatnonzero(keep)
 
 
 class LocalPanelSizer:
@@ -477,6 +480,7 @@ def size_two_level(setup, *, outer_solver: str = "fsd", fsd_passes: int = 12, po
         raise ValueError(f"outer_solver = {outer_solver!r}; allowed: {', '.join(OUTER_SOLVERS)}")
     say = progress or (lambda line: None)
     cpu = {}
+    w0 = time.perf_counter()
     c0 = time.process_time()
     outer = outer_setup(setup)
     slsqp = outer_solver == "slsqp"
@@ -519,6 +523,7 @@ def size_two_level(setup, *, outer_solver: str = "fsd", fsd_passes: int = 12, po
             spars = web_sizing(setup, states, walls)
             cpu["inner"] += time.process_time() - c1
     cpu["check"] = time.process_time() - c0 - (cpu["inner"] - inner_before)
+    result["wall_s"] = time.perf_counter() - w0
     result["iterations"] = res["iterations"]
     result["function_evaluations"] = res.get("function_evaluations")
     result["gradient_evaluations"] = res.get("gradient_evaluations")
