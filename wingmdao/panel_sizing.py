@@ -121,8 +121,16 @@ def envelope_states(nx, nxy, ny) -> np.ndarray:
     """
     keep = np.zeros(len(nx), dtype=bool)
     for cols in ((np.maximum(-nx, 0.0), np.abs(nxy), np.maximum(-ny, 0.0)), (np.abs(nx), np.abs(nxy))):
-        x = np.unique(np.column_stack(cols), axis=0, return_index=True)[1]   # one of equal states
-        y = np.column_stack(cols)[x]
+        y = np.column_stack(cols)
+        # states strictly below one of a few large ones (the largest in each load and in their
+        # scaled sum) are covered: dropped before the pairwise test
+        scaled = y / np.maximum(y.max(axis=0), 1e-30)
+        probe = y[np.unique(np.concatenate([np.argsort(-scaled[:, c])[:8] for c in range(y.shape[1])]
+                                           + [np.argsort(-scaled.sum(axis=1))[:16]]))]
+        below = np.any(np.all(probe[None, :, :] > y[:, None, :], axis=2), axis=1)
+        x = np.flatnonzero(~below)
+        x = x[np.unique(y[x], axis=0, return_index=True)[1]]   # one of equal states
+        y = y[x]
         covered = np.zeros(len(x), dtype=bool)
         for lo in range(0, len(x), 256):   # pairwise in blocks: j covers i when y_j >= y_i, y_j != y_i
             blk = y[lo:lo + 256]
@@ -183,8 +191,9 @@ class LocalPanelSizer:
         x = np.asarray(x_m, dtype=float) * 1e3
         return np.array([np.asarray(self._g(x, st)[0]).ravel() for st in states])
 
-    def size(self, states, starts) -> tuple:
-        """The lightest feasible panel from the given starts; returns ``((t, h, ts) in m, t_eq in m)``.
+    def size(self, states, starts, fallback=()) -> tuple:
+        """The lightest feasible panel from the given starts (then from ``fallback`` if none is
+        feasible); returns ``((t, h, ts) in m, t_eq in m)``.
 
         Parameters
         ----------
@@ -192,6 +201,8 @@ class LocalPanelSizer:
             (k, 4) load states: nx, nxy, ny (N/m), panel length (m).
         starts : sequence of sequence of 3
             Starting (t, h, ts) (m).
+        fallback : sequence of sequence of 3, optional
+            Further starts (m), tried when none of ``starts`` ends feasible.
 
         Returns
         -------
@@ -202,13 +213,22 @@ class LocalPanelSizer:
         gmap = self._g.map(k)
         st = np.asarray(states, dtype=float).T
 
+        memo = {}
+
+        def evaluate(x):   # values and Jacobian in one call, kept for the same x
+            key = x.tobytes()
+            if key not in memo:
+                memo.clear()
+                g, jac = gmap(np.repeat(x[:, None], k, axis=1), st)
+                jac = np.asarray(jac).reshape(-1, k, 3).transpose(1, 0, 2).reshape(-1, 3)   # (5, 3k) -> (5k, 3)
+                memo[key] = (1.0 - np.asarray(g).T.ravel(), -jac)
+            return memo[key]
+
         def cons(x):
-            g = np.asarray(gmap(np.repeat(x[:, None], k, axis=1), st)[0])
-            return 1.0 - g.T.ravel()
+            return evaluate(x)[0]
 
         def cons_jac(x):
-            jac = np.asarray(gmap(np.repeat(x[:, None], k, axis=1), st)[1])   # (5, 3k)
-            return -np.vstack([jac[:, 3 * i:3 * i + 3] for i in range(k)])
+            return evaluate(x)[1]
 
         lo, hi = ASPECT_RANGE
         rules = [{"type": "ineq", "fun": lambda x: np.array([x[1] - lo * x[2], hi * x[2] - x[1],
@@ -217,7 +237,11 @@ class LocalPanelSizer:
         b = self.bounds
         bnds = [tuple(1e3 * v for v in b[key]) for key in ("t", "h", "ts")]
         best = None
-        for x0 in starts:
+        for x0 in [*starts, None, *fallback]:
+            if x0 is None:
+                if best is not None:
+                    break
+                continue
             x0 = np.clip(np.asarray(x0, dtype=float) * 1e3, [v[0] for v in bnds], [v[1] for v in bnds])
             res = minimize(lambda x: float(self._f(x)[0]), x0, jac=lambda x: np.asarray(self._f(x)[1]).ravel(),
                            bounds=bnds, constraints=[{"type": "ineq", "fun": cons, "jac": cons_jac}] + rules,
@@ -269,12 +293,12 @@ def inner_sizing(setup, states: dict, start: dict | None = None) -> dict:
             keep = sel[envelope_states(nx[sel], nxy[sel], ny[sel])]
             count += keep.size
             st = np.column_stack([nx[keep], nxy[keep], ny[keep], length[node[keep]]])
-            starts = [(3e-3, 0.04, 0.003), (6e-3, 0.07, 0.006), (15e-3, 0.08, 0.008)]
-            if j > 0:
-                starts.insert(0, tuple(x[j - 1]))
-            if start is not None:
-                starts.insert(0, tuple(start[v][j] for v in (t_name, h_name, ts_name)))
-            xj, teq[j] = sizer.size(st, starts)
+            generic = [(3e-3, 0.04, 0.003), (6e-3, 0.07, 0.006), (15e-3, 0.08, 0.008)]
+            if start is not None:   # a polish pass: from the previous design, the generic starts if it fails
+                starts, fallback = [tuple(start[v][j] for v in (t_name, h_name, ts_name))], generic
+            else:
+                starts, fallback = generic + ([tuple(x[j - 1])] if j > 0 else []), ()
+            xj, teq[j] = sizer.size(st, starts, fallback)
             x[j] = xj
         x = adjacency(x)
         design[t_name], design[h_name], design[ts_name] = x[:, 0], x[:, 1], x[:, 2]
