@@ -4,7 +4,7 @@
                                       [--dv-ref upper|2upper|start] [--objective-factor F]
     python benchmarks/bench_panels.py --rib-pitch 0.4 0.5 0.63 0.8 1.0 1.25
     python benchmarks/bench_panels.py --gradient [--loads maneuver|all] [--repeat 10]
-    python benchmarks/bench_panels.py --loads all --panel-sizing two-level [--outer fsd|slsqp] [--polish N]
+    python benchmarks/bench_panels.py --loads all --panel-sizing two-level [--outer fsd|slsqp] [--polish 8]
 
 The first form sizes PEGASUS with ``--panels unstiffened`` (walls sized for strength: von Mises)
 and ``--panels stiffened`` (blade-stiffened skins, skin/panel/stiffener/web buckling at a
@@ -68,7 +68,7 @@ def _size_two_level(outer, polish, **options):
 
 
 def compare(loads: str, optimizer: str, dv_ref: str = "upper", objective_factor: float = 1.0,
-            panel_sizing: str = "full", outer: str = "fsd", polish: int = 1) -> None:
+            panel_sizing: str = "full", outer: str = "fsd", polish: int = 8) -> None:
     print(f"{'panels':12s} {'mass [kg]':>10s} {'success':>8s} {'iter':>5s} {'f-evals':>8s} {'g-evals':>8s} "
           f"{'wall [s]':>9s} {'cpu [s]':>8s}")
     cpu = {}
@@ -167,8 +167,9 @@ def main():
                     help="the stiffened sizing: all variables in one SLSQP, or two levels (wingmdao.panel_sizing)")
     ap.add_argument("--outer", choices=OUTER_SOLVERS, default="fsd",
                     help="outer level of --panel-sizing two-level: fully stressed passes, or SLSQP after them")
-    ap.add_argument("--polish", type=int, default=1,
-                    help="inner passes of --panel-sizing two-level with the full model's running loads")
+    ap.add_argument("--polish", type=int, default=8,
+                    help="at most this many inner passes of --panel-sizing two-level with the full model's running "
+                         "loads (they stop at a smallest margin of safety >= -0.1 %%)")
     ap.add_argument("--rib-pitch", type=float, nargs="+", metavar="M", default=None,
                     help="run the rib-pitch study at these pitches instead of the comparison")
     ap.add_argument("--gradient", action="store_true",
@@ -182,7 +183,7 @@ def main():
     else:
         if not (args.objective_factor > 0 and args.objective_factor < float("inf")):
             ap.error(f"--objective-factor = {args.objective_factor}; allowed range (0, inf)")
-        if args.polish < 0:
+        if not 0 <= args.polish <= 10:
             ap.error(f"--polish = {args.polish}; allowed range [0, 10]")
         compare(args.loads, args.optimizer, args.dv_ref, args.objective_factor, args.panel_sizing, args.outer,
                 args.polish)

@@ -15,8 +15,10 @@
   The adjacency rules (|dt| <= 2.5 mm, |dh| <= 10 mm) are then met by raising the thinner
   neighbour.
 * **Check**: the recovered design in the full stiffened model (section ``"stiffened"``, the
-  dynamic load cases, every panel family), one analysis; ``polish`` passes repeat the inner
-  level with that model's running loads and analyse again.
+  dynamic load cases, every panel family), one analysis; polish passes repeat the inner level
+  (skins and, by bisection, the spar webs) with that model's running loads and analyse again,
+  until the smallest margin of safety is at least -0.1 % (a fixed point: the running loads move
+  with the design).
 """
 
 from __future__ import annotations
@@ -469,8 +471,8 @@ def outer_setup(setup):
 OUTER_SOLVERS = ("fsd", "slsqp")
 
 
-def size_two_level(setup, *, outer_solver: str = "fsd", fsd_passes: int = 12, polish: int = 1,
-                   progress=None) -> tuple:
+def size_two_level(setup, *, outer_solver: str = "fsd", fsd_passes: int = 12, polish: int = 8,
+                   margin_tol: float = 1e-3, progress=None) -> tuple:
     """Size a stiffened case in two levels (module docstring); returns ``(problem, result)``:
     the full stiffened model at the recovered design and its summary
     (:func:`wingmdao.sizing.summarize`: mass, panels with their margins, ribs, mass breakdown),
@@ -487,7 +489,10 @@ def size_two_level(setup, *, outer_solver: str = "fsd", fsd_passes: int = 12, po
     fsd_passes : int, optional
         Fully stressed passes of ``outer_solver="fsd"``.
     polish : int, optional
-        Inner passes with the full model's running loads after the first check (0: none).
+        At most this many inner passes with the full model's running loads after the first
+        check (0: none); they stop once the smallest margin of safety is at least ``-margin_tol``.
+    margin_tol : float, optional
+        The polish passes' tolerance on the smallest margin of safety (-).
     progress : callable or None, optional
         Called with a line of text after each step.
 
@@ -538,13 +543,15 @@ def size_two_level(setup, *, outer_solver: str = "fsd", fsd_passes: int = 12, po
         passes.append({"mass_kg": result["mass_kg"], "envelope_states": design["states"], **worst})
         say(f"check {k}: {result['mass_kg']:.2f} kg, smallest margin {worst['margin_of_safety']:+.4f} "
             f"({worst['wall']} station {worst['station']}, {worst['mode']})")
-        if k < polish:
+        if k < polish and worst["margin_of_safety"] < -margin_tol:
             c1 = time.process_time()
             states = running_load_states(full, setup, stiffened=True)
             walls = {w: np.asarray(full.get_val(w, units="m")).ravel() for w in WALL_NAMES}
             design = inner_sizing(setup, states,
                                   start={v: design[v] for v in design if v not in ("equivalent", "states")})
             spars = web_sizing(setup, states, walls)
+        else:
+            break
             cpu["inner"] += time.process_time() - c1
     cpu["check"] = time.process_time() - c0 - (cpu["inner"] - inner_before)
     result["wall_s"] = time.perf_counter() - w0
