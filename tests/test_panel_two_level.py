@@ -156,3 +156,17 @@ def test_two_level_pegasus_maneuver_sizing():
     assert sum(res["mass_breakdown_kg"].values()) == pytest.approx(res["mass_kg"], rel=1e-9)
     eq = {s: np.asarray(res["panels"][f"{s}_skin"]["equivalent_thickness_m"]) for s in ("upper", "lower")}
     assert np.all(eq["upper"][:5] > 1.3 * eq["lower"][:5])
+
+
+@pytest.mark.parametrize("extra, message", [
+    ([], "--panel-sizing two-level needs --panels stiffened"),
+    (["--panels", "stiffened", "--flutter-margin", "1.15"], "does not take --flutter-margin"),
+])
+def test_cli_refuses_two_level_without_what_it_needs(tmp_path, capsys, extra, message):
+    """A one-line error naming the flag before any solve."""
+    from wingmdao.cli import main
+
+    code = main(["size", "pegasus", "--loads", "maneuver", "--panel-sizing", "two-level", *extra, "--no-plots",
+                 "--out", str(tmp_path), "--json", str(tmp_path / "r.json")])
+    assert code == 2
+    assert message in capsys.readouterr().err
