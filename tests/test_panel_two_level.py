@@ -170,3 +170,30 @@ def test_cli_refuses_two_level_without_what_it_needs(tmp_path, capsys, extra, me
                  "--out", str(tmp_path), "--json", str(tmp_path / "r.json")])
     assert code == 2
     assert message in capsys.readouterr().err
+
+
+def test_outer_level_totals_match_central_differences():
+    """The outer level's problem (section box, the equivalent-panel family in every case, a short
+    gust): totals of ks_equivalent_panels and ks_vm of a maneuver and the gust with respect to
+    the 76 walls, reverse against central differences, at a random design."""
+    from wingmdao.cases import pegasus
+    from wingmdao.panel_sizing import outer_setup
+    from wingmdao.sizing import WALL_VARS, build_problem
+
+    args = pegasus.PegasusOptions(loads="all", t_final=0.4, dt=0.04, gust_start=0.0, panels="stiffened")
+    setup = pegasus.build(args)
+    outer = outer_setup(setup)
+    rng = np.random.default_rng(11)
+    outer.options.initial = {w: rng.uniform(0.004, 0.012, 19) for w in WALL_VARS}
+    outer.options.disp = False
+    prob, _ = build_problem(outer.geometry, outer.load_cases, outer.material, outer.options, section="box",
+                            equivalent_panels=setup.panels)
+    prob.run_model()
+    of = [f"cases.{c}.ks_{f}" for c in ("maneuver_pos", "gust") for f in ("vm", "equivalent_panels")]
+    data = prob.check_totals(of=of, wrt=list(WALL_VARS), method="fd", form="central", step=1e-7,
+                             step_calc="rel_avg", out_stream=None)
+    worst = 0.0
+    for d in data.values():
+        j = d["J_fwd"] if "J_fwd" in d else d["J_rev"]
+        worst = max(worst, np.abs(j - d["J_fd"]).max() / max(np.abs(d["J_fd"]).max(), 1e-12))
+    assert worst < 1e-4, worst
