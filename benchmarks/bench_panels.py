@@ -4,6 +4,7 @@
                                       [--dv-ref upper|2upper|start] [--objective-factor F]
     python benchmarks/bench_panels.py --rib-pitch 0.4 0.5 0.63 0.8 1.0 1.25
     python benchmarks/bench_panels.py --gradient [--loads maneuver|all] [--repeat 10]
+    python benchmarks/bench_panels.py --loads all --panel-sizing two-level [--outer fsd|slsqp] [--polish 8]
 
 The first form sizes PEGASUS with ``--panels unstiffened`` (walls sized for strength: von Mises)
 and ``--panels stiffened`` (blade-stiffened skins, skin/panel/stiffener/web buckling at a
@@ -19,6 +20,10 @@ costs beside its analyses) at the starting design of both sizings: the median CP
 time march's reverse solves and products (``time march``: the adjoint sweeps through the gust
 history and the static solves, ``sweeps`` of them per gradient, one per nonlinear constraint
 and load case), and the median CPU time of one analysis (``run_model``).
+``--panel-sizing two-level`` sizes the stiffened case in two levels
+(:func:`wingmdao.panel_sizing.size_two_level`) beside the strength-only one (``full``, the
+default, sizes all stiffened variables in one SLSQP) and prints the smallest margin of safety of
+the recovered design in the full model.
 ``cpu`` is this process's CPU time, the steadier figure when other jobs share the cores.
 """
 
@@ -30,6 +35,7 @@ import time
 
 from wingmdao.cases import pegasus
 from wingmdao.components.time_history import TimeHistoryComponent
+from wingmdao.panel_sizing import OUTER_SOLVERS, PANEL_SIZINGS, size_two_level
 from wingmdao.sizing import OBJECTIVE_SCALE, build_problem, initial_mass, size_case
 
 
@@ -53,18 +59,35 @@ def _size(optimizer="SLSQP", dv_ref="upper", objective_factor=1.0, **options):
     return res, time.perf_counter() - w0, time.process_time() - c0
 
 
-def compare(loads: str, optimizer: str, dv_ref: str = "upper", objective_factor: float = 1.0) -> None:
+def _size_two_level(outer, polish, **options):
+    setup = pegasus.build(**options)
+    setup.options.disp = False
+    w0, c0 = time.perf_counter(), time.process_time()
+    _, res = size_two_level(setup, outer_solver=outer, polish=polish)
+    return res, time.perf_counter() - w0, time.process_time() - c0
+
+
+def compare(loads: str, optimizer: str, dv_ref: str = "upper", objective_factor: float = 1.0,
+            panel_sizing: str = "full", outer: str = "fsd", polish: int = 8) -> None:
     print(f"{'panels':12s} {'mass [kg]':>10s} {'success':>8s} {'iter':>5s} {'f-evals':>8s} {'g-evals':>8s} "
           f"{'wall [s]':>9s} {'cpu [s]':>8s}")
     cpu = {}
     for panels in ("unstiffened", "stiffened"):
         scaling = dict(dv_ref=dv_ref, objective_factor=objective_factor) if panels == "stiffened" else {}
-        res, wall, cpu[panels] = _size(optimizer, loads=loads, panels=panels, **scaling)
+        if panels == "stiffened" and panel_sizing == "two-level":
+            res, wall, cpu[panels] = _size_two_level(outer, polish, loads=loads, panels=panels)
+            tl = res["two_level"]
+            print(f"two-level: outer {outer} {tl['outer']['mass_kg']:.2f} kg; passes "
+                  + "; ".join(f"{p['mass_kg']:.2f} kg, smallest margin {p['margin_of_safety']:+.4f} "
+                              f"({p['wall']} station {p['station']}, {p['mode']})" for p in tl["passes"])
+                  + "; cpu " + ", ".join(f"{k} {v:.1f} s" for k, v in tl["cpu_s"].items()), flush=True)
+        else:
+            res, wall, cpu[panels] = _size(optimizer, loads=loads, panels=panels, **scaling)
         print(f"{panels:12s} {res['mass_kg']:10.2f} {str(res['success']):>8s} {res['iterations']:5d} "
               f"{res['function_evaluations']:8d} {res['gradient_evaluations']:8d} {wall:9.1f} {cpu[panels]:8.1f}",
               flush=True)
-    print(f"stiffened / strength-only CPU time: {cpu['stiffened'] / cpu['unstiffened']:.2f} (goal <= 1.5, "
-          f"loads {loads}, optimizer {optimizer})")
+    print(f"stiffened ({panel_sizing}) / strength-only CPU time: {cpu['stiffened'] / cpu['unstiffened']:.2f} "
+          f"(goal <= 1.5, loads {loads}, optimizer {optimizer})")
 
 
 class _MarchTimer:
@@ -140,6 +163,13 @@ def main():
                          "twice those, or their starting values")
     ap.add_argument("--objective-factor", type=float, default=1.0,
                     help="the stiffened sizing's objective ref times this (default 1: 10 x the initial mass)")
+    ap.add_argument("--panel-sizing", choices=PANEL_SIZINGS, default="full",
+                    help="the stiffened sizing: all variables in one SLSQP, or two levels (wingmdao.panel_sizing)")
+    ap.add_argument("--outer", choices=OUTER_SOLVERS, default="fsd",
+                    help="outer level of --panel-sizing two-level: fully stressed passes, or SLSQP after them")
+    ap.add_argument("--polish", type=int, default=8,
+                    help="at most this many inner passes of --panel-sizing two-level with the full model's running "
+                         "loads (they stop at a smallest margin of safety >= -0.1 %%)")
     ap.add_argument("--rib-pitch", type=float, nargs="+", metavar="M", default=None,
                     help="run the rib-pitch study at these pitches instead of the comparison")
     ap.add_argument("--gradient", action="store_true",
@@ -153,7 +183,10 @@ def main():
     else:
         if not (args.objective_factor > 0 and args.objective_factor < float("inf")):
             ap.error(f"--objective-factor = {args.objective_factor}; allowed range (0, inf)")
-        compare(args.loads, args.optimizer, args.dv_ref, args.objective_factor)
+        if not 0 <= args.polish <= 10:
+            ap.error(f"--polish = {args.polish}; allowed range [0, 10]")
+        compare(args.loads, args.optimizer, args.dv_ref, args.objective_factor, args.panel_sizing, args.outer,
+                args.polish)
 
 
 if __name__ == "__main__":

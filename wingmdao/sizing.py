@@ -237,7 +237,8 @@ def _check_geometry(geometry, section) -> None:
 def build_problem(geometry: WingGeometry, load_cases, material, options: SizingOptions,
                   *, driver=True, parallel=None, section="box", comm=False,
                   flutter: dict | None = None, panels: PanelLayout | None = None,
-                  turbulence: dict | None = None) -> tuple[om.Problem, str]:
+                  turbulence: dict | None = None, equivalent_panels: PanelLayout | None = None
+                  ) -> tuple[om.Problem, str]:
     """Set up the sizing problem; returns ``(problem, driver description)``.
 
     ``section`` is ``"box"`` (design variables: the four wall thicknesses) or ``"solid"``
@@ -277,11 +278,17 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
     turbulence : dict or None
         Options of :class:`~wingmdao.components.turbulence.TurbulenceStressKS`; None: no
         turbulence constraint.
+    equivalent_panels : PanelLayout or None
+        Section ``"box"`` only: the walls are stiffened panels' equivalent thicknesses, every case
+        gets the outer constraint of the two-level sizing (``ks_equivalent_panels``,
+        :class:`~wingmdao.components.panels.EquivalentPanelFailure`; :mod:`wingmdao.panel_sizing`).
     """
     check_problem_inputs(geometry, load_cases, material, options, section)
     if (section == "stiffened") != (panels is not None):
         raise ValueError(f"section = {section!r} with panels = {panels!r}: a PanelLayout goes with section "
                          "'stiffened' and only with it")
+    if equivalent_panels is not None and section != "box":
+        raise ValueError(f"section = {section!r} with equivalent_panels: the equivalent walls are a box's")
     n = geometry.num_nodes
     design_vars = SECTION_KINDS[section]["design_vars"]
     load_cases = list(load_cases)
@@ -304,6 +311,10 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
         if distributed:
             raise ValueError("stiffened panels (section 'stiffened') run in one process (no MPI distribution)")
         wing_kwargs.update(panels=panels, rib_weights=rib_weights(span_coordinate(geometry), panels.rib_positions))
+    if equivalent_panels is not None:
+        if distributed:
+            raise ValueError("the two-level sizing's outer level runs in one process (no MPI distribution)")
+        wing_kwargs.update(equivalent_panels=equivalent_panels)
     if distributed:
         wing, _ = distributed_wing_sizing(geometry, load_cases, material, options, section, comm,
                                           build_problem=build_problem, **wing_kwargs)
@@ -329,6 +340,8 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
         set_shared_geometry(prob, geometry, section)
     else:
         set_geometry(prob, geometry, section, panels)
+        if equivalent_panels is not None:
+            prob.set_val("panel_length", equivalent_panels.panel_lengths(span_coordinate(geometry)), units="m")
         for case in load_cases:
             set_case_loads(prob, case, n, f"cases.{case.name}")
     n_dv = n if geometry.station_map is None else int(np.max(geometry.station_map)) + 1

@@ -64,6 +64,8 @@ class CaseSetup:
     turbulence : dict, optional
         TurbulenceStressKS options
         (:func:`wingmdao.loads.turbulence_analysis.sizing_turbulence_options`).
+    panel_sizing : str, optional
+        ``"full"`` or ``"two-level"`` (:func:`wingmdao.panel_sizing.size_two_level`) for a stiffened case.
     """
 
     geometry: object
@@ -75,6 +77,7 @@ class CaseSetup:
     flutter: dict | None = None
     panels: object = None
     turbulence: dict | None = None
+    panel_sizing: str = "full"
 
 
 #: Most time steps of one march: states, their adjoint, residual Jacobian blocks and stresses are

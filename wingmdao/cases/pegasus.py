@@ -66,6 +66,9 @@ PITCH_REQUIRED = ("pitch_inertia", "cg_x", "tail_arm", "tail_area", "tail_lift_s
 GUST_SIGNS = ("up", "down", "both")
 #: wall models: unstiffened plates (strength only) or stiffened skins with buckling and ribs
 PANEL_MODELS = ("unstiffened", "stiffened")
+#: how the stiffened walls are sized (wingmdao.panel_sizing.PANEL_SIZINGS; kept here, the
+#: case modules do not import the sizing)
+PANEL_SIZINGS = ("full", "two-level")
 #: --help group of the stiffened-panel options (pegasus and the cases built on it)
 PANEL_GROUP = "stiffened panels (docs/panels.md)"
 #: --help groups of the free-pitch and gust-set options
@@ -172,6 +175,11 @@ class PegasusOptions(CaseOptions):
     panels: str = panel_options()["panels"]
     stiffener_pitch: float = panel_options()["stiffener_pitch"]  # m
     rib_pitch: float | None = panel_options()["rib_pitch"]  # m; None: the ribs at the case's rib stations
+    panel_sizing: str = option("full", "how --panels stiffened is sized: full (every wall and stiffener variable in "
+                                       "one optimization) or two-level (fully stressed walls of equivalent "
+                                       "thickness with Farrar's minimum-weight panel, then each station's panels "
+                                       "sized locally, checked on the full model; docs/panels.md)",
+                               choices=PANEL_SIZINGS, group=PANEL_GROUP)
 
 
 OPTIONS = PegasusOptions
@@ -903,6 +911,9 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
     setup = CaseSetup(geometry, cases, ALUMINIUM, sizing, notes=notes)
     if opts.panels == "stiffened":
         stiffen(setup, pf, opts.stiffener_pitch, opts.rib_pitch)
+        setup.panel_sizing = opts.panel_sizing
+    elif opts.panel_sizing != "full":
+        raise ValueError(f"--panel-sizing {opts.panel_sizing} needs --panels stiffened (got --panels {opts.panels})")
     elif opts.rib_pitch is not None or opts.stiffener_pitch != PegasusOptions.stiffener_pitch:
         setup.notes.append("warning: ignored without --panels stiffened: "
                            + ", ".join(f for f, v in (("--rib-pitch", opts.rib_pitch is not None),

@@ -211,19 +211,34 @@ def _size(args) -> int:
     mine = (setup.load_cases if comm is None else
             [setup.load_cases[i] for i in assign_cases(setup.load_cases, comm.size)[comm.rank]])
     check_memory(mine, setup.geometry.num_nodes)  # before any solve: this rank's marches must fit
-    prob, desc = sizing.build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
-                                      driver=optimize, section=setup.section, comm=comm or False,
-                                      flutter=setup.flutter, panels=setup.panels, turbulence=setup.turbulence)
+    two_level = getattr(setup, "panel_sizing", "full") == "two-level"
+    if two_level:
+        _check_two_level(args, setup, comm)
+        recording = None   # no driver to record: the outer level is fully stressed passes
+    else:
+        prob, desc = sizing.build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
+                                          driver=optimize, section=setup.section, comm=comm or False,
+                                          flutter=setup.flutter, panels=setup.panels, turbulence=setup.turbulence)
     import openmdao.api as om
 
     interrupted = failed = False
     try:
-        result = sizing.presize_and_size(prob, setup, desc, optimize=optimize)
+        if two_level:
+            from wingmdao.panel_sizing import size_two_level
+
+            prob, result = size_two_level(setup, progress=lambda line: say(f"  {line}"))
+            desc = result["driver"]
+        else:
+            result = sizing.presize_and_size(prob, setup, desc, optimize=optimize)
     except KeyboardInterrupt:
+        if two_level:   # no recording and no design yet to keep
+            raise
         interrupted = True
         prob.cleanup()  # closes (and commits) the recording
         result = sizing.partial_result(prob, setup, desc, recording)
     except om.AnalysisError as exc:  # the beam failed (e.g. a load no design can carry): keep what we have
+        if two_level:
+            raise
         failed = True
         prob.cleanup()
         result = sizing.partial_result(prob, setup, desc, recording, interrupted=False)
@@ -264,6 +279,17 @@ def _size(args) -> int:
     if args.json and (deferred or "flutter_speed_m_s" in result):
         write_json(result, args.json)
     return code
+
+
+def _check_two_level(args, setup, comm) -> None:
+    """``--panel-sizing two-level``: ValueError for what its outer level does not carry."""
+    if comm is not None and comm.size > 1:
+        raise ValueError("--panel-sizing two-level runs in one process (no mpirun)")
+    for flag, given in (("--flutter-margin", setup.flutter is not None),
+                        ("--turbulence", setup.turbulence is not None), ("--analysis-only", args.analysis_only)):
+        if given:
+            raise ValueError(f"--panel-sizing two-level does not take {flag} (its outer level has strength and "
+                             "buckling constraints only; use --panel-sizing full)")
 
 
 def _check_stick_args(args, comm) -> None:

@@ -9,6 +9,8 @@ time history, the linear sizing rules and the ribs' mass (docs/panels.md).
 * :class:`SizingRules`: the practitioners' rules (stiffener web aspect, stiffener over skin
   thickness, adjacency of neighbouring stations), linear in the design variables.
 * :class:`RibMass`: the ribs' mass from their web areas.
+* :class:`EquivalentPanelFailure`: the two-level sizing's outer constraint, Farrar's
+  minimum-weight panel on the walls' equivalent thicknesses.
 
 Partials: CasADi AD for the pointwise components, constant analytic ones for the linear rules.
 """
@@ -28,6 +30,7 @@ from wingmdao.components.section import SECTION_OUTPUTS, BoxSection, CombinedJac
 from wingmdao.materials import Material
 from wingmdao.panels.layout import STIFFENER_SHAPES, STIFFENER_VARS, panel_families, smeared_stringer
 from wingmdao.panels.box_panels import SKIN_MODES, skin_panel_ratios, web_panel_ratio
+from wingmdao.panels.equivalent import FARRAR_EFFICIENCY, SKIN_SHARE, equivalent_skin_ratio
 from wingmdao.panels.stiffened import PanelMaterial, material_ratio
 from wingmdao.section.box import WALL_NAMES, beam_data, box_properties, validate_box
 from wingmdao.stress.box_stress import SECTION_PROPERTIES, panel_running_loads
@@ -510,6 +513,146 @@ class PanelFailure(KSOfPointwise, CombinedJacobianMixin, PointwiseCasadiComponen
         source = f"{self.pathname or 'PanelFailure'}: "
         validate_box(inputs["width"], inputs["height"], *(inputs[k] for k in WALL_NAMES), source=source)
         validate_stiffeners({k: inputs[k] for k in STIFFENER_VARS}, source)
+        length = np.asarray(inputs["panel_length"])
+        bad = np.flatnonzero(~(np.isfinite(length) & (length > 0.0)))
+        if bad.size:
+            raise ValueError(f"{source}panel_length = {length[bad[0]]:.6g} m at station {bad[0]}; "
+                             "allowed range (0, inf) m (the rib pitch)")
+
+
+class EquivalentPanelFailure(KSOfPointwise, CombinedJacobianMixin, PointwiseCasadiComponent):
+    """The outer level of the two-level stiffened sizing: failure ratios of a box whose walls are
+    the stiffened walls' equivalent thicknesses (skin plus smeared stiffener area per width), on
+    the grid (num_times, num_stations).
+
+    Inputs as :class:`PanelFailure` without the stiffener variables and the load gradient:
+    ``F_csn``, ``M_csn`` (nt, n, 3), per station ``width``, ``height``, the four wall thicknesses
+    (the skins' equivalent ones), ``panel_length`` and the box section's properties. One output
+    family ``g_equivalent_panels`` (6 per station): ``safety_factor * R - 1`` at the skin points
+    upper front, upper rear, lower front, lower rear, R of
+    :func:`wingmdao.panels.equivalent.equivalent_skin_ratio` (Farrar's minimum-weight panel, the
+    skin at the pitch, the material; with the skin's shear), and at the web points front, rear,
+    R the unstiffened web's compression-shear buckling of the detailed model
+    (:func:`wingmdao.panels.box_panels.web_panel_ratio`). With ``ks_rho``: ``ks_equivalent_panels``.
+    """
+
+    #: the family and its points per station
+    FAMILIES = {"equivalent_panels": 6}
+
+    def initialize(self):
+        super().initialize()
+        self.options.declare("num_times", types=int, lower=1, desc="number of time steps")
+        self.options.declare("num_stations", types=int, lower=1, desc="number of beam stations")
+        self.options.declare("material", types=Material, desc="metal of walls and stiffeners")
+        self.options.declare("safety_factor", default=1.5, types=numbers.Real, lower=0.0,
+                             desc="factor on the loads of every panel mode")
+        self.options.declare("stiffener_pitch", default=0.15, types=numbers.Real, lower=1e-6,
+                             desc="stiffener spacing on both skins (m)")
+        self.options.declare("efficiency", default=FARRAR_EFFICIENCY["blade"], types=numbers.Real, lower=0.0,
+                             desc="Farrar's efficiency factor F of the minimum-weight panel (-)")
+        self.options.declare("skin_share", default=SKIN_SHARE, types=numbers.Real, lower=0.0, upper=1.0,
+                             desc="skin thickness over equivalent thickness in the skin modes (-)")
+
+    def point_grid(self):
+        """Leading shape of every variable: (num_times, num_stations).
+
+        Returns
+        -------
+        tuple
+            The grid shape.
+        """
+        return (self.options["num_times"], self.options["num_stations"])
+
+    def expression_options(self):
+        """What the expressions depend on beside the variables (the key of the persisted functions).
+
+        Returns
+        -------
+        tuple
+            The option values.
+        """
+        o = self.options
+        return (o["material"], float(o["safety_factor"]), float(o["stiffener_pitch"]), float(o["efficiency"]),
+                float(o["skin_share"]))
+
+    @property
+    def families(self) -> dict:
+        """This component's family and points per station."""
+        return dict(self.FAMILIES)
+
+    def pointwise_inputs(self):
+        """The per-point inputs: internal loads per time and station, box and panel-length data per station.
+
+        Returns
+        -------
+        list of Var
+            The inputs.
+        """
+        per = dict(per_last_axis=True)
+        return [
+            Var("F_csn", (3,), "N", "internal force [F_c, F_s (axial), F_n] on the inboard part, csn", 0.0),
+            Var("M_csn", (3,), "N*m", "internal moment [M_c, M_s (torsion), M_n] about the box centre, csn", 0.0),
+            Var("width", (), "m", "box outer width (chordwise)", **per),
+            Var("height", (), "m", "box outer height (normal)", 0.3, **per),
+            Var("t_upper_skin", (), "m", "upper skin equivalent thickness (skin and stiffeners)", 0.01, **per),
+            Var("t_lower_skin", (), "m", "lower skin equivalent thickness (skin and stiffeners)", 0.01, **per),
+            Var("t_front_spar", (), "m", "front spar web thickness", 0.01, **per),
+            Var("t_rear_spar", (), "m", "rear spar web thickness", 0.01, **per),
+            Var("panel_length", (), "m", "panel length between ribs (rib pitch) at the station", 0.5, **per),
+        ] + [Var(name, (), units, desc, SECTION_DEFAULTS.get(name, 0.0),
+                 **per) for name, _, units, desc in SECTION_OUTPUTS if name in SECTION_PROPERTIES]
+
+    def pointwise_outputs(self):
+        """The per-point output ``g_equivalent_panels``.
+
+        Returns
+        -------
+        list of Var
+            The outputs.
+        """
+        return [Var("g_equivalent_panels", (6,), None,
+                    "equivalent stiffened skins (Farrar) and spar webs, compression-shear (SF R - 1)")]
+
+    def pointwise_expressions(self, sym):
+        """The outputs at one point as CasADi expressions: factored ratios minus one.
+
+        Parameters
+        ----------
+        sym : dict
+            Input name -> SX symbol of the input's shape at one point.
+
+        Returns
+        -------
+        dict
+            Output name -> SX expression.
+        """
+        o = self.options
+        mat, sf, pitch = o["material"], float(o["safety_factor"]), float(o["stiffener_pitch"])
+        walls = [sym[k] for k in WALL_NAMES]
+        loads = panel_running_loads(sym["F_csn"], sym["M_csn"], sym["width"], sym["height"], *walls,
+                                    (walls[0], walls[1]), {k: sym[k] for k in SECTION_PROPERTIES})
+        g = []
+        for k in range(4):
+            r = equivalent_skin_ratio(mat, walls[k // 2], sym["panel_length"], pitch, loads["nx_skin"][k],
+                                      loads["nxy_skin"][k], float(o["efficiency"]), float(o["skin_share"]))
+            g.append(sf * r - 1.0)
+        h_web = sym["height"] - walls[0] - walls[1]
+        for k, t_web in enumerate((walls[2], walls[3])):
+            r = web_panel_ratio(PanelMaterial(mat), t_web, h_web, sym["panel_length"], loads["nx_web"][k],
+                                loads["nxy_web"][k])
+            g.append(sf * r - 1.0)
+        return {"g_equivalent_panels": ca.vertcat(*g)}
+
+    def check_inputs(self, inputs):
+        """Raise ``ValueError`` naming the input, point and allowed range when a box dimension or a panel length is invalid.
+
+        Parameters
+        ----------
+        inputs : dict-like
+            The component's inputs.
+        """
+        source = f"{self.pathname or 'EquivalentPanelFailure'}: "
+        validate_box(inputs["width"], inputs["height"], *(inputs[k] for k in WALL_NAMES), source=source)
         length = np.asarray(inputs["panel_length"])
         bad = np.flatnonzero(~(np.isfinite(length) & (length > 0.0)))
         if bad.size:

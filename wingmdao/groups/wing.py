@@ -52,7 +52,7 @@ from wingmdao.aero.system import (aero_param_specs, cached_aeroelastic_system, c
                                   vlm_param_specs)
 from wingmdao.beam.static import cached_beam_system
 from wingmdao.components.aeroelastic import AeroelasticBeamDynamics, PitchBodyProperties, PlungeBodyMass
-from wingmdao.components.panels import PanelFailure, RibMass, SizingRules, StiffenedBoxSection
+from wingmdao.components.panels import EquivalentPanelFailure, PanelFailure, RibMass, SizingRules, StiffenedBoxSection
 from wingmdao.components.section import BoxSection, SolidRectSection
 from wingmdao.components.solid_stress import SolidRectStress
 from wingmdao.components.state_slice import BeamStateSlice
@@ -224,6 +224,9 @@ class WingStructure(om.Group):
                              desc="add every ks_<family> as a constraint ks <= 0")
         self.options.declare("panels", default=None, allow_none=True, types=PanelLayout,
                              desc="stiffened panels (section 'stiffened'): pitch, shape, safety factor, ribs")
+        self.options.declare("equivalent_panels", default=None, allow_none=True, types=PanelLayout,
+                             desc="section 'box' with walls of stiffened panels' equivalent thicknesses: the "
+                                  "two-level sizing's outer constraint (EquivalentPanelFailure, ks_equivalent_panels)")
         self.options.declare("forcing_as_data", default=False, types=bool,
                              desc="the case's beam forcing arrays (FORCING_META) as data of the beam "
                                   "(TimeHistoryComponent forcing_data), not promoted inputs: fixed loads "
@@ -266,6 +269,8 @@ class WingStructure(om.Group):
         points = stress_points(kind, case.families)
         if kind == "stiffened":   # the panel modes' KS in the panels component (KSOfPointwise)
             self._add_panel_failure(nt, n)
+        if self.options["equivalent_panels"] is not None:
+            self._add_equivalent_panels(nt, n)
         if not points:
             return
         shapes = {fam: (nt, n, k) for fam, k in points.items()}
@@ -414,6 +419,22 @@ class WingStructure(om.Group):
                                promotes_inputs=["states"])
 
 
+    def _add_equivalent_panels(self, nt, n):
+        """The equivalent-thickness panel constraint of the two-level sizing (EquivalentPanelFailure,
+        promoted ``ks_equivalent_panels``) on the box's walls."""
+        layout = self.options["equivalent_panels"]
+        if self.options["section"] != "box":
+            raise ValueError("WingStructure: equivalent_panels goes with section 'box' (the walls' equivalent "
+                             f"thicknesses), got section {self.options['section']!r}")
+        comp = self.add_subsystem("equivalent_panels", EquivalentPanelFailure(
+            num_times=nt, num_stations=n, material=self.options["material"], safety_factor=layout.safety_factor,
+            stiffener_pitch=layout.stiffener_pitch, inputs_by_conn=True, ks_rho=self.options["rho_ks"],
+            ks_constraints=self.options["add_constraints"]),
+            promotes_inputs=["width", "height", *WALLS, "panel_length", *SECTION_PROPERTIES])
+        self.promotes("equivalent_panels", outputs=[f"ks_{f}" for f in comp.families])
+        self.connect("internal_loads.F_csn", "equivalent_panels.F_csn")
+        self.connect("internal_loads.M_csn", "equivalent_panels.M_csn")
+
     def _add_panel_failure(self, nt, n) -> dict:
         """The panel failure ratios of the stiffened box (PanelFailure) with the KS aggregate of
         each family (promoted ``ks_<family>``); returns their families' points per station."""
@@ -484,6 +505,9 @@ class WingSizing(om.Group):
                                   "forcing_as_data; set_case_loads then sets only the aerodynamic forcing)")
         self.options.declare("panels", default=None, allow_none=True, types=PanelLayout,
                              desc="stiffened panels and ribs (section 'stiffened'; wingmdao.panels.layout)")
+        self.options.declare("equivalent_panels", default=None, allow_none=True, types=PanelLayout,
+                             desc="section 'box' whose walls are stiffened panels' equivalent thicknesses: every "
+                                  "case gets the two-level sizing's outer constraint (WingStructure)")
         self.options.declare("rib_weights", default=None, allow_none=True, types=(list, tuple, np.ndarray),
                              desc="(n,) ribs attributed to each station (section 'stiffened': the ribs' mass; "
                                   "wingmdao.panels.layout.rib_weights)")
@@ -548,7 +572,10 @@ class WingSizing(om.Group):
             parallel = importlib.util.find_spec("mpi4py") is not None
         alias_map = dict(alias)
         case_inputs = [(v, alias_map[v]) if v in alias_map else v for v in per_station]
-        case_inputs += ["panel_length"] if layout is not None else []
+        equivalent = self.options["equivalent_panels"]
+        case_inputs += ["panel_length"] if (layout is not None or equivalent is not None) else []
+        if equivalent is not None:
+            self.set_input_defaults("panel_length", val=np.full(n, 0.5), units="m")
         case_inputs += ["node_positions", "node_euler_angles", *SECTION_TO_BEAM,
                         "tension_axis", "shear_center", "mass_center", *SECTION_KINDS[kind]["section_to_stress"]]
         # only the shared inputs leave 'cases'; each case's forcing stays cases.<case>.<forcing>
@@ -561,7 +588,7 @@ class WingSizing(om.Group):
         for case in self.options["load_cases"]:
             cases.add_subsystem(case.name, WingStructure(
                 num_nodes=n, load_case=case, material=mat, rho_ks=self.options["rho_ks"],
-                section=kind, newton_options=self.options["newton_options"], panels=layout,
+                section=kind, newton_options=self.options["newton_options"], panels=layout, equivalent_panels=equivalent,
                 add_constraints=self.options["add_constraints"], forcing_as_data=self.options["forcing_as_data"]),
                 promotes_inputs=case_inputs)
         if self.options["flutter"] is not None:
