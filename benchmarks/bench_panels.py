@@ -169,7 +169,7 @@ def main():
                     help="outer level of --panel-sizing two-level: fully stressed passes, or SLSQP after them")
     ap.add_argument("--polish", type=int, default=8,
                     help="at most this many inner passes of --panel-sizing two-level with the full model's running "
-                         "loads (they stop at a smallest margin of safety >= -0.1 %%)")
+                         "loads (they stop once every margin of safety is non-negative)")
     ap.add_argument("--rib-pitch", type=float, nargs="+", metavar="M", default=None,
                     help="run the rib-pitch study at these pitches instead of the comparison")
     ap.add_argument("--gradient", action="store_true",

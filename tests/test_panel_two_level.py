@@ -140,8 +140,8 @@ def test_adjacency_raises_the_thinner_neighbour():
 @pytest.mark.slow
 def test_two_level_pegasus_maneuver_sizing():
     """The two-level sizing of the stiffened PEGASUS maneuvers: every detailed check of the
-    recovered design on the full model within 0.1 % of its allowable (margins >= -0.001 after
-    the polish passes), the upper skin heavier than the lower one inboard (compression at
+    recovered design on the full model within its allowable (every margin >= 0 after the polish
+    passes), the upper skin heavier than the lower one inboard (compression at
     2.5 g), and a mass within 3 % of the full stiffened SLSQP sizing's (644.50 kg,
     docs/panels.md, a different optimizer on the same model)."""
     from wingmdao.cases import pegasus
@@ -151,7 +151,7 @@ def test_two_level_pegasus_maneuver_sizing():
     setup.options.disp = False
     _, res = size_two_level(setup)
     worst = res["two_level"]["passes"][-1]["margin_of_safety"]
-    assert worst >= -1e-3
+    assert worst >= 0.0
     assert res["mass_kg"] == pytest.approx(644.50, rel=0.03)
     assert sum(res["mass_breakdown_kg"].values()) == pytest.approx(res["mass_kg"], rel=1e-9)
     eq = {s: np.asarray(res["panels"][f"{s}_skin"]["equivalent_thickness_m"]) for s in ("upper", "lower")}

@@ -17,8 +17,8 @@
 * **Check**: the recovered design in the full stiffened model (section ``"stiffened"``, the
   dynamic load cases, every panel family), one analysis; polish passes repeat the inner level
   (skins and, by bisection, the spar webs) with that model's running loads and analyse again,
-  until the smallest margin of safety is at least -0.1 % (a fixed point: the running loads move
-  with the design).
+  until every margin of safety is non-negative (a fixed point: the running loads move with the
+  design, so the polish passes size to the allowable less a small reserve, ``POLISH_RESERVE``).
 """
 
 from __future__ import annotations
@@ -160,8 +160,8 @@ class LocalPanelSizer:
         ``{"t": (lo, up), "h": (lo, up), "ts": (lo, up)}`` (m).
     """
 
-    def __init__(self, material, layout, bounds):
-        self.material, self.layout, self.bounds = material, layout, bounds
+    def __init__(self, material, layout, bounds, limit=1.0):
+        self.material, self.layout, self.bounds, self.limit = material, layout, bounds, float(limit)
         x = ca.SX.sym("x", 3)
         s = ca.SX.sym("s", 4)   # nx, nxy, ny, panel length
         t, h, ts = x[0] * 1e-3, x[1] * 1e-3, x[2] * 1e-3   # the variables in mm
@@ -223,7 +223,7 @@ class LocalPanelSizer:
                 memo.clear()
                 g, jac = gmap(np.repeat(x[:, None], k, axis=1), st)
                 jac = np.asarray(jac).reshape(-1, k, 3).transpose(1, 0, 2).reshape(-1, 3)   # (5, 3k) -> (5k, 3)
-                memo[key] = (1.0 - np.asarray(g).T.ravel(), -jac)
+                memo[key] = (self.limit - np.asarray(g).T.ravel(), -jac)
             return memo[key]
 
         def cons(x):
@@ -257,7 +257,7 @@ class LocalPanelSizer:
         return tuple(best.x * 1e-3), float(best.fun) * 1e-3
 
 
-def inner_sizing(setup, states: dict, start: dict | None = None) -> dict:
+def inner_sizing(setup, states: dict, start: dict | None = None, reserve: float = 0.0) -> dict:
     """The inner level: each design station's skin panels for the envelope of its states
     (:func:`running_load_states`), then the adjacency rules by raising the thinner neighbour.
 
@@ -269,6 +269,8 @@ def inner_sizing(setup, states: dict, start: dict | None = None) -> dict:
         Per skin the (nx, nxy, ny, node) arrays of :func:`running_load_states`.
     start : dict or None, optional
         ``{var: (n_dv,)}`` a previous design (m), tried first at each station.
+    reserve : float, optional
+        Every ratio is held at most ``1 - reserve`` (-).
 
     Returns
     -------
@@ -286,7 +288,8 @@ def inner_sizing(setup, states: dict, start: dict | None = None) -> dict:
         t_name, h_name, ts_name = f"t_{skin}_skin", f"h_{skin}_stiffener", f"t_{skin}_stiffener"
         sizer = LocalPanelSizer(setup.material, p, {"t": (o.lower[t_name], o.upper[t_name]),
                                                     "h": (o.lower[h_name], o.upper[h_name]),
-                                                    "ts": (o.lower[ts_name], o.upper[ts_name])})
+                                                    "ts": (o.lower[ts_name], o.upper[ts_name])},
+                                limit=1.0 - reserve)
         nx, nxy, ny, node = states[skin]
         x = np.zeros((n_dv, 3))
         teq = np.zeros(n_dv)
@@ -311,7 +314,7 @@ def inner_sizing(setup, states: dict, start: dict | None = None) -> dict:
     return design
 
 
-def web_sizing(setup, states: dict, walls: dict) -> dict:
+def web_sizing(setup, states: dict, walls: dict, reserve: float = 0.0) -> dict:
     """Spar webs resized locally: per design station the thinnest web (bisection, 40 halvings)
     whose factored compression-shear buckling (:func:`wingmdao.panels.box_panels.web_panel_ratio`)
     and von Mises ratio are at most 1 at every state, the web's axial stress and shear flow
@@ -326,6 +329,8 @@ def web_sizing(setup, states: dict, walls: dict) -> dict:
         :func:`running_load_states` of the design ``walls``.
     walls : dict
         ``{wall: (n_dv,)}`` the design's four wall thicknesses (m).
+    reserve : float, optional
+        Every ratio is held at most ``1 - reserve`` (-).
 
     Returns
     -------
@@ -354,8 +359,8 @@ def web_sizing(setup, states: dict, walls: dict) -> dict:
             mid = 0.5 * (lo + hi)
             worst = np.zeros(len(mid))
             np.maximum.at(worst, smap[node], ratio(mid[smap[node]]))
-            hi = np.where(worst <= 1.0, mid, hi)
-            lo = np.where(worst <= 1.0, lo, mid)
+            hi = np.where(worst <= 1.0 - reserve, mid, hi)
+            lo = np.where(worst <= 1.0 - reserve, lo, mid)
         out[name] = adjacency(np.column_stack([hi, np.zeros_like(hi), np.zeros_like(hi)]))[:, 0]
     return out
 
@@ -471,8 +476,13 @@ def outer_setup(setup):
 OUTER_SOLVERS = ("fsd", "slsqp")
 
 
+#: The polish passes size every ratio to 1 - POLISH_RESERVE: the running loads of the next check
+#: move with the design, and the reserve lets the fixed point end with non-negative margins.
+POLISH_RESERVE = 2e-3
+
+
 def size_two_level(setup, *, outer_solver: str = "fsd", fsd_passes: int = 12, polish: int = 8,
-                   margin_tol: float = 1e-3, progress=None) -> tuple:
+                   margin_tol: float = 0.0, progress=None) -> tuple:
     """Size a stiffened case in two levels (module docstring); returns ``(problem, result)``:
     the full stiffened model at the recovered design and its summary
     (:func:`wingmdao.sizing.summarize`: mass, panels with their margins, ribs, mass breakdown),
@@ -492,7 +502,8 @@ def size_two_level(setup, *, outer_solver: str = "fsd", fsd_passes: int = 12, po
         At most this many inner passes with the full model's running loads after the first
         check (0: none); they stop once the smallest margin of safety is at least ``-margin_tol``.
     margin_tol : float, optional
-        The polish passes' tolerance on the smallest margin of safety (-).
+        The polish passes stop once the smallest margin of safety is at least ``-margin_tol`` (-;
+        0: every margin non-negative). The polish passes size every ratio to ``1 - POLISH_RESERVE``.
     progress : callable or None, optional
         Called with a line of text after each step.
 
@@ -548,11 +559,12 @@ def size_two_level(setup, *, outer_solver: str = "fsd", fsd_passes: int = 12, po
             states = running_load_states(full, setup, stiffened=True)
             walls = {w: np.asarray(full.get_val(w, units="m")).ravel() for w in WALL_NAMES}
             design = inner_sizing(setup, states,
-                                  start={v: design[v] for v in design if v not in ("equivalent", "states")})
-            spars = web_sizing(setup, states, walls)
+                                  start={v: design[v] for v in design if v not in ("equivalent", "states")},
+                                  reserve=POLISH_RESERVE)
+            spars = web_sizing(setup, states, walls, reserve=POLISH_RESERVE)
+            cpu["inner"] += time.process_time() - c1
         else:
             break
-            cpu["inner"] += time.process_time() - c1
     cpu["check"] = time.process_time() - c0 - (cpu["inner"] - inner_before)
     result["wall_s"] = time.perf_counter() - w0
     result["iterations"] = res["iterations"]
