@@ -73,7 +73,7 @@ class _Aero:
     supports: tuple
     euler_sequence: str
     trim_rotation: bool = False
-    elevon: tuple = ()           # ((beam, node), ...) stations with the elevon
+    elevon: tuple = ()           # ((beam, node, share), ...) stations with the elevon
     elevon_hinge: float = 0.75   # its hinge line, fraction of the chord
 
     @property
@@ -142,9 +142,10 @@ class _Aero:
     def flap(self, name, i, incidence, incidence_rate):
         """The elevon's ``flap`` argument of :func:`~wingmdao.aero.system.node_aero` at station
         ``i`` of beam ``name`` (None: no elevon there)."""
-        if (name, i) not in self.elevon:
+        share = {(b, n): w for b, n, w in self.elevon}.get((name, i))
+        if share is None:
             return None
-        return (theodorsen_flap_functions(self.elevon_hinge), incidence, incidence_rate, 0.0)
+        return (theodorsen_flap_functions(self.elevon_hinge), share * incidence, share * incidence_rate, 0.0)
 
     def apply(self, nodes, x, xdot, p, q, play, qlay, n_struct):
         """Add the section loads to the lifting beams' nodes and return the extension's rows."""
@@ -249,8 +250,11 @@ def build_joined_aeroelastic_system(beams, joints, *, lifting=("wing", "tail"), 
     :func:`trim_angle` of its deformed span axis (a wing bent to a large dihedral sees less of
     it); False: alpha_trim is added to every station's angle (the small-deflection model).
     ``elevon`` (with ``tail=None``): ``{beam: node indices}`` of the lifting stations carrying a
-    trailing-edge flap hinged at ``elevon_hinge`` x chord; the trim unknown ``tail_incidence`` is
-    then its deflection (rad, trailing edge down +), trimmed in pitch as the tail incidence is.
+    trailing-edge flap hinged at ``elevon_hinge`` x chord, or ``{beam: {node: share}}`` with the
+    share (0, 1] of the deflection each station takes (0.5 at the node where the elevon ends
+    makes the flapped span of the node-interpolated strips end there); the trim unknown
+    ``tail_incidence`` is then its deflection (rad, trailing edge down +), trimmed in pitch as
+    the tail incidence is.
 
     Returns the :class:`~wingmdao.beam.joints.JoinedBeamSystem` with ``lag_index`` ({beam: (n, 4)
     state indices}), ``downwash_index`` (or None), ``trim_index`` ({name: state index}),
@@ -284,7 +288,8 @@ def build_joined_aeroelastic_system(beams, joints, *, lifting=("wing", "tail"), 
     trim_rotation : bool
         alpha_trim pitches the aircraft (see above).
     elevon : dict, optional
-        ``{lifting beam: node indices}`` of the elevon stations (tailless aircraft only).
+        ``{lifting beam: node indices}`` or ``{lifting beam: {node: share}}`` of the elevon
+        stations (tailless aircraft only).
     elevon_hinge : float
         Hinge line of the elevon, fraction of the chord, in (0, 1).
 
@@ -329,11 +334,14 @@ def build_joined_aeroelastic_system(beams, joints, *, lifting=("wing", "tail"), 
             if name not in lifting:
                 raise ValueError(f"elevon beam {name!r} is not a lifting beam; lifting beams are {list(lifting)}")
             n = by_name[name].num_nodes
-            for i in nodes:
+            shares = dict(nodes) if isinstance(nodes, dict) else {i: 1.0 for i in nodes}
+            for i, w in shares.items():
                 if int(i) != i or not -n <= int(i) < n:
                     raise ValueError(f"elevon node {i} of beam {name!r} does not exist: it has nodes 0..{n - 1}")
-                stations += ((name, int(i) % n),)
-        if len(set(stations)) != len(stations):
+                if not (np.isfinite(w) and 0.0 < w <= 1.0):
+                    raise ValueError(f"elevon share {w} at node {i} of beam {name!r}; allowed range (0, 1]")
+                stations += ((name, int(i) % n, float(w)),)
+        if len({st[:2] for st in stations}) != len(stations):
             raise ValueError(f"elevon: a station is given twice in {dict(elevon)}")
     ext = _Aero(beams, lifting, wing, tail, supports, euler_sequence, bool(trim_rotation), tuple(sorted(stations)),
                 float(elevon_hinge))
