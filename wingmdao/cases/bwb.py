@@ -27,10 +27,11 @@ Model (body axes x aft, y right, z up; origin on the centreline at the body's be
 condition at the centreline node; the 40 kg mass carries half of the pair of AeroBeams' two
 body masses (their lateral offsets, +-0.128 m, cancel in the pair and are left out). Strips on
 both beams (:mod:`wingmdao.aero.joined`), sections normal to each beam: the chord there is the
-streamwise chord times cos(sweep), the beam-axis fraction the same; the strip's lift per beam
-length is then ``q c_streamwise a alpha_streamwise`` (``sweep="streamwise"``: lift slope 2 pi,
-the streamwise strips of AeroBeams.jl) or, by the independence principle, ``a cos^2(sweep)``
-times that (``sweep="normal"``). Trim (lift = W, zero pitching moment) by the angle of attack,
+streamwise chord times cos(sweep), the beam-axis fraction the same; by the independence
+principle the lift slope is ``2 pi cos^2(sweep)`` (``sweep="normal"``, the default: the lift of
+the velocity component normal to the beam); ``sweep="streamwise"`` keeps 2 pi, the lift per beam
+length ``q c_streamwise 2 pi alpha_streamwise`` of streamwise strips. Structural damping:
+strain-rate damping of time constant :data:`DAMPING_TIME`, read off the reference's own modes. Trim (lift = W, zero pitching moment) by the angle of attack,
 the elevon (the joined system's ``elevon``: Theodorsen's thin-airfoil flap, dCl/dbeta = 3.83,
 where AeroBeams.jl tabulates 3.518) and thrust. No tail, no downwash.
 
