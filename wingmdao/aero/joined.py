@@ -20,7 +20,9 @@ discrete adjoint and the flutter linearization run on it unchanged):
   aircraft angle of attack alpha_trim (added to every lifting station's angle; with
   ``trim_rotation`` a pitch of the aircraft, each station seeing :func:`trim_angle`), the tail
   incidence i_t (added to the tail's stations) and a thrust T along body x at the first support
-  node. With the forcing ``trim_active`` = 1 their three rows hold the three ``supports``
+  node. A tailless aircraft (``tail=None``) trims in pitch by an **elevon** instead
+  (``elevon``: trailing-edge flaps on given stations, deflected by the same unknown; the strip's
+  Theodorsen flap terms, :func:`wingmdao.aero.controls.flap_terms`). With the forcing ``trim_active`` = 1 their three rows hold the three ``supports``
   (body-axes displacements of nodes at the jig; a statically determinate support of the half
   aircraft's surge, plunge and pitch, as :func:`~wingmdao.beam.joints.solve_inertia_relief`'s):
   the free structure is then in equilibrium only if lift, thrust, weight and the inertia of the
@@ -41,6 +43,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
+from wingmdao.aero.controls import theodorsen_flap_functions
 from wingmdao.aero.strip import AERO_STATE_NAMES, N_AERO_STATES
 from wingmdao.aero.system import check_aero_parameters, node_aero
 from wingmdao.beam.joints import Beam, build_extended_joined_system
@@ -70,6 +73,8 @@ class _Aero:
     supports: tuple
     euler_sequence: str
     trim_rotation: bool = False
+    elevon: tuple = ()           # ((beam, node, share), ...) stations with the elevon
+    elevon_hinge: float = 0.75   # its hinge line, fraction of the chord
 
     @property
     def counts(self):
@@ -114,6 +119,8 @@ class _Aero:
         args = (base, self.lifting, self.wing, self.tail, self.supports, self.euler_sequence)
         if self.trim_rotation:      # the definitions without it as before
             args = args + ("trim_rotation",)
+        if self.elevon:
+            args = args + (("elevon", self.elevon, self.elevon_hinge),)
         return definition_key("wingmdao.aero.joined.build_joined_aeroelastic_system", args, _GENERATING_MODULES)
 
     def describe(self, k):
@@ -129,7 +136,16 @@ class _Aero:
             if k == 0:
                 return "downwash lag at the tail"
             k -= 1
-        return f"trim: {TRIM_STATE_NAMES[k]} (support {self.supports[k]} while trimming)"
+        name = "elevon" if TRIM_STATE_NAMES[k] == "tail_incidence" and self.elevon else TRIM_STATE_NAMES[k]
+        return f"trim: {name} (support {self.supports[k]} while trimming)"
+
+    def flap(self, name, i, incidence, incidence_rate):
+        """The elevon's ``flap`` argument of :func:`~wingmdao.aero.system.node_aero` at station
+        ``i`` of beam ``name`` (None: no elevon there)."""
+        share = {(b, n): w for b, n, w in self.elevon}.get((name, i))
+        if share is None:
+            return None
+        return (theodorsen_flap_functions(self.elevon_hinge), share * incidence, share * incidence_rate, 0.0)
 
     def apply(self, nodes, x, xdot, p, q, play, qlay, n_struct):
         """Add the section loads to the lifting beams' nodes and return the extension's rows."""
@@ -166,7 +182,8 @@ class _Aero:
                                 p[play[f"{name}_alpha_zero_lift"]][i] - shift, p[play[f"{name}_cm0"]][i], gust[i])
                 xa = ca.vertcat(nd["x"][i], x[k:k + N_AERO_STATES])
                 xda = ca.vertcat(nd["xdot"][i], xdot[k:k + N_AERO_STATES])
-                f, m, res, _lift, _moment, _ = node_aero(xa, xda, pa, None, frame, V, rho, mach, seq)
+                f, m, res, _lift, _moment, _ = node_aero(xa, xda, pa, None, frame, V, rho, mach, seq,
+                                                         self.flap(name, i, incidence, xdot[i_trim + 1]))
                 nd["q"][i] = nd["q"][i] + ca.vertcat(f, m, ca.SX.zeros(6))
                 rows.append(res)
                 k += N_AERO_STATES
@@ -223,7 +240,7 @@ def trim_angle(alpha_trim, theta, euler_sequence="surface"):
 
 def build_joined_aeroelastic_system(beams, joints, *, lifting=("wing", "tail"), wing="wing", tail="tail",
                                     supports, masses=(), symmetry=(), euler_sequence="surface", damping=None,
-                                    trim_rotation=False):
+                                    trim_rotation=False, elevon=None, elevon_hinge=0.75):
     """Joined beams (:func:`wingmdao.beam.joints.build_joined_system`) with unsteady strip
     aerodynamics on the ``lifting`` beams, the wing's downwash at the ``tail`` (None: no tail
     downwash and no tail incidence effect) and the trim unknowns of the free aircraft held by
@@ -232,6 +249,12 @@ def build_joined_aeroelastic_system(beams, joints, *, lifting=("wing", "tail"), 
     ``trim_rotation``: alpha_trim pitches the aircraft about body y, so each station sees
     :func:`trim_angle` of its deformed span axis (a wing bent to a large dihedral sees less of
     it); False: alpha_trim is added to every station's angle (the small-deflection model).
+    ``elevon`` (with ``tail=None``): ``{beam: node indices}`` of the lifting stations carrying a
+    trailing-edge flap hinged at ``elevon_hinge`` x chord, or ``{beam: {node: share}}`` with the
+    share (0, 1] of the deflection each station takes (0.5 at the node where the elevon ends
+    makes the flapped span of the node-interpolated strips end there); the trim unknown
+    ``tail_incidence`` is then its deflection (rad, trailing edge down +), trimmed in pitch as
+    the tail incidence is.
 
     Returns the :class:`~wingmdao.beam.joints.JoinedBeamSystem` with ``lag_index`` ({beam: (n, 4)
     state indices}), ``downwash_index`` (or None), ``trim_index`` ({name: state index}),
@@ -264,6 +287,11 @@ def build_joined_aeroelastic_system(beams, joints, *, lifting=("wing", "tail"), 
         Strain-rate damping of the beams.
     trim_rotation : bool
         alpha_trim pitches the aircraft (see above).
+    elevon : dict, optional
+        ``{lifting beam: node indices}`` or ``{lifting beam: {node: share}}`` of the elevon
+        stations (tailless aircraft only).
+    elevon_hinge : float
+        Hinge line of the elevon, fraction of the chord, in (0, 1).
 
     Returns
     -------
@@ -296,7 +324,27 @@ def build_joined_aeroelastic_system(beams, joints, *, lifting=("wing", "tail"), 
             raise ValueError(f"support {s}: must be (beam, node, 'x'|'y'|'z') with an existing beam and node")
     supports = tuple((s[0], int(s[1]) % by_name[s[0]].num_nodes, s[2]) for s in supports)
     lifting = tuple(b.name for b in beams if b.name in lifting)      # state order
-    ext = _Aero(beams, lifting, wing, tail, supports, euler_sequence, bool(trim_rotation))
+    stations = ()
+    if elevon:
+        if tail is not None:
+            raise ValueError(f"elevon: the tail {tail!r} trims in pitch; an elevon needs tail=None")
+        if not (np.isfinite(elevon_hinge) and 0.0 < elevon_hinge < 1.0):
+            raise ValueError(f"elevon_hinge = {elevon_hinge}; allowed range (0, 1) (fraction of the chord)")
+        for name, nodes in elevon.items():
+            if name not in lifting:
+                raise ValueError(f"elevon beam {name!r} is not a lifting beam; lifting beams are {list(lifting)}")
+            n = by_name[name].num_nodes
+            shares = dict(nodes) if isinstance(nodes, dict) else {i: 1.0 for i in nodes}
+            for i, w in shares.items():
+                if int(i) != i or not -n <= int(i) < n:
+                    raise ValueError(f"elevon node {i} of beam {name!r} does not exist: it has nodes 0..{n - 1}")
+                if not (np.isfinite(w) and 0.0 < w <= 1.0):
+                    raise ValueError(f"elevon share {w} at node {i} of beam {name!r}; allowed range (0, 1]")
+                stations += ((name, int(i) % n, float(w)),)
+        if len({st[:2] for st in stations}) != len(stations):
+            raise ValueError(f"elevon: a station is given twice in {dict(elevon)}")
+    ext = _Aero(beams, lifting, wing, tail, supports, euler_sequence, bool(trim_rotation), tuple(sorted(stations)),
+                float(elevon_hinge))
     system = build_extended_joined_system(beams, joints, euler_sequence=euler_sequence, damping=damping,
                                           masses=masses, symmetry=symmetry, extension=ext)
     k = system.n_struct
@@ -342,7 +390,9 @@ def _section_loads_function(system, ext):
             lag = system.lag_index[name][i]
             xa = ca.vertcat(x[i0 + 18 * i: i0 + 18 * (i + 1)], x[int(lag[0]):int(lag[-1]) + 1])
             xda = ca.vertcat(xdot[i0 + 18 * i: i0 + 18 * (i + 1)], xdot[int(lag[0]):int(lag[-1]) + 1])
-            f, _m, _res, lift, moment, _ = node_aero(xa, xda, pa, None, frame, V, rho, mach, seq)
+            i_inc = system.trim_index["tail_incidence"]
+            f, _m, _res, lift, moment, _ = node_aero(xa, xda, pa, None, frame, V, rho, mach, seq,
+                                                     ext.flap(name, i, x[i_inc], xdot[i_inc]))
             out += [lift, moment, f[2]]
     return ca.Function("joined_section_loads", [x, xdot, p, q], [ca.vertcat(*out)])
 
