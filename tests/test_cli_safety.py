@@ -83,7 +83,7 @@ def fake_report(tmp_path, monkeypatch):
     """A recording (read_history stubbed) with an envelope of 20 stations; the plots written are listed."""
     import numpy as np
 
-    import wingmdao.report as report
+    import wingmdao.cli.report as report  # the names the command looks up
 
     rec = tmp_path / "pegasus.sql"
     rec.write_text("")

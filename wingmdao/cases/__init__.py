@@ -30,6 +30,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from wingmdao.design import SECTION_KINDS, WALL_VARS, design_beam_params, initial_design
+
 CASE_MODULES = {
     "cantilever": "wingmdao.cases.cantilever",
     "wing-box": "wingmdao.cases.wing_box",
@@ -482,8 +484,6 @@ def case_beam_parameters(module, walls=None, *, source="walls"):
     ValueError
         A wall without one value per beam node.
     """
-    from wingmdao.sizing import SECTION_KINDS, WALL_VARS, design_beam_params, initial_design
-
     maneuvers = {"loads": "maneuver"} if "loads" in {f.name for f in dataclasses.fields(module.OPTIONS)} else {}
     setup = module.build(**maneuvers)  # the CRM case has its maneuvers only
     design = initial_design(setup.options, SECTION_KINDS[setup.section]["design_vars"])

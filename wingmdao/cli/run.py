@@ -18,9 +18,11 @@ from wingmdao.cases.wing_box.geometry import GEOMETRIES, T_SKIN, T_SPAR
 from wingmdao.cli._args import add_gravity_argument, add_json_argument
 from wingmdao.cases import wing_box as case
 from wingmdao.cases.wing_box import HEIGHTS, geometry_data, station_rotations, station_summary
-from wingmdao.cli import write_json
+from wingmdao.cli import COMMANDS, write_json
 from wingmdao.groups.load_case import STRESS_FAMILIES
 from wingmdao.limits import estimate_bytes
+import openmdao.api as om
+from wingmdao.verification.wingbox_solid import solve_wingbox
 
 
 #: --load-steps and --elements (sum of the three segments) upper bounds
@@ -44,7 +46,7 @@ def add_wing_box_arguments(parser, *, walls=True, loads=True):
 
 def register(subparsers):
 
-    p = subparsers.add_parser("run", help="run a shipped analysis case (beam response, stresses) and write JSON",
+    p = subparsers.add_parser("run", help=COMMANDS["run"].help,
                               description="Run an analysis case. SI units, body axes x aft, y outboard, z up.")
     cases = p.add_subparsers(dest="case", metavar="CASE", required=True)
     wb = cases.add_parser(
@@ -134,8 +136,6 @@ def check_wing_box_args(args):
 
 def wing_box_result(args) -> dict:
     """The JSON-ready result of ``wingmdao run wing-box`` from the parsed arguments."""
-    import openmdao.api as om
-
 
     check_wing_box_args(args)
     if getattr(args, "model", "beam") == "solid":
@@ -176,8 +176,6 @@ def wing_box_result(args) -> dict:
 def solid_result(args) -> dict:
     """``wingmdao run wing-box --model solid``: the 3-D solid model's response in the JSON keys
     of the beam run (CS1 is the clamped root face: zero displacement)."""
-    from wingmdao.verification.wingbox_solid import solve_wingbox
-
     sol = solve_wingbox(args.geometry, args.tip_load, args.tip_moment, args.mesh_size,
                         span_size=args.span_size, t_spar=args.t_spar, t_skin=args.t_skin,
                         tip_load=args.tip_introduction)

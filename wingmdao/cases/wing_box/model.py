@@ -9,12 +9,17 @@ Design variables are the four wall thicknesses of the *beam-normal* section at e
 from __future__ import annotations
 
 import numpy as np
+import openmdao.api as om
 
-from wingmdao.beam.geometry import polyline_beam
+from wingmdao.beam.geometry import WingGeometry, polyline_beam
 from wingmdao.cases.wing_box.geometry import HEIGHTS, geometry_data, section_centres
 from wingmdao.materials import ALUMINIUM
 from wingmdao.cases import check_step_count
 from wingmdao.groups.load_case import LoadCase
+from wingmdao.components.stress import BoxStress
+from wingmdao.design import WALL_VARS
+from wingmdao.groups.wing import WingSizing, set_case_loads
+from wingmdao.sizing import set_geometry
 
 
 def wing_geometry(name: str, elements_per_segment=(1, 1, 1)):
@@ -37,8 +42,6 @@ def wing_geometry(name: str, elements_per_segment=(1, 1, 1)):
         Per node, the factors that take streamwise-cut chordwise/vertical dimensions to the
         normal cut (:func:`streamwise_to_normal`).
     """
-    from wingmdao.sizing import WingGeometry
-
     g = geometry_data(name)
     geo = polyline_beam(section_centres(name), elements_per_segment)
     T = geo.csn_axes()
@@ -166,12 +169,6 @@ def analysis_problem(geometry, load_case, walls: dict, material=ALUMINIUM, *, de
     openmdao.api.Problem
         The set-up problem.
     """
-    import openmdao.api as om
-
-    from wingmdao.components.stress import BoxStress
-    from wingmdao.groups.wing import WingSizing, set_case_loads
-    from wingmdao.sizing import WALL_VARS, set_geometry
-
     n = geometry.num_nodes
     prob = om.Problem(reports=False)
     prob.model.add_subsystem("wing", WingSizing(num_nodes=n, load_cases=[load_case], material=material,
@@ -216,8 +213,6 @@ def totals_max_rel_error(prob, load_case) -> float:
     float
         The largest relative error (dimensionless).
     """
-    from wingmdao.sizing import WALL_VARS
-
     of = [f"cases.{load_case.name}.ks_{f}" for f in load_case.families]
     data = prob.check_totals(of=of, wrt=list(WALL_VARS), method="fd", form="central", step=1e-4,
                              step_calc="rel_avg", out_stream=None)
