@@ -292,3 +292,18 @@ def test_cli_commands_table():
     assert list(sub.choices) == list(cli.COMMANDS)
     helps = {a.dest: a.help for a in sub._choices_actions}
     assert helps == {name: c.help for name, c in cli.COMMANDS.items()}
+
+
+def test_command_modules_load_openmdao_without_plot_plugins():
+    """A command module that loads OpenMDAO imports ``wingmdao.cli._openmdao`` before any module that
+    loads it (OpenMDAO without the matplotlib of its report plugins)."""
+    modules = _modules()
+    heavy = _loads_heavy(modules)
+    bad = []
+    for module in sorted(m for m in heavy if m.startswith("wingmdao.cli.") and not m.split(".")[-1].startswith("_")):
+        first = next(name for mod, name, _, local in _imports(modules)
+                     if mod == module and not local and (name in heavy or _heavy_name(name)
+                                                                     or name == "wingmdao.cli._openmdao"))
+        if first != "wingmdao.cli._openmdao":
+            bad.append(f"{module}: {first}")
+    assert bad == []

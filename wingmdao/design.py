@@ -15,7 +15,7 @@ import numpy as np
 from wingmdao.beam.modes import natural_frequencies
 from wingmdao.beam.static import beam_forcing, cached_beam_system
 from wingmdao.beam.geometry import WingGeometry
-from wingmdao.panels.layout import STIFFENER_VARS, PanelLayout, smeared_stringer
+from wingmdao.panels.layout import STIFFENER_VARS, PanelLayout, panel_families, smeared_stringer
 from wingmdao.section.box import WALL_NAMES, beam_params_from_rows, box_properties, validate_box
 from wingmdao.section.solid import solid_properties, validate_solid
 from wingmdao.stress.box_stress import SECTION_PROPERTIES
@@ -208,3 +208,35 @@ def initial_frequencies(geometry: WingGeometry, material, options: SizingOptions
     p = np.concatenate([np.asarray(params[s.name], dtype=float).ravel() for s in system.param_specs])
     q = pack(system.forcing_specs, beam_forcing(geometry.num_nodes))
     return natural_frequencies(system, p, q, count=count)
+
+
+def span_coordinate(geometry: WingGeometry) -> np.ndarray:
+    """The stations' spanwise coordinate (m): ``geometry.span_coordinate``, else body y.
+
+    Parameters
+    ----------
+    geometry : WingGeometry
+        The wing's nodes and optional ``span_coordinate``.
+    """
+    if geometry.span_coordinate is not None:
+        return np.asarray(geometry.span_coordinate, dtype=float)
+    return np.asarray(geometry.node_positions, dtype=float)[:, 1]
+
+
+def case_families(case, section: str = "box", panels: PanelLayout | None = None) -> tuple:
+    """The KS families of a load case: its stress families, and with stiffened panels the panel
+    modes (:func:`wingmdao.panels.layout.panel_families`).
+
+    Parameters
+    ----------
+    case : LoadCase
+        The load case.
+    section : str
+        Section kind.
+    panels : PanelLayout or None
+        The stiffened panels (adds their failure modes).
+    """
+    if section != "stiffened":
+        return tuple(case.families)
+    fams = panel_families(panels is not None and panels.laminate)
+    return tuple(case.families) + tuple(f for f in fams if f not in case.families)

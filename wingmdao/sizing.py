@@ -15,12 +15,13 @@ import openmdao.api as om
 from openmdao.utils.mpi import FakeComm, MPI
 
 from wingmdao.beam.geometry import WingGeometry
+# the sizing's design (wingmdao.design): its names, also offered here
 from wingmdao.design import (BOX_KINDS, OBJECTIVE_SCALE, RHO_KS_MIN, SECTION_KINDS, WALL_VARS,  # noqa: F401
-                             SizingOptions, _stringers, design_beam_params, initial_design, initial_frequencies,
-                             station_design)  # (the sizing's design: its names, re-exported here for users)
+                             SizingOptions, _stringers, case_families, design_beam_params, initial_design,
+                             initial_frequencies, span_coordinate, station_design)
 from wingmdao.groups.wing import WingSizing, set_case_loads
 from wingmdao.panel_results import mass_breakdown, panel_summary, rib_summary
-from wingmdao.panels.layout import PanelLayout, panel_families, rib_weights
+from wingmdao.panels.layout import PanelLayout, rib_weights
 from wingmdao.optimize import ProgressPrinter, add_recorder, make_driver
 from wingmdao.section.box import box_area
 from wingmdao.components.flutter import paused_flutter
@@ -473,19 +474,6 @@ def initial_mass(geometry: WingGeometry, material, options: SizingOptions, secti
     return beam_mass(area, geometry.node_positions, material.rho)
 
 
-def span_coordinate(geometry: WingGeometry) -> np.ndarray:
-    """The stations' spanwise coordinate (m): ``geometry.span_coordinate``, else body y.
-
-    Parameters
-    ----------
-    geometry : WingGeometry
-        The wing's nodes and optional ``span_coordinate``.
-    """
-    if geometry.span_coordinate is not None:
-        return np.asarray(geometry.span_coordinate, dtype=float)
-    return np.asarray(geometry.node_positions, dtype=float)[:, 1]
-
-
 #: adjacency limits of the sizing rules between neighbouring design stations (m): thicknesses
 #: and stiffener heights
 ADJACENCY_THICKNESS, ADJACENCY_HEIGHT = 2.5e-3, 10e-3
@@ -673,25 +661,6 @@ def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, sectio
         out["mass_breakdown_kg"] = mass_breakdown(prob, geometry, panels, rib_mass=out["ribs"]["mass_kg"])
         out["mass_kg"] = float(sum(out["mass_breakdown_kg"].values()))
     return out
-
-
-def case_families(case, section: str = "box", panels: PanelLayout | None = None) -> tuple:
-    """The KS families of a load case: its stress families, and with stiffened panels the panel
-    modes (:func:`wingmdao.panels.layout.panel_families`).
-
-    Parameters
-    ----------
-    case : LoadCase
-        The load case.
-    section : str
-        Section kind.
-    panels : PanelLayout or None
-        The stiffened panels (adds their failure modes).
-    """
-    if section != "stiffened":
-        return tuple(case.families)
-    fams = panel_families(panels is not None and panels.laminate)
-    return tuple(case.families) + tuple(f for f in fams if f not in case.families)
 
 
 def _constraint_value(prob, name):

@@ -7,6 +7,7 @@ from __future__ import annotations
 import sys
 
 import numpy as np
+import wingmdao.cli._openmdao  # noqa: F401  (first: OpenMDAO without the matplotlib of its report plugins)
 from wingmdao.cli import COMMANDS
 from wingmdao.cli._io import check_output_file
 from wingmdao.cases import pegasus as pegasus_case, wing_box as wing_box_case

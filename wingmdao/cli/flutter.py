@@ -29,6 +29,7 @@ import time as _time
 
 import numpy as np
 
+import wingmdao.cli._openmdao  # noqa: F401  (first: OpenMDAO without the matplotlib of its report plugins)
 from wingmdao.stability.cases import FLUTTER_CASES, DEFAULT_NODES, flutter_problem
 from wingmdao.cli import COMMANDS
 from wingmdao.cli._io import read_design, warn, write_json

@@ -23,6 +23,7 @@ import os
 import sys
 import time as _time
 
+import wingmdao.cli._openmdao  # noqa: F401  (first: OpenMDAO without the matplotlib of its report plugins)
 from wingmdao.cli import COMMANDS
 from wingmdao.cli._args import add_output_arguments
 from wingmdao.cli._io import EXIT_INTERRUPTED, check_output_dir, check_output_file, read_design, refuse_existing, write_json

@@ -6,6 +6,7 @@ from __future__ import annotations
 import glob
 import os
 
+import wingmdao.cli._openmdao  # noqa: F401  (first: OpenMDAO without the matplotlib of its report plugins)
 from wingmdao.cli import COMMANDS
 from wingmdao.cli._io import check_output_dir, refuse_existing, warn
 from wingmdao.cli._args import add_deprecated_alias

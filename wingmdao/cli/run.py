@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+import wingmdao.cli._openmdao  # noqa: F401  (first: OpenMDAO without the matplotlib of its report plugins)
 from wingmdao.cases.wing_box.geometry import GEOMETRIES, T_SKIN, T_SPAR
 from wingmdao.cli._args import add_gravity_argument, add_json_argument
 from wingmdao.cases import wing_box as case

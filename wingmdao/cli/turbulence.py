@@ -50,7 +50,7 @@ from wingmdao.stability.modal_turbulence import dlm_turbulence_analysis
 from wingmdao.aero.modal_free import free_modal_dlm_wing
 from wingmdao.aero.system import aero_parameters, three_dimensional_parameters
 from wingmdao.loads.turbulence_analysis import coupled_gust_model, strip_gust_model, turbulence_analysis
-from wingmdao.sizing import SECTION_KINDS, WALL_VARS, initial_design, station_design
+from wingmdao.design import SECTION_KINDS, WALL_VARS, initial_design, station_design
 from wingmdao.stability.modal import modal_dlm_wing
 
 CASES = ("pegasus",)

@@ -20,6 +20,7 @@ import sys
 
 import numpy as np
 
+import wingmdao.cli._openmdao  # noqa: F401  (first: OpenMDAO without the matplotlib of its report plugins)
 from wingmdao.cli._verify_fe import add_fe_arguments, build_fe_model, design_walls, fe_material  # noqa: F401
 from wingmdao.cli._verify_fe import check_fe_args, percent_difference, von_mises_table  # noqa: F401
 from wingmdao.cli._io import check_output_dir, check_output_file
