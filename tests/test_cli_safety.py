@@ -173,6 +173,8 @@ def test_full_disk_says_where_the_result_is(tmp_path, monkeypatch, capsys):
     text = err[err.index("{"):err.rindex("}") + 1]
     assert json.loads(text)["mass_kg"] > 0  # the result itself is on standard error
     assert not out.exists()
+    # the recording is one closed SQLite file: no write-ahead log or shared-memory file left beside it
+    assert sorted(p.name for p in tmp_path.iterdir() if p.name.startswith("cantilever.sql")) == ["cantilever.sql"]
 
 
 # --- no traceback: one line naming the flag or file, the value and what is allowed, exit 2 ------

@@ -18,6 +18,7 @@ import wingmdao.cli._openmdao  # noqa: F401  (first: OpenMDAO without the matplo
 from wingmdao.cases.wing_box.geometry import GEOMETRIES, T_SKIN, T_SPAR
 from wingmdao.cli._args import add_gravity_argument, add_json_argument
 from wingmdao.cases import wing_box as case
+from wingmdao.cases.wing_box.problem import analysis_problem, totals_max_rel_error
 from wingmdao.cases.wing_box import HEIGHTS, geometry_data, station_rotations, station_summary
 from wingmdao.cli import COMMANDS, write_json
 from wingmdao.groups.load_case import STRESS_FAMILIES
@@ -148,7 +149,7 @@ def wing_box_result(args) -> dict:
                               gravity=args.gravity)
     walls = {"t_upper_skin": args.t_skin * cos_dih, "t_lower_skin": args.t_skin * cos_dih,
              "t_front_spar": args.t_spar * cos_sweep, "t_rear_spar": args.t_spar * cos_sweep}
-    prob = case.analysis_problem(geometry, load, walls, design_vars=args.check_totals,
+    prob = analysis_problem(geometry, load, walls, design_vars=args.check_totals,
                                  newton_options={"static_options": {"load_steps": args.load_steps}})
     try:
         prob.run_model()
@@ -162,7 +163,7 @@ def wing_box_result(args) -> dict:
     else:
         res.pop("_tip_history")
     if args.check_totals:
-        res["check_totals_max_rel_error"] = case.totals_max_rel_error(prob, load)
+        res["check_totals_max_rel_error"] = totals_max_rel_error(prob, load)
     res["geometry"] = args.geometry
     res["model"] = "beam"
     res["inputs"] = {"t_spar": args.t_spar, "t_skin": args.t_skin, "tip_load": list(args.tip_load),
