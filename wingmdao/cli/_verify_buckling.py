@@ -319,7 +319,6 @@ def plot_buckling(res, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-
     fig, ax = plt.subplots(figsize=(9, 5))
     y = res["station_y"]
     for w, v in res["model_factor_by_station"].items():

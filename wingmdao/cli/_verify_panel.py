@@ -146,7 +146,6 @@ def verify_panel(args) -> dict:
 
 
 def run_verify_panel(args) -> int:
-
     try:
         res = verify_panel(args)
     except CalculixNotFound as exc:

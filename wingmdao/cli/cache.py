@@ -36,7 +36,6 @@ def _mb(n: int) -> str:
 
 
 def run(args) -> int:
-
     if not math.isfinite(args.unused_days) or args.unused_days < 0:
         raise ValueError(f"--unused-days = {args.unused_days}; allowed range [0, inf) days")
     summary = prune(cache_dir(), args.unused_days, dry_run=not args.prune)

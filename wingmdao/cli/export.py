@@ -105,7 +105,6 @@ def pegasus_deck(design, fmt, fidelity, load_factor=1.0, ribs=True, rib_thicknes
 
 
 def run_export_pegasus(args) -> int:
-
     check_output_file(args.file, "FILE", overwrite=args.overwrite)
     if args.format == AEROELASTIC:
         return run_export_aeroelastic(args)

@@ -203,7 +203,6 @@ def plot_dlm(result, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-
     fig, axes = plt.subplots(2, 2, figsize=(11, 7), sharex=True, sharey="row")
     d = result["dlm"]
     panels = ((result["strip"], "strip theory (full beam, Wagner lags)", axes[:, 0]),
@@ -379,7 +378,6 @@ def run(args) -> int:
     if args.case == "pegasus":
         result["design"] = args.design or "initial"
     if args.deformed:
-
         result["deformed"] = analyse_deformed(args.case, angles, speeds, args.num_nodes or DEFAULT_NODES[args.case],
                                               args.modes, args.gravity)
         result["deformed_published"] = getattr(importlib.import_module(f"wingmdao.cases.{args.case}"),

@@ -79,7 +79,6 @@ def run(args) -> int:
         for path in write_report_plots(hist, sub):
             print(f"wrote {path}")
     for rec, (env_file, data) in envelopes.items():  # envelope runs: critical-case, envelope, potato plots
-
         print(f"== {env_file}: critical load case per station")
         print(format_critical_table(critical_cases(data)))
         sub = subs[args.recording.index(rec)]

@@ -47,7 +47,6 @@ def add_wing_box_arguments(parser, *, walls=True, loads=True):
 
 
 def register(subparsers):
-
     p = subparsers.add_parser("run", help=COMMANDS["run"].help,
                               description="Run an analysis case. SI units, body axes x aft, y outboard, z up.")
     cases = p.add_subparsers(dest="case", metavar="CASE", required=True)

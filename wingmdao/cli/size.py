@@ -179,7 +179,6 @@ def _size(args) -> int:
         return _run_load_iteration(args, setup, comm)
     plots = [] if args.no_plots else _plot_paths(stem, setup)
     if len(setup.load_cases) > 1:  # an envelope: its loads file and plots are outputs too
-
         check_stations(args.potato_stations, setup.geometry.num_nodes)
         plots += output_paths(stem, plots=not args.no_plots)
     elif args.potato_stations is not None:
@@ -478,7 +477,6 @@ def _flutter_design(result, args, setup, prob):
         return None
     design = dict(result["thickness"])
     if setup.panels is not None:   # the stiffened design: its stiffeners are in the sections too
-
         design.update({k: sizing.station_values(prob, k) for k in STIFFENER_VARS})
     return design
 

@@ -207,8 +207,6 @@ def _plot(res, path):
 
 
 def run_verify(args) -> int:
-
-
     overwrite = getattr(args, "overwrite", False)
     if getattr(args, "out", None) is not None and args.plot is None:
         check_output_dir(args.out, "--out")
