@@ -241,6 +241,7 @@ def _size(args) -> int:
         prob.cleanup()
         return _interrupted_after_sizing(args, result, recording)
     except Exception:
+        prob.cleanup()  # the recording is closed whatever failed (one SQLite file: no -wal/-shm left)
         if deferred:  # a failure in the outputs (e.g. the plots) must not lose the result
             write_json(result, args.json)
         raise
