@@ -57,7 +57,7 @@ def check_problem_inputs(geometry, load_cases, material, options, section="box")
     options : SizingOptions
         Bounds, start and driver settings.
     section : str
-        Section kind, a key of ``wingmdao.groups.wing.SECTION_KINDS`` (``"box"``, ``"solid"``,
+        Section kind, a key of ``wingmdao.design.SECTION_KINDS`` (``"box"``, ``"solid"``,
         ``"stiffened"``, ...).
 
     Raises

@@ -53,7 +53,7 @@ class CaseSetup:
         The load cases the design must carry.
     material : wingmdao.materials.Material
         Wall material (Pa, kg/m^3).
-    options : wingmdao.sizing.SizingOptions
+    options : wingmdao.design.SizingOptions
         Design-variable bounds and start (m), KS parameter, optimizer settings.
     section : str, optional
         ``"box"``, ``"stiffened"`` (with ``panels``) or ``"solid"``.
@@ -477,7 +477,7 @@ def case_beam_parameters(module, walls=None, *, source="walls"):
         The built case.
     beam_params : dict
         The beam parameter dict of the sections the sizing model uses
-        (:func:`wingmdao.sizing.design_beam_params`).
+        (:func:`wingmdao.design.design_beam_params`).
 
     Raises
     ------
