@@ -11,7 +11,8 @@ adjoint's transposed one).
 import numpy as np
 import pytest
 
-from wingmdao.cases.wing_box import analysis_problem, tip_load_case, wing_geometry
+from wingmdao.cases.wing_box import tip_load_case, wing_geometry
+from wingmdao.cases.wing_box.problem import analysis_problem
 from wingmdao.sizing import WALL_VARS
 
 pytestmark = pytest.mark.filterwarnings("ignore::openmdao.utils.om_warnings.DerivativesWarning")  # fwd on purpose

@@ -70,9 +70,9 @@ def test_gust_dlm_refusals_before_solve(capsys, monkeypatch):
     """--aero-theory dlm: --tail-lag (its tail is quasi-steady), --alleviation, --aero strip, the
     deprecated --lifting-line beside it, and --modes out of range or without dlm are refused
     before any solve."""
-    import wingmdao.aero.gust_response as gr
+    import wingmdao.cli.gust as gust_command
 
-    monkeypatch.setattr(gr, "dlm_gust_response", lambda *a, **k: pytest.fail("solve started"))
+    monkeypatch.setattr(gust_command, "dlm_gust_response", lambda *a, **k: pytest.fail("solve started"))
     pitch = ["--pitch", "free", "--pitch-inertia", "1e6", "--cg-x", "5", "--tail-arm", "15", "--tail-area", "20",
              "--tail-lift-slope", "4"]
     for argv, msg in ((["--aero-theory", "dlm", *pitch, "--tail-lag"], "--tail-lag: the doublet lattice's tail"),

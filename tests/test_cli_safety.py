@@ -83,7 +83,7 @@ def fake_report(tmp_path, monkeypatch):
     """A recording (read_history stubbed) with an envelope of 20 stations; the plots written are listed."""
     import numpy as np
 
-    import wingmdao.report as report
+    import wingmdao.cli.report as report  # the names the command looks up
 
     rec = tmp_path / "pegasus.sql"
     rec.write_text("")
@@ -173,6 +173,8 @@ def test_full_disk_says_where_the_result_is(tmp_path, monkeypatch, capsys):
     text = err[err.index("{"):err.rindex("}") + 1]
     assert json.loads(text)["mass_kg"] > 0  # the result itself is on standard error
     assert not out.exists()
+    # the recording is one closed SQLite file: no write-ahead log or shared-memory file left beside it
+    assert sorted(p.name for p in tmp_path.iterdir() if p.name.startswith("cantilever.sql")) == ["cantilever.sql"]
 
 
 # --- no traceback: one line naming the flag or file, the value and what is allowed, exit 2 ------

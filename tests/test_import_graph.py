@@ -18,41 +18,30 @@ import wingmdao
 
 PACKAGE = Path(wingmdao.__file__).parent
 
-#: Optional or heavy frameworks: imported where they are used, so that ``import wingmdao`` and
-#: ``wingmdao --help`` do without them.
+#: Optional frameworks: imported where they are used, so that ``import wingmdao`` and the commands
+#: that do not use them run without them installed.
 OPTIONAL = ("mphys", "openaerostruct", "mpi4py", "gmsh", "matplotlib", "meshio", "yaml", "h5py", "cyipopt",
             "sphinx", "panelaero")
 
-#: Imports that belong at the top of a file: the package's own modules and its core dependencies.
-CORE = ("numpy", "scipy", "casadi", "openmdao")
-
-#: Frameworks whose import costs start-up time the CLI's help must not pay (OpenMDAO: ~2.4 s).
+#: Frameworks whose import costs start-up time ``wingmdao --help`` must not pay (OpenMDAO: ~1.3 s CPU).
 HEAVY = OPTIONAL + ("openmdao",)
 
+#: Modules of a heavy framework that load none of it: ``openmdao.core.analysis_error`` (the class
+#: ``openmdao.api.AnalysisError``, 9 ms against 1.3 s for ``openmdao.api``).
+LIGHT = ("openmdao.core.analysis_error",)
+
 #: Modules that may import, inside functions, package modules that load a heavy framework (and
-#: nothing else: every other import of theirs is at the top). ``wingmdao --help`` imports each of
-#: them (the test below checks it), so what loads OpenMDAO is imported where it is used:
+#: nothing else: every other import of theirs is at the top), each with its reason:
 LAZY_HEAVY = {
-    "wingmdao.cli": "the command modules, all imported to build `wingmdao --help` (the CLI's discovery): "
-                    "a command imports its implementation (OpenMDAO problems, sizing, FE models) when it runs",
-    "wingmdao.cases": "the case modules, imported by the help for their options and arguments: `build` imports "
-                      "the sizing model (wingmdao.sizing) and the coupled aerodynamics when a case is built",
-    "wingmdao.groups.load_case": "LoadCase, which the case modules import: the coupled aerodynamics "
-                                 "(wingmdao.aero.coupled) load when a coupled case is built",
-    "wingmdao.stability.cases": "FLUTTER_CASES and the flutter options of the flutter and size parsers: the beam and "
-                                "aeroelastic systems (timemarch.bdf raises OpenMDAO's AnalysisError) load when a "
-                                "case is analysed",
-    "wingmdao.stability.eigen": "imported by wingmdao.stability.cases: the static solve (timemarch.bdf) loads "
-                                "when a static state is solved",
-    "wingmdao.utils.memory": "import_openmdao_without_plot_plugins imports OpenMDAO, on purpose, when called",
+    "wingmdao.utils.memory": "import_openmdao_without_plot_plugins imports OpenMDAO, on purpose, when called "
+                             "(after it has switched OpenMDAO's plot plug-ins off)",
 }
 
-#: Left inside functions (imports of package modules and numpy/scipy/casadi/openmdao, counted per
-#: imported module; 89 statements): 97 in ``wingmdao.cli``, the commands' implementations; 29 in the
-#: case modules (the sizing model, the coupled aerodynamics and the FE beam of ``build`` and its
-#: helpers); 6 in ``groups.load_case`` and ``stability`` and 2 in ``utils.memory`` (see
-#: :data:`LAZY_HEAVY`); 4 of the optional ``wingmdao.mphys`` builders (they need MPhys) in
-#: ``oas.coupling``. Everything else is at the top of its file (:func:`test_imports_at_the_top`).
+#: Every other import is at the top of its file (:func:`test_imports_at_the_top`): the command
+#: modules of ``wingmdao.cli`` too, since the dispatcher (``wingmdao.cli.main``) imports a
+#: command's module only when that command runs. Function-local imports left in the package: of
+#: optional frameworks (and of the package modules that need one at import), and the two of
+#: :data:`LAZY_HEAVY`.
 
 
 def _modules() -> dict:
@@ -177,6 +166,11 @@ def _cycles(edges: dict) -> list:
     return cycles
 
 
+def _heavy_name(name: str) -> bool:
+    """Whether importing ``name`` (not a package module) loads a heavy framework."""
+    return name.split(".")[0] in HEAVY and not any(name == m or name.startswith(m + ".") for m in LIGHT)
+
+
 def _loads_heavy(modules: dict) -> set:
     """Package modules whose top-level imports (followed through the package) load a heavy framework."""
     top = {m: set() for m in modules}
@@ -188,7 +182,7 @@ def _loads_heavy(modules: dict) -> set:
     while changed:
         changed = False
         for m, names in top.items():
-            if m not in heavy and any(n.split(".")[0] in HEAVY or n in heavy for n in names):
+            if m not in heavy and any(_heavy_name(n) or n in heavy for n in names):
                 heavy.add(m)
                 changed = True
     return heavy
@@ -227,42 +221,89 @@ def _lazy(module: str) -> bool:
     return any(module == m or module.startswith(m + ".") for m in LAZY_HEAVY)
 
 
-def test_imports_at_the_top():
-    """Inside functions only optional frameworks (and the package modules that need one), and, in
-    :data:`LAZY_HEAVY`, package modules that load a heavy framework; every other import of the
-    package's own modules and of numpy/scipy/casadi/openmdao is at the top of its file."""
-    modules = _modules()
+def _local_imports(modules: dict) -> list:
+    """``(module, imported name, line)`` of every function-local import that is not allowed: all but
+    those of an optional framework (or of a package module that needs one at import) and, in a
+    :data:`LAZY_HEAVY` module, those of a package module or framework that loads a heavy framework."""
     heavy, optional = _loads_heavy(modules), _optional_modules(modules)
     bad = []
     for module, name, line, local in _imports(modules):
-        root = name.split(".")[0]
-        if not local or root in OPTIONAL or root not in CORE + ("wingmdao",) or name in optional:
+        if not local or name.split(".")[0] in OPTIONAL or name in optional:
             continue
-        if _lazy(module) and (name in heavy or root in HEAVY):
+        if _lazy(module) and (name in heavy or _heavy_name(name)):
             continue
-        bad.append(f"{modules[module][0].relative_to(PACKAGE.parent)}:{line}: {name}")
+        bad.append((module, name, line))
+    return bad
+
+
+def test_imports_at_the_top():
+    """Every import of a package module is at the top of its file (standard library, numpy, scipy,
+    casadi, OpenMDAO and the package's own modules), except those :func:`_local_imports` allows."""
+    modules = _modules()
+    bad = [f"{modules[m][0].relative_to(PACKAGE.parent)}:{line}: {name}" for m, name, line in _local_imports(modules)]
     assert not bad, f"{len(bad)} function-local import(s) that belong at the top of the file:\n" + "\n".join(bad)
 
 
-def test_lazy_heavy_modules_are_those_the_help_imports():
-    """Each module of :data:`LAZY_HEAVY` is one that ``wingmdao --help`` imports (else its imports
-    belong at the top), and still has a local import of a heavy module (else the entry goes)."""
-    code = ("import sys, wingmdao.cli as c; c.build_parser(); "
-            "print(' '.join(m for m in sys.modules if m.startswith('wingmdao')))")
-    loaded = set(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
-                                cwd=PACKAGE.parent).stdout.split())
+def test_local_import_check_can_fail(tmp_path):
+    """A function-local import of the standard library, of numpy or of a package module is caught;
+    one of an optional framework is not."""
+    pkg = tmp_path / "wingmdao"
+    pkg.mkdir()
+    (pkg / "__init__.py").write_text("")
+    (pkg / "light.py").write_text("import numpy\n")
+    (pkg / "user.py").write_text("def f():\n    import os\n    import numpy as np\n"
+                                 "    from wingmdao import light\n    import matplotlib\n")
+    modules = {"wingmdao": (pkg / "__init__.py", True), "wingmdao.light": (pkg / "light.py", False),
+               "wingmdao.user": (pkg / "user.py", False)}
+    assert [(n, line) for _, n, line in _local_imports(modules)] == [("os", 2), ("numpy", 3), ("wingmdao.light", 4)]
+
+
+def test_lazy_heavy_entries_are_used():
+    """Each module of :data:`LAZY_HEAVY` still has a local import of a heavy module (else the entry goes)."""
     modules = _modules()
     heavy = _loads_heavy(modules)
-    users = {m for m in LAZY_HEAVY if any((mod == m or mod.startswith(m + ".")) and local and
-                                              (name in heavy or name.split(".")[0] in HEAVY)
-                                              for mod, name, _, local in _imports(modules))}
-    assert sorted(set(LAZY_HEAVY) - loaded) == []
+    users = {m for m in LAZY_HEAVY if any(_lazy(mod) and (mod == m or mod.startswith(m + ".")) and local and
+                                          (name in heavy or _heavy_name(name))
+                                          for mod, name, _, local in _imports(modules))}
     assert sorted(set(LAZY_HEAVY) - users) == []
 
 
-def test_cli_help_imports_no_heavy_framework():
-    code = ("import sys, wingmdao.cli as c; c.build_parser(); "
-            f"print(' '.join(m for m in {HEAVY!r} if m in sys.modules))")
+def test_cli_help_imports_no_command_and_no_heavy_framework():
+    """``wingmdao --help`` imports no command module (the dispatcher imports one when its command
+    runs) and no heavy framework (of OpenMDAO only the :data:`LIGHT` modules)."""
+    code = ("import sys, wingmdao.cli as c; c.build_parser(()); "
+            "print(' '.join(m for m in sys.modules if m.startswith('wingmdao.cli.') "
+            "and not m.split('.')[-1].startswith('_'))); "
+            f"print(' '.join(m for m in {OPTIONAL!r} + ('openmdao.api', 'openmdao.core.problem') if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                          cwd=PACKAGE.parent)
-    assert out.stdout.split() == []
+    commands, heavy = out.stdout.split("\n")[:2]
+    assert (commands, heavy) == ("", "")
+
+
+def test_cli_commands_table():
+    """:data:`wingmdao.cli.COMMANDS` names every command module of ``wingmdao.cli`` (a public module),
+    and each module registers exactly its commands, in the table's order, with the table's help."""
+    import wingmdao.cli as cli
+
+    public = {p.stem for p in (PACKAGE / "cli").glob("*.py") if not p.stem.startswith("_")}
+    assert {c.module for c in cli.COMMANDS.values()} == public
+    sub = next(a for a in cli.build_parser()._actions if a.dest == "command")
+    assert list(sub.choices) == list(cli.COMMANDS)
+    helps = {a.dest: a.help for a in sub._choices_actions}
+    assert helps == {name: c.help for name, c in cli.COMMANDS.items()}
+
+
+def test_command_modules_load_openmdao_without_plot_plugins():
+    """A command module that loads OpenMDAO imports ``wingmdao.cli._openmdao`` before any module that
+    loads it (OpenMDAO without the matplotlib of its report plugins)."""
+    modules = _modules()
+    heavy = _loads_heavy(modules)
+    bad = []
+    for module in sorted(m for m in heavy if m.startswith("wingmdao.cli.") and not m.split(".")[-1].startswith("_")):
+        first = next(name for mod, name, _, local in _imports(modules)
+                     if mod == module and not local and (name in heavy or _heavy_name(name)
+                                                                     or name == "wingmdao.cli._openmdao"))
+        if first != "wingmdao.cli._openmdao":
+            bad.append(f"{module}: {first}")
+    assert bad == []

@@ -59,6 +59,7 @@ def test_set_case_loads_follows_where_the_beam_forcing_lives(problem):
     then sets no beam forcing by default and refuses to on request; a model that promotes the
     forcing as inputs gets it set from the case's arrays."""
     from wingmdao.cases import wing_box
+    from wingmdao.cases.wing_box.problem import analysis_problem
     from wingmdao.groups.wing import set_case_loads
 
     args = pegasus.PegasusOptions(loads="all", t_final=0.4, dt=0.04, gust_start=0.0)
@@ -73,7 +74,7 @@ def test_set_case_loads_follows_where_the_beam_forcing_lives(problem):
     box_case = wing_box.tip_load_case("tip", n, (2e4, 0.0, 3e5), (0.0, 1e5, 0.0), ("vm",),
                                       time=np.linspace(0.0, 0.1, 5), ramp_time=0.05)
     walls = {w: np.full(n, 0.1) for w in WALL_VARS}
-    box = wing_box.analysis_problem(geometry, box_case, walls)              # calls set_case_loads
+    box = analysis_problem(geometry, box_case, walls)              # calls set_case_loads
     np.testing.assert_array_equal(box.get_val("cases.tip.point_force", units="N"),
                                   box_case.forcing_array("point_force", n))
     assert np.abs(box.get_val("cases.tip.point_force")).max() > 1e4

@@ -370,6 +370,23 @@ def test_nonzero_pattern_only_grows_across_histories():
 
 # ---------------------------------------------------------------- the kernel's library
 @needs_gcc
+def test_a_kernel_library_that_does_not_load_is_rebuilt(tmp_path, monkeypatch):
+    """A library whose manifest matches but that does not load (a foreign or damaged file, its
+    manifest rewritten) is rebuilt, not left for the SuperLU fallback of every later run."""
+    monkeypatch.setenv(cc.ENV_CACHE, str(tmp_path))
+    monkeypatch.setattr(c_library, "_LOADED", {})
+    path = c_library.compile_source(static_lu.SOURCE, "lu_kernel")
+    path.write_bytes(b"not a shared library" * 100)
+    size, digest = cc.file_digest(path)
+    cc.manifest_path(path).write_text(f"{size} {digest}\n")
+    cc.verify(path)                                  # the manifest matches the garbage
+    lib = c_library.load(static_lu.SOURCE, "lu_kernel", force=True)
+    assert lib is not None
+    assert path.read_bytes()[:4] == b"\x7fELF"       # rebuilt
+    cc.verify(path)
+
+
+@needs_gcc
 def test_kernel_library_is_cached_verified_and_rebuilt(tmp_path, monkeypatch):
     """One compile per source and flags; a second load (new process: cleared registry) calls no
     compiler; a corrupted library fails its manifest check and is rebuilt."""

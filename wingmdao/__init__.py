@@ -7,6 +7,7 @@ App. A marched in time with BDF2 (Eq. 3.4-3.7) and its discrete adjoint (Eq. 3.9
 stress recovery (Sec. 4.4.2) and KS aggregation over space and time (Eq. 4.53-4.55).
 Conventions (axes, signs, state order, names) are in ``docs/conventions.md``.
 """
+import os
 
 from wingmdao.utils.mpi_env import launched_ranks
 
@@ -20,8 +21,6 @@ def _mpi_environment():
     """Under ``mpirun -n P`` (P > 1) wingmdao distributes load cases itself (wingmdao.parallel) and
     runs each rank's OpenMDAO problem serially, which needs no PETSc: ``OPENMDAO_USE_MPI=0``
     unless the user set it. Must run before OpenMDAO is imported."""
-    import os
-
 
     if launched_ranks() > 1:
         os.environ.setdefault("OPENMDAO_USE_MPI", "0")

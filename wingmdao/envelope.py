@@ -26,7 +26,7 @@ import os
 import numpy as np
 
 from wingmdao.loads.turbulence import correlated_loads, equal_probability_ellipse
-from wingmdao.sizing import case_families, span_coordinate
+from wingmdao.design import case_families, span_coordinate
 from wingmdao.plots import pyplot_agg, save_figure
 
 QUANTITIES = {  # name: (array, component, label, scale to plot units, unit)
@@ -39,7 +39,7 @@ QUANTITIES = {  # name: (array, component, label, scale to plot units, unit)
 def collect(prob, load_cases, span, families=None) -> dict:
     """Internal loads and worst constraint value per station of every case from a run problem: every
     family the case's KS aggregates (``families``: {case name: families}, default the case's stress
-    families; a stiffened box adds its panel modes, :func:`wingmdao.sizing.case_families`).
+    families; a stiffened box adds its panel modes, :func:`wingmdao.design.case_families`).
 
     Parameters
     ----------

@@ -17,7 +17,7 @@ that was solved. pyOptSparse does the same natively (an AnalysisError becomes ``
 from __future__ import annotations
 
 import importlib.util
-
+import sqlite3
 import sys
 import time
 
@@ -250,8 +250,6 @@ class WalSqliteRecorder(om.SqliteRecorder):
                 con.execute(pragma)
 
     def shutdown(self):
-        import sqlite3
-
         for con in self._connections():
             try:  # checkpoints the log and removes the -wal file
                 con.execute("PRAGMA journal_mode=DELETE")

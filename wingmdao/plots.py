@@ -8,6 +8,11 @@ dependency (``pip install wingmdao[plot]``); every function raises a clear Impor
 
 from __future__ import annotations
 
+import contextlib
+import os
+import sys
+import tempfile
+
 import numpy as np
 
 from wingmdao.cli._io import default_file_mode
@@ -45,8 +50,6 @@ def optional_pyplot():
     try:
         return pyplot_agg()
     except ImportError as exc:
-        import sys
-
         print(f"wingmdao: warning: no plots ({exc})", file=sys.stderr)
         return None
 
@@ -74,10 +77,6 @@ def save_figure(fig, path: str, dpi: int = 120, **layout) -> str:
     str
         ``path``.
     """
-    import contextlib
-    import os
-    import tempfile
-
     plt = pyplot_agg()
     if not is_output_rank():  # under mpirun only rank 0 writes
         plt.close(fig)

@@ -172,7 +172,7 @@ def coupled_gust_response(time, beam_params, chord, axis_frac, aero_params, flig
     """March the aeroelastic beam through the gust from the trimmed 1 g state.
 
     ``beam_params`` and ``aero_params`` are the beam and strip parameters per node
-    (:func:`wingmdao.sizing.design_beam_params`, :func:`wingmdao.aero.aero_parameters`), ``area`` the
+    (:func:`wingmdao.design.design_beam_params`, :func:`wingmdao.aero.aero_parameters`), ``area`` the
     wing reference area (m^2); ``plunge``: free in plunge (``body_mass``, kg, the aircraft less the
     wings) or root clamped; ``pitch_params`` (:func:`wingmdao.aero.pitch.pitch_parameters`): also free
     in pitch, the load factor then (wing + tail lift) / W. The gust reaches each strip after its

@@ -31,6 +31,7 @@ Free plunge, trim and free pitch add trailing states (w_p; pitch_angle, pitch_ra
 from __future__ import annotations
 
 import time as _time
+import zlib
 from dataclasses import dataclass
 
 import casadi as ca
@@ -1016,9 +1017,6 @@ def stored_jacobians(name: str, definition: str, R, args) -> dict:
     dict
         The four Jacobian expressions.
     """
-    import zlib
-
-
     keys = ("x", "xdot", "p", "q")
     built = {}
 

@@ -30,6 +30,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from wingmdao.design import SECTION_KINDS, WALL_VARS, design_beam_params, initial_design
+
 CASE_MODULES = {
     "cantilever": "wingmdao.cases.cantilever",
     "wing-box": "wingmdao.cases.wing_box",
@@ -51,7 +53,7 @@ class CaseSetup:
         The load cases the design must carry.
     material : wingmdao.materials.Material
         Wall material (Pa, kg/m^3).
-    options : wingmdao.sizing.SizingOptions
+    options : wingmdao.design.SizingOptions
         Design-variable bounds and start (m), KS parameter, optimizer settings.
     section : str, optional
         ``"box"``, ``"stiffened"`` (with ``panels``) or ``"solid"``.
@@ -478,15 +480,13 @@ def case_beam_parameters(module, walls=None, *, source="walls"):
         The built case.
     beam_params : dict
         The beam parameter dict of the sections the sizing model uses
-        (:func:`wingmdao.sizing.design_beam_params`).
+        (:func:`wingmdao.design.design_beam_params`).
 
     Raises
     ------
     ValueError
         A wall without one value per beam node.
     """
-    from wingmdao.sizing import SECTION_KINDS, WALL_VARS, design_beam_params, initial_design
-
     maneuvers = {"loads": "maneuver"} if "loads" in {f.name for f in dataclasses.fields(module.OPTIONS)} else {}
     setup = module.build(**maneuvers)  # the CRM case has its maneuvers only
     design = initial_design(setup.options, SECTION_KINDS[setup.section]["design_vars"])

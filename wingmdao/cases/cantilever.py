@@ -17,6 +17,8 @@ import numpy as np
 from wingmdao.cases import CaseOptions, CaseSetup, case_options, check_step_count, option
 from wingmdao.groups.load_case import LoadCase
 from wingmdao.materials import Material
+from wingmdao.beam.geometry import WingGeometry
+from wingmdao.design import SizingOptions
 
 NAME = "cantilever"
 HELP = "solid rectangular cantilever of Sec. 4.7.1 (width/height design variables, tip load)"
@@ -123,8 +125,6 @@ def build(options: CantileverOptions | None = None, **overrides) -> CaseSetup:
     ValueError
         A bad option, naming its flag, before any solve.
     """
-    from wingmdao.sizing import SizingOptions, WingGeometry
-
     opts = case_options(CantileverOptions, options, **overrides)
     n = opts.stations
     if n < 3:

@@ -38,6 +38,11 @@ from wingmdao.loads.maneuver import maneuver_line_loads
 from wingmdao.materials import ALUMINIUM
 from wingmdao.panels.layout import PanelLayout, STIFFENER_VARS, smeared_stringer
 from wingmdao.section.box import WALL_NAMES, beam_params_from_section, box_properties, validate_box
+from wingmdao.aero.coupled import CoupledAero
+from wingmdao.aero.modal_design import cosine_gust
+from wingmdao.aero.modal_free import free_cosine_gust
+from wingmdao.aero.system import three_dimensional_parameters
+from wingmdao.design import WALL_VARS, SizingOptions, initial_frequencies
 
 NAME = "pegasus"
 HELP = "PEGASUS wing (App. D.2): 76 thickness variables, 2.5 g / -1.0 g maneuvers and/or a 25.341 gust"
@@ -319,8 +324,6 @@ def coupled_maneuver_case(name, n_load, opts, geometry, chord, axis_frac, famili
     LoadCase
         The load case.
     """
-    from wingmdao.aero.coupled import CoupledAero
-
     alt = float(altitude_ft_to_m(opts.altitude_ft))
     forcing = {"gravity": np.array([[0.0, 0.0, -G0]]),
                "frame_acceleration": np.array([[0.0, 0.0, (n_load - 1.0) * G0]]),
@@ -393,9 +396,6 @@ def modal_dlm_gust(geometry, chord, axis_frac, time, *, u_tas, airspeed, density
     ModalGust
         The gust.
     """
-    from wingmdao.aero.modal_design import cosine_gust
-    from wingmdao.aero.modal_free import free_cosine_gust
-
     params = beam_params(geometry.num_nodes)
     if not np.allclose(params["node_positions"], geometry.node_positions):
         raise ValueError("--aero-theory dlm: the sized wing's nodes differ from the PEGASUS beam's (beam_params)")
@@ -549,8 +549,6 @@ def gust_set_of(opts):
     if path is not None:
         gset = read_gust_set(path, defaults=GUST_SET_DEFAULTS)
         if sign is not None:
-            from dataclasses import replace
-
             gset = replace(gset, signs=parse_signs(sign))
         return gset
     if grads is None and count is None:
@@ -586,8 +584,6 @@ def pitch_aero_options(opts, geometry, chord, axis_frac, mach, pf=PLANFORM) -> d
     dict
         Keyword arguments of CoupledAero.
     """
-    from wingmdao.aero.system import three_dimensional_parameters
-
     deps = opts.downwash_gradient
     if deps is None:  # Etkin & Reid (1996) / Nelson (1998): deps/dalpha = 2 a_w / (pi AR)
         area = pf.area_ft2 * FT ** 2  # a_w: the wing slope of the --aero-theory, 2 int c a dy / S (as wingmdao gust)
@@ -654,8 +650,6 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
     LoadCase
         The load case.
     """
-    from wingmdao.aero.coupled import CoupledAero
-
     rho, rho0 = float(density(altitude_m)), float(density(0.0))
     V = float(airspeed_tas)
     mach = V / float(speed_of_sound(altitude_m))  # the flight point's (a gust set may have several)
@@ -824,8 +818,6 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
     CaseSetup
         Geometry, load cases, material and bounds.
     """
-    from wingmdao.sizing import WALL_VARS, SizingOptions
-
     families = parse_families(opts.families)
     gset = gust_set_of(opts)
     loads = opts.loads or ("all" if gset is not None else "maneuver")
@@ -1035,8 +1027,6 @@ def gust_damping(zeta, frequency_hz, geometry, options):
     tuple
         (StrainRateDamping, description).
     """
-    from wingmdao.sizing import initial_frequencies
-
     if frequency_hz is None:
         frequency_hz = float(initial_frequencies(geometry, ALUMINIUM, options, count=1)[0])
         where = "first mode of the initial design"
@@ -1086,8 +1076,6 @@ def flutter_planform(num_nodes: int = 20) -> Planform:
     Planform
         The planform.
     """
-    from dataclasses import replace
-
     if int(num_nodes) < 3:
         raise ValueError(f"num_nodes must be >= 3, got {num_nodes}")
     return replace(PLANFORM, num_ribs=int(num_nodes) - 1)
@@ -1106,8 +1094,6 @@ def initial_thickness(num_nodes: int = 20) -> dict:
     dict
         Wall name -> (num_nodes,) thicknesses (m).
     """
-    from wingmdao.sizing import WALL_VARS
-
     return {w: np.full(int(num_nodes), 0.01) for w in WALL_VARS}
 
 

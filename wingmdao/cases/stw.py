@@ -34,6 +34,7 @@ from wingmdao.cases import CaseOptions, CaseSetup, case_options, option
 from wingmdao.cases import stw_data as D
 from wingmdao.cases import stw_loads
 from wingmdao.cases.planform import G0
+from wingmdao.design import WALL_VARS, SizingOptions
 from wingmdao.groups.load_case import parse_families
 from wingmdao.materials import Material
 from wingmdao.panels.laminate import STW_SKIN_FRACTIONS, STW_SPAR_FRACTIONS, laminate_moduli
@@ -125,8 +126,6 @@ def build(options: StwOptions | None = None, **overrides) -> CaseSetup:
     ValueError
         A bad option, naming its flag, before any solve.
     """
-    from wingmdao.sizing import WALL_VARS, SizingOptions
-
     opts = case_options(StwOptions, options, **overrides)
     if isinstance(opts.num_nodes, int) and opts.num_nodes < D.NUM_RIBS:
         raise ValueError(f"--num-nodes = {opts.num_nodes}; allowed range >= {D.NUM_RIBS} (a node at each rib)")

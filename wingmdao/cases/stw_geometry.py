@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from wingmdao.cases import stw_data as D
-from wingmdao.beam.geometry import polyline_beam
+from wingmdao.beam.geometry import WingGeometry, polyline_beam
 
 CUTS = ("normal", "streamwise")
 HEIGHT_RULES = ("spars", "mean10")
@@ -257,8 +257,6 @@ def beam_geometry(num_nodes: int = D.NUM_RIBS, *, cut: str = "normal", height_ru
     StwBeam
         The beam geometry and the data behind it (m, deg).
     """
-    from wingmdao.sizing import WingGeometry
-
     if cut not in CUTS:
         raise ValueError(f"stw cut = {cut!r}; allowed: {', '.join(CUTS)}")
     if height_rule not in HEIGHT_RULES:

@@ -44,6 +44,8 @@ from wingmdao.cases.stw_geometry import airfoil_surfaces
 from wingmdao.groups.load_case import LoadCase
 from wingmdao.loads.atmosphere import density, mach_to_tas
 from wingmdao.timemarch.system import pack
+from wingmdao.aero.coupled import CoupledAero
+from wingmdao.aero.system import cached_aeroelastic_system
 
 #: columns of the lift and twist CSV files (docs/cases.md)
 CSV_COLUMNS = ("y_m", "eta", "lift_n_per_m", "cl", "twist_deg")
@@ -214,8 +216,6 @@ def maneuver_case(name, condition, beam, landing_mass, families, mach=None):
     wingmdao.groups.load_case.LoadCase
         The trimmed maneuver case.
     """
-    from wingmdao.aero.coupled import CoupledAero
-
     mach = condition.mach if mach is None else mach
     n = condition.load_factor
     alt = condition.altitude
@@ -254,8 +254,6 @@ def trimmed_state(prob, case, beam) -> dict:
     dict
         The state, units above.
     """
-    from wingmdao.aero.system import cached_aeroelastic_system
-
     n = beam.geometry.num_nodes
     path = f"cases.{case.name}"
 

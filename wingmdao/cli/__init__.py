@@ -1,9 +1,11 @@
 """Command-line entry ``wingmdao``.
 
-Each subcommand lives in its own module of this package and exposes
-``register(subparsers)``, which adds a parser whose ``func`` attribute is called with the
-parsed arguments and returns an exit code. Modules are discovered automatically, so a
-discipline adds its command without touching this file.
+Each command lives in a module of this package that imports what it needs at its top and
+exposes ``register(subparsers)``, which adds the command's parser (whose ``func`` attribute is
+called with the parsed arguments and returns an exit code). :data:`COMMANDS` names each command's
+module and one-line help: :func:`main` imports only the module of the command it runs (or whose
+help it shows), so ``wingmdao --help`` imports none and starts without OpenMDAO. A new command is
+a module and a line of :data:`COMMANDS`.
 """
 
 from __future__ import annotations
@@ -11,14 +13,16 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
-import pkgutil
 import re
 import sys
 import warnings
+from typing import NamedTuple
 
 from wingmdao.utils.threads import single_blas_thread_default
 
 single_blas_thread_default()    # one BLAS thread unless the user chose: before NumPy loads (cli._io imports it)
+
+from openmdao.core.analysis_error import AnalysisError  # noqa: E402  (the class alone: no OpenMDAO start-up)
 
 from wingmdao import __version__  # noqa: E402
 from wingmdao.cli._io import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_USAGE, jsonable as _jsonable  # noqa: E402,F401
@@ -54,13 +58,79 @@ class WingmdaoParser(argparse.ArgumentParser):
         self._negative_number_matcher = self._NEGATIVE
 
 
-def _subcommand_modules():
-    for info in sorted(pkgutil.iter_modules(__path__), key=lambda m: m.name):
-        if not info.name.startswith("_"):
-            yield importlib.import_module(f"{__name__}.{info.name}")
+class Command(NamedTuple):
+    """A command of :data:`COMMANDS`.
+
+    Parameters
+    ----------
+    module : str
+        The module of this package that registers and runs it.
+    help : str
+        Its one-line help (``wingmdao --help``).
+    """
+    module: str
+    help: str
 
 
-def build_parser() -> argparse.ArgumentParser:
+#: The commands, in the order of ``wingmdao --help``: the one home of each one-line help.
+COMMANDS = {
+    "cache": Command("cache", "show the compile cache (compiled functions, stored functions) and prune unused "
+                              "entries"),
+    "export": Command("export", "write a sized wing as a CalculiX / Abaqus / Nastran deck"),
+    "flutter": Command("flutter", "flutter and divergence speeds, V-g / V-f sweep of a benchmark wing"),
+    "gust": Command("gust", "gust response (load factor, root loads, tip deflection), coupled aeroelastic or "
+                            "strip loads"),
+    "loads": Command("loads", "loads matrix: altitudes x speeds x mass cases, screened; loads database and "
+                              "stress cards"),
+    "maneuver": Command("maneuver", "dynamic maneuvers: the 14 CFR 25.331(c)(2) checked pitch maneuver (free "
+                                    "pitch, elevator)"),
+    "panel": Command("panel", "critical running loads and failure ratios of a stiffened skin panel or spar web "
+                              "(JSON)"),
+    "report": Command("report", "print the iteration history of a recorded sizing run and write plots"),
+    "run": Command("run", "run a shipped analysis case (beam response, stresses) and write JSON"),
+    "section": Command("section", "print box (App. F) or solid-rectangle section properties as JSON"),
+    "section-fe": Command("section_fe", "6x6 stiffness and mass of an arbitrary cross-section (FE, "
+                                        "Giavotto/BECAS) as JSON"),
+    "size": Command("size", "size a wingbox case for its load cases (minimum mass, KS stress constraints)"),
+    "n2": Command("size", "write the N2 diagram (HTML) of a case's OpenMDAO model"),
+    "turbulence": Command("turbulence", "14 CFR 25.341(b) continuous turbulence: A-bar, design loads, "
+                                        "correlations"),
+    "verify": Command("verify", "cross-check the beam against a CalculiX shell or solid model"),
+}
+
+
+def command_named(argv) -> str | None:
+    """The command a command line runs: its first argument that is not an option (the top-level
+    options, ``--help`` and ``--version``, take no value), if it is one of :data:`COMMANDS`.
+
+    Parameters
+    ----------
+    argv : sequence of str
+        The arguments after the program name.
+
+    Returns
+    -------
+    str or None
+        The command's name, None without one.
+    """
+    name = next((a for a in argv if not a.startswith("-")), None)
+    return name if name in COMMANDS else None
+
+
+def build_parser(commands=None) -> argparse.ArgumentParser:
+    """The ``wingmdao`` parser.
+
+    Parameters
+    ----------
+    commands : iterable of str, optional
+        The commands whose parsers to build (importing their modules); the others get a parser
+        with their help line only. None: every command.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The parser.
+    """
     parser = WingmdaoParser(
         prog="wingmdao",
         description=(
@@ -71,8 +141,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"wingmdao {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for module in _subcommand_modules():
-        module.register(sub)
+    modules = {COMMANDS[c].module for c in (COMMANDS if commands is None else commands)}
+    for name, command in COMMANDS.items():
+        if command.module not in modules:
+            sub.add_parser(name, help=command.help, add_help=False)
+        elif name == next(n for n, c in COMMANDS.items() if c.module == command.module):
+            importlib.import_module(f"{__name__}.{command.module}").register(sub)  # all of its commands
     return parser
 
 
@@ -85,7 +159,21 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
 
 
 def main(argv=None) -> int:
-    parser = build_parser()
+    """Run the command of a command line.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        The arguments after the program name (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit code.
+    """
+    argv = sys.argv[1:] if argv is None else list(argv)
+    command = command_named(argv)
+    parser = build_parser(() if command is None else (command,))
     root = is_output_rank()
     saved = sys.stdout, sys.stderr, warnings.showwarning
     if not root:  # under mpirun only rank 0 prints (and writes: wingmdao.cli._io); tracebacks still show
@@ -121,13 +209,9 @@ def _main(parser, argv) -> int:
     except KeyboardInterrupt:
         print(f"wingmdao {args.command}: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
-    except Exception as exc:
-        import openmdao.api as om
-
-        if isinstance(exc, om.AnalysisError):  # a solve failed: say so, no traceback
-            print(f"wingmdao {args.command}: error: the analysis failed: {exc}", file=sys.stderr)
-            return EXIT_FAILED
-        raise
+    except AnalysisError as exc:  # a solve failed: say so, no traceback
+        print(f"wingmdao {args.command}: error: the analysis failed: {exc}", file=sys.stderr)
+        return EXIT_FAILED
 
 
 def _silence_stdout():

@@ -5,8 +5,13 @@ the same problem as ``python cases/run_aerostruct_crm.py``)."""
 from __future__ import annotations
 
 import os
+import sys
+
 from wingmdao.cli._io import EXIT_FAILED, EXIT_INTERRUPTED, check_output_dir, check_output_file, refuse_existing, say, write_json
 from wingmdao.cli._args import add_json_argument
+import openmdao.api as om
+from wingmdao.oas.crm import build_crm_problem, check_num_y, crm_summary, setup_crm_problem, solve_crm
+from wingmdao.report import best_design, read_history
 
 NAME = "aerostruct-crm"
 HELP = ("uCRM multipoint aerostructural fuel burn (OpenAeroStruct VLM + the wingmdao beam, "
@@ -41,8 +46,6 @@ def add_parser(subparsers):
 
 
 def _check_args(args):
-    from wingmdao.oas.crm import check_num_y
-
     if args.maxiter < 1:
         raise ValueError(f"--maxiter = {args.maxiter}; allowed range >= 1 iteration "
                          "(use --analysis-only to analyse without optimizing)")
@@ -62,8 +65,6 @@ def openaerostruct_missing() -> str | None:
 
 
 def run(args) -> int:
-    import sys
-
     _check_args(args)
     missing = openaerostruct_missing()
     if missing:
@@ -106,10 +107,6 @@ def run(args) -> int:
 
 def _run_beam(beam, args, recording):
     """(result dict, None | "interrupted" | "failed") of one beam's run."""
-    import openmdao.api as om
-
-    from wingmdao.oas.crm import build_crm_problem, crm_summary, setup_crm_problem, solve_crm
-
     prob, stress = build_crm_problem(beam, args.num_y)
     counter = setup_crm_problem(prob)
     status = None
@@ -135,8 +132,6 @@ def _run_beam(beam, args, recording):
 
 def _best_recorded(recording):
     """Best feasible recorded iteration (:func:`wingmdao.report.best_design`), or None."""
-    from wingmdao.report import best_design, read_history
-
     try:
         return best_design(read_history(recording), tol=1e-4)   # CL and L = W equalities to 1e-4
     except ValueError:   # no recording yet, or no iteration recorded

@@ -35,6 +35,7 @@ from wingmdao.fe.stiffened_box import (build_stiffened_box, running_load_profile
 from wingmdao.fe.wing_loads import lumped_line_loads
 from wingmdao.panel_results import model_running_loads
 from wingmdao.plots import save_figure
+from wingmdao.sizing import build_problem
 
 LOAD_CASES = ("maneuver_pos", "maneuver_neg")
 ELASTIC = ("skin_buckling", "panel_buckling", "web_buckling")
@@ -127,8 +128,6 @@ def running_loads(model, loads, mdl, args) -> dict:
 def model_buckling(setup, design, case_name) -> dict:
     """The sizing model at the design on ``case_name``: per family the smallest load factor
     1 / max R and where it is, the elastic-buckling minimum (``factor``), the mass (kg)."""
-    from wingmdao.sizing import build_problem
-
     prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options, driver=False,
                             section="stiffened", panels=setup.panels)
     smap = np.asarray(setup.geometry.station_map) if setup.geometry.station_map is not None else None
@@ -319,7 +318,6 @@ def plot_buckling(res, path):
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
 
     fig, ax = plt.subplots(figsize=(9, 5))
     y = res["station_y"]

@@ -28,6 +28,7 @@ analysis does not see); ``material`` (strength).
 from __future__ import annotations
 
 import math
+import sys
 
 from wingmdao.cli import write_json
 from wingmdao.cli.panel import add_panel_arguments, panel_result
@@ -145,9 +146,6 @@ def verify_panel(args) -> dict:
 
 
 def run_verify_panel(args) -> int:
-    import sys
-
-
     try:
         res = verify_panel(args)
     except CalculixNotFound as exc:

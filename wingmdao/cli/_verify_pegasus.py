@@ -15,6 +15,7 @@ station rings.
 """
 
 from __future__ import annotations
+import argparse
 
 import numpy as np
 
@@ -24,6 +25,9 @@ from wingmdao.beam.modes import natural_frequencies
 from wingmdao.beam.residual import forcing_specs
 from wingmdao.beam.rotations import body_to_csn
 from wingmdao.cases import pegasus as case
+from wingmdao.cases.pegasus_verification import (DEFAULT_WALLS, beam_params, default_walls,  # noqa: F401
+                                                  engine_stations as _engine_stations, fe_loads, gust_fe_loads,
+                                                  gust_peak_loads)  # (also this module's names)
 from wingmdao.cases.planform import G0
 from wingmdao.cases.wing_box import station_rotations
 from wingmdao.cli._verify_buckling import add_buckling_arguments, verify_pegasus_buckling
@@ -31,6 +35,9 @@ from wingmdao.fe.box_model import add_point_masses, solve_modes, solve_static
 from wingmdao.fe.calculix import find_ccx
 from wingmdao.fe.wing_loads import lumping_lengths
 from wingmdao.timemarch.system import pack
+import openmdao.api as om
+from wingmdao.beam.static import BeamModel, beam_forcing
+from wingmdao.cases.pegasus_verification import pegasus_setup as setup
 
 #: --loads: the load factor of each named case (the sizing maneuvers of ``wingmdao size pegasus``,
 #: ``--load-factor`` / ``--negative-load-factor`` defaults); '1g' takes ``--load-factor``.
@@ -39,19 +46,6 @@ MANEUVERS = {"maneuver-pos": 2.5, "maneuver-neg": -1.0}
 #: --loads gust-peak: the equivalent static loads of the peak instant of the case's 25.341 gust
 GUST_PEAK = "gust-peak"
 
-#: names of the library module (wingmdao.cases.pegasus_verification) this module still offers, imported
-#: on first use so that 'wingmdao --help' imports no OpenMDAO
-_LIBRARY = {"DEFAULT_WALLS": "DEFAULT_WALLS", "beam_params": "beam_params", "default_walls": "default_walls",
-            "_engine_stations": "engine_stations", "fe_loads": "fe_loads", "gust_fe_loads": "gust_fe_loads",
-            "gust_peak_loads": "gust_peak_loads"}
-
-
-def __getattr__(name):
-    if name in _LIBRARY:
-        from wingmdao.cases import pegasus_verification
-
-        return getattr(pegasus_verification, _LIBRARY[name])
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def register_pegasus(cases):
@@ -81,7 +75,6 @@ def register_pegasus(cases):
 def pegasus_walls(path):
     if path:
         return design_walls(path, "pegasus", count=20, how="a 'wingmdao size pegasus' result")
-    from wingmdao.cases.pegasus_verification import default_walls
 
     return default_walls(20)
 
@@ -97,16 +90,10 @@ def pegasus_ribs(args, y, span) -> list:
 
 def pegasus_setup(design, load_factor):
     """:func:`wingmdao.cases.pegasus_verification.pegasus_setup` with the walls of ``--design``."""
-    from wingmdao.cases.pegasus_verification import pegasus_setup as setup
-
     return setup(pegasus_walls(design), load_factor, fe_material())
 
 
 def verify_pegasus(args) -> dict:
-    from wingmdao.cases.pegasus_verification import (engine_stations as _engine_stations, fe_loads, gust_fe_loads,
-                                                     gust_peak_loads)
-    from wingmdao.beam.static import BeamModel
-
     buckling = getattr(args, "buckling", False)
     if getattr(args, "span_size", None) is None:
         args.span_size = 0.1 if buckling else 0.5
@@ -134,7 +121,6 @@ def verify_pegasus(args) -> dict:
     y = geo.span_coordinate
     ribs = pegasus_ribs(args, y, span)
     model = build_fe_model(args, sec, ribs)
-    import openmdao.api as om
 
     frame = np.array([0.0, 0.0, (args.load_factor - 1.0) * G0])
     force, moment = line.force_per_length, line.moment_per_length
@@ -215,8 +201,6 @@ def _csn(theta):
 
 
 def _beam_frequencies(params, count):
-    from wingmdao.beam.static import BeamModel, beam_forcing
-
     m = BeamModel(params)
     n = m.num_nodes
     return natural_frequencies(m.system, m.p, pack(forcing_specs(n), beam_forcing(n)), count=count)
@@ -227,8 +211,6 @@ def verify_pegasus_args(*, ribs="stations", fidelity="shell", modes=0, chord_ele
                         buckling=False, loads_case="maneuver_pos", buckling_modes=5, bay_elements=2, web_elements=1,
                         stiffeners=None, keep_deck=None, load_lines="ribs"):
     """The parsed-argument namespace of ``verify pegasus`` (``ribs``: 'stations', None, or a spacing)."""
-    import argparse
-
     return argparse.Namespace(case="pegasus", loads=loads, load_factor=load_factor, fidelity=fidelity, through_elements=2,
                               nlgeom=False, load_steps=1, ribs=None if ribs in ("stations", None) else ribs,
                               no_ribs=ribs is None, rib_thickness=rib_thickness, design=design, modes=modes,

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import math
 import sys
+
 from wingmdao.cli._args import add_json_argument
-from wingmdao.cli import write_json
+from wingmdao.cli import COMMANDS, write_json
 from wingmdao.utils.cache_admin import prune
 from wingmdao.utils.casadi_cache import cache_dir
 
@@ -14,7 +16,7 @@ DEFAULT_UNUSED_DAYS = 30.0
 def register(subparsers):
     p = subparsers.add_parser(
         "cache",
-        help="show the compile cache (compiled functions, stored functions) and prune unused entries",
+        help=COMMANDS["cache"].help,
         description="The compile cache ($WINGMDAO_CACHE, default ~/.cache/wingmdao/casadi) keeps every "
         "compiled CasADi function and C kernel and every stored section/stress/load function; each new "
         "wingmdao version and beam size adds entries, none is replaced. Without --prune this only reports "
@@ -34,9 +36,6 @@ def _mb(n: int) -> str:
 
 
 def run(args) -> int:
-    import math
-
-
     if not math.isfinite(args.unused_days) or args.unused_days < 0:
         raise ValueError(f"--unused-days = {args.unused_days}; allowed range [0, inf) days")
     summary = prune(cache_dir(), args.unused_days, dry_run=not args.prune)

@@ -4,8 +4,11 @@ nastran-aeroelastic``: the beam with its masses, lifting surface, splines and th
 cards, see :mod:`wingmdao.fe.nastran_aero`."""
 
 from __future__ import annotations
+import sys
 
 import numpy as np
+import wingmdao.cli._openmdao  # noqa: F401  (first: OpenMDAO without the matplotlib of its report plugins)
+from wingmdao.cli import COMMANDS
 from wingmdao.cli._io import check_output_file
 from wingmdao.cases import pegasus as pegasus_case, wing_box as wing_box_case
 from wingmdao.cases.planform import G0
@@ -15,6 +18,7 @@ from wingmdao.cli.verify import design_walls, wing_box_sections
 from wingmdao.fe.export import beam_deck, shell_deck, write_atomic
 from wingmdao.fe.wing_loads import lumped_line_loads, point_weights
 from wingmdao.materials import ALUMINIUM
+from wingmdao.cases.pegasus_verification import engine_stations, fe_loads, nastran_aeroelastic_deck
 
 #: --format of the aeroelastic Nastran deck (wingmdao.fe.nastran_aero)
 AEROELASTIC = "nastran-aeroelastic"
@@ -23,7 +27,7 @@ AEROELASTIC_ONLY = {"sol": 146, "modes": 10, "spanwise_boxes": 20, "chordwise_bo
 
 
 def register(subparsers):
-    p = subparsers.add_parser("export", help="write a sized wing as a CalculiX / Abaqus / Nastran deck",
+    p = subparsers.add_parser("export", help=COMMANDS["export"].help,
                               description="Export a case as an FE deck (SI units: m, N, kg; body axes).")
     cases = p.add_subparsers(dest="case", metavar="CASE", required=True)
     wb = cases.add_parser("wing-box", help="App. D.1 box (Table E.2 walls, or --design)")
@@ -67,8 +71,6 @@ def register(subparsers):
 
 
 def run_export(args) -> int:
-    import sys
-
     check_output_file(args.file, "FILE", overwrite=args.overwrite)
     for name in ("tip_load", "tip_moment"):
         if not np.all(np.isfinite(getattr(args, name))):
@@ -84,8 +86,6 @@ def run_export(args) -> int:
 
 def pegasus_deck(design, fmt, fidelity, load_factor=1.0, ribs=True, rib_thickness=0.002) -> str:
     """Deck text of the PEGASUS wing (``verify pegasus``'s model and loads, :mod:`wingmdao.fe.export`)."""
-    from wingmdao.cases.pegasus_verification import engine_stations, fe_loads
-
     if not (np.isfinite(rib_thickness) and 0 < rib_thickness <= 0.5):
         raise ValueError(f"--rib-thickness = {rib_thickness} m; allowed range (0, 0.5] m")
     geo, sec, line, _, structural, _ = pegasus_setup(design, load_factor)
@@ -105,9 +105,6 @@ def pegasus_deck(design, fmt, fidelity, load_factor=1.0, ribs=True, rib_thicknes
 
 
 def run_export_pegasus(args) -> int:
-    import sys
-
-
     check_output_file(args.file, "FILE", overwrite=args.overwrite)
     if args.format == AEROELASTIC:
         return run_export_aeroelastic(args)
@@ -124,10 +121,6 @@ def run_export_pegasus(args) -> int:
 
 def run_export_aeroelastic(args) -> int:
     """``export pegasus --format nastran-aeroelastic``: the deck of :mod:`wingmdao.fe.nastran_aero`."""
-    import sys
-
-    from wingmdao.cases.pegasus_verification import nastran_aeroelastic_deck
-
     if args.fidelity != "beam":
         raise ValueError(f"--fidelity {args.fidelity}: --format {AEROELASTIC} writes the beam model; "
                          "drop --fidelity or give --fidelity beam")

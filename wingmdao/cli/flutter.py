@@ -23,12 +23,15 @@ theory sweep of the same speeds; the PNG draws both V-g / V-f side by side.
 
 from __future__ import annotations
 
+import importlib
 import sys
 import time as _time
 
 import numpy as np
 
+import wingmdao.cli._openmdao  # noqa: F401  (first: OpenMDAO without the matplotlib of its report plugins)
 from wingmdao.stability.cases import FLUTTER_CASES, DEFAULT_NODES, flutter_problem
+from wingmdao.cli import COMMANDS
 from wingmdao.cli._io import read_design, warn, write_json
 from wingmdao.cli._args import add_aero_theory_argument, add_gravity_argument, add_output_arguments
 from wingmdao.beam.residual import forcing_specs
@@ -38,11 +41,14 @@ from wingmdao.plots import save_figure
 from wingmdao.stability import critical_speeds, eigenmodes, sweep
 from wingmdao.stability.eigen import check_speeds
 from wingmdao.timemarch.system import pack
+from wingmdao.beam.static import BeamModel, beam_forcing
+from wingmdao.stability.deformed import check_root_aoa, deformed_flutter
+from wingmdao.stability.modal import dlm_flutter
 
 
 def register(subparsers):
     p = subparsers.add_parser(
-        "flutter", help="flutter and divergence speeds, V-g / V-f sweep of a benchmark wing",
+        "flutter", help=COMMANDS["flutter"].help,
         description="Linear stability of the aeroelastic beam (strip theory) over an airspeed sweep: flutter "
         "and divergence speeds, in vacuo frequencies, V-g / V-f plot (--aero-theory: the quasi-steady lift). SI output.")
     p.add_argument("case", metavar="CASE", help="case with aerodynamic data: " + ", ".join(FLUTTER_CASES))
@@ -118,8 +124,6 @@ def _clean(x):
 
 def analyse(case, speeds=None, num_nodes=None, n_modes=4, thickness=None, aero_theory="strip") -> dict:
     """Run the flutter analysis; returns the JSON dict (``thickness``: PEGASUS walls per node, m)."""
-    from wingmdao.beam.static import BeamModel, beam_forcing
-
     if case not in FLUTTER_CASES:
         raise ValueError(f"case {case!r} has no aerodynamic (flutter) data; allowed: {list(FLUTTER_CASES)}")
     if int(n_modes) < 1:
@@ -168,8 +172,6 @@ def _flutter_json(r) -> dict:
 def analyse_dlm(case, speeds=None, num_nodes=None, n_modes=4, thickness=None) -> dict:
     """Doublet-lattice flutter (p-k and state space, :func:`wingmdao.stability.modal.dlm_flutter`)
     beside strip theory's sweep of the same speeds; returns the JSON dict."""
-    from wingmdao.stability.modal import dlm_flutter
-
     strip = analyse(case, speeds, num_nodes, n_modes, thickness, "strip")
     v = np.asarray(strip["speeds"], dtype=float)
     v = v[v > 0.0]
@@ -200,7 +202,6 @@ def plot_dlm(result, path):
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
 
     fig, axes = plt.subplots(2, 2, figsize=(11, 7), sharex=True, sharey="row")
     d = result["dlm"]
@@ -236,10 +237,6 @@ DEFAULT_ROOT_AOA_DEG = (1.0, 2.0, 3.0)
 
 def analyse_deformed(case, root_aoa_deg, speeds=None, num_nodes=21, n_modes=4, gravity=None) -> dict:
     """Flutter about the deformed state per root angle of attack; returns the JSON dict."""
-    import importlib
-
-    from wingmdao.stability.deformed import deformed_flutter
-
     t0 = _time.perf_counter()
     prob = flutter_problem(case, int(num_nodes))
     if gravity is None:
@@ -323,8 +320,6 @@ def plot(result, path):
 
 def check_deformed_args(args):
     """Validated root angles of attack (deg) for ``--deformed`` (None without it); ValueError otherwise."""
-    from wingmdao.stability.deformed import check_root_aoa
-
     if not args.deformed:
         if args.root_aoa_deg is not None or args.gravity is not None:
             raise ValueError("--root-aoa-deg and --gravity need --deformed")
@@ -383,9 +378,6 @@ def run(args) -> int:
     if args.case == "pegasus":
         result["design"] = args.design or "initial"
     if args.deformed:
-        import importlib
-
-
         result["deformed"] = analyse_deformed(args.case, angles, speeds, args.num_nodes or DEFAULT_NODES[args.case],
                                               args.modes, args.gravity)
         result["deformed_published"] = getattr(importlib.import_module(f"wingmdao.cases.{args.case}"),

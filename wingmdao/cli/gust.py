@@ -46,6 +46,7 @@ import numpy as np
 
 from wingmdao.cases import resolve_aero_theory
 from wingmdao.plots import optional_pyplot, save_figure
+from wingmdao.cli import COMMANDS
 from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, warn, write_json
 from wingmdao.cli._args import (add_aero_and_plunge_arguments, add_aero_theory_argument, add_deprecated_alias,
                                 add_free_pitch_arguments, add_output_arguments)
@@ -58,6 +59,11 @@ from wingmdao.cases.planform import FT, G0, LB, wing_geometry
 from wingmdao.cases import pegasus
 from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas, speed_of_sound
 from wingmdao.loads.gust_set import read_gust_set
+from wingmdao.aero.gust_response import (GustFlight, alleviation_summary, coupled_gust_response,
+                                         dlm_gust_response, strip_gust_response, wing_lift_slope)
+from wingmdao.aero.system import aero_parameters, three_dimensional_parameters
+from wingmdao.cases import pegasus_stick
+from wingmdao.envelope import monitoring_potatoes
 
 CASES = ("pegasus", "crm")
 #: --model: the lone wing or the stick model of the whole aircraft (pegasus)
@@ -78,7 +84,7 @@ DLM_MODES = 6
 
 def register(subparsers):
     p = subparsers.add_parser(
-        "gust", help="gust response (load factor, root loads, tip deflection), coupled aeroelastic or strip loads",
+        "gust", help=COMMANDS["gust"].help,
         description="1-cos gust response of a case's wing: on the aeroelastic beam (--aero coupled: unsteady strip "
         "theory on the deforming wing, free plunge or clamped, from the trimmed 1 g level flight) or with the "
         "sizing's precomputed strip-theory loads on the clamped beam (--aero strip). SI output.")
@@ -131,10 +137,6 @@ def register(subparsers):
 
 
 def run(args):
-    from wingmdao.aero.system import aero_parameters, three_dimensional_parameters
-    from wingmdao.aero.gust_response import (GustFlight, coupled_gust_response, dlm_gust_response,
-                                             strip_gust_response, wing_lift_slope)
-
     t_wall = _time.perf_counter()
     plunge = args.plunge or ("free" if args.aero == "coupled" else "clamped")
     if args.aero == "strip" and plunge == "free":
@@ -263,8 +265,6 @@ def run(args):
 
         resp = response()
         if surfaces:
-            from wingmdao.aero.gust_response import alleviation_summary
-
             controlled = response(surfaces=surfaces, law=law)
             alleviation = {"alleviation": {"file": args.alleviation,
                                            **alleviation_summary(resp, controlled, surfaces, law)}}
@@ -452,8 +452,6 @@ def _read_stick_gust_set(args):
 
 def _stick_aircraft(args, walls, num_nodes):
     """The PEGASUS stick model of ``--design`` walls (None: the initial ones) and ``--stiffness-scale``."""
-    from wingmdao.cases import pegasus_stick
-
     aircraft = pegasus_stick.build(num_nodes, thickness=walls)
     if args.stiffness_scale != 1.0:
         scale_stick_stiffness(aircraft, args.stiffness_scale)
@@ -465,8 +463,6 @@ def _stick_aircraft(args, walls, num_nodes):
 def _stick_gust_result(r) -> dict:
     """The JSON keys of one stick gust response ``r`` (:class:`~wingmdao.cases.pegasus_stick.StickGust`):
     load factor and its peaks, trim, and the monitoring stations' histories, extremes and potato plots."""
-    from wingmdao.envelope import monitoring_potatoes
-
     dn = r.load_factor - r.load_factor[0]
     potatoes = monitoring_potatoes(r.loads)
     loads = {}
@@ -494,8 +490,6 @@ def _run_stick(args, t, flight, walls, num_nodes, *, H_ft, alt_ft, t_wall, plot_
     """The gust on the PEGASUS stick model (:func:`wingmdao.cases.pegasus_stick.gust_response`): its wing
     of ``walls`` (``--design``, checked against the case's ``num_nodes``-node wing; None: the initial
     walls), every beam's section stiffness times ``--stiffness-scale``."""
-    from wingmdao.cases import pegasus_stick
-
     aircraft = _stick_aircraft(args, walls, num_nodes)
     r = pegasus_stick.gust_response(aircraft, t, airspeed=flight.airspeed, density=flight.density, mach=flight.mach,
                                     u_ds_tas=flight.u_ds_tas, gradient=flight.gradient, gust_start=flight.gust_start,
@@ -532,8 +526,6 @@ def stick_set_envelope(gusts) -> dict:
         potato plot of the set (``potato_components``, ``potato_hull``: the convex hull of the pair over
         every gust, :func:`wingmdao.envelope.monitoring_potatoes` of the gusts' histories joined).
     """
-    from wingmdao.envelope import monitoring_potatoes
-
     labels = list(gusts[0]["monitoring_loads"])
     joined = {lb: {"force": np.vstack([np.asarray(g["monitoring_loads"][lb]["force_n"]) for g in gusts]),
                    "moment": np.vstack([np.asarray(g["monitoring_loads"][lb]["moment_n_m"]) for g in gusts])}
@@ -558,8 +550,6 @@ def stick_set_envelope(gusts) -> dict:
 def _run_stick_set(args, t, gset, walls, num_nodes, *, t_wall, plot_path):
     """Every gust of ``--gust-set`` on the PEGASUS stick model, with the monitoring stations' envelopes
     and potato plots over the set (:func:`stick_set_envelope`)."""
-    from wingmdao.cases import pegasus_stick
-
     aircraft = _stick_aircraft(args, walls, num_nodes)
     rho0 = float(density(0.0))
     gusts = []

@@ -23,16 +23,22 @@ import os
 import sys
 import time as _time
 
+import wingmdao.cli._openmdao  # noqa: F401  (first: OpenMDAO without the matplotlib of its report plugins)
+from wingmdao.cli import COMMANDS
 from wingmdao.cli._args import add_output_arguments
 from wingmdao.cli._io import EXIT_INTERRUPTED, check_output_dir, check_output_file, read_design, refuse_existing, write_json
 from wingmdao.cases import available_cases
+from wingmdao.loads.cards import write_cards
+from wingmdao.loads.database import run_matrix, write_database
+from wingmdao.loads.matrix import critical_table, expand, read_matrix, screen
+from wingmdao.parallel import is_root, world_comm
 
 CASES = ("pegasus",)
 
 
 def register(subparsers):
     p = subparsers.add_parser(
-        "loads", help="loads matrix: altitudes x speeds x mass cases, screened; loads database and stress cards",
+        "loads", help=COMMANDS["loads"].help,
         description="Run a loads matrix (altitudes x V_C/V_D x mass cases; every discrete gust, continuous "
         "turbulence and the maneuvers of each point), screen the internal loads of every station for the "
         "critical cases, write the loads database (HDF5) and the Nastran/CalculiX cards of the critical cases. "
@@ -56,11 +62,6 @@ def output_paths(out: str, case: str) -> dict:
 
 
 def run(args):
-    from wingmdao.loads.cards import write_cards
-    from wingmdao.loads.database import run_matrix, write_database
-    from wingmdao.loads.matrix import critical_table, expand, read_matrix, screen
-    from wingmdao.parallel import is_root, world_comm
-
     t0 = _time.perf_counter()
     missing = [m for m in ("h5py", "yaml") if importlib.util.find_spec(m) is None]
     if missing:

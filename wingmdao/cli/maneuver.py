@@ -26,6 +26,7 @@ import numpy as np
 
 from wingmdao.plots import optional_pyplot, save_figure
 
+from wingmdao.cli import COMMANDS
 from wingmdao.cli._args import METAVARS, add_free_pitch_arguments, add_output_arguments
 from wingmdao.cli._io import write_json, read_design
 from wingmdao.aero.pitch import elevator_effectiveness, pitch_parameters
@@ -35,6 +36,9 @@ from wingmdao.cases.planform import FT, G0, LB, wing_geometry
 from wingmdao.cli.gust import check_outputs
 from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
 from wingmdao.loads.maneuver import limit_load_factors
+from wingmdao.aero.gust_response import wing_lift_slope
+from wingmdao.aero.system import aero_parameters
+from wingmdao.loads.checked_pitch import checked_pitch, maneuver_model
 
 CASES = ("pegasus",)
 #: the elevator's chord ratio assumed by default (an assumption: typical of transport elevators)
@@ -47,7 +51,7 @@ REQUIRED_PITCH = ("pitch_inertia", "cg_x", "tail_arm", "tail_area", "tail_lift_s
 
 def register(subparsers):
     p = subparsers.add_parser(
-        "maneuver", help="dynamic maneuvers: the 14 CFR 25.331(c)(2) checked pitch maneuver (free pitch, elevator)",
+        "maneuver", help=COMMANDS["maneuver"].help,
         description="Dynamic maneuver of a case's airplane on the coupled aeroelastic beam, free in plunge and pitch "
         "with a horizontal tail and an elevator, from trimmed level flight. --checked-pitch: 14 CFR 25.331(c)(2), "
         "delta(t) = delta_1 sin(omega t) for 0 <= t <= 3 pi / (2 omega), delta_1 scaled so that the peak load factor "
@@ -121,10 +125,6 @@ def _check_args(args):
 
 
 def run(args):
-    from wingmdao.aero.system import aero_parameters
-    from wingmdao.aero.gust_response import wing_lift_slope
-    from wingmdao.loads.checked_pitch import checked_pitch, maneuver_model
-
     t_wall = _time.perf_counter()
     _check_args(args)
     direction = "nose-down" if args.nose_down else "nose-up"

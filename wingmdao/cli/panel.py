@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 from wingmdao.cli._args import add_json_argument
-from wingmdao.cli import write_json
+from wingmdao.cli import COMMANDS, write_json
 from wingmdao.panels.laminate import check_ply_fractions
 from wingmdao.panels.stiffened import DEFAULT_FLANGE_RATIO, STIFFENERS, panel_analysis, panel_material
 
@@ -13,7 +13,7 @@ from wingmdao.panels.stiffened import DEFAULT_FLANGE_RATIO, STIFFENERS, panel_an
 def register(subparsers):
     p = subparsers.add_parser(
         "panel",
-        help="critical running loads and failure ratios of a stiffened skin panel or spar web (JSON)",
+        help=COMMANDS["panel"].help,
         description="Skin (or spar web) with optional blade or T stiffeners between two ribs: plate "
         "buckling of the skin between stiffeners, global panel buckling, stiffener column and crippling, "
         "material strength; critical running loads (N/m) and load-linear failure ratios (1 = failure). "

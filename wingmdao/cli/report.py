@@ -3,15 +3,21 @@ and with several recordings a thickness comparison (e.g. maneuver vs gust sizing
 
 from __future__ import annotations
 
+import glob
 import os
+
+import wingmdao.cli._openmdao  # noqa: F401  (first: OpenMDAO without the matplotlib of its report plugins)
+from wingmdao.cli import COMMANDS
 from wingmdao.cli._io import check_output_dir, refuse_existing, warn
 from wingmdao.cli._args import add_deprecated_alias
+from wingmdao.envelope import check_stations, critical_cases, format_critical_table, load, write_plots
+from wingmdao.report import format_history, format_margins, read_history, write_comparison_plot, write_report_plots
 
 
 def register(subparsers):
     p = subparsers.add_parser(
         "report",
-        help="print the iteration history of a recorded sizing run and write plots",
+        help=COMMANDS["report"].help,
         description="Read the SQLite recording of a sizing run (written by 'wingmdao size'), "
         "print objective and worst KS constraint per driver iteration, and write PNG plots. "
         "With several recordings, also overlay their final thicknesses in thickness_comparison.png "
@@ -32,8 +38,6 @@ def register(subparsers):
 def planned_plots(out: str, subs: list[str], *, several: bool) -> list[str]:
     """Files the report would write: per recording its history and thickness plots and any
     envelope plots (``envelope*``), and the comparison plot of several recordings."""
-    import glob
-
     paths = []
     for sub in subs:
         paths += [os.path.join(sub, "iterations.png"), os.path.join(sub, "thickness_final.png")]
@@ -44,8 +48,6 @@ def planned_plots(out: str, subs: list[str], *, several: bool) -> list[str]:
 
 
 def run(args) -> int:
-    from wingmdao.report import format_history, format_margins, read_history, write_comparison_plot, write_report_plots
-
     histories = {}
     for rec in args.recording:
         hist = read_history(rec)
@@ -67,8 +69,6 @@ def run(args) -> int:
     for rec in args.recording:
         env_file = os.path.splitext(rec)[0] + "_envelope.npz"
         if os.path.exists(env_file):
-            from wingmdao.envelope import check_stations, load
-
             envelopes[rec] = (env_file, load(env_file))
             check_stations(args.potato_stations, envelopes[rec][1]["span"].size)
     if args.potato_stations is not None and not envelopes:
@@ -79,8 +79,6 @@ def run(args) -> int:
         for path in write_report_plots(hist, sub):
             print(f"wrote {path}")
     for rec, (env_file, data) in envelopes.items():  # envelope runs: critical-case, envelope, potato plots
-        from wingmdao.envelope import critical_cases, format_critical_table, write_plots
-
         print(f"== {env_file}: critical load case per station")
         print(format_critical_table(critical_cases(data)))
         sub = subs[args.recording.index(rec)]

@@ -14,13 +14,17 @@ from __future__ import annotations
 
 import numpy as np
 
+import wingmdao.cli._openmdao  # noqa: F401  (first: OpenMDAO without the matplotlib of its report plugins)
 from wingmdao.cases.wing_box.geometry import GEOMETRIES, T_SKIN, T_SPAR
 from wingmdao.cli._args import add_gravity_argument, add_json_argument
 from wingmdao.cases import wing_box as case
+from wingmdao.cases.wing_box.problem import analysis_problem, totals_max_rel_error
 from wingmdao.cases.wing_box import HEIGHTS, geometry_data, station_rotations, station_summary
-from wingmdao.cli import write_json
+from wingmdao.cli import COMMANDS, write_json
 from wingmdao.groups.load_case import STRESS_FAMILIES
 from wingmdao.limits import estimate_bytes
+import openmdao.api as om
+from wingmdao.verification.wingbox_solid import solve_wingbox
 
 
 #: --load-steps and --elements (sum of the three segments) upper bounds
@@ -43,8 +47,7 @@ def add_wing_box_arguments(parser, *, walls=True, loads=True):
 
 
 def register(subparsers):
-
-    p = subparsers.add_parser("run", help="run a shipped analysis case (beam response, stresses) and write JSON",
+    p = subparsers.add_parser("run", help=COMMANDS["run"].help,
                               description="Run an analysis case. SI units, body axes x aft, y outboard, z up.")
     cases = p.add_subparsers(dest="case", metavar="CASE", required=True)
     wb = cases.add_parser(
@@ -134,8 +137,6 @@ def check_wing_box_args(args):
 
 def wing_box_result(args) -> dict:
     """The JSON-ready result of ``wingmdao run wing-box`` from the parsed arguments."""
-    import openmdao.api as om
-
 
     check_wing_box_args(args)
     if getattr(args, "model", "beam") == "solid":
@@ -147,7 +148,7 @@ def wing_box_result(args) -> dict:
                               gravity=args.gravity)
     walls = {"t_upper_skin": args.t_skin * cos_dih, "t_lower_skin": args.t_skin * cos_dih,
              "t_front_spar": args.t_spar * cos_sweep, "t_rear_spar": args.t_spar * cos_sweep}
-    prob = case.analysis_problem(geometry, load, walls, design_vars=args.check_totals,
+    prob = analysis_problem(geometry, load, walls, design_vars=args.check_totals,
                                  newton_options={"static_options": {"load_steps": args.load_steps}})
     try:
         prob.run_model()
@@ -161,7 +162,7 @@ def wing_box_result(args) -> dict:
     else:
         res.pop("_tip_history")
     if args.check_totals:
-        res["check_totals_max_rel_error"] = case.totals_max_rel_error(prob, load)
+        res["check_totals_max_rel_error"] = totals_max_rel_error(prob, load)
     res["geometry"] = args.geometry
     res["model"] = "beam"
     res["inputs"] = {"t_spar": args.t_spar, "t_skin": args.t_skin, "tip_load": list(args.tip_load),
@@ -176,8 +177,6 @@ def wing_box_result(args) -> dict:
 def solid_result(args) -> dict:
     """``wingmdao run wing-box --model solid``: the 3-D solid model's response in the JSON keys
     of the beam run (CS1 is the clamped root face: zero displacement)."""
-    from wingmdao.verification.wingbox_solid import solve_wingbox
-
     sol = solve_wingbox(args.geometry, args.tip_load, args.tip_moment, args.mesh_size,
                         span_size=args.span_size, t_spar=args.t_spar, t_skin=args.t_skin,
                         tip_load=args.tip_introduction)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 from wingmdao.cli._args import add_json_argument
-from wingmdao.cli import write_json
+from wingmdao.cli import COMMANDS, write_json
 from wingmdao.materials import get_material
 from wingmdao.section.box import box_properties, validate_box
 from wingmdao.section.solid import solid_properties, validate_solid
@@ -16,7 +16,7 @@ _THICKNESS_OPTIONS = (("t_upper", "t_upper_skin", "upper skin"), ("t_lower", "t_
 def register(subparsers):
     p = subparsers.add_parser(
         "section",
-        help="print box (App. F) or solid-rectangle section properties as JSON",
+        help=COMMANDS["section"].help,
         description="Section properties of a rectangular box (outer width x height, four wall "
         "thicknesses) or, with --solid, of a solid rectangle. All inputs and outputs in SI units: "
         "lengths in m, areas m^2, second moments m^4, stiffnesses N and N*m^2, mass per length kg/m. "

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 from wingmdao.cli._args import add_json_argument
-from wingmdao.cli import write_json
+from wingmdao.cli import COMMANDS, write_json
 from wingmdao.materials import get_material
 from wingmdao.section.fe.io import analyse_description, load_description
 
@@ -10,7 +10,7 @@ from wingmdao.section.fe.io import analyse_description, load_description
 def register(subparsers):
     p = subparsers.add_parser(
         "section-fe",
-        help="6x6 stiffness and mass of an arbitrary cross-section (FE, Giavotto/BECAS) as JSON",
+        help=COMMANDS["section-fe"].help,
         description="Read a YAML/JSON section description (materials, section shape: rectangle, tube, "
         "channel, box, airfoil) and print the 6x6 Timoshenko stiffness (F1 axial, F2, F3 shear, M1 torsion, "
         "M2, M3 bending), 6x6 mass, centres and, for airfoil wingboxes, the stiffness-matched box. SI units. "

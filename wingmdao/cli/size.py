@@ -3,20 +3,37 @@
 from __future__ import annotations
 
 import dataclasses
+import importlib
+import importlib.util
 import os
+import sys
+import time
 
 import numpy as np
 
-from wingmdao.cases import add_option_arguments, available_cases, options_from_namespace, resolve_aero_theory
-from wingmdao.cli._io import EXIT_INTERRUPTED, check_output_dir, check_output_file, refuse_existing, say, warn, write_json
-from wingmdao.cli._args import add_aero_theory_argument, add_deprecated_alias, add_output_arguments
-from wingmdao.utils.memory import (import_openmdao_without_plot_plugins, return_freed_memory,
-                                   return_large_blocks_on_free)
+import wingmdao.cli._openmdao  # noqa: F401  (first: OpenMDAO without the matplotlib of its report plugins)
+import openmdao.api as om
+
+from wingmdao import sizing
+from wingmdao.cases import (add_option_arguments, available_cases, options_from_namespace, pegasus_stick,
+                            resolve_aero_theory)
+from wingmdao.cli import COMMANDS
 from wingmdao.cli._aerostruct import add_parser
+from wingmdao.cli._args import add_aero_theory_argument, add_deprecated_alias, add_output_arguments
+from wingmdao.cli._io import EXIT_INTERRUPTED, check_output_dir, check_output_file, refuse_existing, say, warn, write_json
 from wingmdao.cli.gust import stick_set_envelope
+from wingmdao.envelope import check_stations, format_critical_table, output_paths, write_envelope_outputs
 from wingmdao.limits import check_memory
+from wingmdao.loads.iteration import load_iteration
+from wingmdao.loads.matrix import read_matrix
+from wingmdao.loads.turbulence_analysis import sizing_turbulence_options
+from wingmdao.panel_sizing import size_two_level
 from wingmdao.panels.layout import STIFFENER_VARS
+from wingmdao.parallel import assign_cases, launched_ranks, world_comm
+from wingmdao.report import best_design, read_history
+from wingmdao.results import write_case_plots
 from wingmdao.stability.cases import FLUTTER_CASES, flutter_search, sizing_flutter_options
+from wingmdao.utils.memory import return_freed_memory, return_large_blocks_on_free
 
 #: --presize upper bound (passes)
 MAX_PRESIZE = 20
@@ -24,11 +41,10 @@ MAX_PRESIZE = 20
 FLUTTER_MARGIN = (1.0, 2.0)
 
 
-def _add_common(p, *, sizing: bool):
-
-    add_output_arguments(p, what="the recording and plots" if sizing else "the N2 diagram (CASE_n2.html)",
-                         plots=sizing, json=sizing)
-    if sizing:
+def _add_common(p, *, is_sizing: bool):
+    add_output_arguments(p, what="the recording and plots" if is_sizing else "the N2 diagram (CASE_n2.html)",
+                         plots=is_sizing, json=is_sizing)
+    if is_sizing:
         p.add_argument("--optimizer", default="SLSQP", choices=["SLSQP", "SNOPT", "IPOPT"],
                        help="optimizer (SNOPT needs pyoptsparse; IPOPT runs through pyoptsparse, else "
                             "through cyipopt: pip install wingmdao[ipopt]; SLSQP runs through SciPy "
@@ -73,14 +89,13 @@ def _add_common(p, *, sizing: bool):
 
 def register(subparsers):
     cases = available_cases()
-    for cmd, sizing in (("size", True), ("n2", False)):
+    for cmd, is_sizing in (("size", True), ("n2", False)):
         p = subparsers.add_parser(
             cmd,
-            help=("size a wingbox case for its load cases (minimum mass, KS stress constraints)"
-                  if sizing else "write the N2 diagram (HTML) of a case's OpenMDAO model"),
+            help=COMMANDS[cmd].help,
             description=(
                 "Minimum-mass sizing of the wall thicknesses of a shipped case. Every run records to "
-                "SQLite in --out; read it back with 'wingmdao report'." if sizing else
+                "SQLite in --out; read it back with 'wingmdao report'." if is_sizing else
                 "Set up a case's sizing model and write its N2 diagram to --out/CASE_n2.html."),
         )
         sub = p.add_subparsers(dest="case", metavar="CASE")
@@ -96,9 +111,9 @@ def register(subparsers):
                     "clamped jig, the design's mass and stiffness projected on it, over the trimmed 1 g state on the "
                     "vortex-lattice beam; the maneuvers use the vortex lattice)")
                     if "dlm" in theory.metadata.get("choices", ()) else False)
-            _add_common(cp, sizing=sizing)
-            cp.set_defaults(func=run_size if sizing else run_n2, case_module=mod)
-        if sizing:  # OpenAeroStruct's uCRM fuel burn: a problem of its own, not a WingSizing case
+            _add_common(cp, is_sizing=is_sizing)
+            cp.set_defaults(func=run_size if is_sizing else run_n2, case_module=mod)
+        if is_sizing:  # OpenAeroStruct's uCRM fuel burn: a problem of its own, not a WingSizing case
             add_parser(sub)
         p.set_defaults(func=lambda a, p=p: (p.print_help(), 0)[1])
 
@@ -120,26 +135,17 @@ def _plot_paths(stem, setup):
 
 
 def run_size(args) -> int:
-    # The run's framework is imported here, before the run has any data. OpenMDAO keeps the
-    # traceback of its failed optional ``import jax`` as module globals (``openmdao.func_api``,
-    # ``openmdao.components.explicit_func_comp``, ``implicit_func_comp``), and a traceback keeps
-    # every frame that was on the stack at the import alive: imported from inside ``_size``, it
-    # would hold the sizing problem (~300 MB) until the process ends. OpenMDAO comes first, without
-    # the matplotlib of its report plugins (the run asks for no reports; a plot loads it later).
-    import_openmdao_without_plot_plugins()
-    from wingmdao import sizing  # noqa: F401
-
+    # OpenMDAO is imported with this module (wingmdao.cli._openmdao), before the run has any data:
+    # it keeps the traceback of its failed optional ``import jax`` as module globals
+    # (``openmdao.func_api``, ``openmdao.components.explicit_func_comp``, ``implicit_func_comp``), and a
+    # traceback keeps every frame that was on the stack at the import alive: imported from inside
+    # ``_size``, it would hold the sizing problem (~300 MB) until the process ends.
     return_large_blocks_on_free()  # the resident set follows the memory in use, design point after design point
     return _size(args)
 
 
 def _size(args) -> int:
     """``wingmdao size CASE`` once its modules are imported (:func:`run_size`)."""
-    import sys
-
-    from wingmdao import sizing
-    from wingmdao.parallel import launched_ranks, world_comm
-
     comm = world_comm()
     root = comm is None or comm.rank == 0
     if not root:  # under mpirun only rank 0 prints, records and writes files
@@ -182,8 +188,6 @@ def _size(args) -> int:
         return _run_load_iteration(args, setup, comm)
     plots = [] if args.no_plots else _plot_paths(stem, setup)
     if len(setup.load_cases) > 1:  # an envelope: its loads file and plots are outputs too
-        from wingmdao.envelope import check_stations, output_paths
-
         check_stations(args.potato_stations, setup.geometry.num_nodes)
         plots += output_paths(stem, plots=not args.no_plots)
     elif args.potato_stations is not None:
@@ -206,7 +210,6 @@ def _size(args) -> int:
     if comm is not None:
         say(f"  MPI: {comm.size} ranks share the {len(setup.load_cases)} load cases (wingmdao.parallel)")
     optimize = not args.analysis_only
-    from wingmdao.parallel import assign_cases
 
     mine = (setup.load_cases if comm is None else
             [setup.load_cases[i] for i in assign_cases(setup.load_cases, comm.size)[comm.rank]])
@@ -219,12 +222,10 @@ def _size(args) -> int:
         prob, desc = sizing.build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
                                           driver=optimize, section=setup.section, comm=comm or False,
                                           flutter=setup.flutter, panels=setup.panels, turbulence=setup.turbulence)
-    import openmdao.api as om
 
     interrupted = failed = False
     try:
         if two_level:
-            from wingmdao.panel_sizing import size_two_level
 
             prob, result = size_two_level(setup, progress=lambda line: say(f"  {line}"))
             desc = result["driver"]
@@ -263,6 +264,7 @@ def _size(args) -> int:
         prob.cleanup()
         return _interrupted_after_sizing(args, result, recording)
     except Exception:
+        prob.cleanup()  # the recording is closed whatever failed (one SQLite file: no -wal/-shm left)
         if deferred:  # a failure in the outputs (e.g. the plots) must not lose the result
             write_json(result, args.json)
         raise
@@ -345,9 +347,6 @@ def _size_stick(args, setup, case_options, stem, recording, *, root, comm) -> in
     (with ``--flutter-margin``, the free aircraft's flutter constraint)
     (:func:`wingmdao.cases.pegasus_stick.sizing_setup`, :func:`wingmdao.sizing.build_stick_problem`);
     JSON and summary (no plots, envelope or flutter search)."""
-    from wingmdao import sizing
-    from wingmdao.cases import pegasus_stick
-
     setup = pegasus_stick.sizing_setup(setup, case_options)
     refuse_existing([recording], overwrite=args.overwrite, what="recording")
     _driver_options(setup.options, args, recording)
@@ -392,8 +391,6 @@ def _size_stick(args, setup, case_options, stem, recording, *, root, comm) -> in
 def _interrupted_after_sizing(args, result, recording) -> int:
     """Ctrl-C after the optimizer finished (outputs, flutter search): the JSON of its result, marked
     ``interrupted``, with the recording's best design; exit code 130."""
-    from wingmdao.report import best_design, read_history
-
     result["interrupted"] = True
     result["message"] = (f"{result.get('message', '')}; interrupted while writing the outputs "
                          "(plots, envelope, flutter search): the design is the optimizer's result").lstrip("; ")
@@ -427,12 +424,6 @@ def _driver_options(opts, args, recording) -> None:
 def _run_load_iteration(args, setup, comm) -> int:
     """--matrix: the load iteration of :mod:`wingmdao.loads.iteration`; JSON: the last sizing's result
     with ``load_iteration`` (passes; cases sized, re-checked, added; converged)."""
-    import sys
-
-    from wingmdao import sizing
-    from wingmdao.loads.iteration import load_iteration
-    from wingmdao.loads.matrix import read_matrix
-
     module = args.case_module
     if not (hasattr(module, "beam_params") and hasattr(module, "GUST_SET_DEFAULTS")):
         raise ValueError(f"--matrix: case {module.NAME!r} has no loads-matrix model (cases with it: pegasus)")
@@ -458,12 +449,6 @@ def _run_load_iteration(args, setup, comm) -> int:
 def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupted, failed, write=True):
     """The outputs after the solve that need the problem: responses, envelope, JSON (``write``),
     plots, summary. Returns the exit code and the design of the flutter search (None: no search)."""
-    import importlib.util
-
-    import openmdao.api as om
-
-    from wingmdao import sizing
-
     if comm is None and not (interrupted or failed) and hasattr(args.case_module, "TOGW_LB"):
         result["load_case_response"] = sizing.case_responses(prob, setup, args.case_module.TOGW_LB)
     plots_on = not args.no_plots and root and not (interrupted or failed)
@@ -480,7 +465,6 @@ def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupt
         args.case_module.write_outputs(prob, setup, stem, result)   # a case's own files (e.g. stw's CSVs)
     if root and len(setup.load_cases) > 1 and not (interrupted or failed):
         # an envelope: critical case per station, envelopes, potato plots
-        from wingmdao.envelope import format_critical_table, write_envelope_outputs
 
         turbulence = sizing.turbulence_loads(prob)  # 25.341(b) ellipses on the potato plots (with --turbulence)
         env = write_envelope_outputs(prob, setup, stem, args.potato_stations, plots=plots_on, turbulence=turbulence)
@@ -495,8 +479,6 @@ def _finish(args, prob, setup, result, stem, recording, *, root, comm, interrupt
         write_json(result, args.json)
     if plots_on:
         try:
-            from wingmdao.results import write_case_plots
-
             result["plots"] = write_case_plots(prob, setup, stem, result) + result.get("plots", [])
         except ImportError as exc:
             warn(f"plots skipped ({exc}); the JSON and the recording are written")
@@ -522,8 +504,6 @@ def _add_turbulence(args, setup, comm, case_options=None) -> None:
     """--turbulence: the TurbulenceStressKS options of the case (one process, box sections, a case
     with aerodynamic data), 2 % structural damping at the first mode when the case has none; the
     vortex lattice with ``--aero coupled --aero-theory vlm|dlm``, else strip theory."""
-    from wingmdao.loads.turbulence_analysis import sizing_turbulence_options
-
     if comm is not None and comm.size > 1:
         raise ValueError("--turbulence: the turbulence constraint runs in one process (no mpirun)")
     module = args.case_module
@@ -568,8 +548,6 @@ def _flutter_design(result, args, setup, prob):
     """``dive_speed_m_s`` (and the constraint's margin and speeds) in the result of a case with
     aerodynamic data, and the design its flutter search analyses: the result's thicknesses, plus
     the stiffeners of a stiffened design. None when there is no search."""
-    import importlib
-
 
     name = args.case_module.NAME
     if name not in FLUTTER_CASES or "thickness" not in result:
@@ -582,9 +560,7 @@ def _flutter_design(result, args, setup, prob):
         return None
     design = dict(result["thickness"])
     if setup.panels is not None:   # the stiffened design: its stiffeners are in the sections too
-        from wingmdao.sizing import station_values
-
-        design.update({k: station_values(prob, k) for k in STIFFENER_VARS})
+        design.update({k: sizing.station_values(prob, k) for k in STIFFENER_VARS})
     return design
 
 
@@ -592,8 +568,6 @@ def _add_flutter_result(result, args, setup, design) -> None:
     """The result's ``flutter_speed_m_s`` (a sweep and refinement at the design,
     :func:`wingmdao.stability.cases.flutter_search`) for cases with aerodynamic data; nothing when
     ``design`` is None (:func:`_flutter_design`)."""
-    import time
-
 
     if design is None:
         return
@@ -638,16 +612,12 @@ def _print_summary(res):
 
 
 def run_n2(args) -> int:
-    import openmdao.api as om
-
-    from wingmdao.sizing import build_problem
-
     check_output_dir(args.out, "--out")
     path = os.path.join(args.out, f"{args.case_module.NAME.replace('-', '_')}_n2.html")
     refuse_existing([path], overwrite=args.overwrite, what="N2 diagram")
     setup = args.case_module.build(options_from_namespace(args.case_module.OPTIONS, args))
-    prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
-                            driver=True, section=setup.section, panels=setup.panels)
+    prob, _ = sizing.build_problem(setup.geometry, setup.load_cases, setup.material, setup.options,
+                                   driver=True, section=setup.section, panels=setup.panels)
     om.n2(prob, outfile=path, show_browser=False)
     say(f"wrote {path}")
     return 0

@@ -39,6 +39,7 @@ from wingmdao.plots import optional_pyplot
 from wingmdao.aero.controls import control_spec, read_alleviation
 from wingmdao.cases import available_cases, case_beam_parameters, resolve_aero_theory
 from wingmdao.cases.planform import G0, LB, wing_geometry
+from wingmdao.cli import COMMANDS
 from wingmdao.cli._args import add_aero_and_plunge_arguments, add_aero_theory_argument, add_output_arguments
 from wingmdao.cli._io import check_output_dir, check_output_file, read_design, refuse_existing, write_json
 from wingmdao.loads.atmosphere import altitude_ft_to_m, density, mach_to_tas
@@ -46,6 +47,11 @@ from wingmdao.loads.turbulence import continuous_turbulence_intensity
 from wingmdao.plots import save_figure
 from wingmdao.stability.frequency import stress_matrices
 from wingmdao.stability.modal_turbulence import dlm_turbulence_analysis
+from wingmdao.aero.modal_free import free_modal_dlm_wing
+from wingmdao.aero.system import aero_parameters, three_dimensional_parameters
+from wingmdao.loads.turbulence_analysis import coupled_gust_model, strip_gust_model, turbulence_analysis
+from wingmdao.design import SECTION_KINDS, WALL_VARS, initial_design, station_design
+from wingmdao.stability.modal import modal_dlm_wing
 
 CASES = ("pegasus",)
 #: --grid-points bounds (the geometric part of the frequency grid)
@@ -56,7 +62,7 @@ MAX_F_MAX_HZ = 1000.0
 
 def register(subparsers):
     p = subparsers.add_parser(
-        "turbulence", help="14 CFR 25.341(b) continuous turbulence: A-bar, design loads, correlations",
+        "turbulence", help=COMMANDS["turbulence"].help,
         description="Continuous-turbulence loads of a case's wing: frequency response of the wing linearised about "
         "its 1 g level flight to a unit vertical gust (penetration phase per station), von Karman spectrum "
         "(L = 2,500 ft), A-bar, design loads P_1g +/- U_sigma A-bar and (bending, torsion) correlations. SI output.")
@@ -168,8 +174,6 @@ def _check_dlm(args, plunge):
 def _stress_matrices(setup, args):
     """(n, 8, 6) box stress per unit csn load of every station of the design (initial, or the walls
     per node of --design), or None for a case whose sections are not plain boxes."""
-    from wingmdao.sizing import SECTION_KINDS, WALL_VARS, initial_design, station_design
-
     if setup.section != "box":
         return None
     geo = setup.geometry
@@ -194,9 +198,6 @@ def _check_outputs(args):
 
 
 def run(args):
-    from wingmdao.aero.system import aero_parameters, three_dimensional_parameters
-    from wingmdao.loads.turbulence_analysis import coupled_gust_model, strip_gust_model, turbulence_analysis
-
     t_wall = _time.perf_counter()
     module = available_cases()[args.case]
     plunge, alt_ft, mach, m_c, m_d = _check_args(args, module)
@@ -262,8 +263,6 @@ def _alleviation_summary(args, res, without, u_sigma) -> dict:
     """``alleviation`` of the JSON: the file, the law, A-bar of the root bending, load factor and tip
     deflection without the surfaces (the same wing and grid settings) and with the law, and the
     surfaces' A-bar against their limits (``control_surfaces``)."""
-    from wingmdao.loads.turbulence_analysis import turbulence_analysis
-
     plain = turbulence_analysis(without, u_sigma, f_max=args.f_max_hz, n_base=args.grid_points)
     keys = ("root_bending_moment", "load_factor", "tip_deflection")
     law = None if args.law is None else {"outputs": list(args.law.outputs),
@@ -279,9 +278,6 @@ def _alleviation_summary(args, res, without, u_sigma) -> dict:
 
 
 def _run_dlm(args, bp, chord, axis_frac, mach, V, rho, weight, point, stem, t_wall, alt, plunge):
-    from wingmdao.aero.modal_free import free_modal_dlm_wing
-    from wingmdao.stability.modal import modal_dlm_wing
-
     wing = (free_modal_dlm_wing(bp, chord, axis_frac, mach, aircraft_mass=weight / G0, n_modes=args.modes) if plunge
             else modal_dlm_wing(bp, chord, axis_frac, mach, n_modes=args.modes))
     res = {"case": args.case, "aero": args.aero, "aero_theory": "dlm", "plunge": bool(plunge), "design": args.design,

@@ -14,10 +14,13 @@ magnitude per station, m), ``difference_percent``, and with ``--modes N``
 
 from __future__ import annotations
 
+import argparse
 import os
+import sys
 
 import numpy as np
 
+import wingmdao.cli._openmdao  # noqa: F401  (first: OpenMDAO without the matplotlib of its report plugins)
 from wingmdao.cli._verify_fe import add_fe_arguments, build_fe_model, design_walls, fe_material  # noqa: F401
 from wingmdao.cli._verify_fe import check_fe_args, percent_difference, von_mises_table  # noqa: F401
 from wingmdao.cli._io import check_output_dir, check_output_file
@@ -26,7 +29,7 @@ from wingmdao.beam.modes import natural_frequencies
 from wingmdao.beam.residual import forcing_specs
 from wingmdao.cases import wing_box as case
 from wingmdao.cases.wing_box import STUDY_LOADS, wing_box_beam
-from wingmdao.cli import write_json
+from wingmdao.cli import COMMANDS, write_json
 from wingmdao.cli._verify_buckling import plot_buckling
 from wingmdao.cli._verify_panel import register_panel
 from wingmdao.cli._verify_pegasus import register_pegasus, verify_pegasus
@@ -35,10 +38,12 @@ from wingmdao.fe.box_model import BoxSections, solve_modes, solve_static
 from wingmdao.fe.calculix import CalculixNotFound, find_ccx
 from wingmdao.plots import save_figure
 from wingmdao.timemarch.system import pack
+import openmdao.api as om
+from wingmdao.beam.static import BeamModel, beam_forcing
 
 
 def register(subparsers):
-    p = subparsers.add_parser("verify", help="cross-check the beam against a CalculiX shell or solid model",
+    p = subparsers.add_parser("verify", help=COMMANDS["verify"].help,
                               description="Beam vs CalculiX (ccx) shell or solid model of a shipped case. SI units, "
                               "body axes.")
     cases = p.add_subparsers(dest="case", metavar="CASE", required=True)
@@ -112,7 +117,6 @@ def verify_wing_box(args) -> dict:
     ys = sec.centres[:, 1]
     loads = [(span, sec.centres[-1], force, moment)]
     fe = solve_static(model, loads, ys, nlgeom=args.nlgeom, stress=True)
-    import openmdao.api as om
 
     try:
         beam = case.solve_wing_box(args.geometry, tip_force=force, tip_moment=moment, t_spar=args.t_spar,
@@ -165,8 +169,6 @@ def segment_axes(geometry):
 
 def beam_frequencies(geometry, t_spar, t_skin, count, walls=None):
     """Lowest natural frequencies (Hz) of the beam of ``run wing-box`` (jig state)."""
-    from wingmdao.beam.static import BeamModel, beam_forcing
-
     params, _ = wing_box_beam(geometry, t_spar=t_spar, t_skin=t_skin, walls=walls)
     m = BeamModel(params)
     n = m.num_nodes
@@ -205,10 +207,6 @@ def _plot(res, path):
 
 
 def run_verify(args) -> int:
-    import sys
-
-
-
     overwrite = getattr(args, "overwrite", False)
     if getattr(args, "out", None) is not None and args.plot is None:
         check_output_dir(args.out, "--out")
@@ -234,8 +232,6 @@ def run_verify(args) -> int:
 def verify_args(geometry, tip_load=(0.0, 0.0, 0.0), tip_moment=(0.0, 0.0, 0.0), *, ribs=None, modes=0,
                 chord_elements=8, height_elements=2, span_size=0.5, rib_thickness=0.1, t_spar=0.2, t_skin=0.1):
     """The parsed-argument namespace of ``verify wing-box`` (for scripts and tests)."""
-    import argparse
-
     return argparse.Namespace(geometry=geometry, tip_load=tuple(tip_load), tip_moment=tuple(tip_moment),
                               ribs=ribs, no_ribs=ribs is None, modes=modes, chord_elements=chord_elements,
                               height_elements=height_elements, span_size=span_size, rib_thickness=rib_thickness,

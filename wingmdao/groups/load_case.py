@@ -7,6 +7,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from wingmdao.beam.residual import StrainRateDamping
+from wingmdao.aero.coupled import AERO_FORCING_SHAPES, CoupledAero
+from wingmdao.aero.modal_design import ModalGust
 from wingmdao.section.box import WALL_NAMES
 from wingmdao.stress.box_stress import SECTION_PROPERTIES
 
@@ -113,13 +115,9 @@ class LoadCase:
             if not isinstance(self.damping, StrainRateDamping):
                 raise ValueError(f"load case {self.name}: damping must be a StrainRateDamping, got {self.damping!r}")
         if self.aero is not None:
-            from wingmdao.aero.coupled import CoupledAero
-
             if not isinstance(self.aero, CoupledAero):
                 raise ValueError(f"load case {self.name}: aero must be a CoupledAero, got {type(self.aero).__name__}")
         if self.modal_dlm is not None:
-            from wingmdao.aero.modal_design import ModalGust   # loads OpenMDAO (the CLI's help must not)
-
             if not isinstance(self.modal_dlm, ModalGust):
                 raise ValueError(f"load case {self.name}: modal_dlm must be a ModalGust, got {type(self.modal_dlm).__name__}")
             if np.shape(self.modal_dlm.gust) != (self.num_times, 3):
@@ -140,7 +138,6 @@ class LoadCase:
     def _forcing_shapes(self) -> dict:
         if self.aero is None:
             return FORCING_SHAPES
-        from wingmdao.aero.coupled import AERO_FORCING_SHAPES
 
         controls = getattr(self.aero, "controls", None)
         extra = {"surface_command": (controls.n_surfaces,)} if controls is not None else {}

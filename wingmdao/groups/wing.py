@@ -22,6 +22,7 @@ would assemble the whole history matrix and bypass that.
 
 from __future__ import annotations
 
+import importlib.util
 import numbers
 
 import numpy as np
@@ -30,6 +31,7 @@ import openmdao.api as om
 from wingmdao.beam.residual import forcing_specs
 from wingmdao.groups.load_case import FORCING_SHAPES, LoadCase
 from wingmdao.groups.single_subsystem import SingleSubsystemRunOnce
+from wingmdao.design import BOX_KINDS, SECTION_KINDS
 from wingmdao.materials import Material
 from wingmdao.panels.layout import STIFFENER_VARS, PanelLayout
 from wingmdao.section.box import WALL_NAMES
@@ -64,21 +66,6 @@ SIZED_GAINS = ("controller_C", "controller_D")
 #: Inputs the beam takes from the section, with the section output that feeds it.
 SECTION_TO_BEAM = ("stiffness_csn", "compliance_csn", "mass_per_length", "inertia_per_length")
 WALLS = WALL_NAMES
-
-#: Section kinds: the per-station inputs of the stress component (also the design variables
-#: of a sizing problem are the thicknesses for a box, width and height for a solid section).
-SECTION_KINDS = {
-    "box": {"stress_inputs": ("width", "height") + WALLS, "design_vars": WALLS,
-            "section_to_stress": SECTION_PROPERTIES},
-    "solid": {"stress_inputs": ("width", "height"), "design_vars": ("width", "height"), "section_to_stress": ()},
-    # the box with stiffened skins (wingmdao.panels): the stress of the box plus the panel modes
-    "stiffened": {"stress_inputs": ("width", "height") + WALLS, "design_vars": WALLS + STIFFENER_VARS,
-                  "section_to_stress": SECTION_PROPERTIES},
-}
-
-#: section kinds whose walls are a box's (thickness design variables, box stress recovery)
-BOX_KINDS = ("box", "stiffened")
-
 
 def _section_classes(kind):
     if kind == "box":
@@ -567,8 +554,6 @@ class WingSizing(om.Group):
 
         parallel = self.options["parallel"]
         if parallel is None:
-            import importlib.util
-
             parallel = importlib.util.find_spec("mpi4py") is not None
         alias_map = dict(alias)
         case_inputs = [(v, alias_map[v]) if v in alias_map else v for v in per_station]

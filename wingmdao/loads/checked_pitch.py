@@ -251,7 +251,7 @@ def maneuver_duration(omega, hold=0.0) -> float:
 def maneuver_model(beam_params, aero_params, pitch_params, *, weight, elevator_effectiveness,
                    elevator_time_constant, tail_lag=False):
     """(system, packed parameters) of the airplane free in plunge and pitch with an elevator:
-    ``beam_params`` (:func:`wingmdao.sizing.design_beam_params`), ``aero_params``
+    ``beam_params`` (:func:`wingmdao.design.design_beam_params`), ``aero_params``
     (:func:`wingmdao.aero.aero_parameters`), ``pitch_params`` (:func:`wingmdao.aero.pitch.pitch_parameters`),
     ``weight`` N (the trim lift), tau_e and the actuator's time constant (s) checked first.
 

@@ -32,6 +32,8 @@ what differs between runs of the same matrix (timings, rank count); :func:`diffe
 from __future__ import annotations
 
 import os
+import sys
+import time
 from dataclasses import dataclass, field, fields
 
 import numpy as np
@@ -391,9 +393,6 @@ def run_matrix(module, matrix, *, case: str, comm=None, thickness=None, progress
     LoadsDatabase
         The database.
     """
-    import sys
-    import time
-
 
     t0 = time.perf_counter()
     model = build_wing_model(module, matrix, thickness)

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import csv
 from dataclasses import dataclass
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -167,8 +168,6 @@ def read_npz(path) -> LoadHistory:
     LoadHistory
         The validated history.
     """
-    import zipfile
-
     try:
         data = np.load(path, allow_pickle=False)
     except FileNotFoundError:

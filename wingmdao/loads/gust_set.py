@@ -34,7 +34,7 @@ from __future__ import annotations
 import json
 import math
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -318,8 +318,6 @@ class GustSet:
 
 
 def _renamed(fp: FlightPoint, name: str) -> FlightPoint:
-    from dataclasses import replace
-
     return replace(fp, name=name)
 
 

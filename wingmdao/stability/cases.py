@@ -3,6 +3,7 @@ beam and aerodynamic data, with ``params_at(V)`` for a speed sweep."""
 
 from __future__ import annotations
 
+import importlib
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -10,6 +11,9 @@ import numpy as np
 from wingmdao.aero.strip import check_aero_inputs
 from wingmdao.stability.eigen import critical_speeds, sweep
 from wingmdao.timemarch.system import layout, pack
+from wingmdao.aero import system as aero_system
+from wingmdao.aero.system import cached_aeroelastic_system
+from wingmdao.beam.static import beam_forcing
 
 #: cases with beam + aerodynamic data (module in wingmdao.cases with beam_params and aero_data)
 FLUTTER_CASES = ("goland", "hale", "pegasus")
@@ -98,9 +102,6 @@ class FlutterProblem:
         return p, q.copy()
 
     def _pack_at(self, V):
-        from wingmdao.aero import system as aero_system
-        from wingmdao.beam.static import beam_forcing
-
         n = self.num_nodes
         a = aero_system.aero_parameters(n, chord=self.aero["chord"], ref_point=self.aero["ref_point"],
                                         lift_slope=self.aero["lift_slope"], airspeed=V, density=self.aero["density"],
@@ -174,8 +175,6 @@ def flutter_problem(name: str, num_nodes: int | None = None, thickness: dict | N
     FlutterProblem
         The problem.
     """
-    import importlib
-
     if name not in FLUTTER_CASES:
         raise ValueError(f"case {name!r} has no aerodynamic (flutter) data; allowed: {list(FLUTTER_CASES)}")
     n = DEFAULT_NODES[name] if num_nodes is None else int(num_nodes)
@@ -183,7 +182,6 @@ def flutter_problem(name: str, num_nodes: int | None = None, thickness: dict | N
         raise ValueError(f"num_nodes must be >= 3, got {num_nodes}")
     if thickness is not None and name != "pegasus":
         raise ValueError(f"thickness applies to the sized PEGASUS wing only, not to case {name!r}")
-    from wingmdao.aero.system import cached_aeroelastic_system
 
     mod = importlib.import_module(f"wingmdao.cases.{name}")
     if name == "pegasus":
@@ -225,8 +223,6 @@ def sizing_flutter_options(name: str, num_nodes: int, factor: float, *, rho_ks: 
     dict
         The component's options.
     """
-    import importlib
-
     if name not in FLUTTER_CASES or not hasattr(importlib.import_module(f"wingmdao.cases.{name}"), "flight_point"):
         allowed = [c for c in FLUTTER_CASES if hasattr(importlib.import_module(f"wingmdao.cases.{c}"), "flight_point")]
         raise ValueError(f"--flutter-margin: case {name!r} has no aerodynamic data or dive speed V_D; "

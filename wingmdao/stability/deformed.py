@@ -19,6 +19,7 @@ gravity stays along body -z (an error of order alpha_r^2 / 2 in the weight compo
 
 from __future__ import annotations
 
+import importlib
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -260,8 +261,6 @@ def deformed_flutter(prob, root_aoa_deg, speeds=None, *, gravity=None, n_track=4
     list of DeformedFlutter
         One per angle.
     """
-    import importlib
-
     angles = check_root_aoa(root_aoa_deg)
     v = check_speeds(np.linspace(*DEFORMED_SWEEPS[prob.name]) if speeds is None else speeds)
     if gravity is None:

@@ -30,6 +30,7 @@ refined by bisection on that sign.
 
 from __future__ import annotations
 
+import hashlib
 import warnings
 from dataclasses import dataclass, field
 
@@ -43,6 +44,7 @@ import scipy.sparse.linalg as spla
 from wingmdao.timemarch.system import derived
 from wingmdao.utils import casadi_cache as cc
 from wingmdao.utils.casadi_cache import JitCall, definition_key, signature_stub
+from wingmdao.timemarch.bdf import solve_static
 
 #: systems up to this many states use the dense QZ solver by default
 DENSE_MAX_STATES = 800
@@ -67,8 +69,6 @@ def static_state(system, p, q, x0=None, **options) -> np.ndarray:
     numpy.ndarray
         The static state.
     """
-    from wingmdao.timemarch.bdf import solve_static
-
     x, _ = solve_static(system, p, q, x0, **options)
     return x
 
@@ -157,8 +157,6 @@ def derived_definition(system, builder: str, module: str) -> str:
     str
         The cache definition.
     """
-    import hashlib
-
 
     base = getattr(system, "definition", None)
     if base is None:

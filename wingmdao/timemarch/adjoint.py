@@ -22,7 +22,7 @@ derivation is in ``docs/time-marching.md``.
 from __future__ import annotations
 
 import numpy as np
-import openmdao.api as om
+from openmdao.core.analysis_error import AnalysisError
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
@@ -521,7 +521,7 @@ class LinearizedHistory:
             try:
                 lu = self._factor_step(n, blk)    # A_n equals A_r
             except RuntimeError as exc:
-                raise om.AnalysisError(f"linearized step {n}: singular Newton matrix ({exc})") from exc
+                raise AnalysisError(f"linearized step {n}: singular Newton matrix ({exc})") from exc
             self._factors[r] = lu
         return lu
 

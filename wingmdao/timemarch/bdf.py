@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from math import isfinite
 
 import numpy as np
-import openmdao.api as om
+from openmdao.core.analysis_error import AnalysisError
 from wingmdao.timemarch.newton import DENSE_MAX, NewtonInfo, factor, newton_solve
 from wingmdao.timemarch import fast_step as fs
 from wingmdao.timemarch.fast_step import FastStepper
@@ -184,7 +184,7 @@ def solve_static(system, p, q, x0=None, *, load_steps=1, scaled=None, max_halvin
 
     Raises
     ------
-    om.AnalysisError
+    AnalysisError
         Naming the load fraction, residual norm and worst equation.
     """
     if int(load_steps) < 1:
@@ -212,7 +212,7 @@ def solve_static(system, p, q, x0=None, *, load_steps=1, scaled=None, max_halvin
         frac = min(1.0, done + step)
         try:
             x_new, info = solve_at(frac, x)
-        except om.AnalysisError:
+        except AnalysisError:
             if halvings >= max_halvings:
                 raise
             halvings += 1
@@ -302,7 +302,7 @@ class _StepSolver:
         try:
             self.lu = factor(jac)
         except RuntimeError as exc:
-            raise om.AnalysisError(f"{label()}: singular Newton matrix ({exc})") from exc
+            raise AnalysisError(f"{label()}: singular Newton matrix ({exc})") from exc
         self.factorizations += 1
 
     def solve(self, x, hist, alpha, q, label):
@@ -362,7 +362,7 @@ class _StepSolver:
         finite = np.where(np.isfinite(r), np.abs(r), np.inf)
         worst = int(np.argmax(finite))
         norm = float(np.max(finite)) if r.size else 0.0
-        raise om.AnalysisError(f"{label()}: {why} (iteration {it}, max |residual| = {norm:.3e}, "
+        raise AnalysisError(f"{label()}: {why} (iteration {it}, max |residual| = {norm:.3e}, "
                                f"worst: {self.system.describe_equation(worst)})")
 
 
@@ -391,7 +391,7 @@ class _CompiledStepSolver(_StepSolver):
     def _raise(self, status, label):
         fail_it, r = int(self.stepper.s.fail_iteration), self.stepper.r.copy()
         if status == fs.SINGULAR:
-            raise om.AnalysisError(f"{label()}: singular Newton matrix (Factor is exactly singular)")
+            raise AnalysisError(f"{label()}: singular Newton matrix (Factor is exactly singular)")
         why = {fs.RES_NONFINITE: "residual is not finite", fs.STEP_NONFINITE: "Newton step is not finite",
                fs.NO_CONVERGENCE: f"no convergence in {self.max_iter} iterations"}.get(
                    status, f"compiled function failed (status {status})")
@@ -463,7 +463,7 @@ def march(system, time, p, forcing, *, initial="static", x_init=None, x_guess=No
 
     Raises
     ------
-    om.AnalysisError
+    AnalysisError
         Naming the step, time, residual and worst equation.
     """
     t = np.asarray(time, dtype=float)

@@ -26,7 +26,7 @@ import numpy as np
 
 from wingmdao.timemarch import lu_orders
 from wingmdao.utils import casadi_cache as cc
-from wingmdao.utils.c_library import compile_source
+from wingmdao.utils.c_library import open_compiled
 
 SOURCE = Path(__file__).with_name("bdf_step.c")
 #: -O2 (a 300-line file compiles in ~0.3 s); no fused multiply-adds, so the arithmetic of the
@@ -63,7 +63,7 @@ def library() -> C.CDLL:
     global _lib
     with _lib_lock:
         if _lib is None:
-            _lib = C.CDLL(str(_compile()))
+            _lib = open_compiled(SOURCE, "wm_bdf_step", FLAGS)[0]   # (rebuilt if the cached one does not load)
             _lib.wm_bdf_step.argtypes = [C.POINTER(_Step), _p, _p, _d]
             _lib.wm_bdf_step.restype = _i
             _lib.wm_march.argtypes = [C.POINTER(_Step), _p, _p, _i, _d, _i, _i, _p, C.POINTER(_i)]
@@ -71,11 +71,6 @@ def library() -> C.CDLL:
             _lib.wm_lu_test.argtypes = [C.POINTER(_Step), _p, _p]
             _lib.wm_lu_test.restype = _i
         return _lib
-
-
-def _compile() -> Path:
-    """The cached library of ``bdf_step.c`` (:func:`wingmdao.utils.c_library.compile_source`)."""
-    return compile_source(SOURCE, "wm_bdf_step", FLAGS)
 
 
 _ENTRIES: dict = {}

@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import openmdao.api as om
+from openmdao.core.analysis_error import AnalysisError
 from scipy.linalg.lapack import dgetrf, dgetrs
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
@@ -83,7 +83,7 @@ def _factor(jac, label):
     try:
         return factor(jac)
     except RuntimeError as exc:  # exactly singular
-        raise om.AnalysisError(f"{label}: singular Jacobian ({exc})") from exc
+        raise AnalysisError(f"{label}: singular Jacobian ({exc})") from exc
 
 
 def newton_solve(residual, jacobian, x0, *, atol=1e-9, rtol=1e-12, xtol=1e-12, max_iter=30,
@@ -138,14 +138,14 @@ def newton_solve(residual, jacobian, x0, *, atol=1e-9, rtol=1e-12, xtol=1e-12, m
     r = residual(x)
     norm0 = norm = float(np.max(np.abs(r))) if r.size else 0.0
     if not np.isfinite(norm):
-        raise om.AnalysisError(f"{label}: residual is not finite at the initial guess")
+        raise AnalysisError(f"{label}: residual is not finite at the initial guess")
     for it in range(1, max_iter + 1):
         if norm <= atol:
             return x, NewtonInfo(it - 1, norm, True)
         lu = _factor(jacobian(x), label)
         dx = -lu.solve(r)
         if not np.all(np.isfinite(dx)):
-            raise om.AnalysisError(f"{label}: Newton step is not finite (ill-conditioned Jacobian)")
+            raise AnalysisError(f"{label}: Newton step is not finite (ill-conditioned Jacobian)")
         dx_max, scale = float(np.max(np.abs(dx))), 1.0 + float(np.max(np.abs(x)))
         if dx_max <= xtol * scale:
             x = x + dx
@@ -180,6 +180,6 @@ def newton_solve(residual, jacobian, x0, *, atol=1e-9, rtol=1e-12, xtol=1e-12, m
 def _fail(label, it, norm, r, describe, why):
     worst = int(np.argmax(np.abs(r)))
     name = describe(worst) if describe else f"equation {worst}"
-    raise om.AnalysisError(
+    raise AnalysisError(
         f"{label}: {why} (iteration {it}, max |residual| = {norm:.3e}, worst: {name})"
     )

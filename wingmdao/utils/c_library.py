@@ -148,6 +148,44 @@ def compile_source(source: Path, name: str, flags=C_FLAGS, timeout: float = 120.
     return target
 
 
+def open_compiled(source: Path, name: str, flags=C_FLAGS) -> tuple:
+    """``ctypes.CDLL`` of the compiled ``source``: from the cache (verified against its manifest),
+    else compiled into it. A cached library that verifies but does not load (a foreign or damaged
+    file whose manifest was rewritten to match) is removed and rebuilt once, not left for the
+    fallback of every later run.
+
+    Parameters
+    ----------
+    source : pathlib.Path
+        Path of the C file.
+    name : str
+        Stem of the library's file name in the cache folder.
+    flags : tuple of str, optional
+        Compiler flags (default :data:`C_FLAGS`).
+
+    Returns
+    -------
+    tuple
+        ``(ctypes.CDLL, pathlib.Path)``: the opened library and its path.
+
+    Raises
+    ------
+    wingmdao.utils.casadi_cache.CompileError
+        With no compiler, when gcc fails, or the cache is not safe.
+    OSError
+        When the rebuilt library does not load either.
+    """
+    path = compile_source(Path(source), name, flags)
+    cc.verify(path)
+    try:
+        return ctypes.CDLL(str(path)), path
+    except OSError:
+        path.unlink(missing_ok=True)
+        cc.manifest_path(path).unlink(missing_ok=True)
+    path = compile_source(Path(source), name, flags)
+    return ctypes.CDLL(str(path)), path
+
+
 def load(source: Path, name: str, flags=C_FLAGS, force: bool = False):
     """``ctypes.CDLL`` of the compiled ``source`` (once per process and cache folder), or None
     when compilation is off (``WINGMDAO_JIT=0``, unless ``force``), there is no compiler, or it
@@ -176,9 +214,7 @@ def load(source: Path, name: str, flags=C_FLAGS, force: bool = False):
         if key in _LOADED:
             return _LOADED[key]
         try:
-            path = compile_source(Path(source), name, flags)
-            cc.verify(path)
-            lib = ctypes.CDLL(str(path))
+            lib, path = open_compiled(source, name, flags)
             record_use(path)      # its last use, for `wingmdao cache --prune`
         except Exception as exc:    # noqa: BLE001 - any failure: the caller's fallback
             _warn_once(name, exc, stacklevel=3)

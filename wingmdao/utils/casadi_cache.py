@@ -31,13 +31,14 @@ its own (in well under a minute) and the next run finds the library.
 from __future__ import annotations
 
 import hashlib
+import importlib
 import os
 import shlex
-import stat
-import sys
 import shutil
 import signal
+import stat
 import subprocess
+import sys
 import tempfile
 import threading
 from pathlib import Path
@@ -106,8 +107,6 @@ def source_digest(*modules) -> str:
     str
         SHA-256 hex digest.
     """
-    import importlib
-
     h = hashlib.sha256()
     for mod in modules:
         mod = importlib.import_module(mod) if isinstance(mod, str) else mod

@@ -22,8 +22,10 @@ generating modules' source, CasADi version), so it is stored once under that key
 from __future__ import annotations
 
 import hashlib
+import importlib.util
 import io
 import os
+import sys
 import threading
 from pathlib import Path
 
@@ -102,8 +104,6 @@ def module_closure(*modules: str) -> tuple:
     tuple of str
         The sorted module names.
     """
-    import importlib.util
-
     seen, todo = set(_NOT_GENERATING), [m for m in modules if m not in _NOT_GENERATING]
     while todo:
         name = todo.pop()
@@ -127,9 +127,6 @@ def module_closure(*modules: str) -> tuple:
 
 
 def _is_module(name: str) -> bool:
-    import importlib.util
-    import sys
-
     mod = sys.modules.get(name)
     if mod is not None:
         return getattr(mod, "__file__", None) is not None

@@ -4,9 +4,10 @@
   ``T_SKIN``) and the section centres, defined once;
 * :mod:`.verification`: plain beam solves (:func:`wing_box_beam`, :func:`solve_wing_box`,
   :func:`comparison_solver`) for the solid-model comparison;
-* :mod:`.model`: the OpenMDAO chain of :class:`wingmdao.groups.wing.WingSizing` with one
-  tip-load case (:func:`wing_geometry`, :func:`tip_load_case`, :func:`analysis_problem`) for
-  ``wingmdao run wing-box``;
+* :mod:`.model`: the beam geometry and one tip-load case (:func:`wing_geometry`,
+  :func:`tip_load_case`, :func:`time_grid`) of ``wingmdao run wing-box``;
+* :mod:`.problem`: its OpenMDAO problem (``analysis_problem``, ``totals_max_rel_error``), imported
+  from there (it loads OpenMDAO; the case's other modules do not);
 * :mod:`.sizing`: the studies 1-3 of Sec. 4.7.2 (:class:`WingBoxOptions`, ``build``) for ``wingmdao size wing-box``.
 
 The names below are re-exported, so ``from wingmdao.cases.wing_box import solve_wing_box`` works.
@@ -14,8 +15,7 @@ The names below are re-exported, so ``from wingmdao.cases.wing_box import solve_
 
 from wingmdao.cases.wing_box.geometry import (GEOMETRIES, HEIGHTS, SPANS, STATIONS, T_SKIN, T_SPAR,
                                               geometry_data, section_centres)
-from wingmdao.cases.wing_box.model import (analysis_problem, time_grid, tip_load_case, totals_max_rel_error,
-                                           wing_geometry)
+from wingmdao.cases.wing_box.model import time_grid, tip_load_case, wing_geometry
 from wingmdao.cases.wing_box.sizing import (BOUNDS, CONSTRAINT_GROUPS, SKIN_CAP, STUDY_LOADS, WingBoxOptions, build,
                                             parse_constraints)
 from wingmdao.cases.wing_box.verification import (comparison_solver, solve_wing_box, station_rotations,
@@ -26,7 +26,7 @@ HELP = "App. D.1 'wing-like' box beam, Sec. 4.7.2 studies 1-3 (tip loads, 16 thi
 OPTIONS = WingBoxOptions
 
 __all__ = ["GEOMETRIES", "HEIGHTS", "SPANS", "STATIONS", "T_SKIN", "T_SPAR", "geometry_data", "section_centres",
-           "analysis_problem", "time_grid", "tip_load_case", "totals_max_rel_error", "wing_geometry",
+           "time_grid", "tip_load_case", "wing_geometry",
            "BOUNDS", "CONSTRAINT_GROUPS", "SKIN_CAP", "STUDY_LOADS", "WingBoxOptions", "build",
            "parse_constraints", "comparison_solver", "solve_wing_box", "station_rotations", "station_summary",
            "wing_box_beam", "NAME", "HELP", "OPTIONS"]

@@ -18,6 +18,7 @@ from wingmdao.cases.wing_box.geometry import GEOMETRIES
 from wingmdao.cases.wing_box.model import time_grid, tip_load_case, wing_geometry
 from wingmdao.materials import ALUMINIUM
 from wingmdao.groups.load_case import FAMILY_GROUPS, parse_families
+from wingmdao.design import RHO_KS_MIN, SizingOptions
 
 #: Eq. 4.57 bounds (m). The skins' upper bound of 1.5 m exceeds the 0.5 m box height of
 #: Table D.1 (two skins must leave a web), so it is capped at SKIN_CAP (docs/cases.md).
@@ -97,8 +98,6 @@ def build(options: WingBoxOptions | None = None, **overrides) -> CaseSetup:
     ValueError
         A bad option, naming its flag, before any solve.
     """
-    from wingmdao.sizing import RHO_KS_MIN, SizingOptions
-
     opts = case_options(WingBoxOptions, options, **overrides)
     default = "vm" if opts.study == 1 else "vm,ss,cent"
     families = parse_constraints(opts.constraints if opts.constraints else default)

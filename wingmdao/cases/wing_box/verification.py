@@ -9,14 +9,15 @@ beam side of :func:`wingmdao.verification.wingbox_solid.compare_with_beam`.
 from __future__ import annotations
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from wingmdao.beam.geometry import polyline_beam, streamwise_section_to_csn, streamwise_to_normal
 from wingmdao.cases.wing_box.geometry import HEIGHTS, STATIONS, T_SKIN, T_SPAR, geometry_data, section_centres
 from wingmdao.materials import ALUMINIUM
 from wingmdao.section.box import WALL_NAMES, beam_params_from_rows, box_properties
-from scipy.spatial.transform import Rotation
 from wingmdao.beam.rotations import body_to_csn
 from wingmdao.section.fe import analyse_section, beam_properties_csn, box_mesh, isotropic
+from wingmdao.beam.static import BeamModel
 
 
 def wing_box_beam(name: str, elements_per_segment=(6, 8, 6), t_spar=T_SPAR, t_skin=T_SKIN,
@@ -144,8 +145,6 @@ def solve_wing_box(name: str, tip_force=(0.0, 0.0, 0.0), tip_moment=(0.0, 0.0, 0
     dict
         ``geometry`` and the station response (:func:`station_summary`: m and rad).
     """
-    from wingmdao.beam.static import BeamModel
-
     params, stations = wing_box_beam(name, elements_per_segment, t_spar, t_skin,
                                      section_mapping=section_mapping, walls=walls)
     model = BeamModel(params)

@@ -7,6 +7,9 @@ psi = [eps1, gamma12, gamma13, kappa1, kappa2, kappa3] the sectional strains (Vo
 
 from __future__ import annotations
 
+import multiprocessing as mp
+import os
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -384,10 +387,6 @@ def analyse_sections(jobs, processes: int | None = None) -> list:
     list of Section
         One per job, in order.
     """
-    import multiprocessing as mp
-    import os
-    from concurrent.futures import ProcessPoolExecutor
-
     global _JOBS
     jobs = list(jobs)
     n_proc = min(len(jobs), processes or os.cpu_count() or 1)
