@@ -19,8 +19,8 @@ flight point (:data:`CONDITIONS`, the same for every theory):
 
 A-bar is the root bending moment's, per m/s of rms vertical gust, with the von Karman spectrum of
 25.341(b) (L = 2,500 ft; :func:`wingmdao.loads.turbulence.a_bar`). Every load here is an increment
-on the jig at rest, so the gust peak is also the peak increment. docs/aerodynamics-3d.md, "Strip
-theory, lifting line, vortex lattice and doublet lattice on three wings".
+on the jig at rest, so the gust peak is also the peak increment. docs/aerodynamics-3d.md, "Four
+theories on three wings".
 """
 
 from __future__ import annotations
