@@ -280,7 +280,8 @@ def pegasus_json(directory, name, theory):
     file exists); its result."""
     path = os.path.join(directory, f"{name}_{theory}.json")
     if not os.path.exists(path):
-        subprocess.run([sys.executable, "-m", "wingmdao", *PEGASUS_COMMANDS[name], "--aero-theory", theory,
+        out = ["--out", os.path.join(directory, f"{name}_{theory}"), "--overwrite"] if name == "size" else []
+        subprocess.run([sys.executable, "-m", "wingmdao", *PEGASUS_COMMANDS[name], "--aero-theory", theory, *out,
                         "--json", path], check=True, stderr=subprocess.DEVNULL, stdout=subprocess.DEVNULL)
     with open(path) as f:
         return json.load(f)
