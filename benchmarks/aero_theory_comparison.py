@@ -2,8 +2,17 @@
 lifting line and vortex lattice compared on the Goland wing and PEGASUS.
 
     PYTHONPATH=. python benchmarks/aero_theory_comparison.py [--skip-pegasus]
+    PYTHONPATH=. python benchmarks/aero_theory_comparison.py --table [--skip-pegasus]
 
 (``GUST_JSON_DIR=DIR`` reuses ``DIR/gust_THEORY.json`` of earlier ``wingmdao gust`` runs.)
+
+``--table`` prints only the table of strip theory, lifting line, vortex lattice and doublet
+lattice on Goland, HALE and PEGASUS (flutter speed, clamped 1-cos gust root-bending peak,
+clamped turbulence A-bar of the root bending, PEGASUS sized mass): Goland and HALE in this
+process (:mod:`wingmdao.loads.theory_comparison`, a few minutes, the flutter sweeps dominating),
+PEGASUS from the JSON of ``wingmdao flutter|gust|turbulence|size pegasus --aero-theory THEORY``
+(about 25 minutes for the four sizings and four flutter sweeps; ``TABLE_JSON_DIR=DIR`` keeps and
+reuses them).
 
 Writes docs/figures/vlm_lift_slope.png, docs/figures/goland_gust_theories.png,
 docs/figures/goland_flutter_theories.png, docs/figures/pegasus_gust_theories.png and prints the tables of the docs. Several minutes on an
@@ -26,7 +35,8 @@ from wingmdao.aero.rfa_system import modal_rfa_system
 from wingmdao.aero.vlm import build_lattice, flat_wing, solve_circulation, station_influence
 from wingmdao.beam.static import beam_forcing
 from wingmdao.cases import goland
-from wingmdao.cli.flutter import analyse
+from wingmdao.cli.flutter import analyse, analyse_dlm
+from wingmdao.loads.theory_comparison import CONDITIONS, clamped_gust_root_moment, clamped_turbulence_a_bar, clamped_wing
 from wingmdao.plots import save_figure
 from wingmdao.stability.cases import flutter_problem
 from wingmdao.stability.modal import case_forces, jig_modes
@@ -240,7 +250,109 @@ def pegasus(plt, directory):
     save_figure(fig, os.path.join(FIG, "pegasus_gust_theories.png"), dpi=100)
 
 
+TABLE_THEORIES = ("strip", "lifting-line", "vlm", "dlm")
+#: the PEGASUS commands of the table (JSON to DIR/NAME_THEORY.json); ``dlm`` differences noted
+PEGASUS_COMMANDS = {
+    "flutter": ["flutter", "pegasus", "--no-plots"],
+    "gust": ["gust", "pegasus", "--clamped", "--no-plots"],
+    "turbulence": ["turbulence", "pegasus", "--aero", "coupled", "--clamped", "--no-plots"],
+    "size": ["size", "pegasus", "--aero", "coupled", "--loads", "all", "--no-plots"],
+}
+
+
+def wing_row(case, theory):
+    """Flutter speed and frequency (sea-level Goland, 20 km HALE; the default sweep), the clamped
+    1-cos gust's root-bending peak (N m) and A-bar of the root bending (N m per m/s) of ``case``."""
+    if theory == "dlm":
+        res = analyse_dlm(case)
+        wing = clamped_wing(case)
+    else:
+        res = analyse(case, aero_theory=theory)
+        wing = None
+    _, m = clamped_gust_root_moment(case, theory, wing=wing)
+    ab, _ = clamped_turbulence_a_bar(case, theory, wing=wing)
+    return {"flutter": res["flutter_speed_m_s"], "frequency": res["flutter_frequency_rad_s"],
+            "gust": float(np.max(np.abs(m))), "a_bar": ab}
+
+
+def pegasus_json(directory, name, theory):
+    """``wingmdao NAME pegasus ... --aero-theory THEORY --json DIR/NAME_THEORY.json`` (skipped when the
+    file exists); its result."""
+    path = os.path.join(directory, f"{name}_{theory}.json")
+    if not os.path.exists(path):
+        out = ["--out", os.path.join(directory, f"{name}_{theory}"), "--overwrite"] if name == "size" else []
+        subprocess.run([sys.executable, "-m", "wingmdao", *PEGASUS_COMMANDS[name], "--aero-theory", theory, *out,
+                        "--json", path], check=True, stderr=subprocess.DEVNULL, stdout=subprocess.DEVNULL)
+    with open(path) as f:
+        return json.load(f)
+
+
+def pegasus_row(directory, theory):
+    """PEGASUS, initial design: flutter (the default sweep 20-300 m/s; the doublet lattice's p-k),
+    the clamped Table 5.3 gust's peak root-bending increment, the clamped turbulence A-bar of the
+    root bending (M 0.5, 20 000 ft) and the coupled ``--loads all`` sizing's mass."""
+    fl = pegasus_json(directory, "flutter", theory)
+    gu = pegasus_json(directory, "gust", theory)
+    tu = pegasus_json(directory, "turbulence", theory)
+    sz = pegasus_json(directory, "size", theory)
+    return {"flutter": fl["flutter_speed_m_s"], "frequency": fl["flutter_frequency_rad_s"],
+            "gust": gu["peak_incremental_root_bending_moment"], "a_bar": tu["a_bar"]["root_bending_moment"],
+            "mass": sz["mass_kg"] if sz.get("success") else None}
+
+
+def _fmt(x, scale=1.0, digits=1):
+    return "none in the sweep" if x is None else f"{x / scale:.{digits}f}"
+
+
+def _ratio(x, ref):
+    return "" if x is None or ref is None else f"{x / ref:.2f}"
+
+
+def comparison_table(skip_pegasus=False):
+    """Print the table of docs/aerodynamics-3d.md: every theory on Goland, HALE and PEGASUS."""
+    rows = {}
+    for case in ("goland", "hale"):
+        for th in TABLE_THEORIES:
+            rows[case, th] = wing_row(case, th)
+            print(f"  {case} {th}: {rows[case, th]}", file=sys.stderr, flush=True)
+    if not skip_pegasus:
+        directory = os.environ.get("TABLE_JSON_DIR") or tempfile.mkdtemp(prefix="aero_table_")
+        for th in TABLE_THEORIES:
+            rows["pegasus", th] = pegasus_row(directory, th)
+            print(f"  pegasus {th}: {rows['pegasus', th]}", file=sys.stderr, flush=True)
+    for case, c in CONDITIONS.items():
+        print(f"{case}: clamped, gust {c['u_gust']} m/s, H = {c['gradient_m']} m at {c['airspeed']} m/s, "
+              f"{c['density']} kg/m^3; A-bar at the same speed and density")
+    name = {"strip": "strip", "lifting-line": "lifting line", "vlm": "vortex lattice (2-D lags)",
+            "dlm": "doublet lattice"}
+    print("| wing | theory | flutter speed (m/s) | / DLM | flutter frequency (rad/s) | gust root-bending peak | "
+          "/ DLM | A-bar of root bending | / DLM | sized mass (kg) |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    unit = {"goland": (1e3, "kN m", "kN m per m/s", 1), "hale": (1.0, "N m", "N m per m/s", 2),
+            "pegasus": (1e3, "kN m", "kN m per m/s", 1)}
+    label = {"goland": "Goland", "hale": "HALE", "pegasus": "PEGASUS"}
+    for case in ("goland", "hale", "pegasus"):
+        if (case, "dlm") not in rows:
+            continue
+        ref = rows[case, "dlm"]
+        sc, gu, au, dig = unit[case]
+        for th in TABLE_THEORIES:
+            r = rows[case, th]
+            mass = (_fmt(r["mass"], digits=2) if r.get("mass") is not None else "did not converge") if "mass" in r \
+                else "no sizing (beam data only)"
+            flutter = _fmt(r["flutter"], digits=dig)
+            if th in ("lifting-line", "vlm") and r["flutter"] is not None:
+                flutter += " (a)"  # quasi-steady 3-D lift with 2-D lags: overshoots the doublet lattice
+            print(f"| {label[case]} | {name[th]} | {flutter} | {_ratio(r['flutter'], ref['flutter'])} | "
+                  f"{_fmt(r['frequency'], digits=dig)} | {r['gust'] / sc:.2f} {gu} | {r['gust'] / ref['gust']:.2f} | "
+                  f"{r['a_bar'] / sc:.2f} {au} | {r['a_bar'] / ref['a_bar']:.2f} | {mass} |")
+    print("(a) quasi-steady 3-D lift with 2-D (Wagner) lags: overshoots the doublet lattice's flutter speed")
+
+
 def main():
+    if "--table" in sys.argv:
+        comparison_table("--skip-pegasus" in sys.argv)
+        return
     import matplotlib
 
     matplotlib.use("Agg")

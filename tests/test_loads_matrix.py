@@ -91,6 +91,9 @@ def test_expansion_counts_and_names(tmp_path):
     ("num_nodes: 5", "num_nodes: 2", "model.num_nodes = 2; allowed an integer in [3, 200]"),
     ("stations: [0, 2]", "stations: [0, 9]", "stations = [0, 9]; allowed a list of station indices in [0, 4]"),
     ("name: light_aft", "name: heavy_fwd", "repeated"),
+    ("num_nodes: 5,", "aero_theory: vlm, num_nodes: 5,", "model.aero_theory = 'vlm' needs model.aero = 'coupled'"),
+    ("num_nodes: 5,", "aero: coupled, aero_theory: panel, num_nodes: 5,",
+     "model.aero_theory = 'panel'; allowed 'strip', 'lifting-line', 'vlm'"),
 ])
 def test_bad_matrix_file_one_line_error(tmp_path, old, new, message):
     assert old in TINY
@@ -314,3 +317,44 @@ def test_serial_and_mpirun_two_ranks_give_the_same_database(tmp_path, mpirun, mp
     a, b = ldb.read_database(str(tmp_path / "s.h5")), ldb.read_database(str(tmp_path / "p.h5"))
     assert a.run["ranks"] == 1 and b.run["ranks"] == 2
     assert ldb.differences(a, b) == []
+
+
+def test_coupled_vortex_lattice_gust_is_the_gust_commands_lattice(tmp_path):
+    """``model: {aero: coupled, aero_theory: vlm}``: the matrix's up gust (V_C, 20 000 ft, heavy_fwd)
+    is the vortex-lattice aeroelastic beam of ``wingmdao gust --aero-theory vlm``
+    (wingmdao.aero.gust_response.coupled_gust_response with the lattice's influence matrices, checked
+    against the lattice solved on its panels in tests/test_aero_vlm.py), root bending extremes to
+    1e-9; the 2-D strips' (``aero_theory: strip``) peak root bending increment is more than 15 %
+    above it (the lattice's lower lift slope, 5.5 against 7.2 /rad)."""
+    from wingmdao.aero.gust_response import GustFlight, coupled_gust_response
+    from wingmdao.aero.system import aero_parameters, three_dimensional_parameters
+    from wingmdao.loads.gust import design_gust_velocity_eas
+
+    text = TINY.replace("model: {", "model: {aero: coupled, aero_theory: vlm, ").replace("[60, 350]", "[350]")
+    peaks = {}
+    for theory in ("vlm", "strip"):
+        matrix = lm.read_matrix(_write(tmp_path, text.replace("aero_theory: vlm", f"aero_theory: {theory}")))
+        model = lm.build_wing_model(pegasus, matrix)
+        c = next(c for c in lm.expand(matrix) if c.kind == "gust" and c.sign > 0 and c.speed == "V_C"
+                 and c.altitude_ft > 0 and c.mass == "heavy_fwd")
+        mass = next(m for m in matrix.mass_cases if m.name == c.mass)
+        fs = lm.flight_state(pegasus, c.altitude_ft, matrix.speeds[0])
+        r = lm.gust_loads(model, c, fs, mass)
+        root = lm.COMPONENTS.index("bending_moment")
+        peaks[theory] = r.max[0, root]
+        if theory != "vlm":
+            continue
+        u = design_gust_velocity_eas(c.gradient_ft, c.altitude_ft, fs.f_g)
+        dt = matrix.model["dt_s"]
+        t = dt * np.arange(int(np.ceil(lm.gust_duration(matrix, c.gradient_ft, fs.airspeed) / dt)) + 1)
+        flight = GustFlight(fs.airspeed, fs.density, fs.mach, fs.altitude_m, c.gradient_ft * 0.3048, u,
+                            u * np.sqrt(1.225 / fs.density), lm.wing_lift(model, mass), matrix.model["gust_start_s"])
+        ap = aero_parameters(model.num_nodes, chord=model.chord, ref_point=model.axis_fraction, airspeed=fs.airspeed,
+                             density=fs.density, mach=fs.mach)
+        ap.update(three_dimensional_parameters("vlm", model.node_positions, model.chord, model.axis_fraction,
+                                               fs.mach))
+        resp = coupled_gust_response(t, model.beams[c.mass], model.chord, model.axis_fraction, ap, flight,
+                                     area=model.area, plunge=False, aero_theory="vlm")
+        L = lm.csn_loads(resp.states)
+        np.testing.assert_allclose(r.max[0], L.max(axis=0)[0], rtol=1e-6)
+    assert peaks["strip"] > 1.15 * peaks["vlm"]

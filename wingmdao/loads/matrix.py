@@ -22,7 +22,9 @@ Model (``model.aero``): ``strip`` (default) applies quasi-steady strip-theory lo
 structural beam, the loads of ``wingmdao size CASE --aero strip``; ``coupled`` uses the aeroelastic
 beam of ``wingmdao gust`` (unsteady strip theory, Wagner and Kuessner lags, trimmed 1 g, root
 clamped or, ``model.plunge: free``, free in plunge with the body mass L_w / g less both half
-wings). The 1 g spanload is the Schrenk distribution of the wing's share of the weight,
+wings), its quasi-steady lift per ``model.aero_theory``: ``strip`` (default, the 2-D slope),
+``lifting-line`` or ``vlm`` (the vortex lattice of the planform at each flight state's Mach number,
+:func:`wingmdao.aero.system.three_dimensional_parameters`; the lags stay 2-D per station). The 1 g spanload is the Schrenk distribution of the wing's share of the weight,
 L_w = n W / (1 + (x_cg - x_ac) c_mac / l_t) (the horizontal tail, arm ``aircraft.tail_arm_m`` from
 the CG, balances the wing lift's moment about the CG; the wing's own pitching moment is
 neglected), so a forward CG loads the wing more. Wing fuel is added to the beam's mass per
@@ -55,7 +57,7 @@ import numpy as np
 
 from wingmdao.aero.gust_response import GustFlight, coupled_gust_response
 from wingmdao.aero.plunge import body_mass, half_wing_mass
-from wingmdao.aero.system import aero_parameters
+from wingmdao.aero.system import AERO_THEORY_CHOICES, aero_parameters, three_dimensional_parameters
 from wingmdao.beam.modes import natural_frequencies
 from wingmdao.beam.residual import StrainRateDamping
 from wingmdao.beam.static import beam_forcing, cached_beam_system, march_line_loads
@@ -92,7 +94,7 @@ _MASS_KEYS = {"name", "weight_lb", "weight_kg", "cg_mac", "fuel_fraction"}
 _AIRCRAFT_KEYS = {"tail_arm_m", "wing_fuel_kg", "fuel_span", "ac_mac"}
 _GUST_KEYS = {"gradients_ft", "gradient_count", "signs"}
 _MANEUVER_KEYS = {"load_factors"}
-_MODEL_DEFAULTS = {"aero": "strip", "plunge": "clamped", "num_nodes": 20, "dt_s": 0.02, "gust_start_s": 0.2, "settle_s": 1.0, "damping_ratio": 0.02,
+_MODEL_DEFAULTS = {"aero": "strip", "aero_theory": "strip", "plunge": "clamped", "num_nodes": 20, "dt_s": 0.02, "gust_start_s": 0.2, "settle_s": 1.0, "damping_ratio": 0.02,
                    "damping_frequency_hz": None, "f_max_hz": 40.0, "grid_points": 161}
 _MAX_CASES = 100000
 
@@ -385,6 +387,11 @@ def _model(d):
     m = {**_MODEL_DEFAULTS, **d}
     if m["aero"] not in ("strip", "coupled"):
         raise ValueError(f"model.aero = {m['aero']!r}; allowed 'strip' or 'coupled'")
+    if m["aero_theory"] not in AERO_THEORY_CHOICES:
+        raise ValueError(f"model.aero_theory = {m['aero_theory']!r}; allowed {', '.join(map(repr, AERO_THEORY_CHOICES))}")
+    if m["aero_theory"] != "strip" and m["aero"] != "coupled":
+        raise ValueError(f"model.aero_theory = {m['aero_theory']!r} needs model.aero = 'coupled' (the strip loads "
+                         "are 2-D strips on the rigid wing)")
     if m["plunge"] not in ("clamped", "free"):
         raise ValueError(f"model.plunge = {m['plunge']!r}; allowed 'clamped' or 'free'")
     if m["plunge"] == "free" and m["aero"] != "coupled":
@@ -918,15 +925,26 @@ def _coupled_gust_loads(model, case, fs, mass, t, u_ds):
                         weight=lift, gust_start=float(mx.model["gust_start_s"]))
     free = mx.model["plunge"] == "free"
     resp = coupled_gust_response(t, bp, model.chord, model.axis_fraction, _aero(model, fs), flight, area=model.area,
-                                 plunge=free, body_mass=_body_mass(model, mass) if free else None)
+                                 plunge=free, body_mass=_body_mass(model, mass) if free else None,
+                                 aero_theory=_residual_theory(model))
     out = _from_history(csn_loads(resp.states), t)
     out.intensity = float(u_ds)
     return out
 
 
 def _aero(model, fs):
-    return aero_parameters(model.num_nodes, chord=model.chord, ref_point=model.axis_fraction, airspeed=fs.airspeed,
-                           density=fs.density, mach=fs.mach)
+    """The coupled beam's aerodynamic parameters at the flight state: the strips, with
+    ``model.aero_theory``'s lifting-line slopes or vortex-lattice influence at the flight Mach number."""
+    ap = aero_parameters(model.num_nodes, chord=model.chord, ref_point=model.axis_fraction, airspeed=fs.airspeed,
+                         density=fs.density, mach=fs.mach)
+    ap.update(three_dimensional_parameters(model.matrix.model["aero_theory"], model.node_positions, model.chord,
+                                           model.axis_fraction, fs.mach))
+    return ap
+
+
+def _residual_theory(model):
+    """The aeroelastic residual's lift form: ``"vlm"`` (influence matrices) or ``"strip"`` (per-station slopes)."""
+    return "vlm" if model.matrix.model["aero_theory"] == "vlm" else "strip"
 
 
 def _body_mass(model, mass):
@@ -992,7 +1010,8 @@ def turbulence_loads(model: WingModel, case: MatrixCase, fs: FlightState, mass: 
     if mx.model["aero"] == "coupled":
         gm = coupled_gust_model(model.beams[mass.name], _aero(model, fs), chord=model.chord,
                                 axis_fraction=model.axis_fraction, weight=wing_lift(model, mass),
-                                plunge=mx.model["plunge"] == "free", damping=model.damping)
+                                plunge=mx.model["plunge"] == "free", damping=model.damping,
+                                aero_theory=_residual_theory(model))
     else:
         gm = strip_gust_model(model.beams[mass.name], chord=model.chord, axis_fraction=model.axis_fraction,
                               weight=wing_lift(model, mass), airspeed=fs.airspeed, density=fs.density,
