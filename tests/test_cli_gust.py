@@ -278,7 +278,7 @@ def test_gust_stick_gust_set_errors_before_solve(tmp_path, capsys, monkeypatch, 
 def test_stick_set_envelope_extremes_owners_and_hull():
     """The set's envelope is the extreme over every instant of every gust, named by the gust that gives
     it; its potato hull holds every gust's correlated pairs."""
-    from wingmdao.cli.gust import stick_set_envelope
+    from wingmdao.envelope import stick_set_envelope
     from wingmdao.envelope import monitoring_potatoes
 
     rng = np.random.default_rng(7)

@@ -216,7 +216,7 @@ def test_stick_sizing_gust_set_cases_and_envelope(tmp_path):
     at every lifting station; the monitoring
     envelope over the set, from the sizing model's states, equals the extremes of each gust marched on
     its own (cases.pegasus_stick.gust_response: the march without OpenMDAO)."""
-    from wingmdao.cli.gust import stick_set_envelope
+    from wingmdao.envelope import stick_set_envelope
     from wingmdao.loads.atmosphere import altitude_ft_to_m, density, speed_of_sound
 
     path = tmp_path / "set.yaml"

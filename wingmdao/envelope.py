@@ -505,3 +505,41 @@ def write_envelope_outputs(prob, setup, stem: str, stations=None, plots: bool = 
     out = {"envelope_file": save(data, f"{stem}_envelope.npz"), "critical_cases": critical_cases(data)}
     out["plots"] = write_plots(data, stem, stations) if plots else []
     return out
+
+
+def stick_set_envelope(gusts) -> dict:
+    """Envelopes of the monitoring stations over a set of stick gusts.
+
+    Parameters
+    ----------
+    gusts : list of dict
+        One entry per gust: ``name`` and ``monitoring_loads`` (``{label: {"force_n", "moment_n_m":
+        (n_time, 3)}}``, as ``wingmdao gust --model stick`` writes them).
+
+    Returns
+    -------
+    dict
+        Per station: ``force_max_n``, ``force_min_n``, ``moment_max_n_m``, ``moment_min_n_m`` (3 each,
+        over every instant of every gust), the gusts that give them (``force_max_gust``, ...), and the
+        potato plot of the set (``potato_components``, ``potato_hull``: the convex hull of the pair over
+        every gust, :func:`wingmdao.envelope.monitoring_potatoes` of the gusts' histories joined).
+    """
+    labels = list(gusts[0]["monitoring_loads"])
+    joined = {lb: {"force": np.vstack([np.asarray(g["monitoring_loads"][lb]["force_n"]) for g in gusts]),
+                   "moment": np.vstack([np.asarray(g["monitoring_loads"][lb]["moment_n_m"]) for g in gusts])}
+              for lb in labels}
+    potatoes = monitoring_potatoes(joined)
+    owner = np.concatenate([np.full(len(g["monitoring_loads"][labels[0]]["force_n"]), k) for k, g in enumerate(gusts)])
+    out = {}
+    for lb in labels:
+        entry = {}
+        for key, unit in (("force", "n"), ("moment", "n_m")):
+            a = joined[lb][key]
+            entry[f"{key}_max_{unit}"] = a.max(axis=0).tolist()
+            entry[f"{key}_min_{unit}"] = a.min(axis=0).tolist()
+            entry[f"{key}_max_gust"] = [gusts[owner[i]]["name"] for i in a.argmax(axis=0)]
+            entry[f"{key}_min_gust"] = [gusts[owner[i]]["name"] for i in a.argmin(axis=0)]
+        entry["potato_components"] = potatoes[lb]["components"]
+        entry["potato_hull"] = potatoes[lb]["hull"].tolist()
+        out[lb] = entry
+    return out

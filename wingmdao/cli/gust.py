@@ -63,7 +63,7 @@ from wingmdao.aero.gust_response import (GustFlight, alleviation_summary, couple
                                          dlm_gust_response, strip_gust_response, wing_lift_slope)
 from wingmdao.aero.system import aero_parameters, three_dimensional_parameters
 from wingmdao.cases import pegasus_stick
-from wingmdao.envelope import monitoring_potatoes
+from wingmdao.envelope import monitoring_potatoes, stick_set_envelope
 
 CASES = ("pegasus", "crm")
 #: --model: the lone wing or the stick model of the whole aircraft (pegasus)
@@ -507,44 +507,6 @@ def _run_stick(args, t, flight, walls, num_nodes, *, H_ft, alt_ft, t_wall, plot_
     if plot_path:
         _stick_plots(res, plot_path[:-len(".png")])
     return 0
-
-
-def stick_set_envelope(gusts) -> dict:
-    """Envelopes of the monitoring stations over a set of stick gusts.
-
-    Parameters
-    ----------
-    gusts : list of dict
-        One entry per gust: ``name`` and ``monitoring_loads`` (``{label: {"force_n", "moment_n_m":
-        (n_time, 3)}}``, as :func:`_stick_gust_result` writes them).
-
-    Returns
-    -------
-    dict
-        Per station: ``force_max_n``, ``force_min_n``, ``moment_max_n_m``, ``moment_min_n_m`` (3 each,
-        over every instant of every gust), the gusts that give them (``force_max_gust``, ...), and the
-        potato plot of the set (``potato_components``, ``potato_hull``: the convex hull of the pair over
-        every gust, :func:`wingmdao.envelope.monitoring_potatoes` of the gusts' histories joined).
-    """
-    labels = list(gusts[0]["monitoring_loads"])
-    joined = {lb: {"force": np.vstack([np.asarray(g["monitoring_loads"][lb]["force_n"]) for g in gusts]),
-                   "moment": np.vstack([np.asarray(g["monitoring_loads"][lb]["moment_n_m"]) for g in gusts])}
-              for lb in labels}
-    potatoes = monitoring_potatoes(joined)
-    owner = np.concatenate([np.full(len(g["monitoring_loads"][labels[0]]["force_n"]), k) for k, g in enumerate(gusts)])
-    out = {}
-    for lb in labels:
-        entry = {}
-        for key, unit in (("force", "n"), ("moment", "n_m")):
-            a = joined[lb][key]
-            entry[f"{key}_max_{unit}"] = a.max(axis=0).tolist()
-            entry[f"{key}_min_{unit}"] = a.min(axis=0).tolist()
-            entry[f"{key}_max_gust"] = [gusts[owner[i]]["name"] for i in a.argmax(axis=0)]
-            entry[f"{key}_min_gust"] = [gusts[owner[i]]["name"] for i in a.argmin(axis=0)]
-        entry["potato_components"] = potatoes[lb]["components"]
-        entry["potato_hull"] = potatoes[lb]["hull"].tolist()
-        out[lb] = entry
-    return out
 
 
 def _run_stick_set(args, t, gset, walls, num_nodes, *, t_wall, plot_path):

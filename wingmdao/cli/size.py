@@ -21,8 +21,8 @@ from wingmdao.cli import COMMANDS
 from wingmdao.cli._aerostruct import add_parser
 from wingmdao.cli._args import add_aero_theory_argument, add_deprecated_alias, add_output_arguments
 from wingmdao.cli._io import EXIT_INTERRUPTED, check_output_dir, check_output_file, refuse_existing, say, warn, write_json
-from wingmdao.cli.gust import stick_set_envelope
-from wingmdao.envelope import check_stations, format_critical_table, output_paths, write_envelope_outputs
+from wingmdao.envelope import (check_stations, format_critical_table, output_paths, stick_set_envelope,
+                               write_envelope_outputs)
 from wingmdao.limits import check_memory
 from wingmdao.loads.iteration import load_iteration
 from wingmdao.loads.matrix import read_matrix
