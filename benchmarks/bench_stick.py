@@ -24,10 +24,11 @@ import time
 GOAL = 1.3
 
 
-def _options(steps, dt):
+def _options(steps, dt, aero_theory=None):
     from wingmdao.cases import pegasus
 
-    return pegasus.PegasusOptions(loads="gust", aero="coupled", plunge="free", t_final=steps * dt, dt=dt)
+    return pegasus.PegasusOptions(loads="gust", aero="coupled", plunge="free", t_final=steps * dt, dt=dt,
+                                  aero_theory=aero_theory)
 
 
 def _used_functions(system):
@@ -75,18 +76,22 @@ def main(argv=None):
     ap.add_argument("--repeat", type=int, default=2, help="runs per figure (best taken)")
     ap.add_argument("--compile", action="store_true",
                     help="compile (or load from the cache) every CasADi function of both models before timing")
+    ap.add_argument("--aero-theory", choices=("vlm", "strip"), default=None,
+                    help="the lone wing's quasi-steady lift (default: the command line's, vlm); the stick model "
+                         "has strips")
     ap.add_argument("--allow-mixed", action="store_true",
                     help="print the ratio even when the two models ran different paths")
     args = ap.parse_args(argv)
     from wingmdao import sizing
-    from wingmdao.cases import pegasus, pegasus_stick
+    from wingmdao.cases import pegasus, pegasus_stick, resolve_aero_theory
     from wingmdao.section.box import WALL_NAMES
     from wingmdao.utils.casadi_cache import jit_enabled
 
     opts = _options(args.steps, args.dt)
-    setup = pegasus.build(opts)
+    setup = pegasus.build(_options(args.steps, args.dt, args.aero_theory))
+    theory = resolve_aero_theory(args.aero_theory, "coupled")
     t0 = time.perf_counter()
-    stick = pegasus_stick.sizing_setup(setup, opts)
+    stick = pegasus_stick.sizing_setup(setup if args.aero_theory is None else pegasus.build(opts), opts)
     build_s = time.perf_counter() - t0
     case = stick.load_cases[0]
     nodes_stick = sum(b.num_nodes for b in case.system.beams)
@@ -121,7 +126,7 @@ def main(argv=None):
         lu = f"fallback {stats.get('fallback', 0)}, repivoted {stats.get('repivoted', 0)}"
         rows.append((label, nodes, comp._n_state, march, grad, path, detail, lu))
         prob.cleanup()
-    print(f"PEGASUS gust, {args.steps} steps of {args.dt} s; WINGMDAO_JIT {'on' if jit_enabled() else 'off'}; "
+    print(f"PEGASUS gust, {args.steps} steps of {args.dt} s; lone wing {theory}; WINGMDAO_JIT {'on' if jit_enabled() else 'off'}; "
           f"stick model built (CasADi) in {build_s:.1f} s; CPU time, best of {args.repeat}")
     print(f"{'model':12s} {'nodes':>5s} {'states':>6s} {'march s':>8s} {'grad s':>8s} {'(m+g)/node ms':>14s} "
           f"{'path':>11s}  detail; adjoint static LU")
