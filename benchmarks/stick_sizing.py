@@ -5,7 +5,7 @@ goal, the stick-model sizing within 3 times the wing-alone one).
 
 runs, in this process, one after the other,
 
-    wingmdao size pegasus --loads LOADS --aero coupled --plunge free   (the lone wing, free in plunge)
+    wingmdao size pegasus --loads LOADS --aero coupled --plunge free [--aero-theory T]  (the lone wing, free in plunge)
     wingmdao size pegasus --model stick --loads LOADS                  (the free half aircraft)
 
 with the same time grid and iteration limit (analysis-only with ``--analysis-only``), and prints
@@ -68,15 +68,18 @@ def main(argv=None):
     ap.add_argument("--maxiter", type=int, default=40, help="optimizer iteration limit of both sizings")
     ap.add_argument("--loads", default="gust", choices=("gust", "maneuver", "all"),
                     help="load set of both sizings (the 25.337 maneuvers, the 1-cos gust or both)")
+    ap.add_argument("--aero-theory", choices=("vlm", "strip"), default=None,
+                    help="the lone wing's --aero-theory (default: the command line's, vlm); the stick model has strips")
     ap.add_argument("--analysis-only", action="store_true", help="one analysis of each, no optimizer")
     args = ap.parse_args(argv)
     common = ["--loads", args.loads, "--t-final", str(args.t_final), "--dt", str(args.dt), "--maxiter", str(args.maxiter),
               "--quiet", "--no-plots", "--no-flutter-search"] + (["--analysis-only"] if args.analysis_only else [])
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        for label, extra in (("lone wing (coupled, free plunge)", ["--aero", "coupled", "--plunge", "free"]),
+        lone = ["--aero", "coupled", "--plunge", "free"] + (["--aero-theory", args.aero_theory] if args.aero_theory else [])
+        for label, extra in ((f"lone wing (coupled {args.aero_theory or 'vlm'}, free plunge)", lone),
                              ("stick model", ["--model", "stick"])):
-            out = os.path.join(tmp, label.split()[0])
+            out = os.path.join(tmp, label.split()[0] + ("" if args.aero_theory is None else "_" + args.aero_theory))
             os.makedirs(out)
             js = os.path.join(out, "result.json")
             code, cpu, evaluations = _run(["size", "pegasus", *extra, *common, "--out", out, "--json", js])
