@@ -1,17 +1,21 @@
 """Stick model against the lone wing: march and gradient of the PEGASUS gust KS (issue 29, "Speed").
 
-    PYTHONPATH=. python benchmarks/bench_stick.py                # 500 steps
-    PYTHONPATH=. python benchmarks/bench_stick.py --steps 100    # quicker
+    WINGMDAO_JIT=0 PYTHONPATH=. python benchmarks/bench_stick.py --steps 500          # both interpreted
+    PYTHONPATH=. python benchmarks/bench_stick.py --steps 500 --compile --aero-theory strip  # both compiled
 
 Builds the sizing models of ``wingmdao size pegasus --model stick`` (the free half aircraft: wing,
 fuselage, fin, horizontal tail; :func:`wingmdao.sizing.build_stick_problem`) and of the lone wing
-(``--aero coupled --plunge free``; :func:`wingmdao.sizing.build_problem`) on the same time grid,
-and times one analysis (``run_model``: the BDF2 march, stresses, KS) and one gradient
-(``compute_totals`` of the KS with respect to the four walls: the discrete adjoint). Prints
-the cost per beam node of each model and their ratio beside the goal (<= 1.3), whether the
-march ran compiled (``compiled_steps`` of its history; the CasADi libraries come from the
-compiled cache, or are compiled in the background after ``JIT_THRESHOLD`` evaluations, so the
-first runs of a new definition are interpreted) and the adjoint's static-pivot LU statistics
+(``--aero coupled --plunge free [--aero-theory T]``; :func:`wingmdao.sizing.build_problem`) on the
+same time grid, and times one analysis (``run_model``: the BDF2 march, stresses, KS) and one
+gradient (``compute_totals`` of the KS with respect to the four walls: the discrete adjoint).
+Prints the cost per beam node of each model and their ratio beside the goal (<= 1.3), and the
+path each model ran: "compiled" (the C march, every evaluated CasADi function a compiled library,
+the adjoint's static-pivot C LU), "interpreted" (none of these: ``WINGMDAO_JIT=0``) or "mixed".
+The ratio is printed only when both ran the same path (else exit status 1; ``--allow-mixed``
+prints it anyway). With the JIT on, a function is compiled only when its library is in the
+compiled cache or after ``JIT_THRESHOLD`` evaluations (in the background), so a first run is
+mixed: ``--compile`` loads or compiles every function of both models before timing (gcc at
+``nice -n 10``, 900 s limit per function). Also prints the adjoint's static-pivot LU statistics
 (steps solved by SuperLU after a failed static-pivot solve; pivot orders taken from a failing
 step). Each figure is the best of ``--repeat`` runs (CPU time of this process).
 """
