@@ -110,6 +110,30 @@ def test_warm_cache_serves_from_the_first_evaluation(jit_env):
     assert warm.poll() and warm.state == "compiled" and warm.current.class_name() == "External"
 
 
+def test_evaluations_are_tallied_by_the_path_they_ran(jit_env, monkeypatch):
+    """``EVALUATIONS[name] = [interpreted, compiled]``: a cold function counts interpreted until its
+    compiled library is swapped in; a warm one counts compiled from its first evaluation; with
+    ``WINGMDAO_JIT=0`` every evaluation counts interpreted."""
+    monkeypatch.setattr(cc, "EVALUATIONS", {})
+    cold = cc.JitFunction(_function("tally"), threshold=3)
+    cold.count(2)
+    assert cc.EVALUATIONS["tally"] == [2, 0]
+    cold.count(1)
+    cold.start(wait=True)
+    cold.count(4)            # the library is ready (switched at the next poll): compiled
+    cold.poll()
+    cold.count(5)
+    assert cc.EVALUATIONS["tally"] == [3, 9]
+    warm = cc.JitFunction(_function("tally"), threshold=10**9)
+    warm.count(7)
+    assert cc.EVALUATIONS["tally"] == [3, 16]
+    monkeypatch.setenv(cc.ENV_JIT, "0")
+    off = cc.JitFunction(_function("tally"), threshold=2)
+    off.count(1)
+    off.count(10)
+    assert off.state == "disabled" and cc.EVALUATIONS["tally"] == [14, 16]
+
+
 def test_a_corrupt_cached_library_is_recompiled_by_the_jit_function(jit_env):
     f = _function()
     path = cc.library_path(f)

@@ -473,6 +473,10 @@ def compiled(fun: ca.Function, flags=DEFAULT_FLAGS, definition: str | None = Non
 #: the one warning of a failed compilation (the interpreted functions are used)
 _warn_once = WarnOnce("wingmdao: CasADi compilation unavailable, using the interpreted functions ({})")
 
+#: evaluations recorded by every :class:`JitFunction` of this process, by function name:
+#: ``[interpreted, compiled]`` (which path a run took: ``benchmarks/stick_sizing.py``)
+EVALUATIONS: dict = {}
+
 
 class JitFunction:
     """A CasADi function that switches itself to compiled C after ``threshold`` evaluations.
@@ -505,6 +509,7 @@ class JitFunction:
         self._ready = None
         self._thread = None
         self._key = None              # function_key, computed once
+        self._tally = EVALUATIONS.setdefault(fun.name(), [0, 0])
 
     def key(self) -> str:
         """Cache key of the library (computed once).
@@ -530,6 +535,7 @@ class JitFunction:
         first = self.evaluations == 0
         self.evaluations += n
         if self.state != "interpreted":
+            self._tally[self.state == "compiled" or self._ready is not None] += n
             return
         if first and jit_enabled():
             self._load_cached()
@@ -540,6 +546,7 @@ class JitFunction:
             # iteration earlier and the other waited forever in its allgather). A library already in
             # the cache is still loaded at the first evaluation, the same one on every rank.
             self.start()
+        self._tally[self._ready is not None] += n
 
     def _load_cached(self) -> bool:
         hit = cached(self.interpreted, self.flags, self.key())
