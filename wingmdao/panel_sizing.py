@@ -146,8 +146,8 @@ def envelope_states(nx, nxy, ny) -> np.ndarray:
 class LocalPanelSizer:
     """Minimum-weight skin panel (skin thickness t, stiffener height h and thickness ts) of a
     stiffened skin for given load states, with the detailed panel checks: ``safety_factor`` times
-    every mode of :data:`~wingmdao.panels.box_panels.SKIN_MODES` <= 1, von Mises of the panel
-    (sigma = N_x / t_eq, tau = N_xy / t) <= sigma_y, the web aspect and stiffener-over-skin rules
+    every mode of :data:`~wingmdao.panels.box_panels.SKIN_MODES` <= ``limit``, von Mises of the panel
+    (sigma = N_x / t_eq, tau = N_xy / t) <= ``limit`` sigma_y, the web aspect and stiffener-over-skin rules
     and the bounds. CasADi functions of the checks give SLSQP exact gradients.
 
     Parameters
@@ -158,6 +158,8 @@ class LocalPanelSizer:
         Stiffener pitch, shape, flange ratio and safety factor.
     bounds : dict
         ``{"t": (lo, up), "h": (lo, up), "ts": (lo, up)}`` (m).
+    limit : float, optional
+        The largest ratio allowed (-; 1 - the polish passes' reserve).
     """
 
     def __init__(self, material, layout, bounds, limit=1.0):
