@@ -563,7 +563,8 @@ def gust_response(aircraft: StickAircraft, time, *, airspeed, density, mach, u_d
     incidence and thrust solved at t = 0, then held). The gust front reaches the wing's leading
     station at ``gust_start`` (s); every lifting station meets it x / V later. ``downwash``:
     deps/dalpha (default :func:`downwash_gradient`); ``static_options``: options of the trim's static
-    solve (:func:`wingmdao.timemarch.bdf.march`, e.g. ``{"atol": 1e-9}``).
+    solve (:func:`wingmdao.timemarch.bdf.march`, e.g. ``{"atol": 1e-9}``). The march is modified Newton
+    (the Jacobian refactored only when the iterations stop contracting), as the sizing's.
 
     Parameters
     ----------
@@ -598,7 +599,7 @@ def gust_response(aircraft: StickAircraft, time, *, airspeed, density, mach, u_d
     dw = downwash_gradient(mach) if downwash is None else float(downwash)
     p = aero_parameters(aircraft, s, airspeed=airspeed, density=density, mach=mach, downwash=dw)
     Q = gust_forcing(aircraft, s, time, airspeed=airspeed, u_ds_tas=u_ds_tas, gradient=gradient, gust_start=gust_start)
-    hist = march(s, time, p, Q, atol=1e-6, static_options=static_options)
+    hist = march(s, time, p, Q, atol=1e-6, modified_newton=True, static_options=static_options)
     weight = aircraft.mass * G0
     n = np.array([lift_total(s, hist.states[k], hist.rates[k], p, Q[k], vertical=True) for k in range(time.size)]) / weight
     stations = monitoring_stations(aircraft)
