@@ -54,7 +54,8 @@ def model():
 def test_flutter_follows_the_sized_sections(model):
     """The flutter component takes the sized tail's and fuselage's section outputs (not the case's
     packed data, from which the varied walls move them), and its partials with respect to them
-    match central differences of the component alone."""
+    match central differences of the component alone; a beam_inputs entry that is no other beam's
+    parameter is refused at setup."""
     prob, case, sized = model
     comp = prob.model.stick_flutter
     lay, p = layout(case.system.param_specs), np.asarray(case.p)
@@ -65,10 +66,14 @@ def test_flutter_follows_the_sized_sections(model):
     for name in ("tail_stiffness_csn", "fuselage_mass_per_length"):
         given = p[lay[name]]
         assert np.linalg.norm(prob.get_val(name).ravel() - given) > 0.05 * np.linalg.norm(given)
+    options = {k: comp.options[k] for k in comp.options if k in StickFlutterDamping().options}
+    for bad in ("airspeed", "wing_stiffness_csn", "tail_chord_x"):
+        wrong = om.Problem(reports=False)
+        wrong.model.add_subsystem("f", StickFlutterDamping(**{**options, "beam_inputs": [bad]}))
+        with pytest.raises(ValueError, match=f"beam_inputs entry '{bad}' is not a parameter of a beam other"):
+            wrong.setup()
     alone = om.Problem(reports=False)
-    alone.model.add_subsystem("f", StickFlutterDamping(**{k: comp.options[k] for k in comp.options
-                                                          if k in StickFlutterDamping().options}),
-                              promotes=["*"])
+    alone.model.add_subsystem("f", StickFlutterDamping(**options), promotes=["*"])
     alone.setup(mode="rev")
     for name in (*comp.INPUTS, *names):
         alone.set_val(name, comp.get_val(name))

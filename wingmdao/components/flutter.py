@@ -203,10 +203,12 @@ class StickFlutterDamping(om.ExplicitComponent):
         self._q = pack_aero_forcing(s)                   # no gravity, no gust, trim held
         # input name -> the joined system's parameter
         self._param_of = {k: f"{wing}_{k}" for k in self.INPUTS}
+        others = [b.name for b in s.beams if b.name != wing]
         for name in self.options["beam_inputs"]:
-            if name not in specs or name.startswith(f"{wing}_") or name in self._param_of:
+            if (name not in specs or name in self._param_of
+                    or not any(name.startswith(f"{b}_") for b in others)):
                 raise ValueError(f"StickFlutterDamping: beam_inputs entry {name!r} is not a parameter of a beam "
-                                 f"other than {wing!r} (or is repeated)")
+                                 f"other than {wing!r} (allowed: parameters of {', '.join(others)}; each once)")
             self._param_of[name] = name
         for k, name in self._param_of.items():
             sp = specs[name]
