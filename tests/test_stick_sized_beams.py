@@ -198,8 +198,6 @@ def test_sized_fuselage_bending_stress_is_the_allowable_at_the_wing_joint():
      "--size-beams = 'tail,fin'; allowed: a comma list of wing, tail, fuselage, each once"),
     (["size", "pegasus", "--model", "stick", "--size-beams", "tail,tail"], "each once"),
     (["size", "pegasus", "--size-beams", "tail"], "--size-beams tail: needs --model stick"),
-    (["size", "pegasus", "--model", "stick", "--size-beams", "wing,fuselage", "--flutter-margin", "1.15"],
-     "the stick flutter constraint takes the wing's sections only"),
 ])
 def test_size_beams_bad_input(argv, msg, capsys, tmp_path):
     """--size-beams: one-line errors before any solve."""

@@ -159,8 +159,11 @@ class StickFlutterDamping(om.ExplicitComponent):
     part (:func:`wingmdao.stability.sensitivity.damping_constraint`; rigid-body modes and the trim
     states are zero eigenvalues, left out). Inputs: the wing's section quantities under the lone
     wing's names (``stiffness_csn``, ``compliance_csn``, ``mass_per_length``,
-    ``inertia_per_length``, ``tension_axis``, ``shear_center``, ``mass_center``); the geometry and
-    the other beams are the packed ``p``'s. Output ``flutter_ks`` (1/s), <= 0: every such mode damped.
+    ``inertia_per_length``, ``tension_axis``, ``shear_center``, ``mass_center``) and, with the
+    option ``beam_inputs``, other beams' parameters under the joined system's names (a sized tail's
+    or fuselage's ``tail_stiffness_csn``, ``fuselage_mass_per_length``, ...,
+    :attr:`wingmdao.groups.load_case.SizedBeam.beam_inputs`); the geometry and the rest of the
+    beams are the packed ``p``'s. Output ``flutter_ks`` (1/s), <= 0: every such mode damped.
     """
 
     #: the wing's parameter blocks that are inputs (lone-wing names)
@@ -175,6 +178,9 @@ class StickFlutterDamping(om.ExplicitComponent):
         self.options.declare("speeds", types=(list, tuple, np.ndarray), desc="airspeeds (m/s TAS, increasing)")
         self.options.declare("speed_of_sound", types=numbers.Real, desc="m/s: the Mach number V / a of each speed")
         self.options.declare("wing", default="wing", types=str, desc="name of the wing beam")
+        self.options.declare("beam_inputs", default=(), types=(list, tuple), recordable=False,
+                             desc="parameters of other beams (joined-system names, e.g. tail_stiffness_csn) "
+                                  "that are inputs too")
         self.options.declare("rho_ks", default=100.0, lower=1.0, types=numbers.Real, desc="KS aggregation parameter (s)")
         self.options.declare("margin", default=0.0, types=float, desc="required decay rate -Re(lambda) (1/s)")
         self.options.declare("neutral_fraction", default=STICK_NEUTRAL_FRACTION, types=float, lower=0.0,
@@ -195,9 +201,18 @@ class StickFlutterDamping(om.ExplicitComponent):
             p[self._lay[f"{name}_cm0"]] = 0.0
         self._p = p
         self._q = pack_aero_forcing(s)                   # no gravity, no gust, trim held
-        for k in self.INPUTS:
-            sp = specs[f"{wing}_{k}"]
-            self.add_input(k, val=p[self._lay[sp.name]].reshape(sp.shape), units=sp.units, desc=sp.desc or k)
+        # input name -> the joined system's parameter
+        self._param_of = {k: f"{wing}_{k}" for k in self.INPUTS}
+        others = [b.name for b in s.beams if b.name != wing]
+        for name in self.options["beam_inputs"]:
+            if (name not in specs or name in self._param_of
+                    or not any(name.startswith(f"{b}_") for b in others)):
+                raise ValueError(f"StickFlutterDamping: beam_inputs entry {name!r} is not a parameter of a beam "
+                                 f"other than {wing!r} (allowed: parameters of {', '.join(others)}; each once)")
+            self._param_of[name] = name
+        for k, name in self._param_of.items():
+            sp = specs[name]
+            self.add_input(k, val=p[self._lay[name]].reshape(sp.shape), units=sp.units, desc=sp.desc or k)
         self.add_output("flutter_ks", val=0.0, units="1/s",
                         desc="KS over speeds and aerodynamically loaded modes of Re(lambda) + margin; <= 0: no flutter")
         self._aero_mask = np.zeros(s.n_state)
@@ -214,15 +229,15 @@ class StickFlutterDamping(om.ExplicitComponent):
         self.paused = False   # True: compute() evaluates nothing (paused_flutter)
 
     def setup_partials(self):
-        for k in self.INPUTS:
-            sl = self._lay[f"{self.options['wing']}_{k}"]
+        for k, name in self._param_of.items():
+            sl = self._lay[name]
             size = sl.stop - sl.start
             self.declare_partials("flutter_ks", k, rows=np.zeros(size, int), cols=np.arange(size))
 
     def _params(self, inputs):
         p = self._p.copy()
-        for k in self.INPUTS:
-            p[self._lay[f"{self.options['wing']}_{k}"]] = np.asarray(inputs[k], dtype=float).ravel()
+        for k, name in self._param_of.items():
+            p[self._lay[name]] = np.asarray(inputs[k], dtype=float).ravel()
         return p
 
     def _evaluate(self, inputs, gradient):
@@ -258,8 +273,8 @@ class StickFlutterDamping(om.ExplicitComponent):
 
     def compute_partials(self, inputs, partials):
         g = self._evaluate(inputs, gradient=True).gradient
-        for k in self.INPUTS:
-            partials["flutter_ks", k] = g[self._lay[f"{self.options['wing']}_{k}"]]
+        for k, name in self._param_of.items():
+            partials["flutter_ks", k] = g[self._lay[name]]
 
     @property
     def last_result(self):

@@ -161,7 +161,8 @@ class StickSizing(WingSizing):
     """:class:`~wingmdao.groups.wing.WingSizing` (wall design variables, box sections, mass) with
     stick-model load cases (:class:`StickStructure`, option ``stick_cases``) in ``cases`` and, with
     the option ``stick_flutter``, the flutter-damping constraint ``flutter_ks`` of the free stick
-    aircraft (:class:`~wingmdao.components.flutter.StickFlutterDamping`)."""
+    aircraft (:class:`~wingmdao.components.flutter.StickFlutterDamping`; with ``sized_beams``, it
+    takes their sections' beam parameters too)."""
 
     def initialize(self):
         super().initialize()
@@ -177,9 +178,6 @@ class StickSizing(WingSizing):
 
     def setup(self):
         sized = self.options["sized_beams"]
-        if sized and self.options["stick_flutter"] is not None:
-            raise ValueError("StickSizing: the flutter constraint takes the wing's sections only; it does not "
-                             f"follow sized beams {[b.name for b in sized]}")
         for b in sized:   # before the cases, which take their beam parameters
             self._add_sized_section(b)
         objective = self.options["add_objective"]
@@ -212,8 +210,12 @@ class StickSizing(WingSizing):
             if objective:
                 self.add_objective("total_mass", ref=self.options["mass_ref"])
         if self.options["stick_flutter"] is not None:
-            self.add_subsystem("stick_flutter", StickFlutterDamping(**self.options["stick_flutter"]),
-                               promotes_inputs=[*SECTION_TO_BEAM, *SECTION_OFFSETS], promotes_outputs=["flutter_ks"])
+            # the sized beams' sections feed the flutter constraint as they feed the cases
+            beam_inputs = [k for b in sized for k in b.beam_inputs]
+            flutter = {**self.options["stick_flutter"], "beam_inputs": beam_inputs}
+            self.add_subsystem("stick_flutter", StickFlutterDamping(**flutter),
+                               promotes_inputs=[*SECTION_TO_BEAM, *SECTION_OFFSETS, *beam_inputs],
+                               promotes_outputs=["flutter_ks"])
             if self.options["add_constraints"]:
                 self.add_constraint("flutter_ks", upper=0.0, ref=self.FLUTTER_REF)
 
