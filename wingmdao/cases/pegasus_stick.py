@@ -687,6 +687,28 @@ def sized_beams(case: StickCase, names, *, lower: float = pegasus.MIN_GAUGE) -> 
     return out
 
 
+def check_gust_set(gset, source) -> None:
+    """ValueError naming the flight point when a 25.341(a) gust set does not fit the stick model: a
+    Mach number outside (0, 1), or a ``weight_lb`` other than the TOGW (the stick model's weight is
+    its masses').
+
+    Parameters
+    ----------
+    gset : wingmdao.loads.gust_set.GustSet
+        The gust set.
+    source : str
+        The ``--gust-set`` file, for the messages.
+    """
+    for i, fp in enumerate(gset.flight_points):
+        mach = fp.airspeed_tas() / float(speed_of_sound(fp.altitude_m))
+        if not 0.0 < mach < 1.0:
+            raise ValueError(f"--gust-set {source}: flight point {fp.name or i} has Mach {mach:.3g}; allowed "
+                             "range (0, 1)")
+        if fp.weight_lb is not None and not np.isclose(fp.weight_lb, pegasus.TOGW_LB, rtol=1e-9):
+            raise ValueError(f"--gust-set {source}: flight point {fp.name or i} has weight_lb = "
+                             f"{fp.weight_lb:g}; the stick model weighs the TOGW, {pegasus.TOGW_LB:g} lb (drop weight_lb)")
+
+
 def stick_gust_set_cases(aircraft: StickAircraft, system, gset, opts, families=("vm",)) -> list:
     """One :class:`~wingmdao.groups.load_case.StickCase` per gust of the 25.341(a) gust set ``gset``
     (:class:`~wingmdao.loads.gust_set.GustSet`; ``--gust-set``): each flight point's airspeed,
@@ -716,14 +738,7 @@ def stick_gust_set_cases(aircraft: StickAircraft, system, gset, opts, families=(
     rho0 = float(density(0.0))
     time = np.arange(0.0, opts.t_final + 0.5 * opts.dt, opts.dt)
     cases = []
-    for i, fp in enumerate(gset.flight_points):
-        mach = fp.airspeed_tas() / float(speed_of_sound(fp.altitude_m))
-        if not 0.0 < mach < 1.0:
-            raise ValueError(f"--gust-set {opts.gust_set}: flight point {fp.name or i} has Mach {mach:.3g}; allowed "
-                             "range (0, 1)")
-        if fp.weight_lb is not None and not np.isclose(fp.weight_lb, pegasus.TOGW_LB, rtol=1e-9):
-            raise ValueError(f"--gust-set {opts.gust_set}: flight point {fp.name or i} has weight_lb = "
-                             f"{fp.weight_lb:g}; the stick model weighs the TOGW, {pegasus.TOGW_LB:g} lb (drop weight_lb)")
+    check_gust_set(gset, opts.gust_set)
     for g in gset.gusts():
         fp = g.flight_point
         rho, V = float(density(fp.altitude_m)), fp.airspeed_tas()

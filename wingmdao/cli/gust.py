@@ -439,14 +439,7 @@ def _read_stick_gust_set(args):
     if given:
         raise ValueError(f"--gust-set {args.gust_set} gives the flight points, gradients and U_ref; drop {given[0]}")
     gset = read_gust_set(args.gust_set, defaults=pegasus.GUST_SET_DEFAULTS)
-    for i, fp in enumerate(gset.flight_points):
-        mach = fp.airspeed_tas() / float(speed_of_sound(fp.altitude_m))
-        if not 0.0 < mach < 1.0:
-            raise ValueError(f"--gust-set {args.gust_set}: flight point {fp.name or i} has Mach {mach:.3g}; allowed "
-                             "range (0, 1)")
-        if fp.weight_lb is not None and not np.isclose(fp.weight_lb, pegasus.TOGW_LB, rtol=1e-9):
-            raise ValueError(f"--gust-set {args.gust_set}: flight point {fp.name or i} has weight_lb = "
-                             f"{fp.weight_lb:g}; the stick model weighs the TOGW, {pegasus.TOGW_LB:g} lb (drop weight_lb)")
+    pegasus_stick.check_gust_set(gset, args.gust_set)
     return gset
 
 
