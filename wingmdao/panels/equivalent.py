@@ -11,17 +11,20 @@ smallest of three allowables, each a closed form of t:
   Flight Vehicle Structures*, Jacobs 1973, Ch. C7): the optimum panel works at
   sigma = F sqrt(N E / L), so N <= F^2 E t^2 / L; F = 0.81 for blade stiffeners, 0.91 for
   Z-stiffeners (:data:`FARRAR_EFFICIENCY`). Elastic, the stiffener pitch free;
-* the skin between stiffeners at the given pitch b (simply supported, k = 4; Timoshenko & Gere,
-  *Theory of Elastic Stability*, 2nd ed., 1961, Sec. 9.2): the skin of thickness phi t works at
-  the panel's stress, N <= k pi^2 E (phi t)^2 t / (12 (1 - nu^2) b^2), phi the skin's share of
-  the area (:data:`SKIN_SHARE`): the fixed pitch's limit at low loads, where Farrar's optimum
-  pitch would be smaller than b;
+* the skin between stiffeners at the given pitch b, a long simply supported plate
+  (:func:`wingmdao.panels.buckling.plate_compression_long` of the isotropic skin,
+  :func:`wingmdao.panels.laminate.isotropic_abd`: k = 4, Timoshenko & Gere, *Theory of Elastic
+  Stability*, 2nd ed., 1961, Sec. 9.2): the skin of thickness phi t works at the panel's stress,
+  N <= N_x,cr(phi t) t / (phi t) = 4 pi^2 E (phi t)^2 t / (12 (1 - nu^2) b^2), phi the skin's
+  share of the area (:data:`SKIN_SHARE`): the fixed pitch's limit at low loads, where Farrar's
+  optimum pitch would be smaller than b;
 * the material: N <= sigma_c t, sigma_c the compressive yield (the crippling and Johnson
   cut-off of the detailed model never exceed it).
 
 The three are combined as R_c = N sqrt(sum_i (1 / N_i)^2) (1 = failure), then with the skin's
-shear buckling, N_xy,cr = k_s pi^2 E (phi t)^3 / (12 (1 - nu^2) b^2), k_s = 5.35 + 4 (b/L)^2
-(Timoshenko & Gere Sec. 9.7), through the interaction R_c + R_s^2 = 1 of the detailed model
+shear buckling, :func:`wingmdao.panels.buckling.plate_shear_ss` of the skin phi t, b x L
+(isotropic: N_xy,cr = k_s pi^2 E (phi t)^3 / (12 (1 - nu^2) b^2), k_s = 5.34 + 4 (b/L)^2 for
+L >= b, the fit 5.35 + 4 (b/L)^2 of Timoshenko & Gere Sec. 9.7 through the long plate's 5.34), through the interaction R_c + R_s^2 = 1 of the detailed model
 (:func:`wingmdao.panels.buckling.interaction_ratio`). Every ratio is homogeneous of degree 1 in
 the loads, so a safety factor scales it exactly. Check: against the detailed model's own
 minimum-weight panel (``tests/test_panel_two_level.py``). Metallic walls only.
@@ -29,9 +32,8 @@ minimum-weight panel (``tests/test_panel_two_level.py``). Metallic walls only.
 
 from __future__ import annotations
 
-import math
-
 from wingmdao.panels import buckling as bk
+from wingmdao.panels.laminate import isotropic_abd
 from wingmdao.section.box import sqrt
 
 #: Farrar's efficiency factor F of the minimum-weight stiffened panel, sigma = F sqrt(N E / L)
@@ -44,16 +46,17 @@ FARRAR_EFFICIENCY = {"blade": 0.81, "z": 0.91}
 SKIN_SHARE = 0.9
 
 
-def _plate_factor(material) -> float:
-    """pi^2 E / (12 (1 - nu^2)) of a metal (Pa)."""
-    return math.pi ** 2 * material.E / (12.0 * (1.0 - material.nu ** 2))
+def _skin_d(material, t, skin_share):
+    """D11, D22, D12, D66 (N m) of the isotropic skin of thickness phi t."""
+    d = isotropic_abd(material.E, material.nu, skin_share * t)
+    return d["D11"], d["D22"], d["D12"], d["D66"]
 
 
 def equivalent_compression_allowables(material, t, length, pitch, efficiency=FARRAR_EFFICIENCY["blade"],
                                       skin_share=SKIN_SHARE) -> dict:
     """The compressive running-load allowables (N/m) of a stiffened wall of equivalent thickness
-    ``t``: ``farrar`` F^2 E t^2 / L, ``skin`` 4 pi^2 E (phi t)^2 t / (12 (1 - nu^2) b^2),
-    ``material`` sigma_y t (module docstring).
+    ``t``: ``farrar`` F^2 E t^2 / L, ``skin`` the skin's long-plate buckling load at the panel's
+    stress, 4 pi^2 E (phi t)^2 t / (12 (1 - nu^2) b^2), ``material`` sigma_y t (module docstring).
 
     Parameters
     ----------
@@ -76,14 +79,15 @@ def equivalent_compression_allowables(material, t, length, pitch, efficiency=FAR
         ``farrar``, ``skin``, ``material``: allowable compressive running loads (N/m).
     """
     return {"farrar": efficiency ** 2 * material.E * t * t / length,
-            "skin": 4.0 * _plate_factor(material) * (skin_share * t) ** 2 * t / pitch ** 2,
+            "skin": bk.plate_compression_long(*_skin_d(material, t, skin_share), pitch) / skin_share,
             "material": material.sigma_y * t}
 
 
 def equivalent_shear_allowable(material, t, length, pitch, skin_share=SKIN_SHARE):
     """Shear buckling running load (N/m) of the skin between stiffeners, thickness phi t, width
-    the pitch b, length L: k_s pi^2 E (phi t)^3 / (12 (1 - nu^2) b^2), k_s = 5.35 + 4 (b/L)^2
-    (Timoshenko & Gere Sec. 9.7; the long side along the stiffeners, L >= b).
+    the pitch b, length L: :func:`wingmdao.panels.buckling.plate_shear_ss` of the isotropic
+    skin, k_s pi^2 E (phi t)^3 / (12 (1 - nu^2) b^2) with k_s = 5.34 + 4 (b/L)^2 for L >= b
+    (Timoshenko & Gere Sec. 9.7).
 
     Parameters
     ----------
@@ -103,8 +107,7 @@ def equivalent_shear_allowable(material, t, length, pitch, skin_share=SKIN_SHARE
     float, array_like or casadi.SX
         Critical shear flow (N/m).
     """
-    ks = 5.35 + 4.0 * (pitch / length) ** 2
-    return ks * _plate_factor(material) * (skin_share * t) ** 3 / pitch ** 2
+    return bk.plate_shear_ss(*_skin_d(material, t, skin_share), length, pitch)
 
 
 def equivalent_skin_ratio(material, t, length, pitch, nx, nxy, efficiency=FARRAR_EFFICIENCY["blade"],
