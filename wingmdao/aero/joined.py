@@ -11,6 +11,20 @@ discrete adjoint and the flutter linearization run on it unchanged):
   the node's distributed loads. Each station has its own gust velocity (forcing
   ``<beam>_gust_velocity``, its penetration delay x / V included, as
   :func:`~wingmdao.aero.strip.station_gust_history` gives it);
+* **swept strips** (``normal_flow=True``): each strip's aerodynamics on the velocity component
+  normal to its lifting beam's jig axis, V_n = V cos(Lambda), sin(Lambda) = s_x the body-x
+  component of the node's jig span axis (simple sweep theory, the independence principle of
+  R. T. Jones, "Wing plan-forms for high-speed flight", NACA Report 863, 1947; the strip theory
+  of sections normal to the elastic axis of J. G. Barmby, H. J. Cunningham, I. E. Garrick,
+  "Study of effects of sweep on the flutter of cantilever wings", NACA Report 1014, 1951, without
+  its spanwise-flow terms): the dynamic pressure 1/2 rho V_n^2 of the circulatory lift and the
+  cm0 moment, the Wagner and Kuessner time constants b / (B V_n), and the aircraft's angle
+  (alpha_trim, tail incidence and downwash) as the normal section's angle alpha / cos(Lambda)
+  (the normal velocity V alpha over V_n). The angles from the node's motion and gust are
+  already the normal section's (v_n / v_c, v_c = V cos(Lambda) for a jig section). Steady lift
+  per beam length 1/2 rho V^2 c_n a alpha cos(Lambda) (c_n the chord normal to the beam; per
+  unit span the lift slope a cos(Lambda) on the streamwise chord). Default False: the full
+  airspeed, the angle alpha (unswept beams are the same either way);
 * the **downwash at the tail**: the tail's stations lose ``deps/dalpha e``, e the wing root's
   angle ``alpha_w = alpha_trim + (alpha_root - alpha_root,jig) + w_g,root / V`` (alpha_root =
   v_n / v_c of the root section's relative air velocity) lagged by the time the air takes from
@@ -75,6 +89,7 @@ class _Aero:
     trim_rotation: bool = False
     elevon: tuple = ()           # ((beam, node, share), ...) stations with the elevon
     elevon_hinge: float = 0.75   # its hinge line, fraction of the chord
+    normal_flow: bool = False    # swept strips on the velocity normal to the beam (module docstring)
 
     @property
     def counts(self):
@@ -121,6 +136,8 @@ class _Aero:
             args = args + ("trim_rotation",)
         if self.elevon:
             args = args + (("elevon", self.elevon, self.elevon_hinge),)
+        if self.normal_flow:
+            args = args + ("normal_flow",)
         return definition_key("wingmdao.aero.joined.build_joined_aeroelastic_system", args, _GENERATING_MODULES)
 
     def describe(self, k):
@@ -178,12 +195,17 @@ class _Aero:
                 shift = trim_angle(alpha_trim, nd["x"][i][st["theta"]], seq) if self.trim_rotation else alpha_trim
                 if name == self.tail:
                     shift = shift + incidence - p[play["downwash_gradient"]] * e
+                speed = None
+                if self.normal_flow:
+                    cos_sweep = sweep_cosine(nd["p"][i][NODE_PARAMS["theta0"]], seq)
+                    shift, speed = shift / cos_sweep, V * cos_sweep
                 pa = ca.vertcat(*[p[play[f"{name}_{s}"]][i] for s in SECTION_PARAMS[:3]],
                                 p[play[f"{name}_alpha_zero_lift"]][i] - shift, p[play[f"{name}_cm0"]][i], gust[i])
                 xa = ca.vertcat(nd["x"][i], x[k:k + N_AERO_STATES])
                 xda = ca.vertcat(nd["xdot"][i], xdot[k:k + N_AERO_STATES])
                 f, m, res, _lift, _moment, _ = node_aero(xa, xda, pa, None, frame, V, rho, mach, seq,
-                                                         self.flap(name, i, incidence, xdot[i_trim + 1]))
+                                                         self.flap(name, i, incidence, xdot[i_trim + 1]),
+                                                         section_speed=speed)
                 nd["q"][i] = nd["q"][i] + ca.vertcat(f, m, ca.SX.zeros(6))
                 rows.append(res)
                 k += N_AERO_STATES
@@ -210,6 +232,28 @@ class _Aero:
         rel = T @ (free - vf - ca.cross(omega, xn[st["r"]]) - xn[st["u"]])
         rel0 = body_to_csn(pn[NODE_PARAMS["theta0"]], seq) @ free
         return rel[2] / rel[0] - rel0[2] / rel0[0]
+
+
+def sweep_cosine(theta0, euler_sequence="surface"):
+    """cos(Lambda) of a strip's sweep: sqrt(1 - s_x^2), s_x the body-x (free-stream) component of
+    the span axis s of its jig frame (Euler angles ``theta0``), the ratio of the velocity normal
+    to the beam to the airspeed (module docstring, ``normal_flow``). 1 for a beam normal to the
+    free stream, whatever its dihedral.
+
+    Parameters
+    ----------
+    theta0 : casadi.SX or array_like
+        (3,) Euler angles of the node's jig frame in body axes (rad).
+    euler_sequence : str, optional
+        The Euler sequence of ``theta0`` (:func:`wingmdao.beam.rotations.body_to_csn`).
+
+    Returns
+    -------
+    casadi.SX
+        cos(Lambda) (-).
+    """
+    s_x = body_to_csn(theta0, euler_sequence)[1, 0]
+    return ca.sqrt(1.0 - s_x * s_x)
 
 
 def trim_angle(alpha_trim, theta, euler_sequence="surface"):
@@ -240,7 +284,7 @@ def trim_angle(alpha_trim, theta, euler_sequence="surface"):
 
 def build_joined_aeroelastic_system(beams, joints, *, lifting=("wing", "tail"), wing="wing", tail="tail",
                                     supports, masses=(), symmetry=(), euler_sequence="surface", damping=None,
-                                    trim_rotation=False, elevon=None, elevon_hinge=0.75):
+                                    trim_rotation=False, elevon=None, elevon_hinge=0.75, normal_flow=False):
     """Joined beams (:func:`wingmdao.beam.joints.build_joined_system`) with unsteady strip
     aerodynamics on the ``lifting`` beams, the wing's downwash at the ``tail`` (None: no tail
     downwash and no tail incidence effect) and the trim unknowns of the free aircraft held by
@@ -254,7 +298,9 @@ def build_joined_aeroelastic_system(beams, joints, *, lifting=("wing", "tail"), 
     share (0, 1] of the deflection each station takes (0.5 at the node where the elevon ends
     makes the flapped span of the node-interpolated strips end there); the trim unknown
     ``tail_incidence`` is then its deflection (rad, trailing edge down +), trimmed in pitch as
-    the tail incidence is.
+    the tail incidence is. ``normal_flow``: each strip's aerodynamics on the velocity normal to
+    its beam, V cos(sweep) (module docstring; not with ``trim_rotation``, whose
+    :func:`trim_angle` is that of an unswept section).
 
     Returns the :class:`~wingmdao.beam.joints.JoinedBeamSystem` with ``lag_index`` ({beam: (n, 4)
     state indices}), ``downwash_index`` (or None), ``trim_index`` ({name: state index}),
@@ -292,6 +338,8 @@ def build_joined_aeroelastic_system(beams, joints, *, lifting=("wing", "tail"), 
         stations (tailless aircraft only).
     elevon_hinge : float
         Hinge line of the elevon, fraction of the chord, in (0, 1).
+    normal_flow : bool
+        Swept strips on the velocity component normal to their beam (simple sweep theory).
 
     Returns
     -------
@@ -314,6 +362,9 @@ def build_joined_aeroelastic_system(beams, joints, *, lifting=("wing", "tail"), 
     if tail is not None and (tail not in lifting or tail == wing):
         raise ValueError(f"tail = {tail!r} must be a lifting beam other than the wing {wing!r} "
                          f"(lifting beams {list(lifting)}), or None")
+    if normal_flow and trim_rotation:
+        raise ValueError("normal_flow=True with trim_rotation=True: not available (trim_angle is the angle of an "
+                         "unswept section); use one of them")
     supports = tuple(tuple(s) for s in supports)
     if len(supports) != len(TRIM_STATE_NAMES):
         raise ValueError(f"supports: {len(supports)} given; trim needs 3 (surge, plunge, pitch of the half "
@@ -344,7 +395,7 @@ def build_joined_aeroelastic_system(beams, joints, *, lifting=("wing", "tail"), 
         if len({st[:2] for st in stations}) != len(stations):
             raise ValueError(f"elevon: a station is given twice in {dict(elevon)}")
     ext = _Aero(beams, lifting, wing, tail, supports, euler_sequence, bool(trim_rotation), tuple(sorted(stations)),
-                float(elevon_hinge))
+                float(elevon_hinge), bool(normal_flow))
     system = build_extended_joined_system(beams, joints, euler_sequence=euler_sequence, damping=damping,
                                           masses=masses, symmetry=symmetry, extension=ext)
     k = system.n_struct
@@ -384,6 +435,10 @@ def _section_loads_function(system, ext):
             if name == ext.tail:
                 shift = shift + x[system.trim_index["tail_incidence"]] - \
                     p[play["downwash_gradient"]] * x[system.downwash_index]
+            speed = None
+            if ext.normal_flow:
+                cos_sweep = sweep_cosine(p[play[f"{name}_node_euler_angles"]][3 * i:3 * i + 3], seq)
+                shift, speed = shift / cos_sweep, V * cos_sweep
             pa = ca.vertcat(*[p[play[f"{name}_{s}"]][i] for s in SECTION_PARAMS[:3]],
                             p[play[f"{name}_alpha_zero_lift"]][i] - shift, p[play[f"{name}_cm0"]][i],
                             q[qlay[f"{name}_gust_velocity"]][i])
@@ -392,7 +447,7 @@ def _section_loads_function(system, ext):
             xda = ca.vertcat(xdot[i0 + 18 * i: i0 + 18 * (i + 1)], xdot[int(lag[0]):int(lag[-1]) + 1])
             i_inc = system.trim_index["tail_incidence"]
             f, _m, _res, lift, moment, _ = node_aero(xa, xda, pa, None, frame, V, rho, mach, seq,
-                                                     ext.flap(name, i, x[i_inc], xdot[i_inc]))
+                                                     ext.flap(name, i, x[i_inc], xdot[i_inc]), section_speed=speed)
             out += [lift, moment, f[2]]
     return ca.Function("joined_section_loads", [x, xdot, p, q], [ca.vertcat(*out)])
 
@@ -533,5 +588,5 @@ def lift_total(system, x, xdot, p, q, vertical: bool = False) -> float:
     return total
 
 
-__all__ = ["build_joined_aeroelastic_system", "trim_angle", "pack_aero_parameters", "pack_aero_forcing", "lift_total",
+__all__ = ["build_joined_aeroelastic_system", "trim_angle", "sweep_cosine", "pack_aero_parameters", "pack_aero_forcing", "lift_total",
            "SECTION_PARAMS", "TRIM_STATE_NAMES"]

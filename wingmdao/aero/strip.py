@@ -215,7 +215,8 @@ def section_model(rel_csn, w_s, dw_mid_dt, dw_s_dt, gust_n, aero_x, aero_xdot, c
     cm0 : casadi.SX or float
         Zero-lift moment coefficient about the quarter chord.
     airspeed : casadi.SX or float
-        Airspeed V (m/s).
+        Airspeed V (m/s) of the dynamic pressure 1/2 rho V^2 and of the lags' time constants
+        b / (B V); a swept strip on the normal velocity takes V cos(sweep) (:mod:`wingmdao.aero.joined`).
     density : casadi.SX or float
         Air density (kg/m^3).
     mach : casadi.SX or float

@@ -367,7 +367,7 @@ def check_aero_parameters(values: dict) -> None:
                                                  "lift_slope") if k in values})
 
 
-def node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence, flap=None, flap_lattice=False):
+def node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence, flap=None, flap_lattice=False, section_speed=None):
     """Follower aerodynamic force and moment per length (body axes) and the 4 lag residuals of one
     node: the strip section (:func:`wingmdao.aero.strip.section_model`) on the node's motion.
 
@@ -391,6 +391,11 @@ def node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence, flap=None, flap_la
         ``(T, beta, dbeta, ddbeta)`` of a control surface at the node (:func:`section_model`).
     flap_lattice : bool, optional
         The flap's circulatory and steady loads come from the vortex lattice (:func:`section_model`).
+    section_speed : casadi.SX, optional
+        The speed of the section's dynamic pressure and of its Wagner and Kuessner lags (m/s);
+        None: ``V``. A swept strip on the velocity normal to its beam takes V cos(sweep)
+        (:func:`wingmdao.aero.joined.build_joined_aeroelastic_system`, ``normal_flow``); the
+        kinematics (free stream, angles) always use ``V``.
 
     Returns
     -------
@@ -429,7 +434,8 @@ def node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence, flap=None, flap_la
     dws = ca.jtimes(ws, z, zdot)
     gust_n = (T @ ca.vertcat(0, 0, wg))[2]
     lift, moment, res, parts = section_model(rel, ws, dw_mid, dws, gust_n, x[18:], xdot[18:], chord, ref, a, azl,
-                                             cm0, V, rho, mach, flap, flap_lattice)
+                                             cm0, V if section_speed is None else section_speed, rho, mach, flap,
+                                             flap_lattice)
     f = T.T @ ca.vertcat(0, 0, lift)
     m = T.T @ ca.vertcat(0, moment, 0)
     # for a three-dimensional quasi-steady lift (aero_theory "vlm"): the section's normal and

@@ -27,10 +27,11 @@ Model (body axes x aft, y right, z up; origin on the centreline at the body's be
 condition at the centreline node; the 40 kg mass carries half of the pair of AeroBeams' two
 body masses (their lateral offsets, +-0.128 m, cancel in the pair and are left out). Strips on
 both beams (:mod:`wingmdao.aero.joined`), sections normal to each beam: the chord there is the
-streamwise chord times cos(sweep), the beam-axis fraction the same; by the independence
-principle the lift slope is ``2 pi cos^2(sweep)`` (``sweep="normal"``, the default: the lift of
-the velocity component normal to the beam); ``sweep="streamwise"`` keeps 2 pi, the lift per beam
-length ``q c_streamwise 2 pi alpha_streamwise`` of streamwise strips. Structural damping:
+streamwise chord times cos(sweep), the beam-axis fraction the same, lift slope 2 pi.
+``sweep="normal"`` (the default): the strips on the velocity component normal to each beam,
+V cos(sweep), dynamic pressure, Wagner and Kuessner lags and the aircraft's angle alike (simple
+sweep theory, the joined system's ``normal_flow``); ``sweep="streamwise"``: on the full airspeed
+and the aircraft's angle alpha, the lift per beam length ``q c_n 2 pi alpha``. Structural damping:
 strain-rate damping of time constant :data:`DAMPING_TIME`, read off the reference's own modes. Trim (lift = W, zero pitching moment) by the angle of attack,
 the elevon (the joined system's ``elevon``: Theodorsen's thin-airfoil flap, dCl/dbeta = 3.83,
 where AeroBeams.jl tabulates 3.518) and thrust. No tail, no downwash.
@@ -240,16 +241,13 @@ def build(num_body_nodes: int = 7, num_wing_nodes: int = 17, sweep: str = "norma
     system = build_joined_aeroelastic_system(beams, joints, lifting=("body", "wing"), wing="body", tail=None,
                                              supports=SUPPORTS, masses=masses, symmetry=[Symmetry("body", 0)],
                                              elevon={"wing": elevon_nodes}, elevon_hinge=ELEVON_HINGE,
-                                             damping=damping)
-    slope = {"body": LIFT_SLOPE, "wing": LIFT_SLOPE}
-    if sweep == "normal":
-        slope = {"body": LIFT_SLOPE * np.cos(lam_b) ** 2, "wing": LIFT_SLOPE * np.cos(lam_w) ** 2}
+                                             damping=damping, normal_flow=sweep == "normal")
     sb = np.linspace(0.0, 1.0, nb)
     sections = {
         "body": {"chord": (ROOT_CHORD + (TIP_CHORD - ROOT_CHORD) * sb) * np.cos(lam_b),
-                 "ref_point": ROOT_AXIS + (TIP_AXIS - ROOT_AXIS) * sb, "lift_slope": slope["body"], "cm0": CM0},
+                 "ref_point": ROOT_AXIS + (TIP_AXIS - ROOT_AXIS) * sb, "lift_slope": LIFT_SLOPE, "cm0": CM0},
         "wing": {"chord": np.full(nw, TIP_CHORD * np.cos(lam_w)), "ref_point": np.full(nw, TIP_AXIS),
-                 "lift_slope": slope["wing"], "cm0": CM0}}
+                 "lift_slope": LIFT_SLOPE, "cm0": CM0}}
     mass = (BODY["mass"] * _axis(CENTRE, JUNCTION)[1] + WING["mass"] * _axis(JUNCTION, TIP)[1] + BODY_POINT_MASS
             + WING_POINT_MASS * WING_POINT_COUNT)
     return BwbAircraft(system=system, params={"body": body, "wing": wing}, sections=sections, mass=float(mass),
