@@ -205,3 +205,17 @@ def test_pegasus_turbulence_with_law_against_vortex_lattice(tmp_path):
             assert abs(out["dlm"][key][q] / out["vlm"][key][q] - 1.0) < 0.06, (key, q)
     d, v = (out[t]["control_surfaces"]["aileron"]["a_bar_deflection_deg_per_m_s"] for t in ("dlm", "vlm"))
     assert abs(d / v - 1.0) < 0.05
+
+
+def test_size_dlm_alleviation_refused_before_solve(capsys, tmp_path, monkeypatch):
+    """size --loads gust --aero-theory dlm --alleviation: one line naming the file and the way out
+    (the sized modal gust carries no control surfaces), before any solve."""
+    import wingmdao.cases.pegasus as pegasus
+
+    monkeypatch.setattr(pegasus, "modal_dlm_gust", lambda *a, **k: pytest.fail("solve started"))
+    assert main(["size", "pegasus", "--loads", "gust", "--plunge", "free", "--aero", "coupled", "--aero-theory", "dlm",
+                 "--alleviation", "docs/examples/pegasus_alleviation.yaml", "--no-plots",
+                 "--json", str(tmp_path / "s.json")]) == 2
+    err = capsys.readouterr().err
+    assert "--alleviation docs/examples/pegasus_alleviation.yaml with --aero-theory dlm" in err
+    assert "--aero-theory vlm --alleviation" in err and not (tmp_path / "s.json").exists()

@@ -177,7 +177,7 @@ class FreeModalDLMWing(ModalDLMWing):
 
     Parameters
     ----------
-    modes, structure, gaf, rfa, system, loads
+    modes, structure, gaf, rfa, system, loads, controls
         As :class:`wingmdao.stability.modal.ModalDLMWing`, on the augmented basis (``rigid``
         rigid-body modes first, frequencies 0).
     rigid : int
