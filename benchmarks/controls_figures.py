@@ -14,6 +14,11 @@
 * docs/figures/controls_vlm_flap.png (``vlm``) - the flap as deflected vortex-lattice panels: the
   errors of the 2-D limit against the chordwise panels, and a part-span flap's spanload against
   the lifting line (the references of tests/test_vlm_flaps.py);
+* docs/figures/controls_dlm_flap.png (``dlm``) - the flap as a flap mode of the doublet lattice: the
+  mid-span strip's flap lift and hinge moment errors against the chordwise panels (Glauert at k = 0,
+  Theodorsen with C(k) at k = 0.4; the references of tests/test_dlm_flaps.py), and the PEGASUS gust
+  with the law of docs/examples/pegasus_alleviation.yaml on the doublet lattice and the vortex
+  lattice (runs ``wingmdao gust pegasus --aero-theory dlm|vlm --alleviation ...``);
 * ``mla`` (printed only) - the PEGASUS scheduled aileron's rigid-wing root-bending change with the
   lattice's flap panels, the equivalent angle through the lattice, and strips.
 
@@ -32,6 +37,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "tests"))
 import test_controls as TC  # noqa: E402
 import test_controls_system as TS  # noqa: E402
+import test_dlm_flaps as TD  # noqa: E402
 import test_vlm_flaps as TV  # noqa: E402
 
 from wingmdao.aero import theodorsen_exact, theodorsen_jones  # noqa: E402
@@ -230,6 +236,60 @@ def vlm_flap(plt):
     save_figure(fig, os.path.join(FIG, "controls_vlm_flap.png"))
 
 
+def dlm_flap(plt):
+    """Flap modes of the doublet lattice: convergence with the chordwise panels; PEGASUS gust with the law."""
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+    counts = (4, 8, 16, 32)
+    k = 0.4
+    L, _, H = flap_harmonic_loads(k, TD.HINGE, theodorsen_exact)
+    tau = flap_lift_effectiveness(TD.HINGE) / (2 * np.pi)
+    cha, chb = hinge_moment_coefficients(TD.HINGE)
+    rows = []
+    for nc in counts:
+        v = TD._mid_strip(nc, (0.0, k))
+        cla, clb, hb = v[0, 0].real, v[0, 1].real, v[0, 3].real
+        rows.append((clb / cla / tau - 1, hb / (cha * (clb - 2 * np.pi * tau) / (2 * np.pi) + chb) - 1,
+                     abs(v[1, 1] / (2 * TD.B * L)) - 1, abs(v[1, 3] / (2 * TD.B ** 2 * H)) - 1))
+        print(f"n_chordwise {nc}: steady lift {rows[-1][0]:+.4f}, hinge {rows[-1][1]:+.4f}; k = {k}: lift "
+              f"{rows[-1][2]:+.4f}, hinge {rows[-1][3]:+.4f}")
+    rows = 100 * np.array(rows)
+    for j, (lab, st) in enumerate((("lift, k = 0 (Glauert)", "o-"), ("hinge moment, k = 0 (Glauert)", "s-"),
+                                   (f"|lift|, k = {k} (Theodorsen)", "o--"), (f"|hinge moment|, k = {k} (Theodorsen)", "s--"))):
+        axes[0].semilogx(counts, rows[:, j], st, color=f"C{j % 2}", label=lab)
+    axes[0].set_xticks(counts, [str(c) for c in counts])
+    axes[0].minorticks_off()
+    axes[0].axhline(0, color="k", lw=0.5)
+    axes[0].set_xlabel("chordwise panels (a quarter of them on the 25 % flap)")
+    axes[0].set_ylabel("doublet lattice / thin airfoil - 1 (%)")
+    axes[0].legend(fontsize=7)
+    example = os.path.join(HERE, "..", "docs", "examples", "pegasus_alleviation.yaml")
+    res = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for theory in ("dlm", "vlm"):
+            out = os.path.join(tmp, f"{theory}.json")
+            subprocess.run([sys.executable, "-m", "wingmdao", "gust", "pegasus", "--aero-theory", theory,
+                            "--alleviation", example, "--no-plots", "--json", out], check=True)
+            with open(out) as fh:
+                res[theory] = json.load(fh)
+    for j, (theory, lab) in enumerate((("dlm", "doublet lattice, flap modes"), ("vlm", "vortex lattice, flap panels"))):
+        r = res[theory]
+        t = np.asarray(r["time"])
+        m = np.asarray(r["root_bending_moment"])
+        m0 = np.asarray(r["alleviation"]["root_bending_moment_without_law"])
+        axes[1].plot(t, (m - m[0]) / 1e3, color=f"C{j}", label=f"{lab}, with law")
+        axes[1].plot(t, (m0 - m0[0]) / 1e3, "--", color=f"C{j}", label=f"{lab}, without law")
+        a = r["alleviation"]
+        print(f"{theory}: peak root bending increment {a['peak_incremental_root_bending_without_law'] / 1e3:.1f} -> "
+              f"{a['peak_incremental_root_bending_with_law'] / 1e3:.1f} kN m, dn {a['peak_incremental_load_factor_without_law']:.3f}"
+              f" -> {a['peak_incremental_load_factor_with_law']:.3f}, aileron {a['surfaces']['aileron']['peak_deflection_deg']:.2f} deg")
+    axes[1].set_xlabel("time (s)")
+    axes[1].set_ylabel("root bending increment (kN m)")
+    axes[1].legend(fontsize=7)
+    for ax in axes:
+        ax.grid(True)
+    save_figure(fig, os.path.join(FIG, "controls_dlm_flap.png"))
+
+
 def mla_lattice(plt):
     """PEGASUS 2.5 g scheduled aileron (docs/examples/pegasus_mla.yaml): the rigid wing's root-bending
     change with the lattice's flap columns, with the flap as the equivalent angle T10/pi delta through
@@ -276,7 +336,7 @@ def main():
 
     which = sys.argv[1:] or ["flap", "harmonic", "stability", "pegasus"]
     for name, fun in (("flap", flap_theory), ("harmonic", harmonic), ("stability", stability), ("pegasus", pegasus),
-                      ("vlm", vlm_flap), ("mla", mla_lattice)):
+                      ("vlm", vlm_flap), ("dlm", dlm_flap), ("mla", mla_lattice)):
         if name in which:
             fun(plt)
 

@@ -67,7 +67,7 @@ def test_gust_plunge_spelling_and_strip_plunge_error(capsys):
 
 
 def test_gust_dlm_refusals_before_solve(capsys, monkeypatch):
-    """--aero-theory dlm: --tail-lag (its tail is quasi-steady), --alleviation, --aero strip, the
+    """--aero-theory dlm: --tail-lag (its tail is quasi-steady), an unreadable --alleviation file, --aero strip, the
     deprecated --lifting-line beside it, and --modes out of range or without dlm are refused
     before any solve."""
     import wingmdao.cli.gust as gust_command

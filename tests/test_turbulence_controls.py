@@ -214,8 +214,8 @@ def test_turbulence_stress_ks_partials_wrt_the_gains():
 
 
 def test_cli_turbulence_alleviation_refusals(capsys, tmp_path):
-    """One-line errors before any solve: --alleviation with --aero strip, with --aero-theory dlm, a
-    load-factor law on the clamped wing, a missing file, a surface outside the span."""
+    """One-line errors before any solve: --alleviation with --aero strip, a load-factor law on the
+    clamped wing (the vortex lattice and the doublet lattice), a missing file, a surface outside the span."""
     from wingmdao.cli import main
 
     law = tmp_path / "lf.yaml"
@@ -223,7 +223,8 @@ def test_cli_turbulence_alleviation_refusals(capsys, tmp_path):
     wide = tmp_path / "wide.yaml"
     wide.write_text("surfaces:\n  - {name: a, span: [0.7, 1.3], hinge: 0.75}\n")
     for argv, text in ((["--aero", "strip", "--clamped", "--alleviation", str(law)], "needs --aero coupled"),
-                       (["--clamped", "--aero-theory", "dlm", "--alleviation", str(law)], "strip sections only"),
+                       (["--clamped", "--aero-theory", "dlm", "--alleviation", str(law)],
+                        "output load_factor needs free plunge"),
                        (["--clamped", "--alleviation", str(law)], "output load_factor needs free plunge"),
                        (["--alleviation", str(tmp_path / "none.yaml")], "cannot read the file"),
                        (["--alleviation", str(wide)], "outside the semi-span")):

@@ -42,6 +42,19 @@ with the delay ``(x_j - x_0) / V``; its normalwash per unit ``w_g / V`` is
 ``n_z,j exp(-i (k / b_ref) (x_j - x_0))``, and ``Q_g(ik) = T^T Q_jj(k) w_g`` (modes, ) per unit
 ``w_g / V``.
 
+Control surfaces (flap modes). A trailing-edge surface hinged at ``h`` x the local chord over the
+beam nodes ``nodes`` is the set of panels of the elements between its first and last node whose
+leading edge lies at or aft of the hinge (the hinge on a chordwise panel edge,
+:func:`wingmdao.aero.vlm.chord_fractions`; the panels of :func:`wingmdao.aero.vlm.flap_influence`).
+A deflection delta (trailing edge down positive) rotates them about the hinge line: incidence
+``+delta`` and normal displacement ``-(x - x_h) delta`` (``x_h`` the hinge line's x at the panel's
+mid-span), so the normalwash of a harmonic deflection is ``(1 - i (k / b_ref) (x_j - x_h)) delta``
+on those panels, like a structural mode's. Its pressures give the generalized forces on the modes
+(``flap``), the station loads (``flap_station_loads``); the hinge moment (N m per unit q,
+trailing edge down positive) of every column (modes, flaps, gust) is the virtual work of the
+panel forces on the flap's rotation, ``-sum A_j dcp_j (x_f,j - x_h)`` over its panels (force
+point x_f at the quarter chord of the panel) (``hinge``).
+
 Station loads. The same pressure jumps, summed outboard of each beam node, give the aerodynamic
 part of the internal force and moment there (:func:`station_summation`, ``station_loads`` of
 :class:`GeneralizedForces`); :mod:`wingmdao.aero.modal_loads` adds the inertia.
@@ -56,11 +69,15 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from wingmdao.aero.dlm_kernel import oscillatory_aic
-from wingmdao.aero.vlm import Lattice, build_lattice, check_planform
+from wingmdao.aero.vlm import Lattice, build_lattice, check_planform, chord_fractions
 
 #: default lattice density of the doublet lattice: chordwise panels, spanwise strips per beam element
 DLM_CHORDWISE = 4
 DLM_SPANWISE = 2
+#: chordwise panels of a lattice with control surfaces (flap modes): a 25 % chord flap gets 4 panels;
+#: its lift and hinge moment converge as 1 / n_chordwise (tests/test_dlm_flaps.py: 16 panels, lift
+#: 2.8 % and hinge moment 5.8 % off Glauert's on an aspect-ratio-40 wing, 32 panels half that)
+DLM_FLAP_CHORDWISE = 16
 #: default reduced frequencies (k = omega b_ref / V) of the tabulated generalized forces
 REDUCED_FREQUENCIES = (0.0, 0.02, 0.05, 0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.7, 1.0, 1.5)
 _CACHE: dict = {}
@@ -70,9 +87,9 @@ _OPERATORS: dict = {}
 _OPERATORS_SIZE = 4
 _MIRROR = np.array([1.0, -1.0, 1.0])
 
-__all__ = ["DLM_CHORDWISE", "DLM_SPANWISE", "REDUCED_FREQUENCIES", "GeneralizedForces", "ModalTransfer",
+__all__ = ["DLM_CHORDWISE", "DLM_SPANWISE", "DLM_FLAP_CHORDWISE", "REDUCED_FREQUENCIES", "GeneralizedForces", "ModalTransfer",
            "check_reduced_frequencies", "check_dlm_mach", "check_panels", "aerogrid", "steady_aic", "panel_pressure",
-           "pressure_operators", "modal_transfer",
+           "pressure_operators", "modal_transfer", "flap_panels", "flap_transfer",
            "generalized_forces", "interpolate", "station_summation"]
 
 
@@ -339,6 +356,65 @@ def modal_transfer(lat: Lattice, node_positions, displacement, rotation) -> Moda
     return ModalTransfer(incidence=incidence, heave=heave, force=(lat.panel_chord * lat.span)[:, None] * h_force)
 
 
+def flap_panels(lat: Lattice, surfaces) -> np.ndarray:
+    """(m, n_s) bool: the panels of each trailing-edge surface (module docstring), those of the
+    elements between its first and last node whose leading edge lies at or aft of its hinge;
+    ValueError when a hinge is not on a chordwise panel edge of ``lat`` or a surface has no panel.
+
+    Parameters
+    ----------
+    lat : Lattice
+        The lattice of the right half (built with the hinges on panel edges).
+    surfaces : sequence of tuple
+        ``(nodes, hinge)`` per surface: node indices (contiguous) and hinge line (fraction of the chord).
+
+    Returns
+    -------
+    ndarray of bool, shape (m, n_s)
+        Panel membership.
+    """
+    out = []
+    for nodes, h in surfaces:
+        nodes, h = tuple(int(i) for i in nodes), float(h)
+        if len(nodes) < 2 or nodes != tuple(range(nodes[0], nodes[0] + len(nodes))):
+            raise ValueError(f"flap nodes {list(nodes)}: allowed at least two contiguous node indices")
+        edges = np.unique(np.round(lat.chord_start, 12))
+        if np.min(np.abs(edges - h)) > 1e-9:
+            raise ValueError(f"hinge = {h} is not on a chordwise panel edge of the lattice "
+                             f"(edges {edges.tolist()}); build it with wingmdao.aero.vlm.chord_fractions")
+        on = (lat.element >= nodes[0]) & (lat.element < nodes[-1]) & (lat.chord_start >= h - 1e-9)
+        if not np.any(on):
+            raise ValueError(f"flap nodes {list(nodes)}, hinge {h}: no panel of the lattice lies on the surface")
+        out.append(on)
+    return np.array(out).T.reshape(lat.span.size, len(out))
+
+
+def flap_transfer(lat: Lattice, surfaces) -> ModalTransfer:
+    """:class:`ModalTransfer` of a unit deflection (rad, trailing edge down positive) of each
+    trailing-edge surface (columns), its panels rotating about the hinge line (module docstring).
+
+    Parameters
+    ----------
+    lat : Lattice
+        The lattice of the right half (built with the hinges on panel edges).
+    surfaces : sequence of tuple
+        ``(nodes, hinge)`` per surface.
+
+    Returns
+    -------
+    ModalTransfer
+        Incidence (rad), control-point normal displacement (m) and force transfer (m^2) per radian.
+    """
+    on = flap_panels(lat, surfaces).astype(float)
+    h = np.array([float(s[1]) for s in surfaces])
+    chord = lat.strip_chord[lat.strip]
+    x_hinge = (lat.x_quarter - 0.25 * chord)[:, None] + chord[:, None] * h[None, :]   # (m, n_s)
+    x_force = 0.5 * (lat.bound_a[:, 0] + lat.bound_b[:, 0])
+    area = lat.panel_chord * lat.span
+    return ModalTransfer(incidence=on, heave=-on * (lat.control[:, 0][:, None] - x_hinge),
+                         force=-on * area[:, None] * (x_force[:, None] - x_hinge))
+
+
 @dataclass(frozen=True, eq=False)
 class GeneralizedForces:
     """Generalized aerodynamic forces of the modes, per unit dynamic pressure.
@@ -350,7 +426,8 @@ class GeneralizedForces:
     ``station_loads`` (nk, n, 6, modes + 1) complex: the internal force (N) and moment (N m) at
     each beam node (body axes) of the panel forces outboard of it (:func:`station_summation`),
     per unit dynamic pressure, of a unit amplitude of each mode (columns ``:modes``) and of a unit
-    ``w_g / V`` (last column).
+    ``w_g / V`` (last column). With control surfaces (flap modes, module docstring) also ``flap``,
+    ``hinge`` and ``flap_station_loads``.
 
     Parameters
     ----------
@@ -368,6 +445,13 @@ class GeneralizedForces:
         x at which the gust phase is zero (m).
     station_loads : ndarray of complex, shape (nk, n, 6, modes + 1), optional
         Aerodynamic internal loads at the beam nodes.
+    flap : ndarray of complex, shape (nk, modes, n_s), optional
+        Generalized forces on the modes of a unit deflection (rad) of each control surface.
+    hinge : ndarray of complex, shape (nk, n_s, modes + n_s + 1), optional
+        Hinge moments (m^3 per unit q, trailing edge down positive) of a unit amplitude of each
+        mode, a unit deflection of each surface and a unit ``w_g / V`` (last column).
+    flap_station_loads : ndarray of complex, shape (nk, n, 6, n_s), optional
+        Aerodynamic internal loads at the beam nodes of a unit deflection of each surface.
     """
 
     k: np.ndarray
@@ -377,6 +461,9 @@ class GeneralizedForces:
     mach: float
     x_gust: float
     station_loads: np.ndarray = None
+    flap: np.ndarray = None
+    hinge: np.ndarray = None
+    flap_station_loads: np.ndarray = None
 
     def at(self, k):
         """``(Q, gust)`` at reduced frequency ``k`` (:func:`interpolate`).
@@ -467,14 +554,17 @@ def station_summation(lat: Lattice, node_positions) -> np.ndarray:
 
 def generalized_forces(node_positions, chord, ref_point, displacement, rotation, *, mach=0.0,
                        reduced_frequencies=REDUCED_FREQUENCIES, b_ref=None, x_gust=None,
-                       n_chordwise=DLM_CHORDWISE, n_spanwise=DLM_SPANWISE, method="quartic") -> GeneralizedForces:
+                       n_chordwise=DLM_CHORDWISE, n_spanwise=DLM_SPANWISE, method="quartic",
+                       surfaces=()) -> GeneralizedForces:
     """:class:`GeneralizedForces` of the doublet lattice of the planform (module docstring).
 
     ``node_positions`` (n, 3) m, ``chord`` (n,) m, ``ref_point`` (n,): the jig beam as for
     :func:`wingmdao.aero.vlm.station_influence`; ``displacement``, ``rotation`` (modes, n, 3): the
     mode shapes (:func:`wingmdao.beam.modes.normal_modes`); ``b_ref`` (m): reference semi-chord
     (default half the root chord); ``x_gust`` (m): where the gust phase is zero (default the
-    foremost leading edge). Cached by planform, modes, Mach and k set; the pressure operators by planform, Mach and k set
+    foremost leading edge); ``surfaces``: trailing-edge control surfaces ``(nodes, hinge)`` as flap
+    modes (module docstring; the chordwise panel edges then hold every hinge,
+    :func:`wingmdao.aero.vlm.chord_fractions`). Cached by planform, modes, Mach and k set; the pressure operators by planform, Mach and k set
     alone (:func:`pressure_operators`: new modes of the same planform reuse them).
     Errors (ValueError, before any solve): Mach outside [0, 1), an empty or unsorted k set, a
     panel of zero area, a planform whose nodes do not move outboard.
@@ -506,6 +596,8 @@ def generalized_forces(node_positions, chord, ref_point, displacement, rotation,
     method : str
         Kernel approximation: ``"quartic"`` (:func:`wingmdao.aero.dlm_kernel.oscillatory_aic`) or
         ``"parabolic"`` (PanelAero's).
+    surfaces : sequence of tuple
+        ``(nodes, hinge)`` per control surface (node indices, contiguous; hinge fraction of the chord).
 
     Returns
     -------
@@ -522,31 +614,51 @@ def generalized_forces(node_positions, chord, ref_point, displacement, rotation,
         raise ValueError(f"b_ref must be > 0 m (reference semi-chord), got {b_ref}")
     d = np.asarray(displacement, dtype=float)
     t = np.asarray(rotation, dtype=float)
+    srf = tuple((tuple(int(i) for i in nodes), float(h)) for nodes, h in surfaces)
+    for nodes, _ in srf:
+        if nodes and (nodes[0] < 0 or nodes[-1] >= r.shape[0]):
+            raise ValueError(f"flap nodes {list(nodes)} outside the beam; allowed node indices 0 .. {r.shape[0] - 1}")
+    fractions = chord_fractions(n_chordwise, [h for _, h in srf]) if srf else None
     key = hashlib.sha1(b"".join(np.ascontiguousarray(v).tobytes() for v in (r, c, ref, d, t, k))
-                       + repr((mach, b, x_gust, int(n_chordwise), int(n_spanwise), method)).encode()).hexdigest()
+                       + repr((mach, b, x_gust, int(n_chordwise), int(n_spanwise), method, srf)).encode()).hexdigest()
     if key in _CACHE:
         return _CACHE[key]
-    lat = build_lattice(r, c, ref, mach=mach, n_chordwise=n_chordwise, n_spanwise=n_spanwise)
+    lat = build_lattice(r, c, ref, mach=mach, n_chordwise=n_chordwise, n_spanwise=n_spanwise, fractions=fractions)
     check_panels(lat)
     tr = modal_transfer(lat, r, d, t)
+    fl = flap_transfer(lat, srf) if srf else None
+    nf = len(srf)
     x0 = float(np.min(r[:, 0] - ref * c)) if x_gust is None else float(x_gust)
     nm = d.shape[0]
     Q = np.zeros((k.size, nm, nm), dtype=complex)
     G = np.zeros((k.size, nm), dtype=complex)
     planform = hashlib.sha1(b"".join(np.ascontiguousarray(v).tobytes() for v in (r, c, ref))
-                            + repr((mach, int(n_chordwise), int(n_spanwise))).encode()).hexdigest()
+                            + repr((mach, int(n_chordwise), int(n_spanwise),
+                                    None if fractions is None else fractions.tolist())).encode()).hexdigest()
     D = pressure_operators(lat, k / b, method=method, key=planform)
     S = station_summation(lat, r)
     loads = np.zeros((k.size, r.shape[0], 6, nm + 1), dtype=complex)
+    flap = np.zeros((k.size, nm, nf), dtype=complex)
+    hinge = np.zeros((k.size, nf, nm + nf + 1), dtype=complex)
+    flap_loads = np.zeros((k.size, r.shape[0], 6, nf), dtype=complex)
     for i, ki in enumerate(k):
         kb = ki / b
-        wash = np.column_stack([tr.incidence - 1j * kb * tr.heave,
-                                lat.normal[:, 2] * np.exp(-1j * kb * (lat.control[:, 0] - x0))])
-        dcp = D[i] @ wash
+        cols = [tr.incidence - 1j * kb * tr.heave,
+                (lat.normal[:, 2] * np.exp(-1j * kb * (lat.control[:, 0] - x0)))[:, None]]
+        if nf:
+            cols.append(fl.incidence - 1j * kb * fl.heave)
+        dcp = D[i] @ np.concatenate(cols, axis=1)
         F = tr.force.T @ dcp
         Q[i], G[i] = F[:, :nm], F[:, nm]
-        loads[i] = np.tensordot(S, dcp, axes=1)
-    out = GeneralizedForces(k=k, Q=Q, gust=G, b_ref=b, mach=mach, x_gust=x0, station_loads=loads)
+        L = np.tensordot(S, dcp, axes=1)
+        loads[i] = L[..., :nm + 1]
+        if nf:
+            flap[i] = F[:, nm + 1:]
+            Hm = fl.force.T @ dcp                                   # modes, gust, flaps
+            hinge[i] = np.concatenate([Hm[:, :nm], Hm[:, nm + 1:], Hm[:, nm:nm + 1]], axis=1)
+            flap_loads[i] = L[..., nm + 1:]
+    out = GeneralizedForces(k=k, Q=Q, gust=G, b_ref=b, mach=mach, x_gust=x0, station_loads=loads,
+                            **({"flap": flap, "hinge": hinge, "flap_station_loads": flap_loads} if nf else {}))
     if len(_CACHE) >= _CACHE_SIZE:
         _CACHE.pop(next(iter(_CACHE)))
     _CACHE[key] = out

@@ -18,9 +18,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from wingmdao.aero.controls import control_spec, limit_report
-from wingmdao.aero.dlm import DLM_CHORDWISE, DLM_SPANWISE, REDUCED_FREQUENCIES
+from wingmdao.aero.dlm import DLM_CHORDWISE, DLM_FLAP_CHORDWISE, DLM_SPANWISE, REDUCED_FREQUENCIES
+from wingmdao.aero.modal_controls import control_terms, hinge_moment_history
 from wingmdao.aero.modal_free import free_modal_dlm_wing
-from wingmdao.aero.modal_loads import station_load_history
+from wingmdao.aero.modal_loads import modal_accelerations, station_load_history
 from wingmdao.aero.rfa import N_LAGS
 from wingmdao.aero.strip import station_gust_history
 from wingmdao.aero.system import cached_aeroelastic_system, three_dimensional_parameters
@@ -28,7 +29,7 @@ from wingmdao.beam.static import march_line_loads
 from wingmdao.loads.atmosphere import G0
 from wingmdao.loads.gust import gust_line_loads
 from wingmdao.loads.maneuver import maneuver_line_loads
-from wingmdao.timemarch.bdf import march
+from wingmdao.timemarch.bdf import march, state_rates
 from wingmdao.stability.modal import modal_dlm_wing
 from wingmdao.timemarch.system import layout, pack
 
@@ -312,7 +313,8 @@ def strip_gust_response(time, beam_params, chord, axis_frac, flight: GustFlight,
 
 def alleviation_summary(without: GustResponse, with_law: GustResponse, surfaces, law) -> dict:
     """The load alleviation's effect (JSON-ready): peak root bending (total, 1 g included, and the
-    increment over the trimmed value; N m) and peak load-factor increment without and with the law,
+    increment over the trimmed value; N m; the doublet lattice's modal response: increments on the
+    1 g flight both) and peak load-factor increment without and with the law,
     the surfaces' deflection, rate and hinge-moment histories with their peaks against the limits,
     and the law's matrices.
 
@@ -332,8 +334,11 @@ def alleviation_summary(without: GustResponse, with_law: GustResponse, surfaces,
     dict
         The summary.
     """
+    def bending(resp):   # the doublet lattice's modal response: increments (no beam states)
+        return resp.states[:, 0, 9] if resp.states is not None else resp.station_loads[:, 0, 3]
+
     def peaks(resp):
-        m = resp.states[:, 0, 9]
+        m = bending(resp)
         dm = m - m[0]
         dn = resp.load_factor - resp.load_factor[0]
         return float(m[np.argmax(np.abs(m))]), float(dm[np.argmax(np.abs(dm))]), float(np.max(np.abs(dn)))
@@ -355,7 +360,7 @@ def alleviation_summary(without: GustResponse, with_law: GustResponse, surfaces,
             "incremental_root_bending_reduction": float(1.0 - abs(dm1) / abs(dm0)) if dm0 else 0.0,
             "peak_incremental_load_factor_without_law": dn0, "peak_incremental_load_factor_with_law": dn1,
             "load_factor_without_law": without.load_factor.tolist(),
-            "root_bending_moment_without_law": without.states[:, 0, 9].tolist()}
+            "root_bending_moment_without_law": bending(without).tolist()}
 
 
 def gust_velocity_derivatives(flight: GustFlight, time) -> np.ndarray:
@@ -385,7 +390,8 @@ def gust_velocity_derivatives(flight: GustFlight, time) -> np.ndarray:
 
 def dlm_gust_response(time, beam_params, chord, axis_frac, flight: GustFlight, *, area, n_modes: int = 6,
                       n_lags: int = N_LAGS, reduced_frequencies=REDUCED_FREQUENCIES, n_chordwise=DLM_CHORDWISE,
-                      n_spanwise=DLM_SPANWISE, plunge: bool = False, pitch_params=None) -> GustResponse:
+                      n_spanwise=DLM_SPANWISE, plunge: bool = False, pitch_params=None, surfaces=None,
+                      law=None) -> GustResponse:
     """The gust response of the doublet lattice in the modal basis of the jig beam.
 
     The lowest ``n_modes`` normal modes of the beam about the jig (undamped, root clamped), the
@@ -398,7 +404,10 @@ def dlm_gust_response(time, beam_params, chord, axis_frac, flight: GustFlight, *
     the gust reaching the tail ``(x_t - x_gust) / V`` after the leading edge
     (:mod:`wingmdao.aero.modal_free`; the increments on the trimmed 1 g flight). The load factor is
     ``1 +`` the lift increment of both half-wings (and the tail) over W; station loads by force
-    summation (:mod:`wingmdao.aero.modal_loads`).
+    summation (:mod:`wingmdao.aero.modal_loads`). ``surfaces`` and ``law``: control surfaces as flap
+    modes of the lattice with their actuators and feedback law (:mod:`wingmdao.aero.modal_controls`;
+    with the default ``n_chordwise`` the lattice then has :data:`wingmdao.aero.dlm.DLM_FLAP_CHORDWISE`
+    chordwise panels, the hinges on panel edges).
 
     Parameters
     ----------
@@ -428,22 +437,30 @@ def dlm_gust_response(time, beam_params, chord, axis_frac, flight: GustFlight, *
         Free the aircraft in plunge (the plunge mode in the basis).
     pitch_params : dict or None, optional
         :func:`wingmdao.aero.pitch.pitch_parameters`: also free in pitch with the quasi-steady tail.
+    surfaces : sequence of ControlSurface, optional
+        Control surfaces.
+    law : ControlLaw, optional
+        Feedback law of the surfaces.
 
     Returns
     -------
     GustResponse
-        The response (no beam states).
+        The response (no beam states; with surfaces their histories in ``controls``).
     """
     if pitch_params is not None and not plunge:
         raise ValueError("free pitch needs free plunge (plunge=True)")
+    spec = control_spec(surfaces, np.asarray(beam_params["node_positions"])[:, 1], law) if surfaces else None
+    if spec is not None and n_chordwise == DLM_CHORDWISE:
+        n_chordwise = DLM_FLAP_CHORDWISE
     if plunge:
         wing = free_modal_dlm_wing(beam_params, chord, axis_frac, flight.mach, aircraft_mass=flight.weight / G0,
                                    pitch_params=pitch_params, n_modes=n_modes, n_lags=n_lags,
                                    reduced_frequencies=reduced_frequencies, n_chordwise=n_chordwise,
-                                   n_spanwise=n_spanwise)
+                                   n_spanwise=n_spanwise, controls=spec)
     else:
         wing = modal_dlm_wing(beam_params, chord, axis_frac, flight.mach, n_modes=n_modes, n_lags=n_lags,
-                              reduced_frequencies=reduced_frequencies, n_chordwise=n_chordwise, n_spanwise=n_spanwise)
+                              reduced_frequencies=reduced_frequencies, n_chordwise=n_chordwise, n_spanwise=n_spanwise,
+                              controls=spec)
     modal, structure, rfa, gaf, modes = wing.system, wing.structure, wing.rfa, wing.gaf, wing.modes
     tail = getattr(wing, "tail", None)
     m, V, rho = modes.count, flight.airspeed, flight.density
@@ -454,10 +471,11 @@ def dlm_gust_response(time, beam_params, chord, axis_frac, flight: GustFlight, *
         x_le = np.asarray(beam_params["node_positions"])[:, 0] - np.asarray(axis_frac) * np.asarray(chord)
         F[:, 3 + m] = profile(time - (pitch_params["tail_x"] - gaf.x_gust) / V)
         F[:, 4 + m] = profile(time - (x_le[0] - gaf.x_gust) / V)
-    p = pack(modal.param_specs, {"airspeed": V, "density": rho})
+    p = pack(modal.param_specs, {"airspeed": V, "density": rho, **(law.matrices() if law is not None else {})})
     # from rest: the free modes' static problem is singular (a plunge displacement loads nothing)
     X = march(modal, time, p, F, initial="state", x_init=np.zeros(modal.n_state)).states
-    total, aero = station_load_history(wing.loads, structure, rfa, X, F, V, rho, tail)
+    Xd = state_rates(X, float(time[1] - time[0])) if spec is not None else None
+    total, aero = station_load_history(wing.loads, structure, rfa, X, F, V, rho, tail, wing.controls, Xd)
     a_wing = 2.0 * float(np.real(gaf.station_loads[0, 0, 2, -1])) / area
     lift = 2.0 * aero[:, 0, 2]
     pitch = {}
@@ -468,5 +486,12 @@ def dlm_gust_response(time, beam_params, chord, axis_frac, flight: GustFlight, *
         pitch = {"pitch_angle_rad": X[:, 1].tolist(), "pitch_rate_rad_s": X[:, m + 1].tolist(),
                  "tail_lift_n": tail_lift.tolist()}
     tip = (wing.tip_displacement(X) if plunge else X[:, :m] @ modes.displacement[:, -1, 2])
-    return GustResponse(1.0 + lift / flight.weight, None, a_wing, pitch=pitch, station_loads=total,
+    ctl = {}
+    if spec is not None:
+        a = modal_accelerations(structure, rfa, X, F, V, rho, tail, wing.controls, Xd)
+        d, r, _, _ = control_terms(wing.controls, rfa, X, Xd, m)
+        ctl = {"deflection": d, "rate": r,
+               "hinge_moment": hinge_moment_history(wing.controls, rfa, X, Xd, a, F, V, rho),
+               "limits": limit_report(time, d, r, surfaces)}
+    return GustResponse(1.0 + lift / flight.weight, None, a_wing, pitch=pitch, controls=ctl, station_loads=total,
                         tip_displacement=tip, dlm=wing.info())

@@ -49,6 +49,7 @@ import numpy as np
 
 from wingmdao.aero.dlm import DLM_CHORDWISE, DLM_SPANWISE, REDUCED_FREQUENCIES, generalized_forces
 from wingmdao.aero.modal_design import ModalGust, cosine_gust_history, modal_projection
+from wingmdao.aero.modal_controls import modal_control_model
 from wingmdao.aero.modal_loads import StationLoadModel
 from wingmdao.aero.plunge import body_mass as plunge_body_mass, half_wing_mass
 from wingmdao.aero.rfa import N_LAGS, fit, fit_columns
@@ -176,7 +177,7 @@ class FreeModalDLMWing(ModalDLMWing):
 
     Parameters
     ----------
-    modes, structure, gaf, rfa, system, loads
+    modes, structure, gaf, rfa, system, loads, controls
         As :class:`wingmdao.stability.modal.ModalDLMWing`, on the augmented basis (``rigid``
         rigid-body modes first, frequencies 0).
     rigid : int
@@ -217,7 +218,8 @@ class FreeModalDLMWing(ModalDLMWing):
 
 def free_modal_dlm_wing(beam_params, chord, axis_frac, mach, *, aircraft_mass, pitch_params=None,
                         n_modes: int = N_MODES, n_lags: int = N_LAGS, reduced_frequencies=REDUCED_FREQUENCIES,
-                        n_chordwise=DLM_CHORDWISE, n_spanwise=DLM_SPANWISE, damping_ratio: float = 0.0) -> FreeModalDLMWing:
+                        n_chordwise=DLM_CHORDWISE, n_spanwise=DLM_SPANWISE, damping_ratio: float = 0.0,
+                        controls=None) -> FreeModalDLMWing:
     """The modal doublet-lattice wing of the aircraft free in plunge (and pitch), module docstring.
 
     Parameters
@@ -239,6 +241,8 @@ def free_modal_dlm_wing(beam_params, chord, axis_frac, mach, *, aircraft_mass, p
         As :func:`wingmdao.stability.modal.modal_dlm_wing`.
     damping_ratio : float
         Structural damping of the clamped modes (fraction of critical, [0, 1)); the rigid modes have none.
+    controls : wingmdao.aero.controls.ControlSpec or None
+        Control surfaces (flap modes of the lattice, :mod:`wingmdao.aero.modal_controls`) and law.
 
     Returns
     -------
@@ -276,7 +280,8 @@ def free_modal_dlm_wing(beam_params, chord, axis_frac, mach, *, aircraft_mass, p
                         force=np.concatenate([zeros, elastic.force]), moment=np.concatenate([zeros, elastic.moment]))
     gaf = generalized_forces(r0, np.broadcast_to(chord, (n,)), np.broadcast_to(axis_frac, (n,)), disp, rot,
                              mach=mach, reduced_frequencies=reduced_frequencies, n_chordwise=n_chordwise,
-                             n_spanwise=n_spanwise)
+                             n_spanwise=n_spanwise,
+                             surfaces=() if controls is None else [(s[1], s[2]) for s in controls.surfaces])
     rfa = fit(gaf, n_lags=n_lags, low_k_slope=True)
     damping = np.zeros((m, m))
     damping[nr:, nr:] = ModalStructure.from_modes(elastic, damping_ratio).damping
@@ -285,8 +290,10 @@ def free_modal_dlm_wing(beam_params, chord, axis_frac, mach, *, aircraft_mass, p
     inertia = modal_projection(beam_params, modes).evaluate(beam_params)[2]
     loads = StationLoadModel(motion=coef[..., :m], gust=coef[..., m], inertia=inertia, error=err)
     tail = _tail(pitch_params, m) if pitch else None
-    return FreeModalDLMWing(modes, structure, gaf, rfa, modal_rfa_system(structure, rfa, tail=tail), loads,
-                            rigid=nr, tail=tail, elastic=elastic)
+    ctl = None if controls is None else modal_control_model(controls, gaf, rfa, loads, disp[:, -1, 2], plunge=0,
+                                                            pitch=1 if pitch else None)
+    return FreeModalDLMWing(modes, structure, gaf, rfa, modal_rfa_system(structure, rfa, tail=tail, controls=ctl),
+                            loads, ctl, rigid=nr, tail=tail, elastic=elastic)
 
 
 def free_cosine_gust(params: dict, chord, axis_frac, time, *, aircraft_mass, u_tas, airspeed, density, mach,

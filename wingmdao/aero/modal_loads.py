@@ -39,6 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from wingmdao.aero.dlm import GeneralizedForces, interpolate
+from wingmdao.aero.modal_controls import control_terms
 from wingmdao.aero.rfa import RogerApproximation, fit_columns
 from wingmdao.beam.modes import NormalModes
 
@@ -110,11 +111,21 @@ def station_load_model(gaf: GeneralizedForces, rfa: RogerApproximation, modes: N
 def _split(X, n, L):
     q, v = X[:, :n], X[:, n:2 * n]
     z = X[:, 2 * n:2 * n + L * n].reshape(-1, L, n)
-    zg = X[:, 2 * n + L * n:]
+    zg = X[:, 2 * n + L * n:2 * n + L * n + L]
     return q, v, z, zg
 
 
-def modal_accelerations(structure, rfa: RogerApproximation, X, F, airspeed, density, tail=None) -> np.ndarray:
+def _flap_sum(coef, terms, b, V):
+    """``sum`` of the Roger terms of the flap columns ``coef`` (3 + L, ..., n_s) over the control
+    terms (:func:`wingmdao.aero.modal_controls.control_terms`), (nt, ...)."""
+    d, r, dr, zf = terms
+    return (np.einsum("...s,ts->t...", coef[0], d) + (b / V) * np.einsum("...s,ts->t...", coef[1], r)
+            + (b / V) ** 2 * np.einsum("...s,ts->t...", coef[2], dr)
+            + np.einsum("l...s,tls->t...", coef[3:], zf))
+
+
+def modal_accelerations(structure, rfa: RogerApproximation, X, F, airspeed, density, tail=None,
+                        controls=None, rates=None) -> np.ndarray:
     """Modal accelerations ``v'`` (nt, modes) of marched states ``X`` (nt, states) of
     :func:`wingmdao.aero.rfa_system.modal_rfa_system` under its forcing ``F`` (nt, 3 + modes
     [+ 2 with ``tail``, :class:`wingmdao.aero.modal_free.ModalTail`]), from the modal equations of
@@ -136,6 +147,11 @@ def modal_accelerations(structure, rfa: RogerApproximation, X, F, airspeed, dens
         Air density (kg/m^3).
     tail : wingmdao.aero.modal_free.ModalTail or None
         The free aircraft's horizontal tail; None: none.
+    controls : wingmdao.aero.modal_controls.ModalControlModel or None
+        Control surfaces of the system (their flap forces); None: none.
+    rates : numpy.ndarray or None
+        (nt, states) state rates (:func:`wingmdao.timemarch.bdf.state_rates`), with ``controls``
+        (the surfaces' accelerations).
 
     Returns
     -------
@@ -157,11 +173,13 @@ def modal_accelerations(structure, rfa: RogerApproximation, X, F, airspeed, dens
            + F[:, 3:3 + n].T)
     if tail is not None:
         rhs = rhs + tail.force(qd, V, q.T, v.T, F[:, 3 + n], F[:, 4 + n])
+    if controls is not None:
+        rhs = rhs + qd * _flap_sum(controls.flap, control_terms(controls, rfa, X, rates, n), b, V).T
     return np.linalg.solve(M - 0.5 * rho * b ** 2 * A[2], rhs).T
 
 
 def station_load_history(model: StationLoadModel, structure, rfa: RogerApproximation, X, F, airspeed,
-                         density, tail=None) -> tuple[np.ndarray, np.ndarray]:
+                         density, tail=None, controls=None, rates=None) -> tuple[np.ndarray, np.ndarray]:
     """``(total, aerodynamic)`` station loads (nt, n, 6) of a march of
     :func:`wingmdao.aero.rfa_system.modal_rfa_system`: internal force (N) and moment (N m) at every
     beam node, body axes, by force summation (module docstring); ``aerodynamic`` is the panel
@@ -186,6 +204,10 @@ def station_load_history(model: StationLoadModel, structure, rfa: RogerApproxima
         Air density (kg/m^3).
     tail : wingmdao.aero.modal_free.ModalTail or None
         The free aircraft's horizontal tail; None: none.
+    controls : wingmdao.aero.modal_controls.ModalControlModel or None
+        Control surfaces of the system (their flap forces and station loads); None: none.
+    rates : numpy.ndarray or None
+        (nt, states) state rates, with ``controls``.
 
     Returns
     -------
@@ -196,7 +218,7 @@ def station_load_history(model: StationLoadModel, structure, rfa: RogerApproxima
     V = float(airspeed)
     qd = 0.5 * float(density) * V ** 2
     q, v, z, zg = _split(np.asarray(X, dtype=float), n, L)
-    a = modal_accelerations(structure, rfa, X, F, airspeed, density, tail)
+    a = modal_accelerations(structure, rfa, X, F, airspeed, density, tail, controls, rates)
     F = np.asarray(F, dtype=float)
     g, g1, g2 = F[:, 0] / V, F[:, 1] / V, F[:, 2] / V
     S, Sg = model.motion, model.gust
@@ -204,6 +226,8 @@ def station_load_history(model: StationLoadModel, structure, rfa: RogerApproxima
             + (b / V) ** 2 * np.einsum("scm,tm->tsc", S[2], a) + np.einsum("lscm,tlm->tsc", S[3:], z)
             + np.einsum("sc,t->tsc", Sg[0], g) + (b / V) * np.einsum("sc,t->tsc", Sg[1], g1)
             + (b / V) ** 2 * np.einsum("sc,t->tsc", Sg[2], g2) + np.einsum("lsc,tl->tsc", Sg[3:], zg))
+    if controls is not None:
+        aero = aero + _flap_sum(controls.flap_loads, control_terms(controls, rfa, X, rates, n), b, V)
     aero = qd * aero
     return aero + np.einsum("scm,tm->tsc", model.inertia, a), aero
 

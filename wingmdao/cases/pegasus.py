@@ -689,9 +689,13 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
         controls = dict(controls=spec, control_law=law, gain_design=bool(getattr(opts, "size_gains", False)))
     modal = None
     if opts.aero_theory == "dlm":  # the trimmed 1 g state on the VLM beam + the gust on the modal doublet lattice
-        if pitch or controls:
+        if pitch:
             raise ValueError("--aero-theory dlm: the sized gust is clamped or free in plunge (the modal basis has "
-                             "no pitch mode in a sizing); drop --pitch free and --alleviation")
+                             "no pitch mode in a sizing); drop --pitch free")
+        if controls:
+            raise ValueError(f"--alleviation {opts.alleviation} with --aero-theory dlm: the sized modal gust has a "
+                             "design-dependent modal mass and stiffness and carries no control surfaces (wingmdao gust "
+                             "and turbulence --aero-theory dlm do); size with --aero-theory vlm --alleviation")
         modal = modal_dlm_gust(geometry, chord, axis_frac, time, u_tas=u_tas, airspeed=V, density=rho, mach=mach,
                                gust_start=opts.gust_start, gradient_m=H, aircraft_mass=weight_lb * LB if free else None)
     aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),

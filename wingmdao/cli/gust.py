@@ -254,8 +254,18 @@ def run(args):
         return _run_stick(args, t, flight, walls, n, H_ft=H_ft, alt_ft=alt_ft, t_wall=t_wall, plot_path=plot_path)
     pitch_out, alleviation = {}, {}
     if args.aero_theory == "dlm":
-        resp = dlm_gust_response(t, bp, chord, axis_frac, flight, area=wing_area, n_modes=args.modes,
-                                 plunge=args.plunge, pitch_params=args.pitch_params if args.pitch else None)
+        def dlm_response(**controls):
+            return dlm_gust_response(t, bp, chord, axis_frac, flight, area=wing_area, n_modes=args.modes,
+                                     plunge=args.plunge, pitch_params=args.pitch_params if args.pitch else None,
+                                     **controls)
+
+        if surfaces:  # without the law on the same lattice (the hinges on panel edges), the surfaces held at 0
+            without = dlm_response(surfaces=surfaces, law=None)
+            resp = dlm_response(surfaces=surfaces, law=law)
+            alleviation = {"alleviation": {"file": args.alleviation,
+                                           **alleviation_summary(without, resp, surfaces, law)}}
+        else:
+            resp = dlm_response()
     elif args.aero == "coupled":
         def response(**controls):
             return coupled_gust_response(t, bp, chord, axis_frac, ap, flight, area=wing_area, plunge=args.plunge,
@@ -400,9 +410,6 @@ def _check_dlm_args(args, plunge):
     if args.pitch == "free" and getattr(args, "tail_lag", False):
         raise ValueError("--tail-lag: the doublet lattice's tail is quasi-steady (no downwash lag); "
                          "use --aero-theory strip|lifting-line|vlm with --tail-lag")
-    if getattr(args, "alleviation", None):
-        raise ValueError(f"--alleviation {args.alleviation}: control surfaces are in the strip sections only; "
-                         "use --aero-theory strip|lifting-line|vlm with --alleviation")
     args.modes = DLM_MODES if args.modes is None else args.modes
     if not 2 <= args.modes <= 20:
         raise ValueError(f"--modes = {args.modes}; allowed range [2, 20]")

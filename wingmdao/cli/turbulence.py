@@ -37,6 +37,7 @@ import numpy as np
 from wingmdao.plots import optional_pyplot
 
 from wingmdao.aero.controls import control_spec, read_alleviation
+from wingmdao.aero.dlm import DLM_CHORDWISE, DLM_FLAP_CHORDWISE
 from wingmdao.cases import available_cases, case_beam_parameters, resolve_aero_theory
 from wingmdao.cases.planform import G0, LB, wing_geometry
 from wingmdao.cli import COMMANDS
@@ -134,9 +135,6 @@ def _check_alleviation(args, plunge):
     if args.aero != "coupled":
         raise ValueError(f"--alleviation {args.alleviation} needs --aero coupled (the control surfaces are states of "
                          "the coupled aeroelastic model; the --aero strip loads have none)")
-    if args.aero_theory == "dlm":
-        raise ValueError(f"--alleviation {args.alleviation}: control surfaces are in the strip sections only; use "
-                         "--aero-theory strip|lifting-line|vlm with --alleviation")
     surfaces, law = read_alleviation(args.alleviation)
     if law is not None:
         for out, ok, need in (("load_factor", plunge == "free", "free plunge (--plunge free)"),
@@ -277,16 +275,42 @@ def _alleviation_summary(args, res, without, u_sigma) -> dict:
     return out
 
 
+def _dlm_alleviation_summary(args, res, plain) -> dict:
+    """``alleviation`` of the doublet lattice's JSON: as :func:`_alleviation_summary`, ``plain`` the
+    same lattice with the surfaces held at zero."""
+    keys = ("root_bending_moment", "load_factor", "tip_deflection")
+    law = None if args.law is None else {"outputs": list(args.law.outputs),
+                                         **{k: v.tolist() for k, v in args.law.matrices().items()}}
+    for k in keys:
+        print(f"alleviation: A-bar {k} {plain['a_bar'][k]:.4g} -> {res['a_bar'][k]:.4g} "
+              f"({100 * (res['a_bar'][k] / plain['a_bar'][k] - 1):+.1f} %)", file=sys.stderr)
+    return {"file": args.alleviation, "law": law, "a_bar_without_law": {k: plain["a_bar"][k] for k in keys},
+            "a_bar_with_law": {k: res["a_bar"][k] for k in keys}, "control_surfaces": res.get("control_surfaces", {})}
+
+
 def _run_dlm(args, bp, chord, axis_frac, mach, V, rho, weight, point, stem, t_wall, alt, plunge):
-    wing = (free_modal_dlm_wing(bp, chord, axis_frac, mach, aircraft_mass=weight / G0, n_modes=args.modes) if plunge
-            else modal_dlm_wing(bp, chord, axis_frac, mach, n_modes=args.modes))
+    y = np.asarray(bp["node_positions"])[:, 1]
+    specs = [None]
+    if args.surfaces:  # the surfaces as flap modes of the lattice; without the law: the same lattice, surfaces at 0
+        try:
+            specs = [control_spec(args.surfaces, y, args.law), control_spec(args.surfaces, y, None)]
+        except ValueError as exc:
+            raise ValueError(f"--alleviation {args.alleviation}: {exc}") from None
+    kw = dict(n_modes=args.modes, n_chordwise=DLM_FLAP_CHORDWISE if args.surfaces else DLM_CHORDWISE)
+    wings = [free_modal_dlm_wing(bp, chord, axis_frac, mach, aircraft_mass=weight / G0, controls=c, **kw) if plunge
+             else modal_dlm_wing(bp, chord, axis_frac, mach, controls=c, **kw) for c in specs]
+    wing = wings[0]
     res = {"case": args.case, "aero": args.aero, "aero_theory": "dlm", "plunge": bool(plunge), "design": args.design,
            **alt,
            "mach": mach, "damping_ratio": 0.0, "airspeed_tas_m_s": V, "density_kg_m3": rho,
            "u_sigma_ref_m_s": point.u_sigma_ref, "f_g": point.f_g, "speed_factor": point.speed_factor,
            "u_sigma_m_s": point.u_sigma, "span_m": np.asarray(bp["node_positions"])[:, 1].tolist(),
            "modes": args.modes}
-    res.update(dlm_turbulence_analysis(wing, V, rho, weight, f_max=args.f_max_hz, n_base=args.grid_points))
+    res.update(dlm_turbulence_analysis(wing, V, rho, weight, f_max=args.f_max_hz, n_base=args.grid_points,
+                                       surfaces=args.surfaces, law=args.law, u_sigma=point.u_sigma))
+    if args.surfaces:
+        plain = dlm_turbulence_analysis(wings[1], V, rho, weight, f_max=args.f_max_hz, n_base=args.grid_points)
+        res["alleviation"] = _dlm_alleviation_summary(args, res, plain)
     res["wall_s"] = _time.perf_counter() - t_wall
     ab = res["a_bar"]
     print(f"A-bar (doublet lattice, {args.modes} modes): load factor {ab['load_factor']:.4g} per m/s, root bending "

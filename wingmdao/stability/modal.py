@@ -21,6 +21,7 @@ import numpy as np
 
 from wingmdao.aero.dlm import (DLM_CHORDWISE, DLM_SPANWISE, REDUCED_FREQUENCIES, GeneralizedForces,
                                generalized_forces)
+from wingmdao.aero.modal_controls import modal_control_model
 from wingmdao.aero.modal_loads import StationLoadModel, station_load_model
 from wingmdao.aero.rfa import N_LAGS, RogerApproximation, fit
 from wingmdao.aero.rfa_system import modal_rfa_system
@@ -204,6 +205,8 @@ class ModalDLMWing:
         The modal residual system (:func:`wingmdao.aero.rfa_system.modal_rfa_system`).
     loads : wingmdao.aero.modal_loads.StationLoadModel
         The station-load recovery.
+    controls : wingmdao.aero.modal_controls.ModalControlModel or None
+        Control surfaces as flap modes (in ``system``); None: none.
     """
 
     modes: NormalModes
@@ -212,18 +215,22 @@ class ModalDLMWing:
     rfa: RogerApproximation
     system: object
     loads: StationLoadModel
+    controls: object = None
 
     def info(self) -> dict:
         """The model's figures for a JSON result."""
-        return {"n_modes": self.modes.count, "frequencies_hz": (self.modes.frequencies / (2 * np.pi)).tolist(),
-                "lag_roots": self.rfa.lags.tolist(), "fit_error": self.rfa.error, "gust_fit_error": self.rfa.gust_error,
-                "station_load_fit_error": self.loads.error, "reduced_frequencies": self.gaf.k.tolist(),
-                "b_ref_m": self.gaf.b_ref, "mach": self.gaf.mach}
+        out = {"n_modes": self.modes.count, "frequencies_hz": (self.modes.frequencies / (2 * np.pi)).tolist(),
+               "lag_roots": self.rfa.lags.tolist(), "fit_error": self.rfa.error, "gust_fit_error": self.rfa.gust_error,
+               "station_load_fit_error": self.loads.error, "reduced_frequencies": self.gaf.k.tolist(),
+               "b_ref_m": self.gaf.b_ref, "mach": self.gaf.mach}
+        if self.controls is not None:
+            out.update(self.controls.errors)
+        return out
 
 
 def modal_dlm_wing(beam_params, chord, axis_frac, mach, *, n_modes: int = N_MODES, n_lags: int = N_LAGS,
                    reduced_frequencies=REDUCED_FREQUENCIES, n_chordwise=DLM_CHORDWISE,
-                   n_spanwise=DLM_SPANWISE, damping_ratio: float = 0.0) -> ModalDLMWing:
+                   n_spanwise=DLM_SPANWISE, damping_ratio: float = 0.0, controls=None) -> ModalDLMWing:
     """:class:`ModalDLMWing` of the beam ``beam_params`` (clamped, modes about the jig), planform
     ``chord`` and ``axis_frac`` per node, at ``mach``.
 
@@ -249,6 +256,8 @@ def modal_dlm_wing(beam_params, chord, axis_frac, mach, *, n_modes: int = N_MODE
         Spanwise doublet-lattice strips per beam element.
     damping_ratio : float
         Structural modal damping (fraction of critical).
+    controls : wingmdao.aero.controls.ControlSpec or None
+        Control surfaces (flap modes of the lattice, :mod:`wingmdao.aero.modal_controls`) and law.
 
     Returns
     -------
@@ -262,7 +271,10 @@ def modal_dlm_wing(beam_params, chord, axis_frac, mach, *, n_modes: int = N_MODE
                          pack(system.forcing_specs, beam_forcing(n)), count=int(n_modes))
     gaf = generalized_forces(r0, np.broadcast_to(chord, (n,)), np.broadcast_to(axis_frac, (n,)), modes.displacement,
                              modes.rotation, mach=mach, reduced_frequencies=reduced_frequencies,
-                             n_chordwise=n_chordwise, n_spanwise=n_spanwise)
+                             n_chordwise=n_chordwise, n_spanwise=n_spanwise,
+                             surfaces=() if controls is None else [(s[1], s[2]) for s in controls.surfaces])
     rfa = fit(gaf, n_lags=n_lags)
     structure = ModalStructure.from_modes(modes, damping_ratio)
-    return ModalDLMWing(modes, structure, gaf, rfa, modal_rfa_system(structure, rfa), station_load_model(gaf, rfa, modes))
+    loads = station_load_model(gaf, rfa, modes)
+    ctl = None if controls is None else modal_control_model(controls, gaf, rfa, loads, modes.displacement[:, -1, 2])
+    return ModalDLMWing(modes, structure, gaf, rfa, modal_rfa_system(structure, rfa, controls=ctl), loads, ctl)
