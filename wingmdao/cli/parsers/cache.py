@@ -10,6 +10,15 @@ DEFAULT_UNUSED_DAYS = 30.0
 
 
 def register(subparsers, argv=None):
+    """Add ``wingmdao cache`` to the ``wingmdao`` sub-parsers.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``wingmdao`` sub-parsers.
+    argv : sequence of str, optional
+        The command line (unused: the command's options do not depend on it).
+    """
     p = subparsers.add_parser(
         "cache",
         help=COMMANDS["cache"].help,

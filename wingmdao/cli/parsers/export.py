@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from wingmdao.cli import COMMANDS
+from wingmdao.cli._args import add_overwrite_argument
 from wingmdao.cli.parsers.run import add_wing_box_arguments
 
 
@@ -11,6 +12,15 @@ AEROELASTIC = "nastran-aeroelastic"
 
 
 def register(subparsers, argv=None):
+    """Add ``wingmdao export`` to the ``wingmdao`` sub-parsers.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``wingmdao`` sub-parsers.
+    argv : sequence of str, optional
+        The command line (unused: the command's options do not depend on it).
+    """
     p = subparsers.add_parser("export", help=COMMANDS["export"].help,
                               description="Export a case as an FE deck (SI units: m, N, kg; body axes).")
     cases = p.add_subparsers(dest="case", metavar="CASE", required=True)
@@ -22,7 +32,7 @@ def register(subparsers, argv=None):
     wb.add_argument("--format", choices=("calculix", "nastran", "abaqus"), required=True, help="deck format")
     wb.add_argument("--fidelity", choices=("beam", "shell"), default="beam",
                     help="beam stick model or shell model of the walls")
-    wb.add_argument("--overwrite", action="store_true", help="replace an existing FILE instead of refusing")
+    add_overwrite_argument(wb, help="replace an existing FILE instead of refusing")
     wb.add_argument("file", metavar="FILE", help="deck to write")
     wb.set_defaults(func="wingmdao.cli.export:run_export")
     pg = cases.add_parser("pegasus", help="PEGASUS wing at n g (4/4/5/4 mm walls, or --design)")
@@ -49,6 +59,6 @@ def register(subparsers, argv=None):
                     help="load factor of the symmetric maneuver (lift n W and n g weight as nodal loads)")
     pg.add_argument("--no-ribs", action="store_true", help="shell: no ribs (default: ribs at the 19 rib stations)")
     pg.add_argument("--rib-thickness", type=float, default=0.002, metavar="M", help="shell: rib thickness (m)")
-    pg.add_argument("--overwrite", action="store_true", help="replace an existing FILE instead of refusing")
+    add_overwrite_argument(pg, help="replace an existing FILE instead of refusing")
     pg.add_argument("file", metavar="FILE", help="deck to write")
     pg.set_defaults(func="wingmdao.cli.export:run_export_pegasus")

@@ -8,6 +8,15 @@ from wingmdao.names import FLUTTER_CASES
 
 
 def register(subparsers, argv=None):
+    """Add ``wingmdao flutter`` to the ``wingmdao`` sub-parsers.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``wingmdao`` sub-parsers.
+    argv : sequence of str, optional
+        The command line (unused: the command's options do not depend on it).
+    """
     p = subparsers.add_parser(
         "flutter", help=COMMANDS["flutter"].help,
         description="Linear stability of the aeroelastic beam (strip theory) over an airspeed sweep: flutter "

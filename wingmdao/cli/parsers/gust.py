@@ -25,6 +25,15 @@ DLM_MODES = 6
 
 
 def register(subparsers, argv=None):
+    """Add ``wingmdao gust`` to the ``wingmdao`` sub-parsers.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``wingmdao`` sub-parsers.
+    argv : sequence of str, optional
+        The command line (unused: the command's options do not depend on it).
+    """
     p = subparsers.add_parser(
         "gust", help=COMMANDS["gust"].help,
         description="1-cos gust response of a case's wing: on the aeroelastic beam (--aero coupled: unsteady strip "

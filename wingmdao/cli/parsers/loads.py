@@ -10,6 +10,15 @@ CASES = ("pegasus",)
 
 
 def register(subparsers, argv=None):
+    """Add ``wingmdao loads`` to the ``wingmdao`` sub-parsers.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``wingmdao`` sub-parsers.
+    argv : sequence of str, optional
+        The command line (unused: the command's options do not depend on it).
+    """
     p = subparsers.add_parser(
         "loads", help=COMMANDS["loads"].help,
         description="Run a loads matrix (altitudes x V_C/V_D x mass cases; every discrete gust, continuous "

@@ -18,6 +18,15 @@ ELEVATOR_TIME_CONSTANT = 0.05
 
 
 def register(subparsers, argv=None):
+    """Add ``wingmdao maneuver`` to the ``wingmdao`` sub-parsers.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``wingmdao`` sub-parsers.
+    argv : sequence of str, optional
+        The command line (unused: the command's options do not depend on it).
+    """
     p = subparsers.add_parser(
         "maneuver", help=COMMANDS["maneuver"].help,
         description="Dynamic maneuver of a case's airplane on the coupled aeroelastic beam, free in plunge and pitch "

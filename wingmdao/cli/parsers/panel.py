@@ -10,6 +10,15 @@ from wingmdao.names import DEFAULT_FLANGE_RATIO, STIFFENERS
 
 
 def register(subparsers, argv=None):
+    """Add ``wingmdao panel`` to the ``wingmdao`` sub-parsers.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``wingmdao`` sub-parsers.
+    argv : sequence of str, optional
+        The command line (unused: the command's options do not depend on it).
+    """
     p = subparsers.add_parser(
         "panel",
         help=COMMANDS["panel"].help,

@@ -22,6 +22,15 @@ def add_wing_box_arguments(parser, *, walls=True, loads=True):
 
 
 def register(subparsers, argv=None):
+    """Add ``wingmdao run`` to the ``wingmdao`` sub-parsers.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``wingmdao`` sub-parsers.
+    argv : sequence of str, optional
+        The command line (unused: the command's options do not depend on it).
+    """
     p = subparsers.add_parser("run", help=COMMANDS["run"].help,
                               description="Run an analysis case. SI units, body axes x aft, y outboard, z up.")
     cases = p.add_subparsers(dest="case", metavar="CASE", required=True)

@@ -11,6 +11,15 @@ THICKNESS_OPTIONS = (("t_upper", "t_upper_skin", "upper skin"), ("t_lower", "t_l
 
 
 def register(subparsers, argv=None):
+    """Add ``wingmdao section`` to the ``wingmdao`` sub-parsers.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``wingmdao`` sub-parsers.
+    argv : sequence of str, optional
+        The command line (unused: the command's options do not depend on it).
+    """
     p = subparsers.add_parser(
         "section",
         help=COMMANDS["section"].help,

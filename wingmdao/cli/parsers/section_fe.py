@@ -7,6 +7,15 @@ from wingmdao.cli._args import add_json_argument
 
 
 def register(subparsers, argv=None):
+    """Add ``wingmdao section-fe`` to the ``wingmdao`` sub-parsers.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``wingmdao`` sub-parsers.
+    argv : sequence of str, optional
+        The command line (unused: the command's options do not depend on it).
+    """
     p = subparsers.add_parser(
         "section-fe",
         help=COMMANDS["section-fe"].help,

@@ -11,7 +11,8 @@ import dataclasses
 import importlib
 
 from wingmdao.cli import COMMANDS
-from wingmdao.cli._args import add_aero_theory_argument, add_deprecated_alias, add_json_argument, add_output_arguments
+from wingmdao.cli._args import (add_aero_theory_argument, add_deprecated_alias, add_json_argument, add_output_arguments,
+                               add_overwrite_argument)
 from wingmdao.names import CASE_HELP, CASE_MODULES
 
 #: ``wingmdao size aerostruct-crm`` (:mod:`wingmdao.cli._aerostruct`)
@@ -167,8 +168,7 @@ def add_aerostruct_parser(subparsers):
     p.add_argument("--out", metavar="DIR", default="results", help="folder for the recordings")
 
     add_json_argument(p, overwrite=False)
-    p.add_argument("--overwrite", action="store_true",
-                   help="replace an earlier run's outputs (recordings, JSON) instead of refusing")
+    add_overwrite_argument(p, help="replace an earlier run's outputs (recordings, JSON) instead of refusing")
     p.add_argument("--analysis-only", action="store_true",
                    help="one coupled analysis of the initial design per beam, no optimisation")
     p.add_argument("--maxiter", type=int, default=40, metavar="N", help="maximum SLSQP iterations")

@@ -10,6 +10,15 @@ CASES = ("pegasus",)
 
 
 def register(subparsers, argv=None):
+    """Add ``wingmdao turbulence`` to the ``wingmdao`` sub-parsers.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``wingmdao`` sub-parsers.
+    argv : sequence of str, optional
+        The command line (unused: the command's options do not depend on it).
+    """
     p = subparsers.add_parser(
         "turbulence", help=COMMANDS["turbulence"].help,
         description="Continuous-turbulence loads of a case's wing: frequency response of the wing linearised about "

@@ -3,12 +3,21 @@
 from __future__ import annotations
 
 from wingmdao.cli import COMMANDS
-from wingmdao.cli._args import add_deprecated_alias, add_json_argument
+from wingmdao.cli._args import add_deprecated_alias, add_json_argument, add_overwrite_argument
 from wingmdao.cli.parsers.panel import add_panel_arguments
 from wingmdao.cli.parsers.run import add_wing_box_arguments
 
 
 def register(subparsers, argv=None):
+    """Add ``wingmdao verify`` to the ``wingmdao`` sub-parsers.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``wingmdao`` sub-parsers.
+    argv : sequence of str, optional
+        The command line (unused: the command's options do not depend on it).
+    """
     p = subparsers.add_parser("verify", help=COMMANDS["verify"].help,
                               description="Beam vs CalculiX (ccx) shell or solid model of a shipped case. SI units, "
                               "body axes.")
@@ -59,10 +68,17 @@ def add_fe_arguments(p, *, rib_thickness, no_ribs_help, design_help, ribs_help="
     add_deprecated_alias(p, "--plot", "--out", dest="plot", metavar="PNG",
                          meaning="--out DIR writes DIR/verify_CASE.png")
     add_json_argument(p, overwrite=False)
-    p.add_argument("--overwrite", action="store_true", help="replace an earlier run's --json and plot files")
+    add_overwrite_argument(p, help="replace an earlier run's --json and plot files")
 
 
 def add_buckling_arguments(p):
+    """The ``--buckling`` flags of ``wingmdao verify pegasus``.
+
+    Parameters
+    ----------
+    p : argparse.ArgumentParser
+        The ``verify pegasus`` parser.
+    """
     g = p.add_argument_group("buckling (--buckling: a stiffened design in CalculiX *BUCKLE)")
     g.add_argument("--buckling", action="store_true",
                    help="linear buckling of a stiffened --design (skins, blade stiffeners, spar webs, ribs as "
@@ -97,6 +113,18 @@ GUST_PEAK = "gust-peak"
 
 
 def register_pegasus(cases):
+    """Add ``wingmdao verify pegasus``.
+
+    Parameters
+    ----------
+    cases : argparse._SubParsersAction
+        The cases of ``wingmdao verify``.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        Its parser.
+    """
     p = cases.add_parser("pegasus", help="PEGASUS wing at n g: beam vs CalculiX shell/solid, with or without ribs")
     p.add_argument("--load-factor", type=float, default=1.0, metavar="N",
                    help="load factor n of the symmetric maneuver (lift n W, gravity 1 g plus (n-1) g frame "
@@ -121,6 +149,13 @@ def register_pegasus(cases):
 
 
 def register_panel(cases):
+    """Add ``wingmdao verify panel`` (run: :func:`wingmdao.cli._verify_panel.run_verify_panel`).
+
+    Parameters
+    ----------
+    cases : argparse._SubParsersAction
+        The cases of ``wingmdao verify``.
+    """
     p = cases.add_parser("panel", help="stiffened panel: smeared model vs CalculiX linear buckling (S8R)",
                          description="The panel of 'wingmdao panel' (same flags) against a CalculiX *BUCKLE "
                          "analysis of a flat simply supported panel with --stiffeners stiffeners at the model's "
