@@ -8,6 +8,34 @@ interpreter start-up is included. ``loads`` lists the heavy frameworks (OpenMDAO
 CasADi, SciPy, matplotlib) in ``sys.modules`` after the help was printed. ``-`` is ``wingmdao
 --help`` itself. ``--baseline DIR`` also times the checkout in DIR (e.g. ``git archive REV wingmdao |
 tar -x -C DIR``), its processes interleaved with the current one's so both see the same load.
+
+Figures (CPU s, best of 5; 2-core machine shared with other jobs, load ~10;
+``git archive 0be6c8f wingmdao | tar -x -C /tmp/base; OMP_NUM_THREADS=1 PYTHONPATH=. python
+benchmarks/bench_cli_startup.py --baseline /tmp/base``): ``baseline`` is the code whose command
+modules built their parsers after importing OpenMDAO, CasADi and SciPy; ``now`` loads none of them
+(the parsers of ``wingmdao.cli.parsers``)::
+
+    command     baseline  now
+    -             0.16   0.13
+    cache         0.47   0.13
+    export        1.39   0.14
+    flutter       1.13   0.13
+    gust          0.95   0.13
+    loads         1.19   0.13
+    maneuver      0.96   0.15
+    panel         0.49   0.13
+    report        1.01   0.13
+    run           1.37   0.14
+    section       0.50   0.15
+    section-fe    0.70   0.14
+    size          1.42   0.14
+    n2            1.51   0.14
+    turbulence    0.86   0.14
+    verify        1.37   0.15
+
+``-`` is ``wingmdao --help``. ``wingmdao size CASE --help`` imports the case's module for its options
+table (same command with the argument ``"size pegasus"``): ``size pegasus`` 1.45 s baseline, 0.91 s now
+(CasADi and SciPy, no OpenMDAO).
 """
 
 from __future__ import annotations
@@ -18,6 +46,8 @@ import os
 import resource
 import subprocess
 import sys
+
+from wingmdao.cli import COMMANDS
 
 #: the frameworks whose import ``--help`` should not pay
 HEAVY = ("openmdao.api", "openmdao.core.problem", "casadi", "scipy", "matplotlib")
@@ -40,8 +70,6 @@ def commands() -> list:
     list of str
         :data:`wingmdao.cli.COMMANDS`' names.
     """
-    from wingmdao.cli import COMMANDS
-
     return list(COMMANDS)
 
 
@@ -51,7 +79,7 @@ def help_cpu(command: str | None, root: str) -> tuple:
     Parameters
     ----------
     command : str or None
-        The command (None: ``wingmdao --help``).
+        The command, with its case after a space (``"size pegasus"``); None: ``wingmdao --help``.
     root : str
         The folder holding the ``wingmdao`` package to time (put first on ``PYTHONPATH``).
 
@@ -60,7 +88,7 @@ def help_cpu(command: str | None, root: str) -> tuple:
     tuple
         (user + system CPU time in s, the heavy frameworks loaded).
     """
-    argv = ([command] if command else []) + ["--help"]
+    argv = (command.split() if command else []) + ["--help"]
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [root, os.environ.get("PYTHONPATH")])))
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     out = subprocess.run([sys.executable, "-c", _CHILD.format(heavy=HEAVY), *argv], capture_output=True,
@@ -86,7 +114,7 @@ def main(argv=None) -> int:
         The exit code.
     """
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("commands", nargs="*", help="the commands (default: all, and '-' for wingmdao --help)")
+    parser.add_argument("commands", nargs="*", help="the commands, with a case after a space ('size pegasus'; default: all, and '-' for wingmdao --help)")
     parser.add_argument("--repeat", type=int, default=5, help="fresh processes per command (best is kept)")
     parser.add_argument("--baseline", metavar="DIR", help="also time the wingmdao package in DIR (interleaved)")
     parser.add_argument("--json", metavar="PATH", help="also write the figures as JSON")
