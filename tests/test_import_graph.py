@@ -281,6 +281,48 @@ def test_cli_help_imports_no_command_and_no_heavy_framework():
     assert (commands, heavy) == ("", "")
 
 
+#: what ``wingmdao COMMAND --help`` must not load: CasADi, SciPy and OpenMDAO beyond :data:`LIGHT`
+#: (``openmdao.core.analysis_error`` and the packages and warnings module it loads)
+_HELP_RUNNER = """
+import sys
+from wingmdao.cli import main
+try:
+    main(sys.argv[1:])
+except SystemExit:
+    pass
+light = {'openmdao', 'openmdao.core', 'openmdao.utils', 'openmdao.utils.om_warnings'} | set(%r)
+print('LOADED', ' '.join(sorted(m for m in sys.modules if m.split('.')[0] in ('casadi', 'scipy')
+                                or (m.split('.')[0] == 'openmdao' and m not in light))))
+"""
+
+
+def _help_loads(argv) -> list:
+    """The heavy modules in ``sys.modules`` after ``wingmdao ARGV`` ran (in a fresh interpreter)."""
+    out = subprocess.run([sys.executable, "-c", _HELP_RUNNER % (LIGHT,), *argv], capture_output=True, text=True,
+                         check=True, cwd=PACKAGE.parent)
+    return out.stdout.rsplit("LOADED", 1)[1].split()
+
+
+def test_command_help_loads_no_numerical_framework():
+    """``wingmdao COMMAND --help`` of every command builds its parser (:mod:`wingmdao.cli.parsers`)
+    without OpenMDAO, CasADi or SciPy: the dispatcher imports the command's run module only after
+    parsing, and argparse exits on ``--help`` before that. A run does load them (the check can fail)."""
+    import wingmdao.cli as cli
+
+    loaded = {name: _help_loads([name, "--help"]) for name in cli.COMMANDS}
+    assert {k: v for k, v in loaded.items() if v} == {}
+    assert "casadi" in _help_loads(["section", "--width", "1", "--height", "1", "--solid", "--json", "-"])
+
+
+def test_cli_parsers_load_no_heavy_framework():
+    """No parser module imports, at its top, a module that loads a heavy framework (read from the sources)."""
+    modules = _modules()
+    heavy = _loads_heavy(modules)
+    parsers = {m for m in modules if m.startswith("wingmdao.cli.parsers")}
+    assert parsers and sorted(parsers & heavy) == []
+    assert not {"wingmdao.names", "wingmdao.cli", "wingmdao.cli._args", "wingmdao.cli._io"} & heavy
+
+
 def test_cli_commands_table():
     """:data:`wingmdao.cli.COMMANDS` names every command module of ``wingmdao.cli`` (a public module),
     and each module registers exactly its commands, in the table's order, with the table's help."""
@@ -288,6 +330,8 @@ def test_cli_commands_table():
 
     public = {p.stem for p in (PACKAGE / "cli").glob("*.py") if not p.stem.startswith("_")}
     assert {c.module for c in cli.COMMANDS.values()} == public
+    # every command module has its parser module, of the same name
+    assert {p.stem for p in (PACKAGE / "cli" / "parsers").glob("*.py") if p.stem != "__init__"} == public
     sub = next(a for a in cli.build_parser()._actions if a.dest == "command")
     assert list(sub.choices) == list(cli.COMMANDS)
     helps = {a.dest: a.help for a in sub._choices_actions}

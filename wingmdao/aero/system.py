@@ -48,6 +48,7 @@ from wingmdao.beam.residual import (N_STATE_PER_NODE, STATE_BLOCKS, NODE_FORCING
                                     forcing_specs as beam_forcing_specs, jig_state,
                                     param_specs as beam_param_specs, StrainRateDamping)
 from wingmdao.beam.rotations import body_to_csn
+from wingmdao.names import AERO_THEORY_CHOICES  # noqa: F401  (--aero-theory; its home)
 from wingmdao.units import G0
 from wingmdao.timemarch import lu_orders
 from wingmdao.timemarch.system import CasadiResidualSystem, VarSpec, layout
@@ -64,9 +65,6 @@ N_AEROELASTIC_STATES = N_STATE_PER_NODE + N_AERO_STATES
 AERO_PARAMS = ("chord", "ref_point", "lift_slope", "alpha_zero_lift", "cm0", "airspeed", "density", "mach")
 #: circulatory quasi-steady lift of the residual: per strip, or the vortex lattice's (build_aeroelastic_system)
 AERO_THEORIES = ("strip", "vlm")
-#: the aerodynamic theories of a coupled case (CoupledAero.aero_theory; --aero-theory): the lifting
-#: line changes the strips' lift_slope (three_dimensional_parameters)
-AERO_THEORY_CHOICES = ("strip", "lifting-line", "vlm")
 
 
 @dataclass(frozen=True, eq=False)

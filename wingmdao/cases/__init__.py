@@ -31,14 +31,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from wingmdao.design import SECTION_KINDS, WALL_VARS, design_beam_params, initial_design
+# CASE_MODULES: the shipped cases; DEFAULT_COUPLED_THEORY: --aero-theory unset with --aero coupled
+from wingmdao.names import CASE_MODULES, DEFAULT_COUPLED_THEORY
 
-CASE_MODULES = {
-    "cantilever": "wingmdao.cases.cantilever",
-    "wing-box": "wingmdao.cases.wing_box",
-    "pegasus": "wingmdao.cases.pegasus",
-    "crm": "wingmdao.cases.crm",
-    "stw": "wingmdao.cases.stw",
-}
 
 
 @dataclass
@@ -426,13 +421,6 @@ def add_option_arguments(parser, cls, *, names=None, deprecated_alias=None) -> l
             for old in f.metadata.get("aliases", ()):
                 deprecated_alias(parser, old, flag, dest=f.name, **extra)
     return actions
-
-
-#: the quasi-steady lift of the coupled loads (trim, maneuvers, gusts, turbulence) when --aero-theory
-#: is unset: the vortex lattice of the planform (wingmdao.aero.vlm). The flutter constraint of sizing and
-#: ``wingmdao flutter`` keep strip theory unless asked (the lattice with 2-D lags is not a flutter
-#: model; docs/aerodynamics-3d.md).
-DEFAULT_COUPLED_THEORY = "vlm"
 
 
 def resolve_aero_theory(aero_theory, aero: str) -> str:

@@ -19,9 +19,10 @@ from wingmdao.groups.load_case import LoadCase
 from wingmdao.materials import Material
 from wingmdao.beam.geometry import WingGeometry
 from wingmdao.design import SizingOptions
+from wingmdao.names import CASE_HELP
 
 NAME = "cantilever"
-HELP = "solid rectangular cantilever of Sec. 4.7.1 (width/height design variables, tip load)"
+HELP = CASE_HELP[NAME]
 
 #: Table 4.23
 E, SIGMA_Y, RHO = 70e9, 276e6, 2700.0

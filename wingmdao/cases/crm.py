@@ -19,9 +19,10 @@ from wingmdao.cases import pegasus as _pegasus
 from wingmdao.cases.pegasus import AERO_MODELS
 from wingmdao.cases.planform import Planform
 from wingmdao.section.box import WALL_NAMES
+from wingmdao.names import CASE_HELP
 
 NAME = "crm"
-HELP = "CRM wing (App. D.3): thickness sizing for the 2.5 g and -1.0 g maneuvers"
+HELP = CASE_HELP[NAME]
 
 PLANFORM = Planform(area_ft2=4444.38127, span_ft=193.34768, taper=0.86031, le_sweep_deg=37.0,
                     front_spar=0.17, rear_spar=0.68, root_rib=0.10, tip_rib=0.995, num_ribs=33,

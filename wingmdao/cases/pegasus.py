@@ -43,9 +43,10 @@ from wingmdao.aero.modal_design import cosine_gust
 from wingmdao.aero.modal_free import free_cosine_gust
 from wingmdao.aero.system import three_dimensional_parameters
 from wingmdao.design import WALL_VARS, SizingOptions, initial_frequencies
+from wingmdao.names import CASE_HELP
 
 NAME = "pegasus"
-HELP = "PEGASUS wing (App. D.2): 76 thickness variables, 2.5 g / -1.0 g maneuvers and/or a 25.341 gust"
+HELP = CASE_HELP[NAME]
 
 PLANFORM = Planform(area_ft2=586.3328, span_ft=80.58962, taper=0.986, le_sweep_deg=0.0,
                     front_spar=0.18, rear_spar=0.75, root_rib=0.08, tip_rib=0.995, num_ribs=19,

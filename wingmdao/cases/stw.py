@@ -40,11 +40,10 @@ from wingmdao.materials import Material
 from wingmdao.panels.laminate import STW_SKIN_FRACTIONS, STW_SPAR_FRACTIONS, laminate_moduli
 from wingmdao.panels.layout import PanelLayout, STIFFENER_VARS
 from wingmdao.panels.stiffened import panel_material
+from wingmdao.names import CASE_HELP
 
 NAME = "stw"
-HELP = ("Simple Transonic Wing (MDO Aeroelastic Benchmark) Case 1: 14 m semi-span, 28 deg sweep, RAE 2822, "
-        "T-stiffened wingbox between spars at 0.15 and 0.65 chord, 23 ribs; trimmed aeroelastic 2.5 g / -1 g maneuvers at sea level, "
-        "M 0.458, landing gross mass")
+HELP = CASE_HELP[NAME]
 
 from wingmdao.cases.stw_geometry import (  # noqa: F401, E402  (the case's geometry, re-exported)
     CUTS, HEIGHT_RULES, chord, leading_edge_x, spar_x, rib_y, airfoil_surfaces,

@@ -1,11 +1,15 @@
 """Command-line entry ``wingmdao``.
 
-Each command lives in a module of this package that imports what it needs at its top and
-exposes ``register(subparsers)``, which adds the command's parser (whose ``func`` attribute is
-called with the parsed arguments and returns an exit code). :data:`COMMANDS` names each command's
-module and one-line help: :func:`main` imports only the module of the command it runs (or whose
-help it shows), so ``wingmdao --help`` imports none and starts without OpenMDAO. A new command is
-a module and a line of :data:`COMMANDS`.
+Each command has two modules of the same name: its parser, :mod:`wingmdao.cli.parsers`.NAME, whose
+``register(subparsers, argv=None)`` adds the command's flags, defaults and help and imports argparse
+and light modules only; and its run module, wingmdao.cli.NAME, which imports what it needs at its
+top. The parser's ``func`` names the run function, ``"wingmdao.cli.NAME:FUNCTION"``, called with the
+parsed arguments; it returns an exit code. :data:`COMMANDS` names each command's module and
+one-line help: :func:`main` builds only the parser of the command it runs (or whose help it shows)
+and imports the run module only once the command line has parsed, so ``wingmdao --help`` and
+``wingmdao COMMAND --help`` start without OpenMDAO or CasADi
+(``python benchmarks/bench_cli_startup.py``). A new command is a parser module, a run module and a
+line of :data:`COMMANDS`.
 """
 
 from __future__ import annotations
@@ -64,7 +68,7 @@ class Command(NamedTuple):
     Parameters
     ----------
     module : str
-        The module of this package that registers and runs it.
+        The module of this package that runs it; :mod:`wingmdao.cli.parsers` has its parser, of the same name.
     help : str
         Its one-line help (``wingmdao --help``).
     """
@@ -117,14 +121,17 @@ def command_named(argv) -> str | None:
     return name if name in COMMANDS else None
 
 
-def build_parser(commands=None) -> argparse.ArgumentParser:
+def build_parser(commands=None, argv=None) -> argparse.ArgumentParser:
     """The ``wingmdao`` parser.
 
     Parameters
     ----------
     commands : iterable of str, optional
-        The commands whose parsers to build (importing their modules); the others get a parser
-        with their help line only. None: every command.
+        The commands whose parsers to build (importing their parser modules); the others get a
+        parser with their help line only. None: every command.
+    argv : sequence of str, optional
+        The command line, for the commands whose cases bring their own options (``size CASE``):
+        only the named case's are built. None: every case's.
 
     Returns
     -------
@@ -146,8 +153,28 @@ def build_parser(commands=None) -> argparse.ArgumentParser:
         if command.module not in modules:
             sub.add_parser(name, help=command.help, add_help=False)
         elif name == next(n for n, c in COMMANDS.items() if c.module == command.module):
-            importlib.import_module(f"{__name__}.{command.module}").register(sub)  # all of its commands
+            importlib.import_module(f"{__name__}.parsers.{command.module}").register(sub, argv)  # all of its commands
     return parser
+
+
+def run_function(func):
+    """The function that runs a parsed command: its run module imported now that the command line
+    has parsed (argparse has exited on ``--help`` or a usage error before).
+
+    Parameters
+    ----------
+    func : str or callable
+        The parser's ``func``: ``"wingmdao.cli.MODULE:FUNCTION"``, or the function itself.
+
+    Returns
+    -------
+    callable
+        The function, called with the parsed arguments.
+    """
+    if not isinstance(func, str):
+        return func
+    module, _, name = func.partition(":")
+    return getattr(importlib.import_module(module), name)
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):
@@ -173,7 +200,7 @@ def main(argv=None) -> int:
     """
     argv = sys.argv[1:] if argv is None else list(argv)
     command = command_named(argv)
-    parser = build_parser(() if command is None else (command,))
+    parser = build_parser(() if command is None else (command,), argv)
     root = is_output_rank()
     saved = sys.stdout, sys.stderr, warnings.showwarning
     if not root:  # under mpirun only rank 0 prints (and writes: wingmdao.cli._io); tracebacks still show
@@ -195,8 +222,9 @@ def _main(parser, argv) -> int:
     try:
         # every command's --json is checked before it starts (the command adds its own outputs)
         check_json_option(args)
+        func = run_function(args.func)
         with stdout_to_stderr(getattr(args, "json", None) == "-"):
-            return int(args.func(args) or 0)
+            return int(func(args) or 0)
     except ResultWriteError as exc:  # the result was computed but not written: where it still is
         print(f"wingmdao {args.command}: error: {exc}", file=sys.stderr)
         return EXIT_FAILED

@@ -7,42 +7,15 @@ from __future__ import annotations
 import os
 import sys
 
+import wingmdao.cli._openmdao  # noqa: F401  (first: OpenMDAO without the matplotlib of its report plugins)
 from wingmdao.cli._io import EXIT_FAILED, EXIT_INTERRUPTED, check_output_dir, check_output_file, refuse_existing, say, write_json
-from wingmdao.cli._args import add_json_argument
+from wingmdao.cli.parsers.size import AEROSTRUCT_NAME as NAME
 import openmdao.api as om
 from wingmdao.oas.crm import build_crm_problem, check_num_y, crm_summary, setup_crm_problem, solve_crm
 from wingmdao.report import best_design, read_history
 
-NAME = "aerostruct-crm"
-HELP = ("uCRM multipoint aerostructural fuel burn (OpenAeroStruct VLM + the wingmdao beam, "
-        "cruise and 2.5 g maneuver), beside OpenAeroStruct's own beam; needs openaerostruct")
 #: recording file stem of each beam's run in --out
 STEMS = {"wingmdao": "aerostruct_crm", "oas": "aerostruct_crm_oas_beam"}
-
-
-def add_parser(subparsers):
-    p = subparsers.add_parser(
-        NAME, help=HELP,
-        description=HELP + ". Minimises the Breguet fuel burn over twist, spar and skin thickness "
-        "(SLSQP) with CL = 0.5 at cruise, L = W and the stress KS <= 0 at the maneuver. Each "
-        "optimisation records to SQLite in --out (aerostruct_crm.sql, aerostruct_crm_oas_beam.sql); "
-        "read them back with 'wingmdao report'. See docs/embedding.md.")
-    p.add_argument("--out", metavar="DIR", default="results", help="folder for the recordings")
-
-    add_json_argument(p, overwrite=False)
-    p.add_argument("--overwrite", action="store_true",
-                   help="replace an earlier run's outputs (recordings, JSON) instead of refusing")
-    p.add_argument("--analysis-only", action="store_true",
-                   help="one coupled analysis of the initial design per beam, no optimisation")
-    p.add_argument("--maxiter", type=int, default=40, metavar="N", help="maximum SLSQP iterations")
-    p.add_argument("--tol", type=float, default=1e-6, metavar="TOL", help="SLSQP tolerance")
-    p.add_argument("--num-y", type=int, default=15, metavar="N",
-                   help="spanwise mesh points of the full wing (OpenAeroStruct's num_y: odd, >= 9); the beam has "
-                        "(N + 1) / 2 nodes")
-    p.add_argument("--no-oas-beam", action="store_true",
-                   help="skip the same problem with OpenAeroStruct's own spatial beam (no 'oas_beam' in the JSON)")
-    p.add_argument("--quiet", action="store_true", help="no per-evaluation progress lines")
-    p.set_defaults(func=run)
 
 
 def _check_args(args):

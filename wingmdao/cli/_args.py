@@ -18,8 +18,8 @@ from __future__ import annotations
 
 import argparse
 
-from wingmdao.cases import DEFAULT_COUPLED_THEORY
 from wingmdao.cli._io import warn
+from wingmdao.names import AERO_THEORY_CHOICES, DEFAULT_COUPLED_THEORY
 
 JSON_HELP = ("write the result as JSON to PATH; - = standard output (progress and human text then go to "
              "standard error)")
@@ -93,11 +93,6 @@ def add_gravity_argument(parser, *, default=None, help: str) -> None:
     ``run wing-box`` (self weight, default off) and ``flutter --deformed`` (default: the case's)."""
     parser.add_argument("--gravity", type=float, nargs="?", const=STANDARD_GRAVITY, default=default,
                         metavar="M_S2", help=f"{help}; '--gravity' alone = {STANDARD_GRAVITY:g} m/s^2")
-
-
-#: --aero-theory choices (the same as wingmdao.aero.coupled.AERO_THEORY_CHOICES, spelled here so that
-#: --help imports no numerical framework)
-AERO_THEORY_CHOICES = ("strip", "lifting-line", "vlm")
 
 
 def add_aero_and_plunge_arguments(parser, strip_help: str) -> None:

@@ -30,7 +30,7 @@ import tempfile
 import numpy as np
 
 from wingmdao.utils.mpi_env import is_output_rank
-from wingmdao.section.box import WALL_NAMES as WALL_VARS
+from wingmdao.names import WALL_NAMES as WALL_VARS
 
 EXIT_INTERRUPTED = 130
 EXIT_FAILED = 1

@@ -25,7 +25,6 @@ import os
 
 import numpy as np
 
-from wingmdao.cli._args import add_deprecated_alias
 from wingmdao.cases import pegasus
 from wingmdao.cli._verify_fe import fe_material
 from wingmdao.fe.box_model import BoxSections
@@ -284,31 +283,6 @@ def verify_pegasus_buckling(args) -> dict:
         **(running or {}),
         "units": "SI (m, N, kg); body axes x aft, y outboard, z up; buckling factors multiply the limit loads",
     }
-
-
-def add_buckling_arguments(p):
-    g = p.add_argument_group("buckling (--buckling: a stiffened design in CalculiX *BUCKLE)")
-    g.add_argument("--buckling", action="store_true",
-                   help="linear buckling of a stiffened --design (skins, blade stiffeners, spar webs, ribs as "
-                   "shells) under a sizing maneuver, against the sizing model's buckling factor")
-    p.set_defaults(loads_case=None)  # --buckling reads --loads maneuver-pos (default) or maneuver-neg
-    add_deprecated_alias(p, "--loads-case", "--loads", dest="loads", convert=lambda v: v.replace("_", "-"),
-                         metavar="CASE")
-    g.add_argument("--buckling-modes", type=int, default=10, metavar="N", help="buckling factors extracted")
-    g.add_argument("--bay-elements", type=int, default=2, metavar="N",
-                   help="--buckling: S8R elements across each skin bay between stiffeners")
-    g.add_argument("--web-elements", type=int, default=1, metavar="N",
-                   help="--buckling: S8R elements over the stiffener height")
-    g.add_argument("--stiffeners", type=int, default=None, metavar="N",
-                   help="--buckling: blades per skin (default round(box width / pitch))")
-    g.add_argument("--load-lines", choices=("ribs", "all"), default="ribs",
-                   help="--buckling: the line loads lumped at the rib stations and entering through the rib rings "
-                   "(default), or at every FE corner line")
-    g.add_argument("--keep-deck", default=None, metavar="DIR", help="--buckling: keep buckle.inp and its results")
-    g.add_argument("--running-loads", action="store_true",
-                   help="--buckling: also solve the deck's linear static state (the buckling step's pre-buckling "
-                   "loads) and report the skins' running loads per span row (fe_running_loads) beside the sizing "
-                   "model's per station (model_running_loads)")
 
 
 def plot_buckling(res, path):

@@ -5,44 +5,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from wingmdao.cli._args import add_deprecated_alias, add_json_argument
 from wingmdao.cli._io import read_json_object
 from wingmdao.fe.box_model import build_shell_box
 from wingmdao.fe.solid_box import build_solid_box, streamwise_sections
 from wingmdao.fe.stress_points import POINTS, compare_von_mises
 from wingmdao.materials import ALUMINIUM
-
-
-def add_fe_arguments(p, *, rib_thickness, no_ribs_help, design_help, ribs_help="ribs every SPACING m of span",
-                     rib_thickness_help="rib thickness (m)"):
-    """The FE-model flags shared by the ``verify`` cases."""
-    p.add_argument("--fidelity", choices=("shell", "solid"), default="shell",
-                   help="FE model: shell (S8R on the wall mid-surfaces) or solid (C3D20R walls, "
-                   "--through-elements through each wall thickness)")
-    p.add_argument("--through-elements", type=int, default=2, metavar="N",
-                   help="solid: elements through each wall thickness")
-    p.add_argument("--nlgeom", action="store_true",
-                   help="geometrically nonlinear FE solve (ccx NLGEOM, 10 increments); the beam is always nonlinear")
-    p.add_argument("--load-steps", type=int, default=1, metavar="N",
-                   help="load steps of the beam's static Newton solve")
-    g = p.add_mutually_exclusive_group()
-    g.add_argument("--ribs", type=float, default=None, metavar="SPACING", help=ribs_help)
-    g.add_argument("--no-ribs", action="store_true", help=no_ribs_help)
-    p.add_argument("--rib-thickness", type=float, default=rib_thickness, metavar="M", help=rib_thickness_help)
-    p.add_argument("--design", default=None, metavar="RESULT.json", help=design_help)
-    p.add_argument("--modes", type=int, default=0, metavar="N", help="also compare the first N frequencies")
-    p.add_argument("--chord-elements", type=int, default=8, metavar="N", help="elements across the skins")
-    p.add_argument("--height-elements", type=int, default=2, metavar="N", help="elements across the spars")
-    p.add_argument("--span-size", type=float, default=0.5, metavar="M",
-                   help="element length along the span (m)")
-    p.add_argument("--out", default=None, metavar="DIR",
-                   help="folder for the beam-vs-FE displacement/rotation/stress plot (verify_CASE.png; "
-                        "verify_pegasus_buckling.png with --buckling); default unset: no plot")
-    p.set_defaults(plot=None)
-    add_deprecated_alias(p, "--plot", "--out", dest="plot", metavar="PNG",
-                         meaning="--out DIR writes DIR/verify_CASE.png")
-    add_json_argument(p, overwrite=False)
-    p.add_argument("--overwrite", action="store_true", help="replace an earlier run's --json and plot files")
 
 
 def design_walls(path, case, count=4, how="size with --elements 1 1 1"):

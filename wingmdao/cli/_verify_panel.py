@@ -31,7 +31,7 @@ import math
 import sys
 
 from wingmdao.cli import write_json
-from wingmdao.cli.panel import add_panel_arguments, panel_result
+from wingmdao.cli.panel import panel_result
 from wingmdao.fe.calculix import CalculixNotFound, find_ccx
 from wingmdao.fe.panel_buckling import build_panel, panel_buckling_factor
 from wingmdao.panels.laminate import check_ply_fractions
@@ -44,22 +44,6 @@ MODEL_BUCKLING_MODES = {"skin_compression_shear": "local", "panel_compression_sh
 _FE_FLAGS = {"mesh_size": "--mesh-size", "stiffener_thickness": "--stiffener-thickness",
              "stiffener_height": "--stiffener-height", "skin_thickness": "--t-skin", "width": "--width",
              "length": "--length", "flange_width": "--stiffener tee (flange width)", "nx": "--nx", "nxy": "--nxy"}
-
-
-def register_panel(cases):
-    p = cases.add_parser("panel", help="stiffened panel: smeared model vs CalculiX linear buckling (S8R)",
-                         description="The panel of 'wingmdao panel' (same flags) against a CalculiX *BUCKLE "
-                         "analysis of a flat simply supported panel with --stiffeners stiffeners at the model's "
-                         "pitch: the model's buckling factor (1 / largest elastic buckling ratio) vs CalculiX's "
-                         "first buckling factor. Isotropic metals only. See docs/panels.md.")
-    add_panel_arguments(p)
-    p.add_argument("--stiffeners", type=int, default=None, metavar="N",
-                   help="stiffeners in the FE panel (width N x pitch; default 3 with stiffener flags, 0 without)")
-    p.add_argument("--mesh-size", type=float, default=None, metavar="M",
-                   help="FE element size (m) (default min(length, pitch) / 8)")
-    p.add_argument("--keep-deck", default=None, metavar="DIR",
-                   help="write the CalculiX deck (panel.inp) and results there (default: a temporary folder)")
-    p.set_defaults(func=run_verify_panel)
 
 
 def _fe_error(exc: ValueError) -> ValueError:

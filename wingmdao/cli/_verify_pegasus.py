@@ -19,7 +19,8 @@ import argparse
 
 import numpy as np
 
-from wingmdao.cli._verify_fe import (add_fe_arguments, build_fe_model, check_fe_args, design_walls, fe_material,
+from wingmdao.cli.parsers.verify import GUST_PEAK, MANEUVERS
+from wingmdao.cli._verify_fe import (build_fe_model, check_fe_args, design_walls, fe_material,
                                      percent_difference, von_mises_table)
 from wingmdao.beam.modes import natural_frequencies
 from wingmdao.beam.residual import forcing_specs
@@ -30,7 +31,7 @@ from wingmdao.cases.pegasus_verification import (DEFAULT_WALLS, beam_params, def
                                                   gust_peak_loads)  # (also this module's names)
 from wingmdao.cases.planform import G0
 from wingmdao.cases.wing_box import station_rotations
-from wingmdao.cli._verify_buckling import add_buckling_arguments, verify_pegasus_buckling
+from wingmdao.cli._verify_buckling import verify_pegasus_buckling
 from wingmdao.fe.box_model import add_point_masses, solve_modes, solve_static
 from wingmdao.fe.calculix import find_ccx
 from wingmdao.fe.wing_loads import lumping_lengths
@@ -38,38 +39,6 @@ from wingmdao.timemarch.system import pack
 import openmdao.api as om
 from wingmdao.beam.static import BeamModel, beam_forcing
 from wingmdao.cases.pegasus_verification import pegasus_setup as setup
-
-#: --loads: the load factor of each named case (the sizing maneuvers of ``wingmdao size pegasus``,
-#: ``--load-factor`` / ``--negative-load-factor`` defaults); '1g' takes ``--load-factor``.
-MANEUVERS = {"maneuver-pos": 2.5, "maneuver-neg": -1.0}
-
-#: --loads gust-peak: the equivalent static loads of the peak instant of the case's 25.341 gust
-GUST_PEAK = "gust-peak"
-
-
-
-def register_pegasus(cases):
-    p = cases.add_parser("pegasus", help="PEGASUS wing at n g: beam vs CalculiX shell/solid, with or without ribs")
-    p.add_argument("--load-factor", type=float, default=1.0, metavar="N",
-                   help="load factor n of the symmetric maneuver (lift n W, gravity 1 g plus (n-1) g frame "
-                   "acceleration on the masses)")
-    p.add_argument("--loads", choices=("1g", *MANEUVERS, GUST_PEAK), default="1g",
-                   help="1g: the symmetric maneuver at --load-factor; maneuver-pos / maneuver-neg: the 2.5 g and "
-                   "-1.0 g sizing maneuvers of 'wingmdao size pegasus'; gust-peak: the equivalent static loads "
-                   "(aerodynamic + inertial -m a + weight) of the instant of peak root bending of the case's "
-                   "25.341 gust marched on the beam of --design (strip theory, clamped root); with --buckling: "
-                   "maneuver-pos (also for 1g) or maneuver-neg")
-    add_fe_arguments(p, rib_thickness=0.002, no_ribs_help="no ribs at all (Sec. 4.3.1 Test 2's rib-less model)",
-                     ribs_help="ribs every SPACING m instead of at the case's 19 rib stations",
-                     rib_thickness_help="rib thickness (m; default 0.002, with --buckling each rib's thickness of "
-                     "the design's 'ribs' block, sized for crushing and shear)",
-                     design_help="wall thicknesses from a 'wingmdao size pegasus' result (20 stations) "
-                     "(unset: 4/4/5/4 mm upper/lower skin, front/rear spar)")
-
-    add_buckling_arguments(p)
-    # unset: 0.5 m and 2 (static), 0.1 m and 4 (--buckling); ribs 2 mm (static), the design's sized ribs (--buckling)
-    p.set_defaults(through_elements=2, span_size=None, height_elements=None, rib_thickness=None)
-    return p
 
 
 def pegasus_walls(path):

@@ -24,34 +24,12 @@ import sys
 import time as _time
 
 import wingmdao.cli._openmdao  # noqa: F401  (first: OpenMDAO without the matplotlib of its report plugins)
-from wingmdao.cli import COMMANDS
-from wingmdao.cli._args import add_output_arguments
 from wingmdao.cli._io import EXIT_INTERRUPTED, check_output_dir, check_output_file, read_design, refuse_existing, write_json
 from wingmdao.cases import available_cases
 from wingmdao.loads.cards import write_cards
 from wingmdao.loads.database import run_matrix, write_database
 from wingmdao.loads.matrix import critical_table, expand, read_matrix, screen
 from wingmdao.parallel import is_root, world_comm
-
-CASES = ("pegasus",)
-
-
-def register(subparsers):
-    p = subparsers.add_parser(
-        "loads", help=COMMANDS["loads"].help,
-        description="Run a loads matrix (altitudes x V_C/V_D x mass cases; every discrete gust, continuous "
-        "turbulence and the maneuvers of each point), screen the internal loads of every station for the "
-        "critical cases, write the loads database (HDF5) and the Nastran/CalculiX cards of the critical cases. "
-        "Under 'mpirun -n P' the cases are split over the ranks. SI output.")
-    p.add_argument("case", choices=CASES, metavar="CASE", help="case: " + ", ".join(CASES))
-    p.add_argument("--matrix", metavar="FILE.yaml", required=True,
-                   help="the matrix file (YAML; format in docs/loads-matrix.md)")
-    p.add_argument("--design", metavar="RESULT.json", default=None,
-                   help="thicknesses from a sizing result (its 'thickness' per station, as many stations as the "
-                        "matrix's model.num_nodes); default: the initial design")
-    add_output_arguments(p, what="the loads database (CASE_loads.h5) and the cards (CASE_critical.bdf, "
-                                 "CASE_critical.inp)", plots=False)
-    p.set_defaults(func=run)
 
 
 def output_paths(out: str, case: str) -> dict:

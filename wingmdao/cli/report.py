@@ -7,32 +7,9 @@ import glob
 import os
 
 import wingmdao.cli._openmdao  # noqa: F401  (first: OpenMDAO without the matplotlib of its report plugins)
-from wingmdao.cli import COMMANDS
 from wingmdao.cli._io import check_output_dir, refuse_existing, warn
-from wingmdao.cli._args import add_deprecated_alias
 from wingmdao.envelope import check_stations, critical_cases, format_critical_table, load, write_plots
 from wingmdao.report import format_history, format_margins, read_history, write_comparison_plot, write_report_plots
-
-
-def register(subparsers):
-    p = subparsers.add_parser(
-        "report",
-        help=COMMANDS["report"].help,
-        description="Read the SQLite recording of a sizing run (written by 'wingmdao size'), "
-        "print objective and worst KS constraint per driver iteration, and write PNG plots. "
-        "With several recordings, also overlay their final thicknesses in thickness_comparison.png "
-        "(e.g. maneuver-only against gust sizing, as Fig. 5.5-5.6 of the dissertation).",
-    )
-    p.add_argument("recording", metavar="FILE.sql", nargs="+", help="SQLite recording(s) of sizing runs")
-
-    p.add_argument("--out", metavar="DIR", default=None,
-                   help="folder for the PNG plots (default unset: FILE_plots next to the first recording)")
-    add_deprecated_alias(p, "--plots", "--out", dest="out", metavar="DIR")
-    p.add_argument("--overwrite", action="store_true",
-                   help="replace plots an earlier report (or run) left in the --out folder instead of refusing")
-    p.add_argument("--potato-stations", metavar="I", type=int, nargs="+", default=None,
-                   help="station indices of the potato plots of an envelope run (default: root, mid, 3/4 span)")
-    p.set_defaults(func=run)
 
 
 def planned_plots(out: str, subs: list[str], *, several: bool) -> list[str]:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 import importlib
 import importlib.util
 import os
@@ -15,11 +14,8 @@ import wingmdao.cli._openmdao  # noqa: F401  (first: OpenMDAO without the matplo
 import openmdao.api as om
 
 from wingmdao import sizing
-from wingmdao.cases import (add_option_arguments, available_cases, options_from_namespace, pegasus_stick,
+from wingmdao.cases import (options_from_namespace, pegasus_stick,
                             resolve_aero_theory)
-from wingmdao.cli import COMMANDS
-from wingmdao.cli._aerostruct import add_parser
-from wingmdao.cli._args import add_aero_theory_argument, add_deprecated_alias, add_output_arguments
 from wingmdao.cli._io import EXIT_INTERRUPTED, check_output_dir, check_output_file, refuse_existing, say, warn, write_json
 from wingmdao.envelope import (check_stations, format_critical_table, output_paths, stick_set_envelope,
                                write_envelope_outputs)
@@ -39,83 +35,6 @@ from wingmdao.utils.memory import return_freed_memory, return_large_blocks_on_fr
 MAX_PRESIZE = 20
 #: --flutter-margin range (x V_D): below 1 the constraint asks less than flutter-free up to V_D
 FLUTTER_MARGIN = (1.0, 2.0)
-
-
-def _add_common(p, *, is_sizing: bool):
-    add_output_arguments(p, what="the recording and plots" if is_sizing else "the N2 diagram (CASE_n2.html)",
-                         plots=is_sizing, json=is_sizing)
-    if is_sizing:
-        p.add_argument("--optimizer", default="SLSQP", choices=["SLSQP", "SNOPT", "IPOPT"],
-                       help="optimizer (SNOPT needs pyoptsparse; IPOPT runs through pyoptsparse, else "
-                            "through cyipopt: pip install wingmdao[ipopt]; SLSQP runs through SciPy "
-                            "when pyoptsparse does not import)")
-        p.add_argument("--maxiter", type=int, default=None, metavar="N", help="maximum optimizer iterations (default unset: the case's choice)")
-        p.add_argument("--presize", type=int, default=None, metavar="N",
-                       help="fully stressed design passes before the optimizer (box sections; 0 = off; "
-                            "default unset: the case's choice, 4 for pegasus and crm)")
-        p.add_argument("--analysis-only", action="store_true",
-                       help="analyse the initial design without optimizing")
-        p.add_argument("--potato-stations", metavar="I", type=int, nargs="+", default=None,
-                       help="station indices of the bending-torsion potato plots (default: root, mid, 3/4 span)")
-        p.add_argument("--quiet", action="store_true", help="no per-evaluation progress lines")
-        p.add_argument("--flutter-margin", metavar="F", type=float, default=None,
-                       help="add the constraint flutter speed >= F V_D (14 CFR 25.629: 1.15) as a damping "
-                            "constraint at speeds up to F V_D (cases with aerodynamic data: pegasus; docs/flutter.md)")
-        p.add_argument("--turbulence", action="store_true",
-                       help="add the 14 CFR 25.341(b) continuous-turbulence constraint: KS of the corner design stresses "
-                            "1 g +/- U_sigma A-bar <= yield at V_C, root clamped, the vortex lattice with --aero coupled --aero-theory "
-                            "vlm|dlm (else strip theory), structural damping --damping-ratio "
-                            "when > 0, else 0.02 (cases with aerodynamic data: pegasus; docs/turbulence.md); with --alleviation "
-                            "the file's surfaces and law (no load-factor law) in it, with --size-gains the gust case's "
-                            "sized gains (docs/controls.md)")
-        p.add_argument("--matrix", metavar="FILE.yaml", default=None,
-                       help="size against the critical cases of a loads matrix (docs/loads-matrix.md), re-check "
-                            "the whole matrix at the optimum, repeat while the critical set changes (load "
-                            "iteration; cases with a loads-matrix model: pegasus; one process, no plots or recording)")
-        p.add_argument("--model", choices=("wing", "stick"), default="wing",
-                       help="wing (the lone wing, default) or stick (pegasus: the wing's walls sized for the trimmed "
-                            "maneuvers and/or the gust, or the --gust-set, of --loads on the free half aircraft's "
-                            "stick model, wing, fuselage, fin and tail with strip aerodynamics on wing and tail; "
-                            "docs/stick-model.md)")
-        p.add_argument("--size-beams", metavar="BEAMS", default=None,
-                       help="with --model stick: comma list of the beams whose sections are sized, from wing, tail, "
-                            "fuselage (the wing always is): the horizontal tail's box walls and the fuselage's tube "
-                            "wall become design variables with von Mises KS constraints at their stations in every "
-                            "case and their mass in the objective (docs/stick-model.md)")
-        p.add_argument("--no-flutter-search", action="store_true",
-                       help="do not search the flutter speed of the result (flutter_speed_m_s, cases with "
-                            "aerodynamic data)")
-
-
-def register(subparsers):
-    cases = available_cases()
-    for cmd, is_sizing in (("size", True), ("n2", False)):
-        p = subparsers.add_parser(
-            cmd,
-            help=COMMANDS[cmd].help,
-            description=(
-                "Minimum-mass sizing of the wall thicknesses of a shipped case. Every run records to "
-                "SQLite in --out; read it back with 'wingmdao report'." if is_sizing else
-                "Set up a case's sizing model and write its N2 diagram to --out/CASE_n2.html."),
-        )
-        sub = p.add_subparsers(dest="case", metavar="CASE")
-        for name, mod in cases.items():
-            cp = sub.add_parser(name, help=mod.HELP, description=mod.HELP)
-            # generated from the options dataclass, the one table of the case's options
-            add_option_arguments(cp, mod.OPTIONS, deprecated_alias=add_deprecated_alias)
-            shared = {f.name: f for f in dataclasses.fields(mod.OPTIONS) if f.metadata.get("shared")}
-            if "aero_theory" in shared:  # the flag's one spelling (wingmdao.cli._args), the case's default
-                theory = shared["aero_theory"]
-                add_aero_theory_argument(cp, default=theory.default, dlm=(
-                    ", or dlm (the coupled gust on the doublet lattice in the modal basis of the initial design's "
-                    "clamped jig, the design's mass and stiffness projected on it, over the trimmed 1 g state on the "
-                    "vortex-lattice beam; the maneuvers use the vortex lattice)")
-                    if "dlm" in theory.metadata.get("choices", ()) else False)
-            _add_common(cp, is_sizing=is_sizing)
-            cp.set_defaults(func=run_size if is_sizing else run_n2, case_module=mod)
-        if is_sizing:  # OpenAeroStruct's uCRM fuel burn: a problem of its own, not a WingSizing case
-            add_parser(sub)
-        p.set_defaults(func=lambda a, p=p: (p.print_help(), 0)[1])
 
 
 def run_stem(args) -> str:

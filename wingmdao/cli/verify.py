@@ -21,7 +21,8 @@ import sys
 import numpy as np
 
 import wingmdao.cli._openmdao  # noqa: F401  (first: OpenMDAO without the matplotlib of its report plugins)
-from wingmdao.cli._verify_fe import add_fe_arguments, build_fe_model, design_walls, fe_material  # noqa: F401
+from wingmdao.cli.parsers.verify import LOAD_NAMES
+from wingmdao.cli._verify_fe import build_fe_model, design_walls, fe_material  # noqa: F401
 from wingmdao.cli._verify_fe import check_fe_args, percent_difference, von_mises_table  # noqa: F401
 from wingmdao.cli._io import check_output_dir, check_output_file
 from wingmdao.beam.geometry import polyline_beam
@@ -29,36 +30,16 @@ from wingmdao.beam.modes import natural_frequencies
 from wingmdao.beam.residual import forcing_specs
 from wingmdao.cases import wing_box as case
 from wingmdao.cases.wing_box import STUDY_LOADS, wing_box_beam
-from wingmdao.cli import COMMANDS, write_json
+from wingmdao.cli import write_json
 from wingmdao.cli._verify_buckling import plot_buckling
-from wingmdao.cli._verify_panel import register_panel
-from wingmdao.cli._verify_pegasus import register_pegasus, verify_pegasus
-from wingmdao.cli.run import check_wing_box_args, add_wing_box_arguments
+from wingmdao.cli._verify_pegasus import verify_pegasus
+from wingmdao.cli.run import check_wing_box_args
 from wingmdao.fe.box_model import BoxSections, solve_modes, solve_static
 from wingmdao.fe.calculix import CalculixNotFound, find_ccx
 from wingmdao.plots import save_figure
 from wingmdao.timemarch.system import pack
 import openmdao.api as om
 from wingmdao.beam.static import BeamModel, beam_forcing
-
-
-def register(subparsers):
-    p = subparsers.add_parser("verify", help=COMMANDS["verify"].help,
-                              description="Beam vs CalculiX (ccx) shell or solid model of a shipped case. SI units, "
-                              "body axes.")
-    cases = p.add_subparsers(dest="case", metavar="CASE", required=True)
-    wb = cases.add_parser("wing-box", help="App. D.1 box: beam vs CalculiX shell/solid under tip loads, modes")
-    add_wing_box_arguments(wb)
-    wb.add_argument("--loads", choices=LOAD_NAMES, default="tip",
-                    help="load case at the CS4 centre: tip (--tip-load/--tip-moment, default); d1-fz, d1-fx, "
-                    "d1-my (App. D.1 comparison: 1e5 N up, 1e5 N aft, 1e5 N m about y); study1 (Fz = 2e6 N), "
-                    "study2 (Fx = 1e5 N, Fz = 2e6 N, My = 1e6 N m): the Sec. 4.7.2 sizing tip loads")
-    add_fe_arguments(wb, rib_thickness=0.1, no_ribs_help="no ribs (only the CS4 load-introduction rib; default)",
-                     design_help="wall thicknesses (beam-normal) from a 'wingmdao size wing-box --elements 1 1 1' "
-                     "result (4 stations CS1..CS4), for the FE model and the beam (default: --t-spar/--t-skin)")
-    wb.set_defaults(func=run_verify)
-    register_pegasus(cases).set_defaults(func=run_verify)
-    register_panel(cases)
 
 
 def wing_box_sections(geometry, t_spar, t_skin, walls=None):
@@ -78,9 +59,6 @@ def named_loads():
     return {"d1-fz": ((0.0, 0.0, 1.0e5), (0.0, 0.0, 0.0)), "d1-fx": ((1.0e5, 0.0, 0.0), (0.0, 0.0, 0.0)),
             "d1-my": ((0.0, 0.0, 0.0), (0.0, 1.0e5, 0.0)),
             "study1": STUDY_LOADS[1], "study2": STUDY_LOADS[2]}
-
-
-LOAD_NAMES = ("tip", "d1-fz", "d1-fx", "d1-my", "study1", "study2")
 
 
 def _tip_loads(args):

@@ -36,10 +36,9 @@ from wingmdao.materials import MATERIALS, Material, get_material
 from wingmdao.panels import buckling as bk
 from wingmdao.panels.laminate import (PLY_ANGLES, PLY_MATERIALS, PlyMaterial, check_ply_fractions, get_ply_material,
                                       isotropic_abd, laminate_moduli, q_matrix, smeared_abd)
+from wingmdao.names import DEFAULT_FLANGE_RATIO, STIFFENERS
 from wingmdao.section.box import select, sqrt
 
-STIFFENERS = ("blade", "tee")
-DEFAULT_FLANGE_RATIO = 1.0
 
 #: Added (Pa^2) under the von Mises square root: finite derivative at zero stress (as
 #: wingmdao.stress.box_stress.VM_TINY).

@@ -22,7 +22,7 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-WALL_NAMES = ("t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar")
+from wingmdao.names import WALL_NAMES
 
 #: Outer corners as (c, n) signs: front-lower, rear-lower, rear-upper, front-upper.
 CORNERS = ((-1, -1), (1, -1), (1, 1), (-1, 1))

@@ -14,9 +14,8 @@ from wingmdao.timemarch.system import layout, pack
 from wingmdao.aero import system as aero_system
 from wingmdao.aero.system import cached_aeroelastic_system
 from wingmdao.beam.static import beam_forcing
+from wingmdao.names import FLUTTER_CASES  # cases with beam + aerodynamic data (module in wingmdao.cases)
 
-#: cases with beam + aerodynamic data (module in wingmdao.cases with beam_params and aero_data)
-FLUTTER_CASES = ("goland", "hale", "pegasus")
 #: sparse shift-invert settings: shift near the flutter frequency, eigenvalues kept, Arnoldi basis
 EIG_OPTIONS = {"goland": {"method": "sparse", "sigma": 60j, "count": 16},
                "hale": {"method": "sparse", "sigma": 20j, "count": 16, "ncv": 60},

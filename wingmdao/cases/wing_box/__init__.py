@@ -20,9 +20,10 @@ from wingmdao.cases.wing_box.sizing import (BOUNDS, CONSTRAINT_GROUPS, SKIN_CAP,
                                             parse_constraints)
 from wingmdao.cases.wing_box.verification import (comparison_solver, solve_wing_box, station_rotations,
                                                   station_summary, wing_box_beam)
+from wingmdao.names import CASE_HELP
 
 NAME = "wing-box"
-HELP = "App. D.1 'wing-like' box beam, Sec. 4.7.2 studies 1-3 (tip loads, 16 thickness variables)"
+HELP = CASE_HELP[NAME]
 OPTIONS = WingBoxOptions
 
 __all__ = ["GEOMETRIES", "HEIGHTS", "SPANS", "STATIONS", "T_SKIN", "T_SPAR", "geometry_data", "section_centres",

@@ -18,19 +18,12 @@ from __future__ import annotations
 import numpy as np
 
 from wingmdao.beam.geometry import swept_dihedral_points
+from wingmdao.names import WING_BOX_GEOMETRIES as GEOMETRIES  # Table D.2: widths (m), sweeps, dihedral (deg)
+from wingmdao.names import WING_BOX_T_SKIN as T_SKIN, WING_BOX_T_SPAR as T_SPAR  # noqa: F401  (Table E.2, m)
 
 SPANS = (3.0, 4.0, 3.0)                      # Table D.1, d1..d3 (m)
 HEIGHTS = (0.5, 0.5, 0.5, 0.5)               # Table D.1, h1..h4 (m)
-T_SPAR, T_SKIN = 0.2, 0.1                    # Table E.2 (m)
 STATIONS = ("CS1", "CS2", "CS3", "CS4")
-#: Table D.2: widths (m), leading-edge sweeps per segment (deg), dihedral (deg)
-GEOMETRIES = {
-    "prismatic": {"widths": (3.0, 3.0, 3.0, 3.0), "sweeps_deg": (0.0, 0.0, 0.0), "dihedral_deg": 0.0},
-    "taper": {"widths": (3.0, 2.5, 2.0, 1.5), "sweeps_deg": (0.0, 0.0, 0.0), "dihedral_deg": 0.0},
-    "sweep": {"widths": (3.0, 3.0, 3.0, 3.0), "sweeps_deg": (10.0, 15.0, 20.0), "dihedral_deg": 0.0},
-    "dihedral": {"widths": (3.0, 3.0, 3.0, 3.0), "sweeps_deg": (0.0, 0.0, 0.0), "dihedral_deg": 5.0},
-    "combined": {"widths": (3.0, 2.5, 2.0, 1.5), "sweeps_deg": (10.0, 15.0, 20.0), "dihedral_deg": 5.0},
-}
 
 
 def geometry_data(name: str) -> dict:
