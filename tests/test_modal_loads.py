@@ -101,11 +101,10 @@ def test_turbulence_transfer_function_of_the_linearization_equals_exact_dlm(gola
 def test_turbulence_dlm_refusals_before_solve(capsys, monkeypatch):
     """turbulence --aero-theory dlm: --aero strip, structural damping and --modes out of range (or
     without dlm) are refused before any solve."""
-    import wingmdao.aero.modal_free as modal_free
-    import wingmdao.stability.modal as modal
+    import wingmdao.cli.turbulence as command  # the names the command calls (imported at its top)
 
-    monkeypatch.setattr(modal, "modal_dlm_wing", lambda *a, **k: pytest.fail("solve started"))
-    monkeypatch.setattr(modal_free, "free_modal_dlm_wing", lambda *a, **k: pytest.fail("solve started"))
+    monkeypatch.setattr(command, "modal_dlm_wing", lambda *a, **k: pytest.fail("solve started"))
+    monkeypatch.setattr(command, "free_modal_dlm_wing", lambda *a, **k: pytest.fail("solve started"))
     for argv, msg in ((["--aero", "strip", "--aero-theory", "dlm"], "needs --aero coupled"),
                       (["--aero-theory", "dlm", "--damping-ratio", "0.02"], "is undamped"),
                       (["--aero-theory", "dlm", "--clamped", "--damping-ratio", "0.02"], "is undamped"),
