@@ -75,6 +75,10 @@ ROLL = ["--rolling", "--maneuvering-speed-eas", "90", "--roll-inertia", "20000"]
     (["--checked-pitch", "--maneuvering-speed-eas", "90", "--roll-inertia", "2e4", *AIRCRAFT],
      "--roll-inertia is a --rolling flag"),
     ([*ROLL, "--alleviation", AILERONS, "--t-final", "0"], "--t-final = 0.0 s; allowed range (0, inf) s"),
+    ([*ROLL, "--alleviation", AILERONS, "--aero-theory", "lifting-line"],
+     "--aero-theory lifting-line: --rolling allows strip, vlm"),
+    (["--checked-pitch", "--maneuvering-speed-eas", "90", "--aero-theory", "vlm", *AIRCRAFT],
+     "--aero-theory is a --rolling flag"),
     ([*ROLL[:2], "200", *ROLL[3:], "--alleviation", AILERONS],
      "--maneuvering-speed-eas = 200.0 m/s; allowed range (0, V_C = 115.34] m/s EAS"),
 ])

@@ -308,7 +308,8 @@ def aero_parameters(n: int, *, chord, ref_point=0.4, lift_slope=2 * np.pi, alpha
     return out
 
 
-def three_dimensional_parameters(aero_theory: str, node_positions, chord, ref_point, mach, controls=None) -> dict:
+def three_dimensional_parameters(aero_theory: str, node_positions, chord, ref_point, mach, controls=None,
+                                 antisymmetric: bool = False) -> dict:
     """The aerodynamic parameters a theory of :data:`AERO_THEORY_CHOICES` sets on the strip model's:
     none for ``"strip"``; ``lift_slope`` (n,) 1/rad from Prandtl's lifting line of the planform
     (:func:`~wingmdao.aero.lifting_line.lifting_line_lift_slope`, zero at the tip node) for
@@ -333,6 +334,9 @@ def three_dimensional_parameters(aero_theory: str, node_positions, chord, ref_po
         Mach number (vortex lattice).
     controls : ControlSpec, optional
         Control surfaces (their flap panels with ``"vlm"``).
+    antisymmetric : bool, optional
+        ``"vlm"``: the left half's loading the negative of the right's (the rolling half wing,
+        ``build_aeroelastic_system(roll=True)``); the strips and the lifting line are per station.
 
     Returns
     -------
@@ -351,9 +355,10 @@ def three_dimensional_parameters(aero_theory: str, node_positions, chord, ref_po
         slope, _ = lifting_line_lift_slope(np.minimum(y, tip * (1 - 1e-12)), (y, c), tip)
         return {"lift_slope": np.maximum(slope, 1e-6)}  # the check wants > 0; zero at the tip node itself
     if controls is None:
-        inf = station_influence(r, c, ref_point, mach=mach)
+        inf = station_influence(r, c, ref_point, mach=mach, antisymmetric=antisymmetric)
         return {"lift_influence": inf.lift, "moment_influence": inf.moment}
-    inf, flap = flap_influence(r, c, ref_point, [(srf[1], srf[2]) for srf in controls.surfaces], mach=mach)
+    inf, flap = flap_influence(r, c, ref_point, [(srf[1], srf[2]) for srf in controls.surfaces], mach=mach,
+                               antisymmetric=antisymmetric)
     return {"lift_influence": inf.lift, "moment_influence": inf.moment, "flap_lift_influence": flap.lift,
             "flap_moment_influence": flap.moment, "hinge_station_influence": flap.hinge_station,
             "hinge_flap_influence": flap.hinge_flap}
@@ -602,7 +607,9 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
         The antisymmetric half wing: its root on a fuselage free to roll (:mod:`wingmdao.aero.roll`;
         states roll_angle, roll_rate; parameter ``body_roll_inertia``; forcing ``roll_start``, 1 at
         t = 0: phi = 0 in the initial static state). Excludes ``plunge``,
-        ``trim`` and ``pitch`` (the symmetric motions) and ``"vlm"`` (its lattice is symmetric).
+        ``trim`` and ``pitch`` (the symmetric motions). With ``"vlm"`` the influence parameters
+        must be those of the antisymmetric lattice (:func:`three_dimensional_parameters` with
+        ``antisymmetric=True``).
 
     Returns
     -------
@@ -622,10 +629,9 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
         raise ValueError("tail_lag=True needs pitch=True")
     if elevator and not pitch:
         raise ValueError("elevator=True needs pitch=True (the elevator is on the horizontal tail)")
-    if roll and (plunge or trim or pitch or vlm):
-        raise ValueError(f"roll=True is the antisymmetric half wing: it excludes plunge, trim, pitch (symmetric "
-                         f"motions) and aero_theory 'vlm' (a symmetric lattice); got plunge={plunge}, trim={trim}, "
-                         f"pitch={pitch}, aero_theory={aero_theory!r}")
+    if roll and (plunge or trim or pitch):
+        raise ValueError(f"roll=True is the antisymmetric half wing: it excludes plunge, trim and pitch (symmetric "
+                         f"motions); got plunge={plunge}, trim={trim}, pitch={pitch}")
     ctl = controls
     if ctl is not None:
         _check_controls(ctl, n, plunge, pitch)

@@ -39,7 +39,7 @@ import numpy as np
 from wingmdao.plots import optional_pyplot, save_figure
 
 from wingmdao.cli import COMMANDS
-from wingmdao.cli._args import METAVARS, add_free_pitch_arguments, add_output_arguments
+from wingmdao.cli._args import METAVARS, add_aero_theory_argument, add_free_pitch_arguments, add_output_arguments
 from wingmdao.cli._io import write_json, read_design
 from wingmdao.aero.pitch import elevator_effectiveness, pitch_parameters
 from wingmdao.cases import available_cases, case_beam_parameters
@@ -55,7 +55,7 @@ from wingmdao.aero.controls import control_spec, limit_report, read_alleviation
 from wingmdao.aero.roll import half_wing_roll_inertia
 from wingmdao.cases.pegasus import CRUISE_ALTITUDE_FT, flight_point
 from wingmdao.loads.atmosphere import speed_of_sound
-from wingmdao.loads.rolling import (CONDITIONS, combined_loads, command_for_roll_rate, march_roll, rolling_model,
+from wingmdao.loads.rolling import (CONDITIONS, ROLL_AERO_THEORIES, combined_loads, command_for_roll_rate, march_roll, rolling_model,
                                     steady_roll_rate, symmetric_root_loads)
 
 CASES = ("pegasus",)
@@ -89,6 +89,7 @@ def register(subparsers):
                    help="--rolling: the ailerons (the surfaces of a control-surface file, docs/controls.md; no law): "
                         "each deflected to its max_deflection_deg (the stop) at V_A, trailing edge down on the right "
                         "wing, mirrored on the left")
+    add_aero_theory_argument(p)
     p.add_argument("--t-final", type=float, default=None, metavar=METAVARS["--t-final"],
                    help=f"--rolling: duration of each condition's march (s, > 0; default {ROLL_T_FINAL:g})")
     p.add_argument("--nose-down", action="store_true",
@@ -127,7 +128,7 @@ def _check_args(args):
         raise ValueError("--rolling with --checked-pitch: one maneuver per run")
     if args.rolling:
         return _check_rolling_args(args)
-    for flag in ("roll_inertia", "alleviation", "t_final"):
+    for flag in ("roll_inertia", "alleviation", "t_final", "aero_theory"):
         if getattr(args, flag) is not None:
             raise ValueError(f"--{flag.replace('_', '-')} is a --rolling flag")
     if not args.checked_pitch:
@@ -171,6 +172,11 @@ def _check_rolling_args(args):
     if args.nose_down or args.max_elevator_deg is not None or args.mach is not None:
         flag = "--nose-down" if args.nose_down else ("--max-elevator-deg" if args.mach is None else "--mach")
         raise ValueError(f"{flag} is a --checked-pitch flag; --rolling flies V_A, V_C and V_D")
+    if args.aero_theory is None:
+        args.aero_theory = "strip"
+    if args.aero_theory not in ROLL_AERO_THEORIES:
+        raise ValueError(f"--aero-theory {args.aero_theory}: --rolling allows {', '.join(ROLL_AERO_THEORIES)} (the "
+                         "lifting line's slopes are those of the symmetric loading)")
     if args.alleviation is None:
         raise ValueError("--rolling needs --alleviation FILE.yaml naming the ailerons (the case has no control "
                          "surfaces; e.g. docs/examples/pegasus_ailerons.yaml)")
@@ -339,7 +345,7 @@ def _run_rolling(args, surfaces, t_final, t_wall):
         raise ValueError(f"--alleviation {args.alleviation}: {exc}") from None
     stops = np.radians([s.max_deflection_deg for s in surfaces])
     i_wing = half_wing_roll_inertia(bp["mass_per_length"], r0)
-    print(f"wingmdao maneuver {args.case} --rolling: {n} nodes, {alt_ft:g} ft, V_A / V_C / V_D = "
+    print(f"wingmdao maneuver {args.case} --rolling: {n} nodes, {args.aero_theory}, {alt_ft:g} ft, V_A / V_C / V_D = "
           + " / ".join(f"{v[0]:.1f}" for v in speeds.values()) + f" m/s EAS, I_xx,body = {args.roll_inertia:g} kg m^2 "
           f"(+ 2 x {i_wing:.4g} of the wings), n_lim = {n_lim:.4f}", file=sys.stderr)
     time = np.linspace(0.0, t_final, args.steps + 1)
@@ -348,7 +354,7 @@ def _run_rolling(args, surfaces, t_final, t_wall):
         v_eas, v, mach = speeds[name]
         ap = aero_parameters(n, chord=chord, ref_point=axis_frac, lift_slope=2 * np.pi, airspeed=v, density=rho,
                              mach=mach)
-        system, p = rolling_model(bp, ap, spec, roll_inertia=args.roll_inertia)
+        system, p = rolling_model(bp, ap, spec, roll_inertia=args.roll_inertia, aero_theory=args.aero_theory)
         if fraction is None:
             k, rate = 1.0, steady_roll_rate(system, p, stops)[0]
             p_a = rate
@@ -359,7 +365,7 @@ def _run_rolling(args, surfaces, t_final, t_wall):
         limits = limit_report(time, h.aileron, np.gradient(h.aileron, dt, axis=0), surfaces)
         sym = {}
         for label, n_sym in (("n=0", 0.0), ("n=2/3 n_lim", 2.0 * n_lim / 3.0)):
-            m_sym = symmetric_root_loads(bp, ap, load_factor=n_sym, weight=weight)
+            m_sym = symmetric_root_loads(bp, ap, load_factor=n_sym, weight=weight, aero_theory=args.aero_theory)
             sym[label] = {"load_factor": n_sym, "symmetric_root_bending_moment": m_sym[0],
                           "symmetric_root_torque": m_sym[1], **combined_loads(h, m_sym)}
         ib, it = int(np.argmax(np.abs(h.root_bending))), int(np.argmax(np.abs(h.root_torque)))
@@ -388,7 +394,7 @@ def _run_rolling(args, surfaces, t_final, t_wall):
     res = {"case": args.case, "maneuver": "rolling", "design": args.design, "altitude_ft": alt_ft,
            "density_kg_m3": rho, "limit_load_factor": n_lim, "roll_inertia_body_kg_m2": args.roll_inertia,
            "roll_inertia_half_wing_kg_m2": i_wing, "roll_inertia_aircraft_kg_m2": args.roll_inertia + 2 * i_wing,
-           "alleviation": args.alleviation, "t_final_s": t_final, "time": time.tolist(), "conditions": conditions,
+           "alleviation": args.alleviation, "aero_theory": args.aero_theory, "t_final_s": t_final, "time": time.tolist(), "conditions": conditions,
            "wall_s": _time.perf_counter() - t_wall}
     write_json(res, args.json)  # the result first: a plotting failure must never lose it
     if plot_path:
@@ -414,7 +420,8 @@ def _roll_plots(res, stem):
     axes[2].set_ylabel("root dM_x (kN m)")
     axes[3].set_ylabel("root dM_y (kN m)")
     axes[3].set_xlabel("time (s)")
-    axes[0].set_title(f"{res['case']} rolling conditions 25.349(a), right half wing (antisymmetric increments)",
+    axes[0].set_title(f"{res['case']} rolling conditions 25.349(a), {res['aero_theory']}: right half wing "
+                      "(antisymmetric increments)",
                       fontsize=9)
     for ax in axes:
         ax.grid(True)

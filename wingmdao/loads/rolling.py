@@ -19,7 +19,8 @@ the left wing carries the negatives of the right wing's. The symmetric loads at 
 n = 2/3 n_lim are the free-plunge trimmed static maneuver at the same speed (gravity n g0, lift
 n W, :func:`symmetric_root_loads`); the combined design root loads are ``M_sym +- max_t |dM(t)|``
 (the wing whose increment adds and the one whose increment subtracts; bending and torque
-enveloped separately).
+enveloped separately). ``aero_theory`` "strip" (per station) or "vlm" (the lattice with an
+antisymmetric image for the rolling wing, a symmetric one for the symmetric maneuver).
 """
 
 from __future__ import annotations
@@ -30,10 +31,15 @@ import numpy as np
 
 from wingmdao.aero.plunge import body_mass, half_wing_mass
 from wingmdao.aero.roll import check_roll_inputs, steady_roll
-from wingmdao.aero.system import cached_aeroelastic_system
+from wingmdao.aero.system import cached_aeroelastic_system, three_dimensional_parameters
 from wingmdao.loads.atmosphere import G0
 from wingmdao.timemarch.bdf import march, solve_static, state_rates
 from wingmdao.timemarch.system import layout, pack
+
+
+#: the aerodynamic theories of the rolling conditions (the lifting line's slopes are those of the
+#: symmetric loading)
+ROLL_AERO_THEORIES = ("strip", "vlm")
 
 #: 14 CFR 25.349 (introductory text and paragraph (a)), as written
 REGULATION = (
@@ -91,7 +97,17 @@ class RollHistory:
     steady_roll_rate: float
 
 
-def rolling_model(beam_params, aero_params, controls, *, roll_inertia):
+def _theory(aero_theory, beam_params, aero_params, controls=None, antisymmetric=False):
+    """The aerodynamic parameters of ``aero_theory`` (checked) on top of the strip's."""
+    if aero_theory not in ROLL_AERO_THEORIES:
+        raise ValueError(f"aero_theory = {aero_theory!r}; allowed for the rolling conditions: "
+                         f"{', '.join(ROLL_AERO_THEORIES)}")
+    return {**aero_params, **three_dimensional_parameters(aero_theory, beam_params["node_positions"],
+                                                          aero_params["chord"], aero_params["ref_point"],
+                                                          aero_params["mach"], controls, antisymmetric)}
+
+
+def rolling_model(beam_params, aero_params, controls, *, roll_inertia, aero_theory="strip"):
     """(system, packed parameters) of the antisymmetric half wing with the ailerons ``controls``
     (:class:`~wingmdao.aero.controls.ControlSpec`, no law) and the fuselage roll inertia I_xx,body
     (kg m^2, > 0; each half carries I_xx,body / 2).
@@ -106,6 +122,8 @@ def rolling_model(beam_params, aero_params, controls, *, roll_inertia):
         The ailerons (no control law).
     roll_inertia : float
         I_xx,body: roll inertia of the aircraft outside both wing halves (kg m^2).
+    aero_theory : {"strip", "vlm"}, optional
+        Strips, or the vortex lattice with its antisymmetric image.
 
     Returns
     -------
@@ -115,9 +133,10 @@ def rolling_model(beam_params, aero_params, controls, *, roll_inertia):
     check_roll_inputs(roll_inertia=roll_inertia)
     if controls.outputs:
         raise ValueError("rolling_model: the ailerons fly open loop; the control spec has a law")
+    aero = _theory(aero_theory, beam_params, aero_params, controls, antisymmetric=True)
     n = np.asarray(aero_params["chord"]).size
-    system = cached_aeroelastic_system(n, roll=True, controls=controls)
-    values = {**beam_params, **aero_params, "body_roll_inertia": 0.5 * float(roll_inertia)}
+    system = cached_aeroelastic_system(n, roll=True, controls=controls, aero_theory=aero_theory)
+    values = {**beam_params, **aero, "body_roll_inertia": 0.5 * float(roll_inertia)}
     return system, pack(system.param_specs, values)
 
 
@@ -245,7 +264,7 @@ def march_roll(system, p, time, command, command_fraction=1.0, steady_rate=float
                        command_fraction=float(command_fraction), steady_roll_rate=float(steady_rate))
 
 
-def symmetric_root_loads(beam_params, aero_params, *, load_factor, weight, gravity=G0):
+def symmetric_root_loads(beam_params, aero_params, *, load_factor, weight, gravity=G0, aero_theory="strip"):
     """Root M_x, M_y (N m) of the right half wing in the trimmed static symmetric maneuver at
     ``load_factor`` (free plunge and trim: lift n W, gravity n g0 on the wing's mass).
 
@@ -261,6 +280,8 @@ def symmetric_root_loads(beam_params, aero_params, *, load_factor, weight, gravi
         Airplane weight W (N).
     gravity : float, optional
         g0 (m/s^2).
+    aero_theory : {"strip", "vlm"}, optional
+        Strips, or the vortex lattice (symmetric image).
 
     Returns
     -------
@@ -268,9 +289,10 @@ def symmetric_root_loads(beam_params, aero_params, *, load_factor, weight, gravi
         (M_x, M_y) N m.
     """
     n = np.asarray(aero_params["chord"]).size
-    s = cached_aeroelastic_system(n, plunge=True, trim=True)
+    aero = _theory(aero_theory, beam_params, aero_params)
+    s = cached_aeroelastic_system(n, plunge=True, trim=True, aero_theory=aero_theory)
     m_h = half_wing_mass(beam_params["mass_per_length"], beam_params["node_positions"])[0]
-    values = {**beam_params, **aero_params, "trim_lift": float(load_factor) * weight,
+    values = {**beam_params, **aero, "trim_lift": float(load_factor) * weight,
               "body_mass": body_mass(weight / gravity, m_h)}
     p = pack(s.param_specs, values)
     ql = layout(s.forcing_specs)
