@@ -13,6 +13,8 @@ Independent references, integrated by hand here (docs/maneuvers.md derives them)
   antisymmetric vortex lattice at large aspect ratio.
 """
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 import scipy.optimize as sopt
@@ -267,3 +269,46 @@ def test_component_check_partials_roll():
         fd, an = d["J_fd"], d["J_fwd"]
         scale = max(np.max(np.abs(fd)), 1e-8)
         assert np.max(np.abs(an - fd)) <= 2e-5 * scale + 1e-6, (of, wrt)
+
+
+def test_sizing_case_rolling_totals():
+    """A PEGASUS rolling load case (sudden aileron at V_A, strips, 0.3 s) in the sizing model
+    (``CoupledAero(roll=True)``): the stress KS totals w.r.t. a wall thickness and the fuselage's roll
+    inertia (the case input ``body_roll_inertia``) by the adjoint against central differences."""
+    from wingmdao.aero.controls import read_alleviation
+    from wingmdao.aero.coupled import CoupledAero
+    from wingmdao.cases import pegasus
+    from wingmdao.cases.planform import wing_geometry
+    from wingmdao.groups.load_case import LoadCase
+    from wingmdao.sizing import build_problem
+
+    setup = pegasus.build(pegasus.PegasusOptions(loads="maneuver"))
+    setup.options.disp = False
+    geo = setup.geometry
+    _, chord, axis = wing_geometry(pegasus.PLANFORM, pegasus.ENGINES)
+    surfaces, _ = read_alleviation(str(Path(__file__).resolve().parents[1] / "docs/examples/pegasus_ailerons.yaml"))
+    spec = control_spec(surfaces, geo.node_positions[:, 1])
+    time = np.arange(11) * 0.03
+    start = (time == 0) * 1.0
+    command = np.where(time[:, None] > 0, np.radians(20.0), 0.0)
+    aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis, dtype=float), airspeed=123.3,
+                       density=0.6527, mach=0.39, roll=True, roll_inertia=2.0e4, controls=spec)
+    case = LoadCase("roll", time, {"gravity": np.zeros(3), "roll_start": start, "surface_command": command},
+                    setup.load_cases[0].families, "rolling, V_A", aero=aero)
+    prob, _ = build_problem(geo, [case], setup.material, setup.options, driver=False)
+    prob.run_model()
+    X = np.asarray(prob.get_val("cases.roll.states")).reshape(time.size, -1)
+    s = cached_aeroelastic_system(geo.num_nodes, roll=True, controls=spec)
+    assert np.all(np.diff(X[:, s.body_index["roll_rate"]][1:]) > 0)  # the wing starts to roll (right wing up)
+    wrt = ["t_upper_skin", "cases.roll.body_roll_inertia"]
+    data = prob.check_totals(of=["cases.roll.ks_vm"], wrt=wrt, method="fd", form="central", step=1e-6,
+                             step_calc="rel_avg", out_stream=None)
+    for key, d in data.items():
+        J = d["J_fwd"] if "J_fwd" in d else d["J_rev"]
+        assert np.abs(d["J_fd"]).max() > 0, key
+        assert np.abs(J - d["J_fd"]).max() <= 1e-6 * np.abs(d["J_fd"]).max(), key
+    with pytest.raises(ValueError, match="roll=True is the antisymmetric half wing; it excludes plunge"):
+        CoupledAero(chord=1.0, airspeed=50.0, density=1.2, roll=True, roll_inertia=1.0, plunge=True,
+                    aircraft_mass=1000.0).parameters(3)
+    with pytest.raises(ValueError, match="roll_inertia = 0.0 kg"):
+        CoupledAero(chord=1.0, airspeed=50.0, density=1.2, roll=True).parameters(3)
