@@ -312,3 +312,35 @@ def test_sizing_case_rolling_totals():
                     aircraft_mass=1000.0).parameters(3)
     with pytest.raises(ValueError, match="roll_inertia = 0.0 kg"):
         CoupledAero(chord=1.0, airspeed=50.0, density=1.2, roll=True).parameters(3)
+
+
+def test_size_pegasus_rolling_cases_and_bad_options():
+    """``size pegasus --rolling``: the three 25.349(a) cases join the load set (V_C and V_D
+    deflections from the steady roll of the initial design, below the stops), the outputs are named
+    ``pegasus_..._rolling``, and the rolling options are refused without ``--rolling`` or with
+    missing data."""
+    import argparse
+
+    from wingmdao.cases import pegasus
+    from wingmdao.cli.size import run_stem
+
+    ail = str(Path(__file__).resolve().parents[1] / "docs/examples/pegasus_ailerons.yaml")
+    setup = pegasus.build(pegasus.PegasusOptions(rolling=True, alleviation=ail, roll_inertia=2e4,
+                                                 maneuvering_speed_eas=90.0, dt=0.1))
+    names = [c.name for c in setup.load_cases]
+    assert names == ["maneuver_pos", "maneuver_neg", "rolling_va", "rolling_vc", "rolling_vd"]
+    cmd = [c.forcing["surface_command"][-1, 0] for c in setup.load_cases[2:]]
+    assert cmd[0] == pytest.approx(np.radians(20.0)) and 0 < cmd[2] < cmd[1] < cmd[0]
+    assert all(c.aero.roll and c.time.size == 21 for c in setup.load_cases[2:])
+    ns = argparse.Namespace(case_module=pegasus, loads="maneuver", rolling=True)
+    assert run_stem(ns) == "pegasus_maneuver_rolling"
+    for kw, msg in [({"roll_inertia": 2e4}, "--roll-inertia is a --rolling option"),
+                    ({"rolling": True, "roll_inertia": 2e4, "maneuvering_speed_eas": 90.0},
+                     "--rolling needs --alleviation FILE.yaml"),
+                    ({"rolling": True, "alleviation": ail, "maneuvering_speed_eas": 90.0}, "--rolling needs --roll-inertia"),
+                    ({"rolling": True, "alleviation": ail, "roll_inertia": 0.0, "maneuvering_speed_eas": 90.0},
+                     r"--roll-inertia = 0.0 kg\*m\*\*2; allowed range \(0, inf\)"),
+                    ({"rolling": True, "alleviation": ail, "roll_inertia": 2e4, "maneuvering_speed_eas": 200.0},
+                     r"--maneuvering-speed-eas = 200.0 m/s; allowed range \(0, V_C = 115.34\]")]:
+        with pytest.raises(ValueError, match=msg):
+            pegasus.build(pegasus.PegasusOptions(**kw))

@@ -261,7 +261,8 @@ def load_case_response(prob, case, num_nodes: int, weight: float, *, path: str |
     first instant plus the modal increment (:func:`modal_dlm_response`).
 
     ``weight`` (N): the aircraft weight W. Returns ``time``, ``load_factor`` (lift of both
-    half-wings / W: for a coupled case from its section lift, :meth:`total_lift_history`; for a
+    half-wings / W: for a coupled case from its section lift, :meth:`total_lift_history`, zero for
+    a rolling case whose halves' lifts cancel; for a
     strip case the z-sum of its applied line and point forces), ``root_bending_moment`` and
     ``root_torsion`` (N m, M_x and M_y at the root node, body axes), ``tip_displacement`` (m, z),
     and the peaks ``peak_load_factor``, ``peak_root_bending_moment`` (largest magnitudes).
@@ -317,6 +318,8 @@ def load_case_response(prob, case, num_nodes: int, weight: float, *, path: str |
         Q = np.concatenate([forcing(s.name).reshape(t.size, -1) for s in system.forcing_specs], axis=1)
         dt = float(t[1] - t[0]) if t.size > 1 else 1.0
         lift = system.total_lift_history(X, dt, p, Q)
+        if case.aero.roll:  # antisymmetric: the two halves' lifts cancel
+            lift = 0.0 * lift
         if pitch:  # the aircraft's load factor: wing + tail lift
             lift = lift + system.tail_lift_history(X, dt, p, Q)
     else:

@@ -53,10 +53,9 @@ from wingmdao.aero.system import aero_parameters
 from wingmdao.loads.checked_pitch import checked_pitch, maneuver_model
 from wingmdao.aero.controls import control_spec, limit_report, read_alleviation
 from wingmdao.aero.roll import half_wing_roll_inertia
-from wingmdao.cases.pegasus import CRUISE_ALTITUDE_FT, flight_point
-from wingmdao.loads.atmosphere import speed_of_sound
-from wingmdao.loads.rolling import (CONDITIONS, ROLL_AERO_THEORIES, combined_loads, command_for_roll_rate, march_roll, rolling_model,
-                                    steady_roll_rate, symmetric_root_loads)
+from wingmdao.cases.pegasus import CRUISE_ALTITUDE_FT, rolling_flight_speeds_eas
+from wingmdao.loads.rolling import (CONDITIONS, ROLL_AERO_THEORIES, combined_loads, command_for_roll_rate, march_roll,
+                                    rolling_model, rolling_speeds, steady_roll_rate, symmetric_root_loads)
 
 CASES = ("pegasus",)
 #: the elevator's chord ratio assumed by default (an assumption: typical of transport elevators)
@@ -315,16 +314,8 @@ def _speeds(args):
     """{condition: (EAS, TAS, Mach)} of V_A, V_C, V_D (m/s) at the rolling altitude, and the density."""
     alt_ft = CRUISE_ALTITUDE_FT if args.altitude_ft is None else args.altitude_ft
     alt = float(altitude_ft_to_m(alt_ft))
-    fp = flight_point()
-    sigma_c = np.sqrt(fp["density"] / float(density(0.0)))
-    rho = float(density(alt))
-    root_sigma = np.sqrt(rho / float(density(0.0)))
-    eas = {"VA": float(args.maneuvering_speed_eas), "VC": fp["cruise_speed"] * sigma_c, "VD": fp["dive_speed"] * sigma_c}
-    if eas["VA"] > eas["VC"]:
-        raise ValueError(f"--maneuvering-speed-eas = {eas['VA']} m/s; allowed range (0, V_C = {eas['VC']:.2f}] m/s EAS "
-                         "(14 CFR 25.335(c): V_A <= V_C)")
-    a = float(speed_of_sound(alt))
-    return alt_ft, rho, {k: (v, v / root_sigma, v / root_sigma / a) for k, v in eas.items()}
+    vc, vd = rolling_flight_speeds_eas()
+    return alt_ft, float(density(alt)), rolling_speeds(args.maneuvering_speed_eas, vc, vd, alt)
 
 
 def _run_rolling(args, surfaces, t_final, t_wall):

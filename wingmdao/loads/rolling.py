@@ -32,7 +32,7 @@ import numpy as np
 from wingmdao.aero.plunge import body_mass, half_wing_mass
 from wingmdao.aero.roll import check_roll_inputs, steady_roll
 from wingmdao.aero.system import cached_aeroelastic_system, three_dimensional_parameters
-from wingmdao.loads.atmosphere import G0
+from wingmdao.loads.atmosphere import G0, density, speed_of_sound
 from wingmdao.timemarch.bdf import march, solve_static, state_rates
 from wingmdao.timemarch.system import layout, pack
 
@@ -64,6 +64,36 @@ REGULATION = (
 
 #: the conditions: name -> (paragraph, fraction of the V_A steady roll rate; None: ailerons at the stops)
 CONDITIONS = {"VA": ("25.349(a)(2)", None), "VC": ("25.349(a)(3)", 1.0), "VD": ("25.349(a)(4)", 1.0 / 3.0)}
+
+
+def rolling_speeds(maneuvering_speed_eas, cruise_speed_eas, dive_speed_eas, altitude_m) -> dict:
+    """``{"VA", "VC", "VD"}`` -> (EAS, TAS m/s, Mach) of the rolling conditions flown at ``altitude_m``;
+    ValueError unless 0 < V_A <= V_C (14 CFR 25.335(c)).
+
+    Parameters
+    ----------
+    maneuvering_speed_eas : float
+        V_A (m/s EAS).
+    cruise_speed_eas : float
+        V_C (m/s EAS).
+    dive_speed_eas : float
+        V_D (m/s EAS).
+    altitude_m : float
+        Altitude (m).
+
+    Returns
+    -------
+    dict
+        The speeds.
+    """
+    va = float(maneuvering_speed_eas)
+    if not (np.isfinite(va) and 0 < va <= cruise_speed_eas):
+        raise ValueError(f"--maneuvering-speed-eas = {va} m/s; allowed range (0, V_C = {cruise_speed_eas:.2f}] m/s EAS "
+                         "(14 CFR 25.335(c): V_A <= V_C)")
+    root_sigma = float(np.sqrt(density(altitude_m) / density(0.0)))
+    a = float(speed_of_sound(altitude_m))
+    eas = {"VA": va, "VC": float(cruise_speed_eas), "VD": float(dive_speed_eas)}
+    return {k: (v, v / root_sigma, v / root_sigma / a) for k, v in eas.items()}
 
 
 @dataclass
