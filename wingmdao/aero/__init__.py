@@ -8,6 +8,8 @@
 * :mod:`wingmdao.aero.coupled` - :class:`CoupledAero`, the aerodynamics of a coupled ``LoadCase``;
 * :mod:`wingmdao.aero.weissinger` - spanwise lift slopes of a swept, tapered planform (Weissinger's
   vortex lattice, Prandtl-Glauert), for the strips' ``lift_slope``;
+* :mod:`wingmdao.aero.roll` - the antisymmetric half wing on a fuselage free to roll (the
+  25.349(a) rolling conditions, docs/maneuvers.md);
 * :mod:`wingmdao.aero.vlm` - the vortex-lattice influence of every station's angle on every
   station's lift and moment (``aero_theory="vlm"``, docs/aerodynamics-3d.md).
 """

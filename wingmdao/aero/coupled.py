@@ -17,17 +17,42 @@ from wingmdao.aero.system import (AERO_THEORY_CHOICES, aero_parameters, cached_a
 from wingmdao.loads.atmosphere import G0
 from wingmdao.timemarch.system import pack
 from wingmdao.aero.pitch import check_pitch_inputs
+from wingmdao.aero.roll import check_roll_inputs
 
 #: Aerodynamic forcing of a coupled case, shapes per instant ("n" = number of nodes).
 AERO_FORCING_SHAPES = {"gust_velocity": ("n",), "frame_velocity": (3,), "frame_velocity_rate": (3,),
-                       "trim_active": (), "tail_gust_velocity": ()}
+                       "trim_active": (), "tail_gust_velocity": (), "roll_start": ()}
 AERO_FORCING_META = {"gust_velocity": ("m/s", "gust velocity (body +z) at each station, penetration delay included"),
                      "frame_velocity": ("m/s", "velocity of the body-axes origin relative to the trimmed flight"),
                      "frame_velocity_rate": ("m/s**2", "rate of frame_velocity (apparent mass)"),
                      "trim_active": (None, "1: solve alpha_trim for trim_lift; 0: hold alpha_trim"),
-                     "tail_gust_velocity": ("m/s", "gust velocity (body +z) at the tail, its penetration delay included")}
+                     "tail_gust_velocity": ("m/s", "gust velocity (body +z) at the tail, its penetration delay included"),
+                     "roll_start": (None, "1: the roll angle is zero (the initial static state); 0: dphi/dt = p")}
 #: forcing only a free-pitch case has (wingmdao.aero.pitch)
 PITCH_FORCING = ("tail_gust_velocity",)
+#: forcing only a free-roll case has (wingmdao.aero.roll)
+ROLL_FORCING = ("roll_start",)
+
+
+def case_has_forcing(aero, name: str) -> bool:
+    """Whether the coupled case ``aero`` (:class:`CoupledAero`) has the aerodynamic forcing ``name``
+    (:data:`AERO_FORCING_SHAPES`): ``trim_active`` with trim, ``tail_gust_velocity`` with free pitch,
+    ``roll_start`` with free roll, the others always.
+
+    Parameters
+    ----------
+    aero : CoupledAero
+        The case's aerodynamics.
+    name : str
+        A forcing name.
+
+    Returns
+    -------
+    bool
+        Whether the case's residual has it.
+    """
+    return ((name != "trim_active" or bool(aero.trim)) and (name not in PITCH_FORCING or bool(aero.pitch))
+            and (name not in ROLL_FORCING or bool(getattr(aero, "roll", False))))
 
 
 @dataclass
@@ -54,7 +79,10 @@ class CoupledAero:
     n_s) rad a forcing. ``gain_design``: the law's ``controller_C`` and ``controller_D`` are design
     variables of the sizing (:func:`wingmdao.sizing.control_gain_design_vars`). ``elevator_effectiveness``
     (tau_e, with ``pitch``; 0: none): a trimmed static maneuver reports its elevator angle with the
-    stabiliser at its 1 g setting (:func:`wingmdao.loads.maneuver_trim.elevator_trim`).
+    stabiliser at its 1 g setting (:func:`wingmdao.loads.maneuver_trim.elevator_trim`). ``roll``: the
+    antisymmetric half wing on a fuselage free to roll (:mod:`wingmdao.aero.roll`; no plunge, trim or
+    pitch), ``roll_inertia`` the fuselage's I_xx,body (kg m^2; the case's input ``body_roll_inertia`` is
+    half of it), the forcing ``roll_start`` (1 at t = 0); with ``"vlm"`` the lattice's antisymmetric image.
 
     ``aero_theory`` (:data:`AERO_THEORY_CHOICES`): ``"strip"`` (each station's slope
     ``lift_slope``), ``"lifting-line"`` (``lift_slope`` replaced by the section slopes of
@@ -117,6 +145,10 @@ class CoupledAero:
         The law's ``controller_C`` and ``controller_D`` are design variables.
     elevator_effectiveness : float, optional
         tau_e of the elevator (-; 0: none).
+    roll : bool, optional
+        The antisymmetric half wing free to roll.
+    roll_inertia : float, optional
+        I_xx,body of the fuselage (kg m^2), with ``roll``.
     """
 
     chord: object
@@ -145,6 +177,8 @@ class CoupledAero:
     control_law: object = None
     gain_design: bool = False
     elevator_effectiveness: float = 0.0
+    roll: bool = False
+    roll_inertia: float = 0.0
 
     @property
     def residual_theory(self) -> str:
@@ -197,6 +231,15 @@ class CoupledAero:
                                downwash_gradient=self.downwash_gradient)
             out.update(tail_area=float(self.tail_area), tail_lift_slope=float(self.tail_lift_slope),
                        downwash_gradient=float(self.downwash_gradient))
+        if self.roll:
+            if self.plunge or self.trim or self.pitch:
+                raise ValueError("CoupledAero: roll=True is the antisymmetric half wing; it excludes plunge, trim "
+                                 "and pitch")
+            if self.aero_theory == "lifting-line":
+                raise ValueError("CoupledAero: roll=True allows aero_theory strip or vlm (the lifting line's slopes "
+                                 "are those of the symmetric loading)")
+            check_roll_inputs(roll_inertia=self.roll_inertia)
+            out["body_roll_inertia"] = 0.5 * float(self.roll_inertia)
         if self.controls is not None and self.control_law is not None:
             names = {s.name for s in control_param_specs(self.controls)}
             out.update({k: v for k, v in self.control_law.matrices().items() if k in names})
@@ -208,7 +251,8 @@ class CoupledAero:
         if self.aero_theory != "strip" and self.node_positions is None:
             raise ValueError(f"CoupledAero: aero_theory = {self.aero_theory!r} needs node_positions (the jig beam nodes)")
         return three_dimensional_parameters(self.aero_theory, self.node_positions, values["chord"],
-                                            values["ref_point"], values["mach"], controls=self.controls)
+                                            values["ref_point"], values["mach"], controls=self.controls,
+                                            antisymmetric=bool(self.roll))
 
 
 def load_case_response(prob, case, num_nodes: int, weight: float, *, path: str | None = None) -> dict:
@@ -217,7 +261,8 @@ def load_case_response(prob, case, num_nodes: int, weight: float, *, path: str |
     first instant plus the modal increment (:func:`modal_dlm_response`).
 
     ``weight`` (N): the aircraft weight W. Returns ``time``, ``load_factor`` (lift of both
-    half-wings / W: for a coupled case from its section lift, :meth:`total_lift_history`; for a
+    half-wings / W: for a coupled case from its section lift, :meth:`total_lift_history`, zero for
+    a rolling case whose halves' lifts cancel; for a
     strip case the z-sum of its applied line and point forces), ``root_bending_moment`` and
     ``root_torsion`` (N m, M_x and M_y at the root node, body axes), ``tip_displacement`` (m, z),
     and the peaks ``peak_load_factor``, ``peak_root_bending_moment`` (largest magnitudes).
@@ -266,12 +311,15 @@ def load_case_response(prob, case, num_nodes: int, weight: float, *, path: str |
         pitch = bool(case.aero.pitch)
         system = cached_aeroelastic_system(n, plunge=bool(case.aero.plunge), trim=bool(case.aero.trim), pitch=pitch,
                                            tail_lag=pitch and bool(case.aero.tail_lag),
-                                           aero_theory=case.aero.residual_theory, controls=case.aero.controls)
+                                           aero_theory=case.aero.residual_theory, controls=case.aero.controls,
+                                           roll=bool(case.aero.roll))
         beam = system.layout.beam_states(X)
         p = pack(system.param_specs, {s.name: value(s.name) for s in system.param_specs})
         Q = np.concatenate([forcing(s.name).reshape(t.size, -1) for s in system.forcing_specs], axis=1)
         dt = float(t[1] - t[0]) if t.size > 1 else 1.0
         lift = system.total_lift_history(X, dt, p, Q)
+        if case.aero.roll:  # antisymmetric: the two halves' lifts cancel
+            lift = 0.0 * lift
         if pitch:  # the aircraft's load factor: wing + tail lift
             lift = lift + system.tail_lift_history(X, dt, p, Q)
     else:

@@ -58,6 +58,7 @@ from wingmdao.utils.casadi_cache import definition_key
 from wingmdao.aero.pitch import (ELEVATOR_STATE_NAME, INCIDENCE_STATE_NAME, LAG_STATE_NAME, PITCH_STATE_NAMES,
                                  body_residuals, elevator_forcing_specs, elevator_param_specs,
                                  pitch_forcing_specs, pitch_param_specs)
+from wingmdao.aero.roll import ROLL_STATE_NAMES, roll_forcing_specs, roll_param_specs, roll_residuals
 
 #: states per node of the aeroelastic system: 18 beam + 4 aerodynamic
 N_AEROELASTIC_STATES = N_STATE_PER_NODE + N_AERO_STATES
@@ -157,11 +158,12 @@ class StateLayout:
 
 
 def state_layout(num_nodes: int, plunge: bool = False, trim: bool = False, pitch_states=(),
-                 control_states=()) -> StateLayout:
+                 control_states=(), roll_states=()) -> StateLayout:
     """The :class:`StateLayout` of :func:`build_aeroelastic_system`: the one place that states
     the order (the build checks its symbols against it; the initial guess and every consumer
     index through it). A new body state goes here, in the order the build appends it: plunge,
-    the free-pitch states ``pitch_states`` (:mod:`wingmdao.aero.pitch`), the control states
+    the free-pitch states ``pitch_states`` (:mod:`wingmdao.aero.pitch`), the free-roll states
+    ``roll_states`` (:mod:`wingmdao.aero.roll`), the control states
     ``control_states`` (actuators, controller, measurement references; :mod:`wingmdao.aero.controls`),
     trim last.
 
@@ -177,6 +179,8 @@ def state_layout(num_nodes: int, plunge: bool = False, trim: bool = False, pitch
         Names of the free-pitch states, in order.
     control_states : sequence of str
         Names of the control states, in order.
+    roll_states : sequence of str
+        Names of the free-roll states, in order.
 
     Returns
     -------
@@ -187,7 +191,7 @@ def state_layout(num_nodes: int, plunge: bool = False, trim: bool = False, pitch
     node = np.arange(n)[:, None] * N_AEROELASTIC_STATES
     body, k = {}, N_AEROELASTIC_STATES * n
     names = ((("plunge", plunge),) + tuple((nm, True) for nm in pitch_states)
-             + tuple((nm, True) for nm in control_states) + (("trim", trim),))
+             + tuple((nm, True) for nm in roll_states) + tuple((nm, True) for nm in control_states) + (("trim", trim),))
     for name, on in names:
         if on:
             body[name] = k
@@ -302,7 +306,8 @@ def aero_parameters(n: int, *, chord, ref_point=0.4, lift_slope=2 * np.pi, alpha
     return out
 
 
-def three_dimensional_parameters(aero_theory: str, node_positions, chord, ref_point, mach, controls=None) -> dict:
+def three_dimensional_parameters(aero_theory: str, node_positions, chord, ref_point, mach, controls=None,
+                                 antisymmetric: bool = False) -> dict:
     """The aerodynamic parameters a theory of :data:`AERO_THEORY_CHOICES` sets on the strip model's:
     none for ``"strip"``; ``lift_slope`` (n,) 1/rad from Prandtl's lifting line of the planform
     (:func:`~wingmdao.aero.lifting_line.lifting_line_lift_slope`, zero at the tip node) for
@@ -327,6 +332,9 @@ def three_dimensional_parameters(aero_theory: str, node_positions, chord, ref_po
         Mach number (vortex lattice).
     controls : ControlSpec, optional
         Control surfaces (their flap panels with ``"vlm"``).
+    antisymmetric : bool, optional
+        ``"vlm"``: the left half's loading the negative of the right's (the rolling half wing,
+        ``build_aeroelastic_system(roll=True)``); the strips and the lifting line are per station.
 
     Returns
     -------
@@ -345,9 +353,10 @@ def three_dimensional_parameters(aero_theory: str, node_positions, chord, ref_po
         slope, _ = lifting_line_lift_slope(np.minimum(y, tip * (1 - 1e-12)), (y, c), tip)
         return {"lift_slope": np.maximum(slope, 1e-6)}  # the check wants > 0; zero at the tip node itself
     if controls is None:
-        inf = station_influence(r, c, ref_point, mach=mach)
+        inf = station_influence(r, c, ref_point, mach=mach, antisymmetric=antisymmetric)
         return {"lift_influence": inf.lift, "moment_influence": inf.moment}
-    inf, flap = flap_influence(r, c, ref_point, [(srf[1], srf[2]) for srf in controls.surfaces], mach=mach)
+    inf, flap = flap_influence(r, c, ref_point, [(srf[1], srf[2]) for srf in controls.surfaces], mach=mach,
+                               antisymmetric=antisymmetric)
     return {"lift_influence": inf.lift, "moment_influence": inf.moment, "flap_lift_influence": flap.lift,
             "flap_moment_influence": flap.moment, "hinge_station_influence": flap.hinge_station,
             "hinge_flap_influence": flap.hinge_flap}
@@ -448,6 +457,7 @@ def node_aero(x, xdot, pa, qf, frame, V, rho, mach, sequence, flap=None, flap_la
 #: Modules whose code generates the aeroelastic system's CasADi functions (their source is part of
 #: the compiled-library key, :func:`aeroelastic_definition`).
 _GENERATING_MODULES = ("wingmdao.aero.system", "wingmdao.aero.strip", "wingmdao.aero.pitch", "wingmdao.aero.controls",
+                       "wingmdao.aero.roll",
                        "wingmdao.aero.plunge", "wingmdao.beam.residual", "wingmdao.beam.rotations",
                        "wingmdao.timemarch.system")
 
@@ -455,7 +465,8 @@ _GENERATING_MODULES = ("wingmdao.aero.system", "wingmdao.aero.strip", "wingmdao.
 def aeroelastic_definition(num_nodes: int, euler_sequence: str = "surface",
                            damping: StrainRateDamping | None = None, plunge: bool = False,
                            trim: bool = False, pitch: bool = False, tail_lag: bool = False,
-                           aero_theory: str = "strip", elevator: bool = False, controls=None) -> str:
+                           aero_theory: str = "strip", elevator: bool = False, controls=None,
+                           roll: bool = False) -> str:
     """What defines the functions of :func:`build_aeroelastic_system` (the key of their compiled
     libraries, :func:`wingmdao.utils.casadi_cache.definition_key`): its arguments, the source of
     the generating modules and the CasADi version. Keying on this instead of the serialized
@@ -483,6 +494,8 @@ def aeroelastic_definition(num_nodes: int, euler_sequence: str = "surface",
         Elevator on the tail (with ``pitch``).
     controls : ControlSpec, optional
         Control surfaces and law; None: none.
+    roll : bool
+        The antisymmetric half wing on a fuselage free to roll.
 
     Returns
     -------
@@ -500,6 +513,8 @@ def aeroelastic_definition(num_nodes: int, euler_sequence: str = "surface",
         args = args + ("elevator",)
     if controls is not None:
         args = args + (repr(controls),)
+    if roll:
+        args = args + ("roll",)
     return definition_key("wingmdao.aero.system.build_aeroelastic_system", args, _GENERATING_MODULES)
 
 
@@ -507,7 +522,7 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
                              damping: StrainRateDamping | None = None,
                              plunge: bool = False, trim: bool = False, pitch: bool = False,
                              tail_lag: bool = False, aero_theory: str = "strip",
-                             elevator: bool = False, controls=None) -> AeroelasticBeamSystem:
+                             elevator: bool = False, controls=None, roll: bool = False) -> AeroelasticBeamSystem:
     """The App. A beam of ``num_nodes`` nodes (root clamped) with unsteady strip theory.
 
     Returns an :class:`AeroelasticBeamSystem` (a :class:`CasadiResidualSystem`):
@@ -592,6 +607,13 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
         Elevator on the tail (with ``pitch``).
     controls : ControlSpec, optional
         Control surfaces and law; None: none.
+    roll : bool
+        The antisymmetric half wing: its root on a fuselage free to roll (:mod:`wingmdao.aero.roll`;
+        states roll_angle, roll_rate; parameter ``body_roll_inertia``; forcing ``roll_start``, 1 at
+        t = 0: phi = 0 in the initial static state). Excludes ``plunge``,
+        ``trim`` and ``pitch`` (the symmetric motions). With ``"vlm"`` the influence parameters
+        must be those of the antisymmetric lattice (:func:`three_dimensional_parameters` with
+        ``antisymmetric=True``).
 
     Returns
     -------
@@ -611,6 +633,9 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
         raise ValueError("tail_lag=True needs pitch=True")
     if elevator and not pitch:
         raise ValueError("elevator=True needs pitch=True (the elevator is on the horizontal tail)")
+    if roll and (plunge or trim or pitch):
+        raise ValueError(f"roll=True is the antisymmetric half wing: it excludes plunge, trim and pitch (symmetric "
+                         f"motions); got plunge={plunge}, trim={trim}, pitch={pitch}")
     ctl = controls
     if ctl is not None:
         _check_controls(ctl, n, plunge, pitch)
@@ -626,6 +651,10 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
         n_body = len(body_names)
         pspecs += pitch_param_specs() + (elevator_param_specs() if elevator else [])
         qspecs += pitch_forcing_specs() + (elevator_forcing_specs() if elevator else [])
+    roll_names = ROLL_STATE_NAMES if roll else ()
+    if roll:
+        pspecs += roll_param_specs()
+        qspecs += roll_forcing_specs()
     ctl_names, lag_names = (), ()
     if ctl is not None:
         ctl_names = ctl.state_names() + (tuple(f"reference_{nm}" for nm in ctl.outputs) if trim else ())
@@ -643,9 +672,11 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     play, qlay = layout(pspecs), layout(qspecs)
     W = N_AEROELASTIC_STATES
     n_ctl = len(ctl_names)
-    n_extra = int(bool(plunge)) + n_body + n_ctl + int(bool(trim))
-    i_trim = W * n + int(bool(plunge)) + n_body + n_ctl
-    i_ctl = W * n + int(bool(plunge)) + n_body
+    n_roll = len(roll_names)
+    n_extra = int(bool(plunge)) + n_body + n_roll + n_ctl + int(bool(trim))
+    i_trim = W * n + int(bool(plunge)) + n_body + n_roll + n_ctl
+    i_ctl = W * n + int(bool(plunge)) + n_body + n_roll
+    rolling = slice(W * n, W * n + n_roll)  # the roll states (empty without roll)
     body = slice(W * n + 1, W * n + 1 + n_body)  # the pitch states (empty without pitch)
     x = ca.SX.sym("x", W * n + n_extra)
     xdot = ca.SX.sym("xdot", W * n + n_extra)
@@ -665,6 +696,9 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     if pitch:  # the pitch rate and its rate add to the frame's angular velocity / acceleration (about +y)
         e_y = ca.DM([0.0, 1.0, 0.0])
         frame = (acc0, frame[1] + e_y * x[body][1], frame[2] + e_y * xdot[body][1])
+    if roll:  # the roll rate and its rate add to the frame's angular velocity / acceleration (about +x)
+        e_x = ca.DM([1.0, 0.0, 0.0])
+        frame = (acc0, frame[1] + e_x * x[rolling][1], frame[2] + e_x * xdot[rolling][1])
     aero_frame = (vf, dvf) + frame[1:]
     V, rho, mach = p[play["airspeed"]], p[play["density"]], p[play["mach"]]
 
@@ -756,6 +790,10 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
                 elevator=(p[play["elevator_effectiveness"]], p[play["elevator_time_constant"]],
                           q[qlay["elevator_command"]]) if elevator else None)
         blocks.append(r_plunge)
+    if roll:
+        blocks.append(roll_residuals(x[rolling], xdot[rolling], F0=xs[0][st["F"]], M0=xs[0][st["M"]],
+                                     r0=xs[0][st["r"]], pars={"body_roll_inertia": p[play["body_roll_inertia"]]},
+                                     start=q[qlay["roll_start"]]))
     if ctl is not None:
         measured = dict(load_factor=(xdot[W * n] / G0) if plunge else None,
                         root_bending=xs[0][st["M"]][0] / ROOT_BENDING_UNIT,
@@ -779,7 +817,7 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
         blocks.append(on * (2.0 * total - target) / scale + (1.0 - on) * xdot[i_trim])
     R = ca.vertcat(*blocks)
     definition = aeroelastic_definition(n, euler_sequence, damping, plunge, trim, pitch, tail_lag, aero_theory,
-                                        elevator, ctl)
+                                        elevator, ctl, roll)
     jacobians = stored_jacobians(f"aeroelastic_beam{n}", definition, R, (x, xdot, p, q))
     lifts = ca.vertcat(*[o[1] for o in aero_out])
     moments = ca.vertcat(*[o[2] for o in aero_out])
@@ -788,9 +826,9 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
                                    name=f"aeroelastic_beam{n}" + ("_plunge" if plunge else "") + ("_trim" if trim else "")
                                    + ("_pitch" if pitch else "") + ("_lag" if tail_lag else "")
                                    + ("_elevator" if elevator else "") + ("_vlm" if vlm else "")
-                                   + ("_ctl" if ctl is not None else ""),
+                                   + ("_ctl" if ctl is not None else "") + ("_roll" if roll else ""),
                                    describe=lambda k: describe_aeroelastic_equation(
-                                       k, n, plunge, body_names if pitch else (), ctl_names),
+                                       k, n, plunge, (body_names if pitch else ()) + roll_names, ctl_names),
                                    definition=definition, jacobians=jacobians,
                                    lu_column_order=lu_orders.aeroelastic_lu_column_order(W * n + n_extra))
     system.num_nodes = n
@@ -800,12 +838,14 @@ def build_aeroelastic_system(num_nodes: int, *, euler_sequence: str = "surface",
     system.tail_lag = bool(tail_lag)
     system.elevator = bool(elevator)
     system.aero_theory = aero_theory
-    system.layout = state_layout(n, plunge, trim, body_names if pitch else (), ctl_names)
+    system.roll = bool(roll)
+    system.layout = state_layout(n, plunge, trim, body_names if pitch else (), ctl_names, roll_names)
     if system.layout.size != system.n_state or system.layout.body.get("trim", i_trim) != i_trim:
         raise RuntimeError("state_layout does not match the states of build_aeroelastic_system")
     system.trim_index = system.layout.body.get("trim")
     system.body_index = ({"plunge_velocity": system.layout.body["plunge"]} if plunge else {}) | (
-        {nm: system.layout.body[nm] for nm in body_names} if pitch else {})
+        {nm: system.layout.body[nm] for nm in body_names} if pitch else {}) | {
+        nm: system.layout.body[nm] for nm in roll_names}
     system.controls = ctl
     system.control_index = {nm: system.layout.body[nm] for nm in ctl_names}
     if ctl is not None:
@@ -1067,13 +1107,15 @@ def describe_aeroelastic_equation(index: int, num_nodes: int, plunge: bool = Fal
         if body_names:
             return "free plunge + pitch: body translation (wingmdao.aero.pitch), or w_p = 0 in trim"
         return "free plunge: body_mass (dw_p/dt - g_z) = 2 F_root,z"
-    k_body = int(index) - N_AEROELASTIC_STATES * num_nodes - 1
-    if plunge and 0 <= k_body < len(body_names):
+    k_body = int(index) - N_AEROELASTIC_STATES * num_nodes - int(bool(plunge))
+    if 0 <= k_body < len(body_names):
         return {"pitch_angle": "dtheta_p/dt = q (theta_p = 0 in trim)",
                 "pitch_rate": "body pitch moment about the origin (q = 0 in trim)",
                 "downwash_lag": "downwash lag (x_t/V) de/dt + e = alpha_w",
                 "elevator_deflection": "elevator actuator t_a d(delta)/dt + delta = elevator_command",
-                "tail_incidence": "static pitch-moment balance in trim (tail incidence), held otherwise"}[body_names[k_body]]
+                "tail_incidence": "static pitch-moment balance in trim (tail incidence), held otherwise",
+                "roll_angle": "dphi/dt = p (free roll), phi = 0 while roll_start",
+                "roll_rate": "body roll moment about x: (I_xx,body / 2) dp/dt = M_x + y_0 F_z - z_0 F_y"}[body_names[k_body]]
     if index >= N_AEROELASTIC_STATES * num_nodes and body_names:
         return "trim: integrated lift of both halves + tail lift = trim_lift (or alpha_trim held)"
     if index >= N_AEROELASTIC_STATES * num_nodes:
@@ -1346,7 +1388,7 @@ def cached_aeroelastic_system(num_nodes: int, euler_sequence: str = "surface",
                               damping: StrainRateDamping | None = None,
                               plunge: bool = False, trim: bool = False, pitch: bool = False,
                               tail_lag: bool = False, aero_theory: str = "strip",
-                              elevator: bool = False, controls=None) -> AeroelasticBeamSystem:
+                              elevator: bool = False, controls=None, roll: bool = False) -> AeroelasticBeamSystem:
     """:func:`build_aeroelastic_system`, built once per (num_nodes, sequence, damping, plunge, trim, pitch,
     tail_lag, aero_theory, elevator, controls).
 
@@ -1372,6 +1414,8 @@ def cached_aeroelastic_system(num_nodes: int, euler_sequence: str = "surface",
         Elevator on the tail (with ``pitch``).
     controls : ControlSpec, optional
         Control surfaces and law; None: none.
+    roll : bool
+        The antisymmetric half wing on a fuselage free to roll.
 
     Returns
     -------
@@ -1381,9 +1425,11 @@ def cached_aeroelastic_system(num_nodes: int, euler_sequence: str = "surface",
     if damping is not None and damping.is_zero:
         damping = None
     key = (int(num_nodes), euler_sequence, damping, bool(plunge), bool(trim), bool(pitch), bool(tail_lag),
-           str(aero_theory), bool(elevator)) + ((controls,) if controls is not None else ())
+           str(aero_theory), bool(elevator)) + ((controls,) if controls is not None else ()) + (
+        ("roll",) if roll else ())
     if key not in _SYSTEMS:
         _SYSTEMS[key] = build_aeroelastic_system(key[0], euler_sequence=euler_sequence, damping=damping,
                                                  plunge=key[3], trim=key[4], pitch=key[5], tail_lag=key[6],
-                                                 aero_theory=key[7], elevator=key[8], controls=controls)
+                                                 aero_theory=key[7], elevator=key[8], controls=controls,
+                                                 roll=bool(roll))
     return _SYSTEMS[key]

@@ -10,8 +10,9 @@ horseshoe vortex: its bound leg on the panel's quarter-chord line, its trailing 
 (+x) to infinity; flow tangency is enforced at the panel's three-quarter-chord point of mid-span
 (Katz & Plotkin, "Low-Speed Aerodynamics", 2nd ed., Cambridge University Press, 2001,
 Sec. 12.3; Bertin & Cummings, "Aerodynamics for Engineers", 5th ed., 2009, Sec. 7.4). The left
-half is the explicit mirror image (symmetric loading), its horseshoes added to the influence of
-every right-half panel.
+half is the explicit mirror image, its horseshoes added to the influence of every right-half panel
+(symmetric loading), or subtracted (``antisymmetric=True``: the left half carries the negative
+circulation, as in a rolling wing with ailerons deflected opposite, :mod:`wingmdao.aero.roll`).
 
 Compressibility by the Prandtl-Glauert (Goethert) rule: the lattice is stretched in x by
 1 / beta, beta = sqrt(1 - M^2), and solved incompressibly; the lift per span of the compressible
@@ -356,14 +357,17 @@ def _horseshoe_velocity(points, a, b):
     return segment_velocity(P, a[None], b[None]) + semi_infinite_velocity(P, b[None], ex) - semi_infinite_velocity(P, a[None], ex)
 
 
-def normalwash_matrix(lat: Lattice) -> np.ndarray:
+def normalwash_matrix(lat: Lattice, antisymmetric: bool = False) -> np.ndarray:
     """(m, m) normal velocity at each control point of unit circulation on each horseshoe and its
-    mirror image, in the stretched (Prandtl-Glauert) lattice.
+    mirror image (the image's circulation negative with ``antisymmetric``), in the stretched
+    (Prandtl-Glauert) lattice.
 
     Parameters
     ----------
     lat : Lattice
         The lattice.
+    antisymmetric : bool, optional
+        The mirror image carries the negative circulation.
 
     Returns
     -------
@@ -372,11 +376,12 @@ def normalwash_matrix(lat: Lattice) -> np.ndarray:
     """
     s = np.array([1.0 / lat.beta, 1.0, 1.0])
     pts, a, b = lat.control * s, lat.bound_a * s, lat.bound_b * s
-    v = _horseshoe_velocity(pts, a, b) + _horseshoe_velocity(pts, _mirror(b), _mirror(a))
+    image = -1.0 if antisymmetric else 1.0
+    v = _horseshoe_velocity(pts, a, b) + image * _horseshoe_velocity(pts, _mirror(b), _mirror(a))
     return np.einsum("ijk,ik->ij", v, lat.normal)
 
 
-def solve_circulation(lat: Lattice, panel_incidence) -> np.ndarray:
+def solve_circulation(lat: Lattice, panel_incidence, antisymmetric: bool = False) -> np.ndarray:
     """Panel circulations per unit airspeed (m) for panel incidences (m,) or (m, k) rad.
 
     Parameters
@@ -385,18 +390,20 @@ def solve_circulation(lat: Lattice, panel_incidence) -> np.ndarray:
         The lattice.
     panel_incidence : array_like, shape (m,) or (m, k)
         Panel incidences (rad).
+    antisymmetric : bool, optional
+        Antisymmetric mirror image (:func:`normalwash_matrix`).
 
     Returns
     -------
     ndarray, shape (m,) or (m, k)
         Circulations per unit airspeed (m).
     """
-    W = normalwash_matrix(lat)
+    W = normalwash_matrix(lat, antisymmetric)
     return np.linalg.solve(W, -np.asarray(panel_incidence, dtype=float))
 
 
 def station_influence(node_positions, chord, ref_point, *, mach=0.0, n_chordwise=N_CHORDWISE,
-                      n_spanwise=N_SPANWISE, fractions=None) -> StationInfluence:
+                      n_spanwise=N_SPANWISE, fractions=None, antisymmetric=False) -> StationInfluence:
     """:class:`StationInfluence` of the beam stations (module docstring), cached by planform and Mach.
 
     ``node_positions`` (n, 3) m: the jig beam nodes (root first, y >= 0 increasing);
@@ -420,13 +427,16 @@ def station_influence(node_positions, chord, ref_point, *, mach=0.0, n_chordwise
         Spanwise strips per beam element.
     fractions : array_like, optional
         Chordwise panel edges (:func:`chord_fractions`); None: ``n_chordwise`` equal panels.
+    antisymmetric : bool, optional
+        The left half's loading the negative of the right's (:func:`normalwash_matrix`).
 
     Returns
     -------
     StationInfluence
         The influence (shared by the cache: do not modify).
     """
-    return _influences(node_positions, chord, ref_point, mach, n_chordwise, n_spanwise, fractions, ())[0]
+    return _influences(node_positions, chord, ref_point, mach, n_chordwise, n_spanwise, fractions, (),
+                       antisymmetric)[0]
 
 
 @dataclass(frozen=True, eq=False)
@@ -470,7 +480,7 @@ class FlapInfluence:
 
 
 def flap_influence(node_positions, chord, ref_point, surfaces, *, mach=0.0, n_chordwise=FLAP_CHORDWISE,
-                   n_spanwise=N_SPANWISE) -> tuple:
+                   n_spanwise=N_SPANWISE, antisymmetric=False) -> tuple:
     """The stations' and the flaps' influence on one lattice whose chordwise panel edges hold every
     hinge (:func:`chord_fractions`): ``(StationInfluence, FlapInfluence)``, cached.
 
@@ -491,6 +501,8 @@ def flap_influence(node_positions, chord, ref_point, surfaces, *, mach=0.0, n_ch
         Chordwise panels of the equal division (:data:`FLAP_CHORDWISE`).
     n_spanwise : int
         Spanwise strips per beam element.
+    antisymmetric : bool, optional
+        The left half's loading (and flaps) the negative of the right's (:func:`normalwash_matrix`).
 
     Returns
     -------
@@ -503,15 +515,17 @@ def flap_influence(node_positions, chord, ref_point, surfaces, *, mach=0.0, n_ch
         if len(nodes) < 2 or nodes != tuple(range(nodes[0], nodes[0] + len(nodes))) or nodes[0] < 0 or nodes[-1] >= n:
             raise ValueError(f"flap nodes {list(nodes)}: allowed at least two contiguous node indices in 0 .. {n - 1}")
     fractions = chord_fractions(n_chordwise, [h for _, h in srf])
-    return _influences(node_positions, chord, ref_point, mach, n_chordwise, n_spanwise, fractions, srf)
+    return _influences(node_positions, chord, ref_point, mach, n_chordwise, n_spanwise, fractions, srf,
+                       antisymmetric)
 
 
-def _influences(node_positions, chord, ref_point, mach, n_chordwise, n_spanwise, fractions, surfaces):
+def _influences(node_positions, chord, ref_point, mach, n_chordwise, n_spanwise, fractions, surfaces,
+                antisymmetric=False):
     r, c, ref, mach = check_planform(node_positions, chord, ref_point, mach)
     fr = None if fractions is None else np.asarray(fractions, dtype=float)
     key = hashlib.sha1(b"".join(np.ascontiguousarray(v).tobytes() for v in (r, c, ref))
                        + repr((mach, int(n_chordwise), int(n_spanwise), None if fr is None else fr.tolist(),
-                               surfaces)).encode()).hexdigest()
+                               surfaces) + (("antisymmetric",) if antisymmetric else ())).encode()).hexdigest()
     if key in _CACHE:
         return _CACHE[key]
     lat = build_lattice(r, c, ref, mach=mach, n_chordwise=n_chordwise, n_spanwise=n_spanwise, fractions=fr)
@@ -526,7 +540,7 @@ def _influences(node_positions, chord, ref_point, mach, n_chordwise, n_spanwise,
             cols.append((k, j))
             E.append(np.where(on, lat.hat[:, j], 0.0))
     rhs = np.concatenate([lat.hat, np.array(E).T.reshape(m, -1)], axis=1) if E else lat.hat
-    gamma = solve_circulation(lat, rhs)  # (m, n + n_f): unit incidence of each station, then each flap column
+    gamma = solve_circulation(lat, rhs, antisymmetric)  # (m, n + n_f): unit incidence of each station, then each flap column
     force = 2.0 * gamma * lat.span[:, None]  # normal force per q of each panel (m^2): rho V Gamma l / q
     x_bound = 0.5 * (lat.bound_a[:, 0] + lat.bound_b[:, 0])
     moment = force * (lat.x_quarter - x_bound)[:, None]  # nose up about the local quarter chord (m^3)

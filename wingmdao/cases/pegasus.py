@@ -42,8 +42,11 @@ from wingmdao.aero.coupled import CoupledAero
 from wingmdao.aero.modal_design import cosine_gust
 from wingmdao.aero.modal_free import free_cosine_gust
 from wingmdao.aero.system import three_dimensional_parameters
-from wingmdao.design import WALL_VARS, SizingOptions, initial_frequencies
+from wingmdao.design import SECTION_KINDS, WALL_VARS, SizingOptions, design_beam_params, initial_design, initial_frequencies
 from wingmdao.names import CASE_HELP
+from wingmdao.aero.system import aero_parameters
+from wingmdao.loads.rolling import (CONDITIONS as ROLL_CONDITIONS, ROLL_AERO_THEORIES, command_for_roll_rate,
+                                    rolling_model, rolling_speeds, steady_roll_rate)
 
 NAME = "pegasus"
 HELP = CASE_HELP[NAME]
@@ -79,6 +82,9 @@ PANEL_SIZINGS = ("full", "two-level")
 PANEL_GROUP = "stiffened panels (docs/panels.md)"
 #: --help groups of the free-pitch and gust-set options
 PITCH_GROUP = "free pitch (--pitch free; SI, body axes: x aft, z up from the symmetry-plane origin)"
+ROLL_GROUP = "rolling conditions (--rolling; SI, body axes)"
+#: the march of each sized rolling condition (s)
+ROLL_CASE_T_FINAL = 2.0
 GUST_SET_GROUP = "25.341(a) gust set (every gust is a load case with its own KS; see docs/gust-envelope.md)"
 #: the panel options' fields (:func:`panel_options`)
 PANEL_FIELDS = ("panels", "stiffener_pitch", "rib_pitch")
@@ -160,6 +166,16 @@ class PegasusOptions(CaseOptions):
                                            "(docs/controls.md)", metavar="FILE.yaml")
     size_gains: bool = option(False, "with --alleviation: the law's gain matrices C and D are design variables with "
                                      "the thicknesses (co-design of structure and load alleviation)")
+    rolling: bool = option(False, "add the 14 CFR 25.349(a) rolling conditions at load factor 0 (V_A, V_C, V_D: the "
+                                  "antisymmetric increments of a sudden aileron, the half wing free to roll, 2 s "
+                                  "marches at --dt; docs/maneuvers.md): the ailerons are the surfaces of --alleviation "
+                                  "(its law is not in them); needs --roll-inertia and --maneuvering-speed-eas",
+                           group=ROLL_GROUP)
+    roll_inertia: float | None = option(None, "--rolling: roll inertia about the body x axis of the aircraft outside "
+                                              "both wing halves, I_xx,body (kg m^2, > 0)", metavar="KG_M2",
+                                        group=ROLL_GROUP)
+    maneuvering_speed_eas: float | None = option(None, "--rolling: design maneuvering speed V_A (m/s EAS, (0, V_C])",
+                                                 metavar="M_S", group=ROLL_GROUP)
     kussner: bool = option(False, "lag the gust lift by the Kussner function")
     damping_ratio: float = option(0.0, "structural damping ratio of the gust case's beam (Kelvin-Voigt strain-rate "
                                        "damping, Alg. 6) at --damping-frequency-hz; 0 = undamped; Nastran practice: "
@@ -869,6 +885,7 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
         default = PegasusOptions()
         # the trimmed maneuvers' flight point and maneuver schedule of the surfaces
         used = ("altitude_ft", "mach", "alleviation") if opts.aero == "coupled" else ()
+        used += ("alleviation", "dt") if opts.rolling else ()
         if opts.pitch == "free":  # the maneuvers trimmed with the tail (elevator trim)
             used += ("plunge", "pitch", "pitch_inertia", "cg_x", "cg_z", "tail_arm", "tail_area", "tail_lift_slope",
                      "downwash_gradient", "elevator_chord_ratio")
@@ -905,6 +922,15 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
                                           weight_lb))
             cases.insert(1, maneuver_case("maneuver_neg", opts.negative_load_factor, geometry, chord, axis_frac,
                                           families, pf, weight_lb))
+    if opts.rolling:
+        if pf is not PLANFORM:
+            raise ValueError("--rolling: the PEGASUS case only (its V_C and V_D)")
+        cases.extend(rolling_cases(opts, geometry, chord, axis_frac, families, sizing))
+        notes.append("25.349(a) rolling conditions at n = 0: " + ", ".join(c.description for c in cases[-3:]))
+    else:
+        given = [f for f in ("roll_inertia", "maneuvering_speed_eas") if getattr(opts, f) is not None]
+        if given:
+            raise ValueError(f"--{given[0].replace('_', '-')} is a --rolling option")
     setup = CaseSetup(geometry, cases, ALUMINIUM, sizing, notes=notes)
     if opts.panels == "stiffened":
         stiffen(setup, pf, opts.stiffener_pitch, opts.rib_pitch)
@@ -1066,6 +1092,95 @@ def flight_point() -> dict:
     v_c = CRUISE_MACH * a
     return {"altitude_m": h, "density": float(density(h)), "speed_of_sound": a, "cruise_speed": v_c,
             "dive_speed": v_c / VC_OVER_VD}
+
+
+def rolling_flight_speeds_eas() -> tuple:
+    """(V_C, V_D) of the rolling conditions, m/s EAS: those of :func:`flight_point`.
+
+    Returns
+    -------
+    tuple
+        (V_C, V_D) (m/s EAS).
+    """
+    fp = flight_point()
+    sigma = np.sqrt(fp["density"] / float(density(0.0)))
+    return float(fp["cruise_speed"] * sigma), float(fp["dive_speed"] * sigma)
+
+
+def rolling_cases(opts, geometry, chord, axis_frac, families, sizing) -> list:
+    """The 14 CFR 25.349(a) rolling conditions at load factor 0 as coupled load cases (``--rolling``):
+    V_A (the ailerons of ``--alleviation`` at their stops), V_C (the V_A steady roll rate) and V_D (a
+    third of it), each a sudden step marched for :data:`ROLL_CASE_T_FINAL` s at ``--dt`` on the
+    antisymmetric half wing free to roll (:func:`wingmdao.loads.rolling.rolling_model`), flown at
+    the cruise altitude. The deflections of V_C and V_D are those of the initial box design's
+    elastic wing (they stay fixed while the sizing changes the wing).
+
+    Parameters
+    ----------
+    opts : PegasusOptions
+        The options (``alleviation``, ``roll_inertia``, ``maneuvering_speed_eas``, ``aero_theory``
+        resolved, ``dt``).
+    geometry : WingGeometry
+        The wing.
+    chord : array_like
+        (n,) chord (m).
+    axis_frac : array_like
+        (n,) beam axis, chord fraction.
+    families : tuple
+        Stress families.
+    sizing : SizingOptions
+        The sizing options (their initial design).
+
+    Returns
+    -------
+    list of LoadCase
+        ``rolling_va``, ``rolling_vc``, ``rolling_vd``.
+    """
+    if opts.alleviation is None:
+        raise ValueError("--rolling needs --alleviation FILE.yaml naming the ailerons (the case has no control "
+                         "surfaces; e.g. docs/examples/pegasus_ailerons.yaml)")
+    if opts.roll_inertia is None:
+        raise ValueError("--rolling needs --roll-inertia (I_xx,body, kg m^2; the case has none)")
+    if not (np.isfinite(opts.roll_inertia) and opts.roll_inertia > 0):
+        raise ValueError(f"--roll-inertia = {opts.roll_inertia} kg*m**2; allowed range (0, inf) kg*m**2")
+    if opts.maneuvering_speed_eas is None:
+        raise ValueError("--rolling needs --maneuvering-speed-eas (V_A, m/s EAS; the case has none)")
+    if opts.aero_theory not in ROLL_AERO_THEORIES:
+        raise ValueError(f"--aero-theory {opts.aero_theory}: --rolling allows {', '.join(ROLL_AERO_THEORIES)} (the "
+                         "lifting line's slopes are those of the symmetric loading)")
+    alt = float(altitude_ft_to_m(CRUISE_ALTITUDE_FT))
+    speeds = rolling_speeds(opts.maneuvering_speed_eas, *rolling_flight_speeds_eas(), alt)
+    n_time = check_step_count(ROLL_CASE_T_FINAL, opts.dt, geometry.num_nodes)
+    surfaces, _ = read_alleviation(opts.alleviation)
+    try:
+        spec = control_spec(surfaces, geometry.node_positions[:, 1])
+    except ValueError as exc:
+        raise ValueError(f"--alleviation {opts.alleviation}: {exc}") from None
+    bp = design_beam_params(geometry, ALUMINIUM, initial_design(sizing, SECTION_KINDS["box"]["design_vars"]), "box")
+    stops = np.radians([s_.max_deflection_deg for s_ in surfaces])
+    time = np.arange(n_time) * opts.dt
+    start = (time == 0) * 1.0
+    rho, n = float(density(alt)), geometry.num_nodes
+    cases, p_a = [], None
+    for name, (paragraph, fraction) in ROLL_CONDITIONS.items():
+        v_eas, v, mach = speeds[name]
+        ap = aero_parameters(n, chord=chord, ref_point=axis_frac, lift_slope=2 * np.pi, airspeed=v, density=rho,
+                             mach=mach)
+        system, p = rolling_model(bp, ap, spec, roll_inertia=opts.roll_inertia, aero_theory=opts.aero_theory)
+        if fraction is None:
+            k, p_a = 1.0, steady_roll_rate(system, p, stops)[0]
+        else:
+            k = command_for_roll_rate(system, p, stops, fraction * p_a)[0]
+        command = np.where(time[:, None] > 0, k * stops[None, :], 0.0)
+        aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
+                           airspeed=v, density=rho, mach=mach, roll=True, roll_inertia=float(opts.roll_inertia),
+                           controls=spec, aero_theory=opts.aero_theory,
+                           node_positions=np.asarray(geometry.node_positions, dtype=float))
+        cases.append(LoadCase(f"rolling_{name.lower()}", time, {"gravity": np.zeros(3), "roll_start": start,
+                                                                "surface_command": command}, families,
+                              f"{paragraph} at {v_eas:.1f} m/s EAS, aileron {np.degrees(k * stops[0]):.2f} deg",
+                              aero=aero))
+    return cases
 
 
 def flutter_planform(num_nodes: int = 20) -> Planform:

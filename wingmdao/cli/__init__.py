@@ -87,7 +87,7 @@ COMMANDS = {
     "loads": Command("loads", "loads matrix: altitudes x speeds x mass cases, screened; loads database and "
                               "stress cards"),
     "maneuver": Command("maneuver", "dynamic maneuvers: the 14 CFR 25.331(c)(2) checked pitch maneuver (free "
-                                    "pitch, elevator)"),
+                                    "pitch, elevator) and the 25.349(a) rolling conditions (free roll, ailerons)"),
     "panel": Command("panel", "critical running loads and failure ratios of a stiffened skin panel or spar web "
                               "(JSON)"),
     "report": Command("report", "print the iteration history of a recorded sizing run and write plots"),

@@ -39,10 +39,12 @@ FLUTTER_MARGIN = (1.0, 2.0)
 
 def run_stem(args) -> str:
     """File stem of a run's outputs in --out: the case name, plus the load set for cases that have
-    one (``pegasus_all``, ``pegasus_maneuver``), so runs of different load sets never clobber."""
+    one (``pegasus_all``, ``pegasus_maneuver``) and ``_rolling`` with the rolling conditions, so runs
+    of different load sets never clobber."""
     stem = args.case_module.NAME.replace("-", "_")
     loads = getattr(args, "loads", None)
-    return f"{stem}_{loads}" if loads else stem
+    stem = f"{stem}_{loads}" if loads else stem
+    return stem + "_rolling" if getattr(args, "rolling", False) else stem
 
 
 def _plot_paths(stem, setup):

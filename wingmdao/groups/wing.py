@@ -49,7 +49,7 @@ from wingmdao.components.ks import KSAggregate
 from wingmdao.components.load_gradient import InternalForceGradient
 from wingmdao.components.mass import StructuralMass
 from wingmdao.components.station_map import StationMap
-from wingmdao.aero.coupled import AERO_FORCING_META, AERO_FORCING_SHAPES
+from wingmdao.aero.coupled import AERO_FORCING_META, AERO_FORCING_SHAPES, case_has_forcing
 from wingmdao.aero.system import (aero_param_specs, cached_aeroelastic_system, control_param_specs, flap_param_specs,
                                   vlm_param_specs)
 from wingmdao.beam.static import cached_beam_system
@@ -170,7 +170,7 @@ def set_case_loads(prob: om.Problem, case: LoadCase, num_nodes: int, path: str =
         prob.set_val(prefix + name, case.forcing_array(name, num_nodes), units=units)
     if case.aero is not None:  # coupled case: its aerodynamic forcing and parameters
         for name, (units, _) in AERO_FORCING_META.items():
-            if (name != "trim_active" or case.aero.trim) and (name != "tail_gust_velocity" or case.aero.pitch):
+            if case_has_forcing(case.aero, name):
                 prob.set_val(prefix + name, case.forcing_array(name, num_nodes), units=units)
         if case.aero.controls is not None:
             prob.set_val(prefix + "surface_command", case.forcing_array("surface_command", num_nodes), units="rad")
@@ -327,18 +327,19 @@ class WingStructure(om.Group):
                 raise ValueError(f"load case {case.name}: structural damping is not available with aero")
             beam = AeroelasticBeamDynamics(num_nodes=n, time=case.time, plunge=bool(aero.plunge),
                                            trim=bool(aero.trim), aero_theory=aero.residual_theory)
-            if aero.pitch or aero.controls is not None:  # free pitch (wingmdao.aero.pitch), control surfaces
+            if aero.pitch or aero.roll or aero.controls is not None:  # free pitch or roll, control surfaces
                 beam.options["system"] = cached_aeroelastic_system(n, plunge=bool(aero.plunge), trim=bool(aero.trim),
                                                                    pitch=bool(aero.pitch),
                                                                    tail_lag=bool(aero.pitch and aero.tail_lag),
                                                                    aero_theory=aero.residual_theory,
-                                                                   controls=aero.controls)
+                                                                   controls=aero.controls, roll=bool(aero.roll))
             for k, v in (self.options["newton_options"] or {}).items():
                 if k in beam.options:
                     beam.options[k] = v
             extra = [s.name for s in aero_param_specs(n)] + list(AERO_FORCING_SHAPES)
-            extra = [e for e in extra if (aero.trim or e != "trim_active") and (aero.pitch or e != "tail_gust_velocity")]
+            extra = [e for e in extra if e not in AERO_FORCING_SHAPES or case_has_forcing(aero, e)]
             extra += ["tail_area", "tail_lift_slope", "downwash_gradient"] if aero.pitch else []
+            extra += ["body_roll_inertia"] if aero.roll else []
             extra += ["trim_lift"] if aero.trim and not aero.plunge else []
             extra += [s.name for s in vlm_param_specs(n)] if aero.residual_theory == "vlm" else []
             if aero.residual_theory == "vlm" and aero.controls is not None:  # the flaps as lattice panels
