@@ -118,7 +118,7 @@ def _turbulence_problem():
     ap = aero_parameters(N, chord=1.0, ref_point=0.35, airspeed=V, density=1.0)
     values = {**bp, **ap, "trim_lift": MASS * G}
     prob = om.Problem()
-    comp = TurbulenceStressKS(num_nodes=N, plunge=False, airspeed=V, x_stations=X_LE, width=np.full(N, 0.5),
+    comp = TurbulenceStressKS(num_nodes=N, plunge=False, airspeed=V, airspeed_input=True, x_stations=X_LE, width=np.full(N, 0.5),
                               height=np.full(N, 0.12), u_sigma=10.0, sigma_allow=1e8, f_max=10.0, n_base=31,
                               damping=StrainRateDamping.from_damping_ratio(0.02, 2.0), gravity=G,
                               controls=control_spec(SURFACES, r0[:, 1], LAW), control_law=LAW, surface_limits=LIMITS)
@@ -141,7 +141,8 @@ def test_turbulence_actuator_ks_value_and_totals():
     surface outputs of the linear gust model (:func:`~wingmdao.loads.turbulence_analysis.control_outputs`,
     :func:`~wingmdao.stability.frequency.frequency_response`) integrated on the same grid (1e-8); the KS
     of both within ln 2 / rho of the larger; its totals with respect to the four gain matrices and the
-    mass per length against central differences within 1e-5 of the largest entry."""
+    mass per length and the airspeed (aerodynamics, gust phases, spectrum) against central differences
+    within 1e-5 of the largest entry."""
     from wingmdao.loads.turbulence import von_karman_psd
     from wingmdao.loads.turbulence_analysis import control_outputs
     from wingmdao.stability.frequency import frequency_response, linear_gust_model
@@ -176,7 +177,7 @@ def test_turbulence_actuator_ks_value_and_totals():
     top = max(ratios.values())
     assert top <= ks <= top + np.log(2) / 50.0
     assert top > 0.5, ratios
-    names = ["controller_A", "controller_B", "controller_C", "controller_D", "mass_per_length"]
+    names = ["controller_A", "controller_B", "controller_C", "controller_D", "mass_per_length", "airspeed"]
     J = prob.compute_totals("turbulence_actuator_ks", names)
     for name in names:
         base = prob.get_val(name).copy()
@@ -216,7 +217,7 @@ def _peak_deflection(tmp_path, design, law, tag):
                  str(design), "--alleviation", str(law), "--t-final", "0.6", "--dt", "0.03", "--gust-start", "0",
                  "--no-plots", "--json", str(out)]) == 0
     res = json.loads(out.read_text())
-    return res["alleviation"]["control_surfaces"]["aileron"]["peak_deflection_deg"]
+    return res["alleviation"]["surfaces"]["aileron"]["peak_deflection_deg"]
 
 
 @pytest.mark.slow
