@@ -215,7 +215,7 @@ def _peak_deflection(tmp_path, design, law, tag):
     out = tmp_path / f"gust_{tag}.json"
     assert main(["gust", "pegasus", "--aero", "coupled", "--aero-theory", "strip", "--plunge", "free", "--design",
                  str(design), "--alleviation", str(law), "--t-final", "0.6", "--dt", "0.03", "--gust-start", "0",
-                 "--no-plots", "--json", str(out)]) == 0
+                 "--no-plots", "--out", str(tmp_path / f"gust_{tag}"), "--json", str(out)]) == 0
     res = json.loads(out.read_text())
     return res["alleviation"]["surfaces"]["aileron"]["peak_deflection_deg"]
 
@@ -234,7 +234,8 @@ def test_codesign_holds_the_deflection_limit(tmp_path):
         out = tmp_path / f"size_{tag}.json"
         assert main(["size", "pegasus", "--loads", "gust", "--aero", "coupled", "--aero-theory", "strip", "--plunge",
                      "free", "--alleviation", str(law), "--size-gains", "--t-final", "0.6", "--dt", "0.03",
-                     "--gust-start", "0", "--no-plots", "--no-flutter-search", "--quiet", "--json", str(out)]) == 0
+                     "--gust-start", "0", "--no-plots", "--no-flutter-search", "--quiet", "--out", str(tmp_path / tag),
+                     "--json", str(out)]) == 0
         res = json.loads(out.read_text())
         results[tag] = res
         gains = res["control_law"]["gust"]
