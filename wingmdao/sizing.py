@@ -349,6 +349,8 @@ def actuator_peaks(prob, load_cases) -> dict:
         name = path.split(".")[1]
         case = next(c for c in load_cases if c.name == name)
         comp = prob.model._get_subsystem(f"cases.{name}.actuator_limits")
+        if comp is None:   # the case runs on another rank
+            continue
         peak = np.max(np.abs(comp.ratios(prob.get_val(f"cases.{name}.states"))), axis=0)
         lim = np.degrees(np.asarray(case.aero.surface_limits, dtype=float).reshape(-1, 2))
         ns = lim.shape[0]
@@ -756,6 +758,8 @@ def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, sectio
                 out["active_constraints"].append(name)
     constrained = set(prob.model.get_constraints())
     for path in actuator_limit_outputs(load_cases):  # <= 1; constraints where the gains are sized
+        if prob.model._get_subsystem(path.rsplit(".", 1)[0] + ".actuator_limits") is None:
+            continue   # the case runs on another rank
         value = float(np.asarray(prob.get_val(path)).ravel()[0])
         out.setdefault("actuator_ks", {})[path.split(".")[1]] = value
         if path in constrained and value > 1.0 - 1e-3:
