@@ -266,6 +266,8 @@ def build_problem(geometry: WingGeometry, load_cases, material, options: SizingO
             prob.model.add_design_var(name, **bounds)
         for path in closed_loop_constraints(load_cases):   # the sized law keeps the loop stable
             prob.model.add_constraint(path, upper=0.0, ref=1.0)
+        for path in actuator_limit_outputs(load_cases, sized_only=True):  # ... and its surfaces within limits
+            prob.model.add_constraint(path, upper=1.0, ref=1.0)
         if panels is not None:
             add_sizing_rules(prob.model, options, panels, design_vars,
                              n if geometry.station_map is None else int(np.max(geometry.station_map)) + 1)
@@ -301,6 +303,81 @@ def closed_loop_constraints(load_cases) -> list:
     """
     return [f"cases.{c.name}.closed_loop_ks" for c in load_cases
             if c.aero is not None and c.aero.gain_design and c.aero.control_law is not None]
+
+
+def actuator_limit_outputs(load_cases, *, sized_only: bool = False) -> list:
+    """``cases.<case>.actuator_ks`` of every coupled load case with control surfaces, a law and their
+    limits (``CoupledAero.surface_limits``): the KS over the march of the surfaces' deflection and rate
+    over their limits (:class:`~wingmdao.components.actuator_limits.ActuatorLimitKS`), <= 1. A
+    constraint of the sizing where the case's gains are sized (``sized_only``); with fixed gains a check.
+
+    Parameters
+    ----------
+    load_cases : sequence of LoadCase
+        The sizing's load cases.
+    sized_only : bool, optional
+        Only the cases whose gains are design variables (``gain_design``).
+
+    Returns
+    -------
+    list of str
+        The output paths.
+    """
+    return [f"cases.{c.name}.actuator_ks" for c in load_cases
+            if c.aero is not None and c.aero.control_law is not None and c.aero.controls is not None
+            and getattr(c.aero, "surface_limits", None) is not None and (c.aero.gain_design or not sized_only)]
+
+
+def actuator_peaks(prob, load_cases) -> dict:
+    """``{case: {surface: {"peak_deflection_deg", "max_deflection_deg", "peak_rate_deg_s", "max_rate_deg_s"}}}``
+    of the marched cases with :func:`actuator_limit_outputs`, from the problem's state histories.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A run sizing problem.
+    load_cases : sequence of LoadCase
+        Its load cases.
+
+    Returns
+    -------
+    dict
+        Per case and surface the peaks and the limits.
+    """
+    out = {}
+    for path in actuator_limit_outputs(load_cases):
+        name = path.split(".")[1]
+        case = next(c for c in load_cases if c.name == name)
+        comp = prob.model._get_subsystem(f"cases.{name}.actuator_limits")
+        if comp is None:   # the case runs on another rank
+            continue
+        peak = np.max(np.abs(comp.ratios(prob.get_val(f"cases.{name}.states"))), axis=0)
+        lim = np.degrees(np.asarray(case.aero.surface_limits, dtype=float).reshape(-1, 2))
+        ns = lim.shape[0]
+        out[name] = {srf[0]: {"peak_deflection_deg": float(peak[k] * lim[k, 0]), "max_deflection_deg": float(lim[k, 0]),
+                              "peak_rate_deg_s": float(peak[ns + k] * lim[k, 1]), "max_rate_deg_s": float(lim[k, 1])}
+                     for k, srf in enumerate(case.aero.controls.surfaces)}
+    return out
+
+
+def turbulence_actuator(prob) -> dict | None:
+    """Per control surface of the turbulence constraint (option ``surface_limits``), U_sigma A-bar of its
+    deflection and rate over their limits at the last evaluation
+    (:meth:`~wingmdao.components.turbulence.TurbulenceStressKS.actuator_ratios`); None without.
+
+    Parameters
+    ----------
+    prob : openmdao.api.Problem
+        A run sizing problem.
+
+    Returns
+    -------
+    dict or None
+        ``{surface: {"deflection": ratio, "rate": ratio}}``.
+    """
+    for comp in prob.model.system_iter(recurse=True, typ=TurbulenceStressKS):
+        return comp.actuator_ratios()
+    return None
 
 
 def _add_driver(prob, options: SizingOptions, design_vars) -> str:
@@ -679,6 +756,22 @@ def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, sectio
             out[name] = value
             if value > -1e-3:
                 out["active_constraints"].append(name)
+    constrained = set(prob.model.get_constraints())
+    for path in actuator_limit_outputs(load_cases):  # <= 1; constraints where the gains are sized
+        if prob.model._get_subsystem(path.rsplit(".", 1)[0] + ".actuator_limits") is None:
+            continue   # the case runs on another rank
+        value = float(np.asarray(prob.get_val(path)).ravel()[0])
+        out.setdefault("actuator_ks", {})[path.split(".")[1]] = value
+        if path in constrained and value > 1.0 - 1e-3:
+            out["active_constraints"].append(path)
+    if "actuator_ks" in out:
+        out["actuator_peaks"] = actuator_peaks(prob, load_cases)
+    value = _constraint_value(prob, "turbulence_actuator_ks")
+    if value is not None:
+        out["turbulence_actuator_ks"] = value
+        out["turbulence_actuator"] = turbulence_actuator(prob)
+        if "turbulence_actuator_ks" in constrained and value > 1.0 - 1e-3:
+            out["active_constraints"].append("turbulence_actuator_ks")
     out["max_ks"] = float(worst)
     if panels is not None:
         out["panels"] = panel_summary(prob, load_cases, panels)

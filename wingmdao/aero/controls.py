@@ -30,7 +30,8 @@ Actuators. Every surface has two states, its deflection beta and rate r: first o
 (``time_constant`` tau) ``tau r + beta - u = 0``, ``dbeta/dt - r = 0``; second order
 (``frequency_hz`` f, ``damping`` zeta, omega = 2 pi f) ``dr/dt + 2 zeta omega r + omega^2 (beta - u) = 0``,
 ``dbeta/dt - r = 0``. ``u`` is the command: the control law's output (rad). Deflection and rate
-limits are reported against the histories (:func:`limit_report`), never clipped.
+limits are reported against the histories (:func:`limit_report`), never clipped; a sizing whose gains
+are design variables constrains them (:class:`wingmdao.components.actuator_limits.ActuatorLimitKS`).
 
 Control law. A linear state-space controller from the measured outputs y (:data:`MEASUREMENTS`) to
 the surface commands u: ``dx_c/dt = A_c x_c + B_c y``, ``u = C_c x_c + D_c y``; a PID law is the

@@ -77,7 +77,10 @@ class CoupledAero:
     residual (docs/controls.md); the law's matrices are then inputs of the case (``controller_D``,
     and ``controller_A`` ... ``controller_C`` when the law has states) and ``surface_command`` (n_time,
     n_s) rad a forcing. ``gain_design``: the law's ``controller_C`` and ``controller_D`` are design
-    variables of the sizing (:func:`wingmdao.sizing.control_gain_design_vars`). ``elevator_effectiveness``
+    variables of the sizing (:func:`wingmdao.sizing.control_gain_design_vars`). ``surface_limits``:
+    per surface ``(max_deflection, max_rate)`` (rad, rad/s): the case then has the output
+    ``actuator_ks`` (:class:`~wingmdao.components.actuator_limits.ActuatorLimitKS`), a constraint
+    (<= 1) of the sizing when the gains are sized. ``elevator_effectiveness``
     (tau_e, with ``pitch``; 0: none): a trimmed static maneuver reports its elevator angle with the
     stabiliser at its 1 g setting (:func:`wingmdao.loads.maneuver_trim.elevator_trim`). ``roll``: the
     antisymmetric half wing on a fuselage free to roll (:mod:`wingmdao.aero.roll`; no plunge, trim or
@@ -143,6 +146,8 @@ class CoupledAero:
         Feedback law in the residual.
     gain_design : bool, optional
         The law's ``controller_C`` and ``controller_D`` are design variables.
+    surface_limits : tuple or None, optional
+        Per surface ``(max_deflection, max_rate)`` (rad, rad/s); None: no actuator-limit output.
     elevator_effectiveness : float, optional
         tau_e of the elevator (-; 0: none).
     roll : bool, optional
@@ -176,6 +181,7 @@ class CoupledAero:
     controls: object = None
     control_law: object = None
     gain_design: bool = False
+    surface_limits: object = None
     elevator_effectiveness: float = 0.0
     roll: bool = False
     roll_inertia: float = 0.0

@@ -165,7 +165,10 @@ class PegasusOptions(CaseOptions):
                                            "coupled maneuvers: the surfaces' maneuver_deg_per_g schedule "
                                            "(docs/controls.md)", metavar="FILE.yaml")
     size_gains: bool = option(False, "with --alleviation: the law's gain matrices C and D are design variables with "
-                                     "the thicknesses (co-design of structure and load alleviation)")
+                                     "the thicknesses (co-design of structure and load alleviation), with the "
+                                     "constraints closed_loop_ks <= 0 and actuator_ks <= 1 (KS over the march of "
+                                     "|deflection|/max_deflection_deg and |rate|/max_rate_deg_s per surface; with "
+                                     "fixed gains actuator_ks is reported, not constrained)")
     rolling: bool = option(False, "add the 14 CFR 25.349(a) rolling conditions at load factor 0 (V_A, V_C, V_D: the "
                                   "antisymmetric increments of a sudden aileron, the half wing free to roll, 2 s "
                                   "marches at --dt; docs/maneuvers.md): the ailerons are the surfaces of --alleviation "
@@ -703,7 +706,9 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
             raise ValueError(f"--alleviation {opts.alleviation}: {exc}") from None
         if getattr(opts, "size_gains", False) and law is None:
             raise ValueError(f"--size-gains: --alleviation {opts.alleviation} has no law (no gains to size)")
-        controls = dict(controls=spec, control_law=law, gain_design=bool(getattr(opts, "size_gains", False)))
+        limits = tuple((float(np.radians(s.max_deflection_deg)), float(np.radians(s.max_rate_deg_s))) for s in surfaces)
+        controls = dict(controls=spec, control_law=law, gain_design=bool(getattr(opts, "size_gains", False)),
+                        surface_limits=limits if law is not None else None)
     modal = None
     if opts.aero_theory == "dlm":  # the trimmed 1 g state on the VLM beam + the gust on the modal doublet lattice
         if pitch:

@@ -83,6 +83,10 @@ class TurbulenceStressKS(om.ExplicitComponent):
                                   "control_spec; None: none): the gains controller_A ... controller_D become inputs")
         self.options.declare("control_law", default=None, allow_none=True, types=ControlLaw,
                              desc="the law whose matrices are the default values of the gain inputs")
+        self.options.declare("surface_limits", default=None, allow_none=True, types=tuple,
+                             desc="per control surface (max_deflection rad, max_rate rad/s): adds the output "
+                                  "turbulence_actuator_ks, the KS of U_sigma A-bar of each surface's deflection and "
+                                  "rate over its limit (<= 1); None: none")
         self.options.declare("aero_theory", default="strip", values=("strip", "vlm"),
                              desc="quasi-steady lift of the aeroelastic beam: strips, or the vortex lattice (its "
                                   "influence matrices lift_influence and moment_influence then inputs, fixed data "
@@ -115,11 +119,27 @@ class TurbulenceStressKS(om.ExplicitComponent):
             self.add_input(w, shape=n, units="m", desc=f"{w[2:].replace('_', ' ')} thickness at each station")
         self.add_output("turbulence_ks", units=None,
                         desc="KS of the 25.341(b) corner design-stress constraints (+/- s_1g + U_sigma A-bar)/sigma_allow - 1")
+        limits = self.options["surface_limits"]
+        self.state_outputs = None
+        if limits is not None:
+            ctl = self.options["controls"]
+            lim = np.asarray(limits, dtype=float)
+            if ctl is None or lim.shape != (ctl.n_surfaces, 2) or np.any(~np.isfinite(lim)) or np.any(lim <= 0):
+                raise ValueError(f"TurbulenceStressKS: surface_limits {limits!r}; allowed one positive (max_deflection "
+                                 "rad, max_rate rad/s) per surface of the option controls")
+            names = [srf[0] for srf in ctl.surfaces]
+            idx = [self.system.control_index[f"{nm}_deflection"] for nm in names]
+            idx += [self.system.control_index[f"{nm}_rate"] for nm in names]
+            self.state_outputs = (np.array(idx), np.r_[lim[:, 0], lim[:, 1]])
+            self.add_output("turbulence_actuator_ks", units=None,
+                            desc="KS of U_sigma A-bar / limit of every surface's deflection and rate (<= 1)")
         self.stress = StressMap(self.system.layout.beam, self.options["width"], self.options["height"],
                                 self.options["section_to_csn"], n_state=self.system.n_state)
         self.grid = None if self.options["frequencies"] is None else np.asarray(self.options["frequencies"], float)
         self._cache = None
         self.declare_partials("turbulence_ks", [s.name for s in self.specs] + list(WALL_NAMES) + self.extra)
+        if self.state_outputs is not None:  # the walls enter through the section parameters only
+            self.declare_partials("turbulence_actuator_ks", [s.name for s in self.specs] + self.extra)
 
     def _evaluate(self, inputs, gradient):
         """The analysis at ``inputs`` (cached: compute_partials after compute at the same point
@@ -154,30 +174,55 @@ class TurbulenceStressKS(om.ExplicitComponent):
         walls = np.column_stack([np.asarray(inputs[w], float) for w in WALL_NAMES])
         res = turbulence_stress_ks(system, p, q, model, self.stress, walls, self.grid,
                                    u_sigma=self.options["u_sigma"], sigma_allow=self.options["sigma_allow"],
-                                   rho_ks=self.options["rho_ks"], gradient=gradient)
+                                   rho_ks=self.options["rho_ks"], gradient=gradient, state_outputs=self.state_outputs)
         self._cache = (key, res)
         return res
 
     def compute(self, inputs, outputs):
-        outputs["turbulence_ks"] = self._evaluate(inputs, gradient=False).value
+        res = self._evaluate(inputs, gradient=False)
+        outputs["turbulence_ks"] = res.value
+        if self.state_outputs is not None:
+            outputs["turbulence_actuator_ks"] = res.state_value
+
+    def actuator_ratios(self) -> dict | None:
+        """``{surface: {"deflection": U_sigma A-bar / max_deflection, "rate": ...}}`` of the last
+        evaluation; None without ``surface_limits`` or before one.
+
+        Returns
+        -------
+        dict or None
+            Per surface the two ratios.
+        """
+        if self.state_outputs is None or self._cache is None:
+            return None
+        r = self._cache[1].state_ratio
+        names = [srf[0] for srf in self.options["controls"].surfaces]
+        return {nm: {"deflection": float(r[k]), "rate": float(r[len(names) + k])} for k, nm in enumerate(names)}
 
     def compute_partials(self, inputs, partials):
         res = self._evaluate(inputs, gradient=True)
+        if self.state_outputs is not None:
+            self._chain_partials(partials, "turbulence_actuator_ks", res.state_d_p, res.state_d_airspeed, inputs)
+        self._chain_partials(partials, "turbulence_ks", res.d_p, res.d_airspeed, inputs, walls=res.d_walls)
+
+    def _chain_partials(self, partials, out, d_p, d_airspeed, inputs, walls=None):
+        """The partials of output ``out`` from its packed gradient ``d_p`` (and ``d_airspeed``, the walls')."""
         pl = layout(self.system.param_specs)
         for s in self.specs:
-            partials["turbulence_ks", s.name] = res.d_p[pl[s.name]].reshape(1, -1)
-        for k, w in enumerate(WALL_NAMES):
-            partials["turbulence_ks", w] = res.d_walls[:, k].reshape(1, -1)
+            partials[out, s.name] = d_p[pl[s.name]].reshape(1, -1)
+        if walls is not None:
+            for k, w in enumerate(WALL_NAMES):
+                partials[out, w] = walls[:, k].reshape(1, -1)
         if self.options["airspeed_input"]:
-            partials["turbulence_ks", "airspeed"] = res.d_airspeed
+            partials[out, "airspeed"] = d_airspeed
         if self.options["aircraft_mass_input"]:
-            d_lift = float(res.d_p[pl["trim_lift"]][0])
+            d_lift = float(d_p[pl["trim_lift"]][0])
             d_mass = d_lift * self.options["gravity"]
             if self.options["plunge"]:
-                d_body = float(res.d_p[pl["body_mass"]][0])
+                d_body = float(d_p[pl["body_mass"]][0])
                 _, dmu, dr = half_wing_mass(np.asarray(inputs["mass_per_length"]),
                                             np.asarray(inputs["node_positions"]).reshape(-1, 3))
                 d_mass += d_body
-                partials["turbulence_ks", "mass_per_length"] -= 2.0 * d_body * dmu.reshape(1, -1)
-                partials["turbulence_ks", "node_positions"] -= 2.0 * d_body * dr.reshape(1, -1)
-            partials["turbulence_ks", "aircraft_mass"] = d_mass
+                partials[out, "mass_per_length"] -= 2.0 * d_body * dmu.reshape(1, -1)
+                partials[out, "node_positions"] -= 2.0 * d_body * dr.reshape(1, -1)
+            partials[out, "aircraft_mass"] = d_mass

@@ -42,6 +42,7 @@ from wingmdao.components.beam import BeamDynamics
 from wingmdao.components.modal_dlm import ModalLoadSum, ModalProjectionComp, ModalStationLoads
 from wingmdao.components.time_history import TimeHistoryComponent
 from wingmdao.components.beam_loads import BeamInternalLoads
+from wingmdao.components.actuator_limits import ActuatorLimitKS
 from wingmdao.components.closed_loop import ClosedLoopDamping
 from wingmdao.components.flutter import FlutterDamping
 from wingmdao.components.turbulence import TurbulenceStressKS
@@ -396,6 +397,17 @@ class WingStructure(om.Group):
                     self.connect(src, f"closed_loop.{nm}")
             self.connect("states", "closed_loop.trimmed_state", src_indices=np.arange(system.n_state),
                          flat_src_indices=True)
+        if aero is not None and aero.controls is not None and getattr(aero, "surface_limits", None) is not None:
+            # the surfaces' deflection and rate over their limits, one KS over the march (docs/controls.md)
+            system = beam.options["system"]
+            names = [srf[0] for srf in aero.controls.surfaces]
+            lim = np.asarray(aero.surface_limits, dtype=float).reshape(len(names), 2)
+            self.add_subsystem("actuator_limits", ActuatorLimitKS(
+                num_times=nt, state_shape=tuple(system.state_shape),
+                deflection_index=np.array([system.control_index[f"{nm}_deflection"] for nm in names]),
+                rate_index=np.array([system.control_index[f"{nm}_rate"] for nm in names]),
+                max_deflection=lim[:, 0], max_rate=lim[:, 1], rho_ks=self.options["rho_ks"]),
+                promotes_inputs=["states"], promotes_outputs=["actuator_ks"])
         if aero is not None:
             shape = tuple(beam.build_system().state_shape)
             self.add_subsystem("beam_states", BeamStateSlice(num_times=nt, num_nodes=n, state_shape=shape),
@@ -612,13 +624,16 @@ class WingSizing(om.Group):
         self.add_subsystem("turbulence", TurbulenceStressKS(num_nodes=n, **opts),
                            promotes_inputs=["node_positions", "node_euler_angles", *SECTION_TO_BEAM,
                                             *SECTION_OFFSETS, *walls],
-                           promotes_outputs=["turbulence_ks"])
+                           promotes_outputs=["turbulence_ks"] + (["turbulence_actuator_ks"]
+                                                                 if opts.get("surface_limits") is not None else []))
         if case is not None:  # one law: the sized gains (law_gains, before the cases) feed the constraint too
             for spec in control_param_specs(opts["controls"]):
                 if spec.name in SIZED_GAINS:
                     self.connect(f"law_gains.{spec.name}", [f"cases.{case}.{spec.name}", f"turbulence.{spec.name}"])
         if self.options["add_constraints"]:
             self.add_constraint("turbulence_ks", upper=0.0)
+            if case is not None and opts.get("surface_limits") is not None:  # the sized law within its limits
+                self.add_constraint("turbulence_actuator_ks", upper=1.0, ref=1.0)
 
     def _add_law_gains(self, turbulence):
         """``law_gains``: the sized gains of the law the gust case and the turbulence constraint share

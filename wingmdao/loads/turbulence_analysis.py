@@ -464,6 +464,9 @@ def sizing_turbulence_options(module, setup, *, damping=None, rho_ks=50.0, allev
         except ValueError as exc:
             raise ValueError(f"--alleviation {alleviation}: {exc}") from None
         controls = {"controls": spec, "control_law": law}
+        if law is not None:  # U_sigma A-bar of the surfaces' deflection and rate over their limits
+            controls["surface_limits"] = tuple((float(np.radians(s.max_deflection_deg)), float(np.radians(s.max_rate_deg_s)))
+                                               for s in surfaces)
     if aero_theory == "vlm":
         values.update(three_dimensional_parameters("vlm", np.asarray(geo.node_positions, dtype=float),
                                                    np.broadcast_to(aero["chord"], (n,)),

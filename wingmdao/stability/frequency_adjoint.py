@@ -197,6 +197,14 @@ class TurbulenceStressKS:
         (n, 4) d value / d walls.
     d_airspeed : float or None, optional
         d value / d V.
+    state_value : float or None, optional
+        With ``state_outputs``: the KS of their ratios U_sigma A-bar / limit.
+    state_ratio : numpy.ndarray or None, optional
+        The ratios U_sigma A-bar / limit of the ``state_outputs``.
+    state_d_p : numpy.ndarray or None, optional
+        d state_value / d p.
+    state_d_airspeed : float or None, optional
+        d state_value / d V.
     """
 
     value: float
@@ -206,10 +214,15 @@ class TurbulenceStressKS:
     d_p: np.ndarray | None = None
     d_walls: np.ndarray | None = None
     d_airspeed: float | None = None
+    state_value: float | None = None
+    state_ratio: np.ndarray | None = None
+    state_d_p: np.ndarray | None = None
+    state_d_airspeed: float | None = None
 
 
 def turbulence_stress_ks(system, p, q_static, model: LinearGustModel, stress: StressMap, walls, omega, *,
-                         u_sigma, sigma_allow, rho_ks=50.0, gradient=True, spectrum=None) -> TurbulenceStressKS:
+                         u_sigma, sigma_allow, rho_ks=50.0, gradient=True, spectrum=None,
+                         state_outputs=None) -> TurbulenceStressKS:
     """The KS of the 25.341(b) corner design stresses and (``gradient``) its total derivative with
     respect to the packed parameters ``p`` and the walls.
 
@@ -245,6 +258,11 @@ def turbulence_stress_ks(system, p, q_static, model: LinearGustModel, stress: St
         Compute the gradient.
     spectrum : callable or None, optional
         ``spectrum(omega)``, the one-sided PSD of unit sigma per rad/s; None for von Karman.
+    state_outputs : tuple or None, optional
+        ``(index, limit)``: flat state indices (m,) and their limits (m,) in the states' units (e.g.
+        the control surfaces' deflection and rate, rad and rad/s). Adds the KS (``rho_ks``) of the
+        ratios U_sigma A-bar / limit (``state_value``, ``state_ratio``) and, with ``gradient``, its
+        total derivative (``state_d_p``, ``state_d_airspeed``) by the same complex adjoint.
 
     Returns
     -------
@@ -275,6 +293,14 @@ def turbulence_stress_ks(system, p, q_static, model: LinearGustModel, stress: St
     g = np.concatenate([(s1g + u_sigma * a_bar) / sigma_allow - 1.0, (-s1g + u_sigma * a_bar) / sigma_allow - 1.0])
     ks, dks = ks_aggregate(g, rho_ks)
     out = TurbulenceStressKS(float(ks), g, a_bar, s1g)
+    if state_outputs is not None:
+        idx = np.asarray(state_outputs[0], dtype=int).ravel()
+        scale = u_sigma / np.asarray(state_outputs[1], dtype=float).ravel()
+        Ys = X[:, idx]                                    # (n_freq, m) state transfer functions
+        a_s = np.sqrt(W @ np.abs(Ys) ** 2)
+        out.state_ratio = scale * a_s
+        ks_s, dks_s = ks_aggregate(out.state_ratio, rho_ks)
+        out.state_value = float(ks_s)
     if not gradient:
         return out
     m = s1g.size
@@ -301,28 +327,50 @@ def turbulence_stress_ks(system, p, q_static, model: LinearGustModel, stress: St
     dt += np.asarray(gt) @ sign
     bq = np.zeros((q.size, nf2))
     bq[gs, :w.size], bq[gs, w.size:] = Wg.real.T, Wg.imag.T
-    rx, rp = _mapped(second_r, nf2)(x0, p, q, np.hstack([lam.real.T, lam.imag.T]), np.hstack([X.real.T, X.imag.T]),
-                               np.hstack([-(w * X.imag.T), w * X.real.T]), bq)
-    dx -= np.asarray(rx) @ sign
-    dp -= np.asarray(rp) @ sign
+    lams = [lam]
+    if state_outputs is not None:  # the states' A-bar: their adjoint right-hand sides are selections
+        with np.errstate(divide="ignore", invalid="ignore"):
+            coef_s = np.where(a_s > 0, dks_s * scale / a_s, 0.0)
+        Cs = W[:, None] * np.conj(Ys) * coef_s[None, :]
+        rhs = np.zeros((w.size, x0.size), dtype=complex)
+        for k, i in enumerate(idx):
+            rhs[:, i] += Cs[:, k]
+        lams.append(np.array([lus[j].solve_transposed(rhs[j]) for j in range(w.size)]))
+    k_f = len(lams)   # the functionals share one mapped call of the residual's second derivatives
+    xs = np.hstack([X.real.T, X.imag.T])
+    xds = np.hstack([-(w * X.imag.T), w * X.real.T])
+    rx, rp = _mapped(second_r, k_f * nf2)(x0, p, q, np.hstack([np.hstack([lm.real.T, lm.imag.T]) for lm in lams]),
+                                          np.tile(xs, k_f), np.tile(xds, k_f), np.tile(bq, k_f))
+    rx, rp = np.asarray(rx), np.asarray(rp)
+    dx -= rx[:, :nf2] @ sign
+    dp -= rp[:, :nf2] @ sign
     # the 1 g state: R(x0, 0, p, q_static) = 0
     Rx, _ = system.jac_state(x0, np.zeros_like(x0), p, q_static)
     Rp, _ = system.jac_inputs(x0, np.zeros_like(x0), p, q_static)
-    mu = spla.spsolve(sp.csc_matrix(Rx).T.tocsc(), dx)
-    dp -= sp.csr_matrix(Rp).T @ mu
+    RxT = spla.splu(sp.csc_matrix(Rx).T.tocsc())
+    Rp = sp.csr_matrix(Rp)
+    dp -= Rp.T @ RxT.solve(dx)
     out.d_p = dp
     out.d_walls = dt.reshape(4, stress.n).T
+    if state_outputs is not None:
+        dx_s = -(rx[:, nf2:] @ sign)
+        out.state_d_p = -(rp[:, nf2:] @ sign) - Rp.T @ RxT.solve(dx_s)
     pl = layout(system.param_specs)
     if "airspeed" in pl:
         V = model.airspeed
         lag = (model.x_stations - np.min(model.x_stations)) / V
         dWg = Wg * (1j * w[:, None] * lag[None, :] / V)       # d w_ij / dV
-        phase = -np.sum(np.real(np.einsum("jn,jn->j", lam, (model.G @ dWg.T).T)))
-        d_spec = 0.0
-        if spectrum is None:
-            dW = quadrature_weights(w) * von_karman_psd_airspeed_derivative(w, V)
-            d_spec = float(np.sum(coef * 0.5 * (dW @ np.abs(Y) ** 2)))
-        out.d_airspeed = float(dp[pl["airspeed"]][0]) + phase + d_spec
+        GdW = (model.G @ dWg.T).T
+        dW = (quadrature_weights(w) * von_karman_psd_airspeed_derivative(w, V)) if spectrum is None else None
+
+        def airspeed_total(lm, dpf, cf, Yf):
+            phase = -np.sum(np.real(np.einsum("jn,jn->j", lm, GdW)))
+            d_spec = 0.0 if dW is None else float(np.sum(cf * 0.5 * (dW @ np.abs(Yf) ** 2)))
+            return float(dpf[pl["airspeed"]][0]) + phase + d_spec
+
+        out.d_airspeed = airspeed_total(lam, dp, coef, Y)
+        if state_outputs is not None:
+            out.state_d_airspeed = airspeed_total(lams[1], out.state_d_p, coef_s, Ys)
     return out
 
 

@@ -47,7 +47,8 @@ def _add_common(p, *, is_sizing: bool):
                             "vlm|dlm (else strip theory), structural damping --damping-ratio "
                             "when > 0, else 0.02 (cases with aerodynamic data: pegasus; docs/turbulence.md); with --alleviation "
                             "the file's surfaces and law (no load-factor law) in it, with --size-gains the gust case's "
-                            "sized gains (docs/controls.md)")
+                            "sized gains and turbulence_actuator_ks <= 1 (KS of U_sigma A-bar of each surface's "
+                            "deflection and rate over its limits; reported with fixed gains) (docs/controls.md)")
         p.add_argument("--matrix", metavar="FILE.yaml", default=None,
                        help="size against the critical cases of a loads matrix (docs/loads-matrix.md), re-check "
                             "the whole matrix at the optimum, repeat while the critical set changes (load "
