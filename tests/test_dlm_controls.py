@@ -319,3 +319,57 @@ def test_controlled_station_loads_partials_and_totals_wrt_gains():
         fd = (vals[0] - vals[1]) / (2 * h)
         an = np.asarray(J[("obj.f", nm)]).ravel()[j]
         assert fd != 0 and abs(an - fd) <= 1e-4 * abs(fd), (nm, an, fd)
+
+
+@pytest.mark.slow
+def test_pegasus_dlm_co_design_totals_match_central_differences():
+    """The sized PEGASUS gust with --aero-theory dlm, free plunge, the docs' alleviation file and
+    --size-gains (the flap modes and the law in the design's modal residual), at a random design
+    (walls 4-12 mm): the reverse totals of the gust KS and the closed-loop constraint with respect to
+    wall thicknesses and the gains C and D equal central differences of re-run models to 1e-4 of the
+    largest entry of each row for the KS, 2e-2 for the constraint, whose trimmed state is a Newton
+    solution (steps: 1e-4 of a thickness for the KS, 1e-2 for the constraint, 1e-4 rad per unit for a
+    gain), and the gains move the gust KS (the modal law is in the loads)."""
+    from wingmdao.cases import pegasus
+    from wingmdao.sizing import WALL_VARS, build_problem, closed_loop_constraints
+
+    args = pegasus.PegasusOptions(loads="gust", aero="coupled", aero_theory="dlm", t_final=0.4, dt=0.04,
+                                  gust_start=0.0, families="vm", plunge="free", size_gains=True,
+                                  alleviation="docs/examples/pegasus_alleviation.yaml")
+    setup = pegasus.build(args)
+    rng = np.random.default_rng(7)
+    setup.options.initial = {w: rng.uniform(0.004, 0.012, 19) for w in WALL_VARS}
+    setup.options.disp = False
+    assert closed_loop_constraints(setup.load_cases) == ["cases.gust.closed_loop_ks"]
+    prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options)
+    prob.set_val("cases.gust.controller_D", [[-0.1]])
+    prob.run_model()
+    assert np.abs(prob.get_val("cases.gust.modal.march.states")[:, -8]).max() > 1e-3   # the aileron moves
+    of = ["cases.gust.ks_vm", "cases.gust.closed_loop_ks"]
+    wrt = {"t_lower_skin": (3, 12), "t_front_spar": (5,), "cases.gust.controller_C": (0,),
+           "cases.gust.controller_D": (0,)}
+    J = prob.compute_totals(of=of, wrt=list(wrt), return_format="flat_dict")
+    # relative steps and tolerances per output: the gust KS is smooth to 1e-4 steps; the closed-loop
+    # constraint's trimmed state is a Newton solution whose noise needs 1e-2 steps (O(h^2) then ~1e-3)
+    steps = {of[0]: (1e-4, 1e-4, 1e-4), of[1]: (1e-2, 1e-4, 2e-2)}
+    for o, (h_t, h_g, tol) in steps.items():
+        fd = {}
+        for nm, idx in wrt.items():
+            base = np.asarray(prob.get_val(nm), float).copy()
+            for j in idx:
+                h = h_g if "controller" in nm else h_t * abs(base.flat[j])   # gains: absolute steps
+                vals = []
+                for sgn in (1, -1):
+                    v = base.copy()
+                    v.flat[j] += sgn * h
+                    prob.set_val(nm, v)
+                    prob.run_model()
+                    vals.append(float(prob.get_val(o).ravel()[0]))
+                prob.set_val(nm, base)
+                fd[(nm, j)] = (vals[0] - vals[1]) / (2 * h)
+        big = max(abs(v) for v in fd.values())
+        for (nm, j), v in fd.items():
+            an = np.asarray(J[(o, nm)]).ravel()[j]
+            assert abs(an - v) <= tol * big, (o, nm, j, an, v)
+        if o == of[0]:   # the gains move the gust KS: the modal law is in the loads
+            assert abs(fd[("cases.gust.controller_D", 0)]) > 1e-3 * big
