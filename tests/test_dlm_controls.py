@@ -255,7 +255,8 @@ def _design_chain(law, t, compliance=False, objective=False):
                     flat_src_indices=True)
     p.model.connect("march.states", "loads.states")
     if objective:  # a scalar of the root bending history
-        p.model.add_subsystem("obj", om.ExecComp("f = sum(M[:, 0, 0] ** 2) * 1e-8", M={"shape": (t.size, 11, 3)}))
+        p.model.add_subsystem("obj", om.ExecComp("f = sum(M[:, 0, 0] ** 2) * 1e-8", M={"shape": (t.size, 11, 3), "units": "N*m"},
+                                                  f={"units": "N**2*m**2"}))
         p.model.connect("loads.M_csn", "obj.M")
     p.setup(mode="rev")
     p.run_model()
