@@ -207,15 +207,170 @@ def test_pegasus_turbulence_with_law_against_vortex_lattice(tmp_path):
     assert abs(d / v - 1.0) < 0.05
 
 
-def test_size_dlm_alleviation_refused_before_solve(capsys, tmp_path, monkeypatch):
-    """size --loads gust --aero-theory dlm --alleviation: one line naming the file and the way out
-    (the sized modal gust carries no control surfaces), before any solve."""
-    import wingmdao.cases.pegasus as pegasus
+def _design_chain(law, t, compliance=False, objective=False):
+    """Projection -> controlled design march (design=True with the flap modes and the law) ->
+    ModalStationLoads on the Goland wing with an aileron, at the reference design; with the fixed
+    controlled wing's march and recovery for comparison."""
+    import openmdao.api as om
 
-    monkeypatch.setattr(pegasus, "modal_dlm_gust", lambda *a, **k: pytest.fail("solve started"))
-    assert main(["size", "pegasus", "--loads", "gust", "--plunge", "free", "--aero", "coupled", "--aero-theory", "dlm",
-                 "--alleviation", "docs/examples/pegasus_alleviation.yaml", "--no-plots",
-                 "--json", str(tmp_path / "s.json")]) == 2
-    err = capsys.readouterr().err
-    assert "--alleviation docs/examples/pegasus_alleviation.yaml with --aero-theory dlm" in err
-    assert "--aero-theory vlm --alleviation" in err and not (tmp_path / "s.json").exists()
+    from wingmdao.aero.modal_design import DESIGN_INPUTS, modal_projection
+    from wingmdao.aero.rfa_system import modal_rfa_system
+    from wingmdao.components.modal_dlm import ModalProjectionComp, ModalStationLoads
+    from wingmdao.components.time_history import TimeHistoryComponent
+    from wingmdao.aero.system import control_param_specs
+
+    wing, _ = _goland(law, tau=0.02)
+    problem = flutter_problem("goland", num_nodes=11)
+    beam = problem.beam
+    P = modal_projection(beam, wing.modes)
+    if compliance:  # Goland's beam is inextensible (zeros): a relative step needs a value
+        beam = dict(beam, compliance_csn=np.full((11, 3), 2e-9))
+    m, ns = wing.modes.count, wing.controls.n_surfaces
+    w = 2 * np.pi / 0.2
+    on = t <= 0.2
+    gust = np.column_stack([np.where(on, 2.0 * (1 - np.cos(w * t)), 0.0), np.where(on, 2.0 * w * np.sin(w * t), 0.0),
+                            np.where(on, 2.0 * w * w * np.cos(w * t), 0.0)])
+    data = {"gust_velocity": gust[:, 0], "gust_velocity_rate": gust[:, 1], "gust_velocity_acceleration": gust[:, 2],
+            "modal_force": np.zeros((t.size, m)), "surface_command": np.zeros((t.size, ns))}
+    gains = [sp.name for sp in control_param_specs(wing.controls.spec)]
+    p = om.Problem()
+    ivc = p.model.add_subsystem("ivc", om.IndepVarComp(), promotes=["*"])
+    for k, (shape, u) in DESIGN_INPUTS.items():
+        ivc.add_output(k, np.asarray(beam[k], float).reshape((11,) + shape), units=u)
+    ivc.add_output("airspeed", V, units="m/s")
+    ivc.add_output("density", RHO, units="kg/m**3")
+    for k, val in law.matrices().items():
+        ivc.add_output(k, np.asarray(val, float), units="1/s" if k == "controller_A" else None)
+    p.model.add_subsystem("proj", ModalProjectionComp(projection=P), promotes_inputs=list(DESIGN_INPUTS))
+    system = modal_rfa_system(wing.structure, wing.rfa, design=True, controls=wing.controls)
+    p.model.add_subsystem("march", TimeHistoryComponent(system=system, time=t, forcing_data=data, initial="static"),
+                          promotes_inputs=["airspeed", "density", *gains])
+    p.model.add_subsystem("loads", ModalStationLoads(wing=wing, node_euler_angles=np.asarray(beam["node_euler_angles"], float),
+                                                     airspeed=V, density=RHO, gust=gust, time_step=float(t[1] - t[0])))
+    for k in ("modal_mass", "modal_stiffness"):
+        p.model.connect("proj." + k, "march." + k)
+        p.model.connect("proj." + k, "loads." + k)
+    p.model.connect("proj.modal_inertia", "loads.modal_inertia")
+    p.model.connect("proj.modal_inertia", "march.root_inertia", src_indices=np.arange(3 * m, 4 * m),
+                    flat_src_indices=True)
+    p.model.connect("march.states", "loads.states")
+    if objective:  # a scalar of the root bending history
+        p.model.add_subsystem("obj", om.ExecComp("f = sum(M[:, 0, 0] ** 2) * 1e-8", M={"shape": (t.size, 11, 3), "units": "N*m"},
+                                                  f={"units": "N**2*m**2"}))
+        p.model.connect("loads.M_csn", "obj.M")
+    p.setup(mode="rev")
+    p.run_model()
+    F = np.column_stack([gust, np.zeros((t.size, m + ns))])
+    X = march(wing.system, t, pack(wing.system.param_specs, {"airspeed": V, "density": RHO, **law.matrices()}), F,
+              initial="static").states
+    return p, wing, beam, X, F
+
+
+ROOT_LAW = ControlLaw(("root_bending",), A=[[-8.0]], B=[[8.0]], C=[[-0.5]], D=[[0.2]])
+
+
+def test_design_march_with_law_equals_the_fixed_wing_and_its_recovery():
+    """At the reference design the controlled design march (the modal mass, stiffness and the law's
+    root-bending inertia row as inputs from the projection) equals the fixed controlled wing's march,
+    and the component's root loads (flap columns, flap acceleration from the BDF rates) equal the
+    module recovery's (wingmdao.aero.modal_loads, rotated to csn); the flap moves (the law acts)."""
+    from wingmdao.beam.rotations import body_to_csn
+
+    t = np.linspace(0.0, 0.4, 41)
+    p, wing, beam, X, F = _design_chain(ROOT_LAW, t)
+    np.testing.assert_allclose(p.get_val("march.states"), X, atol=1e-8 * np.abs(X).max())
+    Xd = state_rates(X, t[1] - t[0])
+    total, _ = station_load_history(wing.loads, wing.structure, wing.rfa, X, F, V, RHO, None, wing.controls, Xd)
+    T0 = np.asarray(body_to_csn(beam["node_euler_angles"][0]), float)
+    Mc = p.get_val("loads.M_csn")[:, 0]
+    np.testing.assert_allclose(Mc, total[:, 0, 3:] @ T0.T, atol=1e-8 * np.abs(Mc).max())
+    d, _, _, _ = control_terms(wing.controls, wing.rfa, X, Xd, wing.modes.count)
+    assert np.abs(d).max() > 1e-3
+
+
+def test_controlled_station_loads_partials_and_totals_wrt_gains():
+    """ModalStationLoads with flap columns: check_partials against central differences; the reverse
+    totals of the root bending history's sum of squares with respect to the law's gains and the
+    mass per length (through the projection, the design march and the law's inertia row) against
+    central differences of the whole chain."""
+    t = np.linspace(0.0, 0.2, 21)
+    p, *_ = _design_chain(ROOT_LAW, t, compliance=True)
+    data = p.check_partials(out_stream=None, includes=["loads"], method="fd", form="central", step=1e-6,
+                            step_calc="rel_avg")
+    for comp, d in data.items():
+        for (of, wrt), v in d.items():
+            an = v.get("J_fwd", v.get("J_rev"))
+            seen = 1e-7 * np.abs(p.get_val(f"{comp}.{of}")).max() / np.abs(p.get_val(f"{comp}.{wrt}")).max()
+            assert np.abs(an - v["J_fd"]).max() <= 1e-5 * np.abs(v["J_fd"]).max() + seen, (comp, of, wrt)
+    p2, *_ = _design_chain(ROOT_LAW, t, objective=True)
+    wrt = ["controller_C", "controller_D", "mass_per_length"]
+    J = p2.compute_totals(of=["obj.f"], wrt=wrt, return_format="flat_dict")
+    for nm in wrt:
+        base = np.asarray(p2.get_val(nm), float).copy()
+        j = base.size // 2
+        h = 1e-5 * abs(base.flat[j])
+        vals = []
+        for s in (1, -1):
+            v = base.copy()
+            v.flat[j] += s * h
+            p2.set_val(nm, v)
+            p2.run_model()
+            vals.append(float(p2.get_val("obj.f")[0]))
+        p2.set_val(nm, base)
+        fd = (vals[0] - vals[1]) / (2 * h)
+        an = np.asarray(J[("obj.f", nm)]).ravel()[j]
+        assert fd != 0 and abs(an - fd) <= 1e-4 * abs(fd), (nm, an, fd)
+
+
+@pytest.mark.slow
+def test_pegasus_dlm_co_design_totals_match_central_differences():
+    """The sized PEGASUS gust with --aero-theory dlm, free plunge, the docs' alleviation file and
+    --size-gains (the flap modes and the law in the design's modal residual), at a random design
+    (walls 4-12 mm): the reverse totals of the gust KS and the closed-loop constraint with respect to
+    wall thicknesses and the gains C and D equal central differences of re-run models to 1e-4 of the
+    largest entry of each row for the KS, 2e-2 for the constraint, whose trimmed state is a Newton
+    solution (steps: 1e-4 of a thickness for the KS, 1e-2 for the constraint, 1e-4 rad per unit for a
+    gain), and the gains move the gust KS (the modal law is in the loads)."""
+    from wingmdao.cases import pegasus
+    from wingmdao.sizing import WALL_VARS, build_problem, closed_loop_constraints
+
+    args = pegasus.PegasusOptions(loads="gust", aero="coupled", aero_theory="dlm", t_final=0.4, dt=0.04,
+                                  gust_start=0.0, families="vm", plunge="free", size_gains=True,
+                                  alleviation="docs/examples/pegasus_alleviation.yaml")
+    setup = pegasus.build(args)
+    rng = np.random.default_rng(7)
+    setup.options.initial = {w: rng.uniform(0.004, 0.012, 19) for w in WALL_VARS}
+    setup.options.disp = False
+    assert closed_loop_constraints(setup.load_cases) == ["cases.gust.closed_loop_ks"]
+    prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options)
+    prob.set_val("cases.gust.controller_D", [[-0.1]])
+    prob.run_model()
+    assert np.abs(prob.get_val("cases.gust.modal.march.states")[:, -8]).max() > 1e-3   # the aileron moves
+    of = ["cases.gust.ks_vm", "cases.gust.closed_loop_ks"]
+    wrt = {"t_lower_skin": (3, 12), "t_front_spar": (5,), "cases.gust.controller_C": (0,),
+           "cases.gust.controller_D": (0,)}
+    J = prob.compute_totals(of=of, wrt=list(wrt), return_format="flat_dict")
+    # relative steps and tolerances per output: the gust KS is smooth to 1e-4 steps; the closed-loop
+    # constraint's trimmed state is a Newton solution whose noise needs 1e-2 steps (O(h^2) then ~1e-3)
+    steps = {of[0]: (1e-4, 1e-4, 1e-4), of[1]: (1e-2, 1e-4, 2e-2)}
+    for o, (h_t, h_g, tol) in steps.items():
+        fd = {}
+        for nm, idx in wrt.items():
+            base = np.asarray(prob.get_val(nm), float).copy()
+            for j in idx:
+                h = h_g if "controller" in nm else h_t * abs(base.flat[j])   # gains: absolute steps
+                vals = []
+                for sgn in (1, -1):
+                    v = base.copy()
+                    v.flat[j] += sgn * h
+                    prob.set_val(nm, v)
+                    prob.run_model()
+                    vals.append(float(prob.get_val(o).ravel()[0]))
+                prob.set_val(nm, base)
+                fd[(nm, j)] = (vals[0] - vals[1]) / (2 * h)
+        big = max(abs(v) for v in fd.values())
+        for (nm, j), v in fd.items():
+            an = np.asarray(J[(o, nm)]).ravel()[j]
+            assert abs(an - v) <= tol * big, (o, nm, j, an, v)
+        if o == of[0]:   # the gains move the gust KS: the modal law is in the loads
+            assert abs(fd[("cases.gust.controller_D", 0)]) > 1e-3 * big

@@ -214,7 +214,8 @@ class ModalGust:
     station-load coefficients), ``projection`` its :class:`ModalProjection`, the flight condition
     ``airspeed`` (m/s) and ``density`` (kg/m^3), ``gust`` (nt, 3) the gust velocity (m/s), its rate
     (m/s^2) and acceleration (m/s^3) at ``x_gust`` on the case's time grid, ``node_euler_angles``
-    (n, 3) rad the jig's (the csn frames of the loads); ``plunge``: the aircraft free in plunge (the
+    (n, 3) rad the jig's (the csn frames of the loads); the wing's ``controls`` (flap modes and law,
+    :mod:`wingmdao.aero.modal_controls`) go into the design's residual and loads; ``plunge``: the aircraft free in plunge (the
     basis's first mode, :func:`wingmdao.aero.modal_free.free_cosine_gust`; the march starts from rest).
 
     Parameters
@@ -245,7 +246,7 @@ class ModalGust:
 
 
 def cosine_gust(params: dict, chord, axis_frac, time, *, u_tas, airspeed, density, mach, gust_start, gradient_m,
-                n_modes: int = N_MODES) -> ModalGust:
+                n_modes: int = N_MODES, controls=None) -> ModalGust:
     """:class:`ModalGust` of a 1 - cos gust on the modal doublet-lattice wing of the beam ``params``
     (the reference design; clamped jig modes, :func:`wingmdao.stability.modal.modal_dlm_wing`).
 
@@ -263,6 +264,8 @@ def cosine_gust(params: dict, chord, axis_frac, time, *, u_tas, airspeed, densit
         Time (s) the gust reaches the foremost leading edge (the lattice's ``x_gust``), gradient H (m).
     n_modes : int
         Number of modes of the basis.
+    controls : wingmdao.aero.controls.ControlSpec or None
+        Control surfaces (flap modes) and law of the wing (``wing.controls``); None: none.
 
     Returns
     -------
@@ -270,7 +273,7 @@ def cosine_gust(params: dict, chord, axis_frac, time, *, u_tas, airspeed, densit
         ``w = u_tas / 2 (1 - cos(pi V (t - gust_start) / H))`` for ``0 <= V (t - gust_start) <= 2 H``
         with its analytic rate and acceleration.
     """
-    wing = modal_dlm_wing(params, chord, axis_frac, mach, n_modes=n_modes)
+    wing = modal_dlm_wing(params, chord, axis_frac, mach, n_modes=n_modes, controls=controls)
     return ModalGust(wing=wing, projection=modal_projection(params, wing.modes), airspeed=float(airspeed),
                      density=float(density), gust=cosine_gust_history(time, u_tas, airspeed, gust_start, gradient_m),
                      node_euler_angles=np.asarray(params["node_euler_angles"]))

@@ -297,7 +297,7 @@ def free_modal_dlm_wing(beam_params, chord, axis_frac, mach, *, aircraft_mass, p
 
 
 def free_cosine_gust(params: dict, chord, axis_frac, time, *, aircraft_mass, u_tas, airspeed, density, mach,
-                     gust_start, gradient_m, n_modes: int = N_MODES) -> ModalGust:
+                     gust_start, gradient_m, n_modes: int = N_MODES, controls=None) -> ModalGust:
     """:class:`wingmdao.aero.modal_design.ModalGust` of a 1 - cos gust on the modal doublet-lattice
     wing of the aircraft free in plunge (:func:`free_modal_dlm_wing` of the reference design), for a
     sizing: the projection adds half the body's design-dependent mass to the plunge mode.
@@ -318,13 +318,16 @@ def free_cosine_gust(params: dict, chord, axis_frac, time, *, aircraft_mass, u_t
         Time (s) the gust reaches the foremost leading edge, gradient H (m).
     n_modes : int
         Number of clamped modes of the basis (the plunge mode comes on top).
+    controls : wingmdao.aero.controls.ControlSpec or None
+        Control surfaces (flap modes) and law; None: none.
 
     Returns
     -------
     ModalGust
         With ``plunge=True``.
     """
-    wing = free_modal_dlm_wing(params, chord, axis_frac, mach, aircraft_mass=aircraft_mass, n_modes=n_modes)
+    wing = free_modal_dlm_wing(params, chord, axis_frac, mach, aircraft_mass=aircraft_mass, n_modes=n_modes,
+                               controls=controls)
     return ModalGust(wing=wing, projection=modal_projection(params, wing.modes, aircraft_mass=aircraft_mass),
                      airspeed=float(airspeed), density=float(density),
                      gust=cosine_gust_history(time, u_tas, airspeed, gust_start, gradient_m),

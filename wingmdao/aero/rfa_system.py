@@ -37,14 +37,17 @@ from wingmdao.timemarch.system import CasadiResidualSystem, VarSpec, layout
 from wingmdao.units import G0
 
 
-def param_specs(n_modes: int | None = None) -> list[VarSpec]:
+def param_specs(n_modes: int | None = None, controls: bool = False) -> list[VarSpec]:
     """Airspeed and density; with ``n_modes`` also the modal mass and stiffness (a design-dependent
-    structure, :mod:`wingmdao.aero.modal_design`).
+    structure, :mod:`wingmdao.aero.modal_design`) and, with ``controls``, the root M_x per unit
+    modal acceleration (the inertia row of the law's measured root bending).
 
     Parameters
     ----------
     n_modes : int or None
         Number of modes; None: airspeed and density only.
+    controls : bool
+        With ``n_modes``: add ``root_inertia`` (modes,) N m.
 
     Returns
     -------
@@ -57,6 +60,9 @@ def param_specs(n_modes: int | None = None) -> list[VarSpec]:
         specs += [VarSpec("modal_mass", (n_modes, n_modes), None, "modal mass matrix (kg m^2 per modal units squared)"),
                   VarSpec("modal_stiffness", (n_modes, n_modes), None,
                           "modal stiffness matrix (N m per modal units squared)")]
+        if controls:
+            specs.append(VarSpec("root_inertia", (n_modes,), None,
+                                 "root M_x per unit modal acceleration (N m per modal unit acceleration)"))
     return specs
 
 
@@ -99,7 +105,9 @@ def modal_rfa_system(structure, rfa: RogerApproximation, *, design: bool = False
 
     ``design``: the modal mass and stiffness are parameters ``modal_mass`` and ``modal_stiffness``
     (after airspeed and density; ``structure`` gives only the damping and the size), so the
-    marcher's adjoint gives their derivatives (:mod:`wingmdao.aero.modal_design`). ``tail``: the
+    marcher's adjoint gives their derivatives (:mod:`wingmdao.aero.modal_design`); with
+    ``controls`` also ``root_inertia`` (modes,), the inertia row of the law's measured root
+    bending (the design's ``modal_inertia[0, 3]``). ``tail``: the
     quasi-steady horizontal tail of a free aircraft (:class:`wingmdao.aero.modal_free.ModalTail`),
     its generalized force ``tail.force(q_d, V, q, v, w_t, w_r)`` added to the modal equations and
     the gust at the tail and root as two more forcing entries.
@@ -128,21 +136,20 @@ def modal_rfa_system(structure, rfa: RogerApproximation, *, design: bool = False
     if rfa.A.shape[1:] != (n, n):
         raise ValueError(f"the approximation has {rfa.A.shape[1]} modes, the structure {n}")
     b = float(rfa.b_ref)
-    if controls is not None and design:
-        raise ValueError("control surfaces on the modal wing need a fixed structure (design=False)")
     ns = 0 if controls is None else controls.n_surfaces
     n_ctl = 0 if controls is None else controls.spec.n_states + L * ns
     base = 2 * n + L * n + L
     x = ca.SX.sym("x", base + n_ctl)
     xd = ca.SX.sym("xdot", x.numel())
-    pspecs = param_specs(n if design else None) + ([] if controls is None else control_param_specs(controls.spec))
+    pspecs = (param_specs(n if design else None, controls is not None)
+              + ([] if controls is None else control_param_specs(controls.spec)))
     p = ca.SX.sym("p", sum(int(np.prod(s.shape)) for s in pspecs))
     f = ca.SX.sym("q", 3 + n + (2 if tail is not None else 0) + ns)
     V, rho = p[0], p[1]
     qd = 0.5 * rho * V ** 2
     if design:   # C-ordered (n, n) blocks
         M = ca.reshape(p[2:2 + n * n], n, n).T
-        K = ca.reshape(p[2 + n * n:], n, n).T
+        K = ca.reshape(p[2 + n * n:2 + 2 * n * n], n, n).T
     else:
         M, K = ca.DM(M), ca.DM(K)
     q, v = x[:n], x[n:2 * n]
@@ -198,7 +205,8 @@ def _control_rows(ctl, rfa, q, v, vdot, z, zg, g, g1, g2, delta, rate, drate, zf
             + Sg[0] * g + Sg[1] * (b / V) * g1 + Sg[2] * (b / V) ** 2 * g2 + sum((Sg[3 + l] * zg[l] for l in range(L)), 0)
             + dm(Sf[0], delta) + (b / V) * dm(Sf[1], rate) + (b / V) ** 2 * dm(Sf[2], drate)
             + sum((dm(Sf[3 + l], zf[l]) for l in range(L)), 0))
-    root = qd * root + dm(ctl.root_inertia, vdot)
+    root = qd * root + (ca.dot(p[play["root_inertia"]], vdot) if "root_inertia" in play
+                        else dm(ctl.root_inertia, vdot))
     measured = dict(root_bending=root / ROOT_BENDING_UNIT, tip_acceleration=dm(ctl.tip, vdot) / G0,
                     load_factor=None if ctl.plunge is None else vdot[ctl.plunge] / G0,
                     pitch_rate=None if ctl.pitch is None else v[ctl.pitch])

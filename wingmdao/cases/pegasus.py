@@ -379,7 +379,7 @@ def _steady_theory(theory: str) -> str:
 
 
 def modal_dlm_gust(geometry, chord, axis_frac, time, *, u_tas, airspeed, density, mach, gust_start, gradient_m,
-                   aircraft_mass=None):
+                   aircraft_mass=None, controls=None):
     """:class:`wingmdao.aero.modal_design.ModalGust` of a 1 - cos gust on the modal doublet-lattice
     wing (:func:`wingmdao.aero.modal_design.cosine_gust`): basis the clamped jig modes of the
     sizing's initial design (every wall 10 mm, :func:`beam_params`), the design's mass and
@@ -410,6 +410,8 @@ def modal_dlm_gust(geometry, chord, axis_frac, time, *, u_tas, airspeed, density
         Gust gradient H (m).
     aircraft_mass : float or None, optional
         Aircraft mass (kg) of a free-plunge gust; None: root clamped.
+    controls : ControlSpec or None, optional
+        Control surfaces (flap modes of the lattice) and law; None: none.
 
     Returns
     -------
@@ -419,7 +421,8 @@ def modal_dlm_gust(geometry, chord, axis_frac, time, *, u_tas, airspeed, density
     params = beam_params(geometry.num_nodes)
     if not np.allclose(params["node_positions"], geometry.node_positions):
         raise ValueError("--aero-theory dlm: the sized wing's nodes differ from the PEGASUS beam's (beam_params)")
-    kw = dict(u_tas=u_tas, airspeed=airspeed, density=density, mach=mach, gust_start=gust_start, gradient_m=gradient_m)
+    kw = dict(u_tas=u_tas, airspeed=airspeed, density=density, mach=mach, gust_start=gust_start, gradient_m=gradient_m,
+              controls=controls)
     if aircraft_mass is not None:
         return free_cosine_gust(params, chord, axis_frac, time, aircraft_mass=aircraft_mass, **kw)
     return cosine_gust(params, chord, axis_frac, time, **kw)
@@ -714,12 +717,9 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
         if pitch:
             raise ValueError("--aero-theory dlm: the sized gust is clamped or free in plunge (the modal basis has "
                              "no pitch mode in a sizing); drop --pitch free")
-        if controls:
-            raise ValueError(f"--alleviation {opts.alleviation} with --aero-theory dlm: the sized modal gust has a "
-                             "design-dependent modal mass and stiffness and carries no control surfaces (wingmdao gust "
-                             "and turbulence --aero-theory dlm do); size with --aero-theory vlm --alleviation")
         modal = modal_dlm_gust(geometry, chord, axis_frac, time, u_tas=u_tas, airspeed=V, density=rho, mach=mach,
-                               gust_start=opts.gust_start, gradient_m=H, aircraft_mass=weight_lb * LB if free else None)
+                               gust_start=opts.gust_start, gradient_m=H, aircraft_mass=weight_lb * LB if free else None,
+                               controls=controls.get("controls"))
     aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
                        airspeed=V, density=rho, mach=mach, trim=True, trim_lift=weight_lb * LB * G0,
                        plunge=free, aircraft_mass=weight_lb * LB, aero_theory=_steady_theory(opts.aero_theory),

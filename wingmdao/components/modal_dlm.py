@@ -18,6 +18,7 @@ import openmdao.api as om
 from wingmdao.aero.modal_design import DESIGN_INPUTS, ModalProjection
 from wingmdao.beam.rotations import body_to_csn
 from wingmdao.stability.modal import ModalDLMWing
+from wingmdao.timemarch.bdf import state_rates
 
 
 _MASS = ("mass_per_length", "mass_center", "inertia_per_length")
@@ -74,7 +75,10 @@ class ModalStationLoads(om.ExplicitComponent):
     ``airspeed`` (m/s) and ``density`` (kg/m^3), ``gust`` (nt, 3): the march's gust velocity, rate
     and acceleration. Inputs ``modal_mass``, ``modal_stiffness``, ``modal_inertia`` (the design's,
     :class:`ModalProjectionComp`). The aerodynamic part of the loads is the panel force summation,
-    fixed data of the planform and basis.
+    fixed data of the planform and basis. A wing with control surfaces (``wing.controls``, the
+    flap modes of :mod:`wingmdao.aero.modal_controls`) adds the flaps' loads and generalized forces
+    of the deflection, rate, flap lag states and flap acceleration (the BDF rate of the actuator
+    rate state on the march's ``time_step``, as the march's residual has it).
     """
 
     def initialize(self):
@@ -83,21 +87,28 @@ class ModalStationLoads(om.ExplicitComponent):
         self.options.declare("airspeed", types=float, desc="true airspeed (m/s)")
         self.options.declare("density", types=float, desc="air density (kg/m^3)")
         self.options.declare("gust", types=np.ndarray, desc="(nt, 3) gust velocity (m/s), rate, acceleration")
+        self.options.declare("time_step", default=0.0, types=float,
+                             desc="the march's time step (s): the flap accelerations of a wing with control surfaces")
 
     def setup(self):
         wing = self.options["wing"]
-        rfa, model = wing.rfa, wing.loads
+        rfa, model, ctl = wing.rfa, wing.loads, wing.controls
         gust = np.asarray(self.options["gust"], dtype=float)
         nt = gust.shape[0]
         m, L = rfa.A.shape[1], rfa.n_lags
         n = model.inertia.shape[0]
-        ns = 2 * m + L * m + L
+        base = 2 * m + L * m + L
+        nsf = 0 if ctl is None else ctl.n_surfaces
+        ns = base + (0 if ctl is None else ctl.spec.n_states + L * nsf)
+        if ctl is not None and nt > 1 and not self.options["time_step"] > 0.0:
+            raise ValueError("ModalStationLoads: a wing with control surfaces needs the march's time_step > 0 "
+                             "(the flap accelerations are the BDF rates of the actuator states)")
         self._dims = (nt, n, m, L, ns)
         V, rho, b = self.options["airspeed"], self.options["density"], float(rfa.b_ref)
         qd = 0.5 * rho * V ** 2
         A, G, S, Sg = rfa.A, rfa.gust, model.motion.reshape(3 + L, n * 6, m), model.gust.reshape(3 + L, n * 6)
         C = np.asarray(wing.structure.damping, dtype=float)
-        # rhs of the modal equations: R0 x + rhs_f (the stiffness column added with the design's K)
+        # rhs of the modal equations: R0 x + Rd xdot + rhs_f (the stiffness column added with the design's K)
         Rx = np.zeros((m, ns))
         Rx[:, :m] = qd * A[0]
         Rx[:, m:2 * m] = -(C - 0.5 * rho * V * b * A[1])
@@ -112,6 +123,20 @@ class ModalStationLoads(om.ExplicitComponent):
         for l in range(L):
             Px[:, 2 * m + l * m:2 * m + (l + 1) * m] = qd * S[3 + l]
             Px[:, 2 * m + L * m + l] = qd * Sg[3 + l]
+        # the flap modes (wingmdao.aero.modal_controls): deflection, rate, rate' (an xdot column), lag states
+        Rd, Pd = np.zeros((m, ns)), np.zeros((n * 6, ns))
+        if ctl is not None:
+            Fl = ctl.flap_loads.reshape(3 + L, n * 6, nsf)
+            nsc = ctl.spec.n_states
+            for k in range(nsf):
+                i_d, i_r = base + 2 * k, base + 2 * k + 1
+                Rx[:, i_d], Px[:, i_d] = qd * ctl.flap[0][:, k], qd * Fl[0][:, k]
+                Rx[:, i_r], Px[:, i_r] = qd * (b / V) * ctl.flap[1][:, k], qd * (b / V) * Fl[1][:, k]
+                Rd[:, i_r], Pd[:, i_r] = qd * (b / V) ** 2 * ctl.flap[2][:, k], qd * (b / V) ** 2 * Fl[2][:, k]
+                for l in range(L):
+                    j = base + nsc + l * nsf + k
+                    Rx[:, j], Px[:, j] = qd * ctl.flap[3 + l][:, k], qd * Fl[3 + l][:, k]
+        self._Rd, self._Pd, self._rates = Rd, Pd, ctl is not None
         self._aero_f = qd * (np.outer(g, Sg[0]) + np.outer((b / V) * g1, Sg[1]) + np.outer((b / V) ** 2 * g2, Sg[2]))
         self._R0, self._Px = Rx, Px
         self._Qaero = qd * (b / V) ** 2 * S[2]                          # (n6, m)
@@ -130,8 +155,27 @@ class ModalStationLoads(om.ExplicitComponent):
         self.add_output("F_csn", shape=(nt, n, 3), units="N", desc="internal force [F_c, F_s axial, F_n], csn")
         self.add_output("M_csn", shape=(nt, n, 3), units="N*m", desc="internal moment [M_c, M_s torsion, M_n], csn")
 
+    def _xdot(self, X):
+        """BDF rates of a state history (the march's; zero when the wing has no control surfaces)."""
+        return state_rates(X, self.options["time_step"]) if self._rates else np.zeros_like(X)
+
+    def _xdot_transpose(self, Y):
+        """Transpose of :meth:`_xdot`'s linear map applied to ``Y`` (nt, states)."""
+        out = np.zeros_like(Y)
+        if not self._rates:
+            return out
+        dt, nt = self.options["time_step"], Y.shape[0]
+        if nt > 1:
+            out[1] += Y[1] / dt
+            out[0] -= Y[1] / dt
+        if nt > 2:
+            out[2:] += 1.5 * Y[2:] / dt
+            out[1:-1] -= 2.0 * Y[2:] / dt
+            out[:-2] += 0.5 * Y[2:] / dt
+        return out
+
     def _operators(self, inputs):
-        """(W^-1 Rx, W^-1, Qa) of the current design."""
+        """(Rx, W^-1, Qa) of the current design."""
         nt, n, m, L, ns = self._dims
         W = inputs["modal_mass"] - self._Waero
         Rx = self._R0.copy()
@@ -140,9 +184,9 @@ class ModalStationLoads(om.ExplicitComponent):
         Qa = self._Qaero + inputs["modal_inertia"].reshape(n * 6, m)
         return Rx, Winv, Qa
 
-    def _accelerations(self, inputs, Rx, Winv):
+    def _accelerations(self, inputs, Rx, Winv, Xd):
         X = inputs["states"]
-        return (X @ Rx.T + self._rhs_f) @ Winv.T                        # (nt, m)
+        return (X @ Rx.T + Xd @ self._Rd.T + self._rhs_f) @ Winv.T      # (nt, m)
 
     def body_loads(self, inputs) -> tuple[np.ndarray, np.ndarray]:
         """``(total, aerodynamic)`` station loads (nt, n, 6) in body axes (N, N m) of ``inputs``
@@ -161,16 +205,18 @@ class ModalStationLoads(om.ExplicitComponent):
         """
         nt, n, m, L, ns = self._dims
         Rx, Winv, Qa = self._operators(inputs)
-        a = self._accelerations(inputs, Rx, Winv)
-        aero = inputs["states"] @ self._Px.T + self._aero_f + a @ self._Qaero.T
+        Xd = self._xdot(inputs["states"])
+        a = self._accelerations(inputs, Rx, Winv, Xd)
+        aero = inputs["states"] @ self._Px.T + Xd @ self._Pd.T + self._aero_f + a @ self._Qaero.T
         total = aero + a @ inputs["modal_inertia"].reshape(n * 6, m).T
         return total.reshape(nt, n, 6), aero.reshape(nt, n, 6)
 
     def compute(self, inputs, outputs):
         nt, n, m, L, ns = self._dims
         Rx, Winv, Qa = self._operators(inputs)
-        a = self._accelerations(inputs, Rx, Winv)
-        loads = inputs["states"] @ self._Px.T + self._aero_f + a @ Qa.T
+        Xd = self._xdot(inputs["states"])
+        a = self._accelerations(inputs, Rx, Winv, Xd)
+        loads = inputs["states"] @ self._Px.T + Xd @ self._Pd.T + self._aero_f + a @ Qa.T
         loads = (loads @ self._rot.T).reshape(nt, n, 6)
         outputs["F_csn"] = loads[:, :, :3]
         outputs["M_csn"] = loads[:, :, 3:]
@@ -178,14 +224,17 @@ class ModalStationLoads(om.ExplicitComponent):
     def compute_jacvec_product(self, inputs, d_inputs, d_outputs, mode):
         nt, n, m, L, ns = self._dims
         Rx, Winv, Qa = self._operators(inputs)
-        a = self._accelerations(inputs, Rx, Winv)
+        a = self._accelerations(inputs, Rx, Winv, self._xdot(inputs["states"]))
         q = inputs["states"][:, :m]
         QW = Qa @ Winv                                                   # (n6, m)
         Jx = self._Px + QW @ Rx
+        Jd = self._Pd + QW @ self._Rd
         if mode == "fwd":
             dL = np.zeros((nt, n * 6))
             if "states" in d_inputs:
                 dL += d_inputs["states"] @ Jx.T
+                if self._rates:
+                    dL += self._xdot(d_inputs["states"]) @ Jd.T
             if "modal_stiffness" in d_inputs:
                 dL -= (q @ d_inputs["modal_stiffness"].T) @ QW.T
             if "modal_mass" in d_inputs:
@@ -207,6 +256,8 @@ class ModalStationLoads(om.ExplicitComponent):
             Y = dL @ QW                                                  # (nt, m)
             if "states" in d_inputs:
                 d_inputs["states"] += dL @ Jx
+                if self._rates:
+                    d_inputs["states"] += self._xdot_transpose(dL @ Jd)
             if "modal_stiffness" in d_inputs:
                 d_inputs["modal_stiffness"] -= Y.T @ q
             if "modal_mass" in d_inputs:

@@ -277,31 +277,40 @@ class WingStructure(om.Group):
         march, force-summation loads), summed in ``internal_loads`` (F_csn, M_csn)."""
         spec = case.modal_dlm
         nt = case.num_times
+        wing = spec.wing
+        ctl = wing.controls
+        sized = case.aero is not None and case.aero.gain_design and case.aero.control_law is not None
         self.recording_options["options_excludes"] = ["load_case"]   # CasADi functions of the projection
         self.add_subsystem("static", WingStructure(num_nodes=n, load_case=case.static_case(n),
                                                    material=self.options["material"], section=self.options["section"],
                                                    newton_options=self.options["newton_options"],
                                                    forcing_as_data=self.options["forcing_as_data"]),
-                           promotes_inputs=["*"])
-        modal = self.add_subsystem("modal", om.Group(), promotes_inputs=list(DESIGN_INPUTS))
+                           promotes_inputs=["*"], promotes_outputs=["closed_loop_ks"] if sized else [])
+        gains = [] if ctl is None else [sp.name for sp in control_param_specs(ctl.spec)]
+        modal = self.add_subsystem("modal", om.Group(), promotes_inputs=list(DESIGN_INPUTS) + gains)
         flight = modal.add_subsystem("flight", om.IndepVarComp())
         flight.add_output("airspeed", spec.airspeed, units="m/s", desc="true airspeed of the gust")
         flight.add_output("density", spec.density, units="kg/m**3", desc="air density of the gust")
         modal.add_subsystem("projection", ModalProjectionComp(projection=spec.projection),
                             promotes_inputs=list(DESIGN_INPUTS))
-        wing = spec.wing
         m = wing.modes.count
         gust = np.asarray(spec.gust, dtype=float)
         data = {"gust_velocity": gust[:, 0], "gust_velocity_rate": gust[:, 1],
                 "gust_velocity_acceleration": gust[:, 2], "modal_force": np.zeros((nt, m))}
-        march = TimeHistoryComponent(system=modal_rfa_system(wing.structure, wing.rfa, design=True),
+        if ctl is not None:  # the flap modes and the law in the modal residual; no open-loop command
+            data["surface_command"] = np.zeros((nt, ctl.n_surfaces))
+        march = TimeHistoryComponent(system=modal_rfa_system(wing.structure, wing.rfa, design=True, controls=ctl),
                                      time=case.time, forcing_data=data,
                                      initial="state" if spec.plunge else "static")  # free: from rest
         march.recording_options["options_excludes"] = ["system", "forcing_data"]
-        modal.add_subsystem("march", march)
+        modal.add_subsystem("march", march, promotes_inputs=gains)
+        dt = float(case.time[1] - case.time[0]) if nt > 1 else 0.0
         modal.add_subsystem("loads", ModalStationLoads(wing=wing, node_euler_angles=np.asarray(spec.node_euler_angles, dtype=float),
                                                        airspeed=float(spec.airspeed), density=float(spec.density),
-                                                       gust=gust))
+                                                       gust=gust, time_step=dt))
+        if ctl is not None:  # the law's measured root bending: the design's inertia row (root M_x)
+            modal.connect("projection.modal_inertia", "march.root_inertia", src_indices=np.arange(3 * m, 4 * m),
+                          flat_src_indices=True)
         for k in ("airspeed", "density"):
             modal.connect(f"flight.{k}", f"march.{k}")
         for k in ("modal_mass", "modal_stiffness"):
