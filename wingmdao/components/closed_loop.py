@@ -20,8 +20,17 @@ first state, connected from the time history: the trimmed state moves with the d
 the march's own adjoint). Partials: exact, from the simple eigenvalues' left and right vectors,
 ``d lambda = -u^H (dA + lambda dB) v / (u^H B v)`` with the second derivatives of the residual
 (:func:`wingmdao.stability.sensitivity.gradient_functions`), for every mode whose KS weight
-exceeds 1e-13; declared dense (one row). Dense eigen-solve: meant for the few hundred states of
-a sizing case.
+exceeds 1e-13; declared dense (one row).
+
+Eigen-solve (:func:`closed_loop_modes`): every finite eigenvalue from the dense standard
+eigenvalues, without vectors, of ``(A + sigma B)^-1 B`` on the columns where B is not zero (one
+sparse LU, :class:`~wingmdao.stability.pencil_lu.ShiftedPencil`), so the selection sees the whole
+spectrum; the vectors only of the band's candidates, by two-sided inverse iteration
+(:func:`~wingmdao.stability.modes.refine_pair`), and in the component only of those within
+``40 / rho_ks`` (1/s) of the least damped selected mode (the others weigh under exp(-40) in the
+KS, against the 1e-13 of the partials). A refinement that does not converge to its own eigenvalue
+sends the evaluation to the dense QZ solve with vectors. On the PEGASUS co-design's 446-state
+pencil: 0.035-0.045 s against the QZ solve's 0.27-0.36 s.
 """
 
 from __future__ import annotations
