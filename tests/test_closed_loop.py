@@ -87,6 +87,18 @@ def test_modes_equal_dense_solve_across_the_stability_limit():
     assert tops[0] < 0.0 and tops[-1] > 0.0, tops
 
 
+def test_dense_fallback_gives_the_same_selection(monkeypatch):
+    """Without a usable shift the evaluation takes the dense QZ solve with vectors: the same modes."""
+    import wingmdao.components.closed_loop as cl
+
+    s, params = _flexible_wing()
+    x0 = static_state(s, params(0.0), closed_loop_forcing(s))
+    fast = np.sort_complex(closed_loop_modes(s, params(0.99 * K_STAR), x0)[0])
+    monkeypatch.setattr(cl, "SHIFTS", ())
+    dense = np.sort_complex(closed_loop_modes(s, params(0.99 * K_STAR), x0)[0])
+    assert dense.size == fast.size and np.allclose(dense, fast, rtol=1e-8, atol=0.0)
+
+
 def test_check_partials_free_plunge_trimmed():
     """Free plunge, trimmed, load-factor and root-bending feedback through a filter: partials
     with respect to every parameter (gains, stiffness, body mass) and the trimmed state."""
