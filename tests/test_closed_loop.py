@@ -7,12 +7,13 @@ import os
 import numpy as np
 import openmdao.api as om
 import pytest
+import scipy.linalg as sla
 
 from wingmdao.aero import aero_parameters, cached_aeroelastic_system
 from wingmdao.aero.controls import ControlLaw, ControlSurface, control_spec
 from wingmdao.beam.static import beam_forcing, beam_parameters, straight_beam
 from wingmdao.components.closed_loop import ClosedLoopDamping, closed_loop_forcing, closed_loop_modes
-from wingmdao.stability.eigen import static_state
+from wingmdao.stability.eigen import linearize, static_state
 from wingmdao.timemarch.system import layout, pack
 from wingmdao.utils.ks import ks_aggregate
 
@@ -40,6 +41,62 @@ def test_constraint_sign_at_the_stability_limit():
         assert np.sign(ks) == sign, (K, ks)
     lam = closed_loop_modes(s, params(1.15 * K_STAR), x0)[0]
     assert ks_aggregate(lam.real, 100.0)[0] == pytest.approx(1.06, abs=0.03)
+
+
+def _dense_selection(s, p, x0, max_frequency_hz=50.0):
+    """The selected eigenvalues by SciPy's dense QZ solve of the whole pencil (the reference)."""
+    A, B = linearize(s, p, closed_loop_forcing(s), x0)
+    lam, vr = sla.eig(-A.toarray(), B.toarray())
+    lay = s.layout
+    beam = lay.beam[:, 0:6].ravel()
+    other = np.concatenate([lay.aero.ravel(), np.asarray([lay.body[k] for k in s.control_index], dtype=int)])
+    keep = np.isfinite(lam) & (np.abs(lam) < 1e6) & (np.abs(lam) > 1e-6) & (lam.imag >= 0.0)
+    keep &= (np.abs(lam.imag) <= 2 * np.pi * max_frequency_hz)
+    keep &= np.linalg.norm(vr[other], axis=0) > 1e-2 * np.linalg.norm(vr[beam], axis=0)
+    return lam[keep]
+
+
+def _assert_same_modes(s, p, x0, depth):
+    """closed_loop_modes (eigenvalues of (A + sigma B)^-1 B, vectors by inverse iteration) selects
+    the dense solve's eigenvalues to 1e-8 relative, each with vectors whose residual is round-off;
+    with ``depth`` exactly those within ``depth`` of the largest real part."""
+    ref = _dense_selection(s, p, x0)
+    lam, v, u, A, B = closed_loop_modes(s, p, x0)
+    assert lam.size == ref.size
+    for x in lam:
+        assert np.min(np.abs(ref - x)) <= 1e-8 * abs(x), x
+    for y in ref:
+        assert np.min(np.abs(lam - y)) <= 1e-8 * abs(y), y
+    res = np.linalg.norm(A @ v + (B @ v) * lam, axis=0) / (abs(A).sum(axis=0).max() + np.abs(lam) * abs(B).sum(axis=0).max())
+    resl = np.linalg.norm(A.T @ u.conj() + (B.T @ u.conj()) * lam, axis=0)
+    assert res.max() < 1e-12 and resl.max() < 1e-8 * (abs(A).sum(axis=1).max() + np.abs(lam).max() * abs(B).sum(axis=1).max())
+    near = closed_loop_modes(s, p, x0, depth=depth)[0]
+    expect = ref[ref.real >= ref.real.max() - depth]
+    assert near.size == expect.size, (near, expect)
+    return ref
+
+
+def test_modes_equal_dense_solve_across_the_stability_limit():
+    """The sparse-LU eigen-solve against the dense QZ solve for gains from none to beyond the limit,
+    two of them 1 % either side of it."""
+    s, params = _flexible_wing()
+    x0 = static_state(s, params(0.0), closed_loop_forcing(s))
+    tops = []
+    for K in (0.0, 0.5 * K_STAR, 0.99 * K_STAR, 1.01 * K_STAR, 1.3 * K_STAR):
+        tops.append(_assert_same_modes(s, params(K), x0, 0.4).real.max())
+    assert tops[0] < 0.0 and tops[-1] > 0.0, tops
+
+
+def test_dense_fallback_gives_the_same_selection(monkeypatch):
+    """Without a usable shift the evaluation takes the dense QZ solve with vectors: the same modes."""
+    import wingmdao.components.closed_loop as cl
+
+    s, params = _flexible_wing()
+    x0 = static_state(s, params(0.0), closed_loop_forcing(s))
+    fast = np.sort_complex(closed_loop_modes(s, params(0.99 * K_STAR), x0)[0])
+    monkeypatch.setattr(cl, "SHIFTS", ())
+    dense = np.sort_complex(closed_loop_modes(s, params(0.99 * K_STAR), x0)[0])
+    assert dense.size == fast.size and np.allclose(dense, fast, rtol=1e-8, atol=0.0)
 
 
 def test_check_partials_free_plunge_trimmed():
@@ -119,3 +176,26 @@ def test_pegasus_co_design_constraint(tmp_path):
         prob.run_model()
         ks[tag] = float(prob.get_val("cases.gust.closed_loop_ks")[0])
     assert ks["filtered"] < 0.0 < ks["pure"], ks
+
+
+@pytest.mark.slow
+def test_pegasus_modes_equal_dense_solve():
+    """PEGASUS closed loop (the co-design's gust case, docs/examples/pegasus_alleviation.yaml) with
+    the law's gains scaled by 0, 1 and 4: the sparse-LU selection equals the dense solve's."""
+    from wingmdao.cases import pegasus
+    from wingmdao.sizing import build_problem
+
+    setup = pegasus.build(pegasus.PegasusOptions(loads="gust", aero="coupled", aero_theory="strip", plunge="free", t_final=0.3,
+                                                 dt=0.03, gust_start=0.0, alleviation=EXAMPLE, size_gains=True))
+    setup.options.disp = False
+    prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options, driver=False)
+    prob.run_model()
+    comp = prob.model._get_subsystem("cases.gust.closed_loop")
+    s = comp.options["system"]
+    p, x0 = comp._packed(comp._inputs)
+    lay = layout(s.param_specs)
+    for scale in (0.0, 1.0, 4.0):
+        ps = p.copy()
+        for nm in ("controller_C", "controller_D"):
+            ps[lay[nm]] *= scale
+        _assert_same_modes(s, ps, x0, 40.0 / 100.0)

@@ -20,8 +20,17 @@ first state, connected from the time history: the trimmed state moves with the d
 the march's own adjoint). Partials: exact, from the simple eigenvalues' left and right vectors,
 ``d lambda = -u^H (dA + lambda dB) v / (u^H B v)`` with the second derivatives of the residual
 (:func:`wingmdao.stability.sensitivity.gradient_functions`), for every mode whose KS weight
-exceeds 1e-13; declared dense (one row). Dense eigen-solve: meant for the few hundred states of
-a sizing case.
+exceeds 1e-13; declared dense (one row).
+
+Eigen-solve (:func:`closed_loop_modes`): every finite eigenvalue from the dense standard
+eigenvalues, without vectors, of ``(A + sigma B)^-1 B`` on the columns where B is not zero (one
+sparse LU, :class:`~wingmdao.stability.pencil_lu.ShiftedPencil`), so the selection sees the whole
+spectrum; the vectors only of the band's candidates, by two-sided inverse iteration
+(:func:`~wingmdao.stability.modes.refine_pair`), and in the component only of those within
+``40 / rho_ks`` (1/s) of the least damped selected mode (the others weigh under exp(-40) in the
+KS, against the 1e-13 of the partials). A refinement that does not converge to its own eigenvalue
+sends the evaluation to the dense QZ solve with vectors. On the PEGASUS co-design's 446-state
+pencil: 0.035-0.045 s against the QZ solve's 0.27-0.36 s.
 """
 
 from __future__ import annotations
@@ -35,6 +44,8 @@ import scipy.linalg as sla
 from wingmdao.aero.system import AeroelasticBeamSystem
 from wingmdao.loads.atmosphere import G0
 from wingmdao.stability.eigen import linearize
+from wingmdao.stability.modes import refine_pair
+from wingmdao.stability.pencil_lu import ShiftedPencil
 from wingmdao.stability.sensitivity import gradient_functions
 from wingmdao.timemarch.system import layout
 from wingmdao.utils.ks import ks_aggregate
@@ -60,9 +71,52 @@ def closed_loop_forcing(system) -> np.ndarray:
     return q
 
 
-def closed_loop_modes(system, p, x0, *, neutral=1e-6, neutral_fraction=1e-2, max_frequency_hz=50.0):
+#: Real shifts of the eigenvalue solve, tried in turn: the first whose ``A + sigma B`` is well conditioned.
+SHIFTS = (1.0, 7.3, -2.9)
+
+
+def _pencil_eigenvalues(pen, max_abs):
+    """Every finite eigenvalue of ``(A + lambda B) v = 0`` (``|lambda|`` below ``max_abs``): the
+    dense standard eigenvalues ``mu`` of ``C = (A + sigma B)^-1 B`` (``lambda = sigma - 1/mu``),
+    reduced to the columns where B is not zero (C's other columns are zero: their eigenvalues are
+    the infinite ones), without vectors. None when no shift of :data:`SHIFTS` gives a well
+    conditioned ``A + sigma B``."""
+    B = pen.B
+    cols = np.flatnonzero(np.asarray(abs(B).sum(axis=0)).ravel())
+    if cols.size == 0:
+        return np.zeros(0, complex)
+    Bc = B[:, cols].toarray()
+    for sigma in SHIFTS:
+        C = pen.factor(sigma).solve(Bc).real[cols]   # a real matrix factored in complex: exact zeros
+        if not np.all(np.isfinite(C)) or np.max(np.abs(C)) * abs(sigma) > 1e10:
+            continue
+        mu = np.linalg.eigvals(C)
+        mu = mu[np.abs(mu) * max_abs > 1.0]
+        return sigma - 1.0 / mu
+    return None
+
+
+def _dense_modes(A, B):
+    """Every eigenvalue and its left and right vectors (the dense QZ solve, the fallback)."""
+    lam, vl, vr = sla.eig(-A.toarray(), B.toarray(), left=True, right=True)
+    return lam, vr, vl
+
+
+def closed_loop_modes(system, p, x0, *, neutral=1e-6, neutral_fraction=1e-2, max_frequency_hz=50.0, depth=None,
+                      max_abs=1e6):
     """``(lam, v, u, A, B)``: the selected eigenvalues (module docstring) of the closed-loop system
     at packed parameters ``p`` about ``x0``, their right and left vectors and the pencil.
+
+    Every finite eigenvalue comes from the dense standard eigenvalues (no vectors) of ``(A + sigma
+    B)^-1 B`` (sparse LU, :func:`wingmdao.stability.pencil_lu.factor`): the selection sees the whole
+    spectrum, none is missed. The vectors, which the selection's air/control test and the partials
+    need, come only for the candidates in the band (``neutral < |lambda|``, ``Im lambda`` in ``[0,
+    2 pi max_frequency_hz]``), in decreasing ``Re lambda``, by two-sided inverse iteration
+    (:func:`wingmdao.stability.modes.refine_pair`, whose Rayleigh quotient is the returned
+    eigenvalue); with ``depth`` it stops at the first candidate more than ``depth`` below the
+    largest selected ``Re lambda`` (the KS weight of such a mode is below ``exp(-rho_ks depth)``).
+    When a refinement does not converge to its own eigenvalue (relative 1e-6), the whole
+    evaluation falls back to the dense QZ solve with vectors.
 
     Parameters
     ----------
@@ -78,6 +132,11 @@ def closed_loop_modes(system, p, x0, *, neutral=1e-6, neutral_fraction=1e-2, max
         Least part of the aerodynamic or control states relative to the beam's in a selected mode.
     max_frequency_hz : float
         Highest frequency |Im lambda| / (2 pi) of a selected mode (Hz).
+    depth : float or None
+        Only the selected modes with ``Re lambda`` at most this (1/s) below the largest one
+        (None: every selected mode).
+    max_abs : float
+        Eigenvalues with ``|lambda|`` above this (1/s) are the infinite ones.
 
     Returns
     -------
@@ -86,16 +145,52 @@ def closed_loop_modes(system, p, x0, *, neutral=1e-6, neutral_fraction=1e-2, max
     """
     q = closed_loop_forcing(system)
     A, B = linearize(system, p, q, x0)
-    lam, vl, vr = sla.eig(-A.toarray(), B.toarray(), left=True, right=True)
-    keep = np.isfinite(lam) & (np.abs(lam) < 1e6) & (np.abs(lam) > neutral) & (lam.imag >= 0.0)
-    keep &= np.abs(lam.imag) <= 2.0 * np.pi * max_frequency_hz
     lay = system.layout
     beam = lay.beam[:, 0:6].ravel()
     other = np.concatenate([lay.aero.ravel(), np.asarray([lay.body[k] for k in system.control_index], dtype=int)])
-    vb = np.linalg.norm(vr[beam], axis=0)
-    vo = np.linalg.norm(vr[other], axis=0)
-    keep &= vo > neutral_fraction * vb
-    return lam[keep], vr[:, keep], vl[:, keep], A, B
+    wmax = 2.0 * np.pi * max_frequency_hz
+
+    def band(lam):
+        return np.isfinite(lam) & (np.abs(lam) < max_abs) & (np.abs(lam) > neutral) & (lam.imag >= 0.0) \
+            & (np.abs(lam.imag) <= wmax)
+
+    def loaded(vr):
+        return np.linalg.norm(vr[other], axis=0) > neutral_fraction * np.linalg.norm(vr[beam], axis=0)
+
+    pen = ShiftedPencil(A, B)
+    lam_all = _pencil_eigenvalues(pen, max_abs)
+    if lam_all is not None:
+        cand = lam_all[band(lam_all)]
+        cand = cand[np.argsort(-cand.real, kind="stable")]
+        rng = np.random.default_rng(0)
+        n = A.shape[0]
+        start = rng.standard_normal(n) + 1j * rng.standard_normal(n)
+        lam_s, v_s, u_s, top, ok = [], [], [], None, True
+        for lam0 in cand:
+            if depth is not None and top is not None and lam0.real < top - depth:
+                break
+            v, u, lam, conv = refine_pair(A, B, lam0, start, start, quotient_start=False, pencil=pen)
+            if not conv or abs(lam - lam0) > 1e-6 * max(1.0, abs(lam0)):
+                ok = False
+                break
+            lam = complex(lam.real, 0.0) if lam0.imag == 0.0 else lam
+            if loaded(v[:, None])[0]:
+                lam_s.append(lam)
+                v_s.append(v)
+                u_s.append(u)
+                top = lam.real if top is None else max(top, lam.real)
+        if ok:
+            lam_s = np.asarray(lam_s, complex)
+            v_s = np.array(v_s, complex).T.reshape(n, -1)
+            u_s = np.array(u_s, complex).T.reshape(n, -1)
+            return lam_s, v_s, u_s, A, B
+    lam, vr, vl = _dense_modes(A, B)
+    keep = band(lam) & loaded(vr)
+    lam, vr, vl = lam[keep], vr[:, keep], vl[:, keep]
+    if depth is not None and lam.size:
+        near = lam.real >= lam.real.max() - depth
+        lam, vr, vl = lam[near], vr[:, near], vl[:, near]
+    return lam, vr, vl, A, B
 
 
 class ClosedLoopDamping(om.ExplicitComponent):
@@ -143,8 +238,10 @@ class ClosedLoopDamping(om.ExplicitComponent):
         p, x0 = self._packed(inputs)
         key = np.concatenate([p, x0])
         if self._cache is None or not np.array_equal(self._cache[0], key):
+            # modes more than 40 / rho_ks below the least damped one weigh under exp(-40) in the KS
             lam, v, u, A, B = closed_loop_modes(self.options["system"], p, x0,
-                                                     max_frequency_hz=self.options["max_frequency_hz"])
+                                                max_frequency_hz=self.options["max_frequency_hz"],
+                                                depth=40.0 / self.options["rho_ks"])
             if lam.size == 0:
                 raise om.AnalysisError(f"{self.pathname}: no loaded closed-loop mode found")
             value, w = ks_aggregate(lam.real + self.options["margin"], self.options["rho_ks"])

@@ -86,7 +86,8 @@ class SpeedModes:
     error: np.ndarray = None         # (k,) 1/s: 0 refined; > 0 a lazy estimate (Ritz value, its error bound)
 
 
-def refine_pair(A, B, lam0, v0, u0, *, tol=1e-12, iterations=6, shifts=3, rel_shift=1e-10, quotient_start=True):
+def refine_pair(A, B, lam0, v0, u0, *, tol=1e-12, iterations=6, shifts=3, rel_shift=1e-10, quotient_start=True,
+                pencil=None):
     """Right / left vectors and the two-sided Rayleigh quotient of the eigenvalue of
     ``(A + lambda B) v = 0`` nearest ``lam0``, by inverse iteration from ``v0, u0`` (the
     previous design's vectors): one sparse LU of ``A + s B`` per shift s (first ``lam0``, then the
@@ -119,6 +120,8 @@ def refine_pair(A, B, lam0, v0, u0, *, tol=1e-12, iterations=6, shifts=3, rel_sh
         Relative offset of each shift from its eigenvalue.
     quotient_start : bool, optional
         Start from the two-sided quotient of ``v0, u0`` instead of ``lam0``.
+    pencil : ShiftedPencil or None, optional
+        The pencil of ``(A, B)`` when the caller refines several modes of it (its analysis once).
 
     Returns
     -------
@@ -133,7 +136,7 @@ def refine_pair(A, B, lam0, v0, u0, *, tol=1e-12, iterations=6, shifts=3, rel_sh
         den = np.vdot(u, Bv)
         if abs(den) > 1e-12 * np.linalg.norm(Bv) * np.linalg.norm(u):
             lam_old = lam = complex(-np.vdot(u, A @ v) / den)
-    pencil = ShiftedPencil(A, B)
+    pencil = ShiftedPencil(A, B) if pencil is None else pencil
     for _ in range(int(shifts)):
         s = lam * (1.0 + rel_shift) + rel_shift
         v, u, Bv, lam, lam_old, ok = pencil.refine(s, v, u, Bv, lam, lam_old, iterations, tol)
