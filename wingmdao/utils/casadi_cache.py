@@ -16,6 +16,10 @@ Jacobian history) 4-20x slower than the same expressions compiled to C (docs/tim
   background thread running gcc in a subprocess, and switches to the compiled code when it is
   ready; until then (and whenever gcc is missing or fails, with one warning) the interpreted
   function is used. Results are identical to round-off (same expression graph).
+* the C of an SX function is generated after CasADi's common-subexpression elimination
+  (:data:`CSE`, :func:`codegen_function`; part of the cache key): the same operations on the same
+  values, evaluated once; fewer instructions, so gcc compiles faster and in less memory
+  (``benchmarks/bench_casadi_cse.py``). The interpreted functions are left as built.
 * ``WINGMDAO_JIT=0`` disables all of it.
 
 Libraries are written to a temporary name and renamed atomically, so concurrent processes can
