@@ -62,7 +62,7 @@ DEFAULT_FLAGS = ("-O1",)
 #: Generate the C of SX functions after CasADi's common-subexpression elimination (``cse``, CasADi
 #: >= 3.6; :func:`codegen_function`); part of the cache key. On the PEGASUS Newton functions: 17-35 %
 #: fewer instructions, 15-37 % less C, gcc time within +-12 %, its memory 2-3 % lower, the compiled
-#: calls 7-15 % faster (docs/performance.md, "Common subexpressions in the generated C").
+#: calls 6-15 % faster (docs/performance.md, "Common subexpressions in the generated C").
 CSE = True
 
 
