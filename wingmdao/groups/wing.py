@@ -276,7 +276,10 @@ class WingStructure(om.Group):
         """The case's static first instant on the beam (``static``: a WingStructure of
         :meth:`LoadCase.static_case`, e.g. the trimmed 1 g state) plus the gust increment of the
         modal doublet-lattice wing of the design (``modal``: projection on the fixed basis, BDF2
-        march, force-summation loads), summed in ``internal_loads`` (F_csn, M_csn)."""
+        march, force-summation loads), summed in ``internal_loads`` (F_csn, M_csn). With control
+        surfaces the law's closed-loop constraint (``closed_loop_ks``, sized gains) and the surfaces'
+        limits (``actuator_ks``) are the modal system's (:mod:`wingmdao.components.modal_closed_loop`,
+        the modal march's actuator states); the 1 g beam has neither."""
         spec = case.modal_dlm
         nt = case.num_times
         wing = spec.wing
