@@ -431,3 +431,33 @@ def test_modal_closed_loop_eigenvalues_and_partials():
         assert np.abs(an - fd).max() <= 1e-5 * scale, (i, np.abs(an - fd).max(), scale)
         if i in ("modal_stiffness", "controller_D"):
             assert np.abs(fd).max() > 1e3 * np.abs(an - fd).max(), i   # the design and the gain move it
+
+
+def test_modal_closed_loop_eigenvalues_equal_the_march_decay():
+    """The filtered root-bending law on the Goland wing's aileron: started from the real part of a
+    selected eigenvector of ModalClosedLoopDamping's pencil (the design system at the reference
+    design), the fixed controlled wing's BDF2 march (wing.system, dt = 1e-4 s) keeps the mode's
+    coordinate (the left vector's) at exp(lambda t): its decay rate and frequency over 0.3 s equal
+    Re and Im lambda of the two least-damped oscillatory modes."""
+    from wingmdao.aero.rfa_system import modal_rfa_system
+    from wingmdao.components.modal_closed_loop import loaded_modes, modal_closed_loop_modes
+
+    wing, _ = _goland(ROOT_LAW, tau=0.02)
+    s, rfa, ctl = wing.structure, wing.rfa, wing.controls
+    system = modal_rfa_system(s, rfa, design=True, controls=ctl)
+    p = pack(system.param_specs, {"airspeed": V, "density": RHO, "modal_mass": s.mass, "modal_stiffness": s.stiffness,
+                                  "root_inertia": ctl.root_inertia, **ROOT_LAW.matrices()})
+    lam, v, u, A, B = modal_closed_loop_modes(system, p, loaded_modes(rfa), rfa.n_lags)
+    osc = np.flatnonzero(lam.imag > 1.0)
+    t = np.arange(0.0, 0.3 + 5e-5, 1e-4)
+    pf = pack(wing.system.param_specs, {"airspeed": V, "density": RHO, **ROOT_LAW.matrices()})
+    F = np.zeros((t.size, wing.system.n_forcing))
+    for k in osc[np.argsort(-lam[osc].real)][:2]:
+        x0 = (v[:, k] / v[np.argmax(np.abs(v[:2 * s.mass.shape[0], k])), k]).real
+        X = march(wing.system, t, pf, F, initial="state", x_init=x0).states
+        c = X @ (B.T @ u[:, k].conj()) / np.vdot(u[:, k], B @ v[:, k])   # the mode's coordinate, 1/2 exp(lambda t)
+        i0, i1 = np.searchsorted(t, [0.1, 0.3])
+        rate = np.log(abs(c[i1]) / abs(c[i0])) / (t[i1] - t[i0])
+        freq = np.angle(c[i1] / c[i1 - 1]) / (t[i1] - t[i1 - 1])
+        assert abs(rate - lam[k].real) <= 2e-3 * abs(lam[k].real), (lam[k], rate)
+        assert abs(freq - lam[k].imag) <= 1e-3 * lam[k].imag, (lam[k], freq)
