@@ -103,7 +103,7 @@ class ModalClosedLoopDamping(om.ExplicitComponent):
     """KS of ``Re lambda + margin`` of the controlled modal doublet-lattice system (module docs)."""
 
     def initialize(self):
-        self.options.declare("system", types=CasadiResidualSystem,
+        self.options.declare("system", types=CasadiResidualSystem, recordable=False,
                              desc="modal_rfa_system(design=True, controls=...) of the design")
         self.options.declare("loaded", types=np.ndarray, desc="(modes,) bool: the modes the air loads (loaded_modes)")
         self.options.declare("n_lags", types=int, lower=0, desc="number of Roger lag roots")
