@@ -326,11 +326,10 @@ def test_controlled_station_loads_partials_and_totals_wrt_gains():
 def test_pegasus_dlm_co_design_totals_match_central_differences():
     """The sized PEGASUS gust with --aero-theory dlm, free plunge, the docs' alleviation file and
     --size-gains (the flap modes and the law in the design's modal residual), at a random design
-    (walls 4-12 mm): the reverse totals of the gust KS and the closed-loop constraint with respect to
-    wall thicknesses and the gains C and D equal central differences of re-run models to 1e-4 of the
-    largest entry of each row for the KS, 2e-2 for the constraint, whose trimmed state is a Newton
-    solution (steps: 1e-4 of a thickness for the KS, 1e-2 for the constraint, 1e-4 rad per unit for a
-    gain), and the gains move the gust KS (the modal law is in the loads)."""
+    (walls 4-12 mm): the reverse totals of the gust KS, the modal system's closed-loop constraint and
+    the actuator KS with respect to wall thicknesses and the gains C and D equal central differences
+    of re-run models to 1e-4 of the largest entry of each row (steps: 1e-4 of a thickness, 1e-4 rad
+    per unit for a gain), and the gains move every row (the modal law is in the loads)."""
     from wingmdao.cases import pegasus
     from wingmdao.sizing import WALL_VARS, build_problem, closed_loop_constraints
 
@@ -346,13 +345,14 @@ def test_pegasus_dlm_co_design_totals_match_central_differences():
     prob.set_val("cases.gust.controller_D", [[-0.1]])
     prob.run_model()
     assert np.abs(prob.get_val("cases.gust.modal.march.states")[:, -8]).max() > 1e-3   # the aileron moves
-    of = ["cases.gust.ks_vm", "cases.gust.closed_loop_ks"]
+    assert prob.model._get_subsystem("cases.gust.modal.closed_loop") is not None   # the modal system's
+    of = ["cases.gust.ks_vm", "cases.gust.closed_loop_ks", "cases.gust.actuator_ks"]
     wrt = {"t_lower_skin": (3, 12), "t_front_spar": (5,), "cases.gust.controller_C": (0,),
            "cases.gust.controller_D": (0,)}
     J = prob.compute_totals(of=of, wrt=list(wrt), return_format="flat_dict")
-    # relative steps and tolerances per output: the gust KS is smooth to 1e-4 steps; the closed-loop
-    # constraint's trimmed state is a Newton solution whose noise needs 1e-2 steps (O(h^2) then ~1e-3)
-    steps = {of[0]: (1e-4, 1e-4, 1e-4), of[1]: (1e-2, 1e-4, 2e-2)}
+    # relative steps and tolerances per output (the modal system's constraint and the actuator KS
+    # are smooth functions of the projection and the march, as the gust KS)
+    steps = {o: (1e-4, 1e-4, 1e-4) for o in of}
     for o, (h_t, h_g, tol) in steps.items():
         fd = {}
         for nm, idx in wrt.items():
@@ -372,5 +372,92 @@ def test_pegasus_dlm_co_design_totals_match_central_differences():
         for (nm, j), v in fd.items():
             an = np.asarray(J[(o, nm)]).ravel()[j]
             assert abs(an - v) <= tol * big, (o, nm, j, an, v)
-        if o == of[0]:   # the gains move the gust KS: the modal law is in the loads
-            assert abs(fd[("cases.gust.controller_D", 0)]) > 1e-3 * big
+        # the gains move every row: the modal law is in the loads, the pencil and the march
+        assert abs(fd[("cases.gust.controller_D", 0)]) > 1e-3 * big
+
+
+def test_modal_closed_loop_eigenvalues_and_partials():
+    """ModalClosedLoopDamping on the Goland wing with an aileron and a filtered root-bending law:
+    with zero gains its selected eigenvalues are the open-loop doublet-lattice state matrix's
+    (wingmdao.stability.pk.state_matrix, the flutter command's) and the decoupled actuator,
+    controller and lag roots, and every oscillatory root of the state matrix is selected; with the
+    law on a perturbed design (modal mass and stiffness off the reference) check_partials holds."""
+    import openmdao.api as om
+
+    from wingmdao.aero.rfa_system import modal_rfa_system
+    from wingmdao.components.modal_closed_loop import ModalClosedLoopDamping, loaded_modes
+    from wingmdao.stability.pk import state_matrix
+
+    zero = ControlLaw(("root_bending",), A=[[-8.0]], B=[[8.0]], C=[[0.0]], D=[[0.0]])
+    wing, _ = _goland(zero, tau=0.02)
+    s, rfa = wing.structure, wing.rfa
+    m, L = s.mass.shape[0], rfa.n_lags
+    system = modal_rfa_system(s, rfa, design=True, controls=wing.controls)
+
+    def model(law, M, K):
+        p = om.Problem()
+        p.model.add_subsystem("c", ModalClosedLoopDamping(system=system, loaded=loaded_modes(rfa), n_lags=L),
+                              promotes=["*"])
+        p.setup(force_alloc_complex=False)
+        vals = {"airspeed": V, "density": RHO, "modal_mass": M, "modal_stiffness": K,
+                "root_inertia": wing.controls.root_inertia, **law.matrices()}
+        for k, val in vals.items():
+            p.set_val(k, np.asarray(val, float))
+        p.run_model()
+        return p
+
+    p = model(zero, s.mass, s.stiffness)
+    lam = p.model.c.last_eigenvalues
+    ref = np.linalg.eigvals(state_matrix(s, rfa, RHO, V))
+    b = float(rfa.b_ref)
+    extra = np.r_[-1.0 / 0.02, -8.0, -np.asarray(rfa.lags) * V / b]
+    for z in lam:   # each selected root: the state matrix's or a decoupled one
+        d = min(np.abs(ref - z).min(), np.abs(extra - z).min())
+        assert d <= 1e-7 * abs(z), (z, d)
+    osc = ref[(ref.imag > 1.0) & (ref.imag <= 2 * np.pi * 50.0)]
+    assert osc.size >= 3
+    for z in osc:
+        assert np.abs(lam - z).min() <= 1e-7 * abs(z), z
+    assert p.get_val("closed_loop_ks")[0] >= lam.real.max()
+
+    rng = np.random.default_rng(3)
+    E = np.diag(1.0 + 0.1 * rng.uniform(-1, 1, m))
+    p = model(ROOT_LAW, E @ s.mass @ E, s.stiffness * (1.0 + 0.05 * rng.uniform(-1, 1, (m, m))))
+    assert not np.allclose(p.model.c.last_eigenvalues.real, lam.real[:p.model.c.last_eigenvalues.size])
+    data = p.check_partials(out_stream=None, method="fd", form="central", step=1e-6, step_calc="rel_avg")
+    scale = max(np.abs(d["J_fd"]).max() for d in data["c"].values())   # the row's largest entry
+    for (_o, i), d in data["c"].items():
+        an, fd = d["J_fwd"], d["J_fd"]
+        assert np.abs(an - fd).max() <= 1e-5 * scale, (i, np.abs(an - fd).max(), scale)
+        if i in ("modal_stiffness", "controller_D"):
+            assert np.abs(fd).max() > 1e3 * np.abs(an - fd).max(), i   # the design and the gain move it
+
+
+def test_modal_closed_loop_eigenvalues_equal_the_march_decay():
+    """The filtered root-bending law on the Goland wing's aileron: started from the real part of a
+    selected eigenvector of ModalClosedLoopDamping's pencil (the design system at the reference
+    design), the fixed controlled wing's BDF2 march (wing.system, dt = 1e-4 s) keeps the mode's
+    coordinate (the left vector's) at exp(lambda t): its decay rate and frequency over 0.3 s equal
+    Re and Im lambda of the two least-damped oscillatory modes."""
+    from wingmdao.aero.rfa_system import modal_rfa_system
+    from wingmdao.components.modal_closed_loop import loaded_modes, modal_closed_loop_modes
+
+    wing, _ = _goland(ROOT_LAW, tau=0.02)
+    s, rfa, ctl = wing.structure, wing.rfa, wing.controls
+    system = modal_rfa_system(s, rfa, design=True, controls=ctl)
+    p = pack(system.param_specs, {"airspeed": V, "density": RHO, "modal_mass": s.mass, "modal_stiffness": s.stiffness,
+                                  "root_inertia": ctl.root_inertia, **ROOT_LAW.matrices()})
+    lam, v, u, A, B = modal_closed_loop_modes(system, p, loaded_modes(rfa), rfa.n_lags)
+    osc = np.flatnonzero(lam.imag > 1.0)
+    t = np.arange(0.0, 0.3 + 5e-5, 1e-4)
+    pf = pack(wing.system.param_specs, {"airspeed": V, "density": RHO, **ROOT_LAW.matrices()})
+    F = np.zeros((t.size, wing.system.n_forcing))
+    for k in osc[np.argsort(-lam[osc].real)][:2]:
+        x0 = (v[:, k] / v[np.argmax(np.abs(v[:2 * s.mass.shape[0], k])), k]).real
+        X = march(wing.system, t, pf, F, initial="state", x_init=x0).states
+        c = X @ (B.T @ u[:, k].conj()) / np.vdot(u[:, k], B @ v[:, k])   # the mode's coordinate, 1/2 exp(lambda t)
+        i0, i1 = np.searchsorted(t, [0.1, 0.3])
+        rate = np.log(abs(c[i1]) / abs(c[i0])) / (t[i1] - t[i0])
+        freq = np.angle(c[i1] / c[i1 - 1]) / (t[i1] - t[i1 - 1])
+        assert abs(rate - lam[k].real) <= 2e-3 * abs(lam[k].real), (lam[k], rate)
+        assert abs(freq - lam[k].imag) <= 1e-3 * lam[k].imag, (lam[k], freq)

@@ -351,7 +351,7 @@ def actuator_peaks(prob, load_cases) -> dict:
         comp = prob.model._get_subsystem(f"cases.{name}.actuator_limits")
         if comp is None:   # the case runs on another rank
             continue
-        peak = np.max(np.abs(comp.ratios(prob.get_val(f"cases.{name}.states"))), axis=0)
+        peak = np.max(np.abs(comp.ratios(prob.get_val(f"cases.{name}.actuator_limits.states"))), axis=0)
         lim = np.degrees(np.asarray(case.aero.surface_limits, dtype=float).reshape(-1, 2))
         ns = lim.shape[0]
         out[name] = {srf[0]: {"peak_deflection_deg": float(peak[k] * lim[k, 0]), "max_deflection_deg": float(lim[k, 0]),

@@ -80,7 +80,8 @@ class CoupledAero:
     variables of the sizing (:func:`wingmdao.sizing.control_gain_design_vars`). ``surface_limits``:
     per surface ``(max_deflection, max_rate)`` (rad, rad/s): the case then has the output
     ``actuator_ks`` (:class:`~wingmdao.components.actuator_limits.ActuatorLimitKS`), a constraint
-    (<= 1) of the sizing when the gains are sized. ``elevator_effectiveness``
+    (<= 1) of the sizing when the gains are sized (a case with a modal doublet-lattice gust: of the
+    modal march's actuator states). ``elevator_effectiveness``
     (tau_e, with ``pitch``; 0: none): a trimmed static maneuver reports its elevator angle with the
     stabiliser at its 1 g setting (:func:`wingmdao.loads.maneuver_trim.elevator_trim`). ``roll``: the
     antisymmetric half wing on a fuselage free to roll (:mod:`wingmdao.aero.roll`; no plunge, trim or

@@ -82,7 +82,7 @@ class ModalStationLoads(om.ExplicitComponent):
     """
 
     def initialize(self):
-        self.options.declare("wing", types=ModalDLMWing, desc="the ModalDLMWing (approximation, station-load model, damping)")
+        self.options.declare("wing", types=ModalDLMWing, recordable=False, desc="the ModalDLMWing (approximation, station-load model, damping)")
         self.options.declare("node_euler_angles", types=np.ndarray, desc="jig Euler angles (n, 3), rad")
         self.options.declare("airspeed", types=float, desc="true airspeed (m/s)")
         self.options.declare("density", types=float, desc="air density (kg/m^3)")

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import importlib.util
 import numbers
+from dataclasses import replace
 
 import numpy as np
 import openmdao.api as om
@@ -44,6 +45,7 @@ from wingmdao.components.time_history import TimeHistoryComponent
 from wingmdao.components.beam_loads import BeamInternalLoads
 from wingmdao.components.actuator_limits import ActuatorLimitKS
 from wingmdao.components.closed_loop import ClosedLoopDamping
+from wingmdao.components.modal_closed_loop import ModalClosedLoopDamping, loaded_modes
 from wingmdao.components.flutter import FlutterDamping
 from wingmdao.components.turbulence import TurbulenceStressKS
 from wingmdao.components.ks import KSAggregate
@@ -274,18 +276,26 @@ class WingStructure(om.Group):
         """The case's static first instant on the beam (``static``: a WingStructure of
         :meth:`LoadCase.static_case`, e.g. the trimmed 1 g state) plus the gust increment of the
         modal doublet-lattice wing of the design (``modal``: projection on the fixed basis, BDF2
-        march, force-summation loads), summed in ``internal_loads`` (F_csn, M_csn)."""
+        march, force-summation loads), summed in ``internal_loads`` (F_csn, M_csn). With control
+        surfaces the law's closed-loop constraint (``closed_loop_ks``, sized gains) and the surfaces'
+        limits (``actuator_ks``) are the modal system's (:mod:`wingmdao.components.modal_closed_loop`,
+        the modal march's actuator states); the 1 g beam has neither."""
         spec = case.modal_dlm
         nt = case.num_times
         wing = spec.wing
         ctl = wing.controls
-        sized = case.aero is not None and case.aero.gain_design and case.aero.control_law is not None
+        aero = case.aero
+        sized = aero is not None and aero.gain_design and aero.control_law is not None and ctl is not None
+        limits = None if ctl is None or aero is None else getattr(aero, "surface_limits", None)
+        static = case.static_case(n)
+        if aero is not None:  # the law's stability and the surfaces' limits are the modal system's
+            static = replace(static, aero=replace(aero, gain_design=False, surface_limits=None))
         self.recording_options["options_excludes"] = ["load_case"]   # CasADi functions of the projection
-        self.add_subsystem("static", WingStructure(num_nodes=n, load_case=case.static_case(n),
+        self.add_subsystem("static", WingStructure(num_nodes=n, load_case=static,
                                                    material=self.options["material"], section=self.options["section"],
                                                    newton_options=self.options["newton_options"],
                                                    forcing_as_data=self.options["forcing_as_data"]),
-                           promotes_inputs=["*"], promotes_outputs=["closed_loop_ks"] if sized else [])
+                           promotes_inputs=["*"])
         gains = [] if ctl is None else [sp.name for sp in control_param_specs(ctl.spec)]
         modal = self.add_subsystem("modal", om.Group(), promotes_inputs=list(DESIGN_INPUTS) + gains)
         flight = modal.add_subsystem("flight", om.IndepVarComp())
@@ -299,7 +309,8 @@ class WingStructure(om.Group):
                 "gust_velocity_acceleration": gust[:, 2], "modal_force": np.zeros((nt, m))}
         if ctl is not None:  # the flap modes and the law in the modal residual; no open-loop command
             data["surface_command"] = np.zeros((nt, ctl.n_surfaces))
-        march = TimeHistoryComponent(system=modal_rfa_system(wing.structure, wing.rfa, design=True, controls=ctl),
+        system = modal_rfa_system(wing.structure, wing.rfa, design=True, controls=ctl)
+        march = TimeHistoryComponent(system=system,
                                      time=case.time, forcing_data=data,
                                      initial="state" if spec.plunge else "static")  # free: from rest
         march.recording_options["options_excludes"] = ["system", "forcing_data"]
@@ -318,6 +329,26 @@ class WingStructure(om.Group):
             modal.connect(f"projection.{k}", f"loads.{k}")
         modal.connect("projection.modal_inertia", "loads.modal_inertia")
         modal.connect("march.states", "loads.states")
+        if sized:  # the sized law keeps the modal system stable (docs/controls.md)
+            modal.add_subsystem("closed_loop", ModalClosedLoopDamping(
+                system=system, loaded=loaded_modes(wing.rfa), n_lags=wing.rfa.n_lags), promotes_inputs=gains,
+                                promotes_outputs=["closed_loop_ks"])
+            for k in ("airspeed", "density"):
+                modal.connect(f"flight.{k}", f"closed_loop.{k}")
+            for k in ("modal_mass", "modal_stiffness"):
+                modal.connect(f"projection.{k}", f"closed_loop.{k}")
+            modal.connect("projection.modal_inertia", "closed_loop.root_inertia", src_indices=np.arange(3 * m, 4 * m),
+                          flat_src_indices=True)
+            self.promotes("modal", outputs=["closed_loop_ks"])
+        if limits is not None:  # the surfaces' deflection and rate over their limits on the modal march
+            base = 2 * m + wing.rfa.n_lags * (m + 1)   # the first actuator state (rfa_system's layout)
+            lim = np.asarray(limits, dtype=float).reshape(ctl.n_surfaces, 2)
+            self.add_subsystem("actuator_limits", ActuatorLimitKS(
+                num_times=nt, state_shape=tuple(system.state_shape),
+                deflection_index=base + 2 * np.arange(ctl.n_surfaces), rate_index=base + 1 + 2 * np.arange(ctl.n_surfaces),
+                max_deflection=lim[:, 0], max_rate=lim[:, 1], rho_ks=self.options["rho_ks"]),
+                promotes_outputs=["actuator_ks"])
+            self.connect("modal.march.states", "actuator_limits.states")
         self.add_subsystem("internal_loads", ModalLoadSum(num_times=nt, num_nodes=n))
         for k in ("F_csn", "M_csn"):
             self.connect(f"static.internal_loads.{k}", f"internal_loads.static_{k}")
