@@ -328,6 +328,11 @@ def actuator_limit_outputs(load_cases, *, sized_only: bool = False) -> list:
             and getattr(c.aero, "surface_limits", None) is not None and (c.aero.gain_design or not sized_only)]
 
 
+def _local_subsystem(prob, pathname: str):
+    """The subsystem ``pathname`` of the problem's model if this rank holds it, else None."""
+    return next((s for s in prob.model.system_iter(recurse=True) if s.pathname == pathname), None)
+
+
 def actuator_peaks(prob, load_cases) -> dict:
     """``{case: {surface: {"peak_deflection_deg", "max_deflection_deg", "peak_rate_deg_s", "max_rate_deg_s"}}}``
     of the marched cases with :func:`actuator_limit_outputs`, from the problem's state histories.
@@ -348,7 +353,7 @@ def actuator_peaks(prob, load_cases) -> dict:
     for path in actuator_limit_outputs(load_cases):
         name = path.split(".")[1]
         case = next(c for c in load_cases if c.name == name)
-        comp = prob.model._get_subsystem(f"cases.{name}.actuator_limits")
+        comp = _local_subsystem(prob, f"cases.{name}.actuator_limits")
         if comp is None:   # the case runs on another rank
             continue
         peak = np.max(np.abs(comp.ratios(prob.get_val(f"cases.{name}.actuator_limits.states"))), axis=0)
@@ -758,7 +763,7 @@ def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, sectio
                 out["active_constraints"].append(name)
     constrained = set(prob.model.get_constraints())
     for path in actuator_limit_outputs(load_cases):  # <= 1; constraints where the gains are sized
-        if prob.model._get_subsystem(path.rsplit(".", 1)[0] + ".actuator_limits") is None:
+        if _local_subsystem(prob, path.rsplit(".", 1)[0] + ".actuator_limits") is None:
             continue   # the case runs on another rank
         value = float(np.asarray(prob.get_val(path)).ravel()[0])
         out.setdefault("actuator_ks", {})[path.split(".")[1]] = value
