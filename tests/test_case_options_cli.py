@@ -185,3 +185,17 @@ def test_shared_flags_round_trip_on_the_command(name):
         if f.metadata.get("shared"):
             value, words = _other_value(f, hints[f.name])
             assert getattr(options_from_namespace(module.OPTIONS, parser.parse_args(words)), f.name) == value
+
+
+def test_closed_loop_margin_flag_help_and_value():
+    """``wingmdao size pegasus --closed-loop-margin`` (1/s): its help names the unit and the default
+    0.0, and the value reaches the case options."""
+    parser = _size_parser("pegasus")
+    action = next(a for a in parser._actions if "--closed-loop-margin" in a.option_strings)
+    text = DefaultsHelpFormatter(parser.prog)._get_help_string(action) % {"default": action.default}
+    assert action.metavar == "PER_S" and "Re lambda <= -margin (1/s, >= 0;" in text, text
+    assert text.endswith("(default: 0.0)"), text
+    assert "--closed-loop-margin PER_S" in parser.format_help()
+    args = parser.parse_args(["--closed-loop-margin", "0.4"])
+    assert args.closed_loop_margin == 0.4
+    assert parser.parse_args([]).closed_loop_margin == 0.0

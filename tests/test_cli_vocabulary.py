@@ -117,6 +117,8 @@ def test_no_python_none_in_help(path):
     (["gust", "pegasus", "--altitude-ft", "-1", "--no-plots"], "--altitude-ft = -1.0 ft; allowed range [0, 60000] ft"),
     (["size", "cantilever", "--num-nodes", "2", "--analysis-only"], "--num-nodes = 2; allowed range >= 3"),
     (["size", "pegasus", "--damping-ratio", "-1", "--analysis-only"], "--damping-ratio = -1.0; allowed range [0, 1)"),
+    (["size", "pegasus", "--closed-loop-margin", "-0.5", "--analysis-only"],
+     "--closed-loop-margin = -0.5 1/s; allowed range [0, inf) 1/s"),
     (["run", "wing-box", "--geometry", "prismatic", "--gravity", "-1"], "--gravity = -1.0 m/s^2; allowed range [0, inf)"),
 ])
 def test_errors_name_the_flag_with_a_range_that_is_not_empty(argv, message, capsys, tmp_path, monkeypatch):

@@ -199,3 +199,31 @@ def test_pegasus_modes_equal_dense_solve():
         for nm in ("controller_C", "controller_D"):
             ps[lay[nm]] *= scale
         _assert_same_modes(s, ps, x0, 40.0 / 100.0)
+
+
+@pytest.mark.slow
+def test_pegasus_closed_loop_margin_shifts_the_constraint():
+    """--closed-loop-margin m reaches ClosedLoopDamping: at the same design and gains the constraint
+    is KS(Re lambda + m) = KS(Re lambda) + m (the KS of a shifted set is the shifted KS), so the two
+    runs differ by exactly m; a negative margin, or a margin without --size-gains, is refused before
+    any solve."""
+    from wingmdao.cases import pegasus
+    from wingmdao.sizing import build_problem
+
+    ks = {}
+    for margin in (0.0, 0.75):
+        setup = pegasus.build(pegasus.PegasusOptions(loads="gust", aero="coupled", aero_theory="strip", plunge="free",
+                                                     t_final=0.3, dt=0.03, gust_start=0.0, alleviation=EXAMPLE,
+                                                     size_gains=True, closed_loop_margin=margin))
+        setup.options.disp = False
+        prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options, driver=False)
+        assert prob.model._get_subsystem("cases.gust.closed_loop").options["margin"] == margin
+        prob.run_model()
+        ks[margin] = float(prob.get_val("cases.gust.closed_loop_ks")[0])
+    assert ks[0.75] - ks[0.0] == pytest.approx(0.75, abs=1e-9), ks
+    with pytest.raises(ValueError, match=r"--closed-loop-margin = -0.1 1/s; allowed range \[0, inf\) 1/s"):
+        pegasus.build(pegasus.PegasusOptions(loads="gust", aero="coupled", plunge="free", alleviation=EXAMPLE,
+                                             size_gains=True, closed_loop_margin=-0.1))
+    with pytest.raises(ValueError, match="--closed-loop-margin = 0.5 1/s applies with --size-gains"):
+        pegasus.build(pegasus.PegasusOptions(loads="gust", aero="coupled", plunge="free", alleviation=EXAMPLE,
+                                             closed_loop_margin=0.5))

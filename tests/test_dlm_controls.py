@@ -461,3 +461,25 @@ def test_modal_closed_loop_eigenvalues_equal_the_march_decay():
         freq = np.angle(c[i1] / c[i1 - 1]) / (t[i1] - t[i1 - 1])
         assert abs(rate - lam[k].real) <= 2e-3 * abs(lam[k].real), (lam[k], rate)
         assert abs(freq - lam[k].imag) <= 1e-3 * lam[k].imag, (lam[k], freq)
+
+
+@pytest.mark.slow
+def test_pegasus_dlm_closed_loop_margin_shifts_the_constraint():
+    """--closed-loop-margin m reaches the modal system's ModalClosedLoopDamping (--aero-theory dlm
+    --size-gains): at the same design and gains closed_loop_ks grows by exactly m (KS(x + m) =
+    KS(x) + m)."""
+    from wingmdao.cases import pegasus
+    from wingmdao.sizing import build_problem
+
+    ks = {}
+    for margin in (0.0, 0.75):
+        setup = pegasus.build(pegasus.PegasusOptions(
+            loads="gust", aero="coupled", aero_theory="dlm", t_final=0.2, dt=0.04, gust_start=0.0, families="vm",
+            plunge="free", size_gains=True, alleviation="docs/examples/pegasus_alleviation.yaml",
+            closed_loop_margin=margin))
+        setup.options.disp = False
+        prob, _ = build_problem(setup.geometry, setup.load_cases, setup.material, setup.options, driver=False)
+        assert prob.model._get_subsystem("cases.gust.modal.closed_loop").options["margin"] == margin
+        prob.run_model()
+        ks[margin] = float(prob.get_val("cases.gust.closed_loop_ks")[0])
+    assert ks[0.75] - ks[0.0] == pytest.approx(0.75, abs=1e-9), ks

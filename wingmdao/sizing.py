@@ -753,6 +753,8 @@ def summarize(prob, load_cases, driver_desc, *, success=True, wall_s=0.0, sectio
     for path in closed_loop_constraints(load_cases):
         value = float(np.asarray(prob.get_val(path)).ravel()[0])
         out.setdefault("closed_loop_ks", {})[path.split(".")[1]] = value
+        case = next(c for c in load_cases if c.name == path.split(".")[1])
+        out.setdefault("closed_loop_margin", {})[case.name] = float(case.aero.closed_loop_margin)   # 1/s
         if value > -1e-3:
             out["active_constraints"].append(path)
     for name in ("flutter_ks", "turbulence_ks"):

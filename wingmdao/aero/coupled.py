@@ -149,6 +149,10 @@ class CoupledAero:
         The law's ``controller_C`` and ``controller_D`` are design variables.
     surface_limits : tuple or None, optional
         Per surface ``(max_deflection, max_rate)`` (rad, rad/s); None: no actuator-limit output.
+    closed_loop_margin : float, optional
+        With ``gain_design``: the decay rate every loaded closed-loop mode must reach,
+        ``Re lambda <= -closed_loop_margin`` (1/s, >= 0; the ``margin`` of the ``closed_loop_ks``
+        constraint).
     elevator_effectiveness : float, optional
         tau_e of the elevator (-; 0: none).
     roll : bool, optional
@@ -183,6 +187,7 @@ class CoupledAero:
     control_law: object = None
     gain_design: bool = False
     surface_limits: object = None
+    closed_loop_margin: float = 0.0
     elevator_effectiveness: float = 0.0
     roll: bool = False
     roll_inertia: float = 0.0

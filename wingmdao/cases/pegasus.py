@@ -169,6 +169,10 @@ class PegasusOptions(CaseOptions):
                                      "constraints closed_loop_ks <= 0 and actuator_ks <= 1 (KS over the march of "
                                      "|deflection|/max_deflection_deg and |rate|/max_rate_deg_s per surface; with "
                                      "fixed gains actuator_ks is reported, not constrained)")
+    closed_loop_margin: float = option(0.0, "with --size-gains: the decay rate every loaded closed-loop mode must reach, "
+                                            "closed_loop_ks = KS(Re lambda + margin) <= 0, i.e. Re lambda <= -margin "
+                                            "(1/s, >= 0; 0: stability only; a mode of frequency f gets damping "
+                                            "ratio ~ margin / (2 pi f))", metavar="PER_S")
     rolling: bool = option(False, "add the 14 CFR 25.349(a) rolling conditions at load factor 0 (V_A, V_C, V_D: the "
                                   "antisymmetric increments of a sudden aileron, the half wing free to roll, 2 s "
                                   "marches at --dt; docs/maneuvers.md): the ailerons are the surfaces of --alleviation "
@@ -212,7 +216,7 @@ OPTIONS = PegasusOptions
 GUST_ONLY_OPTIONS = ("altitude_ft", "mach", "u_ref_fps", "gust_gradient_ft", "t_final", "dt", "gust_start",
                      "kussner", "damping_ratio", "damping_frequency_hz", "plunge", "pitch", "pitch_inertia", "cg_x",
                      "cg_z", "tail_arm", "tail_area", "tail_lift_slope", "downwash_gradient", "tail_lag", "alleviation",
-                     "size_gains",
+                     "size_gains", "closed_loop_margin",
                      "gust_set", "gust_gradients_ft", "gust_gradient_count", "gust_sign")
 
 
@@ -476,6 +480,23 @@ def gust_case(opts, geometry, chord, axis_frac, families, pf=PLANFORM, weight_lb
                                          + (" (down)" if direction < 0 else ""))
 
 
+def _check_closed_loop_margin(opts):
+    """Refuse a ``--closed-loop-margin`` that is not finite and >= 0, or given without ``--size-gains``.
+
+    Parameters
+    ----------
+    opts : PegasusOptions
+        The case options.
+    """
+    margin = opts.closed_loop_margin
+    if not (np.isfinite(margin) and margin >= 0.0):
+        raise ValueError(f"--closed-loop-margin = {margin} 1/s; allowed range [0, inf) 1/s "
+                         "(the decay rate -Re lambda every closed-loop mode must reach)")
+    if margin > 0.0 and not opts.size_gains:
+        raise ValueError(f"--closed-loop-margin = {margin} 1/s applies with --size-gains (the constraint "
+                         "closed_loop_ks of the sized law); add --size-gains or drop the margin")
+
+
 def _check_time_grid(opts, num_nodes):
     """Time grid, reference gust velocity and gust start of the dynamic cases, before any solve."""
     if not (np.isfinite(opts.t_final) and opts.t_final > 0 and 0 < opts.dt <= opts.t_final / 10):
@@ -697,6 +718,7 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
     controls = {}
     if getattr(opts, "size_gains", False) and not getattr(opts, "alleviation", None):
         raise ValueError("--size-gains needs --alleviation FILE.yaml (the law whose gains are sized)")
+    margin = float(getattr(opts, "closed_loop_margin", 0.0))
     if getattr(opts, "alleviation", None):  # control surfaces and a feedback law (docs/controls.md)
         surfaces, law = read_alleviation(opts.alleviation)
         if law is not None and "load_factor" in law.outputs and not free:
@@ -711,7 +733,7 @@ def coupled_gust_case(name, opts, geometry, chord, axis_frac, families, time, *,
             raise ValueError(f"--size-gains: --alleviation {opts.alleviation} has no law (no gains to size)")
         limits = tuple((float(np.radians(s.max_deflection_deg)), float(np.radians(s.max_rate_deg_s))) for s in surfaces)
         controls = dict(controls=spec, control_law=law, gain_design=bool(getattr(opts, "size_gains", False)),
-                        surface_limits=limits if law is not None else None)
+                        closed_loop_margin=margin, surface_limits=limits if law is not None else None)
     modal = None
     if opts.aero_theory == "dlm":  # the trimmed 1 g state on the VLM beam + the gust on the modal doublet lattice
         if pitch:
@@ -881,6 +903,7 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
     zeta = opts.damping_ratio
     if not 0.0 <= zeta < 1.0:
         raise ValueError(f"--damping-ratio = {zeta}; allowed range [0, 1)")
+    _check_closed_loop_margin(opts)
     geometry, chord, axis_frac = wing_geometry(pf, engines)
     sizing = SizingOptions(lower={w: MIN_GAUGE for w in WALL_VARS}, upper={w: 0.05 for w in WALL_VARS},
                            initial={w: 0.01 for w in WALL_VARS}, rho_ks=100.0, presize=4)

@@ -331,7 +331,8 @@ class WingStructure(om.Group):
         modal.connect("march.states", "loads.states")
         if sized:  # the sized law keeps the modal system stable (docs/controls.md)
             modal.add_subsystem("closed_loop", ModalClosedLoopDamping(
-                system=system, loaded=loaded_modes(wing.rfa), n_lags=wing.rfa.n_lags), promotes_inputs=gains,
+                system=system, loaded=loaded_modes(wing.rfa), n_lags=wing.rfa.n_lags,
+                margin=float(aero.closed_loop_margin)), promotes_inputs=gains,
                                 promotes_outputs=["closed_loop_ks"])
             for k in ("airspeed", "density"):
                 modal.connect(f"flight.{k}", f"closed_loop.{k}")
@@ -429,7 +430,7 @@ class WingStructure(om.Group):
             else:  # clamped: trim_lift is the case's promoted input, shared with the beam
                 connected = {}
             names = [sp.name for sp in system.param_specs]
-            self.add_subsystem("closed_loop", ClosedLoopDamping(system=system),
+            self.add_subsystem("closed_loop", ClosedLoopDamping(system=system, margin=float(aero.closed_loop_margin)),
                                promotes_inputs=[nm for nm in names if nm not in connected],
                                promotes_outputs=["closed_loop_ks"])
             for nm, src in connected.items():
