@@ -474,7 +474,7 @@ def test_pegasus_dlm_closed_loop_margin_shifts_the_constraint():
     ks = {}
     for margin in (0.0, 0.75):
         setup = pegasus.build(pegasus.PegasusOptions(
-            loads="gust", aero="coupled", aero_theory="dlm", t_final=0.2, dt=0.04, gust_start=0.0, families="vm",
+            loads="gust", aero="coupled", aero_theory="dlm", t_final=0.4, dt=0.04, gust_start=0.0, families="vm",
             plunge="free", size_gains=True, alleviation="docs/examples/pegasus_alleviation.yaml",
             closed_loop_margin=margin))
         setup.options.disp = False
