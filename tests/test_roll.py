@@ -386,6 +386,27 @@ def test_sizing_case_rolling_combined_with_symmetric():
         LoadCase("bad", time, forcing, ("vm",), aero=aero, symmetric=cases[0])
 
 
+def test_symmetric_load_combination_partials():
+    """SymmetricLoadCombination: symmetric ± increment, its sparse partials against central differences."""
+    import openmdao.api as om
+
+    from wingmdao.components.load_combination import SymmetricLoadCombination
+
+    rng = np.random.default_rng(3)
+    prob = om.Problem()
+    prob.model.add_subsystem("c", SymmetricLoadCombination(num_times=4, num_nodes=3), promotes=["*"])
+    prob.setup(force_alloc_complex=False)
+    for k in ("F_csn", "M_csn"):
+        prob.set_val(f"symmetric_{k}", rng.normal(size=(1, 3, 3)))
+        prob.set_val(f"increment_{k}", rng.normal(size=(4, 3, 3)))
+    prob.run_model()
+    s, d = prob.get_val("symmetric_M_csn"), prob.get_val("increment_M_csn")
+    assert np.allclose(prob.get_val("M_csn")[:4], s + d) and np.allclose(prob.get_val("M_csn")[4:], s - d)
+    data = prob.check_partials(method="fd", form="central", out_stream=None)
+    for key, d_ in data["c"].items():
+        assert np.abs(d_["J_fwd"] - d_["J_fd"]).max() <= 1e-6, key
+
+
 def test_size_pegasus_rolling_cases_and_bad_options():
     """``size pegasus --rolling``: the three 25.349(a) cases join the load set (V_C and V_D
     deflections from the steady roll of the initial design, below the stops), the outputs are named
