@@ -169,9 +169,10 @@ class PegasusOptions(CaseOptions):
                                      "constraints closed_loop_ks <= 0 and actuator_ks <= 1 (KS over the march of "
                                      "|deflection|/max_deflection_deg and |rate|/max_rate_deg_s per surface; with "
                                      "fixed gains actuator_ks is reported, not constrained)")
-    rolling: bool = option(False, "add the 14 CFR 25.349(a) rolling conditions at load factor 0 (V_A, V_C, V_D: the "
-                                  "antisymmetric increments of a sudden aileron, the half wing free to roll, 2 s "
-                                  "marches at --dt; docs/maneuvers.md): the ailerons are the surfaces of --alleviation "
+    rolling: bool = option(False, "add the 14 CFR 25.349(a) rolling conditions (V_A, V_C, V_D: the antisymmetric "
+                                  "increments of a sudden aileron, the half wing free to roll, 2 s marches at --dt, "
+                                  "each wing's combined with the strip loads' maneuver at 2/3 --load-factor; "
+                                  "docs/maneuvers.md): the ailerons are the surfaces of --alleviation "
                                   "(its law is not in them); needs --roll-inertia and --maneuvering-speed-eas",
                            group=ROLL_GROUP)
     roll_inertia: float | None = option(None, "--rolling: roll inertia about the body x axis of the aircraft outside "
