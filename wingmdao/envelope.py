@@ -64,8 +64,8 @@ def collect(prob, load_cases, span, families=None) -> dict:
         g = np.max(np.stack([np.asarray(prob.get_val(f"{p}.{'stress' if f in case.families else 'panels'}.g_{f}"))
                              .max(axis=2) for f in fams]), axis=0)
         # a case combined with a symmetric one: both wings, symmetric + increment then - increment
-        src, time = ((f"{p}.combined_loads", np.concatenate([case.time, case.time]))
-                     if getattr(case, "symmetric", None) is not None else (f"{p}.internal_loads", np.asarray(case.time)))
+        src = f"{p}.{getattr(case, 'loads_path', 'internal_loads')}"
+        time = np.tile(np.asarray(case.time), getattr(case, "num_stress_times", len(case.time)) // len(case.time))
         data[f"F__{case.name}"] = np.asarray(prob.get_val(f"{src}.F_csn", units="N"))
         data[f"M__{case.name}"] = np.asarray(prob.get_val(f"{src}.M_csn", units="N*m"))
         data[f"g__{case.name}"] = g  # (nt, n)

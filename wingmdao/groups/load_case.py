@@ -146,6 +146,17 @@ class LoadCase:
         return int(self.time.size)
 
     @property
+    def loads_path(self) -> str:
+        """The subsystem of the case's WingStructure whose ``F_csn``, ``M_csn`` the stress reads:
+        ``combined_loads`` (2 n_time instants, both wings) with ``symmetric``, else ``internal_loads``."""
+        return "combined_loads" if self.symmetric is not None else "internal_loads"
+
+    @property
+    def num_stress_times(self) -> int:
+        """Instants of the stress and KS: 2 n_time with ``symmetric`` (both wings), else n_time."""
+        return (2 if self.symmetric is not None else 1) * self.num_times
+
+    @property
     def is_static(self) -> bool:
         return self.num_times == 1
 
