@@ -314,6 +314,99 @@ def test_sizing_case_rolling_totals():
         CoupledAero(chord=1.0, airspeed=50.0, density=1.2, roll=True).parameters(3)
 
 
+def test_sizing_case_rolling_combined_with_symmetric():
+    """25.349(a) at 2/3 n_lim in the sizing model: a rolling case with ``symmetric`` (the strip loads'
+    static maneuver) has, at every instant, the stresses of the separately computed symmetric case
+    plus (right wing) and minus (left wing) those of the rolling increments alone: the box stresses
+    recovered from each case's own internal loads are linear in them and add. Its stress KS has
+    exact totals (the march's adjoint for the increment, the static beam's for the symmetric part)."""
+    import openmdao.api as om
+
+    from wingmdao.aero.controls import read_alleviation
+    from wingmdao.aero.coupled import CoupledAero
+    from wingmdao.cases import pegasus
+    from wingmdao.cases.planform import wing_geometry
+    from wingmdao.components.stress import BoxStress
+    from wingmdao.groups.load_case import LoadCase
+    from wingmdao.sizing import build_problem
+
+    setup = pegasus.build(pegasus.PegasusOptions(loads="maneuver"))
+    setup.options.disp = False
+    geo = setup.geometry
+    n = geo.num_nodes
+    _, chord, axis = wing_geometry(pegasus.PLANFORM, pegasus.ENGINES)
+    surfaces, _ = read_alleviation(str(Path(__file__).resolve().parents[1] / "docs/examples/pegasus_ailerons.yaml"))
+    spec = control_spec(surfaces, geo.node_positions[:, 1])
+    time = np.arange(11) * 0.03
+    forcing = {"gravity": np.zeros(3), "roll_start": (time == 0) * 1.0,
+               "surface_command": np.where(time[:, None] > 0, np.radians(20.0), 0.0)}
+    aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis, dtype=float), airspeed=123.3,
+                       density=0.6527, mach=0.39, roll=True, roll_inertia=2.0e4, controls=spec)
+    sym = pegasus.maneuver_case("sym", 2.5 * 2 / 3, geo, chord, axis, ("vm",))
+    cases = [LoadCase("inc", time, forcing, ("vm",), aero=aero), sym,
+             LoadCase("comb", time, forcing, ("vm",), aero=aero, symmetric=sym)]
+    prob, _ = build_problem(geo, cases, setup.material, setup.options, driver=False)
+    prob.run_model()
+    F = {c: np.asarray(prob.get_val(f"cases.{c}.internal_loads.F_csn")) for c in ("inc", "sym")}
+    M = {c: np.asarray(prob.get_val(f"cases.{c}.internal_loads.M_csn")) for c in ("inc", "sym")}
+    # the box stresses of each state from its own loads, separately: [increment, symmetric, their sum]
+    k = int(np.argmax(np.abs(M["inc"][:, 0, 0])))   # the instant of the largest root bending increment
+    assert abs(M["inc"][k, 0, 0]) > 0.02 * abs(M["sym"][0, 0, 0]) > 0
+    rows = lambda a, b: np.stack([a["inc"][k], b["sym"][0], a["inc"][k] + b["sym"][0], b["sym"][0] - a["inc"][k]])
+    p2 = om.Problem()
+    p2.model.add_subsystem("s", BoxStress(num_times=4, num_stations=n, material=setup.material, families=("vm",)),
+                           promotes=["*"])
+    p2.setup()
+    p2.set_val("F_csn", rows(F, F))
+    p2.set_val("M_csn", rows(M, M))
+    for name in ("width", "height", "t_upper_skin", "t_lower_skin", "t_front_spar", "t_rear_spar"):
+        p2.set_val(name, prob.get_val(f"cases.comb.stress.{name}"))
+    p2.run_model()
+    for out in ("sigma_corner", "tau_cent"):
+        s_ = np.asarray(p2.get_val(out))
+        scale = np.abs(s_).max()
+        assert np.abs(s_[2] - (s_[0] + s_[1])).max() <= 1e-9 * scale, out     # linear in the loads: they add
+        assert np.abs(s_[3] - (s_[1] - s_[0])).max() <= 1e-9 * scale, out
+    g_sep = np.asarray(p2.get_val("g_vm"))
+    g = np.asarray(prob.get_val("cases.comb.stress.g_vm"))
+    assert g.shape[0] == 2 * time.size
+    scale = np.abs(g_sep[1]).max()
+    assert np.abs(g[k] - g_sep[2]).max() <= 1e-6 * scale            # right wing: symmetric + increment
+    assert np.abs(g[time.size + k] - g_sep[3]).max() <= 1e-6 * scale   # left wing: symmetric - increment
+    assert np.abs(g[k] - g_sep[1]).max() > 1e-3 * scale              # the increment matters at this instant
+    assert prob.get_val("cases.comb.ks_vm")[0] > max(prob.get_val("cases.inc.ks_vm")[0], prob.get_val("cases.sym.ks_vm")[0])
+    wrt = ["t_upper_skin", "cases.comb.body_roll_inertia"]
+    data = prob.check_totals(of=["cases.comb.ks_vm"], wrt=wrt, method="fd", form="central", step=1e-6,
+                             step_calc="rel_avg", out_stream=None)
+    for key, d in data.items():
+        J = d["J_fwd"] if "J_fwd" in d else d["J_rev"]
+        assert np.abs(d["J_fd"]).max() > 0, key
+        assert np.abs(J - d["J_fd"]).max() <= 1e-6 * np.abs(d["J_fd"]).max(), key
+    with pytest.raises(ValueError, match="symmetric must be a static structural LoadCase"):
+        LoadCase("bad", time, forcing, ("vm",), aero=aero, symmetric=cases[0])
+
+
+def test_symmetric_load_combination_partials():
+    """SymmetricLoadCombination: symmetric ± increment, its sparse partials against central differences."""
+    import openmdao.api as om
+
+    from wingmdao.components.load_combination import SymmetricLoadCombination
+
+    rng = np.random.default_rng(3)
+    prob = om.Problem()
+    prob.model.add_subsystem("c", SymmetricLoadCombination(num_times=4, num_nodes=3), promotes=["*"])
+    prob.setup(force_alloc_complex=False)
+    for k in ("F_csn", "M_csn"):
+        prob.set_val(f"symmetric_{k}", rng.normal(size=(1, 3, 3)))
+        prob.set_val(f"increment_{k}", rng.normal(size=(4, 3, 3)))
+    prob.run_model()
+    s, d = prob.get_val("symmetric_M_csn"), prob.get_val("increment_M_csn")
+    assert np.allclose(prob.get_val("M_csn")[:4], s + d) and np.allclose(prob.get_val("M_csn")[4:], s - d)
+    data = prob.check_partials(method="fd", form="central", out_stream=None)
+    for key, d_ in data["c"].items():
+        assert np.abs(d_["J_fwd"] - d_["J_fd"]).max() <= 1e-6, key
+
+
 def test_size_pegasus_rolling_cases_and_bad_options():
     """``size pegasus --rolling``: the three 25.349(a) cases join the load set (V_C and V_D
     deflections from the steady roll of the initial design, below the stops), the outputs are named

@@ -63,10 +63,13 @@ def collect(prob, load_cases, span, families=None) -> dict:
         fams = case.families if families is None else families[case.name]
         g = np.max(np.stack([np.asarray(prob.get_val(f"{p}.{'stress' if f in case.families else 'panels'}.g_{f}"))
                              .max(axis=2) for f in fams]), axis=0)
-        data[f"F__{case.name}"] = np.asarray(prob.get_val(f"{p}.internal_loads.F_csn", units="N"))
-        data[f"M__{case.name}"] = np.asarray(prob.get_val(f"{p}.internal_loads.M_csn", units="N*m"))
+        # a case combined with a symmetric one: both wings, symmetric + increment then - increment
+        src = f"{p}.{getattr(case, 'loads_path', 'internal_loads')}"
+        time = np.tile(np.asarray(case.time), getattr(case, "num_stress_times", len(case.time)) // len(case.time))
+        data[f"F__{case.name}"] = np.asarray(prob.get_val(f"{src}.F_csn", units="N"))
+        data[f"M__{case.name}"] = np.asarray(prob.get_val(f"{src}.M_csn", units="N*m"))
         data[f"g__{case.name}"] = g  # (nt, n)
-        data[f"t__{case.name}"] = np.asarray(case.time)
+        data[f"t__{case.name}"] = time
         names.append(case.name)
     data["case_names"] = np.array(names)
     data["span"] = np.asarray(span, dtype=float)

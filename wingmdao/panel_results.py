@@ -232,7 +232,7 @@ def rib_summary(prob, load_cases, panels, geometry, material) -> dict:
     depth = h - 2 * t_skin[0]
     worst = {k: np.zeros(ribs.size) for k in ("web", "crushing", "shear")}
     for case in load_cases:
-        m = np.asarray(prob.get_val(f"cases.{case.name}.internal_loads.M_csn"))[..., 0]   # (nt, n) M_c
+        m = np.asarray(prob.get_val(f"cases.{case.name}.{case.loads_path}.M_csn"))[..., 0]   # (nt, n) M_c
         m_rib = np.array([np.interp(ribs, y, row) for row in m.reshape(-1, y.size)])
         dfn = np.asarray(prob.get_val(f"cases.{case.name}.load_gradient.dF_csn_ds"))[..., 2]
         p_rib = np.array([np.interp(ribs, y, row) for row in dfn.reshape(-1, y.size)])

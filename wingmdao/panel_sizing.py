@@ -85,8 +85,8 @@ def running_load_states(prob, setup, stiffened: bool) -> dict:
     sec = {k: np.asarray(prob.get_val(k)).ravel() for k in SECTION_PROPERTIES}
     out = {s: [[], [], [], []] for s in ("upper", "lower", "front", "rear")}
     for case in setup.load_cases:
-        f = np.asarray(prob.get_val(f"cases.{case.name}.internal_loads.F_csn"))
-        m = np.asarray(prob.get_val(f"cases.{case.name}.internal_loads.M_csn"))
+        f = np.asarray(prob.get_val(f"cases.{case.name}.{case.loads_path}.F_csn"))
+        m = np.asarray(prob.get_val(f"cases.{case.name}.{case.loads_path}.M_csn"))
         df = force_gradient(f, geo.node_positions)
         loads = panel_running_loads([f[..., i] for i in range(3)], [m[..., i] for i in range(3)], geo.width,
                                     geo.height, *walls, tuple(axial), sec,

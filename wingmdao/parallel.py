@@ -170,8 +170,8 @@ class CaseExchange:
                 p = f"cases.{c.name}"
                 data[c.name] = {**{f"ks_{f}": np.array(self.prob.get_val(f"{p}.ks_{f}")) for f in c.families},
                                 **{f"g_{f}": np.array(self.prob.get_val(f"{p}.stress.g_{f}")) for f in c.families},
-                                "F_csn": np.array(self.prob.get_val(f"{p}.internal_loads.F_csn")),
-                                "M_csn": np.array(self.prob.get_val(f"{p}.internal_loads.M_csn"))}
+                                "F_csn": np.array(self.prob.get_val(f"{p}.{c.loads_path}.F_csn")),
+                                "M_csn": np.array(self.prob.get_val(f"{p}.{c.loads_path}.M_csn"))}
             local = {"data": data}
         except Exception as exc:  # noqa: BLE001 - every rank must reach the allgather
             local = {"error": f"rank {self.comm.rank}: {type(exc).__name__}: {exc}"}
@@ -296,13 +296,14 @@ def add_case_proxies(cases, exchange, geometry, material, section, n_dv, add_con
         if add_constraints:  # as WingStructure(add_constraints=True) does
             for fam in case.families:
                 grp.add_constraint(f"ks_{fam}", upper=0.0)
-        shapes = {f: (case.num_times, n, k) for f, k in stress_points(section, case.families).items()}
+        nt = case.num_stress_times   # both wings of a case combined with a symmetric one
+        shapes = {f: (nt, n, k) for f, k in stress_points(section, case.families).items()}
         grp.add_subsystem("stress", CaseHistory(outputs={f"g_{f}": (shapes[f], None, f"{f} stress constraints")
                                                          for f in case.families}, **kw),
                           promotes_inputs=design)
-        grp.add_subsystem("internal_loads", CaseHistory(outputs={
-            "F_csn": ((case.num_times, n, 3), "N", "internal force, csn frame"),
-            "M_csn": ((case.num_times, n, 3), "N*m", "internal moment, csn frame")}, **kw),
+        grp.add_subsystem(case.loads_path, CaseHistory(outputs={
+            "F_csn": ((nt, n, 3), "N", "internal force, csn frame"),
+            "M_csn": ((nt, n, 3), "N*m", "internal moment, csn frame")}, **kw),
             promotes_inputs=design)
 
 

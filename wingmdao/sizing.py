@@ -1054,6 +1054,9 @@ def case_responses(prob, setup, togw_lb) -> dict:
         r = load_case_response(prob, case, setup.geometry.num_nodes, togw_lb * LB * G0)
         out[case.name] = {"peak_load_factor": r["peak_load_factor"],
                           "peak_root_bending_moment_n_m": r["peak_root_bending_moment"]}
+        if case.symmetric is not None:  # both wings: symmetric ± increment, root M_c
+            mc = np.asarray(prob.get_val(f"cases.{case.name}.combined_loads.M_csn", units="N*m"))[:, 0, 0]
+            out[case.name]["combined_root_bending_moment_max_min_n_m"] = [float(mc.max()), float(mc.min())]
         trim = maneuver_elevator_trim(prob, case, setup.geometry.num_nodes, togw_lb * LB * G0)
         if trim is not None:
             out[case.name]["elevator_trim"] = trim

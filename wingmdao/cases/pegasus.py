@@ -173,9 +173,10 @@ class PegasusOptions(CaseOptions):
                                             "closed_loop_ks = KS(Re lambda + margin) <= 0, i.e. Re lambda <= -margin "
                                             "(1/s, >= 0; 0: stability only; a mode of frequency f gets damping "
                                             "ratio ~ margin / (2 pi f))", metavar="PER_S")
-    rolling: bool = option(False, "add the 14 CFR 25.349(a) rolling conditions at load factor 0 (V_A, V_C, V_D: the "
-                                  "antisymmetric increments of a sudden aileron, the half wing free to roll, 2 s "
-                                  "marches at --dt; docs/maneuvers.md): the ailerons are the surfaces of --alleviation "
+    rolling: bool = option(False, "add the 14 CFR 25.349(a) rolling conditions (V_A, V_C, V_D: the antisymmetric "
+                                  "increments of a sudden aileron, the half wing free to roll, 2 s marches at --dt, "
+                                  "each wing's combined with the strip loads' maneuver at 2/3 --load-factor; "
+                                  "docs/maneuvers.md): the ailerons are the surfaces of --alleviation "
                                   "(its law is not in them); needs --roll-inertia and --maneuvering-speed-eas",
                            group=ROLL_GROUP)
     roll_inertia: float | None = option(None, "--rolling: roll inertia about the body x axis of the aircraft outside "
@@ -953,8 +954,10 @@ def build_wing(opts: PegasusOptions, pf=PLANFORM, engines=ENGINES, weight_lb=TOG
     if opts.rolling:
         if pf is not PLANFORM:
             raise ValueError("--rolling: the PEGASUS case only (its V_C and V_D)")
-        cases.extend(rolling_cases(opts, geometry, chord, axis_frac, families, sizing))
-        notes.append("25.349(a) rolling conditions at n = 0: " + ", ".join(c.description for c in cases[-3:]))
+        cases.extend(rolling_cases(opts, geometry, chord, axis_frac, families, sizing, weight_lb=weight_lb))
+        notes.append("25.349(a) rolling conditions, the increments of each wing with the strip loads' symmetric "
+                     f"maneuver at 2/3 n = {2.0 * opts.load_factor / 3.0:.3f}: "
+                     + ", ".join(c.description for c in cases[-3:]))
     else:
         given = [f for f in ("roll_inertia", "maneuvering_speed_eas") if getattr(opts, f) is not None]
         if given:
@@ -1135,19 +1138,22 @@ def rolling_flight_speeds_eas() -> tuple:
     return float(fp["cruise_speed"] * sigma), float(fp["dive_speed"] * sigma)
 
 
-def rolling_cases(opts, geometry, chord, axis_frac, families, sizing) -> list:
-    """The 14 CFR 25.349(a) rolling conditions at load factor 0 as coupled load cases (``--rolling``):
+def rolling_cases(opts, geometry, chord, axis_frac, families, sizing, weight_lb=TOGW_LB) -> list:
+    """The 14 CFR 25.349(a) rolling conditions as coupled load cases (``--rolling``):
     V_A (the ailerons of ``--alleviation`` at their stops), V_C (the V_A steady roll rate) and V_D (a
     third of it), each a sudden step marched for :data:`ROLL_CASE_T_FINAL` s at ``--dt`` on the
     antisymmetric half wing free to roll (:func:`wingmdao.loads.rolling.rolling_model`), flown at
     the cruise altitude. The deflections of V_C and V_D are those of the initial box design's
-    elastic wing (they stay fixed while the sizing changes the wing).
+    elastic wing (they stay fixed while the sizing changes the wing). Each case is combined with
+    two-thirds of the positive maneuvering load factor: its ``symmetric`` part is the strip loads'
+    static maneuver (:func:`maneuver_case`) at 2/3 ``opts.load_factor``, superposed as symmetric ±
+    increment (the right and the left wing).
 
     Parameters
     ----------
     opts : PegasusOptions
         The options (``alleviation``, ``roll_inertia``, ``maneuvering_speed_eas``, ``aero_theory``
-        resolved, ``dt``).
+        resolved, ``dt``, ``load_factor``).
     geometry : WingGeometry
         The wing.
     chord : array_like
@@ -1158,6 +1164,8 @@ def rolling_cases(opts, geometry, chord, axis_frac, families, sizing) -> list:
         Stress families.
     sizing : SizingOptions
         The sizing options (their initial design).
+    weight_lb : float, optional
+        Aircraft weight (lb) of the symmetric maneuver.
 
     Returns
     -------
@@ -1190,6 +1198,8 @@ def rolling_cases(opts, geometry, chord, axis_frac, families, sizing) -> list:
     start = (time == 0) * 1.0
     rho, n = float(density(alt)), geometry.num_nodes
     cases, p_a = [], None
+    n_sym = 2.0 * opts.load_factor / 3.0
+    symmetric = maneuver_case("rolling_symmetric", n_sym, geometry, chord, axis_frac, (), PLANFORM, weight_lb)
     for name, (paragraph, fraction) in ROLL_CONDITIONS.items():
         v_eas, v, mach = speeds[name]
         ap = aero_parameters(n, chord=chord, ref_point=axis_frac, lift_slope=2 * np.pi, airspeed=v, density=rho,
@@ -1206,8 +1216,8 @@ def rolling_cases(opts, geometry, chord, axis_frac, families, sizing) -> list:
                            node_positions=np.asarray(geometry.node_positions, dtype=float))
         cases.append(LoadCase(f"rolling_{name.lower()}", time, {"gravity": np.zeros(3), "roll_start": start,
                                                                 "surface_command": command}, families,
-                              f"{paragraph} at {v_eas:.1f} m/s EAS, aileron {np.degrees(k * stops[0]):.2f} deg",
-                              aero=aero))
+                              f"{paragraph} at {v_eas:.1f} m/s EAS, aileron {np.degrees(k * stops[0]):.2f} deg, "
+                              f"with {n_sym:.3f} g", aero=aero, symmetric=symmetric))
     return cases
 
 

@@ -86,6 +86,10 @@ class LoadCase:
         Aeroelastic coupling; None: the case runs on the structural beam.
     modal_dlm : wingmdao.aero.modal_design.ModalGust or None
         Dynamic increment on the modal doublet-lattice wing, added to the static first instant.
+    symmetric : LoadCase or None
+        A static structural case (no aero) whose internal loads are superposed on this case's
+        antisymmetric increments with both signs, ``symmetric ± increment(t)`` (the two wings of
+        a 14 CFR 25.349(a) rolling condition at 2/3 n_lim); None: the increments alone.
     """
 
     name: str
@@ -99,6 +103,8 @@ class LoadCase:
     #: optional :class:`wingmdao.aero.modal_design.ModalGust`: the case's dynamic increment on the modal
     #: doublet-lattice wing, added to the static first instant of the beam (``aero``: the trimmed 1 g state)
     modal_dlm: object = None
+    #: optional static :class:`LoadCase`: superposed as ``symmetric ± increment(t)`` (the two wings)
+    symmetric: object = None
 
     def __post_init__(self):
         self.time = np.atleast_1d(np.asarray(self.time, dtype=float))
@@ -123,6 +129,14 @@ class LoadCase:
             if np.shape(self.modal_dlm.gust) != (self.num_times, 3):
                 raise ValueError(f"load case {self.name}: modal_dlm.gust has shape {np.shape(self.modal_dlm.gust)}, "
                                  f"expected ({self.num_times}, 3)")
+        if self.symmetric is not None:
+            sym = self.symmetric
+            if not isinstance(sym, LoadCase) or not sym.is_static or sym.aero is not None or sym.modal_dlm is not None \
+                    or sym.symmetric is not None:
+                raise ValueError(f"load case {self.name}: symmetric must be a static structural LoadCase (one time, "
+                                 f"no aero, modal_dlm or symmetric of its own), got {sym!r:.80}")
+            if self.modal_dlm is not None:
+                raise ValueError(f"load case {self.name}: symmetric goes with the beam's increments, not modal_dlm")
         unknown = [k for k in self.forcing if k not in self._forcing_shapes()]
         if unknown:
             raise ValueError(f"load case {self.name}: unknown forcing {unknown}; valid: {', '.join(FORCING_SHAPES)}")
@@ -130,6 +144,17 @@ class LoadCase:
     @property
     def num_times(self) -> int:
         return int(self.time.size)
+
+    @property
+    def loads_path(self) -> str:
+        """The subsystem of the case's WingStructure whose ``F_csn``, ``M_csn`` the stress reads:
+        ``combined_loads`` (2 n_time instants, both wings) with ``symmetric``, else ``internal_loads``."""
+        return "combined_loads" if self.symmetric is not None else "internal_loads"
+
+    @property
+    def num_stress_times(self) -> int:
+        """Instants of the stress and KS: 2 n_time with ``symmetric`` (both wings), else n_time."""
+        return (2 if self.symmetric is not None else 1) * self.num_times
 
     @property
     def is_static(self) -> bool:

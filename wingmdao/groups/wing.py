@@ -49,6 +49,7 @@ from wingmdao.components.modal_closed_loop import ModalClosedLoopDamping, loaded
 from wingmdao.components.flutter import FlutterDamping
 from wingmdao.components.turbulence import TurbulenceStressKS
 from wingmdao.components.ks import KSAggregate
+from wingmdao.components.load_combination import SymmetricLoadCombination
 from wingmdao.components.load_gradient import InternalForceGradient
 from wingmdao.components.mass import StructuralMass
 from wingmdao.components.station_map import StationMap
@@ -242,6 +243,10 @@ class WingStructure(om.Group):
             self._add_modal_dlm(n, case)
         else:
             self._add_beam(n, case, as_data)
+        self._loads = "internal_loads"
+        if case.symmetric is not None:  # the two wings: symmetric ± the increments (25.349(a) at 2/3 n_lim)
+            self._add_symmetric(n, case)
+            nt = 2 * nt
 
         if case.families:   # laminate walls may leave the strength to the panels' Tsai-Wu family
             # the box stress takes the section properties from the section component (computed once
@@ -253,8 +258,8 @@ class WingStructure(om.Group):
                                                     **stress_kwargs),
                                promotes_inputs=[*SECTION_KINDS[kind]["stress_inputs"],
                                                 *SECTION_KINDS[kind]["section_to_stress"]])
-            self.connect("internal_loads.F_csn", "stress.F_csn")
-            self.connect("internal_loads.M_csn", "stress.M_csn")
+            self.connect(f"{self._loads}.F_csn", "stress.F_csn")
+            self.connect(f"{self._loads}.M_csn", "stress.M_csn")
 
         points = stress_points(kind, case.families)
         if kind == "stiffened":   # the panel modes' KS in the panels component (KSOfPointwise)
@@ -271,6 +276,23 @@ class WingStructure(om.Group):
                            promotes_outputs=[f"ks_{f}" for f in points])
         for fam in case.families:
             self.connect(f"stress.g_{fam}", f"ks.g_{fam}")
+
+    def _add_symmetric(self, n, case):
+        """The case's symmetric static loads (``symmetric``: a WingStructure of ``case.symmetric``, its
+        forcing as data, no stress) superposed on the beam's antisymmetric increments with both signs
+        (``combined_loads``: symmetric + increment, the right wing, then symmetric - increment, the
+        left); the stress, panels and KS then run over the 2 nt instants of ``combined_loads``."""
+        sym = replace(case.symmetric, families=())
+        self.add_subsystem("symmetric", WingStructure(num_nodes=n, load_case=sym, material=self.options["material"],
+                                                      section="box", newton_options=self.options["newton_options"],
+                                                      forcing_as_data=True),
+                           promotes_inputs=["node_positions", "node_euler_angles", *SECTION_TO_BEAM, "tension_axis",
+                                            "shear_center", "mass_center"])
+        self.add_subsystem("combined_loads", SymmetricLoadCombination(num_times=case.num_times, num_nodes=n))
+        for k in ("F_csn", "M_csn"):
+            self.connect(f"symmetric.internal_loads.{k}", f"combined_loads.symmetric_{k}")
+            self.connect(f"internal_loads.{k}", f"combined_loads.increment_{k}")
+        self._loads = "combined_loads"
 
     def _add_modal_dlm(self, n, case):
         """The case's static first instant on the beam (``static``: a WingStructure of
@@ -473,8 +495,8 @@ class WingStructure(om.Group):
             ks_constraints=self.options["add_constraints"]),
             promotes_inputs=["width", "height", *WALLS, "panel_length", *SECTION_PROPERTIES])
         self.promotes("equivalent_panels", outputs=[f"ks_{f}" for f in comp.families])
-        self.connect("internal_loads.F_csn", "equivalent_panels.F_csn")
-        self.connect("internal_loads.M_csn", "equivalent_panels.M_csn")
+        self.connect(f"{self._loads}.F_csn", "equivalent_panels.F_csn")
+        self.connect(f"{self._loads}.M_csn", "equivalent_panels.M_csn")
 
     def _add_panel_failure(self, nt, n) -> dict:
         """The panel failure ratios of the stiffened box (PanelFailure) with the KS aggregate of
@@ -495,9 +517,9 @@ class WingStructure(om.Group):
             ks_constraints=self.options["add_constraints"]),
             promotes_inputs=["width", "height", *WALLS, *STIFFENER_VARS, "panel_length", *SECTION_PROPERTIES])
         self.promotes("panels", outputs=[f"ks_{f}" for f in comp.families])
-        self.connect("internal_loads.F_csn", "panels.F_csn")
-        self.connect("internal_loads.M_csn", "panels.M_csn")
-        self.connect("internal_loads.F_csn", "load_gradient.F_csn")
+        self.connect(f"{self._loads}.F_csn", "panels.F_csn")
+        self.connect(f"{self._loads}.M_csn", "panels.M_csn")
+        self.connect(f"{self._loads}.F_csn", "load_gradient.F_csn")
         self.connect("load_gradient.dF_csn_ds", "panels.dF_csn_ds")
         return dict(comp.families)
 
