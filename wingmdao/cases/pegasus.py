@@ -45,7 +45,8 @@ from wingmdao.aero.system import three_dimensional_parameters
 from wingmdao.design import SECTION_KINDS, WALL_VARS, SizingOptions, design_beam_params, initial_design, initial_frequencies
 from wingmdao.names import CASE_HELP
 from wingmdao.aero.system import aero_parameters
-from wingmdao.loads.rolling import (CONDITIONS as ROLL_CONDITIONS, ROLL_AERO_THEORIES, command_for_roll_rate,
+from wingmdao.loads.rolling import (CONDITIONS as ROLL_CONDITIONS, check_rolling_inputs,
+                                    command_for_roll_rate,
                                     rolling_model, rolling_speeds, steady_roll_rate)
 
 NAME = "pegasus"
@@ -1172,18 +1173,7 @@ def rolling_cases(opts, geometry, chord, axis_frac, families, sizing, weight_lb=
     list of LoadCase
         ``rolling_va``, ``rolling_vc``, ``rolling_vd``.
     """
-    if opts.alleviation is None:
-        raise ValueError("--rolling needs --alleviation FILE.yaml naming the ailerons (the case has no control "
-                         "surfaces; e.g. docs/examples/pegasus_ailerons.yaml)")
-    if opts.roll_inertia is None:
-        raise ValueError("--rolling needs --roll-inertia (I_xx,body, kg m^2; the case has none)")
-    if not (np.isfinite(opts.roll_inertia) and opts.roll_inertia > 0):
-        raise ValueError(f"--roll-inertia = {opts.roll_inertia} kg*m**2; allowed range (0, inf) kg*m**2")
-    if opts.maneuvering_speed_eas is None:
-        raise ValueError("--rolling needs --maneuvering-speed-eas (V_A, m/s EAS; the case has none)")
-    if opts.aero_theory not in ROLL_AERO_THEORIES:
-        raise ValueError(f"--aero-theory {opts.aero_theory}: --rolling allows {', '.join(ROLL_AERO_THEORIES)} (the "
-                         "lifting line's slopes are those of the symmetric loading)")
+    check_rolling_inputs(opts.alleviation, opts.roll_inertia, opts.maneuvering_speed_eas, opts.aero_theory)
     alt = float(altitude_ft_to_m(CRUISE_ALTITUDE_FT))
     speeds = rolling_speeds(opts.maneuvering_speed_eas, *rolling_flight_speeds_eas(), alt)
     n_time = check_step_count(ROLL_CASE_T_FINAL, opts.dt, geometry.num_nodes)

@@ -53,7 +53,7 @@ from wingmdao.loads.checked_pitch import checked_pitch, maneuver_model
 from wingmdao.aero.controls import control_spec, limit_report, read_alleviation
 from wingmdao.aero.roll import half_wing_roll_inertia
 from wingmdao.cases.pegasus import CRUISE_ALTITUDE_FT, rolling_flight_speeds_eas
-from wingmdao.loads.rolling import (CONDITIONS, ROLL_AERO_THEORIES, combined_loads, command_for_roll_rate, march_roll,
+from wingmdao.loads.rolling import (CONDITIONS, check_rolling_inputs, combined_loads, command_for_roll_rate, march_roll,
                                     rolling_model, rolling_speeds, steady_roll_rate, symmetric_root_loads)
 
 #: the pitch data the maneuver needs (flags)
@@ -112,21 +112,7 @@ def _check_rolling_args(args):
         raise ValueError(f"{flag} is a --checked-pitch flag; --rolling flies V_A, V_C and V_D")
     if args.aero_theory is None:
         args.aero_theory = "strip"
-    if args.aero_theory not in ROLL_AERO_THEORIES:
-        raise ValueError(f"--aero-theory {args.aero_theory}: --rolling allows {', '.join(ROLL_AERO_THEORIES)} (the "
-                         "lifting line's slopes are those of the symmetric loading)")
-    if args.alleviation is None:
-        raise ValueError("--rolling needs --alleviation FILE.yaml naming the ailerons (the case has no control "
-                         "surfaces; e.g. docs/examples/pegasus_ailerons.yaml)")
-    if args.roll_inertia is None:
-        raise ValueError("--rolling needs --roll-inertia (I_xx,body, kg m^2; the case has none)")
-    if not (np.isfinite(args.roll_inertia) and args.roll_inertia > 0):
-        raise ValueError(f"--roll-inertia = {args.roll_inertia} kg*m**2; allowed range (0, inf) kg*m**2")
-    va = args.maneuvering_speed_eas
-    if va is None:
-        raise ValueError("--rolling needs --maneuvering-speed-eas (V_A, m/s EAS; the case has none)")
-    if not (np.isfinite(va) and va > 0):
-        raise ValueError(f"--maneuvering-speed-eas = {va} m/s; allowed range (0, inf) m/s")
+    check_rolling_inputs(args.alleviation, args.roll_inertia, args.maneuvering_speed_eas, args.aero_theory)
     if args.load_factor is not None and not (np.isfinite(args.load_factor) and args.load_factor > 1.0):
         raise ValueError(f"--load-factor = {args.load_factor}; allowed range (1, inf)")
     if args.altitude_ft is not None and not 0.0 <= args.altitude_ft <= 60000.0:

@@ -66,6 +66,38 @@ REGULATION = (
 CONDITIONS = {"VA": ("25.349(a)(2)", None), "VC": ("25.349(a)(3)", 1.0), "VD": ("25.349(a)(4)", 1.0 / 3.0)}
 
 
+def check_rolling_inputs(alleviation, roll_inertia, maneuvering_speed_eas, aero_theory) -> None:
+    """The inputs every 25.349(a) rolling run needs (``maneuver --rolling`` and ``size --rolling``),
+    checked before any model is built: a one-line ValueError naming the flag, its value and the
+    allowed range.
+
+    Parameters
+    ----------
+    alleviation : str or None
+        The control-surface file naming the ailerons (``--alleviation``).
+    roll_inertia : float or None
+        I_xx,body of the aircraft outside both wing halves (kg m^2, ``--roll-inertia``).
+    maneuvering_speed_eas : float or None
+        V_A (m/s EAS, ``--maneuvering-speed-eas``).
+    aero_theory : str
+        The aerodynamic theory (``--aero-theory``), one of :data:`ROLL_AERO_THEORIES`.
+    """
+    if aero_theory not in ROLL_AERO_THEORIES:
+        raise ValueError(f"--aero-theory {aero_theory}: --rolling allows {', '.join(ROLL_AERO_THEORIES)} (the "
+                         "lifting line's slopes are those of the symmetric loading)")
+    if alleviation is None:
+        raise ValueError("--rolling needs --alleviation FILE.yaml naming the ailerons (the case has no control "
+                         "surfaces; e.g. docs/examples/pegasus_ailerons.yaml)")
+    if roll_inertia is None:
+        raise ValueError("--rolling needs --roll-inertia (I_xx,body, kg m^2; the case has none)")
+    if not (np.isfinite(roll_inertia) and roll_inertia > 0):
+        raise ValueError(f"--roll-inertia = {roll_inertia} kg*m**2; allowed range (0, inf) kg*m**2")
+    if maneuvering_speed_eas is None:
+        raise ValueError("--rolling needs --maneuvering-speed-eas (V_A, m/s EAS; the case has none)")
+    if not (np.isfinite(maneuvering_speed_eas) and maneuvering_speed_eas > 0):
+        raise ValueError(f"--maneuvering-speed-eas = {maneuvering_speed_eas} m/s; allowed range (0, inf) m/s")
+
+
 def rolling_speeds(maneuvering_speed_eas, cruise_speed_eas, dive_speed_eas, altitude_m) -> dict:
     """``{"VA", "VC", "VD"}`` -> (EAS, TAS m/s, Mach) of the rolling conditions flown at ``altitude_m``;
     ValueError unless 0 < V_A <= V_C (14 CFR 25.335(c)).
