@@ -45,9 +45,8 @@ from wingmdao.aero.system import three_dimensional_parameters
 from wingmdao.design import SECTION_KINDS, WALL_VARS, SizingOptions, design_beam_params, initial_design, initial_frequencies
 from wingmdao.names import CASE_HELP
 from wingmdao.aero.system import aero_parameters
-from wingmdao.loads.rolling import (CONDITIONS as ROLL_CONDITIONS, check_rolling_inputs,
-                                    command_for_roll_rate,
-                                    rolling_model, rolling_speeds, steady_roll_rate)
+from wingmdao.loads.rolling import (CONDITIONS as ROLL_CONDITIONS, check_rolling_inputs, condition_commands,
+                                    rolling_speeds)
 
 NAME = "pegasus"
 HELP = CASE_HELP[NAME]
@@ -1187,18 +1186,18 @@ def rolling_cases(opts, geometry, chord, axis_frac, families, sizing, weight_lb=
     time = np.arange(n_time) * opts.dt
     start = (time == 0) * 1.0
     rho, n = float(density(alt)), geometry.num_nodes
-    cases, p_a = [], None
+    cases = []
     n_sym = 2.0 * opts.load_factor / 3.0
     symmetric = maneuver_case("rolling_symmetric", n_sym, geometry, chord, axis_frac, (), PLANFORM, weight_lb)
-    for name, (paragraph, fraction) in ROLL_CONDITIONS.items():
+    def aero_at(v, mach):
+        return aero_parameters(n, chord=chord, ref_point=axis_frac, lift_slope=2 * np.pi, airspeed=v, density=rho,
+                               mach=mach)
+
+    commands = condition_commands(bp, speeds, aero_at, spec, stops, roll_inertia=opts.roll_inertia,
+                                  aero_theory=opts.aero_theory)
+    for name, (paragraph, _) in ROLL_CONDITIONS.items():
         v_eas, v, mach = speeds[name]
-        ap = aero_parameters(n, chord=chord, ref_point=axis_frac, lift_slope=2 * np.pi, airspeed=v, density=rho,
-                             mach=mach)
-        system, p = rolling_model(bp, ap, spec, roll_inertia=opts.roll_inertia, aero_theory=opts.aero_theory)
-        if fraction is None:
-            k, p_a = 1.0, steady_roll_rate(system, p, stops)[0]
-        else:
-            k = command_for_roll_rate(system, p, stops, fraction * p_a)[0]
+        k = commands[name][2]
         command = np.where(time[:, None] > 0, k * stops[None, :], 0.0)
         aero = CoupledAero(chord=np.asarray(chord, dtype=float), ref_point=np.asarray(axis_frac, dtype=float),
                            airspeed=v, density=rho, mach=mach, roll=True, roll_inertia=float(opts.roll_inertia),

@@ -53,8 +53,8 @@ from wingmdao.loads.checked_pitch import checked_pitch, maneuver_model
 from wingmdao.aero.controls import control_spec, limit_report, read_alleviation
 from wingmdao.aero.roll import half_wing_roll_inertia
 from wingmdao.cases.pegasus import CRUISE_ALTITUDE_FT, rolling_flight_speeds_eas
-from wingmdao.loads.rolling import (CONDITIONS, check_rolling_inputs, combined_loads, command_for_roll_rate, march_roll,
-                                    rolling_model, rolling_speeds, steady_roll_rate, symmetric_root_loads)
+from wingmdao.loads.rolling import (CONDITIONS, check_rolling_inputs, condition_commands, combined_loads, march_roll,
+                                    rolling_speeds, symmetric_root_loads)
 
 #: the pitch data the maneuver needs (flags)
 REQUIRED_PITCH = ("pitch_inertia", "cg_x", "tail_arm", "tail_area", "tail_lift_slope")
@@ -265,17 +265,17 @@ def _run_rolling(args, surfaces, t_final, t_wall):
           + " / ".join(f"{v[0]:.1f}" for v in speeds.values()) + f" m/s EAS, I_xx,body = {args.roll_inertia:g} kg m^2 "
           f"(+ 2 x {i_wing:.4g} of the wings), n_lim = {n_lim:.4f}", file=sys.stderr)
     time = np.linspace(0.0, t_final, args.steps + 1)
-    conditions, p_a = {}, None
-    for name, (paragraph, fraction) in CONDITIONS.items():
+    conditions = {}
+    def aero_at(v, mach):
+        return aero_parameters(n, chord=chord, ref_point=axis_frac, lift_slope=2 * np.pi, airspeed=v, density=rho,
+                               mach=mach)
+
+    commands = condition_commands(bp, speeds, aero_at, spec, stops, roll_inertia=args.roll_inertia,
+                                  aero_theory=args.aero_theory)
+    for name, (paragraph, _) in CONDITIONS.items():
         v_eas, v, mach = speeds[name]
-        ap = aero_parameters(n, chord=chord, ref_point=axis_frac, lift_slope=2 * np.pi, airspeed=v, density=rho,
-                             mach=mach)
-        system, p = rolling_model(bp, ap, spec, roll_inertia=args.roll_inertia, aero_theory=args.aero_theory)
-        if fraction is None:
-            k, rate = 1.0, steady_roll_rate(system, p, stops)[0]
-            p_a = rate
-        else:
-            k, rate = command_for_roll_rate(system, p, stops, fraction * p_a)
+        ap = aero_at(v, mach)
+        system, p, k, rate = commands[name]
         h = march_roll(system, p, time, k * stops, k, rate)
         dt = float(time[1] - time[0])
         limits = limit_report(time, h.aileron, np.gradient(h.aileron, dt, axis=0), surfaces)

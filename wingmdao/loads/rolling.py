@@ -290,6 +290,47 @@ def command_for_roll_rate(system, p, stops, target, *, rtol=1e-6, max_iterations
     raise RuntimeError(f"command_for_roll_rate: no convergence in {max_iterations} steady solves (k = {k1:.6g})")
 
 
+def condition_commands(beam_params, speeds, aero_params_at, controls, stops, *, roll_inertia,
+                       aero_theory="strip") -> dict:
+    """Each 25.349(a) condition's rolling model and aileron command: the stops at V_A, at V_C the
+    fraction of them that gives the V_A steady roll rate, at V_D the fraction giving a third of it.
+
+    Parameters
+    ----------
+    beam_params : dict
+        The half wing's beam parameters.
+    speeds : dict
+        :func:`rolling_speeds`: per condition ``(v_eas, v_tas, mach)``.
+    aero_params_at : callable
+        ``aero_params_at(v_tas, mach)``: the aerodynamic parameters at that flight point.
+    controls : ControlSpec
+        The ailerons.
+    stops : array_like
+        Each surface's stop (rad).
+    roll_inertia : float
+        I_xx,body of the aircraft outside both wing halves (kg m^2).
+    aero_theory : str
+        One of :data:`ROLL_AERO_THEORIES`.
+
+    Returns
+    -------
+    dict
+        Per condition (:data:`CONDITIONS` order) ``(system, p, command_fraction, steady_roll_rate)``.
+    """
+    out, p_a = {}, None
+    for name, (_, fraction) in CONDITIONS.items():
+        _, v, mach = speeds[name]
+        system, p = rolling_model(beam_params, aero_params_at(v, mach), controls, roll_inertia=roll_inertia,
+                                  aero_theory=aero_theory)
+        if fraction is None:
+            k, rate = 1.0, steady_roll_rate(system, p, stops)[0]
+            p_a = rate
+        else:
+            k, rate = command_for_roll_rate(system, p, stops, fraction * p_a)
+        out[name] = (system, p, k, rate)
+    return out
+
+
 def march_roll(system, p, time, command, command_fraction=1.0, steady_rate=float("nan")) -> RollHistory:
     """March a sudden aileron step ``command`` (n_s,) rad from the level unrolled state.
 
