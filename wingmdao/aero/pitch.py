@@ -52,7 +52,7 @@ import numpy as np
 
 from wingmdao.timemarch.system import VarSpec
 import casadi as ca
-from wingmdao.aero.plunge import body_mass
+from wingmdao.aero.plunge import body_mass, trapezoid_node_weights
 
 #: rigid-body states after the plunge velocity (pitch attitude, pitch rate, [lagged downwash]) and the
 #: tail-incidence trim unknown; system.body_index maps them to their state indices
@@ -209,13 +209,7 @@ def half_wing_pitch_moments(mass_per_length, node_positions):
         Pitch inertia about the origin (kg m^2).
     """
     mu, r = np.asarray(mass_per_length), np.asarray(node_positions)
-    s = np.sqrt(np.sum(np.diff(r, axis=0) ** 2, axis=1))
-    if np.any(np.real(s) <= 0):
-        raise ValueError("node_positions: element lengths must be > 0 m")
-    w = np.zeros(mu.size, dtype=s.dtype)
-    w[:-1] += 0.5 * s
-    w[1:] += 0.5 * s
-    m = w * mu
+    m = trapezoid_node_weights(r) * mu
     x, z = r[:, 0], r[:, 2]
     return np.sum(m), np.array([np.sum(m * x), np.sum(m * z)]), np.sum(m * (x * x + z * z))
 

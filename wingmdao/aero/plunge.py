@@ -15,6 +15,30 @@ from __future__ import annotations
 import numpy as np
 
 
+def trapezoid_node_weights(node_positions) -> np.ndarray:
+    """Each node's share of the beam length (m) for lumping a per-length quantity at the nodes with
+    the trapezoid rule: half of each adjacent element's length (complex-step safe).
+
+    Parameters
+    ----------
+    node_positions : array_like, shape (n, 3)
+        Node positions (m).
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The weights (m); ValueError unless every element length is > 0 m.
+    """
+    r = np.asarray(node_positions)
+    s = np.sqrt(np.sum(np.diff(r, axis=0) ** 2, axis=1))
+    if np.any(np.real(s) <= 0):
+        raise ValueError("node_positions: element lengths must be > 0 m")
+    w = np.zeros(r.shape[0], dtype=s.dtype)
+    w[:-1] += 0.5 * s
+    w[1:] += 0.5 * s
+    return w
+
+
 def half_wing_mass(mass_per_length, node_positions):
     """(m_half kg, d m_half / d mu (n,), d m_half / d node_positions (n, 3)) by the trapezoid rule
     (complex-step safe).
@@ -41,9 +65,7 @@ def half_wing_mass(mass_per_length, node_positions):
     if np.any(np.real(s) <= 0):
         raise ValueError("node_positions: element lengths must be > 0 m")
     mbar = 0.5 * (mu[1:] + mu[:-1])
-    dmu = np.zeros(mu.size, dtype=s.dtype)
-    dmu[:-1] += 0.5 * s
-    dmu[1:] += 0.5 * s
+    dmu = trapezoid_node_weights(r)
     g = (mbar / s)[:, None] * d  # d (mbar s) / d r_{i+1}
     dr = np.zeros(r.shape, dtype=g.dtype)
     dr[1:] += g

@@ -31,6 +31,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from wingmdao.aero.plunge import trapezoid_node_weights
 from wingmdao.timemarch.system import VarSpec
 
 #: the roll states (after the node blocks; system.body_index maps them to their state indices)
@@ -125,11 +126,7 @@ def half_wing_roll_inertia(mass_per_length, node_positions):
         sum_i m_i (y_i^2 + z_i^2) (kg m^2).
     """
     mu, r = np.asarray(mass_per_length, dtype=float), np.asarray(node_positions, dtype=float)
-    s = np.linalg.norm(np.diff(r, axis=0), axis=1)
-    w = np.zeros(mu.size)
-    w[:-1] += 0.5 * s
-    w[1:] += 0.5 * s
-    return float(np.sum(w * mu * (r[:, 1] ** 2 + r[:, 2] ** 2)))
+    return float(np.sum(trapezoid_node_weights(r) * mu * (r[:, 1] ** 2 + r[:, 2] ** 2)))
 
 
 def steady_roll(system, p, q, x0=None, *, tol=1e-9, max_iterations=30):

@@ -25,7 +25,7 @@ import numpy as np
 import openmdao.api as om
 
 from wingmdao.aero.pitch import body_pitch_properties, check_pitch_inputs
-from wingmdao.aero.plunge import body_mass, half_wing_mass
+from wingmdao.aero.plunge import body_mass, half_wing_mass, trapezoid_node_weights
 from wingmdao.aero.system import AERO_THEORIES, AeroelasticBeamSystem, cached_aeroelastic_system, check_aero_parameters
 from wingmdao.loads.atmosphere import G0
 from wingmdao.components.time_history import TimeHistoryComponent
@@ -186,10 +186,7 @@ class PitchBodyProperties(om.ExplicitComponent):
     def compute_partials(self, inputs, partials):
         M, cg = inputs["aircraft_mass"][0], inputs["aircraft_cg"]
         r = inputs["node_positions"]
-        s = np.linalg.norm(np.diff(r, axis=0), axis=1)
-        w = np.zeros(r.shape[0])
-        w[:-1] += 0.5 * s
-        w[1:] += 0.5 * s
+        w = trapezoid_node_weights(r)
         x, z = r[:, 0], r[:, 2]
         partials["body_mass", "aircraft_mass"] = 1.0
         partials["body_first_moment", "aircraft_mass"] = cg
