@@ -33,6 +33,7 @@ import numpy as np
 from wingmdao.aero.controls import ControlSpec
 from wingmdao.aero.dlm import GeneralizedForces
 from wingmdao.aero.rfa import RogerApproximation, fit_columns
+from wingmdao.aero.rfa_system import control_state_offset
 
 __all__ = ["ModalControlModel", "modal_control_model", "control_terms", "hinge_moment_history"]
 
@@ -153,7 +154,7 @@ def control_terms(model: ModalControlModel, rfa: RogerApproximation, X, Xd, n_mo
         ``(delta, rate, drate, zf)``.
     """
     ns, L = model.n_surfaces, rfa.n_lags
-    i0 = 2 * n_modes + L * n_modes + L
+    i0 = control_state_offset(n_modes, L)
     X, Xd = np.asarray(X), np.asarray(Xd)
     delta = X[:, i0:i0 + 2 * ns:2]
     rate = X[:, i0 + 1:i0 + 2 * ns:2]

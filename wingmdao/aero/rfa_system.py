@@ -37,6 +37,27 @@ from wingmdao.timemarch.system import CasadiResidualSystem, VarSpec, layout
 from wingmdao.units import G0
 
 
+def control_state_offset(n_modes: int, n_lags: int) -> int:
+    """Index of the first control state in :func:`modal_rfa_system`'s state vector: after the modal
+    amplitudes and rates (2 n), the aerodynamic lag states (L n) and the gust lag states (L); the
+    actuator states (deflection and rate per surface), the controller states, then the flap lag
+    states follow.
+
+    Parameters
+    ----------
+    n_modes : int
+        Number of modes n.
+    n_lags : int
+        Number of Roger lag roots L.
+
+    Returns
+    -------
+    int
+        The index.
+    """
+    return 2 * n_modes + n_lags * (n_modes + 1)
+
+
 def param_specs(n_modes: int | None = None, controls: bool = False) -> list[VarSpec]:
     """Airspeed and density; with ``n_modes`` also the modal mass and stiffness (a design-dependent
     structure, :mod:`wingmdao.aero.modal_design`) and, with ``controls``, the root M_x per unit
@@ -138,7 +159,7 @@ def modal_rfa_system(structure, rfa: RogerApproximation, *, design: bool = False
     b = float(rfa.b_ref)
     ns = 0 if controls is None else controls.n_surfaces
     n_ctl = 0 if controls is None else controls.spec.n_states + L * ns
-    base = 2 * n + L * n + L
+    base = control_state_offset(n, L)
     x = ca.SX.sym("x", base + n_ctl)
     xd = ca.SX.sym("xdot", x.numel())
     pspecs = (param_specs(n if design else None, controls is not None)

@@ -29,6 +29,7 @@ import numpy as np
 import openmdao.api as om
 import scipy.linalg as sla
 
+from wingmdao.aero.rfa_system import control_state_offset
 from wingmdao.stability.eigen import linearize
 from wingmdao.stability.sensitivity import gradient_functions
 from wingmdao.timemarch.system import CasadiResidualSystem, layout
@@ -94,7 +95,7 @@ def modal_closed_loop_modes(system, p, loaded, n_lags, *, neutral=1e-6, neutral_
     m = loaded.size
     vb = np.linalg.norm(vr[:2 * m], axis=0)
     va = np.linalg.norm(vr[:2 * m][np.r_[loaded, loaded]], axis=0)
-    vc = np.linalg.norm(vr[2 * m + n_lags * (m + 1):], axis=0)   # actuator, controller, flap lags
+    vc = np.linalg.norm(vr[control_state_offset(m, n_lags):], axis=0)   # actuator, controller, flap lags
     keep &= (va > neutral_fraction * vb) | (vc > neutral_fraction * vb)
     return lam[keep], vr[:, keep], vl[:, keep], A, B
 

@@ -38,7 +38,7 @@ from wingmdao.panels.layout import STIFFENER_VARS, PanelLayout
 from wingmdao.section.box import WALL_NAMES
 from wingmdao.stress.box_stress import SECTION_PROPERTIES
 from wingmdao.aero.modal_design import DESIGN_INPUTS
-from wingmdao.aero.rfa_system import modal_rfa_system
+from wingmdao.aero.rfa_system import control_state_offset, modal_rfa_system
 from wingmdao.components.beam import BeamDynamics
 from wingmdao.components.modal_dlm import ModalLoadSum, ModalProjectionComp, ModalStationLoads
 from wingmdao.components.time_history import TimeHistoryComponent
@@ -364,7 +364,7 @@ class WingStructure(om.Group):
                           flat_src_indices=True)
             self.promotes("modal", outputs=["closed_loop_ks"])
         if limits is not None:  # the surfaces' deflection and rate over their limits on the modal march
-            base = 2 * m + wing.rfa.n_lags * (m + 1)   # the first actuator state (rfa_system's layout)
+            base = control_state_offset(m, wing.rfa.n_lags)   # the first actuator state
             lim = np.asarray(limits, dtype=float).reshape(ctl.n_surfaces, 2)
             self.add_subsystem("actuator_limits", ActuatorLimitKS(
                 num_times=nt, state_shape=tuple(system.state_shape),
